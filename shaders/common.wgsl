@@ -1,0 +1,50 @@
+// Records shared by Rust and WGSL. The Rust side is src/gpu/records.rs; tests/shader_layouts.rs
+// checks, by naga reflection, that both agree member by member. Every other shader in this
+// folder is compiled with this file prepended (src/shaders.rs).
+
+// One patch to evaluate (Rust: gpu::records::PatchRecord).
+struct PatchRecord {
+    degree_u: u32,
+    degree_v: u32,
+    // First of the patch's (degree_u + 1)(degree_v + 1) entries in control_indices,
+    // row-major with i along u.
+    control_offset: u32,
+    // Vertex (i, j) goes to vertices[vertex_offset + i * (segments_v + 1) + j].
+    vertex_offset: u32,
+    segments_u: u32,
+    segments_v: u32,
+    // First of the patch's 6 * segments_u * segments_v triangle indices.
+    index_offset: u32,
+    flags: u32,
+    // (u0, u1, v0, v1): parameter rectangle in the parent surface, used for the written (u, v).
+    domain: vec4<f32>,
+}
+
+// One tessellation vertex (Rust: gpu::records::SurfaceVertex). 32 bytes:
+// position at 0, u at 12, normal at 16, v at 28.
+struct SurfaceVertex {
+    position: vec3<f32>,
+    u: f32,
+    normal: vec3<f32>,
+    v: f32,
+}
+
+// Per-view uniforms of the render pipelines (Rust: gpu::records::SceneUniform).
+struct SceneUniform {
+    view_proj: mat4x4<f32>,
+    eye: vec4<f32>,
+    // (width, height, control point radius, 0) in physical pixels.
+    viewport: vec4<f32>,
+    surface_color: vec4<f32>,
+    back_color: vec4<f32>,
+    net_color: vec4<f32>,
+    point_color: vec4<f32>,
+}
+
+// 0-1 sRGB-encoded from 0-1 linear (the viewport texture holds encoded values, as egui expects).
+fn srgb_from_linear(rgb: vec3<f32>) -> vec3<f32> {
+    let c = clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let lower = c * 12.92;
+    let higher = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(higher, lower, c < vec3<f32>(0.0031308));
+}

@@ -1,0 +1,47 @@
+// Control net overlay: the net's lines and a round dot per control point, drawn on top of the
+// surface. Both read the control point buffer (homogeneous (wx, wy, wz, w)) as vertex data.
+
+@group(0) @binding(0) var<uniform> scene: SceneUniform;
+
+@vertex
+fn vs_net(@location(0) homogeneous: vec4<f32>) -> @builtin(position) vec4<f32> {
+    return scene.view_proj * vec4<f32>(homogeneous.xyz / homogeneous.w, 1.0);
+}
+
+@fragment
+fn fs_net() -> @location(0) vec4<f32> {
+    return vec4<f32>(srgb_from_linear(scene.net_color.rgb), scene.net_color.a);
+}
+
+struct DotOut {
+    @builtin(position) clip: vec4<f32>,
+    // Offset from the dot's centre in pixels.
+    @location(0) offset: vec2<f32>,
+}
+
+// One instance per control point, four vertices (a triangle strip) per instance.
+@vertex
+fn vs_dot(@builtin(vertex_index) corner: u32, @location(0) homogeneous: vec4<f32>) -> DotOut {
+    let radius = scene.viewport.z;
+    let unit = vec2<f32>(f32(corner & 1u), f32(corner >> 1u)) * 2.0 - 1.0;
+    let offset = unit * (radius + 1.0);
+    var out: DotOut;
+    let centre = scene.view_proj * vec4<f32>(homogeneous.xyz / homogeneous.w, 1.0);
+    out.clip = centre + vec4<f32>(offset * 2.0 / scene.viewport.xy * centre.w, 0.0, 0.0);
+    out.offset = offset;
+    return out;
+}
+
+@fragment
+fn fs_dot(in: DotOut) -> @location(0) vec4<f32> {
+    let radius = scene.viewport.z;
+    let r = length(in.offset);
+    // Anti-aliased disc with a dark rim.
+    let coverage = clamp(radius + 0.5 - r, 0.0, 1.0);
+    if (coverage <= 0.0) {
+        discard;
+    }
+    let rim = smoothstep(radius - 1.5, radius - 0.5, r);
+    let rgb = mix(scene.point_color.rgb, vec3<f32>(0.02), rim);
+    return vec4<f32>(srgb_from_linear(rgb), coverage * scene.point_color.a);
+}

@@ -1,0 +1,36 @@
+//! Typed errors of the GPU layer, shown in the UI's status line.
+
+use thiserror::Error;
+
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found: {0} (on Linux install lavapipe: apt-get install mesa-vulkan-drivers)"
+    )]
+    NoAdapter(String),
+    #[error("the GPU device could not be created: {0}")]
+    RequestDevice(String),
+    #[error(
+        "patch {patch}: degree ({degree_u}, {degree_v}) is above the GPU evaluator's maximum {max}"
+    )]
+    DegreeTooHigh {
+        patch: usize,
+        degree_u: usize,
+        degree_v: usize,
+        max: u32,
+    },
+    #[error("{count} patches exceed the {max} one dispatch can evaluate")]
+    TooManyPatches { count: usize, max: u32 },
+    #[error("tessellation of {segments} segments per patch edge is outside 1..={max}")]
+    SegmentsOutOfRange { segments: u32, max: u32 },
+    #[error("the {what} buffer would need {bytes} bytes; this device allows {limit}")]
+    BufferTooLarge {
+        what: &'static str,
+        bytes: u64,
+        limit: u64,
+    },
+    #[error("the model has {found} control points but its GPU buffers hold {expected}")]
+    ControlPointCountChanged { expected: usize, found: usize },
+    #[error("reading back from the GPU failed: {0}")]
+    Readback(String),
+}

@@ -1,0 +1,15 @@
+//! GPU evaluation on wgpu: device setup, the compute evaluator that turns patches into vertex
+//! buffers, and GPU timing. Depends on the kernel, never the other way round.
+
+pub mod context;
+pub mod error;
+pub mod patch_eval;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod readback;
+pub mod records;
+pub mod timing;
+
+pub use context::{GpuContext, backend_name, device_descriptor};
+pub use error::GpuError;
+pub use patch_eval::{MAX_SEGMENTS, PatchEvaluator, PatchGeometry};
+pub use records::{PatchRecord, SceneUniform, SurfaceVertex};

@@ -1,0 +1,327 @@
+//! Rational tensor-product Bézier patches sharing one pool of control points.
+//!
+//! A patch of degree (p, q) has (p + 1)(q + 1) control points P_ij with weights w_ij, stored as
+//! indices into the set's point pool, row-major with i along u: `indices[i * (q + 1) + j]`.
+//! Sharing the pool lets neighbouring patches (the Utah teapot's 32 patches use 290 points) move
+//! together when one control point is dragged.
+//!
+//! S(u, v) = A(u, v) / w(u, v) with the homogeneous sum A = Σ_i Σ_j B_{i,p}(u) B_{j,q}(v) w_ij P_ij,
+//! w = Σ_i Σ_j B_{i,p}(u) B_{j,q}(v) w_ij, and the derivatives of the quotient from
+//! The NURBS Book, eq. 4.20 (the rational-surface derivative formula behind A4.4).
+
+use glam::{DVec3, DVec4};
+
+use super::MAX_BEZIER_DEGREE;
+use super::bernstein::BernsteinBasis;
+use super::error::GeometryError;
+
+/// Capacity of the fixed-size basis arrays (degree + 1).
+const BASIS_CAPACITY: usize = MAX_BEZIER_DEGREE + 1;
+
+/// Below this value of sin²(angle between Su and Sv) the tangent plane is taken as degenerate and
+/// the normal comes from the limit rule of [`BezierPatchSet::normal`]. The WGSL evaluator
+/// (`shaders/eval_bezier.wgsl`, `DEGENERATE_SIN2`) uses the same value.
+pub const DEGENERATE_SIN2: f64 = 1e-10;
+
+/// How far (as a fraction of the distance to the patch centre) the last-resort normal rule moves
+/// the parameter inward. Mirrored by `NORMAL_NUDGE` in `shaders/eval_bezier.wgsl`.
+pub const NORMAL_NUDGE: f64 = 1e-3;
+
+/// One patch: its degrees and the indices of its control points in the set's pool.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BezierPatch {
+    degree_u: usize,
+    degree_v: usize,
+    indices: Vec<u32>,
+}
+
+impl BezierPatch {
+    /// A patch of degree (`degree_u`, `degree_v`); `indices` row-major with i along u.
+    /// Checked when it joins a [`BezierPatchSet`].
+    pub fn new(degree_u: usize, degree_v: usize, indices: Vec<u32>) -> Self {
+        Self {
+            degree_u,
+            degree_v,
+            indices,
+        }
+    }
+
+    pub fn degree_u(&self) -> usize {
+        self.degree_u
+    }
+
+    pub fn degree_v(&self) -> usize {
+        self.degree_v
+    }
+
+    /// Control point indices, row-major with i along u.
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// The pool index of control point (i, j).
+    pub fn index(&self, i: usize, j: usize) -> u32 {
+        self.indices[i * (self.degree_v + 1) + j]
+    }
+}
+
+/// Position and partial derivatives of a surface at one parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDerivatives {
+    pub point: DVec3,
+    pub su: DVec3,
+    pub sv: DVec3,
+    pub suu: DVec3,
+    pub suv: DVec3,
+    pub svv: DVec3,
+}
+
+impl SurfaceDerivatives {
+    /// Su × Sv normalized, or `None` where the tangent plane is degenerate
+    /// (sin² of the angle between Su and Sv below [`DEGENERATE_SIN2`]).
+    pub fn regular_normal(&self) -> Option<DVec3> {
+        let n = self.su.cross(self.sv);
+        let n2 = n.length_squared();
+        let scale = self.su.length_squared() * self.sv.length_squared();
+        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 {
+            Some(n / n2.sqrt())
+        } else {
+            None
+        }
+    }
+
+    /// The normal at a point where one partial derivative vanishes (a collapsed edge or a pole),
+    /// as the limit from the interior. Near an edge u = u₀ where Sv ≡ 0, Sv ≈ (u − u₀) Suv, so
+    /// Su × Sv ≈ (u − u₀) Su × Suv; likewise for Su ≡ 0 near v = v₀. The sign follows from which
+    /// end of the domain (`u`, `v` in [0, 1]) the collapsed edge is at.
+    pub fn collapsed_edge_normal(&self, u: f64, v: f64) -> Option<DVec3> {
+        let n = if self.sv.length_squared() <= self.su.length_squared() {
+            let side = if u < 0.5 { 1.0 } else { -1.0 };
+            side * self.su.cross(self.suv)
+        } else {
+            let side = if v < 0.5 { 1.0 } else { -1.0 };
+            side * self.suv.cross(self.sv)
+        };
+        let n2 = n.length_squared();
+        (n2 > 0.0 && n2.is_finite()).then(|| n / n2.sqrt())
+    }
+}
+
+/// A set of rational Bézier patches over one shared pool of weighted control points.
+/// The default is the empty set.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BezierPatchSet {
+    points: Vec<DVec3>,
+    weights: Vec<f64>,
+    patches: Vec<BezierPatch>,
+}
+
+impl BezierPatchSet {
+    /// Builds a set, checking every patch's degree (1..=[`MAX_BEZIER_DEGREE`]) and index count,
+    /// that indices are in range, that coordinates are finite and that weights are finite and > 0.
+    /// `weights = None` means every weight is 1 (a polynomial set).
+    pub fn new(
+        points: Vec<DVec3>,
+        weights: Option<Vec<f64>>,
+        patches: Vec<BezierPatch>,
+    ) -> Result<Self, GeometryError> {
+        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
+        if weights.len() != points.len() {
+            return Err(GeometryError::WeightCount {
+                points: points.len(),
+                weights: weights.len(),
+            });
+        }
+        for (index, p) in points.iter().enumerate() {
+            if let Some(coordinate) = p.to_array().iter().position(|c| !c.is_finite()) {
+                return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
+            }
+        }
+        for (index, &weight) in weights.iter().enumerate() {
+            if !(weight.is_finite() && weight > 0.0) {
+                return Err(GeometryError::InvalidWeight { index, weight });
+            }
+        }
+        for (patch_index, patch) in patches.iter().enumerate() {
+            let (du, dv) = (patch.degree_u, patch.degree_v);
+            if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
+                return Err(GeometryError::DegreeOutOfRange {
+                    patch: patch_index,
+                    degree_u: du,
+                    degree_v: dv,
+                    max: MAX_BEZIER_DEGREE,
+                });
+            }
+            let expected = (du + 1) * (dv + 1);
+            if patch.indices.len() != expected {
+                return Err(GeometryError::ControlPointCount {
+                    patch: patch_index,
+                    degree_u: du,
+                    degree_v: dv,
+                    expected,
+                    found: patch.indices.len(),
+                });
+            }
+            if let Some((entry, &index)) = patch
+                .indices
+                .iter()
+                .enumerate()
+                .find(|&(_, &i)| i as usize >= points.len())
+            {
+                return Err(GeometryError::IndexOutOfRange {
+                    patch: patch_index,
+                    entry,
+                    index,
+                    count: points.len(),
+                });
+            }
+        }
+        Ok(Self {
+            points,
+            weights,
+            patches,
+        })
+    }
+
+    pub fn points(&self) -> &[DVec3] {
+        &self.points
+    }
+
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    pub fn patches(&self) -> &[BezierPatch] {
+        &self.patches
+    }
+
+    /// The axis-aligned box of all control points; by the convex-hull property it contains every
+    /// patch. `None` for an empty set.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let first = *self.points.first()?;
+        Some(
+            self.points
+                .iter()
+                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+        )
+    }
+
+    /// Moves control point `index` to `position`. Rejects a non-finite position or an index out
+    /// of range and leaves the set unchanged.
+    pub fn set_point(&mut self, index: usize, position: DVec3) -> Result<(), GeometryError> {
+        if let Some(coordinate) = position.to_array().iter().position(|c| !c.is_finite()) {
+            return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
+        }
+        let count = self.points.len();
+        let slot = self
+            .points
+            .get_mut(index)
+            .ok_or(GeometryError::NoSuchPoint { index, count })?;
+        *slot = position;
+        Ok(())
+    }
+
+    fn patch(&self, patch: usize) -> Result<&BezierPatch, GeometryError> {
+        self.patches.get(patch).ok_or(GeometryError::NoSuchPatch {
+            patch,
+            count: self.patches.len(),
+        })
+    }
+
+    /// Position and partial derivatives up to order 2 of patch `patch` at (u, v) ∈ [0, 1]²
+    /// (tensor-product Bernstein sums, then the rational quotient rule of The NURBS Book eq. 4.20).
+    pub fn evaluate(
+        &self,
+        patch: usize,
+        u: f64,
+        v: f64,
+    ) -> Result<SurfaceDerivatives, GeometryError> {
+        let patch = self.patch(patch)?;
+        if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
+            return Err(GeometryError::ParameterOutOfDomain { u, v });
+        }
+        Ok(self.evaluate_in_domain(patch, u, v))
+    }
+
+    fn evaluate_in_domain(&self, patch: &BezierPatch, u: f64, v: f64) -> SurfaceDerivatives {
+        let (p, q) = (patch.degree_u, patch.degree_v);
+        // Degrees were checked against MAX_BEZIER_DEGREE in `new`, so both bases exist.
+        let (Some(bu), Some(bv)) = (
+            BernsteinBasis::<BASIS_CAPACITY>::new(p, u),
+            BernsteinBasis::<BASIS_CAPACITY>::new(q, v),
+        ) else {
+            unreachable!("degree checked in BezierPatchSet::new");
+        };
+        // Row curves in v (value, ∂v, ∂²v) of the homogeneous points, one per row i.
+        let mut rows = [[DVec4::ZERO; BASIS_CAPACITY]; 3];
+        let mut row_points = [DVec4::ZERO; BASIS_CAPACITY];
+        for i in 0..=p {
+            for (j, h) in row_points.iter_mut().enumerate().take(q + 1) {
+                let index = patch.index(i, j) as usize;
+                let w = self.weights[index];
+                *h = (self.points[index] * w).extend(w);
+            }
+            let [r0, r1, r2] = bv.sum_with_derivatives(&row_points[..=q]);
+            rows[0][i] = r0;
+            rows[1][i] = r1;
+            rows[2][i] = r2;
+        }
+        // Then across the rows in u: a[k][l] = ∂^{k+l} A / ∂u^k ∂v^l.
+        let [a00, a10, a20] = bu.sum_with_derivatives(&rows[0][..=p]);
+        let [a01, a11, _] = bu.sum_with_derivatives(&rows[1][..=p]);
+        let [a02, ..] = bu.sum_with_derivatives(&rows[2][..=p]);
+        let zero = DVec4::ZERO;
+        rational_derivatives(&[[a00, a01, a02], [a10, a11, zero], [a20, zero, zero]])
+    }
+
+    /// The unit normal Su × Sv / |Su × Sv| of patch `patch` at (u, v), defined everywhere:
+    /// where the tangent plane degenerates (a collapsed edge or pole) it is the limit from the
+    /// interior ([`SurfaceDerivatives::collapsed_edge_normal`]); if that fails too, the regular normal
+    /// at a parameter moved [`NORMAL_NUDGE`] of the way toward the patch centre; never NaN.
+    pub fn normal(&self, patch: usize, u: f64, v: f64) -> Result<DVec3, GeometryError> {
+        let d = self.evaluate(patch, u, v)?;
+        Ok(self.normal_from(self.patch(patch)?, &d, u, v))
+    }
+
+    /// The normal rule of [`Self::normal`] for derivatives `d` already evaluated at (u, v).
+    pub fn normal_from(
+        &self,
+        patch: &BezierPatch,
+        d: &SurfaceDerivatives,
+        u: f64,
+        v: f64,
+    ) -> DVec3 {
+        if let Some(n) = d.regular_normal().or_else(|| d.collapsed_edge_normal(u, v)) {
+            return n;
+        }
+        let (un, vn) = (u + (0.5 - u) * NORMAL_NUDGE, v + (0.5 - v) * NORMAL_NUDGE);
+        let nudged = self.evaluate_in_domain(patch, un, vn);
+        nudged
+            .regular_normal()
+            .or_else(|| nudged.collapsed_edge_normal(un, vn))
+            .unwrap_or(DVec3::Z)
+    }
+}
+
+/// Cartesian derivatives of S = A / w from the homogeneous ones a[k][l] = ∂^{k+l}A/∂u^k∂v^l
+/// (The NURBS Book, eq. 4.20):
+/// S_{kl} = (A_{kl} − Σ_{(i,j) ≤ (k,l), (i,j) ≠ (0,0)} C(k,i) C(l,j) w_{ij} S_{k−i,l−j}) / w.
+fn rational_derivatives(a: &[[DVec4; 3]; 3]) -> SurfaceDerivatives {
+    let w = |k: usize, l: usize| a[k][l].w;
+    let xyz = |k: usize, l: usize| a[k][l].truncate();
+    let w0 = w(0, 0);
+    let point = xyz(0, 0) / w0;
+    let su = (xyz(1, 0) - w(1, 0) * point) / w0;
+    let sv = (xyz(0, 1) - w(0, 1) * point) / w0;
+    let suu = (xyz(2, 0) - 2.0 * w(1, 0) * su - w(2, 0) * point) / w0;
+    let svv = (xyz(0, 2) - 2.0 * w(0, 1) * sv - w(0, 2) * point) / w0;
+    let suv = (xyz(1, 1) - w(1, 0) * sv - w(0, 1) * su - w(1, 1) * point) / w0;
+    SurfaceDerivatives {
+        point,
+        su,
+        sv,
+        suu,
+        suv,
+        svv,
+    }
+}

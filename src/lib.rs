@@ -1,0 +1,19 @@
+//! knotwork: a freeform-surface editor whose surfaces are evaluated by WGSL compute shaders,
+//! in the browser (WebGPU) and on the desktop (Vulkan, Metal, DX12).
+//!
+//! Layers, each depending only on those above it:
+//! - [`kernel`]: pure f64 geometry (no GPU, no UI);
+//! - [`shaders`], [`gpu`]: WGSL sources and the compute evaluator on wgpu;
+//! - [`render`], [`view`]: viewport pipelines and the camera;
+//! - [`app`], [`status`]: the eframe editor, identical on web and desktop.
+
+pub mod app;
+pub mod gpu;
+pub mod kernel;
+pub mod render;
+pub mod shaders;
+pub mod status;
+pub mod view;
+
+#[cfg(target_arch = "wasm32")]
+mod web;

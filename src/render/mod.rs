@@ -1,0 +1,9 @@
+//! Render pipelines: the shaded surface drawn from the compute pass's vertex buffer, and the
+//! control net overlay. They draw into an offscreen [`ViewTarget`], which the editor shows as an
+//! egui image and tests read back.
+
+mod viewport;
+
+pub use viewport::{
+    COLOR_FORMAT, DEPTH_FORMAT, DrawOptions, SAMPLE_COUNT, ViewTarget, ViewportRenderer,
+};

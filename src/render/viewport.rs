@@ -1,0 +1,327 @@
+use crate::gpu::records::{SceneUniform, SurfaceVertex};
+use crate::gpu::{GpuError, PatchGeometry};
+use crate::shaders;
+
+/// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// 4× MSAA: guaranteed for these formats by WebGPU.
+pub const SAMPLE_COUNT: u32 = 4;
+
+/// What to draw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrawOptions {
+    pub show_surface: bool,
+    pub show_net: bool,
+    pub show_points: bool,
+    /// sRGB-encoded RGBA the target is cleared to.
+    pub background: [f64; 4],
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        Self {
+            show_surface: true,
+            show_net: true,
+            show_points: true,
+            background: [0.13, 0.14, 0.16, 1.0],
+        }
+    }
+}
+
+/// The offscreen textures one viewport renders into: multisampled colour and depth, and the
+/// single-sampled colour they resolve to.
+pub struct ViewTarget {
+    width: u32,
+    height: u32,
+    msaa_view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    resolved: wgpu::Texture,
+    resolved_view: wgpu::TextureView,
+}
+
+impl ViewTarget {
+    /// Textures of `width` × `height` physical pixels (each clamped to 1..=8192).
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        let max = device.limits().max_texture_dimension_2d;
+        let (width, height) = (width.clamp(1, max), height.clamp(1, max));
+        let texture = |label: &str, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let msaa = texture("viewport msaa", COLOR_FORMAT, SAMPLE_COUNT, attachment);
+        let depth = texture("viewport depth", DEPTH_FORMAT, SAMPLE_COUNT, attachment);
+        let resolved = texture(
+            "viewport",
+            COLOR_FORMAT,
+            1,
+            attachment | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        );
+        Self {
+            width,
+            height,
+            msaa_view: msaa.create_view(&Default::default()),
+            depth_view: depth.create_view(&Default::default()),
+            resolved_view: resolved.create_view(&Default::default()),
+            resolved,
+        }
+    }
+
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The resolved colour, for display.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.resolved_view
+    }
+
+    /// Reads the resolved colour back as tightly packed RGBA8 rows (blocking; tests and CLI).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn read_rgba(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<u8>, GpuError> {
+        let row = self.width as u64 * 4;
+        let padded = row.div_ceil(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
+            * u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("viewport readback"),
+            size: padded * u64::from(self.height),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_texture_to_buffer(
+            self.resolved.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &staging,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded as u32),
+                    rows_per_image: None,
+                },
+            },
+            self.resolved.size(),
+        );
+        queue.submit([encoder.finish()]);
+        let bytes = crate::gpu::readback::map_and_copy(device, &staging)?;
+        Ok(bytes
+            .chunks(padded as usize)
+            .flat_map(|r| &r[..row as usize])
+            .copied()
+            .collect())
+    }
+}
+
+/// The render pipelines and the scene uniform; one per device.
+pub struct ViewportRenderer {
+    surface_pipeline: wgpu::RenderPipeline,
+    net_pipeline: wgpu::RenderPipeline,
+    dot_pipeline: wgpu::RenderPipeline,
+    scene_buffer: wgpu::Buffer,
+    scene_bind_group: wgpu::BindGroup,
+}
+
+impl ViewportRenderer {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("scene uniform"),
+            size: std::mem::size_of::<SceneUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let scene_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &scene_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: scene_buffer.as_entire_binding(),
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("viewport"),
+            bind_group_layouts: &[Some(&scene_layout)],
+            immediate_size: 0,
+        });
+        let surface_module = shaders::create_module(device, "surface.wgsl", shaders::SURFACE);
+        let overlay_module = shaders::create_module(device, "overlay.wgsl", shaders::OVERLAY);
+
+        let control_point_layout = wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+        };
+        let control_point_instances = wgpu::VertexBufferLayout {
+            step_mode: wgpu::VertexStepMode::Instance,
+            ..control_point_layout.clone()
+        };
+        let surface_layout = SurfaceVertex::layout();
+        let pipeline = |label: &str,
+                        module: &wgpu::ShaderModule,
+                        (vs, fs): (&str, &str),
+                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                        topology: wgpu::PrimitiveTopology,
+                        depth_compare: wgpu::CompareFunction,
+                        depth_write: bool| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    // Two-sided: the surface shader shades back faces itself.
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(depth_compare),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState {
+                    count: SAMPLE_COUNT,
+                    ..Default::default()
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Self {
+            surface_pipeline: pipeline(
+                "surface",
+                &surface_module,
+                ("vs_surface", "fs_surface"),
+                &[Some(surface_layout)],
+                wgpu::PrimitiveTopology::TriangleList,
+                wgpu::CompareFunction::Less,
+                true,
+            ),
+            // The control net is drawn over the surface, unoccluded, as CAD tools do.
+            net_pipeline: pipeline(
+                "control net",
+                &overlay_module,
+                ("vs_net", "fs_net"),
+                &[Some(control_point_layout)],
+                wgpu::PrimitiveTopology::LineList,
+                wgpu::CompareFunction::Always,
+                false,
+            ),
+            dot_pipeline: pipeline(
+                "control points",
+                &overlay_module,
+                ("vs_dot", "fs_dot"),
+                &[Some(control_point_instances)],
+                wgpu::PrimitiveTopology::TriangleStrip,
+                wgpu::CompareFunction::Always,
+                false,
+            ),
+            scene_buffer,
+            scene_bind_group,
+        }
+    }
+
+    /// Records one render pass into `target`: the surface from `geometry`'s evaluated vertex
+    /// buffer, then the control net and points as `options` ask.
+    pub fn render(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &ViewTarget,
+        scene: &SceneUniform,
+        geometry: &PatchGeometry,
+        options: &DrawOptions,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(scene));
+        let [r, g, b, a] = options.background;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("viewport"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.msaa_view,
+                depth_slice: None,
+                resolve_target: Some(&target.resolved_view),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                    store: wgpu::StoreOp::Discard,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.scene_bind_group, &[]);
+        if options.show_surface && geometry.index_count() > 0 {
+            pass.set_pipeline(&self.surface_pipeline);
+            pass.set_vertex_buffer(0, geometry.vertices().slice(..));
+            pass.set_index_buffer(
+                geometry.triangle_indices().slice(..),
+                wgpu::IndexFormat::Uint32,
+            );
+            pass.draw_indexed(0..geometry.index_count(), 0, 0..1);
+        }
+        if options.show_net && geometry.net_index_count() > 0 {
+            pass.set_pipeline(&self.net_pipeline);
+            pass.set_vertex_buffer(0, geometry.control_points().slice(..));
+            pass.set_index_buffer(geometry.net_lines().slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..geometry.net_index_count(), 0, 0..1);
+        }
+        if options.show_points && geometry.control_point_count() > 0 {
+            pass.set_pipeline(&self.dot_pipeline);
+            pass.set_vertex_buffer(0, geometry.control_points().slice(..));
+            pass.draw(0..4, 0..geometry.control_point_count());
+        }
+    }
+}

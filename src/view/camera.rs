@@ -1,0 +1,144 @@
+//! An orbit camera around a target point, Z up, as in Blender and Rhino.
+
+use glam::{Mat4, Vec3};
+
+/// Orbits `target` at `distance`; `yaw` turns about +Z, `pitch` lifts above the XY plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitCamera {
+    pub target: Vec3,
+    pub distance: f32,
+    /// Radians about +Z; at 0 the camera sits on the +X side of the target.
+    pub yaw: f32,
+    /// Radians above the XY plane, within ±(π/2 − 0.01).
+    pub pitch: f32,
+    /// Vertical field of view in radians.
+    pub fov_y: f32,
+}
+
+const PITCH_LIMIT: f32 = std::f32::consts::FRAC_PI_2 - 0.01;
+/// Radians of orbit per pixel of drag.
+const ORBIT_SPEED: f32 = 0.008;
+const MIN_DISTANCE: f32 = 1e-4;
+const MAX_DISTANCE: f32 = 1e7;
+
+impl Default for OrbitCamera {
+    fn default() -> Self {
+        Self {
+            target: Vec3::ZERO,
+            distance: 10.0,
+            yaw: -0.9,
+            pitch: 0.45,
+            fov_y: 35f32.to_radians(),
+        }
+    }
+}
+
+impl OrbitCamera {
+    /// The camera position.
+    pub fn eye(&self) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        self.target + self.distance * Vec3::new(cp * cy, cp * sy, sp)
+    }
+
+    /// World → view (right-handed, looking at the target, Z up).
+    pub fn view(&self) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Z)
+    }
+
+    /// View → clip in WebGPU's convention (NDC z in 0..1, y up: glam's "directx" one); near and
+    /// far planes follow the distance.
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let near = (self.distance * 0.01).max(MIN_DISTANCE * 0.1);
+        glam::camera::rh::proj::directx::perspective(
+            self.fov_y,
+            aspect.max(1e-3),
+            near,
+            self.distance * 100.0,
+        )
+    }
+
+    /// World → clip.
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+
+    /// Turns the camera by a drag of (dx, dy) pixels: right drag turns the model to the right,
+    /// down drag tips it toward the viewer.
+    pub fn orbit(&mut self, dx: f32, dy: f32) {
+        self.yaw -= dx * ORBIT_SPEED;
+        self.pitch = (self.pitch + dy * ORBIT_SPEED).clamp(-PITCH_LIMIT, PITCH_LIMIT);
+    }
+
+    /// Moves the target so that the point under the cursor follows a drag of (dx, dy) pixels in a
+    /// viewport `viewport_height` pixels tall.
+    pub fn pan(&mut self, dx: f32, dy: f32, viewport_height: f32) {
+        let world_per_pixel =
+            2.0 * self.distance * (self.fov_y * 0.5).tan() / viewport_height.max(1.0);
+        let forward = (self.target - self.eye()).normalize_or_zero();
+        let right = forward.cross(Vec3::Z).normalize_or(Vec3::X);
+        let up = right.cross(forward);
+        self.target += (-dx * right + dy * up) * world_per_pixel;
+    }
+
+    /// Moves toward the target for positive `steps` (one wheel notch ≈ 1 step), away for negative.
+    pub fn zoom(&mut self, steps: f32) {
+        self.distance = (self.distance * (-0.15 * steps).exp()).clamp(MIN_DISTANCE, MAX_DISTANCE);
+    }
+
+    /// Aims at the centre of the box [lo, hi] from a distance at which its bounding sphere fits
+    /// the view (both the vertical and the horizontal field of view).
+    pub fn frame(&mut self, lo: Vec3, hi: Vec3, aspect: f32) {
+        let radius = (0.5 * (hi - lo).length()).max(1e-3);
+        let half_v = self.fov_y * 0.5;
+        let half_h = (half_v.tan() * aspect.max(1e-3)).atan();
+        let half = half_v.min(half_h);
+        self.target = 0.5 * (lo + hi);
+        self.distance = (radius / half.sin() * 1.05).clamp(MIN_DISTANCE, MAX_DISTANCE);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn framed_box_projects_inside_the_view() {
+        let mut camera = OrbitCamera::default();
+        let (lo, hi) = (Vec3::new(-3.0, -2.0, 0.0), Vec3::new(3.5, 2.0, 3.2));
+        for aspect in [0.5, 1.0, 2.0] {
+            camera.frame(lo, hi, aspect);
+            let m = camera.view_projection(aspect);
+            for corner in 0..8 {
+                let p = Vec3::new(
+                    if corner & 1 == 0 { lo.x } else { hi.x },
+                    if corner & 2 == 0 { lo.y } else { hi.y },
+                    if corner & 4 == 0 { lo.z } else { hi.z },
+                );
+                let ndc = m.project_point3(p);
+                assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0, "{aspect} {ndc}");
+                assert!((0.0..=1.0).contains(&ndc.z), "{aspect} {ndc}");
+            }
+        }
+    }
+
+    #[test]
+    fn pitch_stays_clear_of_the_poles() {
+        let mut camera = OrbitCamera::default();
+        camera.orbit(0.0, 1e6);
+        assert!(camera.pitch < std::f32::consts::FRAC_PI_2);
+        assert!(camera.view().is_finite());
+        camera.orbit(0.0, -1e6);
+        assert!(camera.pitch > -std::f32::consts::FRAC_PI_2);
+    }
+
+    #[test]
+    fn pan_moves_target_across_the_view() {
+        let mut camera = OrbitCamera::default();
+        let before = camera.view_projection(1.0).project_point3(Vec3::ZERO);
+        camera.pan(100.0, 0.0, 800.0);
+        let after = camera.view_projection(1.0).project_point3(Vec3::ZERO);
+        // Dragging right moves the scene right: 100 px of 800 is 0.25 in NDC.
+        assert!((after.x - before.x - 0.25).abs() < 1e-3, "{before} {after}");
+    }
+}

@@ -1,0 +1,5 @@
+//! Camera and, later, picking and drag constraints.
+
+pub mod camera;
+
+pub use camera::OrbitCamera;

@@ -1,0 +1,78 @@
+//! The web entry points, called from `index.html` through wasm-bindgen.
+
+use std::cell::RefCell;
+
+use wasm_bindgen::JsCast;
+use wasm_bindgen::prelude::*;
+
+use crate::app::{KnotworkApp, wgpu_configuration};
+use crate::status::{self, ExternalCommand};
+
+thread_local! {
+    static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
+}
+
+/// Starts the editor on the canvas with id `canvas_id`. `adapter_label` is the page's
+/// description of the WebGPU adapter (the browser gives wgpu no name).
+#[wasm_bindgen]
+pub async fn start(canvas_id: String, adapter_label: String) -> Result<(), JsValue> {
+    // A second call (a hot reload) keeps the first logger.
+    let _ = eframe::WebLogger::init(log::LevelFilter::Info);
+    let canvas = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id(&canvas_id))
+        .ok_or_else(|| JsValue::from_str(&format!("no element with id '{canvas_id}'")))?
+        .dyn_into::<web_sys::HtmlCanvasElement>()
+        .map_err(|_| JsValue::from_str(&format!("'{canvas_id}' is not a canvas")))?;
+    let options = eframe::WebOptions {
+        wgpu_options: wgpu_configuration(true),
+        ..Default::default()
+    };
+    let runner = eframe::WebRunner::new();
+    let result = runner
+        .start(
+            canvas,
+            options,
+            Box::new(move |cc| Ok(Box::new(KnotworkApp::new(cc, Some(adapter_label))))),
+        )
+        .await;
+    if let Err(e) = &result {
+        status::publish_error(format!("the editor could not start: {e:?}"));
+    }
+    RUNNER.with(|r| *r.borrow_mut() = Some(runner));
+    result
+}
+
+/// `window.knotwork.status()` as a JSON string.
+#[wasm_bindgen]
+pub fn status_json() -> String {
+    let mut current = status::current();
+    let panic = RUNNER.with(|r| {
+        r.borrow()
+            .as_ref()
+            .and_then(|runner| runner.panic_summary())
+            .map(|summary| summary.message())
+    });
+    if let Some(message) = panic {
+        current.error = Some(format!("the editor crashed: {message}"));
+    }
+    current.to_json()
+}
+
+/// Re-tessellates at `segments` per patch edge (errors show in the status).
+#[wasm_bindgen]
+pub fn set_segments(segments: u32) {
+    status::send(ExternalCommand::SetSegments(segments));
+}
+
+/// Redraws every frame (true) or only on change (false).
+#[wasm_bindgen]
+pub fn set_continuous(on: bool) {
+    status::send(ExternalCommand::SetContinuous(on));
+}
+
+/// Frames the model in the viewport.
+#[wasm_bindgen]
+pub fn frame_model() {
+    status::send(ExternalCommand::FrameModel);
+}

@@ -1,0 +1,169 @@
+//! Every shader in `shaders/` is parsed and validated by naga (at WebGPU's baseline capabilities,
+//! so what passes here also compiles in the browser), and the records shared by Rust and WGSL are
+//! checked against each other by naga reflection.
+
+use std::collections::BTreeSet;
+use std::mem::{offset_of, size_of};
+
+use knotwork::gpu::records::{
+    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PatchRecord, SceneUniform, SurfaceVertex,
+};
+use knotwork::kernel::bezier::{DEGENERATE_SIN2, NORMAL_NUDGE};
+use knotwork::shaders;
+
+fn parse_and_validate(name: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    module
+}
+
+#[test]
+fn every_shader_file_is_registered_and_valid() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let on_disk: BTreeSet<String> = std::fs::read_dir(&dir)
+        .expect("shaders/ exists")
+        .filter_map(|entry| entry.ok()?.file_name().into_string().ok())
+        .filter(|name| name.ends_with(".wgsl"))
+        .collect();
+    let mut registered: BTreeSet<String> = shaders::PIPELINE_SHADERS
+        .iter()
+        .map(|(name, _)| name.to_string())
+        .collect();
+    registered.insert("common.wgsl".to_owned());
+    assert_eq!(
+        on_disk, registered,
+        "shaders/ and src/shaders.rs list the same files"
+    );
+
+    parse_and_validate("common.wgsl", shaders::COMMON);
+    for (name, body) in shaders::PIPELINE_SHADERS {
+        let from_disk = std::fs::read_to_string(dir.join(name)).expect("readable shader");
+        assert_eq!(from_disk, body, "{name}: the embedded copy is current");
+        parse_and_validate(name, &shaders::compose(body));
+    }
+}
+
+/// (member name, offset) pairs and the span of the WGSL struct `name`.
+fn wgsl_layout(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
+    let ty = module
+        .types
+        .iter()
+        .find(|(_, ty)| ty.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name} in common.wgsl"))
+        .1;
+    match &ty.inner {
+        naga::TypeInner::Struct { members, span } => (
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect(),
+            *span,
+        ),
+        other => panic!("{name} is not a struct: {other:?}"),
+    }
+}
+
+macro_rules! rust_layout {
+    ($ty:ty { $($field:ident),* $(,)? }) => {
+        (
+            vec![$((stringify!($field).to_owned(), offset_of!($ty, $field) as u32)),*],
+            size_of::<$ty>() as u32,
+        )
+    };
+}
+
+#[test]
+fn shared_records_have_the_same_layout_on_both_sides() {
+    let module = parse_and_validate("common.wgsl", shaders::COMMON);
+    assert_eq!(
+        wgsl_layout(&module, "PatchRecord"),
+        rust_layout!(PatchRecord {
+            degree_u,
+            degree_v,
+            control_offset,
+            vertex_offset,
+            segments_u,
+            segments_v,
+            index_offset,
+            flags,
+            domain
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "SurfaceVertex"),
+        rust_layout!(SurfaceVertex {
+            position,
+            u,
+            normal,
+            v
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "SceneUniform"),
+        rust_layout!(SceneUniform {
+            view_proj,
+            eye,
+            viewport,
+            surface_color,
+            back_color,
+            net_color,
+            point_color
+        })
+    );
+    // The render pipeline reads SurfaceVertex through vertex attributes at the same offsets.
+    let attribute_offsets: Vec<u64> = SurfaceVertex::ATTRIBUTES.iter().map(|a| a.offset).collect();
+    let member_offsets: Vec<u64> = wgsl_layout(&module, "SurfaceVertex")
+        .0
+        .iter()
+        .map(|(_, offset)| u64::from(*offset))
+        .collect();
+    assert_eq!(attribute_offsets, member_offsets);
+    assert_eq!(
+        SurfaceVertex::layout().array_stride,
+        u64::from(wgsl_layout(&module, "SurfaceVertex").1)
+    );
+}
+
+/// The value of the WGSL constant `name`.
+fn wgsl_constant(module: &naga::Module, name: &str) -> f64 {
+    let constant = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no constant {name}"))
+        .1;
+    match module.global_expressions[constant.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => f64::from(v),
+        naga::Expression::Literal(naga::Literal::F32(v)) => f64::from(v),
+        ref other => panic!("{name} is not a u32/f32 literal: {other:?}"),
+    }
+}
+
+#[test]
+fn evaluator_constants_match_their_rust_counterparts() {
+    let module = parse_and_validate("eval_bezier.wgsl", &shaders::compose(shaders::EVAL_BEZIER));
+    assert_eq!(
+        wgsl_constant(&module, "MAX_DEGREE"),
+        f64::from(GPU_MAX_DEGREE)
+    );
+    assert_eq!(
+        wgsl_constant(&module, "WORKGROUP_SIZE"),
+        f64::from(EVAL_WORKGROUP_SIZE)
+    );
+    assert_eq!(
+        wgsl_constant(&module, "DEGENERATE_SIN2"),
+        f64::from(DEGENERATE_SIN2 as f32)
+    );
+    assert_eq!(
+        wgsl_constant(&module, "NORMAL_NUDGE"),
+        f64::from(NORMAL_NUDGE as f32)
+    );
+    // The basis arrays hold MAX_DEGREE + 1 entries.
+    assert!(shaders::EVAL_BEZIER.contains(&format!("array<f32, {}>", GPU_MAX_DEGREE + 1)));
+}
