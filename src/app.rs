@@ -8,9 +8,9 @@ use eframe::egui;
 use eframe::egui_wgpu;
 
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{self, PatchEvaluator, PatchGeometry, SceneUniform};
+use crate::gpu::{self, PatchEvaluator, PatchGeometry};
 use crate::kernel::{BezierPatchSet, samples};
-use crate::render::{DrawOptions, ViewTarget, ViewportRenderer};
+use crate::render::{DrawOptions, ViewTarget, ViewportRenderer, scene_uniform};
 use crate::status::{self, AppStatus, ExternalCommand};
 use crate::view::OrbitCamera;
 
@@ -32,25 +32,6 @@ pub fn wgpu_configuration(web: bool) -> egui_wgpu::WgpuConfiguration {
     egui_wgpu::WgpuConfiguration {
         wgpu_setup: egui_wgpu::WgpuSetup::CreateNew(setup),
         ..Default::default()
-    }
-}
-
-/// The scene uniform for `camera` looking into `target` (colours in linear RGB).
-pub fn scene_uniform(
-    camera: &OrbitCamera,
-    target: &ViewTarget,
-    point_radius_px: f32,
-) -> SceneUniform {
-    let (w, h) = target.size();
-    let aspect = w as f32 / h.max(1) as f32;
-    SceneUniform {
-        view_proj: camera.view_projection(aspect).to_cols_array_2d(),
-        eye: camera.eye().extend(1.0).to_array(),
-        viewport: [w as f32, h as f32, point_radius_px, 0.0],
-        surface_color: [0.62, 0.55, 0.46, 1.0],
-        back_color: [0.30, 0.36, 0.52, 1.0],
-        net_color: [0.85, 0.85, 0.90, 0.85],
-        point_color: [0.95, 0.78, 0.25, 1.0],
     }
 }
 
@@ -133,7 +114,14 @@ impl ViewportGpu {
             self.geometry.encode(&mut encoder, &self.evaluator, writes);
             self.evaluate = false;
         }
-        let scene = scene_uniform(camera, target, point_radius_px);
+        let (w, h) = target.size();
+        let aspect = w as f32 / h.max(1) as f32;
+        let scene = scene_uniform(
+            camera.view_projection(aspect),
+            camera.eye(),
+            target,
+            point_radius_px,
+        );
         let writes = self.timer.as_mut().and_then(GpuTimer::render_pass_writes);
         self.renderer.render(
             &self.queue,
@@ -176,6 +164,7 @@ impl KnotworkApp {
     /// `adapter_label` names the adapter where wgpu cannot (the browser reports no name).
     pub fn new(cc: &eframe::CreationContext<'_>, adapter_label: Option<String>) -> Self {
         status::set_repaint_context(&cc.egui_ctx);
+        cc.egui_ctx.set_theme(egui::Theme::Dark);
         let mut status = AppStatus {
             segments: DEFAULT_SEGMENTS,
             ..Default::default()

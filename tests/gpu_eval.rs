@@ -155,7 +155,16 @@ fn rational_patches_of_every_supported_degree_match() {
     let mut points = Vec::new();
     let mut weights = Vec::new();
     let mut patches = Vec::new();
-    for (p, q) in [(1, 1), (1, 7), (2, 2), (3, 5), (4, 4), (7, 3), (7, 7)] {
+    for (p, q) in [
+        (1, 1),
+        (1, 7),
+        (2, 2),
+        (3, 3),
+        (3, 5),
+        (4, 4),
+        (7, 3),
+        (7, 7),
+    ] {
         let first = points.len() as u32;
         for _ in 0..(p + 1) * (q + 1) {
             points.push(DVec3::new(lcg(&mut state), lcg(&mut state), lcg(&mut state)) * 4.0 - 2.0);

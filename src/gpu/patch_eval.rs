@@ -17,28 +17,59 @@ pub const MAX_SEGMENTS: u32 = 1024;
 
 /// The compute pipelines; one per device, shared by every [`PatchGeometry`].
 pub struct PatchEvaluator {
-    eval_pipeline: wgpu::ComputePipeline,
+    /// `evaluate_vertices` specialized to bicubic patches (`BICUBIC_ONLY = true`).
+    bicubic_pipeline: wgpu::ComputePipeline,
+    /// `evaluate_vertices` for any degree up to [`GPU_MAX_DEGREE`].
+    general_pipeline: wgpu::ComputePipeline,
     triangles_pipeline: wgpu::ComputePipeline,
 }
 
 impl PatchEvaluator {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = shaders::create_module(device, "eval_bezier.wgsl", shaders::EVAL_BEZIER);
-        let pipeline = |entry_point: &str| {
+        let pipeline = |label: &str, entry_point: &str, constants: &[(&str, f64)]| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
+                label: Some(label),
                 layout: None,
                 module: &module,
                 entry_point: Some(entry_point),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
                 cache: None,
             })
         };
         Self {
-            eval_pipeline: pipeline("evaluate_vertices"),
-            triangles_pipeline: pipeline("write_triangles"),
+            bicubic_pipeline: pipeline(
+                "evaluate bicubic patches",
+                "evaluate_vertices",
+                &[("BICUBIC_ONLY", 1.0)],
+            ),
+            general_pipeline: pipeline(
+                "evaluate patches",
+                "evaluate_vertices",
+                &[("BICUBIC_ONLY", 0.0)],
+            ),
+            triangles_pipeline: pipeline("write triangles", "write_triangles", &[]),
         }
     }
+
+    fn eval_pipeline(&self, bicubic: bool) -> &wgpu::ComputePipeline {
+        if bicubic {
+            &self.bicubic_pipeline
+        } else {
+            &self.general_pipeline
+        }
+    }
+}
+
+/// The patches one evaluation pipeline handles: their records and bind groups.
+struct PatchGroup {
+    bicubic: bool,
+    count: u32,
+    eval_bind_group: wgpu::BindGroup,
+    triangles_bind_group: wgpu::BindGroup,
 }
 
 /// GPU buffers of one patch set at one tessellation level.
@@ -47,8 +78,8 @@ pub struct PatchGeometry {
     vertices: wgpu::Buffer,
     triangle_indices: wgpu::Buffer,
     net_lines: wgpu::Buffer,
-    eval_bind_group: wgpu::BindGroup,
-    triangles_bind_group: wgpu::BindGroup,
+    /// Bicubic patches and the rest, each evaluated by its own pipeline.
+    groups: Vec<PatchGroup>,
     patch_count: u32,
     control_point_count: u32,
     vertex_count: u32,
@@ -194,7 +225,6 @@ impl PatchGeometry {
             bytemuck::cast_slice(&control_indices),
             storage,
         );
-        let record_buffer = init("patch records", bytemuck::cast_slice(&records), storage);
         let net_lines = init(
             "net lines",
             bytemuck::cast_slice(&net),
@@ -225,27 +255,46 @@ impl PatchGeometry {
                 entries: &entries,
             })
         };
-        let eval_bind_group = bind(
-            &evaluator.eval_pipeline,
-            &[
-                (0, &control_points),
-                (1, &control_index_buffer),
-                (2, &record_buffer),
-                (3, &vertices),
-            ],
-        );
-        let triangles_bind_group = bind(
-            &evaluator.triangles_pipeline,
-            &[(2, &record_buffer), (4, &triangle_indices)],
-        );
+        let mut groups = Vec::new();
+        for bicubic in [true, false] {
+            let group_records: Vec<PatchRecord> = records
+                .iter()
+                .filter(|r| (r.degree_u == 3 && r.degree_v == 3) == bicubic)
+                .copied()
+                .collect();
+            if group_records.is_empty() {
+                continue;
+            }
+            let record_buffer = init(
+                "patch records",
+                bytemuck::cast_slice(&group_records),
+                storage,
+            );
+            groups.push(PatchGroup {
+                bicubic,
+                count: group_records.len() as u32,
+                eval_bind_group: bind(
+                    evaluator.eval_pipeline(bicubic),
+                    &[
+                        (0, &control_points),
+                        (1, &control_index_buffer),
+                        (2, &record_buffer),
+                        (3, &vertices),
+                    ],
+                ),
+                triangles_bind_group: bind(
+                    &evaluator.triangles_pipeline,
+                    &[(2, &record_buffer), (4, &triangle_indices)],
+                ),
+            });
+        }
 
         Ok(Self {
             control_points,
             vertices,
             triangle_indices,
             net_lines,
-            eval_bind_group,
-            triangles_bind_group,
+            groups,
             patch_count: records.len() as u32,
             control_point_count: points.len() as u32,
             vertex_count: vertex_offset as u32,
@@ -288,18 +337,19 @@ impl PatchGeometry {
             label: Some("evaluate patches"),
             timestamp_writes: timestamps,
         });
-        if self.patch_count == 0 {
-            return;
-        }
         if !self.triangles_written {
             pass.set_pipeline(&evaluator.triangles_pipeline);
-            pass.set_bind_group(0, &self.triangles_bind_group, &[]);
-            pass.dispatch_workgroups(self.quad_groups_x, self.patch_count, 1);
+            for group in &self.groups {
+                pass.set_bind_group(0, &group.triangles_bind_group, &[]);
+                pass.dispatch_workgroups(self.quad_groups_x, group.count, 1);
+            }
             self.triangles_written = true;
         }
-        pass.set_pipeline(&evaluator.eval_pipeline);
-        pass.set_bind_group(0, &self.eval_bind_group, &[]);
-        pass.dispatch_workgroups(self.vertex_groups_x, self.patch_count, 1);
+        for group in &self.groups {
+            pass.set_pipeline(evaluator.eval_pipeline(group.bicubic));
+            pass.set_bind_group(0, &group.eval_bind_group, &[]);
+            pass.dispatch_workgroups(self.vertex_groups_x, group.count, 1);
+        }
     }
 
     pub fn control_points(&self) -> &wgpu::Buffer {

@@ -5,5 +5,6 @@
 mod viewport;
 
 pub use viewport::{
-    COLOR_FORMAT, DEPTH_FORMAT, DrawOptions, SAMPLE_COUNT, ViewTarget, ViewportRenderer,
+    COLOR_FORMAT, DEPTH_FORMAT, DrawOptions, POINT_COLOR, SAMPLE_COUNT, ViewTarget,
+    ViewportRenderer, scene_uniform,
 };

@@ -1,5 +1,7 @@
+use glam::{Mat4, Vec3};
+
+use crate::gpu::PatchGeometry;
 use crate::gpu::records::{SceneUniform, SurfaceVertex};
-use crate::gpu::{GpuError, PatchGeometry};
 use crate::shaders;
 
 /// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
@@ -7,6 +9,29 @@ pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// 4× MSAA: guaranteed for these formats by WebGPU.
 pub const SAMPLE_COUNT: u32 = 4;
+
+/// The scene uniform for a view `view_proj` from `eye` into `target`, with the editor's colours
+/// (linear RGB) and control point dots of `point_radius_px` physical pixels.
+pub fn scene_uniform(
+    view_proj: Mat4,
+    eye: Vec3,
+    target: &ViewTarget,
+    point_radius_px: f32,
+) -> SceneUniform {
+    let (w, h) = target.size();
+    SceneUniform {
+        view_proj: view_proj.to_cols_array_2d(),
+        eye: eye.extend(1.0).to_array(),
+        viewport: [w as f32, h as f32, point_radius_px, 0.0],
+        surface_color: [0.50, 0.43, 0.35, 1.0],
+        back_color: [0.22, 0.28, 0.45, 1.0],
+        net_color: [0.70, 0.72, 0.78, 0.55],
+        point_color: POINT_COLOR,
+    }
+}
+
+/// Linear RGBA of the control point dots.
+pub const POINT_COLOR: [f32; 4] = [0.95, 0.78, 0.25, 1.0];
 
 /// What to draw.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,6 +109,11 @@ impl ViewTarget {
         (self.width, self.height)
     }
 
+    /// The resolved colour texture (for copies and screenshots).
+    pub fn texture(&self) -> &wgpu::Texture {
+        &self.resolved
+    }
+
     /// The resolved colour, for display.
     pub fn view(&self) -> &wgpu::TextureView {
         &self.resolved_view
@@ -95,7 +125,7 @@ impl ViewTarget {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-    ) -> Result<Vec<u8>, GpuError> {
+    ) -> Result<Vec<u8>, crate::gpu::GpuError> {
         let row = self.width as u64 * 4;
         let padded = row.div_ceil(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
             * u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);

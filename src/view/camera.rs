@@ -86,15 +86,31 @@ impl OrbitCamera {
         self.distance = (self.distance * (-0.15 * steps).exp()).clamp(MIN_DISTANCE, MAX_DISTANCE);
     }
 
-    /// Aims at the centre of the box [lo, hi] from a distance at which its bounding sphere fits
-    /// the view (both the vertical and the horizontal field of view).
+    /// Aims at the centre of the box [lo, hi] and moves to the nearest distance (plus a 5% margin)
+    /// at which all eight corners lie inside both the vertical and horizontal field of view.
     pub fn frame(&mut self, lo: Vec3, hi: Vec3, aspect: f32) {
-        let radius = (0.5 * (hi - lo).length()).max(1e-3);
-        let half_v = self.fov_y * 0.5;
-        let half_h = (half_v.tan() * aspect.max(1e-3)).atan();
-        let half = half_v.min(half_h);
         self.target = 0.5 * (lo + hi);
-        self.distance = (radius / half.sin() * 1.05).clamp(MIN_DISTANCE, MAX_DISTANCE);
+        let tan_v = (self.fov_y * 0.5).tan();
+        let tan_h = tan_v * aspect.max(1e-3);
+        // Camera axes (independent of the distance).
+        let back = (self.eye() - self.target).normalize_or(Vec3::X);
+        let right = Vec3::Z.cross(back).normalize_or(Vec3::Y);
+        let up = back.cross(right);
+        // A corner at offset c from the target is in view at distance d when
+        // |c·right| ≤ (d − c·back) tan_h and |c·up| ≤ (d − c·back) tan_v.
+        let mut distance = 0.0f32;
+        for corner in 0..8 {
+            let c = Vec3::new(
+                if corner & 1 == 0 { lo.x } else { hi.x },
+                if corner & 2 == 0 { lo.y } else { hi.y },
+                if corner & 4 == 0 { lo.z } else { hi.z },
+            ) - self.target;
+            let depth = c.dot(back);
+            distance = distance
+                .max(depth + c.dot(right).abs() / tan_h)
+                .max(depth + c.dot(up).abs() / tan_v);
+        }
+        self.distance = (distance * 1.05).clamp(MIN_DISTANCE, MAX_DISTANCE);
     }
 }
 

@@ -1,0 +1,346 @@
+//! The whole GPU path — compute evaluation, vertex and index buffers, render pipelines — drawn
+//! offscreen on a real device and compared with what the f64 reference says should be seen.
+//! Failing comparisons write the actual, expected and difference images (see the panic message).
+
+mod common;
+
+use glam::{DMat4, DVec3};
+use knotwork::gpu::{GpuContext, PatchEvaluator, PatchGeometry};
+use knotwork::kernel::{BezierPatchSet, samples};
+use knotwork::render::{DrawOptions, POINT_COLOR, ViewTarget, ViewportRenderer, scene_uniform};
+use knotwork::view::OrbitCamera;
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+const SEGMENTS: u32 = 16;
+const POINT_RADIUS: f32 = 4.0;
+
+fn framed_camera(set: &BezierPatchSet) -> OrbitCamera {
+    let (lo, hi) = set.bounds().unwrap();
+    let mut camera = OrbitCamera::default();
+    camera.frame(lo.as_vec3(), hi.as_vec3(), WIDTH as f32 / HEIGHT as f32);
+    camera
+}
+
+fn render(
+    context: &GpuContext,
+    set: &BezierPatchSet,
+    camera: &OrbitCamera,
+    options: &DrawOptions,
+) -> Vec<u8> {
+    let evaluator = PatchEvaluator::new(&context.device);
+    let mut geometry = PatchGeometry::new(&context.device, &evaluator, set, SEGMENTS).unwrap();
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
+    let scene = scene_uniform(
+        camera.view_projection(WIDTH as f32 / HEIGHT as f32),
+        camera.eye(),
+        &target,
+        POINT_RADIUS,
+    );
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    geometry.encode(&mut encoder, &evaluator, None);
+    renderer.render(
+        &context.queue,
+        &mut encoder,
+        &target,
+        &scene,
+        &geometry,
+        options,
+        None,
+    );
+    context.queue.submit([encoder.finish()]);
+    let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
+    assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);
+    pixels
+}
+
+/// Pixel coordinates (x right, y down) of a world point, or None behind the camera.
+fn project(view_proj: &DMat4, p: DVec3) -> Option<(f64, f64)> {
+    let clip = *view_proj * p.extend(1.0);
+    (clip.w > 0.0).then(|| {
+        let (x, y) = (clip.x / clip.w, clip.y / clip.w);
+        (
+            (x + 1.0) * 0.5 * f64::from(WIDTH),
+            (1.0 - y) * 0.5 * f64::from(HEIGHT),
+        )
+    })
+}
+
+fn background_bytes(options: &DrawOptions) -> [u8; 3] {
+    let [r, g, b, _] = options.background;
+    [r, g, b].map(|c| (c * 255.0).round() as u8)
+}
+
+fn differs_from(pixel: &[u8], reference: [u8; 3], tolerance: u8) -> bool {
+    pixel
+        .iter()
+        .zip(reference)
+        .any(|(&a, b)| a.abs_diff(b) > tolerance)
+}
+
+/// Coverage of the f64 reference tessellation, rasterized on the CPU at pixel centres.
+fn reference_coverage(set: &BezierPatchSet, view_proj: &DMat4) -> Vec<bool> {
+    let mut mask = vec![false; (WIDTH * HEIGHT) as usize];
+    let n = SEGMENTS as usize;
+    for k in 0..set.patches().len() {
+        let grid: Vec<Option<(f64, f64)>> = (0..=n)
+            .flat_map(|i| (0..=n).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let p = set
+                    .evaluate(k, i as f64 / n as f64, j as f64 / n as f64)
+                    .unwrap()
+                    .point;
+                project(view_proj, p)
+            })
+            .collect();
+        let at = |i: usize, j: usize| grid[i * (n + 1) + j];
+        for i in 0..n {
+            for j in 0..n {
+                for tri in [
+                    [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                    [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
+                ] {
+                    if let [Some(a), Some(b), Some(c)] = tri {
+                        fill_triangle(&mut mask, a, b, c);
+                    }
+                }
+            }
+        }
+    }
+    mask
+}
+
+fn fill_triangle(mask: &mut [bool], a: (f64, f64), b: (f64, f64), c: (f64, f64)) {
+    let edge = |p: (f64, f64), q: (f64, f64), r: (f64, f64)| {
+        (q.0 - p.0) * (r.1 - p.1) - (q.1 - p.1) * (r.0 - p.0)
+    };
+    let area = edge(a, b, c);
+    if area.abs() < 1e-12 {
+        return;
+    }
+    let x0 = a.0.min(b.0).min(c.0).floor().max(0.0) as u32;
+    let x1 = (a.0.max(b.0).max(c.0).ceil() as u32).min(WIDTH - 1);
+    let y0 = a.1.min(b.1).min(c.1).floor().max(0.0) as u32;
+    let y1 = (a.1.max(b.1).max(c.1).ceil() as u32).min(HEIGHT - 1);
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            let p = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+            let (w0, w1, w2) = (edge(b, c, p), edge(c, a, p), edge(a, b, p));
+            let inside = if area > 0.0 {
+                w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0
+            } else {
+                w0 <= 0.0 && w1 <= 0.0 && w2 <= 0.0
+            };
+            if inside {
+                mask[(y * WIDTH + x) as usize] = true;
+            }
+        }
+    }
+}
+
+fn mask_image(mask: &[bool]) -> Vec<u8> {
+    mask.iter()
+        .flat_map(|&m| {
+            if m {
+                [255, 255, 255, 255]
+            } else {
+                [0, 0, 0, 255]
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn surface_silhouette_matches_a_cpu_rasterization_of_the_reference() {
+    let context = common::gpu();
+    let teapot = samples::utah_teapot().unwrap();
+    let camera = framed_camera(&teapot);
+    let options = DrawOptions {
+        show_net: false,
+        show_points: false,
+        ..Default::default()
+    };
+    let image = render(&context, &teapot, &camera, &options);
+    let background = background_bytes(&options);
+    let actual: Vec<bool> = image
+        .chunks_exact(4)
+        .map(|p| differs_from(p, background, 6))
+        .collect();
+    let view_proj = camera
+        .view_projection(WIDTH as f32 / HEIGHT as f32)
+        .as_dmat4();
+    let expected = reference_coverage(&teapot, &view_proj);
+
+    // Anti-aliased edges may go either way; a mismatch anywhere else is an error.
+    let on_boundary = |x: i64, y: i64| {
+        let value = expected[(y * i64::from(WIDTH) + x) as usize];
+        (-1..=1)
+            .flat_map(|dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
+            .any(|(nx, ny)| {
+                (0..i64::from(WIDTH)).contains(&nx)
+                    && (0..i64::from(HEIGHT)).contains(&ny)
+                    && expected[(ny * i64::from(WIDTH) + nx) as usize] != value
+            })
+    };
+    let mut diff = image.clone();
+    let mut interior_mismatches = 0;
+    for y in 0..i64::from(HEIGHT) {
+        for x in 0..i64::from(WIDTH) {
+            let i = (y * i64::from(WIDTH) + x) as usize;
+            let mismatch = actual[i] != expected[i] && !on_boundary(x, y);
+            interior_mismatches += usize::from(mismatch);
+            diff[i * 4..i * 4 + 4].copy_from_slice(&if mismatch {
+                [255, 0, 0, 255]
+            } else {
+                [0, 0, 0, 255]
+            });
+        }
+    }
+    let covered = expected.iter().filter(|&&m| m).count();
+    let covered_gpu = actual.iter().filter(|&&m| m).count();
+    eprintln!(
+        "teapot covers {covered} px (reference) / {covered_gpu} px (GPU); {interior_mismatches} interior mismatches"
+    );
+    // The floor only guards against a trivially empty comparison.
+    if interior_mismatches > 0 || covered < 5_000 {
+        let paths = [
+            "silhouette-actual.png",
+            "silhouette-expected.png",
+            "silhouette-diff.png",
+        ]
+        .map(common::artifact_path);
+        common::write_png(&paths[0], WIDTH, HEIGHT, &image);
+        common::write_png(&paths[1], WIDTH, HEIGHT, &mask_image(&expected));
+        common::write_png(&paths[2], WIDTH, HEIGHT, &diff);
+        panic!(
+            "{interior_mismatches} pixels away from the silhouette disagree ({covered} covered); images: {}",
+            paths.map(|p| p.display().to_string()).join(", ")
+        );
+    }
+
+    // Lit, not flat: the visible surface spans a range of brightness.
+    let luminance: Vec<f64> = image
+        .chunks_exact(4)
+        .zip(&expected)
+        .filter(|&(_, &inside)| inside)
+        .map(|(p, _)| {
+            0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+        })
+        .collect();
+    let (min, max) = luminance
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &l| (lo.min(l), hi.max(l)));
+    assert!(max - min > 80.0, "shading range {min}..{max}");
+}
+
+/// sRGB encoding of a linear value (IEC 61966-2-1).
+fn srgb_byte(linear: f32) -> u8 {
+    let c = linear.clamp(0.0, 1.0);
+    let encoded = if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (encoded * 255.0).round() as u8
+}
+
+#[test]
+fn control_points_are_drawn_where_they_project() {
+    let context = common::gpu();
+    let teapot = samples::utah_teapot().unwrap();
+    let camera = framed_camera(&teapot);
+    let options = DrawOptions {
+        show_surface: false,
+        show_net: false,
+        show_points: true,
+        ..Default::default()
+    };
+    let image = render(&context, &teapot, &camera, &options);
+    let view_proj = camera
+        .view_projection(WIDTH as f32 / HEIGHT as f32)
+        .as_dmat4();
+    let dot = [POINT_COLOR[0], POINT_COLOR[1], POINT_COLOR[2]].map(srgb_byte);
+    let (mut visible, mut hit) = (0, 0);
+    for p in teapot.points() {
+        let Some((x, y)) = project(&view_proj, *p) else {
+            continue;
+        };
+        if !(3.0..f64::from(WIDTH) - 3.0).contains(&x)
+            || !(3.0..f64::from(HEIGHT) - 3.0).contains(&y)
+        {
+            continue;
+        }
+        visible += 1;
+        // Dot colour within the dot's radius around the projection.
+        let shows_dot = (-2..=2)
+            .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
+            .any(|(dx, dy)| {
+                let i = (((y as i64 + dy) * i64::from(WIDTH)) + x as i64 + dx) as usize * 4;
+                !differs_from(&image[i..i + 3], dot, 24)
+            });
+        hit += usize::from(shows_dot);
+    }
+    eprintln!("{hit} of {visible} control points show a dot at their projection");
+    assert!(visible > 250, "{visible}");
+    // Where points coincide on screen a later dot's dark rim may hide an earlier one's colour;
+    // nearly all must show.
+    assert!(hit as f64 >= 0.97 * visible as f64, "{hit} of {visible}");
+    // Nothing else is drawn: far from every point the image is background.
+    let background = background_bytes(&options);
+    assert!(!differs_from(&image[0..3], background, 0));
+}
+
+#[test]
+fn control_net_lines_join_neighbouring_points() {
+    let context = common::gpu();
+    let teapot = samples::utah_teapot().unwrap();
+    let camera = framed_camera(&teapot);
+    let options = DrawOptions {
+        show_surface: false,
+        show_net: true,
+        show_points: false,
+        ..Default::default()
+    };
+    let image = render(&context, &teapot, &camera, &options);
+    let view_proj = camera
+        .view_projection(WIDTH as f32 / HEIGHT as f32)
+        .as_dmat4();
+    let background = background_bytes(&options);
+    let lit = |x: i64, y: i64| {
+        (-1..=1)
+            .flat_map(|dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
+            .any(|(x, y)| {
+                let i = (y * i64::from(WIDTH) + x) as usize * 4;
+                differs_from(&image[i..i + 3], background, 20)
+            })
+    };
+    let (mut checked, mut drawn) = (0, 0);
+    for patch in teapot.patches() {
+        for i in 0..=3 {
+            for j in 0..=3 {
+                for (ni, nj) in [(i + 1, j), (i, j + 1)] {
+                    if ni > 3 || nj > 3 {
+                        continue;
+                    }
+                    let a = teapot.points()[patch.index(i, j) as usize];
+                    let b = teapot.points()[patch.index(ni, nj) as usize];
+                    if (a - b).length() < 0.05 {
+                        continue; // collapsed
+                    }
+                    let Some((x, y)) = project(&view_proj, 0.5 * (a + b)) else {
+                        continue;
+                    };
+                    if (2.0..f64::from(WIDTH) - 2.0).contains(&x)
+                        && (2.0..f64::from(HEIGHT) - 2.0).contains(&y)
+                    {
+                        checked += 1;
+                        drawn += usize::from(lit(x as i64, y as i64));
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{drawn} of {checked} net edge midpoints are drawn");
+    assert!(checked > 300 && drawn == checked, "{drawn} of {checked}");
+}

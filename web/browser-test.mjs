@@ -1,0 +1,184 @@
+// The editor in headless Chromium with WebGPU (SwiftShader): builds nothing, expects web/pkg/ to
+// exist (web/build.sh), serves the repository on 127.0.0.1, and checks what a user would see.
+//
+//   node web/browser-test.mjs            (CHROMIUM=/path/to/chromium to use another binary)
+//
+// Screenshots land in web/test-results/. Prints "browser: N passed, M failed" and exits non-zero
+// on any failure; a missing browser is a failure, never a skip.
+import { existsSync } from 'node:fs';
+import { mkdir, writeFile } from 'node:fs/promises';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from './server.mjs';
+
+const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+const resultsDir = fileURLToPath(new URL('./test-results/', import.meta.url));
+const pkg = fileURLToPath(new URL('./pkg/knotwork_bg.wasm', import.meta.url));
+
+// Flags that give headless Chromium a WebGPU adapter and a rendered canvas on SwiftShader
+// (../shared/notes/toolchain.md): with fewer, compute works but the canvas stays black.
+const webgpuFlags = [
+  '--no-sandbox', '--disable-gpu-sandbox', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  '--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader',
+  '--use-angle=swiftshader',
+];
+
+const results = [];
+async function check(name, body) {
+  const started = performance.now();
+  try {
+    await body();
+    results.push({ name, ok: true });
+    console.log(`ok    ${name} (${((performance.now() - started) / 1000).toFixed(1)} s)`);
+  } catch (error) {
+    results.push({ name, ok: false });
+    console.log(`FAIL  ${name}\n      ${String(error.stack ?? error).split('\n').join('\n      ')}`);
+  }
+}
+
+function assert(condition, message) {
+  if (!condition) throw new Error(message);
+}
+
+/** Opens the page, collecting console errors and uncaught exceptions. */
+async function openEditor(browser, url, { hideWebGpu = false } = {}) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(`console: ${m.text()}`); });
+  page.on('pageerror', (e) => errors.push(`page: ${e.message}`));
+  if (hideWebGpu) {
+    await page.addInitScript(() => { delete Object.getPrototypeOf(navigator).gpu; });
+  }
+  await page.goto(url);
+  return { page, errors };
+}
+
+const status = (page) => page.evaluate(() => window.knotwork.status());
+
+/**
+ * Statistics of a screenshot's pixels in a rectangle, decoded in the page (no image library
+ * needed here): how many differ from `background` by more than `tolerance` in any channel.
+ */
+async function screenshotStats(page, png, rect, background, tolerance) {
+  return page.evaluate(async ({ data, rect, background, tolerance }) => {
+    const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
+    const bitmap = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+    const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const context = canvas.getContext('2d');
+    context.drawImage(bitmap, 0, 0);
+    const pixels = context.getImageData(rect.x, rect.y, rect.width, rect.height).data;
+    let differing = 0;
+    for (let i = 0; i < pixels.length; i += 4) {
+      if (Math.abs(pixels[i] - background[0]) > tolerance
+        || Math.abs(pixels[i + 1] - background[1]) > tolerance
+        || Math.abs(pixels[i + 2] - background[2]) > tolerance) differing += 1;
+    }
+    return { differing, total: pixels.length / 4, width: bitmap.width, height: bitmap.height };
+  }, { data: png.toString('base64'), rect, background, tolerance });
+}
+
+async function main() {
+  if (!existsSync(chromiumPath)) {
+    console.log(`FAIL  no Chromium at ${chromiumPath}: install it (Debian: apt-get install chromium) or set CHROMIUM`);
+    console.log('browser: 0 passed, 1 failed');
+    process.exit(1);
+  }
+  if (!existsSync(pkg)) {
+    console.log(`FAIL  ${pkg} is missing: build the bundle first with web/build.sh`);
+    console.log('browser: 0 passed, 1 failed');
+    process.exit(1);
+  }
+  await mkdir(resultsDir, { recursive: true });
+  const server = await startServer(0);
+  const url = `http://127.0.0.1:${server.address().port}/index.html`;
+  const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: webgpuFlags });
+  console.log(`Chromium ${browser.version()}, serving ${url}`);
+
+  try {
+    await check('the teapot is evaluated and drawn with WebGPU', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => {
+        const s = window.knotwork.status();
+        return s.frames >= 1 || s.error;
+      }, null, { timeout: 120_000 });
+      let s = await status(page);
+      assert(s.error === null, `error: ${s.error}`);
+      assert(s.backend === 'webgpu', `backend ${s.backend}`);
+      assert(typeof s.adapter === 'string' && s.adapter.length > 0, `adapter ${s.adapter}`);
+      assert(s.patches === 32, `patches ${s.patches}`);
+      assert(s.segments === 32 && s.vertices === 32 * 33 * 33, `vertices ${s.vertices} at ${s.segments}`);
+      assert(s.triangles === 32 * 32 * 32 * 2, `triangles ${s.triangles}`);
+
+      // Redraw continuously, then wait for frames and measure the frame rate.
+      await page.evaluate(() => window.knotwork.setContinuous(true));
+      await page.waitForFunction(() => window.knotwork.status().frames > 2, null, { timeout: 60_000 });
+      const before = await status(page);
+      const t0 = Date.now();
+      await page.waitForTimeout(3000);
+      const after = await status(page);
+      const fps = ((after.frames - before.frames) * 1000) / (Date.now() - t0);
+      console.log(`      adapter "${after.adapter}", ${after.vertices} vertices, ${fps.toFixed(1)} frames/s, ` +
+        `GPU evaluate ${after.gpu_eval_ms ?? 'n/a'} ms, draw ${after.gpu_render_ms ?? 'n/a'} ms`);
+      assert(after.frames > before.frames, 'frames keep coming while redrawing continuously');
+      await page.evaluate(() => window.knotwork.setContinuous(false));
+
+      // The canvas shows the teapot: the viewport (right of the 250 px panel) is not blank.
+      const png = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/teapot.png`, png);
+      const viewport = { x: 320, y: 100, width: 900, height: 600 };
+      const stats = await screenshotStats(page, png, viewport, [33, 36, 41], 12);
+      console.log(`      ${stats.differing} of ${stats.total} viewport pixels differ from the background`);
+      assert(stats.differing > 0.03 * stats.total, `the viewport looks blank (${stats.differing} px differ)`);
+      assert(stats.differing < 0.9 * stats.total, `the viewport is not the scene (${stats.differing} px differ)`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('tessellation changes re-run the compute pass; absurd levels are refused', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      await page.evaluate(() => window.knotwork.setSegments(8));
+      await page.waitForFunction(() => window.knotwork.status().segments === 8, null, { timeout: 30_000 });
+      let s = await status(page);
+      assert(s.vertices === 32 * 9 * 9 && s.error === null, JSON.stringify(s));
+      const framesBefore = s.frames;
+      await page.evaluate(() => window.knotwork.setSegments(100000));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(/segments/.test(s.error), `error names the problem: ${s.error}`);
+      assert(s.segments === 8 && s.vertices === 32 * 9 * 9, `the model is unchanged: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.setSegments(64));
+      await page.waitForFunction(() => window.knotwork.status().segments === 64, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.vertices === 32 * 65 * 65 && s.frames > framesBefore && s.error === null, JSON.stringify(s));
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('without WebGPU the page says so and how to enable it', async () => {
+      const { page, errors } = await openEditor(browser, url, { hideWebGpu: true });
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      const s = await status(page);
+      assert(/WebGPU/.test(s.error), `status error: ${s.error}`);
+      const text = await page.locator('#message').innerText();
+      assert(/WebGPU is not available/.test(text) && /enable-unsafe-webgpu/.test(text), `message: ${text}`);
+      await writeFile(`${resultsDir}/no-webgpu.png`, await page.screenshot());
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+  } finally {
+    await browser.close();
+    server.close();
+  }
+
+  const failed = results.filter((r) => !r.ok).length;
+  console.log(`browser: ${results.length - failed} passed, ${failed} failed`);
+  process.exit(failed === 0 ? 0 : 1);
+}
+
+main().catch((error) => {
+  console.log(`FAIL  ${error.stack ?? error}`);
+  console.log('browser: 0 passed, 1 failed');
+  process.exit(1);
+});
