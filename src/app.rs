@@ -123,15 +123,9 @@ impl ViewportGpu {
             point_radius_px,
         );
         let writes = self.timer.as_mut().and_then(GpuTimer::render_pass_writes);
-        self.renderer.render(
-            &self.queue,
-            &mut encoder,
-            target,
-            &scene,
-            &self.geometry,
-            options,
-            writes,
-        );
+        self.renderer.set_scene(&self.queue, &scene);
+        self.renderer
+            .render(&mut encoder, target, &self.geometry, options, writes);
         if let Some(timer) = &mut self.timer {
             timer.resolve(&mut encoder);
         }

@@ -40,15 +40,8 @@ fn render(
     );
     let mut encoder = context.device.create_command_encoder(&Default::default());
     geometry.encode(&mut encoder, &evaluator, None);
-    renderer.render(
-        &context.queue,
-        &mut encoder,
-        &target,
-        &scene,
-        &geometry,
-        options,
-        None,
-    );
+    renderer.set_scene(&context.queue, &scene);
+    renderer.render(&mut encoder, &target, &geometry, options, None);
     context.queue.submit([encoder.finish()]);
     let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
     assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);

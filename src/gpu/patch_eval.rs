@@ -185,7 +185,9 @@ impl PatchGeometry {
 
         let vertex_bytes = vertex_offset * std::mem::size_of::<SurfaceVertex>() as u64;
         let index_bytes = index_offset * 4;
-        let limit = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         for (what, bytes) in [("vertex", vertex_bytes), ("index", index_bytes)] {
             if bytes > limit || vertex_offset > u64::from(u32::MAX) {
                 return Err(GpuError::BufferTooLarge { what, bytes, limit });

@@ -24,9 +24,9 @@ pub fn bernstein_all(t: f64, out: &mut [f64]) {
     out[0] = 1.0;
     for j in 1..=degree {
         let mut saved = 0.0;
-        for k in 0..j {
-            let temp = out[k];
-            out[k] = saved + s * temp;
+        for b in &mut out[..j] {
+            let temp = *b;
+            *b = saved + s * temp;
             saved = t * temp;
         }
         out[j] = saved;
@@ -88,8 +88,8 @@ impl<const N: usize> BernsteinBasis<N> {
         let mut value = T::default();
         let mut d1 = T::default();
         let mut d2 = T::default();
-        for i in 0..=n {
-            value = value + points[i] * self.full[i];
+        for (&p, &b) in points[..=n].iter().zip(&self.full) {
+            value = value + p * b;
         }
         if n >= 1 {
             for i in 0..n {

@@ -261,10 +261,10 @@ impl BezierPatchSet {
                 let w = self.weights[index];
                 *h = (self.points[index] * w).extend(w);
             }
-            let [r0, r1, r2] = bv.sum_with_derivatives(&row_points[..=q]);
-            rows[0][i] = r0;
-            rows[1][i] = r1;
-            rows[2][i] = r2;
+            let sums = bv.sum_with_derivatives(&row_points[..=q]);
+            for (row, sum) in rows.iter_mut().zip(sums) {
+                row[i] = sum;
+            }
         }
         // Then across the rows in u: a[k][l] = ∂^{k+l} A / ∂u^k ∂v^l.
         let [a00, a10, a20] = bu.sum_with_derivatives(&rows[0][..=p]);

@@ -295,19 +295,22 @@ impl ViewportRenderer {
         }
     }
 
+    /// Sets the camera, viewport size and colours for the next [`Self::render`].
+    pub fn set_scene(&self, queue: &wgpu::Queue, scene: &SceneUniform) {
+        queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(scene));
+    }
+
     /// Records one render pass into `target`: the surface from `geometry`'s evaluated vertex
-    /// buffer, then the control net and points as `options` ask.
+    /// buffer, then the control net and points as `options` ask, seen as [`Self::set_scene`]
+    /// said.
     pub fn render(
         &self,
-        queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         target: &ViewTarget,
-        scene: &SceneUniform,
         geometry: &PatchGeometry,
         options: &DrawOptions,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(scene));
         let [r, g, b, a] = options.background;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewport"),

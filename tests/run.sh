@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Runs every test of knotwork:
+#   1. cargo fmt --check, and clippy -D warnings for the desktop and for wasm32;
+#   2. cargo test: kernel, GPU evaluation vs the f64 reference (a real wgpu adapter: lavapipe
+#      where there is no GPU), shader validation and layouts, offscreen image tests;
+#   3. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
+#
+#   tests/run.sh
+#
+# On Debian/Ubuntu as root it installs what is missing (mesa-vulkan-drivers for lavapipe,
+# chromium, Node.js, npm packages, the wasm32 target, wasm-bindgen-cli); elsewhere it prints what
+# to install and fails. A missing GPU adapter or browser is a failure, never a skip.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+
+step() { printf '\n==> %s\n' "$*"; }
+started=$(date +%s)
+
+# --- What the machine needs ------------------------------------------------------------------
+packages=()
+if [ "$(uname -s)" = Linux ]; then
+  icds=$(ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json 2>/dev/null || true)
+  [ -n "$icds" ] || packages+=(mesa-vulkan-drivers)
+fi
+chromium=${CHROMIUM:-/usr/bin/chromium}
+[ -x "$chromium" ] || packages+=(chromium)
+command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
+if [ ${#packages[@]} -gt 0 ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    step "installing ${packages[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
+  else
+    echo "tests/run.sh: missing: ${packages[*]}" >&2
+    echo "  Debian/Ubuntu: sudo apt-get install ${packages[*]}" >&2
+    echo "  (mesa-vulkan-drivers gives a software Vulkan GPU; set CHROMIUM=/path/to/chromium to use another browser)" >&2
+    exit 1
+  fi
+fi
+if ! command -v cargo >/dev/null; then
+  echo "tests/run.sh: Rust is missing: install it with rustup (https://rustup.rs)" >&2
+  exit 1
+fi
+if [ "$(uname -s)" = Linux ]; then
+  # Vulkan directly (skips a slow EGL probe); lavapipe where there is no GPU.
+  export WGPU_BACKEND=${WGPU_BACKEND:-vulkan}
+fi
+if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "$XDG_RUNTIME_DIR" ]; then
+  XDG_RUNTIME_DIR=$(mktemp -d)
+  export XDG_RUNTIME_DIR
+fi
+if command -v rustup >/dev/null && ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
+  step "adding the wasm32-unknown-unknown target"
+  rustup target add wasm32-unknown-unknown
+fi
+
+# --- Static checks -----------------------------------------------------------------------------
+step "cargo fmt --check"
+cargo fmt --all -- --check
+step "cargo clippy (desktop)"
+cargo clippy --all-targets --locked -- -D warnings
+step "cargo clippy (wasm32)"
+cargo clippy --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
+
+# --- Rust tests --------------------------------------------------------------------------------
+step "cargo test"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+cargo test --locked 2>&1 | tee "$log"
+rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^passed/) n += $i } END { print n + 0 }' "$log")
+
+# --- The web page in a browser -----------------------------------------------------------------
+step "web bundle"
+web/build.sh
+step "browser test (headless Chromium, WebGPU)"
+(cd web && npm ci --no-audit --no-fund --loglevel=error)
+browser_log=$(mktemp)
+trap 'rm -f "$log" "$browser_log"' EXIT
+set +e
+CHROMIUM="$chromium" node web/browser-test.mjs 2>&1 | tee "$browser_log"
+browser_status=${PIPESTATUS[0]}
+set -e
+browser_passed=$(sed -n 's/^browser: \([0-9]*\) passed.*/\1/p' "$browser_log")
+browser_failed=$(sed -n 's/^browser: [0-9]* passed, \([0-9]*\) failed.*/\1/p' "$browser_log")
+if [ "$browser_status" != 0 ]; then
+  echo "tests/run.sh: the browser test failed" >&2
+  exit 1
+fi
+
+printf '\nAll checks passed in %s s: cargo test %s, browser %s.\n' \
+  "$(($(date +%s) - started))" "$rust_passed" "${browser_passed:-0}"
+echo "tests: $((rust_passed + ${browser_passed:-0})) passed, ${browser_failed:-0} failed"
