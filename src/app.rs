@@ -174,10 +174,12 @@ impl KnotworkApp {
             Some(state) => {
                 let info = state.adapter.get_info();
                 status.backend = gpu::backend_name(info.backend).to_owned();
-                status.adapter = match adapter_label.filter(|_| info.name.is_empty()) {
-                    Some(label) if !label.is_empty() => label,
-                    _ if info.name.is_empty() => "(unnamed adapter)".to_owned(),
-                    _ => info.name.clone(),
+                status.adapter = if info.name.is_empty() {
+                    adapter_label
+                        .filter(|label| !label.is_empty())
+                        .unwrap_or_else(|| "(unnamed adapter)".to_owned())
+                } else {
+                    info.name.clone()
                 };
                 match ViewportGpu::new(state, &model, DEFAULT_SEGMENTS) {
                     Ok(gpu) => Some(gpu),

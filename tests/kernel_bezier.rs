@@ -206,42 +206,18 @@ fn derivatives_match_finite_differences() {
             let at = |u: f64, v: f64| set.evaluate(0, u, v).unwrap();
             let d = at(u, v);
             let scale = 1.0 + d.su.length() + d.sv.length();
-            let check = |name: &str, exact: DVec3, fd: DVec3, tol: f64| {
-                assert!(
-                    (exact - fd).length() < tol * scale,
-                    "({p},{q}) {name}: {exact} vs {fd}"
-                );
-            };
-            check(
-                "su",
-                d.su,
-                (at(u + h, v).point - at(u - h, v).point) / (2.0 * h),
-                1e-6,
-            );
-            check(
-                "sv",
-                d.sv,
-                (at(u, v + h).point - at(u, v - h).point) / (2.0 * h),
-                1e-6,
-            );
-            check(
-                "suu",
-                d.suu,
-                (at(u + h, v).su - at(u - h, v).su) / (2.0 * h),
-                1e-5,
-            );
-            check(
-                "suv",
-                d.suv,
-                (at(u, v + h).su - at(u, v - h).su) / (2.0 * h),
-                1e-5,
-            );
-            check(
-                "svv",
-                d.svv,
-                (at(u, v + h).sv - at(u, v - h).sv) / (2.0 * h),
-                1e-5,
-            );
+            let central = |plus: DVec3, minus: DVec3| (plus - minus) / (2.0 * h);
+            let (up, um, vp, vm) = (at(u + h, v), at(u - h, v), at(u, v + h), at(u, v - h));
+            for (name, exact, fd, tol) in [
+                ("su", d.su, central(up.point, um.point), 1e-6),
+                ("sv", d.sv, central(vp.point, vm.point), 1e-6),
+                ("suu", d.suu, central(up.su, um.su), 1e-5),
+                ("suv", d.suv, central(vp.su, vm.su), 1e-5),
+                ("svv", d.svv, central(vp.sv, vm.sv), 1e-5),
+            ] {
+                let error = (exact - fd).length();
+                assert!(error < tol * scale, "({p},{q}) {name}: {exact} vs {fd}");
+            }
         }
     }
 }

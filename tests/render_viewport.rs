@@ -72,6 +72,47 @@ fn differs_from(pixel: &[u8], reference: [u8; 3], tolerance: u8) -> bool {
         .any(|(&a, b)| a.abs_diff(b) > tolerance)
 }
 
+/// The pixels within `r` of (x, y) (a (2r + 1)² square), clipped to the image.
+fn neighbourhood(x: i64, y: i64, r: i64) -> impl Iterator<Item = (i64, i64)> {
+    (-r..=r)
+        .flat_map(move |dy| (-r..=r).map(move |dx| (x + dx, y + dy)))
+        .filter(|&(x, y)| (0..i64::from(WIDTH)).contains(&x) && (0..i64::from(HEIGHT)).contains(&y))
+}
+
+fn pixel_index(x: i64, y: i64) -> usize {
+    (y * i64::from(WIDTH) + x) as usize
+}
+
+/// The teapot, framed, rendered with `options`, and what the tests need to check it.
+struct TeapotView {
+    teapot: BezierPatchSet,
+    image: Vec<u8>,
+    view_proj: DMat4,
+    background: [u8; 3],
+}
+
+fn render_teapot(show_surface: bool, show_net: bool, show_points: bool) -> TeapotView {
+    let context = common::gpu();
+    let teapot = samples::utah_teapot().unwrap();
+    let camera = framed_camera(&teapot);
+    let options = DrawOptions {
+        show_surface,
+        show_net,
+        show_points,
+        ..Default::default()
+    };
+    let image = render(&context, &teapot, &camera, &options);
+    let view_proj = camera
+        .view_projection(WIDTH as f32 / HEIGHT as f32)
+        .as_dmat4();
+    TeapotView {
+        teapot,
+        image,
+        view_proj,
+        background: background_bytes(&options),
+    }
+}
+
 /// Coverage of the f64 reference tessellation, rasterized on the CPU at pixel centres.
 fn reference_coverage(set: &BezierPatchSet, view_proj: &DMat4) -> Vec<bool> {
     let mut mask = vec![false; (WIDTH * HEIGHT) as usize];
@@ -146,41 +187,28 @@ fn mask_image(mask: &[bool]) -> Vec<u8> {
 
 #[test]
 fn surface_silhouette_matches_a_cpu_rasterization_of_the_reference() {
-    let context = common::gpu();
-    let teapot = samples::utah_teapot().unwrap();
-    let camera = framed_camera(&teapot);
-    let options = DrawOptions {
-        show_net: false,
-        show_points: false,
-        ..Default::default()
-    };
-    let image = render(&context, &teapot, &camera, &options);
-    let background = background_bytes(&options);
+    let TeapotView {
+        teapot,
+        image,
+        view_proj,
+        background,
+    } = render_teapot(true, false, false);
     let actual: Vec<bool> = image
         .chunks_exact(4)
         .map(|p| differs_from(p, background, 6))
         .collect();
-    let view_proj = camera
-        .view_projection(WIDTH as f32 / HEIGHT as f32)
-        .as_dmat4();
     let expected = reference_coverage(&teapot, &view_proj);
 
     // Anti-aliased edges may go either way; a mismatch anywhere else is an error.
     let on_boundary = |x: i64, y: i64| {
-        let value = expected[(y * i64::from(WIDTH) + x) as usize];
-        (-1..=1)
-            .flat_map(|dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
-            .any(|(nx, ny)| {
-                (0..i64::from(WIDTH)).contains(&nx)
-                    && (0..i64::from(HEIGHT)).contains(&ny)
-                    && expected[(ny * i64::from(WIDTH) + nx) as usize] != value
-            })
+        let value = expected[pixel_index(x, y)];
+        neighbourhood(x, y, 1).any(|(nx, ny)| expected[pixel_index(nx, ny)] != value)
     };
     let mut diff = image.clone();
     let mut interior_mismatches = 0;
     for y in 0..i64::from(HEIGHT) {
         for x in 0..i64::from(WIDTH) {
-            let i = (y * i64::from(WIDTH) + x) as usize;
+            let i = pixel_index(x, y);
             let mismatch = actual[i] != expected[i] && !on_boundary(x, y);
             interior_mismatches += usize::from(mismatch);
             diff[i * 4..i * 4 + 4].copy_from_slice(&if mismatch {
@@ -240,19 +268,12 @@ fn srgb_byte(linear: f32) -> u8 {
 
 #[test]
 fn control_points_are_drawn_where_they_project() {
-    let context = common::gpu();
-    let teapot = samples::utah_teapot().unwrap();
-    let camera = framed_camera(&teapot);
-    let options = DrawOptions {
-        show_surface: false,
-        show_net: false,
-        show_points: true,
-        ..Default::default()
-    };
-    let image = render(&context, &teapot, &camera, &options);
-    let view_proj = camera
-        .view_projection(WIDTH as f32 / HEIGHT as f32)
-        .as_dmat4();
+    let TeapotView {
+        teapot,
+        image,
+        view_proj,
+        background,
+    } = render_teapot(false, false, true);
     let dot = [POINT_COLOR[0], POINT_COLOR[1], POINT_COLOR[2]].map(srgb_byte);
     let (mut visible, mut hit) = (0, 0);
     for p in teapot.points() {
@@ -266,12 +287,10 @@ fn control_points_are_drawn_where_they_project() {
         }
         visible += 1;
         // Dot colour within the dot's radius around the projection.
-        let shows_dot = (-2..=2)
-            .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
-            .any(|(dx, dy)| {
-                let i = (((y as i64 + dy) * i64::from(WIDTH)) + x as i64 + dx) as usize * 4;
-                !differs_from(&image[i..i + 3], dot, 24)
-            });
+        let shows_dot = neighbourhood(x as i64, y as i64, 2).any(|(x, y)| {
+            let i = pixel_index(x, y) * 4;
+            !differs_from(&image[i..i + 3], dot, 24)
+        });
         hit += usize::from(shows_dot);
     }
     eprintln!("{hit} of {visible} control points show a dot at their projection");
@@ -280,33 +299,22 @@ fn control_points_are_drawn_where_they_project() {
     // nearly all must show.
     assert!(hit as f64 >= 0.97 * visible as f64, "{hit} of {visible}");
     // Nothing else is drawn: far from every point the image is background.
-    let background = background_bytes(&options);
     assert!(!differs_from(&image[0..3], background, 0));
 }
 
 #[test]
 fn control_net_lines_join_neighbouring_points() {
-    let context = common::gpu();
-    let teapot = samples::utah_teapot().unwrap();
-    let camera = framed_camera(&teapot);
-    let options = DrawOptions {
-        show_surface: false,
-        show_net: true,
-        show_points: false,
-        ..Default::default()
-    };
-    let image = render(&context, &teapot, &camera, &options);
-    let view_proj = camera
-        .view_projection(WIDTH as f32 / HEIGHT as f32)
-        .as_dmat4();
-    let background = background_bytes(&options);
+    let TeapotView {
+        teapot,
+        image,
+        view_proj,
+        background,
+    } = render_teapot(false, true, false);
     let lit = |x: i64, y: i64| {
-        (-1..=1)
-            .flat_map(|dy| (-1..=1).map(move |dx| (x + dx, y + dy)))
-            .any(|(x, y)| {
-                let i = (y * i64::from(WIDTH) + x) as usize * 4;
-                differs_from(&image[i..i + 3], background, 20)
-            })
+        neighbourhood(x, y, 1).any(|(x, y)| {
+            let i = pixel_index(x, y) * 4;
+            differs_from(&image[i..i + 3], background, 20)
+        })
     };
     let (mut checked, mut drawn) = (0, 0);
     for patch in teapot.patches() {
