@@ -152,6 +152,8 @@ pub struct KnotworkApp {
     /// Ask for another frame (a GPU timing readback is on its way).
     redraw_soon: bool,
     logged_status: bool,
+    /// Close the window after this many viewport frames (desktop smoke tests).
+    exit_after_frames: Option<u64>,
 }
 
 impl KnotworkApp {
@@ -207,11 +209,20 @@ impl KnotworkApp {
             frame_pending: true,
             redraw_soon: false,
             logged_status: false,
+            exit_after_frames: None,
         };
         app.refresh_counts();
         status::publish(&app.status);
         log::info!("knotwork starting: {}", app.status.to_json());
         app
+    }
+
+    /// Redraws continuously and closes the window once `frames` viewport frames are drawn
+    /// (`knotwork --exit-after-frames N`); the final status stays in [`status::current`].
+    pub fn exit_after_frames(mut self, frames: u64) -> Self {
+        self.exit_after_frames = Some(frames);
+        self.continuous = true;
+        self
     }
 
     fn refresh_counts(&mut self) {
@@ -455,6 +466,12 @@ impl eframe::App for KnotworkApp {
         if !self.logged_status && self.status.frames > 0 {
             log::info!("knotwork status: {}", self.status.to_json());
             self.logged_status = true;
+        }
+        if self
+            .exit_after_frames
+            .is_some_and(|frames| self.status.frames >= frames)
+        {
+            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
         }
     }
 }

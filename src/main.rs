@@ -9,19 +9,29 @@ fn main() -> std::process::ExitCode {
     )
     .init();
     let args: Vec<String> = std::env::args().skip(1).collect();
-    match args.first().map(String::as_str) {
-        None => {}
-        Some("--version" | "-V") => {
-            println!("knotwork {}", env!("CARGO_PKG_VERSION"));
-            return ExitCode::SUCCESS;
-        }
-        Some("--help" | "-h") => {
-            println!("{USAGE}");
-            return ExitCode::SUCCESS;
-        }
-        Some(other) => {
-            eprintln!("knotwork: unknown argument '{other}'\n\n{USAGE}");
-            return ExitCode::from(2);
+    let mut exit_after_frames = None;
+    let mut rest = args.iter();
+    while let Some(arg) = rest.next() {
+        match arg.as_str() {
+            "--version" | "-V" => {
+                println!("knotwork {}", env!("CARGO_PKG_VERSION"));
+                return ExitCode::SUCCESS;
+            }
+            "--help" | "-h" => {
+                println!("{USAGE}");
+                return ExitCode::SUCCESS;
+            }
+            "--exit-after-frames" => match rest.next().map(|n| n.parse::<u64>()) {
+                Some(Ok(n)) if n > 0 => exit_after_frames = Some(n),
+                _ => {
+                    eprintln!("knotwork: --exit-after-frames needs a positive number\n\n{USAGE}");
+                    return ExitCode::from(2);
+                }
+            },
+            other => {
+                eprintln!("knotwork: unknown argument '{other}'\n\n{USAGE}");
+                return ExitCode::from(2);
+            }
         }
     }
     let options = eframe::NativeOptions {
@@ -35,22 +45,35 @@ fn main() -> std::process::ExitCode {
     let result = eframe::run_native(
         "knotwork",
         options,
-        Box::new(|cc| Ok(Box::new(knotwork::app::KnotworkApp::new(cc, None)))),
+        Box::new(move |cc| {
+            let app = knotwork::app::KnotworkApp::new(cc, None);
+            Ok(Box::new(match exit_after_frames {
+                Some(frames) => app.exit_after_frames(frames),
+                None => app,
+            }))
+        }),
     );
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("knotwork: the editor could not start: {e}");
-            ExitCode::FAILURE
+    if let Err(e) = result {
+        eprintln!("knotwork: the editor could not start: {e}");
+        return ExitCode::FAILURE;
+    }
+    if exit_after_frames.is_some() {
+        let status = knotwork::status::current();
+        println!("{}", status.to_json());
+        if status.error.is_some() {
+            return ExitCode::FAILURE;
         }
     }
+    ExitCode::SUCCESS
 }
 
 #[cfg(not(target_arch = "wasm32"))]
 const USAGE: &str = "\
-usage: knotwork            open the editor window
-       knotwork --help     this text
-       knotwork --version  the version";
+usage: knotwork                          open the editor window
+       knotwork --exit-after-frames N   open it, draw N frames, close, print the status as JSON
+                                        (a smoke test; exit code 1 if the status has an error)
+       knotwork --help                  this text
+       knotwork --version               the version";
 
 #[cfg(target_arch = "wasm32")]
 fn main() {}

@@ -2,14 +2,16 @@
 # Runs every test of knotwork:
 #   1. cargo fmt --check, and clippy -D warnings for the desktop and for wasm32;
 #   2. cargo test: kernel, GPU evaluation vs the f64 reference (a real wgpu adapter: lavapipe
-#      where there is no GPU), shader validation and layouts, offscreen image tests;
+#      where there is no GPU), shader validation and layouts, offscreen image tests, and the
+#      desktop app itself in a window (under Xvfb where there is no display);
 #   3. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
 #
 #   tests/run.sh
 #
 # On Debian/Ubuntu as root it installs what is missing (mesa-vulkan-drivers for lavapipe,
-# chromium, Node.js, npm packages, the wasm32 target, wasm-bindgen-cli); elsewhere it prints what
-# to install and fails. A missing GPU adapter or browser is a failure, never a skip.
+# chromium, xvfb and xauth where there is no display, Node.js, npm packages, the wasm32 target,
+# wasm-bindgen-cli); elsewhere it prints what to install and fails. A missing GPU adapter,
+# display or browser is a failure, never a skip.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -22,6 +24,11 @@ packages=()
 if [ "$(uname -s)" = Linux ]; then
   icds=$(ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json 2>/dev/null || true)
   [ -n "$icds" ] || packages+=(mesa-vulkan-drivers)
+  # A virtual display for the desktop app's test where there is no display.
+  if [ -z "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ]; then
+    command -v xvfb-run >/dev/null || packages+=(xvfb)
+    command -v xauth >/dev/null || packages+=(xauth)
+  fi
 fi
 chromium=${CHROMIUM:-/usr/bin/chromium}
 [ -x "$chromium" ] || packages+=(chromium)
@@ -35,7 +42,8 @@ if [ ${#packages[@]} -gt 0 ]; then
   else
     echo "tests/run.sh: missing: ${packages[*]}" >&2
     echo "  Debian/Ubuntu: sudo apt-get install ${packages[*]}" >&2
-    echo "  (mesa-vulkan-drivers gives a software Vulkan GPU; set CHROMIUM=/path/to/chromium to use another browser)" >&2
+    echo "  (mesa-vulkan-drivers gives a software Vulkan GPU, xvfb a virtual display;" >&2
+    echo "   set CHROMIUM=/path/to/chromium to use another browser)" >&2
     exit 1
   fi
 fi
