@@ -141,7 +141,6 @@ pub struct KnotworkApp {
     model_name: &'static str,
     camera: OrbitCamera,
     options: DrawOptions,
-    segments: u32,
     continuous: bool,
     gpu: Option<ViewportGpu>,
     status: AppStatus,
@@ -201,7 +200,6 @@ impl KnotworkApp {
             model_name,
             camera: OrbitCamera::default(),
             options: DrawOptions::default(),
-            segments: DEFAULT_SEGMENTS,
             continuous: false,
             gpu,
             status,
@@ -246,14 +244,10 @@ impl KnotworkApp {
             Ok(geometry) => {
                 gpu.geometry = geometry;
                 gpu.evaluate = true;
-                self.segments = segments;
                 self.status.error = None;
                 self.refresh_counts();
             }
-            Err(e) => {
-                self.status.error = Some(e.to_string());
-                self.segments = gpu.geometry.segments();
-            }
+            Err(e) => self.status.error = Some(e.to_string()),
         }
         self.redraw = true;
     }
@@ -299,9 +293,9 @@ impl KnotworkApp {
             });
         ui.separator();
         ui.label("Tessellation (segments per patch edge)");
-        let mut segments = self.segments;
+        let mut segments = self.status.segments;
         let slider = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS));
-        if slider.changed() && segments != self.segments {
+        if slider.changed() && segments != self.status.segments {
             self.set_segments(segments);
         }
         ui.separator();
