@@ -75,7 +75,8 @@ cargo clippy --lib --bins --locked --target wasm32-unknown-unknown -- -D warning
 # --- Rust tests --------------------------------------------------------------------------------
 step "cargo test"
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+browser_log=$(mktemp)
+trap 'rm -f "$log" "$browser_log"' EXIT
 cargo test --locked 2>&1 | tee "$log"
 rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^passed/) n += $i } END { print n + 0 }' "$log")
 
@@ -84,8 +85,6 @@ step "web bundle"
 web/build.sh
 step "browser test (headless Chromium, WebGPU)"
 (cd web && npm ci --no-audit --no-fund --loglevel=error)
-browser_log=$(mktemp)
-trap 'rm -f "$log" "$browser_log"' EXIT
 set +e
 CHROMIUM="$chromium" node web/browser-test.mjs 2>&1 | tee "$browser_log"
 browser_status=${PIPESTATUS[0]}
