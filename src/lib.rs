@@ -3,12 +3,14 @@
 //!
 //! Layers, each depending only on those above it:
 //! - [`kernel`]: pure f64 geometry (no GPU, no UI);
+//! - [`io`]: file formats (knotwork JSON, eval requests);
 //! - [`shaders`], [`gpu`]: WGSL sources and the compute evaluator on wgpu;
 //! - [`render`], [`view`]: viewport pipelines and the camera;
 //! - [`app`], [`status`]: the eframe editor, identical on web and desktop.
 
 pub mod app;
 pub mod gpu;
+pub mod io;
 pub mod kernel;
 pub mod render;
 pub mod shaders;

@@ -1,39 +1,80 @@
-//! The desktop editor. (The web page starts the same app from `web.rs` instead.)
+//! The desktop editor and the headless CLI. (The web page starts the same app from `web.rs`.)
+
+#[cfg(not(target_arch = "wasm32"))]
+mod cli {
+    use std::io::Read;
+    use std::process::ExitCode;
+
+    use clap::{Parser, Subcommand};
+
+    /// knotwork: a freeform-surface editor (Bézier, B-spline, NURBS) evaluated on the GPU.
+    /// Without a subcommand it opens the editor window.
+    #[derive(Parser)]
+    #[command(name = "knotwork", version, about, long_about = None)]
+    pub struct Cli {
+        /// Open the editor, draw N frames, close, and print the status as JSON
+        /// (a smoke test; exit code 1 if the status has an error).
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+        pub exit_after_frames: Option<u64>,
+        #[command(subcommand)]
+        pub command: Option<Command>,
+    }
+
+    #[derive(Subcommand)]
+    pub enum Command {
+        /// Evaluate a NURBS surface at parameters: reads {"surface": ..., "params": [[u, v], ...]}
+        /// and prints {"results": [...]} with point, normal, derivatives and curvatures.
+        Eval {
+            /// The request file, or - for standard input.
+            request: String,
+        },
+    }
+
+    /// Runs `knotwork eval`: exit code 0 with the results on stdout, 1 with the error on stderr.
+    pub fn eval(path: &str) -> ExitCode {
+        let text = if path == "-" {
+            let mut text = String::new();
+            std::io::stdin()
+                .read_to_string(&mut text)
+                .map(|_| text)
+                .map_err(|e| format!("cannot read standard input: {e}"))
+        } else {
+            std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))
+        };
+        let text = match text {
+            Ok(text) => text,
+            Err(message) => {
+                eprintln!("knotwork eval: {message}");
+                return ExitCode::FAILURE;
+            }
+        };
+        match knotwork::io::eval::evaluate_request(&text) {
+            Ok(response) => {
+                println!("{response}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("knotwork eval: {e}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+}
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
+    use clap::Parser;
     use std::process::ExitCode;
 
+    let cli = cli::Cli::parse();
+    if let Some(cli::Command::Eval { request }) = &cli.command {
+        return cli::eval(request);
+    }
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("knotwork=info,warn"),
     )
     .init();
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut exit_after_frames = None;
-    let mut rest = args.iter();
-    while let Some(arg) = rest.next() {
-        match arg.as_str() {
-            "--version" | "-V" => {
-                println!("knotwork {}", env!("CARGO_PKG_VERSION"));
-                return ExitCode::SUCCESS;
-            }
-            "--help" | "-h" => {
-                println!("{USAGE}");
-                return ExitCode::SUCCESS;
-            }
-            "--exit-after-frames" => match rest.next().map(|n| n.parse::<u64>()) {
-                Some(Ok(n)) if n > 0 => exit_after_frames = Some(n),
-                _ => {
-                    eprintln!("knotwork: --exit-after-frames needs a positive number\n\n{USAGE}");
-                    return ExitCode::from(2);
-                }
-            },
-            other => {
-                eprintln!("knotwork: unknown argument '{other}'\n\n{USAGE}");
-                return ExitCode::from(2);
-            }
-        }
-    }
+    let exit_after_frames = cli.exit_after_frames;
     let options = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("knotwork")
@@ -66,14 +107,6 @@ fn main() -> std::process::ExitCode {
     }
     ExitCode::SUCCESS
 }
-
-#[cfg(not(target_arch = "wasm32"))]
-const USAGE: &str = "\
-usage: knotwork                          open the editor window
-       knotwork --exit-after-frames N   open it, draw N frames, close, print the status as JSON
-                                        (a smoke test; exit code 1 if the status has an error)
-       knotwork --help                  this text
-       knotwork --version               the version";
 
 #[cfg(target_arch = "wasm32")]
 fn main() {}

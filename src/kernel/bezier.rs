@@ -13,19 +13,13 @@ use glam::{DVec3, DVec4};
 
 use super::MAX_BEZIER_DEGREE;
 use super::bernstein::BernsteinBasis;
+use super::diffgeo::{SurfaceDerivatives, rational_derivatives};
 use super::error::GeometryError;
 
 /// Capacity of the fixed-size basis arrays (degree + 1).
 const BASIS_CAPACITY: usize = MAX_BEZIER_DEGREE + 1;
 
-/// Below this value of sin²(angle between Su and Sv) the tangent plane is taken as degenerate and
-/// the normal comes from the limit rule of [`BezierPatchSet::normal`]. The WGSL evaluator
-/// (`shaders/eval_bezier.wgsl`, `DEGENERATE_SIN2`) uses the same value.
-pub const DEGENERATE_SIN2: f64 = 1e-10;
-
-/// How far (as a fraction of the distance to the patch centre) the last-resort normal rule moves
-/// the parameter inward. Mirrored by `NORMAL_NUDGE` in `shaders/eval_bezier.wgsl`.
-pub const NORMAL_NUDGE: f64 = 1e-3;
+pub use super::diffgeo::{DEGENERATE_SIN2, NORMAL_NUDGE};
 
 /// One patch: its degrees and the indices of its control points in the set's pool.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,48 +56,6 @@ impl BezierPatch {
     /// The pool index of control point (i, j).
     pub fn index(&self, i: usize, j: usize) -> u32 {
         self.indices[i * (self.degree_v + 1) + j]
-    }
-}
-
-/// Position and partial derivatives of a surface at one parameter.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SurfaceDerivatives {
-    pub point: DVec3,
-    pub su: DVec3,
-    pub sv: DVec3,
-    pub suu: DVec3,
-    pub suv: DVec3,
-    pub svv: DVec3,
-}
-
-impl SurfaceDerivatives {
-    /// Su × Sv normalized, or `None` where the tangent plane is degenerate
-    /// (sin² of the angle between Su and Sv below [`DEGENERATE_SIN2`]).
-    pub fn regular_normal(&self) -> Option<DVec3> {
-        let n = self.su.cross(self.sv);
-        let n2 = n.length_squared();
-        let scale = self.su.length_squared() * self.sv.length_squared();
-        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 {
-            Some(n / n2.sqrt())
-        } else {
-            None
-        }
-    }
-
-    /// The normal at a point where one partial derivative vanishes (a collapsed edge or a pole),
-    /// as the limit from the interior. Near an edge u = u₀ where Sv ≡ 0, Sv ≈ (u − u₀) Suv, so
-    /// Su × Sv ≈ (u − u₀) Su × Suv; likewise for Su ≡ 0 near v = v₀. The sign follows from which
-    /// end of the domain (`u`, `v` in [0, 1]) the collapsed edge is at.
-    pub fn collapsed_edge_normal(&self, u: f64, v: f64) -> Option<DVec3> {
-        let n = if self.sv.length_squared() <= self.su.length_squared() {
-            let side = if u < 0.5 { 1.0 } else { -1.0 };
-            side * self.su.cross(self.suv)
-        } else {
-            let side = if v < 0.5 { 1.0 } else { -1.0 };
-            side * self.suv.cross(self.sv)
-        };
-        let n2 = n.length_squared();
-        (n2 > 0.0 && n2.is_finite()).then(|| n / n2.sqrt())
     }
 }
 
@@ -300,28 +252,5 @@ impl BezierPatchSet {
             .regular_normal()
             .or_else(|| nudged.collapsed_edge_normal(un, vn))
             .unwrap_or(DVec3::Z)
-    }
-}
-
-/// Cartesian derivatives of S = A / w from the homogeneous ones a[k][l] = ∂^{k+l}A/∂u^k∂v^l
-/// (The NURBS Book, eq. 4.20):
-/// S_{kl} = (A_{kl} − Σ_{(i,j) ≤ (k,l), (i,j) ≠ (0,0)} C(k,i) C(l,j) w_{ij} S_{k−i,l−j}) / w.
-fn rational_derivatives(a: &[[DVec4; 3]; 3]) -> SurfaceDerivatives {
-    let w = |k: usize, l: usize| a[k][l].w;
-    let xyz = |k: usize, l: usize| a[k][l].truncate();
-    let w0 = w(0, 0);
-    let point = xyz(0, 0) / w0;
-    let su = (xyz(1, 0) - w(1, 0) * point) / w0;
-    let sv = (xyz(0, 1) - w(0, 1) * point) / w0;
-    let suu = (xyz(2, 0) - 2.0 * w(1, 0) * su - w(2, 0) * point) / w0;
-    let svv = (xyz(0, 2) - 2.0 * w(0, 1) * sv - w(0, 2) * point) / w0;
-    let suv = (xyz(1, 1) - w(1, 0) * sv - w(0, 1) * su - w(1, 1) * point) / w0;
-    SurfaceDerivatives {
-        point,
-        su,
-        sv,
-        suu,
-        suv,
-        svv,
     }
 }

@@ -3,13 +3,23 @@
 //! Everything the GPU draws is defined here first; the GPU evaluator (`crate::gpu`) is tested
 //! against these functions.
 
+pub mod basis;
 pub mod bernstein;
 pub mod bezier;
+pub mod construct;
+pub mod curve;
+pub mod diffgeo;
 pub mod error;
+pub mod ops;
 pub mod samples;
+pub mod surface;
+pub mod vector;
 
-pub use bezier::{BezierPatch, BezierPatchSet, SurfaceDerivatives};
+pub use bezier::{BezierPatch, BezierPatchSet};
+pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
+pub use diffgeo::{Curvature, FundamentalForms, SurfaceDerivatives};
 pub use error::GeometryError;
+pub use surface::{Direction, NurbsSurface};
 
 /// The highest polynomial degree (per parameter direction) the kernel's Bézier evaluator accepts.
 pub const MAX_BEZIER_DEGREE: usize = 15;

@@ -1,0 +1,91 @@
+//! The `knotwork eval` request: evaluate a surface at a list of parameters.
+//!
+//! Request: `{"surface": <surface object>, "params": [[u, v], ...]}` (the surface in the format of
+//! [`super::json`]). Response: `{"results": [...]}`, one entry per parameter pair, in order:
+//! `{"u", "v", "point", "normal", "su", "sv", "suu", "suv", "svv", "gaussian", "mean", "k1", "k2",
+//! "principal_directions", "regular"}` (vectors as arrays of 3 numbers; `principal_directions` is
+//! null at umbilics; `regular` is false at a pole or collapsed edge, where the normal and the
+//! curvatures are the limits from the interior), or `{"u", "v", "error": "..."}` for a parameter
+//! outside the domain.
+
+use glam::DVec3;
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use super::json::{FormatError, Geometry, object_from_value};
+use crate::kernel::NurbsSurface;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Request {
+    surface: Value,
+    params: Vec<Vec<f64>>,
+}
+
+fn vector(v: DVec3) -> Value {
+    json!([v.x, v.y, v.z])
+}
+
+/// The result object of one parameter pair.
+pub fn evaluate_one(surface: &NurbsSurface, params: &[f64]) -> Value {
+    let [u, v] = match params {
+        [u, v] => [*u, *v],
+        _ => {
+            return json!({
+                "error": format!("expected a parameter pair [u, v], found {} numbers", params.len())
+            });
+        }
+    };
+    match surface.local_geometry(u, v) {
+        Ok(g) => {
+            let d = g.derivatives;
+            let c = g.curvature;
+            json!({
+                "u": u,
+                "v": v,
+                "point": vector(d.point),
+                "normal": vector(g.normal),
+                "su": vector(d.su),
+                "sv": vector(d.sv),
+                "suu": vector(d.suu),
+                "suv": vector(d.suv),
+                "svv": vector(d.svv),
+                "gaussian": c.gaussian,
+                "mean": c.mean,
+                "k1": c.k1,
+                "k2": c.k2,
+                "principal_directions": c.directions.map(|[a, b]| json!([vector(a), vector(b)])),
+                "regular": g.regular,
+            })
+        }
+        Err(e) => json!({ "u": u, "v": v, "error": e.to_string() }),
+    }
+}
+
+/// Reads a request and evaluates it. Errors in the request itself (malformed JSON, a bad
+/// surface) are returned; parameters outside the domain become per-result errors.
+pub fn evaluate_request(text: &str) -> Result<Value, FormatError> {
+    let value: Value = serde_json::from_str(text).map_err(|e| FormatError {
+        path: String::new(),
+        message: format!("not valid JSON: {e}"),
+    })?;
+    let request: Request = serde_path_to_error::deserialize(value).map_err(|e| FormatError {
+        path: e.path().to_string(),
+        message: e.into_inner().to_string(),
+    })?;
+    let surface = match object_from_value("surface", request.surface)?.geometry {
+        Geometry::Surface(s) => s,
+        _ => {
+            return Err(FormatError {
+                path: "surface.type".into(),
+                message: "expected \"nurbs_surface\"".into(),
+            });
+        }
+    };
+    let results: Vec<Value> = request
+        .params
+        .iter()
+        .map(|p| evaluate_one(&surface, p))
+        .collect();
+    Ok(json!({ "results": results }))
+}

@@ -1,0 +1,365 @@
+//! knotwork's JSON format for curves and surfaces (version 1), the seed of the project format.
+//!
+//! A surface:
+//! ```json
+//! {"type": "nurbs_surface", "degree": [p, q], "knots": [[u0, ...], [v0, ...]],
+//!  "points": [[[x, y, z, w], ...], ...]}
+//! ```
+//! `points[i][j]` has i along u and j along v; x, y, z are Cartesian (not multiplied by w); the
+//! knot vectors are complete (count + degree + 1 entries each). A point may omit w (`[x, y, z]`
+//! means w = 1). A space curve is `{"type": "nurbs_curve", "degree": p, "knots": [...],
+//! "points": [[x, y, z, w], ...]}` and a trim curve (in a surface's (u, v) plane)
+//! `{"type": "trim_curve", "degree": p, "knots": [...], "points": [[u, v, w], ...]}`.
+//!
+//! A file is `{"format": "knotwork", "version": 1, "objects": [<object>, ...]}`; each object
+//! may carry a `"name"`. Readers accept a bare object too. Every error names the JSON path of
+//! the offending value (`objects[0].knots[1][4]: ...`) and nothing panics.
+
+use glam::{DVec2, DVec3};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve, TrimCurve};
+
+/// The format version this build writes and the newest it reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The most control points one object may have (a hostile file cannot make knotwork allocate
+/// without bound beyond what the JSON text itself holds).
+pub const MAX_CONTROL_POINTS: usize = 10_000_000;
+
+/// Why a JSON document could not be read. `path` is the JSON path of the offending value
+/// (empty for the whole document).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{}{message}", if path.is_empty() { String::new() } else { format!("{path}: ") })]
+pub struct FormatError {
+    pub path: String,
+    pub message: String,
+}
+
+impl FormatError {
+    fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    fn geometry(path: &str, error: GeometryError) -> Self {
+        // Kernel errors already start with the field inside the object ("knots[0][3]: ...").
+        let text = error.to_string();
+        match text.split_once(": ") {
+            Some((field, rest))
+                if field.starts_with("knots")
+                    || field.starts_with("points")
+                    || field == "degree" =>
+            {
+                Self::new(join(path, field), rest)
+            }
+            _ => Self::new(path, text),
+        }
+    }
+}
+
+fn join(path: &str, field: &str) -> String {
+    if path.is_empty() {
+        field.to_string()
+    } else if field.starts_with('[') {
+        format!("{path}{field}")
+    } else {
+        format!("{path}.{field}")
+    }
+}
+
+/// One geometric object of a file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Geometry {
+    Surface(NurbsSurface),
+    Curve(SpaceCurve),
+    Trim(TrimCurve),
+}
+
+/// An object with its (optional) name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedGeometry {
+    pub name: Option<String>,
+    pub geometry: Geometry,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum RawObject {
+    NurbsSurface {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        degree: [usize; 2],
+        knots: [Vec<f64>; 2],
+        points: Vec<Vec<Vec<f64>>>,
+    },
+    NurbsCurve {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<Vec<f64>>,
+    },
+    TrimCurve {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<Vec<f64>>,
+    },
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    format: String,
+    version: u32,
+    objects: Vec<serde_json::Value>,
+}
+
+/// Splits `[x, y, (z,) w?]` into coordinates and weight; `dim` Cartesian coordinates.
+fn split_point(path: &str, values: &[f64], dim: usize) -> Result<(Vec<f64>, f64), FormatError> {
+    let names = if dim == 3 {
+        "[x, y, z, w]"
+    } else {
+        "[u, v, w]"
+    };
+    match values.len() {
+        n if n == dim => Ok((values.to_vec(), 1.0)),
+        n if n == dim + 1 => Ok((values[..dim].to_vec(), values[dim])),
+        n => Err(FormatError::new(
+            path,
+            format!(
+                "expected {} numbers {names} (w may be omitted), found {n}",
+                dim + 1
+            ),
+        )),
+    }
+}
+
+fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
+    match raw {
+        RawObject::NurbsSurface {
+            name,
+            degree,
+            knots,
+            points,
+        } => {
+            let count = [points.len(), points.first().map_or(0, Vec::len)];
+            if count[0].saturating_mul(count[1]) > MAX_CONTROL_POINTS {
+                return Err(FormatError::new(
+                    join(path, "points"),
+                    format!("more than {MAX_CONTROL_POINTS} control points"),
+                ));
+            }
+            let mut cartesian = Vec::with_capacity(count[0] * count[1]);
+            let mut weights = Vec::with_capacity(count[0] * count[1]);
+            for (i, row) in points.iter().enumerate() {
+                if row.len() != count[1] {
+                    return Err(FormatError::new(
+                        join(path, &format!("points[{i}]")),
+                        format!(
+                            "row has {} points but row 0 has {}; the net must be rectangular",
+                            row.len(),
+                            count[1]
+                        ),
+                    ));
+                }
+                for (j, p) in row.iter().enumerate() {
+                    let (c, w) = split_point(&join(path, &format!("points[{i}][{j}]")), p, 3)?;
+                    cartesian.push(DVec3::new(c[0], c[1], c[2]));
+                    weights.push(w);
+                }
+            }
+            let surface = NurbsSurface::new(degree, knots, count, cartesian, Some(weights))
+                .map_err(|e| FormatError::geometry(path, e))?;
+            Ok(NamedGeometry {
+                name,
+                geometry: Geometry::Surface(surface),
+            })
+        }
+        RawObject::NurbsCurve {
+            name,
+            degree,
+            knots,
+            points,
+        } => {
+            let (cartesian, weights) = curve_points(path, &points, 3)?;
+            let curve = SpaceCurve::new(
+                degree,
+                knots,
+                cartesian
+                    .iter()
+                    .map(|c| DVec3::new(c[0], c[1], c[2]))
+                    .collect(),
+                Some(weights),
+            )
+            .map_err(|e| FormatError::geometry(path, e))?;
+            Ok(NamedGeometry {
+                name,
+                geometry: Geometry::Curve(curve),
+            })
+        }
+        RawObject::TrimCurve {
+            name,
+            degree,
+            knots,
+            points,
+        } => {
+            let (cartesian, weights) = curve_points(path, &points, 2)?;
+            let curve = TrimCurve::new(
+                degree,
+                knots,
+                cartesian.iter().map(|c| DVec2::new(c[0], c[1])).collect(),
+                Some(weights),
+            )
+            .map_err(|e| FormatError::geometry(path, e))?;
+            Ok(NamedGeometry {
+                name,
+                geometry: Geometry::Trim(curve),
+            })
+        }
+    }
+}
+
+type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
+
+fn curve_points(
+    path: &str,
+    points: &[Vec<f64>],
+    dim: usize,
+) -> Result<PointsAndWeights, FormatError> {
+    if points.len() > MAX_CONTROL_POINTS {
+        return Err(FormatError::new(
+            join(path, "points"),
+            format!("more than {MAX_CONTROL_POINTS} control points"),
+        ));
+    }
+    let mut cartesian = Vec::with_capacity(points.len());
+    let mut weights = Vec::with_capacity(points.len());
+    for (i, p) in points.iter().enumerate() {
+        let (c, w) = split_point(&join(path, &format!("points[{i}]")), p, dim)?;
+        cartesian.push(c);
+        weights.push(w);
+    }
+    Ok((cartesian, weights))
+}
+
+fn serde_error(prefix: &str, error: serde_path_to_error::Error<serde_json::Error>) -> FormatError {
+    let inner = error.path().to_string();
+    let path = if inner == "." { String::new() } else { inner };
+    let full = match (prefix.is_empty(), path.is_empty()) {
+        (_, true) => prefix.to_string(),
+        (true, false) => path,
+        (false, false) => join(prefix, &path),
+    };
+    FormatError::new(full, error.into_inner().to_string())
+}
+
+/// Reads one object from a parsed JSON value; `path` names it in errors.
+pub fn object_from_value(
+    path: &str,
+    value: serde_json::Value,
+) -> Result<NamedGeometry, FormatError> {
+    let raw: RawObject =
+        serde_path_to_error::deserialize(value).map_err(|e| serde_error(path, e))?;
+    convert(path, raw)
+}
+
+/// Reads a file (or a bare object) from JSON text.
+pub fn read(text: &str) -> Result<Vec<NamedGeometry>, FormatError> {
+    let value: serde_json::Value = serde_json::from_str(text)
+        .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
+    let is_file = value.get("format").is_some() || value.get("objects").is_some();
+    if !is_file {
+        return Ok(vec![object_from_value("", value)?]);
+    }
+    let file: RawFile = serde_path_to_error::deserialize(value).map_err(|e| serde_error("", e))?;
+    if file.format != "knotwork" {
+        return Err(FormatError::new(
+            "format",
+            format!("expected \"knotwork\", found {:?}", file.format),
+        ));
+    }
+    if file.version == 0 || file.version > FORMAT_VERSION {
+        return Err(FormatError::new(
+            "version",
+            format!(
+                "version {} is not supported: this build of knotwork reads versions 1 to {FORMAT_VERSION}",
+                file.version
+            ),
+        ));
+    }
+    file.objects
+        .into_iter()
+        .enumerate()
+        .map(|(i, value)| object_from_value(&format!("objects[{i}]"), value))
+        .collect()
+}
+
+fn raw_from(object: &NamedGeometry) -> RawObject {
+    let name = object.name.clone();
+    match &object.geometry {
+        Geometry::Surface(s) => {
+            let [cu, cv] = s.count();
+            let points = (0..cu)
+                .map(|i| {
+                    (0..cv)
+                        .map(|j| {
+                            let p = s.control_point(i, j);
+                            vec![p.x, p.y, p.z, s.weight(i, j)]
+                        })
+                        .collect()
+                })
+                .collect();
+            let [ku, kv] = s.knots();
+            RawObject::NurbsSurface {
+                name,
+                degree: s.degree(),
+                knots: [ku.to_vec(), kv.to_vec()],
+                points,
+            }
+        }
+        Geometry::Curve(c) => RawObject::NurbsCurve {
+            name,
+            degree: c.degree(),
+            knots: c.knots().to_vec(),
+            points: (0..c.count())
+                .map(|i| {
+                    let p = c.control_point(i);
+                    vec![p.x, p.y, p.z, c.weight(i)]
+                })
+                .collect(),
+        },
+        Geometry::Trim(c) => RawObject::TrimCurve {
+            name,
+            degree: c.degree(),
+            knots: c.knots().to_vec(),
+            points: (0..c.count())
+                .map(|i| {
+                    let p = c.control_point(i);
+                    vec![p.x, p.y, c.weight(i)]
+                })
+                .collect(),
+        },
+    }
+}
+
+/// One object as a JSON value (the `"surface"` of an eval request, an entry of a file).
+pub fn object_to_value(object: &NamedGeometry) -> serde_json::Value {
+    serde_json::to_value(raw_from(object)).unwrap_or(serde_json::Value::Null)
+}
+
+/// A whole file, pretty-printed. f64 values are written with the shortest representation that
+/// reads back to the same bits, so a round trip is exact.
+pub fn write(objects: &[NamedGeometry]) -> String {
+    let file = serde_json::json!({
+        "format": "knotwork",
+        "version": FORMAT_VERSION,
+        "objects": objects.iter().map(object_to_value).collect::<Vec<_>>(),
+    });
+    serde_json::to_string_pretty(&file).unwrap_or_default()
+}

@@ -1,0 +1,4 @@
+//! File formats: knotwork's JSON format for curves and surfaces, and the `eval` request format.
+
+pub mod eval;
+pub mod json;

@@ -1,0 +1,764 @@
+//! Constructors of exact NURBS curves and surfaces: lines, polylines, circular arcs, curve
+//! interpolation; planes, cylinders, cones, spheres, tori, surfaces of revolution, extrusions,
+//! ruled surfaces, lofts, Coons patches and sweeps.
+//!
+//! Circles are the exact rational quadratic form of The NURBS Book, A7.1 "MakeNurbsCircle"
+//! (at most 90° per segment, middle weights cos(Δθ/2)); revolution is A8.1 "MakeRevolvedSurf".
+//! Surfaces built by revolution put u around the axis (counter-clockwise seen from the axis tip)
+//! and v along the profile, so a profile that rises on the axis's +x side has outward normals.
+
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+use glam::{DQuat, DVec3, DVec4};
+
+use super::basis::{basis_functions, find_span, uniform_clamped_knots};
+use super::curve::{NurbsCurve, SpaceCurve};
+use super::error::GeometryError;
+use super::ops::{self, Polygon};
+use super::surface::NurbsSurface;
+use super::vector::{CurvePoint, Vector};
+
+fn construction(what: &'static str, message: impl Into<String>) -> GeometryError {
+    GeometryError::Construction {
+        what,
+        message: message.into(),
+    }
+}
+
+fn check_finite(what: &'static str, values: &[f64]) -> Result<(), GeometryError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(construction(what, "a parameter is not finite"))
+    }
+}
+
+fn check_positive(what: &'static str, name: &str, value: f64) -> Result<(), GeometryError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(construction(what, format!("{name} = {value} must be > 0")))
+    }
+}
+
+/// An orthonormal pair (x, y) perpendicular to `axis` (any choice; stable for all directions).
+fn perpendicular_frame(axis: DVec3) -> (DVec3, DVec3) {
+    let z = axis.normalize();
+    let x = z.any_orthonormal_vector();
+    (x, z.cross(x))
+}
+
+// ----- curves --------------------------------------------------------------------------------
+
+/// The straight segment from `a` to `b`, degree 1 on [0, 1].
+pub fn line<P: CurvePoint>(a: P, b: P) -> Result<NurbsCurve<P>, GeometryError> {
+    NurbsCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![a, b], None)
+}
+
+/// A degree-1 curve through `points` on [0, 1], knots at the normalized cumulative chord length
+/// (so the parameter is proportional to arc length).
+pub fn polyline<P: CurvePoint>(points: &[P]) -> Result<NurbsCurve<P>, GeometryError> {
+    if points.len() < 2 {
+        return Err(construction("polyline", "needs at least 2 points"));
+    }
+    let params = chord_length_parameters(points, "polyline")?;
+    let mut knots = vec![0.0];
+    knots.extend_from_slice(&params);
+    knots.push(1.0);
+    NurbsCurve::new(1, knots, points.to_vec(), None)
+}
+
+/// An exact circular arc around `center` in the plane of the orthonormal axes `x`, `y`, from
+/// angle `start` to `end` (radians, measured from x toward y; end > start, at most 2π apart),
+/// as a rational quadratic on [0, 1] (The NURBS Book, A7.1).
+pub fn arc(
+    center: DVec3,
+    x: DVec3,
+    y: DVec3,
+    radius: f64,
+    start: f64,
+    end: f64,
+) -> Result<SpaceCurve, GeometryError> {
+    check_finite("arc", &[center.x, center.y, center.z, start, end])?;
+    check_positive("arc", "radius", radius)?;
+    let sweep = end - start;
+    if !(sweep > 0.0 && sweep <= TAU + 1e-12) {
+        return Err(construction(
+            "arc",
+            format!("the sweep {sweep} must be in (0, 2π]"),
+        ));
+    }
+    if x.length() < 1e-12 || y.length() < 1e-12 || x.cross(y).length() < 1e-12 {
+        return Err(construction("arc", "the axes must be independent"));
+    }
+    let (x, y) = (x.normalize(), x.cross(y).cross(x).normalize());
+    let arcs = (sweep / FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
+    let dtheta = sweep / arcs as f64;
+    let w1 = (dtheta / 2.0).cos();
+    let at = |angle: f64, r: f64| center + (x * angle.cos() + y * angle.sin()) * r;
+    let mut points = vec![at(start, radius)];
+    let mut weights = vec![1.0];
+    let mut knots = vec![0.0; 3];
+    for i in 1..=arcs {
+        let angle = start + dtheta * i as f64;
+        // The middle point: the intersection of the end tangents, at distance r / cos(Δθ/2).
+        points.push(at(angle - dtheta / 2.0, radius / w1));
+        weights.push(w1);
+        points.push(at(angle, radius));
+        weights.push(1.0);
+        if i < arcs {
+            let k = i as f64 / arcs as f64;
+            knots.extend([k, k]);
+        }
+    }
+    knots.extend([1.0; 3]);
+    NurbsCurve::new(2, knots, points, Some(weights))
+}
+
+/// The full circle around `center` with unit normal `normal` (counter-clockwise seen from its
+/// tip), starting on `x` (projected into the circle's plane), four 90° arcs.
+pub fn circle(
+    center: DVec3,
+    normal: DVec3,
+    x: DVec3,
+    radius: f64,
+) -> Result<SpaceCurve, GeometryError> {
+    let n = normal.normalize_or_zero();
+    let x = (x - n * x.dot(n)).normalize_or_zero();
+    if n == DVec3::ZERO || x == DVec3::ZERO {
+        return Err(construction(
+            "circle",
+            "the normal and x axis must be independent",
+        ));
+    }
+    arc(center, x, n.cross(x), radius, 0.0, TAU)
+}
+
+/// Chord-length parameters t_0 = 0 … t_n = 1 (The NURBS Book, eq. 9.5). Coincident
+/// consecutive points are an error.
+fn chord_length_parameters<V: Vector>(
+    points: &[V],
+    what: &'static str,
+) -> Result<Vec<f64>, GeometryError> {
+    let chords: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    if let Some(i) = chords.iter().position(|&c| !(c > 0.0) || !c.is_finite()) {
+        return Err(construction(
+            what,
+            format!("points {i} and {} coincide (or are not finite)", i + 1),
+        ));
+    }
+    let total: f64 = chords.iter().sum();
+    let mut params = vec![0.0];
+    let mut acc = 0.0;
+    for c in &chords[..chords.len() - 1] {
+        acc += c;
+        params.push(acc / total);
+    }
+    params.push(1.0);
+    Ok(params)
+}
+
+/// Knots by averaging the parameters (The NURBS Book, eq. 9.8), clamped on [0, 1].
+fn averaged_knots(params: &[f64], degree: usize) -> Vec<f64> {
+    let n = params.len() - 1;
+    let mut knots = vec![0.0; degree + 1];
+    for j in 1..=n - degree {
+        knots.push(params[j..j + degree].iter().sum::<f64>() / degree as f64);
+    }
+    knots.extend(std::iter::repeat_n(1.0, degree + 1));
+    knots
+}
+
+/// Control points of the degree-`degree` B-spline over `knots` that passes through `points`
+/// at `params` (The NURBS Book, A9.1 "GlobalCurveInterp"): the collocation system
+/// Σ N_{j,p}(t_k) P_j = Q_k, solved by Gaussian elimination with partial pivoting.
+fn interpolate_points<V: Vector>(
+    points: &[V],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    what: &'static str,
+) -> Result<Vec<V>, GeometryError> {
+    let n = points.len();
+    let mut matrix = vec![vec![0.0; n]; n];
+    let mut basis = vec![0.0; degree + 1];
+    for (row, &t) in matrix.iter_mut().zip(params) {
+        let span = find_span(knots, degree, n, t);
+        basis_functions(knots, degree, span, t, &mut basis);
+        row[span - degree..=span].copy_from_slice(&basis);
+    }
+    let mut rhs = points.to_vec();
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&a, &b| matrix[a][col].abs().total_cmp(&matrix[b][col].abs()))
+            .unwrap_or(col);
+        if matrix[pivot][col].abs() < 1e-14 {
+            return Err(construction(what, "the interpolation system is singular"));
+        }
+        matrix.swap(col, pivot);
+        rhs.swap(col, pivot);
+        for r in col + 1..n {
+            let factor = matrix[r][col] / matrix[col][col];
+            if factor != 0.0 {
+                for c in col..n {
+                    matrix[r][c] -= factor * matrix[col][c];
+                }
+                rhs[r] = rhs[r] - rhs[col] * factor;
+            }
+        }
+    }
+    let mut solution = vec![V::ZERO; n];
+    for r in (0..n).rev() {
+        let mut acc = rhs[r];
+        for c in r + 1..n {
+            acc = acc - solution[c] * matrix[r][c];
+        }
+        solution[r] = acc / matrix[r][r];
+    }
+    Ok(solution)
+}
+
+/// The non-rational B-spline of degree `degree` (lowered to points − 1 if there are too few
+/// points) on [0, 1] through all `points`, with chord-length parameters and averaged knots
+/// (The NURBS Book, A9.1).
+pub fn interpolate<P: CurvePoint>(
+    points: &[P],
+    degree: usize,
+) -> Result<NurbsCurve<P>, GeometryError> {
+    if points.len() < 2 {
+        return Err(construction("interpolate", "needs at least 2 points"));
+    }
+    if degree == 0 {
+        return Err(construction("interpolate", "the degree must be ≥ 1"));
+    }
+    let degree = degree.min(points.len() - 1);
+    let params = chord_length_parameters(points, "interpolate")?;
+    let knots = averaged_knots(&params, degree);
+    let control = interpolate_points(points, &params, degree, &knots, "interpolate")?;
+    NurbsCurve::new(degree, knots, control, None)
+}
+
+// ----- making curves compatible --------------------------------------------------------------
+
+/// Brings curves to one degree, one domain [0, 1] and one knot vector (degree elevation, then
+/// refinement with the union of all knots; The NURBS Book, §10.3), without changing their
+/// shapes. Returns the homogeneous control polygons.
+pub fn make_compatible(curves: &[SpaceCurve]) -> Result<Vec<Polygon<DVec4>>, GeometryError> {
+    let degree = curves.iter().map(|c| c.degree()).max().unwrap_or(1);
+    let mut polys = Vec::with_capacity(curves.len());
+    for c in curves {
+        let c = c.reparametrized(0.0, 1.0)?.clamped();
+        let elevated = ops::elevate_degree(c.polygon(), degree - c.degree());
+        polys.push(elevated);
+    }
+    // The union of the interior knots, with the highest multiplicity any curve has.
+    let mut union: Vec<(f64, usize)> = Vec::new();
+    for poly in &polys {
+        for (k, m) in super::basis::interior_knots(&poly.knots, poly.degree, poly.points.len()) {
+            match union.iter_mut().find(|(u, _)| (*u - k).abs() <= 1e-14) {
+                Some(entry) => entry.1 = entry.1.max(m),
+                None => union.push((k, m)),
+            }
+        }
+    }
+    union.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for poly in &mut polys {
+        let own = super::basis::interior_knots(&poly.knots, poly.degree, poly.points.len());
+        let mut x = Vec::new();
+        for &(k, m) in &union {
+            let have = own
+                .iter()
+                .find(|(u, _)| (*u - k).abs() <= 1e-14)
+                .map_or(0, |e| e.1);
+            x.extend(std::iter::repeat_n(k, m.saturating_sub(have)));
+        }
+        *poly = ops::refine_knots(poly, &x);
+    }
+    // Snap nearly equal knots so all vectors are bit-identical.
+    let reference = polys[0].knots.clone();
+    for poly in &mut polys {
+        if poly.knots.len() != reference.len() {
+            return Err(construction(
+                "compatible curves",
+                "knot vectors differ after refinement",
+            ));
+        }
+        poly.knots.clone_from(&reference);
+    }
+    Ok(polys)
+}
+
+// ----- surfaces ------------------------------------------------------------------------------
+
+/// The bilinear patch through four corners: S(0,0) = p00, S(1,0) = p10, S(0,1) = p01,
+/// S(1,1) = p11. Planar if the corners are coplanar.
+pub fn bilinear(
+    p00: DVec3,
+    p10: DVec3,
+    p01: DVec3,
+    p11: DVec3,
+) -> Result<NurbsSurface, GeometryError> {
+    NurbsSurface::bezier([1, 1], vec![p00, p01, p10, p11], None)
+}
+
+/// The rectangle origin + s·u_axis + t·v_axis, s, t ∈ [0, 1] (normal u_axis × v_axis).
+pub fn plane(origin: DVec3, u_axis: DVec3, v_axis: DVec3) -> Result<NurbsSurface, GeometryError> {
+    if u_axis.cross(v_axis).length() <= 1e-300 {
+        return Err(construction(
+            "plane",
+            "the two edge vectors must be independent",
+        ));
+    }
+    bilinear(
+        origin,
+        origin + u_axis,
+        origin + v_axis,
+        origin + u_axis + v_axis,
+    )
+}
+
+/// The surface swept by `curve` moved along `direction` (u along the curve, v ∈ [0, 1] along
+/// the direction). Exact for rational curves.
+pub fn extrude(curve: &SpaceCurve, direction: DVec3) -> Result<NurbsSurface, GeometryError> {
+    check_finite("extrude", &direction.to_array())?;
+    let n = curve.count();
+    let mut points = Vec::with_capacity(2 * n);
+    for &h in curve.homogeneous_points() {
+        points.push(h);
+        points.push(h + (direction * h.w).extend(0.0));
+    }
+    NurbsSurface::from_homogeneous(
+        [curve.degree(), 1],
+        [curve.knots().to_vec(), vec![0.0, 0.0, 1.0, 1.0]],
+        [n, 2],
+        points,
+    )
+}
+
+/// The ruled surface S(u, v) = (1 − v) C0(u) + v C1(u), after making the curves compatible
+/// (for rational curves this is the ruled surface between their homogeneous forms, which is the
+/// standard NURBS ruled surface; The NURBS Book §8.3).
+pub fn ruled(c0: &SpaceCurve, c1: &SpaceCurve) -> Result<NurbsSurface, GeometryError> {
+    let polys = make_compatible(&[c0.clone(), c1.clone()])?;
+    let n = polys[0].points.len();
+    let mut points = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        points.push(polys[0].points[i]);
+        points.push(polys[1].points[i]);
+    }
+    NurbsSurface::from_homogeneous(
+        [polys[0].degree, 1],
+        [polys[0].knots.clone(), vec![0.0, 0.0, 1.0, 1.0]],
+        [n, 2],
+        points,
+    )
+}
+
+/// The surface of revolution of `profile` about the axis through `origin` along `axis`, over
+/// `angle` radians (0 < angle ≤ 2π; The NURBS Book, A8.1). u runs around the axis (circle
+/// degree 2), v along the profile. Profile points on the axis give collapsed rows (poles).
+pub fn revolve(
+    profile: &SpaceCurve,
+    origin: DVec3,
+    axis: DVec3,
+    angle: f64,
+) -> Result<NurbsSurface, GeometryError> {
+    check_finite(
+        "revolve",
+        &[origin.x, origin.y, origin.z, axis.x, axis.y, axis.z, angle],
+    )?;
+    if axis.length() <= 1e-300 {
+        return Err(construction("revolve", "the axis has zero length"));
+    }
+    let z = axis.normalize();
+    // The unit arc of the revolution, in a frame (x, y) to be rotated per profile point.
+    let unit = arc(DVec3::ZERO, DVec3::X, DVec3::Y, 1.0, 0.0, angle)?;
+    let arc_points: Vec<DVec4> = unit.homogeneous_points().to_vec();
+    let m = profile.count();
+    let n = arc_points.len();
+    let mut points = vec![DVec4::ZERO; n * m];
+    for j in 0..m {
+        let pj = profile.control_point(j);
+        let wj = profile.weight(j);
+        let o = origin + z * (pj - origin).dot(z);
+        let radial = pj - o;
+        let r = radial.length();
+        let (x, y) = if r > 1e-14 * (1.0 + pj.length()) {
+            let x = radial / r;
+            (x, z.cross(x))
+        } else {
+            (DVec3::ZERO, DVec3::ZERO)
+        };
+        for (i, a) in arc_points.iter().enumerate() {
+            // Arc point in the unit frame: (a.x, a.y) / a.w at weight a.w.
+            let (cx, cy, w) = (a.x / a.w, a.y / a.w, a.w);
+            let p = o + (x * cx + y * cy) * r;
+            points[i * m + j] = (p * (w * wj)).extend(w * wj);
+        }
+    }
+    NurbsSurface::from_homogeneous(
+        [2, profile.degree()],
+        [unit.knots().to_vec(), profile.knots().to_vec()],
+        [n, m],
+        points,
+    )
+}
+
+/// The closed cylinder side of radius `radius` around the axis from `base` to `base + axis`
+/// (u around, v along the axis, outward normals). Degree (2, 1), exact.
+pub fn cylinder(base: DVec3, axis: DVec3, radius: f64) -> Result<NurbsSurface, GeometryError> {
+    check_positive("cylinder", "radius", radius)?;
+    cone(base, axis, radius, radius)
+}
+
+/// The side of a (truncated) cone around the axis from `base` to `base + axis`, with radius
+/// `base_radius` at the base and `top_radius` (≥ 0; 0 gives an apex) at the top. Exact.
+pub fn cone(
+    base: DVec3,
+    axis: DVec3,
+    base_radius: f64,
+    top_radius: f64,
+) -> Result<NurbsSurface, GeometryError> {
+    check_finite("cone", &[base.x, base.y, base.z, axis.x, axis.y, axis.z])?;
+    check_positive("cone", "base radius", base_radius)?;
+    if !(top_radius.is_finite() && top_radius >= 0.0) {
+        return Err(construction(
+            "cone",
+            format!("top radius = {top_radius} must be ≥ 0"),
+        ));
+    }
+    if axis.length() <= 1e-300 {
+        return Err(construction("cone", "the axis has zero length"));
+    }
+    let (x, _) = perpendicular_frame(axis);
+    let profile = line(base + x * base_radius, base + axis + x * top_radius)?;
+    revolve(&profile, base, axis, TAU)
+}
+
+/// The sphere of radius `radius` around `center`: a semicircle from the south to the north
+/// pole (along +z) revolved about z. Degree (2, 2), exact, outward normals; the poles are
+/// collapsed rows.
+pub fn sphere(center: DVec3, radius: f64) -> Result<NurbsSurface, GeometryError> {
+    check_positive("sphere", "radius", radius)?;
+    let profile = arc(center, DVec3::X, DVec3::Z, radius, -FRAC_PI_2, FRAC_PI_2)?;
+    revolve(&profile, center, DVec3::Z, TAU)
+}
+
+/// The torus around `center` with axis `axis`, major radius `major` (centre to tube centre)
+/// and minor radius `minor` (tube), 0 < minor < major. Degree (2, 2), exact, outward normals.
+/// v runs around the tube starting at the outer equator.
+pub fn torus(
+    center: DVec3,
+    axis: DVec3,
+    major: f64,
+    minor: f64,
+) -> Result<NurbsSurface, GeometryError> {
+    check_positive("torus", "major radius", major)?;
+    check_positive("torus", "minor radius", minor)?;
+    if minor >= major {
+        return Err(construction(
+            "torus",
+            "the minor radius must be smaller than the major radius",
+        ));
+    }
+    if !(axis.length() > 1e-300) {
+        return Err(construction("torus", "the axis has zero length"));
+    }
+    let (x, _) = perpendicular_frame(axis);
+    let z = axis.normalize();
+    let profile = arc(center + x * major, x, z, minor, 0.0, TAU)?;
+    revolve(&profile, center, z, TAU)
+}
+
+/// A skinned (lofted) surface through the section curves (The NURBS Book, §10.3): the sections
+/// are made compatible (u), then each column of homogeneous control points is interpolated
+/// across the sections (v) with degree `degree_v` (lowered if there are too few sections),
+/// parameters from the averaged chord lengths (eq. 10.8) and averaged knots. Section k is
+/// reproduced exactly at v = v_k.
+pub fn loft(sections: &[SpaceCurve], degree_v: usize) -> Result<NurbsSurface, GeometryError> {
+    if sections.len() < 2 {
+        return Err(construction("loft", "needs at least 2 sections"));
+    }
+    if degree_v == 0 {
+        return Err(construction("loft", "the degree must be ≥ 1"));
+    }
+    let polys = make_compatible(sections)?;
+    let q = degree_v.min(sections.len() - 1);
+    let n = polys[0].points.len();
+    let k = polys.len();
+    // Averaged chord-length parameters over all columns (eq. 10.8).
+    let mut params = vec![0.0; k];
+    for i in 0..n {
+        let column: Vec<DVec3> = polys.iter().map(|p| DVec3::project(p.points[i])).collect();
+        let params_i = chord_length_parameters(&column, "loft").ok();
+        match params_i {
+            Some(t) => params
+                .iter_mut()
+                .zip(t)
+                .for_each(|(a, b)| *a += b / n as f64),
+            None => {
+                return Err(construction(
+                    "loft",
+                    format!("control point {i} coincides in two consecutive sections"),
+                ));
+            }
+        }
+    }
+    let knots_v = averaged_knots(&params, q);
+    let mut points = vec![DVec4::ZERO; n * k];
+    for i in 0..n {
+        let column: Vec<DVec4> = polys.iter().map(|p| p.points[i]).collect();
+        let control = interpolate_points(&column, &params, q, &knots_v, "loft")?;
+        for (j, h) in control.into_iter().enumerate() {
+            if !(h.w > 0.0) {
+                return Err(construction(
+                    "loft",
+                    "the interpolated weights are not all positive; use sections with equal weights",
+                ));
+            }
+            points[i * k + j] = h;
+        }
+    }
+    NurbsSurface::from_homogeneous(
+        [polys[0].degree, q],
+        [polys[0].knots.clone(), knots_v],
+        [n, k],
+        points,
+    )
+}
+
+/// The bilinearly blended Coons patch of four boundary curves (seed notes "Hermite and Coons
+/// patches"; The NURBS Book §10.5 for the NURBS form): S = R_v + R_u − B, where R_v is the
+/// ruled surface between `bottom` (v = 0) and `top` (v = 1), R_u the one between `left` (u = 0)
+/// and `right` (u = 1), and B the bilinear patch of the corners; all three are brought to
+/// common degrees and knots and their control points summed. The curves must be polynomial
+/// (weights 1: a sum of rational surfaces with different weights is not a NURBS of this
+/// form) and meet at the corners: bottom(0) = left(0), bottom(1) = right(0), top(0) = left(1),
+/// top(1) = right(1).
+pub fn coons(
+    bottom: &SpaceCurve,
+    top: &SpaceCurve,
+    left: &SpaceCurve,
+    right: &SpaceCurve,
+) -> Result<NurbsSurface, GeometryError> {
+    let curves = [bottom, top, left, right];
+    if curves.iter().any(|c| !c.is_polynomial()) {
+        return Err(construction(
+            "coons",
+            "the boundary curves must be non-rational (all weights 1)",
+        ));
+    }
+    let end = |c: &SpaceCurve, at_end: bool| -> Result<DVec3, GeometryError> {
+        let (a, b) = c.domain();
+        c.point_at(if at_end { b } else { a })
+    };
+    let corners = [
+        (
+            end(bottom, false)?,
+            end(left, false)?,
+            "bottom start and left start",
+        ),
+        (
+            end(bottom, true)?,
+            end(right, false)?,
+            "bottom end and right start",
+        ),
+        (end(top, false)?, end(left, true)?, "top start and left end"),
+        (end(top, true)?, end(right, true)?, "top end and right end"),
+    ];
+    let scale = curves
+        .iter()
+        .flat_map(|c| (0..c.count()).map(|i| c.control_point(i).length()))
+        .fold(1.0f64, f64::max);
+    for (a, b, name) in corners {
+        if a.distance(b) > 1e-9 * scale {
+            return Err(construction(
+                "coons",
+                format!(
+                    "the corners do not meet: {name} differ by {}",
+                    a.distance(b)
+                ),
+            ));
+        }
+    }
+    let rv = ruled(bottom, top)?; // degree (p, 1), u along bottom/top
+    let ru = ruled(left, right)?.swap_uv(); // degree (1, q), v along left/right
+    let corner = bilinear(corners[0].0, corners[1].0, corners[2].0, corners[3].0)?;
+    let [p, _] = rv.degree();
+    let [_, q] = ru.degree();
+    let target_u = rv.knots()[0].to_vec();
+    let target_v = ru.knots()[1].to_vec();
+    let conform = |s: NurbsSurface| -> Result<NurbsSurface, GeometryError> {
+        let [dp, dq] = s.degree();
+        let mut s = s
+            .elevate_degree(super::surface::Direction::U, p - dp)?
+            .elevate_degree(super::surface::Direction::V, q - dq)?;
+        for (direction, target) in [
+            (super::surface::Direction::U, &target_u),
+            (super::surface::Direction::V, &target_v),
+        ] {
+            let have = s.knots()[direction.index()].to_vec();
+            let missing = missing_knots(&have, target);
+            s = s.refine(direction, &missing)?;
+        }
+        Ok(s)
+    };
+    let (rv, ru, corner) = (conform(rv)?, conform(ru)?, conform(corner)?);
+    if rv.count() != ru.count() || rv.count() != corner.count() {
+        return Err(construction(
+            "coons",
+            "the blended surfaces did not become compatible",
+        ));
+    }
+    let points = rv
+        .homogeneous_points()
+        .iter()
+        .zip(ru.homogeneous_points())
+        .zip(corner.homogeneous_points())
+        .map(|((a, b), c)| (a.truncate() + b.truncate() - c.truncate()).extend(1.0))
+        .collect();
+    NurbsSurface::from_homogeneous([p, q], [target_u, target_v], rv.count(), points)
+}
+
+/// The knots of `target` that `have` lacks (as a multiset); both sorted.
+fn missing_knots(have: &[f64], target: &[f64]) -> Vec<f64> {
+    let mut missing = Vec::new();
+    let mut i = 0;
+    for &t in target {
+        if i < have.len() && (have[i] - t).abs() <= 1e-14 {
+            i += 1;
+        } else {
+            missing.push(t);
+        }
+    }
+    missing
+}
+
+/// A sweep of `profile` along `rail` with a rotation-minimizing frame (double reflection,
+/// Wang, Jüttler, Zheng and Liu, "Computation of rotation minimizing frames", ACM TOG 2008).
+/// The profile is given in space relative to the rail's start: it is carried to `sections`
+/// frames along the rail (rigidly, by the rotation from the start frame) and the copies are
+/// lofted with degree 3 in v. The sections are exact; between them the surface is the loft's
+/// interpolant, so more sections follow a curved rail more closely (a general sweep has no exact
+/// NURBS form).
+pub fn sweep(
+    profile: &SpaceCurve,
+    rail: &SpaceCurve,
+    sections: usize,
+) -> Result<NurbsSurface, GeometryError> {
+    if !(2..=1000).contains(&sections) {
+        return Err(construction(
+            "sweep",
+            format!("sections = {sections} must be in 2..=1000"),
+        ));
+    }
+    let (a, b) = rail.domain();
+    let samples: Vec<(DVec3, DVec3)> = (0..sections)
+        .map(|k| {
+            let t = a + (b - a) * k as f64 / (sections - 1) as f64;
+            rail.derivatives(t, 1).map(|d| (d[0], d[1]))
+        })
+        .collect::<Result<_, _>>()?;
+    if samples.iter().any(|(_, d)| !(d.length() > 0.0)) {
+        return Err(construction(
+            "sweep",
+            "the rail has a point with zero tangent",
+        ));
+    }
+    let tangents: Vec<DVec3> = samples.iter().map(|(_, d)| d.normalize()).collect();
+    let (mut r, _) = perpendicular_frame(tangents[0]);
+    let mut frames = vec![(tangents[0], r)];
+    for k in 0..sections - 1 {
+        let (x0, x1) = (samples[k].0, samples[k + 1].0);
+        let (t0, t1) = (tangents[k], tangents[k + 1]);
+        let v1 = x1 - x0;
+        let c1 = v1.dot(v1);
+        let (rl, tl) = if c1 > 0.0 {
+            (
+                r - v1 * (2.0 / c1 * v1.dot(r)),
+                t0 - v1 * (2.0 / c1 * v1.dot(t0)),
+            )
+        } else {
+            (r, t0)
+        };
+        let v2 = t1 - tl;
+        let c2 = v2.dot(v2);
+        r = if c2 > 0.0 {
+            rl - v2 * (2.0 / c2 * v2.dot(rl))
+        } else {
+            rl
+        };
+        r = (r - t1 * r.dot(t1)).normalize();
+        frames.push((t1, r));
+    }
+    let (t0, r0) = frames[0];
+    let start = samples[0].0;
+    let base = DQuat::from_mat3(&glam::DMat3::from_cols(r0, t0.cross(r0), t0));
+    let copies = frames
+        .iter()
+        .zip(&samples)
+        .map(|(&(t, r), &(origin, _))| {
+            let frame = DQuat::from_mat3(&glam::DMat3::from_cols(r, t.cross(r), t));
+            let rotation = frame * base.inverse();
+            profile.map_points(|p| origin + rotation * (p - start))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    loft(&copies, 3)
+}
+
+/// A degree (p, q) Bézier patch on [0, 1]² with control points on a flat grid of size
+/// `width` × `depth` in the xy-plane, centred at the origin (the editor's "new patch").
+pub fn flat_bezier_patch(
+    degree: [usize; 2],
+    width: f64,
+    depth: f64,
+) -> Result<NurbsSurface, GeometryError> {
+    let [p, q] = degree;
+    if !(1..=super::basis::MAX_DEGREE).contains(&p) || !(1..=super::basis::MAX_DEGREE).contains(&q)
+    {
+        return Err(GeometryError::Degree {
+            field: "degree",
+            degree: p.max(q),
+            max: super::basis::MAX_DEGREE,
+        });
+    }
+    let mut points = Vec::with_capacity((p + 1) * (q + 1));
+    for i in 0..=p {
+        for j in 0..=q {
+            points.push(DVec3::new(
+                (i as f64 / p as f64 - 0.5) * width,
+                (j as f64 / q as f64 - 0.5) * depth,
+                0.0,
+            ));
+        }
+    }
+    NurbsSurface::bezier(degree, points, None)
+}
+
+/// A non-rational B-spline surface of degree (p, q) over uniform clamped knots with the given
+/// control net (row-major, i along u).
+pub fn bspline_surface(
+    degree: [usize; 2],
+    count: [usize; 2],
+    points: Vec<DVec3>,
+) -> Result<NurbsSurface, GeometryError> {
+    for (d, (&p, &c)) in degree.iter().zip(&count).enumerate() {
+        if c < p + 1 {
+            return Err(GeometryError::TooFewControlPoints {
+                field: if d == 0 { "knots[0]" } else { "knots[1]" },
+                count: c,
+                degree: p,
+            });
+        }
+    }
+    NurbsSurface::new(
+        degree,
+        [
+            uniform_clamped_knots(degree[0], count[0]),
+            uniform_clamped_knots(degree[1], count[1]),
+        ],
+        count,
+        points,
+        None,
+    )
+}

@@ -1,0 +1,387 @@
+//! NURBS curves in 2D (trim curves, `NurbsCurve<DVec2>`) and 3D (`NurbsCurve<DVec3>`).
+//!
+//! C(u) = Σ N_{i,p}(u) w_i P_i / Σ N_{i,p}(u) w_i. The control points are stored in homogeneous
+//! form (w·P, w), where knot insertion, refinement and degree elevation are linear.
+
+use glam::{DAffine3, DVec3};
+
+use super::basis::{
+    MAX_DEGREE, basis_derivatives_into, domain, find_span, interior_knots, multiplicity,
+    validate_knots,
+};
+use super::error::GeometryError;
+use super::ops::{self, Polygon};
+use super::vector::{CurvePoint, Vector, binomial};
+
+/// A NURBS curve: degree p ≥ 1, a knot vector of n + p + 2 knots and n + 1 weighted control
+/// points. Construction validates everything (see [`validate_knots`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsCurve<P: CurvePoint> {
+    poly: Polygon<P::Homogeneous>,
+}
+
+/// A 2D curve in a surface's (u, v) parameter plane.
+pub type TrimCurve = NurbsCurve<glam::DVec2>;
+/// A curve in space.
+pub type SpaceCurve = NurbsCurve<DVec3>;
+
+impl<P: CurvePoint> NurbsCurve<P> {
+    /// A curve from Cartesian control points and optional weights (`None`: all 1).
+    pub fn new(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<P>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self, GeometryError> {
+        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
+        if weights.len() != points.len() {
+            return Err(GeometryError::WeightCount {
+                points: points.len(),
+                weights: weights.len(),
+            });
+        }
+        for (i, (p, &w)) in points.iter().zip(&weights).enumerate() {
+            check_point(&format!("points[{i}]"), &p.coordinates(), w)?;
+        }
+        let homogeneous = points
+            .iter()
+            .zip(&weights)
+            .map(|(&p, &w)| p.to_homogeneous(w))
+            .collect();
+        Self::from_homogeneous(degree, knots, homogeneous)
+    }
+
+    /// A curve from homogeneous control points (w·P, w), validated.
+    pub fn from_homogeneous(
+        degree: usize,
+        knots: Vec<f64>,
+        points: Vec<P::Homogeneous>,
+    ) -> Result<Self, GeometryError> {
+        validate_knots("knots", degree, points.len(), &knots)?;
+        for (i, &h) in points.iter().enumerate() {
+            check_point(
+                &format!("points[{i}]"),
+                &P::weighted_part(h).coordinates(),
+                P::weight_of(h),
+            )?;
+        }
+        Ok(Self {
+            poly: Polygon {
+                degree,
+                knots,
+                points,
+            },
+        })
+    }
+
+    /// A polygon produced by a shape-preserving operation on a valid curve.
+    fn from_polygon(poly: Polygon<P::Homogeneous>) -> Self {
+        debug_assert!(validate_knots("knots", poly.degree, poly.points.len(), &poly.knots).is_ok());
+        Self { poly }
+    }
+
+    pub fn degree(&self) -> usize {
+        self.poly.degree
+    }
+
+    pub fn knots(&self) -> &[f64] {
+        &self.poly.knots
+    }
+
+    /// The number of control points.
+    pub fn count(&self) -> usize {
+        self.poly.points.len()
+    }
+
+    /// Control points in homogeneous form (w·P, w).
+    pub fn homogeneous_points(&self) -> &[P::Homogeneous] {
+        &self.poly.points
+    }
+
+    /// The Cartesian control point i.
+    pub fn control_point(&self, i: usize) -> P {
+        P::project(self.poly.points[i])
+    }
+
+    pub fn weight(&self, i: usize) -> f64 {
+        P::weight_of(self.poly.points[i])
+    }
+
+    /// True if every weight is 1 (a polynomial B-spline).
+    pub fn is_polynomial(&self) -> bool {
+        self.poly.points.iter().all(|&h| P::weight_of(h) == 1.0)
+    }
+
+    /// The parameter domain [u_p, u_{n+1}].
+    pub fn domain(&self) -> (f64, f64) {
+        domain(&self.poly.knots, self.poly.degree, self.count())
+    }
+
+    pub(crate) fn polygon(&self) -> &Polygon<P::Homogeneous> {
+        &self.poly
+    }
+
+    fn check_in_domain(&self, u: f64) -> Result<(), GeometryError> {
+        let (start, end) = self.domain();
+        if u >= start && u <= end {
+            Ok(())
+        } else {
+            Err(GeometryError::OutsideDomain {
+                parameter: "u",
+                value: u,
+                start,
+                end,
+            })
+        }
+    }
+
+    /// The point C(u).
+    pub fn point_at(&self, u: f64) -> Result<P, GeometryError> {
+        Ok(self.derivatives(u, 0)?[0])
+    }
+
+    /// C(u) and its derivatives up to `order`: `[C, C′, C″, …]` (homogeneous derivatives by
+    /// The NURBS Book A3.2 "CurveDerivsAlg1", then the rational ones by A4.2 "RatCurveDerivs":
+    /// C^(k) = (A^(k) − Σ_{i=1..k} C(k,i) w^(i) C^(k−i)) / w).
+    pub fn derivatives(&self, u: f64, order: usize) -> Result<Vec<P>, GeometryError> {
+        self.check_in_domain(u)?;
+        let p = self.poly.degree;
+        let span = find_span(&self.poly.knots, p, self.count(), u);
+        let mut ders = vec![0.0; (order + 1) * (p + 1)];
+        basis_derivatives_into(&self.poly.knots, p, span, u, order, &mut ders);
+        let homogeneous: Vec<P::Homogeneous> = (0..=order)
+            .map(|k| {
+                (0..=p).fold(P::Homogeneous::ZERO, |acc, j| {
+                    acc + self.poly.points[span - p + j] * ders[k * (p + 1) + j]
+                })
+            })
+            .collect();
+        let w0 = P::weight_of(homogeneous[0]);
+        let mut result: Vec<P> = Vec::with_capacity(order + 1);
+        for k in 0..=order {
+            let mut v = P::weighted_part(homogeneous[k]);
+            for i in 1..=k {
+                v = v - result[k - i] * (binomial(k, i) * P::weight_of(homogeneous[i]));
+            }
+            result.push(v / w0);
+        }
+        Ok(result)
+    }
+
+    /// The same curve with knot `u` inserted `times` times (The NURBS Book, A5.1).
+    pub fn insert_knot(&self, u: f64, times: usize) -> Result<Self, GeometryError> {
+        check_interior(self.domain(), u, "u")?;
+        check_insertion(&self.poly, u, times)?;
+        Ok(Self::from_polygon(ops::insert_knot(&self.poly, u, times)))
+    }
+
+    /// The same curve with all knots of `knots` inserted (The NURBS Book, A5.4). The list is
+    /// sorted first; every knot must lie inside the domain and no multiplicity may exceed p.
+    pub fn refine(&self, knots: &[f64]) -> Result<Self, GeometryError> {
+        let mut x = knots.to_vec();
+        check_refinement(&self.poly, &mut x, "u")?;
+        Ok(Self::from_polygon(ops::refine_knots(&self.poly, &x)))
+    }
+
+    /// The same curve with its degree raised by `times` (The NURBS Book, A5.9).
+    pub fn elevate_degree(&self, times: usize) -> Result<Self, GeometryError> {
+        let degree = self.poly.degree + times;
+        if degree > MAX_DEGREE {
+            return Err(GeometryError::Degree {
+                field: "degree",
+                degree,
+                max: MAX_DEGREE,
+            });
+        }
+        Ok(Self::from_polygon(ops::elevate_degree(&self.poly, times)))
+    }
+
+    /// The two pieces over [a, u] and [u, b].
+    pub fn split(&self, u: f64) -> Result<(Self, Self), GeometryError> {
+        check_interior(self.domain(), u, "u")?;
+        let (left, right) = ops::split(&self.poly, u);
+        Ok((Self::from_polygon(left), Self::from_polygon(right)))
+    }
+
+    /// The same curve traversed in the opposite direction over the same domain.
+    pub fn reverse(&self) -> Self {
+        Self::from_polygon(ops::reverse(&self.poly))
+    }
+
+    /// The same shape over a clamped knot vector.
+    pub fn clamped(&self) -> Self {
+        Self::from_polygon(ops::clamp(&self.poly))
+    }
+
+    /// The Bézier segments (each a clamped curve of one span) in order.
+    pub fn bezier_segments(&self) -> Vec<Self> {
+        let p = self.poly.degree;
+        ops::bezier_segments(&self.poly)
+            .into_iter()
+            .map(|(points, [a, b])| {
+                let mut knots = vec![a; p + 1];
+                knots.extend(std::iter::repeat_n(b, p + 1));
+                Self::from_polygon(Polygon {
+                    degree: p,
+                    knots,
+                    points,
+                })
+            })
+            .collect()
+    }
+
+    /// Removes the interior knot `u` up to `times` times where the curve moves by at most
+    /// `tolerance` (The NURBS Book, A5.8, with the book's bound TOL = d·w_min / (1 + |P|_max)
+    /// on the homogeneous points). Returns the new curve and how many were removed.
+    pub fn remove_knot(&self, u: f64, times: usize, tolerance: f64) -> (Self, usize) {
+        let tol = homogeneous_tolerance(
+            tolerance,
+            self.poly
+                .points
+                .iter()
+                .map(|&h| (P::weight_of(h), P::project(h).norm())),
+        );
+        let mut poly = self.poly.clone();
+        let mut removed = 0;
+        while removed < times {
+            match ops::remove_knot(&poly, u, tol) {
+                Some(next) => {
+                    poly = next;
+                    removed += 1;
+                }
+                None => break,
+            }
+        }
+        (Self::from_polygon(poly), removed)
+    }
+
+    /// The same curve with every control point mapped by `f` (weights kept).
+    pub fn map_points(&self, f: impl Fn(P) -> P) -> Result<Self, GeometryError> {
+        let points = (0..self.count()).map(|i| self.control_point(i)).map(f);
+        let weights = (0..self.count()).map(|i| self.weight(i)).collect();
+        Self::new(
+            self.poly.degree,
+            self.poly.knots.clone(),
+            points.collect(),
+            Some(weights),
+        )
+    }
+
+    /// The same curve with its parameter mapped linearly onto [start, end].
+    pub fn reparametrized(&self, start: f64, end: f64) -> Result<Self, GeometryError> {
+        let (a, b) = self.domain();
+        if !(start.is_finite() && end.is_finite() && start < end) {
+            return Err(GeometryError::EmptyDomain {
+                field: "domain",
+                start,
+                end,
+            });
+        }
+        let knots = self
+            .poly
+            .knots
+            .iter()
+            .map(|&k| start + (k - a) / (b - a) * (end - start))
+            .collect();
+        Self::from_homogeneous(self.poly.degree, knots, self.poly.points.clone())
+    }
+
+    /// The interior knots of the domain with their multiplicities.
+    pub fn interior_knots(&self) -> Vec<(f64, usize)> {
+        interior_knots(&self.poly.knots, self.poly.degree, self.count())
+    }
+}
+
+impl NurbsCurve<DVec3> {
+    /// The curve mapped by an affine transformation. NURBS are affinely invariant: mapping the
+    /// control points maps the curve.
+    pub fn transformed(&self, transform: &DAffine3) -> Result<Self, GeometryError> {
+        self.map_points(|p| transform.transform_point3(p))
+    }
+}
+
+/// Checks a Cartesian control point and its weight; `at` names it in errors.
+pub(crate) fn check_point(at: &str, coordinates: &[f64], weight: f64) -> Result<(), GeometryError> {
+    if let Some(coordinate) = coordinates.iter().position(|c| !c.is_finite()) {
+        return Err(GeometryError::NonFinitePoint {
+            at: at.to_string(),
+            coordinate,
+        });
+    }
+    if !(weight.is_finite() && weight > 0.0) {
+        return Err(GeometryError::BadWeight {
+            at: at.to_string(),
+            weight,
+        });
+    }
+    Ok(())
+}
+
+/// The NURBS Book's tolerance for knot removal on homogeneous points (eq. 5.30 and the text
+/// around A5.8): a deviation of at most d in space is guaranteed by d·w_min / (1 + |P|_max).
+pub(crate) fn homogeneous_tolerance(
+    distance: f64,
+    weights_and_norms: impl Iterator<Item = (f64, f64)>,
+) -> f64 {
+    let (w_min, p_max) = weights_and_norms.fold((f64::INFINITY, 0.0f64), |(w, p), (wi, pi)| {
+        (w.min(wi), p.max(pi))
+    });
+    distance * w_min / (1.0 + p_max)
+}
+
+/// Requires `u` strictly inside `domain`.
+pub(crate) fn check_interior(
+    (start, end): (f64, f64),
+    u: f64,
+    parameter: &'static str,
+) -> Result<(), GeometryError> {
+    if u > start && u < end {
+        Ok(())
+    } else {
+        Err(GeometryError::NotInterior {
+            parameter,
+            value: u,
+            start,
+            end,
+        })
+    }
+}
+
+/// Sorts a refinement list and checks it: knots strictly inside the domain, and no resulting
+/// multiplicity above the degree.
+pub(crate) fn check_refinement<V: Vector>(
+    poly: &Polygon<V>,
+    x: &mut [f64],
+    parameter: &'static str,
+) -> Result<(), GeometryError> {
+    x.sort_by(f64::total_cmp);
+    let d = domain(&poly.knots, poly.degree, poly.points.len());
+    for &k in x.iter() {
+        check_interior(d, k, parameter)?;
+        let total = multiplicity(&poly.knots, k) + x.iter().filter(|&&y| y == k).count();
+        if total > poly.degree {
+            return Err(GeometryError::InsertionTooMany {
+                value: k,
+                times: total - multiplicity(&poly.knots, k),
+                degree: poly.degree,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Requires that inserting `u` `times` times keeps its multiplicity ≤ the degree.
+pub(crate) fn check_insertion<V: Vector>(
+    poly: &Polygon<V>,
+    u: f64,
+    times: usize,
+) -> Result<(), GeometryError> {
+    if multiplicity(&poly.knots, u) + times > poly.degree {
+        return Err(GeometryError::InsertionTooMany {
+            value: u,
+            times,
+            degree: poly.degree,
+        });
+    }
+    Ok(())
+}

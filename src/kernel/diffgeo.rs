@@ -1,0 +1,177 @@
+//! Differential geometry of parametric surfaces: derivatives, the unit normal (with its limit at
+//! degenerate points), the first and second fundamental forms, and Gaussian, mean and principal
+//! curvatures with principal directions.
+//!
+//! With n = Su × Sv / |Su × Sv|: E = Su·Su, F = Su·Sv, G = Sv·Sv; L = Suu·n, M = Suv·n,
+//! N = Svv·n. Then K = (LN − M²)/(EG − F²), H = (EN − 2FM + GL) / (2(EG − F²)) and
+//! k1,2 = H ± √(H² − K) (do Carmo, §3-3; The NURBS Book uses the same forms).
+//! Sign convention: a normal curvature is positive where the surface bends toward n, so a sphere
+//! with outward normals has k1 = k2 = −1/r, H = −1/r and K = 1/r².
+
+use glam::{DVec3, DVec4};
+
+/// Below this value of sin²(angle between Su and Sv) the tangent plane is taken as degenerate and
+/// the normal comes from the limit rule ([`SurfaceDerivatives::collapsed_edge_normal`]). The WGSL
+/// evaluator (`shaders/eval_bezier.wgsl`, `DEGENERATE_SIN2`) uses the same value.
+pub const DEGENERATE_SIN2: f64 = 1e-10;
+
+/// How far (as a fraction of the distance to the domain centre) the last-resort normal rule moves
+/// the parameter inward. Mirrored by `NORMAL_NUDGE` in `shaders/eval_bezier.wgsl`.
+pub const NORMAL_NUDGE: f64 = 1e-3;
+
+/// How far (as a fraction of the distance to the domain centre) curvature at a degenerate point
+/// is sampled inward: the fundamental-form quotients are 0/0 at the point itself, and the limit
+/// is approached within O(this) of the true value.
+pub const CURVATURE_NUDGE: f64 = 1e-6;
+
+/// Relative size of k1 − k2 = 2√(H² − K) below which a point counts as an umbilic (no principal
+/// directions). H² − K cancels catastrophically at an umbilic (rounding of order ε·H² becomes
+/// √ε·|H| ≈ 1.5e-8·|H| after the root), so the threshold sits well above that.
+pub const UMBILIC_TOLERANCE: f64 = 1e-6;
+
+/// Position and partial derivatives of a surface at one parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDerivatives {
+    pub point: DVec3,
+    pub su: DVec3,
+    pub sv: DVec3,
+    pub suu: DVec3,
+    pub suv: DVec3,
+    pub svv: DVec3,
+}
+
+impl SurfaceDerivatives {
+    /// Su × Sv normalized, or `None` where the tangent plane is degenerate
+    /// (sin² of the angle between Su and Sv below [`DEGENERATE_SIN2`]).
+    pub fn regular_normal(&self) -> Option<DVec3> {
+        let n = self.su.cross(self.sv);
+        let n2 = n.length_squared();
+        let scale = self.su.length_squared() * self.sv.length_squared();
+        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 {
+            Some(n / n2.sqrt())
+        } else {
+            None
+        }
+    }
+
+    /// The normal at a point where one partial derivative vanishes (a collapsed edge or a pole),
+    /// as the limit from the interior. Near an edge u = u₀ where Sv ≡ 0, Sv ≈ (u − u₀) Suv, so
+    /// Su × Sv ≈ (u − u₀) Su × Suv; likewise for Su ≡ 0 near v = v₀. The sign follows from which
+    /// end of the domain (`u`, `v` in [0, 1]) the collapsed edge is at.
+    pub fn collapsed_edge_normal(&self, u: f64, v: f64) -> Option<DVec3> {
+        let n = if self.sv.length_squared() <= self.su.length_squared() {
+            let side = if u < 0.5 { 1.0 } else { -1.0 };
+            side * self.su.cross(self.suv)
+        } else {
+            let side = if v < 0.5 { 1.0 } else { -1.0 };
+            side * self.suv.cross(self.sv)
+        };
+        let n2 = n.length_squared();
+        (n2 > 0.0 && n2.is_finite()).then(|| n / n2.sqrt())
+    }
+}
+
+/// The first (E, F, G) and second (L, M, N) fundamental forms at a point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FundamentalForms {
+    pub e: f64,
+    pub f: f64,
+    pub g: f64,
+    pub l: f64,
+    pub m: f64,
+    pub n: f64,
+}
+
+impl FundamentalForms {
+    /// The forms from the derivatives and the unit normal.
+    pub fn new(d: &SurfaceDerivatives, normal: DVec3) -> Self {
+        Self {
+            e: d.su.dot(d.su),
+            f: d.su.dot(d.sv),
+            g: d.sv.dot(d.sv),
+            l: d.suu.dot(normal),
+            m: d.suv.dot(normal),
+            n: d.svv.dot(normal),
+        }
+    }
+
+    /// EG − F², the squared area element.
+    pub fn determinant(&self) -> f64 {
+        self.e * self.g - self.f * self.f
+    }
+}
+
+/// Curvatures at a point: Gaussian K, mean H, principal k1 ≥ k2 and, away from umbilics, the
+/// principal directions (unit tangent vectors in space, for k1 and k2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Curvature {
+    pub gaussian: f64,
+    pub mean: f64,
+    pub k1: f64,
+    pub k2: f64,
+    pub directions: Option<[DVec3; 2]>,
+}
+
+impl Curvature {
+    /// The curvatures from the fundamental forms; `None` where EG − F² ≤ 0 (a degenerate
+    /// parametrization, where they are undefined).
+    pub fn from_forms(d: &SurfaceDerivatives, forms: &FundamentalForms) -> Option<Self> {
+        let FundamentalForms { e, f, g, l, m, n } = *forms;
+        let det = forms.determinant();
+        if !(det > 0.0) || !det.is_finite() {
+            return None;
+        }
+        let gaussian = (l * n - m * m) / det;
+        let mean = (e * n - 2.0 * f * m + g * l) / (2.0 * det);
+        let disc = (mean * mean - gaussian).max(0.0).sqrt();
+        let (k1, k2) = (mean + disc, mean - disc);
+        let scale = k1.abs().max(k2.abs());
+        let directions = if 2.0 * disc <= UMBILIC_TOLERANCE * scale || scale == 0.0 {
+            None
+        } else {
+            let direction = |k: f64| {
+                // (L − kE) du + (M − kF) dv = 0 and (M − kF) du + (N − kG) dv = 0: take the
+                // better conditioned row; its null vector is (du, dv).
+                let (a1, b1) = (l - k * e, m - k * f);
+                let (a2, b2) = (m - k * f, n - k * g);
+                let (du, dv) = if a1.hypot(b1) >= a2.hypot(b2) {
+                    (-b1, a1)
+                } else {
+                    (-b2, a2)
+                };
+                (d.su * du + d.sv * dv).normalize_or_zero()
+            };
+            Some([direction(k1), direction(k2)])
+        };
+        Some(Self {
+            gaussian,
+            mean,
+            k1,
+            k2,
+            directions,
+        })
+    }
+}
+
+/// Cartesian derivatives of S = A / w from the homogeneous ones a[k][l] = ∂^{k+l}A/∂u^k∂v^l
+/// (The NURBS Book, eq. 4.20):
+/// S_{kl} = (A_{kl} − Σ_{(i,j) ≤ (k,l), (i,j) ≠ (0,0)} C(k,i) C(l,j) w_{ij} S_{k−i,l−j}) / w.
+pub(crate) fn rational_derivatives(a: &[[DVec4; 3]; 3]) -> SurfaceDerivatives {
+    let w = |k: usize, l: usize| a[k][l].w;
+    let xyz = |k: usize, l: usize| a[k][l].truncate();
+    let w0 = w(0, 0);
+    let point = xyz(0, 0) / w0;
+    let su = (xyz(1, 0) - w(1, 0) * point) / w0;
+    let sv = (xyz(0, 1) - w(0, 1) * point) / w0;
+    let suu = (xyz(2, 0) - 2.0 * w(1, 0) * su - w(2, 0) * point) / w0;
+    let svv = (xyz(0, 2) - 2.0 * w(0, 1) * sv - w(0, 2) * point) / w0;
+    let suv = (xyz(1, 1) - w(1, 0) * sv - w(0, 1) * su - w(1, 1) * point) / w0;
+    SurfaceDerivatives {
+        point,
+        su,
+        sv,
+        suu,
+        suv,
+        svv,
+    }
+}

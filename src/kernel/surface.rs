@@ -1,0 +1,883 @@
+//! NURBS surfaces: S(u, v) = Σ_i Σ_j N_{i,p}(u) N_{j,q}(v) w_ij P_ij / Σ_i Σ_j N_{i,p}(u) N_{j,q}(v) w_ij.
+//!
+//! Control points are stored homogeneous, (w·P, w), row-major with i along u:
+//! `points[i * count_v + j]`. Bézier patches and non-rational B-spline surfaces are special cases
+//! of the same type. Evaluation follows The NURBS Book: knot spans by A2.1, basis derivatives by
+//! A2.3, homogeneous surface derivatives by A3.6, rational derivatives by A4.4 (eq. 4.20).
+
+use glam::{DAffine3, DVec3, DVec4};
+
+use super::basis::{MAX_DEGREE, basis_derivatives_into, domain, find_span, validate_knots};
+use super::bezier::{BezierPatch, BezierPatchSet};
+use super::curve::{
+    check_insertion, check_interior, check_point, check_refinement, homogeneous_tolerance,
+};
+use super::diffgeo::{
+    CURVATURE_NUDGE, Curvature, FundamentalForms, NORMAL_NUDGE, SurfaceDerivatives,
+    rational_derivatives,
+};
+use super::error::GeometryError;
+use super::ops::{self, Polygon};
+
+/// A parameter direction of a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    U,
+    V,
+}
+
+impl Direction {
+    pub fn index(self) -> usize {
+        match self {
+            Direction::U => 0,
+            Direction::V => 1,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Direction::U => "u",
+            Direction::V => "v",
+        }
+    }
+}
+
+/// A NURBS surface of degree (p, q) with (n + 1) × (m + 1) control points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsSurface {
+    degree: [usize; 2],
+    knots: [Vec<f64>; 2],
+    count: [usize; 2],
+    points: Vec<DVec4>,
+}
+
+/// Everything the kernel knows about one surface point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalGeometry {
+    pub derivatives: SurfaceDerivatives,
+    /// The unit normal, from the limit rule where the tangent plane degenerates.
+    pub normal: DVec3,
+    /// Curvatures; at a degenerate point they are the limit sampled just inside the domain.
+    pub curvature: Curvature,
+    /// False where |Su × Sv| vanishes (a pole or collapsed edge).
+    pub regular: bool,
+}
+
+/// The result of [`NurbsSurface::closest_point`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosestPoint {
+    pub u: f64,
+    pub v: f64,
+    pub point: DVec3,
+    pub distance: f64,
+}
+
+/// A position and unit normal, the output of grid tessellation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GridSample {
+    pub point: DVec3,
+    pub normal: DVec3,
+}
+
+/// Basis functions (value and derivatives) at a list of parameters, computed once and reused for
+/// every row or column of a grid.
+struct ParameterBasis {
+    spans: Vec<usize>,
+    /// Per parameter, (order + 1)(p + 1) values: `values[t * stride + k * (p + 1) + j]`.
+    values: Vec<f64>,
+    stride: usize,
+}
+
+impl ParameterBasis {
+    fn new(knots: &[f64], degree: usize, count: usize, params: &[f64], order: usize) -> Self {
+        let stride = (order + 1) * (degree + 1);
+        let mut values = vec![0.0; stride * params.len()];
+        let spans = params
+            .iter()
+            .zip(values.chunks_mut(stride))
+            .map(|(&t, out)| {
+                let span = find_span(knots, degree, count, t);
+                basis_derivatives_into(knots, degree, span, t, order, out);
+                span
+            })
+            .collect();
+        Self {
+            spans,
+            values,
+            stride,
+        }
+    }
+
+    fn at(&self, t: usize, k: usize, size: usize) -> &[f64] {
+        let start = t * self.stride + k * size;
+        &self.values[start..start + size]
+    }
+}
+
+impl NurbsSurface {
+    /// A surface from Cartesian control points (row-major, i along u) and optional weights
+    /// (`None`: all 1). `count` = [points along u, points along v].
+    pub fn new(
+        degree: [usize; 2],
+        knots: [Vec<f64>; 2],
+        count: [usize; 2],
+        points: Vec<DVec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self, GeometryError> {
+        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
+        if weights.len() != points.len() {
+            return Err(GeometryError::WeightCount {
+                points: points.len(),
+                weights: weights.len(),
+            });
+        }
+        check_count(count, points.len())?;
+        for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
+            let (i, j) = (index / count[1], index % count[1]);
+            check_point(&format!("points[{i}][{j}]"), &p.to_array(), w)?;
+        }
+        let homogeneous = points
+            .iter()
+            .zip(&weights)
+            .map(|(&p, &w)| (p * w).extend(w))
+            .collect();
+        Self::from_homogeneous(degree, knots, count, homogeneous)
+    }
+
+    /// A surface from homogeneous control points (w·x, w·y, w·z, w), validated.
+    pub fn from_homogeneous(
+        degree: [usize; 2],
+        knots: [Vec<f64>; 2],
+        count: [usize; 2],
+        points: Vec<DVec4>,
+    ) -> Result<Self, GeometryError> {
+        validate_knots("knots[0]", degree[0], count[0], &knots[0])?;
+        validate_knots("knots[1]", degree[1], count[1], &knots[1])?;
+        check_count(count, points.len())?;
+        for (index, h) in points.iter().enumerate() {
+            let (i, j) = (index / count[1], index % count[1]);
+            check_point(&format!("points[{i}][{j}]"), &h.to_array()[..3], h.w)?;
+        }
+        Ok(Self {
+            degree,
+            knots,
+            count,
+            points,
+        })
+    }
+
+    /// A single rational Bézier patch over [0, 1]² (`points` row-major with i along u).
+    pub fn bezier(
+        degree: [usize; 2],
+        points: Vec<DVec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self, GeometryError> {
+        let knots = degree.map(|p| {
+            let mut k = vec![0.0; p + 1];
+            k.extend(std::iter::repeat_n(1.0, p + 1));
+            k
+        });
+        Self::new(degree, knots, degree.map(|p| p + 1), points, weights)
+    }
+
+    /// Degrees (p, q).
+    pub fn degree(&self) -> [usize; 2] {
+        self.degree
+    }
+
+    /// Knot vectors (u, v).
+    pub fn knots(&self) -> [&[f64]; 2] {
+        [&self.knots[0], &self.knots[1]]
+    }
+
+    /// Control point counts (along u, along v).
+    pub fn count(&self) -> [usize; 2] {
+        self.count
+    }
+
+    /// All homogeneous control points, row-major with i along u.
+    pub fn homogeneous_points(&self) -> &[DVec4] {
+        &self.points
+    }
+
+    /// The Cartesian control point (i, j).
+    pub fn control_point(&self, i: usize, j: usize) -> DVec3 {
+        let h = self.points[i * self.count[1] + j];
+        h.truncate() / h.w
+    }
+
+    pub fn weight(&self, i: usize, j: usize) -> f64 {
+        self.points[i * self.count[1] + j].w
+    }
+
+    /// True if every weight is 1.
+    pub fn is_polynomial(&self) -> bool {
+        self.points.iter().all(|h| h.w == 1.0)
+    }
+
+    /// The parameter domains ([u_p, u_{n+1}], [v_q, v_{m+1}]).
+    pub fn domain(&self) -> [(f64, f64); 2] {
+        [0, 1].map(|d| domain(&self.knots[d], self.degree[d], self.count[d]))
+    }
+
+    /// The axis-aligned box of the control points, which contains the surface (convex hull).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let first = self.control_point(0, 0);
+        (0..self.count[0])
+            .flat_map(|i| (0..self.count[1]).map(move |j| (i, j)))
+            .map(|(i, j)| self.control_point(i, j))
+            .fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
+    }
+
+    /// The length of the bounding box diagonal (a scale for tolerances).
+    pub fn size(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        (hi - lo).length()
+    }
+
+    /// Moves control point (i, j) to `position`, keeping its weight. Rejects a non-finite
+    /// position or an index out of range and leaves the surface unchanged.
+    pub fn set_point(&mut self, i: usize, j: usize, position: DVec3) -> Result<(), GeometryError> {
+        let index = self.index_checked(i, j)?;
+        let w = self.points[index].w;
+        check_point(&format!("points[{i}][{j}]"), &position.to_array(), w)?;
+        self.points[index] = (position * w).extend(w);
+        Ok(())
+    }
+
+    /// Sets the weight of control point (i, j), keeping its Cartesian position. Rejects a
+    /// weight that is not finite and > 0.
+    pub fn set_weight(&mut self, i: usize, j: usize, weight: f64) -> Result<(), GeometryError> {
+        let index = self.index_checked(i, j)?;
+        let p = self.control_point(i, j);
+        check_point(&format!("points[{i}][{j}]"), &p.to_array(), weight)?;
+        self.points[index] = (p * weight).extend(weight);
+        Ok(())
+    }
+
+    fn index_checked(&self, i: usize, j: usize) -> Result<usize, GeometryError> {
+        if i < self.count[0] && j < self.count[1] {
+            Ok(i * self.count[1] + j)
+        } else {
+            Err(GeometryError::NoSuchPoint {
+                index: i * self.count[1] + j,
+                count: self.points.len(),
+            })
+        }
+    }
+
+    fn check_parameters(&self, u: f64, v: f64) -> Result<(), GeometryError> {
+        for ((value, (start, end)), parameter) in
+            [u, v].into_iter().zip(self.domain()).zip(["u", "v"])
+        {
+            if !(value >= start && value <= end) {
+                return Err(GeometryError::OutsideDomain {
+                    parameter,
+                    value,
+                    start,
+                    end,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Position and all partial derivatives up to order 2 at (u, v) (The NURBS Book, A3.6 for
+    /// the homogeneous derivatives A_kl, then eq. 4.20 / A4.4 for the rational ones).
+    pub fn evaluate(&self, u: f64, v: f64) -> Result<SurfaceDerivatives, GeometryError> {
+        self.check_parameters(u, v)?;
+        Ok(rational_derivatives(&self.homogeneous_derivatives(u, v)))
+    }
+
+    /// The point S(u, v).
+    pub fn point_at(&self, u: f64, v: f64) -> Result<DVec3, GeometryError> {
+        Ok(self.evaluate(u, v)?.point)
+    }
+
+    /// A_kl = ∂^{k+l} A / ∂u^k ∂v^l for k + l ≤ 2 of the homogeneous surface (A3.6).
+    fn homogeneous_derivatives(&self, u: f64, v: f64) -> [[DVec4; 3]; 3] {
+        const CAP: usize = MAX_DEGREE + 1;
+        let [p, q] = self.degree;
+        let su = find_span(&self.knots[0], p, self.count[0], u);
+        let sv = find_span(&self.knots[1], q, self.count[1], v);
+        let mut nu = [0.0; 3 * CAP];
+        let mut nv = [0.0; 3 * CAP];
+        basis_derivatives_into(&self.knots[0], p, su, u, 2, &mut nu[..3 * (p + 1)]);
+        basis_derivatives_into(&self.knots[1], q, sv, v, 2, &mut nv[..3 * (q + 1)]);
+        let mut skl = [[DVec4::ZERO; 3]; 3];
+        let mut temp = [DVec4::ZERO; CAP];
+        for k in 0..=2 {
+            let bu = &nu[k * (p + 1)..(k + 1) * (p + 1)];
+            for (s, t) in temp.iter_mut().enumerate().take(q + 1) {
+                *t = bu.iter().enumerate().fold(DVec4::ZERO, |acc, (r, &b)| {
+                    acc + self.points[(su - p + r) * self.count[1] + sv - q + s] * b
+                });
+            }
+            for l in 0..=2 - k {
+                let bv = &nv[l * (q + 1)..(l + 1) * (q + 1)];
+                skl[k][l] = bv
+                    .iter()
+                    .zip(&temp)
+                    .fold(DVec4::ZERO, |acc, (&b, &t)| acc + t * b);
+            }
+        }
+        skl
+    }
+
+    /// (u, v) mapped to [0, 1]² over the domain, for the side tests of the normal rule.
+    fn normalized(&self, u: f64, v: f64) -> (f64, f64) {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        ((u - u0) / (u1 - u0), (v - v0) / (v1 - v0))
+    }
+
+    /// (u, v) moved toward the domain centre by `fraction` of the distance.
+    fn nudged(&self, u: f64, v: f64, fraction: f64) -> (f64, f64) {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        (
+            u + (0.5 * (u0 + u1) - u) * fraction,
+            v + (0.5 * (v0 + v1) - v) * fraction,
+        )
+    }
+
+    /// The unit normal for derivatives `d` already evaluated at (u, v), defined everywhere:
+    /// Su × Sv where regular; at a collapsed edge or pole the limit from the interior
+    /// ([`SurfaceDerivatives::collapsed_edge_normal`]); failing that the regular normal a little
+    /// inside the domain ([`NORMAL_NUDGE`]); +z as the last resort. Never NaN.
+    pub fn normal_from(&self, d: &SurfaceDerivatives, u: f64, v: f64) -> DVec3 {
+        let (s, t) = self.normalized(u, v);
+        if let Some(n) = d.regular_normal().or_else(|| d.collapsed_edge_normal(s, t)) {
+            return n;
+        }
+        let (un, vn) = self.nudged(u, v, NORMAL_NUDGE);
+        let nudged = rational_derivatives(&self.homogeneous_derivatives(un, vn));
+        let (s, t) = self.normalized(un, vn);
+        nudged
+            .regular_normal()
+            .or_else(|| nudged.collapsed_edge_normal(s, t))
+            .unwrap_or(DVec3::Z)
+    }
+
+    /// The unit normal at (u, v) (see [`Self::normal_from`]).
+    pub fn normal(&self, u: f64, v: f64) -> Result<DVec3, GeometryError> {
+        let d = self.evaluate(u, v)?;
+        Ok(self.normal_from(&d, u, v))
+    }
+
+    /// Derivatives, normal, fundamental forms and curvatures at (u, v). At a degenerate point
+    /// the curvatures are the limit, sampled [`CURVATURE_NUDGE`] of the way toward the centre.
+    pub fn local_geometry(&self, u: f64, v: f64) -> Result<LocalGeometry, GeometryError> {
+        let derivatives = self.evaluate(u, v)?;
+        let normal = self.normal_from(&derivatives, u, v);
+        let regular = derivatives.regular_normal().is_some();
+        let curvature = self.curvature_from(&derivatives, normal, u, v);
+        Ok(LocalGeometry {
+            derivatives,
+            normal,
+            curvature,
+            regular,
+        })
+    }
+
+    fn curvature_from(&self, d: &SurfaceDerivatives, normal: DVec3, u: f64, v: f64) -> Curvature {
+        if d.regular_normal().is_some()
+            && let Some(c) = Curvature::from_forms(d, &FundamentalForms::new(d, normal))
+        {
+            return c;
+        }
+        let (un, vn) = self.nudged(u, v, CURVATURE_NUDGE);
+        let nd = rational_derivatives(&self.homogeneous_derivatives(un, vn));
+        let nn = self.normal_from(&nd, un, vn);
+        // Keep the orientation of the limit normal at the point itself.
+        let nn = if nn.dot(normal) < 0.0 { -nn } else { nn };
+        Curvature::from_forms(&nd, &FundamentalForms::new(&nd, nn)).unwrap_or(Curvature {
+            gaussian: 0.0,
+            mean: 0.0,
+            k1: 0.0,
+            k2: 0.0,
+            directions: None,
+        })
+    }
+
+    /// Evaluates a grid of parameters (`us` × `vs`, each inside the domain), calling
+    /// `f(i, j, derivatives)` for every (us[i], vs[j]). Basis functions are computed once per
+    /// grid column and row; for each u the control net is first reduced to the isoparametric
+    /// curve's homogeneous points (and their u-derivatives), so each grid point costs only a
+    /// (q + 1)-term sum per derivative. `second_order = false` skips Suu, Suv, Svv (left zero).
+    pub fn evaluate_grid(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        second_order: bool,
+        mut f: impl FnMut(usize, usize, &SurfaceDerivatives),
+    ) -> Result<(), GeometryError> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        for (&t, (parameter, start, end)) in us
+            .iter()
+            .map(|t| (t, ("u", u0, u1)))
+            .chain(vs.iter().map(|t| (t, ("v", v0, v1))))
+        {
+            if !(t >= start && t <= end) {
+                return Err(GeometryError::OutsideDomain {
+                    parameter,
+                    value: t,
+                    start,
+                    end,
+                });
+            }
+        }
+        let [p, q] = self.degree;
+        let order = if second_order { 2 } else { 1 };
+        let basis_u = ParameterBasis::new(&self.knots[0], p, self.count[0], us, order);
+        let basis_v = ParameterBasis::new(&self.knots[1], q, self.count[1], vs, order);
+        let cv = self.count[1];
+        // iso[k][j]: ∂^k/∂u^k of the homogeneous isoparametric curve's control point j.
+        let mut iso = vec![vec![DVec4::ZERO; cv]; order + 1];
+        for (i, &span_u) in basis_u.spans.iter().enumerate() {
+            for (k, row) in iso.iter_mut().enumerate() {
+                let bu = basis_u.at(i, k, p + 1);
+                for (j, out) in row.iter_mut().enumerate() {
+                    let mut acc = DVec4::ZERO;
+                    for (r, &b) in bu.iter().enumerate() {
+                        acc += self.points[(span_u - p + r) * cv + j] * b;
+                    }
+                    *out = acc;
+                }
+            }
+            for (jv, &span_v) in basis_v.spans.iter().enumerate() {
+                let first = span_v - q;
+                let sum = |k: usize, l: usize| {
+                    let bv = basis_v.at(jv, l, q + 1);
+                    let pts = &iso[k][first..first + q + 1];
+                    let mut acc = DVec4::ZERO;
+                    for (&b, &h) in bv.iter().zip(pts) {
+                        acc += h * b;
+                    }
+                    acc
+                };
+                let zero = DVec4::ZERO;
+                let a = if second_order {
+                    [
+                        [sum(0, 0), sum(0, 1), sum(0, 2)],
+                        [sum(1, 0), sum(1, 1), zero],
+                        [sum(2, 0), zero, zero],
+                    ]
+                } else {
+                    [
+                        [sum(0, 0), sum(0, 1), zero],
+                        [sum(1, 0), zero, zero],
+                        [zero; 3],
+                    ]
+                };
+                f(i, jv, &rational_derivatives(&a));
+            }
+        }
+        Ok(())
+    }
+
+    /// Positions and unit normals on the grid `us` × `vs`, row-major with i along u.
+    pub fn tessellate_grid(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+    ) -> Result<Vec<GridSample>, GeometryError> {
+        let mut out = vec![GridSample::default(); us.len() * vs.len()];
+        let n = vs.len();
+        self.evaluate_grid(us, vs, false, |i, j, d| {
+            out[i * n + j] = GridSample {
+                point: d.point,
+                normal: self.normal_from(d, us[i], vs[j]),
+            };
+        })?;
+        Ok(out)
+    }
+
+    /// Positions, normals and curvatures on the grid `us` × `vs`, row-major with i along u.
+    pub fn curvature_grid(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+    ) -> Result<Vec<(GridSample, Curvature)>, GeometryError> {
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        self.evaluate_grid(us, vs, true, |i, j, d| {
+            let normal = self.normal_from(d, us[i], vs[j]);
+            let curvature = self.curvature_from(d, normal, us[i], vs[j]);
+            out.push((
+                GridSample {
+                    point: d.point,
+                    normal,
+                },
+                curvature,
+            ));
+        })?;
+        Ok(out)
+    }
+
+    /// `segments + 1` parameters per Bézier span of `direction`, spans' ends shared: the
+    /// tessellation parameters a GPU patch evaluator uses.
+    pub fn span_parameters(&self, direction: Direction, segments: usize) -> Vec<f64> {
+        let d = direction.index();
+        let breaks = ops::distinct_breaks(&self.knots[d], self.degree[d], self.count[d]);
+        let segments = segments.max(1);
+        let mut params = vec![breaks[0]];
+        for w in breaks.windows(2) {
+            for s in 1..=segments {
+                let t = s as f64 / segments as f64;
+                params.push(if s == segments {
+                    w[1]
+                } else {
+                    w[0] + (w[1] - w[0]) * t
+                });
+            }
+        }
+        params
+    }
+
+    // ----- operations ---------------------------------------------------------------------
+
+    /// The control polygon along `direction` through row/column `index` of the other direction.
+    fn polygon(&self, direction: Direction, index: usize) -> Polygon<DVec4> {
+        let d = direction.index();
+        let points = match direction {
+            Direction::U => (0..self.count[0])
+                .map(|i| self.points[i * self.count[1] + index])
+                .collect(),
+            Direction::V => {
+                self.points[index * self.count[1]..(index + 1) * self.count[1]].to_vec()
+            }
+        };
+        Polygon {
+            degree: self.degree[d],
+            knots: self.knots[d].clone(),
+            points,
+        }
+    }
+
+    /// Applies a polygon operation to every row (or column) along `direction`; all results
+    /// share one knot vector because the operation sees the same knots each time (The NURBS
+    /// Book's surface algorithms A5.3, A5.5, A5.7, A5.10 work this way).
+    fn map_direction(
+        &self,
+        direction: Direction,
+        mut op: impl FnMut(&Polygon<DVec4>) -> Polygon<DVec4>,
+    ) -> Self {
+        let d = direction.index();
+        let other = self.count[1 - d];
+        let results: Vec<Polygon<DVec4>> = (0..other)
+            .map(|k| op(&self.polygon(direction, k)))
+            .collect();
+        let first = &results[0];
+        let along = first.points.len();
+        let mut count = self.count;
+        count[d] = along;
+        let mut degree = self.degree;
+        degree[d] = first.degree;
+        let mut knots = self.knots.clone();
+        knots[d] = first.knots.clone();
+        let mut points = vec![DVec4::ZERO; along * other];
+        for (k, poly) in results.iter().enumerate() {
+            for (t, &h) in poly.points.iter().enumerate() {
+                let index = match direction {
+                    Direction::U => t * other + k,
+                    Direction::V => k * along + t,
+                };
+                points[index] = h;
+            }
+        }
+        let surface = Self {
+            degree,
+            knots,
+            count,
+            points,
+        };
+        debug_assert!(
+            Self::from_homogeneous(
+                surface.degree,
+                surface.knots.clone(),
+                surface.count,
+                surface.points.clone()
+            )
+            .is_ok()
+        );
+        surface
+    }
+
+    /// The same surface with knot `value` inserted `times` times in `direction` (A5.3).
+    pub fn insert_knot(
+        &self,
+        direction: Direction,
+        value: f64,
+        times: usize,
+    ) -> Result<Self, GeometryError> {
+        let d = direction.index();
+        check_interior(self.domain()[d], value, direction.name())?;
+        check_insertion(&self.polygon(direction, 0), value, times)?;
+        Ok(self.map_direction(direction, |poly| ops::insert_knot(poly, value, times)))
+    }
+
+    /// The same surface with all knots of `knots` inserted in `direction` (A5.5).
+    pub fn refine(&self, direction: Direction, knots: &[f64]) -> Result<Self, GeometryError> {
+        let mut x = knots.to_vec();
+        check_refinement(&self.polygon(direction, 0), &mut x, direction.name())?;
+        Ok(self.map_direction(direction, |poly| ops::refine_knots(poly, &x)))
+    }
+
+    /// The same surface with its degree in `direction` raised by `times` (A5.10).
+    pub fn elevate_degree(
+        &self,
+        direction: Direction,
+        times: usize,
+    ) -> Result<Self, GeometryError> {
+        let degree = self.degree[direction.index()] + times;
+        if degree > MAX_DEGREE {
+            return Err(GeometryError::Degree {
+                field: "degree",
+                degree,
+                max: MAX_DEGREE,
+            });
+        }
+        Ok(self.map_direction(direction, |poly| ops::elevate_degree(poly, times)))
+    }
+
+    /// The two surfaces on either side of the isoparametric curve `direction` = `value`.
+    pub fn split(&self, direction: Direction, value: f64) -> Result<(Self, Self), GeometryError> {
+        check_interior(self.domain()[direction.index()], value, direction.name())?;
+        let left = self.map_direction(direction, |poly| ops::split(poly, value).0);
+        let right = self.map_direction(direction, |poly| ops::split(poly, value).1);
+        Ok((left, right))
+    }
+
+    /// The same surface with `direction` reversed (the normal flips).
+    pub fn reverse(&self, direction: Direction) -> Self {
+        self.map_direction(direction, ops::reverse)
+    }
+
+    /// The same surface over clamped knot vectors in both directions.
+    pub fn clamped(&self) -> Self {
+        self.map_direction(Direction::U, ops::clamp)
+            .map_direction(Direction::V, ops::clamp)
+    }
+
+    /// The same surface with u and v exchanged (the normal flips).
+    pub fn swap_uv(&self) -> Self {
+        let [cu, cv] = self.count;
+        let mut points = Vec::with_capacity(self.points.len());
+        for j in 0..cv {
+            for i in 0..cu {
+                points.push(self.points[i * cv + j]);
+            }
+        }
+        Self {
+            degree: [self.degree[1], self.degree[0]],
+            knots: [self.knots[1].clone(), self.knots[0].clone()],
+            count: [cv, cu],
+            points,
+        }
+    }
+
+    /// The surface mapped by an affine transformation (applied to the control points; NURBS
+    /// are affinely invariant). Fails only if the transformation produces non-finite points.
+    pub fn transformed(&self, transform: &DAffine3) -> Result<Self, GeometryError> {
+        let points = self
+            .points
+            .iter()
+            .map(|h| {
+                let p = transform.transform_point3(h.truncate() / h.w);
+                (p * h.w).extend(h.w)
+            })
+            .collect();
+        Self::from_homogeneous(self.degree, self.knots.clone(), self.count, points)
+    }
+
+    /// Removes the interior knot `value` of `direction` up to `times` times where every row
+    /// stays within `tolerance` (a distance in model units; The NURBS Book, A5.8 applied to all
+    /// rows, a removal kept only if it succeeds in each). Returns the surface and the number of
+    /// knots removed.
+    pub fn remove_knot(
+        &self,
+        direction: Direction,
+        value: f64,
+        times: usize,
+        tolerance: f64,
+    ) -> (Self, usize) {
+        let tol = homogeneous_tolerance(
+            tolerance,
+            self.points
+                .iter()
+                .map(|h| (h.w, (h.truncate() / h.w).length())),
+        );
+        let d = direction.index();
+        let mut current = self.clone();
+        let mut removed = 0;
+        while removed < times {
+            let rows: Option<Vec<Polygon<DVec4>>> = (0..current.count[1 - d])
+                .map(|k| ops::remove_knot(&current.polygon(direction, k), value, tol))
+                .collect();
+            let Some(rows) = rows else { break };
+            let mut iter = rows.into_iter();
+            current =
+                current.map_direction(direction, |_| iter.next().unwrap_or_else(|| unreachable!()));
+            removed += 1;
+        }
+        (current, removed)
+    }
+
+    /// The Bézier patches of the surface (The NURBS Book, A5.7 "DecomposeSurface", done as a
+    /// refinement that raises every interior knot to full multiplicity in both directions), each
+    /// with its parameter rectangle [[u0, u1], [v0, v1]], ordered with u outermost.
+    pub fn bezier_patches(&self) -> Vec<(NurbsSurface, [[f64; 2]; 2])> {
+        let refined = self.bezier_refined();
+        let [p, q] = refined.degree;
+        let bu = ops::distinct_breaks(&refined.knots[0], p, refined.count[0]);
+        let bv = ops::distinct_breaks(&refined.knots[1], q, refined.count[1]);
+        let mut patches = Vec::new();
+        for (a, wu) in bu.windows(2).enumerate() {
+            for (b, wv) in bv.windows(2).enumerate() {
+                let mut points = Vec::with_capacity((p + 1) * (q + 1));
+                for i in 0..=p {
+                    for j in 0..=q {
+                        points.push(refined.points[(a * p + i) * refined.count[1] + b * q + j]);
+                    }
+                }
+                let knots = [(p, wu), (q, wv)].map(|(deg, w)| {
+                    let mut k = vec![w[0]; deg + 1];
+                    k.extend(std::iter::repeat_n(w[1], deg + 1));
+                    k
+                });
+                patches.push((
+                    Self {
+                        degree: [p, q],
+                        knots,
+                        count: [p + 1, q + 1],
+                        points,
+                    },
+                    [[wu[0], wu[1]], [wv[0], wv[1]]],
+                ));
+            }
+        }
+        patches
+    }
+
+    /// Clamped, with every interior knot at full multiplicity: the control net is the union of
+    /// the Bézier patches' nets, neighbours sharing their boundary rows.
+    fn bezier_refined(&self) -> Self {
+        self.map_direction(Direction::U, |poly| {
+            ops::refine_to_bezier(&ops::clamp(poly))
+        })
+        .map_direction(Direction::V, |poly| {
+            ops::refine_to_bezier(&ops::clamp(poly))
+        })
+    }
+
+    /// The Bézier patches as a [`BezierPatchSet`] over one shared pool of control points
+    /// (patches share their boundary points, so moving one moves both sides of the seam).
+    pub fn to_bezier_patch_set(&self) -> Result<BezierPatchSet, GeometryError> {
+        let refined = self.bezier_refined();
+        let [p, q] = refined.degree;
+        let [cu, cv] = refined.count;
+        let points = refined.points.iter().map(|h| h.truncate() / h.w).collect();
+        let weights = refined.points.iter().map(|h| h.w).collect();
+        let mut patches = Vec::new();
+        for a in 0..(cu - 1) / p {
+            for b in 0..(cv - 1) / q {
+                let mut indices = Vec::with_capacity((p + 1) * (q + 1));
+                for i in 0..=p {
+                    for j in 0..=q {
+                        indices.push(((a * p + i) * cv + b * q + j) as u32);
+                    }
+                }
+                patches.push(BezierPatch::new(p, q, indices));
+            }
+        }
+        BezierPatchSet::new(points, Some(weights), patches)
+    }
+
+    /// The closest point of the surface to `target` (point inversion, The NURBS Book §6.1):
+    /// the nearest of a grid of samples (8 per Bézier span and direction) starts Newton's
+    /// iteration on f = Su·(S − P) = 0, g = Sv·(S − P) = 0 (eq. 6.6). Steps leaving the domain
+    /// are clamped to its boundary; a step that does not reduce the distance is halved; the best
+    /// point seen is returned.
+    pub fn closest_point(&self, target: DVec3) -> Result<ClosestPoint, GeometryError> {
+        if let Some(coordinate) = target.to_array().iter().position(|c| !c.is_finite()) {
+            return Err(GeometryError::NonFinitePoint {
+                at: "target".into(),
+                coordinate,
+            });
+        }
+        let us = self.span_parameters(Direction::U, 8);
+        let vs = self.span_parameters(Direction::V, 8);
+        let mut best = (f64::INFINITY, 0.0, 0.0);
+        self.evaluate_grid(&us, &vs, false, |i, j, d| {
+            let dist = d.point.distance_squared(target);
+            if dist < best.0 {
+                best = (dist, us[i], vs[j]);
+            }
+        })?;
+        let [(u0, u1), (v0, v1)] = self.domain();
+        let (_, mut u, mut v) = best;
+        let mut d = rational_derivatives(&self.homogeneous_derivatives(u, v));
+        let mut dist = d.point.distance(target);
+        let scale = self.size().max(f64::MIN_POSITIVE);
+        for _ in 0..50 {
+            let r = d.point - target;
+            let f = d.su.dot(r);
+            let g = d.sv.dot(r);
+            let j00 = d.su.length_squared() + r.dot(d.suu);
+            let j01 = d.su.dot(d.sv) + r.dot(d.suv);
+            let j11 = d.sv.length_squared() + r.dot(d.svv);
+            let det = j00 * j11 - j01 * j01;
+            let (du, dv) = if det.abs() > 1e-300 && det.is_finite() {
+                ((-f * j11 + g * j01) / det, (-g * j00 + f * j01) / det)
+            } else {
+                // Singular Jacobian: a gradient step scaled by the tangent lengths.
+                (
+                    -f / d.su.length_squared().max(1e-300),
+                    -g / d.sv.length_squared().max(1e-300),
+                )
+            };
+            let mut step = 1.0;
+            let mut improved = false;
+            while step > 1e-6 {
+                let un = (u + du * step).clamp(u0, u1);
+                let vn = (v + dv * step).clamp(v0, v1);
+                let dn = rational_derivatives(&self.homogeneous_derivatives(un, vn));
+                let distn = dn.point.distance(target);
+                if distn <= dist {
+                    let moved = (un - u).abs() / (u1 - u0) + (vn - v).abs() / (v1 - v0);
+                    improved = distn < dist || moved > 0.0;
+                    u = un;
+                    v = vn;
+                    d = dn;
+                    let gain = dist - distn;
+                    dist = distn;
+                    if moved < 1e-15 || gain <= 1e-16 * scale && moved < 1e-12 {
+                        improved = false;
+                    }
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !improved {
+                break;
+            }
+        }
+        Ok(ClosestPoint {
+            u,
+            v,
+            point: d.point,
+            distance: dist,
+        })
+    }
+}
+
+fn check_count(count: [usize; 2], found: usize) -> Result<(), GeometryError> {
+    let expected = count[0].saturating_mul(count[1]);
+    if found != expected {
+        return Err(GeometryError::PointCount {
+            field: "points",
+            found,
+            expected,
+        });
+    }
+    Ok(())
+}

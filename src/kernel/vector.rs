@@ -1,0 +1,108 @@
+//! The small vector vocabulary the generic algorithms need, implemented for glam's f64 vectors.
+//!
+//! Knot insertion, refinement, degree elevation and interpolation act on homogeneous control
+//! points (w·x, w·y, [w·z,] w) — `DVec3` for 2D curves, `DVec4` for 3D curves and surfaces — so
+//! one implementation serves trim curves, space curves and every row of a surface.
+
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, Sub};
+
+use glam::{DVec2, DVec3, DVec4};
+
+/// A vector space element with a dot product.
+pub trait Vector:
+    Copy
+    + Debug
+    + PartialEq
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+    + Send
+    + Sync
+    + 'static
+{
+    const ZERO: Self;
+    /// The number of coordinates.
+    const DIMENSION: usize;
+    fn dot(self, other: Self) -> f64;
+    fn coordinates(self) -> Vec<f64>;
+    /// The vector with these coordinates; `None` if the slice has the wrong length.
+    fn from_coordinates(c: &[f64]) -> Option<Self>;
+    fn norm(self) -> f64 {
+        self.dot(self).sqrt()
+    }
+}
+
+macro_rules! impl_vector {
+    ($t:ty, $n:expr) => {
+        impl Vector for $t {
+            const ZERO: Self = <$t>::ZERO;
+            const DIMENSION: usize = $n;
+            fn dot(self, other: Self) -> f64 {
+                <$t>::dot(self, other)
+            }
+            fn coordinates(self) -> Vec<f64> {
+                self.to_array().to_vec()
+            }
+            fn from_coordinates(c: &[f64]) -> Option<Self> {
+                <[f64; $n]>::try_from(c).ok().map(<$t>::from_array)
+            }
+        }
+    };
+}
+
+impl_vector!(DVec2, 2);
+impl_vector!(DVec3, 3);
+impl_vector!(DVec4, 4);
+
+/// A Cartesian control point type of a NURBS curve (`DVec2` for trim curves, `DVec3` for space
+/// curves) and its homogeneous counterpart.
+pub trait CurvePoint: Vector {
+    /// (w·P, w) in one more dimension.
+    type Homogeneous: Vector;
+    fn to_homogeneous(self, weight: f64) -> Self::Homogeneous;
+    /// The weight w of a homogeneous point.
+    fn weight_of(h: Self::Homogeneous) -> f64;
+    /// The weighted part w·P of a homogeneous point.
+    fn weighted_part(h: Self::Homogeneous) -> Self;
+    /// The Cartesian point P = (w·P) / w.
+    fn project(h: Self::Homogeneous) -> Self {
+        Self::weighted_part(h) / Self::weight_of(h)
+    }
+}
+
+impl CurvePoint for DVec2 {
+    type Homogeneous = DVec3;
+    fn to_homogeneous(self, weight: f64) -> DVec3 {
+        (self * weight).extend(weight)
+    }
+    fn weight_of(h: DVec3) -> f64 {
+        h.z
+    }
+    fn weighted_part(h: DVec3) -> DVec2 {
+        h.truncate()
+    }
+}
+
+impl CurvePoint for DVec3 {
+    type Homogeneous = DVec4;
+    fn to_homogeneous(self, weight: f64) -> DVec4 {
+        (self * weight).extend(weight)
+    }
+    fn weight_of(h: DVec4) -> f64 {
+        h.w
+    }
+    fn weighted_part(h: DVec4) -> DVec3 {
+        h.truncate()
+    }
+}
+
+/// The binomial coefficient C(n, k) in f64 (exact for the degrees the kernel accepts).
+pub fn binomial(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let k = k.min(n - k);
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
