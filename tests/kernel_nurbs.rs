@@ -308,6 +308,7 @@ fn grid_evaluation_equals_pointwise_evaluation() {
     for (i, &u) in us.iter().enumerate() {
         for (j, &v) in vs.iter().enumerate() {
             let (sample, curvature) = grid[i * vs.len() + j];
+            assert!(curvature.k1 >= curvature.k2);
             let g = s.local_geometry(u, v).unwrap();
             assert!(sample.point.distance(g.derivatives.point) < 1e-12);
             assert!(sample.normal.distance(g.normal) < 1e-10);

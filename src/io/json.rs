@@ -86,31 +86,39 @@ pub struct NamedGeometry {
     pub geometry: Geometry,
 }
 
+/// A surface as written in a file (`"type": "nurbs_surface"`).
 #[derive(Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum RawObject {
-    NurbsSurface {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        name: Option<String>,
-        degree: [usize; 2],
-        knots: [Vec<f64>; 2],
-        points: Vec<Vec<Vec<f64>>>,
-    },
-    NurbsCurve {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        name: Option<String>,
-        degree: usize,
-        knots: Vec<f64>,
-        points: Vec<Vec<f64>>,
-    },
-    TrimCurve {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        name: Option<String>,
-        degree: usize,
-        knots: Vec<f64>,
-        points: Vec<Vec<f64>>,
-    },
+#[serde(deny_unknown_fields)]
+struct RawSurface {
+    #[serde(rename = "type")]
+    kind: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+    degree: [usize; 2],
+    knots: [Vec<f64>; 2],
+    points: Vec<Vec<Vec<f64>>>,
 }
+
+/// A curve as written in a file (`"type": "nurbs_curve"` or `"trim_curve"`).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCurve {
+    #[serde(rename = "type")]
+    kind: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+    degree: usize,
+    knots: Vec<f64>,
+    points: Vec<Vec<f64>>,
+}
+
+enum RawObject {
+    NurbsSurface(RawSurface),
+    NurbsCurve(RawCurve),
+    TrimCurve(RawCurve),
+}
+
+const TYPES: &str = "\"nurbs_surface\", \"nurbs_curve\" or \"trim_curve\"";
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -142,12 +150,13 @@ fn split_point(path: &str, values: &[f64], dim: usize) -> Result<(Vec<f64>, f64)
 
 fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
     match raw {
-        RawObject::NurbsSurface {
+        RawObject::NurbsSurface(RawSurface {
             name,
             degree,
             knots,
             points,
-        } => {
+            ..
+        }) => {
             let count = [points.len(), points.first().map_or(0, Vec::len)];
             if count[0].saturating_mul(count[1]) > MAX_CONTROL_POINTS {
                 return Err(FormatError::new(
@@ -181,12 +190,13 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
                 geometry: Geometry::Surface(surface),
             })
         }
-        RawObject::NurbsCurve {
+        RawObject::NurbsCurve(RawCurve {
             name,
             degree,
             knots,
             points,
-        } => {
+            ..
+        }) => {
             let (cartesian, weights) = curve_points(path, &points, 3)?;
             let curve = SpaceCurve::new(
                 degree,
@@ -203,12 +213,13 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
                 geometry: Geometry::Curve(curve),
             })
         }
-        RawObject::TrimCurve {
+        RawObject::TrimCurve(RawCurve {
             name,
             degree,
             knots,
             points,
-        } => {
+            ..
+        }) => {
             let (cartesian, weights) = curve_points(path, &points, 2)?;
             let curve = TrimCurve::new(
                 degree,
@@ -264,8 +275,43 @@ pub fn object_from_value(
     path: &str,
     value: serde_json::Value,
 ) -> Result<NamedGeometry, FormatError> {
-    let raw: RawObject =
-        serde_path_to_error::deserialize(value).map_err(|e| serde_error(path, e))?;
+    if !value.is_object() {
+        return Err(FormatError::new(
+            path,
+            format!(
+                "expected an object with a \"type\" field, found {}",
+                json_kind(&value)
+            ),
+        ));
+    }
+    let kind = match value.get("type") {
+        Some(serde_json::Value::String(kind)) => kind.clone(),
+        Some(other) => {
+            return Err(FormatError::new(
+                join(path, "type"),
+                format!("expected {TYPES}, found {}", json_kind(other)),
+            ));
+        }
+        None => {
+            return Err(FormatError::new(
+                path,
+                format!("missing field `type` ({TYPES})"),
+            ));
+        }
+    };
+    let surface = |v| serde_path_to_error::deserialize(v).map_err(|e| serde_error(path, e));
+    let curve = |v| serde_path_to_error::deserialize(v).map_err(|e| serde_error(path, e));
+    let raw = match kind.as_str() {
+        "nurbs_surface" => RawObject::NurbsSurface(surface(value)?),
+        "nurbs_curve" => RawObject::NurbsCurve(curve(value)?),
+        "trim_curve" => RawObject::TrimCurve(curve(value)?),
+        other => {
+            return Err(FormatError::new(
+                join(path, "type"),
+                format!("unknown object type {other:?}: expected {TYPES}"),
+            ));
+        }
+    };
     convert(path, raw)
 }
 
@@ -316,14 +362,16 @@ fn raw_from(object: &NamedGeometry) -> RawObject {
                 })
                 .collect();
             let [ku, kv] = s.knots();
-            RawObject::NurbsSurface {
+            RawObject::NurbsSurface(RawSurface {
+                kind: "nurbs_surface".into(),
                 name,
                 degree: s.degree(),
                 knots: [ku.to_vec(), kv.to_vec()],
                 points,
-            }
+            })
         }
-        Geometry::Curve(c) => RawObject::NurbsCurve {
+        Geometry::Curve(c) => RawObject::NurbsCurve(RawCurve {
+            kind: "nurbs_curve".into(),
             name,
             degree: c.degree(),
             knots: c.knots().to_vec(),
@@ -333,8 +381,9 @@ fn raw_from(object: &NamedGeometry) -> RawObject {
                     vec![p.x, p.y, p.z, c.weight(i)]
                 })
                 .collect(),
-        },
-        Geometry::Trim(c) => RawObject::TrimCurve {
+        }),
+        Geometry::Trim(c) => RawObject::TrimCurve(RawCurve {
+            kind: "trim_curve".into(),
             name,
             degree: c.degree(),
             knots: c.knots().to_vec(),
@@ -344,13 +393,17 @@ fn raw_from(object: &NamedGeometry) -> RawObject {
                     vec![p.x, p.y, c.weight(i)]
                 })
                 .collect(),
-        },
+        }),
     }
 }
 
 /// One object as a JSON value (the `"surface"` of an eval request, an entry of a file).
 pub fn object_to_value(object: &NamedGeometry) -> serde_json::Value {
-    serde_json::to_value(raw_from(object)).unwrap_or(serde_json::Value::Null)
+    let value = match raw_from(object) {
+        RawObject::NurbsSurface(s) => serde_json::to_value(s),
+        RawObject::NurbsCurve(c) | RawObject::TrimCurve(c) => serde_json::to_value(c),
+    };
+    value.unwrap_or(serde_json::Value::Null)
 }
 
 /// A whole file, pretty-printed. f64 values are written with the shortest representation that
@@ -362,4 +415,15 @@ pub fn write(objects: &[NamedGeometry]) -> String {
         "objects": objects.iter().map(object_to_value).collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&file).unwrap_or_default()
+}
+
+fn json_kind(value: &serde_json::Value) -> &'static str {
+    match value {
+        serde_json::Value::Null => "null",
+        serde_json::Value::Bool(_) => "a boolean",
+        serde_json::Value::Number(_) => "a number",
+        serde_json::Value::String(_) => "a string",
+        serde_json::Value::Array(_) => "an array",
+        serde_json::Value::Object(_) => "an object",
+    }
 }

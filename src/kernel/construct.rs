@@ -200,8 +200,9 @@ fn interpolate_points<V: Vector>(
         for r in col + 1..n {
             let factor = matrix[r][col] / matrix[col][col];
             if factor != 0.0 {
-                for c in col..n {
-                    matrix[r][c] -= factor * matrix[col][c];
+                let (upper, lower) = matrix.split_at_mut(r);
+                for (x, &y) in lower[0][col..].iter_mut().zip(&upper[col][col..]) {
+                    *x -= factor * y;
                 }
                 rhs[r] = rhs[r] - rhs[col] * factor;
             }

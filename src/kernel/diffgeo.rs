@@ -112,19 +112,49 @@ pub struct Curvature {
     pub directions: Option<[DVec3; 2]>,
 }
 
-impl Curvature {
-    /// The curvatures from the fundamental forms; `None` where EG − F² ≤ 0 (a degenerate
-    /// parametrization, where they are undefined).
-    pub fn from_forms(d: &SurfaceDerivatives, forms: &FundamentalForms) -> Option<Self> {
+/// The curvature values without directions (what shading and tessellation need).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CurvatureValues {
+    pub gaussian: f64,
+    pub mean: f64,
+    pub k1: f64,
+    pub k2: f64,
+}
+
+impl CurvatureValues {
+    /// K = (LN − M²)/(EG − F²), H = (EN − 2FM + GL)/(2(EG − F²)), k1,2 = H ± √(H² − K);
+    /// `None` where EG − F² ≤ 0 (a degenerate parametrization, where they are undefined).
+    pub fn from_forms(forms: &FundamentalForms) -> Option<Self> {
         let FundamentalForms { e, f, g, l, m, n } = *forms;
         let det = forms.determinant();
         if !(det > 0.0) || !det.is_finite() {
             return None;
         }
-        let gaussian = (l * n - m * m) / det;
-        let mean = (e * n - 2.0 * f * m + g * l) / (2.0 * det);
+        let inv = 1.0 / det;
+        let gaussian = (l * n - m * m) * inv;
+        let mean = (e * n - 2.0 * f * m + g * l) * (0.5 * inv);
         let disc = (mean * mean - gaussian).max(0.0).sqrt();
-        let (k1, k2) = (mean + disc, mean - disc);
+        Some(Self {
+            gaussian,
+            mean,
+            k1: mean + disc,
+            k2: mean - disc,
+        })
+    }
+}
+
+impl Curvature {
+    /// The curvatures from the fundamental forms ([`CurvatureValues::from_forms`]) plus the
+    /// principal directions; `None` where EG − F² ≤ 0.
+    pub fn from_forms(d: &SurfaceDerivatives, forms: &FundamentalForms) -> Option<Self> {
+        let FundamentalForms { e, f, g, l, m, n } = *forms;
+        let CurvatureValues {
+            gaussian,
+            mean,
+            k1,
+            k2,
+        } = CurvatureValues::from_forms(forms)?;
+        let disc = 0.5 * (k1 - k2);
         let scale = k1.abs().max(k2.abs());
         let directions = if 2.0 * disc <= UMBILIC_TOLERANCE * scale || scale == 0.0 {
             None
@@ -151,6 +181,16 @@ impl Curvature {
             directions,
         })
     }
+
+    /// The values without the directions.
+    pub fn values(&self) -> CurvatureValues {
+        CurvatureValues {
+            gaussian: self.gaussian,
+            mean: self.mean,
+            k1: self.k1,
+            k2: self.k2,
+        }
+    }
 }
 
 /// Cartesian derivatives of S = A / w from the homogeneous ones a[k][l] = ∂^{k+l}A/∂u^k∂v^l
@@ -161,11 +201,12 @@ pub(crate) fn rational_derivatives(a: &[[DVec4; 3]; 3]) -> SurfaceDerivatives {
     let xyz = |k: usize, l: usize| a[k][l].truncate();
     let w0 = w(0, 0);
     let point = xyz(0, 0) / w0;
-    let su = (xyz(1, 0) - w(1, 0) * point) / w0;
-    let sv = (xyz(0, 1) - w(0, 1) * point) / w0;
-    let suu = (xyz(2, 0) - 2.0 * w(1, 0) * su - w(2, 0) * point) / w0;
-    let svv = (xyz(0, 2) - 2.0 * w(0, 1) * sv - w(0, 2) * point) / w0;
-    let suv = (xyz(1, 1) - w(1, 0) * sv - w(0, 1) * su - w(1, 1) * point) / w0;
+    let inv = 1.0 / w0;
+    let su = (xyz(1, 0) - w(1, 0) * point) * inv;
+    let sv = (xyz(0, 1) - w(0, 1) * point) * inv;
+    let suu = (xyz(2, 0) - 2.0 * w(1, 0) * su - w(2, 0) * point) * inv;
+    let svv = (xyz(0, 2) - 2.0 * w(0, 1) * sv - w(0, 2) * point) * inv;
+    let suv = (xyz(1, 1) - w(1, 0) * sv - w(0, 1) * su - w(1, 1) * point) * inv;
     SurfaceDerivatives {
         point,
         su,

@@ -17,7 +17,7 @@ pub mod vector;
 
 pub use bezier::{BezierPatch, BezierPatchSet};
 pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
-pub use diffgeo::{Curvature, FundamentalForms, SurfaceDerivatives};
+pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
 pub use error::GeometryError;
 pub use surface::{Direction, NurbsSurface};
 

@@ -6,6 +6,9 @@
 //! by column, surfaces (the surface algorithms A5.3/A5.5/A5.7/A5.10 of The NURBS Book are the
 //! curve algorithms applied to each row, with the coefficients computed once). Inputs are
 //! assumed valid (the curve and surface types check them before calling).
+//!
+//! The loops keep the book's index arithmetic so each line can be checked against it.
+#![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 
 use super::basis::{domain, find_span, multiplicity};
 use super::vector::{Vector, binomial};
@@ -38,9 +41,7 @@ pub fn insert_knot<V: Vector>(poly: &Polygon<V>, u: f64, times: usize) -> Polygo
     uq.extend_from_slice(&up[k + 1..=mp]);
     let mut qw = vec![V::ZERO; pw.len() + r];
     qw[..=k - p].copy_from_slice(&pw[..=k - p]);
-    for i in k - s..=np {
-        qw[i + r] = pw[i];
-    }
+    qw[k - s + r..=np + r].copy_from_slice(&pw[k - s..=np]);
     let mut rw: Vec<V> = pw[k - p..=k - s].to_vec();
     let mut last = k - p;
     for j in 1..=r {
@@ -52,8 +53,8 @@ pub fn insert_knot<V: Vector>(poly: &Polygon<V>, u: f64, times: usize) -> Polygo
         qw[last] = rw[0];
         qw[k + r - j - s] = rw[p - j - s];
     }
-    for i in last + 1..k - s {
-        qw[i] = rw[i - last];
+    if last + 1 < k - s {
+        qw[last + 1..k - s].copy_from_slice(&rw[1..k - s - last]);
     }
     Polygon {
         degree: p,

@@ -13,8 +13,8 @@ use super::curve::{
     check_insertion, check_interior, check_point, check_refinement, homogeneous_tolerance,
 };
 use super::diffgeo::{
-    CURVATURE_NUDGE, Curvature, FundamentalForms, NORMAL_NUDGE, SurfaceDerivatives,
-    rational_derivatives,
+    CURVATURE_NUDGE, Curvature, CurvatureValues, DEGENERATE_SIN2, FundamentalForms, NORMAL_NUDGE,
+    SurfaceDerivatives, rational_derivatives,
 };
 use super::error::GeometryError;
 use super::ops::{self, Polygon};
@@ -476,41 +476,208 @@ impl NurbsSurface {
     }
 
     /// Positions and unit normals on the grid `us` × `vs`, row-major with i along u.
+    ///
+    /// The fast path of [`Self::evaluate_grid`] for tessellation: v-degrees up to 5 run a loop
+    /// specialized to the degree, and the normal is taken from the homogeneous derivatives,
+    /// n ∥ (w A_u − w_u A) × (w A_v − w_v A) (= w⁴ Su × Sv, eq. 4.20 without the divisions).
+    /// Degenerate points fall back to the limit rule of [`Self::normal_from`].
     pub fn tessellate_grid(
         &self,
         us: &[f64],
         vs: &[f64],
     ) -> Result<Vec<GridSample>, GeometryError> {
-        let mut out = vec![GridSample::default(); us.len() * vs.len()];
-        let n = vs.len();
-        self.evaluate_grid(us, vs, false, |i, j, d| {
-            out[i * n + j] = GridSample {
-                point: d.point,
-                normal: self.normal_from(d, us[i], vs[j]),
-            };
-        })?;
+        let mut out = Vec::new();
+        self.tessellate_grid_into(us, vs, &mut out)?;
         Ok(out)
     }
 
-    /// Positions, normals and curvatures on the grid `us` × `vs`, row-major with i along u.
+    /// [`Self::tessellate_grid`] into a caller's buffer (cleared first), so repeated
+    /// tessellation — every frame of a drag — reuses one allocation.
+    pub fn tessellate_grid_into(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        out: &mut Vec<GridSample>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        out.reserve(us.len() * vs.len());
+        self.check_grid(us, vs)?;
+        match self.degree[1] {
+            1 => self.grid_fixed::<2, false>(us, vs, &mut |s, _| out.push(s)),
+            2 => self.grid_fixed::<3, false>(us, vs, &mut |s, _| out.push(s)),
+            3 => self.grid_fixed::<4, false>(us, vs, &mut |s, _| out.push(s)),
+            4 => self.grid_fixed::<5, false>(us, vs, &mut |s, _| out.push(s)),
+            5 => self.grid_fixed::<6, false>(us, vs, &mut |s, _| out.push(s)),
+            _ => self.evaluate_grid(us, vs, false, |i, j, d| {
+                out.push(GridSample {
+                    point: d.point,
+                    normal: self.normal_from(d, us[i], vs[j]),
+                });
+            })?,
+        }
+        Ok(())
+    }
+
+    /// Positions, normals and curvatures (K, H, k1, k2) on the grid `us` × `vs`, row-major with
+    /// i along u. Specialized like [`Self::tessellate_grid`]; degenerate points get the limit
+    /// curvature of [`Self::local_geometry`].
     pub fn curvature_grid(
         &self,
         us: &[f64],
         vs: &[f64],
-    ) -> Result<Vec<(GridSample, Curvature)>, GeometryError> {
-        let mut out = Vec::with_capacity(us.len() * vs.len());
-        self.evaluate_grid(us, vs, true, |i, j, d| {
-            let normal = self.normal_from(d, us[i], vs[j]);
-            let curvature = self.curvature_from(d, normal, us[i], vs[j]);
-            out.push((
-                GridSample {
-                    point: d.point,
-                    normal,
-                },
-                curvature,
-            ));
-        })?;
+    ) -> Result<Vec<(GridSample, CurvatureValues)>, GeometryError> {
+        let mut out = Vec::new();
+        self.curvature_grid_into(us, vs, &mut out)?;
         Ok(out)
+    }
+
+    /// [`Self::curvature_grid`] into a caller's buffer (cleared first).
+    pub fn curvature_grid_into(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        out: &mut Vec<(GridSample, CurvatureValues)>,
+    ) -> Result<(), GeometryError> {
+        out.clear();
+        out.reserve(us.len() * vs.len());
+        self.check_grid(us, vs)?;
+        let mut push = |s, c| out.push((s, c));
+        match self.degree[1] {
+            1 => self.grid_fixed::<2, true>(us, vs, &mut push),
+            2 => self.grid_fixed::<3, true>(us, vs, &mut push),
+            3 => self.grid_fixed::<4, true>(us, vs, &mut push),
+            4 => self.grid_fixed::<5, true>(us, vs, &mut push),
+            5 => self.grid_fixed::<6, true>(us, vs, &mut push),
+            _ => self.evaluate_grid(us, vs, true, |i, j, d| {
+                let normal = self.normal_from(d, us[i], vs[j]);
+                let curvature = self.curvature_from(d, normal, us[i], vs[j]);
+                push(
+                    GridSample {
+                        point: d.point,
+                        normal,
+                    },
+                    curvature.values(),
+                );
+            })?,
+        }
+        Ok(())
+    }
+
+    fn check_grid(&self, us: &[f64], vs: &[f64]) -> Result<(), GeometryError> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        for (values, parameter, start, end) in [(us, "u", u0, u1), (vs, "v", v0, v1)] {
+            if let Some(&value) = values.iter().find(|&&t| !(t >= start && t <= end)) {
+                return Err(GeometryError::OutsideDomain {
+                    parameter,
+                    value,
+                    start,
+                    end,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The grid loop with the v-order Q = q + 1 known at compile time (parameters already
+    /// checked). `CURVATURE` adds second derivatives and the curvature values.
+    fn grid_fixed<const Q: usize, const CURVATURE: bool>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        out: &mut impl FnMut(GridSample, CurvatureValues),
+    ) {
+        let [p, q] = self.degree;
+        debug_assert_eq!(q + 1, Q);
+        let order = if CURVATURE { 2 } else { 1 };
+        let basis_u = ParameterBasis::new(&self.knots[0], p, self.count[0], us, order);
+        let basis_v = ParameterBasis::new(&self.knots[1], q, self.count[1], vs, order);
+        let fixed_v: Vec<(usize, [[f64; Q]; 3])> = (0..vs.len())
+            .map(|t| {
+                let mut d = [[0.0; Q]; 3];
+                for (k, row) in d.iter_mut().enumerate().take(order + 1) {
+                    row.copy_from_slice(basis_v.at(t, k, Q));
+                }
+                (basis_v.spans[t] - q, d)
+            })
+            .collect();
+        let cv = self.count[1];
+        let mut iso = [
+            vec![DVec4::ZERO; cv],
+            vec![DVec4::ZERO; cv],
+            vec![DVec4::ZERO; cv],
+        ];
+        for (i, &span_u) in basis_u.spans.iter().enumerate() {
+            for (k, row) in iso.iter_mut().enumerate().take(order + 1) {
+                let bu = basis_u.at(i, k, p + 1);
+                let rows = &self.points[(span_u - p) * cv..(span_u + 1) * cv];
+                row.fill(DVec4::ZERO);
+                for (r, &b) in bu.iter().enumerate() {
+                    for (acc, &h) in row.iter_mut().zip(&rows[r * cv..(r + 1) * cv]) {
+                        *acc += h * b;
+                    }
+                }
+            }
+            for (j, (first, bv)) in fixed_v.iter().enumerate() {
+                let window = |k: usize| -> &[DVec4; Q] {
+                    iso[k][*first..*first + Q]
+                        .try_into()
+                        .unwrap_or_else(|_| unreachable!("span window has Q points"))
+                };
+                let sum = |pts: &[DVec4; Q], b: &[f64; Q]| {
+                    let mut acc = DVec4::ZERO;
+                    for s in 0..Q {
+                        acc += pts[s] * b[s];
+                    }
+                    acc
+                };
+                let (p0, p1) = (window(0), window(1));
+                let a00 = sum(p0, &bv[0]);
+                let a01 = sum(p0, &bv[1]);
+                let a10 = sum(p1, &bv[0]);
+                if !CURVATURE {
+                    let w = a00.w;
+                    let point = a00.truncate() / w;
+                    // Su and Sv scaled by w² > 0: same directions, no divisions.
+                    let tu = a10.truncate() * w - a00.truncate() * a10.w;
+                    let tv = a01.truncate() * w - a00.truncate() * a01.w;
+                    let n = tu.cross(tv);
+                    let n2 = n.length_squared();
+                    let normal = if n2 > DEGENERATE_SIN2 * tu.length_squared() * tv.length_squared()
+                        && n2 > 0.0
+                    {
+                        n * (1.0 / n2.sqrt())
+                    } else {
+                        let d = rational_derivatives(&self.homogeneous_derivatives(us[i], vs[j]));
+                        self.normal_from(&d, us[i], vs[j])
+                    };
+                    out(GridSample { point, normal }, CurvatureValues::default());
+                } else {
+                    let p2 = window(2);
+                    let zero = DVec4::ZERO;
+                    let a = [
+                        [a00, a01, sum(p0, &bv[2])],
+                        [a10, sum(p1, &bv[1]), zero],
+                        [sum(p2, &bv[0]), zero, zero],
+                    ];
+                    let d = rational_derivatives(&a);
+                    let regular = d.regular_normal();
+                    let values = regular.and_then(|n| {
+                        CurvatureValues::from_forms(&FundamentalForms::new(&d, n)).map(|c| (n, c))
+                    });
+                    let (normal, curvature) = values.unwrap_or_else(|| {
+                        let n = self.normal_from(&d, us[i], vs[j]);
+                        (n, self.curvature_from(&d, n, us[i], vs[j]).values())
+                    });
+                    out(
+                        GridSample {
+                            point: d.point,
+                            normal,
+                        },
+                        curvature,
+                    );
+                }
+            }
+        }
     }
 
     /// `segments + 1` parameters per Bézier span of `direction`, spans' ends shared: the
