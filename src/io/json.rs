@@ -15,11 +15,12 @@
 //! may carry a `"name"`. Readers accept a bare object too. Every error names the JSON path of
 //! the offending value (`objects[0].knots[1][4]: ...`) and nothing panics.
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve, TrimCurve};
+use crate::kernel::vector::CurvePoint;
+use crate::kernel::{GeometryError, NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve};
 
 /// The format version this build writes and the newest it reads.
 pub const FORMAT_VERSION: u32 = 1;
@@ -190,50 +191,26 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
                 geometry: Geometry::Surface(surface),
             })
         }
-        RawObject::NurbsCurve(RawCurve {
-            name,
-            degree,
-            knots,
-            points,
-            ..
-        }) => {
-            let (cartesian, weights) = curve_points(path, &points, 3)?;
-            let curve = SpaceCurve::new(
-                degree,
-                knots,
-                cartesian
-                    .iter()
-                    .map(|c| DVec3::new(c[0], c[1], c[2]))
-                    .collect(),
-                Some(weights),
-            )
-            .map_err(|e| FormatError::geometry(path, e))?;
-            Ok(NamedGeometry {
-                name,
-                geometry: Geometry::Curve(curve),
-            })
-        }
-        RawObject::TrimCurve(RawCurve {
-            name,
-            degree,
-            knots,
-            points,
-            ..
-        }) => {
-            let (cartesian, weights) = curve_points(path, &points, 2)?;
-            let curve = TrimCurve::new(
-                degree,
-                knots,
-                cartesian.iter().map(|c| DVec2::new(c[0], c[1])).collect(),
-                Some(weights),
-            )
-            .map_err(|e| FormatError::geometry(path, e))?;
-            Ok(NamedGeometry {
-                name,
-                geometry: Geometry::Trim(curve),
-            })
-        }
+        RawObject::NurbsCurve(raw) => Ok(NamedGeometry {
+            name: raw.name.clone(),
+            geometry: Geometry::Curve(curve_from(path, raw)?),
+        }),
+        RawObject::TrimCurve(raw) => Ok(NamedGeometry {
+            name: raw.name.clone(),
+            geometry: Geometry::Trim(curve_from(path, raw)?),
+        }),
     }
+}
+
+/// A 2D or 3D curve from its raw form; points are `[x, y, (z,) w?]`.
+fn curve_from<P: CurvePoint>(path: &str, raw: RawCurve) -> Result<NurbsCurve<P>, FormatError> {
+    let (cartesian, weights) = curve_points(path, &raw.points, P::DIMENSION)?;
+    let points = cartesian
+        .iter()
+        .map(|c| P::from_coordinates(c).ok_or_else(|| FormatError::new(path, "bad point")))
+        .collect::<Result<Vec<P>, _>>()?;
+    NurbsCurve::new(raw.degree, raw.knots, points, Some(weights))
+        .map_err(|e| FormatError::geometry(path, e))
 }
 
 type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
@@ -370,30 +347,25 @@ fn raw_from(object: &NamedGeometry) -> RawObject {
                 points,
             })
         }
-        Geometry::Curve(c) => RawObject::NurbsCurve(RawCurve {
-            kind: "nurbs_curve".into(),
-            name,
-            degree: c.degree(),
-            knots: c.knots().to_vec(),
-            points: (0..c.count())
-                .map(|i| {
-                    let p = c.control_point(i);
-                    vec![p.x, p.y, p.z, c.weight(i)]
-                })
-                .collect(),
-        }),
-        Geometry::Trim(c) => RawObject::TrimCurve(RawCurve {
-            kind: "trim_curve".into(),
-            name,
-            degree: c.degree(),
-            knots: c.knots().to_vec(),
-            points: (0..c.count())
-                .map(|i| {
-                    let p = c.control_point(i);
-                    vec![p.x, p.y, c.weight(i)]
-                })
-                .collect(),
-        }),
+        Geometry::Curve(c) => RawObject::NurbsCurve(raw_curve("nurbs_curve", name, c)),
+        Geometry::Trim(c) => RawObject::TrimCurve(raw_curve("trim_curve", name, c)),
+    }
+}
+
+/// A 2D or 3D curve in its raw form: points `[x, y, (z,) w]`.
+fn raw_curve<P: CurvePoint>(kind: &str, name: Option<String>, c: &NurbsCurve<P>) -> RawCurve {
+    RawCurve {
+        kind: kind.into(),
+        name,
+        degree: c.degree(),
+        knots: c.knots().to_vec(),
+        points: (0..c.count())
+            .map(|i| {
+                let mut v = c.control_point(i).coordinates();
+                v.push(c.weight(i));
+                v
+            })
+            .collect(),
     }
 }
 

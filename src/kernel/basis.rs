@@ -123,22 +123,10 @@ pub fn domain(knots: &[f64], degree: usize, count: usize) -> (f64, f64) {
 }
 
 /// The non-vanishing basis functions N_{span−p,p}(u) … N_{span,p}(u) written into
-/// `out[0..=p]` (The NURBS Book, A2.2 "BasisFuns"). `out` must hold degree + 1 values.
+/// `out[0..=p]` (The NURBS Book, A2.2 "BasisFuns", which is the first half of A2.3: this is
+/// [`basis_derivatives_into`] with order 0). `out` must hold degree + 1 values.
 pub fn basis_functions(knots: &[f64], degree: usize, span: usize, u: f64, out: &mut [f64]) {
-    let mut left = vec![0.0; degree + 1];
-    let mut right = vec![0.0; degree + 1];
-    out[0] = 1.0;
-    for j in 1..=degree {
-        left[j] = u - knots[span + 1 - j];
-        right[j] = knots[span + j] - u;
-        let mut saved = 0.0;
-        for r in 0..j {
-            let temp = out[r] / (right[r + 1] + left[j - r]);
-            out[r] = saved + right[r + 1] * temp;
-            saved = left[j - r] * temp;
-        }
-        out[j] = saved;
-    }
+    basis_derivatives_into(knots, degree, span, u, 0, out);
 }
 
 /// Degrees up to this value use stack scratch space in [`basis_derivatives_into`].

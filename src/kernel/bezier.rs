@@ -77,13 +77,7 @@ impl BezierPatchSet {
         weights: Option<Vec<f64>>,
         patches: Vec<BezierPatch>,
     ) -> Result<Self, GeometryError> {
-        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
-        if weights.len() != points.len() {
-            return Err(GeometryError::WeightCount {
-                points: points.len(),
-                weights: weights.len(),
-            });
-        }
+        let weights = super::curve::weights_or_ones(points.len(), weights)?;
         for (index, p) in points.iter().enumerate() {
             if let Some(coordinate) = p.to_array().iter().position(|c| !c.is_finite()) {
                 return Err(GeometryError::NonFiniteCoordinate { index, coordinate });

@@ -33,13 +33,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
         points: Vec<P>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self, GeometryError> {
-        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
-        if weights.len() != points.len() {
-            return Err(GeometryError::WeightCount {
-                points: points.len(),
-                weights: weights.len(),
-            });
-        }
+        let weights = weights_or_ones(points.len(), weights)?;
         for (i, (p, &w)) in points.iter().zip(&weights).enumerate() {
             check_point(&format!("points[{i}]"), &p.coordinates(), w)?;
         }
@@ -298,6 +292,22 @@ impl NurbsCurve<DVec3> {
     pub fn transformed(&self, transform: &DAffine3) -> Result<Self, GeometryError> {
         self.map_points(|p| transform.transform_point3(p))
     }
+}
+
+/// The weights of `count` control points: `None` means all 1; a list of another length is an
+/// error.
+pub(crate) fn weights_or_ones(
+    count: usize,
+    weights: Option<Vec<f64>>,
+) -> Result<Vec<f64>, GeometryError> {
+    let weights = weights.unwrap_or_else(|| vec![1.0; count]);
+    if weights.len() != count {
+        return Err(GeometryError::WeightCount {
+            points: count,
+            weights: weights.len(),
+        });
+    }
+    Ok(weights)
 }
 
 /// Checks a Cartesian control point and its weight; `at` names it in errors.

@@ -125,13 +125,7 @@ impl NurbsSurface {
         points: Vec<DVec3>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self, GeometryError> {
-        let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
-        if weights.len() != points.len() {
-            return Err(GeometryError::WeightCount {
-                points: points.len(),
-                weights: weights.len(),
-            });
-        }
+        let weights = super::curve::weights_or_ones(points.len(), weights)?;
         check_count(count, points.len())?;
         for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
             let (i, j) = (index / count[1], index % count[1]);
@@ -502,18 +496,13 @@ impl NurbsSurface {
         out.clear();
         out.reserve(us.len() * vs.len());
         self.check_grid(us, vs)?;
-        match self.degree[1] {
-            1 => self.grid_fixed::<2, false>(us, vs, &mut |s, _| out.push(s)),
-            2 => self.grid_fixed::<3, false>(us, vs, &mut |s, _| out.push(s)),
-            3 => self.grid_fixed::<4, false>(us, vs, &mut |s, _| out.push(s)),
-            4 => self.grid_fixed::<5, false>(us, vs, &mut |s, _| out.push(s)),
-            5 => self.grid_fixed::<6, false>(us, vs, &mut |s, _| out.push(s)),
-            _ => self.evaluate_grid(us, vs, false, |i, j, d| {
+        if !self.grid_specialized::<false>(us, vs, &mut |s, _| out.push(s)) {
+            self.evaluate_grid(us, vs, false, |i, j, d| {
                 out.push(GridSample {
                     point: d.point,
                     normal: self.normal_from(d, us[i], vs[j]),
                 });
-            })?,
+            })?;
         }
         Ok(())
     }
@@ -542,13 +531,8 @@ impl NurbsSurface {
         out.reserve(us.len() * vs.len());
         self.check_grid(us, vs)?;
         let mut push = |s, c| out.push((s, c));
-        match self.degree[1] {
-            1 => self.grid_fixed::<2, true>(us, vs, &mut push),
-            2 => self.grid_fixed::<3, true>(us, vs, &mut push),
-            3 => self.grid_fixed::<4, true>(us, vs, &mut push),
-            4 => self.grid_fixed::<5, true>(us, vs, &mut push),
-            5 => self.grid_fixed::<6, true>(us, vs, &mut push),
-            _ => self.evaluate_grid(us, vs, true, |i, j, d| {
+        if !self.grid_specialized::<true>(us, vs, &mut push) {
+            self.evaluate_grid(us, vs, true, |i, j, d| {
                 let normal = self.normal_from(d, us[i], vs[j]);
                 let curvature = self.curvature_from(d, normal, us[i], vs[j]);
                 push(
@@ -558,7 +542,7 @@ impl NurbsSurface {
                     },
                     curvature.values(),
                 );
-            })?,
+            })?;
         }
         Ok(())
     }
@@ -576,6 +560,24 @@ impl NurbsSurface {
             }
         }
         Ok(())
+    }
+
+    /// Runs [`Self::grid_fixed`] for v-degrees 1 to 5; false (nothing done) for higher ones.
+    fn grid_specialized<const CURVATURE: bool>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        out: &mut impl FnMut(GridSample, CurvatureValues),
+    ) -> bool {
+        match self.degree[1] {
+            1 => self.grid_fixed::<2, CURVATURE>(us, vs, out),
+            2 => self.grid_fixed::<3, CURVATURE>(us, vs, out),
+            3 => self.grid_fixed::<4, CURVATURE>(us, vs, out),
+            4 => self.grid_fixed::<5, CURVATURE>(us, vs, out),
+            5 => self.grid_fixed::<6, CURVATURE>(us, vs, out),
+            _ => return false,
+        }
+        true
     }
 
     /// The grid loop with the v-order Q = q + 1 known at compile time (parameters already
