@@ -70,9 +70,9 @@ fn whole_files_round_trip_with_names_and_trim_curves() {
     assert_eq!(json::read(&text).unwrap(), objects);
 }
 
-#[test]
-fn malformed_files_name_the_problem_and_path() {
-    let cases: Vec<(String, &str, &str)> = vec![
+/// Malformed documents with the JSON path and message each must be rejected with.
+fn malformed_cases() -> Vec<(String, &'static str, &'static str)> {
+    vec![
         ("{\"type\": \"nurbs_surface\", ".into(), "", "not valid JSON"),
         ("[1, 2]".into(), "", "expected an object with a \"type\" field, found an array"),
         (with("degree", json!("three")), "degree", "invalid type"),
@@ -92,8 +92,23 @@ fn malformed_files_name_the_problem_and_path() {
         (r#"{"format": "other", "version": 1, "objects": []}"#.into(), "format", "expected \"knotwork\""),
         (format!(r#"{{"format": "knotwork", "version": 1, "objects": [{BILINEAR}, {}]}}"#, with("degree", json!([0, 1]))), "objects[1].knots[0]", "degree 0"),
         (r#"{"type": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1], "points": [[0, 0, 0], [1, 1, 1], [2, 0]]}"#.into(), "points[2]", "found 2"),
-    ];
-    for (text, path, message) in cases {
+        (
+            serde_json::from_str::<Value>(&with("knots", json!([[0, 0, 0, 1, 1], [0, 0, 1, 1]])))
+                .map(|mut v| {
+                    v["points"] = json!([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]], [[2, 0, 0], [2, 1, 0]]]);
+                    v.to_string()
+                })
+                .unwrap(),
+            "knots[0][0]",
+            "repeated 3 times",
+        ),
+        (with("points", json!([[[0, 0, 0, 1], [0, 1, 0, 1]], [[1, 0, 0, 1], [1, 1, 1, 1]], [[2, 0, 0, 1], [2, 1, 0, 1]]])), "knots[0]", "3 control points of degree 1 need"),
+    ]
+}
+
+#[test]
+fn malformed_files_name_the_problem_and_path() {
+    for (text, path, message) in malformed_cases() {
         let e = read_error(&text);
         assert_eq!(e.path, path, "path of {e} for {text}");
         assert!(
@@ -222,4 +237,44 @@ fn eval_cli_reads_stdin_and_fails_cleanly_on_bad_input() {
     assert!(
         String::from_utf8_lossy(&missing.stderr).contains("cannot read /nonexistent/request.json")
     );
+}
+
+/// Every surface validation error also reaches the CLI user: exit code ≠ 0, the message and the
+/// path (under `surface.`) on stderr, nothing on stdout.
+#[test]
+fn eval_cli_reports_every_surface_validation_error() {
+    let mut checked = 0;
+    for (text, path, message) in malformed_cases() {
+        let Ok(value) = serde_json::from_str::<Value>(&text) else {
+            continue;
+        };
+        if value.get("type") != Some(&json!("nurbs_surface")) || path.is_empty() {
+            continue;
+        }
+        let request = json!({"surface": value, "params": [[0.0, 0.0]]}).to_string();
+        let mut child = knotwork()
+            .args(["eval", "-"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(request.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{text} must fail");
+        assert!(out.stdout.is_empty());
+        assert!(
+            stderr.contains(&format!("surface.{path}")),
+            "{stderr:?} lacks path {path}"
+        );
+        assert!(stderr.contains(message), "{stderr:?} lacks {message:?}");
+        checked += 1;
+    }
+    assert!(checked >= 10, "only {checked} cases reached the CLI");
 }
