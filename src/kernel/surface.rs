@@ -986,7 +986,6 @@ impl NurbsSurface {
         let (_, mut u, mut v) = best;
         let mut d = rational_derivatives(&self.homogeneous_derivatives(u, v));
         let mut dist = d.point.distance(target);
-        let scale = self.size().max(f64::MIN_POSITIVE);
         for _ in 0..50 {
             let r = d.point - target;
             let f = d.su.dot(r);
@@ -1004,29 +1003,28 @@ impl NurbsSurface {
                     -g / d.sv.length_squared().max(1e-300),
                 )
             };
+            // Backtracking: halve the step until the distance does not grow.
             let mut step = 1.0;
-            let mut improved = false;
-            while step > 1e-6 {
+            let accepted = loop {
                 let un = (u + du * step).clamp(u0, u1);
                 let vn = (v + dv * step).clamp(v0, v1);
                 let dn = rational_derivatives(&self.homogeneous_derivatives(un, vn));
                 let distn = dn.point.distance(target);
                 if distn <= dist {
-                    let moved = (un - u).abs() / (u1 - u0) + (vn - v).abs() / (v1 - v0);
-                    improved = distn < dist || moved > 0.0;
-                    u = un;
-                    v = vn;
-                    d = dn;
-                    let gain = dist - distn;
-                    dist = distn;
-                    if moved < 1e-15 || gain <= 1e-16 * scale && moved < 1e-12 {
-                        improved = false;
-                    }
-                    break;
+                    break Some((un, vn, dn, distn));
                 }
                 step *= 0.5;
-            }
-            if !improved {
+                if step < 1e-6 {
+                    break None;
+                }
+            };
+            let Some((un, vn, dn, distn)) = accepted else {
+                break;
+            };
+            // Converged once the parameters stop moving (relative to the domain).
+            let moved = (un - u).abs() / (u1 - u0) + (vn - v).abs() / (v1 - v0);
+            (u, v, d, dist) = (un, vn, dn, distn);
+            if moved < 1e-15 {
                 break;
             }
         }
