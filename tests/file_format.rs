@@ -196,24 +196,26 @@ fn eval_cli_reports_analytic_sphere_values() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// Runs `knotwork eval -` with `input` on standard input.
+fn run_stdin(input: &str) -> std::process::Output {
+    let mut child = knotwork()
+        .args(["eval", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
 #[test]
 fn eval_cli_reads_stdin_and_fails_cleanly_on_bad_input() {
-    let run_stdin = |input: &str| {
-        let mut child = knotwork()
-            .args(["eval", "-"])
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(input.as_bytes())
-            .unwrap();
-        child.wait_with_output().unwrap()
-    };
     let ok = run_stdin(&sphere_request(json!([[0.25, 0.5]])));
     assert!(ok.status.success());
     let bad_surface = json!({"surface": serde_json::from_str::<Value>(&with("knots", json!([[0, 0, 1, 1], [0, 1, 0.5, 1]]))).unwrap(), "params": [[0.5, 0.5]]});
@@ -252,20 +254,7 @@ fn eval_cli_reports_every_surface_validation_error() {
             continue;
         }
         let request = json!({"surface": value, "params": [[0.0, 0.0]]}).to_string();
-        let mut child = knotwork()
-            .args(["eval", "-"])
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(request.as_bytes())
-            .unwrap();
-        let out = child.wait_with_output().unwrap();
+        let out = run_stdin(&request);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{text} must fail");
         assert!(out.stdout.is_empty());
