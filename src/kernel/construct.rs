@@ -15,7 +15,7 @@ use super::basis::{basis_functions, find_span, uniform_clamped_knots};
 use super::curve::{NurbsCurve, SpaceCurve};
 use super::error::GeometryError;
 use super::ops::{self, Polygon};
-use super::surface::NurbsSurface;
+use super::surface::{Direction, NurbsSurface};
 use super::vector::{CurvePoint, Vector};
 
 fn construction(what: &'static str, message: impl Into<String>) -> GeometryError {
@@ -592,12 +592,9 @@ pub fn coons(
     let conform = |s: NurbsSurface| -> Result<NurbsSurface, GeometryError> {
         let [dp, dq] = s.degree();
         let mut s = s
-            .elevate_degree(super::surface::Direction::U, p - dp)?
-            .elevate_degree(super::surface::Direction::V, q - dq)?;
-        for (direction, target) in [
-            (super::surface::Direction::U, &target_u),
-            (super::surface::Direction::V, &target_v),
-        ] {
+            .elevate_degree(Direction::U, p - dp)?
+            .elevate_degree(Direction::V, q - dq)?;
+        for (direction, target) in [(Direction::U, &target_u), (Direction::V, &target_v)] {
             let have = s.knots()[direction.index()].to_vec();
             let missing = missing_knots(&have, target);
             s = s.refine(direction, &missing)?;

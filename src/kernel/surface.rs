@@ -262,19 +262,7 @@ impl NurbsSurface {
     }
 
     fn check_parameters(&self, u: f64, v: f64) -> Result<(), GeometryError> {
-        for ((value, (start, end)), parameter) in
-            [u, v].into_iter().zip(self.domain()).zip(["u", "v"])
-        {
-            if !(value >= start && value <= end) {
-                return Err(GeometryError::OutsideDomain {
-                    parameter,
-                    value,
-                    start,
-                    end,
-                });
-            }
-        }
-        Ok(())
+        self.check_grid(&[u], &[v])
     }
 
     /// Position and all partial derivatives up to order 2 at (u, v) (The NURBS Book, A3.6 for
@@ -403,23 +391,21 @@ impl NurbsSurface {
         us: &[f64],
         vs: &[f64],
         second_order: bool,
-        mut f: impl FnMut(usize, usize, &SurfaceDerivatives),
+        f: impl FnMut(usize, usize, &SurfaceDerivatives),
     ) -> Result<(), GeometryError> {
-        let [(u0, u1), (v0, v1)] = self.domain();
-        for (&t, (parameter, start, end)) in us
-            .iter()
-            .map(|t| (t, ("u", u0, u1)))
-            .chain(vs.iter().map(|t| (t, ("v", v0, v1))))
-        {
-            if !(t >= start && t <= end) {
-                return Err(GeometryError::OutsideDomain {
-                    parameter,
-                    value: t,
-                    start,
-                    end,
-                });
-            }
-        }
+        self.check_grid(us, vs)?;
+        self.evaluate_grid_unchecked(us, vs, second_order, f);
+        Ok(())
+    }
+
+    /// [`Self::evaluate_grid`] for parameters already checked against the domain.
+    fn evaluate_grid_unchecked(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        second_order: bool,
+        mut f: impl FnMut(usize, usize, &SurfaceDerivatives),
+    ) {
         let [p, q] = self.degree;
         let order = if second_order { 2 } else { 1 };
         let basis_u = ParameterBasis::new(&self.knots[0], p, self.count[0], us, order);
@@ -466,7 +452,6 @@ impl NurbsSurface {
                 f(i, jv, &rational_derivatives(&a));
             }
         }
-        Ok(())
     }
 
     /// Positions and unit normals on the grid `us` × `vs`, row-major with i along u.
@@ -497,12 +482,12 @@ impl NurbsSurface {
         out.reserve(us.len() * vs.len());
         self.check_grid(us, vs)?;
         if !self.grid_specialized::<false>(us, vs, &mut |s, _| out.push(s)) {
-            self.evaluate_grid(us, vs, false, |i, j, d| {
+            self.evaluate_grid_unchecked(us, vs, false, |i, j, d| {
                 out.push(GridSample {
                     point: d.point,
                     normal: self.normal_from(d, us[i], vs[j]),
                 });
-            })?;
+            });
         }
         Ok(())
     }
@@ -532,7 +517,7 @@ impl NurbsSurface {
         self.check_grid(us, vs)?;
         let mut push = |s, c| out.push((s, c));
         if !self.grid_specialized::<true>(us, vs, &mut push) {
-            self.evaluate_grid(us, vs, true, |i, j, d| {
+            self.evaluate_grid_unchecked(us, vs, true, |i, j, d| {
                 let normal = self.normal_from(d, us[i], vs[j]);
                 let curvature = self.curvature_from(d, normal, us[i], vs[j]);
                 push(
@@ -542,7 +527,7 @@ impl NurbsSurface {
                     },
                     curvature.values(),
                 );
-            })?;
+            });
         }
         Ok(())
     }
