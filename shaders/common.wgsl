@@ -15,18 +15,48 @@ struct PatchRecord {
     segments_v: u32,
     // First of the patch's 6 * segments_u * segments_v triangle indices.
     index_offset: u32,
-    flags: u32,
+    // The scene object the patch belongs to (written into every vertex).
+    object: u32,
     // (u0, u1, v0, v1): parameter rectangle in the parent surface, used for the written (u, v).
     domain: vec4<f32>,
 }
 
-// One tessellation vertex (Rust: gpu::records::SurfaceVertex). 32 bytes:
-// position at 0, u at 12, normal at 16, v at 28.
+// One tessellation vertex (Rust: gpu::records::SurfaceVertex). 64 bytes: position at 0, u at 12,
+// normal at 16, v at 28, curvature at 32, object at 48, flags at 52.
 struct SurfaceVertex {
     position: vec3<f32>,
+    // (u, v) in the parent surface's own domain.
     u: f32,
     normal: vec3<f32>,
     v: f32,
+    // (Gaussian K, mean H, k1, k2), k1 >= k2, positive toward the normal.
+    curvature: vec4<f32>,
+    object: u32,
+    // VERTEX_IRREGULAR (1): the normal is a limit; VERTEX_NO_CURVATURE (2): curvature undefined.
+    flags: u32,
+    reserved: vec2<u32>,
+}
+
+// One parameter for point evaluation (Rust: gpu::records::PointSample): local (s, t) of a patch.
+struct PointSample {
+    patch_index: u32,
+    s: f32,
+    t: f32,
+    reserved: u32,
+}
+
+// What point evaluation writes (Rust: gpu::records::PointResult); derivatives with respect to
+// the patch's local (s, t).
+struct PointResult {
+    point: vec4<f32>,
+    normal: vec4<f32>,
+    su: vec4<f32>,
+    sv: vec4<f32>,
+    suu: vec4<f32>,
+    suv: vec4<f32>,
+    svv: vec4<f32>,
+    curvature: vec4<f32>,
+    flags: vec4<u32>,
 }
 
 // Per-view uniforms of the render pipelines (Rust: gpu::records::SceneUniform).
@@ -39,7 +69,15 @@ struct SceneUniform {
     back_color: vec4<f32>,
     net_color: vec4<f32>,
     point_color: vec4<f32>,
+    // (shading mode, selected object + 1 or 0, 0, 0); modes in gpu::records::ShadingMode.
+    shading: vec4<u32>,
+    // (low, high) of the colour ramp's range, (checker cells per unit of u and v, 0).
+    range: vec4<f32>,
+    // The colour ramp: RAMP_STOPS linear RGB stops, evenly spaced from low to high.
+    ramp: array<vec4<f32>, 5>,
 }
+
+const RAMP_STOPS: u32 = 5u;  // Rust: gpu::records::RAMP_STOPS
 
 // 0-1 sRGB-encoded from 0-1 linear (the viewport texture holds encoded values, as egui expects).
 fn srgb_from_linear(rgb: vec3<f32>) -> vec3<f32> {

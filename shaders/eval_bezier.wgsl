@@ -1,29 +1,40 @@
-// Evaluates rational tensor-product Bézier patches into a vertex buffer, and writes their
-// triangle indices. The CPU reference is src/kernel/bezier.rs; both use the same formulas:
-// Bernstein basis by The NURBS Book A1.3, derivatives in hodograph (difference) form, the
-// rational quotient rule of The NURBS Book eq. 4.20, and the same normal rule at collapsed edges.
+// Evaluates rational tensor-product Bézier patches into a vertex buffer (position, normal, (u, v),
+// curvature), and writes their triangle indices. The CPU reference is src/kernel/bezier.rs and
+// src/kernel/diffgeo.rs; both use the same formulas: Bernstein basis by The NURBS Book A1.3,
+// derivatives in hodograph (difference) form, the rational quotient rule of The NURBS Book
+// eq. 4.20, the same normal rule at collapsed edges, and curvature from the fundamental forms.
 
-const MAX_DEGREE: u32 = 7u;          // Rust: gpu::records::GPU_MAX_DEGREE
+const MAX_DEGREE: u32 = 9u;          // Rust: gpu::records::GPU_MAX_DEGREE
 const WORKGROUP_SIZE: u32 = 64u;     // Rust: gpu::records::EVAL_WORKGROUP_SIZE
 const DEGENERATE_SIN2: f32 = 1e-10;  // Rust: kernel::bezier::DEGENERATE_SIN2
 const NORMAL_NUDGE: f32 = 1e-3;      // Rust: kernel::bezier::NORMAL_NUDGE
+// How far toward the patch centre curvature at a degenerate point is sampled (Rust:
+// gpu::records::GPU_CURVATURE_NUDGE). Farther than the kernel's f64 CURVATURE_NUDGE: in f32 the
+// fundamental forms lose about eps / nudge^2 of relative accuracy (measured on the sphere's
+// poles: 10 % off at 1e-3, 0.4 % at 1e-2, 0.05 % at 3e-2).
+const CURVATURE_NUDGE: f32 = 3e-2;
 
 @group(0) @binding(0) var<storage, read> control_points: array<vec4<f32>>;  // (wx, wy, wz, w)
 @group(0) @binding(1) var<storage, read> control_indices: array<u32>;
 @group(0) @binding(2) var<storage, read> patches: array<PatchRecord>;
 @group(0) @binding(3) var<storage, read_write> vertices: array<SurfaceVertex>;
 @group(0) @binding(4) var<storage, read_write> triangle_indices: array<u32>;
+// The records evaluate_vertices works on this dispatch: workgroup_id.y indexes this list, so an
+// edit re-evaluates only the patches it changed.
+@group(0) @binding(5) var<storage, read> patch_list: array<u32>;
+@group(0) @binding(6) var<storage, read> samples: array<PointSample>;
+@group(0) @binding(7) var<storage, read_write> sample_results: array<PointResult>;
 
 // Bernstein polynomials of degrees n, n-1, n-2 at one parameter.
 struct Basis {
-    full: array<f32, 8>,
-    lower1: array<f32, 8>,
-    lower2: array<f32, 8>,
+    full: array<f32, 10>,
+    lower1: array<f32, 10>,
+    lower2: array<f32, 10>,
 }
 
 // All Bernstein polynomials of degree n at t (The NURBS Book, A1.3); entries past n are 0.
-fn bernstein_all(t: f32, n: u32) -> array<f32, 8> {
-    var b: array<f32, 8>;
+fn bernstein_all(t: f32, n: u32) -> array<f32, 10> {
+    var b: array<f32, 10>;
     b[0] = 1.0;
     let s = 1.0 - t;
     for (var j = 1u; j <= n; j++) {
@@ -58,7 +69,7 @@ struct Sums {
     d2: vec4<f32>,
 }
 
-fn bezier_sums(basis: Basis, n: u32, p: array<vec4<f32>, 8>) -> Sums {
+fn bezier_sums(basis: Basis, n: u32, p: array<vec4<f32>, 10>) -> Sums {
     var out: Sums;
     for (var i = 0u; i <= n; i++) {
         out.value += basis.full[i] * p[i];
@@ -94,11 +105,11 @@ fn evaluate_patch(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
     let q = rec.degree_v;
     let bu = make_basis(p, s);
     let bv = make_basis(q, t);
-    var rows0: array<vec4<f32>, 8>;
-    var rows1: array<vec4<f32>, 8>;
-    var rows2: array<vec4<f32>, 8>;
+    var rows0: array<vec4<f32>, 10>;
+    var rows1: array<vec4<f32>, 10>;
+    var rows2: array<vec4<f32>, 10>;
     for (var i = 0u; i <= p; i++) {
-        var row: array<vec4<f32>, 8>;
+        var row: array<vec4<f32>, 10>;
         for (var j = 0u; j <= q; j++) {
             row[j] = control_points[control_indices[rec.control_offset + i * (q + 1u) + j]];
         }
@@ -187,12 +198,14 @@ fn evaluate(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
     return evaluate_patch(rec, s, t);
 }
 
-// Su x Sv normalized, or zero where sin^2(angle(Su, Sv)) <= DEGENERATE_SIN2.
+// Su x Sv normalized, or zero where sin^2(angle(Su, Sv)) <= DEGENERATE_SIN2 or one derivative
+// vanishes against the other (kernel::diffgeo::SurfaceDerivatives::regular_normal).
 fn regular_normal(d: Derivatives) -> vec3<f32> {
     let n = cross(d.su, d.sv);
     let n2 = dot(n, n);
-    let scale = dot(d.su, d.su) * dot(d.sv, d.sv);
-    if (n2 > DEGENERATE_SIN2 * scale && n2 > 0.0) {
+    let a = dot(d.su, d.su);
+    let b = dot(d.sv, d.sv);
+    if (n2 > DEGENERATE_SIN2 * a * b && n2 > 0.0 && min(a, b) > DEGENERATE_SIN2 * max(a, b)) {
         return n * inverseSqrt(n2);
     }
     return vec3<f32>(0.0);
@@ -236,16 +249,215 @@ fn surface_normal(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> vec3<f32>
     return n;
 }
 
-// One invocation per output vertex; workgroup_id.y is the patch.
+// Curvature from the fundamental forms (kernel::diffgeo::CurvatureValues::from_forms, with
+// curvature positive toward n): E, F, G from Su, Sv; L, M, N from Suu, Suv, Svv and n. The
+// Weingarten map W = I^-1 II = [[a, b], [c, d]] gives H = (a + d) / 2, K = (LN - M^2) / (EG - F^2)
+// and k1,2 = H +- sqrt(((a - d) / 2)^2 + bc), which (unlike sqrt(H^2 - K)) stays accurate in f32
+// near umbilics. EG - F^2 is taken as |Su x Sv|^2, which does not cancel. `values` is
+// (K, H, k1, k2), all zero where `defined` is false (EG - F^2 = 0 or an overflow).
+struct CurvatureResult {
+    values: vec4<f32>,
+    defined: bool,
+}
+
+fn curvature(d: Derivatives, n: vec3<f32>) -> CurvatureResult {
+    let e = dot(d.su, d.su);
+    let f = dot(d.su, d.sv);
+    let g = dot(d.sv, d.sv);
+    let l = dot(d.suu, n);
+    let m = dot(d.suv, n);
+    let nn = dot(d.svv, n);
+    let c = cross(d.su, d.sv);
+    let det = dot(c, c);
+    var out: CurvatureResult;
+    if (!(det > 0.0) || det > 3.0e38) {
+        return out;
+    }
+    let inv = 1.0 / det;
+    let a = (g * l - f * m) * inv;
+    let b = (g * m - f * nn) * inv;
+    let cc = (e * m - f * l) * inv;
+    let dd = (e * nn - f * m) * inv;
+    let mean = 0.5 * (a + dd);
+    let gaussian = (l * nn - m * m) * inv;
+    let half = 0.5 * (a - dd);
+    let disc = sqrt(max(half * half + b * cc, 0.0));
+    out.values = vec4<f32>(gaussian, mean, mean + disc, mean - disc);
+    out.defined = all(out.values == out.values) && all(abs(out.values) < vec4<f32>(3.0e38));
+    if (!out.defined) {
+        out.values = vec4<f32>(0.0);
+    }
+    return out;
+}
+
+// Bits of SurfaceVertex.flags (Rust: gpu::records::VERTEX_IRREGULAR, VERTEX_NO_CURVATURE).
+const VERTEX_IRREGULAR: u32 = 1u;     // Su x Sv vanishes: the normal is a limit (pole, collapsed edge)
+const VERTEX_NO_CURVATURE: u32 = 2u;  // curvature undefined here and nearby: shown neutrally
+
+// Normal, curvature and flags of a patch at local (s, t), given its derivatives there. At a
+// degenerate point the curvature is the limit, sampled CURVATURE_NUDGE of the way to the centre
+// (the kernel samples closer, in f64).
+struct Shape {
+    normal: vec3<f32>,
+    curvature: vec4<f32>,
+    flags: u32,
+}
+
+fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
+    var out: Shape;
+    out.normal = surface_normal(rec, d, s, t);
+    let regular = any(regular_normal(d) != vec3<f32>(0.0));
+    var k: CurvatureResult;
+    if (regular) {
+        k = curvature(d, out.normal);
+    } else {
+        out.flags |= VERTEX_IRREGULAR;
+        let sn = s + (0.5 - s) * CURVATURE_NUDGE;
+        let tn = t + (0.5 - t) * CURVATURE_NUDGE;
+        let nd = evaluate(rec, sn, tn);
+        var nn = surface_normal(rec, nd, sn, tn);
+        if (dot(nn, out.normal) < 0.0) {
+            nn = -nn;
+        }
+        k = curvature(nd, nn);
+    }
+    if (!k.defined) {
+        out.flags |= VERTEX_NO_CURVATURE;
+    }
+    out.curvature = k.values;
+    return out;
+}
+
+// -1, 0 or 1 as a is lexicographically (x, y, z, w) before, equal to or after b.
+fn compare_points(a: vec4<f32>, b: vec4<f32>) -> i32 {
+    for (var k = 0; k < 4; k++) {
+        if (a[k] < b[k]) {
+            return -1;
+        }
+        if (a[k] > b[k]) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+// One de Casteljau step (The NURBS Book, A1.5) written so that t = 0 gives a, t = 1 gives b and
+// equal points give that point, each exactly.
+fn lerp_exact(a: vec4<f32>, b: vec4<f32>, t: f32) -> vec4<f32> {
+    if (t <= 0.5) {
+        return a + t * (b - a);
+    }
+    return b + (1.0 - t) * (a - b);
+}
+
+// A patch boundary: control points first, first + stride, ..., first + degree * stride (entries
+// of the patch's control index block), sampled at k / n.
+struct Edge {
+    first: u32,
+    stride: u32,
+    degree: u32,
+    k: u32,
+    n: u32,
+}
+
+fn edge_control(rec: PatchRecord, edge: Edge, m: u32) -> vec4<f32> {
+    return control_point(rec, edge.first + m * edge.stride);
+}
+
+// Whether to walk the edge backwards so that every patch sharing it runs the same computation:
+// the direction whose control point sequence is lexicographically smaller; for a palindrome,
+// the one in which the sample is nearer the start.
+fn edge_reversed(rec: PatchRecord, edge: Edge) -> bool {
+    var order = 0;
+    for (var m = 0u; 2u * m < edge.degree && order == 0; m++) {
+        order = compare_points(edge_control(rec, edge, m), edge_control(rec, edge, edge.degree - m));
+    }
+    return order > 0 || (order == 0 && 2u * edge.k > edge.n);
+}
+
+// A cubic edge's point, in registers (the bicubic pipeline has no private arrays).
+fn cubic_edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
+    let reversed = edge_reversed(rec, edge);
+    var p0 = edge_control(rec, edge, 0u);
+    var p1 = edge_control(rec, edge, 1u);
+    var p2 = edge_control(rec, edge, 2u);
+    var p3 = edge_control(rec, edge, 3u);
+    var k = edge.k;
+    if (reversed) {
+        let q0 = p0;
+        let q1 = p1;
+        p0 = p3;
+        p1 = p2;
+        p2 = q1;
+        p3 = q0;
+        k = edge.n - edge.k;
+    }
+    let t = f32(k) / f32(edge.n);
+    let a0 = lerp_exact(p0, p1, t);
+    let a1 = lerp_exact(p1, p2, t);
+    let a2 = lerp_exact(p2, p3, t);
+    let b0 = lerp_exact(a0, a1, t);
+    let b1 = lerp_exact(a1, a2, t);
+    let h = lerp_exact(b0, b1, t);
+    return h.xyz / h.w;
+}
+
+// Any degree: de Casteljau over a private array (the general pipeline only).
+fn general_edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
+    if (edge.degree == 3u) {
+        return cubic_edge_point(rec, edge);
+    }
+    let reversed = edge_reversed(rec, edge);
+    var p: array<vec4<f32>, 10>;
+    for (var m = 0u; m <= edge.degree; m++) {
+        p[m] = edge_control(rec, edge, select(m, edge.degree - m, reversed));
+    }
+    let t = f32(select(edge.k, edge.n - edge.k, reversed)) / f32(edge.n);
+    for (var r = 1u; r <= edge.degree; r++) {
+        for (var m = 0u; m + r <= edge.degree; m++) {
+            p[m] = lerp_exact(p[m], p[m + 1u], t);
+        }
+    }
+    return p[0].xyz / p[0].w;
+}
+
+fn edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
+    if (BICUBIC_ONLY) {
+        return cubic_edge_point(rec, edge);
+    }
+    return general_edge_point(rec, edge);
+}
+
+// The position of grid vertex (i, j). On the patch boundary it is the boundary curve's point,
+// computed in the canonical direction of edge_reversed, so that neighbouring patches (of one
+// surface, or of two objects whose boundary control points are equal) write bit-identical
+// vertices along their shared edge: no cracks. Elsewhere it is the tensor-product value.
+fn grid_position(rec: PatchRecord, i: u32, j: u32, interior: vec3<f32>) -> vec3<f32> {
+    let p = rec.degree_u;
+    let q = rec.degree_v;
+    if (i == 0u || i == rec.segments_u) {
+        // The row at u = 0 or 1: entries r (q + 1) .. r (q + 1) + q, along v.
+        let r = select(0u, p, i != 0u);
+        return edge_point(rec, Edge(r * (q + 1u), 1u, q, j, rec.segments_v));
+    }
+    if (j == 0u || j == rec.segments_v) {
+        // The column at v = 0 or 1: entries c, c + (q + 1), ..., along u.
+        let c = select(0u, q, j != 0u);
+        return edge_point(rec, Edge(c, q + 1u, p, i, rec.segments_u));
+    }
+    return interior;
+}
+
+// One invocation per output vertex; workgroup_id.y indexes patch_list.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn evaluate_vertices(
     @builtin(workgroup_id) group: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
-    if (group.y >= arrayLength(&patches)) {
+    if (group.y >= arrayLength(&patch_list)) {
         return;
     }
-    let rec = patches[group.y];
+    let rec = patches[patch_list[group.y]];
     let local = group.x * WORKGROUP_SIZE + lane;
     let nv = rec.segments_v + 1u;
     if (local >= (rec.segments_u + 1u) * nv) {
@@ -256,14 +468,23 @@ fn evaluate_vertices(
     let s = f32(i) / f32(rec.segments_u);
     let t = f32(j) / f32(rec.segments_v);
     let d = evaluate(rec, s, t);
-    let n = surface_normal(rec, d, s, t);
+    let shape = shape_at(rec, d, s, t);
     let u = rec.domain.x * (1.0 - s) + rec.domain.y * s;
     let v = rec.domain.z * (1.0 - t) + rec.domain.w * t;
-    vertices[rec.vertex_offset + local] = SurfaceVertex(d.point, u, n, v);
+    vertices[rec.vertex_offset + local] = SurfaceVertex(
+        grid_position(rec, i, j, d.point),
+        u,
+        shape.normal,
+        v,
+        shape.curvature,
+        rec.object,
+        shape.flags,
+        vec2<u32>(0u),
+    );
 }
 
 // One invocation per grid quad: two counter-clockwise triangles (seen from the side Su x Sv
-// points to). workgroup_id.y is the patch.
+// points to). workgroup_id.y is the patch record.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn write_triangles(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -291,4 +512,28 @@ fn write_triangles(
     triangle_indices[o + 3u] = a;
     triangle_indices[o + 4u] = c;
     triangle_indices[o + 5u] = d;
+}
+
+// Point evaluation for `knotwork eval --backend gpu`: one invocation per sample, with the
+// derivatives in the patch's local (s, t); the caller scales them to the surface's domain.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn evaluate_samples(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= arrayLength(&samples)) {
+        return;
+    }
+    let sample = samples[id.x];
+    let rec = patches[sample.patch_index];
+    let d = evaluate(rec, sample.s, sample.t);
+    let shape = shape_at(rec, d, sample.s, sample.t);
+    sample_results[id.x] = PointResult(
+        vec4<f32>(d.point, 1.0),
+        vec4<f32>(shape.normal, 0.0),
+        vec4<f32>(d.su, 0.0),
+        vec4<f32>(d.sv, 0.0),
+        vec4<f32>(d.suu, 0.0),
+        vec4<f32>(d.suv, 0.0),
+        vec4<f32>(d.svv, 0.0),
+        shape.curvature,
+        vec4<u32>(shape.flags, 0u, 0u, 0u),
+    );
 }

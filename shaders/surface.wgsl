@@ -1,13 +1,31 @@
-// Draws the evaluated surface from the vertex buffer the compute pass wrote (SurfaceVertex).
-// Two-sided: back faces are flipped and tinted, so the inside of an open surface reads as such.
+// Draws the evaluated surface from the vertex buffer the compute pass wrote (SurfaceVertex), in
+// one of the shading modes of gpu::records::ShadingMode. Two-sided: back faces are flipped and
+// tinted in the lit modes, so the inside of an open surface reads as such. The curvature modes
+// colour the per-vertex values of the compute pass (not screen-space derivatives), unlit, so a
+// constant curvature reads as one flat colour.
 
 @group(0) @binding(0) var<uniform> scene: SceneUniform;
+
+// Rust: gpu::records::ShadingMode.
+const MODE_PLAIN: u32 = 0u;
+const MODE_NORMALS: u32 = 1u;
+const MODE_CHECKER: u32 = 2u;
+const MODE_GAUSSIAN: u32 = 3u;
+const MODE_MEAN: u32 = 4u;
+const MODE_K1: u32 = 5u;
+const MODE_K2: u32 = 6u;
+
+// Rust: gpu::records::VERTEX_NO_CURVATURE.
+const VERTEX_NO_CURVATURE: u32 = 2u;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) u: f32,
     @location(2) normal: vec3<f32>,
     @location(3) v: f32,
+    @location(4) curvature: vec4<f32>,
+    @location(5) object: u32,
+    @location(6) flags: u32,
 }
 
 struct VertexOut {
@@ -15,6 +33,10 @@ struct VertexOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    // The curvature value the mode shows; `defined` is 0 where it is undefined.
+    @location(3) value: f32,
+    @location(4) defined: f32,
+    @location(5) @interpolate(flat) object: u32,
 }
 
 @vertex
@@ -24,6 +46,12 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     out.world = in.position;
     out.normal = in.normal;
     out.uv = vec2<f32>(in.u, in.v);
+    let mode = scene.shading.x;
+    if (mode >= MODE_GAUSSIAN && mode <= MODE_K2) {
+        out.value = in.curvature[mode - MODE_GAUSSIAN];
+    }
+    out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
+    out.object = in.object;
     return out;
 }
 
@@ -39,14 +67,46 @@ fn shade(base: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
     return base * (ambient + diffuse) + vec3<f32>(specular);
 }
 
+// The colour ramp at x in [0, 1] (clamped), linear between its evenly spaced stops.
+fn ramp_color(x: f32) -> vec3<f32> {
+    let f = clamp(x, 0.0, 1.0) * f32(RAMP_STOPS - 1u);
+    let k = min(u32(f), RAMP_STOPS - 2u);
+    return mix(scene.ramp[k].rgb, scene.ramp[k + 1u].rgb, f - f32(k));
+}
+
 @fragment
 fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let mode = scene.shading.x;
+    if (mode >= MODE_GAUSSIAN && mode <= MODE_K2) {
+        // Undefined curvature (a degenerate point and its surroundings) is neutral grey.
+        if (in.defined < 0.999) {
+            return vec4<f32>(srgb_from_linear(vec3<f32>(0.18)), 1.0);
+        }
+        let span = scene.range.y - scene.range.x;
+        let x = select(0.5, (in.value - scene.range.x) / span, span > 0.0);
+        return vec4<f32>(srgb_from_linear(ramp_color(x)), 1.0);
+    }
     let view_dir = normalize(scene.eye.xyz - in.world);
     var n = normalize(in.normal);
+    if (mode == MODE_NORMALS) {
+        // The unit normal's components mapped from [-1, 1] to [0, 1] (as the side facing us).
+        let facing = select(-n, n, front);
+        return vec4<f32>(facing * 0.5 + 0.5, 1.0);
+    }
     var base = scene.surface_color.rgb;
+    if (in.object + 1u == scene.shading.y) {
+        base = mix(base, vec3<f32>(0.95, 0.62, 0.25), 0.35);
+    }
+    if (mode == MODE_CHECKER) {
+        let cell = floor(in.uv * scene.range.zw);
+        let odd = (i32(cell.x) + i32(cell.y)) & 1;
+        base = select(vec3<f32>(0.85), vec3<f32>(0.12), odd != 0);
+    }
     if (!front) {
         n = -n;
-        base = scene.back_color.rgb;
+        if (mode != MODE_CHECKER) {
+            base = scene.back_color.rgb;
+        }
     }
     return vec4<f32>(srgb_from_linear(shade(base, n, view_dir)), 1.0);
 }

@@ -7,17 +7,26 @@ use std::sync::Arc;
 use eframe::egui;
 use eframe::egui_wgpu;
 
+use glam::DVec3;
+
+use crate::gpu::records::CURVATURE_RAMP;
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{self, PatchEvaluator, PatchGeometry};
-use crate::kernel::{BezierPatchSet, samples};
-use crate::render::{DrawOptions, ViewTarget, ViewportRenderer, scene_uniform};
+use crate::gpu::{
+    self, GpuError, MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, ShadingMode,
+};
+use crate::render::{
+    ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
+};
+use crate::scene::{Decomposition, Scene, robust_range};
 use crate::status::{self, AppStatus, ExternalCommand};
 use crate::view::OrbitCamera;
 
-/// Segments per patch edge when the editor opens.
-pub const DEFAULT_SEGMENTS: u32 = 32;
-/// The tessellation slider's range.
+/// The per-object tessellation slider's range (segments per Bézier span edge).
 pub const SLIDER_SEGMENTS: std::ops::RangeInclusive<u32> = 1..=128;
+/// The global quality slider's range (a factor on every object's segments).
+pub const QUALITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=4.0;
+/// Curvature samples per patch edge for the automatic colour range.
+const RANGE_SAMPLES: usize = 6;
 /// Control point dot radius in logical pixels.
 const POINT_RADIUS: f32 = 3.5;
 
@@ -41,36 +50,29 @@ struct ViewportGpu {
     queue: wgpu::Queue,
     egui_renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
     evaluator: PatchEvaluator,
-    geometry: PatchGeometry,
+    geometry: Option<PatchGeometry>,
+    net: Option<ControlNet>,
     renderer: ViewportRenderer,
     target: Option<ViewTarget>,
     texture: Option<egui::TextureId>,
     timer: Option<GpuTimer>,
-    /// The compute pass must run before the next draw.
-    evaluate: bool,
 }
 
 impl ViewportGpu {
-    fn new(
-        state: &egui_wgpu::RenderState,
-        model: &BezierPatchSet,
-        segments: u32,
-    ) -> Result<Self, gpu::GpuError> {
+    fn new(state: &egui_wgpu::RenderState) -> Self {
         let device = state.device.clone();
-        let evaluator = PatchEvaluator::new(&device);
-        let geometry = PatchGeometry::new(&device, &evaluator, model, segments)?;
-        Ok(Self {
+        Self {
+            evaluator: PatchEvaluator::new(&device),
             renderer: ViewportRenderer::new(&device),
             timer: GpuTimer::new(&device, &state.queue),
             queue: state.queue.clone(),
             egui_renderer: Arc::clone(&state.renderer),
             device,
-            evaluator,
-            geometry,
+            geometry: None,
+            net: None,
             target: None,
             texture: None,
-            evaluate: true,
-        })
+        }
     }
 
     /// Makes the offscreen target `size` physical pixels; true when it was (re)created.
@@ -99,20 +101,26 @@ impl ViewportGpu {
         true
     }
 
-    /// Runs the compute pass if the surface changed, then renders the viewport.
-    fn draw(&mut self, camera: &OrbitCamera, options: &DrawOptions, point_radius_px: f32) {
-        let Some(target) = &self.target else {
-            return;
-        };
+    /// Runs the compute pass if any patch needs it, then renders the viewport. Returns the
+    /// number of patches evaluated.
+    fn draw(
+        &mut self,
+        camera: &OrbitCamera,
+        options: &DrawOptions,
+        shading: &Shading,
+        point_radius_px: f32,
+    ) -> Option<u32> {
+        let target = self.target.as_ref()?;
+        let geometry = self.geometry.as_mut()?;
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("knotwork frame"),
             });
-        if self.evaluate {
+        let mut evaluated = None;
+        if geometry.needs_evaluation() {
             let writes = self.timer.as_mut().and_then(GpuTimer::compute_pass_writes);
-            self.geometry.encode(&mut encoder, &self.evaluator, writes);
-            self.evaluate = false;
+            evaluated = Some(geometry.encode(&self.queue, &mut encoder, &self.evaluator, writes));
         }
         let (w, h) = target.size();
         let aspect = w as f32 / h.max(1) as f32;
@@ -121,11 +129,18 @@ impl ViewportGpu {
             camera.eye(),
             target,
             point_radius_px,
+            shading,
         );
         let writes = self.timer.as_mut().and_then(GpuTimer::render_pass_writes);
         self.renderer.set_scene(&self.queue, &scene);
-        self.renderer
-            .render(&mut encoder, target, &self.geometry, options, writes);
+        self.renderer.render(
+            &mut encoder,
+            target,
+            geometry,
+            self.net.as_ref(),
+            options,
+            writes,
+        );
         if let Some(timer) = &mut self.timer {
             timer.resolve(&mut encoder);
         }
@@ -133,12 +148,29 @@ impl ViewportGpu {
         if let Some(timer) = &mut self.timer {
             timer.after_submit();
         }
+        evaluated
     }
 }
 
+/// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].
+fn effective_segments(segments: u32, quality: f32) -> u32 {
+    ((segments as f32 * quality).round() as u32).clamp(1, MAX_SEGMENTS)
+}
+
 pub struct KnotworkApp {
-    model: BezierPatchSet,
-    model_name: &'static str,
+    scene: Scene,
+    /// Each object's Bézier patches, as uploaded.
+    decompositions: Vec<Decomposition>,
+    selected: Option<usize>,
+    /// The control point the panel edits, in the selected object.
+    edit_point: usize,
+    quality: f32,
+    /// The largest quality the device's limits allowed at the last tessellation change.
+    quality_used: f32,
+    shading: ShadingMode,
+    manual_range: Option<(f64, f64)>,
+    /// The automatic range of the current curvature mode (`None`: to be computed).
+    auto_range: Option<(f64, f64)>,
     camera: OrbitCamera,
     options: DrawOptions,
     continuous: bool,
@@ -161,16 +193,13 @@ impl KnotworkApp {
         status::set_repaint_context(&cc.egui_ctx);
         cc.egui_ctx.set_theme(egui::Theme::Dark);
         let mut status = AppStatus {
-            segments: DEFAULT_SEGMENTS,
+            quality: 1.0,
             ..Default::default()
         };
-        let (model, model_name) = match samples::utah_teapot() {
-            Ok(model) => (model, "Utah teapot"),
-            Err(e) => {
-                status.error = Some(format!("the sample model could not be loaded: {e}"));
-                (BezierPatchSet::default(), "(none)")
-            }
-        };
+        let scene = Scene::demo().unwrap_or_else(|e| {
+            status.error = Some(format!("the sample scene could not be built: {e}"));
+            Scene::default()
+        });
         let gpu = match &cc.wgpu_render_state {
             Some(state) => {
                 let info = state.adapter.get_info();
@@ -182,13 +211,7 @@ impl KnotworkApp {
                 } else {
                     info.name.clone()
                 };
-                match ViewportGpu::new(state, &model, DEFAULT_SEGMENTS) {
-                    Ok(gpu) => Some(gpu),
-                    Err(e) => {
-                        status.error = Some(e.to_string());
-                        None
-                    }
-                }
+                Some(ViewportGpu::new(state))
             }
             None => {
                 status.error = Some("eframe started without a wgpu device".to_owned());
@@ -196,8 +219,15 @@ impl KnotworkApp {
             }
         };
         let mut app = Self {
-            model,
-            model_name,
+            scene,
+            decompositions: Vec::new(),
+            selected: None,
+            edit_point: 0,
+            quality: 1.0,
+            quality_used: 1.0,
+            shading: ShadingMode::Plain,
+            manual_range: None,
+            auto_range: None,
             camera: OrbitCamera::default(),
             options: DrawOptions::default(),
             continuous: false,
@@ -209,7 +239,16 @@ impl KnotworkApp {
             logged_status: false,
             exit_after_frames: None,
         };
-        app.refresh_counts();
+        match app.decompose_all() {
+            Ok(()) => {
+                if let Err(e) = app.rebuild_geometry(1.0) {
+                    app.status.error = Some(e.to_string());
+                }
+            }
+            Err(e) => app.status.error = Some(e),
+        }
+        app.select(Some(0));
+        app.refresh_status();
         status::publish(&app.status);
         log::info!("knotwork starting: {}", app.status.to_json());
         app
@@ -223,67 +262,272 @@ impl KnotworkApp {
         self
     }
 
-    fn refresh_counts(&mut self) {
-        if let Some(gpu) = &self.gpu {
-            let g = &gpu.geometry;
-            self.status.patches = g.patch_count();
-            self.status.control_points = g.control_point_count();
-            self.status.vertices = g.vertex_count();
-            self.status.triangles = g.index_count() / 3;
-            self.status.segments = g.segments();
-        }
+    fn decompose_all(&mut self) -> Result<(), String> {
+        self.decompositions = self
+            .scene
+            .objects
+            .iter()
+            .map(|o| o.decompose().map_err(|e| format!("{}: {e}", o.name)))
+            .collect::<Result<_, _>>()?;
+        Ok(())
     }
 
-    /// Re-tessellates at `segments` per patch edge. On failure the current tessellation stays and
-    /// the error is shown.
-    fn set_segments(&mut self, segments: u32) {
+    /// Uploads every object at `quality`; where the device's buffer or dispatch limits refuse
+    /// that, halves the quality until they accept it and says so in the status. On any other
+    /// failure the current geometry stays and the error is returned.
+    fn rebuild_geometry(&mut self, quality: f32) -> Result<(), GpuError> {
         let Some(gpu) = &mut self.gpu else {
-            return;
+            return Ok(());
         };
-        match PatchGeometry::new(&gpu.device, &gpu.evaluator, &self.model, segments) {
-            Ok(geometry) => {
-                gpu.geometry = geometry;
-                gpu.evaluate = true;
-                self.status.error = None;
-                self.refresh_counts();
+        let mut q = quality;
+        let mut first_error = None;
+        for _ in 0..16 {
+            let inputs: Vec<ObjectPatches<'_>> = self
+                .scene
+                .objects
+                .iter()
+                .zip(&self.decompositions)
+                .map(|(object, d)| ObjectPatches {
+                    set: &d.set,
+                    domains: &d.domains,
+                    segments: effective_segments(object.segments, q),
+                })
+                .collect();
+            match PatchGeometry::new(&gpu.device, &gpu.evaluator, &inputs) {
+                Ok(geometry) => {
+                    gpu.geometry = Some(geometry);
+                    self.quality_used = q;
+                    self.status.notice = first_error.map(|e: GpuError| {
+                        format!("tessellation lowered to quality {q:.2} (asked {quality:.2}): {e}")
+                    });
+                    self.redraw = true;
+                    return Ok(());
+                }
+                Err(
+                    e @ (GpuError::BufferTooLarge { .. } | GpuError::SegmentsOutOfRange { .. }),
+                ) if q > 1e-3 => {
+                    first_error.get_or_insert(e);
+                    q *= 0.5;
+                }
+                Err(e) => return Err(e),
             }
-            Err(e) => self.status.error = Some(e.to_string()),
+        }
+        Err(first_error.unwrap_or(GpuError::SegmentsOutOfRange {
+            segments: 0,
+            max: MAX_SEGMENTS,
+        }))
+    }
+
+    /// Applies a tessellation change (`change` edits the scene's segments or the quality) and
+    /// re-uploads; on failure everything returns to how it was and the error is shown.
+    fn retessellate(&mut self, change: impl FnOnce(&mut Self)) {
+        let saved_segments: Vec<u32> = self.scene.objects.iter().map(|o| o.segments).collect();
+        let saved_quality = self.quality;
+        change(self);
+        match self.rebuild_geometry(self.quality) {
+            Ok(()) => self.status.error = None,
+            Err(e) => {
+                for (o, s) in self.scene.objects.iter_mut().zip(saved_segments) {
+                    o.segments = s;
+                }
+                self.quality = saved_quality;
+                self.status.error = Some(e.to_string());
+            }
+        }
+        self.refresh_status();
+        self.redraw = true;
+    }
+
+    fn set_all_segments(&mut self, segments: u32) {
+        if !(1..=MAX_SEGMENTS).contains(&segments) {
+            self.status.error = Some(
+                GpuError::SegmentsOutOfRange {
+                    segments,
+                    max: MAX_SEGMENTS,
+                }
+                .to_string(),
+            );
+            return;
+        }
+        self.retessellate(|app| {
+            for o in &mut app.scene.objects {
+                o.segments = segments;
+            }
+        });
+    }
+
+    fn set_quality(&mut self, quality: f32) {
+        if !(quality.is_finite() && QUALITY_RANGE.contains(&quality)) {
+            self.status.error = Some(format!(
+                "quality {quality} is outside {}..={}",
+                QUALITY_RANGE.start(),
+                QUALITY_RANGE.end()
+            ));
+            return;
+        }
+        self.retessellate(|app| app.quality = quality);
+    }
+
+    fn select(&mut self, selected: Option<usize>) {
+        let selected = selected.filter(|&s| s < self.scene.objects.len());
+        self.selected = selected;
+        self.edit_point = 0;
+        if let Some(gpu) = &mut self.gpu {
+            gpu.net = selected.map(|s| {
+                let object = &self.scene.objects[s];
+                ControlNet::new(&gpu.device, &object.control_points(), &object.net_lines())
+            });
         }
         self.redraw = true;
     }
 
+    /// Moves one control point; only the Bézier patches in its support are re-decomposed,
+    /// uploaded and re-evaluated. A bad request changes nothing and shows the error.
+    fn move_control_point(&mut self, object: usize, index: usize, position: DVec3) {
+        let Some(target) = self.scene.objects.get_mut(object) else {
+            self.status.error = Some(format!("there is no object {object}"));
+            return;
+        };
+        let before = target.clone();
+        let result = target
+            .move_control_point(index, position)
+            .map_err(|e| e.to_string())
+            .and_then(|patches| {
+                let d = target.decompose().map_err(|e| e.to_string())?;
+                Ok((patches, d))
+            });
+        let (patches, decomposition) = match result {
+            Ok(r) => r,
+            Err(e) => {
+                self.scene.objects[object] = before;
+                self.status.error = Some(format!("{}: {e}", self.scene.objects[object].name));
+                return;
+            }
+        };
+        if let Some(gpu) = &mut self.gpu {
+            if let Some(geometry) = &mut gpu.geometry {
+                match geometry.update_object(&gpu.queue, object, &decomposition.set, Some(&patches))
+                {
+                    Ok(uploaded) => self.status.points_uploaded = uploaded as u32,
+                    Err(e) => self.status.error = Some(e.to_string()),
+                }
+            }
+            if self.selected == Some(object)
+                && let Some(net) = &gpu.net
+            {
+                net.update_points(&gpu.queue, &self.scene.objects[object].control_points());
+            }
+        }
+        self.decompositions[object] = decomposition;
+        self.auto_range = None;
+        self.redraw = true;
+    }
+
+    fn set_shading(&mut self, mode: ShadingMode) {
+        if mode != self.shading {
+            self.shading = mode;
+            self.auto_range = None;
+            self.redraw = true;
+        }
+    }
+
+    /// The colour ramp's range in the current mode: the manual one, or the robust automatic one
+    /// over the f64 kernel's curvature samples of every object.
+    fn color_range(&mut self) -> Option<(f64, f64)> {
+        let component = self.shading.curvature_component()?;
+        if let Some(range) = self.manual_range {
+            return Some(range);
+        }
+        if self.auto_range.is_none() {
+            let mut values = Vec::new();
+            for object in &self.scene.objects {
+                if let Ok(samples) = object.curvature_samples(RANGE_SAMPLES) {
+                    values.extend(
+                        samples
+                            .iter()
+                            .map(|c| [c.gaussian, c.mean, c.k1, c.k2][component]),
+                    );
+                }
+            }
+            self.auto_range = robust_range(values);
+        }
+        self.auto_range
+    }
+
+    fn refresh_status(&mut self) {
+        self.status.objects = self.scene.objects.len() as u32;
+        self.status.quality = self.quality;
+        self.status.selected = self.selected.map(|s| s as u32);
+        self.status.shading = self.shading.name().to_owned();
+        self.status.range_auto = self.manual_range.is_none();
+        self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
+        self.status.segments = self
+            .scene
+            .objects
+            .iter()
+            .map(|o| effective_segments(o.segments, self.quality_used))
+            .collect();
+        if let Some(g) = self.gpu.as_ref().and_then(|g| g.geometry.as_ref()) {
+            self.status.patches = g.patch_count();
+            self.status.control_points = g.control_point_count();
+            self.status.vertices = g.vertex_count();
+            self.status.triangles = g.index_count() / 3;
+        }
+    }
+
     fn apply(&mut self, command: ExternalCommand) {
         match command {
-            ExternalCommand::SetSegments(n) => self.set_segments(n),
+            ExternalCommand::SetSegments(n) => self.set_all_segments(n),
+            ExternalCommand::SetQuality(q) => self.set_quality(q),
+            ExternalCommand::SetShading(mode) => self.set_shading(mode),
+            ExternalCommand::SetRange(range) => self.set_manual_range(range),
+            ExternalCommand::Select(s) => self.select(s),
+            ExternalCommand::MoveControlPoint {
+                object,
+                index,
+                position,
+            } => self.move_control_point(object, index, DVec3::from(position)),
             ExternalCommand::SetContinuous(on) => self.continuous = on,
             ExternalCommand::FrameModel => self.frame_pending = true,
         }
         self.redraw = true;
     }
 
+    fn set_manual_range(&mut self, range: Option<(f64, f64)>) {
+        match range {
+            Some((lo, hi)) if !(lo.is_finite() && hi.is_finite() && lo < hi) => {
+                self.status.error = Some(format!(
+                    "a colour range needs finite low < high, got ({lo}, {hi})"
+                ));
+            }
+            _ => self.manual_range = range,
+        }
+        self.redraw = true;
+    }
+
     fn frame_model(&mut self, aspect: f32) {
-        if let Some((lo, hi)) = self.model.bounds() {
+        if let Some((lo, hi)) = self.scene.bounds() {
             self.camera.frame(lo.as_vec3(), hi.as_vec3(), aspect);
         }
         self.redraw = true;
     }
 
-    fn controls(&mut self, ui: &mut egui::Ui) {
-        ui.heading("knotwork");
-        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
-        ui.separator();
+    fn info_grid(&self, ui: &mut egui::Ui) {
         egui::Grid::new("info")
             .num_columns(2)
             .striped(true)
             .show(ui, |ui| {
                 let rows = [
-                    ("Model", self.model_name.to_owned()),
                     ("Backend", self.status.backend.clone()),
                     ("Adapter", self.status.adapter.clone()),
-                    ("Patches", self.status.patches.to_string()),
-                    ("Control points", self.status.control_points.to_string()),
+                    ("Objects", self.status.objects.to_string()),
+                    ("Bézier patches", self.status.patches.to_string()),
                     ("Vertices", self.status.vertices.to_string()),
                     ("Triangles", self.status.triangles.to_string()),
+                    (
+                        "Re-evaluated",
+                        format!("{} patches", self.status.patches_reevaluated),
+                    ),
                 ];
                 for (name, value) in rows {
                     ui.label(name);
@@ -291,22 +535,126 @@ impl KnotworkApp {
                     ui.end_row();
                 }
             });
-        ui.separator();
-        ui.label("Tessellation (segments per patch edge)");
-        let mut segments = self.status.segments;
-        let slider = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS));
-        if slider.changed() && segments != self.status.segments {
-            self.set_segments(segments);
+    }
+
+    fn objects_panel(&mut self, ui: &mut egui::Ui) {
+        ui.label(egui::RichText::new("Objects").strong());
+        let mut clicked = None;
+        for (k, object) in self.scene.objects.iter().enumerate() {
+            let response = ui
+                .selectable_label(self.selected == Some(k), &object.name)
+                .on_hover_text(object.describe());
+            if response.clicked() {
+                clicked = Some(if self.selected == Some(k) {
+                    None
+                } else {
+                    Some(k)
+                });
+            }
         }
+        if let Some(selection) = clicked {
+            self.select(selection);
+        }
+        let Some(s) = self.selected else {
+            ui.label(egui::RichText::new("click an object to edit it").weak());
+            return;
+        };
+        ui.label(egui::RichText::new(self.scene.objects[s].describe()).weak());
+        let mut segments = self.scene.objects[s].segments;
+        ui.label("Segments per span");
+        if ui
+            .add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS))
+            .changed()
+            && segments != self.scene.objects[s].segments
+        {
+            self.retessellate(|app| app.scene.objects[s].segments = segments);
+        }
+        let points = self.scene.objects[s].control_points();
+        if points.is_empty() {
+            return;
+        }
+        ui.horizontal(|ui| {
+            ui.label("Control point");
+            ui.add(egui::DragValue::new(&mut self.edit_point).range(0..=points.len() - 1));
+        });
+        self.edit_point = self.edit_point.min(points.len() - 1);
+        let mut p = points[self.edit_point];
+        let before = p;
+        ui.horizontal(|ui| {
+            for (axis, value) in ["x", "y", "z"]
+                .into_iter()
+                .zip([&mut p.x, &mut p.y, &mut p.z])
+            {
+                ui.label(axis);
+                ui.add(egui::DragValue::new(value).speed(0.01));
+            }
+        });
+        if p != before {
+            self.move_control_point(s, self.edit_point, p);
+        }
+    }
+
+    fn shading_panel(&mut self, ui: &mut egui::Ui) {
+        ui.label(egui::RichText::new("Shading").strong());
+        let mut mode = self.shading;
+        egui::ComboBox::from_id_salt("shading")
+            .selected_text(mode.label())
+            .show_ui(ui, |ui| {
+                for m in ShadingMode::ALL {
+                    ui.selectable_value(&mut mode, m, m.label());
+                }
+            });
+        self.set_shading(mode);
+        let Some((lo, hi)) = self.color_range() else {
+            return;
+        };
+        legend(ui, lo, hi);
+        let mut auto = self.manual_range.is_none();
+        if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
+            self.set_manual_range(if auto { None } else { Some((lo, hi)) });
+        }
+        if let Some((mut a, mut b)) = self.manual_range {
+            let speed = ((b - a).abs() * 0.01).max(1e-6);
+            ui.horizontal(|ui| {
+                ui.label("low");
+                ui.add(egui::DragValue::new(&mut a).speed(speed));
+                ui.label("high");
+                ui.add(egui::DragValue::new(&mut b).speed(speed));
+            });
+            if (a, b) != (lo, hi) && a < b {
+                self.set_manual_range(Some((a, b)));
+            }
+        }
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.heading("knotwork");
+        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
+        ui.separator();
+        self.info_grid(ui);
+        ui.separator();
+        ui.label("Quality (× every object's segments)");
+        let mut quality = self.quality;
+        if ui
+            .add(egui::Slider::new(&mut quality, QUALITY_RANGE).logarithmic(true))
+            .changed()
+            && quality != self.quality
+        {
+            self.set_quality(quality);
+        }
+        ui.separator();
+        self.objects_panel(ui);
+        ui.separator();
+        self.shading_panel(ui);
         ui.separator();
         let before = self.options;
         ui.checkbox(&mut self.options.show_surface, "Surface");
-        ui.checkbox(&mut self.options.show_net, "Control net");
+        ui.checkbox(&mut self.options.show_net, "Control net (selected object)");
         ui.checkbox(&mut self.options.show_points, "Control points");
         if self.options != before {
             self.redraw = true;
         }
-        if ui.button("Frame model  (F)").clicked() {
+        if ui.button("Frame scene  (F)").clicked() {
             self.frame_pending = true;
         }
         ui.checkbox(&mut self.continuous, "Redraw every frame");
@@ -324,6 +672,10 @@ impl KnotworkApp {
             ms(self.status.frame_interval_ms)
         ));
         ui.label(format!("frames drawn  {}", self.status.frames));
+        if let Some(notice) = self.status.notice.clone() {
+            ui.separator();
+            ui.colored_label(egui::Color32::from_rgb(240, 200, 90), notice);
+        }
         if let Some(error) = self.status.error.clone() {
             ui.separator();
             ui.colored_label(egui::Color32::from_rgb(255, 110, 100), error);
@@ -339,7 +691,7 @@ impl KnotworkApp {
                     ("Left drag", "orbit"),
                     ("Middle drag, Shift + left drag", "pan"),
                     ("Wheel, pinch", "zoom"),
-                    ("F", "frame the model"),
+                    ("F", "frame the scene"),
                 ] {
                     ui.label(format!("{key}: {action}"));
                 }
@@ -388,7 +740,14 @@ impl KnotworkApp {
         if std::mem::take(&mut self.frame_pending) {
             self.frame_model(aspect);
         }
-        let Some(gpu) = &mut self.gpu else {
+        let range = self.color_range().unwrap_or((-1.0, 1.0));
+        let shading = Shading {
+            mode: self.shading,
+            range: (range.0 as f32, range.1 as f32),
+            selected: self.selected.map(|s| s as u32),
+            ..Default::default()
+        };
+        let Some(gpu) = self.gpu.as_mut().filter(|g| g.geometry.is_some()) else {
             ui.painter().text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -399,8 +758,16 @@ impl KnotworkApp {
             return;
         };
         let resized = gpu.ensure_target(size);
-        if resized || self.redraw || self.continuous || gpu.evaluate {
-            gpu.draw(&self.camera, &self.options, POINT_RADIUS * ppp);
+        let pending = gpu
+            .geometry
+            .as_ref()
+            .is_some_and(PatchGeometry::needs_evaluation);
+        if resized || self.redraw || self.continuous || pending {
+            if let Some(evaluated) =
+                gpu.draw(&self.camera, &self.options, &shading, POINT_RADIUS * ppp)
+            {
+                self.status.patches_reevaluated = evaluated;
+            }
             self.status.frames += 1;
             self.redraw = false;
         }
@@ -432,6 +799,34 @@ impl KnotworkApp {
     }
 }
 
+/// The colour ramp as a bar with its low, middle and high values.
+fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
+    let width = ui.available_width().min(240.0);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
+    let mut mesh = egui::Mesh::default();
+    let stops = CURVATURE_RAMP.len();
+    for (k, stop) in CURVATURE_RAMP.iter().enumerate() {
+        let x = rect.left() + rect.width() * k as f32 / (stops - 1) as f32;
+        let color = egui::Rgba::from_rgb(stop[0], stop[1], stop[2]).into();
+        mesh.colored_vertex(egui::pos2(x, rect.top()), color);
+        mesh.colored_vertex(egui::pos2(x, rect.bottom()), color);
+        if k > 0 {
+            let i = (2 * k) as u32;
+            mesh.add_triangle(i - 2, i - 1, i);
+            mesh.add_triangle(i - 1, i + 1, i);
+        }
+    }
+    ui.painter().add(egui::Shape::mesh(mesh));
+    ui.horizontal(|ui| {
+        let text = |v: f64| format!("{v:.3e}");
+        ui.label(text(lo));
+        ui.add_space((width - 180.0).max(4.0) / 2.0);
+        ui.label(text(0.5 * (lo + hi)));
+        ui.add_space((width - 180.0).max(4.0) / 2.0);
+        ui.label(text(hi));
+    });
+}
+
 impl eframe::App for KnotworkApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         for command in status::take_commands() {
@@ -456,6 +851,7 @@ impl eframe::App for KnotworkApp {
         if self.redraw || std::mem::take(&mut self.redraw_soon) {
             ui.ctx().request_repaint();
         }
+        self.refresh_status();
         status::publish(&self.status);
         if !self.logged_status && self.status.frames > 0 {
             log::info!("knotwork status: {}", self.status.to_json());

@@ -3,6 +3,7 @@
 //!
 //! Layers, each depending only on those above it:
 //! - [`kernel`]: pure f64 geometry (no GPU, no UI);
+//! - [`scene`]: the document's objects and their tessellation settings (kernel data only);
 //! - [`io`]: file formats (knotwork JSON, eval requests);
 //! - [`shaders`], [`gpu`]: WGSL sources and the compute evaluator on wgpu;
 //! - [`render`], [`view`]: viewport pipelines and the camera;
@@ -16,6 +17,7 @@ pub mod gpu;
 pub mod io;
 pub mod kernel;
 pub mod render;
+pub mod scene;
 pub mod shaders;
 pub mod status;
 pub mod view;

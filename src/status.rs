@@ -12,10 +12,30 @@ pub struct AppStatus {
     pub backend: String,
     /// Adapter name, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" or "google · swiftshader".
     pub adapter: String,
+    /// Objects in the scene.
+    pub objects: u32,
+    /// Bézier patches evaluated on the GPU (every object's decomposition).
     pub patches: u32,
+    /// Points in the GPU's control point pool (the Bézier points).
     pub control_points: u32,
-    /// Segments per patch edge.
-    pub segments: u32,
+    /// Segments per Bézier span edge of each object, after the quality factor (and any
+    /// lowering to fit the device).
+    pub segments: Vec<u32>,
+    /// The global tessellation quality factor.
+    pub quality: f32,
+    /// Patches re-evaluated by the last compute pass (all of them after a tessellation change,
+    /// the edited point's support after an edit).
+    pub patches_reevaluated: u32,
+    /// Bézier control points uploaded by the last edit.
+    pub points_uploaded: u32,
+    /// The selected object, if any.
+    pub selected: Option<u32>,
+    /// The shading mode's name ("plain", "normals", "checker", "gaussian", "mean", "k1", "k2").
+    pub shading: String,
+    /// The colour ramp's (low, high) in a curvature mode.
+    pub range: Option<[f64; 2]>,
+    /// Whether that range is automatic (robust percentiles) or set by hand.
+    pub range_auto: bool,
     /// Vertices the compute pass writes.
     pub vertices: u32,
     pub triangles: u32,
@@ -29,6 +49,9 @@ pub struct AppStatus {
     pub frame_interval_ms: Option<f64>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
+    /// Something the editor did on its own that the user should know (e.g. tessellation lowered
+    /// to fit the device), or null.
+    pub notice: Option<String>,
 }
 
 impl AppStatus {
@@ -40,7 +63,20 @@ impl AppStatus {
 /// Requests from outside the UI (page scripts, tests).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ExternalCommand {
+    /// Segments per Bézier span edge for every object.
     SetSegments(u32),
+    /// The global quality factor (multiplies every object's segments).
+    SetQuality(f32),
+    SetShading(crate::gpu::ShadingMode),
+    /// A manual colour range, or `None` for the automatic one.
+    SetRange(Option<(f64, f64)>),
+    Select(Option<usize>),
+    /// Moves control point `index` of `object` (see `scene::SceneObject::control_points`).
+    MoveControlPoint {
+        object: usize,
+        index: usize,
+        position: [f64; 3],
+    },
     /// Redraw every frame (for frame-rate measurements) or only on change.
     SetContinuous(bool),
     FrameModel,

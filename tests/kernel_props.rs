@@ -11,62 +11,8 @@ use knotwork::kernel::basis::{basis_derivatives, find_span};
 use knotwork::kernel::{Direction, NurbsSurface, SpaceCurve};
 use proptest::prelude::*;
 
-/// A deterministic generator (SplitMix64) so one u64 from proptest describes a whole surface.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
-
-/// A clamped knot vector of degree p on a random domain with 0–3 distinct interior knots of
-/// random multiplicity 1..=p. Returns (knots, control point count).
-fn random_knots(rng: &mut Rng, p: usize) -> (Vec<f64>, usize) {
-    let a = rng.range(-2.0, 1.0);
-    let b = a + rng.range(0.5, 3.0);
-    let mut interior: Vec<f64> = (0..rng.below(4)).map(|_| rng.range(0.05, 0.95)).collect();
-    interior.sort_by(f64::total_cmp);
-    interior.dedup_by(|x, y| (*x - *y).abs() < 0.05);
-    let mut knots = vec![a; p + 1];
-    for t in interior {
-        let m = 1 + rng.below(p);
-        knots.extend(std::iter::repeat_n(a + (b - a) * t, m));
-    }
-    knots.extend(std::iter::repeat_n(b, p + 1));
-    let count = knots.len() - p - 1;
-    (knots, count)
-}
-
-fn random_surface(p: usize, q: usize, seed: u64) -> NurbsSurface {
-    let mut rng = Rng(seed);
-    let (ku, cu) = random_knots(&mut rng, p);
-    let (kv, cv) = random_knots(&mut rng, q);
-    let points = (0..cu * cv)
-        .map(|_| {
-            DVec3::new(
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-                rng.range(-1.0, 1.0),
-            )
-        })
-        .collect();
-    let weights = (0..cu * cv).map(|_| rng.range(0.2, 5.0)).collect();
-    NurbsSurface::new([p, q], [ku, kv], [cu, cv], points, Some(weights)).unwrap()
-}
+mod common;
+use common::{Rng, random_knots, random_surface};
 
 /// Random parameters in the domain, including its corners and edges.
 fn sample_params(s: &NurbsSurface, seed: u64, n: usize) -> Vec<(f64, f64)> {

@@ -5,9 +5,12 @@
 mod common;
 
 use glam::{DMat4, DVec3};
-use knotwork::gpu::{GpuContext, PatchEvaluator, PatchGeometry};
+use knotwork::gpu::{GpuContext, ObjectPatches, PatchEvaluator, PatchGeometry};
+use knotwork::kernel::bezier::net_line_indices;
 use knotwork::kernel::{BezierPatchSet, samples};
-use knotwork::render::{DrawOptions, POINT_COLOR, ViewTarget, ViewportRenderer, scene_uniform};
+use knotwork::render::{
+    ControlNet, DrawOptions, POINT_COLOR, Shading, ViewTarget, ViewportRenderer, scene_uniform,
+};
 use knotwork::view::OrbitCamera;
 
 const WIDTH: u32 = 320;
@@ -29,7 +32,13 @@ fn render(
     options: &DrawOptions,
 ) -> Vec<u8> {
     let evaluator = PatchEvaluator::new(&context.device);
-    let mut geometry = PatchGeometry::new(&context.device, &evaluator, set, SEGMENTS).unwrap();
+    let input = ObjectPatches {
+        set,
+        domains: &[],
+        segments: SEGMENTS,
+    };
+    let mut geometry = PatchGeometry::new(&context.device, &evaluator, &[input]).unwrap();
+    let net = ControlNet::new(&context.device, set.points(), &net_line_indices(set));
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
     let scene = scene_uniform(
@@ -37,11 +46,12 @@ fn render(
         camera.eye(),
         &target,
         POINT_RADIUS,
+        &Shading::default(),
     );
     let mut encoder = context.device.create_command_encoder(&Default::default());
-    geometry.encode(&mut encoder, &evaluator, None);
+    geometry.encode(&context.queue, &mut encoder, &evaluator, None);
     renderer.set_scene(&context.queue, &scene);
-    renderer.render(&mut encoder, &target, &geometry, options, None);
+    renderer.render(&mut encoder, &target, &geometry, Some(&net), options, None);
     context.queue.submit([encoder.finish()]);
     let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
     assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);

@@ -6,7 +6,9 @@ use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
 
 use knotwork::gpu::records::{
-    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PatchRecord, SceneUniform, SurfaceVertex,
+    EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE, PatchRecord, PointResult,
+    PointSample, RAMP_STOPS, SceneUniform, ShadingMode, SurfaceVertex, VERTEX_IRREGULAR,
+    VERTEX_NO_CURVATURE,
 };
 use knotwork::kernel::bezier::{DEGENERATE_SIN2, NORMAL_NUDGE};
 use knotwork::shaders;
@@ -91,7 +93,7 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             segments_u,
             segments_v,
             index_offset,
-            flags,
+            object,
             domain
         })
     );
@@ -101,7 +103,34 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             position,
             u,
             normal,
-            v
+            v,
+            curvature,
+            object,
+            flags,
+            reserved
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "PointSample"),
+        rust_layout!(PointSample {
+            patch_index,
+            s,
+            t,
+            reserved
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "PointResult"),
+        rust_layout!(PointResult {
+            point,
+            normal,
+            su,
+            sv,
+            suu,
+            suv,
+            svv,
+            curvature,
+            flags
         })
     );
     assert_eq!(
@@ -113,14 +142,19 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             surface_color,
             back_color,
             net_color,
-            point_color
+            point_color,
+            shading,
+            range,
+            ramp
         })
     );
     // The render pipeline reads SurfaceVertex through vertex attributes at the same offsets.
     let attribute_offsets: Vec<u64> = SurfaceVertex::ATTRIBUTES.iter().map(|a| a.offset).collect();
+    // (Every member but the trailing `reserved` padding is an attribute.)
     let member_offsets: Vec<u64> = wgsl_layout(&module, "SurfaceVertex")
         .0
         .iter()
+        .filter(|(name, _)| name != "reserved")
         .map(|(_, offset)| u64::from(*offset))
         .collect();
     assert_eq!(attribute_offsets, member_offsets);
@@ -164,6 +198,33 @@ fn evaluator_constants_match_their_rust_counterparts() {
         wgsl_constant(&module, "NORMAL_NUDGE"),
         f64::from(NORMAL_NUDGE as f32)
     );
+    assert_eq!(
+        wgsl_constant(&module, "VERTEX_IRREGULAR"),
+        f64::from(VERTEX_IRREGULAR)
+    );
+    assert_eq!(
+        wgsl_constant(&module, "VERTEX_NO_CURVATURE"),
+        f64::from(VERTEX_NO_CURVATURE)
+    );
+    assert_eq!(wgsl_constant(&module, "RAMP_STOPS"), RAMP_STOPS as f64);
+    assert_eq!(
+        wgsl_constant(&module, "CURVATURE_NUDGE"),
+        f64::from(GPU_CURVATURE_NUDGE)
+    );
     // The basis arrays hold MAX_DEGREE + 1 entries.
     assert!(shaders::EVAL_BEZIER.contains(&format!("array<f32, {}>", GPU_MAX_DEGREE + 1)));
+}
+
+#[test]
+fn shading_modes_match_the_surface_shader() {
+    let module = parse_and_validate("surface.wgsl", &shaders::compose(shaders::SURFACE));
+    for mode in ShadingMode::ALL {
+        let name = format!("MODE_{}", mode.name().to_uppercase());
+        assert_eq!(wgsl_constant(&module, &name), mode as u32 as f64, "{name}");
+        assert_eq!(ShadingMode::from_name(mode.name()), Some(mode));
+    }
+    assert_eq!(
+        wgsl_constant(&module, "VERTEX_NO_CURVATURE"),
+        f64::from(VERTEX_NO_CURVATURE)
+    );
 }

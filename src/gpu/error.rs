@@ -11,9 +11,10 @@ pub enum GpuError {
     #[error("the GPU device could not be created: {0}")]
     RequestDevice(String),
     #[error(
-        "patch {patch}: degree ({degree_u}, {degree_v}) is above the GPU evaluator's maximum {max}"
+        "object {object}, patch {patch}: degree ({degree_u}, {degree_v}) is above the GPU evaluator's maximum {max} (reduce the degree or split the surface)"
     )]
     DegreeTooHigh {
+        object: usize,
         patch: usize,
         degree_u: usize,
         degree_v: usize,
@@ -31,6 +32,14 @@ pub enum GpuError {
     },
     #[error("the model has {found} control points but its GPU buffers hold {expected}")]
     ControlPointCountChanged { expected: usize, found: usize },
+    #[error("there is no object {object} (the scene has {count})")]
+    NoSuchObject { object: usize, count: usize },
+    #[error("object {object} has no patch {patch} (it has {count})")]
+    NoSuchPatch {
+        object: usize,
+        patch: usize,
+        count: usize,
+    },
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),
 }

@@ -11,5 +11,7 @@ pub mod timing;
 
 pub use context::{GpuContext, backend_name, device_descriptor};
 pub use error::GpuError;
-pub use patch_eval::{MAX_SEGMENTS, PatchEvaluator, PatchGeometry};
-pub use records::{PatchRecord, SceneUniform, SurfaceVertex};
+pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry};
+pub use records::{
+    PatchRecord, PointResult, PointSample, SceneUniform, ShadingMode, SurfaceVertex,
+};

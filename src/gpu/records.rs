@@ -5,7 +5,12 @@ use bytemuck::{Pod, Zeroable};
 
 /// Highest degree per direction the WGSL Bézier evaluator accepts (`MAX_DEGREE` in
 /// `shaders/eval_bezier.wgsl`; its basis arrays hold `GPU_MAX_DEGREE + 1` entries).
-pub const GPU_MAX_DEGREE: u32 = 7;
+pub const GPU_MAX_DEGREE: u32 = 9;
+
+/// How far toward the patch centre the WGSL evaluator samples the curvature of a degenerate point
+/// (`CURVATURE_NUDGE` in `shaders/eval_bezier.wgsl`). Farther than the f64 kernel's
+/// `diffgeo::CURVATURE_NUDGE`, because in f32 the fundamental forms there lose about ε/nudge².
+pub const GPU_CURVATURE_NUDGE: f32 = 3e-2;
 
 /// Workgroup size of both compute entry points (`WORKGROUP_SIZE` in `shaders/eval_bezier.wgsl`).
 pub const EVAL_WORKGROUP_SIZE: u32 = 64;
@@ -26,12 +31,19 @@ pub struct PatchRecord {
     pub segments_v: u32,
     /// First output triangle index; the patch writes 6 · segments_u · segments_v of them.
     pub index_offset: u32,
-    /// Reserved (0).
-    pub flags: u32,
+    /// The scene object the patch belongs to (written into every vertex).
+    pub object: u32,
     /// (u0, u1, v0, v1): the patch's parameter rectangle in its parent surface; the vertex (u, v)
     /// is written in these coordinates.
     pub domain: [f32; 4],
 }
+
+/// [`SurfaceVertex::flags`] bit: Su × Sv vanishes here (a pole or collapsed edge); the normal
+/// and curvature are limits from the interior. WGSL: `VERTEX_IRREGULAR`.
+pub const VERTEX_IRREGULAR: u32 = 1;
+/// [`SurfaceVertex::flags`] bit: the curvature is undefined here and nearby (the values are 0 and
+/// the curvature modes show the vertex neutrally). WGSL: `VERTEX_NO_CURVATURE`.
+pub const VERTEX_NO_CURVATURE: u32 = 2;
 
 /// One tessellation vertex as the compute pass writes it and the render pass reads it.
 /// WGSL: `struct SurfaceVertex` in `shaders/common.wgsl`.
@@ -39,18 +51,32 @@ pub struct PatchRecord {
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SurfaceVertex {
     pub position: [f32; 3],
+    /// u in the parent surface's own domain.
     pub u: f32,
     pub normal: [f32; 3],
+    /// v in the parent surface's own domain.
     pub v: f32,
+    /// (Gaussian K, mean H, k1, k2) with k1 ≥ k2, positive toward the normal (the kernel's
+    /// convention: a sphere with outward normals has k = −1/r).
+    pub curvature: [f32; 4],
+    /// The scene object.
+    pub object: u32,
+    /// [`VERTEX_IRREGULAR`] | [`VERTEX_NO_CURVATURE`].
+    pub flags: u32,
+    pub reserved: [u32; 2],
 }
 
 impl SurfaceVertex {
-    /// Vertex attributes: position (0), u (1), normal (2), v (3).
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+    /// Vertex attributes: position (0), u (1), normal (2), v (3), curvature (4), object (5),
+    /// flags (6).
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,
         2 => Float32x3,
         3 => Float32,
+        4 => Float32x4,
+        5 => Uint32,
+        6 => Uint32,
     ];
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -81,4 +107,126 @@ pub struct SceneUniform {
     pub net_color: [f32; 4],
     /// Linear RGBA of the control point dots.
     pub point_color: [f32; 4],
+    /// ([`ShadingMode`] as u32, selected object + 1 or 0, 0, 0).
+    pub shading: [u32; 4],
+    /// (low, high) of the colour ramp's range, (checker cells per unit of u and v).
+    pub range: [f32; 4],
+    /// The colour ramp's stops (linear RGB, alpha unused), evenly spaced from low to high.
+    pub ramp: [[f32; 4]; RAMP_STOPS],
+}
+
+/// Stops of the curvature colour ramp. WGSL: `RAMP_STOPS`.
+pub const RAMP_STOPS: usize = 5;
+
+/// The curvature ramp (linear RGB), low to high: blue, cyan, green, yellow, red — the order
+/// Rhino and most CAD tools use for curvature analysis.
+pub const CURVATURE_RAMP: [[f32; 4]; RAMP_STOPS] = [
+    [0.02, 0.10, 0.85, 1.0],
+    [0.02, 0.65, 0.80, 1.0],
+    [0.10, 0.72, 0.10, 1.0],
+    [0.90, 0.80, 0.05, 1.0],
+    [0.85, 0.05, 0.03, 1.0],
+];
+
+/// How the surface is coloured. WGSL: the `MODE_*` constants of `shaders/surface.wgsl`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShadingMode {
+    /// Lit, one colour.
+    #[default]
+    Plain = 0,
+    /// The unit normal as RGB.
+    Normals = 1,
+    /// A lit checkerboard in the surface's (u, v).
+    Checker = 2,
+    /// Gaussian curvature K on the colour ramp.
+    Gaussian = 3,
+    /// Mean curvature H.
+    Mean = 4,
+    /// Maximum principal curvature k1.
+    K1 = 5,
+    /// Minimum principal curvature k2.
+    K2 = 6,
+}
+
+impl ShadingMode {
+    pub const ALL: [ShadingMode; 7] = [
+        Self::Plain,
+        Self::Normals,
+        Self::Checker,
+        Self::Gaussian,
+        Self::Mean,
+        Self::K1,
+        Self::K2,
+    ];
+
+    /// The name in the panel.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Plain => "Plain (lit)",
+            Self::Normals => "Normals",
+            Self::Checker => "(u, v) checker",
+            Self::Gaussian => "Gaussian curvature K",
+            Self::Mean => "Mean curvature H",
+            Self::K1 => "Max principal k1",
+            Self::K2 => "Min principal k2",
+        }
+    }
+
+    /// The curvature component it shows (index into [`SurfaceVertex::curvature`]), if any.
+    pub fn curvature_component(self) -> Option<usize> {
+        match self {
+            Self::Gaussian => Some(0),
+            Self::Mean => Some(1),
+            Self::K1 => Some(2),
+            Self::K2 => Some(3),
+            _ => None,
+        }
+    }
+
+    /// The lowercase name scripts and the status use: "plain", "normals", "checker",
+    /// "gaussian", "mean", "k1", "k2".
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Plain => "plain",
+            Self::Normals => "normals",
+            Self::Checker => "checker",
+            Self::Gaussian => "gaussian",
+            Self::Mean => "mean",
+            Self::K1 => "k1",
+            Self::K2 => "k2",
+        }
+    }
+
+    /// The mode called `name` (see [`Self::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// One point to evaluate: local (s, t) of patch record `patch_index`. WGSL: `struct PointSample`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PointSample {
+    pub patch_index: u32,
+    pub s: f32,
+    pub t: f32,
+    pub reserved: u32,
+}
+
+/// What point evaluation writes; derivatives with respect to the patch's local (s, t).
+/// WGSL: `struct PointResult`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PointResult {
+    pub point: [f32; 4],
+    pub normal: [f32; 4],
+    pub su: [f32; 4],
+    pub sv: [f32; 4],
+    pub suu: [f32; 4],
+    pub suv: [f32; 4],
+    pub svv: [f32; 4],
+    /// (K, H, k1, k2).
+    pub curvature: [f32; 4],
+    /// (vertex flags, 0, 0, 0).
+    pub flags: [u32; 4],
 }

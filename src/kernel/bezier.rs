@@ -9,6 +9,8 @@
 //! w = Σ_i Σ_j B_{i,p}(u) B_{j,q}(v) w_ij, and the derivatives of the quotient from
 //! The NURBS Book, eq. 4.20 (the rational-surface derivative formula behind A4.4).
 
+use std::collections::BTreeSet;
+
 use glam::{DVec3, DVec4};
 
 use super::MAX_BEZIER_DEGREE;
@@ -247,4 +249,29 @@ impl BezierPatchSet {
             .or_else(|| nudged.collapsed_edge_normal(un, vn))
             .unwrap_or(DVec3::Z)
     }
+}
+
+/// Index pairs of the control net's lines: each patch's rows and columns, shared edges once.
+pub fn net_line_indices(set: &BezierPatchSet) -> Vec<u32> {
+    let mut edges = BTreeSet::new();
+    for patch in set.patches() {
+        let (p, q) = (patch.degree_u(), patch.degree_v());
+        for i in 0..=p {
+            for j in 0..=q {
+                let a = patch.index(i, j);
+                let mut add = |b: u32| {
+                    if a != b {
+                        edges.insert((a.min(b), a.max(b)));
+                    }
+                };
+                if i < p {
+                    add(patch.index(i + 1, j));
+                }
+                if j < q {
+                    add(patch.index(i, j + 1));
+                }
+            }
+        }
+    }
+    edges.into_iter().flat_map(|(a, b)| [a, b]).collect()
 }

@@ -41,13 +41,17 @@ pub struct SurfaceDerivatives {
 }
 
 impl SurfaceDerivatives {
-    /// Su × Sv normalized, or `None` where the tangent plane is degenerate
-    /// (sin² of the angle between Su and Sv below [`DEGENERATE_SIN2`]).
+    /// Su × Sv normalized, or `None` where the tangent plane is degenerate: sin² of the angle
+    /// between Su and Sv below [`DEGENERATE_SIN2`], or one derivative vanishing against the
+    /// other (|Su|² or |Sv|² below [`DEGENERATE_SIN2`] times the other). The second test catches
+    /// poles of rational surfaces, where the derivative along the collapsed edge is rounding
+    /// noise whose direction (and so the sin² test) means nothing.
     pub fn regular_normal(&self) -> Option<DVec3> {
         let n = self.su.cross(self.sv);
         let n2 = n.length_squared();
-        let scale = self.su.length_squared() * self.sv.length_squared();
-        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 {
+        let (a, b) = (self.su.length_squared(), self.sv.length_squared());
+        let scale = a * b;
+        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 && a.min(b) > DEGENERATE_SIN2 * a.max(b) {
             Some(n / n2.sqrt())
         } else {
             None

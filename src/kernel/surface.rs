@@ -923,6 +923,40 @@ impl NurbsSurface {
         })
     }
 
+    /// The distinct knot values bounding the Bézier spans in `direction`: the domain's start, its
+    /// interior breaks and its end. Span `a` of [`Self::bezier_patches`] and
+    /// [`Self::to_bezier_patch_set`] is `[breaks[a], breaks[a + 1]]`.
+    pub fn span_breaks(&self, direction: Direction) -> Vec<f64> {
+        let d = direction.index();
+        ops::distinct_breaks(&self.knots[d], self.degree[d], self.count[d])
+    }
+
+    /// The Bézier patches (indices in the order of [`Self::to_bezier_patch_set`]) on which the
+    /// basis function of control point (i, j) is non-zero, so the patches that change when that
+    /// point moves. Local support (The NURBS Book, property P2.1, and its tensor-product form for
+    /// surfaces): N_{i,p}(u) N_{j,q}(v) vanishes outside [u_i, u_{i+p+1}) × [v_j, v_{j+q+1}).
+    pub fn patches_supported_by(&self, i: usize, j: usize) -> Vec<usize> {
+        let spans = |d: usize, k: usize| -> Vec<usize> {
+            let breaks = self.span_breaks(if d == 0 { Direction::U } else { Direction::V });
+            let knots = &self.knots[d];
+            let (lo, hi) = (knots[k], knots[k + self.degree[d] + 1]);
+            breaks
+                .windows(2)
+                .enumerate()
+                .filter(|(_, w)| w[0] < hi && w[1] > lo)
+                .map(|(a, _)| a)
+                .collect()
+        };
+        if i >= self.count[0] || j >= self.count[1] {
+            return Vec::new();
+        }
+        let nv = self.span_breaks(Direction::V).len().saturating_sub(1);
+        let (su, sv) = (spans(0, i), spans(1, j));
+        su.iter()
+            .flat_map(|&a| sv.iter().map(move |&b| a * nv + b))
+            .collect()
+    }
+
     /// The Bézier patches as a [`BezierPatchSet`] over one shared pool of control points
     /// (patches share their boundary points, so moving one moves both sides of the seam).
     pub fn to_bezier_patch_set(&self) -> Result<BezierPatchSet, GeometryError> {

@@ -1,7 +1,8 @@
-use glam::{Mat4, Vec3};
+use glam::{DVec3, Mat4, Vec3};
+use wgpu::util::DeviceExt;
 
 use crate::gpu::PatchGeometry;
-use crate::gpu::records::{SceneUniform, SurfaceVertex};
+use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, ShadingMode, SurfaceVertex};
 use crate::shaders;
 
 /// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
@@ -10,16 +11,53 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// 4× MSAA: guaranteed for these formats by WebGPU.
 pub const SAMPLE_COUNT: u32 = 4;
 
+/// How the surface is coloured: the mode, the colour ramp's range (curvature modes) and the
+/// highlighted object.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shading {
+    pub mode: ShadingMode,
+    /// (low, high): values at the ramp's ends (clamped beyond).
+    pub range: (f32, f32),
+    pub selected: Option<u32>,
+    /// Checker cells per unit of u and v.
+    pub checker_cells: f32,
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Self {
+            mode: ShadingMode::Plain,
+            range: (-1.0, 1.0),
+            selected: None,
+            checker_cells: 8.0,
+        }
+    }
+}
+
 /// The scene uniform for a view `view_proj` from `eye` into `target`, with the editor's colours
-/// (linear RGB) and control point dots of `point_radius_px` physical pixels.
+/// (linear RGB), control point dots of `point_radius_px` physical pixels and `shading`.
 pub fn scene_uniform(
     view_proj: Mat4,
     eye: Vec3,
     target: &ViewTarget,
     point_radius_px: f32,
+    shading: &Shading,
 ) -> SceneUniform {
     let (w, h) = target.size();
     SceneUniform {
+        shading: [
+            shading.mode as u32,
+            shading.selected.map_or(0, |s| s + 1),
+            0,
+            0,
+        ],
+        range: [
+            shading.range.0,
+            shading.range.1,
+            shading.checker_cells,
+            shading.checker_cells,
+        ],
+        ramp: CURVATURE_RAMP,
         view_proj: view_proj.to_cols_array_2d(),
         eye: eye.extend(1.0).to_array(),
         viewport: [w as f32, h as f32, point_radius_px, 0.0],
@@ -155,6 +193,61 @@ impl ViewTarget {
             .flat_map(|r| &r[..row as usize])
             .copied()
             .collect())
+    }
+}
+
+/// The control net drawn over the surface: points (x, y, z, 1) and line index pairs.
+pub struct ControlNet {
+    points: wgpu::Buffer,
+    lines: wgpu::Buffer,
+    point_count: u32,
+    line_index_count: u32,
+}
+
+fn net_points(points: &[DVec3]) -> Vec<[f32; 4]> {
+    points
+        .iter()
+        .map(|p| [p.x as f32, p.y as f32, p.z as f32, 1.0])
+        .collect()
+}
+
+impl ControlNet {
+    pub fn new(device: &wgpu::Device, points: &[DVec3], lines: &[u32]) -> Self {
+        let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: if contents.is_empty() {
+                    &[0; 16]
+                } else {
+                    contents
+                },
+                usage,
+            })
+        };
+        Self {
+            points: buffer(
+                "control net points",
+                bytemuck::cast_slice(&net_points(points)),
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            ),
+            lines: buffer(
+                "control net lines",
+                bytemuck::cast_slice(lines),
+                wgpu::BufferUsages::INDEX,
+            ),
+            point_count: points.len() as u32,
+            line_index_count: lines.len() as u32,
+        }
+    }
+
+    /// Moves the points (same count as at creation; extra ones are ignored).
+    pub fn update_points(&self, queue: &wgpu::Queue, points: &[DVec3]) {
+        let n = points.len().min(self.point_count as usize);
+        queue.write_buffer(
+            &self.points,
+            0,
+            bytemuck::cast_slice(&net_points(&points[..n])),
+        );
     }
 }
 
@@ -301,13 +394,14 @@ impl ViewportRenderer {
     }
 
     /// Records one render pass into `target`: the surface from `geometry`'s evaluated vertex
-    /// buffer, then the control net and points as `options` ask, seen as [`Self::set_scene`]
+    /// buffer, then `net` (lines and points) as `options` ask, seen as [`Self::set_scene`]
     /// said.
     pub fn render(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &ViewTarget,
         geometry: &PatchGeometry,
+        net: Option<&ControlNet>,
         options: &DrawOptions,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
@@ -345,16 +439,19 @@ impl ViewportRenderer {
             );
             pass.draw_indexed(0..geometry.index_count(), 0, 0..1);
         }
-        if options.show_net && geometry.net_index_count() > 0 {
+        let Some(net) = net else {
+            return;
+        };
+        if options.show_net && net.line_index_count > 0 {
             pass.set_pipeline(&self.net_pipeline);
-            pass.set_vertex_buffer(0, geometry.control_points().slice(..));
-            pass.set_index_buffer(geometry.net_lines().slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..geometry.net_index_count(), 0, 0..1);
+            pass.set_vertex_buffer(0, net.points.slice(..));
+            pass.set_index_buffer(net.lines.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..net.line_index_count, 0, 0..1);
         }
-        if options.show_points && geometry.control_point_count() > 0 {
+        if options.show_points && net.point_count > 0 {
             pass.set_pipeline(&self.dot_pipeline);
-            pass.set_vertex_buffer(0, geometry.control_points().slice(..));
-            pass.draw(0..4, 0..geometry.control_point_count());
+            pass.set_vertex_buffer(0, net.points.slice(..));
+            pass.draw(0..4, 0..net.point_count);
         }
     }
 }

@@ -1,0 +1,295 @@
+//! The document the editor shows: named objects, each a NURBS surface (any degree, knots and
+//! weights) or a set of Bézier patches over shared points (the Utah teapot), with its own
+//! tessellation. Pure kernel data: no GPU and no UI. The GPU evaluator takes each object's
+//! Bézier decomposition ([`SceneObject::decompose`]).
+
+use std::f64::consts::TAU;
+
+use glam::{DAffine3, DVec3};
+
+use crate::kernel::construct;
+use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
+use crate::kernel::{BezierPatchSet, Direction, GeometryError, NurbsSurface, samples};
+
+/// Segments per Bézier span edge a new object gets.
+pub const DEFAULT_SEGMENTS: u32 = 16;
+
+/// What an object is made of.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ObjectGeometry {
+    /// Rational Bézier patches over one shared pool of points (each patch on (0, 1)²).
+    Patches(BezierPatchSet),
+    /// One NURBS surface.
+    Nurbs(NurbsSurface),
+}
+
+/// An object's Bézier patches, as the GPU evaluator takes them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decomposition {
+    pub set: BezierPatchSet,
+    /// Each patch's parameter rectangle (u0, u1, v0, v1) in the object's own domain.
+    pub domains: Vec<[f64; 4]>,
+}
+
+/// One object of the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    pub name: String,
+    pub geometry: ObjectGeometry,
+    /// Segments per Bézier span edge (before the global quality factor).
+    pub segments: u32,
+}
+
+impl SceneObject {
+    pub fn new(name: impl Into<String>, geometry: ObjectGeometry) -> Self {
+        Self {
+            name: name.into(),
+            geometry,
+            segments: DEFAULT_SEGMENTS,
+        }
+    }
+
+    /// The object's Bézier patches and their parameter rectangles (The NURBS Book A5.7 for a
+    /// NURBS surface, through [`NurbsSurface::to_bezier_patch_set`]).
+    pub fn decompose(&self) -> Result<Decomposition, GeometryError> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => Ok(Decomposition {
+                set: set.clone(),
+                domains: vec![[0.0, 1.0, 0.0, 1.0]; set.patches().len()],
+            }),
+            ObjectGeometry::Nurbs(surface) => {
+                let set = surface.to_bezier_patch_set()?;
+                let bu = surface.span_breaks(Direction::U);
+                let bv = surface.span_breaks(Direction::V);
+                let domains = bu
+                    .windows(2)
+                    .flat_map(|wu| bv.windows(2).map(move |wv| [wu[0], wu[1], wv[0], wv[1]]))
+                    .collect();
+                Ok(Decomposition { set, domains })
+            }
+        }
+    }
+
+    /// The control points the user sees and drags: the NURBS net (Cartesian) or the patch pool.
+    pub fn control_points(&self) -> Vec<DVec3> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => set.points().to_vec(),
+            ObjectGeometry::Nurbs(surface) => {
+                let [nu, nv] = surface.count();
+                (0..nu)
+                    .flat_map(|i| (0..nv).map(move |j| surface.control_point(i, j)))
+                    .collect()
+            }
+        }
+    }
+
+    /// Index pairs of the control net's lines over [`Self::control_points`].
+    pub fn net_lines(&self) -> Vec<u32> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => crate::kernel::bezier::net_line_indices(set),
+            ObjectGeometry::Nurbs(surface) => {
+                let [nu, nv] = surface.count();
+                let index = |i: usize, j: usize| (i * nv + j) as u32;
+                let mut lines = Vec::new();
+                for i in 0..nu {
+                    for j in 0..nv {
+                        if i + 1 < nu {
+                            lines.extend([index(i, j), index(i + 1, j)]);
+                        }
+                        if j + 1 < nv {
+                            lines.extend([index(i, j), index(i, j + 1)]);
+                        }
+                    }
+                }
+                lines
+            }
+        }
+    }
+
+    /// The box of the control points (which contains the surface).
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => set.bounds(),
+            ObjectGeometry::Nurbs(surface) => Some(surface.bounds()),
+        }
+    }
+
+    /// "NURBS (2, 5), 7 × 9 points, rational" and the like, for the panel.
+    pub fn describe(&self) -> String {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => format!(
+                "{} Bézier patches, {} points",
+                set.patches().len(),
+                set.points().len()
+            ),
+            ObjectGeometry::Nurbs(s) => {
+                let [p, q] = s.degree();
+                let [nu, nv] = s.count();
+                let kind = if s.is_polynomial() {
+                    "B-spline"
+                } else {
+                    "NURBS"
+                };
+                format!("{kind} degree ({p}, {q}), {nu} × {nv} points")
+            }
+        }
+    }
+
+    /// Moves control point `index` (of [`Self::control_points`]) to `position` and returns the
+    /// indices of the Bézier patches that changed: the point's local support for a NURBS surface
+    /// ([`NurbsSurface::patches_supported_by`]), the patches using the point for a patch set.
+    /// A bad index or a non-finite position is refused and changes nothing.
+    pub fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        match &mut self.geometry {
+            ObjectGeometry::Patches(set) => {
+                set.set_point(index, position)?;
+                Ok(set
+                    .patches()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| p.indices().contains(&(index as u32)))
+                    .map(|(k, _)| k)
+                    .collect())
+            }
+            ObjectGeometry::Nurbs(surface) => {
+                let nv = surface.count()[1];
+                let (i, j) = (index / nv, index % nv);
+                surface.set_point(i, j, position)?;
+                Ok(surface.patches_supported_by(i, j))
+            }
+        }
+    }
+
+    /// Curvature at an n × n grid of parameters in every Bézier patch, from the f64 kernel
+    /// (the automatic colour range is taken from these).
+    pub fn curvature_samples(&self, n: usize) -> Result<Vec<CurvatureValues>, GeometryError> {
+        let decomposition = self.decompose()?;
+        let set = &decomposition.set;
+        let mut values = Vec::new();
+        let n = n.max(2);
+        for k in 0..set.patches().len() {
+            for a in 0..n {
+                for b in 0..n {
+                    let (u, v) = (a as f64 / (n - 1) as f64, b as f64 / (n - 1) as f64);
+                    let d = set.evaluate(k, u, v)?;
+                    if d.regular_normal().is_none() {
+                        continue;
+                    }
+                    let normal = set.normal_from(&set.patches()[k], &d, u, v);
+                    if let Some(c) = CurvatureValues::from_forms(&FundamentalForms::new(&d, normal))
+                    {
+                        values.push(c);
+                    }
+                }
+            }
+        }
+        Ok(values)
+    }
+}
+
+/// The objects of one document.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Scene {
+    pub objects: Vec<SceneObject>,
+}
+
+impl Scene {
+    /// The box around every object.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        self.objects
+            .iter()
+            .filter_map(SceneObject::bounds)
+            .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+
+    /// The sample scene: the Utah teapot, an exact rational torus and sphere, a non-uniform
+    /// B-spline surface of degree (2, 5), a loft and a surface of revolution, in two rows.
+    pub fn demo() -> Result<Self, GeometryError> {
+        let at = |x: f64, y: f64| DAffine3::from_translation(DVec3::new(x, y, 0.0));
+        let teapot = samples::utah_teapot()?;
+        let torus = construct::torus(DVec3::new(8.0, 0.0, 1.0), DVec3::Z, 2.0, 0.8)?;
+        let sphere = construct::sphere(DVec3::new(15.0, 0.0, 2.0), 2.0)?;
+        let sheet = wavy_bspline()?.transformed(&at(-2.5, 6.0))?;
+        let loft = vase_loft()?.transformed(&at(8.0, 8.0))?;
+        let goblet = goblet_revolution()?.transformed(&at(15.0, 8.0))?;
+        let mut objects = vec![
+            SceneObject::new("Utah teapot", ObjectGeometry::Patches(teapot)),
+            SceneObject::new("Torus (rational)", ObjectGeometry::Nurbs(torus)),
+            SceneObject::new("Sphere (rational)", ObjectGeometry::Nurbs(sphere)),
+            SceneObject::new("B-spline (2, 5)", ObjectGeometry::Nurbs(sheet)),
+            SceneObject::new("Loft", ObjectGeometry::Nurbs(loft)),
+            SceneObject::new("Revolution", ObjectGeometry::Nurbs(goblet)),
+        ];
+        objects[0].segments = 12;
+        Ok(Self { objects })
+    }
+}
+
+/// A 7 × 9 non-rational B-spline sheet of degree (2, 5) over non-uniform knots. The double knot
+/// u = 0.45 leaves the degree-2 direction only C0 there: a crease the curvature modes show.
+fn wavy_bspline() -> Result<NurbsSurface, GeometryError> {
+    let (nu, nv) = (7, 9);
+    let mut points = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (x, y) = (i as f64 / (nu - 1) as f64, j as f64 / (nv - 1) as f64);
+            let z = 0.9 * (x * 5.0).sin() * (y * 4.0).cos() + 0.6 * x * y;
+            points.push(DVec3::new(5.0 * x, 4.0 * y, 1.0 + z));
+        }
+    }
+    NurbsSurface::new(
+        [2, 5],
+        [
+            vec![0.0, 0.0, 0.0, 0.2, 0.45, 0.45, 0.8, 1.0, 1.0, 1.0],
+            vec![
+                0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.3, 0.45, 0.7, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0,
+            ],
+        ],
+        [nu, nv],
+        points,
+        None,
+    )
+}
+
+/// A vase: four rational circles of varying radius and height, lofted with degree 3.
+fn vase_loft() -> Result<NurbsSurface, GeometryError> {
+    let sections = [(0.0, 1.2), (1.2, 2.0), (2.6, 0.9), (3.6, 1.4)]
+        .iter()
+        .map(|&(z, r)| construct::circle(DVec3::new(0.0, 0.0, z), DVec3::Z, DVec3::X, r))
+        .collect::<Result<Vec<_>, _>>()?;
+    construct::loft(&sections, 3)
+}
+
+/// A goblet: an interpolated cubic profile revolved a full turn about z.
+fn goblet_revolution() -> Result<NurbsSurface, GeometryError> {
+    let profile: Vec<DVec3> = [(1.3, 0.0), (0.3, 0.3), (0.25, 1.4), (1.2, 2.2), (1.7, 3.4)]
+        .iter()
+        .map(|&(r, z)| DVec3::new(r, 0.0, z))
+        .collect();
+    let curve = construct::interpolate(&profile, 3)?;
+    construct::revolve(&curve, DVec3::ZERO, DVec3::Z, TAU)
+}
+
+/// The (2 %, 98 %) percentiles of `values` (non-finite ones ignored): a colour range that a few
+/// extreme values (a pole, a cusp) do not wash out. A range of zero width is widened around its
+/// value, by 10 % of it or 1e-9, so a constant reads as the ramp's middle. `None` when there
+/// is no finite value.
+pub fn robust_range(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
+    let mut sorted: Vec<f64> = values.into_iter().filter(|v| v.is_finite()).collect();
+    if sorted.is_empty() {
+        return None;
+    }
+    sorted.sort_by(f64::total_cmp);
+    let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.02), at(0.98));
+    if hi > lo {
+        Some((lo, hi))
+    } else {
+        let pad = (0.1 * lo.abs()).max(1e-9);
+        Some((lo - pad, hi + pad))
+    }
+}
