@@ -5,7 +5,7 @@ mod cli {
     use std::io::Read;
     use std::process::ExitCode;
 
-    use clap::{Parser, Subcommand};
+    use clap::{Parser, Subcommand, ValueEnum};
 
     /// knotwork: a freeform-surface editor (Bézier, B-spline, NURBS) evaluated on the GPU.
     /// Without a subcommand it opens the editor window.
@@ -27,11 +27,20 @@ mod cli {
         Eval {
             /// The request file, or - for standard input.
             request: String,
+            /// cpu: the f64 kernel; gpu: the WGSL compute shaders in f32 (headless, no window).
+            #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+            backend: Backend,
         },
     }
 
+    #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+    pub enum Backend {
+        Cpu,
+        Gpu,
+    }
+
     /// Runs `knotwork eval`: exit code 0 with the results on stdout, 1 with the error on stderr.
-    pub fn eval(path: &str) -> ExitCode {
+    pub fn eval(path: &str, backend: Backend) -> ExitCode {
         let text = if path == "-" {
             let mut text = String::new();
             std::io::stdin()
@@ -48,7 +57,11 @@ mod cli {
                 return ExitCode::FAILURE;
             }
         };
-        match knotwork::io::eval::evaluate_request(&text) {
+        let response = match backend {
+            Backend::Cpu => knotwork::io::eval::evaluate_request(&text).map_err(|e| e.to_string()),
+            Backend::Gpu => eval_gpu(&text),
+        };
+        match response {
             Ok(response) => {
                 println!("{response}");
                 ExitCode::SUCCESS
@@ -59,6 +72,35 @@ mod cli {
             }
         }
     }
+
+    /// The request evaluated by the compute shaders on a headless device.
+    fn eval_gpu(text: &str) -> Result<serde_json::Value, String> {
+        use knotwork::io::eval;
+        let request = eval::parse_request(text).map_err(|e| e.to_string())?;
+        let context = knotwork::gpu::GpuContext::headless_blocking().map_err(|e| e.to_string())?;
+        let mut failure = None;
+        let response = eval::respond(&request, |surface, pairs| {
+            match knotwork::gpu::point_eval::evaluate_points(
+                &context.device,
+                &context.queue,
+                surface,
+                pairs,
+            ) {
+                Ok(results) => results
+                    .into_iter()
+                    .map(|r| r.map_err(|e| e.to_string()))
+                    .collect(),
+                Err(e) => {
+                    failure = Some(e.to_string());
+                    Vec::new()
+                }
+            }
+        });
+        match failure {
+            Some(e) => Err(e),
+            None => Ok(response),
+        }
+    }
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -67,8 +109,8 @@ fn main() -> std::process::ExitCode {
     use std::process::ExitCode;
 
     let cli = cli::Cli::parse();
-    if let Some(cli::Command::Eval { request }) = &cli.command {
-        return cli::eval(request);
+    if let Some(cli::Command::Eval { request, backend }) = &cli.command {
+        return cli::eval(request, *backend);
     }
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("knotwork=info,warn"),

@@ -198,8 +198,14 @@ fn eval_cli_reports_analytic_sphere_values() {
 
 /// Runs `knotwork eval -` with `input` on standard input.
 fn run_stdin(input: &str) -> std::process::Output {
+    run_stdin_with(input, &[])
+}
+
+/// Runs `knotwork eval - EXTRA...` with `input` on standard input.
+fn run_stdin_with(input: &str, extra: &[&str]) -> std::process::Output {
     let mut child = knotwork()
         .args(["eval", "-"])
+        .args(extra)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -266,4 +272,102 @@ fn eval_cli_reports_every_surface_validation_error() {
         checked += 1;
     }
     assert!(checked >= 10, "only {checked} cases reached the CLI");
+}
+
+#[test]
+fn eval_cli_on_the_gpu_agrees_with_the_cpu() {
+    // A torus (rational, exact) and a non-uniform rational B-spline of degree (3, 2), at points
+    // inside spans, on knots, on the domain's edges and one outside.
+    let torus = construct::torus(DVec3::new(0.5, 0.0, 0.0), DVec3::Z, 2.0, 0.7).unwrap();
+    let points = (0..5)
+        .flat_map(|i| {
+            (0..4).map(move |j| DVec3::new(i as f64, j as f64, ((i + 2 * j) % 3) as f64 * 0.4))
+        })
+        .collect();
+    let bspline = knotwork::kernel::NurbsSurface::new(
+        [3, 2],
+        [
+            vec![0.0, 0.0, 0.0, 0.0, 0.4, 2.0, 2.0, 2.0, 2.0],
+            vec![1.0, 1.0, 1.0, 1.5, 3.0, 3.0, 3.0],
+        ],
+        [5, 4],
+        points,
+        Some((0..20).map(|k| 0.5 + (k % 3) as f64).collect()),
+    )
+    .unwrap();
+    for (surface, params) in [
+        (
+            torus,
+            json!([
+                [0.1, 0.2],
+                [0.25, 0.5],
+                [0.0, 0.0],
+                [1.0, 1.0],
+                [0.77, 0.31],
+                [1.2, 0.5]
+            ]),
+        ),
+        (
+            bspline,
+            json!([
+                [0.2, 1.2],
+                [0.4, 1.5],
+                [0.0, 1.0],
+                [2.0, 3.0],
+                [1.3, 2.7],
+                [0.5, 3.5]
+            ]),
+        ),
+    ] {
+        let size = {
+            let (lo, hi) = surface.bounds();
+            (hi - lo).length()
+        };
+        let object = NamedGeometry {
+            name: None,
+            geometry: Geometry::Surface(surface),
+        };
+        let request =
+            json!({"surface": json::object_to_value(&object), "params": params}).to_string();
+        let run = |extra: &[&str]| -> Vec<Value> {
+            let out = run_stdin_with(&request, extra);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let response: Value = serde_json::from_slice(&out.stdout).unwrap();
+            response["results"].as_array().unwrap().clone()
+        };
+        let cpu = run(&[]);
+        let gpu = run(&["--backend", "gpu"]);
+        assert_eq!(cpu.len(), gpu.len());
+        for (c, g) in cpu.iter().zip(&gpu) {
+            if c.get("error").is_some() {
+                assert_eq!(c["error"], g["error"], "the same error on both backends");
+                continue;
+            }
+            assert!(
+                vec3(&c["point"]).distance(vec3(&g["point"])) <= 1e-5 * size,
+                "{c}\n{g}"
+            );
+            let angle = vec3(&c["normal"]).angle_between(vec3(&g["normal"]));
+            assert!(angle <= 1e-3, "normal {angle} rad: {c}\n{g}");
+            for key in ["su", "sv", "suu", "suv", "svv"] {
+                let (a, b) = (vec3(&c[key]), vec3(&g[key]));
+                let scale = vec3(&c["su"])
+                    .length()
+                    .max(vec3(&c["sv"]).length())
+                    .max(a.length());
+                assert!(a.distance(b) <= 1e-4 * scale, "{key}: {a} vs {b}");
+            }
+            for (key, power) in [("gaussian", 2), ("mean", 1), ("k1", 1), ("k2", 1)] {
+                let (a, b) = (c[key].as_f64().unwrap(), g[key].as_f64().unwrap());
+                let scale = size.powi(power);
+                let error = (a - b).abs() * scale / (a.abs() * scale).max(1.0);
+                assert!(error <= 1e-3, "{key}: {a} vs {b}");
+            }
+            assert_eq!(c["regular"], g["regular"]);
+        }
+    }
 }

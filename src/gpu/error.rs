@@ -40,6 +40,8 @@ pub enum GpuError {
         patch: usize,
         count: usize,
     },
+    #[error("the surface could not be prepared for the GPU: {0}")]
+    Geometry(String),
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),
 }

@@ -5,6 +5,8 @@ pub mod context;
 pub mod error;
 pub mod patch_eval;
 #[cfg(not(target_arch = "wasm32"))]
+pub mod point_eval;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod readback;
 pub mod records;
 pub mod timing;

@@ -14,6 +14,7 @@ use serde_json::{Value, json};
 
 use super::json::{FormatError, Geometry, object_from_value};
 use crate::kernel::NurbsSurface;
+use crate::kernel::surface::LocalGeometry;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -26,17 +27,15 @@ fn vector(v: DVec3) -> Value {
     json!([v.x, v.y, v.z])
 }
 
-/// The result object of one parameter pair.
-pub fn evaluate_one(surface: &NurbsSurface, params: &[f64]) -> Value {
-    let [u, v] = match params {
-        [u, v] => [*u, *v],
-        _ => {
-            return json!({
-                "error": format!("expected a parameter pair [u, v], found {} numbers", params.len())
-            });
-        }
-    };
-    match surface.local_geometry(u, v) {
+/// A parsed request: the surface and the parameter entries (each should be a pair).
+pub struct EvalRequest {
+    pub surface: NurbsSurface,
+    pub params: Vec<Vec<f64>>,
+}
+
+/// The result object of one parameter pair: the local geometry, or the error for that entry.
+pub fn result_value(u: f64, v: f64, result: Result<LocalGeometry, String>) -> Value {
+    match result {
         Ok(g) => {
             let d = g.derivatives;
             let c = g.curvature;
@@ -58,13 +57,12 @@ pub fn evaluate_one(surface: &NurbsSurface, params: &[f64]) -> Value {
                 "regular": g.regular,
             })
         }
-        Err(e) => json!({ "u": u, "v": v, "error": e.to_string() }),
+        Err(e) => json!({ "u": u, "v": v, "error": e }),
     }
 }
 
-/// Reads a request and evaluates it. Errors in the request itself (malformed JSON, a bad
-/// surface) are returned; parameters outside the domain become per-result errors.
-pub fn evaluate_request(text: &str) -> Result<Value, FormatError> {
+/// Reads a request. Errors in the request itself (malformed JSON, a bad surface) are returned.
+pub fn parse_request(text: &str) -> Result<EvalRequest, FormatError> {
     let value: Value = serde_json::from_str(text).map_err(|e| FormatError {
         path: String::new(),
         message: format!("not valid JSON: {e}"),
@@ -82,10 +80,54 @@ pub fn evaluate_request(text: &str) -> Result<Value, FormatError> {
             });
         }
     };
+    Ok(EvalRequest {
+        surface,
+        params: request.params,
+    })
+}
+
+/// The response to `request`: entries that are not a pair become per-result errors, the pairs
+/// are evaluated together by `evaluate` (one result per pair, in order).
+pub fn respond(
+    request: &EvalRequest,
+    evaluate: impl FnOnce(&NurbsSurface, &[(f64, f64)]) -> Vec<Result<LocalGeometry, String>>,
+) -> Value {
+    let pairs: Vec<(f64, f64)> = request
+        .params
+        .iter()
+        .filter_map(|p| match p[..] {
+            [u, v] => Some((u, v)),
+            _ => None,
+        })
+        .collect();
+    let mut evaluated = evaluate(&request.surface, &pairs).into_iter();
     let results: Vec<Value> = request
         .params
         .iter()
-        .map(|p| evaluate_one(&surface, p))
+        .map(|p| match p[..] {
+            [u, v] => result_value(
+                u,
+                v,
+                evaluated
+                    .next()
+                    .unwrap_or_else(|| Err("the evaluator returned too few results".into())),
+            ),
+            _ => json!({
+                "error": format!("expected a parameter pair [u, v], found {} numbers", p.len())
+            }),
+        })
         .collect();
-    Ok(json!({ "results": results }))
+    json!({ "results": results })
+}
+
+/// Reads a request and evaluates it with the f64 kernel. Errors in the request itself are
+/// returned; parameters outside the domain become per-result errors.
+pub fn evaluate_request(text: &str) -> Result<Value, FormatError> {
+    let request = parse_request(text)?;
+    Ok(respond(&request, |surface, pairs| {
+        pairs
+            .iter()
+            .map(|&(u, v)| surface.local_geometry(u, v).map_err(|e| e.to_string()))
+            .collect()
+    }))
 }
