@@ -7,7 +7,6 @@
 const MAX_DEGREE: u32 = 9u;          // Rust: gpu::records::GPU_MAX_DEGREE
 const WORKGROUP_SIZE: u32 = 64u;     // Rust: gpu::records::EVAL_WORKGROUP_SIZE
 const DEGENERATE_SIN2: f32 = 1e-10;  // Rust: kernel::bezier::DEGENERATE_SIN2
-const NORMAL_NUDGE: f32 = 1e-3;      // Rust: kernel::bezier::NORMAL_NUDGE
 // How far toward the patch centre curvature at a degenerate point is sampled (Rust:
 // gpu::records::GPU_CURVATURE_NUDGE). Farther than the kernel's f64 CURVATURE_NUDGE: in f32 the
 // fundamental forms lose about eps / nudge^2 of relative accuracy (measured on the sphere's
@@ -101,8 +100,8 @@ struct Derivatives {
 // Position and partial derivatives up to order 2 of a patch of any degree up to MAX_DEGREE at
 // local (s, t) in [0, 1]^2.
 fn evaluate_patch(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
-    let p = rec.degree_u;
-    let q = rec.degree_v;
+    let p = degree_u(rec);
+    let q = degree_v(rec);
     let bu = make_basis(p, s);
     let bv = make_basis(q, t);
     var rows0: array<vec4<f32>, 10>;
@@ -186,6 +185,21 @@ fn evaluate_bicubic(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
     return rational_derivatives(a0, a1, a_vv);
 }
 
+// Set per pipeline (gpu::patch_eval): the degrees of every patch the pipeline evaluates, or 0
+// for "read them from the record". With constant degrees every loop has a constant trip count,
+// so the driver can unroll it and keep the basis and row arrays in registers; on lavapipe that
+// made the demo scene's pass about 10 times faster than one general pipeline.
+override DEGREE_U: u32 = 0u;
+override DEGREE_V: u32 = 0u;
+
+fn degree_u(rec: PatchRecord) -> u32 {
+    return select(rec.degree_u, DEGREE_U, DEGREE_U != 0u);
+}
+
+fn degree_v(rec: PatchRecord) -> u32 {
+    return select(rec.degree_v, DEGREE_V, DEGREE_V != 0u);
+}
+
 // Set per pipeline (gpu::patch_eval): true in the pipeline that evaluates the bicubic patches,
 // which is then compiled without the general-degree path. That path's private arrays slow the
 // whole kernel on some drivers (8x on lavapipe) even where it never runs.
@@ -225,28 +239,6 @@ fn collapsed_edge_normal(d: Derivatives, s: f32, t: f32) -> vec3<f32> {
         return n * inverseSqrt(n2);
     }
     return vec3<f32>(0.0);
-}
-
-// The normal of kernel::bezier::BezierPatchSet::normal: regular, else the collapsed-edge limit,
-// else the same rules at a parameter nudged toward the patch centre, else +z. Never NaN.
-fn surface_normal(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> vec3<f32> {
-    var n = regular_normal(d);
-    if (all(n == vec3<f32>(0.0))) {
-        n = collapsed_edge_normal(d, s, t);
-    }
-    if (all(n == vec3<f32>(0.0))) {
-        let sn = s + (0.5 - s) * NORMAL_NUDGE;
-        let tn = t + (0.5 - t) * NORMAL_NUDGE;
-        let nudged = evaluate(rec, sn, tn);
-        n = regular_normal(nudged);
-        if (all(n == vec3<f32>(0.0))) {
-            n = collapsed_edge_normal(nudged, sn, tn);
-        }
-    }
-    if (all(n == vec3<f32>(0.0))) {
-        n = vec3<f32>(0.0, 0.0, 1.0);
-    }
-    return n;
 }
 
 // Curvature from the fundamental forms (kernel::diffgeo::CurvatureValues::from_forms, with
@@ -294,9 +286,12 @@ fn curvature(d: Derivatives, n: vec3<f32>) -> CurvatureResult {
 const VERTEX_IRREGULAR: u32 = 1u;     // Su x Sv vanishes: the normal is a limit (pole, collapsed edge)
 const VERTEX_NO_CURVATURE: u32 = 2u;  // curvature undefined here and nearby: shown neutrally
 
-// Normal, curvature and flags of a patch at local (s, t), given its derivatives there. At a
-// degenerate point the curvature is the limit, sampled CURVATURE_NUDGE of the way to the centre
-// (the kernel samples closer, in f64).
+// Normal, curvature and flags of a patch at local (s, t), given its derivatives there.
+// Regular points: Su x Sv and the curvature from the fundamental forms. Degenerate points (the
+// rules of kernel::bezier::BezierPatchSet::normal): the collapsed-edge limit normal; one more
+// evaluation CURVATURE_NUDGE of the way to the patch centre gives the limit curvature (the
+// kernel samples closer, in f64) and, where the collapsed-edge rule fails too, the normal (the
+// kernel nudges NORMAL_NUDGE for that); +z as the last resort. Never NaN.
 struct Shape {
     normal: vec3<f32>,
     curvature: vec4<f32>,
@@ -305,21 +300,35 @@ struct Shape {
 
 fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
     var out: Shape;
-    out.normal = surface_normal(rec, d, s, t);
-    let regular = any(regular_normal(d) != vec3<f32>(0.0));
     var k: CurvatureResult;
-    if (regular) {
-        k = curvature(d, out.normal);
+    let regular = regular_normal(d);
+    if (any(regular != vec3<f32>(0.0))) {
+        out.normal = regular;
+        k = curvature(d, regular);
     } else {
-        out.flags |= VERTEX_IRREGULAR;
+        out.flags = VERTEX_IRREGULAR;
         let sn = s + (0.5 - s) * CURVATURE_NUDGE;
         let tn = t + (0.5 - t) * CURVATURE_NUDGE;
         let nd = evaluate(rec, sn, tn);
-        var nn = surface_normal(rec, nd, sn, tn);
-        if (dot(nn, out.normal) < 0.0) {
-            nn = -nn;
+        var inside = regular_normal(nd);
+        if (all(inside == vec3<f32>(0.0))) {
+            inside = collapsed_edge_normal(nd, sn, tn);
         }
-        k = curvature(nd, nn);
+        var n = collapsed_edge_normal(d, s, t);
+        if (all(n == vec3<f32>(0.0))) {
+            n = inside;
+        }
+        if (all(n == vec3<f32>(0.0))) {
+            n = vec3<f32>(0.0, 0.0, 1.0);
+        }
+        out.normal = n;
+        // Keep the orientation of the limit normal at the point itself.
+        if (dot(inside, n) < 0.0) {
+            inside = -inside;
+        }
+        if (any(inside != vec3<f32>(0.0))) {
+            k = curvature(nd, inside);
+        }
     }
     if (!k.defined) {
         out.flags |= VERTEX_NO_CURVATURE;
@@ -433,8 +442,8 @@ fn edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
 // surface, or of two objects whose boundary control points are equal) write bit-identical
 // vertices along their shared edge: no cracks. Elsewhere it is the tensor-product value.
 fn grid_position(rec: PatchRecord, i: u32, j: u32, interior: vec3<f32>) -> vec3<f32> {
-    let p = rec.degree_u;
-    let q = rec.degree_v;
+    let p = degree_u(rec);
+    let q = degree_v(rec);
     if (i == 0u || i == rec.segments_u) {
         // The row at u = 0 or 1: entries r (q + 1) .. r (q + 1) + q, along v.
         let r = select(0u, p, i != 0u);

@@ -247,7 +247,7 @@ impl KnotworkApp {
             }
             Err(e) => app.status.error = Some(e),
         }
-        app.select(Some(0));
+        app.select(None);
         app.refresh_status();
         status::publish(&app.status);
         log::info!("knotwork starting: {}", app.status.to_json());
@@ -432,7 +432,8 @@ impl KnotworkApp {
     }
 
     /// The colour ramp's range in the current mode: the manual one, or the robust automatic one
-    /// over the f64 kernel's curvature samples of every object.
+    /// (area-weighted 2–98 % percentiles) over the f64 kernel's curvature samples of every
+    /// object.
     fn color_range(&mut self) -> Option<(f64, f64)> {
         let component = self.shading.curvature_component()?;
         if let Some(range) = self.manual_range {
@@ -445,7 +446,7 @@ impl KnotworkApp {
                     values.extend(
                         samples
                             .iter()
-                            .map(|c| [c.gaussian, c.mean, c.k1, c.k2][component]),
+                            .map(|(c, area)| ([c.gaussian, c.mean, c.k1, c.k2][component], *area)),
                     );
                 }
             }

@@ -13,6 +13,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod app;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod bench;
 pub mod gpu;
 pub mod io;
 pub mod kernel;

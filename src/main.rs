@@ -31,6 +31,31 @@ mod cli {
             #[arg(long, value_enum, default_value_t = Backend::Cpu)]
             backend: Backend,
         },
+        /// Measure the GPU evaluator: vertices per second of the compute pass (teapot at 64 and
+        /// 128 segments, a 32 × 32 bicubic B-spline at 16) and edit latency.
+        Bench {
+            /// Timed repetitions per figure (the median is printed).
+            #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+            iterations: u64,
+        },
+    }
+
+    /// Runs `knotwork bench`.
+    pub fn bench(iterations: u64) -> ExitCode {
+        let context = match knotwork::gpu::GpuContext::headless_blocking() {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("knotwork bench: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        match knotwork::bench::run(&context, iterations as usize, &mut std::io::stdout()) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("knotwork bench: {e}");
+                ExitCode::FAILURE
+            }
+        }
     }
 
     #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -109,8 +134,10 @@ fn main() -> std::process::ExitCode {
     use std::process::ExitCode;
 
     let cli = cli::Cli::parse();
-    if let Some(cli::Command::Eval { request, backend }) = &cli.command {
-        return cli::eval(request, *backend);
+    match &cli.command {
+        Some(cli::Command::Eval { request, backend }) => return cli::eval(request, *backend),
+        Some(cli::Command::Bench { iterations }) => return cli::bench(*iterations),
+        None => {}
     }
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("knotwork=info,warn"),

@@ -164,9 +164,14 @@ impl SceneObject {
         }
     }
 
-    /// Curvature at an n × n grid of parameters in every Bézier patch, from the f64 kernel
-    /// (the automatic colour range is taken from these).
-    pub fn curvature_samples(&self, n: usize) -> Result<Vec<CurvatureValues>, GeometryError> {
+    /// Curvature at an n × n grid of parameters in every Bézier patch, from the f64 kernel, each
+    /// with the area it stands for (|Su × Sv| in the patch's own parameters, so that a small
+    /// patch such as the teapot's spout tip does not weigh as much as the body). The automatic
+    /// colour range is taken from these.
+    pub fn curvature_samples(
+        &self,
+        n: usize,
+    ) -> Result<Vec<(CurvatureValues, f64)>, GeometryError> {
         let decomposition = self.decompose()?;
         let set = &decomposition.set;
         let mut values = Vec::new();
@@ -182,7 +187,7 @@ impl SceneObject {
                     let normal = set.normal_from(&set.patches()[k], &d, u, v);
                     if let Some(c) = CurvatureValues::from_forms(&FundamentalForms::new(&d, normal))
                     {
-                        values.push(c);
+                        values.push((c, d.su.cross(d.sv).length()));
                     }
                 }
             }
@@ -274,22 +279,81 @@ fn goblet_revolution() -> Result<NurbsSurface, GeometryError> {
     construct::revolve(&curve, DVec3::ZERO, DVec3::Z, TAU)
 }
 
-/// The (2 %, 98 %) percentiles of `values` (non-finite ones ignored): a colour range that a few
-/// extreme values (a pole, a cusp) do not wash out. A range of zero width is widened around its
-/// value, by 10 % of it or 1e-9, so a constant reads as the ramp's middle. `None` when there
-/// is no finite value.
-pub fn robust_range(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
-    let mut sorted: Vec<f64> = values.into_iter().filter(|v| v.is_finite()).collect();
+/// The weighted (2 %, 98 %) percentiles of `(value, weight)` pairs (non-finite values and
+/// weights ≤ 0 ignored): a colour range that small regions of extreme values (a pole, a cusp, a
+/// spout's tip) do not wash out. A range of zero width is widened around its value, by 10 % of
+/// it or 1e-9, so a constant reads as the ramp's middle. `None` when nothing is left.
+pub fn robust_range(values: impl IntoIterator<Item = (f64, f64)>) -> Option<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> = values
+        .into_iter()
+        .filter(|(v, w)| v.is_finite() && w.is_finite() && *w > 0.0)
+        .collect();
     if sorted.is_empty() {
         return None;
     }
-    sorted.sort_by(f64::total_cmp);
-    let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = sorted.iter().map(|(_, w)| w).sum();
+    let at = |q: f64| {
+        let mut acc = 0.0;
+        for &(v, w) in &sorted {
+            acc += w;
+            if acc >= q * total {
+                return v;
+            }
+        }
+        sorted[sorted.len() - 1].0
+    };
     let (lo, hi) = (at(0.02), at(0.98));
     if hi > lo {
         Some((lo, hi))
     } else {
         let pad = (0.1 * lo.abs()).max(1e-9);
         Some((lo - pad, hi + pad))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_robust_range_ignores_a_few_extremes_and_widens_a_constant() {
+        let mut values: Vec<(f64, f64)> = (0..1000).map(|k| (k as f64 / 999.0, 1.0)).collect();
+        values.extend([
+            (1e9, 1.0),
+            (-1e9, 1.0),
+            (f64::NAN, 1.0),
+            (f64::INFINITY, 1.0),
+        ]);
+        // Many samples over a tiny area count for little.
+        values.extend((0..500).map(|_| (1e6, 1e-6)));
+        let (lo, hi) = robust_range(values).unwrap();
+        assert!(
+            lo > -0.01 && lo < 0.05 && hi > 0.95 && hi < 1.01,
+            "({lo}, {hi})"
+        );
+        let (lo, hi) = robust_range([(0.25, 1.0); 10]).unwrap();
+        assert!(lo < 0.25 && hi > 0.25 && (lo + hi - 0.5).abs() < 1e-12);
+        assert_eq!(robust_range([(f64::NAN, 1.0)]), None);
+    }
+
+    #[test]
+    fn the_demo_scene_decomposes_and_editing_reports_the_local_support() {
+        let mut scene = Scene::demo().unwrap();
+        let counts: Vec<usize> = scene
+            .objects
+            .iter()
+            .map(|o| o.decompose().unwrap().set.patches().len())
+            .collect();
+        assert_eq!(counts, [32, 16, 8, 16, 4, 8]);
+        // The (2, 5) sheet, point (4, 4): N_{4,2} lives on [u_4, u_7) = [0.45, 1), two of the
+        // four u-spans; N_{4,5} on [v_4, v_10) = [0, 1), all four v-spans.
+        let sheet = &mut scene.objects[3];
+        let patches = sheet.move_control_point(4 * 9 + 4, DVec3::ONE).unwrap();
+        assert_eq!(patches, [8, 9, 10, 11, 12, 13, 14, 15]);
+        let before = sheet.clone();
+        assert!(sheet.move_control_point(0, DVec3::NAN).is_err());
+        assert!(sheet.move_control_point(10_000, DVec3::ONE).is_err());
+        assert_eq!(*sheet, before);
     }
 }

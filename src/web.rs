@@ -6,6 +6,7 @@ use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
 use crate::app::{KnotworkApp, wgpu_configuration};
+use crate::gpu::ShadingMode;
 use crate::status::{self, ExternalCommand};
 
 thread_local! {
@@ -59,10 +60,57 @@ pub fn status_json() -> String {
     current.to_json()
 }
 
-/// Re-tessellates at `segments` per patch edge (errors show in the status).
+/// Re-tessellates every object at `segments` per Bézier span edge (errors show in the status).
 #[wasm_bindgen]
 pub fn set_segments(segments: u32) {
     status::send(ExternalCommand::SetSegments(segments));
+}
+
+/// Sets the global quality factor (0.25..=4) on every object's segments.
+#[wasm_bindgen]
+pub fn set_quality(quality: f32) {
+    status::send(ExternalCommand::SetQuality(quality));
+}
+
+/// Sets the shading mode by name ("plain", "normals", "checker", "gaussian", "mean", "k1",
+/// "k2"); false for an unknown name.
+#[wasm_bindgen]
+pub fn set_shading(mode: String) -> bool {
+    match ShadingMode::from_name(&mode) {
+        Some(mode) => {
+            status::send(ExternalCommand::SetShading(mode));
+            true
+        }
+        None => false,
+    }
+}
+
+/// A manual colour range for the curvature modes.
+#[wasm_bindgen]
+pub fn set_range(low: f64, high: f64) {
+    status::send(ExternalCommand::SetRange(Some((low, high))));
+}
+
+/// Back to the automatic (robust percentile) colour range.
+#[wasm_bindgen]
+pub fn auto_range() {
+    status::send(ExternalCommand::SetRange(None));
+}
+
+/// Selects object `index` (negative: none).
+#[wasm_bindgen]
+pub fn select_object(index: i32) {
+    status::send(ExternalCommand::Select(usize::try_from(index).ok()));
+}
+
+/// Moves control point `index` of `object` to (x, y, z).
+#[wasm_bindgen]
+pub fn move_control_point(object: u32, index: u32, x: f64, y: f64, z: f64) {
+    status::send(ExternalCommand::MoveControlPoint {
+        object: object as usize,
+        index: index as usize,
+        position: [x, y, z],
+    });
 }
 
 /// Redraws every frame (true) or only on change (false).

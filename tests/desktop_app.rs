@@ -50,9 +50,16 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
         "{status}"
     );
     assert!(!status["adapter"].as_str().unwrap_or("").is_empty());
-    assert_eq!(status["patches"], 32);
-    assert_eq!(status["segments"], 32);
-    assert_eq!(status["vertices"], 32 * 33 * 33);
+    // The demo scene: teapot (32 patches at 12 segments) and five NURBS objects (52 Bézier
+    // patches at 16), all evaluated by the first compute pass.
+    assert_eq!(status["objects"], 6);
+    assert_eq!(status["patches"], 84);
+    assert_eq!(
+        status["segments"],
+        serde_json::json!([12, 16, 16, 16, 16, 16])
+    );
+    assert_eq!(status["vertices"], 32 * 13 * 13 + 52 * 17 * 17);
+    assert_eq!(status["patches_reevaluated"], 84);
     assert!(status["frames"].as_u64().unwrap_or(0) >= 3, "{status}");
     // The start-up log carries the same status for users.
     assert!(stderr.contains("knotwork status: {"), "{stderr}");

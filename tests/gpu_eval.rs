@@ -289,6 +289,9 @@ fn degree_nine_is_evaluated_and_degree_ten_is_refused() {
     }
 }
 
+/// The bits of f32 homogeneous control points.
+type ControlBits = Vec<[u32; 4]>;
+
 /// The f32 values of the control points the GPU holds for `set`.
 fn uploaded_points(set: &BezierPatchSet) -> Vec<[u32; 4]> {
     set.points()
@@ -322,7 +325,7 @@ fn edges_by_control_points(
                     .position
                     .map(f32::to_bits)
             };
-            let sides: [(Vec<[u32; 4]>, Vec<[u32; 3]>); 4] = [
+            let sides: [(ControlBits, Vec<[u32; 3]>); 4] = [
                 (
                     (0..=q)
                         .map(|j| values[patch.index(0, j) as usize])

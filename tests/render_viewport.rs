@@ -5,12 +5,16 @@
 mod common;
 
 use glam::{DMat4, DVec3};
+use knotwork::gpu::ShadingMode;
+use knotwork::gpu::records::{CURVATURE_RAMP, RAMP_STOPS};
 use knotwork::gpu::{GpuContext, ObjectPatches, PatchEvaluator, PatchGeometry};
 use knotwork::kernel::bezier::net_line_indices;
+use knotwork::kernel::construct;
 use knotwork::kernel::{BezierPatchSet, samples};
 use knotwork::render::{
     ControlNet, DrawOptions, POINT_COLOR, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
+use knotwork::scene::{ObjectGeometry, SceneObject};
 use knotwork::view::OrbitCamera;
 
 const WIDTH: u32 = 320;
@@ -354,4 +358,178 @@ fn control_net_lines_join_neighbouring_points() {
     }
     eprintln!("{drawn} of {checked} net edge midpoints are drawn");
     assert!(checked > 300 && drawn == checked, "{drawn} of {checked}");
+}
+
+/// Renders the objects of `scene` (each at 16 segments per span), framed, in `shading`.
+fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shading) -> Vec<u8> {
+    let decompositions: Vec<_> = objects.iter().map(|o| o.decompose().unwrap()).collect();
+    let inputs: Vec<ObjectPatches<'_>> = decompositions
+        .iter()
+        .map(|d| ObjectPatches {
+            set: &d.set,
+            domains: &d.domains,
+            segments: SEGMENTS,
+        })
+        .collect();
+    let evaluator = PatchEvaluator::new(&context.device);
+    let mut geometry = PatchGeometry::new(&context.device, &evaluator, &inputs).unwrap();
+    let (lo, hi) = objects
+        .iter()
+        .filter_map(SceneObject::bounds)
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+        .unwrap();
+    let mut camera = OrbitCamera::default();
+    camera.frame(lo.as_vec3(), hi.as_vec3(), WIDTH as f32 / HEIGHT as f32);
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
+    let scene = scene_uniform(
+        camera.view_projection(WIDTH as f32 / HEIGHT as f32),
+        camera.eye(),
+        &target,
+        POINT_RADIUS,
+        shading,
+    );
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    geometry.encode(&context.queue, &mut encoder, &evaluator, None);
+    renderer.set_scene(&context.queue, &scene);
+    let options = DrawOptions {
+        show_net: false,
+        show_points: false,
+        ..Default::default()
+    };
+    renderer.render(&mut encoder, &target, &geometry, None, &options, None);
+    context.queue.submit([encoder.finish()]);
+    target.read_rgba(&context.device, &context.queue).unwrap()
+}
+
+/// The sRGB bytes of the ramp's colour at `x` in [0, 1], computed here from the ramp's stops
+/// (linear interpolation, then the sRGB transfer function).
+fn expected_ramp_bytes(x: f32) -> [u8; 3] {
+    let f = x * (RAMP_STOPS - 1) as f32;
+    let k = (f.floor() as usize).min(RAMP_STOPS - 2);
+    let t = f - k as f32;
+    let (a, b) = (CURVATURE_RAMP[k], CURVATURE_RAMP[k + 1]);
+    [0, 1, 2].map(|c| srgb_byte(a[c] + (b[c] - a[c]) * t))
+}
+
+/// Compares `image` with the PNG reference `tests/reference/NAME`, allowing a channel difference
+/// of 8 on up to 0.5 % of the pixels (anti-aliasing differs between drivers). Writes the actual
+/// and difference images on failure. `KNOTWORK_BLESS=1` rewrites the reference instead.
+fn compare_with_reference_png(name: &str, image: &[u8]) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference")
+        .join(name);
+    if std::env::var("KNOTWORK_BLESS").is_ok_and(|v| v == "1") {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        common::write_png(&path.to_path_buf(), WIDTH, HEIGHT, image);
+        return;
+    }
+    let file = std::fs::File::open(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (KNOTWORK_BLESS=1 cargo test writes it)",
+            path.display()
+        )
+    });
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().unwrap();
+    let mut expected = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut expected).unwrap();
+    assert_eq!((info.width, info.height), (WIDTH, HEIGHT), "{name}: size");
+    let mut diff = vec![0u8; image.len()];
+    let mut differing = 0;
+    for (i, (a, e)) in image
+        .chunks_exact(4)
+        .zip(expected.chunks_exact(4))
+        .enumerate()
+    {
+        let d = a
+            .iter()
+            .zip(e)
+            .take(3)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        if d > 8 {
+            differing += 1;
+        }
+        diff[i * 4..i * 4 + 4].copy_from_slice(&[d.saturating_mul(8), 0, 0, 255]);
+    }
+    let allowed = (WIDTH * HEIGHT) as usize / 200;
+    if differing > allowed {
+        let actual_path = common::artifact_path(&format!("actual-{name}"));
+        let diff_path = common::artifact_path(&format!("diff-{name}"));
+        common::write_png(&actual_path, WIDTH, HEIGHT, image);
+        common::write_png(&diff_path, WIDTH, HEIGHT, &diff);
+        panic!(
+            "{name}: {differing} pixels differ from the reference (allowed {allowed}); actual {}, difference {}",
+            actual_path.display(),
+            diff_path.display()
+        );
+    }
+}
+
+/// Asserts that every covered pixel away from the silhouette has colour `expected` (within 3 per
+/// channel); returns how many were checked.
+fn assert_flat_colour(name: &str, image: &[u8], background: [u8; 3], expected: [u8; 3]) -> usize {
+    let covered: Vec<bool> = image
+        .chunks_exact(4)
+        .map(|p| differs_from(p, background, 6))
+        .collect();
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for y in 0..i64::from(HEIGHT) {
+        for x in 0..i64::from(WIDTH) {
+            let interior = neighbourhood(x, y, 1).all(|(nx, ny)| covered[pixel_index(nx, ny)]);
+            if !interior {
+                continue;
+            }
+            let i = pixel_index(x, y) * 4;
+            checked += 1;
+            if differs_from(&image[i..i + 3], expected, 3) {
+                wrong.push((x, y, [image[i], image[i + 1], image[i + 2]]));
+            }
+        }
+    }
+    if !wrong.is_empty() {
+        let path = common::artifact_path(&format!("actual-{name}"));
+        common::write_png(&path, WIDTH, HEIGHT, image);
+        panic!(
+            "{name}: {} of {checked} pixels are not {expected:?}, e.g. {:?} (image: {})",
+            wrong.len(),
+            &wrong[..wrong.len().min(5)],
+            path.display()
+        );
+    }
+    checked
+}
+
+#[test]
+fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylinder() {
+    let context = common::gpu();
+    // The ramp spans K in [-0.5, 0.5]: the sphere's K = 1/r² = 0.25 sits at 3/4 (the yellow
+    // stop), the cylinder's K = 0 at 1/2 (the green stop).
+    let shading = Shading {
+        mode: ShadingMode::Gaussian,
+        range: (-0.5, 0.5),
+        ..Default::default()
+    };
+    let background = background_bytes(&DrawOptions::default());
+    let sphere = construct::sphere(DVec3::ZERO, 2.0).unwrap();
+    let cylinder =
+        construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::new(0.0, 0.0, 4.0), 1.5).unwrap();
+    for (name, surface, x) in [
+        ("gaussian-sphere.png", sphere, 0.75),
+        ("gaussian-cylinder.png", cylinder, 0.5),
+    ] {
+        let objects = [SceneObject::new(name, ObjectGeometry::Nurbs(surface))];
+        let image = render_shaded(&context, &objects, &shading);
+        let checked = assert_flat_colour(name, &image, background, expected_ramp_bytes(x));
+        eprintln!(
+            "{name}: {checked} interior pixels all {:?}",
+            expected_ramp_bytes(x)
+        );
+        assert!(checked > 5_000, "{name}: only {checked} pixels covered");
+        compare_with_reference_png(name, &image);
+    }
 }

@@ -10,7 +10,7 @@ use knotwork::gpu::records::{
     PointSample, RAMP_STOPS, SceneUniform, ShadingMode, SurfaceVertex, VERTEX_IRREGULAR,
     VERTEX_NO_CURVATURE,
 };
-use knotwork::kernel::bezier::{DEGENERATE_SIN2, NORMAL_NUDGE};
+use knotwork::kernel::bezier::DEGENERATE_SIN2;
 use knotwork::shaders;
 
 fn parse_and_validate(name: &str, source: &str) -> naga::Module {
@@ -193,10 +193,6 @@ fn evaluator_constants_match_their_rust_counterparts() {
     assert_eq!(
         wgsl_constant(&module, "DEGENERATE_SIN2"),
         f64::from(DEGENERATE_SIN2 as f32)
-    );
-    assert_eq!(
-        wgsl_constant(&module, "NORMAL_NUDGE"),
-        f64::from(NORMAL_NUDGE as f32)
     );
     assert_eq!(
         wgsl_constant(&module, "VERTEX_IRREGULAR"),

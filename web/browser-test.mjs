@@ -96,7 +96,7 @@ async function main() {
   console.log(`Chromium ${browser.version()}, serving ${url}`);
 
   try {
-    await check('the teapot is evaluated and drawn with WebGPU', async () => {
+    await check('the scene is evaluated and drawn with WebGPU', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => {
         const s = window.knotwork.status();
@@ -106,9 +106,13 @@ async function main() {
       assert(s.error === null, `error: ${s.error}`);
       assert(s.backend === 'webgpu', `backend ${s.backend}`);
       assert(typeof s.adapter === 'string' && s.adapter.length > 0, `adapter ${s.adapter}`);
-      assert(s.patches === 32, `patches ${s.patches}`);
-      assert(s.segments === 32 && s.vertices === 32 * 33 * 33, `vertices ${s.vertices} at ${s.segments}`);
-      assert(s.triangles === 32 * 32 * 32 * 2, `triangles ${s.triangles}`);
+      // Teapot, torus, sphere, (2, 5) B-spline, loft, revolution: 32 + 16 + 8 + 16 + 4 + 8 patches.
+      assert(s.objects === 6, `objects ${s.objects}`);
+      assert(s.patches === 84, `patches ${s.patches}`);
+      assert(s.segments.length === 6 && s.segments[0] === 12, `segments ${s.segments}`);
+      assert(s.vertices === 32 * 13 * 13 + 52 * 17 * 17, `vertices ${s.vertices} at ${s.segments}`);
+      assert(s.triangles === 32 * 12 * 12 * 2 + 52 * 16 * 16 * 2, `triangles ${s.triangles}`);
+      assert(s.patches_reevaluated === 84, `the first pass evaluates everything: ${s.patches_reevaluated}`);
 
       // Redraw continuously, then wait for frames and measure the frame rate.
       await page.evaluate(() => window.knotwork.setContinuous(true));
@@ -139,19 +143,57 @@ async function main() {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       await page.evaluate(() => window.knotwork.setSegments(8));
-      await page.waitForFunction(() => window.knotwork.status().segments === 8, null, { timeout: 30_000 });
+      await page.waitForFunction(() => window.knotwork.status().segments.every((n) => n === 8), null, { timeout: 30_000 });
       let s = await status(page);
-      assert(s.vertices === 32 * 9 * 9 && s.error === null, JSON.stringify(s));
+      assert(s.vertices === 84 * 9 * 9 && s.error === null, JSON.stringify(s));
       const framesBefore = s.frames;
       await page.evaluate(() => window.knotwork.setSegments(100000));
       await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
       s = await status(page);
       assert(/segments/.test(s.error), `error names the problem: ${s.error}`);
-      assert(s.segments === 8 && s.vertices === 32 * 9 * 9, `the model is unchanged: ${JSON.stringify(s)}`);
-      await page.evaluate(() => window.knotwork.setSegments(64));
-      await page.waitForFunction(() => window.knotwork.status().segments === 64, null, { timeout: 30_000 });
+      assert(s.segments.every((n) => n === 8) && s.vertices === 84 * 9 * 9, `the model is unchanged: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.setQuality(2));
+      await page.waitForFunction(() => window.knotwork.status().segments.every((n) => n === 16), null, { timeout: 30_000 });
       s = await status(page);
-      assert(s.vertices === 32 * 65 * 65 && s.frames > framesBefore && s.error === null, JSON.stringify(s));
+      assert(s.vertices === 84 * 17 * 17 && s.frames > framesBefore && s.error === null, JSON.stringify(s));
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('curvature shading comes from the compute pass; an edit re-evaluates only its support', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const viewport = { x: 320, y: 100, width: 900, height: 600 };
+      const plain = await page.locator('#knotwork-canvas').screenshot();
+      assert(await page.evaluate(() => window.knotwork.setShading('gaussian')), 'gaussian is a mode');
+      assert(!(await page.evaluate(() => window.knotwork.setShading('rainbow'))), 'unknown modes are refused');
+      await page.waitForFunction(() => window.knotwork.status().shading === 'gaussian', null, { timeout: 30_000 });
+      let s = await status(page);
+      assert(s.range_auto && s.range && s.range[0] < s.range[1], `automatic range ${JSON.stringify(s.range)}`);
+      await page.waitForTimeout(500);
+      const gaussian = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/gaussian.png`, gaussian);
+      const stats = await screenshotStats(page, gaussian, viewport, [33, 36, 41], 12);
+      assert(stats.differing > 0.03 * stats.total, `the curvature view looks blank (${stats.differing} px)`);
+      assert(Buffer.compare(plain, gaussian) !== 0, 'the gaussian view differs from the plain one');
+      await page.evaluate(() => window.knotwork.setRange(-0.5, 0.5));
+      await page.waitForFunction(() => !window.knotwork.status().range_auto, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.range[0] === -0.5 && s.range[1] === 0.5, `manual range ${JSON.stringify(s.range)}`);
+
+      // Control point (4, 4) of the (2, 5) B-spline (object 3, 7 x 9 points): its support covers
+      // 8 of the sheet's 16 Bezier patches; nothing else is re-evaluated.
+      await page.evaluate(() => window.knotwork.moveControlPoint(3, 4 * 9 + 4, [1.0, 5.0, 3.0]));
+      await page.waitForFunction(() => window.knotwork.status().points_uploaded > 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => window.knotwork.status().patches_reevaluated === 8, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.error === null, `error after the edit: ${s.error}`);
+      // A NaN coordinate is refused and changes nothing.
+      await page.evaluate(() => window.knotwork.moveControlPoint(3, 0, [NaN, 0, 0]));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(/finite/.test(s.error), `the error names the problem: ${s.error}`);
+      console.log(`      range ${JSON.stringify(s.range)}, ${s.patches_reevaluated} patches re-evaluated after the edit`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

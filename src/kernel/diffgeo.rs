@@ -16,7 +16,8 @@ use glam::{DVec3, DVec4};
 pub const DEGENERATE_SIN2: f64 = 1e-10;
 
 /// How far (as a fraction of the distance to the domain centre) the last-resort normal rule moves
-/// the parameter inward. Mirrored by `NORMAL_NUDGE` in `shaders/eval_bezier.wgsl`.
+/// the parameter inward. (The WGSL evaluator uses its one nudged evaluation, at
+/// `CURVATURE_NUDGE` in `shaders/eval_bezier.wgsl`, for this rarely reached rule too.)
 pub const NORMAL_NUDGE: f64 = 1e-3;
 
 /// How far (as a fraction of the distance to the domain centre) curvature at a degenerate point
