@@ -35,14 +35,33 @@ fn render(
     camera: &OrbitCamera,
     options: &DrawOptions,
 ) -> Vec<u8> {
-    let evaluator = PatchEvaluator::new(&context.device);
     let input = ObjectPatches {
         set,
         domains: &[],
         segments: SEGMENTS,
     };
-    let mut geometry = PatchGeometry::new(&context.device, &evaluator, &[input]).unwrap();
     let net = ControlNet::new(&context.device, set.points(), &net_line_indices(set));
+    draw(
+        context,
+        &[input],
+        Some(&net),
+        camera,
+        options,
+        &Shading::default(),
+    )
+}
+
+/// Evaluates `inputs` and renders them (and `net`) offscreen; returns the RGBA pixels.
+fn draw(
+    context: &GpuContext,
+    inputs: &[ObjectPatches<'_>],
+    net: Option<&ControlNet>,
+    camera: &OrbitCamera,
+    options: &DrawOptions,
+    shading: &Shading,
+) -> Vec<u8> {
+    let evaluator = PatchEvaluator::new(&context.device);
+    let mut geometry = PatchGeometry::new(&context.device, &evaluator, inputs).unwrap();
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
     let scene = scene_uniform(
@@ -50,12 +69,12 @@ fn render(
         camera.eye(),
         &target,
         POINT_RADIUS,
-        &Shading::default(),
+        shading,
     );
     let mut encoder = context.device.create_command_encoder(&Default::default());
     geometry.encode(&context.queue, &mut encoder, &evaluator, None);
     renderer.set_scene(&context.queue, &scene);
-    renderer.render(&mut encoder, &target, &geometry, Some(&net), options, None);
+    renderer.render(&mut encoder, &target, &geometry, net, options, None);
     context.queue.submit([encoder.finish()]);
     let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
     assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);
@@ -371,8 +390,6 @@ fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shadin
             segments: SEGMENTS,
         })
         .collect();
-    let evaluator = PatchEvaluator::new(&context.device);
-    let mut geometry = PatchGeometry::new(&context.device, &evaluator, &inputs).unwrap();
     let (lo, hi) = objects
         .iter()
         .filter_map(SceneObject::bounds)
@@ -380,26 +397,12 @@ fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shadin
         .unwrap();
     let mut camera = OrbitCamera::default();
     camera.frame(lo.as_vec3(), hi.as_vec3(), WIDTH as f32 / HEIGHT as f32);
-    let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
-    let scene = scene_uniform(
-        camera.view_projection(WIDTH as f32 / HEIGHT as f32),
-        camera.eye(),
-        &target,
-        POINT_RADIUS,
-        shading,
-    );
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    geometry.encode(&context.queue, &mut encoder, &evaluator, None);
-    renderer.set_scene(&context.queue, &scene);
     let options = DrawOptions {
         show_net: false,
         show_points: false,
         ..Default::default()
     };
-    renderer.render(&mut encoder, &target, &geometry, None, &options, None);
-    context.queue.submit([encoder.finish()]);
-    target.read_rgba(&context.device, &context.queue).unwrap()
+    draw(context, &inputs, None, &camera, &options, shading)
 }
 
 /// The sRGB bytes of the ramp's colour at `x` in [0, 1], computed here from the ramp's stops
