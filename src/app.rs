@@ -152,6 +152,32 @@ impl ViewportGpu {
     }
 }
 
+/// Builds with `build(quality)`; while the device's limits refuse that (a buffer too large, a
+/// level beyond the dispatch limits) halves the quality and tries again, at most 16 times.
+/// Returns what was built, the quality used, and the first refusal (`None` when `quality`
+/// fitted). Any other error is returned at once.
+pub fn fit_to_device<T>(
+    quality: f32,
+    mut build: impl FnMut(f32) -> Result<T, GpuError>,
+) -> Result<(T, f32, Option<GpuError>), GpuError> {
+    let mut q = quality;
+    let mut refusal = None;
+    for _ in 0..16 {
+        match build(q) {
+            Ok(built) => return Ok((built, q, refusal)),
+            Err(e @ (GpuError::BufferTooLarge { .. } | GpuError::SegmentsOutOfRange { .. })) => {
+                refusal.get_or_insert(e);
+                q *= 0.5;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Err(refusal.unwrap_or(GpuError::SegmentsOutOfRange {
+        segments: 0,
+        max: MAX_SEGMENTS,
+    }))
+}
+
 /// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].
 fn effective_segments(segments: u32, quality: f32) -> u32 {
     ((segments as f32 * quality).round() as u32).clamp(1, MAX_SEGMENTS)
@@ -279,9 +305,7 @@ impl KnotworkApp {
         let Some(gpu) = &mut self.gpu else {
             return Ok(());
         };
-        let mut q = quality;
-        let mut first_error = None;
-        for _ in 0..16 {
+        let (geometry, used, refusal) = fit_to_device(quality, |q| {
             let inputs: Vec<ObjectPatches<'_>> = self
                 .scene
                 .objects
@@ -293,29 +317,15 @@ impl KnotworkApp {
                     segments: effective_segments(object.segments, q),
                 })
                 .collect();
-            match PatchGeometry::new(&gpu.device, &gpu.evaluator, &inputs) {
-                Ok(geometry) => {
-                    gpu.geometry = Some(geometry);
-                    self.quality_used = q;
-                    self.status.notice = first_error.map(|e: GpuError| {
-                        format!("tessellation lowered to quality {q:.2} (asked {quality:.2}): {e}")
-                    });
-                    self.redraw = true;
-                    return Ok(());
-                }
-                Err(
-                    e @ (GpuError::BufferTooLarge { .. } | GpuError::SegmentsOutOfRange { .. }),
-                ) if q > 1e-3 => {
-                    first_error.get_or_insert(e);
-                    q *= 0.5;
-                }
-                Err(e) => return Err(e),
-            }
-        }
-        Err(first_error.unwrap_or(GpuError::SegmentsOutOfRange {
-            segments: 0,
-            max: MAX_SEGMENTS,
-        }))
+            PatchGeometry::new(&gpu.device, &gpu.evaluator, &inputs)
+        })?;
+        gpu.geometry = Some(geometry);
+        self.quality_used = used;
+        self.status.notice = refusal.map(|e| {
+            format!("tessellation lowered to quality {used:.2} (asked {quality:.2}): {e}")
+        });
+        self.redraw = true;
+        Ok(())
     }
 
     /// Applies a tessellation change (`change` edits the scene's segments or the quality) and
@@ -864,5 +874,55 @@ impl eframe::App for KnotworkApp {
         {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_quality_is_lowered_until_the_device_accepts_it() {
+        // A device that holds at most 1000 vertices per object of 10 patches at 16 segments.
+        let build = |q: f32| {
+            let segments = effective_segments(16, q);
+            let bytes = 10 * u64::from(segments + 1).pow(2) * 64;
+            if bytes > 64_000 {
+                Err(GpuError::BufferTooLarge {
+                    what: "vertex",
+                    bytes,
+                    limit: 64_000,
+                })
+            } else {
+                Ok(segments)
+            }
+        };
+        let (segments, used, refusal) = fit_to_device(2.0, build).unwrap();
+        assert_eq!((segments, used), (8, 0.5));
+        assert!(matches!(refusal, Some(GpuError::BufferTooLarge { .. })));
+        let (_, used, refusal) = fit_to_device(0.25, build).unwrap();
+        assert_eq!((used, refusal), (0.25, None));
+        // Other errors are not retried.
+        let mut calls = 0;
+        let other = fit_to_device(1.0, |_| -> Result<(), GpuError> {
+            calls += 1;
+            Err(GpuError::NoSuchObject {
+                object: 1,
+                count: 0,
+            })
+        });
+        assert!(matches!(other, Err(GpuError::NoSuchObject { .. })) && calls == 1);
+        // A device that never fits gives up with the first refusal.
+        let never = fit_to_device(1.0, |_| -> Result<(), GpuError> {
+            Err(GpuError::BufferTooLarge {
+                what: "index",
+                bytes: 1,
+                limit: 0,
+            })
+        });
+        assert!(matches!(
+            never,
+            Err(GpuError::BufferTooLarge { what: "index", .. })
+        ));
     }
 }
