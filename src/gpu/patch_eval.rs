@@ -129,14 +129,6 @@ impl PatchEvaluator {
             })
             .clone()
     }
-
-    /// How many specialized evaluation pipelines exist (one per degree pair seen).
-    pub fn pipeline_count(&self) -> usize {
-        self.specialized
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
-            .len()
-    }
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -184,15 +176,15 @@ pub struct PatchGeometry {
     objects: Vec<ObjectRange>,
     /// What the control point buffer holds, to upload only the points an edit changed.
     uploaded: Vec<[f32; 4]>,
-    /// Pool indices of every patch's control points (global), for diffing on edits.
-    patch_points: Vec<Vec<u32>>,
+    /// The control index buffer's contents (global pool indices, each record's block at its
+    /// `control_offset`), to find the points an edit changed.
+    control_indices: Vec<u32>,
     /// Records to evaluate in the next [`Self::encode`].
     dirty: Vec<bool>,
     vertex_count: u32,
     index_count: u32,
     quad_groups_x: u32,
     triangles_written: bool,
-    last_evaluated: u32,
 }
 
 /// Homogeneous control points (wx, wy, wz, w) in f32, as the shaders read them.
@@ -238,7 +230,6 @@ impl PatchGeometry {
         let mut ranges = Vec::with_capacity(objects.len());
         let mut control_indices = Vec::new();
         let mut points = Vec::new();
-        let mut patch_points = Vec::with_capacity(total_patches);
         let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
         let mut quad_groups_x = 0u64;
         for (object, input) in objects.iter().enumerate() {
@@ -293,13 +284,7 @@ impl PatchGeometry {
                     object: object as u32,
                     domain,
                 });
-                let global: Vec<u32> = patch
-                    .indices()
-                    .iter()
-                    .map(|&i| i + first_point as u32)
-                    .collect();
-                control_indices.extend_from_slice(&global);
-                patch_points.push(global);
+                control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
                 vertex_offset += grid_vertices;
                 index_offset += 6 * grid_quads;
             }
@@ -405,12 +390,11 @@ impl PatchGeometry {
             records,
             objects: ranges,
             uploaded: points,
-            patch_points,
+            control_indices,
             vertex_count: vertex_offset as u32,
             index_count: index_offset as u32,
             quad_groups_x: quad_groups_x as u32,
             triangles_written: false,
-            last_evaluated: 0,
         })
     }
 
@@ -461,7 +445,10 @@ impl PatchGeometry {
         for &p in patches {
             let record = range.first_patch + p;
             self.dirty[record] = true;
-            for &global in &self.patch_points[record] {
+            let r = &self.records[record];
+            let block = (r.degree_u as usize + 1) * (r.degree_v as usize + 1);
+            let first = r.control_offset as usize;
+            for &global in &self.control_indices[first..first + block] {
                 let local = global as usize - range.first_point;
                 if self.uploaded[global as usize] != fresh[local] {
                     changed.insert(global as usize);
@@ -538,17 +525,7 @@ impl PatchGeometry {
             evaluated += list.len() as u32;
         }
         self.dirty.fill(false);
-        self.last_evaluated = evaluated;
         evaluated
-    }
-
-    /// Patches evaluated by the last [`Self::encode`].
-    pub fn last_evaluated(&self) -> u32 {
-        self.last_evaluated
-    }
-
-    pub fn control_points(&self) -> &wgpu::Buffer {
-        &self.control_points
     }
 
     pub fn vertices(&self) -> &wgpu::Buffer {
