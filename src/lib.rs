@@ -4,6 +4,7 @@
 //! Layers, each depending only on those above it:
 //! - [`kernel`]: pure f64 geometry (no GPU, no UI);
 //! - [`scene`]: the document's objects and their tessellation settings (kernel data only);
+//! - [`doc`]: commands on the scene with undo and redo;
 //! - [`io`]: file formats (knotwork JSON, eval requests);
 //! - [`shaders`], [`gpu`]: WGSL sources and the compute evaluator on wgpu;
 //! - [`render`], [`view`]: viewport pipelines and the camera;
@@ -15,6 +16,7 @@
 pub mod app;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod bench;
+pub mod doc;
 pub mod gpu;
 pub mod io;
 pub mod kernel;

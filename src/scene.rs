@@ -14,6 +14,20 @@ use crate::kernel::{BezierPatchSet, Direction, GeometryError, NurbsSurface, samp
 /// Segments per Bézier span edge a new object gets.
 pub const DEFAULT_SEGMENTS: u32 = 16;
 
+/// Highest tessellation level (segments per patch edge) a document may ask for; the GPU's
+/// buffer limits may allow less.
+pub const MAX_SEGMENTS: u32 = 1024;
+
+/// The longest object name accepted.
+pub const MAX_NAME_LENGTH: usize = 200;
+
+/// Whether `name` is acceptable for an object: 1 to [`MAX_NAME_LENGTH`] characters, no control
+/// characters.
+pub fn valid_name(name: &str) -> bool {
+    let length = name.chars().count();
+    (1..=MAX_NAME_LENGTH).contains(&length) && !name.chars().any(char::is_control)
+}
+
 /// What an object is made of.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ObjectGeometry {
@@ -38,6 +52,8 @@ pub struct SceneObject {
     pub geometry: ObjectGeometry,
     /// Segments per Bézier span edge (before the global quality factor).
     pub segments: u32,
+    /// Hidden objects are kept in the document but neither drawn nor picked.
+    pub visible: bool,
 }
 
 impl SceneObject {
@@ -46,6 +62,7 @@ impl SceneObject {
             name: name.into(),
             geometry,
             segments: DEFAULT_SEGMENTS,
+            visible: true,
         }
     }
 
@@ -160,6 +177,28 @@ impl SceneObject {
                 let (i, j) = (index / nv, index % nv);
                 surface.set_point(i, j, position)?;
                 Ok(surface.patches_supported_by(i, j))
+            }
+        }
+    }
+
+    /// Sets the weight of control point `index` (of [`Self::control_points`]), keeping its
+    /// position. A bad index or a weight that is not finite and > 0 is refused.
+    pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        match &mut self.geometry {
+            ObjectGeometry::Patches(set) => set.set_weight(index, weight),
+            ObjectGeometry::Nurbs(surface) => {
+                let nv = surface.count()[1];
+                surface.set_weight(index / nv, index % nv, weight)
+            }
+        }
+    }
+
+    /// The weights of [`Self::control_points`], in the same order.
+    pub fn weights(&self) -> Vec<f64> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => set.weights().to_vec(),
+            ObjectGeometry::Nurbs(surface) => {
+                surface.homogeneous_points().iter().map(|h| h.w).collect()
             }
         }
     }

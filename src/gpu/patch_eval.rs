@@ -44,9 +44,7 @@ use super::records::{EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PatchRecord, SurfaceVe
 use crate::kernel::BezierPatchSet;
 use crate::shaders;
 
-/// Highest tessellation level (segments per patch edge) the evaluator accepts; buffer limits may
-/// refuse less (see [`GpuError::BufferTooLarge`]).
-pub const MAX_SEGMENTS: u32 = 1024;
+pub use crate::scene::MAX_SEGMENTS;
 
 /// The compute pipelines; one per device, shared by every [`PatchGeometry`]. The evaluation
 /// pipelines are specialized per degree pair (override constants), created on first use.

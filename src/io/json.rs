@@ -97,6 +97,10 @@ struct RawSurface {
     name: Option<String>,
     degree: [usize; 2],
     knots: [Vec<f64>; 2],
+    /// `true`: points are `[wx, wy, wz, w]` (already multiplied by w), so rational surfaces
+    /// round-trip bit for bit; project files write this form.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    homogeneous: bool,
     points: Vec<Vec<Vec<f64>>>,
 }
 
@@ -156,6 +160,7 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
             degree,
             knots,
             points,
+            homogeneous,
             ..
         }) => {
             let count = [points.len(), points.first().map_or(0, Vec::len)];
@@ -184,8 +189,17 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
                     weights.push(w);
                 }
             }
-            let surface = NurbsSurface::new(degree, knots, count, cartesian, Some(weights))
-                .map_err(|e| FormatError::geometry(path, e))?;
+            let surface = if homogeneous {
+                let points = cartesian
+                    .iter()
+                    .zip(&weights)
+                    .map(|(p, &w)| p.extend(w))
+                    .collect();
+                NurbsSurface::from_homogeneous(degree, knots, count, points)
+            } else {
+                NurbsSurface::new(degree, knots, count, cartesian, Some(weights))
+            }
+            .map_err(|e| FormatError::geometry(path, e))?;
             Ok(NamedGeometry {
                 name,
                 geometry: Geometry::Surface(surface),
@@ -323,17 +337,22 @@ pub fn read(text: &str) -> Result<Vec<NamedGeometry>, FormatError> {
         .collect()
 }
 
-fn raw_from(object: &NamedGeometry) -> RawObject {
+fn raw_from(object: &NamedGeometry, homogeneous: bool) -> RawObject {
     let name = object.name.clone();
     match &object.geometry {
         Geometry::Surface(s) => {
             let [cu, cv] = s.count();
+            let h = s.homogeneous_points();
             let points = (0..cu)
                 .map(|i| {
                     (0..cv)
                         .map(|j| {
-                            let p = s.control_point(i, j);
-                            vec![p.x, p.y, p.z, s.weight(i, j)]
+                            if homogeneous {
+                                h[i * cv + j].to_array().to_vec()
+                            } else {
+                                let p = s.control_point(i, j);
+                                vec![p.x, p.y, p.z, s.weight(i, j)]
+                            }
                         })
                         .collect()
                 })
@@ -344,6 +363,7 @@ fn raw_from(object: &NamedGeometry) -> RawObject {
                 name,
                 degree: s.degree(),
                 knots: [ku.to_vec(), kv.to_vec()],
+                homogeneous,
                 points,
             })
         }
@@ -371,7 +391,12 @@ fn raw_curve<P: CurvePoint>(kind: &str, name: Option<String>, c: &NurbsCurve<P>)
 
 /// One object as a JSON value (the `"surface"` of an eval request, an entry of a file).
 pub fn object_to_value(object: &NamedGeometry) -> serde_json::Value {
-    let value = match raw_from(object) {
+    object_value(object, false)
+}
+
+/// One object as a JSON value; `homogeneous` writes surface points as `[wx, wy, wz, w]`.
+pub fn object_value(object: &NamedGeometry, homogeneous: bool) -> serde_json::Value {
+    let value = match raw_from(object, homogeneous) {
         RawObject::NurbsSurface(s) => serde_json::to_value(s),
         RawObject::NurbsCurve(c) | RawObject::TrimCurve(c) => serde_json::to_value(c),
     };

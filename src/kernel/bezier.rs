@@ -169,6 +169,32 @@ impl BezierPatchSet {
         Ok(())
     }
 
+    /// Sets the weight of control point `index`, keeping its Cartesian position. Rejects a
+    /// weight that is not finite and > 0, or an index out of range, and leaves the set unchanged.
+    pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        if !(weight.is_finite() && weight > 0.0) {
+            return Err(GeometryError::InvalidWeight { index, weight });
+        }
+        let count = self.weights.len();
+        let slot = self
+            .weights
+            .get_mut(index)
+            .ok_or(GeometryError::NoSuchPoint { index, count })?;
+        *slot = weight;
+        Ok(())
+    }
+
+    /// The set mapped by an affine transformation (applied to the control points; rational
+    /// Bézier patches are affinely invariant). Fails if a point becomes non-finite.
+    pub fn transformed(&self, transform: &glam::DAffine3) -> Result<Self, GeometryError> {
+        let points = self
+            .points
+            .iter()
+            .map(|&p| transform.transform_point3(p))
+            .collect();
+        Self::new(points, Some(self.weights.clone()), self.patches.clone())
+    }
+
     fn patch(&self, patch: usize) -> Result<&BezierPatch, GeometryError> {
         self.patches.get(patch).ok_or(GeometryError::NoSuchPatch {
             patch,

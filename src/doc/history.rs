@@ -1,0 +1,82 @@
+//! Undo and redo: a stack of applied [`Edit`]s and a stack of undone ones.
+
+use super::{Command, Edit, EditError, apply};
+use crate::scene::Scene;
+
+/// Undo steps kept; the oldest are dropped beyond this.
+pub const HISTORY_LIMIT: usize = 500;
+
+/// The undo and redo stacks of one document.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct History {
+    undo: Vec<Edit>,
+    redo: Vec<Edit>,
+}
+
+impl History {
+    /// Applies `command`; on success it becomes the newest undo step and the redo stack is
+    /// cleared. On failure the scene and the history are untouched.
+    pub fn execute(&mut self, scene: &mut Scene, command: &Command) -> Result<&Edit, EditError> {
+        let edit = apply(scene, command)?;
+        Ok(self.record(edit))
+    }
+
+    /// Records an edit that has already been applied (a drag, made of many moves, is one step).
+    pub fn record(&mut self, edit: Edit) -> &Edit {
+        self.redo.clear();
+        if self.undo.len() == HISTORY_LIMIT {
+            self.undo.remove(0);
+        }
+        self.undo.push(edit);
+        &self.undo[self.undo.len() - 1]
+    }
+
+    /// Undoes the newest step and returns it. If the scene no longer matches it (which only
+    /// code outside the history can cause) the scene is untouched, the history is cleared and
+    /// the error says so.
+    pub fn undo(&mut self, scene: &mut Scene) -> Result<&Edit, EditError> {
+        let edit = self.undo.pop().ok_or(EditError::NothingTo("undo"))?;
+        if let Err(e) = edit.undo(scene) {
+            self.clear();
+            return Err(e);
+        }
+        self.redo.push(edit);
+        Ok(&self.redo[self.redo.len() - 1])
+    }
+
+    /// Redoes the newest undone step and returns it.
+    pub fn redo(&mut self, scene: &mut Scene) -> Result<&Edit, EditError> {
+        let edit = self.redo.pop().ok_or(EditError::NothingTo("redo"))?;
+        if let Err(e) = edit.redo(scene) {
+            self.clear();
+            return Err(e);
+        }
+        self.undo.push(edit);
+        Ok(&self.undo[self.undo.len() - 1])
+    }
+
+    pub fn clear(&mut self) {
+        self.undo.clear();
+        self.redo.clear();
+    }
+
+    /// The label of the step [`Self::undo`] would undo.
+    pub fn undo_label(&self) -> Option<&str> {
+        self.undo.last().map(|e| e.label.as_str())
+    }
+
+    /// The label of the step [`Self::redo`] would redo.
+    pub fn redo_label(&self) -> Option<&str> {
+        self.redo.last().map(|e| e.label.as_str())
+    }
+
+    /// Steps that can be undone.
+    pub fn undo_depth(&self) -> usize {
+        self.undo.len()
+    }
+
+    /// Steps that can be redone.
+    pub fn redo_depth(&self) -> usize {
+        self.redo.len()
+    }
+}

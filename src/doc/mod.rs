@@ -1,0 +1,635 @@
+//! Editing the document: every change the user makes is a [`Command`] applied to the
+//! [`Scene`]; applying it yields an [`Edit`] that records the objects before and after, so the
+//! [`History`] can undo and redo it exactly. A command that fails changes nothing.
+//!
+//! Kernel data only: no GPU, no UI. The editor turns picks and drags into commands and
+//! re-uploads the objects an edit touched ([`Edit::touched`]).
+
+pub mod document;
+pub mod history;
+
+use glam::{DAffine3, DVec3};
+use thiserror::Error;
+
+use crate::kernel::{Direction, GeometryError, NurbsSurface};
+use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
+
+pub use document::Document;
+pub use history::History;
+
+/// One change to the document, as the user asked for it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Moves control points (indices of [`SceneObject::control_points`]) to new positions.
+    MovePoints {
+        object: usize,
+        moves: Vec<(usize, DVec3)>,
+    },
+    /// Sets the weight of control points (a rational surface results).
+    SetWeight {
+        object: usize,
+        points: Vec<usize>,
+        weight: f64,
+    },
+    /// Inserts the knot `value` once (The NURBS Book A5.3): the shape does not change.
+    InsertKnot {
+        object: usize,
+        direction: Direction,
+        value: f64,
+    },
+    /// Removes the interior knot `value` once if the surface stays within `tolerance` (A5.8).
+    RemoveKnot {
+        object: usize,
+        direction: Direction,
+        value: f64,
+        tolerance: f64,
+    },
+    /// Raises the degree by one (A5.10): the shape does not change.
+    ElevateDegree {
+        object: usize,
+        direction: Direction,
+    },
+    /// Splits the surface at the isoparametric curve `direction` = `value` into two objects.
+    Split {
+        object: usize,
+        direction: Direction,
+        value: f64,
+    },
+    /// Reverses a parameter direction (the normal flips).
+    Reverse {
+        object: usize,
+        direction: Direction,
+    },
+    /// Exchanges u and v (the normal flips).
+    SwapUv {
+        object: usize,
+    },
+    /// Replaces a knot vector (same length, validated by the kernel); the control points stay.
+    SetKnots {
+        object: usize,
+        direction: Direction,
+        knots: Vec<f64>,
+    },
+    /// Adds an object at the end of the scene.
+    Add {
+        object: SceneObject,
+    },
+    /// Adds a copy of an object right after it.
+    Duplicate {
+        object: usize,
+    },
+    Delete {
+        object: usize,
+    },
+    Rename {
+        object: usize,
+        name: String,
+    },
+    SetVisible {
+        object: usize,
+        visible: bool,
+    },
+    /// Maps a whole object by an affine transformation (baked into its control points).
+    Transform {
+        object: usize,
+        transform: DAffine3,
+    },
+    /// Segments per Bézier span edge of one object's tessellation.
+    SetSegments {
+        object: usize,
+        segments: u32,
+    },
+}
+
+impl Command {
+    /// A short name for the undo and redo buttons.
+    pub fn label(&self) -> String {
+        match self {
+            Command::MovePoints { moves, .. } => format!("move {} point(s)", moves.len()),
+            Command::SetWeight { points, weight, .. } => {
+                format!("weight {weight} on {} point(s)", points.len())
+            }
+            Command::InsertKnot {
+                direction, value, ..
+            } => format!("insert knot {} = {value}", direction_name(*direction)),
+            Command::RemoveKnot {
+                direction, value, ..
+            } => format!("remove knot {} = {value}", direction_name(*direction)),
+            Command::ElevateDegree { direction, .. } => {
+                format!("elevate degree in {}", direction_name(*direction))
+            }
+            Command::Split {
+                direction, value, ..
+            } => format!("split at {} = {value}", direction_name(*direction)),
+            Command::Reverse { direction, .. } => {
+                format!("reverse {}", direction_name(*direction))
+            }
+            Command::SwapUv { .. } => "swap u and v".into(),
+            Command::SetKnots { direction, .. } => {
+                format!("edit {} knots", direction_name(*direction))
+            }
+            Command::Add { object } => format!("add {}", object.name),
+            Command::Duplicate { .. } => "duplicate".into(),
+            Command::Delete { .. } => "delete".into(),
+            Command::Rename { name, .. } => format!("rename to {name}"),
+            Command::SetVisible { visible, .. } => (if *visible { "show" } else { "hide" }).into(),
+            Command::Transform { .. } => "transform".into(),
+            Command::SetSegments { segments, .. } => format!("{segments} segments"),
+        }
+    }
+}
+
+/// "u" or "v".
+pub fn direction_name(direction: Direction) -> &'static str {
+    match direction {
+        Direction::U => "u",
+        Direction::V => "v",
+    }
+}
+
+/// Why a command was refused. The document is unchanged.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum EditError {
+    #[error("there is no object {object} (the scene has {count})")]
+    NoSuchObject { object: usize, count: usize },
+    #[error("{name}: {operation} needs a NURBS surface; this object is a set of Bézier patches")]
+    NeedsNurbs {
+        name: String,
+        operation: &'static str,
+    },
+    #[error("{name}: {source}")]
+    Geometry {
+        name: String,
+        #[source]
+        source: GeometryError,
+    },
+    #[error(
+        "{name}: the knot {direction} = {value} cannot be removed without moving the surface more than {tolerance}"
+    )]
+    KnotNotRemovable {
+        name: String,
+        direction: &'static str,
+        value: f64,
+        tolerance: f64,
+    },
+    #[error("a weight must be finite and > 0, got {weight}")]
+    InvalidWeight { weight: f64 },
+    #[error("nothing selected: {operation} needs at least one control point")]
+    NothingSelected { operation: &'static str },
+    #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
+    InvalidName,
+    #[error("segments per span must be in 1..={max}, got {segments}")]
+    Segments { segments: u32, max: u32 },
+    #[error("the history has nothing to {0}")]
+    NothingTo(&'static str),
+    #[error("the document no longer matches the history ({0}); the history was cleared")]
+    HistoryMismatch(String),
+}
+
+/// What one applied command did to the scene, in the order it happened.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Change {
+    Replace {
+        index: usize,
+        before: SceneObject,
+        after: SceneObject,
+    },
+    Insert {
+        index: usize,
+        object: SceneObject,
+    },
+    Remove {
+        index: usize,
+        object: SceneObject,
+    },
+}
+
+/// One undo step: the changes a command (or a whole drag) made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Edit {
+    pub label: String,
+    pub changes: Vec<Change>,
+}
+
+/// How an edit affected an object, for the editor to re-upload as little as possible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Touched {
+    /// Only control point positions or weights of object `index` changed: same patch layout.
+    Points(usize),
+    /// Objects were added, removed or changed in structure: rebuild the GPU geometry.
+    Structure,
+    /// Only names or similar: nothing to re-upload.
+    Nothing,
+}
+
+impl Edit {
+    /// Applies the changes forward (redo). Fails without changing anything if the scene does
+    /// not match what the edit expects.
+    pub fn redo(&self, scene: &mut Scene) -> Result<(), EditError> {
+        let mut next = scene.objects.clone();
+        for change in &self.changes {
+            forward(&mut next, change)?;
+        }
+        scene.objects = next;
+        Ok(())
+    }
+
+    /// Applies the inverse changes in reverse order (undo).
+    pub fn undo(&self, scene: &mut Scene) -> Result<(), EditError> {
+        let mut next = scene.objects.clone();
+        for change in self.changes.iter().rev() {
+            let inverse = match change {
+                Change::Replace {
+                    index,
+                    before,
+                    after,
+                } => Change::Replace {
+                    index: *index,
+                    before: after.clone(),
+                    after: before.clone(),
+                },
+                Change::Insert { index, object } => Change::Remove {
+                    index: *index,
+                    object: object.clone(),
+                },
+                Change::Remove { index, object } => Change::Insert {
+                    index: *index,
+                    object: object.clone(),
+                },
+            };
+            forward(&mut next, &inverse)?;
+        }
+        scene.objects = next;
+        Ok(())
+    }
+
+    /// What the editor must re-upload after this edit (either way).
+    pub fn touched(&self) -> Touched {
+        match self.changes.as_slice() {
+            [
+                Change::Replace {
+                    index,
+                    before,
+                    after,
+                },
+            ] => {
+                if before.geometry == after.geometry && before.segments == after.segments {
+                    if before.visible == after.visible {
+                        Touched::Nothing
+                    } else {
+                        Touched::Structure
+                    }
+                } else if before.segments == after.segments
+                    && before.visible == after.visible
+                    && same_layout(&before.geometry, &after.geometry)
+                {
+                    Touched::Points(*index)
+                } else {
+                    Touched::Structure
+                }
+            }
+            _ => Touched::Structure,
+        }
+    }
+}
+
+/// Whether two geometries have the same degrees, knots, counts and patch layout (only control
+/// point positions and weights may differ), so the GPU buffers keep their layout.
+fn same_layout(a: &ObjectGeometry, b: &ObjectGeometry) -> bool {
+    match (a, b) {
+        (ObjectGeometry::Nurbs(a), ObjectGeometry::Nurbs(b)) => {
+            a.degree() == b.degree() && a.knots() == b.knots() && a.count() == b.count()
+        }
+        (ObjectGeometry::Patches(a), ObjectGeometry::Patches(b)) => {
+            a.patches() == b.patches() && a.points().len() == b.points().len()
+        }
+        _ => false,
+    }
+}
+
+fn forward(objects: &mut Vec<SceneObject>, change: &Change) -> Result<(), EditError> {
+    let mismatch = |what: String| Err(EditError::HistoryMismatch(what));
+    match change {
+        Change::Replace {
+            index,
+            before,
+            after,
+        } => match objects.get_mut(*index) {
+            Some(slot) if slot == before => *slot = after.clone(),
+            _ => return mismatch(format!("object {index} differs")),
+        },
+        Change::Insert { index, object } => {
+            if *index > objects.len() {
+                return mismatch(format!("cannot insert at {index}"));
+            }
+            objects.insert(*index, object.clone());
+        }
+        Change::Remove { index, object } => match objects.get(*index) {
+            Some(slot) if slot == object => {
+                objects.remove(*index);
+            }
+            _ => return mismatch(format!("object {index} differs")),
+        },
+    }
+    Ok(())
+}
+
+fn object_at(scene: &Scene, object: usize) -> Result<&SceneObject, EditError> {
+    scene.objects.get(object).ok_or(EditError::NoSuchObject {
+        object,
+        count: scene.objects.len(),
+    })
+}
+
+fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> EditError + '_ {
+    move |source| EditError::Geometry {
+        name: object.name.clone(),
+        source,
+    }
+}
+
+/// The object's NURBS surface, or the error naming `operation`.
+fn nurbs<'a>(
+    object: &'a SceneObject,
+    operation: &'static str,
+) -> Result<&'a NurbsSurface, EditError> {
+    match &object.geometry {
+        ObjectGeometry::Nurbs(surface) => Ok(surface),
+        ObjectGeometry::Patches(_) => Err(EditError::NeedsNurbs {
+            name: object.name.clone(),
+            operation,
+        }),
+    }
+}
+
+/// The object with its NURBS surface replaced by `map`'s result.
+fn with_surface(
+    object: &SceneObject,
+    operation: &'static str,
+    map: impl FnOnce(&NurbsSurface) -> Result<NurbsSurface, GeometryError>,
+) -> Result<SceneObject, EditError> {
+    let surface = map(nurbs(object, operation)?).map_err(geometry_error(object))?;
+    Ok(SceneObject {
+        geometry: ObjectGeometry::Nurbs(surface),
+        ..object.clone()
+    })
+}
+
+/// The changes `command` would make, computed without touching the scene.
+fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
+    let replace = |index: usize, after: SceneObject| -> Result<Vec<Change>, EditError> {
+        Ok(vec![Change::Replace {
+            index,
+            before: scene.objects[index].clone(),
+            after,
+        }])
+    };
+    match command {
+        Command::Add { object } => {
+            if !valid_name(&object.name) {
+                return Err(EditError::InvalidName);
+            }
+            object.decompose().map_err(geometry_error(object))?;
+            Ok(vec![Change::Insert {
+                index: scene.objects.len(),
+                object: object.clone(),
+            }])
+        }
+        Command::MovePoints { object: k, moves } => {
+            let object = object_at(scene, *k)?;
+            if moves.is_empty() {
+                return Err(EditError::NothingSelected { operation: "move" });
+            }
+            let mut after = object.clone();
+            for &(index, position) in moves {
+                after
+                    .move_control_point(index, position)
+                    .map_err(geometry_error(object))?;
+            }
+            replace(*k, after)
+        }
+        Command::SetWeight {
+            object: k,
+            points,
+            weight,
+        } => {
+            let object = object_at(scene, *k)?;
+            if !(weight.is_finite() && *weight > 0.0) {
+                return Err(EditError::InvalidWeight { weight: *weight });
+            }
+            if points.is_empty() {
+                return Err(EditError::NothingSelected {
+                    operation: "set weight",
+                });
+            }
+            let mut after = object.clone();
+            for &index in points {
+                after
+                    .set_weight(index, *weight)
+                    .map_err(geometry_error(object))?;
+            }
+            replace(*k, after)
+        }
+        Command::InsertKnot {
+            object: k,
+            direction,
+            value,
+        } => {
+            let object = object_at(scene, *k)?;
+            let after = with_surface(object, "knot insertion", |s| {
+                s.insert_knot(*direction, *value, 1)
+            })?;
+            replace(*k, after)
+        }
+        Command::RemoveKnot {
+            object: k,
+            direction,
+            value,
+            tolerance,
+        } => {
+            let object = object_at(scene, *k)?;
+            let surface = nurbs(object, "knot removal")?;
+            let (removed, count) = surface.remove_knot(*direction, *value, 1, *tolerance);
+            if count == 0 {
+                return Err(EditError::KnotNotRemovable {
+                    name: object.name.clone(),
+                    direction: direction_name(*direction),
+                    value: *value,
+                    tolerance: *tolerance,
+                });
+            }
+            replace(
+                *k,
+                SceneObject {
+                    geometry: ObjectGeometry::Nurbs(removed),
+                    ..object.clone()
+                },
+            )
+        }
+        Command::ElevateDegree {
+            object: k,
+            direction,
+        } => {
+            let object = object_at(scene, *k)?;
+            let after = with_surface(object, "degree elevation", |s| {
+                s.elevate_degree(*direction, 1)
+            })?;
+            replace(*k, after)
+        }
+        Command::Split {
+            object: k,
+            direction,
+            value,
+        } => {
+            let object = object_at(scene, *k)?;
+            let (a, b) = nurbs(object, "split")?
+                .split(*direction, *value)
+                .map_err(geometry_error(object))?;
+            let part = |surface, suffix: &str| SceneObject {
+                name: split_name(&object.name, suffix),
+                geometry: ObjectGeometry::Nurbs(surface),
+                ..object.clone()
+            };
+            Ok(vec![
+                Change::Replace {
+                    index: *k,
+                    before: object.clone(),
+                    after: part(a, "a"),
+                },
+                Change::Insert {
+                    index: k + 1,
+                    object: part(b, "b"),
+                },
+            ])
+        }
+        Command::Reverse {
+            object: k,
+            direction,
+        } => {
+            let object = object_at(scene, *k)?;
+            replace(
+                *k,
+                with_surface(object, "reversal", |s| Ok(s.reverse(*direction)))?,
+            )
+        }
+        Command::SwapUv { object: k } => {
+            let object = object_at(scene, *k)?;
+            replace(
+                *k,
+                with_surface(object, "swapping u and v", |s| Ok(s.swap_uv()))?,
+            )
+        }
+        Command::SetKnots {
+            object: k,
+            direction,
+            knots,
+        } => {
+            let object = object_at(scene, *k)?;
+            let after = with_surface(object, "knot editing", |s| {
+                let mut all = [s.knots()[0].to_vec(), s.knots()[1].to_vec()];
+                all[direction.index()] = knots.clone();
+                NurbsSurface::from_homogeneous(
+                    s.degree(),
+                    all,
+                    s.count(),
+                    s.homogeneous_points().to_vec(),
+                )
+            })?;
+            replace(*k, after)
+        }
+        Command::Duplicate { object: k } => {
+            let object = object_at(scene, *k)?;
+            Ok(vec![Change::Insert {
+                index: k + 1,
+                object: SceneObject {
+                    name: split_name(&object.name, "copy"),
+                    ..object.clone()
+                },
+            }])
+        }
+        Command::Delete { object: k } => Ok(vec![Change::Remove {
+            index: *k,
+            object: object_at(scene, *k)?.clone(),
+        }]),
+        Command::Rename { object: k, name } => {
+            let object = object_at(scene, *k)?;
+            if !valid_name(name) {
+                return Err(EditError::InvalidName);
+            }
+            replace(
+                *k,
+                SceneObject {
+                    name: name.clone(),
+                    ..object.clone()
+                },
+            )
+        }
+        Command::SetVisible { object: k, visible } => {
+            let object = object_at(scene, *k)?;
+            replace(
+                *k,
+                SceneObject {
+                    visible: *visible,
+                    ..object.clone()
+                },
+            )
+        }
+        Command::Transform {
+            object: k,
+            transform,
+        } => {
+            let object = object_at(scene, *k)?;
+            let geometry = match &object.geometry {
+                ObjectGeometry::Nurbs(s) => s.transformed(transform).map(ObjectGeometry::Nurbs),
+                ObjectGeometry::Patches(p) => p.transformed(transform).map(ObjectGeometry::Patches),
+            }
+            .map_err(geometry_error(object))?;
+            replace(
+                *k,
+                SceneObject {
+                    geometry,
+                    ..object.clone()
+                },
+            )
+        }
+        Command::SetSegments {
+            object: k,
+            segments,
+        } => {
+            let object = object_at(scene, *k)?;
+            let max = crate::scene::MAX_SEGMENTS;
+            if !(1..=max).contains(segments) {
+                return Err(EditError::Segments {
+                    segments: *segments,
+                    max,
+                });
+            }
+            replace(
+                *k,
+                SceneObject {
+                    segments: *segments,
+                    ..object.clone()
+                },
+            )
+        }
+    }
+}
+
+/// "Name (a)", keeping the name within [`MAX_NAME_LENGTH`].
+fn split_name(name: &str, suffix: &str) -> String {
+    let keep = MAX_NAME_LENGTH.saturating_sub(suffix.chars().count() + 3);
+    let base: String = name.chars().take(keep).collect();
+    format!("{base} ({suffix})")
+}
+
+/// Applies `command` to `scene` and returns the edit that undoes it. On error the scene is
+/// unchanged.
+pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
+    let changes = plan(scene, command)?;
+    let edit = Edit {
+        label: command.label(),
+        changes,
+    };
+    edit.redo(scene)?;
+    Ok(edit)
+}

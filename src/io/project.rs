@@ -1,0 +1,374 @@
+//! The project file: knotwork's JSON format ([`super::json`]) extended to a whole scene
+//! (version 2).
+//!
+//! ```json
+//! {"format": "knotwork", "version": 2,
+//!  "objects": [
+//!    {"type": "nurbs_surface", "name": "Torus", "visible": true, "segments": 16,
+//!     "homogeneous": true, "degree": [2, 2], "knots": [[...], [...]], "points": [[[wx, wy, wz, w], ...], ...]},
+//!    {"type": "bezier_patches", "name": "Utah teapot", "visible": true, "segments": 12,
+//!     "points": [[x, y, z, w], ...], "patches": [{"degree": [3, 3], "indices": [...]}, ...]}],
+//!  "view": {"target": [x, y, z], "distance": d, "yaw": a, "pitch": b,
+//!           "shading": "gaussian", "quality": 1.0}}
+//! ```
+//! Transforms are baked into the control points (as Rhino does), so an object needs no
+//! transform field. `visible`, `segments`, `name` and `view` may be omitted. Version 1 files
+//! (surfaces only, no view) open too; curves are refused with the path of the offending object.
+//!
+//! Reading is defensive: files above [`MAX_FILE_BYTES`], more than [`MAX_TOTAL_POINTS`]
+//! control points, degrees above 32, segments above [`MAX_SEGMENTS`] and anything malformed give
+//! a [`FormatError`] naming the JSON path, and nothing is allocated beyond the text itself.
+
+use serde::{Deserialize, Serialize};
+
+use super::json::{self, FormatError, Geometry, NamedGeometry};
+use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, MAX_BEZIER_DEGREE};
+use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
+
+/// The project format version this build writes and the newest it reads.
+pub const PROJECT_VERSION: u32 = 2;
+/// The largest project file opened (bytes): about 1.5 million rational control points, and a
+/// bound on the memory a hostile file can make the reader use (about 1 GiB while parsing).
+pub const MAX_FILE_BYTES: usize = 64 * 1024 * 1024;
+/// The most control points in one project, over all objects.
+pub const MAX_TOTAL_POINTS: usize = json::MAX_CONTROL_POINTS;
+
+/// What the viewer showed when the project was saved.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewSettings {
+    pub target: [f64; 3],
+    pub distance: f64,
+    pub yaw: f64,
+    pub pitch: f64,
+    /// A shading mode's name ("plain", "gaussian", ...).
+    pub shading: String,
+    /// The global tessellation quality factor.
+    pub quality: f64,
+}
+
+/// A project: the scene and, if saved with one, the view.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Project {
+    pub scene: Scene,
+    pub view: Option<ViewSettings>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPatch {
+    degree: [usize; 2],
+    indices: Vec<u32>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPatches {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<Vec<f64>>,
+    patches: Vec<RawPatch>,
+}
+
+fn error(path: impl Into<String>, message: impl Into<String>) -> FormatError {
+    FormatError {
+        path: path.into(),
+        message: message.into(),
+    }
+}
+
+fn deserialize<T: serde::de::DeserializeOwned>(
+    path: &str,
+    value: serde_json::Value,
+) -> Result<T, FormatError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let inner = e.path().to_string();
+        let full = if inner == "." {
+            path.to_string()
+        } else {
+            format!("{path}.{inner}")
+        };
+        error(full, e.into_inner().to_string())
+    })
+}
+
+/// Reads a project from JSON text.
+pub fn read(text: &str) -> Result<Project, FormatError> {
+    if text.len() > MAX_FILE_BYTES {
+        return Err(error(
+            "",
+            format!(
+                "the file is {} MiB; knotwork opens projects up to {} MiB",
+                text.len() / (1024 * 1024),
+                MAX_FILE_BYTES / (1024 * 1024)
+            ),
+        ));
+    }
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| error("", format!("not valid JSON: {e}")))?;
+    let serde_json::Value::Object(mut root) = value else {
+        return Err(error(
+            "",
+            "expected a JSON object with \"format\": \"knotwork\"",
+        ));
+    };
+    match root.remove("format") {
+        Some(serde_json::Value::String(f)) if f == "knotwork" => {}
+        Some(other) => {
+            return Err(error(
+                "format",
+                format!("expected \"knotwork\", found {other}"),
+            ));
+        }
+        None => return Err(error("format", "missing: this is not a knotwork project")),
+    }
+    let version = root
+        .remove("version")
+        .ok_or_else(|| error("version", "missing"))?;
+    let version = version.as_u64().ok_or_else(|| {
+        error(
+            "version",
+            format!("expected a whole number, found {version}"),
+        )
+    })?;
+    if version == 0 || version > u64::from(PROJECT_VERSION) {
+        return Err(error(
+            "version",
+            format!(
+                "version {version} is not supported: this build of knotwork reads versions 1 to {PROJECT_VERSION} (a newer knotwork wrote it?)"
+            ),
+        ));
+    }
+    let objects = match root.remove("objects") {
+        Some(serde_json::Value::Array(objects)) => objects,
+        Some(other) => {
+            return Err(error(
+                "objects",
+                format!("expected an array, found {other}"),
+            ));
+        }
+        None => return Err(error("objects", "missing")),
+    };
+    let view = match root.remove("view") {
+        Some(v) if version >= 2 => Some(deserialize::<ViewSettings>("view", v)?),
+        Some(_) => return Err(error("view", "version 1 files have no view")),
+        None => None,
+    };
+    if let Some(key) = root.keys().next() {
+        return Err(error(key.clone(), "unknown field"));
+    }
+    let mut total = 0usize;
+    let mut scene = Scene::default();
+    for (i, value) in objects.into_iter().enumerate() {
+        let path = format!("objects[{i}]");
+        let object = read_object(&path, value)?;
+        total = total.saturating_add(object.control_points().len());
+        if total > MAX_TOTAL_POINTS {
+            return Err(error(
+                path,
+                format!("the project has more than {MAX_TOTAL_POINTS} control points"),
+            ));
+        }
+        scene.objects.push(object);
+    }
+    if let Some(v) = &view {
+        let finite = v
+            .target
+            .iter()
+            .chain([&v.distance, &v.yaw, &v.pitch, &v.quality]);
+        if finite.into_iter().any(|x| !x.is_finite()) || v.distance <= 0.0 || v.quality <= 0.0 {
+            return Err(error(
+                "view",
+                "the camera and quality must be finite and positive",
+            ));
+        }
+    }
+    Ok(Project { scene, view })
+}
+
+fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, FormatError> {
+    let serde_json::Value::Object(mut map) = value else {
+        return Err(error(path, "expected an object"));
+    };
+    let visible = match map.remove("visible") {
+        None => true,
+        Some(serde_json::Value::Bool(b)) => b,
+        Some(other) => {
+            return Err(error(
+                format!("{path}.visible"),
+                format!("expected true or false, found {other}"),
+            ));
+        }
+    };
+    let segments = match map.remove("segments") {
+        None => DEFAULT_SEGMENTS,
+        Some(s) => match s.as_u64() {
+            Some(n) if (1..=u64::from(MAX_SEGMENTS)).contains(&n) => n as u32,
+            _ => {
+                return Err(error(
+                    format!("{path}.segments"),
+                    format!("expected a whole number in 1..={MAX_SEGMENTS}, found {s}"),
+                ));
+            }
+        },
+    };
+    let name = match map.remove("name") {
+        None => None,
+        Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
+        Some(other) => {
+            return Err(error(
+                format!("{path}.name"),
+                format!(
+                    "expected a name of 1 to {} characters, found {other}",
+                    crate::scene::MAX_NAME_LENGTH
+                ),
+            ));
+        }
+    };
+    let kind = map.get("type").and_then(|t| t.as_str()).unwrap_or_default();
+    if ![
+        "nurbs_surface",
+        "bezier_patches",
+        "nurbs_curve",
+        "trim_curve",
+    ]
+    .contains(&kind)
+    {
+        return Err(error(
+            format!("{path}.type"),
+            format!(
+                "unknown object type {}: expected \"nurbs_surface\" or \"bezier_patches\"",
+                map.get("type")
+                    .map_or("(missing)".to_string(), |t| t.to_string())
+            ),
+        ));
+    }
+    let is_patches = kind == "bezier_patches";
+    let value = serde_json::Value::Object(map);
+    let geometry = if is_patches {
+        ObjectGeometry::Patches(read_patches(path, value)?)
+    } else {
+        match json::object_from_value(path, value)?.geometry {
+            Geometry::Surface(s) => ObjectGeometry::Nurbs(s),
+            Geometry::Curve(_) | Geometry::Trim(_) => {
+                return Err(error(
+                    format!("{path}.type"),
+                    "a curve is not a scene object: knotwork projects hold surfaces",
+                ));
+            }
+        }
+    };
+    let mut object = SceneObject::new(name.unwrap_or_else(|| format!("Object {path}")), geometry);
+    object.visible = visible;
+    object.segments = segments;
+    Ok(object)
+}
+
+fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, FormatError> {
+    let raw: RawPatches = deserialize(path, value)?;
+    if raw.points.len() > MAX_TOTAL_POINTS {
+        return Err(error(
+            format!("{path}.points"),
+            format!("more than {MAX_TOTAL_POINTS} control points"),
+        ));
+    }
+    let mut points = Vec::with_capacity(raw.points.len());
+    let mut weights = Vec::with_capacity(raw.points.len());
+    for (i, p) in raw.points.iter().enumerate() {
+        match p.as_slice() {
+            [x, y, z] => {
+                points.push(glam::DVec3::new(*x, *y, *z));
+                weights.push(1.0);
+            }
+            [x, y, z, w] => {
+                points.push(glam::DVec3::new(*x, *y, *z));
+                weights.push(*w);
+            }
+            _ => {
+                return Err(error(
+                    format!("{path}.points[{i}]"),
+                    format!(
+                        "expected [x, y, z, w] (w may be omitted), found {} numbers",
+                        p.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let mut patches = Vec::with_capacity(raw.patches.len());
+    for (k, patch) in raw.patches.into_iter().enumerate() {
+        let [du, dv] = patch.degree;
+        if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
+            return Err(error(
+                format!("{path}.patches[{k}].degree"),
+                format!("degree ({du}, {dv}) is outside 1..={MAX_BEZIER_DEGREE}"),
+            ));
+        }
+        patches.push(BezierPatch::new(du, dv, patch.indices));
+    }
+    BezierPatchSet::new(points, Some(weights), patches).map_err(|e| {
+        let at = match &e {
+            GeometryError::NonFiniteCoordinate { index, .. }
+            | GeometryError::InvalidWeight { index, .. } => format!("{path}.points[{index}]"),
+            GeometryError::DegreeOutOfRange { patch, .. }
+            | GeometryError::ControlPointCount { patch, .. }
+            | GeometryError::IndexOutOfRange { patch, .. } => format!("{path}.patches[{patch}]"),
+            _ => path.to_string(),
+        };
+        error(at, e.to_string())
+    })
+}
+
+/// One scene object as a JSON value.
+fn object_value(object: &SceneObject) -> serde_json::Value {
+    let mut value = match &object.geometry {
+        ObjectGeometry::Nurbs(s) => json::object_value(
+            &NamedGeometry {
+                name: None,
+                geometry: Geometry::Surface(s.clone()),
+            },
+            true,
+        ),
+        ObjectGeometry::Patches(set) => serde_json::to_value(RawPatches {
+            kind: "bezier_patches".into(),
+            points: set
+                .points()
+                .iter()
+                .zip(set.weights())
+                .map(|(p, &w)| vec![p.x, p.y, p.z, w])
+                .collect(),
+            patches: set
+                .patches()
+                .iter()
+                .map(|p| RawPatch {
+                    degree: [p.degree_u(), p.degree_v()],
+                    indices: p.indices().to_vec(),
+                })
+                .collect(),
+        })
+        .unwrap_or(serde_json::Value::Null),
+    };
+    if let serde_json::Value::Object(map) = &mut value {
+        map.insert("name".into(), object.name.clone().into());
+        map.insert("visible".into(), object.visible.into());
+        map.insert("segments".into(), object.segments.into());
+    }
+    value
+}
+
+/// The project as JSON text (version [`PROJECT_VERSION`]). f64 values are written in their
+/// shortest exact form and surface points homogeneously, so reading gives back the same bits.
+pub fn write(project: &Project) -> String {
+    let mut file = serde_json::json!({
+        "format": "knotwork",
+        "version": PROJECT_VERSION,
+        "objects": project.scene.objects.iter().map(object_value).collect::<Vec<_>>(),
+    });
+    if let (Some(view), serde_json::Value::Object(map)) = (&project.view, &mut file) {
+        map.insert(
+            "view".into(),
+            serde_json::to_value(view).unwrap_or(serde_json::Value::Null),
+        );
+    }
+    serde_json::to_string(&file).unwrap_or_default()
+}

@@ -1,0 +1,312 @@
+//! The command layer: random sequences of edits (move, weight, knot insertion and removal,
+//! degree elevation, split, reverse, create, duplicate, delete, transform, rename, hide), each
+//! undone and redone through the history, with a save and load in between. Failed commands
+//! must leave the document and the history untouched.
+
+use glam::{DAffine3, DVec3};
+use knotwork::doc::{Command, EditError, History, apply};
+use knotwork::io::project::{self, Project};
+use knotwork::kernel::{Direction, construct};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use proptest::prelude::*;
+
+mod common;
+
+/// A small scene with every kind of object: the teapot's lid (Bézier patches over shared
+/// points), a rational torus and a non-uniform B-spline.
+fn start_scene() -> Scene {
+    let demo = Scene::demo().unwrap();
+    let mut scene = Scene::default();
+    scene.objects.push(demo.objects[0].clone());
+    scene.objects.push(demo.objects[1].clone());
+    scene.objects.push(demo.objects[3].clone());
+    scene
+}
+
+fn direction(bit: u32) -> Direction {
+    if bit & 1 == 0 {
+        Direction::U
+    } else {
+        Direction::V
+    }
+}
+
+/// A concrete command from random numbers, against the current scene (so most are valid, and
+/// some deliberately are not: weights ≤ 0, NaN positions, parameters outside the domain).
+fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
+    let n = scene.objects.len();
+    if n == 0 || kind == 5 {
+        let origin = DVec3::new(a * 10.0, b * 10.0, c);
+        let surface = construct::plane(origin, DVec3::X * (1.0 + a), DVec3::Y * (1.0 + b))
+            .unwrap()
+            .elevate_degree(Direction::U, (r % 3) as usize)
+            .unwrap();
+        return Command::Add {
+            object: SceneObject::new(format!("Plane {r}"), ObjectGeometry::Nurbs(surface)),
+        };
+    }
+    let object = r as usize % n;
+    let target = &scene.objects[object];
+    let points = target.control_points();
+    let index = (r as usize / 7) % points.len().max(1);
+    let domain = match &target.geometry {
+        ObjectGeometry::Nurbs(s) => s.domain(),
+        ObjectGeometry::Patches(_) => [(0.0, 1.0), (0.0, 1.0)],
+    };
+    let d = direction(r >> 4);
+    let (lo, hi) = domain[d.index()];
+    let inside = lo + (hi - lo) * (0.05 + 0.9 * a);
+    match kind {
+        0 => {
+            let mut position =
+                points.get(index).copied().unwrap_or_default() + DVec3::new(a - 0.5, b - 0.5, c);
+            if c > 1.9 {
+                position.y = f64::NAN;
+            }
+            Command::MovePoints {
+                object,
+                moves: vec![
+                    (index, position),
+                    ((index + 1) % points.len().max(1), position),
+                ],
+            }
+        }
+        1 => Command::SetWeight {
+            object,
+            points: vec![index],
+            weight: if c < -1.5 { -a } else { 0.2 + 2.0 * a },
+        },
+        2 => Command::InsertKnot {
+            object,
+            direction: d,
+            // Now and then outside the domain, which must be refused.
+            value: if c > 1.8 { hi + 1.0 } else { inside },
+        },
+        3 => Command::ElevateDegree {
+            object,
+            direction: d,
+        },
+        4 => Command::Split {
+            object,
+            direction: d,
+            value: inside,
+        },
+        6 => Command::Delete { object },
+        7 => Command::Duplicate { object },
+        8 => {
+            if r & 1 == 0 {
+                Command::Reverse {
+                    object,
+                    direction: d,
+                }
+            } else {
+                Command::SwapUv { object }
+            }
+        }
+        9 => Command::Transform {
+            object,
+            transform: DAffine3::from_scale_rotation_translation(
+                DVec3::splat(0.5 + a),
+                glam::DQuat::from_rotation_z(c),
+                DVec3::new(b, -a, c),
+            ),
+        },
+        10 => {
+            // Remove a knot just inserted (possible) or an arbitrary value (refused).
+            Command::RemoveKnot {
+                object,
+                direction: d,
+                value: inside,
+                tolerance: 1e-9,
+            }
+        }
+        _ => {
+            if r & 2 == 0 {
+                Command::Rename {
+                    object,
+                    name: if c > 1.9 {
+                        String::new()
+                    } else {
+                        format!("renamed {r}")
+                    },
+                }
+            } else {
+                Command::SetVisible {
+                    object,
+                    visible: c > 0.0,
+                }
+            }
+        }
+    }
+}
+
+fn round_trip(scene: &Scene) -> Scene {
+    let text = project::write(&Project {
+        scene: scene.clone(),
+        view: None,
+    });
+    project::read(&text).unwrap().scene
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn undo_all_restores_the_start_and_redo_all_the_end(
+        steps in prop::collection::vec(
+            (0u8..12, any::<u32>(), 0.0f64..1.0, 0.0f64..1.0, -2.0f64..2.0), 1..14),
+        save_at in 0usize..14,
+    ) {
+        let start = start_scene();
+        let mut scene = start.clone();
+        let mut history = History::default();
+        let mut applied = 0;
+        for (k, &(kind, r, a, b, c)) in steps.iter().enumerate() {
+            if k == save_at {
+                let loaded = round_trip(&scene);
+                prop_assert_eq!(&loaded, &scene, "save and load changed the document");
+                scene = loaded;
+            }
+            let cmd = command(&scene, kind, r, a, b, c);
+            let (before, history_before) = (scene.clone(), history.clone());
+            match history.execute(&mut scene, &cmd) {
+                Ok(_) => applied += 1,
+                Err(_) => {
+                    prop_assert_eq!(&scene, &before, "a failed {:?} changed the scene", cmd);
+                    prop_assert_eq!(&history, &history_before);
+                }
+            }
+        }
+        let end = scene.clone();
+        prop_assert_eq!(history.undo_depth(), applied);
+        for _ in 0..applied {
+            history.undo(&mut scene).unwrap();
+        }
+        prop_assert_eq!(&scene, &start, "undo all did not restore the start");
+        prop_assert!(matches!(history.undo(&mut scene), Err(EditError::NothingTo("undo"))));
+        prop_assert_eq!(&scene, &start);
+        for _ in 0..applied {
+            history.redo(&mut scene).unwrap();
+        }
+        prop_assert_eq!(&scene, &end, "redo all did not give the end state");
+        prop_assert_eq!(&round_trip(&scene), &end);
+    }
+}
+
+#[test]
+fn refused_commands_name_the_problem() {
+    let mut scene = start_scene();
+    let start = scene.clone();
+    let cases: Vec<(Command, &str)> = vec![
+        (
+            Command::SetWeight {
+                object: 1,
+                points: vec![0],
+                weight: 0.0,
+            },
+            "a weight must be finite and > 0, got 0",
+        ),
+        (
+            Command::SetWeight {
+                object: 1,
+                points: vec![0],
+                weight: f64::NAN,
+            },
+            "a weight must be finite and > 0, got NaN",
+        ),
+        (
+            Command::InsertKnot {
+                object: 0,
+                direction: Direction::U,
+                value: 0.5,
+            },
+            "Utah teapot: knot insertion needs a NURBS surface",
+        ),
+        (
+            Command::SetKnots {
+                object: 2,
+                direction: Direction::U,
+                knots: vec![0.0, 1.0],
+            },
+            "B-spline (2, 5): knots[0]",
+        ),
+        (
+            Command::MovePoints {
+                object: 1,
+                moves: vec![(0, DVec3::new(f64::INFINITY, 0.0, 0.0))],
+            },
+            "is not finite",
+        ),
+        (
+            Command::Delete { object: 7 },
+            "there is no object 7 (the scene has 3)",
+        ),
+        (
+            Command::Rename {
+                object: 1,
+                name: "\u{7}".into(),
+            },
+            "a name must be 1 to 200 characters",
+        ),
+    ];
+    for (cmd, message) in cases {
+        let e = apply(&mut scene, &cmd).unwrap_err().to_string();
+        assert!(e.contains(message), "{cmd:?}: {e:?} lacks {message:?}");
+        assert_eq!(scene, start);
+    }
+}
+
+#[test]
+fn shape_preserving_edits_keep_the_surface() {
+    // Knot insertion and degree elevation through the command layer leave every point in place
+    // (compared by evaluation, independent of the control net).
+    let mut scene = start_scene();
+    let reference = match &scene.objects[2].geometry {
+        ObjectGeometry::Nurbs(s) => s.clone(),
+        _ => unreachable!(),
+    };
+    let mut history = History::default();
+    for cmd in [
+        Command::InsertKnot {
+            object: 2,
+            direction: Direction::U,
+            value: 0.37,
+        },
+        Command::ElevateDegree {
+            object: 2,
+            direction: Direction::V,
+        },
+    ] {
+        history.execute(&mut scene, &cmd).unwrap();
+    }
+    let ObjectGeometry::Nurbs(edited) = &scene.objects[2].geometry else {
+        unreachable!()
+    };
+    assert_ne!(edited.count(), reference.count());
+    let [(u0, u1), (v0, v1)] = reference.domain();
+    for i in 0..=10 {
+        for j in 0..=10 {
+            let (u, v) = (
+                u0 + (u1 - u0) * i as f64 / 10.0,
+                v0 + (v1 - v0) * j as f64 / 10.0,
+            );
+            let d = edited.point_at(u, v).unwrap() - reference.point_at(u, v).unwrap();
+            assert!(d.length() < 1e-12, "moved by {d} at ({u}, {v})");
+        }
+    }
+    // A split gives two objects that meet the original at the split parameter.
+    history
+        .execute(
+            &mut scene,
+            &Command::Split {
+                object: 2,
+                direction: Direction::V,
+                value: 0.5 * (v0 + v1),
+            },
+        )
+        .unwrap();
+    assert_eq!(scene.objects.len(), 4);
+    assert!(scene.objects[3].name.ends_with("(b)"));
+    history.undo(&mut scene).unwrap();
+    assert_eq!(scene.objects.len(), 3);
+}

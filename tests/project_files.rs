@@ -1,0 +1,180 @@
+//! Project files: the scene (every kind of object, names, visibility, tessellation, view)
+//! round-trips bit for bit, version 1 files open, and a corpus of broken files
+//! (`tests/bad-projects/`) is refused with a message naming the problem while the open
+//! document and its undo history stay exactly as they were.
+
+use glam::DVec3;
+use knotwork::doc::{Command, Document};
+use knotwork::io::project::{self, MAX_FILE_BYTES, Project, ViewSettings};
+use knotwork::kernel::Direction;
+use knotwork::scene::Scene;
+
+/// Each broken file, the JSON path its error must name and words the message must contain.
+const CORPUS: &[(&str, &str, &str)] = &[
+    ("empty", "", "not valid JSON"),
+    ("not-json", "", "not valid JSON"),
+    ("truncated", "", "EOF while parsing"),
+    ("deep-nesting", "", "recursion limit exceeded"),
+    ("nan-literal", "", "not valid JSON"),
+    ("infinite-coordinate", "", "number out of range"),
+    ("not-knotwork", "format", "expected \"knotwork\""),
+    ("future-version", "version", "version 99 is not supported"),
+    ("objects-not-array", "objects", "expected an array"),
+    ("wrong-type-degree", "objects[0].degree[0]", "invalid type"),
+    (
+        "decreasing-knots",
+        "objects[0].knots[0][3]",
+        "knots must not decrease",
+    ),
+    (
+        "zero-weight",
+        "objects[0].points[0][1]",
+        "weight 0 must be finite and > 0",
+    ),
+    (
+        "negative-weight",
+        "objects[0].points[1]",
+        "weight -2 must be finite and > 0",
+    ),
+    (
+        "degree-40",
+        "objects[0].knots[0]",
+        "degree 40 is outside 1..=32",
+    ),
+    ("absurd-segments", "objects[0].segments", "1..=1024"),
+    (
+        "unknown-type",
+        "objects[0].type",
+        "unknown object type \"subd_cage\"",
+    ),
+    (
+        "ragged-net",
+        "objects[0].points[1]",
+        "the net must be rectangular",
+    ),
+    (
+        "patch-index-out-of-range",
+        "objects[0].patches[0]",
+        "index 99",
+    ),
+    (
+        "curve-object",
+        "objects[0].type",
+        "a curve is not a scene object",
+    ),
+    ("bad-view", "view", "finite and positive"),
+];
+
+/// A document with some history: a moved point, an inserted knot, a rename.
+fn edited_document() -> Document {
+    let mut doc = Document::new(Scene::demo().unwrap());
+    for cmd in [
+        Command::MovePoints {
+            object: 1,
+            moves: vec![(3, DVec3::new(1.0, 2.0, 3.0))],
+        },
+        Command::InsertKnot {
+            object: 3,
+            direction: Direction::V,
+            value: 0.3,
+        },
+        Command::Rename {
+            object: 0,
+            name: "Teapot".into(),
+        },
+    ] {
+        doc.execute(&cmd).unwrap();
+    }
+    doc.undo().unwrap();
+    doc
+}
+
+#[test]
+fn broken_files_are_refused_by_name_and_the_document_is_untouched() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-projects");
+    let mut found: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    let mut listed: Vec<String> = CORPUS.iter().map(|(n, ..)| format!("{n}.json")).collect();
+    listed.sort();
+    assert_eq!(
+        found, listed,
+        "every file in tests/bad-projects has an expectation"
+    );
+
+    let mut doc = edited_document();
+    let before = doc.clone();
+    for (name, path, words) in CORPUS {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap();
+        let e = doc.open(&text).unwrap_err();
+        assert_eq!(e.path, *path, "{name}: {e}");
+        assert!(e.message.contains(words), "{name}: {e:?} lacks {words:?}");
+        assert_eq!(doc, before, "{name} changed the document");
+    }
+    // The history still works after all those refusals.
+    doc.redo().unwrap();
+    assert_eq!(doc.scene.objects[0].name, "Teapot");
+}
+
+#[test]
+fn oversized_files_are_refused_before_parsing() {
+    let mut text = String::from("{\"format\": \"knotwork\", \"version\": 2, \"objects\": []}");
+    text.push_str(&" ".repeat(MAX_FILE_BYTES));
+    let e = project::read(&text).unwrap_err();
+    assert!(e.message.contains("opens projects up to 64 MiB"), "{e}");
+}
+
+#[test]
+fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
+    let mut doc = edited_document();
+    doc.execute(&Command::SetVisible {
+        object: 2,
+        visible: false,
+    })
+    .unwrap();
+    doc.execute(&Command::SetWeight {
+        object: 3,
+        points: vec![4, 5],
+        weight: 0.3,
+    })
+    .unwrap();
+    let view = ViewSettings {
+        target: [1.0, 2.0, 0.5],
+        distance: 12.5,
+        yaw: -0.9,
+        pitch: 0.45,
+        shading: "gaussian".into(),
+        quality: 0.5,
+    };
+    let text = doc.save(Some(view.clone()));
+    let mut opened = Document::default();
+    assert_eq!(opened.open(&text).unwrap(), Some(view));
+    assert_eq!(opened.scene, doc.scene);
+    assert!(!opened.scene.objects[2].visible);
+    assert_eq!(
+        opened.history.undo_depth(),
+        0,
+        "a new document starts a new history"
+    );
+    assert_eq!(opened.save(None), doc.save(None));
+}
+
+#[test]
+fn version_1_files_open_as_scenes() {
+    let surface = knotwork::kernel::construct::sphere(DVec3::ZERO, 2.0).unwrap();
+    let text = knotwork::io::json::write(&[knotwork::io::json::NamedGeometry {
+        name: Some("ball".into()),
+        geometry: knotwork::io::json::Geometry::Surface(surface),
+    }]);
+    let Project { scene, view } = project::read(&text).unwrap();
+    assert_eq!(view, None);
+    assert_eq!(scene.objects.len(), 1);
+    assert_eq!(scene.objects[0].name, "ball");
+    let p = match &scene.objects[0].geometry {
+        knotwork::scene::ObjectGeometry::Nurbs(s) => s.point_at(0.3, 0.7).unwrap(),
+        _ => unreachable!(),
+    };
+    assert!((p.length() - 2.0).abs() < 1e-12);
+}
