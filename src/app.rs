@@ -2,6 +2,16 @@
 //! runs the compute evaluation and the viewport render on eframe's wgpu device, and shows the
 //! result as an egui image beside a control panel.
 
+mod files;
+mod input;
+mod panels;
+
+pub use files::AUTOSAVE_KEY;
+#[cfg(not(target_arch = "wasm32"))]
+pub use files::read_file as read_project_file;
+pub use panels::{CONTROLS, parse_knots};
+
+use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use eframe::egui;
@@ -9,17 +19,19 @@ use eframe::egui_wgpu;
 
 use glam::DVec3;
 
-use crate::gpu::records::CURVATURE_RAMP;
+use crate::doc::{Command, Document, Edit, EditError, Touched};
+
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{
     self, GpuError, MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, ShadingMode,
 };
+use crate::kernel::BezierPatchSet;
 use crate::render::{
     ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
-use crate::scene::{Decomposition, Scene, robust_range};
+use crate::scene::{Decomposition, Scene, SceneObject, robust_range};
 use crate::status::{self, AppStatus, ExternalCommand};
-use crate::view::OrbitCamera;
+use crate::view::{Constraint, OrbitCamera, PickView, SurfaceHit};
 
 /// The per-object tessellation slider's range (segments per Bézier span edge).
 pub const SLIDER_SEGMENTS: std::ops::RangeInclusive<u32> = 1..=128;
@@ -29,6 +41,8 @@ pub const QUALITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=4.0;
 const RANGE_SAMPLES: usize = 6;
 /// Control point dot radius in logical pixels.
 const POINT_RADIUS: f32 = 3.5;
+/// How near (logical pixels) a click must be to a control point to pick it.
+pub const PICK_RADIUS: f64 = 8.0;
 
 /// eframe's wgpu setup for knotwork: the device of [`gpu::device_descriptor`]; on the web,
 /// WebGPU only (no silent WebGL fallback: the page explains what is missing instead).
@@ -178,18 +192,62 @@ pub fn fit_to_device<T>(
     }))
 }
 
+/// The sample scene, or an empty one (with the reason in the status) if it cannot be built.
+fn default_scene(status: &mut AppStatus) -> Scene {
+    Scene::demo().unwrap_or_else(|e| {
+        status.error = Some(format!("the sample scene could not be built: {e}"));
+        Scene::default()
+    })
+}
+
 /// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].
 fn effective_segments(segments: u32, quality: f32) -> u32 {
     ((segments as f32 * quality).round() as u32).clamp(1, MAX_SEGMENTS)
 }
 
+/// A drag of control points in progress: one undo step when it ends.
+struct Drag {
+    object: usize,
+    /// The object as it was when the drag began.
+    before: SceneObject,
+    /// The dragged points and where they started.
+    starts: Vec<(usize, DVec3)>,
+    /// The grabbed point's start; the cursor's ray moves it under the constraint.
+    anchor: DVec3,
+    moved: bool,
+}
+
 pub struct KnotworkApp {
-    scene: Scene,
-    /// Each object's Bézier patches, as uploaded.
+    doc: Document,
+    /// Each object's Bézier patches, as uploaded (empty for hidden objects).
     decompositions: Vec<Decomposition>,
     selected: Option<usize>,
+    /// Selected control points of the selected object.
+    points: BTreeSet<usize>,
     /// The control point the panel edits, in the selected object.
     edit_point: usize,
+    drag: Option<Drag>,
+    /// Where a box selection started (logical pixels).
+    box_start: Option<egui::Pos2>,
+    constraint: Constraint,
+    snap: bool,
+    snap_step: f64,
+    /// The last surface point clicked.
+    hit: Option<SurfaceHit>,
+    /// The camera and viewport of the last frame, for picking.
+    pick_view: Option<PickView>,
+    viewport_rect: egui::Rect,
+    panel: panels::PanelState,
+    /// Counts document changes; the autosave writes when it moves.
+    revision: u64,
+    autosaved_revision: u64,
+    last_change: f64,
+    pending_revision: u64,
+    autosave: bool,
+    /// A modal message (title, text), e.g. a file that could not be opened.
+    dialog: Option<(String, String)>,
+    /// Files picked or dropped, waiting to be opened (name, text).
+    incoming: files::Incoming,
     quality: f32,
     /// The largest quality the device's limits allowed at the last tessellation change.
     quality_used: f32,
@@ -215,17 +273,19 @@ pub struct KnotworkApp {
 
 impl KnotworkApp {
     /// `adapter_label` names the adapter where wgpu cannot (the browser reports no name).
-    pub fn new(cc: &eframe::CreationContext<'_>, adapter_label: Option<String>) -> Self {
+    /// `restore`: open the autosaved project, if any (and keep autosaving).
+    pub fn new(
+        cc: &eframe::CreationContext<'_>,
+        adapter_label: Option<String>,
+        restore: bool,
+    ) -> Self {
         status::set_repaint_context(&cc.egui_ctx);
         cc.egui_ctx.set_theme(egui::Theme::Dark);
         let mut status = AppStatus {
             quality: 1.0,
             ..Default::default()
         };
-        let scene = Scene::demo().unwrap_or_else(|e| {
-            status.error = Some(format!("the sample scene could not be built: {e}"));
-            Scene::default()
-        });
+        let scene = default_scene(&mut status);
         let gpu = match &cc.wgpu_render_state {
             Some(state) => {
                 let info = state.adapter.get_info();
@@ -245,10 +305,27 @@ impl KnotworkApp {
             }
         };
         let mut app = Self {
-            scene,
+            doc: Document::new(scene),
             decompositions: Vec::new(),
             selected: None,
+            points: BTreeSet::new(),
             edit_point: 0,
+            drag: None,
+            box_start: None,
+            constraint: Constraint::Free,
+            snap: false,
+            snap_step: 0.25,
+            hit: None,
+            pick_view: None,
+            viewport_rect: egui::Rect::NOTHING,
+            panel: panels::PanelState::default(),
+            revision: 0,
+            autosaved_revision: 0,
+            last_change: 0.0,
+            pending_revision: 0,
+            autosave: restore,
+            dialog: None,
+            incoming: files::Incoming::default(),
             quality: 1.0,
             quality_used: 1.0,
             shading: ShadingMode::Plain,
@@ -265,9 +342,12 @@ impl KnotworkApp {
             logged_status: false,
             exit_after_frames: None,
         };
+        if restore {
+            app.restore_autosave(cc.storage);
+        }
         match app.decompose_all() {
             Ok(()) => {
-                if let Err(e) = app.rebuild_geometry(1.0) {
+                if let Err(e) = app.rebuild_geometry(app.quality) {
                     app.status.error = Some(e.to_string());
                 }
             }
@@ -288,14 +368,139 @@ impl KnotworkApp {
         self
     }
 
+    /// Opens project text (errors show in a dialog; the document stays).
+    pub fn open_project(&mut self, name: &str, text: &str) {
+        self.open_text(name, text);
+    }
+
+    fn scene(&self) -> &Scene {
+        &self.doc.scene
+    }
+
+    /// Every visible object's Bézier decomposition (hidden ones get none).
     fn decompose_all(&mut self) -> Result<(), String> {
         self.decompositions = self
+            .doc
             .scene
             .objects
             .iter()
-            .map(|o| o.decompose().map_err(|e| format!("{}: {e}", o.name)))
+            .map(|o| {
+                if o.visible {
+                    o.decompose().map_err(|e| format!("{}: {e}", o.name))
+                } else {
+                    Ok(Decomposition {
+                        set: BezierPatchSet::default(),
+                        domains: Vec::new(),
+                    })
+                }
+            })
             .collect::<Result<_, _>>()?;
         Ok(())
+    }
+
+    /// Applies a command as one undo step and updates the GPU; a refused command (or one the
+    /// GPU cannot show) leaves the document and its history as they were and shows why.
+    fn execute(&mut self, command: Command) {
+        let result = self.doc.execute(&command).map(Edit::touched);
+        match result {
+            Ok(touched) => {
+                if let Err(e) = self.after_edit(touched) {
+                    // Take the step back out: the history must not keep what cannot be shown.
+                    if self.doc.undo().is_ok() {
+                        self.doc.history.drop_redo();
+                    }
+                    let _ = self.after_edit(touched);
+                    self.status.error =
+                        Some(format!("{}: {e} (the edit was undone)", command.label()));
+                } else {
+                    self.status.error = None;
+                }
+            }
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// Undo (`redo` false) or redo one step.
+    fn step_history(&mut self, redo: bool) {
+        let result = if redo {
+            self.doc.redo()
+        } else {
+            self.doc.undo()
+        };
+        match result.map(Edit::touched) {
+            Ok(touched) => {
+                if let Err(e) = self.after_edit(touched) {
+                    self.status.error = Some(e);
+                } else {
+                    self.status.error = None;
+                }
+            }
+            Err(EditError::NothingTo(_)) => {}
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// Brings the GPU and the selection up to date with the document after an edit.
+    fn after_edit(&mut self, touched: Touched) -> Result<(), String> {
+        self.revision += 1;
+        self.auto_range = None;
+        self.redraw = true;
+        match touched {
+            Touched::Nothing => Ok(()),
+            Touched::Points(object) => self.refresh_object(object, None),
+            Touched::Structure => {
+                let count = self.doc.scene.objects.len();
+                if self.selected.is_some_and(|s| s >= count) {
+                    self.selected = None;
+                }
+                self.decompose_all()?;
+                self.rebuild_geometry(self.quality)
+                    .map_err(|e| e.to_string())?;
+                self.select_keep_points(self.selected);
+                Ok(())
+            }
+        }
+    }
+
+    /// Re-decomposes object `object` after its points or weights changed and uploads what
+    /// changed; `patches` are the Bézier patches to re-evaluate (`None`: all of the object's).
+    fn refresh_object(&mut self, object: usize, patches: Option<&[usize]>) -> Result<(), String> {
+        let Some(target) = self.doc.scene.objects.get(object) else {
+            return Err(format!("there is no object {object}"));
+        };
+        if !target.visible {
+            return Ok(());
+        }
+        let decomposition = target
+            .decompose()
+            .map_err(|e| format!("{}: {e}", target.name))?;
+        if let Some(gpu) = &mut self.gpu
+            && let Some(geometry) = &mut gpu.geometry
+        {
+            let uploaded = geometry
+                .update_object(&gpu.queue, object, &decomposition.set, patches)
+                .map_err(|e| e.to_string())?;
+            self.status.points_uploaded = uploaded as u32;
+        }
+        self.decompositions[object] = decomposition;
+        self.update_net();
+        self.auto_range = None;
+        self.redraw = true;
+        Ok(())
+    }
+
+    /// Rewrites the control net's points and highlight.
+    fn update_net(&mut self) {
+        let (Some(gpu), Some(s)) = (&self.gpu, self.selected) else {
+            return;
+        };
+        if let (Some(net), Some(object)) = (&gpu.net, self.doc.scene.objects.get(s)) {
+            let points = &self.points;
+            net.update_points(&gpu.queue, &object.control_points(), &|k| {
+                points.contains(&k)
+            });
+        }
+        self.redraw = true;
     }
 
     /// Uploads every object at `quality`; where the device's buffer or dispatch limits refuse
@@ -307,6 +512,7 @@ impl KnotworkApp {
         };
         let (geometry, used, refusal) = fit_to_device(quality, |q| {
             let inputs: Vec<ObjectPatches<'_>> = self
+                .doc
                 .scene
                 .objects
                 .iter()
@@ -331,13 +537,13 @@ impl KnotworkApp {
     /// Applies a tessellation change (`change` edits the scene's segments or the quality) and
     /// re-uploads; on failure everything returns to how it was and the error is shown.
     fn retessellate(&mut self, change: impl FnOnce(&mut Self)) {
-        let saved_segments: Vec<u32> = self.scene.objects.iter().map(|o| o.segments).collect();
+        let saved_segments: Vec<u32> = self.scene().objects.iter().map(|o| o.segments).collect();
         let saved_quality = self.quality;
         change(self);
         match self.rebuild_geometry(self.quality) {
             Ok(()) => self.status.error = None,
             Err(e) => {
-                for (o, s) in self.scene.objects.iter_mut().zip(saved_segments) {
+                for (o, s) in self.doc.scene.objects.iter_mut().zip(saved_segments) {
                     o.segments = s;
                 }
                 self.quality = saved_quality;
@@ -360,7 +566,7 @@ impl KnotworkApp {
             return;
         }
         self.retessellate(|app| {
-            for o in &mut app.scene.objects {
+            for o in &mut app.doc.scene.objects {
                 o.segments = segments;
             }
         });
@@ -378,59 +584,45 @@ impl KnotworkApp {
         self.retessellate(|app| app.quality = quality);
     }
 
+    /// Selects an object (or none) and clears the point selection.
     fn select(&mut self, selected: Option<usize>) {
-        let selected = selected.filter(|&s| s < self.scene.objects.len());
-        self.selected = selected;
+        self.points.clear();
         self.edit_point = 0;
+        self.select_keep_points(selected);
+    }
+
+    /// Selects an object, keeping those selected points that still exist, and builds its net.
+    fn select_keep_points(&mut self, selected: Option<usize>) {
+        let selected = selected.filter(|&s| s < self.doc.scene.objects.len());
+        if selected != self.selected {
+            self.points.clear();
+        }
+        self.selected = selected;
+        let count = selected.map_or(0, |s| self.doc.scene.objects[s].control_points().len());
+        self.points.retain(|&k| k < count);
         if let Some(gpu) = &mut self.gpu {
+            let points = &self.points;
             gpu.net = selected.map(|s| {
-                let object = &self.scene.objects[s];
-                ControlNet::new(&gpu.device, &object.control_points(), &object.net_lines())
+                let object = &self.doc.scene.objects[s];
+                ControlNet::new(
+                    &gpu.device,
+                    &object.control_points(),
+                    &|k| points.contains(&k),
+                    &object.net_lines(),
+                )
             });
         }
+        self.panel
+            .sync(self.doc.scene.objects.get(selected.unwrap_or(usize::MAX)));
         self.redraw = true;
     }
 
-    /// Moves one control point; only the Bézier patches in its support are re-decomposed,
-    /// uploaded and re-evaluated. A bad request changes nothing and shows the error.
+    /// Moves one control point through the command layer (an undo step).
     fn move_control_point(&mut self, object: usize, index: usize, position: DVec3) {
-        let Some(target) = self.scene.objects.get_mut(object) else {
-            self.status.error = Some(format!("there is no object {object}"));
-            return;
-        };
-        let before = target.clone();
-        let result = target
-            .move_control_point(index, position)
-            .map_err(|e| e.to_string())
-            .and_then(|patches| {
-                let d = target.decompose().map_err(|e| e.to_string())?;
-                Ok((patches, d))
-            });
-        let (patches, decomposition) = match result {
-            Ok(r) => r,
-            Err(e) => {
-                self.scene.objects[object] = before;
-                self.status.error = Some(format!("{}: {e}", self.scene.objects[object].name));
-                return;
-            }
-        };
-        if let Some(gpu) = &mut self.gpu {
-            if let Some(geometry) = &mut gpu.geometry {
-                match geometry.update_object(&gpu.queue, object, &decomposition.set, Some(&patches))
-                {
-                    Ok(uploaded) => self.status.points_uploaded = uploaded as u32,
-                    Err(e) => self.status.error = Some(e.to_string()),
-                }
-            }
-            if self.selected == Some(object)
-                && let Some(net) = &gpu.net
-            {
-                net.update_points(&gpu.queue, &self.scene.objects[object].control_points());
-            }
-        }
-        self.decompositions[object] = decomposition;
-        self.auto_range = None;
-        self.redraw = true;
+        self.execute(Command::MovePoints {
+            object,
+            moves: vec![(index, position)],
+        });
     }
 
     fn set_shading(&mut self, mode: ShadingMode) {
@@ -451,7 +643,7 @@ impl KnotworkApp {
         }
         if self.auto_range.is_none() {
             let mut values = Vec::new();
-            for object in &self.scene.objects {
+            for object in self.doc.scene.objects.iter().filter(|o| o.visible) {
                 if let Ok(samples) = object.curvature_samples(RANGE_SAMPLES) {
                     values.extend(
                         samples
@@ -466,14 +658,28 @@ impl KnotworkApp {
     }
 
     fn refresh_status(&mut self) {
-        self.status.objects = self.scene.objects.len() as u32;
+        self.status.objects = self.scene().objects.len() as u32;
+        self.status.selected_points = self.points.iter().map(|&k| k as u32).collect();
+        self.status.undo_steps = self.doc.history.undo_depth() as u32;
+        self.status.redo_steps = self.doc.history.redo_depth() as u32;
+        self.status.last_edit = self.doc.history.undo_label().map(str::to_owned);
+        self.status.dragging = self.drag.is_some();
+        self.status.constraint = self.constraint.label();
+        self.status.revision = self.revision;
+        self.status.autosaved_revision = self.autosaved_revision;
+        self.status.hit = self.hit.map(|h| status::HitStatus {
+            object: h.object as u32,
+            u: h.u,
+            v: h.v,
+            point: h.point.to_array(),
+        });
         self.status.quality = self.quality;
         self.status.selected = self.selected.map(|s| s as u32);
         self.status.shading = self.shading.name().to_owned();
         self.status.range_auto = self.manual_range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
         self.status.segments = self
-            .scene
+            .scene()
             .objects
             .iter()
             .map(|o| effective_segments(o.segments, self.quality_used))
@@ -500,6 +706,17 @@ impl KnotworkApp {
             } => self.move_control_point(object, index, DVec3::from(position)),
             ExternalCommand::SetContinuous(on) => self.continuous = on,
             ExternalCommand::FrameModel => self.frame_pending = true,
+            ExternalCommand::Undo => self.step_history(false),
+            ExternalCommand::Redo => self.step_history(true),
+            ExternalCommand::SelectPoints(points) => {
+                let count = self
+                    .selected
+                    .map_or(0, |s| self.doc.scene.objects[s].control_points().len());
+                self.points = points.into_iter().filter(|&k| k < count).collect();
+                self.update_net();
+            }
+            ExternalCommand::Open { name, text } => self.open_text(&name, &text),
+            ExternalCommand::NewDocument => self.new_document(),
         }
         self.redraw = true;
     }
@@ -517,225 +734,10 @@ impl KnotworkApp {
     }
 
     fn frame_model(&mut self, aspect: f32) {
-        if let Some((lo, hi)) = self.scene.bounds() {
+        if let Some((lo, hi)) = self.scene().bounds() {
             self.camera.frame(lo.as_vec3(), hi.as_vec3(), aspect);
         }
         self.redraw = true;
-    }
-
-    fn info_grid(&self, ui: &mut egui::Ui) {
-        egui::Grid::new("info")
-            .num_columns(2)
-            .striped(true)
-            .show(ui, |ui| {
-                let rows = [
-                    ("Backend", self.status.backend.clone()),
-                    ("Adapter", self.status.adapter.clone()),
-                    ("Objects", self.status.objects.to_string()),
-                    ("Bézier patches", self.status.patches.to_string()),
-                    ("Vertices", self.status.vertices.to_string()),
-                    ("Triangles", self.status.triangles.to_string()),
-                    (
-                        "Re-evaluated",
-                        format!("{} patches", self.status.patches_reevaluated),
-                    ),
-                ];
-                for (name, value) in rows {
-                    ui.label(name);
-                    ui.label(value);
-                    ui.end_row();
-                }
-            });
-    }
-
-    fn objects_panel(&mut self, ui: &mut egui::Ui) {
-        ui.label(egui::RichText::new("Objects").strong());
-        let mut clicked = None;
-        for (k, object) in self.scene.objects.iter().enumerate() {
-            let response = ui
-                .selectable_label(self.selected == Some(k), &object.name)
-                .on_hover_text(object.describe());
-            if response.clicked() {
-                clicked = Some(if self.selected == Some(k) {
-                    None
-                } else {
-                    Some(k)
-                });
-            }
-        }
-        if let Some(selection) = clicked {
-            self.select(selection);
-        }
-        let Some(s) = self.selected else {
-            ui.label(egui::RichText::new("click an object to edit it").weak());
-            return;
-        };
-        ui.label(egui::RichText::new(self.scene.objects[s].describe()).weak());
-        let mut segments = self.scene.objects[s].segments;
-        ui.label("Segments per span");
-        if ui
-            .add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS))
-            .changed()
-            && segments != self.scene.objects[s].segments
-        {
-            self.retessellate(|app| app.scene.objects[s].segments = segments);
-        }
-        let points = self.scene.objects[s].control_points();
-        if points.is_empty() {
-            return;
-        }
-        ui.horizontal(|ui| {
-            ui.label("Control point");
-            ui.add(egui::DragValue::new(&mut self.edit_point).range(0..=points.len() - 1));
-        });
-        self.edit_point = self.edit_point.min(points.len() - 1);
-        let mut p = points[self.edit_point];
-        let before = p;
-        ui.horizontal(|ui| {
-            for (axis, value) in ["x", "y", "z"]
-                .into_iter()
-                .zip([&mut p.x, &mut p.y, &mut p.z])
-            {
-                ui.label(axis);
-                ui.add(egui::DragValue::new(value).speed(0.01));
-            }
-        });
-        if p != before {
-            self.move_control_point(s, self.edit_point, p);
-        }
-    }
-
-    fn shading_panel(&mut self, ui: &mut egui::Ui) {
-        ui.label(egui::RichText::new("Shading").strong());
-        let mut mode = self.shading;
-        egui::ComboBox::from_id_salt("shading")
-            .selected_text(mode.label())
-            .show_ui(ui, |ui| {
-                for m in ShadingMode::ALL {
-                    ui.selectable_value(&mut mode, m, m.label());
-                }
-            });
-        self.set_shading(mode);
-        let Some((lo, hi)) = self.color_range() else {
-            return;
-        };
-        legend(ui, lo, hi);
-        let mut auto = self.manual_range.is_none();
-        if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
-            self.set_manual_range(if auto { None } else { Some((lo, hi)) });
-        }
-        if let Some((mut a, mut b)) = self.manual_range {
-            let speed = ((b - a).abs() * 0.01).max(1e-6);
-            ui.horizontal(|ui| {
-                ui.label("low");
-                ui.add(egui::DragValue::new(&mut a).speed(speed));
-                ui.label("high");
-                ui.add(egui::DragValue::new(&mut b).speed(speed));
-            });
-            if (a, b) != (lo, hi) && a < b {
-                self.set_manual_range(Some((a, b)));
-            }
-        }
-    }
-
-    fn controls(&mut self, ui: &mut egui::Ui) {
-        ui.heading("knotwork");
-        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
-        ui.separator();
-        self.info_grid(ui);
-        ui.separator();
-        ui.label("Quality (× every object's segments)");
-        let mut quality = self.quality;
-        if ui
-            .add(egui::Slider::new(&mut quality, QUALITY_RANGE).logarithmic(true))
-            .changed()
-            && quality != self.quality
-        {
-            self.set_quality(quality);
-        }
-        ui.separator();
-        self.objects_panel(ui);
-        ui.separator();
-        self.shading_panel(ui);
-        ui.separator();
-        let before = self.options;
-        ui.checkbox(&mut self.options.show_surface, "Surface");
-        ui.checkbox(&mut self.options.show_net, "Control net (selected object)");
-        ui.checkbox(&mut self.options.show_points, "Control points");
-        if self.options != before {
-            self.redraw = true;
-        }
-        if ui.button("Frame scene  (F)").clicked() {
-            self.frame_pending = true;
-        }
-        ui.checkbox(&mut self.continuous, "Redraw every frame");
-        ui.separator();
-        ui.label("GPU time, last frame");
-        let ms = |v: Option<f64>| v.map_or("–".to_owned(), |v| format!("{v:.3} ms"));
-        if self.gpu.as_ref().is_some_and(|g| g.timer.is_some()) {
-            ui.label(format!("evaluate  {}", ms(self.status.gpu_eval_ms)));
-            ui.label(format!("draw      {}", ms(self.status.gpu_render_ms)));
-        } else {
-            ui.label(egui::RichText::new("no timestamp queries on this device").weak());
-        }
-        ui.label(format!(
-            "frame interval  {}",
-            ms(self.status.frame_interval_ms)
-        ));
-        ui.label(format!("frames drawn  {}", self.status.frames));
-        if let Some(notice) = self.status.notice.clone() {
-            ui.separator();
-            ui.colored_label(egui::Color32::from_rgb(240, 200, 90), notice);
-        }
-        if let Some(error) = self.status.error.clone() {
-            ui.separator();
-            ui.colored_label(egui::Color32::from_rgb(255, 110, 100), error);
-            if ui.small_button("Dismiss").clicked() {
-                self.status.error = None;
-            }
-        }
-        ui.separator();
-        egui::CollapsingHeader::new("Controls")
-            .default_open(true)
-            .show(ui, |ui| {
-                for (key, action) in [
-                    ("Left drag", "orbit"),
-                    ("Middle drag, Shift + left drag", "pan"),
-                    ("Wheel, pinch", "zoom"),
-                    ("F", "frame the scene"),
-                ] {
-                    ui.label(format!("{key}: {action}"));
-                }
-            });
-    }
-
-    fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response, viewport_height: f32) {
-        let shift = ui.input(|i| i.modifiers.shift);
-        let delta = response.drag_delta();
-        if delta != egui::Vec2::ZERO {
-            if response.dragged_by(egui::PointerButton::Middle)
-                || (shift && response.dragged_by(egui::PointerButton::Primary))
-            {
-                self.camera.pan(delta.x, delta.y, viewport_height);
-                self.redraw = true;
-            } else if response.dragged_by(egui::PointerButton::Primary) {
-                self.camera.orbit(delta.x, delta.y);
-                self.redraw = true;
-            }
-        }
-        if response.hovered() {
-            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
-            // One wheel notch is about 50 points of scroll.
-            let steps = scroll / 50.0 + zoom.ln() / 0.15;
-            if steps != 0.0 {
-                self.camera.zoom(steps);
-                self.redraw = true;
-            }
-        }
-        let typing = ui.ctx().egui_wants_keyboard_input();
-        if !typing && ui.input(|i| i.key_pressed(egui::Key::F)) {
-            self.frame_pending = true;
-        }
     }
 
     fn viewport(&mut self, ui: &mut egui::Ui) {
@@ -747,10 +749,34 @@ impl KnotworkApp {
             (rect.height() * ppp).round().max(1.0) as u32,
         );
         let aspect = rect.width() / rect.height().max(1.0);
-        self.handle_input(ui, &response, rect.height());
+        self.viewport_rect = rect;
+        self.pick_view = Some(PickView::new(
+            self.camera.view_projection(aspect),
+            rect.width(),
+            rect.height(),
+        ));
+        self.handle_input(ui, &response);
         if std::mem::take(&mut self.frame_pending) {
             self.frame_model(aspect);
         }
+        self.pick_view = Some(PickView::new(
+            self.camera.view_projection(aspect),
+            rect.width(),
+            rect.height(),
+        ));
+        status::publish_handles(
+            self.projected_handles()
+                .iter()
+                .map(|p| {
+                    p.map(|p| {
+                        [
+                            p.screen.x as f32 + rect.left(),
+                            p.screen.y as f32 + rect.top(),
+                        ]
+                    })
+                })
+                .collect(),
+        );
         let range = self.color_range().unwrap_or((-1.0, 1.0));
         let shading = Shading {
             mode: self.shading,
@@ -786,6 +812,20 @@ impl KnotworkApp {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }
+        self.paint_box(ui);
+        if let Some(drag) = &self.drag {
+            ui.painter().text(
+                rect.left_bottom() + egui::vec2(10.0, -10.0),
+                egui::Align2::LEFT_BOTTOM,
+                format!(
+                    "moving {} point(s) · {} · X/Y/Z axis, Shift+X/Y/Z plane, Esc cancels",
+                    drag.starts.len(),
+                    self.constraint.label()
+                ),
+                egui::FontId::proportional(14.0),
+                egui::Color32::from_rgb(255, 200, 120),
+            );
+        }
     }
 
     fn collect_timings(&mut self) {
@@ -810,39 +850,14 @@ impl KnotworkApp {
     }
 }
 
-/// The colour ramp as a bar with its low, middle and high values.
-fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
-    let width = ui.available_width().min(240.0);
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
-    let mut mesh = egui::Mesh::default();
-    let stops = CURVATURE_RAMP.len();
-    for (k, stop) in CURVATURE_RAMP.iter().enumerate() {
-        let x = rect.left() + rect.width() * k as f32 / (stops - 1) as f32;
-        let color = egui::Rgba::from_rgb(stop[0], stop[1], stop[2]).into();
-        mesh.colored_vertex(egui::pos2(x, rect.top()), color);
-        mesh.colored_vertex(egui::pos2(x, rect.bottom()), color);
-        if k > 0 {
-            let i = (2 * k) as u32;
-            mesh.add_triangle(i - 2, i - 1, i);
-            mesh.add_triangle(i - 1, i + 1, i);
-        }
-    }
-    ui.painter().add(egui::Shape::mesh(mesh));
-    ui.horizontal(|ui| {
-        let text = |v: f64| format!("{v:.3e}");
-        ui.label(text(lo));
-        ui.add_space((width - 180.0).max(4.0) / 2.0);
-        ui.label(text(0.5 * (lo + hi)));
-        ui.add_space((width - 180.0).max(4.0) / 2.0);
-        ui.label(text(hi));
-    });
-}
-
 impl eframe::App for KnotworkApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         for command in status::take_commands() {
             self.apply(command);
         }
+        let ctx = ui.ctx().clone();
+        self.take_incoming(&ctx);
+        self.handle_shortcuts(&ctx);
         self.collect_timings();
         egui::Panel::left("controls")
             .resizable(true)
@@ -854,6 +869,9 @@ impl eframe::App for KnotworkApp {
             .frame(egui::Frame::NONE)
             .show(ui, |ui| self.viewport(ui));
 
+        self.create_window(&ctx);
+        self.dialog_window(&ctx);
+        self.autosave(&ctx, frame);
         let dt = ui.input(|i| i.unstable_dt);
         if self.continuous {
             self.status.frame_interval_ms = Some(f64::from(dt) * 1e3);

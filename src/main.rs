@@ -16,6 +16,13 @@ mod cli {
         /// (a smoke test; exit code 1 if the status has an error).
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
         pub exit_after_frames: Option<u64>,
+        /// Start from the sample scene instead of the autosaved project, and do not autosave
+        /// (also implied by --exit-after-frames).
+        #[arg(long)]
+        pub fresh: bool,
+        /// A project file to open at start (instead of the autosaved one).
+        #[arg(long, value_name = "FILE")]
+        pub open: Option<std::path::PathBuf>,
         #[command(subcommand)]
         pub command: Option<Command>,
     }
@@ -144,6 +151,17 @@ fn main() -> std::process::ExitCode {
     )
     .init();
     let exit_after_frames = cli.exit_after_frames;
+    let restore = !cli.fresh && exit_after_frames.is_none();
+    let open = match &cli.open {
+        Some(path) => match knotwork::app::read_project_file(path) {
+            Ok(text) => Some((path.display().to_string(), text)),
+            Err(e) => {
+                eprintln!("knotwork: could not open {}: {e}", path.display());
+                return ExitCode::FAILURE;
+            }
+        },
+        None => None,
+    };
     let options = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("knotwork")
@@ -156,7 +174,10 @@ fn main() -> std::process::ExitCode {
         "knotwork",
         options,
         Box::new(move |cc| {
-            let app = knotwork::app::KnotworkApp::new(cc, None);
+            let mut app = knotwork::app::KnotworkApp::new(cc, None, restore);
+            if let Some((name, text)) = &open {
+                app.open_project(name, text);
+            }
             Ok(Box::new(match exit_after_frames {
                 Some(frames) => app.exit_after_frames(frames),
                 None => app,

@@ -47,11 +47,38 @@ pub struct AppStatus {
     pub gpu_render_ms: Option<f64>,
     /// Time between the last two frames, measured on the CPU.
     pub frame_interval_ms: Option<f64>,
+    /// Selected control points of the selected object.
+    pub selected_points: Vec<u32>,
+    /// Steps that can be undone and redone.
+    pub undo_steps: u32,
+    pub redo_steps: u32,
+    /// The label of the newest undo step.
+    pub last_edit: Option<String>,
+    /// A drag of control points is in progress.
+    pub dragging: bool,
+    /// Bézier patches re-evaluated by the last drag step.
+    pub patches_in_drag: u32,
+    /// The drag constraint ("view plane", "X axis", "plane normal to Z").
+    pub constraint: String,
+    /// Document changes so far, and the change the autosave last wrote.
+    pub revision: u64,
+    pub autosaved_revision: u64,
+    /// The last surface point clicked.
+    pub hit: Option<HitStatus>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
     /// Something the editor did on its own that the user should know (e.g. tessellation lowered
     /// to fit the device), or null.
     pub notice: Option<String>,
+}
+
+/// A clicked surface point: the object, its (u, v) and the point.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct HitStatus {
+    pub object: u32,
+    pub u: f64,
+    pub v: f64,
+    pub point: [f64; 3],
 }
 
 impl AppStatus {
@@ -61,7 +88,7 @@ impl AppStatus {
 }
 
 /// Requests from outside the UI (page scripts, tests).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ExternalCommand {
     /// Segments per Bézier span edge for every object.
     SetSegments(u32),
@@ -80,16 +107,29 @@ pub enum ExternalCommand {
     /// Redraw every frame (for frame-rate measurements) or only on change.
     SetContinuous(bool),
     FrameModel,
+    Undo,
+    Redo,
+    /// Selects control points of the selected object.
+    SelectPoints(Vec<usize>),
+    /// Opens project text (as if the file `name` were opened).
+    Open {
+        name: String,
+        text: String,
+    },
+    /// Starts again from the sample scene.
+    NewDocument,
 }
 
 struct Shared {
     status: Option<AppStatus>,
+    handles: Vec<Option<[f32; 2]>>,
     commands: Vec<ExternalCommand>,
     repaint: Option<eframe::egui::Context>,
 }
 
 static SHARED: Mutex<Shared> = Mutex::new(Shared {
     status: None,
+    handles: Vec::new(),
     commands: Vec::new(),
     repaint: None,
 });
@@ -104,6 +144,17 @@ fn with_shared<R>(f: impl FnOnce(&mut Shared) -> R) -> R {
 /// Publishes the editor's current status.
 pub fn publish(status: &AppStatus) {
     with_shared(|s| s.status = Some(status.clone()));
+}
+
+/// Publishes where the selected object's control points are on the screen (logical pixels
+/// from the window's top-left corner; `None` behind the eye).
+pub fn publish_handles(handles: Vec<Option<[f32; 2]>>) {
+    with_shared(|s| s.handles = handles);
+}
+
+/// The latest published handle positions.
+pub fn handles() -> Vec<Option<[f32; 2]>> {
+    with_shared(|s| s.handles.clone())
 }
 
 /// Sets (or replaces) the error shown before the editor is running, e.g. when it failed to start.
@@ -121,6 +172,11 @@ pub fn current() -> AppStatus {
 /// Lets [`send`] wake the UI.
 pub fn set_repaint_context(ctx: &eframe::egui::Context) {
     with_shared(|s| s.repaint = Some(ctx.clone()));
+}
+
+/// The editor's egui context, to wake it from outside a frame.
+pub fn repaint_context() -> Option<eframe::egui::Context> {
+    with_shared(|s| s.repaint.clone())
 }
 
 /// Queues a command for the editor and asks for a frame to process it.

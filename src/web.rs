@@ -34,7 +34,7 @@ pub async fn start(canvas_id: String, adapter_label: String) -> Result<(), JsVal
         .start(
             canvas,
             options,
-            Box::new(move |cc| Ok(Box::new(KnotworkApp::new(cc, Some(adapter_label))))),
+            Box::new(move |cc| Ok(Box::new(KnotworkApp::new(cc, Some(adapter_label), true)))),
         )
         .await;
     if let Err(e) = &result {
@@ -123,4 +123,137 @@ pub fn set_continuous(on: bool) {
 #[wasm_bindgen]
 pub fn frame_model() {
     status::send(ExternalCommand::FrameModel);
+}
+
+/// Undoes the newest step.
+#[wasm_bindgen]
+pub fn undo() {
+    status::send(ExternalCommand::Undo);
+}
+
+/// Redoes the newest undone step.
+#[wasm_bindgen]
+pub fn redo() {
+    status::send(ExternalCommand::Redo);
+}
+
+/// Selects control points of the selected object.
+#[wasm_bindgen]
+pub fn select_points(points: Vec<u32>) {
+    status::send(ExternalCommand::SelectPoints(
+        points.into_iter().map(|p| p as usize).collect(),
+    ));
+}
+
+/// Opens project text, as if a file called `name` were opened (errors show in the page).
+#[wasm_bindgen]
+pub fn open_project(name: String, text: String) {
+    status::send(ExternalCommand::Open { name, text });
+}
+
+/// Starts again from the sample scene.
+#[wasm_bindgen]
+pub fn new_document() {
+    status::send(ExternalCommand::NewDocument);
+}
+
+/// Where the selected object's control points are on the page, as JSON `[[x, y] | null, ...]`
+/// in CSS pixels from the canvas's top-left corner.
+#[wasm_bindgen]
+pub fn handles_json() -> String {
+    serde_json::to_string(&status::handles()).unwrap_or_else(|_| "[]".into())
+}
+
+/// Lets the user pick a file with the browser's file picker and returns (name, text), or
+/// `None` if nothing was picked. Files over the project size limit are refused unread.
+pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)> {
+    let document = web_sys::window()?.document()?;
+    let input: web_sys::HtmlInputElement =
+        document.create_element("input").ok()?.dyn_into().ok()?;
+    input.set_type("file");
+    input.set_accept(".json,.knotwork,application/json");
+    let (sender, receiver) = futures_channel();
+    let on_change = Closure::once(move || sender.send());
+    input.set_onchange(Some(on_change.as_ref().unchecked_ref()));
+    input.click();
+    receiver.await;
+    let file = input.files()?.get(0)?;
+    let name = file.name();
+    if file.size() > crate::io::project::MAX_FILE_BYTES as f64 {
+        return Some((
+            name,
+            Err(format!(
+                "the file is {:.0} MiB; knotwork opens projects up to {} MiB",
+                file.size() / (1024.0 * 1024.0),
+                crate::io::project::MAX_FILE_BYTES / (1024 * 1024)
+            )),
+        ));
+    }
+    let text = wasm_bindgen_futures::JsFuture::from(file.text()).await;
+    Some((
+        name,
+        text.ok()
+            .and_then(|t| t.as_string())
+            .ok_or_else(|| "the file could not be read as text".to_string()),
+    ))
+}
+
+/// A one-shot signal from a DOM callback to an async task.
+fn futures_channel() -> (Signal, SignalFuture) {
+    let state = std::rc::Rc::new(RefCell::new((false, None::<std::task::Waker>)));
+    (Signal(std::rc::Rc::clone(&state)), SignalFuture(state))
+}
+
+type SignalState = std::rc::Rc<RefCell<(bool, Option<std::task::Waker>)>>;
+
+struct Signal(SignalState);
+
+impl Signal {
+    fn send(self) {
+        let mut state = self.0.borrow_mut();
+        state.0 = true;
+        if let Some(waker) = state.1.take() {
+            waker.wake();
+        }
+    }
+}
+
+struct SignalFuture(SignalState);
+
+impl std::future::Future for SignalFuture {
+    type Output = ();
+    fn poll(
+        self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<()> {
+        let mut state = self.0.borrow_mut();
+        if state.0 {
+            std::task::Poll::Ready(())
+        } else {
+            state.1 = Some(cx.waker().clone());
+            std::task::Poll::Pending
+        }
+    }
+}
+
+/// Offers `text` to the user as a downloaded file called `name`.
+pub(crate) fn download(name: &str, text: &str) -> Result<(), String> {
+    let js = |e: JsValue| format!("{e:?}");
+    let window = web_sys::window().ok_or("no window")?;
+    let document = window.document().ok_or("no document")?;
+    let parts = js_sys::Array::of1(&JsValue::from_str(text));
+    let options = web_sys::BlobPropertyBag::new();
+    options.set_type("application/json");
+    let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &options).map_err(js)?;
+    let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(js)?;
+    let anchor: web_sys::HtmlAnchorElement = document
+        .create_element("a")
+        .map_err(js)?
+        .dyn_into()
+        .map_err(|_| "not an anchor".to_string())?;
+    anchor.set_href(&url);
+    anchor.set_download(name);
+    anchor.click();
+    web_sys::Url::revoke_object_url(&url).map_err(js)?;
+    Ok(())
 }

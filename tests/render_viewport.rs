@@ -40,7 +40,12 @@ fn render(
         domains: &[],
         segments: SEGMENTS,
     };
-    let net = ControlNet::new(&context.device, set.points(), &net_line_indices(set));
+    let net = ControlNet::new(
+        &context.device,
+        set.points(),
+        &|_| false,
+        &net_line_indices(set),
+    );
     draw(
         context,
         &[input],

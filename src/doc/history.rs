@@ -55,6 +55,11 @@ impl History {
         Ok(&self.undo[self.undo.len() - 1])
     }
 
+    /// Forgets the newest undone step (after the editor undid an edit it could not show).
+    pub fn drop_redo(&mut self) {
+        self.redo.pop();
+    }
+
     pub fn clear(&mut self) {
         self.undo.clear();
         self.redo.clear();

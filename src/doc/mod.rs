@@ -5,6 +5,7 @@
 //! Kernel data only: no GPU, no UI. The editor turns picks and drags into commands and
 //! re-uploads the objects an edit touched ([`Edit::touched`]).
 
+pub mod create;
 pub mod document;
 pub mod history;
 

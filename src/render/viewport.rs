@@ -204,15 +204,32 @@ pub struct ControlNet {
     line_index_count: u32,
 }
 
-fn net_points(points: &[DVec3]) -> Vec<[f32; 4]> {
+/// The points as homogeneous vertices. Selected points are written with w = 2 (the same point:
+/// the shaders divide by w), which the dot shader draws highlighted.
+fn net_points(points: &[DVec3], selected: &dyn Fn(usize) -> bool) -> Vec<[f32; 4]> {
     points
         .iter()
-        .map(|p| [p.x as f32, p.y as f32, p.z as f32, 1.0])
+        .enumerate()
+        .map(|(k, p)| {
+            let w = if selected(k) { 2.0 } else { 1.0 };
+            [
+                (p.x * w) as f32,
+                (p.y * w) as f32,
+                (p.z * w) as f32,
+                w as f32,
+            ]
+        })
         .collect()
 }
 
 impl ControlNet {
-    pub fn new(device: &wgpu::Device, points: &[DVec3], lines: &[u32]) -> Self {
+    /// The net of `points` joined by `lines` (index pairs); `selected(k)` highlights point k.
+    pub fn new(
+        device: &wgpu::Device,
+        points: &[DVec3],
+        selected: &dyn Fn(usize) -> bool,
+        lines: &[u32],
+    ) -> Self {
         let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -227,7 +244,7 @@ impl ControlNet {
         Self {
             points: buffer(
                 "control net points",
-                bytemuck::cast_slice(&net_points(points)),
+                bytemuck::cast_slice(&net_points(points, selected)),
                 wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
             lines: buffer(
@@ -240,13 +257,19 @@ impl ControlNet {
         }
     }
 
-    /// Moves the points (same count as at creation; extra ones are ignored).
-    pub fn update_points(&self, queue: &wgpu::Queue, points: &[DVec3]) {
+    /// Moves the points and their highlight (same count as at creation; extra ones are
+    /// ignored).
+    pub fn update_points(
+        &self,
+        queue: &wgpu::Queue,
+        points: &[DVec3],
+        selected: &dyn Fn(usize) -> bool,
+    ) {
         let n = points.len().min(self.point_count as usize);
         queue.write_buffer(
             &self.points,
             0,
-            bytemuck::cast_slice(&net_points(&points[..n])),
+            bytemuck::cast_slice(&net_points(&points[..n], selected)),
         );
     }
 }

@@ -1,0 +1,381 @@
+//! Viewport input: picking and dragging control points, box selection, clicking the surface,
+//! the camera, and the keyboard shortcuts.
+//!
+//! Left click: pick a control point of the selected object (Shift toggles it, Alt takes its
+//! row, Alt + Shift its column) or, off the handles, the surface under the cursor (which
+//! selects that object and reports (u, v)). Left drag on a handle: move the selection in the
+//! view plane (X / Y / Z: along an axis; Shift + X / Y / Z: in a plane; Esc cancels). Left drag
+//! elsewhere: box select (Shift adds). Right drag: orbit; middle drag or Shift + right drag: pan.
+
+use eframe::egui;
+use glam::{DVec2, DVec3};
+
+use super::{Drag, KnotworkApp, PICK_RADIUS};
+use crate::doc::{Change, Edit};
+use crate::scene::ObjectGeometry;
+use crate::view::pick::{self, Constraint, Projected};
+
+impl KnotworkApp {
+    /// The selected object's control points on the screen (logical pixels from the viewport's
+    /// top-left corner).
+    pub(super) fn projected_handles(&self) -> Vec<Option<Projected>> {
+        let (Some(view), Some(s)) = (self.pick_view, self.selected) else {
+            return Vec::new();
+        };
+        self.scene().objects[s]
+            .control_points()
+            .iter()
+            .map(|&p| view.project(p))
+            .collect()
+    }
+
+    /// The control point of the selected object under `cursor` (viewport pixels).
+    fn handle_at(&self, cursor: DVec2) -> Option<usize> {
+        if !self.options.show_points {
+            return None;
+        }
+        pick::pick_point(&self.projected_handles(), cursor, PICK_RADIUS)
+    }
+
+    fn local(&self, pos: egui::Pos2) -> DVec2 {
+        DVec2::new(
+            f64::from(pos.x - self.viewport_rect.left()),
+            f64::from(pos.y - self.viewport_rect.top()),
+        )
+    }
+
+    /// A click in the viewport at `pos`.
+    fn click(&mut self, pos: egui::Pos2, shift: bool, alt: bool) {
+        let cursor = self.local(pos);
+        if let Some(index) = self.handle_at(cursor) {
+            if alt {
+                self.select_row(index, shift);
+            } else if shift {
+                if !self.points.remove(&index) {
+                    self.points.insert(index);
+                }
+            } else {
+                self.points = [index].into();
+            }
+            self.edit_point = index;
+            self.update_net();
+            return;
+        }
+        let Some(view) = self.pick_view else {
+            return;
+        };
+        let (origin, direction) = view.ray(cursor);
+        let objects: Vec<_> = self
+            .decompositions
+            .iter()
+            .zip(&self.doc.scene.objects)
+            .map(|(d, o)| (d, o.visible))
+            .collect();
+        self.hit = pick::pick_surface(&objects, origin, direction);
+        match self.hit {
+            Some(hit) => {
+                if self.selected != Some(hit.object) {
+                    self.select(Some(hit.object));
+                } else if !shift {
+                    self.points.clear();
+                    self.update_net();
+                }
+            }
+            None if !shift => {
+                if self.points.is_empty() {
+                    self.select(None);
+                } else {
+                    self.points.clear();
+                    self.update_net();
+                }
+            }
+            None => {}
+        }
+        self.redraw = true;
+    }
+
+    /// Selects the row (fixed i, along v) through point `index` of a NURBS net, or with
+    /// `column` the column (fixed j, along u); `add` keeps the current selection.
+    pub(super) fn select_row(&mut self, index: usize, column: bool) {
+        let Some(object) = self.selected.map(|s| &self.doc.scene.objects[s]) else {
+            return;
+        };
+        let ObjectGeometry::Nurbs(surface) = &object.geometry else {
+            self.status.error =
+                Some("rows and columns need a NURBS net; the teapot is a set of patches".into());
+            return;
+        };
+        let [nu, nv] = surface.count();
+        let (i, j) = (index / nv, index % nv);
+        self.points = if column {
+            (0..nu).map(|i| i * nv + j).collect()
+        } else {
+            (0..nv).map(|j| i * nv + j).collect()
+        };
+        self.update_net();
+    }
+
+    /// Starts dragging the selection from handle `index`.
+    fn begin_drag(&mut self, index: usize, shift: bool) {
+        let Some(object) = self.selected else {
+            return;
+        };
+        if !self.points.contains(&index) {
+            if !shift {
+                self.points.clear();
+            }
+            self.points.insert(index);
+        }
+        let target = &self.doc.scene.objects[object];
+        let positions = target.control_points();
+        self.drag = Some(Drag {
+            object,
+            before: target.clone(),
+            starts: self.points.iter().map(|&k| (k, positions[k])).collect(),
+            anchor: positions[index],
+            moved: false,
+        });
+        self.constraint = Constraint::Free;
+        self.edit_point = index;
+        self.update_net();
+    }
+
+    /// Moves the dragged points so that the grabbed one follows the cursor's ray under the
+    /// constraint (and the grid snap); only the affected Bézier patches are re-evaluated.
+    fn continue_drag(&mut self, pos: egui::Pos2) {
+        let (Some(drag), Some(view)) = (&self.drag, self.pick_view) else {
+            return;
+        };
+        let (origin, direction) = view.ray(self.local(pos));
+        let view_dir = (self.camera.target - self.camera.eye())
+            .as_dvec3()
+            .normalize_or(DVec3::X);
+        let mut target =
+            pick::drag_position(drag.anchor, origin, direction, view_dir, self.constraint);
+        if self.snap {
+            target = pick::snap(target, self.snap_step);
+            // Snapping must not leave the constraint's axis or plane.
+            match self.constraint {
+                Constraint::Axis(a) => {
+                    let keep = drag.anchor;
+                    for b in (0..3).filter(|&b| b != a) {
+                        target[b] = keep[b];
+                    }
+                }
+                Constraint::Plane(a) => target[a] = drag.anchor[a],
+                Constraint::Free => {}
+            }
+        }
+        let delta = target - drag.anchor;
+        let object = drag.object;
+        let moves: Vec<(usize, DVec3)> = drag.starts.iter().map(|&(k, p)| (k, p + delta)).collect();
+        let mut patches = std::collections::BTreeSet::new();
+        let mut error = None;
+        for (k, p) in moves {
+            match self.doc.scene.objects[object].move_control_point(k, p) {
+                Ok(affected) => patches.extend(affected),
+                Err(e) => error = Some(e.to_string()),
+            }
+        }
+        if let Some(drag) = &mut self.drag {
+            drag.moved = true;
+        }
+        let patches: Vec<usize> = patches.into_iter().collect();
+        self.status.patches_in_drag = patches.len() as u32;
+        if let Err(e) = self.refresh_object(object, Some(&patches)) {
+            error = Some(e);
+        }
+        if let Some(e) = error {
+            self.status.error = Some(e);
+        }
+    }
+
+    /// Ends the drag: one undo step for the whole move (`cancel`: put everything back).
+    fn end_drag(&mut self, cancel: bool) {
+        let Some(drag) = self.drag.take() else {
+            return;
+        };
+        self.constraint = Constraint::Free;
+        if !drag.moved {
+            return;
+        }
+        if cancel {
+            self.doc.scene.objects[drag.object] = drag.before;
+            let _ = self.refresh_object(drag.object, None);
+            return;
+        }
+        let after = self.doc.scene.objects[drag.object].clone();
+        if after != drag.before {
+            self.doc.history.record(Edit {
+                label: format!("move {} point(s)", drag.starts.len()),
+                changes: vec![Change::Replace {
+                    index: drag.object,
+                    before: drag.before,
+                    after,
+                }],
+            });
+            self.revision += 1;
+        }
+    }
+
+    /// Keys while dragging: X / Y / Z constrain to an axis, with Shift to the plane normal to
+    /// it; pressing the same again frees the drag.
+    fn drag_keys(&mut self, ui: &egui::Ui) {
+        for (key, axis) in [(egui::Key::X, 0), (egui::Key::Y, 1), (egui::Key::Z, 2)] {
+            if let Some(shift) = ui.input(|i| i.key_pressed(key).then_some(i.modifiers.shift)) {
+                let next = if shift {
+                    Constraint::Plane(axis)
+                } else {
+                    Constraint::Axis(axis)
+                };
+                self.constraint = if self.constraint == next {
+                    Constraint::Free
+                } else {
+                    next
+                };
+            }
+        }
+    }
+
+    pub(super) fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
+        let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
+        let press = ui.input(|i| i.pointer.press_origin());
+        if response.drag_started_by(egui::PointerButton::Primary)
+            && let Some(origin) = press
+        {
+            match self.handle_at(self.local(origin)) {
+                Some(index) => self.begin_drag(index, shift),
+                None => self.box_start = Some(origin),
+            }
+        }
+        if self.drag.is_some() {
+            self.drag_keys(ui);
+            if ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+                self.end_drag(true);
+            } else if let Some(pos) = response.interact_pointer_pos()
+                && response.dragged_by(egui::PointerButton::Primary)
+            {
+                self.continue_drag(pos);
+            }
+        }
+        if response.drag_stopped() {
+            self.end_drag(false);
+            if let (Some(start), Some(end)) =
+                (self.box_start.take(), response.interact_pointer_pos())
+            {
+                let inside = pick::points_in_box(
+                    &self.projected_handles(),
+                    self.local(start),
+                    self.local(end),
+                );
+                if !shift {
+                    self.points.clear();
+                }
+                self.points.extend(inside);
+                self.update_net();
+            }
+        }
+        if response.clicked()
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            self.click(pos, shift, alt);
+        }
+        let delta = response.drag_delta();
+        if delta != egui::Vec2::ZERO {
+            let height = self.viewport_rect.height();
+            if response.dragged_by(egui::PointerButton::Middle)
+                || (shift && response.dragged_by(egui::PointerButton::Secondary))
+            {
+                self.camera.pan(delta.x, delta.y, height);
+                self.redraw = true;
+            } else if response.dragged_by(egui::PointerButton::Secondary) {
+                self.camera.orbit(delta.x, delta.y);
+                self.redraw = true;
+            }
+        }
+        if self.box_start.is_some() || self.drag.is_some() {
+            self.redraw = true;
+        }
+        if response.hovered() {
+            let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+            // One wheel notch is about 50 points of scroll.
+            let steps = scroll / 50.0 + zoom.ln() / 0.15;
+            if steps != 0.0 {
+                self.camera.zoom(steps);
+                self.redraw = true;
+            }
+        }
+    }
+
+    /// Shortcuts that work anywhere except while typing in a field.
+    pub(super) fn handle_shortcuts(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let command = Modifiers::COMMAND;
+        let shortcut = |m: Modifiers, k: Key| KeyboardShortcut::new(m, k);
+        let pressed = |s: KeyboardShortcut| ctx.input_mut(|i| i.consume_shortcut(&s));
+        if pressed(shortcut(command | Modifiers::SHIFT, Key::Z))
+            || pressed(shortcut(command, Key::Y))
+        {
+            self.step_history(true);
+        } else if pressed(shortcut(command, Key::Z)) {
+            self.step_history(false);
+        }
+        if pressed(shortcut(command, Key::S)) {
+            self.save_dialog();
+        }
+        if pressed(shortcut(command, Key::O)) {
+            self.open_dialog();
+        }
+        if pressed(shortcut(command, Key::A)) {
+            self.select_all_points();
+        }
+        if pressed(shortcut(command, Key::D))
+            && let Some(object) = self.selected
+        {
+            self.execute(crate::doc::Command::Duplicate { object });
+        }
+        if self.drag.is_none() {
+            if pressed(shortcut(Modifiers::ALT, Key::A))
+                || pressed(shortcut(Modifiers::NONE, Key::Escape))
+            {
+                self.points.clear();
+                self.update_net();
+            }
+            if pressed(shortcut(Modifiers::NONE, Key::Delete))
+                && let Some(object) = self.selected
+            {
+                self.execute(crate::doc::Command::Delete { object });
+            }
+            if pressed(shortcut(Modifiers::NONE, Key::F)) {
+                self.frame_pending = true;
+            }
+        }
+    }
+
+    pub(super) fn select_all_points(&mut self) {
+        if let Some(s) = self.selected {
+            self.points = (0..self.doc.scene.objects[s].control_points().len()).collect();
+            self.update_net();
+        }
+    }
+
+    /// The box being dragged, drawn over the viewport.
+    pub(super) fn paint_box(&self, ui: &egui::Ui) {
+        let (Some(start), Some(now)) = (self.box_start, ui.input(|i| i.pointer.hover_pos())) else {
+            return;
+        };
+        let rect = egui::Rect::from_two_pos(start, now);
+        let color = egui::Color32::from_rgb(255, 140, 30);
+        ui.painter()
+            .rect_filled(rect, 0.0, color.gamma_multiply(0.12));
+        ui.painter().rect_stroke(
+            rect,
+            0.0,
+            egui::Stroke::new(1.0, color),
+            egui::StrokeKind::Inside,
+        );
+    }
+}

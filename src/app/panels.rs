@@ -1,0 +1,753 @@
+//! The side panel: file and history buttons, the outliner, the selected object's properties
+//! (points, weights, knots, degree, split, reverse, transform), the Create dialog, shading,
+//! display and timing.
+
+use eframe::egui;
+use glam::{DAffine3, DQuat, DVec3};
+
+use super::{KnotworkApp, QUALITY_RANGE, SLIDER_SEGMENTS};
+use crate::doc::create::{Primitive, PrimitiveParams};
+use crate::doc::{Command, direction_name};
+use crate::gpu::ShadingMode;
+use crate::gpu::records::CURVATURE_RAMP;
+use crate::kernel::Direction;
+use crate::scene::{ObjectGeometry, SceneObject};
+
+/// The controls listed in the panel (and the README).
+pub const CONTROLS: [(&str, &str); 16] = [
+    ("Click a handle", "select a control point (Shift: toggle)"),
+    ("Alt + click", "select its row (Alt + Shift: column)"),
+    ("Drag a handle", "move the selection in the view plane"),
+    ("X / Y / Z while dragging", "along that axis"),
+    ("Shift + X / Y / Z", "in the plane normal to it"),
+    ("Esc while dragging", "cancel the move"),
+    ("Drag on empty space", "box select (Shift: add)"),
+    ("Click the surface", "select the object, report (u, v)"),
+    ("Right drag", "orbit"),
+    ("Middle drag, Shift + right drag", "pan"),
+    ("Wheel, pinch", "zoom"),
+    ("Ctrl + Z / Ctrl + Shift + Z, Ctrl + Y", "undo / redo"),
+    ("Ctrl + A / Alt + A, Esc", "select all / no points"),
+    ("Ctrl + S / Ctrl + O", "save / open a project"),
+    ("Ctrl + D / Delete", "duplicate / delete the object"),
+    ("F", "frame the scene"),
+];
+
+/// What the panel's fields hold between frames.
+#[derive(Debug, Clone)]
+pub struct PanelState {
+    pub direction: Direction,
+    pub knot_value: f64,
+    pub knot_text: [String; 2],
+    pub weight: f64,
+    pub move_by: [f64; 3],
+    pub name: String,
+    pub translate: [f64; 3],
+    pub rotate_deg: f64,
+    pub scale: f64,
+    pub create: PrimitiveParams,
+    pub show_create: bool,
+}
+
+impl Default for PanelState {
+    fn default() -> Self {
+        Self {
+            direction: Direction::U,
+            knot_value: 0.5,
+            knot_text: [String::new(), String::new()],
+            weight: 1.0,
+            move_by: [0.0; 3],
+            name: String::new(),
+            translate: [0.0; 3],
+            rotate_deg: 0.0,
+            scale: 1.0,
+            create: PrimitiveParams::default(),
+            show_create: false,
+        }
+    }
+}
+
+impl PanelState {
+    /// Loads the fields from the selected object (after a selection change or an edit).
+    pub fn sync(&mut self, object: Option<&SceneObject>) {
+        let Some(object) = object else {
+            return;
+        };
+        self.name = object.name.clone();
+        if let ObjectGeometry::Nurbs(s) = &object.geometry {
+            for (d, text) in self.knot_text.iter_mut().enumerate() {
+                *text = knot_text(s.knots()[d]);
+            }
+            let [(u0, u1), (v0, v1)] = s.domain();
+            let (lo, hi) = if self.direction == Direction::U {
+                (u0, u1)
+            } else {
+                (v0, v1)
+            };
+            if !(lo < self.knot_value && self.knot_value < hi) {
+                self.knot_value = 0.5 * (lo + hi);
+            }
+        }
+    }
+}
+
+/// A knot vector as the panel shows it: "0, 0, 0, 0.5, 1, 1, 1".
+fn knot_text(knots: &[f64]) -> String {
+    knots
+        .iter()
+        .map(|k| format!("{k}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Parses a knot vector typed in the panel; the kernel validates it further.
+pub fn parse_knots(text: &str) -> Result<Vec<f64>, String> {
+    text.split([',', ' ', ';'])
+        .filter(|t| !t.trim().is_empty())
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{t:?} is not a number"))
+        })
+        .collect()
+}
+
+impl KnotworkApp {
+    /// New, open, save, undo and redo.
+    fn file_bar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("New")
+                .on_hover_text("start again from the sample scene")
+                .clicked()
+            {
+                self.new_document();
+            }
+            if ui
+                .button("Open…")
+                .on_hover_text("Ctrl + O; or drop a file on the window")
+                .clicked()
+            {
+                self.open_dialog();
+            }
+            if ui.button("Save…").on_hover_text("Ctrl + S").clicked() {
+                self.save_dialog();
+            }
+        });
+        ui.horizontal(|ui| {
+            let undo = self.doc.history.undo_label().map(str::to_owned);
+            let redo = self.doc.history.redo_label().map(str::to_owned);
+            if ui
+                .add_enabled(undo.is_some(), egui::Button::new("⟲ Undo"))
+                .on_hover_text(undo.unwrap_or_default())
+                .clicked()
+            {
+                self.step_history(false);
+            }
+            if ui
+                .add_enabled(redo.is_some(), egui::Button::new("⟳ Redo"))
+                .on_hover_text(redo.unwrap_or_default())
+                .clicked()
+            {
+                self.step_history(true);
+            }
+            ui.label(
+                egui::RichText::new(format!(
+                    "{} / {}",
+                    self.doc.history.undo_depth(),
+                    self.doc.history.redo_depth()
+                ))
+                .weak(),
+            );
+        });
+        let saved = if self.autosaved_revision == self.revision {
+            "autosaved"
+        } else {
+            "autosave pending"
+        };
+        if self.autosave {
+            ui.label(egui::RichText::new(saved).weak().small());
+        }
+    }
+
+    /// The outliner: every object with its visibility, and the object operations.
+    fn objects_panel(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label(egui::RichText::new("Objects").strong());
+            if ui.small_button("＋ Create…").clicked() {
+                self.panel.show_create = true;
+            }
+        });
+        let mut clicked = None;
+        let mut visibility = None;
+        for (k, object) in self.scene().objects.iter().enumerate() {
+            ui.horizontal(|ui| {
+                let mut visible = object.visible;
+                if ui
+                    .checkbox(&mut visible, "")
+                    .on_hover_text("visible")
+                    .changed()
+                {
+                    visibility = Some((k, visible));
+                }
+                let response = ui
+                    .selectable_label(self.selected == Some(k), &object.name)
+                    .on_hover_text(object.describe());
+                if response.clicked() {
+                    clicked = Some(if self.selected == Some(k) {
+                        None
+                    } else {
+                        Some(k)
+                    });
+                }
+            });
+        }
+        if let Some((object, visible)) = visibility {
+            self.execute(Command::SetVisible { object, visible });
+        }
+        if let Some(selection) = clicked {
+            self.select(selection);
+        }
+        let Some(s) = self.selected else {
+            ui.label(egui::RichText::new("click an object to edit it").weak());
+            return;
+        };
+        ui.horizontal(|ui| {
+            if ui.button("Duplicate").clicked() {
+                self.execute(Command::Duplicate { object: s });
+            }
+            if ui.button("Delete").clicked() {
+                self.execute(Command::Delete { object: s });
+            }
+        });
+        ui.horizontal(|ui| {
+            let edit =
+                ui.add(egui::TextEdit::singleline(&mut self.panel.name).desired_width(140.0));
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("Rename").clicked() || enter)
+                && self.panel.name != self.scene().objects[s].name
+            {
+                let name = self.panel.name.clone();
+                self.execute(Command::Rename { object: s, name });
+            }
+        });
+        ui.label(egui::RichText::new(self.scene().objects[s].describe()).weak());
+        let mut segments = self.scene().objects[s].segments;
+        ui.label("Segments per span");
+        let response = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS));
+        if response.changed() && segments != self.scene().objects[s].segments {
+            self.execute(Command::SetSegments {
+                object: s,
+                segments,
+            });
+        }
+        egui::CollapsingHeader::new("Transform object").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("move");
+                for v in &mut self.panel.translate {
+                    ui.add(egui::DragValue::new(v).speed(0.05));
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("rotate about z (°)");
+                ui.add(egui::DragValue::new(&mut self.panel.rotate_deg).speed(1.0));
+            });
+            ui.horizontal(|ui| {
+                ui.label("scale");
+                ui.add(
+                    egui::DragValue::new(&mut self.panel.scale)
+                        .speed(0.01)
+                        .range(0.001..=1000.0),
+                );
+            });
+            if ui.button("Apply transform").clicked() {
+                let centre = self.scene().objects[s]
+                    .bounds()
+                    .map_or(DVec3::ZERO, |(lo, hi)| 0.5 * (lo + hi));
+                let p = &self.panel;
+                let transform = DAffine3::from_translation(centre + DVec3::from(p.translate))
+                    * DAffine3::from_scale_rotation_translation(
+                        DVec3::splat(p.scale),
+                        DQuat::from_rotation_z(p.rotate_deg.to_radians()),
+                        DVec3::ZERO,
+                    )
+                    * DAffine3::from_translation(-centre);
+                self.execute(Command::Transform {
+                    object: s,
+                    transform,
+                });
+            }
+        });
+    }
+
+    /// The selected object's control points and NURBS operations.
+    fn properties_panel(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.selected else {
+            return;
+        };
+        ui.label(egui::RichText::new("Control points").strong());
+        let points = self.scene().objects[s].control_points();
+        if points.is_empty() {
+            return;
+        }
+        ui.horizontal(|ui| {
+            if ui.button("All").clicked() {
+                self.select_all_points();
+            }
+            if ui.button("None").clicked() {
+                self.points.clear();
+                self.update_net();
+            }
+            if ui
+                .button("Row")
+                .on_hover_text("the row (along v) through the point below")
+                .clicked()
+            {
+                self.select_row(self.edit_point, false);
+            }
+            if ui
+                .button("Column")
+                .on_hover_text("the column (along u) through the point below")
+                .clicked()
+            {
+                self.select_row(self.edit_point, true);
+            }
+        });
+        ui.label(format!("{} selected", self.points.len()));
+        ui.horizontal(|ui| {
+            ui.label("Point");
+            ui.add(egui::DragValue::new(&mut self.edit_point).range(0..=points.len() - 1));
+        });
+        self.edit_point = self.edit_point.min(points.len() - 1);
+        let mut p = points[self.edit_point];
+        let before = p;
+        ui.horizontal(|ui| {
+            for (axis, value) in ["x", "y", "z"]
+                .into_iter()
+                .zip([&mut p.x, &mut p.y, &mut p.z])
+            {
+                ui.label(axis);
+                ui.add(egui::DragValue::new(value).speed(0.01));
+            }
+        });
+        if p != before {
+            self.move_control_point(s, self.edit_point, p);
+        }
+        ui.horizontal(|ui| {
+            ui.label("Move selection by");
+            for v in &mut self.panel.move_by {
+                ui.add(egui::DragValue::new(v).speed(0.01));
+            }
+        });
+        if ui
+            .add_enabled(!self.points.is_empty(), egui::Button::new("Move"))
+            .clicked()
+        {
+            let delta = DVec3::from(self.panel.move_by);
+            let moves = self
+                .points
+                .iter()
+                .map(|&k| (k, points[k] + delta))
+                .collect();
+            self.execute(Command::MovePoints { object: s, moves });
+        }
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.snap, "Snap drags to grid");
+            ui.add(
+                egui::DragValue::new(&mut self.snap_step)
+                    .speed(0.01)
+                    .range(0.001..=100.0),
+            );
+        });
+        let weights = self.scene().objects[s].weights();
+        ui.horizontal(|ui| {
+            ui.label("Weight");
+            ui.label(
+                egui::RichText::new(format!(
+                    "(point {}: {})",
+                    self.edit_point, weights[self.edit_point]
+                ))
+                .weak(),
+            );
+        });
+        ui.horizontal(|ui| {
+            let slider =
+                ui.add(egui::Slider::new(&mut self.panel.weight, 0.05..=20.0).logarithmic(true));
+            let apply = ui.button("Set").clicked()
+                || slider.drag_stopped()
+                || (slider.changed() && !slider.dragged());
+            if apply {
+                let points = if self.points.is_empty() {
+                    vec![self.edit_point]
+                } else {
+                    self.points.iter().copied().collect()
+                };
+                let weight = self.panel.weight;
+                self.execute(Command::SetWeight {
+                    object: s,
+                    points,
+                    weight,
+                });
+            }
+        });
+        let ObjectGeometry::Nurbs(surface) = &self.scene().objects[s].geometry else {
+            ui.label(egui::RichText::new("knots and degree: a NURBS surface only").weak());
+            return;
+        };
+        let surface = surface.clone();
+        let [(u0, u1), (v0, v1)] = surface.domain();
+        let degree = surface.degree();
+        ui.separator();
+        ui.label(egui::RichText::new("Knots and degree").strong());
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.panel.direction, Direction::U, "u");
+            ui.selectable_value(&mut self.panel.direction, Direction::V, "v");
+            let d = self.panel.direction;
+            ui.label(format!("degree {}", degree[d.index()]));
+        });
+        let d = self.panel.direction;
+        let (lo, hi) = if d == Direction::U {
+            (u0, u1)
+        } else {
+            (v0, v1)
+        };
+        ui.horizontal(|ui| {
+            ui.label("at");
+            ui.add(
+                egui::DragValue::new(&mut self.panel.knot_value)
+                    .speed((hi - lo) * 0.005)
+                    .range(lo..=hi),
+            );
+            if let Some(hit) = self.hit.filter(|h| h.object == s)
+                && ui
+                    .button("clicked (u, v)")
+                    .on_hover_text(format!("u = {:.4}, v = {:.4}", hit.u, hit.v))
+                    .clicked()
+            {
+                self.panel.knot_value = if d == Direction::U { hit.u } else { hit.v };
+            }
+        });
+        let value = self.panel.knot_value;
+        let tolerance = 1e-6 * surface.size().max(1.0);
+        let mut command = None;
+        ui.horizontal_wrapped(|ui| {
+            if ui.button("Insert knot").clicked() {
+                command = Some(Command::InsertKnot {
+                    object: s,
+                    direction: d,
+                    value,
+                });
+            }
+            if ui
+                .button("Remove knot")
+                .on_hover_text("only if the shape stays within 1e-6 of the size")
+                .clicked()
+            {
+                command = Some(Command::RemoveKnot {
+                    object: s,
+                    direction: d,
+                    value,
+                    tolerance,
+                });
+            }
+            if ui.button("Elevate degree").clicked() {
+                command = Some(Command::ElevateDegree {
+                    object: s,
+                    direction: d,
+                });
+            }
+            if ui.button("Split").clicked() {
+                command = Some(Command::Split {
+                    object: s,
+                    direction: d,
+                    value,
+                });
+            }
+            if ui
+                .button(format!("Reverse {}", direction_name(d)))
+                .clicked()
+            {
+                command = Some(Command::Reverse {
+                    object: s,
+                    direction: d,
+                });
+            }
+            if ui.button("Swap u, v").clicked() {
+                command = Some(Command::SwapUv { object: s });
+            }
+        });
+        ui.label(format!("{} knots", direction_name(d)));
+        ui.add(
+            egui::TextEdit::multiline(&mut self.panel.knot_text[d.index()])
+                .desired_rows(2)
+                .desired_width(f32::INFINITY),
+        );
+        if ui.button("Apply knots").clicked() {
+            match parse_knots(&self.panel.knot_text[d.index()]) {
+                Ok(knots) => {
+                    command = Some(Command::SetKnots {
+                        object: s,
+                        direction: d,
+                        knots,
+                    })
+                }
+                Err(e) => self.status.error = Some(format!("{} knots: {e}", direction_name(d))),
+            }
+        }
+        if let Some(command) = command {
+            self.execute(command);
+            self.panel.sync(
+                self.doc
+                    .scene
+                    .objects
+                    .get(self.selected.unwrap_or(usize::MAX)),
+            );
+        }
+        if let Some(hit) = self.hit {
+            ui.label(
+                egui::RichText::new(format!(
+                    "clicked: object {}, u = {:.4}, v = {:.4}, point ({:.3}, {:.3}, {:.3})",
+                    hit.object, hit.u, hit.v, hit.point.x, hit.point.y, hit.point.z
+                ))
+                .weak(),
+            );
+        }
+    }
+
+    /// The Create dialog: a primitive from the kernel's constructors.
+    pub(super) fn create_window(&mut self, ctx: &egui::Context) {
+        let mut open = self.panel.show_create;
+        let mut create = false;
+        egui::Window::new("Create")
+            .open(&mut open)
+            .resizable(false)
+            .show(ctx, |ui| {
+                let p = &mut self.panel.create;
+                egui::ComboBox::from_id_salt("primitive")
+                    .selected_text(p.kind.label())
+                    .show_ui(ui, |ui| {
+                        for kind in Primitive::ALL {
+                            ui.selectable_value(&mut p.kind, kind, kind.label());
+                        }
+                    });
+                egui::Grid::new("create params")
+                    .num_columns(2)
+                    .show(ui, |ui| {
+                        ui.label("centre");
+                        ui.horizontal(|ui| {
+                            for v in [&mut p.center.x, &mut p.center.y, &mut p.center.z] {
+                                ui.add(egui::DragValue::new(v).speed(0.1));
+                            }
+                        });
+                        ui.end_row();
+                        ui.label("size / radius");
+                        ui.add(egui::DragValue::new(&mut p.size).speed(0.05));
+                        ui.end_row();
+                        ui.label("height");
+                        ui.add(egui::DragValue::new(&mut p.height).speed(0.05));
+                        ui.end_row();
+                        ui.label("ratio (top, minor radius, waist, bulge)");
+                        ui.add(egui::DragValue::new(&mut p.ratio).speed(0.01));
+                        ui.end_row();
+                        if p.kind == Primitive::BezierPatch {
+                            ui.label("degrees (u, v)");
+                            ui.horizontal(|ui| {
+                                ui.add(egui::DragValue::new(&mut p.degree[0]).range(1..=9));
+                                ui.add(egui::DragValue::new(&mut p.degree[1]).range(1..=9));
+                            });
+                            ui.end_row();
+                        }
+                    });
+                create = ui.button("Create").clicked();
+            });
+        self.panel.show_create = open;
+        if create {
+            match self.panel.create.build() {
+                Ok(object) => {
+                    self.execute(Command::Add { object });
+                    let last = self.scene().objects.len().checked_sub(1);
+                    self.select(last);
+                    self.panel.show_create = false;
+                }
+                Err(e) => {
+                    self.status.error = Some(format!("{}: {e}", self.panel.create.kind.label()))
+                }
+            }
+        }
+    }
+
+    /// An error dialog (a file that could not be opened and the like).
+    pub(super) fn dialog_window(&mut self, ctx: &egui::Context) {
+        let Some((title, text)) = self.dialog.clone() else {
+            return;
+        };
+        let mut close = false;
+        egui::Window::new(title)
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+            .show(ctx, |ui| {
+                ui.label(text);
+                ui.label(egui::RichText::new("The open document is unchanged.").weak());
+                close = ui.button("OK").clicked();
+            });
+        if close {
+            self.dialog = None;
+        }
+    }
+
+    fn info_grid(&self, ui: &mut egui::Ui) {
+        egui::Grid::new("info")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let rows = [
+                    ("Backend", self.status.backend.clone()),
+                    ("Adapter", self.status.adapter.clone()),
+                    ("Objects", self.status.objects.to_string()),
+                    ("Bézier patches", self.status.patches.to_string()),
+                    ("Vertices", self.status.vertices.to_string()),
+                    ("Triangles", self.status.triangles.to_string()),
+                    (
+                        "Re-evaluated",
+                        format!("{} patches", self.status.patches_reevaluated),
+                    ),
+                ];
+                for (name, value) in rows {
+                    ui.label(name);
+                    ui.label(value);
+                    ui.end_row();
+                }
+            });
+    }
+
+    fn shading_panel(&mut self, ui: &mut egui::Ui) {
+        ui.label(egui::RichText::new("Shading").strong());
+        let mut mode = self.shading;
+        egui::ComboBox::from_id_salt("shading")
+            .selected_text(mode.label())
+            .show_ui(ui, |ui| {
+                for m in ShadingMode::ALL {
+                    ui.selectable_value(&mut mode, m, m.label());
+                }
+            });
+        self.set_shading(mode);
+        let Some((lo, hi)) = self.color_range() else {
+            return;
+        };
+        legend(ui, lo, hi);
+        let mut auto = self.manual_range.is_none();
+        if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
+            self.set_manual_range(if auto { None } else { Some((lo, hi)) });
+        }
+        if let Some((mut a, mut b)) = self.manual_range {
+            let speed = ((b - a).abs() * 0.01).max(1e-6);
+            ui.horizontal(|ui| {
+                ui.label("low");
+                ui.add(egui::DragValue::new(&mut a).speed(speed));
+                ui.label("high");
+                ui.add(egui::DragValue::new(&mut b).speed(speed));
+            });
+            if (a, b) != (lo, hi) && a < b {
+                self.set_manual_range(Some((a, b)));
+            }
+        }
+    }
+
+    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.heading("knotwork");
+        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
+        self.file_bar(ui);
+        ui.separator();
+        self.info_grid(ui);
+        ui.separator();
+        ui.label("Quality (× every object's segments)");
+        let mut quality = self.quality;
+        if ui
+            .add(egui::Slider::new(&mut quality, QUALITY_RANGE).logarithmic(true))
+            .changed()
+            && quality != self.quality
+        {
+            self.set_quality(quality);
+        }
+        ui.separator();
+        self.objects_panel(ui);
+        ui.separator();
+        self.properties_panel(ui);
+        ui.separator();
+        self.shading_panel(ui);
+        ui.separator();
+        let before = self.options;
+        ui.checkbox(&mut self.options.show_surface, "Surface");
+        ui.checkbox(&mut self.options.show_net, "Control net (selected object)");
+        ui.checkbox(&mut self.options.show_points, "Control points");
+        if self.options != before {
+            self.redraw = true;
+        }
+        if ui.button("Frame scene  (F)").clicked() {
+            self.frame_pending = true;
+        }
+        ui.checkbox(&mut self.continuous, "Redraw every frame");
+        ui.separator();
+        ui.label("GPU time, last frame");
+        let ms = |v: Option<f64>| v.map_or("–".to_owned(), |v| format!("{v:.3} ms"));
+        if self.gpu.as_ref().is_some_and(|g| g.timer.is_some()) {
+            ui.label(format!("evaluate  {}", ms(self.status.gpu_eval_ms)));
+            ui.label(format!("draw      {}", ms(self.status.gpu_render_ms)));
+        } else {
+            ui.label(egui::RichText::new("no timestamp queries on this device").weak());
+        }
+        ui.label(format!(
+            "frame interval  {}",
+            ms(self.status.frame_interval_ms)
+        ));
+        ui.label(format!("frames drawn  {}", self.status.frames));
+        if let Some(notice) = self.status.notice.clone() {
+            ui.separator();
+            ui.colored_label(egui::Color32::from_rgb(240, 200, 90), notice);
+        }
+        if let Some(error) = self.status.error.clone() {
+            ui.separator();
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 100), error);
+            if ui.small_button("Dismiss").clicked() {
+                self.status.error = None;
+            }
+        }
+        ui.separator();
+        egui::CollapsingHeader::new("Controls")
+            .default_open(true)
+            .show(ui, |ui| {
+                for (key, action) in CONTROLS {
+                    ui.label(format!("{key}: {action}"));
+                }
+            });
+    }
+}
+
+/// The colour ramp as a bar with its low, middle and high values.
+fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
+    let width = ui.available_width().min(240.0);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
+    let mut mesh = egui::Mesh::default();
+    let stops = CURVATURE_RAMP.len();
+    for (k, stop) in CURVATURE_RAMP.iter().enumerate() {
+        let x = rect.left() + rect.width() * k as f32 / (stops - 1) as f32;
+        let color = egui::Rgba::from_rgb(stop[0], stop[1], stop[2]).into();
+        mesh.colored_vertex(egui::pos2(x, rect.top()), color);
+        mesh.colored_vertex(egui::pos2(x, rect.bottom()), color);
+        if k > 0 {
+            let i = (2 * k) as u32;
+            mesh.add_triangle(i - 2, i - 1, i);
+            mesh.add_triangle(i - 1, i + 1, i);
+        }
+    }
+    ui.painter().add(egui::Shape::mesh(mesh));
+    ui.horizontal(|ui| {
+        let text = |v: f64| format!("{v:.3e}");
+        ui.label(text(lo));
+        ui.add_space((width - 180.0).max(4.0) / 2.0);
+        ui.label(text(0.5 * (lo + hi)));
+        ui.add_space((width - 180.0).max(4.0) / 2.0);
+        ui.label(text(hi));
+    });
+}
