@@ -373,6 +373,11 @@ impl KnotworkApp {
         self.open_text(name, text);
     }
 
+    /// The open document (scene and history).
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
     fn scene(&self) -> &Scene {
         &self.doc.scene
     }

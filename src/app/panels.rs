@@ -138,14 +138,14 @@ impl KnotworkApp {
             let undo = self.doc.history.undo_label().map(str::to_owned);
             let redo = self.doc.history.redo_label().map(str::to_owned);
             if ui
-                .add_enabled(undo.is_some(), egui::Button::new("⟲ Undo"))
+                .add_enabled(undo.is_some(), egui::Button::new("Undo"))
                 .on_hover_text(undo.unwrap_or_default())
                 .clicked()
             {
                 self.step_history(false);
             }
             if ui
-                .add_enabled(redo.is_some(), egui::Button::new("⟳ Redo"))
+                .add_enabled(redo.is_some(), egui::Button::new("Redo"))
                 .on_hover_text(redo.unwrap_or_default())
                 .clicked()
             {
@@ -174,7 +174,7 @@ impl KnotworkApp {
     fn objects_panel(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Objects").strong());
-            if ui.small_button("＋ Create…").clicked() {
+            if ui.small_button("+ Create…").clicked() {
                 self.panel.show_create = true;
             }
         });
@@ -234,7 +234,7 @@ impl KnotworkApp {
         ui.label(egui::RichText::new(self.scene().objects[s].describe()).weak());
         let mut segments = self.scene().objects[s].segments;
         ui.label("Segments per span");
-        let response = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS));
+        let response = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS).text("segments"));
         if response.changed() && segments != self.scene().objects[s].segments {
             self.execute(Command::SetSegments {
                 object: s,
@@ -371,8 +371,11 @@ impl KnotworkApp {
             );
         });
         ui.horizontal(|ui| {
-            let slider =
-                ui.add(egui::Slider::new(&mut self.panel.weight, 0.05..=20.0).logarithmic(true));
+            let slider = ui.add(
+                egui::Slider::new(&mut self.panel.weight, 0.05..=20.0)
+                    .logarithmic(true)
+                    .text("w"),
+            );
             let apply = ui.button("Set").clicked()
                 || slider.drag_stopped()
                 || (slider.changed() && !slider.dragged());
@@ -523,7 +526,7 @@ impl KnotworkApp {
             .resizable(false)
             .show(ctx, |ui| {
                 let p = &mut self.panel.create;
-                egui::ComboBox::from_id_salt("primitive")
+                egui::ComboBox::new("primitive", "kind")
                     .selected_text(p.kind.label())
                     .show_ui(ui, |ui| {
                         for kind in Primitive::ALL {
@@ -624,7 +627,7 @@ impl KnotworkApp {
     fn shading_panel(&mut self, ui: &mut egui::Ui) {
         ui.label(egui::RichText::new("Shading").strong());
         let mut mode = self.shading;
-        egui::ComboBox::from_id_salt("shading")
+        egui::ComboBox::new("shading", "mode")
             .selected_text(mode.label())
             .show_ui(ui, |ui| {
                 for m in ShadingMode::ALL {
@@ -664,7 +667,11 @@ impl KnotworkApp {
         ui.label("Quality (× every object's segments)");
         let mut quality = self.quality;
         if ui
-            .add(egui::Slider::new(&mut quality, QUALITY_RANGE).logarithmic(true))
+            .add(
+                egui::Slider::new(&mut quality, QUALITY_RANGE)
+                    .logarithmic(true)
+                    .text("quality"),
+            )
             .changed()
             && quality != self.quality
         {
