@@ -243,6 +243,8 @@ pub struct KnotworkApp {
     autosaved_revision: u64,
     last_change: f64,
     pending_revision: u64,
+    /// The revision last published as project text (`window.knotwork.project()`).
+    published_revision: Option<u64>,
     autosave: bool,
     /// A modal message (title, text), e.g. a file that could not be opened.
     dialog: Option<(String, String)>,
@@ -323,6 +325,7 @@ impl KnotworkApp {
             autosaved_revision: 0,
             last_change: 0.0,
             pending_revision: 0,
+            published_revision: None,
             autosave: restore,
             dialog: None,
             incoming: files::Incoming::default(),
@@ -342,9 +345,11 @@ impl KnotworkApp {
             logged_status: false,
             exit_after_frames: None,
         };
-        if restore {
-            app.restore_autosave(cc.storage);
-        }
+        let restored = if restore {
+            app.restore_autosave(cc.storage)
+        } else {
+            None
+        };
         match app.decompose_all() {
             Ok(()) => {
                 if let Err(e) = app.rebuild_geometry(app.quality) {
@@ -352,6 +357,9 @@ impl KnotworkApp {
                 }
             }
             Err(e) => app.status.error = Some(e),
+        }
+        if let Some(notice) = restored {
+            app.status.notice = Some(notice);
         }
         app.select(None);
         app.refresh_status();
@@ -877,6 +885,10 @@ impl eframe::App for KnotworkApp {
         self.create_window(&ctx);
         self.dialog_window(&ctx);
         self.autosave(&ctx, frame);
+        if self.published_revision != Some(self.revision) && self.drag.is_none() {
+            status::publish_project(self.doc.save(None));
+            self.published_revision = Some(self.revision);
+        }
         let dt = ui.input(|i| i.unstable_dt);
         if self.continuous {
             self.status.frame_interval_ms = Some(f64::from(dt) * 1e3);

@@ -9,6 +9,13 @@
 //!   buffer being ready on the GPU: local re-decomposition on the CPU, upload of the changed
 //!   Bézier points, the compute pass over the moved point's support, and the wait for it.
 //!
+//! - Pick latency: projecting 10,000 control points (a 100 × 100 net, all on screen) and
+//!   picking the one under a cursor, and a box selection, as a click in the editor does.
+//! - Drag-to-new-frame latency: one drag step as the editor runs it (move the point, local
+//!   re-decomposition, upload, compute pass over the support) plus the render pass of a
+//!   1280 × 800 viewport with the control net, until the frame is finished on the GPU; for the
+//!   teapot at 64 segments and a 64 × 64-control-point bicubic surface.
+//!
 //! Figures are medians over the iterations.
 
 use std::io::Write;
@@ -19,7 +26,12 @@ use glam::DVec3;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{GpuContext, GpuError, ObjectPatches, PatchEvaluator, PatchGeometry};
 use crate::kernel::construct;
+use crate::render::{
+    ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
+};
 use crate::scene::{Decomposition, ObjectGeometry, Scene, SceneObject};
+use crate::view::OrbitCamera;
+use crate::view::pick::{self, PickView};
 
 fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
@@ -29,7 +41,11 @@ fn median(mut values: Vec<f64>) -> f64 {
 /// A 32 × 32 bicubic B-spline surface (29 × 29 Bézier patches) over uniform knots, a gentle
 /// landscape 10 units across.
 pub fn large_bspline() -> Result<SceneObject, crate::kernel::GeometryError> {
-    let n = 32;
+    landscape(32)
+}
+
+/// An n × n bicubic B-spline landscape over uniform knots.
+pub fn landscape(n: usize) -> Result<SceneObject, crate::kernel::GeometryError> {
     let points = (0..n)
         .flat_map(|i| {
             (0..n).map(move |j| {
@@ -40,7 +56,7 @@ pub fn large_bspline() -> Result<SceneObject, crate::kernel::GeometryError> {
         .collect();
     let surface = construct::bspline_surface([3, 3], [n, n], points)?;
     Ok(SceneObject::new(
-        "bicubic B-spline 32 × 32",
+        format!("bicubic B-spline {n} × {n}"),
         ObjectGeometry::Nurbs(surface),
     ))
 }
@@ -177,6 +193,129 @@ fn bench_object(
     Ok(())
 }
 
+/// Pick latency with 10,000 control points on screen: projection of every point plus the pick
+/// under a cursor, and a box selection over a quarter of the view.
+fn bench_pick(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
+    let object = landscape(100)?;
+    let points = object.control_points();
+    let (lo, hi) = object.bounds().ok_or("empty net")?;
+    let mut camera = OrbitCamera::default();
+    let (w, h) = (1280.0f32, 800.0f32);
+    camera.frame(lo.as_vec3(), hi.as_vec3(), w / h);
+    let view = PickView::new(camera.view_projection(w / h), w, h);
+    let target = view
+        .project(points[50 * 100 + 50])
+        .ok_or("point off screen")?
+        .screen;
+    let on_screen = points.iter().filter_map(|&p| view.project(p)).count();
+    let (mut pick_ms, mut box_ms) = (Vec::new(), Vec::new());
+    let mut found = None;
+    let mut boxed = 0;
+    for _ in 0..iterations.max(5) * 5 {
+        let start = Instant::now();
+        let projected: Vec<_> = points.iter().map(|&p| view.project(p)).collect();
+        found = pick::pick_point(&projected, target, crate::app::PICK_RADIUS);
+        pick_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        let projected: Vec<_> = points.iter().map(|&p| view.project(p)).collect();
+        boxed = pick::points_in_box(
+            &projected,
+            glam::DVec2::new(320.0, 200.0),
+            glam::DVec2::new(960.0, 600.0),
+        )
+        .len();
+        box_ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    writeln!(
+        out,
+        "pick, {} control points ({on_screen} on screen) | click {:7.3} ms (picked {:?}) | box select {:7.3} ms ({boxed} points)",
+        points.len(),
+        median(pick_ms),
+        found,
+        median(box_ms),
+    )?;
+    Ok(())
+}
+
+/// Drag-to-new-frame latency: the editor's drag step for control point `point` of `object`
+/// followed by the viewport's render pass, until the GPU has finished the frame.
+fn bench_drag_frame(
+    context: &GpuContext,
+    evaluator: &PatchEvaluator,
+    mut object: SceneObject,
+    point: usize,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let decomposition = object.decompose()?;
+    let mut geometry = upload(
+        context,
+        evaluator,
+        std::slice::from_ref(&object),
+        std::slice::from_ref(&decomposition),
+    )?;
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, 1280, 800);
+    let net = ControlNet::new(
+        &context.device,
+        &object.control_points(),
+        &|k| k == point,
+        &object.net_lines(),
+    );
+    let (lo, hi) = object.bounds().ok_or("empty object")?;
+    let mut camera = OrbitCamera::default();
+    camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    let uniform = scene_uniform(
+        camera.view_projection(1.6),
+        camera.eye(),
+        &target,
+        3.5,
+        &Shading::default(),
+    );
+    renderer.set_scene(&context.queue, &uniform);
+    let options = DrawOptions::default();
+    let base = object.control_points()[point];
+    let mut latency = Vec::new();
+    let mut patches = 0;
+    for i in 0..iterations + 2 {
+        let lift = 0.01 * (i % 7) as f64;
+        let start = Instant::now();
+        let support = object.move_control_point(point, base + DVec3::new(lift, 0.0, lift))?;
+        let d = object.decompose()?;
+        geometry.update_object(&context.queue, 0, &d.set, Some(&support))?;
+        net.update_points(&context.queue, &object.control_points(), &|k| k == point);
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        let evaluated = geometry.encode(&context.queue, &mut encoder, evaluator, None);
+        renderer.render(&mut encoder, &target, &geometry, Some(&net), &options, None);
+        context.queue.submit([encoder.finish()]);
+        wait(context)?;
+        if i >= 2 {
+            latency.push(start.elapsed().as_secs_f64() * 1e3);
+            patches = evaluated;
+        }
+    }
+    // The same frame without the edit: what the render pass alone costs.
+    let mut render_only = Vec::new();
+    for _ in 0..iterations.max(3) {
+        let start = Instant::now();
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        renderer.render(&mut encoder, &target, &geometry, Some(&net), &options, None);
+        context.queue.submit([encoder.finish()]);
+        wait(context)?;
+        render_only.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    writeln!(
+        out,
+        "{:<26} {:>3} seg | drag-to-new-frame {:8.3} ms (1280 × 800, {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
+        object.name,
+        object.segments,
+        median(latency),
+        object.control_points().len(),
+        median(render_only),
+    )?;
+    Ok(())
+}
+
 /// Runs every benchmark on `context`, printing one line per figure.
 pub fn run(
     context: &GpuContext,
@@ -200,6 +339,14 @@ pub fn run(
     let mut big = large_bspline()?;
     big.segments = 16;
     bench_object(context, &evaluator, big, 16 * 32 + 16, iterations, out)?;
+
+    bench_pick(iterations, out)?;
+    let mut t = teapot.clone();
+    t.segments = 64;
+    bench_drag_frame(context, &evaluator, t, 40, iterations, out)?;
+    let mut sheet = landscape(64)?;
+    sheet.segments = 8;
+    bench_drag_frame(context, &evaluator, sheet, 32 * 64 + 32, iterations, out)?;
 
     // The whole demo scene in one pass at its default tessellation.
     let decompositions: Vec<Decomposition> = scene

@@ -123,6 +123,7 @@ pub enum ExternalCommand {
 struct Shared {
     status: Option<AppStatus>,
     handles: Vec<Option<[f32; 2]>>,
+    project: String,
     commands: Vec<ExternalCommand>,
     repaint: Option<eframe::egui::Context>,
 }
@@ -130,6 +131,7 @@ struct Shared {
 static SHARED: Mutex<Shared> = Mutex::new(Shared {
     status: None,
     handles: Vec::new(),
+    project: String::new(),
     commands: Vec::new(),
     repaint: None,
 });
@@ -150,6 +152,16 @@ pub fn publish(status: &AppStatus) {
 /// from the window's top-left corner; `None` behind the eye).
 pub fn publish_handles(handles: Vec<Option<[f32; 2]>>) {
     with_shared(|s| s.handles = handles);
+}
+
+/// Publishes the document as project text (after every change).
+pub fn publish_project(text: String) {
+    with_shared(|s| s.project = text);
+}
+
+/// The latest published project text (empty before the editor runs).
+pub fn project() -> String {
+    with_shared(|s| s.project.clone())
 }
 
 /// The latest published handle positions.

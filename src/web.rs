@@ -164,6 +164,12 @@ pub fn handles_json() -> String {
     serde_json::to_string(&status::handles()).unwrap_or_else(|_| "[]".into())
 }
 
+/// The open document as project text (what Save would write, without the view).
+#[wasm_bindgen]
+pub fn project_json() -> String {
+    status::project()
+}
+
 /// Lets the user pick a file with the browser's file picker and returns (name, text), or
 /// `None` if nothing was picked. Files over the project size limit are refused unread.
 pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)> {

@@ -78,6 +78,35 @@ async function screenshotStats(page, png, rect, background, tolerance) {
   }, { data: png.toString('base64'), rect, background, tolerance });
 }
 
+/** How many pixels of two screenshots differ by more than `tolerance` in any channel. */
+async function screenshotDifference(page, a, b, rect, tolerance) {
+  return page.evaluate(async ({ a, b, rect, tolerance }) => {
+    const decode = async (data) => {
+      const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
+      const bitmap = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+      const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+      const context = canvas.getContext('2d');
+      context.drawImage(bitmap, 0, 0);
+      return context.getImageData(rect.x, rect.y, rect.width, rect.height).data;
+    };
+    const [pa, pb] = [await decode(a), await decode(b)];
+    let differing = 0;
+    for (let i = 0; i < pa.length; i += 4) {
+      if (Math.abs(pa[i] - pb[i]) > tolerance || Math.abs(pa[i + 1] - pb[i + 1]) > tolerance
+        || Math.abs(pa[i + 2] - pb[i + 2]) > tolerance) differing += 1;
+    }
+    return { differing, total: pa.length / 4 };
+  }, { a: a.toString('base64'), b: b.toString('base64'), rect, tolerance });
+}
+
+/** Has the editor draw `count` more frames, so the canvas shows the latest state. */
+async function nextFrames(page, count = 2) {
+  const frames = (await status(page)).frames;
+  await page.evaluate(() => window.knotwork.setContinuous(true));
+  await page.waitForFunction((f) => window.knotwork.status().frames >= f, frames + count, { timeout: 30_000 });
+  await page.evaluate(() => window.knotwork.setContinuous(false));
+}
+
 async function main() {
   if (!existsSync(chromiumPath)) {
     console.log(`FAIL  no Chromium at ${chromiumPath}: install it (Debian: apt-get install chromium) or set CHROMIUM`);
@@ -194,6 +223,109 @@ async function main() {
       s = await status(page);
       assert(/finite/.test(s.error), `the error names the problem: ${s.error}`);
       console.log(`      range ${JSON.stringify(s.range)}, ${s.patches_reevaluated} patches re-evaluated after the edit`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('drag a control point with the mouse, undo with Ctrl+Z, reload finds the autosave', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      await page.evaluate(() => window.knotwork.select(3));
+      await page.waitForFunction(() => window.knotwork.status().selected === 3, null, { timeout: 30_000 });
+      await nextFrames(page);
+      // A handle of the (2, 5) B-spline inside the viewport with no other handle within 20 px.
+      const handles = await page.evaluate(() => window.knotwork.handles());
+      const free = handles.map((h, k) => [k, h]).filter(([, h]) => h && h[0] > 450 && h[0] < 1200 && h[1] > 100 && h[1] < 700)
+        .find(([k, h]) => handles.every((q, j) => j === k || !q || Math.hypot(q[0] - h[0], q[1] - h[1]) > 20));
+      assert(free, `no free handle on screen: ${JSON.stringify(handles)}`);
+      const [index, [hx, hy]] = free;
+      const [x, y] = [canvas.x + hx, canvas.y + hy];
+      const pointOf = (project) => project.objects[3].points[Math.floor(index / 9)][index % 9];
+      const original = pointOf(await page.evaluate(() => window.knotwork.project()));
+
+      // Click selects the point; this is the picture to come back to.
+      const clickStart = Date.now();
+      await page.mouse.click(x, y);
+      await page.waitForFunction((i) => window.knotwork.status().selected_points.join() === String(i), index, { timeout: 30_000 });
+      const pickMs = Date.now() - clickStart;
+      await nextFrames(page);
+      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const before = await page.locator('#knotwork-canvas').screenshot();
+
+      // Drag it with real mouse events.
+      // Each step after the first (which starts the drag) must bring a new frame: the time from
+      // the mouse event to that frame is the drag-to-new-frame latency.
+      await page.mouse.move(x, y);
+      await page.mouse.down();
+      const dragMs = [];
+      for (let k = 1; k <= 8; k += 1) {
+        const frames = (await status(page)).frames;
+        const t0 = Date.now();
+        await page.mouse.move(x + 8 * k, y - 6 * k);
+        if (k > 1) {
+          await page.waitForFunction((f) => window.knotwork.status().frames > f, frames, { timeout: 30_000 });
+          dragMs.push(Date.now() - t0);
+        }
+      }
+      await page.mouse.up();
+      dragMs.sort((a, b) => a - b);
+      console.log(`      pick (click to selection) ${pickMs} ms; drag-to-new-frame median ${dragMs[dragMs.length >> 1]} ms ` +
+        `(of ${dragMs.join(', ')} ms) on SwiftShader`);
+      await page.waitForFunction(() => {
+        const s = window.knotwork.status();
+        return s.undo_steps === 1 && !s.dragging;
+      }, null, { timeout: 30_000 });
+      let s = await status(page);
+      assert(s.error === null, `error after the drag: ${s.error}`);
+      const dragged = pointOf(await page.evaluate(() => window.knotwork.project()));
+      assert(JSON.stringify(dragged) !== JSON.stringify(original), `the point moved: ${dragged} vs ${original}`);
+      await nextFrames(page);
+      const moved = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/dragged.png`, moved);
+      const change = await screenshotDifference(page, before, moved, viewport, 24);
+      console.log(`      point ${index} moved from ${original.slice(0, 3)} to ${dragged.slice(0, 3)}; ${change.differing} px changed`);
+      assert(change.differing > 500, `the canvas changed with the drag (${change.differing} px)`);
+
+      // Ctrl+Z: the original pixels come back (within a tolerance).
+      await page.keyboard.press('Control+z');
+      await page.waitForFunction(() => window.knotwork.status().redo_steps === 1, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const undone = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/undone.png`, undone);
+      const back = await screenshotDifference(page, before, undone, viewport, 24);
+      assert(back.differing < 0.002 * back.total, `undo restores the picture (${back.differing} px differ)`);
+      assert(JSON.stringify(pointOf(await page.evaluate(() => window.knotwork.project()))) === JSON.stringify(original), 'undo restores the point');
+
+      // Redo, let the autosave write, reload: the edit is still there.
+      await page.keyboard.press('Control+Shift+z');
+      await page.waitForFunction(() => {
+        const s = window.knotwork.status();
+        return s.undo_steps === 1 && s.autosaved_revision === s.revision;
+      }, null, { timeout: 30_000 });
+      await page.reload();
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      s = await status(page);
+      assert(/restored/.test(s.notice ?? ''), `notice after reload: ${s.notice}`);
+      const reloaded = pointOf(await page.evaluate(() => window.knotwork.project()));
+      assert(JSON.stringify(reloaded) === JSON.stringify(dragged), `the autosave kept the edit: ${reloaded} vs ${dragged}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('a broken project file is refused with its reason; the document stays', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const before = await page.evaluate(() => window.knotwork.project());
+      await page.evaluate(() => window.knotwork.openProject('zero.json', JSON.stringify({
+        format: 'knotwork', version: 2, objects: [{ type: 'nurbs_surface', degree: [1, 1],
+          knots: [[0, 0, 1, 1], [0, 0, 1, 1]], points: [[[0, 0, 0, 1], [0, 1, 0, 0]], [[1, 0, 0, 1], [1, 1, 0, 1]]] }],
+      })));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      const s = await status(page);
+      assert(/zero\.json: objects\[0\]\.points\[0\]\[1\]: weight 0/.test(s.error), `error: ${s.error}`);
+      assert(JSON.stringify(await page.evaluate(() => window.knotwork.project())) === JSON.stringify(before), 'the document is unchanged');
+      assert(s.objects === 6, `objects ${s.objects}`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -103,23 +103,23 @@ impl KnotworkApp {
         self.frame_pending = true;
     }
 
-    pub(super) fn restore_autosave(&mut self, storage: Option<&dyn eframe::Storage>) {
-        let Some(text) = storage.and_then(|s| s.get_string(AUTOSAVE_KEY)) else {
-            return;
-        };
+    /// Opens the autosaved project, if there is one; returns what to tell the user.
+    pub(super) fn restore_autosave(
+        &mut self,
+        storage: Option<&dyn eframe::Storage>,
+    ) -> Option<String> {
+        let text = storage.and_then(|s| s.get_string(AUTOSAVE_KEY))?;
         match self.doc.open(&text) {
             Ok(view) => {
                 if let Some(view) = &view {
                     self.apply_view(view);
                     self.frame_pending = false;
                 }
-                self.status.notice = Some("restored the autosaved project".into());
+                Some("restored the autosaved project".into())
             }
-            Err(e) => {
-                self.status.notice = Some(format!(
-                    "the autosaved project could not be restored ({e}); starting from the sample scene"
-                ));
-            }
+            Err(e) => Some(format!(
+                "the autosaved project could not be restored ({e}); starting from the sample scene"
+            )),
         }
     }
 

@@ -407,8 +407,9 @@ impl PatchGeometry {
     }
 
     /// Takes new control points and weights of object `object` (same count as at creation) and
-    /// marks `patches` (the object's patch indices; `None` for all of them) for re-evaluation by
-    /// the next [`Self::encode`]. Uploads only the points that changed; returns how many.
+    /// marks `patches` (the object's patch indices) for re-evaluation by the next
+    /// [`Self::encode`]; with `None`, the patches with a changed control point. Uploads only the
+    /// points that changed; returns how many.
     pub fn update_object(
         &mut self,
         queue: &wgpu::Queue,
@@ -423,6 +424,7 @@ impl PatchGeometry {
                 found: set.points().len(),
             });
         }
+        let explicit = patches.is_some();
         let all: Vec<usize>;
         let patches = match patches {
             Some(p) => p,
@@ -442,15 +444,20 @@ impl PatchGeometry {
         let mut changed = BTreeSet::new();
         for &p in patches {
             let record = range.first_patch + p;
-            self.dirty[record] = true;
             let r = &self.records[record];
             let block = (r.degree_u as usize + 1) * (r.degree_v as usize + 1);
             let first = r.control_offset as usize;
+            let mut patch_changed = false;
             for &global in &self.control_indices[first..first + block] {
                 let local = global as usize - range.first_point;
                 if self.uploaded[global as usize] != fresh[local] {
                     changed.insert(global as usize);
+                    patch_changed = true;
                 }
+            }
+            // Named patches are always re-evaluated; otherwise only those whose points changed.
+            if explicit || patch_changed {
+                self.dirty[record] = true;
             }
         }
         // One write per run of consecutive changed points.
