@@ -34,7 +34,9 @@ struct SurfaceVertex {
     object: u32,
     // VERTEX_IRREGULAR (1): the normal is a limit; VERTEX_NO_CURVATURE (2): curvature undefined.
     flags: u32,
-    reserved: vec2<u32>,
+    // The patch record that wrote the vertex (Rust: SurfaceVertex::record).
+    record: u32,
+    reserved: u32,
 }
 
 // One parameter for point evaluation (Rust: gpu::records::PointSample): local (s, t) of a patch.

@@ -488,7 +488,8 @@ fn evaluate_vertices(
         shape.curvature,
         rec.object,
         shape.flags,
-        vec2<u32>(0u),
+        patch_list[group.y],
+        0u,
     );
 }
 

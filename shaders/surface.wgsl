@@ -26,7 +26,13 @@ struct VertexIn {
     @location(4) curvature: vec4<f32>,
     @location(5) object: u32,
     @location(6) flags: u32,
+    @location(7) record: u32,
 }
+
+// One bit per patch record: the patches a drag is changing, drawn tinted (Rust:
+// ViewportRenderer::set_highlight).
+@group(0) @binding(1) var<storage, read> highlight: array<u32>;
+const HIGHLIGHT_COLOR: vec3<f32> = vec3<f32>(0.3, 0.85, 0.45);
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -37,6 +43,8 @@ struct VertexOut {
     @location(3) value: f32,
     @location(4) defined: f32,
     @location(5) @interpolate(flat) object: u32,
+    // 1 on a highlighted patch.
+    @location(6) @interpolate(flat) highlighted: u32,
 }
 
 @vertex
@@ -52,6 +60,10 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     }
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
+    let word = in.record >> 5u;
+    if (word < arrayLength(&highlight)) {
+        out.highlighted = (highlight[word] >> (in.record & 31u)) & 1u;
+    }
     return out;
 }
 
@@ -96,6 +108,9 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0)
     var base = scene.surface_color.rgb;
     if (in.object + 1u == scene.shading.y) {
         base = mix(base, vec3<f32>(0.95, 0.62, 0.25), 0.35);
+    }
+    if (in.highlighted != 0u) {
+        base = mix(base, HIGHLIGHT_COLOR, 0.45);
     }
     if (mode == MODE_CHECKER) {
         let cell = floor(in.uv * scene.range.zw);

@@ -227,6 +227,8 @@ pub struct KnotworkApp {
     /// The control point the panel edits, in the selected object.
     edit_point: usize,
     drag: Option<Drag>,
+    /// Patch records (global indices) the drag has changed, drawn tinted.
+    highlight_patches: Vec<usize>,
     /// Where a box selection started (logical pixels).
     box_start: Option<egui::Pos2>,
     constraint: Constraint,
@@ -313,6 +315,7 @@ impl KnotworkApp {
             points: BTreeSet::new(),
             edit_point: 0,
             drag: None,
+            highlight_patches: Vec::new(),
             box_start: None,
             constraint: Constraint::Free,
             snap: false,
@@ -414,6 +417,8 @@ impl KnotworkApp {
     /// Applies a command as one undo step and updates the GPU; a refused command (or one the
     /// GPU cannot show) leaves the document and its history as they were and shows why.
     fn execute(&mut self, command: Command) {
+        // A drag in progress becomes its own undo step first.
+        self.end_drag(false);
         let result = self.doc.execute(&command).map(Edit::touched);
         match result {
             Ok(touched) => {
@@ -435,6 +440,7 @@ impl KnotworkApp {
 
     /// Undo (`redo` false) or redo one step.
     fn step_history(&mut self, redo: bool) {
+        self.end_drag(false);
         let result = if redo {
             self.doc.redo()
         } else {
@@ -808,6 +814,8 @@ impl KnotworkApp {
             return;
         };
         let resized = gpu.ensure_target(size);
+        gpu.renderer
+            .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
         let pending = gpu
             .geometry
             .as_ref()

@@ -107,6 +107,7 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             curvature,
             object,
             flags,
+            record,
             reserved
         })
     );

@@ -182,6 +182,14 @@ impl KnotworkApp {
         }
         let patches: Vec<usize> = patches.into_iter().collect();
         self.status.patches_in_drag = patches.len() as u32;
+        if let Some(first) = self
+            .gpu
+            .as_ref()
+            .and_then(|g| g.geometry.as_ref())
+            .and_then(|g| g.first_patch(object))
+        {
+            self.highlight_patches = patches.iter().map(|p| first + p).collect();
+        }
         if let Err(e) = self.refresh_object(object, Some(&patches)) {
             error = Some(e);
         }
@@ -191,11 +199,13 @@ impl KnotworkApp {
     }
 
     /// Ends the drag: one undo step for the whole move (`cancel`: put everything back).
-    fn end_drag(&mut self, cancel: bool) {
+    pub(super) fn end_drag(&mut self, cancel: bool) {
         let Some(drag) = self.drag.take() else {
             return;
         };
         self.constraint = Constraint::Free;
+        self.highlight_patches.clear();
+        self.redraw = true;
         if !drag.moved {
             return;
         }

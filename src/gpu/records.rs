@@ -63,13 +63,15 @@ pub struct SurfaceVertex {
     pub object: u32,
     /// [`VERTEX_IRREGULAR`] | [`VERTEX_NO_CURVATURE`].
     pub flags: u32,
-    pub reserved: [u32; 2],
+    /// The patch record that wrote the vertex (for highlighting the patches a drag changes).
+    pub record: u32,
+    pub reserved: u32,
 }
 
 impl SurfaceVertex {
     /// Vertex attributes: position (0), u (1), normal (2), v (3), curvature (4), object (5),
-    /// flags (6).
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
+    /// flags (6), record (7).
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,
         2 => Float32x3,
@@ -77,6 +79,7 @@ impl SurfaceVertex {
         4 => Float32x4,
         5 => Uint32,
         6 => Uint32,
+        7 => Uint32,
     ];
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {

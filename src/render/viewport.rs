@@ -280,7 +280,43 @@ pub struct ViewportRenderer {
     net_pipeline: wgpu::RenderPipeline,
     dot_pipeline: wgpu::RenderPipeline,
     scene_buffer: wgpu::Buffer,
+    scene_layout: wgpu::BindGroupLayout,
     scene_bind_group: wgpu::BindGroup,
+    /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`).
+    highlight: wgpu::Buffer,
+    /// Whether any bit of `highlight` is set.
+    highlighting: bool,
+}
+
+fn scene_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    scene: &wgpu::Buffer,
+    highlight: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("scene"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: scene.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: highlight.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+fn highlight_buffer(device: &wgpu::Device, words: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("patch highlight bits"),
+        size: (words.max(1) * 4) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 impl ViewportRenderer {
@@ -293,25 +329,31 @@ impl ViewportRenderer {
         });
         let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
         });
-        let scene_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("scene"),
-            layout: &scene_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: scene_buffer.as_entire_binding(),
-            }],
-        });
+        let highlight = highlight_buffer(device, 1);
+        let scene_bind_group = scene_bind_group(device, &scene_layout, &scene_buffer, &highlight);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewport"),
             bind_group_layouts: &[Some(&scene_layout)],
@@ -407,8 +449,38 @@ impl ViewportRenderer {
                 false,
             ),
             scene_buffer,
+            scene_layout,
             scene_bind_group,
+            highlight,
+            highlighting: false,
         }
+    }
+
+    /// Highlights the patch records `patches` (global record indices) until the next call;
+    /// an empty list clears the highlight.
+    pub fn set_highlight(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, patches: &[usize]) {
+        if patches.is_empty() && !self.highlighting {
+            return;
+        }
+        let words = patches.iter().max().map_or(1, |&m| m / 32 + 1);
+        let mut bits = vec![0u32; words];
+        for &p in patches {
+            bits[p / 32] |= 1 << (p % 32);
+        }
+        let capacity = (self.highlight.size() / 4) as usize;
+        if words > capacity {
+            self.highlight = highlight_buffer(device, words.next_power_of_two());
+            self.scene_bind_group = scene_bind_group(
+                device,
+                &self.scene_layout,
+                &self.scene_buffer,
+                &self.highlight,
+            );
+        }
+        // Clear the rest of the buffer too.
+        bits.resize((self.highlight.size() / 4) as usize, 0);
+        queue.write_buffer(&self.highlight, 0, bytemuck::cast_slice(&bits));
+        self.highlighting = !patches.is_empty();
     }
 
     /// Sets the camera, viewport size and colours for the next [`Self::render`].
