@@ -118,6 +118,21 @@ fn upload(
     PatchGeometry::new(&context.device, evaluator, &inputs)
 }
 
+/// One object's patches on the GPU, alone.
+fn upload_one(
+    context: &GpuContext,
+    evaluator: &PatchEvaluator,
+    object: &SceneObject,
+    decomposition: &Decomposition,
+) -> Result<PatchGeometry, GpuError> {
+    upload(
+        context,
+        evaluator,
+        std::slice::from_ref(object),
+        std::slice::from_ref(decomposition),
+    )
+}
+
 /// Benchmarks one object at its segments: full-evaluation throughput, then edit latency for
 /// moving control point `edit_point` back and forth.
 fn bench_object(
@@ -131,12 +146,7 @@ fn bench_object(
     let start = Instant::now();
     let mut decomposition = object.decompose()?;
     let decompose_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut geometry = upload(
-        context,
-        evaluator,
-        std::slice::from_ref(&object),
-        std::slice::from_ref(&decomposition),
-    )?;
+    let mut geometry = upload_one(context, evaluator, &object, &decomposition)?;
     let mut timer = GpuTimer::new(&context.device, &context.queue);
     let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
     for i in 0..iterations + 2 {
@@ -247,13 +257,7 @@ fn bench_drag_frame(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let decomposition = object.decompose()?;
-    let mut geometry = upload(
-        context,
-        evaluator,
-        std::slice::from_ref(&object),
-        std::slice::from_ref(&decomposition),
-    )?;
+    let mut geometry = upload_one(context, evaluator, &object, &object.decompose()?)?;
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, 1280, 800);
     let net = ControlNet::new(

@@ -1,11 +1,12 @@
 //! The desktop editor end to end: the real binary opens its window (under Xvfb where there is no
-//! display), evaluates and draws the teapot on the GPU, closes itself and reports its status.
+//! display), evaluates and draws the teapot on the GPU, closes itself and reports its status;
+//! `--open` loads a project, and a broken one is refused while the sample scene stays.
 
-use std::process::{Command, Stdio};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-#[test]
-fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
+/// Runs the editor with `extra` arguments for 3 frames; returns its output and the status line.
+fn run_editor(extra: &[&str]) -> (Output, serde_json::Value) {
     let binary = env!("CARGO_BIN_EXE_knotwork");
     let headless =
         std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none();
@@ -18,6 +19,7 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
     };
     command
         .args(["--exit-after-frames", "3"])
+        .args(extra)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     let mut child = command.spawn().unwrap_or_else(|e| {
@@ -32,17 +34,27 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
         std::thread::sleep(Duration::from_millis(100));
     }
     let output = child.wait_with_output().expect("child output");
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let last = stdout.lines().last().unwrap_or_default();
+    let status: serde_json::Value = serde_json::from_str(last).unwrap_or_else(|e| {
+        panic!(
+            "status line {last:?}: {e}\nstderr:\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        )
+    });
+    eprintln!("desktop status: {status}");
+    (output, status)
+}
+
+#[test]
+fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
+    let (output, status) = run_editor(&[]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         output.status.success(),
-        "exit {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        "exit {:?}\nstderr:\n{stderr}",
         output.status
     );
-    let last = stdout.lines().last().unwrap_or_default();
-    let status: serde_json::Value =
-        serde_json::from_str(last).unwrap_or_else(|e| panic!("status line {last:?}: {e}"));
-    eprintln!("desktop status: {status}");
     assert_eq!(status["error"], serde_json::Value::Null);
     assert!(
         ["vulkan", "metal", "dx12", "webgl2/gl"]
@@ -63,4 +75,49 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
     assert!(status["frames"].as_u64().unwrap_or(0) >= 3, "{status}");
     // The start-up log carries the same status for users.
     assert!(stderr.contains("knotwork status: {"), "{stderr}");
+}
+
+#[test]
+fn desktop_app_opens_a_project_and_refuses_a_broken_one() {
+    let dir = std::env::temp_dir().join(format!("knotwork-desktop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("plane.json");
+    std::fs::write(
+        &good,
+        r#"{"format": "knotwork", "version": 2, "objects": [{"type": "nurbs_surface",
+            "name": "Plane", "segments": 4, "degree": [1, 1], "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+            "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}]}"#,
+    )
+    .unwrap();
+    let (output, status) = run_editor(&["--open", good.to_str().unwrap()]);
+    assert!(output.status.success(), "{status}");
+    assert_eq!(status["objects"], 1);
+    assert_eq!(status["patches"], 1);
+    assert_eq!(status["vertices"], 5 * 5);
+
+    let broken = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/bad-projects/zero-weight.json"
+    );
+    let (output, status) = run_editor(&["--open", broken]);
+    assert!(
+        !output.status.success(),
+        "an error in the status fails the smoke run"
+    );
+    let error = status["error"].as_str().unwrap_or_default();
+    assert!(
+        error
+            .contains("zero-weight.json: objects[0].points[0][1]: weight 0 must be finite and > 0"),
+        "{error}"
+    );
+    assert_eq!(status["objects"], 6, "the sample scene stays open");
+
+    let missing = dir.join("missing.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(["--open", missing.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("could not open"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

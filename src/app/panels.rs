@@ -78,14 +78,13 @@ impl PanelState {
             for (d, text) in self.knot_text.iter_mut().enumerate() {
                 *text = knot_text(s.knots()[d]);
             }
-            let [(u0, u1), (v0, v1)] = s.domain();
-            let (lo, hi) = if self.direction == Direction::U {
-                (u0, u1)
-            } else {
-                (v0, v1)
-            };
-            if !(lo < self.knot_value && self.knot_value < hi) {
-                self.knot_value = 0.5 * (lo + hi);
+            // The middle of the widest knot span: a value where a knot can always be inserted.
+            let breaks = s.span_breaks(self.direction);
+            if let Some(w) = breaks
+                .windows(2)
+                .max_by(|a, b| (a[1] - a[0]).total_cmp(&(b[1] - b[0])))
+            {
+                self.knot_value = 0.5 * (w[0] + w[1]);
             }
         }
     }
@@ -402,12 +401,21 @@ impl KnotworkApp {
         let degree = surface.degree();
         ui.separator();
         ui.label(egui::RichText::new("Knots and degree").strong());
+        let previous = self.panel.direction;
         ui.horizontal(|ui| {
             ui.selectable_value(&mut self.panel.direction, Direction::U, "u");
             ui.selectable_value(&mut self.panel.direction, Direction::V, "v");
             let d = self.panel.direction;
             ui.label(format!("degree {}", degree[d.index()]));
         });
+        if self.panel.direction != previous {
+            self.panel.sync(
+                self.doc
+                    .scene
+                    .objects
+                    .get(self.selected.unwrap_or(usize::MAX)),
+            );
+        }
         let d = self.panel.direction;
         let (lo, hi) = if d == Direction::U {
             (u0, u1)

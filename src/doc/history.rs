@@ -35,24 +35,39 @@ impl History {
     /// code outside the history can cause) the scene is untouched, the history is cleared and
     /// the error says so.
     pub fn undo(&mut self, scene: &mut Scene) -> Result<&Edit, EditError> {
-        let edit = self.undo.pop().ok_or(EditError::NothingTo("undo"))?;
-        if let Err(e) = edit.undo(scene) {
-            self.clear();
-            return Err(e);
-        }
-        self.redo.push(edit);
-        Ok(&self.redo[self.redo.len() - 1])
+        self.step(scene, false)
     }
 
     /// Redoes the newest undone step and returns it.
     pub fn redo(&mut self, scene: &mut Scene) -> Result<&Edit, EditError> {
-        let edit = self.redo.pop().ok_or(EditError::NothingTo("redo"))?;
-        if let Err(e) = edit.redo(scene) {
+        self.step(scene, true)
+    }
+
+    /// Moves one edit from one stack to the other, applying it backward (undo) or forward.
+    fn step(&mut self, scene: &mut Scene, forward: bool) -> Result<&Edit, EditError> {
+        let what = if forward { "redo" } else { "undo" };
+        let from = if forward {
+            &mut self.redo
+        } else {
+            &mut self.undo
+        };
+        let edit = from.pop().ok_or(EditError::NothingTo(what))?;
+        let applied = if forward {
+            edit.redo(scene)
+        } else {
+            edit.undo(scene)
+        };
+        if let Err(e) = applied {
             self.clear();
             return Err(e);
         }
-        self.undo.push(edit);
-        Ok(&self.undo[self.undo.len() - 1])
+        let to = if forward {
+            &mut self.undo
+        } else {
+            &mut self.redo
+        };
+        to.push(edit);
+        Ok(&to[to.len() - 1])
     }
 
     /// Forgets the newest undone step (after the editor undid an edit it could not show).
