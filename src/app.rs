@@ -621,15 +621,17 @@ impl KnotworkApp {
         self.points.retain(|&k| k < count);
         if let Some(gpu) = &mut self.gpu {
             let points = &self.points;
-            gpu.net = selected.map(|s| {
-                let object = &self.doc.scene.objects[s];
-                ControlNet::new(
-                    &gpu.device,
-                    &object.control_points(),
-                    &|k| points.contains(&k),
-                    &object.net_lines(),
-                )
-            });
+            gpu.net = selected
+                .filter(|&s| self.doc.scene.objects[s].visible)
+                .map(|s| {
+                    let object = &self.doc.scene.objects[s];
+                    ControlNet::new(
+                        &gpu.device,
+                        &object.control_points(),
+                        &|k| points.contains(&k),
+                        &object.net_lines(),
+                    )
+                });
         }
         self.panel
             .sync(self.doc.scene.objects.get(selected.unwrap_or(usize::MAX)));

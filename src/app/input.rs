@@ -22,6 +22,9 @@ impl KnotworkApp {
         let (Some(view), Some(s)) = (self.pick_view, self.selected) else {
             return Vec::new();
         };
+        if !self.scene().objects[s].visible {
+            return Vec::new();
+        }
         self.scene().objects[s]
             .control_points()
             .iter()

@@ -373,6 +373,8 @@ impl KnotworkApp {
             let slider = ui.add(
                 egui::Slider::new(&mut self.panel.weight, 0.05..=20.0)
                     .logarithmic(true)
+                    // Typed values are not clamped: the command refuses w <= 0 with a message.
+                    .clamping(egui::SliderClamping::Never)
                     .text("w"),
             );
             let apply = ui.button("Set").clicked()
