@@ -916,6 +916,7 @@ impl eframe::App for KnotworkApp {
         if self
             .exit_after_frames
             .is_some_and(|frames| self.status.frames >= frames)
+            && (!self.autosave || self.autosaved_revision == self.revision)
         {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
         }

@@ -12,12 +12,11 @@ mod cli {
     #[derive(Parser)]
     #[command(name = "knotwork", version, about, long_about = None)]
     pub struct Cli {
-        /// Open the editor, draw N frames, close, and print the status as JSON
-        /// (a smoke test; exit code 1 if the status has an error).
+        /// Open the editor, draw N frames (and let a pending autosave finish), close, and print
+        /// the status as JSON (a smoke test; exit code 1 if the status has an error).
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
         pub exit_after_frames: Option<u64>,
-        /// Start from the sample scene instead of the autosaved project, and do not autosave
-        /// (also implied by --exit-after-frames).
+        /// Start from the sample scene instead of the autosaved project, and do not autosave.
         #[arg(long)]
         pub fresh: bool,
         /// A project file to open at start (instead of the autosaved one).
@@ -151,7 +150,7 @@ fn main() -> std::process::ExitCode {
     )
     .init();
     let exit_after_frames = cli.exit_after_frames;
-    let restore = !cli.fresh && exit_after_frames.is_none();
+    let restore = !cli.fresh;
     let open = match &cli.open {
         Some(path) => match knotwork::app::read_project_file(path) {
             Ok(text) => Some((path.display().to_string(), text)),

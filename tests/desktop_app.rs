@@ -5,8 +5,9 @@
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-/// Runs the editor with `extra` arguments for 3 frames; returns its output and the status line.
-fn run_editor(extra: &[&str]) -> (Output, serde_json::Value) {
+/// Runs the editor with `extra` arguments for 3 frames, with its data directory (where the
+/// autosave lives) in `data`; returns its output and the status line.
+fn run_editor(data: &std::path::Path, extra: &[&str]) -> (Output, serde_json::Value) {
     let binary = env!("CARGO_BIN_EXE_knotwork");
     let headless =
         std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none();
@@ -20,6 +21,7 @@ fn run_editor(extra: &[&str]) -> (Output, serde_json::Value) {
     command
         .args(["--exit-after-frames", "3"])
         .args(extra)
+        .env("XDG_DATA_HOME", data)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     let mut child = command.spawn().unwrap_or_else(|e| {
@@ -46,9 +48,18 @@ fn run_editor(extra: &[&str]) -> (Output, serde_json::Value) {
     (output, status)
 }
 
+/// A fresh data directory for one test.
+fn data_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("knotwork-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 #[test]
 fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
-    let (output, status) = run_editor(&[]);
+    let data = data_dir("smoke");
+    let (output, status) = run_editor(&data, &[]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         output.status.success(),
@@ -78,9 +89,8 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
 }
 
 #[test]
-fn desktop_app_opens_a_project_and_refuses_a_broken_one() {
-    let dir = std::env::temp_dir().join(format!("knotwork-desktop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn desktop_app_opens_a_project_restores_it_and_refuses_a_broken_one() {
+    let dir = data_dir("open");
     let good = dir.join("plane.json");
     std::fs::write(
         &good,
@@ -89,17 +99,31 @@ fn desktop_app_opens_a_project_and_refuses_a_broken_one() {
             "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}]}"#,
     )
     .unwrap();
-    let (output, status) = run_editor(&["--open", good.to_str().unwrap()]);
+    let (output, status) = run_editor(&dir, &["--open", good.to_str().unwrap()]);
     assert!(output.status.success(), "{status}");
     assert_eq!(status["objects"], 1);
     assert_eq!(status["patches"], 1);
     assert_eq!(status["vertices"], 5 * 5);
+    assert_eq!(status["autosaved_revision"], status["revision"]);
+
+    // The next start restores the last session; --fresh does not.
+    let (_, status) = run_editor(&dir, &[]);
+    assert_eq!(status["objects"], 1, "{status}");
+    assert!(
+        status["notice"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("restored"),
+        "{status}"
+    );
+    let (_, status) = run_editor(&dir, &["--fresh"]);
+    assert_eq!(status["objects"], 6, "{status}");
 
     let broken = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/bad-projects/zero-weight.json"
     );
-    let (output, status) = run_editor(&["--open", broken]);
+    let (output, status) = run_editor(&dir, &["--fresh", "--open", broken]);
     assert!(
         !output.status.success(),
         "an error in the status fails the smoke run"
