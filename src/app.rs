@@ -19,7 +19,7 @@ use eframe::egui_wgpu;
 
 use glam::DVec3;
 
-use crate::doc::{Command, Document, Edit, EditError, Touched};
+use crate::doc::{Change, Command, Document, Edit, EditError, Touched};
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{
@@ -421,20 +421,22 @@ impl KnotworkApp {
         self.end_drag(false);
         let result = self.doc.execute(&command).map(Edit::touched);
         match result {
-            Ok(touched) => {
-                if let Err(e) = self.after_edit(touched) {
-                    // Take the step back out: the history must not keep what cannot be shown.
-                    if self.doc.undo().is_ok() {
-                        self.doc.history.drop_redo();
-                    }
-                    let _ = self.after_edit(touched);
-                    self.status.error =
-                        Some(format!("{}: {e} (the edit was undone)", command.label()));
-                } else {
-                    self.status.error = None;
-                }
-            }
+            Ok(touched) => self.finish_edit(touched, &command.label()),
             Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// Shows an edit that is applied and recorded; if the GPU cannot show it, the edit is
+    /// undone and taken out of the history, and the error says so.
+    fn finish_edit(&mut self, touched: Touched, label: &str) {
+        if let Err(e) = self.after_edit(touched) {
+            if self.doc.undo().is_ok() {
+                self.doc.history.drop_redo();
+            }
+            let _ = self.after_edit(touched);
+            self.status.error = Some(format!("{label}: {e} (the edit was undone)"));
+        } else {
+            self.status.error = None;
         }
     }
 
@@ -553,26 +555,8 @@ impl KnotworkApp {
         Ok(())
     }
 
-    /// Applies a tessellation change (`change` edits the scene's segments or the quality) and
-    /// re-uploads; on failure everything returns to how it was and the error is shown.
-    fn retessellate(&mut self, change: impl FnOnce(&mut Self)) {
-        let saved_segments: Vec<u32> = self.scene().objects.iter().map(|o| o.segments).collect();
-        let saved_quality = self.quality;
-        change(self);
-        match self.rebuild_geometry(self.quality) {
-            Ok(()) => self.status.error = None,
-            Err(e) => {
-                for (o, s) in self.doc.scene.objects.iter_mut().zip(saved_segments) {
-                    o.segments = s;
-                }
-                self.quality = saved_quality;
-                self.status.error = Some(e.to_string());
-            }
-        }
-        self.refresh_status();
-        self.redraw = true;
-    }
-
+    /// Sets every object's segments per span as one undo step; a level outside 1..=1024 is
+    /// refused and nothing changes.
     fn set_all_segments(&mut self, segments: u32) {
         if !(1..=MAX_SEGMENTS).contains(&segments) {
             self.status.error = Some(
@@ -584,11 +568,38 @@ impl KnotworkApp {
             );
             return;
         }
-        self.retessellate(|app| {
-            for o in &mut app.doc.scene.objects {
-                o.segments = segments;
-            }
-        });
+        // One undo step for every object.
+        self.end_drag(false);
+        let changes: Vec<Change> = self
+            .doc
+            .scene
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.segments != segments)
+            .map(|(index, o)| Change::Replace {
+                index,
+                before: o.clone(),
+                after: SceneObject {
+                    segments,
+                    ..o.clone()
+                },
+            })
+            .collect();
+        if changes.is_empty() {
+            return;
+        }
+        let label = format!("{segments} segments for every object");
+        let edit = Edit {
+            label: label.clone(),
+            changes,
+        };
+        if let Err(e) = edit.redo(&mut self.doc.scene) {
+            self.status.error = Some(e.to_string());
+            return;
+        }
+        self.doc.history.record(edit);
+        self.finish_edit(Touched::Structure, &label);
     }
 
     fn set_quality(&mut self, quality: f32) {
@@ -600,7 +611,20 @@ impl KnotworkApp {
             ));
             return;
         }
-        self.retessellate(|app| app.quality = quality);
+        // The quality is a view setting (saved with the view), not an undo step.
+        let saved = self.quality;
+        self.quality = quality;
+        match self.rebuild_geometry(quality) {
+            Ok(()) => {
+                self.status.error = None;
+                self.revision += 1;
+            }
+            Err(e) => {
+                self.quality = saved;
+                self.status.error = Some(e.to_string());
+            }
+        }
+        self.redraw = true;
     }
 
     /// Selects an object (or none) and clears the point selection.
