@@ -107,6 +107,63 @@ async function nextFrames(page, count = 2) {
   await page.evaluate(() => window.knotwork.setContinuous(false));
 }
 
+/** An n x n bicubic B-spline landscape as a project object (uniform clamped knots). */
+function landscapeObject(n, segments) {
+  const knots = [0, 0, 0, 0];
+  for (let k = 1; k <= n - 4; k += 1) knots.push(k / (n - 3));
+  knots.push(1, 1, 1, 1);
+  const points = [];
+  for (let i = 0; i < n; i += 1) {
+    const row = [];
+    for (let j = 0; j < n; j += 1) {
+      const [x, y] = [(10 * i) / n, (10 * j) / n];
+      row.push([x, y, 0.6 * Math.sin(x * 0.9) * Math.cos(y * 0.7), 1]);
+    }
+    points.push(row);
+  }
+  return { type: 'nurbs_surface', name: `landscape ${n}`, segments, degree: [3, 3], knots: [knots, knots], points };
+}
+
+/** Opens `objects` as a project and waits for its first frame. */
+async function openObjects(page, objects) {
+  const text = JSON.stringify({ format: 'knotwork', version: 2, objects });
+  await page.evaluate((t) => window.knotwork.openProject('bench.json', t), text);
+  await page.waitForFunction((n) => window.knotwork.status().objects === n, objects.length, { timeout: 120_000 });
+  await nextFrames(page, 1);
+}
+
+/** A handle of the selected object inside the viewport with no other handle within `gap` px. */
+async function freeHandle(page, gap) {
+  const handles = await page.evaluate(() => window.knotwork.handles());
+  const inside = handles.map((h, k) => [k, h]).filter(([, h]) => h && h[0] > 450 && h[0] < 1200 && h[1] > 100 && h[1] < 700);
+  return inside.find(([k, h]) => inside.every(([j, q]) => j === k || Math.hypot(q[0] - h[0], q[1] - h[1]) > gap)) ?? inside[0];
+}
+
+/** Median time from a mouse move during a drag of a handle of object 0 to the next frame. */
+async function dragToFrame(page, canvas) {
+  await page.evaluate(() => window.knotwork.select(0));
+  await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+  await nextFrames(page, 1);
+  const [, [hx, hy]] = await freeHandle(page, 10);
+  const [x, y] = [canvas.x + hx, canvas.y + hy];
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  const times = [];
+  for (let k = 1; k <= 5; k += 1) {
+    const frames = (await status(page)).frames;
+    const t0 = Date.now();
+    await page.mouse.move(x + 6 * k, y - 4 * k);
+    if (k > 1) {
+      await page.waitForFunction((f) => window.knotwork.status().frames > f, frames, { timeout: 120_000 });
+      times.push(Date.now() - t0);
+    }
+  }
+  await page.mouse.up();
+  await page.waitForFunction(() => window.knotwork.status().undo_steps >= 1, null, { timeout: 60_000 });
+  times.sort((a, b) => a - b);
+  return times;
+}
+
 async function main() {
   if (!existsSync(chromiumPath)) {
     console.log(`FAIL  no Chromium at ${chromiumPath}: install it (Debian: apt-get install chromium) or set CHROMIUM`);
@@ -326,6 +383,46 @@ async function main() {
       assert(/zero\.json: objects\[0\]\.points\[0\]\[1\]: weight 0/.test(s.error), `error: ${s.error}`);
       assert(JSON.stringify(await page.evaluate(() => window.knotwork.project())) === JSON.stringify(before), 'the document is unchanged');
       assert(s.objects === 6, `objects ${s.objects}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const teapot = (await page.evaluate(() => window.knotwork.project())).objects[0];
+
+      // Pick: a 100 x 100 net (2 segments per span keeps SwiftShader's frame short).
+      await openObjects(page, [landscapeObject(100, 2)]);
+      await page.evaluate(() => window.knotwork.select(0));
+      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+      await nextFrames(page, 1);
+      const handles = await page.evaluate(() => window.knotwork.handles());
+      const onScreen = handles.filter((h) => h).length;
+      assert(onScreen === 10000, `all 10,000 handles on screen: ${onScreen}`);
+      const picks = [];
+      for (let k = 0; k < 3; k += 1) {
+        const [, [hx, hy]] = await freeHandle(page, 0);
+        await page.evaluate(() => window.knotwork.selectPoints([]));
+        await page.waitForFunction(() => window.knotwork.status().selected_points.length === 0, null, { timeout: 30_000 });
+        const t0 = Date.now();
+        await page.mouse.click(canvas.x + hx + k, canvas.y + hy);
+        await page.waitForFunction(() => window.knotwork.status().selected_points.length === 1, null, { timeout: 30_000 });
+        picks.push(Date.now() - t0);
+      }
+
+      // Drag-to-new-frame: the teapot at 64 segments, and a 64 x 64-point bicubic surface at 8.
+      await openObjects(page, [{ ...teapot, segments: 64 }]);
+      assert((await status(page)).vertices === 32 * 65 * 65, 'the teapot at 64 segments');
+      const teapotTimes = await dragToFrame(page, canvas);
+      await openObjects(page, [landscapeObject(64, 8)]);
+      const sheetTimes = await dragToFrame(page, canvas);
+      const s = await status(page);
+      assert(s.error === null, `error: ${s.error}`);
+      console.log(`      pick among 10,000 points (click to selection): ${picks.join(', ')} ms`);
+      console.log(`      drag-to-new-frame, teapot 64 segments: median ${teapotTimes[teapotTimes.length >> 1]} ms (${teapotTimes.join(', ')})`);
+      console.log(`      drag-to-new-frame, 64 x 64 points at 8 per span (${s.vertices} vertices): median ${sheetTimes[sheetTimes.length >> 1]} ms (${sheetTimes.join(', ')})`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });
