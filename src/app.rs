@@ -484,7 +484,8 @@ impl KnotworkApp {
     }
 
     /// Re-decomposes object `object` after its points or weights changed and uploads what
-    /// changed; `patches` are the Bézier patches to re-evaluate (`None`: all of the object's).
+    /// changed; `patches` are the Bézier patches to re-derive and re-evaluate (`None`: the whole
+    /// object is decomposed again and the patches whose points changed are re-evaluated).
     fn refresh_object(&mut self, object: usize, patches: Option<&[usize]>) -> Result<(), String> {
         let Some(target) = self.doc.scene.objects.get(object) else {
             return Err(format!("there is no object {object}"));
@@ -492,9 +493,25 @@ impl KnotworkApp {
         if !target.visible {
             return Ok(());
         }
-        let decomposition = target
-            .decompose()
-            .map_err(|e| format!("{}: {e}", target.name))?;
+        let failed = |e: crate::kernel::GeometryError| format!("{}: {e}", target.name);
+        // A drag names its patches: only those are re-derived from their spans.
+        let decomposition = match patches {
+            Some(patches) => {
+                let mut d = std::mem::replace(
+                    &mut self.decompositions[object],
+                    Decomposition {
+                        set: BezierPatchSet::default(),
+                        domains: Vec::new(),
+                    },
+                );
+                if let Err(e) = target.update_decomposition(&mut d, patches) {
+                    self.decompositions[object] = d;
+                    return Err(failed(e));
+                }
+                d
+            }
+            None => target.decompose().map_err(failed)?,
+        };
         if let Some(gpu) = &mut self.gpu
             && let Some(geometry) = &mut gpu.geometry
         {

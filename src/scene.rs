@@ -87,6 +87,42 @@ impl SceneObject {
         }
     }
 
+    /// Brings `decomposition` (this object's, from [`Self::decompose`] before its control points
+    /// moved) up to date for the Bézier patches `patches` only: a NURBS surface re-derives just
+    /// those patches from their spans ([`NurbsSurface::bezier_patch_points`]); a patch set is
+    /// copied. The rest of the decomposition is kept as it was.
+    pub fn update_decomposition(
+        &self,
+        decomposition: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => decomposition.set = set.clone(),
+            ObjectGeometry::Nurbs(surface) => {
+                for &k in patches {
+                    let points = surface.bezier_patch_points(k)?;
+                    let indices = decomposition
+                        .set
+                        .patches()
+                        .get(k)
+                        .ok_or(GeometryError::NoSuchPatch {
+                            patch: k,
+                            count: decomposition.set.patches().len(),
+                        })?
+                        .indices()
+                        .to_vec();
+                    for (&index, h) in indices.iter().zip(points) {
+                        decomposition
+                            .set
+                            .set_point(index as usize, h.truncate() / h.w)?;
+                        decomposition.set.set_weight(index as usize, h.w)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The control points the user sees and drags: the NURBS net (Cartesian) or the patch pool.
     pub fn control_points(&self) -> Vec<DVec3> {
         match &self.geometry {
@@ -394,5 +430,40 @@ mod tests {
         assert!(sheet.move_control_point(0, DVec3::NAN).is_err());
         assert!(sheet.move_control_point(10_000, DVec3::ONE).is_err());
         assert_eq!(*sheet, before);
+    }
+
+    #[test]
+    fn updating_only_the_moved_patches_matches_a_full_decomposition() {
+        // Every object of the demo scene: move one point, re-derive only its support, and compare
+        // with decomposing the whole moved object.
+        let scene = Scene::demo().unwrap();
+        for object in &scene.objects {
+            let mut moved = object.clone();
+            let mut decomposition = moved.decompose().unwrap();
+            let index = moved.control_points().len() / 2;
+            let target = moved.control_points()[index] + DVec3::new(0.3, -0.2, 0.5);
+            let patches = moved.move_control_point(index, target).unwrap();
+            moved
+                .update_decomposition(&mut decomposition, &patches)
+                .unwrap();
+            let full = moved.decompose().unwrap();
+            let scale = moved.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length());
+            for (k, (a, b)) in decomposition
+                .set
+                .points()
+                .iter()
+                .zip(full.set.points())
+                .enumerate()
+            {
+                assert!(
+                    a.distance(*b) <= 1e-12 * scale,
+                    "{}: point {k} {a} vs {b}",
+                    object.name
+                );
+            }
+            for (a, b) in decomposition.set.weights().iter().zip(full.set.weights()) {
+                assert!((a - b).abs() <= 1e-12 * b);
+            }
+        }
     }
 }

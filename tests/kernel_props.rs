@@ -130,6 +130,27 @@ proptest! {
     }
 
     #[test]
+    fn one_span_gives_the_same_bezier_patch_as_the_whole_decomposition(
+        p in 1usize..=5, q in 1usize..=5, seed in any::<u64>()) {
+        // Local extraction (the span's own points and knots) against the global refinement,
+        // point by point in homogeneous form.
+        let s = random_surface(p, q, seed);
+        let set = s.to_bezier_patch_set().unwrap();
+        let scale = s.size().max(1.0);
+        for (k, patch) in set.patches().iter().enumerate() {
+            let local = s.bezier_patch_points(k).unwrap();
+            prop_assert_eq!(local.len(), patch.indices().len());
+            for (h, &index) in local.iter().zip(patch.indices()) {
+                let (point, weight) = (set.points()[index as usize], set.weights()[index as usize]);
+                prop_assert!((h.w - weight).abs() <= 1e-12 * weight, "weight {} vs {weight}", h.w);
+                let d = (h.truncate() / h.w).distance(point);
+                prop_assert!(d <= 1e-12 * scale, "patch {k}: point differs by {d:e}");
+            }
+        }
+        prop_assert!(s.bezier_patch_points(set.patches().len()).is_err());
+    }
+
+    #[test]
     fn degree_elevation_preserves_shape(p in 1usize..=5, q in 1usize..=5, seed in any::<u64>(), t in 1usize..=2) {
         let s = random_surface(p, q, seed);
         for d in [Direction::U, Direction::V] {

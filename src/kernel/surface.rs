@@ -931,6 +931,42 @@ impl NurbsSurface {
         ops::distinct_breaks(&self.knots[d], self.degree[d], self.count[d])
     }
 
+    /// The homogeneous control points of Bézier patch `patch` of [`Self::to_bezier_patch_set`]
+    /// ((p + 1)(q + 1) of them, row-major with i along u), computed from the span's own
+    /// (p + 1) × (q + 1) control points and its 2p + 2 and 2q + 2 knots alone: the local
+    /// B-spline of that span refined to Bézier form (The NURBS Book A5.4/A5.6, applied to the
+    /// span's knot vector). A drag uses it to re-decompose only the patches it moves; the result
+    /// equals the global decomposition's up to rounding.
+    pub fn bezier_patch_points(&self, patch: usize) -> Result<Vec<DVec4>, GeometryError> {
+        let breaks = [
+            self.span_breaks(Direction::U),
+            self.span_breaks(Direction::V),
+        ];
+        let spans = [breaks[0].len() - 1, breaks[1].len() - 1];
+        let (a, b) = (patch / spans[1].max(1), patch % spans[1].max(1));
+        if a >= spans[0] {
+            return Err(GeometryError::NoSuchPatch {
+                patch,
+                count: spans[0] * spans[1],
+            });
+        }
+        // The knot span index of each direction's span, and its local knot vector.
+        let local = |d: usize, s: usize| {
+            let mid = 0.5 * (breaks[d][s] + breaks[d][s + 1]);
+            let p = self.degree[d];
+            let k = find_span(&self.knots[d], p, self.count[d], mid);
+            (k - p, self.knots[d][k - p..=k + p + 1].to_vec())
+        };
+        let ((i0, ku), (j0, kv)) = (local(0, a), local(1, b));
+        let [p, q] = self.degree;
+        let points = (i0..=i0 + p)
+            .flat_map(|i| (j0..=j0 + q).map(move |j| (i, j)))
+            .map(|(i, j)| self.points[i * self.count[1] + j])
+            .collect();
+        let span = Self::from_homogeneous(self.degree, [ku, kv], [p + 1, q + 1], points)?;
+        Ok(span.bezier_refined().points)
+    }
+
     /// The Bézier patches (indices in the order of [`Self::to_bezier_patch_set`]) on which the
     /// basis function of control point (i, j) is non-zero, so the patches that change when that
     /// point moves. Local support (The NURBS Book, property P2.1, and its tensor-product form for
