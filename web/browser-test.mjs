@@ -139,28 +139,36 @@ async function freeHandle(page, gap) {
   return inside.find(([k, h]) => inside.every(([j, q]) => j === k || Math.hypot(q[0] - h[0], q[1] - h[1]) > gap)) ?? inside[0];
 }
 
-/** Median time from a mouse move during a drag of a handle of object 0 to the next frame. */
-async function dragToFrame(page, canvas) {
-  await page.evaluate(() => window.knotwork.select(0));
-  await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
-  await nextFrames(page, 1);
-  const [, [hx, hy]] = await freeHandle(page, 10);
-  const [x, y] = [canvas.x + hx, canvas.y + hy];
+/**
+ * Drags from (x, y) with real mouse events in `steps` moves of (dx, dy). Each move after the
+ * first (which starts the drag) must bring a new frame: the sorted times from the mouse event
+ * to that frame (the drag-to-new-frame latency) are returned.
+ */
+async function dragWithMouse(page, x, y, steps, dx, dy) {
   await page.mouse.move(x, y);
   await page.mouse.down();
   const times = [];
-  for (let k = 1; k <= 5; k += 1) {
+  for (let k = 1; k <= steps; k += 1) {
     const frames = (await status(page)).frames;
     const t0 = Date.now();
-    await page.mouse.move(x + 6 * k, y - 4 * k);
+    await page.mouse.move(x + dx * k, y + dy * k);
     if (k > 1) {
       await page.waitForFunction((f) => window.knotwork.status().frames > f, frames, { timeout: 120_000 });
       times.push(Date.now() - t0);
     }
   }
   await page.mouse.up();
+  return times.sort((a, b) => a - b);
+}
+
+/** Drag-to-new-frame times for a handle of object 0. */
+async function dragToFrame(page, canvas) {
+  await page.evaluate(() => window.knotwork.select(0));
+  await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+  await nextFrames(page, 1);
+  const [, [hx, hy]] = await freeHandle(page, 10);
+  const times = await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 5, 6, -4);
   await page.waitForFunction(() => window.knotwork.status().undo_steps >= 1, null, { timeout: 60_000 });
-  times.sort((a, b) => a - b);
   return times;
 }
 
@@ -311,22 +319,7 @@ async function main() {
       const before = await page.locator('#knotwork-canvas').screenshot();
 
       // Drag it with real mouse events.
-      // Each step after the first (which starts the drag) must bring a new frame: the time from
-      // the mouse event to that frame is the drag-to-new-frame latency.
-      await page.mouse.move(x, y);
-      await page.mouse.down();
-      const dragMs = [];
-      for (let k = 1; k <= 8; k += 1) {
-        const frames = (await status(page)).frames;
-        const t0 = Date.now();
-        await page.mouse.move(x + 8 * k, y - 6 * k);
-        if (k > 1) {
-          await page.waitForFunction((f) => window.knotwork.status().frames > f, frames, { timeout: 30_000 });
-          dragMs.push(Date.now() - t0);
-        }
-      }
-      await page.mouse.up();
-      dragMs.sort((a, b) => a - b);
+      const dragMs = await dragWithMouse(page, x, y, 8, 8, -6);
       console.log(`      pick (click to selection) ${pickMs} ms; drag-to-new-frame median ${dragMs[dragMs.length >> 1]} ms ` +
         `(of ${dragMs.join(', ')} ms) on SwiftShader`);
       await page.waitForFunction(() => {
