@@ -185,15 +185,8 @@ pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)>
     receiver.await;
     let file = input.files()?.get(0)?;
     let name = file.name();
-    if file.size() > crate::io::project::MAX_FILE_BYTES as f64 {
-        return Some((
-            name,
-            Err(format!(
-                "the file is {:.0} MiB; knotwork opens projects up to {} MiB",
-                file.size() / (1024.0 * 1024.0),
-                crate::io::project::MAX_FILE_BYTES / (1024 * 1024)
-            )),
-        ));
+    if let Err(e) = crate::io::project::check_size(file.size() as u64) {
+        return Some((name, Err(e.to_string())));
     }
     let text = wasm_bindgen_futures::JsFuture::from(file.text()).await;
     Some((

@@ -9,7 +9,7 @@ use eframe::egui;
 use super::{KnotworkApp, default_scene};
 use crate::doc::Document;
 use crate::gpu::ShadingMode;
-use crate::io::project::{MAX_FILE_BYTES, ViewSettings};
+use crate::io::project::{self, ViewSettings};
 
 /// The storage key of the autosaved project.
 pub const AUTOSAVE_KEY: &str = "knotwork.project";
@@ -21,13 +21,7 @@ pub type Incoming = Arc<Mutex<Vec<(String, Result<String, String>)>>>;
 
 /// Reads dropped or picked bytes as project text, refusing files over the size limit.
 fn project_text(bytes: &[u8]) -> Result<String, String> {
-    if bytes.len() > MAX_FILE_BYTES {
-        return Err(format!(
-            "the file is {} MiB; knotwork opens projects up to {} MiB",
-            bytes.len() / (1024 * 1024),
-            MAX_FILE_BYTES / (1024 * 1024)
-        ));
-    }
+    project::check_size(bytes.len() as u64).map_err(|e| e.to_string())?;
     String::from_utf8(bytes.to_vec()).map_err(|e| format!("the file is not UTF-8 text: {e}"))
 }
 
@@ -249,13 +243,7 @@ impl KnotworkApp {
 #[cfg(not(target_arch = "wasm32"))]
 pub fn read_file(path: &std::path::Path) -> Result<String, String> {
     let size = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
-    if size > MAX_FILE_BYTES as u64 {
-        return Err(format!(
-            "the file is {} MiB; knotwork opens projects up to {} MiB",
-            size / (1024 * 1024),
-            MAX_FILE_BYTES / (1024 * 1024)
-        ));
-    }
+    project::check_size(size).map_err(|e| e.to_string())?;
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     project_text(&bytes)
 }

@@ -39,7 +39,7 @@ pub struct FormatError {
 }
 
 impl FormatError {
-    fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+    pub(crate) fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
             path: path.into(),
             message: message.into(),
@@ -227,9 +227,9 @@ fn curve_from<P: CurvePoint>(path: &str, raw: RawCurve) -> Result<NurbsCurve<P>,
         .map_err(|e| FormatError::geometry(path, e))
 }
 
-type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
+pub(crate) type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
 
-fn curve_points(
+pub(crate) fn curve_points(
     path: &str,
     points: &[Vec<f64>],
     dim: usize,
@@ -250,7 +250,10 @@ fn curve_points(
     Ok((cartesian, weights))
 }
 
-fn serde_error(prefix: &str, error: serde_path_to_error::Error<serde_json::Error>) -> FormatError {
+pub(crate) fn serde_error(
+    prefix: &str,
+    error: serde_path_to_error::Error<serde_json::Error>,
+) -> FormatError {
     let inner = error.path().to_string();
     let path = if inner == "." { String::new() } else { inner };
     let full = match (prefix.is_empty(), path.is_empty()) {

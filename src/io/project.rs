@@ -70,44 +70,36 @@ struct RawPatches {
     patches: Vec<RawPatch>,
 }
 
-fn error(path: impl Into<String>, message: impl Into<String>) -> FormatError {
-    FormatError {
-        path: path.into(),
-        message: message.into(),
-    }
-}
-
 fn deserialize<T: serde::de::DeserializeOwned>(
     path: &str,
     value: serde_json::Value,
 ) -> Result<T, FormatError> {
-    serde_path_to_error::deserialize(value).map_err(|e| {
-        let inner = e.path().to_string();
-        let full = if inner == "." {
-            path.to_string()
-        } else {
-            format!("{path}.{inner}")
-        };
-        error(full, e.into_inner().to_string())
-    })
+    serde_path_to_error::deserialize(value).map_err(|e| json::serde_error(path, e))
 }
 
-/// Reads a project from JSON text.
-pub fn read(text: &str) -> Result<Project, FormatError> {
-    if text.len() > MAX_FILE_BYTES {
-        return Err(error(
+/// Refuses a file of `bytes` bytes above [`MAX_FILE_BYTES`] (before it is read, where the
+/// size is known first).
+pub fn check_size(bytes: u64) -> Result<(), FormatError> {
+    if bytes > MAX_FILE_BYTES as u64 {
+        return Err(FormatError::new(
             "",
             format!(
                 "the file is {} MiB; knotwork opens projects up to {} MiB",
-                text.len() / (1024 * 1024),
+                bytes / (1024 * 1024),
                 MAX_FILE_BYTES / (1024 * 1024)
             ),
         ));
     }
-    let value: serde_json::Value =
-        serde_json::from_str(text).map_err(|e| error("", format!("not valid JSON: {e}")))?;
+    Ok(())
+}
+
+/// Reads a project from JSON text.
+pub fn read(text: &str) -> Result<Project, FormatError> {
+    check_size(text.len() as u64)?;
+    let value: serde_json::Value = serde_json::from_str(text)
+        .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
     let serde_json::Value::Object(mut root) = value else {
-        return Err(error(
+        return Err(FormatError::new(
             "",
             "expected a JSON object with \"format\": \"knotwork\"",
         ));
@@ -115,24 +107,29 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
     match root.remove("format") {
         Some(serde_json::Value::String(f)) if f == "knotwork" => {}
         Some(other) => {
-            return Err(error(
+            return Err(FormatError::new(
                 "format",
                 format!("expected \"knotwork\", found {other}"),
             ));
         }
-        None => return Err(error("format", "missing: this is not a knotwork project")),
+        None => {
+            return Err(FormatError::new(
+                "format",
+                "missing: this is not a knotwork project",
+            ));
+        }
     }
     let version = root
         .remove("version")
-        .ok_or_else(|| error("version", "missing"))?;
+        .ok_or_else(|| FormatError::new("version", "missing"))?;
     let version = version.as_u64().ok_or_else(|| {
-        error(
+        FormatError::new(
             "version",
             format!("expected a whole number, found {version}"),
         )
     })?;
     if version == 0 || version > u64::from(PROJECT_VERSION) {
-        return Err(error(
+        return Err(FormatError::new(
             "version",
             format!(
                 "version {version} is not supported: this build of knotwork reads versions 1 to {PROJECT_VERSION} (a newer knotwork wrote it?)"
@@ -142,20 +139,20 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
     let objects = match root.remove("objects") {
         Some(serde_json::Value::Array(objects)) => objects,
         Some(other) => {
-            return Err(error(
+            return Err(FormatError::new(
                 "objects",
                 format!("expected an array, found {other}"),
             ));
         }
-        None => return Err(error("objects", "missing")),
+        None => return Err(FormatError::new("objects", "missing")),
     };
     let view = match root.remove("view") {
         Some(v) if version >= 2 => Some(deserialize::<ViewSettings>("view", v)?),
-        Some(_) => return Err(error("view", "version 1 files have no view")),
+        Some(_) => return Err(FormatError::new("view", "version 1 files have no view")),
         None => None,
     };
     if let Some(key) = root.keys().next() {
-        return Err(error(key.clone(), "unknown field"));
+        return Err(FormatError::new(key.clone(), "unknown field"));
     }
     let mut total = 0usize;
     let mut scene = Scene::default();
@@ -164,7 +161,7 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
         let object = read_object(&path, value)?;
         total = total.saturating_add(object.control_points().len());
         if total > MAX_TOTAL_POINTS {
-            return Err(error(
+            return Err(FormatError::new(
                 path,
                 format!("the project has more than {MAX_TOTAL_POINTS} control points"),
             ));
@@ -177,7 +174,7 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
             .iter()
             .chain([&v.distance, &v.yaw, &v.pitch, &v.quality]);
         if finite.into_iter().any(|x| !x.is_finite()) || v.distance <= 0.0 || v.quality <= 0.0 {
-            return Err(error(
+            return Err(FormatError::new(
                 "view",
                 "the camera and quality must be finite and positive",
             ));
@@ -188,13 +185,13 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
 
 fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, FormatError> {
     let serde_json::Value::Object(mut map) = value else {
-        return Err(error(path, "expected an object"));
+        return Err(FormatError::new(path, "expected an object"));
     };
     let visible = match map.remove("visible") {
         None => true,
         Some(serde_json::Value::Bool(b)) => b,
         Some(other) => {
-            return Err(error(
+            return Err(FormatError::new(
                 format!("{path}.visible"),
                 format!("expected true or false, found {other}"),
             ));
@@ -205,7 +202,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         Some(s) => match s.as_u64() {
             Some(n) if (1..=u64::from(MAX_SEGMENTS)).contains(&n) => n as u32,
             _ => {
-                return Err(error(
+                return Err(FormatError::new(
                     format!("{path}.segments"),
                     format!("expected a whole number in 1..={MAX_SEGMENTS}, found {s}"),
                 ));
@@ -216,7 +213,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         None => None,
         Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
         Some(other) => {
-            return Err(error(
+            return Err(FormatError::new(
                 format!("{path}.name"),
                 format!(
                     "expected a name of 1 to {} characters, found {other}",
@@ -234,7 +231,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     ]
     .contains(&kind)
     {
-        return Err(error(
+        return Err(FormatError::new(
             format!("{path}.type"),
             format!(
                 "unknown object type {}: expected \"nurbs_surface\" or \"bezier_patches\"",
@@ -251,7 +248,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         match json::object_from_value(path, value)?.geometry {
             Geometry::Surface(s) => ObjectGeometry::Nurbs(s),
             Geometry::Curve(_) | Geometry::Trim(_) => {
-                return Err(error(
+                return Err(FormatError::new(
                     format!("{path}.type"),
                     "a curve is not a scene object: knotwork projects hold surfaces",
                 ));
@@ -266,40 +263,16 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
 
 fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, FormatError> {
     let raw: RawPatches = deserialize(path, value)?;
-    if raw.points.len() > MAX_TOTAL_POINTS {
-        return Err(error(
-            format!("{path}.points"),
-            format!("more than {MAX_TOTAL_POINTS} control points"),
-        ));
-    }
-    let mut points = Vec::with_capacity(raw.points.len());
-    let mut weights = Vec::with_capacity(raw.points.len());
-    for (i, p) in raw.points.iter().enumerate() {
-        match p.as_slice() {
-            [x, y, z] => {
-                points.push(glam::DVec3::new(*x, *y, *z));
-                weights.push(1.0);
-            }
-            [x, y, z, w] => {
-                points.push(glam::DVec3::new(*x, *y, *z));
-                weights.push(*w);
-            }
-            _ => {
-                return Err(error(
-                    format!("{path}.points[{i}]"),
-                    format!(
-                        "expected [x, y, z, w] (w may be omitted), found {} numbers",
-                        p.len()
-                    ),
-                ));
-            }
-        }
-    }
+    let (cartesian, weights) = json::curve_points(path, &raw.points, 3)?;
+    let points = cartesian
+        .iter()
+        .map(|c| glam::DVec3::new(c[0], c[1], c[2]))
+        .collect();
     let mut patches = Vec::with_capacity(raw.patches.len());
     for (k, patch) in raw.patches.into_iter().enumerate() {
         let [du, dv] = patch.degree;
         if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
-            return Err(error(
+            return Err(FormatError::new(
                 format!("{path}.patches[{k}].degree"),
                 format!("degree ({du}, {dv}) is outside 1..={MAX_BEZIER_DEGREE}"),
             ));
@@ -315,7 +288,7 @@ fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, 
             | GeometryError::IndexOutOfRange { patch, .. } => format!("{path}.patches[{patch}]"),
             _ => path.to_string(),
         };
-        error(at, e.to_string())
+        FormatError::new(at, e.to_string())
     })
 }
 
