@@ -379,11 +379,6 @@ impl KnotworkApp {
         self
     }
 
-    /// Opens project text (errors show in a dialog; the document stays).
-    pub fn open_project(&mut self, name: &str, text: &str) {
-        self.open_text(name, text);
-    }
-
     /// The open document (scene and history).
     pub fn document(&self) -> &Document {
         &self.doc
@@ -522,7 +517,8 @@ impl KnotworkApp {
         }
         self.decompositions[object] = decomposition;
         self.update_net();
-        self.auto_range = None;
+        // The automatic colour range is resampled when the edit ends (after_edit, end_drag),
+        // not on every mouse move of a drag.
         self.redraw = true;
         Ok(())
     }
@@ -658,7 +654,7 @@ impl KnotworkApp {
             self.points.clear();
         }
         self.selected = selected;
-        let count = selected.map_or(0, |s| self.doc.scene.objects[s].control_points().len());
+        let count = selected.map_or(0, |s| self.doc.scene.objects[s].control_point_count());
         self.points.retain(|&k| k < count);
         if let Some(gpu) = &mut self.gpu {
             let points = &self.points;
@@ -773,11 +769,11 @@ impl KnotworkApp {
             ExternalCommand::SelectPoints(points) => {
                 let count = self
                     .selected
-                    .map_or(0, |s| self.doc.scene.objects[s].control_points().len());
+                    .map_or(0, |s| self.doc.scene.objects[s].control_point_count());
                 self.points = points.into_iter().filter(|&k| k < count).collect();
                 self.update_net();
             }
-            ExternalCommand::Open { name, text } => self.open_text(&name, &text),
+            ExternalCommand::Open { name, text } => self.open_project(&name, &text),
             ExternalCommand::NewDocument => self.new_document(),
         }
         self.redraw = true;

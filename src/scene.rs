@@ -123,6 +123,14 @@ impl SceneObject {
         Ok(())
     }
 
+    /// How many control points [`Self::control_points`] has (without computing them).
+    pub fn control_point_count(&self) -> usize {
+        match &self.geometry {
+            ObjectGeometry::Patches(set) => set.points().len(),
+            ObjectGeometry::Nurbs(surface) => surface.homogeneous_points().len(),
+        }
+    }
+
     /// The control points the user sees and drags: the NURBS net (Cartesian) or the patch pool.
     pub fn control_points(&self) -> Vec<DVec3> {
         match &self.geometry {

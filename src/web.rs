@@ -178,11 +178,12 @@ pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)>
         document.create_element("input").ok()?.dyn_into().ok()?;
     input.set_type("file");
     input.set_accept(".json,.knotwork,application/json");
-    let (sender, receiver) = futures_channel();
-    let on_change = Closure::once(move || sender.send());
-    input.set_onchange(Some(on_change.as_ref().unchecked_ref()));
+    // A promise the input's change event resolves.
+    let changed = js_sys::Promise::new(&mut |resolve, _reject| {
+        input.set_onchange(Some(&resolve));
+    });
     input.click();
-    receiver.await;
+    let _ = wasm_bindgen_futures::JsFuture::from(changed).await;
     let file = input.files()?.get(0)?;
     let name = file.name();
     if let Err(e) = crate::io::project::check_size(file.size() as u64) {
@@ -195,44 +196,6 @@ pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)>
             .and_then(|t| t.as_string())
             .ok_or_else(|| "the file could not be read as text".to_string()),
     ))
-}
-
-/// A one-shot signal from a DOM callback to an async task.
-fn futures_channel() -> (Signal, SignalFuture) {
-    let state = std::rc::Rc::new(RefCell::new((false, None::<std::task::Waker>)));
-    (Signal(std::rc::Rc::clone(&state)), SignalFuture(state))
-}
-
-type SignalState = std::rc::Rc<RefCell<(bool, Option<std::task::Waker>)>>;
-
-struct Signal(SignalState);
-
-impl Signal {
-    fn send(self) {
-        let mut state = self.0.borrow_mut();
-        state.0 = true;
-        if let Some(waker) = state.1.take() {
-            waker.wake();
-        }
-    }
-}
-
-struct SignalFuture(SignalState);
-
-impl std::future::Future for SignalFuture {
-    type Output = ();
-    fn poll(
-        self: std::pin::Pin<&mut Self>,
-        cx: &mut std::task::Context<'_>,
-    ) -> std::task::Poll<()> {
-        let mut state = self.0.borrow_mut();
-        if state.0 {
-            std::task::Poll::Ready(())
-        } else {
-            state.1 = Some(cx.waker().clone());
-            std::task::Poll::Pending
-        }
-    }
 }
 
 /// Offers `text` to the user as a downloaded file called `name`.

@@ -53,17 +53,16 @@ impl KnotworkApp {
 
     /// Opens project text; a file that cannot be read shows a dialog naming the problem and
     /// leaves the document, its history and the GPU geometry as they were.
-    pub(super) fn open_text(&mut self, name: &str, text: &str) {
-        let mut candidate = self.doc.clone();
-        let view = match candidate.open(text) {
-            Ok(view) => view,
+    pub fn open_project(&mut self, name: &str, text: &str) {
+        let (scene, view) = match project::read(text) {
+            Ok(project) => (project.scene, project.view),
             Err(e) => {
                 self.dialog = Some((format!("Could not open {name}"), e.to_string()));
                 self.status.error = Some(format!("{name}: {e}"));
                 return;
             }
         };
-        let previous = std::mem::replace(&mut self.doc, candidate);
+        let previous = std::mem::replace(&mut self.doc, Document::new(scene));
         let (camera, shading, quality) = (self.camera, self.shading, self.quality);
         if let Some(view) = &view {
             self.apply_view(view);
@@ -175,7 +174,7 @@ impl KnotworkApp {
 
     fn open_result(&mut self, name: &str, text: Result<String, String>) {
         match text {
-            Ok(text) => self.open_text(name, &text),
+            Ok(text) => self.open_project(name, &text),
             Err(e) => {
                 self.dialog = Some((format!("Could not open {name}"), e.clone()));
                 self.status.error = Some(format!("{name}: {e}"));

@@ -208,6 +208,7 @@ impl KnotworkApp {
         };
         self.constraint = Constraint::Free;
         self.highlight_patches.clear();
+        self.auto_range = None;
         self.redraw = true;
         if !drag.moved {
             return;
@@ -370,7 +371,7 @@ impl KnotworkApp {
 
     pub(super) fn select_all_points(&mut self) {
         if let Some(s) = self.selected {
-            self.points = (0..self.doc.scene.objects[s].control_points().len()).collect();
+            self.points = (0..self.doc.scene.objects[s].control_point_count()).collect();
             self.update_net();
         }
     }

@@ -159,7 +159,7 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
     for (i, value) in objects.into_iter().enumerate() {
         let path = format!("objects[{i}]");
         let object = read_object(&path, value)?;
-        total = total.saturating_add(object.control_points().len());
+        total = total.saturating_add(object.control_point_count());
         if total > MAX_TOTAL_POINTS {
             return Err(FormatError::new(
                 path,
