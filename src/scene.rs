@@ -9,7 +9,7 @@ use glam::{DAffine3, DVec3};
 
 use crate::kernel::construct;
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
-use crate::kernel::{BezierPatchSet, Direction, GeometryError, NurbsSurface, samples};
+use crate::kernel::{BezierPatchSet, Direction, GeometryError, NurbsSurface, PolygonMesh, samples};
 
 /// Segments per Bézier span edge a new object gets.
 pub const DEFAULT_SEGMENTS: u32 = 16;
@@ -35,6 +35,8 @@ pub enum ObjectGeometry {
     Patches(BezierPatchSet),
     /// One NURBS surface.
     Nurbs(NurbsSurface),
+    /// A polygon mesh (an imported OBJ or glTF mesh), drawn as bilinear patches.
+    Mesh(PolygonMesh),
 }
 
 /// An object's Bézier patches, as the GPU evaluator takes them.
@@ -84,6 +86,11 @@ impl SceneObject {
                     .collect();
                 Ok(Decomposition { set, domains })
             }
+            ObjectGeometry::Mesh(mesh) => {
+                let set = mesh.to_bezier_patch_set()?;
+                let domains = vec![[0.0, 1.0, 0.0, 1.0]; set.patches().len()];
+                Ok(Decomposition { set, domains })
+            }
         }
     }
 
@@ -98,6 +105,11 @@ impl SceneObject {
     ) -> Result<(), GeometryError> {
         match &self.geometry {
             ObjectGeometry::Patches(set) => decomposition.set = set.clone(),
+            ObjectGeometry::Mesh(mesh) => {
+                for (index, &p) in mesh.points().iter().enumerate() {
+                    decomposition.set.set_point(index, p)?;
+                }
+            }
             ObjectGeometry::Nurbs(surface) => {
                 for &k in patches {
                     let points = surface.bezier_patch_points(k)?;
@@ -128,6 +140,7 @@ impl SceneObject {
         match &self.geometry {
             ObjectGeometry::Patches(set) => set.points().len(),
             ObjectGeometry::Nurbs(surface) => surface.homogeneous_points().len(),
+            ObjectGeometry::Mesh(mesh) => mesh.points().len(),
         }
     }
 
@@ -135,6 +148,7 @@ impl SceneObject {
     pub fn control_points(&self) -> Vec<DVec3> {
         match &self.geometry {
             ObjectGeometry::Patches(set) => set.points().to_vec(),
+            ObjectGeometry::Mesh(mesh) => mesh.points().to_vec(),
             ObjectGeometry::Nurbs(surface) => {
                 let [nu, nv] = surface.count();
                 (0..nu)
@@ -148,6 +162,7 @@ impl SceneObject {
     pub fn net_lines(&self) -> Vec<u32> {
         match &self.geometry {
             ObjectGeometry::Patches(set) => crate::kernel::bezier::net_line_indices(set),
+            ObjectGeometry::Mesh(mesh) => mesh.edge_indices(),
             ObjectGeometry::Nurbs(surface) => {
                 let [nu, nv] = surface.count();
                 let index = |i: usize, j: usize| (i * nv + j) as u32;
@@ -172,6 +187,7 @@ impl SceneObject {
         match &self.geometry {
             ObjectGeometry::Patches(set) => set.bounds(),
             ObjectGeometry::Nurbs(surface) => Some(surface.bounds()),
+            ObjectGeometry::Mesh(mesh) => mesh.bounds(),
         }
     }
 
@@ -182,6 +198,11 @@ impl SceneObject {
                 "{} Bézier patches, {} points",
                 set.patches().len(),
                 set.points().len()
+            ),
+            ObjectGeometry::Mesh(mesh) => format!(
+                "polygon mesh, {} faces, {} points",
+                mesh.face_count(),
+                mesh.points().len()
             ),
             ObjectGeometry::Nurbs(s) => {
                 let [p, q] = s.degree();
@@ -216,6 +237,10 @@ impl SceneObject {
                     .map(|(k, _)| k)
                     .collect())
             }
+            ObjectGeometry::Mesh(mesh) => {
+                mesh.set_point(index, position)?;
+                Ok(mesh.patches_using(index as u32))
+            }
             ObjectGeometry::Nurbs(surface) => {
                 let nv = surface.count()[1];
                 let (i, j) = (index / nv, index % nv);
@@ -226,10 +251,15 @@ impl SceneObject {
     }
 
     /// Sets the weight of control point `index` (of [`Self::control_points`]), keeping its
-    /// position. A bad index or a weight that is not finite and > 0 is refused.
+    /// position. A bad index or a weight that is not finite and > 0 is refused, and so is any
+    /// weight on a polygon mesh (its points have none).
     pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
         match &mut self.geometry {
             ObjectGeometry::Patches(set) => set.set_weight(index, weight),
+            ObjectGeometry::Mesh(_) => Err(GeometryError::Construction {
+                what: "polygon mesh",
+                message: "its points have no weights".into(),
+            }),
             ObjectGeometry::Nurbs(surface) => {
                 let nv = surface.count()[1];
                 surface.set_weight(index / nv, index % nv, weight)
@@ -241,6 +271,7 @@ impl SceneObject {
     pub fn weights(&self) -> Vec<f64> {
         match &self.geometry {
             ObjectGeometry::Patches(set) => set.weights().to_vec(),
+            ObjectGeometry::Mesh(mesh) => vec![1.0; mesh.points().len()],
             ObjectGeometry::Nurbs(surface) => {
                 surface.homogeneous_points().iter().map(|h| h.w).collect()
             }

@@ -51,7 +51,7 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
     let index = (r as usize / 7) % points.len().max(1);
     let domain = match &target.geometry {
         ObjectGeometry::Nurbs(s) => s.domain(),
-        ObjectGeometry::Patches(_) => [(0.0, 1.0), (0.0, 1.0)],
+        ObjectGeometry::Patches(_) | ObjectGeometry::Mesh(_) => [(0.0, 1.0), (0.0, 1.0)],
     };
     let d = direction(r >> 4);
     let (lo, hi) = domain[d.index()];

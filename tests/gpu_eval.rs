@@ -53,14 +53,17 @@ const CURVATURE_SIN2: f64 = 1e-4;
 /// `NurbsSurface::bezier_patches`, evaluated by The NURBS Book A3.6/A4.4 on each patch so that a
 /// patch boundary at a C0 or C1 knot is evaluated from that patch's side, as the GPU does).
 enum ReferenceSurface<'a> {
-    Patches(&'a BezierPatchSet),
+    Patches(std::borrow::Cow<'a, BezierPatchSet>),
     Nurbs(Vec<(NurbsSurface, [[f64; 2]; 2])>),
 }
 
 impl<'a> ReferenceSurface<'a> {
     fn new(object: &'a SceneObject) -> Self {
         match &object.geometry {
-            ObjectGeometry::Patches(set) => Self::Patches(set),
+            ObjectGeometry::Patches(set) => Self::Patches(std::borrow::Cow::Borrowed(set)),
+            ObjectGeometry::Mesh(mesh) => {
+                Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
+            }
             ObjectGeometry::Nurbs(surface) => Self::Nurbs(surface.bezier_patches()),
         }
     }
@@ -231,6 +234,22 @@ fn the_demo_scene_matches_the_f64_reference() {
         object.segments = segments;
     }
     assert_matches(&scene.objects);
+}
+
+#[test]
+fn a_polygon_mesh_of_triangles_quads_and_an_ngon_matches_the_f64_reference() {
+    // A non-planar quad, a triangle (a collapsed bilinear patch) and a fanned hexagon.
+    let points = (0..9)
+        .map(|k| {
+            let t = k as f64 * 0.7;
+            DVec3::new(t.cos() * (1.0 + 0.1 * t), t.sin(), 0.3 * (2.0 * t).sin())
+        })
+        .collect();
+    let faces = [vec![0, 1, 2, 3], vec![3, 4, 5], vec![0, 3, 5, 6, 7, 8]];
+    let mesh = knotwork::kernel::PolygonMesh::new(points, &faces).unwrap();
+    let mut object = SceneObject::new("mesh", ObjectGeometry::Mesh(mesh));
+    object.segments = 6;
+    assert_matches(&[object]);
 }
 
 #[test]

@@ -153,10 +153,11 @@ pub fn direction_name(direction: Direction) -> &'static str {
 pub enum EditError {
     #[error("there is no object {object} (the scene has {count})")]
     NoSuchObject { object: usize, count: usize },
-    #[error("{name}: {operation} needs a NURBS surface; this object is a set of Bézier patches")]
+    #[error("{name}: {operation} needs a NURBS surface; this object is {kind}")]
     NeedsNurbs {
         name: String,
         operation: &'static str,
+        kind: &'static str,
     },
     #[error("{name}: {source}")]
     Geometry {
@@ -304,6 +305,9 @@ fn same_layout(a: &ObjectGeometry, b: &ObjectGeometry) -> bool {
         (ObjectGeometry::Patches(a), ObjectGeometry::Patches(b)) => {
             a.patches() == b.patches() && a.points().len() == b.points().len()
         }
+        (ObjectGeometry::Mesh(a), ObjectGeometry::Mesh(b)) => {
+            a.points().len() == b.points().len() && a.faces().eq(b.faces())
+        }
         _ => false,
     }
 }
@@ -359,6 +363,12 @@ fn nurbs<'a>(
         ObjectGeometry::Patches(_) => Err(EditError::NeedsNurbs {
             name: object.name.clone(),
             operation,
+            kind: "a set of Bézier patches",
+        }),
+        ObjectGeometry::Mesh(_) => Err(EditError::NeedsNurbs {
+            name: object.name.clone(),
+            operation,
+            kind: "a polygon mesh",
         }),
     }
 }
@@ -583,6 +593,7 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             let geometry = match &object.geometry {
                 ObjectGeometry::Nurbs(s) => s.transformed(transform).map(ObjectGeometry::Nurbs),
                 ObjectGeometry::Patches(p) => p.transformed(transform).map(ObjectGeometry::Patches),
+                ObjectGeometry::Mesh(m) => m.transformed(transform).map(ObjectGeometry::Mesh),
             }
             .map_err(geometry_error(object))?;
             replace(

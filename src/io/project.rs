@@ -7,7 +7,9 @@
 //!    {"type": "nurbs_surface", "name": "Torus", "visible": true, "segments": 16,
 //!     "homogeneous": true, "degree": [2, 2], "knots": [[...], [...]], "points": [[[wx, wy, wz, w], ...], ...]},
 //!    {"type": "bezier_patches", "name": "Utah teapot", "visible": true, "segments": 12,
-//!     "points": [[x, y, z, w], ...], "patches": [{"degree": [3, 3], "indices": [...]}, ...]}],
+//!     "points": [[x, y, z, w], ...], "patches": [{"degree": [3, 3], "indices": [...]}, ...]},
+//!    {"type": "polygon_mesh", "name": "Cage", "visible": true, "segments": 1,
+//!     "points": [[x, y, z], ...], "faces": [[0, 1, 2, 3], [3, 2, 4], ...]}],
 //!  "view": {"target": [x, y, z], "distance": d, "yaw": a, "pitch": b,
 //!           "shading": "gaussian", "quality": 1.0}}
 //! ```
@@ -22,7 +24,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::json::{self, FormatError, Geometry, NamedGeometry};
-use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, MAX_BEZIER_DEGREE};
+use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, MAX_BEZIER_DEGREE, PolygonMesh};
 use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
 
 /// The project format version this build writes and the newest it reads.
@@ -70,6 +72,15 @@ struct RawPatches {
     patches: Vec<RawPatch>,
 }
 
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMesh {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+}
+
 fn deserialize<T: serde::de::DeserializeOwned>(
     path: &str,
     value: serde_json::Value,
@@ -98,6 +109,12 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
     check_size(text.len() as u64)?;
     let value: serde_json::Value = serde_json::from_str(text)
         .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
+    read_value(value)
+}
+
+/// Reads a project from a parsed JSON value (the text of [`read`], or the model embedded in a
+/// glTF file).
+pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
     let serde_json::Value::Object(mut root) = value else {
         return Err(FormatError::new(
             "",
@@ -226,6 +243,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     if ![
         "nurbs_surface",
         "bezier_patches",
+        "polygon_mesh",
         "nurbs_curve",
         "trim_curve",
     ]
@@ -234,16 +252,28 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         return Err(FormatError::new(
             format!("{path}.type"),
             format!(
-                "unknown object type {}: expected \"nurbs_surface\" or \"bezier_patches\"",
+                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\" or \"polygon_mesh\"",
                 map.get("type")
                     .map_or("(missing)".to_string(), |t| t.to_string())
             ),
         ));
     }
     let is_patches = kind == "bezier_patches";
+    let is_mesh = kind == "polygon_mesh";
     let value = serde_json::Value::Object(map);
     let geometry = if is_patches {
         ObjectGeometry::Patches(read_patches(path, value)?)
+    } else if is_mesh {
+        let raw: RawMesh = deserialize(path, value)?;
+        let points = raw
+            .points
+            .iter()
+            .map(|&p| glam::DVec3::from_array(p))
+            .collect();
+        ObjectGeometry::Mesh(
+            PolygonMesh::new(points, &raw.faces)
+                .map_err(|e| FormatError::new(path.to_string(), e.to_string()))?,
+        )
     } else {
         match json::object_from_value(path, value)?.geometry {
             Geometry::Surface(s) => ObjectGeometry::Nurbs(s),
@@ -320,6 +350,12 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
                 .collect(),
         })
         .unwrap_or(serde_json::Value::Null),
+        ObjectGeometry::Mesh(mesh) => serde_json::to_value(RawMesh {
+            kind: "polygon_mesh".into(),
+            points: mesh.points().iter().map(|p| p.to_array()).collect(),
+            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
+        })
+        .unwrap_or(serde_json::Value::Null),
     };
     if let serde_json::Value::Object(map) = &mut value {
         map.insert("name".into(), object.name.clone().into());
@@ -332,6 +368,11 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
 /// The project as JSON text (version [`PROJECT_VERSION`]). f64 values are written in their
 /// shortest exact form and surface points homogeneously, so reading gives back the same bits.
 pub fn write(project: &Project) -> String {
+    serde_json::to_string(&to_value(project)).unwrap_or_default()
+}
+
+/// The project as a JSON value (what [`write`] writes).
+pub fn to_value(project: &Project) -> serde_json::Value {
     let mut file = serde_json::json!({
         "format": "knotwork",
         "version": PROJECT_VERSION,
@@ -343,5 +384,5 @@ pub fn write(project: &Project) -> String {
             serde_json::to_value(view).unwrap_or(serde_json::Value::Null),
         );
     }
-    serde_json::to_string(&file).unwrap_or_default()
+    file
 }

@@ -10,6 +10,7 @@ pub mod construct;
 pub mod curve;
 pub mod diffgeo;
 pub mod error;
+pub mod mesh;
 pub mod ops;
 pub mod samples;
 pub mod surface;
@@ -19,6 +20,7 @@ pub use bezier::{BezierPatch, BezierPatchSet};
 pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
 pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
 pub use error::GeometryError;
+pub use mesh::PolygonMesh;
 pub use surface::{Direction, NurbsSurface};
 
 /// The highest polynomial degree (per parameter direction) the kernel's Bézier evaluator accepts.
