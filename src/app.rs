@@ -2,13 +2,15 @@
 //! runs the compute evaluation and the viewport render on eframe's wgpu device, and shows the
 //! result as an egui image beside a control panel.
 
+mod export;
 mod files;
 mod input;
 mod panels;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
-pub use files::read_file as read_project_file;
+#[cfg(not(target_arch = "wasm32"))]
+pub use files::open_path;
 pub use panels::{CONTROLS, parse_knots};
 
 use std::collections::BTreeSet;
@@ -29,7 +31,7 @@ use crate::kernel::BezierPatchSet;
 use crate::render::{
     ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
-use crate::scene::{Decomposition, Scene, SceneObject, robust_range};
+use crate::scene::{Decomposition, Scene, SceneObject};
 use crate::status::{self, AppStatus, ExternalCommand};
 use crate::view::{Constraint, OrbitCamera, PickView, SurfaceHit};
 
@@ -37,8 +39,6 @@ use crate::view::{Constraint, OrbitCamera, PickView, SurfaceHit};
 pub const SLIDER_SEGMENTS: std::ops::RangeInclusive<u32> = 1..=128;
 /// The global quality slider's range (a factor on every object's segments).
 pub const QUALITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=4.0;
-/// Curvature samples per patch edge for the automatic colour range.
-const RANGE_SAMPLES: usize = 6;
 /// Control point dot radius in logical pixels.
 const POINT_RADIUS: f32 = 3.5;
 /// How near (logical pixels) a click must be to a control point to pick it.
@@ -240,6 +240,8 @@ pub struct KnotworkApp {
     pick_view: Option<PickView>,
     viewport_rect: egui::Rect,
     panel: panels::PanelState,
+    export: export::ExportSettings,
+    export_estimate: Option<export::ExportEstimate>,
     /// Counts document changes; the autosave writes when it moves.
     revision: u64,
     autosaved_revision: u64,
@@ -324,6 +326,8 @@ impl KnotworkApp {
             pick_view: None,
             viewport_rect: egui::Rect::NOTHING,
             panel: panels::PanelState::default(),
+            export: export::ExportSettings::default(),
+            export_estimate: None,
             revision: 0,
             autosaved_revision: 0,
             last_change: 0.0,
@@ -694,23 +698,13 @@ impl KnotworkApp {
     /// The colour ramp's range in the current mode: the manual one, or the robust automatic one
     /// (area-weighted 2–98 % percentiles) over the f64 kernel's curvature samples of every
     /// object.
-    fn color_range(&mut self) -> Option<(f64, f64)> {
+    pub(super) fn color_range(&mut self) -> Option<(f64, f64)> {
         let component = self.shading.curvature_component()?;
         if let Some(range) = self.manual_range {
             return Some(range);
         }
         if self.auto_range.is_none() {
-            let mut values = Vec::new();
-            for object in self.doc.scene.objects.iter().filter(|o| o.visible) {
-                if let Ok(samples) = object.curvature_samples(RANGE_SAMPLES) {
-                    values.extend(
-                        samples
-                            .iter()
-                            .map(|(c, area)| ([c.gaussian, c.mean, c.k1, c.k2][component], *area)),
-                    );
-                }
-            }
-            self.auto_range = robust_range(values);
+            self.auto_range = self.doc.scene.curvature_range(component);
         }
         self.auto_range
     }
@@ -773,7 +767,7 @@ impl KnotworkApp {
                 self.points = points.into_iter().filter(|&k| k < count).collect();
                 self.update_net();
             }
-            ExternalCommand::Open { name, text } => self.open_project(&name, &text),
+            ExternalCommand::Open { name, bytes } => self.open_file(&name, &bytes),
             ExternalCommand::NewDocument => self.new_document(),
         }
         self.redraw = true;
@@ -930,6 +924,7 @@ impl eframe::App for KnotworkApp {
             .show(ui, |ui| self.viewport(ui));
 
         self.create_window(&ctx);
+        self.export_window(&ctx);
         self.dialog_window(&ctx);
         self.autosave(&ctx, frame);
         if self.published_revision != Some(self.revision) && self.drag.is_none() {

@@ -19,7 +19,9 @@ mod cli {
         /// Start from the sample scene instead of the autosaved project, and do not autosave.
         #[arg(long)]
         pub fresh: bool,
-        /// A project file to open at start (instead of the autosaved one).
+        /// A file to open at start instead of the autosaved project: a project, a glTF (knotwork's
+        /// own exports open as their editable model; other files' meshes as polygon meshes) or
+        /// an OBJ.
         #[arg(long, value_name = "FILE")]
         pub open: Option<std::path::PathBuf>,
         #[command(subcommand)]
@@ -36,6 +38,29 @@ mod cli {
             /// cpu: the f64 kernel; gpu: the WGSL compute shaders in f32 (headless, no window).
             #[arg(long, value_enum, default_value_t = Backend::Cpu)]
             backend: Backend,
+        },
+        /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf or an .obj) as
+        /// glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it. The project is embedded,
+        /// so knotwork can open the export again. Without --tolerance or --segments the tolerance
+        /// is 1e-3 of the scene's size.
+        Export {
+            /// The file to export.
+            input: std::path::PathBuf,
+            /// The .glb or .gltf to write.
+            #[arg(short, long)]
+            output: std::path::PathBuf,
+            /// Largest distance from the triangles to the surface, in model units.
+            #[arg(long, conflicts_with = "segments")]
+            tolerance: Option<f64>,
+            /// Segments per Bézier span edge instead of a tolerance.
+            #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+            segments: Option<u32>,
+            /// Add the _CURVATURE attribute (K, H, k1, k2 per vertex).
+            #[arg(long)]
+            curvature: bool,
+            /// Add COLOR_0: this curvature on the viewport's colour ramp (automatic range).
+            #[arg(long, value_enum)]
+            colors: Option<ColorMode>,
         },
         /// Measure the GPU evaluator: vertices per second of the compute pass (teapot at 64 and
         /// 128 segments, a 32 × 32 bicubic B-spline at 16) and edit latency.
@@ -62,6 +87,83 @@ mod cli {
                 ExitCode::FAILURE
             }
         }
+    }
+
+    #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+    pub enum ColorMode {
+        Gaussian,
+        Mean,
+        K1,
+        K2,
+    }
+
+    /// The options of `knotwork export`.
+    pub struct ExportArgs<'a> {
+        pub input: &'a std::path::Path,
+        pub output: &'a std::path::Path,
+        pub tolerance: Option<f64>,
+        pub segments: Option<u32>,
+        pub curvature: bool,
+        pub colors: Option<ColorMode>,
+    }
+
+    /// Runs `knotwork export`: exit code 0 with a summary on stdout, 1 with the error on stderr.
+    pub fn export(args: ExportArgs<'_>) -> ExitCode {
+        match export_files(&args) {
+            Ok(summary) => {
+                println!("{summary}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("knotwork export: {e}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+
+    fn export_files(args: &ExportArgs<'_>) -> Result<String, String> {
+        use knotwork::io::gltf;
+        use knotwork::kernel::tess::Tessellation;
+        let started = std::time::Instant::now();
+        let input = args.input.display().to_string();
+        let project = knotwork::app::open_path(args.input)
+            .map_err(|e| format!("cannot open {input}: {e}"))?;
+        let tessellation = match (args.tolerance, args.segments) {
+            (_, Some(n)) => Tessellation::Segments(n),
+            (Some(t), None) => Tessellation::Tolerance(t),
+            (None, None) => Tessellation::Tolerance(gltf::default_tolerance(&project.scene)),
+        };
+        let colors = args.colors.map(|mode| {
+            gltf::CurvatureColors::automatic(
+                &project.scene,
+                mode as usize,
+                knotwork::gpu::records::curvature_ramp_rgb(),
+            )
+        });
+        let options = gltf::ExportOptions {
+            tessellation,
+            curvature: args.curvature,
+            colors,
+        };
+        let export = gltf::export(&project, &options).map_err(|e| e.to_string())?;
+        let output = args.output.display().to_string();
+        let mut written = Vec::new();
+        for (path, bytes) in gltf::files(&export, &output) {
+            std::fs::write(&path, &bytes).map_err(|e| format!("cannot write {path}: {e}"))?;
+            written.push(format!("{path} ({} bytes)", bytes.len()));
+        }
+        let how = match tessellation {
+            Tessellation::Tolerance(t) => format!("tolerance {t:.3e}"),
+            Tessellation::Segments(n) => format!("{n} segments per span"),
+        };
+        Ok(format!(
+            "wrote {}: {} objects, {} triangles, {} vertices, {how}, in {:.0} ms",
+            written.join(", "),
+            project.scene.objects.iter().filter(|o| o.visible).count(),
+            export.triangles,
+            export.vertices,
+            started.elapsed().as_secs_f64() * 1e3
+        ))
     }
 
     #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -143,6 +245,23 @@ fn main() -> std::process::ExitCode {
     match &cli.command {
         Some(cli::Command::Eval { request, backend }) => return cli::eval(request, *backend),
         Some(cli::Command::Bench { iterations }) => return cli::bench(*iterations),
+        Some(cli::Command::Export {
+            input,
+            output,
+            tolerance,
+            segments,
+            curvature,
+            colors,
+        }) => {
+            return cli::export(cli::ExportArgs {
+                input,
+                output,
+                tolerance: *tolerance,
+                segments: *segments,
+                curvature: *curvature,
+                colors: *colors,
+            });
+        }
         None => {}
     }
     env_logger::Builder::from_env(
@@ -152,8 +271,8 @@ fn main() -> std::process::ExitCode {
     let exit_after_frames = cli.exit_after_frames;
     let restore = !cli.fresh;
     let open = match &cli.open {
-        Some(path) => match knotwork::app::read_project_file(path) {
-            Ok(text) => Some((path.display().to_string(), text)),
+        Some(path) => match knotwork::app::open_path(path) {
+            Ok(project) => Some((path.display().to_string(), project)),
             Err(e) => {
                 eprintln!("knotwork: could not open {}: {e}", path.display());
                 return ExitCode::FAILURE;
@@ -174,8 +293,8 @@ fn main() -> std::process::ExitCode {
         options,
         Box::new(move |cc| {
             let mut app = knotwork::app::KnotworkApp::new(cc, None, restore);
-            if let Some((name, text)) = &open {
-                app.open_project(name, text);
+            if let Some((name, project)) = open {
+                app.open_project(&name, project);
             }
             Ok(Box::new(match exit_after_frames {
                 Some(frames) => app.exit_after_frames(frames),

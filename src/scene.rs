@@ -7,9 +7,9 @@ use std::f64::consts::TAU;
 
 use glam::{DAffine3, DVec3};
 
-use crate::kernel::construct;
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::{BezierPatchSet, Direction, GeometryError, NurbsSurface, PolygonMesh, samples};
+use crate::kernel::{construct, tess};
 
 /// Segments per Bézier span edge a new object gets.
 pub const DEFAULT_SEGMENTS: u32 = 16;
@@ -17,6 +17,9 @@ pub const DEFAULT_SEGMENTS: u32 = 16;
 /// Highest tessellation level (segments per patch edge) a document may ask for; the GPU's
 /// buffer limits may allow less.
 pub const MAX_SEGMENTS: u32 = 1024;
+
+/// Curvature samples per patch edge for the automatic colour range.
+pub const RANGE_SAMPLES: usize = 6;
 
 /// The longest object name accepted.
 pub const MAX_NAME_LENGTH: usize = 200;
@@ -310,6 +313,28 @@ impl SceneObject {
     }
 }
 
+impl SceneObject {
+    /// The object as triangle meshes for export ([`crate::kernel::tess`]): one for a NURBS
+    /// surface or a polygon mesh, one per patch for a patch set (each with the patch's own
+    /// (u, v)). `curvature` adds K, H, k1, k2 per vertex.
+    pub fn tessellate(
+        &self,
+        tessellation: tess::Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
+        match &self.geometry {
+            ObjectGeometry::Nurbs(surface) => {
+                let grid = tess::grid_for(surface, tessellation)?;
+                Ok(vec![tess::triangulate(surface, &grid, curvature)?])
+            }
+            ObjectGeometry::Patches(set) => tess::tessellate_patches(set, tessellation, curvature),
+            ObjectGeometry::Mesh(mesh) => {
+                Ok(vec![tess::tessellate_mesh(mesh, tessellation, curvature)?])
+            }
+        }
+    }
+}
+
 /// The objects of one document.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Scene {
@@ -323,6 +348,24 @@ impl Scene {
             .iter()
             .filter_map(SceneObject::bounds)
             .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+
+    /// The automatic colour range of curvature component `component` (0 K, 1 H, 2 k1, 3 k2):
+    /// [`robust_range`] over the f64 kernel's samples ([`SceneObject::curvature_samples`], an
+    /// [`RANGE_SAMPLES`]² per Bézier patch) of every visible object: the range the viewport's
+    /// colour ramp and the glTF export's colours use unless the user sets one.
+    pub fn curvature_range(&self, component: usize) -> Option<(f64, f64)> {
+        let mut values = Vec::new();
+        for object in self.objects.iter().filter(|o| o.visible) {
+            if let Ok(samples) = object.curvature_samples(RANGE_SAMPLES) {
+                values.extend(
+                    samples.iter().map(|(c, area)| {
+                        ([c.gaussian, c.mean, c.k1, c.k2][component.min(3)], *area)
+                    }),
+                );
+            }
+        }
+        robust_range(values)
     }
 
     /// The sample scene: the Utah teapot, an exact rational torus and sphere, a non-uniform

@@ -65,6 +65,8 @@ pub struct AppStatus {
     pub autosaved_revision: u64,
     /// The last surface point clicked.
     pub hit: Option<HitStatus>,
+    /// The Export window's triangle count (or why it cannot export), while it is open.
+    pub export_estimate: Option<String>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
     /// Something the editor did on its own that the user should know (e.g. tessellation lowered
@@ -111,10 +113,10 @@ pub enum ExternalCommand {
     Redo,
     /// Selects control points of the selected object.
     SelectPoints(Vec<usize>),
-    /// Opens project text (as if the file `name` were opened).
+    /// Opens a file's bytes (as if the file `name` were opened): a project, a glTF, an OBJ.
     Open {
         name: String,
-        text: String,
+        bytes: Vec<u8>,
     },
     /// Starts again from the sample scene.
     NewDocument,

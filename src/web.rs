@@ -145,10 +145,11 @@ pub fn select_points(points: Vec<u32>) {
     ));
 }
 
-/// Opens project text, as if a file called `name` were opened (errors show in the page).
+/// Opens a file's bytes as if a file called `name` were opened: a project, a glTF or an OBJ
+/// (errors show in the page).
 #[wasm_bindgen]
-pub fn open_project(name: String, text: String) {
-    status::send(ExternalCommand::Open { name, text });
+pub fn open_file(name: String, bytes: Vec<u8>) {
+    status::send(ExternalCommand::Open { name, bytes });
 }
 
 /// Starts again from the sample scene.
@@ -170,14 +171,14 @@ pub fn project_json() -> String {
     status::project()
 }
 
-/// Lets the user pick a file with the browser's file picker and returns (name, text), or
-/// `None` if nothing was picked. Files over the project size limit are refused unread.
-pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)> {
+/// Lets the user pick a file with the browser's file picker and returns (name, bytes), or
+/// `None` if nothing was picked. Files over the size limit are refused unread.
+pub(crate) async fn pick_file() -> Option<(String, Result<Vec<u8>, String>)> {
     let document = web_sys::window()?.document()?;
     let input: web_sys::HtmlInputElement =
         document.create_element("input").ok()?.dyn_into().ok()?;
     input.set_type("file");
-    input.set_accept(".json,.knotwork,application/json");
+    input.set_accept(".json,.knotwork,.glb,.gltf,.obj,application/json,model/gltf-binary");
     // A promise the input's change event resolves.
     let changed = js_sys::Promise::new(&mut |resolve, _reject| {
         input.set_onchange(Some(&resolve));
@@ -189,24 +190,42 @@ pub(crate) async fn pick_file_text() -> Option<(String, Result<String, String>)>
     if let Err(e) = crate::io::project::check_size(file.size() as u64) {
         return Some((name, Err(e.to_string())));
     }
-    let text = wasm_bindgen_futures::JsFuture::from(file.text()).await;
+    let buffer = wasm_bindgen_futures::JsFuture::from(file.array_buffer()).await;
     Some((
         name,
-        text.ok()
-            .and_then(|t| t.as_string())
-            .ok_or_else(|| "the file could not be read as text".to_string()),
+        buffer
+            .map(|b| js_sys::Uint8Array::new(&b).to_vec())
+            .map_err(|_| "the file could not be read".to_string()),
     ))
 }
 
-/// Offers `text` to the user as a downloaded file called `name`.
-pub(crate) fn download(name: &str, text: &str) -> Result<(), String> {
+/// Exports the open document as a `.glb` and returns its bytes (what Export writes), for
+/// scripts and tests. `options` is JSON: `{"tolerance": t}` or `{"segments": n}`, optionally
+/// `"curvature": true` and `"colors": "gaussian" | "mean" | "k1" | "k2"`.
+#[wasm_bindgen]
+pub fn export_glb(options: String) -> Result<Vec<u8>, JsValue> {
+    let error = |e: String| JsValue::from_str(&e);
+    let project = crate::io::project::read(&status::project()).map_err(|e| error(e.to_string()))?;
+    let options = crate::io::gltf::options_from_json(
+        &options,
+        &project.scene,
+        crate::gpu::records::curvature_ramp_rgb(),
+    )
+    .map_err(error)?;
+    let export = crate::io::gltf::export(&project, &options).map_err(|e| error(e.to_string()))?;
+    Ok(crate::io::gltf::to_glb(&export))
+}
+
+/// Offers `bytes` to the user as a downloaded file called `name` of MIME type `mime`.
+pub(crate) fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {
     let js = |e: JsValue| format!("{e:?}");
     let window = web_sys::window().ok_or("no window")?;
     let document = window.document().ok_or("no document")?;
-    let parts = js_sys::Array::of1(&JsValue::from_str(text));
+    let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
     let options = web_sys::BlobPropertyBag::new();
-    options.set_type("application/json");
-    let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &options).map_err(js)?;
+    options.set_type(mime);
+    let blob =
+        web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options).map_err(js)?;
     let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(js)?;
     let anchor: web_sys::HtmlAnchorElement = document
         .create_element("a")

@@ -1,6 +1,8 @@
 //! Opening, saving and autosaving projects. Desktop: native dialogs (`rfd`); web: a file
 //! picker and a download. Both: files dropped on the window, and the autosave in eframe's
-//! storage (local storage in the browser, a file in the data directory natively).
+//! storage (local storage in the browser, a file in the data directory natively). Open takes
+//! every format of [`crate::io::open`]: projects, knotwork's glTF exports (the embedded model),
+//! other glTF files' meshes and OBJ files.
 
 use std::sync::{Arc, Mutex};
 
@@ -9,24 +11,25 @@ use eframe::egui;
 use super::{KnotworkApp, default_scene};
 use crate::doc::Document;
 use crate::gpu::ShadingMode;
-use crate::io::project::{self, ViewSettings};
+use crate::io::project::{Project, ViewSettings};
 
 /// The storage key of the autosaved project.
 pub const AUTOSAVE_KEY: &str = "knotwork.project";
 /// Seconds of quiet after an edit before the autosave writes.
 const AUTOSAVE_DELAY: f64 = 0.5;
 
-/// Files picked (asynchronously on the web) or dropped, waiting to be opened: (name, text).
-pub type Incoming = Arc<Mutex<Vec<(String, Result<String, String>)>>>;
+/// Files picked (asynchronously on the web) or dropped, waiting to be opened: (name, bytes).
+pub type Incoming = Arc<Mutex<Vec<(String, Result<Vec<u8>, String>)>>>;
 
-/// Reads dropped or picked bytes as project text, refusing files over the size limit.
-fn project_text(bytes: &[u8]) -> Result<String, String> {
-    project::check_size(bytes.len() as u64).map_err(|e| e.to_string())?;
-    String::from_utf8(bytes.to_vec()).map_err(|e| format!("the file is not UTF-8 text: {e}"))
+/// A file with no directory to read companions from (a `.gltf`'s `.bin`).
+fn no_companions(name: &str) -> Result<Vec<u8>, String> {
+    Err(format!(
+        "{name} is a separate file; open a .glb, or a .gltf whose buffers are embedded"
+    ))
 }
 
 impl KnotworkApp {
-    fn view_settings(&self) -> ViewSettings {
+    pub(super) fn view_settings(&self) -> ViewSettings {
         ViewSettings {
             target: self.camera.target.as_dvec3().to_array(),
             distance: f64::from(self.camera.distance),
@@ -51,17 +54,23 @@ impl KnotworkApp {
         }
     }
 
-    /// Opens project text; a file that cannot be read shows a dialog naming the problem and
-    /// leaves the document, its history and the GPU geometry as they were.
-    pub fn open_project(&mut self, name: &str, text: &str) {
-        let (scene, view) = match project::read(text) {
-            Ok(project) => (project.scene, project.view),
-            Err(e) => {
-                self.dialog = Some((format!("Could not open {name}"), e.to_string()));
-                self.status.error = Some(format!("{name}: {e}"));
-                return;
-            }
-        };
+    /// Opens a file's bytes in any format [`crate::io::open`] reads (a `.gltf` must have its
+    /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
+    pub fn open_file(&mut self, name: &str, bytes: &[u8]) {
+        let project = crate::io::open(name, bytes, &no_companions).map_err(|e| e.to_string());
+        self.open_result(name, project);
+    }
+
+    fn open_failed(&mut self, name: &str, message: &str) {
+        self.dialog = Some((format!("Could not open {name}"), message.to_owned()));
+        self.status.error = Some(format!("{name}: {message}"));
+    }
+
+    /// Makes `project` the open document (a new, empty history). If the GPU cannot show it,
+    /// a dialog names the problem and the document, its history and the GPU geometry stay as
+    /// they were.
+    pub fn open_project(&mut self, name: &str, project: Project) {
+        let Project { scene, view } = project;
         let previous = std::mem::replace(&mut self.doc, Document::new(scene));
         let (camera, shading, quality) = (self.camera, self.shading, self.quality);
         if let Some(view) = &view {
@@ -73,8 +82,7 @@ impl KnotworkApp {
             self.doc = previous;
             (self.camera, self.shading, self.quality) = (camera, shading, quality);
             let _ = self.after_edit(crate::doc::Touched::Structure);
-            self.dialog = Some((format!("Could not open {name}"), e.clone()));
-            self.status.error = Some(format!("{name}: {e}"));
+            self.open_failed(name, &e);
             return;
         }
         self.select(None);
@@ -144,17 +152,21 @@ impl KnotworkApp {
             let name = file.path().display().to_string();
             #[cfg(not(target_arch = "wasm32"))]
             {
-                let text = read_file(file.path())
-                    .or_else(|_| file.bytes().and_then(|bytes| project_text(&bytes)));
-                self.open_result(&name, text);
+                let project = match file.bytes() {
+                    Ok(bytes) => {
+                        crate::io::open(&name, &bytes, &no_companions).map_err(|e| e.to_string())
+                    }
+                    Err(_) => open_path(file.path()),
+                };
+                self.open_result(&name, project);
             }
             #[cfg(target_arch = "wasm32")]
             {
                 let incoming = Arc::clone(&self.incoming);
                 wasm_bindgen_futures::spawn_local(async move {
-                    let text = file.bytes_async().await.and_then(|b| project_text(&b));
+                    let bytes = file.bytes_async().await;
                     if let Ok(mut queue) = incoming.lock() {
-                        queue.push((name, text));
+                        queue.push((name, bytes));
                     }
                     if let Some(ctx) = crate::status::repaint_context() {
                         ctx.request_repaint();
@@ -167,18 +179,18 @@ impl KnotworkApp {
             .lock()
             .map(|mut q| std::mem::take(&mut *q))
             .unwrap_or_default();
-        for (name, text) in picked {
-            self.open_result(&name, text);
+        for (name, bytes) in picked {
+            match bytes {
+                Ok(bytes) => self.open_file(&name, &bytes),
+                Err(e) => self.open_failed(&name, &e),
+            }
         }
     }
 
-    fn open_result(&mut self, name: &str, text: Result<String, String>) {
-        match text {
-            Ok(text) => self.open_project(name, &text),
-            Err(e) => {
-                self.dialog = Some((format!("Could not open {name}"), e.clone()));
-                self.status.error = Some(format!("{name}: {e}"));
-            }
+    fn open_result(&mut self, name: &str, project: Result<Project, String>) {
+        match project {
+            Ok(project) => self.open_project(name, project),
+            Err(e) => self.open_failed(name, &e),
         }
     }
 
@@ -187,20 +199,20 @@ impl KnotworkApp {
         #[cfg(not(target_arch = "wasm32"))]
         {
             if let Some(path) = rfd::FileDialog::new()
-                .add_filter("knotwork project", &["json", "knotwork"])
+                .add_filter("knotwork project, glTF, OBJ", &crate::io::OPEN_EXTENSIONS)
                 .pick_file()
             {
                 let name = path.display().to_string();
-                self.open_result(&name, read_file(&path));
+                self.open_result(&name, open_path(&path));
             }
         }
         #[cfg(target_arch = "wasm32")]
         {
             let incoming = Arc::clone(&self.incoming);
             wasm_bindgen_futures::spawn_local(async move {
-                if let Some(text) = crate::web::pick_file_text().await {
+                if let Some(file) = crate::web::pick_file().await {
                     if let Ok(mut queue) = incoming.lock() {
-                        queue.push(text);
+                        queue.push(file);
                     }
                     if let Some(ctx) = crate::status::repaint_context() {
                         ctx.request_repaint();
@@ -230,7 +242,8 @@ impl KnotworkApp {
         }
         #[cfg(target_arch = "wasm32")]
         {
-            match crate::web::download("project.knotwork.json", &text) {
+            match crate::web::download("project.knotwork.json", text.as_bytes(), "application/json")
+            {
                 Ok(()) => self.status.notice = Some("downloaded project.knotwork.json".into()),
                 Err(e) => self.status.error = Some(format!("could not download: {e}")),
             }
@@ -238,11 +251,23 @@ impl KnotworkApp {
     }
 }
 
-/// A project file's text, refusing files over the size limit before reading them.
+/// Reads a file's bytes, refusing files over the size limit before reading them.
 #[cfg(not(target_arch = "wasm32"))]
-pub fn read_file(path: &std::path::Path) -> Result<String, String> {
+fn read_limited(path: &std::path::Path) -> Result<Vec<u8>, String> {
     let size = std::fs::metadata(path).map_err(|e| e.to_string())?.len();
-    project::check_size(size).map_err(|e| e.to_string())?;
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-    project_text(&bytes)
+    crate::io::project::check_size(size).map_err(|e| e.to_string())?;
+    std::fs::read(path).map_err(|e| e.to_string())
+}
+
+/// Opens the file at `path` in any format [`crate::io::open`] reads; a `.gltf`'s buffers are
+/// read from its directory.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn open_path(path: &std::path::Path) -> Result<Project, String> {
+    let bytes = read_limited(path)?;
+    let directory = path.parent().map(std::path::Path::to_path_buf);
+    let companion = move |name: &str| match &directory {
+        Some(dir) => read_limited(&dir.join(name)),
+        None => no_companions(name),
+    };
+    crate::io::open(&path.display().to_string(), &bytes, &companion).map_err(|e| e.to_string())
 }

@@ -343,6 +343,9 @@ impl KnotworkApp {
         if pressed(shortcut(command, Key::O)) {
             self.open_dialog();
         }
+        if pressed(shortcut(command, Key::E)) {
+            self.export.show = true;
+        }
         if pressed(shortcut(command, Key::A)) {
             self.select_all_points();
         }

@@ -14,7 +14,7 @@ use crate::kernel::Direction;
 use crate::scene::{ObjectGeometry, SceneObject};
 
 /// The controls listed in the panel (and the README).
-pub const CONTROLS: [(&str, &str); 16] = [
+pub const CONTROLS: [(&str, &str); 17] = [
     ("Click a handle", "select a control point (Shift: toggle)"),
     ("Alt + click", "select its row (Alt + Shift: column)"),
     ("Drag a handle", "move the selection in the view plane"),
@@ -28,7 +28,8 @@ pub const CONTROLS: [(&str, &str); 16] = [
     ("Wheel, pinch", "zoom"),
     ("Ctrl + Z / Ctrl + Shift + Z, Ctrl + Y", "undo / redo"),
     ("Ctrl + A / Alt + A, Esc", "select all / no points"),
-    ("Ctrl + S / Ctrl + O", "save / open a project"),
+    ("Ctrl + S / Ctrl + O", "save / open (project, glTF, OBJ)"),
+    ("Ctrl + E", "export glTF"),
     ("Ctrl + D / Delete", "duplicate / delete the object"),
     ("F", "frame the scene"),
 ];
@@ -131,6 +132,15 @@ impl KnotworkApp {
             }
             if ui.button("Save…").on_hover_text("Ctrl + S").clicked() {
                 self.save_dialog();
+            }
+            if ui
+                .button("Export glTF…")
+                .on_hover_text(
+                    "Ctrl + E: triangles for other tools, with the editable model inside",
+                )
+                .clicked()
+            {
+                self.export.show = true;
             }
         });
         ui.horizontal(|ui| {

@@ -131,6 +131,11 @@ pub const CURVATURE_RAMP: [[f32; 4]; RAMP_STOPS] = [
     [0.85, 0.05, 0.03, 1.0],
 ];
 
+/// [`CURVATURE_RAMP`]'s stops as RGB (what the glTF export's curvature colours use).
+pub fn curvature_ramp_rgb() -> Vec<[f32; 3]> {
+    CURVATURE_RAMP.iter().map(|c| [c[0], c[1], c[2]]).collect()
+}
+
 /// How the surface is coloured. WGSL: the `MODE_*` constants of `shaders/surface.wgsl`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ShadingMode {

@@ -14,6 +14,7 @@ pub mod mesh;
 pub mod ops;
 pub mod samples;
 pub mod surface;
+pub mod tess;
 pub mod vector;
 
 pub use bezier::{BezierPatch, BezierPatchSet};

@@ -1,0 +1,556 @@
+//! glTF 2.0 export: `.glb` (one binary file) or `.gltf` with its `.bin`, and the editable model
+//! inside it.
+//!
+//! - One node and one mesh per visible object, named after it, with a PBR metallic-roughness
+//!   material (double-sided: knotwork's surfaces are open sheets). A NURBS surface or a polygon
+//!   mesh is one primitive; a set of Bézier patches (the teapot) is one primitive per patch, so
+//!   that each primitive's TEXCOORD_0 is one patch's (u, v).
+//! - Attributes: POSITION, NORMAL (unit), TEXCOORD_0 (the surface's (u, v) normalized to
+//!   [0, 1], not flipped; absent for polygon meshes), optionally COLOR_0 (the curvature colours
+//!   of a shading mode, linear RGB, with `KHR_materials_unlit` so viewers show them as the
+//!   editor does) and `_CURVATURE` (VEC4 float: K, H, k1, k2 in model units).
+//! - Indexed triangles (unsigned short where a primitive has < 65 536 vertices), counter-clockwise
+//!   seen from the normal side; vertices are shared within a surface.
+//! - **Axes.** knotwork is Z-up, glTF is Y-up (+Z toward the viewer). Every position and normal
+//!   is rotated −90° about X: (x, y, z)_knotwork ↦ (x, z, −y)_glTF, a rotation (so winding and
+//!   handedness are kept). Each node's translation is its object's box centre in glTF axes and
+//!   the positions are relative to it, so other tools put the pivot at the object.
+//! - **The model.** `scenes[0].extras.knotwork` holds the whole project (every object, hidden
+//!   ones too, and the view) in knotwork's project format ([`super::project`]). knotwork opens its
+//!   own exports from it; other viewers ignore `extras` and see the meshes.
+
+use glam::{DVec3, Vec3};
+use serde_json::{Value, json};
+use thiserror::Error;
+
+use super::project::{self, Project};
+use crate::kernel::GeometryError;
+use crate::kernel::tess::{Tessellation, TriangleMesh};
+
+/// What went wrong in an export.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ExportError {
+    #[error("nothing to export: no object is visible")]
+    NothingVisible,
+    #[error("{name}: {source}")]
+    Geometry {
+        name: String,
+        #[source]
+        source: GeometryError,
+    },
+    #[error(
+        "the export would need {bytes} bytes of buffer data; glTF buffers are limited to 4 GiB"
+    )]
+    TooLarge { bytes: usize },
+}
+
+/// Curvature colours for COLOR_0: the component (0 K, 1 H, 2 k1, 3 k2), the values at the
+/// ramp's ends and the ramp's evenly spaced stops (linear RGB), as the viewport shows them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvatureColors {
+    pub component: usize,
+    pub range: (f64, f64),
+    pub ramp: Vec<[f32; 3]>,
+}
+
+impl CurvatureColors {
+    /// The ramp's colour for `value`: linear between the stops, clamped at the ends; the middle
+    /// for a range of zero width (the viewport's `ramp_color`).
+    pub fn color(&self, value: f64) -> [f32; 3] {
+        let (lo, hi) = self.range;
+        let x = if hi > lo {
+            (value - lo) / (hi - lo)
+        } else {
+            0.5
+        };
+        let x = if x.is_finite() {
+            x.clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        let stops = self.ramp.len();
+        if stops < 2 {
+            return self.ramp.first().copied().unwrap_or([0.5; 3]);
+        }
+        let f = x * (stops - 1) as f64;
+        let k = (f as usize).min(stops - 2);
+        let t = (f - k as f64) as f32;
+        let (a, b) = (self.ramp[k], self.ramp[k + 1]);
+        [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * t)
+    }
+}
+
+impl CurvatureColors {
+    /// Colours for component `component` (0 K, 1 H, 2 k1, 3 k2) over the scene's automatic
+    /// range ([`crate::scene::Scene::curvature_range`]), on `ramp`.
+    pub fn automatic(scene: &crate::scene::Scene, component: usize, ramp: Vec<[f32; 3]>) -> Self {
+        Self {
+            component,
+            range: scene.curvature_range(component).unwrap_or((-1.0, 1.0)),
+            ramp,
+        }
+    }
+}
+
+/// The curvature component a name stands for: "gaussian" 0, "mean" 1, "k1" 2, "k2" 3.
+pub fn curvature_component(name: &str) -> Option<usize> {
+    ["gaussian", "mean", "k1", "k2"]
+        .iter()
+        .position(|&n| n == name)
+}
+
+/// Export options from JSON (the web page's `exportGlb`): `{"tolerance": t}` or
+/// `{"segments": n}` (neither: the default tolerance), `"curvature": true` for `_CURVATURE`,
+/// `"colors": "gaussian" | "mean" | "k1" | "k2"` for COLOR_0 on `ramp`.
+pub fn options_from_json(
+    text: &str,
+    scene: &crate::scene::Scene,
+    ramp: Vec<[f32; 3]>,
+) -> Result<ExportOptions, String> {
+    let value: Value = serde_json::from_str(text).map_err(|e| format!("export options: {e}"))?;
+    let tessellation = match (value.get("tolerance"), value.get("segments")) {
+        (Some(t), None) => Tessellation::Tolerance(
+            t.as_f64()
+                .ok_or("export options: tolerance must be a number")?,
+        ),
+        (None, Some(n)) => Tessellation::Segments(
+            n.as_u64()
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or("export options: segments must be a whole number")?,
+        ),
+        (None, None) => Tessellation::Tolerance(default_tolerance(scene)),
+        (Some(_), Some(_)) => {
+            return Err("export options: give tolerance or segments, not both".into());
+        }
+    };
+    let colors = match value.get("colors") {
+        None | Some(Value::Null) => None,
+        Some(name) => {
+            let component = name
+                .as_str()
+                .and_then(curvature_component)
+                .ok_or("export options: colors must be gaussian, mean, k1 or k2")?;
+            Some(CurvatureColors::automatic(scene, component, ramp))
+        }
+    };
+    Ok(ExportOptions {
+        tessellation,
+        curvature: value
+            .get("curvature")
+            .and_then(Value::as_bool)
+            .unwrap_or(false),
+        colors,
+    })
+}
+
+/// How to export.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportOptions {
+    pub tessellation: Tessellation,
+    /// Write `_CURVATURE` (K, H, k1, k2).
+    pub curvature: bool,
+    /// Write COLOR_0 with these colours.
+    pub colors: Option<CurvatureColors>,
+}
+
+/// An export in memory: the glTF JSON and its binary buffer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Export {
+    pub json: Value,
+    pub bin: Vec<u8>,
+    pub triangles: usize,
+    pub vertices: usize,
+}
+
+/// knotwork's axes to glTF's: (x, y, z) ↦ (x, z, −y).
+pub fn to_gltf_axes(p: DVec3) -> DVec3 {
+    DVec3::new(p.x, p.z, -p.y)
+}
+
+/// glTF's axes to knotwork's: (x, y, z) ↦ (x, −z, y).
+pub fn from_gltf_axes(p: DVec3) -> DVec3 {
+    DVec3::new(p.x, -p.z, p.y)
+}
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_SHORT: u32 = 5123;
+const UNSIGNED_INT: u32 = 5125;
+
+/// The binary buffer and the bufferViews / accessors that describe it.
+#[derive(Default)]
+struct Builder {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Builder {
+    /// Appends `bytes` as a new bufferView (4-byte aligned) and returns its index.
+    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        self.views.push(json!({
+            "buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target
+        }));
+        self.views.len() - 1
+    }
+
+    /// A float accessor of `N` components per element; POSITION gets its min and max.
+    fn floats<const N: usize>(&mut self, data: &[[f32; N]], bounds: bool) -> usize {
+        let bytes: Vec<u8> = data
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        let view = self.view(&bytes, ARRAY_BUFFER);
+        let kind = match N {
+            2 => "VEC2",
+            3 => "VEC3",
+            _ => "VEC4",
+        };
+        let mut accessor = json!({
+            "bufferView": view, "componentType": FLOAT, "count": data.len(), "type": kind
+        });
+        if bounds {
+            let mut lo = [f32::INFINITY; N];
+            let mut hi = [f32::NEG_INFINITY; N];
+            for e in data {
+                for c in 0..N {
+                    lo[c] = lo[c].min(e[c]);
+                    hi[c] = hi[c].max(e[c]);
+                }
+            }
+            accessor["min"] = json!(lo.to_vec());
+            accessor["max"] = json!(hi.to_vec());
+        }
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// An index accessor: unsigned short where every index fits, unsigned int otherwise.
+    fn indices(&mut self, triangles: &[[u32; 3]], vertices: usize) -> usize {
+        let flat = triangles.iter().flatten();
+        let (bytes, component): (Vec<u8>, u32) = if vertices <= usize::from(u16::MAX) {
+            (
+                flat.flat_map(|&i| (i as u16).to_le_bytes()).collect(),
+                UNSIGNED_SHORT,
+            )
+        } else {
+            (flat.flat_map(|&i| i.to_le_bytes()).collect(), UNSIGNED_INT)
+        };
+        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": component,
+            "count": triangles.len() * 3, "type": "SCALAR"
+        }));
+        self.accessors.len() - 1
+    }
+}
+
+/// One primitive's attributes from a tessellated piece, relative to `origin` (glTF axes).
+fn primitive(
+    builder: &mut Builder,
+    piece: &TriangleMesh,
+    origin: DVec3,
+    material: usize,
+    options: &ExportOptions,
+) -> Value {
+    let positions: Vec<[f32; 3]> = piece
+        .positions
+        .iter()
+        .map(|&p| (to_gltf_axes(p) - origin).as_vec3().to_array())
+        .collect();
+    let normals: Vec<[f32; 3]> = piece
+        .normals
+        .iter()
+        .map(|&n| {
+            let n = to_gltf_axes(n).normalize_or_zero().as_vec3();
+            // Renormalize in f32 so the stored vector is unit to f32 precision.
+            n.try_normalize().unwrap_or(Vec3::Y).to_array()
+        })
+        .collect();
+    let mut attributes = serde_json::Map::new();
+    attributes.insert("POSITION".into(), builder.floats(&positions, true).into());
+    attributes.insert("NORMAL".into(), builder.floats(&normals, false).into());
+    if !piece.uvs.is_empty() {
+        let uvs: Vec<[f32; 2]> = piece.uvs.iter().map(|uv| uv.map(|t| t as f32)).collect();
+        attributes.insert("TEXCOORD_0".into(), builder.floats(&uvs, false).into());
+    }
+    if let Some(colors) = &options.colors {
+        let rgb: Vec<[f32; 3]> = piece
+            .curvatures
+            .iter()
+            .map(|c| colors.color([c.gaussian, c.mean, c.k1, c.k2][colors.component.min(3)]))
+            .collect();
+        attributes.insert("COLOR_0".into(), builder.floats(&rgb, false).into());
+    }
+    if options.curvature {
+        let values: Vec<[f32; 4]> = piece
+            .curvatures
+            .iter()
+            .map(|c| [c.gaussian, c.mean, c.k1, c.k2].map(|x| x as f32))
+            .collect();
+        attributes.insert("_CURVATURE".into(), builder.floats(&values, false).into());
+    }
+    let indices = builder.indices(&piece.triangles, piece.positions.len());
+    json!({ "attributes": attributes, "indices": indices, "material": material, "mode": 4 })
+}
+
+/// Tessellates every visible object of `project.scene` and builds the glTF JSON and buffer,
+/// with the project embedded in `scenes[0].extras.knotwork`.
+pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, ExportError> {
+    let visible: Vec<_> = project.scene.objects.iter().filter(|o| o.visible).collect();
+    if visible.is_empty() {
+        return Err(ExportError::NothingVisible);
+    }
+    let curvature = options.curvature || options.colors.is_some();
+    let mut builder = Builder::default();
+    let (mut nodes, mut meshes, mut materials) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut triangles, mut vertices) = (0, 0);
+    for object in visible {
+        let geometry_error = |source| ExportError::Geometry {
+            name: object.name.clone(),
+            source,
+        };
+        let pieces = object
+            .tessellate(options.tessellation, curvature)
+            .map_err(geometry_error)?;
+        let (lo, hi) = pieces
+            .iter()
+            .flat_map(|p| &p.positions)
+            .map(|&p| to_gltf_axes(p))
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p), hi.max(p))
+            });
+        let origin = if lo.is_finite() && hi.is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            DVec3::ZERO
+        };
+        let material = materials.len();
+        materials.push(material_value(&object.name, options.colors.is_some()));
+        let primitives: Vec<Value> = pieces
+            .iter()
+            .filter(|p| !p.triangles.is_empty())
+            .map(|p| {
+                triangles += p.triangles.len();
+                vertices += p.positions.len();
+                primitive(&mut builder, p, origin, material, options)
+            })
+            .collect();
+        if primitives.is_empty() {
+            continue;
+        }
+        meshes.push(json!({ "name": object.name, "primitives": primitives }));
+        nodes.push(json!({
+            "name": object.name,
+            "mesh": meshes.len() - 1,
+            "translation": origin.to_array(),
+        }));
+    }
+    if builder.bin.len() > u32::MAX as usize {
+        return Err(ExportError::TooLarge {
+            bytes: builder.bin.len(),
+        });
+    }
+    while !builder.bin.len().is_multiple_of(4) {
+        builder.bin.push(0);
+    }
+    let mut root = json!({
+        "asset": {
+            "version": "2.0",
+            "generator": concat!("knotwork ", env!("CARGO_PKG_VERSION")),
+        },
+        "scene": 0,
+        "scenes": [{
+            "name": "knotwork",
+            "nodes": (0..nodes.len()).collect::<Vec<_>>(),
+            "extras": { "knotwork": project::to_value(project) },
+        }],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": builder.accessors,
+        "bufferViews": builder.views,
+        "buffers": [{ "byteLength": builder.bin.len() }],
+    });
+    if options.colors.is_some() {
+        root["extensionsUsed"] = json!(["KHR_materials_unlit"]);
+    }
+    Ok(Export {
+        json: root,
+        bin: builder.bin,
+        triangles,
+        vertices,
+    })
+}
+
+fn material_value(name: &str, unlit: bool) -> Value {
+    let mut material = json!({
+        "name": name,
+        "pbrMetallicRoughness": {
+            "baseColorFactor": if unlit { [1.0, 1.0, 1.0, 1.0] } else { [0.72, 0.74, 0.78, 1.0] },
+            "metallicFactor": 0.0,
+            "roughnessFactor": 0.45,
+        },
+        "doubleSided": true,
+    });
+    if unlit {
+        material["extensions"] = json!({ "KHR_materials_unlit": {} });
+    }
+    material
+}
+
+/// The export as one `.glb` file: the 12-byte header, the JSON chunk (padded with spaces) and
+/// the BIN chunk (padded with zeros) (glTF 2.0 specification, section 4.4 "GLB File Format").
+pub fn to_glb(export: &Export) -> Vec<u8> {
+    let mut text = serde_json::to_vec(&export.json).unwrap_or_default();
+    while !text.len().is_multiple_of(4) {
+        text.push(b' ');
+    }
+    let mut bin = export.bin.clone();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&text);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+    }
+    out
+}
+
+/// The export as `.gltf` text whose buffer is the file `bin_name` beside it (written by the
+/// caller with [`Export::bin`]). The name is percent-encoded as a relative URI.
+pub fn to_gltf_text(export: &Export, bin_name: &str) -> String {
+    let mut root = export.json.clone();
+    root["buffers"][0]["uri"] = Value::String(uri_encode(bin_name));
+    serde_json::to_string_pretty(&root).unwrap_or_default()
+}
+
+/// Whether a file name asks for the `.gltf` + `.bin` pair rather than a `.glb`.
+pub fn wants_gltf_text(path: &str) -> bool {
+    path.to_ascii_lowercase().ends_with(".gltf")
+}
+
+/// The files of an export to `path`: the `.glb`, or the `.gltf` and its `.bin` beside it (same
+/// stem), as (path, bytes) pairs.
+pub fn files(export: &Export, path: &str) -> Vec<(String, Vec<u8>)> {
+    if !wants_gltf_text(path) {
+        return vec![(path.to_owned(), to_glb(export))];
+    }
+    let stem = &path[..path.len() - ".gltf".len()];
+    let bin_path = format!("{stem}.bin");
+    let bin_name = bin_path
+        .rsplit(['/', '\\'])
+        .next()
+        .unwrap_or(&bin_path)
+        .to_owned();
+    vec![
+        (
+            path.to_owned(),
+            to_gltf_text(export, &bin_name).into_bytes(),
+        ),
+        (bin_path, export.bin.clone()),
+    ]
+}
+
+/// The default export tolerance: 1e-3 of the diagonal of the visible objects' box (0.001 for
+/// an empty scene).
+pub fn default_tolerance(scene: &crate::scene::Scene) -> f64 {
+    let bounds = scene
+        .objects
+        .iter()
+        .filter(|o| o.visible)
+        .filter_map(crate::scene::SceneObject::bounds)
+        .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+    match bounds {
+        Some((lo, hi)) if (hi - lo).length() > 0.0 => 1e-3 * (hi - lo).length(),
+        _ => 1e-3,
+    }
+}
+
+/// Percent-encodes everything but unreserved URI characters (RFC 3986, section 2.3).
+fn uri_encode(name: &str) -> String {
+    name.bytes()
+        .map(|b| {
+            if b.is_ascii_alphanumeric() || b"-._~".contains(&b) {
+                (b as char).to_string()
+            } else {
+                format!("%{b:02X}")
+            }
+        })
+        .collect()
+}
+
+/// Percent-decodes a relative URI (the inverse of [`uri_encode`]); `None` if malformed.
+pub(crate) fn uri_decode(uri: &str) -> Option<String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut k = 0;
+    while k < bytes.len() {
+        if bytes[k] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(k + 1..k + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            k += 3;
+        } else {
+            out.push(bytes[k]);
+            k += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_axis_change_is_a_rotation_and_its_inverse_undoes_it() {
+        let (a, b) = (DVec3::new(1.0, 2.0, 3.0), DVec3::new(-0.5, 0.25, 4.0));
+        assert_eq!(from_gltf_axes(to_gltf_axes(a)), a);
+        // Lengths and the cross product (handedness) are kept: a rotation, not a reflection.
+        assert_eq!(to_gltf_axes(a).length(), a.length());
+        let cross = to_gltf_axes(a).cross(to_gltf_axes(b));
+        assert!(cross.distance(to_gltf_axes(a.cross(b))) < 1e-12);
+        // knotwork's up (+z) is glTF's up (+y).
+        assert_eq!(to_gltf_axes(DVec3::Z), DVec3::Y);
+    }
+
+    #[test]
+    fn the_colour_ramp_interpolates_between_stops_and_clamps() {
+        let colors = CurvatureColors {
+            component: 0,
+            range: (-1.0, 1.0),
+            ramp: vec![[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+        };
+        assert_eq!(colors.color(-5.0), [0.0, 0.0, 1.0]);
+        assert_eq!(colors.color(0.0), [0.0, 1.0, 0.0]);
+        assert_eq!(colors.color(0.5), [0.5, 0.5, 0.0]);
+        assert_eq!(colors.color(9.0), [1.0, 0.0, 0.0]);
+        assert_eq!(colors.color(f64::NAN), [0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn uris_round_trip_through_percent_encoding() {
+        for name in ["model.bin", "my model (2).bin", "größe.bin"] {
+            let encoded = uri_encode(name);
+            assert!(!encoded.contains(' '));
+            assert_eq!(uri_decode(&encoded).as_deref(), Some(name));
+        }
+        assert_eq!(uri_decode("bad%zz"), None);
+    }
+}

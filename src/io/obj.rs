@@ -1,0 +1,212 @@
+//! Wavefront OBJ import: `v` and `f` records become polygon meshes, one object per `o` (or `g`)
+//! group that has faces. Face corners may be written `i`, `i/t`, `i//n` or `i/t/n`, with
+//! negative indices counting back from the latest vertex. Texture coordinates, normals,
+//! materials, smoothing groups, lines and points are ignored. OBJ is taken as Y-up (the common
+//! convention, Blender's default) and turned into knotwork's Z-up: (x, y, z) ↦ (x, −z, y).
+//!
+//! Errors name the line. Limits: [`super::project::MAX_FILE_BYTES`],
+//! [`super::gltf_import::MAX_IMPORT_VERTICES`] vertices and
+//! [`super::gltf_import::MAX_IMPORT_TRIANGLES`] faces.
+
+use glam::DVec3;
+
+use super::gltf::from_gltf_axes;
+use super::gltf_import::{MAX_IMPORT_TRIANGLES, MAX_IMPORT_VERTICES};
+use super::json::FormatError;
+use super::project::{self, Project};
+use crate::kernel::PolygonMesh;
+use crate::kernel::mesh::MAX_FACE_CORNERS;
+use crate::scene::{ObjectGeometry, Scene, SceneObject};
+
+fn at_line(line: usize, message: impl Into<String>) -> FormatError {
+    FormatError::new(format!("line {line}"), message)
+}
+
+/// One group's faces, over the file's global vertex indices.
+struct Group {
+    name: String,
+    faces: Vec<Vec<u32>>,
+}
+
+/// Reads OBJ text into a project of polygon meshes (no view).
+pub fn read(text: &str) -> Result<Project, FormatError> {
+    project::check_size(text.len() as u64)?;
+    let mut vertices: Vec<DVec3> = Vec::new();
+    let mut groups = vec![Group {
+        name: String::new(),
+        faces: Vec::new(),
+    }];
+    let mut face_total = 0usize;
+    for (number, raw) in text.lines().enumerate() {
+        let line = number + 1;
+        let content = raw.split('#').next().unwrap_or("").trim();
+        let mut fields = content.split_whitespace();
+        let Some(keyword) = fields.next() else {
+            continue;
+        };
+        match keyword {
+            "v" => {
+                let mut xyz = [0.0; 3];
+                for slot in &mut xyz {
+                    let field = fields
+                        .next()
+                        .ok_or_else(|| at_line(line, "a vertex needs x, y and z"))?;
+                    *slot = field
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| x.is_finite())
+                        .ok_or_else(|| {
+                            at_line(line, format!("{field:?} is not a finite number"))
+                        })?;
+                }
+                if vertices.len() >= MAX_IMPORT_VERTICES {
+                    return Err(at_line(
+                        line,
+                        format!("more than {MAX_IMPORT_VERTICES} vertices"),
+                    ));
+                }
+                vertices.push(from_gltf_axes(DVec3::from_array(xyz)));
+            }
+            "f" => {
+                let mut face = Vec::new();
+                for corner in fields {
+                    if face.len() >= MAX_FACE_CORNERS {
+                        return Err(at_line(
+                            line,
+                            format!("a face has more than {MAX_FACE_CORNERS} corners"),
+                        ));
+                    }
+                    let first = corner.split('/').next().unwrap_or("");
+                    let index: i64 = first
+                        .parse()
+                        .map_err(|_| at_line(line, format!("{corner:?} is not a vertex index")))?;
+                    let count = vertices.len() as i64;
+                    let resolved = if index > 0 { index - 1 } else { count + index };
+                    if index == 0 || !(0..count).contains(&resolved) {
+                        return Err(at_line(
+                            line,
+                            format!(
+                                "vertex index {index} is out of range ({count} vertices so far)"
+                            ),
+                        ));
+                    }
+                    face.push(resolved as u32);
+                }
+                // A corner repeated at once (a zero-length edge) is dropped; what is left must
+                // still be a polygon.
+                face.dedup();
+                while face.len() > 1 && face.first() == face.last() {
+                    face.pop();
+                }
+                if face.len() < 3 {
+                    return Err(at_line(line, "a face needs at least 3 distinct corners"));
+                }
+                face_total += 1;
+                if face_total > MAX_IMPORT_TRIANGLES {
+                    return Err(at_line(
+                        line,
+                        format!("more than {MAX_IMPORT_TRIANGLES} faces"),
+                    ));
+                }
+                if let Some(group) = groups.last_mut() {
+                    group.faces.push(face);
+                }
+            }
+            "o" | "g" => {
+                let name = fields.collect::<Vec<_>>().join(" ");
+                match groups.last_mut() {
+                    Some(group) if group.faces.is_empty() => group.name = name,
+                    _ => groups.push(Group {
+                        name,
+                        faces: Vec::new(),
+                    }),
+                }
+            }
+            // Texture coordinates, normals, parameter-space vertices, materials, smoothing
+            // groups, lines, points and free-form records: not part of a polygon cage.
+            _ => {}
+        }
+    }
+    let mut objects = Vec::new();
+    for group in groups.into_iter().filter(|g| !g.faces.is_empty()) {
+        // Each object keeps only the vertices its faces use, renumbered in first-use order.
+        let mut map = std::collections::HashMap::new();
+        let mut points = Vec::new();
+        let faces: Vec<Vec<u32>> = group
+            .faces
+            .iter()
+            .map(|face| {
+                face.iter()
+                    .map(|&i| {
+                        *map.entry(i).or_insert_with(|| {
+                            points.push(vertices[i as usize]);
+                            (points.len() - 1) as u32
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        let name = if crate::scene::valid_name(&group.name) {
+            group.name.clone()
+        } else {
+            format!("OBJ mesh {}", objects.len() + 1)
+        };
+        let mesh = PolygonMesh::new(points, &faces)
+            .map_err(|e| FormatError::new(format!("object {name:?}"), e.to_string()))?;
+        let mut object = SceneObject::new(name, ObjectGeometry::Mesh(mesh));
+        object.segments = 1;
+        objects.push(object);
+    }
+    if objects.is_empty() {
+        return Err(FormatError::new("", "the OBJ file has no faces"));
+    }
+    Ok(Project {
+        scene: Scene { objects },
+        view: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cube_with_slashes_negative_indices_and_two_objects_opens() {
+        let text = "# a cube and a triangle\nmtllib x.mtl\no cube\n\
+            v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+            vt 0 0\nvn 0 0 1\nusemtl red\ns off\n\
+            f 1/1/1 4/1/1 3/1/1 2/1/1\nf 5//1 6//1 7//1 8//1\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf -4 -8 -5 -1\n\
+            o tri\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf -3 -2 -1\n";
+        let project = read(text).unwrap();
+        assert_eq!(project.scene.objects.len(), 2);
+        let ObjectGeometry::Mesh(cube) = &project.scene.objects[0].geometry else {
+            panic!()
+        };
+        assert_eq!(project.scene.objects[0].name, "cube");
+        assert_eq!((cube.points().len(), cube.face_count()), (8, 6));
+        // Y-up to Z-up: OBJ (0, 1, 0) is knotwork's +z.
+        assert!(cube.points().contains(&DVec3::new(0.0, 0.0, 1.0)));
+        assert!(cube.points().contains(&DVec3::new(0.0, -1.0, 0.0)));
+        let ObjectGeometry::Mesh(tri) = &project.scene.objects[1].geometry else {
+            panic!()
+        };
+        assert_eq!((tri.points().len(), tri.face_count()), (3, 1));
+    }
+
+    #[test]
+    fn malformed_obj_files_name_the_line() {
+        for (text, line) in [
+            ("v 0 0 0\nv 1 0 0\nf 1 2 3\n", "line 3"),
+            ("v 0 0\n", "line 1"),
+            ("v 0 nan 0\n", "line 1"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "line 4"),
+            ("v 0 0 0\nv 1 0 0\nf 1 2 2\n", "line 3"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "line 4"),
+        ] {
+            let e = read(text).unwrap_err();
+            assert_eq!(e.path, line, "{text:?}: {e}");
+        }
+        assert!(read("v 0 0 0\n").is_err());
+        assert!(read("").is_err());
+    }
+}

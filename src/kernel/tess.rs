@@ -1,0 +1,572 @@
+//! CPU tessellation in f64 for export: parameter grids chosen by a chordal tolerance or a fixed
+//! segment count, triangulated with every vertex shared within a surface.
+//!
+//! The grid of a NURBS surface is one tensor grid over its whole domain that contains every
+//! span break, so neighbouring spans share their edge vertices (no cracks, no T-junctions).
+//! Positions, normals and curvatures come from the same kernel functions the GPU evaluator is
+//! tested against ([`NurbsSurface::tessellate_grid`], [`NurbsSurface::curvature_grid`]).
+//!
+//! **Tolerance.** A first grid is sized from second-derivative bounds: the linear interpolant of
+//! S over a triangle of the grid cell hu × hv deviates by at most
+//! (hu² Muu + 2 hu hv Muv + hv² Mvv) / 8 (Filip, Magedson & Markot, "Surface algorithms using
+//! bounds on derivatives", CAGD 3, 1986), with M the largest |Suu|, |Suv|, |Svv| sampled on each
+//! span. Sampling is not a proof for a rational surface, so the grid is then *checked*: at every
+//! triangle's centroid and edge midpoints, |S(u, v) − L(u, v)| (an upper bound of the distance
+//! from the triangle to the surface there) must be ≤ the tolerance, and the spans of any cell
+//! that fails are refined until none does.
+
+use glam::DVec3;
+
+use super::diffgeo::CurvatureValues;
+use super::surface::GridSample;
+use super::{BezierPatchSet, Direction, GeometryError, NurbsSurface, PolygonMesh};
+
+/// How finely to tessellate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Tessellation {
+    /// The largest allowed distance (model units) between the triangles and the surface.
+    Tolerance(f64),
+    /// Segments per Bézier span edge (per patch edge, per mesh face edge), like the viewport.
+    Segments(u32),
+}
+
+/// The most segments a grid may have per span edge.
+pub const MAX_SPAN_SEGMENTS: usize = 4096;
+/// The most triangles one export may produce (about 1 GiB of f64 vertex data while building).
+pub const MAX_TRIANGLES: usize = 20_000_000;
+
+/// Samples per span and direction for the second-derivative estimate.
+const DERIVATIVE_SAMPLES: usize = 5;
+/// The fraction of the tolerance the one coarsening step aims the worst deviation at.
+const COARSEN_TARGET: f64 = 0.8;
+/// Refinement rounds of the tolerance check before giving up.
+const CHECK_ROUNDS: usize = 12;
+
+/// A tessellated surface: vertices (shared by the triangles that meet there) and triangles,
+/// wound counter-clockwise seen from the side the normals point to.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TriangleMesh {
+    pub positions: Vec<DVec3>,
+    /// Unit normals.
+    pub normals: Vec<DVec3>,
+    /// (u, v) normalized to [0, 1] over the surface's domain; empty for a polygon mesh.
+    pub uvs: Vec<[f64; 2]>,
+    /// K, H, k1, k2 per vertex; empty unless asked for.
+    pub curvatures: Vec<CurvatureValues>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleMesh {
+    /// Appends `other`, offsetting its indices.
+    fn append(&mut self, other: TriangleMesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend(other.positions);
+        self.normals.extend(other.normals);
+        self.uvs.extend(other.uvs);
+        self.curvatures.extend(other.curvatures);
+        self.triangles
+            .extend(other.triangles.into_iter().map(|t| t.map(|i| i + base)));
+    }
+}
+
+/// A tensor grid of parameters over a surface's domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterGrid {
+    pub us: Vec<f64>,
+    pub vs: Vec<f64>,
+}
+
+impl ParameterGrid {
+    /// Triangles of the grid (vertex (i, j) at index i · |vs| + j), two per cell, wound so that
+    /// (S_u × S_v) is their front: (00, 10, 11) and (00, 11, 01).
+    pub fn triangle_count(&self) -> usize {
+        2 * (self.us.len() - 1) * (self.vs.len() - 1)
+    }
+}
+
+/// `segments` uniform steps in every span of `breaks`.
+fn subdivide(breaks: &[f64], segments: &[usize]) -> Vec<f64> {
+    let mut out = vec![breaks[0]];
+    for (w, &n) in breaks.windows(2).zip(segments) {
+        out.extend((1..n).map(|k| w[0] + (w[1] - w[0]) * k as f64 / n as f64));
+        out.push(w[1]);
+    }
+    out
+}
+
+fn too_fine(what: &str) -> GeometryError {
+    GeometryError::Construction {
+        what: "tessellation",
+        message: format!(
+            "{what}: choose a larger tolerance or fewer segments (at most {MAX_SPAN_SEGMENTS} segments per span, {MAX_TRIANGLES} triangles)"
+        ),
+    }
+}
+
+/// The uniform grid with `segments` segments in every span (the viewport's tessellation).
+pub fn uniform_grid(surface: &NurbsSurface, segments: u32) -> Result<ParameterGrid, GeometryError> {
+    let n = segments as usize;
+    if !(1..=MAX_SPAN_SEGMENTS).contains(&n) {
+        return Err(too_fine(&format!("{segments} segments per span")));
+    }
+    let [bu, bv] = [Direction::U, Direction::V].map(|d| surface.span_breaks(d));
+    Ok(ParameterGrid {
+        us: subdivide(&bu, &vec![n; bu.len() - 1]),
+        vs: subdivide(&bv, &vec![n; bv.len() - 1]),
+    })
+}
+
+/// The grid whose triangles lie within `tolerance` of the surface at their centroids and edge
+/// midpoints (see the module documentation), with span counts as low as the bound allows.
+pub fn tolerance_grid(
+    surface: &NurbsSurface,
+    tolerance: f64,
+) -> Result<ParameterGrid, GeometryError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(GeometryError::Construction {
+            what: "tessellation",
+            message: format!("the tolerance must be finite and > 0, got {tolerance}"),
+        });
+    }
+    let [bu, bv] = [Direction::U, Direction::V].map(|d| surface.span_breaks(d));
+    let (mut nu, mut nv) = estimated_segments(surface, &bu, &bv, tolerance)?;
+    let mut coarsened = false;
+    for _ in 0..CHECK_ROUNDS {
+        let grid = ParameterGrid {
+            us: subdivide(&bu, &nu),
+            vs: subdivide(&bv, &nv),
+        };
+        if grid.triangle_count() > MAX_TRIANGLES {
+            return Err(too_fine(&format!("tolerance {tolerance}")));
+        }
+        let deviations = cell_deviations(surface, &grid)?;
+        let cols = grid.vs.len() - 1;
+        let failing: Vec<(usize, usize, f64)> = deviations
+            .iter()
+            .enumerate()
+            .filter(|(_, d)| !(**d <= tolerance))
+            .map(|(k, &d)| (k / cols, k % cols, d))
+            .collect();
+        if failing.is_empty() && !coarsened {
+            // The derivative bound is pessimistic (often 3× or more): once, widen each span's
+            // steps by √(target / its worst deviation), since the deviation grows with h².
+            // A cell's new deviation is then about ≤ target (its span column's and row's worst
+            // bound it), and the check below catches the rest.
+            coarsened = true;
+            let target = COARSEN_TARGET * tolerance;
+            let mut worst_u = vec![0.0f64; nu.len()];
+            let mut worst_v = vec![0.0f64; nv.len()];
+            for (k, &d) in deviations.iter().enumerate() {
+                let (a, b) = (
+                    span_of(&grid.us, &bu, k / cols),
+                    span_of(&grid.vs, &bv, k % cols),
+                );
+                worst_u[a] = worst_u[a].max(d);
+                worst_v[b] = worst_v[b].max(d);
+            }
+            let mut changed = false;
+            for (n, worst) in nu.iter_mut().zip(worst_u).chain(nv.iter_mut().zip(worst_v)) {
+                let coarser = ((*n as f64) * (worst / target).sqrt()).ceil().max(1.0) as usize;
+                if coarser < *n {
+                    *n = coarser;
+                    changed = true;
+                }
+            }
+            if changed {
+                continue;
+            }
+        }
+        if failing.is_empty() {
+            return Ok(grid);
+        }
+        // Refine the spans that hold a failing cell, in proportion to √(deviation / tolerance)
+        // (the error falls with h²).
+        let mut factor_u = vec![1.0f64; nu.len()];
+        let mut factor_v = vec![1.0f64; nv.len()];
+        for (i, j, deviation) in failing {
+            let f = (1.2 * (deviation / tolerance).sqrt()).clamp(1.25, 4.0);
+            let (a, b) = (span_of(&grid.us, &bu, i), span_of(&grid.vs, &bv, j));
+            factor_u[a] = factor_u[a].max(f);
+            factor_v[b] = factor_v[b].max(f);
+        }
+        for (n, f) in nu
+            .iter_mut()
+            .zip(factor_u)
+            .chain(nv.iter_mut().zip(factor_v))
+        {
+            if f > 1.0 {
+                *n = ((*n as f64 * f).ceil() as usize).max(*n + 1);
+                if *n > MAX_SPAN_SEGMENTS {
+                    return Err(too_fine(&format!("tolerance {tolerance}")));
+                }
+            }
+        }
+    }
+    Err(too_fine(&format!("tolerance {tolerance}")))
+}
+
+/// The span of `breaks` that grid cell `cell` (between `params[cell]` and `params[cell + 1]`)
+/// lies in.
+fn span_of(params: &[f64], breaks: &[f64], cell: usize) -> usize {
+    let mid = 0.5 * (params[cell] + params[cell + 1]);
+    breaks.windows(2).position(|w| mid <= w[1]).unwrap_or(0)
+}
+
+/// Segments per u-span and per v-span from sampled second-derivative bounds: per span pair,
+/// hu² Muu ≤ 2T, hv² Mvv ≤ 2T and hu hv Muv ≤ 2T, so the bound (…)/8 is ≤ T; each u-span takes
+/// the most any of its v-spans needs, and the other way round.
+fn estimated_segments(
+    surface: &NurbsSurface,
+    bu: &[f64],
+    bv: &[f64],
+    tolerance: f64,
+) -> Result<(Vec<usize>, Vec<usize>), GeometryError> {
+    let samples = |breaks: &[f64]| -> Vec<f64> {
+        breaks
+            .windows(2)
+            .flat_map(|w| {
+                (0..DERIVATIVE_SAMPLES)
+                    .map(move |k| w[0] + (w[1] - w[0]) * k as f64 / (DERIVATIVE_SAMPLES - 1) as f64)
+            })
+            .collect()
+    };
+    let (su, sv) = (samples(bu), samples(bv));
+    let (spans_u, spans_v) = (bu.len() - 1, bv.len() - 1);
+    // Per span pair: the largest |Suu|, |Suv|, |Svv|.
+    let mut bounds = vec![[0.0f64; 3]; spans_u * spans_v];
+    surface.evaluate_grid(&su, &sv, true, |i, j, d| {
+        let cell = (i / DERIVATIVE_SAMPLES) * spans_v + j / DERIVATIVE_SAMPLES;
+        let m = &mut bounds[cell];
+        for (slot, value) in m.iter_mut().zip([d.suu, d.suv, d.svv]) {
+            let length = value.length();
+            if length.is_finite() {
+                *slot = slot.max(length);
+            }
+        }
+    })?;
+    let mut nu = vec![1usize; spans_u];
+    let mut nv = vec![1usize; spans_v];
+    let safety = 1.25;
+    for a in 0..spans_u {
+        for b in 0..spans_v {
+            let [muu, muv, mvv] = bounds[a * spans_v + b].map(|m| m * safety);
+            let (wu, wv) = (bu[a + 1] - bu[a], bv[b + 1] - bv[b]);
+            let mut hu = if muu > 0.0 {
+                (2.0 * tolerance / muu).sqrt()
+            } else {
+                wu
+            };
+            let mut hv = if mvv > 0.0 {
+                (2.0 * tolerance / mvv).sqrt()
+            } else {
+                wv
+            };
+            hu = hu.min(wu);
+            hv = hv.min(wv);
+            if hu * hv * muv > 2.0 * tolerance {
+                let s = (2.0 * tolerance / (hu * hv * muv)).sqrt();
+                hu *= s;
+                hv *= s;
+            }
+            let count = |w: f64, h: f64| ((w / h).ceil() as usize).clamp(1, MAX_SPAN_SEGMENTS);
+            nu[a] = nu[a].max(count(wu, hu));
+            nv[b] = nv[b].max(count(wv, hv));
+        }
+    }
+    Ok((nu, nv))
+}
+
+/// The worst |S(t) − L(t)| per grid cell (row-major, cell (i, j) at i · (|vs| − 1) + j) over
+/// the centroids and edge midpoints of its two triangles (00, 10, 11) and (00, 11, 01).
+pub fn cell_deviations(
+    surface: &NurbsSurface,
+    grid: &ParameterGrid,
+) -> Result<Vec<f64>, GeometryError> {
+    let (us, vs) = (&grid.us, &grid.vs);
+    let points = |u: &[f64], v: &[f64]| -> Result<Vec<DVec3>, GeometryError> {
+        let mut out = vec![DVec3::ZERO; u.len() * v.len()];
+        surface.evaluate_grid(u, v, false, |i, j, d| out[i * v.len() + j] = d.point)?;
+        Ok(out)
+    };
+    let between = |t: &[f64], a: f64| -> Vec<f64> {
+        t.windows(2).map(|w| w[0] + (w[1] - w[0]) * a).collect()
+    };
+    let (nu, nv) = (us.len(), vs.len());
+    let corners = points(us, vs)?;
+    let mid_u = between(us, 0.5);
+    let mid_v = between(vs, 0.5);
+    let u_edges = points(&mid_u, vs)?; // (i + ½, j)
+    let v_edges = points(us, &mid_v)?; // (i, j + ½)
+    let centres = points(&mid_u, &mid_v)?; // the diagonals' midpoints
+    let centroid_a = points(&between(us, 2.0 / 3.0), &between(vs, 1.0 / 3.0))?;
+    let centroid_b = points(&between(us, 1.0 / 3.0), &between(vs, 2.0 / 3.0))?;
+    let corner = |i: usize, j: usize| corners[i * nv + j];
+    let mut out = Vec::with_capacity((nu - 1) * (nv - 1));
+    for i in 0..nu - 1 {
+        for j in 0..nv - 1 {
+            let (p00, p10, p11, p01) = (
+                corner(i, j),
+                corner(i + 1, j),
+                corner(i + 1, j + 1),
+                corner(i, j + 1),
+            );
+            let c = i * (nv - 1) + j;
+            let checks = [
+                (u_edges[i * nv + j], 0.5 * (p00 + p10)),
+                (u_edges[i * nv + j + 1], 0.5 * (p01 + p11)),
+                (v_edges[i * (nv - 1) + j], 0.5 * (p00 + p01)),
+                (v_edges[(i + 1) * (nv - 1) + j], 0.5 * (p10 + p11)),
+                (centres[c], 0.5 * (p00 + p11)),
+                (centroid_a[c], (p00 + p10 + p11) / 3.0),
+                (centroid_b[c], (p00 + p11 + p01) / 3.0),
+            ];
+            out.push(
+                checks
+                    .iter()
+                    .map(|(s, l)| s.distance(*l))
+                    .fold(0.0, f64::max),
+            );
+        }
+    }
+    Ok(out)
+}
+
+/// The grid for `tessellation`.
+pub fn grid_for(
+    surface: &NurbsSurface,
+    tessellation: Tessellation,
+) -> Result<ParameterGrid, GeometryError> {
+    match tessellation {
+        Tessellation::Tolerance(t) => tolerance_grid(surface, t),
+        Tessellation::Segments(n) => uniform_grid(surface, n),
+    }
+}
+
+/// The surface on `grid` as a triangle mesh: positions and unit normals from
+/// [`NurbsSurface::tessellate_grid`] (curvatures from [`NurbsSurface::curvature_grid`] when
+/// `curvature`), (u, v) normalized over the domain, and two triangles per cell. Triangles of
+/// zero area (at a pole or collapsed edge) are left out.
+pub fn triangulate(
+    surface: &NurbsSurface,
+    grid: &ParameterGrid,
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    let (us, vs) = (&grid.us, &grid.vs);
+    let mut mesh = TriangleMesh::default();
+    let samples: Vec<GridSample> = if curvature {
+        let grid = surface.curvature_grid(us, vs)?;
+        mesh.curvatures = grid.iter().map(|(_, c)| *c).collect();
+        grid.into_iter().map(|(s, _)| s).collect()
+    } else {
+        surface.tessellate_grid(us, vs)?
+    };
+    mesh.positions = samples.iter().map(|s| s.point).collect();
+    mesh.normals = samples.iter().map(|s| s.normal).collect();
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    mesh.uvs = us
+        .iter()
+        .flat_map(|&u| {
+            vs.iter()
+                .map(move |&v| [(u - u0) / (u1 - u0), (v - v0) / (v1 - v0)])
+        })
+        .collect();
+    let nv = vs.len();
+    let index = |i: usize, j: usize| (i * nv + j) as u32;
+    for i in 0..us.len() - 1 {
+        for j in 0..nv - 1 {
+            let (a, b, c, d) = (
+                index(i, j),
+                index(i + 1, j),
+                index(i + 1, j + 1),
+                index(i, j + 1),
+            );
+            for t in [[a, b, c], [a, c, d]] {
+                if !is_degenerate(&mesh.positions, t) {
+                    mesh.triangles.push(t);
+                }
+            }
+        }
+    }
+    Ok(mesh)
+}
+
+/// Whether triangle `t` has (numerically) no area.
+fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
+    let [a, b, c] = t.map(|i| positions[i as usize]);
+    let (e1, e2) = (b - a, c - a);
+    let scale = e1
+        .length_squared()
+        .max(e2.length_squared())
+        .max((c - b).length_squared());
+    e1.cross(e2).length() <= 1e-12 * scale
+}
+
+/// One Bézier patch of a set as a NURBS surface on [0, 1]².
+pub fn patch_surface(set: &BezierPatchSet, patch: usize) -> Result<NurbsSurface, GeometryError> {
+    let p = set.patches().get(patch).ok_or(GeometryError::NoSuchPatch {
+        patch,
+        count: set.patches().len(),
+    })?;
+    let (du, dv) = (p.degree_u(), p.degree_v());
+    let mut points = Vec::with_capacity((du + 1) * (dv + 1));
+    let mut weights = Vec::with_capacity(points.capacity());
+    for i in 0..=du {
+        for j in 0..=dv {
+            let k = p.index(i, j) as usize;
+            points.push(set.points()[k]);
+            weights.push(set.weights()[k]);
+        }
+    }
+    NurbsSurface::bezier([du, dv], points, Some(weights))
+}
+
+/// Every patch of `set`, each on its own grid (one piece per patch, (u, v) the patch's own).
+/// All patches take the same segment count, the largest any of them needs, so that patches
+/// sharing an edge place the same vertices along it (no cracks).
+pub fn tessellate_patches(
+    set: &BezierPatchSet,
+    tessellation: Tessellation,
+    curvature: bool,
+) -> Result<Vec<TriangleMesh>, GeometryError> {
+    let surfaces = (0..set.patches().len())
+        .map(|k| patch_surface(set, k))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut n = match tessellation {
+        Tessellation::Segments(n) => n as usize,
+        Tessellation::Tolerance(t) => surfaces.iter().try_fold(1, |n, s| {
+            let g = tolerance_grid(s, t)?;
+            Ok::<_, GeometryError>(n.max(g.us.len() - 1).max(g.vs.len() - 1))
+        })?,
+    };
+    // A common count can be coarser in one direction than a patch's own check wanted only where
+    // it was not the largest; check again and refine until every patch passes.
+    let grid = loop {
+        if n > MAX_SPAN_SEGMENTS || 2 * n * n * surfaces.len() > MAX_TRIANGLES {
+            return Err(too_fine(&format!("{n} segments per patch")));
+        }
+        let grids: Vec<ParameterGrid> = surfaces
+            .iter()
+            .map(|s| uniform_grid(s, n as u32))
+            .collect::<Result<_, _>>()?;
+        let Tessellation::Tolerance(t) = tessellation else {
+            break grids;
+        };
+        let mut worst = 0.0f64;
+        for (s, g) in surfaces.iter().zip(&grids) {
+            worst = cell_deviations(s, g)?.into_iter().fold(worst, f64::max);
+        }
+        if worst <= t {
+            break grids;
+        }
+        n = ((n as f64 * (1.2 * (worst / t).sqrt()).clamp(1.25, 4.0)).ceil() as usize).max(n + 1);
+    };
+    surfaces
+        .iter()
+        .zip(&grid)
+        .map(|(s, g)| triangulate(s, g, curvature))
+        .collect()
+}
+
+/// A polygon mesh as one piece: every face (a bilinear patch, see
+/// [`PolygonMesh::to_bezier_patch_set`]) on its own grid — one cell for a planar quad at any
+/// tolerance — with vertices welded where position and normal agree exactly (so a smooth
+/// region shares its vertices and a crease keeps one per side). No (u, v).
+pub fn tessellate_mesh(
+    mesh: &PolygonMesh,
+    tessellation: Tessellation,
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    let set = mesh.to_bezier_patch_set()?;
+    let mut out = TriangleMesh::default();
+    let mut welded = std::collections::HashMap::new();
+    for k in 0..set.patches().len() {
+        let surface = patch_surface(&set, k)?;
+        let grid = grid_for(&surface, tessellation)?;
+        let piece = triangulate(&surface, &grid, curvature)?;
+        let mut remap = Vec::with_capacity(piece.positions.len());
+        for v in 0..piece.positions.len() {
+            let (p, n) = (piece.positions[v], piece.normals[v]);
+            let key = [p.x, p.y, p.z, n.x, n.y, n.z].map(f64::to_bits);
+            let index = *welded.entry(key).or_insert_with(|| {
+                out.positions.push(p);
+                out.normals.push(n);
+                if curvature {
+                    out.curvatures.push(piece.curvatures[v]);
+                }
+                (out.positions.len() - 1) as u32
+            });
+            remap.push(index);
+        }
+        out.triangles
+            .extend(piece.triangles.iter().map(|t| t.map(|i| remap[i as usize])));
+        if out.triangles.len() > MAX_TRIANGLES {
+            return Err(too_fine("this mesh"));
+        }
+    }
+    Ok(out)
+}
+
+/// Pieces of several meshes appended into one (indices offset).
+pub fn merge(pieces: Vec<TriangleMesh>) -> TriangleMesh {
+    let mut out = TriangleMesh::default();
+    for piece in pieces {
+        out.append(piece);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::construct;
+
+    #[test]
+    fn a_plane_needs_one_cell_per_span_and_a_cylinder_gets_finer_with_the_tolerance() {
+        let plane = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+        let grid = tolerance_grid(&plane, 1e-6).unwrap();
+        assert_eq!((grid.us.len(), grid.vs.len()), (2, 2));
+        let cylinder = construct::cylinder(DVec3::ZERO, DVec3::Z, 1.0).unwrap();
+        let coarse = tolerance_grid(&cylinder, 1e-2).unwrap();
+        let fine = tolerance_grid(&cylinder, 1e-4).unwrap();
+        // Straight along the axis; around it a chord of angle θ deviates by 1 − cos(θ/2).
+        assert_eq!(coarse.vs.len().min(coarse.us.len()), 2);
+        let around = |g: &ParameterGrid| g.us.len().max(g.vs.len()) - 1;
+        let needed = |t: f64| (std::f64::consts::TAU / (2.0 * (1.0 - t).acos())).ceil() as usize;
+        assert!(around(&coarse) >= needed(1e-2), "{}", around(&coarse));
+        assert!(around(&fine) >= needed(1e-4), "{}", around(&fine));
+        // …and not wastefully more (the rational parametrization is not arc length).
+        assert!(around(&fine) <= 3 * needed(1e-4), "{}", around(&fine));
+        for g in [&coarse, &fine] {
+            let worst = cell_deviations(&cylinder, g)
+                .unwrap()
+                .into_iter()
+                .fold(0.0, f64::max);
+            assert!(worst > 0.0);
+        }
+    }
+
+    #[test]
+    fn bad_tolerances_and_absurd_segment_counts_are_refused() {
+        let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(tolerance_grid(&sphere, t).is_err(), "{t}");
+        }
+        assert!(tolerance_grid(&sphere, 1e-300).is_err());
+        assert!(uniform_grid(&sphere, 0).is_err());
+        assert!(uniform_grid(&sphere, 100_000).is_err());
+    }
+
+    #[test]
+    fn grid_triangles_face_the_normal_and_poles_lose_their_empty_triangles() {
+        let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        let grid = uniform_grid(&sphere, 4).unwrap();
+        let mesh = triangulate(&sphere, &grid, false).unwrap();
+        assert!(mesh.triangles.len() < grid.triangle_count());
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            let n = t.map(|i| mesh.normals[i as usize]);
+            let face = (b - a).cross(c - a);
+            assert!(face.dot(n[0] + n[1] + n[2]) > 0.0);
+        }
+    }
+}

@@ -1,0 +1,497 @@
+//! glTF export: the official Khronos validator on every exported test scene, a round trip
+//! through an independent reader (the `gltf` crate) against the f64 kernel, the embedded
+//! editable model, and the chordal tolerance measured on the written triangles.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::DVec3;
+use knotwork::io::gltf::{self as export, CurvatureColors, ExportOptions, from_gltf_axes};
+use knotwork::io::project::{Project, ViewSettings};
+use knotwork::kernel::tess::Tessellation;
+use knotwork::kernel::{NurbsSurface, PolygonMesh, construct};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+fn out_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("gltf-tests");
+    std::fs::create_dir_all(&dir).expect("test output directory");
+    dir
+}
+
+fn no_files(name: &str) -> Result<Vec<u8>, String> {
+    Err(format!("no file {name} in this test"))
+}
+
+fn demo_project() -> Project {
+    Project {
+        scene: Scene::demo().unwrap(),
+        view: Some(ViewSettings {
+            target: [7.0, 3.0, 1.5],
+            distance: 30.0,
+            yaw: 0.7,
+            pitch: 0.4,
+            shading: "mean".into(),
+            quality: 1.0,
+        }),
+    }
+}
+
+fn single(name: &str, geometry: ObjectGeometry) -> Project {
+    Project {
+        scene: Scene {
+            objects: vec![SceneObject::new(name, geometry)],
+        },
+        view: None,
+    }
+}
+
+fn options(tessellation: Tessellation) -> ExportOptions {
+    ExportOptions {
+        tessellation,
+        curvature: false,
+        colors: None,
+    }
+}
+
+/// A cube with one quad split into two triangles and one n-gon on top of a tower: a polygon
+/// mesh with triangles, quads and a hexagon.
+fn polygon_mesh() -> PolygonMesh {
+    let mut points: Vec<DVec3> = (0..8)
+        .map(|k| DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, (k >> 2) as f64))
+        .collect();
+    points.extend((0..6).map(|k| {
+        let a = k as f64 * std::f64::consts::TAU / 6.0;
+        DVec3::new(0.5 + 0.4 * a.cos(), 0.5 + 0.4 * a.sin(), 1.6)
+    }));
+    let faces = vec![
+        vec![0, 2, 3, 1],
+        vec![4, 5, 7],
+        vec![4, 7, 6],
+        vec![0, 1, 5, 4],
+        vec![1, 3, 7, 5],
+        vec![3, 2, 6, 7],
+        vec![2, 0, 4, 6],
+        vec![8, 9, 10, 11, 12, 13],
+    ];
+    PolygonMesh::new(points, &faces).unwrap()
+}
+
+/// Runs the Khronos glTF-Validator on `files`; panics on any error or warning, or if the
+/// validator cannot run.
+fn validate(files: &[PathBuf]) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = root.join("web/validate-gltf.mjs");
+    assert!(
+        root.join("web/node_modules/gltf-validator").is_dir(),
+        "the glTF validator is missing: run `npm ci` in web/ (tests/run.sh does)"
+    );
+    let output = Command::new("node")
+        .arg(&script)
+        .args(files)
+        .output()
+        .unwrap_or_else(|e| panic!("the glTF validator needs Node.js: {e}"));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    let reports: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("validator output"))
+        .collect();
+    assert_eq!(reports.len(), files.len(), "one report per file");
+    for report in &reports {
+        assert_eq!(report["errors"], 0, "{report}");
+        assert_eq!(report["warnings"], 0, "{report}");
+    }
+    assert!(
+        output.status.success(),
+        "validator exit status {}",
+        output.status
+    );
+}
+
+fn write(name: &str, export: &export::Export) -> Vec<PathBuf> {
+    let path = out_dir().join(name);
+    export::files(export, &path.display().to_string())
+        .into_iter()
+        .map(|(file, bytes)| {
+            std::fs::write(&file, bytes).unwrap();
+            PathBuf::from(file)
+        })
+        .collect()
+}
+
+#[test]
+fn every_exported_test_scene_passes_the_khronos_validator() {
+    let demo = demo_project();
+    let tolerance = export::default_tolerance(&demo.scene);
+    let mut with_hidden = demo.clone();
+    with_hidden.scene.objects[1].visible = false;
+    let colors = ExportOptions {
+        tessellation: Tessellation::Tolerance(tolerance),
+        curvature: true,
+        colors: Some(CurvatureColors::automatic(
+            &demo.scene,
+            1,
+            knotwork::gpu::records::curvature_ramp_rgb(),
+        )),
+    };
+    let mesh = single("cage", ObjectGeometry::Mesh(polygon_mesh()));
+    let obj = knotwork::io::obj::read(
+        "o pyramid\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0.5 1 0.5\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
+    )
+    .unwrap();
+    let cases = [
+        (
+            "demo.glb",
+            &demo,
+            options(Tessellation::Tolerance(tolerance)),
+        ),
+        ("demo.gltf", &demo, options(Tessellation::Segments(6))),
+        ("demo-curvature.glb", &demo, colors),
+        (
+            "hidden.glb",
+            &with_hidden,
+            options(Tessellation::Segments(3)),
+        ),
+        ("mesh.glb", &mesh, options(Tessellation::Tolerance(1e-3))),
+        ("obj.glb", &obj, options(Tessellation::Segments(2))),
+    ];
+    let mut files = Vec::new();
+    for (name, project, options) in cases {
+        let e = export::export(project, &options).unwrap();
+        assert!(e.triangles > 0);
+        files.extend(write(name, &e));
+    }
+    files.retain(|f| f.extension().is_some_and(|e| e != "bin"));
+    validate(&files);
+}
+
+/// Positions (knotwork axes), normals, (u, v) and triangles of one primitive.
+struct Primitive {
+    positions: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    uvs: Vec<[f64; 2]>,
+    triangles: Vec<[usize; 3]>,
+}
+
+/// Every node of a `.glb` (name → its primitives), read by the `gltf` crate, with the node's
+/// translation added back and glTF's Y-up turned into knotwork's Z-up.
+fn read_glb(bytes: &[u8]) -> Vec<(String, Vec<Primitive>)> {
+    let file = gltf::Gltf::from_slice(bytes).expect("the gltf crate reads the export");
+    let blob = file.blob.as_deref().expect("a BIN chunk");
+    let mut out = Vec::new();
+    for node in file.nodes() {
+        let (translation, rotation, scale) = node.transform().decomposed();
+        assert_eq!((rotation, scale), ([0.0, 0.0, 0.0, 1.0], [1.0; 3]));
+        let origin = DVec3::from(translation.map(f64::from));
+        let mesh = node.mesh().expect("every node has a mesh");
+        let mut primitives = Vec::new();
+        for primitive in mesh.primitives() {
+            assert_eq!(primitive.mode(), gltf::mesh::Mode::Triangles);
+            let reader = primitive.reader(|b| (b.index() == 0).then_some(blob));
+            let positions: Vec<DVec3> = reader
+                .read_positions()
+                .unwrap()
+                .map(|p| from_gltf_axes(DVec3::from(p.map(f64::from)) + origin))
+                .collect();
+            // The accessor's min and max are the data's.
+            let bounds = primitive.bounding_box();
+            let raw: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+            for c in 0..3 {
+                let lo = raw.iter().map(|p| p[c]).fold(f32::INFINITY, f32::min);
+                let hi = raw.iter().map(|p| p[c]).fold(f32::NEG_INFINITY, f32::max);
+                assert_eq!((bounds.min[c], bounds.max[c]), (lo, hi));
+            }
+            let normals = reader
+                .read_normals()
+                .unwrap()
+                .map(|n| from_gltf_axes(DVec3::from(n.map(f64::from))))
+                .collect();
+            let uvs = reader
+                .read_tex_coords(0)
+                .map(|t| t.into_f32().map(|t| t.map(f64::from)).collect())
+                .unwrap_or_default();
+            let indices: Vec<usize> = reader
+                .read_indices()
+                .unwrap()
+                .into_u32()
+                .map(|i| i as usize)
+                .collect();
+            primitives.push(Primitive {
+                positions,
+                normals,
+                uvs,
+                triangles: indices.chunks(3).map(|t| [t[0], t[1], t[2]]).collect(),
+            });
+        }
+        out.push((node.name().unwrap_or_default().to_owned(), primitives));
+    }
+    out
+}
+
+#[test]
+fn the_glb_read_back_matches_the_kernel_at_the_stored_uv_and_faces_its_normals() {
+    let project = demo_project();
+    let tolerance = export::default_tolerance(&project.scene);
+    let e = export::export(&project, &options(Tessellation::Tolerance(tolerance))).unwrap();
+    let glb = export::to_glb(&e);
+    let nodes = read_glb(&glb);
+    assert_eq!(nodes.len(), project.scene.objects.len());
+    let mut checked = 0;
+    for (name, primitives) in &nodes {
+        let object = project
+            .scene
+            .objects
+            .iter()
+            .find(|o| &o.name == name)
+            .unwrap_or_else(|| panic!("node {name} names an object"));
+        let (lo, hi) = object.bounds().unwrap();
+        let size = (hi - lo).length();
+        for (k, primitive) in primitives.iter().enumerate() {
+            for (v, (&p, uv)) in primitive.positions.iter().zip(&primitive.uvs).enumerate() {
+                let expected = match &object.geometry {
+                    ObjectGeometry::Nurbs(s) => {
+                        let [(u0, u1), (v0, v1)] = s.domain();
+                        s.point_at(u0 + (u1 - u0) * uv[0], v0 + (v1 - v0) * uv[1])
+                            .unwrap()
+                    }
+                    ObjectGeometry::Patches(set) => set.evaluate(k, uv[0], uv[1]).unwrap().point,
+                    ObjectGeometry::Mesh(_) => unreachable!("the demo has no meshes"),
+                };
+                assert!(
+                    p.distance(expected) <= 1e-6 * size,
+                    "{name} primitive {k} vertex {v}: {p} vs {expected} at {uv:?}"
+                );
+                checked += 1;
+            }
+            for n in &primitive.normals {
+                assert!(
+                    (n.length() - 1.0).abs() < 1e-6,
+                    "{name}: |n| = {}",
+                    n.length()
+                );
+            }
+            for t in &primitive.triangles {
+                let [a, b, c] = t.map(|i| primitive.positions[i]);
+                let face = (b - a).cross(c - a);
+                if face.length() < 1e-9 * size * size {
+                    continue;
+                }
+                let normal: DVec3 = t.iter().map(|&i| primitive.normals[i]).sum();
+                assert!(
+                    face.dot(normal) > 0.0,
+                    "{name} primitive {k}: triangle {t:?} is wound against its normals"
+                );
+            }
+        }
+    }
+    assert!(checked > 5_000, "{checked} vertices checked");
+    eprintln!(
+        "demo at tolerance {tolerance:.4}: {} triangles, {} vertices, {} bytes; {checked} vertices checked",
+        e.triangles,
+        e.vertices,
+        glb.len()
+    );
+}
+
+#[test]
+fn the_embedded_model_reopens_equal_to_the_original_from_glb_and_gltf() {
+    let mut project = demo_project();
+    project.scene.objects[2].visible = false;
+    project.scene.objects.push(SceneObject::new(
+        "cage",
+        ObjectGeometry::Mesh(polygon_mesh()),
+    ));
+    let e = export::export(&project, &options(Tessellation::Segments(4))).unwrap();
+    let reopened = knotwork::io::open("scene.glb", &export::to_glb(&e), &no_files).unwrap();
+    assert_eq!(reopened, project);
+    // The .gltf text needs no .bin for the model; and with the .bin beside it, it opens too.
+    let files = write("reopen.gltf", &e);
+    let text = std::fs::read(&files[0]).unwrap();
+    assert_eq!(
+        knotwork::io::open("reopen.gltf", &text, &no_files).unwrap(),
+        project
+    );
+    let opened = knotwork::app::open_path(&files[0]).unwrap();
+    assert_eq!(opened, project);
+}
+
+#[test]
+fn another_tools_gltf_opens_as_polygon_meshes_at_the_exported_positions() {
+    // knotwork's own export with the model taken out is a plain glTF file.
+    let project = single("cage", ObjectGeometry::Mesh(polygon_mesh()));
+    let mut e = export::export(&project, &options(Tessellation::Segments(1))).unwrap();
+    e.json["scenes"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("extras");
+    let glb = export::to_glb(&e);
+    let opened = knotwork::io::open("foreign.glb", &glb, &no_files).unwrap();
+    assert_eq!(opened.scene.objects.len(), 1);
+    assert_eq!(opened.scene.objects[0].name, "cage");
+    let ObjectGeometry::Mesh(mesh) = &opened.scene.objects[0].geometry else {
+        panic!("a polygon mesh")
+    };
+    // Flat faces at one segment: the triangles' corners are the cage's own points (welded back
+    // by position), to f32 precision.
+    let original = polygon_mesh();
+    for p in mesh.points() {
+        let nearest = original
+            .points()
+            .iter()
+            .map(|q| q.distance(*p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest < 1e-6, "{p} is not a cage point");
+    }
+    assert_eq!(mesh.points().len(), original.points().len());
+    // 5 quads, 2 triangles and a hexagon (4 triangles) become 2 × 5 + 2 + 4 triangles.
+    assert_eq!(mesh.face_count(), 16);
+}
+
+/// The largest distance from the exported triangles' centroids and edge midpoints to the
+/// surface, by `distance`.
+fn worst_distance(glb: &[u8], distance: impl Fn(DVec3) -> f64) -> (f64, usize) {
+    let mut worst = 0.0f64;
+    let mut triangles = 0;
+    for (_, primitives) in read_glb(glb) {
+        for primitive in primitives {
+            for t in &primitive.triangles {
+                let [a, b, c] = t.map(|i| primitive.positions[i]);
+                for p in [
+                    (a + b + c) / 3.0,
+                    0.5 * (a + b),
+                    0.5 * (b + c),
+                    0.5 * (c + a),
+                ] {
+                    worst = worst.max(distance(p));
+                }
+                triangles += 1;
+            }
+        }
+    }
+    (worst, triangles)
+}
+
+#[test]
+fn triangles_stay_within_the_tolerance_of_a_sphere_a_torus_and_a_rational_bspline() {
+    let (center, radius) = (DVec3::new(1.0, -2.0, 0.5), 2.0);
+    let sphere = construct::sphere(center, radius).unwrap();
+    let (major, minor) = (3.0, 1.0);
+    let torus = construct::torus(DVec3::ZERO, DVec3::Z, major, minor).unwrap();
+    let rational = rational_sheet();
+    let sphere_distance = |p: DVec3| ((p - center).length() - radius).abs();
+    let torus_distance = |p: DVec3| {
+        let ring = (p.x.hypot(p.y) - major).hypot(p.z);
+        (ring - minor).abs()
+    };
+    let sheet_distance = |p: DVec3| rational.closest_point(p).unwrap().distance;
+    type Distance<'a> = &'a dyn Fn(DVec3) -> f64;
+    let cases: [(&str, &NurbsSurface, Distance, &[f64]); 3] = [
+        ("sphere", &sphere, &sphere_distance, &[1e-2, 1e-3, 5e-4]),
+        ("torus", &torus, &torus_distance, &[1e-2, 1e-3]),
+        (
+            "rational B-spline",
+            &rational,
+            &sheet_distance,
+            &[1e-2, 2e-3],
+        ),
+    ];
+    for (name, surface, distance, tolerances) in cases {
+        let project = single(name, ObjectGeometry::Nurbs(surface.clone()));
+        let mut previous = 0;
+        for &t in tolerances {
+            let e = export::export(&project, &options(Tessellation::Tolerance(t))).unwrap();
+            let (worst, triangles) = worst_distance(&export::to_glb(&e), distance);
+            eprintln!("{name}: tolerance {t}: {triangles} triangles, worst distance {worst:.3e}");
+            // f32 storage adds at most a few 1e-7 of the model's size.
+            assert!(worst <= t + 2e-6, "{name}: {worst} > {t}");
+            // Not wastefully fine: the worst triangle uses a good part of the allowance.
+            assert!(worst > 0.2 * t, "{name}: {worst} ≪ {t}");
+            assert!(triangles > previous);
+            previous = triangles;
+        }
+    }
+}
+
+/// A rational bicubic × biquadratic sheet with uneven weights and interior knots.
+fn rational_sheet() -> NurbsSurface {
+    let (nu, nv) = (6, 5);
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let (x, y) = (i as f64, j as f64);
+            points.push(DVec3::new(x, y, 0.6 * (0.9 * x).sin() * (0.7 * y).cos()));
+            weights.push(1.0 + 0.8 * ((i * 7 + j * 3) % 5) as f64 / 4.0);
+        }
+    }
+    NurbsSurface::new(
+        [3, 2],
+        [
+            vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.6, 1.0, 1.0, 1.0, 1.0],
+            vec![0.0, 0.0, 0.0, 0.4, 0.7, 1.0, 1.0, 1.0],
+        ],
+        [nu, nv],
+        points,
+        Some(weights),
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_export_cli_writes_a_valid_glb_that_opens_as_the_same_project() {
+    let dir = out_dir();
+    let input = dir.join("cli-input.json");
+    let project = demo_project();
+    std::fs::write(&input, knotwork::io::project::write(&project)).unwrap();
+    let output = dir.join("cli-output.glb");
+    let run = Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(["export"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .args(["--curvature", "--colors", "gaussian"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(stdout.contains("triangles"), "{stdout}");
+    validate(std::slice::from_ref(&output));
+    let bytes = std::fs::read(&output).unwrap();
+    assert_eq!(
+        knotwork::io::open("cli.glb", &bytes, &no_files).unwrap(),
+        project
+    );
+    // A bad argument and a bad input fail with a message, and write nothing.
+    let bad = dir.join("cli-bad.glb");
+    for args in [
+        vec!["--tolerance", "-1"],
+        vec!["--segments", "0"],
+        vec!["--tolerance", "1e-3", "--segments", "4"],
+    ] {
+        let run = Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("export")
+            .arg(&input)
+            .arg("-o")
+            .arg(&bad)
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(!run.status.success(), "{args:?}");
+        assert!(!run.stderr.is_empty());
+        assert!(!bad.exists(), "{args:?} wrote a file");
+    }
+    std::fs::write(dir.join("cli-broken.json"), "{\"format\": \"knotwork\"").unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("export")
+        .arg(dir.join("cli-broken.json"))
+        .arg("-o")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert!(!run.status.success());
+    assert!(String::from_utf8_lossy(&run.stderr).contains("cannot open"));
+}
