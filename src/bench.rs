@@ -377,5 +377,55 @@ pub fn run(
         geometry.vertex_count(),
         median(times),
     )?;
+    bench_export(&scene, iterations, out)?;
+    Ok(())
+}
+
+/// glTF export of the demo scene (CPU, f64 tessellation) at a tolerance of 1e-3 and 1e-4 of the
+/// scene's size, with and without the curvature attributes: median time, triangles, file size.
+fn bench_export(
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::io::gltf::{self, CurvatureColors, ExportOptions};
+    use crate::io::project::Project;
+    use crate::kernel::tess::Tessellation;
+    let project = Project {
+        scene: scene.clone(),
+        view: None,
+    };
+    let size = gltf::default_tolerance(scene) / 1e-3;
+    for (fraction, curvature) in [(1e-3, false), (1e-3, true), (1e-4, false)] {
+        let options = ExportOptions {
+            tessellation: Tessellation::Tolerance(fraction * size),
+            curvature,
+            colors: curvature.then(|| {
+                CurvatureColors::automatic(scene, 1, crate::gpu::records::curvature_ramp_rgb())
+            }),
+        };
+        let mut times = Vec::new();
+        let mut result = None;
+        for _ in 0..iterations.clamp(1, 5) {
+            let started = std::time::Instant::now();
+            let export = gltf::export(&project, &options)?;
+            let glb = gltf::to_glb(&export);
+            times.push(started.elapsed().as_secs_f64() * 1e3);
+            result = Some((export.triangles, glb.len()));
+        }
+        let (triangles, bytes) = result.unwrap_or_default();
+        let ms = median(times);
+        writeln!(
+            out,
+            "export demo .glb, tol {fraction:.0e} × size{} | {triangles:>9} triangles {:>8.2} MB | {ms:8.1} ms, {:.2} M triangles/s",
+            if curvature {
+                " + curvature"
+            } else {
+                "             "
+            },
+            bytes as f64 / 1e6,
+            triangles as f64 / ms / 1e3,
+        )?;
+    }
     Ok(())
 }

@@ -182,3 +182,63 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
     harness.run_steps(2);
     assert_eq!(status::current().objects, 6);
 }
+
+#[test]
+fn obj_and_gltf_files_open_in_the_editor_and_the_export_window_counts_triangles() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let original = harness.state().document().scene.clone();
+
+    // The Export window shows the triangle count of the open scene before writing anything.
+    harness.get_by_label("Export glTF…").click_accesskit();
+    harness.run_steps(3);
+    let estimate = status::current().export_estimate.unwrap_or_default();
+    assert!(estimate.ends_with("vertices"), "{estimate}");
+    let triangles: usize = estimate.split(' ').next().unwrap().parse().unwrap();
+    assert!(triangles > 1000, "{estimate}");
+
+    // A knotwork export opens as its editable model, drawn by the compute shaders.
+    let project = knotwork::io::project::Project {
+        scene: original.clone(),
+        view: None,
+    };
+    let options = knotwork::io::gltf::ExportOptions {
+        tessellation: knotwork::kernel::tess::Tessellation::Segments(2),
+        curvature: false,
+        colors: None,
+    };
+    let glb = knotwork::io::gltf::to_glb(&knotwork::io::gltf::export(&project, &options).unwrap());
+    harness.state_mut().open_file("scene.glb", &glb);
+    harness.run_steps(3);
+    assert_eq!(harness.state().document().scene, original);
+    assert_eq!(status::current().error, None);
+
+    // An OBJ opens as a polygon mesh: each quad one bilinear patch on the GPU.
+    let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.objects, s.patches),
+        (None, 1, 6),
+        "{s:?}"
+    );
+    assert!(matches!(
+        harness.state().document().scene.objects[0].geometry,
+        ObjectGeometry::Mesh(_)
+    ));
+    // A broken file is refused and the cube stays.
+    harness
+        .state_mut()
+        .open_file("broken.obj", b"v 0 0 0\nf 1 2 3\n");
+    harness.run_steps(2);
+    let s = status::current();
+    assert!(
+        s.error.as_deref().is_some_and(|e| e.contains("line 2")),
+        "{s:?}"
+    );
+    assert_eq!(s.objects, 1);
+}

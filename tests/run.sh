@@ -2,8 +2,9 @@
 # Runs every test of knotwork:
 #   1. cargo fmt --check, and clippy -D warnings for the desktop and for wasm32;
 #   2. cargo test: kernel, GPU evaluation vs the f64 reference (a real wgpu adapter: lavapipe
-#      where there is no GPU), shader validation and layouts, offscreen image tests, and the
-#      desktop app itself in a window (under Xvfb where there is no display);
+#      where there is no GPU), shader validation and layouts, offscreen image tests, glTF export
+#      checked by the Khronos glTF-Validator (npm), and the desktop app itself in a window
+#      (under Xvfb where there is no display);
 #   3. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
 #
 #   tests/run.sh
@@ -73,6 +74,9 @@ step "cargo clippy (wasm32)"
 cargo clippy --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
 
 # --- Rust tests --------------------------------------------------------------------------------
+# The npm packages first: the glTF tests run the Khronos validator from web/node_modules.
+step "npm packages (glTF validator, browser driver)"
+(cd web && npm ci --no-audit --no-fund --loglevel=error)
 step "cargo test"
 log=$(mktemp)
 browser_log=$(mktemp)
@@ -84,7 +88,6 @@ rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^
 step "web bundle"
 web/build.sh
 step "browser test (headless Chromium, WebGPU)"
-(cd web && npm ci --no-audit --no-fund --loglevel=error)
 set +e
 CHROMIUM="$chromium" node web/browser-test.mjs 2>&1 | tee "$browser_log"
 browser_status=${PIPESTATUS[0]}

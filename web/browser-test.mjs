@@ -10,6 +10,7 @@ import { mkdir, writeFile } from 'node:fs/promises';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { startServer } from './server.mjs';
+import { summary, validate } from './validate-gltf.mjs';
 
 const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const resultsDir = fileURLToPath(new URL('./test-results/', import.meta.url));
@@ -377,6 +378,41 @@ async function main() {
       assert(JSON.stringify(await page.evaluate(() => window.knotwork.project())) === JSON.stringify(before), 'the document is unchanged');
       assert(s.objects === 6, `objects ${s.objects}`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('glTF export from the page passes the Khronos validator and reopens; an OBJ opens as a mesh', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const before = await page.evaluate(() => window.knotwork.project());
+      // Timed in the page; the bytes travel to node as base64.
+      const exported = await page.evaluate(() => {
+        const started = performance.now();
+        const glb = window.knotwork.exportGlb({ curvature: true, colors: 'mean' });
+        const ms = performance.now() - started;
+        let text = '';
+        for (let k = 0; k < glb.length; k += 0x8000) {
+          text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
+        }
+        return { ms, base64: btoa(text) };
+      });
+      const bytes = new Uint8Array(Buffer.from(exported.base64, 'base64'));
+      const exportMs = exported.ms.toFixed(0);
+      const report = summary('page.glb', await validate(bytes, 'page.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      await page.evaluate(() => window.knotwork.openFile('cube.obj', new TextEncoder().encode(
+        'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n' +
+        'f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n')));
+      await page.waitForFunction(() => window.knotwork.status().objects === 1, null, { timeout: 30_000 });
+      const cube = await status(page);
+      assert(cube.patches === 6 && cube.error === null, `cube: ${JSON.stringify(cube)}`);
+      await page.evaluate((b) => window.knotwork.openFile('page.glb',
+        Uint8Array.from(atob(b), (c) => c.charCodeAt(0))), exported.base64);
+      await page.waitForFunction(() => window.knotwork.status().objects === 6, null, { timeout: 30_000 });
+      const reopened = await page.evaluate(() => window.knotwork.project());
+      assert(JSON.stringify(reopened.objects) === JSON.stringify(before.objects), 'the glb reopens as the same model');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      console.log(`  export in the page: ${bytes.length} bytes in ${exportMs} ms (with curvature and colours), ${report.infos} validator infos`);
       await page.close();
     });
 
