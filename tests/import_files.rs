@@ -133,7 +133,8 @@ fn truncated_and_corrupted_glb_files_are_refused_without_panicking() {
 #[test]
 fn hostile_json_is_refused_with_its_path() {
     let (json, bin) = foreign();
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str)> = vec![
+    type Mutation = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(&str, Mutation, &str)> = vec![
         (
             "glTF 1",
             Box::new(|j| j["asset"]["version"] = json!("1.0")),
