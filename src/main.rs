@@ -271,8 +271,10 @@ fn main() -> std::process::ExitCode {
     let exit_after_frames = cli.exit_after_frames;
     let restore = !cli.fresh;
     let open = match &cli.open {
-        Some(path) => match knotwork::app::open_path(path) {
-            Ok(project) => Some((path.display().to_string(), project)),
+        // A file that cannot be read stops here; one that cannot be parsed opens the editor
+        // with the sample scene and the error shown, as opening it from the editor would.
+        Some(path) => match std::fs::metadata(path) {
+            Ok(_) => Some((path.display().to_string(), knotwork::app::open_path(path))),
             Err(e) => {
                 eprintln!("knotwork: could not open {}: {e}", path.display());
                 return ExitCode::FAILURE;
@@ -294,7 +296,7 @@ fn main() -> std::process::ExitCode {
         Box::new(move |cc| {
             let mut app = knotwork::app::KnotworkApp::new(cc, None, restore);
             if let Some((name, project)) = open {
-                app.open_project(&name, project);
+                app.open_result(&name, project);
             }
             Ok(Box::new(match exit_after_frames {
                 Some(frames) => app.exit_after_frames(frames),

@@ -187,7 +187,8 @@ impl KnotworkApp {
         }
     }
 
-    fn open_result(&mut self, name: &str, project: Result<Project, String>) {
+    /// Opens `project`, or shows why the file `name` could not be read.
+    pub fn open_result(&mut self, name: &str, project: Result<Project, String>) {
         match project {
             Ok(project) => self.open_project(name, project),
             Err(e) => self.open_failed(name, &e),

@@ -157,16 +157,7 @@ impl BezierPatchSet {
     /// Moves control point `index` to `position`. Rejects a non-finite position or an index out
     /// of range and leaves the set unchanged.
     pub fn set_point(&mut self, index: usize, position: DVec3) -> Result<(), GeometryError> {
-        if let Some(coordinate) = position.to_array().iter().position(|c| !c.is_finite()) {
-            return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
-        }
-        let count = self.points.len();
-        let slot = self
-            .points
-            .get_mut(index)
-            .ok_or(GeometryError::NoSuchPoint { index, count })?;
-        *slot = position;
-        Ok(())
+        set_point_checked(&mut self.points, index, position)
     }
 
     /// Sets the weight of control point `index`, keeping its Cartesian position. Rejects a
@@ -275,6 +266,24 @@ impl BezierPatchSet {
             .or_else(|| nudged.collapsed_edge_normal(un, vn))
             .unwrap_or(DVec3::Z)
     }
+}
+
+/// `points[index] = position`, refusing a non-finite position or an index out of range (and
+/// leaving `points` unchanged then).
+pub(crate) fn set_point_checked(
+    points: &mut [DVec3],
+    index: usize,
+    position: DVec3,
+) -> Result<(), GeometryError> {
+    if let Some(coordinate) = position.to_array().iter().position(|c| !c.is_finite()) {
+        return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
+    }
+    let count = points.len();
+    let slot = points
+        .get_mut(index)
+        .ok_or(GeometryError::NoSuchPoint { index, count })?;
+    *slot = position;
+    Ok(())
 }
 
 /// Index pairs of the control net's lines: each patch's rows and columns, shared edges once.

@@ -109,20 +109,7 @@ impl PolygonMesh {
 
     /// Moves point `index`. A bad index or a non-finite position is refused.
     pub fn set_point(&mut self, index: usize, position: DVec3) -> Result<(), GeometryError> {
-        if !position.is_finite() {
-            let coordinate = position.to_array().iter().position(|c| !c.is_finite());
-            return Err(GeometryError::NonFiniteCoordinate {
-                index,
-                coordinate: coordinate.unwrap_or(0),
-            });
-        }
-        let count = self.points.len();
-        let slot = self
-            .points
-            .get_mut(index)
-            .ok_or(GeometryError::NoSuchPoint { index, count })?;
-        *slot = position;
-        Ok(())
+        super::bezier::set_point_checked(&mut self.points, index, position)
     }
 
     /// The mesh with `transform` applied to every point. A transform that sends a point to a

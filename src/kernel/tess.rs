@@ -300,16 +300,10 @@ pub fn cell_deviations(
     let centres = points(&mid_u, &mid_v)?; // the diagonals' midpoints
     let centroid_a = points(&between(us, 2.0 / 3.0), &between(vs, 1.0 / 3.0))?;
     let centroid_b = points(&between(us, 1.0 / 3.0), &between(vs, 2.0 / 3.0))?;
-    let corner = |i: usize, j: usize| corners[i * nv + j];
     let mut out = Vec::with_capacity((nu - 1) * (nv - 1));
     for i in 0..nu - 1 {
         for j in 0..nv - 1 {
-            let (p00, p10, p11, p01) = (
-                corner(i, j),
-                corner(i + 1, j),
-                corner(i + 1, j + 1),
-                corner(i, j + 1),
-            );
+            let [p00, p10, p11, p01] = cell_corners(nv, i, j).map(|k| corners[k]);
             let c = i * (nv - 1) + j;
             let checks = [
                 (u_edges[i * nv + j], 0.5 * (p00 + p10)),
@@ -371,15 +365,9 @@ pub fn triangulate(
         })
         .collect();
     let nv = vs.len();
-    let index = |i: usize, j: usize| (i * nv + j) as u32;
     for i in 0..us.len() - 1 {
         for j in 0..nv - 1 {
-            let (a, b, c, d) = (
-                index(i, j),
-                index(i + 1, j),
-                index(i + 1, j + 1),
-                index(i, j + 1),
-            );
+            let [a, b, c, d] = cell_corners(nv, i, j).map(|k| k as u32);
             for t in [[a, b, c], [a, c, d]] {
                 if !is_degenerate(&mesh.positions, t) {
                     mesh.triangles.push(t);
@@ -388,6 +376,17 @@ pub fn triangulate(
         }
     }
     Ok(mesh)
+}
+
+/// The vertex indices (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1) of grid cell (i, j) in a
+/// row-major grid with `nv` vertices per row; its triangles are (0, 1, 2) and (0, 2, 3).
+fn cell_corners(nv: usize, i: usize, j: usize) -> [usize; 4] {
+    [
+        i * nv + j,
+        (i + 1) * nv + j,
+        (i + 1) * nv + j + 1,
+        i * nv + j + 1,
+    ]
 }
 
 /// Whether triangle `t` has (numerically) no area.
