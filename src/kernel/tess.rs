@@ -420,8 +420,10 @@ pub fn patch_surface(set: &BezierPatchSet, patch: usize) -> Result<NurbsSurface,
 }
 
 /// Every patch of `set`, each on its own grid (one piece per patch, (u, v) the patch's own).
-/// All patches take the same segment count, the largest any of them needs, so that patches
-/// sharing an edge place the same vertices along it (no cracks).
+/// Patches that share an edge (the same control point indices along it, in either order) take
+/// the same segment count along it, so they place the same vertices there (no cracks): the
+/// counts live in classes of joined edge directions ([`edge_count_classes`]), each the largest
+/// any of its patches needs.
 pub fn tessellate_patches(
     set: &BezierPatchSet,
     tessellation: Tessellation,
@@ -430,39 +432,111 @@ pub fn tessellate_patches(
     let surfaces = (0..set.patches().len())
         .map(|k| patch_surface(set, k))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut n = match tessellation {
-        Tessellation::Segments(n) => n as usize,
-        Tessellation::Tolerance(t) => surfaces.iter().try_fold(1, |n, s| {
-            let g = tolerance_grid(s, t)?;
-            Ok::<_, GeometryError>(n.max(g.us.len() - 1).max(g.vs.len() - 1))
-        })?,
-    };
-    // A common count can be coarser in one direction than a patch's own check wanted only where
-    // it was not the largest; check again and refine until every patch passes.
-    let grid = loop {
-        if n > MAX_SPAN_SEGMENTS || 2 * n * n * surfaces.len() > MAX_TRIANGLES {
-            return Err(too_fine(&format!("{n} segments per patch")));
+    let classes = edge_count_classes(set);
+    let mut counts = vec![1usize; classes.len()];
+    match tessellation {
+        Tessellation::Segments(n) => counts.fill(n as usize),
+        Tessellation::Tolerance(t) => {
+            for (k, s) in surfaces.iter().enumerate() {
+                let g = tolerance_grid(s, t)?;
+                let (cu, cv) = (classes[2 * k], classes[2 * k + 1]);
+                counts[cu] = counts[cu].max(g.us.len() - 1);
+                counts[cv] = counts[cv].max(g.vs.len() - 1);
+            }
         }
-        let grids: Vec<ParameterGrid> = surfaces
+    }
+    // A class's count can be coarser in one direction than a patch's own grid had; check again
+    // and refine the classes of the patches that fail until every patch passes.
+    let grids = loop {
+        let grids: Vec<ParameterGrid> = (0..surfaces.len())
+            .map(|k| ParameterGrid {
+                us: subdivide(&[0.0, 1.0], &[counts[classes[2 * k]]]),
+                vs: subdivide(&[0.0, 1.0], &[counts[classes[2 * k + 1]]]),
+            })
+            .collect();
+        let triangles: usize = grids.iter().map(ParameterGrid::triangle_count).sum();
+        if counts
             .iter()
-            .map(|s| uniform_grid(s, n as u32))
-            .collect::<Result<_, _>>()?;
+            .any(|&n| !(1..=MAX_SPAN_SEGMENTS).contains(&n))
+            || triangles > MAX_TRIANGLES
+        {
+            return Err(too_fine("this patch set"));
+        }
         let Tessellation::Tolerance(t) = tessellation else {
             break grids;
         };
-        let mut worst = 0.0f64;
-        for (s, g) in surfaces.iter().zip(&grids) {
-            worst = cell_deviations(s, g)?.into_iter().fold(worst, f64::max);
+        let mut factors = vec![1.0f64; counts.len()];
+        for (k, (s, g)) in surfaces.iter().zip(&grids).enumerate() {
+            let worst = cell_deviations(s, g)?.into_iter().fold(0.0, f64::max);
+            if !(worst <= t) {
+                let f = (1.2 * (worst / t).sqrt()).clamp(1.25, 4.0);
+                for class in [classes[2 * k], classes[2 * k + 1]] {
+                    factors[class] = factors[class].max(f);
+                }
+            }
         }
-        if worst <= t {
+        if factors.iter().all(|&f| f == 1.0) {
             break grids;
         }
-        n = ((n as f64 * (1.2 * (worst / t).sqrt()).clamp(1.25, 4.0)).ceil() as usize).max(n + 1);
+        for (n, f) in counts.iter_mut().zip(factors) {
+            if f > 1.0 {
+                *n = ((*n as f64 * f).ceil() as usize).max(*n + 1);
+            }
+        }
     };
     surfaces
         .iter()
-        .zip(&grid)
+        .zip(&grids)
         .map(|(s, g)| triangulate(s, g, curvature))
+        .collect()
+}
+
+/// For each patch k of `set`, the class of its u-direction count (entry 2k: the segments along
+/// its v = 0 and v = 1 edges) and of its v-direction count (entry 2k + 1), numbered from 0.
+/// Two directions are in one class when an edge of one is an edge of the other: the same
+/// control point indices along it, in either order (union–find). Edges collapsed to one point
+/// join nothing.
+pub fn edge_count_classes(set: &BezierPatchSet) -> Vec<usize> {
+    let slots = 2 * set.patches().len();
+    let mut parent: Vec<usize> = (0..slots).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut seen: std::collections::HashMap<Vec<u32>, usize> = std::collections::HashMap::new();
+    for (k, patch) in set.patches().iter().enumerate() {
+        let (p, q) = (patch.degree_u(), patch.degree_v());
+        let edges = [
+            (
+                2 * k,
+                (0..=p).map(|i| patch.index(i, 0)).collect::<Vec<_>>(),
+            ),
+            (2 * k, (0..=p).map(|i| patch.index(i, q)).collect()),
+            (2 * k + 1, (0..=q).map(|j| patch.index(0, j)).collect()),
+            (2 * k + 1, (0..=q).map(|j| patch.index(p, j)).collect()),
+        ];
+        for (slot, mut key) in edges {
+            if key.iter().all(|&i| i == key[0]) {
+                continue;
+            }
+            if key.first() > key.last() {
+                key.reverse();
+            }
+            let other = *seen.entry(key).or_insert(slot);
+            let (a, b) = (root(&mut parent, slot), root(&mut parent, other));
+            parent[a] = b;
+        }
+    }
+    let mut numbers = std::collections::HashMap::new();
+    (0..slots)
+        .map(|slot| {
+            let r = root(&mut parent, slot);
+            let next = numbers.len();
+            *numbers.entry(r).or_insert(next)
+        })
         .collect()
 }
 
@@ -553,6 +627,84 @@ mod tests {
         assert!(tolerance_grid(&sphere, 1e-300).is_err());
         assert!(uniform_grid(&sphere, 0).is_err());
         assert!(uniform_grid(&sphere, 100_000).is_err());
+    }
+
+    #[test]
+    fn teapot_patches_sharing_an_edge_share_its_count_and_the_count_follows_the_tolerance() {
+        let teapot = crate::kernel::samples::utah_teapot().unwrap();
+        let classes = edge_count_classes(&teapot);
+        assert_eq!(classes.len(), 2 * teapot.patches().len());
+        // Fewer classes than directions (edges are shared), more than one (not one global count).
+        let distinct: std::collections::BTreeSet<_> = classes.iter().collect();
+        assert!(
+            distinct.len() > 1 && distinct.len() < classes.len(),
+            "{distinct:?}"
+        );
+        let coarse = tessellate_patches(&teapot, Tessellation::Tolerance(1e-2), false).unwrap();
+        let fine = tessellate_patches(&teapot, Tessellation::Tolerance(1e-3), false).unwrap();
+        let count = |m: &[TriangleMesh]| m.iter().map(|p| p.triangles.len()).sum::<usize>();
+        assert!(count(&fine) > 2 * count(&coarse));
+        // Every patch's worst deviation is within the tolerance.
+        for (k, piece) in fine.iter().enumerate() {
+            let s = patch_surface(&teapot, k).unwrap();
+            let axis = |c: usize| {
+                let mut t: Vec<f64> = piece.uvs.iter().map(|uv| uv[c]).collect();
+                t.sort_by(f64::total_cmp);
+                t.dedup();
+                t
+            };
+            let grid = ParameterGrid {
+                us: axis(0),
+                vs: axis(1),
+            };
+            let worst = cell_deviations(&s, &grid)
+                .unwrap()
+                .into_iter()
+                .fold(0.0, f64::max);
+            assert!(worst <= 1e-3, "patch {k}: {worst}");
+        }
+        // Patches that share an edge place the same vertices along it: no cracks.
+        let mut edges: std::collections::HashMap<Vec<u32>, Vec<DVec3>> = Default::default();
+        let mut shared = 0;
+        for (k, piece) in fine.iter().enumerate() {
+            let patch = &teapot.patches()[k];
+            let (p, q) = (patch.degree_u(), patch.degree_v());
+            let sides: [(Vec<u32>, usize, f64); 4] = [
+                ((0..=p).map(|i| patch.index(i, 0)).collect(), 1, 0.0),
+                ((0..=p).map(|i| patch.index(i, q)).collect(), 1, 1.0),
+                ((0..=q).map(|j| patch.index(0, j)).collect(), 0, 0.0),
+                ((0..=q).map(|j| patch.index(p, j)).collect(), 0, 1.0),
+            ];
+            for (mut key, fixed, at) in sides {
+                if key.iter().all(|&i| i == key[0]) {
+                    continue;
+                }
+                // The vertices on this edge, in order along it.
+                let mut on_edge: Vec<(f64, DVec3)> = piece
+                    .uvs
+                    .iter()
+                    .zip(&piece.positions)
+                    .filter(|(uv, _)| uv[fixed] == at)
+                    .map(|(uv, &x)| (uv[1 - fixed], x))
+                    .collect();
+                on_edge.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let mut points: Vec<DVec3> = on_edge.into_iter().map(|(_, x)| x).collect();
+                if key.first() > key.last() {
+                    key.reverse();
+                    points.reverse();
+                }
+                if let Some(other) = edges.get(&key) {
+                    assert_eq!(other.len(), points.len(), "patch {k}: {key:?}");
+                    for (a, b) in other.iter().zip(&points) {
+                        assert!(a.distance(*b) < 1e-9, "patch {k}: {a} vs {b}");
+                    }
+                    shared += 1;
+                } else {
+                    edges.insert(key, points);
+                }
+            }
+        }
+        assert!(shared > 20, "{shared} shared edges");
     }
 
     #[test]
