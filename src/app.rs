@@ -9,7 +9,6 @@ mod panels;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
-#[cfg(not(target_arch = "wasm32"))]
 pub use files::open_path;
 pub use panels::{CONTROLS, parse_knots};
 

@@ -152,11 +152,14 @@ impl KnotworkApp {
             let name = file.path().display().to_string();
             #[cfg(not(target_arch = "wasm32"))]
             {
-                let project = match file.bytes() {
-                    Ok(bytes) => {
+                // From its path where it has one: the size is checked before reading, and a
+                // .gltf's .bin is read from beside it.
+                let project = if file.path().is_file() {
+                    open_path(file.path())
+                } else {
+                    file.bytes().and_then(|bytes| {
                         crate::io::open(&name, &bytes, &no_companions).map_err(|e| e.to_string())
-                    }
-                    Err(_) => open_path(file.path()),
+                    })
                 };
                 self.open_result(&name, project);
             }

@@ -56,19 +56,6 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-impl TriangleMesh {
-    /// Appends `other`, offsetting its indices.
-    fn append(&mut self, other: TriangleMesh) {
-        let base = self.positions.len() as u32;
-        self.positions.extend(other.positions);
-        self.normals.extend(other.normals);
-        self.uvs.extend(other.uvs);
-        self.curvatures.extend(other.curvatures);
-        self.triangles
-            .extend(other.triangles.into_iter().map(|t| t.map(|i| i + base)));
-    }
-}
-
 /// A tensor grid of parameters over a surface's domain.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParameterGrid {
@@ -77,8 +64,8 @@ pub struct ParameterGrid {
 }
 
 impl ParameterGrid {
-    /// Triangles of the grid (vertex (i, j) at index i · |vs| + j), two per cell, wound so that
-    /// (S_u × S_v) is their front: (00, 10, 11) and (00, 11, 01).
+    /// How many triangles the grid makes before zero-area ones are left out: two per cell
+    /// ([`triangulate`]).
     pub fn triangle_count(&self) -> usize {
         2 * (self.us.len() - 1) * (self.vs.len() - 1)
     }
@@ -577,15 +564,6 @@ pub fn tessellate_mesh(
         }
     }
     Ok(out)
-}
-
-/// Pieces of several meshes appended into one (indices offset).
-pub fn merge(pieces: Vec<TriangleMesh>) -> TriangleMesh {
-    let mut out = TriangleMesh::default();
-    for piece in pieces {
-        out.append(piece);
-    }
-    out
 }
 
 #[cfg(test)]
