@@ -20,17 +20,14 @@ use eframe::egui_wgpu;
 
 use glam::DVec3;
 
-use crate::doc::{Change, Command, Document, Edit, EditError, Touched};
+use crate::doc::{Command, Document, Edit, EditError, PointsMoved, Touched};
 
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{
-    self, GpuError, MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, ShadingMode,
-};
-use crate::kernel::BezierPatchSet;
+use crate::gpu::{self, GpuError, SceneSync, ShadingMode, effective_segments};
 use crate::render::{
     ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
-use crate::scene::{Decomposition, Scene, SceneObject};
+use crate::scene::Scene;
 use crate::status::{self, AppStatus, ExternalCommand};
 use crate::view::{Constraint, OrbitCamera, PickView, SurfaceHit};
 
@@ -51,6 +48,21 @@ pub fn wgpu_configuration(web: bool) -> egui_wgpu::WgpuConfiguration {
         setup.instance_descriptor.backends = wgpu::Backends::BROWSER_WEBGPU;
     }
     setup.device_descriptor = Arc::new(gpu::device_descriptor);
+    // Natively, the best adapter that has compute shaders; when none has, the first one, so
+    // that the window opens and says what is missing instead of failing inside wgpu.
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        setup.native_adapter_selector = Some(Arc::new(|adapters, surface| {
+            let usable: Vec<wgpu::Adapter> = adapters
+                .iter()
+                .filter(|a| surface.is_none_or(|s| a.is_surface_supported(s)))
+                .cloned()
+                .collect();
+            gpu::choose_adapter(&usable)
+                .cloned()
+                .or_else(|e| usable.first().cloned().ok_or_else(|| e.to_string()))
+        }));
+    }
     egui_wgpu::WgpuConfiguration {
         wgpu_setup: egui_wgpu::WgpuSetup::CreateNew(setup),
         ..Default::default()
@@ -62,8 +74,8 @@ struct ViewportGpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
     egui_renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
-    evaluator: PatchEvaluator,
-    geometry: Option<PatchGeometry>,
+    /// The GPU copy of the document: feeds, buffers, evaluator.
+    sync: SceneSync,
     net: Option<ControlNet>,
     renderer: ViewportRenderer,
     target: Option<ViewTarget>,
@@ -75,13 +87,12 @@ impl ViewportGpu {
     fn new(state: &egui_wgpu::RenderState) -> Self {
         let device = state.device.clone();
         Self {
-            evaluator: PatchEvaluator::new(&device),
+            sync: SceneSync::new(&device, &state.queue),
             renderer: ViewportRenderer::new(&device),
             timer: GpuTimer::new(&device, &state.queue),
             queue: state.queue.clone(),
             egui_renderer: Arc::clone(&state.renderer),
             device,
-            geometry: None,
             net: None,
             target: None,
             texture: None,
@@ -124,17 +135,18 @@ impl ViewportGpu {
         point_radius_px: f32,
     ) -> Option<u32> {
         let target = self.target.as_ref()?;
-        let geometry = self.geometry.as_mut()?;
+        self.sync.geometry()?;
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("knotwork frame"),
             });
         let mut evaluated = None;
-        if geometry.needs_evaluation() {
+        if self.sync.needs_evaluation() {
             let writes = self.timer.as_mut().and_then(GpuTimer::compute_pass_writes);
-            evaluated = Some(geometry.encode(&self.queue, &mut encoder, &self.evaluator, writes));
+            evaluated = Some(self.sync.encode(&mut encoder, writes));
         }
+        let geometry = self.sync.geometry()?;
         let (w, h) = target.size();
         let aspect = w as f32 / h.max(1) as f32;
         let scene = scene_uniform(
@@ -165,32 +177,6 @@ impl ViewportGpu {
     }
 }
 
-/// Builds with `build(quality)`; while the device's limits refuse that (a buffer too large, a
-/// level beyond the dispatch limits) halves the quality and tries again, at most 16 times.
-/// Returns what was built, the quality used, and the first refusal (`None` when `quality`
-/// fitted). Any other error is returned at once.
-pub fn fit_to_device<T>(
-    quality: f32,
-    mut build: impl FnMut(f32) -> Result<T, GpuError>,
-) -> Result<(T, f32, Option<GpuError>), GpuError> {
-    let mut q = quality;
-    let mut refusal = None;
-    for _ in 0..16 {
-        match build(q) {
-            Ok(built) => return Ok((built, q, refusal)),
-            Err(e @ (GpuError::BufferTooLarge { .. } | GpuError::SegmentsOutOfRange { .. })) => {
-                refusal.get_or_insert(e);
-                q *= 0.5;
-            }
-            Err(e) => return Err(e),
-        }
-    }
-    Err(refusal.unwrap_or(GpuError::SegmentsOutOfRange {
-        segments: 0,
-        max: MAX_SEGMENTS,
-    }))
-}
-
 /// The sample scene, or an empty one (with the reason in the status) if it cannot be built.
 fn default_scene(status: &mut AppStatus) -> Scene {
     Scene::demo().unwrap_or_else(|e| {
@@ -199,33 +185,21 @@ fn default_scene(status: &mut AppStatus) -> Scene {
     })
 }
 
-/// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].
-fn effective_segments(segments: u32, quality: f32) -> u32 {
-    ((segments as f32 * quality).round() as u32).clamp(1, MAX_SEGMENTS)
-}
-
-/// A drag of control points in progress: one undo step when it ends.
-struct Drag {
-    object: usize,
-    /// The object as it was when the drag began.
-    before: SceneObject,
-    /// The dragged points and where they started.
-    starts: Vec<(usize, DVec3)>,
+/// The viewport's side of a drag of control points (the document holds the transient edit
+/// itself, [`crate::doc::PointDrag`]).
+struct DragHandle {
     /// The grabbed point's start; the cursor's ray moves it under the constraint.
     anchor: DVec3,
-    moved: bool,
 }
 
 pub struct KnotworkApp {
     doc: Document,
-    /// Each object's Bézier patches, as uploaded (empty for hidden objects).
-    decompositions: Vec<Decomposition>,
     selected: Option<usize>,
     /// Selected control points of the selected object.
     points: BTreeSet<usize>,
     /// The control point the panel edits, in the selected object.
     edit_point: usize,
-    drag: Option<Drag>,
+    drag: Option<DragHandle>,
     /// Patch records (global indices) the drag has changed, drawn tinted.
     highlight_patches: Vec<usize>,
     /// Where a box selection started (logical pixels).
@@ -254,8 +228,6 @@ pub struct KnotworkApp {
     /// Files picked or dropped, waiting to be opened (name, text).
     incoming: files::Incoming,
     quality: f32,
-    /// The largest quality the device's limits allowed at the last tessellation change.
-    quality_used: f32,
     shading: ShadingMode,
     manual_range: Option<(f64, f64)>,
     /// The automatic range of the current curvature mode (`None`: to be computed).
@@ -264,6 +236,8 @@ pub struct KnotworkApp {
     options: DrawOptions,
     continuous: bool,
     gpu: Option<ViewportGpu>,
+    /// Why there is no GPU viewport (an adapter without compute shaders, say), shown in it.
+    gpu_refusal: Option<String>,
     status: AppStatus,
     /// The viewport must be rendered this frame.
     redraw: bool,
@@ -302,7 +276,14 @@ impl KnotworkApp {
                 } else {
                     info.name.clone()
                 };
-                Some(ViewportGpu::new(state))
+                // An adapter without compute shaders gets no evaluator: the window says why.
+                match gpu::context::check(&state.adapter) {
+                    Ok(()) => Some(ViewportGpu::new(state)),
+                    Err(e) => {
+                        status.error = Some(e.to_string());
+                        None
+                    }
+                }
             }
             None => {
                 status.error = Some("eframe started without a wgpu device".to_owned());
@@ -311,7 +292,6 @@ impl KnotworkApp {
         };
         let mut app = Self {
             doc: Document::new(scene),
-            decompositions: Vec::new(),
             selected: None,
             points: BTreeSet::new(),
             edit_point: 0,
@@ -336,7 +316,6 @@ impl KnotworkApp {
             dialog: None,
             incoming: files::Incoming::default(),
             quality: 1.0,
-            quality_used: 1.0,
             shading: ShadingMode::Plain,
             manual_range: None,
             auto_range: None,
@@ -344,6 +323,7 @@ impl KnotworkApp {
             options: DrawOptions::default(),
             continuous: false,
             gpu,
+            gpu_refusal: status.error.clone(),
             status,
             redraw: true,
             frame_pending: true,
@@ -356,13 +336,8 @@ impl KnotworkApp {
         } else {
             None
         };
-        match app.decompose_all() {
-            Ok(()) => {
-                if let Err(e) = app.rebuild_geometry(app.quality) {
-                    app.status.error = Some(e.to_string());
-                }
-            }
-            Err(e) => app.status.error = Some(e),
+        if let Err(e) = app.rebuild_geometry(app.quality) {
+            app.status.error = Some(e.to_string());
         }
         if let Some(notice) = restored {
             app.status.notice = Some(notice);
@@ -391,27 +366,6 @@ impl KnotworkApp {
         &self.doc.scene
     }
 
-    /// Every visible object's Bézier decomposition (hidden ones get none).
-    fn decompose_all(&mut self) -> Result<(), String> {
-        self.decompositions = self
-            .doc
-            .scene
-            .objects
-            .iter()
-            .map(|o| {
-                if o.visible {
-                    o.decompose().map_err(|e| format!("{}: {e}", o.name))
-                } else {
-                    Ok(Decomposition {
-                        set: BezierPatchSet::default(),
-                        domains: Vec::new(),
-                    })
-                }
-            })
-            .collect::<Result<_, _>>()?;
-        Ok(())
-    }
-
     /// Applies a command as one undo step and updates the GPU; a refused command (or one the
     /// GPU cannot show) leaves the document and its history as they were and shows why.
     fn execute(&mut self, command: Command) {
@@ -427,15 +381,19 @@ impl KnotworkApp {
     /// Shows an edit that is applied and recorded; if the GPU cannot show it, the edit is
     /// undone and taken out of the history, and the error says so.
     fn finish_edit(&mut self, touched: Touched, label: &str) {
-        if let Err(e) = self.after_edit(touched) {
-            if self.doc.undo().is_ok() {
-                self.doc.history.drop_redo();
-            }
-            let _ = self.after_edit(touched);
-            self.status.error = Some(format!("{label}: {e} (the edit was undone)"));
-        } else {
-            self.status.error = None;
+        match self.after_edit(touched) {
+            Err(e) => self.take_back(touched, label, &e),
+            Ok(()) => self.status.error = None,
         }
+    }
+
+    /// Undoes the newest step, which the GPU could not show, and forgets it.
+    fn take_back(&mut self, touched: Touched, label: &str, error: &str) {
+        if self.doc.undo().is_ok() {
+            self.doc.history.drop_redo();
+        }
+        let _ = self.after_edit(touched);
+        self.status.error = Some(format!("{label}: {error} (the edit was undone)"));
     }
 
     /// Undo (`redo` false) or redo one step.
@@ -464,65 +422,54 @@ impl KnotworkApp {
         self.revision += 1;
         self.auto_range = None;
         self.redraw = true;
-        match touched {
-            Touched::Nothing => Ok(()),
-            Touched::Points(object) => self.refresh_object(object, None),
-            Touched::Structure => {
-                let count = self.doc.scene.objects.len();
-                if self.selected.is_some_and(|s| s >= count) {
-                    self.selected = None;
-                }
-                self.decompose_all()?;
-                self.rebuild_geometry(self.quality)
-                    .map_err(|e| e.to_string())?;
-                self.select_keep_points(self.selected);
-                Ok(())
+        if touched == Touched::Structure
+            && self
+                .selected
+                .is_some_and(|s| s >= self.doc.scene.objects.len())
+        {
+            self.selected = None;
+        }
+        if let Some(gpu) = &mut self.gpu {
+            let notice = gpu
+                .sync
+                .apply(&self.doc.scene, touched, self.quality)
+                .map_err(|e| e.to_string())?;
+            self.status.points_uploaded = gpu.sync.points_uploaded() as u32;
+            if touched == Touched::Structure {
+                self.status.notice = notice;
             }
         }
+        match touched {
+            Touched::Structure => self.select_keep_points(self.selected),
+            Touched::Points(_) => self.update_net(),
+            Touched::Nothing => {}
+        }
+        Ok(())
     }
 
-    /// Re-decomposes object `object` after its points or weights changed and uploads what
-    /// changed; `patches` are the Bézier patches to re-derive and re-evaluate (`None`: the whole
-    /// object is decomposed again and the patches whose points changed are re-evaluated).
-    fn refresh_object(&mut self, object: usize, patches: Option<&[usize]>) -> Result<(), String> {
-        let Some(target) = self.doc.scene.objects.get(object) else {
-            return Err(format!("there is no object {object}"));
-        };
-        if !target.visible {
-            return Ok(());
-        }
-        let failed = |e: crate::kernel::GeometryError| format!("{}: {e}", target.name);
-        // A drag names its patches: only those are re-derived from their spans.
-        let decomposition = match patches {
-            Some(patches) => {
-                let mut d = std::mem::replace(
-                    &mut self.decompositions[object],
-                    Decomposition {
-                        set: BezierPatchSet::default(),
-                        domains: Vec::new(),
-                    },
-                );
-                if let Err(e) = target.update_decomposition(&mut d, patches) {
-                    self.decompositions[object] = d;
-                    return Err(failed(e));
-                }
-                d
-            }
-            None => target.decompose().map_err(failed)?,
-        };
-        if let Some(gpu) = &mut self.gpu
-            && let Some(geometry) = &mut gpu.geometry
-        {
-            let uploaded = geometry
-                .update_object(&gpu.queue, object, &decomposition.set, patches)
-                .map_err(|e| e.to_string())?;
-            self.status.points_uploaded = uploaded as u32;
-        }
-        self.decompositions[object] = decomposition;
-        self.update_net();
-        // The automatic colour range is resampled when the edit ends (after_edit, end_drag),
-        // not on every mouse move of a drag.
+    /// Shows points the document moved (a drag step, the panel, the page's API): only their
+    /// support is re-derived, uploaded and re-evaluated, and those patches are drawn tinted
+    /// while a drag lasts.
+    fn show_moved(&mut self, moved: &PointsMoved) -> Result<(), String> {
+        self.status.patches_in_drag = moved.patches.len() as u32;
         self.redraw = true;
+        let Some(gpu) = &mut self.gpu else {
+            return Ok(());
+        };
+        if let Some(first) = gpu
+            .sync
+            .geometry()
+            .and_then(|g| g.first_patch(moved.object))
+        {
+            self.highlight_patches = moved.patches.iter().map(|p| first + p).collect();
+        }
+        let uploaded = gpu
+            .sync
+            .points_moved(&self.doc.scene, moved)
+            .map_err(|e| e.to_string())?;
+        self.status.points_uploaded = uploaded as u32;
+        // The automatic colour range is resampled when the edit ends, not on every step.
+        self.update_net();
         Ok(())
     }
 
@@ -541,32 +488,13 @@ impl KnotworkApp {
     }
 
     /// Uploads every object at `quality`; where the device's buffer or dispatch limits refuse
-    /// that, halves the quality until they accept it and says so in the status. On any other
-    /// failure the current geometry stays and the error is returned.
+    /// that, the sync layer lowers the quality until they accept it and the status says so. On
+    /// any other failure the current geometry stays and the error is returned.
     fn rebuild_geometry(&mut self, quality: f32) -> Result<(), GpuError> {
         let Some(gpu) = &mut self.gpu else {
             return Ok(());
         };
-        let (geometry, used, refusal) = fit_to_device(quality, |q| {
-            let inputs: Vec<ObjectPatches<'_>> = self
-                .doc
-                .scene
-                .objects
-                .iter()
-                .zip(&self.decompositions)
-                .map(|(object, d)| ObjectPatches {
-                    set: &d.set,
-                    domains: &d.domains,
-                    segments: effective_segments(object.segments, q),
-                })
-                .collect();
-            PatchGeometry::new(&gpu.device, &gpu.evaluator, &inputs)
-        })?;
-        gpu.geometry = Some(geometry);
-        self.quality_used = used;
-        self.status.notice = refusal.map(|e| {
-            format!("tessellation lowered to quality {used:.2} (asked {quality:.2}): {e}")
-        });
+        self.status.notice = gpu.sync.rebuild(&self.doc.scene, quality)?;
         self.redraw = true;
         Ok(())
     }
@@ -574,48 +502,16 @@ impl KnotworkApp {
     /// Sets every object's segments per span as one undo step; a level outside 1..=1024 is
     /// refused and nothing changes.
     fn set_all_segments(&mut self, segments: u32) {
-        if !(1..=MAX_SEGMENTS).contains(&segments) {
-            self.status.error = Some(
-                GpuError::SegmentsOutOfRange {
-                    segments,
-                    max: MAX_SEGMENTS,
-                }
-                .to_string(),
-            );
-            return;
-        }
-        // One undo step for every object.
-        self.end_drag(false);
-        let changes: Vec<Change> = self
+        if self
             .doc
             .scene
             .objects
             .iter()
-            .enumerate()
-            .filter(|(_, o)| o.segments != segments)
-            .map(|(index, o)| Change::Replace {
-                index,
-                before: o.clone(),
-                after: SceneObject {
-                    segments,
-                    ..o.clone()
-                },
-            })
-            .collect();
-        if changes.is_empty() {
+            .all(|o| o.segments == segments)
+        {
             return;
         }
-        let label = format!("{segments} segments for every object");
-        let edit = Edit {
-            label: label.clone(),
-            changes,
-        };
-        if let Err(e) = edit.redo(&mut self.doc.scene) {
-            self.status.error = Some(e.to_string());
-            return;
-        }
-        self.doc.history.record(edit);
-        self.finish_edit(Touched::Structure, &label);
+        self.execute(Command::SetAllSegments { segments });
     }
 
     fn set_quality(&mut self, quality: f32) {
@@ -678,12 +574,26 @@ impl KnotworkApp {
         self.redraw = true;
     }
 
-    /// Moves one control point through the command layer (an undo step).
-    fn move_control_point(&mut self, object: usize, index: usize, position: DVec3) {
-        self.execute(Command::MovePoints {
-            object,
-            moves: vec![(index, position)],
-        });
+    /// Moves control points as one undo step along the drag's incremental path (the panel's
+    /// numeric entry, the page's `moveControlPoint`). If the GPU cannot show the result, the
+    /// move is undone and taken out of the history.
+    fn move_points(&mut self, object: usize, moves: &[(usize, DVec3)]) {
+        self.end_drag(false);
+        match self.doc.move_points(object, moves) {
+            Ok(moved) => {
+                let shown = self.show_moved(&moved);
+                self.highlight_patches.clear();
+                match shown {
+                    Ok(()) => {
+                        self.revision += 1;
+                        self.auto_range = None;
+                        self.status.error = None;
+                    }
+                    Err(e) => self.take_back(Touched::Points(object), "move", &e),
+                }
+            }
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
     }
 
     fn set_shading(&mut self, mode: ShadingMode) {
@@ -714,7 +624,7 @@ impl KnotworkApp {
         self.status.undo_steps = self.doc.history.undo_depth() as u32;
         self.status.redo_steps = self.doc.history.redo_depth() as u32;
         self.status.last_edit = self.doc.history.undo_label().map(str::to_owned);
-        self.status.dragging = self.drag.is_some();
+        self.status.dragging = self.doc.drag().is_some();
         self.status.constraint = self.constraint.label();
         self.status.revision = self.revision;
         self.status.autosaved_revision = self.autosaved_revision;
@@ -729,13 +639,17 @@ impl KnotworkApp {
         self.status.shading = self.shading.name().to_owned();
         self.status.range_auto = self.manual_range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
+        let quality_used = self
+            .gpu
+            .as_ref()
+            .map_or(self.quality, |g| g.sync.quality_used());
         self.status.segments = self
             .scene()
             .objects
             .iter()
-            .map(|o| effective_segments(o.segments, self.quality_used))
+            .map(|o| effective_segments(o.segments, quality_used))
             .collect();
-        if let Some(g) = self.gpu.as_ref().and_then(|g| g.geometry.as_ref()) {
+        if let Some(g) = self.gpu.as_ref().and_then(|g| g.sync.geometry()) {
             self.status.patches = g.patch_count();
             self.status.control_points = g.control_point_count();
             self.status.vertices = g.vertex_count();
@@ -754,7 +668,7 @@ impl KnotworkApp {
                 object,
                 index,
                 position,
-            } => self.move_control_point(object, index, DVec3::from(position)),
+            } => self.move_points(object, &[(index, DVec3::from(position))]),
             ExternalCommand::SetContinuous(on) => self.continuous = on,
             ExternalCommand::FrameModel => self.frame_pending = true,
             ExternalCommand::Undo => self.step_history(false),
@@ -835,23 +749,27 @@ impl KnotworkApp {
             selected: self.selected.map(|s| s as u32),
             ..Default::default()
         };
-        let Some(gpu) = self.gpu.as_mut().filter(|g| g.geometry.is_some()) else {
-            ui.painter().text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "The GPU viewport is unavailable — see the panel for the reason.",
-                egui::FontId::proportional(16.0),
-                ui.visuals().text_color(),
+        let Some(gpu) = self.gpu.as_mut().filter(|g| g.sync.geometry().is_some()) else {
+            let reason = self
+                .gpu_refusal
+                .as_deref()
+                .unwrap_or("see the panel for the reason");
+            ui.put(
+                rect.shrink(40.0),
+                egui::Label::new(
+                    egui::RichText::new(format!("The GPU viewport is unavailable: {reason}"))
+                        .size(16.0),
+                )
+                .wrap(),
             );
+            // A frame was shown (the message), so --exit-after-frames still ends.
+            self.status.frames += 1;
             return;
         };
         let resized = gpu.ensure_target(size);
         gpu.renderer
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
-        let pending = gpu
-            .geometry
-            .as_ref()
-            .is_some_and(PatchGeometry::needs_evaluation);
+        let pending = gpu.sync.needs_evaluation();
         if resized || self.redraw || self.continuous || pending {
             if let Some(evaluated) =
                 gpu.draw(&self.camera, &self.options, &shading, POINT_RADIUS * ppp)
@@ -866,13 +784,13 @@ impl KnotworkApp {
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }
         self.paint_box(ui);
-        if let Some(drag) = &self.drag {
+        if let Some(drag) = self.doc.drag() {
             ui.painter().text(
                 rect.left_bottom() + egui::vec2(10.0, -10.0),
                 egui::Align2::LEFT_BOTTOM,
                 format!(
                     "moving {} point(s) · {} · X/Y/Z axis, Shift+X/Y/Z plane, Esc cancels",
-                    drag.starts.len(),
+                    drag.starts().len(),
                     self.constraint.label()
                 ),
                 egui::FontId::proportional(14.0),
@@ -904,6 +822,11 @@ impl KnotworkApp {
 }
 
 impl eframe::App for KnotworkApp {
+    /// eframe's save hook: on exit (and every half minute) the autosave is written at once.
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        self.write_autosave(storage);
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         for command in status::take_commands() {
             self.apply(command);
@@ -951,55 +874,5 @@ impl eframe::App for KnotworkApp {
         {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_quality_is_lowered_until_the_device_accepts_it() {
-        // A device that holds at most 1000 vertices per object of 10 patches at 16 segments.
-        let build = |q: f32| {
-            let segments = effective_segments(16, q);
-            let bytes = 10 * u64::from(segments + 1).pow(2) * 64;
-            if bytes > 64_000 {
-                Err(GpuError::BufferTooLarge {
-                    what: "vertex",
-                    bytes,
-                    limit: 64_000,
-                })
-            } else {
-                Ok(segments)
-            }
-        };
-        let (segments, used, refusal) = fit_to_device(2.0, build).unwrap();
-        assert_eq!((segments, used), (8, 0.5));
-        assert!(matches!(refusal, Some(GpuError::BufferTooLarge { .. })));
-        let (_, used, refusal) = fit_to_device(0.25, build).unwrap();
-        assert_eq!((used, refusal), (0.25, None));
-        // Other errors are not retried.
-        let mut calls = 0;
-        let other = fit_to_device(1.0, |_| -> Result<(), GpuError> {
-            calls += 1;
-            Err(GpuError::NoSuchObject {
-                object: 1,
-                count: 0,
-            })
-        });
-        assert!(matches!(other, Err(GpuError::NoSuchObject { .. })) && calls == 1);
-        // A device that never fits gives up with the first refusal.
-        let never = fit_to_device(1.0, |_| -> Result<(), GpuError> {
-            Err(GpuError::BufferTooLarge {
-                what: "index",
-                bytes: 1,
-                limit: 0,
-            })
-        });
-        assert!(matches!(
-            never,
-            Err(GpuError::BufferTooLarge { what: "index", .. })
-        ));
     }
 }

@@ -24,13 +24,14 @@ use std::time::Instant;
 
 use glam::DVec3;
 
+use crate::doc::Document;
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{GpuContext, GpuError, ObjectPatches, PatchEvaluator, PatchGeometry};
+use crate::gpu::{GpuContext, GpuError, SceneSync};
 use crate::kernel::construct;
 use crate::render::{
     ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
-use crate::scene::{Decomposition, ObjectGeometry, Scene, SceneObject};
+use crate::scene::{ObjectGeometry, Scene, SceneObject};
 use crate::view::OrbitCamera;
 use crate::view::pick::{self, PickView};
 
@@ -65,14 +66,13 @@ pub fn landscape(n: usize) -> Result<SceneObject, crate::kernel::GeometryError> 
 /// Submits one evaluation and waits for it; returns (GPU ms if timed, wall ms, patches).
 fn evaluate_once(
     context: &GpuContext,
-    evaluator: &PatchEvaluator,
-    geometry: &mut PatchGeometry,
+    sync: &mut SceneSync,
     timer: &mut Option<GpuTimer>,
 ) -> Result<(Option<f64>, f64, u32), GpuError> {
     let start = Instant::now();
     let mut encoder = context.device.create_command_encoder(&Default::default());
     let writes = timer.as_mut().and_then(GpuTimer::compute_pass_writes);
-    let patches = geometry.encode(&context.queue, &mut encoder, evaluator, writes);
+    let patches = sync.encode(&mut encoder, writes);
     if let Some(timer) = timer.as_mut() {
         timer.resolve(&mut encoder);
     }
@@ -101,64 +101,44 @@ fn wait(context: &GpuContext) -> Result<(), GpuError> {
         .map_err(|e| GpuError::Readback(e.to_string()))
 }
 
-fn upload(
+/// A document of one object and its GPU copy, as the editor keeps them.
+fn document_on_gpu(
     context: &GpuContext,
-    evaluator: &PatchEvaluator,
-    objects: &[SceneObject],
-    decompositions: &[Decomposition],
-) -> Result<PatchGeometry, GpuError> {
-    let inputs: Vec<ObjectPatches<'_>> = objects
-        .iter()
-        .zip(decompositions)
-        .map(|(o, d)| ObjectPatches {
-            set: &d.set,
-            domains: &d.domains,
-            segments: o.segments,
-        })
-        .collect();
-    PatchGeometry::new(&context.device, evaluator, &inputs)
-}
-
-/// One object's patches on the GPU, alone.
-fn upload_one(
-    context: &GpuContext,
-    evaluator: &PatchEvaluator,
-    object: &SceneObject,
-    decomposition: &Decomposition,
-) -> Result<PatchGeometry, GpuError> {
-    upload(
-        context,
-        evaluator,
-        std::slice::from_ref(object),
-        std::slice::from_ref(decomposition),
-    )
+    object: SceneObject,
+) -> Result<(Document, SceneSync), GpuError> {
+    let doc = Document::new(Scene {
+        objects: vec![object],
+    });
+    let sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)?;
+    Ok((doc, sync))
 }
 
 /// Benchmarks one object at its segments: full-evaluation throughput, then edit latency for
 /// moving control point `edit_point` back and forth.
 fn bench_object(
     context: &GpuContext,
-    evaluator: &PatchEvaluator,
-    mut object: SceneObject,
+    object: SceneObject,
     edit_point: usize,
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let mut decomposition = object.decompose()?;
+    object.decompose()?;
     let decompose_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut geometry = upload_one(context, evaluator, &object, &decomposition)?;
+    let (mut doc, mut sync) = document_on_gpu(context, object)?;
     let mut timer = GpuTimer::new(&context.device, &context.queue);
     let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
     for i in 0..iterations + 2 {
-        geometry.invalidate();
-        let (gpu, wall, _) = evaluate_once(context, evaluator, &mut geometry, &mut timer)?;
+        sync.invalidate();
+        let (gpu, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
         if i >= 2 {
             gpu_ms.extend(gpu);
             wall_ms.push(wall);
         }
     }
-    let vertices = f64::from(geometry.vertex_count());
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+    let (patch_count, vertex_count) = (geometry.patch_count(), geometry.vertex_count());
+    let vertices = f64::from(vertex_count);
     let (gpu, wall) = (
         (!gpu_ms.is_empty()).then(|| median(gpu_ms)),
         median(wall_ms),
@@ -167,38 +147,39 @@ fn bench_object(
     writeln!(
         out,
         "{:<26} {:>3} seg | {:>7} patches {:>9} vertices | pass {:8.3} ms ({}) | {:7.2} M vertices/s | submit+wait {:8.3} ms",
-        object.name,
-        object.segments,
-        geometry.patch_count(),
-        geometry.vertex_count(),
+        doc.scene.objects[0].name,
+        doc.scene.objects[0].segments,
+        patch_count,
+        vertex_count,
         pass,
         if gpu.is_some() { "timestamps" } else { "wall" },
         vertices / (pass * 1e-3) / 1e6,
         wall,
     )?;
 
-    // Edit latency: move one point up and down, as a drag does.
-    let base = object.control_points()[edit_point];
+    // Edit latency: move one point up and down, as a drag does (the document's transient
+    // edit, then the sync layer).
+    doc.begin_drag(0, &[edit_point])?;
     let mut latency = Vec::new();
     let mut patches = 0;
     for i in 0..iterations + 2 {
         let lift = if i % 2 == 0 { 0.05 } else { 0.0 };
         let start = Instant::now();
-        let support = object.move_control_point(edit_point, base + DVec3::Z * lift)?;
-        object.update_decomposition(&mut decomposition, &support)?;
-        geometry.update_object(&context.queue, 0, &decomposition.set, Some(&support))?;
+        let moved = doc.drag_by(DVec3::Z * lift)?;
+        sync.points_moved(&doc.scene, &moved)?;
         let mut no_timer = None;
-        let (_, _, evaluated) = evaluate_once(context, evaluator, &mut geometry, &mut no_timer)?;
+        let (_, _, evaluated) = evaluate_once(context, &mut sync, &mut no_timer)?;
         if i >= 2 {
             latency.push(start.elapsed().as_secs_f64() * 1e3);
             patches = evaluated;
         }
     }
+    doc.cancel_drag();
     writeln!(
         out,
         "{:<26} {:>3} seg | edit latency {:8.3} ms (point {edit_point}: {patches} patches re-evaluated; decomposition alone {decompose_ms:.3} ms)",
-        object.name,
-        object.segments,
+        doc.scene.objects[0].name,
+        doc.scene.objects[0].segments,
         median(latency),
     )?;
     Ok(())
@@ -252,23 +233,26 @@ fn bench_pick(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
 /// followed by the viewport's render pass, until the GPU has finished the frame.
 fn bench_drag_frame(
     context: &GpuContext,
-    evaluator: &PatchEvaluator,
-    mut object: SceneObject,
+    object: SceneObject,
     point: usize,
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let mut decomposition = object.decompose()?;
-    let mut geometry = upload_one(context, evaluator, &object, &decomposition)?;
-    let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, 1280, 800);
+    let (name, segments, point_count) = (
+        object.name.clone(),
+        object.segments,
+        object.control_point_count(),
+    );
+    let (lo, hi) = object.bounds().ok_or("empty object")?;
     let net = ControlNet::new(
         &context.device,
         &object.control_points(),
         &|k| k == point,
         &object.net_lines(),
     );
-    let (lo, hi) = object.bounds().ok_or("empty object")?;
+    let (mut doc, mut sync) = document_on_gpu(context, object)?;
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, 1280, 800);
     let mut camera = OrbitCamera::default();
     camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
     let uniform = scene_uniform(
@@ -280,19 +264,23 @@ fn bench_drag_frame(
     );
     renderer.set_scene(&context.queue, &uniform);
     let options = DrawOptions::default();
-    let base = object.control_points()[point];
+    doc.begin_drag(0, &[point])?;
     let mut latency = Vec::new();
     let mut patches = 0;
     for i in 0..iterations + 2 {
         let lift = 0.01 * (i % 7) as f64;
         let start = Instant::now();
-        let support = object.move_control_point(point, base + DVec3::new(lift, 0.0, lift))?;
-        object.update_decomposition(&mut decomposition, &support)?;
-        geometry.update_object(&context.queue, 0, &decomposition.set, Some(&support))?;
-        net.update_points(&context.queue, &object.control_points(), &|k| k == point);
+        let moved = doc.drag_by(DVec3::new(lift, 0.0, lift))?;
+        sync.points_moved(&doc.scene, &moved)?;
+        net.update_points(
+            &context.queue,
+            &doc.scene.objects[0].control_points(),
+            &|k| k == point,
+        );
         let mut encoder = context.device.create_command_encoder(&Default::default());
-        let evaluated = geometry.encode(&context.queue, &mut encoder, evaluator, None);
-        renderer.render(&mut encoder, &target, &geometry, Some(&net), &options, None);
+        let evaluated = sync.encode(&mut encoder, None);
+        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+        renderer.render(&mut encoder, &target, geometry, Some(&net), &options, None);
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         if i >= 2 {
@@ -301,11 +289,13 @@ fn bench_drag_frame(
         }
     }
     // The same frame without the edit: what the render pass alone costs.
+    doc.cancel_drag();
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     let mut render_only = Vec::new();
     for _ in 0..iterations.max(3) {
         let start = Instant::now();
         let mut encoder = context.device.create_command_encoder(&Default::default());
-        renderer.render(&mut encoder, &target, &geometry, Some(&net), &options, None);
+        renderer.render(&mut encoder, &target, geometry, Some(&net), &options, None);
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         render_only.push(start.elapsed().as_secs_f64() * 1e3);
@@ -313,10 +303,10 @@ fn bench_drag_frame(
     writeln!(
         out,
         "{:<26} {:>3} seg | drag-to-new-frame {:8.3} ms (1280 × 800, {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
-        object.name,
-        object.segments,
+        name,
+        segments,
         median(latency),
-        object.control_points().len(),
+        point_count,
         median(render_only),
     )?;
     Ok(())
@@ -329,7 +319,6 @@ pub fn run(
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     writeln!(out, "adapter: {}", context.describe())?;
-    let evaluator = PatchEvaluator::new(&context.device);
     let scene = Scene::demo()?;
     let teapot = scene
         .objects
@@ -340,36 +329,32 @@ pub fn run(
         let mut t = teapot.clone();
         t.segments = segments;
         // A point of the body, shared by two patches.
-        bench_object(context, &evaluator, t, 40, iterations, out)?;
+        bench_object(context, t, 40, iterations, out)?;
     }
     let mut big = large_bspline()?;
     big.segments = 16;
-    bench_object(context, &evaluator, big, 16 * 32 + 16, iterations, out)?;
+    bench_object(context, big, 16 * 32 + 16, iterations, out)?;
 
     bench_pick(iterations, out)?;
     let mut t = teapot.clone();
     t.segments = 64;
-    bench_drag_frame(context, &evaluator, t, 40, iterations, out)?;
+    bench_drag_frame(context, t, 40, iterations, out)?;
     let mut sheet = landscape(64)?;
     sheet.segments = 8;
-    bench_drag_frame(context, &evaluator, sheet, 32 * 64 + 32, iterations, out)?;
+    bench_drag_frame(context, sheet, 32 * 64 + 32, iterations, out)?;
 
     // The whole demo scene in one pass at its default tessellation.
-    let decompositions: Vec<Decomposition> = scene
-        .objects
-        .iter()
-        .map(SceneObject::decompose)
-        .collect::<Result<_, _>>()?;
-    let mut geometry = upload(context, &evaluator, &scene.objects, &decompositions)?;
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
     let mut timer = GpuTimer::new(&context.device, &context.queue);
     let mut times = Vec::new();
     for i in 0..iterations + 2 {
-        geometry.invalidate();
-        let (gpu, wall, _) = evaluate_once(context, &evaluator, &mut geometry, &mut timer)?;
+        sync.invalidate();
+        let (gpu, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
         if i >= 2 {
             times.push(gpu.unwrap_or(wall));
         }
     }
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     writeln!(
         out,
         "demo scene (6 objects)        | {:>7} patches {:>9} vertices | pass {:8.3} ms, one compute pass",

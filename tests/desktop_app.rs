@@ -8,6 +8,15 @@ use std::time::{Duration, Instant};
 /// Runs the editor with `extra` arguments for 3 frames, with its data directory (where the
 /// autosave lives) in `data`; returns its output and the status line.
 fn run_editor(data: &std::path::Path, extra: &[&str]) -> (Output, serde_json::Value) {
+    run_editor_with_env(data, extra, &[])
+}
+
+/// [`run_editor`] with environment variables set.
+fn run_editor_with_env(
+    data: &std::path::Path,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> (Output, serde_json::Value) {
     let binary = env!("CARGO_BIN_EXE_knotwork");
     let headless =
         std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none();
@@ -22,6 +31,7 @@ fn run_editor(data: &std::path::Path, extra: &[&str]) -> (Output, serde_json::Va
         .args(["--exit-after-frames", "3"])
         .args(extra)
         .env("XDG_DATA_HOME", data)
+        .envs(env.iter().copied())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     let mut child = command.spawn().unwrap_or_else(|e| {
@@ -144,4 +154,30 @@ fn desktop_app_opens_a_project_restores_it_and_refuses_a_broken_one() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("could not open"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn without_compute_shaders_the_window_opens_and_says_why() {
+    // Mesa's GL capped at 3.0: the only adapter has no compute shaders. The window opens, shows
+    // the reason instead of the model, and the status carries it (exit code 1); no panic.
+    let data = data_dir("no-compute");
+    let (output, status) = run_editor_with_env(
+        &data,
+        &["--fresh"],
+        &[
+            ("WGPU_BACKEND", "gl"),
+            ("MESA_GL_VERSION_OVERRIDE", "3.0"),
+            ("MESA_GLES_VERSION_OVERRIDE", "3.0"),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let error = status["error"].as_str().unwrap_or_default();
+    assert!(
+        error.contains("no compute shaders") && error.contains("mesa-vulkan-drivers"),
+        "{status}"
+    );
+    assert_eq!(status["vertices"], 0, "nothing was evaluated");
+    let _ = std::fs::remove_dir_all(&data);
 }

@@ -35,26 +35,20 @@ fn press(harness: &Harness<'_, KnotworkApp>, pos: Pos2, pressed: bool) {
     });
 }
 
-#[test]
-fn click_drag_with_axis_constraint_and_undo() {
-    let _turn = ONE_EDITOR_AT_A_TIME
-        .lock()
-        .unwrap_or_else(|p| p.into_inner());
-    let mut harness = editor();
+/// The non-uniform B-spline of the sample scene (polynomial: coordinates are stored exactly).
+const SHEET: usize = 3;
 
-    // The non-uniform B-spline (polynomial: coordinates are stored exactly).
-    const OBJECT: usize = 3;
-    let label = harness.state().document().scene.objects[OBJECT]
+/// Selects object `object` in the outliner and returns a handle of it well inside the viewport
+/// (right of the panel), not hidden behind another: its index and where it is.
+fn select_with_free_handle(harness: &mut Harness<'_, KnotworkApp>, object: usize) -> (usize, Pos2) {
+    let label = harness.state().document().scene.objects[object]
         .name
         .clone();
     harness.get_by_label(&label).click();
     harness.run_steps(3);
-    assert_eq!(status::current().selected, Some(OBJECT as u32));
-    let before = harness.state().document().scene.objects[OBJECT].clone();
-
-    // A handle well inside the viewport (right of the panel), not hidden behind another.
+    assert_eq!(status::current().selected, Some(object as u32));
     let handles = status::handles();
-    let (index, at) = handles
+    handles
         .iter()
         .enumerate()
         .filter_map(|(k, h)| h.map(|p| (k, Pos2::new(p[0], p[1]))))
@@ -64,7 +58,37 @@ fn click_drag_with_axis_constraint_and_undo() {
                 j == *k || h.is_none_or(|q| Pos2::new(q[0], q[1]).distance(*p) > 20.0)
             })
         })
-        .expect("a free handle on screen");
+        .expect("a free handle on screen")
+}
+
+/// Presses the primary button at `at` and moves the mouse `steps` times by `step`, holding it.
+fn drag_from(
+    harness: &mut Harness<'_, KnotworkApp>,
+    at: Pos2,
+    step: egui::Vec2,
+    steps: u32,
+) -> Pos2 {
+    press(harness, at, true);
+    harness.run_steps(1);
+    let mut end = at;
+    for k in 1..=steps {
+        end = at + step * k as f32;
+        harness.hover_at(end);
+        harness.run_steps(1);
+    }
+    end
+}
+
+#[test]
+fn click_drag_with_axis_constraint_and_undo() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+
+    const OBJECT: usize = SHEET;
+    let before = harness.state().document().scene.objects[OBJECT].clone();
+    let (index, at) = select_with_free_handle(&mut harness, OBJECT);
 
     // Click it: it becomes the selection.
     harness.hover_at(at);
@@ -76,12 +100,7 @@ fn click_drag_with_axis_constraint_and_undo() {
     assert_eq!(status::current().selected_points, vec![index as u32]);
 
     // Drag it: start freely, press X, keep moving, release.
-    press(&harness, at, true);
-    harness.run_steps(1);
-    for step in 1..=4 {
-        harness.hover_at(at + egui::vec2(10.0 * step as f32, -6.0 * step as f32));
-        harness.run_steps(1);
-    }
+    drag_from(&mut harness, at, egui::vec2(10.0, -6.0), 4);
     assert!(status::current().dragging);
     harness.key_press(Key::X);
     harness.run_steps(1);
@@ -241,4 +260,165 @@ fn obj_and_gltf_files_open_in_the_editor_and_the_export_window_counts_triangles(
         "{s:?}"
     );
     assert_eq!(s.objects, 1);
+}
+
+#[test]
+fn a_file_opened_during_a_drag_ends_the_drag_and_the_new_document_is_untouched() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let (_, at) = select_with_free_handle(&mut harness, SHEET);
+    let end = drag_from(&mut harness, at, egui::vec2(8.0, 5.0), 3);
+    assert!(status::current().dragging);
+
+    // A file arrives mid-drag (a drop, the page's openFile): a cube of 8 points, 6 quads.
+    let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    let opened = harness.state().document().clone();
+    harness.run_steps(1);
+    // The mouse keeps moving and is released: nothing reaches the new document.
+    for k in 1..=3 {
+        harness.hover_at(end + egui::vec2(12.0 * k as f32, -4.0));
+        harness.run_steps(1);
+    }
+    press(&harness, end + egui::vec2(36.0, -4.0), false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert!(!s.dragging, "the drag ended with the old document");
+    assert_eq!(s.error, None);
+    let doc = harness.state().document();
+    assert_eq!(doc.scene.objects.len(), 1);
+    assert_eq!(doc.scene, opened.scene, "the opened cube is as read");
+    assert_eq!(
+        (doc.history.undo_depth(), doc.history.redo_depth()),
+        (0, 0),
+        "a fresh history: the old drag stayed with the old document"
+    );
+    assert!(doc.drag().is_none());
+    // Undo has nothing to take back and changes nothing.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene, opened.scene);
+    assert_eq!(status::current().error, None);
+}
+
+#[test]
+fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patches() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let (index, at) = select_with_free_handle(&mut harness, SHEET);
+    let support = harness.state().document().scene.objects[SHEET]
+        .clone()
+        .move_control_point(index, glam::DVec3::ZERO)
+        .unwrap()
+        .len() as u32;
+    let total = harness.state().document().scene.objects[SHEET]
+        .decompose()
+        .unwrap()
+        .set
+        .patches()
+        .len() as u32;
+    assert!(support > 0 && support < total, "{support} of {total}");
+
+    // 1. The mouse.
+    let end = drag_from(&mut harness, at, egui::vec2(6.0, -9.0), 3);
+    press(&harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.patches_in_drag, s.patches_reevaluated),
+        (support, support),
+        "drag"
+    );
+    assert_eq!(s.undo_steps, 1);
+
+    // 2. The page's moveControlPoint.
+    let p = harness.state().document().scene.objects[SHEET].control_points()[index];
+    status::send(status::ExternalCommand::MoveControlPoint {
+        object: SHEET,
+        index,
+        position: (p + glam::DVec3::new(0.0, 0.0, 0.25)).to_array(),
+    });
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.patches_in_drag, s.patches_reevaluated),
+        (support, support),
+        "page"
+    );
+    assert_eq!(s.undo_steps, 2);
+    assert_eq!(s.last_edit.as_deref(), Some("move 1 point(s)"));
+
+    // 3. The panel's Move button (the selected point, by the panel's offset).
+    status::send(status::ExternalCommand::SelectPoints(vec![index]));
+    harness.run_steps(1);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Button, "Move")
+        .click_accesskit();
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.patches_in_drag, s.patches_reevaluated),
+        (support, support),
+        "panel"
+    );
+    assert_eq!(s.error, None);
+}
+
+/// An in-memory stand-in for eframe's storage.
+#[derive(Default)]
+struct MemoryStorage(std::collections::HashMap<String, String>);
+
+impl eframe::Storage for MemoryStorage {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_owned(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
+}
+
+#[test]
+fn closing_right_after_an_edit_writes_the_autosave() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let setup = wgpu_configuration(false).wgpu_setup;
+    // With the autosave on, as the app starts by default.
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .wgpu_setup(setup)
+        .build_eframe(|cc| KnotworkApp::new(cc, None, true));
+    harness.run_steps(3);
+    let moved_to = [1.5, -2.0, 3.25];
+    status::send(status::ExternalCommand::MoveControlPoint {
+        object: SHEET,
+        index: 5,
+        position: moved_to,
+    });
+    harness.run_steps(1);
+    let s = status::current();
+    assert!(
+        s.revision > s.autosaved_revision,
+        "within the autosave delay nothing is written yet"
+    );
+    // The window closes now: eframe calls save.
+    let mut storage = MemoryStorage::default();
+    eframe::App::save(harness.state_mut(), &mut storage);
+    let text = eframe::Storage::get_string(&storage, knotwork::app::AUTOSAVE_KEY)
+        .expect("the autosave was written on exit");
+    let saved = knotwork::io::project::read(&text).unwrap();
+    assert_eq!(saved.scene, harness.state().document().scene);
+    assert_eq!(
+        saved.scene.objects[SHEET].control_points()[5].to_array(),
+        moved_to
+    );
 }

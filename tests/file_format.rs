@@ -371,3 +371,50 @@ fn eval_cli_on_the_gpu_agrees_with_the_cpu() {
         }
     }
 }
+
+/// Runs `knotwork eval --backend gpu` on a sphere request with `env` set.
+fn eval_gpu_with_env(env: &[(&str, &str)]) -> std::process::Output {
+    let mut child = knotwork()
+        .args(["eval", "-", "--backend", "gpu"])
+        .envs(env.iter().copied())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(sphere_request(json!([[0.25, 0.5]])).as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn eval_on_the_gpu_without_a_compute_adapter_exits_1_with_the_reason() {
+    // Mesa's GL capped at version 3.0 (GLES 3.0): an adapter without compute shaders, as a
+    // machine without a Vulkan driver has. Where wgpu finds no GL adapter at all, the refusal
+    // is "no adapter". Either way: the reason, exit code 1, and never a panic inside wgpu.
+    let no_compute = eval_gpu_with_env(&[
+        ("WGPU_BACKEND", "gl"),
+        ("MESA_GL_VERSION_OVERRIDE", "3.0"),
+        ("MESA_GLES_VERSION_OVERRIDE", "3.0"),
+    ]);
+    // A backend this platform does not have: no adapter at all.
+    let none = eval_gpu_with_env(&[("WGPU_BACKEND", "metal")]);
+    for (what, out) in [("GL 3.0", no_compute), ("no backend", none)] {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{what}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+        assert!(
+            stderr.contains("no compute shaders") || stderr.contains("no GPU adapter found"),
+            "{what}: {stderr}"
+        );
+        assert!(stderr.contains("mesa-vulkan-drivers"), "{what}: {stderr}");
+        assert!(
+            out.stdout.is_empty(),
+            "{what}: nothing is printed as a result"
+        );
+    }
+}

@@ -7,8 +7,9 @@ mod common;
 use std::collections::{BTreeSet, HashMap};
 
 use glam::DVec3;
+use knotwork::doc::Document;
 use knotwork::gpu::records::{VERTEX_IRREGULAR, VERTEX_NO_CURVATURE};
-use knotwork::gpu::{GpuError, MAX_SEGMENTS, PatchEvaluator, PatchGeometry, SurfaceVertex};
+use knotwork::gpu::{GpuContext, GpuError, MAX_SEGMENTS, PatchGeometry, SceneSync, SurfaceVertex};
 use knotwork::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use knotwork::kernel::{BezierPatch, BezierPatchSet, Direction, NurbsSurface, construct};
 use knotwork::scene::{Decomposition, ObjectGeometry, Scene, SceneObject};
@@ -49,13 +50,18 @@ struct Reference {
 const NORMAL_SIN2: f64 = 1e-6;
 const CURVATURE_SIN2: f64 = 1e-4;
 
-/// The f64 reference of one object: its Bézier patches as kernel surfaces (for a NURBS object,
-/// `NurbsSurface::bezier_patches`, evaluated by The NURBS Book A3.6/A4.4 on each patch so that a
-/// patch boundary at a C0 or C1 knot is evaluated from that patch's side, as the GPU does).
+/// The f64 reference of one object, independent of the Bézier decomposition the GPU is fed: a
+/// NURBS object is evaluated on its own knots and points (The NURBS Book A3.6/A4.4), a patch set
+/// patch by patch, a polygon mesh as the bilinear patches it is drawn as.
 enum ReferenceSurface<'a> {
     Patches(std::borrow::Cow<'a, BezierPatchSet>),
-    Nurbs(Vec<(NurbsSurface, [[f64; 2]; 2])>),
+    /// The surface and its span rectangles, in the order of the GPU's patches.
+    Nurbs(&'a NurbsSurface, Vec<[f64; 4]>),
 }
+
+/// How far inside its span a NURBS reference point is taken, in span fractions: a span's edge
+/// at a C0 or C1 knot is then evaluated from that span's side, as the GPU's patch does.
+const INSIDE_SPAN: f64 = 1e-10;
 
 impl<'a> ReferenceSurface<'a> {
     fn new(object: &'a SceneObject) -> Self {
@@ -64,7 +70,15 @@ impl<'a> ReferenceSurface<'a> {
             ObjectGeometry::Mesh(mesh) => {
                 Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
             }
-            ObjectGeometry::Nurbs(surface) => Self::Nurbs(surface.bezier_patches()),
+            ObjectGeometry::Nurbs(surface) => {
+                let bu = surface.span_breaks(Direction::U);
+                let bv = surface.span_breaks(Direction::V);
+                let spans = bu
+                    .windows(2)
+                    .flat_map(|a| bv.windows(2).map(move |b| [a[0], a[1], b[0], b[1]]))
+                    .collect();
+                Self::Nurbs(surface, spans)
+            }
         }
     }
 }
@@ -77,11 +91,13 @@ fn reference(surface: &ReferenceSurface<'_>, k: usize, s: f64, t: f64) -> Refere
             let c = CurvatureValues::from_forms(&FundamentalForms::new(&d, normal));
             (d, normal, c, [s, t])
         }
-        ReferenceSurface::Nurbs(patches) => {
-            let (patch, [[u0, u1], [v0, v1]]) = &patches[k];
-            let (u, v) = (u0 + (u1 - u0) * s, v0 + (v1 - v0) * t);
-            let g = patch.local_geometry(u, v).unwrap();
-            (g.derivatives, g.normal, Some(g.curvature.values()), [u, v])
+        ReferenceSurface::Nurbs(surface, spans) => {
+            let [u0, u1, v0, v1] = spans[k];
+            let inside = |x: f64| x.clamp(INSIDE_SPAN, 1.0 - INSIDE_SPAN);
+            let (u, v) = (u0 + (u1 - u0) * inside(s), v0 + (v1 - v0) * inside(t));
+            let g = surface.local_geometry(u, v).unwrap();
+            let exact = [u0 + (u1 - u0) * s, v0 + (v1 - v0) * t];
+            (g.derivatives, g.normal, Some(g.curvature.values()), exact)
         }
     };
     let sin2 = if d.regular_normal().is_some() {
@@ -177,38 +193,27 @@ fn compare_object(
     worst
 }
 
-/// Uploads and evaluates `objects` at the given segments; returns the geometry and vertices.
+/// `objects` on the GPU through the editor's sync layer, evaluated; returns it and the vertices.
 fn evaluate_scene(
-    context: &knotwork::gpu::GpuContext,
-    evaluator: &PatchEvaluator,
+    context: &GpuContext,
     objects: &[SceneObject],
-    decompositions: &[Decomposition],
-) -> (PatchGeometry, Vec<SurfaceVertex>) {
-    let inputs: Vec<(&Decomposition, u32)> = decompositions
-        .iter()
-        .zip(objects)
-        .map(|(d, o)| (d, o.segments))
-        .collect();
-    let mut geometry = common::upload(context, evaluator, &inputs).unwrap();
-    common::evaluate(context, evaluator, &mut geometry);
-    let vertices = geometry
-        .read_vertices(&context.device, &context.queue)
-        .unwrap();
-    (geometry, vertices)
-}
-
-fn decompose(objects: &[SceneObject]) -> Vec<Decomposition> {
-    objects.iter().map(|o| o.decompose().unwrap()).collect()
+) -> (SceneSync, Vec<SurfaceVertex>) {
+    let scene = Scene {
+        objects: objects.to_vec(),
+    };
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    let vertices = sync.read_vertices().unwrap();
+    (sync, vertices)
 }
 
 fn assert_matches(objects: &[SceneObject]) {
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
-    let decompositions = decompose(objects);
-    let (geometry, vertices) = evaluate_scene(&context, &evaluator, objects, &decompositions);
-    for (index, (object, d)) in objects.iter().zip(&decompositions).enumerate() {
+    let (sync, vertices) = evaluate_scene(&context, objects);
+    let geometry = sync.geometry().unwrap();
+    for (index, (object, d)) in objects.iter().zip(sync.feeds()).enumerate() {
         let first = geometry.first_patch(index).unwrap();
-        let worst = compare_object(object, d, &geometry, first, &vertices);
+        let worst = compare_object(object, d, geometry, first, &vertices);
         eprintln!("{}: {worst:?}", object.name);
         assert!(worst.position <= 1e-5, "{}: {worst:?}", object.name);
         assert!(worst.normal_angle <= 1e-3, "{}: {worst:?}", object.name);
@@ -282,7 +287,7 @@ fn random_rational_nurbs_of_degree_1_to_7_match_the_f64_reference() {
 #[test]
 fn degree_nine_is_evaluated_and_degree_ten_is_refused() {
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
+    let evaluator = knotwork::gpu::PatchEvaluator::new(&context.device);
     let nine = common::random_surface(9, 9, 77);
     let object = SceneObject::new("degree 9", ObjectGeometry::Nurbs(nine));
     let mut object = object;
@@ -400,10 +405,8 @@ fn edges_by_control_points(
 /// them; returns the number of shared edges.
 fn assert_watertight(objects: &[SceneObject]) -> usize {
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
-    let decompositions = decompose(objects);
-    let (geometry, vertices) = evaluate_scene(&context, &evaluator, objects, &decompositions);
-    let edges = edges_by_control_points(&decompositions, &geometry, &vertices);
+    let (sync, vertices) = evaluate_scene(&context, objects);
+    let edges = edges_by_control_points(sync.feeds(), sync.geometry().unwrap(), &vertices);
     let mut shared = 0;
     for (controls, lists) in &edges {
         if lists.len() < 2 {
@@ -471,7 +474,7 @@ fn objects_with_equal_boundary_control_points_meet_without_cracks() {
             o
         })
         .collect();
-    let d = decompose(&objects);
+    let d: Vec<Decomposition> = objects.iter().map(|o| o.decompose().unwrap()).collect();
     let left_values: BTreeSet<[u32; 4]> = uploaded_points(&d[0].set).into_iter().collect();
     let common_values = uploaded_points(&d[1].set)
         .into_iter()
@@ -486,7 +489,6 @@ fn objects_with_equal_boundary_control_points_meet_without_cracks() {
 #[test]
 fn an_edit_re_evaluates_exactly_the_support_of_the_moved_point() {
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
     let mut scene = Scene::demo().unwrap();
     for object in &mut scene.objects {
         object.segments = 6;
@@ -502,18 +504,18 @@ fn an_edit_re_evaluates_exactly_the_support_of_the_moved_point() {
         .objects
         .push(SceneObject::new("bicubic", ObjectGeometry::Nurbs(big)));
     scene.objects.last_mut().unwrap().segments = 6;
-    let mut decompositions = decompose(&scene.objects);
-    let (mut geometry, _) = evaluate_scene(&context, &evaluator, &scene.objects, &decompositions);
+    let mut doc = Document::new(scene);
+    let (mut sync, _) = evaluate_scene(&context, &doc.scene.objects);
 
     // (object, control point): B-spline (2, 5) interior and corner points, the bicubic's
     // middle, a torus point on the seam, a teapot point shared by patches.
     for (object, index) in [(3, 4 * 9 + 4), (3, 0), (6, 5 * 12 + 6), (1, 0), (0, 0)] {
-        let before = decompositions[object].clone();
-        let position = scene.objects[object].control_points()[index] + DVec3::new(0.1, -0.2, 0.3);
-        let patches = scene.objects[object]
-            .move_control_point(index, position)
-            .unwrap();
-        let after = scene.objects[object].decompose().unwrap();
+        let before = doc.scene.objects[object].decompose().unwrap();
+        let position =
+            doc.scene.objects[object].control_points()[index] + DVec3::new(0.1, -0.2, 0.3);
+        // The editor's road: the document moves the point, the sync layer shows it.
+        let moved = doc.move_points(object, &[(index, position)]).unwrap();
+        let after = doc.scene.objects[object].decompose().unwrap();
         // Independently: the patches whose Bézier control points changed.
         let old = uploaded_points(&before.set);
         let new = uploaded_points(&after.set);
@@ -529,29 +531,22 @@ fn an_edit_re_evaluates_exactly_the_support_of_the_moved_point() {
             })
             .map(|(k, _)| k)
             .collect();
-        let support: BTreeSet<usize> = patches.iter().copied().collect();
+        let support: BTreeSet<usize> = moved.patches.iter().copied().collect();
         assert_eq!(support, changed, "object {object}, point {index}");
         if object == 3 || object == 6 {
             assert!(support.len() < after.set.patches().len(), "local support");
         }
 
-        let uploaded = geometry
-            .update_object(&context.queue, object, &after.set, Some(&patches))
-            .unwrap();
+        let uploaded = sync.points_moved(&doc.scene, &moved).unwrap();
         assert!(uploaded > 0);
-        decompositions[object] = after;
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        let evaluated = geometry.encode(&context.queue, &mut encoder, &evaluator, None);
-        context.queue.submit([encoder.finish()]);
+        let evaluated = sync.evaluate_blocking().unwrap();
         assert_eq!(
             evaluated as usize,
             support.len(),
             "object {object}, point {index}"
         );
-        let incremental = geometry
-            .read_vertices(&context.device, &context.queue)
-            .unwrap();
-        let (_, full) = evaluate_scene(&context, &evaluator, &scene.objects, &decompositions);
+        let incremental = sync.read_vertices().unwrap();
+        let (_, full) = evaluate_scene(&context, &doc.scene.objects);
         assert!(
             incremental == full,
             "object {object}, point {index}: the incremental result differs from a full evaluation"
@@ -559,15 +554,26 @@ fn an_edit_re_evaluates_exactly_the_support_of_the_moved_point() {
         eprintln!(
             "object {object} point {index}: {} of {} patches re-evaluated, {uploaded} points uploaded",
             support.len(),
-            decompositions[object].set.patches().len()
+            after.set.patches().len()
         );
     }
+    // Each move is one undo step; undoing them all brings back every vertex.
+    assert_eq!(doc.history.undo_depth(), 5);
+    while doc.undo().is_ok() {}
+    let original = {
+        let mut scene = Scene::demo().unwrap();
+        for object in &mut scene.objects {
+            object.segments = 6;
+        }
+        scene
+    };
+    assert_eq!(doc.scene.objects[..6], original.objects[..]);
 }
 
 #[test]
 fn bad_requests_are_refused_and_leave_the_device_usable() {
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
+    let evaluator = knotwork::gpu::PatchEvaluator::new(&context.device);
     let scene = Scene::demo().unwrap();
     let teapot = scene.objects[0].decompose().unwrap();
     let new = |segments| common::upload(&context, &evaluator, &[(&teapot, segments)]);
@@ -626,7 +632,9 @@ fn bad_requests_are_refused_and_leave_the_device_usable() {
     );
     assert_eq!(object, scene.objects[3]);
     // The device still works.
-    common::evaluate(&context, &evaluator, &mut geometry);
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    geometry.encode(&context.queue, &mut encoder, &evaluator, None);
+    context.queue.submit([encoder.finish()]);
     let vertices = geometry
         .read_vertices(&context.device, &context.queue)
         .unwrap();
@@ -639,11 +647,10 @@ fn degenerate_points_are_finite_and_flagged() {
     // The sphere's poles and the teapot's collapsed edges: finite normals and curvature
     // everywhere, flagged irregular, and the sphere's curvature there is still its 1/r².
     let context = common::gpu();
-    let evaluator = PatchEvaluator::new(&context.device);
     let scene = Scene::demo().unwrap();
     let objects = [scene.objects[0].clone(), scene.objects[2].clone()];
-    let decompositions = decompose(&objects);
-    let (geometry, vertices) = evaluate_scene(&context, &evaluator, &objects, &decompositions);
+    let (sync, vertices) = evaluate_scene(&context, &objects);
+    let geometry = sync.geometry().unwrap();
     let irregular: Vec<&SurfaceVertex> = vertices
         .iter()
         .filter(|v| v.flags & VERTEX_IRREGULAR != 0)

@@ -7,14 +7,14 @@ mod common;
 use glam::{DMat4, DVec3};
 use knotwork::gpu::ShadingMode;
 use knotwork::gpu::records::{CURVATURE_RAMP, RAMP_STOPS};
-use knotwork::gpu::{GpuContext, ObjectPatches, PatchEvaluator, PatchGeometry};
+use knotwork::gpu::{GpuContext, SceneSync};
 use knotwork::kernel::bezier::net_line_indices;
 use knotwork::kernel::construct;
 use knotwork::kernel::{BezierPatchSet, samples};
 use knotwork::render::{
     ControlNet, DrawOptions, POINT_COLOR, Shading, ViewTarget, ViewportRenderer, scene_uniform,
 };
-use knotwork::scene::{ObjectGeometry, SceneObject};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 use knotwork::view::OrbitCamera;
 
 const WIDTH: u32 = 320;
@@ -35,11 +35,8 @@ fn render(
     camera: &OrbitCamera,
     options: &DrawOptions,
 ) -> Vec<u8> {
-    let input = ObjectPatches {
-        set,
-        domains: &[],
-        segments: SEGMENTS,
-    };
+    let mut teapot = SceneObject::new("patches", ObjectGeometry::Patches(set.clone()));
+    teapot.segments = SEGMENTS;
     let net = ControlNet::new(
         &context.device,
         set.points(),
@@ -48,7 +45,7 @@ fn render(
     );
     draw(
         context,
-        &[input],
+        &[teapot],
         Some(&net),
         camera,
         options,
@@ -56,20 +53,23 @@ fn render(
     )
 }
 
-/// Evaluates `inputs` and renders them (and `net`) offscreen; returns the RGBA pixels.
+/// Evaluates `objects` through the editor's sync layer and renders them (and `net`)
+/// offscreen; returns the RGBA pixels.
 fn draw(
     context: &GpuContext,
-    inputs: &[ObjectPatches<'_>],
+    objects: &[SceneObject],
     net: Option<&ControlNet>,
     camera: &OrbitCamera,
     options: &DrawOptions,
     shading: &Shading,
 ) -> Vec<u8> {
-    let evaluator = PatchEvaluator::new(&context.device);
-    let mut geometry = PatchGeometry::new(&context.device, &evaluator, inputs).unwrap();
+    let scene = Scene {
+        objects: objects.to_vec(),
+    };
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
-    let scene = scene_uniform(
+    let uniform = scene_uniform(
         camera.view_projection(WIDTH as f32 / HEIGHT as f32),
         camera.eye(),
         &target,
@@ -77,9 +77,16 @@ fn draw(
         shading,
     );
     let mut encoder = context.device.create_command_encoder(&Default::default());
-    geometry.encode(&context.queue, &mut encoder, &evaluator, None);
-    renderer.set_scene(&context.queue, &scene);
-    renderer.render(&mut encoder, &target, &geometry, net, options, None);
+    sync.encode(&mut encoder, None);
+    renderer.set_scene(&context.queue, &uniform);
+    renderer.render(
+        &mut encoder,
+        &target,
+        sync.geometry().unwrap(),
+        net,
+        options,
+        None,
+    );
     context.queue.submit([encoder.finish()]);
     let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
     assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);
@@ -386,13 +393,11 @@ fn control_net_lines_join_neighbouring_points() {
 
 /// Renders the objects of `scene` (each at 16 segments per span), framed, in `shading`.
 fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shading) -> Vec<u8> {
-    let decompositions: Vec<_> = objects.iter().map(|o| o.decompose().unwrap()).collect();
-    let inputs: Vec<ObjectPatches<'_>> = decompositions
+    let objects: Vec<SceneObject> = objects
         .iter()
-        .map(|d| ObjectPatches {
-            set: &d.set,
-            domains: &d.domains,
+        .map(|o| SceneObject {
             segments: SEGMENTS,
+            ..o.clone()
         })
         .collect();
     let (lo, hi) = objects
@@ -407,7 +412,7 @@ fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shadin
         show_points: false,
         ..Default::default()
     };
-    draw(context, &inputs, None, &camera, &options, shading)
+    draw(context, &objects, None, &camera, &options, shading)
 }
 
 /// The sRGB bytes of the ramp's colour at `x` in [0, 1], computed here from the ramp's stops

@@ -70,6 +70,8 @@ impl KnotworkApp {
     /// a dialog names the problem and the document, its history and the GPU geometry stay as
     /// they were.
     pub fn open_project(&mut self, name: &str, project: Project) {
+        // A drag in progress belongs to the document being replaced: it ends there.
+        self.end_drag(false);
         let Project { scene, view } = project;
         let previous = std::mem::replace(&mut self.doc, Document::new(scene));
         let (camera, shading, quality) = (self.camera, self.shading, self.quality);
@@ -95,6 +97,7 @@ impl KnotworkApp {
 
     /// Starts again from the sample scene (an empty history).
     pub(super) fn new_document(&mut self) {
+        self.end_drag(false);
         let scene = default_scene(&mut self.status);
         self.doc = Document::new(scene);
         self.select(None);
@@ -126,7 +129,7 @@ impl KnotworkApp {
 
     /// Writes the project to the storage once edits have settled.
     pub(super) fn autosave(&mut self, ctx: &egui::Context, frame: &mut eframe::Frame) {
-        if !self.autosave || self.revision == self.autosaved_revision || self.drag.is_some() {
+        if !self.autosave || self.revision == self.autosaved_revision || self.doc.drag().is_some() {
             return;
         }
         let now = ctx.input(|i| i.time);
@@ -139,10 +142,20 @@ impl KnotworkApp {
             return;
         }
         if let Some(storage) = frame.storage_mut() {
-            storage.set_string(AUTOSAVE_KEY, self.doc.save(Some(self.view_settings())));
-            storage.flush();
-            self.autosaved_revision = self.revision;
+            self.write_autosave(storage);
         }
+    }
+
+    /// Writes the project to `storage` now, if it changed since the last autosave (a drag still
+    /// in progress counts once it ends). eframe calls this when the window closes, so an edit
+    /// made within the autosave delay is not lost.
+    pub fn write_autosave(&mut self, storage: &mut dyn eframe::Storage) {
+        if !self.autosave || self.revision == self.autosaved_revision {
+            return;
+        }
+        storage.set_string(AUTOSAVE_KEY, self.doc.save(Some(self.view_settings())));
+        storage.flush();
+        self.autosaved_revision = self.revision;
     }
 
     /// Files dropped on the window and files the web picker delivered.

@@ -10,9 +10,7 @@
 use eframe::egui;
 use glam::{DVec2, DVec3};
 
-use super::{Drag, KnotworkApp, PICK_RADIUS};
-use crate::doc::{Change, Edit};
-use crate::scene::ObjectGeometry;
+use super::{DragHandle, KnotworkApp, PICK_RADIUS};
 use crate::view::pick::{self, Constraint, Projected};
 
 impl KnotworkApp {
@@ -68,8 +66,12 @@ impl KnotworkApp {
             return;
         };
         let (origin, direction) = view.ray(cursor);
-        let objects: Vec<_> = self
-            .decompositions
+        let Some(gpu) = &self.gpu else {
+            return;
+        };
+        let objects: Vec<_> = gpu
+            .sync
+            .feeds()
             .iter()
             .zip(&self.doc.scene.objects)
             .map(|(d, o)| (d, o.visible))
@@ -103,12 +105,14 @@ impl KnotworkApp {
         let Some(object) = self.selected.map(|s| &self.doc.scene.objects[s]) else {
             return;
         };
-        let ObjectGeometry::Nurbs(surface) = &object.geometry else {
-            self.status.error =
-                Some("rows and columns need a NURBS net; the teapot is a set of patches".into());
+        let Some([nu, nv]) = object.kind().net_grid() else {
+            self.status.error = Some(format!(
+                "rows and columns need a rectangular net; {} is {}",
+                object.name,
+                object.kind().kind_name()
+            ));
             return;
         };
-        let [nu, nv] = surface.count();
         let (i, j) = (index / nv, index % nv);
         self.points = if column {
             (0..nu).map(|i| i * nv + j).collect()
@@ -118,7 +122,7 @@ impl KnotworkApp {
         self.update_net();
     }
 
-    /// Starts dragging the selection from handle `index`.
+    /// Starts dragging the selection from handle `index`: a transient edit of the document.
     fn begin_drag(&mut self, index: usize, shift: bool) {
         let Some(object) = self.selected else {
             return;
@@ -129,15 +133,13 @@ impl KnotworkApp {
             }
             self.points.insert(index);
         }
-        let target = &self.doc.scene.objects[object];
-        let positions = target.control_points();
-        self.drag = Some(Drag {
-            object,
-            before: target.clone(),
-            starts: self.points.iter().map(|&k| (k, positions[k])).collect(),
-            anchor: positions[index],
-            moved: false,
-        });
+        let points: Vec<usize> = self.points.iter().copied().collect();
+        if let Err(e) = self.doc.begin_drag(object, &points) {
+            self.status.error = Some(e.to_string());
+            return;
+        }
+        let anchor = self.doc.scene.objects[object].control_points()[index];
+        self.drag = Some(DragHandle { anchor });
         self.constraint = Constraint::Free;
         self.edit_point = index;
         self.update_net();
@@ -149,85 +151,56 @@ impl KnotworkApp {
         let (Some(drag), Some(view)) = (&self.drag, self.pick_view) else {
             return;
         };
+        if self.doc.drag().is_none() {
+            // The document was replaced or edited under the drag: it is over.
+            self.drag = None;
+            return;
+        }
+        let anchor = drag.anchor;
         let (origin, direction) = view.ray(self.local(pos));
         let view_dir = (self.camera.target - self.camera.eye())
             .as_dvec3()
             .normalize_or(DVec3::X);
-        let mut target =
-            pick::drag_position(drag.anchor, origin, direction, view_dir, self.constraint);
+        let mut target = pick::drag_position(anchor, origin, direction, view_dir, self.constraint);
         if self.snap {
             target = pick::snap(target, self.snap_step);
             // Snapping must not leave the constraint's axis or plane.
             match self.constraint {
                 Constraint::Axis(a) => {
-                    let keep = drag.anchor;
                     for b in (0..3).filter(|&b| b != a) {
-                        target[b] = keep[b];
+                        target[b] = anchor[b];
                     }
                 }
-                Constraint::Plane(a) => target[a] = drag.anchor[a],
+                Constraint::Plane(a) => target[a] = anchor[a],
                 Constraint::Free => {}
             }
         }
-        let delta = target - drag.anchor;
-        let object = drag.object;
-        let moves: Vec<(usize, DVec3)> = drag.starts.iter().map(|&(k, p)| (k, p + delta)).collect();
-        let mut patches = std::collections::BTreeSet::new();
-        let mut error = None;
-        for (k, p) in moves {
-            match self.doc.scene.objects[object].move_control_point(k, p) {
-                Ok(affected) => patches.extend(affected),
-                Err(e) => error = Some(e.to_string()),
-            }
-        }
-        if let Some(drag) = &mut self.drag {
-            drag.moved = true;
-        }
-        let patches: Vec<usize> = patches.into_iter().collect();
-        self.status.patches_in_drag = patches.len() as u32;
-        if let Some(first) = self
-            .gpu
-            .as_ref()
-            .and_then(|g| g.geometry.as_ref())
-            .and_then(|g| g.first_patch(object))
-        {
-            self.highlight_patches = patches.iter().map(|p| first + p).collect();
-        }
-        if let Err(e) = self.refresh_object(object, Some(&patches)) {
-            error = Some(e);
-        }
-        if let Some(e) = error {
+        let result = self
+            .doc
+            .drag_by(target - anchor)
+            .map_err(|e| e.to_string())
+            .and_then(|moved| self.show_moved(&moved));
+        if let Err(e) = result {
             self.status.error = Some(e);
         }
     }
 
     /// Ends the drag: one undo step for the whole move (`cancel`: put everything back).
     pub(super) fn end_drag(&mut self, cancel: bool) {
-        let Some(drag) = self.drag.take() else {
+        if self.drag.take().is_none() && self.doc.drag().is_none() {
             return;
-        };
+        }
         self.constraint = Constraint::Free;
         self.highlight_patches.clear();
         self.auto_range = None;
         self.redraw = true;
-        if !drag.moved {
-            return;
-        }
         if cancel {
-            self.doc.scene.objects[drag.object] = drag.before;
-            let _ = self.refresh_object(drag.object, None);
-            return;
-        }
-        let after = self.doc.scene.objects[drag.object].clone();
-        if after != drag.before {
-            self.doc.history.record(Edit {
-                label: format!("move {} point(s)", drag.starts.len()),
-                changes: vec![Change::Replace {
-                    index: drag.object,
-                    before: drag.before,
-                    after,
-                }],
-            });
+            if let Some(object) = self.doc.cancel_drag()
+                && let Err(e) = self.after_edit(crate::doc::Touched::Points(object))
+            {
+                self.status.error = Some(e);
+            }
+        } else if self.doc.commit_drag().is_some() {
             self.revision += 1;
         }
     }

@@ -340,7 +340,7 @@ impl KnotworkApp {
             }
         });
         if p != before {
-            self.move_control_point(s, self.edit_point, p);
+            self.move_points(s, &[(self.edit_point, p)]);
         }
         ui.horizontal(|ui| {
             ui.label("Move selection by");
@@ -353,12 +353,12 @@ impl KnotworkApp {
             .clicked()
         {
             let delta = DVec3::from(self.panel.move_by);
-            let moves = self
+            let moves: Vec<(usize, DVec3)> = self
                 .points
                 .iter()
                 .map(|&k| (k, points[k] + delta))
                 .collect();
-            self.execute(Command::MovePoints { object: s, moves });
+            self.move_points(s, &moves);
         }
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.snap, "Snap drags to grid");

@@ -7,6 +7,7 @@
 
 pub mod create;
 pub mod document;
+pub mod drag;
 pub mod history;
 
 use glam::{DAffine3, DVec3};
@@ -16,6 +17,7 @@ use crate::kernel::{Direction, GeometryError, NurbsSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
 
 pub use document::Document;
+pub use drag::{PointDrag, PointsMoved};
 pub use history::History;
 
 /// One change to the document, as the user asked for it.
@@ -100,6 +102,10 @@ pub enum Command {
         object: usize,
         segments: u32,
     },
+    /// The same segments per span for every object (one undo step).
+    SetAllSegments {
+        segments: u32,
+    },
 }
 
 impl Command {
@@ -136,6 +142,9 @@ impl Command {
             Command::SetVisible { visible, .. } => (if *visible { "show" } else { "hide" }).into(),
             Command::Transform { .. } => "transform".into(),
             Command::SetSegments { segments, .. } => format!("{segments} segments"),
+            Command::SetAllSegments { segments } => {
+                format!("{segments} segments for every object")
+            }
         }
     }
 }
@@ -182,6 +191,10 @@ pub enum EditError {
     InvalidName,
     #[error("segments per span must be in 1..={max}, got {segments}")]
     Segments { segments: u32, max: u32 },
+    #[error("no drag is in progress")]
+    NoDrag,
+    #[error("point {point} is not part of the drag")]
+    NotDragged { point: usize },
     #[error("the history has nothing to {0}")]
     NothingTo(&'static str),
     #[error("the document no longer matches the history ({0}); the history was cleared")]
@@ -283,7 +296,7 @@ impl Edit {
                     }
                 } else if before.segments == after.segments
                     && before.visible == after.visible
-                    && same_layout(&before.geometry, &after.geometry)
+                    && before.kind().same_layout(&after.geometry)
                 {
                     Touched::Points(*index)
                 } else {
@@ -292,23 +305,6 @@ impl Edit {
             }
             _ => Touched::Structure,
         }
-    }
-}
-
-/// Whether two geometries have the same degrees, knots, counts and patch layout (only control
-/// point positions and weights may differ), so the GPU buffers keep their layout.
-fn same_layout(a: &ObjectGeometry, b: &ObjectGeometry) -> bool {
-    match (a, b) {
-        (ObjectGeometry::Nurbs(a), ObjectGeometry::Nurbs(b)) => {
-            a.degree() == b.degree() && a.knots() == b.knots() && a.count() == b.count()
-        }
-        (ObjectGeometry::Patches(a), ObjectGeometry::Patches(b)) => {
-            a.patches() == b.patches() && a.points().len() == b.points().len()
-        }
-        (ObjectGeometry::Mesh(a), ObjectGeometry::Mesh(b)) => {
-            a.points().len() == b.points().len() && a.faces().eq(b.faces())
-        }
-        _ => false,
     }
 }
 
@@ -339,14 +335,14 @@ fn forward(objects: &mut Vec<SceneObject>, change: &Change) -> Result<(), EditEr
     Ok(())
 }
 
-fn object_at(scene: &Scene, object: usize) -> Result<&SceneObject, EditError> {
+pub(crate) fn object_at(scene: &Scene, object: usize) -> Result<&SceneObject, EditError> {
     scene.objects.get(object).ok_or(EditError::NoSuchObject {
         object,
         count: scene.objects.len(),
     })
 }
 
-fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> EditError + '_ {
+pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> EditError + '_ {
     move |source| EditError::Geometry {
         name: object.name.clone(),
         source,
@@ -360,15 +356,10 @@ fn nurbs<'a>(
 ) -> Result<&'a NurbsSurface, EditError> {
     match &object.geometry {
         ObjectGeometry::Nurbs(surface) => Ok(surface),
-        ObjectGeometry::Patches(_) => Err(EditError::NeedsNurbs {
+        other => Err(EditError::NeedsNurbs {
             name: object.name.clone(),
             operation,
-            kind: "a set of Bézier patches",
-        }),
-        ObjectGeometry::Mesh(_) => Err(EditError::NeedsNurbs {
-            name: object.name.clone(),
-            operation,
-            kind: "a polygon mesh",
+            kind: other.kind().kind_name(),
         }),
     }
 }
@@ -590,12 +581,10 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             transform,
         } => {
             let object = object_at(scene, *k)?;
-            let geometry = match &object.geometry {
-                ObjectGeometry::Nurbs(s) => s.transformed(transform).map(ObjectGeometry::Nurbs),
-                ObjectGeometry::Patches(p) => p.transformed(transform).map(ObjectGeometry::Patches),
-                ObjectGeometry::Mesh(m) => m.transformed(transform).map(ObjectGeometry::Mesh),
-            }
-            .map_err(geometry_error(object))?;
+            let geometry = object
+                .kind()
+                .transformed(transform)
+                .map_err(geometry_error(object))?;
             replace(
                 *k,
                 SceneObject {
@@ -609,13 +598,7 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             segments,
         } => {
             let object = object_at(scene, *k)?;
-            let max = crate::scene::MAX_SEGMENTS;
-            if !(1..=max).contains(segments) {
-                return Err(EditError::Segments {
-                    segments: *segments,
-                    max,
-                });
-            }
+            check_segments(*segments)?;
             replace(
                 *k,
                 SceneObject {
@@ -624,6 +607,33 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 },
             )
         }
+        Command::SetAllSegments { segments } => {
+            check_segments(*segments)?;
+            Ok(scene
+                .objects
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| o.segments != *segments)
+                .map(|(index, o)| Change::Replace {
+                    index,
+                    before: o.clone(),
+                    after: SceneObject {
+                        segments: *segments,
+                        ..o.clone()
+                    },
+                })
+                .collect())
+        }
+    }
+}
+
+/// Refuses segments per span outside 1..=[`crate::scene::MAX_SEGMENTS`].
+fn check_segments(segments: u32) -> Result<(), EditError> {
+    let max = crate::scene::MAX_SEGMENTS;
+    if (1..=max).contains(&segments) {
+        Ok(())
+    } else {
+        Err(EditError::Segments { segments, max })
     }
 }
 

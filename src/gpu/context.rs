@@ -1,23 +1,146 @@
 //! wgpu device setup, shared by the editor (through eframe) and headless use (tests, benches, CLI).
+//!
+//! Adapter choice is explicit: [`adapter_shortfall`] says, from an adapter's description alone,
+//! what it lacks for knotwork's compute shaders, and [`choose_adapter`] takes the best adapter
+//! that lacks nothing. An adapter without compute (a GL driver, say) is never handed to the
+//! evaluator, whose pipelines would otherwise fail inside wgpu.
 
 use super::error::GpuError;
 
-/// The device the editor, tests and benchmarks ask for: WebGPU's default limits (so what runs
-/// natively also runs in the browser) with 8192² textures, plus `TIMESTAMP_QUERY` where the adapter
-/// has it (GPU timings in the status panel and the benchmarks).
-pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
-    let base = if adapter.get_info().backend == wgpu::Backend::Gl {
-        wgpu::Limits::downlevel_webgl2_defaults()
+/// What to do when no adapter can run the compute shaders.
+pub const ADAPTER_HINT: &str = "on Linux without a GPU install lavapipe, a software Vulkan driver \
+(Debian/Ubuntu: apt-get install mesa-vulkan-drivers); elsewhere update the graphics driver, \
+or unset WGPU_BACKEND if it names gl";
+
+/// The limits knotwork asks of a device: WebGPU's defaults (so what runs natively also runs in
+/// the browser) with 8192² textures.
+pub fn required_limits() -> wgpu::Limits {
+    wgpu::Limits {
+        max_texture_dimension_2d: 8192,
+        ..wgpu::Limits::default()
+    }
+}
+
+/// Limits below [`required_limits`] named in a refusal; the rest are counted.
+const LIMITS_NAMED: usize = 3;
+
+/// What an adapter lacks for the evaluator and the viewport, from its description alone:
+/// compute shaders (a downlevel flag) and the limits below [`required_limits`] (storage and
+/// compute limits first; [`LIMITS_NAMED`] of them by name, the rest counted). Empty when it has everything.
+pub fn adapter_shortfall(
+    downlevel: &wgpu::DownlevelCapabilities,
+    limits: &wgpu::Limits,
+) -> Vec<String> {
+    let mut missing = Vec::new();
+    if !downlevel
+        .flags
+        .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+    {
+        missing.push("no compute shaders".to_owned());
+    }
+    let mut short = Vec::new();
+    required_limits().check_limits_with_fail_fn(limits, false, |name, needed, has| {
+        short.push(format!("{name} {has} (needs {needed})"));
+    });
+    // The limits the compute shaders need most are named first.
+    short.sort_by_key(|text| !(text.contains("storage") || text.contains("compute")));
+    let more = short.len().saturating_sub(LIMITS_NAMED);
+    missing.extend(short.into_iter().take(LIMITS_NAMED));
+    if more > 0 {
+        missing.push(format!("{more} more limits below WebGPU's defaults"));
+    }
+    missing
+}
+
+/// "GL · llvmpipe (LLVM 15.0.6, 256 bits)".
+fn adapter_label(info: &wgpu::AdapterInfo) -> String {
+    let name = if info.name.is_empty() {
+        "(unnamed adapter)"
     } else {
-        wgpu::Limits::default()
+        info.name.as_str()
+    };
+    format!("{} · {name}", backend_name(info.backend))
+}
+
+/// [`adapter_shortfall`] as a refusal: `Ok` for an adapter that has everything, otherwise
+/// [`GpuError::UnsuitableAdapter`] naming it, what it lacks and what to install.
+pub fn check_adapter(
+    info: &wgpu::AdapterInfo,
+    downlevel: &wgpu::DownlevelCapabilities,
+    limits: &wgpu::Limits,
+) -> Result<(), GpuError> {
+    let missing = adapter_shortfall(downlevel, limits);
+    if missing.is_empty() {
+        return Ok(());
+    }
+    Err(GpuError::UnsuitableAdapter {
+        found: format!("{}: {}", adapter_label(info), missing.join(", ")),
+        hint: ADAPTER_HINT,
+    })
+}
+
+/// [`check_adapter`] for a live adapter.
+pub fn check(adapter: &wgpu::Adapter) -> Result<(), GpuError> {
+    check_adapter(
+        &adapter.get_info(),
+        &adapter.get_downlevel_capabilities(),
+        &adapter.limits(),
+    )
+}
+
+/// Preference among suitable adapters: a discrete GPU, then integrated, virtual, a CPU
+/// (lavapipe, SwiftShader), anything else.
+fn preference(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+/// The best adapter of `adapters` that can run the compute shaders (see [`preference`]); when
+/// none can, the refusal names every adapter and what it lacks.
+pub fn choose_adapter(adapters: &[wgpu::Adapter]) -> Result<&wgpu::Adapter, GpuError> {
+    let mut refusals = Vec::new();
+    let mut best: Option<&wgpu::Adapter> = None;
+    for adapter in adapters {
+        match check(adapter) {
+            Ok(()) => {
+                let rank = |a: &wgpu::Adapter| preference(a.get_info().device_type);
+                if best.is_none_or(|b| rank(adapter) < rank(b)) {
+                    best = Some(adapter);
+                }
+            }
+            Err(GpuError::UnsuitableAdapter { found, .. }) => refusals.push(found),
+            Err(e) => refusals.push(e.to_string()),
+        }
+    }
+    match best {
+        Some(adapter) => Ok(adapter),
+        None if refusals.is_empty() => Err(GpuError::NoAdapter("wgpu found no adapter".into())),
+        None => Err(GpuError::UnsuitableAdapter {
+            found: refusals.join("; "),
+            hint: ADAPTER_HINT,
+        }),
+    }
+}
+
+/// The device the editor, tests and benchmarks ask for: [`required_limits`], plus
+/// `TIMESTAMP_QUERY` where the adapter has it (GPU timings in the status panel and the
+/// benchmarks). An adapter that cannot meet them (the editor then shows why, and draws nothing)
+/// gets a device at its own limits so that the window can still open.
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+    let required_limits = if check(adapter).is_ok() {
+        required_limits()
+    } else {
+        wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits())
     };
     wgpu::DeviceDescriptor {
         label: Some("knotwork device"),
         required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
-        required_limits: wgpu::Limits {
-            max_texture_dimension_2d: 8192,
-            ..base
-        },
+        required_limits,
         ..Default::default()
     }
 }
@@ -42,21 +165,28 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
-    /// Opens the first adapter wgpu offers (honouring `WGPU_BACKEND` and friends). Fails, never
-    /// falls back silently, when there is none.
+    /// Opens the best adapter that can run the compute shaders ([`choose_adapter`] over the
+    /// adapters of the backends `WGPU_BACKEND` allows). Fails, never falls back silently, when
+    /// there is none, naming what each adapter found lacks.
     pub async fn headless() -> Result<Self, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::from_env()
-                    .unwrap_or(wgpu::PowerPreference::HighPerformance),
-                force_fallback_adapter: false,
-                compatible_surface: None,
-                apply_limit_buckets: false,
-            })
-            .await
-            .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        let backends = descriptor.backends;
+        let instance = wgpu::Instance::new(descriptor);
+        #[cfg(not(target_arch = "wasm32"))]
+        let adapter = {
+            let adapters = instance.enumerate_adapters(backends).await;
+            choose_adapter(&adapters)?.clone()
+        };
+        #[cfg(target_arch = "wasm32")]
+        let adapter = {
+            let _ = backends;
+            let adapter = instance
+                .request_adapter(&wgpu::RequestAdapterOptions::default())
+                .await
+                .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+            check(&adapter)?;
+            adapter
+        };
         let (device, queue) = adapter
             .request_device(&device_descriptor(&adapter))
             .await
@@ -78,5 +208,67 @@ impl GpuContext {
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();
         format!("{:?} · {}", info.backend, info.name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(backend: wgpu::Backend, name: &str) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            name: name.into(),
+            vendor: 0,
+            device: 0,
+            device_type: wgpu::DeviceType::Cpu,
+            device_pci_bus_id: String::new(),
+            driver: String::new(),
+            driver_info: String::new(),
+            backend,
+            subgroup_min_size: 0,
+            subgroup_max_size: 0,
+            transient_saves_memory: None,
+            limit_bucket: None,
+        }
+    }
+
+    #[test]
+    fn an_adapter_without_compute_is_refused_with_what_it_lacks_and_what_to_install() {
+        // A GL adapter as wgpu reports one without compute: no COMPUTE_SHADERS flag and
+        // WebGL2's limits (no storage buffers, a workgroup size of zero).
+        let gl = wgpu::DownlevelCapabilities {
+            flags: wgpu::DownlevelFlags::empty(),
+            ..Default::default()
+        };
+        let limits = wgpu::Limits::downlevel_webgl2_defaults();
+        let refusal =
+            check_adapter(&info(wgpu::Backend::Gl, "llvmpipe"), &gl, &limits).expect_err("refused");
+        let message = refusal.to_string();
+        for expected in [
+            "webgl2/gl · llvmpipe",
+            "no compute shaders",
+            "max_storage_buffers_per_shader_stage 0 (needs 8)",
+            "more limits below WebGPU's defaults",
+            "mesa-vulkan-drivers",
+        ] {
+            assert!(message.contains(expected), "{expected:?} in {message}");
+        }
+    }
+
+    #[test]
+    fn an_adapter_with_webgpu_defaults_and_compute_is_accepted() {
+        let full = wgpu::DownlevelCapabilities::default();
+        let mut limits = required_limits();
+        assert!(check_adapter(&info(wgpu::Backend::Vulkan, "llvmpipe"), &full, &limits).is_ok());
+        // One limit short is enough to refuse, and it is named.
+        limits.max_storage_buffers_per_shader_stage = 4;
+        let message = check_adapter(&info(wgpu::Backend::Vulkan, "x"), &full, &limits)
+            .expect_err("refused")
+            .to_string();
+        assert!(
+            message.contains("max_storage_buffers_per_shader_stage 4 (needs 8)")
+                && !message.contains("no compute shaders"),
+            "{message}"
+        );
     }
 }

@@ -8,6 +8,15 @@ pub enum GpuError {
         "no GPU adapter found: {0} (on Linux install lavapipe: apt-get install mesa-vulkan-drivers)"
     )]
     NoAdapter(String),
+    #[error(
+        "no usable GPU adapter: {found}. knotwork evaluates surfaces with compute shaders; {hint}"
+    )]
+    UnsuitableAdapter {
+        /// Each adapter found and what it lacks ("GL · llvmpipe: no compute shaders").
+        found: String,
+        /// What to install or change.
+        hint: &'static str,
+    },
     #[error("the GPU device could not be created: {0}")]
     RequestDevice(String),
     #[error(

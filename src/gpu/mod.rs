@@ -9,11 +9,13 @@ pub mod point_eval;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod readback;
 pub mod records;
+pub mod scene_sync;
 pub mod timing;
 
-pub use context::{GpuContext, backend_name, device_descriptor};
+pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use error::GpuError;
 pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry};
 pub use records::{
     PatchRecord, PointResult, PointSample, SceneUniform, ShadingMode, SurfaceVertex,
 };
+pub use scene_sync::{SceneSync, effective_segments, fit_to_device};

@@ -35,7 +35,8 @@ pub fn write_png(path: &PathBuf, width: u32, height: u32, rgba: &[u8]) {
     writer.write_image_data(rgba).expect("png data");
 }
 
-/// Uploads `objects` (each object's decomposition at its segments per span) to the GPU.
+/// Uploads decompositions to a bare [`knotwork::gpu::PatchGeometry`] at the given segments per
+/// span, below the sync layer (the evaluator's own refusals are tested with it).
 pub fn upload(
     context: &GpuContext,
     evaluator: &knotwork::gpu::PatchEvaluator,
@@ -50,17 +51,6 @@ pub fn upload(
         })
         .collect();
     knotwork::gpu::PatchGeometry::new(&context.device, evaluator, &inputs)
-}
-
-/// Submits one compute pass evaluating `geometry`.
-pub fn evaluate(
-    context: &GpuContext,
-    evaluator: &knotwork::gpu::PatchEvaluator,
-    geometry: &mut knotwork::gpu::PatchGeometry,
-) {
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    geometry.encode(&context.queue, &mut encoder, evaluator, None);
-    context.queue.submit([encoder.finish()]);
 }
 
 /// A deterministic generator (SplitMix64) so one u64 from proptest describes a whole surface.

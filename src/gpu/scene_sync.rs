@@ -1,0 +1,311 @@
+//! Document changes become GPU work here, and only here: the editor, `knotwork bench`, the CLI
+//! and the tests all keep the GPU copy of a scene through [`SceneSync`].
+//!
+//! It holds each object's GPU feed (its Bézier patches, [`crate::scene::Decomposition`]), the
+//! [`PatchGeometry`] built from them at the current tessellation, and the evaluator. An edit
+//! reaches it as a [`Touched`] (from an undo step) or as [`PointsMoved`] (a drag step or a
+//! move): points-only changes re-derive just the named patches and upload just the control
+//! points that changed; structural changes rebuild the buffers, lowering the tessellation until
+//! the device's limits accept it.
+
+use super::error::GpuError;
+use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry};
+use crate::doc::{PointsMoved, Touched};
+use crate::scene::{Decomposition, Scene, SceneObject};
+
+/// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].
+pub fn effective_segments(segments: u32, quality: f32) -> u32 {
+    ((segments as f32 * quality).round() as u32).clamp(1, MAX_SEGMENTS)
+}
+
+/// Builds with `build(quality)`; while the device's limits refuse that (a buffer too large, a
+/// level beyond the dispatch limits) halves the quality and tries again, at most 16 times.
+/// Returns what was built, the quality used, and the first refusal (`None` when `quality`
+/// fitted). Any other error is returned at once.
+pub fn fit_to_device<T>(
+    quality: f32,
+    mut build: impl FnMut(f32) -> Result<T, GpuError>,
+) -> Result<(T, f32, Option<GpuError>), GpuError> {
+    let mut q = quality;
+    let mut refusal = None;
+    for _ in 0..16 {
+        match build(q) {
+            Ok(built) => return Ok((built, q, refusal)),
+            Err(e @ (GpuError::BufferTooLarge { .. } | GpuError::SegmentsOutOfRange { .. })) => {
+                refusal.get_or_insert(e);
+                q *= 0.5;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Err(refusal.unwrap_or(GpuError::SegmentsOutOfRange {
+        segments: 0,
+        max: MAX_SEGMENTS,
+    }))
+}
+
+/// What a hidden object feeds the GPU: nothing.
+fn nothing() -> Decomposition {
+    Decomposition {
+        set: Default::default(),
+        domains: Vec::new(),
+    }
+}
+
+/// The GPU feed of one object, with the object's name on a failure.
+fn feed(object: &SceneObject) -> Result<Decomposition, GpuError> {
+    if !object.visible {
+        return Ok(nothing());
+    }
+    object
+        .decompose()
+        .map_err(|e| GpuError::Geometry(format!("{}: {e}", object.name)))
+}
+
+/// The GPU copy of one scene: feeds, buffers and the evaluator.
+pub struct SceneSync {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    evaluator: PatchEvaluator,
+    feeds: Vec<Decomposition>,
+    geometry: Option<PatchGeometry>,
+    quality_used: f32,
+    points_uploaded: usize,
+}
+
+impl SceneSync {
+    /// An empty GPU scene on `device` (its pipelines are created here).
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self {
+            evaluator: PatchEvaluator::new(device),
+            device: device.clone(),
+            queue: queue.clone(),
+            feeds: Vec::new(),
+            geometry: None,
+            quality_used: 1.0,
+            points_uploaded: 0,
+        }
+    }
+
+    /// A GPU copy of `scene` at quality `quality` (see [`Self::rebuild`]).
+    pub fn with_scene(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        quality: f32,
+    ) -> Result<Self, GpuError> {
+        let mut sync = Self::new(device, queue);
+        sync.rebuild(scene, quality)?;
+        Ok(sync)
+    }
+
+    pub fn evaluator(&self) -> &PatchEvaluator {
+        &self.evaluator
+    }
+
+    /// The buffers, once a scene was built.
+    pub fn geometry(&self) -> Option<&PatchGeometry> {
+        self.geometry.as_ref()
+    }
+
+    /// Each object's Bézier patches as uploaded (empty for hidden objects).
+    pub fn feeds(&self) -> &[Decomposition] {
+        &self.feeds
+    }
+
+    /// The quality the device's limits allowed at the last rebuild.
+    pub fn quality_used(&self) -> f32 {
+        self.quality_used
+    }
+
+    /// Bézier control points uploaded by the last points-only update.
+    pub fn points_uploaded(&self) -> usize {
+        self.points_uploaded
+    }
+
+    /// Uploads every object of `scene` at `quality`; where the device's buffer or dispatch
+    /// limits refuse that, halves the quality until they accept it and returns a notice saying
+    /// so. On failure the previous GPU copy stays as it was.
+    pub fn rebuild(&mut self, scene: &Scene, quality: f32) -> Result<Option<String>, GpuError> {
+        let feeds: Vec<Decomposition> = scene.objects.iter().map(feed).collect::<Result<_, _>>()?;
+        let (geometry, used, refusal) = fit_to_device(quality, |q| {
+            let inputs: Vec<ObjectPatches<'_>> = scene
+                .objects
+                .iter()
+                .zip(&feeds)
+                .map(|(object, d)| ObjectPatches {
+                    set: &d.set,
+                    domains: &d.domains,
+                    segments: effective_segments(object.segments, q),
+                })
+                .collect();
+            PatchGeometry::new(&self.device, &self.evaluator, &inputs)
+        })?;
+        self.feeds = feeds;
+        self.geometry = Some(geometry);
+        self.quality_used = used;
+        Ok(refusal.map(|e| {
+            format!("tessellation lowered to quality {used:.2} (asked {quality:.2}): {e}")
+        }))
+    }
+
+    /// Object `object`'s control points or weights changed (same layout): re-derives the
+    /// Bézier patches `patches` of its feed (`None`: the whole object, re-evaluating the patches
+    /// whose points changed), uploads the changed points and marks the patches for the next
+    /// [`Self::encode`]. Returns how many points were uploaded. On failure the feed is as before.
+    pub fn refresh_object(
+        &mut self,
+        scene: &Scene,
+        object: usize,
+        patches: Option<&[usize]>,
+    ) -> Result<usize, GpuError> {
+        let target = scene.objects.get(object).ok_or(GpuError::NoSuchObject {
+            object,
+            count: scene.objects.len(),
+        })?;
+        let slot = self.feeds.get_mut(object).ok_or(GpuError::NoSuchObject {
+            object,
+            count: scene.objects.len(),
+        })?;
+        if !target.visible {
+            return Ok(0);
+        }
+        let fresh = match patches {
+            Some(patches) => {
+                let mut updated = slot.clone();
+                target
+                    .update_decomposition(&mut updated, patches)
+                    .map_err(|e| GpuError::Geometry(format!("{}: {e}", target.name)))?;
+                updated
+            }
+            None => feed(target)?,
+        };
+        let uploaded = match &mut self.geometry {
+            Some(geometry) => geometry.update_object(&self.queue, object, &fresh.set, patches)?,
+            None => 0,
+        };
+        *slot = fresh;
+        self.points_uploaded = uploaded;
+        Ok(uploaded)
+    }
+
+    /// A drag step or a move ([`crate::doc::Document::drag_by`], `move_points`): only the
+    /// moved points' support is re-derived and re-evaluated.
+    pub fn points_moved(&mut self, scene: &Scene, moved: &PointsMoved) -> Result<usize, GpuError> {
+        self.refresh_object(scene, moved.object, Some(&moved.patches))
+    }
+
+    /// Brings the GPU copy up to date after an edit of the document (a command, undo, redo);
+    /// returns a notice when the tessellation had to be lowered.
+    pub fn apply(
+        &mut self,
+        scene: &Scene,
+        touched: Touched,
+        quality: f32,
+    ) -> Result<Option<String>, GpuError> {
+        match touched {
+            Touched::Nothing => Ok(None),
+            Touched::Points(object) => self.refresh_object(scene, object, None).map(|_| None),
+            Touched::Structure => self.rebuild(scene, quality),
+        }
+    }
+
+    /// Whether [`Self::encode`] has work to do.
+    pub fn needs_evaluation(&self) -> bool {
+        self.geometry
+            .as_ref()
+            .is_some_and(PatchGeometry::needs_evaluation)
+    }
+
+    /// Marks every patch for re-evaluation (benchmarks).
+    pub fn invalidate(&mut self) {
+        if let Some(geometry) = &mut self.geometry {
+            geometry.invalidate();
+        }
+    }
+
+    /// Records the compute pass of the pending work into `encoder` (see
+    /// [`PatchGeometry::encode`]); returns the number of patches evaluated.
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> u32 {
+        match &mut self.geometry {
+            Some(geometry) => geometry.encode(&self.queue, encoder, &self.evaluator, timestamps),
+            None => 0,
+        }
+    }
+
+    /// Submits the pending work and waits for the GPU (tests, benchmarks, the CLI); returns the
+    /// number of patches evaluated.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn evaluate_blocking(&mut self) -> Result<u32, GpuError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let evaluated = self.encode(&mut encoder, None);
+        self.queue.submit([encoder.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        Ok(evaluated)
+    }
+
+    /// The evaluated vertices (blocking).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn read_vertices(&self) -> Result<Vec<super::SurfaceVertex>, GpuError> {
+        match &self.geometry {
+            Some(g) => g.read_vertices(&self.device, &self.queue),
+            None => Ok(Vec::new()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_quality_is_lowered_until_the_device_accepts_it() {
+        // A device that holds at most 1000 vertices per object of 10 patches at 16 segments.
+        let build = |q: f32| {
+            let segments = effective_segments(16, q);
+            let bytes = 10 * u64::from(segments + 1).pow(2) * 64;
+            if bytes > 64_000 {
+                Err(GpuError::BufferTooLarge {
+                    what: "vertex",
+                    bytes,
+                    limit: 64_000,
+                })
+            } else {
+                Ok(segments)
+            }
+        };
+        let (segments, used, refusal) = fit_to_device(2.0, build).unwrap();
+        assert_eq!((segments, used), (8, 0.5));
+        assert!(matches!(refusal, Some(GpuError::BufferTooLarge { .. })));
+        let (_, used, refusal) = fit_to_device(0.25, build).unwrap();
+        assert_eq!((used, refusal), (0.25, None));
+        // Other errors are not retried.
+        let mut calls = 0;
+        let other = fit_to_device(1.0, |_| -> Result<(), GpuError> {
+            calls += 1;
+            Err(GpuError::NoSuchObject {
+                object: 1,
+                count: 0,
+            })
+        });
+        assert!(matches!(other, Err(GpuError::NoSuchObject { .. })) && calls == 1);
+        // A device that never fits gives up with the first refusal.
+        let never = fit_to_device(1.0, |_| -> Result<(), GpuError> {
+            Err(GpuError::BufferTooLarge {
+                what: "index",
+                bytes: 1,
+                limit: 0,
+            })
+        });
+        assert!(matches!(
+            never,
+            Err(GpuError::BufferTooLarge { what: "index", .. })
+        ));
+    }
+}

@@ -1,0 +1,88 @@
+//! The one interface every kind of scene object answers ([`ObjectKind`]): its control points
+//! and net, how its points move, what it feeds the GPU, how it tessellates for export and how
+//! it transforms. The editor, the document's commands, the GPU sync layer and the exporters
+//! ask these questions and never look at the kind itself, so a new kind of object is one
+//! module implementing this trait plus one variant of [`super::ObjectGeometry`] (and its entry
+//! in the project file format).
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry};
+use crate::kernel::GeometryError;
+use crate::kernel::tess::{Tessellation, TriangleMesh};
+
+/// What every kind of object answers.
+pub trait ObjectKind {
+    /// "NURBS surface", "set of Bézier patches", "polygon mesh": for messages.
+    fn kind_name(&self) -> &'static str;
+
+    /// "B-spline degree (2, 5), 7 × 9 points" and the like, for the panel.
+    fn describe(&self) -> String;
+
+    /// How many control points [`Self::control_points`] has (without computing them).
+    fn control_point_count(&self) -> usize;
+
+    /// The control points the user sees and drags (Cartesian).
+    fn control_points(&self) -> Vec<DVec3>;
+
+    /// The weights of [`Self::control_points`], in the same order (1 where a kind has none).
+    fn weights(&self) -> Vec<f64>;
+
+    /// Index pairs of the control net's lines over [`Self::control_points`].
+    fn net_lines(&self) -> Vec<u32>;
+
+    /// Where the control net is a rectangular grid, its [rows, columns] (point `index` is at
+    /// row `index / columns`): rows and columns can then be selected.
+    fn net_grid(&self) -> Option<[usize; 2]> {
+        None
+    }
+
+    /// The box of the control points (which contains the surface).
+    fn bounds(&self) -> Option<(DVec3, DVec3)>;
+
+    /// Moves control point `index` to `position` and returns the indices of the GPU feed's
+    /// patches that changed (the point's local support). A bad index or a non-finite position
+    /// is refused and changes nothing.
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError>;
+
+    /// Sets the weight of control point `index`, keeping its position. Refused for a bad index,
+    /// a weight that is not finite and > 0, or a kind whose points have no weights.
+    fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError>;
+
+    /// What the object feeds the GPU evaluator: rational Bézier patches over a shared point
+    /// pool, each with its parameter rectangle in the object's own domain.
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError>;
+
+    /// The point of the feed's patch `patch` at local (s, t) ∈ [0, 1]², computed from the
+    /// object's own definition rather than from the feed: the f64 oracle that the feed and the
+    /// GPU are checked against for every kind.
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError>;
+
+    /// Brings `feed` (this object's [`Self::gpu_feed`] from before its control points moved)
+    /// up to date for the feed's patches `patches` only; the rest is kept as it was.
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError>;
+
+    /// The object as triangle meshes for export (f64, [`crate::kernel::tess`]); `curvature`
+    /// adds K, H, k1, k2 per vertex.
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError>;
+
+    /// The object mapped by an affine transformation (baked into its control points).
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError>;
+
+    /// Whether `other` is the same kind with the same structure (degrees, knots, counts,
+    /// patch layout), so that only control point positions or weights differ and the GPU
+    /// buffers keep their layout.
+    fn same_layout(&self, other: &ObjectGeometry) -> bool;
+}

@@ -1,0 +1,122 @@
+//! Polygon meshes (imported OBJ and glTF meshes) as a scene object kind, drawn as bilinear
+//! Bézier patches: a quad is one patch, a triangle a patch with a collapsed edge, an n-gon a fan.
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::tess::{self, Tessellation, TriangleMesh};
+use crate::kernel::{GeometryError, PolygonMesh};
+
+impl ObjectKind for PolygonMesh {
+    fn kind_name(&self) -> &'static str {
+        "a polygon mesh"
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "polygon mesh, {} faces, {} points",
+            self.face_count(),
+            self.points().len()
+        )
+    }
+
+    fn control_point_count(&self) -> usize {
+        self.points().len()
+    }
+
+    fn control_points(&self) -> Vec<DVec3> {
+        self.points().to_vec()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        vec![1.0; self.points().len()]
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        self.edge_indices()
+    }
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        PolygonMesh::bounds(self)
+    }
+
+    /// The changed patches are those of the faces around the point.
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        self.set_point(index, position)?;
+        Ok(self.patches_using(index as u32))
+    }
+
+    fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
+        Err(GeometryError::Construction {
+            what: "polygon mesh",
+            message: "its points have no weights".into(),
+        })
+    }
+
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        let set = self.to_bezier_patch_set()?;
+        let domains = vec![[0.0, 1.0, 0.0, 1.0]; set.patches().len()];
+        Ok(Decomposition { set, domains })
+    }
+
+    /// Bilinear interpolation of the face's corners: a quad (a, b, c, d) is
+    /// (1 − s)(1 − t) a + s(1 − t) b + s t c + (1 − s) t d, a triangle the same with d = c, an
+    /// n-gon's k-th fan triangle (f0, f_k+1, f_k+2) likewise.
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        let mut first = 0;
+        for face in self.faces() {
+            let count = PolygonMesh::patches_of_face(face);
+            if patch < first + count {
+                let k = patch - first;
+                let [a, b, c, d] = match *face {
+                    [a, b, c] => [a, b, c, c],
+                    [a, b, c, d] => [a, b, c, d],
+                    _ => [face[0], face[k + 1], face[k + 2], face[k + 2]],
+                };
+                let p = |i: u32| self.points()[i as usize];
+                return Ok((1.0 - s) * (1.0 - t) * p(a)
+                    + s * (1.0 - t) * p(b)
+                    + s * t * p(c)
+                    + (1.0 - s) * t * p(d));
+            }
+            first += count;
+        }
+        Err(GeometryError::NoSuchPatch {
+            patch,
+            count: first,
+        })
+    }
+
+    /// The mesh's points are the feed's pool: they are copied.
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        _patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        for (index, &p) in self.points().iter().enumerate() {
+            feed.set.set_point(index, p)?;
+        }
+        Ok(())
+    }
+
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        Ok(vec![tess::tessellate_mesh(self, tessellation, curvature)?])
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        PolygonMesh::transformed(self, transform).map(ObjectGeometry::Mesh)
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        matches!(other, ObjectGeometry::Mesh(b)
+            if self.points().len() == b.points().len() && self.faces().eq(b.faces()))
+    }
+}

@@ -1,0 +1,359 @@
+//! The document the editor shows: named objects, each of one kind — a NURBS surface (any
+//! degree, knots and weights), a set of Bézier patches over shared points (the Utah teapot) or a
+//! polygon mesh — with its own tessellation. Every kind answers the same questions through
+//! [`ObjectKind`] (one module per kind); the rest of the editor asks those. Pure kernel data: no
+//! GPU and no UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
+
+mod demo;
+mod kind;
+mod mesh;
+mod nurbs;
+mod patch_set;
+
+pub use kind::ObjectKind;
+
+use glam::DVec3;
+
+use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
+use crate::kernel::tess;
+use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh};
+
+/// Segments per Bézier span edge a new object gets.
+pub const DEFAULT_SEGMENTS: u32 = 16;
+
+/// Highest tessellation level (segments per patch edge) a document may ask for; the GPU's
+/// buffer limits may allow less.
+pub const MAX_SEGMENTS: u32 = 1024;
+
+/// Curvature samples per patch edge for the automatic colour range.
+pub const RANGE_SAMPLES: usize = 6;
+
+/// The longest object name accepted.
+pub const MAX_NAME_LENGTH: usize = 200;
+
+/// Whether `name` is acceptable for an object: 1 to [`MAX_NAME_LENGTH`] characters, no control
+/// characters.
+pub fn valid_name(name: &str) -> bool {
+    let length = name.chars().count();
+    (1..=MAX_NAME_LENGTH).contains(&length) && !name.chars().any(char::is_control)
+}
+
+/// What an object is made of.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ObjectGeometry {
+    /// Rational Bézier patches over one shared pool of points (each patch on (0, 1)²).
+    Patches(BezierPatchSet),
+    /// One NURBS surface.
+    Nurbs(NurbsSurface),
+    /// A polygon mesh (an imported OBJ or glTF mesh), drawn as bilinear patches.
+    Mesh(PolygonMesh),
+}
+
+/// What an object feeds the GPU evaluator: rational Bézier patches over one point pool, each
+/// with its parameter rectangle in the object's own domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decomposition {
+    pub set: BezierPatchSet,
+    /// Each patch's parameter rectangle (u0, u1, v0, v1) in the object's own domain.
+    pub domains: Vec<[f64; 4]>,
+}
+
+/// One object of the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    pub name: String,
+    pub geometry: ObjectGeometry,
+    /// Segments per Bézier span edge (before the global quality factor).
+    pub segments: u32,
+    /// Hidden objects are kept in the document but neither drawn nor picked.
+    pub visible: bool,
+}
+
+impl ObjectGeometry {
+    /// The object's kind behind the one interface (the only place that looks at the variant).
+    pub fn kind(&self) -> &dyn ObjectKind {
+        match self {
+            ObjectGeometry::Patches(set) => set,
+            ObjectGeometry::Nurbs(surface) => surface,
+            ObjectGeometry::Mesh(mesh) => mesh,
+        }
+    }
+
+    /// [`Self::kind`], mutable.
+    pub fn kind_mut(&mut self) -> &mut dyn ObjectKind {
+        match self {
+            ObjectGeometry::Patches(set) => set,
+            ObjectGeometry::Nurbs(surface) => surface,
+            ObjectGeometry::Mesh(mesh) => mesh,
+        }
+    }
+}
+
+impl SceneObject {
+    pub fn new(name: impl Into<String>, geometry: ObjectGeometry) -> Self {
+        Self {
+            name: name.into(),
+            geometry,
+            segments: DEFAULT_SEGMENTS,
+            visible: true,
+        }
+    }
+
+    /// The object's kind ([`ObjectKind`]).
+    pub fn kind(&self) -> &dyn ObjectKind {
+        self.geometry.kind()
+    }
+
+    /// What the object feeds the GPU: its Bézier patches and their parameter rectangles
+    /// ([`ObjectKind::gpu_feed`]; The NURBS Book A5.7 for a NURBS surface).
+    pub fn decompose(&self) -> Result<Decomposition, GeometryError> {
+        self.kind().gpu_feed()
+    }
+
+    /// Brings `decomposition` (this object's, from [`Self::decompose`] before its control points
+    /// moved) up to date for the Bézier patches `patches` only ([`ObjectKind::update_gpu_feed`]).
+    pub fn update_decomposition(
+        &self,
+        decomposition: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        self.kind().update_gpu_feed(decomposition, patches)
+    }
+
+    /// How many control points [`Self::control_points`] has (without computing them).
+    pub fn control_point_count(&self) -> usize {
+        self.kind().control_point_count()
+    }
+
+    /// The control points the user sees and drags: the NURBS net (Cartesian) or the patch pool.
+    pub fn control_points(&self) -> Vec<DVec3> {
+        self.kind().control_points()
+    }
+
+    /// Index pairs of the control net's lines over [`Self::control_points`].
+    pub fn net_lines(&self) -> Vec<u32> {
+        self.kind().net_lines()
+    }
+
+    /// The box of the control points (which contains the surface).
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        self.kind().bounds()
+    }
+
+    /// "NURBS (2, 5), 7 × 9 points, rational" and the like, for the panel.
+    pub fn describe(&self) -> String {
+        self.kind().describe()
+    }
+
+    /// Moves control point `index` (of [`Self::control_points`]) to `position` and returns the
+    /// indices of the Bézier patches that changed ([`ObjectKind::move_control_point`]). A bad
+    /// index or a non-finite position is refused and changes nothing.
+    pub fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        self.geometry.kind_mut().move_control_point(index, position)
+    }
+
+    /// Sets the weight of control point `index` (of [`Self::control_points`]), keeping its
+    /// position ([`ObjectKind::set_weight`]).
+    pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        self.geometry.kind_mut().set_weight(index, weight)
+    }
+
+    /// The weights of [`Self::control_points`], in the same order.
+    pub fn weights(&self) -> Vec<f64> {
+        self.kind().weights()
+    }
+
+    /// Curvature at an n × n grid of parameters in every Bézier patch, from the f64 kernel, each
+    /// with the area it stands for (|Su × Sv| in the patch's own parameters, so that a small
+    /// patch such as the teapot's spout tip does not weigh as much as the body). The automatic
+    /// colour range is taken from these.
+    pub fn curvature_samples(
+        &self,
+        n: usize,
+    ) -> Result<Vec<(CurvatureValues, f64)>, GeometryError> {
+        let decomposition = self.decompose()?;
+        let set = &decomposition.set;
+        let mut values = Vec::new();
+        let n = n.max(2);
+        for k in 0..set.patches().len() {
+            for a in 0..n {
+                for b in 0..n {
+                    let (u, v) = (a as f64 / (n - 1) as f64, b as f64 / (n - 1) as f64);
+                    let d = set.evaluate(k, u, v)?;
+                    if d.regular_normal().is_none() {
+                        continue;
+                    }
+                    let normal = set.normal_from(&set.patches()[k], &d, u, v);
+                    if let Some(c) = CurvatureValues::from_forms(&FundamentalForms::new(&d, normal))
+                    {
+                        values.push((c, d.su.cross(d.sv).length()));
+                    }
+                }
+            }
+        }
+        Ok(values)
+    }
+
+    /// The object as triangle meshes for export ([`ObjectKind::tessellate`]): one for a NURBS
+    /// surface or a polygon mesh, one per patch for a patch set (each with the patch's own
+    /// (u, v)). `curvature` adds K, H, k1, k2 per vertex.
+    pub fn tessellate(
+        &self,
+        tessellation: tess::Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
+        self.kind().tessellate(tessellation, curvature)
+    }
+}
+
+/// The objects of one document.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Scene {
+    pub objects: Vec<SceneObject>,
+}
+
+impl Scene {
+    /// The box around every object.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        self.objects
+            .iter()
+            .filter_map(SceneObject::bounds)
+            .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+
+    /// The automatic colour range of curvature component `component` (0 K, 1 H, 2 k1, 3 k2):
+    /// [`robust_range`] over the f64 kernel's samples ([`SceneObject::curvature_samples`], an
+    /// [`RANGE_SAMPLES`]² per Bézier patch) of every visible object: the range the viewport's
+    /// colour ramp and the glTF export's colours use unless the user sets one.
+    pub fn curvature_range(&self, component: usize) -> Option<(f64, f64)> {
+        let mut values = Vec::new();
+        for object in self.objects.iter().filter(|o| o.visible) {
+            if let Ok(samples) = object.curvature_samples(RANGE_SAMPLES) {
+                values.extend(
+                    samples.iter().map(|(c, area)| {
+                        ([c.gaussian, c.mean, c.k1, c.k2][component.min(3)], *area)
+                    }),
+                );
+            }
+        }
+        robust_range(values)
+    }
+}
+
+/// The weighted (2 %, 98 %) percentiles of `(value, weight)` pairs (non-finite values and
+/// weights ≤ 0 ignored): a colour range that small regions of extreme values (a pole, a cusp, a
+/// spout's tip) do not wash out. A range of zero width is widened around its value, by 10 % of
+/// it or 1e-9, so a constant reads as the ramp's middle. `None` when nothing is left.
+pub fn robust_range(values: impl IntoIterator<Item = (f64, f64)>) -> Option<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> = values
+        .into_iter()
+        .filter(|(v, w)| v.is_finite() && w.is_finite() && *w > 0.0)
+        .collect();
+    if sorted.is_empty() {
+        return None;
+    }
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = sorted.iter().map(|(_, w)| w).sum();
+    let at = |q: f64| {
+        let mut acc = 0.0;
+        for &(v, w) in &sorted {
+            acc += w;
+            if acc >= q * total {
+                return v;
+            }
+        }
+        sorted[sorted.len() - 1].0
+    };
+    let (lo, hi) = (at(0.02), at(0.98));
+    if hi > lo {
+        Some((lo, hi))
+    } else {
+        let pad = (0.1 * lo.abs()).max(1e-9);
+        Some((lo - pad, hi + pad))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_robust_range_ignores_a_few_extremes_and_widens_a_constant() {
+        let mut values: Vec<(f64, f64)> = (0..1000).map(|k| (k as f64 / 999.0, 1.0)).collect();
+        values.extend([
+            (1e9, 1.0),
+            (-1e9, 1.0),
+            (f64::NAN, 1.0),
+            (f64::INFINITY, 1.0),
+        ]);
+        // Many samples over a tiny area count for little.
+        values.extend((0..500).map(|_| (1e6, 1e-6)));
+        let (lo, hi) = robust_range(values).unwrap();
+        assert!(
+            lo > -0.01 && lo < 0.05 && hi > 0.95 && hi < 1.01,
+            "({lo}, {hi})"
+        );
+        let (lo, hi) = robust_range([(0.25, 1.0); 10]).unwrap();
+        assert!(lo < 0.25 && hi > 0.25 && (lo + hi - 0.5).abs() < 1e-12);
+        assert_eq!(robust_range([(f64::NAN, 1.0)]), None);
+    }
+
+    #[test]
+    fn the_demo_scene_decomposes_and_editing_reports_the_local_support() {
+        let mut scene = Scene::demo().unwrap();
+        let counts: Vec<usize> = scene
+            .objects
+            .iter()
+            .map(|o| o.decompose().unwrap().set.patches().len())
+            .collect();
+        assert_eq!(counts, [32, 16, 8, 16, 4, 8]);
+        // The (2, 5) sheet, point (4, 4): N_{4,2} lives on [u_4, u_7) = [0.45, 1), two of the
+        // four u-spans; N_{4,5} on [v_4, v_10) = [0, 1), all four v-spans.
+        let sheet = &mut scene.objects[3];
+        let patches = sheet.move_control_point(4 * 9 + 4, DVec3::ONE).unwrap();
+        assert_eq!(patches, [8, 9, 10, 11, 12, 13, 14, 15]);
+        let before = sheet.clone();
+        assert!(sheet.move_control_point(0, DVec3::NAN).is_err());
+        assert!(sheet.move_control_point(10_000, DVec3::ONE).is_err());
+        assert_eq!(*sheet, before);
+    }
+
+    #[test]
+    fn updating_only_the_moved_patches_matches_a_full_decomposition() {
+        // Every object of the demo scene: move one point, re-derive only its support, and compare
+        // with decomposing the whole moved object.
+        let scene = Scene::demo().unwrap();
+        for object in &scene.objects {
+            let mut moved = object.clone();
+            let mut decomposition = moved.decompose().unwrap();
+            let index = moved.control_points().len() / 2;
+            let target = moved.control_points()[index] + DVec3::new(0.3, -0.2, 0.5);
+            let patches = moved.move_control_point(index, target).unwrap();
+            moved
+                .update_decomposition(&mut decomposition, &patches)
+                .unwrap();
+            let full = moved.decompose().unwrap();
+            let scale = moved.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length());
+            for (k, (a, b)) in decomposition
+                .set
+                .points()
+                .iter()
+                .zip(full.set.points())
+                .enumerate()
+            {
+                assert!(
+                    a.distance(*b) <= 1e-12 * scale,
+                    "{}: point {k} {a} vs {b}",
+                    object.name
+                );
+            }
+            for (a, b) in decomposition.set.weights().iter().zip(full.set.weights()) {
+                assert!((a - b).abs() <= 1e-12 * b);
+            }
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! NURBS surfaces (every degree, knots and weights) as a scene object kind. They reach the GPU
+//! as their Bézier patches (The NURBS Book A5.7); an edit re-derives only the patches in the
+//! moved point's local support.
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::tess::{self, Tessellation, TriangleMesh};
+use crate::kernel::{Direction, GeometryError, NurbsSurface};
+
+impl ObjectKind for NurbsSurface {
+    fn kind_name(&self) -> &'static str {
+        "a NURBS surface"
+    }
+
+    fn describe(&self) -> String {
+        let [p, q] = self.degree();
+        let [nu, nv] = self.count();
+        let kind = if self.is_polynomial() {
+            "B-spline"
+        } else {
+            "NURBS"
+        };
+        format!("{kind} degree ({p}, {q}), {nu} × {nv} points")
+    }
+
+    fn control_point_count(&self) -> usize {
+        self.homogeneous_points().len()
+    }
+
+    /// The net row by row (i along u, j along v), index i · nv + j.
+    fn control_points(&self) -> Vec<DVec3> {
+        let [nu, nv] = self.count();
+        (0..nu)
+            .flat_map(|i| (0..nv).map(move |j| self.control_point(i, j)))
+            .collect()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        self.homogeneous_points().iter().map(|h| h.w).collect()
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        let [nu, nv] = self.count();
+        let index = |i: usize, j: usize| (i * nv + j) as u32;
+        let mut lines = Vec::new();
+        for i in 0..nu {
+            for j in 0..nv {
+                if i + 1 < nu {
+                    lines.extend([index(i, j), index(i + 1, j)]);
+                }
+                if j + 1 < nv {
+                    lines.extend([index(i, j), index(i, j + 1)]);
+                }
+            }
+        }
+        lines
+    }
+
+    fn net_grid(&self) -> Option<[usize; 2]> {
+        Some(self.count())
+    }
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        Some(NurbsSurface::bounds(self))
+    }
+
+    /// The changed patches are the point's local support
+    /// ([`NurbsSurface::patches_supported_by`]).
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        let nv = self.count()[1];
+        let (i, j) = (index / nv, index % nv);
+        self.set_point(i, j, position)?;
+        Ok(self.patches_supported_by(i, j))
+    }
+
+    fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        let nv = self.count()[1];
+        NurbsSurface::set_weight(self, index / nv, index % nv, weight)
+    }
+
+    /// The Bézier patches ([`NurbsSurface::to_bezier_patch_set`]) and their spans.
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        let set = self.to_bezier_patch_set()?;
+        let bu = self.span_breaks(Direction::U);
+        let bv = self.span_breaks(Direction::V);
+        let domains = bu
+            .windows(2)
+            .flat_map(|wu| bv.windows(2).map(move |wv| [wu[0], wu[1], wv[0], wv[1]]))
+            .collect();
+        Ok(Decomposition { set, domains })
+    }
+
+    /// The surface itself (The NURBS Book A4.1) at the point of span `patch` (spans in u-major
+    /// order, as the feed's patches).
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        let bu = self.span_breaks(Direction::U);
+        let bv = self.span_breaks(Direction::V);
+        let columns = bv.len().saturating_sub(1).max(1);
+        let (i, j) = (patch / columns, patch % columns);
+        let (Some(u), Some(v)) = (bu.get(i..i + 2), bv.get(j..j + 2)) else {
+            return Err(GeometryError::NoSuchPatch {
+                patch,
+                count: (bu.len().saturating_sub(1)) * (bv.len().saturating_sub(1)),
+            });
+        };
+        self.point_at(u[0] + (u[1] - u[0]) * s, v[0] + (v[1] - v[0]) * t)
+    }
+
+    /// Each named patch is re-derived from its span's own points and knots
+    /// ([`NurbsSurface::bezier_patch_points`]).
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        for &k in patches {
+            let points = self.bezier_patch_points(k)?;
+            let indices = feed
+                .set
+                .patches()
+                .get(k)
+                .ok_or(GeometryError::NoSuchPatch {
+                    patch: k,
+                    count: feed.set.patches().len(),
+                })?
+                .indices()
+                .to_vec();
+            for (&index, h) in indices.iter().zip(points) {
+                feed.set.set_point(index as usize, h.truncate() / h.w)?;
+                feed.set.set_weight(index as usize, h.w)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// One tensor grid over the whole domain ([`tess::grid_for`]).
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let grid = tess::grid_for(self, tessellation)?;
+        Ok(vec![tess::triangulate(self, &grid, curvature)?])
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        NurbsSurface::transformed(self, transform).map(ObjectGeometry::Nurbs)
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        matches!(other, ObjectGeometry::Nurbs(b)
+            if self.degree() == b.degree() && self.knots() == b.knots() && self.count() == b.count())
+    }
+}

@@ -1,0 +1,241 @@
+//! The conformance test every kind of scene object passes, run for each kind the editor has
+//! (a set of Bézier patches, a NURBS surface, a polygon mesh). A new kind adds a sample of
+//! itself to [`one_of_each_kind`] and must pass the same checks:
+//!
+//! 1. its GPU feed (the patches it hands the evaluator) reproduces the kind's own f64
+//!    definition ([`ObjectKind::surface_point`]) to 1e-12 of its size;
+//! 2. the compute shaders, reached through the editor's sync layer, reproduce it to 1e-5;
+//! 3. a drag through the document (the editor's transient edit) re-evaluates only the support
+//!    the kind reports, gives bit for bit what a full evaluation of the moved object gives and
+//!    still matches the f64 definition; committing makes one undo step, and undoing it brings
+//!    back the document and every GPU vertex bit for bit;
+//! 4. a project file with it reads back equal;
+//! 5. it exports to glTF with triangles inside its control points' box, and the export reopens
+//!    as the same object.
+
+mod common;
+
+use glam::DVec3;
+use knotwork::doc::{Document, Touched};
+use knotwork::gpu::{GpuContext, SceneSync, SurfaceVertex};
+use knotwork::io::gltf::{self, ExportOptions};
+use knotwork::io::project::{self, Project};
+use knotwork::kernel::tess::Tessellation;
+use knotwork::kernel::{PolygonMesh, samples};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+/// One sample of every kind of object.
+fn one_of_each_kind() -> Vec<SceneObject> {
+    let mut teapot = SceneObject::new(
+        "teapot",
+        ObjectGeometry::Patches(samples::utah_teapot().unwrap()),
+    );
+    teapot.segments = 6;
+    let mut nurbs = SceneObject::new(
+        "rational (3, 2)",
+        ObjectGeometry::Nurbs(common::random_surface(3, 2, 2026)),
+    );
+    nurbs.segments = 7;
+    // A non-planar quad, a triangle and a hexagon (a fan of four patches).
+    let points = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.3),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.4),
+        DVec3::new(2.0, 0.5, 0.2),
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(4.0, 0.5, 0.1),
+        DVec3::new(4.0, 1.5, -0.2),
+        DVec3::new(3.0, 2.0, 0.0),
+        DVec3::new(2.0, 1.5, 0.3),
+    ];
+    let faces = vec![vec![0, 1, 2, 3], vec![1, 4, 2], vec![4, 5, 6, 7, 8, 9]];
+    let mut mesh = SceneObject::new(
+        "polygon mesh",
+        ObjectGeometry::Mesh(PolygonMesh::new(points, &faces).unwrap()),
+    );
+    mesh.segments = 5;
+    vec![teapot, nurbs, mesh]
+}
+
+fn size(object: &SceneObject) -> f64 {
+    let (lo, hi) = object.bounds().unwrap();
+    (hi - lo).length()
+}
+
+/// Largest distance, over every vertex of object 0 on the GPU, from the kind's own f64 point
+/// at that vertex's patch and (s, t), divided by the object's size.
+fn gpu_deviation(sync: &SceneSync, vertices: &[SurfaceVertex], object: &SceneObject) -> f64 {
+    let geometry = sync.geometry().unwrap();
+    let mut worst = 0.0f64;
+    for (k, record) in geometry.records().iter().enumerate() {
+        let n = record.segments_u as usize;
+        for i in 0..=n {
+            for j in 0..=n {
+                let vertex = vertices[record.vertex_offset as usize + i * (n + 1) + j];
+                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+                let exact = object.kind().surface_point(k, s, t).unwrap();
+                let gpu = DVec3::from(vertex.position.map(f64::from));
+                worst = worst.max(gpu.distance(exact));
+            }
+        }
+    }
+    worst / size(object)
+}
+
+fn on_gpu(context: &GpuContext, doc: &Document) -> (SceneSync, Vec<SurfaceVertex>) {
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    let vertices = sync.read_vertices().unwrap();
+    (sync, vertices)
+}
+
+fn conforms(context: &GpuContext, object: SceneObject) {
+    let name = object.name.clone();
+    let scale = size(&object);
+
+    // 1. The feed against the kind's own definition.
+    let feed = object.decompose().unwrap();
+    assert!(!feed.set.patches().is_empty(), "{name}: an empty feed");
+    for k in 0..feed.set.patches().len() {
+        for (s, t) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.5, 1.0), (1.0, 1.0)] {
+            let fed = feed.set.evaluate(k, s, t).unwrap().point;
+            let own = object.kind().surface_point(k, s, t).unwrap();
+            assert!(
+                fed.distance(own) <= 1e-12 * scale,
+                "{name}: feed patch {k} at ({s}, {t}): {fed} vs {own}"
+            );
+        }
+    }
+    assert!(
+        object
+            .kind()
+            .surface_point(feed.set.patches().len(), 0.5, 0.5)
+            .is_err(),
+        "{name}: a patch past the end is refused"
+    );
+
+    // 2. The GPU, through the sync layer.
+    let mut doc = Document::new(Scene {
+        objects: vec![object.clone()],
+    });
+    let (mut sync, original_vertices) = on_gpu(context, &doc);
+    let deviation = gpu_deviation(&sync, &original_vertices, &object);
+    eprintln!("{name}: GPU vs f64 {deviation:.2e} of its size");
+    assert!(deviation <= 1e-5, "{name}: {deviation:e}");
+
+    // 3. A drag and its undo.
+    let index = object.control_point_count() / 2;
+    doc.begin_drag(0, &[index]).unwrap();
+    let mut support = Vec::new();
+    for step in 1..=3 {
+        let moved = doc
+            .drag_by(DVec3::new(0.05, -0.03, 0.08) * scale * f64::from(step))
+            .unwrap();
+        sync.points_moved(&doc.scene, &moved).unwrap();
+        let evaluated = sync.evaluate_blocking().unwrap();
+        assert_eq!(
+            evaluated as usize,
+            moved.patches.len(),
+            "{name}: step {step}"
+        );
+        support = moved.patches;
+    }
+    assert!(
+        !support.is_empty(),
+        "{name}: a moved point changes something"
+    );
+    let dragged = sync.read_vertices().unwrap();
+    let (_, full) = on_gpu(context, &doc);
+    assert!(
+        dragged == full,
+        "{name}: incremental and full evaluation differ"
+    );
+    let deviation = gpu_deviation(&sync, &dragged, &doc.scene.objects[0]);
+    assert!(deviation <= 1e-5, "{name}: after the drag {deviation:e}");
+    assert_eq!(
+        doc.history.undo_depth(),
+        0,
+        "{name}: a drag step is not an undo step"
+    );
+    assert!(doc.commit_drag().is_some());
+    assert_eq!(doc.history.undo_depth(), 1);
+    let touched = doc.undo().unwrap().touched();
+    assert_eq!(touched, Touched::Points(0), "{name}");
+    assert_eq!(
+        doc.scene.objects[0], object,
+        "{name}: undo restores the object"
+    );
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    assert!(
+        sync.read_vertices().unwrap() == original_vertices,
+        "{name}: undo restores every GPU vertex"
+    );
+
+    // 4. Save and reopen.
+    let text = project::write(&Project {
+        scene: doc.scene.clone(),
+        view: None,
+    });
+    let reopened = project::read(&text).unwrap();
+    assert_eq!(
+        reopened.scene.objects,
+        vec![object.clone()],
+        "{name}: save and reopen"
+    );
+
+    // 5. Export.
+    let project = Project {
+        scene: doc.scene.clone(),
+        view: None,
+    };
+    let options = ExportOptions {
+        tessellation: Tessellation::Tolerance(1e-3 * scale),
+        curvature: false,
+        colors: None,
+    };
+    let export = gltf::export(&project, &options).unwrap();
+    assert!(export.triangles > 0, "{name}: no triangles exported");
+    let (lo, hi) = object.bounds().unwrap();
+    let slack = DVec3::splat(1e-9 * scale);
+    for mesh in object
+        .tessellate(Tessellation::Tolerance(1e-3 * scale), false)
+        .unwrap()
+    {
+        assert!(!mesh.triangles.is_empty(), "{name}");
+        for p in &mesh.positions {
+            assert!(
+                p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                "{name}: exported vertex {p} outside the control points' box"
+            );
+        }
+    }
+    let glb = gltf::to_glb(&export);
+    let no_companions = |name: &str| Err(format!("{name}: not expected"));
+    let back = knotwork::io::open("conformance.glb", &glb, &no_companions).unwrap();
+    assert_eq!(
+        back.scene.objects,
+        vec![object],
+        "{name}: the export reopens as itself"
+    );
+}
+
+#[test]
+fn every_object_kind_conforms() {
+    let context = common::gpu();
+    let kinds = one_of_each_kind();
+    let names: Vec<&str> = kinds.iter().map(|o| o.kind().kind_name()).collect();
+    assert_eq!(
+        names,
+        [
+            "a set of Bézier patches",
+            "a NURBS surface",
+            "a polygon mesh"
+        ],
+        "one sample of every kind"
+    );
+    for object in kinds {
+        conforms(&context, object);
+    }
+}
