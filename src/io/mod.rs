@@ -2,6 +2,7 @@
 //! it to a scene, the `eval` request format, glTF 2.0 export and import, and OBJ import.
 
 pub mod eval;
+pub mod fuzz;
 pub mod gltf;
 pub mod gltf_import;
 pub mod json;
