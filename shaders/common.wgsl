@@ -19,7 +19,16 @@ struct PatchRecord {
     object: u32,
     // (u0, u1, v0, v1): parameter rectangle in the parent surface, used for the written (u, v).
     domain: vec4<f32>,
+    // PATCH_KIND_*: what the patch is; pipelines are specialized by it and the degrees.
+    kind: u32,
+    // The patch's trim loops in a trim buffer: first entry and count (0, 0: untrimmed).
+    trim_offset: u32,
+    trim_count: u32,
+    reserved: u32,
 }
+
+// PatchRecord.kind of a rational tensor-product Bézier patch (Rust: PATCH_KIND_BEZIER).
+const PATCH_KIND_BEZIER: u32 = 0u;
 
 // One tessellation vertex (Rust: gpu::records::SurfaceVertex). 64 bytes: position at 0, u at 12,
 // normal at 16, v at 28, curvature at 32, object at 48, flags at 52.

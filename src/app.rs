@@ -6,6 +6,7 @@ mod export;
 mod files;
 mod input;
 mod panels;
+mod platform;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]

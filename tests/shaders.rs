@@ -111,7 +111,11 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             segments_v,
             index_offset,
             object,
-            domain
+            domain,
+            kind,
+            trim_offset,
+            trim_count,
+            reserved
         })
     );
     assert_eq!(
@@ -221,6 +225,10 @@ fn evaluator_constants_match_their_rust_counterparts() {
         f64::from(VERTEX_NO_CURVATURE)
     );
     assert_eq!(wgsl_constant(&module, "RAMP_STOPS"), RAMP_STOPS as f64);
+    assert_eq!(
+        wgsl_constant(&module, "PATCH_KIND_BEZIER"),
+        f64::from(knotwork::gpu::records::PATCH_KIND_BEZIER)
+    );
     assert_eq!(
         wgsl_constant(&module, "CURVATURE_NUDGE"),
         f64::from(GPU_CURVATURE_NUDGE)

@@ -204,11 +204,11 @@ impl KnotworkApp {
             } else {
                 ("glTF binary", "glb")
             };
-            let Some(path) = rfd::FileDialog::new()
-                .add_filter(filter, &[extension])
-                .set_file_name(format!("knotwork.{extension}"))
-                .save_file()
-            else {
+            let Some(path) = super::platform::choose_file_to_save(
+                filter,
+                &[extension],
+                &format!("knotwork.{extension}"),
+            ) else {
                 return;
             };
             let mut path = path.display().to_string();
@@ -230,7 +230,7 @@ impl KnotworkApp {
         #[cfg(target_arch = "wasm32")]
         {
             let bytes = gltf::to_glb(&export);
-            match crate::web::download("knotwork.glb", &bytes, "model/gltf-binary") {
+            match super::platform::download("knotwork.glb", &bytes, "model/gltf-binary") {
                 Ok(()) => self.status.notice = Some(format!("downloaded knotwork.glb ({summary})")),
                 Err(e) => self.status.error = Some(format!("could not download: {e}")),
             }

@@ -215,10 +215,10 @@ impl KnotworkApp {
     pub(super) fn open_dialog(&mut self) {
         #[cfg(not(target_arch = "wasm32"))]
         {
-            if let Some(path) = rfd::FileDialog::new()
-                .add_filter("knotwork project, glTF, OBJ", &crate::io::OPEN_EXTENSIONS)
-                .pick_file()
-            {
+            if let Some(path) = super::platform::choose_file_to_open(
+                "knotwork project, glTF, OBJ",
+                &crate::io::OPEN_EXTENSIONS,
+            ) {
                 let name = path.display().to_string();
                 self.open_result(&name, open_path(&path));
             }
@@ -227,7 +227,7 @@ impl KnotworkApp {
         {
             let incoming = Arc::clone(&self.incoming);
             wasm_bindgen_futures::spawn_local(async move {
-                if let Some(file) = crate::web::pick_file().await {
+                if let Some(file) = super::platform::pick_file().await {
                     if let Ok(mut queue) = incoming.lock() {
                         queue.push(file);
                     }
@@ -244,11 +244,11 @@ impl KnotworkApp {
         let text = self.doc.save(Some(self.view_settings()));
         #[cfg(not(target_arch = "wasm32"))]
         {
-            if let Some(path) = rfd::FileDialog::new()
-                .add_filter("knotwork project", &["json", "knotwork"])
-                .set_file_name("project.knotwork.json")
-                .save_file()
-            {
+            if let Some(path) = super::platform::choose_file_to_save(
+                "knotwork project",
+                &["json", "knotwork"],
+                "project.knotwork.json",
+            ) {
                 match std::fs::write(&path, text) {
                     Ok(()) => self.status.notice = Some(format!("saved {}", path.display())),
                     Err(e) => {
@@ -259,8 +259,11 @@ impl KnotworkApp {
         }
         #[cfg(target_arch = "wasm32")]
         {
-            match crate::web::download("project.knotwork.json", text.as_bytes(), "application/json")
-            {
+            match super::platform::download(
+                "project.knotwork.json",
+                text.as_bytes(),
+                "application/json",
+            ) {
                 Ok(()) => self.status.notice = Some("downloaded project.knotwork.json".into()),
                 Err(e) => self.status.error = Some(format!("could not download: {e}")),
             }

@@ -26,8 +26,9 @@
 //! # Dispatches
 //!
 //! One compute pass per evaluation: `write_triangles` once after a tessellation change, then one
-//! `evaluate_vertices` dispatch per degree pair present in the scene (the six demo objects have
-//! four: (3, 3), (2, 2), (2, 5) and (2, 3)), each over the list of its patches that need it — the
+//! `evaluate_vertices` dispatch per patch kind and degree pair ([`PipelineKey`]) present (the
+//! six demo objects have four, all Bézier: (3, 3), (2, 2), (2, 5) and (2, 3)), each over the
+//! list of its patches that need it — the
 //! whole scene after a change of tessellation, only the support of an edit afterwards. Each
 //! dispatch runs a pipeline specialized to its degrees by override constants: constant loop
 //! bounds let the driver unroll the Bernstein sums and keep them in registers. On lavapipe that
@@ -40,19 +41,62 @@ use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
 use super::error::GpuError;
-use super::records::{EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PatchRecord, SurfaceVertex};
+use super::records::{
+    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PatchRecord, SurfaceVertex,
+};
 use crate::kernel::BezierPatchSet;
 use crate::shaders;
 
 pub use crate::scene::MAX_SEGMENTS;
 
-/// The compute pipelines; one per device, shared by every [`PatchGeometry`]. The evaluation
-/// pipelines are specialized per degree pair (override constants), created on first use.
+/// What an evaluation pipeline is specialized for: the patch kind and the degrees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PipelineKey {
+    /// [`PatchRecord::kind`].
+    pub kind: u32,
+    pub degree_u: u32,
+    pub degree_v: u32,
+}
+
+impl PipelineKey {
+    fn of(record: &PatchRecord) -> Self {
+        Self {
+            kind: record.kind,
+            degree_u: record.degree_u,
+            degree_v: record.degree_v,
+        }
+    }
+}
+
+/// The bindings of `shaders/eval_bezier.wgsl`'s group 0, shared by every entry point:
+/// (binding, read-only).
+const EVAL_BINDINGS: [(u32, bool); 8] = [
+    (0, true),  // control points
+    (1, true),  // control indices
+    (2, true),  // patch records
+    (3, false), // vertices
+    (4, false), // triangle indices
+    (5, true),  // patch list
+    (6, true),  // point samples
+    (7, false), // point results
+];
+
+/// Bytes of a stand-in buffer for a binding an entry point does not use: at least one element
+/// of the largest record bound there.
+const STAND_IN_BYTES: u64 = 256;
+
+/// The compute pipelines; one per device, shared by every [`PatchGeometry`]. Every entry point
+/// uses one explicit bind group layout ([`EVAL_BINDINGS`]); the evaluation pipelines are
+/// specialized per [`PipelineKey`] (override constants), created on first use.
 pub struct PatchEvaluator {
     device: wgpu::Device,
     module: wgpu::ShaderModule,
-    /// `evaluate_vertices` per (degree_u, degree_v); (3, 3) is the array-free bicubic path.
-    specialized: Mutex<HashMap<(u32, u32), wgpu::ComputePipeline>>,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// Small buffers bound where an entry point does not use a binding, one per binding.
+    stand_ins: Vec<wgpu::Buffer>,
+    /// `evaluate_vertices` per key; bicubic Bézier patches take the array-free path.
+    specialized: Mutex<HashMap<PipelineKey, wgpu::ComputePipeline>>,
     triangles_pipeline: wgpu::ComputePipeline,
     /// Point evaluation (native only: the `eval --backend gpu` command).
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
@@ -61,6 +105,7 @@ pub struct PatchEvaluator {
 
 fn compute_pipeline(
     device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     label: &str,
     entry_point: &str,
@@ -68,7 +113,7 @@ fn compute_pipeline(
 ) -> wgpu::ComputePipeline {
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(label),
-        layout: None,
+        layout: Some(layout),
         module,
         entry_point: Some(entry_point),
         compilation_options: wgpu::PipelineCompilationOptions {
@@ -82,9 +127,43 @@ fn compute_pipeline(
 impl PatchEvaluator {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = shaders::create_module(device, "eval_bezier.wgsl", shaders::EVAL_BEZIER);
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = EVAL_BINDINGS
+            .iter()
+            .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("evaluator bindings"),
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("evaluator"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let stand_ins = EVAL_BINDINGS
+            .iter()
+            .map(|_| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("unused binding"),
+                    size: STAND_IN_BYTES,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
         Self {
             triangles_pipeline: compute_pipeline(
                 device,
+                &pipeline_layout,
                 &module,
                 "write triangles",
                 "write_triangles",
@@ -92,31 +171,41 @@ impl PatchEvaluator {
             ),
             samples_pipeline: compute_pipeline(
                 device,
+                &pipeline_layout,
                 &module,
                 "evaluate points",
                 "evaluate_samples",
                 &[("BICUBIC_ONLY", 0.0)],
             ),
             specialized: Mutex::new(HashMap::new()),
+            layout,
+            pipeline_layout,
+            stand_ins,
             device: device.clone(),
             module,
         }
     }
 
-    /// The `evaluate_vertices` pipeline for patches of degree (p, q), compiled on first use.
-    fn eval_pipeline(&self, (p, q): (u32, u32)) -> wgpu::ComputePipeline {
+    /// The `evaluate_vertices` pipeline for `key`'s patches, compiled on first use.
+    fn eval_pipeline(&self, key: PipelineKey) -> wgpu::ComputePipeline {
         let mut cache = self
             .specialized
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
         cache
-            .entry((p, q))
+            .entry(key)
             .or_insert_with(|| {
+                let PipelineKey {
+                    degree_u: p,
+                    degree_v: q,
+                    ..
+                } = key;
                 let bicubic = if (p, q) == (3, 3) { 1.0 } else { 0.0 };
                 compute_pipeline(
                     &self.device,
+                    &self.pipeline_layout,
                     &self.module,
-                    &format!("evaluate degree ({p}, {q}) patches"),
+                    &format!("evaluate degree ({p}, {q}) Bézier patches"),
                     "evaluate_vertices",
                     &[
                         ("BICUBIC_ONLY", bicubic),
@@ -126,6 +215,30 @@ impl PatchEvaluator {
                 )
             })
             .clone()
+    }
+
+    /// A bind group of the shared layout with whole buffers at the given bindings and a
+    /// stand-in at every other.
+    fn bind_group(&self, buffers: &[(u32, &wgpu::Buffer)]) -> wgpu::BindGroup {
+        let entries: Vec<_> = EVAL_BINDINGS
+            .iter()
+            .zip(&self.stand_ins)
+            .map(|(&(binding, _), stand_in)| {
+                let buffer = buffers
+                    .iter()
+                    .find(|(b, _)| *b == binding)
+                    .map_or(stand_in, |(_, buffer)| *buffer);
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: buffer.as_entire_binding(),
+                }
+            })
+            .collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.layout,
+            entries: &entries,
+        })
     }
 }
 
@@ -281,6 +394,10 @@ impl PatchGeometry {
                     index_offset: index_offset as u32,
                     object: object as u32,
                     domain,
+                    kind: PATCH_KIND_BEZIER,
+                    trim_offset: 0,
+                    trim_count: 0,
+                    reserved: 0,
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
                 vertex_offset += grid_vertices;
@@ -335,35 +452,26 @@ impl PatchGeometry {
         let vertices = output("surface vertices", vertex_bytes, wgpu::BufferUsages::VERTEX);
         let triangle_indices = output("triangle indices", index_bytes, wgpu::BufferUsages::INDEX);
 
-        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)]| {
-            bind_group(device, pipeline, entries)
-        };
-        let mut by_degree: BTreeMap<(u32, u32), Vec<u32>> = BTreeMap::new();
+        let mut by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
         for (k, r) in records.iter().enumerate() {
-            by_degree
-                .entry((r.degree_u, r.degree_v))
-                .or_default()
-                .push(k as u32);
+            by_key.entry(PipelineKey::of(r)).or_default().push(k as u32);
         }
         let mut groups = Vec::new();
-        for (degrees, members) in by_degree {
-            let pipeline = evaluator.eval_pipeline(degrees);
+        for (key, members) in by_key {
+            let pipeline = evaluator.eval_pipeline(key);
             let list = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("patch list"),
                 size: members.len() as u64 * 4,
                 usage: storage | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let bind_group = bind(
-                &pipeline,
-                &[
-                    (0, &control_points),
-                    (1, &control_index_buffer),
-                    (2, &record_buffer),
-                    (3, &vertices),
-                    (5, &list),
-                ],
-            );
+            let bind_group = evaluator.bind_group(&[
+                (0, &control_points),
+                (1, &control_index_buffer),
+                (2, &record_buffer),
+                (3, &vertices),
+                (5, &list),
+            ]);
             groups.push(PatchGroup {
                 pipeline,
                 records: members,
@@ -371,10 +479,8 @@ impl PatchGeometry {
                 bind_group,
             });
         }
-        let triangles_bind_group = bind(
-            &evaluator.triangles_pipeline,
-            &[(2, &record_buffer), (4, &triangle_indices)],
-        );
+        let triangles_bind_group =
+            evaluator.bind_group(&[(2, &record_buffer), (4, &triangle_indices)]);
 
         Ok(Self {
             control_points,
@@ -610,17 +716,13 @@ impl PatchGeometry {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let bind = bind_group(
-            device,
-            &evaluator.samples_pipeline,
-            &[
-                (0, &self.control_points),
-                (1, &self.control_index_buffer),
-                (2, &self.record_buffer),
-                (6, &sample_buffer),
-                (7, &results),
-            ],
-        );
+        let bind = evaluator.bind_group(&[
+            (0, &self.control_points),
+            (1, &self.control_index_buffer),
+            (2, &self.record_buffer),
+            (6, &sample_buffer),
+            (7, &results),
+        ]);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
@@ -656,24 +758,4 @@ impl PatchGeometry {
         let bytes = super::readback::read_buffer(device, queue, &self.triangle_indices, size)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
-}
-
-/// A bind group of `pipeline`'s group 0 with whole buffers at the given bindings.
-fn bind_group(
-    device: &wgpu::Device,
-    pipeline: &wgpu::ComputePipeline,
-    entries: &[(u32, &wgpu::Buffer)],
-) -> wgpu::BindGroup {
-    let entries: Vec<_> = entries
-        .iter()
-        .map(|&(binding, buffer)| wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    })
 }

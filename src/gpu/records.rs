@@ -15,6 +15,11 @@ pub const GPU_CURVATURE_NUDGE: f32 = 3e-2;
 /// Workgroup size of both compute entry points (`WORKGROUP_SIZE` in `shaders/eval_bezier.wgsl`).
 pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 
+/// [`PatchRecord::kind`] of a rational tensor-product Bézier patch over the control point pool
+/// (today's only kind; subdivision will add regular B-spline and limit-stencil patches).
+/// WGSL: `PATCH_KIND_BEZIER` in `shaders/common.wgsl`.
+pub const PATCH_KIND_BEZIER: u32 = 0;
+
 /// One patch to evaluate. WGSL: `struct PatchRecord` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -36,6 +41,13 @@ pub struct PatchRecord {
     /// (u0, u1, v0, v1): the patch's parameter rectangle in its parent surface; the vertex (u, v)
     /// is written in these coordinates.
     pub domain: [f32; 4],
+    /// What the patch is ([`PATCH_KIND_BEZIER`]); the evaluation pipelines are keyed by it and
+    /// the degrees.
+    pub kind: u32,
+    /// The patch's trim loops: first entry and count in a trim buffer (0, 0: untrimmed).
+    pub trim_offset: u32,
+    pub trim_count: u32,
+    pub reserved: u32,
 }
 
 /// [`SurfaceVertex::flags`] bit: Su × Sv vanishes here (a pole or collapsed edge); the normal
