@@ -6,7 +6,6 @@
 
 const MAX_DEGREE: u32 = 9u;          // Rust: gpu::records::GPU_MAX_DEGREE
 const WORKGROUP_SIZE: u32 = 64u;     // Rust: gpu::records::EVAL_WORKGROUP_SIZE
-const DEGENERATE_SIN2: f32 = 1e-10;  // Rust: kernel::bezier::DEGENERATE_SIN2
 // How far toward the patch centre curvature at a degenerate point is sampled (Rust:
 // gpu::records::GPU_CURVATURE_NUDGE). Farther than the kernel's f64 CURVATURE_NUDGE: in f32 the
 // fundamental forms lose about eps / nudge^2 of relative accuracy (measured on the sphere's
@@ -86,15 +85,6 @@ fn bezier_sums(basis: Basis, n: u32, p: array<vec4<f32>, 10>) -> Sums {
         out.d2 *= f32(n * (n - 1u));
     }
     return out;
-}
-
-struct Derivatives {
-    point: vec3<f32>,
-    su: vec3<f32>,
-    sv: vec3<f32>,
-    suu: vec3<f32>,
-    suv: vec3<f32>,
-    svv: vec3<f32>,
 }
 
 // Position and partial derivatives up to order 2 of a patch of any degree up to MAX_DEGREE at
@@ -210,76 +200,6 @@ fn evaluate(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
         return evaluate_bicubic(rec, s, t);
     }
     return evaluate_patch(rec, s, t);
-}
-
-// Su x Sv normalized, or zero where sin^2(angle(Su, Sv)) <= DEGENERATE_SIN2 or one derivative
-// vanishes against the other (kernel::diffgeo::SurfaceDerivatives::regular_normal).
-fn regular_normal(d: Derivatives) -> vec3<f32> {
-    let n = cross(d.su, d.sv);
-    let n2 = dot(n, n);
-    let a = dot(d.su, d.su);
-    let b = dot(d.sv, d.sv);
-    if (n2 > DEGENERATE_SIN2 * a * b && n2 > 0.0 && min(a, b) > DEGENERATE_SIN2 * max(a, b)) {
-        return n * inverseSqrt(n2);
-    }
-    return vec3<f32>(0.0);
-}
-
-// The limit normal at a collapsed edge: Sv ~ (u - u0) Suv near an edge u = u0 where Sv = 0,
-// and likewise for Su = 0; zero if that fails too.
-fn collapsed_edge_normal(d: Derivatives, s: f32, t: f32) -> vec3<f32> {
-    var n: vec3<f32>;
-    if (dot(d.sv, d.sv) <= dot(d.su, d.su)) {
-        n = select(-1.0, 1.0, s < 0.5) * cross(d.su, d.suv);
-    } else {
-        n = select(-1.0, 1.0, t < 0.5) * cross(d.suv, d.sv);
-    }
-    let n2 = dot(n, n);
-    if (n2 > 0.0) {
-        return n * inverseSqrt(n2);
-    }
-    return vec3<f32>(0.0);
-}
-
-// Curvature from the fundamental forms (kernel::diffgeo::CurvatureValues::from_forms, with
-// curvature positive toward n): E, F, G from Su, Sv; L, M, N from Suu, Suv, Svv and n. The
-// Weingarten map W = I^-1 II = [[a, b], [c, d]] gives H = (a + d) / 2, K = (LN - M^2) / (EG - F^2)
-// and k1,2 = H +- sqrt(((a - d) / 2)^2 + bc), which (unlike sqrt(H^2 - K)) stays accurate in f32
-// near umbilics. EG - F^2 is taken as |Su x Sv|^2, which does not cancel. `values` is
-// (K, H, k1, k2), all zero where `defined` is false (EG - F^2 = 0 or an overflow).
-struct CurvatureResult {
-    values: vec4<f32>,
-    defined: bool,
-}
-
-fn curvature(d: Derivatives, n: vec3<f32>) -> CurvatureResult {
-    let e = dot(d.su, d.su);
-    let f = dot(d.su, d.sv);
-    let g = dot(d.sv, d.sv);
-    let l = dot(d.suu, n);
-    let m = dot(d.suv, n);
-    let nn = dot(d.svv, n);
-    let c = cross(d.su, d.sv);
-    let det = dot(c, c);
-    var out: CurvatureResult;
-    if (!(det > 0.0) || det > 3.0e38) {
-        return out;
-    }
-    let inv = 1.0 / det;
-    let a = (g * l - f * m) * inv;
-    let b = (g * m - f * nn) * inv;
-    let cc = (e * m - f * l) * inv;
-    let dd = (e * nn - f * m) * inv;
-    let mean = 0.5 * (a + dd);
-    let gaussian = (l * nn - m * m) * inv;
-    let half = 0.5 * (a - dd);
-    let disc = sqrt(max(half * half + b * cc, 0.0));
-    out.values = vec4<f32>(gaussian, mean, mean + disc, mean - disc);
-    out.defined = all(out.values == out.values) && all(abs(out.values) < vec4<f32>(3.0e38));
-    if (!out.defined) {
-        out.values = vec4<f32>(0.0);
-    }
-    return out;
 }
 
 // Bits of SurfaceVertex.flags (Rust: gpu::records::VERTEX_IRREGULAR, VERTEX_NO_CURVATURE).

@@ -162,7 +162,7 @@ impl ViewportGpu {
         self.renderer.render(
             &mut encoder,
             target,
-            geometry,
+            geometry.surface_buffers(),
             self.net.as_ref(),
             options,
             writes,

@@ -280,7 +280,14 @@ fn bench_drag_frame(
         let mut encoder = context.device.create_command_encoder(&Default::default());
         let evaluated = sync.encode(&mut encoder, None);
         let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        renderer.render(&mut encoder, &target, geometry, Some(&net), &options, None);
+        renderer.render(
+            &mut encoder,
+            &target,
+            geometry.surface_buffers(),
+            Some(&net),
+            &options,
+            None,
+        );
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         if i >= 2 {
@@ -295,7 +302,14 @@ fn bench_drag_frame(
     for _ in 0..iterations.max(3) {
         let start = Instant::now();
         let mut encoder = context.device.create_command_encoder(&Default::default());
-        renderer.render(&mut encoder, &target, geometry, Some(&net), &options, None);
+        renderer.render(
+            &mut encoder,
+            &target,
+            geometry.surface_buffers(),
+            Some(&net),
+            &options,
+            None,
+        );
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         render_only.push(start.elapsed().as_secs_f64() * 1e3);

@@ -1,10 +1,13 @@
 //! The WGSL sources in `shaders/`, embedded at compile time.
 //!
 //! WGSL has no include mechanism: every pipeline's file is compiled with `common.wgsl` (the
-//! structs shared with Rust) prepended, by [`compose`].
+//! structs shared with Rust) and the modules it names prepended, by [`compose`]. A module holds
+//! WGSL shared by several passes (`diffgeo.wgsl`: normals and curvature from derivatives).
 
 /// Structs and helpers shared by every pipeline.
 pub const COMMON: &str = include_str!("../shaders/common.wgsl");
+/// Module: differential geometry from partial derivatives (normals, curvature).
+pub const DIFFGEO: &str = include_str!("../shaders/diffgeo.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
 pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
 /// Render: the shaded surface.
@@ -12,22 +15,61 @@ pub const SURFACE: &str = include_str!("../shaders/surface.wgsl");
 /// Render: control net lines and control point dots.
 pub const OVERLAY: &str = include_str!("../shaders/overlay.wgsl");
 
-/// Every pipeline shader by file name (without `common.wgsl`, which each of them includes).
-pub const PIPELINE_SHADERS: [(&str, &str); 3] = [
-    ("eval_bezier.wgsl", EVAL_BEZIER),
-    ("surface.wgsl", SURFACE),
-    ("overlay.wgsl", OVERLAY),
-];
-
-/// The complete source of a pipeline shader: `common.wgsl` followed by `body`.
-pub fn compose(body: &str) -> String {
-    format!("{COMMON}\n{body}")
+/// A pipeline's shader: its file, its body and the modules it uses (after `common.wgsl`).
+#[derive(Debug, Clone, Copy)]
+pub struct PipelineShader {
+    pub name: &'static str,
+    pub body: &'static str,
+    pub modules: &'static [&'static str],
 }
 
-/// A wgpu shader module from a pipeline shader's body.
-pub fn create_module(device: &wgpu::Device, label: &str, body: &str) -> wgpu::ShaderModule {
+/// Every module by file name (each composed after `common.wgsl`).
+pub const MODULES: [(&str, &str); 1] = [("diffgeo.wgsl", DIFFGEO)];
+
+/// The compute evaluator.
+pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
+    name: "eval_bezier.wgsl",
+    body: EVAL_BEZIER,
+    modules: &[DIFFGEO],
+};
+/// The surface render pipeline.
+pub const SURFACE_SHADER: PipelineShader = PipelineShader {
+    name: "surface.wgsl",
+    body: SURFACE,
+    modules: &[],
+};
+/// The control net overlay.
+pub const OVERLAY_SHADER: PipelineShader = PipelineShader {
+    name: "overlay.wgsl",
+    body: OVERLAY,
+    modules: &[],
+};
+
+/// Every pipeline shader.
+pub const PIPELINE_SHADERS: [PipelineShader; 3] =
+    [EVAL_BEZIER_SHADER, SURFACE_SHADER, OVERLAY_SHADER];
+
+/// The complete source of a pipeline shader: `common.wgsl`, its modules, then its body.
+pub fn compose(shader: &PipelineShader) -> String {
+    compose_parts(shader.modules, shader.body)
+}
+
+/// `common.wgsl`, then `modules`, then `body`.
+pub fn compose_parts(modules: &[&str], body: &str) -> String {
+    let mut source = String::from(COMMON);
+    for module in modules {
+        source.push('\n');
+        source.push_str(module);
+    }
+    source.push('\n');
+    source.push_str(body);
+    source
+}
+
+/// A wgpu shader module of a pipeline shader.
+pub fn create_module(device: &wgpu::Device, shader: &PipelineShader) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(compose(body).into()),
+        label: Some(shader.name),
+        source: wgpu::ShaderSource::Wgsl(compose(shader).into()),
     })
 }

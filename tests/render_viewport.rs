@@ -82,7 +82,7 @@ fn draw(
     renderer.render(
         &mut encoder,
         &target,
-        sync.geometry().unwrap(),
+        sync.geometry().unwrap().surface_buffers(),
         net,
         options,
         None,

@@ -35,7 +35,8 @@ fn every_shader_file_is_registered_and_valid() {
         .collect();
     let mut registered: BTreeSet<String> = shaders::PIPELINE_SHADERS
         .iter()
-        .map(|(name, _)| name.to_string())
+        .map(|shader| shader.name.to_string())
+        .chain(shaders::MODULES.iter().map(|(name, _)| name.to_string()))
         .collect();
     registered.insert("common.wgsl".to_owned());
     assert_eq!(
@@ -45,8 +46,11 @@ fn every_shader_file_is_registered_and_valid() {
 
     // What the binary embeds (and the device compiles), composed with the shared module.
     parse_and_validate("common.wgsl", shaders::COMMON);
-    for (name, body) in shaders::PIPELINE_SHADERS {
-        parse_and_validate(name, &shaders::compose(body));
+    for (name, module) in shaders::MODULES {
+        parse_and_validate(name, &shaders::compose_parts(&[module], ""));
+    }
+    for shader in shaders::PIPELINE_SHADERS {
+        parse_and_validate(shader.name, &shaders::compose(&shader));
     }
 }
 
@@ -62,7 +66,7 @@ fn a_broken_shader_is_caught_by_the_validation() {
             "@group(3) @binding(9) var<uniform> y: array<f32>;",
         ),
     ] {
-        let source = shaders::compose(broken);
+        let source = shaders::compose_parts(&[], broken);
         let refused = std::panic::catch_unwind(|| parse_and_validate(what, &source));
         assert!(refused.is_err(), "{what}: accepted");
     }
@@ -203,7 +207,10 @@ fn wgsl_constant(module: &naga::Module, name: &str) -> f64 {
 
 #[test]
 fn evaluator_constants_match_their_rust_counterparts() {
-    let module = parse_and_validate("eval_bezier.wgsl", &shaders::compose(shaders::EVAL_BEZIER));
+    let module = parse_and_validate(
+        "eval_bezier.wgsl",
+        &shaders::compose(&shaders::EVAL_BEZIER_SHADER),
+    );
     assert_eq!(
         wgsl_constant(&module, "MAX_DEGREE"),
         f64::from(GPU_MAX_DEGREE)
@@ -239,7 +246,7 @@ fn evaluator_constants_match_their_rust_counterparts() {
 
 #[test]
 fn shading_modes_match_the_surface_shader() {
-    let module = parse_and_validate("surface.wgsl", &shaders::compose(shaders::SURFACE));
+    let module = parse_and_validate("surface.wgsl", &shaders::compose(&shaders::SURFACE_SHADER));
     for mode in ShadingMode::ALL {
         let name = format!("MODE_{}", mode.name().to_uppercase());
         assert_eq!(wgsl_constant(&module, &name), mode as u32 as f64, "{name}");

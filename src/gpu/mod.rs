@@ -14,7 +14,7 @@ pub mod timing;
 
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use error::GpuError;
-pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry};
+pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers};
 pub use records::{
     PatchRecord, PointResult, PointSample, SceneUniform, ShadingMode, SurfaceVertex,
 };

@@ -126,7 +126,7 @@ fn compute_pipeline(
 
 impl PatchEvaluator {
     pub fn new(device: &wgpu::Device) -> Self {
-        let module = shaders::create_module(device, "eval_bezier.wgsl", shaders::EVAL_BEZIER);
+        let module = shaders::create_module(device, &shaders::EVAL_BEZIER_SHADER);
         let entries: Vec<wgpu::BindGroupLayoutEntry> = EVAL_BINDINGS
             .iter()
             .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
@@ -240,6 +240,15 @@ impl PatchEvaluator {
             entries: &entries,
         })
     }
+}
+
+/// The evaluated surface as the renderer takes it: vertices ([`SurfaceVertex`]) and triangle
+/// indices (u32), whichever evaluator wrote them.
+#[derive(Debug, Clone, Copy)]
+pub struct SurfaceBuffers<'a> {
+    pub vertices: &'a wgpu::Buffer,
+    pub indices: &'a wgpu::Buffer,
+    pub index_count: u32,
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -641,6 +650,15 @@ impl PatchGeometry {
 
     pub fn vertices(&self) -> &wgpu::Buffer {
         &self.vertices
+    }
+
+    /// What the renderer draws: the vertex and index buffers the compute pass writes.
+    pub fn surface_buffers(&self) -> SurfaceBuffers<'_> {
+        SurfaceBuffers {
+            vertices: &self.vertices,
+            indices: &self.triangle_indices,
+            index_count: self.index_count,
+        }
     }
 
     pub fn triangle_indices(&self) -> &wgpu::Buffer {

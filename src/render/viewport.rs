@@ -1,7 +1,7 @@
 use glam::{DVec3, Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
-use crate::gpu::PatchGeometry;
+use crate::gpu::SurfaceBuffers;
 use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, ShadingMode, SurfaceVertex};
 use crate::shaders;
 
@@ -359,8 +359,8 @@ impl ViewportRenderer {
             bind_group_layouts: &[Some(&scene_layout)],
             immediate_size: 0,
         });
-        let surface_module = shaders::create_module(device, "surface.wgsl", shaders::SURFACE);
-        let overlay_module = shaders::create_module(device, "overlay.wgsl", shaders::OVERLAY);
+        let surface_module = shaders::create_module(device, &shaders::SURFACE_SHADER);
+        let overlay_module = shaders::create_module(device, &shaders::OVERLAY_SHADER);
 
         let control_point_layout = wgpu::VertexBufferLayout {
             array_stride: 16,
@@ -488,14 +488,14 @@ impl ViewportRenderer {
         queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(scene));
     }
 
-    /// Records one render pass into `target`: the surface from `geometry`'s evaluated vertex
-    /// buffer, then `net` (lines and points) as `options` ask, seen as [`Self::set_scene`]
+    /// Records one render pass into `target`: the surface from the evaluated vertex and index
+    /// buffers, then `net` (lines and points) as `options` ask, seen as [`Self::set_scene`]
     /// said.
     pub fn render(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &ViewTarget,
-        geometry: &PatchGeometry,
+        surface: SurfaceBuffers<'_>,
         net: Option<&ControlNet>,
         options: &DrawOptions,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
@@ -525,14 +525,11 @@ impl ViewportRenderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
-        if options.show_surface && geometry.index_count() > 0 {
+        if options.show_surface && surface.index_count > 0 {
             pass.set_pipeline(&self.surface_pipeline);
-            pass.set_vertex_buffer(0, geometry.vertices().slice(..));
-            pass.set_index_buffer(
-                geometry.triangle_indices().slice(..),
-                wgpu::IndexFormat::Uint32,
-            );
-            pass.draw_indexed(0..geometry.index_count(), 0, 0..1);
+            pass.set_vertex_buffer(0, surface.vertices.slice(..));
+            pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..surface.index_count, 0, 0..1);
         }
         let Some(net) = net else {
             return;
