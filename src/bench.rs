@@ -264,6 +264,10 @@ fn bench_drag_frame(
     );
     renderer.set_scene(&context.queue, &uniform);
     let options = DrawOptions::default();
+    let draw = |encoder: &mut wgpu::CommandEncoder, geometry: &crate::gpu::PatchGeometry| {
+        let buffers = geometry.surface_buffers();
+        renderer.render(encoder, &target, buffers, Some(&net), &options, None);
+    };
     doc.begin_drag(0, &[point])?;
     let mut latency = Vec::new();
     let mut patches = 0;
@@ -280,14 +284,7 @@ fn bench_drag_frame(
         let mut encoder = context.device.create_command_encoder(&Default::default());
         let evaluated = sync.encode(&mut encoder, None);
         let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        renderer.render(
-            &mut encoder,
-            &target,
-            geometry.surface_buffers(),
-            Some(&net),
-            &options,
-            None,
-        );
+        draw(&mut encoder, geometry);
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         if i >= 2 {
@@ -302,14 +299,7 @@ fn bench_drag_frame(
     for _ in 0..iterations.max(3) {
         let start = Instant::now();
         let mut encoder = context.device.create_command_encoder(&Default::default());
-        renderer.render(
-            &mut encoder,
-            &target,
-            geometry.surface_buffers(),
-            Some(&net),
-            &options,
-            None,
-        );
+        draw(&mut encoder, geometry);
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         render_only.push(start.elapsed().as_secs_f64() * 1e3);

@@ -304,6 +304,17 @@ fn a_file_opened_during_a_drag_ends_the_drag_and_the_new_document_is_untouched()
     assert_eq!(status::current().error, None);
 }
 
+/// The status after a move: its support was re-evaluated, and only that.
+fn reevaluated_only(support: u32, what: &str) -> status::AppStatus {
+    let s = status::current();
+    assert_eq!(
+        (s.patches_in_drag, s.patches_reevaluated),
+        (support, support),
+        "{what}"
+    );
+    s
+}
+
 #[test]
 fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patches() {
     let _turn = ONE_EDITOR_AT_A_TIME
@@ -328,12 +339,7 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
     let end = drag_from(&mut harness, at, egui::vec2(6.0, -9.0), 3);
     press(&harness, end, false);
     harness.run_steps(2);
-    let s = status::current();
-    assert_eq!(
-        (s.patches_in_drag, s.patches_reevaluated),
-        (support, support),
-        "drag"
-    );
+    let s = reevaluated_only(support, "drag");
     assert_eq!(s.undo_steps, 1);
 
     // 2. The page's moveControlPoint.
@@ -344,12 +350,7 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
         position: (p + glam::DVec3::new(0.0, 0.0, 0.25)).to_array(),
     });
     harness.run_steps(2);
-    let s = status::current();
-    assert_eq!(
-        (s.patches_in_drag, s.patches_reevaluated),
-        (support, support),
-        "page"
-    );
+    let s = reevaluated_only(support, "page");
     assert_eq!(s.undo_steps, 2);
     assert_eq!(s.last_edit.as_deref(), Some("move 1 point(s)"));
 
@@ -360,12 +361,7 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
         .get_by_role_and_label(egui::accesskit::Role::Button, "Move")
         .click_accesskit();
     harness.run_steps(2);
-    let s = status::current();
-    assert_eq!(
-        (s.patches_in_drag, s.patches_reevaluated),
-        (support, support),
-        "panel"
-    );
+    let s = reevaluated_only(support, "panel");
     assert_eq!(s.error, None);
 }
 

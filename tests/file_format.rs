@@ -203,9 +203,15 @@ fn run_stdin(input: &str) -> std::process::Output {
 
 /// Runs `knotwork eval - EXTRA...` with `input` on standard input.
 fn run_stdin_with(input: &str, extra: &[&str]) -> std::process::Output {
+    run_stdin_with_env(input, extra, &[])
+}
+
+/// [`run_stdin_with`] with environment variables set.
+fn run_stdin_with_env(input: &str, extra: &[&str], env: &[(&str, &str)]) -> std::process::Output {
     let mut child = knotwork()
         .args(["eval", "-"])
         .args(extra)
+        .envs(env.iter().copied())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -374,21 +380,11 @@ fn eval_cli_on_the_gpu_agrees_with_the_cpu() {
 
 /// Runs `knotwork eval --backend gpu` on a sphere request with `env` set.
 fn eval_gpu_with_env(env: &[(&str, &str)]) -> std::process::Output {
-    let mut child = knotwork()
-        .args(["eval", "-", "--backend", "gpu"])
-        .envs(env.iter().copied())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(sphere_request(json!([[0.25, 0.5]])).as_bytes())
-        .unwrap();
-    child.wait_with_output().unwrap()
+    run_stdin_with_env(
+        &sphere_request(json!([[0.25, 0.5]])),
+        &["--backend", "gpu"],
+        env,
+    )
 }
 
 #[test]
