@@ -19,7 +19,7 @@ pub struct PointDrag {
     pub object: usize,
     /// The object as it was when the drag began (what undo and cancel restore).
     before: SceneObject,
-    /// Each dragged point and where it started.
+    /// Each dragged point and where it started, by increasing index.
     starts: Vec<(usize, DVec3)>,
 }
 
@@ -89,7 +89,7 @@ impl Document {
         let object = drag.object;
         let target = object_at(&self.scene, object)?;
         for &(k, p) in moves {
-            if !drag.starts.iter().any(|&(d, _)| d == k) {
+            if drag.starts.binary_search_by_key(&k, |&(d, _)| d).is_err() {
                 return Err(EditError::NotDragged { point: k });
             }
             if !p.is_finite() {

@@ -152,7 +152,8 @@ impl SceneSync {
     /// Object `object`'s control points or weights changed (same layout): re-derives the
     /// Bézier patches `patches` of its feed (`None`: the whole object, re-evaluating the patches
     /// whose points changed), uploads the changed points and marks the patches for the next
-    /// [`Self::encode`]. Returns how many points were uploaded. On failure the feed is as before.
+    /// [`Self::encode`]. Returns how many points were uploaded. A drag step updates the feed in
+    /// place (no copy of a large object's feed per mouse move).
     pub fn refresh_object(
         &mut self,
         scene: &Scene,
@@ -170,21 +171,16 @@ impl SceneSync {
         if !target.visible {
             return Ok(0);
         }
-        let fresh = match patches {
-            Some(patches) => {
-                let mut updated = slot.clone();
-                target
-                    .update_decomposition(&mut updated, patches)
-                    .map_err(|e| GpuError::Geometry(format!("{}: {e}", target.name)))?;
-                updated
-            }
-            None => feed(target)?,
-        };
+        match patches {
+            Some(patches) => target
+                .update_decomposition(slot, patches)
+                .map_err(|e| GpuError::Geometry(format!("{}: {e}", target.name)))?,
+            None => *slot = feed(target)?,
+        }
         let uploaded = match &mut self.geometry {
-            Some(geometry) => geometry.update_object(&self.queue, object, &fresh.set, patches)?,
+            Some(geometry) => geometry.update_object(&self.queue, object, &slot.set, patches)?,
             None => 0,
         };
-        *slot = fresh;
         self.points_uploaded = uploaded;
         Ok(uploaded)
     }
