@@ -31,13 +31,6 @@ impl Document {
         self.history.execute(&mut self.scene, command)
     }
 
-    /// Records an edit already applied to the scene (several commands as one step); a drag in
-    /// progress is committed first.
-    pub fn record(&mut self, edit: Edit) -> &Edit {
-        self.commit_drag();
-        self.history.record(edit)
-    }
-
     /// Undoes one step (a drag in progress is committed first, so it is what is undone).
     pub fn undo(&mut self) -> Result<&Edit, EditError> {
         self.commit_drag();

@@ -648,10 +648,6 @@ impl PatchGeometry {
         evaluated
     }
 
-    pub fn vertices(&self) -> &wgpu::Buffer {
-        &self.vertices
-    }
-
     /// What the renderer draws: the vertex and index buffers the compute pass writes.
     pub fn surface_buffers(&self) -> SurfaceBuffers<'_> {
         SurfaceBuffers {
@@ -659,10 +655,6 @@ impl PatchGeometry {
             indices: &self.triangle_indices,
             index_count: self.index_count,
         }
-    }
-
-    pub fn triangle_indices(&self) -> &wgpu::Buffer {
-        &self.triangle_indices
     }
 
     /// Every patch record, objects in order.

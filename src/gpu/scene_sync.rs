@@ -99,10 +99,6 @@ impl SceneSync {
         Ok(sync)
     }
 
-    pub fn evaluator(&self) -> &PatchEvaluator {
-        &self.evaluator
-    }
-
     /// The buffers, once a scene was built.
     pub fn geometry(&self) -> Option<&PatchGeometry> {
         self.geometry.as_ref()
