@@ -323,41 +323,34 @@ fn invalid_input_is_rejected_with_the_offending_index() {
     let patch = |p, q, n: u32| vec![BezierPatch::new(p, q, (0..n).collect())];
     assert!(matches!(
         BezierPatchSet::new(unit(4), None, patch(0, 1, 4)),
-        Err(GeometryError::DegreeOutOfRange { patch: 0, .. })
+        Err(GeometryError::Degree { at, degree: 0, .. }) if at == "patches[0].degree[0]"
     ));
     assert!(matches!(
         BezierPatchSet::new(unit(400), None, patch(16, 1, 34)),
-        Err(GeometryError::DegreeOutOfRange { .. })
+        Err(GeometryError::Degree { degree: 16, .. })
     ));
     assert!(matches!(
         BezierPatchSet::new(unit(4), None, patch(1, 1, 3)),
-        Err(GeometryError::ControlPointCount {
+        Err(GeometryError::PointCount {
+            at,
             expected: 4,
             found: 3,
-            ..
-        })
+        }) if at == "patches[0].indices"
     ));
     assert!(matches!(
         BezierPatchSet::new(unit(3), None, patch(1, 1, 4)),
-        Err(GeometryError::IndexOutOfRange {
-            entry: 3,
-            index: 3,
-            ..
-        })
+        Err(GeometryError::IndexOutOfRange { at, index: 3, .. }) if at == "patches[0].indices[3]"
     ));
     let mut points = unit(4);
     points[2].y = f64::NAN;
     assert!(matches!(
         BezierPatchSet::new(points, None, patch(1, 1, 4)),
-        Err(GeometryError::NonFiniteCoordinate {
-            index: 2,
-            coordinate: 1
-        })
+        Err(GeometryError::NonFinitePoint { at, coordinate: 1 }) if at == "points[2]"
     ));
     for bad in [0.0, -1.0, f64::INFINITY, f64::NAN] {
         assert!(matches!(
             BezierPatchSet::new(unit(4), Some(vec![1.0, 1.0, 1.0, bad]), patch(1, 1, 4)),
-            Err(GeometryError::InvalidWeight { index: 3, .. })
+            Err(GeometryError::BadWeight { at, .. }) if at == "points[3]"
         ));
     }
     assert!(matches!(
@@ -376,7 +369,7 @@ fn invalid_input_is_rejected_with_the_offending_index() {
     for (u, v) in [(-0.1, 0.5), (0.5, 1.5), (f64::NAN, 0.5)] {
         assert!(matches!(
             set.evaluate(0, u, v),
-            Err(GeometryError::ParameterOutOfDomain { .. })
+            Err(GeometryError::OutsideDomain { .. })
         ));
     }
     let before = set.clone();

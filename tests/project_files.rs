@@ -54,7 +54,7 @@ const CORPUS: &[(&str, &str, &str)] = &[
     ),
     (
         "patch-index-out-of-range",
-        "objects[0].patches[0]",
+        "objects[0].patches[0].indices[3]",
         "index 99",
     ),
     (

@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 use glam::DVec3;
 
 use super::{Change, Document, Edit, EditError, geometry_error, object_at};
-use crate::kernel::GeometryError;
+use crate::kernel::{GeometryError, Location};
 use crate::scene::SceneObject;
 
 /// A drag in progress.
@@ -94,7 +94,7 @@ impl Document {
             }
             if !p.is_finite() {
                 return Err(geometry_error(target)(GeometryError::NonFinitePoint {
-                    at: format!("control point {k}"),
+                    at: Location::point(k),
                     coordinate: p
                         .to_array()
                         .iter()

@@ -46,18 +46,12 @@ impl FormatError {
         }
     }
 
-    fn geometry(path: &str, error: GeometryError) -> Self {
-        // Kernel errors already start with the field inside the object ("knots[0][3]: ...").
-        let text = error.to_string();
-        match text.split_once(": ") {
-            Some((field, rest))
-                if field.starts_with("knots")
-                    || field.starts_with("points")
-                    || field == "degree" =>
-            {
-                Self::new(join(path, field), rest)
-            }
-            _ => Self::new(path, text),
+    /// A kernel error about the object at `path`: its location inside the object (for example
+    /// `knots[0][3]`) joins the path, the rest is the message.
+    pub(crate) fn geometry(path: &str, error: GeometryError) -> Self {
+        match error.location() {
+            Some(at) => Self::new(join(path, at.as_str()), error.detail()),
+            None => Self::new(path, error.to_string()),
         }
     }
 }

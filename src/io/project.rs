@@ -24,7 +24,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::json::{self, FormatError, Geometry, NamedGeometry};
-use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, MAX_BEZIER_DEGREE, PolygonMesh};
+use crate::kernel::{BezierPatch, BezierPatchSet, MAX_BEZIER_DEGREE, PolygonMesh};
 use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
 
 /// The project format version this build writes and the newest it reads.
@@ -309,17 +309,7 @@ fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, 
         }
         patches.push(BezierPatch::new(du, dv, patch.indices));
     }
-    BezierPatchSet::new(points, Some(weights), patches).map_err(|e| {
-        let at = match &e {
-            GeometryError::NonFiniteCoordinate { index, .. }
-            | GeometryError::InvalidWeight { index, .. } => format!("{path}.points[{index}]"),
-            GeometryError::DegreeOutOfRange { patch, .. }
-            | GeometryError::ControlPointCount { patch, .. }
-            | GeometryError::IndexOutOfRange { patch, .. } => format!("{path}.patches[{patch}]"),
-            _ => path.to_string(),
-        };
-        FormatError::new(at, e.to_string())
-    })
+    BezierPatchSet::new(points, Some(weights), patches).map_err(|e| FormatError::geometry(path, e))
 }
 
 /// One scene object as a JSON value.

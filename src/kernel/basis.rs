@@ -5,7 +5,7 @@
 //! knots repeated p + 1 times) make the curve interpolate its end points; unclamped ones are
 //! accepted too.
 
-use super::error::GeometryError;
+use super::error::{GeometryError, Location};
 
 /// The highest degree the kernel accepts in any direction. Higher degrees have no modelling use,
 /// lose precision in the basis recurrences, and a hostile file could ask for millions.
@@ -27,14 +27,14 @@ pub fn validate_knots(
 ) -> Result<(), GeometryError> {
     if !(1..=MAX_DEGREE).contains(&degree) {
         return Err(GeometryError::Degree {
-            field,
+            at: Location::field(field),
             degree,
             max: MAX_DEGREE,
         });
     }
     if count < degree + 1 {
         return Err(GeometryError::TooFewControlPoints {
-            field,
+            at: Location::field(field),
             count,
             degree,
         });
@@ -42,7 +42,7 @@ pub fn validate_knots(
     let expected = count + degree + 1;
     if knots.len() != expected {
         return Err(GeometryError::KnotCount {
-            field,
+            at: Location::field(field),
             found: knots.len(),
             expected,
             count,
@@ -51,15 +51,13 @@ pub fn validate_knots(
     }
     if let Some((index, &value)) = knots.iter().enumerate().find(|(_, k)| !k.is_finite()) {
         return Err(GeometryError::NonFiniteKnot {
-            field,
-            index,
+            at: Location::field(field).index(index),
             value,
         });
     }
     if let Some(index) = (1..knots.len()).find(|&i| knots[i] < knots[i - 1]) {
         return Err(GeometryError::DecreasingKnot {
-            field,
-            index,
+            at: Location::field(field).index(index),
             value: knots[index],
             previous: knots[index - 1],
         });
@@ -82,8 +80,7 @@ pub fn validate_knots(
         };
         if multiplicity > max {
             return Err(GeometryError::KnotMultiplicity {
-                field,
-                index: start,
+                at: Location::field(field).index(start),
                 value: knots[start],
                 multiplicity,
                 max,
@@ -95,7 +92,7 @@ pub fn validate_knots(
     let (lo, hi) = (knots[degree], knots[count]);
     if lo >= hi {
         return Err(GeometryError::EmptyDomain {
-            field,
+            at: Location::field(field),
             start: lo,
             end: hi,
         });

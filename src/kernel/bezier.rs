@@ -16,7 +16,7 @@ use glam::{DVec3, DVec4};
 use super::MAX_BEZIER_DEGREE;
 use super::bernstein::BernsteinBasis;
 use super::diffgeo::{SurfaceDerivatives, rational_derivatives};
-use super::error::GeometryError;
+use super::error::{GeometryError, Location};
 
 /// Capacity of the fixed-size basis arrays (degree + 1).
 const BASIS_CAPACITY: usize = MAX_BEZIER_DEGREE + 1;
@@ -80,32 +80,24 @@ impl BezierPatchSet {
         patches: Vec<BezierPatch>,
     ) -> Result<Self, GeometryError> {
         let weights = super::curve::weights_or_ones(points.len(), weights)?;
-        for (index, p) in points.iter().enumerate() {
-            if let Some(coordinate) = p.to_array().iter().position(|c| !c.is_finite()) {
-                return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
-            }
-        }
-        for (index, &weight) in weights.iter().enumerate() {
-            if !(weight.is_finite() && weight > 0.0) {
-                return Err(GeometryError::InvalidWeight { index, weight });
-            }
+        for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
+            super::curve::check_point(Location::point(index), &p.to_array(), w)?;
         }
         for (patch_index, patch) in patches.iter().enumerate() {
             let (du, dv) = (patch.degree_u, patch.degree_v);
-            if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
-                return Err(GeometryError::DegreeOutOfRange {
-                    patch: patch_index,
-                    degree_u: du,
-                    degree_v: dv,
-                    max: MAX_BEZIER_DEGREE,
-                });
+            for (d, degree) in [du, dv].into_iter().enumerate() {
+                if !(1..=MAX_BEZIER_DEGREE).contains(&degree) {
+                    return Err(GeometryError::Degree {
+                        at: Location::patch(patch_index).then("degree").index(d),
+                        degree,
+                        max: MAX_BEZIER_DEGREE,
+                    });
+                }
             }
             let expected = (du + 1) * (dv + 1);
             if patch.indices.len() != expected {
-                return Err(GeometryError::ControlPointCount {
-                    patch: patch_index,
-                    degree_u: du,
-                    degree_v: dv,
+                return Err(GeometryError::PointCount {
+                    at: Location::patch(patch_index).then("indices"),
                     expected,
                     found: patch.indices.len(),
                 });
@@ -117,8 +109,7 @@ impl BezierPatchSet {
                 .find(|&(_, &i)| i as usize >= points.len())
             {
                 return Err(GeometryError::IndexOutOfRange {
-                    patch: patch_index,
-                    entry,
+                    at: Location::patch(patch_index).then("indices").index(entry),
                     index,
                     count: points.len(),
                 });
@@ -164,7 +155,10 @@ impl BezierPatchSet {
     /// weight that is not finite and > 0, or an index out of range, and leaves the set unchanged.
     pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
         if !(weight.is_finite() && weight > 0.0) {
-            return Err(GeometryError::InvalidWeight { index, weight });
+            return Err(GeometryError::BadWeight {
+                at: Location::point(index),
+                weight,
+            });
         }
         let count = self.weights.len();
         let slot = self
@@ -203,7 +197,17 @@ impl BezierPatchSet {
     ) -> Result<SurfaceDerivatives, GeometryError> {
         let patch = self.patch(patch)?;
         if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
-            return Err(GeometryError::ParameterOutOfDomain { u, v });
+            let (parameter, value) = if (0.0..=1.0).contains(&u) {
+                ("v", v)
+            } else {
+                ("u", u)
+            };
+            return Err(GeometryError::OutsideDomain {
+                parameter,
+                value,
+                start: 0.0,
+                end: 1.0,
+            });
         }
         Ok(self.evaluate_in_domain(patch, u, v))
     }
@@ -276,7 +280,10 @@ pub(crate) fn set_point_checked(
     position: DVec3,
 ) -> Result<(), GeometryError> {
     if let Some(coordinate) = position.to_array().iter().position(|c| !c.is_finite()) {
-        return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
+        return Err(GeometryError::NonFinitePoint {
+            at: Location::point(index),
+            coordinate,
+        });
     }
     let count = points.len();
     let slot = points

@@ -13,7 +13,7 @@ use glam::{DQuat, DVec3, DVec4};
 
 use super::basis::{basis_functions, find_span, uniform_clamped_knots};
 use super::curve::{NurbsCurve, SpaceCurve};
-use super::error::GeometryError;
+use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
 use super::surface::{Direction, NurbsSurface};
 use super::vector::{CurvePoint, Vector};
@@ -712,13 +712,14 @@ pub fn flat_bezier_patch(
     depth: f64,
 ) -> Result<NurbsSurface, GeometryError> {
     let [p, q] = degree;
-    if !(1..=super::basis::MAX_DEGREE).contains(&p) || !(1..=super::basis::MAX_DEGREE).contains(&q)
-    {
-        return Err(GeometryError::Degree {
-            field: "degree",
-            degree: p.max(q),
-            max: super::basis::MAX_DEGREE,
-        });
+    for (d, degree) in [p, q].into_iter().enumerate() {
+        if !(1..=super::basis::MAX_DEGREE).contains(&degree) {
+            return Err(GeometryError::Degree {
+                at: Location::field("degree").index(d),
+                degree,
+                max: super::basis::MAX_DEGREE,
+            });
+        }
     }
     let mut points = Vec::with_capacity((p + 1) * (q + 1));
     for i in 0..=p {
@@ -743,7 +744,7 @@ pub fn bspline_surface(
     for (d, (&p, &c)) in degree.iter().zip(&count).enumerate() {
         if c < p + 1 {
             return Err(GeometryError::TooFewControlPoints {
-                field: if d == 0 { "knots[0]" } else { "knots[1]" },
+                at: Location::field("knots").index(d),
                 count: c,
                 degree: p,
             });

@@ -9,7 +9,7 @@ use super::basis::{
     MAX_DEGREE, basis_derivatives_into, domain, find_span, interior_knots, multiplicity,
     validate_knots,
 };
-use super::error::GeometryError;
+use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
 use super::vector::{CurvePoint, Vector, binomial};
 
@@ -35,7 +35,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
     ) -> Result<Self, GeometryError> {
         let weights = weights_or_ones(points.len(), weights)?;
         for (i, (p, &w)) in points.iter().zip(&weights).enumerate() {
-            check_point(&format!("points[{i}]"), &p.coordinates(), w)?;
+            check_point(Location::point(i), &p.coordinates(), w)?;
         }
         let homogeneous = points
             .iter()
@@ -54,7 +54,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
         validate_knots("knots", degree, points.len(), &knots)?;
         for (i, &h) in points.iter().enumerate() {
             check_point(
-                &format!("points[{i}]"),
+                Location::point(i),
                 &P::weighted_part(h).coordinates(),
                 P::weight_of(h),
             )?;
@@ -182,7 +182,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
         let degree = self.poly.degree + times;
         if degree > MAX_DEGREE {
             return Err(GeometryError::Degree {
-                field: "degree",
+                at: Location::field("degree"),
                 degree,
                 max: MAX_DEGREE,
             });
@@ -266,7 +266,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
         let (a, b) = self.domain();
         if !(start.is_finite() && end.is_finite() && start < end) {
             return Err(GeometryError::EmptyDomain {
-                field: "domain",
+                at: Location::field("domain"),
                 start,
                 end,
             });
@@ -311,18 +311,16 @@ pub(crate) fn weights_or_ones(
 }
 
 /// Checks a Cartesian control point and its weight; `at` names it in errors.
-pub(crate) fn check_point(at: &str, coordinates: &[f64], weight: f64) -> Result<(), GeometryError> {
+pub(crate) fn check_point(
+    at: Location,
+    coordinates: &[f64],
+    weight: f64,
+) -> Result<(), GeometryError> {
     if let Some(coordinate) = coordinates.iter().position(|c| !c.is_finite()) {
-        return Err(GeometryError::NonFinitePoint {
-            at: at.to_string(),
-            coordinate,
-        });
+        return Err(GeometryError::NonFinitePoint { at, coordinate });
     }
     if !(weight.is_finite() && weight > 0.0) {
-        return Err(GeometryError::BadWeight {
-            at: at.to_string(),
-            weight,
-        });
+        return Err(GeometryError::BadWeight { at, weight });
     }
     Ok(())
 }

@@ -1,114 +1,143 @@
 //! Typed errors of the geometry kernel.
 
+use std::fmt;
+
 use thiserror::Error;
 
-/// Why a piece of geometry was rejected. Each variant names the offending field and index.
+/// Where inside an object a rejected value lies, written as the JSON path below the object in
+/// knotwork's file format (`points[3]`, `points[2][5]`, `patches[1].degree[0]`, `knots[0][4]`),
+/// so that a file reader puts the object's own path in front and an editor names the point.
+/// Built from fields and indices, never parsed back from text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location(String);
+
+impl Location {
+    /// A field of the object: `name`.
+    pub fn field(name: &str) -> Self {
+        Self(name.to_owned())
+    }
+
+    /// Control point `index` of a list: `points[index]`.
+    pub fn point(index: usize) -> Self {
+        Self::field("points").index(index)
+    }
+
+    /// Control point (i, j) of a grid: `points[i][j]`.
+    pub fn grid_point(i: usize, j: usize) -> Self {
+        Self::point(i).index(j)
+    }
+
+    /// Patch `index` of a set: `patches[index]`.
+    pub fn patch(index: usize) -> Self {
+        Self::field("patches").index(index)
+    }
+
+    /// This location's element `index`: `...[index]`.
+    pub fn index(mut self, index: usize) -> Self {
+        self.0 = format!("{}[{index}]", self.0);
+        self
+    }
+
+    /// This location's field `name`: `....name`.
+    pub fn then(mut self, name: &str) -> Self {
+        self.0 = format!("{}.{name}", self.0);
+        self
+    }
+
+    /// The path as text.
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+impl PartialEq<str> for Location {
+    fn eq(&self, other: &str) -> bool {
+        self.0 == other
+    }
+}
+
+impl PartialEq<&str> for Location {
+    fn eq(&self, other: &&str) -> bool {
+        self.0 == *other
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Why a piece of geometry was rejected. Each variant that concerns one value names it with a
+/// [`Location`] ([`GeometryError::location`]); its message starts with that location.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum GeometryError {
-    #[error("patch {patch}: degree ({degree_u}, {degree_v}) is outside 1..={max}")]
-    DegreeOutOfRange {
-        patch: usize,
-        degree_u: usize,
-        degree_v: usize,
-        max: usize,
-    },
-    #[error(
-        "patch {patch}: has {found} control point indices, degree ({degree_u}, {degree_v}) needs {expected}"
-    )]
-    ControlPointCount {
-        patch: usize,
-        degree_u: usize,
-        degree_v: usize,
-        expected: usize,
+    #[error("{at}: {found} control points, expected {expected}")]
+    PointCount {
+        at: Location,
         found: usize,
+        expected: usize,
     },
-    #[error(
-        "patch {patch}: control point index {index} (entry {entry}) is out of range (the set has {count} points)"
-    )]
+    #[error("{at}: control point index {index} is out of range (the set has {count} points)")]
     IndexOutOfRange {
-        patch: usize,
-        entry: usize,
+        at: Location,
         index: u32,
         count: usize,
     },
-    #[error("control point {index}: coordinate {coordinate} is not finite")]
-    NonFiniteCoordinate { index: usize, coordinate: usize },
-    #[error("control point {index}: weight {weight} must be finite and > 0")]
-    InvalidWeight { index: usize, weight: f64 },
+    #[error("{at}: coordinate {coordinate} is not finite")]
+    NonFinitePoint { at: Location, coordinate: usize },
+    #[error("{at}: weight {weight} must be finite and > 0")]
+    BadWeight { at: Location, weight: f64 },
     #[error("{points} control points but {weights} weights")]
     WeightCount { points: usize, weights: usize },
     #[error("control point {index} does not exist (the set has {count} points)")]
     NoSuchPoint { index: usize, count: usize },
     #[error("patch index {patch} is out of range (the set has {count} patches)")]
     NoSuchPatch { patch: usize, count: usize },
-    #[error("parameter ({u}, {v}) is outside the patch domain [0, 1] × [0, 1]")]
-    ParameterOutOfDomain { u: f64, v: f64 },
-    #[error("{field}: degree {degree} is outside 1..={max}")]
+    #[error("{at}: degree {degree} is outside 1..={max}")]
     Degree {
-        field: &'static str,
+        at: Location,
         degree: usize,
         max: usize,
     },
     #[error(
-        "{field}: {count} control points are too few for degree {degree} (at least degree + 1 are needed)"
+        "{at}: {count} control points are too few for degree {degree} (at least degree + 1 are needed)"
     )]
     TooFewControlPoints {
-        field: &'static str,
+        at: Location,
         count: usize,
         degree: usize,
     },
     #[error(
-        "{field}: {found} knots, but {count} control points of degree {degree} need count + degree + 1 = {expected}"
+        "{at}: {found} knots, but {count} control points of degree {degree} need count + degree + 1 = {expected}"
     )]
     KnotCount {
-        field: &'static str,
+        at: Location,
         found: usize,
         expected: usize,
         count: usize,
         degree: usize,
     },
-    #[error("{field}[{index}]: knot {value} is not finite")]
-    NonFiniteKnot {
-        field: &'static str,
-        index: usize,
-        value: f64,
-    },
+    #[error("{at}: knot {value} is not finite")]
+    NonFiniteKnot { at: Location, value: f64 },
     #[error(
-        "{field}[{index}]: knot {value} is smaller than the knot before it ({previous}); knots must not decrease"
+        "{at}: knot {value} is smaller than the knot before it ({previous}); knots must not decrease"
     )]
     DecreasingKnot {
-        field: &'static str,
-        index: usize,
+        at: Location,
         value: f64,
         previous: f64,
     },
-    #[error(
-        "{field}[{index}]: knot {value} is repeated {multiplicity} times, more than {max} ({reason})"
-    )]
+    #[error("{at}: knot {value} is repeated {multiplicity} times, more than {max} ({reason})")]
     KnotMultiplicity {
-        field: &'static str,
-        index: usize,
+        at: Location,
         value: f64,
         multiplicity: usize,
         max: usize,
         reason: &'static str,
     },
-    #[error("{field}: the parameter domain [{start}, {end}] is empty")]
-    EmptyDomain {
-        field: &'static str,
-        start: f64,
-        end: f64,
-    },
-    #[error("{at}: coordinate {coordinate} is not finite")]
-    NonFinitePoint { at: String, coordinate: usize },
-    #[error("{at}: weight {weight} must be finite and > 0")]
-    BadWeight { at: String, weight: f64 },
-    #[error("{field}: {found} control points, expected {expected}")]
-    PointCount {
-        field: &'static str,
-        found: usize,
-        expected: usize,
-    },
+    #[error("{at}: the parameter domain [{start}, {end}] is empty")]
+    EmptyDomain { at: Location, start: f64, end: f64 },
     #[error("{parameter} = {value} is outside the domain [{start}, {end}]")]
     OutsideDomain {
         parameter: &'static str,
@@ -135,4 +164,36 @@ pub enum GeometryError {
     Construction { what: &'static str, message: String },
     #[error("sample data {name}: {message}")]
     SampleData { name: &'static str, message: String },
+}
+
+impl GeometryError {
+    /// The value this error is about, where it names one.
+    pub fn location(&self) -> Option<&Location> {
+        match self {
+            Self::PointCount { at, .. }
+            | Self::IndexOutOfRange { at, .. }
+            | Self::NonFinitePoint { at, .. }
+            | Self::BadWeight { at, .. }
+            | Self::Degree { at, .. }
+            | Self::TooFewControlPoints { at, .. }
+            | Self::KnotCount { at, .. }
+            | Self::NonFiniteKnot { at, .. }
+            | Self::DecreasingKnot { at, .. }
+            | Self::KnotMultiplicity { at, .. }
+            | Self::EmptyDomain { at, .. } => Some(at),
+            _ => None,
+        }
+    }
+
+    /// The message without its location (the whole message where it has none).
+    pub fn detail(&self) -> String {
+        let text = self.to_string();
+        match self.location() {
+            Some(at) => text
+                .strip_prefix(at.as_str())
+                .and_then(|rest| rest.strip_prefix(": "))
+                .map_or_else(|| text.clone(), str::to_owned),
+            None => text,
+        }
+    }
 }

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 
 use glam::{DAffine3, DVec3};
 
-use super::{BezierPatch, BezierPatchSet, GeometryError};
+use super::{BezierPatch, BezierPatchSet, GeometryError, Location};
 
 /// The most corners one face may have.
 pub const MAX_FACE_CORNERS: usize = 256;
@@ -52,7 +52,10 @@ impl PolygonMesh {
     fn validate(&self) -> Result<(), GeometryError> {
         for (index, p) in self.points.iter().enumerate() {
             if let Some(coordinate) = p.to_array().iter().position(|c| !c.is_finite()) {
-                return Err(GeometryError::NonFiniteCoordinate { index, coordinate });
+                return Err(GeometryError::NonFinitePoint {
+                    at: Location::point(index),
+                    coordinate,
+                });
             }
         }
         if self.starts.len() < 2 {

@@ -20,7 +20,7 @@ pub mod vector;
 pub use bezier::{BezierPatch, BezierPatchSet};
 pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
 pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
-pub use error::GeometryError;
+pub use error::{GeometryError, Location};
 pub use mesh::PolygonMesh;
 pub use surface::{Direction, NurbsSurface};
 

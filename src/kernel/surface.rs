@@ -16,7 +16,7 @@ use super::diffgeo::{
     CURVATURE_NUDGE, Curvature, CurvatureValues, DEGENERATE_SIN2, FundamentalForms, NORMAL_NUDGE,
     SurfaceDerivatives, rational_derivatives,
 };
-use super::error::GeometryError;
+use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
 
 /// A parameter direction of a surface.
@@ -129,7 +129,7 @@ impl NurbsSurface {
         check_count(count, points.len())?;
         for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
             let (i, j) = (index / count[1], index % count[1]);
-            check_point(&format!("points[{i}][{j}]"), &p.to_array(), w)?;
+            check_point(Location::grid_point(i, j), &p.to_array(), w)?;
         }
         let homogeneous = points
             .iter()
@@ -151,7 +151,7 @@ impl NurbsSurface {
         check_count(count, points.len())?;
         for (index, h) in points.iter().enumerate() {
             let (i, j) = (index / count[1], index % count[1]);
-            check_point(&format!("points[{i}][{j}]"), &h.to_array()[..3], h.w)?;
+            check_point(Location::grid_point(i, j), &h.to_array()[..3], h.w)?;
         }
         Ok(Self {
             degree,
@@ -235,7 +235,7 @@ impl NurbsSurface {
     pub fn set_point(&mut self, i: usize, j: usize, position: DVec3) -> Result<(), GeometryError> {
         let index = self.index_checked(i, j)?;
         let w = self.points[index].w;
-        check_point(&format!("points[{i}][{j}]"), &position.to_array(), w)?;
+        check_point(Location::grid_point(i, j), &position.to_array(), w)?;
         self.points[index] = (position * w).extend(w);
         Ok(())
     }
@@ -245,7 +245,7 @@ impl NurbsSurface {
     pub fn set_weight(&mut self, i: usize, j: usize, weight: f64) -> Result<(), GeometryError> {
         let index = self.index_checked(i, j)?;
         let p = self.control_point(i, j);
-        check_point(&format!("points[{i}][{j}]"), &p.to_array(), weight)?;
+        check_point(Location::grid_point(i, j), &p.to_array(), weight)?;
         self.points[index] = (p * weight).extend(weight);
         Ok(())
     }
@@ -785,7 +785,7 @@ impl NurbsSurface {
         let degree = self.degree[direction.index()] + times;
         if degree > MAX_DEGREE {
             return Err(GeometryError::Degree {
-                field: "degree",
+                at: Location::field("degree").index(direction.index()),
                 degree,
                 max: MAX_DEGREE,
             });
@@ -1024,7 +1024,7 @@ impl NurbsSurface {
     pub fn closest_point(&self, target: DVec3) -> Result<ClosestPoint, GeometryError> {
         if let Some(coordinate) = target.to_array().iter().position(|c| !c.is_finite()) {
             return Err(GeometryError::NonFinitePoint {
-                at: "target".into(),
+                at: Location::field("target"),
                 coordinate,
             });
         }
@@ -1096,7 +1096,7 @@ fn check_count(count: [usize; 2], found: usize) -> Result<(), GeometryError> {
     let expected = count[0].saturating_mul(count[1]);
     if found != expected {
         return Err(GeometryError::PointCount {
-            field: "points",
+            at: Location::field("points"),
             found,
             expected,
         });
