@@ -320,10 +320,7 @@ fn another_tools_gltf_opens_as_polygon_meshes_at_the_exported_positions() {
     // knotwork's own export with the model taken out is a plain glTF file.
     let project = single("cage", ObjectGeometry::Mesh(polygon_mesh()));
     let mut e = export::export(&project, &options(Tessellation::Segments(1))).unwrap();
-    e.json["scenes"][0]
-        .as_object_mut()
-        .unwrap()
-        .remove("extras");
+    e.root.scenes[0].extras = None;
     let glb = export::to_glb(&e);
     let opened = knotwork::io::open("foreign.glb", &glb, &no_files).unwrap();
     assert_eq!(opened.scene.objects.len(), 1);

@@ -33,20 +33,12 @@ fn foreign() -> (Value, Vec<u8>) {
         colors: None,
     };
     let mut e = export::export(&project, &options).unwrap();
-    e.json["scenes"][0]
-        .as_object_mut()
-        .unwrap()
-        .remove("extras");
-    (e.json, e.bin)
+    e.root.scenes[0].extras = None;
+    (serde_json::to_value(&e.root).unwrap(), e.bin)
 }
 
 fn glb(json: &Value, bin: &[u8]) -> Vec<u8> {
-    export::to_glb(&export::Export {
-        json: json.clone(),
-        bin: bin.to_vec(),
-        triangles: 0,
-        vertices: 0,
-    })
+    export::glb_bytes(&serde_json::to_vec(json).unwrap(), bin)
 }
 
 fn open(bytes: &[u8]) -> Result<Project, FormatError> {
@@ -224,6 +216,58 @@ fn hostile_json_is_refused_with_its_path() {
             ),
             "embedded knotwork model",
         ),
+        // What the gltf crate leaves to its caller: each of these would panic, overflow or
+        // hit an `unreachable!` inside the crate if it were not checked first.
+        (
+            "no such POSITION accessor",
+            Box::new(|j| j["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99)),
+            "attributes.POSITION",
+        ),
+        (
+            "zero count",
+            Box::new(|j| j["accessors"][0]["count"] = json!(0)),
+            "accessors[0].count",
+        ),
+        (
+            "float indices",
+            Box::new(|j| j["accessors"][2]["componentType"] = json!(5126)),
+            "accessors[2].componentType",
+        ),
+        (
+            "byte positions",
+            Box::new(|j| j["accessors"][0]["componentType"] = json!(5121)),
+            "accessors[0].componentType",
+        ),
+        (
+            "stride not a multiple of 4",
+            Box::new(|j| j["bufferViews"][0]["byteStride"] = json!(13)),
+            "byteStride",
+        ),
+        (
+            "accessor offset overflows",
+            Box::new(|j| j["accessors"][0]["byteOffset"] = json!(u64::MAX - 8)),
+            "accessors[0]",
+        ),
+        (
+            "view length overflows",
+            Box::new(|j| j["bufferViews"][0]["byteLength"] = json!(u64::MAX - 8)),
+            "bufferViews[0]",
+        ),
+        (
+            "unknown mode",
+            Box::new(|j| j["meshes"][0]["primitives"][0]["mode"] = json!(99)),
+            "mode",
+        ),
+        (
+            "required extension",
+            Box::new(|j| j["extensionsRequired"] = json!(["KHR_draco_mesh_compression"])),
+            "extensionsRequired",
+        ),
+        (
+            "wrong JSON type",
+            Box::new(|j| j["nodes"] = json!(5)),
+            "nodes",
+        ),
         (
             "no meshes",
             Box::new(|j| {
@@ -254,6 +298,27 @@ fn hostile_json_is_refused_with_its_path() {
     let offset = json["bufferViews"][indices]["byteOffset"].as_u64().unwrap() as usize;
     bad_bin[offset..offset + 2].copy_from_slice(&500u16.to_le_bytes());
     refused(&glb(&json, &bad_bin), "past the 4 vertices");
+    // A GLB header whose length is under its own 12 bytes.
+    let mut short = glb(&json, &bin);
+    short[8..12].copy_from_slice(&5u32.to_le_bytes());
+    refused(&short, "less than the header");
+    // Tolerated as other importers do: POSITION without min/max, and a primitive without
+    // POSITION (skipped) beside one with it.
+    let mut lenient = json.clone();
+    let accessor = &mut lenient["accessors"][0];
+    accessor.as_object_mut().unwrap().remove("min");
+    accessor.as_object_mut().unwrap().remove("max");
+    let mut headless = lenient["meshes"][0]["primitives"][0].clone();
+    headless["attributes"]
+        .as_object_mut()
+        .unwrap()
+        .remove("POSITION");
+    lenient["meshes"][0]["primitives"]
+        .as_array_mut()
+        .unwrap()
+        .push(headless);
+    let project = open(&glb(&lenient, &bin)).unwrap();
+    assert_eq!(project.scene.objects.len(), 1);
     // Not glTF, not JSON.
     assert!(knotwork::io::open("x.gltf", b"\x00\x01garbage", &no_files).is_err());
     assert!(knotwork::io::open("x.glb", b"glTF", &no_files).is_err());

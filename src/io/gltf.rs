@@ -1,5 +1,7 @@
 //! glTF 2.0 export: `.glb` (one binary file) or `.gltf` with its `.bin`, and the editable model
-//! inside it.
+//! inside it. The document is built from the `gltf` crate's typed JSON structures (`gltf::json`)
+//! and the GLB container written by its `binary` module; what is left here is what glTF does
+//! not say: the tessellation, the axes, the vertex data and the embedded model.
 //!
 //! - One node and one mesh per visible object, named after it, with a PBR metallic-roughness
 //!   material (double-sided: knotwork's surfaces are open sheets). A NURBS surface or a polygon
@@ -19,8 +21,17 @@
 //!   ones too, and the view) in knotwork's project format ([`super::project`]). knotwork opens its
 //!   own exports from it; other viewers ignore `extras` and see the meshes.
 
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+
 use glam::{DVec3, Vec3};
-use serde_json::{Value, json};
+use gltf::json;
+use gltf::json::accessor::{ComponentType, GenericComponentType, Type};
+use gltf::json::buffer::Target;
+use gltf::json::mesh::{Mode, Semantic};
+use gltf::json::validation::Checked::Valid;
+use serde_json::Value;
+use serde_json::value::RawValue;
 use thiserror::Error;
 
 use super::project::{self, Project};
@@ -153,10 +164,11 @@ pub struct ExportOptions {
     pub colors: Option<CurvatureColors>,
 }
 
-/// An export in memory: the glTF JSON and its binary buffer.
-#[derive(Debug, Clone, PartialEq)]
+/// An export in memory: the glTF document (the `gltf` crate's typed JSON) and its binary
+/// buffer.
+#[derive(Debug, Clone)]
 pub struct Export {
-    pub json: Value,
+    pub root: json::Root,
     pub bin: Vec<u8>,
     pub triangles: usize,
     pub vertices: usize,
@@ -172,51 +184,77 @@ pub fn from_gltf_axes(p: DVec3) -> DVec3 {
     DVec3::new(p.x, -p.z, p.y)
 }
 
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-const FLOAT: u32 = 5126;
-const UNSIGNED_SHORT: u32 = 5123;
-const UNSIGNED_INT: u32 = 5125;
-
-/// The binary buffer and the bufferViews / accessors that describe it.
-#[derive(Default)]
+/// The binary buffer, with the bufferViews and accessors that describe it pushed onto the
+/// document as they are written.
 struct Builder {
+    root: json::Root,
     bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
 }
 
 impl Builder {
-    /// Appends `bytes` as a new bufferView (4-byte aligned) and returns its index.
-    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+    /// Appends `bytes` as a new bufferView (4-byte aligned).
+    fn view(&mut self, bytes: &[u8], target: Target) -> json::Index<json::buffer::View> {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
-        self.views.push(json!({
-            "buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target
-        }));
-        self.views.len() - 1
+        self.root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: bytes.len().into(),
+            byte_offset: Some(offset.into()),
+            byte_stride: None,
+            name: None,
+            target: Some(Valid(target)),
+            extensions: None,
+            extras: None,
+        })
+    }
+
+    /// An accessor of `count` elements of `kind` in `component` over the bytes just written.
+    fn accessor(
+        &mut self,
+        view: json::Index<json::buffer::View>,
+        count: usize,
+        component: ComponentType,
+        kind: Type,
+        bounds: Option<(Value, Value)>,
+    ) -> json::Index<json::Accessor> {
+        let (min, max) = bounds.unzip();
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: count.into(),
+            component_type: Valid(GenericComponentType(component)),
+            extensions: None,
+            extras: None,
+            type_: Valid(kind),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
     }
 
     /// A float accessor of `N` components per element; POSITION gets its min and max.
-    fn floats<const N: usize>(&mut self, data: &[[f32; N]], bounds: bool) -> usize {
+    fn floats<const N: usize>(
+        &mut self,
+        data: &[[f32; N]],
+        bounds: bool,
+    ) -> json::Index<json::Accessor> {
         let bytes: Vec<u8> = data
             .iter()
             .flatten()
             .flat_map(|x| x.to_le_bytes())
             .collect();
-        let view = self.view(&bytes, ARRAY_BUFFER);
+        let view = self.view(&bytes, Target::ArrayBuffer);
         let kind = match N {
-            2 => "VEC2",
-            3 => "VEC3",
-            _ => "VEC4",
+            2 => Type::Vec2,
+            3 => Type::Vec3,
+            _ => Type::Vec4,
         };
-        let mut accessor = json!({
-            "bufferView": view, "componentType": FLOAT, "count": data.len(), "type": kind
-        });
-        if bounds {
+        let bounds = bounds.then(|| {
             let mut lo = [f32::INFINITY; N];
             let mut hi = [f32::NEG_INFINITY; N];
             for e in data {
@@ -225,30 +263,27 @@ impl Builder {
                     hi[c] = hi[c].max(e[c]);
                 }
             }
-            accessor["min"] = json!(lo.to_vec());
-            accessor["max"] = json!(hi.to_vec());
-        }
-        self.accessors.push(accessor);
-        self.accessors.len() - 1
+            (Value::from(lo.to_vec()), Value::from(hi.to_vec()))
+        });
+        self.accessor(view, data.len(), ComponentType::F32, kind, bounds)
     }
 
     /// An index accessor: unsigned short where every index fits, unsigned int otherwise.
-    fn indices(&mut self, triangles: &[[u32; 3]], vertices: usize) -> usize {
+    fn indices(&mut self, triangles: &[[u32; 3]], vertices: usize) -> json::Index<json::Accessor> {
         let flat = triangles.iter().flatten();
-        let (bytes, component): (Vec<u8>, u32) = if vertices <= usize::from(u16::MAX) {
+        let (bytes, component): (Vec<u8>, _) = if vertices <= usize::from(u16::MAX) {
             (
                 flat.flat_map(|&i| (i as u16).to_le_bytes()).collect(),
-                UNSIGNED_SHORT,
+                ComponentType::U16,
             )
         } else {
-            (flat.flat_map(|&i| i.to_le_bytes()).collect(), UNSIGNED_INT)
+            (
+                flat.flat_map(|&i| i.to_le_bytes()).collect(),
+                ComponentType::U32,
+            )
         };
-        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
-        self.accessors.push(json!({
-            "bufferView": view, "componentType": component,
-            "count": triangles.len() * 3, "type": "SCALAR"
-        }));
-        self.accessors.len() - 1
+        let view = self.view(&bytes, Target::ElementArrayBuffer);
+        self.accessor(view, triangles.len() * 3, component, Type::Scalar, None)
     }
 }
 
@@ -257,9 +292,9 @@ fn primitive(
     builder: &mut Builder,
     piece: &TriangleMesh,
     origin: DVec3,
-    material: usize,
+    material: json::Index<json::Material>,
     options: &ExportOptions,
-) -> Value {
+) -> json::mesh::Primitive {
     let positions: Vec<[f32; 3]> = piece
         .positions
         .iter()
@@ -274,12 +309,12 @@ fn primitive(
             n.try_normalize().unwrap_or(Vec3::Y).to_array()
         })
         .collect();
-    let mut attributes = serde_json::Map::new();
-    attributes.insert("POSITION".into(), builder.floats(&positions, true).into());
-    attributes.insert("NORMAL".into(), builder.floats(&normals, false).into());
+    let mut attributes = BTreeMap::new();
+    attributes.insert(Valid(Semantic::Positions), builder.floats(&positions, true));
+    attributes.insert(Valid(Semantic::Normals), builder.floats(&normals, false));
     if !piece.uvs.is_empty() {
         let uvs: Vec<[f32; 2]> = piece.uvs.iter().map(|uv| uv.map(|t| t as f32)).collect();
-        attributes.insert("TEXCOORD_0".into(), builder.floats(&uvs, false).into());
+        attributes.insert(Valid(Semantic::TexCoords(0)), builder.floats(&uvs, false));
     }
     if let Some(colors) = &options.colors {
         let rgb: Vec<[f32; 3]> = piece
@@ -287,7 +322,7 @@ fn primitive(
             .iter()
             .map(|c| colors.color([c.gaussian, c.mean, c.k1, c.k2][colors.component.min(3)]))
             .collect();
-        attributes.insert("COLOR_0".into(), builder.floats(&rgb, false).into());
+        attributes.insert(Valid(Semantic::Colors(0)), builder.floats(&rgb, false));
     }
     if options.curvature {
         let values: Vec<[f32; 4]> = piece
@@ -295,22 +330,36 @@ fn primitive(
             .iter()
             .map(|c| [c.gaussian, c.mean, c.k1, c.k2].map(|x| x as f32))
             .collect();
-        attributes.insert("_CURVATURE".into(), builder.floats(&values, false).into());
+        attributes.insert(
+            Valid(Semantic::Extras("CURVATURE".into())),
+            builder.floats(&values, false),
+        );
     }
     let indices = builder.indices(&piece.triangles, piece.positions.len());
-    json!({ "attributes": attributes, "indices": indices, "material": material, "mode": 4 })
+    json::mesh::Primitive {
+        attributes,
+        extensions: None,
+        extras: None,
+        indices: Some(indices),
+        material: Some(material),
+        mode: Valid(Mode::Triangles),
+        targets: None,
+    }
 }
 
-/// Tessellates every visible object of `project.scene` and builds the glTF JSON and buffer,
-/// with the project embedded in `scenes[0].extras.knotwork`.
+/// Tessellates every visible object of `project.scene` and builds the glTF document and
+/// buffer, with the project embedded in `scenes[0].extras.knotwork`.
 pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, ExportError> {
     let visible: Vec<_> = project.scene.objects.iter().filter(|o| o.visible).collect();
     if visible.is_empty() {
         return Err(ExportError::NothingVisible);
     }
     let curvature = options.curvature || options.colors.is_some();
-    let mut builder = Builder::default();
-    let (mut nodes, mut meshes, mut materials) = (Vec::new(), Vec::new(), Vec::new());
+    let mut builder = Builder {
+        root: json::Root::default(),
+        bin: Vec::new(),
+    };
+    let mut nodes = Vec::new();
     let (mut triangles, mut vertices) = (0, 0);
     for object in visible {
         let geometry_error = |source| ExportError::Geometry {
@@ -332,9 +381,10 @@ pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, Expo
         } else {
             DVec3::ZERO
         };
-        let material = materials.len();
-        materials.push(material_value(&object.name, options.colors.is_some()));
-        let primitives: Vec<Value> = pieces
+        let material = builder
+            .root
+            .push(material(&object.name, options.colors.is_some()));
+        let primitives: Vec<_> = pieces
             .iter()
             .filter(|p| !p.triangles.is_empty())
             .map(|p| {
@@ -346,99 +396,112 @@ pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, Expo
         if primitives.is_empty() {
             continue;
         }
-        meshes.push(json!({ "name": object.name, "primitives": primitives }));
-        nodes.push(json!({
-            "name": object.name,
-            "mesh": meshes.len() - 1,
-            "translation": origin.to_array(),
+        let mesh = builder.root.push(json::Mesh {
+            extensions: None,
+            extras: None,
+            name: Some(object.name.clone()),
+            primitives,
+            weights: None,
+        });
+        nodes.push(builder.root.push(json::Node {
+            name: Some(object.name.clone()),
+            mesh: Some(mesh),
+            translation: Some(origin.as_vec3().to_array()),
+            ..Default::default()
         }));
     }
-    if builder.bin.len() > u32::MAX as usize {
-        return Err(ExportError::TooLarge {
-            bytes: builder.bin.len(),
-        });
+    let Builder { mut root, mut bin } = builder;
+    if bin.len() > u32::MAX as usize {
+        return Err(ExportError::TooLarge { bytes: bin.len() });
     }
-    while !builder.bin.len().is_multiple_of(4) {
-        builder.bin.push(0);
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
     }
-    let mut root = json!({
-        "asset": {
-            "version": "2.0",
-            "generator": concat!("knotwork ", env!("CARGO_PKG_VERSION")),
-        },
-        "scene": 0,
-        "scenes": [{
-            "name": "knotwork",
-            "nodes": (0..nodes.len()).collect::<Vec<_>>(),
-            "extras": { "knotwork": project::to_value(project) },
-        }],
-        "nodes": nodes,
-        "meshes": meshes,
-        "materials": materials,
-        "accessors": builder.accessors,
-        "bufferViews": builder.views,
-        "buffers": [{ "byteLength": builder.bin.len() }],
+    root.push(json::Buffer {
+        byte_length: bin.len().into(),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: None,
     });
+    let model = serde_json::json!({ "knotwork": project::to_value(project) });
+    let scene = root.push(json::Scene {
+        extensions: None,
+        extras: RawValue::from_string(model.to_string()).ok(),
+        name: Some("knotwork".into()),
+        nodes,
+    });
+    root.scene = Some(scene);
+    root.asset = json::Asset {
+        version: "2.0".into(),
+        generator: Some(concat!("knotwork ", env!("CARGO_PKG_VERSION")).into()),
+        ..Default::default()
+    };
     if options.colors.is_some() {
-        root["extensionsUsed"] = json!(["KHR_materials_unlit"]);
+        root.extensions_used = vec!["KHR_materials_unlit".into()];
     }
     Ok(Export {
-        json: root,
-        bin: builder.bin,
+        root,
+        bin,
         triangles,
         vertices,
     })
 }
 
-fn material_value(name: &str, unlit: bool) -> Value {
-    let mut material = json!({
-        "name": name,
-        "pbrMetallicRoughness": {
-            "baseColorFactor": if unlit { [1.0, 1.0, 1.0, 1.0] } else { [0.72, 0.74, 0.78, 1.0] },
-            "metallicFactor": 0.0,
-            "roughnessFactor": 0.45,
+/// An object's material: PBR metallic-roughness, double-sided; white and unlit
+/// (`KHR_materials_unlit`) when the vertex colours carry the shading.
+fn material(name: &str, unlit: bool) -> json::Material {
+    let base = if unlit {
+        [1.0, 1.0, 1.0, 1.0]
+    } else {
+        [0.72, 0.74, 0.78, 1.0]
+    };
+    json::Material {
+        name: Some(name.to_owned()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(base),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.45),
+            ..Default::default()
         },
-        "doubleSided": true,
-    });
-    if unlit {
-        material["extensions"] = json!({ "KHR_materials_unlit": {} });
+        double_sided: true,
+        extensions: unlit.then_some(json::extensions::material::Material {
+            unlit: Some(json::extensions::material::Unlit {}),
+        }),
+        ..Default::default()
     }
-    material
 }
 
-/// The export as one `.glb` file: the 12-byte header, the JSON chunk (padded with spaces) and
-/// the BIN chunk (padded with zeros) (glTF 2.0 specification, section 4.4 "GLB File Format").
+/// A `.glb` file from its JSON text and binary buffer, written by the `gltf` crate: the
+/// 12-byte header, the JSON chunk (padded with spaces) and the BIN chunk (padded with zeros)
+/// (glTF 2.0 specification, section 4.4 "GLB File Format").
+pub fn glb_bytes(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header {
+            magic: *b"glTF",
+            version: 2,
+            // The writer computes the length itself.
+            length: 0,
+        },
+        json: Cow::Borrowed(json),
+        bin: (!bin.is_empty()).then_some(Cow::Borrowed(bin)),
+    };
+    glb.to_vec().unwrap_or_default()
+}
+
+/// The export as one `.glb` file.
 pub fn to_glb(export: &Export) -> Vec<u8> {
-    let mut text = serde_json::to_vec(&export.json).unwrap_or_default();
-    while !text.len().is_multiple_of(4) {
-        text.push(b' ');
-    }
-    let mut bin = export.bin.clone();
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let total = 12 + 8 + text.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(text.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&text);
-    if !bin.is_empty() {
-        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
-    }
-    out
+    glb_bytes(&export.root.to_vec().unwrap_or_default(), &export.bin)
 }
 
 /// The export as `.gltf` text whose buffer is the file `bin_name` beside it (written by the
 /// caller with [`Export::bin`]). The name is percent-encoded as a relative URI.
 pub fn to_gltf_text(export: &Export, bin_name: &str) -> String {
-    let mut root = export.json.clone();
-    root["buffers"][0]["uri"] = Value::String(uri_encode(bin_name));
-    serde_json::to_string_pretty(&root).unwrap_or_default()
+    let mut root = export.root.clone();
+    if let Some(buffer) = root.buffers.first_mut() {
+        buffer.uri = Some(uri_encode(bin_name));
+    }
+    root.to_string_pretty().unwrap_or_default()
 }
 
 /// Whether a file name asks for the `.gltf` + `.bin` pair rather than a `.glb`.
