@@ -24,18 +24,14 @@ use glam::DVec3;
 use crate::doc::{Command, Document, Edit, EditError, PointsMoved, Touched};
 
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{self, GpuError, SceneSync, ShadingMode, effective_segments};
-use crate::render::{
-    ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
-};
+use crate::gpu::{self, GpuError, SceneSync, effective_segments};
+use crate::render::{ControlNet, ViewTarget, ViewportRenderer, scene_uniform};
 use crate::scene::Scene;
 use crate::status::{self, AppStatus, ExternalCommand};
-use crate::view::{Constraint, OrbitCamera, PickView, SurfaceHit};
+use crate::view::{Constraint, PickView, QUALITY_RANGE, ShadingMode, SurfaceHit, ViewSettings};
 
 /// The per-object tessellation slider's range (segments per Bézier span edge).
 pub const SLIDER_SEGMENTS: std::ops::RangeInclusive<u32> = 1..=128;
-/// The global quality slider's range (a factor on every object's segments).
-pub const QUALITY_RANGE: std::ops::RangeInclusive<f32> = 0.25..=4.0;
 /// Control point dot radius in logical pixels.
 const POINT_RADIUS: f32 = 3.5;
 /// How near (logical pixels) a click must be to a control point to pick it.
@@ -130,9 +126,9 @@ impl ViewportGpu {
     /// number of patches evaluated.
     fn draw(
         &mut self,
-        camera: &OrbitCamera,
-        options: &DrawOptions,
-        shading: &Shading,
+        view: &ViewSettings,
+        range: (f64, f64),
+        selected: Option<u32>,
         point_radius_px: f32,
     ) -> Option<u32> {
         let target = self.target.as_ref()?;
@@ -148,15 +144,7 @@ impl ViewportGpu {
             evaluated = Some(self.sync.encode(&mut encoder, writes));
         }
         let geometry = self.sync.geometry()?;
-        let (w, h) = target.size();
-        let aspect = w as f32 / h.max(1) as f32;
-        let scene = scene_uniform(
-            camera.view_projection(aspect),
-            camera.eye(),
-            target,
-            point_radius_px,
-            shading,
-        );
+        let scene = scene_uniform(view, target, point_radius_px, range, selected);
         let writes = self.timer.as_mut().and_then(GpuTimer::render_pass_writes);
         self.renderer.set_scene(&self.queue, &scene);
         self.renderer.render(
@@ -164,7 +152,7 @@ impl ViewportGpu {
             target,
             geometry.surface_buffers(),
             self.net.as_ref(),
-            options,
+            view.overlays,
             writes,
         );
         if let Some(timer) = &mut self.timer {
@@ -228,13 +216,10 @@ pub struct KnotworkApp {
     dialog: Option<(String, String)>,
     /// Files picked or dropped, waiting to be opened (name, text).
     incoming: files::Incoming,
-    quality: f32,
-    shading: ShadingMode,
-    manual_range: Option<(f64, f64)>,
+    /// The camera, shading, ramp range, overlays and quality (saved with the project).
+    view: ViewSettings,
     /// The automatic range of the current curvature mode (`None`: to be computed).
     auto_range: Option<(f64, f64)>,
-    camera: OrbitCamera,
-    options: DrawOptions,
     continuous: bool,
     gpu: Option<ViewportGpu>,
     /// Why there is no GPU viewport (an adapter without compute shaders, say), shown in it.
@@ -316,12 +301,8 @@ impl KnotworkApp {
             autosave: restore,
             dialog: None,
             incoming: files::Incoming::default(),
-            quality: 1.0,
-            shading: ShadingMode::Plain,
-            manual_range: None,
+            view: ViewSettings::default(),
             auto_range: None,
-            camera: OrbitCamera::default(),
-            options: DrawOptions::default(),
             continuous: false,
             gpu,
             gpu_refusal: status.error.clone(),
@@ -337,7 +318,7 @@ impl KnotworkApp {
         } else {
             None
         };
-        if let Err(e) = app.rebuild_geometry(app.quality) {
+        if let Err(e) = app.rebuild_geometry(app.view.quality) {
             app.status.error = Some(e.to_string());
         }
         if let Some(notice) = restored {
@@ -433,7 +414,7 @@ impl KnotworkApp {
         if let Some(gpu) = &mut self.gpu {
             let notice = gpu
                 .sync
-                .apply(&self.doc.scene, touched, self.quality)
+                .apply(&self.doc.scene, touched, self.view.quality)
                 .map_err(|e| e.to_string())?;
             self.status.points_uploaded = gpu.sync.points_uploaded() as u32;
             if touched == Touched::Structure {
@@ -525,15 +506,15 @@ impl KnotworkApp {
             return;
         }
         // The quality is a view setting (saved with the view), not an undo step.
-        let saved = self.quality;
-        self.quality = quality;
+        let saved = self.view.quality;
+        self.view.quality = quality;
         match self.rebuild_geometry(quality) {
             Ok(()) => {
                 self.status.error = None;
                 self.revision += 1;
             }
             Err(e) => {
-                self.quality = saved;
+                self.view.quality = saved;
                 self.status.error = Some(e.to_string());
             }
         }
@@ -598,8 +579,8 @@ impl KnotworkApp {
     }
 
     fn set_shading(&mut self, mode: ShadingMode) {
-        if mode != self.shading {
-            self.shading = mode;
+        if mode != self.view.shading {
+            self.view.shading = mode;
             self.auto_range = None;
             self.redraw = true;
         }
@@ -609,8 +590,8 @@ impl KnotworkApp {
     /// (area-weighted 2–98 % percentiles) over the f64 kernel's curvature samples of every
     /// object.
     pub(super) fn color_range(&mut self) -> Option<(f64, f64)> {
-        let component = self.shading.curvature_component()?;
-        if let Some(range) = self.manual_range {
+        let component = self.view.shading.curvature_component()?;
+        if let Some(range) = self.view.range {
             return Some(range);
         }
         if self.auto_range.is_none() {
@@ -635,15 +616,15 @@ impl KnotworkApp {
             v: h.v,
             point: h.point.to_array(),
         });
-        self.status.quality = self.quality;
+        self.status.quality = self.view.quality;
         self.status.selected = self.selected.map(|s| s as u32);
-        self.status.shading = self.shading.name().to_owned();
-        self.status.range_auto = self.manual_range.is_none();
+        self.status.shading = self.view.shading.name().to_owned();
+        self.status.range_auto = self.view.range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
         let quality_used = self
             .gpu
             .as_ref()
-            .map_or(self.quality, |g| g.sync.quality_used());
+            .map_or(self.view.quality, |g| g.sync.quality_used());
         self.status.segments = self
             .scene()
             .objects
@@ -694,14 +675,14 @@ impl KnotworkApp {
                     "a colour range needs finite low < high, got ({lo}, {hi})"
                 ));
             }
-            _ => self.manual_range = range,
+            _ => self.view.range = range,
         }
         self.redraw = true;
     }
 
     fn frame_model(&mut self, aspect: f32) {
         if let Some((lo, hi)) = self.scene().bounds() {
-            self.camera.frame(lo.as_vec3(), hi.as_vec3(), aspect);
+            self.view.camera.frame(lo.as_vec3(), hi.as_vec3(), aspect);
         }
         self.redraw = true;
     }
@@ -717,7 +698,7 @@ impl KnotworkApp {
         let aspect = rect.width() / rect.height().max(1.0);
         self.viewport_rect = rect;
         self.pick_view = Some(PickView::new(
-            self.camera.view_projection(aspect),
+            self.view.camera.view_projection(aspect),
             rect.width(),
             rect.height(),
         ));
@@ -726,7 +707,7 @@ impl KnotworkApp {
             self.frame_model(aspect);
         }
         self.pick_view = Some(PickView::new(
-            self.camera.view_projection(aspect),
+            self.view.camera.view_projection(aspect),
             rect.width(),
             rect.height(),
         ));
@@ -744,12 +725,7 @@ impl KnotworkApp {
                 .collect(),
         );
         let range = self.color_range().unwrap_or((-1.0, 1.0));
-        let shading = Shading {
-            mode: self.shading,
-            range: (range.0 as f32, range.1 as f32),
-            selected: self.selected.map(|s| s as u32),
-            ..Default::default()
-        };
+        let selected = self.selected.map(|s| s as u32);
         let Some(gpu) = self.gpu.as_mut().filter(|g| g.sync.geometry().is_some()) else {
             let reason = self
                 .gpu_refusal
@@ -772,9 +748,7 @@ impl KnotworkApp {
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
         let pending = gpu.sync.needs_evaluation();
         if resized || self.redraw || self.continuous || pending {
-            if let Some(evaluated) =
-                gpu.draw(&self.camera, &self.options, &shading, POINT_RADIUS * ppp)
-            {
+            if let Some(evaluated) = gpu.draw(&self.view, range, selected, POINT_RADIUS * ppp) {
                 self.status.patches_reevaluated = evaluated;
             }
             self.status.frames += 1;

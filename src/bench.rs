@@ -28,12 +28,10 @@ use crate::doc::Document;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{GpuContext, GpuError, SceneSync};
 use crate::kernel::construct;
-use crate::render::{
-    ControlNet, DrawOptions, Shading, ViewTarget, ViewportRenderer, scene_uniform,
-};
+use crate::render::{ControlNet, ViewTarget, ViewportRenderer, scene_uniform};
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
-use crate::view::OrbitCamera;
 use crate::view::pick::{self, PickView};
+use crate::view::{OrbitCamera, ViewSettings};
 
 fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
@@ -253,20 +251,13 @@ fn bench_drag_frame(
     let (mut doc, mut sync) = document_on_gpu(context, object)?;
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, 1280, 800);
-    let mut camera = OrbitCamera::default();
-    camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
-    let uniform = scene_uniform(
-        camera.view_projection(1.6),
-        camera.eye(),
-        &target,
-        3.5,
-        &Shading::default(),
-    );
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    let uniform = scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None);
     renderer.set_scene(&context.queue, &uniform);
-    let options = DrawOptions::default();
     let draw = |encoder: &mut wgpu::CommandEncoder, geometry: &crate::gpu::PatchGeometry| {
         let buffers = geometry.surface_buffers();
-        renderer.render(encoder, &target, buffers, Some(&net), &options, None);
+        renderer.render(encoder, &target, buffers, Some(&net), view.overlays, None);
     };
     doc.begin_drag(0, &[point])?;
     let mut latency = Vec::new();

@@ -96,7 +96,7 @@ pub enum ExternalCommand {
     SetSegments(u32),
     /// The global quality factor (multiplies every object's segments).
     SetQuality(f32),
-    SetShading(crate::gpu::ShadingMode),
+    SetShading(crate::view::ShadingMode),
     /// A manual colour range, or `None` for the automatic one.
     SetRange(Option<(f64, f64)>),
     Select(Option<usize>),

@@ -6,8 +6,8 @@ use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
 use crate::app::{KnotworkApp, wgpu_configuration};
-use crate::gpu::ShadingMode;
 use crate::status::{self, ExternalCommand};
+use crate::view::ShadingMode;
 
 thread_local! {
     static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };

@@ -11,6 +11,7 @@ use knotwork::io::project::{Project, ViewSettings};
 use knotwork::kernel::tess::Tessellation;
 use knotwork::kernel::{NurbsSurface, PolygonMesh, construct};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::view::{OrbitCamera, Overlays, ShadingMode};
 
 fn out_dir() -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("gltf-tests");
@@ -26,12 +27,20 @@ fn demo_project() -> Project {
     Project {
         scene: Scene::demo().unwrap(),
         view: Some(ViewSettings {
-            target: [7.0, 3.0, 1.5],
-            distance: 30.0,
-            yaw: 0.7,
-            pitch: 0.4,
-            shading: "mean".into(),
-            quality: 1.0,
+            camera: OrbitCamera {
+                target: glam::Vec3::new(7.0, 3.0, 1.5),
+                distance: 30.0,
+                yaw: 0.7,
+                pitch: 0.4,
+                ..Default::default()
+            },
+            shading: ShadingMode::Mean,
+            range: Some((-0.25, 0.5)),
+            overlays: Overlays {
+                points: false,
+                ..Default::default()
+            },
+            ..Default::default()
         }),
     }
 }

@@ -8,6 +8,7 @@ use knotwork::doc::{Command, Document};
 use knotwork::io::project::{self, MAX_FILE_BYTES, Project, ViewSettings};
 use knotwork::kernel::Direction;
 use knotwork::scene::Scene;
+use knotwork::view::{OrbitCamera, Overlays, ShadingMode};
 
 /// Each broken file, the JSON path its error must name and words the message must contain.
 const CORPUS: &[(&str, &str, &str)] = &[
@@ -141,14 +142,23 @@ fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
     })
     .unwrap();
     let view = ViewSettings {
-        target: [1.0, 2.0, 0.5],
-        distance: 12.5,
-        yaw: -0.9,
-        pitch: 0.45,
-        shading: "gaussian".into(),
+        camera: OrbitCamera {
+            target: glam::Vec3::new(1.0, 2.0, 0.5),
+            distance: 12.5,
+            yaw: -0.9,
+            pitch: 0.45,
+            ..Default::default()
+        },
+        shading: ShadingMode::Gaussian,
+        range: Some((-0.125, 0.375)),
         quality: 0.5,
+        overlays: Overlays {
+            surface: true,
+            net: false,
+            points: true,
+        },
     };
-    let text = doc.save(Some(view.clone()));
+    let text = doc.save(Some(view));
     let mut opened = Document::default();
     assert_eq!(opened.open(&text).unwrap(), Some(view));
     assert_eq!(opened.scene, doc.scene);
@@ -177,4 +187,40 @@ fn version_1_files_open_as_scenes() {
         _ => unreachable!(),
     };
     assert!((p.length() - 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_saved_view_reads_back_and_a_bad_one_is_refused_by_name() {
+    let with_view = |view: &str| {
+        format!(r#"{{"format": "knotwork", "version": 2, "objects": [], "view": {view}}}"#)
+    };
+    // A view written before the range and overlays were saved: the automatic range, all shown.
+    let old = with_view(
+        r#"{"target": [0, 0, 1], "distance": 5, "yaw": 0.5, "pitch": 0.25, "shading": "mean", "quality": 2}"#,
+    );
+    let view = project::read(&old).unwrap().view.unwrap();
+    assert_eq!(view.shading, ShadingMode::Mean);
+    assert_eq!(view.range, None);
+    assert_eq!(view.overlays, Overlays::default());
+    assert_eq!(view.quality, 2.0);
+    assert_eq!(view.camera.distance, 5.0);
+    let base = r#""target": [0, 0, 0], "distance": 5, "yaw": 0, "pitch": 0"#;
+    for (fields, expected) in [
+        (r#""shading": "zebra", "quality": 1"#, "unknown shading"),
+        (r#""shading": "plain", "quality": 100"#, "quality 100"),
+        (
+            r#""shading": "plain", "quality": 1, "range": [1, -1]"#,
+            "increasing",
+        ),
+        (
+            r#""shading": "plain", "quality": 1, "overlays": {"grid": true}"#,
+            "grid",
+        ),
+        (r#""shading": "plain", "quality": 1, "colour": 3"#, "colour"),
+    ] {
+        let text = with_view(&format!("{{{base}, {fields}}}"));
+        let error = project::read(&text).unwrap_err();
+        assert!(error.path.starts_with("view"), "{fields}: {error}");
+        assert!(error.to_string().contains(expected), "{fields}: {error}");
+    }
 }

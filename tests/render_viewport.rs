@@ -5,17 +5,16 @@
 mod common;
 
 use glam::{DMat4, DVec3};
-use knotwork::gpu::ShadingMode;
 use knotwork::gpu::records::{CURVATURE_RAMP, RAMP_STOPS};
 use knotwork::gpu::{GpuContext, SceneSync};
 use knotwork::kernel::bezier::net_line_indices;
 use knotwork::kernel::construct;
 use knotwork::kernel::{BezierPatchSet, samples};
 use knotwork::render::{
-    ControlNet, DrawOptions, POINT_COLOR, Shading, ViewTarget, ViewportRenderer, scene_uniform,
+    BACKGROUND, ControlNet, POINT_COLOR, ViewTarget, ViewportRenderer, scene_uniform,
 };
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
-use knotwork::view::OrbitCamera;
+use knotwork::view::{OrbitCamera, Overlays, ShadingMode, ViewSettings};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -29,12 +28,7 @@ fn framed_camera(set: &BezierPatchSet) -> OrbitCamera {
     camera
 }
 
-fn render(
-    context: &GpuContext,
-    set: &BezierPatchSet,
-    camera: &OrbitCamera,
-    options: &DrawOptions,
-) -> Vec<u8> {
+fn render(context: &GpuContext, set: &BezierPatchSet, view: &ViewSettings) -> Vec<u8> {
     let mut teapot = SceneObject::new("patches", ObjectGeometry::Patches(set.clone()));
     teapot.segments = SEGMENTS;
     let net = ControlNet::new(
@@ -43,14 +37,7 @@ fn render(
         &|_| false,
         &net_line_indices(set),
     );
-    draw(
-        context,
-        &[teapot],
-        Some(&net),
-        camera,
-        options,
-        &Shading::default(),
-    )
+    draw(context, &[teapot], Some(&net), view)
 }
 
 /// Evaluates `objects` through the editor's sync layer and renders them (and `net`)
@@ -59,9 +46,7 @@ fn draw(
     context: &GpuContext,
     objects: &[SceneObject],
     net: Option<&ControlNet>,
-    camera: &OrbitCamera,
-    options: &DrawOptions,
-    shading: &Shading,
+    view: &ViewSettings,
 ) -> Vec<u8> {
     let scene = Scene {
         objects: objects.to_vec(),
@@ -69,13 +54,8 @@ fn draw(
     let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
-    let uniform = scene_uniform(
-        camera.view_projection(WIDTH as f32 / HEIGHT as f32),
-        camera.eye(),
-        &target,
-        POINT_RADIUS,
-        shading,
-    );
+    let range = view.range.unwrap_or((-1.0, 1.0));
+    let uniform = scene_uniform(view, &target, POINT_RADIUS, range, None);
     let mut encoder = context.device.create_command_encoder(&Default::default());
     sync.encode(&mut encoder, None);
     renderer.set_scene(&context.queue, &uniform);
@@ -84,7 +64,7 @@ fn draw(
         &target,
         sync.geometry().unwrap().surface_buffers(),
         net,
-        options,
+        view.overlays,
         None,
     );
     context.queue.submit([encoder.finish()]);
@@ -105,8 +85,8 @@ fn project(view_proj: &DMat4, p: DVec3) -> Option<(f64, f64)> {
     })
 }
 
-fn background_bytes(options: &DrawOptions) -> [u8; 3] {
-    let [r, g, b, _] = options.background;
+fn background_bytes() -> [u8; 3] {
+    let [r, g, b, _] = BACKGROUND;
     [r, g, b].map(|c| (c * 255.0).round() as u8)
 }
 
@@ -139,22 +119,25 @@ struct TeapotView {
 fn render_teapot(show_surface: bool, show_net: bool, show_points: bool) -> TeapotView {
     let context = common::gpu();
     let teapot = samples::utah_teapot().unwrap();
-    let camera = framed_camera(&teapot);
-    let options = DrawOptions {
-        show_surface,
-        show_net,
-        show_points,
+    let view = ViewSettings {
+        camera: framed_camera(&teapot),
+        overlays: Overlays {
+            surface: show_surface,
+            net: show_net,
+            points: show_points,
+        },
         ..Default::default()
     };
-    let image = render(&context, &teapot, &camera, &options);
-    let view_proj = camera
+    let image = render(&context, &teapot, &view);
+    let view_proj = view
+        .camera
         .view_projection(WIDTH as f32 / HEIGHT as f32)
         .as_dmat4();
     TeapotView {
         teapot,
         image,
         view_proj,
-        background: background_bytes(&options),
+        background: background_bytes(),
     }
 }
 
@@ -392,7 +375,12 @@ fn control_net_lines_join_neighbouring_points() {
 }
 
 /// Renders the objects of `scene` (each at 16 segments per span), framed, in `shading`.
-fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shading) -> Vec<u8> {
+fn render_shaded(
+    context: &GpuContext,
+    objects: &[SceneObject],
+    shading: ShadingMode,
+    range: (f64, f64),
+) -> Vec<u8> {
     let objects: Vec<SceneObject> = objects
         .iter()
         .map(|o| SceneObject {
@@ -407,12 +395,18 @@ fn render_shaded(context: &GpuContext, objects: &[SceneObject], shading: &Shadin
         .unwrap();
     let mut camera = OrbitCamera::default();
     camera.frame(lo.as_vec3(), hi.as_vec3(), WIDTH as f32 / HEIGHT as f32);
-    let options = DrawOptions {
-        show_net: false,
-        show_points: false,
+    let view = ViewSettings {
+        camera,
+        shading,
+        range: Some(range),
+        overlays: Overlays {
+            net: false,
+            points: false,
+            ..Default::default()
+        },
         ..Default::default()
     };
-    draw(context, &objects, None, &camera, &options, shading)
+    draw(context, &objects, None, &view)
 }
 
 /// The sRGB bytes of the ramp's colour at `x` in [0, 1], computed here from the ramp's stops
@@ -522,12 +516,7 @@ fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylin
     let context = common::gpu();
     // The ramp spans K in [-0.5, 0.5]: the sphere's K = 1/r² = 0.25 sits at 3/4 (the yellow
     // stop), the cylinder's K = 0 at 1/2 (the green stop).
-    let shading = Shading {
-        mode: ShadingMode::Gaussian,
-        range: (-0.5, 0.5),
-        ..Default::default()
-    };
-    let background = background_bytes(&DrawOptions::default());
+    let background = background_bytes();
     let sphere = construct::sphere(DVec3::ZERO, 2.0).unwrap();
     let cylinder =
         construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::new(0.0, 0.0, 4.0), 1.5).unwrap();
@@ -536,7 +525,7 @@ fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylin
         ("gaussian-cylinder.png", cylinder, 0.5),
     ] {
         let objects = [SceneObject::new(name, ObjectGeometry::Nurbs(surface))];
-        let image = render_shaded(&context, &objects, &shading);
+        let image = render_shaded(&context, &objects, ShadingMode::Gaussian, (-0.5, 0.5));
         let checked = assert_flat_colour(name, &image, background, expected_ramp_bytes(x));
         eprintln!(
             "{name}: {checked} interior pixels all {:?}",

@@ -7,11 +7,11 @@ use std::mem::{offset_of, size_of};
 
 use knotwork::gpu::records::{
     EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE, PatchRecord, PointResult,
-    PointSample, RAMP_STOPS, SceneUniform, ShadingMode, SurfaceVertex, VERTEX_IRREGULAR,
-    VERTEX_NO_CURVATURE,
+    PointSample, RAMP_STOPS, SceneUniform, SurfaceVertex, VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
 };
 use knotwork::kernel::bezier::DEGENERATE_SIN2;
 use knotwork::shaders;
+use knotwork::view::ShadingMode;
 
 fn parse_and_validate(name: &str, source: &str) -> naga::Module {
     let module = naga::front::wgsl::parse_str(source)

@@ -81,7 +81,8 @@ impl KnotworkApp {
     /// The export options the window's settings and the current shading mode give.
     fn export_options(&mut self) -> ExportOptions {
         let colors = if self.export.colors {
-            self.shading
+            self.view
+                .shading
                 .curvature_component()
                 .map(|component| CurvatureColors {
                     component,
@@ -125,7 +126,7 @@ impl KnotworkApp {
         self.status.export_estimate = Some(estimate.clone().unwrap_or_else(|e| e));
         let mut open = true;
         let mut write = false;
-        let curvature_mode = self.shading.curvature_component().is_some();
+        let curvature_mode = self.view.shading.curvature_component().is_some();
         let settings = &mut self.export;
         let before = settings.clone();
         egui::Window::new("Export glTF")
@@ -186,7 +187,7 @@ impl KnotworkApp {
         let options = self.export_options();
         let project = Project {
             scene: self.doc.scene.clone(),
-            view: Some(self.view_settings()),
+            view: Some(self.view),
         };
         let export = match gltf::export(&project, &options) {
             Ok(export) => export,

@@ -10,8 +10,7 @@ use eframe::egui;
 
 use super::{KnotworkApp, default_scene};
 use crate::doc::Document;
-use crate::gpu::ShadingMode;
-use crate::io::project::{Project, ViewSettings};
+use crate::io::project::Project;
 
 /// The storage key of the autosaved project.
 pub const AUTOSAVE_KEY: &str = "knotwork.project";
@@ -29,31 +28,6 @@ fn no_companions(name: &str) -> Result<Vec<u8>, String> {
 }
 
 impl KnotworkApp {
-    pub(super) fn view_settings(&self) -> ViewSettings {
-        ViewSettings {
-            target: self.camera.target.as_dvec3().to_array(),
-            distance: f64::from(self.camera.distance),
-            yaw: f64::from(self.camera.yaw),
-            pitch: f64::from(self.camera.pitch),
-            shading: self.shading.name().to_owned(),
-            quality: f64::from(self.quality),
-        }
-    }
-
-    fn apply_view(&mut self, view: &ViewSettings) {
-        self.camera.target = glam::DVec3::from(view.target).as_vec3();
-        self.camera.distance = view.distance as f32;
-        self.camera.yaw = view.yaw as f32;
-        self.camera.pitch = (view.pitch as f32).clamp(-1.56, 1.56);
-        if let Some(mode) = ShadingMode::from_name(&view.shading) {
-            self.shading = mode;
-        }
-        let quality = view.quality as f32;
-        if super::QUALITY_RANGE.contains(&quality) {
-            self.quality = quality;
-        }
-    }
-
     /// Opens a file's bytes in any format [`crate::io::open`] reads (a `.gltf` must have its
     /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
     pub fn open_file(&mut self, name: &str, bytes: &[u8]) {
@@ -74,15 +48,15 @@ impl KnotworkApp {
         self.end_drag(false);
         let Project { scene, view } = project;
         let previous = std::mem::replace(&mut self.doc, Document::new(scene));
-        let (camera, shading, quality) = (self.camera, self.shading, self.quality);
-        if let Some(view) = &view {
-            self.apply_view(view);
+        let previous_view = self.view;
+        if let Some(view) = view {
+            self.view = view;
         }
         if let Err(e) = self.after_edit(crate::doc::Touched::Structure) {
             // The GPU cannot show it (e.g. a degree above the evaluator's maximum): put the old
             // document back.
             self.doc = previous;
-            (self.camera, self.shading, self.quality) = (camera, shading, quality);
+            self.view = previous_view;
             let _ = self.after_edit(crate::doc::Touched::Structure);
             self.open_failed(name, &e);
             return;
@@ -115,8 +89,8 @@ impl KnotworkApp {
         let text = storage.and_then(|s| s.get_string(AUTOSAVE_KEY))?;
         match self.doc.open(&text) {
             Ok(view) => {
-                if let Some(view) = &view {
-                    self.apply_view(view);
+                if let Some(view) = view {
+                    self.view = view;
                     self.frame_pending = false;
                 }
                 Some("restored the autosaved project".into())
@@ -153,7 +127,7 @@ impl KnotworkApp {
         if !self.autosave || self.revision == self.autosaved_revision {
             return;
         }
-        storage.set_string(AUTOSAVE_KEY, self.doc.save(Some(self.view_settings())));
+        storage.set_string(AUTOSAVE_KEY, self.doc.save(Some(self.view)));
         storage.flush();
         self.autosaved_revision = self.revision;
     }
@@ -241,7 +215,7 @@ impl KnotworkApp {
 
     /// Saves the project (desktop: a native save dialog; web: a download).
     pub(super) fn save_dialog(&mut self) {
-        let text = self.doc.save(Some(self.view_settings()));
+        let text = self.doc.save(Some(self.view));
         #[cfg(not(target_arch = "wasm32"))]
         {
             if let Some(path) = super::platform::choose_file_to_save(

@@ -32,7 +32,7 @@ impl KnotworkApp {
 
     /// The control point of the selected object under `cursor` (viewport pixels).
     fn handle_at(&self, cursor: DVec2) -> Option<usize> {
-        if !self.options.show_points {
+        if !self.view.overlays.points {
             return None;
         }
         pick::pick_point(&self.projected_handles(), cursor, PICK_RADIUS)
@@ -158,7 +158,7 @@ impl KnotworkApp {
         }
         let anchor = drag.anchor;
         let (origin, direction) = view.ray(self.local(pos));
-        let view_dir = (self.camera.target - self.camera.eye())
+        let view_dir = (self.view.camera.target - self.view.camera.eye())
             .as_dvec3()
             .normalize_or(DVec3::X);
         let mut target = pick::drag_position(anchor, origin, direction, view_dir, self.constraint);
@@ -273,10 +273,10 @@ impl KnotworkApp {
             if response.dragged_by(egui::PointerButton::Middle)
                 || (shift && response.dragged_by(egui::PointerButton::Secondary))
             {
-                self.camera.pan(delta.x, delta.y, height);
+                self.view.camera.pan(delta.x, delta.y, height);
                 self.redraw = true;
             } else if response.dragged_by(egui::PointerButton::Secondary) {
-                self.camera.orbit(delta.x, delta.y);
+                self.view.camera.orbit(delta.x, delta.y);
                 self.redraw = true;
             }
         }
@@ -288,7 +288,7 @@ impl KnotworkApp {
             // One wheel notch is about 50 points of scroll.
             let steps = scroll / 50.0 + zoom.ln() / 0.15;
             if steps != 0.0 {
-                self.camera.zoom(steps);
+                self.view.camera.zoom(steps);
                 self.redraw = true;
             }
         }

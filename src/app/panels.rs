@@ -5,13 +5,13 @@
 use eframe::egui;
 use glam::{DAffine3, DQuat, DVec3};
 
-use super::{KnotworkApp, QUALITY_RANGE, SLIDER_SEGMENTS};
+use super::{KnotworkApp, SLIDER_SEGMENTS};
 use crate::doc::create::{Primitive, PrimitiveParams};
 use crate::doc::{Command, direction_name};
-use crate::gpu::ShadingMode;
 use crate::gpu::records::CURVATURE_RAMP;
 use crate::kernel::Direction;
 use crate::scene::{ObjectGeometry, SceneObject};
+use crate::view::{QUALITY_RANGE, ShadingMode};
 
 /// The controls listed in the panel (and the README).
 pub const CONTROLS: [(&str, &str); 17] = [
@@ -646,7 +646,7 @@ impl KnotworkApp {
 
     fn shading_panel(&mut self, ui: &mut egui::Ui) {
         ui.label(egui::RichText::new("Shading").strong());
-        let mut mode = self.shading;
+        let mut mode = self.view.shading;
         egui::ComboBox::new("shading", "mode")
             .selected_text(mode.label())
             .show_ui(ui, |ui| {
@@ -659,11 +659,11 @@ impl KnotworkApp {
             return;
         };
         legend(ui, lo, hi);
-        let mut auto = self.manual_range.is_none();
+        let mut auto = self.view.range.is_none();
         if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
             self.set_manual_range(if auto { None } else { Some((lo, hi)) });
         }
-        if let Some((mut a, mut b)) = self.manual_range {
+        if let Some((mut a, mut b)) = self.view.range {
             let speed = ((b - a).abs() * 0.01).max(1e-6);
             ui.horizontal(|ui| {
                 ui.label("low");
@@ -685,7 +685,7 @@ impl KnotworkApp {
         self.info_grid(ui);
         ui.separator();
         ui.label("Quality (× every object's segments)");
-        let mut quality = self.quality;
+        let mut quality = self.view.quality;
         if ui
             .add(
                 egui::Slider::new(&mut quality, QUALITY_RANGE)
@@ -693,7 +693,7 @@ impl KnotworkApp {
                     .text("quality"),
             )
             .changed()
-            && quality != self.quality
+            && quality != self.view.quality
         {
             self.set_quality(quality);
         }
@@ -704,11 +704,11 @@ impl KnotworkApp {
         ui.separator();
         self.shading_panel(ui);
         ui.separator();
-        let before = self.options;
-        ui.checkbox(&mut self.options.show_surface, "Surface");
-        ui.checkbox(&mut self.options.show_net, "Control net (selected object)");
-        ui.checkbox(&mut self.options.show_points, "Control points");
-        if self.options != before {
+        let before = self.view.overlays;
+        ui.checkbox(&mut self.view.overlays.surface, "Surface");
+        ui.checkbox(&mut self.view.overlays.net, "Control net (selected object)");
+        ui.checkbox(&mut self.view.overlays.points, "Control points");
+        if self.view.overlays != before {
             self.redraw = true;
         }
         if ui.button("Frame scene  (F)").clicked() {

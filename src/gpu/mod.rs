@@ -15,7 +15,5 @@ pub mod timing;
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use error::GpuError;
 pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers};
-pub use records::{
-    PatchRecord, PointResult, PointSample, SceneUniform, ShadingMode, SurfaceVertex,
-};
+pub use records::{PatchRecord, PointResult, PointSample, SceneUniform, SurfaceVertex};
 pub use scene_sync::{SceneSync, effective_segments, fit_to_device};

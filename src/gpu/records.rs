@@ -122,7 +122,7 @@ pub struct SceneUniform {
     pub net_color: [f32; 4],
     /// Linear RGBA of the control point dots.
     pub point_color: [f32; 4],
-    /// ([`ShadingMode`] as u32, selected object + 1 or 0, 0, 0).
+    /// ([`crate::view::ShadingMode`] as u32, selected object + 1 or 0, 0, 0).
     pub shading: [u32; 4],
     /// (low, high) of the colour ramp's range, (checker cells per unit of u and v).
     pub range: [f32; 4],
@@ -146,81 +146,6 @@ pub const CURVATURE_RAMP: [[f32; 4]; RAMP_STOPS] = [
 /// [`CURVATURE_RAMP`]'s stops as RGB (what the glTF export's curvature colours use).
 pub fn curvature_ramp_rgb() -> Vec<[f32; 3]> {
     CURVATURE_RAMP.iter().map(|c| [c[0], c[1], c[2]]).collect()
-}
-
-/// How the surface is coloured. WGSL: the `MODE_*` constants of `shaders/surface.wgsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ShadingMode {
-    /// Lit, one colour.
-    #[default]
-    Plain = 0,
-    /// The unit normal as RGB.
-    Normals = 1,
-    /// A lit checkerboard in the surface's (u, v).
-    Checker = 2,
-    /// Gaussian curvature K on the colour ramp.
-    Gaussian = 3,
-    /// Mean curvature H.
-    Mean = 4,
-    /// Maximum principal curvature k1.
-    K1 = 5,
-    /// Minimum principal curvature k2.
-    K2 = 6,
-}
-
-impl ShadingMode {
-    pub const ALL: [ShadingMode; 7] = [
-        Self::Plain,
-        Self::Normals,
-        Self::Checker,
-        Self::Gaussian,
-        Self::Mean,
-        Self::K1,
-        Self::K2,
-    ];
-
-    /// The name in the panel.
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Plain => "Plain (lit)",
-            Self::Normals => "Normals",
-            Self::Checker => "(u, v) checker",
-            Self::Gaussian => "Gaussian curvature K",
-            Self::Mean => "Mean curvature H",
-            Self::K1 => "Max principal k1",
-            Self::K2 => "Min principal k2",
-        }
-    }
-
-    /// The curvature component it shows (index into [`SurfaceVertex::curvature`]), if any.
-    pub fn curvature_component(self) -> Option<usize> {
-        match self {
-            Self::Gaussian => Some(0),
-            Self::Mean => Some(1),
-            Self::K1 => Some(2),
-            Self::K2 => Some(3),
-            _ => None,
-        }
-    }
-
-    /// The lowercase name scripts and the status use: "plain", "normals", "checker",
-    /// "gaussian", "mean", "k1", "k2".
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Plain => "plain",
-            Self::Normals => "normals",
-            Self::Checker => "checker",
-            Self::Gaussian => "gaussian",
-            Self::Mean => "mean",
-            Self::K1 => "k1",
-            Self::K2 => "k2",
-        }
-    }
-
-    /// The mode called `name` (see [`Self::name`]).
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|m| m.name() == name)
-    }
 }
 
 /// One point to evaluate: local (s, t) of patch record `patch_index`. WGSL: `struct PointSample`.

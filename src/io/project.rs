@@ -11,8 +11,11 @@
 //!    {"type": "polygon_mesh", "name": "Cage", "visible": true, "segments": 1,
 //!     "points": [[x, y, z], ...], "faces": [[0, 1, 2, 3], [3, 2, 4], ...]}],
 //!  "view": {"target": [x, y, z], "distance": d, "yaw": a, "pitch": b,
-//!           "shading": "gaussian", "quality": 1.0}}
+//!           "shading": "gaussian", "quality": 1.0, "range": [-0.5, 0.5],
+//!           "overlays": {"surface": true, "net": true, "points": false}}}
 //! ```
+//! The view is [`ViewSettings`] (`range` and `overlays` may be omitted: the automatic range,
+//! everything shown).
 //! Transforms are baked into the control points (as Rhino does), so an object needs no
 //! transform field. `visible`, `segments`, `name` and `view` may be omitted. Version 1 files
 //! (surfaces only, no view) open too; curves are refused with the path of the offending object.
@@ -26,6 +29,7 @@ use serde::{Deserialize, Serialize};
 use super::json::{self, FormatError, Geometry, NamedGeometry};
 use crate::kernel::{BezierPatch, BezierPatchSet, MAX_BEZIER_DEGREE, PolygonMesh};
 use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
+pub use crate::view::ViewSettings;
 
 /// The project format version this build writes and the newest it reads.
 pub const PROJECT_VERSION: u32 = 2;
@@ -34,20 +38,6 @@ pub const PROJECT_VERSION: u32 = 2;
 pub const MAX_FILE_BYTES: usize = 64 * 1024 * 1024;
 /// The most control points in one project, over all objects.
 pub const MAX_TOTAL_POINTS: usize = json::MAX_CONTROL_POINTS;
-
-/// What the viewer showed when the project was saved.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ViewSettings {
-    pub target: [f64; 3],
-    pub distance: f64,
-    pub yaw: f64,
-    pub pitch: f64,
-    /// A shading mode's name ("plain", "gaussian", ...).
-    pub shading: String,
-    /// The global tessellation quality factor.
-    pub quality: f64,
-}
 
 /// A project: the scene and, if saved with one, the view.
 #[derive(Debug, Clone, PartialEq)]
@@ -184,18 +174,6 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
             ));
         }
         scene.objects.push(object);
-    }
-    if let Some(v) = &view {
-        let finite = v
-            .target
-            .iter()
-            .chain([&v.distance, &v.yaw, &v.pitch, &v.quality]);
-        if finite.into_iter().any(|x| !x.is_finite()) || v.distance <= 0.0 || v.quality <= 0.0 {
-            return Err(FormatError::new(
-                "view",
-                "the camera and quality must be finite and positive",
-            ));
-        }
     }
     Ok(Project { scene, view })
 }

@@ -5,6 +5,6 @@
 mod viewport;
 
 pub use viewport::{
-    COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DrawOptions, POINT_COLOR, SAMPLE_COUNT, Shading,
+    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, POINT_COLOR, SAMPLE_COUNT,
     ViewTarget, ViewportRenderer, scene_uniform,
 };

@@ -1,9 +1,10 @@
-use glam::{DVec3, Mat4, Vec3};
+use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::gpu::SurfaceBuffers;
-use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, ShadingMode, SurfaceVertex};
+use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, SurfaceVertex};
 use crate::shaders;
+use crate::view::{OrbitCamera, Overlays, ViewSettings};
 
 /// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -11,55 +12,32 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// 4× MSAA: guaranteed for these formats by WebGPU.
 pub const SAMPLE_COUNT: u32 = 4;
 
-/// How the surface is coloured: the mode, the colour ramp's range (curvature modes) and the
-/// highlighted object.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Shading {
-    pub mode: ShadingMode,
-    /// (low, high): values at the ramp's ends (clamped beyond).
-    pub range: (f32, f32),
-    pub selected: Option<u32>,
-    /// Checker cells per unit of u and v.
-    pub checker_cells: f32,
-}
+/// Checker cells per unit of u and v in the checker shading.
+pub const CHECKER_CELLS: f32 = 8.0;
 
-impl Default for Shading {
-    fn default() -> Self {
-        Self {
-            mode: ShadingMode::Plain,
-            range: (-1.0, 1.0),
-            selected: None,
-            checker_cells: 8.0,
-        }
-    }
-}
+/// sRGB-encoded RGBA the viewport is cleared to.
+pub const BACKGROUND: [f64; 4] = [0.13, 0.14, 0.16, 1.0];
 
-/// The scene uniform for a view `view_proj` from `eye` into `target`, with the editor's colours
-/// (linear RGB), control point dots of `point_radius_px` physical pixels and `shading`.
+/// The scene uniform for `view` (its camera and shading mode) seen in `target`, with the
+/// colour ramp spanning `range` (the view's own range or the automatic one), `selected`
+/// highlighted, the editor's colours (linear RGB) and control point dots of `point_radius_px`
+/// physical pixels.
 pub fn scene_uniform(
-    view_proj: Mat4,
-    eye: Vec3,
+    view: &ViewSettings,
     target: &ViewTarget,
     point_radius_px: f32,
-    shading: &Shading,
+    range: (f64, f64),
+    selected: Option<u32>,
 ) -> SceneUniform {
     let (w, h) = target.size();
+    let camera: &OrbitCamera = &view.camera;
+    let aspect = w as f32 / h.max(1) as f32;
     SceneUniform {
-        shading: [
-            shading.mode as u32,
-            shading.selected.map_or(0, |s| s + 1),
-            0,
-            0,
-        ],
-        range: [
-            shading.range.0,
-            shading.range.1,
-            shading.checker_cells,
-            shading.checker_cells,
-        ],
+        shading: [view.shading as u32, selected.map_or(0, |s| s + 1), 0, 0],
+        range: [range.0 as f32, range.1 as f32, CHECKER_CELLS, CHECKER_CELLS],
         ramp: CURVATURE_RAMP,
-        view_proj: view_proj.to_cols_array_2d(),
-        eye: eye.extend(1.0).to_array(),
+        view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+        eye: camera.eye().extend(1.0).to_array(),
         viewport: [w as f32, h as f32, point_radius_px, 0.0],
         surface_color: [0.50, 0.43, 0.35, 1.0],
         back_color: [0.22, 0.28, 0.45, 1.0],
@@ -70,27 +48,6 @@ pub fn scene_uniform(
 
 /// Linear RGBA of the control point dots.
 pub const POINT_COLOR: [f32; 4] = [0.95, 0.78, 0.25, 1.0];
-
-/// What to draw.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DrawOptions {
-    pub show_surface: bool,
-    pub show_net: bool,
-    pub show_points: bool,
-    /// sRGB-encoded RGBA the target is cleared to.
-    pub background: [f64; 4],
-}
-
-impl Default for DrawOptions {
-    fn default() -> Self {
-        Self {
-            show_surface: true,
-            show_net: true,
-            show_points: true,
-            background: [0.13, 0.14, 0.16, 1.0],
-        }
-    }
-}
 
 /// The offscreen textures one viewport renders into: multisampled colour and depth, and the
 /// single-sampled colour they resolve to.
@@ -489,18 +446,18 @@ impl ViewportRenderer {
     }
 
     /// Records one render pass into `target`: the surface from the evaluated vertex and index
-    /// buffers, then `net` (lines and points) as `options` ask, seen as [`Self::set_scene`]
-    /// said.
+    /// buffers, then `net` (lines and points) as `overlays` ask, seen as [`Self::set_scene`]
+    /// said, over [`BACKGROUND`].
     pub fn render(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &ViewTarget,
         surface: SurfaceBuffers<'_>,
         net: Option<&ControlNet>,
-        options: &DrawOptions,
+        overlays: Overlays,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
-        let [r, g, b, a] = options.background;
+        let [r, g, b, a] = BACKGROUND;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewport"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -525,7 +482,7 @@ impl ViewportRenderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
-        if options.show_surface && surface.index_count > 0 {
+        if overlays.surface && surface.index_count > 0 {
             pass.set_pipeline(&self.surface_pipeline);
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -534,13 +491,13 @@ impl ViewportRenderer {
         let Some(net) = net else {
             return;
         };
-        if options.show_net && net.line_index_count > 0 {
+        if overlays.net && net.line_index_count > 0 {
             pass.set_pipeline(&self.net_pipeline);
             pass.set_vertex_buffer(0, net.points.slice(..));
             pass.set_index_buffer(net.lines.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..net.line_index_count, 0, 0..1);
         }
-        if options.show_points && net.point_count > 0 {
+        if overlays.points && net.point_count > 0 {
             pass.set_pipeline(&self.dot_pipeline);
             pass.set_vertex_buffer(0, net.points.slice(..));
             pass.draw(0..4, 0..net.point_count);

@@ -15,7 +15,8 @@ pub struct OrbitCamera {
     pub fov_y: f32,
 }
 
-const PITCH_LIMIT: f32 = std::f32::consts::FRAC_PI_2 - 0.01;
+/// The steepest pitch, just short of straight up or down (where the view would flip).
+pub const PITCH_LIMIT: f32 = std::f32::consts::FRAC_PI_2 - 0.01;
 /// Radians of orbit per pixel of drag.
 const ORBIT_SPEED: f32 = 0.008;
 const MIN_DISTANCE: f32 = 1e-4;

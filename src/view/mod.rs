@@ -1,7 +1,9 @@
-//! Camera, screen-space picking and drag constraints.
+//! Camera, screen-space picking, drag constraints and the view settings.
 
 pub mod camera;
 pub mod pick;
+pub mod settings;
 
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};
+pub use settings::{Overlays, QUALITY_RANGE, ShadingMode, ViewSettings};
