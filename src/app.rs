@@ -181,29 +181,24 @@ struct DragHandle {
     anchor: DVec3,
 }
 
-pub struct KnotworkApp {
-    doc: Document,
-    selected: Option<usize>,
+/// What is selected: an object, its control points, the point the panel edits, a box
+/// selection being drawn and the last surface point clicked.
+#[derive(Default)]
+struct Selection {
+    object: Option<usize>,
     /// Selected control points of the selected object.
     points: BTreeSet<usize>,
     /// The control point the panel edits, in the selected object.
     edit_point: usize,
-    drag: Option<DragHandle>,
-    /// Patch records (global indices) the drag has changed, drawn tinted.
-    highlight_patches: Vec<usize>,
     /// Where a box selection started (logical pixels).
     box_start: Option<egui::Pos2>,
-    constraint: Constraint,
-    snap: bool,
-    snap_step: f64,
     /// The last surface point clicked.
     hit: Option<SurfaceHit>,
-    /// The camera and viewport of the last frame, for picking.
-    pick_view: Option<PickView>,
-    viewport_rect: egui::Rect,
-    panel: panels::PanelState,
-    export: export::ExportSettings,
-    export_estimate: Option<export::ExportEstimate>,
+}
+
+/// The document's revisions as the autosave and the page's `project()` see them.
+#[derive(Default)]
+struct Persistence {
     /// Counts document changes; the autosave writes when it moves.
     revision: u64,
     autosaved_revision: u64,
@@ -211,7 +206,27 @@ pub struct KnotworkApp {
     pending_revision: u64,
     /// The revision last published as project text (`window.knotwork.project()`).
     published_revision: Option<u64>,
+    /// Whether the autosave writes at all (off with `--fresh`).
     autosave: bool,
+}
+
+pub struct KnotworkApp {
+    doc: Document,
+    selection: Selection,
+    drag: Option<DragHandle>,
+    /// Patch records (global indices) the drag has changed, drawn tinted.
+    highlight_patches: Vec<usize>,
+    constraint: Constraint,
+    snap: bool,
+    snap_step: f64,
+    /// The camera and viewport of the last frame, for picking.
+    pick_view: Option<PickView>,
+    viewport_rect: egui::Rect,
+    panel: panels::PanelState,
+    export: export::ExportSettings,
+    export_estimate: Option<export::ExportEstimate>,
+    /// Revisions of the document: what the autosave and the page have seen of it.
+    saved: Persistence,
     /// A modal message (title, text), e.g. a file that could not be opened.
     dialog: Option<(String, String)>,
     /// Files picked or dropped, waiting to be opened (name, text).
@@ -278,27 +293,21 @@ impl KnotworkApp {
         };
         let mut app = Self {
             doc: Document::new(scene),
-            selected: None,
-            points: BTreeSet::new(),
-            edit_point: 0,
+            selection: Selection::default(),
             drag: None,
             highlight_patches: Vec::new(),
-            box_start: None,
             constraint: Constraint::Free,
             snap: false,
             snap_step: 0.25,
-            hit: None,
             pick_view: None,
             viewport_rect: egui::Rect::NOTHING,
             panel: panels::PanelState::default(),
             export: export::ExportSettings::default(),
             export_estimate: None,
-            revision: 0,
-            autosaved_revision: 0,
-            last_change: 0.0,
-            pending_revision: 0,
-            published_revision: None,
-            autosave: restore,
+            saved: Persistence {
+                autosave: restore,
+                ..Persistence::default()
+            },
             dialog: None,
             incoming: files::Incoming::default(),
             view: ViewSettings::default(),
@@ -401,15 +410,16 @@ impl KnotworkApp {
 
     /// Brings the GPU and the selection up to date with the document after an edit.
     fn after_edit(&mut self, touched: Touched) -> Result<(), String> {
-        self.revision += 1;
+        self.saved.revision += 1;
         self.auto_range = None;
         self.redraw = true;
         if touched == Touched::Structure
             && self
-                .selected
+                .selection
+                .object
                 .is_some_and(|s| s >= self.doc.scene.objects.len())
         {
-            self.selected = None;
+            self.selection.object = None;
         }
         if let Some(gpu) = &mut self.gpu {
             let notice = gpu
@@ -422,7 +432,7 @@ impl KnotworkApp {
             }
         }
         match touched {
-            Touched::Structure => self.select_keep_points(self.selected),
+            Touched::Structure => self.select_keep_points(self.selection.object),
             Touched::Points(_) => self.update_net(),
             Touched::Nothing => {}
         }
@@ -457,11 +467,11 @@ impl KnotworkApp {
 
     /// Rewrites the control net's points and highlight.
     fn update_net(&mut self) {
-        let (Some(gpu), Some(s)) = (&self.gpu, self.selected) else {
+        let (Some(gpu), Some(s)) = (&self.gpu, self.selection.object) else {
             return;
         };
         if let (Some(net), Some(object)) = (&gpu.net, self.doc.scene.objects.get(s)) {
-            let points = &self.points;
+            let points = &self.selection.points;
             net.update_points(&gpu.queue, &object.control_points(), &|k| {
                 points.contains(&k)
             });
@@ -511,7 +521,7 @@ impl KnotworkApp {
         match self.rebuild_geometry(quality) {
             Ok(()) => {
                 self.status.error = None;
-                self.revision += 1;
+                self.saved.revision += 1;
             }
             Err(e) => {
                 self.view.quality = saved;
@@ -523,22 +533,22 @@ impl KnotworkApp {
 
     /// Selects an object (or none) and clears the point selection.
     fn select(&mut self, selected: Option<usize>) {
-        self.points.clear();
-        self.edit_point = 0;
+        self.selection.points.clear();
+        self.selection.edit_point = 0;
         self.select_keep_points(selected);
     }
 
     /// Selects an object, keeping those selected points that still exist, and builds its net.
     fn select_keep_points(&mut self, selected: Option<usize>) {
         let selected = selected.filter(|&s| s < self.doc.scene.objects.len());
-        if selected != self.selected {
-            self.points.clear();
+        if selected != self.selection.object {
+            self.selection.points.clear();
         }
-        self.selected = selected;
+        self.selection.object = selected;
         let count = selected.map_or(0, |s| self.doc.scene.objects[s].control_point_count());
-        self.points.retain(|&k| k < count);
+        self.selection.points.retain(|&k| k < count);
         if let Some(gpu) = &mut self.gpu {
-            let points = &self.points;
+            let points = &self.selection.points;
             gpu.net = selected
                 .filter(|&s| self.doc.scene.objects[s].visible)
                 .map(|s| {
@@ -567,7 +577,7 @@ impl KnotworkApp {
                 self.highlight_patches.clear();
                 match shown {
                     Ok(()) => {
-                        self.revision += 1;
+                        self.saved.revision += 1;
                         self.auto_range = None;
                         self.status.error = None;
                     }
@@ -602,22 +612,22 @@ impl KnotworkApp {
 
     fn refresh_status(&mut self) {
         self.status.objects = self.scene().objects.len() as u32;
-        self.status.selected_points = self.points.iter().map(|&k| k as u32).collect();
+        self.status.selected_points = self.selection.points.iter().map(|&k| k as u32).collect();
         self.status.undo_steps = self.doc.history.undo_depth() as u32;
         self.status.redo_steps = self.doc.history.redo_depth() as u32;
         self.status.last_edit = self.doc.history.undo_label().map(str::to_owned);
         self.status.dragging = self.doc.drag().is_some();
         self.status.constraint = self.constraint.label();
-        self.status.revision = self.revision;
-        self.status.autosaved_revision = self.autosaved_revision;
-        self.status.hit = self.hit.map(|h| status::HitStatus {
+        self.status.revision = self.saved.revision;
+        self.status.autosaved_revision = self.saved.autosaved_revision;
+        self.status.hit = self.selection.hit.map(|h| status::HitStatus {
             object: h.object as u32,
             u: h.u,
             v: h.v,
             point: h.point.to_array(),
         });
         self.status.quality = self.view.quality;
-        self.status.selected = self.selected.map(|s| s as u32);
+        self.status.selected = self.selection.object.map(|s| s as u32);
         self.status.shading = self.view.shading.name().to_owned();
         self.status.range_auto = self.view.range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
@@ -657,9 +667,10 @@ impl KnotworkApp {
             ExternalCommand::Redo => self.step_history(true),
             ExternalCommand::SelectPoints(points) => {
                 let count = self
-                    .selected
+                    .selection
+                    .object
                     .map_or(0, |s| self.doc.scene.objects[s].control_point_count());
-                self.points = points.into_iter().filter(|&k| k < count).collect();
+                self.selection.points = points.into_iter().filter(|&k| k < count).collect();
                 self.update_net();
             }
             ExternalCommand::Open { name, bytes } => self.open_file(&name, &bytes),
@@ -725,7 +736,7 @@ impl KnotworkApp {
                 .collect(),
         );
         let range = self.color_range().unwrap_or((-1.0, 1.0));
-        let selected = self.selected.map(|s| s as u32);
+        let selected = self.selection.object.map(|s| s as u32);
         let Some(gpu) = self.gpu.as_mut().filter(|g| g.sync.geometry().is_some()) else {
             let reason = self
                 .gpu_refusal
@@ -824,9 +835,9 @@ impl eframe::App for KnotworkApp {
         self.export_window(&ctx);
         self.dialog_window(&ctx);
         self.autosave(&ctx, frame);
-        if self.published_revision != Some(self.revision) && self.drag.is_none() {
+        if self.saved.published_revision != Some(self.saved.revision) && self.drag.is_none() {
             status::publish_project(self.doc.save(None));
-            self.published_revision = Some(self.revision);
+            self.saved.published_revision = Some(self.saved.revision);
         }
         let dt = ui.input(|i| i.unstable_dt);
         if self.continuous {
@@ -845,7 +856,7 @@ impl eframe::App for KnotworkApp {
         if self
             .exit_after_frames
             .is_some_and(|frames| self.status.frames >= frames)
-            && (!self.autosave || self.autosaved_revision == self.revision)
+            && (!self.saved.autosave || self.saved.autosaved_revision == self.saved.revision)
         {
             ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
         }

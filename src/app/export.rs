@@ -110,10 +110,10 @@ impl KnotworkApp {
         let stale = self
             .export_estimate
             .as_ref()
-            .is_none_or(|e| e.revision != self.revision || e.tessellation != tessellation);
+            .is_none_or(|e| e.revision != self.saved.revision || e.tessellation != tessellation);
         if stale {
             self.export_estimate = Some(ExportEstimate {
-                revision: self.revision,
+                revision: self.saved.revision,
                 tessellation,
                 result: count_triangles(&self.doc.scene, tessellation),
             });

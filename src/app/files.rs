@@ -103,15 +103,18 @@ impl KnotworkApp {
 
     /// Writes the project to the storage once edits have settled.
     pub(super) fn autosave(&mut self, ctx: &egui::Context, frame: &mut eframe::Frame) {
-        if !self.autosave || self.revision == self.autosaved_revision || self.doc.drag().is_some() {
+        if !self.saved.autosave
+            || self.saved.revision == self.saved.autosaved_revision
+            || self.doc.drag().is_some()
+        {
             return;
         }
         let now = ctx.input(|i| i.time);
-        if self.revision != self.pending_revision {
-            self.pending_revision = self.revision;
-            self.last_change = now;
+        if self.saved.revision != self.saved.pending_revision {
+            self.saved.pending_revision = self.saved.revision;
+            self.saved.last_change = now;
         }
-        if now - self.last_change < AUTOSAVE_DELAY {
+        if now - self.saved.last_change < AUTOSAVE_DELAY {
             ctx.request_repaint_after(std::time::Duration::from_secs_f64(AUTOSAVE_DELAY));
             return;
         }
@@ -124,12 +127,12 @@ impl KnotworkApp {
     /// in progress counts once it ends). eframe calls this when the window closes, so an edit
     /// made within the autosave delay is not lost.
     pub fn write_autosave(&mut self, storage: &mut dyn eframe::Storage) {
-        if !self.autosave || self.revision == self.autosaved_revision {
+        if !self.saved.autosave || self.saved.revision == self.saved.autosaved_revision {
             return;
         }
         storage.set_string(AUTOSAVE_KEY, self.doc.save(Some(self.view)));
         storage.flush();
-        self.autosaved_revision = self.revision;
+        self.saved.autosaved_revision = self.saved.revision;
     }
 
     /// Files dropped on the window and files the web picker delivered.

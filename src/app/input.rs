@@ -17,7 +17,7 @@ impl KnotworkApp {
     /// The selected object's control points on the screen (logical pixels from the viewport's
     /// top-left corner).
     pub(super) fn projected_handles(&self) -> Vec<Option<Projected>> {
-        let (Some(view), Some(s)) = (self.pick_view, self.selected) else {
+        let (Some(view), Some(s)) = (self.pick_view, self.selection.object) else {
             return Vec::new();
         };
         if !self.scene().objects[s].visible {
@@ -52,13 +52,13 @@ impl KnotworkApp {
             if alt {
                 self.select_row(index, shift);
             } else if shift {
-                if !self.points.remove(&index) {
-                    self.points.insert(index);
+                if !self.selection.points.remove(&index) {
+                    self.selection.points.insert(index);
                 }
             } else {
-                self.points = [index].into();
+                self.selection.points = [index].into();
             }
-            self.edit_point = index;
+            self.selection.edit_point = index;
             self.update_net();
             return;
         }
@@ -76,21 +76,21 @@ impl KnotworkApp {
             .zip(&self.doc.scene.objects)
             .map(|(d, o)| (d, o.visible))
             .collect();
-        self.hit = pick::pick_surface(&objects, origin, direction);
-        match self.hit {
+        self.selection.hit = pick::pick_surface(&objects, origin, direction);
+        match self.selection.hit {
             Some(hit) => {
-                if self.selected != Some(hit.object) {
+                if self.selection.object != Some(hit.object) {
                     self.select(Some(hit.object));
                 } else if !shift {
-                    self.points.clear();
+                    self.selection.points.clear();
                     self.update_net();
                 }
             }
             None if !shift => {
-                if self.points.is_empty() {
+                if self.selection.points.is_empty() {
                     self.select(None);
                 } else {
-                    self.points.clear();
+                    self.selection.points.clear();
                     self.update_net();
                 }
             }
@@ -102,7 +102,7 @@ impl KnotworkApp {
     /// Selects the row (fixed i, along v) through point `index` of a NURBS net, or with
     /// `column` the column (fixed j, along u); `add` keeps the current selection.
     pub(super) fn select_row(&mut self, index: usize, column: bool) {
-        let Some(object) = self.selected.map(|s| &self.doc.scene.objects[s]) else {
+        let Some(object) = self.selection.object.map(|s| &self.doc.scene.objects[s]) else {
             return;
         };
         let Some([nu, nv]) = object.kind().net_grid() else {
@@ -114,7 +114,7 @@ impl KnotworkApp {
             return;
         };
         let (i, j) = (index / nv, index % nv);
-        self.points = if column {
+        self.selection.points = if column {
             (0..nu).map(|i| i * nv + j).collect()
         } else {
             (0..nv).map(|j| i * nv + j).collect()
@@ -124,16 +124,16 @@ impl KnotworkApp {
 
     /// Starts dragging the selection from handle `index`: a transient edit of the document.
     fn begin_drag(&mut self, index: usize, shift: bool) {
-        let Some(object) = self.selected else {
+        let Some(object) = self.selection.object else {
             return;
         };
-        if !self.points.contains(&index) {
+        if !self.selection.points.contains(&index) {
             if !shift {
-                self.points.clear();
+                self.selection.points.clear();
             }
-            self.points.insert(index);
+            self.selection.points.insert(index);
         }
-        let points: Vec<usize> = self.points.iter().copied().collect();
+        let points: Vec<usize> = self.selection.points.iter().copied().collect();
         if let Err(e) = self.doc.begin_drag(object, &points) {
             self.status.error = Some(e.to_string());
             return;
@@ -141,7 +141,7 @@ impl KnotworkApp {
         let anchor = self.doc.scene.objects[object].control_points()[index];
         self.drag = Some(DragHandle { anchor });
         self.constraint = Constraint::Free;
-        self.edit_point = index;
+        self.selection.edit_point = index;
         self.update_net();
     }
 
@@ -201,7 +201,7 @@ impl KnotworkApp {
                 self.status.error = Some(e);
             }
         } else if self.doc.commit_drag().is_some() {
-            self.revision += 1;
+            self.saved.revision += 1;
         }
     }
 
@@ -232,7 +232,7 @@ impl KnotworkApp {
         {
             match self.handle_at(self.local(origin)) {
                 Some(index) => self.begin_drag(index, shift),
-                None => self.box_start = Some(origin),
+                None => self.selection.box_start = Some(origin),
             }
         }
         if self.drag.is_some() {
@@ -247,18 +247,19 @@ impl KnotworkApp {
         }
         if response.drag_stopped() {
             self.end_drag(false);
-            if let (Some(start), Some(end)) =
-                (self.box_start.take(), response.interact_pointer_pos())
-            {
+            if let (Some(start), Some(end)) = (
+                self.selection.box_start.take(),
+                response.interact_pointer_pos(),
+            ) {
                 let inside = pick::points_in_box(
                     &self.projected_handles(),
                     self.local(start),
                     self.local(end),
                 );
                 if !shift {
-                    self.points.clear();
+                    self.selection.points.clear();
                 }
-                self.points.extend(inside);
+                self.selection.points.extend(inside);
                 self.update_net();
             }
         }
@@ -280,7 +281,7 @@ impl KnotworkApp {
                 self.redraw = true;
             }
         }
-        if self.box_start.is_some() || self.drag.is_some() {
+        if self.selection.box_start.is_some() || self.drag.is_some() {
             self.redraw = true;
         }
         if response.hovered() {
@@ -323,7 +324,7 @@ impl KnotworkApp {
             self.select_all_points();
         }
         if pressed(shortcut(command, Key::D))
-            && let Some(object) = self.selected
+            && let Some(object) = self.selection.object
         {
             self.execute(crate::doc::Command::Duplicate { object });
         }
@@ -331,11 +332,11 @@ impl KnotworkApp {
             if pressed(shortcut(Modifiers::ALT, Key::A))
                 || pressed(shortcut(Modifiers::NONE, Key::Escape))
             {
-                self.points.clear();
+                self.selection.points.clear();
                 self.update_net();
             }
             if pressed(shortcut(Modifiers::NONE, Key::Delete))
-                && let Some(object) = self.selected
+                && let Some(object) = self.selection.object
             {
                 self.execute(crate::doc::Command::Delete { object });
             }
@@ -346,15 +347,18 @@ impl KnotworkApp {
     }
 
     pub(super) fn select_all_points(&mut self) {
-        if let Some(s) = self.selected {
-            self.points = (0..self.doc.scene.objects[s].control_point_count()).collect();
+        if let Some(s) = self.selection.object {
+            self.selection.points = (0..self.doc.scene.objects[s].control_point_count()).collect();
             self.update_net();
         }
     }
 
     /// The box being dragged, drawn over the viewport.
     pub(super) fn paint_box(&self, ui: &egui::Ui) {
-        let (Some(start), Some(now)) = (self.box_start, ui.input(|i| i.pointer.hover_pos())) else {
+        let (Some(start), Some(now)) = (
+            self.selection.box_start,
+            ui.input(|i| i.pointer.hover_pos()),
+        ) else {
             return;
         };
         let rect = egui::Rect::from_two_pos(start, now);

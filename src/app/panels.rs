@@ -169,12 +169,12 @@ impl KnotworkApp {
                 .weak(),
             );
         });
-        let saved = if self.autosaved_revision == self.revision {
+        let saved = if self.saved.autosaved_revision == self.saved.revision {
             "autosaved"
         } else {
             "autosave pending"
         };
-        if self.autosave {
+        if self.saved.autosave {
             ui.label(egui::RichText::new(saved).weak().small());
         }
     }
@@ -200,10 +200,10 @@ impl KnotworkApp {
                     visibility = Some((k, visible));
                 }
                 let response = ui
-                    .selectable_label(self.selected == Some(k), &object.name)
+                    .selectable_label(self.selection.object == Some(k), &object.name)
                     .on_hover_text(object.describe());
                 if response.clicked() {
-                    clicked = Some(if self.selected == Some(k) {
+                    clicked = Some(if self.selection.object == Some(k) {
                         None
                     } else {
                         Some(k)
@@ -217,7 +217,7 @@ impl KnotworkApp {
         if let Some(selection) = clicked {
             self.select(selection);
         }
-        let Some(s) = self.selected else {
+        let Some(s) = self.selection.object else {
             ui.label(egui::RichText::new("click an object to edit it").weak());
             return;
         };
@@ -291,7 +291,7 @@ impl KnotworkApp {
 
     /// The selected object's control points and NURBS operations.
     fn properties_panel(&mut self, ui: &mut egui::Ui) {
-        let Some(s) = self.selected else {
+        let Some(s) = self.selection.object else {
             return;
         };
         ui.label(egui::RichText::new("Control points").strong());
@@ -304,7 +304,7 @@ impl KnotworkApp {
                 self.select_all_points();
             }
             if ui.button("None").clicked() {
-                self.points.clear();
+                self.selection.points.clear();
                 self.update_net();
             }
             if ui
@@ -312,23 +312,25 @@ impl KnotworkApp {
                 .on_hover_text("the row (along v) through the point below")
                 .clicked()
             {
-                self.select_row(self.edit_point, false);
+                self.select_row(self.selection.edit_point, false);
             }
             if ui
                 .button("Column")
                 .on_hover_text("the column (along u) through the point below")
                 .clicked()
             {
-                self.select_row(self.edit_point, true);
+                self.select_row(self.selection.edit_point, true);
             }
         });
-        ui.label(format!("{} selected", self.points.len()));
+        ui.label(format!("{} selected", self.selection.points.len()));
         ui.horizontal(|ui| {
             ui.label("Point");
-            ui.add(egui::DragValue::new(&mut self.edit_point).range(0..=points.len() - 1));
+            ui.add(
+                egui::DragValue::new(&mut self.selection.edit_point).range(0..=points.len() - 1),
+            );
         });
-        self.edit_point = self.edit_point.min(points.len() - 1);
-        let mut p = points[self.edit_point];
+        self.selection.edit_point = self.selection.edit_point.min(points.len() - 1);
+        let mut p = points[self.selection.edit_point];
         let before = p;
         ui.horizontal(|ui| {
             for (axis, value) in ["x", "y", "z"]
@@ -340,7 +342,7 @@ impl KnotworkApp {
             }
         });
         if p != before {
-            self.move_points(s, &[(self.edit_point, p)]);
+            self.move_points(s, &[(self.selection.edit_point, p)]);
         }
         ui.horizontal(|ui| {
             ui.label("Move selection by");
@@ -349,11 +351,12 @@ impl KnotworkApp {
             }
         });
         if ui
-            .add_enabled(!self.points.is_empty(), egui::Button::new("Move"))
+            .add_enabled(!self.selection.points.is_empty(), egui::Button::new("Move"))
             .clicked()
         {
             let delta = DVec3::from(self.panel.move_by);
             let moves: Vec<(usize, DVec3)> = self
+                .selection
                 .points
                 .iter()
                 .map(|&k| (k, points[k] + delta))
@@ -374,7 +377,7 @@ impl KnotworkApp {
             ui.label(
                 egui::RichText::new(format!(
                     "(point {}: {})",
-                    self.edit_point, weights[self.edit_point]
+                    self.selection.edit_point, weights[self.selection.edit_point]
                 ))
                 .weak(),
             );
@@ -391,10 +394,10 @@ impl KnotworkApp {
                 || slider.drag_stopped()
                 || (slider.changed() && !slider.dragged());
             if apply {
-                let points = if self.points.is_empty() {
-                    vec![self.edit_point]
+                let points = if self.selection.points.is_empty() {
+                    vec![self.selection.edit_point]
                 } else {
-                    self.points.iter().copied().collect()
+                    self.selection.points.iter().copied().collect()
                 };
                 let weight = self.panel.weight;
                 self.execute(Command::SetWeight {
@@ -425,7 +428,7 @@ impl KnotworkApp {
                 self.doc
                     .scene
                     .objects
-                    .get(self.selected.unwrap_or(usize::MAX)),
+                    .get(self.selection.object.unwrap_or(usize::MAX)),
             );
         }
         let d = self.panel.direction;
@@ -441,7 +444,7 @@ impl KnotworkApp {
                     .speed((hi - lo) * 0.005)
                     .range(lo..=hi),
             );
-            if let Some(hit) = self.hit.filter(|h| h.object == s)
+            if let Some(hit) = self.selection.hit.filter(|h| h.object == s)
                 && ui
                     .button("clicked (u, v)")
                     .on_hover_text(format!("u = {:.4}, v = {:.4}", hit.u, hit.v))
@@ -523,10 +526,10 @@ impl KnotworkApp {
                 self.doc
                     .scene
                     .objects
-                    .get(self.selected.unwrap_or(usize::MAX)),
+                    .get(self.selection.object.unwrap_or(usize::MAX)),
             );
         }
-        if let Some(hit) = self.hit {
+        if let Some(hit) = self.selection.hit {
             ui.label(
                 egui::RichText::new(format!(
                     "clicked: object {}, u = {:.4}, v = {:.4}, point ({:.3}, {:.3}, {:.3})",
