@@ -25,6 +25,7 @@
 //! Limits: the file size of [`super::project::MAX_FILE_BYTES`] (each external buffer too),
 //! [`MAX_IMPORT_VERTICES`] vertices and [`MAX_IMPORT_TRIANGLES`] triangles in all.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use base64::Engine as _;
@@ -87,7 +88,7 @@ pub fn read(
 
 /// The JSON chunk and the BIN chunk of a GLB file (glTF 2.0, section 4.4), split by the crate
 /// once the header's length is known to be sane.
-fn glb_chunks(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), FormatError> {
+fn glb_chunks<'a>(bytes: &'a [u8]) -> Result<(&'a [u8], Option<&'a [u8]>), FormatError> {
     let Some(header) = bytes.get(..12) else {
         return Err(error("", "the GLB header is truncated (under 12 bytes)"));
     };
@@ -100,17 +101,12 @@ fn glb_chunks(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), FormatError> {
     }
     let whole = bytes.get(..length).unwrap_or(bytes);
     let glb = gltf::binary::Glb::from_slice(whole).map_err(|e| error("", glb_message(&e)))?;
-    // The crate borrows both chunks from `whole`; find them there again to return slices
-    // that live as long as `bytes`.
-    let json = subslice(bytes, &glb.json).unwrap_or_default();
-    let bin = glb.bin.as_deref().and_then(|b| subslice(bytes, b));
-    Ok((json, bin))
-}
-
-/// `part` as a slice of `whole` (it must lie inside it).
-fn subslice<'a>(whole: &'a [u8], part: &[u8]) -> Option<&'a [u8]> {
-    let start = (part.as_ptr() as usize).checked_sub(whole.as_ptr() as usize)?;
-    whole.get(start..start.checked_add(part.len())?)
+    // Reading from a slice, the crate borrows both chunks from it.
+    let borrowed = |chunk: Cow<'a, [u8]>| match chunk {
+        Cow::Borrowed(b) => b,
+        Cow::Owned(_) => &[],
+    };
+    Ok((borrowed(glb.json), glb.bin.map(borrowed)))
 }
 
 /// The crate's GLB errors in words.
@@ -501,9 +497,9 @@ fn read_meshes(document: &Document, buffers: &[Vec<u8>]) -> Result<Vec<SceneObje
 
 /// A primitive's corners (its indices, or 0..vertices) as triangles: lists as they are,
 /// strips with every other triangle turned to keep the winding, fans around the first corner
-/// (glTF 2.0, section 3.7.2.1). `None` for points and lines.
-fn triangles(mode: Mode, corners: &[usize]) -> Option<Vec<[usize; 3]>> {
-    Some(match mode {
+/// (glTF 2.0, section 3.7.2.1). None for points and lines.
+fn triangles(mode: Mode, corners: &[usize]) -> Vec<[usize; 3]> {
+    match mode {
         Mode::Triangles => corners
             .chunks_exact(3)
             .map(|c| [c[0], c[1], c[2]])
@@ -520,8 +516,8 @@ fn triangles(mode: Mode, corners: &[usize]) -> Option<Vec<[usize; 3]>> {
         Mode::TriangleFan => (2..corners.len())
             .map(|k| [corners[0], corners[k - 1], corners[k]])
             .collect(),
-        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => return None,
-    })
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => Vec::new(),
+    }
 }
 
 /// A mesh's triangles (all primitives) as one polygon mesh: positions transformed, turned to
@@ -591,9 +587,7 @@ fn read_mesh(
             }
             None => (0..positions.len()).collect(),
         };
-        let Some(triangles) = triangles(primitive.mode(), &corners) else {
-            continue;
-        };
+        let triangles = triangles(primitive.mode(), &corners);
         let mut map = vec![u32::MAX; positions.len()];
         for t in triangles {
             let mut face = [0u32; 3];
