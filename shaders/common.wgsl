@@ -29,6 +29,14 @@ struct PatchRecord {
 
 // PatchRecord.kind of a rational tensor-product Bézier patch (Rust: PATCH_KIND_BEZIER).
 const PATCH_KIND_BEZIER: u32 = 0u;
+// PatchRecord.kind of a grid of subdivision limit stencils (Rust: PATCH_KIND_STENCIL_QUAD): slot
+// k's (first entry, count) at control_indices[control_offset + 2k], the entries in the control
+// point buffer as two vec4 each: (bitcast index, w_p, w_su, w_sv), (w_suu, w_suv, w_svv, 0).
+const PATCH_KIND_STENCIL_QUAD: u32 = 1u;
+// The same on a triangle: slots (i, j) with i + j <= segments (Rust: PATCH_KIND_STENCIL_TRIANGLE).
+const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2u;
+// Bit of a stencil slot's count: the curvature is not defined there (Rust: STENCIL_NO_CURVATURE).
+const STENCIL_NO_CURVATURE: u32 = 0x80000000u;
 
 // One tessellation vertex (Rust: gpu::records::SurfaceVertex). 64 bytes: position at 0, u at 12,
 // normal at 16, v at 28, curvature at 32, object at 48, flags at 52.

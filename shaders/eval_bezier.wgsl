@@ -413,6 +413,70 @@ fn evaluate_vertices(
     );
 }
 
+// Subdivision limit stencils: one invocation per slot of a stencil patch (workgroup_id.y indexes
+// patch_list). Gathers the position and derivatives from the cage points (no atomics), then the
+// normal and, where the stencils define them, the curvatures.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn evaluate_stencil_vertices(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    if (group.y >= arrayLength(&patch_list)) {
+        return;
+    }
+    let rec = patches[patch_list[group.y]];
+    let local = group.x * WORKGROUP_SIZE + lane;
+    let nv = rec.segments_v + 1u;
+    if (local >= (rec.segments_u + 1u) * nv) {
+        return;
+    }
+    let start = control_indices[rec.control_offset + 2u * local];
+    let packed = control_indices[rec.control_offset + 2u * local + 1u];
+    let count = packed & ~STENCIL_NO_CURVATURE;
+    var d: Derivatives;
+    for (var k = 0u; k < count; k++) {
+        let a = control_points[start + 2u * k];
+        let b = control_points[start + 2u * k + 1u];
+        let p = control_points[bitcast<u32>(a.x)].xyz;
+        d.point += a.y * p;
+        d.su += a.z * p;
+        d.sv += a.w * p;
+        d.suu += b.x * p;
+        d.suv += b.y * p;
+        d.svv += b.z * p;
+    }
+    var normal = regular_normal(d);
+    var flags = 0u;
+    var values = vec4<f32>(0.0);
+    if (all(normal == vec3<f32>(0.0))) {
+        normal = vec3<f32>(0.0, 0.0, 1.0);
+        flags = VERTEX_IRREGULAR | VERTEX_NO_CURVATURE;
+    } else if ((packed & STENCIL_NO_CURVATURE) != 0u) {
+        flags = VERTEX_NO_CURVATURE;
+    } else {
+        let k = curvature(d, normal);
+        values = k.values;
+        if (!k.defined) {
+            flags = VERTEX_NO_CURVATURE;
+        }
+    }
+    let i = local / nv;
+    let j = local % nv;
+    let s = f32(i) / f32(rec.segments_u);
+    let t = f32(j) / f32(rec.segments_v);
+    vertices[rec.vertex_offset + local] = SurfaceVertex(
+        d.point,
+        rec.domain.x * (1.0 - s) + rec.domain.y * s,
+        normal,
+        rec.domain.z * (1.0 - t) + rec.domain.w * t,
+        values,
+        rec.object,
+        flags,
+        patch_list[group.y],
+        0u,
+    );
+}
+
 // One invocation per grid quad: two counter-clockwise triangles (seen from the side Su x Sv
 // points to). workgroup_id.y is the patch record.
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -436,6 +500,18 @@ fn write_triangles(
     let c = b + 1u;                           // (i + 1, j + 1)
     let d = a + 1u;                           // (i, j + 1)
     let o = rec.index_offset + quad * 6u;
+    if (rec.kind == PATCH_KIND_STENCIL_TRIANGLE) {
+        // The lattice i + j <= segments: the cell's lower triangle, and its upper one inside.
+        let inside = i + j + 1u <= rec.segments_u;
+        let upper = i + j + 2u <= rec.segments_u;
+        triangle_indices[o] = a;
+        triangle_indices[o + 1u] = select(a, b, inside);
+        triangle_indices[o + 2u] = select(a, d, inside);
+        triangle_indices[o + 3u] = select(a, b, upper);
+        triangle_indices[o + 4u] = select(a, c, upper);
+        triangle_indices[o + 5u] = select(a, d, upper);
+        return;
+    }
     triangle_indices[o] = a;
     triangle_indices[o + 1u] = b;
     triangle_indices[o + 2u] = c;

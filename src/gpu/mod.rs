@@ -10,6 +10,8 @@ pub mod point_eval;
 pub mod readback;
 pub mod records;
 pub mod scene_sync;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod subdiv_eval;
 pub mod timing;
 
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};

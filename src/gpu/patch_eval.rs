@@ -42,9 +42,11 @@ use wgpu::util::DeviceExt;
 
 use super::error::GpuError;
 use super::records::{
-    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PatchRecord, SurfaceVertex,
+    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PATCH_KIND_STENCIL_QUAD,
+    PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
 };
 use crate::kernel::BezierPatchSet;
+use crate::kernel::subdiv::patches::LimitFeed;
 use crate::shaders;
 
 pub use crate::scene::MAX_SEGMENTS;
@@ -196,10 +198,20 @@ impl PatchEvaluator {
             .entry(key)
             .or_insert_with(|| {
                 let PipelineKey {
+                    kind,
                     degree_u: p,
                     degree_v: q,
-                    ..
                 } = key;
+                if kind != PATCH_KIND_BEZIER {
+                    return compute_pipeline(
+                        &self.device,
+                        &self.pipeline_layout,
+                        &self.module,
+                        "evaluate subdivision limit stencils",
+                        "evaluate_stencil_vertices",
+                        &[],
+                    );
+                }
                 let bicubic = if (p, q) == (3, 3) { 1.0 } else { 0.0 };
                 compute_pipeline(
                     &self.device,
@@ -260,6 +272,10 @@ pub struct ObjectPatches<'a> {
     pub domains: &'a [[f64; 4]],
     /// Segments per patch edge, in both directions.
     pub segments: u32,
+    /// A subdivision surface's stencil patches, evaluated after the Bézier patches.
+    pub stencils: Option<&'a LimitFeed>,
+    /// How many of the set's first points the stencils use (the cage).
+    pub cage_points: usize,
 }
 
 /// Where one object lives in the shared buffers.
@@ -269,6 +285,9 @@ struct ObjectRange {
     point_count: usize,
     first_patch: usize,
     patch_count: usize,
+    /// Bézier patches among them (the rest are stencil patches).
+    bezier_count: usize,
+    cage_points: usize,
 }
 
 /// The patches of one degree pair, evaluated by one specialized pipeline.
@@ -339,7 +358,14 @@ impl PatchGeometry {
     ) -> Result<Self, GpuError> {
         let limits = device.limits();
         let max_groups = limits.max_compute_workgroups_per_dimension;
-        let total_patches: usize = objects.iter().map(|o| o.set.patches().len()).sum();
+        let stencil_count = |o: &ObjectPatches<'_>| o.stencils.map_or(0, |f| f.patches.len());
+        let total_patches: usize = objects
+            .iter()
+            .map(|o| o.set.patches().len() + stencil_count(o))
+            .sum();
+        let total_points: usize = objects.iter().map(|o| o.set.points().len()).sum();
+        // Stencil entries follow the points in the control point buffer, two vec4 each.
+        let mut entry_data: Vec<[f32; 4]> = Vec::new();
         if total_patches > max_groups as usize {
             return Err(GpuError::TooManyPatches {
                 count: total_patches,
@@ -374,7 +400,9 @@ impl PatchGeometry {
                 first_point,
                 point_count: input.set.points().len(),
                 first_patch: records.len(),
-                patch_count: input.set.patches().len(),
+                patch_count: input.set.patches().len() + stencil_count(input),
+                bezier_count: input.set.patches().len(),
+                cage_points: input.cage_points,
             });
             for (k, patch) in input.set.patches().iter().enumerate() {
                 let (du, dv) = (patch.degree_u(), patch.degree_v());
@@ -412,15 +440,77 @@ impl PatchGeometry {
                 vertex_offset += grid_vertices;
                 index_offset += 6 * grid_quads;
             }
+            if let Some(feed) = input.stencils {
+                let entry_base = total_points + entry_data.len();
+                for &(index, w) in &feed.entries {
+                    let global = (index as usize + first_point) as u32;
+                    entry_data.push([
+                        f32::from_bits(global),
+                        w[0] as f32,
+                        w[1] as f32,
+                        w[2] as f32,
+                    ]);
+                    entry_data.push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
+                }
+                for patch in &feed.patches {
+                    let s = patch.segments;
+                    let slots = u64::from(s + 1).pow(2);
+                    if !(1..=MAX_SEGMENTS).contains(&s) || workgroups(slots) > u64::from(max_groups)
+                    {
+                        return Err(GpuError::SegmentsOutOfRange {
+                            segments: s,
+                            max: MAX_SEGMENTS,
+                        });
+                    }
+                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
+                    records.push(PatchRecord {
+                        degree_u: 1,
+                        degree_v: 1,
+                        control_offset: control_indices.len() as u32,
+                        vertex_offset: vertex_offset as u32,
+                        segments_u: s,
+                        segments_v: s,
+                        index_offset: index_offset as u32,
+                        object: object as u32,
+                        domain: [0.0, 1.0, 0.0, 1.0],
+                        kind: if patch.triangle {
+                            PATCH_KIND_STENCIL_TRIANGLE
+                        } else {
+                            PATCH_KIND_STENCIL_QUAD
+                        },
+                        trim_offset: 0,
+                        trim_count: 0,
+                        reserved: 0,
+                    });
+                    let first = patch.first_slot as usize;
+                    for k in first..first + slots as usize {
+                        let [start, count] = feed.slots[k];
+                        let flag = if feed.no_curvature[k] {
+                            STENCIL_NO_CURVATURE
+                        } else {
+                            0
+                        };
+                        control_indices.push((entry_base + 2 * start as usize) as u32);
+                        control_indices.push(count | flag);
+                    }
+                    vertex_offset += slots;
+                    index_offset += 6 * u64::from(s).pow(2);
+                }
+            }
             points.extend(homogeneous_points(input.set));
         }
+        let point_bytes = (points.len() + entry_data.len()) as u64 * 16;
 
         let vertex_bytes = vertex_offset * std::mem::size_of::<SurfaceVertex>() as u64;
         let index_bytes = index_offset * 4;
         let limit = limits
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size);
-        for (what, bytes) in [("vertex", vertex_bytes), ("index", index_bytes)] {
+        for (what, bytes) in [
+            ("vertex", vertex_bytes),
+            ("index", index_bytes),
+            ("control point and stencil", point_bytes),
+        ] {
             if bytes > limit || index_offset > u64::from(u32::MAX) {
                 return Err(GpuError::BufferTooLarge { what, bytes, limit });
             }
@@ -439,9 +529,11 @@ impl PatchGeometry {
                 usage,
             })
         };
+        let mut pool = points.clone();
+        pool.extend_from_slice(&entry_data);
         let control_points = init(
             "control points",
-            bytemuck::cast_slice(&points),
+            bytemuck::cast_slice(&pool),
             storage | wgpu::BufferUsages::COPY_DST,
         );
         let control_index_buffer = init(
@@ -533,7 +625,7 @@ impl PatchGeometry {
         patches: Option<&[usize]>,
     ) -> Result<usize, GpuError> {
         let range = self.object_range(object)?;
-        if set.points().len() != range.point_count || set.patches().len() != range.patch_count {
+        if set.points().len() != range.point_count || set.patches().len() != range.bezier_count {
             return Err(GpuError::ControlPointCountChanged {
                 expected: range.point_count,
                 found: set.points().len(),
@@ -557,8 +649,23 @@ impl PatchGeometry {
         }
         let fresh = homogeneous_points(set);
         let mut changed = BTreeSet::new();
+        // The cage points the stencil patches read.
+        let mut cage_changed = false;
+        for local in 0..range.cage_points {
+            let global = range.first_point + local;
+            if self.uploaded[global] != fresh[local] {
+                changed.insert(global);
+                cage_changed = true;
+            }
+        }
         for &p in patches {
             let record = range.first_patch + p;
+            if p >= range.bezier_count {
+                if explicit || cage_changed {
+                    self.dirty[record] = true;
+                }
+                continue;
+            }
             let r = &self.records[record];
             let block = (r.degree_u as usize + 1) * (r.degree_v as usize + 1);
             let first = r.control_offset as usize;

@@ -51,6 +51,8 @@ pub fn evaluate_points(
         device,
         &evaluator,
         &[ObjectPatches {
+            stencils: None,
+            cage_points: 0,
             set: &set,
             domains: &[],
             segments: 1,

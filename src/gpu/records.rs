@@ -20,6 +20,15 @@ pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 /// WGSL: `PATCH_KIND_BEZIER` in `shaders/common.wgsl`.
 pub const PATCH_KIND_BEZIER: u32 = 0;
 
+/// [`PatchRecord::kind`] of a grid of subdivision limit stencils. WGSL:
+/// `PATCH_KIND_STENCIL_QUAD` in `shaders/common.wgsl`.
+pub const PATCH_KIND_STENCIL_QUAD: u32 = 1;
+/// [`PatchRecord::kind`] of a triangle of subdivision limit stencils. WGSL:
+/// `PATCH_KIND_STENCIL_TRIANGLE`.
+pub const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2;
+/// Bit of a stencil slot's entry count: no curvature there. WGSL: `STENCIL_NO_CURVATURE`.
+pub const STENCIL_NO_CURVATURE: u32 = 0x8000_0000;
+
 /// One patch to evaluate. WGSL: `struct PatchRecord` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

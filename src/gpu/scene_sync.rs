@@ -46,10 +46,7 @@ pub fn fit_to_device<T>(
 
 /// What a hidden object feeds the GPU: nothing.
 fn nothing() -> Decomposition {
-    Decomposition {
-        set: Default::default(),
-        domains: Vec::new(),
-    }
+    Decomposition::default()
 }
 
 /// The GPU feed of one object, with the object's name on a failure.
@@ -132,6 +129,8 @@ impl SceneSync {
                 .map(|(object, d)| ObjectPatches {
                     set: &d.set,
                     domains: &d.domains,
+                    stencils: d.stencils.as_deref(),
+                    cage_points: d.cage_points,
                     segments: effective_segments(object.segments, q),
                 })
                 .collect();

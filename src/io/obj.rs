@@ -16,6 +16,7 @@ use super::json::FormatError;
 use super::project::{self, Project};
 use crate::kernel::PolygonMesh;
 use crate::kernel::mesh::MAX_FACE_CORNERS;
+use crate::kernel::subdiv::{Corner, Crease, Options, SubdivisionSurface};
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 fn at_line(line: usize, message: impl Into<String>) -> FormatError {
@@ -23,19 +24,114 @@ fn at_line(line: usize, message: impl Into<String>) -> FormatError {
 }
 
 /// One group's faces, over the file's global vertex indices.
-struct Group {
-    name: String,
-    faces: Vec<Vec<u32>>,
+pub struct Group {
+    pub name: String,
+    pub faces: Vec<Vec<u32>>,
 }
 
-/// Reads OBJ text into a project of polygon meshes (no view).
+/// An OBJ file as written: vertices in the file's own axes, groups of faces over the file's
+/// 0-based vertex indices, and OpenSubdiv's crease tags (`t crease 2/1/0 A B S`,
+/// `t corner 1/1/0 V S`, 0-based indices).
+pub struct ObjText {
+    pub vertices: Vec<DVec3>,
+    pub groups: Vec<Group>,
+    pub creases: Vec<Crease>,
+    pub corners: Vec<Corner>,
+}
+
+impl ObjText {
+    /// Every face of the file, in order, over the file's vertex indices.
+    pub fn all_faces(&self) -> Vec<Vec<u32>> {
+        self.groups.iter().flat_map(|g| g.faces.clone()).collect()
+    }
+}
+
+/// Reads a `t` (tag) record: `t NAME I/F/S ints... floats... strings...`.
+fn read_tag(
+    line: usize,
+    mut fields: std::str::SplitWhitespace<'_>,
+    creases: &mut Vec<Crease>,
+    corners: &mut Vec<Corner>,
+) -> Result<(), FormatError> {
+    let Some(name) = fields.next() else {
+        return Err(at_line(line, "a tag needs a name"));
+    };
+    if name != "crease" && name != "corner" {
+        return Ok(());
+    }
+    let counts: Vec<usize> = fields
+        .next()
+        .unwrap_or("")
+        .split('/')
+        .map(|c| c.parse::<usize>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| at_line(line, "a tag's counts are written I/F/S"))?;
+    let [ints, floats, ..] = counts[..] else {
+        return Err(at_line(line, "a tag's counts are written I/F/S"));
+    };
+    let rest: Vec<&str> = fields.collect();
+    if rest.len() < ints + floats || ints > MAX_IMPORT_VERTICES || floats == 0 {
+        return Err(at_line(
+            line,
+            format!("the {name} tag needs {ints} indices and {floats} values"),
+        ));
+    }
+    let indices: Vec<u32> = rest[..ints]
+        .iter()
+        .map(|x| x.parse::<u32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| at_line(line, "a tag index is not a vertex number"))?;
+    let values: Vec<f64> = rest[ints..ints + floats]
+        .iter()
+        .map(|x| x.parse::<f64>().ok().filter(|v| v.is_finite() && *v >= 0.0))
+        .collect::<Option<_>>()
+        .ok_or_else(|| at_line(line, "a sharpness must be a finite number ≥ 0"))?;
+    let value = |k: usize| values.get(k).copied().unwrap_or(values[0]);
+    if name == "crease" {
+        if ints < 2 || ints % 2 != 0 {
+            return Err(at_line(line, "a crease tag names pairs of vertices"));
+        }
+        for (k, pair) in indices.chunks(2).enumerate() {
+            creases.push(Crease {
+                a: pair[0],
+                b: pair[1],
+                sharpness: value(k),
+            });
+        }
+    } else {
+        for (k, &vertex) in indices.iter().enumerate() {
+            corners.push(Corner {
+                vertex,
+                sharpness: value(k),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Reads OBJ text into a project of polygon meshes (no view); a file with crease tags opens as
+/// one subdivision cage per group, level 0.
 pub fn read(text: &str) -> Result<Project, FormatError> {
+    let parsed = parse(text)?;
+    let tagged = !parsed.creases.is_empty() || !parsed.corners.is_empty();
+    objects(parsed, tagged)
+}
+
+/// Parses OBJ text without changing axes ([`ObjText`]).
+pub fn parse(text: &str) -> Result<ObjText, FormatError> {
     project::check_size(text.len() as u64)?;
-    let mut vertices: Vec<DVec3> = Vec::new();
-    let mut groups = vec![Group {
-        name: String::new(),
-        faces: Vec::new(),
-    }];
+    let mut parsed = ObjText {
+        vertices: Vec::new(),
+        groups: vec![Group {
+            name: String::new(),
+            faces: Vec::new(),
+        }],
+        creases: Vec::new(),
+        corners: Vec::new(),
+    };
+    let (mut creases, mut corners) = (Vec::new(), Vec::new());
+    let vertices = &mut parsed.vertices;
+    let groups = &mut parsed.groups;
     let mut face_total = 0usize;
     for (number, raw) in text.lines().enumerate() {
         let line = number + 1;
@@ -65,7 +161,7 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
                         format!("more than {MAX_IMPORT_VERTICES} vertices"),
                     ));
                 }
-                vertices.push(from_gltf_axes(DVec3::from_array(xyz)));
+                vertices.push(DVec3::from_array(xyz));
             }
             "f" => {
                 let mut face = Vec::new();
@@ -122,13 +218,49 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
                     }),
                 }
             }
+            "t" => {
+                read_tag(line, fields, &mut creases, &mut corners)?;
+            }
             // Texture coordinates, normals, parameter-space vertices, materials, smoothing
             // groups, lines, points and free-form records: not part of a polygon cage.
             _ => {}
         }
     }
+    parsed.creases = creases;
+    parsed.corners = corners;
+    Ok(parsed)
+}
+
+/// OBJ text of a mesh: `v` lines, one `vn` per `v` when `normals` is not empty, and `f` lines
+/// (1-based, `i//i` when there are normals).
+pub fn write(positions: &[DVec3], normals: &[DVec3], faces: &[&[u32]]) -> String {
+    use std::fmt::Write;
+    let mut out = String::with_capacity(positions.len() * 60 + faces.len() * 24);
+    for p in positions {
+        let _ = writeln!(out, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for n in normals {
+        let _ = writeln!(out, "vn {} {} {}", n.x, n.y, n.z);
+    }
+    for face in faces {
+        out.push('f');
+        for &v in *face {
+            if normals.is_empty() {
+                let _ = write!(out, " {}", v + 1);
+            } else {
+                let _ = write!(out, " {}//{}", v + 1, v + 1);
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The scene objects of a parsed file, turned from OBJ's Y-up into knotwork's Z-up.
+fn objects(parsed: ObjText, cages: bool) -> Result<Project, FormatError> {
+    let vertices: Vec<DVec3> = parsed.vertices.iter().map(|&p| from_gltf_axes(p)).collect();
     let mut objects = Vec::new();
-    for group in groups.into_iter().filter(|g| !g.faces.is_empty()) {
+    for group in parsed.groups.into_iter().filter(|g| !g.faces.is_empty()) {
         // Each object keeps only the vertices its faces use, renumbered in first-use order.
         let mut map = std::collections::HashMap::new();
         let mut points = Vec::new();
@@ -153,7 +285,36 @@ pub fn read(text: &str) -> Result<Project, FormatError> {
         };
         let mesh = PolygonMesh::new(points, &faces)
             .map_err(|e| FormatError::new(format!("object {name:?}"), e.to_string()))?;
-        let mut object = SceneObject::new(name, ObjectGeometry::Mesh(mesh));
+        let geometry = if cages {
+            let local = |v: u32| map.get(&v).copied();
+            let creases = parsed
+                .creases
+                .iter()
+                .filter_map(|c| {
+                    Some(Crease {
+                        a: local(c.a)?,
+                        b: local(c.b)?,
+                        ..*c
+                    })
+                })
+                .collect();
+            let corners = parsed
+                .corners
+                .iter()
+                .filter_map(|c| {
+                    Some(Corner {
+                        vertex: local(c.vertex)?,
+                        ..*c
+                    })
+                })
+                .collect();
+            let surface = SubdivisionSurface::new(mesh, creases, corners, Options::default(), 0)
+                .map_err(|e| FormatError::new(format!("object {name:?}"), e.to_string()))?;
+            ObjectGeometry::Subdivision(Box::new(surface.into()))
+        } else {
+            ObjectGeometry::Mesh(mesh)
+        };
+        let mut object = SceneObject::new(name, geometry);
         object.segments = 1;
         objects.push(object);
     }

@@ -24,6 +24,11 @@
 //! control points, degrees above 32, segments above [`MAX_SEGMENTS`] and anything malformed give
 //! a [`FormatError`] naming the JSON path, and nothing is allocated beyond the text itself.
 
+use crate::kernel::subdiv::patches::Display;
+use crate::kernel::subdiv::{
+    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
+};
+use crate::scene::SubdivObject;
 use serde::{Deserialize, Serialize};
 
 use super::json::{self, FormatError, Geometry, NamedGeometry};
@@ -69,6 +74,84 @@ struct RawMesh {
     kind: String,
     points: Vec<[f64; 3]>,
     faces: Vec<Vec<u32>>,
+}
+
+/// A subdivision surface: its cage, creases `[a, b, sharpness]`, corners `[vertex, sharpness]`,
+/// rules, level and display.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCage {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+    #[serde(default)]
+    creases: Vec<(u32, u32, f64)>,
+    #[serde(default)]
+    corners: Vec<(u32, f64)>,
+    #[serde(default)]
+    scheme: Scheme,
+    #[serde(default)]
+    boundary: Boundary,
+    #[serde(default)]
+    creasing: Creasing,
+    #[serde(default)]
+    level: u32,
+    #[serde(default)]
+    display: Display,
+}
+
+fn read_cage(path: &str, value: serde_json::Value) -> Result<SubdivObject, FormatError> {
+    let raw: RawCage = deserialize(path, value)?;
+    let points = raw
+        .points
+        .iter()
+        .map(|&p| glam::DVec3::from_array(p))
+        .collect();
+    let mesh = PolygonMesh::new(points, &raw.faces).map_err(|e| FormatError::geometry(path, e))?;
+    let creases = raw
+        .creases
+        .iter()
+        .map(|&(a, b, sharpness)| Crease { a, b, sharpness })
+        .collect();
+    let corners = raw
+        .corners
+        .iter()
+        .map(|&(vertex, sharpness)| Corner { vertex, sharpness })
+        .collect();
+    let options = Options {
+        scheme: raw.scheme,
+        boundary: raw.boundary,
+        creasing: raw.creasing,
+    };
+    let surface = SubdivisionSurface::new(mesh, creases, corners, options, raw.level)
+        .map_err(|e| FormatError::geometry(path, e))?;
+    Ok(SubdivObject::new(surface, raw.display))
+}
+
+fn cage_value(object: &SubdivObject) -> serde_json::Value {
+    let surface = &object.surface;
+    serde_json::to_value(RawCage {
+        kind: "subdivision_surface".into(),
+        points: surface.points().iter().map(|p| p.to_array()).collect(),
+        faces: surface.mesh().faces().map(<[u32]>::to_vec).collect(),
+        creases: surface
+            .creases()
+            .iter()
+            .map(|c| (c.a, c.b, c.sharpness))
+            .collect(),
+        corners: surface
+            .corners()
+            .iter()
+            .map(|c| (c.vertex, c.sharpness))
+            .collect(),
+        scheme: surface.options.scheme,
+        boundary: surface.options.boundary,
+        creasing: surface.options.creasing,
+        level: surface.level(),
+        display: object.display,
+    })
+    .unwrap_or(serde_json::Value::Null)
 }
 
 fn deserialize<T: serde::de::DeserializeOwned>(
@@ -222,6 +305,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         "nurbs_surface",
         "bezier_patches",
         "polygon_mesh",
+        "subdivision_surface",
         "nurbs_curve",
         "trim_curve",
     ]
@@ -230,7 +314,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         return Err(FormatError::new(
             format!("{path}.type"),
             format!(
-                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\" or \"polygon_mesh\"",
+                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\", \"polygon_mesh\" or \"subdivision_surface\"",
                 map.get("type")
                     .map_or("(missing)".to_string(), |t| t.to_string())
             ),
@@ -238,8 +322,11 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     }
     let is_patches = kind == "bezier_patches";
     let is_mesh = kind == "polygon_mesh";
+    let is_cage = kind == "subdivision_surface";
     let value = serde_json::Value::Object(map);
-    let geometry = if is_patches {
+    let geometry = if is_cage {
+        ObjectGeometry::Subdivision(Box::new(read_cage(path, value)?))
+    } else if is_patches {
         ObjectGeometry::Patches(read_patches(path, value)?)
     } else if is_mesh {
         let raw: RawMesh = deserialize(path, value)?;
@@ -324,6 +411,7 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
             faces: mesh.faces().map(<[u32]>::to_vec).collect(),
         })
         .unwrap_or(serde_json::Value::Null),
+        ObjectGeometry::Subdivision(object) => cage_value(object),
     };
     if let serde_json::Value::Object(map) = &mut value {
         map.insert("name".into(), object.name.clone().into());

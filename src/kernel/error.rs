@@ -32,6 +32,16 @@ impl Location {
         Self::field("patches").index(index)
     }
 
+    /// Face `index` of a cage: `faces[index]`.
+    pub fn face(index: usize) -> Self {
+        Self::field("faces").index(index)
+    }
+
+    /// The edge between vertices `a` and `b` of a cage: `edges[a-b]`, smaller index first.
+    pub fn edge(a: u32, b: u32) -> Self {
+        Self(format!("edges[{}-{}]", a.min(b), a.max(b)))
+    }
+
     /// This location's element `index`: `...[index]`.
     pub fn index(mut self, index: usize) -> Self {
         self.0 = format!("{}[{index}]", self.0);
@@ -162,8 +172,38 @@ pub enum GeometryError {
     },
     #[error("{what}: {message}")]
     Construction { what: &'static str, message: String },
+    #[error("{at}: {problem}")]
+    Cage { at: Location, problem: CageProblem },
     #[error("sample data {name}: {message}")]
     SampleData { name: &'static str, message: String },
+}
+
+/// Why a subdivision cage was refused; the [`Location`] names the face, edge or vertex
+/// (`faces[3]`, `edges[2-7]`, `points[5]`, `creases[1]`).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CageProblem {
+    #[error("the edge is shared by {faces} faces (at most 2 for a manifold cage)")]
+    NonManifoldEdge { faces: usize },
+    #[error(
+        "the edge is used twice in the same direction (neighbouring faces disagree on orientation)"
+    )]
+    Orientation,
+    #[error("the faces around this vertex do not form one fan")]
+    NonManifoldVertex,
+    #[error("the face repeats vertex {vertex}")]
+    RepeatedVertex { vertex: u32 },
+    #[error("the face has {corners} corners; Loop subdivision takes triangles only")]
+    NotTriangle { corners: usize },
+    #[error("the face is degenerate (its corners coincide)")]
+    Degenerate,
+    #[error("sharpness {sharpness} must be finite and ≥ 0")]
+    Sharpness { sharpness: f64 },
+    #[error("there is no edge between vertices {a} and {b}")]
+    NoSuchEdge { a: u32, b: u32 },
+    #[error("vertex {vertex} does not exist (the cage has {count} points)")]
+    NoSuchVertex { vertex: u32, count: usize },
+    #[error("level {level} is outside 0..={max}")]
+    Level { level: u32, max: u32 },
 }
 
 impl GeometryError {
@@ -180,7 +220,8 @@ impl GeometryError {
             | Self::NonFiniteKnot { at, .. }
             | Self::DecreasingKnot { at, .. }
             | Self::KnotMultiplicity { at, .. }
-            | Self::EmptyDomain { at, .. } => Some(at),
+            | Self::EmptyDomain { at, .. }
+            | Self::Cage { at, .. } => Some(at),
             _ => None,
         }
     }

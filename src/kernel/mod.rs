@@ -13,6 +13,7 @@ pub mod error;
 pub mod mesh;
 pub mod ops;
 pub mod samples;
+pub mod subdiv;
 pub mod surface;
 pub mod tess;
 pub mod vector;
@@ -20,7 +21,7 @@ pub mod vector;
 pub use bezier::{BezierPatch, BezierPatchSet};
 pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
 pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
-pub use error::{GeometryError, Location};
+pub use error::{CageProblem, GeometryError, Location};
 pub use mesh::PolygonMesh;
 pub use surface::{Direction, NurbsSurface};
 

@@ -60,7 +60,11 @@ impl ObjectKind for PolygonMesh {
     fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
         let set = self.to_bezier_patch_set()?;
         let domains = vec![[0.0, 1.0, 0.0, 1.0]; set.patches().len()];
-        Ok(Decomposition { set, domains })
+        Ok(Decomposition {
+            set,
+            domains,
+            ..Default::default()
+        })
     }
 
     /// Bilinear interpolation of the face's corners: a quad (a, b, c, d) is

@@ -9,8 +9,10 @@ mod kind;
 mod mesh;
 mod nurbs;
 mod patch_set;
+mod subdiv;
 
 pub use kind::ObjectKind;
+pub use subdiv::SubdivObject;
 
 use glam::DVec3;
 
@@ -47,15 +49,21 @@ pub enum ObjectGeometry {
     Nurbs(NurbsSurface),
     /// A polygon mesh (an imported OBJ or glTF mesh), drawn as bilinear patches.
     Mesh(PolygonMesh),
+    /// A subdivision surface over a polygon cage.
+    Subdivision(Box<SubdivObject>),
 }
 
 /// What an object feeds the GPU evaluator: rational Bézier patches over one point pool, each
 /// with its parameter rectangle in the object's own domain.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Decomposition {
     pub set: BezierPatchSet,
     /// Each patch's parameter rectangle (u0, u1, v0, v1) in the object's own domain.
     pub domains: Vec<[f64; 4]>,
+    /// A subdivision surface's stencil patches (after the Bézier patches), over the first
+    /// [`Self::cage_points`] points of the set.
+    pub stencils: Option<std::sync::Arc<crate::kernel::subdiv::patches::LimitFeed>>,
+    pub cage_points: usize,
 }
 
 /// One object of the scene.
@@ -76,6 +84,7 @@ impl ObjectGeometry {
             ObjectGeometry::Patches(set) => set,
             ObjectGeometry::Nurbs(surface) => surface,
             ObjectGeometry::Mesh(mesh) => mesh,
+            ObjectGeometry::Subdivision(surface) => surface.as_ref(),
         }
     }
 
@@ -85,6 +94,7 @@ impl ObjectGeometry {
             ObjectGeometry::Patches(set) => set,
             ObjectGeometry::Nurbs(surface) => surface,
             ObjectGeometry::Mesh(mesh) => mesh,
+            ObjectGeometry::Subdivision(surface) => surface.as_mut(),
         }
     }
 }

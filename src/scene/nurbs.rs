@@ -92,7 +92,11 @@ impl ObjectKind for NurbsSurface {
             .windows(2)
             .flat_map(|wu| bv.windows(2).map(move |wv| [wu[0], wu[1], wv[0], wv[1]]))
             .collect();
-        Ok(Decomposition { set, domains })
+        Ok(Decomposition {
+            set,
+            domains,
+            ..Default::default()
+        })
     }
 
     /// The surface itself (The NURBS Book A4.1) at the point of span `patch` (spans in u-major

@@ -64,6 +64,7 @@ impl ObjectKind for BezierPatchSet {
         Ok(Decomposition {
             set: self.clone(),
             domains: vec![[0.0, 1.0, 0.0, 1.0]; self.patches().len()],
+            ..Default::default()
         })
     }
 

@@ -45,6 +45,8 @@ pub fn upload(
     let inputs: Vec<knotwork::gpu::ObjectPatches<'_>> = objects
         .iter()
         .map(|(d, segments)| knotwork::gpu::ObjectPatches {
+            stencils: None,
+            cage_points: 0,
             set: &d.set,
             domains: &d.domains,
             segments: *segments,

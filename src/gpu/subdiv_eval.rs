@@ -1,0 +1,86 @@
+//! A subdivision surface's level evaluated by the compute shaders alone (`knotwork subdivide
+//! --backend gpu` and the tests): every face as stencil patches, each slot read back to the
+//! level vertex it shows.
+
+use glam::DVec3;
+
+use super::error::GpuError;
+use super::patch_eval::{ObjectPatches, PatchEvaluator, PatchGeometry};
+use crate::kernel::BezierPatchSet;
+use crate::kernel::subdiv::SubdivisionSurface;
+use crate::kernel::subdiv::patches::{Display, LimitFeed};
+
+/// What the GPU computed for each vertex of a level: position, unit normal and (K, H, k1, k2),
+/// `None` for vertices on no face.
+pub type LevelVertices = Vec<Option<(DVec3, DVec3, [f64; 4])>>;
+
+/// Evaluates `surface` at level `levels` (≥ 1) on the GPU: the limit (or, with `limit` false,
+/// refined) position, the limit normal and the curvatures of every vertex of the level.
+pub fn evaluate_level(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    surface: &SubdivisionSurface,
+    levels: u32,
+    limit: bool,
+) -> Result<LevelVertices, GpuError> {
+    let display = if limit {
+        Display::Limit
+    } else {
+        Display::Refined
+    };
+    let feed = surface
+        .limit_feed_with(levels, display, false)
+        .map_err(|e| GpuError::Geometry(e.to_string()))?;
+    evaluate_feed(device, queue, surface.points(), &feed)
+}
+
+/// Evaluates every stencil patch of `feed` over `cage` on the GPU and returns each level
+/// vertex's result.
+pub fn evaluate_feed(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    cage: &[DVec3],
+    feed: &LimitFeed,
+) -> Result<LevelVertices, GpuError> {
+    let set = BezierPatchSet::new(cage.to_vec(), None, Vec::new())
+        .map_err(|e| GpuError::Geometry(e.to_string()))?;
+    let evaluator = PatchEvaluator::new(device);
+    let mut geometry = PatchGeometry::new(
+        device,
+        &evaluator,
+        &[ObjectPatches {
+            set: &set,
+            domains: &[],
+            segments: 1,
+            stencils: Some(feed),
+            cage_points: cage.len(),
+        }],
+    )?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    geometry.encode(queue, &mut encoder, &evaluator, None);
+    queue.submit([encoder.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let vertices = geometry.read_vertices(device, queue)?;
+    let count = feed
+        .vertex
+        .iter()
+        .filter(|&&v| v != u32::MAX)
+        .max()
+        .map_or(0, |&v| v as usize + 1);
+    let mut out: LevelVertices = vec![None; count];
+    for (record, patch) in geometry.records().iter().zip(&feed.patches) {
+        let slots = (patch.segments as usize + 1).pow(2);
+        for k in 0..slots {
+            let vertex = feed.vertex[patch.first_slot as usize + k];
+            if vertex == u32::MAX {
+                continue;
+            }
+            let v = vertices[record.vertex_offset as usize + k];
+            let f = |a: [f32; 3]| DVec3::from(a.map(f64::from));
+            out[vertex as usize] = Some((f(v.position), f(v.normal), v.curvature.map(f64::from)));
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,311 @@
+//! The topology of one subdivision level: faces, edges (numbered as OpenSubdiv's Vtr numbers
+//! them), their adjacency and sharpness, with the manifold checks a cage must pass.
+
+use std::collections::HashMap;
+
+use crate::kernel::{CageProblem, GeometryError, Location};
+
+/// No face on this side of an edge.
+pub const NONE: u32 = u32::MAX;
+
+/// Sharpness at or above which a crease is infinitely sharp (OpenSubdiv's `SHARPNESS_INFINITE`).
+pub const INFINITE_SHARPNESS: f64 = 10.0;
+
+/// One level of a subdivision hierarchy: the cage (level 0) or a refinement of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level {
+    pub vertex_count: usize,
+    face_starts: Vec<u32>,
+    face_vertices: Vec<u32>,
+    /// Parallel to `face_vertices`: the edge from corner j to corner j + 1.
+    face_edges: Vec<u32>,
+    /// Each edge's end vertices.
+    pub edges: Vec<[u32; 2]>,
+    /// The (up to two) faces of each edge; [`NONE`] where there is none.
+    pub edge_faces: Vec<[u32; 2]>,
+    pub edge_sharpness: Vec<f64>,
+    pub vertex_sharpness: Vec<f64>,
+    vertex_edge_starts: Vec<u32>,
+    vertex_edges: Vec<u32>,
+    vertex_face_starts: Vec<u32>,
+    vertex_faces: Vec<u32>,
+}
+
+/// The faces and neighbours around a vertex in counter-clockwise order (seen from the side the
+/// faces' orientation points to): face k lies between `neighbours[k]` and `neighbours[k + 1]`
+/// (cyclically for an interior vertex; a boundary vertex has one more neighbour than faces).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ring {
+    pub neighbours: Vec<u32>,
+    pub faces: Vec<u32>,
+    pub boundary: bool,
+}
+
+fn cage_error(at: Location, problem: CageProblem) -> GeometryError {
+    GeometryError::Cage { at, problem }
+}
+
+impl Level {
+    /// Builds the adjacency of `faces` over `vertex_count` vertices. `edges` lists edges known
+    /// in advance (a refinement's child edges, in OpenSubdiv's order); the others are numbered
+    /// in the order the faces first use them (face by face, corner j to j + 1), as OpenSubdiv
+    /// numbers a base level's edges. Refuses repeated vertices in a face, faces with fewer
+    /// than three corners, edges with more than two faces or used twice in one direction, and
+    /// vertices whose faces do not form one fan, naming the face, edge or vertex.
+    pub fn new(
+        vertex_count: usize,
+        faces: &[&[u32]],
+        mut edges: Vec<[u32; 2]>,
+    ) -> Result<Self, GeometryError> {
+        let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(edges.len().max(16));
+        for (e, &[a, b]) in edges.iter().enumerate() {
+            index.insert((a.min(b), a.max(b)), e as u32);
+        }
+        let mut face_starts = Vec::with_capacity(faces.len() + 1);
+        let corner_count: usize = faces.iter().map(|f| f.len()).sum();
+        let mut face_vertices = Vec::with_capacity(corner_count);
+        let mut face_edges = Vec::with_capacity(corner_count);
+        // Which face uses each edge in the direction a -> b with a < b, and the other way.
+        let mut uses: Vec<[u32; 2]> = vec![[NONE; 2]; edges.len()];
+        face_starts.push(0);
+        for (f, face) in faces.iter().enumerate() {
+            if face.len() < 3 {
+                return Err(cage_error(Location::face(f), CageProblem::Degenerate));
+            }
+            for (j, &v) in face.iter().enumerate() {
+                if v as usize >= vertex_count {
+                    return Err(cage_error(
+                        Location::face(f),
+                        CageProblem::NoSuchVertex {
+                            vertex: v,
+                            count: vertex_count,
+                        },
+                    ));
+                }
+                if face[..j].contains(&v) {
+                    return Err(cage_error(
+                        Location::face(f),
+                        CageProblem::RepeatedVertex { vertex: v },
+                    ));
+                }
+            }
+            for (j, &a) in face.iter().enumerate() {
+                let b = face[(j + 1) % face.len()];
+                let key = (a.min(b), a.max(b));
+                let e = *index.entry(key).or_insert_with(|| {
+                    edges.push([a, b]);
+                    uses.push([NONE; 2]);
+                    (edges.len() - 1) as u32
+                });
+                let side = usize::from(a > b);
+                let slot = &mut uses[e as usize];
+                if slot[side] != NONE {
+                    let count = if slot[1 - side] != NONE { 3 } else { 2 };
+                    let problem = if count > 2 {
+                        CageProblem::NonManifoldEdge { faces: count }
+                    } else {
+                        CageProblem::Orientation
+                    };
+                    return Err(cage_error(Location::edge(a, b), problem));
+                }
+                slot[side] = f as u32;
+                face_vertices.push(a);
+                face_edges.push(e);
+            }
+            face_starts.push(face_vertices.len() as u32);
+        }
+        let edge_faces: Vec<[u32; 2]> = uses
+            .iter()
+            .map(|&[x, y]| if x == NONE { [y, NONE] } else { [x, y] })
+            .collect();
+        let (vertex_edge_starts, vertex_edges) = group(
+            vertex_count,
+            edges
+                .iter()
+                .enumerate()
+                .flat_map(|(e, &[a, b])| [(a, e as u32), (b, e as u32)]),
+        );
+        let (vertex_face_starts, vertex_faces) = group(
+            vertex_count,
+            (0..faces.len()).flat_map(|f| faces[f].iter().map(move |&v| (v, f as u32))),
+        );
+        let level = Self {
+            vertex_count,
+            face_starts,
+            face_vertices,
+            face_edges,
+            edge_sharpness: vec![0.0; edges.len()],
+            edges,
+            edge_faces,
+            vertex_sharpness: vec![0.0; vertex_count],
+            vertex_edge_starts,
+            vertex_edges,
+            vertex_face_starts,
+            vertex_faces,
+        };
+        level.check_fans()?;
+        Ok(level)
+    }
+
+    /// Every vertex with faces must have them in one fan: as many edges as faces (interior)
+    /// or one more with exactly two boundary edges, and the ring walk must reach them all.
+    fn check_fans(&self) -> Result<(), GeometryError> {
+        for v in 0..self.vertex_count as u32 {
+            let faces = self.vertex_faces(v).len();
+            if faces == 0 {
+                continue;
+            }
+            let boundary = self
+                .vertex_edges(v)
+                .iter()
+                .filter(|&&e| self.is_boundary_edge(e))
+                .count();
+            let edges = self.vertex_edges(v).len();
+            let shaped = match boundary {
+                0 => edges == faces,
+                2 => edges == faces + 1,
+                _ => false,
+            };
+            if !shaped || self.ring(v).faces.len() != faces {
+                return Err(cage_error(
+                    Location::point(v as usize),
+                    CageProblem::NonManifoldVertex,
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn face_count(&self) -> usize {
+        self.face_starts.len() - 1
+    }
+
+    pub fn face(&self, f: u32) -> &[u32] {
+        let (s, e) = (
+            self.face_starts[f as usize] as usize,
+            self.face_starts[f as usize + 1] as usize,
+        );
+        &self.face_vertices[s..e]
+    }
+
+    /// The edges of face `f`: edge j runs from corner j to corner j + 1.
+    pub fn face_edges(&self, f: u32) -> &[u32] {
+        let (s, e) = (
+            self.face_starts[f as usize] as usize,
+            self.face_starts[f as usize + 1] as usize,
+        );
+        &self.face_edges[s..e]
+    }
+
+    /// Every face's vertices.
+    pub fn faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        (0..self.face_count() as u32).map(|f| self.face(f))
+    }
+
+    pub fn vertex_edges(&self, v: u32) -> &[u32] {
+        let (s, e) = (
+            self.vertex_edge_starts[v as usize] as usize,
+            self.vertex_edge_starts[v as usize + 1] as usize,
+        );
+        &self.vertex_edges[s..e]
+    }
+
+    pub fn vertex_faces(&self, v: u32) -> &[u32] {
+        let (s, e) = (
+            self.vertex_face_starts[v as usize] as usize,
+            self.vertex_face_starts[v as usize + 1] as usize,
+        );
+        &self.vertex_faces[s..e]
+    }
+
+    pub fn is_boundary_edge(&self, e: u32) -> bool {
+        self.edge_faces[e as usize][1] == NONE
+    }
+
+    /// The end of edge `e` that is not `v`.
+    pub fn other_end(&self, e: u32, v: u32) -> u32 {
+        let [a, b] = self.edges[e as usize];
+        if a == v { b } else { a }
+    }
+
+    /// The index of the edge between `a` and `b` in face `f`, if `f` has that edge.
+    fn edge_in_face(&self, f: u32, a: u32, b: u32) -> Option<u32> {
+        let face = self.face(f);
+        let n = face.len();
+        (0..n)
+            .find(|&j| {
+                let (x, y) = (face[j], face[(j + 1) % n]);
+                (x == a && y == b) || (x == b && y == a)
+            })
+            .map(|j| self.face_edges(f)[j])
+    }
+
+    /// The faces and neighbours of `v` in counter-clockwise order ([`Ring`]); a boundary
+    /// vertex's ring starts at the boundary edge its first face leaves by.
+    pub fn ring(&self, v: u32) -> Ring {
+        let faces = self.vertex_faces(v);
+        let corner = |f: u32| -> (u32, u32) {
+            let face = self.face(f);
+            let n = face.len();
+            let j = face.iter().position(|&x| x == v).unwrap_or(0);
+            (face[(j + 1) % n], face[(j + n - 1) % n])
+        };
+        // The first face: one whose outgoing edge is a boundary edge, else any.
+        let start = faces
+            .iter()
+            .copied()
+            .find(|&f| {
+                let (out, _) = corner(f);
+                self.edge_in_face(f, v, out)
+                    .is_some_and(|e| self.is_boundary_edge(e))
+            })
+            .or_else(|| faces.first().copied());
+        let mut ring = Ring {
+            neighbours: Vec::with_capacity(faces.len() + 1),
+            faces: Vec::with_capacity(faces.len()),
+            boundary: false,
+        };
+        let Some(mut f) = start else {
+            return ring;
+        };
+        ring.neighbours.push(corner(f).0);
+        for _ in 0..faces.len() {
+            ring.faces.push(f);
+            let (_, incoming) = corner(f);
+            let Some(e) = self.edge_in_face(f, incoming, v) else {
+                break;
+            };
+            let [x, y] = self.edge_faces[e as usize];
+            let next = if x == f { y } else { x };
+            if next == NONE {
+                ring.neighbours.push(incoming);
+                ring.boundary = true;
+                break;
+            }
+            if next == ring.faces[0] {
+                break;
+            }
+            ring.neighbours.push(incoming);
+            f = next;
+        }
+        ring
+    }
+}
+
+/// Groups `(key, value)` pairs by key (0..count) into offsets and values, values in order.
+fn group(count: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<u32>, Vec<u32>) {
+    let mut starts = vec![0u32; count + 1];
+    for (k, _) in pairs.clone() {
+        starts[k as usize + 1] += 1;
+    }
+    for i in 0..count {
+        starts[i + 1] += starts[i];
+    }
+    let mut fill = starts.clone();
+    let mut values = vec![0u32; starts[count] as usize];
+    for (k, v) in pairs {
+        values[fill[k as usize] as usize] = v;
+        fill[k as usize] += 1;
+    }
+    (starts, values)
+}

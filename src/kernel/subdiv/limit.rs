@@ -1,0 +1,212 @@
+//! Limit masks: where a vertex of a refined level lands on the limit surface, and the surface's
+//! tangents and (at regular vertices) second derivatives there, as rows over the level's
+//! vertices (OpenSubdiv's `Scheme::ComputeVertexLimitMask`).
+
+use std::f64::consts::{PI, TAU};
+
+use super::Scheme;
+use super::level::Level;
+use super::refine::{Rule, vertex_rule};
+use super::stencil::Row;
+
+/// The vertex's rule from the level's remaining sharpness (the rule its limit mask follows).
+pub fn limit_rule(level: &Level, v: u32) -> Rule {
+    let sharp = level
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| level.edge_sharpness[e as usize] > 0.0)
+        .count();
+    vertex_rule(level.vertex_sharpness[v as usize], sharp)
+}
+
+/// The two other ends of the vertex's first two sharp edges.
+fn crease_ends(level: &Level, v: u32) -> [u32; 2] {
+    let mut ends = [v; 2];
+    let mut k = 0;
+    for &e in level.vertex_edges(v) {
+        if level.edge_sharpness[e as usize] > 0.0 && k < 2 {
+            ends[k] = level.other_end(e, v);
+            k += 1;
+        }
+    }
+    ends
+}
+
+/// The vertex of quad `f` diagonally opposite `v`.
+fn diagonal(level: &Level, f: u32, v: u32) -> u32 {
+    let face = level.face(f);
+    let j = face.iter().position(|&x| x == v).unwrap_or(0);
+    face[(j + face.len() / 2) % face.len()]
+}
+
+/// The limit position of vertex `v`. Catmull-Clark, smooth, valence n (all faces quads):
+/// (n² v + 4 Σ e_j + Σ d_j) / (n (n + 5)) with edge neighbours e_j and diagonal corners d_j
+/// (Halstead, Kass & DeRose 1993); Loop, smooth: (1 − nχ) v + χ Σ e_j with
+/// χ = 1 / (n + 3/(8β(n))); a crease: 2/3 v + 1/6 (a + b); a corner stays.
+pub fn limit_position(level: &Level, scheme: Scheme, v: u32) -> Row {
+    let faces = level.vertex_faces(v);
+    let rule = limit_rule(level, v);
+    match rule {
+        _ if faces.is_empty() => Row(vec![(v, 1.0)]),
+        Rule::Smooth | Rule::Dart => match scheme {
+            Scheme::CatmullClark => {
+                let n = faces.len() as f64;
+                if faces.len() == 2 {
+                    return Row(vec![(v, 1.0)]);
+                }
+                let mut row = Row(vec![(v, n / (n + 5.0))]);
+                for &e in level.vertex_edges(v) {
+                    row.add(level.other_end(e, v), 4.0 / (n * (n + 5.0)));
+                }
+                for &f in faces {
+                    row.add(diagonal(level, f, v), 1.0 / (n * (n + 5.0)));
+                }
+                row
+            }
+            Scheme::Loop => {
+                let edges = level.vertex_edges(v);
+                let n = edges.len() as f64;
+                let chi = 1.0 / (n + 3.0 / (8.0 * super::refine::loop_beta(edges.len())));
+                let mut row = Row(vec![(v, 1.0 - n * chi)]);
+                for &e in edges {
+                    row.add(level.other_end(e, v), chi);
+                }
+                row
+            }
+        },
+        Rule::Crease => {
+            let [a, b] = crease_ends(level, v);
+            Row(vec![(v, 2.0 / 3.0), (a, 1.0 / 6.0), (b, 1.0 / 6.0)])
+        }
+        Rule::Corner => Row(vec![(v, 1.0)]),
+    }
+}
+
+/// Two tangents of the limit surface at `v` whose cross product is the outward normal, as rows
+/// over the level's vertices; `position(u)` is the limit position row of vertex `u`.
+///
+/// Smooth vertices take the eigenvector masks: Catmull-Clark
+/// t = Σ A_n cos(2πj/n) e_j + (cos(2πj/n) + cos(2π(j+1)/n)) d_j with
+/// A_n = 1 + cos(2π/n) + cos(π/n) √(2 (9 + cos(2π/n))) and its sine twin (Halstead et al. 1993);
+/// Loop Σ cos(2πj/n) e_j and Σ sin(2πj/n) e_j. Creases, corners and boundaries, where the
+/// surface has no single tangent plane, take the same masks over the neighbours' limit
+/// positions (interior) or the chord of the boundary and the sine-weighted mean of the
+/// interior neighbours (Hoppe et al. 1994's boundary mask, over limit positions): a one-sided
+/// normal close to the surface's.
+pub fn limit_tangents(
+    level: &Level,
+    scheme: Scheme,
+    v: u32,
+    position: &dyn Fn(u32) -> Row,
+) -> [Row; 2] {
+    let ring = level.ring(v);
+    let smooth = matches!(limit_rule(level, v), Rule::Smooth | Rule::Dart) && !ring.boundary;
+    let at = |u: u32| -> Row {
+        if smooth {
+            Row(vec![(u, 1.0)])
+        } else {
+            position(u)
+        }
+    };
+    let n = ring.faces.len();
+    let mut t = [Row::default(), Row::default()];
+    if n == 0 {
+        return t;
+    }
+    if ring.boundary {
+        let k = n;
+        let centre = position(v);
+        if k == 1 {
+            t[0].add_row(&position(ring.neighbours[0]), 1.0);
+            t[0].add_row(&centre, -1.0);
+            t[1].add_row(&position(ring.neighbours[1]), 1.0);
+            t[1].add_row(&centre, -1.0);
+        } else {
+            t[0].add_row(&position(ring.neighbours[0]), 1.0);
+            t[0].add_row(&position(ring.neighbours[k]), -1.0);
+            for i in 1..k {
+                let w = (PI * i as f64 / k as f64).sin();
+                t[1].add_row(&position(ring.neighbours[i]), w);
+                t[1].add_row(&centre, -w);
+            }
+        }
+        return [t[0].clone().merged(), t[1].clone().merged()];
+    }
+    let nf = n as f64;
+    for j in 0..n {
+        let a = TAU * j as f64 / nf;
+        let b = TAU * (j + 1) as f64 / nf;
+        match scheme {
+            Scheme::CatmullClark => {
+                let c = (TAU / nf).cos();
+                let big_a = 1.0 + c + (PI / nf).cos() * (2.0 * (9.0 + c)).sqrt();
+                let e = at(ring.neighbours[j]);
+                let d = at(diagonal(level, ring.faces[j], v));
+                t[0].add_row(&e, big_a * a.cos());
+                t[0].add_row(&d, a.cos() + b.cos());
+                t[1].add_row(&e, big_a * a.sin());
+                t[1].add_row(&d, a.sin() + b.sin());
+            }
+            Scheme::Loop => {
+                let e = at(ring.neighbours[j]);
+                t[0].add_row(&e, a.cos());
+                t[1].add_row(&e, a.sin());
+            }
+        }
+    }
+    [t[0].clone().merged(), t[1].clone().merged()]
+}
+
+/// Whether the limit surface at `v` is the bicubic B-spline of its 3 × 3 neighbourhood: a
+/// Catmull-Clark vertex inside the surface with four quads and nothing sharp at it.
+pub fn is_regular(level: &Level, scheme: Scheme, v: u32) -> bool {
+    scheme == Scheme::CatmullClark
+        && level.vertex_sharpness[v as usize] <= 0.0
+        && level.vertex_faces(v).len() == 4
+        && level.vertex_edges(v).len() == 4
+        && level
+            .vertex_edges(v)
+            .iter()
+            .all(|&e| level.edge_sharpness[e as usize] <= 0.0 && !level.is_boundary_edge(e))
+        && level
+            .vertex_faces(v)
+            .iter()
+            .all(|&f| level.face(f).len() == 4)
+}
+
+/// Position, Su, Sv, Suu, Suv, Svv of the limit at a regular vertex `v` (see [`is_regular`])
+/// per unit knot spacing, with u pointing to neighbour `plus_u` (or away from it when
+/// `reversed`): the tensor products of the cubic B-spline's values (1, 4, 1)/6, first
+/// derivatives (−1, 0, 1)/2 and second derivatives (1, −2, 1) at a knot.
+pub fn regular_derivatives(level: &Level, v: u32, plus_u: u32, reversed: bool) -> Option<[Row; 6]> {
+    let ring = level.ring(v);
+    let start = ring.neighbours.iter().position(|&x| x == plus_u)?;
+    let start = if reversed { (start + 2) % 4 } else { start };
+    let e = |k: usize| ring.neighbours[(start + k) % 4];
+    let d = |k: usize| diagonal(level, ring.faces[(start + k) % 4], v);
+    // grid[a + 1][b + 1]: the point a steps along u and b along v from `v`.
+    let grid = [[d(2), e(2), d(1)], [e(3), v, e(1)], [d(3), e(0), d(0)]];
+    let value = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
+    let first = [-0.5, 0.0, 0.5];
+    let second = [1.0, -2.0, 1.0];
+    let tensor = |wu: &[f64; 3], wv: &[f64; 3]| {
+        let mut row = Row::default();
+        for a in 0..3 {
+            for b in 0..3 {
+                let w = wu[a] * wv[b];
+                if w != 0.0 {
+                    row.add(grid[a][b], w);
+                }
+            }
+        }
+        row.merged()
+    };
+    Some([
+        tensor(&value, &value),
+        tensor(&first, &value),
+        tensor(&value, &first),
+        tensor(&second, &value),
+        tensor(&first, &first),
+        tensor(&value, &second),
+    ])
+}

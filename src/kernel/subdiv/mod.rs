@@ -1,0 +1,371 @@
+//! Subdivision surfaces with OpenSubdiv's semantics (Sdc): Catmull-Clark on any polygons, Loop
+//! on triangles with Loop's original weights, semi-sharp creases (uniform or Chaikin),
+//! corner vertices, and the `edge-only` / `edge-and-corner` boundary modes.
+//!
+//! The topology of each level ([`level::Level`]) is built once per topology change; each
+//! refinement step yields stencils ([`stencil::Stencils`]) giving the child vertices from the
+//! parent's, and the limit masks ([`limit`]) give positions, tangents and second derivatives on
+//! the limit surface. The GPU applies the same tables ([`patches`]); this f64 path is its
+//! oracle and the export path.
+
+pub mod level;
+pub mod limit;
+pub mod patches;
+pub mod refine;
+pub mod stencil;
+
+use glam::{DAffine3, DVec3};
+
+use self::level::{INFINITE_SHARPNESS, Level};
+use self::stencil::Stencils;
+use super::{CageProblem, GeometryError, Location, PolygonMesh};
+
+/// The highest subdivision level a cage may ask for.
+pub const MAX_LEVEL: u32 = 6;
+
+/// The subdivision rules.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Catmull-Clark, on any polygons.
+    #[default]
+    CatmullClark,
+    /// Loop, on triangles.
+    Loop,
+}
+
+/// How the boundary is treated (OpenSubdiv's `VtxBoundaryInterpolation`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Boundary {
+    /// Boundary edges are infinitely sharp creases; corners are smoothed by the crease rule.
+    #[default]
+    EdgeOnly,
+    /// As `EdgeOnly`, and boundary vertices with one face (valence 2) are sharp corners.
+    EdgeAndCorner,
+}
+
+/// How semi-sharp creases lose sharpness from level to level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Creasing {
+    /// One less per level.
+    #[default]
+    Uniform,
+    /// Chaikin's rule: 3/4 of the edge's own plus 1/4 of its semi-sharp neighbours', less 1.
+    Chaikin,
+}
+
+/// The rules a cage is refined by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Options {
+    pub scheme: Scheme,
+    pub boundary: Boundary,
+    pub creasing: Creasing,
+}
+
+/// A sharp edge of a cage.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crease {
+    pub a: u32,
+    pub b: u32,
+    pub sharpness: f64,
+}
+
+/// A sharp vertex of a cage.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Corner {
+    pub vertex: u32,
+    pub sharpness: f64,
+}
+
+/// A subdivision surface: the cage (points and faces), its creases and corners, the rules and
+/// the level shown.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubdivisionSurface {
+    mesh: PolygonMesh,
+    creases: Vec<Crease>,
+    corners: Vec<Corner>,
+    pub options: Options,
+    level: u32,
+}
+
+/// The levels of a refinement and the stencils between them: `stencils[k]` gives level k + 1
+/// from level k.
+#[derive(Debug, Clone)]
+pub struct Hierarchy {
+    pub levels: Vec<Level>,
+    pub stencils: Vec<Stencils>,
+    pub options: Options,
+}
+
+fn check_sharpness(at: Location, sharpness: f64) -> Result<(), GeometryError> {
+    if sharpness.is_finite() && sharpness >= 0.0 {
+        Ok(())
+    } else {
+        Err(GeometryError::Cage {
+            at,
+            problem: CageProblem::Sharpness { sharpness },
+        })
+    }
+}
+
+impl SubdivisionSurface {
+    /// A subdivision surface over `mesh`; checks the cage (manifold, oriented, triangles for
+    /// Loop), the creases (existing edges, sharpness finite and ≥ 0), the corners and the level.
+    pub fn new(
+        mesh: PolygonMesh,
+        creases: Vec<Crease>,
+        corners: Vec<Corner>,
+        options: Options,
+        level: u32,
+    ) -> Result<Self, GeometryError> {
+        let surface = Self {
+            mesh,
+            creases,
+            corners,
+            options,
+            level,
+        };
+        surface.base_level()?;
+        if level > MAX_LEVEL {
+            return Err(GeometryError::Cage {
+                at: Location::field("level"),
+                problem: CageProblem::Level {
+                    level,
+                    max: MAX_LEVEL,
+                },
+            });
+        }
+        Ok(surface)
+    }
+
+    /// A smooth Catmull-Clark surface over `mesh` at `level`.
+    pub fn from_mesh(mesh: PolygonMesh, level: u32) -> Result<Self, GeometryError> {
+        Self::new(mesh, Vec::new(), Vec::new(), Options::default(), level)
+    }
+
+    pub fn mesh(&self) -> &PolygonMesh {
+        &self.mesh
+    }
+
+    pub fn points(&self) -> &[DVec3] {
+        self.mesh.points()
+    }
+
+    pub fn creases(&self) -> &[Crease] {
+        &self.creases
+    }
+
+    pub fn corners(&self) -> &[Corner] {
+        &self.corners
+    }
+
+    pub fn level(&self) -> u32 {
+        self.level
+    }
+
+    /// The same surface with other rules, level, creases or corners, checked as [`Self::new`].
+    pub fn with(
+        &self,
+        options: Options,
+        level: u32,
+        creases: Vec<Crease>,
+        corners: Vec<Corner>,
+    ) -> Result<Self, GeometryError> {
+        Self::new(self.mesh.clone(), creases, corners, options, level)
+    }
+
+    /// Moves cage point `index`.
+    pub fn set_point(&mut self, index: usize, position: DVec3) -> Result<(), GeometryError> {
+        self.mesh.set_point(index, position)
+    }
+
+    /// The surface mapped by `transform` (creases, corners and rules kept).
+    pub fn transformed(&self, transform: &DAffine3) -> Result<Self, GeometryError> {
+        Ok(Self {
+            mesh: self.mesh.transformed(transform)?,
+            ..self.clone()
+        })
+    }
+
+    /// The cage's topology with its sharpness: user creases and corners, boundary edges
+    /// infinitely sharp, and under [`Boundary::EdgeAndCorner`] boundary vertices with one face
+    /// infinitely sharp corners (as OpenSubdiv's factory tags them).
+    pub fn base_level(&self) -> Result<Level, GeometryError> {
+        let faces: Vec<&[u32]> = self.mesh.faces().collect();
+        if self.options.scheme == Scheme::Loop {
+            if let Some((f, face)) = faces.iter().enumerate().find(|(_, f)| f.len() != 3) {
+                return Err(GeometryError::Cage {
+                    at: Location::face(f),
+                    problem: CageProblem::NotTriangle {
+                        corners: face.len(),
+                    },
+                });
+            }
+        }
+        let mut level = Level::new(self.mesh.points().len(), &faces, Vec::new())?;
+        let mut lookup = std::collections::HashMap::new();
+        for (e, &[a, b]) in level.edges.iter().enumerate() {
+            lookup.insert((a.min(b), a.max(b)), e);
+        }
+        for (k, crease) in self.creases.iter().enumerate() {
+            let at = Location::field("creases").index(k);
+            check_sharpness(at.clone(), crease.sharpness)?;
+            let key = (crease.a.min(crease.b), crease.a.max(crease.b));
+            let e = *lookup.get(&key).ok_or(GeometryError::Cage {
+                at,
+                problem: CageProblem::NoSuchEdge {
+                    a: crease.a,
+                    b: crease.b,
+                },
+            })?;
+            level.edge_sharpness[e] = crease.sharpness;
+        }
+        for (k, corner) in self.corners.iter().enumerate() {
+            let at = Location::field("corners").index(k);
+            check_sharpness(at.clone(), corner.sharpness)?;
+            let count = level.vertex_count;
+            let slot = level
+                .vertex_sharpness
+                .get_mut(corner.vertex as usize)
+                .ok_or(GeometryError::Cage {
+                    at,
+                    problem: CageProblem::NoSuchVertex {
+                        vertex: corner.vertex,
+                        count,
+                    },
+                })?;
+            *slot = corner.sharpness;
+        }
+        for e in 0..level.edges.len() {
+            if level.is_boundary_edge(e as u32) {
+                level.edge_sharpness[e] = INFINITE_SHARPNESS;
+            }
+        }
+        if self.options.boundary == Boundary::EdgeAndCorner {
+            for v in 0..level.vertex_count as u32 {
+                if level.vertex_faces(v).len() == 1 {
+                    level.vertex_sharpness[v as usize] = INFINITE_SHARPNESS;
+                }
+            }
+        }
+        Ok(level)
+    }
+
+    /// The topology refined `levels` times, with the stencils between levels.
+    pub fn hierarchy(&self, levels: u32) -> Result<Hierarchy, GeometryError> {
+        Hierarchy::new(self.base_level()?, self.options, levels)
+    }
+
+    /// The cage refined `levels` times: the points and the level's topology.
+    pub fn refined(&self, levels: u32) -> Result<(Vec<DVec3>, Level), GeometryError> {
+        let hierarchy = self.hierarchy(levels)?;
+        let points = hierarchy.refine_points(self.points());
+        let level = hierarchy
+            .levels
+            .into_iter()
+            .last()
+            .ok_or(GeometryError::Cage {
+                at: Location::field("level"),
+                problem: CageProblem::Level {
+                    level: levels,
+                    max: MAX_LEVEL,
+                },
+            })?;
+        Ok((points, level))
+    }
+
+    /// The limit surface at the vertices of level `levels`: positions, unit normals and the
+    /// level's topology.
+    pub fn limit(&self, levels: u32) -> Result<LimitMesh, GeometryError> {
+        let mut hierarchy = self.hierarchy(levels)?;
+        hierarchy.ensure_quads()?;
+        let points = hierarchy.refine_points(self.points());
+        let last = hierarchy.levels.len() - 1;
+        let level = &hierarchy.levels[last];
+        let scheme = self.options.scheme;
+        let count = hierarchy.levels[levels as usize].vertex_count;
+        let position_rows: Vec<stencil::Row> = (0..level.vertex_count as u32)
+            .map(|v| limit::limit_position(level, scheme, v))
+            .collect();
+        let positions: Vec<DVec3> = position_rows.iter().map(|r| r.apply(&points)).collect();
+        let normals = (0..count as u32)
+            .map(|v| {
+                let [t1, t2] =
+                    limit::limit_tangents(level, scheme, v, &|u| position_rows[u as usize].clone());
+                t1.apply(&points)
+                    .cross(t2.apply(&points))
+                    .normalize_or_zero()
+            })
+            .collect();
+        Ok(LimitMesh {
+            positions: positions[..count].to_vec(),
+            normals,
+            level: hierarchy.levels.swap_remove(levels as usize),
+        })
+    }
+}
+
+/// The limit surface sampled at a level's vertices.
+#[derive(Debug, Clone)]
+pub struct LimitMesh {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    pub level: Level,
+}
+
+impl Hierarchy {
+    /// `base` refined `levels` times by `options`.
+    pub fn new(base: Level, options: Options, levels: u32) -> Result<Self, GeometryError> {
+        if levels > MAX_LEVEL {
+            return Err(GeometryError::Cage {
+                at: Location::field("level"),
+                problem: CageProblem::Level {
+                    level: levels,
+                    max: MAX_LEVEL,
+                },
+            });
+        }
+        let mut hierarchy = Self {
+            levels: vec![base],
+            stencils: Vec::new(),
+            options,
+        };
+        for _ in 0..levels {
+            hierarchy.refine_once()?;
+        }
+        Ok(hierarchy)
+    }
+
+    fn refine_once(&mut self) -> Result<(), GeometryError> {
+        let last = self.levels.len() - 1;
+        let (child, stencils) = refine::refine(&self.levels[last], &self.options)?;
+        self.levels.push(child);
+        self.stencils.push(stencils);
+        Ok(())
+    }
+
+    /// Catmull-Clark's limit masks take quads: a level with other faces is refined once more
+    /// (its vertices keep their numbers and their limit points).
+    pub fn ensure_quads(&mut self) -> Result<(), GeometryError> {
+        let last = &self.levels[self.levels.len() - 1];
+        if self.options.scheme == Scheme::CatmullClark && last.faces().any(|f| f.len() != 4) {
+            self.refine_once()?;
+        }
+        Ok(())
+    }
+
+    /// The cage points `cage` carried through every level: the last level's points.
+    pub fn refine_points(&self, cage: &[DVec3]) -> Vec<DVec3> {
+        let mut points = cage.to_vec();
+        for stencils in &self.stencils {
+            points = stencils.apply(&points);
+        }
+        points
+    }
+
+    pub fn last(&self) -> &Level {
+        &self.levels[self.levels.len() - 1]
+    }
+}

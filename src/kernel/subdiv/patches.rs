@@ -1,0 +1,408 @@
+//! What a subdivision surface feeds the GPU: regular cage quads as bicubic B-spline patches
+//! (converted to Bézier by the caller), everything else as grids of limit stencils — for every
+//! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
+//! regular vertices) second derivatives as weighted sums of cage points.
+
+use glam::DVec3;
+
+use super::level::Level;
+use super::limit::{self, is_regular, limit_position, limit_tangents, regular_derivatives};
+use super::stencil::Row;
+use super::{Hierarchy, Scheme, SubdivisionSurface};
+use crate::kernel::GeometryError;
+
+/// What the surface shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Display {
+    /// The limit surface at the level's vertices.
+    #[default]
+    Limit,
+    /// The refined mesh itself ("cage level N").
+    Refined,
+}
+
+/// A grid of stencil vertices: `(segments + 1)²` slots from `first_slot`, slot (i, j) at
+/// `first_slot + i (segments + 1) + j`, i along the patch's first edge. A triangle patch uses
+/// the slots with i + j ≤ segments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StencilPatch {
+    pub cage_face: u32,
+    pub triangle: bool,
+    pub segments: u32,
+    pub first_slot: u32,
+}
+
+/// One stencil entry: a cage point and its weights for position, Su, Sv, Suu, Suv, Svv.
+pub type Entry = (u32, [f64; 6]);
+
+/// The GPU feed of a subdivision surface at one level.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LimitFeed {
+    /// Regular cage quads and their 4 × 4 B-spline points (cage indices, row-major with the
+    /// first index along u).
+    pub regular: Vec<(u32, [u32; 16])>,
+    pub patches: Vec<StencilPatch>,
+    /// Per slot: first entry and entry count.
+    pub slots: Vec<[u32; 2]>,
+    /// Per slot: the curvature is not defined by the stencils (irregular or sharp vertices).
+    pub no_curvature: Vec<bool>,
+    /// Per slot: the vertex of the level it shows (`u32::MAX` for unused triangle slots).
+    pub vertex: Vec<u32>,
+    pub entries: Vec<Entry>,
+}
+
+/// The vertex of quad `f` diagonally opposite `v`.
+fn diagonal(level: &Level, f: u32, v: u32) -> u32 {
+    let face = level.face(f);
+    let j = face.iter().position(|&x| x == v).unwrap_or(0);
+    face[(j + 2) % face.len()]
+}
+
+/// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
+fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
+    let ring = level.ring(v);
+    if ring.neighbours.len() != 4 || ring.faces.len() != 4 {
+        return None;
+    }
+    let s = ring.neighbours.iter().position(|&x| x == start)?;
+    let e = std::array::from_fn(|k| ring.neighbours[(s + k) % 4]);
+    let d = std::array::from_fn(|k| diagonal(level, ring.faces[(s + k) % 4], v));
+    Some((e, d))
+}
+
+/// The 4 × 4 B-spline points around regular quad `f` (corners q0..q3, u from q0 to q1, v from
+/// q0 to q3), index `a * 4 + b` for the point a steps along u and b along v from the corner
+/// before q0.
+pub fn bspline_grid(level: &Level, f: u32) -> Option<[u32; 16]> {
+    let q = level.face(f);
+    if q.len() != 4 {
+        return None;
+    }
+    let mut g = [u32::MAX; 16];
+    let mut set = |a: usize, b: usize, v: u32| g[a * 4 + b] = v;
+    let (e, d) = quad_ring(level, q[0], q[1])?;
+    set(1, 1, q[0]);
+    set(2, 1, q[1]);
+    set(2, 2, q[2]);
+    set(1, 2, q[3]);
+    set(0, 1, e[2]);
+    set(1, 0, e[3]);
+    set(0, 2, d[1]);
+    set(0, 0, d[2]);
+    set(2, 0, d[3]);
+    let (e, d) = quad_ring(level, q[2], q[3])?;
+    set(3, 2, e[2]);
+    set(2, 3, e[3]);
+    set(3, 1, d[1]);
+    set(3, 3, d[2]);
+    set(1, 3, d[3]);
+    let (_, d) = quad_ring(level, q[1], q[0])?;
+    set(3, 0, d[1]);
+    let (_, d) = quad_ring(level, q[3], q[0])?;
+    set(0, 3, d[2]);
+    g.iter().all(|&x| x != u32::MAX).then_some(g)
+}
+
+/// Whether the limit over cage quad `f` is exactly the bicubic B-spline of its 16 points: all
+/// four corners regular ([`is_regular`]).
+pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
+    let face = level.face(f);
+    face.len() == 4 && face.iter().all(|&v| is_regular(level, scheme, v))
+}
+
+/// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
+/// `(2^depth + 1)²` slots (see [`StencilPatch`]); triangle slots past the diagonal are `None`.
+fn face_grid(hierarchy: &Hierarchy, k: usize, face: u32, depth: u32) -> Vec<Option<u32>> {
+    let level = &hierarchy.levels[k];
+    let corners = level.face(face);
+    let triangle = corners.len() == 3;
+    let s = 1usize << depth;
+    let mut grid = vec![None; (s + 1) * (s + 1)];
+    if depth == 0 {
+        grid[0] = Some(corners[0]);
+        grid[s + 1] = Some(corners[1]);
+        if triangle {
+            grid[1] = Some(corners[2]);
+        } else {
+            grid[s + 2] = Some(corners[2]);
+            grid[1] = Some(corners[3]);
+        }
+        return grid;
+    }
+    let h = s / 2;
+    // Children of a level's face f (every face at level ≥ 1 of a quad or triangle mesh) are
+    // 4f..4f + 3 one level down, placed as refine() orders them.
+    let first_child = 4 * face;
+    let placements: [(usize, usize, bool); 4] = if triangle {
+        [(0, 0, false), (h, 0, false), (0, h, false), (h, h, true)]
+    } else {
+        [(0, 0, false), (h, 0, false), (h, h, false), (0, h, false)]
+    };
+    for (c, &(oi, oj, inverted)) in placements.iter().enumerate() {
+        let sub = face_grid(hierarchy, k + 1, first_child + c as u32, depth - 1);
+        for a in 0..=h {
+            for b in 0..=h {
+                let Some(v) = sub[a * (h + 1) + b] else {
+                    continue;
+                };
+                let (i, j) = if inverted {
+                    (h - a, h - b)
+                } else {
+                    (oi + a, oj + b)
+                };
+                grid[i * (s + 1) + j] = Some(v);
+            }
+        }
+    }
+    grid
+}
+
+/// Rows over level `k`'s vertices expressed over the cage's points: composes the stencils of
+/// the levels below for the rows named (and only those).
+fn compose_to_cage(hierarchy: &Hierarchy, k: usize, rows: &[&Row]) -> Vec<Vec<Row>> {
+    // needed[level]: which vertices of each level the rows reach.
+    let mut needed: Vec<Vec<bool>> = hierarchy
+        .levels
+        .iter()
+        .map(|l| vec![false; l.vertex_count])
+        .collect();
+    for row in rows {
+        for &(i, _) in &row.0 {
+            needed[k][i as usize] = true;
+        }
+    }
+    for level in (1..=k).rev() {
+        let stencils = &hierarchy.stencils[level - 1];
+        let (upper, lower) = needed.split_at_mut(level);
+        for (v, _) in lower[0].iter().enumerate().filter(|(_, n)| **n) {
+            let (s, e) = (
+                stencils.offsets[v] as usize,
+                stencils.offsets[v + 1] as usize,
+            );
+            for &i in &stencils.indices[s..e] {
+                upper[level - 1][i as usize] = true;
+            }
+        }
+    }
+    let mut composed: Vec<Vec<Row>> = Vec::with_capacity(k + 1);
+    composed.push(
+        (0..hierarchy.levels[0].vertex_count as u32)
+            .map(|v| Row(vec![(v, 1.0)]))
+            .collect(),
+    );
+    for level in 1..=k {
+        let stencils = &hierarchy.stencils[level - 1];
+        let below = &composed[level - 1];
+        let rows: Vec<Row> = (0..hierarchy.levels[level].vertex_count)
+            .map(|v| {
+                if !needed[level][v] {
+                    return Row::default();
+                }
+                let mut row = Row::default();
+                let (s, e) = (
+                    stencils.offsets[v] as usize,
+                    stencils.offsets[v + 1] as usize,
+                );
+                for t in s..e {
+                    row.add_row(&below[stencils.indices[t] as usize], stencils.weights[t]);
+                }
+                row.merged()
+            })
+            .collect();
+        composed.push(rows);
+    }
+    composed
+}
+
+impl SubdivisionSurface {
+    /// The GPU feed at level `levels` (≥ 1) showing `display`, regular faces as B-spline
+    /// patches.
+    pub fn limit_feed(&self, levels: u32, display: Display) -> Result<LimitFeed, GeometryError> {
+        self.limit_feed_with(levels, display, true)
+    }
+
+    /// [`Self::limit_feed`], with every face as stencil patches when `regular_as_bspline` is
+    /// false (so that every vertex of the level appears in a slot).
+    pub fn limit_feed_with(
+        &self,
+        levels: u32,
+        display: Display,
+        regular_as_bspline: bool,
+    ) -> Result<LimitFeed, GeometryError> {
+        let base = self.base_level()?;
+        let scheme = self.options.scheme;
+        let mut feed = LimitFeed::default();
+        let mut irregular = Vec::new();
+        for f in 0..base.face_count() as u32 {
+            let grid = (regular_as_bspline
+                && display == Display::Limit
+                && is_regular_face(&base, scheme, f))
+            .then(|| bspline_grid(&base, f))
+            .flatten();
+            match grid {
+                Some(g) => feed.regular.push((f, g)),
+                None => irregular.push(f),
+            }
+        }
+        if irregular.is_empty() || levels == 0 {
+            return Ok(feed);
+        }
+        let hierarchy = Hierarchy::new(base, self.options, levels)?;
+        let k = levels as usize;
+        let level = &hierarchy.levels[k];
+        // The patches' grids of level-k vertices.
+        let mut grids: Vec<(StencilPatch, Vec<Option<u32>>)> = Vec::new();
+        let mut child_start = 0u32;
+        let mut starts = Vec::with_capacity(hierarchy.levels[0].face_count());
+        for face in hierarchy.levels[0].faces() {
+            starts.push(child_start);
+            child_start += if scheme == Scheme::CatmullClark {
+                face.len() as u32
+            } else {
+                4
+            };
+        }
+        for &f in &irregular {
+            let pieces: Vec<(usize, u32, u32)> = match scheme {
+                Scheme::CatmullClark => {
+                    let n = hierarchy.levels[0].face(f).len() as u32;
+                    (0..n)
+                        .map(|c| (1, starts[f as usize] + c, levels - 1))
+                        .collect()
+                }
+                Scheme::Loop => vec![(0, f, levels)],
+            };
+            for (lk, face, depth) in pieces {
+                let grid = face_grid(&hierarchy, lk, face, depth);
+                grids.push((
+                    StencilPatch {
+                        cage_face: f,
+                        triangle: scheme == Scheme::Loop,
+                        segments: 1 << depth,
+                        first_slot: 0,
+                    },
+                    grid,
+                ));
+            }
+        }
+        // Rows over level-k vertices per slot.
+        let position_row = |v: u32| match display {
+            Display::Limit => limit_position(level, scheme, v),
+            Display::Refined => Row(vec![(v, 1.0)]),
+        };
+        let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
+        for (patch, grid) in &mut grids {
+            patch.first_slot = slot_rows.len() as u32;
+            let s = patch.segments as usize;
+            let scale = s as f64;
+            for i in 0..=s {
+                for j in 0..=s {
+                    let Some(v) = grid[i * (s + 1) + j] else {
+                        slot_rows.push(None);
+                        continue;
+                    };
+                    let regular = display == Display::Limit && is_regular(level, scheme, v);
+                    let derivatives = if regular {
+                        let (towards, reversed) = if i < s {
+                            (grid[(i + 1) * (s + 1) + j], false)
+                        } else {
+                            (grid[(i - 1) * (s + 1) + j], true)
+                        };
+                        towards.and_then(|n| regular_derivatives(level, v, n, reversed))
+                    } else {
+                        None
+                    };
+                    let rows = match derivatives {
+                        Some([p, su, sv, suu, suv, svv]) => {
+                            let mut scaled = [p, su, sv, suu, suv, svv];
+                            for (r, factor) in scaled.iter_mut().zip([
+                                1.0,
+                                scale,
+                                scale,
+                                scale * scale,
+                                scale * scale,
+                                scale * scale,
+                            ]) {
+                                for e in &mut r.0 {
+                                    e.1 *= factor;
+                                }
+                            }
+                            (scaled, false)
+                        }
+                        None => {
+                            let [t1, t2] = limit_tangents(level, scheme, v, &|u| {
+                                limit::limit_position(level, scheme, u)
+                            });
+                            (
+                                [
+                                    position_row(v),
+                                    t1,
+                                    t2,
+                                    Row::default(),
+                                    Row::default(),
+                                    Row::default(),
+                                ],
+                                true,
+                            )
+                        }
+                    };
+                    slot_rows.push(Some(rows));
+                }
+            }
+            feed.patches.push(*patch);
+        }
+        let all: Vec<&Row> = slot_rows
+            .iter()
+            .flatten()
+            .flat_map(|(rows, _)| rows.iter())
+            .collect();
+        let composed = compose_to_cage(&hierarchy, k, &all);
+        let over_cage = |row: &Row| -> Row {
+            let mut out = Row::default();
+            for &(i, w) in &row.0 {
+                out.add_row(&composed[k][i as usize], w);
+            }
+            out.merged()
+        };
+        for (patch, grid) in &grids {
+            let first = patch.first_slot as usize;
+            for slot in first..first + (patch.segments as usize + 1).pow(2) {
+                let Some((rows, no_curvature)) = &slot_rows[slot] else {
+                    // Unused triangle slots alias the patch's first slot.
+                    let alias = feed.slots[first];
+                    feed.slots.push(alias);
+                    feed.no_curvature.push(true);
+                    feed.vertex.push(u32::MAX);
+                    continue;
+                };
+                let mut merged: std::collections::BTreeMap<u32, [f64; 6]> = Default::default();
+                for (c, row) in rows.iter().enumerate() {
+                    for &(i, w) in &over_cage(row).0 {
+                        merged.entry(i).or_insert([0.0; 6])[c] += w;
+                    }
+                }
+                let start = feed.entries.len() as u32;
+                feed.entries.extend(merged);
+                feed.slots.push([start, feed.entries.len() as u32 - start]);
+                feed.no_curvature.push(*no_curvature);
+                feed.vertex.push(grid[slot - first].unwrap_or(u32::MAX));
+            }
+        }
+        Ok(feed)
+    }
+}
+
+impl LimitFeed {
+    /// Slot `slot` evaluated over `points` (f64): position, Su, Sv, Suu, Suv, Svv.
+    pub fn evaluate_slot(&self, slot: usize, points: &[DVec3]) -> [DVec3; 6] {
+        let [start, count] = self.slots[slot];
+        let mut out = [DVec3::ZERO; 6];
+        for &(i, w) in &self.entries[start as usize..(start + count) as usize] {
+            for c in 0..6 {
+                out[c] += points[i as usize] * w[c];
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,370 @@
+//! Subdivision surfaces as a scene object kind. The cage's points are the handles; the GPU
+//! feed holds the regular cage quads as bicubic Bézier patches (the B-spline patch of their 16
+//! points) and everything else as grids of limit stencils over the cage points
+//! ([`LimitFeed`]), whose tables depend only on the topology and are built once per topology
+//! change. Level 0 shows the cage itself, as a polygon mesh.
+
+use std::sync::{Arc, OnceLock};
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::subdiv::patches::{Display, LimitFeed};
+use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
+use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError};
+
+/// The topology-only part of the GPU feed, shared by every copy of the object until its
+/// topology, sharpness, rules, level or display change.
+#[derive(Debug)]
+struct Prepared {
+    feed: LimitFeed,
+    /// The feed patches of each cage face.
+    face_patches: Vec<Vec<u32>>,
+    /// The cage faces of each cage point.
+    point_faces: Vec<Vec<u32>>,
+}
+
+/// A subdivision surface in the scene.
+#[derive(Debug, Clone)]
+pub struct SubdivObject {
+    pub surface: SubdivisionSurface,
+    pub display: Display,
+    prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
+}
+
+impl PartialEq for SubdivObject {
+    fn eq(&self, other: &Self) -> bool {
+        self.surface == other.surface && self.display == other.display
+    }
+}
+
+impl From<SubdivisionSurface> for SubdivObject {
+    fn from(surface: SubdivisionSurface) -> Self {
+        Self::new(surface, Display::Limit)
+    }
+}
+
+/// The uniform cubic B-spline basis on one span (The NURBS Book, eq. 2.5 for uniform knots).
+fn cubic_bspline_basis(t: f64) -> [f64; 4] {
+    let s = 1.0 - t;
+    [
+        s * s * s / 6.0,
+        (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+        (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+        t * t * t / 6.0,
+    ]
+}
+
+/// The Bézier points of one uniform cubic B-spline span: b0 = (P0 + 4P1 + P2)/6,
+/// b1 = (4P1 + 2P2)/6, b2 = (2P1 + 4P2)/6, b3 = (P1 + 4P2 + P3)/6 (Farin, knot insertion).
+const BSPLINE_TO_BEZIER: [[f64; 4]; 4] = [
+    [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0, 0.0],
+    [0.0, 4.0 / 6.0, 2.0 / 6.0, 0.0],
+    [0.0, 2.0 / 6.0, 4.0 / 6.0, 0.0],
+    [0.0, 1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0],
+];
+
+/// The 16 Bézier points (row-major, first index along u) of the B-spline patch `grid`.
+fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
+    let mut out = [DVec3::ZERO; 16];
+    for i in 0..4 {
+        for j in 0..4 {
+            let mut p = DVec3::ZERO;
+            for a in 0..4 {
+                for b in 0..4 {
+                    let w = BSPLINE_TO_BEZIER[i][a] * BSPLINE_TO_BEZIER[j][b];
+                    if w != 0.0 {
+                        p += points[grid[a * 4 + b] as usize] * w;
+                    }
+                }
+            }
+            out[i * 4 + j] = p;
+        }
+    }
+    out
+}
+
+impl SubdivObject {
+    pub fn new(surface: SubdivisionSurface, display: Display) -> Self {
+        Self {
+            surface,
+            display,
+            prepared: Arc::new(OnceLock::new()),
+        }
+    }
+
+    fn prepared(&self) -> Result<Arc<Prepared>, GeometryError> {
+        self.prepared
+            .get_or_init(|| {
+                let feed = self
+                    .surface
+                    .limit_feed(self.surface.level(), self.display)?;
+                let mesh = self.surface.mesh();
+                let mut face_patches = vec![Vec::new(); mesh.face_count()];
+                if self.surface.level() == 0 {
+                    let mut next = 0u32;
+                    for (f, face) in mesh.faces().enumerate() {
+                        let count = crate::kernel::PolygonMesh::patches_of_face(face) as u32;
+                        face_patches[f] = (next..next + count).collect();
+                        next += count;
+                    }
+                } else {
+                    for (k, &(f, _)) in feed.regular.iter().enumerate() {
+                        face_patches[f as usize].push(k as u32);
+                    }
+                    let first = feed.regular.len() as u32;
+                    for (k, patch) in feed.patches.iter().enumerate() {
+                        face_patches[patch.cage_face as usize].push(first + k as u32);
+                    }
+                }
+                let mut point_faces = vec![Vec::new(); mesh.points().len()];
+                for (f, face) in mesh.faces().enumerate() {
+                    for &v in face {
+                        point_faces[v as usize].push(f as u32);
+                    }
+                }
+                Ok(Arc::new(Prepared {
+                    feed,
+                    face_patches,
+                    point_faces,
+                }))
+            })
+            .clone()
+    }
+
+    /// The feed patches that change when cage point `index` moves: those of every face that
+    /// shares a vertex with a face around the point (the support of the limit over a face is
+    /// its faces' one-ring).
+    fn patches_near(&self, prepared: &Prepared, index: usize) -> Vec<usize> {
+        let mesh = self.surface.mesh();
+        let mut faces: Vec<u32> = Vec::new();
+        for &f in &prepared.point_faces[index] {
+            if self.surface.level() == 0 {
+                faces.push(f);
+                continue;
+            }
+            for &v in mesh.face(f as usize) {
+                faces.extend_from_slice(&prepared.point_faces[v as usize]);
+            }
+        }
+        faces.sort_unstable();
+        faces.dedup();
+        let mut patches: Vec<usize> = faces
+            .iter()
+            .flat_map(|&f| {
+                prepared.face_patches[f as usize]
+                    .iter()
+                    .map(|&p| p as usize)
+            })
+            .collect();
+        patches.sort_unstable();
+        patches
+    }
+
+    /// The limit (or refined) point of stencil patch `patch`'s grid vertex nearest (s, t), from
+    /// the kernel's level-by-level refinement and limit masks (not from the feed's stencils).
+    fn stencil_point(
+        &self,
+        feed: &LimitFeed,
+        patch: usize,
+        s: f64,
+        t: f64,
+    ) -> Result<DVec3, GeometryError> {
+        let p = feed.patches[patch];
+        let n = p.segments as f64;
+        let (i, j) = ((s * n).round() as usize, (t * n).round() as usize);
+        let mut slot = p.first_slot as usize + i * (p.segments as usize + 1) + j;
+        if feed.vertex[slot] == u32::MAX {
+            slot = p.first_slot as usize;
+        }
+        let vertex = feed.vertex[slot] as usize;
+        let level = self.surface.level();
+        Ok(match self.display {
+            Display::Limit => self.surface.limit(level)?.positions[vertex],
+            Display::Refined => self.surface.refined(level)?.0[vertex],
+        })
+    }
+}
+
+impl ObjectKind for SubdivObject {
+    fn kind_name(&self) -> &'static str {
+        "a subdivision surface"
+    }
+
+    fn describe(&self) -> String {
+        let scheme = match self.surface.options.scheme {
+            Scheme::CatmullClark => "Catmull-Clark",
+            Scheme::Loop => "Loop",
+        };
+        format!(
+            "{scheme} subdivision, level {}, {} faces, {} points, {} creases",
+            self.surface.level(),
+            self.surface.mesh().face_count(),
+            self.surface.points().len(),
+            self.surface.creases().len()
+        )
+    }
+
+    fn control_point_count(&self) -> usize {
+        self.surface.points().len()
+    }
+
+    fn control_points(&self) -> Vec<DVec3> {
+        self.surface.points().to_vec()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        vec![1.0; self.surface.points().len()]
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        self.surface.mesh().edge_indices()
+    }
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        self.surface.mesh().bounds()
+    }
+
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        let prepared = self.prepared()?;
+        self.surface.set_point(index, position)?;
+        Ok(self.patches_near(&prepared, index))
+    }
+
+    fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
+        Err(GeometryError::Construction {
+            what: "subdivision surface",
+            message: "its cage points have no weights".into(),
+        })
+    }
+
+    /// Level 0: the cage's bilinear patches. Otherwise the cage points, then 16 Bézier points
+    /// per regular face; stencil patches index the cage points.
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        if self.surface.level() == 0 {
+            return self.surface.mesh().gpu_feed();
+        }
+        let prepared = self.prepared()?;
+        let cage = self.surface.points();
+        let mut points = cage.to_vec();
+        let mut patches = Vec::with_capacity(prepared.feed.regular.len());
+        for (_, grid) in &prepared.feed.regular {
+            let first = points.len() as u32;
+            points.extend(bezier_points(cage, grid));
+            patches.push(BezierPatch::new(3, 3, (first..first + 16).collect()));
+        }
+        let domains = vec![[0.0, 1.0, 0.0, 1.0]; patches.len()];
+        Ok(Decomposition {
+            set: BezierPatchSet::new(points, None, patches)?,
+            domains,
+            stencils: Some(Arc::new(prepared.feed.clone())),
+            cage_points: cage.len(),
+        })
+    }
+
+    /// Regular patches: the uniform bicubic B-spline of the face's 16 cage points; stencil
+    /// patches: the level's limit (or refined) point nearest (s, t); level 0: the cage's
+    /// bilinear faces.
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        if self.surface.level() == 0 {
+            return self.surface.mesh().surface_point(patch, s, t);
+        }
+        let prepared = self.prepared()?;
+        let feed = &prepared.feed;
+        let regular = feed.regular.len();
+        if patch < regular {
+            let grid = &feed.regular[patch].1;
+            let (bu, bv) = (cubic_bspline_basis(s), cubic_bspline_basis(t));
+            let mut p = DVec3::ZERO;
+            for a in 0..4 {
+                for b in 0..4 {
+                    p += self.surface.points()[grid[a * 4 + b] as usize] * (bu[a] * bv[b]);
+                }
+            }
+            return Ok(p);
+        }
+        if patch - regular >= feed.patches.len() {
+            return Err(GeometryError::NoSuchPatch {
+                patch,
+                count: regular + feed.patches.len(),
+            });
+        }
+        self.stencil_point(feed, patch - regular, s, t)
+    }
+
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        let cage = self.surface.points();
+        for (index, &p) in cage.iter().enumerate() {
+            if feed.set.points().get(index) != Some(&p) {
+                feed.set.set_point(index, p)?;
+            }
+        }
+        if self.surface.level() == 0 {
+            return Ok(());
+        }
+        let prepared = self.prepared()?;
+        for &patch in patches {
+            if let Some((_, grid)) = prepared.feed.regular.get(patch) {
+                let first = cage.len() + 16 * patch;
+                for (k, q) in bezier_points(cage, grid).into_iter().enumerate() {
+                    feed.set.set_point(first + k, q)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The limit mesh at the surface's level (level 0: the cage), its quads split into two
+    /// triangles, with the limit normals.
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let level = self.surface.level();
+        if level == 0 {
+            return self.surface.mesh().tessellate(tessellation, curvature);
+        }
+        let limit = self.surface.limit(level)?;
+        let mut triangles = Vec::new();
+        for face in limit.level.faces() {
+            for k in 1..face.len() - 1 {
+                triangles.push([face[0], face[k], face[k + 1]]);
+            }
+        }
+        Ok(vec![TriangleMesh {
+            positions: limit.positions,
+            normals: limit.normals,
+            uvs: Vec::new(),
+            curvatures: Vec::new(),
+            triangles,
+        }])
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        Ok(ObjectGeometry::Subdivision(Box::new(Self::new(
+            self.surface.transformed(transform)?,
+            self.display,
+        ))))
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        matches!(other, ObjectGeometry::Subdivision(b)
+            if b.display == self.display
+                && b.surface.level() == self.surface.level()
+                && b.surface.options == self.surface.options
+                && b.surface.creases() == self.surface.creases()
+                && b.surface.corners() == self.surface.corners()
+                && b.surface.points().len() == self.surface.points().len()
+                && b.surface.mesh().faces().eq(self.surface.mesh().faces()))
+    }
+}
