@@ -20,6 +20,7 @@ use knotwork::doc::{Document, Touched};
 use knotwork::gpu::{GpuContext, SceneSync, SurfaceVertex};
 use knotwork::io::gltf::{self, ExportOptions};
 use knotwork::io::project::{self, Project};
+use knotwork::kernel::subdiv::{Crease, Options, SubdivisionSurface};
 use knotwork::kernel::tess::Tessellation;
 use knotwork::kernel::{PolygonMesh, samples};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
@@ -55,7 +56,48 @@ fn one_of_each_kind() -> Vec<SceneObject> {
         ObjectGeometry::Mesh(PolygonMesh::new(points, &faces).unwrap()),
     );
     mesh.segments = 5;
-    vec![teapot, nurbs, mesh]
+    // A 6 × 6 cage at level 2: its inner faces are bicubic patches, the rest (boundary, a
+    // crease, a triangle pair) limit stencils.
+    let m = 6;
+    let cage_points: Vec<DVec3> = (0..m * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            DVec3::new(
+                i as f64,
+                j as f64,
+                0.3 * (i as f64 * 0.9).sin() * (j as f64).cos(),
+            )
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut cage_faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            if (i, j) == (4, 4) {
+                cage_faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                cage_faces.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            } else {
+                cage_faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    let surface = SubdivisionSurface::new(
+        PolygonMesh::new(cage_points, &cage_faces).unwrap(),
+        vec![Crease {
+            a: id(1, 1),
+            b: id(1, 2),
+            sharpness: 1.5,
+        }],
+        Vec::new(),
+        Options::default(),
+        2,
+    )
+    .unwrap();
+    let cage = SceneObject::new(
+        "subdivision cage",
+        ObjectGeometry::Subdivision(Box::new(surface.into())),
+    );
+    vec![teapot, nurbs, mesh, cage]
 }
 
 fn size(object: &SceneObject) -> f64 {
@@ -110,7 +152,11 @@ fn conforms(context: &GpuContext, object: SceneObject) {
     assert!(
         object
             .kind()
-            .surface_point(feed.set.patches().len(), 0.5, 0.5)
+            .surface_point(
+                feed.set.patches().len() + feed.stencils.as_ref().map_or(0, |f| f.patches.len()),
+                0.5,
+                0.5
+            )
             .is_err(),
         "{name}: a patch past the end is refused"
     );
@@ -231,7 +277,8 @@ fn every_object_kind_conforms() {
         [
             "a set of Bézier patches",
             "a NURBS surface",
-            "a polygon mesh"
+            "a polygon mesh",
+            "a subdivision surface"
         ],
         "one sample of every kind"
     );

@@ -133,23 +133,25 @@ impl SubdivObject {
             .clone()
     }
 
-    /// The feed patches that change when cage point `index` moves: those of every face that
-    /// shares a vertex with a face around the point (the support of the limit over a face is
-    /// its faces' one-ring).
+    /// The feed patches that change when cage point `index` moves: the limit over a face reads
+    /// the points of the faces around its corners, and where its normals come from neighbouring
+    /// limit points (creases, boundaries) those of the next ring: every face within three
+    /// vertex-rings of the point's faces is taken.
     fn patches_near(&self, prepared: &Prepared, index: usize) -> Vec<usize> {
         let mesh = self.surface.mesh();
-        let mut faces: Vec<u32> = Vec::new();
-        for &f in &prepared.point_faces[index] {
-            if self.surface.level() == 0 {
-                faces.push(f);
-                continue;
+        let mut faces: Vec<u32> = prepared.point_faces[index].clone();
+        let rings = if self.surface.level() == 0 { 0 } else { 2 };
+        for _ in 0..rings {
+            let mut next: Vec<u32> = Vec::new();
+            for &f in &faces {
+                for &v in mesh.face(f as usize) {
+                    next.extend_from_slice(&prepared.point_faces[v as usize]);
+                }
             }
-            for &v in mesh.face(f as usize) {
-                faces.extend_from_slice(&prepared.point_faces[v as usize]);
-            }
+            next.sort_unstable();
+            next.dedup();
+            faces = next;
         }
-        faces.sort_unstable();
-        faces.dedup();
         let mut patches: Vec<usize> = faces
             .iter()
             .flat_map(|&f| {

@@ -1,0 +1,639 @@
+//! Subdivision surfaces against textbook cases and invariants: the cube's counts and closed-form
+//! points, a regular grid against the bicubic B-spline the NURBS kernel evaluates, an infinitely
+//! sharp crease against the cubic B-spline of its polygon, Loop's weights and linear precision,
+//! semi-sharp blending, affine invariance, symmetry, refused cages, and the GPU's stencil pass
+//! against the f64 tables.
+
+mod common;
+
+use glam::{DAffine3, DMat3, DVec3};
+use knotwork::kernel::subdiv::refine::loop_beta;
+use knotwork::kernel::subdiv::{
+    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
+};
+use knotwork::kernel::{GeometryError, NurbsSurface, PolygonMesh};
+
+fn cube() -> SubdivisionSurface {
+    let points = (0..8)
+        .map(|k| {
+            DVec3::new(
+                if k & 1 == 0 { -1.0 } else { 1.0 },
+                if k & 2 == 0 { -1.0 } else { 1.0 },
+                if k & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        })
+        .collect();
+    // Outward-facing quads over the corners numbered by bits (x, y, z).
+    let faces = vec![
+        vec![0, 2, 3, 1],
+        vec![4, 5, 7, 6],
+        vec![0, 1, 5, 4],
+        vec![2, 6, 7, 3],
+        vec![0, 4, 6, 2],
+        vec![1, 3, 7, 5],
+    ];
+    SubdivisionSurface::from_mesh(PolygonMesh::new(points, &faces).unwrap(), 0).unwrap()
+}
+
+fn height(i: usize, j: usize) -> f64 {
+    0.3 * (i as f64).sin() * (1.3 * j as f64).cos() + 0.1 * (i * j) as f64 / 7.0
+}
+
+/// An m × m grid of points (i, j, height), quads counter-clockwise seen from +z.
+fn grid_mesh(m: usize) -> PolygonMesh {
+    let points = (0..m * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            DVec3::new(i as f64, j as f64, height(i, j))
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolygonMesh::new(points, &faces).unwrap()
+}
+
+fn with(
+    mesh: PolygonMesh,
+    creases: Vec<Crease>,
+    corners: Vec<Corner>,
+    options: Options,
+) -> SubdivisionSurface {
+    SubdivisionSurface::new(mesh, creases, corners, options, 0).unwrap()
+}
+
+#[test]
+fn the_cube_has_the_textbook_counts_and_points() {
+    let cube = cube();
+    // V' = V + F + E, F' = Σ corners: 26 / 24, then 98 / 96, then 386 / 384.
+    for (levels, vertices, faces) in [(1, 26, 24), (2, 98, 96), (3, 386, 384)] {
+        let (points, level) = cube.refined(levels).unwrap();
+        assert_eq!((points.len(), level.face_count()), (vertices, faces));
+        assert!(level.faces().all(|f| f.len() == 4));
+    }
+    // One step moves a corner (±1) to ±5/9: (n − 2)/n + (3 − 2)/n² ... with n = 3:
+    // 1/3 · 1 + 1/9 · (1 − 1 + 1) + 1/9 · (1/1 · 1 + 0 + 0)... = 5/9 per coordinate.
+    let (points, _) = cube.refined(1).unwrap();
+    for (k, p) in points[..8].iter().enumerate() {
+        let sign = DVec3::new(
+            if k & 1 == 0 { -1.0 } else { 1.0 },
+            if k & 2 == 0 { -1.0 } else { 1.0 },
+            if k & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        assert!((*p - sign * 5.0 / 9.0).length() < 1e-14, "{k}: {p}");
+    }
+    // The limit of a corner of valence 3: (9 v + 4 Σ e + Σ d) / 24 = ±1/2, the same from every
+    // level (the limit does not move under refinement), with the normal along the diagonal.
+    for levels in [0, 1, 3] {
+        let limit = cube.limit(levels).unwrap();
+        for k in 0..8 {
+            let p = limit.positions[k];
+            assert!(
+                (p.abs() - DVec3::splat(0.5)).length() < 1e-12,
+                "{levels}: {p}"
+            );
+            let n = limit.normals[k];
+            assert!((n - p.normalize()).length() < 1e-12, "{levels}: {n}");
+        }
+    }
+    // The refined corners converge to their limit.
+    let (deep, _) = cube.refined(6).unwrap();
+    assert!((deep[7] - DVec3::splat(0.5)).length() < 1e-3, "{}", deep[7]);
+}
+
+#[test]
+fn level_zero_is_the_cage_and_refinement_is_affine_invariant_and_symmetric() {
+    let cube = cube();
+    let (points, level) = cube.refined(0).unwrap();
+    assert_eq!(points, cube.points());
+    assert_eq!(level.face_count(), 6);
+
+    let map = DAffine3::from_mat3_translation(
+        DMat3::from_cols_array(&[1.2, 0.3, -0.1, 0.2, 0.9, 0.4, -0.3, 0.1, 1.1]),
+        DVec3::new(0.5, -2.0, 3.0),
+    );
+    let moved = cube.transformed(&map).unwrap();
+    let a = cube.limit(3).unwrap();
+    let b = moved.limit(3).unwrap();
+    for (p, q) in a.positions.iter().zip(&b.positions) {
+        assert!((map.transform_point3(*p) - *q).length() < 1e-12);
+    }
+    // The cube is symmetric under x -> -x: so is its limit point set.
+    for p in &a.positions {
+        let mirror = DVec3::new(-p.x, p.y, p.z);
+        assert!(
+            a.positions.iter().any(|q| (*q - mirror).length() < 1e-12),
+            "{p} has no mirror image"
+        );
+    }
+}
+
+#[test]
+fn a_regular_grid_is_the_bicubic_b_spline_the_kernel_evaluates() {
+    let m = 8;
+    let mesh = grid_mesh(m);
+    let surface = SubdivisionSurface::from_mesh(mesh.clone(), 0).unwrap();
+    // Unclamped uniform knots 0, 1, ..., m + 3: cage vertex a sits at parameter a + 2.
+    let knots: Vec<f64> = (0..m + 4).map(|k| k as f64).collect();
+    let bspline = NurbsSurface::new(
+        [3, 3],
+        [knots.clone(), knots],
+        [m, m],
+        mesh.points().to_vec(),
+        None,
+    )
+    .unwrap();
+    let limit = surface.limit(3).unwrap();
+    let (refined, _) = surface.refined(3).unwrap();
+    let mut checked = 0;
+    for (v, p) in limit.positions.iter().enumerate() {
+        // Over faces with regular corners (cage vertices 1..=m−2 in both directions) the limit
+        // is the B-spline; the refined (x, y) is the parameter minus 2 there.
+        let r = refined[v];
+        let inside = |x: f64| (1.0..=(m - 2) as f64).contains(&x);
+        if !(inside(r.x) && inside(r.y)) {
+            continue;
+        }
+        let local = bspline.local_geometry(r.x + 2.0, r.y + 2.0).unwrap();
+        let exact = local.derivatives.point;
+        assert!((*p - exact).length() < 1e-12, "vertex {v}: {p} vs {exact}");
+        let angle = limit.normals[v].angle_between(local.normal);
+        assert!(angle < 1e-7, "vertex {v}: normal off by {angle}");
+        checked += 1;
+    }
+    assert!(checked > 300, "{checked}");
+}
+
+/// The cubic B-spline of values `h` at parameter t (knots at the integers, value k at t = k).
+fn cubic_bspline(h: &[f64], t: f64) -> f64 {
+    let k = t.floor() as i64;
+    let s = t - k as f64;
+    let basis = [
+        (1.0 - s).powi(3) / 6.0,
+        (3.0 * s.powi(3) - 6.0 * s * s + 4.0) / 6.0,
+        (-3.0 * s.powi(3) + 3.0 * s * s + 3.0 * s + 1.0) / 6.0,
+        s.powi(3) / 6.0,
+    ];
+    (0..4)
+        .map(|a| {
+            let i = (k - 1 + a as i64).clamp(0, h.len() as i64 - 1) as usize;
+            basis[a] * h[i]
+        })
+        .sum()
+}
+
+#[test]
+fn an_infinitely_sharp_crease_converges_to_the_cubic_b_spline_of_its_polygon() {
+    let m = 8;
+    let c = 3;
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let creases = (0..m - 1)
+        .map(|i| Crease {
+            a: id(i, c),
+            b: id(i + 1, c),
+            sharpness: 10.0,
+        })
+        .collect();
+    let surface = with(grid_mesh(m), creases, Vec::new(), Options::default());
+    let polygon: Vec<f64> = (0..m).map(|i| height(i, c)).collect();
+    let limit = surface.limit(4).unwrap();
+    let mut on_crease = 0;
+    for p in &limit.positions {
+        if (p.y - c as f64).abs() > 1e-12 || !(1.0..=(m - 2) as f64).contains(&p.x) {
+            continue;
+        }
+        let z = cubic_bspline(&polygon, p.x);
+        assert!((p.z - z).abs() < 1e-12, "at x = {}: {} vs {z}", p.x, p.z);
+        on_crease += 1;
+    }
+    assert_eq!(on_crease, 16 * (m - 3) + 1);
+}
+
+#[test]
+fn a_semi_sharp_edge_blends_the_midpoint_and_the_smooth_rule_by_its_sharpness() {
+    let m = 4;
+    let mesh = grid_mesh(m);
+    let p = mesh.points().to_vec();
+    let id = |i: usize, j: usize| i * m + j;
+    // The interior edge (1, 1)–(2, 1) between faces (1, 0) and (1, 1).
+    let (a, b) = (id(1, 1), id(2, 1));
+    let centroid = |i: usize, j: usize| {
+        (p[id(i, j)] + p[id(i + 1, j)] + p[id(i + 1, j + 1)] + p[id(i, j + 1)]) / 4.0
+    };
+    let midpoint = (p[a] + p[b]) / 2.0;
+    let smooth = (p[a] + p[b] + centroid(1, 0) + centroid(1, 1)) / 4.0;
+    for (s, expected) in [
+        (0.0, smooth),
+        (0.3, 0.3 * midpoint + 0.7 * smooth),
+        (1.0, midpoint),
+        (2.5, midpoint),
+    ] {
+        let surface = with(
+            mesh.clone(),
+            vec![Crease {
+                a: a as u32,
+                b: b as u32,
+                sharpness: s,
+            }],
+            Vec::new(),
+            Options::default(),
+        );
+        let (points, level) = surface.refined(1).unwrap();
+        // The edge's child: the level-1 vertex at the middle of the two endpoints' children.
+        let child = (0..level.vertex_count)
+            .find(|&v| {
+                level.vertex_edges(v as u32).iter().any(|&e| {
+                    let [x, y] = level.edges[e as usize];
+                    x as usize == a || y as usize == a
+                }) && level.vertex_edges(v as u32).iter().any(|&e| {
+                    let [x, y] = level.edges[e as usize];
+                    x as usize == b || y as usize == b
+                })
+            })
+            .unwrap();
+        assert!(
+            (points[child] - expected).length() < 1e-14,
+            "s = {s}: {} vs {expected}",
+            points[child]
+        );
+    }
+}
+
+#[test]
+fn a_corner_vertex_stays_and_edge_and_corner_keeps_valence_two_corners() {
+    let mesh = grid_mesh(5);
+    let corner = with(
+        mesh.clone(),
+        Vec::new(),
+        vec![Corner {
+            vertex: 12,
+            sharpness: 10.0,
+        }],
+        Options::default(),
+    );
+    let limit = corner.limit(3).unwrap();
+    assert!((limit.positions[12] - mesh.points()[12]).length() < 1e-14);
+
+    let pinned = with(
+        mesh.clone(),
+        Vec::new(),
+        Vec::new(),
+        Options {
+            boundary: Boundary::EdgeAndCorner,
+            ..Options::default()
+        },
+    );
+    let free = with(mesh.clone(), Vec::new(), Vec::new(), Options::default());
+    let (pinned_points, _) = pinned.refined(2).unwrap();
+    let (free_points, _) = free.refined(2).unwrap();
+    // Vertex 0 has one face: pinned under edge-and-corner, smoothed (3/4, 1/8, 1/8) under
+    // edge-only.
+    assert_eq!(pinned_points[0], mesh.points()[0]);
+    let p = mesh.points();
+    let once = 0.75 * p[0] + 0.125 * (p[1] + p[5]);
+    let (one, _) = free.refined(1).unwrap();
+    assert!((one[0] - once).length() < 1e-14);
+    assert!((free_points[0] - p[0]).length() > 1e-3);
+}
+
+/// A planar regular triangle lattice (every interior vertex of valence 6), heights from `f`.
+fn triangle_lattice(m: usize, f: impl Fn(f64, f64) -> f64) -> PolygonMesh {
+    let points = (0..m * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            let (x, y) = (i as f64 + 0.5 * j as f64, j as f64 * 0.75f64.sqrt());
+            DVec3::new(x, y, f(x, y))
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            faces.push(vec![id(i, j), id(i + 1, j), id(i, j + 1)]);
+            faces.push(vec![id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolygonMesh::new(points, &faces).unwrap()
+}
+
+#[test]
+fn loop_uses_its_original_weights_and_reproduces_planes_and_the_box_spline_mask() {
+    assert!((loop_beta(6) - 1.0 / 16.0).abs() < 1e-15);
+    assert!((loop_beta(3) - 3.0 / 16.0).abs() < 1e-15);
+    // Not Warren's 3/(8n): for n = 5, (5/8 − (3/8 + cos(72°)/4)²)/5.
+    let c = 0.375 + 0.25 * (72f64.to_radians()).cos();
+    assert!((loop_beta(5) - (0.625 - c * c) / 5.0).abs() < 1e-15);
+    assert!((loop_beta(5) - 3.0 / 40.0).abs() > 1e-3);
+
+    let loop_options = Options {
+        scheme: Scheme::Loop,
+        ..Options::default()
+    };
+    let plane = |x: f64, y: f64| 0.3 * x - 0.2 * y + 1.0;
+    let flat = with(
+        triangle_lattice(7, plane),
+        Vec::new(),
+        Vec::new(),
+        loop_options,
+    );
+    let limit = flat.limit(2).unwrap();
+    for p in &limit.positions {
+        assert!((p.z - plane(p.x, p.y)).abs() < 1e-12, "{p}");
+    }
+    // The box spline's values at a lattice point: 1/2 at the vertex, 1/12 at each neighbour;
+    // reached here through three refinements and the limit mask of level 3.
+    let bumpy = triangle_lattice(7, |x, y| (1.1 * x).sin() * (0.7 * y).cos());
+    let points = bumpy.points().to_vec();
+    let surface = with(bumpy, Vec::new(), Vec::new(), loop_options);
+    let limit = surface.limit(3).unwrap();
+    let v = 3 * 7 + 3;
+    let neighbours = [v + 1, v - 1, v + 7, v - 7, v - 7 + 1, v + 7 - 1];
+    let expected = 0.5 * points[v] + neighbours.iter().map(|&n| points[n]).sum::<DVec3>() / 12.0;
+    assert!((limit.positions[v] - expected).length() < 1e-12);
+}
+
+#[test]
+fn bad_cages_are_refused_naming_the_face_edge_or_vertex() {
+    let p = |n: usize| {
+        (0..n)
+            .map(|k| DVec3::new(k as f64, (k * k) as f64 * 0.1, 0.0))
+            .collect::<Vec<_>>()
+    };
+    let refuse = |points: Vec<DVec3>,
+                  faces: Vec<Vec<u32>>,
+                  options: Options,
+                  creases: Vec<Crease>|
+     -> GeometryError {
+        let mesh = PolygonMesh::new(points, &faces).unwrap();
+        SubdivisionSurface::new(mesh, creases, Vec::new(), options, 0).unwrap_err()
+    };
+    let three_on_an_edge = refuse(
+        p(5),
+        vec![vec![0, 1, 2], vec![1, 0, 3], vec![0, 1, 4]],
+        Options::default(),
+        Vec::new(),
+    );
+    assert!(
+        three_on_an_edge.to_string().starts_with("edges[0-1]"),
+        "{three_on_an_edge}"
+    );
+    let bowtie = refuse(
+        p(5),
+        vec![vec![0, 1, 2], vec![0, 3, 4]],
+        Options::default(),
+        Vec::new(),
+    );
+    assert!(bowtie.to_string().starts_with("points[0]"), "{bowtie}");
+    let repeated = refuse(p(4), vec![vec![0, 1, 2, 1]], Options::default(), Vec::new());
+    assert!(repeated.to_string().starts_with("faces[0]"), "{repeated}");
+    let quad_under_loop = refuse(
+        p(5),
+        vec![vec![0, 1, 2], vec![1, 3, 4, 2]],
+        Options {
+            scheme: Scheme::Loop,
+            ..Options::default()
+        },
+        Vec::new(),
+    );
+    assert!(
+        quad_under_loop.to_string().starts_with("faces[1]"),
+        "{quad_under_loop}"
+    );
+    let no_edge = refuse(
+        p(4),
+        vec![vec![0, 1, 2, 3]],
+        Options::default(),
+        vec![Crease {
+            a: 0,
+            b: 2,
+            sharpness: 1.0,
+        }],
+    );
+    assert!(no_edge.to_string().starts_with("creases[0]"), "{no_edge}");
+    let negative = refuse(
+        p(4),
+        vec![vec![0, 1, 2, 3]],
+        Options::default(),
+        vec![Crease {
+            a: 0,
+            b: 1,
+            sharpness: -1.0,
+        }],
+    );
+    assert!(negative.to_string().contains("sharpness"), "{negative}");
+    let flipped = refuse(
+        p(4),
+        vec![vec![0, 1, 2], vec![0, 1, 3]],
+        Options::default(),
+        Vec::new(),
+    );
+    assert!(flipped.to_string().starts_with("edges[0-1]"), "{flipped}");
+}
+
+/// A closed hexagonal prism (two hexagons, six quads) with creases and a corner, and an open
+/// grid with triangles: n-gons, boundaries, integer, fractional and infinite creases.
+fn mixed_cages() -> Vec<SubdivisionSurface> {
+    let mut points = Vec::new();
+    for z in [-1.0, 1.0] {
+        for k in 0..6 {
+            let a = std::f64::consts::TAU * k as f64 / 6.0;
+            points.push(DVec3::new(
+                a.cos() * (1.0 + 0.1 * k as f64),
+                a.sin(),
+                z + 0.05 * k as f64,
+            ));
+        }
+    }
+    let mut faces = vec![vec![5, 4, 3, 2, 1, 0], vec![6, 7, 8, 9, 10, 11]];
+    for k in 0..6u32 {
+        let n = (k + 1) % 6;
+        faces.push(vec![k, n, n + 6, k + 6]);
+    }
+    let prism = PolygonMesh::new(points, &faces).unwrap();
+    let creases = vec![
+        Crease {
+            a: 0,
+            b: 1,
+            sharpness: 10.0,
+        },
+        Crease {
+            a: 1,
+            b: 2,
+            sharpness: 1.0,
+        },
+        Crease {
+            a: 6,
+            b: 7,
+            sharpness: 0.6,
+        },
+        Crease {
+            a: 7,
+            b: 8,
+            sharpness: 2.3,
+        },
+    ];
+    let corners = vec![Corner {
+        vertex: 9,
+        sharpness: 1.5,
+    }];
+    let mut grid_points = grid_mesh(4).points().to_vec();
+    grid_points[5].z += 0.4;
+    let id = |i: u32, j: u32| i * 4 + j;
+    let grid_faces = vec![
+        vec![id(0, 0), id(1, 0), id(1, 1), id(0, 1)],
+        vec![id(1, 0), id(2, 0), id(2, 1)],
+        vec![id(1, 0), id(2, 1), id(1, 1)],
+        vec![id(2, 0), id(3, 0), id(3, 1), id(2, 1)],
+        vec![id(0, 1), id(1, 1), id(1, 2), id(0, 2)],
+        vec![id(1, 1), id(2, 1), id(2, 2), id(1, 2)],
+        vec![id(2, 1), id(3, 1), id(3, 2), id(2, 2)],
+        vec![id(0, 2), id(1, 2), id(2, 2), id(2, 3), id(1, 3), id(0, 3)],
+        vec![id(2, 2), id(3, 2), id(3, 3), id(2, 3)],
+    ];
+    let grid = PolygonMesh::new(grid_points, &grid_faces).unwrap();
+    vec![
+        with(
+            prism.clone(),
+            creases.clone(),
+            corners.clone(),
+            Options::default(),
+        ),
+        with(
+            prism,
+            creases,
+            corners,
+            Options {
+                creasing: Creasing::Chaikin,
+                ..Options::default()
+            },
+        ),
+        with(
+            grid.clone(),
+            vec![Crease {
+                a: id(1, 1),
+                b: id(2, 1),
+                sharpness: 0.5,
+            }],
+            Vec::new(),
+            Options::default(),
+        ),
+        with(
+            grid,
+            Vec::new(),
+            Vec::new(),
+            Options {
+                boundary: Boundary::EdgeAndCorner,
+                ..Options::default()
+            },
+        ),
+    ]
+}
+
+#[test]
+fn the_gpu_stencil_pass_matches_the_f64_tables() {
+    let context = common::gpu();
+    for (c, surface) in mixed_cages().iter().enumerate() {
+        let (lo, hi) = surface.mesh().bounds().unwrap();
+        let size = (hi - lo).length();
+        for levels in 1..=3 {
+            let limit = surface.limit(levels).unwrap();
+            let gpu = knotwork::gpu::subdiv_eval::evaluate_level(
+                &context.device,
+                &context.queue,
+                surface,
+                levels,
+                true,
+            )
+            .unwrap();
+            let mut worst = (0.0f64, 0.0f64);
+            for (v, result) in gpu.iter().enumerate() {
+                let (p, n, _) = result.expect("every vertex lies on a face");
+                worst.0 = worst.0.max((p - limit.positions[v]).length() / size);
+                worst.1 = worst.1.max(n.angle_between(limit.normals[v]));
+            }
+            eprintln!(
+                "cage {c} level {levels}: position {:.1e}, normal {:.1e} rad",
+                worst.0, worst.1
+            );
+            assert!(
+                worst.0 < 1e-5 && worst.1 < 1e-3,
+                "cage {c} level {levels}: {worst:?}"
+            );
+            let (refined, _) = surface.refined(levels).unwrap();
+            let gpu = knotwork::gpu::subdiv_eval::evaluate_level(
+                &context.device,
+                &context.queue,
+                surface,
+                levels,
+                false,
+            )
+            .unwrap();
+            for (v, result) in gpu.iter().enumerate() {
+                let (p, _, _) = result.unwrap();
+                assert!(
+                    (p - refined[v]).length() / size < 1e-5,
+                    "cage {c} refined {v}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_gpu_curvature_of_a_regular_grid_is_the_b_spline_s() {
+    let context = common::gpu();
+    let m = 8;
+    let mesh = grid_mesh(m);
+    let surface = SubdivisionSurface::from_mesh(mesh.clone(), 0).unwrap();
+    let knots: Vec<f64> = (0..m + 4).map(|k| k as f64).collect();
+    let bspline = NurbsSurface::new(
+        [3, 3],
+        [knots.clone(), knots],
+        [m, m],
+        mesh.points().to_vec(),
+        None,
+    )
+    .unwrap();
+    let (refined, _) = surface.refined(3).unwrap();
+    let gpu = knotwork::gpu::subdiv_eval::evaluate_level(
+        &context.device,
+        &context.queue,
+        &surface,
+        3,
+        true,
+    )
+    .unwrap();
+    let mut checked = 0;
+    for (v, result) in gpu.iter().enumerate() {
+        let (_, _, k) = result.unwrap();
+        let r = refined[v];
+        let inside = |x: f64| (1.0..=(m - 2) as f64).contains(&x);
+        if !(inside(r.x) && inside(r.y)) {
+            continue;
+        }
+        let exact = bspline
+            .local_geometry(r.x + 2.0, r.y + 2.0)
+            .unwrap()
+            .curvature;
+        let scale = exact.k1.abs().max(exact.k2.abs()).max(1e-3);
+        for (got, want) in [(k[0], exact.gaussian), (k[1], exact.mean)] {
+            let tolerance = 1e-2
+                * if want == exact.gaussian {
+                    scale * scale
+                } else {
+                    scale
+                };
+            assert!(
+                (got - want).abs() <= tolerance,
+                "vertex {v}: {got} vs {want}"
+            );
+        }
+        assert!((k[2] - exact.k1).abs() <= 1e-2 * scale && (k[3] - exact.k2).abs() <= 1e-2 * scale);
+        checked += 1;
+    }
+    assert!(checked > 300, "{checked}");
+}
