@@ -358,6 +358,96 @@ pub fn run(
         median(times),
     )?;
     bench_export(&scene, iterations, out)?;
+    bench_subdivision(context, iterations, out)?;
+    Ok(())
+}
+
+/// A subdivision cage as a scene object at `level`.
+fn cage_object(
+    name: &str,
+    mesh: crate::kernel::PolygonMesh,
+    level: u32,
+) -> Result<SceneObject, crate::kernel::GeometryError> {
+    let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(mesh, level)?;
+    Ok(SceneObject::new(
+        format!("{name} L{level}"),
+        crate::scene::ObjectGeometry::Subdivision(Box::new(surface.into())),
+    ))
+}
+
+/// Subdivision: the 48 × 32 torus cage at levels 3 and 4 and a 100,000-face torus at level 2
+/// (regular quads: bicubic patches), the cube at level 5 (every face irregular: limit stencils)
+/// through the editor's path (table build = the object's feed; full pass; drag latency), and
+/// the torus at level 4 with every face as stencils: table build, bytes per refined vertex and
+/// one full stencil pass.
+fn bench_subdivision(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::subdiv::cages;
+    use crate::kernel::subdiv::patches::Display;
+    let torus = cages::torus(DVec3::ZERO, 2.0, 0.6, 48, 32)?;
+    for level in [3, 4] {
+        bench_object(
+            context,
+            cage_object("torus cage", torus.clone(), level)?,
+            700,
+            iterations,
+            out,
+        )?;
+    }
+    // One dispatch evaluates at most 65,535 patches: 250 × 250 faces.
+    let big = cages::torus(DVec3::ZERO, 2.0, 0.6, 250, 250)?;
+    bench_object(
+        context,
+        cage_object("62,500-face torus", big, 2)?,
+        30_000,
+        iterations,
+        out,
+    )?;
+    let cube = cages::cube(DVec3::ZERO, 2.0)?;
+    bench_object(
+        context,
+        cage_object("cube cage", cube, 5)?,
+        3,
+        iterations,
+        out,
+    )?;
+
+    for level in [3, 4] {
+        let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(torus.clone(), level)?;
+        let start = Instant::now();
+        let feed = surface.limit_feed_with(level, Display::Limit, false)?;
+        let build_ms = start.elapsed().as_secs_f64() * 1e3;
+        let slots = feed.slots.len();
+        let bytes = feed.entries.len() * 32 + slots * 8;
+        let mut pass_ms = Vec::new();
+        for _ in 0..iterations.clamp(1, 5) {
+            let start = Instant::now();
+            match crate::gpu::subdiv_eval::evaluate_feed(
+                &context.device,
+                &context.queue,
+                surface.points(),
+                &feed,
+            ) {
+                Ok(_) => pass_ms.push(start.elapsed().as_secs_f64() * 1e3),
+                Err(GpuError::BufferTooLarge { .. }) => break,
+                Err(e) => return Err(e.into()),
+            }
+        }
+        let pass = if pass_ms.is_empty() {
+            "too large for one binding".to_string()
+        } else {
+            format!("upload+pass+readback {:8.1} ms", median(pass_ms))
+        };
+        writeln!(
+            out,
+            "torus cage L{level}, all stencils  | table build {build_ms:8.1} ms | {slots} slots, {} entries, {:.0} bytes per refined vertex | {pass}",
+            feed.entries.len(),
+            bytes as f64 / slots as f64,
+        )?;
+    }
     Ok(())
 }
 

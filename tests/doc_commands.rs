@@ -1,13 +1,16 @@
 //! The command layer: random sequences of edits (move, weight, knot insertion and removal,
-//! degree elevation, split, reverse, create, duplicate, delete, transform, rename, hide), each
+//! degree elevation, split, reverse, create, duplicate, delete, transform, rename, hide,
+//! subdivision settings), each
 //! undone and redone through the history, with a save and load in between. Failed commands
 //! must leave the document and the history untouched.
 
 use glam::{DAffine3, DVec3};
 use knotwork::doc::{Command, EditError, History, apply};
 use knotwork::io::project::{self, Project};
+use knotwork::kernel::subdiv::patches::Display;
+use knotwork::kernel::subdiv::{Crease, Options, Scheme, SubdivisionSurface, cages};
 use knotwork::kernel::{Direction, construct};
-use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivSettings};
 use proptest::prelude::*;
 
 mod common;
@@ -20,6 +23,18 @@ fn start_scene() -> Scene {
     scene.objects.push(demo.objects[0].clone());
     scene.objects.push(demo.objects[1].clone());
     scene.objects.push(demo.objects[3].clone());
+    scene
+}
+
+/// [`start_scene`] and a subdivision cube at level 2.
+fn start_scene_with_cage() -> Scene {
+    let mut scene = start_scene();
+    let cube = cages::cube(DVec3::new(4.0, 0.0, 0.0), 2.0).unwrap();
+    let surface = SubdivisionSurface::from_mesh(cube, 2).unwrap();
+    scene.objects.push(SceneObject::new(
+        "cage",
+        ObjectGeometry::Subdivision(Box::new(surface.into())),
+    ));
     scene
 }
 
@@ -51,7 +66,9 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
     let index = (r as usize / 7) % points.len().max(1);
     let domain = match &target.geometry {
         ObjectGeometry::Nurbs(s) => s.domain(),
-        ObjectGeometry::Patches(_) | ObjectGeometry::Mesh(_) => [(0.0, 1.0), (0.0, 1.0)],
+        ObjectGeometry::Patches(_) | ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => {
+            [(0.0, 1.0), (0.0, 1.0)]
+        }
     };
     let d = direction(r >> 4);
     let (lo, hi) = domain[d.index()];
@@ -120,6 +137,32 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
                 tolerance: 1e-9,
             }
         }
+        _ if r & 4 != 0 => {
+            // Subdivision settings: refused for surfaces, for Loop on the cube's quads, for a
+            // negative sharpness or an edge the cage lacks.
+            let scheme = if r & 8 == 0 {
+                Scheme::CatmullClark
+            } else {
+                Scheme::Loop
+            };
+            Command::SetSubdivision {
+                object,
+                settings: SubdivSettings {
+                    options: Options {
+                        scheme,
+                        ..Options::default()
+                    },
+                    level: (r >> 4) % 4,
+                    display: Display::Limit,
+                    creases: vec![Crease {
+                        a: (r >> 6) % 3,
+                        b: (r >> 8) % 3,
+                        sharpness: c * 3.0,
+                    }],
+                    corners: Vec::new(),
+                },
+            }
+        }
         _ => {
             if r & 2 == 0 {
                 Command::Rename {
@@ -157,7 +200,7 @@ proptest! {
             (0u8..12, any::<u32>(), 0.0f64..1.0, 0.0f64..1.0, -2.0f64..2.0), 1..14),
         save_at in 0usize..14,
     ) {
-        let start = start_scene();
+        let start = start_scene_with_cage();
         let mut scene = start.clone();
         let mut history = History::default();
         let mut applied = 0;

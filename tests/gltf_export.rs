@@ -264,7 +264,9 @@ fn the_glb_read_back_matches_the_kernel_at_the_stored_uv_and_faces_its_normals()
                             .unwrap()
                     }
                     ObjectGeometry::Patches(set) => set.evaluate(k, uv[0], uv[1]).unwrap().point,
-                    ObjectGeometry::Mesh(_) => unreachable!("the demo has no meshes"),
+                    ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => {
+                        unreachable!("the demo has no meshes or cages")
+                    }
                 };
                 assert!(
                     p.distance(expected) <= 1e-6 * size,

@@ -70,6 +70,9 @@ impl<'a> ReferenceSurface<'a> {
             ObjectGeometry::Mesh(mesh) => {
                 Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
             }
+            ObjectGeometry::Subdivision(_) => {
+                Self::Patches(std::borrow::Cow::Owned(object.decompose().unwrap().set))
+            }
             ObjectGeometry::Nurbs(surface) => {
                 let bu = surface.span_breaks(Direction::U);
                 let bv = surface.span_breaks(Direction::V);

@@ -236,6 +236,22 @@ fn evaluator_constants_match_their_rust_counterparts() {
         wgsl_constant(&module, "PATCH_KIND_BEZIER"),
         f64::from(knotwork::gpu::records::PATCH_KIND_BEZIER)
     );
+    for (name, value) in [
+        (
+            "PATCH_KIND_STENCIL_QUAD",
+            knotwork::gpu::records::PATCH_KIND_STENCIL_QUAD,
+        ),
+        (
+            "PATCH_KIND_STENCIL_TRIANGLE",
+            knotwork::gpu::records::PATCH_KIND_STENCIL_TRIANGLE,
+        ),
+        (
+            "STENCIL_NO_CURVATURE",
+            knotwork::gpu::records::STENCIL_NO_CURVATURE,
+        ),
+    ] {
+        assert_eq!(wgsl_constant(&module, name), f64::from(value), "{name}");
+    }
     assert_eq!(
         wgsl_constant(&module, "CURVATURE_NUDGE"),
         f64::from(GPU_CURVATURE_NUDGE)

@@ -10,7 +10,9 @@ use crate::doc::create::{Primitive, PrimitiveParams};
 use crate::doc::{Command, direction_name};
 use crate::gpu::records::CURVATURE_RAMP;
 use crate::kernel::Direction;
-use crate::scene::{ObjectGeometry, SceneObject};
+use crate::kernel::subdiv::patches::Display;
+use crate::kernel::subdiv::{Boundary, Corner, Crease, Creasing, MAX_LEVEL, Options, Scheme};
+use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::view::{QUALITY_RANGE, ShadingMode};
 
 /// The controls listed in the panel (and the README).
@@ -680,6 +682,143 @@ impl KnotworkApp {
         }
     }
 
+    /// Subdivision: "Subdivide" for a polygon mesh; rules, level, display and the sharpness of
+    /// the selected edge (its two points) or point for a subdivision surface.
+    fn subdivision_panel(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.selection.object else {
+            return;
+        };
+        let before = match &self.scene().objects[s].geometry {
+            ObjectGeometry::Mesh(_) => {
+                ui.separator();
+                ui.label(egui::RichText::new("Subdivision").strong());
+                if ui
+                    .button("Subdivide")
+                    .on_hover_text("show the mesh as a Catmull-Clark surface, level 2")
+                    .clicked()
+                {
+                    let settings = SubdivSettings {
+                        options: Options::default(),
+                        level: 2,
+                        display: Display::Limit,
+                        creases: Vec::new(),
+                        corners: Vec::new(),
+                    };
+                    self.execute(Command::SetSubdivision {
+                        object: s,
+                        settings,
+                    });
+                }
+                return;
+            }
+            ObjectGeometry::Subdivision(surface) => surface.settings(),
+            _ => return,
+        };
+        ui.separator();
+        ui.label(egui::RichText::new("Subdivision").strong());
+        let mut settings = before.clone();
+        let options = &mut settings.options;
+        egui::ComboBox::new("scheme", "scheme")
+            .selected_text(match options.scheme {
+                Scheme::CatmullClark => "Catmull-Clark",
+                Scheme::Loop => "Loop (triangles)",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut options.scheme, Scheme::CatmullClark, "Catmull-Clark");
+                ui.selectable_value(&mut options.scheme, Scheme::Loop, "Loop (triangles)");
+            });
+        egui::ComboBox::new("boundary", "boundary")
+            .selected_text(match options.boundary {
+                Boundary::EdgeOnly => "edge only",
+                Boundary::EdgeAndCorner => "edge and corner",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut options.boundary, Boundary::EdgeOnly, "edge only");
+                ui.selectable_value(
+                    &mut options.boundary,
+                    Boundary::EdgeAndCorner,
+                    "edge and corner",
+                );
+            });
+        egui::ComboBox::new("creasing", "creasing")
+            .selected_text(match options.creasing {
+                Creasing::Uniform => "uniform",
+                Creasing::Chaikin => "Chaikin",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut options.creasing, Creasing::Uniform, "uniform");
+                ui.selectable_value(&mut options.creasing, Creasing::Chaikin, "Chaikin");
+            });
+        egui::ComboBox::new("display", "display")
+            .selected_text(match settings.display {
+                Display::Limit => "limit surface",
+                Display::Refined => "refined mesh",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut settings.display, Display::Limit, "limit surface");
+                ui.selectable_value(&mut settings.display, Display::Refined, "refined mesh");
+            });
+        ui.add(egui::Slider::new(&mut settings.level, 0..=MAX_LEVEL).text("level"));
+        let points: Vec<u32> = self.selection.points.iter().map(|&p| p as u32).collect();
+        match points[..] {
+            [a, b] => {
+                let at = settings
+                    .creases
+                    .iter()
+                    .position(|c| (c.a, c.b) == (a, b) || (c.a, c.b) == (b, a));
+                let mut sharpness = at.map_or(0.0, |k| settings.creases[k].sharpness);
+                ui.add(
+                    egui::Slider::new(&mut sharpness, 0.0..=10.0)
+                        .text(format!("edge {a}-{b} sharpness")),
+                );
+                if sharpness != at.map_or(0.0, |k| settings.creases[k].sharpness) {
+                    if let Some(k) = at {
+                        settings.creases.remove(k);
+                    }
+                    if sharpness > 0.0 {
+                        settings.creases.push(Crease { a, b, sharpness });
+                    }
+                }
+            }
+            [vertex] => {
+                let at = settings.corners.iter().position(|c| c.vertex == vertex);
+                let mut sharpness = at.map_or(0.0, |k| settings.corners[k].sharpness);
+                ui.add(
+                    egui::Slider::new(&mut sharpness, 0.0..=10.0)
+                        .text(format!("point {vertex} sharpness")),
+                );
+                if sharpness != at.map_or(0.0, |k| settings.corners[k].sharpness) {
+                    if let Some(k) = at {
+                        settings.corners.remove(k);
+                    }
+                    if sharpness > 0.0 {
+                        settings.corners.push(Corner { vertex, sharpness });
+                    }
+                }
+            }
+            _ => {
+                ui.label(
+                    egui::RichText::new(
+                        "select an edge's two points (or one point) to set its sharpness; \
+                         0 removes it, 10 is infinitely sharp",
+                    )
+                    .weak(),
+                );
+            }
+        }
+        ui.label(format!(
+            "{} creases, {} sharp points",
+            settings.creases.len(),
+            settings.corners.len()
+        ));
+        if settings != before {
+            self.execute(Command::SetSubdivision {
+                object: s,
+                settings,
+            });
+        }
+    }
+
     pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
         ui.heading("knotwork");
         ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
@@ -704,6 +843,7 @@ impl KnotworkApp {
         self.objects_panel(ui);
         ui.separator();
         self.properties_panel(ui);
+        self.subdivision_panel(ui);
         ui.separator();
         self.shading_panel(ui);
         ui.separator();

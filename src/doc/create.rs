@@ -2,6 +2,7 @@
 //! for. Curve-based surfaces (revolve, extrude, loft, Coons, sweep) use built-in profiles
 //! scaled by the parameters.
 
+use crate::kernel::subdiv::{SubdivisionSurface, cages};
 use std::f64::consts::TAU;
 
 use glam::DVec3;
@@ -23,10 +24,14 @@ pub enum Primitive {
     Coons,
     Sweep,
     BezierPatch,
+    CageCube,
+    CageCylinder,
+    CageTorus,
+    CageGrid,
 }
 
 impl Primitive {
-    pub const ALL: [Primitive; 11] = [
+    pub const ALL: [Primitive; 15] = [
         Primitive::Plane,
         Primitive::Cylinder,
         Primitive::Cone,
@@ -38,6 +43,10 @@ impl Primitive {
         Primitive::Coons,
         Primitive::Sweep,
         Primitive::BezierPatch,
+        Primitive::CageCube,
+        Primitive::CageCylinder,
+        Primitive::CageTorus,
+        Primitive::CageGrid,
     ];
 
     pub fn label(self) -> &'static str {
@@ -53,6 +62,10 @@ impl Primitive {
             Primitive::Coons => "Coons patch",
             Primitive::Sweep => "Sweep (circle along an arc)",
             Primitive::BezierPatch => "Bézier patch",
+            Primitive::CageCube => "Subdivision cube",
+            Primitive::CageCylinder => "Subdivision cylinder",
+            Primitive::CageTorus => "Subdivision torus (48 × 32)",
+            Primitive::CageGrid => "Subdivision grid (8 × 8)",
         }
     }
 }
@@ -85,11 +98,29 @@ impl Default for PrimitiveParams {
     }
 }
 
+/// The level a new cage is shown at.
+pub const DEFAULT_CAGE_LEVEL: u32 = 3;
+
 impl PrimitiveParams {
     /// Builds the object, named after the primitive. Bad parameters give the kernel's error.
     pub fn build(&self) -> Result<SceneObject, GeometryError> {
         let c = self.center;
         let (s, h, r) = (self.size, self.height, self.ratio);
+        let cage = match self.kind {
+            Primitive::CageCube => Some(cages::cube(c, s)?),
+            Primitive::CageCylinder => Some(cages::cylinder(c, s, h, 8, 3)?),
+            Primitive::CageTorus => Some(cages::torus(c, s, s * r, 48, 32)?),
+            Primitive::CageGrid => Some(cages::grid(c, s, 8)?),
+            _ => None,
+        };
+        if let Some(mesh) = cage {
+            let surface = SubdivisionSurface::from_mesh(mesh, DEFAULT_CAGE_LEVEL)?;
+            let name = self.kind.label().split(" (").next().unwrap_or("Cage");
+            return Ok(SceneObject::new(
+                name,
+                ObjectGeometry::Subdivision(Box::new(surface.into())),
+            ));
+        }
         let circle = |z: f64, radius: f64| {
             construct::circle(c + DVec3::new(0.0, 0.0, z), DVec3::Z, DVec3::X, radius)
         };
@@ -168,6 +199,15 @@ impl PrimitiveParams {
                 flat.transformed(&glam::DAffine3::from_translation(
                     c - DVec3::new(s, s, 0.0) * 0.5,
                 ))?
+            }
+            Primitive::CageCube
+            | Primitive::CageCylinder
+            | Primitive::CageTorus
+            | Primitive::CageGrid => {
+                return Err(GeometryError::Construction {
+                    what: "cage",
+                    message: "built above".into(),
+                });
             }
         };
         let name = match self.kind {

@@ -106,6 +106,12 @@ pub enum Command {
     SetAllSegments {
         segments: u32,
     },
+    /// Turns a polygon mesh into a subdivision surface, or sets a subdivision surface's rules,
+    /// level, display, creases and corners (a cage the rules refuse changes nothing).
+    SetSubdivision {
+        object: usize,
+        settings: crate::scene::SubdivSettings,
+    },
 }
 
 impl Command {
@@ -144,6 +150,9 @@ impl Command {
             Command::SetSegments { segments, .. } => format!("{segments} segments"),
             Command::SetAllSegments { segments } => {
                 format!("{segments} segments for every object")
+            }
+            Command::SetSubdivision { settings, .. } => {
+                format!("subdivision level {}", settings.level)
             }
         }
     }
@@ -603,6 +612,31 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 *k,
                 SceneObject {
                     segments: *segments,
+                    ..object.clone()
+                },
+            )
+        }
+        Command::SetSubdivision {
+            object: k,
+            settings,
+        } => {
+            let object = object_at(scene, *k)?;
+            let mesh = match &object.geometry {
+                ObjectGeometry::Mesh(mesh) => mesh,
+                ObjectGeometry::Subdivision(s) => s.surface.mesh(),
+                _ => {
+                    return Err(geometry_error(object)(GeometryError::Construction {
+                        what: "subdivision",
+                        message: "only a polygon mesh or a subdivision surface has a cage".into(),
+                    }));
+                }
+            };
+            let surface = crate::scene::SubdivObject::with_settings(mesh, settings)
+                .map_err(geometry_error(object))?;
+            replace(
+                *k,
+                SceneObject {
+                    geometry: ObjectGeometry::Subdivision(Box::new(surface)),
                     ..object.clone()
                 },
             )

@@ -651,9 +651,9 @@ impl PatchGeometry {
         let mut changed = BTreeSet::new();
         // The cage points the stencil patches read.
         let mut cage_changed = false;
-        for local in 0..range.cage_points {
+        for (local, point) in fresh.iter().enumerate().take(range.cage_points) {
             let global = range.first_point + local;
-            if self.uploaded[global] != fresh[local] {
+            if self.uploaded[global] != *point {
                 changed.insert(global);
                 cage_changed = true;
             }

@@ -131,7 +131,9 @@ impl SceneSync {
                     domains: &d.domains,
                     stencils: d.stencils.as_deref(),
                     cage_points: d.cage_points,
-                    segments: effective_segments(object.segments, q),
+                    segments: d
+                        .fixed_segments
+                        .unwrap_or_else(|| effective_segments(object.segments, q)),
                 })
                 .collect();
             PatchGeometry::new(&self.device, &self.evaluator, &inputs)

@@ -12,7 +12,7 @@ mod patch_set;
 mod subdiv;
 
 pub use kind::ObjectKind;
-pub use subdiv::SubdivObject;
+pub use subdiv::{SubdivObject, SubdivSettings};
 
 use glam::DVec3;
 
@@ -64,6 +64,9 @@ pub struct Decomposition {
     /// [`Self::cage_points`] points of the set.
     pub stencils: Option<std::sync::Arc<crate::kernel::subdiv::patches::LimitFeed>>,
     pub cage_points: usize,
+    /// Segments per patch edge the feed needs whatever the object's tessellation (a
+    /// subdivision level's 2^level), or `None` to follow the object's segments.
+    pub fixed_segments: Option<u32>,
 }
 
 /// One object of the scene.

@@ -25,6 +25,16 @@ struct Prepared {
     point_faces: Vec<Vec<u32>>,
 }
 
+/// What the subdivision properties set: rules, level, display, creases and corners.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SubdivSettings {
+    pub options: crate::kernel::subdiv::Options,
+    pub level: u32,
+    pub display: Display,
+    pub creases: Vec<crate::kernel::subdiv::Crease>,
+    pub corners: Vec<crate::kernel::subdiv::Corner>,
+}
+
 /// A subdivision surface in the scene.
 #[derive(Debug, Clone)]
 pub struct SubdivObject {
@@ -86,6 +96,33 @@ fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
 }
 
 impl SubdivObject {
+    /// Its settings, to edit and apply with [`Self::with_settings`].
+    pub fn settings(&self) -> SubdivSettings {
+        SubdivSettings {
+            options: self.surface.options,
+            level: self.surface.level(),
+            display: self.display,
+            creases: self.surface.creases().to_vec(),
+            corners: self.surface.corners().to_vec(),
+        }
+    }
+
+    /// The same cage with other settings (checked: a bad crease, a Loop cage with quads or a
+    /// level out of range is refused).
+    pub fn with_settings(
+        mesh: &crate::kernel::PolygonMesh,
+        settings: &SubdivSettings,
+    ) -> Result<Self, GeometryError> {
+        let surface = SubdivisionSurface::new(
+            mesh.clone(),
+            settings.creases.clone(),
+            settings.corners.clone(),
+            settings.options,
+            settings.level,
+        )?;
+        Ok(Self::new(surface, settings.display))
+    }
+
     pub fn new(surface: SubdivisionSurface, display: Display) -> Self {
         Self {
             surface,
@@ -266,6 +303,7 @@ impl ObjectKind for SubdivObject {
             domains,
             stencils: Some(Arc::new(prepared.feed.clone())),
             cage_points: cage.len(),
+            fixed_segments: Some(1 << self.surface.level()),
         })
     }
 

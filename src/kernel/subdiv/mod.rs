@@ -8,6 +8,7 @@
 //! the limit surface. The GPU applies the same tables ([`patches`]); this f64 path is its
 //! oracle and the export path.
 
+pub mod cages;
 pub mod level;
 pub mod limit;
 pub mod patches;
@@ -194,15 +195,14 @@ impl SubdivisionSurface {
     /// infinitely sharp corners (as OpenSubdiv's factory tags them).
     pub fn base_level(&self) -> Result<Level, GeometryError> {
         let faces: Vec<&[u32]> = self.mesh.faces().collect();
-        if self.options.scheme == Scheme::Loop {
-            if let Some((f, face)) = faces.iter().enumerate().find(|(_, f)| f.len() != 3) {
-                return Err(GeometryError::Cage {
-                    at: Location::face(f),
-                    problem: CageProblem::NotTriangle {
-                        corners: face.len(),
-                    },
-                });
-            }
+        let not_triangle = faces.iter().enumerate().find(|(_, f)| f.len() != 3);
+        if let (Scheme::Loop, Some((f, face))) = (self.options.scheme, not_triangle) {
+            return Err(GeometryError::Cage {
+                at: Location::face(f),
+                problem: CageProblem::NotTriangle {
+                    corners: face.len(),
+                },
+            });
         }
         let mut level = Level::new(self.mesh.points().len(), &faces, Vec::new())?;
         let mut lookup = std::collections::HashMap::new();
