@@ -418,3 +418,53 @@ fn closing_right_after_an_edit_writes_the_autosave() {
         moved_to
     );
 }
+
+#[test]
+fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    harness.run_steps(3);
+    let (index, at) = select_with_free_handle(&mut harness, 0);
+    harness.get_by_label("Subdivide").click();
+    harness.run_steps(3);
+    let s = status::current();
+    // Level 2: each quad's four level-1 quads are limit-stencil patches.
+    assert_eq!((s.error.as_deref(), s.patches), (None, 24), "{s:?}");
+    let subdivided = harness.state().document().scene.objects[0].clone();
+    assert!(matches!(
+        subdivided.geometry,
+        ObjectGeometry::Subdivision(_)
+    ));
+
+    // Drag a cage point with the mouse: one undo step, the cage point moves.
+    harness.hover_at(at);
+    harness.run_steps(1);
+    let end = drag_from(&mut harness, at, egui::vec2(12.0, -8.0), 4);
+    press(&harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 2), "{s:?}");
+    assert!(s.patches_in_drag > 0 && s.patches_in_drag <= 24, "{s:?}");
+    let dragged = harness.state().document().scene.objects[0].clone();
+    assert_ne!(
+        dragged.control_points()[index],
+        subdivided.control_points()[index]
+    );
+
+    // Undo twice: the subdivided cube, then the mesh.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene.objects[0], subdivided);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert!(matches!(
+        harness.state().document().scene.objects[0].geometry,
+        ObjectGeometry::Mesh(_)
+    ));
+    assert_eq!(status::current().patches, 6);
+}

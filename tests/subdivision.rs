@@ -637,3 +637,77 @@ fn the_gpu_curvature_of_a_regular_grid_is_the_b_spline_s() {
     }
     assert!(checked > 300, "{checked}");
 }
+
+const TAGGED_CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+    f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
+    t crease 2/1/0 4 5 10\nt corner 1/1/0 2 3.5\n";
+
+#[test]
+fn obj_crease_tags_open_as_a_cage_and_knotwork_subdivide_writes_the_level() {
+    let project = knotwork::io::obj::read(TAGGED_CUBE).unwrap();
+    let knotwork::scene::ObjectGeometry::Subdivision(cage) = &project.scene.objects[0].geometry
+    else {
+        panic!("a tagged OBJ opens as a cage");
+    };
+    assert_eq!(cage.surface.creases().len(), 1);
+    assert_eq!(cage.surface.corners().len(), 1);
+
+    let dir = std::env::temp_dir().join(format!("knotwork-subdivide-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join("cube.obj");
+    std::fs::write(&input, TAGGED_CUBE).unwrap();
+    let parsed = knotwork::io::obj::parse(TAGGED_CUBE).unwrap();
+    let faces = parsed.all_faces();
+    let mesh = PolygonMesh::new(parsed.vertices, &faces).unwrap();
+    let surface =
+        SubdivisionSurface::new(mesh, parsed.creases, parsed.corners, Options::default(), 0)
+            .unwrap();
+    let expected = surface.limit(2).unwrap();
+    for backend in ["cpu", "gpu"] {
+        let output = dir.join(format!("out-{backend}.obj"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .args([
+                "subdivide",
+                input.to_str().unwrap(),
+                "--levels",
+                "2",
+                "--limit",
+            ])
+            .args(["--backend", backend, "-o", output.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let text = std::fs::read_to_string(&output).unwrap();
+        let vertices: Vec<DVec3> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| {
+                let c: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                DVec3::new(c[0], c[1], c[2])
+            })
+            .collect();
+        assert_eq!(vertices.len(), 98);
+        assert_eq!(text.lines().filter(|l| l.starts_with("vn ")).count(), 98);
+        assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 96);
+        for (p, q) in vertices.iter().zip(&expected.positions) {
+            assert!((*p - *q).length() < 1e-5, "{backend}: {p} vs {q}");
+        }
+    }
+    // A bad cage exits 1 with the message.
+    std::fs::write(
+        &input,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\nf 1 2 3\n",
+    )
+    .unwrap();
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(["subdivide", input.to_str().unwrap(), "-o"])
+        .arg(dir.join("bad.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("edges["));
+}

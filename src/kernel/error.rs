@@ -204,6 +204,8 @@ pub enum CageProblem {
     NoSuchVertex { vertex: u32, count: usize },
     #[error("level {level} is outside 0..={max}")]
     Level { level: u32, max: u32 },
+    #[error("level {level} would make {faces} faces, more than {max}")]
+    TooManyFaces { level: u32, faces: u64, max: u64 },
 }
 
 impl GeometryError {

@@ -24,6 +24,9 @@ use super::{CageProblem, GeometryError, Location, PolygonMesh};
 /// The highest subdivision level a cage may ask for.
 pub const MAX_LEVEL: u32 = 6;
 
+/// The most faces a cage's level may have (the tables grow with them).
+pub const MAX_REFINED_FACES: u64 = 4_000_000;
+
 /// The subdivision rules.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -129,6 +132,22 @@ impl SubdivisionSurface {
             level,
         };
         surface.base_level()?;
+        let corners: u64 = surface.mesh.faces().map(|f| f.len() as u64).sum();
+        let faces = match (level, options.scheme) {
+            (0, _) => surface.mesh.face_count() as u64,
+            (_, Scheme::CatmullClark) => corners.saturating_mul(1 << (2 * (level.min(31) - 1))),
+            (_, Scheme::Loop) => (surface.mesh.face_count() as u64) << (2 * level.min(31)),
+        };
+        if level <= MAX_LEVEL && faces > MAX_REFINED_FACES {
+            return Err(GeometryError::Cage {
+                at: Location::field("level"),
+                problem: CageProblem::TooManyFaces {
+                    level,
+                    faces,
+                    max: MAX_REFINED_FACES,
+                },
+            });
+        }
         if level > MAX_LEVEL {
             return Err(GeometryError::Cage {
                 at: Location::field("level"),
