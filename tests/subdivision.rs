@@ -9,30 +9,14 @@ mod common;
 use glam::{DAffine3, DMat3, DVec3};
 use knotwork::kernel::subdiv::refine::loop_beta;
 use knotwork::kernel::subdiv::{
-    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
+    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface, cages,
 };
 use knotwork::kernel::{GeometryError, NurbsSurface, PolygonMesh};
 
 fn cube() -> SubdivisionSurface {
-    let points = (0..8)
-        .map(|k| {
-            DVec3::new(
-                if k & 1 == 0 { -1.0 } else { 1.0 },
-                if k & 2 == 0 { -1.0 } else { 1.0 },
-                if k & 4 == 0 { -1.0 } else { 1.0 },
-            )
-        })
-        .collect();
-    // Outward-facing quads over the corners numbered by bits (x, y, z).
-    let faces = vec![
-        vec![0, 2, 3, 1],
-        vec![4, 5, 7, 6],
-        vec![0, 1, 5, 4],
-        vec![2, 6, 7, 3],
-        vec![0, 4, 6, 2],
-        vec![1, 3, 7, 5],
-    ];
-    SubdivisionSurface::from_mesh(PolygonMesh::new(points, &faces).unwrap(), 0).unwrap()
+    // Corners numbered by bits (x, y, z), outward-facing quads.
+    let mesh = cages::cube(DVec3::ZERO, 2.0).unwrap();
+    SubdivisionSurface::from_mesh(mesh, 0).unwrap()
 }
 
 fn height(i: usize, j: usize) -> f64 {
@@ -57,6 +41,22 @@ fn grid_mesh(m: usize) -> PolygonMesh {
     PolygonMesh::new(points, &faces).unwrap()
 }
 
+/// The m × m grid as a Catmull-Clark cage and the bicubic B-spline over the same points
+/// (unclamped uniform knots 0, 1, ..., m + 3: cage vertex a sits at parameter a + 2).
+fn grid_and_bspline(m: usize) -> (SubdivisionSurface, NurbsSurface) {
+    let mesh = grid_mesh(m);
+    let knots: Vec<f64> = (0..m + 4).map(|k| k as f64).collect();
+    let bspline = NurbsSurface::new(
+        [3, 3],
+        [knots.clone(), knots],
+        [m, m],
+        mesh.points().to_vec(),
+        None,
+    )
+    .unwrap();
+    (SubdivisionSurface::from_mesh(mesh, 0).unwrap(), bspline)
+}
+
 fn with(
     mesh: PolygonMesh,
     creases: Vec<Crease>,
@@ -75,8 +75,8 @@ fn the_cube_has_the_textbook_counts_and_points() {
         assert_eq!((points.len(), level.face_count()), (vertices, faces));
         assert!(level.faces().all(|f| f.len() == 4));
     }
-    // One step moves a corner (±1) to ±5/9: (n − 2)/n + (3 − 2)/n² ... with n = 3:
-    // 1/3 · 1 + 1/9 · (1 − 1 + 1) + 1/9 · (1/1 · 1 + 0 + 0)... = 5/9 per coordinate.
+    // One step moves a corner (±1) to ±5/9: (n − 2)/n v + 1/n² Σ e + 1/n² Σ f with n = 3; for
+    // x at (1, 1, 1): 1/3 · 1 + 1/9 · (−1 + 1 + 1) + 1/9 · (1 + 0 + 0) = 5/9.
     let (points, _) = cube.refined(1).unwrap();
     for (k, p) in points[..8].iter().enumerate() {
         let sign = DVec3::new(
@@ -135,18 +135,7 @@ fn level_zero_is_the_cage_and_refinement_is_affine_invariant_and_symmetric() {
 #[test]
 fn a_regular_grid_is_the_bicubic_b_spline_the_kernel_evaluates() {
     let m = 8;
-    let mesh = grid_mesh(m);
-    let surface = SubdivisionSurface::from_mesh(mesh.clone(), 0).unwrap();
-    // Unclamped uniform knots 0, 1, ..., m + 3: cage vertex a sits at parameter a + 2.
-    let knots: Vec<f64> = (0..m + 4).map(|k| k as f64).collect();
-    let bspline = NurbsSurface::new(
-        [3, 3],
-        [knots.clone(), knots],
-        [m, m],
-        mesh.points().to_vec(),
-        None,
-    )
-    .unwrap();
+    let (surface, bspline) = grid_and_bspline(m);
     let limit = surface.limit(3).unwrap();
     let (refined, _) = surface.refined(3).unwrap();
     let mut checked = 0;
@@ -587,17 +576,7 @@ fn the_gpu_stencil_pass_matches_the_f64_tables() {
 fn the_gpu_curvature_of_a_regular_grid_is_the_b_spline_s() {
     let context = common::gpu();
     let m = 8;
-    let mesh = grid_mesh(m);
-    let surface = SubdivisionSurface::from_mesh(mesh.clone(), 0).unwrap();
-    let knots: Vec<f64> = (0..m + 4).map(|k| k as f64).collect();
-    let bspline = NurbsSurface::new(
-        [3, 3],
-        [knots.clone(), knots],
-        [m, m],
-        mesh.points().to_vec(),
-        None,
-    )
-    .unwrap();
+    let (surface, bspline) = grid_and_bspline(m);
     let (refined, _) = surface.refined(3).unwrap();
     let gpu = knotwork::gpu::subdiv_eval::evaluate_level(
         &context.device,
