@@ -690,3 +690,54 @@ fn obj_crease_tags_open_as_a_cage_and_knotwork_subdivide_writes_the_level() {
     assert_eq!(run.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&run.stderr).contains("edges["));
 }
+
+#[test]
+fn a_boundary_is_the_b_spline_with_mirrored_phantom_points() {
+    // Catmull-Clark's boundary rules equal the bicubic B-spline whose control grid is extended
+    // by one row of phantom points 2 P0 − P1 past each boundary: positions and normals at the
+    // boundary points (away from the grid's corners) must agree.
+    let m = 8;
+    let mesh = grid_mesh(m);
+    let p = |i: i64, j: i64| -> DVec3 {
+        let clamp = |x: i64| x.clamp(0, m as i64 - 1);
+        let (ci, cj) = (clamp(i), clamp(j));
+        let inner = |a: i64, b: i64| mesh.points()[(a * m as i64 + b) as usize];
+        let row = |b: i64| {
+            if i == ci {
+                inner(ci, b)
+            } else {
+                let toward = if i < 0 { 1 } else { -1 };
+                2.0 * inner(ci, b) - inner(ci + toward, b)
+            }
+        };
+        if j == cj {
+            row(cj)
+        } else {
+            let toward = if j < 0 { 1 } else { -1 };
+            2.0 * row(cj) - row(cj + toward)
+        }
+    };
+    let n = m + 2;
+    let points = (0..n * n)
+        .map(|k| p((k / n) as i64 - 1, (k % n) as i64 - 1))
+        .collect();
+    let knots: Vec<f64> = (0..n + 4).map(|k| k as f64).collect();
+    let extended = NurbsSurface::new([3, 3], [knots.clone(), knots], [n, n], points, None).unwrap();
+    let surface = SubdivisionSurface::from_mesh(mesh, 0).unwrap();
+    let limit = surface.limit(2).unwrap();
+    for j in 2..m - 2 {
+        for (i, v) in [(0, j), (m - 1, j), (j, 0), (j, m - 1)] {
+            let index = i * m + v;
+            let exact = extended
+                .local_geometry(i as f64 + 3.0, v as f64 + 3.0)
+                .unwrap();
+            let p = limit.positions[index];
+            assert!(
+                (p - exact.derivatives.point).length() < 1e-12,
+                "({i}, {v}): {p}"
+            );
+            let angle = limit.normals[index].angle_between(exact.normal);
+            assert!(angle < 1e-7, "({i}, {v}): normal off by {angle}");
+        }
+    }
+}

@@ -114,23 +114,7 @@ pub fn limit_tangents(
         return t;
     }
     if ring.boundary {
-        let k = n;
-        let centre = position(v);
-        if k == 1 {
-            t[0].add_row(&position(ring.neighbours[0]), 1.0);
-            t[0].add_row(&centre, -1.0);
-            t[1].add_row(&position(ring.neighbours[1]), 1.0);
-            t[1].add_row(&centre, -1.0);
-        } else {
-            t[0].add_row(&position(ring.neighbours[0]), 1.0);
-            t[0].add_row(&position(ring.neighbours[k]), -1.0);
-            for i in 1..k {
-                let w = (PI * i as f64 / k as f64).sin();
-                t[1].add_row(&position(ring.neighbours[i]), w);
-                t[1].add_row(&centre, -w);
-            }
-        }
-        return [t[0].clone().merged(), t[1].clone().merged()];
+        return boundary_tangents(level, scheme, v, &ring, position);
     }
     let nf = n as f64;
     for j in 0..n {
@@ -152,6 +136,78 @@ pub fn limit_tangents(
                 t[0].add_row(&e, a.cos());
                 t[1].add_row(&e, a.sin());
             }
+        }
+    }
+    [t[0].clone().merged(), t[1].clone().merged()]
+}
+
+/// Tangents at a boundary vertex: along the boundary and into the surface (their cross product
+/// points out of the front). Where the boundary is a crease (not a corner): along it
+/// (a − b)/2, the cubic B-spline's; across it, for Loop Hoppe et al. 1994's masks (one face:
+/// e0 + e1 − 2v; two: e1 − v; k ≥ 3: −(sin θ (e0 + ek) + (2 cos θ − 2) Σ sin(iθ) e_i),
+/// θ = π/k), for Catmull-Clark with two quads the bicubic B-spline's with the boundary's
+/// mirrored phantom row: (d0 − e0)/6 + 2(e1 − v)/3 + (d1 − e2)/6. Otherwise the chord of the
+/// boundary neighbours' limit points and the sine-weighted mean of the interior ones'.
+fn boundary_tangents(
+    level: &Level,
+    scheme: Scheme,
+    v: u32,
+    ring: &super::level::Ring,
+    position: &dyn Fn(u32) -> Row,
+) -> [Row; 2] {
+    let k = ring.faces.len();
+    let e = &ring.neighbours;
+    let crease = limit_rule(level, v) == Rule::Crease;
+    let quads = ring.faces.iter().all(|&f| level.face(f).len() == 4);
+    let mut t = [Row::default(), Row::default()];
+    if crease {
+        t[0] = Row(vec![(e[0], 0.5), (e[k], -0.5)]);
+        match scheme {
+            Scheme::Loop => {
+                if k == 1 {
+                    t[1] = Row(vec![(e[0], 1.0), (e[1], 1.0), (v, -2.0)]);
+                } else if k == 2 {
+                    t[1] = Row(vec![(e[1], 1.0), (v, -1.0)]);
+                } else {
+                    let theta = PI / k as f64;
+                    t[1].add(e[0], -theta.sin());
+                    t[1].add(e[k], -theta.sin());
+                    for (i, &n) in e.iter().enumerate().take(k).skip(1) {
+                        t[1].add(n, -(2.0 * theta.cos() - 2.0) * (theta * i as f64).sin());
+                    }
+                }
+                return [t[0].clone().merged(), t[1].clone().merged()];
+            }
+            Scheme::CatmullClark if k == 2 && quads => {
+                let d0 = diagonal(level, ring.faces[0], v);
+                let d1 = diagonal(level, ring.faces[1], v);
+                t[1] = Row(vec![
+                    (d0, 1.0 / 6.0),
+                    (e[0], -1.0 / 6.0),
+                    (e[1], 4.0 / 6.0),
+                    (v, -4.0 / 6.0),
+                    (d1, 1.0 / 6.0),
+                    (e[2], -1.0 / 6.0),
+                ]);
+                return [t[0].clone().merged(), t[1].clone().merged()];
+            }
+            Scheme::CatmullClark => {}
+        }
+    }
+    let centre = position(v);
+    t = [Row::default(), Row::default()];
+    if k == 1 {
+        t[0].add_row(&position(e[0]), 1.0);
+        t[0].add_row(&centre, -1.0);
+        t[1].add_row(&position(e[1]), 1.0);
+        t[1].add_row(&centre, -1.0);
+    } else {
+        t[0].add_row(&position(e[0]), 1.0);
+        t[0].add_row(&position(e[k]), -1.0);
+        for (i, &n) in e.iter().enumerate().take(k).skip(1) {
+            let w = (PI * i as f64 / k as f64).sin();
+            t[1].add_row(&position(n), w);
+            t[1].add_row(&centre, -w);
         }
     }
     [t[0].clone().merged(), t[1].clone().merged()]
