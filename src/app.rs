@@ -649,6 +649,27 @@ impl KnotworkApp {
         }
     }
 
+    /// Sets one crease of a subdivision surface (one undo step; refused with a message for
+    /// another kind of object, an edge the cage lacks or a bad sharpness).
+    fn set_crease(&mut self, object: usize, a: u32, b: u32, sharpness: f64) {
+        let Some(crate::scene::ObjectGeometry::Subdivision(surface)) =
+            self.doc.scene.objects.get(object).map(|o| &o.geometry)
+        else {
+            self.status.error = Some(format!("object {object} is not a subdivision surface"));
+            return;
+        };
+        let mut settings = surface.settings();
+        settings
+            .creases
+            .retain(|c| (c.a, c.b) != (a, b) && (c.a, c.b) != (b, a));
+        if sharpness != 0.0 {
+            settings
+                .creases
+                .push(crate::kernel::subdiv::Crease { a, b, sharpness });
+        }
+        self.execute(Command::SetSubdivision { object, settings });
+    }
+
     fn apply(&mut self, command: ExternalCommand) {
         match command {
             ExternalCommand::SetSegments(n) => self.set_all_segments(n),
@@ -661,6 +682,12 @@ impl KnotworkApp {
                 index,
                 position,
             } => self.move_points(object, &[(index, DVec3::from(position))]),
+            ExternalCommand::SetCrease {
+                object,
+                a,
+                b,
+                sharpness,
+            } => self.set_crease(object, a, b, sharpness),
             ExternalCommand::SetContinuous(on) => self.continuous = on,
             ExternalCommand::FrameModel => self.frame_pending = true,
             ExternalCommand::Undo => self.step_history(false),

@@ -120,6 +120,14 @@ pub enum ExternalCommand {
     },
     /// Starts again from the sample scene.
     NewDocument,
+    /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
+    /// `object` (0 removes the crease).
+    SetCrease {
+        object: usize,
+        a: u32,
+        b: u32,
+        sharpness: f64,
+    },
 }
 
 struct Shared {

@@ -152,6 +152,18 @@ pub fn open_file(name: String, bytes: Vec<u8>) {
     status::send(ExternalCommand::Open { name, bytes });
 }
 
+/// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
+/// `object` (0 removes the crease; errors show in the status).
+#[wasm_bindgen]
+pub fn set_crease(object: u32, a: u32, b: u32, sharpness: f64) {
+    status::send(ExternalCommand::SetCrease {
+        object: object as usize,
+        a,
+        b,
+        sharpness,
+    });
+}
+
 /// Starts again from the sample scene.
 #[wasm_bindgen]
 pub fn new_document() {

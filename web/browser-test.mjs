@@ -416,6 +416,68 @@ async function main() {
       await page.close();
     });
 
+    await check('a subdivision cage in the page: limit stencils on the GPU, a mouse drag, a crease, undo', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const points = [];
+      for (let k = 0; k < 8; k += 1) points.push([k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1]);
+      const cage = {
+        type: 'subdivision_surface', name: 'cage', points, level: 3,
+        faces: [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]],
+      };
+      await openObjects(page, [cage]);
+      let s = await status(page);
+      // Level 3: each quad's four level-1 quads are grids of 5 x 5 limit stencils.
+      assert(s.error === null && s.patches === 24 && s.vertices === 24 * 25, `cage: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.frame());
+      await page.evaluate(() => window.knotwork.select(0));
+      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      const [index, [hx, hy]] = await freeHandle(page, 10);
+      await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
+      await page.waitForFunction(() => {
+        const t = window.knotwork.status();
+        return t.undo_steps === 1 && !t.dragging;
+      }, null, { timeout: 60_000 });
+      const dragged = await page.evaluate(() => window.knotwork.project());
+      assert(JSON.stringify(dragged.objects[0].points[index]) !== JSON.stringify(points[index]), `cage point ${index} moved`);
+      await nextFrames(page);
+      const moved = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/cage-dragged.png`, moved);
+      const change = await screenshotDifference(page, before, moved, viewport, 24);
+      assert(change.differing > 200, `the canvas changed with the drag (${change.differing} px)`);
+
+      await page.evaluate(() => window.knotwork.setCrease(0, 0, 1, 10));
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 2, null, { timeout: 30_000 });
+      const creased = await page.evaluate(() => window.knotwork.project());
+      const creases = creased.objects[0].creases;
+      assert(creases.length === 1 && creases[0][2] === 10, `the crease is in the document: ${JSON.stringify(creases)}`);
+      await nextFrames(page);
+      const sharp = await page.locator('#knotwork-canvas').screenshot();
+      const creaseChange = await screenshotDifference(page, moved, sharp, viewport, 24);
+      assert(creaseChange.differing > 50, `the canvas changed with the crease (${creaseChange.differing} px)`);
+      s = await status(page);
+      assert(s.error === null, `error: ${s.error}`);
+      // A crease on an edge the cage lacks is refused and changes nothing.
+      await page.evaluate(() => window.knotwork.setCrease(0, 0, 7, 2));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(/edge/.test(s.error) && s.undo_steps === 2, `refused: ${JSON.stringify(s.error)}`);
+
+      await page.evaluate(() => window.knotwork.undo());
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      const undone = await page.evaluate(() => window.knotwork.project());
+      assert(undone.objects[0].points.every((p, k) => p.every((x, c) => x === points[k][c])), 'undo brings the cage back');
+      assert(undone.objects[0].creases.length === 0, 'undo removes the crease');
+      console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
