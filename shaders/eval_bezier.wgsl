@@ -377,6 +377,46 @@ fn grid_position(rec: PatchRecord, i: u32, j: u32, interior: vec3<f32>) -> vec3<
     return interior;
 }
 
+// Vertex `local` of a record's (segments_u + 1) x (segments_v + 1) grid: its (i, j) and local
+// (s, t) in [0, 1]^2.
+struct GridPoint {
+    i: u32,
+    j: u32,
+    s: f32,
+    t: f32,
+}
+
+fn grid_point(rec: PatchRecord, local: u32) -> GridPoint {
+    let nv = rec.segments_v + 1u;
+    let i = local / nv;
+    let j = local % nv;
+    return GridPoint(i, j, f32(i) / f32(rec.segments_u), f32(j) / f32(rec.segments_v));
+}
+
+// Writes grid vertex `g` of record `record`, its (u, v) mapped into the record's domain.
+fn store_vertex(
+    rec: PatchRecord,
+    record: u32,
+    local: u32,
+    g: GridPoint,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    curvature: vec4<f32>,
+    flags: u32,
+) {
+    vertices[rec.vertex_offset + local] = SurfaceVertex(
+        position,
+        rec.domain.x * (1.0 - g.s) + rec.domain.y * g.s,
+        normal,
+        rec.domain.z * (1.0 - g.t) + rec.domain.w * g.t,
+        curvature,
+        rec.object,
+        flags,
+        record,
+        0u,
+    );
+}
+
 // One invocation per output vertex; workgroup_id.y indexes patch_list.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn evaluate_vertices(
@@ -388,29 +428,14 @@ fn evaluate_vertices(
     }
     let rec = patches[patch_list[group.y]];
     let local = group.x * WORKGROUP_SIZE + lane;
-    let nv = rec.segments_v + 1u;
-    if (local >= (rec.segments_u + 1u) * nv) {
+    if (local >= (rec.segments_u + 1u) * (rec.segments_v + 1u)) {
         return;
     }
-    let i = local / nv;
-    let j = local % nv;
-    let s = f32(i) / f32(rec.segments_u);
-    let t = f32(j) / f32(rec.segments_v);
-    let d = evaluate(rec, s, t);
-    let shape = shape_at(rec, d, s, t);
-    let u = rec.domain.x * (1.0 - s) + rec.domain.y * s;
-    let v = rec.domain.z * (1.0 - t) + rec.domain.w * t;
-    vertices[rec.vertex_offset + local] = SurfaceVertex(
-        grid_position(rec, i, j, d.point),
-        u,
-        shape.normal,
-        v,
-        shape.curvature,
-        rec.object,
-        shape.flags,
-        patch_list[group.y],
-        0u,
-    );
+    let g = grid_point(rec, local);
+    let d = evaluate(rec, g.s, g.t);
+    let shape = shape_at(rec, d, g.s, g.t);
+    let position = grid_position(rec, g.i, g.j, d.point);
+    store_vertex(rec, patch_list[group.y], local, g, position, shape.normal, shape.curvature, shape.flags);
 }
 
 // Subdivision limit stencils: one invocation per slot of a stencil patch (workgroup_id.y indexes
@@ -426,8 +451,7 @@ fn evaluate_stencil_vertices(
     }
     let rec = patches[patch_list[group.y]];
     let local = group.x * WORKGROUP_SIZE + lane;
-    let nv = rec.segments_v + 1u;
-    if (local >= (rec.segments_u + 1u) * nv) {
+    if (local >= (rec.segments_u + 1u) * (rec.segments_v + 1u)) {
         return;
     }
     let start = control_indices[rec.control_offset + 2u * local];
@@ -460,21 +484,8 @@ fn evaluate_stencil_vertices(
             flags = VERTEX_NO_CURVATURE;
         }
     }
-    let i = local / nv;
-    let j = local % nv;
-    let s = f32(i) / f32(rec.segments_u);
-    let t = f32(j) / f32(rec.segments_v);
-    vertices[rec.vertex_offset + local] = SurfaceVertex(
-        d.point,
-        rec.domain.x * (1.0 - s) + rec.domain.y * s,
-        normal,
-        rec.domain.z * (1.0 - t) + rec.domain.w * t,
-        values,
-        rec.object,
-        flags,
-        patch_list[group.y],
-        0u,
-    );
+    let g = grid_point(rec, local);
+    store_vertex(rec, patch_list[group.y], local, g, d.point, normal, values, flags);
 }
 
 // One invocation per grid quad: two counter-clockwise triangles (seen from the side Su x Sv

@@ -165,9 +165,9 @@ mod cli {
         };
         let surface = if is_obj {
             let parsed = knotwork::io::obj::parse(&text).map_err(|e| e.to_string())?;
-            let mesh =
-                knotwork::kernel::PolygonMesh::new(parsed.vertices.clone(), &parsed.all_faces())
-                    .map_err(|e| e.to_string())?;
+            let faces = parsed.all_faces();
+            let mesh = knotwork::kernel::PolygonMesh::new(parsed.vertices, &faces)
+                .map_err(|e| e.to_string())?;
             SubdivisionSurface::new(mesh, parsed.creases, parsed.corners, options, 0)
         } else {
             let project = knotwork::io::project::read(&text).map_err(|e| e.to_string())?;
@@ -194,14 +194,21 @@ mod cli {
             found.ok_or("the project has no subdivision surface or polygon mesh")?
         }
         .map_err(|e| e.to_string())?;
-        let (mut positions, mut normals, level) = if args.limit {
+        let on_gpu = args.backend == Backend::Gpu && args.levels > 0;
+        // On the GPU the CPU gives the topology and the points on no face (their own limit).
+        let (mut positions, mut normals, level) = if args.limit && !on_gpu {
             let limit = surface.limit(args.levels).map_err(|e| e.to_string())?;
             (limit.positions, limit.normals, limit.level)
         } else {
             let (points, level) = surface.refined(args.levels).map_err(|e| e.to_string())?;
-            (points, Vec::new(), level)
+            let normals = if args.limit {
+                vec![glam::DVec3::ZERO; points.len()]
+            } else {
+                Vec::new()
+            };
+            (points, normals, level)
         };
-        if args.backend == Backend::Gpu && args.levels > 0 {
+        if on_gpu {
             let context =
                 knotwork::gpu::GpuContext::headless_blocking().map_err(|e| e.to_string())?;
             let gpu = knotwork::gpu::subdiv_eval::evaluate_level(

@@ -11,7 +11,7 @@ use crate::doc::{Command, direction_name};
 use crate::gpu::records::CURVATURE_RAMP;
 use crate::kernel::Direction;
 use crate::kernel::subdiv::patches::Display;
-use crate::kernel::subdiv::{Boundary, Corner, Crease, Creasing, MAX_LEVEL, Options, Scheme};
+use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::view::{QUALITY_RANGE, ShadingMode};
 
@@ -718,82 +718,63 @@ impl KnotworkApp {
         ui.label(egui::RichText::new("Subdivision").strong());
         let mut settings = before.clone();
         let options = &mut settings.options;
-        egui::ComboBox::new("scheme", "scheme")
-            .selected_text(match options.scheme {
-                Scheme::CatmullClark => "Catmull-Clark",
-                Scheme::Loop => "Loop (triangles)",
-            })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut options.scheme, Scheme::CatmullClark, "Catmull-Clark");
-                ui.selectable_value(&mut options.scheme, Scheme::Loop, "Loop (triangles)");
-            });
-        egui::ComboBox::new("boundary", "boundary")
-            .selected_text(match options.boundary {
-                Boundary::EdgeOnly => "edge only",
-                Boundary::EdgeAndCorner => "edge and corner",
-            })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut options.boundary, Boundary::EdgeOnly, "edge only");
-                ui.selectable_value(
-                    &mut options.boundary,
-                    Boundary::EdgeAndCorner,
-                    "edge and corner",
-                );
-            });
-        egui::ComboBox::new("creasing", "creasing")
-            .selected_text(match options.creasing {
-                Creasing::Uniform => "uniform",
-                Creasing::Chaikin => "Chaikin",
-            })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut options.creasing, Creasing::Uniform, "uniform");
-                ui.selectable_value(&mut options.creasing, Creasing::Chaikin, "Chaikin");
-            });
-        egui::ComboBox::new("display", "display")
-            .selected_text(match settings.display {
-                Display::Limit => "limit surface",
-                Display::Refined => "refined mesh",
-            })
-            .show_ui(ui, |ui| {
-                ui.selectable_value(&mut settings.display, Display::Limit, "limit surface");
-                ui.selectable_value(&mut settings.display, Display::Refined, "refined mesh");
-            });
+        choice(
+            ui,
+            "scheme",
+            &mut options.scheme,
+            &[
+                (Scheme::CatmullClark, "Catmull-Clark"),
+                (Scheme::Loop, "Loop (triangles)"),
+            ],
+        );
+        choice(
+            ui,
+            "boundary",
+            &mut options.boundary,
+            &[
+                (Boundary::EdgeOnly, "edge only"),
+                (Boundary::EdgeAndCorner, "edge and corner"),
+            ],
+        );
+        choice(
+            ui,
+            "creasing",
+            &mut options.creasing,
+            &[
+                (Creasing::Uniform, "uniform"),
+                (Creasing::Chaikin, "Chaikin"),
+            ],
+        );
+        choice(
+            ui,
+            "display",
+            &mut settings.display,
+            &[
+                (Display::Limit, "limit surface"),
+                (Display::Refined, "refined mesh"),
+            ],
+        );
         ui.add(egui::Slider::new(&mut settings.level, 0..=MAX_LEVEL).text("level"));
         let points: Vec<u32> = self.selection.points.iter().map(|&p| p as u32).collect();
         match points[..] {
             [a, b] => {
-                let at = settings
-                    .creases
-                    .iter()
-                    .position(|c| (c.a, c.b) == (a, b) || (c.a, c.b) == (b, a));
-                let mut sharpness = at.map_or(0.0, |k| settings.creases[k].sharpness);
+                let mut sharpness = settings.crease(a, b);
                 ui.add(
                     egui::Slider::new(&mut sharpness, 0.0..=10.0)
                         .text(format!("edge {a}-{b} sharpness")),
                 );
-                if sharpness != at.map_or(0.0, |k| settings.creases[k].sharpness) {
-                    if let Some(k) = at {
-                        settings.creases.remove(k);
-                    }
-                    if sharpness > 0.0 {
-                        settings.creases.push(Crease { a, b, sharpness });
-                    }
+                if sharpness != settings.crease(a, b) {
+                    settings.set_crease(a, b, sharpness);
                 }
             }
             [vertex] => {
-                let at = settings.corners.iter().position(|c| c.vertex == vertex);
-                let mut sharpness = at.map_or(0.0, |k| settings.corners[k].sharpness);
+                let mut sharpness = settings.corner(vertex);
                 ui.add(
                     egui::Slider::new(&mut sharpness, 0.0..=10.0)
                         .text(format!("point {vertex} sharpness")),
                 );
-                if sharpness != at.map_or(0.0, |k| settings.corners[k].sharpness) {
-                    if let Some(k) = at {
-                        settings.corners.remove(k);
-                    }
-                    if sharpness > 0.0 {
-                        settings.corners.push(Corner { vertex, sharpness });
-                    }
+                if sharpness != settings.corner(vertex) {
+                    settings.set_corner(vertex, sharpness);
                 }
             }
             _ => {
@@ -920,4 +901,24 @@ fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
         ui.add_space((width - 180.0).max(4.0) / 2.0);
         ui.label(text(hi));
     });
+}
+
+/// A combo box labelled `label` choosing `value` among `options` (value, text).
+fn choice<T: PartialEq + Copy>(
+    ui: &mut egui::Ui,
+    label: &str,
+    value: &mut T,
+    options: &[(T, &str)],
+) {
+    let current = options
+        .iter()
+        .find(|(v, _)| v == value)
+        .map_or("", |(_, text)| *text);
+    egui::ComboBox::new(label, label)
+        .selected_text(current)
+        .show_ui(ui, |ui| {
+            for &(option, text) in options {
+                ui.selectable_value(value, option, text);
+            }
+        });
 }

@@ -35,6 +35,43 @@ pub struct SubdivSettings {
     pub corners: Vec<crate::kernel::subdiv::Corner>,
 }
 
+impl SubdivSettings {
+    /// The sharpness of the edge between points `a` and `b` (0: none).
+    pub fn crease(&self, a: u32, b: u32) -> f64 {
+        self.creases
+            .iter()
+            .find(|c| (c.a, c.b) == (a, b) || (c.a, c.b) == (b, a))
+            .map_or(0.0, |c| c.sharpness)
+    }
+
+    /// Sets the sharpness of the edge between `a` and `b`; 0 removes the crease.
+    pub fn set_crease(&mut self, a: u32, b: u32, sharpness: f64) {
+        self.creases
+            .retain(|c| (c.a, c.b) != (a, b) && (c.a, c.b) != (b, a));
+        if sharpness != 0.0 {
+            self.creases
+                .push(crate::kernel::subdiv::Crease { a, b, sharpness });
+        }
+    }
+
+    /// The sharpness of point `vertex` (0: none).
+    pub fn corner(&self, vertex: u32) -> f64 {
+        self.corners
+            .iter()
+            .find(|c| c.vertex == vertex)
+            .map_or(0.0, |c| c.sharpness)
+    }
+
+    /// Sets the sharpness of point `vertex`; 0 removes it.
+    pub fn set_corner(&mut self, vertex: u32, sharpness: f64) {
+        self.corners.retain(|c| c.vertex != vertex);
+        if sharpness != 0.0 {
+            self.corners
+                .push(crate::kernel::subdiv::Corner { vertex, sharpness });
+        }
+    }
+}
+
 /// A subdivision surface in the scene.
 #[derive(Debug, Clone)]
 pub struct SubdivObject {

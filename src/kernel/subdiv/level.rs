@@ -181,20 +181,12 @@ impl Level {
     }
 
     pub fn face(&self, f: u32) -> &[u32] {
-        let (s, e) = (
-            self.face_starts[f as usize] as usize,
-            self.face_starts[f as usize + 1] as usize,
-        );
-        &self.face_vertices[s..e]
+        span(&self.face_starts, &self.face_vertices, f)
     }
 
     /// The edges of face `f`: edge j runs from corner j to corner j + 1.
     pub fn face_edges(&self, f: u32) -> &[u32] {
-        let (s, e) = (
-            self.face_starts[f as usize] as usize,
-            self.face_starts[f as usize + 1] as usize,
-        );
-        &self.face_edges[s..e]
+        span(&self.face_starts, &self.face_edges, f)
     }
 
     /// Every face's vertices.
@@ -203,19 +195,26 @@ impl Level {
     }
 
     pub fn vertex_edges(&self, v: u32) -> &[u32] {
-        let (s, e) = (
-            self.vertex_edge_starts[v as usize] as usize,
-            self.vertex_edge_starts[v as usize + 1] as usize,
-        );
-        &self.vertex_edges[s..e]
+        span(&self.vertex_edge_starts, &self.vertex_edges, v)
     }
 
     pub fn vertex_faces(&self, v: u32) -> &[u32] {
-        let (s, e) = (
-            self.vertex_face_starts[v as usize] as usize,
-            self.vertex_face_starts[v as usize + 1] as usize,
-        );
-        &self.vertex_faces[s..e]
+        span(&self.vertex_face_starts, &self.vertex_faces, v)
+    }
+
+    /// The sharpness of each edge of [`Self::vertex_edges`], in that order.
+    pub fn incident_sharpness(&self, v: u32) -> Vec<f64> {
+        self.vertex_edges(v)
+            .iter()
+            .map(|&e| self.edge_sharpness[e as usize])
+            .collect()
+    }
+
+    /// The corner of quad `f` diagonally opposite its corner `v`.
+    pub fn diagonal(&self, f: u32, v: u32) -> u32 {
+        let face = self.face(f);
+        let j = face.iter().position(|&x| x == v).unwrap_or(0);
+        face[(j + face.len() / 2) % face.len()]
     }
 
     pub fn is_boundary_edge(&self, e: u32) -> bool {
@@ -290,6 +289,12 @@ impl Level {
         }
         ring
     }
+}
+
+/// Item `k` of compressed rows: `values[starts[k]..starts[k + 1]]`.
+fn span<'a>(starts: &[u32], values: &'a [u32], k: u32) -> &'a [u32] {
+    let k = k as usize;
+    &values[starts[k] as usize..starts[k + 1] as usize]
 }
 
 /// Groups `(key, value)` pairs by key (0..count) into offsets and values, values in order.

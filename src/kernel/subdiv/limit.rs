@@ -6,37 +6,17 @@ use std::f64::consts::{PI, TAU};
 
 use super::Scheme;
 use super::level::Level;
-use super::refine::{Rule, vertex_rule};
+use super::refine::{Rule, crease_pair, vertex_rule};
 use super::stencil::Row;
 
 /// The vertex's rule from the level's remaining sharpness (the rule its limit mask follows).
 pub fn limit_rule(level: &Level, v: u32) -> Rule {
     let sharp = level
-        .vertex_edges(v)
+        .incident_sharpness(v)
         .iter()
-        .filter(|&&e| level.edge_sharpness[e as usize] > 0.0)
+        .filter(|&&s| s > 0.0)
         .count();
     vertex_rule(level.vertex_sharpness[v as usize], sharp)
-}
-
-/// The two other ends of the vertex's first two sharp edges.
-fn crease_ends(level: &Level, v: u32) -> [u32; 2] {
-    let mut ends = [v; 2];
-    let mut k = 0;
-    for &e in level.vertex_edges(v) {
-        if level.edge_sharpness[e as usize] > 0.0 && k < 2 {
-            ends[k] = level.other_end(e, v);
-            k += 1;
-        }
-    }
-    ends
-}
-
-/// The vertex of quad `f` diagonally opposite `v`.
-fn diagonal(level: &Level, f: u32, v: u32) -> u32 {
-    let face = level.face(f);
-    let j = face.iter().position(|&x| x == v).unwrap_or(0);
-    face[(j + face.len() / 2) % face.len()]
 }
 
 /// The limit position of vertex `v`. Catmull-Clark, smooth, valence n (all faces quads):
@@ -59,7 +39,7 @@ pub fn limit_position(level: &Level, scheme: Scheme, v: u32) -> Row {
                     row.add(level.other_end(e, v), 4.0 / (n * (n + 5.0)));
                 }
                 for &f in faces {
-                    row.add(diagonal(level, f, v), 1.0 / (n * (n + 5.0)));
+                    row.add(level.diagonal(f, v), 1.0 / (n * (n + 5.0)));
                 }
                 row
             }
@@ -75,7 +55,7 @@ pub fn limit_position(level: &Level, scheme: Scheme, v: u32) -> Row {
             }
         },
         Rule::Crease => {
-            let [a, b] = crease_ends(level, v);
+            let [a, b] = crease_pair(level, v, &level.incident_sharpness(v));
             Row(vec![(v, 2.0 / 3.0), (a, 1.0 / 6.0), (b, 1.0 / 6.0)])
         }
         Rule::Corner => Row(vec![(v, 1.0)]),
@@ -100,7 +80,14 @@ pub fn limit_tangents(
     position: &dyn Fn(u32) -> Row,
 ) -> [Row; 2] {
     let ring = level.ring(v);
-    let smooth = matches!(limit_rule(level, v), Rule::Smooth | Rule::Dart) && !ring.boundary;
+    let n = ring.faces.len();
+    if n == 0 {
+        return [Row::default(), Row::default()];
+    }
+    if ring.boundary {
+        return boundary_tangents(level, scheme, v, &ring, position);
+    }
+    let smooth = matches!(limit_rule(level, v), Rule::Smooth | Rule::Dart);
     let at = |u: u32| -> Row {
         if smooth {
             Row(vec![(u, 1.0)])
@@ -108,14 +95,7 @@ pub fn limit_tangents(
             position(u)
         }
     };
-    let n = ring.faces.len();
     let mut t = [Row::default(), Row::default()];
-    if n == 0 {
-        return t;
-    }
-    if ring.boundary {
-        return boundary_tangents(level, scheme, v, &ring, position);
-    }
     let nf = n as f64;
     for j in 0..n {
         let a = TAU * j as f64 / nf;
@@ -125,7 +105,7 @@ pub fn limit_tangents(
                 let c = (TAU / nf).cos();
                 let big_a = 1.0 + c + (PI / nf).cos() * (2.0 * (9.0 + c)).sqrt();
                 let e = at(ring.neighbours[j]);
-                let d = at(diagonal(level, ring.faces[j], v));
+                let d = at(level.diagonal(ring.faces[j], v));
                 t[0].add_row(&e, big_a * a.cos());
                 t[0].add_row(&d, a.cos() + b.cos());
                 t[1].add_row(&e, big_a * a.sin());
@@ -138,7 +118,11 @@ pub fn limit_tangents(
             }
         }
     }
-    [t[0].clone().merged(), t[1].clone().merged()]
+    merged(t)
+}
+
+fn merged([a, b]: [Row; 2]) -> [Row; 2] {
+    [a.merged(), b.merged()]
 }
 
 /// Tangents at a boundary vertex: along the boundary and into the surface (their cross product
@@ -176,11 +160,11 @@ fn boundary_tangents(
                         t[1].add(n, -(2.0 * theta.cos() - 2.0) * (theta * i as f64).sin());
                     }
                 }
-                return [t[0].clone().merged(), t[1].clone().merged()];
+                return merged(t);
             }
             Scheme::CatmullClark if k == 2 && quads => {
-                let d0 = diagonal(level, ring.faces[0], v);
-                let d1 = diagonal(level, ring.faces[1], v);
+                let d0 = level.diagonal(ring.faces[0], v);
+                let d1 = level.diagonal(ring.faces[1], v);
                 t[1] = Row(vec![
                     (d0, 1.0 / 6.0),
                     (e[0], -1.0 / 6.0),
@@ -189,7 +173,7 @@ fn boundary_tangents(
                     (d1, 1.0 / 6.0),
                     (e[2], -1.0 / 6.0),
                 ]);
-                return [t[0].clone().merged(), t[1].clone().merged()];
+                return merged(t);
             }
             Scheme::CatmullClark => {}
         }
@@ -210,7 +194,7 @@ fn boundary_tangents(
             t[1].add_row(&centre, -w);
         }
     }
-    [t[0].clone().merged(), t[1].clone().merged()]
+    merged(t)
 }
 
 /// Whether the limit surface at `v` is the bicubic B-spline of its 3 × 3 neighbourhood: a
@@ -239,7 +223,7 @@ pub fn regular_derivatives(level: &Level, v: u32, plus_u: u32, reversed: bool) -
     let start = ring.neighbours.iter().position(|&x| x == plus_u)?;
     let start = if reversed { (start + 2) % 4 } else { start };
     let e = |k: usize| ring.neighbours[(start + k) % 4];
-    let d = |k: usize| diagonal(level, ring.faces[(start + k) % 4], v);
+    let d = |k: usize| level.diagonal(ring.faces[(start + k) % 4], v);
     // grid[a + 1][b + 1]: the point a steps along u and b along v from `v`.
     let grid = [[d(2), e(2), d(1)], [e(3), v, e(1)], [d(3), e(0), d(0)]];
     let value = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];

@@ -279,20 +279,10 @@ impl SubdivisionSurface {
 
     /// The cage refined `levels` times: the points and the level's topology.
     pub fn refined(&self, levels: u32) -> Result<(Vec<DVec3>, Level), GeometryError> {
-        let hierarchy = self.hierarchy(levels)?;
+        let mut hierarchy = self.hierarchy(levels)?;
         let points = hierarchy.refine_points(self.points());
-        let level = hierarchy
-            .levels
-            .into_iter()
-            .last()
-            .ok_or(GeometryError::Cage {
-                at: Location::field("level"),
-                problem: CageProblem::Level {
-                    level: levels,
-                    max: MAX_LEVEL,
-                },
-            })?;
-        Ok((points, level))
+        // The hierarchy holds levels 0..=levels.
+        Ok((points, hierarchy.levels.swap_remove(levels as usize)))
     }
 
     /// The limit surface at the vertices of level `levels`: positions, unit normals and the
@@ -382,9 +372,5 @@ impl Hierarchy {
             points = stencils.apply(&points);
         }
         points
-    }
-
-    pub fn last(&self) -> &Level {
-        &self.levels[self.levels.len() - 1]
     }
 }

@@ -3,10 +3,8 @@
 //! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
 //! regular vertices) second derivatives as weighted sums of cage points.
 
-use glam::DVec3;
-
 use super::level::Level;
-use super::limit::{self, is_regular, limit_position, limit_tangents, regular_derivatives};
+use super::limit::{is_regular, limit_position, limit_tangents, regular_derivatives};
 use super::stencil::Row;
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::kernel::GeometryError;
@@ -52,13 +50,6 @@ pub struct LimitFeed {
     pub entries: Vec<Entry>,
 }
 
-/// The vertex of quad `f` diagonally opposite `v`.
-fn diagonal(level: &Level, f: u32, v: u32) -> u32 {
-    let face = level.face(f);
-    let j = face.iter().position(|&x| x == v).unwrap_or(0);
-    face[(j + 2) % face.len()]
-}
-
 /// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
 fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
     let ring = level.ring(v);
@@ -67,7 +58,7 @@ fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> 
     }
     let s = ring.neighbours.iter().position(|&x| x == start)?;
     let e = std::array::from_fn(|k| ring.neighbours[(s + k) % 4]);
-    let d = std::array::from_fn(|k| diagonal(level, ring.faces[(s + k) % 4], v));
+    let d = std::array::from_fn(|k| level.diagonal(ring.faces[(s + k) % 4], v));
     Some((e, d))
 }
 
@@ -287,8 +278,18 @@ impl SubdivisionSurface {
             }
         }
         // Rows over level-k vertices per slot.
+        // Each level vertex's limit row, computed once: the tangents of neighbouring slots
+        // read the same ones.
+        let limit_rows: Vec<std::cell::OnceCell<Row>> = (0..level.vertex_count)
+            .map(|_| Default::default())
+            .collect();
+        let limit_row = |u: u32| {
+            limit_rows[u as usize]
+                .get_or_init(|| limit_position(level, scheme, u))
+                .clone()
+        };
         let position_row = |v: u32| match display {
-            Display::Limit => limit_position(level, scheme, v),
+            Display::Limit => limit_row(v),
             Display::Refined => Row(vec![(v, 1.0)]),
         };
         let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
@@ -331,9 +332,7 @@ impl SubdivisionSurface {
                             (scaled, false)
                         }
                         None => {
-                            let [t1, t2] = limit_tangents(level, scheme, v, &|u| {
-                                limit::limit_position(level, scheme, u)
-                            });
+                            let [t1, t2] = limit_tangents(level, scheme, v, &limit_row);
                             (
                                 [
                                     position_row(v),
@@ -390,19 +389,5 @@ impl SubdivisionSurface {
             }
         }
         Ok(feed)
-    }
-}
-
-impl LimitFeed {
-    /// Slot `slot` evaluated over `points` (f64): position, Su, Sv, Suu, Suv, Svv.
-    pub fn evaluate_slot(&self, slot: usize, points: &[DVec3]) -> [DVec3; 6] {
-        let [start, count] = self.slots[slot];
-        let mut out = [DVec3::ZERO; 6];
-        for &(i, w) in &self.entries[start as usize..(start + count) as usize] {
-            for c in 0..6 {
-                out[c] += points[i as usize] * w[c];
-            }
-        }
-        out
     }
 }

@@ -70,8 +70,9 @@ pub fn child_edge_sharpness(level: &Level, e: u32, v: u32, creasing: Creasing) -
     if sharp > 0.0 { sharp } else { 0.0 }
 }
 
-/// The first two edges of `edges` whose sharpness (by `sharpness`) is > 0: a crease's ends.
-fn crease_pair(level: &Level, v: u32, sharpness: &[f64]) -> [u32; 2] {
+/// The other ends of the first two edges at `v` whose sharpness (`sharpness`, in
+/// [`Level::vertex_edges`] order) is > 0: a crease's ends.
+pub fn crease_pair(level: &Level, v: u32, sharpness: &[f64]) -> [u32; 2] {
     let edges = level.vertex_edges(v);
     let mut pair = [v; 2];
     let mut k = 0;
@@ -142,10 +143,7 @@ fn vertex_row(level: &Level, options: &Options, v: u32) -> Row {
         return Row(vec![(v, 1.0)]);
     }
     let edges = level.vertex_edges(v);
-    let parent: Vec<f64> = edges
-        .iter()
-        .map(|&e| level.edge_sharpness[e as usize])
-        .collect();
+    let parent = level.incident_sharpness(v);
     let child: Vec<f64> = edges
         .iter()
         .map(|&e| child_edge_sharpness(level, e, v, options.creasing))

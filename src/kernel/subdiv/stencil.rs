@@ -84,15 +84,6 @@ impl Stencils {
         self.offsets.push(self.indices.len() as u32);
     }
 
-    pub fn row(&self, i: usize) -> Row {
-        let (s, e) = (self.offsets[i] as usize, self.offsets[i + 1] as usize);
-        Row(self.indices[s..e]
-            .iter()
-            .copied()
-            .zip(self.weights[s..e].iter().copied())
-            .collect())
-    }
-
     /// Every row applied to `points`.
     pub fn apply(&self, points: &[DVec3]) -> Vec<DVec3> {
         (0..self.len())
