@@ -4,11 +4,12 @@
 //! undone and redone through the history, with a save and load in between. Failed commands
 //! must leave the document and the history untouched.
 
-use glam::{DAffine3, DVec3};
-use knotwork::doc::{Command, EditError, History, apply};
+use glam::{DAffine3, DVec2, DVec3};
+use knotwork::doc::{Command, EditError, History, TrimEdit, apply};
 use knotwork::io::project::{self, Project};
 use knotwork::kernel::subdiv::patches::Display;
 use knotwork::kernel::subdiv::{Crease, Options, Scheme, SubdivisionSurface, cages};
+use knotwork::kernel::trim::shapes::ellipse;
 use knotwork::kernel::{Direction, construct};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivSettings};
 use proptest::prelude::*;
@@ -64,12 +65,10 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
     let target = &scene.objects[object];
     let points = target.control_points();
     let index = (r as usize / 7) % points.len().max(1);
-    let domain = match &target.geometry {
-        ObjectGeometry::Nurbs(s) => s.domain(),
-        ObjectGeometry::Patches(_) | ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => {
-            [(0.0, 1.0), (0.0, 1.0)]
-        }
-    };
+    let domain = target
+        .geometry
+        .nurbs_surface()
+        .map_or([(0.0, 1.0), (0.0, 1.0)], |s| s.domain());
     let d = direction(r >> 4);
     let (lo, hi) = domain[d.index()];
     let inside = lo + (hi - lo) * (0.05 + 0.9 * a);
@@ -128,6 +127,26 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
                 DVec3::new(b, -a, c),
             ),
         },
+        11 if r & 4 == 0 => {
+            // Trims: a circular hole somewhere in the domain (refused where it leaves the
+            // domain or crosses a loop there already), keeping the other side, deleting a loop.
+            let [(u0, u1), (v0, v1)] = domain;
+            let edit = match r % 3 {
+                0 => TrimEdit::Add {
+                    curves: ellipse(
+                        DVec2::new(u0 + (u1 - u0) * a, v0 + (v1 - v0) * b),
+                        DVec2::new((u1 - u0) * 0.2 * c.abs(), (v1 - v0) * 0.15),
+                    )
+                    .unwrap_or_default(),
+                    keep_inside: r & 8 != 0,
+                },
+                1 => TrimEdit::Invert,
+                _ => TrimEdit::Delete {
+                    trim_loop: (r as usize >> 5) % 3,
+                },
+            };
+            Command::Trim { object, edit }
+        }
         10 => {
             // Remove a knot just inserted (possible) or an arbitrary value (refused).
             Command::RemoveKnot {

@@ -258,7 +258,8 @@ fn the_glb_read_back_matches_the_kernel_at_the_stored_uv_and_faces_its_normals()
         for (k, primitive) in primitives.iter().enumerate() {
             for (v, (&p, uv)) in primitive.positions.iter().zip(&primitive.uvs).enumerate() {
                 let expected = match &object.geometry {
-                    ObjectGeometry::Nurbs(s) => {
+                    ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
+                        let s = object.geometry.nurbs_surface().unwrap();
                         let [(u0, u1), (v0, v1)] = s.domain();
                         s.point_at(u0 + (u1 - u0) * uv[0], v0 + (v1 - v0) * uv[1])
                             .unwrap()

@@ -73,7 +73,8 @@ impl<'a> ReferenceSurface<'a> {
             ObjectGeometry::Subdivision(_) => {
                 Self::Patches(std::borrow::Cow::Owned(object.decompose().unwrap().set))
             }
-            ObjectGeometry::Nurbs(surface) => {
+            ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
+                let surface = object.geometry.nurbs_surface().unwrap();
                 let bu = surface.span_breaks(Direction::U);
                 let bv = surface.span_breaks(Direction::V);
                 let spans = bu

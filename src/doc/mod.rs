@@ -13,7 +13,7 @@ pub mod history;
 use glam::{DAffine3, DVec3};
 use thiserror::Error;
 
-use crate::kernel::{Direction, GeometryError, NurbsSurface};
+use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimLoop, TrimmedSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
 
 pub use document::Document;
@@ -112,6 +112,106 @@ pub enum Command {
         object: usize,
         settings: crate::scene::SubdivSettings,
     },
+    /// Changes the trim loops of a NURBS surface (an edit that would make a loop invalid is
+    /// refused with the reason and changes nothing).
+    Trim {
+        object: usize,
+        edit: TrimEdit,
+    },
+}
+
+/// One change to a surface's trim loops.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrimEdit {
+    /// Adds a loop: a hole (on an untrimmed surface the domain's boundary becomes the outer
+    /// loop), or with `keep_inside` on an untrimmed surface the only region kept.
+    Add { curves: TrimLoop, keep_inside: bool },
+    /// Removes loop `trim_loop`.
+    Delete { trim_loop: usize },
+    /// Keeps the other side.
+    Invert,
+    /// Replaces every loop (none: untrimmed).
+    Replace { loops: Vec<TrimLoop> },
+    /// Moves control point `point` of curve `curve` of loop `trim_loop` to (u, v).
+    MovePoint {
+        trim_loop: usize,
+        curve: usize,
+        point: usize,
+        to: glam::DVec2,
+    },
+    /// Adds a control point to a curve without changing its shape (knot insertion).
+    InsertPoint { trim_loop: usize, curve: usize },
+    /// Removes an interior control point of a curve.
+    DeletePoint {
+        trim_loop: usize,
+        curve: usize,
+        point: usize,
+    },
+}
+
+impl TrimEdit {
+    fn label(&self) -> String {
+        match self {
+            TrimEdit::Add { keep_inside, .. } => (if *keep_inside {
+                "trim to loop"
+            } else {
+                "add trim hole"
+            })
+            .into(),
+            TrimEdit::Delete { trim_loop } => format!("delete trim loop {trim_loop}"),
+            TrimEdit::Invert => "invert trim".into(),
+            TrimEdit::Replace { .. } => "set trim loops".into(),
+            TrimEdit::MovePoint { .. } => "move trim point".into(),
+            TrimEdit::InsertPoint { .. } => "insert trim point".into(),
+            TrimEdit::DeletePoint { .. } => "delete trim point".into(),
+        }
+    }
+
+    /// The trimmed surface after this edit.
+    pub fn apply(&self, t: &TrimmedSurface) -> Result<TrimmedSurface, GeometryError> {
+        use crate::kernel::trim::shapes;
+        let loop_of = |l: usize| {
+            t.loops().get(l).ok_or_else(|| GeometryError::Construction {
+                what: "trim",
+                message: format!("there is no loop {l} (the surface has {})", t.loops().len()),
+            })
+        };
+        let replace = |l: usize, new: TrimLoop| {
+            let mut loops = t.loops().to_vec();
+            loops[l] = new;
+            t.with_loops(loops)
+        };
+        match self {
+            TrimEdit::Add {
+                curves,
+                keep_inside,
+            } => t.add_loop(curves.clone(), *keep_inside),
+            TrimEdit::Delete { trim_loop } => t.remove_loop(*trim_loop),
+            TrimEdit::Invert => t.inverted(),
+            TrimEdit::Replace { loops } => t.with_loops(loops.clone()),
+            TrimEdit::MovePoint {
+                trim_loop,
+                curve,
+                point,
+                to,
+            } => replace(
+                *trim_loop,
+                shapes::move_loop_point(loop_of(*trim_loop)?, *trim_loop, *curve, *point, *to)?,
+            ),
+            TrimEdit::InsertPoint { trim_loop, curve } => replace(
+                *trim_loop,
+                shapes::insert_loop_point(loop_of(*trim_loop)?, *trim_loop, *curve)?,
+            ),
+            TrimEdit::DeletePoint {
+                trim_loop,
+                curve,
+                point,
+            } => replace(
+                *trim_loop,
+                shapes::delete_loop_point(loop_of(*trim_loop)?, *trim_loop, *curve, *point)?,
+            ),
+        }
+    }
 }
 
 impl Command {
@@ -154,6 +254,7 @@ impl Command {
             Command::SetSubdivision { settings, .. } => {
                 format!("subdivision level {}", settings.level)
             }
+            Command::Trim { edit, .. } => edit.label(),
         }
     }
 }
@@ -358,32 +459,39 @@ pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> 
     }
 }
 
-/// The object's NURBS surface, or the error naming `operation`.
-fn nurbs<'a>(
-    object: &'a SceneObject,
-    operation: &'static str,
-) -> Result<&'a NurbsSurface, EditError> {
-    match &object.geometry {
-        ObjectGeometry::Nurbs(surface) => Ok(surface),
-        other => Err(EditError::NeedsNurbs {
+/// The object's NURBS surface with its trim loops, or the error naming `operation`.
+fn nurbs(object: &SceneObject, operation: &'static str) -> Result<TrimmedSurface, EditError> {
+    object
+        .geometry
+        .as_trimmed()
+        .ok_or_else(|| EditError::NeedsNurbs {
             name: object.name.clone(),
             operation,
-            kind: other.kind().kind_name(),
-        }),
-    }
+            kind: object.kind().kind_name(),
+        })
 }
 
-/// The object with its NURBS surface replaced by `map`'s result.
+/// The object with its (trimmed) NURBS surface replaced by `map`'s result.
+fn with_trimmed(
+    object: &SceneObject,
+    operation: &'static str,
+    map: impl FnOnce(&TrimmedSurface) -> Result<TrimmedSurface, GeometryError>,
+) -> Result<SceneObject, EditError> {
+    let trimmed = map(&nurbs(object, operation)?).map_err(geometry_error(object))?;
+    Ok(SceneObject {
+        geometry: ObjectGeometry::from_trimmed(trimmed),
+        ..object.clone()
+    })
+}
+
+/// The object with its NURBS surface replaced by `map`'s result; the trim loops stay (and are
+/// revalidated where the domain changed).
 fn with_surface(
     object: &SceneObject,
     operation: &'static str,
     map: impl FnOnce(&NurbsSurface) -> Result<NurbsSurface, GeometryError>,
 ) -> Result<SceneObject, EditError> {
-    let surface = map(nurbs(object, operation)?).map_err(geometry_error(object))?;
-    Ok(SceneObject {
-        geometry: ObjectGeometry::Nurbs(surface),
-        ..object.clone()
-    })
+    with_trimmed(object, operation, |t| t.with_surface(map(t.surface())?))
 }
 
 /// The changes `command` would make, computed without touching the scene.
@@ -459,8 +567,10 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             tolerance,
         } => {
             let object = object_at(scene, *k)?;
-            let surface = nurbs(object, "knot removal")?;
-            let (removed, count) = surface.remove_knot(*direction, *value, 1, *tolerance);
+            let trimmed = nurbs(object, "knot removal")?;
+            let (removed, count) = trimmed
+                .surface()
+                .remove_knot(*direction, *value, 1, *tolerance);
             if count == 0 {
                 return Err(EditError::KnotNotRemovable {
                     name: object.name.clone(),
@@ -469,10 +579,13 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                     tolerance: *tolerance,
                 });
             }
+            let trimmed = trimmed
+                .with_surface(removed)
+                .map_err(geometry_error(object))?;
             replace(
                 *k,
                 SceneObject {
-                    geometry: ObjectGeometry::Nurbs(removed),
+                    geometry: ObjectGeometry::from_trimmed(trimmed),
                     ..object.clone()
                 },
             )
@@ -496,22 +609,30 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             let (a, b) = nurbs(object, "split")?
                 .split(*direction, *value)
                 .map_err(geometry_error(object))?;
-            let part = |surface, suffix: &str| SceneObject {
+            let part = |trimmed, suffix: &str| SceneObject {
                 name: split_name(&object.name, suffix),
-                geometry: ObjectGeometry::Nurbs(surface),
+                geometry: ObjectGeometry::from_trimmed(trimmed),
                 ..object.clone()
             };
-            Ok(vec![
-                Change::Replace {
-                    index: *k,
-                    before: object.clone(),
-                    after: part(a, "a"),
-                },
-                Change::Insert {
-                    index: k + 1,
-                    object: part(b, "b"),
-                },
-            ])
+            // A side whose kept region is empty is left out.
+            match (a, b) {
+                (Some(a), Some(b)) => Ok(vec![
+                    Change::Replace {
+                        index: *k,
+                        before: object.clone(),
+                        after: part(a, "a"),
+                    },
+                    Change::Insert {
+                        index: k + 1,
+                        object: part(b, "b"),
+                    },
+                ]),
+                (Some(only), None) | (None, Some(only)) => replace(*k, part(only, "a")),
+                (None, None) => Err(geometry_error(object)(GeometryError::Construction {
+                    what: "split",
+                    message: "nothing is kept on either side".into(),
+                })),
+            }
         }
         Command::Reverse {
             object: k,
@@ -520,14 +641,14 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             let object = object_at(scene, *k)?;
             replace(
                 *k,
-                with_surface(object, "reversal", |s| Ok(s.reverse(*direction)))?,
+                with_trimmed(object, "reversal", |t| t.reverse(*direction))?,
             )
         }
         Command::SwapUv { object: k } => {
             let object = object_at(scene, *k)?;
             replace(
                 *k,
-                with_surface(object, "swapping u and v", |s| Ok(s.swap_uv()))?,
+                with_trimmed(object, "swapping u and v", |t| t.swap_uv())?,
             )
         }
         Command::SetKnots {
@@ -640,6 +761,10 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                     ..object.clone()
                 },
             )
+        }
+        Command::Trim { object: k, edit } => {
+            let object = object_at(scene, *k)?;
+            replace(*k, with_trimmed(object, "trimming", |t| edit.apply(t))?)
         }
         Command::SetAllSegments { segments } => {
             check_segments(*segments)?;

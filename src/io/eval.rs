@@ -73,6 +73,7 @@ pub fn parse_request(text: &str) -> Result<EvalRequest, FormatError> {
     })?;
     let surface = match object_from_value("surface", request.surface)?.geometry {
         Geometry::Surface(s) => s,
+        Geometry::TrimmedSurface(t) => t.surface().clone(),
         _ => {
             return Err(FormatError {
                 path: "surface.type".into(),

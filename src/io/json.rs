@@ -11,6 +11,10 @@
 //! "points": [[x, y, z, w], ...]}` and a trim curve (in a surface's (u, v) plane)
 //! `{"type": "trim_curve", "degree": p, "knots": [...], "points": [[u, v, w], ...]}`.
 //!
+//! A surface may carry trim loops in its (u, v) domain: `"trims": [[<trim_curve>, ...], ...]`,
+//! each loop a list of trim curves joined end to end (the kept region is inside an odd number of
+//! loops; see [`crate::kernel::trim`]).
+//!
 //! A file is `{"format": "knotwork", "version": 1, "objects": [<object>, ...]}`; each object
 //! may carry a `"name"`. Readers accept a bare object too. Every error names the JSON path of
 //! the offending value (`objects[0].knots[1][4]: ...`) and nothing panics.
@@ -20,7 +24,9 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::kernel::vector::CurvePoint;
-use crate::kernel::{GeometryError, NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve};
+use crate::kernel::{
+    GeometryError, NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface,
+};
 
 /// The format version this build writes and the newest it reads.
 pub const FORMAT_VERSION: u32 = 1;
@@ -70,6 +76,8 @@ fn join(path: &str, field: &str) -> String {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Geometry {
     Surface(NurbsSurface),
+    /// A surface with trim loops (a file's surface without `"trims"` reads as [`Self::Surface`]).
+    TrimmedSurface(TrimmedSurface),
     Curve(SpaceCurve),
     Trim(TrimCurve),
 }
@@ -96,6 +104,9 @@ struct RawSurface {
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     homogeneous: bool,
     points: Vec<Vec<Vec<f64>>>,
+    /// Trim loops: lists of `trim_curve` objects.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    trims: Vec<Vec<RawCurve>>,
 }
 
 /// A curve as written in a file (`"type": "nurbs_curve"` or `"trim_curve"`).
@@ -155,6 +166,7 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
             knots,
             points,
             homogeneous,
+            trims,
             ..
         }) => {
             let count = [points.len(), points.first().map_or(0, Vec::len)];
@@ -194,9 +206,32 @@ fn convert(path: &str, raw: RawObject) -> Result<NamedGeometry, FormatError> {
                 NurbsSurface::new(degree, knots, count, cartesian, Some(weights))
             }
             .map_err(|e| FormatError::geometry(path, e))?;
+            if trims.is_empty() {
+                return Ok(NamedGeometry {
+                    name,
+                    geometry: Geometry::Surface(surface),
+                });
+            }
+            let mut loops = Vec::with_capacity(trims.len());
+            for (l, raw_loop) in trims.into_iter().enumerate() {
+                let mut curves = Vec::with_capacity(raw_loop.len());
+                for (c, raw) in raw_loop.into_iter().enumerate() {
+                    let at = join(path, &format!("trims[{l}][{c}]"));
+                    if raw.kind != "trim_curve" {
+                        return Err(FormatError::new(
+                            join(&at, "type"),
+                            format!("expected \"trim_curve\", found {:?}", raw.kind),
+                        ));
+                    }
+                    curves.push(curve_from(&at, raw)?);
+                }
+                loops.push(curves);
+            }
+            let trimmed =
+                TrimmedSurface::new(surface, loops).map_err(|e| FormatError::geometry(path, e))?;
             Ok(NamedGeometry {
                 name,
-                geometry: Geometry::Surface(surface),
+                geometry: Geometry::TrimmedSurface(trimmed),
             })
         }
         RawObject::NurbsCurve(raw) => Ok(NamedGeometry {
@@ -336,37 +371,45 @@ pub fn read(text: &str) -> Result<Vec<NamedGeometry>, FormatError> {
 
 fn raw_from(object: &NamedGeometry, homogeneous: bool) -> RawObject {
     let name = object.name.clone();
-    match &object.geometry {
-        Geometry::Surface(s) => {
-            let [cu, cv] = s.count();
-            let h = s.homogeneous_points();
-            let points = (0..cu)
-                .map(|i| {
-                    (0..cv)
-                        .map(|j| {
-                            if homogeneous {
-                                h[i * cv + j].to_array().to_vec()
-                            } else {
-                                let p = s.control_point(i, j);
-                                vec![p.x, p.y, p.z, s.weight(i, j)]
-                            }
-                        })
-                        .collect()
+    let (surface, trims) = match &object.geometry {
+        Geometry::Surface(s) => (s, Vec::new()),
+        Geometry::TrimmedSurface(t) => (
+            t.surface(),
+            t.loops()
+                .iter()
+                .map(|l| l.iter().map(|c| raw_curve("trim_curve", None, c)).collect())
+                .collect(),
+        ),
+        Geometry::Curve(c) => return RawObject::NurbsCurve(raw_curve("nurbs_curve", name, c)),
+        Geometry::Trim(c) => return RawObject::TrimCurve(raw_curve("trim_curve", name, c)),
+    };
+    let s = surface;
+    let [cu, cv] = s.count();
+    let h = s.homogeneous_points();
+    let points = (0..cu)
+        .map(|i| {
+            (0..cv)
+                .map(|j| {
+                    if homogeneous {
+                        h[i * cv + j].to_array().to_vec()
+                    } else {
+                        let p = s.control_point(i, j);
+                        vec![p.x, p.y, p.z, s.weight(i, j)]
+                    }
                 })
-                .collect();
-            let [ku, kv] = s.knots();
-            RawObject::NurbsSurface(RawSurface {
-                kind: "nurbs_surface".into(),
-                name,
-                degree: s.degree(),
-                knots: [ku.to_vec(), kv.to_vec()],
-                homogeneous,
-                points,
-            })
-        }
-        Geometry::Curve(c) => RawObject::NurbsCurve(raw_curve("nurbs_curve", name, c)),
-        Geometry::Trim(c) => RawObject::TrimCurve(raw_curve("trim_curve", name, c)),
-    }
+                .collect()
+        })
+        .collect();
+    let [ku, kv] = s.knots();
+    RawObject::NurbsSurface(RawSurface {
+        kind: "nurbs_surface".into(),
+        name,
+        degree: s.degree(),
+        knots: [ku.to_vec(), kv.to_vec()],
+        homogeneous,
+        points,
+        trims,
+    })
 }
 
 /// A 2D or 3D curve in its raw form: points `[x, y, (z,) w]`.

@@ -51,17 +51,20 @@ pub fn open(
 fn bare_surfaces(text: &str) -> Result<Project, FormatError> {
     let mut scene = crate::scene::Scene::default();
     for (k, object) in json::read(text)?.into_iter().enumerate() {
-        let json::Geometry::Surface(surface) = object.geometry else {
-            return Err(FormatError::new(
-                "type",
-                "a curve is not a scene object: open a surface or a project",
-            ));
+        let geometry = match object.geometry {
+            json::Geometry::Surface(surface) => crate::scene::ObjectGeometry::Nurbs(surface),
+            json::Geometry::TrimmedSurface(t) => crate::scene::ObjectGeometry::from_trimmed(t),
+            _ => {
+                return Err(FormatError::new(
+                    "type",
+                    "a curve is not a scene object: open a surface or a project",
+                ));
+            }
         };
         let name = object.name.unwrap_or_else(|| format!("Surface {}", k + 1));
-        scene.objects.push(crate::scene::SceneObject::new(
-            name,
-            crate::scene::ObjectGeometry::Nurbs(surface),
-        ));
+        scene
+            .objects
+            .push(crate::scene::SceneObject::new(name, geometry));
     }
     Ok(Project { scene, view: None })
 }

@@ -342,6 +342,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     } else {
         match json::object_from_value(path, value)?.geometry {
             Geometry::Surface(s) => ObjectGeometry::Nurbs(s),
+            Geometry::TrimmedSurface(t) => ObjectGeometry::from_trimmed(t),
             Geometry::Curve(_) | Geometry::Trim(_) => {
                 return Err(FormatError::new(
                     format!("{path}.type"),
@@ -384,6 +385,13 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
             &NamedGeometry {
                 name: None,
                 geometry: Geometry::Surface(s.clone()),
+            },
+            true,
+        ),
+        ObjectGeometry::Trimmed(t) => json::object_value(
+            &NamedGeometry {
+                name: None,
+                geometry: Geometry::TrimmedSurface(t.as_ref().clone()),
             },
             true,
         ),

@@ -174,6 +174,11 @@ pub enum GeometryError {
     Construction { what: &'static str, message: String },
     #[error("{at}: {problem}")]
     Cage { at: Location, problem: CageProblem },
+    #[error("{at}: {problem}")]
+    Trim {
+        at: Location,
+        problem: super::trim::TrimProblem,
+    },
     #[error("sample data {name}: {message}")]
     SampleData { name: &'static str, message: String },
 }
@@ -223,7 +228,8 @@ impl GeometryError {
             | Self::DecreasingKnot { at, .. }
             | Self::KnotMultiplicity { at, .. }
             | Self::EmptyDomain { at, .. }
-            | Self::Cage { at, .. } => Some(at),
+            | Self::Cage { at, .. }
+            | Self::Trim { at, .. } => Some(at),
             _ => None,
         }
     }

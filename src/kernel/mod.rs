@@ -16,6 +16,7 @@ pub mod samples;
 pub mod subdiv;
 pub mod surface;
 pub mod tess;
+pub mod trim;
 pub mod vector;
 
 pub use bezier::{BezierPatch, BezierPatchSet};
@@ -24,6 +25,7 @@ pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivativ
 pub use error::{CageProblem, GeometryError, Location};
 pub use mesh::PolygonMesh;
 pub use surface::{Direction, NurbsSurface};
+pub use trim::{TrimLoop, TrimProblem, TrimmedSurface};
 
 /// The highest polynomial degree (per parameter direction) the kernel's Bézier evaluator accepts.
 pub const MAX_BEZIER_DEGREE: usize = 15;

@@ -10,15 +10,17 @@ mod mesh;
 mod nurbs;
 mod patch_set;
 mod subdiv;
+mod trimmed;
 
 pub use kind::ObjectKind;
 pub use subdiv::{SubdivObject, SubdivSettings};
+pub use trimmed::TrimFeed;
 
 use glam::DVec3;
 
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::tess;
-use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh};
+use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh, TrimmedSurface};
 
 /// Segments per Bézier span edge a new object gets.
 pub const DEFAULT_SEGMENTS: u32 = 16;
@@ -51,6 +53,8 @@ pub enum ObjectGeometry {
     Mesh(PolygonMesh),
     /// A subdivision surface over a polygon cage.
     Subdivision(Box<SubdivObject>),
+    /// A NURBS surface with trim loops (never with none: that is [`Self::Nurbs`]).
+    Trimmed(Box<TrimmedSurface>),
 }
 
 /// What an object feeds the GPU evaluator: rational Bézier patches over one point pool, each
@@ -67,6 +71,8 @@ pub struct Decomposition {
     /// Segments per patch edge the feed needs whatever the object's tessellation (a
     /// subdivision level's 2^level), or `None` to follow the object's segments.
     pub fixed_segments: Option<u32>,
+    /// A trimmed surface's classification grid and each Bézier patch's coverage.
+    pub trims: Option<TrimFeed>,
 }
 
 /// One object of the scene.
@@ -88,6 +94,7 @@ impl ObjectGeometry {
             ObjectGeometry::Nurbs(surface) => surface,
             ObjectGeometry::Mesh(mesh) => mesh,
             ObjectGeometry::Subdivision(surface) => surface.as_ref(),
+            ObjectGeometry::Trimmed(surface) => surface.as_ref(),
         }
     }
 
@@ -98,6 +105,34 @@ impl ObjectGeometry {
             ObjectGeometry::Nurbs(surface) => surface,
             ObjectGeometry::Mesh(mesh) => mesh,
             ObjectGeometry::Subdivision(surface) => surface.as_mut(),
+            ObjectGeometry::Trimmed(surface) => surface.as_mut(),
+        }
+    }
+
+    /// A trimmed surface as geometry: [`Self::Nurbs`] when it has no loops.
+    pub fn from_trimmed(trimmed: TrimmedSurface) -> Self {
+        if trimmed.is_trimmed() {
+            ObjectGeometry::Trimmed(Box::new(trimmed))
+        } else {
+            ObjectGeometry::Nurbs(trimmed.surface().clone())
+        }
+    }
+
+    /// The NURBS surface of a NURBS or trimmed object, with its loops (none for [`Self::Nurbs`]).
+    pub fn as_trimmed(&self) -> Option<TrimmedSurface> {
+        match self {
+            ObjectGeometry::Nurbs(s) => Some(TrimmedSurface::untrimmed(s.clone())),
+            ObjectGeometry::Trimmed(t) => Some(t.as_ref().clone()),
+            _ => None,
+        }
+    }
+
+    /// The NURBS surface of a NURBS or trimmed object.
+    pub fn nurbs_surface(&self) -> Option<&NurbsSurface> {
+        match self {
+            ObjectGeometry::Nurbs(s) => Some(s),
+            ObjectGeometry::Trimmed(t) => Some(t.surface()),
+            _ => None,
         }
     }
 }

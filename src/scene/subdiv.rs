@@ -341,6 +341,7 @@ impl ObjectKind for SubdivObject {
             stencils: Some(Arc::new(prepared.feed.clone())),
             cage_points: cage.len(),
             fixed_segments: Some(1 << self.surface.level()),
+            trims: None,
         })
     }
 

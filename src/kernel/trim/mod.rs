@@ -1,0 +1,681 @@
+//! Trimmed NURBS surfaces: a surface and trim loops in its (u, v) domain. A loop is a list of
+//! trim curves joined end to end; the kept region is the set of points inside an odd number of
+//! loops (an outer loop with holes, islands inside holes), so the user never has to orient
+//! anything. Loops are validated (closed, inside the domain, not crossing themselves or each
+//! other, enclosing area) and normalised on construction: a loop at even nesting depth runs
+//! counter-clockwise and one at odd depth clockwise, so the kept region always lies on the left
+//! of every curve (what the split and the constrained triangulation rely on).
+//!
+//! Trims live in (u, v): they follow the surface when its control points move; knot insertion,
+//! degree elevation and weights keep them; reversing a direction and swapping u and v map them;
+//! splitting cuts them on the split line ([`split`]).
+
+pub mod index;
+pub mod piece;
+pub mod shapes;
+pub mod split;
+pub mod tess;
+
+use std::fmt;
+use std::sync::{Arc, OnceLock};
+
+use glam::DVec2;
+use thiserror::Error;
+
+use self::index::{Coverage, TrimIndex};
+use self::piece::{MonotonePiece, monotone_pieces};
+use super::error::{GeometryError, Location};
+use super::{Direction, NurbsSurface, TrimCurve};
+
+/// One closed loop: curves joined end to end.
+pub type TrimLoop = Vec<TrimCurve>;
+
+/// Closure tolerance, as a fraction of the domain's size.
+pub const CLOSURE_TOLERANCE: f64 = 1e-9;
+/// Chord tolerance of the flattened loops used for validation and for choosing reference
+/// points, as a fraction of the domain's size.
+pub const FLATTEN_TOLERANCE: f64 = 1e-6;
+
+/// Why a trim loop was refused; the [`Location`] names the loop and curve (`trims[1][2]`).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TrimProblem {
+    #[error("the loop has no curves")]
+    EmptyLoop,
+    #[error(
+        "the loop is open: curve {curve} ends at {end} but curve {next} starts at {start} (each curve must start where the one before it ends)"
+    )]
+    Open {
+        curve: usize,
+        next: usize,
+        end: Uv,
+        start: Uv,
+    },
+    #[error("the curve leaves the surface's domain [{u0}, {u1}] × [{v0}, {v1}] near {near}")]
+    OutsideDomain {
+        near: Uv,
+        u0: f64,
+        u1: f64,
+        v0: f64,
+        v1: f64,
+    },
+    #[error("the loop crosses itself: this curve meets curve {other} of the same loop near {near}")]
+    SelfIntersection { other: usize, near: Uv },
+    #[error("the loop crosses loop {other_loop} (its curve {other_curve}) near {near}")]
+    Crossing {
+        other_loop: usize,
+        other_curve: usize,
+        near: Uv,
+    },
+    #[error("the loop encloses no area")]
+    ZeroArea,
+    #[error("{0}")]
+    Curve(String),
+}
+
+/// A (u, v) point in a message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Uv(pub DVec2);
+
+impl fmt::Display for Uv {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "({:.6}, {:.6})", self.0.x, self.0.y)
+    }
+}
+
+/// The location of curve `curve` of loop `trim_loop`: `trims[loop][curve]`.
+pub fn trim_location(trim_loop: usize, curve: usize) -> Location {
+    Location::field("trims").index(trim_loop).index(curve)
+}
+
+fn refuse(trim_loop: usize, curve: usize, problem: TrimProblem) -> GeometryError {
+    GeometryError::Trim {
+        at: trim_location(trim_loop, curve),
+        problem,
+    }
+}
+
+/// A NURBS surface with trim loops (none: the whole domain is kept).
+#[derive(Clone)]
+pub struct TrimmedSurface {
+    surface: NurbsSurface,
+    loops: Vec<TrimLoop>,
+    /// The classification grid, built on first use and shared by clones (loops never change
+    /// after construction).
+    index: Arc<OnceLock<Arc<TrimIndex>>>,
+}
+
+impl PartialEq for TrimmedSurface {
+    fn eq(&self, other: &Self) -> bool {
+        self.surface == other.surface && self.loops == other.loops
+    }
+}
+
+impl fmt::Debug for TrimmedSurface {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.debug_struct("TrimmedSurface")
+            .field("surface", &self.surface)
+            .field("loops", &self.loops.len())
+            .finish()
+    }
+}
+
+/// The domain as (u0, u1, v0, v1).
+pub fn domain_rect(surface: &NurbsSurface) -> [f64; 4] {
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    [u0, u1, v0, v1]
+}
+
+/// The larger side of the domain (the scale of every (u, v) tolerance).
+pub fn domain_size(rect: [f64; 4]) -> f64 {
+    (rect[1] - rect[0]).max(rect[3] - rect[2])
+}
+
+fn curve_start(curve: &TrimCurve) -> DVec2 {
+    curve.control_point(0)
+}
+
+fn curve_end(curve: &TrimCurve) -> DVec2 {
+    curve.control_point(curve.count() - 1)
+}
+
+impl TrimmedSurface {
+    /// `surface` trimmed by `loops`, validated and normalised (see the module documentation).
+    /// Curves are clamped first, so each starts and ends at its end control points.
+    pub fn new(surface: NurbsSurface, loops: Vec<TrimLoop>) -> Result<Self, GeometryError> {
+        let loops: Vec<TrimLoop> = loops
+            .into_iter()
+            .map(|l| l.iter().map(TrimCurve::clamped).collect())
+            .collect();
+        let rect = domain_rect(&surface);
+        let flat = validate(rect, &loops)?;
+        let loops = normalise(loops, &flat);
+        Ok(Self {
+            surface,
+            loops,
+            index: Arc::default(),
+        })
+    }
+
+    /// The untrimmed surface.
+    pub fn untrimmed(surface: NurbsSurface) -> Self {
+        Self {
+            surface,
+            loops: Vec::new(),
+            index: Arc::default(),
+        }
+    }
+
+    pub fn surface(&self) -> &NurbsSurface {
+        &self.surface
+    }
+
+    /// The surface, mutable (its control points and weights; the loops stay valid because the
+    /// domain cannot change through it).
+    pub fn surface_mut(&mut self) -> &mut NurbsSurface {
+        &mut self.surface
+    }
+
+    pub fn loops(&self) -> &[TrimLoop] {
+        &self.loops
+    }
+
+    pub fn is_trimmed(&self) -> bool {
+        !self.loops.is_empty()
+    }
+
+    /// The same loops on another surface (after knot insertion, degree elevation, a knot
+    /// vector edit): revalidated, since the domain may have changed.
+    pub fn with_surface(&self, surface: NurbsSurface) -> Result<Self, GeometryError> {
+        if surface.domain() == self.surface.domain() {
+            return Ok(Self {
+                surface,
+                loops: self.loops.clone(),
+                index: self.index.clone(),
+            });
+        }
+        Self::new(surface, self.loops.clone())
+    }
+
+    /// The same surface with other loops.
+    pub fn with_loops(&self, loops: Vec<TrimLoop>) -> Result<Self, GeometryError> {
+        Self::new(self.surface.clone(), loops)
+    }
+
+    /// The classification grid ([`TrimIndex`]), `None` when untrimmed.
+    pub fn index(&self) -> Option<Arc<TrimIndex>> {
+        if self.loops.is_empty() {
+            return None;
+        }
+        Some(
+            self.index
+                .get_or_init(|| Arc::new(build_index(domain_rect(&self.surface), &self.loops)))
+                .clone(),
+        )
+    }
+
+    /// Whether (u, v) is kept.
+    pub fn contains(&self, u: f64, v: f64) -> bool {
+        self.index().is_none_or(|index| index.contains(u, v))
+    }
+
+    /// How the parameter rectangle (u0, u1, v0, v1) lies against the loops.
+    pub fn coverage(&self, rect: [f64; 4]) -> Coverage {
+        self.index().map_or(Coverage::Inside, |i| i.coverage(rect))
+    }
+
+    /// Every loop flattened to a closed polygon (last point not repeated) with chords within
+    /// `tolerance` in (u, v).
+    pub fn flattened_loops(&self, tolerance: f64) -> Vec<Vec<DVec2>> {
+        self.loops
+            .iter()
+            .map(|l| flatten_loop(l, tolerance))
+            .collect()
+    }
+
+    /// The area of the kept region in (u, v) (shoelace on loops flattened to `tolerance`; the
+    /// loops are oriented so that the signed areas add up).
+    pub fn parameter_area(&self, tolerance: f64) -> f64 {
+        if self.loops.is_empty() {
+            let [u0, u1, v0, v1] = domain_rect(&self.surface);
+            return (u1 - u0) * (v1 - v0);
+        }
+        self.flattened_loops(tolerance)
+            .iter()
+            .map(|p| signed_area(p))
+            .sum()
+    }
+
+    /// The same trimmed surface with `direction` reversed: u ↦ u0 + u1 − u in the loops.
+    pub fn reverse(&self, direction: Direction) -> Result<Self, GeometryError> {
+        let [u0, u1, v0, v1] = domain_rect(&self.surface);
+        let k = direction.index();
+        self.mapped(self.surface.reverse(direction), |p| {
+            if k == 0 {
+                DVec2::new(u0 + u1 - p.x, p.y)
+            } else {
+                DVec2::new(p.x, v0 + v1 - p.y)
+            }
+        })
+    }
+
+    /// The same trimmed surface with u and v exchanged.
+    pub fn swap_uv(&self) -> Result<Self, GeometryError> {
+        self.mapped(self.surface.swap_uv(), |p| DVec2::new(p.y, p.x))
+    }
+
+    fn mapped(
+        &self,
+        surface: NurbsSurface,
+        f: impl Fn(DVec2) -> DVec2 + Copy,
+    ) -> Result<Self, GeometryError> {
+        let loops = self
+            .loops
+            .iter()
+            .map(|l| l.iter().map(|c| c.map_points(f)).collect())
+            .collect::<Result<Vec<TrimLoop>, _>>()?;
+        Self::new(surface, loops)
+    }
+
+    /// The other side kept: the domain's boundary loop added, or removed where one is there
+    /// (odd-even inside-ness makes that the complement within the domain).
+    pub fn inverted(&self) -> Result<Self, GeometryError> {
+        let rect = domain_rect(&self.surface);
+        let boundary =
+            shapes::rectangle(DVec2::new(rect[0], rect[2]), DVec2::new(rect[1], rect[3]))?;
+        let is_boundary = |l: &TrimLoop| {
+            let b = domain_size(rect) * CLOSURE_TOLERANCE * 10.0;
+            let poly = flatten_loop(l, 1.0);
+            poly.iter().all(|p| {
+                (p.x - rect[0]).abs() < b
+                    || (p.x - rect[1]).abs() < b
+                    || (p.y - rect[2]).abs() < b
+                    || (p.y - rect[3]).abs() < b
+            }) && (signed_area(&poly).abs() - (rect[1] - rect[0]) * (rect[3] - rect[2])).abs()
+                < 1e-9 * (rect[1] - rect[0]) * (rect[3] - rect[2])
+        };
+        let mut loops = self.loops.clone();
+        if let Some(k) = loops.iter().position(is_boundary) {
+            loops.remove(k);
+        } else {
+            loops.insert(0, boundary);
+        }
+        if loops.is_empty() {
+            return Ok(Self::untrimmed(self.surface.clone()));
+        }
+        Self::new(self.surface.clone(), loops)
+    }
+
+    /// Adds `new_loop` as a hole (on an untrimmed surface the domain's boundary becomes the
+    /// outer loop) or, where `keep_inside`, as the only region kept of an untrimmed surface; on
+    /// a trimmed surface the loop toggles the region it encloses (a hole in the kept region, an
+    /// island in a hole).
+    pub fn add_loop(&self, new_loop: TrimLoop, keep_inside: bool) -> Result<Self, GeometryError> {
+        let mut loops = self.loops.clone();
+        if loops.is_empty() && !keep_inside {
+            let rect = domain_rect(&self.surface);
+            loops.push(shapes::rectangle(
+                DVec2::new(rect[0], rect[2]),
+                DVec2::new(rect[1], rect[3]),
+            )?);
+        }
+        loops.push(new_loop);
+        Self::new(self.surface.clone(), loops)
+    }
+
+    /// Loop `k` removed (the last one removed leaves the surface untrimmed).
+    pub fn remove_loop(&self, k: usize) -> Result<Self, GeometryError> {
+        if k >= self.loops.len() {
+            return Err(GeometryError::Construction {
+                what: "trim",
+                message: format!(
+                    "there is no loop {k} (the surface has {})",
+                    self.loops.len()
+                ),
+            });
+        }
+        let mut loops = self.loops.clone();
+        loops.remove(k);
+        Self::new(self.surface.clone(), loops)
+    }
+
+    /// The two trimmed surfaces on either side of `direction` = `value`; a side whose kept
+    /// region is empty is `None`.
+    pub fn split(
+        &self,
+        direction: Direction,
+        value: f64,
+    ) -> Result<(Option<Self>, Option<Self>), GeometryError> {
+        let (a, b) = self.surface.split(direction, value)?;
+        if self.loops.is_empty() {
+            return Ok((Some(Self::untrimmed(a)), Some(Self::untrimmed(b))));
+        }
+        let (left, right) = split::split_loops(&self.loops, direction, value)?;
+        let side = |surface: NurbsSurface, loops: Vec<TrimLoop>| {
+            if loops.is_empty() {
+                Ok(None)
+            } else {
+                Self::new(surface, loops).map(Some)
+            }
+        };
+        Ok((side(a, left)?, side(b, right)?))
+    }
+}
+
+/// The polygon of one loop: each curve's points without its last (the next curve's first).
+pub fn flatten_loop(l: &TrimLoop, tolerance: f64) -> Vec<DVec2> {
+    let mut out = Vec::new();
+    for (c, curve) in l.iter().enumerate() {
+        let mut points = Vec::new();
+        for piece in monotone_pieces(curve, (0, c)) {
+            piece.flatten(tolerance, &mut points);
+        }
+        points.pop();
+        out.extend(points);
+    }
+    out
+}
+
+/// Twice-halved shoelace: the signed area of a closed polygon (positive counter-clockwise).
+pub fn signed_area(polygon: &[DVec2]) -> f64 {
+    let n = polygon.len();
+    (0..n)
+        .map(|i| polygon[i].perp_dot(polygon[(i + 1) % n]))
+        .sum::<f64>()
+        / 2.0
+}
+
+/// Whether `p` is inside the closed polygon (crossing parity of the ray toward +u).
+pub fn polygon_contains(polygon: &[DVec2], p: DVec2) -> bool {
+    let n = polygon.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        if (a.y <= p.y) != (b.y <= p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if x > p.x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+fn build_index(rect: [f64; 4], loops: &[TrimLoop]) -> TrimIndex {
+    let tolerance = FLATTEN_TOLERANCE * domain_size(rect);
+    let mut pieces: Vec<MonotonePiece> = Vec::new();
+    for (l, lp) in loops.iter().enumerate() {
+        for (c, curve) in lp.iter().enumerate() {
+            pieces.extend(monotone_pieces(curve, (l, c)));
+        }
+    }
+    let flat: Vec<Vec<DVec2>> = pieces
+        .iter()
+        .map(|p| {
+            let mut out = Vec::new();
+            p.flatten(tolerance, &mut out);
+            out
+        })
+        .collect();
+    TrimIndex::build(rect, pieces, &flat)
+}
+
+/// One chord of a flattened loop, for the crossing checks.
+#[derive(Debug, Clone, Copy)]
+struct Chord {
+    a: DVec2,
+    b: DVec2,
+    trim_loop: usize,
+    curve: usize,
+    /// Position in its loop's polygon (chord k joins vertex k and k + 1).
+    position: usize,
+}
+
+/// Checks the loops and returns each loop's polygon.
+fn validate(rect: [f64; 4], loops: &[TrimLoop]) -> Result<Vec<Vec<DVec2>>, GeometryError> {
+    let size = domain_size(rect);
+    let gap = CLOSURE_TOLERANCE * size;
+    let [u0, u1, v0, v1] = rect;
+    let outside = |p: DVec2| {
+        p.x < u0 - gap || p.x > u1 + gap || p.y < v0 - gap || p.y > v1 + gap || !p.is_finite()
+    };
+    let mut polygons = Vec::with_capacity(loops.len());
+    let mut chords = Vec::new();
+    for (l, lp) in loops.iter().enumerate() {
+        if lp.is_empty() {
+            return Err(refuse(l, 0, TrimProblem::EmptyLoop));
+        }
+        for (c, curve) in lp.iter().enumerate() {
+            let next = (c + 1) % lp.len();
+            let (end, start) = (curve_end(curve), curve_start(&lp[next]));
+            if (end - start).length() > gap {
+                return Err(refuse(
+                    l,
+                    c,
+                    TrimProblem::Open {
+                        curve: c,
+                        next,
+                        end: Uv(end),
+                        start: Uv(start),
+                    },
+                ));
+            }
+            // Convex hull first (positive weights); the flattened curve where the hull leaves.
+            let hull_out = (0..curve.count()).any(|i| outside(curve.control_point(i)));
+            if hull_out {
+                let mut points = Vec::new();
+                for piece in monotone_pieces(curve, (l, c)) {
+                    piece.flatten(FLATTEN_TOLERANCE * size * 0.01, &mut points);
+                }
+                if let Some(&p) = points.iter().find(|&&p| outside(p)) {
+                    return Err(refuse(
+                        l,
+                        c,
+                        TrimProblem::OutsideDomain {
+                            near: Uv(p),
+                            u0,
+                            u1,
+                            v0,
+                            v1,
+                        },
+                    ));
+                }
+            }
+        }
+        // The loop's polygon, remembering which curve each chord belongs to.
+        let mut polygon = Vec::new();
+        let mut owner = Vec::new();
+        for (c, curve) in lp.iter().enumerate() {
+            let mut points = Vec::new();
+            for piece in monotone_pieces(curve, (l, c)) {
+                piece.flatten(FLATTEN_TOLERANCE * size, &mut points);
+            }
+            points.pop();
+            owner.extend(std::iter::repeat_n(c, points.len()));
+            polygon.extend(points);
+        }
+        let n = polygon.len();
+        for k in 0..n {
+            chords.push(Chord {
+                a: polygon[k],
+                b: polygon[(k + 1) % n],
+                trim_loop: l,
+                curve: owner[k],
+                position: k,
+            });
+        }
+        polygons.push(polygon);
+    }
+    check_crossings(rect, &chords, &polygons)?;
+    for (l, polygon) in polygons.iter().enumerate() {
+        let area = signed_area(polygon);
+        if polygon.len() < 3 || area.abs() <= 1e-12 * (u1 - u0) * (v1 - v0) {
+            return Err(refuse(l, 0, TrimProblem::ZeroArea));
+        }
+    }
+    Ok(polygons)
+}
+
+/// Orientation of (a, b, c): positive counter-clockwise.
+fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+    (b - a).perp_dot(c - a)
+}
+
+/// Whether chords ab and cd meet (touching counts).
+fn chords_meet(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+    let (d1, d2) = (orient(c, d, a), orient(c, d, b));
+    let (d3, d4) = (orient(a, b, c), orient(a, b, d));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    let on = |p: DVec2, q: DVec2, r: DVec2, o: f64| {
+        o == 0.0
+            && r.x >= p.x.min(q.x)
+            && r.x <= p.x.max(q.x)
+            && r.y >= p.y.min(q.y)
+            && r.y <= p.y.max(q.y)
+    };
+    on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4)
+}
+
+/// Refuses the first pair of chords that meet, other than neighbours in one loop (which share
+/// a vertex; they are refused only when they fold back onto each other). Chords are bucketed in
+/// a grid so that the check stays near linear.
+fn check_crossings(
+    rect: [f64; 4],
+    chords: &[Chord],
+    polygons: &[Vec<DVec2>],
+) -> Result<(), GeometryError> {
+    let side = ((chords.len() as f64).sqrt().ceil() as usize).clamp(1, 512);
+    let [u0, u1, v0, v1] = rect;
+    let pad = 1e-6 * domain_size(rect);
+    let (du, dv) = (
+        (u1 - u0 + 2.0 * pad) / side as f64,
+        (v1 - v0 + 2.0 * pad) / side as f64,
+    );
+    let cell = |p: DVec2| {
+        (
+            (((p.x - u0 + pad) / du).floor().max(0.0) as usize).min(side - 1),
+            (((p.y - v0 + pad) / dv).floor().max(0.0) as usize).min(side - 1),
+        )
+    };
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); side * side];
+    for (k, ch) in chords.iter().enumerate() {
+        let (i0, j0) = cell(ch.a.min(ch.b));
+        let (i1, j1) = cell(ch.a.max(ch.b));
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                buckets[j * side + i].push(k as u32);
+            }
+        }
+    }
+    for bucket in &buckets {
+        for (x, &s) in bucket.iter().enumerate() {
+            for &t in &bucket[x + 1..] {
+                let (p, q) = (&chords[s as usize], &chords[t as usize]);
+                if let Some(e) = crossing_error(p, q, polygons) {
+                    return Err(e);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn crossing_error(p: &Chord, q: &Chord, polygons: &[Vec<DVec2>]) -> Option<GeometryError> {
+    let (p, q) = if (p.trim_loop, p.position) > (q.trim_loop, q.position) {
+        (q, p)
+    } else {
+        (p, q)
+    };
+    if p.trim_loop == q.trim_loop {
+        let n = polygons[p.trim_loop].len();
+        let neighbours = q.position == p.position + 1 || (p.position == 0 && q.position == n - 1);
+        if neighbours {
+            // They share a vertex; refuse only a fold back along the same line.
+            let (shared, x, y) = if q.position == p.position + 1 {
+                (p.b, p.a, q.b)
+            } else {
+                (p.a, p.b, q.a)
+            };
+            let (e1, e2) = (x - shared, y - shared);
+            let folded =
+                e1.perp_dot(e2).abs() <= 1e-12 * e1.length() * e2.length() && e1.dot(e2) > 0.0;
+            return folded.then(|| {
+                refuse(
+                    q.trim_loop,
+                    q.curve,
+                    TrimProblem::SelfIntersection {
+                        other: p.curve,
+                        near: Uv(shared),
+                    },
+                )
+            });
+        }
+    }
+    if !chords_meet(p.a, p.b, q.a, q.b) {
+        return None;
+    }
+    let near = Uv(0.5 * (p.a + q.a));
+    Some(if p.trim_loop == q.trim_loop {
+        refuse(
+            q.trim_loop,
+            q.curve,
+            TrimProblem::SelfIntersection {
+                other: p.curve,
+                near,
+            },
+        )
+    } else {
+        refuse(
+            q.trim_loop,
+            q.curve,
+            TrimProblem::Crossing {
+                other_loop: p.trim_loop,
+                other_curve: p.curve,
+                near,
+            },
+        )
+    })
+}
+
+/// Orients each loop by its nesting depth: even depth counter-clockwise, odd clockwise.
+fn normalise(loops: Vec<TrimLoop>, polygons: &[Vec<DVec2>]) -> Vec<TrimLoop> {
+    loops
+        .into_iter()
+        .enumerate()
+        .map(|(l, lp)| {
+            let probe = polygons[l][0];
+            let depth = polygons
+                .iter()
+                .enumerate()
+                .filter(|&(m, poly)| m != l && polygon_contains(poly, probe))
+                .count();
+            let ccw = signed_area(&polygons[l]) > 0.0;
+            if ccw == (depth % 2 == 0) {
+                lp
+            } else {
+                lp.iter().rev().map(TrimCurve::reverse).collect()
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polygon_area_and_containment() {
+        let square = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.0, 1.0),
+        ];
+        assert_eq!(signed_area(&square), 1.0);
+        assert!(polygon_contains(&square, DVec2::new(0.5, 0.5)));
+        assert!(!polygon_contains(&square, DVec2::new(1.5, 0.5)));
+    }
+}

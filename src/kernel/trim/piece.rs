@@ -1,0 +1,261 @@
+//! Trim curves cut into pieces that are monotone in both u and v, the unit every trimming
+//! query works on: a monotone piece meets a line u = const or v = const at most once, and the
+//! crossing is found by bisection on the piece's own parameter (Schollmeyer & Fröhlich,
+//! "Direct trimming of NURBS surfaces on the GPU", SIGGRAPH 2009, §4). The CPU classifier here
+//! and the fragment shader (`shaders/trim.wgsl`) run the same tests, the CPU in f64.
+
+use glam::{DVec2, DVec3};
+
+use crate::kernel::TrimCurve;
+
+/// Sign samples per Bézier segment when looking for the extrema of u(t) and v(t).
+const EXTREMUM_SAMPLES: usize = 48;
+/// Bisection steps that pin a crossing or an extremum (2⁻⁶⁰ of the parameter interval).
+const BISECTION_STEPS: usize = 60;
+
+/// A rational Bézier piece of a trim curve over t ∈ [0, 1], monotone in u and in v.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MonotonePiece {
+    /// Homogeneous control points (w·u, w·v, w).
+    pub points: Vec<DVec3>,
+    /// The piece's box [u_min, u_max, v_min, v_max] (spanned by its end points).
+    pub bounds: [f64; 4],
+    /// The loop and the curve of the loop it came from.
+    pub source: (usize, usize),
+}
+
+/// The point of the rational Bézier curve `points` at t (de Casteljau, The NURBS Book A1.5, on
+/// homogeneous points), projected.
+pub fn bezier_point(points: &[DVec3], t: f64) -> DVec2 {
+    let mut work = points.to_vec();
+    let n = work.len();
+    for r in 1..n {
+        for i in 0..n - r {
+            work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
+        }
+    }
+    work[0].truncate() / work[0].z
+}
+
+/// The two halves of the Bézier curve `points` at t (de Casteljau subdivision), each over
+/// [0, 1].
+pub fn split_bezier(points: &[DVec3], t: f64) -> (Vec<DVec3>, Vec<DVec3>) {
+    let n = points.len();
+    let mut work = points.to_vec();
+    let mut left = vec![work[0]];
+    let mut right = vec![work[n - 1]];
+    for r in 1..n {
+        for i in 0..n - r {
+            work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
+        }
+        left.push(work[0]);
+        right.push(work[n - r - 1]);
+    }
+    right.reverse();
+    (left, right)
+}
+
+/// d/dt of coordinate `axis` (0: u, 1: v) of the rational curve, up to the positive factor
+/// 1/w²: x'w − xw' of the homogeneous Bézier polynomials.
+fn derivative_numerator(points: &[DVec3], axis: usize, t: f64) -> f64 {
+    let n = points.len() - 1;
+    let mut work = points.to_vec();
+    for r in 1..n {
+        for i in 0..=n - r {
+            work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
+        }
+    }
+    // After n − 1 steps work[0], work[1] span the tangent: P = (1−t)a + tb, P' = n(b − a).
+    let (a, b) = (work[0], work[1]);
+    let p = a * (1.0 - t) + b * t;
+    let d = (b - a) * n as f64;
+    d[axis] * p.z - p[axis] * d.z
+}
+
+/// The parameters in (0, 1) where u(t) or v(t) turns (sign changes of the derivative, sampled
+/// and pinned by bisection), sorted.
+fn turning_parameters(points: &[DVec3]) -> Vec<f64> {
+    let mut out = Vec::new();
+    if points.len() < 3 {
+        return out;
+    }
+    for axis in 0..2 {
+        let f = |t: f64| derivative_numerator(points, axis, t);
+        let mut t0 = 0.0;
+        let mut f0 = f(t0);
+        for k in 1..=EXTREMUM_SAMPLES {
+            let t1 = k as f64 / EXTREMUM_SAMPLES as f64;
+            let f1 = f(t1);
+            if f0 * f1 < 0.0 {
+                let (mut a, mut b, fa) = (t0, t1, f0);
+                for _ in 0..BISECTION_STEPS {
+                    let m = 0.5 * (a + b);
+                    if f(m) * fa > 0.0 {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                out.push(0.5 * (a + b));
+            }
+            if f1 != 0.0 {
+                t0 = t1;
+                f0 = f1;
+            }
+        }
+    }
+    out.sort_by(f64::total_cmp);
+    out.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    out.retain(|&t| t > 1e-12 && t < 1.0 - 1e-12);
+    out
+}
+
+/// The box of a monotone piece: its end points.
+fn end_bounds(points: &[DVec3]) -> [f64; 4] {
+    let a = points[0].truncate() / points[0].z;
+    let b = points[points.len() - 1].truncate() / points[points.len() - 1].z;
+    [a.x.min(b.x), a.x.max(b.x), a.y.min(b.y), a.y.max(b.y)]
+}
+
+/// Curve `curve` of loop `loop_index` as monotone pieces, in order along the curve.
+pub fn monotone_pieces(curve: &TrimCurve, source: (usize, usize)) -> Vec<MonotonePiece> {
+    let mut out = Vec::new();
+    for segment in curve.bezier_segments() {
+        let mut rest = segment.homogeneous_points().to_vec();
+        let mut consumed = 0.0;
+        for t in turning_parameters(segment.homogeneous_points()) {
+            // Map t of the whole segment onto what is left of it.
+            let local = (t - consumed) / (1.0 - consumed);
+            let (left, right) = split_bezier(&rest, local);
+            out.push(MonotonePiece {
+                bounds: end_bounds(&left),
+                points: left,
+                source,
+            });
+            rest = right;
+            consumed = t;
+        }
+        out.push(MonotonePiece {
+            bounds: end_bounds(&rest),
+            points: rest,
+            source,
+        });
+    }
+    out
+}
+
+impl MonotonePiece {
+    /// The parameter where coordinate `axis` (0: u, 1: v) equals `value`, which must lie in the
+    /// piece's range of that coordinate (bisection on the monotone coordinate).
+    pub fn parameter_at(&self, axis: usize, value: f64) -> f64 {
+        let start = bezier_point(&self.points, 0.0)[axis];
+        let rising = bezier_point(&self.points, 1.0)[axis] >= start;
+        let (mut a, mut b) = (0.0, 1.0);
+        for _ in 0..BISECTION_STEPS {
+            let m = 0.5 * (a + b);
+            let x = bezier_point(&self.points, m)[axis];
+            if (x < value) == rising {
+                a = m;
+            } else {
+                b = m;
+            }
+            if b - a < 1e-15 {
+                break;
+            }
+        }
+        0.5 * (a + b)
+    }
+
+    /// The other coordinate where coordinate `axis` equals `value`.
+    pub fn cross_at(&self, axis: usize, value: f64) -> f64 {
+        bezier_point(&self.points, self.parameter_at(axis, value))[1 - axis]
+    }
+
+    /// Whether the piece crosses the segment of the line (coordinate 1 − `axis` = `level`) with
+    /// coordinate `axis` in [min(a, b), max(a, b)): the piece's range of the line's fixed
+    /// coordinate is taken half-open ([min, max)), so a loop crossing the line at a piece's end
+    /// is counted once and a touching extremum twice or not at all.
+    pub fn crosses(&self, axis: usize, level: f64, a: f64, b: f64) -> bool {
+        let fixed = 1 - axis;
+        let [lo_f, hi_f] = [self.bounds[2 * fixed], self.bounds[2 * fixed + 1]];
+        if !(lo_f <= level && level < hi_f) {
+            return false;
+        }
+        let (lo, hi) = (a.min(b), a.max(b));
+        let [lo_a, hi_a] = [self.bounds[2 * axis], self.bounds[2 * axis + 1]];
+        if hi_a < lo || lo_a >= hi {
+            return false;
+        }
+        if lo <= lo_a && hi_a < hi {
+            return true;
+        }
+        let x = self.cross_at(fixed, level);
+        lo <= x && x < hi
+    }
+
+    /// Points along the piece with chords within `tolerance` (in (u, v)) of it, ends included.
+    pub fn flatten(&self, tolerance: f64, out: &mut Vec<DVec2>) {
+        let start = bezier_point(&self.points, 0.0);
+        if out.last() != Some(&start) {
+            out.push(start);
+        }
+        flatten_range(&self.points, 0.0, start, 1.0, tolerance, 0, out);
+    }
+}
+
+/// Adaptive chords of the Bézier `points` from t0 (point a, already emitted) to t1.
+fn flatten_range(
+    points: &[DVec3],
+    t0: f64,
+    a: DVec2,
+    t1: f64,
+    tolerance: f64,
+    depth: usize,
+    out: &mut Vec<DVec2>,
+) {
+    let b = bezier_point(points, t1);
+    let tm = 0.5 * (t0 + t1);
+    let m = bezier_point(points, tm);
+    let q1 = bezier_point(points, t0 + 0.25 * (t1 - t0));
+    let q3 = bezier_point(points, t0 + 0.75 * (t1 - t0));
+    let off = [m, q1, q3]
+        .iter()
+        .map(|&p| distance_to_segment(p, a, b))
+        .fold(0.0, f64::max);
+    if depth < 24 && (off > tolerance || depth < 1) {
+        flatten_range(points, t0, a, tm, tolerance, depth + 1, out);
+        flatten_range(points, tm, m, t1, tolerance, depth + 1, out);
+    } else {
+        out.push(b);
+    }
+}
+
+/// The distance from p to the segment ab.
+pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let len2 = d.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).length()
+}
+
+/// Crossing parity of the L-shaped path from `from` to `to` (first along u at `from`'s v, then
+/// along v at `to`'s u) with `pieces`: whether the two points are on different sides of the
+/// loops.
+pub fn path_parity<'a>(
+    pieces: impl Iterator<Item = &'a MonotonePiece> + Clone,
+    from: DVec2,
+    to: DVec2,
+) -> bool {
+    let mut odd = false;
+    for piece in pieces.clone() {
+        odd ^= piece.crosses(0, from.y, from.x, to.x);
+    }
+    for piece in pieces {
+        odd ^= piece.crosses(1, to.x, from.y, to.y);
+    }
+    odd
+}

@@ -1,0 +1,350 @@
+//! Export tessellation of a trimmed surface: a constrained Delaunay triangulation in (u, v)
+//! (spade). The trim loops are flattened so that every boundary chord stays within the
+//! tolerance of the trim curve on the surface; the interior takes the points of the untrimmed
+//! surface's tolerance grid ([`crate::kernel::tess::tolerance_grid`]) that lie in the kept
+//! region away from the boundary; triangles whose deviation from the surface exceeds the
+//! tolerance get their centroid added until none does. Every vertex is the surface at its
+//! stored (u, v); triangles outside the kept region are dropped.
+
+use glam::{DVec2, DVec3};
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use super::piece::{bezier_point, monotone_pieces};
+use super::{TrimmedSurface, domain_rect, polygon_contains};
+use crate::kernel::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
+use crate::kernel::{GeometryError, NurbsSurface};
+
+/// Rounds of centroid insertion before the triangulation is taken as it is.
+const REFINE_ROUNDS: usize = 10;
+/// The deepest bisection of a trim piece while flattening.
+const MAX_FLATTEN_DEPTH: usize = 30;
+
+fn failed(message: String) -> GeometryError {
+    GeometryError::Construction {
+        what: "trimmed tessellation",
+        message,
+    }
+}
+
+/// The distance from p to the segment ab in space.
+fn distance_to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let len2 = d.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).length()
+}
+
+/// The loops flattened for the surface: each chord's midpoint on the surface within
+/// `tolerance` of the chord in space (checked at t = 1/4, 1/2, 3/4 of every chord).
+pub fn flatten_on_surface(
+    trimmed: &TrimmedSurface,
+    tolerance: f64,
+) -> Result<Vec<Vec<DVec2>>, GeometryError> {
+    let surface = trimmed.surface();
+    let at = |p: DVec2| surface.point_at(p.x, p.y);
+    let mut out = Vec::new();
+    for lp in trimmed.loops() {
+        let mut polygon = Vec::new();
+        for (c, curve) in lp.iter().enumerate() {
+            let mut points = Vec::new();
+            for piece in monotone_pieces(curve, (0, c)) {
+                let a = bezier_point(&piece.points, 0.0);
+                if points.last() != Some(&a) {
+                    points.push(a);
+                }
+                let mut stack = vec![(0.0, 1.0, 0usize)];
+                // Depth-first, left half first, so points come out in order.
+                while let Some((t0, t1, depth)) = stack.pop() {
+                    let (p0, p1) = (
+                        bezier_point(&piece.points, t0),
+                        bezier_point(&piece.points, t1),
+                    );
+                    let (s0, s1) = (at(clamp_to(surface, p0))?, at(clamp_to(surface, p1))?);
+                    let mut worst: f64 = 0.0;
+                    for f in [0.25, 0.5, 0.75] {
+                        let q = bezier_point(&piece.points, t0 + f * (t1 - t0));
+                        worst = worst.max(distance_to_chord(at(clamp_to(surface, q))?, s0, s1));
+                    }
+                    if (worst > tolerance || depth < 2) && depth < MAX_FLATTEN_DEPTH {
+                        let tm = 0.5 * (t0 + t1);
+                        stack.push((tm, t1, depth + 1));
+                        stack.push((t0, tm, depth + 1));
+                    } else {
+                        points.push(p1);
+                    }
+                }
+            }
+            points.pop();
+            polygon.extend(points);
+        }
+        if polygon.len() > MAX_TRIANGLES {
+            return Err(failed(
+                "the trim loops need too many points at this tolerance".into(),
+            ));
+        }
+        out.push(polygon);
+    }
+    Ok(out)
+}
+
+fn clamp_to(surface: &NurbsSurface, p: DVec2) -> DVec2 {
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1))
+}
+
+/// Whether p is in the kept region of the flattened loops (odd crossing count).
+fn kept(polygons: &[Vec<DVec2>], p: DVec2) -> bool {
+    polygons
+        .iter()
+        .filter(|poly| polygon_contains(poly, p))
+        .count()
+        % 2
+        == 1
+}
+
+/// Buckets the boundary chords for distance queries.
+struct ChordGrid {
+    origin: DVec2,
+    cell: DVec2,
+    side: usize,
+    buckets: Vec<Vec<(DVec2, DVec2)>>,
+}
+
+impl ChordGrid {
+    fn new(rect: [f64; 4], polygons: &[Vec<DVec2>]) -> Self {
+        let count: usize = polygons.iter().map(Vec::len).sum();
+        let side = ((count as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let origin = DVec2::new(rect[0], rect[2]);
+        let cell = DVec2::new(
+            ((rect[1] - rect[0]) / side as f64).max(1e-300),
+            ((rect[3] - rect[2]) / side as f64).max(1e-300),
+        );
+        let mut grid = Self {
+            origin,
+            cell,
+            side,
+            buckets: vec![Vec::new(); side * side],
+        };
+        for poly in polygons {
+            for k in 0..poly.len() {
+                let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                let (i0, j0) = grid.cell_of(a.min(b));
+                let (i1, j1) = grid.cell_of(a.max(b));
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        grid.buckets[j * side + i].push((a, b));
+                    }
+                }
+            }
+        }
+        grid
+    }
+
+    fn cell_of(&self, p: DVec2) -> (usize, usize) {
+        let q = (p - self.origin) / self.cell;
+        let max = (self.side - 1) as f64;
+        (
+            q.x.floor().clamp(0.0, max) as usize,
+            q.y.floor().clamp(0.0, max) as usize,
+        )
+    }
+
+    /// Whether some chord passes within `r` of p.
+    fn near(&self, p: DVec2, r: f64) -> bool {
+        let (i0, j0) = self.cell_of(p - DVec2::splat(r));
+        let (i1, j1) = self.cell_of(p + DVec2::splat(r));
+        (j0..=j1).any(|j| {
+            (i0..=i1).any(|i| {
+                self.buckets[j * self.side + i]
+                    .iter()
+                    .any(|&(a, b)| super::piece::distance_to_segment(p, a, b) < r)
+            })
+        })
+    }
+}
+
+/// The trimmed surface as a triangle mesh within `tessellation` (a tolerance, or segments per
+/// span for the interior grid with the loops flattened to 1/1000 of the surface's size).
+pub fn tessellate_trimmed(
+    trimmed: &TrimmedSurface,
+    tessellation: Tessellation,
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    let surface = trimmed.surface();
+    let tolerance = match tessellation {
+        Tessellation::Tolerance(t) => t,
+        Tessellation::Segments(_) => 1e-3 * surface.size(),
+    };
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(failed(format!(
+            "the tolerance must be finite and > 0, got {tolerance}"
+        )));
+    }
+    let grid = tess::grid_for(surface, tessellation)?;
+    let polygons = flatten_on_surface(trimmed, tolerance)?;
+    let rect = domain_rect(surface);
+    let chords = ChordGrid::new(rect, &polygons);
+
+    let mut points: Vec<DVec2> = Vec::new();
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    for poly in &polygons {
+        let base = points.len();
+        let n = poly.len();
+        points.extend_from_slice(poly);
+        edges.extend((0..n).map(|k| [base + k, base + (k + 1) % n]));
+    }
+    for (i, &u) in grid.us.iter().enumerate() {
+        for (j, &v) in grid.vs.iter().enumerate() {
+            let hu = spacing(&grid.us, i);
+            let hv = spacing(&grid.vs, j);
+            let p = DVec2::new(u, v);
+            if kept(&polygons, p) && !chords.near(p, 0.3 * hu.min(hv)) {
+                points.push(p);
+            }
+        }
+    }
+
+    let mut rounds = 0;
+    let (vertices, triangles) = loop {
+        let (vertices, triangles) = triangulate_kept(&points, &edges, &polygons)?;
+        if triangles.len() > MAX_TRIANGLES {
+            return Err(failed(format!(
+                "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
+            )));
+        }
+        rounds += 1;
+        if rounds > REFINE_ROUNDS {
+            break (vertices, triangles);
+        }
+        let positions: Vec<DVec3> = vertices
+            .iter()
+            .map(|p| surface.point_at(p.x, p.y))
+            .collect::<Result<_, _>>()?;
+        let mut added = Vec::new();
+        for t in &triangles {
+            let [a, b, c] = t.map(|k| k as usize);
+            let centroid = (vertices[a] + vertices[b] + vertices[c]) / 3.0;
+            let flat = (positions[a] + positions[b] + positions[c]) / 3.0;
+            let mut worst = (surface.point_at(centroid.x, centroid.y)? - flat).length();
+            for (x, y) in [(a, b), (b, c), (c, a)] {
+                // Midpoints of interior edges only: boundary chords were flattened already.
+                let m = 0.5 * (vertices[x] + vertices[y]);
+                let on_surface = surface.point_at(m.x, m.y)?;
+                let chord = 0.5 * (positions[x] + positions[y]);
+                worst = worst.max((on_surface - chord).length());
+            }
+            if worst > tolerance && !chords.near(centroid, 1e-9 * (rect[1] - rect[0]).abs()) {
+                added.push(centroid);
+            }
+        }
+        if added.is_empty() {
+            break (vertices, triangles);
+        }
+        points.extend(added);
+    };
+    mesh_from(surface, &vertices, triangles, curvature)
+}
+
+/// The grid spacing around index i.
+fn spacing(values: &[f64], i: usize) -> f64 {
+    let before = if i > 0 {
+        values[i] - values[i - 1]
+    } else {
+        f64::INFINITY
+    };
+    let after = if i + 1 < values.len() {
+        values[i + 1] - values[i]
+    } else {
+        f64::INFINITY
+    };
+    let h = before.min(after);
+    if h.is_finite() { h } else { 0.0 }
+}
+
+/// The constrained Delaunay triangulation of `points` with `edges` fixed, keeping the triangles
+/// inside the loops, counter-clockwise in (u, v).
+fn triangulate_kept(
+    points: &[DVec2],
+    edges: &[[usize; 2]],
+    polygons: &[Vec<DVec2>],
+) -> Result<(Vec<DVec2>, Vec<[u32; 3]>), GeometryError> {
+    let input = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
+    let mut conflicts = 0usize;
+    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges.to_vec(), |_| {
+            conflicts += 1
+        })
+        .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+    let vertices: Vec<DVec2> = cdt
+        .vertices()
+        .map(|v| {
+            let p = v.position();
+            DVec2::new(p.x, p.y)
+        })
+        .collect();
+    let mut triangles = Vec::new();
+    for face in cdt.inner_faces() {
+        let [a, b, c] = face.vertices().map(|v| v.fix().index());
+        let (pa, pb, pc) = (vertices[a], vertices[b], vertices[c]);
+        let area = (pb - pa).perp_dot(pc - pa);
+        if area == 0.0 || !kept(polygons, (pa + pb + pc) / 3.0) {
+            continue;
+        }
+        triangles.push(if area > 0.0 {
+            [a as u32, b as u32, c as u32]
+        } else {
+            [a as u32, c as u32, b as u32]
+        });
+    }
+    Ok((vertices, triangles))
+}
+
+/// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
+fn mesh_from(
+    surface: &NurbsSurface,
+    vertices: &[DVec2],
+    triangles: Vec<[u32; 3]>,
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    let mut used = vec![u32::MAX; vertices.len()];
+    let mut order = Vec::new();
+    for t in &triangles {
+        for &k in t {
+            if used[k as usize] == u32::MAX {
+                used[k as usize] = order.len() as u32;
+                order.push(k as usize);
+            }
+        }
+    }
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    let mut mesh = TriangleMesh::default();
+    for &k in &order {
+        let p = vertices[k];
+        let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
+        if curvature {
+            let local = surface.local_geometry(u, v)?;
+            mesh.positions.push(local.derivatives.point);
+            mesh.normals.push(local.normal);
+            mesh.curvatures.push(local.curvature.values());
+        } else {
+            let d = surface.evaluate(u, v)?;
+            mesh.normals.push(surface.normal_from(&d, u, v));
+            mesh.positions.push(d.point);
+        }
+        mesh.uvs.push([(u - u0) / (u1 - u0), (v - v0) / (v1 - v0)]);
+    }
+    for t in triangles {
+        let t = t.map(|k| used[k as usize]);
+        let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+        let (e1, e2) = (b - a, c - a);
+        let scale = e1.length_squared().max(e2.length_squared());
+        if e1.cross(e2).length() > 1e-12 * scale {
+            mesh.triangles.push(t);
+        }
+    }
+    Ok(mesh)
+}

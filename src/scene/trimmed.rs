@@ -1,0 +1,121 @@
+//! Trimmed NURBS surfaces as a scene object kind: the surface's own feed and editing, plus the
+//! trim loops' classification grid for the fragment shader and each Bézier patch's coverage
+//! (wholly kept, wholly trimmed away, or cut by a loop), so the GPU skips what is trimmed away
+//! and tests only what a loop crosses.
+
+use std::sync::Arc;
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::trim::index::{Coverage, TrimIndex};
+use crate::kernel::trim::tess::tessellate_trimmed;
+use crate::kernel::{GeometryError, NurbsSurface, TrimmedSurface};
+
+/// What a trimmed object adds to its GPU feed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrimFeed {
+    pub index: Arc<TrimIndex>,
+    /// Each Bézier patch's coverage, in the feed's patch order.
+    pub coverage: Vec<Coverage>,
+}
+
+impl ObjectKind for TrimmedSurface {
+    fn kind_name(&self) -> &'static str {
+        "a trimmed NURBS surface"
+    }
+
+    fn describe(&self) -> String {
+        let n = self.loops().len();
+        format!(
+            "{}, {n} trim loop{}",
+            self.surface().describe(),
+            if n == 1 { "" } else { "s" }
+        )
+    }
+
+    fn control_point_count(&self) -> usize {
+        self.surface().control_point_count()
+    }
+
+    fn control_points(&self) -> Vec<DVec3> {
+        self.surface().control_points()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        ObjectKind::weights(self.surface())
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        self.surface().net_lines()
+    }
+
+    fn net_grid(&self) -> Option<[usize; 2]> {
+        self.surface().net_grid()
+    }
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        ObjectKind::bounds(self.surface())
+    }
+
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        self.surface_mut().move_control_point(index, position)
+    }
+
+    fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        ObjectKind::set_weight(self.surface_mut(), index, weight)
+    }
+
+    /// The surface's Bézier patches with the trim grid and each patch's coverage.
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        let mut feed = self.surface().gpu_feed()?;
+        if let Some(index) = self.index() {
+            let coverage = feed.domains.iter().map(|&d| index.coverage(d)).collect();
+            feed.trims = Some(TrimFeed { index, coverage });
+        }
+        Ok(feed)
+    }
+
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        self.surface().surface_point(patch, s, t)
+    }
+
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        self.surface().update_gpu_feed(feed, patches)
+    }
+
+    /// A constrained Delaunay triangulation of the kept region
+    /// ([`crate::kernel::trim::tess`]).
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        Ok(vec![tessellate_trimmed(self, tessellation, curvature)?])
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        let surface = NurbsSurface::transformed(self.surface(), transform)?;
+        Ok(ObjectGeometry::from_trimmed(self.with_surface(surface)?))
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        match other {
+            ObjectGeometry::Trimmed(b) => {
+                self.surface()
+                    .same_layout(&ObjectGeometry::Nurbs(b.surface().clone()))
+                    && self.loops() == b.loops()
+            }
+            _ => false,
+        }
+    }
+}
