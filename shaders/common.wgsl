@@ -35,6 +35,14 @@ const PATCH_KIND_BEZIER: u32 = 0u;
 const PATCH_KIND_STENCIL_QUAD: u32 = 1u;
 // The same on a triangle: slots (i, j) with i + j <= segments (Rust: PATCH_KIND_STENCIL_TRIANGLE).
 const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2u;
+// PatchRecord.trim_count of a patch a trim loop crosses (Rust: gpu::trim_buffer::TRIM_PARTIAL)
+// and of a patch wholly trimmed away, neither evaluated nor drawn (Rust: TRIM_CULLED).
+const TRIM_PARTIAL: u32 = 1u;
+const TRIM_CULLED: u32 = 0xFFFFFFFFu;
+// Word counts of the packed trim loops (Rust: gpu::trim_buffer).
+const TRIM_HEADER_WORDS: u32 = 8u;
+const TRIM_CELL_WORDS: u32 = 4u;
+const TRIM_PIECE_HEADER_WORDS: u32 = 5u;
 // Bit of a stencil slot's count: the curvature is not defined there (Rust: STENCIL_NO_CURVATURE).
 const STENCIL_NO_CURVATURE: u32 = 0x80000000u;
 

@@ -500,7 +500,8 @@ fn write_triangles(
     }
     let rec = patches[group.y];
     let quad = group.x * WORKGROUP_SIZE + lane;
-    if (quad >= rec.segments_u * rec.segments_v) {
+    // A patch wholly trimmed away has no triangles.
+    if (rec.trim_count == TRIM_CULLED || quad >= rec.segments_u * rec.segments_v) {
         return;
     }
     let nv = rec.segments_v + 1u;

@@ -45,6 +45,14 @@ struct VertexOut {
     @location(5) @interpolate(flat) object: u32,
     // 1 on a highlighted patch.
     @location(6) @interpolate(flat) highlighted: u32,
+    // The patch record (its trim loops, trim.wgsl).
+    @location(7) @interpolate(flat) record: u32,
+}
+
+struct FragmentOut {
+    @location(0) color: vec4<f32>,
+    // The samples the kept region covers along a trim edge (all of them elsewhere).
+    @builtin(sample_mask) mask: u32,
 }
 
 @vertex
@@ -60,6 +68,7 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     }
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
+    out.record = in.record;
     let word = in.record >> 5u;
     if (word < arrayLength(&highlight)) {
         out.highlighted = (highlight[word] >> (in.record & 31u)) & 1u;
@@ -86,8 +95,28 @@ fn ramp_color(x: f32) -> vec3<f32> {
     return mix(scene.ramp[k].rgb, scene.ramp[k + 1u].rgb, f - f32(k));
 }
 
+// Samples per pixel of the viewport (Rust: render::SAMPLE_COUNT).
+const SAMPLE_COUNT: u32 = 4u;
+
+// Trims the fragment (trim.wgsl): discarded outside the kept region, along a trim edge only the
+// covered share of the samples is written. Then shades it.
 @fragment
-fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut {
+    // Derivatives first, in uniform control flow.
+    let grad_u = vec2<f32>(dpdx(in.uv.x), dpdy(in.uv.x));
+    let grad_v = vec2<f32>(dpdx(in.uv.y), dpdy(in.uv.y));
+    let coverage = trim_coverage(in.record, in.uv, grad_u, grad_v);
+    let samples = u32(round(coverage * f32(SAMPLE_COUNT)));
+    if (samples == 0u) {
+        discard;
+    }
+    var out: FragmentOut;
+    out.mask = (1u << samples) - 1u;
+    out.color = shade_fragment(in, front);
+    return out;
+}
+
+fn shade_fragment(in: VertexOut, front: bool) -> vec4<f32> {
     let mode = scene.shading.x;
     if (mode >= MODE_GAUSSIAN && mode <= MODE_K2) {
         // Undefined curvature (a degenerate point and its surroundings) is neutral grey.

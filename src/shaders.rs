@@ -8,6 +8,8 @@
 pub const COMMON: &str = include_str!("../shaders/common.wgsl");
 /// Module: differential geometry from partial derivatives (normals, curvature).
 pub const DIFFGEO: &str = include_str!("../shaders/diffgeo.wgsl");
+/// Module: per-fragment trimming against the packed trim loops.
+pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
 pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
 /// Render: the shaded surface.
@@ -24,7 +26,7 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 1] = [("diffgeo.wgsl", DIFFGEO)];
+pub const MODULES: [(&str, &str); 2] = [("diffgeo.wgsl", DIFFGEO), ("trim.wgsl", TRIM)];
 
 /// The compute evaluator.
 pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
@@ -36,7 +38,7 @@ pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {
     name: "surface.wgsl",
     body: SURFACE,
-    modules: &[],
+    modules: &[TRIM],
 };
 /// The control net overlay.
 pub const OVERLAY_SHADER: PipelineShader = PipelineShader {

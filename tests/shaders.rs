@@ -249,6 +249,20 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "STENCIL_NO_CURVATURE",
             knotwork::gpu::records::STENCIL_NO_CURVATURE,
         ),
+        ("TRIM_PARTIAL", knotwork::gpu::trim_buffer::TRIM_PARTIAL),
+        ("TRIM_CULLED", knotwork::gpu::trim_buffer::TRIM_CULLED),
+        (
+            "TRIM_HEADER_WORDS",
+            knotwork::gpu::trim_buffer::TRIM_HEADER_WORDS,
+        ),
+        (
+            "TRIM_CELL_WORDS",
+            knotwork::gpu::trim_buffer::TRIM_CELL_WORDS,
+        ),
+        (
+            "TRIM_PIECE_HEADER_WORDS",
+            knotwork::gpu::trim_buffer::TRIM_PIECE_HEADER_WORDS,
+        ),
     ] {
         assert_eq!(wgsl_constant(&module, name), f64::from(value), "{name}");
     }
@@ -265,6 +279,10 @@ fn shading_modes_match_the_surface_shader() {
     let module = parse_and_validate("surface.wgsl", &shaders::compose(&shaders::SURFACE_SHADER));
     for mode in ShadingMode::ALL {
         let name = format!("MODE_{}", mode.name().to_uppercase());
+        assert_eq!(
+            wgsl_constant(&module, "SAMPLE_COUNT"),
+            f64::from(knotwork::render::SAMPLE_COUNT)
+        );
         assert_eq!(wgsl_constant(&module, &name), mode as u32 as f64, "{name}");
         assert_eq!(ShadingMode::from_name(mode.name()), Some(mode));
     }

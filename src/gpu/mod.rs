@@ -13,6 +13,7 @@ pub mod scene_sync;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod subdiv_eval;
 pub mod timing;
+pub mod trim_buffer;
 
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use error::GpuError;

@@ -45,8 +45,11 @@ use super::records::{
     EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PATCH_KIND_STENCIL_QUAD,
     PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
 };
+use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL, pack_index};
 use crate::kernel::BezierPatchSet;
 use crate::kernel::subdiv::patches::LimitFeed;
+use crate::kernel::trim::index::Coverage;
+use crate::scene::TrimFeed;
 use crate::shaders;
 
 pub use crate::scene::MAX_SEGMENTS;
@@ -261,6 +264,10 @@ pub struct SurfaceBuffers<'a> {
     pub vertices: &'a wgpu::Buffer,
     pub indices: &'a wgpu::Buffer,
     pub index_count: u32,
+    /// The patch records (the fragment shader reads a record's trim fields).
+    pub records: &'a wgpu::Buffer,
+    /// The packed trim loops ([`super::trim_buffer`]).
+    pub trims: &'a wgpu::Buffer,
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -276,6 +283,9 @@ pub struct ObjectPatches<'a> {
     pub stencils: Option<&'a LimitFeed>,
     /// How many of the set's first points the stencils use (the cage).
     pub cage_points: usize,
+    /// A trimmed surface's loops and each Bézier patch's coverage: patches wholly trimmed away
+    /// are neither evaluated nor drawn, patches a loop crosses are classified per fragment.
+    pub trims: Option<&'a TrimFeed>,
 }
 
 /// Where one object lives in the shared buffers.
@@ -305,8 +315,8 @@ pub struct PatchGeometry {
     control_points: wgpu::Buffer,
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     control_index_buffer: wgpu::Buffer,
-    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     record_buffer: wgpu::Buffer,
+    trim_buffer: wgpu::Buffer,
     vertices: wgpu::Buffer,
     triangle_indices: wgpu::Buffer,
     groups: Vec<PatchGroup>,
@@ -378,7 +388,9 @@ impl PatchGeometry {
         let mut points = Vec::new();
         let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
         let mut quad_groups_x = 0u64;
+        let mut trim_words: Vec<u32> = Vec::new();
         for (object, input) in objects.iter().enumerate() {
+            let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
             let segments = input.segments;
             if !(1..=MAX_SEGMENTS).contains(&segments) {
                 return Err(GpuError::SegmentsOutOfRange {
@@ -421,6 +433,15 @@ impl PatchGeometry {
                     .copied()
                     .unwrap_or([0.0, 1.0, 0.0, 1.0])
                     .map(|x| x as f32);
+                let coverage = input
+                    .trims
+                    .and_then(|t| t.coverage.get(k).copied())
+                    .unwrap_or(Coverage::Inside);
+                let (trim_offset, trim_count) = match (coverage, trim_header) {
+                    (Coverage::Outside, _) => (0, TRIM_CULLED),
+                    (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
+                    _ => (0, 0),
+                };
                 records.push(PatchRecord {
                     degree_u: du as u32,
                     degree_v: dv as u32,
@@ -432,13 +453,16 @@ impl PatchGeometry {
                     object: object as u32,
                     domain,
                     kind: PATCH_KIND_BEZIER,
-                    trim_offset: 0,
-                    trim_count: 0,
+                    trim_offset,
+                    trim_count,
                     reserved: 0,
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
-                vertex_offset += grid_vertices;
-                index_offset += 6 * grid_quads;
+                // A culled patch takes no vertices and no triangles.
+                if trim_count != TRIM_CULLED {
+                    vertex_offset += grid_vertices;
+                    index_offset += 6 * grid_quads;
+                }
             }
             if let Some(feed) = input.stencils {
                 let entry_base = total_points + entry_data.len();
@@ -510,6 +534,7 @@ impl PatchGeometry {
             ("vertex", vertex_bytes),
             ("index", index_bytes),
             ("control point and stencil", point_bytes),
+            ("trim", trim_words.len() as u64 * 4),
         ] {
             if bytes > limit || index_offset > u64::from(u32::MAX) {
                 return Err(GpuError::BufferTooLarge { what, bytes, limit });
@@ -542,6 +567,7 @@ impl PatchGeometry {
             storage,
         );
         let record_buffer = init("patch records", bytemuck::cast_slice(&records), storage);
+        let trim_buffer = init("trim loops", bytemuck::cast_slice(&trim_words), storage);
         let output = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -555,7 +581,9 @@ impl PatchGeometry {
 
         let mut by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
         for (k, r) in records.iter().enumerate() {
-            by_key.entry(PipelineKey::of(r)).or_default().push(k as u32);
+            if r.trim_count != TRIM_CULLED {
+                by_key.entry(PipelineKey::of(r)).or_default().push(k as u32);
+            }
         }
         let mut groups = Vec::new();
         for (key, members) in by_key {
@@ -587,6 +615,7 @@ impl PatchGeometry {
             control_points,
             control_index_buffer,
             record_buffer,
+            trim_buffer,
             vertices,
             triangle_indices,
             groups,
@@ -761,6 +790,8 @@ impl PatchGeometry {
             vertices: &self.vertices,
             indices: &self.triangle_indices,
             index_count: self.index_count,
+            records: &self.record_buffer,
+            trims: &self.trim_buffer,
         }
     }
 

@@ -53,6 +53,7 @@ pub fn evaluate_points(
         &[ObjectPatches {
             stencils: None,
             cage_points: 0,
+            trims: None,
             set: &set,
             domains: &[],
             segments: 1,

@@ -131,6 +131,7 @@ impl SceneSync {
                     domains: &d.domains,
                     stencils: d.stencils.as_deref(),
                     cage_points: d.cage_points,
+                    trims: d.trims.as_ref(),
                     segments: d
                         .fixed_segments
                         .unwrap_or_else(|| effective_segments(object.segments, q)),

@@ -54,6 +54,7 @@ pub fn evaluate_feed(
             segments: 1,
             stencils: Some(feed),
             cage_points: cage.len(),
+            trims: None,
         }],
     )?;
     let mut encoder = device.create_command_encoder(&Default::default());

@@ -239,6 +239,10 @@ pub struct ViewportRenderer {
     scene_buffer: wgpu::Buffer,
     scene_layout: wgpu::BindGroupLayout,
     scene_bind_group: wgpu::BindGroup,
+    /// Group 1 of the surface pipeline: the patch records and the packed trim loops
+    /// (`shaders/trim.wgsl`), bound per frame from the geometry drawn.
+    trim_layout: wgpu::BindGroupLayout,
+    device: wgpu::Device,
     /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`).
     highlight: wgpu::Buffer,
     /// Whether any bit of `highlight` is set.
@@ -316,6 +320,26 @@ impl ViewportRenderer {
             bind_group_layouts: &[Some(&scene_layout)],
             immediate_size: 0,
         });
+        let storage = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let trim_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("trim loops"),
+            entries: &[storage(0), storage(1)],
+        });
+        let surface_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("viewport surface"),
+                bind_group_layouts: &[Some(&scene_layout), Some(&trim_layout)],
+                immediate_size: 0,
+            });
         let surface_module = shaders::create_module(device, &shaders::SURFACE_SHADER);
         let overlay_module = shaders::create_module(device, &shaders::OVERLAY_SHADER);
 
@@ -330,6 +354,7 @@ impl ViewportRenderer {
         };
         let surface_layout = SurfaceVertex::layout();
         let pipeline = |label: &str,
+                        layout: &wgpu::PipelineLayout,
                         module: &wgpu::ShaderModule,
                         (vs, fs): (&str, &str),
                         buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
@@ -338,7 +363,7 @@ impl ViewportRenderer {
                         depth_write: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
-                layout: Some(&layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module,
                     entry_point: Some(vs),
@@ -379,6 +404,7 @@ impl ViewportRenderer {
         Self {
             surface_pipeline: pipeline(
                 "surface",
+                &surface_pipeline_layout,
                 &surface_module,
                 ("vs_surface", "fs_surface"),
                 &[Some(surface_layout)],
@@ -389,6 +415,7 @@ impl ViewportRenderer {
             // The control net is drawn over the surface, unoccluded, as CAD tools do.
             net_pipeline: pipeline(
                 "control net",
+                &layout,
                 &overlay_module,
                 ("vs_net", "fs_net"),
                 &[Some(control_point_layout)],
@@ -398,6 +425,7 @@ impl ViewportRenderer {
             ),
             dot_pipeline: pipeline(
                 "control points",
+                &layout,
                 &overlay_module,
                 ("vs_dot", "fs_dot"),
                 &[Some(control_point_instances)],
@@ -408,6 +436,8 @@ impl ViewportRenderer {
             scene_buffer,
             scene_layout,
             scene_bind_group,
+            trim_layout,
+            device: device.clone(),
             highlight,
             highlighting: false,
         }
@@ -483,7 +513,22 @@ impl ViewportRenderer {
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
         if overlays.surface && surface.index_count > 0 {
+            let trims = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trim loops"),
+                layout: &self.trim_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: surface.records.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: surface.trims.as_entire_binding(),
+                    },
+                ],
+            });
             pass.set_pipeline(&self.surface_pipeline);
+            pass.set_bind_group(1, &trims, &[]);
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..surface.index_count, 0, 0..1);

@@ -47,6 +47,7 @@ pub fn upload(
         .map(|(d, segments)| knotwork::gpu::ObjectPatches {
             stencils: None,
             cage_points: 0,
+            trims: d.trims.as_ref(),
             set: &d.set,
             domains: &d.domains,
             segments: *segments,
