@@ -7,6 +7,7 @@
 use glam::{DMat4, DVec2, DVec3, DVec4, Mat4};
 
 use crate::kernel::BezierPatchSet;
+use crate::kernel::trim::index::Coverage;
 use crate::scene::Decomposition;
 
 /// A point projected to the screen: position in pixels and depth (NDC z, 0 near .. 1 far).
@@ -182,61 +183,79 @@ const HIT_GRID: usize = 8;
 
 /// The nearest surface point on the ray (`origin`, `direction`) among the objects whose
 /// `visible` entry is true: a ray–triangle test against an 8 × 8 grid of each Bézier patch,
-/// refined by Gauss–Newton on the patch (minimizing the point's distance to the ray).
+/// refined by Gauss–Newton on the patch (minimizing the point's distance to the ray). Points a
+/// trim loop cuts away are not hits: the ray goes on to whatever lies behind them.
 pub fn pick_surface(
     objects: &[(&Decomposition, bool)],
     origin: DVec3,
     direction: DVec3,
 ) -> Option<SurfaceHit> {
-    let mut best: Option<SurfaceHit> = None;
+    // Every coarse hit, nearest first: (distance, object, patch, s, t).
+    let mut candidates = Vec::new();
     for (object, (decomposition, visible)) in objects.iter().enumerate() {
         if !visible {
             continue;
         }
         let set = &decomposition.set;
         for patch in 0..set.patches().len() {
-            let Some((s, t, distance)) = coarse_hit(set, patch, origin, direction) else {
-                continue;
-            };
-            if best.is_some_and(|b| b.distance <= distance) {
+            if let Some(trims) = &decomposition.trims
+                && trims.coverage.get(patch) == Some(&Coverage::Outside)
+            {
                 continue;
             }
-            let (s, t) = refine(set, patch, s, t, origin, direction);
-            let Ok(d) = set.evaluate(patch, s, t) else {
-                continue;
-            };
-            let [u0, u1, v0, v1] = decomposition.domains[patch];
-            best = Some(SurfaceHit {
-                object,
-                patch,
-                u: u0 + (u1 - u0) * s,
-                v: v0 + (v1 - v0) * t,
-                point: d.point,
-                distance: (d.point - origin).dot(direction),
-            });
+            for (s, t, distance) in coarse_hits(set, patch, origin, direction) {
+                candidates.push((distance, object, patch, s, t));
+            }
         }
     }
-    best
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (_, object, patch, s, t) in candidates {
+        let decomposition = objects[object].0;
+        let set = &decomposition.set;
+        let (s, t) = refine(set, patch, s, t, origin, direction);
+        let Ok(d) = set.evaluate(patch, s, t) else {
+            continue;
+        };
+        let [u0, u1, v0, v1] = decomposition.domains[patch];
+        let (u, v) = (u0 + (u1 - u0) * s, v0 + (v1 - v0) * t);
+        if let Some(trims) = &decomposition.trims
+            && !trims.index.contains(u, v)
+        {
+            continue;
+        }
+        return Some(SurfaceHit {
+            object,
+            patch,
+            u,
+            v,
+            point: d.point,
+            distance: (d.point - origin).dot(direction),
+        });
+    }
+    None
 }
 
-/// The nearest hit of the ray with the patch's coarse grid: (s, t) in the patch's (0, 1)² and
-/// the distance along the ray.
-fn coarse_hit(
+/// The hits of the ray with the patch's coarse grid: (s, t) in the patch's (0, 1)² and the
+/// distance along the ray.
+fn coarse_hits(
     set: &BezierPatchSet,
     patch: usize,
     origin: DVec3,
     direction: DVec3,
-) -> Option<(f64, f64, f64)> {
+) -> Vec<(f64, f64, f64)> {
     let n = HIT_GRID;
     let mut grid = Vec::with_capacity((n + 1) * (n + 1));
     for i in 0..=n {
         for j in 0..=n {
             let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-            grid.push(set.evaluate(patch, s, t).ok()?.point);
+            match set.evaluate(patch, s, t) {
+                Ok(d) => grid.push(d.point),
+                Err(_) => return Vec::new(),
+            }
         }
     }
     let at = |i: usize, j: usize| grid[i * (n + 1) + j];
-    let mut best: Option<(f64, f64, f64)> = None;
+    let mut hits = Vec::new();
     for i in 0..n {
         for j in 0..n {
             let corners = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
@@ -246,9 +265,6 @@ fn coarse_hit(
                 else {
                     continue;
                 };
-                if best.is_some_and(|b| b.2 <= dist) {
-                    continue;
-                }
                 // Barycentric → grid parameters of the two triangles (0,0),(1,0),(1,1) and
                 // (0,0),(1,1),(0,1) of the cell.
                 let (ds, dt) = if tri == 0 {
@@ -256,11 +272,11 @@ fn coarse_hit(
                 } else {
                     (beta, beta + gamma)
                 };
-                best = Some(((i as f64 + ds) / n as f64, (j as f64 + dt) / n as f64, dist));
+                hits.push(((i as f64 + ds) / n as f64, (j as f64 + dt) / n as f64, dist));
             }
         }
     }
-    best
+    hits
 }
 
 /// Möller–Trumbore ray–triangle intersection: distance and barycentric (β, γ) of b and c.
@@ -422,5 +438,21 @@ mod tests {
         assert!(p.distance(expected) < 1e-9);
         assert!(pick_surface(&[(&d, false)], origin, DVec3::NEG_Y).is_none());
         assert!(pick_surface(&[(&d, true)], origin, DVec3::Y).is_none());
+
+        // A hole around the front hit: the ray passes through it to the back of the sphere.
+        let hole = crate::kernel::trim::shapes::ellipse(
+            glam::DVec2::new(hit.u, hit.v),
+            glam::DVec2::splat(0.05),
+        )
+        .unwrap();
+        let holed = crate::kernel::TrimmedSurface::untrimmed(sphere.clone())
+            .add_loop(hole, false)
+            .unwrap();
+        assert!(!holed.contains(hit.u, hit.v));
+        let object = SceneObject::new("holed", ObjectGeometry::from_trimmed(holed));
+        let d = object.decompose().unwrap();
+        let back = pick_surface(&[(&d, true)], origin, DVec3::NEG_Y).unwrap();
+        let expected = DVec3::new(0.3, -(4.0f64 - 0.25).sqrt(), 0.4);
+        assert!(back.point.distance(expected) < 1e-9, "{:?}", back.point);
     }
 }
