@@ -7,6 +7,7 @@ mod files;
 mod input;
 mod panels;
 mod platform;
+mod trim;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
@@ -217,6 +218,10 @@ pub struct KnotworkApp {
     /// Patch records (global indices) the drag has changed, drawn tinted.
     highlight_patches: Vec<usize>,
     constraint: Constraint,
+    /// The trim loop being drawn on the surface, if a trim tool is active.
+    trim_drawing: Option<trim::TrimDrawing>,
+    /// The trim control point being dragged in the (u, v) panel.
+    trim_handle: Option<trim::HandleDrag>,
     snap: bool,
     snap_step: f64,
     /// The camera and viewport of the last frame, for picking.
@@ -297,6 +302,8 @@ impl KnotworkApp {
             drag: None,
             highlight_patches: Vec::new(),
             constraint: Constraint::Free,
+            trim_drawing: None,
+            trim_handle: None,
             snap: false,
             snap_step: 0.25,
             pick_view: None,
@@ -797,6 +804,7 @@ impl KnotworkApp {
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }
         self.paint_box(ui);
+        self.paint_trims(ui);
         if let Some(drag) = self.doc.drag() {
             ui.painter().text(
                 rect.left_bottom() + egui::vec2(10.0, -10.0),
@@ -846,6 +854,7 @@ impl eframe::App for KnotworkApp {
         }
         let ctx = ui.ctx().clone();
         self.take_incoming(&ctx);
+        self.trim_keys(&ctx);
         self.handle_shortcuts(&ctx);
         self.collect_timings();
         egui::Panel::left("controls")

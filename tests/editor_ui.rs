@@ -468,3 +468,98 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     ));
     assert_eq!(status::current().patches, 6);
 }
+
+fn click_at(harness: &mut Harness<'_, KnotworkApp>, pos: Pos2) {
+    harness.hover_at(pos);
+    harness.run_steps(1);
+    press(harness, pos, true);
+    harness.run_steps(1);
+    press(harness, pos, false);
+    harness.run_steps(2);
+}
+
+#[test]
+fn a_circle_drawn_on_a_surface_with_the_mouse_cuts_a_hole_and_undo_restores() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let plane = r#"{"type": "nurbs_surface", "name": "Plate", "degree": [1, 1],
+        "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+        "points": [[[-1, -1, 0], [-1, 1, 0]], [[1, -1, 0], [1, 1, 0]]]}"#;
+    harness
+        .state_mut()
+        .open_file("plate.json", plane.as_bytes());
+    harness.run_steps(3);
+    select_with_free_handle(&mut harness, 0);
+    let corners: Vec<Pos2> = status::handles()
+        .iter()
+        .map(|h| {
+            h.map(|p| Pos2::new(p[0], p[1]))
+                .expect("every corner on screen")
+        })
+        .collect();
+    // The screen point of (u, v), near enough on the plane: the corners' bilinear blend.
+    let at = |u: f32, v: f32| {
+        let blend = |a: Pos2, b: Pos2, t: f32| a + (b - a) * t;
+        blend(
+            blend(corners[0], corners[1], v),
+            blend(corners[2], corners[3], v),
+            u,
+        )
+    };
+    let centre = at(0.5, 0.5);
+    // The pixel at p of the harness's rendering (physical pixels).
+    let pixel = |harness: &mut Harness<'_, KnotworkApp>, p: Pos2| -> [u8; 4] {
+        let image = harness.render().expect("the harness renders");
+        let scale = image.width() as f32 / 1280.0;
+        let (x, y) = ((p.x * scale).round() as u32, (p.y * scale).round() as u32);
+        let k = 4 * (y * image.width() + x) as usize;
+        let raw = image.into_raw();
+        [raw[k], raw[k + 1], raw[k + 2], raw[k + 3]]
+    };
+    let before = pixel(&mut harness, centre);
+    let [r, g, b, _] = knotwork::render::BACKGROUND;
+    let background = [r, g, b].map(|c| (c * 255.0).round() as u8);
+    let is_background = |c: [u8; 4]| {
+        c[..3]
+            .iter()
+            .zip(background)
+            .all(|(&a, b)| a.abs_diff(b) < 12)
+    };
+    assert!(
+        !is_background(before),
+        "the plate covers its centre: {before:?}"
+    );
+
+    harness.get_by_label("Circle").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Circle").click_accesskit();
+    harness.run_steps(2);
+    click_at(&mut harness, centre);
+    click_at(&mut harness, at(0.7, 0.5));
+    let s = status::current();
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 1), "{s:?}");
+    let ObjectGeometry::Trimmed(t) = &harness.state().document().scene.objects[0].geometry else {
+        panic!("the plate is trimmed");
+    };
+    // The boundary and the hole; the hole is around the centre.
+    assert_eq!(t.loops().len(), 2);
+    assert!(!t.contains(0.5, 0.5) && t.contains(0.02, 0.02));
+    harness.run_steps(3);
+    let after = pixel(&mut harness, centre);
+    assert!(
+        is_background(after),
+        "the hole shows the background: {after:?}"
+    );
+
+    harness.key_press(Key::Escape);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(3);
+    assert!(matches!(
+        harness.state().document().scene.objects[0].geometry,
+        ObjectGeometry::Nurbs(_)
+    ));
+    let undone = pixel(&mut harness, centre);
+    assert!(!is_background(undone), "{undone:?}");
+}

@@ -77,6 +77,9 @@ impl KnotworkApp {
             .map(|(d, o)| (d, o.visible))
             .collect();
         self.selection.hit = pick::pick_surface(&objects, origin, direction);
+        if self.trim_click(self.selection.hit) {
+            return;
+        }
         match self.selection.hit {
             Some(hit) => {
                 if self.selection.object != Some(hit.object) {

@@ -50,6 +50,10 @@ pub struct PanelState {
     pub scale: f64,
     pub create: PrimitiveParams,
     pub show_create: bool,
+    /// A new trim loop keeps its inside (else it cuts a hole).
+    pub trim_keep_inside: bool,
+    /// The trim handle a right-click in the (u, v) panel is about: (loop, curve, point).
+    pub trim_menu: Option<(usize, usize, usize)>,
 }
 
 impl Default for PanelState {
@@ -66,6 +70,8 @@ impl Default for PanelState {
             scale: 1.0,
             create: PrimitiveParams::default(),
             show_create: false,
+            trim_keep_inside: false,
+            trim_menu: None,
         }
     }
 }
@@ -77,7 +83,7 @@ impl PanelState {
             return;
         };
         self.name = object.name.clone();
-        if let ObjectGeometry::Nurbs(s) = &object.geometry {
+        if let Some(s) = object.geometry.nurbs_surface() {
             for (d, text) in self.knot_text.iter_mut().enumerate() {
                 *text = knot_text(s.knots()[d]);
             }
@@ -409,7 +415,7 @@ impl KnotworkApp {
                 });
             }
         });
-        let ObjectGeometry::Nurbs(surface) = &self.scene().objects[s].geometry else {
+        let Some(surface) = self.scene().objects[s].geometry.nurbs_surface() else {
             ui.label(egui::RichText::new("knots and degree: a NURBS surface only").weak());
             return;
         };
@@ -824,6 +830,7 @@ impl KnotworkApp {
         self.objects_panel(ui);
         ui.separator();
         self.properties_panel(ui);
+        self.trim_panel(ui);
         self.subdivision_panel(ui);
         ui.separator();
         self.shading_panel(ui);
