@@ -46,7 +46,7 @@ fn main() {
             std::process::exit(1);
         }
     };
-    if let Err(e) = knotwork::bench::run(&context, iterations, &mut std::io::stdout()) {
+    if let Err(e) = knotwork::bench::run(&context, iterations, "all", &mut std::io::stdout()) {
         eprintln!("gpu_eval: {e}");
         std::process::exit(1);
     }

@@ -695,6 +695,13 @@ impl KnotworkApp {
                 b,
                 sharpness,
             } => self.set_crease(object, a, b, sharpness),
+            ExternalCommand::SetTrimTool(name) => self.set_trim_tool(&name),
+            ExternalCommand::TrimCircle {
+                object,
+                center,
+                radius,
+                keep_inside,
+            } => self.trim_circle(object, center, radius, keep_inside),
             ExternalCommand::SetContinuous(on) => self.continuous = on,
             ExternalCommand::FrameModel => self.frame_pending = true,
             ExternalCommand::Undo => self.step_history(false),

@@ -307,14 +307,42 @@ fn bench_drag_frame(
     Ok(())
 }
 
-/// Runs every benchmark on `context`, printing one line per figure.
+/// The groups of figures [`run`] can be limited to.
+pub const GROUPS: [&str; 5] = ["edit", "export", "subdivision", "trim", "all"];
+
+/// Runs every benchmark on `context` (or only `group`, one of [`GROUPS`]), printing one line
+/// per figure.
 pub fn run(
     context: &GpuContext,
     iterations: usize,
+    group: &str,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     writeln!(out, "adapter: {}", context.describe())?;
+    let wants = |g: &str| group == "all" || group == g;
+    if wants("trim") {
+        bench_trim(context, iterations, out)?;
+    }
+    if wants("subdivision") {
+        bench_subdivision(context, iterations, out)?;
+    }
     let scene = Scene::demo()?;
+    if wants("edit") {
+        bench_edit(context, &scene, iterations, out)?;
+    }
+    if wants("export") {
+        bench_export(&scene, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Edit throughput and latency, picking, drag-to-new-frame and the demo scene's full pass.
+fn bench_edit(
+    context: &GpuContext,
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
     let teapot = scene
         .objects
         .first()
@@ -339,7 +367,7 @@ pub fn run(
     bench_drag_frame(context, sheet, 32 * 64 + 32, iterations, out)?;
 
     // The whole demo scene in one pass at its default tessellation.
-    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
     let mut timer = GpuTimer::new(&context.device, &context.queue);
     let mut times = Vec::new();
     for i in 0..iterations + 2 {
@@ -357,8 +385,6 @@ pub fn run(
         geometry.vertex_count(),
         median(times),
     )?;
-    bench_export(&scene, iterations, out)?;
-    bench_subdivision(context, iterations, out)?;
     Ok(())
 }
 
@@ -497,5 +523,151 @@ fn bench_export(
             triangles as f64 / ms / 1e3,
         )?;
     }
+    Ok(())
+}
+
+/// The trimming benchmark's scene: `objects` bicubic landscapes of 10 × 10 Bézier patches side
+/// by side (1,000 patches for 10), each trimmed by its domain's boundary and one hole in every
+/// patch, a ten-sided loop of cubic curves (about 10,000 curves for 10 objects); with `trimmed`
+/// false the same surfaces untrimmed.
+pub fn trimmed_scene(objects: usize, trimmed: bool) -> Result<Scene, crate::kernel::GeometryError> {
+    use crate::kernel::trim::shapes;
+    use crate::kernel::{TrimCurve, TrimmedSurface};
+    use glam::DVec2;
+    let mut scene = Scene::default();
+    for k in 0..objects {
+        let landscape = landscape(13)?;
+        let Some(surface) = landscape.geometry.nurbs_surface().cloned() else {
+            continue;
+        };
+        let offset = glam::DAffine3::from_translation(DVec3::new(4.2 * k as f64, 0.0, 0.0));
+        let surface = surface.transformed(&offset)?;
+        let geometry = if trimmed {
+            let mut loops = vec![shapes::rectangle(DVec2::ZERO, DVec2::ONE)?];
+            for i in 0..10 {
+                for j in 0..10 {
+                    let c = DVec2::new((i as f64 + 0.5) / 10.0, (j as f64 + 0.5) / 10.0);
+                    let corner = |a: usize, r: f64| {
+                        let t = a as f64 * std::f64::consts::TAU / 10.0;
+                        c + DVec2::new(t.cos(), t.sin()) * r
+                    };
+                    let hole = (0..10)
+                        .map(|a| {
+                            let (p, q) = (corner(a, 0.03), corner(a + 1, 0.03));
+                            let bulge =
+                                corner(a, 0.036).lerp(corner(a + 1, 0.036), 0.5) - (p + q) / 2.0;
+                            TrimCurve::new(
+                                3,
+                                vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+                                vec![
+                                    p,
+                                    p.lerp(q, 1.0 / 3.0) + bulge,
+                                    p.lerp(q, 2.0 / 3.0) + bulge,
+                                    q,
+                                ],
+                                None,
+                            )
+                        })
+                        .collect::<Result<Vec<_>, _>>()?;
+                    loops.push(hole);
+                }
+            }
+            ObjectGeometry::from_trimmed(TrimmedSurface::new(surface, loops)?)
+        } else {
+            ObjectGeometry::Nurbs(surface)
+        };
+        let mut object = SceneObject::new(format!("trimmed {k}"), geometry);
+        object.segments = 8;
+        scene.objects.push(object);
+    }
+    Ok(scene)
+}
+
+/// Frame time of the trimming scene at 1280 × 800 with and without trims, and the export of
+/// the trimmed surfaces by constrained Delaunay triangulation.
+fn bench_trim(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let frame = |scene: &Scene| -> Result<(f64, u32), Box<dyn std::error::Error>> {
+        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        sync.encode(&mut encoder, None);
+        context.queue.submit([encoder.finish()]);
+        wait(context)?;
+        let renderer = ViewportRenderer::new(&context.device);
+        let target = ViewTarget::new(&context.device, 1280, 800);
+        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
+        let mut view = ViewSettings::default();
+        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        view.overlays.net = false;
+        view.overlays.points = false;
+        renderer.set_scene(
+            &context.queue,
+            &scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None),
+        );
+        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+        let mut times = Vec::new();
+        for i in 0..iterations + 2 {
+            let start = Instant::now();
+            let mut encoder = context.device.create_command_encoder(&Default::default());
+            renderer.render(
+                &mut encoder,
+                &target,
+                geometry.surface_buffers(),
+                None,
+                view.overlays,
+                None,
+            );
+            context.queue.submit([encoder.finish()]);
+            wait(context)?;
+            if i >= 2 {
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        Ok((median(times), geometry.patch_count()))
+    };
+    let build = Instant::now();
+    let trimmed = trimmed_scene(10, true)?;
+    let curves: usize = trimmed
+        .objects
+        .iter()
+        .filter_map(|o| match &o.geometry {
+            ObjectGeometry::Trimmed(t) => Some(t.loops().iter().map(Vec::len).sum::<usize>()),
+            _ => None,
+        })
+        .sum();
+    let build_ms = build.elapsed().as_secs_f64() * 1e3;
+    let plain = trimmed_scene(10, false)?;
+    let (untrimmed_ms, patches) = frame(&plain)?;
+    let (trimmed_ms, _) = frame(&trimmed)?;
+    writeln!(
+        out,
+        "trimming: {patches} patches, {curves} trim curves, 1280 × 800 | frame {trimmed_ms:8.3} ms trimmed vs {untrimmed_ms:8.3} ms untrimmed ({:+.0} %); scene built and validated in {build_ms:.0} ms",
+        100.0 * (trimmed_ms / untrimmed_ms - 1.0),
+    )?;
+    let size = trimmed.bounds().map_or(1.0, |(lo, hi)| {
+        (hi - lo).length() / trimmed.objects.len() as f64
+    });
+    let tessellation = crate::kernel::tess::Tessellation::Tolerance(1e-3 * size);
+    let mut times = Vec::new();
+    let mut triangles = 0;
+    for _ in 0..iterations.clamp(1, 3) {
+        let started = Instant::now();
+        triangles = 0;
+        for object in &trimmed.objects {
+            for mesh in object.tessellate(tessellation, false)? {
+                triangles += mesh.triangles.len();
+            }
+        }
+        times.push(started.elapsed().as_secs_f64() * 1e3);
+    }
+    let ms = median(times);
+    writeln!(
+        out,
+        "export trimmed, tol 1e-3 × size | {triangles:>9} triangles | {ms:8.1} ms, {:.2} M triangles/s (constrained Delaunay)",
+        triangles as f64 / ms / 1e3,
+    )?;
     Ok(())
 }

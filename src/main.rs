@@ -94,6 +94,9 @@ mod cli {
             /// Timed repetitions per figure (the median is printed).
             #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=10_000))]
             iterations: u64,
+            /// Only one group of figures: edit, export, subdivision, trim (or all).
+            #[arg(long, default_value = "all", value_parser = clap::builder::PossibleValuesParser::new(knotwork::bench::GROUPS))]
+            only: String,
         },
     }
 
@@ -240,7 +243,7 @@ mod cli {
     }
 
     /// Runs `knotwork bench`.
-    pub fn bench(iterations: u64) -> ExitCode {
+    pub fn bench(iterations: u64, only: &str) -> ExitCode {
         let context = match knotwork::gpu::GpuContext::headless_blocking() {
             Ok(c) => c,
             Err(e) => {
@@ -248,7 +251,7 @@ mod cli {
                 return ExitCode::FAILURE;
             }
         };
-        match knotwork::bench::run(&context, iterations as usize, &mut std::io::stdout()) {
+        match knotwork::bench::run(&context, iterations as usize, only, &mut std::io::stdout()) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("knotwork bench: {e}");
@@ -412,7 +415,7 @@ fn main() -> std::process::ExitCode {
     let cli = cli::Cli::parse();
     match &cli.command {
         Some(cli::Command::Eval { request, backend }) => return cli::eval(request, *backend),
-        Some(cli::Command::Bench { iterations }) => return cli::bench(*iterations),
+        Some(cli::Command::Bench { iterations, only }) => return cli::bench(*iterations, only),
         Some(cli::Command::Subdivide {
             input,
             scheme,

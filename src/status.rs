@@ -128,6 +128,16 @@ pub enum ExternalCommand {
         b: u32,
         sharpness: f64,
     },
+    /// Chooses the trim tool by name ("circle", "rectangle", "hexagon", "polyline", "curve"; any
+    /// other name: none) for the selected NURBS surface.
+    SetTrimTool(String),
+    /// Adds a circular trim loop to a NURBS surface (a hole unless `keep_inside`).
+    TrimCircle {
+        object: usize,
+        center: [f64; 2],
+        radius: f64,
+        keep_inside: bool,
+    },
 }
 
 struct Shared {

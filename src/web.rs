@@ -164,6 +164,25 @@ pub fn set_crease(object: u32, a: u32, b: u32, sharpness: f64) {
     });
 }
 
+/// Chooses the trim tool for the selected NURBS surface: "circle", "rectangle", "hexagon",
+/// "polyline", "curve", or "" for none; the next clicks on the surface draw the loop.
+#[wasm_bindgen]
+pub fn set_trim_tool(name: String) {
+    status::send(ExternalCommand::SetTrimTool(name));
+}
+
+/// Adds a circular trim loop of (u, v) radius `r` around (u, v) to NURBS surface `object`: a
+/// hole, or with `keep_inside` the region kept (errors show in the status).
+#[wasm_bindgen]
+pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) {
+    status::send(ExternalCommand::TrimCircle {
+        object: object as usize,
+        center: [u, v],
+        radius: r,
+        keep_inside,
+    });
+}
+
 /// Starts again from the sample scene.
 #[wasm_bindgen]
 pub fn new_document() {

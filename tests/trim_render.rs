@@ -54,7 +54,7 @@ fn draw(objects: &[SceneObject], camera: &OrbitCamera) -> (Vec<u8>, DMat4) {
         objects: objects.to_vec(),
     };
     let view = ViewSettings {
-        camera: camera.clone(),
+        camera: *camera,
         overlays: Overlays {
             surface: true,
             net: false,

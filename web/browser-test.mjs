@@ -478,6 +478,72 @@ async function main() {
       await page.close();
     });
 
+    await check('a trimmed surface in the page: a circle drawn with the mouse cuts a hole, export validates, undo', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const plate = {
+        type: 'nurbs_surface', name: 'plate', degree: [1, 1], knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
+        points: [[[-1, -1, 0], [-1, 1, 0]], [[1, -1, 0], [1, 1, 0]]],
+      };
+      await openObjects(page, [plate]);
+      await page.evaluate(() => window.knotwork.frame());
+      await page.evaluate(() => window.knotwork.select(0));
+      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const corners = await page.evaluate(() => window.knotwork.handles());
+      assert(corners.every((h) => h), 'the four corners are on screen');
+      // The screen point of (u, v): the corners' bilinear blend (near enough on the plate).
+      const at = (u, v) => [0, 1].map((c) => (1 - u) * ((1 - v) * corners[0][c] + v * corners[1][c])
+        + u * ((1 - v) * corners[2][c] + v * corners[3][c]));
+      const [cx, cy] = at(0.5, 0.5);
+      const [ex, ey] = at(0.7, 0.5);
+      const around = { x: Math.round(cx) - 4, y: Math.round(cy) - 4, width: 9, height: 9 };
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.setTrimTool('circle'));
+      await page.mouse.click(canvas.x + cx, canvas.y + cy);
+      await page.mouse.click(canvas.x + ex, canvas.y + ey);
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      let s = await status(page);
+      assert(s.error === null, `error: ${s.error}`);
+      const trimmed = await page.evaluate(() => window.knotwork.project());
+      assert(trimmed.objects[0].trims.length === 2, `the boundary and the hole: ${JSON.stringify(trimmed.objects[0].trims?.length)}`);
+      await page.evaluate(() => window.knotwork.setTrimTool(''));
+      await nextFrames(page);
+      const holed = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/trim-hole.png`, holed);
+      const hole = await screenshotDifference(page, before, holed, around, 24);
+      assert(hole.differing === hole.total, `the hole shows through at its centre (${hole.differing} of ${hole.total} px changed)`);
+
+      // A trim loop that crosses the outer one is refused and changes nothing.
+      await page.evaluate(() => window.knotwork.trimCircle(0, 0.95, 0.5, 0.2, false));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(/trims\[/.test(s.error) && s.undo_steps === 1, `refused: ${JSON.stringify(s.error)}`);
+
+      const exported = await page.evaluate(() => {
+        const glb = window.knotwork.exportGlb({ tolerance: 0.001 });
+        let text = '';
+        for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
+        return btoa(text);
+      });
+      const bytes = new Uint8Array(Buffer.from(exported, 'base64'));
+      const report = summary('trimmed.glb', await validate(bytes, 'trimmed.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      const undone = await page.evaluate(() => window.knotwork.project());
+      assert(!undone.objects[0].trims, 'undo removes the trims');
+      await nextFrames(page);
+      const back = await page.locator('#knotwork-canvas').screenshot();
+      const restored = await screenshotDifference(page, before, back, around, 24);
+      assert(restored.differing === 0, `undo fills the hole (${restored.differing} px differ)`);
+      console.log(`      trimmed glb ${bytes.length} bytes, validator infos ${report.infos}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

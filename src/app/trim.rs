@@ -174,6 +174,40 @@ impl KnotworkApp {
         true
     }
 
+    /// Chooses a tool by name (the page's script interface); an unknown name turns it off.
+    pub(super) fn set_trim_tool(&mut self, name: &str) {
+        let tool = TrimTool::ALL.into_iter().find(|t| {
+            t.label().eq_ignore_ascii_case(name) || (name == "hexagon" && *t == TrimTool::Polygon)
+        });
+        self.trim_drawing = match (tool, self.selected_trimmed()) {
+            (Some(tool), Some((object, _))) => Some(TrimDrawing {
+                tool,
+                object,
+                points: Vec::new(),
+            }),
+            (Some(_), None) => {
+                self.status.error = Some("select a NURBS surface to trim".into());
+                None
+            }
+            (None, _) => None,
+        };
+        self.redraw = true;
+    }
+
+    /// A circular loop around `center` (the page's script interface).
+    pub(super) fn trim_circle(&mut self, object: usize, center: [f64; 2], radius: f64, keep: bool) {
+        match shapes::ellipse(DVec2::from(center), DVec2::splat(radius)) {
+            Ok(curves) => self.execute(Command::Trim {
+                object,
+                edit: TrimEdit::Add {
+                    curves,
+                    keep_inside: keep,
+                },
+            }),
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
     /// Turns the loop being drawn into a command (one undo step).
     pub(super) fn finish_trim(&mut self) {
         let Some(drawing) = self.trim_drawing.as_mut() else {

@@ -27,8 +27,17 @@ pub struct MonotonePiece {
 /// The point of the rational Bézier curve `points` at t (de Casteljau, The NURBS Book A1.5, on
 /// homogeneous points), projected.
 pub fn bezier_point(points: &[DVec3], t: f64) -> DVec2 {
-    let mut work = points.to_vec();
-    let n = work.len();
+    const SMALL: usize = 16;
+    let n = points.len();
+    let mut small = [DVec3::ZERO; SMALL];
+    let mut large = Vec::new();
+    let work: &mut [DVec3] = if n <= SMALL {
+        small[..n].copy_from_slice(points);
+        &mut small[..n]
+    } else {
+        large.extend_from_slice(points);
+        &mut large
+    };
     for r in 1..n {
         for i in 0..n - r {
             work[i] = work[i] * (1.0 - t) + work[i + 1] * t;

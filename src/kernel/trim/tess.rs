@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::piece::{bezier_point, monotone_pieces};
-use super::{TrimmedSurface, domain_rect, polygon_contains};
+use super::{TrimmedSurface, domain_rect};
 use crate::kernel::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface};
 
@@ -56,25 +56,25 @@ pub fn flatten_on_surface(
                 if points.last() != Some(&a) {
                     points.push(a);
                 }
-                let mut stack = vec![(0.0, 1.0, 0usize)];
-                // Depth-first, left half first, so points come out in order.
-                while let Some((t0, t1, depth)) = stack.pop() {
-                    let (p0, p1) = (
-                        bezier_point(&piece.points, t0),
-                        bezier_point(&piece.points, t1),
-                    );
-                    let (s0, s1) = (at(clamp_to(surface, p0))?, at(clamp_to(surface, p1))?);
-                    let mut worst: f64 = 0.0;
-                    for f in [0.25, 0.5, 0.75] {
+                let start = at(clamp_to(surface, a))?;
+                let end_uv = bezier_point(&piece.points, 1.0);
+                let end = at(clamp_to(surface, end_uv))?;
+                // (t0, t1, S at t0, S at t1, depth), depth-first, left half first, so points
+                // come out in order.
+                let mut stack = vec![(0.0, 1.0, start, end, 0usize)];
+                while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
+                    let tm = 0.5 * (t0 + t1);
+                    let sm = at(clamp_to(surface, bezier_point(&piece.points, tm)))?;
+                    let mut worst = distance_to_chord(sm, s0, s1);
+                    for f in [0.25, 0.75] {
                         let q = bezier_point(&piece.points, t0 + f * (t1 - t0));
                         worst = worst.max(distance_to_chord(at(clamp_to(surface, q))?, s0, s1));
                     }
                     if (worst > tolerance || depth < 2) && depth < MAX_FLATTEN_DEPTH {
-                        let tm = 0.5 * (t0 + t1);
-                        stack.push((tm, t1, depth + 1));
-                        stack.push((t0, tm, depth + 1));
+                        stack.push((tm, t1, sm, s1, depth + 1));
+                        stack.push((t0, tm, s0, sm, depth + 1));
                     } else {
-                        points.push(p1);
+                        points.push(bezier_point(&piece.points, t1));
                     }
                 }
             }
@@ -94,16 +94,6 @@ pub fn flatten_on_surface(
 fn clamp_to(surface: &NurbsSurface, p: DVec2) -> DVec2 {
     let [(u0, u1), (v0, v1)] = surface.domain();
     DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1))
-}
-
-/// Whether p is in the kept region of the flattened loops (odd crossing count).
-fn kept(polygons: &[Vec<DVec2>], p: DVec2) -> bool {
-    polygons
-        .iter()
-        .filter(|poly| polygon_contains(poly, p))
-        .count()
-        % 2
-        == 1
 }
 
 /// Buckets the boundary chords for distance queries.
@@ -202,15 +192,24 @@ pub fn tessellate_trimmed(
             let hu = spacing(&grid.us, i);
             let hv = spacing(&grid.vs, j);
             let p = DVec2::new(u, v);
-            if kept(&polygons, p) && !chords.near(p, 0.3 * hu.min(hv)) {
+            if trimmed.contains(u, v) && !chords.near(p, 0.3 * hu.min(hv)) {
                 points.push(p);
             }
         }
     }
 
+    // Surface points of `points`, computed once each; triangles found within the tolerance.
+    let mut positions: Vec<DVec3> = points
+        .iter()
+        .map(|p| surface.point_at(p.x, p.y))
+        .collect::<Result<_, _>>()?;
+    let mut checked: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
+    // The boundary chords (flattened against the trim curve already, so not refined here).
+    let chord_edges: std::collections::HashSet<[usize; 2]> =
+        edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
     let mut rounds = 0;
     let (vertices, triangles) = loop {
-        let (vertices, triangles) = triangulate_kept(&points, &edges, &polygons)?;
+        let (vertices, triangles) = triangulate_kept(&points, &edges)?;
         if triangles.len() > MAX_TRIANGLES {
             return Err(failed(format!(
                 "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
@@ -220,29 +219,75 @@ pub fn tessellate_trimmed(
         if rounds > REFINE_ROUNDS {
             break (vertices, triangles);
         }
-        let positions: Vec<DVec3> = vertices
-            .iter()
-            .map(|p| surface.point_at(p.x, p.y))
-            .collect::<Result<_, _>>()?;
+        // The triangulation keeps the input order unless points coincided.
+        let same_order = vertices.len() == points.len();
+        let vertex_positions: Vec<DVec3> = if same_order {
+            positions.clone()
+        } else {
+            vertices
+                .iter()
+                .map(|p| surface.point_at(p.x, p.y))
+                .collect::<Result<_, _>>()?
+        };
         let mut added = Vec::new();
+        let mut split_edges = std::collections::HashSet::new();
         for t in &triangles {
+            let mut key = *t;
+            key.sort_unstable();
+            if same_order && checked.contains(&key) {
+                continue;
+            }
             let [a, b, c] = t.map(|k| k as usize);
             let centroid = (vertices[a] + vertices[b] + vertices[c]) / 3.0;
-            let flat = (positions[a] + positions[b] + positions[c]) / 3.0;
-            let mut worst = (surface.point_at(centroid.x, centroid.y)? - flat).length();
+            let flat = (vertex_positions[a] + vertex_positions[b] + vertex_positions[c]) / 3.0;
+            // The worst of the centroid and the interior edges' midpoints gets a vertex: an
+            // edge's midpoint splits the edge (a centroid alone would leave a long edge as it
+            // was).
+            // A triangle on a boundary chord is judged by its other edges: the chord's own
+            // sag is the flattening's (within the tolerance of the trim curve).
+            let on_boundary = same_order
+                && [(a, b), (b, c), (c, a)]
+                    .iter()
+                    .any(|&(x, y)| chord_edges.contains(&[x.min(y), x.max(y)]));
+            let mut worst = if on_boundary {
+                0.0
+            } else {
+                (surface.point_at(centroid.x, centroid.y)? - flat).length()
+            };
+            let mut split = centroid;
+            let mut split_edge = None;
             for (x, y) in [(a, b), (b, c), (c, a)] {
-                // Midpoints of interior edges only: boundary chords were flattened already.
+                if same_order && chord_edges.contains(&[x.min(y), x.max(y)]) {
+                    continue;
+                }
                 let m = 0.5 * (vertices[x] + vertices[y]);
                 let on_surface = surface.point_at(m.x, m.y)?;
-                let chord = 0.5 * (positions[x] + positions[y]);
-                worst = worst.max((on_surface - chord).length());
+                let chord = 0.5 * (vertex_positions[x] + vertex_positions[y]);
+                let deviation = (on_surface - chord).length();
+                if deviation > worst {
+                    worst = deviation;
+                    split = m;
+                    split_edge = Some([x.min(y), x.max(y)]);
+                }
             }
-            if worst > tolerance && !chords.near(centroid, 1e-9 * (rect[1] - rect[0]).abs()) {
-                added.push(centroid);
+            // A point that would land right by a boundary chord only makes slivers along it.
+            let reach = [(a, b), (b, c), (c, a)]
+                .iter()
+                .map(|&(x, y)| vertices[x].distance(vertices[y]))
+                .fold(0.0, f64::max);
+            if worst > tolerance && !chords.near(split, 0.05 * reach) {
+                if split_edge.is_none_or(|e| split_edges.insert(e)) {
+                    added.push(split);
+                }
+            } else if same_order {
+                checked.insert(key);
             }
         }
         if added.is_empty() {
             break (vertices, triangles);
+        }
+        for p in &added {
+            positions.push(surface.point_at(p.x, p.y)?);
         }
         points.extend(added);
     };
@@ -266,19 +311,17 @@ fn spacing(values: &[f64], i: usize) -> f64 {
 }
 
 /// The constrained Delaunay triangulation of `points` with `edges` fixed, keeping the triangles
-/// inside the loops, counter-clockwise in (u, v).
+/// inside the loops, counter-clockwise in (u, v). Inside-ness is found by a flood fill from the
+/// outside that flips at every constraint edge (each loop's chords), so classifying every
+/// triangle costs O(triangles) whatever the number of loops.
 fn triangulate_kept(
     points: &[DVec2],
     edges: &[[usize; 2]],
-    polygons: &[Vec<DVec2>],
 ) -> Result<(Vec<DVec2>, Vec<[u32; 3]>), GeometryError> {
     let input = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
-    let mut conflicts = 0usize;
     let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges.to_vec(), |_| {
-            conflicts += 1
-        })
-        .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges.to_vec(), |_| {})
+            .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
     let vertices: Vec<DVec2> = cdt
         .vertices()
         .map(|v| {
@@ -286,12 +329,38 @@ fn triangulate_kept(
             DVec2::new(p.x, p.y)
         })
         .collect();
+    // Parity per face (index of the face handle); the outer face is outside.
+    let mut kept: Vec<Option<bool>> = vec![None; cdt.num_all_faces()];
+    let mut queue = std::collections::VecDeque::new();
+    for face in cdt.inner_faces() {
+        for edge in face.adjacent_edges() {
+            if edge.rev().face().is_outer() {
+                kept[face.fix().index()] = Some(edge.is_constraint_edge());
+                queue.push_back(face);
+                break;
+            }
+        }
+    }
+    while let Some(face) = queue.pop_front() {
+        let inside = kept[face.fix().index()].unwrap_or(false);
+        for edge in face.adjacent_edges() {
+            if let Some(next) = edge.rev().face().as_inner()
+                && kept[next.fix().index()].is_none()
+            {
+                kept[next.fix().index()] = Some(inside != edge.is_constraint_edge());
+                queue.push_back(next);
+            }
+        }
+    }
     let mut triangles = Vec::new();
     for face in cdt.inner_faces() {
+        if kept[face.fix().index()] != Some(true) {
+            continue;
+        }
         let [a, b, c] = face.vertices().map(|v| v.fix().index());
         let (pa, pb, pc) = (vertices[a], vertices[b], vertices[c]);
         let area = (pb - pa).perp_dot(pc - pa);
-        if area == 0.0 || !kept(polygons, (pa + pb + pc) / 3.0) {
+        if area == 0.0 {
             continue;
         }
         triangles.push(if area > 0.0 {
