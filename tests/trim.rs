@@ -340,3 +340,108 @@ fn segments_cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
     let o = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
     (o(a, b, c) > 0.0) != (o(a, b, d) > 0.0) && (o(c, d, a) > 0.0) != (o(c, d, b) > 0.0)
 }
+
+#[test]
+fn files_keep_trims_and_refuse_bad_ones_naming_object_loop_and_curve() {
+    let t = TrimmedSurface::new(
+        construct::sphere(DVec3::ZERO, 1.0).unwrap(),
+        vec![boundary(), circle((0.3, 0.6), 0.1)],
+    )
+    .unwrap();
+    let project = knotwork::io::project::Project {
+        scene: knotwork::scene::Scene {
+            objects: vec![knotwork::scene::SceneObject::new(
+                "ball",
+                knotwork::scene::ObjectGeometry::from_trimmed(t),
+            )],
+        },
+        view: None,
+    };
+    let text = knotwork::io::project::write(&project);
+    let back = knotwork::io::project::read(&text).unwrap();
+    assert_eq!(back.scene, project.scene, "trims round-trip bit for bit");
+
+    // A bare surface file with an open loop: the path names the object, the loop and the curve.
+    let bare = r#"{"format": "knotwork", "version": 1, "objects": [{"type": "nurbs_surface",
+        "degree": [1, 1], "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+        "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]],
+        "trims": [[{"type": "trim_curve", "degree": 1, "knots": [0, 0, 1, 1], "points": [[0.1, 0.1], [0.9, 0.1]]},
+                   {"type": "trim_curve", "degree": 1, "knots": [0, 0, 1, 1], "points": [[0.9, 0.1], [0.5, 0.8]]},
+                   {"type": "trim_curve", "degree": 1, "knots": [0, 0, 1, 1], "points": [[0.5, 0.8], [0.1, 0.2]]}]]}]}"#;
+    let e = knotwork::io::json::read(bare).unwrap_err().to_string();
+    assert!(
+        e.starts_with("objects[0].trims[0][2]: the loop is open"),
+        "{e}"
+    );
+    let wrong_type = bare.replace(
+        r#""type": "trim_curve", "degree": 1, "knots": [0, 0, 1, 1], "points": [[0.9"#,
+        r#""type": "nurbs_curve", "degree": 1, "knots": [0, 0, 1, 1], "points": [[0.9"#,
+    );
+    let e = knotwork::io::json::read(&wrong_type)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("objects[0].trims[0][1].type"), "{e}");
+    let negative = bare.replace("[0.5, 0.8], [0.1, 0.2]", "[0.5, 0.8, -1], [0.1, 0.1]");
+    let e = knotwork::io::json::read(&negative).unwrap_err().to_string();
+    assert!(e.starts_with("objects[0].trims[0][2].points[0]"), "{e}");
+}
+
+#[test]
+fn a_refused_trim_edit_names_the_object_and_changes_nothing() {
+    use knotwork::doc::{Command, History, TrimEdit};
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+    let mut scene = Scene {
+        objects: vec![SceneObject::new(
+            "Plate",
+            ObjectGeometry::Nurbs(unit_plane()),
+        )],
+    };
+    let mut history = History::default();
+    history
+        .execute(
+            &mut scene,
+            &Command::Trim {
+                object: 0,
+                edit: TrimEdit::Add {
+                    curves: circle((0.5, 0.5), 0.2),
+                    keep_inside: false,
+                },
+            },
+        )
+        .unwrap();
+    let before = scene.clone();
+    let crossing = Command::Trim {
+        object: 0,
+        edit: TrimEdit::Add {
+            curves: circle((0.65, 0.5), 0.2),
+            keep_inside: false,
+        },
+    };
+    let e = history
+        .execute(&mut scene, &crossing)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("Plate: trims[2][0]: the loop crosses loop 1"),
+        "{e}"
+    );
+    assert_eq!(scene, before);
+    // Moving a handle out of the domain is refused too.
+    let out = Command::Trim {
+        object: 0,
+        edit: TrimEdit::MovePoint {
+            trim_loop: 1,
+            curve: 0,
+            point: 2,
+            to: DVec2::new(1.5, 0.5),
+        },
+    };
+    let e = history.execute(&mut scene, &out).unwrap_err().to_string();
+    assert!(e.contains("leaves the surface's domain"), "{e}");
+    assert_eq!(scene, before);
+    history.undo(&mut scene).unwrap();
+    assert!(matches!(
+        scene.objects[0].geometry,
+        ObjectGeometry::Nurbs(_)
+    ));
+}

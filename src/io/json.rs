@@ -23,7 +23,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::kernel::vector::CurvePoint;
+use crate::kernel::vector::{CurvePoint, Vector};
 use crate::kernel::{
     GeometryError, NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface,
 };
@@ -119,6 +119,10 @@ struct RawCurve {
     name: Option<String>,
     degree: usize,
     knots: Vec<f64>,
+    /// `true`: points are `[w·x, w·y, (w·z,) w]`, so rational curves round-trip bit for bit;
+    /// project files write trim curves this way.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    homogeneous: bool,
     points: Vec<Vec<f64>>,
 }
 
@@ -252,6 +256,20 @@ fn curve_from<P: CurvePoint>(path: &str, raw: RawCurve) -> Result<NurbsCurve<P>,
         .iter()
         .map(|c| P::from_coordinates(c).ok_or_else(|| FormatError::new(path, "bad point")))
         .collect::<Result<Vec<P>, _>>()?;
+    if raw.homogeneous {
+        let homogeneous = points
+            .iter()
+            .zip(&weights)
+            .map(|(p, &w)| {
+                let mut c = p.coordinates();
+                c.push(w);
+                P::Homogeneous::from_coordinates(&c)
+                    .ok_or_else(|| FormatError::new(path, "bad point"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        return NurbsCurve::from_homogeneous(raw.degree, raw.knots, homogeneous)
+            .map_err(|e| FormatError::geometry(path, e));
+    }
     NurbsCurve::new(raw.degree, raw.knots, points, Some(weights))
         .map_err(|e| FormatError::geometry(path, e))
 }
@@ -377,7 +395,11 @@ fn raw_from(object: &NamedGeometry, homogeneous: bool) -> RawObject {
             t.surface(),
             t.loops()
                 .iter()
-                .map(|l| l.iter().map(|c| raw_curve("trim_curve", None, c)).collect())
+                .map(|l| {
+                    l.iter()
+                        .map(|c| raw_curve_in("trim_curve", None, c, homogeneous))
+                        .collect()
+                })
                 .collect(),
         ),
         Geometry::Curve(c) => return RawObject::NurbsCurve(raw_curve("nurbs_curve", name, c)),
@@ -414,16 +436,31 @@ fn raw_from(object: &NamedGeometry, homogeneous: bool) -> RawObject {
 
 /// A 2D or 3D curve in its raw form: points `[x, y, (z,) w]`.
 fn raw_curve<P: CurvePoint>(kind: &str, name: Option<String>, c: &NurbsCurve<P>) -> RawCurve {
+    raw_curve_in(kind, name, c, false)
+}
+
+/// [`raw_curve`]; `homogeneous` writes `[w·x, ..., w]`.
+fn raw_curve_in<P: CurvePoint>(
+    kind: &str,
+    name: Option<String>,
+    c: &NurbsCurve<P>,
+    homogeneous: bool,
+) -> RawCurve {
     RawCurve {
         kind: kind.into(),
         name,
         degree: c.degree(),
         knots: c.knots().to_vec(),
+        homogeneous,
         points: (0..c.count())
             .map(|i| {
-                let mut v = c.control_point(i).coordinates();
-                v.push(c.weight(i));
-                v
+                if homogeneous {
+                    c.homogeneous_points()[i].coordinates()
+                } else {
+                    let mut v = c.control_point(i).coordinates();
+                    v.push(c.weight(i));
+                    v
+                }
             })
             .collect(),
     }
