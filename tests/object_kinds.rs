@@ -97,7 +97,19 @@ fn one_of_each_kind() -> Vec<SceneObject> {
         "subdivision cage",
         ObjectGeometry::Subdivision(Box::new(surface.into())),
     );
-    vec![teapot, nurbs, mesh, cage]
+    // A rational surface kept inside an ellipse: patches outside it are culled, the ones it
+    // crosses are trimmed per fragment.
+    let base = common::random_surface(2, 3, 77);
+    let [(u0, u1), (v0, v1)] = base.domain();
+    let ellipse = knotwork::kernel::trim::shapes::ellipse(
+        glam::DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)),
+        glam::DVec2::new(0.3 * (u1 - u0), 0.35 * (v1 - v0)),
+    )
+    .unwrap();
+    let trimmed = knotwork::kernel::TrimmedSurface::new(base, vec![ellipse]).unwrap();
+    let mut trimmed = SceneObject::new("trimmed (2, 3)", ObjectGeometry::from_trimmed(trimmed));
+    trimmed.segments = 6;
+    vec![teapot, nurbs, mesh, cage, trimmed]
 }
 
 fn size(object: &SceneObject) -> f64 {
@@ -111,6 +123,10 @@ fn gpu_deviation(sync: &SceneSync, vertices: &[SurfaceVertex], object: &SceneObj
     let geometry = sync.geometry().unwrap();
     let mut worst = 0.0f64;
     for (k, record) in geometry.records().iter().enumerate() {
+        // A patch wholly trimmed away has no vertices.
+        if record.trim_count == knotwork::gpu::trim_buffer::TRIM_CULLED {
+            continue;
+        }
         let n = record.segments_u as usize;
         for i in 0..=n {
             for j in 0..=n {
@@ -278,7 +294,8 @@ fn every_object_kind_conforms() {
             "a set of Bézier patches",
             "a NURBS surface",
             "a polygon mesh",
-            "a subdivision surface"
+            "a subdivision surface",
+            "a trimmed NURBS surface"
         ],
         "one sample of every kind"
     );
