@@ -45,8 +45,9 @@ struct VertexOut {
     @location(5) @interpolate(flat) object: u32,
     // 1 on a highlighted patch.
     @location(6) @interpolate(flat) highlighted: u32,
-    // The patch record (its trim loops, trim.wgsl).
-    @location(7) @interpolate(flat) record: u32,
+    // The patch's trim grid and the (u, v) in its cell units (trim.wgsl).
+    @location(7) @interpolate(flat) trim_grid: vec3<u32>,
+    @location(8) trim_cell: vec2<f32>,
 }
 
 struct FragmentOut {
@@ -68,7 +69,9 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     }
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
-    out.record = in.record;
+    let trim = trim_varying(in.record, out.uv);
+    out.trim_grid = trim.grid;
+    out.trim_cell = trim.cell;
     let word = in.record >> 5u;
     if (word < arrayLength(&highlight)) {
         out.highlighted = (highlight[word] >> (in.record & 31u)) & 1u;
@@ -105,7 +108,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut 
     // Derivatives first, in uniform control flow.
     let grad_u = vec2<f32>(dpdx(in.uv.x), dpdy(in.uv.x));
     let grad_v = vec2<f32>(dpdx(in.uv.y), dpdy(in.uv.y));
-    let coverage = trim_coverage(in.record, in.uv, grad_u, grad_v);
+    let coverage = trim_coverage(in.trim_grid, in.trim_cell, in.uv, grad_u, grad_v);
     let samples = u32(round(coverage * f32(SAMPLE_COUNT)));
     if (samples == 0u) {
         discard;

@@ -6,6 +6,7 @@
 // number of curves. The crossings on the lines through the fragment also give its distance to
 // the trim edge in pixels, which becomes a coverage for anti-aliasing.
 
+// Read by the vertex stage (trim_varying) and the fragment stage (trim_coverage).
 @group(1) @binding(0) var<storage, read> trim_records: array<PatchRecord>;
 @group(1) @binding(1) var<storage, read> trim_words: array<u32>;
 
@@ -25,7 +26,11 @@ fn trim_piece_point(piece: u32, t: f32) -> vec2<f32> {
     let a = select(t, 1.0 - t, mirrored);
     let s = 1.0 - a;
     let ratio = a / s;
-    var b = pow(s, f32(n));
+    // s^n by multiplication (pow costs a log and an exp).
+    var b = 1.0;
+    for (var i = 0u; i < n; i++) {
+        b *= s;
+    }
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i <= n; i++) {
         let k = select(i, n - i, mirrored);
@@ -36,35 +41,63 @@ fn trim_piece_point(piece: u32, t: f32) -> vec2<f32> {
     return sum.xy / sum.z;
 }
 
+// A cubic piece's control points, loaded once per solve (the packer raises lower degrees to 3).
+struct TrimCubic {
+    c0: vec3<f32>,
+    c1: vec3<f32>,
+    c2: vec3<f32>,
+    c3: vec3<f32>,
+}
+
+// The point at t of the piece: from `cubic` in registers when the piece is cubic, else the
+// Bernstein sum read from the buffer.
+fn trim_eval(piece: u32, cubic: bool, c: TrimCubic, t: f32) -> vec2<f32> {
+    if (!cubic) {
+        return trim_piece_point(piece, t);
+    }
+    let s = 1.0 - t;
+    let h = s * s * s * c.c0 + 3.0 * s * t * (s * c.c1 + t * c.c2) + t * t * t * c.c3;
+    return h.xy / h.z;
+}
+
 // The coordinate 1 - `fixed` where coordinate `fixed` (0: u, 1: v) of the monotone piece equals
 // `level` (inside the piece's range of it): false position with the Illinois modification
 // (superlinear on a monotone function, bracketed so it cannot leave the piece).
 fn trim_solve(piece: u32, fixed: u32, level: f32) -> f32 {
+    let cubic = trim_words[piece] == 3u;
+    var c: TrimCubic;
+    if (cubic) {
+        let w = piece + TRIM_PIECE_HEADER_WORDS;
+        c.c0 = vec3<f32>(trim_float(w), trim_float(w + 1u), trim_float(w + 2u));
+        c.c1 = vec3<f32>(trim_float(w + 3u), trim_float(w + 4u), trim_float(w + 5u));
+        c.c2 = vec3<f32>(trim_float(w + 6u), trim_float(w + 7u), trim_float(w + 8u));
+        c.c3 = vec3<f32>(trim_float(w + 9u), trim_float(w + 10u), trim_float(w + 11u));
+    }
     var a = 0.0;
     var b = 1.0;
-    var fa = trim_piece_point(piece, a)[fixed] - level;
-    var fb = trim_piece_point(piece, b)[fixed] - level;
-    var p = trim_piece_point(piece, b);
+    var fa = trim_eval(piece, cubic, c, a)[fixed] - level;
+    var fb = trim_eval(piece, cubic, c, b)[fixed] - level;
+    var p = trim_eval(piece, cubic, c, b);
     let tolerance = 1e-7 * (abs(fa) + abs(fb) + abs(level));
     for (var k = 0u; k < TRIM_SOLVE_STEPS; k++) {
         let denominator = fb - fa;
-        var c = 0.5 * (a + b);
+        var t = 0.5 * (a + b);
         if (abs(denominator) > 0.0) {
-            c = clamp((a * fb - b * fa) / denominator, min(a, b), max(a, b));
+            t = clamp((a * fb - b * fa) / denominator, min(a, b), max(a, b));
         }
-        p = trim_piece_point(piece, c);
-        let fc = p[fixed] - level;
-        if (abs(fc) <= tolerance) {
+        p = trim_eval(piece, cubic, c, t);
+        let ft = p[fixed] - level;
+        if (abs(ft) <= tolerance) {
             break;
         }
-        if (fc * fb < 0.0) {
+        if (ft * fb < 0.0) {
             a = b;
             fa = fb;
         } else {
             fa *= 0.5;
         }
-        b = c;
-        fb = fc;
+        b = t;
+        fb = ft;
     }
     return p[1u - fixed];
 }
@@ -74,22 +107,45 @@ fn trim_range(piece: u32, axis: u32) -> vec2<f32> {
     return vec2<f32>(trim_float(piece + 1u + 2u * axis), trim_float(piece + 2u + 2u * axis));
 }
 
-// How much of the fragment at `uv` the kept region covers, in [0, 1]: 1 off trimmed patches.
-// `grad_u` and `grad_v` are the screen-space gradients of u and v (per pixel).
-fn trim_coverage(record: u32, uv: vec2<f32>, grad_u: vec2<f32>, grad_v: vec2<f32>) -> f32 {
-    if (record >= arrayLength(&trim_records)) {
-        return 1.0;
+// What the vertex stage hands the fragment stage about a vertex's patch, read once per vertex
+// rather than per fragment: `grid` = (first cell word + 1, cells along u, cells along v), zero
+// off trimmed patches; `cell` = the vertex's (u, v) in cell units (linear in (u, v), so its
+// interpolation is exact).
+struct TrimVarying {
+    grid: vec3<u32>,
+    cell: vec2<f32>,
+}
+
+fn trim_varying(record: u32, uv: vec2<f32>) -> TrimVarying {
+    var out: TrimVarying;
+    // Only the two trim fields are read, not the whole record.
+    if (record >= arrayLength(&trim_records) || trim_records[record].trim_count != TRIM_PARTIAL) {
+        return out;
     }
-    let rec = trim_records[record];
-    if (rec.trim_count != TRIM_PARTIAL) {
-        return 1.0;
-    }
-    let h = rec.trim_offset;
+    let h = trim_records[record].trim_offset;
     let origin = vec2<f32>(trim_float(h), trim_float(h + 1u));
     let scale = vec2<f32>(trim_float(h + 2u), trim_float(h + 3u));
-    let cells = vec2<u32>(trim_words[h + 4u], trim_words[h + 5u]);
-    let ij = vec2<u32>(clamp((uv - origin) * scale, vec2<f32>(0.0), vec2<f32>(cells - 1u)));
-    let cell = trim_words[h + 6u] + TRIM_CELL_WORDS * (ij.y * cells.x + ij.x);
+    out.grid = vec3<u32>(trim_words[h + 6u] + 1u, trim_words[h + 4u], trim_words[h + 5u]);
+    out.cell = (uv - origin) * scale;
+    return out;
+}
+
+// How much of the fragment at `uv` the kept region covers, in [0, 1]: 1 off trimmed patches.
+// `grid` and `cell_uv` come from trim_varying; `grad_u` and `grad_v` are the screen-space
+// gradients of u and v (per pixel).
+fn trim_coverage(
+    grid: vec3<u32>,
+    cell_uv: vec2<f32>,
+    uv: vec2<f32>,
+    grad_u: vec2<f32>,
+    grad_v: vec2<f32>,
+) -> f32 {
+    if (grid.x == 0u) {
+        return 1.0;
+    }
+    let cells = grid.yz;
+    let ij = vec2<u32>(clamp(cell_uv, vec2<f32>(0.0), vec2<f32>(cells - 1u)));
+    let cell = grid.x - 1u + TRIM_CELL_WORDS * (ij.y * cells.x + ij.x);
     let reference = vec2<f32>(trim_float(cell), trim_float(cell + 1u));
     let bits = trim_words[cell + 2u];
     let list = trim_words[cell + 3u];
@@ -129,8 +185,10 @@ fn trim_coverage(record: u32, uv: vec2<f32>, grad_u: vec2<f32>, grad_v: vec2<f32
                 inside = inside != (lo <= v && v < hi);
             }
         }
-        // The crossing on the line u = uv.x near the fragment, for the edge distance.
-        if (ru.x <= uv.x && uv.x < ru.y && rv.x <= uv.y + window.y && rv.y >= uv.y - window.y) {
+        // The crossing on the line u = uv.x near the fragment, for the edge distance (not
+        // needed where the line v = uv.y already met an edge within the window).
+        if (abs(offset.x) > window.x && ru.x <= uv.x && uv.x < ru.y
+            && rv.x <= uv.y + window.y && rv.y >= uv.y - window.y) {
             let v = trim_solve(piece, 0u, uv.x);
             if (abs(v - uv.y) < abs(offset.y)) {
                 offset.y = v - uv.y;

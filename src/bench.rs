@@ -590,44 +590,6 @@ fn bench_trim(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let frame = |scene: &Scene| -> Result<(f64, u32), Box<dyn std::error::Error>> {
-        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        sync.encode(&mut encoder, None);
-        context.queue.submit([encoder.finish()]);
-        wait(context)?;
-        let renderer = ViewportRenderer::new(&context.device);
-        let target = ViewTarget::new(&context.device, 1280, 800);
-        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
-        let mut view = ViewSettings::default();
-        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
-        view.overlays.net = false;
-        view.overlays.points = false;
-        renderer.set_scene(
-            &context.queue,
-            &scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None),
-        );
-        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        let mut times = Vec::new();
-        for i in 0..iterations + 2 {
-            let start = Instant::now();
-            let mut encoder = context.device.create_command_encoder(&Default::default());
-            renderer.render(
-                &mut encoder,
-                &target,
-                geometry.surface_buffers(),
-                None,
-                view.overlays,
-                None,
-            );
-            context.queue.submit([encoder.finish()]);
-            wait(context)?;
-            if i >= 2 {
-                times.push(start.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-        Ok((median(times), geometry.patch_count()))
-    };
     let build = Instant::now();
     let trimmed = trimmed_scene(10, true)?;
     let curves: usize = trimmed
@@ -640,12 +602,63 @@ fn bench_trim(
         .sum();
     let build_ms = build.elapsed().as_secs_f64() * 1e3;
     let plain = trimmed_scene(10, false)?;
-    let (untrimmed_ms, patches) = frame(&plain)?;
-    let (trimmed_ms, _) = frame(&trimmed)?;
+    // Both scenes on the GPU, drawn in turn so that drift of the machine affects both alike.
+    let on_gpu = |scene: &Scene| -> Result<SceneSync, Box<dyn std::error::Error>> {
+        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        sync.encode(&mut encoder, None);
+        context.queue.submit([encoder.finish()]);
+        wait(context)?;
+        Ok(sync)
+    };
+    let syncs = [on_gpu(&plain)?, on_gpu(&trimmed)?];
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, 1280, 800);
+    // The whole scene (each hole a few pixels across), then one surface filling the view (holes
+    // about 60 pixels across).
+    let whole = trimmed.bounds().ok_or("empty scene")?;
+    let one = trimmed.objects[0].bounds().ok_or("empty object")?;
+    let mut results = Vec::new();
+    for (lo, hi) in [whole, one] {
+        let mut view = ViewSettings::default();
+        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        view.overlays.net = false;
+        view.overlays.points = false;
+        renderer.set_scene(
+            &context.queue,
+            &scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None),
+        );
+        let mut times = [Vec::new(), Vec::new()];
+        for i in 0..iterations + 2 {
+            for (k, sync) in syncs.iter().enumerate() {
+                let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+                let start = Instant::now();
+                let mut encoder = context.device.create_command_encoder(&Default::default());
+                renderer.render(
+                    &mut encoder,
+                    &target,
+                    geometry.surface_buffers(),
+                    None,
+                    view.overlays,
+                    None,
+                );
+                context.queue.submit([encoder.finish()]);
+                wait(context)?;
+                if i >= 2 {
+                    times[k].push(start.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        results.push(times.map(median));
+    }
+    let patches = syncs[0].geometry().map_or(0, |g| g.patch_count());
+    let [untrimmed_ms, trimmed_ms] = results[0];
+    let [close_untrimmed, close_trimmed] = results[1];
     writeln!(
         out,
-        "trimming: {patches} patches, {curves} trim curves, 1280 × 800 | frame {trimmed_ms:8.3} ms trimmed vs {untrimmed_ms:8.3} ms untrimmed ({:+.0} %); scene built and validated in {build_ms:.0} ms",
+        "trimming: {patches} patches, {curves} trim curves, 1280 × 800 | frame {trimmed_ms:8.3} ms trimmed vs {untrimmed_ms:8.3} ms untrimmed ({:+.0} %); one surface filling the view {close_trimmed:.3} vs {close_untrimmed:.3} ms ({:+.0} %); scene built and validated in {build_ms:.0} ms",
         100.0 * (trimmed_ms / untrimmed_ms - 1.0),
+        100.0 * (close_trimmed / close_untrimmed - 1.0),
     )?;
     let size = trimmed.bounds().map_or(1.0, |(lo, hi)| {
         (hi - lo).length() / trimmed.objects.len() as f64

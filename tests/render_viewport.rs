@@ -5,21 +5,18 @@
 mod common;
 
 use glam::{DMat4, DVec3};
+use knotwork::gpu::GpuContext;
 use knotwork::gpu::records::{CURVATURE_RAMP, RAMP_STOPS};
-use knotwork::gpu::{GpuContext, SceneSync};
 use knotwork::kernel::bezier::net_line_indices;
 use knotwork::kernel::construct;
 use knotwork::kernel::{BezierPatchSet, samples};
-use knotwork::render::{
-    BACKGROUND, ControlNet, POINT_COLOR, ViewTarget, ViewportRenderer, scene_uniform,
-};
-use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::render::{BACKGROUND, ControlNet, POINT_COLOR};
+use knotwork::scene::{ObjectGeometry, SceneObject};
 use knotwork::view::{OrbitCamera, Overlays, ShadingMode, ViewSettings};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
 const SEGMENTS: u32 = 16;
-const POINT_RADIUS: f32 = 4.0;
 
 fn framed_camera(set: &BezierPatchSet) -> OrbitCamera {
     let (lo, hi) = set.bounds().unwrap();
@@ -40,37 +37,14 @@ fn render(context: &GpuContext, set: &BezierPatchSet, view: &ViewSettings) -> Ve
     draw(context, &[teapot], Some(&net), view)
 }
 
-/// Evaluates `objects` through the editor's sync layer and renders them (and `net`)
-/// offscreen; returns the RGBA pixels.
+/// [`common::draw_offscreen`] at this file's size.
 fn draw(
     context: &GpuContext,
     objects: &[SceneObject],
     net: Option<&ControlNet>,
     view: &ViewSettings,
 ) -> Vec<u8> {
-    let scene = Scene {
-        objects: objects.to_vec(),
-    };
-    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
-    let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
-    let range = view.range.unwrap_or((-1.0, 1.0));
-    let uniform = scene_uniform(view, &target, POINT_RADIUS, range, None);
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    sync.encode(&mut encoder, None);
-    renderer.set_scene(&context.queue, &uniform);
-    renderer.render(
-        &mut encoder,
-        &target,
-        sync.geometry().unwrap().surface_buffers(),
-        net,
-        view.overlays,
-        None,
-    );
-    context.queue.submit([encoder.finish()]);
-    let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
-    assert_eq!(pixels.len(), (WIDTH * HEIGHT * 4) as usize);
-    pixels
+    common::draw_offscreen(context, objects, net, view, (WIDTH, HEIGHT))
 }
 
 /// Pixel coordinates (x right, y down) of a world point, or None behind the camera.

@@ -7,12 +7,11 @@
 mod common;
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
-use knotwork::gpu::SceneSync;
 use knotwork::kernel::trim::polygon_contains;
 use knotwork::kernel::trim::shapes::{ellipse, interpolating_loop, rectangle};
 use knotwork::kernel::{NurbsSurface, TrimmedSurface, construct};
-use knotwork::render::{BACKGROUND, ViewTarget, ViewportRenderer, scene_uniform};
-use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::render::BACKGROUND;
+use knotwork::scene::{ObjectGeometry, SceneObject};
 use knotwork::view::{OrbitCamera, Overlays, ViewSettings};
 
 const WIDTH: u32 = 256;
@@ -49,10 +48,6 @@ impl Plane {
 }
 
 fn draw(objects: &[SceneObject], camera: &OrbitCamera) -> (Vec<u8>, DMat4) {
-    let context = common::gpu();
-    let scene = Scene {
-        objects: objects.to_vec(),
-    };
     let view = ViewSettings {
         camera: *camera,
         overlays: Overlays {
@@ -62,23 +57,7 @@ fn draw(objects: &[SceneObject], camera: &OrbitCamera) -> (Vec<u8>, DMat4) {
         },
         ..Default::default()
     };
-    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
-    let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, WIDTH, HEIGHT);
-    let uniform = scene_uniform(&view, &target, 4.0, (-1.0, 1.0), None);
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    sync.encode(&mut encoder, None);
-    renderer.set_scene(&context.queue, &uniform);
-    renderer.render(
-        &mut encoder,
-        &target,
-        sync.geometry().unwrap().surface_buffers(),
-        None,
-        view.overlays,
-        None,
-    );
-    context.queue.submit([encoder.finish()]);
-    let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
+    let pixels = common::draw_offscreen(&common::gpu(), objects, None, &view, (WIDTH, HEIGHT));
     let vp = camera
         .view_projection(WIDTH as f32 / HEIGHT as f32)
         .as_dmat4();

@@ -106,3 +106,16 @@ pub fn binomial(n: usize, k: usize) -> f64 {
     let k = k.min(n - k);
     (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
 }
+
+/// The distance from p to the segment ab (the nearest point of the segment by projection,
+/// clamped to its ends), in any dimension.
+pub fn distance_to_segment<V: Vector>(p: V, a: V, b: V) -> f64 {
+    let d = b - a;
+    let len2 = d.dot(d);
+    let t = if len2 > 0.0 {
+        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).norm()
+}

@@ -114,3 +114,39 @@ pub fn random_surface(p: usize, q: usize, seed: u64) -> NurbsSurface {
     let weights = (0..cu * cv).map(|_| rng.range(0.2, 5.0)).collect();
     NurbsSurface::new([p, q], [ku, kv], [cu, cv], points, Some(weights)).unwrap()
 }
+
+/// Evaluates `objects` through the editor's sync layer and renders them (and `net`) offscreen at
+/// `width` × `height` with `view`; returns the RGBA pixels.
+pub fn draw_offscreen(
+    context: &GpuContext,
+    objects: &[knotwork::scene::SceneObject],
+    net: Option<&knotwork::render::ControlNet>,
+    view: &knotwork::view::ViewSettings,
+    (width, height): (u32, u32),
+) -> Vec<u8> {
+    use knotwork::render::{ViewTarget, ViewportRenderer, scene_uniform};
+    let scene = knotwork::scene::Scene {
+        objects: objects.to_vec(),
+    };
+    let mut sync =
+        knotwork::gpu::SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, width, height);
+    let range = view.range.unwrap_or((-1.0, 1.0));
+    let uniform = scene_uniform(view, &target, 4.0, range, None);
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    sync.encode(&mut encoder, None);
+    renderer.set_scene(&context.queue, &uniform);
+    renderer.render(
+        &mut encoder,
+        &target,
+        sync.geometry().unwrap().surface_buffers(),
+        net,
+        view.overlays,
+        None,
+    );
+    context.queue.submit([encoder.finish()]);
+    let pixels = target.read_rgba(&context.device, &context.queue).unwrap();
+    assert_eq!(pixels.len(), (width * height * 4) as usize);
+    pixels
+}

@@ -239,17 +239,7 @@ fn flatten_range(
     }
 }
 
-/// The distance from p to the segment ab.
-pub fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let len2 = d.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + d * t)).length()
-}
+pub use crate::kernel::vector::distance_to_segment;
 
 /// Crossing parity of the L-shaped path from `from` to `to` (first along u at `from`'s v, then
 /// along v at `to`'s u) with `pieces`: whether the two points are on different sides of the

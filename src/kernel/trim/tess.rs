@@ -9,7 +9,7 @@
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::piece::{bezier_point, monotone_pieces};
+use super::piece::{bezier_point, distance_to_segment, monotone_pieces};
 use super::{TrimmedSurface, domain_rect};
 use crate::kernel::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface};
@@ -24,18 +24,6 @@ fn failed(message: String) -> GeometryError {
         what: "trimmed tessellation",
         message,
     }
-}
-
-/// The distance from p to the segment ab in space.
-fn distance_to_chord(p: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let d = b - a;
-    let len2 = d.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p - (a + d * t)).length()
 }
 
 /// The loops flattened for the surface: each chord's midpoint on the surface within
@@ -65,10 +53,10 @@ pub fn flatten_on_surface(
                 while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
                     let tm = 0.5 * (t0 + t1);
                     let sm = at(clamp_to(surface, bezier_point(&piece.points, tm)))?;
-                    let mut worst = distance_to_chord(sm, s0, s1);
+                    let mut worst = distance_to_segment(sm, s0, s1);
                     for f in [0.25, 0.75] {
                         let q = bezier_point(&piece.points, t0 + f * (t1 - t0));
-                        worst = worst.max(distance_to_chord(at(clamp_to(surface, q))?, s0, s1));
+                        worst = worst.max(distance_to_segment(at(clamp_to(surface, q))?, s0, s1));
                     }
                     if (worst > tolerance || depth < 2) && depth < MAX_FLATTEN_DEPTH {
                         stack.push((tm, t1, sm, s1, depth + 1));
@@ -151,7 +139,7 @@ impl ChordGrid {
             (i0..=i1).any(|i| {
                 self.buckets[j * self.side + i]
                     .iter()
-                    .any(|&(a, b)| super::piece::distance_to_segment(p, a, b) < r)
+                    .any(|&(a, b)| distance_to_segment(p, a, b) < r)
             })
         })
     }
@@ -208,8 +196,9 @@ pub fn tessellate_trimmed(
     let chord_edges: std::collections::HashSet<[usize; 2]> =
         edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
     let mut rounds = 0;
+    let mut cdt = build_cdt(&points, &edges)?;
     let (vertices, triangles) = loop {
-        let (vertices, triangles) = triangulate_kept(&points, &edges)?;
+        let (vertices, triangles) = kept_triangles(&cdt);
         if triangles.len() > MAX_TRIANGLES {
             return Err(failed(format!(
                 "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
@@ -286,8 +275,11 @@ pub fn tessellate_trimmed(
         if added.is_empty() {
             break (vertices, triangles);
         }
+        // New points go into the triangulation one by one (no rebuild).
         for p in &added {
             positions.push(surface.point_at(p.x, p.y)?);
+            cdt.insert(Point2::new(p.x, p.y))
+                .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
         }
         points.extend(added);
     };
@@ -310,18 +302,10 @@ fn spacing(values: &[f64], i: usize) -> f64 {
     if h.is_finite() { h } else { 0.0 }
 }
 
-/// The constrained Delaunay triangulation of `points` with `edges` fixed, keeping the triangles
-/// inside the loops, counter-clockwise in (u, v). Inside-ness is found by a flood fill from the
+/// The vertices and the triangles of `cdt` inside the loops, counter-clockwise in (u, v). Inside-ness is found by a flood fill from the
 /// outside that flips at every constraint edge (each loop's chords), so classifying every
 /// triangle costs O(triangles) whatever the number of loops.
-fn triangulate_kept(
-    points: &[DVec2],
-    edges: &[[usize; 2]],
-) -> Result<(Vec<DVec2>, Vec<[u32; 3]>), GeometryError> {
-    let input = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
-    let cdt: ConstrainedDelaunayTriangulation<Point2<f64>> =
-        ConstrainedDelaunayTriangulation::try_bulk_load_cdt(input, edges.to_vec(), |_| {})
-            .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+fn kept_triangles(cdt: &Cdt) -> (Vec<DVec2>, Vec<[u32; 3]>) {
     let vertices: Vec<DVec2> = cdt
         .vertices()
         .map(|v| {
@@ -369,7 +353,17 @@ fn triangulate_kept(
             [a as u32, c as u32, b as u32]
         });
     }
-    Ok((vertices, triangles))
+    (vertices, triangles)
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// The constrained Delaunay triangulation of `points` with `edges` fixed (bulk loaded; the
+/// vertex order is kept unless points coincide).
+fn build_cdt(points: &[DVec2], edges: &[[usize; 2]]) -> Result<Cdt, GeometryError> {
+    let input = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
+    Cdt::try_bulk_load_cdt(input, edges.to_vec(), |_| {})
+        .map_err(|e| failed(format!("the triangulation failed: {e:?}")))
 }
 
 /// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
