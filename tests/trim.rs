@@ -445,3 +445,61 @@ fn a_refused_trim_edit_names_the_object_and_changes_nothing() {
         ObjectGeometry::Nurbs(_)
     ));
 }
+
+#[test]
+fn a_rational_torus_trimmed_by_a_parameter_rectangle_has_the_closed_form_area() {
+    let (major, minor) = (3.0, 1.0);
+    let torus = construct::torus(DVec3::ZERO, DVec3::Z, major, minor).unwrap();
+    assert!(!torus.is_polynomial());
+    let [(u0, u1), (v0, v1)] = torus.domain();
+    let at = |s: f64, t: f64| DVec2::new(u0 + s * (u1 - u0), v0 + t * (v1 - v0));
+    let (a, b) = (at(0.05, 0.1), at(0.3, 0.32));
+    let t = TrimmedSurface::new(torus.clone(), vec![rectangle(a, b).unwrap()]).unwrap();
+    // The parameter lines of a surface of revolution are meridians and parallels: the corners
+    // give the angle around the axis θ and around the tube φ; the area element is
+    // r (R + r cos φ) dφ dθ.
+    let angles = |p: DVec2| {
+        let q = torus.point_at(p.x, p.y).unwrap();
+        let rho = (q.x * q.x + q.y * q.y).sqrt() - major;
+        (q.z.atan2(rho), q.y.atan2(q.x))
+    };
+    let (phi_a, theta_a) = angles(a);
+    let (phi_b, theta_b) = angles(b);
+    // Differences taken the short way round (the rectangle spans far less than half a turn).
+    let wrap = |d: f64| (d + PI).rem_euclid(2.0 * PI) - PI;
+    let d_theta = wrap(theta_b - theta_a).abs();
+    let d_phi = wrap(phi_b - phi_a);
+    let exact =
+        minor * d_theta * (major * d_phi + minor * ((phi_a + d_phi).sin() - phi_a.sin())).abs();
+    let (area, mesh) = export_area(&t, 1e-4 * torus.size());
+    assert!((area - exact).abs() <= 1e-3 * exact, "{area} vs {exact}");
+    check_mesh(&t, &mesh);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(6))]
+
+    /// On an affine plane the surface area is the (u, v) area times the Jacobian, so the
+    /// constrained Delaunay export of random loops (a star polygon with an interpolated cubic
+    /// hole) must give the area of the exactly flattened loops.
+    #[test]
+    fn exported_areas_of_random_loops_on_a_plane_match_the_loops(seed in any::<u64>()) {
+        let mut rng = common::Rng(seed);
+        let (ua, vb) = (DVec3::new(2.0, 0.3, 0.0), DVec3::new(-0.4, 1.5, 0.2));
+        let plane = construct::plane(DVec3::ZERO, ua, vb).unwrap();
+        let jacobian = ua.cross(vb).length();
+        let n = 5 + rng.below(10);
+        let outer = star(&mut rng, DVec2::splat(0.5), 0.45, n);
+        let m = 3 + rng.below(6);
+        let inner = star(&mut rng, DVec2::splat(0.5), 0.12, m);
+        let t = TrimmedSurface::new(
+            plane,
+            vec![polygon(&outer).unwrap(), interpolating_loop(&inner).unwrap()],
+        )
+        .unwrap();
+        let exact = t.parameter_area(1e-9) * jacobian;
+        let (area, mesh) = export_area(&t, 1e-4 * t.surface().size());
+        prop_assert!((area - exact).abs() <= 1e-3 * exact, "{} vs {}", area, exact);
+        check_mesh(&t, &mesh);
+    }
+}
