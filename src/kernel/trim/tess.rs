@@ -1,9 +1,10 @@
 //! Export tessellation of a trimmed surface: a constrained Delaunay triangulation in (u, v)
-//! (spade). The trim loops are flattened so that every boundary chord stays within the
-//! tolerance of the trim curve on the surface; the interior takes the points of the untrimmed
+//! (spade). The trim loops are flattened so that every boundary chord stays within a quarter of
+//! the tolerance of the trim curve on the surface; the interior takes the points of the untrimmed
 //! surface's tolerance grid ([`crate::kernel::tess::tolerance_grid`]) that lie in the kept
-//! region away from the boundary; triangles whose deviation from the surface exceeds the
-//! tolerance get their centroid added until none does. Every vertex is the surface at its
+//! region away from the boundary; a triangle whose deviation from the surface exceeds the
+//! tolerance gets a vertex at its worst interior edge's midpoint (or its centroid) until none
+//! does. Every vertex is the surface at its
 //! stored (u, v); triangles outside the kept region are dropped.
 
 use glam::{DVec2, DVec3};
@@ -16,6 +17,8 @@ use crate::kernel::{GeometryError, NurbsSurface};
 
 /// Rounds of centroid insertion before the triangulation is taken as it is.
 const REFINE_ROUNDS: usize = 10;
+/// The share of the tolerance the boundary chords keep to.
+const BOUNDARY_SHARE: f64 = 0.25;
 /// The deepest bisection of a trim piece while flattening.
 const MAX_FLATTEN_DEPTH: usize = 30;
 
@@ -163,7 +166,10 @@ pub fn tessellate_trimmed(
         )));
     }
     let grid = tess::grid_for(surface, tessellation)?;
-    let polygons = flatten_on_surface(trimmed, tolerance)?;
+    // The boundary at a quarter of the tolerance: the area lost between the chords and the trim
+    // curve grows with the perimeter, so a small trimmed face would otherwise lose a larger
+    // share of its area than the interior's error.
+    let polygons = flatten_on_surface(trimmed, BOUNDARY_SHARE * tolerance)?;
     let rect = domain_rect(surface);
     let chords = ChordGrid::new(rect, &polygons);
 
