@@ -256,8 +256,7 @@ impl KnotworkApp {
         };
         let painter = ui.painter().with_clip_rect(self.viewport_rect);
         let loop_color = egui::Color32::from_rgb(255, 200, 60);
-        let tolerance = 2e-3 * trim_scale(&t);
-        for polygon in t.flattened_loops(tolerance) {
+        for polygon in t.outline().iter() {
             let points: Vec<egui::Pos2> = polygon.iter().filter_map(|&p| screen(p)).collect();
             if points.len() == polygon.len() && points.len() > 1 {
                 painter.add(egui::Shape::closed_line(
@@ -396,7 +395,7 @@ impl KnotworkApp {
             }
         }
         let kept = egui::Color32::from_rgb(255, 200, 60);
-        for polygon in t.flattened_loops(2e-3 * trim_scale(t)) {
+        for polygon in t.outline().iter() {
             let points = polygon.iter().map(|&p| to_screen(p)).collect();
             painter.add(egui::Shape::closed_line(
                 points,
@@ -485,10 +484,4 @@ impl KnotworkApp {
         });
         edit
     }
-}
-
-/// The size of a surface's domain (the scale of drawing tolerances in (u, v)).
-fn trim_scale(t: &TrimmedSurface) -> f64 {
-    let [(u0, u1), (v0, v1)] = t.surface().domain();
-    (u1 - u0).max(v1 - v0)
 }

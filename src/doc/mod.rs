@@ -579,15 +579,9 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                     tolerance: *tolerance,
                 });
             }
-            let trimmed = trimmed
-                .with_surface(removed)
-                .map_err(geometry_error(object))?;
             replace(
                 *k,
-                SceneObject {
-                    geometry: ObjectGeometry::from_trimmed(trimmed),
-                    ..object.clone()
-                },
+                with_trimmed(object, "knot removal", |t| t.with_surface(removed))?,
             )
         }
         Command::ElevateDegree {

@@ -242,6 +242,8 @@ pub struct ViewportRenderer {
     /// Group 1 of the surface pipeline: the patch records and the packed trim loops
     /// (`shaders/trim.wgsl`), bound per frame from the geometry drawn.
     trim_layout: wgpu::BindGroupLayout,
+    /// The last group 1 made, with the buffers it binds.
+    trim_group: std::sync::Mutex<Option<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>>,
     device: wgpu::Device,
     /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`).
     highlight: wgpu::Buffer,
@@ -437,6 +439,7 @@ impl ViewportRenderer {
             scene_layout,
             scene_bind_group,
             trim_layout,
+            trim_group: std::sync::Mutex::new(None),
             device: device.clone(),
             highlight,
             highlighting: false,
@@ -473,6 +476,41 @@ impl ViewportRenderer {
     /// Sets the camera, viewport size and colours for the next [`Self::render`].
     pub fn set_scene(&self, queue: &wgpu::Queue, scene: &SceneUniform) {
         queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(scene));
+    }
+
+    /// Group 1 of the surface pipeline for `surface`'s records and trim loops: made when the
+    /// geometry's buffers change (a rebuild), reused for every frame in between.
+    fn trim_bind_group(&self, surface: &SurfaceBuffers<'_>) -> wgpu::BindGroup {
+        let mut cached = self
+            .trim_group
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((records, trims, group)) = cached.as_ref()
+            && records == surface.records
+            && trims == surface.trims
+        {
+            return group.clone();
+        }
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("trim loops"),
+            layout: &self.trim_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: surface.records.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: surface.trims.as_entire_binding(),
+                },
+            ],
+        });
+        *cached = Some((
+            surface.records.clone(),
+            surface.trims.clone(),
+            group.clone(),
+        ));
+        group
     }
 
     /// Records one render pass into `target`: the surface from the evaluated vertex and index
@@ -513,20 +551,7 @@ impl ViewportRenderer {
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
         if overlays.surface && surface.index_count > 0 {
-            let trims = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trim loops"),
-                layout: &self.trim_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: surface.records.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: surface.trims.as_entire_binding(),
-                    },
-                ],
-            });
+            let trims = self.trim_bind_group(&surface);
             pass.set_pipeline(&self.surface_pipeline);
             pass.set_bind_group(1, &trims, &[]);
             pass.set_vertex_buffer(0, surface.vertices.slice(..));

@@ -157,7 +157,12 @@ impl ObjectKind for NurbsSurface {
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Nurbs(b)
-            if self.degree() == b.degree() && self.knots() == b.knots() && self.count() == b.count())
+        matches!(other, ObjectGeometry::Nurbs(b) if same_net(self, b))
     }
+}
+
+/// Whether two surfaces have the same degrees, knots and net size (so the same Bézier patch
+/// layout on the GPU).
+pub(super) fn same_net(a: &NurbsSurface, b: &NurbsSurface) -> bool {
+    a.degree() == b.degree() && a.knots() == b.knots() && a.count() == b.count()
 }

@@ -111,9 +111,7 @@ impl ObjectKind for TrimmedSurface {
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         match other {
             ObjectGeometry::Trimmed(b) => {
-                self.surface()
-                    .same_layout(&ObjectGeometry::Nurbs(b.surface().clone()))
-                    && self.loops() == b.loops()
+                super::nurbs::same_net(self.surface(), b.surface()) && self.loops() == b.loops()
             }
             _ => false,
         }

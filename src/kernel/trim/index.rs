@@ -81,7 +81,6 @@ impl TrimIndex {
         let margin = 1e-6 * (du.max(dv));
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); cells_u * cells_v];
         for (k, points) in flat.iter().enumerate() {
-            let mut last = usize::MAX;
             for w in points.windows(2) {
                 let lo = w[0].min(w[1]) - DVec2::splat(margin);
                 let hi = w[0].max(w[1]) + DVec2::splat(margin);
@@ -89,11 +88,11 @@ impl TrimIndex {
                 let (i1, j1) = cell_of(hi);
                 for j in j0..=j1 {
                     for i in i0..=i1 {
-                        let c = j * cells_u + i;
-                        if c != last && members[c].last() != Some(&(k as u32)) {
-                            members[c].push(k as u32);
+                        // Pieces come in order, so a repeat is always the last entry.
+                        let cell = &mut members[j * cells_u + i];
+                        if cell.last() != Some(&(k as u32)) {
+                            cell.push(k as u32);
                         }
-                        last = c;
                     }
                 }
             }
@@ -102,9 +101,7 @@ impl TrimIndex {
         let mut cells = Vec::with_capacity(cells_u * cells_v);
         for j in 0..cells_v {
             for i in 0..cells_u {
-                let m = &mut members[j * cells_u + i];
-                m.sort_unstable();
-                m.dedup();
+                let m = &members[j * cells_u + i];
                 let origin = DVec2::new(u0 + i as f64 * du, v0 + j as f64 * dv);
                 let reference = CANDIDATES
                     .iter()

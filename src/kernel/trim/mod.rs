@@ -22,9 +22,10 @@ use std::sync::{Arc, OnceLock};
 use glam::DVec2;
 use thiserror::Error;
 
-use self::index::{Coverage, TrimIndex};
+use self::index::TrimIndex;
 use self::piece::{MonotonePiece, monotone_pieces};
 use super::error::{GeometryError, Location};
+use super::vector::Vector;
 use super::{Direction, NurbsSurface, TrimCurve};
 
 /// One closed loop: curves joined end to end.
@@ -32,6 +33,8 @@ pub type TrimLoop = Vec<TrimCurve>;
 
 /// Closure tolerance, as a fraction of the domain's size.
 pub const CLOSURE_TOLERANCE: f64 = 1e-9;
+/// Chord tolerance of the loops as the editor draws them, as a fraction of the domain's size.
+pub const OUTLINE_TOLERANCE: f64 = 2e-3;
 /// Chord tolerance of the flattened loops used for validation and for choosing reference
 /// points, as a fraction of the domain's size.
 pub const FLATTEN_TOLERANCE: f64 = 1e-6;
@@ -102,6 +105,8 @@ pub struct TrimmedSurface {
     /// The classification grid, built on first use and shared by clones (loops never change
     /// after construction).
     index: Arc<OnceLock<Arc<TrimIndex>>>,
+    /// The loops flattened for drawing ([`Self::outline`]), built on first use and shared.
+    outline: Arc<OnceLock<Arc<Vec<Vec<DVec2>>>>>,
 }
 
 impl PartialEq for TrimmedSurface {
@@ -153,6 +158,7 @@ impl TrimmedSurface {
             surface,
             loops,
             index: Arc::default(),
+            outline: Arc::default(),
         })
     }
 
@@ -162,6 +168,7 @@ impl TrimmedSurface {
             surface,
             loops: Vec::new(),
             index: Arc::default(),
+            outline: Arc::default(),
         }
     }
 
@@ -191,6 +198,7 @@ impl TrimmedSurface {
                 surface,
                 loops: self.loops.clone(),
                 index: self.index.clone(),
+                outline: self.outline.clone(),
             });
         }
         Self::new(surface, self.loops.clone())
@@ -218,9 +226,15 @@ impl TrimmedSurface {
         self.index().is_none_or(|index| index.contains(u, v))
     }
 
-    /// How the parameter rectangle (u0, u1, v0, v1) lies against the loops.
-    pub fn coverage(&self, rect: [f64; 4]) -> Coverage {
-        self.index().map_or(Coverage::Inside, |i| i.coverage(rect))
+    /// Every loop flattened for drawing (chords within [`OUTLINE_TOLERANCE`] of the domain's
+    /// size), computed once and shared by clones: the editor draws it every frame.
+    pub fn outline(&self) -> Arc<Vec<Vec<DVec2>>> {
+        self.outline
+            .get_or_init(|| {
+                let tolerance = OUTLINE_TOLERANCE * domain_size(domain_rect(&self.surface));
+                Arc::new(self.flattened_loops(tolerance))
+            })
+            .clone()
     }
 
     /// Every loop flattened to a closed polygon (last point not repeated) with chords within
@@ -363,16 +377,33 @@ impl TrimmedSurface {
 
 /// The polygon of one loop: each curve's points without its last (the next curve's first).
 pub fn flatten_loop(l: &TrimLoop, tolerance: f64) -> Vec<DVec2> {
+    let identity = |p: DVec2| Ok::<DVec2, std::convert::Infallible>(p);
+    let Ok((polygon, _)) = flatten_loop_mapped(l, tolerance, piece::UV_DEPTHS, identity);
+    polygon
+}
+
+/// [`flatten_loop`] with every chord within `tolerance` of the loop mapped by `map` (onto a
+/// surface, say; [`piece::MonotonePiece::flatten_mapped`] with `depths` halvings), and for
+/// each point the curve whose chord starts there.
+pub fn flatten_loop_mapped<V: Vector, E>(
+    l: &TrimLoop,
+    tolerance: f64,
+    depths: (usize, usize),
+    map: impl Fn(DVec2) -> Result<V, E> + Copy,
+) -> Result<(Vec<DVec2>, Vec<usize>), E> {
     let mut out = Vec::new();
+    let mut owners = Vec::new();
     for (c, curve) in l.iter().enumerate() {
-        let mut points = Vec::new();
+        let start = out.len();
         for piece in monotone_pieces(curve, (0, c)) {
-            piece.flatten(tolerance, &mut points);
+            piece.flatten_mapped(tolerance, depths, map, &mut out)?;
         }
-        points.pop();
-        out.extend(points);
+        if out.len() > start {
+            out.pop();
+        }
+        owners.resize(out.len(), c);
     }
-    out
+    Ok((out, owners))
 }
 
 /// Twice-halved shoelace: the signed area of a closed polygon (positive counter-clockwise).
@@ -482,17 +513,9 @@ fn validate(rect: [f64; 4], loops: &[TrimLoop]) -> Result<Vec<Vec<DVec2>>, Geome
             }
         }
         // The loop's polygon, remembering which curve each chord belongs to.
-        let mut polygon = Vec::new();
-        let mut owner = Vec::new();
-        for (c, curve) in lp.iter().enumerate() {
-            let mut points = Vec::new();
-            for piece in monotone_pieces(curve, (l, c)) {
-                piece.flatten(FLATTEN_TOLERANCE * size, &mut points);
-            }
-            points.pop();
-            owner.extend(std::iter::repeat_n(c, points.len()));
-            polygon.extend(points);
-        }
+        let identity = |p: DVec2| Ok::<DVec2, std::convert::Infallible>(p);
+        let Ok((polygon, owner)) =
+            flatten_loop_mapped(lp, FLATTEN_TOLERANCE * size, piece::UV_DEPTHS, identity);
         let n = polygon.len();
         for k in 0..n {
             chords.push(Chord {

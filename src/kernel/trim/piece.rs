@@ -7,6 +7,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::kernel::TrimCurve;
+use crate::kernel::vector::Vector;
 
 /// Sign samples per Bézier segment when looking for the extrema of u(t) and v(t).
 const EXTREMUM_SAMPLES: usize = 48;
@@ -202,42 +203,53 @@ impl MonotonePiece {
         lo <= x && x < hi
     }
 
-    /// Points along the piece with chords within `tolerance` (in (u, v)) of it, ends included.
+    /// Points along the piece with chords within `tolerance` (in (u, v)) of it, ends included
+    /// (the first only where `out` does not end with it already).
     pub fn flatten(&self, tolerance: f64, out: &mut Vec<DVec2>) {
-        let start = bezier_point(&self.points, 0.0);
+        let identity = |p: DVec2| Ok::<DVec2, std::convert::Infallible>(p);
+        let Ok(()) = self.flatten_mapped(tolerance, UV_DEPTHS, identity, out);
+    }
+
+    /// Points along the piece such that, mapped by `map` (into (u, v) itself, or onto a
+    /// surface), every chord stays within `tolerance` of the mapped curve, checked at 1/4, 1/2
+    /// and 3/4 of each chord's parameter interval; each interval is halved at least
+    /// `depths.0` and at most `depths.1` times. Depth first, left half first, so the points come
+    /// out in order; the first only where `out` does not end with it already.
+    pub fn flatten_mapped<V: Vector, E>(
+        &self,
+        tolerance: f64,
+        (min_depth, max_depth): (usize, usize),
+        map: impl Fn(DVec2) -> Result<V, E>,
+        out: &mut Vec<DVec2>,
+    ) -> Result<(), E> {
+        let at = |t: f64| bezier_point(&self.points, t);
+        let start = at(0.0);
         if out.last() != Some(&start) {
             out.push(start);
         }
-        flatten_range(&self.points, 0.0, start, 1.0, tolerance, 0, out);
+        // (t0, t1, the mapped points at t0 and t1, depth).
+        let mut stack = vec![(0.0, 1.0, map(start)?, map(at(1.0))?, 0usize)];
+        while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
+            let tm = 0.5 * (t0 + t1);
+            let sm = map(at(tm))?;
+            let mut worst = distance_to_segment(sm, s0, s1);
+            for f in [0.25, 0.75] {
+                let q = map(at(t0 + f * (t1 - t0)))?;
+                worst = worst.max(distance_to_segment(q, s0, s1));
+            }
+            if (worst > tolerance || depth < min_depth) && depth < max_depth {
+                stack.push((tm, t1, sm, s1, depth + 1));
+                stack.push((t0, tm, s0, sm, depth + 1));
+            } else {
+                out.push(at(t1));
+            }
+        }
+        Ok(())
     }
 }
 
-/// Adaptive chords of the Bézier `points` from t0 (point a, already emitted) to t1.
-fn flatten_range(
-    points: &[DVec3],
-    t0: f64,
-    a: DVec2,
-    t1: f64,
-    tolerance: f64,
-    depth: usize,
-    out: &mut Vec<DVec2>,
-) {
-    let b = bezier_point(points, t1);
-    let tm = 0.5 * (t0 + t1);
-    let m = bezier_point(points, tm);
-    let q1 = bezier_point(points, t0 + 0.25 * (t1 - t0));
-    let q3 = bezier_point(points, t0 + 0.75 * (t1 - t0));
-    let off = [m, q1, q3]
-        .iter()
-        .map(|&p| distance_to_segment(p, a, b))
-        .fold(0.0, f64::max);
-    if depth < 24 && (off > tolerance || depth < 1) {
-        flatten_range(points, t0, a, tm, tolerance, depth + 1, out);
-        flatten_range(points, tm, m, t1, tolerance, depth + 1, out);
-    } else {
-        out.push(b);
-    }
-}
+/// The least and most halvings of a piece flattened in (u, v).
+pub const UV_DEPTHS: (usize, usize) = (1, 24);
 
 pub use crate::kernel::vector::distance_to_segment;
 

@@ -13,6 +13,12 @@ fn construction(message: String) -> GeometryError {
     }
 }
 
+/// Curve `c` of loop `l` (loop number `loop_index`, for the message).
+fn curve_of(l: &TrimLoop, loop_index: usize, c: usize) -> Result<&TrimCurve, GeometryError> {
+    l.get(c)
+        .ok_or_else(|| construction(format!("there is no curve {c} in loop {loop_index}")))
+}
+
 /// A straight trim curve from a to b (degree 1).
 pub fn line(a: DVec2, b: DVec2) -> Result<TrimCurve, GeometryError> {
     TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![a, b], None)
@@ -115,9 +121,7 @@ pub fn move_loop_point(
     i: usize,
     to: DVec2,
 ) -> Result<TrimLoop, GeometryError> {
-    let curve = l
-        .get(c)
-        .ok_or_else(|| construction(format!("there is no curve {c} in loop {loop_index}")))?;
+    let curve = curve_of(l, loop_index, c)?;
     if i >= curve.count() || !to.is_finite() {
         return Err(construction(format!(
             "there is no control point {i} in curve {c} of loop {loop_index}"
@@ -160,9 +164,7 @@ pub fn insert_loop_point(
     loop_index: usize,
     c: usize,
 ) -> Result<TrimLoop, GeometryError> {
-    let curve = l
-        .get(c)
-        .ok_or_else(|| construction(format!("there is no curve {c} in loop {loop_index}")))?;
+    let curve = curve_of(l, loop_index, c)?;
     let knots = curve.knots();
     let (a, b) = curve.domain();
     let mut breaks: Vec<f64> = knots
@@ -189,9 +191,7 @@ pub fn delete_loop_point(
     c: usize,
     i: usize,
 ) -> Result<TrimLoop, GeometryError> {
-    let curve = l
-        .get(c)
-        .ok_or_else(|| construction(format!("there is no curve {c} in loop {loop_index}")))?;
+    let curve = curve_of(l, loop_index, c)?;
     let n = curve.count();
     if i == 0 || i + 1 >= n {
         return Err(refuse(

@@ -10,8 +10,8 @@
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::piece::{bezier_point, distance_to_segment, monotone_pieces};
-use super::{TrimmedSurface, domain_rect};
+use super::piece::distance_to_segment;
+use super::{TrimmedSurface, domain_rect, flatten_loop_mapped};
 use crate::kernel::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface};
 
@@ -19,8 +19,8 @@ use crate::kernel::{GeometryError, NurbsSurface};
 const REFINE_ROUNDS: usize = 10;
 /// The share of the tolerance the boundary chords keep to.
 const BOUNDARY_SHARE: f64 = 0.25;
-/// The deepest bisection of a trim piece while flattening.
-const MAX_FLATTEN_DEPTH: usize = 30;
+/// The least and most halvings of a trim piece flattened on the surface.
+const SURFACE_DEPTHS: (usize, usize) = (2, 30);
 
 fn failed(message: String) -> GeometryError {
     GeometryError::Construction {
@@ -36,42 +36,13 @@ pub fn flatten_on_surface(
     tolerance: f64,
 ) -> Result<Vec<Vec<DVec2>>, GeometryError> {
     let surface = trimmed.surface();
-    let at = |p: DVec2| surface.point_at(p.x, p.y);
+    let on_surface = |p: DVec2| {
+        let p = clamp_to(surface, p);
+        surface.point_at(p.x, p.y)
+    };
     let mut out = Vec::new();
     for lp in trimmed.loops() {
-        let mut polygon = Vec::new();
-        for (c, curve) in lp.iter().enumerate() {
-            let mut points = Vec::new();
-            for piece in monotone_pieces(curve, (0, c)) {
-                let a = bezier_point(&piece.points, 0.0);
-                if points.last() != Some(&a) {
-                    points.push(a);
-                }
-                let start = at(clamp_to(surface, a))?;
-                let end_uv = bezier_point(&piece.points, 1.0);
-                let end = at(clamp_to(surface, end_uv))?;
-                // (t0, t1, S at t0, S at t1, depth), depth-first, left half first, so points
-                // come out in order.
-                let mut stack = vec![(0.0, 1.0, start, end, 0usize)];
-                while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
-                    let tm = 0.5 * (t0 + t1);
-                    let sm = at(clamp_to(surface, bezier_point(&piece.points, tm)))?;
-                    let mut worst = distance_to_segment(sm, s0, s1);
-                    for f in [0.25, 0.75] {
-                        let q = bezier_point(&piece.points, t0 + f * (t1 - t0));
-                        worst = worst.max(distance_to_segment(at(clamp_to(surface, q))?, s0, s1));
-                    }
-                    if (worst > tolerance || depth < 2) && depth < MAX_FLATTEN_DEPTH {
-                        stack.push((tm, t1, sm, s1, depth + 1));
-                        stack.push((t0, tm, s0, sm, depth + 1));
-                    } else {
-                        points.push(bezier_point(&piece.points, t1));
-                    }
-                }
-            }
-            points.pop();
-            polygon.extend(points);
-        }
+        let (polygon, _) = flatten_loop_mapped(lp, tolerance, SURFACE_DEPTHS, on_surface)?;
         if polygon.len() > MAX_TRIANGLES {
             return Err(failed(
                 "the trim loops need too many points at this tolerance".into(),
