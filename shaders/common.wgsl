@@ -102,6 +102,20 @@ struct SceneUniform {
     range: vec4<f32>,
     // The colour ramp: RAMP_STOPS linear RGB stops, evenly spaced from low to high.
     ramp: array<vec4<f32>, 5>,
+    // The camera's frame in world space: right, up, and back (toward the viewer; w = 1 for an
+    // orthographic view, whose view direction is `back` everywhere).
+    view_right: vec4<f32>,
+    view_up: vec4<f32>,
+    view_back: vec4<f32>,
+    // (zebra stripe pairs per half turn, zebra stripe angle in radians, isophote spacing in
+    // degrees, draft angle threshold in degrees).
+    analysis: vec4<f32>,
+    // The isophotes' light direction and the draft's pull direction (unit, world; w unused).
+    isophote_direction: vec4<f32>,
+    pull_direction: vec4<f32>,
+    // (zebra frame: 0 the view, 1 the world; zebra source: 0 the reflected view ray, 1 the
+    // normal; 0, 0).
+    analysis_flags: vec4<u32>,
 }
 
 const RAMP_STOPS: u32 = 5u;  // Rust: gpu::records::RAMP_STOPS

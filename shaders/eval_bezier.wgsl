@@ -59,14 +59,6 @@ fn make_basis(n: u32, t: f32) -> Basis {
     return basis;
 }
 
-// A Bézier sum and its first two derivatives, the derivatives in difference form:
-// C' = n sum B_{i,n-1} (P_{i+1} - P_i), C'' = n(n-1) sum B_{i,n-2} (P_{i+2} - 2 P_{i+1} + P_i).
-struct Sums {
-    value: vec4<f32>,
-    d1: vec4<f32>,
-    d2: vec4<f32>,
-}
-
 fn bezier_sums(basis: Basis, n: u32, p: array<vec4<f32>, 10>) -> Sums {
     var out: Sums;
     for (var i = 0u; i <= n; i++) {
@@ -113,66 +105,10 @@ fn evaluate_patch(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
     return rational_derivatives(a0, a1, a2.value);
 }
 
-// Cartesian derivatives of S = A / w from the homogeneous sums (The NURBS Book, eq. 4.20):
-// a0 = (A, A_u, A_uu), a1 = (A_v, A_uv, -), a_vv = A_vv.
-fn rational_derivatives(a0: Sums, a1: Sums, a_vv: vec4<f32>) -> Derivatives {
-    let w = a0.value.w;
-    var d: Derivatives;
-    d.point = a0.value.xyz / w;
-    d.su = (a0.d1.xyz - a0.d1.w * d.point) / w;
-    d.sv = (a1.value.xyz - a1.value.w * d.point) / w;
-    d.suu = (a0.d2.xyz - 2.0 * a0.d1.w * d.su - a0.d2.w * d.point) / w;
-    d.svv = (a_vv.xyz - 2.0 * a1.value.w * d.sv - a_vv.w * d.point) / w;
-    d.suv = (a1.d1.xyz - a0.d1.w * d.sv - a1.value.w * d.su - a1.d1.w * d.point) / w;
-    return d;
-}
-
-// The cubic Bernstein polynomials of degrees 3, 2 and 1 at t, in registers. Exact 0 and 1 at
-// t = 0 and t = 1, as the general recurrence.
-struct CubicBasis {
-    full: vec4<f32>,
-    lower1: vec3<f32>,
-    lower2: vec2<f32>,
-}
-
-fn cubic_basis(t: f32) -> CubicBasis {
-    let s = 1.0 - t;
-    var b: CubicBasis;
-    b.full = vec4<f32>(s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t);
-    b.lower1 = vec3<f32>(s * s, 2.0 * t * s, t * t);
-    b.lower2 = vec2<f32>(s, t);
-    return b;
-}
-
-// bezier_sums for degree 3, unrolled: value, first and second derivative in difference form.
-fn cubic_sums(b: CubicBasis, c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, c3: vec4<f32>) -> Sums {
-    let d0 = c1 - c0;
-    let d1 = c2 - c1;
-    let d2 = c3 - c2;
-    var out: Sums;
-    out.value = b.full.x * c0 + b.full.y * c1 + b.full.z * c2 + b.full.w * c3;
-    out.d1 = 3.0 * (b.lower1.x * d0 + b.lower1.y * d1 + b.lower1.z * d2);
-    out.d2 = 6.0 * (b.lower2.x * (d1 - d0) + b.lower2.y * (d2 - d1));
-    return out;
-}
-
+// The patch's control point k (row-major, i along u); the bezier.wgsl module reads points
+// through it.
 fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> {
     return control_points[control_indices[rec.control_offset + k]];
-}
-
-// evaluate_patch for bicubic patches (the teapot's, and every Bézier patch of a bicubic
-// B-spline): the same formulas with constant indices only, so no private arrays.
-fn evaluate_bicubic(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
-    let bu = cubic_basis(s);
-    let bv = cubic_basis(t);
-    let r0 = cubic_sums(bv, control_point(rec, 0u), control_point(rec, 1u), control_point(rec, 2u), control_point(rec, 3u));
-    let r1 = cubic_sums(bv, control_point(rec, 4u), control_point(rec, 5u), control_point(rec, 6u), control_point(rec, 7u));
-    let r2 = cubic_sums(bv, control_point(rec, 8u), control_point(rec, 9u), control_point(rec, 10u), control_point(rec, 11u));
-    let r3 = cubic_sums(bv, control_point(rec, 12u), control_point(rec, 13u), control_point(rec, 14u), control_point(rec, 15u));
-    let a0 = cubic_sums(bu, r0.value, r1.value, r2.value, r3.value);
-    let a1 = cubic_sums(bu, r0.d1, r1.d1, r2.d1, r3.d1);
-    let a_vv = bu.full.x * r0.d2 + bu.full.y * r1.d2 + bu.full.z * r2.d2 + bu.full.w * r3.d2;
-    return rational_derivatives(a0, a1, a_vv);
 }
 
 // Set per pipeline (gpu::patch_eval): the degrees of every patch the pipeline evaluates, or 0

@@ -597,6 +597,11 @@ impl KnotworkApp {
 
     fn set_shading(&mut self, mode: ShadingMode) {
         if mode != self.view.shading {
+            // A hand-set range is in the old mode's units (curvature or degrees).
+            let degrees = |m: ShadingMode| m == ShadingMode::Isophotes;
+            if degrees(mode) != degrees(self.view.shading) {
+                self.view.range = None;
+            }
             self.view.shading = mode;
             self.auto_range = None;
             self.redraw = true;
@@ -607,6 +612,10 @@ impl KnotworkApp {
     /// (area-weighted 2–98 % percentiles) over the f64 kernel's curvature samples of every
     /// object.
     pub(super) fn color_range(&mut self) -> Option<(f64, f64)> {
+        if self.view.shading == ShadingMode::Isophotes {
+            // The angle between the normal and the light, in degrees.
+            return Some(self.view.range.unwrap_or((0.0, 180.0)));
+        }
         let component = self.view.shading.curvature_component()?;
         if let Some(range) = self.view.range {
             return Some(range);

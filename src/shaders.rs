@@ -8,6 +8,8 @@
 pub const COMMON: &str = include_str!("../shaders/common.wgsl");
 /// Module: differential geometry from partial derivatives (normals, curvature).
 pub const DIFFGEO: &str = include_str!("../shaders/diffgeo.wgsl");
+/// Module: rational Bézier patch derivatives (the compute pass and the per-pixel analysis).
+pub const BEZIER: &str = include_str!("../shaders/bezier.wgsl");
 /// Module: per-fragment trimming against the packed trim loops.
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
@@ -26,19 +28,35 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 2] = [("diffgeo.wgsl", DIFFGEO), ("trim.wgsl", TRIM)];
+pub const MODULES: [(&str, &str); 3] = [
+    ("diffgeo.wgsl", DIFFGEO),
+    ("bezier.wgsl", BEZIER),
+    ("trim.wgsl", TRIM),
+];
+
+/// What a module needs from the pipeline that composes it, for validating the module on its
+/// own: the modules before it and a stand-in for the functions the pipeline supplies.
+pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
+    match name {
+        "bezier.wgsl" => (
+            &[DIFFGEO],
+            "fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> { return vec4<f32>(f32(k)); }",
+        ),
+        _ => (&[], ""),
+    }
+}
 
 /// The compute evaluator.
 pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
     name: "eval_bezier.wgsl",
     body: EVAL_BEZIER,
-    modules: &[DIFFGEO],
+    modules: &[DIFFGEO, BEZIER],
 };
 /// The surface render pipeline.
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {
     name: "surface.wgsl",
     body: SURFACE,
-    modules: &[TRIM],
+    modules: &[DIFFGEO, BEZIER, TRIM],
 };
 /// The control net overlay.
 pub const OVERLAY_SHADER: PipelineShader = PipelineShader {

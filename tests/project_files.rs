@@ -157,6 +157,14 @@ fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
             net: false,
             points: true,
         },
+        analysis: knotwork::view::AnalysisSettings {
+            zebra_pairs: 12,
+            zebra_angle: 30.0,
+            zebra_frame: knotwork::view::StripeFrame::World,
+            isophote_direction: [1.0, 0.0, 1.0],
+            draft_threshold: 5.0,
+            ..Default::default()
+        },
     };
     let text = doc.save(Some(view));
     let mut opened = Document::default();

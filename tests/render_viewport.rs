@@ -393,63 +393,6 @@ fn expected_ramp_bytes(x: f32) -> [u8; 3] {
     [0, 1, 2].map(|c| srgb_byte(a[c] + (b[c] - a[c]) * t))
 }
 
-/// Compares `image` with the PNG reference `tests/reference/NAME`, allowing a channel difference
-/// of 8 on up to 0.5 % of the pixels (anti-aliasing differs between drivers). Writes the actual
-/// and difference images on failure. `KNOTWORK_BLESS=1` rewrites the reference instead.
-fn compare_with_reference_png(name: &str, image: &[u8]) {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/reference")
-        .join(name);
-    if std::env::var("KNOTWORK_BLESS").is_ok_and(|v| v == "1") {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        common::write_png(&path.to_path_buf(), WIDTH, HEIGHT, image);
-        return;
-    }
-    let file = std::fs::File::open(&path).unwrap_or_else(|e| {
-        panic!(
-            "{}: {e} (KNOTWORK_BLESS=1 cargo test writes it)",
-            path.display()
-        )
-    });
-    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
-    decoder.set_transformations(png::Transformations::EXPAND);
-    let mut reader = decoder.read_info().unwrap();
-    let mut expected = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut expected).unwrap();
-    assert_eq!((info.width, info.height), (WIDTH, HEIGHT), "{name}: size");
-    let mut diff = vec![0u8; image.len()];
-    let mut differing = 0;
-    for (i, (a, e)) in image
-        .chunks_exact(4)
-        .zip(expected.chunks_exact(4))
-        .enumerate()
-    {
-        let d = a
-            .iter()
-            .zip(e)
-            .take(3)
-            .map(|(x, y)| x.abs_diff(*y))
-            .max()
-            .unwrap_or(0);
-        if d > 8 {
-            differing += 1;
-        }
-        diff[i * 4..i * 4 + 4].copy_from_slice(&[d.saturating_mul(8), 0, 0, 255]);
-    }
-    let allowed = (WIDTH * HEIGHT) as usize / 200;
-    if differing > allowed {
-        let actual_path = common::artifact_path(&format!("actual-{name}"));
-        let diff_path = common::artifact_path(&format!("diff-{name}"));
-        common::write_png(&actual_path, WIDTH, HEIGHT, image);
-        common::write_png(&diff_path, WIDTH, HEIGHT, &diff);
-        panic!(
-            "{name}: {differing} pixels differ from the reference (allowed {allowed}); actual {}, difference {}",
-            actual_path.display(),
-            diff_path.display()
-        );
-    }
-}
-
 /// Asserts that every covered pixel away from the silhouette has colour `expected` (within 3 per
 /// channel); returns how many were checked.
 fn assert_flat_colour(name: &str, image: &[u8], background: [u8; 3], expected: [u8; 3]) -> usize {
@@ -506,6 +449,6 @@ fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylin
             expected_ramp_bytes(x)
         );
         assert!(checked > 5_000, "{name}: only {checked} pixels covered");
-        compare_with_reference_png(name, &image);
+        common::compare_with_reference_png(name, &image, (WIDTH, HEIGHT));
     }
 }

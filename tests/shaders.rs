@@ -47,7 +47,10 @@ fn every_shader_file_is_registered_and_valid() {
     // What the binary embeds (and the device compiles), composed with the shared module.
     parse_and_validate("common.wgsl", shaders::COMMON);
     for (name, module) in shaders::MODULES {
-        parse_and_validate(name, &shaders::compose_parts(&[module], ""));
+        let (needs, host) = shaders::module_host(name);
+        let mut parts = needs.to_vec();
+        parts.push(module);
+        parse_and_validate(name, &shaders::compose_parts(&parts, host));
     }
     for shader in shaders::PIPELINE_SHADERS {
         parse_and_validate(shader.name, &shaders::compose(&shader));
@@ -171,7 +174,14 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             point_color,
             shading,
             range,
-            ramp
+            ramp,
+            view_right,
+            view_up,
+            view_back,
+            analysis,
+            isophote_direction,
+            pull_direction,
+            analysis_flags
         })
     );
     // The render pipeline reads SurfaceVertex through vertex attributes at the same offsets.

@@ -268,6 +268,10 @@ pub struct SurfaceBuffers<'a> {
     pub records: &'a wgpu::Buffer,
     /// The packed trim loops ([`super::trim_buffer`]).
     pub trims: &'a wgpu::Buffer,
+    /// The control point pool and the records' control indices (the fragment shader evaluates
+    /// the patches itself in the analysis modes).
+    pub control_points: &'a wgpu::Buffer,
+    pub control_indices: &'a wgpu::Buffer,
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -313,7 +317,6 @@ struct PatchGroup {
 /// GPU buffers of a scene's patches at one tessellation.
 pub struct PatchGeometry {
     control_points: wgpu::Buffer,
-    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     control_index_buffer: wgpu::Buffer,
     record_buffer: wgpu::Buffer,
     trim_buffer: wgpu::Buffer,
@@ -792,6 +795,8 @@ impl PatchGeometry {
             index_count: self.index_count,
             records: &self.record_buffer,
             trims: &self.trim_buffer,
+            control_points: &self.control_points,
+            control_indices: &self.control_index_buffer,
         }
     }
 

@@ -137,6 +137,20 @@ pub struct SceneUniform {
     pub range: [f32; 4],
     /// The colour ramp's stops (linear RGB, alpha unused), evenly spaced from low to high.
     pub ramp: [[f32; 4]; RAMP_STOPS],
+    /// The camera's right, up and back (toward the viewer) axes in world space; `view_back[3]`
+    /// is 1 for an orthographic view.
+    pub view_right: [f32; 4],
+    pub view_up: [f32; 4],
+    pub view_back: [f32; 4],
+    /// (zebra stripe pairs per half turn, zebra angle in radians, isophote spacing in degrees,
+    /// draft threshold in degrees).
+    pub analysis: [f32; 4],
+    /// The isophotes' light direction (unit, world).
+    pub isophote_direction: [f32; 4],
+    /// The draft analysis's pull direction (unit, world).
+    pub pull_direction: [f32; 4],
+    /// (zebra frame: 0 view, 1 world; zebra source: 0 reflection, 1 normal; 0; 0).
+    pub analysis_flags: [u32; 4],
 }
 
 /// Stops of the curvature colour ramp. WGSL: `RAMP_STOPS`.

@@ -5,6 +5,6 @@
 mod viewport;
 
 pub use viewport::{
-    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, POINT_COLOR, SAMPLE_COUNT,
-    ViewTarget, ViewportRenderer, scene_uniform,
+    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, POINT_COLOR,
+    SAMPLE_COUNT, ViewTarget, ViewportRenderer, scene_uniform,
 };

@@ -4,7 +4,9 @@ use wgpu::util::DeviceExt;
 use crate::gpu::SurfaceBuffers;
 use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, SurfaceVertex};
 use crate::shaders;
-use crate::view::{OrbitCamera, Overlays, ViewSettings};
+use crate::view::{
+    AnalysisSettings, OrbitCamera, Overlays, StripeFrame, ViewSettings, ZebraSource,
+};
 
 /// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -32,7 +34,35 @@ pub fn scene_uniform(
     let (w, h) = target.size();
     let camera: &OrbitCamera = &view.camera;
     let aspect = w as f32 / h.max(1) as f32;
+    let (right, up, back) = camera.axes();
+    let analysis = &view.analysis;
+    let unit = |d| AnalysisSettings::unit(d).as_vec3().extend(0.0).to_array();
     SceneUniform {
+        view_right: right.extend(0.0).to_array(),
+        view_up: up.extend(0.0).to_array(),
+        view_back: back
+            .extend(if camera.orthographic { 1.0 } else { 0.0 })
+            .to_array(),
+        analysis: [
+            analysis.zebra_pairs as f32,
+            analysis.zebra_angle.to_radians() as f32,
+            analysis.isophote_spacing as f32,
+            analysis.draft_threshold as f32,
+        ],
+        isophote_direction: unit(analysis.isophote_direction),
+        pull_direction: unit(analysis.pull_direction),
+        analysis_flags: [
+            match analysis.zebra_frame {
+                StripeFrame::View => 0,
+                StripeFrame::World => 1,
+            },
+            match analysis.zebra_source {
+                ZebraSource::Reflection => 0,
+                ZebraSource::Normal => 1,
+            },
+            0,
+            0,
+        ],
         shading: [view.shading as u32, selected.map_or(0, |s| s + 1), 0, 0],
         range: [range.0 as f32, range.1 as f32, CHECKER_CELLS, CHECKER_CELLS],
         ramp: CURVATURE_RAMP,
@@ -45,6 +75,11 @@ pub fn scene_uniform(
         point_color: POINT_COLOR,
     }
 }
+
+/// The draft analysis's colours (linear RGB) for enough draft, too little and undercut
+/// (`DRAFT_*` in `shaders/surface.wgsl`), for the legend.
+pub const DRAFT_COLORS: [[f32; 3]; 3] =
+    [[0.10, 0.55, 0.16], [0.90, 0.72, 0.08], [0.80, 0.08, 0.06]];
 
 /// Linear RGBA of the control point dots.
 pub const POINT_COLOR: [f32; 4] = [0.95, 0.78, 0.25, 1.0];
@@ -239,11 +274,12 @@ pub struct ViewportRenderer {
     scene_buffer: wgpu::Buffer,
     scene_layout: wgpu::BindGroupLayout,
     scene_bind_group: wgpu::BindGroup,
-    /// Group 1 of the surface pipeline: the patch records and the packed trim loops
-    /// (`shaders/trim.wgsl`), bound per frame from the geometry drawn.
+    /// Group 1 of the surface pipeline: the patch records, the packed trim loops
+    /// (`shaders/trim.wgsl`), the control points and control indices (the per-pixel analysis),
+    /// bound per frame from the geometry drawn.
     trim_layout: wgpu::BindGroupLayout,
-    /// The last group 1 made, with the buffers it binds.
-    trim_group: std::sync::Mutex<Option<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>>,
+    /// The last group 1 made, with the buffers it binds (records, trims, points, indices).
+    trim_group: std::sync::Mutex<Option<([wgpu::Buffer; 4], wgpu::BindGroup)>>,
     device: wgpu::Device,
     /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`).
     highlight: wgpu::Buffer,
@@ -334,7 +370,7 @@ impl ViewportRenderer {
         };
         let trim_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("trim loops"),
-            entries: &[storage(0), storage(1)],
+            entries: &[storage(0), storage(1), storage(2), storage(3)],
         });
         let surface_pipeline_layout =
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -485,31 +521,31 @@ impl ViewportRenderer {
             .trim_group
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some((records, trims, group)) = cached.as_ref()
-            && records == surface.records
-            && trims == surface.trims
+        let buffers = [
+            surface.records,
+            surface.trims,
+            surface.control_points,
+            surface.control_indices,
+        ];
+        if let Some((bound, group)) = cached.as_ref()
+            && bound.iter().zip(buffers).all(|(a, b)| a == b)
         {
             return group.clone();
         }
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("trim loops"),
+            label: Some("surface patches"),
             layout: &self.trim_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: surface.records.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: surface.trims.as_entire_binding(),
-                },
-            ],
+            entries: &entries,
         });
-        *cached = Some((
-            surface.records.clone(),
-            surface.trims.clone(),
-            group.clone(),
-        ));
+        *cached = Some((buffers.map(wgpu::Buffer::clone), group.clone()));
         group
     }
 

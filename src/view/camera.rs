@@ -11,8 +11,11 @@ pub struct OrbitCamera {
     pub yaw: f32,
     /// Radians above the XY plane, within ±(π/2 − 0.01).
     pub pitch: f32,
-    /// Vertical field of view in radians.
+    /// Vertical field of view in radians. An orthographic view shows the same height at the
+    /// target: 2 · distance · tan(fov_y / 2).
     pub fov_y: f32,
+    /// Parallel projection (the standard views' default) instead of perspective.
+    pub orthographic: bool,
 }
 
 /// The steepest pitch, just short of straight up or down (where the view would flip).
@@ -30,6 +33,7 @@ impl Default for OrbitCamera {
             yaw: -0.9,
             pitch: 0.45,
             fov_y: 35f32.to_radians(),
+            orthographic: false,
         }
     }
 }
@@ -47,13 +51,35 @@ impl OrbitCamera {
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Z)
     }
 
+    /// The camera's right, up and back (toward the viewer) unit axes in world space.
+    pub fn axes(&self) -> (Vec3, Vec3, Vec3) {
+        let back = (self.eye() - self.target).normalize_or(Vec3::X);
+        let right = Vec3::Z.cross(back).normalize_or(Vec3::Y);
+        (right, back.cross(right), back)
+    }
+
     /// View → clip in WebGPU's convention (NDC z in 0..1, y up: glam's "directx" one); near and
-    /// far planes follow the distance.
+    /// far planes follow the distance. Orthographic: the height 2 · distance · tan(fov_y / 2)
+    /// and a depth range that reaches as far behind the eye as in front, so that nothing of the
+    /// model is cut off.
     pub fn projection(&self, aspect: f32) -> Mat4 {
+        let aspect = aspect.max(1e-3);
+        if self.orthographic {
+            let half_h = self.distance * (self.fov_y * 0.5).tan();
+            let half_w = half_h * aspect;
+            return glam::camera::rh::proj::directx::orthographic(
+                -half_w,
+                half_w,
+                -half_h,
+                half_h,
+                -self.distance * 100.0,
+                self.distance * 100.0,
+            );
+        }
         let near = (self.distance * 0.01).max(MIN_DISTANCE * 0.1);
         glam::camera::rh::proj::directx::perspective(
             self.fov_y,
-            aspect.max(1e-3),
+            aspect,
             near,
             self.distance * 100.0,
         )

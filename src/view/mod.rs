@@ -6,4 +6,6 @@ pub mod settings;
 
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};
-pub use settings::{Overlays, QUALITY_RANGE, ShadingMode, ViewSettings};
+pub use settings::{
+    AnalysisSettings, Overlays, QUALITY_RANGE, ShadingMode, StripeFrame, ViewSettings, ZebraSource,
+};

@@ -31,10 +31,18 @@ pub enum ShadingMode {
     K1 = 5,
     /// Minimum principal curvature k2.
     K2 = 6,
+    /// Zebra stripes: the reflection of parallel tube lights (or the normal's direction).
+    Zebra = 7,
+    /// Isophotes: lines of constant angle between the normal and a light direction.
+    Isophotes = 8,
+    /// The reflection of a procedural studio (soft boxes and a floor).
+    Reflection = 9,
+    /// Draft angle against a pull direction, with a threshold and the undercut marked.
+    Draft = 10,
 }
 
 impl ShadingMode {
-    pub const ALL: [ShadingMode; 7] = [
+    pub const ALL: [ShadingMode; 11] = [
         Self::Plain,
         Self::Normals,
         Self::Checker,
@@ -42,7 +50,17 @@ impl ShadingMode {
         Self::Mean,
         Self::K1,
         Self::K2,
+        Self::Zebra,
+        Self::Isophotes,
+        Self::Reflection,
+        Self::Draft,
     ];
+
+    /// Whether the fragment shader evaluates the surface itself at every pixel (the analysis
+    /// modes) rather than interpolating the vertices.
+    pub fn per_pixel(self) -> bool {
+        self as u32 >= Self::Gaussian as u32
+    }
 
     /// The name in the panel.
     pub fn label(self) -> &'static str {
@@ -54,6 +72,10 @@ impl ShadingMode {
             Self::Mean => "Mean curvature H",
             Self::K1 => "Max principal k1",
             Self::K2 => "Min principal k2",
+            Self::Zebra => "Zebra",
+            Self::Isophotes => "Isophotes",
+            Self::Reflection => "Environment reflection",
+            Self::Draft => "Draft angle",
         }
     }
 
@@ -69,7 +91,7 @@ impl ShadingMode {
     }
 
     /// The lowercase name scripts and the status use: "plain", "normals", "checker",
-    /// "gaussian", "mean", "k1", "k2".
+    /// "gaussian", "mean", "k1", "k2", "zebra", "isophotes", "reflection", "draft".
     pub fn name(self) -> &'static str {
         match self {
             Self::Plain => "plain",
@@ -79,12 +101,149 @@ impl ShadingMode {
             Self::Mean => "mean",
             Self::K1 => "k1",
             Self::K2 => "k2",
+            Self::Zebra => "zebra",
+            Self::Isophotes => "isophotes",
+            Self::Reflection => "reflection",
+            Self::Draft => "draft",
         }
     }
 
     /// The mode called `name` (see [`Self::name`]).
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// What the zebra stripes are fixed to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StripeFrame {
+    /// The tube lights turn with the camera (horizontal stays horizontal on screen).
+    #[default]
+    View,
+    /// The tube lights stand in the world (X right, Z up, seen from the front).
+    World,
+}
+
+/// Which direction the zebra stripes follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ZebraSource {
+    /// The reflected view ray (Rhino's zebra: stripes move as the view turns).
+    #[default]
+    Reflection,
+    /// The surface normal (stripes stay on the surface as the view turns).
+    Normal,
+}
+
+/// The analysis modes' settings and the continuity tolerances (saved with the project's view).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AnalysisSettings {
+    /// Black and white stripe pairs per half turn of the reflected ray, in [`ZEBRA_PAIRS`].
+    pub zebra_pairs: u32,
+    /// The stripes' direction in degrees: 0 horizontal, 90 vertical.
+    pub zebra_angle: f64,
+    pub zebra_frame: StripeFrame,
+    pub zebra_source: ZebraSource,
+    /// Degrees between isophotes, in [`ISOPHOTE_SPACING`].
+    pub isophote_spacing: f64,
+    /// The isophotes' light direction (any length above 0; used normalized).
+    pub isophote_direction: [f64; 3],
+    /// The mould's pull direction (any length above 0; used normalized).
+    pub pull_direction: [f64; 3],
+    /// The least acceptable draft angle in degrees, in [`DRAFT_THRESHOLD`].
+    pub draft_threshold: f64,
+    /// Continuity: the largest gap, as a fraction of the scene's size (its bounding box's
+    /// diagonal), the largest angle between the normals in degrees and the largest relative
+    /// difference of normal curvature across an edge that still pass.
+    pub gap_tolerance: f64,
+    pub angle_tolerance: f64,
+    pub curvature_tolerance: f64,
+}
+
+/// The zebra's stripe pairs per half turn.
+pub const ZEBRA_PAIRS: RangeInclusive<u32> = 1..=64;
+/// Isophote spacing in degrees.
+pub const ISOPHOTE_SPACING: RangeInclusive<f64> = 0.5..=90.0;
+/// Draft threshold in degrees.
+pub const DRAFT_THRESHOLD: RangeInclusive<f64> = 0.0..=89.0;
+
+impl Default for AnalysisSettings {
+    fn default() -> Self {
+        Self {
+            zebra_pairs: 8,
+            zebra_angle: 0.0,
+            zebra_frame: StripeFrame::View,
+            zebra_source: ZebraSource::Reflection,
+            isophote_spacing: 10.0,
+            isophote_direction: [0.0, 0.0, 1.0],
+            pull_direction: [0.0, 0.0, 1.0],
+            draft_threshold: 3.0,
+            gap_tolerance: 1e-3,
+            angle_tolerance: 1.0,
+            curvature_tolerance: 0.05,
+        }
+    }
+}
+
+impl AnalysisSettings {
+    /// Checks every number: ranges above, finite non-zero directions, positive tolerances.
+    pub fn validate(&self) -> Result<(), String> {
+        if !ZEBRA_PAIRS.contains(&self.zebra_pairs) {
+            return Err(format!(
+                "zebra_pairs {} is outside {}..={}",
+                self.zebra_pairs,
+                ZEBRA_PAIRS.start(),
+                ZEBRA_PAIRS.end()
+            ));
+        }
+        if !self.zebra_angle.is_finite() {
+            return Err("zebra_angle must be finite".into());
+        }
+        if !ISOPHOTE_SPACING.contains(&self.isophote_spacing) {
+            return Err(format!(
+                "isophote_spacing {} is outside {}..={} degrees",
+                self.isophote_spacing,
+                ISOPHOTE_SPACING.start(),
+                ISOPHOTE_SPACING.end()
+            ));
+        }
+        if !DRAFT_THRESHOLD.contains(&self.draft_threshold) {
+            return Err(format!(
+                "draft_threshold {} is outside {}..={} degrees",
+                self.draft_threshold,
+                DRAFT_THRESHOLD.start(),
+                DRAFT_THRESHOLD.end()
+            ));
+        }
+        for (name, d) in [
+            ("isophote_direction", self.isophote_direction),
+            ("pull_direction", self.pull_direction),
+        ] {
+            let v = DVec3::from(d);
+            if !v.is_finite() || v.length_squared() == 0.0 {
+                return Err(format!("{name} must be finite and not zero"));
+            }
+        }
+        for (name, t) in [
+            ("gap_tolerance", self.gap_tolerance),
+            ("angle_tolerance", self.angle_tolerance),
+            ("curvature_tolerance", self.curvature_tolerance),
+        ] {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(format!("{name} must be finite and above 0"));
+            }
+        }
+        Ok(())
+    }
+
+    /// A unit vector along `d` (+Z for a zero or non-finite one).
+    pub fn unit(d: [f64; 3]) -> DVec3 {
+        DVec3::from(d)
+            .try_normalize()
+            .filter(|v| v.is_finite())
+            .unwrap_or(DVec3::Z)
     }
 }
 
@@ -119,6 +278,8 @@ pub struct ViewSettings {
     /// The global tessellation quality factor, in [`QUALITY_RANGE`].
     pub quality: f32,
     pub overlays: Overlays,
+    /// The analysis modes' settings.
+    pub analysis: AnalysisSettings,
 }
 
 impl Default for ViewSettings {
@@ -129,13 +290,16 @@ impl Default for ViewSettings {
             range: None,
             quality: 1.0,
             overlays: Overlays::default(),
+            analysis: AnalysisSettings::default(),
         }
     }
 }
 
 /// The `view` object of a project file: `{"target": [x, y, z], "distance": d, "yaw": a,
 /// "pitch": b, "shading": "mean", "quality": q}`, optionally `"range": [low, high]` and
-/// `"overlays": {"surface": true, "net": true, "points": true}` (all shown when absent).
+/// `"overlays": {"surface": true, "net": true, "points": true}` (all shown when absent) and
+/// `"analysis": {...}` ([`AnalysisSettings`]; defaults for what is absent); `"orthographic":
+/// true` for a parallel projection.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SavedView {
@@ -149,6 +313,10 @@ struct SavedView {
     range: Option<[f64; 2]>,
     #[serde(default)]
     overlays: Overlays,
+    #[serde(default)]
+    analysis: AnalysisSettings,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    orthographic: bool,
 }
 
 impl From<ViewSettings> for SavedView {
@@ -163,6 +331,8 @@ impl From<ViewSettings> for SavedView {
             quality: f64::from(view.quality),
             range: view.range.map(|(lo, hi)| [lo, hi]),
             overlays: view.overlays,
+            analysis: view.analysis,
+            orthographic: camera.orthographic,
         }
     }
 }
@@ -198,18 +368,24 @@ impl TryFrom<SavedView> for ViewSettings {
         {
             return Err(format!("range [{lo}, {hi}] must be finite and increasing"));
         }
+        saved
+            .analysis
+            .validate()
+            .map_err(|e| format!("analysis: {e}"))?;
         Ok(Self {
             camera: OrbitCamera {
                 target: DVec3::from(saved.target).as_vec3(),
                 distance: saved.distance as f32,
                 yaw: saved.yaw as f32,
                 pitch: (saved.pitch as f32).clamp(-PITCH_LIMIT, PITCH_LIMIT),
+                orthographic: saved.orthographic,
                 ..OrbitCamera::default()
             },
             shading,
             range: saved.range.map(|[lo, hi]| (lo, hi)),
             quality,
             overlays: saved.overlays,
+            analysis: saved.analysis,
         })
     }
 }

@@ -150,3 +150,60 @@ pub fn draw_offscreen(
     assert_eq!(pixels.len(), (width * height * 4) as usize);
     pixels
 }
+
+/// Compares `image` with the PNG reference `tests/reference/NAME`, allowing a channel difference
+/// of 8 on up to 0.5 % of the pixels (anti-aliasing differs between drivers). Writes the actual
+/// and difference images on failure. `KNOTWORK_BLESS=1` rewrites the reference instead.
+pub fn compare_with_reference_png(name: &str, image: &[u8], (width, height): (u32, u32)) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference")
+        .join(name);
+    if std::env::var("KNOTWORK_BLESS").is_ok_and(|v| v == "1") {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        write_png(&path.to_path_buf(), width, height, image);
+        return;
+    }
+    let file = std::fs::File::open(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (KNOTWORK_BLESS=1 cargo test writes it)",
+            path.display()
+        )
+    });
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().unwrap();
+    let mut expected = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut expected).unwrap();
+    assert_eq!((info.width, info.height), (width, height), "{name}: size");
+    let mut diff = vec![0u8; image.len()];
+    let mut differing = 0;
+    for (i, (a, e)) in image
+        .chunks_exact(4)
+        .zip(expected.chunks_exact(4))
+        .enumerate()
+    {
+        let d = a
+            .iter()
+            .zip(e)
+            .take(3)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        if d > 8 {
+            differing += 1;
+        }
+        diff[i * 4..i * 4 + 4].copy_from_slice(&[d.saturating_mul(8), 0, 0, 255]);
+    }
+    let allowed = (width * height) as usize / 200;
+    if differing > allowed {
+        let actual_path = artifact_path(&format!("actual-{name}"));
+        let diff_path = artifact_path(&format!("diff-{name}"));
+        write_png(&actual_path, width, height, image);
+        write_png(&diff_path, width, height, &diff);
+        panic!(
+            "{name}: {differing} pixels differ from the reference (allowed {allowed}); actual {}, difference {}",
+            actual_path.display(),
+            diff_path.display()
+        );
+    }
+}
