@@ -691,6 +691,10 @@ impl KnotworkApp {
             ExternalCommand::SetSegments(n) => self.set_all_segments(n),
             ExternalCommand::SetQuality(q) => self.set_quality(q),
             ExternalCommand::SetShading(mode) => self.set_shading(mode),
+            ExternalCommand::SetAnalysis(analysis) => {
+                self.view.analysis = analysis;
+                self.redraw = true;
+            }
             ExternalCommand::SetRange(range) => self.set_manual_range(range),
             ExternalCommand::Select(s) => self.select(s),
             ExternalCommand::MoveControlPoint {

@@ -97,6 +97,8 @@ pub enum ExternalCommand {
     /// The global quality factor (multiplies every object's segments).
     SetQuality(f32),
     SetShading(crate::view::ShadingMode),
+    /// The analysis modes' settings (checked by the sender).
+    SetAnalysis(crate::view::AnalysisSettings),
     /// A manual colour range, or `None` for the automatic one.
     SetRange(Option<(f64, f64)>),
     Select(Option<usize>),

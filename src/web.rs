@@ -73,7 +73,7 @@ pub fn set_quality(quality: f32) {
 }
 
 /// Sets the shading mode by name ("plain", "normals", "checker", "gaussian", "mean", "k1",
-/// "k2"); false for an unknown name.
+/// "k2", "zebra", "isophotes", "reflection", "draft"); false for an unknown name.
 #[wasm_bindgen]
 pub fn set_shading(mode: String) -> bool {
     match ShadingMode::from_name(&mode) {
@@ -83,6 +83,19 @@ pub fn set_shading(mode: String) -> bool {
         }
         None => false,
     }
+}
+
+/// Sets the analysis modes' settings from JSON, for example `{"zebra_pairs": 12,
+/// "zebra_angle": 90, "zebra_frame": "world", "zebra_source": "normal", "isophote_spacing": 5,
+/// "isophote_direction": [0, 0, 1], "pull_direction": [0, 0, 1], "draft_threshold": 3}`;
+/// fields left out take their defaults. Returns the error for settings out of range.
+#[wasm_bindgen]
+pub fn set_analysis(json: String) -> Result<(), String> {
+    let analysis: crate::view::AnalysisSettings =
+        serde_json::from_str(&json).map_err(|e| e.to_string())?;
+    analysis.validate()?;
+    status::send(ExternalCommand::SetAnalysis(analysis));
+    Ok(())
 }
 
 /// A manual colour range for the curvature modes.

@@ -13,7 +13,9 @@ use crate::kernel::Direction;
 use crate::kernel::subdiv::patches::Display;
 use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
-use crate::view::{QUALITY_RANGE, ShadingMode};
+use crate::render::DRAFT_COLORS;
+use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
+use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, ZebraSource};
 
 /// The controls listed in the panel (and the README).
 pub const CONTROLS: [(&str, &str); 17] = [
@@ -666,10 +668,17 @@ impl KnotworkApp {
                 }
             });
         self.set_shading(mode);
+        let before = self.view.analysis;
+        self.analysis_settings(ui);
+        if self.view.analysis != before && self.view.analysis.validate().is_ok() {
+            self.redraw = true;
+        } else if self.view.analysis != before {
+            self.view.analysis = before;
+        }
         let Some((lo, hi)) = self.color_range() else {
             return;
         };
-        legend(ui, lo, hi);
+        legend(ui, lo, hi, self.view.shading == ShadingMode::Isophotes);
         let mut auto = self.view.range.is_none();
         if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
             self.set_manual_range(if auto { None } else { Some((lo, hi)) });
@@ -685,6 +694,105 @@ impl KnotworkApp {
             if (a, b) != (lo, hi) && a < b {
                 self.set_manual_range(Some((a, b)));
             }
+        }
+    }
+
+    /// The current analysis mode's settings and, where it has no colour ramp, its legend.
+    fn analysis_settings(&mut self, ui: &mut egui::Ui) {
+        let a = &mut self.view.analysis;
+        match self.view.shading {
+            ShadingMode::Zebra => {
+                ui.horizontal(|ui| {
+                    ui.label("stripe pairs per 180°");
+                    ui.add(egui::DragValue::new(&mut a.zebra_pairs).range(ZEBRA_PAIRS));
+                });
+                ui.horizontal(|ui| {
+                    ui.label("direction");
+                    ui.add(
+                        egui::DragValue::new(&mut a.zebra_angle)
+                            .range(0.0..=180.0)
+                            .suffix("°"),
+                    );
+                    if ui.small_button("horizontal").clicked() {
+                        a.zebra_angle = 0.0;
+                    }
+                    if ui.small_button("vertical").clicked() {
+                        a.zebra_angle = 90.0;
+                    }
+                });
+                choice(
+                    ui,
+                    "stripes fixed to",
+                    &mut a.zebra_frame,
+                    &[(StripeFrame::View, "the view"), (StripeFrame::World, "the world")],
+                );
+                choice(
+                    ui,
+                    "stripes follow",
+                    &mut a.zebra_source,
+                    &[
+                        (ZebraSource::Reflection, "the reflection"),
+                        (ZebraSource::Normal, "the normal"),
+                    ],
+                );
+                ui.label(format!(
+                    "{} black and white pairs per half turn of the {}; smooth stripes: G2, kinks: G1, breaks: G0",
+                    a.zebra_pairs,
+                    match a.zebra_source {
+                        ZebraSource::Reflection => "reflected view ray",
+                        ZebraSource::Normal => "normal",
+                    }
+                ));
+            }
+            ShadingMode::Isophotes => {
+                ui.horizontal(|ui| {
+                    ui.label("spacing");
+                    ui.add(
+                        egui::DragValue::new(&mut a.isophote_spacing)
+                            .range(ISOPHOTE_SPACING)
+                            .speed(0.5)
+                            .suffix("°"),
+                    );
+                });
+                direction_editor(ui, "light", &mut a.isophote_direction);
+                ui.label(format!(
+                    "lines every {}° of angle between the normal and the light",
+                    a.isophote_spacing
+                ));
+            }
+            ShadingMode::Draft => {
+                direction_editor(ui, "pull", &mut a.pull_direction);
+                ui.horizontal(|ui| {
+                    ui.label("threshold");
+                    ui.add(
+                        egui::DragValue::new(&mut a.draft_threshold)
+                            .range(DRAFT_THRESHOLD)
+                            .speed(0.25)
+                            .suffix("°"),
+                    );
+                });
+                let t = a.draft_threshold;
+                for (color, text) in DRAFT_COLORS.iter().zip([
+                    format!("draft ≥ {t}°"),
+                    format!("0° ≤ draft < {t}°"),
+                    "undercut (draft < 0°)".to_owned(),
+                ]) {
+                    ui.horizontal(|ui| {
+                        let (rect, _) =
+                            ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+                        ui.painter().rect_filled(
+                            rect,
+                            2.0,
+                            egui::Rgba::from_rgb(color[0], color[1], color[2]),
+                        );
+                        ui.label(text);
+                    });
+                }
+            }
+            ShadingMode::Reflection => {
+                ui.label("a studio fixed to the world: soft boxes overhead, at the key and behind, a floor");
+            }
+            _ => {}
         }
     }
 
@@ -883,7 +991,30 @@ impl KnotworkApp {
 }
 
 /// The colour ramp as a bar with its low, middle and high values.
-fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
+/// A direction as three numbers with buttons for the axes.
+fn direction_editor(ui: &mut egui::Ui, label: &str, direction: &mut [f64; 3]) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        for c in direction.iter_mut() {
+            ui.add(egui::DragValue::new(c).speed(0.02).max_decimals(3));
+        }
+    });
+    ui.horizontal(|ui| {
+        for (name, d) in [
+            ("+X", [1.0, 0.0, 0.0]),
+            ("+Y", [0.0, 1.0, 0.0]),
+            ("+Z", [0.0, 0.0, 1.0]),
+            ("−Z", [0.0, 0.0, -1.0]),
+        ] {
+            if ui.small_button(name).clicked() {
+                *direction = d;
+            }
+        }
+    });
+}
+
+/// The colour ramp from `lo` to `hi` with its numbers (in degrees where `degrees`).
+fn legend(ui: &mut egui::Ui, lo: f64, hi: f64, degrees: bool) {
     let width = ui.available_width().min(240.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
     let mut mesh = egui::Mesh::default();
@@ -901,7 +1032,13 @@ fn legend(ui: &mut egui::Ui, lo: f64, hi: f64) {
     }
     ui.painter().add(egui::Shape::mesh(mesh));
     ui.horizontal(|ui| {
-        let text = |v: f64| format!("{v:.3e}");
+        let text = |v: f64| {
+            if degrees {
+                format!("{v:.0}°")
+            } else {
+                format!("{v:.3e}")
+            }
+        };
         ui.label(text(lo));
         ui.add_space((width - 180.0).max(4.0) / 2.0);
         ui.label(text(0.5 * (lo + hi)));
