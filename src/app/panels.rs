@@ -12,8 +12,8 @@ use crate::gpu::records::CURVATURE_RAMP;
 use crate::kernel::Direction;
 use crate::kernel::subdiv::patches::Display;
 use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
-use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::render::DRAFT_COLORS;
+use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
 use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, ZebraSource};
 
@@ -724,7 +724,10 @@ impl KnotworkApp {
                     ui,
                     "stripes fixed to",
                     &mut a.zebra_frame,
-                    &[(StripeFrame::View, "the view"), (StripeFrame::World, "the world")],
+                    &[
+                        (StripeFrame::View, "the view"),
+                        (StripeFrame::World, "the world"),
+                    ],
                 );
                 choice(
                     ui,

@@ -7,6 +7,7 @@ pub mod basis;
 pub mod bernstein;
 pub mod bezier;
 pub mod construct;
+pub mod continuity;
 pub mod curve;
 pub mod diffgeo;
 pub mod error;

@@ -4,6 +4,7 @@
 //! [`ObjectKind`] (one module per kind); the rest of the editor asks those. Pure kernel data: no
 //! GPU and no UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
 
+pub mod continuity;
 mod demo;
 mod kind;
 mod mesh;

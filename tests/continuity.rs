@@ -1,0 +1,278 @@
+//! Continuity numbers (G0 gap, G1 angle, G2 normal curvature difference) on constructed joins
+//! whose answers are known in closed form, their independence of the parametrization, and the
+//! `knotwork continuity` command.
+
+use glam::DVec3;
+use knotwork::kernel::continuity::{Continuity, SharedEdge, Side};
+use knotwork::kernel::{Direction, NurbsSurface, construct, samples};
+use knotwork::scene::continuity::{ContinuityOptions, analyse};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+fn scene_of(surfaces: Vec<NurbsSurface>) -> Scene {
+    Scene {
+        objects: surfaces
+            .into_iter()
+            .enumerate()
+            .map(|(k, s)| SceneObject::new(format!("S{k}"), ObjectGeometry::Nurbs(s)))
+            .collect(),
+    }
+}
+
+fn edges_of(scene: &Scene) -> Vec<SharedEdge> {
+    analyse(scene, None, &ContinuityOptions::default()).edges
+}
+
+fn close(a: f64, b: f64, tolerance: f64) -> bool {
+    (a - b).abs() <= tolerance
+}
+
+#[test]
+fn two_planes_meeting_at_thirty_degrees() {
+    let a = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+    let angle = 30f64.to_radians();
+    let b = construct::plane(
+        DVec3::X,
+        DVec3::new(angle.cos(), 0.0, angle.sin()),
+        DVec3::Y,
+    )
+    .unwrap();
+    let edges = edges_of(&scene_of(vec![a, b]));
+    assert_eq!(edges.len(), 1, "{edges:#?}");
+    let e = &edges[0];
+    assert_eq!((e.a, e.b), ((0, Side::U1), (1, Side::U0)));
+    assert!(e.max_gap.value < 1e-12, "{}", e.max_gap.value);
+    assert!(
+        close(e.max_angle_degrees.value, 30.0, 1e-9),
+        "{}",
+        e.max_angle_degrees.value
+    );
+    assert!(e.max_curvature_difference.value < 1e-12);
+    assert_eq!(e.verdict, Continuity::G0);
+    assert_eq!(e.samples.len(), 33);
+}
+
+/// A bicubic Bézier patch over x in [x0, x0 + 1], y in [0, 1] whose height is the polynomial
+/// with Bernstein coefficients `z` in x (constant in y).
+fn height_patch(x0: f64, z: [f64; 4]) -> NurbsSurface {
+    let mut points = Vec::new();
+    for (i, zi) in z.iter().enumerate() {
+        for j in 0..4 {
+            points.push(DVec3::new(x0 + i as f64 / 3.0, j as f64 / 3.0, *zi));
+        }
+    }
+    construct::bspline_surface([3, 3], [4, 4], points).unwrap()
+}
+
+/// z = a x² on [−1, 0] and z = b x² on [0, 1]: joined C1 at x = 0, where the normal
+/// curvatures across the edge are 2a and 2b (z'' / (1 + z'²)^{3/2} with z' = 0).
+fn parabolas(a: f64, b: f64) -> (NurbsSurface, NurbsSurface) {
+    // With t = x + 1 on the left, a (t − 1)² has Bernstein coefficients a (1, 1/3, 0, 0); on
+    // the right b t² has b (0, 0, 1/3, 1).
+    (
+        height_patch(-1.0, [a, a / 3.0, 0.0, 0.0]),
+        height_patch(0.0, [0.0, 0.0, b / 3.0, b]),
+    )
+}
+
+#[test]
+fn a_c1_join_with_a_known_curvature_jump() {
+    let (a, b) = (0.5, 2.0);
+    let (left, right) = parabolas(a, b);
+    let edges = edges_of(&scene_of(vec![left, right]));
+    assert_eq!(edges.len(), 1, "{edges:#?}");
+    let e = &edges[0];
+    assert!(e.max_gap.value < 1e-12);
+    assert!(
+        e.max_angle_degrees.value < 1e-6,
+        "{}",
+        e.max_angle_degrees.value
+    );
+    let jump = 2.0 * (b - a);
+    assert!(
+        close(e.max_curvature_difference.value, jump, 1e-9),
+        "{} vs {jump}",
+        e.max_curvature_difference.value
+    );
+    assert!(close(
+        e.max_relative_curvature_difference.value,
+        jump / (2.0 * b),
+        1e-9
+    ));
+    assert_eq!(e.verdict, Continuity::G1);
+    // Equal curvatures: G2.
+    let (left, right) = parabolas(1.5, 1.5);
+    let e = &edges_of(&scene_of(vec![left, right]))[0];
+    assert!(e.max_curvature_difference.value < 1e-9);
+    assert_eq!(e.verdict, Continuity::G2);
+}
+
+#[test]
+fn numbers_do_not_change_when_a_surface_is_reparametrized() {
+    let (left, right) = parabolas(-0.75, 1.25);
+    let reference = edges_of(&scene_of(vec![left.clone(), right.clone()]))[0].clone();
+    let variants = [
+        ("reverse u", left.clone(), right.reverse(Direction::U)),
+        ("reverse v", left.reverse(Direction::V), right.clone()),
+        ("swap", left.swap_uv(), right.clone()),
+        (
+            "knots",
+            left.insert_knot(Direction::U, 0.3, 1).unwrap(),
+            right.insert_knot(Direction::V, 0.6, 2).unwrap(),
+        ),
+        (
+            "elevate",
+            left.elevate_degree(Direction::U, 1).unwrap(),
+            right.clone(),
+        ),
+    ];
+    for (what, l, r) in variants {
+        let edges = edges_of(&scene_of(vec![l, r]));
+        assert_eq!(edges.len(), 1, "{what}");
+        let e = &edges[0];
+        for (name, x, y) in [
+            ("gap", e.max_gap.value, reference.max_gap.value),
+            (
+                "angle",
+                e.max_angle_degrees.value,
+                reference.max_angle_degrees.value,
+            ),
+            (
+                "curvature",
+                e.max_curvature_difference.value,
+                reference.max_curvature_difference.value,
+            ),
+        ] {
+            assert!(close(x, y, 1e-8), "{what}: {name} {x} vs {y}");
+        }
+        assert_eq!(e.verdict, reference.verdict, "{what}");
+    }
+}
+
+#[test]
+fn two_halves_of_a_torus_are_g2_everywhere() {
+    let torus = construct::torus(DVec3::ZERO, DVec3::Z, 3.0, 1.0).unwrap();
+    let [(u0, u1), _] = torus.domain();
+    let (first, second) = torus.split(Direction::U, 0.5 * (u0 + u1)).unwrap();
+    let edges = edges_of(&scene_of(vec![first, second]));
+    // The two cuts between the halves, and each half's own seam along the tube.
+    assert_eq!(edges.len(), 4, "{edges:#?}");
+    for e in &edges {
+        assert!(e.max_gap.value < 1e-12, "{e:?}");
+        // Rounding in the rational derivatives: about 1e-8 radians.
+        assert!(
+            e.max_angle_degrees.value < 1e-5,
+            "{}",
+            e.max_angle_degrees.value
+        );
+        assert!(
+            e.max_relative_curvature_difference.value < 1e-6,
+            "{}",
+            e.max_relative_curvature_difference.value
+        );
+        assert_eq!(e.verdict, Continuity::G2);
+    }
+}
+
+#[test]
+fn a_gap_of_known_size_is_measured_and_fails_g0() {
+    let a = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+    let b = construct::plane(DVec3::new(1.0, 0.0, 0.01), DVec3::X, DVec3::Y).unwrap();
+    let edges = edges_of(&scene_of(vec![a, b]));
+    assert_eq!(edges.len(), 1);
+    let e = &edges[0];
+    assert!(close(e.max_gap.value, 0.01, 1e-12), "{}", e.max_gap.value);
+    assert!(e.max_angle_degrees.value < 1e-9);
+    assert_eq!(e.verdict, Continuity::Open);
+    // Within a looser tolerance (1 % of the size, 0.022 here) it passes.
+    let loose = ContinuityOptions {
+        gap: 1e-2,
+        ..Default::default()
+    };
+    let a = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+    let b = construct::plane(DVec3::new(1.0, 0.0, 0.01), DVec3::X, DVec3::Y).unwrap();
+    let report = analyse(&scene_of(vec![a, b]), None, &loose);
+    assert_eq!(report.edges[0].verdict, Continuity::G2);
+}
+
+#[test]
+fn surfaces_apart_share_no_edge() {
+    let a = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+    let b = construct::plane(DVec3::new(1.5, 0.0, 0.0), DVec3::X, DVec3::Y).unwrap();
+    assert!(edges_of(&scene_of(vec![a, b])).is_empty());
+}
+
+#[test]
+fn the_teapot_patches_meet_without_gaps() {
+    let teapot = samples::utah_teapot().unwrap();
+    let scene = Scene {
+        objects: vec![SceneObject::new("teapot", ObjectGeometry::Patches(teapot))],
+    };
+    let report = analyse(&scene, None, &ContinuityOptions::default());
+    eprintln!("{} shared edges", report.edges.len());
+    assert!(report.edges.len() >= 40, "{}", report.edges.len());
+    for e in &report.edges {
+        assert!(e.max_gap.value < 1e-9, "{e:?}");
+        assert_ne!(e.verdict, Continuity::Open);
+    }
+    // The JSON the CLI prints: one entry per edge, names and numbers.
+    let json = report.to_json(&scene);
+    let entries = json.as_array().unwrap();
+    assert_eq!(entries.len(), report.edges.len());
+    assert_eq!(entries[0]["objects"][0], "teapot");
+    assert!(entries[0]["edge"]["a"]["patch"].is_u64());
+    assert!(entries[0]["max_angle_degrees"].is_f64());
+}
+
+#[test]
+fn the_cli_prints_one_entry_per_shared_edge() {
+    let angle = 30f64.to_radians();
+    let scene = scene_of(vec![
+        construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap(),
+        construct::plane(
+            DVec3::X,
+            DVec3::new(angle.cos(), 0.0, angle.sin()),
+            DVec3::Y,
+        )
+        .unwrap(),
+    ]);
+    let mut doc = knotwork::doc::Document::default();
+    doc.scene = scene;
+    let dir = std::env::temp_dir().join(format!("knotwork-continuity-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("planes.json");
+    std::fs::write(&path, doc.save(None)).unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args([
+            "continuity",
+            path.to_str().unwrap(),
+            "--objects",
+            "S0",
+            "S1",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let entries = json.as_array().unwrap();
+    assert_eq!(entries.len(), 1);
+    let e = &entries[0];
+    assert_eq!(e["objects"], serde_json::json!(["S0", "S1"]));
+    assert_eq!(e["verdict"], "G0");
+    assert!((e["max_angle_degrees"].as_f64().unwrap() - 30.0).abs() < 1e-9);
+    assert_eq!(e["samples"], 33);
+    // A bad name and a bad tolerance are refused with a message.
+    for args in [vec!["--objects", "nope"], vec!["--angle", "0"]] {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("continuity")
+            .arg(&path)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(!output.status.success());
+        assert!(String::from_utf8_lossy(&output.stderr).contains("knotwork continuity:"));
+    }
+}
