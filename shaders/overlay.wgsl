@@ -52,3 +52,23 @@ fn fs_dot(in: DotOut) -> @location(0) vec4<f32> {
     let rgb = mix(base, vec3<f32>(0.02), rim);
     return vec4<f32>(srgb_from_linear(rgb), coverage * scene.point_color.a);
 }
+
+// Guide and analysis lines (Rust: render::LineVertex): the ground grid (depth tested), curvature
+// combs, principal directions and continuity hair (on top), each vertex with its own colour.
+struct LineOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) color: vec4<f32>,
+}
+
+@vertex
+fn vs_lines(@location(0) position: vec4<f32>, @location(1) color: vec4<f32>) -> LineOut {
+    var out: LineOut;
+    out.clip = scene.view_proj * vec4<f32>(position.xyz, 1.0);
+    out.color = color;
+    return out;
+}
+
+@fragment
+fn fs_lines(in: LineOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(srgb_from_linear(in.color.rgb), in.color.a);
+}

@@ -2,12 +2,18 @@
 //! runs the compute evaluation and the viewport render on eframe's wgpu device, and shows the
 //! result as an egui image beside a control panel.
 
+mod analysis;
 mod export;
 mod files;
+mod gizmo;
 mod input;
 mod panels;
 mod platform;
 mod trim;
+mod views;
+
+pub use gizmo::{GizmoHandle, GizmoMode};
+pub use views::StandardView;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
@@ -224,6 +230,9 @@ pub struct KnotworkApp {
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
     snap_step: f64,
+    /// Dragged points snap to other control points / to other surfaces under the cursor.
+    snap_points: bool,
+    snap_surface: bool,
     /// The camera and viewport of the last frame, for picking.
     pick_view: Option<PickView>,
     viewport_rect: egui::Rect,
@@ -254,6 +263,13 @@ pub struct KnotworkApp {
     logged_status: bool,
     /// Close the window after this many viewport frames (desktop smoke tests).
     exit_after_frames: Option<u64>,
+    /// The analysis overlays' caches.
+    analysis: analysis::AnalysisState,
+    /// A camera transition under way (standard views, framing).
+    camera_move: Option<views::CameraMove>,
+    /// What the transform gizmo does, and its drag under way.
+    gizmo_mode: GizmoMode,
+    gizmo_drag: Option<gizmo::GizmoDrag>,
 }
 
 impl KnotworkApp {
@@ -306,6 +322,8 @@ impl KnotworkApp {
             trim_handle: None,
             snap: false,
             snap_step: 0.25,
+            snap_points: false,
+            snap_surface: false,
             pick_view: None,
             viewport_rect: egui::Rect::NOTHING,
             panel: panels::PanelState::default(),
@@ -328,6 +346,10 @@ impl KnotworkApp {
             redraw_soon: false,
             logged_status: false,
             exit_after_frames: None,
+            analysis: analysis::AnalysisState::default(),
+            camera_move: None,
+            gizmo_mode: GizmoMode::Move,
+            gizmo_drag: None,
         };
         let restored = if restore {
             app.restore_autosave(cc.storage)
@@ -356,6 +378,11 @@ impl KnotworkApp {
     }
 
     /// The open document (scene and history).
+    /// The camera, shading and overlays.
+    pub fn view(&self) -> &ViewSettings {
+        &self.view
+    }
+
     pub fn document(&self) -> &Document {
         &self.doc
     }
@@ -645,6 +672,17 @@ impl KnotworkApp {
         self.status.quality = self.view.quality;
         self.status.selected = self.selection.object.map(|s| s as u32);
         self.status.shading = self.view.shading.name().to_owned();
+        self.status.view = StandardView::of(&self.view.camera)
+            .map_or("custom", StandardView::name)
+            .to_owned();
+        self.status.orthographic = self.view.camera.orthographic;
+        self.status.gizmo = self.gizmo_mode.name().to_owned();
+        self.status.grid_step = self.view.overlays.grid.then_some(self.analysis.grid_step);
+        self.status.continuity = if self.view.analysis.continuity {
+            self.analysis_summary()
+        } else {
+            None
+        };
         self.status.range_auto = self.view.range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
         let quality_used = self
@@ -691,6 +729,16 @@ impl KnotworkApp {
             ExternalCommand::SetSegments(n) => self.set_all_segments(n),
             ExternalCommand::SetQuality(q) => self.set_quality(q),
             ExternalCommand::SetShading(mode) => self.set_shading(mode),
+            ExternalCommand::SetView(view) => self.set_standard_view(view),
+            ExternalCommand::SetGizmo(mode) => {
+                self.gizmo_mode = mode;
+                self.redraw = true;
+            }
+            ExternalCommand::SetOrthographic(on) => {
+                if self.view.camera.orthographic != on {
+                    self.toggle_orthographic();
+                }
+            }
             ExternalCommand::SetAnalysis(analysis) => {
                 self.view.analysis = analysis;
                 self.redraw = true;
@@ -791,7 +839,11 @@ impl KnotworkApp {
         );
         let range = self.color_range().unwrap_or((-1.0, 1.0));
         let selected = self.selection.object.map(|s| s as u32);
-        let Some(gpu) = self.gpu.as_mut().filter(|g| g.sync.geometry().is_some()) else {
+        if self
+            .gpu
+            .as_ref()
+            .is_none_or(|g| g.sync.geometry().is_none())
+        {
             let reason = self
                 .gpu_refusal
                 .as_deref()
@@ -806,6 +858,12 @@ impl KnotworkApp {
             );
             // A frame was shown (the message), so --exit-after-frames still ends.
             self.status.frames += 1;
+            return;
+        }
+        if self.upload_guide_lines() {
+            self.redraw = true;
+        }
+        let Some(gpu) = self.gpu.as_mut() else {
             return;
         };
         let resized = gpu.ensure_target(size);
@@ -825,6 +883,8 @@ impl KnotworkApp {
         }
         self.paint_box(ui);
         self.paint_trims(ui);
+        self.paint_gizmo(ui);
+        self.axis_triad(ui);
         if let Some(drag) = self.doc.drag() {
             ui.painter().text(
                 rect.left_bottom() + egui::vec2(10.0, -10.0),
@@ -876,6 +936,9 @@ impl eframe::App for KnotworkApp {
         self.take_incoming(&ctx);
         self.trim_keys(&ctx);
         self.handle_shortcuts(&ctx);
+        self.view_shortcuts(&ctx);
+        self.gizmo_keys(&ctx);
+        self.step_camera_move(&ctx);
         self.collect_timings();
         egui::Panel::left("controls")
             .resizable(true)

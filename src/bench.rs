@@ -308,7 +308,7 @@ fn bench_drag_frame(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 5] = ["edit", "export", "subdivision", "trim", "all"];
+pub const GROUPS: [&str; 6] = ["edit", "export", "subdivision", "trim", "analysis", "all"];
 
 /// Runs every benchmark on `context` (or only `group`, one of [`GROUPS`]), printing one line
 /// per figure.
@@ -327,6 +327,9 @@ pub fn run(
         bench_subdivision(context, iterations, out)?;
     }
     let scene = Scene::demo()?;
+    if wants("analysis") {
+        bench_analysis(context, &scene, iterations, out)?;
+    }
     if wants("edit") {
         bench_edit(context, &scene, iterations, out)?;
     }
@@ -334,6 +337,128 @@ pub fn run(
         bench_export(&scene, iterations, out)?;
     }
     Ok(())
+}
+
+/// Frame time of every shading mode on `scene` at 1280 × 800 against plain shading (the
+/// analysis modes evaluate the surface per pixel), and the continuity analysis of the teapot and
+/// of a 10 × 10 grid of joined bicubic surfaces.
+fn bench_analysis(
+    context: &GpuContext,
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::view::ShadingMode;
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    sync.encode(&mut encoder, None);
+    context.queue.submit([encoder.finish()]);
+    wait(context)?;
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+    let renderer = ViewportRenderer::new(&context.device);
+    let target = ViewTarget::new(&context.device, 1280, 800);
+    let (lo, hi) = scene.bounds().ok_or("empty scene")?;
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.overlays.net = false;
+    view.overlays.points = false;
+    // Every mode in turn, round after round, so that drift affects them alike.
+    let modes = ShadingMode::ALL;
+    let mut times = vec![Vec::new(); modes.len()];
+    for round in 0..iterations + 2 {
+        for (k, &mode) in modes.iter().enumerate() {
+            view.shading = mode;
+            let range = if mode == ShadingMode::Isophotes {
+                (0.0, 180.0)
+            } else {
+                (-0.5, 0.5)
+            };
+            renderer.set_scene(
+                &context.queue,
+                &scene_uniform(&view, &target, 3.5, range, None),
+            );
+            let start = Instant::now();
+            let mut encoder = context.device.create_command_encoder(&Default::default());
+            renderer.render(
+                &mut encoder,
+                &target,
+                geometry.surface_buffers(),
+                None,
+                view.overlays,
+                None,
+            );
+            context.queue.submit([encoder.finish()]);
+            wait(context)?;
+            if round >= 2 {
+                times[k].push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    let medians: Vec<f64> = times.into_iter().map(median).collect();
+    let plain = medians[0];
+    for (mode, ms) in modes.iter().zip(&medians) {
+        writeln!(
+            out,
+            "frame 1280 × 800, demo scene, {:<11} | {ms:8.2} ms | {:5.2} × plain{}",
+            mode.name(),
+            ms / plain,
+            if mode.per_pixel() {
+                " (per-pixel evaluation)"
+            } else {
+                ""
+            },
+        )?;
+    }
+    let options = crate::scene::continuity::ContinuityOptions::default();
+    let teapot = Scene {
+        objects: vec![scene.objects[0].clone()],
+    };
+    let grid = joined_grid(10)?;
+    for (name, scene) in [
+        ("teapot (32 patches)", &teapot),
+        ("10 × 10 joined bicubic surfaces", &grid),
+    ] {
+        let mut times = Vec::new();
+        let mut edges = 0;
+        for _ in 0..iterations.clamp(1, 5) {
+            let start = Instant::now();
+            edges = crate::scene::continuity::analyse(scene, None, &options)
+                .edges
+                .len();
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        writeln!(
+            out,
+            "continuity, {name} | {edges:>4} shared edges, {} samples each | {:8.2} ms",
+            options.samples,
+            median(times)
+        )?;
+    }
+    Ok(())
+}
+
+/// `n` × `n` bicubic surfaces, each a 4 × 4 net over a unit square of a wavy height field,
+/// meeting edge to edge (C0 along shared nets, the height field's continuity inside).
+pub fn joined_grid(n: usize) -> Result<Scene, crate::kernel::GeometryError> {
+    let height = |x: f64, y: f64| 0.3 * (0.9 * x).sin() * (1.1 * y).cos();
+    let mut objects = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let mut points = Vec::new();
+            for a in 0..4 {
+                for b in 0..4 {
+                    let (x, y) = (i as f64 + a as f64 / 3.0, j as f64 + b as f64 / 3.0);
+                    points.push(DVec3::new(x, y, height(x, y)));
+                }
+            }
+            let surface = crate::kernel::construct::bspline_surface([3, 3], [4, 4], points)?;
+            objects.push(SceneObject::new(
+                format!("S{i}_{j}"),
+                ObjectGeometry::Nurbs(surface),
+            ));
+        }
+    }
+    Ok(Scene { objects })
 }
 
 /// Edit throughput and latency, picking, drag-to-new-frame and the demo scene's full pass.

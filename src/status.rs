@@ -5,6 +5,16 @@ use std::sync::Mutex;
 
 use serde::Serialize;
 
+/// The continuity overlay's summary.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ContinuityStatus {
+    pub edges: u32,
+    /// Edges whose verdict meets the target.
+    pub passing: u32,
+    /// The verdict of every edge, in the table's order.
+    pub verdicts: Vec<String>,
+}
+
 /// A snapshot of what the editor shows. Serialized as JSON for scripts and tests.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct AppStatus {
@@ -32,6 +42,20 @@ pub struct AppStatus {
     pub selected: Option<u32>,
     /// The shading mode's name ("plain", "normals", "checker", "gaussian", "mean", "k1", "k2").
     pub shading: String,
+    /// The standard view the camera is in ("top", "front", ...; "custom" otherwise).
+    pub view: String,
+    /// Whether the projection is orthographic.
+    pub orthographic: bool,
+    /// The transform gizmo's mode ("off", "move", "rotate", "scale").
+    pub gizmo: String,
+    /// What the last dragged point snapped to ("point", "surface", "grid"), if anything.
+    pub snapped: Option<String>,
+    /// The last gizmo rotation (degrees) or scale factor.
+    pub gizmo_amount: Option<f64>,
+    /// The ground grid's minor step in model units (None: grid hidden).
+    pub grid_step: Option<f64>,
+    /// Shared edges and how many meet the continuity target, while continuity is shown.
+    pub continuity: Option<ContinuityStatus>,
     /// The colour ramp's (low, high) in a curvature mode.
     pub range: Option<[f64; 2]>,
     /// Whether that range is automatic (robust percentiles) or set by hand.
@@ -97,6 +121,10 @@ pub enum ExternalCommand {
     /// The global quality factor (multiplies every object's segments).
     SetQuality(f32),
     SetShading(crate::view::ShadingMode),
+    /// Turns the camera to a standard view.
+    SetView(crate::app::StandardView),
+    SetOrthographic(bool),
+    SetGizmo(crate::app::GizmoMode),
     /// The analysis modes' settings (checked by the sender).
     SetAnalysis(crate::view::AnalysisSettings),
     /// A manual colour range, or `None` for the automatic one.

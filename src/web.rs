@@ -98,6 +98,38 @@ pub fn set_analysis(json: String) -> Result<(), String> {
     Ok(())
 }
 
+/// Turns the camera to a standard view by name ("top", "bottom", "front", "back", "right",
+/// "left", "perspective"); false for an unknown name.
+#[wasm_bindgen]
+pub fn set_view(name: String) -> bool {
+    match crate::app::StandardView::from_name(&name) {
+        Some(view) => {
+            status::send(ExternalCommand::SetView(view));
+            true
+        }
+        None => false,
+    }
+}
+
+/// The transform gizmo's mode by name ("off", "move", "rotate", "scale"); false for an unknown
+/// name.
+#[wasm_bindgen]
+pub fn set_gizmo(mode: String) -> bool {
+    match crate::app::GizmoMode::from_name(&mode) {
+        Some(mode) => {
+            status::send(ExternalCommand::SetGizmo(mode));
+            true
+        }
+        None => false,
+    }
+}
+
+/// Orthographic (true) or perspective (false) projection.
+#[wasm_bindgen]
+pub fn set_orthographic(on: bool) {
+    status::send(ExternalCommand::SetOrthographic(on));
+}
+
 /// A manual colour range for the curvature modes.
 #[wasm_bindgen]
 pub fn set_range(low: f64, high: f64) {

@@ -563,3 +563,173 @@ fn a_circle_drawn_on_a_surface_with_the_mouse_cuts_a_hole_and_undo_restores() {
     let undone = pixel(&mut harness, centre);
     assert!(!is_background(undone), "{undone:?}");
 }
+
+/// Runs frames until a camera transition (a quarter of a second) is over.
+fn settle(harness: &mut Harness<'_, KnotworkApp>) {
+    for _ in 0..40 {
+        harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    harness.run_steps(2);
+}
+
+fn key(harness: &mut Harness<'_, KnotworkApp>, key: Key, modifiers: Modifiers) {
+    harness.event(Event::Key {
+        key,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers,
+    });
+    harness.event(Event::Key {
+        key,
+        physical_key: None,
+        pressed: false,
+        repeat: false,
+        modifiers,
+    });
+}
+
+/// The harness's picture: width and RGBA rows.
+fn picture(harness: &mut Harness<'_, KnotworkApp>) -> (u32, Vec<u8>) {
+    let image = harness.render().expect("the harness renders");
+    (image.width(), image.into_raw())
+}
+
+/// Viewport pixels (right of the panel) that differ between two pictures.
+fn viewport_difference(a: &(u32, Vec<u8>), b: &(u32, Vec<u8>)) -> usize {
+    let width = a.0 as usize;
+    let x0 = (420.0 * a.0 as f32 / 1280.0) as usize;
+    a.1.chunks_exact(4)
+        .zip(b.1.chunks_exact(4))
+        .enumerate()
+        .filter(|(k, (p, q))| {
+            k % width >= x0 && p.iter().zip(*q).take(3).any(|(u, v)| u.abs_diff(*v) > 24)
+        })
+        .count()
+}
+
+#[test]
+fn standard_views_from_the_keypad_the_grid_and_the_triad() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    let mut harness = editor();
+    key(&mut harness, Key::Num7, Modifiers::NONE);
+    settle(&mut harness);
+    let s = status::current();
+    assert_eq!((s.view.as_str(), s.orthographic), ("top", true), "{s:?}");
+    let camera = harness.state().view().camera;
+    assert!((camera.pitch - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    // Top view: X to the right, Y up on the screen.
+    let (right, up, _) = camera.axes();
+    assert!(
+        right.distance(glam::Vec3::X) < 1e-5 && up.distance(glam::Vec3::Y) < 1e-5,
+        "{right} {up}"
+    );
+    key(&mut harness, Key::Num1, Modifiers::COMMAND);
+    settle(&mut harness);
+    assert_eq!(status::current().view, "back");
+    key(&mut harness, Key::Num3, Modifiers::NONE);
+    settle(&mut harness);
+    assert_eq!(status::current().view, "right");
+    key(&mut harness, Key::Num5, Modifiers::NONE);
+    harness.run_steps(2);
+    let s = status::current();
+    assert!(!s.orthographic && s.view == "custom", "{s:?}");
+
+    // The grid: hiding it from the View menu changes the picture; its step follows the zoom.
+    key(&mut harness, Key::Num1, Modifiers::NONE);
+    settle(&mut harness);
+    let step = status::current().grid_step.expect("the grid is shown");
+    assert!(step > 0.0);
+    let with_grid = picture(&mut harness);
+    harness.get_by_label("View").click();
+    harness.run_steps(2);
+    harness.get_by_label("Ground grid").click();
+    harness.run_steps(3);
+    assert_eq!(status::current().grid_step, None);
+    key(&mut harness, Key::Escape, Modifiers::NONE);
+    harness.run_steps(3);
+    let without_grid = picture(&mut harness);
+    let changed = viewport_difference(&with_grid, &without_grid);
+    assert!(changed > 500, "hiding the grid changed {changed} pixels");
+
+    // The View menu's perspective view.
+    harness.get_by_label("View").click();
+    harness.run_steps(2);
+    harness.get_by_label("Perspective (0)").click();
+    settle(&mut harness);
+    assert_eq!(status::current().view, "perspective");
+}
+
+#[test]
+fn the_gizmo_moves_a_point_along_its_axis_and_undo_restores() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    let mut harness = editor();
+    let (index, at) = select_with_free_handle(&mut harness, SHEET);
+    click_at(&mut harness, at);
+    assert_eq!(status::current().selected_points, vec![index as u32]);
+    let before = harness.state().document().scene.objects[SHEET].control_points()[index];
+    let parts = harness.state().gizmo_screen_parts();
+    let arrow = parts
+        .iter()
+        .find(|(h, _)| *h == knotwork::app::GizmoHandle::Axis(0))
+        .map(|(_, p)| p.clone())
+        .expect("the move gizmo's X arrow");
+    let (base, tip) = (arrow[0], arrow[1]);
+    let grab = base + (tip - base) * 0.7;
+    let direction = (tip - base).normalized();
+    let end = drag_from(&mut harness, grab, direction * 6.0, 8);
+    press(&harness, end, false);
+    harness.run_steps(3);
+    let after = harness.state().document().scene.objects[SHEET].control_points()[index];
+    let moved = after - before;
+    assert!(moved.x > 1e-3, "{moved}");
+    assert!(
+        moved.y.abs() < 1e-12 && moved.z.abs() < 1e-12,
+        "only x changes: {moved}"
+    );
+    assert_eq!(status::current().undo_steps, 1);
+    harness.event(Event::Key {
+        key: Key::Z,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: Modifiers::COMMAND,
+    });
+    harness.run_steps(3);
+    let restored = harness.state().document().scene.objects[SHEET].control_points()[index];
+    assert_eq!(restored, before);
+
+    // E switches the gizmo to rotation.
+    key(&mut harness, Key::E, Modifiers::NONE);
+    harness.run_steps(2);
+    assert_eq!(status::current().gizmo, "rotate");
+}
+
+#[test]
+fn continuity_hair_and_table_cover_the_teapot() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    let mut harness = editor();
+    let before = picture(&mut harness);
+    status::send(status::ExternalCommand::SetAnalysis(
+        knotwork::view::AnalysisSettings {
+            continuity: true,
+            ..Default::default()
+        },
+    ));
+    harness.run_steps(4);
+    let s = status::current();
+    let c = s.continuity.expect("continuity is shown");
+    assert!(c.edges >= 40, "{c:?}");
+    assert_eq!(c.verdicts.len() as u32, c.edges);
+    assert!(c.passing > 0);
+    let after = picture(&mut harness);
+    let changed = viewport_difference(&before, &after);
+    assert!(changed > 200, "the hair changed {changed} pixels");
+}

@@ -156,6 +156,7 @@ fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
             surface: true,
             net: false,
             points: true,
+            ..Default::default()
         },
         analysis: knotwork::view::AnalysisSettings {
             zebra_pairs: 12,

@@ -99,6 +99,7 @@ fn render_teapot(show_surface: bool, show_net: bool, show_points: bool) -> Teapo
             surface: show_surface,
             net: show_net,
             points: show_points,
+            ..Default::default()
         },
         ..Default::default()
     };

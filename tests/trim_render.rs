@@ -54,6 +54,7 @@ fn draw(objects: &[SceneObject], camera: &OrbitCamera) -> (Vec<u8>, DMat4) {
             surface: true,
             net: false,
             points: false,
+            ..Default::default()
         },
         ..Default::default()
     };

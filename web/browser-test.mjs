@@ -293,6 +293,46 @@ async function main() {
       await page.close();
     });
 
+    await check('every analysis mode draws per pixel, views switch, continuity is measured', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      let previous = await page.locator('#knotwork-canvas').screenshot();
+      for (const mode of ['zebra', 'isophotes', 'reflection', 'draft', 'mean']) {
+        assert(await page.evaluate((m) => window.knotwork.setShading(m), mode), `${mode} is a mode`);
+        await page.waitForFunction((m) => window.knotwork.status().shading === m, mode, { timeout: 30_000 });
+        const frames = (await status(page)).frames;
+        await page.waitForFunction((f) => window.knotwork.status().frames > f, frames, { timeout: 30_000 });
+        const shot = await page.locator('#knotwork-canvas').screenshot();
+        await writeFile(`${resultsDir}/mode-${mode}.png`, shot);
+        assert(Buffer.compare(previous, shot) !== 0, `${mode} changes the canvas`);
+        previous = shot;
+      }
+      let refused = null;
+      try {
+        await page.evaluate(() => window.knotwork.setAnalysis({ zebra_pairs: 0 }));
+      } catch (e) {
+        refused = String(e);
+      }
+      assert(refused && /zebra_pairs/.test(refused), `out-of-range settings are refused: ${refused}`);
+      await page.evaluate(() => window.knotwork.setShading('zebra'));
+      await page.evaluate(() => window.knotwork.setAnalysis({ zebra_pairs: 12, continuity: true }));
+      await page.waitForFunction(() => window.knotwork.status().continuity !== null, null, { timeout: 60_000 });
+      const c = (await status(page)).continuity;
+      assert(c.edges > 40 && c.verdicts.length === c.edges, `continuity ${JSON.stringify(c).slice(0, 200)}`);
+      for (const view of ['top', 'front', 'right', 'perspective']) {
+        assert(await page.evaluate((v) => window.knotwork.setView(v), view), `${view} is a view`);
+        await page.waitForFunction((v) => window.knotwork.status().view === v, view, { timeout: 30_000 });
+        const s = await status(page);
+        assert(s.orthographic === (view !== 'perspective'), `${view}: orthographic ${s.orthographic}`);
+      }
+      assert(!(await page.evaluate(() => window.knotwork.setView('sideways'))), 'unknown views are refused');
+      const s = await status(page);
+      assert(s.grid_step > 0, `grid step ${s.grid_step}`);
+      console.log(`      ${c.edges} shared edges, ${c.passing} meet G1; grid step ${s.grid_step}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('drag a control point with the mouse, undo with Ctrl+Z, reload finds the autosave', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

@@ -165,7 +165,12 @@ impl KnotworkApp {
             .as_dvec3()
             .normalize_or(DVec3::X);
         let mut target = pick::drag_position(anchor, origin, direction, view_dir, self.constraint);
-        if self.snap {
+        let cursor = self.local(pos);
+        if let Some((snapped, what)) = self.snap_target(cursor, origin, direction) {
+            target = snapped;
+            self.status.snapped = Some(what.to_owned());
+        } else if self.snap {
+            self.status.snapped = Some("grid".to_owned());
             target = pick::snap(target, self.snap_step);
             // Snapping must not leave the constraint's axis or plane.
             match self.constraint {
@@ -177,6 +182,8 @@ impl KnotworkApp {
                 Constraint::Plane(a) => target[a] = anchor[a],
                 Constraint::Free => {}
             }
+        } else {
+            self.status.snapped = None;
         }
         let result = self
             .doc
@@ -188,8 +195,66 @@ impl KnotworkApp {
         }
     }
 
+    /// Where a dragged point snaps to under `cursor` (viewport pixels) and what it snapped to:
+    /// a control point of any shown object within the pick radius (not one being dragged),
+    /// else a point of another object's surface under the cursor.
+    fn snap_target(
+        &self,
+        cursor: DVec2,
+        origin: DVec3,
+        direction: DVec3,
+    ) -> Option<(DVec3, &'static str)> {
+        let view = self.pick_view?;
+        let dragged_object = self.selection.object;
+        if self.snap_points {
+            let dragged: std::collections::BTreeSet<usize> = self
+                .doc
+                .drag()
+                .map(|d| d.starts().iter().map(|(k, _)| *k).collect())
+                .unwrap_or_default();
+            let mut best: Option<(f64, DVec3)> = None;
+            for (k, object) in self.scene().objects.iter().enumerate() {
+                if !object.visible {
+                    continue;
+                }
+                for (i, p) in object.control_points().into_iter().enumerate() {
+                    if Some(k) == dragged_object && dragged.contains(&i) {
+                        continue;
+                    }
+                    let Some(projected) = view.project(p) else {
+                        continue;
+                    };
+                    let d = projected.screen.distance(cursor);
+                    if d <= PICK_RADIUS && best.is_none_or(|(b, _)| d < b) {
+                        best = Some((d, p));
+                    }
+                }
+            }
+            if let Some((_, p)) = best {
+                return Some((p, "point"));
+            }
+        }
+        if self.snap_surface
+            && let Some(gpu) = &self.gpu
+        {
+            let objects: Vec<_> = gpu
+                .sync
+                .feeds()
+                .iter()
+                .zip(&self.doc.scene.objects)
+                .enumerate()
+                .map(|(k, (d, o))| (d, o.visible && Some(k) != dragged_object))
+                .collect();
+            if let Some(hit) = pick::pick_surface(&objects, origin, direction) {
+                return Some((hit.point, "surface"));
+            }
+        }
+        None
+    }
+
     /// Ends the drag: one undo step for the whole move (`cancel`: put everything back).
     pub(super) fn end_drag(&mut self, cancel: bool) {
+        self.gizmo_drag = None;
         if self.drag.take().is_none() && self.doc.drag().is_none() {
             return;
         }
@@ -232,6 +297,7 @@ impl KnotworkApp {
         let press = ui.input(|i| i.pointer.press_origin());
         if response.drag_started_by(egui::PointerButton::Primary)
             && let Some(origin) = press
+            && !self.begin_gizmo_drag(self.local(origin))
         {
             match self.handle_at(self.local(origin)) {
                 Some(index) => self.begin_drag(index, shift),
@@ -245,7 +311,11 @@ impl KnotworkApp {
             } else if let Some(pos) = response.interact_pointer_pos()
                 && response.dragged_by(egui::PointerButton::Primary)
             {
-                self.continue_drag(pos);
+                if self.gizmo_drag.is_some() {
+                    self.continue_gizmo_drag(self.local(pos));
+                } else {
+                    self.continue_drag(pos);
+                }
             }
         }
         if response.drag_stopped() {

@@ -380,6 +380,19 @@ impl KnotworkApp {
                     .speed(0.01)
                     .range(0.001..=100.0),
             );
+            if ui
+                .small_button("= grid")
+                .on_hover_text("the ground grid's minor step")
+                .clicked()
+                && self.analysis.grid_step > 0.0
+            {
+                self.snap_step = self.analysis.grid_step;
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Snap to");
+            ui.checkbox(&mut self.snap_points, "points");
+            ui.checkbox(&mut self.snap_surface, "surfaces");
         });
         let weights = self.scene().objects[s].weights();
         ui.horizontal(|ui| {
@@ -921,6 +934,50 @@ impl KnotworkApp {
         ui.heading("knotwork");
         ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
         self.file_bar(ui);
+        ui.horizontal(|ui| {
+            ui.menu_button("View", |ui| self.view_menu(ui));
+            for view in [
+                super::views::StandardView::Top,
+                super::views::StandardView::Front,
+                super::views::StandardView::Right,
+                super::views::StandardView::Perspective,
+            ] {
+                let label = match view {
+                    super::views::StandardView::Perspective => "Persp",
+                    other => match other.name() {
+                        "top" => "Top",
+                        "front" => "Front",
+                        _ => "Right",
+                    },
+                };
+                if ui
+                    .small_button(label)
+                    .on_hover_text(format!("{} view ({})", view.name(), view.shortcut()))
+                    .clicked()
+                {
+                    self.set_standard_view(view);
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Gizmo");
+            for mode in super::GizmoMode::ALL {
+                let key = match mode {
+                    super::GizmoMode::Move => " (W)",
+                    super::GizmoMode::Rotate => " (E)",
+                    super::GizmoMode::Scale => " (R)",
+                    super::GizmoMode::Off => "",
+                };
+                if ui
+                    .selectable_label(self.gizmo_mode == mode, mode.name())
+                    .on_hover_text(format!("{}{key}", mode.name()))
+                    .clicked()
+                {
+                    self.gizmo_mode = mode;
+                    self.redraw = true;
+                }
+            }
+        });
         ui.separator();
         self.info_grid(ui);
         ui.separator();
@@ -945,6 +1002,8 @@ impl KnotworkApp {
         self.subdivision_panel(ui);
         ui.separator();
         self.shading_panel(ui);
+        ui.separator();
+        self.analysis_panel(ui);
         ui.separator();
         let before = self.view.overlays;
         ui.checkbox(&mut self.view.overlays.surface, "Surface");
@@ -1051,7 +1110,7 @@ fn legend(ui: &mut egui::Ui, lo: f64, hi: f64, degrees: bool) {
 }
 
 /// A combo box labelled `label` choosing `value` among `options` (value, text).
-fn choice<T: PartialEq + Copy>(
+pub(super) fn choice<T: PartialEq + Copy>(
     ui: &mut egui::Ui,
     label: &str,
     value: &mut T,

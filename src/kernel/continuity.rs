@@ -469,6 +469,20 @@ fn measure(
     })
 }
 
+impl<T: FaceSurface + ?Sized> FaceSurface for &T {
+    fn domain(&self) -> [(f64, f64); 2] {
+        (**self).domain()
+    }
+
+    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
+        (**self).derivatives(u, v)
+    }
+
+    fn keeps(&self, u: f64, v: f64) -> bool {
+        (**self).keeps(u, v)
+    }
+}
+
 impl FaceSurface for super::NurbsSurface {
     fn domain(&self) -> [(f64, f64); 2] {
         super::NurbsSurface::domain(self)

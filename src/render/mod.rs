@@ -2,9 +2,10 @@
 //! control net overlay. They draw into an offscreen [`ViewTarget`], which the editor shows as an
 //! egui image and tests read back.
 
+pub mod guides;
 mod viewport;
 
 pub use viewport::{
-    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, POINT_COLOR,
-    SAMPLE_COUNT, ViewTarget, ViewportRenderer, scene_uniform,
+    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, GuideLines,
+    LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer, scene_uniform,
 };

@@ -266,6 +266,51 @@ impl ControlNet {
     }
 }
 
+/// One vertex of the guide and analysis lines (`vs_lines` in `shaders/overlay.wgsl`): world
+/// position (w unused) and linear RGBA.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LineVertex {
+    pub position: [f32; 4],
+    pub color: [f32; 4],
+}
+
+impl LineVertex {
+    pub fn new(position: DVec3, color: [f32; 4]) -> Self {
+        Self {
+            position: position.as_vec3().extend(1.0).to_array(),
+            color,
+        }
+    }
+}
+
+/// Line segments (vertex pairs) to draw: `depth_tested` ones hide behind the surface (the
+/// grid), `on_top` ones are drawn over it (combs, directions, continuity hair).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GuideLines {
+    pub depth_tested: Vec<LineVertex>,
+    pub on_top: Vec<LineVertex>,
+}
+
+impl GuideLines {
+    /// Adds the segment a–b in `color` on top of the surface.
+    pub fn on_top(&mut self, a: DVec3, b: DVec3, color: [f32; 4]) {
+        self.on_top.push(LineVertex::new(a, color));
+        self.on_top.push(LineVertex::new(b, color));
+    }
+
+    /// Adds the segment a–b in `color`, hidden where the surface is in front.
+    pub fn depth_tested(&mut self, a: DVec3, b: DVec3, color: [f32; 4]) {
+        self.depth_tested.push(LineVertex::new(a, color));
+        self.depth_tested.push(LineVertex::new(b, color));
+    }
+
+    pub fn extend(&mut self, other: GuideLines) {
+        self.depth_tested.extend(other.depth_tested);
+        self.on_top.extend(other.on_top);
+    }
+}
+
 /// The render pipelines and the scene uniform; one per device.
 pub struct ViewportRenderer {
     surface_pipeline: wgpu::RenderPipeline,
@@ -285,6 +330,11 @@ pub struct ViewportRenderer {
     highlight: wgpu::Buffer,
     /// Whether any bit of `highlight` is set.
     highlighting: bool,
+    line_depth_pipeline: wgpu::RenderPipeline,
+    line_top_pipeline: wgpu::RenderPipeline,
+    /// The guide lines' vertices (depth-tested ones first) and the two counts.
+    lines: Option<wgpu::Buffer>,
+    line_counts: (u32, u32),
 }
 
 fn scene_bind_group(
@@ -439,7 +489,36 @@ impl ViewportRenderer {
                 cache: None,
             })
         };
+        let line_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LineVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+        };
+        let line_depth_pipeline = pipeline(
+            "guide lines (depth tested)",
+            &layout,
+            &overlay_module,
+            ("vs_lines", "fs_lines"),
+            &[Some(line_layout.clone())],
+            wgpu::PrimitiveTopology::LineList,
+            wgpu::CompareFunction::LessEqual,
+            false,
+        );
+        let line_top_pipeline = pipeline(
+            "analysis lines (on top)",
+            &layout,
+            &overlay_module,
+            ("vs_lines", "fs_lines"),
+            &[Some(line_layout)],
+            wgpu::PrimitiveTopology::LineList,
+            wgpu::CompareFunction::Always,
+            false,
+        );
         Self {
+            line_depth_pipeline,
+            line_top_pipeline,
+            lines: None,
+            line_counts: (0, 0),
             surface_pipeline: pipeline(
                 "surface",
                 &surface_pipeline_layout,
@@ -507,6 +586,36 @@ impl ViewportRenderer {
         bits.resize((self.highlight.size() / 4) as usize, 0);
         queue.write_buffer(&self.highlight, 0, bytemuck::cast_slice(&bits));
         self.highlighting = !patches.is_empty();
+    }
+
+    /// The guide and analysis lines drawn by every [`Self::render`] until the next call.
+    pub fn set_lines(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, lines: &GuideLines) {
+        let vertices: Vec<LineVertex> = lines
+            .depth_tested
+            .iter()
+            .chain(&lines.on_top)
+            .copied()
+            .collect();
+        self.line_counts = (lines.depth_tested.len() as u32, lines.on_top.len() as u32);
+        if vertices.is_empty() {
+            return;
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&vertices);
+        if self
+            .lines
+            .as_ref()
+            .is_none_or(|b| b.size() < bytes.len() as u64)
+        {
+            self.lines = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("guide lines"),
+                size: (bytes.len() as u64).next_power_of_two(),
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        if let Some(buffer) = &self.lines {
+            queue.write_buffer(buffer, 0, bytes);
+        }
     }
 
     /// Sets the camera, viewport size and colours for the next [`Self::render`].
@@ -593,6 +702,18 @@ impl ViewportRenderer {
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..surface.index_count, 0, 0..1);
+        }
+        if let Some(lines) = &self.lines {
+            let (depth, top) = self.line_counts;
+            pass.set_vertex_buffer(0, lines.slice(..));
+            if depth > 0 {
+                pass.set_pipeline(&self.line_depth_pipeline);
+                pass.draw(0..depth, 0..1);
+            }
+            if top > 0 {
+                pass.set_pipeline(&self.line_top_pipeline);
+                pass.draw(depth..depth + top, 0..1);
+            }
         }
         let Some(net) = net else {
             return;

@@ -46,6 +46,25 @@ pub struct ContinuityReport {
     pub size: f64,
 }
 
+/// The surfaces an object offers to the analyses (continuity, combs, principal directions): a
+/// NURBS surface, a trimmed surface with its kept region, every patch of a patch set (with its
+/// index); none for polygon meshes and subdivision surfaces.
+pub fn faces_of(geometry: &ObjectGeometry) -> Vec<(Option<usize>, Box<dyn FaceSurface + '_>)> {
+    match geometry {
+        ObjectGeometry::Nurbs(s) => vec![(None, Box::new(s) as Box<dyn FaceSurface>)],
+        ObjectGeometry::Trimmed(t) => vec![(None, Box::new(t.as_ref()) as Box<dyn FaceSurface>)],
+        ObjectGeometry::Patches(set) => (0..set.patches().len())
+            .map(|patch| {
+                (
+                    Some(patch),
+                    Box::new(PatchFace { set, patch }) as Box<dyn FaceSurface>,
+                )
+            })
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
 /// Analyses the shared edges between `objects` (every object when `None`); hidden objects,
 /// polygon meshes and subdivision surfaces are left out.
 pub fn analyse(
@@ -61,26 +80,13 @@ pub fn analyse(
         if !chosen(k) || !object.visible {
             continue;
         }
-        let before = faces.len();
-        match &object.geometry {
-            ObjectGeometry::Nurbs(s) => surfaces.push(Box::new(s.clone())),
-            ObjectGeometry::Trimmed(t) => surfaces.push(Box::new(t.as_ref().clone())),
-            ObjectGeometry::Patches(set) => {
-                for patch in 0..set.patches().len() {
-                    surfaces.push(Box::new(PatchFace { set, patch }));
-                    faces.push(FaceRef {
-                        object: k,
-                        patch: Some(patch),
-                    });
-                }
-            }
-            _ => continue,
+        let object_faces = faces_of(&object.geometry);
+        if object_faces.is_empty() {
+            continue;
         }
-        if faces.len() == before {
-            faces.push(FaceRef {
-                object: k,
-                patch: None,
-            });
+        for (patch, surface) in object_faces {
+            faces.push(FaceRef { object: k, patch });
+            surfaces.push(surface);
         }
         if let Some((a, b)) = object.bounds() {
             lo = lo.min(a);

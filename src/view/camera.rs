@@ -9,7 +9,8 @@ pub struct OrbitCamera {
     pub distance: f32,
     /// Radians about +Z; at 0 the camera sits on the +X side of the target.
     pub yaw: f32,
-    /// Radians above the XY plane, within ±(π/2 − 0.01).
+    /// Radians above the XY plane: within ±(π/2 − 0.01) while orbiting, exactly ±π/2 in the
+    /// top and bottom views.
     pub pitch: f32,
     /// Vertical field of view in radians. An orthographic view shows the same height at the
     /// target: 2 · distance · tan(fov_y / 2).
@@ -46,16 +47,27 @@ impl OrbitCamera {
         self.target + self.distance * Vec3::new(cp * cy, cp * sy, sp)
     }
 
+    /// The screen's up direction: the eye direction's derivative with respect to the pitch,
+    /// (−sin p cos y, −sin p sin y, cos p). Z-ish at every pitch short of the poles, and still
+    /// defined at ±π/2, where the top and bottom views look straight down and up.
+    fn up(&self) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        Vec3::new(-sp * cy, -sp * sy, cp)
+    }
+
     /// World → view (right-handed, looking at the target, Z up).
     pub fn view(&self) -> Mat4 {
-        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Z)
+        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, self.up())
     }
 
     /// The camera's right, up and back (toward the viewer) unit axes in world space.
     pub fn axes(&self) -> (Vec3, Vec3, Vec3) {
-        let back = (self.eye() - self.target).normalize_or(Vec3::X);
-        let right = Vec3::Z.cross(back).normalize_or(Vec3::Y);
-        (right, back.cross(right), back)
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        let back = Vec3::new(cp * cy, cp * sy, sp);
+        let up = self.up();
+        (up.cross(back), up, back)
     }
 
     /// View → clip in WebGPU's convention (NDC z in 0..1, y up: glam's "directx" one); near and
@@ -93,6 +105,9 @@ impl OrbitCamera {
     /// Turns the camera by a drag of (dx, dy) pixels: right drag turns the model to the right,
     /// down drag tips it toward the viewer.
     pub fn orbit(&mut self, dx: f32, dy: f32) {
+        if dx == 0.0 && dy == 0.0 {
+            return;
+        }
         self.yaw -= dx * ORBIT_SPEED;
         self.pitch = (self.pitch + dy * ORBIT_SPEED).clamp(-PITCH_LIMIT, PITCH_LIMIT);
     }
@@ -102,9 +117,7 @@ impl OrbitCamera {
     pub fn pan(&mut self, dx: f32, dy: f32, viewport_height: f32) {
         let world_per_pixel =
             2.0 * self.distance * (self.fov_y * 0.5).tan() / viewport_height.max(1.0);
-        let forward = (self.target - self.eye()).normalize_or_zero();
-        let right = forward.cross(Vec3::Z).normalize_or(Vec3::X);
-        let up = right.cross(forward);
+        let (right, up, _) = self.axes();
         self.target += (-dx * right + dy * up) * world_per_pixel;
     }
 
@@ -120,9 +133,7 @@ impl OrbitCamera {
         let tan_v = (self.fov_y * 0.5).tan();
         let tan_h = tan_v * aspect.max(1e-3);
         // Camera axes (independent of the distance).
-        let back = (self.eye() - self.target).normalize_or(Vec3::X);
-        let right = Vec3::Z.cross(back).normalize_or(Vec3::Y);
-        let up = back.cross(right);
+        let (right, up, back) = self.axes();
         // A corner at offset c from the target is in view at distance d when
         // |c·right| ≤ (d − c·back) tan_h and |c·up| ≤ (d − c·back) tan_v.
         let mut distance = 0.0f32;
@@ -138,6 +149,24 @@ impl OrbitCamera {
                 .max(depth + c.dot(up).abs() / tan_v);
         }
         self.distance = (distance * 1.05).clamp(MIN_DISTANCE, MAX_DISTANCE);
+    }
+
+    /// The camera `t` ∈ [0, 1] of the way from `self` to `to`: target linearly, distance
+    /// geometrically, yaw the short way round and pitch linearly; the projection switches at
+    /// the start.
+    pub fn interpolate(&self, to: &OrbitCamera, t: f32) -> OrbitCamera {
+        let t = t.clamp(0.0, 1.0);
+        let tau = std::f32::consts::TAU;
+        let turn =
+            (to.yaw - self.yaw + std::f32::consts::PI).rem_euclid(tau) - std::f32::consts::PI;
+        OrbitCamera {
+            target: self.target.lerp(to.target, t),
+            distance: self.distance * (to.distance / self.distance).powf(t),
+            yaw: self.yaw + turn * t,
+            pitch: self.pitch + (to.pitch - self.pitch) * t,
+            fov_y: self.fov_y + (to.fov_y - self.fov_y) * t,
+            orthographic: to.orthographic,
+        }
     }
 }
 

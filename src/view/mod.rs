@@ -7,5 +7,6 @@ pub mod settings;
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};
 pub use settings::{
-    AnalysisSettings, Overlays, QUALITY_RANGE, ShadingMode, StripeFrame, ViewSettings, ZebraSource,
+    AnalysisSettings, CombCurves, ContinuityTarget, Overlays, QUALITY_RANGE, ShadingMode,
+    StripeFrame, ViewSettings, ZebraSource,
 };

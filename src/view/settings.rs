@@ -8,7 +8,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::OrbitCamera;
-use super::camera::PITCH_LIMIT;
+use std::f32::consts::FRAC_PI_2;
 
 /// The global tessellation quality factor's range (the panel's slider, scripts, files).
 pub const QUALITY_RANGE: RangeInclusive<f32> = 0.25..=4.0;
@@ -160,7 +160,48 @@ pub struct AnalysisSettings {
     pub gap_tolerance: f64,
     pub angle_tolerance: f64,
     pub curvature_tolerance: f64,
+    /// Curvature combs on the selected surface's iso-curves.
+    pub combs: CombCurves,
+    /// Iso-curves per direction (per patch of a patch set), in [`COMB_DENSITY`].
+    pub comb_density: u32,
+    /// Hair length factor: 1 makes the longest hair a tenth of the scene's size.
+    pub comb_scale: f64,
+    /// Combs on the selected surface's boundary edges too.
+    pub comb_boundary: bool,
+    /// The principal directions' line field on the selected surface.
+    pub principal_directions: bool,
+    /// Samples per direction of the line field, in [`COMB_DENSITY`].
+    pub direction_density: u32,
+    /// Continuity hair on every shared edge, coloured against the tolerances.
+    pub continuity: bool,
+    /// The continuity the hair asks of every edge.
+    pub continuity_target: ContinuityTarget,
 }
+
+/// Which iso-curves carry curvature combs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CombCurves {
+    #[default]
+    None,
+    /// Curves of constant v (running along u).
+    U,
+    /// Curves of constant u.
+    V,
+    Both,
+}
+
+/// The continuity continuity hair checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum ContinuityTarget {
+    G0,
+    #[default]
+    G1,
+    G2,
+}
+
+/// Iso-curves or samples per direction.
+pub const COMB_DENSITY: RangeInclusive<u32> = 1..=64;
 
 /// The zebra's stripe pairs per half turn.
 pub const ZEBRA_PAIRS: RangeInclusive<u32> = 1..=64;
@@ -183,6 +224,14 @@ impl Default for AnalysisSettings {
             gap_tolerance: 1e-3,
             angle_tolerance: 1.0,
             curvature_tolerance: 0.05,
+            combs: CombCurves::None,
+            comb_density: 5,
+            comb_scale: 1.0,
+            comb_boundary: true,
+            principal_directions: false,
+            direction_density: 12,
+            continuity: false,
+            continuity_target: ContinuityTarget::G1,
         }
     }
 }
@@ -226,7 +275,20 @@ impl AnalysisSettings {
                 return Err(format!("{name} must be finite and not zero"));
             }
         }
+        for (name, n) in [
+            ("comb_density", self.comb_density),
+            ("direction_density", self.direction_density),
+        ] {
+            if !COMB_DENSITY.contains(&n) {
+                return Err(format!(
+                    "{name} {n} is outside {}..={}",
+                    COMB_DENSITY.start(),
+                    COMB_DENSITY.end()
+                ));
+            }
+        }
         for (name, t) in [
+            ("comb_scale", self.comb_scale),
             ("gap_tolerance", self.gap_tolerance),
             ("angle_tolerance", self.angle_tolerance),
             ("curvature_tolerance", self.curvature_tolerance),
@@ -255,6 +317,16 @@ pub struct Overlays {
     /// The selected object's control net.
     pub net: bool,
     pub points: bool,
+    /// The ground grid in the XY plane.
+    #[serde(default = "shown")]
+    pub grid: bool,
+    /// The axis triad in the viewport's corner.
+    #[serde(default = "shown")]
+    pub axes: bool,
+}
+
+fn shown() -> bool {
+    true
 }
 
 impl Default for Overlays {
@@ -263,6 +335,8 @@ impl Default for Overlays {
             surface: true,
             net: true,
             points: true,
+            grid: true,
+            axes: true,
         }
     }
 }
@@ -377,7 +451,7 @@ impl TryFrom<SavedView> for ViewSettings {
                 target: DVec3::from(saved.target).as_vec3(),
                 distance: saved.distance as f32,
                 yaw: saved.yaw as f32,
-                pitch: (saved.pitch as f32).clamp(-PITCH_LIMIT, PITCH_LIMIT),
+                pitch: (saved.pitch as f32).clamp(-FRAC_PI_2, FRAC_PI_2),
                 orthographic: saved.orthographic,
                 ..OrbitCamera::default()
             },
