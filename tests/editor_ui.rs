@@ -430,7 +430,9 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     harness.state_mut().open_file("cube.obj", cube.as_bytes());
     harness.run_steps(3);
     let (index, at) = select_with_free_handle(&mut harness, 0);
-    harness.get_by_label("Subdivide").click();
+    harness.get_by_label("Subdivide").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Subdivide").click_accesskit();
     harness.run_steps(3);
     let s = status::current();
     // Level 2: each quad's four level-1 quads are limit-stencil patches.

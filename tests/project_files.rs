@@ -215,15 +215,27 @@ fn a_saved_view_reads_back_and_a_bad_one_is_refused_by_name() {
     assert_eq!(view.camera.distance, 5.0);
     let base = r#""target": [0, 0, 0], "distance": 5, "yaw": 0, "pitch": 0"#;
     for (fields, expected) in [
-        (r#""shading": "zebra", "quality": 1"#, "unknown shading"),
+        (r#""shading": "rainbow", "quality": 1"#, "unknown shading"),
         (r#""shading": "plain", "quality": 100"#, "quality 100"),
         (
             r#""shading": "plain", "quality": 1, "range": [1, -1]"#,
             "increasing",
         ),
         (
-            r#""shading": "plain", "quality": 1, "overlays": {"grid": true}"#,
-            "grid",
+            r#""shading": "plain", "quality": 1, "overlays": {"halo": true}"#,
+            "halo",
+        ),
+        (
+            r#""shading": "zebra", "quality": 1, "analysis": {"zebra_pairs": 0}"#,
+            "zebra_pairs",
+        ),
+        (
+            r#""shading": "draft", "quality": 1, "analysis": {"pull_direction": [0, 0, 0]}"#,
+            "pull_direction",
+        ),
+        (
+            r#""shading": "plain", "quality": 1, "analysis": {"stripes": 3}"#,
+            "stripes",
         ),
         (r#""shading": "plain", "quality": 1, "colour": 3"#, "colour"),
     ] {

@@ -76,6 +76,8 @@ pub(super) struct GizmoDrag {
 
 /// Screen size of the gizmo's arms, in logical pixels.
 const ARM: f64 = 90.0;
+/// Pixels around the pivot where the arrows and rings do not grab.
+const PIVOT_CLEARANCE: f64 = 14.0;
 /// How close (pixels) the cursor must be to grab a part.
 const GRAB: f64 = 7.0;
 const AXIS_COLORS: [Color32; 3] = [
@@ -210,8 +212,16 @@ impl KnotworkApp {
     /// The part under `cursor` (viewport pixels), nearest first.
     fn gizmo_handle_at(&self, cursor: DVec2) -> Option<GizmoHandle> {
         let (_, _, pivot) = self.gizmo_target()?;
+        // The pivot itself stays free for the control point drawn there (a free drag).
+        let near_pivot = self
+            .pick_view
+            .and_then(|v| v.project(pivot))
+            .is_some_and(|p| p.screen.distance(cursor) < PIVOT_CLEARANCE);
         let mut best: Option<(f64, GizmoHandle)> = None;
         for (handle, points) in self.gizmo_parts(pivot) {
+            if near_pivot && handle != GizmoHandle::ScaleUniform {
+                continue;
+            }
             let distance = match handle {
                 GizmoHandle::Plane(_) => {
                     if crate::kernel::trim::polygon_contains(&points[..4], cursor) {

@@ -297,10 +297,12 @@ impl KnotworkApp {
         let press = ui.input(|i| i.pointer.press_origin());
         if response.drag_started_by(egui::PointerButton::Primary)
             && let Some(origin) = press
-            && !self.begin_gizmo_drag(self.local(origin))
         {
+            // A control point under the cursor wins over the gizmo (its parts are long and easy
+            // to grab elsewhere; a point is not).
             match self.handle_at(self.local(origin)) {
                 Some(index) => self.begin_drag(index, shift),
+                None if self.begin_gizmo_drag(self.local(origin)) => {}
                 None => self.selection.box_start = Some(origin),
             }
         }
