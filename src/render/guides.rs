@@ -44,6 +44,25 @@ pub fn ground_grid(camera: &OrbitCamera) -> (GuideLines, f64) {
     );
     let n = (extent / minor).ceil() as i64;
     let mut lines = GuideLines::default();
+    // Segments are cut to the part in front of the eye: some rasterizers (SwiftShader) drop
+    // lines that cross the near plane instead of clipping them.
+    let eye = camera.eye().as_dvec3();
+    let forward = -camera.axes().2.as_dvec3();
+    let near = if camera.orthographic {
+        f64::NEG_INFINITY
+    } else {
+        0.02 * f64::from(camera.distance)
+    };
+    let mut add = |a: DVec3, b: DVec3, color: [f32; 4]| {
+        let (da, db) = ((a - eye).dot(forward) - near, (b - eye).dot(forward) - near);
+        if da < 0.0 && db < 0.0 {
+            return;
+        }
+        let cut = |p: DVec3, q: DVec3, dp: f64, dq: f64| p + (q - p) * (dp / (dp - dq));
+        let a2 = if da < 0.0 { cut(a, b, da, db) } else { a };
+        let b2 = if db < 0.0 { cut(b, a, db, da) } else { b };
+        lines.depth_tested(a2, b2, color);
+    };
     for k in -n..=n {
         let offset = k as f64 * minor;
         let on_major = (k + (cx / minor).round() as i64).rem_euclid(10) == 0;
@@ -53,18 +72,18 @@ pub fn ground_grid(camera: &OrbitCamera) -> (GuideLines, f64) {
         let (y0, y1) = (cy - extent, cy + extent);
         let on_axis = |v: f64| v.abs() < 0.5 * minor;
         if !on_axis(x) {
-            lines.depth_tested(DVec3::new(x, y0, 0.0), DVec3::new(x, y1, 0.0), color);
+            add(DVec3::new(x, y0, 0.0), DVec3::new(x, y1, 0.0), color);
         }
         if !on_axis(y) {
-            lines.depth_tested(DVec3::new(x0, y, 0.0), DVec3::new(x1, y, 0.0), color);
+            add(DVec3::new(x0, y, 0.0), DVec3::new(x1, y, 0.0), color);
         }
     }
     let (x0, x1, y0, y1) = (cx - extent, cx + extent, cy - extent, cy + extent);
     if (y0..=y1).contains(&0.0) {
-        lines.depth_tested(DVec3::new(x0, 0.0, 0.0), DVec3::new(x1, 0.0, 0.0), AXIS_X);
+        add(DVec3::new(x0, 0.0, 0.0), DVec3::new(x1, 0.0, 0.0), AXIS_X);
     }
     if (x0..=x1).contains(&0.0) {
-        lines.depth_tested(DVec3::new(0.0, y0, 0.0), DVec3::new(0.0, y1, 0.0), AXIS_Y);
+        add(DVec3::new(0.0, y0, 0.0), DVec3::new(0.0, y1, 0.0), AXIS_Y);
     }
     (lines, minor)
 }
