@@ -339,6 +339,29 @@ pub fn run(
     Ok(())
 }
 
+/// Renders `geometry` into `target` once and waits for it: the wall time in milliseconds.
+fn timed_render(
+    context: &GpuContext,
+    renderer: &ViewportRenderer,
+    target: &ViewTarget,
+    geometry: &crate::gpu::PatchGeometry,
+    overlays: crate::view::Overlays,
+) -> Result<f64, GpuError> {
+    let start = Instant::now();
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    renderer.render(
+        &mut encoder,
+        target,
+        geometry.surface_buffers(),
+        None,
+        overlays,
+        None,
+    );
+    context.queue.submit([encoder.finish()]);
+    wait(context)?;
+    Ok(start.elapsed().as_secs_f64() * 1e3)
+}
+
 /// Frame time of every shading mode on `scene` at 1280 × 800 against plain shading (the
 /// analysis modes evaluate the surface per pixel), and the continuity analysis of the teapot and
 /// of a 10 × 10 grid of joined bicubic surfaces.
@@ -377,20 +400,9 @@ fn bench_analysis(
                 &context.queue,
                 &scene_uniform(&view, &target, 3.5, range, None),
             );
-            let start = Instant::now();
-            let mut encoder = context.device.create_command_encoder(&Default::default());
-            renderer.render(
-                &mut encoder,
-                &target,
-                geometry.surface_buffers(),
-                None,
-                view.overlays,
-                None,
-            );
-            context.queue.submit([encoder.finish()]);
-            wait(context)?;
+            let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
             if round >= 2 {
-                times[k].push(start.elapsed().as_secs_f64() * 1e3);
+                times[k].push(ms);
             }
         }
     }
@@ -757,20 +769,9 @@ fn bench_trim(
         for i in 0..iterations + 2 {
             for (k, sync) in syncs.iter().enumerate() {
                 let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-                let start = Instant::now();
-                let mut encoder = context.device.create_command_encoder(&Default::default());
-                renderer.render(
-                    &mut encoder,
-                    &target,
-                    geometry.surface_buffers(),
-                    None,
-                    view.overlays,
-                    None,
-                );
-                context.queue.submit([encoder.finish()]);
-                wait(context)?;
+                let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
                 if i >= 2 {
-                    times[k].push(start.elapsed().as_secs_f64() * 1e3);
+                    times[k].push(ms);
                 }
             }
         }

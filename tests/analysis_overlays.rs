@@ -95,7 +95,7 @@ fn principal_directions_on_a_cylinder_run_along_and_around_the_axis() {
         let d = (b - a).normalize();
         let along = d.dot(DVec3::Z).abs();
         assert!(
-            along > 1.0 - 1e-6 || along < 1e-6,
+            !(1e-6..=1.0 - 1e-6).contains(&along),
             "neither along nor around: {d}"
         );
         let m = 0.5 * (a + b);

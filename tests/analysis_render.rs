@@ -445,6 +445,21 @@ fn waved_object(lift: f64, segments: u32) -> SceneObject {
     object
 }
 
+/// A camera looking down at the waved surface, framing it up to height `top`.
+fn waved_camera(top: f32) -> OrbitCamera {
+    let mut camera = OrbitCamera {
+        yaw: -1.1,
+        pitch: 0.6,
+        ..Default::default()
+    };
+    camera.frame(
+        glam::Vec3::new(0.0, 0.0, -0.6),
+        glam::Vec3::new(4.0, 4.0, top),
+        WIDTH as f32 / HEIGHT as f32,
+    );
+    camera
+}
+
 /// The share of pixels both images cover whose grey level differs by more than 100 (a flipped
 /// stripe), and how many pixels both cover.
 fn stripe_difference(a: &[u8], b: &[u8]) -> (f64, usize) {
@@ -468,16 +483,7 @@ fn stripe_difference(a: &[u8], b: &[u8]) -> (f64, usize) {
 
 #[test]
 fn zebra_does_not_depend_on_the_tessellation() {
-    let mut camera = OrbitCamera {
-        yaw: -1.1,
-        pitch: 0.6,
-        ..Default::default()
-    };
-    camera.frame(
-        glam::Vec3::new(0.0, 0.0, -0.6),
-        glam::Vec3::new(4.0, 4.0, 0.6),
-        WIDTH as f32 / HEIGHT as f32,
-    );
+    let camera = waved_camera(0.6);
     let settings = AnalysisSettings {
         zebra_pairs: 10,
         ..Default::default()
@@ -511,16 +517,7 @@ fn zebra_does_not_depend_on_the_tessellation() {
 
 #[test]
 fn every_analysis_mode_matches_its_reference_image() {
-    let mut camera = OrbitCamera {
-        yaw: -1.1,
-        pitch: 0.6,
-        ..Default::default()
-    };
-    camera.frame(
-        glam::Vec3::new(0.0, 0.0, -0.6),
-        glam::Vec3::new(4.0, 4.0, 2.4),
-        WIDTH as f32 / HEIGHT as f32,
-    );
+    let camera = waved_camera(2.4);
     let ball = SceneObject::new(
         "ball",
         ObjectGeometry::Nurbs(construct::sphere(DVec3::new(2.0, 2.5, 1.4), 1.0).unwrap()),
