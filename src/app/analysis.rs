@@ -52,13 +52,13 @@ impl KnotworkApp {
             .as_ref()
             .is_none_or(|(scene, o, _)| *o != options || scene != &self.doc.scene);
         if stale {
+            self.analysis.continuity = None;
+        }
+        let (_, _, report) = self.analysis.continuity.get_or_insert_with(|| {
             let report = analyse(&self.doc.scene, None, &options);
-            self.analysis.continuity = Some((self.doc.scene.clone(), options, report));
-        }
-        match &self.analysis.continuity {
-            Some((_, _, report)) => report,
-            None => unreachable!("made above"),
-        }
+            (self.doc.scene.clone(), options, report)
+        });
+        report
     }
 
     /// The continuity status: edges, how many meet the target, each verdict.
@@ -93,29 +93,30 @@ impl KnotworkApp {
             .scene()
             .bounds()
             .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
+        // The selected geometry is only looked at (and cloned for the cache) when it is shown.
+        let shown = a.combs != CombCurves::None || a.principal_directions;
         let selected = self
             .selection
             .object
+            .filter(|_| shown)
             .and_then(|s| self.scene().objects.get(s))
             .filter(|o| o.visible)
-            .map(|o| o.geometry.clone());
-        if let Some(geometry) = selected
-            && (a.combs != CombCurves::None || a.principal_directions)
-        {
+            .map(|o| &o.geometry);
+        if let Some(geometry) = selected {
             let fresh = self
                 .analysis
                 .selected
                 .as_ref()
-                .is_some_and(|(g, s, z, _)| *g == geometry && *s == a && *z == size);
+                .is_some_and(|(g, s, z, _)| g == geometry && *s == a && *z == size);
             if !fresh {
                 let mut built = GuideLines::default();
                 if a.combs != CombCurves::None {
-                    built.extend(curvature_combs(&geometry, &a, size));
+                    built.extend(curvature_combs(geometry, &a, size));
                 }
                 if a.principal_directions {
-                    built.extend(principal_directions(&geometry, a.direction_density));
+                    built.extend(principal_directions(geometry, a.direction_density));
                 }
-                self.analysis.selected = Some((geometry, a, size, built));
+                self.analysis.selected = Some((geometry.clone(), a, size, built));
             }
             if let Some((_, _, _, built)) = &self.analysis.selected {
                 lines.extend(built.clone());
