@@ -215,11 +215,15 @@ fn draft_angle(n: vec3<f32>) -> f32 {
     return degrees(asin(clamp(dot(n, scene.pull_direction.xyz), -1.0, 1.0)));
 }
 
-// How much of a line of about one pixel at the level lines (whole numbers) of coordinate x with
-// screen width w covers the fragment.
+// How much of a line about one pixel wide covers a fragment `distance` from it, in a coordinate
+// whose screen width (change per pixel) is w.
+fn line_coverage(distance: f32, w: f32) -> f32 {
+    return clamp(1.0 - distance / max(w, 1e-6), 0.0, 1.0);
+}
+
+// line_coverage for the level lines (whole numbers) of coordinate x.
 fn level_line(x: f32, w: f32) -> f32 {
-    let distance = abs(fract(x + 0.5) - 0.5) / max(w, 1e-6);
-    return clamp(1.0 - distance, 0.0, 1.0);
+    return line_coverage(abs(fract(x + 0.5) - 0.5), w);
 }
 
 // Trims the fragment (trim.wgsl): discarded outside the kept region, along a trim edge only the
@@ -346,8 +350,8 @@ fn shade_fragment(
         }
         let lit = shade(base, facing, view_dir);
         // Lines at 0 degrees (the parting line) and at the threshold.
-        let zero = clamp(1.0 - abs(coordinate) / max(width, 1e-6), 0.0, 1.0);
-        let at_threshold = clamp(1.0 - abs(coordinate - threshold) / max(width, 1e-6), 0.0, 1.0);
+        let zero = line_coverage(abs(coordinate), width);
+        let at_threshold = line_coverage(abs(coordinate - threshold), width);
         return vec4<f32>(srgb_from_linear(mix(lit, vec3<f32>(0.01), max(zero, at_threshold))), 1.0);
     }
     var n = normalize(in.normal);

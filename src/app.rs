@@ -678,11 +678,11 @@ impl KnotworkApp {
         self.status.orthographic = self.view.camera.orthographic;
         self.status.gizmo = self.gizmo_mode.name().to_owned();
         self.status.grid_step = self.view.overlays.grid.then_some(self.analysis.grid_step);
-        self.status.continuity = if self.view.analysis.continuity {
-            self.analysis_summary()
-        } else {
-            None
-        };
+        self.status.continuity = self
+            .view
+            .analysis
+            .continuity
+            .then(|| self.continuity_summary());
         self.status.range_auto = self.view.range.is_none();
         self.status.range = self.color_range().map(|(lo, hi)| [lo, hi]);
         let quality_used = self

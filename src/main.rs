@@ -325,11 +325,15 @@ mod cli {
                     .ok_or_else(|| format!("no object named {name:?}"))?;
                 objects.push(k);
             }
-            let saved = project.view.map(|v| v.analysis).unwrap_or_default();
+            let saved = project
+                .view
+                .map(|v| v.analysis)
+                .unwrap_or_default()
+                .continuity_options();
             let options = ContinuityOptions {
-                gap: distance.unwrap_or(saved.gap_tolerance),
-                angle_degrees: angle.unwrap_or(saved.angle_tolerance),
-                curvature: curvature.unwrap_or(saved.curvature_tolerance),
+                gap: distance.unwrap_or(saved.gap),
+                angle_degrees: angle.unwrap_or(saved.angle_degrees),
+                curvature: curvature.unwrap_or(saved.curvature),
                 samples: samples as usize,
             };
             for (name, value) in [

@@ -300,4 +300,33 @@ fn shading_modes_match_the_surface_shader() {
         wgsl_constant(&module, "VERTEX_NO_CURVATURE"),
         f64::from(VERTEX_NO_CURVATURE)
     );
+    // The draft analysis's colours, which the legend shows.
+    for (name, rgb) in ["DRAFT_ENOUGH", "DRAFT_LITTLE", "DRAFT_UNDERCUT"]
+        .iter()
+        .zip(knotwork::render::DRAFT_COLORS)
+    {
+        let expected: Vec<f64> = rgb.iter().map(|&c| f64::from(c)).collect();
+        assert_eq!(wgsl_vector(&module, name), expected, "{name}");
+    }
+}
+
+/// The components of the WGSL vector constant `name` (a constructor of literals).
+fn wgsl_vector(module: &naga::Module, name: &str) -> Vec<f64> {
+    let constant = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no constant {name}"))
+        .1;
+    let naga::Expression::Compose { ref components, .. } = module.global_expressions[constant.init]
+    else {
+        panic!("{name} is not a vector constructor");
+    };
+    components
+        .iter()
+        .map(|&c| match module.global_expressions[c] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => f64::from(v),
+            ref other => panic!("{name}: a component is not an f32 literal: {other:?}"),
+        })
+        .collect()
 }

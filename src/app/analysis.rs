@@ -29,18 +29,6 @@ pub(super) struct AnalysisState {
     pub grid_step: f64,
 }
 
-impl AnalysisSettings {
-    /// The continuity options these settings give.
-    pub fn continuity_options(&self) -> ContinuityOptions {
-        ContinuityOptions {
-            gap: self.gap_tolerance,
-            angle_degrees: self.angle_tolerance,
-            curvature: self.curvature_tolerance,
-            ..ContinuityOptions::default()
-        }
-    }
-}
-
 impl KnotworkApp {
     /// The continuity report of the current scene (made again only when the scene or the
     /// tolerances change).
@@ -62,10 +50,10 @@ impl KnotworkApp {
     }
 
     /// The continuity status: edges, how many meet the target, each verdict.
-    pub(super) fn analysis_summary(&mut self) -> Option<crate::status::ContinuityStatus> {
+    pub(super) fn continuity_summary(&mut self) -> crate::status::ContinuityStatus {
         let target = self.view.analysis.continuity_target;
         let report = self.continuity_report();
-        Some(crate::status::ContinuityStatus {
+        crate::status::ContinuityStatus {
             edges: report.edges.len() as u32,
             passing: report
                 .edges
@@ -77,7 +65,7 @@ impl KnotworkApp {
                 .iter()
                 .map(|e| e.verdict.name().to_owned())
                 .collect(),
-        })
+        }
     }
 
     /// Every line overlay for this frame: grid, combs, directions, continuity hair.
@@ -85,14 +73,10 @@ impl KnotworkApp {
         let mut lines = GuideLines::default();
         if self.view.overlays.grid {
             let (grid, step) = ground_grid(&self.view.camera);
-            lines.extend(grid);
+            lines.extend(&grid);
             self.analysis.grid_step = step;
         }
         let a = self.view.analysis;
-        let size = self
-            .scene()
-            .bounds()
-            .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
         // The selected geometry is only looked at (and cloned for the cache) when it is shown.
         let shown = a.combs != CombCurves::None || a.principal_directions;
         let selected = self
@@ -103,6 +87,10 @@ impl KnotworkApp {
             .filter(|o| o.visible)
             .map(|o| &o.geometry);
         if let Some(geometry) = selected {
+            let size = self
+                .scene()
+                .bounds()
+                .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
             let fresh = self
                 .analysis
                 .selected
@@ -111,20 +99,20 @@ impl KnotworkApp {
             if !fresh {
                 let mut built = GuideLines::default();
                 if a.combs != CombCurves::None {
-                    built.extend(curvature_combs(geometry, &a, size));
+                    built.extend(&curvature_combs(geometry, &a, size));
                 }
                 if a.principal_directions {
-                    built.extend(principal_directions(geometry, a.direction_density));
+                    built.extend(&principal_directions(geometry, a.direction_density));
                 }
                 self.analysis.selected = Some((geometry.clone(), a, size, built));
             }
             if let Some((_, _, _, built)) = &self.analysis.selected {
-                lines.extend(built.clone());
+                lines.extend(built);
             }
         }
         if a.continuity {
-            let report = self.continuity_report().clone();
-            lines.extend(continuity_hair(
+            let report = self.continuity_report();
+            lines.extend(&continuity_hair(
                 &report.edges,
                 &report.tolerances,
                 a.continuity_target,
@@ -145,6 +133,19 @@ impl KnotworkApp {
         }
         self.analysis.uploaded = Some(lines);
         true
+    }
+
+    /// Keeps a panel's change of the analysis settings if they are valid (and redraws), else
+    /// puts `before` back.
+    pub(super) fn accept_analysis_edit(&mut self, before: AnalysisSettings) {
+        if self.view.analysis == before {
+            return;
+        }
+        if self.view.analysis.validate().is_ok() {
+            self.redraw = true;
+        } else {
+            self.view.analysis = before;
+        }
     }
 
     /// The Analysis section: combs, principal directions and continuity (tolerances, target,
@@ -220,13 +221,7 @@ impl KnotworkApp {
                 );
             });
         }
-        if self.view.analysis != before {
-            if self.view.analysis.validate().is_ok() {
-                self.redraw = true;
-            } else {
-                self.view.analysis = before;
-            }
-        }
+        self.accept_analysis_edit(before);
         if self.view.analysis.continuity {
             self.continuity_table(ui);
         }
@@ -235,8 +230,11 @@ impl KnotworkApp {
     /// One row per shared edge: faces, verdict, the three maxima; a click frames the edge.
     fn continuity_table(&mut self, ui: &mut Ui) {
         let target = self.view.analysis.continuity_target;
-        let report = self.continuity_report().clone();
-        let scene = self.scene().clone();
+        self.continuity_report();
+        let Some((_, _, report)) = &self.analysis.continuity else {
+            return;
+        };
+        let scene = &self.doc.scene;
         if report.edges.is_empty() {
             ui.label("no shared edges (boundaries within 1 % of the scene's size)");
             return;
@@ -267,9 +265,9 @@ impl KnotworkApp {
                         for (k, e) in report.edges.iter().enumerate() {
                             let name = format!(
                                 "{} {} · {} {}",
-                                report.face_name(&scene, e.a.0),
+                                report.face_name(scene, e.a.0),
                                 e.a.1.name(),
-                                report.face_name(&scene, e.b.0),
+                                report.face_name(scene, e.b.0),
                                 e.b.1.name()
                             );
                             if ui
@@ -306,13 +304,16 @@ impl KnotworkApp {
                     });
             });
         if let Some(k) = framed {
-            self.frame_edge(&report, k);
+            self.frame_edge(k);
         }
     }
 
-    /// Frames shared edge `k` of `report`: the box of its samples, padded by a tenth of the
-    /// scene's size.
-    pub(super) fn frame_edge(&mut self, report: &ContinuityReport, k: usize) {
+    /// Frames shared edge `k` of the continuity report: the box of its samples, padded by a
+    /// tenth of the scene's size.
+    pub(super) fn frame_edge(&mut self, k: usize) {
+        let Some((_, _, report)) = &self.analysis.continuity else {
+            return;
+        };
         let Some(edge) = report.edges.get(k) else {
             return;
         };

@@ -9,7 +9,7 @@
 //! are re-evaluated.
 
 use eframe::egui::{self, Color32, Pos2, Stroke};
-use glam::{DQuat, DVec2, DVec3};
+use glam::{DAffine3, DVec2, DVec3};
 
 use super::{DragHandle, KnotworkApp};
 use crate::view::pick::{self, Constraint};
@@ -209,16 +209,22 @@ impl KnotworkApp {
             .collect()
     }
 
-    /// The part under `cursor` (viewport pixels), nearest first.
-    fn gizmo_handle_at(&self, cursor: DVec2) -> Option<GizmoHandle> {
-        let (_, _, pivot) = self.gizmo_target()?;
+    /// The part of `parts` (the gizmo at `pivot`) under `cursor` (viewport pixels), nearest
+    /// first.
+    fn gizmo_handle_at(
+        &self,
+        pivot: DVec3,
+        parts: &[(GizmoHandle, Vec<DVec2>)],
+        cursor: DVec2,
+    ) -> Option<GizmoHandle> {
         // The pivot itself stays free for the control point drawn there (a free drag).
         let near_pivot = self
             .pick_view
             .and_then(|v| v.project(pivot))
             .is_some_and(|p| p.screen.distance(cursor) < PIVOT_CLEARANCE);
         let mut best: Option<(f64, GizmoHandle)> = None;
-        for (handle, points) in self.gizmo_parts(pivot) {
+        for (handle, points) in parts {
+            let handle = *handle;
             if near_pivot && handle != GizmoHandle::ScaleUniform {
                 continue;
             }
@@ -248,11 +254,12 @@ impl KnotworkApp {
 
     /// Starts a gizmo drag if the press at `cursor` (viewport pixels) is on a part; true if so.
     pub(super) fn begin_gizmo_drag(&mut self, cursor: DVec2) -> bool {
-        let Some(handle) = self.gizmo_handle_at(cursor) else {
-            return false;
-        };
         let (Some((object, points, pivot)), Some(view)) = (self.gizmo_target(), self.pick_view)
         else {
+            return false;
+        };
+        let parts = self.gizmo_parts(pivot);
+        let Some(handle) = self.gizmo_handle_at(pivot, &parts, cursor) else {
             return false;
         };
         if let Err(e) = self.doc.begin_drag(object, &points) {
@@ -304,13 +311,16 @@ impl KnotworkApp {
         let now = self.gizmo_point(drag.handle, drag.pivot, cursor);
         let p = drag.pivot;
         let snap = self.snap.then_some(self.snap_step);
-        let transform: Box<dyn Fn(DVec3) -> DVec3> = match drag.handle {
+        // Every transform is a translation or affine about the pivot: x ↦ p + M (x − p).
+        let about_pivot =
+            |m: DAffine3| DAffine3::from_translation(p) * m * DAffine3::from_translation(-p);
+        let transform = match drag.handle {
             GizmoHandle::Axis(_) | GizmoHandle::Plane(_) => {
                 let mut delta = now - drag.grab;
                 if let Some(step) = snap {
                     delta = pick::snap(delta, step);
                 }
-                Box::new(move |x| x + delta)
+                DAffine3::from_translation(delta)
             }
             GizmoHandle::Ring(a) => {
                 let (e1, e2) = (unit((a + 1) % 3), unit((a + 2) % 3));
@@ -320,9 +330,8 @@ impl KnotworkApp {
                     let step = 15f64.to_radians();
                     turn = (turn / step).round() * step;
                 }
-                let rotation = DQuat::from_axis_angle(unit(a), turn);
                 self.status.gizmo_amount = Some(turn.to_degrees());
-                Box::new(move |x| p + rotation * (x - p))
+                about_pivot(DAffine3::from_axis_angle(unit(a), turn))
             }
             GizmoHandle::ScaleAxis(a) => {
                 let e = unit(a);
@@ -335,19 +344,19 @@ impl KnotworkApp {
                 let mut scale = DVec3::ONE;
                 scale[a] = factor;
                 self.status.gizmo_amount = Some(factor);
-                Box::new(move |x| p + scale * (x - p))
+                about_pivot(DAffine3::from_scale(scale))
             }
             GizmoHandle::ScaleUniform => {
                 let base = drag.press_screen.distance(drag.pivot_screen).max(1.0);
                 let factor = cursor.distance(drag.pivot_screen) / base;
                 self.status.gizmo_amount = Some(factor);
-                Box::new(move |x| p + factor * (x - p))
+                about_pivot(DAffine3::from_scale(DVec3::splat(factor)))
             }
         };
         let moves: Vec<(usize, DVec3)> = drag
             .starts
             .iter()
-            .map(|&(k, x)| (k, transform(x)))
+            .map(|&(k, x)| (k, transform.transform_point3(x)))
             .collect();
         let result = self
             .doc
@@ -384,17 +393,17 @@ impl KnotworkApp {
         let pivot = self.gizmo_drag.as_ref().map_or(pivot, |d| d.pivot);
         let rect = self.viewport_rect;
         let painter = ui.painter().with_clip_rect(rect);
+        let parts = self.gizmo_parts(pivot);
         let hovered = self.gizmo_drag.as_ref().map(|d| d.handle).or_else(|| {
             ui.input(|i| i.pointer.hover_pos())
                 .filter(|p| rect.contains(*p))
                 .and_then(|p| {
-                    self.gizmo_handle_at(DVec2::new(
-                        f64::from(p.x - rect.left()),
-                        f64::from(p.y - rect.top()),
-                    ))
+                    let cursor =
+                        DVec2::new(f64::from(p.x - rect.left()), f64::from(p.y - rect.top()));
+                    self.gizmo_handle_at(pivot, &parts, cursor)
                 })
         });
-        for (handle, points) in self.gizmo_parts(pivot) {
+        for (handle, points) in parts {
             let axis = match handle {
                 GizmoHandle::Axis(a)
                 | GizmoHandle::Plane(a)

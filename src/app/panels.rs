@@ -683,11 +683,7 @@ impl KnotworkApp {
         self.set_shading(mode);
         let before = self.view.analysis;
         self.analysis_settings(ui);
-        if self.view.analysis != before && self.view.analysis.validate().is_ok() {
-            self.redraw = true;
-        } else if self.view.analysis != before {
-            self.view.analysis = before;
-        }
+        self.accept_analysis_edit(before);
         let Some((lo, hi)) = self.color_range() else {
             return;
         };
@@ -944,11 +940,7 @@ impl KnotworkApp {
             ] {
                 let label = match view {
                     super::views::StandardView::Perspective => "Persp",
-                    other => match other.name() {
-                        "top" => "Top",
-                        "front" => "Front",
-                        _ => "Right",
-                    },
+                    other => other.label(),
                 };
                 if ui
                     .small_button(label)

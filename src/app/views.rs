@@ -65,6 +65,19 @@ impl StandardView {
         Self::ALL.into_iter().find(|v| v.name() == name)
     }
 
+    /// The name in the menu and on the panel's buttons.
+    pub fn label(self) -> &'static str {
+        match self {
+            StandardView::Top => "Top",
+            StandardView::Bottom => "Bottom",
+            StandardView::Front => "Front",
+            StandardView::Back => "Back",
+            StandardView::Right => "Right",
+            StandardView::Left => "Left",
+            StandardView::Perspective => "Perspective",
+        }
+    }
+
     /// The keypad key, as the menu shows it.
     pub fn shortcut(self) -> &'static str {
         match self {
@@ -229,7 +242,7 @@ impl KnotworkApp {
     /// The View menu's items.
     pub(super) fn view_menu(&mut self, ui: &mut Ui) {
         for view in StandardView::ALL {
-            let label = format!("{} ({})", capitalized(view.name()), view.shortcut());
+            let label = format!("{} ({})", view.label(), view.shortcut());
             if ui.button(label).clicked() {
                 self.set_standard_view(view);
                 ui.close();
@@ -339,12 +352,4 @@ impl KnotworkApp {
             self.set_standard_view(view);
         }
     }
-}
-
-fn capitalized(name: &str) -> String {
-    let mut chars = name.chars();
-    chars
-        .next()
-        .map(|c| c.to_uppercase().chain(chars).collect())
-        .unwrap_or_default()
 }

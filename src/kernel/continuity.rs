@@ -119,20 +119,6 @@ pub struct Tolerances {
     pub samples: usize,
 }
 
-impl Tolerances {
-    /// The document defaults for a scene of size `size` (its bounding box's diagonal): gaps
-    /// within 1e-3 of the size, 1°, 5 %; edges within 1e-2 of the size count as shared.
-    pub fn for_size(size: f64) -> Self {
-        Self {
-            matching: 1e-2 * size,
-            distance: 1e-3 * size,
-            angle_degrees: 1.0,
-            curvature: 0.05,
-            samples: 33,
-        }
-    }
-}
-
 /// One sample along a shared edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EdgeSample {

@@ -63,14 +63,16 @@ pub fn ground_grid(camera: &OrbitCamera) -> (GuideLines, f64) {
         let b2 = if db < 0.0 { cut(b, a, db, da) } else { b };
         lines.depth_tested(a2, b2, color);
     };
+    let (x0, x1, y0, y1) = (cx - extent, cx + extent, cy - extent, cy + extent);
+    let on_axis = |v: f64| v.abs() < 0.5 * minor;
     for k in -n..=n {
-        let offset = k as f64 * minor;
-        let on_major = (k + (cx / minor).round() as i64).rem_euclid(10) == 0;
-        let color = if on_major { GRID_MAJOR } else { minor_color };
-        let (x, y) = (cx + offset, cy + offset);
-        let (x0, x1) = (cx - extent, cx + extent);
-        let (y0, y1) = (cy - extent, cy + extent);
-        let on_axis = |v: f64| v.abs() < 0.5 * minor;
+        // The centre lies on a major line, so every tenth line from it is one.
+        let color = if k.rem_euclid(10) == 0 {
+            GRID_MAJOR
+        } else {
+            minor_color
+        };
+        let (x, y) = (cx + k as f64 * minor, cy + k as f64 * minor);
         if !on_axis(x) {
             add(DVec3::new(x, y0, 0.0), DVec3::new(x, y1, 0.0), color);
         }
@@ -78,7 +80,6 @@ pub fn ground_grid(camera: &OrbitCamera) -> (GuideLines, f64) {
             add(DVec3::new(x0, y, 0.0), DVec3::new(x1, y, 0.0), color);
         }
     }
-    let (x0, x1, y0, y1) = (cx - extent, cx + extent, cy - extent, cy + extent);
     if (y0..=y1).contains(&0.0) {
         add(DVec3::new(x0, 0.0, 0.0), DVec3::new(x1, 0.0, 0.0), AXIS_X);
     }

@@ -305,9 +305,10 @@ impl GuideLines {
         self.depth_tested.push(LineVertex::new(b, color));
     }
 
-    pub fn extend(&mut self, other: GuideLines) {
-        self.depth_tested.extend(other.depth_tested);
-        self.on_top.extend(other.on_top);
+    /// Adds `other`'s lines after these.
+    pub fn extend(&mut self, other: &GuideLines) {
+        self.depth_tested.extend_from_slice(&other.depth_tested);
+        self.on_top.extend_from_slice(&other.on_top);
     }
 }
 

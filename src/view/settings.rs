@@ -212,6 +212,7 @@ pub const DRAFT_THRESHOLD: RangeInclusive<f64> = 0.0..=89.0;
 
 impl Default for AnalysisSettings {
     fn default() -> Self {
+        let continuity = crate::scene::continuity::ContinuityOptions::default();
         Self {
             zebra_pairs: 8,
             zebra_angle: 0.0,
@@ -221,9 +222,9 @@ impl Default for AnalysisSettings {
             isophote_direction: [0.0, 0.0, 1.0],
             pull_direction: [0.0, 0.0, 1.0],
             draft_threshold: 3.0,
-            gap_tolerance: 1e-3,
-            angle_tolerance: 1.0,
-            curvature_tolerance: 0.05,
+            gap_tolerance: continuity.gap,
+            angle_tolerance: continuity.angle_degrees,
+            curvature_tolerance: continuity.curvature,
             combs: CombCurves::None,
             comb_density: 5,
             comb_scale: 1.0,
@@ -236,36 +237,43 @@ impl Default for AnalysisSettings {
     }
 }
 
+/// `Err("NAME VALUE is outside LO..=HI UNIT")` unless `value` lies in `range`.
+fn within<T: PartialOrd + std::fmt::Display>(
+    name: &str,
+    value: T,
+    range: &RangeInclusive<T>,
+    unit: &str,
+) -> Result<(), String> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{name} {value} is outside {}..={}{unit}",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
 impl AnalysisSettings {
     /// Checks every number: ranges above, finite non-zero directions, positive tolerances.
     pub fn validate(&self) -> Result<(), String> {
-        if !ZEBRA_PAIRS.contains(&self.zebra_pairs) {
-            return Err(format!(
-                "zebra_pairs {} is outside {}..={}",
-                self.zebra_pairs,
-                ZEBRA_PAIRS.start(),
-                ZEBRA_PAIRS.end()
-            ));
-        }
+        within("zebra_pairs", self.zebra_pairs, &ZEBRA_PAIRS, "")?;
         if !self.zebra_angle.is_finite() {
             return Err("zebra_angle must be finite".into());
         }
-        if !ISOPHOTE_SPACING.contains(&self.isophote_spacing) {
-            return Err(format!(
-                "isophote_spacing {} is outside {}..={} degrees",
-                self.isophote_spacing,
-                ISOPHOTE_SPACING.start(),
-                ISOPHOTE_SPACING.end()
-            ));
-        }
-        if !DRAFT_THRESHOLD.contains(&self.draft_threshold) {
-            return Err(format!(
-                "draft_threshold {} is outside {}..={} degrees",
-                self.draft_threshold,
-                DRAFT_THRESHOLD.start(),
-                DRAFT_THRESHOLD.end()
-            ));
-        }
+        within(
+            "isophote_spacing",
+            self.isophote_spacing,
+            &ISOPHOTE_SPACING,
+            " degrees",
+        )?;
+        within(
+            "draft_threshold",
+            self.draft_threshold,
+            &DRAFT_THRESHOLD,
+            " degrees",
+        )?;
         for (name, d) in [
             ("isophote_direction", self.isophote_direction),
             ("pull_direction", self.pull_direction),
@@ -275,18 +283,13 @@ impl AnalysisSettings {
                 return Err(format!("{name} must be finite and not zero"));
             }
         }
-        for (name, n) in [
-            ("comb_density", self.comb_density),
-            ("direction_density", self.direction_density),
-        ] {
-            if !COMB_DENSITY.contains(&n) {
-                return Err(format!(
-                    "{name} {n} is outside {}..={}",
-                    COMB_DENSITY.start(),
-                    COMB_DENSITY.end()
-                ));
-            }
-        }
+        within("comb_density", self.comb_density, &COMB_DENSITY, "")?;
+        within(
+            "direction_density",
+            self.direction_density,
+            &COMB_DENSITY,
+            "",
+        )?;
         for (name, t) in [
             ("comb_scale", self.comb_scale),
             ("gap_tolerance", self.gap_tolerance),
@@ -298,6 +301,16 @@ impl AnalysisSettings {
             }
         }
         Ok(())
+    }
+
+    /// The continuity analysis's options these settings give.
+    pub fn continuity_options(&self) -> crate::scene::continuity::ContinuityOptions {
+        crate::scene::continuity::ContinuityOptions {
+            gap: self.gap_tolerance,
+            angle_degrees: self.angle_tolerance,
+            curvature: self.curvature_tolerance,
+            ..Default::default()
+        }
     }
 
     /// A unit vector along `d` (+Z for a zero or non-finite one).
