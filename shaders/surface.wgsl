@@ -105,8 +105,9 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     return out;
 }
 
-// Samples per pixel of the viewport (Rust: render::SAMPLE_COUNT).
-const SAMPLE_COUNT: u32 = 4u;
+// Samples per pixel of the viewport: set per pipeline to the target's (Rust: render::SAMPLE_COUNTS;
+// the default is render::SAMPLE_COUNT).
+override SAMPLE_COUNT: u32 = 4u;
 
 // Whether the mode evaluates the surface per fragment.
 fn per_pixel(mode: u32) -> bool {

@@ -32,7 +32,7 @@ use crate::doc::{Command, Document, Edit, EditError, PointsMoved, Touched};
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{self, GpuError, SceneSync, effective_segments};
-use crate::render::{ControlNet, ViewTarget, ViewportRenderer, scene_uniform};
+use crate::render::{ControlNet, Quality, ViewTarget, ViewportRenderer, scene_uniform};
 use crate::scene::Scene;
 use crate::status::{self, AppStatus, ExternalCommand};
 use crate::view::{Constraint, PickView, QUALITY_RANGE, ShadingMode, SurfaceHit, ViewSettings};
@@ -82,8 +82,13 @@ struct ViewportGpu {
     sync: SceneSync,
     net: Option<ControlNet>,
     renderer: ViewportRenderer,
-    target: Option<ViewTarget>,
-    texture: Option<egui::TextureId>,
+    /// The offscreen targets at rest and in motion ([`Quality::target`]), each with its egui
+    /// texture; the motion one is unused where [`Quality`] keeps full quality in motion.
+    targets: [Option<(ViewTarget, egui::TextureId)>; 2],
+    /// Which of `targets` the last frame drew into (and the viewport shows).
+    shown: usize,
+    /// Samples and resolution at rest and in motion, from the adapter.
+    quality: Quality,
     timer: Option<GpuTimer>,
 }
 
@@ -91,6 +96,9 @@ impl ViewportGpu {
     fn new(state: &egui_wgpu::RenderState) -> Self {
         let device = state.device.clone();
         Self {
+            quality: Quality::for_adapter(&state.adapter.get_info()),
+            targets: [None, None],
+            shown: 0,
             sync: SceneSync::new(&device, &state.queue),
             renderer: ViewportRenderer::new(&device),
             timer: GpuTimer::new(&device, &state.queue),
@@ -98,35 +106,47 @@ impl ViewportGpu {
             egui_renderer: Arc::clone(&state.renderer),
             device,
             net: None,
-            target: None,
-            texture: None,
         }
     }
 
-    /// Makes the offscreen target `size` physical pixels; true when it was (re)created.
-    fn ensure_target(&mut self, size: (u32, u32)) -> bool {
-        if self.target.as_ref().is_some_and(|t| t.size() == size) {
+    /// Makes the target for a viewport of `size` physical pixels, in motion or at rest
+    /// ([`Quality::target`]), current; true when it was (re)created.
+    fn ensure_target(&mut self, size: (u32, u32), moving: bool) -> bool {
+        let wanted = self.quality.target(size, moving);
+        let slot = usize::from(wanted != self.quality.target(size, false));
+        let (samples, size) = wanted;
+        self.shown = slot;
+        if self.targets[slot]
+            .as_ref()
+            .is_some_and(|(t, _)| t.size() == size && t.samples() == samples)
+        {
             return false;
         }
-        let target = ViewTarget::new(&self.device, size.0, size.1);
+        let target = ViewTarget::with_samples(&self.device, size.0, size.1, samples);
         let mut egui_renderer = self.egui_renderer.write();
-        match self.texture {
-            Some(id) => egui_renderer.update_egui_texture_from_wgpu_texture(
-                &self.device,
-                target.view(),
-                wgpu::FilterMode::Linear,
-                id,
-            ),
-            None => {
-                self.texture = Some(egui_renderer.register_native_texture(
+        let id = match self.targets[slot].take() {
+            Some((_, id)) => {
+                egui_renderer.update_egui_texture_from_wgpu_texture(
                     &self.device,
                     target.view(),
                     wgpu::FilterMode::Linear,
-                ))
+                    id,
+                );
+                id
             }
-        }
-        self.target = Some(target);
+            None => egui_renderer.register_native_texture(
+                &self.device,
+                target.view(),
+                wgpu::FilterMode::Linear,
+            ),
+        };
+        self.targets[slot] = Some((target, id));
         true
+    }
+
+    /// The target the last frame drew into, and its egui texture.
+    fn target(&self) -> Option<&(ViewTarget, egui::TextureId)> {
+        self.targets[self.shown].as_ref()
     }
 
     /// Runs the compute pass if any patch needs it, then renders the viewport. Returns the
@@ -138,7 +158,7 @@ impl ViewportGpu {
         selected: Option<u32>,
         point_radius_px: f32,
     ) -> Option<u32> {
-        let target = self.target.as_ref()?;
+        let (target, _) = self.targets[self.shown].as_ref()?;
         self.sync.geometry()?;
         let mut encoder = self
             .device
@@ -298,6 +318,7 @@ impl KnotworkApp {
                 } else {
                     info.name.clone()
                 };
+                status.software_adapter = crate::render::is_software(&info);
                 // An adapter without compute shaders gets no evaluator: the window says why.
                 match gpu::context::check(&state.adapter) {
                     Ok(()) => Some(ViewportGpu::new(state)),
@@ -653,6 +674,26 @@ impl KnotworkApp {
         self.auto_range
     }
 
+    /// Whether the view or the model is moving under the user's hand this frame: a drag of
+    /// points, the gizmo or a trim handle, an orbit or pan (a button held after pressing in the
+    /// viewport), a wheel zoom, or a camera transition. Such frames may be drawn at the lower
+    /// quality of [`Quality`].
+    fn in_motion(&self, ctx: &egui::Context) -> bool {
+        let rect = self.viewport_rect;
+        let (held_in_viewport, scrolling) = ctx.input(|i| {
+            (
+                i.pointer.any_down() && i.pointer.press_origin().is_some_and(|p| rect.contains(p)),
+                i.smooth_scroll_delta != egui::Vec2::ZERO || i.zoom_delta() != 1.0,
+            )
+        });
+        self.drag.is_some()
+            || self.gizmo_drag.is_some()
+            || self.trim_handle.is_some()
+            || self.camera_move.is_some()
+            || held_in_viewport
+            || (scrolling && ctx.pointer_hover_pos().is_some_and(|p| rect.contains(p)))
+    }
+
     fn refresh_status(&mut self) {
         self.status.objects = self.scene().objects.len() as u32;
         self.status.selected_points = self.selection.points.iter().map(|&k| k as u32).collect();
@@ -863,21 +904,35 @@ impl KnotworkApp {
         if self.upload_guide_lines() {
             self.redraw = true;
         }
+        let moving = self.in_motion(ui.ctx());
         let Some(gpu) = self.gpu.as_mut() else {
             return;
         };
-        let resized = gpu.ensure_target(size);
+        // The last frame in motion was drawn at the lower quality: draw the view at rest.
+        let settled = !moving && gpu.shown != 0;
+        let resized = gpu.ensure_target(size, moving);
+        let point_scale = gpu
+            .target()
+            .map_or(1.0, |(t, _)| t.size().0 as f32 / size.0.max(1) as f32);
         gpu.renderer
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
         let pending = gpu.sync.needs_evaluation();
-        if resized || self.redraw || self.continuous || pending {
-            if let Some(evaluated) = gpu.draw(&self.view, range, selected, POINT_RADIUS * ppp) {
+        if resized || settled || self.redraw || self.continuous || pending {
+            let radius = POINT_RADIUS * ppp * point_scale;
+            if let Some(evaluated) = gpu.draw(&self.view, range, selected, radius) {
                 self.status.patches_reevaluated = evaluated;
             }
             self.status.frames += 1;
             self.redraw = false;
         }
-        if let Some(texture) = gpu.texture {
+        if gpu.shown != 0 {
+            // Come back to draw the view at rest once the motion stops.
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(120));
+        }
+        self.status.frame_samples = gpu.target().map_or(0, |(t, _)| t.samples());
+        self.status.frame_size = gpu.target().map(|(t, _)| t.size().into());
+        if let Some(&(_, texture)) = gpu.target() {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }

@@ -250,15 +250,53 @@ fn bench_drag_frame(
     );
     let (mut doc, mut sync) = document_on_gpu(context, object)?;
     let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, 1280, 800);
     let mut view = ViewSettings::default();
     view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
-    let uniform = scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None);
-    renderer.set_scene(&context.queue, &uniform);
-    let draw = |encoder: &mut wgpu::CommandEncoder, geometry: &crate::gpu::PatchGeometry| {
-        let buffers = geometry.surface_buffers();
-        renderer.render(encoder, &target, buffers, Some(&net), view.overlays, None);
-    };
+    // As the editor draws a drag: at full quality on a GPU, at the lower quality in motion on a
+    // software adapter.
+    for (quality, label) in [
+        (crate::render::Quality::hardware(), "GPU quality"),
+        (
+            crate::render::Quality::software(),
+            "software-adapter quality",
+        ),
+    ] {
+        let (samples, (w, h)) = quality.target((1280, 800), true);
+        let target = ViewTarget::with_samples(&context.device, w, h, samples);
+        let uniform = scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None);
+        renderer.set_scene(&context.queue, &uniform);
+        let draw = |encoder: &mut wgpu::CommandEncoder, geometry: &crate::gpu::PatchGeometry| {
+            let buffers = geometry.surface_buffers();
+            renderer.render(encoder, &target, buffers, Some(&net), view.overlays, None);
+        };
+        let (latency, render_only, patches) =
+            drag_frames(context, &mut doc, &mut sync, &net, point, iterations, &draw)?;
+        writeln!(
+            out,
+            "{:<26} {:>3} seg | drag-to-new-frame {:8.3} ms ({label}: {w} × {h}, {samples} sample{}; {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
+            name,
+            segments,
+            latency,
+            if samples == 1 { "" } else { "s" },
+            point_count,
+            render_only,
+        )?;
+    }
+    Ok(())
+}
+
+/// Drags `point` of the document's only object back and forth `iterations` times, each step
+/// followed by `draw`, until the frame is finished on the GPU: (median drag-to-new-frame ms,
+/// median ms of `draw` alone, patches re-evaluated per step).
+fn drag_frames(
+    context: &GpuContext,
+    doc: &mut Document,
+    sync: &mut SceneSync,
+    net: &ControlNet,
+    point: usize,
+    iterations: usize,
+    draw: &dyn Fn(&mut wgpu::CommandEncoder, &crate::gpu::PatchGeometry),
+) -> Result<(f64, f64, u32), Box<dyn std::error::Error>> {
     doc.begin_drag(0, &[point])?;
     let mut latency = Vec::new();
     let mut patches = 0;
@@ -295,20 +333,19 @@ fn bench_drag_frame(
         wait(context)?;
         render_only.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    writeln!(
-        out,
-        "{:<26} {:>3} seg | drag-to-new-frame {:8.3} ms (1280 × 800, {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
-        name,
-        segments,
-        median(latency),
-        point_count,
-        median(render_only),
-    )?;
-    Ok(())
+    Ok((median(latency), median(render_only), patches))
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 6] = ["edit", "export", "subdivision", "trim", "analysis", "all"];
+pub const GROUPS: [&str; 7] = [
+    "edit",
+    "frame",
+    "export",
+    "subdivision",
+    "trim",
+    "analysis",
+    "all",
+];
 
 /// Runs every benchmark on `context` (or only `group`, one of [`GROUPS`]), printing one line
 /// per figure.
@@ -327,6 +364,9 @@ pub fn run(
         bench_subdivision(context, iterations, out)?;
     }
     let scene = Scene::demo()?;
+    if wants("frame") {
+        bench_frame(context, &scene, iterations, out)?;
+    }
     if wants("analysis") {
         bench_analysis(context, &scene, iterations, out)?;
     }
@@ -360,6 +400,61 @@ fn timed_render(
     context.queue.submit([encoder.finish()]);
     wait(context)?;
     Ok(start.elapsed().as_secs_f64() * 1e3)
+}
+
+/// The render pass of the demo scene and of the teapot at 64 segments at 1280 × 800, as the
+/// viewport draws them at rest (4× multisampling) and as it draws them on a software adapter:
+/// one sample at full resolution, and one sample at the resolution scale used while dragging.
+fn bench_frame(
+    context: &GpuContext,
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut teapot = scene.objects[0].clone();
+    teapot.segments = 64;
+    let teapot = Scene {
+        objects: vec![teapot],
+    };
+    let renderer = ViewportRenderer::new(&context.device);
+    let drag_scale = crate::render::Quality::software().drag_scale;
+    for (name, scene) in [("demo scene", scene), ("teapot 64 seg", &teapot)] {
+        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        sync.encode(&mut encoder, None);
+        context.queue.submit([encoder.finish()]);
+        wait(context)?;
+        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
+        let mut view = ViewSettings::default();
+        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        let scaled = |v: u32| ((v as f32 * drag_scale).round() as u32).max(1);
+        for (samples, (w, h)) in [
+            (4, (1280, 800)),
+            (1, (1280, 800)),
+            (1, (scaled(1280), scaled(800))),
+        ] {
+            let target = ViewTarget::with_samples(&context.device, w, h, samples);
+            renderer.set_scene(
+                &context.queue,
+                &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
+            );
+            let mut times = Vec::new();
+            for round in 0..iterations + 2 {
+                let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
+                if round >= 2 {
+                    times.push(ms);
+                }
+            }
+            writeln!(
+                out,
+                "frame {name:<14} | {w:>4} × {h:<4} {samples} sample{} | {:8.2} ms",
+                if samples == 1 { " " } else { "s" },
+                median(times)
+            )?;
+        }
+    }
+    Ok(())
 }
 
 /// Frame time of every shading mode on `scene` at 1280 × 800 against plain shading (the

@@ -69,6 +69,12 @@ pub struct AppStatus {
     pub gpu_eval_ms: Option<f64>,
     /// Render pass duration on the GPU (timestamp queries), when the device has them.
     pub gpu_render_ms: Option<f64>,
+    /// Samples per pixel and size (physical pixels) of the last viewport frame: lower while
+    /// the view or the model moves on a software adapter.
+    pub frame_samples: u32,
+    pub frame_size: Option<[u32; 2]>,
+    /// Whether the adapter is a software rasterizer, which draws at a lower quality in motion.
+    pub software_adapter: bool,
     /// Time between the last two frames, measured on the CPU.
     pub frame_interval_ms: Option<f64>,
     /// Selected control points of the selected object.

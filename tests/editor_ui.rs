@@ -99,9 +99,23 @@ fn click_drag_with_axis_constraint_and_undo() {
     harness.run_steps(2);
     assert_eq!(status::current().selected_points, vec![index as u32]);
 
+    // At rest the viewport has 4× multisampling at full resolution.
+    let rest = status::current();
+    assert!(rest.software_adapter, "these tests run on lavapipe");
+    assert_eq!(rest.frame_samples, 4);
+    let full = rest.frame_size.expect("a frame was drawn");
+
     // Drag it: start freely, press X, keep moving, release.
     drag_from(&mut harness, at, egui::vec2(10.0, -6.0), 4);
-    assert!(status::current().dragging);
+    let moving = status::current();
+    assert!(moving.dragging);
+    // On a software adapter the frames in motion have one sample at half the resolution.
+    assert_eq!(moving.frame_samples, 1);
+    assert_eq!(
+        moving.frame_size,
+        Some([full[0].div_ceil(2), full[1].div_ceil(2)]),
+        "half of {full:?}"
+    );
     harness.key_press(Key::X);
     harness.run_steps(1);
     assert_eq!(status::current().constraint, "X axis");
@@ -113,6 +127,8 @@ fn click_drag_with_axis_constraint_and_undo() {
     let s = status::current();
     assert!(!s.dragging);
     assert_eq!(s.undo_steps, 1, "a drag is one undo step");
+    // Released: the view at rest is drawn at full quality again.
+    assert_eq!((s.frame_samples, s.frame_size), (4, Some(full)));
     // Only the point's support was re-evaluated: a (2, 5) B-spline point touches few patches.
     let total = harness.state().document().scene.objects[OBJECT]
         .decompose()

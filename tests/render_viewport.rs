@@ -453,3 +453,47 @@ fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylin
         common::compare_with_reference_png(name, &image, (WIDTH, HEIGHT));
     }
 }
+
+/// The frames a software adapter draws in motion (one sample) show the same image as the
+/// multisampled ones, up to anti-aliasing along edges: the same pixels covered, and colours
+/// apart only on a thin share of the pixels.
+#[test]
+fn one_sample_frames_match_multisampled_frames_but_for_edge_antialiasing() {
+    let context = common::gpu();
+    let scene = knotwork::scene::Scene::demo().unwrap();
+    let (lo, hi) = scene.bounds().unwrap();
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.overlays.grid = false;
+    let size = (320, 200);
+    let four = common::draw_offscreen_with_samples(&context, &scene.objects, None, &view, size, 4);
+    let one = common::draw_offscreen_with_samples(&context, &scene.objects, None, &view, size, 1);
+    let background = background_bytes();
+    let covered = |image: &[u8]| {
+        image
+            .chunks(4)
+            .filter(|p| differs_from(p, background, 24))
+            .count()
+    };
+    let (c4, c1) = (covered(&four), covered(&one));
+    assert!(c4 > 5_000, "the demo scene covers the view: {c4} px");
+    assert!(
+        (c4 as f64 - c1 as f64).abs() < 0.03 * c4 as f64,
+        "covered pixels: {c4} with 4 samples, {c1} with 1"
+    );
+    let apart = four
+        .chunks(4)
+        .zip(one.chunks(4))
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 24))
+        .count();
+    let share = apart as f64 / (size.0 * size.1) as f64;
+    if share >= 0.04 {
+        common::write_png(
+            &std::path::PathBuf::from("target/one-sample-actual.png"),
+            size.0,
+            size.1,
+            &one,
+        );
+    }
+    assert!(share < 0.04, "{:.2} % of the pixels differ", share * 100.0);
+}

@@ -653,6 +653,14 @@ impl KnotworkApp {
                 let rows = [
                     ("Backend", self.status.backend.clone()),
                     ("Adapter", self.status.adapter.clone()),
+                    (
+                        "Quality",
+                        if self.status.software_adapter {
+                            "software: ½ res. in motion".to_owned()
+                        } else {
+                            "4× MSAA".to_owned()
+                        },
+                    ),
                     ("Objects", self.status.objects.to_string()),
                     ("Bézier patches", self.status.patches.to_string()),
                     ("Vertices", self.status.vertices.to_string()),

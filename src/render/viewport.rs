@@ -11,8 +11,12 @@ use crate::view::{
 /// The viewport texture holds sRGB-encoded values (egui samples user textures as such).
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// 4× MSAA: guaranteed for these formats by WebGPU.
+/// 4× MSAA, the default: guaranteed for these formats by WebGPU. A [`ViewTarget`] may use 1
+/// instead (software adapters, where multisampling is most of a frame's cost).
 pub const SAMPLE_COUNT: u32 = 4;
+
+/// The sample counts a [`ViewTarget`] can have: WebGPU guarantees exactly these two.
+pub const SAMPLE_COUNTS: [u32; 2] = [1, 4];
 
 /// Checker cells per unit of u and v in the checker shading.
 pub const CHECKER_CELLS: f32 = 8.0;
@@ -85,19 +89,28 @@ pub const DRAFT_COLORS: [[f32; 3]; 3] =
 pub const POINT_COLOR: [f32; 4] = [0.95, 0.78, 0.25, 1.0];
 
 /// The offscreen textures one viewport renders into: multisampled colour and depth, and the
-/// single-sampled colour they resolve to.
+/// single-sampled colour they resolve to (with one sample, the pass draws into that directly).
 pub struct ViewTarget {
     width: u32,
     height: u32,
-    msaa_view: wgpu::TextureView,
+    samples: u32,
+    /// The multisampled colour; `None` with one sample.
+    msaa_view: Option<wgpu::TextureView>,
     depth_view: wgpu::TextureView,
     resolved: wgpu::Texture,
     resolved_view: wgpu::TextureView,
 }
 
 impl ViewTarget {
-    /// Textures of `width` × `height` physical pixels (each clamped to 1..=8192).
+    /// Textures of `width` × `height` physical pixels (each clamped to 1..=8192), with
+    /// [`SAMPLE_COUNT`] samples per pixel.
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+        Self::with_samples(device, width, height, SAMPLE_COUNT)
+    }
+
+    /// The same with `samples` per pixel: 1, or 4 for any other value.
+    pub fn with_samples(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> Self {
+        let samples = if samples == 1 { 1 } else { SAMPLE_COUNT };
         let max = device.limits().max_texture_dimension_2d;
         let (width, height) = (width.clamp(1, max), height.clamp(1, max));
         let texture = |label: &str, format, samples, usage| {
@@ -117,8 +130,11 @@ impl ViewTarget {
             })
         };
         let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let msaa = texture("viewport msaa", COLOR_FORMAT, SAMPLE_COUNT, attachment);
-        let depth = texture("viewport depth", DEPTH_FORMAT, SAMPLE_COUNT, attachment);
+        let msaa = (samples > 1).then(|| {
+            texture("viewport msaa", COLOR_FORMAT, samples, attachment)
+                .create_view(&Default::default())
+        });
+        let depth = texture("viewport depth", DEPTH_FORMAT, samples, attachment);
         let resolved = texture(
             "viewport",
             COLOR_FORMAT,
@@ -128,7 +144,8 @@ impl ViewTarget {
         Self {
             width,
             height,
-            msaa_view: msaa.create_view(&Default::default()),
+            samples,
+            msaa_view: msaa,
             depth_view: depth.create_view(&Default::default()),
             resolved_view: resolved.create_view(&Default::default()),
             resolved,
@@ -137,6 +154,11 @@ impl ViewTarget {
 
     pub fn size(&self) -> (u32, u32) {
         (self.width, self.height)
+    }
+
+    /// Samples per pixel: 1 or [`SAMPLE_COUNT`].
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The resolved colour texture (for copies and screenshots).
@@ -312,11 +334,159 @@ impl GuideLines {
     }
 }
 
+/// The render pipelines for one sample count.
+struct RenderPipelines {
+    surface: wgpu::RenderPipeline,
+    net: wgpu::RenderPipeline,
+    dot: wgpu::RenderPipeline,
+    line_depth: wgpu::RenderPipeline,
+    line_top: wgpu::RenderPipeline,
+}
+
+/// What the render pipelines are made from: layouts and shader modules.
+struct PipelineSources {
+    layout: wgpu::PipelineLayout,
+    surface_layout: wgpu::PipelineLayout,
+    surface_module: wgpu::ShaderModule,
+    overlay_module: wgpu::ShaderModule,
+}
+
+impl PipelineSources {
+    /// Every pipeline for targets of `samples` per pixel. The surface shader's `SAMPLE_COUNT`
+    /// override is set to match: it writes a sample mask for the trim edges' coverage.
+    fn pipelines(&self, device: &wgpu::Device, samples: u32) -> RenderPipelines {
+        let control_point_layout = wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+        };
+        let control_point_instances = wgpu::VertexBufferLayout {
+            step_mode: wgpu::VertexStepMode::Instance,
+            ..control_point_layout.clone()
+        };
+        let line_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LineVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+        };
+        let sample_constants = [("SAMPLE_COUNT", f64::from(samples))];
+        let pipeline =
+            |label: &str,
+             layout: &wgpu::PipelineLayout,
+             module: &wgpu::ShaderModule,
+             (vs, fs): (&str, &str),
+             buffer: wgpu::VertexBufferLayout<'_>,
+             topology: wgpu::PrimitiveTopology,
+             (depth_compare, depth_write): (wgpu::CompareFunction, bool)| {
+                let constants: &[(&str, f64)] = if std::ptr::eq(module, &self.surface_module) {
+                    &sample_constants
+                } else {
+                    &[]
+                };
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layout),
+                    vertex: wgpu::VertexState {
+                        module,
+                        entry_point: Some(vs),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants,
+                            ..Default::default()
+                        },
+                        buffers: &[Some(buffer)],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology,
+                        // Two-sided: the surface shader shades back faces itself.
+                        cull_mode: None,
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(depth_write),
+                        depth_compare: Some(depth_compare),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: wgpu::MultisampleState {
+                        count: samples,
+                        ..Default::default()
+                    },
+                    fragment: Some(wgpu::FragmentState {
+                        module,
+                        entry_point: Some(fs),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants,
+                            ..Default::default()
+                        },
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: COLOR_FORMAT,
+                            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
+        let on_top = (wgpu::CompareFunction::Always, false);
+        let lines = wgpu::PrimitiveTopology::LineList;
+        RenderPipelines {
+            surface: pipeline(
+                "surface",
+                &self.surface_layout,
+                &self.surface_module,
+                ("vs_surface", "fs_surface"),
+                SurfaceVertex::layout(),
+                wgpu::PrimitiveTopology::TriangleList,
+                (wgpu::CompareFunction::Less, true),
+            ),
+            // The control net is drawn over the surface, unoccluded, as CAD tools do.
+            net: pipeline(
+                "control net",
+                &self.layout,
+                &self.overlay_module,
+                ("vs_net", "fs_net"),
+                control_point_layout,
+                lines,
+                on_top,
+            ),
+            dot: pipeline(
+                "control points",
+                &self.layout,
+                &self.overlay_module,
+                ("vs_dot", "fs_dot"),
+                control_point_instances,
+                wgpu::PrimitiveTopology::TriangleStrip,
+                on_top,
+            ),
+            line_depth: pipeline(
+                "guide lines (depth tested)",
+                &self.layout,
+                &self.overlay_module,
+                ("vs_lines", "fs_lines"),
+                line_layout.clone(),
+                lines,
+                (wgpu::CompareFunction::LessEqual, false),
+            ),
+            line_top: pipeline(
+                "analysis lines (on top)",
+                &self.layout,
+                &self.overlay_module,
+                ("vs_lines", "fs_lines"),
+                line_layout,
+                lines,
+                on_top,
+            ),
+        }
+    }
+}
+
 /// The render pipelines and the scene uniform; one per device.
 pub struct ViewportRenderer {
-    surface_pipeline: wgpu::RenderPipeline,
-    net_pipeline: wgpu::RenderPipeline,
-    dot_pipeline: wgpu::RenderPipeline,
+    sources: PipelineSources,
+    /// The pipelines per sample count, made on first use.
+    pipelines: std::sync::Mutex<std::collections::HashMap<u32, std::sync::Arc<RenderPipelines>>>,
     scene_buffer: wgpu::Buffer,
     scene_layout: wgpu::BindGroupLayout,
     scene_bind_group: wgpu::BindGroup,
@@ -331,8 +501,6 @@ pub struct ViewportRenderer {
     highlight: wgpu::Buffer,
     /// Whether any bit of `highlight` is set.
     highlighting: bool,
-    line_depth_pipeline: wgpu::RenderPipeline,
-    line_top_pipeline: wgpu::RenderPipeline,
     /// The guide lines' vertices (depth-tested ones first) and the two counts.
     lines: Option<wgpu::Buffer>,
     line_counts: (u32, u32),
@@ -370,6 +538,8 @@ fn highlight_buffer(device: &wgpu::Device, words: usize) -> wgpu::Buffer {
 }
 
 impl ViewportRenderer {
+    /// The renderer with the pipelines for [`SAMPLE_COUNT`] made; those for one sample are made
+    /// when a target first asks for them.
     pub fn new(device: &wgpu::Device) -> Self {
         let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene uniform"),
@@ -423,134 +593,26 @@ impl ViewportRenderer {
             label: Some("trim loops"),
             entries: &[storage(0), storage(1), storage(2), storage(3)],
         });
-        let surface_pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("viewport surface"),
-                bind_group_layouts: &[Some(&scene_layout), Some(&trim_layout)],
-                immediate_size: 0,
-            });
-        let surface_module = shaders::create_module(device, &shaders::SURFACE_SHADER);
-        let overlay_module = shaders::create_module(device, &shaders::OVERLAY_SHADER);
-
-        let control_point_layout = wgpu::VertexBufferLayout {
-            array_stride: 16,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+        let surface_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("viewport surface"),
+            bind_group_layouts: &[Some(&scene_layout), Some(&trim_layout)],
+            immediate_size: 0,
+        });
+        let sources = PipelineSources {
+            layout,
+            surface_layout,
+            surface_module: shaders::create_module(device, &shaders::SURFACE_SHADER),
+            overlay_module: shaders::create_module(device, &shaders::OVERLAY_SHADER),
         };
-        let control_point_instances = wgpu::VertexBufferLayout {
-            step_mode: wgpu::VertexStepMode::Instance,
-            ..control_point_layout.clone()
-        };
-        let surface_layout = SurfaceVertex::layout();
-        let pipeline = |label: &str,
-                        layout: &wgpu::PipelineLayout,
-                        module: &wgpu::ShaderModule,
-                        (vs, fs): (&str, &str),
-                        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
-                        topology: wgpu::PrimitiveTopology,
-                        depth_compare: wgpu::CompareFunction,
-                        depth_write: bool| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology,
-                    // Two-sided: the surface shader shades back faces itself.
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(depth_compare),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: SAMPLE_COUNT,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
-                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let line_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<LineVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
-        };
-        let line_depth_pipeline = pipeline(
-            "guide lines (depth tested)",
-            &layout,
-            &overlay_module,
-            ("vs_lines", "fs_lines"),
-            &[Some(line_layout.clone())],
-            wgpu::PrimitiveTopology::LineList,
-            wgpu::CompareFunction::LessEqual,
-            false,
-        );
-        let line_top_pipeline = pipeline(
-            "analysis lines (on top)",
-            &layout,
-            &overlay_module,
-            ("vs_lines", "fs_lines"),
-            &[Some(line_layout)],
-            wgpu::PrimitiveTopology::LineList,
-            wgpu::CompareFunction::Always,
-            false,
-        );
+        let pipelines = std::collections::HashMap::from([(
+            SAMPLE_COUNT,
+            std::sync::Arc::new(sources.pipelines(device, SAMPLE_COUNT)),
+        )]);
         Self {
-            line_depth_pipeline,
-            line_top_pipeline,
+            sources,
+            pipelines: std::sync::Mutex::new(pipelines),
             lines: None,
             line_counts: (0, 0),
-            surface_pipeline: pipeline(
-                "surface",
-                &surface_pipeline_layout,
-                &surface_module,
-                ("vs_surface", "fs_surface"),
-                &[Some(surface_layout)],
-                wgpu::PrimitiveTopology::TriangleList,
-                wgpu::CompareFunction::Less,
-                true,
-            ),
-            // The control net is drawn over the surface, unoccluded, as CAD tools do.
-            net_pipeline: pipeline(
-                "control net",
-                &layout,
-                &overlay_module,
-                ("vs_net", "fs_net"),
-                &[Some(control_point_layout)],
-                wgpu::PrimitiveTopology::LineList,
-                wgpu::CompareFunction::Always,
-                false,
-            ),
-            dot_pipeline: pipeline(
-                "control points",
-                &layout,
-                &overlay_module,
-                ("vs_dot", "fs_dot"),
-                &[Some(control_point_instances)],
-                wgpu::PrimitiveTopology::TriangleStrip,
-                wgpu::CompareFunction::Always,
-                false,
-            ),
             scene_buffer,
             scene_layout,
             scene_bind_group,
@@ -560,6 +622,19 @@ impl ViewportRenderer {
             highlight,
             highlighting: false,
         }
+    }
+
+    /// The pipelines for targets of `samples` per pixel, made on first use.
+    fn pipelines(&self, samples: u32) -> std::sync::Arc<RenderPipelines> {
+        let mut cache = self
+            .pipelines
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        std::sync::Arc::clone(
+            cache.entry(samples).or_insert_with(|| {
+                std::sync::Arc::new(self.sources.pipelines(&self.device, samples))
+            }),
+        )
     }
 
     /// Highlights the patch records `patches` (global record indices) until the next call;
@@ -672,15 +747,21 @@ impl ViewportRenderer {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let [r, g, b, a] = BACKGROUND;
+        let pipelines = self.pipelines(target.samples);
+        // With one sample the pass draws straight into the resolved texture.
+        let (view, resolve_target, store) = match &target.msaa_view {
+            Some(msaa) => (msaa, Some(&target.resolved_view), wgpu::StoreOp::Discard),
+            None => (&target.resolved_view, None, wgpu::StoreOp::Store),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("viewport"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.msaa_view,
+                view,
                 depth_slice: None,
-                resolve_target: Some(&target.resolved_view),
+                resolve_target,
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                    store: wgpu::StoreOp::Discard,
+                    store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -698,7 +779,7 @@ impl ViewportRenderer {
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
         if overlays.surface && surface.index_count > 0 {
             let trims = self.trim_bind_group(&surface);
-            pass.set_pipeline(&self.surface_pipeline);
+            pass.set_pipeline(&pipelines.surface);
             pass.set_bind_group(1, &trims, &[]);
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -708,11 +789,11 @@ impl ViewportRenderer {
             let (depth, top) = self.line_counts;
             pass.set_vertex_buffer(0, lines.slice(..));
             if depth > 0 {
-                pass.set_pipeline(&self.line_depth_pipeline);
+                pass.set_pipeline(&pipelines.line_depth);
                 pass.draw(0..depth, 0..1);
             }
             if top > 0 {
-                pass.set_pipeline(&self.line_top_pipeline);
+                pass.set_pipeline(&pipelines.line_top);
                 pass.draw(depth..depth + top, 0..1);
             }
         }
@@ -720,13 +801,13 @@ impl ViewportRenderer {
             return;
         };
         if overlays.net && net.line_index_count > 0 {
-            pass.set_pipeline(&self.net_pipeline);
+            pass.set_pipeline(&pipelines.net);
             pass.set_vertex_buffer(0, net.points.slice(..));
             pass.set_index_buffer(net.lines.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..net.line_index_count, 0, 0..1);
         }
         if overlays.points && net.point_count > 0 {
-            pass.set_pipeline(&self.dot_pipeline);
+            pass.set_pipeline(&pipelines.dot);
             pass.set_vertex_buffer(0, net.points.slice(..));
             pass.draw(0..4, 0..net.point_count);
         }

@@ -124,6 +124,18 @@ pub fn draw_offscreen(
     view: &knotwork::view::ViewSettings,
     (width, height): (u32, u32),
 ) -> Vec<u8> {
+    draw_offscreen_with_samples(context, objects, net, view, (width, height), 4)
+}
+
+/// [`draw_offscreen`] into a target of `samples` per pixel (1 or 4).
+pub fn draw_offscreen_with_samples(
+    context: &GpuContext,
+    objects: &[knotwork::scene::SceneObject],
+    net: Option<&knotwork::render::ControlNet>,
+    view: &knotwork::view::ViewSettings,
+    (width, height): (u32, u32),
+    samples: u32,
+) -> Vec<u8> {
     use knotwork::render::{ViewTarget, ViewportRenderer, scene_uniform};
     let scene = knotwork::scene::Scene {
         objects: objects.to_vec(),
@@ -131,7 +143,8 @@ pub fn draw_offscreen(
     let mut sync =
         knotwork::gpu::SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
     let renderer = ViewportRenderer::new(&context.device);
-    let target = ViewTarget::new(&context.device, width, height);
+    let target = ViewTarget::with_samples(&context.device, width, height, samples);
+    assert_eq!(target.samples(), samples);
     let range = view.range.unwrap_or((-1.0, 1.0));
     let uniform = scene_uniform(view, &target, 4.0, range, None);
     let mut encoder = context.device.create_command_encoder(&Default::default());
