@@ -343,9 +343,10 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 7] = [
+pub const GROUPS: [&str; 8] = [
     "edit",
     "frame",
+    "scale",
     "export",
     "subdivision",
     "trim",
@@ -372,6 +373,9 @@ pub fn run(
     let scene = Scene::demo()?;
     if wants("frame") {
         bench_frame(context, &scene, iterations, out)?;
+    }
+    if wants("scale") {
+        bench_scale(context, iterations, out)?;
     }
     if wants("analysis") {
         bench_analysis(context, &scene, iterations, out)?;
@@ -459,6 +463,72 @@ fn bench_frame(
                 median(times)
             )?;
         }
+    }
+    Ok(())
+}
+
+/// The scale series: bicubic B-spline landscapes of about 1,000, 10,000 and 40,000 Bézier
+/// patches at a fixed 4 segments per patch, framed alike at 1280 × 800: vertices evaluated, the
+/// full compute pass, the render pass (4 samples, and 1 as in motion on a software adapter) and
+/// the GPU memory per patch.
+fn bench_scale(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let renderer = ViewportRenderer::new(&context.device);
+    for n in [35, 103, 203] {
+        let mut object = landscape(n)?;
+        object.segments = 4;
+        let scene = Scene {
+            objects: vec![object],
+        };
+        let started = Instant::now();
+        let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
+        let upload_ms = started.elapsed().as_secs_f64() * 1e3;
+        let mut timer = None;
+        let mut pass = Vec::new();
+        for _ in 0..iterations.clamp(1, 5) {
+            sync.invalidate();
+            // Wall time: lavapipe's timestamps read near zero for dispatches this large after
+            // the first.
+            let (_, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
+            pass.push(wall);
+        }
+        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
+        let mut view = ViewSettings::default();
+        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        let mut frames = Vec::new();
+        for samples in [4, 1] {
+            let target = ViewTarget::with_samples(&context.device, 1280, 800, samples);
+            renderer.set_scene(
+                &context.queue,
+                &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
+            );
+            let mut times = Vec::new();
+            for _ in 0..iterations.clamp(1, 3) {
+                times.push(timed_render(
+                    context,
+                    &renderer,
+                    &target,
+                    geometry,
+                    view.overlays,
+                )?);
+            }
+            frames.push(median(times));
+        }
+        let patches = geometry.patch_count();
+        writeln!(
+            out,
+            "scale {:>6} patches, 4 seg | {:>8} vertices | upload {upload_ms:8.1} ms | pass {:8.2} ms (submit+wait) | frame 1280 × 800 {:8.1} ms (4 samples), {:8.1} ms (1 sample) | {:.0} bytes per patch",
+            patches,
+            geometry.vertex_count(),
+            median(pass),
+            frames[0],
+            frames[1],
+            geometry.buffer_bytes() as f64 / f64::from(patches.max(1)),
+        )?;
     }
     Ok(())
 }

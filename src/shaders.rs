@@ -10,6 +10,8 @@ pub const COMMON: &str = include_str!("../shaders/common.wgsl");
 pub const DIFFGEO: &str = include_str!("../shaders/diffgeo.wgsl");
 /// Module: rational Bézier patch derivatives (the compute pass and the per-pixel analysis).
 pub const BEZIER: &str = include_str!("../shaders/bezier.wgsl");
+/// Module: the crack-free vertex and triangle layout of a view-adaptively tessellated patch.
+pub const ADAPTIVE: &str = include_str!("../shaders/adaptive.wgsl");
 /// Module: per-fragment trimming against the packed trim loops.
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
@@ -28,10 +30,11 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 3] = [
+pub const MODULES: [(&str, &str); 4] = [
     ("diffgeo.wgsl", DIFFGEO),
     ("bezier.wgsl", BEZIER),
     ("trim.wgsl", TRIM),
+    ("adaptive.wgsl", ADAPTIVE),
 ];
 
 /// What a module needs from the pipeline that composes it, for validating the module on its

@@ -1,6 +1,7 @@
 //! GPU evaluation on wgpu: device setup, the compute evaluator that turns patches into vertex
 //! buffers, and GPU timing. Depends on the kernel, never the other way round.
 
+pub mod adaptive;
 pub mod context;
 pub mod error;
 pub mod patch_eval;

@@ -826,6 +826,23 @@ impl PatchGeometry {
         self.index_count
     }
 
+    /// Bytes of GPU memory the geometry holds: control points, indices, records, trims,
+    /// vertices, triangles and the patch lists.
+    pub fn buffer_bytes(&self) -> u64 {
+        [
+            &self.control_points,
+            &self.control_index_buffer,
+            &self.record_buffer,
+            &self.trim_buffer,
+            &self.vertices,
+            &self.triangle_indices,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .chain(self.groups.iter().map(|g| g.list.size()))
+        .sum()
+    }
+
     /// Evaluates points, `samples` giving a patch record and local (s, t) each (blocking; the
     /// `eval --backend gpu` command and tests). Derivatives are with respect to (s, t).
     #[cfg(not(target_arch = "wasm32"))]
