@@ -95,9 +95,11 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     out.record = in.record;
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
-    let trim = trim_varying(in.record, out.uv);
-    out.trim_grid = trim.grid;
-    out.trim_cell = trim.cell;
+    if (TRIMMED) {
+        let trim = trim_varying(in.record, out.uv);
+        out.trim_grid = trim.grid;
+        out.trim_cell = trim.cell;
+    }
     let word = in.record >> 5u;
     if (word < arrayLength(&highlight)) {
         out.highlighted = (highlight[word] >> (in.record & 31u)) & 1u;
@@ -108,6 +110,13 @@ fn vs_surface(in: VertexIn) -> VertexOut {
 // Samples per pixel of the viewport: set per pipeline to the target's (Rust: render::SAMPLE_COUNTS;
 // the default is render::SAMPLE_COUNT).
 override SAMPLE_COUNT: u32 = 4u;
+
+// Set per pipeline (render::viewport): whether the pipeline evaluates the patches per fragment
+// (the analysis modes) and whether it trims. A pipeline compiled without them is the plain
+// shader: on software rasterizers (lavapipe, SwiftShader) the code of those paths slows every
+// fragment even where it never runs.
+override PER_PIXEL: bool = true;
+override TRIMMED: bool = true;
 
 // Whether the mode evaluates the surface per fragment.
 fn per_pixel(mode: u32) -> bool {
@@ -131,7 +140,7 @@ fn pixel_shape(in: VertexOut) -> PixelShape {
     out.normal = normalize(in.normal);
     out.curvature = in.curvature;
     out.defined = in.defined > 0.999;
-    if (!per_pixel(scene.shading.x)) {
+    if (!PER_PIXEL || !per_pixel(scene.shading.x)) {
         return out;
     }
     let rec = trim_records[in.record];
@@ -237,7 +246,10 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut 
     let shape = pixel_shape(in);
     let coordinates = analysis_coordinates(shape, front);
     let widths = vec2<f32>(fwidth(coordinates.x), fwidth(coordinates.y));
-    let coverage = trim_coverage(in.trim_grid, in.trim_cell, in.uv, grad_u, grad_v);
+    var coverage = 1.0;
+    if (TRIMMED) {
+        coverage = trim_coverage(in.trim_grid, in.trim_cell, in.uv, grad_u, grad_v);
+    }
     let samples = u32(round(coverage * f32(SAMPLE_COUNT)));
     if (samples == 0u) {
         discard;

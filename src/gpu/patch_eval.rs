@@ -272,6 +272,8 @@ pub struct SurfaceBuffers<'a> {
     /// the patches itself in the analysis modes).
     pub control_points: &'a wgpu::Buffer,
     pub control_indices: &'a wgpu::Buffer,
+    /// Whether any patch is crossed by a trim loop (the renderer then trims per fragment).
+    pub trimmed: bool,
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -797,6 +799,7 @@ impl PatchGeometry {
             trims: &self.trim_buffer,
             control_points: &self.control_points,
             control_indices: &self.control_index_buffer,
+            trimmed: self.records.iter().any(|r| r.trim_count == TRIM_PARTIAL),
         }
     }
 
