@@ -925,8 +925,10 @@ impl KnotworkApp {
             self.status.frames += 1;
             self.redraw = false;
         }
-        if gpu.shown != 0 {
-            // Come back to draw the view at rest once the motion stops.
+        if gpu.shown != 0 && !ui.ctx().input(|i| i.pointer.any_down()) {
+            // A wheel zoom ends without an event of its own: come back to draw the view at rest.
+            // (Drags end with the button's release; no frames are asked for while one is held,
+            // which would only queue more GPU work behind the frame the user waits for.)
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(120));
         }

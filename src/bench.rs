@@ -412,6 +412,24 @@ fn timed_render(
     Ok(start.elapsed().as_secs_f64() * 1e3)
 }
 
+/// `scene` on the GPU, evaluated once.
+fn evaluated(context: &GpuContext, scene: &Scene) -> Result<SceneSync, GpuError> {
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
+    let mut encoder = context.device.create_command_encoder(&Default::default());
+    sync.encode(&mut encoder, None);
+    context.queue.submit([encoder.finish()]);
+    wait(context)?;
+    Ok(sync)
+}
+
+/// The default view settings with the camera framing `scene`.
+fn framed_view(scene: &Scene) -> Result<ViewSettings, Box<dyn std::error::Error>> {
+    let (lo, hi) = scene.bounds().ok_or("empty scene")?;
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    Ok(view)
+}
+
 /// The render pass of the demo scene and of the teapot at 64 segments at 1280 × 800, as the
 /// viewport draws them at rest (4× multisampling) and as it draws them on a software adapter:
 /// one sample at full resolution, and one sample at the resolution scale used while dragging.
@@ -429,15 +447,9 @@ fn bench_frame(
     let renderer = ViewportRenderer::new(&context.device);
     let drag_scale = crate::render::Quality::software().drag_scale;
     for (name, scene) in [("demo scene", scene), ("teapot 64 seg", &teapot)] {
-        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        sync.encode(&mut encoder, None);
-        context.queue.submit([encoder.finish()]);
-        wait(context)?;
+        let sync = evaluated(context, scene)?;
         let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
-        let mut view = ViewSettings::default();
-        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        let view = framed_view(scene)?;
         let scaled = |v: u32| ((v as f32 * drag_scale).round() as u32).max(1);
         for (samples, (w, h)) in [
             (4, (1280, 800)),
@@ -496,9 +508,7 @@ fn bench_scale(
             pass.push(wall);
         }
         let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        let (lo, hi) = scene.bounds().ok_or("empty scene")?;
-        let mut view = ViewSettings::default();
-        view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+        let view = framed_view(&scene)?;
         let mut frames = Vec::new();
         for samples in [4, 1] {
             let target = ViewTarget::with_samples(&context.device, 1280, 800, samples);
@@ -543,17 +553,11 @@ fn bench_analysis(
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     use crate::view::ShadingMode;
-    let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
-    let mut encoder = context.device.create_command_encoder(&Default::default());
-    sync.encode(&mut encoder, None);
-    context.queue.submit([encoder.finish()]);
-    wait(context)?;
+    let sync = evaluated(context, scene)?;
     let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, 1280, 800);
-    let (lo, hi) = scene.bounds().ok_or("empty scene")?;
-    let mut view = ViewSettings::default();
-    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    let mut view = framed_view(scene)?;
     view.overlays.net = false;
     view.overlays.points = false;
     // Every mode in turn, round after round, so that drift affects them alike.
