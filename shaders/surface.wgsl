@@ -107,8 +107,8 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     return out;
 }
 
-// Samples per pixel of the viewport: set per pipeline to the target's (Rust: render::SAMPLE_COUNTS;
-// the default is render::SAMPLE_COUNT).
+// Samples per pixel of the viewport: set per pipeline to the target's, 1 or 4 (Rust:
+// render::ViewTarget::samples; the default is render::SAMPLE_COUNT).
 override SAMPLE_COUNT: u32 = 4u;
 
 // Set per pipeline (render::viewport): whether the pipeline evaluates the patches per fragment

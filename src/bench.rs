@@ -445,16 +445,14 @@ fn bench_frame(
         objects: vec![teapot],
     };
     let renderer = ViewportRenderer::new(&context.device);
-    let drag_scale = crate::render::Quality::software().drag_scale;
     for (name, scene) in [("demo scene", scene), ("teapot 64 seg", &teapot)] {
         let sync = evaluated(context, scene)?;
         let geometry = sync.geometry().ok_or("nothing on the GPU")?;
         let view = framed_view(scene)?;
-        let scaled = |v: u32| ((v as f32 * drag_scale).round() as u32).max(1);
         for (samples, (w, h)) in [
             (4, (1280, 800)),
             (1, (1280, 800)),
-            (1, (scaled(1280), scaled(800))),
+            crate::render::Quality::software().target((1280, 800), true),
         ] {
             let target = ViewTarget::with_samples(&context.device, w, h, samples);
             renderer.set_scene(
@@ -915,15 +913,7 @@ fn bench_trim(
     let build_ms = build.elapsed().as_secs_f64() * 1e3;
     let plain = trimmed_scene(10, false)?;
     // Both scenes on the GPU, drawn in turn so that drift of the machine affects both alike.
-    let on_gpu = |scene: &Scene| -> Result<SceneSync, Box<dyn std::error::Error>> {
-        let mut sync = SceneSync::with_scene(&context.device, &context.queue, scene, 1.0)?;
-        let mut encoder = context.device.create_command_encoder(&Default::default());
-        sync.encode(&mut encoder, None);
-        context.queue.submit([encoder.finish()]);
-        wait(context)?;
-        Ok(sync)
-    };
-    let syncs = [on_gpu(&plain)?, on_gpu(&trimmed)?];
+    let syncs = [evaluated(context, &plain)?, evaluated(context, &trimmed)?];
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::new(&context.device, 1280, 800);
     // The whole scene (each hole a few pixels across), then one surface filling the view (holes

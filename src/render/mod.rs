@@ -10,6 +10,5 @@ pub use quality::{Quality, is_software};
 
 pub use viewport::{
     BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, GuideLines,
-    LineVertex, POINT_COLOR, SAMPLE_COUNT, SAMPLE_COUNTS, ViewTarget, ViewportRenderer,
-    scene_uniform,
+    LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer, scene_uniform,
 };

@@ -15,9 +15,6 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// instead (software adapters, where multisampling is most of a frame's cost).
 pub const SAMPLE_COUNT: u32 = 4;
 
-/// The sample counts a [`ViewTarget`] can have: WebGPU guarantees exactly these two.
-pub const SAMPLE_COUNTS: [u32; 2] = [1, 4];
-
 /// Checker cells per unit of u and v in the checker shading.
 pub const CHECKER_CELLS: f32 = 8.0;
 
@@ -395,16 +392,11 @@ impl PipelineSources {
         let pipeline =
             |label: &str,
              layout: &wgpu::PipelineLayout,
-             module: &wgpu::ShaderModule,
+             (module, constants): (&wgpu::ShaderModule, &[(&str, f64)]),
              (vs, fs): (&str, &str),
              buffer: wgpu::VertexBufferLayout<'_>,
              topology: wgpu::PrimitiveTopology,
              (depth_compare, depth_write): (wgpu::CompareFunction, bool)| {
-                let constants: &[(&str, f64)] = if std::ptr::eq(module, &self.surface_module) {
-                    &sample_constants
-                } else {
-                    &[]
-                };
                 device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some(label),
                     layout: Some(layout),
@@ -457,7 +449,7 @@ impl PipelineSources {
             surface: pipeline(
                 "surface",
                 &self.surface_layout,
-                &self.surface_module,
+                (&self.surface_module, &sample_constants),
                 ("vs_surface", "fs_surface"),
                 SurfaceVertex::layout(),
                 wgpu::PrimitiveTopology::TriangleList,
@@ -467,7 +459,7 @@ impl PipelineSources {
             net: pipeline(
                 "control net",
                 &self.layout,
-                &self.overlay_module,
+                (&self.overlay_module, &[]),
                 ("vs_net", "fs_net"),
                 control_point_layout,
                 lines,
@@ -476,7 +468,7 @@ impl PipelineSources {
             dot: pipeline(
                 "control points",
                 &self.layout,
-                &self.overlay_module,
+                (&self.overlay_module, &[]),
                 ("vs_dot", "fs_dot"),
                 control_point_instances,
                 wgpu::PrimitiveTopology::TriangleStrip,
@@ -485,7 +477,7 @@ impl PipelineSources {
             line_depth: pipeline(
                 "guide lines (depth tested)",
                 &self.layout,
-                &self.overlay_module,
+                (&self.overlay_module, &[]),
                 ("vs_lines", "fs_lines"),
                 line_layout.clone(),
                 lines,
@@ -494,7 +486,7 @@ impl PipelineSources {
             line_top: pipeline(
                 "analysis lines (on top)",
                 &self.layout,
-                &self.overlay_module,
+                (&self.overlay_module, &[]),
                 ("vs_lines", "fs_lines"),
                 line_layout,
                 lines,
