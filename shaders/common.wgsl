@@ -118,6 +118,40 @@ struct SceneUniform {
     analysis_flags: vec4<u32>,
 }
 
+// What the view-adaptive tessellation measures its levels against (Rust:
+// gpu::records::AdaptiveView; the rule of gpu::adaptive::ScreenError).
+struct AdaptiveView {
+    // Clip from world (frustum culling of the control hulls).
+    view_proj: mat4x4<f32>,
+    // The eye and the unit view direction, world space (w unused).
+    eye: vec4<f32>,
+    forward: vec4<f32>,
+    // (world units per pixel at unit depth or, orthographic, anywhere; the near depth;
+    // tolerated error in pixels; longest triangle edge in pixels).
+    error: vec4<f32>,
+    // (orthographic 0/1, most segments per edge, slot count, vertex capacity).
+    counts: vec4<u32>,
+    // (index capacity, first adaptive vertex, first adaptive index, 0).
+    bases: vec4<u32>,
+}
+
+// One view-adaptively tessellated patch (Rust: gpu::records::AdaptiveSlot): its levels as the
+// levels pass measures them and, after the scan, as drawn, with its place in the buffers.
+struct AdaptiveSlot {
+    // Segments of the edges t = 0, s = 1, t = 1, s = 0 (the layout of adaptive.wgsl).
+    edges: vec4<u32>,
+    // (nu, nv) of the interior grid.
+    inner: vec2<u32>,
+    // The patch record.
+    record: u32,
+    // 1 when the control hull lies outside the view: no vertices, no triangles.
+    culled: u32,
+    vertex_offset: u32,
+    index_offset: u32,
+    vertex_count: u32,
+    triangle_count: u32,
+}
+
 const RAMP_STOPS: u32 = 5u;  // Rust: gpu::records::RAMP_STOPS
 
 // 0-1 sRGB-encoded from 0-1 linear (the viewport texture holds encoded values, as egui expects).

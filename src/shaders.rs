@@ -53,7 +53,7 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
 pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
     name: "eval_bezier.wgsl",
     body: EVAL_BEZIER,
-    modules: &[DIFFGEO, BEZIER],
+    modules: &[DIFFGEO, BEZIER, ADAPTIVE],
 };
 /// The surface render pipeline.
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {

@@ -6,7 +6,8 @@ use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
 
 use knotwork::gpu::records::{
-    EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE, PatchRecord, PointResult,
+    AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE,
+    PatchRecord, PointResult,
     PointSample, RAMP_STOPS, SceneUniform, SurfaceVertex, VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
 };
 use knotwork::kernel::bezier::DEGENERATE_SIN2;
@@ -182,6 +183,30 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             isophote_direction,
             pull_direction,
             analysis_flags
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "AdaptiveView"),
+        rust_layout!(AdaptiveView {
+            view_proj,
+            eye,
+            forward,
+            error,
+            counts,
+            bases
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "AdaptiveSlot"),
+        rust_layout!(AdaptiveSlot {
+            edges,
+            inner,
+            record,
+            culled,
+            vertex_offset,
+            index_offset,
+            vertex_count,
+            triangle_count
         })
     );
     // The render pipeline reads SurfaceVertex through vertex attributes at the same offsets.

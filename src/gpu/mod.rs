@@ -2,6 +2,7 @@
 //! buffers, and GPU timing. Depends on the kernel, never the other way round.
 
 pub mod adaptive;
+pub mod adaptive_pass;
 pub mod context;
 pub mod error;
 pub mod patch_eval;

@@ -40,6 +40,9 @@ use std::sync::Mutex;
 
 use wgpu::util::DeviceExt;
 
+use super::adaptive_pass::{
+    AdaptivePass, AdaptivePipelines, AdaptiveStats, AdaptiveTarget, SharedBuffers,
+};
 use super::error::GpuError;
 use super::records::{
     EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PATCH_KIND_STENCIL_QUAD,
@@ -100,8 +103,11 @@ pub struct PatchEvaluator {
     pipeline_layout: wgpu::PipelineLayout,
     /// Small buffers bound where an entry point does not use a binding, one per binding.
     stand_ins: Vec<wgpu::Buffer>,
-    /// `evaluate_vertices` per key; bicubic Bézier patches take the array-free path.
-    specialized: Mutex<HashMap<PipelineKey, wgpu::ComputePipeline>>,
+    /// `evaluate_vertices` (false) or `evaluate_adaptive_vertices` (true) per key; bicubic
+    /// Bézier patches take the array-free path.
+    specialized: Mutex<HashMap<(PipelineKey, bool), wgpu::ComputePipeline>>,
+    /// The adaptive passes that are not specialized by degree.
+    adaptive: AdaptivePipelines,
     triangles_pipeline: wgpu::ComputePipeline,
     /// Point evaluation (native only: the `eval --backend gpu` command).
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
@@ -183,6 +189,7 @@ impl PatchEvaluator {
                 &[("BICUBIC_ONLY", 0.0)],
             ),
             specialized: Mutex::new(HashMap::new()),
+            adaptive: AdaptivePipelines::new(device, &module),
             layout,
             pipeline_layout,
             stand_ins,
@@ -191,14 +198,16 @@ impl PatchEvaluator {
         }
     }
 
-    /// The `evaluate_vertices` pipeline for `key`'s patches, compiled on first use.
-    fn eval_pipeline(&self, key: PipelineKey) -> wgpu::ComputePipeline {
+    /// The `evaluate_vertices` pipeline for `key`'s patches (or, `adaptive`, the
+    /// `evaluate_adaptive_vertices` one, whose bind group layout is derived from its bindings),
+    /// compiled on first use.
+    fn eval_pipeline(&self, key: PipelineKey, adaptive: bool) -> wgpu::ComputePipeline {
         let mut cache = self
             .specialized
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
         cache
-            .entry(key)
+            .entry((key, adaptive))
             .or_insert_with(|| {
                 let PipelineKey {
                     kind,
@@ -216,17 +225,33 @@ impl PatchEvaluator {
                     );
                 }
                 let bicubic = if (p, q) == (3, 3) { 1.0 } else { 0.0 };
+                let constants = [
+                    ("BICUBIC_ONLY", bicubic),
+                    ("DEGREE_U", f64::from(p)),
+                    ("DEGREE_V", f64::from(q)),
+                ];
+                if adaptive {
+                    return self.device.create_compute_pipeline(
+                        &wgpu::ComputePipelineDescriptor {
+                            label: Some(&format!("evaluate adaptive degree ({p}, {q}) patches")),
+                            layout: None,
+                            module: &self.module,
+                            entry_point: Some("evaluate_adaptive_vertices"),
+                            compilation_options: wgpu::PipelineCompilationOptions {
+                                constants: &constants,
+                                ..Default::default()
+                            },
+                            cache: None,
+                        },
+                    );
+                }
                 compute_pipeline(
                     &self.device,
                     &self.pipeline_layout,
                     &self.module,
                     &format!("evaluate degree ({p}, {q}) Bézier patches"),
                     "evaluate_vertices",
-                    &[
-                        ("BICUBIC_ONLY", bicubic),
-                        ("DEGREE_U", f64::from(p)),
-                        ("DEGREE_V", f64::from(q)),
-                    ],
+                    &constants,
                 )
             })
             .clone()
@@ -274,6 +299,20 @@ pub struct SurfaceBuffers<'a> {
     pub control_indices: &'a wgpu::Buffer,
     /// Whether any patch is crossed by a trim loop (the renderer then trims per fragment).
     pub trimmed: bool,
+    /// With a view-adaptive tessellation, the `draw_indexed_indirect` arguments (offset 0) the
+    /// compute pass wrote; the draw then takes its count from there, not `index_count`.
+    pub indirect: Option<&'a wgpu::Buffer>,
+}
+
+/// How a [`PatchGeometry`] tessellates its Bézier patches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tessellation {
+    /// Each object's segment count, on every patch alike.
+    Fixed,
+    /// Levels per patch edge from the view ([`super::adaptive_pass`]), in buffers with room
+    /// for `vertices` adaptive vertices (and six indices per vertex). Subdivision stencil
+    /// patches keep their fixed levels.
+    Adaptive { vertices: u32 },
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
@@ -339,6 +378,8 @@ pub struct PatchGeometry {
     index_count: u32,
     quad_groups_x: u32,
     triangles_written: bool,
+    /// The view-adaptive passes ([`Tessellation::Adaptive`]).
+    adaptive: Option<AdaptivePass>,
 }
 
 /// Homogeneous control points (wx, wy, wz, w) in f32, as the shaders read them.
@@ -363,14 +404,28 @@ fn vertex_groups(record: &PatchRecord) -> u32 {
 }
 
 impl PatchGeometry {
-    /// Uploads the patches of `objects` (object k's vertices carry `object = k`) for evaluation.
-    /// Checks the degrees, the levels and the device's buffer and dispatch limits; nothing is
-    /// created when a check fails.
+    /// Uploads the patches of `objects` (object k's vertices carry `object = k`) for evaluation
+    /// at their fixed segment counts. Checks the degrees, the levels and the device's buffer
+    /// and dispatch limits; nothing is created when a check fails.
     pub fn new(
         device: &wgpu::Device,
         evaluator: &PatchEvaluator,
         objects: &[ObjectPatches<'_>],
     ) -> Result<Self, GpuError> {
+        Self::with_tessellation(device, evaluator, objects, Tessellation::Fixed)
+    }
+
+    /// As [`Self::new`], tessellated as `tessellation` says.
+    pub fn with_tessellation(
+        device: &wgpu::Device,
+        evaluator: &PatchEvaluator,
+        objects: &[ObjectPatches<'_>],
+        tessellation: Tessellation,
+    ) -> Result<Self, GpuError> {
+        let adaptive_room = match tessellation {
+            Tessellation::Fixed => None,
+            Tessellation::Adaptive { vertices } => Some(vertices.max(1)),
+        };
         let limits = device.limits();
         let max_groups = limits.max_compute_workgroups_per_dimension;
         let stencil_count = |o: &ObjectPatches<'_>| o.stencils.map_or(0, |f| f.patches.len());
@@ -447,13 +502,15 @@ impl PatchGeometry {
                     (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
                     _ => (0, 0),
                 };
+                // Adaptive patches have no fixed grid: write_triangles skips them.
+                let grid = if adaptive_room.is_some() { 0 } else { segments };
                 records.push(PatchRecord {
                     degree_u: du as u32,
                     degree_v: dv as u32,
                     control_offset: control_indices.len() as u32,
                     vertex_offset: vertex_offset as u32,
-                    segments_u: segments,
-                    segments_v: segments,
+                    segments_u: grid,
+                    segments_v: grid,
                     index_offset: index_offset as u32,
                     object: object as u32,
                     domain,
@@ -463,8 +520,9 @@ impl PatchGeometry {
                     reserved: 0,
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
-                // A culled patch takes no vertices and no triangles.
-                if trim_count != TRIM_CULLED {
+                // A culled patch takes no vertices and no triangles; an adaptive one takes its
+                // room after the fixed patches'.
+                if trim_count != TRIM_CULLED && adaptive_room.is_none() {
                     vertex_offset += grid_vertices;
                     index_offset += 6 * grid_quads;
                 }
@@ -530,6 +588,11 @@ impl PatchGeometry {
         }
         let point_bytes = (points.len() + entry_data.len()) as u64 * 16;
 
+        let (fixed_vertices, fixed_indices) = (vertex_offset, index_offset);
+        if let Some(room) = adaptive_room {
+            vertex_offset += u64::from(room);
+            index_offset += 6 * u64::from(room);
+        }
         let vertex_bytes = vertex_offset * std::mem::size_of::<SurfaceVertex>() as u64;
         let index_bytes = index_offset * 4;
         let limit = limits
@@ -541,7 +604,7 @@ impl PatchGeometry {
             ("control point and stencil", point_bytes),
             ("trim", trim_words.len() as u64 * 4),
         ] {
-            if bytes > limit || index_offset > u64::from(u32::MAX) {
+            if bytes > limit || index_offset > u64::from(u32::MAX) / 2 {
                 return Err(GpuError::BufferTooLarge { what, bytes, limit });
             }
         }
@@ -585,14 +648,21 @@ impl PatchGeometry {
         let triangle_indices = output("triangle indices", index_bytes, wgpu::BufferUsages::INDEX);
 
         let mut by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
+        let mut adaptive_by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
         for (k, r) in records.iter().enumerate() {
             if r.trim_count != TRIM_CULLED {
-                by_key.entry(PipelineKey::of(r)).or_default().push(k as u32);
+                let adaptive = adaptive_room.is_some() && r.kind == PATCH_KIND_BEZIER;
+                let map = if adaptive {
+                    &mut adaptive_by_key
+                } else {
+                    &mut by_key
+                };
+                map.entry(PipelineKey::of(r)).or_default().push(k as u32);
             }
         }
         let mut groups = Vec::new();
         for (key, members) in by_key {
-            let pipeline = evaluator.eval_pipeline(key);
+            let pipeline = evaluator.eval_pipeline(key, false);
             let list = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("patch list"),
                 size: members.len() as u64 * 4,
@@ -615,6 +685,30 @@ impl PatchGeometry {
         }
         let triangles_bind_group =
             evaluator.bind_group(&[(2, &record_buffer), (4, &triangle_indices)]);
+        let adaptive = adaptive_room.map(|_| {
+            let groups = adaptive_by_key
+                .into_iter()
+                .map(|(key, members)| (evaluator.eval_pipeline(key, true), members))
+                .collect();
+            AdaptivePass::new(
+                device,
+                &evaluator.adaptive,
+                SharedBuffers {
+                    control_points: &control_points,
+                    control_indices: &control_index_buffer,
+                    records: &record_buffer,
+                    vertices: &vertices,
+                    triangle_indices: &triangle_indices,
+                },
+                groups,
+                [
+                    vertex_offset as u32,
+                    index_offset as u32,
+                    fixed_vertices as u32,
+                    fixed_indices as u32,
+                ],
+            )
+        });
 
         Ok(Self {
             control_points,
@@ -630,10 +724,11 @@ impl PatchGeometry {
             objects: ranges,
             uploaded: points,
             control_indices,
-            vertex_count: vertex_offset as u32,
+            vertex_count: fixed_vertices as u32,
             index_count: index_offset as u32,
             quad_groups_x: quad_groups_x as u32,
             triangles_written: false,
+            adaptive,
         })
     }
 
@@ -739,7 +834,44 @@ impl PatchGeometry {
 
     /// Whether the next [`Self::encode`] has work to do.
     pub fn needs_evaluation(&self) -> bool {
-        !self.triangles_written || self.dirty.iter().any(|&d| d)
+        let dirty = self.dirty.iter().any(|&d| d);
+        !self.triangles_written
+            || dirty
+            || self
+                .adaptive
+                .as_ref()
+                .is_some_and(|a| a.needs_evaluation(dirty))
+    }
+
+    /// Whether the Bézier patches are tessellated for the view.
+    pub fn is_adaptive(&self) -> bool {
+        self.adaptive.is_some()
+    }
+
+    /// The view the next [`Self::encode`] tessellates the adaptive patches for (ignored by a
+    /// fixed tessellation). Nothing adaptive is drawn before the first view.
+    pub fn set_view(&mut self, target: AdaptiveTarget) {
+        if let Some(adaptive) = &mut self.adaptive {
+            adaptive.wanted = Some(target);
+        }
+    }
+
+    /// Call after submitting the encoder given to [`Self::encode`] (starts the asynchronous
+    /// readback of the adaptive statistics).
+    pub fn after_submit(&mut self) {
+        if let Some(adaptive) = &mut self.adaptive {
+            adaptive.after_submit();
+        }
+    }
+
+    /// The adaptive tessellation's latest statistics, taking any that arrived.
+    pub fn adaptive_stats(&mut self) -> Option<AdaptiveStats> {
+        self.adaptive.as_mut().and_then(AdaptivePass::stats)
+    }
+
+    /// The adaptive passes (tests, benchmarks).
+    pub fn adaptive_pass(&mut self) -> Option<&mut AdaptivePass> {
+        self.adaptive.as_mut()
     }
 
     /// Records one compute pass that evaluates the patches marked for it (all of them after
@@ -753,6 +885,11 @@ impl PatchGeometry {
         evaluator: &PatchEvaluator,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> u32 {
+        let dirty = self.dirty.iter().any(|&d| d);
+        let adaptive_due = self
+            .adaptive
+            .as_ref()
+            .is_some_and(|a| a.needs_evaluation(dirty));
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("evaluate patches"),
             timestamp_writes: timestamps,
@@ -786,6 +923,11 @@ impl PatchGeometry {
             evaluated += list.len() as u32;
         }
         self.dirty.fill(false);
+        if let Some(adaptive) = self.adaptive.as_mut().filter(|_| adaptive_due) {
+            evaluated += adaptive.encode(queue, &mut pass, &evaluator.adaptive);
+            drop(pass);
+            adaptive.record_readback(encoder);
+        }
         evaluated
     }
 
@@ -800,6 +942,7 @@ impl PatchGeometry {
             control_points: &self.control_points,
             control_indices: &self.control_index_buffer,
             trimmed: self.records.iter().any(|r| r.trim_count == TRIM_PARTIAL),
+            indirect: self.adaptive.as_ref().map(AdaptivePass::draw_arguments),
         }
     }
 
@@ -821,12 +964,21 @@ impl PatchGeometry {
         self.uploaded.len() as u32
     }
 
+    /// Vertices written: the fixed patches', plus the adaptive ones' as the latest statistics
+    /// say.
     pub fn vertex_count(&self) -> u32 {
-        self.vertex_count
+        match self.adaptive.as_ref().and_then(AdaptivePass::latest_stats) {
+            Some(stats) => stats.vertices,
+            None => self.vertex_count,
+        }
     }
 
+    /// Triangle indices written (see [`Self::vertex_count`]).
     pub fn index_count(&self) -> u32 {
-        self.index_count
+        match &self.adaptive {
+            Some(a) => a.latest_stats().map_or(0, |stats| stats.indices),
+            None => self.index_count,
+        }
     }
 
     /// Bytes of GPU memory the geometry holds: control points, indices, records, trims,
@@ -843,7 +995,8 @@ impl PatchGeometry {
         .iter()
         .map(|b| b.size())
         .chain(self.groups.iter().map(|g| g.list.size()))
-        .sum()
+        .sum::<u64>()
+            + self.adaptive.as_ref().map_or(0, AdaptivePass::buffer_bytes)
     }
 
     /// Evaluates points, `samples` giving a patch record and local (s, t) each (blocking; the
@@ -915,7 +1068,7 @@ impl PatchGeometry {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<SurfaceVertex>, GpuError> {
-        let size = u64::from(self.vertex_count) * std::mem::size_of::<SurfaceVertex>() as u64;
+        let size = u64::from(self.vertex_count()) * std::mem::size_of::<SurfaceVertex>() as u64;
         let bytes = super::readback::read_buffer(device, queue, &self.vertices, size)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
@@ -927,7 +1080,7 @@ impl PatchGeometry {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<u32>, GpuError> {
-        let size = u64::from(self.index_count) * 4;
+        let size = u64::from(self.index_count()) * 4;
         let bytes = super::readback::read_buffer(device, queue, &self.triangle_indices, size)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }

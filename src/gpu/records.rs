@@ -153,6 +153,45 @@ pub struct SceneUniform {
     pub analysis_flags: [u32; 4],
 }
 
+/// What the view-adaptive tessellation measures its levels against: the camera and the error
+/// rule of [`super::adaptive::ScreenError`]. WGSL: `struct AdaptiveView` in
+/// `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct AdaptiveView {
+    /// Column-major clip-from-world matrix (the control hulls are culled against it).
+    pub view_proj: [[f32; 4]; 4],
+    /// The eye and the unit view direction in world space (w unused).
+    pub eye: [f32; 4],
+    pub forward: [f32; 4],
+    /// (world units per pixel at unit depth, or anywhere when orthographic; the near depth;
+    /// the tolerated error in pixels; the longest triangle edge in pixels).
+    pub error: [f32; 4],
+    /// (orthographic 0/1, most segments per edge, slot count, vertex capacity).
+    pub counts: [u32; 4],
+    /// (index capacity, first adaptive vertex, first adaptive index, 0).
+    pub bases: [u32; 4],
+}
+
+/// One view-adaptively tessellated patch: its levels and its place in the vertex and index
+/// buffers, written by the levels pass and the scan. WGSL: `struct AdaptiveSlot`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct AdaptiveSlot {
+    /// Segments of the edges t = 0, s = 1, t = 1, s = 0 ([`super::adaptive::PatchLevels`]).
+    pub edges: [u32; 4],
+    /// (nu, nv) of the interior grid.
+    pub inner: [u32; 2],
+    /// The patch record.
+    pub record: u32,
+    /// 1 when the control hull lies outside the view.
+    pub culled: u32,
+    pub vertex_offset: u32,
+    pub index_offset: u32,
+    pub vertex_count: u32,
+    pub triangle_count: u32,
+}
+
 /// Stops of the curvature colour ramp. WGSL: `RAMP_STOPS`.
 pub const RAMP_STOPS: usize = 5;
 

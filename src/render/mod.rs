@@ -10,5 +10,6 @@ pub use quality::{Quality, is_software};
 
 pub use viewport::{
     BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, GuideLines,
-    LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer, scene_uniform,
+    LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer, adaptive_target,
+    scene_uniform,
 };

@@ -2,6 +2,8 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::gpu::SurfaceBuffers;
+use crate::gpu::adaptive::ScreenError;
+use crate::gpu::adaptive_pass::{ADAPTIVE_MAX_EDGE_PX, ADAPTIVE_MAX_SEGMENTS, AdaptiveTarget};
 use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, SurfaceVertex};
 use crate::shaders;
 use crate::view::{
@@ -20,6 +22,38 @@ pub const CHECKER_CELLS: f32 = 8.0;
 
 /// sRGB-encoded RGBA the viewport is cleared to.
 pub const BACKGROUND: [f64; 4] = [0.13, 0.14, 0.16, 1.0];
+
+/// What a view-adaptive tessellation of the scene seen by `camera` in a `width` × `height`
+/// pixel image is measured against: the size of a pixel at unit depth (perspective:
+/// 2 tan(fov_y / 2) / height; orthographic: the shown height / height anywhere), the near
+/// plane, and `tolerance_px` of error.
+pub fn adaptive_target(
+    camera: &OrbitCamera,
+    (width, height): (u32, u32),
+    tolerance_px: f64,
+) -> AdaptiveTarget {
+    let height_px = f64::from(height.max(1));
+    let half_tan = (f64::from(camera.fov_y) * 0.5).tan();
+    let (pixel_scale, near) = if camera.orthographic {
+        (2.0 * f64::from(camera.distance) * half_tan / height_px, 0.0)
+    } else {
+        (2.0 * half_tan / height_px, f64::from(camera.near()))
+    };
+    let (_, _, back) = camera.axes();
+    AdaptiveTarget {
+        error: ScreenError {
+            eye: camera.eye().as_dvec3(),
+            forward: -back.as_dvec3(),
+            pixel_scale,
+            orthographic: camera.orthographic,
+            near,
+            tolerance_px,
+            max_edge_px: ADAPTIVE_MAX_EDGE_PX,
+            max_segments: ADAPTIVE_MAX_SEGMENTS,
+        },
+        view_proj: camera.view_projection(width as f32 / height.max(1) as f32),
+    }
+}
 
 /// The scene uniform for `view` (its camera and shading mode) seen in `target`, with the
 /// colour ramp spanning `range` (the view's own range or the automatic one), `selected`
@@ -816,7 +850,10 @@ impl ViewportRenderer {
             pass.set_bind_group(1, &trims, &[]);
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..surface.index_count, 0, 0..1);
+            match surface.indirect {
+                Some(arguments) => pass.draw_indexed_indirect(arguments, 0),
+                None => pass.draw_indexed(0..surface.index_count, 0, 0..1),
+            }
         }
         if let Some(lines) = &self.lines {
             let (depth, top) = self.line_counts;

@@ -88,13 +88,17 @@ impl OrbitCamera {
                 self.distance * 100.0,
             );
         }
-        let near = (self.distance * 0.01).max(MIN_DISTANCE * 0.1);
         glam::camera::rh::proj::directx::perspective(
             self.fov_y,
             aspect,
-            near,
+            self.near(),
             self.distance * 100.0,
         )
+    }
+
+    /// The perspective view's near plane distance (it follows the orbit distance).
+    pub fn near(&self) -> f32 {
+        (self.distance * 0.01).max(MIN_DISTANCE * 0.1)
     }
 
     /// World → clip.
