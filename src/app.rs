@@ -32,10 +32,14 @@ use crate::doc::{Command, Document, Edit, EditError, PointsMoved, Touched};
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{self, GpuError, SceneSync, effective_segments};
-use crate::render::{ControlNet, Quality, ViewTarget, ViewportRenderer, scene_uniform};
+use crate::render::{
+    ControlNet, Quality, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform,
+};
 use crate::scene::Scene;
 use crate::status::{self, AppStatus, ExternalCommand};
-use crate::view::{Constraint, PickView, QUALITY_RANGE, ShadingMode, SurfaceHit, ViewSettings};
+use crate::view::{
+    Constraint, PickView, QUALITY_RANGE, ShadingMode, SurfaceHit, TOLERANCE_RANGE, ViewSettings,
+};
 
 /// The per-object tessellation slider's range (segments per Bézier span edge).
 pub const SLIDER_SEGMENTS: std::ops::RangeInclusive<u32> = 1..=128;
@@ -186,6 +190,7 @@ impl ViewportGpu {
             timer.resolve(&mut encoder);
         }
         self.queue.submit([encoder.finish()]);
+        self.sync.after_submit();
         if let Some(timer) = &mut self.timer {
             timer.after_submit();
         }
@@ -561,6 +566,41 @@ impl KnotworkApp {
         self.execute(Command::SetAllSegments { segments });
     }
 
+    /// Switches between the view-adaptive tessellation (`tolerance_px` of error on screen) and
+    /// the fixed one; a tolerance outside the range is refused and nothing changes.
+    fn set_tessellation(&mut self, adaptive: bool, tolerance_px: f32) {
+        if !(tolerance_px.is_finite() && TOLERANCE_RANGE.contains(&tolerance_px)) {
+            self.status.error = Some(format!(
+                "tolerance {tolerance_px} px is outside {}..={}",
+                TOLERANCE_RANGE.start(),
+                TOLERANCE_RANGE.end()
+            ));
+            return;
+        }
+        if (adaptive, tolerance_px) == (self.view.adaptive, self.view.tolerance_px) {
+            return;
+        }
+        let before = (self.view.adaptive, self.view.tolerance_px);
+        self.view.adaptive = adaptive;
+        self.view.tolerance_px = tolerance_px;
+        if let Some(gpu) = &mut self.gpu {
+            match gpu
+                .sync
+                .set_adaptive(&self.doc.scene, adaptive, self.view.quality)
+            {
+                Ok(notice) => self.status.notice = notice.or(self.status.notice.take()),
+                Err(e) => {
+                    (self.view.adaptive, self.view.tolerance_px) = before;
+                    self.status.error = Some(e.to_string());
+                    return;
+                }
+            }
+        }
+        self.status.error = None;
+        self.saved.revision += 1;
+        self.redraw = true;
+    }
+
     fn set_quality(&mut self, quality: f32) {
         if !(quality.is_finite() && QUALITY_RANGE.contains(&quality)) {
             self.status.error = Some(format!(
@@ -711,6 +751,12 @@ impl KnotworkApp {
             point: h.point.to_array(),
         });
         self.status.quality = self.view.quality;
+        self.status.tessellation = if self.view.adaptive { "adaptive" } else { "fixed" }.to_owned();
+        self.status.tolerance_px = self.view.tolerance_px;
+        if !self.view.adaptive {
+            self.status.visible_patches = None;
+            self.status.adaptive_coarsening = None;
+        }
         self.status.selected = self.selection.object.map(|s| s as u32);
         self.status.shading = self.view.shading.name().to_owned();
         self.status.view = StandardView::of(&self.view.camera)
@@ -769,6 +815,10 @@ impl KnotworkApp {
         match command {
             ExternalCommand::SetSegments(n) => self.set_all_segments(n),
             ExternalCommand::SetQuality(q) => self.set_quality(q),
+            ExternalCommand::SetTessellation {
+                adaptive,
+                tolerance_px,
+            } => self.set_tessellation(adaptive, tolerance_px),
             ExternalCommand::SetShading(mode) => self.set_shading(mode),
             ExternalCommand::SetView(view) => self.set_standard_view(view),
             ExternalCommand::SetGizmo(mode) => {
@@ -916,6 +966,21 @@ impl KnotworkApp {
             .map_or(1.0, |(t, _)| t.size().0 as f32 / size.0.max(1) as f32);
         gpu.renderer
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
+        if gpu.sync.is_adaptive() != self.view.adaptive {
+            // A project or the autosave brought another mode.
+            if let Err(e) =
+                gpu.sync
+                    .set_adaptive(&self.doc.scene, self.view.adaptive, self.view.quality)
+            {
+                self.status.error = Some(e.to_string());
+            }
+        }
+        if gpu.sync.is_adaptive()
+            && let Some(size) = gpu.target().map(|(t, _)| t.size())
+        {
+            let target = adaptive_target(&self.view.camera, size, f64::from(self.view.tolerance_px));
+            gpu.sync.set_view(target);
+        }
         let pending = gpu.sync.needs_evaluation();
         if resized || settled || self.redraw || self.continuous || pending {
             let radius = POINT_RADIUS * ppp * point_scale;
@@ -965,6 +1030,15 @@ impl KnotworkApp {
         {
             // Drives buffer-mapping callbacks on native; the browser does this by itself.
             let _ = gpu.device.poll(wgpu::PollType::Poll);
+        }
+        if let Some(stats) = gpu.sync.adaptive_stats() {
+            self.status.visible_patches = Some(stats.visible_patches);
+            self.status.adaptive_coarsening = Some(stats.shift);
+        }
+        match gpu.sync.grow_adaptive_room(&self.doc.scene, self.view.quality) {
+            Ok(true) => self.redraw = true,
+            Ok(false) => {}
+            Err(e) => self.status.error = Some(e.to_string()),
         }
         if let Some(timer) = &mut gpu.timer {
             if timer.collect() {

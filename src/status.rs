@@ -33,6 +33,14 @@ pub struct AppStatus {
     pub segments: Vec<u32>,
     /// The global tessellation quality factor.
     pub quality: f32,
+    /// "adaptive" (levels per patch edge from the view) or "fixed" (each object's segments).
+    pub tessellation: String,
+    /// The adaptive tessellation's tolerated error in pixels.
+    pub tolerance_px: f32,
+    /// The adaptive tessellation's last figures: patches inside the view, and how many times
+    /// every level was halved to fit the buffers (0 normally; the buffers then grow).
+    pub visible_patches: Option<u32>,
+    pub adaptive_coarsening: Option<u32>,
     /// Patches re-evaluated by the last compute pass (all of them after a tessellation change,
     /// the edited point's support after an edit).
     pub patches_reevaluated: u32,
@@ -126,6 +134,8 @@ pub enum ExternalCommand {
     SetSegments(u32),
     /// The global quality factor (multiplies every object's segments).
     SetQuality(f32),
+    /// View-adaptive (with the tolerated error in pixels) or fixed tessellation.
+    SetTessellation { adaptive: bool, tolerance_px: f32 },
     SetShading(crate::view::ShadingMode),
     /// Turns the camera to a standard view.
     SetView(crate::app::StandardView),

@@ -72,6 +72,16 @@ pub fn set_quality(quality: f32) {
     status::send(ExternalCommand::SetQuality(quality));
 }
 
+/// Tessellates the patches for the view with `tolerance_px` pixels of error (adaptive), or at
+/// each object's fixed segments.
+#[wasm_bindgen]
+pub fn set_tessellation(adaptive: bool, tolerance_px: f32) {
+    status::send(ExternalCommand::SetTessellation {
+        adaptive,
+        tolerance_px,
+    });
+}
+
 /// Sets the shading mode by name ("plain", "normals", "checker", "gaussian", "mean", "k1",
 /// "k2", "zebra", "isophotes", "reflection", "draft"); false for an unknown name.
 #[wasm_bindgen]

@@ -83,16 +83,22 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
         "{status}"
     );
     assert!(!status["adapter"].as_str().unwrap_or("").is_empty());
-    // The demo scene: teapot (32 patches at 12 segments) and five NURBS objects (52 Bézier
-    // patches at 16), all evaluated by the first compute pass.
+    // The demo scene: teapot (32 patches; 12 segments when fixed) and five NURBS objects (52
+    // Bézier patches; 16), all measured by the first compute pass and tessellated for the
+    // view: each visible patch has at least its 9-vertex minimum, and the statistics came
+    // back from the GPU.
     assert_eq!(status["objects"], 6);
     assert_eq!(status["patches"], 84);
     assert_eq!(
         status["segments"],
         serde_json::json!([12, 16, 16, 16, 16, 16])
     );
-    assert_eq!(status["vertices"], 32 * 13 * 13 + 52 * 17 * 17);
+    assert_eq!(status["tessellation"], "adaptive");
     assert_eq!(status["patches_reevaluated"], 84);
+    let visible = status["visible_patches"].as_u64().unwrap_or(0);
+    assert!((1..=84).contains(&visible), "{status}");
+    assert!(status["vertices"].as_u64().unwrap_or(0) >= 9 * visible, "{status}");
+    assert_eq!(status["adaptive_coarsening"], 0);
     assert!(status["frames"].as_u64().unwrap_or(0) >= 3, "{status}");
     // The start-up log carries the same status for users.
     assert!(stderr.contains("knotwork status: {"), "{stderr}");
@@ -106,13 +112,17 @@ fn desktop_app_opens_a_project_restores_it_and_refuses_a_broken_one() {
         &good,
         r#"{"format": "knotwork", "version": 2, "objects": [{"type": "nurbs_surface",
             "name": "Plane", "segments": 4, "degree": [1, 1], "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
-            "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}]}"#,
+            "points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}],
+            "view": {"target": [0.5, 0.5, 0], "distance": 4, "yaw": 0, "pitch": 0.5,
+            "shading": "plain", "quality": 1, "tessellation": "fixed", "tolerance_px": 0.5}}"#,
     )
     .unwrap();
     let (output, status) = run_editor(&dir, &["--open", good.to_str().unwrap()]);
     assert!(output.status.success(), "{status}");
     assert_eq!(status["objects"], 1);
     assert_eq!(status["patches"], 1);
+    // The file asks for the fixed tessellation: 4 segments.
+    assert_eq!(status["tessellation"], "fixed");
     assert_eq!(status["vertices"], 5 * 5);
     assert_eq!(status["autosaved_revision"], status["revision"]);
 

@@ -337,6 +337,14 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
         .lock()
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
+    // The locality of an edit is the fixed tessellation's (the adaptive one re-measures every
+    // patch for the view after any change).
+    status::send(status::ExternalCommand::SetTessellation {
+        adaptive: false,
+        tolerance_px: 0.5,
+    });
+    harness.run_steps(2);
+    assert_eq!(status::current().tessellation, "fixed");
     let (index, at) = select_with_free_handle(&mut harness, SHEET);
     let support = harness.state().document().scene.objects[SHEET]
         .clone()

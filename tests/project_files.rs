@@ -64,6 +64,7 @@ const CORPUS: &[(&str, &str, &str)] = &[
         "a curve is not a scene object",
     ),
     ("bad-view", "view", "finite and positive"),
+    ("bad-tolerance", "view", "tolerance_px 0 is outside 0.1..=8"),
 ];
 
 /// A document with some history: a moved point, an inserted knot, a rename.
@@ -152,6 +153,8 @@ fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
         shading: ShadingMode::Gaussian,
         range: Some((-0.125, 0.375)),
         quality: 0.5,
+        adaptive: false,
+        tolerance_px: 1.5,
         overlays: Overlays {
             surface: true,
             net: false,

@@ -15,7 +15,7 @@ use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::render::DRAFT_COLORS;
 use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
-use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, ZebraSource};
+use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, TOLERANCE_RANGE, ZebraSource};
 
 /// The controls listed in the panel (and the README).
 pub const CONTROLS: [(&str, &str); 17] = [
@@ -981,6 +981,27 @@ impl KnotworkApp {
         ui.separator();
         self.info_grid(ui);
         ui.separator();
+        let mut adaptive = self.view.adaptive;
+        let mut tolerance = self.view.tolerance_px;
+        ui.horizontal(|ui| {
+            ui.label("Tessellation");
+            ui.selectable_value(&mut adaptive, true, "Adaptive")
+                .on_hover_text("segments per patch edge from its size and curvature on screen");
+            ui.selectable_value(&mut adaptive, false, "Fixed")
+                .on_hover_text("every object's own segments × the quality");
+        });
+        if adaptive {
+            ui.add(
+                egui::Slider::new(&mut tolerance, TOLERANCE_RANGE)
+                    .logarithmic(true)
+                    .suffix(" px")
+                    .text("error"),
+            )
+            .on_hover_text("the most the triangles may stray from the surface on screen");
+        }
+        if (adaptive, tolerance) != (self.view.adaptive, self.view.tolerance_px) {
+            self.set_tessellation(adaptive, tolerance);
+        }
         ui.label("Quality (× every object's segments)");
         let mut quality = self.view.quality;
         if ui

@@ -34,8 +34,6 @@ pub const ADAPTIVE_MAX_SEGMENTS: u32 = 128;
 /// The longest triangle edge, in pixels, that the adaptive levels allow (smooth shading on
 /// large flat patches).
 pub const ADAPTIVE_MAX_EDGE_PX: f64 = 24.0;
-/// The default screen-space error, in pixels.
-pub const DEFAULT_TOLERANCE_PX: f64 = 0.5;
 
 /// What the scan reports about the last adaptive tessellation.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -8,8 +8,9 @@
 //! points that changed; structural changes rebuild the buffers, lowering the tessellation until
 //! the device's limits accept it.
 
+use super::adaptive_pass::{AdaptiveStats, AdaptiveTarget};
 use super::error::GpuError;
-use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry};
+use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, Tessellation};
 use crate::doc::{PointsMoved, Touched};
 use crate::scene::{Decomposition, Scene, SceneObject};
 
@@ -68,7 +69,12 @@ pub struct SceneSync {
     geometry: Option<PatchGeometry>,
     quality_used: f32,
     points_uploaded: usize,
+    /// Room for adaptive vertices, or `None` for the fixed tessellation.
+    adaptive_room: Option<u32>,
 }
+
+/// The adaptive vertex room a scene starts with (grown when the statistics ask for more).
+pub const INITIAL_ADAPTIVE_ROOM: u32 = 1 << 18;
 
 impl SceneSync {
     /// An empty GPU scene on `device` (its pipelines are created here).
@@ -81,7 +87,85 @@ impl SceneSync {
             geometry: None,
             quality_used: 1.0,
             points_uploaded: 0,
+            adaptive_room: None,
         }
+    }
+
+    /// The most adaptive vertices the device's binding limit holds (half of it: the fixed
+    /// patches need room too).
+    fn max_adaptive_room(&self) -> u32 {
+        let limits = self.device.limits();
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let per_vertex = std::mem::size_of::<super::SurfaceVertex>() as u64;
+        (bytes / per_vertex / 2).min(u64::from(u32::MAX / 8)) as u32
+    }
+
+    /// Whether the Bézier patches are tessellated for the view.
+    pub fn is_adaptive(&self) -> bool {
+        self.adaptive_room.is_some()
+    }
+
+    /// Switches between the view-adaptive and the fixed tessellation, rebuilding the buffers
+    /// when it changes (see [`Self::rebuild`]).
+    pub fn set_adaptive(
+        &mut self,
+        scene: &Scene,
+        adaptive: bool,
+        quality: f32,
+    ) -> Result<Option<String>, GpuError> {
+        if adaptive == self.is_adaptive() {
+            return Ok(None);
+        }
+        let before = self.adaptive_room;
+        self.adaptive_room = adaptive.then(|| INITIAL_ADAPTIVE_ROOM.min(self.max_adaptive_room()));
+        let rebuilt = self.rebuild(scene, quality);
+        if rebuilt.is_err() {
+            self.adaptive_room = before;
+        }
+        rebuilt
+    }
+
+    /// The view the adaptive tessellation is measured for in the next [`Self::encode`].
+    pub fn set_view(&mut self, target: AdaptiveTarget) {
+        if let Some(geometry) = &mut self.geometry {
+            geometry.set_view(target);
+        }
+    }
+
+    /// Call after submitting the encoder given to [`Self::encode`].
+    pub fn after_submit(&mut self) {
+        if let Some(geometry) = &mut self.geometry {
+            geometry.after_submit();
+        }
+    }
+
+    /// The adaptive tessellation's latest statistics, taking any that arrived.
+    pub fn adaptive_stats(&mut self) -> Option<AdaptiveStats> {
+        self.geometry
+            .as_mut()
+            .and_then(PatchGeometry::adaptive_stats)
+    }
+
+    /// After statistics that needed more room than the buffers have (the levels were then
+    /// coarsened to fit), rebuilds with room for them, up to the device's limit. Returns
+    /// whether it rebuilt.
+    pub fn grow_adaptive_room(&mut self, scene: &Scene, quality: f32) -> Result<bool, GpuError> {
+        let (Some(room), Some(stats)) = (self.adaptive_room, self.adaptive_stats()) else {
+            return Ok(false);
+        };
+        let most = self.max_adaptive_room();
+        if stats.shift == 0 || room >= most {
+            return Ok(false);
+        }
+        let needed = u64::from(stats.needed_vertices) * 5 / 4 + 1024;
+        self.adaptive_room = Some(needed.min(u64::from(most)) as u32);
+        if let Err(e) = self.rebuild(scene, quality) {
+            self.adaptive_room = Some(room);
+            return Err(e);
+        }
+        Ok(true)
     }
 
     /// A GPU copy of `scene` at quality `quality` (see [`Self::rebuild`]).
@@ -137,7 +221,11 @@ impl SceneSync {
                         .unwrap_or_else(|| effective_segments(object.segments, q)),
                 })
                 .collect();
-            PatchGeometry::new(&self.device, &self.evaluator, &inputs)
+            let tessellation = match self.adaptive_room {
+                Some(vertices) => Tessellation::Adaptive { vertices },
+                None => Tessellation::Fixed,
+            };
+            PatchGeometry::with_tessellation(&self.device, &self.evaluator, &inputs, tessellation)
         })?;
         self.feeds = feeds;
         self.geometry = Some(geometry);

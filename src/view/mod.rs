@@ -7,6 +7,7 @@ pub mod settings;
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};
 pub use settings::{
-    AnalysisSettings, CombCurves, ContinuityTarget, Overlays, QUALITY_RANGE, ShadingMode,
+    AnalysisSettings, CombCurves, ContinuityTarget, DEFAULT_TOLERANCE_PX, Overlays, QUALITY_RANGE,
+    ShadingMode, TOLERANCE_RANGE,
     StripeFrame, ViewSettings, ZebraSource,
 };

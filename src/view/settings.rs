@@ -10,6 +10,11 @@ use serde::{Deserialize, Serialize};
 use super::OrbitCamera;
 use std::f32::consts::FRAC_PI_2;
 
+/// The adaptive tessellation's default error on screen, in pixels.
+pub const DEFAULT_TOLERANCE_PX: f32 = 0.5;
+/// The adaptive tessellation's error range, in pixels (the panel's slider, scripts, files).
+pub const TOLERANCE_RANGE: std::ops::RangeInclusive<f32> = 0.1..=8.0;
+
 /// The global tessellation quality factor's range (the panel's slider, scripts, files).
 pub const QUALITY_RANGE: RangeInclusive<f32> = 0.25..=4.0;
 
@@ -364,6 +369,11 @@ pub struct ViewSettings {
     pub range: Option<(f64, f64)>,
     /// The global tessellation quality factor, in [`QUALITY_RANGE`].
     pub quality: f32,
+    /// Tessellate the patches for the view (levels per patch edge from its size and curvature
+    /// on screen) instead of each object's fixed segment count.
+    pub adaptive: bool,
+    /// The adaptive tessellation's tolerated error, in pixels, in [`TOLERANCE_RANGE`].
+    pub tolerance_px: f32,
     pub overlays: Overlays,
     /// The analysis modes' settings.
     pub analysis: AnalysisSettings,
@@ -376,6 +386,8 @@ impl Default for ViewSettings {
             shading: ShadingMode::Plain,
             range: None,
             quality: 1.0,
+            adaptive: true,
+            tolerance_px: DEFAULT_TOLERANCE_PX,
             overlays: Overlays::default(),
             analysis: AnalysisSettings::default(),
         }
@@ -404,6 +416,19 @@ struct SavedView {
     analysis: AnalysisSettings,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     orthographic: bool,
+    /// "adaptive" (the default) or "fixed".
+    #[serde(default = "adaptive_name")]
+    tessellation: String,
+    #[serde(default = "default_tolerance")]
+    tolerance_px: f64,
+}
+
+fn adaptive_name() -> String {
+    "adaptive".to_owned()
+}
+
+fn default_tolerance() -> f64 {
+    f64::from(DEFAULT_TOLERANCE_PX)
 }
 
 impl From<ViewSettings> for SavedView {
@@ -420,6 +445,8 @@ impl From<ViewSettings> for SavedView {
             overlays: view.overlays,
             analysis: view.analysis,
             orthographic: camera.orthographic,
+            tessellation: if view.adaptive { "adaptive" } else { "fixed" }.to_owned(),
+            tolerance_px: f64::from(view.tolerance_px),
         }
     }
 }
@@ -459,6 +486,24 @@ impl TryFrom<SavedView> for ViewSettings {
             .analysis
             .validate()
             .map_err(|e| format!("analysis: {e}"))?;
+        let adaptive = match saved.tessellation.as_str() {
+            "adaptive" => true,
+            "fixed" => false,
+            other => {
+                return Err(format!(
+                    "unknown tessellation {other:?} (\"adaptive\" or \"fixed\")"
+                ));
+            }
+        };
+        let tolerance_px = saved.tolerance_px as f32;
+        if !TOLERANCE_RANGE.contains(&tolerance_px) {
+            return Err(format!(
+                "tolerance_px {} is outside {}..={}",
+                saved.tolerance_px,
+                TOLERANCE_RANGE.start(),
+                TOLERANCE_RANGE.end()
+            ));
+        }
         Ok(Self {
             camera: OrbitCamera {
                 target: DVec3::from(saved.target).as_vec3(),
@@ -471,6 +516,8 @@ impl TryFrom<SavedView> for ViewSettings {
             shading,
             range: saved.range.map(|[lo, hi]| (lo, hi)),
             quality,
+            adaptive,
+            tolerance_px,
             overlays: saved.overlays,
             analysis: saved.analysis,
         })
