@@ -28,7 +28,7 @@ use crate::doc::Document;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{GpuContext, GpuError, SceneSync};
 use crate::kernel::construct;
-use crate::render::{ControlNet, ViewTarget, ViewportRenderer, scene_uniform};
+use crate::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 use crate::view::pick::{self, PickView};
 use crate::view::{OrbitCamera, ViewSettings};
@@ -477,10 +477,10 @@ fn bench_frame(
     Ok(())
 }
 
-/// The scale series: bicubic B-spline landscapes of about 1,000, 10,000 and 40,000 Bézier
-/// patches at a fixed 4 segments per patch, framed alike at 1280 × 800: vertices evaluated, the
-/// full compute pass, the render pass (4 samples, and 1 as in motion on a software adapter) and
-/// the GPU memory per patch.
+/// The scale series: generated bicubic B-spline surfaces of 1,024, 10,000 and 40,000 patches
+/// framed at 1280 × 800, tessellated fixed at 4 segments and for the view at 0.5 px (then also
+/// seen from close by, where most patches are culled): vertices, the compute pass, the frame
+/// at 4 samples and 1 sample, and the GPU memory per patch.
 fn bench_scale(
     context: &GpuContext,
     iterations: usize,
@@ -496,47 +496,63 @@ fn bench_scale(
         let started = Instant::now();
         let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
-        let mut timer = None;
-        let mut pass = Vec::new();
-        for _ in 0..iterations.clamp(1, 5) {
-            sync.invalidate();
-            // Wall time: lavapipe's timestamps read near zero for dispatches this large after
-            // the first.
-            let (_, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
-            pass.push(wall);
-        }
-        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        let view = framed_view(&scene)?;
-        let mut frames = Vec::new();
-        for samples in [4, 1] {
-            let target = ViewTarget::with_samples(&context.device, 1280, 800, samples);
-            renderer.set_scene(
-                &context.queue,
-                &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
-            );
-            let mut times = Vec::new();
-            for _ in 0..iterations.clamp(1, 3) {
-                times.push(timed_render(
-                    context,
-                    &renderer,
-                    &target,
-                    geometry,
-                    view.overlays,
-                )?);
+        let framed = framed_view(&scene)?;
+        let mut close = framed;
+        close.camera.distance *= 0.15;
+        for (mode, view) in [("fixed 4 seg", framed), ("adaptive", framed), ("adaptive close", close)] {
+            if mode.starts_with("adaptive") {
+                sync.set_adaptive(&scene, true, 1.0)?;
+                let target = adaptive_target(&view.camera, (1280, 800), f64::from(view.tolerance_px));
+                sync.set_view(target);
+                // As the editor does after a frame that needed more room than it had.
+                evaluate_once(context, &mut sync, &mut None)?;
+                sync.read_adaptive_stats()?;
+                if sync.grow_adaptive_room(&scene, 1.0)? {
+                    sync.set_view(target);
+                }
             }
-            frames.push(median(times));
+            let mut timer = None;
+            let mut pass = Vec::new();
+            for _ in 0..iterations.clamp(1, 5) {
+                sync.invalidate();
+                // Wall time: lavapipe's timestamps read near zero for dispatches this large
+                // after the first.
+                let (_, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
+                pass.push(wall);
+            }
+            let stats = sync.read_adaptive_stats()?;
+            let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+            let mut frames = Vec::new();
+            for samples in [4, 1] {
+                let target = ViewTarget::with_samples(&context.device, 1280, 800, samples);
+                renderer.set_scene(
+                    &context.queue,
+                    &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
+                );
+                let mut times = Vec::new();
+                for _ in 0..iterations.clamp(1, 3) {
+                    times.push(timed_render(
+                        context,
+                        &renderer,
+                        &target,
+                        geometry,
+                        view.overlays,
+                    )?);
+                }
+                frames.push(median(times));
+            }
+            let patches = geometry.patch_count();
+            let visible = stats.map_or(patches, |s| s.visible_patches);
+            writeln!(
+                out,
+                "scale {patches:>6} patches, {mode:<14} | {visible:>6} visible | {:>8} vertices | upload {upload_ms:8.1} ms | pass {:8.2} ms (submit+wait) | frame 1280 × 800 {:8.1} ms (4 samples), {:8.1} ms (1 sample) | {:.0} bytes per patch",
+                geometry.vertex_count(),
+                median(pass),
+                frames[0],
+                frames[1],
+                geometry.buffer_bytes() as f64 / f64::from(patches.max(1)),
+            )?;
         }
-        let patches = geometry.patch_count();
-        writeln!(
-            out,
-            "scale {:>6} patches, 4 seg | {:>8} vertices | upload {upload_ms:8.1} ms | pass {:8.2} ms (submit+wait) | frame 1280 × 800 {:8.1} ms (4 samples), {:8.1} ms (1 sample) | {:.0} bytes per patch",
-            patches,
-            geometry.vertex_count(),
-            median(pass),
-            frames[0],
-            frames[1],
-            geometry.buffer_bytes() as f64 / f64::from(patches.max(1)),
-        )?;
     }
     Ok(())
 }

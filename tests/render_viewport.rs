@@ -497,3 +497,64 @@ fn one_sample_frames_match_multisampled_frames_but_for_edge_antialiasing() {
     }
     assert!(share < 0.04, "{:.2} % of the pixels differ", share * 100.0);
 }
+
+/// The view-adaptive tessellation at its default 0.5 px shows what a dense fixed tessellation
+/// (64 segments per patch edge) shows: the same pixels covered and colours apart on a thin
+/// share of them, with a fraction of the vertices.
+#[test]
+fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
+    let context = common::gpu();
+    let mut scene = knotwork::scene::Scene::demo().unwrap();
+    for object in &mut scene.objects {
+        object.segments = 64;
+    }
+    let (lo, hi) = scene.bounds().unwrap();
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.overlays.grid = false;
+    view.shading = knotwork::view::ShadingMode::Normals;
+    let size = (640, 400);
+    let fixed =
+        common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, false);
+    let adaptive =
+        common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, true);
+    let background = background_bytes();
+    let covered = |image: &[u8]| {
+        image
+            .chunks(4)
+            .filter(|p| differs_from(p, background, 24))
+            .count()
+    };
+    let (cf, ca) = (covered(&fixed), covered(&adaptive));
+    assert!(cf > 20_000, "the demo scene covers the view: {cf} px");
+    let apart_by = |tolerance: u8| {
+        fixed
+            .chunks(4)
+            .zip(adaptive.chunks(4))
+            .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > tolerance))
+            .count() as f64
+            / cf as f64
+    };
+    // Shading may shift slightly (normals interpolated over other triangles); a crack, a hole or
+    // a missing patch would put whole pixels far apart.
+    let (slight, far) = (apart_by(16), apart_by(64));
+    eprintln!(
+        "covered {cf} px fixed, {ca} adaptive; covered pixels apart by > 16: {:.2} %, by > 64: \
+         {:.2} %",
+        slight * 100.0,
+        far * 100.0
+    );
+    let share = far;
+    if slight >= 0.06 || far >= 0.01 || (cf as f64 - ca as f64).abs() >= 0.01 * cf as f64 {
+        let path = common::artifact_path("adaptive-actual.png");
+        common::write_png(&path, size.0, size.1, &adaptive);
+        common::write_png(&common::artifact_path("adaptive-fixed.png"), size.0, size.1, &fixed);
+        eprintln!("wrote {}", path.display());
+    }
+    assert!(
+        (cf as f64 - ca as f64).abs() < 0.01 * cf as f64,
+        "covered pixels: {cf} fixed, {ca} adaptive"
+    );
+    assert!(slight < 0.06, "{:.2} % of the covered pixels differ", slight * 100.0);
+    assert!(share < 0.01, "{:.2} % of the covered pixels differ far", share * 100.0);
+}

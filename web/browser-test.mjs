@@ -209,9 +209,24 @@ async function main() {
       assert(s.objects === 6, `objects ${s.objects}`);
       assert(s.patches === 84, `patches ${s.patches}`);
       assert(s.segments.length === 6 && s.segments[0] === 12, `segments ${s.segments}`);
+      // Tessellated for the view: the GPU's statistics arrive after the first pass.
+      assert(s.tessellation === 'adaptive', `tessellation ${s.tessellation}`);
+      assert(s.patches_reevaluated === 84, `the first pass measures everything: ${s.patches_reevaluated}`);
+      await page.waitForFunction(() => window.knotwork.status().visible_patches !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.visible_patches >= 1 && s.visible_patches <= 84, `visible ${s.visible_patches}`);
+      assert(s.vertices >= 9 * s.visible_patches && s.triangles >= 4 * s.visible_patches,
+        `${s.vertices} vertices, ${s.triangles} triangles for ${s.visible_patches} patches`);
+      assert(s.adaptive_coarsening === 0, `coarsened ${s.adaptive_coarsening}`);
+      console.log(`      adaptive: ${s.visible_patches} of 84 patches visible, ${s.vertices} vertices, ${s.triangles} triangles`);
+      // The fixed tessellation: every object's own segments.
+      await page.evaluate(() => window.knotwork.setTessellation(false, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'fixed', null, { timeout: 30_000 });
+      s = await status(page);
       assert(s.vertices === 32 * 13 * 13 + 52 * 17 * 17, `vertices ${s.vertices} at ${s.segments}`);
       assert(s.triangles === 32 * 12 * 12 * 2 + 52 * 16 * 16 * 2, `triangles ${s.triangles}`);
-      assert(s.patches_reevaluated === 84, `the first pass evaluates everything: ${s.patches_reevaluated}`);
+      await page.evaluate(() => window.knotwork.setTessellation(true, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'adaptive', null, { timeout: 30_000 });
 
       // Redraw continuously, then wait for frames and measure the frame rate.
       await page.evaluate(() => window.knotwork.setContinuous(true));
@@ -241,9 +256,15 @@ async function main() {
     await check('tessellation changes re-run the compute pass; absurd levels are refused', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      await page.evaluate(() => window.knotwork.setTessellation(true, 100));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      let s = await status(page);
+      assert(/tolerance/.test(s.error) && s.tessellation === 'adaptive', `refused: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.setTessellation(false, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'fixed', null, { timeout: 30_000 });
       await page.evaluate(() => window.knotwork.setSegments(8));
       await page.waitForFunction(() => window.knotwork.status().segments.every((n) => n === 8), null, { timeout: 30_000 });
-      let s = await status(page);
+      s = await status(page);
       assert(s.vertices === 84 * 9 * 9 && s.error === null, JSON.stringify(s));
       const framesBefore = s.frames;
       await page.evaluate(() => window.knotwork.setSegments(100000));
@@ -281,7 +302,10 @@ async function main() {
       assert(s.range[0] === -0.5 && s.range[1] === 0.5, `manual range ${JSON.stringify(s.range)}`);
 
       // Control point (4, 4) of the (2, 5) B-spline (object 3, 7 x 9 points): its support covers
-      // 8 of the sheet's 16 Bezier patches; nothing else is re-evaluated.
+      // 8 of the sheet's 16 Bezier patches; with the fixed tessellation nothing else is
+      // re-evaluated.
+      await page.evaluate(() => window.knotwork.setTessellation(false, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'fixed', null, { timeout: 30_000 });
       await page.evaluate(() => window.knotwork.moveControlPoint(3, 4 * 9 + 4, [1.0, 5.0, 3.0]));
       await page.waitForFunction(() => window.knotwork.status().points_uploaded > 0, null, { timeout: 30_000 });
       await page.waitForFunction(() => window.knotwork.status().patches_reevaluated === 8, null, { timeout: 30_000 });
@@ -626,7 +650,13 @@ async function main() {
         picks.push(Date.now() - t0);
       }
 
-      // Drag-to-new-frame: the teapot at 64 segments, and a 64 x 64-point bicubic surface at 8.
+      // Drag-to-new-frame: the teapot tessellated for the view; then, fixed, the teapot at 64
+      // segments and a 64 x 64-point bicubic surface at 8.
+      await openObjects(page, [teapot]);
+      const adaptiveTimes = await dragToFrame(page, canvas);
+      const adaptive = await status(page);
+      await page.evaluate(() => window.knotwork.setTessellation(false, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'fixed', null, { timeout: 30_000 });
       await openObjects(page, [{ ...teapot, segments: 64 }]);
       assert((await status(page)).vertices === 32 * 65 * 65, 'the teapot at 64 segments');
       const teapotTimes = await dragToFrame(page, canvas);
@@ -635,6 +665,7 @@ async function main() {
       const s = await status(page);
       assert(s.error === null, `error: ${s.error}`);
       console.log(`      pick among 10,000 points (click to selection): ${picks.join(', ')} ms`);
+      console.log(`      drag-to-new-frame, teapot adaptive 0.5 px (${adaptive.vertices} vertices): median ${adaptiveTimes[adaptiveTimes.length >> 1]} ms (${adaptiveTimes.join(', ')})`);
       console.log(`      drag-to-new-frame, teapot 64 segments: median ${teapotTimes[teapotTimes.length >> 1]} ms (${teapotTimes.join(', ')})`);
       console.log(`      drag-to-new-frame, 64 x 64 points at 8 per span (${s.vertices} vertices): median ${sheetTimes[sheetTimes.length >> 1]} ms (${sheetTimes.join(', ')})`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);

@@ -74,7 +74,7 @@ pub struct SceneSync {
 }
 
 /// The adaptive vertex room a scene starts with (grown when the statistics ask for more).
-pub const INITIAL_ADAPTIVE_ROOM: u32 = 1 << 18;
+pub const INITIAL_ADAPTIVE_ROOM: u32 = 1 << 16;
 
 impl SceneSync {
     /// An empty GPU scene on `device` (its pipelines are created here).
@@ -330,6 +330,19 @@ impl SceneSync {
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         Ok(evaluated)
+    }
+
+    /// The adaptive tessellation's statistics as the GPU last wrote them (blocking; tests,
+    /// benchmarks); `None` for a fixed tessellation.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn read_adaptive_stats(&mut self) -> Result<Option<AdaptiveStats>, GpuError> {
+        let Some(geometry) = &mut self.geometry else {
+            return Ok(None);
+        };
+        match geometry.adaptive_pass() {
+            Some(pass) => pass.read_stats(&self.device, &self.queue).map(Some),
+            None => Ok(None),
+        }
     }
 
     /// The evaluated vertices (blocking).

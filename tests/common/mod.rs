@@ -133,8 +133,22 @@ pub fn draw_offscreen_with_samples(
     objects: &[knotwork::scene::SceneObject],
     net: Option<&knotwork::render::ControlNet>,
     view: &knotwork::view::ViewSettings,
+    size: (u32, u32),
+    samples: u32,
+) -> Vec<u8> {
+    draw_offscreen_tessellated(context, objects, net, view, size, samples, false)
+}
+
+/// [`draw_offscreen_with_samples`], tessellated for the view (`adaptive`, at the view's
+/// tolerance) or at each object's fixed segments.
+pub fn draw_offscreen_tessellated(
+    context: &GpuContext,
+    objects: &[knotwork::scene::SceneObject],
+    net: Option<&knotwork::render::ControlNet>,
+    view: &knotwork::view::ViewSettings,
     (width, height): (u32, u32),
     samples: u32,
+    adaptive: bool,
 ) -> Vec<u8> {
     use knotwork::render::{ViewTarget, ViewportRenderer, scene_uniform};
     let scene = knotwork::scene::Scene {
@@ -145,6 +159,14 @@ pub fn draw_offscreen_with_samples(
     let renderer = ViewportRenderer::new(&context.device);
     let target = ViewTarget::with_samples(&context.device, width, height, samples);
     assert_eq!(target.samples(), samples);
+    if adaptive {
+        sync.set_adaptive(&scene, true, 1.0).unwrap();
+        sync.set_view(knotwork::render::adaptive_target(
+            &view.camera,
+            (width, height),
+            f64::from(view.tolerance_px),
+        ));
+    }
     let range = view.range.unwrap_or((-1.0, 1.0));
     let uniform = scene_uniform(view, &target, 4.0, range, None);
     let mut encoder = context.device.create_command_encoder(&Default::default());
