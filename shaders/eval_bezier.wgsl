@@ -867,10 +867,33 @@ fn adaptive_boundary(rec: PatchRecord, v: AdaptiveVertex) -> Edge {
     }
 }
 
+// Writes vertex `local` of a slot's layout. Boundary vertices come from the boundary curve in
+// its canonical direction, as in the fixed tessellation: neighbours that give an edge the same
+// count write the same vertices on it.
+fn write_adaptive_vertex(slot: AdaptiveSlot, local: u32) {
+    let rec = patches[slot.record];
+    let v = adaptive_vertex(slot.edges, slot.inner, local);
+    let d = evaluate(rec, v.st.x, v.st.y);
+    let shape = shape_at(rec, d, v.st.x, v.st.y);
+    var position = d.point;
+    if (v.edge != ADAPTIVE_INTERIOR) {
+        position = edge_point(rec, adaptive_boundary(rec, v));
+    }
+    vertices[slot.vertex_offset + local] = SurfaceVertex(
+        position,
+        rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
+        shape.normal,
+        rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
+        shape.curvature,
+        rec.object,
+        shape.flags,
+        slot.record,
+        0u,
+    );
+}
+
 // One invocation per vertex of a pipeline group's patches (patch_list = (first slot, slot
-// count) of the group), dispatched indirectly by scan_levels. Boundary vertices come from the
-// boundary curve in its canonical direction, as in the fixed tessellation: neighbours that give
-// an edge the same count write the same vertices on it.
+// count) of the group), dispatched indirectly by scan_levels.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn evaluate_adaptive_vertices(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -883,31 +906,30 @@ fn evaluate_adaptive_vertices(
         return;
     }
     let wanted = adaptive_slots[first].vertex_offset + flat_index(group, groups, lane);
-    let index = find_slot(first, count, wanted, false);
-    let slot = adaptive_slots[index];
-    let local = wanted - slot.vertex_offset;
-    if (wanted < slot.vertex_offset || local >= slot.vertex_count) {
+    let slot = adaptive_slots[find_slot(first, count, wanted, false)];
+    if (wanted < slot.vertex_offset || wanted - slot.vertex_offset >= slot.vertex_count) {
         return;
     }
-    let rec = patches[slot.record];
-    let v = adaptive_vertex(slot.edges, slot.inner, local);
-    let d = evaluate(rec, v.st.x, v.st.y);
-    let shape = shape_at(rec, d, v.st.x, v.st.y);
-    var position = d.point;
-    if (v.edge != ADAPTIVE_INTERIOR) {
-        position = edge_point(rec, adaptive_boundary(rec, v));
+    write_adaptive_vertex(slot, wanted - slot.vertex_offset);
+}
+
+// One invocation per vertex of the slots patch_list names (workgroup_id.y), at the levels the
+// last measure gave them: while a drag lasts only the patches it changes are re-evaluated, and
+// nothing moves in the buffers.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn evaluate_adaptive_slots(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    if (group.y >= arrayLength(&patch_list)) {
+        return;
     }
-    vertices[wanted] = SurfaceVertex(
-        position,
-        rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
-        shape.normal,
-        rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
-        shape.curvature,
-        rec.object,
-        shape.flags,
-        slot.record,
-        0u,
-    );
+    let slot = adaptive_slots[patch_list[group.y]];
+    let local = group.x * WORKGROUP_SIZE + lane;
+    if (local >= slot.vertex_count) {
+        return;
+    }
+    write_adaptive_vertex(slot, local);
 }
 
 // One invocation per triangle of every adaptive patch, dispatched indirectly by scan_levels.

@@ -975,6 +975,9 @@ impl KnotworkApp {
                 self.status.error = Some(e.to_string());
             }
         }
+        // While points are dragged the adaptive levels stay as measured: each step re-evaluates
+        // only the patches it changes; the frame after the drag measures everything again.
+        gpu.sync.freeze_levels(self.doc.drag().is_some());
         if gpu.sync.is_adaptive()
             && let Some(size) = gpu.target().map(|(t, _)| t.size())
         {

@@ -259,15 +259,40 @@ fn bench_drag_frame(
     let mut view = ViewSettings::default();
     view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
     // As the editor draws a drag: at full quality on a GPU, at the lower quality in motion on a
-    // software adapter.
-    for (quality, label) in [
+    // software adapter; at the object's fixed segments, then tessellated for the view.
+    let qualities = [
         (crate::render::Quality::hardware(), "GPU quality"),
         (
             crate::render::Quality::software(),
             "software-adapter quality",
         ),
-    ] {
+    ];
+    for (adaptive, (quality, label)) in [false, true]
+        .into_iter()
+        .flat_map(|a| qualities.into_iter().map(move |q| (a, q)))
+    {
         let (samples, (w, h)) = quality.target((1280, 800), true);
+        let mode = if adaptive {
+            sync.set_adaptive(&doc.scene, true, 1.0)?;
+            let target = crate::render::adaptive_target(
+                &view.camera,
+                (w, h),
+                f64::from(view.tolerance_px),
+            );
+            sync.set_view(target);
+            evaluate_once(context, &mut sync, &mut None)?;
+            sync.read_adaptive_stats()?;
+            if sync.grow_adaptive_room(&doc.scene, 1.0)? {
+                sync.set_view(target);
+                evaluate_once(context, &mut sync, &mut None)?;
+            }
+            let vertices = sync
+                .read_adaptive_stats()?
+                .map_or(0, |stats| stats.vertices);
+            format!("adaptive 0.5 px, {vertices} vertices")
+        } else {
+            format!("{segments:>3} seg")
+        };
         let target = ViewTarget::with_samples(&context.device, w, h, samples);
         let uniform = scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None);
         renderer.set_scene(&context.queue, &uniform);
@@ -279,9 +304,8 @@ fn bench_drag_frame(
             drag_frames(context, &mut doc, &mut sync, &net, point, iterations, &draw)?;
         writeln!(
             out,
-            "{:<26} {:>3} seg | drag-to-new-frame {:8.3} ms ({label}: {w} × {h}, {samples} sample{}; {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
+            "{:<26} {mode} | drag-to-new-frame {:8.3} ms ({label}: {w} × {h}, {samples} sample{}; {} control points, {patches} patches re-evaluated; the render pass alone {:.3} ms)",
             name,
-            segments,
             latency,
             if samples == 1 { "" } else { "s" },
             point_count,
@@ -304,6 +328,8 @@ fn drag_frames(
     draw: &dyn Fn(&mut wgpu::CommandEncoder, &crate::gpu::PatchGeometry),
 ) -> Result<(f64, f64, u32), Box<dyn std::error::Error>> {
     doc.begin_drag(0, &[point])?;
+    // As the editor does while a drag lasts.
+    sync.freeze_levels(true);
     let mut latency = Vec::new();
     let mut patches = 0;
     for i in 0..iterations + 2 {
@@ -329,6 +355,7 @@ fn drag_frames(
     }
     // The same frame without the edit: what the render pass alone costs.
     doc.cancel_drag();
+    sync.freeze_levels(false);
     let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     let mut render_only = Vec::new();
     for _ in 0..iterations.max(3) {

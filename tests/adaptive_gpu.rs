@@ -400,3 +400,100 @@ fn the_vertex_count_follows_the_screen_and_the_room() {
             .all(|&i| i < starved.stats.vertices)
     );
 }
+
+/// While a drag lasts the levels stay as measured and an edit re-evaluates only its patches,
+/// which then match the kernel at the moved points and stay watertight; after the drag every
+/// patch is measured again.
+#[test]
+fn a_drag_re_evaluates_its_patches_at_frozen_levels() {
+    let context = common::gpu();
+    let evaluator = PatchEvaluator::new(&context.device);
+    let mut feeds = teapot_feed();
+    let target = adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 0.5);
+    let inputs = |feeds: &[Decomposition]| -> Vec<(knotwork::kernel::BezierPatchSet, Vec<[f64; 4]>)> {
+        feeds.iter().map(|d| (d.set.clone(), d.domains.clone())).collect()
+    };
+    let sets = inputs(&feeds);
+    let objects: Vec<ObjectPatches<'_>> = sets
+        .iter()
+        .map(|(set, domains)| ObjectPatches {
+            set,
+            domains,
+            segments: 8,
+            stencils: None,
+            cage_points: 0,
+            trims: None,
+        })
+        .collect();
+    let mut geometry = PatchGeometry::with_tessellation(
+        &context.device,
+        &evaluator,
+        &objects,
+        Tessellation::Adaptive { vertices: 1 << 20 },
+    )
+    .unwrap();
+    let run = |geometry: &mut PatchGeometry| {
+        let mut encoder = context.device.create_command_encoder(&Default::default());
+        let evaluated = geometry.encode(&context.queue, &mut encoder, &evaluator, None);
+        context.queue.submit([encoder.finish()]);
+        evaluated
+    };
+    geometry.set_view(target);
+    assert_eq!(run(&mut geometry), 32);
+    let before = geometry
+        .adaptive_pass()
+        .unwrap()
+        .read_slots(&context.device, &context.queue)
+        .unwrap();
+
+    // Move a body point shared by patches 0 and 1 (their common edge's second point).
+    let shared = feeds[0].set.patches()[0].indices()[3 * 4 + 1];
+    let moved = feeds[0].set.points()[shared as usize] + DVec3::new(0.0, 0.0, 0.8);
+    feeds[0].set.set_point(shared as usize, moved).unwrap();
+    let support: Vec<usize> = feeds[0]
+        .set
+        .patches()
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.indices().contains(&shared))
+        .map(|(k, _)| k)
+        .collect();
+    geometry.freeze_levels(true);
+    geometry
+        .update_object(&context.queue, 0, &feeds[0].set, Some(&support))
+        .unwrap();
+    assert!(geometry.needs_evaluation());
+    assert_eq!(run(&mut geometry) as usize, support.len(), "only the support");
+    let pass = geometry.adaptive_pass().unwrap();
+    let slots = pass.read_slots(&context.device, &context.queue).unwrap();
+    assert_eq!(slots, before, "the levels and places stay while frozen");
+    let stats = pass.read_stats(&context.device, &context.queue).unwrap();
+    let evaluated = Evaluated {
+        stats,
+        slots,
+        vertices: geometry
+            .read_vertices(&context.device, &context.queue)
+            .unwrap(),
+        indices: Vec::new(),
+    };
+    let infos = patches(&feeds);
+    for &k in &support {
+        let slot = evaluated.slots.iter().find(|s| s.record as usize == k).unwrap();
+        let levels = levels_of(slot);
+        for v in 0..levels.vertex_count() {
+            let (st, _) = levels.vertex(v);
+            let got = evaluated.vertices[(slot.vertex_offset + v) as usize].position;
+            let exact = feeds[0].set.evaluate(k, st.x, st.y).unwrap().point;
+            assert!(
+                (DVec3::from(Vec3::from(got)) - exact).length() < 1e-4,
+                "patch {k} vertex {v} at the moved points"
+            );
+        }
+    }
+    assert!(assert_watertight(&evaluated, &infos) > 10);
+    // The drag ends: everything is measured again.
+    geometry.freeze_levels(false);
+    assert!(geometry.needs_evaluation());
+    assert_eq!(run(&mut geometry), 32);
+    assert!(!geometry.needs_evaluation());
+}

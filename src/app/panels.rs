@@ -663,6 +663,16 @@ impl KnotworkApp {
                     ),
                     ("Objects", self.status.objects.to_string()),
                     ("Bézier patches", self.status.patches.to_string()),
+                    (
+                        "In view",
+                        match (self.status.visible_patches, self.status.adaptive_coarsening) {
+                            (Some(visible), Some(0) | None) => format!("{visible} patches"),
+                            (Some(visible), Some(shift)) => {
+                                format!("{visible} patches (coarsened {shift}×, growing)")
+                            }
+                            (None, _) => "all (fixed tessellation)".to_owned(),
+                        },
+                    ),
                     ("Vertices", self.status.vertices.to_string()),
                     ("Triangles", self.status.triangles.to_string()),
                     (

@@ -175,7 +175,7 @@ impl AdaptivePipelines {
     }
 }
 
-/// One pipeline group's evaluation: its specialized pipeline and where its dispatch lives.
+/// One pipeline group's evaluation: its specialized pipelines and where its dispatch lives.
 pub(super) struct AdaptiveGroup {
     pub pipeline: wgpu::ComputePipeline,
     pub bind_group: wgpu::BindGroup,
@@ -183,6 +183,14 @@ pub(super) struct AdaptiveGroup {
     pub range: wgpu::Buffer,
     /// Byte offset of the group's dispatch arguments.
     pub args_offset: u64,
+    /// Re-evaluation of listed slots at their measured levels (drag steps).
+    pub slots_pipeline: wgpu::ComputePipeline,
+    pub slots_bind_group: wgpu::BindGroup,
+    /// The slots the next partial dispatch evaluates.
+    pub dirty_list: wgpu::Buffer,
+    /// The group's records (global indices), slot `first_slot + k` holding `records[k]`.
+    pub records: Vec<u32>,
+    pub first_slot: u32,
 }
 
 /// The buffers the adaptive passes share with the rest of a [`super::PatchGeometry`].
@@ -211,6 +219,10 @@ pub struct AdaptivePass {
     pub(super) wanted: Option<AdaptiveTarget>,
     readback: StatsReadback,
     latest: Option<AdaptiveStats>,
+    /// While set (a drag), edits re-evaluate their patches at the measured levels.
+    frozen: bool,
+    /// Patches were re-evaluated at frozen levels: measure again once unfrozen.
+    remeasure: bool,
 }
 
 fn entire(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
@@ -228,16 +240,22 @@ impl AdaptivePass {
         device: &wgpu::Device,
         pipelines: &AdaptivePipelines,
         buffers: SharedBuffers<'_>,
-        groups: Vec<(wgpu::ComputePipeline, Vec<u32>)>,
+        groups: Vec<(wgpu::ComputePipeline, wgpu::ComputePipeline, Vec<u32>)>,
         room: [u32; 4],
     ) -> Self {
         let mut slots = Vec::new();
         let mut args = vec![0u32; (ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * groups.len() as u32) as usize];
-        // Until the first view, the draw covers the fixed patches only.
+        // Until the first view, the draw covers the fixed patches only, and so do the
+        // statistics (a scene of subdivision surfaces alone never runs the scan).
         args[ADAPTIVE_ARGS_DRAW as usize] = room[3];
         args[ADAPTIVE_ARGS_DRAW as usize + 1] = 1;
+        let stats = ADAPTIVE_ARGS_STATS as usize;
+        args[stats + 1] = room[2];
+        args[stats + 2] = room[3];
+        args[stats + 4] = room[2];
+        args[stats + 5] = room[3];
         let mut ranges = Vec::new();
-        for (g, (_, records)) in groups.iter().enumerate() {
+        for (g, (_, _, records)) in groups.iter().enumerate() {
             let word = (ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * g as u32) as usize;
             let range = [slots.len() as u32, records.len() as u32];
             args[word] = range[0];
@@ -284,12 +302,30 @@ impl AdaptivePass {
             .into_iter()
             .zip(ranges)
             .enumerate()
-            .map(|(g, ((pipeline, _), range))| {
+            .map(|(g, ((pipeline, slots_pipeline, records), range))| {
+                let first_slot = range[0];
                 let range = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("adaptive group range"),
                     contents: bytemuck::cast_slice(&range),
                     usage: storage,
                 });
+                let dirty_list = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("adaptive dirty slots"),
+                    size: records.len().max(1) as u64 * 4,
+                    usage: storage | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let slots_bind_group = bind(
+                    &slots_pipeline,
+                    &[
+                        entire(0, buffers.control_points),
+                        entire(1, buffers.control_indices),
+                        entire(2, buffers.records),
+                        entire(3, buffers.vertices),
+                        entire(5, &dirty_list),
+                        entire(8, &slots_buffer),
+                    ],
+                );
                 let bind_group = bind(
                     &pipeline,
                     &[
@@ -307,6 +343,11 @@ impl AdaptivePass {
                     bind_group,
                     range,
                     args_offset: u64::from(word) * 4,
+                    slots_pipeline,
+                    slots_bind_group,
+                    dirty_list,
+                    records,
+                    first_slot,
                 }
             })
             .collect();
@@ -347,12 +388,22 @@ impl AdaptivePass {
             wanted: None,
             readback: StatsReadback::new(device),
             latest: None,
+            frozen: false,
+            remeasure: false,
         }
+    }
+
+    /// Keeps every patch's levels and place while `frozen` (a drag lasts): an edit then
+    /// re-evaluates only its patches, as the fixed tessellation does. The first encode after
+    /// unfreezing measures everything again.
+    pub fn freeze_levels(&mut self, frozen: bool) {
+        self.frozen = frozen;
     }
 
     /// Whether the next encode has work: a new view, or `dirty` (an edit) with a view known.
     pub fn needs_evaluation(&self, dirty: bool) -> bool {
-        self.wanted.is_some() && (dirty || self.wanted != self.evaluated)
+        self.wanted.is_some()
+            && (dirty || self.wanted != self.evaluated || (self.remeasure && !self.frozen))
     }
 
     /// The uniform of `target` for this geometry.
@@ -384,16 +435,23 @@ impl AdaptivePass {
     }
 
     /// Records the adaptive passes into `pass` for the wanted view (the caller checked
-    /// [`Self::needs_evaluation`]). Returns the number of patches measured.
+    /// [`Self::needs_evaluation`]); `dirty` marks the records an edit changed. Returns the
+    /// number of patches evaluated: all of them, or with frozen levels and an unchanged view
+    /// the changed ones.
     pub(super) fn encode(
         &mut self,
         queue: &wgpu::Queue,
         pass: &mut wgpu::ComputePass<'_>,
         pipelines: &AdaptivePipelines,
+        dirty: &[bool],
     ) -> u32 {
         let Some(target) = self.wanted else {
             return 0;
         };
+        if self.frozen && self.evaluated == Some(target) {
+            return self.encode_changed(queue, pass, &target, dirty);
+        }
+        self.remeasure = false;
         queue.write_buffer(&self.view, 0, bytemuck::bytes_of(&self.uniform(&target)));
         self.evaluated = Some(target);
         if self.slot_count == 0 {
@@ -414,6 +472,40 @@ impl AdaptivePass {
         pass.set_bind_group(0, &self.triangles_bind_group, &[]);
         pass.dispatch_workgroups_indirect(&self.args, u64::from(ADAPTIVE_ARGS_TRIANGLES) * 4);
         self.slot_count
+    }
+
+    /// The changed records' slots at their measured levels.
+    fn encode_changed(
+        &mut self,
+        queue: &wgpu::Queue,
+        pass: &mut wgpu::ComputePass<'_>,
+        target: &AdaptiveTarget,
+        dirty: &[bool],
+    ) -> u32 {
+        // The most vertices a slot can have at these levels: (m − 1)² inside, 4 (m + 1) on the
+        // edges.
+        let m = target.error.max_segments.clamp(1, ADAPTIVE_MAX_SEGMENTS);
+        let most = (m - 1) * (m - 1) + 4 * (m + 1);
+        let mut evaluated = 0;
+        for group in &self.groups {
+            let list: Vec<u32> = group
+                .records
+                .iter()
+                .enumerate()
+                .filter(|&(_, &r)| dirty.get(r as usize).copied().unwrap_or(false))
+                .map(|(k, _)| group.first_slot + k as u32)
+                .collect();
+            if list.is_empty() {
+                continue;
+            }
+            queue.write_buffer(&group.dirty_list, 0, bytemuck::cast_slice(&list));
+            pass.set_pipeline(&group.slots_pipeline);
+            pass.set_bind_group(0, &group.slots_bind_group, &[]);
+            pass.dispatch_workgroups(most.div_ceil(EVAL_WORKGROUP_SIZE), list.len() as u32, 1);
+            evaluated += list.len() as u32;
+        }
+        self.remeasure |= evaluated > 0;
+        evaluated
     }
 
     /// After the compute pass: the copy of the statistics for the asynchronous readback.
@@ -475,6 +567,10 @@ impl AdaptivePass {
         self.slots.size()
             + self.view.size()
             + self.args.size()
-            + self.groups.iter().map(|g| g.range.size()).sum::<u64>()
+            + self
+                .groups
+                .iter()
+                .map(|g| g.range.size() + g.dirty_list.size())
+                .sum::<u64>()
     }
 }

@@ -105,7 +105,7 @@ pub struct PatchEvaluator {
     stand_ins: Vec<wgpu::Buffer>,
     /// `evaluate_vertices` (false) or `evaluate_adaptive_vertices` (true) per key; bicubic
     /// Bézier patches take the array-free path.
-    specialized: Mutex<HashMap<(PipelineKey, bool), wgpu::ComputePipeline>>,
+    specialized: Mutex<HashMap<(PipelineKey, &'static str), wgpu::ComputePipeline>>,
     /// The adaptive passes that are not specialized by degree.
     adaptive: AdaptivePipelines,
     triangles_pipeline: wgpu::ComputePipeline,
@@ -198,16 +198,20 @@ impl PatchEvaluator {
         }
     }
 
-    /// The `evaluate_vertices` pipeline for `key`'s patches (or, `adaptive`, the
-    /// `evaluate_adaptive_vertices` one, whose bind group layout is derived from its bindings),
+    /// The pipeline of entry point `entry` (`evaluate_vertices`, or one of the adaptive ones,
+    /// whose bind group layouts are derived from their bindings) for `key`'s patches,
     /// compiled on first use.
-    fn eval_pipeline(&self, key: PipelineKey, adaptive: bool) -> wgpu::ComputePipeline {
+    pub(super) fn eval_pipeline(
+        &self,
+        key: PipelineKey,
+        entry: &'static str,
+    ) -> wgpu::ComputePipeline {
         let mut cache = self
             .specialized
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
         cache
-            .entry((key, adaptive))
+            .entry((key, entry))
             .or_insert_with(|| {
                 let PipelineKey {
                     kind,
@@ -230,13 +234,13 @@ impl PatchEvaluator {
                     ("DEGREE_U", f64::from(p)),
                     ("DEGREE_V", f64::from(q)),
                 ];
-                if adaptive {
+                if entry != "evaluate_vertices" {
                     return self.device.create_compute_pipeline(
                         &wgpu::ComputePipelineDescriptor {
-                            label: Some(&format!("evaluate adaptive degree ({p}, {q}) patches")),
+                            label: Some(&format!("{entry}, degree ({p}, {q})")),
                             layout: None,
                             module: &self.module,
-                            entry_point: Some("evaluate_adaptive_vertices"),
+                            entry_point: Some(entry),
                             compilation_options: wgpu::PipelineCompilationOptions {
                                 constants: &constants,
                                 ..Default::default()
@@ -662,7 +666,7 @@ impl PatchGeometry {
         }
         let mut groups = Vec::new();
         for (key, members) in by_key {
-            let pipeline = evaluator.eval_pipeline(key, false);
+            let pipeline = evaluator.eval_pipeline(key, "evaluate_vertices");
             let list = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("patch list"),
                 size: members.len() as u64 * 4,
@@ -688,7 +692,13 @@ impl PatchGeometry {
         let adaptive = adaptive_room.map(|_| {
             let groups = adaptive_by_key
                 .into_iter()
-                .map(|(key, members)| (evaluator.eval_pipeline(key, true), members))
+                .map(|(key, members)| {
+                    (
+                        evaluator.eval_pipeline(key, "evaluate_adaptive_vertices"),
+                        evaluator.eval_pipeline(key, "evaluate_adaptive_slots"),
+                        members,
+                    )
+                })
                 .collect();
             AdaptivePass::new(
                 device,
@@ -856,6 +866,14 @@ impl PatchGeometry {
         }
     }
 
+    /// While `frozen` (a drag lasts), edits re-evaluate only their patches at the levels last
+    /// measured; everything is measured again after (see [`AdaptivePass::freeze_levels`]).
+    pub fn freeze_levels(&mut self, frozen: bool) {
+        if let Some(adaptive) = &mut self.adaptive {
+            adaptive.freeze_levels(frozen);
+        }
+    }
+
     /// Call after submitting the encoder given to [`Self::encode`] (starts the asynchronous
     /// readback of the adaptive statistics).
     pub fn after_submit(&mut self) {
@@ -922,12 +940,16 @@ impl PatchGeometry {
             pass.dispatch_workgroups(groups_x, list.len() as u32, 1);
             evaluated += list.len() as u32;
         }
-        self.dirty.fill(false);
+        let mut measured = false;
         if let Some(adaptive) = self.adaptive.as_mut().filter(|_| adaptive_due) {
-            evaluated += adaptive.encode(queue, &mut pass, &evaluator.adaptive);
-            drop(pass);
+            evaluated += adaptive.encode(queue, &mut pass, &evaluator.adaptive, &self.dirty);
+            measured = true;
+        }
+        drop(pass);
+        if measured && let Some(adaptive) = self.adaptive.as_mut() {
             adaptive.record_readback(encoder);
         }
+        self.dirty.fill(false);
         evaluated
     }
 

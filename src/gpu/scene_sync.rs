@@ -134,6 +134,13 @@ impl SceneSync {
         }
     }
 
+    /// Keeps the adaptive levels while `frozen` (see [`PatchGeometry::freeze_levels`]).
+    pub fn freeze_levels(&mut self, frozen: bool) {
+        if let Some(geometry) = &mut self.geometry {
+            geometry.freeze_levels(frozen);
+        }
+    }
+
     /// Call after submitting the encoder given to [`Self::encode`].
     pub fn after_submit(&mut self) {
         if let Some(geometry) = &mut self.geometry {
