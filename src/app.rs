@@ -751,7 +751,12 @@ impl KnotworkApp {
             point: h.point.to_array(),
         });
         self.status.quality = self.view.quality;
-        self.status.tessellation = if self.view.adaptive { "adaptive" } else { "fixed" }.to_owned();
+        self.status.tessellation = if self.view.adaptive {
+            "adaptive"
+        } else {
+            "fixed"
+        }
+        .to_owned();
         self.status.tolerance_px = self.view.tolerance_px;
         if !self.view.adaptive {
             self.status.visible_patches = None;
@@ -981,7 +986,8 @@ impl KnotworkApp {
         if gpu.sync.is_adaptive()
             && let Some(size) = gpu.target().map(|(t, _)| t.size())
         {
-            let target = adaptive_target(&self.view.camera, size, f64::from(self.view.tolerance_px));
+            let target =
+                adaptive_target(&self.view.camera, size, f64::from(self.view.tolerance_px));
             gpu.sync.set_view(target);
         }
         let pending = gpu.sync.needs_evaluation();
@@ -1038,7 +1044,10 @@ impl KnotworkApp {
             self.status.visible_patches = Some(stats.visible_patches);
             self.status.adaptive_coarsening = Some(stats.shift);
         }
-        match gpu.sync.grow_adaptive_room(&self.doc.scene, self.view.quality) {
+        match gpu
+            .sync
+            .grow_adaptive_room(&self.doc.scene, self.view.quality)
+        {
             Ok(true) => self.redraw = true,
             Ok(false) => {}
             Err(e) => self.status.error = Some(e.to_string()),

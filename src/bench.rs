@@ -274,11 +274,8 @@ fn bench_drag_frame(
         let (samples, (w, h)) = quality.target((1280, 800), true);
         let mode = if adaptive {
             sync.set_adaptive(&doc.scene, true, 1.0)?;
-            let target = crate::render::adaptive_target(
-                &view.camera,
-                (w, h),
-                f64::from(view.tolerance_px),
-            );
+            let target =
+                crate::render::adaptive_target(&view.camera, (w, h), f64::from(view.tolerance_px));
             sync.set_view(target);
             evaluate_once(context, &mut sync, &mut None)?;
             sync.read_adaptive_stats()?;
@@ -526,10 +523,15 @@ fn bench_scale(
         let framed = framed_view(&scene)?;
         let mut close = framed;
         close.camera.distance *= 0.15;
-        for (mode, view) in [("fixed 4 seg", framed), ("adaptive", framed), ("adaptive close", close)] {
+        for (mode, view) in [
+            ("fixed 4 seg", framed),
+            ("adaptive", framed),
+            ("adaptive close", close),
+        ] {
             if mode.starts_with("adaptive") {
                 sync.set_adaptive(&scene, true, 1.0)?;
-                let target = adaptive_target(&view.camera, (1280, 800), f64::from(view.tolerance_px));
+                let target =
+                    adaptive_target(&view.camera, (1280, 800), f64::from(view.tolerance_px));
                 sync.set_view(target);
                 // As the editor does after a frame that needed more room than it had.
                 evaluate_once(context, &mut sync, &mut None)?;

@@ -135,7 +135,10 @@ pub enum ExternalCommand {
     /// The global quality factor (multiplies every object's segments).
     SetQuality(f32),
     /// View-adaptive (with the tolerated error in pixels) or fixed tessellation.
-    SetTessellation { adaptive: bool, tolerance_px: f32 },
+    SetTessellation {
+        adaptive: bool,
+        tolerance_px: f32,
+    },
     SetShading(crate::view::ShadingMode),
     /// Turns the camera to a standard view.
     SetView(crate::app::StandardView),

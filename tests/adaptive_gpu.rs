@@ -176,11 +176,16 @@ fn edge_indices(info: &PatchInfo, edge: usize) -> Vec<u32> {
     }
 }
 
+/// An edge: its object and its control point indices in canonical order.
+type EdgeKey = (usize, Vec<u32>);
+/// One side of an edge: slot, edge of the layout, and whether it runs reversed.
+type EdgeSide = (usize, usize, bool);
+
 /// Asserts that every edge two visible patches share has one count and bit-identical vertices
 /// on both sides. Returns how many shared edges were compared.
 fn assert_watertight(run: &Evaluated, infos: &[PatchInfo]) -> usize {
     // Edge vertices of each slot: (edge, m) -> position bits.
-    let mut by_edge: HashMap<(usize, Vec<u32>), Vec<(usize, usize, bool)>> = HashMap::new();
+    let mut by_edge: HashMap<EdgeKey, Vec<EdgeSide>> = HashMap::new();
     for (s, slot) in run.slots.iter().enumerate() {
         if slot.culled != 0 || slot.vertex_count == 0 {
             continue;
@@ -228,7 +233,10 @@ fn assert_watertight(run: &Evaluated, infos: &[PatchInfo]) -> usize {
             if rb {
                 vb.reverse();
             }
-            assert_eq!(va, vb, "patches {a} and {b} write their shared edge differently");
+            assert_eq!(
+                va, vb,
+                "patches {a} and {b} write their shared edge differently"
+            );
             shared += 1;
         }
     }
@@ -272,7 +280,10 @@ fn the_adaptive_tessellation_matches_its_references_and_is_watertight() {
             .chain(&slot.inner)
             .zip(expected.edges.iter().chain(&expected.inner))
         {
-            assert!(got.abs_diff(*want) <= 1, "slot {s}: {slot:?} vs {expected:?}");
+            assert!(
+                got.abs_diff(*want) <= 1,
+                "slot {s}: {slot:?} vs {expected:?}"
+            );
             level_differences += u32::from(got != want);
         }
         let levels = levels_of(slot);
@@ -295,7 +306,10 @@ fn the_adaptive_tessellation_matches_its_references_and_is_watertight() {
             let exact = set.evaluate(info.patch, st.x, st.y).unwrap().point;
             let error = (DVec3::from(Vec3::from(v.position)) - exact).length() / scale;
             worst = worst.max(error);
-            assert!(error < 2e-5, "slot {s} vertex {k}: off by {error} of the size");
+            assert!(
+                error < 2e-5,
+                "slot {s} vertex {k}: off by {error} of the size"
+            );
             assert_eq!(v.object as usize, info.object);
             assert_eq!(v.record as usize, slot.record as usize);
             checked_vertices += 1;
@@ -309,7 +323,10 @@ fn the_adaptive_tessellation_matches_its_references_and_is_watertight() {
         infos.len(),
         run.stats
     );
-    assert!(visible > 0 && shared > 50, "{visible} visible, {shared} shared");
+    assert!(
+        visible > 0 && shared > 50,
+        "{visible} visible, {shared} shared"
+    );
     assert_eq!(run.stats.visible_patches, visible);
     assert_eq!(
         run.stats.vertices,
@@ -393,12 +410,7 @@ fn the_vertex_count_follows_the_screen_and_the_room() {
         adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 0.5),
     );
     assert!(starved.stats.dropped > 0 && starved.stats.vertices <= 40);
-    assert!(
-        starved
-            .indices
-            .iter()
-            .all(|&i| i < starved.stats.vertices)
-    );
+    assert!(starved.indices.iter().all(|&i| i < starved.stats.vertices));
 }
 
 /// While a drag lasts the levels stay as measured and an edit re-evaluates only its patches,
@@ -410,15 +422,13 @@ fn a_drag_re_evaluates_its_patches_at_frozen_levels() {
     let evaluator = PatchEvaluator::new(&context.device);
     let mut feeds = teapot_feed();
     let target = adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 0.5);
-    let inputs = |feeds: &[Decomposition]| -> Vec<(knotwork::kernel::BezierPatchSet, Vec<[f64; 4]>)> {
-        feeds.iter().map(|d| (d.set.clone(), d.domains.clone())).collect()
-    };
-    let sets = inputs(&feeds);
-    let objects: Vec<ObjectPatches<'_>> = sets
+    // The uploaded copy; `feeds` is edited below.
+    let uploaded = feeds.clone();
+    let objects: Vec<ObjectPatches<'_>> = uploaded
         .iter()
-        .map(|(set, domains)| ObjectPatches {
-            set,
-            domains,
+        .map(|d| ObjectPatches {
+            set: &d.set,
+            domains: &d.domains,
             segments: 8,
             stencils: None,
             cage_points: 0,
@@ -463,7 +473,11 @@ fn a_drag_re_evaluates_its_patches_at_frozen_levels() {
         .update_object(&context.queue, 0, &feeds[0].set, Some(&support))
         .unwrap();
     assert!(geometry.needs_evaluation());
-    assert_eq!(run(&mut geometry) as usize, support.len(), "only the support");
+    assert_eq!(
+        run(&mut geometry) as usize,
+        support.len(),
+        "only the support"
+    );
     let pass = geometry.adaptive_pass().unwrap();
     let slots = pass.read_slots(&context.device, &context.queue).unwrap();
     assert_eq!(slots, before, "the levels and places stay while frozen");
@@ -478,7 +492,11 @@ fn a_drag_re_evaluates_its_patches_at_frozen_levels() {
     };
     let infos = patches(&feeds);
     for &k in &support {
-        let slot = evaluated.slots.iter().find(|s| s.record as usize == k).unwrap();
+        let slot = evaluated
+            .slots
+            .iter()
+            .find(|s| s.record as usize == k)
+            .unwrap();
         let levels = levels_of(slot);
         for v in 0..levels.vertex_count() {
             let (st, _) = levels.vertex(v);

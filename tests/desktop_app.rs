@@ -97,7 +97,10 @@ fn desktop_app_opens_draws_the_teapot_and_reports_its_status() {
     assert_eq!(status["patches_reevaluated"], 84);
     let visible = status["visible_patches"].as_u64().unwrap_or(0);
     assert!((1..=84).contains(&visible), "{status}");
-    assert!(status["vertices"].as_u64().unwrap_or(0) >= 9 * visible, "{status}");
+    assert!(
+        status["vertices"].as_u64().unwrap_or(0) >= 9 * visible,
+        "{status}"
+    );
     assert_eq!(status["adaptive_coarsening"], 0);
     assert!(status["frames"].as_u64().unwrap_or(0) >= 3, "{status}");
     // The start-up log carries the same status for users.

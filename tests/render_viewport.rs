@@ -531,7 +531,11 @@ fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
         fixed
             .chunks(4)
             .zip(adaptive.chunks(4))
-            .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > tolerance))
+            .filter(|(a, b)| {
+                a.iter()
+                    .zip(b.iter())
+                    .any(|(x, y)| x.abs_diff(*y) > tolerance)
+            })
             .count() as f64
             / cf as f64
     };
@@ -548,13 +552,26 @@ fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
     if slight >= 0.06 || far >= 0.01 || (cf as f64 - ca as f64).abs() >= 0.01 * cf as f64 {
         let path = common::artifact_path("adaptive-actual.png");
         common::write_png(&path, size.0, size.1, &adaptive);
-        common::write_png(&common::artifact_path("adaptive-fixed.png"), size.0, size.1, &fixed);
+        common::write_png(
+            &common::artifact_path("adaptive-fixed.png"),
+            size.0,
+            size.1,
+            &fixed,
+        );
         eprintln!("wrote {}", path.display());
     }
     assert!(
         (cf as f64 - ca as f64).abs() < 0.01 * cf as f64,
         "covered pixels: {cf} fixed, {ca} adaptive"
     );
-    assert!(slight < 0.06, "{:.2} % of the covered pixels differ", slight * 100.0);
-    assert!(share < 0.01, "{:.2} % of the covered pixels differ far", share * 100.0);
+    assert!(
+        slight < 0.06,
+        "{:.2} % of the covered pixels differ",
+        slight * 100.0
+    );
+    assert!(
+        share < 0.01,
+        "{:.2} % of the covered pixels differ far",
+        share * 100.0
+    );
 }

@@ -7,8 +7,8 @@ use std::mem::{offset_of, size_of};
 
 use knotwork::gpu::records::{
     AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE,
-    PatchRecord, PointResult,
-    PointSample, RAMP_STOPS, SceneUniform, SurfaceVertex, VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
+    PatchRecord, PointResult, PointSample, RAMP_STOPS, SceneUniform, SurfaceVertex,
+    VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
 };
 use knotwork::kernel::bezier::DEGENERATE_SIN2;
 use knotwork::shaders;

@@ -121,12 +121,13 @@ impl StatsReadback {
         }
         self.state.store(MAPPING, Ordering::Release);
         let state = Arc::clone(&self.state);
-        self.staging.map_async(wgpu::MapMode::Read, .., move |result| {
-            state.store(
-                if result.is_ok() { MAPPED } else { FAILED },
-                Ordering::Release,
-            );
-        });
+        self.staging
+            .map_async(wgpu::MapMode::Read, .., move |result| {
+                state.store(
+                    if result.is_ok() { MAPPED } else { FAILED },
+                    Ordering::Release,
+                );
+            });
     }
 
     fn collect(&mut self) -> Option<AdaptiveStats> {
@@ -244,7 +245,11 @@ impl AdaptivePass {
         room: [u32; 4],
     ) -> Self {
         let mut slots = Vec::new();
-        let mut args = vec![0u32; (ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * groups.len() as u32) as usize];
+        let mut args = vec![
+            0u32;
+            (ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * groups.len() as u32)
+                as usize
+        ];
         // Until the first view, the draw covers the fixed patches only, and so do the
         // statistics (a scene of subdivision surfaces alone never runs the scan).
         args[ADAPTIVE_ARGS_DRAW as usize] = room[3];

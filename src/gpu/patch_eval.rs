@@ -235,8 +235,9 @@ impl PatchEvaluator {
                     ("DEGREE_V", f64::from(q)),
                 ];
                 if entry != "evaluate_vertices" {
-                    return self.device.create_compute_pipeline(
-                        &wgpu::ComputePipelineDescriptor {
+                    return self
+                        .device
+                        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                             label: Some(&format!("{entry}, degree ({p}, {q})")),
                             layout: None,
                             module: &self.module,
@@ -246,8 +247,7 @@ impl PatchEvaluator {
                                 ..Default::default()
                             },
                             cache: None,
-                        },
-                    );
+                        });
                 }
                 compute_pipeline(
                     &self.device,

@@ -8,6 +8,5 @@ pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};
 pub use settings::{
     AnalysisSettings, CombCurves, ContinuityTarget, DEFAULT_TOLERANCE_PX, Overlays, QUALITY_RANGE,
-    ShadingMode, TOLERANCE_RANGE,
-    StripeFrame, ViewSettings, ZebraSource,
+    ShadingMode, StripeFrame, TOLERANCE_RANGE, ViewSettings, ZebraSource,
 };
