@@ -509,7 +509,8 @@ fn evaluate_samples(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // Words of adaptive_args (Rust: gpu::patch_eval::ADAPTIVE_ARGS_*): the draw_indexed_indirect
 // arguments, the triangles' dispatch, the statistics, then per pipeline group its slot range
-// (written by the CPU) and its dispatch.
+// (written by the CPU), its dispatch, and the dispatch of evaluate_adaptive_slots (x from the
+// scan, y from the CPU).
 const ARGS_DRAW: u32 = 0u;
 const ARGS_TRIANGLES: u32 = 5u;
 // (coarsening shift, vertices needed unshifted, indices needed unshifted, visible slots,
@@ -664,6 +665,7 @@ var<workgroup> scan_fits: u32;
 var<workgroup> scan_end_vertex: atomic<u32>;
 var<workgroup> scan_end_index: atomic<u32>;
 var<workgroup> scan_dropped: atomic<u32>;
+var<workgroup> scan_most: atomic<u32>;
 
 // Sums this lane's share of the slots' vertex and index counts at `shift` into the workgroup
 // arrays and reduces them into element 0 (saturating).
@@ -716,6 +718,7 @@ fn scan_levels(@builtin(local_invocation_index) lane: u32) {
         atomicStore(&scan_end_vertex, first_vertex);
         atomicStore(&scan_end_index, first_index);
         atomicStore(&scan_dropped, 0u);
+        atomicStore(&scan_most, 0u);
     }
     // The totals unshifted (what the buffers would need), then shifted until they fit.
     scan_totals(lane, 0u);
@@ -780,6 +783,7 @@ fn scan_levels(@builtin(local_invocation_index) lane: u32) {
                 slot.triangle_count = own_indices / 3u;
                 atomicMax(&scan_end_vertex, vertex_end);
                 atomicMax(&scan_end_index, index_end);
+                atomicMax(&scan_most, own_vertices);
             } else {
                 slot.vertex_count = 0u;
                 slot.triangle_count = 0u;
@@ -834,6 +838,10 @@ fn scan_levels(@builtin(local_invocation_index) lane: u32) {
             items = select(0u, end - start, end > start);
         }
         write_flat_dispatch(word + 2u, items);
+        // The dispatch of evaluate_adaptive_slots while the levels are frozen: wide enough for
+        // the largest patch; the CPU writes the slot count (y) before each.
+        adaptive_args[word + 5u] = (atomicLoad(&scan_most) + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+        adaptive_args[word + 7u] = 1u;
     }
 }
 

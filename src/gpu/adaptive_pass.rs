@@ -454,7 +454,7 @@ impl AdaptivePass {
             return 0;
         };
         if self.frozen && self.evaluated == Some(target) {
-            return self.encode_changed(queue, pass, &target, dirty);
+            return self.encode_changed(queue, pass, dirty);
         }
         self.remeasure = false;
         queue.write_buffer(&self.view, 0, bytemuck::bytes_of(&self.uniform(&target)));
@@ -484,13 +484,8 @@ impl AdaptivePass {
         &mut self,
         queue: &wgpu::Queue,
         pass: &mut wgpu::ComputePass<'_>,
-        target: &AdaptiveTarget,
         dirty: &[bool],
     ) -> u32 {
-        // The most vertices a slot can have at these levels: (m − 1)² inside, 4 (m + 1) on the
-        // edges.
-        let m = target.error.max_segments.clamp(1, ADAPTIVE_MAX_SEGMENTS);
-        let most = (m - 1) * (m - 1) + 4 * (m + 1);
         let mut evaluated = 0;
         for group in &self.groups {
             let list: Vec<u32> = group
@@ -504,9 +499,12 @@ impl AdaptivePass {
                 continue;
             }
             queue.write_buffer(&group.dirty_list, 0, bytemuck::cast_slice(&list));
+            // x, as wide as the largest patch, was written by the last scan; y is the list.
+            let y = group.args_offset + 4 * 4;
+            queue.write_buffer(&self.args, y, bytemuck::bytes_of(&(list.len() as u32)));
             pass.set_pipeline(&group.slots_pipeline);
             pass.set_bind_group(0, &group.slots_bind_group, &[]);
-            pass.dispatch_workgroups(most.div_ceil(EVAL_WORKGROUP_SIZE), list.len() as u32, 1);
+            pass.dispatch_workgroups_indirect(&self.args, group.args_offset + 3 * 4);
             evaluated += list.len() as u32;
         }
         self.remeasure |= evaluated > 0;
