@@ -344,35 +344,20 @@ fn the_vertex_count_follows_the_screen_and_the_room() {
     let evaluator = PatchEvaluator::new(&context.device);
     let feeds = teapot_feed();
     let infos = patches(&feeds);
-    let near = evaluate(
-        &context,
-        &evaluator,
-        &feeds,
-        1 << 21,
-        adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 0.5),
-    );
-    let far = evaluate(
-        &context,
-        &evaluator,
-        &feeds,
-        1 << 21,
-        adaptive_target(&teapot_camera(&feeds, 36.0), SIZE, 0.5),
-    );
-    let loose = evaluate(
-        &context,
-        &evaluator,
-        &feeds,
-        1 << 21,
-        adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 4.0),
-    );
+    let seen_from = |distance: f32, tolerance_px: f64| {
+        evaluate(
+            &context,
+            &evaluator,
+            &feeds,
+            1 << 21,
+            adaptive_target(&teapot_camera(&feeds, distance), SIZE, tolerance_px),
+        )
+    };
+    let near = seen_from(9.0, 0.5);
+    let far = seen_from(36.0, 0.5);
+    let loose = seen_from(9.0, 4.0);
     // Close up: part of the scene leaves the view and is culled.
-    let close = evaluate(
-        &context,
-        &evaluator,
-        &feeds,
-        1 << 21,
-        adaptive_target(&teapot_camera(&feeds, 2.0), SIZE, 0.5),
-    );
+    let close = seen_from(2.0, 0.5);
     eprintln!(
         "vertices: at 9 {}, at 36 {}, at 9 with 4 px {}, at 2 {} ({} of {} patches visible)",
         near.stats.vertices,

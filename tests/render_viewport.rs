@@ -64,6 +64,14 @@ fn background_bytes() -> [u8; 3] {
     [r, g, b].map(|c| (c * 255.0).round() as u8)
 }
 
+/// Pixels of an RGBA image more than 24 apart from the background in some channel.
+fn covered_pixels(image: &[u8], background: [u8; 3]) -> usize {
+    image
+        .chunks(4)
+        .filter(|p| differs_from(p, background, 24))
+        .count()
+}
+
 fn differs_from(pixel: &[u8], reference: [u8; 3], tolerance: u8) -> bool {
     pixel
         .iter()
@@ -469,12 +477,7 @@ fn one_sample_frames_match_multisampled_frames_but_for_edge_antialiasing() {
     let four = common::draw_offscreen_with_samples(&context, &scene.objects, None, &view, size, 4);
     let one = common::draw_offscreen_with_samples(&context, &scene.objects, None, &view, size, 1);
     let background = background_bytes();
-    let covered = |image: &[u8]| {
-        image
-            .chunks(4)
-            .filter(|p| differs_from(p, background, 24))
-            .count()
-    };
+    let covered = |image: &[u8]| covered_pixels(image, background);
     let (c4, c1) = (covered(&four), covered(&one));
     assert!(c4 > 5_000, "the demo scene covers the view: {c4} px");
     assert!(
@@ -519,12 +522,7 @@ fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
     let adaptive =
         common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, true);
     let background = background_bytes();
-    let covered = |image: &[u8]| {
-        image
-            .chunks(4)
-            .filter(|p| differs_from(p, background, 24))
-            .count()
-    };
+    let covered = |image: &[u8]| covered_pixels(image, background);
     let (cf, ca) = (covered(&fixed), covered(&adaptive));
     assert!(cf > 20_000, "the demo scene covers the view: {cf} px");
     let apart_by = |tolerance: u8| {

@@ -320,28 +320,23 @@ impl AdaptivePass {
                     usage: storage | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
-                let slots_bind_group = bind(
-                    &slots_pipeline,
-                    &[
-                        entire(0, buffers.control_points),
-                        entire(1, buffers.control_indices),
-                        entire(2, buffers.records),
-                        entire(3, buffers.vertices),
-                        entire(5, &dirty_list),
-                        entire(8, &slots_buffer),
-                    ],
-                );
-                let bind_group = bind(
-                    &pipeline,
-                    &[
-                        entire(0, buffers.control_points),
-                        entire(1, buffers.control_indices),
-                        entire(2, buffers.records),
-                        entire(3, buffers.vertices),
-                        entire(5, &range),
-                        entire(8, &slots_buffer),
-                    ],
-                );
+                // Both evaluation entry points read the patches and write the vertices; their
+                // patch list is the group's range or the slots a drag step changed.
+                let evaluation = |pipeline: &wgpu::ComputePipeline, list: &wgpu::Buffer| {
+                    bind(
+                        pipeline,
+                        &[
+                            entire(0, buffers.control_points),
+                            entire(1, buffers.control_indices),
+                            entire(2, buffers.records),
+                            entire(3, buffers.vertices),
+                            entire(5, list),
+                            entire(8, &slots_buffer),
+                        ],
+                    )
+                };
+                let slots_bind_group = evaluation(&slots_pipeline, &dirty_list);
+                let bind_group = evaluation(&pipeline, &range);
                 let word = ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * g as u32 + 2;
                 AdaptiveGroup {
                     pipeline,
