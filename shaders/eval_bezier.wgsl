@@ -154,13 +154,21 @@ struct Shape {
     flags: u32,
 }
 
+// Set per pipeline (gpu::patch_eval): false where no shading mode reads the vertices'
+// curvature (the analysis modes evaluate their own per pixel and fall back to the vertices' only
+// at degenerate points): the vertices then carry 0 and VERTEX_NO_CURVATURE, and the driver drops
+// the second derivatives and the fundamental forms.
+override VERTEX_CURVATURE: bool = true;
+
 fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
     var out: Shape;
     var k: CurvatureResult;
     let regular = regular_normal(d);
     if (any(regular != vec3<f32>(0.0))) {
         out.normal = regular;
-        k = curvature(d, regular);
+        if (VERTEX_CURVATURE) {
+            k = curvature(d, regular);
+        }
     } else {
         out.flags = VERTEX_IRREGULAR;
         let sn = s + (0.5 - s) * CURVATURE_NUDGE;
@@ -182,7 +190,7 @@ fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
         if (dot(inside, n) < 0.0) {
             inside = -inside;
         }
-        if (any(inside != vec3<f32>(0.0))) {
+        if (VERTEX_CURVATURE && any(inside != vec3<f32>(0.0))) {
             k = curvature(nd, inside);
         }
     }

@@ -983,6 +983,10 @@ impl KnotworkApp {
         // While points are dragged the adaptive levels stay as measured: each step re-evaluates
         // only the patches it changes; the frame after the drag measures everything again.
         gpu.sync.freeze_levels(self.doc.drag().is_some());
+        // Only the curvature modes read the vertices' curvature (as the fallback of their own
+        // per-pixel evaluation); other modes spare the compute pass that work.
+        gpu.sync
+            .set_vertex_curvature(self.view.shading.curvature_component().is_some());
         if gpu.sync.is_adaptive()
             && let Some(size) = gpu.target().map(|(t, _)| t.size())
         {

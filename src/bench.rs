@@ -125,41 +125,51 @@ fn bench_object(
     let decompose_ms = start.elapsed().as_secs_f64() * 1e3;
     let (mut doc, mut sync) = document_on_gpu(context, object)?;
     let mut timer = GpuTimer::new(&context.device, &context.queue);
-    let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
-    for i in 0..iterations + 2 {
-        sync.invalidate();
-        let (gpu, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
-        if i >= 2 {
-            gpu_ms.extend(gpu);
-            wall_ms.push(wall);
+    // The full pass with the vertices' curvature (the curvature modes) and without (the rest).
+    for curvature in [true, false] {
+        sync.set_vertex_curvature(curvature);
+        let (mut gpu_ms, mut wall_ms) = (Vec::new(), Vec::new());
+        for i in 0..iterations + 2 {
+            sync.invalidate();
+            let (gpu, wall, _) = evaluate_once(context, &mut sync, &mut timer)?;
+            if i >= 2 {
+                gpu_ms.extend(gpu);
+                wall_ms.push(wall);
+            }
         }
+        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+        let (patch_count, vertex_count) = (geometry.patch_count(), geometry.vertex_count());
+        let vertices = f64::from(vertex_count);
+        let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let best_pass = if gpu_ms.is_empty() {
+            best(&wall_ms)
+        } else {
+            best(&gpu_ms)
+        };
+        let (gpu, wall) = (
+            (!gpu_ms.is_empty()).then(|| median(gpu_ms)),
+            median(wall_ms),
+        );
+        let pass = gpu.unwrap_or(wall);
+        writeln!(
+            out,
+            "{:<26} {:>3} seg | {:>7} patches {:>9} vertices | pass {:8.3} ms ({}, best {best_pass:.3} ms; {}) | {:7.2} M vertices/s | submit+wait {:8.3} ms",
+            doc.scene.objects[0].name,
+            doc.scene.objects[0].segments,
+            patch_count,
+            vertex_count,
+            pass,
+            if gpu.is_some() { "timestamps" } else { "wall" },
+            if curvature {
+                "with curvature"
+            } else {
+                "no curvature"
+            },
+            vertices / (pass * 1e-3) / 1e6,
+            wall,
+        )?;
     }
-    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-    let (patch_count, vertex_count) = (geometry.patch_count(), geometry.vertex_count());
-    let vertices = f64::from(vertex_count);
-    let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
-    let best_pass = if gpu_ms.is_empty() {
-        best(&wall_ms)
-    } else {
-        best(&gpu_ms)
-    };
-    let (gpu, wall) = (
-        (!gpu_ms.is_empty()).then(|| median(gpu_ms)),
-        median(wall_ms),
-    );
-    let pass = gpu.unwrap_or(wall);
-    writeln!(
-        out,
-        "{:<26} {:>3} seg | {:>7} patches {:>9} vertices | pass {:8.3} ms ({}, best {best_pass:.3} ms) | {:7.2} M vertices/s | submit+wait {:8.3} ms",
-        doc.scene.objects[0].name,
-        doc.scene.objects[0].segments,
-        patch_count,
-        vertex_count,
-        pass,
-        if gpu.is_some() { "timestamps" } else { "wall" },
-        vertices / (pass * 1e-3) / 1e6,
-        wall,
-    )?;
+    sync.set_vertex_curvature(true);
 
     // Edit latency: move one point up and down, as a drag does (the document's transient
     // edit, then the sync layer).

@@ -690,3 +690,39 @@ fn degenerate_points_are_finite_and_flagged() {
         );
     }
 }
+
+/// Without vertex curvature (every shading mode but the curvature ones) the compute pass writes
+/// the same positions, normals and parameters bit for bit, and the curvature as undefined; the
+/// stencil patches of a subdivision surface keep theirs.
+#[test]
+fn vertices_without_curvature_are_otherwise_the_same() {
+    let context = common::gpu();
+    let scene = Scene::demo().unwrap();
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    let with = sync.read_vertices().unwrap();
+    sync.set_vertex_curvature(false);
+    assert!(sync.needs_evaluation(), "a change re-evaluates everything");
+    assert_eq!(sync.evaluate_blocking().unwrap(), 84);
+    let without = sync.read_vertices().unwrap();
+    assert_eq!(with.len(), without.len());
+    let mut curved = 0;
+    for (a, b) in with.iter().zip(&without) {
+        assert_eq!(
+            (a.position, a.normal, a.u, a.v, a.object, a.record),
+            (b.position, b.normal, b.u, b.v, b.object, b.record)
+        );
+        assert_eq!(a.flags & VERTEX_IRREGULAR, b.flags & VERTEX_IRREGULAR);
+        assert_eq!(b.curvature, [0.0; 4]);
+        assert_ne!(b.flags & VERTEX_NO_CURVATURE, 0);
+        curved += usize::from(a.curvature != [0.0; 4]);
+    }
+    assert!(
+        curved * 2 > with.len(),
+        "the curvature was there before: {curved}"
+    );
+    // Back on, the curvature returns exactly.
+    sync.set_vertex_curvature(true);
+    sync.evaluate_blocking().unwrap();
+    assert_eq!(sync.read_vertices().unwrap(), with);
+}

@@ -21,6 +21,7 @@ use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use super::adaptive::ScreenError;
+use super::patch_eval::{PatchEvaluator, PipelineKey};
 use super::records::{AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE};
 
 /// Words of the arguments buffer (WGSL: `ARGS_*` in `shaders/eval_bezier.wgsl`).
@@ -176,16 +177,16 @@ impl AdaptivePipelines {
     }
 }
 
-/// One pipeline group's evaluation: its specialized pipelines and where its dispatch lives.
+/// One pipeline group's evaluation: the key of its specialized pipelines and where its
+/// dispatch lives.
 pub(super) struct AdaptiveGroup {
-    pub pipeline: wgpu::ComputePipeline,
+    pub key: PipelineKey,
     pub bind_group: wgpu::BindGroup,
     /// (first slot, slot count) of the group, bound as the pipeline's patch list.
     pub range: wgpu::Buffer,
     /// Byte offset of the group's dispatch arguments.
     pub args_offset: u64,
     /// Re-evaluation of listed slots at their measured levels (drag steps).
-    pub slots_pipeline: wgpu::ComputePipeline,
     pub slots_bind_group: wgpu::BindGroup,
     /// The slots the next partial dispatch evaluates.
     pub dirty_list: wgpu::Buffer,
@@ -239,9 +240,9 @@ impl AdaptivePass {
     /// vertex, first adaptive index), where the rooms count the fixed part too.
     pub(super) fn new(
         device: &wgpu::Device,
-        pipelines: &AdaptivePipelines,
+        evaluator: &PatchEvaluator,
         buffers: SharedBuffers<'_>,
-        groups: Vec<(wgpu::ComputePipeline, wgpu::ComputePipeline, Vec<u32>)>,
+        groups: Vec<(PipelineKey, Vec<u32>)>,
         room: [u32; 4],
     ) -> Self {
         let mut slots = Vec::new();
@@ -260,7 +261,8 @@ impl AdaptivePass {
         args[stats + 4] = room[2];
         args[stats + 5] = room[3];
         let mut ranges = Vec::new();
-        for (g, (_, _, records)) in groups.iter().enumerate() {
+        let pipelines = &evaluator.adaptive;
+        for (g, (_, records)) in groups.iter().enumerate() {
             let word = (ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * g as u32) as usize;
             let range = [slots.len() as u32, records.len() as u32];
             args[word] = range[0];
@@ -296,18 +298,21 @@ impl AdaptivePass {
                 | wgpu::BufferUsages::COPY_SRC
                 | wgpu::BufferUsages::COPY_DST,
         });
-        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[wgpu::BindGroupEntry<'_>]| {
+        let bind_layout = |layout: &wgpu::BindGroupLayout, entries: &[wgpu::BindGroupEntry<'_>]| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
-                layout: &pipeline.get_bind_group_layout(0),
+                layout,
                 entries,
             })
+        };
+        let bind = |pipeline: &wgpu::ComputePipeline, entries: &[wgpu::BindGroupEntry<'_>]| {
+            bind_layout(&pipeline.get_bind_group_layout(0), entries)
         };
         let groups = groups
             .into_iter()
             .zip(ranges)
             .enumerate()
-            .map(|(g, ((pipeline, slots_pipeline, records), range))| {
+            .map(|(g, ((key, records), range))| {
                 let first_slot = range[0];
                 let range = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("adaptive group range"),
@@ -322,9 +327,9 @@ impl AdaptivePass {
                 });
                 // Both evaluation entry points read the patches and write the vertices; their
                 // patch list is the group's range or the slots a drag step changed.
-                let evaluation = |pipeline: &wgpu::ComputePipeline, list: &wgpu::Buffer| {
-                    bind(
-                        pipeline,
+                let evaluation = |list: &wgpu::Buffer| {
+                    bind_layout(
+                        &evaluator.adaptive_eval_layout,
                         &[
                             entire(0, buffers.control_points),
                             entire(1, buffers.control_indices),
@@ -335,15 +340,14 @@ impl AdaptivePass {
                         ],
                     )
                 };
-                let slots_bind_group = evaluation(&slots_pipeline, &dirty_list);
-                let bind_group = evaluation(&pipeline, &range);
+                let slots_bind_group = evaluation(&dirty_list);
+                let bind_group = evaluation(&range);
                 let word = ADAPTIVE_ARGS_GROUPS + ADAPTIVE_ARGS_GROUP_WORDS * g as u32 + 2;
                 AdaptiveGroup {
-                    pipeline,
+                    key,
                     bind_group,
                     range,
                     args_offset: u64::from(word) * 4,
-                    slots_pipeline,
                     slots_bind_group,
                     dirty_list,
                     records,
@@ -442,14 +446,16 @@ impl AdaptivePass {
         &mut self,
         queue: &wgpu::Queue,
         pass: &mut wgpu::ComputePass<'_>,
-        pipelines: &AdaptivePipelines,
+        evaluator: &PatchEvaluator,
+        curvature: bool,
         dirty: &[bool],
     ) -> u32 {
+        let pipelines = &evaluator.adaptive;
         let Some(target) = self.wanted else {
             return 0;
         };
         if self.frozen && self.evaluated == Some(target) {
-            return self.encode_changed(queue, pass, dirty);
+            return self.encode_changed(queue, pass, evaluator, curvature, dirty);
         }
         self.remeasure = false;
         queue.write_buffer(&self.view, 0, bytemuck::bytes_of(&self.uniform(&target)));
@@ -464,7 +470,9 @@ impl AdaptivePass {
         pass.set_bind_group(0, &self.scan_bind_group, &[]);
         pass.dispatch_workgroups(1, 1, 1);
         for group in &self.groups {
-            pass.set_pipeline(&group.pipeline);
+            let pipeline =
+                evaluator.eval_pipeline(group.key, "evaluate_adaptive_vertices", curvature);
+            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &group.bind_group, &[]);
             pass.dispatch_workgroups_indirect(&self.args, group.args_offset);
         }
@@ -479,6 +487,8 @@ impl AdaptivePass {
         &mut self,
         queue: &wgpu::Queue,
         pass: &mut wgpu::ComputePass<'_>,
+        evaluator: &PatchEvaluator,
+        curvature: bool,
         dirty: &[bool],
     ) -> u32 {
         let mut evaluated = 0;
@@ -497,7 +507,8 @@ impl AdaptivePass {
             // x, as wide as the largest patch, was written by the last scan; y is the list.
             let y = group.args_offset + 4 * 4;
             queue.write_buffer(&self.args, y, bytemuck::bytes_of(&(list.len() as u32)));
-            pass.set_pipeline(&group.slots_pipeline);
+            let pipeline = evaluator.eval_pipeline(group.key, "evaluate_adaptive_slots", curvature);
+            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &group.slots_bind_group, &[]);
             pass.dispatch_workgroups_indirect(&self.args, group.args_offset + 3 * 4);
             evaluated += list.len() as u32;

@@ -89,6 +89,42 @@ const EVAL_BINDINGS: [(u32, bool); 8] = [
     (7, false), // point results
 ];
 
+/// The bindings of `evaluate_adaptive_vertices` and `evaluate_adaptive_slots`: (binding,
+/// read-only).
+const ADAPTIVE_EVAL_BINDINGS: [(u32, bool); 6] = [
+    (0, true),  // control points
+    (1, true),  // control indices
+    (2, true),  // patch records
+    (3, false), // vertices
+    (5, true),  // the group's range, or the slots a drag step changed
+    (8, false), // adaptive slots
+];
+
+/// A bind group layout of storage buffers visible to compute: (binding, read-only) each.
+fn storage_layout(
+    device: &wgpu::Device,
+    label: &str,
+    bindings: &[(u32, bool)],
+) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
+        .iter()
+        .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
 /// Bytes of a stand-in buffer for a binding an entry point does not use: at least one element
 /// of the largest record bound there.
 const STAND_IN_BYTES: u64 = 256;
@@ -105,9 +141,13 @@ pub struct PatchEvaluator {
     stand_ins: Vec<wgpu::Buffer>,
     /// `evaluate_vertices` (false) or `evaluate_adaptive_vertices` (true) per key; bicubic
     /// Bézier patches take the array-free path.
-    specialized: Mutex<HashMap<(PipelineKey, &'static str), wgpu::ComputePipeline>>,
+    specialized: Mutex<HashMap<(PipelineKey, &'static str, bool), wgpu::ComputePipeline>>,
     /// The adaptive passes that are not specialized by degree.
-    adaptive: AdaptivePipelines,
+    pub(super) adaptive: AdaptivePipelines,
+    /// The bindings of the adaptive evaluation entry points ([`ADAPTIVE_EVAL_BINDINGS`]), so
+    /// that one bind group serves the pipelines with and without vertex curvature.
+    pub(super) adaptive_eval_layout: wgpu::BindGroupLayout,
+    adaptive_eval_pipeline_layout: wgpu::PipelineLayout,
     triangles_pipeline: wgpu::ComputePipeline,
     /// Point evaluation (native only: the `eval --backend gpu` command).
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
@@ -138,28 +178,23 @@ fn compute_pipeline(
 impl PatchEvaluator {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = shaders::create_module(device, &shaders::EVAL_BEZIER_SHADER);
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = EVAL_BINDINGS
-            .iter()
-            .map(|&(binding, read_only)| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            })
-            .collect();
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("evaluator bindings"),
-            entries: &entries,
-        });
+        let layout = storage_layout(device, "evaluator bindings", &EVAL_BINDINGS);
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("evaluator"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
+        let adaptive_eval_layout = storage_layout(
+            device,
+            "adaptive evaluation bindings",
+            &ADAPTIVE_EVAL_BINDINGS,
+        );
+        let adaptive_eval_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("adaptive evaluation"),
+                bind_group_layouts: &[Some(&adaptive_eval_layout)],
+                immediate_size: 0,
+            });
         let stand_ins = EVAL_BINDINGS
             .iter()
             .map(|_| {
@@ -190,6 +225,8 @@ impl PatchEvaluator {
             ),
             specialized: Mutex::new(HashMap::new()),
             adaptive: AdaptivePipelines::new(device, &module),
+            adaptive_eval_layout,
+            adaptive_eval_pipeline_layout,
             layout,
             pipeline_layout,
             stand_ins,
@@ -198,20 +235,21 @@ impl PatchEvaluator {
         }
     }
 
-    /// The pipeline of entry point `entry` (`evaluate_vertices`, or one of the adaptive ones,
-    /// whose bind group layouts are derived from their bindings) for `key`'s patches,
-    /// compiled on first use.
+    /// The pipeline of entry point `entry` (`evaluate_vertices`, or one of the adaptive ones)
+    /// for `key`'s patches, writing the vertices' curvature or not (`curvature`), compiled on
+    /// first use.
     pub(super) fn eval_pipeline(
         &self,
         key: PipelineKey,
         entry: &'static str,
+        curvature: bool,
     ) -> wgpu::ComputePipeline {
         let mut cache = self
             .specialized
             .lock()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
         cache
-            .entry((key, entry))
+            .entry((key, entry, curvature))
             .or_insert_with(|| {
                 let PipelineKey {
                     kind,
@@ -233,28 +271,19 @@ impl PatchEvaluator {
                     ("BICUBIC_ONLY", bicubic),
                     ("DEGREE_U", f64::from(p)),
                     ("DEGREE_V", f64::from(q)),
+                    ("VERTEX_CURVATURE", if curvature { 1.0 } else { 0.0 }),
                 ];
-                if entry != "evaluate_vertices" {
-                    return self
-                        .device
-                        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                            label: Some(&format!("{entry}, degree ({p}, {q})")),
-                            layout: None,
-                            module: &self.module,
-                            entry_point: Some(entry),
-                            compilation_options: wgpu::PipelineCompilationOptions {
-                                constants: &constants,
-                                ..Default::default()
-                            },
-                            cache: None,
-                        });
-                }
+                let layout = if entry == "evaluate_vertices" {
+                    &self.pipeline_layout
+                } else {
+                    &self.adaptive_eval_pipeline_layout
+                };
                 compute_pipeline(
                     &self.device,
-                    &self.pipeline_layout,
+                    layout,
                     &self.module,
-                    &format!("evaluate degree ({p}, {q}) Bézier patches"),
-                    "evaluate_vertices",
+                    &format!("{entry}, degree ({p}, {q})"),
+                    entry,
                     &constants,
                 )
             })
@@ -351,7 +380,7 @@ struct ObjectRange {
 
 /// The patches of one degree pair, evaluated by one specialized pipeline.
 struct PatchGroup {
-    pipeline: wgpu::ComputePipeline,
+    key: PipelineKey,
     /// Global record indices of the group's patches.
     records: Vec<u32>,
     /// The records evaluated by the next dispatch (written by [`PatchGeometry::encode`]).
@@ -384,6 +413,8 @@ pub struct PatchGeometry {
     triangles_written: bool,
     /// The view-adaptive passes ([`Tessellation::Adaptive`]).
     adaptive: Option<AdaptivePass>,
+    /// Whether the Bézier patches' vertices carry their curvature.
+    curvature: bool,
 }
 
 /// Homogeneous control points (wx, wy, wz, w) in f32, as the shaders read them.
@@ -666,7 +697,6 @@ impl PatchGeometry {
         }
         let mut groups = Vec::new();
         for (key, members) in by_key {
-            let pipeline = evaluator.eval_pipeline(key, "evaluate_vertices");
             let list = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("patch list"),
                 size: members.len() as u64 * 4,
@@ -681,7 +711,7 @@ impl PatchGeometry {
                 (5, &list),
             ]);
             groups.push(PatchGroup {
-                pipeline,
+                key,
                 records: members,
                 list,
                 bind_group,
@@ -690,19 +720,10 @@ impl PatchGeometry {
         let triangles_bind_group =
             evaluator.bind_group(&[(2, &record_buffer), (4, &triangle_indices)]);
         let adaptive = adaptive_room.map(|_| {
-            let groups = adaptive_by_key
-                .into_iter()
-                .map(|(key, members)| {
-                    (
-                        evaluator.eval_pipeline(key, "evaluate_adaptive_vertices"),
-                        evaluator.eval_pipeline(key, "evaluate_adaptive_slots"),
-                        members,
-                    )
-                })
-                .collect();
+            let groups = adaptive_by_key.into_iter().collect();
             AdaptivePass::new(
                 device,
-                &evaluator.adaptive,
+                evaluator,
                 SharedBuffers {
                     control_points: &control_points,
                     control_indices: &control_index_buffer,
@@ -739,6 +760,7 @@ impl PatchGeometry {
             quad_groups_x: quad_groups_x as u32,
             triangles_written: false,
             adaptive,
+            curvature: true,
         })
     }
 
@@ -853,6 +875,17 @@ impl PatchGeometry {
                 .is_some_and(|a| a.needs_evaluation(dirty))
     }
 
+    /// Whether the Bézier patches' vertices carry their curvature (K, H, k1, k2). Off, the
+    /// compute pass skips the second derivatives and the fundamental forms, and the vertices
+    /// carry 0 with [`super::records::VERTEX_NO_CURVATURE`]; a change re-evaluates everything.
+    /// Subdivision stencil patches always carry theirs.
+    pub fn set_vertex_curvature(&mut self, on: bool) {
+        if self.curvature != on {
+            self.curvature = on;
+            self.invalidate();
+        }
+    }
+
     /// Whether the Bézier patches are tessellated for the view.
     pub fn is_adaptive(&self) -> bool {
         self.adaptive.is_some()
@@ -935,14 +968,15 @@ impl PatchGeometry {
                 .max()
                 .unwrap_or(1);
             queue.write_buffer(&group.list, 0, bytemuck::cast_slice(&list));
-            pass.set_pipeline(&group.pipeline);
+            let pipeline = evaluator.eval_pipeline(group.key, "evaluate_vertices", self.curvature);
+            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &group.bind_group, &[]);
             pass.dispatch_workgroups(groups_x, list.len() as u32, 1);
             evaluated += list.len() as u32;
         }
         let mut measured = false;
         if let Some(adaptive) = self.adaptive.as_mut().filter(|_| adaptive_due) {
-            evaluated += adaptive.encode(queue, &mut pass, &evaluator.adaptive, &self.dirty);
+            evaluated += adaptive.encode(queue, &mut pass, evaluator, self.curvature, &self.dirty);
             measured = true;
         }
         drop(pass);

@@ -71,6 +71,8 @@ pub struct SceneSync {
     points_uploaded: usize,
     /// Room for adaptive vertices, or `None` for the fixed tessellation.
     adaptive_room: Option<u32>,
+    /// Whether the Bézier patches' vertices carry their curvature.
+    vertex_curvature: bool,
 }
 
 /// The adaptive vertex room a scene starts with (grown when the statistics ask for more).
@@ -88,6 +90,16 @@ impl SceneSync {
             quality_used: 1.0,
             points_uploaded: 0,
             adaptive_room: None,
+            vertex_curvature: true,
+        }
+    }
+
+    /// Whether the vertices carry their curvature (see [`PatchGeometry::set_vertex_curvature`];
+    /// on by default); kept across rebuilds.
+    pub fn set_vertex_curvature(&mut self, on: bool) {
+        self.vertex_curvature = on;
+        if let Some(geometry) = &mut self.geometry {
+            geometry.set_vertex_curvature(on);
         }
     }
 
@@ -234,6 +246,8 @@ impl SceneSync {
             };
             PatchGeometry::with_tessellation(&self.device, &self.evaluator, &inputs, tessellation)
         })?;
+        let mut geometry = geometry;
+        geometry.set_vertex_curvature(self.vertex_curvature);
         self.feeds = feeds;
         self.geometry = Some(geometry);
         self.quality_used = used;
