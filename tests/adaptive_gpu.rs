@@ -24,6 +24,21 @@ use knotwork::view::OrbitCamera;
 
 const SIZE: (u32, u32) = (1280, 800);
 
+/// The evaluator's input for `feeds` (Bézier patches only).
+fn patch_inputs(feeds: &[Decomposition]) -> Vec<ObjectPatches<'_>> {
+    feeds
+        .iter()
+        .map(|d| ObjectPatches {
+            set: &d.set,
+            domains: &d.domains,
+            segments: 8,
+            stencils: None,
+            cage_points: 0,
+            trims: None,
+        })
+        .collect()
+}
+
 struct Evaluated {
     stats: AdaptiveStats,
     slots: Vec<AdaptiveSlot>,
@@ -38,17 +53,7 @@ fn evaluate(
     room: u32,
     target: AdaptiveTarget,
 ) -> Evaluated {
-    let inputs: Vec<ObjectPatches<'_>> = feeds
-        .iter()
-        .map(|d| ObjectPatches {
-            set: &d.set,
-            domains: &d.domains,
-            segments: 8,
-            stencils: None,
-            cage_points: 0,
-            trims: None,
-        })
-        .collect();
+    let inputs = patch_inputs(feeds);
     let mut geometry = PatchGeometry::with_tessellation(
         &context.device,
         evaluator,
@@ -409,17 +414,7 @@ fn a_drag_re_evaluates_its_patches_at_frozen_levels() {
     let target = adaptive_target(&teapot_camera(&feeds, 9.0), SIZE, 0.5);
     // The uploaded copy; `feeds` is edited below.
     let uploaded = feeds.clone();
-    let objects: Vec<ObjectPatches<'_>> = uploaded
-        .iter()
-        .map(|d| ObjectPatches {
-            set: &d.set,
-            domains: &d.domains,
-            segments: 8,
-            stencils: None,
-            cage_points: 0,
-            trims: None,
-        })
-        .collect();
+    let objects = patch_inputs(&uploaded);
     let mut geometry = PatchGeometry::with_tessellation(
         &context.device,
         &evaluator,
