@@ -631,11 +631,13 @@ fn measure_levels(@builtin(global_invocation_id) id: vec3<u32>) {
             adaptive_curve_segments(rec, q, q + 1u, p),
             adaptive_curve_segments(rec, 0u, 1u, q),
         );
-        var inner = vec2<u32>(2u);
-        for (var j = 0u; j <= q; j++) {
+        // The boundary rows are the edges just measured; only the inner rows remain.
+        // nu (along s) from edges 0 and 2, nv (along t) from edges 1 and 3.
+        var inner = max(vec2<u32>(2u), max(slot.edges.xy, slot.edges.zw));
+        for (var j = 1u; j < q; j++) {
             inner.x = max(inner.x, adaptive_curve_segments(rec, j, q + 1u, p));
         }
-        for (var i = 0u; i <= p; i++) {
+        for (var i = 1u; i < p; i++) {
             inner.y = max(inner.y, adaptive_curve_segments(rec, i * (q + 1u), 1u, q));
         }
         slot.inner = inner;

@@ -977,6 +977,8 @@ impl KnotworkApp {
                 gpu.sync
                     .set_adaptive(&self.doc.scene, self.view.adaptive, self.view.quality)
             {
+                // Keep the mode the GPU copy has, rather than rebuild again every frame.
+                self.view.adaptive = gpu.sync.is_adaptive();
                 self.status.error = Some(e.to_string());
             }
         }

@@ -13,14 +13,12 @@
 //! buffers have, every level is halved alike (shared edges still agree) until they fit, and
 //! the statistics ask for bigger buffers.
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU8, Ordering};
-
 use bytemuck::Zeroable;
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use super::adaptive::ScreenError;
+use super::async_readback::AsyncReadback;
 use super::patch_eval::{PatchEvaluator, PipelineKey};
 use super::records::{AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE};
 
@@ -75,80 +73,7 @@ pub struct AdaptiveTarget {
     pub view_proj: Mat4,
 }
 
-const IDLE: u8 = 0;
-const MAPPING: u8 = 1;
-const MAPPED: u8 = 2;
-const FAILED: u8 = 3;
 const STATS_BYTES: u64 = 32;
-
-/// The statistics block, copied and mapped without waiting (works in the browser too).
-struct StatsReadback {
-    staging: Arc<wgpu::Buffer>,
-    state: Arc<AtomicU8>,
-    copy_recorded: bool,
-}
-
-impl StatsReadback {
-    fn new(device: &wgpu::Device) -> Self {
-        Self {
-            staging: Arc::new(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("adaptive statistics readback"),
-                size: STATS_BYTES,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })),
-            state: Arc::new(AtomicU8::new(IDLE)),
-            copy_recorded: false,
-        }
-    }
-
-    fn record(&mut self, encoder: &mut wgpu::CommandEncoder, args: &wgpu::Buffer) {
-        if self.state.load(Ordering::Acquire) != IDLE || self.copy_recorded {
-            return;
-        }
-        encoder.copy_buffer_to_buffer(
-            args,
-            u64::from(ADAPTIVE_ARGS_STATS) * 4,
-            &self.staging,
-            0,
-            STATS_BYTES,
-        );
-        self.copy_recorded = true;
-    }
-
-    fn after_submit(&mut self) {
-        if !std::mem::take(&mut self.copy_recorded) {
-            return;
-        }
-        self.state.store(MAPPING, Ordering::Release);
-        let state = Arc::clone(&self.state);
-        self.staging
-            .map_async(wgpu::MapMode::Read, .., move |result| {
-                state.store(
-                    if result.is_ok() { MAPPED } else { FAILED },
-                    Ordering::Release,
-                );
-            });
-    }
-
-    fn collect(&mut self) -> Option<AdaptiveStats> {
-        match self.state.load(Ordering::Acquire) {
-            MAPPED => {}
-            FAILED => {
-                self.state.store(IDLE, Ordering::Release);
-                return None;
-            }
-            _ => return None,
-        }
-        let stats = self.staging.get_mapped_range(..).ok().map(|view| {
-            let words: Vec<u32> = bytemuck::pod_collect_to_vec(&view);
-            AdaptiveStats::from_words(&words)
-        });
-        self.staging.unmap();
-        self.state.store(IDLE, Ordering::Release);
-        stats
-    }
-}
 
 /// The pipelines of the passes that are not specialized by degree (one set per device).
 pub struct AdaptivePipelines {
@@ -219,7 +144,8 @@ pub struct AdaptivePass {
     /// The view the buffers hold and the one asked for next.
     evaluated: Option<AdaptiveTarget>,
     pub(super) wanted: Option<AdaptiveTarget>,
-    readback: StatsReadback,
+    /// The statistics block, read back without waiting.
+    readback: AsyncReadback,
     latest: Option<AdaptiveStats>,
     /// While set (a drag), edits re-evaluate their patches at the measured levels.
     frozen: bool,
@@ -235,8 +161,8 @@ fn entire(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 }
 
 impl AdaptivePass {
-    /// `groups`: per degree-pair pipeline, the records it evaluates (global indices; the slots
-    /// follow this order) and the pipeline. `room`: (vertex room, index room, first adaptive
+    /// `groups`: per pipeline key (patch kind and degrees), the records it evaluates (global
+    /// indices; the slots follow this order). `room`: (vertex room, index room, first adaptive
     /// vertex, first adaptive index), where the rooms count the fixed part too.
     pub(super) fn new(
         device: &wgpu::Device,
@@ -390,7 +316,7 @@ impl AdaptivePass {
             groups,
             evaluated: None,
             wanted: None,
-            readback: StatsReadback::new(device),
+            readback: AsyncReadback::new(device, "adaptive statistics readback", STATS_BYTES),
             latest: None,
             frozen: false,
             remeasure: false,
@@ -519,7 +445,12 @@ impl AdaptivePass {
 
     /// After the compute pass: the copy of the statistics for the asynchronous readback.
     pub(super) fn record_readback(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        self.readback.record(encoder, &self.args);
+        self.readback.record(
+            encoder,
+            &self.args,
+            u64::from(ADAPTIVE_ARGS_STATS) * 4,
+            STATS_BYTES,
+        );
     }
 
     /// Call after submitting: starts mapping the statistics.
@@ -529,8 +460,9 @@ impl AdaptivePass {
 
     /// The latest statistics that arrived (taking any that just did).
     pub fn stats(&mut self) -> Option<AdaptiveStats> {
-        if let Some(fresh) = self.readback.collect() {
-            self.latest = Some(fresh);
+        if let Some(bytes) = self.readback.take() {
+            let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+            self.latest = Some(AdaptiveStats::from_words(&words));
         }
         self.latest
     }

@@ -3,6 +3,7 @@
 
 pub mod adaptive;
 pub mod adaptive_pass;
+pub mod async_readback;
 pub mod context;
 pub mod error;
 pub mod patch_eval;

@@ -139,8 +139,8 @@ pub struct PatchEvaluator {
     pipeline_layout: wgpu::PipelineLayout,
     /// Small buffers bound where an entry point does not use a binding, one per binding.
     stand_ins: Vec<wgpu::Buffer>,
-    /// `evaluate_vertices` (false) or `evaluate_adaptive_vertices` (true) per key; bicubic
-    /// Bézier patches take the array-free path.
+    /// The evaluation pipelines per (key, entry point, vertex curvature); bicubic Bézier
+    /// patches take the array-free path.
     specialized: Mutex<HashMap<(PipelineKey, &'static str, bool), wgpu::ComputePipeline>>,
     /// The adaptive passes that are not specialized by degree.
     pub(super) adaptive: AdaptivePipelines,
@@ -756,7 +756,7 @@ impl PatchGeometry {
             uploaded: points,
             control_indices,
             vertex_count: fixed_vertices as u32,
-            index_count: index_offset as u32,
+            index_count: fixed_indices as u32,
             quad_groups_x: quad_groups_x as u32,
             triangles_written: false,
             adaptive,
@@ -974,13 +974,9 @@ impl PatchGeometry {
             pass.dispatch_workgroups(groups_x, list.len() as u32, 1);
             evaluated += list.len() as u32;
         }
-        let mut measured = false;
         if let Some(adaptive) = self.adaptive.as_mut().filter(|_| adaptive_due) {
             evaluated += adaptive.encode(queue, &mut pass, evaluator, self.curvature, &self.dirty);
-            measured = true;
-        }
-        drop(pass);
-        if measured && let Some(adaptive) = self.adaptive.as_mut() {
+            drop(pass);
             adaptive.record_readback(encoder);
         }
         self.dirty.fill(false);
@@ -1031,8 +1027,8 @@ impl PatchGeometry {
 
     /// Triangle indices written (see [`Self::vertex_count`]).
     pub fn index_count(&self) -> u32 {
-        match &self.adaptive {
-            Some(a) => a.latest_stats().map_or(0, |stats| stats.indices),
+        match self.adaptive.as_ref().and_then(AdaptivePass::latest_stats) {
+            Some(stats) => stats.indices,
             None => self.index_count,
         }
     }

@@ -1,13 +1,7 @@
 //! GPU timing with timestamp queries: how long the evaluation (compute) pass and the render pass
 //! took on the GPU, read back asynchronously so that no frame waits for it (works on the web too).
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU8, Ordering};
-
-const IDLE: u8 = 0;
-const MAPPING: u8 = 1;
-const MAPPED: u8 = 2;
-const FAILED: u8 = 3;
+use super::async_readback::AsyncReadback;
 
 /// Queries: 0/1 bracket the compute pass, 2/3 the render pass.
 const QUERY_COUNT: u32 = 4;
@@ -25,14 +19,12 @@ pub struct GpuTimings {
 pub struct GpuTimer {
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
-    readback: Arc<wgpu::Buffer>,
-    state: Arc<AtomicU8>,
+    readback: AsyncReadback,
     period_ns: f64,
     /// Which pairs the current frame wrote: (compute, render).
     written: (bool, bool),
     /// Which pairs the buffer being mapped holds.
     in_flight: (bool, bool),
-    copy_recorded: bool,
     pub latest: GpuTimings,
 }
 
@@ -47,35 +39,24 @@ impl GpuTimer {
             ty: wgpu::QueryType::Timestamp,
             count: QUERY_COUNT,
         });
-        let buffer = |label: &str, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: BUFFER_SIZE,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
         Some(Self {
             query_set,
-            resolve: buffer(
-                "timestamp resolve",
-                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            ),
-            readback: Arc::new(buffer(
-                "timestamp readback",
-                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            )),
-            state: Arc::new(AtomicU8::new(IDLE)),
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp resolve"),
+                size: BUFFER_SIZE,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: AsyncReadback::new(device, "timestamp readback", BUFFER_SIZE),
             period_ns: f64::from(queue.get_timestamp_period()),
             written: (false, false),
             in_flight: (false, false),
-            copy_recorded: false,
             latest: GpuTimings::default(),
         })
     }
 
     fn idle(&self) -> bool {
-        self.state.load(Ordering::Acquire) == IDLE
+        self.readback.idle()
     }
 
     /// Timestamp writes for this frame's compute pass, while no earlier readback is in flight.
@@ -116,52 +97,30 @@ impl GpuTimer {
         if render {
             encoder.resolve_query_set(&self.query_set, 2..4, &self.resolve, RENDER_RESOLVE_OFFSET);
         }
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, BUFFER_SIZE);
+        self.readback.record(encoder, &self.resolve, 0, BUFFER_SIZE);
         self.in_flight = (compute, render);
-        self.copy_recorded = true;
     }
 
     /// Call after submitting the encoder given to [`Self::resolve`]: starts mapping the results.
     pub fn after_submit(&mut self) {
-        if !std::mem::take(&mut self.copy_recorded) {
-            return;
-        }
-        self.state.store(MAPPING, Ordering::Release);
-        let state = Arc::clone(&self.state);
-        self.readback
-            .map_async(wgpu::MapMode::Read, .., move |result| {
-                state.store(
-                    if result.is_ok() { MAPPED } else { FAILED },
-                    Ordering::Release,
-                );
-            });
+        self.readback.after_submit();
     }
 
     /// Whether a readback is still on its way (the caller should keep frames coming).
     pub fn pending(&self) -> bool {
-        self.state.load(Ordering::Acquire) == MAPPING
+        self.readback.pending()
     }
 
     /// Takes finished results into [`Self::latest`]. Returns true when new figures arrived.
     pub fn collect(&mut self) -> bool {
-        match self.state.load(Ordering::Acquire) {
-            MAPPED => {}
-            FAILED => {
-                self.state.store(IDLE, Ordering::Release);
-                return false;
-            }
-            _ => return false,
-        }
-        let ticks = self.readback.get_mapped_range(..).ok().map(|view| {
-            let words: Vec<u64> = bytemuck::pod_collect_to_vec(&view);
+        let ticks = self.readback.take().map(|bytes| {
+            let words: Vec<u64> = bytemuck::pod_collect_to_vec(&bytes);
             let stride = (RENDER_RESOLVE_OFFSET / 8) as usize;
             (
                 words[1].saturating_sub(words[0]),
                 words[stride + 1].saturating_sub(words[stride]),
             )
         });
-        self.readback.unmap();
-        self.state.store(IDLE, Ordering::Release);
         let Some((eval, render)) = ticks else {
             return false;
         };

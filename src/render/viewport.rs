@@ -844,7 +844,7 @@ impl ViewportRenderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
-        if overlays.surface && surface.index_count > 0 {
+        if overlays.surface && (surface.index_count > 0 || surface.indirect.is_some()) {
             let trims = self.trim_bind_group(&surface);
             pass.set_pipeline(&pipelines.surface);
             pass.set_bind_group(1, &trims, &[]);
