@@ -49,11 +49,11 @@ const POINT_RADIUS: f32 = 3.5;
 pub const PICK_RADIUS: f64 = 8.0;
 
 /// eframe's wgpu setup for knotwork: the device of [`gpu::device_descriptor`]; on the web,
-/// WebGPU only (no silent WebGL fallback: the page explains what is missing instead).
+/// WebGPU, else WebGL2 (the CPU evaluates the surfaces there: the panel says so).
 pub fn wgpu_configuration(web: bool) -> egui_wgpu::WgpuConfiguration {
     let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
     if web {
-        setup.instance_descriptor.backends = wgpu::Backends::BROWSER_WEBGPU;
+        setup.instance_descriptor.backends = wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL;
     }
     setup.device_descriptor = Arc::new(gpu::device_descriptor);
     // Natively, the best adapter that has compute shaders; when none has, the first one, so
@@ -74,6 +74,15 @@ pub fn wgpu_configuration(web: bool) -> egui_wgpu::WgpuConfiguration {
     egui_wgpu::WgpuConfiguration {
         wgpu_setup: egui_wgpu::WgpuSetup::CreateNew(setup),
         ..Default::default()
+    }
+}
+
+/// The status's and panel's name of the evaluator in use.
+pub fn evaluator_label(compute: bool) -> &'static str {
+    if compute {
+        "GPU compute shaders"
+    } else {
+        "CPU (WebGL2: no compute shaders)"
     }
 }
 
@@ -163,7 +172,7 @@ impl ViewportGpu {
         point_radius_px: f32,
     ) -> Option<u32> {
         let (target, _) = self.targets[self.shown].as_ref()?;
-        self.sync.geometry()?;
+        self.sync.surface_buffers()?;
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -174,14 +183,14 @@ impl ViewportGpu {
             let writes = self.timer.as_mut().and_then(GpuTimer::compute_pass_writes);
             evaluated = Some(self.sync.encode(&mut encoder, writes));
         }
-        let geometry = self.sync.geometry()?;
+        let surface = self.sync.surface_buffers()?;
         let scene = scene_uniform(view, target, point_radius_px, range, selected);
         let writes = self.timer.as_mut().and_then(GpuTimer::render_pass_writes);
         self.renderer.set_scene(&self.queue, &scene);
         self.renderer.render(
             &mut encoder,
             target,
-            geometry.surface_buffers(),
+            surface,
             self.net.as_ref(),
             view.overlays,
             writes,
@@ -324,14 +333,14 @@ impl KnotworkApp {
                     info.name.clone()
                 };
                 status.software_adapter = crate::render::is_software(&info);
-                // An adapter without compute shaders gets no evaluator: the window says why.
-                match gpu::context::check(&state.adapter) {
-                    Ok(()) => Some(ViewportGpu::new(state)),
-                    Err(e) => {
-                        status.error = Some(e.to_string());
-                        None
-                    }
+                // An adapter without compute shaders (WebGL2) gets the CPU evaluator and the
+                // renderer that shades from the vertices alone.
+                let gpu = ViewportGpu::new(state);
+                status.evaluator = evaluator_label(gpu.sync.evaluates_on_gpu()).to_owned();
+                if let Err(e) = gpu::context::check(&state.adapter) {
+                    log::warn!("{e}; the CPU evaluates the surfaces");
                 }
+                Some(gpu)
             }
             None => {
                 status.error = Some("eframe started without a wgpu device".to_owned());
@@ -361,9 +370,13 @@ impl KnotworkApp {
             },
             dialog: None,
             incoming: files::Incoming::default(),
-            view: ViewSettings::default(),
             auto_range: None,
             continuous: false,
+            view: ViewSettings {
+                // The view-adaptive tessellation runs in compute shaders.
+                adaptive: gpu.as_ref().is_none_or(|g| g.sync.evaluates_on_gpu()),
+                ..ViewSettings::default()
+            },
             gpu,
             gpu_refusal: status.error.clone(),
             status,
@@ -508,11 +521,7 @@ impl KnotworkApp {
         let Some(gpu) = &mut self.gpu else {
             return Ok(());
         };
-        if let Some(first) = gpu
-            .sync
-            .geometry()
-            .and_then(|g| g.first_patch(moved.object))
-        {
+        if let Some(first) = gpu.sync.first_patch(moved.object) {
             self.highlight_patches = moved.patches.iter().map(|p| first + p).collect();
         }
         let uploaded = gpu
@@ -787,11 +796,11 @@ impl KnotworkApp {
             .iter()
             .map(|o| effective_segments(o.segments, quality_used))
             .collect();
-        if let Some(g) = self.gpu.as_ref().and_then(|g| g.sync.geometry()) {
-            self.status.patches = g.patch_count();
-            self.status.control_points = g.control_point_count();
-            self.status.vertices = g.vertex_count();
-            self.status.triangles = g.index_count() / 3;
+        if let Some(counts) = self.gpu.as_ref().and_then(|g| g.sync.counts()) {
+            self.status.patches = counts.patches;
+            self.status.control_points = counts.control_points;
+            self.status.vertices = counts.vertices;
+            self.status.triangles = counts.indices / 3;
         }
     }
 
@@ -935,11 +944,7 @@ impl KnotworkApp {
         );
         let range = self.color_range().unwrap_or((-1.0, 1.0));
         let selected = self.selection.object.map(|s| s as u32);
-        if self
-            .gpu
-            .as_ref()
-            .is_none_or(|g| g.sync.geometry().is_none())
-        {
+        if self.gpu.as_ref().is_none_or(|g| !g.sync.is_built()) {
             let reason = self
                 .gpu_refusal
                 .as_deref()
@@ -971,6 +976,11 @@ impl KnotworkApp {
             .map_or(1.0, |(t, _)| t.size().0 as f32 / size.0.max(1) as f32);
         gpu.renderer
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
+        if !gpu.sync.evaluates_on_gpu() {
+            // A project or the autosave asked for the view-adaptive tessellation, which runs in
+            // compute shaders: this device has none.
+            self.view.adaptive = false;
+        }
         if gpu.sync.is_adaptive() != self.view.adaptive {
             // A project or the autosave brought another mode.
             if let Err(e) =

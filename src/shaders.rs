@@ -16,8 +16,12 @@ pub const ADAPTIVE: &str = include_str!("../shaders/adaptive.wgsl");
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
 pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
-/// Render: the shaded surface.
+/// Module: the surface's shading modes (both surface pipelines).
+pub const SHADING: &str = include_str!("../shaders/shading.wgsl");
+/// Render: the shaded surface (WebGPU: storage buffers, per-fragment analysis and trims).
 pub const SURFACE: &str = include_str!("../shaders/surface.wgsl");
+/// Render: the shaded surface on WebGL2 (no storage buffers).
+pub const SURFACE_GL: &str = include_str!("../shaders/surface_gl.wgsl");
 /// Render: control net lines and control point dots.
 pub const OVERLAY: &str = include_str!("../shaders/overlay.wgsl");
 
@@ -30,11 +34,12 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 4] = [
+pub const MODULES: [(&str, &str); 5] = [
     ("diffgeo.wgsl", DIFFGEO),
     ("bezier.wgsl", BEZIER),
     ("trim.wgsl", TRIM),
     ("adaptive.wgsl", ADAPTIVE),
+    ("shading.wgsl", SHADING),
 ];
 
 /// What a module needs from the pipeline that composes it, for validating the module on its
@@ -44,6 +49,10 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
         "bezier.wgsl" => (
             &[DIFFGEO],
             "fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> { return vec4<f32>(f32(k)); }",
+        ),
+        "shading.wgsl" => (
+            &[],
+            "@group(0) @binding(0) var<uniform> scene: SceneUniform;",
         ),
         _ => (&[], ""),
     }
@@ -59,7 +68,13 @@ pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {
     name: "surface.wgsl",
     body: SURFACE,
-    modules: &[DIFFGEO, BEZIER, TRIM],
+    modules: &[DIFFGEO, BEZIER, TRIM, SHADING],
+};
+/// The surface render pipeline of devices without storage buffers (WebGL2).
+pub const SURFACE_GL_SHADER: PipelineShader = PipelineShader {
+    name: "surface_gl.wgsl",
+    body: SURFACE_GL,
+    modules: &[SHADING],
 };
 /// The control net overlay.
 pub const OVERLAY_SHADER: PipelineShader = PipelineShader {
@@ -69,8 +84,12 @@ pub const OVERLAY_SHADER: PipelineShader = PipelineShader {
 };
 
 /// Every pipeline shader.
-pub const PIPELINE_SHADERS: [PipelineShader; 3] =
-    [EVAL_BEZIER_SHADER, SURFACE_SHADER, OVERLAY_SHADER];
+pub const PIPELINE_SHADERS: [PipelineShader; 4] = [
+    EVAL_BEZIER_SHADER,
+    SURFACE_SHADER,
+    SURFACE_GL_SHADER,
+    OVERLAY_SHADER,
+];
 
 /// The complete source of a pipeline shader: `common.wgsl`, its modules, then its body.
 pub fn compose(shader: &PipelineShader) -> String {

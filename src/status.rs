@@ -22,6 +22,9 @@ pub struct AppStatus {
     pub backend: String,
     /// Adapter name, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" or "google · swiftshader".
     pub adapter: String,
+    /// What evaluates the surfaces: "GPU compute shaders", or the CPU where the device has no
+    /// compute shaders (WebGL2) ([`crate::app::evaluator_label`]).
+    pub evaluator: String,
     /// Objects in the scene.
     pub objects: u32,
     /// Bézier patches evaluated on the GPU (every object's decomposition).

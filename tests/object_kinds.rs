@@ -120,9 +120,8 @@ fn size(object: &SceneObject) -> f64 {
 /// Largest distance, over every vertex of object 0 on the GPU, from the kind's own f64 point
 /// at that vertex's patch and (s, t), divided by the object's size.
 fn gpu_deviation(sync: &SceneSync, vertices: &[SurfaceVertex], object: &SceneObject) -> f64 {
-    let geometry = sync.geometry().unwrap();
     let mut worst = 0.0f64;
-    for (k, record) in geometry.records().iter().enumerate() {
+    for (k, record) in sync.records().unwrap().iter().enumerate() {
         // A patch wholly trimmed away has no vertices.
         if record.trim_count == knotwork::gpu::trim_buffer::TRIM_CULLED {
             continue;
@@ -141,11 +140,83 @@ fn gpu_deviation(sync: &SceneSync, vertices: &[SurfaceVertex], object: &SceneObj
     worst / size(object)
 }
 
-fn on_gpu(context: &GpuContext, doc: &Document) -> (SceneSync, Vec<SurfaceVertex>) {
-    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0).unwrap();
+/// `doc` evaluated by the compute shaders, or by the CPU evaluator of the WebGL2 path (`cpu`).
+fn on_gpu(context: &GpuContext, doc: &Document, cpu: bool) -> (SceneSync, Vec<SurfaceVertex>) {
+    let mut sync = if cpu {
+        SceneSync::on_cpu(&context.device, &context.queue)
+    } else {
+        SceneSync::new(&context.device, &context.queue)
+    };
+    sync.rebuild(&doc.scene, 1.0).unwrap();
     sync.evaluate_blocking().unwrap();
     let vertices = sync.read_vertices().unwrap();
     (sync, vertices)
+}
+
+/// Steps 2 and 3 of [`conforms`] on one evaluator: the vertices against the kind's own f64
+/// points, then a drag (only its support re-evaluated, the same vertices as a full evaluation)
+/// and its undo (every vertex restored). Leaves `doc` as it found it.
+fn drag_and_undo(
+    context: &GpuContext,
+    doc: &mut Document,
+    object: &SceneObject,
+    name: &str,
+    cpu: bool,
+) {
+    let scale = size(object);
+    let (mut sync, original_vertices) = on_gpu(context, doc, cpu);
+    let deviation = gpu_deviation(&sync, &original_vertices, object);
+    eprintln!("{name}: GPU vs f64 {deviation:.2e} of its size");
+    assert!(deviation <= 1e-5, "{name}: {deviation:e}");
+
+    // A drag and its undo.
+    let index = object.control_point_count() / 2;
+    doc.begin_drag(0, &[index]).unwrap();
+    let mut support = Vec::new();
+    for step in 1..=3 {
+        let moved = doc
+            .drag_by(DVec3::new(0.05, -0.03, 0.08) * scale * f64::from(step))
+            .unwrap();
+        sync.points_moved(&doc.scene, &moved).unwrap();
+        let evaluated = sync.evaluate_blocking().unwrap();
+        assert_eq!(
+            evaluated as usize,
+            moved.patches.len(),
+            "{name}: step {step}"
+        );
+        support = moved.patches;
+    }
+    assert!(
+        !support.is_empty(),
+        "{name}: a moved point changes something"
+    );
+    let dragged = sync.read_vertices().unwrap();
+    let (_, full) = on_gpu(context, doc, cpu);
+    assert!(
+        dragged == full,
+        "{name}: incremental and full evaluation differ"
+    );
+    let deviation = gpu_deviation(&sync, &dragged, &doc.scene.objects[0]);
+    assert!(deviation <= 1e-5, "{name}: after the drag {deviation:e}");
+    assert_eq!(
+        doc.history.undo_depth(),
+        0,
+        "{name}: a drag step is not an undo step"
+    );
+    assert!(doc.commit_drag().is_some());
+    assert_eq!(doc.history.undo_depth(), 1);
+    let touched = doc.undo().unwrap().touched();
+    assert_eq!(touched, Touched::Points(0), "{name}");
+    assert_eq!(
+        &doc.scene.objects[0], object,
+        "{name}: undo restores the object"
+    );
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    assert!(
+        sync.read_vertices().unwrap() == original_vertices,
+        "{name}: undo restores every GPU vertex"
+    );
 }
 
 fn conforms(context: &GpuContext, object: SceneObject) {
@@ -177,63 +248,15 @@ fn conforms(context: &GpuContext, object: SceneObject) {
         "{name}: a patch past the end is refused"
     );
 
-    // 2. The GPU, through the sync layer.
+    // 2. The GPU, through the sync layer: the compute shaders, and the CPU evaluator of the
+    // WebGL2 path.
     let mut doc = Document::new(Scene {
         objects: vec![object.clone()],
     });
-    let (mut sync, original_vertices) = on_gpu(context, &doc);
-    let deviation = gpu_deviation(&sync, &original_vertices, &object);
-    eprintln!("{name}: GPU vs f64 {deviation:.2e} of its size");
-    assert!(deviation <= 1e-5, "{name}: {deviation:e}");
-
-    // 3. A drag and its undo.
-    let index = object.control_point_count() / 2;
-    doc.begin_drag(0, &[index]).unwrap();
-    let mut support = Vec::new();
-    for step in 1..=3 {
-        let moved = doc
-            .drag_by(DVec3::new(0.05, -0.03, 0.08) * scale * f64::from(step))
-            .unwrap();
-        sync.points_moved(&doc.scene, &moved).unwrap();
-        let evaluated = sync.evaluate_blocking().unwrap();
-        assert_eq!(
-            evaluated as usize,
-            moved.patches.len(),
-            "{name}: step {step}"
-        );
-        support = moved.patches;
+    for cpu in [false, true] {
+        let name = format!("{name}{}", if cpu { " (CPU evaluator)" } else { "" });
+        drag_and_undo(context, &mut doc, &object, &name, cpu);
     }
-    assert!(
-        !support.is_empty(),
-        "{name}: a moved point changes something"
-    );
-    let dragged = sync.read_vertices().unwrap();
-    let (_, full) = on_gpu(context, &doc);
-    assert!(
-        dragged == full,
-        "{name}: incremental and full evaluation differ"
-    );
-    let deviation = gpu_deviation(&sync, &dragged, &doc.scene.objects[0]);
-    assert!(deviation <= 1e-5, "{name}: after the drag {deviation:e}");
-    assert_eq!(
-        doc.history.undo_depth(),
-        0,
-        "{name}: a drag step is not an undo step"
-    );
-    assert!(doc.commit_drag().is_some());
-    assert_eq!(doc.history.undo_depth(), 1);
-    let touched = doc.undo().unwrap().touched();
-    assert_eq!(touched, Touched::Points(0), "{name}");
-    assert_eq!(
-        doc.scene.objects[0], object,
-        "{name}: undo restores the object"
-    );
-    sync.apply(&doc.scene, touched, 1.0).unwrap();
-    sync.evaluate_blocking().unwrap();
-    assert!(
-        sync.read_vertices().unwrap() == original_vertices,
-        "{name}: undo restores every GPU vertex"
-    );
 
     // 4. Save and reopen.
     let text = project::write(&Project {

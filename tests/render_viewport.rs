@@ -501,6 +501,20 @@ fn one_sample_frames_match_multisampled_frames_but_for_edge_antialiasing() {
     assert!(share < 0.04, "{:.2} % of the pixels differ", share * 100.0);
 }
 
+/// The share of `covered` pixels whose colours in `a` and `b` differ by more than `tolerance`
+/// in a channel.
+fn share_apart(a: &[u8], b: &[u8], tolerance: u8, covered: usize) -> f64 {
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(a, b)| {
+            a.iter()
+                .zip(b.iter())
+                .any(|(x, y)| x.abs_diff(*y) > tolerance)
+        })
+        .count() as f64
+        / covered.max(1) as f64
+}
+
 /// The view-adaptive tessellation at its default 0.5 px shows what a dense fixed tessellation
 /// (64 segments per patch edge) shows: the same pixels covered and colours apart on a thin
 /// share of them, with a fraction of the vertices.
@@ -517,26 +531,29 @@ fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
     view.overlays.grid = false;
     view.shading = knotwork::view::ShadingMode::Normals;
     let size = (640, 400);
-    let fixed =
-        common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, false);
-    let adaptive =
-        common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, true);
+    let fixed = common::draw_offscreen_tessellated(
+        &context,
+        &scene.objects,
+        None,
+        &view,
+        size,
+        4,
+        common::Path::Fixed,
+    );
+    let adaptive = common::draw_offscreen_tessellated(
+        &context,
+        &scene.objects,
+        None,
+        &view,
+        size,
+        4,
+        common::Path::Adaptive,
+    );
     let background = background_bytes();
     let covered = |image: &[u8]| covered_pixels(image, background);
     let (cf, ca) = (covered(&fixed), covered(&adaptive));
     assert!(cf > 20_000, "the demo scene covers the view: {cf} px");
-    let apart_by = |tolerance: u8| {
-        fixed
-            .chunks(4)
-            .zip(adaptive.chunks(4))
-            .filter(|(a, b)| {
-                a.iter()
-                    .zip(b.iter())
-                    .any(|(x, y)| x.abs_diff(*y) > tolerance)
-            })
-            .count() as f64
-            / cf as f64
-    };
+    let apart_by = |tolerance: u8| share_apart(&fixed, &adaptive, tolerance, cf);
     // Shading may shift slightly (normals interpolated over other triangles); a crack, a hole or
     // a missing patch would put whole pixels far apart.
     let (slight, far) = (apart_by(16), apart_by(64));
@@ -572,4 +589,118 @@ fn the_adaptive_tessellation_looks_like_a_dense_fixed_one() {
         "{:.2} % of the covered pixels differ far",
         share * 100.0
     );
+}
+
+/// The WebGL2 path (the CPU evaluator and the renderer without storage buffers, here forced on
+/// lavapipe) draws the demo scene as the compute path does: the same pixels covered, the lit
+/// and normal modes alike but for rounding, the curvature mode close (the vertices' curvature
+/// interpolated rather than evaluated per pixel), and a trimmed surface's holes where the
+/// per-fragment trim puts them, up to the triangles along the trim edge.
+#[test]
+fn the_webgl2_path_draws_what_the_compute_path_draws() {
+    use knotwork::view::ShadingMode;
+    let context = common::gpu();
+    let mut scene = knotwork::scene::Scene::demo().unwrap();
+    for object in &mut scene.objects {
+        object.segments = 24;
+    }
+    let (lo, hi) = scene.bounds().unwrap();
+    let mut view = ViewSettings::default();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.overlays.grid = false;
+    view.range = Some((-2.0, 2.0));
+    let size = (640, 400);
+    let background = background_bytes();
+    // (mode, share of covered pixels allowed apart by more than 16, by more than 64)
+    for (mode, slight_limit, far_limit) in [
+        (ShadingMode::Plain, 0.02, 0.01),
+        (ShadingMode::Normals, 0.02, 0.01),
+        (ShadingMode::Mean, 0.08, 0.02),
+    ] {
+        view.shading = mode;
+        let draw = |path| {
+            common::draw_offscreen_tessellated(&context, &scene.objects, None, &view, size, 4, path)
+        };
+        let (compute, cpu) = (draw(common::Path::Fixed), draw(common::Path::Cpu));
+        let (cc, cg) = (
+            covered_pixels(&compute, background),
+            covered_pixels(&cpu, background),
+        );
+        let (slight, far) = (
+            share_apart(&compute, &cpu, 16, cc),
+            share_apart(&compute, &cpu, 64, cc),
+        );
+        eprintln!(
+            "{mode:?}: covered {cc} px compute, {cg} CPU; apart by > 16: {:.2} %, by > 64: {:.2} %",
+            slight * 100.0,
+            far * 100.0
+        );
+        let covered_alike = (cc as f64 - cg as f64).abs() < 0.01 * cc as f64;
+        if !covered_alike || slight >= slight_limit || far >= far_limit {
+            for (name, image) in [
+                ("webgl2-actual.png", &cpu),
+                ("webgl2-compute.png", &compute),
+            ] {
+                let path = common::artifact_path(name);
+                common::write_png(&path, size.0, size.1, image);
+                eprintln!("wrote {}", path.display());
+            }
+        }
+        assert!(cc > 20_000, "the demo scene covers the view: {cc} px");
+        assert!(covered_alike, "{mode:?}: covered {cc} px compute, {cg} CPU");
+        assert!(
+            slight < slight_limit,
+            "{mode:?}: {:.2} % apart",
+            slight * 100.0
+        );
+        assert!(far < far_limit, "{mode:?}: {:.2} % far apart", far * 100.0);
+    }
+
+    // A surface kept inside an ellipse: the CPU path drops the triangles whose centre is trimmed
+    // away, the compute path trims per fragment; they differ along the trim edge only.
+    let base = common::random_surface(2, 3, 77);
+    let [(u0, u1), (v0, v1)] = base.domain();
+    let ellipse = knotwork::kernel::trim::shapes::ellipse(
+        glam::DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)),
+        glam::DVec2::new(0.3 * (u1 - u0), 0.35 * (v1 - v0)),
+    )
+    .unwrap();
+    let trimmed = knotwork::kernel::TrimmedSurface::new(base, vec![ellipse]).unwrap();
+    let mut object = SceneObject::new(
+        "trimmed",
+        knotwork::scene::ObjectGeometry::from_trimmed(trimmed),
+    );
+    object.segments = 32;
+    let (lo, hi) = object.bounds().unwrap();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.shading = ShadingMode::Normals;
+    let objects = [object];
+    let draw =
+        |path| common::draw_offscreen_tessellated(&context, &objects, None, &view, size, 4, path);
+    let (compute, cpu) = (draw(common::Path::Fixed), draw(common::Path::Cpu));
+    let (cc, cg) = (
+        covered_pixels(&compute, background),
+        covered_pixels(&cpu, background),
+    );
+    let far = share_apart(&compute, &cpu, 64, cc);
+    eprintln!(
+        "trimmed: covered {cc} px compute, {cg} CPU; apart by > 64: {:.2} %",
+        far * 100.0
+    );
+    if (cc as f64 - cg as f64).abs() >= 0.03 * cc as f64 || far >= 0.05 {
+        for (name, image) in [
+            ("webgl2-trim-actual.png", &cpu),
+            ("webgl2-trim-compute.png", &compute),
+        ] {
+            let path = common::artifact_path(name);
+            common::write_png(&path, size.0, size.1, image);
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    assert!(cc > 2_000, "the trimmed surface is in view: {cc} px");
+    assert!(
+        (cc as f64 - cg as f64).abs() < 0.03 * cc as f64,
+        "trimmed: covered {cc} px compute, {cg} CPU"
+    );
+    assert!(far < 0.05, "trimmed: {:.2} % far apart", far * 100.0);
 }

@@ -366,3 +366,84 @@ fn wgsl_vector(module: &naga::Module, name: &str) -> Vec<f64> {
         })
         .collect()
 }
+
+/// `entry` of `shader` in GLSL ES 3.00 (WebGL2), as wgpu's GL backend writes it: overrides
+/// set (the plain one-sample pipeline's), then the GLSL writer.
+fn glsl_es_300(
+    shader: &shaders::PipelineShader,
+    entry: &str,
+    stage: naga::ShaderStage,
+) -> Result<String, naga::back::glsl::Error> {
+    let source = shaders::compose(shader);
+    let module = parse_and_validate(shader.name, &source);
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .expect("validated above");
+    let constants: naga::back::PipelineConstants = module
+        .overrides
+        .iter()
+        .filter_map(|(_, o)| o.name.clone())
+        .map(|name| {
+            let value = if name == "SAMPLE_COUNT" { 1.0 } else { 0.0 };
+            (name, value)
+        })
+        .collect();
+    let (module, info) = naga::back::pipeline_constants::process_overrides(
+        &module,
+        &info,
+        Some((stage, entry)),
+        &constants,
+    )
+    .expect("overrides set");
+    let options = naga::back::glsl::Options {
+        version: naga::back::glsl::Version::new_gles(300),
+        ..Default::default()
+    };
+    let pipeline = naga::back::glsl::PipelineOptions {
+        shader_stage: stage,
+        entry_point: entry.to_owned(),
+        multiview: None,
+    };
+    let mut out = String::new();
+    let mut writer = naga::back::glsl::Writer::new(
+        &mut out,
+        &module,
+        &info,
+        &options,
+        &pipeline,
+        naga::proc::BoundsCheckPolicies::default(),
+    )?;
+    writer.write()?;
+    Ok(out)
+}
+
+#[test]
+fn the_webgl2_pipelines_translate_to_glsl_es_300() {
+    use naga::ShaderStage::{Fragment, Vertex};
+    for (shader, entry, stage) in [
+        (shaders::SURFACE_GL_SHADER, "vs_surface_gl", Vertex),
+        (shaders::SURFACE_GL_SHADER, "fs_surface_gl", Fragment),
+        (shaders::OVERLAY_SHADER, "vs_net", Vertex),
+        (shaders::OVERLAY_SHADER, "fs_net", Fragment),
+        (shaders::OVERLAY_SHADER, "vs_dot", Vertex),
+        (shaders::OVERLAY_SHADER, "fs_dot", Fragment),
+        (shaders::OVERLAY_SHADER, "vs_lines", Vertex),
+        (shaders::OVERLAY_SHADER, "fs_lines", Fragment),
+    ] {
+        let glsl = glsl_es_300(&shader, entry, stage)
+            .unwrap_or_else(|e| panic!("{} {entry}: {e}", shader.name));
+        assert!(glsl.starts_with("#version 300 es"), "{entry}: {glsl}");
+        assert!(!glsl.contains("buffer "), "{entry} uses a storage buffer");
+    }
+    // The check can fail: the WebGPU surface shader reads storage buffers and writes a sample
+    // mask, which GLSL ES 3.00 lacks.
+    for (entry, stage) in [("vs_surface", Vertex), ("fs_surface", Fragment)] {
+        assert!(
+            glsl_es_300(&shaders::SURFACE_SHADER, entry, stage).is_err(),
+            "{entry} translated to GLSL ES 3.00"
+        );
+    }
+}

@@ -653,6 +653,7 @@ impl KnotworkApp {
                 let rows = [
                     ("Backend", self.status.backend.clone()),
                     ("Adapter", self.status.adapter.clone()),
+                    ("Evaluation", self.status.evaluator.clone()),
                     (
                         "Quality",
                         if self.status.software_adapter {
@@ -993,10 +994,14 @@ impl KnotworkApp {
         ui.separator();
         let mut adaptive = self.view.adaptive;
         let mut tolerance = self.view.tolerance_px;
+        let compute = self.gpu.as_ref().is_none_or(|g| g.sync.evaluates_on_gpu());
         ui.horizontal(|ui| {
             ui.label("Tessellation");
-            ui.selectable_value(&mut adaptive, true, "Adaptive")
-                .on_hover_text("segments per patch edge from its size and curvature on screen");
+            ui.add_enabled_ui(compute, |ui| {
+                ui.selectable_value(&mut adaptive, true, "Adaptive")
+                    .on_hover_text("segments per patch edge from its size and curvature on screen")
+                    .on_disabled_hover_text("needs compute shaders (WebGPU, Vulkan, Metal, DX12)");
+            });
             ui.selectable_value(&mut adaptive, false, "Fixed")
                 .on_hover_text("every object's own segments × the quality");
         });

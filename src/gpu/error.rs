@@ -51,6 +51,10 @@ pub enum GpuError {
     },
     #[error("the surface could not be prepared for the GPU: {0}")]
     Geometry(String),
+    #[error(
+        "this GPU has no compute shaders (WebGL2: the CPU evaluates the surfaces), so it cannot run {0}"
+    )]
+    NeedsCompute(&'static str),
     #[error("reading back from the GPU failed: {0}")]
     Readback(String),
 }

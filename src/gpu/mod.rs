@@ -5,6 +5,7 @@ pub mod adaptive;
 pub mod adaptive_pass;
 pub mod async_readback;
 pub mod context;
+pub mod cpu_eval;
 pub mod error;
 pub mod patch_eval;
 #[cfg(not(target_arch = "wasm32"))]
@@ -19,7 +20,10 @@ pub mod timing;
 pub mod trim_buffer;
 
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
+pub use cpu_eval::CpuGeometry;
 pub use error::GpuError;
-pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers};
+pub use patch_eval::{
+    MAX_SEGMENTS, ObjectPatches, PatchBuffers, PatchEvaluator, PatchGeometry, SurfaceBuffers,
+};
 pub use records::{PatchRecord, PointResult, PointSample, SceneUniform, SurfaceVertex};
-pub use scene_sync::{SceneSync, effective_segments, fit_to_device};
+pub use scene_sync::{GeometryCounts, SceneSync, effective_segments, fit_to_device, has_compute};

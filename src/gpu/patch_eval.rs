@@ -322,6 +322,19 @@ pub struct SurfaceBuffers<'a> {
     pub vertices: &'a wgpu::Buffer,
     pub indices: &'a wgpu::Buffer,
     pub index_count: u32,
+    /// The patch data the WebGPU surface pipeline reads per fragment (trims, per-pixel
+    /// analysis); `None` from the CPU evaluator, whose renderer shades from the vertices alone.
+    pub patches: Option<PatchBuffers<'a>>,
+    /// Whether any patch is crossed by a trim loop (the renderer then trims per fragment).
+    pub trimmed: bool,
+    /// With a view-adaptive tessellation, the `draw_indexed_indirect` arguments (offset 0) the
+    /// compute pass wrote; the draw then takes its count from there, not `index_count`.
+    pub indirect: Option<&'a wgpu::Buffer>,
+}
+
+/// The storage buffers of the patches, as the surface shader's group 1 binds them.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchBuffers<'a> {
     /// The patch records (the fragment shader reads a record's trim fields).
     pub records: &'a wgpu::Buffer,
     /// The packed trim loops ([`super::trim_buffer`]).
@@ -330,11 +343,6 @@ pub struct SurfaceBuffers<'a> {
     /// the patches itself in the analysis modes).
     pub control_points: &'a wgpu::Buffer,
     pub control_indices: &'a wgpu::Buffer,
-    /// Whether any patch is crossed by a trim loop (the renderer then trims per fragment).
-    pub trimmed: bool,
-    /// With a view-adaptive tessellation, the `draw_indexed_indirect` arguments (offset 0) the
-    /// compute pass wrote; the draw then takes its count from there, not `index_count`.
-    pub indirect: Option<&'a wgpu::Buffer>,
 }
 
 /// How a [`PatchGeometry`] tessellates its Bézier patches.
@@ -368,14 +376,14 @@ pub struct ObjectPatches<'a> {
 
 /// Where one object lives in the shared buffers.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct ObjectRange {
-    first_point: usize,
-    point_count: usize,
-    first_patch: usize,
-    patch_count: usize,
+pub(crate) struct ObjectRange {
+    pub first_point: usize,
+    pub point_count: usize,
+    pub first_patch: usize,
+    pub patch_count: usize,
     /// Bézier patches among them (the rest are stencil patches).
-    bezier_count: usize,
-    cage_points: usize,
+    pub bezier_count: usize,
+    pub cage_points: usize,
 }
 
 /// The patches of one degree pair, evaluated by one specialized pipeline.
@@ -386,6 +394,205 @@ struct PatchGroup {
     /// The records evaluated by the next dispatch (written by [`PatchGeometry::encode`]).
     list: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
+}
+
+/// The records and buffer layout of a scene's patches, shared by the compute evaluator
+/// ([`PatchGeometry`]) and the CPU one ([`super::cpu_eval::CpuGeometry`]): each patch's record
+/// (degrees, control block, vertex and index offsets, fixed levels, domain, trim state), where
+/// each object lives, the control index blocks, the homogeneous control points, the stencil
+/// entries and the packed trim loops. `adaptive`: the Bézier patches get no fixed grid (their room
+/// comes after the fixed patches'). `max_groups` bounds the dispatches (the CPU passes
+/// `u32::MAX`). Checks the degrees and levels.
+pub(crate) struct PatchLayout {
+    pub records: Vec<PatchRecord>,
+    pub objects: Vec<ObjectRange>,
+    pub control_indices: Vec<u32>,
+    pub points: Vec<[f32; 4]>,
+    pub entry_data: Vec<[f32; 4]>,
+    pub trim_words: Vec<u32>,
+    /// Vertices and triangle indices of the fixed patches.
+    pub vertices: u64,
+    pub indices: u64,
+    /// Workgroups along x of the largest grid's quads.
+    pub quad_groups_x: u64,
+}
+
+impl PatchLayout {
+    pub fn new(
+        objects: &[ObjectPatches<'_>],
+        adaptive: bool,
+        max_groups: u32,
+    ) -> Result<Self, GpuError> {
+        let stencil_count = |o: &ObjectPatches<'_>| o.stencils.map_or(0, |f| f.patches.len());
+        let total_patches: usize = objects
+            .iter()
+            .map(|o| o.set.patches().len() + stencil_count(o))
+            .sum();
+        let total_points: usize = objects.iter().map(|o| o.set.points().len()).sum();
+        // Stencil entries follow the points in the control point buffer, two vec4 each.
+        let mut entry_data: Vec<[f32; 4]> = Vec::new();
+        if total_patches > max_groups as usize {
+            return Err(GpuError::TooManyPatches {
+                count: total_patches,
+                max: max_groups,
+            });
+        }
+        let mut records = Vec::with_capacity(total_patches);
+        let mut ranges = Vec::with_capacity(objects.len());
+        let mut control_indices = Vec::new();
+        let mut points = Vec::new();
+        let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
+        let mut quad_groups_x = 0u64;
+        let mut trim_words: Vec<u32> = Vec::new();
+        for (object, input) in objects.iter().enumerate() {
+            let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
+            let segments = input.segments;
+            if !(1..=MAX_SEGMENTS).contains(&segments) {
+                return Err(GpuError::SegmentsOutOfRange {
+                    segments,
+                    max: MAX_SEGMENTS,
+                });
+            }
+            let first_point = points.len();
+            let grid_vertices = u64::from(segments + 1).pow(2);
+            let grid_quads = u64::from(segments).pow(2);
+            quad_groups_x = quad_groups_x.max(workgroups(grid_quads));
+            if workgroups(grid_vertices) > u64::from(max_groups) {
+                return Err(GpuError::SegmentsOutOfRange {
+                    segments,
+                    max: MAX_SEGMENTS,
+                });
+            }
+            ranges.push(ObjectRange {
+                first_point,
+                point_count: input.set.points().len(),
+                first_patch: records.len(),
+                patch_count: input.set.patches().len() + stencil_count(input),
+                bezier_count: input.set.patches().len(),
+                cage_points: input.cage_points,
+            });
+            for (k, patch) in input.set.patches().iter().enumerate() {
+                let (du, dv) = (patch.degree_u(), patch.degree_v());
+                if du > GPU_MAX_DEGREE as usize || dv > GPU_MAX_DEGREE as usize {
+                    return Err(GpuError::DegreeTooHigh {
+                        object,
+                        patch: k,
+                        degree_u: du,
+                        degree_v: dv,
+                        max: GPU_MAX_DEGREE,
+                    });
+                }
+                let domain = input
+                    .domains
+                    .get(k)
+                    .copied()
+                    .unwrap_or([0.0, 1.0, 0.0, 1.0])
+                    .map(|x| x as f32);
+                let coverage = input
+                    .trims
+                    .and_then(|t| t.coverage.get(k).copied())
+                    .unwrap_or(Coverage::Inside);
+                let (trim_offset, trim_count) = match (coverage, trim_header) {
+                    (Coverage::Outside, _) => (0, TRIM_CULLED),
+                    (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
+                    _ => (0, 0),
+                };
+                // Adaptive patches have no fixed grid: write_triangles skips them.
+                let grid = if adaptive { 0 } else { segments };
+                records.push(PatchRecord {
+                    degree_u: du as u32,
+                    degree_v: dv as u32,
+                    control_offset: control_indices.len() as u32,
+                    vertex_offset: vertex_offset as u32,
+                    segments_u: grid,
+                    segments_v: grid,
+                    index_offset: index_offset as u32,
+                    object: object as u32,
+                    domain,
+                    kind: PATCH_KIND_BEZIER,
+                    trim_offset,
+                    trim_count,
+                    reserved: 0,
+                });
+                control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
+                // A culled patch takes no vertices and no triangles; an adaptive one takes its
+                // room after the fixed patches'.
+                if trim_count != TRIM_CULLED && !adaptive {
+                    vertex_offset += grid_vertices;
+                    index_offset += 6 * grid_quads;
+                }
+            }
+            if let Some(feed) = input.stencils {
+                let entry_base = total_points + entry_data.len();
+                for &(index, w) in &feed.entries {
+                    let global = (index as usize + first_point) as u32;
+                    entry_data.push([
+                        f32::from_bits(global),
+                        w[0] as f32,
+                        w[1] as f32,
+                        w[2] as f32,
+                    ]);
+                    entry_data.push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
+                }
+                for patch in &feed.patches {
+                    let s = patch.segments;
+                    let slots = u64::from(s + 1).pow(2);
+                    if !(1..=MAX_SEGMENTS).contains(&s) || workgroups(slots) > u64::from(max_groups)
+                    {
+                        return Err(GpuError::SegmentsOutOfRange {
+                            segments: s,
+                            max: MAX_SEGMENTS,
+                        });
+                    }
+                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
+                    records.push(PatchRecord {
+                        degree_u: 1,
+                        degree_v: 1,
+                        control_offset: control_indices.len() as u32,
+                        vertex_offset: vertex_offset as u32,
+                        segments_u: s,
+                        segments_v: s,
+                        index_offset: index_offset as u32,
+                        object: object as u32,
+                        domain: [0.0, 1.0, 0.0, 1.0],
+                        kind: if patch.triangle {
+                            PATCH_KIND_STENCIL_TRIANGLE
+                        } else {
+                            PATCH_KIND_STENCIL_QUAD
+                        },
+                        trim_offset: 0,
+                        trim_count: 0,
+                        reserved: 0,
+                    });
+                    let first = patch.first_slot as usize;
+                    for k in first..first + slots as usize {
+                        let [start, count] = feed.slots[k];
+                        let flag = if feed.no_curvature[k] {
+                            STENCIL_NO_CURVATURE
+                        } else {
+                            0
+                        };
+                        control_indices.push((entry_base + 2 * start as usize) as u32);
+                        control_indices.push(count | flag);
+                    }
+                    vertex_offset += slots;
+                    index_offset += 6 * u64::from(s).pow(2);
+                }
+            }
+            points.extend(homogeneous_points(input.set));
+        }
+        Ok(Self {
+            records,
+            objects: ranges,
+            control_indices,
+            points,
+            entry_data,
+            trim_words,
+            vertices: vertex_offset,
+            indices: index_offset,
+            quad_groups_x,
+        })
+    }
 }
 
 /// GPU buffers of a scene's patches at one tessellation.
@@ -463,164 +670,17 @@ impl PatchGeometry {
         };
         let limits = device.limits();
         let max_groups = limits.max_compute_workgroups_per_dimension;
-        let stencil_count = |o: &ObjectPatches<'_>| o.stencils.map_or(0, |f| f.patches.len());
-        let total_patches: usize = objects
-            .iter()
-            .map(|o| o.set.patches().len() + stencil_count(o))
-            .sum();
-        let total_points: usize = objects.iter().map(|o| o.set.points().len()).sum();
-        // Stencil entries follow the points in the control point buffer, two vec4 each.
-        let mut entry_data: Vec<[f32; 4]> = Vec::new();
-        if total_patches > max_groups as usize {
-            return Err(GpuError::TooManyPatches {
-                count: total_patches,
-                max: max_groups,
-            });
-        }
-        let mut records = Vec::with_capacity(total_patches);
-        let mut ranges = Vec::with_capacity(objects.len());
-        let mut control_indices = Vec::new();
-        let mut points = Vec::new();
-        let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
-        let mut quad_groups_x = 0u64;
-        let mut trim_words: Vec<u32> = Vec::new();
-        for (object, input) in objects.iter().enumerate() {
-            let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
-            let segments = input.segments;
-            if !(1..=MAX_SEGMENTS).contains(&segments) {
-                return Err(GpuError::SegmentsOutOfRange {
-                    segments,
-                    max: MAX_SEGMENTS,
-                });
-            }
-            let first_point = points.len();
-            let grid_vertices = u64::from(segments + 1).pow(2);
-            let grid_quads = u64::from(segments).pow(2);
-            quad_groups_x = quad_groups_x.max(workgroups(grid_quads));
-            if workgroups(grid_vertices) > u64::from(max_groups) {
-                return Err(GpuError::SegmentsOutOfRange {
-                    segments,
-                    max: MAX_SEGMENTS,
-                });
-            }
-            ranges.push(ObjectRange {
-                first_point,
-                point_count: input.set.points().len(),
-                first_patch: records.len(),
-                patch_count: input.set.patches().len() + stencil_count(input),
-                bezier_count: input.set.patches().len(),
-                cage_points: input.cage_points,
-            });
-            for (k, patch) in input.set.patches().iter().enumerate() {
-                let (du, dv) = (patch.degree_u(), patch.degree_v());
-                if du > GPU_MAX_DEGREE as usize || dv > GPU_MAX_DEGREE as usize {
-                    return Err(GpuError::DegreeTooHigh {
-                        object,
-                        patch: k,
-                        degree_u: du,
-                        degree_v: dv,
-                        max: GPU_MAX_DEGREE,
-                    });
-                }
-                let domain = input
-                    .domains
-                    .get(k)
-                    .copied()
-                    .unwrap_or([0.0, 1.0, 0.0, 1.0])
-                    .map(|x| x as f32);
-                let coverage = input
-                    .trims
-                    .and_then(|t| t.coverage.get(k).copied())
-                    .unwrap_or(Coverage::Inside);
-                let (trim_offset, trim_count) = match (coverage, trim_header) {
-                    (Coverage::Outside, _) => (0, TRIM_CULLED),
-                    (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
-                    _ => (0, 0),
-                };
-                // Adaptive patches have no fixed grid: write_triangles skips them.
-                let grid = if adaptive_room.is_some() { 0 } else { segments };
-                records.push(PatchRecord {
-                    degree_u: du as u32,
-                    degree_v: dv as u32,
-                    control_offset: control_indices.len() as u32,
-                    vertex_offset: vertex_offset as u32,
-                    segments_u: grid,
-                    segments_v: grid,
-                    index_offset: index_offset as u32,
-                    object: object as u32,
-                    domain,
-                    kind: PATCH_KIND_BEZIER,
-                    trim_offset,
-                    trim_count,
-                    reserved: 0,
-                });
-                control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
-                // A culled patch takes no vertices and no triangles; an adaptive one takes its
-                // room after the fixed patches'.
-                if trim_count != TRIM_CULLED && adaptive_room.is_none() {
-                    vertex_offset += grid_vertices;
-                    index_offset += 6 * grid_quads;
-                }
-            }
-            if let Some(feed) = input.stencils {
-                let entry_base = total_points + entry_data.len();
-                for &(index, w) in &feed.entries {
-                    let global = (index as usize + first_point) as u32;
-                    entry_data.push([
-                        f32::from_bits(global),
-                        w[0] as f32,
-                        w[1] as f32,
-                        w[2] as f32,
-                    ]);
-                    entry_data.push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
-                }
-                for patch in &feed.patches {
-                    let s = patch.segments;
-                    let slots = u64::from(s + 1).pow(2);
-                    if !(1..=MAX_SEGMENTS).contains(&s) || workgroups(slots) > u64::from(max_groups)
-                    {
-                        return Err(GpuError::SegmentsOutOfRange {
-                            segments: s,
-                            max: MAX_SEGMENTS,
-                        });
-                    }
-                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
-                    records.push(PatchRecord {
-                        degree_u: 1,
-                        degree_v: 1,
-                        control_offset: control_indices.len() as u32,
-                        vertex_offset: vertex_offset as u32,
-                        segments_u: s,
-                        segments_v: s,
-                        index_offset: index_offset as u32,
-                        object: object as u32,
-                        domain: [0.0, 1.0, 0.0, 1.0],
-                        kind: if patch.triangle {
-                            PATCH_KIND_STENCIL_TRIANGLE
-                        } else {
-                            PATCH_KIND_STENCIL_QUAD
-                        },
-                        trim_offset: 0,
-                        trim_count: 0,
-                        reserved: 0,
-                    });
-                    let first = patch.first_slot as usize;
-                    for k in first..first + slots as usize {
-                        let [start, count] = feed.slots[k];
-                        let flag = if feed.no_curvature[k] {
-                            STENCIL_NO_CURVATURE
-                        } else {
-                            0
-                        };
-                        control_indices.push((entry_base + 2 * start as usize) as u32);
-                        control_indices.push(count | flag);
-                    }
-                    vertex_offset += slots;
-                    index_offset += 6 * u64::from(s).pow(2);
-                }
-            }
-            points.extend(homogeneous_points(input.set));
-        }
+        let PatchLayout {
+            records,
+            objects: ranges,
+            control_indices,
+            points,
+            entry_data,
+            trim_words,
+            vertices: mut vertex_offset,
+            indices: mut index_offset,
+            quad_groups_x,
+        } = PatchLayout::new(objects, adaptive_room.is_some(), max_groups)?;
         let point_bytes = (points.len() + entry_data.len()) as u64 * 16;
 
         let (fixed_vertices, fixed_indices) = (vertex_offset, index_offset);
@@ -989,10 +1049,12 @@ impl PatchGeometry {
             vertices: &self.vertices,
             indices: &self.triangle_indices,
             index_count: self.index_count,
-            records: &self.record_buffer,
-            trims: &self.trim_buffer,
-            control_points: &self.control_points,
-            control_indices: &self.control_index_buffer,
+            patches: Some(PatchBuffers {
+                records: &self.record_buffer,
+                trims: &self.trim_buffer,
+                control_points: &self.control_points,
+                control_indices: &self.control_index_buffer,
+            }),
             trimmed: self.records.iter().any(|r| r.trim_count == TRIM_PARTIAL),
             indirect: self.adaptive.as_ref().map(AdaptivePass::draw_arguments),
         }

@@ -9,8 +9,11 @@
 //! the device's limits accept it.
 
 use super::adaptive_pass::{AdaptiveStats, AdaptiveTarget};
+use super::cpu_eval::CpuGeometry;
 use super::error::GpuError;
-use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, Tessellation};
+use super::patch_eval::{
+    MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers, Tessellation,
+};
 use crate::doc::{PointsMoved, Touched};
 use crate::scene::{Decomposition, Scene, SceneObject};
 
@@ -60,13 +63,37 @@ fn feed(object: &SceneObject) -> Result<Decomposition, GpuError> {
         .map_err(|e| GpuError::Geometry(format!("{}: {e}", object.name)))
 }
 
+/// Whether `device` can run the compute evaluator: it has compute shaders and storage buffers
+/// (a WebGL2 device has neither, and gets the CPU evaluator).
+pub fn has_compute(device: &wgpu::Device) -> bool {
+    let limits = device.limits();
+    limits.max_compute_workgroups_per_dimension > 0
+        && limits.max_storage_buffers_per_shader_stage >= 8
+}
+
+/// The buffers of a built scene: evaluated by compute shaders, or by the CPU.
+enum Built {
+    Compute(PatchGeometry),
+    Cpu(CpuGeometry),
+}
+
+/// Sizes of the built scene, for the status.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GeometryCounts {
+    pub patches: u32,
+    pub control_points: u32,
+    pub vertices: u32,
+    pub indices: u32,
+}
+
 /// The GPU copy of one scene: feeds, buffers and the evaluator.
 pub struct SceneSync {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    evaluator: PatchEvaluator,
+    /// The compute evaluator, or `None` where the CPU evaluates ([`CpuGeometry`]).
+    evaluator: Option<PatchEvaluator>,
     feeds: Vec<Decomposition>,
-    geometry: Option<PatchGeometry>,
+    geometry: Option<Built>,
     quality_used: f32,
     points_uploaded: usize,
     /// Room for adaptive vertices, or `None` for the fixed tessellation.
@@ -79,10 +106,21 @@ pub struct SceneSync {
 pub const INITIAL_ADAPTIVE_ROOM: u32 = 1 << 16;
 
 impl SceneSync {
-    /// An empty GPU scene on `device` (its pipelines are created here).
+    /// An empty GPU scene on `device` (its pipelines are created here), evaluated by compute
+    /// shaders where the device has them ([`has_compute`]), else by the CPU.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self::with_evaluator(device, queue, has_compute(device))
+    }
+
+    /// An empty scene whose surfaces the CPU evaluates, on any device (what a WebGL2 device
+    /// gets; tests use it on others).
+    pub fn on_cpu(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        Self::with_evaluator(device, queue, false)
+    }
+
+    fn with_evaluator(device: &wgpu::Device, queue: &wgpu::Queue, compute: bool) -> Self {
         Self {
-            evaluator: PatchEvaluator::new(device),
+            evaluator: compute.then(|| PatchEvaluator::new(device)),
             device: device.clone(),
             queue: queue.clone(),
             feeds: Vec::new(),
@@ -98,8 +136,23 @@ impl SceneSync {
     /// on by default); kept across rebuilds.
     pub fn set_vertex_curvature(&mut self, on: bool) {
         self.vertex_curvature = on;
-        if let Some(geometry) = &mut self.geometry {
-            geometry.set_vertex_curvature(on);
+        match &mut self.geometry {
+            Some(Built::Compute(g)) => g.set_vertex_curvature(on),
+            Some(Built::Cpu(g)) => g.set_vertex_curvature(on),
+            None => {}
+        }
+    }
+
+    /// Whether compute shaders evaluate the surfaces (else the CPU does).
+    pub fn evaluates_on_gpu(&self) -> bool {
+        self.evaluator.is_some()
+    }
+
+    /// The compute geometry, mutably.
+    fn compute_mut(&mut self) -> Option<&mut PatchGeometry> {
+        match &mut self.geometry {
+            Some(Built::Compute(g)) => Some(g),
+            _ => None,
         }
     }
 
@@ -130,6 +183,11 @@ impl SceneSync {
         if adaptive == self.is_adaptive() {
             return Ok(None);
         }
+        if adaptive && self.evaluator.is_none() {
+            return Err(GpuError::NeedsCompute(
+                "the view-adaptive tessellation; the fixed tessellation stays",
+            ));
+        }
         let before = self.adaptive_room;
         self.adaptive_room = adaptive.then(|| INITIAL_ADAPTIVE_ROOM.min(self.max_adaptive_room()));
         let rebuilt = self.rebuild(scene, quality);
@@ -141,30 +199,28 @@ impl SceneSync {
 
     /// The view the adaptive tessellation is measured for in the next [`Self::encode`].
     pub fn set_view(&mut self, target: AdaptiveTarget) {
-        if let Some(geometry) = &mut self.geometry {
+        if let Some(geometry) = self.compute_mut() {
             geometry.set_view(target);
         }
     }
 
     /// Keeps the adaptive levels while `frozen` (see [`PatchGeometry::freeze_levels`]).
     pub fn freeze_levels(&mut self, frozen: bool) {
-        if let Some(geometry) = &mut self.geometry {
+        if let Some(geometry) = self.compute_mut() {
             geometry.freeze_levels(frozen);
         }
     }
 
     /// Call after submitting the encoder given to [`Self::encode`].
     pub fn after_submit(&mut self) {
-        if let Some(geometry) = &mut self.geometry {
+        if let Some(geometry) = self.compute_mut() {
             geometry.after_submit();
         }
     }
 
     /// The adaptive tessellation's latest statistics, taking any that arrived.
     pub fn adaptive_stats(&mut self) -> Option<AdaptiveStats> {
-        self.geometry
-            .as_mut()
-            .and_then(PatchGeometry::adaptive_stats)
+        self.compute_mut().and_then(PatchGeometry::adaptive_stats)
     }
 
     /// After statistics that needed more room than the buffers have (the levels were then
@@ -199,9 +255,67 @@ impl SceneSync {
         Ok(sync)
     }
 
-    /// The buffers, once a scene was built.
+    /// The compute evaluator's buffers, once a scene was built (`None` on the CPU path).
     pub fn geometry(&self) -> Option<&PatchGeometry> {
-        self.geometry.as_ref()
+        match &self.geometry {
+            Some(Built::Compute(g)) => Some(g),
+            _ => None,
+        }
+    }
+
+    /// The CPU evaluator's buffers, once a scene was built (`None` on the compute path).
+    pub fn cpu_geometry(&self) -> Option<&CpuGeometry> {
+        match &self.geometry {
+            Some(Built::Cpu(g)) => Some(g),
+            _ => None,
+        }
+    }
+
+    /// Whether a scene was built (there is something to draw).
+    pub fn is_built(&self) -> bool {
+        self.geometry.is_some()
+    }
+
+    /// What the renderer draws, once a scene was built.
+    pub fn surface_buffers(&self) -> Option<SurfaceBuffers<'_>> {
+        match self.geometry.as_ref()? {
+            Built::Compute(g) => Some(g.surface_buffers()),
+            Built::Cpu(g) => Some(g.surface_buffers()),
+        }
+    }
+
+    /// Every patch record, objects in order, once a scene was built.
+    pub fn records(&self) -> Option<&[super::PatchRecord]> {
+        match self.geometry.as_ref()? {
+            Built::Compute(g) => Some(g.records()),
+            Built::Cpu(g) => Some(g.records()),
+        }
+    }
+
+    /// The record index of object `object`'s first patch.
+    pub fn first_patch(&self, object: usize) -> Option<usize> {
+        match self.geometry.as_ref()? {
+            Built::Compute(g) => g.first_patch(object),
+            Built::Cpu(g) => g.first_patch(object),
+        }
+    }
+
+    /// Patches, control points, vertices and triangle indices of the built scene.
+    pub fn counts(&self) -> Option<GeometryCounts> {
+        Some(match self.geometry.as_ref()? {
+            Built::Compute(g) => GeometryCounts {
+                patches: g.patch_count(),
+                control_points: g.control_point_count(),
+                vertices: g.vertex_count(),
+                indices: g.index_count(),
+            },
+            Built::Cpu(g) => GeometryCounts {
+                patches: g.patch_count(),
+                control_points: g.control_point_count(),
+                vertices: g.vertex_count(),
+                indices: g.index_count(),
+            },
+        })
     }
 
     /// Each object's Bézier patches as uploaded (empty for hidden objects).
@@ -244,10 +358,21 @@ impl SceneSync {
                 Some(vertices) => Tessellation::Adaptive { vertices },
                 None => Tessellation::Fixed,
             };
-            PatchGeometry::with_tessellation(&self.device, &self.evaluator, &inputs, tessellation)
+            Ok(match &self.evaluator {
+                Some(evaluator) => Built::Compute(PatchGeometry::with_tessellation(
+                    &self.device,
+                    evaluator,
+                    &inputs,
+                    tessellation,
+                )?),
+                None => Built::Cpu(CpuGeometry::new(&self.device, &inputs)?),
+            })
         })?;
         let mut geometry = geometry;
-        geometry.set_vertex_curvature(self.vertex_curvature);
+        match &mut geometry {
+            Built::Compute(g) => g.set_vertex_curvature(self.vertex_curvature),
+            Built::Cpu(g) => g.set_vertex_curvature(self.vertex_curvature),
+        }
         self.feeds = feeds;
         self.geometry = Some(geometry);
         self.quality_used = used;
@@ -285,7 +410,9 @@ impl SceneSync {
             None => *slot = feed(target)?,
         }
         let uploaded = match &mut self.geometry {
-            Some(geometry) => geometry.update_object(&self.queue, object, &slot.set, patches)?,
+            Some(Built::Compute(g)) => g.update_object(&self.queue, object, &slot.set, patches)?,
+            // The CPU path uploads vertices, not points.
+            Some(Built::Cpu(g)) => g.update_object(object, patches).map(|()| 0)?,
             None => 0,
         };
         self.points_uploaded = uploaded;
@@ -315,28 +442,43 @@ impl SceneSync {
 
     /// Whether [`Self::encode`] has work to do.
     pub fn needs_evaluation(&self) -> bool {
-        self.geometry
-            .as_ref()
-            .is_some_and(PatchGeometry::needs_evaluation)
+        match &self.geometry {
+            Some(Built::Compute(g)) => g.needs_evaluation(),
+            Some(Built::Cpu(g)) => g.needs_evaluation(),
+            None => false,
+        }
     }
 
     /// Marks every patch for re-evaluation (benchmarks).
     pub fn invalidate(&mut self) {
-        if let Some(geometry) = &mut self.geometry {
-            geometry.invalidate();
+        match &mut self.geometry {
+            Some(Built::Compute(g)) => g.invalidate(),
+            Some(Built::Cpu(g)) => g.invalidate(),
+            None => {}
         }
     }
 
     /// Records the compute pass of the pending work into `encoder` (see
-    /// [`PatchGeometry::encode`]); returns the number of patches evaluated.
+    /// [`PatchGeometry::encode`]); on the CPU path evaluates the pending patches here and
+    /// queues their upload ([`CpuGeometry::evaluate`]). Returns the number of patches evaluated.
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> u32 {
-        match &mut self.geometry {
-            Some(geometry) => geometry.encode(&self.queue, encoder, &self.evaluator, timestamps),
-            None => 0,
+        match (&mut self.geometry, &self.evaluator) {
+            (Some(Built::Compute(g)), Some(evaluator)) => {
+                g.encode(&self.queue, encoder, evaluator, timestamps)
+            }
+            (Some(Built::Cpu(g)), _) => match g.evaluate(&self.queue, &self.feeds) {
+                Ok(evaluated) => evaluated,
+                Err(e) => {
+                    // The feeds and the layout come from one rebuild: this is a bug, not input.
+                    log::error!("CPU evaluation failed: {e}");
+                    0
+                }
+            },
+            _ => 0,
         }
     }
 
@@ -357,7 +499,7 @@ impl SceneSync {
     /// benchmarks); `None` for a fixed tessellation.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn read_adaptive_stats(&mut self) -> Result<Option<AdaptiveStats>, GpuError> {
-        let Some(geometry) = &mut self.geometry else {
+        let Some(Built::Compute(geometry)) = &mut self.geometry else {
             return Ok(None);
         };
         match geometry.adaptive_pass() {
@@ -370,7 +512,8 @@ impl SceneSync {
     #[cfg(not(target_arch = "wasm32"))]
     pub fn read_vertices(&self) -> Result<Vec<super::SurfaceVertex>, GpuError> {
         match &self.geometry {
-            Some(g) => g.read_vertices(&self.device, &self.queue),
+            Some(Built::Compute(g)) => g.read_vertices(&self.device, &self.queue),
+            Some(Built::Cpu(g)) => g.read_vertices(&self.device, &self.queue),
             None => Ok(Vec::new()),
         }
     }

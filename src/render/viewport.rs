@@ -1,10 +1,10 @@
 use glam::DVec3;
 use wgpu::util::DeviceExt;
 
-use crate::gpu::SurfaceBuffers;
 use crate::gpu::adaptive::ScreenError;
 use crate::gpu::adaptive_pass::{ADAPTIVE_MAX_EDGE_PX, ADAPTIVE_MAX_SEGMENTS, AdaptiveTarget};
 use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, SurfaceVertex};
+use crate::gpu::{PatchBuffers, SurfaceBuffers};
 use crate::shaders;
 use crate::view::{
     AnalysisSettings, OrbitCamera, Overlays, ShadingMode, StripeFrame, ViewSettings, ZebraSource,
@@ -390,6 +390,9 @@ struct PipelineSources {
     layout: wgpu::PipelineLayout,
     surface_layout: wgpu::PipelineLayout,
     surface_module: wgpu::ShaderModule,
+    /// The surface shader's entry points: `surface.wgsl`'s, or `surface_gl.wgsl`'s on a device
+    /// without storage buffers.
+    surface_entries: (&'static str, &'static str),
     overlay_module: wgpu::ShaderModule,
 }
 
@@ -483,8 +486,15 @@ impl PipelineSources {
             surface: pipeline(
                 "surface",
                 &self.surface_layout,
-                (&self.surface_module, &sample_constants),
-                ("vs_surface", "fs_surface"),
+                (
+                    &self.surface_module,
+                    if self.surface_entries.0 == "vs_surface" {
+                        &sample_constants
+                    } else {
+                        &[]
+                    },
+                ),
+                self.surface_entries,
                 SurfaceVertex::layout(),
                 wgpu::PrimitiveTopology::TriangleList,
                 (wgpu::CompareFunction::Less, true),
@@ -544,12 +554,14 @@ pub struct ViewportRenderer {
     scene_bind_group: wgpu::BindGroup,
     /// Group 1 of the surface pipeline: the patch records, the packed trim loops
     /// (`shaders/trim.wgsl`), the control points and control indices (the per-pixel analysis),
-    /// bound per frame from the geometry drawn.
-    trim_layout: wgpu::BindGroupLayout,
+    /// bound per frame from the geometry drawn. `None` on a device without storage buffers
+    /// (WebGL2), whose surface pipeline shades from the vertices alone.
+    trim_layout: Option<wgpu::BindGroupLayout>,
     /// The last group 1 made, with the buffers it binds (records, trims, points, indices).
     trim_group: std::sync::Mutex<Option<([wgpu::Buffer; 4], wgpu::BindGroup)>>,
     device: wgpu::Device,
-    /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`).
+    /// One bit per patch record: the highlighted patches (surface.wgsl `highlight`; a uniform
+    /// of [`GL_HIGHLIGHT_WORDS`] in surface_gl.wgsl).
     highlight: wgpu::Buffer,
     /// Whether any bit of `highlight` is set.
     highlighting: bool,
@@ -580,19 +592,46 @@ fn scene_bind_group(
     })
 }
 
-fn highlight_buffer(device: &wgpu::Device, words: usize) -> wgpu::Buffer {
+/// The highlight bits of the WebGL2 surface pipeline: a uniform of this many words
+/// (`surface_gl.wgsl`), so the first 32,768 patch records can be highlighted there.
+pub const GL_HIGHLIGHT_WORDS: usize = 1024;
+
+fn highlight_buffer(device: &wgpu::Device, words: usize, storage: bool) -> wgpu::Buffer {
+    let (size, usage) = if storage {
+        (words.max(1) * 4, wgpu::BufferUsages::STORAGE)
+    } else {
+        (GL_HIGHLIGHT_WORDS * 4, wgpu::BufferUsages::UNIFORM)
+    };
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("patch highlight bits"),
-        size: (words.max(1) * 4) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        size: size as u64,
+        usage: usage | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }
 
 impl ViewportRenderer {
     /// The renderer with the plain pipelines for [`SAMPLE_COUNT`] made; the others are made
-    /// when a frame first needs them.
+    /// when a frame first needs them. On a device without compute shaders and storage buffers
+    /// (WebGL2, see [`crate::gpu::has_compute`]) it is [`Self::for_vertices_only`].
     pub fn new(device: &wgpu::Device) -> Self {
+        Self::with_storage(device, crate::gpu::has_compute(device))
+    }
+
+    /// The renderer of a WebGL2 device (on any device, for tests): the surface is shaded from
+    /// its vertices alone (`surface_gl.wgsl`), for geometry the CPU evaluated
+    /// ([`crate::gpu::CpuGeometry`]): no storage buffers, no per-fragment analysis or trims.
+    pub fn for_vertices_only(device: &wgpu::Device) -> Self {
+        Self::with_storage(device, false)
+    }
+
+    /// Whether the surface pipeline reads the patches per fragment (`surface.wgsl`), rather
+    /// than shading from the vertices alone (`surface_gl.wgsl`).
+    pub fn reads_patches(&self) -> bool {
+        self.trim_layout.is_some()
+    }
+
+    fn with_storage(device: &wgpu::Device, storage: bool) -> Self {
         let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene uniform"),
             size: std::mem::size_of::<SceneUniform>() as u64,
@@ -616,7 +655,11 @@ impl ViewportRenderer {
                     binding: 1,
                     visibility: wgpu::ShaderStages::VERTEX,
                     ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        ty: if storage {
+                            wgpu::BufferBindingType::Storage { read_only: true }
+                        } else {
+                            wgpu::BufferBindingType::Uniform
+                        },
                         has_dynamic_offset: false,
                         min_binding_size: None,
                     },
@@ -624,14 +667,14 @@ impl ViewportRenderer {
                 },
             ],
         });
-        let highlight = highlight_buffer(device, 1);
+        let highlight = highlight_buffer(device, 1, storage);
         let scene_bind_group = scene_bind_group(device, &scene_layout, &scene_buffer, &highlight);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewport"),
             bind_group_layouts: &[Some(&scene_layout)],
             immediate_size: 0,
         });
-        let storage = |binding| wgpu::BindGroupLayoutEntry {
+        let storage_entry = |binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
             ty: wgpu::BindingType::Buffer {
@@ -641,19 +684,35 @@ impl ViewportRenderer {
             },
             count: None,
         };
-        let trim_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("trim loops"),
-            entries: &[storage(0), storage(1), storage(2), storage(3)],
+        let trim_layout = storage.then(|| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("trim loops"),
+                entries: &[
+                    storage_entry(0),
+                    storage_entry(1),
+                    storage_entry(2),
+                    storage_entry(3),
+                ],
+            })
         });
         let surface_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewport surface"),
-            bind_group_layouts: &[Some(&scene_layout), Some(&trim_layout)],
+            bind_group_layouts: &[Some(&scene_layout), trim_layout.as_ref()],
             immediate_size: 0,
         });
+        let (surface_shader, surface_entries) = if storage {
+            (shaders::SURFACE_SHADER, ("vs_surface", "fs_surface"))
+        } else {
+            (
+                shaders::SURFACE_GL_SHADER,
+                ("vs_surface_gl", "fs_surface_gl"),
+            )
+        };
         let sources = PipelineSources {
             layout,
             surface_layout,
-            surface_module: shaders::create_module(device, &shaders::SURFACE_SHADER),
+            surface_module: shaders::create_module(device, &surface_shader),
+            surface_entries,
             overlay_module: shaders::create_module(device, &shaders::OVERLAY_SHADER),
         };
         let plain = PipelineVariant {
@@ -701,14 +760,21 @@ impl ViewportRenderer {
         if patches.is_empty() && !self.highlighting {
             return;
         }
+        let storage = self.reads_patches();
+        // The WebGL2 pipeline's uniform holds the first GL_HIGHLIGHT_WORDS words.
+        let patches: Vec<usize> = patches
+            .iter()
+            .copied()
+            .filter(|&p| storage || p < GL_HIGHLIGHT_WORDS * 32)
+            .collect();
         let words = patches.iter().max().map_or(1, |&m| m / 32 + 1);
         let mut bits = vec![0u32; words];
-        for &p in patches {
+        for &p in &patches {
             bits[p / 32] |= 1 << (p % 32);
         }
         let capacity = (self.highlight.size() / 4) as usize;
         if words > capacity {
-            self.highlight = highlight_buffer(device, words.next_power_of_two());
+            self.highlight = highlight_buffer(device, words.next_power_of_two(), storage);
             self.scene_bind_group = scene_bind_group(
                 device,
                 &self.scene_layout,
@@ -764,16 +830,20 @@ impl ViewportRenderer {
 
     /// Group 1 of the surface pipeline for `surface`'s records and trim loops: made when the
     /// geometry's buffers change (a rebuild), reused for every frame in between.
-    fn trim_bind_group(&self, surface: &SurfaceBuffers<'_>) -> wgpu::BindGroup {
+    fn trim_bind_group(
+        &self,
+        layout: &wgpu::BindGroupLayout,
+        patches: &PatchBuffers<'_>,
+    ) -> wgpu::BindGroup {
         let mut cached = self
             .trim_group
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         let buffers = [
-            surface.records,
-            surface.trims,
-            surface.control_points,
-            surface.control_indices,
+            patches.records,
+            patches.trims,
+            patches.control_points,
+            patches.control_indices,
         ];
         if let Some((bound, group)) = cached.as_ref()
             && bound.iter().zip(buffers).all(|(a, b)| a == b)
@@ -790,7 +860,7 @@ impl ViewportRenderer {
             .collect();
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface patches"),
-            layout: &self.trim_layout,
+            layout,
             entries: &entries,
         });
         *cached = Some((buffers.map(wgpu::Buffer::clone), group.clone()));
@@ -810,10 +880,11 @@ impl ViewportRenderer {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let [r, g, b, a] = BACKGROUND;
+        let storage = self.reads_patches();
         let pipelines = self.pipelines(PipelineVariant {
             samples: target.samples,
-            per_pixel: self.per_pixel.load(std::sync::atomic::Ordering::Relaxed),
-            trimmed: surface.trimmed,
+            per_pixel: storage && self.per_pixel.load(std::sync::atomic::Ordering::Relaxed),
+            trimmed: storage && surface.trimmed,
         });
         // With one sample the pass draws straight into the resolved texture.
         let (view, resolve_target, store) = match &target.msaa_view {
@@ -844,10 +915,20 @@ impl ViewportRenderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
-        if overlays.surface && (surface.index_count > 0 || surface.indirect.is_some()) {
-            let trims = self.trim_bind_group(&surface);
+        // The WebGPU pipeline needs the patches' buffers (the compute evaluator's geometry).
+        let patch_group = match (&self.trim_layout, &surface.patches) {
+            (Some(layout), Some(patches)) => Some(Some(self.trim_bind_group(layout, patches))),
+            (Some(_), None) => None,
+            (None, _) => Some(None),
+        };
+        if let Some(patch_group) = patch_group
+            && overlays.surface
+            && (surface.index_count > 0 || surface.indirect.is_some())
+        {
             pass.set_pipeline(&pipelines.surface);
-            pass.set_bind_group(1, &trims, &[]);
+            if let Some(group) = &patch_group {
+                pass.set_bind_group(1, group, &[]);
+            }
             pass.set_vertex_buffer(0, surface.vertices.slice(..));
             pass.set_index_buffer(surface.indices.slice(..), wgpu::IndexFormat::Uint32);
             match surface.indirect {

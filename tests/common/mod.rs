@@ -136,11 +136,21 @@ pub fn draw_offscreen_with_samples(
     size: (u32, u32),
     samples: u32,
 ) -> Vec<u8> {
-    draw_offscreen_tessellated(context, objects, net, view, size, samples, false)
+    draw_offscreen_tessellated(context, objects, net, view, size, samples, Path::Fixed)
 }
 
-/// [`draw_offscreen_with_samples`], tessellated for the view (`adaptive`, at the view's
-/// tolerance) or at each object's fixed segments.
+/// How [`draw_offscreen_tessellated`] evaluates and draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Path {
+    /// Compute shaders, each object's fixed segments.
+    Fixed,
+    /// Compute shaders, tessellated for the view at the view's tolerance.
+    Adaptive,
+    /// The WebGL2 path: the CPU evaluator and the renderer that shades from the vertices alone.
+    Cpu,
+}
+
+/// [`draw_offscreen_with_samples`] through `path`.
 pub fn draw_offscreen_tessellated(
     context: &GpuContext,
     objects: &[knotwork::scene::SceneObject],
@@ -148,18 +158,24 @@ pub fn draw_offscreen_tessellated(
     view: &knotwork::view::ViewSettings,
     (width, height): (u32, u32),
     samples: u32,
-    adaptive: bool,
+    path: Path,
 ) -> Vec<u8> {
+    use knotwork::gpu::SceneSync;
     use knotwork::render::{ViewTarget, ViewportRenderer, scene_uniform};
     let scene = knotwork::scene::Scene {
         objects: objects.to_vec(),
     };
-    let mut sync =
-        knotwork::gpu::SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
-    let renderer = ViewportRenderer::new(&context.device);
+    let (mut sync, renderer) = if path == Path::Cpu {
+        let mut sync = SceneSync::on_cpu(&context.device, &context.queue);
+        sync.rebuild(&scene, 1.0).unwrap();
+        (sync, ViewportRenderer::for_vertices_only(&context.device))
+    } else {
+        let sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+        (sync, ViewportRenderer::new(&context.device))
+    };
     let target = ViewTarget::with_samples(&context.device, width, height, samples);
     assert_eq!(target.samples(), samples);
-    if adaptive {
+    if path == Path::Adaptive {
         sync.set_adaptive(&scene, true, 1.0).unwrap();
         sync.set_view(knotwork::render::adaptive_target(
             &view.camera,
@@ -175,7 +191,7 @@ pub fn draw_offscreen_tessellated(
     renderer.render(
         &mut encoder,
         &target,
-        sync.geometry().unwrap().surface_buffers(),
+        sync.surface_buffers().unwrap(),
         net,
         view.overlays,
         None,
