@@ -26,7 +26,7 @@ use glam::DVec3;
 
 use crate::doc::Document;
 use crate::gpu::timing::GpuTimer;
-use crate::gpu::{GpuContext, GpuError, SceneSync};
+use crate::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers};
 use crate::kernel::construct;
 use crate::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
@@ -303,8 +303,7 @@ fn bench_drag_frame(
         let target = ViewTarget::with_samples(&context.device, w, h, samples);
         let uniform = scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None);
         renderer.set_scene(&context.queue, &uniform);
-        let draw = |encoder: &mut wgpu::CommandEncoder, geometry: &crate::gpu::PatchGeometry| {
-            let buffers = geometry.surface_buffers();
+        let draw = |encoder: &mut wgpu::CommandEncoder, buffers: SurfaceBuffers<'_>| {
             renderer.render(encoder, &target, buffers, Some(&net), view.overlays, None);
         };
         let (latency, render_only, patches) =
@@ -332,7 +331,7 @@ fn drag_frames(
     net: &ControlNet,
     point: usize,
     iterations: usize,
-    draw: &dyn Fn(&mut wgpu::CommandEncoder, &crate::gpu::PatchGeometry),
+    draw: &dyn Fn(&mut wgpu::CommandEncoder, SurfaceBuffers<'_>),
 ) -> Result<(f64, f64, u32), Box<dyn std::error::Error>> {
     doc.begin_drag(0, &[point])?;
     // As the editor does while a drag lasts.
@@ -351,8 +350,10 @@ fn drag_frames(
         );
         let mut encoder = context.device.create_command_encoder(&Default::default());
         let evaluated = sync.encode(&mut encoder, None);
-        let geometry = sync.geometry().ok_or("nothing on the GPU")?;
-        draw(&mut encoder, geometry);
+        draw(
+            &mut encoder,
+            sync.surface_buffers().ok_or("nothing on the GPU")?,
+        );
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         if i >= 2 {
@@ -363,12 +364,14 @@ fn drag_frames(
     // The same frame without the edit: what the render pass alone costs.
     doc.cancel_drag();
     sync.freeze_levels(false);
-    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     let mut render_only = Vec::new();
     for _ in 0..iterations.max(3) {
         let start = Instant::now();
         let mut encoder = context.device.create_command_encoder(&Default::default());
-        draw(&mut encoder, geometry);
+        draw(
+            &mut encoder,
+            sync.surface_buffers().ok_or("nothing on the GPU")?,
+        );
         context.queue.submit([encoder.finish()]);
         wait(context)?;
         render_only.push(start.elapsed().as_secs_f64() * 1e3);
@@ -377,8 +380,9 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 8] = [
+pub const GROUPS: [&str; 9] = [
     "edit",
+    "webgl2",
     "frame",
     "scale",
     "export",
@@ -419,6 +423,9 @@ pub fn run(
     }
     if wants("export") {
         bench_export(&scene, iterations, out)?;
+    }
+    if wants("webgl2") {
+        bench_webgl2(context, &scene, iterations, out)?;
     }
     Ok(())
 }
@@ -749,6 +756,83 @@ fn bench_edit(
         geometry.patch_count(),
         geometry.vertex_count(),
         median(times),
+    )?;
+    Ok(())
+}
+
+/// The WebGL2 path on this device: the CPU evaluator (full evaluation of the demo scene and of
+/// the teapot at 64 segments, wall time including the upload) and the demo scene's
+/// drag-to-new-frame with the renderer that shades from the vertices, at the software-adapter
+/// quality in motion.
+fn bench_webgl2(
+    context: &GpuContext,
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut teapot = Scene {
+        objects: scene.objects.first().cloned().into_iter().collect(),
+    };
+    for object in &mut teapot.objects {
+        object.segments = 64;
+    }
+    for (name, scene) in [
+        ("demo scene (6 objects)", scene),
+        ("teapot at 64 seg", &teapot),
+    ] {
+        let mut sync = SceneSync::on_cpu(&context.device, &context.queue);
+        sync.rebuild(scene, 1.0)?;
+        let mut times = Vec::new();
+        for i in 0..iterations + 2 {
+            sync.invalidate();
+            let (_, wall, _) = evaluate_once(context, &mut sync, &mut None)?;
+            if i >= 2 {
+                times.push(wall);
+            }
+        }
+        let counts = sync.counts().unwrap_or_default();
+        writeln!(
+            out,
+            "WebGL2 path: {name:<24} | {:>7} patches {:>9} vertices | CPU evaluation and upload {:8.3} ms ({:.2} M vertices/s)",
+            counts.patches,
+            counts.vertices,
+            median(times.clone()),
+            f64::from(counts.vertices) / median(times) / 1e3,
+        )?;
+    }
+    let mut doc = Document::new(scene.clone());
+    let mut sync = SceneSync::on_cpu(&context.device, &context.queue);
+    sync.rebuild(&doc.scene, 1.0)?;
+    let teapot = doc
+        .scene
+        .objects
+        .first()
+        .ok_or("the demo scene has no teapot")?;
+    let point = 40;
+    let net = ControlNet::new(
+        &context.device,
+        &teapot.control_points(),
+        &|k| k == point,
+        &teapot.net_lines(),
+    );
+    let renderer = ViewportRenderer::for_vertices_only(&context.device);
+    let mut view = ViewSettings::default();
+    let (lo, hi) = doc.scene.bounds().ok_or("empty scene")?;
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    let (samples, (w, h)) = crate::render::Quality::software().target((1280, 800), true);
+    let target = ViewTarget::with_samples(&context.device, w, h, samples);
+    renderer.set_scene(
+        &context.queue,
+        &scene_uniform(&view, &target, 3.5, (-1.0, 1.0), None),
+    );
+    let draw = |encoder: &mut wgpu::CommandEncoder, buffers: SurfaceBuffers<'_>| {
+        renderer.render(encoder, &target, buffers, Some(&net), view.overlays, None);
+    };
+    let (latency, render_only, patches) =
+        drag_frames(context, &mut doc, &mut sync, &net, point, iterations, &draw)?;
+    writeln!(
+        out,
+        "WebGL2 path: demo scene drag    | drag-to-new-frame {latency:8.3} ms ({w} × {h}, {samples} sample; {patches} patches re-evaluated on the CPU; the render pass alone {render_only:.3} ms)",
     )?;
     Ok(())
 }

@@ -25,6 +25,14 @@ const webgpuFlags = [
   '--use-angle=swiftshader',
 ];
 
+// WebGL2 without WebGPU: no --enable-unsafe-webgpu (and the page's navigator.gpu hidden too);
+// ANGLE on SwiftShader needs --enable-unsafe-swiftshader for WebGL.
+const webgl2Flags = [
+  '--no-sandbox', '--disable-gpu-sandbox', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+  '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+];
+
 const results = [];
 // While working on one check: KNOTWORK_BROWSER_ONLY=substring runs only the checks whose name
 // contains it (the test command never sets it).
@@ -672,19 +680,87 @@ async function main() {
       await page.close();
     });
 
-    await check('without WebGPU the page says so and how to enable it', async () => {
-      const { page, errors } = await openEditor(browser, url, { hideWebGpu: true });
-      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
-      const s = await status(page);
-      assert(/WebGPU/.test(s.error), `status error: ${s.error}`);
-      const text = await page.locator('#message').innerText();
-      assert(/WebGPU is not available/.test(text) && /enable-unsafe-webgpu/.test(text), `message: ${text}`);
-      await writeFile(`${resultsDir}/no-webgpu.png`, await page.screenshot());
+  } finally {
+    await browser.close();
+  }
+
+  // The WebGL2 fallback, in a browser started without WebGPU.
+  const webgl = await chromium.launch({ executablePath: chromiumPath, headless: true, args: webgl2Flags });
+  try {
+    await check('without WebGPU the editor runs on WebGL2, the CPU evaluating the surfaces', async () => {
+      const { page, errors } = await openEditor(webgl, url, { hideWebGpu: true });
+      await page.waitForFunction(() => {
+        const s = window.knotwork.status();
+        return s.frames >= 1 || s.error;
+      }, null, { timeout: 120_000 });
+      let s = await status(page);
+      assert(s.error === null, `error: ${s.error}`);
+      assert(s.backend === 'webgl2/gl', `backend ${s.backend}`);
+      assert(/CPU/.test(s.evaluator), `evaluator ${s.evaluator}`);
+      // The fixed tessellation (the view-adaptive one runs in compute shaders).
+      assert(s.tessellation === 'fixed', `tessellation ${s.tessellation}`);
+      assert(s.patches === 84 && s.vertices === 32 * 13 * 13 + 52 * 17 * 17, JSON.stringify(s));
+      console.log(`      adapter "${s.adapter}", ${s.vertices} vertices, ${s.frame_samples} sample(s)`);
+      await page.evaluate(() => window.knotwork.setTessellation(true, 0.5));
+      await nextFrames(page, 2);
+      s = await status(page);
+      assert(s.tessellation === 'fixed', `stays fixed: ${s.tessellation}`);
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const viewport = { x: 320, y: 100, width: 900, height: 600 };
+      const plain = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/webgl2.png`, plain);
+      const stats = await screenshotStats(page, plain, viewport, [33, 36, 41], 12);
+      console.log(`      ${stats.differing} of ${stats.total} viewport pixels differ from the background`);
+      assert(stats.differing > 0.03 * stats.total, `the viewport looks blank (${stats.differing} px differ)`);
+
+      // A drag with the mouse re-evaluates the moved point's support on the CPU.
+      const times = await dragToFrame(page, canvas);
+      s = await status(page);
+      assert(s.patches_reevaluated >= 1 && s.patches_reevaluated < 84, `re-evaluated ${s.patches_reevaluated}`);
+      console.log(`      WebGL2 drag-to-new-frame, demo scene: median ${times[times.length >> 1]} ms (${times.join(', ')})`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+
+      // A curvature mode from the vertices' curvature.
+      assert(await page.evaluate(() => window.knotwork.setShading('mean')), 'mean is a mode');
+      await page.waitForFunction(() => window.knotwork.status().shading === 'mean', null, { timeout: 30_000 });
+      await nextFrames(page, 2);
+      const mean = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/webgl2-mean.png`, mean);
+      const changed = await screenshotDifference(page, plain, mean, viewport, 24);
+      assert(changed.differing > 0.02 * changed.total, `the mean curvature view looks like the plain one (${changed.differing} px)`);
+
+      // Export and the project file work as on WebGPU.
+      const glb = await page.evaluate(async () => Array.from(await window.knotwork.exportGlb({ segments: 4 })));
+      const report = summary('webgl2.glb', await validate(new Uint8Array(glb), 'webgl2.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      const project = await page.evaluate(() => window.knotwork.project());
+      assert(project && project.objects.length === 6, 'the project has the six objects');
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });
   } finally {
-    await browser.close();
+    await webgl.close();
+  }
+
+  // A browser with neither WebGPU nor WebGL2.
+  const bare = await chromium.launch({
+    executablePath: chromiumPath, headless: true, args: [...webgl2Flags, '--disable-webgl', '--disable-3d-apis'],
+  });
+  try {
+    await check('with neither WebGPU nor WebGL2 the page says so and how to enable them', async () => {
+      const { page, errors } = await openEditor(bare, url, { hideWebGpu: true });
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      const s = await status(page);
+      assert(/WebGPU/.test(s.error) && /WebGL2/.test(s.error), `status error: ${s.error}`);
+      const text = await page.locator('#message').innerText();
+      assert(/Neither WebGPU nor WebGL2/.test(text) && /enable-unsafe-webgpu/.test(text), `message: ${text}`);
+      await writeFile(`${resultsDir}/no-gpu.png`, await page.screenshot());
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+  } finally {
+    await bare.close();
     server.close();
   }
 

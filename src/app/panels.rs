@@ -683,7 +683,10 @@ impl KnotworkApp {
                 ];
                 for (name, value) in rows {
                     ui.label(name);
-                    ui.label(value);
+                    // A long adapter name ("ANGLE (Google, Vulkan 1.3.0 (SwiftShader ...") is
+                    // cut to the panel's width, whole on hover, rather than widen the panel.
+                    ui.add(egui::Label::new(value.as_str()).truncate())
+                        .on_hover_text(value);
                     ui.end_row();
                 }
             });

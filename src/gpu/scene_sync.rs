@@ -71,7 +71,9 @@ pub fn has_compute(device: &wgpu::Device) -> bool {
         && limits.max_storage_buffers_per_shader_stage >= 8
 }
 
-/// The buffers of a built scene: evaluated by compute shaders, or by the CPU.
+/// The buffers of a built scene: evaluated by compute shaders, or by the CPU. (One of them is
+/// held per scene, so the difference in size does not matter.)
+#[allow(clippy::large_enum_variant)]
 enum Built {
     Compute(PatchGeometry),
     Cpu(CpuGeometry),
