@@ -99,15 +99,7 @@ fn one_of_each_kind() -> Vec<SceneObject> {
     );
     // A rational surface kept inside an ellipse: patches outside it are culled, the ones it
     // crosses are trimmed per fragment.
-    let base = common::random_surface(2, 3, 77);
-    let [(u0, u1), (v0, v1)] = base.domain();
-    let ellipse = knotwork::kernel::trim::shapes::ellipse(
-        glam::DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)),
-        glam::DVec2::new(0.3 * (u1 - u0), 0.35 * (v1 - v0)),
-    )
-    .unwrap();
-    let trimmed = knotwork::kernel::TrimmedSurface::new(base, vec![ellipse]).unwrap();
-    let mut trimmed = SceneObject::new("trimmed (2, 3)", ObjectGeometry::from_trimmed(trimmed));
+    let mut trimmed = common::trimmed_ellipse_object("trimmed (2, 3)");
     trimmed.segments = 6;
     vec![teapot, nurbs, mesh, cage, trimmed]
 }

@@ -658,18 +658,7 @@ fn the_webgl2_path_draws_what_the_compute_path_draws() {
 
     // A surface kept inside an ellipse: the CPU path drops the triangles whose centre is trimmed
     // away, the compute path trims per fragment; they differ along the trim edge only.
-    let base = common::random_surface(2, 3, 77);
-    let [(u0, u1), (v0, v1)] = base.domain();
-    let ellipse = knotwork::kernel::trim::shapes::ellipse(
-        glam::DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)),
-        glam::DVec2::new(0.3 * (u1 - u0), 0.35 * (v1 - v0)),
-    )
-    .unwrap();
-    let trimmed = knotwork::kernel::TrimmedSurface::new(base, vec![ellipse]).unwrap();
-    let mut object = SceneObject::new(
-        "trimmed",
-        knotwork::scene::ObjectGeometry::from_trimmed(trimmed),
-    );
+    let mut object = common::trimmed_ellipse_object("trimmed");
     object.segments = 32;
     let (lo, hi) = object.bounds().unwrap();
     view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);

@@ -1182,9 +1182,7 @@ impl PatchGeometry {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<SurfaceVertex>, GpuError> {
-        let size = u64::from(self.vertex_count()) * std::mem::size_of::<SurfaceVertex>() as u64;
-        let bytes = super::readback::read_buffer(device, queue, &self.vertices, size)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        super::readback::read_elements(device, queue, &self.vertices, self.vertex_count())
     }
 
     /// Reads the triangle indices back (blocking; tests, benchmarks, CLI).
@@ -1194,8 +1192,6 @@ impl PatchGeometry {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<u32>, GpuError> {
-        let size = u64::from(self.index_count()) * 4;
-        let bytes = super::readback::read_buffer(device, queue, &self.triangle_indices, size)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        super::readback::read_elements(device, queue, &self.triangle_indices, self.index_count())
     }
 }

@@ -25,6 +25,18 @@ pub fn read_buffer(
     map_and_copy(device, &staging)
 }
 
+/// The first `count` elements of type `T` of `source` (blocking; see [`read_buffer`]).
+pub fn read_elements<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: &wgpu::Buffer,
+    count: u32,
+) -> Result<Vec<T>, GpuError> {
+    let size = u64::from(count) * std::mem::size_of::<T>() as u64;
+    let bytes = read_buffer(device, queue, source, size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}
+
 /// Maps a `MAP_READ` buffer, waits, and copies its contents out.
 pub fn map_and_copy(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
     let (sender, receiver) = std::sync::mpsc::channel();

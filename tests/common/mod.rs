@@ -115,6 +115,20 @@ pub fn random_surface(p: usize, q: usize, seed: u64) -> NurbsSurface {
     NurbsSurface::new([p, q], [ku, kv], [cu, cv], points, Some(weights)).unwrap()
 }
 
+/// A rational (2, 3) surface (`random_surface(2, 3, 77)`) kept inside an ellipse about its
+/// domain's centre: patches outside it are culled, the ones it crosses are trimmed.
+pub fn trimmed_ellipse_object(name: &str) -> knotwork::scene::SceneObject {
+    let base = random_surface(2, 3, 77);
+    let [(u0, u1), (v0, v1)] = base.domain();
+    let ellipse = knotwork::kernel::trim::shapes::ellipse(
+        glam::DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)),
+        glam::DVec2::new(0.3 * (u1 - u0), 0.35 * (v1 - v0)),
+    )
+    .unwrap();
+    let trimmed = knotwork::kernel::TrimmedSurface::new(base, vec![ellipse]).unwrap();
+    knotwork::scene::SceneObject::new(name, knotwork::scene::ObjectGeometry::from_trimmed(trimmed))
+}
+
 /// Evaluates `objects` through the editor's sync layer and renders them (and `net`) offscreen at
 /// `width` × `height` with `view`; returns the RGBA pixels.
 pub fn draw_offscreen(
