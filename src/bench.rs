@@ -791,13 +791,13 @@ fn bench_webgl2(
             }
         }
         let counts = sync.counts().unwrap_or_default();
+        let ms = median(times);
         writeln!(
             out,
-            "WebGL2 path: {name:<24} | {:>7} patches {:>9} vertices | CPU evaluation and upload {:8.3} ms ({:.2} M vertices/s)",
+            "WebGL2 path: {name:<24} | {:>7} patches {:>9} vertices | CPU evaluation and upload {ms:8.3} ms ({:.2} M vertices/s)",
             counts.patches,
             counts.vertices,
-            median(times.clone()),
-            f64::from(counts.vertices) / median(times) / 1e3,
+            f64::from(counts.vertices) / ms / 1e3,
         )?;
     }
     let mut doc = Document::new(scene.clone());

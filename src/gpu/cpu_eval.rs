@@ -325,13 +325,10 @@ impl CpuGeometry {
                 object,
                 count: self.objects.len(),
             })?;
-        let all: Vec<usize>;
-        let patches = match patches {
-            Some(p) => p,
-            None => {
-                all = (0..range.patch_count).collect();
-                &all
-            }
+        let first = range.first_patch;
+        let Some(patches) = patches else {
+            self.dirty[first..first + range.patch_count].fill(true);
+            return Ok(());
         };
         if let Some(&bad) = patches.iter().find(|&&p| p >= range.patch_count) {
             return Err(GpuError::NoSuchPatch {
@@ -341,7 +338,7 @@ impl CpuGeometry {
             });
         }
         for &p in patches {
-            self.dirty[range.first_patch + p] = true;
+            self.dirty[first + p] = true;
         }
         Ok(())
     }

@@ -390,9 +390,9 @@ struct PipelineSources {
     layout: wgpu::PipelineLayout,
     surface_layout: wgpu::PipelineLayout,
     surface_module: wgpu::ShaderModule,
-    /// The surface shader's entry points: `surface.wgsl`'s, or `surface_gl.wgsl`'s on a device
-    /// without storage buffers.
-    surface_entries: (&'static str, &'static str),
+    /// Whether the surface shader is `surface.wgsl` (storage buffers; overrides per variant)
+    /// rather than `surface_gl.wgsl`.
+    storage: bool,
     overlay_module: wgpu::ShaderModule,
 }
 
@@ -488,13 +488,13 @@ impl PipelineSources {
                 &self.surface_layout,
                 (
                     &self.surface_module,
-                    if self.surface_entries.0 == "vs_surface" {
-                        &sample_constants
-                    } else {
-                        &[]
-                    },
+                    if self.storage { &sample_constants } else { &[] },
                 ),
-                self.surface_entries,
+                if self.storage {
+                    ("vs_surface", "fs_surface")
+                } else {
+                    ("vs_surface_gl", "fs_surface_gl")
+                },
                 SurfaceVertex::layout(),
                 wgpu::PrimitiveTopology::TriangleList,
                 (wgpu::CompareFunction::Less, true),
@@ -700,19 +700,16 @@ impl ViewportRenderer {
             bind_group_layouts: &[Some(&scene_layout), trim_layout.as_ref()],
             immediate_size: 0,
         });
-        let (surface_shader, surface_entries) = if storage {
-            (shaders::SURFACE_SHADER, ("vs_surface", "fs_surface"))
+        let surface_shader = if storage {
+            shaders::SURFACE_SHADER
         } else {
-            (
-                shaders::SURFACE_GL_SHADER,
-                ("vs_surface_gl", "fs_surface_gl"),
-            )
+            shaders::SURFACE_GL_SHADER
         };
         let sources = PipelineSources {
             layout,
             surface_layout,
             surface_module: shaders::create_module(device, &surface_shader),
-            surface_entries,
+            storage,
             overlay_module: shaders::create_module(device, &shaders::OVERLAY_SHADER),
         };
         let plain = PipelineVariant {
@@ -762,14 +759,15 @@ impl ViewportRenderer {
         }
         let storage = self.reads_patches();
         // The WebGL2 pipeline's uniform holds the first GL_HIGHLIGHT_WORDS words.
-        let patches: Vec<usize> = patches
-            .iter()
-            .copied()
-            .filter(|&p| storage || p < GL_HIGHLIGHT_WORDS * 32)
-            .collect();
-        let words = patches.iter().max().map_or(1, |&m| m / 32 + 1);
+        let shown = || {
+            patches
+                .iter()
+                .copied()
+                .filter(move |&p| storage || p < GL_HIGHLIGHT_WORDS * 32)
+        };
+        let words = shown().max().map_or(1, |m| m / 32 + 1);
         let mut bits = vec![0u32; words];
-        for &p in &patches {
+        for p in shown() {
             bits[p / 32] |= 1 << (p % 32);
         }
         let capacity = (self.highlight.size() / 4) as usize;
@@ -915,16 +913,15 @@ impl ViewportRenderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.scene_bind_group, &[]);
-        // The WebGPU pipeline needs the patches' buffers (the compute evaluator's geometry).
-        let patch_group = match (&self.trim_layout, &surface.patches) {
-            (Some(layout), Some(patches)) => Some(Some(self.trim_bind_group(layout, patches))),
-            (Some(_), None) => None,
-            (None, _) => Some(None),
-        };
-        if let Some(patch_group) = patch_group
-            && overlays.surface
-            && (surface.index_count > 0 || surface.indirect.is_some())
-        {
+        // The WebGPU pipeline needs the patches' buffers (the compute evaluator's geometry);
+        // the WebGL2 one draws from the vertices alone.
+        let patch_group = self
+            .trim_layout
+            .as_ref()
+            .zip(surface.patches.as_ref())
+            .map(|(layout, patches)| self.trim_bind_group(layout, patches));
+        let drawable = patch_group.is_some() || !storage;
+        if drawable && overlays.surface && (surface.index_count > 0 || surface.indirect.is_some()) {
             pass.set_pipeline(&pipelines.surface);
             if let Some(group) = &patch_group {
                 pass.set_bind_group(1, group, &[]);
