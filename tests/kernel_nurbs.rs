@@ -331,6 +331,41 @@ fn grid_evaluation_equals_pointwise_evaluation() {
 }
 
 #[test]
+fn point_grid_equals_pointwise_evaluation_and_lies_on_the_sphere() {
+    // Rational (the sphere: weights 1/√2 at the arcs' middle points, a degenerate pole row) and
+    // polynomial surfaces; a non-uniform grid that includes the domain ends and the knots.
+    let radius = 2.5;
+    let sphere = construct::sphere(DVec3::new(1.0, -2.0, 0.5), radius).unwrap();
+    for s in [bumpy_bspline(), sphere.clone()] {
+        let [(u0, u1), (v0, v1)] = s.domain();
+        let us: Vec<f64> = (0..=9)
+            .map(|k| u0 + (u1 - u0) * (k as f64 / 9.0).powf(1.3))
+            .collect();
+        let mut vs = s.span_parameters(Direction::V, 3);
+        vs.push(v0 + 0.37 * (v1 - v0));
+        vs.sort_by(f64::total_cmp);
+        let grid = s.point_grid(&us, &vs).unwrap();
+        assert_eq!(grid.len(), us.len() * vs.len());
+        for (i, &u) in us.iter().enumerate() {
+            for (j, &v) in vs.iter().enumerate() {
+                let exact = s.point_at(u, v).unwrap();
+                assert!(grid[i * vs.len() + j].distance(exact) < TOL * (1.0 + exact.length()));
+            }
+        }
+        assert!(matches!(
+            s.point_grid(&us, &[v1 + 1.0]),
+            Err(GeometryError::OutsideDomain { parameter: "v", .. })
+        ));
+    }
+    let us = sphere.span_parameters(Direction::U, 5);
+    let vs = sphere.span_parameters(Direction::V, 5);
+    for p in sphere.point_grid(&us, &vs).unwrap() {
+        let r = p.distance(DVec3::new(1.0, -2.0, 0.5));
+        assert!((r - radius).abs() < 1e-12, "radius {r}");
+    }
+}
+
+#[test]
 fn closest_point_recovers_parameters() {
     let s = bumpy_bspline();
     for (u, v) in interior_params(&s, 4) {

@@ -454,6 +454,39 @@ impl NurbsSurface {
         }
     }
 
+    /// Positions only on the grid `us` × `vs`, row-major with i along u: the point of
+    /// [`Self::evaluate_grid`] without its derivatives. Per row of the grid the homogeneous
+    /// isoparametric curve is formed once (The NURBS Book, A4.3 split into its two sums: first
+    /// along u, then along v), so a point costs q + 1 four-vector products and one division.
+    pub fn point_grid(&self, us: &[f64], vs: &[f64]) -> Result<Vec<DVec3>, GeometryError> {
+        self.check_grid(us, vs)?;
+        let [p, q] = self.degree;
+        let cv = self.count[1];
+        let basis_u = ParameterBasis::new(&self.knots[0], p, self.count[0], us, 0);
+        let basis_v = ParameterBasis::new(&self.knots[1], q, cv, vs, 0);
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        let mut iso = vec![DVec4::ZERO; cv];
+        for (i, &span_u) in basis_u.spans.iter().enumerate() {
+            let bu = basis_u.at(i, 0, p + 1);
+            let rows = &self.points[(span_u - p) * cv..(span_u + 1) * cv];
+            for (j, point) in iso.iter_mut().enumerate() {
+                *point = bu
+                    .iter()
+                    .zip(rows.chunks_exact(cv))
+                    .fold(DVec4::ZERO, |acc, (&b, row)| acc + row[j] * b);
+            }
+            for (jv, &span_v) in basis_v.spans.iter().enumerate() {
+                let bv = basis_v.at(jv, 0, q + 1);
+                let h = bv
+                    .iter()
+                    .zip(&iso[span_v - q..=span_v])
+                    .fold(DVec4::ZERO, |acc, (&b, &h)| acc + h * b);
+                out.push(h.truncate() / h.w);
+            }
+        }
+        Ok(out)
+    }
+
     /// Positions and unit normals on the grid `us` × `vs`, row-major with i along u.
     ///
     /// The fast path of [`Self::evaluate_grid`] for tessellation: v-degrees up to 5 run a loop

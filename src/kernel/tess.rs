@@ -270,11 +270,7 @@ pub fn cell_deviations(
     grid: &ParameterGrid,
 ) -> Result<Vec<f64>, GeometryError> {
     let (us, vs) = (&grid.us, &grid.vs);
-    let points = |u: &[f64], v: &[f64]| -> Result<Vec<DVec3>, GeometryError> {
-        let mut out = vec![DVec3::ZERO; u.len() * v.len()];
-        surface.evaluate_grid(u, v, false, |i, j, d| out[i * v.len() + j] = d.point)?;
-        Ok(out)
-    };
+    let points = |u: &[f64], v: &[f64]| surface.point_grid(u, v);
     let between = |t: &[f64], a: f64| -> Vec<f64> {
         t.windows(2).map(|w| w[0] + (w[1] - w[0]) * a).collect()
     };
