@@ -262,14 +262,10 @@ pub fn project_json() -> String {
 /// `"curvature": true` and `"colors": "gaussian" | "mean" | "k1" | "k2"`.
 #[wasm_bindgen]
 pub fn export_glb(options: String) -> Result<Vec<u8>, JsValue> {
-    let error = |e: String| JsValue::from_str(&e);
-    let project = crate::io::project::read(&status::project()).map_err(|e| error(e.to_string()))?;
-    let options = crate::io::gltf::options_from_json(
+    crate::io::gltf::glb_from_json(
+        &status::project(),
         &options,
-        &project.scene,
         crate::gpu::records::curvature_ramp_rgb(),
     )
-    .map_err(error)?;
-    let export = crate::io::gltf::export(&project, &options).map_err(|e| error(e.to_string()))?;
-    Ok(crate::io::gltf::to_glb(&export))
+    .map_err(|e| JsValue::from_str(&e))
 }

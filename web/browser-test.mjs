@@ -466,17 +466,21 @@ async function main() {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       const before = await page.evaluate(() => window.knotwork.project());
-      // Timed in the page (the median of five); the bytes travel to node as base64.
+      // Timed in the page: the first call (V8 runs new WebAssembly in its baseline compiler
+      // and moves hot functions to the optimizing one after some calls) and the median of calls
+      // 6 to 15 (optimized code, as in a session that exports more than once). The bytes travel
+      // to node as base64.
       const exported = await page.evaluate(() => {
         const times = [];
         let glb;
-        for (let k = 0; k < 5; k++) {
+        for (let k = 0; k < 15; k++) {
           const started = performance.now();
           glb = window.knotwork.exportGlb({ curvature: true, colors: 'mean' });
           times.push(performance.now() - started);
         }
-        times.sort((a, b) => a - b);
-        const ms = times[2];
+        const first = times[0];
+        const steady = times.slice(5).sort((a, b) => a - b);
+        const ms = { first, steady: (steady[4] + steady[5]) / 2 };
         let text = '';
         for (let k = 0; k < glb.length; k += 0x8000) {
           text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
@@ -484,7 +488,7 @@ async function main() {
         return { ms, base64: btoa(text) };
       });
       const bytes = new Uint8Array(Buffer.from(exported.base64, 'base64'));
-      const exportMs = exported.ms.toFixed(0);
+      const exportMs = `${exported.ms.steady.toFixed(1)} ms (median of calls 6–15; the first call ${exported.ms.first.toFixed(0)} ms)`;
       const report = summary('page.glb', await validate(bytes, 'page.glb'));
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
       await page.evaluate(() => window.knotwork.openFile('cube.obj', new TextEncoder().encode(
@@ -500,8 +504,8 @@ async function main() {
       assert(JSON.stringify(reopened.objects) === JSON.stringify(before.objects), 'the glb reopens as the same model');
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       const wasmBytes = (await stat(new URL('./pkg/knotwork_bg.wasm', import.meta.url))).size;
-      console.log(`  export in the page: ${bytes.length} bytes in ${exportMs} ms, median of 5 (with curvature and colours; ` +
-        `native: knotwork bench --only export, "tol 1e-3 × size + curvature"), ${report.infos} validator infos; wasm bundle ${wasmBytes} bytes`);
+      console.log(`  export in the page: ${bytes.length} bytes in ${exportMs}, with curvature and colours ` +
+        `(native, the same call: knotwork bench --only export, "as the page's exportGlb does"), ${report.infos} validator infos; wasm bundle ${wasmBytes} bytes`);
       await page.close();
     });
 

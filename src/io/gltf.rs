@@ -494,6 +494,20 @@ pub fn to_glb(export: &Export) -> Vec<u8> {
     glb_bytes(&export.root.to_vec().unwrap_or_default(), &export.bin)
 }
 
+/// The `.glb` of a project given as project-file text, with options as in
+/// [`options_from_json`]: the whole of the web page's `exportGlb` (the page holds the document
+/// as that text), so the benchmark can time natively exactly what the page runs as WebAssembly.
+pub fn glb_from_json(
+    project_text: &str,
+    options: &str,
+    ramp: Vec<[f32; 3]>,
+) -> Result<Vec<u8>, String> {
+    let project = project::read(project_text).map_err(|e| e.to_string())?;
+    let options = options_from_json(options, &project.scene, ramp)?;
+    let export = export(&project, &options).map_err(|e| e.to_string())?;
+    Ok(to_glb(&export))
+}
+
 /// The export as `.gltf` text whose buffer is the file `bin_name` beside it (written by the
 /// caller with [`Export::bin`]). The name is percent-encoded as a relative URI.
 pub fn to_gltf_text(export: &Export, bin_name: &str) -> String {
