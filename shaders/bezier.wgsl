@@ -55,19 +55,58 @@ fn cubic_sums(b: CubicBasis, c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, c3: ve
     return out;
 }
 
+// A bicubic patch's 16 control points: row i holds points 4i .. 4i + 3 (fixed u index i, v index
+// j in column j). Matrices with constant column indices, not an array, so they stay in
+// registers.
+struct BicubicNet {
+    row0: mat4x4<f32>,
+    row1: mat4x4<f32>,
+    row2: mat4x4<f32>,
+    row3: mat4x4<f32>,
+}
+
+fn bicubic_net(rec: PatchRecord) -> BicubicNet {
+    return BicubicNet(
+        mat4x4<f32>(control_point(rec, 0u), control_point(rec, 1u), control_point(rec, 2u), control_point(rec, 3u)),
+        mat4x4<f32>(control_point(rec, 4u), control_point(rec, 5u), control_point(rec, 6u), control_point(rec, 7u)),
+        mat4x4<f32>(control_point(rec, 8u), control_point(rec, 9u), control_point(rec, 10u), control_point(rec, 11u)),
+        mat4x4<f32>(control_point(rec, 12u), control_point(rec, 13u), control_point(rec, 14u), control_point(rec, 15u)),
+    );
+}
+
+// The v-direction sums of a bicubic patch's four rows of control points at t (row i: the
+// homogeneous isoparametric curve's control point i and its first two v-derivatives). Every
+// vertex of one grid column (one t) shares them, so a column is evaluated from these alone.
+struct CubicRows {
+    r0: Sums,
+    r1: Sums,
+    r2: Sums,
+    r3: Sums,
+}
+
+fn bicubic_rows(net: BicubicNet, t: f32) -> CubicRows {
+    let bv = cubic_basis(t);
+    var rows: CubicRows;
+    rows.r0 = cubic_sums(bv, net.row0[0], net.row0[1], net.row0[2], net.row0[3]);
+    rows.r1 = cubic_sums(bv, net.row1[0], net.row1[1], net.row1[2], net.row1[3]);
+    rows.r2 = cubic_sums(bv, net.row2[0], net.row2[1], net.row2[2], net.row2[3]);
+    rows.r3 = cubic_sums(bv, net.row3[0], net.row3[1], net.row3[2], net.row3[3]);
+    return rows;
+}
+
+// The derivatives at (s, t) from the rows at t: the u-direction sums of the row sums.
+fn bicubic_at(rows: CubicRows, s: f32) -> Derivatives {
+    let bu = cubic_basis(s);
+    let a0 = cubic_sums(bu, rows.r0.value, rows.r1.value, rows.r2.value, rows.r3.value);
+    let a1 = cubic_sums(bu, rows.r0.d1, rows.r1.d1, rows.r2.d1, rows.r3.d1);
+    let a_vv = bu.full.x * rows.r0.d2 + bu.full.y * rows.r1.d2 + bu.full.z * rows.r2.d2 + bu.full.w * rows.r3.d2;
+    return rational_derivatives(a0, a1, a_vv);
+}
+
 // evaluate_patch for bicubic patches (the teapot's, and every Bézier patch of a bicubic
 // B-spline): the same formulas with constant indices only, so no private arrays.
 fn evaluate_bicubic(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
-    let bu = cubic_basis(s);
-    let bv = cubic_basis(t);
-    let r0 = cubic_sums(bv, control_point(rec, 0u), control_point(rec, 1u), control_point(rec, 2u), control_point(rec, 3u));
-    let r1 = cubic_sums(bv, control_point(rec, 4u), control_point(rec, 5u), control_point(rec, 6u), control_point(rec, 7u));
-    let r2 = cubic_sums(bv, control_point(rec, 8u), control_point(rec, 9u), control_point(rec, 10u), control_point(rec, 11u));
-    let r3 = cubic_sums(bv, control_point(rec, 12u), control_point(rec, 13u), control_point(rec, 14u), control_point(rec, 15u));
-    let a0 = cubic_sums(bu, r0.value, r1.value, r2.value, r3.value);
-    let a1 = cubic_sums(bu, r0.d1, r1.d1, r2.d1, r3.d1);
-    let a_vv = bu.full.x * r0.d2 + bu.full.y * r1.d2 + bu.full.z * r2.d2 + bu.full.w * r3.d2;
-    return rational_derivatives(a0, a1, a_vv);
+    return bicubic_at(bicubic_rows(bicubic_net(rec), t), s);
 }
 
 // (B, B', B'') of the Bernstein polynomial B_{i,n} at t: B'_{i,n} = n (B_{i-1,n-1} - B_{i,n-1}),

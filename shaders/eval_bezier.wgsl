@@ -6,6 +6,7 @@
 
 const MAX_DEGREE: u32 = 9u;          // Rust: gpu::records::GPU_MAX_DEGREE
 const WORKGROUP_SIZE: u32 = 64u;     // Rust: gpu::records::EVAL_WORKGROUP_SIZE
+const GRID_ROWS: u32 = 32u;           // Rust: gpu::records::EVAL_GRID_ROWS
 // How far toward the patch centre curvature at a degenerate point is sampled (Rust:
 // gpu::records::GPU_CURVATURE_NUDGE). Farther than the kernel's f64 CURVATURE_NUDGE: in f32 the
 // fundamental forms lose about eps / nudge^2 of relative accuracy (measured on the sphere's
@@ -79,30 +80,47 @@ fn bezier_sums(basis: Basis, n: u32, p: array<vec4<f32>, 10>) -> Sums {
     return out;
 }
 
-// Position and partial derivatives up to order 2 of a patch of any degree up to MAX_DEGREE at
-// local (s, t) in [0, 1]^2.
-fn evaluate_patch(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
+// The v-direction sums of every row of a patch's control points at t (row i: the homogeneous
+// isoparametric curve's control point i and its first two v-derivatives), for any degree up to
+// MAX_DEGREE: what every vertex of one grid column shares.
+struct PatchRows {
+    value: array<vec4<f32>, 10>,
+    d1: array<vec4<f32>, 10>,
+    d2: array<vec4<f32>, 10>,
+}
+
+fn patch_rows(rec: PatchRecord, t: f32) -> PatchRows {
     let p = degree_u(rec);
     let q = degree_v(rec);
-    let bu = make_basis(p, s);
     let bv = make_basis(q, t);
-    var rows0: array<vec4<f32>, 10>;
-    var rows1: array<vec4<f32>, 10>;
-    var rows2: array<vec4<f32>, 10>;
+    var rows: PatchRows;
     for (var i = 0u; i <= p; i++) {
         var row: array<vec4<f32>, 10>;
         for (var j = 0u; j <= q; j++) {
             row[j] = control_points[control_indices[rec.control_offset + i * (q + 1u) + j]];
         }
         let r = bezier_sums(bv, q, row);
-        rows0[i] = r.value;
-        rows1[i] = r.d1;
-        rows2[i] = r.d2;
+        rows.value[i] = r.value;
+        rows.d1[i] = r.d1;
+        rows.d2[i] = r.d2;
     }
-    let a0 = bezier_sums(bu, p, rows0);  // A, A_u, A_uu
-    let a1 = bezier_sums(bu, p, rows1);  // A_v, A_uv
-    let a2 = bezier_sums(bu, p, rows2);  // A_vv
+    return rows;
+}
+
+// Position and partial derivatives up to order 2 at local (s, t) from the rows at t.
+fn patch_at(rec: PatchRecord, rows: PatchRows, s: f32) -> Derivatives {
+    let p = degree_u(rec);
+    let bu = make_basis(p, s);
+    let a0 = bezier_sums(bu, p, rows.value);  // A, A_u, A_uu
+    let a1 = bezier_sums(bu, p, rows.d1);  // A_v, A_uv
+    let a2 = bezier_sums(bu, p, rows.d2);  // A_vv
     return rational_derivatives(a0, a1, a2.value);
+}
+
+// Position and partial derivatives up to order 2 of a patch of any degree up to MAX_DEGREE at
+// local (s, t) in [0, 1]^2.
+fn evaluate_patch(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
+    return patch_at(rec, patch_rows(rec, t), s);
 }
 
 // The patch's control point k (row-major, i along u); the bezier.wgsl module reads points
@@ -131,8 +149,20 @@ fn degree_v(rec: PatchRecord) -> u32 {
 // whole kernel on some drivers (8x on lavapipe) even where it never runs.
 override BICUBIC_ONLY: bool = false;
 
+// Set per pipeline (gpu::patch_eval): true only in evaluate_vertices' bicubic pipeline, where
+// each invocation loads its patch's 16 control points into NET once and every later read (the
+// column's rows, the nudged evaluation at degenerate points, the boundary curves) comes from
+// there. On CPU drivers a storage read is a gather, lane by lane, and branches run masked
+// rather than skipped, so reads in rarely taken branches cost every vertex: on lavapipe they
+// were most of the teapot's pass.
+override NET_IN_REGISTERS: bool = false;
+var<private> NET: BicubicNet;
+
 fn evaluate(rec: PatchRecord, s: f32, t: f32) -> Derivatives {
     if (BICUBIC_ONLY) {
+        if (NET_IN_REGISTERS) {
+            return bicubic_at(bicubic_rows(NET, t), s);
+        }
         return evaluate_bicubic(rec, s, t);
     }
     return evaluate_patch(rec, s, t);
@@ -160,39 +190,13 @@ struct Shape {
 // the second derivatives and the fundamental forms.
 override VERTEX_CURVATURE: bool = true;
 
-fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
+// The shape at a regular point, `n` its unit normal (regular_normal, non-zero).
+fn regular_shape(d: Derivatives, n: vec3<f32>) -> Shape {
     var out: Shape;
     var k: CurvatureResult;
-    let regular = regular_normal(d);
-    if (any(regular != vec3<f32>(0.0))) {
-        out.normal = regular;
-        if (VERTEX_CURVATURE) {
-            k = curvature(d, regular);
-        }
-    } else {
-        out.flags = VERTEX_IRREGULAR;
-        let sn = s + (0.5 - s) * CURVATURE_NUDGE;
-        let tn = t + (0.5 - t) * CURVATURE_NUDGE;
-        let nd = evaluate(rec, sn, tn);
-        var inside = regular_normal(nd);
-        if (all(inside == vec3<f32>(0.0))) {
-            inside = collapsed_edge_normal(nd, sn, tn);
-        }
-        var n = collapsed_edge_normal(d, s, t);
-        if (all(n == vec3<f32>(0.0))) {
-            n = inside;
-        }
-        if (all(n == vec3<f32>(0.0))) {
-            n = vec3<f32>(0.0, 0.0, 1.0);
-        }
-        out.normal = n;
-        // Keep the orientation of the limit normal at the point itself.
-        if (dot(inside, n) < 0.0) {
-            inside = -inside;
-        }
-        if (VERTEX_CURVATURE && any(inside != vec3<f32>(0.0))) {
-            k = curvature(nd, inside);
-        }
+    out.normal = n;
+    if (VERTEX_CURVATURE) {
+        k = curvature(d, n);
     }
     if (!k.defined) {
         out.flags |= VERTEX_NO_CURVATURE;
@@ -201,26 +205,66 @@ fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
     return out;
 }
 
-// -1, 0 or 1 as a is lexicographically (x, y, z, w) before, equal to or after b.
-fn compare_points(a: vec4<f32>, b: vec4<f32>) -> i32 {
-    for (var k = 0; k < 4; k++) {
-        if (a[k] < b[k]) {
-            return -1;
-        }
-        if (a[k] > b[k]) {
-            return 1;
-        }
+// The shape at a degenerate point (regular_normal is zero there).
+fn irregular_shape(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
+    var out: Shape;
+    var k: CurvatureResult;
+    out.flags = VERTEX_IRREGULAR;
+    let sn = s + (0.5 - s) * CURVATURE_NUDGE;
+    let tn = t + (0.5 - t) * CURVATURE_NUDGE;
+    let nd = evaluate(rec, sn, tn);
+    var inside = regular_normal(nd);
+    if (all(inside == vec3<f32>(0.0))) {
+        inside = collapsed_edge_normal(nd, sn, tn);
     }
-    return 0;
+    var n = collapsed_edge_normal(d, s, t);
+    if (all(n == vec3<f32>(0.0))) {
+        n = inside;
+    }
+    if (all(n == vec3<f32>(0.0))) {
+        n = vec3<f32>(0.0, 0.0, 1.0);
+    }
+    out.normal = n;
+    // Keep the orientation of the limit normal at the point itself.
+    if (dot(inside, n) < 0.0) {
+        inside = -inside;
+    }
+    if (VERTEX_CURVATURE && any(inside != vec3<f32>(0.0))) {
+        k = curvature(nd, inside);
+    }
+    if (!k.defined) {
+        out.flags |= VERTEX_NO_CURVATURE;
+    }
+    out.curvature = k.values;
+    return out;
+}
+
+fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
+    let regular = regular_normal(d);
+    if (any(regular != vec3<f32>(0.0))) {
+        return regular_shape(d, regular);
+    }
+    return irregular_shape(rec, d, s, t);
+}
+
+// -1, 0 or 1 as a is lexicographically (x, y, z, w) before, equal to or after b. Without
+// branches (the first differing component decides, found from the last one forward), as
+// boundary vertices of every patch run it.
+fn compare_points(a: vec4<f32>, b: vec4<f32>) -> i32 {
+    let after = a > b;
+    let differs = (a < b) | after;
+    var order = 0;
+    order = select(order, select(-1, 1, after.w), differs.w);
+    order = select(order, select(-1, 1, after.z), differs.z);
+    order = select(order, select(-1, 1, after.y), differs.y);
+    order = select(order, select(-1, 1, after.x), differs.x);
+    return order;
 }
 
 // One de Casteljau step (The NURBS Book, A1.5) written so that t = 0 gives a, t = 1 gives b and
 // equal points give that point, each exactly.
 fn lerp_exact(a: vec4<f32>, b: vec4<f32>, t: f32) -> vec4<f32> {
-    if (t <= 0.5) {
-        return a + t * (b - a);
-    }
-    return b + (1.0 - t) * (a - b);
+    return select(b + (1.0 - t) * (a - b), a + t * (b - a), t <= 0.5);
 }
 
 // A patch boundary: control points first, first + stride, ..., first + degree * stride (entries
@@ -248,13 +292,43 @@ fn edge_reversed(rec: PatchRecord, edge: Edge) -> bool {
     return order > 0 || (order == 0 && 2u * edge.k > edge.n);
 }
 
-// A cubic edge's point, in registers (the bicubic pipeline has no private arrays).
+// The four control points of a bicubic patch's boundary `edge` from NET: a row of the net
+// (stride 1, first 0 or 12) or a column (stride 4, first 0 or 3).
+fn net_edge_points(edge: Edge) -> mat4x4<f32> {
+    let last = edge.first != 0u;
+    let row = edge.stride == 1u;
+    return mat4x4<f32>(
+        select(select(NET.row0[0], NET.row0[3], last), select(NET.row0[0], NET.row3[0], last), row),
+        select(select(NET.row1[0], NET.row1[3], last), select(NET.row0[1], NET.row3[1], last), row),
+        select(select(NET.row2[0], NET.row2[3], last), select(NET.row0[2], NET.row3[2], last), row),
+        select(select(NET.row3[0], NET.row3[3], last), select(NET.row0[3], NET.row3[3], last), row),
+    );
+}
+
+// A cubic edge's point, in registers (the bicubic pipeline has no private arrays): edge_reversed
+// unrolled for degree 3.
 fn cubic_edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
-    let reversed = edge_reversed(rec, edge);
-    var p0 = edge_control(rec, edge, 0u);
-    var p1 = edge_control(rec, edge, 1u);
-    var p2 = edge_control(rec, edge, 2u);
-    var p3 = edge_control(rec, edge, 3u);
+    var p0: vec4<f32>;
+    var p1: vec4<f32>;
+    var p2: vec4<f32>;
+    var p3: vec4<f32>;
+    if (NET_IN_REGISTERS) {
+        let e = net_edge_points(edge);
+        p0 = e[0];
+        p1 = e[1];
+        p2 = e[2];
+        p3 = e[3];
+    } else {
+        p0 = edge_control(rec, edge, 0u);
+        p1 = edge_control(rec, edge, 1u);
+        p2 = edge_control(rec, edge, 2u);
+        p3 = edge_control(rec, edge, 3u);
+    }
+    var order = compare_points(p0, p3);
+    if (order == 0) {
+        order = compare_points(p1, p2);
+    }
+    let reversed = order > 0 || (order == 0 && 2u * edge.k > edge.n);
     var k = edge.k;
     if (reversed) {
         let q0 = p0;
@@ -308,17 +382,22 @@ fn edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
 fn grid_position(rec: PatchRecord, i: u32, j: u32, interior: vec3<f32>) -> vec3<f32> {
     let p = degree_u(rec);
     let q = degree_v(rec);
-    if (i == 0u || i == rec.segments_u) {
-        // The row at u = 0 or 1: entries r (q + 1) .. r (q + 1) + q, along v.
-        let r = select(0u, p, i != 0u);
-        return edge_point(rec, Edge(r * (q + 1u), 1u, q, j, rec.segments_v));
+    let on_row = i == 0u || i == rec.segments_u;
+    if (!on_row && j != 0u && j != rec.segments_v) {
+        return interior;
     }
-    if (j == 0u || j == rec.segments_v) {
-        // The column at v = 0 or 1: entries c, c + (q + 1), ..., along u.
-        let c = select(0u, q, j != 0u);
-        return edge_point(rec, Edge(c, q + 1u, p, i, rec.segments_u));
-    }
-    return interior;
+    // The row at u = 0 or 1 (entries r (q + 1) .. r (q + 1) + q, along v) takes precedence over
+    // the column at v = 0 or 1 (entries c, c + (q + 1), ..., along u): one edge, chosen without
+    // branching, so the edge is evaluated once even where branches run masked.
+    let r = select(0u, p, i != 0u);
+    let c = select(0u, q, j != 0u);
+    return edge_point(rec, Edge(
+        select(c, r * (q + 1u), on_row),
+        select(q + 1u, 1u, on_row),
+        select(p, q, on_row),
+        select(i, j, on_row),
+        select(rec.segments_u, rec.segments_v, on_row),
+    ));
 }
 
 // Vertex `local` of a record's (segments_u + 1) x (segments_v + 1) grid: its (i, j) and local
@@ -361,7 +440,33 @@ fn store_vertex(
     );
 }
 
-// One invocation per output vertex; workgroup_id.y indexes patch_list.
+// Grid vertex (i, j) of record `record` from its derivatives there: normal, curvature, the
+// crack-free boundary position, stored.
+fn write_grid_vertex(rec: PatchRecord, record: u32, i: u32, j: u32, d: Derivatives, shape: Shape) {
+    let g = GridPoint(i, j, f32(i) / f32(rec.segments_u), f32(j) / f32(rec.segments_v));
+    let position = grid_position(rec, i, j, d.point);
+    store_vertex(rec, record, i * (rec.segments_v + 1u) + j, g, position, shape.normal, shape.curvature, shape.flags);
+}
+
+// The derivatives at row i of the column whose rows the invocation holds.
+fn column_point(rec: PatchRecord, rows_cubic: CubicRows, rows: PatchRows, i: u32) -> Derivatives {
+    let s = f32(i) / f32(rec.segments_u);
+    if (BICUBIC_ONLY) {
+        return bicubic_at(rows_cubic, s);
+    }
+    return patch_at(rec, rows, s);
+}
+
+// One invocation per run of up to GRID_ROWS (at most 32) vertices of one grid column (fixed j,
+// so fixed t): the v-direction sums of the control point rows are formed once for the column,
+// and each vertex of the run adds only the u-direction sums. workgroup_id.y indexes patch_list;
+// item k of a record is column k % (segments_v + 1), rows from GRID_ROWS * (k / (segments_v + 1)).
+//
+// Shaped for CPU drivers too, where a storage read is a gather, lane by lane, and a branch runs
+// masked rather than skipped: the control points are read once per run (into NET, bicubic), and
+// the rare degenerate points (poles, collapsed edges) are only marked in the loop and finished
+// in a second loop over the marked rows, which runs as often as its lanes need instead of
+// costing every vertex.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn evaluate_vertices(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -370,16 +475,41 @@ fn evaluate_vertices(
     if (group.y >= arrayLength(&patch_list)) {
         return;
     }
-    let rec = patches[patch_list[group.y]];
-    let local = group.x * WORKGROUP_SIZE + lane;
-    if (local >= (rec.segments_u + 1u) * (rec.segments_v + 1u)) {
+    let record = patch_list[group.y];
+    let rec = patches[record];
+    let item = group.x * WORKGROUP_SIZE + lane;
+    let nv = rec.segments_v + 1u;
+    let j = item % nv;
+    let first = (item / nv) * GRID_ROWS;
+    if (first > rec.segments_u) {
         return;
     }
-    let g = grid_point(rec, local);
-    let d = evaluate(rec, g.s, g.t);
-    let shape = shape_at(rec, d, g.s, g.t);
-    let position = grid_position(rec, g.i, g.j, d.point);
-    store_vertex(rec, patch_list[group.y], local, g, position, shape.normal, shape.curvature, shape.flags);
+    let last = min(first + GRID_ROWS, rec.segments_u + 1u);
+    let t = f32(j) / f32(rec.segments_v);
+    var rows_cubic: CubicRows;
+    var rows: PatchRows;
+    if (BICUBIC_ONLY) {
+        NET = bicubic_net(rec);
+        rows_cubic = bicubic_rows(NET, t);
+    } else {
+        rows = patch_rows(rec, t);
+    }
+    var irregular = 0u;  // bit i - first: row i is a degenerate point
+    for (var i = first; i < last; i++) {
+        let d = column_point(rec, rows_cubic, rows, i);
+        let n = regular_normal(d);
+        if (all(n == vec3<f32>(0.0))) {
+            irregular |= 1u << (i - first);
+            continue;
+        }
+        write_grid_vertex(rec, record, i, j, d, regular_shape(d, n));
+    }
+    while (irregular != 0u) {
+        let i = first + firstTrailingBit(irregular);
+        irregular &= irregular - 1u;
+        let d = column_point(rec, rows_cubic, rows, i);
+        write_grid_vertex(rec, record, i, j, d, irregular_shape(rec, d, f32(i) / f32(rec.segments_u), t));
+    }
 }
 
 // Subdivision limit stencils: one invocation per slot of a stencil patch (workgroup_id.y indexes

@@ -267,6 +267,21 @@ fn the_demo_scene_matches_the_f64_reference() {
     assert_matches(&scene.objects);
 }
 
+/// Grids taller than one invocation's run of rows: the teapot (the bicubic pipeline, with its
+/// collapsed edges) and the sphere (a general-degree pipeline, with its poles) at 40 segments,
+/// 41 rows in runs of EVAL_GRID_ROWS, against the f64 reference and without cracks.
+#[test]
+fn grids_of_several_runs_of_rows_match_the_f64_reference() {
+    let scene = Scene::demo().unwrap();
+    let mut objects = [scene.objects[0].clone(), scene.objects[2].clone()];
+    for object in &mut objects {
+        object.segments = 40;
+    }
+    const { assert!(41 > knotwork::gpu::records::EVAL_GRID_ROWS) };
+    assert_matches(&objects);
+    assert!(assert_watertight(&objects) > 0);
+}
+
 /// The WebGL2 path's CPU evaluator writes the same vertices (to f32 rounding of the f64
 /// kernel) and the same triangles as the compute shaders, in the same layout.
 #[test]

@@ -255,6 +255,10 @@ fn evaluator_constants_match_their_rust_counterparts() {
         f64::from(EVAL_WORKGROUP_SIZE)
     );
     assert_eq!(
+        wgsl_constant(&module, "GRID_ROWS"),
+        f64::from(knotwork::gpu::records::EVAL_GRID_ROWS)
+    );
+    assert_eq!(
         wgsl_constant(&module, "DEGENERATE_SIN2"),
         f64::from(DEGENERATE_SIN2 as f32)
     );

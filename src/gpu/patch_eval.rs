@@ -45,8 +45,9 @@ use super::adaptive_pass::{
 };
 use super::error::GpuError;
 use super::records::{
-    EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER, PATCH_KIND_STENCIL_QUAD,
-    PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
+    EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER,
+    PATCH_KIND_STENCIL_QUAD, PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE,
+    SurfaceVertex,
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL, pack_index};
 use crate::kernel::BezierPatchSet;
@@ -266,14 +267,17 @@ impl PatchEvaluator {
                         &[],
                     );
                 }
-                let bicubic = if (p, q) == (3, 3) { 1.0 } else { 0.0 };
+                let bicubic = (p, q) == (3, 3);
+                let fixed_grid = entry == "evaluate_vertices";
+                let flag = |on: bool| if on { 1.0 } else { 0.0 };
                 let constants = [
-                    ("BICUBIC_ONLY", bicubic),
+                    ("BICUBIC_ONLY", flag(bicubic)),
+                    ("NET_IN_REGISTERS", flag(bicubic && fixed_grid)),
                     ("DEGREE_U", f64::from(p)),
                     ("DEGREE_V", f64::from(q)),
-                    ("VERTEX_CURVATURE", if curvature { 1.0 } else { 0.0 }),
+                    ("VERTEX_CURVATURE", flag(curvature)),
                 ];
-                let layout = if entry == "evaluate_vertices" {
+                let layout = if fixed_grid {
                     &self.pipeline_layout
                 } else {
                     &self.adaptive_eval_pipeline_layout
@@ -641,8 +645,17 @@ fn workgroups(items: u64) -> u64 {
     items.div_ceil(u64::from(EVAL_WORKGROUP_SIZE))
 }
 
+/// Workgroups evaluating `record`'s vertices: for a Bézier patch (`evaluate_vertices`) one
+/// invocation per column and run of [`EVAL_GRID_ROWS`] rows, for a stencil patch
+/// (`evaluate_stencil_vertices`) one per vertex.
 fn vertex_groups(record: &PatchRecord) -> u32 {
-    workgroups(u64::from(record.segments_u + 1) * u64::from(record.segments_v + 1)) as u32
+    let rows = u64::from(record.segments_u + 1);
+    let runs = if record.kind == PATCH_KIND_BEZIER {
+        rows.div_ceil(u64::from(EVAL_GRID_ROWS))
+    } else {
+        rows
+    };
+    workgroups(runs * u64::from(record.segments_v + 1)) as u32
 }
 
 impl PatchGeometry {

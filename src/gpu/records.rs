@@ -15,6 +15,12 @@ pub const GPU_CURVATURE_NUDGE: f32 = 3e-2;
 /// Workgroup size of both compute entry points (`WORKGROUP_SIZE` in `shaders/eval_bezier.wgsl`).
 pub const EVAL_WORKGROUP_SIZE: u32 = 64;
 
+/// Vertices of one grid column each `evaluate_vertices` invocation writes (`GRID_ROWS` in
+/// `shaders/eval_bezier.wgsl`): the column's row sums are formed once for them all.
+pub const EVAL_GRID_ROWS: u32 = 32;
+// The shader marks a run's degenerate rows in the bits of one u32.
+const _: () = assert!(EVAL_GRID_ROWS >= 1 && EVAL_GRID_ROWS <= 32);
+
 /// [`PatchRecord::kind`] of a rational tensor-product Bézier patch over the control point pool
 /// (today's only kind; subdivision will add regular B-spline and limit-stencil patches).
 /// WGSL: `PATCH_KIND_BEZIER` in `shaders/common.wgsl`.
