@@ -119,7 +119,8 @@ mod cli {
             /// Timed repetitions per figure (the median is printed).
             #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=10_000))]
             iterations: u64,
-            /// Only one group of figures: edit, export, subdivision, trim (or all).
+            /// Only one group of figures (or all): edit (the compute pass, edits, picking, drags),
+            /// webgl2, frame, scale, export, subdivision, trim or analysis.
             #[arg(long, default_value = "all", value_parser = clap::builder::PossibleValuesParser::new(knotwork::bench::GROUPS))]
             only: String,
         },

@@ -241,7 +241,10 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().frames > 2, null, { timeout: 60_000 });
       const before = await status(page);
       const t0 = Date.now();
+      // At least 3 s, and until a frame has come (SwiftShader draws about one in 3 s here).
       await page.waitForTimeout(3000);
+      await page.waitForFunction((f) => window.knotwork.status().frames > f, before.frames, { timeout: 60_000 })
+        .catch(() => {});
       const after = await status(page);
       const fps = ((after.frames - before.frames) * 1000) / (Date.now() - t0);
       console.log(`      adapter "${after.adapter}", ${after.vertices} vertices, ${fps.toFixed(1)} frames/s, ` +
