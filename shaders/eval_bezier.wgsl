@@ -190,13 +190,15 @@ struct Shape {
 // the second derivatives and the fundamental forms.
 override VERTEX_CURVATURE: bool = true;
 
-// The shape at a regular point, `n` its unit normal (regular_normal, non-zero).
-fn regular_shape(d: Derivatives, n: vec3<f32>) -> Shape {
+// A vertex's shape: its normal and flags, and the curvature of `d` about `curvature_normal`
+// where `measured` (else undefined, flagged VERTEX_NO_CURVATURE).
+fn make_shape(normal: vec3<f32>, flags: u32, d: Derivatives, curvature_normal: vec3<f32>, measured: bool) -> Shape {
     var out: Shape;
     var k: CurvatureResult;
-    out.normal = n;
-    if (VERTEX_CURVATURE) {
-        k = curvature(d, n);
+    out.normal = normal;
+    out.flags = flags;
+    if (VERTEX_CURVATURE && measured) {
+        k = curvature(d, curvature_normal);
     }
     if (!k.defined) {
         out.flags |= VERTEX_NO_CURVATURE;
@@ -205,11 +207,13 @@ fn regular_shape(d: Derivatives, n: vec3<f32>) -> Shape {
     return out;
 }
 
+// The shape at a regular point, `n` its unit normal (regular_normal, non-zero).
+fn regular_shape(d: Derivatives, n: vec3<f32>) -> Shape {
+    return make_shape(n, 0u, d, n, true);
+}
+
 // The shape at a degenerate point (regular_normal is zero there).
 fn irregular_shape(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
-    var out: Shape;
-    var k: CurvatureResult;
-    out.flags = VERTEX_IRREGULAR;
     let sn = s + (0.5 - s) * CURVATURE_NUDGE;
     let tn = t + (0.5 - t) * CURVATURE_NUDGE;
     let nd = evaluate(rec, sn, tn);
@@ -224,19 +228,11 @@ fn irregular_shape(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
     if (all(n == vec3<f32>(0.0))) {
         n = vec3<f32>(0.0, 0.0, 1.0);
     }
-    out.normal = n;
     // Keep the orientation of the limit normal at the point itself.
     if (dot(inside, n) < 0.0) {
         inside = -inside;
     }
-    if (VERTEX_CURVATURE && any(inside != vec3<f32>(0.0))) {
-        k = curvature(nd, inside);
-    }
-    if (!k.defined) {
-        out.flags |= VERTEX_NO_CURVATURE;
-    }
-    out.curvature = k.values;
-    return out;
+    return make_shape(n, VERTEX_IRREGULAR, nd, inside, any(inside != vec3<f32>(0.0)));
 }
 
 fn shape_at(rec: PatchRecord, d: Derivatives, s: f32, t: f32) -> Shape {
