@@ -285,6 +285,12 @@ fn edge_reversed(rec: PatchRecord, edge: Edge) -> bool {
     for (var m = 0u; 2u * m < edge.degree && order == 0; m++) {
         order = compare_points(edge_control(rec, edge, m), edge_control(rec, edge, edge.degree - m));
     }
+    return reversed_by(order, edge);
+}
+
+// edge_reversed's rule given the order of the control point sequence against its reverse (one
+// definition for every pipeline: shared seams are bit-identical only if all agree).
+fn reversed_by(order: i32, edge: Edge) -> bool {
     return order > 0 || (order == 0 && 2u * edge.k > edge.n);
 }
 
@@ -324,9 +330,8 @@ fn cubic_edge_point(rec: PatchRecord, edge: Edge) -> vec3<f32> {
     if (order == 0) {
         order = compare_points(p1, p2);
     }
-    let reversed = order > 0 || (order == 0 && 2u * edge.k > edge.n);
     var k = edge.k;
-    if (reversed) {
+    if (reversed_by(order, edge)) {
         let q0 = p0;
         let q1 = p1;
         p0 = p3;
@@ -407,8 +412,10 @@ struct GridPoint {
 
 fn grid_point(rec: PatchRecord, local: u32) -> GridPoint {
     let nv = rec.segments_v + 1u;
-    let i = local / nv;
-    let j = local % nv;
+    return grid_point_at(rec, local / nv, local % nv);
+}
+
+fn grid_point_at(rec: PatchRecord, i: u32, j: u32) -> GridPoint {
     return GridPoint(i, j, f32(i) / f32(rec.segments_u), f32(j) / f32(rec.segments_v));
 }
 
@@ -439,7 +446,7 @@ fn store_vertex(
 // Grid vertex (i, j) of record `record` from its derivatives there: normal, curvature, the
 // crack-free boundary position, stored.
 fn write_grid_vertex(rec: PatchRecord, record: u32, i: u32, j: u32, d: Derivatives, shape: Shape) {
-    let g = GridPoint(i, j, f32(i) / f32(rec.segments_u), f32(j) / f32(rec.segments_v));
+    let g = grid_point_at(rec, i, j);
     let position = grid_position(rec, i, j, d.point);
     store_vertex(rec, record, i * (rec.segments_v + 1u) + j, g, position, shape.normal, shape.curvature, shape.flags);
 }
