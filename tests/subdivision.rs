@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::{grid_mesh, height, open_mixed_grid, triangle_lattice};
 use glam::{DAffine3, DMat3, DVec3};
 use knotwork::kernel::subdiv::refine::loop_beta;
 use knotwork::kernel::subdiv::{
@@ -17,28 +18,6 @@ fn cube() -> SubdivisionSurface {
     // Corners numbered by bits (x, y, z), outward-facing quads.
     let mesh = cages::cube(DVec3::ZERO, 2.0).unwrap();
     SubdivisionSurface::from_mesh(mesh, 0).unwrap()
-}
-
-fn height(i: usize, j: usize) -> f64 {
-    0.3 * (i as f64).sin() * (1.3 * j as f64).cos() + 0.1 * (i * j) as f64 / 7.0
-}
-
-/// An m × m grid of points (i, j, height), quads counter-clockwise seen from +z.
-fn grid_mesh(m: usize) -> PolygonMesh {
-    let points = (0..m * m)
-        .map(|k| {
-            let (i, j) = (k / m, k % m);
-            DVec3::new(i as f64, j as f64, height(i, j))
-        })
-        .collect();
-    let id = |i: usize, j: usize| (i * m + j) as u32;
-    let mut faces = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..m - 1 {
-            faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    PolygonMesh::new(points, &faces).unwrap()
 }
 
 /// The m × m grid as a Catmull-Clark cage and the bicubic B-spline over the same points
@@ -289,26 +268,6 @@ fn a_corner_vertex_stays_and_edge_and_corner_keeps_valence_two_corners() {
     assert!((free_points[0] - p[0]).length() > 1e-3);
 }
 
-/// A planar regular triangle lattice (every interior vertex of valence 6), heights from `f`.
-fn triangle_lattice(m: usize, f: impl Fn(f64, f64) -> f64) -> PolygonMesh {
-    let points = (0..m * m)
-        .map(|k| {
-            let (i, j) = (k / m, k % m);
-            let (x, y) = (i as f64 + 0.5 * j as f64, j as f64 * 0.75f64.sqrt());
-            DVec3::new(x, y, f(x, y))
-        })
-        .collect();
-    let id = |i: usize, j: usize| (i * m + j) as u32;
-    let mut faces = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..m - 1 {
-            faces.push(vec![id(i, j), id(i + 1, j), id(i, j + 1)]);
-            faces.push(vec![id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    PolygonMesh::new(points, &faces).unwrap()
-}
-
 #[test]
 fn loop_uses_its_original_weights_and_reproduces_planes_and_the_box_spline_mask() {
     assert!((loop_beta(6) - 1.0 / 16.0).abs() < 1e-15);
@@ -469,21 +428,8 @@ fn mixed_cages() -> Vec<SubdivisionSurface> {
         vertex: 9,
         sharpness: 1.5,
     }];
-    let mut grid_points = grid_mesh(4).points().to_vec();
-    grid_points[5].z += 0.4;
+    let grid = open_mixed_grid();
     let id = |i: u32, j: u32| i * 4 + j;
-    let grid_faces = vec![
-        vec![id(0, 0), id(1, 0), id(1, 1), id(0, 1)],
-        vec![id(1, 0), id(2, 0), id(2, 1)],
-        vec![id(1, 0), id(2, 1), id(1, 1)],
-        vec![id(2, 0), id(3, 0), id(3, 1), id(2, 1)],
-        vec![id(0, 1), id(1, 1), id(1, 2), id(0, 2)],
-        vec![id(1, 1), id(2, 1), id(2, 2), id(1, 2)],
-        vec![id(2, 1), id(3, 1), id(3, 2), id(2, 2)],
-        vec![id(0, 2), id(1, 2), id(2, 2), id(2, 3), id(1, 3), id(0, 3)],
-        vec![id(2, 2), id(3, 2), id(3, 3), id(2, 3)],
-    ];
-    let grid = PolygonMesh::new(grid_points, &grid_faces).unwrap();
     vec![
         with(
             prism.clone(),

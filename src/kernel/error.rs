@@ -197,8 +197,11 @@ pub enum CageProblem {
     NonManifoldVertex,
     #[error("the face repeats vertex {vertex}")]
     RepeatedVertex { vertex: u32 },
-    #[error("the face has {corners} corners; Loop subdivision takes triangles only")]
-    NotTriangle { corners: usize },
+    #[error("the face has {corners} corners; {scheme} subdivision takes triangles only")]
+    NotTriangle {
+        corners: usize,
+        scheme: &'static str,
+    },
     #[error("the face is degenerate (its corners coincide)")]
     Degenerate,
     #[error("sharpness {sharpness} must be finite and ≥ 0")]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use knotwork::gpu::GpuContext;
-use knotwork::kernel::NurbsSurface;
+use knotwork::kernel::{NurbsSurface, PolygonMesh};
 
 /// The headless GPU the tests run on (lavapipe here). Fails — never skips — without one.
 pub fn gpu() -> GpuContext {
@@ -271,4 +271,67 @@ pub fn compare_with_reference_png(name: &str, image: &[u8], (width, height): (u3
             diff_path.display()
         );
     }
+}
+
+/// A smooth, non-polynomial height over a grid.
+pub fn height(i: usize, j: usize) -> f64 {
+    0.3 * (i as f64).sin() * (1.3 * j as f64).cos() + 0.1 * (i * j) as f64 / 7.0
+}
+
+/// An m × m grid of points (i, j, height), quads counter-clockwise seen from +z.
+pub fn grid_mesh(m: usize) -> PolygonMesh {
+    let points = (0..m * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            DVec3::new(i as f64, j as f64, height(i, j))
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolygonMesh::new(points, &faces).unwrap()
+}
+
+/// A planar regular triangle lattice (every interior vertex of valence 6), heights from `f`.
+pub fn triangle_lattice(m: usize, f: impl Fn(f64, f64) -> f64) -> PolygonMesh {
+    let points = (0..m * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            let (x, y) = (i as f64 + 0.5 * j as f64, j as f64 * 0.75f64.sqrt());
+            DVec3::new(x, y, f(x, y))
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            faces.push(vec![id(i, j), id(i + 1, j), id(i, j + 1)]);
+            faces.push(vec![id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    PolygonMesh::new(points, &faces).unwrap()
+}
+
+/// A 4 × 4 grid of points with one raised, faced by quads, two triangles and a hexagon: an
+/// open cage with n-gons and boundaries.
+pub fn open_mixed_grid() -> PolygonMesh {
+    let mut points = grid_mesh(4).points().to_vec();
+    points[5].z += 0.4;
+    let id = |i: u32, j: u32| i * 4 + j;
+    let faces = vec![
+        vec![id(0, 0), id(1, 0), id(1, 1), id(0, 1)],
+        vec![id(1, 0), id(2, 0), id(2, 1)],
+        vec![id(1, 0), id(2, 1), id(1, 1)],
+        vec![id(2, 0), id(3, 0), id(3, 1), id(2, 1)],
+        vec![id(0, 1), id(1, 1), id(1, 2), id(0, 2)],
+        vec![id(1, 1), id(2, 1), id(2, 2), id(1, 2)],
+        vec![id(2, 1), id(3, 1), id(3, 2), id(2, 2)],
+        vec![id(0, 2), id(1, 2), id(2, 2), id(2, 3), id(1, 3), id(0, 3)],
+        vec![id(2, 2), id(3, 2), id(3, 3), id(2, 3)],
+    ];
+    PolygonMesh::new(points, &faces).unwrap()
 }

@@ -1,5 +1,5 @@
-//! Cage primitives for subdivision surfaces: cube, open cylinder, torus and grid, every face
-//! counter-clockwise seen from outside.
+//! Cage primitives for subdivision surfaces: cube, open cylinder, torus, grid and the
+//! icosahedron (triangles), every face counter-clockwise seen from outside.
 
 use std::f64::consts::TAU;
 
@@ -106,5 +106,39 @@ pub fn grid(center: DVec3, size: f64, cells: usize) -> Result<PolygonMesh, Geome
             (0..n - 1).map(move |j| vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
         })
         .collect();
+    PolygonMesh::new(points, &faces)
+}
+
+/// A regular icosahedron with its points on the sphere of `radius` about `center`: 12 points,
+/// 20 triangles. The points are the cyclic permutations of (0, ±1, ±φ); the faces are the
+/// triples at mutual distance 2 (the edge length), turned to face outwards.
+pub fn icosahedron(center: DVec3, radius: f64) -> Result<PolygonMesh, GeometryError> {
+    let phi = 0.5 * (1.0 + 5f64.sqrt());
+    let mut unit = Vec::with_capacity(12);
+    for (a, b) in [(1.0, phi), (1.0, -phi), (-1.0, phi), (-1.0, -phi)] {
+        unit.push(DVec3::new(0.0, a, b));
+        unit.push(DVec3::new(a, b, 0.0));
+        unit.push(DVec3::new(b, 0.0, a));
+    }
+    let edge = |i: usize, j: usize| ((unit[i] - unit[j]).length() - 2.0).abs() < 1e-9;
+    let mut faces = Vec::with_capacity(20);
+    for i in 0..12 {
+        for j in i + 1..12 {
+            for k in j + 1..12 {
+                if edge(i, j) && edge(j, k) && edge(i, k) {
+                    let normal = (unit[j] - unit[i]).cross(unit[k] - unit[i]);
+                    let outward = normal.dot(unit[i] + unit[j] + unit[k]) > 0.0;
+                    let (i, j, k) = (i as u32, j as u32, k as u32);
+                    faces.push(if outward {
+                        vec![i, j, k]
+                    } else {
+                        vec![i, k, j]
+                    });
+                }
+            }
+        }
+    }
+    let scale = radius / unit[0].length();
+    let points = unit.into_iter().map(|p| center + p * scale).collect();
     PolygonMesh::new(points, &faces)
 }

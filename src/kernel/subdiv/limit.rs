@@ -23,7 +23,16 @@ pub fn limit_rule(level: &Level, v: u32) -> Rule {
 /// (n² v + 4 Σ e_j + Σ d_j) / (n (n + 5)) with edge neighbours e_j and diagonal corners d_j
 /// (Halstead, Kass & DeRose 1993); Loop, smooth: (1 − nχ) v + χ Σ e_j with
 /// χ = 1 / (n + 3/(8β(n))); a crease: 2/3 v + 1/6 (a + b); a corner stays.
+///
+/// The butterfly interpolates, so its points are their own limit; √3 takes
+/// [`super::schemes::sqrt3_limit_position`]; Doo-Sabin's limit points are the faces' centroids,
+/// not at vertices (see [`super::display`]), and a vertex row is the vertex itself.
 pub fn limit_position(level: &Level, scheme: Scheme, v: u32) -> Row {
+    match scheme {
+        Scheme::Butterfly | Scheme::DooSabin => return Row(vec![(v, 1.0)]),
+        Scheme::Sqrt3 => return super::schemes::sqrt3_limit_position(level, v),
+        Scheme::CatmullClark | Scheme::Loop => {}
+    }
     let faces = level.vertex_faces(v);
     let rule = limit_rule(level, v);
     match rule {
@@ -43,7 +52,7 @@ pub fn limit_position(level: &Level, scheme: Scheme, v: u32) -> Row {
                 }
                 row
             }
-            Scheme::Loop => {
+            _ => {
                 let edges = level.vertex_edges(v);
                 let n = edges.len() as f64;
                 let chi = 1.0 / (n + 3.0 / (8.0 * super::refine::loop_beta(edges.len())));
@@ -111,7 +120,7 @@ pub fn limit_tangents(
                 t[1].add_row(&e, big_a * a.sin());
                 t[1].add_row(&d, a.sin() + b.sin());
             }
-            Scheme::Loop => {
+            _ => {
                 let e = at(ring.neighbours[j]);
                 t[0].add_row(&e, a.cos());
                 t[1].add_row(&e, a.sin());
@@ -147,21 +156,6 @@ fn boundary_tangents(
     if crease {
         t[0] = Row(vec![(e[0], 0.5), (e[k], -0.5)]);
         match scheme {
-            Scheme::Loop => {
-                if k == 1 {
-                    t[1] = Row(vec![(e[0], 1.0), (e[1], 1.0), (v, -2.0)]);
-                } else if k == 2 {
-                    t[1] = Row(vec![(e[1], 1.0), (v, -1.0)]);
-                } else {
-                    let theta = PI / k as f64;
-                    t[1].add(e[0], -theta.sin());
-                    t[1].add(e[k], -theta.sin());
-                    for (i, &n) in e.iter().enumerate().take(k).skip(1) {
-                        t[1].add(n, -(2.0 * theta.cos() - 2.0) * (theta * i as f64).sin());
-                    }
-                }
-                return merged(t);
-            }
             Scheme::CatmullClark if k == 2 && quads => {
                 let d0 = level.diagonal(ring.faces[0], v);
                 let d1 = level.diagonal(ring.faces[1], v);
@@ -176,6 +170,21 @@ fn boundary_tangents(
                 return merged(t);
             }
             Scheme::CatmullClark => {}
+            _ => {
+                if k == 1 {
+                    t[1] = Row(vec![(e[0], 1.0), (e[1], 1.0), (v, -2.0)]);
+                } else if k == 2 {
+                    t[1] = Row(vec![(e[1], 1.0), (v, -1.0)]);
+                } else {
+                    let theta = PI / k as f64;
+                    t[1].add(e[0], -theta.sin());
+                    t[1].add(e[k], -theta.sin());
+                    for (i, &n) in e.iter().enumerate().take(k).skip(1) {
+                        t[1].add(n, -(2.0 * theta.cos() - 2.0) * (theta * i as f64).sin());
+                    }
+                }
+                return merged(t);
+            }
         }
     }
     let centre = position(v);

@@ -9,10 +9,12 @@
 //! oracle and the export path.
 
 pub mod cages;
+pub mod display;
 pub mod level;
 pub mod limit;
 pub mod patches;
 pub mod refine;
+pub mod schemes;
 pub mod stencil;
 
 use glam::{DAffine3, DVec3};
@@ -27,6 +29,10 @@ pub const MAX_LEVEL: u32 = 6;
 /// The most faces a cage's level may have (the tables grow with them).
 pub const MAX_REFINED_FACES: u64 = 4_000_000;
 
+/// The most faces a Doo-Sabin or √3 level may have: they reach the GPU as one stencil patch
+/// per face, and one compute dispatch evaluates at most 65,535 patches.
+pub const MAX_POLYGON_FEED_FACES: u64 = 65_535;
+
 /// The subdivision rules.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -36,6 +42,37 @@ pub enum Scheme {
     CatmullClark,
     /// Loop, on triangles.
     Loop,
+    /// Doo-Sabin (dual corner cutting), on any polygons: biquadratic B-spline limit on
+    /// regular regions.
+    DooSabin,
+    /// Kobbelt's √3, on triangles: each triangle split in three and the old edges flipped.
+    Sqrt3,
+    /// The modified butterfly, on triangles: interpolating (the cage's points stay on the
+    /// surface).
+    Butterfly,
+}
+
+impl Scheme {
+    /// Whether the scheme takes triangles only.
+    pub fn needs_triangles(self) -> bool {
+        matches!(self, Self::Loop | Self::Sqrt3 | Self::Butterfly)
+    }
+
+    /// Whether the scheme applies the cage's creases and corners.
+    pub fn has_creases(self) -> bool {
+        matches!(self, Self::CatmullClark | Self::Loop)
+    }
+
+    /// Its name as the editor shows it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::CatmullClark => "Catmull-Clark",
+            Self::Loop => "Loop",
+            Self::DooSabin => "Doo-Sabin",
+            Self::Sqrt3 => "√3 (Kobbelt)",
+            Self::Butterfly => "modified butterfly",
+        }
+    }
 }
 
 /// How the boundary is treated (OpenSubdiv's `VtxBoundaryInterpolation`).
@@ -131,21 +168,33 @@ impl SubdivisionSurface {
             options,
             level,
         };
-        surface.base_level()?;
+        let base = surface.base_level()?;
         let corners: u64 = surface.mesh.faces().map(|f| f.len() as u64).sum();
+        let face_count = surface.mesh.face_count() as u64;
+        let power = |base: u64| base.checked_pow(level.min(31)).unwrap_or(u64::MAX);
         let faces = match (level, options.scheme) {
-            (0, _) => surface.mesh.face_count() as u64,
-            (_, Scheme::CatmullClark) => corners.saturating_mul(1 << (2 * (level.min(31) - 1))),
-            (_, Scheme::Loop) => (surface.mesh.face_count() as u64) << (2 * level.min(31)),
+            (0, _) => face_count,
+            (_, Scheme::CatmullClark) => corners.saturating_mul(power(4) / 4),
+            (_, Scheme::Loop | Scheme::Butterfly) => face_count.saturating_mul(power(4)),
+            // One face per face, edge and vertex after the first step; then four per vertex.
+            (_, Scheme::DooSabin) => {
+                let used = (0..base.vertex_count as u32)
+                    .filter(|&v| !base.vertex_faces(v).is_empty())
+                    .count() as u64;
+                (face_count + base.edges.len() as u64 + used).saturating_mul(power(4) / 4)
+            }
+            (_, Scheme::Sqrt3) => face_count.saturating_mul(power(3)),
         };
-        if level <= MAX_LEVEL && faces > MAX_REFINED_FACES {
+        // Doo-Sabin and √3 reach the GPU as one stencil patch per polygon, and one dispatch
+        // evaluates at most 65,535 of them.
+        let max = match options.scheme {
+            Scheme::DooSabin | Scheme::Sqrt3 => MAX_POLYGON_FEED_FACES,
+            _ => MAX_REFINED_FACES,
+        };
+        if level <= MAX_LEVEL && faces > max {
             return Err(GeometryError::Cage {
                 at: Location::field("level"),
-                problem: CageProblem::TooManyFaces {
-                    level,
-                    faces,
-                    max: MAX_REFINED_FACES,
-                },
+                problem: CageProblem::TooManyFaces { level, faces, max },
             });
         }
         if level > MAX_LEVEL {
@@ -215,11 +264,12 @@ impl SubdivisionSurface {
     pub fn base_level(&self) -> Result<Level, GeometryError> {
         let faces: Vec<&[u32]> = self.mesh.faces().collect();
         let not_triangle = faces.iter().enumerate().find(|(_, f)| f.len() != 3);
-        if let (Scheme::Loop, Some((f, face))) = (self.options.scheme, not_triangle) {
+        if let (true, Some((f, face))) = (self.options.scheme.needs_triangles(), not_triangle) {
             return Err(GeometryError::Cage {
                 at: Location::face(f),
                 problem: CageProblem::NotTriangle {
                     corners: face.len(),
+                    scheme: self.options.scheme.label(),
                 },
             });
         }
@@ -349,7 +399,7 @@ impl Hierarchy {
 
     fn refine_once(&mut self) -> Result<(), GeometryError> {
         let last = self.levels.len() - 1;
-        let (child, stencils) = refine::refine(&self.levels[last], &self.options)?;
+        let (child, stencils) = refine::refine(&self.levels[last], &self.options, last)?;
         self.levels.push(child);
         self.stencils.push(stencils);
         Ok(())

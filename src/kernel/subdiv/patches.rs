@@ -3,7 +3,8 @@
 //! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
 //! regular vertices) second derivatives as weighted sums of cage points.
 
-use super::level::Level;
+use super::display::{DisplayRows, display_rows};
+use super::level::{Level, NONE};
 use super::limit::{is_regular, limit_position, limit_tangents, regular_derivatives};
 use super::stencil::Row;
 use super::{Hierarchy, Scheme, SubdivisionSurface};
@@ -206,6 +207,95 @@ fn compose_to_cage(hierarchy: &Hierarchy, k: usize, rows: &[&Row]) -> Vec<Vec<Ro
     composed
 }
 
+/// `row` (over a level's vertices) over the cage's points, given each level vertex's row over
+/// the cage (`composed`).
+fn over_cage(composed: &[Row], row: &Row) -> Row {
+    let mut out = Row::default();
+    for &(i, w) in &row.0 {
+        out.add_row(&composed[i as usize], w);
+    }
+    out.merged()
+}
+
+/// Appends one slot's entries (up to six rows: position, Su, Sv, Suu, Suv, Svv, each over the
+/// cage) merged by cage point; returns the slot's first entry and count.
+fn push_entries(feed: &mut LimitFeed, rows: impl Iterator<Item = Row>) -> [u32; 2] {
+    let mut merged: std::collections::BTreeMap<u32, [f64; 6]> = Default::default();
+    for (c, row) in rows.enumerate() {
+        for &(i, w) in &row.0 {
+            merged.entry(i).or_insert([0.0; 6])[c] += w;
+        }
+    }
+    let start = feed.entries.len() as u32;
+    feed.entries.extend(merged);
+    [start, feed.entries.len() as u32 - start]
+}
+
+/// The GPU feed of a display given as polygons over rows ([`DisplayRows`]) on level `k`:
+/// each quad one stencil patch of one segment, each triangle one triangle patch, larger
+/// polygons fans of triangles; slots of the same display point share its entries. The
+/// patches belong to no single cage face (`cage_face` is [`NONE`]).
+fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> LimitFeed {
+    let all: Vec<&Row> = display.rows.iter().flat_map(|r| r.iter()).collect();
+    let composed = compose_to_cage(hierarchy, k, &all);
+    let mut feed = LimitFeed::default();
+    let mut entries: Vec<Option<[u32; 2]>> = vec![None; display.rows.len()];
+    let mut slot_of = |feed: &mut LimitFeed, point: u32| -> [u32; 2] {
+        *entries[point as usize].get_or_insert_with(|| {
+            let rows = display.rows[point as usize]
+                .iter()
+                .map(|row| over_cage(&composed[k], row));
+            push_entries(feed, rows)
+        })
+    };
+    for polygon in &display.polygons {
+        let pieces: Vec<Vec<u32>> = if polygon.len() <= 4 {
+            vec![polygon.clone()]
+        } else {
+            (1..polygon.len() - 1)
+                .map(|j| vec![polygon[0], polygon[j], polygon[j + 1]])
+                .collect()
+        };
+        for piece in pieces {
+            let triangle = piece.len() == 3;
+            let first_slot = feed.slots.len() as u32;
+            feed.patches.push(StencilPatch {
+                cage_face: NONE,
+                triangle,
+                segments: 1,
+                first_slot,
+            });
+            // Slot (i, j) at i · 2 + j, i along the first edge: corners 0, 3 (2), 1, 2 (-).
+            let order: [Option<u32>; 4] = if triangle {
+                [Some(piece[0]), Some(piece[2]), Some(piece[1]), None]
+            } else {
+                [
+                    Some(piece[0]),
+                    Some(piece[3]),
+                    Some(piece[1]),
+                    Some(piece[2]),
+                ]
+            };
+            for corner in order {
+                match corner {
+                    Some(point) => {
+                        let slot = slot_of(&mut feed, point);
+                        feed.slots.push(slot);
+                        feed.vertex.push(point);
+                    }
+                    None => {
+                        let alias = feed.slots[first_slot as usize];
+                        feed.slots.push(alias);
+                        feed.vertex.push(u32::MAX);
+                    }
+                }
+                feed.no_curvature.push(true);
+            }
+        }
+    }
+    feed
+}
+
 impl SubdivisionSurface {
     /// The GPU feed at level `levels` (≥ 1) showing `display`, regular faces as B-spline
     /// patches.
@@ -241,6 +331,10 @@ impl SubdivisionSurface {
         }
         let hierarchy = Hierarchy::new(base, self.options, levels)?;
         let k = levels as usize;
+        if matches!(scheme, Scheme::DooSabin | Scheme::Sqrt3) {
+            let rows = display_rows(&hierarchy.levels[k], scheme, display);
+            return Ok(polygon_feed(&hierarchy, k, &rows));
+        }
         let level = &hierarchy.levels[k];
         // The patches' grids of level-k vertices.
         let mut grids: Vec<(StencilPatch, Vec<Option<u32>>)> = Vec::new();
@@ -262,14 +356,14 @@ impl SubdivisionSurface {
                         .map(|c| (1, starts[f as usize] + c, levels - 1))
                         .collect()
                 }
-                Scheme::Loop => vec![(0, f, levels)],
+                _ => vec![(0, f, levels)],
             };
             for (lk, face, depth) in pieces {
                 let grid = face_grid(&hierarchy, lk, face, depth);
                 grids.push((
                     StencilPatch {
                         cage_face: f,
-                        triangle: scheme == Scheme::Loop,
+                        triangle: scheme != Scheme::CatmullClark,
                         segments: 1 << depth,
                         first_slot: 0,
                     },
@@ -357,13 +451,7 @@ impl SubdivisionSurface {
             .flat_map(|(rows, _)| rows.iter())
             .collect();
         let composed = compose_to_cage(&hierarchy, k, &all);
-        let over_cage = |row: &Row| -> Row {
-            let mut out = Row::default();
-            for &(i, w) in &row.0 {
-                out.add_row(&composed[k][i as usize], w);
-            }
-            out.merged()
-        };
+        let over_cage = |row: &Row| over_cage(&composed[k], row);
         for (patch, grid) in &grids {
             let first = patch.first_slot as usize;
             for slot in first..first + (patch.segments as usize + 1).pow(2) {
@@ -375,15 +463,8 @@ impl SubdivisionSurface {
                     feed.vertex.push(u32::MAX);
                     continue;
                 };
-                let mut merged: std::collections::BTreeMap<u32, [f64; 6]> = Default::default();
-                for (c, row) in rows.iter().enumerate() {
-                    for &(i, w) in &over_cage(row).0 {
-                        merged.entry(i).or_insert([0.0; 6])[c] += w;
-                    }
-                }
-                let start = feed.entries.len() as u32;
-                feed.entries.extend(merged);
-                feed.slots.push([start, feed.entries.len() as u32 - start]);
+                let slot_entries = push_entries(&mut feed, rows.iter().map(&over_cage));
+                feed.slots.push(slot_entries);
                 feed.no_curvature.push(*no_curvature);
                 feed.vertex.push(grid[slot - first].unwrap_or(u32::MAX));
             }

@@ -4,6 +4,7 @@
 //! crease and corner vertex rules by the count of sharp edges.
 
 use super::level::{INFINITE_SHARPNESS, Level, NONE};
+use super::schemes::{self, butterfly_edge_row};
 use super::stencil::{Row, Stencils};
 use super::{Creasing, Options, Scheme};
 use crate::kernel::GeometryError;
@@ -108,7 +109,7 @@ fn smooth_vertex_row(level: &Level, scheme: Scheme, v: u32) -> Row {
                 row.add_centroid(level.face(f), 1.0 / (n * n));
             }
         }
-        Scheme::Loop => {
+        _ => {
             let n = edges.len() as f64;
             let beta = loop_beta(edges.len());
             row.add(v, 1.0 - n * beta);
@@ -139,7 +140,7 @@ fn rule_row(level: &Level, scheme: Scheme, v: u32, rule: Rule, sharpness: &[f64]
 /// blended with the child's rule where sharpness runs out in this step by the mean of the
 /// sharpness values that make the transition (`Crease::ComputeFractionalWeightAtVertex`).
 fn vertex_row(level: &Level, options: &Options, v: u32) -> Row {
-    if level.vertex_faces(v).is_empty() {
+    if level.vertex_faces(v).is_empty() || options.scheme == Scheme::Butterfly {
         return Row(vec![(v, 1.0)]);
     }
     let edges = level.vertex_edges(v);
@@ -182,7 +183,7 @@ fn vertex_row(level: &Level, options: &Options, v: u32) -> Row {
 }
 
 /// The vertex of triangle `f` that is not on edge (a, b).
-fn opposite(level: &Level, f: u32, a: u32, b: u32) -> u32 {
+pub fn opposite(level: &Level, f: u32, a: u32, b: u32) -> u32 {
     level
         .face(f)
         .iter()
@@ -200,6 +201,9 @@ fn edge_row(level: &Level, options: &Options, e: u32) -> Row {
     let midpoint = Row(vec![(a, 0.5), (b, 0.5)]);
     let [f0, f1] = level.edge_faces[e as usize];
     let s = level.edge_sharpness[e as usize];
+    if options.scheme == Scheme::Butterfly {
+        return butterfly_edge_row(level, e);
+    }
     if f1 == NONE || f0 == NONE {
         return midpoint;
     }
@@ -212,7 +216,7 @@ fn edge_row(level: &Level, options: &Options, e: u32) -> Row {
                 row.add_centroid(level.face(f0), 0.25);
                 row.add_centroid(level.face(f1), 0.25);
             }
-            Scheme::Loop => {
+            _ => {
                 row.add(a, 0.375);
                 row.add(b, 0.375);
                 row.add(opposite(level, f0, a, b), 0.125);
@@ -232,11 +236,27 @@ fn edge_row(level: &Level, options: &Options, e: u32) -> Row {
     midpoint.blend(smooth().merged(), s.min(1.0))
 }
 
-/// One refinement of `level`: the child level (vertices numbered as OpenSubdiv's uniform
+/// Refinement step `step` (0 for the first) of `level` by `options.scheme`: the child level
+/// and the stencils giving each child vertex from the parent's vertices. Doo-Sabin and √3
+/// are in [`super::schemes`]; the face-splitting schemes in [`split`].
+pub fn refine(
+    level: &Level,
+    options: &Options,
+    step: usize,
+) -> Result<(Level, Stencils), GeometryError> {
+    match options.scheme {
+        Scheme::DooSabin => schemes::doo_sabin(level),
+        Scheme::Sqrt3 => schemes::sqrt3(level, step % 2 == 1),
+        Scheme::CatmullClark | Scheme::Loop | Scheme::Butterfly => split(level, options),
+    }
+}
+
+/// One face-splitting refinement of `level` (Catmull-Clark, or the 1-to-4 triangle split of
+/// Loop and the butterfly): the child level (vertices numbered as OpenSubdiv's uniform
 /// refinement numbers them — children of vertices, then of faces (Catmull-Clark), then of
 /// edges; child faces face by face) and the stencils giving each child vertex from the
 /// parent's vertices.
-pub fn refine(level: &Level, options: &Options) -> Result<(Level, Stencils), GeometryError> {
+fn split(level: &Level, options: &Options) -> Result<(Level, Stencils), GeometryError> {
     let v_count = level.vertex_count as u32;
     let f_count = level.face_count() as u32;
     let e_count = level.edges.len() as u32;
