@@ -851,21 +851,63 @@ fn bench_webgl2(
     Ok(())
 }
 
-/// A subdivision cage as a scene object at `level`.
+/// A Catmull-Clark cage as a scene object at `level`.
 fn cage_object(
     name: &str,
     mesh: crate::kernel::PolygonMesh,
     level: u32,
 ) -> Result<SceneObject, crate::kernel::GeometryError> {
-    let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(mesh, level)?;
+    cage_object_with(
+        name,
+        mesh,
+        level,
+        crate::kernel::subdiv::Scheme::CatmullClark,
+    )
+}
+
+/// A cage under `scheme` as a scene object at `level`.
+fn cage_object_with(
+    name: &str,
+    mesh: crate::kernel::PolygonMesh,
+    level: u32,
+    scheme: crate::kernel::subdiv::Scheme,
+) -> Result<SceneObject, crate::kernel::GeometryError> {
+    let options = crate::kernel::subdiv::Options {
+        scheme,
+        ..Default::default()
+    };
+    let surface = crate::kernel::subdiv::SubdivisionSurface::new(
+        mesh,
+        Vec::new(),
+        Vec::new(),
+        options,
+        level,
+    )?;
     Ok(SceneObject::new(
         format!("{name} L{level}"),
         crate::scene::ObjectGeometry::Subdivision(Box::new(surface.into())),
     ))
 }
 
+/// `mesh` with each quad split along its first diagonal (other faces kept).
+fn triangulated(
+    mesh: &crate::kernel::PolygonMesh,
+) -> Result<crate::kernel::PolygonMesh, crate::kernel::GeometryError> {
+    let mut faces = Vec::with_capacity(2 * mesh.face_count());
+    for face in mesh.faces() {
+        if let [a, b, c, d] = *face {
+            faces.push(vec![a, b, c]);
+            faces.push(vec![a, c, d]);
+        } else {
+            faces.push(face.to_vec());
+        }
+    }
+    crate::kernel::PolygonMesh::new(mesh.points().to_vec(), &faces)
+}
+
 /// Subdivision: the 48 × 32 torus cage at levels 3 and 4 and a 100,000-face torus at level 2
-/// (regular quads: bicubic patches), the cube at level 5 (every face irregular: limit stencils)
+/// (regular quads: bicubic patches), the cube at level 5 (every face irregular: limit stencils),
+/// tori under Doo-Sabin, √3 and the butterfly (split into triangles for these two)
 /// through the editor's path (table build = the object's feed; full pass; drag latency), and
 /// the torus at level 4 with every face as stencils: table build, bytes per refined vertex and
 /// one full stencil pass.
@@ -903,6 +945,42 @@ fn bench_subdivision(
         iterations,
         out,
     )?;
+
+    // The other schemes, every face through limit stencils: Doo-Sabin and √3 (one stencil
+    // patch per polygon, at most 65,535) on a 24 × 16 torus, quads and split into triangles;
+    // the butterfly (a grid per cage triangle) on the 48 × 32 one split into triangles.
+    use crate::kernel::subdiv::Scheme;
+    let small = cages::torus(DVec3::ZERO, 2.0, 0.6, 24, 16)?;
+    let small_triangles = triangulated(&small)?;
+    let triangles = triangulated(&torus)?;
+    for (name, mesh, scheme, level) in [
+        ("24x16 torus Doo-Sabin", &small, Scheme::DooSabin, 2),
+        ("24x16 torus Doo-Sabin", &small, Scheme::DooSabin, 3),
+        ("24x16 tri torus √3", &small_triangles, Scheme::Sqrt3, 3),
+        ("24x16 tri torus √3", &small_triangles, Scheme::Sqrt3, 4),
+        (
+            "48x32 tri torus butterfly",
+            &triangles,
+            Scheme::Butterfly,
+            2,
+        ),
+        (
+            "48x32 tri torus butterfly",
+            &triangles,
+            Scheme::Butterfly,
+            3,
+        ),
+    ] {
+        let start = Instant::now();
+        let object = cage_object_with(name, mesh.clone(), level, scheme)?;
+        object.decompose()?;
+        let build_ms = start.elapsed().as_secs_f64() * 1e3;
+        writeln!(
+            out,
+            "{name} L{level}: stencil tables built in {build_ms:.1} ms"
+        )?;
+        bench_object(context, object, 200, iterations, out)?;
+    }
 
     for level in [3, 4] {
         let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(torus.clone(), level)?;

@@ -66,6 +66,9 @@ mod cli {
         /// `t corner 1/1/0 V S` are read) or a project (its first subdivision surface or polygon
         /// mesh). Writes OUT.obj with the refined vertices at level N (with --limit their limit
         /// positions and one `vn` limit normal per vertex) and the level's faces, 1-based.
+        /// Schemes: catmull-clark, loop, doo-sabin, sqrt3 (Kobbelt) and butterfly (modified);
+        /// Doo-Sabin's --limit writes the dual of the level (its faces' centroids, where the
+        /// limit surface is known exactly).
         Subdivide {
             input: std::path::PathBuf,
             #[arg(long, value_enum, default_value_t = SchemeArg::CatmullClark)]
@@ -130,6 +133,9 @@ mod cli {
     pub enum SchemeArg {
         CatmullClark,
         Loop,
+        DooSabin,
+        Sqrt3,
+        Butterfly,
     }
 
     #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -182,6 +188,9 @@ mod cli {
             scheme: match args.scheme {
                 SchemeArg::CatmullClark => Scheme::CatmullClark,
                 SchemeArg::Loop => Scheme::Loop,
+                SchemeArg::DooSabin => Scheme::DooSabin,
+                SchemeArg::Sqrt3 => Scheme::Sqrt3,
+                SchemeArg::Butterfly => Scheme::Butterfly,
             },
             boundary: match args.boundary {
                 BoundaryArg::EdgeOnly => Boundary::EdgeOnly,
@@ -224,18 +233,20 @@ mod cli {
         }
         .map_err(|e| e.to_string())?;
         let on_gpu = args.backend == Backend::Gpu && args.levels > 0;
-        // On the GPU the CPU gives the topology and the points on no face (their own limit).
-        let (mut positions, mut normals, level) = if args.limit && !on_gpu {
-            let limit = surface.limit(args.levels).map_err(|e| e.to_string())?;
-            (limit.positions, limit.normals, limit.level)
+        let display = if args.limit {
+            knotwork::kernel::subdiv::patches::Display::Limit
         } else {
-            let (points, level) = surface.refined(args.levels).map_err(|e| e.to_string())?;
-            let normals = if args.limit {
-                vec![glam::DVec3::ZERO; points.len()]
-            } else {
-                Vec::new()
-            };
-            (points, normals, level)
+            knotwork::kernel::subdiv::patches::Display::Refined
+        };
+        // On the GPU the CPU gives the topology and the points on no face.
+        let shown = surface
+            .display_mesh(args.levels, display)
+            .map_err(|e| e.to_string())?;
+        let mut positions = shown.positions;
+        let mut normals = if args.limit {
+            shown.normals
+        } else {
+            Vec::new()
         };
         if on_gpu {
             let context =
@@ -249,15 +260,15 @@ mod cli {
             )
             .map_err(|e| e.to_string())?;
             for (v, result) in gpu.into_iter().enumerate() {
-                if let Some((p, n, _)) = result {
-                    positions[v] = p;
-                    if args.limit {
-                        normals[v] = n;
+                if let (Some((p, n, _)), Some(slot)) = (result, positions.get_mut(v)) {
+                    *slot = p;
+                    if let Some(normal) = normals.get_mut(v) {
+                        *normal = n;
                     }
                 }
             }
         }
-        let faces: Vec<&[u32]> = level.faces().collect();
+        let faces: Vec<&[u32]> = shown.polygons.iter().map(Vec::as_slice).collect();
         let obj = knotwork::io::obj::write(&positions, &normals, &faces);
         std::fs::write(args.output, obj).map_err(|e| format!("{}: {e}", args.output.display()))?;
         Ok(format!(

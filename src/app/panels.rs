@@ -873,8 +873,24 @@ impl KnotworkApp {
             &[
                 (Scheme::CatmullClark, "Catmull-Clark"),
                 (Scheme::Loop, "Loop (triangles)"),
+                (Scheme::DooSabin, "Doo-Sabin"),
+                (Scheme::Sqrt3, "√3 Kobbelt (triangles)"),
+                (
+                    Scheme::Butterfly,
+                    "modified butterfly (triangles, interpolating)",
+                ),
             ],
         );
+        if !options.scheme.has_creases() {
+            ui.label(
+                egui::RichText::new(format!(
+                    "{} has no crease rules: creases and sharp points apply under \
+                     Catmull-Clark and Loop",
+                    options.scheme.label()
+                ))
+                .weak(),
+            );
+        }
         choice(
             ui,
             "boundary",

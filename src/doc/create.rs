@@ -28,10 +28,11 @@ pub enum Primitive {
     CageCylinder,
     CageTorus,
     CageGrid,
+    CageIcosahedron,
 }
 
 impl Primitive {
-    pub const ALL: [Primitive; 15] = [
+    pub const ALL: [Primitive; 16] = [
         Primitive::Plane,
         Primitive::Cylinder,
         Primitive::Cone,
@@ -47,6 +48,7 @@ impl Primitive {
         Primitive::CageCylinder,
         Primitive::CageTorus,
         Primitive::CageGrid,
+        Primitive::CageIcosahedron,
     ];
 
     pub fn label(self) -> &'static str {
@@ -66,6 +68,7 @@ impl Primitive {
             Primitive::CageCylinder => "Subdivision cylinder",
             Primitive::CageTorus => "Subdivision torus (48 × 32)",
             Primitive::CageGrid => "Subdivision grid (8 × 8)",
+            Primitive::CageIcosahedron => "Subdivision icosahedron (triangles, √3)",
         }
     }
 }
@@ -111,10 +114,19 @@ impl PrimitiveParams {
             Primitive::CageCylinder => Some(cages::cylinder(c, s, h, 8, 3)?),
             Primitive::CageTorus => Some(cages::torus(c, s, s * r, 48, 32)?),
             Primitive::CageGrid => Some(cages::grid(c, s, 8)?),
+            Primitive::CageIcosahedron => Some(cages::icosahedron(c, s)?),
             _ => None,
         };
         if let Some(mesh) = cage {
-            let surface = SubdivisionSurface::from_mesh(mesh, DEFAULT_CAGE_LEVEL)?;
+            let surface = if self.kind == Primitive::CageIcosahedron {
+                let options = crate::kernel::subdiv::Options {
+                    scheme: crate::kernel::subdiv::Scheme::Sqrt3,
+                    ..Default::default()
+                };
+                SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, DEFAULT_CAGE_LEVEL)?
+            } else {
+                SubdivisionSurface::from_mesh(mesh, DEFAULT_CAGE_LEVEL)?
+            };
             let name = self.kind.label().split(" (").next().unwrap_or("Cage");
             return Ok(SceneObject::new(
                 name,
@@ -203,7 +215,8 @@ impl PrimitiveParams {
             Primitive::CageCube
             | Primitive::CageCylinder
             | Primitive::CageTorus
-            | Primitive::CageGrid => {
+            | Primitive::CageGrid
+            | Primitive::CageIcosahedron => {
                 return Err(GeometryError::Construction {
                     what: "cage",
                     message: "built above".into(),

@@ -189,7 +189,10 @@ impl SubdivObject {
                     }
                     let first = feed.regular.len() as u32;
                     for (k, patch) in feed.patches.iter().enumerate() {
-                        face_patches[patch.cage_face as usize].push(first + k as u32);
+                        // Patches of no single face (Doo-Sabin, √3) are updated as a whole.
+                        if let Some(list) = face_patches.get_mut(patch.cage_face as usize) {
+                            list.push(first + k as u32);
+                        }
                     }
                 }
                 let mut point_faces = vec![Vec::new(); mesh.points().len()];
@@ -211,8 +214,18 @@ impl SubdivObject {
     /// the points of the faces around its corners, and where its normals come from neighbouring
     /// limit points (creases, boundaries) those of the next ring: every face within three
     /// vertex-rings of the point's faces is taken.
+    ///
+    /// The other schemes' stencils reach further (the butterfly's) or belong to no cage face
+    /// (Doo-Sabin, √3): every patch is taken.
     fn patches_near(&self, prepared: &Prepared, index: usize) -> Vec<usize> {
         let mesh = self.surface.mesh();
+        let nested = matches!(
+            self.surface.options.scheme,
+            Scheme::CatmullClark | Scheme::Loop
+        );
+        if !nested && self.surface.level() > 0 {
+            return (0..prepared.feed.regular.len() + prepared.feed.patches.len()).collect();
+        }
         let mut faces: Vec<u32> = prepared.point_faces[index].clone();
         let rings = if self.surface.level() == 0 { 0 } else { 2 };
         for _ in 0..rings {
@@ -256,9 +269,23 @@ impl SubdivObject {
         }
         let vertex = feed.vertex[slot] as usize;
         let level = self.surface.level();
-        Ok(match self.display {
-            Display::Limit => self.surface.limit(level)?.positions[vertex],
-            Display::Refined => self.surface.refined(level)?.0[vertex],
+        let position = match (self.surface.options.scheme, self.display) {
+            (Scheme::CatmullClark | Scheme::Loop, Display::Limit) => {
+                self.surface.limit(level)?.positions.get(vertex).copied()
+            }
+            (Scheme::CatmullClark | Scheme::Loop, Display::Refined) => {
+                self.surface.refined(level)?.0.get(vertex).copied()
+            }
+            _ => self
+                .surface
+                .display_mesh(level, self.display)?
+                .positions
+                .get(vertex)
+                .copied(),
+        };
+        position.ok_or(GeometryError::NoSuchPatch {
+            patch,
+            count: feed.patches.len(),
         })
     }
 }
@@ -269,10 +296,7 @@ impl ObjectKind for SubdivObject {
     }
 
     fn describe(&self) -> String {
-        let scheme = match self.surface.options.scheme {
-            Scheme::CatmullClark => "Catmull-Clark",
-            Scheme::Loop => "Loop",
-        };
+        let scheme = self.surface.options.scheme.label();
         format!(
             "{scheme} subdivision, level {}, {} faces, {} points, {} creases",
             self.surface.level(),
@@ -401,7 +425,8 @@ impl ObjectKind for SubdivObject {
         Ok(())
     }
 
-    /// The limit mesh at the surface's level (level 0: the cage), its quads split into two
+    /// The surface as displayed at its level (level 0: the cage): the limit mesh or the
+    /// refined one ([`SubdivisionSurface::display_mesh`]), polygons split into fans of
     /// triangles, with the limit normals.
     fn tessellate(
         &self,
@@ -412,16 +437,16 @@ impl ObjectKind for SubdivObject {
         if level == 0 {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
-        let limit = self.surface.limit(level)?;
+        let shown = self.surface.display_mesh(level, self.display)?;
         let mut triangles = Vec::new();
-        for face in limit.level.faces() {
+        for face in &shown.polygons {
             for k in 1..face.len() - 1 {
                 triangles.push([face[0], face[k], face[k + 1]]);
             }
         }
         Ok(vec![TriangleMesh {
-            positions: limit.positions,
-            normals: limit.normals,
+            positions: shown.positions,
+            normals: shown.normals,
             uvs: Vec::new(),
             curvatures: Vec::new(),
             triangles,
