@@ -262,27 +262,20 @@ impl SubdivObject {
     ) -> Result<DVec3, GeometryError> {
         let p = feed.patches[patch];
         let n = p.segments as f64;
-        let (i, j) = ((s * n).round() as usize, (t * n).round() as usize);
+        let nearest = |x: f64| ((x * n).round().max(0.0) as usize).min(p.segments as usize);
+        let (i, j) = (nearest(s), nearest(t));
         let mut slot = p.first_slot as usize + i * (p.segments as usize + 1) + j;
         if feed.vertex[slot] == u32::MAX {
             slot = p.first_slot as usize;
         }
         let vertex = feed.vertex[slot] as usize;
         let level = self.surface.level();
-        let position = match (self.surface.options.scheme, self.display) {
-            (Scheme::CatmullClark | Scheme::Loop, Display::Limit) => {
-                self.surface.limit(level)?.positions.get(vertex).copied()
-            }
-            (Scheme::CatmullClark | Scheme::Loop, Display::Refined) => {
-                self.surface.refined(level)?.0.get(vertex).copied()
-            }
-            _ => self
-                .surface
-                .display_mesh(level, self.display)?
-                .positions
-                .get(vertex)
-                .copied(),
-        };
+        let position = self
+            .surface
+            .display_mesh(level, self.display)?
+            .positions
+            .get(vertex)
+            .copied();
         position.ok_or(GeometryError::NoSuchPatch {
             patch,
             count: feed.patches.len(),

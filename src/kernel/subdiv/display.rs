@@ -41,27 +41,53 @@ pub fn display_rows(level: &Level, scheme: Scheme, display: Display) -> DisplayR
     if scheme == Scheme::DooSabin && display == Display::Limit {
         return doo_sabin_limit_rows(level);
     }
-    let limit: Vec<std::cell::OnceCell<Row>> = (0..level.vertex_count)
-        .map(|_| Default::default())
-        .collect();
-    let limit_row = |u: u32| {
-        limit[u as usize]
-            .get_or_init(|| limit_position(level, scheme, u))
-            .clone()
-    };
+    let vertex_rows = VertexRows::new(level, scheme, display);
     let rows = (0..level.vertex_count as u32)
-        .map(|v| {
-            let position = match display {
-                Display::Limit => limit_row(v),
-                Display::Refined => Row(vec![(v, 1.0)]),
-            };
-            let [t1, t2] = limit_tangents(level, scheme, v, &limit_row);
-            [position, t1, t2]
-        })
+        .map(|v| vertex_rows.rows(v))
         .collect();
     DisplayRows {
         rows,
         polygons: level.faces().map(<[u32]>::to_vec).collect(),
+    }
+}
+
+/// Each vertex's display rows on one level: position (limit or refined) and the limit
+/// tangents, with every limit row computed once (neighbouring vertices' tangents read the same
+/// ones).
+pub struct VertexRows<'a> {
+    level: &'a Level,
+    scheme: Scheme,
+    display: Display,
+    limit: Vec<std::cell::OnceCell<Row>>,
+}
+
+impl<'a> VertexRows<'a> {
+    pub fn new(level: &'a Level, scheme: Scheme, display: Display) -> Self {
+        Self {
+            level,
+            scheme,
+            display,
+            limit: (0..level.vertex_count)
+                .map(|_| Default::default())
+                .collect(),
+        }
+    }
+
+    fn limit(&self, u: u32) -> Row {
+        self.limit[u as usize]
+            .get_or_init(|| limit_position(self.level, self.scheme, u))
+            .clone()
+    }
+
+    /// Vertex `v`'s position ([`limit_position`] or where refinement put it) and two limit
+    /// tangents ([`limit_tangents`]) whose cross product is the outward normal.
+    pub fn rows(&self, v: u32) -> [Row; 3] {
+        let position = match self.display {
+            Display::Limit => self.limit(v),
+            Display::Refined => Row(vec![(v, 1.0)]),
+        };
+        let [t1, t2] = limit_tangents(self.level, self.scheme, v, &|u| self.limit(u));
+        [position, t1, t2]
     }
 }
 
@@ -146,7 +172,7 @@ impl DisplayRows {
 
 impl SubdivisionSurface {
     /// The surface at level `levels` as `display` shows it, in f64: Catmull-Clark and Loop
-    /// from [`Self::limit`] (limit) or [`Self::refined`] with the limit normals (refined); the
+    /// from [`Self::limit`] (its limit or refined points, with the limit normals); the
     /// other schemes from [`display_rows`] on the refined level.
     pub fn display_mesh(
         &self,
@@ -159,7 +185,7 @@ impl SubdivisionSurface {
             let polygons = limit.level.faces().map(<[u32]>::to_vec).collect();
             let positions = match display {
                 Display::Limit => limit.positions,
-                Display::Refined => self.refined(levels)?.0,
+                Display::Refined => limit.refined,
             };
             return Ok(DisplayMesh {
                 positions,

@@ -340,7 +340,13 @@ impl SubdivisionSurface {
     pub fn limit(&self, levels: u32) -> Result<LimitMesh, GeometryError> {
         let mut hierarchy = self.hierarchy(levels)?;
         hierarchy.ensure_quads()?;
-        let points = hierarchy.refine_points(self.points());
+        // The level's refined points, and those of the level the masks run on (one further
+        // where Catmull-Clark needed quads).
+        let refined = hierarchy.refine_points_to(self.points(), levels as usize);
+        let points = match hierarchy.stencils.get(levels as usize) {
+            Some(stencils) => stencils.apply(&refined),
+            None => refined.clone(),
+        };
         let last = hierarchy.levels.len() - 1;
         let level = &hierarchy.levels[last];
         let scheme = self.options.scheme;
@@ -361,6 +367,7 @@ impl SubdivisionSurface {
         Ok(LimitMesh {
             positions: positions[..count].to_vec(),
             normals,
+            refined,
             level: hierarchy.levels.swap_remove(levels as usize),
         })
     }
@@ -371,6 +378,8 @@ impl SubdivisionSurface {
 pub struct LimitMesh {
     pub positions: Vec<DVec3>,
     pub normals: Vec<DVec3>,
+    /// The level's points where refinement put them.
+    pub refined: Vec<DVec3>,
     pub level: Level,
 }
 
@@ -417,8 +426,13 @@ impl Hierarchy {
 
     /// The cage points `cage` carried through every level: the last level's points.
     pub fn refine_points(&self, cage: &[DVec3]) -> Vec<DVec3> {
+        self.refine_points_to(cage, self.stencils.len())
+    }
+
+    /// The cage points `cage` carried to level `level` (at most the last).
+    pub fn refine_points_to(&self, cage: &[DVec3], level: usize) -> Vec<DVec3> {
         let mut points = cage.to_vec();
-        for stencils in &self.stencils {
+        for stencils in self.stencils.iter().take(level) {
             points = stencils.apply(&points);
         }
         points

@@ -3,9 +3,9 @@
 //! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
 //! regular vertices) second derivatives as weighted sums of cage points.
 
-use super::display::{DisplayRows, display_rows};
+use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
-use super::limit::{is_regular, limit_position, limit_tangents, regular_derivatives};
+use super::limit::{is_regular, regular_derivatives};
 use super::stencil::Row;
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::kernel::GeometryError;
@@ -372,20 +372,7 @@ impl SubdivisionSurface {
             }
         }
         // Rows over level-k vertices per slot.
-        // Each level vertex's limit row, computed once: the tangents of neighbouring slots
-        // read the same ones.
-        let limit_rows: Vec<std::cell::OnceCell<Row>> = (0..level.vertex_count)
-            .map(|_| Default::default())
-            .collect();
-        let limit_row = |u: u32| {
-            limit_rows[u as usize]
-                .get_or_init(|| limit_position(level, scheme, u))
-                .clone()
-        };
-        let position_row = |v: u32| match display {
-            Display::Limit => limit_row(v),
-            Display::Refined => Row(vec![(v, 1.0)]),
-        };
+        let vertex_rows = VertexRows::new(level, scheme, display);
         let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
         for (patch, grid) in &mut grids {
             patch.first_slot = slot_rows.len() as u32;
@@ -426,18 +413,9 @@ impl SubdivisionSurface {
                             (scaled, false)
                         }
                         None => {
-                            let [t1, t2] = limit_tangents(level, scheme, v, &limit_row);
-                            (
-                                [
-                                    position_row(v),
-                                    t1,
-                                    t2,
-                                    Row::default(),
-                                    Row::default(),
-                                    Row::default(),
-                                ],
-                                true,
-                            )
+                            let [p, t1, t2] = vertex_rows.rows(v);
+                            let none = Row::default;
+                            ([p, t1, t2, none(), none(), none()], true)
                         }
                     };
                     slot_rows.push(Some(rows));

@@ -140,7 +140,7 @@ fn rule_row(level: &Level, scheme: Scheme, v: u32, rule: Rule, sharpness: &[f64]
 /// blended with the child's rule where sharpness runs out in this step by the mean of the
 /// sharpness values that make the transition (`Crease::ComputeFractionalWeightAtVertex`).
 fn vertex_row(level: &Level, options: &Options, v: u32) -> Row {
-    if level.vertex_faces(v).is_empty() || options.scheme == Scheme::Butterfly {
+    if level.vertex_faces(v).is_empty() {
         return Row(vec![(v, 1.0)]);
     }
     let edges = level.vertex_edges(v);
@@ -201,9 +201,6 @@ fn edge_row(level: &Level, options: &Options, e: u32) -> Row {
     let midpoint = Row(vec![(a, 0.5), (b, 0.5)]);
     let [f0, f1] = level.edge_faces[e as usize];
     let s = level.edge_sharpness[e as usize];
-    if options.scheme == Scheme::Butterfly {
-        return butterfly_edge_row(level, e);
-    }
     if f1 == NONE || f0 == NONE {
         return midpoint;
     }
@@ -270,9 +267,15 @@ fn split(level: &Level, options: &Options) -> Result<(Level, Stencils), Geometry
         }
     };
 
+    // The butterfly interpolates: old points stay, edge points take its own masks.
+    let butterfly = options.scheme == Scheme::Butterfly;
     let mut stencils = Stencils::new();
     for v in 0..v_count {
-        stencils.push(vertex_row(level, options, v));
+        stencils.push(if butterfly {
+            Row(vec![(v, 1.0)])
+        } else {
+            vertex_row(level, options, v)
+        });
     }
     if catmull {
         for f in 0..f_count {
@@ -282,7 +285,11 @@ fn split(level: &Level, options: &Options) -> Result<(Level, Stencils), Geometry
         }
     }
     for e in 0..e_count {
-        stencils.push(edge_row(level, options, e));
+        stencils.push(if butterfly {
+            butterfly_edge_row(level, e)
+        } else {
+            edge_row(level, options, e)
+        });
     }
 
     let mut faces: Vec<Vec<u32>> = Vec::new();

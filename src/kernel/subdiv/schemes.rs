@@ -96,6 +96,18 @@ pub fn directed_ends(level: &Level, e: u32) -> [u32; 2] {
     }
 }
 
+/// Boundary edge `e`'s ends in the boundary's direction with the boundary vertex before and
+/// after them: [x₋, x, y, y₊], the support of a curve rule along the boundary.
+fn boundary_run(level: &Level, e: u32) -> [u32; 4] {
+    let [x, y] = directed_ends(level, e);
+    [
+        boundary_neighbours(level, x)[1],
+        x,
+        y,
+        boundary_neighbours(level, y)[0],
+    ]
+}
+
 /// The corner index of `v` in face `f`.
 fn corner_index(level: &Level, f: u32, v: u32) -> usize {
     level.face(f).iter().position(|&x| x == v).unwrap_or(0)
@@ -229,9 +241,7 @@ pub fn sqrt3(level: &Level, refine_boundary: bool) -> Result<(Level, Stencils), 
             if !level.is_boundary_edge(e) {
                 continue;
             }
-            let [x, y] = directed_ends(level, e);
-            let before_x = boundary_neighbours(level, x)[1];
-            let after_y = boundary_neighbours(level, y)[0];
+            let [before_x, x, y, after_y] = boundary_run(level, e);
             ternary_start[e as usize] = stencils.len() as u32;
             stencils.push(Row(vec![
                 (before_x, 1.0 / 27.0),
@@ -266,46 +276,45 @@ pub fn sqrt3(level: &Level, refine_boundary: bool) -> Result<(Level, Stencils), 
     Ok((child, stencils))
 }
 
-fn sqrt3_vertex_row(level: &Level, v: u32, refine_boundary: bool) -> Row {
+/// `v` blended with the mean of its ring: (1 − w) v + w/n Σ eⱼ, with w = `weight(n)`.
+fn ring_mean_row(level: &Level, v: u32, weight: fn(usize) -> f64) -> Row {
     let edges = level.vertex_edges(v);
-    if level.vertex_faces(v).is_empty() {
-        return Row(vec![(v, 1.0)]);
-    }
-    if is_boundary_vertex(level, v) {
-        if !refine_boundary {
-            return Row(vec![(v, 1.0)]);
-        }
-        let [a, b] = boundary_neighbours(level, v);
-        return Row(vec![(v, 19.0 / 27.0), (a, 4.0 / 27.0), (b, 4.0 / 27.0)]);
-    }
     let n = edges.len();
-    let alpha = sqrt3_alpha(n);
-    let mut row = Row(vec![(v, 1.0 - alpha)]);
+    let w = weight(n);
+    let mut row = Row(vec![(v, 1.0 - w)]);
     for &e in edges {
-        row.add(level.other_end(e, v), alpha / n as f64);
+        row.add(level.other_end(e, v), w / n as f64);
     }
     row
+}
+
+/// `v` and its two boundary neighbours with weights `[side, centre, side]`.
+fn boundary_row(level: &Level, v: u32, [side, centre]: [f64; 2]) -> Row {
+    let [a, b] = boundary_neighbours(level, v);
+    Row(vec![(v, centre), (a, side), (b, side)]).merged()
+}
+
+fn sqrt3_vertex_row(level: &Level, v: u32, refine_boundary: bool) -> Row {
+    if level.vertex_faces(v).is_empty() || (is_boundary_vertex(level, v) && !refine_boundary) {
+        Row(vec![(v, 1.0)])
+    } else if is_boundary_vertex(level, v) {
+        boundary_row(level, v, [4.0 / 27.0, 19.0 / 27.0])
+    } else {
+        ring_mean_row(level, v, sqrt3_alpha)
+    }
 }
 
 /// The √3 limit position of `v`: interior (1 − β∞) v + β∞/n Σ eⱼ ([`sqrt3_limit_beta`]);
 /// boundary (a + 4v + b)/6 over its boundary neighbours, the cubic B-spline's, since the
 /// boundary polygon is refined by the ternary cubic B-spline rule alone.
 pub fn sqrt3_limit_position(level: &Level, v: u32) -> Row {
-    let edges = level.vertex_edges(v);
     if level.vertex_faces(v).is_empty() {
-        return Row(vec![(v, 1.0)]);
+        Row(vec![(v, 1.0)])
+    } else if is_boundary_vertex(level, v) {
+        boundary_row(level, v, [1.0 / 6.0, 4.0 / 6.0])
+    } else {
+        ring_mean_row(level, v, sqrt3_limit_beta)
     }
-    if is_boundary_vertex(level, v) {
-        let [a, b] = boundary_neighbours(level, v);
-        return Row(vec![(v, 4.0 / 6.0), (a, 1.0 / 6.0), (b, 1.0 / 6.0)]).merged();
-    }
-    let n = edges.len();
-    let beta = sqrt3_limit_beta(n);
-    let mut row = Row(vec![(v, 1.0 - beta)]);
-    for &e in edges {
-        row.add(level.other_end(e, v), beta / n as f64);
-    }
-    row
 }
 
 /// The vertex across edge (a, b) from triangle `f`: the far corner of the edge's other face.
@@ -339,9 +348,7 @@ pub fn butterfly_edge_row(level: &Level, e: u32) -> Row {
     let [a, b] = level.edges[e as usize];
     let [f0, f1] = level.edge_faces[e as usize];
     if f1 == NONE {
-        let [x, y] = directed_ends(level, e);
-        let before_x = boundary_neighbours(level, x)[1];
-        let after_y = boundary_neighbours(level, y)[0];
+        let [before_x, x, y, after_y] = boundary_run(level, e);
         return Row(vec![
             (before_x, -1.0 / 16.0),
             (x, 9.0 / 16.0),
