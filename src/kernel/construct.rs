@@ -1,6 +1,7 @@
 //! Constructors of exact NURBS curves and surfaces: lines, polylines, circular arcs, curve
 //! interpolation; planes, cylinders, cones, spheres, tori, surfaces of revolution, extrusions,
-//! ruled surfaces, lofts, Coons patches and sweeps.
+//! ruled surfaces, lofts, Coons patches and sweeps (the other transfinite surfaces — Hermite,
+//! bicubically blended Coons and Gordon — are in [`super::transfinite`]).
 //!
 //! Circles are the exact rational quadratic form of The NURBS Book, A7.1 "MakeNurbsCircle"
 //! (at most 90° per segment, middle weights cos(Δθ/2)); revolution is A8.1 "MakeRevolvedSurf".
@@ -15,10 +16,10 @@ use super::basis::{basis_functions, find_span, uniform_clamped_knots};
 use super::curve::{NurbsCurve, SpaceCurve};
 use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
-use super::surface::{Direction, NurbsSurface};
+use super::surface::NurbsSurface;
 use super::vector::{CurvePoint, Vector};
 
-fn construction(what: &'static str, message: impl Into<String>) -> GeometryError {
+pub(super) fn construction(what: &'static str, message: impl Into<String>) -> GeometryError {
     GeometryError::Construction {
         what,
         message: message.into(),
@@ -159,7 +160,7 @@ fn chord_length_parameters<V: Vector>(
 }
 
 /// Knots by averaging the parameters (The NURBS Book, eq. 9.8), clamped on [0, 1].
-fn averaged_knots(params: &[f64], degree: usize) -> Vec<f64> {
+pub(super) fn averaged_knots(params: &[f64], degree: usize) -> Vec<f64> {
     let n = params.len() - 1;
     let mut knots = vec![0.0; degree + 1];
     for j in 1..=n - degree {
@@ -172,7 +173,7 @@ fn averaged_knots(params: &[f64], degree: usize) -> Vec<f64> {
 /// Control points of the degree-`degree` B-spline over `knots` that passes through `points`
 /// at `params` (The NURBS Book, A9.1 "GlobalCurveInterp"): the collocation system
 /// Σ N_{j,p}(t_k) P_j = Q_k, solved by Gaussian elimination with partial pivoting.
-fn interpolate_points<V: Vector>(
+pub(super) fn interpolate_points<V: Vector>(
     points: &[V],
     params: &[f64],
     degree: usize,
@@ -505,15 +506,30 @@ pub fn loft(sections: &[SpaceCurve], degree_v: usize) -> Result<NurbsSurface, Ge
             }
         }
     }
-    let knots_v = averaged_knots(&params, q);
+    skin(&polys, &params, q, "loft")
+}
+
+/// The surface that interpolates compatible sections (homogeneous control polygons with one
+/// degree and knot vector, along u) at `params` in v with degree `degree_v` over averaged knots
+/// (The NURBS Book §10.3, A9.1 per column of control points): section k is reproduced exactly
+/// at v = params[k].
+pub(super) fn skin(
+    polys: &[Polygon<DVec4>],
+    params: &[f64],
+    degree_v: usize,
+    what: &'static str,
+) -> Result<NurbsSurface, GeometryError> {
+    let n = polys[0].points.len();
+    let k = polys.len();
+    let knots_v = averaged_knots(params, degree_v);
     let mut points = vec![DVec4::ZERO; n * k];
     for i in 0..n {
         let column: Vec<DVec4> = polys.iter().map(|p| p.points[i]).collect();
-        let control = interpolate_points(&column, &params, q, &knots_v, "loft")?;
+        let control = interpolate_points(&column, params, degree_v, &knots_v, what)?;
         for (j, h) in control.into_iter().enumerate() {
             if !(h.w > 0.0) {
                 return Err(construction(
-                    "loft",
+                    what,
                     "the interpolated weights are not all positive; use sections with equal weights",
                 ));
             }
@@ -521,7 +537,7 @@ pub fn loft(sections: &[SpaceCurve], degree_v: usize) -> Result<NurbsSurface, Ge
         }
     }
     NurbsSurface::from_homogeneous(
-        [polys[0].degree, q],
+        [polys[0].degree, degree_v],
         [polys[0].knots.clone(), knots_v],
         [n, k],
         points,
@@ -542,94 +558,11 @@ pub fn coons(
     left: &SpaceCurve,
     right: &SpaceCurve,
 ) -> Result<NurbsSurface, GeometryError> {
-    let curves = [bottom, top, left, right];
-    if curves.iter().any(|c| !c.is_polynomial()) {
-        return Err(construction(
-            "coons",
-            "the boundary curves must be non-rational (all weights 1)",
-        ));
-    }
-    let end = |c: &SpaceCurve, at_end: bool| -> Result<DVec3, GeometryError> {
-        let (a, b) = c.domain();
-        c.point_at(if at_end { b } else { a })
-    };
-    let corners = [
-        (
-            end(bottom, false)?,
-            end(left, false)?,
-            "bottom start and left start",
-        ),
-        (
-            end(bottom, true)?,
-            end(right, false)?,
-            "bottom end and right start",
-        ),
-        (end(top, false)?, end(left, true)?, "top start and left end"),
-        (end(top, true)?, end(right, true)?, "top end and right end"),
-    ];
-    let scale = curves
-        .iter()
-        .flat_map(|c| (0..c.count()).map(|i| c.control_point(i).length()))
-        .fold(1.0f64, f64::max);
-    for (a, b, name) in corners {
-        if a.distance(b) > 1e-9 * scale {
-            return Err(construction(
-                "coons",
-                format!(
-                    "the corners do not meet: {name} differ by {}",
-                    a.distance(b)
-                ),
-            ));
-        }
-    }
+    let corners = super::transfinite::meeting_corners([bottom, top, left, right], "coons")?;
     let rv = ruled(bottom, top)?; // degree (p, 1), u along bottom/top
     let ru = ruled(left, right)?.swap_uv(); // degree (1, q), v along left/right
-    let corner = bilinear(corners[0].0, corners[1].0, corners[2].0, corners[3].0)?;
-    let [p, _] = rv.degree();
-    let [_, q] = ru.degree();
-    let target_u = rv.knots()[0].to_vec();
-    let target_v = ru.knots()[1].to_vec();
-    let conform = |s: NurbsSurface| -> Result<NurbsSurface, GeometryError> {
-        let [dp, dq] = s.degree();
-        let mut s = s
-            .elevate_degree(Direction::U, p - dp)?
-            .elevate_degree(Direction::V, q - dq)?;
-        for (direction, target) in [(Direction::U, &target_u), (Direction::V, &target_v)] {
-            let have = s.knots()[direction.index()].to_vec();
-            let missing = missing_knots(&have, target);
-            s = s.refine(direction, &missing)?;
-        }
-        Ok(s)
-    };
-    let (rv, ru, corner) = (conform(rv)?, conform(ru)?, conform(corner)?);
-    if rv.count() != ru.count() || rv.count() != corner.count() {
-        return Err(construction(
-            "coons",
-            "the blended surfaces did not become compatible",
-        ));
-    }
-    let points = rv
-        .homogeneous_points()
-        .iter()
-        .zip(ru.homogeneous_points())
-        .zip(corner.homogeneous_points())
-        .map(|((a, b), c)| (a.truncate() + b.truncate() - c.truncate()).extend(1.0))
-        .collect();
-    NurbsSurface::from_homogeneous([p, q], [target_u, target_v], rv.count(), points)
-}
-
-/// The knots of `target` that `have` lacks (as a multiset); both sorted.
-fn missing_knots(have: &[f64], target: &[f64]) -> Vec<f64> {
-    let mut missing = Vec::new();
-    let mut i = 0;
-    for &t in target {
-        if i < have.len() && (have[i] - t).abs() <= 1e-14 {
-            i += 1;
-        } else {
-            missing.push(t);
-        }
-    }
-    missing
+    let corner = bilinear(corners[0], corners[1], corners[2], corners[3])?;
+    super::transfinite::boolean_sum(&[rv, ru], &[corner], "coons")
 }
 
 /// A sweep of `profile` along `rail` with a rotation-minimizing frame (double reflection,

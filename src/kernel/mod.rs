@@ -17,6 +17,7 @@ pub mod samples;
 pub mod subdiv;
 pub mod surface;
 pub mod tess;
+pub mod transfinite;
 pub mod trim;
 pub mod vector;
 

@@ -10,7 +10,8 @@ use glam::{DAffine3, DVec3, DVec4};
 use super::basis::{MAX_DEGREE, basis_derivatives_into, domain, find_span, validate_knots};
 use super::bezier::{BezierPatch, BezierPatchSet};
 use super::curve::{
-    check_insertion, check_interior, check_point, check_refinement, homogeneous_tolerance,
+    NurbsCurve, SpaceCurve, check_insertion, check_interior, check_point, check_refinement,
+    homogeneous_tolerance,
 };
 use super::diffgeo::{
     CURVATURE_NUDGE, Curvature, CurvatureValues, DEGENERATE_SIN2, FundamentalForms, NORMAL_NUDGE,
@@ -270,6 +271,63 @@ impl NurbsSurface {
     pub fn evaluate(&self, u: f64, v: f64) -> Result<SurfaceDerivatives, GeometryError> {
         self.check_parameters(u, v)?;
         Ok(rational_derivatives(&self.homogeneous_derivatives(u, v)))
+    }
+
+    /// The isoparametric curve `direction` = `value` (order 0), or for a non-rational surface
+    /// the curve of its `order`-th partial derivative across it (order 1: ∂S/∂u along u = value
+    /// for [`Direction::U`]): the control points of each row across `direction` blended by the
+    /// basis functions (or their derivatives, A2.3) at `value`. Exact; the curve runs along the
+    /// other direction with its degree and knots.
+    pub fn isocurve(
+        &self,
+        direction: Direction,
+        value: f64,
+        order: usize,
+    ) -> Result<SpaceCurve, GeometryError> {
+        let d = direction.index();
+        let (lo, hi) = self.domain()[d];
+        if !(value >= lo && value <= hi) {
+            return Err(GeometryError::OutsideDomain {
+                parameter: direction.name(),
+                value,
+                start: lo,
+                end: hi,
+            });
+        }
+        if order > 0 && !self.is_polynomial() {
+            return Err(GeometryError::Construction {
+                what: "cross derivative",
+                message: "a rational surface's derivative along a curve is not a NURBS curve \
+                          of this form"
+                    .into(),
+            });
+        }
+        // Σ N_i = 1, so a non-rational surface's curves have weight 1 (exactly, not rounded).
+        let polynomial = self.is_polynomial();
+        let (p, count) = (self.degree[d], self.count[d]);
+        let knots = &self.knots[d];
+        let span = find_span(knots, p, count, value);
+        let mut basis = vec![0.0; (order + 1) * (p + 1)];
+        basis_derivatives_into(knots, p, span, value, order, &mut basis);
+        let weights = &basis[order * (p + 1)..];
+        let other = 1 - d;
+        let at = |i: usize, j: usize| {
+            let (a, b) = if d == 0 { (i, j) } else { (j, i) };
+            self.points[a * self.count[1] + b]
+        };
+        let points: Vec<DVec4> = (0..self.count[other])
+            .map(|j| {
+                let mut h = DVec4::ZERO;
+                for (k, &w) in weights.iter().enumerate() {
+                    h += at(span - p + k, j) * w;
+                }
+                if polynomial {
+                    h.w = 1.0;
+                }
+                h
+            })
+            .collect();
+        NurbsCurve::from_homogeneous(self.degree[other], self.knots[other].clone(), points)
     }
 
     /// The point S(u, v).
