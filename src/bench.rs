@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 9] = [
+pub const GROUPS: [&str; 10] = [
     "edit",
     "webgl2",
     "frame",
@@ -403,6 +403,7 @@ pub const GROUPS: [&str; 9] = [
     "subdivision",
     "trim",
     "analysis",
+    "construct",
     "all",
 ];
 
@@ -440,6 +441,61 @@ pub fn run(
     }
     if wants("webgl2") {
         bench_webgl2(context, &scene, iterations, out)?;
+    }
+    if wants("construct") {
+        bench_construct(iterations, out)?;
+    }
+    Ok(())
+}
+
+/// The transfinite constructions on the CPU (f64): Gordon surfaces through networks of
+/// isoparametric curves of the 32 × 32 bicubic landscape (n × n curves), and the Create
+/// dialog's Gordon, bicubic Coons and Hermite examples.
+fn bench_construct(
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::doc::create::{Primitive, PrimitiveParams};
+    use crate::kernel::{Direction, transfinite};
+    let ObjectGeometry::Nurbs(land) = large_bspline()?.geometry else {
+        return Err("the landscape is a NURBS surface".into());
+    };
+    for n in [4usize, 8, 16] {
+        let at = |k: usize| k as f64 / (n - 1) as f64;
+        let u_curves = (0..n)
+            .map(|k| land.isocurve(Direction::V, at(k), 0))
+            .collect::<Result<Vec<_>, _>>()?;
+        let v_curves = (0..n)
+            .map(|k| land.isocurve(Direction::U, at(k), 0))
+            .collect::<Result<Vec<_>, _>>()?;
+        let (ms, surface) = median_ms(iterations.clamp(1, 5), || {
+            transfinite::gordon(&u_curves, &v_curves, 3)
+        })?;
+        let [cu, cv] = surface.count();
+        writeln!(
+            out,
+            "construct Gordon, {n:>2} × {n:<2} curves of 32 points | {cu} × {cv} control points | {ms:8.2} ms"
+        )?;
+    }
+    for kind in [
+        Primitive::Gordon,
+        Primitive::BicubicCoons,
+        Primitive::Hermite,
+    ] {
+        let params = PrimitiveParams {
+            kind,
+            ..Default::default()
+        };
+        let (ms, object) = median_ms(iterations.clamp(1, 5), || params.build())?;
+        let net = match &object.geometry {
+            ObjectGeometry::Nurbs(s) => format!("{} × {}", s.count()[0], s.count()[1]),
+            _ => String::from("-"),
+        };
+        writeln!(
+            out,
+            "construct {:<45} | {net:>7} control points | {ms:8.3} ms",
+            kind.label()
+        )?;
     }
     Ok(())
 }

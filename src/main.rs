@@ -39,6 +39,18 @@ mod cli {
             #[arg(long, value_enum, default_value_t = Backend::Cpu)]
             backend: Backend,
         },
+        /// Build a surface from curves or corner data: reads {"construct": "gordon", "u_curves":
+        /// [...], "v_curves": [...], "degree": 3}, {"construct": "coons", "bottom", "top",
+        /// "left", "right" (and "cross" for the bicubically blended patch)} or {"construct":
+        /// "hermite", "points", "su", "sv", "twist"} (curves as nurbs_curve objects) and prints
+        /// the exact NURBS surface as a nurbs_surface object, or writes it as a knotwork file.
+        Construct {
+            /// The request file, or - for standard input.
+            request: String,
+            /// A knotwork JSON file to write instead of printing (the editor opens it).
+            #[arg(short, long)]
+            output: Option<std::path::PathBuf>,
+        },
         /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf or an .obj) as
         /// glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it. The project is embedded,
         /// so knotwork can open the export again. Without --tolerance or --segments the tolerance
@@ -452,8 +464,9 @@ mod cli {
     }
 
     /// Runs `knotwork eval`: exit code 0 with the results on stdout, 1 with the error on stderr.
-    pub fn eval(path: &str, backend: Backend) -> ExitCode {
-        let text = if path == "-" {
+    /// A request file's text, or standard input's for `-`.
+    fn read_request(path: &str) -> Result<String, String> {
+        if path == "-" {
             let mut text = String::new();
             std::io::stdin()
                 .read_to_string(&mut text)
@@ -461,8 +474,11 @@ mod cli {
                 .map_err(|e| format!("cannot read standard input: {e}"))
         } else {
             std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))
-        };
-        let text = match text {
+        }
+    }
+
+    pub fn eval(path: &str, backend: Backend) -> ExitCode {
+        let text = match read_request(path) {
             Ok(text) => text,
             Err(message) => {
                 eprintln!("knotwork eval: {message}");
@@ -480,6 +496,37 @@ mod cli {
             }
             Err(e) => {
                 eprintln!("knotwork eval: {e}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+
+    /// Runs `knotwork construct`: the surface as JSON on standard output, or a knotwork file
+    /// at `output` (which the editor opens).
+    pub fn construct(path: &str, output: Option<&std::path::Path>) -> ExitCode {
+        let result = read_request(path).and_then(|text| {
+            let (surface, name) =
+                knotwork::io::construct::build(&text).map_err(|e| e.to_string())?;
+            match output {
+                None => Ok(knotwork::io::construct::surface_value(surface, name).to_string()),
+                Some(out) => {
+                    let objects = [knotwork::io::json::NamedGeometry {
+                        name: Some(name.to_string()),
+                        geometry: knotwork::io::json::Geometry::Surface(surface),
+                    }];
+                    std::fs::write(out, knotwork::io::json::write(&objects))
+                        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+                    Ok(format!("wrote {} ({name})", out.display()))
+                }
+            }
+        });
+        match result {
+            Ok(text) => {
+                println!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("knotwork construct: {e}");
                 ExitCode::FAILURE
             }
         }
@@ -524,6 +571,9 @@ fn main() -> std::process::ExitCode {
     match &cli.command {
         Some(cli::Command::Eval { request, backend }) => return cli::eval(request, *backend),
         Some(cli::Command::Bench { iterations, only }) => return cli::bench(*iterations, only),
+        Some(cli::Command::Construct { request, output }) => {
+            return cli::construct(request, output.as_deref());
+        }
         Some(cli::Command::Subdivide {
             input,
             scheme,

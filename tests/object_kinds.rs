@@ -318,3 +318,25 @@ fn every_object_kind_conforms() {
         conforms(&context, object);
     }
 }
+
+/// The transfinite surfaces of the Create dialog (Gordon, bicubic Coons, Hermite) are NURBS
+/// objects and pass the same checks: GPU, drag, undo, save, export.
+#[test]
+fn created_transfinite_surfaces_conform() {
+    use knotwork::doc::create::{Primitive, PrimitiveParams};
+    let context = common::gpu();
+    for kind in [
+        Primitive::Gordon,
+        Primitive::BicubicCoons,
+        Primitive::Hermite,
+    ] {
+        let mut object = PrimitiveParams {
+            kind,
+            ..Default::default()
+        }
+        .build()
+        .unwrap();
+        object.segments = 5;
+        conforms(&context, object);
+    }
+}

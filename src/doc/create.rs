@@ -1,13 +1,14 @@
 //! New objects from the kernel's constructors, with the few parameters the Create dialog asks
-//! for. Curve-based surfaces (revolve, extrude, loft, Coons, sweep) use built-in profiles
-//! scaled by the parameters.
+//! for. Curve-based surfaces (revolve, extrude, loft, Coons, Gordon, sweep) use built-in
+//! profiles scaled by the parameters.
 
 use crate::kernel::subdiv::{SubdivisionSurface, cages};
 use std::f64::consts::TAU;
 
 use glam::DVec3;
 
-use crate::kernel::{GeometryError, NurbsSurface, construct};
+use crate::kernel::transfinite::{self, HermiteData};
+use crate::kernel::{Direction, GeometryError, NurbsSurface, construct};
 use crate::scene::{ObjectGeometry, SceneObject};
 
 /// What the Create dialog can make.
@@ -22,6 +23,9 @@ pub enum Primitive {
     Extrude,
     Loft,
     Coons,
+    BicubicCoons,
+    Gordon,
+    Hermite,
     Sweep,
     BezierPatch,
     CageCube,
@@ -32,7 +36,7 @@ pub enum Primitive {
 }
 
 impl Primitive {
-    pub const ALL: [Primitive; 16] = [
+    pub const ALL: [Primitive; 19] = [
         Primitive::Plane,
         Primitive::Cylinder,
         Primitive::Cone,
@@ -42,6 +46,9 @@ impl Primitive {
         Primitive::Extrude,
         Primitive::Loft,
         Primitive::Coons,
+        Primitive::BicubicCoons,
+        Primitive::Gordon,
+        Primitive::Hermite,
         Primitive::Sweep,
         Primitive::BezierPatch,
         Primitive::CageCube,
@@ -62,6 +69,9 @@ impl Primitive {
             Primitive::Extrude => "Extrude (wave curve)",
             Primitive::Loft => "Loft (three circles)",
             Primitive::Coons => "Coons patch",
+            Primitive::BicubicCoons => "Coons patch with tangents (bicubic)",
+            Primitive::Gordon => "Gordon surface (4 × 3 curve network)",
+            Primitive::Hermite => "Hermite patch (corner tangents and twists)",
             Primitive::Sweep => "Sweep (circle along an arc)",
             Primitive::BezierPatch => "Bézier patch",
             Primitive::CageCube => "Subdivision cube",
@@ -71,6 +81,20 @@ impl Primitive {
             Primitive::CageIcosahedron => "Subdivision icosahedron (triangles, √3)",
         }
     }
+}
+
+/// A degree-(4, 4) Bézier hill of width `size` around `center`, `ratio` setting its height:
+/// the surface whose curves the Gordon and bicubic Coons examples take.
+fn wavy_hill(center: DVec3, size: f64, ratio: f64) -> Result<NurbsSurface, GeometryError> {
+    let mut points = Vec::with_capacity(25);
+    for i in 0..=4 {
+        for j in 0..=4 {
+            let (x, y) = (i as f64 / 4.0, j as f64 / 4.0);
+            let z = (std::f64::consts::PI * x).sin() * (TAU * y).cos() + 0.5 * (x - y);
+            points.push(center + DVec3::new((x - 0.5) * size, (y - 0.5) * size, z * ratio * size));
+        }
+    }
+    NurbsSurface::bezier([4, 4], points, None)
 }
 
 /// The Create dialog's parameters.
@@ -196,6 +220,62 @@ impl PrimitiveParams {
                     )?,
                 )?
             }
+            Primitive::BicubicCoons => {
+                let hill = wavy_hill(c, s, r)?;
+                let side = |direction, value, order| hill.isocurve(direction, value, order);
+                let (u, v) = (Direction::U, Direction::V);
+                transfinite::bicubic_coons(
+                    [
+                        &side(v, 0.0, 0)?,
+                        &side(v, 1.0, 0)?,
+                        &side(u, 0.0, 0)?,
+                        &side(u, 1.0, 0)?,
+                    ],
+                    [
+                        &side(v, 0.0, 1)?,
+                        &side(v, 1.0, 1)?,
+                        &side(u, 0.0, 1)?,
+                        &side(u, 1.0, 1)?,
+                    ],
+                )?
+            }
+            Primitive::Gordon => {
+                let hill = wavy_hill(c, s, r)?;
+                let u_curves = [0.0, 0.3, 0.7, 1.0]
+                    .map(|v| hill.isocurve(Direction::V, v, 0))
+                    .into_iter()
+                    .collect::<Result<Vec<_>, _>>()?;
+                let v_curves = [0.0, 0.5, 1.0]
+                    .map(|u| hill.isocurve(Direction::U, u, 0))
+                    .into_iter()
+                    .collect::<Result<Vec<_>, _>>()?;
+                transfinite::gordon(&u_curves, &v_curves, 3)?
+            }
+            Primitive::Hermite => {
+                let corner = |x: f64, y: f64| c + DVec3::new((x - 0.5) * s, (y - 0.5) * s, 0.0);
+                let lift = DVec3::Z * (s * r * 3.0);
+                transfinite::hermite_patch(&HermiteData {
+                    points: [
+                        corner(0.0, 0.0),
+                        corner(1.0, 0.0),
+                        corner(0.0, 1.0),
+                        corner(1.0, 1.0),
+                    ],
+                    su: [
+                        DVec3::X * s + lift,
+                        DVec3::X * s - lift,
+                        DVec3::X * s - lift,
+                        DVec3::X * s + lift,
+                    ],
+                    sv: [
+                        DVec3::Y * s + lift,
+                        DVec3::Y * s + lift,
+                        DVec3::Y * s - lift,
+                        DVec3::Y * s - lift,
+                    ],
+                    twist: [DVec3::ZERO; 4],
+                })?
+            }
             Primitive::Sweep => {
                 let profile = construct::circle(c, DVec3::X, DVec3::Y, s * r)?;
                 let rail_points: Vec<DVec3> = (0..5)
@@ -227,6 +307,7 @@ impl PrimitiveParams {
             Primitive::BezierPatch => {
                 format!("Bézier patch ({}, {})", self.degree[0], self.degree[1])
             }
+            Primitive::BicubicCoons => "Bicubic Coons".to_string(),
             kind => kind
                 .label()
                 .split(' ')

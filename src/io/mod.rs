@@ -1,6 +1,7 @@
 //! File formats: knotwork's JSON format for curves and surfaces, the project file that extends
-//! it to a scene, the `eval` request format, glTF 2.0 export and import, and OBJ import.
+//! it to a scene, the `eval` and `construct` request formats, glTF 2.0 export and import, and OBJ import.
 
+pub mod construct;
 pub mod eval;
 pub mod fuzz;
 pub mod gltf;

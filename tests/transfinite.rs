@@ -1,0 +1,616 @@
+//! Hermite, bicubically blended Coons and Gordon surfaces against their definitions: the
+//! Hermite matrix form evaluated directly, reproduction of polynomial surfaces whose data they
+//! are given (a bicubic from its boundary curves and cross derivatives; a bicubic from a network
+//! of its isoparametric curves), interpolation of every given curve and derivative, the
+//! two-by-two Gordon surface as the bilinear Coons patch, and refusals with reasons.
+
+mod common;
+
+use common::Rng;
+use glam::DVec3;
+use knotwork::kernel::construct;
+use knotwork::kernel::transfinite::{self, CORNERS, HermiteData};
+use knotwork::kernel::{NurbsCurve, NurbsSurface, SpaceCurve};
+
+fn binomial(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// The Bernstein polynomial B_k^n(t), written out.
+fn bernstein(n: usize, k: usize, t: f64) -> f64 {
+    binomial(n, k) * t.powi(k as i32) * (1.0 - t).powi((n - k) as i32)
+}
+
+/// d/dt B_k^n(t) = n (B_{k−1}^{n−1} − B_k^{n−1}).
+fn bernstein_derivative(n: usize, k: usize, t: f64) -> f64 {
+    let lower = |k: isize| {
+        if k < 0 || k as usize > n - 1 {
+            0.0
+        } else {
+            bernstein(n - 1, k as usize, t)
+        }
+    };
+    n as f64 * (lower(k as isize - 1) - lower(k as isize))
+}
+
+/// A polynomial surface of degree (p, q): a random net over a gently curved grid.
+struct Polynomial {
+    p: usize,
+    q: usize,
+    net: Vec<DVec3>,
+}
+
+impl Polynomial {
+    fn random(p: usize, q: usize, seed: u64) -> Self {
+        let mut rng = Rng(seed);
+        let mut net = Vec::new();
+        for i in 0..=p {
+            for j in 0..=q {
+                net.push(DVec3::new(
+                    i as f64 / p as f64 * 3.0 + rng.range(-0.2, 0.2),
+                    j as f64 / q as f64 * 2.0 + rng.range(-0.2, 0.2),
+                    rng.range(-0.8, 0.8),
+                ));
+            }
+        }
+        Self { p, q, net }
+    }
+
+    fn at(&self, i: usize, j: usize) -> DVec3 {
+        self.net[i * (self.q + 1) + j]
+    }
+
+    /// S(u, v) by the Bernstein sum.
+    fn point(&self, u: f64, v: f64) -> DVec3 {
+        let mut s = DVec3::ZERO;
+        for i in 0..=self.p {
+            for j in 0..=self.q {
+                s += self.at(i, j) * (bernstein(self.p, i, u) * bernstein(self.q, j, v));
+            }
+        }
+        s
+    }
+
+    /// The curve v ↦ S(u0, v) (or, with `derivative`, ∂S/∂u at u0) as a Bézier curve.
+    fn along_v(&self, u0: f64, derivative: bool) -> SpaceCurve {
+        let weight = |i| {
+            if derivative {
+                bernstein_derivative(self.p, i, u0)
+            } else {
+                bernstein(self.p, i, u0)
+            }
+        };
+        let points = (0..=self.q)
+            .map(|j| (0..=self.p).map(|i| self.at(i, j) * weight(i)).sum())
+            .collect();
+        bezier_curve(self.q, points)
+    }
+
+    /// The curve u ↦ S(u, v0) (or ∂S/∂v at v0).
+    fn along_u(&self, v0: f64, derivative: bool) -> SpaceCurve {
+        let weight = |j| {
+            if derivative {
+                bernstein_derivative(self.q, j, v0)
+            } else {
+                bernstein(self.q, j, v0)
+            }
+        };
+        let points = (0..=self.p)
+            .map(|i| (0..=self.q).map(|j| self.at(i, j) * weight(j)).sum())
+            .collect();
+        bezier_curve(self.p, points)
+    }
+}
+
+fn bezier_curve(degree: usize, points: Vec<DVec3>) -> SpaceCurve {
+    let mut knots = vec![0.0; degree + 1];
+    knots.extend(vec![1.0; degree + 1]);
+    NurbsCurve::new(degree, knots, points, None).unwrap()
+}
+
+fn grid(n: usize) -> impl Iterator<Item = (f64, f64)> {
+    (0..=n).flat_map(move |a| (0..=n).map(move |b| (a as f64 / n as f64, b as f64 / n as f64)))
+}
+
+fn largest_gap(a: impl Fn(f64, f64) -> DVec3, b: impl Fn(f64, f64) -> DVec3, n: usize) -> f64 {
+    grid(n)
+        .map(|(u, v)| a(u, v).distance(b(u, v)))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_hermite_patch_is_the_hermite_matrix_form() {
+    let mut rng = Rng(7);
+    let mut random = || {
+        DVec3::new(
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+        )
+    };
+    let data = HermiteData {
+        points: std::array::from_fn(|_| random()),
+        su: std::array::from_fn(|_| random()),
+        sv: std::array::from_fn(|_| random()),
+        twist: std::array::from_fn(|_| random()),
+    };
+    let surface = transfinite::hermite_patch(&data).unwrap();
+    // The seed's cubic Hermite functions: c(t) = H0 c(0) + H1 c(1) + H2 c'(0) + H3 c'(1).
+    let h = |t: f64| {
+        [
+            2.0 * t.powi(3) - 3.0 * t * t + 1.0,
+            -2.0 * t.powi(3) + 3.0 * t * t,
+            t.powi(3) - 2.0 * t * t + t,
+            t.powi(3) - t * t,
+        ]
+    };
+    // G = [[S00 S01 Sv00 Sv01] [S10 S11 Sv10 Sv11] [Su00 Su01 Suv00 Suv01] [Su10 Su11 Suv10 Suv11]].
+    let index = |a: usize, b: usize| CORNERS.iter().position(|&c| c == (a, b)).unwrap();
+    let g = |r: usize, c: usize| {
+        let (a, b) = (r % 2, c % 2);
+        let k = index(a, b);
+        match (r < 2, c < 2) {
+            (true, true) => data.points[k],
+            (true, false) => data.sv[k],
+            (false, true) => data.su[k],
+            (false, false) => data.twist[k],
+        }
+    };
+    let matrix_form = |u: f64, v: f64| {
+        let (hu, hv) = (h(u), h(v));
+        let mut s = DVec3::ZERO;
+        for (r, a) in hu.iter().enumerate() {
+            for (c, b) in hv.iter().enumerate() {
+                s += g(r, c) * (a * b);
+            }
+        }
+        s
+    };
+    let gap = largest_gap(|u, v| surface.point_at(u, v).unwrap(), matrix_form, 12);
+    assert!(gap < 1e-12, "Hermite patch vs H(u) G H(v)^T: {gap:e}");
+    for (k, &(a, b)) in CORNERS.iter().enumerate() {
+        let d = surface.evaluate(a as f64, b as f64).unwrap();
+        for (got, want, what) in [
+            (d.point, data.points[k], "S"),
+            (d.su, data.su[k], "Su"),
+            (d.sv, data.sv[k], "Sv"),
+            (d.suv, data.twist[k], "Suv"),
+        ] {
+            assert!(
+                got.distance(want) < 1e-11,
+                "{what} at ({a}, {b}): {got} vs {want}"
+            );
+        }
+    }
+    let mut bad = data;
+    bad.twist[2].y = f64::NAN;
+    assert!(transfinite::hermite_patch(&bad).is_err());
+}
+
+/// The boundary curves [bottom, top, left, right] and cross derivatives [Sv at v = 0, Sv at
+/// v = 1, Su at u = 0, Su at u = 1] of `s`.
+fn coons_data(s: &Polynomial) -> ([SpaceCurve; 4], [SpaceCurve; 4]) {
+    (
+        [
+            s.along_u(0.0, false),
+            s.along_u(1.0, false),
+            s.along_v(0.0, false),
+            s.along_v(1.0, false),
+        ],
+        [
+            s.along_u(0.0, true),
+            s.along_u(1.0, true),
+            s.along_v(0.0, true),
+            s.along_v(1.0, true),
+        ],
+    )
+}
+
+#[test]
+fn the_bicubic_coons_patch_reproduces_a_bicubic_surface_from_its_boundary_data() {
+    for seed in 0..4 {
+        let s = Polynomial::random(3, 3, seed);
+        let (curves, cross) = coons_data(&s);
+        let coons = transfinite::bicubic_coons(
+            [&curves[0], &curves[1], &curves[2], &curves[3]],
+            [&cross[0], &cross[1], &cross[2], &cross[3]],
+        )
+        .unwrap();
+        let gap = largest_gap(
+            |u, v| coons.point_at(u, v).unwrap(),
+            |u, v| s.point(u, v),
+            10,
+        );
+        assert!(gap < 1e-10, "seed {seed}: {gap:e}");
+    }
+}
+
+#[test]
+fn the_bicubic_coons_patch_interpolates_curves_and_cross_derivatives() {
+    // Degree (5, 4) data: the patch cannot reproduce the surface, only its boundary data.
+    let s = Polynomial::random(5, 4, 11);
+    let (curves, cross) = coons_data(&s);
+    let coons = transfinite::bicubic_coons(
+        [&curves[0], &curves[1], &curves[2], &curves[3]],
+        [&cross[0], &cross[1], &cross[2], &cross[3]],
+    )
+    .unwrap();
+    let mut worst = 0.0f64;
+    for k in 0..=20 {
+        let t = k as f64 / 20.0;
+        for (side, (u, v)) in [(0.0, t), (1.0, t), (t, 0.0), (t, 1.0)]
+            .into_iter()
+            .enumerate()
+        {
+            let d = coons.evaluate(u, v).unwrap();
+            let curve = match side {
+                0 => &curves[2],
+                1 => &curves[3],
+                2 => &curves[0],
+                _ => &curves[1],
+            };
+            let derivative = match side {
+                0 => (&cross[2], d.su),
+                1 => (&cross[3], d.su),
+                2 => (&cross[0], d.sv),
+                _ => (&cross[1], d.sv),
+            };
+            worst = worst.max(d.point.distance(curve.point_at(t).unwrap()));
+            worst = worst.max(derivative.1.distance(derivative.0.point_at(t).unwrap()));
+        }
+    }
+    assert!(worst < 1e-10, "boundary data: {worst:e}");
+    let inside = coons
+        .point_at(0.5, 0.5)
+        .unwrap()
+        .distance(s.point(0.5, 0.5));
+    assert!(
+        inside > 1e-4,
+        "a quintic should not be reproduced ({inside:e})"
+    );
+
+    // Incompatible data is refused with the corner named.
+    let moved = cross[0]
+        .map_points(|p| p + DVec3::new(0.0, 0.0, 0.3))
+        .unwrap();
+    let error = transfinite::bicubic_coons(
+        [&curves[0], &curves[1], &curves[2], &curves[3]],
+        [&moved, &cross[1], &cross[2], &cross[3]],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("(u, v) = (0, 0)"), "{error}");
+}
+
+/// The u-curves of `s` at `vs` and its v-curves at `us`.
+fn network(s: &Polynomial, us: &[f64], vs: &[f64]) -> (Vec<SpaceCurve>, Vec<SpaceCurve>) {
+    (
+        vs.iter().map(|&v| s.along_u(v, false)).collect(),
+        us.iter().map(|&u| s.along_v(u, false)).collect(),
+    )
+}
+
+#[test]
+fn the_gordon_surface_reproduces_a_bicubic_surface_from_its_isoparametric_curves() {
+    for seed in 0..3 {
+        let s = Polynomial::random(3, 3, 20 + seed);
+        let (u_curves, v_curves) = network(&s, &[0.0, 0.2, 0.5, 0.7, 1.0], &[0.0, 0.3, 0.55, 1.0]);
+        let gordon = transfinite::gordon(&u_curves, &v_curves, 3).unwrap();
+        let gap = largest_gap(
+            |u, v| gordon.point_at(u, v).unwrap(),
+            |u, v| s.point(u, v),
+            10,
+        );
+        assert!(gap < 1e-9, "seed {seed}: {gap:e}");
+    }
+}
+
+#[test]
+fn the_gordon_surface_interpolates_every_curve_of_the_network() {
+    let s = Polynomial::random(5, 5, 31);
+    let (us, vs) = ([0.0, 0.45, 1.0], [0.0, 0.35, 0.6, 1.0]);
+    let (u_curves, v_curves) = network(&s, &us, &vs);
+    for degree in [1, 2, 3] {
+        let gordon = transfinite::gordon(&u_curves, &v_curves, degree).unwrap();
+        let mut worst = 0.0f64;
+        for k in 0..=30 {
+            let t = k as f64 / 30.0;
+            for (curve, &v) in u_curves.iter().zip(&vs) {
+                worst = worst.max(
+                    gordon
+                        .point_at(t, v)
+                        .unwrap()
+                        .distance(curve.point_at(t).unwrap()),
+                );
+            }
+            for (curve, &u) in v_curves.iter().zip(&us) {
+                worst = worst.max(
+                    gordon
+                        .point_at(u, t)
+                        .unwrap()
+                        .distance(curve.point_at(t).unwrap()),
+                );
+            }
+        }
+        assert!(worst < 1e-9, "degree {degree}: {worst:e}");
+        let between = gordon
+            .point_at(0.2, 0.2)
+            .unwrap()
+            .distance(s.point(0.2, 0.2));
+        assert!(
+            between > 1e-4,
+            "a quintic should not be reproduced ({between:e})"
+        );
+    }
+}
+
+#[test]
+fn a_two_by_two_gordon_surface_is_the_bilinear_coons_patch() {
+    let s = Polynomial::random(4, 3, 41);
+    let (u_curves, v_curves) = network(&s, &[0.0, 1.0], &[0.0, 1.0]);
+    let gordon = transfinite::gordon(&u_curves, &v_curves, 3).unwrap();
+    let coons = construct::coons(&u_curves[0], &u_curves[1], &v_curves[0], &v_curves[1]).unwrap();
+    let gap = largest_gap(
+        |u, v| gordon.point_at(u, v).unwrap(),
+        |u, v| coons.point_at(u, v).unwrap(),
+        10,
+    );
+    assert!(gap < 1e-11, "{gap:e}");
+}
+
+fn line(a: DVec3, b: DVec3) -> SpaceCurve {
+    construct::line(a, b).unwrap()
+}
+
+#[test]
+fn bad_networks_are_refused_with_the_reason() {
+    let u_line = |y: f64| line(DVec3::new(0.0, y, 0.0), DVec3::new(1.0, y, 0.0));
+    let v_line = |x: f64| line(DVec3::new(x, 0.0, 0.0), DVec3::new(x, 1.0, 0.0));
+    let us = vec![u_line(0.0), u_line(0.5), u_line(1.0)];
+    let vs = vec![v_line(0.0), v_line(0.4), v_line(1.0)];
+    let flat = transfinite::gordon(&us, &vs, 3).unwrap();
+    let p = flat.point_at(0.3, 0.8).unwrap();
+    assert!(p.distance(DVec3::new(0.3, 0.8, 0.0)) < 1e-12, "{p}");
+    let error =
+        |u: &[SpaceCurve], v: &[SpaceCurve]| transfinite::gordon(u, v, 3).unwrap_err().to_string();
+
+    // The same line, travelled at another speed: crossings at other parameters.
+    let uneven = bezier_curve(
+        2,
+        vec![
+            DVec3::new(0.0, 0.5, 0.0),
+            DVec3::new(0.8, 0.5, 0.0),
+            DVec3::new(1.0, 0.5, 0.0),
+        ],
+    );
+    let e = error(&[us[0].clone(), uneven, us[2].clone()], &vs);
+    assert!(e.contains("common u"), "{e}");
+
+    let lifted = vs[1].map_points(|p| p + DVec3::Z * 0.1).unwrap();
+    let e = error(&us, &[vs[0].clone(), lifted, vs[2].clone()]);
+    assert!(e.contains("do not meet"), "{e}");
+
+    let e = error(&us, &[vs[0].clone(), vs[2].clone(), vs[1].clone()]);
+    assert!(e.contains("increasing u"), "{e}");
+
+    let e = error(&us[..1], &vs);
+    assert!(e.contains("needs 2"), "{e}");
+
+    let rational = NurbsCurve::new(
+        2,
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        vec![
+            DVec3::ZERO,
+            DVec3::new(0.5, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+        ],
+        Some(vec![1.0, 2.0, 1.0]),
+    )
+    .unwrap();
+    let e = error(&[rational, us[1].clone(), us[2].clone()], &vs);
+    assert!(e.contains("rational"), "{e}");
+
+    let e = transfinite::gordon(&us, &vs, 0).unwrap_err().to_string();
+    assert!(e.contains("degree"), "{e}");
+}
+
+#[test]
+fn the_boolean_sum_of_a_surface_minus_itself_is_zero() {
+    // The degree and knot alignment: a surface plus a differently refined copy of itself minus
+    // twice itself vanishes.
+    let s: NurbsSurface = construct::bspline_surface(
+        [3, 2],
+        [5, 4],
+        (0..20)
+            .map(|k| DVec3::new(k as f64, (k * k % 7) as f64, (k % 3) as f64))
+            .collect(),
+    )
+    .unwrap();
+    let refined = s
+        .refine(knotwork::kernel::Direction::U, &[0.3, 0.3])
+        .unwrap()
+        .elevate_degree(knotwork::kernel::Direction::V, 1)
+        .unwrap();
+    let zero = transfinite::boolean_sum(&[s.clone(), refined], &[s.clone(), s], "test").unwrap();
+    let worst = grid(8)
+        .map(|(u, v)| zero.point_at(u, v).unwrap().length())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+#[test]
+fn isocurves_and_cross_derivative_curves_match_the_surface() {
+    let rational = common::random_surface(3, 2, 5);
+    let [(u0, u1), (v0, v1)] = rational.domain();
+    for k in 0..=6 {
+        let (u, v) = (
+            u0 + (u1 - u0) * k as f64 / 6.0,
+            v0 + (v1 - v0) * (6 - k) as f64 / 6.0,
+        );
+        let along_v = rational
+            .isocurve(knotwork::kernel::Direction::U, u, 0)
+            .unwrap();
+        let along_u = rational
+            .isocurve(knotwork::kernel::Direction::V, v, 0)
+            .unwrap();
+        for m in 0..=8 {
+            let t = m as f64 / 8.0;
+            let (vt, ut) = (v0 + (v1 - v0) * t, u0 + (u1 - u0) * t);
+            let a = along_v
+                .point_at(vt)
+                .unwrap()
+                .distance(rational.point_at(u, vt).unwrap());
+            let b = along_u
+                .point_at(ut)
+                .unwrap()
+                .distance(rational.point_at(ut, v).unwrap());
+            assert!(
+                a < 1e-10 && b < 1e-10,
+                "isocurve at u = {u} / v = {v}: {a:e} {b:e}"
+            );
+        }
+    }
+    assert!(
+        rational
+            .isocurve(knotwork::kernel::Direction::U, u1 + 1.0, 0)
+            .is_err()
+    );
+    assert!(
+        rational
+            .isocurve(knotwork::kernel::Direction::U, u0, 1)
+            .is_err()
+    );
+    // Derivatives across, on a polynomial surface, against the Bernstein form.
+    let s = Polynomial::random(4, 3, 3);
+    let surface = NurbsSurface::bezier([4, 3], s.net.clone(), None).unwrap();
+    let su = surface
+        .isocurve(knotwork::kernel::Direction::U, 0.3, 1)
+        .unwrap();
+    let sv = surface
+        .isocurve(knotwork::kernel::Direction::V, 0.6, 1)
+        .unwrap();
+    let want_su = s.along_v(0.3, true);
+    let want_sv = s.along_u(0.6, true);
+    for m in 0..=8 {
+        let t = m as f64 / 8.0;
+        assert!(
+            su.point_at(t)
+                .unwrap()
+                .distance(want_su.point_at(t).unwrap())
+                < 1e-11
+        );
+        assert!(
+            sv.point_at(t)
+                .unwrap()
+                .distance(want_sv.point_at(t).unwrap())
+                < 1e-11
+        );
+    }
+}
+
+fn run_construct(request: &serde_json::Value) -> std::process::Output {
+    let dir = std::env::temp_dir().join(format!("knotwork-construct-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("request.json");
+    std::fs::write(&path, request.to_string()).unwrap();
+    std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("construct")
+        .arg(&path)
+        .output()
+        .unwrap()
+}
+
+fn curve_value(c: &SpaceCurve) -> serde_json::Value {
+    knotwork::io::json::object_to_value(&knotwork::io::json::NamedGeometry {
+        name: None,
+        geometry: knotwork::io::json::Geometry::Curve(c.clone()),
+    })
+}
+
+#[test]
+fn knotwork_construct_builds_the_surfaces_from_json() {
+    let s = Polynomial::random(3, 3, 51);
+    let (u_curves, v_curves) = network(&s, &[0.0, 0.4, 1.0], &[0.0, 0.25, 0.6, 1.0]);
+    let request = serde_json::json!({
+        "construct": "gordon",
+        "u_curves": u_curves.iter().map(curve_value).collect::<Vec<_>>(),
+        "v_curves": v_curves.iter().map(curve_value).collect::<Vec<_>>(),
+    });
+    let out = run_construct(&request);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let read = knotwork::io::json::object_from_value("", value).unwrap();
+    let knotwork::io::json::Geometry::Surface(gordon) = read.geometry else {
+        panic!("expected a surface: {text}");
+    };
+    for (curve, v) in u_curves.iter().zip([0.0, 0.25, 0.6, 1.0]) {
+        for m in 0..=10 {
+            let t = m as f64 / 10.0;
+            let gap = gordon
+                .point_at(t, v)
+                .unwrap()
+                .distance(curve.point_at(t).unwrap());
+            assert!(gap < 1e-9, "u-curve at v = {v}: {gap:e}");
+        }
+    }
+
+    let (curves, cross) = coons_data(&s);
+    let sides = |c: &[SpaceCurve; 4]| {
+        serde_json::json!({
+            "bottom": curve_value(&c[0]), "top": curve_value(&c[1]),
+            "left": curve_value(&c[2]), "right": curve_value(&c[3]),
+        })
+    };
+    let mut request = sides(&curves);
+    request["construct"] = "coons".into();
+    request["cross"] = sides(&cross);
+    let out = run_construct(&request);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let knotwork::io::json::Geometry::Surface(coons) =
+        knotwork::io::json::object_from_value("", value)
+            .unwrap()
+            .geometry
+    else {
+        panic!("expected a surface");
+    };
+    let gap = largest_gap(
+        |u, v| coons.point_at(u, v).unwrap(),
+        |u, v| s.point(u, v),
+        6,
+    );
+    assert!(gap < 1e-9, "bicubic Coons of a bicubic: {gap:e}");
+
+    // Bad requests: the JSON path, or the construction's reason; exit code 1.
+    let out =
+        run_construct(&serde_json::json!({"construct": "gordon", "u_curves": [1], "v_curves": []}));
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("u_curves[0]"), "{e}");
+    let out = run_construct(&serde_json::json!({
+        "construct": "hermite", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+        "su": [[1, 0, 0], [1, 0, 0], [1, 0, 0], [1, 0, 0]],
+    }));
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("sv"), "{e}");
+    let out = run_construct(&serde_json::json!({
+        "construct": "hermite", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+        "su": [[1, 0, 0], [1, 0, 0], [1, 0, 0], [1, 0, 0]],
+        "sv": [[0, 1, 0], [0, 1, 0], [0, 1, 0], [0, 1, 0]],
+    }));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
