@@ -288,6 +288,34 @@ pub fn interior_knots(knots: &[f64], degree: usize, count: usize) -> Vec<(f64, u
     result
 }
 
+/// Merges the interior knots `have` (values with multiplicities) into `union`, keeping each
+/// value's highest multiplicity; values within `tolerance` are one knot. `union` stays sorted.
+/// With [`missing_knots`], what brings several B-splines to one knot vector (The NURBS Book
+/// §10.3).
+pub fn merge_knots(union: &mut Vec<(f64, usize)>, have: &[(f64, usize)], tolerance: f64) {
+    for &(k, m) in have {
+        match union.iter_mut().find(|(u, _)| (*u - k).abs() <= tolerance) {
+            Some(entry) => entry.1 = entry.1.max(m),
+            None => union.push((k, m)),
+        }
+    }
+    union.sort_by(|a, b| a.0.total_cmp(&b.0));
+}
+
+/// The knots to insert into a B-spline with interior knots `own` to reach `union` (as from
+/// [`merge_knots`]), each value repeated as often as it is missing, in increasing order.
+pub fn missing_knots(own: &[(f64, usize)], union: &[(f64, usize)], tolerance: f64) -> Vec<f64> {
+    let mut missing = Vec::new();
+    for &(k, m) in union {
+        let have = own
+            .iter()
+            .find(|(u, _)| (*u - k).abs() <= tolerance)
+            .map_or(0, |e| e.1);
+        missing.extend(std::iter::repeat_n(k, m.saturating_sub(have)));
+    }
+    missing
+}
+
 /// A clamped knot vector on [0, 1] with uniformly spaced interior knots for `count` control
 /// points of degree `degree` (the default for new surfaces). `count` must be ≥ degree + 1.
 pub fn uniform_clamped_knots(degree: usize, count: usize) -> Vec<f64> {

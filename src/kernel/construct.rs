@@ -12,7 +12,9 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 
 use glam::{DQuat, DVec3, DVec4};
 
-use super::basis::{basis_functions, find_span, uniform_clamped_knots};
+use super::basis::{
+    basis_functions, find_span, interior_knots, merge_knots, missing_knots, uniform_clamped_knots,
+};
 use super::curve::{NurbsCurve, SpaceCurve};
 use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
@@ -254,26 +256,13 @@ pub fn make_compatible(curves: &[SpaceCurve]) -> Result<Vec<Polygon<DVec4>>, Geo
         polys.push(elevated);
     }
     // The union of the interior knots, with the highest multiplicity any curve has.
+    let interior = |p: &Polygon<DVec4>| interior_knots(&p.knots, p.degree, p.points.len());
     let mut union: Vec<(f64, usize)> = Vec::new();
     for poly in &polys {
-        for (k, m) in super::basis::interior_knots(&poly.knots, poly.degree, poly.points.len()) {
-            match union.iter_mut().find(|(u, _)| (*u - k).abs() <= 1e-14) {
-                Some(entry) => entry.1 = entry.1.max(m),
-                None => union.push((k, m)),
-            }
-        }
+        merge_knots(&mut union, &interior(poly), 1e-14);
     }
-    union.sort_by(|a, b| a.0.total_cmp(&b.0));
     for poly in &mut polys {
-        let own = super::basis::interior_knots(&poly.knots, poly.degree, poly.points.len());
-        let mut x = Vec::new();
-        for &(k, m) in &union {
-            let have = own
-                .iter()
-                .find(|(u, _)| (*u - k).abs() <= 1e-14)
-                .map_or(0, |e| e.1);
-            x.extend(std::iter::repeat_n(k, m.saturating_sub(have)));
-        }
+        let x = missing_knots(&interior(poly), &union, 1e-14);
         *poly = ops::refine_knots(poly, &x);
     }
     // Snap nearly equal knots so all vectors are bit-identical.

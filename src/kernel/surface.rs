@@ -294,7 +294,9 @@ impl NurbsSurface {
                 end: hi,
             });
         }
-        if order > 0 && !self.is_polynomial() {
+        // Σ N_i = 1, so a non-rational surface's curves have weight 1 (exactly, not rounded).
+        let polynomial = self.is_polynomial();
+        if order > 0 && !polynomial {
             return Err(GeometryError::Construction {
                 what: "cross derivative",
                 message: "a rational surface's derivative along a curve is not a NURBS curve \
@@ -302,8 +304,6 @@ impl NurbsSurface {
                     .into(),
             });
         }
-        // Σ N_i = 1, so a non-rational surface's curves have weight 1 (exactly, not rounded).
-        let polynomial = self.is_polynomial();
         let (p, count) = (self.degree[d], self.count[d]);
         let knots = &self.knots[d];
         let span = find_span(knots, p, count, value);

@@ -10,7 +10,7 @@
 
 use glam::{DVec3, DVec4};
 
-use super::basis::interior_knots;
+use super::basis::{interior_knots, merge_knots, missing_knots};
 use super::construct::{averaged_knots, construction, interpolate_points, make_compatible, skin};
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
@@ -121,18 +121,6 @@ pub fn meeting_corners(
     Ok(corners)
 }
 
-/// Merges `have` (interior knots with multiplicities) into `union`, keeping the highest
-/// multiplicity of each value (values within 1e-12 are one knot).
-fn merge_knots(union: &mut Vec<(f64, usize)>, have: &[(f64, usize)]) {
-    for &(k, m) in have {
-        match union.iter_mut().find(|(u, _)| (*u - k).abs() <= 1e-12) {
-            Some(entry) => entry.1 = entry.1.max(m),
-            None => union.push((k, m)),
-        }
-    }
-    union.sort_by(|a, b| a.0.total_cmp(&b.0));
-}
-
 /// Σ `plus` − Σ `minus` of non-rational surfaces on [0, 1]²: each term is raised to the
 /// highest degree in each direction (A5.10) and refined to the union of all interior knots
 /// (A5.5), which leaves its shape unchanged, and then the control points are summed. Exact.
@@ -170,6 +158,8 @@ pub fn boolean_sum(
             "the blended surfaces must be on [0, 1]²",
         ));
     }
+    let interior =
+        |s: &NurbsSurface, d: usize| interior_knots(s.knots()[d], s.degree()[d], s.count()[d]);
     let degree = [0, 1].map(|d| terms.iter().map(|(s, _)| s.degree()[d]).max().unwrap_or(1));
     let mut raised = Vec::with_capacity(terms.len());
     let mut unions: [Vec<(f64, usize)>; 2] = [Vec::new(), Vec::new()];
@@ -179,25 +169,14 @@ pub fn boolean_sum(
             .elevate_degree(Direction::U, degree[0] - du)?
             .elevate_degree(Direction::V, degree[1] - dv)?;
         for (d, union) in unions.iter_mut().enumerate() {
-            merge_knots(
-                union,
-                &interior_knots(s.knots()[d], s.degree()[d], s.count()[d]),
-            );
+            merge_knots(union, &interior(&s, d), 1e-12);
         }
         raised.push(s);
     }
     let mut conformed: Vec<NurbsSurface> = Vec::with_capacity(raised.len());
     for mut s in raised {
         for (d, direction) in [Direction::U, Direction::V].into_iter().enumerate() {
-            let own = interior_knots(s.knots()[d], s.degree()[d], s.count()[d]);
-            let mut missing = Vec::new();
-            for &(k, m) in &unions[d] {
-                let have = own
-                    .iter()
-                    .find(|(u, _)| (*u - k).abs() <= 1e-12)
-                    .map_or(0, |e| e.1);
-                missing.extend(std::iter::repeat_n(k, m.saturating_sub(have)));
-            }
+            let missing = missing_knots(&interior(&s, d), &unions[d], 1e-12);
             if !missing.is_empty() {
                 s = s.refine(direction, &missing)?;
             }
@@ -303,15 +282,8 @@ pub fn bicubic_coons(
         twist: [DVec3::ZERO; 4],
     };
     for (c, &(a, b)) in CORNERS.iter().enumerate() {
-        let (u_curve, d_u_curve, v_curve, d_v_curve) = match (a, b) {
-            (_, 0) => (
-                &bottom,
-                &d_bottom,
-                [&left, &right][a],
-                [&d_left, &d_right][a],
-            ),
-            _ => (&top, &d_top, [&left, &right][a], [&d_left, &d_right][a]),
-        };
+        let (u_curve, d_u_curve) = [(&bottom, &d_bottom), (&top, &d_top)][b];
+        let (v_curve, d_v_curve) = [(&left, &d_left), (&right, &d_right)][a];
         let (u, v) = (a as f64, b as f64);
         let (_, su) = point_and_tangent(u_curve, u)?;
         let (_, sv) = point_and_tangent(v_curve, v)?;
@@ -350,17 +322,23 @@ pub fn bicubic_coons(
     boolean_sum(&[p1, p2], &[p12], WHAT)
 }
 
+/// Samples at which [`crossing`] starts its search: SAMPLES + 1 evenly spaced parameters.
+const SAMPLES: usize = 96;
+
+/// `curve` (on [0, 1]) at the [`SAMPLES`] + 1 evenly spaced parameters.
+fn samples(curve: &SpaceCurve) -> Result<Vec<DVec3>, GeometryError> {
+    (0..=SAMPLES)
+        .map(|i| curve.point_at(i as f64 / SAMPLES as f64))
+        .collect()
+}
+
 /// Where two curves on [0, 1] come closest: (s on `c`, t on `d`, distance). The nearest pair
-/// of 97 samples each, then Gauss-Newton on |c(s) − d(t)|² (the normal equations of
-/// J = [c′, −d′]), clamped to the domains.
-fn crossing(c: &SpaceCurve, d: &SpaceCurve) -> Result<(f64, f64, f64), GeometryError> {
-    const SAMPLES: usize = 96;
-    let sample = |curve: &SpaceCurve| -> Result<Vec<DVec3>, GeometryError> {
-        (0..=SAMPLES)
-            .map(|i| curve.point_at(i as f64 / SAMPLES as f64))
-            .collect()
-    };
-    let (cs, ds) = (sample(c)?, sample(d)?);
+/// of their [`samples`] (`cs`, `ds`), then Gauss-Newton on |c(s) − d(t)|² (the normal
+/// equations of J = [c′, −d′]), clamped to the domains.
+fn crossing(
+    (c, cs): (&SpaceCurve, &[DVec3]),
+    (d, ds): (&SpaceCurve, &[DVec3]),
+) -> Result<(f64, f64, f64), GeometryError> {
     let mut best = (f64::INFINITY, 0, 0);
     for (i, p) in cs.iter().enumerate() {
         for (j, q) in ds.iter().enumerate() {
@@ -479,9 +457,12 @@ pub fn gordon(
     let (k_count, l_count) = (us.len(), vs.len());
     let mut at_u = vec![vec![0.0; l_count]; k_count];
     let mut at_v = vec![vec![0.0; k_count]; l_count];
-    for (k, c) in us.iter().enumerate() {
-        for (l, d) in vs.iter().enumerate() {
-            let (s, t, distance) = crossing(c, d)?;
+    // Each curve sampled once for all its crossings.
+    let u_samples: Vec<Vec<DVec3>> = us.iter().map(samples).collect::<Result<_, _>>()?;
+    let v_samples: Vec<Vec<DVec3>> = vs.iter().map(samples).collect::<Result<_, _>>()?;
+    for (k, (c, cs)) in us.iter().zip(&u_samples).enumerate() {
+        for (l, (d, ds)) in vs.iter().zip(&v_samples).enumerate() {
+            let (s, t, distance) = crossing((c, cs), (d, ds))?;
             if distance > 1e-6 * scale {
                 return Err(construction(
                     WHAT,
