@@ -388,15 +388,22 @@ fn common_parameters(
     let mut common = Vec::with_capacity(columns);
     for l in 0..columns {
         let mean = params.iter().map(|row| row[l]).sum::<f64>() / params.len() as f64;
-        for (k, row) in params.iter().enumerate() {
-            if (row[l] - mean).abs() > 1e-6 {
+        if params.iter().any(|row| (row[l] - mean).abs() > 1e-6) {
+            // Name the two curves crossed farthest apart.
+            let by_value =
+                |a: &(usize, &Vec<f64>), b: &(usize, &Vec<f64>)| a.1[l].total_cmp(&b.1[l]);
+            let (low, high) = (
+                params.iter().enumerate().min_by(by_value),
+                params.iter().enumerate().max_by(by_value),
+            );
+            if let (Some((a, low)), Some((b, high))) = (low, high) {
                 return Err(construction(
                     "gordon",
                     format!(
-                        "{other} {l} crosses {family} 0 at {axis} = {:.6} but {family} {k} at \
+                        "{other} {l} crosses {family} {a} at {axis} = {:.6} but {family} {b} at \
                          {axis} = {:.6}; a Gordon surface needs every {other} to cross all the \
                          {family}s at one common {axis} (reparametrize the curves)",
-                        params[0][l], row[l]
+                        low[l], high[l]
                     ),
                 ));
             }
