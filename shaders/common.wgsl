@@ -35,6 +35,14 @@ const PATCH_KIND_BEZIER: u32 = 0u;
 const PATCH_KIND_STENCIL_QUAD: u32 = 1u;
 // The same on a triangle: slots (i, j) with i + j <= segments (Rust: PATCH_KIND_STENCIL_TRIANGLE).
 const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2u;
+// Substitutes of the limit surface (Rust: kernel::subdiv::substitutes), one patch per face, their
+// control indices at control_indices[control_offset..]: an ACC patch (16 geometry points, 12 of
+// the u-tangent patch, 12 of the v-tangent patch), a Gregory patch (16 grid points, then the
+// interior points the edges u = 0 and u = 1 determine for (1, 1), (2, 1), (1, 2), (2, 2)), a PN
+// triangle (10 points, 6 normals; on the triangular lattice). Rust: PATCH_KIND_ACC and so on.
+const PATCH_KIND_ACC: u32 = 3u;
+const PATCH_KIND_GREGORY: u32 = 4u;
+const PATCH_KIND_PN_TRIANGLE: u32 = 5u;
 // PatchRecord.trim_count of a patch a trim loop crosses (Rust: gpu::trim_buffer::TRIM_PARTIAL)
 // and of a patch wholly trimmed away, neither evaluated nor drawn (Rust: TRIM_CULLED).
 const TRIM_PARTIAL: u32 = 1u;

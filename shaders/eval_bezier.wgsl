@@ -531,6 +531,10 @@ fn evaluate_stencil_vertices(
     if (local >= (rec.segments_u + 1u) * (rec.segments_v + 1u)) {
         return;
     }
+    if (rec.kind >= PATCH_KIND_ACC) {
+        write_substitute_vertex(rec, patch_list[group.y], local);
+        return;
+    }
     let start = control_indices[rec.control_offset + 2u * local];
     let packed = control_indices[rec.control_offset + 2u * local + 1u];
     let count = packed & ~STENCIL_NO_CURVATURE;
@@ -565,6 +569,61 @@ fn evaluate_stencil_vertices(
     store_vertex(rec, patch_list[group.y], local, g, d.point, normal, values, flags);
 }
 
+// Control point k of a substitute patch (its weight is 1).
+fn substitute_point(rec: PatchRecord, k: u32) -> vec3<f32> {
+    return control_points[control_indices[rec.control_offset + k]].xyz;
+}
+
+// Slot `local` of a substitute patch (ACC, Gregory, PN triangle; substitutes.wgsl) evaluated
+// from its control points: the position, the substitute's own normal and the curvature of its
+// geometry (from the fundamental forms with the geometric normal Su x Sv).
+fn write_substitute_vertex(rec: PatchRecord, record: u32, local: u32) {
+    let g = grid_point(rec, local);
+    var sample: SubstituteSample;
+    if (rec.kind == PATCH_KIND_ACC) {
+        var points: array<vec3<f32>, 40>;
+        for (var k = 0u; k < 40u; k++) {
+            points[k] = substitute_point(rec, k);
+        }
+        sample = acc_sample(points, g.s, g.t);
+    } else if (rec.kind == PATCH_KIND_GREGORY) {
+        var points: array<vec3<f32>, 20>;
+        for (var k = 0u; k < 20u; k++) {
+            points[k] = substitute_point(rec, k);
+        }
+        sample = gregory_sample(points, g.s, g.t);
+    } else {
+        var points: array<vec3<f32>, 16>;
+        for (var k = 0u; k < 16u; k++) {
+            points[k] = substitute_point(rec, k);
+        }
+        sample = pn_triangle_sample(points, g.s, g.t);
+    }
+    let geometric = regular_normal(sample.d);
+    var normal = sample.normal;
+    if (all(normal == vec3<f32>(0.0))) {
+        normal = geometric;
+    }
+    var flags = 0u;
+    var values = vec4<f32>(0.0);
+    if (all(geometric == vec3<f32>(0.0))) {
+        flags = VERTEX_NO_CURVATURE;
+        if (all(normal == vec3<f32>(0.0))) {
+            normal = vec3<f32>(0.0, 0.0, 1.0);
+            flags |= VERTEX_IRREGULAR;
+        }
+    } else if (!sample.curvature_defined) {
+        flags = VERTEX_NO_CURVATURE;
+    } else {
+        let k = curvature(sample.d, geometric);
+        values = k.values;
+        if (!k.defined) {
+            flags = VERTEX_NO_CURVATURE;
+        }
+    }
+    store_vertex(rec, record, local, g, sample.d.point, normal, values, flags);
+}
+
 // One invocation per grid quad: two counter-clockwise triangles (seen from the side Su x Sv
 // points to). workgroup_id.y is the patch record.
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -589,7 +648,7 @@ fn write_triangles(
     let c = b + 1u;                           // (i + 1, j + 1)
     let d = a + 1u;                           // (i, j + 1)
     let o = rec.index_offset + quad * 6u;
-    if (rec.kind == PATCH_KIND_STENCIL_TRIANGLE) {
+    if (rec.kind == PATCH_KIND_STENCIL_TRIANGLE || rec.kind == PATCH_KIND_PN_TRIANGLE) {
         // The lattice i + j <= segments: the cell's lower triangle, and its upper one inside.
         let inside = i + j + 1u <= rec.segments_u;
         let upper = i + j + 2u <= rec.segments_u;

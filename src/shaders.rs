@@ -16,6 +16,8 @@ pub const ADAPTIVE: &str = include_str!("../shaders/adaptive.wgsl");
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
 pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
+/// Module: the efficient substitutes of a subdivision surface (ACC, Gregory, PN triangles).
+pub const SUBSTITUTES: &str = include_str!("../shaders/substitutes.wgsl");
 /// Module: the surface's shading modes (both surface pipelines).
 pub const SHADING: &str = include_str!("../shaders/shading.wgsl");
 /// Render: the shaded surface (WebGPU: storage buffers, per-fragment analysis and trims).
@@ -34,8 +36,9 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 5] = [
+pub const MODULES: [(&str, &str); 6] = [
     ("diffgeo.wgsl", DIFFGEO),
+    ("substitutes.wgsl", SUBSTITUTES),
     ("bezier.wgsl", BEZIER),
     ("trim.wgsl", TRIM),
     ("adaptive.wgsl", ADAPTIVE),
@@ -50,6 +53,7 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
             &[DIFFGEO],
             "fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> { return vec4<f32>(f32(k)); }",
         ),
+        "substitutes.wgsl" => (&[DIFFGEO], ""),
         "shading.wgsl" => (
             &[],
             "@group(0) @binding(0) var<uniform> scene: SceneUniform;",
@@ -62,7 +66,7 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
 pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
     name: "eval_bezier.wgsl",
     body: EVAL_BEZIER,
-    modules: &[DIFFGEO, BEZIER, ADAPTIVE],
+    modules: &[DIFFGEO, BEZIER, ADAPTIVE, SUBSTITUTES],
 };
 /// The surface render pipeline.
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {

@@ -217,7 +217,14 @@ fn conforms(context: &GpuContext, object: SceneObject) {
 
     // 1. The feed against the kind's own definition.
     let feed = object.decompose().unwrap();
-    assert!(!feed.set.patches().is_empty(), "{name}: an empty feed");
+    let other_patches = feed
+        .stencils
+        .as_ref()
+        .map_or(0, |f| f.patches.len() + f.substitutes.len());
+    assert!(
+        feed.set.patches().len() + other_patches > 0,
+        "{name}: an empty feed"
+    );
     for k in 0..feed.set.patches().len() {
         for (s, t) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.5, 1.0), (1.0, 1.0)] {
             let fed = feed.set.evaluate(k, s, t).unwrap().point;
@@ -232,7 +239,11 @@ fn conforms(context: &GpuContext, object: SceneObject) {
         object
             .kind()
             .surface_point(
-                feed.set.patches().len() + feed.stencils.as_ref().map_or(0, |f| f.patches.len()),
+                feed.set.patches().len()
+                    + feed
+                        .stencils
+                        .as_ref()
+                        .map_or(0, |f| f.patches.len() + f.substitutes.len()),
                 0.5,
                 0.5
             )
@@ -337,6 +348,79 @@ fn created_transfinite_surfaces_conform() {
         .build()
         .unwrap();
         object.segments = 5;
+        conforms(&context, object);
+    }
+}
+
+/// The efficient substitutes as a cage's display: ACC on a cube, Gregory patches on an
+/// icosahedron under Catmull-Clark (on level 1, not all quads) and on an open cylinder (its
+/// boundary faces exact), PN triangles on a Loop icosahedron.
+#[test]
+fn subdivision_substitutes_conform() {
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{Scheme, cages};
+    use knotwork::scene::SubdivObject;
+    let context = common::gpu();
+    let surface = |mesh: PolygonMesh, scheme: Scheme, level: u32| {
+        let options = Options {
+            scheme,
+            ..Options::default()
+        };
+        SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, level).unwrap()
+    };
+    let center = DVec3::new(0.1, -0.2, 0.3);
+    // A 12 × 8 torus with its quads split: big enough that a drag moves only some patches.
+    let torus = cages::torus(center, 2.0, 0.7, 12, 8).unwrap();
+    let split: Vec<Vec<u32>> = torus
+        .faces()
+        .flat_map(|f| [vec![f[0], f[1], f[2]], vec![f[0], f[2], f[3]]])
+        .collect();
+    let triangles = PolygonMesh::new(torus.points().to_vec(), &split).unwrap();
+    let cases = [
+        (
+            "ACC triangulated torus",
+            surface(triangles.clone(), Scheme::CatmullClark, 2),
+            Display::Acc,
+        ),
+        (
+            "PN torus",
+            surface(triangles, Scheme::Loop, 2),
+            Display::PnTriangles,
+        ),
+        (
+            "ACC cube",
+            surface(cages::cube(center, 2.0).unwrap(), Scheme::CatmullClark, 2),
+            Display::Acc,
+        ),
+        (
+            "Gregory icosahedron",
+            surface(
+                cages::icosahedron(center, 1.5).unwrap(),
+                Scheme::CatmullClark,
+                2,
+            ),
+            Display::Gregory,
+        ),
+        (
+            "Gregory cylinder",
+            surface(
+                cages::cylinder(center, 1.0, 2.0, 5, 3).unwrap(),
+                Scheme::CatmullClark,
+                2,
+            ),
+            Display::Gregory,
+        ),
+        (
+            "PN icosahedron",
+            surface(cages::icosahedron(center, 1.5).unwrap(), Scheme::Loop, 3),
+            Display::PnTriangles,
+        ),
+    ];
+    for (name, s, display) in cases {
+        let object = SceneObject::new(
+            name,
+            ObjectGeometry::Subdivision(Box::new(SubdivObject::checked(s, display).unwrap())),
+        );
         conforms(&context, object);
     }
 }

@@ -284,6 +284,15 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "PATCH_KIND_STENCIL_TRIANGLE",
             knotwork::gpu::records::PATCH_KIND_STENCIL_TRIANGLE,
         ),
+        ("PATCH_KIND_ACC", knotwork::gpu::records::PATCH_KIND_ACC),
+        (
+            "PATCH_KIND_GREGORY",
+            knotwork::gpu::records::PATCH_KIND_GREGORY,
+        ),
+        (
+            "PATCH_KIND_PN_TRIANGLE",
+            knotwork::gpu::records::PATCH_KIND_PN_TRIANGLE,
+        ),
         (
             "STENCIL_NO_CURVATURE",
             knotwork::gpu::records::STENCIL_NO_CURVATURE,

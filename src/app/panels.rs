@@ -909,15 +909,41 @@ impl KnotworkApp {
                 (Creasing::Chaikin, "Chaikin"),
             ],
         );
-        choice(
-            ui,
-            "display",
-            &mut settings.display,
-            &[
-                (Display::Limit, "limit surface"),
-                (Display::Refined, "refined mesh"),
-            ],
-        );
+        // The efficient substitutes offered are those of the scheme they approximate.
+        let mut displays = vec![
+            (Display::Limit, "limit surface"),
+            (Display::Refined, "refined mesh"),
+        ];
+        match settings.options.scheme {
+            Scheme::CatmullClark => displays.extend([
+                (Display::Acc, "ACC patches (bicubic + tangent patches)"),
+                (Display::Gregory, "Gregory patches (ACC-2)"),
+            ]),
+            Scheme::Loop => displays.push((Display::PnTriangles, "PN triangles")),
+            _ => {}
+        }
+        if settings.display.substitute().is_some()
+            && !displays.iter().any(|(d, _)| *d == settings.display)
+        {
+            // The scheme changed under a substitute of another scheme: show the limit.
+            settings.display = Display::Limit;
+        }
+        choice(ui, "display", &mut settings.display, &displays);
+        if let Some(kind) = settings.display.substitute() {
+            let scope = if kind.is_triangle() {
+                "one cubic triangle per face through the limit points and normals"
+            } else {
+                "one patch per quad; faces at boundaries, creases and sharp points keep the \
+                 exact limit"
+            };
+            ui.label(
+                egui::RichText::new(format!(
+                    "{}: an approximation of the limit, {scope}",
+                    kind.label()
+                ))
+                .weak(),
+            );
+        }
         ui.add(egui::Slider::new(&mut settings.level, 0..=MAX_LEVEL).text("level"));
         let points: Vec<u32> = self.selection.points.iter().map(|&p| p as u32).collect();
         match points[..] {

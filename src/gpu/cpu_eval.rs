@@ -15,8 +15,8 @@ use wgpu::util::DeviceExt;
 use super::error::GpuError;
 use super::patch_eval::{ObjectPatches, ObjectRange, PatchLayout, SurfaceBuffers};
 use super::records::{
-    PATCH_KIND_BEZIER, PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, SurfaceVertex, VERTEX_IRREGULAR,
-    VERTEX_NO_CURVATURE,
+    PATCH_KIND_BEZIER, PatchRecord, SurfaceVertex, VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
+    is_triangle_lattice,
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL};
 use crate::kernel::BezierPatchSet;
@@ -24,6 +24,7 @@ use crate::kernel::diffgeo::{
     CURVATURE_NUDGE, CurvatureValues, FundamentalForms, SurfaceDerivatives,
 };
 use crate::kernel::subdiv::patches::LimitFeed;
+use crate::kernel::subdiv::substitutes;
 use crate::kernel::trim::index::TrimIndex;
 use crate::scene::Decomposition;
 
@@ -163,14 +164,7 @@ fn stencil_vertices(
             .entries
             .get(start as usize..(start + n) as usize)
             .ok_or_else(missing)?;
-        let mut d = SurfaceDerivatives {
-            point: DVec3::ZERO,
-            su: DVec3::ZERO,
-            sv: DVec3::ZERO,
-            suu: DVec3::ZERO,
-            suv: DVec3::ZERO,
-            svv: DVec3::ZERO,
-        };
+        let mut d = SurfaceDerivatives::default();
         for &(point, w) in entries {
             let p = *points.get(point as usize).ok_or_else(missing)?;
             d.point += w[0] * p;
@@ -187,6 +181,45 @@ fn stencil_vertices(
             Some(n) => (n, curvature_of(&d, n), 0),
         };
         let st = grid_point(record, k as u32);
+        out.push(grid_vertex(record, index, st, &d, normal, curvature, flags));
+    }
+    Ok(())
+}
+
+/// The vertices of substitute patch `patch` of `feed` (record `index`) from its control points
+/// in `points`, as `write_substitute_vertex` writes them: the position, the substitute's own
+/// normal and the curvature of its geometry.
+fn substitute_vertices(
+    feed: &LimitFeed,
+    points: &[DVec3],
+    patch: usize,
+    record: &PatchRecord,
+    index: u32,
+    out: &mut Vec<SurfaceVertex>,
+) -> Result<(), GpuError> {
+    let missing = || GpuError::Geometry(format!("substitute patch {patch} refers past its points"));
+    let sub = feed.substitutes.get(patch).ok_or_else(missing)?;
+    let first = sub.first_point as usize;
+    let control = points
+        .get(first..first + sub.kind.point_count())
+        .ok_or_else(missing)?;
+    let count = (record.segments_u + 1) * (record.segments_v + 1);
+    for k in 0..count {
+        let st = grid_point(record, k);
+        let sample = substitutes::evaluate(sub.kind, control, st.0, st.1);
+        let d = sample.derivatives;
+        let geometric = d.regular_normal();
+        let normal = if sample.normal == DVec3::ZERO {
+            geometric.unwrap_or(DVec3::ZERO)
+        } else {
+            sample.normal
+        };
+        let (normal, curvature, flags) = match geometric {
+            None if normal == DVec3::ZERO => (DVec3::Z, None, VERTEX_IRREGULAR),
+            None => (normal, None, 0),
+            Some(_) if !sample.curvature_defined => (normal, None, 0),
+            Some(g) => (normal, curvature_of(&d, g), 0),
+        };
         out.push(grid_vertex(record, index, st, &d, normal, curvature, flags));
     }
     Ok(())
@@ -218,7 +251,7 @@ fn record_indices(
     };
     // Corners of the two triangles of a cell, as (di, dj): a = (0, 0), b = (1, 0), c = (1, 1),
     // d = (0, 1).
-    let triangle_lattice = record.kind == PATCH_KIND_STENCIL_TRIANGLE;
+    let triangle_lattice = is_triangle_lattice(record.kind);
     let shapes: [[(u32, u32); 3]; 2] = if triangle_lattice {
         [[(0, 0), (1, 0), (0, 1)], [(1, 0), (1, 1), (0, 1)]]
     } else {
@@ -422,10 +455,21 @@ impl CpuGeometry {
                 .stencils
                 .as_deref()
                 .ok_or_else(|| GpuError::Geometry("a stencil patch without tables".into()))?;
+            let stencil = local - range.bezier_count;
+            if let Some(which) = stencil.checked_sub(tables.patches.len()) {
+                return substitute_vertices(
+                    tables,
+                    feed.set.points(),
+                    which,
+                    &record,
+                    k as u32,
+                    &mut self.scratch,
+                );
+            }
             stencil_vertices(
                 tables,
                 feed.set.points(),
-                local - range.bezier_count,
+                stencil,
                 &record,
                 k as u32,
                 &mut self.scratch,

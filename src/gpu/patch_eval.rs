@@ -45,13 +45,14 @@ use super::adaptive_pass::{
 };
 use super::error::GpuError;
 use super::records::{
-    EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_BEZIER,
-    PATCH_KIND_STENCIL_QUAD, PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE,
-    SurfaceVertex,
+    EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_ACC, PATCH_KIND_BEZIER,
+    PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE, PATCH_KIND_STENCIL_QUAD,
+    PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL, pack_index};
 use crate::kernel::BezierPatchSet;
 use crate::kernel::subdiv::patches::LimitFeed;
+use crate::kernel::subdiv::substitutes::SubstituteKind;
 use crate::kernel::trim::index::Coverage;
 use crate::scene::TrimFeed;
 use crate::shaders;
@@ -427,7 +428,10 @@ impl PatchLayout {
         adaptive: bool,
         max_groups: u32,
     ) -> Result<Self, GpuError> {
-        let stencil_count = |o: &ObjectPatches<'_>| o.stencils.map_or(0, |f| f.patches.len());
+        let stencil_count = |o: &ObjectPatches<'_>| {
+            o.stencils
+                .map_or(0, |f| f.patches.len() + f.substitutes.len())
+        };
         let total_patches: usize = objects
             .iter()
             .map(|o| o.set.patches().len() + stencil_count(o))
@@ -540,34 +544,21 @@ impl PatchLayout {
                 }
                 for patch in &feed.patches {
                     let s = patch.segments;
-                    let slots = u64::from(s + 1).pow(2);
-                    if !(1..=MAX_SEGMENTS).contains(&s) || workgroups(slots) > u64::from(max_groups)
-                    {
-                        return Err(GpuError::SegmentsOutOfRange {
-                            segments: s,
-                            max: MAX_SEGMENTS,
-                        });
-                    }
+                    let slots = grid_slots(s, max_groups)?;
                     quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
-                    records.push(PatchRecord {
-                        degree_u: 1,
-                        degree_v: 1,
-                        control_offset: control_indices.len() as u32,
-                        vertex_offset: vertex_offset as u32,
-                        segments_u: s,
-                        segments_v: s,
-                        index_offset: index_offset as u32,
-                        object: object as u32,
-                        domain: [0.0, 1.0, 0.0, 1.0],
-                        kind: if patch.triangle {
-                            PATCH_KIND_STENCIL_TRIANGLE
-                        } else {
-                            PATCH_KIND_STENCIL_QUAD
-                        },
-                        trim_offset: 0,
-                        trim_count: 0,
-                        reserved: 0,
-                    });
+                    let kind = if patch.triangle {
+                        PATCH_KIND_STENCIL_TRIANGLE
+                    } else {
+                        PATCH_KIND_STENCIL_QUAD
+                    };
+                    records.push(grid_record(
+                        kind,
+                        s,
+                        object,
+                        &control_indices,
+                        vertex_offset,
+                        index_offset,
+                    ));
                     let first = patch.first_slot as usize;
                     for k in first..first + slots as usize {
                         let [start, count] = feed.slots[k];
@@ -579,6 +570,33 @@ impl PatchLayout {
                         control_indices.push((entry_base + 2 * start as usize) as u32);
                         control_indices.push(count | flag);
                     }
+                    vertex_offset += slots;
+                    index_offset += 6 * u64::from(s).pow(2);
+                }
+                for patch in &feed.substitutes {
+                    let s = patch.segments;
+                    let slots = grid_slots(s, max_groups)?;
+                    let count = patch.kind.point_count();
+                    let last = patch.first_point as usize + count;
+                    if last > input.set.points().len() {
+                        return Err(GpuError::Geometry(format!(
+                            "a substitute patch reads point {last} of {}",
+                            input.set.points().len()
+                        )));
+                    }
+                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
+                    let kind = substitute_record_kind(patch.kind);
+                    records.push(grid_record(
+                        kind,
+                        s,
+                        object,
+                        &control_indices,
+                        vertex_offset,
+                        index_offset,
+                    ));
+                    control_indices.extend(
+                        (patch.first_point as usize..last).map(|k| (k + first_point) as u32),
+                    );
                     vertex_offset += slots;
                     index_offset += 6 * u64::from(s).pow(2);
                 }
@@ -626,6 +644,56 @@ pub struct PatchGeometry {
     adaptive: Option<AdaptivePass>,
     /// Whether the Bézier patches' vertices carry their curvature.
     curvature: bool,
+}
+
+/// The slots of a grid patch of `segments` per edge (stencil or substitute), checked against
+/// the level range and the dispatch limit.
+fn grid_slots(segments: u32, max_groups: u32) -> Result<u64, GpuError> {
+    let slots = u64::from(segments + 1).pow(2);
+    if !(1..=MAX_SEGMENTS).contains(&segments) || workgroups(slots) > u64::from(max_groups) {
+        return Err(GpuError::SegmentsOutOfRange {
+            segments,
+            max: MAX_SEGMENTS,
+        });
+    }
+    Ok(slots)
+}
+
+/// The record of a grid patch of `kind` (stencil or substitute) with `segments` per edge on
+/// (0, 1)², its control block next in `control_indices` and its vertices and indices at the
+/// given offsets.
+fn grid_record(
+    kind: u32,
+    segments: u32,
+    object: usize,
+    control_indices: &[u32],
+    vertex_offset: u64,
+    index_offset: u64,
+) -> PatchRecord {
+    PatchRecord {
+        degree_u: 1,
+        degree_v: 1,
+        control_offset: control_indices.len() as u32,
+        vertex_offset: vertex_offset as u32,
+        segments_u: segments,
+        segments_v: segments,
+        index_offset: index_offset as u32,
+        object: object as u32,
+        domain: [0.0, 1.0, 0.0, 1.0],
+        kind,
+        trim_offset: 0,
+        trim_count: 0,
+        reserved: 0,
+    }
+}
+
+/// The record kind of a substitute patch.
+pub(crate) fn substitute_record_kind(kind: SubstituteKind) -> u32 {
+    match kind {
+        SubstituteKind::Acc => PATCH_KIND_ACC,
+        SubstituteKind::Gregory => PATCH_KIND_GREGORY,
+        SubstituteKind::PnTriangle => PATCH_KIND_PN_TRIANGLE,
+    }
 }
 
 /// Homogeneous control points (wx, wy, wz, w) in f32, as the shaders read them.

@@ -32,6 +32,19 @@ pub const PATCH_KIND_STENCIL_QUAD: u32 = 1;
 /// [`PatchRecord::kind`] of a triangle of subdivision limit stencils. WGSL:
 /// `PATCH_KIND_STENCIL_TRIANGLE`.
 pub const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2;
+/// [`PatchRecord::kind`] of an ACC patch (40 control indices: geometry, u- and v-tangent
+/// patches; `kernel::subdiv::substitutes`). WGSL: `PATCH_KIND_ACC`.
+pub const PATCH_KIND_ACC: u32 = 3;
+/// [`PatchRecord::kind`] of a Gregory patch (20 control indices). WGSL: `PATCH_KIND_GREGORY`.
+pub const PATCH_KIND_GREGORY: u32 = 4;
+/// [`PatchRecord::kind`] of a PN triangle (16 control indices: 10 positions, 6 normals) on the
+/// triangular lattice. WGSL: `PATCH_KIND_PN_TRIANGLE`.
+pub const PATCH_KIND_PN_TRIANGLE: u32 = 5;
+
+/// Whether records of `kind` use the triangular lattice i + j ≤ segments.
+pub fn is_triangle_lattice(kind: u32) -> bool {
+    kind == PATCH_KIND_STENCIL_TRIANGLE || kind == PATCH_KIND_PN_TRIANGLE
+}
 /// Bit of a stencil slot's entry count: no curvature there. WGSL: `STENCIL_NO_CURVATURE`.
 pub const STENCIL_NO_CURVATURE: u32 = 0x8000_0000;
 

@@ -126,7 +126,7 @@ fn read_cage(path: &str, value: serde_json::Value) -> Result<SubdivObject, Forma
     };
     let surface = SubdivisionSurface::new(mesh, creases, corners, options, raw.level)
         .map_err(|e| FormatError::geometry(path, e))?;
-    Ok(SubdivObject::new(surface, raw.display))
+    SubdivObject::checked(surface, raw.display).map_err(|e| FormatError::geometry(path, e))
 }
 
 fn cage_value(object: &SubdivObject) -> serde_json::Value {

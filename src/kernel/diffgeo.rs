@@ -31,7 +31,7 @@ pub const CURVATURE_NUDGE: f64 = 1e-6;
 pub const UMBILIC_TOLERANCE: f64 = 1e-6;
 
 /// Position and partial derivatives of a surface at one parameter.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SurfaceDerivatives {
     pub point: DVec3,
     pub su: DVec3,

@@ -10,6 +10,7 @@ use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::subdiv::patches::{Display, LimitFeed};
+use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError};
@@ -19,6 +20,8 @@ use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError};
 #[derive(Debug)]
 struct Prepared {
     feed: LimitFeed,
+    /// How the substitute's control points follow the cage (substitute displays).
+    plan: Option<SubstitutePlan>,
     /// The feed patches of each cage face.
     face_patches: Vec<Vec<u32>>,
     /// The cage faces of each cage point.
@@ -157,7 +160,16 @@ impl SubdivObject {
             settings.options,
             settings.level,
         )?;
-        Ok(Self::new(surface, settings.display))
+        Self::checked(surface, settings.display)
+    }
+
+    /// `surface` shown as `display`, refused where the display does not apply: a substitute
+    /// for another scheme than the one it approximates.
+    pub fn checked(surface: SubdivisionSurface, display: Display) -> Result<Self, GeometryError> {
+        if let Some(kind) = display.substitute() {
+            kind.check_scheme(surface.options.scheme)?;
+        }
+        Ok(Self::new(surface, display))
     }
 
     pub fn new(surface: SubdivisionSurface, display: Display) -> Self {
@@ -171,9 +183,14 @@ impl SubdivObject {
     fn prepared(&self) -> Result<Arc<Prepared>, GeometryError> {
         self.prepared
             .get_or_init(|| {
-                let feed = self
-                    .surface
-                    .limit_feed(self.surface.level(), self.display)?;
+                let level = self.surface.level();
+                let (feed, plan) = match self.display.substitute() {
+                    Some(kind) if level > 0 => {
+                        let (feed, plan) = self.surface.substitute_feed(level, kind, true)?;
+                        (feed, Some(plan))
+                    }
+                    _ => (self.surface.limit_feed(level, self.display)?, None),
+                };
                 let mesh = self.surface.mesh();
                 let mut face_patches = vec![Vec::new(); mesh.face_count()];
                 if self.surface.level() == 0 {
@@ -188,9 +205,11 @@ impl SubdivObject {
                         face_patches[f as usize].push(k as u32);
                     }
                     let first = feed.regular.len() as u32;
-                    for (k, patch) in feed.patches.iter().enumerate() {
+                    let faces = feed.patches.iter().map(|p| p.cage_face);
+                    let faces = faces.chain(feed.substitutes.iter().map(|p| p.cage_face));
+                    for (k, face) in faces.enumerate() {
                         // Patches of no single face (Doo-Sabin, √3) are updated as a whole.
-                        if let Some(list) = face_patches.get_mut(patch.cage_face as usize) {
+                        if let Some(list) = face_patches.get_mut(face as usize) {
                             list.push(first + k as u32);
                         }
                     }
@@ -203,6 +222,7 @@ impl SubdivObject {
                 }
                 Ok(Arc::new(Prepared {
                     feed,
+                    plan,
                     face_patches,
                     point_faces,
                 }))
@@ -216,7 +236,7 @@ impl SubdivObject {
     /// vertex-rings of the point's faces is taken.
     ///
     /// The other schemes' stencils reach further (the butterfly's) or belong to no cage face
-    /// (Doo-Sabin, √3): every patch is taken.
+    /// (Doo-Sabin, √3): every patch is taken. Substitutes take the same rings as the limit.
     fn patches_near(&self, prepared: &Prepared, index: usize) -> Vec<usize> {
         let mesh = self.surface.mesh();
         let nested = matches!(
@@ -227,7 +247,14 @@ impl SubdivObject {
             return (0..prepared.feed.regular.len() + prepared.feed.patches.len()).collect();
         }
         let mut faces: Vec<u32> = prepared.point_faces[index].clone();
-        let rings = if self.surface.level() == 0 { 0 } else { 2 };
+        // A substitute patch reads the points of the faces around its corners (ACC's and
+        // Gregory's corner frames, PN's limit masks), as the limit does; on level 1 (a cage
+        // that is not all quads) one ring more, as level 1's points average the cage's.
+        let rings = match (&prepared.plan, self.surface.level()) {
+            (_, 0) => 0,
+            (Some(plan), _) if plan.base_level > 0 => 3,
+            _ => 2,
+        };
         for _ in 0..rings {
             let mut next: Vec<u32> = Vec::new();
             for &f in &faces {
@@ -336,8 +363,9 @@ impl ObjectKind for SubdivObject {
         })
     }
 
-    /// Level 0: the cage's bilinear patches. Otherwise the cage points, then 16 Bézier points
-    /// per regular face; stencil patches index the cage points.
+    /// Level 0: the cage's bilinear patches. Otherwise the cage points, then a substitute's
+    /// control points, then 16 Bézier points per regular face; stencil patches index the cage
+    /// points, substitute patches their own points.
     fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
         if self.surface.level() == 0 {
             return self.surface.mesh().gpu_feed();
@@ -345,6 +373,10 @@ impl ObjectKind for SubdivObject {
         let prepared = self.prepared()?;
         let cage = self.surface.points();
         let mut points = cage.to_vec();
+        if let Some(plan) = &prepared.plan {
+            points.extend(plan.control_points(cage));
+        }
+        let stencil_points = points.len();
         let mut patches = Vec::with_capacity(prepared.feed.regular.len());
         for (_, grid) in &prepared.feed.regular {
             let first = points.len() as u32;
@@ -356,7 +388,7 @@ impl ObjectKind for SubdivObject {
             set: BezierPatchSet::new(points, None, patches)?,
             domains,
             stencils: Some(Arc::new(prepared.feed.clone())),
-            cage_points: cage.len(),
+            cage_points: stencil_points,
             fixed_segments: Some(1 << self.surface.level()),
             trims: None,
         })
@@ -383,11 +415,20 @@ impl ObjectKind for SubdivObject {
             }
             return Ok(p);
         }
-        if patch - regular >= feed.patches.len() {
-            return Err(GeometryError::NoSuchPatch {
-                patch,
-                count: regular + feed.patches.len(),
-            });
+        let count = regular + feed.patches.len() + feed.substitutes.len();
+        if patch >= count {
+            return Err(GeometryError::NoSuchPatch { patch, count });
+        }
+        if let (Some(plan), Some(k)) = (
+            &prepared.plan,
+            (patch - regular).checked_sub(feed.patches.len()),
+        ) {
+            let base = plan.base_points(self.surface.points());
+            let mut control = Vec::with_capacity(plan.kind.point_count());
+            plan.patch_points(&base, k, &mut control);
+            return Ok(substitutes::evaluate(plan.kind, &control, s, t)
+                .derivatives
+                .point);
         }
         self.stencil_point(feed, patch - regular, s, t)
     }
@@ -407,9 +448,28 @@ impl ObjectKind for SubdivObject {
             return Ok(());
         }
         let prepared = self.prepared()?;
+        let mut first_regular = cage.len();
+        if let Some(plan) = &prepared.plan {
+            // The substitute patches among `patches`, their points recomputed.
+            let first = prepared.feed.regular.len() + prepared.feed.patches.len();
+            let count = plan.kind.point_count();
+            let base = plan.base_points(cage);
+            let mut control = Vec::with_capacity(count);
+            for k in patches.iter().filter_map(|&p| p.checked_sub(first)) {
+                if k >= plan.patches.len() {
+                    continue;
+                }
+                control.clear();
+                plan.patch_points(&base, k, &mut control);
+                for (i, &q) in control.iter().enumerate() {
+                    feed.set.set_point(cage.len() + k * count + i, q)?;
+                }
+            }
+            first_regular += plan.patches.len() * count;
+        }
         for &patch in patches {
             if let Some((_, grid)) = prepared.feed.regular.get(patch) {
-                let first = cage.len() + 16 * patch;
+                let first = first_regular + 16 * patch;
                 for (k, q) in bezier_points(cage, grid).into_iter().enumerate() {
                     feed.set.set_point(first + k, q)?;
                 }
@@ -430,7 +490,41 @@ impl ObjectKind for SubdivObject {
         if level == 0 {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
-        let shown = self.surface.display_mesh(level, self.display)?;
+        let mut shown = self.surface.display_mesh(level, self.display)?;
+        let prepared = self.prepared()?;
+        if let Some(plan) = &prepared.plan {
+            // The substitute's own points and normals where its patches lie; the level's
+            // vertices on a seam with an exact face take the substitute's, so the export
+            // stays closed.
+            let feed = &prepared.feed;
+            let base = plan.base_points(self.surface.points());
+            let mut control = Vec::with_capacity(plan.kind.point_count());
+            for (k, patch) in feed.substitutes.iter().enumerate() {
+                control.clear();
+                plan.patch_points(&base, k, &mut control);
+                let n = patch.segments as usize;
+                for i in 0..=n {
+                    for j in 0..=n {
+                        let slot = patch.first_slot as usize + i * (n + 1) + j;
+                        let Some(&v) = feed.vertex.get(slot) else {
+                            continue;
+                        };
+                        let (Some(position), Some(normal)) = (
+                            shown.positions.get_mut(v as usize),
+                            shown.normals.get_mut(v as usize),
+                        ) else {
+                            continue;
+                        };
+                        let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+                        let sample = substitutes::evaluate(plan.kind, &control, s, t);
+                        *position = sample.derivatives.point;
+                        if sample.normal != DVec3::ZERO {
+                            *normal = sample.normal;
+                        }
+                    }
+                }
+            }
+        }
         let mut triangles = Vec::new();
         for face in &shown.polygons {
             for k in 1..face.len() - 1 {

@@ -38,7 +38,7 @@ pub struct DisplayMesh {
 /// limit positions ([`limit_position`]) or where refinement put them, with the limit tangents
 /// ([`limit_tangents`]).
 pub fn display_rows(level: &Level, scheme: Scheme, display: Display) -> DisplayRows {
-    if scheme == Scheme::DooSabin && display == Display::Limit {
+    if scheme == Scheme::DooSabin && display != Display::Refined {
         return doo_sabin_limit_rows(level);
     }
     let vertex_rows = VertexRows::new(level, scheme, display);
@@ -83,8 +83,8 @@ impl<'a> VertexRows<'a> {
     /// tangents ([`limit_tangents`]) whose cross product is the outward normal.
     pub fn rows(&self, v: u32) -> [Row; 3] {
         let position = match self.display {
-            Display::Limit => self.limit(v),
             Display::Refined => Row(vec![(v, 1.0)]),
+            _ => self.limit(v),
         };
         let [t1, t2] = limit_tangents(self.level, self.scheme, v, &|u| self.limit(u));
         [position, t1, t2]
@@ -184,8 +184,8 @@ impl SubdivisionSurface {
             let limit = self.limit(levels)?;
             let polygons = limit.level.faces().map(<[u32]>::to_vec).collect();
             let positions = match display {
-                Display::Limit => limit.positions,
                 Display::Refined => limit.refined,
+                _ => limit.positions,
             };
             return Ok(DisplayMesh {
                 positions,

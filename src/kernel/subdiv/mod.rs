@@ -16,6 +16,7 @@ pub mod patches;
 pub mod refine;
 pub mod schemes;
 pub mod stencil;
+pub mod substitutes;
 
 use glam::{DAffine3, DVec3};
 

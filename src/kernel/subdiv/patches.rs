@@ -7,6 +7,7 @@ use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
 use super::limit::{is_regular, regular_derivatives};
 use super::stencil::Row;
+use super::substitutes::{ExactPiece, SubstituteKind, SubstitutePlan};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::kernel::GeometryError;
 
@@ -19,6 +20,37 @@ pub enum Display {
     Limit,
     /// The refined mesh itself ("cage level N").
     Refined,
+    /// ACC: a bicubic patch per quad with tangent patches for the normals (Catmull-Clark).
+    Acc,
+    /// Gregory patches (ACC-2): a G¹ rational bicubic patch per quad (Catmull-Clark).
+    Gregory,
+    /// PN triangles: a cubic triangle per triangle with quadratic normals (Loop).
+    PnTriangles,
+}
+
+impl Display {
+    /// The substitute this display shows, if it is one.
+    pub fn substitute(self) -> Option<SubstituteKind> {
+        match self {
+            Self::Acc => Some(SubstituteKind::Acc),
+            Self::Gregory => Some(SubstituteKind::Gregory),
+            Self::PnTriangles => Some(SubstituteKind::PnTriangle),
+            Self::Limit | Self::Refined => None,
+        }
+    }
+}
+
+/// A substitute patch ([`super::substitutes`]): its kind, `segments` per edge, its control
+/// points from `first_point` of the object's point pool (the cage's points, then the
+/// substitutes' in the plan's order) and
+/// its grid's slots from `first_slot` (for [`LimitFeed::vertex`]; they carry no entries).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubstitutePatch {
+    pub cage_face: u32,
+    pub kind: SubstituteKind,
+    pub segments: u32,
+    pub first_point: u32,
+    pub first_slot: u32,
 }
 
 /// A grid of stencil vertices: `(segments + 1)²` slots from `first_slot`, slot (i, j) at
@@ -49,6 +81,8 @@ pub struct LimitFeed {
     /// Per slot: the vertex of the level it shows (`u32::MAX` for unused triangle slots).
     pub vertex: Vec<u32>,
     pub entries: Vec<Entry>,
+    /// Substitute patches, after the stencil patches.
+    pub substitutes: Vec<SubstitutePatch>,
 }
 
 /// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
@@ -311,6 +345,12 @@ impl SubdivisionSurface {
         display: Display,
         regular_as_bspline: bool,
     ) -> Result<LimitFeed, GeometryError> {
+        if let Some(kind) = display.substitute() {
+            if levels == 0 {
+                return Ok(LimitFeed::default());
+            }
+            return Ok(self.substitute_feed(levels, kind, regular_as_bspline)?.0);
+        }
         let base = self.base_level()?;
         let scheme = self.options.scheme;
         let mut feed = LimitFeed::default();
@@ -335,9 +375,6 @@ impl SubdivisionSurface {
             let rows = display_rows(&hierarchy.levels[k], scheme, display);
             return Ok(polygon_feed(&hierarchy, k, &rows));
         }
-        let level = &hierarchy.levels[k];
-        // The patches' grids of level-k vertices.
-        let mut grids: Vec<(StencilPatch, Vec<Option<u32>>)> = Vec::new();
         let mut child_start = 0u32;
         let mut starts = Vec::with_capacity(hierarchy.levels[0].face_count());
         for face in hierarchy.levels[0].faces() {
@@ -348,105 +385,185 @@ impl SubdivisionSurface {
                 4
             };
         }
+        let mut pieces = Vec::new();
         for &f in &irregular {
-            let pieces: Vec<(usize, u32, u32)> = match scheme {
+            match scheme {
                 Scheme::CatmullClark => {
                     let n = hierarchy.levels[0].face(f).len() as u32;
-                    (0..n)
-                        .map(|c| (1, starts[f as usize] + c, levels - 1))
-                        .collect()
-                }
-                _ => vec![(0, f, levels)],
-            };
-            for (lk, face, depth) in pieces {
-                let grid = face_grid(&hierarchy, lk, face, depth);
-                grids.push((
-                    StencilPatch {
+                    pieces.extend((0..n).map(|c| ExactPiece {
+                        level: 1,
+                        face: starts[f as usize] + c,
                         cage_face: f,
-                        triangle: scheme != Scheme::CatmullClark,
-                        segments: 1 << depth,
-                        first_slot: 0,
-                    },
-                    grid,
-                ));
-            }
-        }
-        // Rows over level-k vertices per slot.
-        let vertex_rows = VertexRows::new(level, scheme, display);
-        let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
-        for (patch, grid) in &mut grids {
-            patch.first_slot = slot_rows.len() as u32;
-            let s = patch.segments as usize;
-            let scale = s as f64;
-            for i in 0..=s {
-                for j in 0..=s {
-                    let Some(v) = grid[i * (s + 1) + j] else {
-                        slot_rows.push(None);
-                        continue;
-                    };
-                    let regular = display == Display::Limit && is_regular(level, scheme, v);
-                    let derivatives = if regular {
-                        let (towards, reversed) = if i < s {
-                            (grid[(i + 1) * (s + 1) + j], false)
-                        } else {
-                            (grid[(i - 1) * (s + 1) + j], true)
-                        };
-                        towards.and_then(|n| regular_derivatives(level, v, n, reversed))
-                    } else {
-                        None
-                    };
-                    let rows = match derivatives {
-                        Some([p, su, sv, suu, suv, svv]) => {
-                            let mut scaled = [p, su, sv, suu, suv, svv];
-                            for (r, factor) in scaled.iter_mut().zip([
-                                1.0,
-                                scale,
-                                scale,
-                                scale * scale,
-                                scale * scale,
-                                scale * scale,
-                            ]) {
-                                for e in &mut r.0 {
-                                    e.1 *= factor;
-                                }
-                            }
-                            (scaled, false)
-                        }
-                        None => {
-                            let [p, t1, t2] = vertex_rows.rows(v);
-                            let none = Row::default;
-                            ([p, t1, t2, none(), none(), none()], true)
-                        }
-                    };
-                    slot_rows.push(Some(rows));
+                        depth: levels - 1,
+                    }));
                 }
+                _ => pieces.push(ExactPiece {
+                    level: 0,
+                    face: f,
+                    cage_face: f,
+                    depth: levels,
+                }),
             }
-            feed.patches.push(*patch);
         }
-        let all: Vec<&Row> = slot_rows
-            .iter()
-            .flatten()
-            .flat_map(|(rows, _)| rows.iter())
-            .collect();
-        let composed = compose_to_cage(&hierarchy, k, &all);
-        let over_cage = |row: &Row| over_cage(&composed[k], row);
-        for (patch, grid) in &grids {
-            let first = patch.first_slot as usize;
-            for slot in first..first + (patch.segments as usize + 1).pow(2) {
-                let Some((rows, no_curvature)) = &slot_rows[slot] else {
-                    // Unused triangle slots alias the patch's first slot.
-                    let alias = feed.slots[first];
-                    feed.slots.push(alias);
-                    feed.no_curvature.push(true);
-                    feed.vertex.push(u32::MAX);
+        push_stencil_patches(&mut feed, &hierarchy, levels, &pieces, display);
+        Ok(feed)
+    }
+
+    /// The GPU feed of substitute `kind` at level `levels` (≥ 1) and the plan that computes its
+    /// control points: regular quads of a quad cage as B-spline patches (with
+    /// `regular_as_bspline`), faces at boundaries, creases and sharp corners as limit stencils,
+    /// every other face one substitute patch of 2^levels segments per edge (2^(levels − 1) on
+    /// level 1), whose slots name the level's vertices they correspond to.
+    pub fn substitute_feed(
+        &self,
+        levels: u32,
+        kind: SubstituteKind,
+        regular_as_bspline: bool,
+    ) -> Result<(LimitFeed, SubstitutePlan), GeometryError> {
+        let plan = SubstitutePlan::new(self, kind, levels, regular_as_bspline)?;
+        let base = self.base_level()?;
+        let mut feed = LimitFeed::default();
+        let mut exact = plan.exact.clone();
+        for &f in &plan.regular {
+            match bspline_grid(&base, f) {
+                Some(g) => feed.regular.push((f, g)),
+                None => exact.push(ExactPiece {
+                    level: 0,
+                    face: f,
+                    cage_face: f,
+                    depth: levels,
+                }),
+            }
+        }
+        let hierarchy = Hierarchy::new(base, self.options, levels)?;
+        push_stencil_patches(&mut feed, &hierarchy, levels, &exact, Display::Limit);
+        let depth = levels - plan.base_level as u32;
+        for (p, planned) in plan.patches.iter().enumerate() {
+            let grid = face_grid(&hierarchy, plan.base_level, planned.base_face, depth);
+            let first_slot = feed.vertex.len() as u32;
+            for v in grid {
+                feed.vertex.push(v.unwrap_or(NONE));
+                feed.slots.push([0, 0]);
+                feed.no_curvature.push(true);
+            }
+            feed.substitutes.push(SubstitutePatch {
+                cage_face: planned.cage_face,
+                kind,
+                segments: 1 << depth,
+                first_point: (self.points().len() + p * kind.point_count()) as u32,
+                first_slot,
+            });
+        }
+        Ok((feed, plan))
+    }
+}
+
+/// Appends the stencil patches of `pieces` (faces of the hierarchy's levels, each refined to
+/// level `levels`) showing `display`.
+fn push_stencil_patches(
+    feed: &mut LimitFeed,
+    hierarchy: &Hierarchy,
+    levels: u32,
+    pieces: &[ExactPiece],
+    display: Display,
+) {
+    if pieces.is_empty() {
+        return;
+    }
+    let scheme = hierarchy.options.scheme;
+    let k = levels as usize;
+    let level = &hierarchy.levels[k];
+    let grids: Vec<(StencilPatch, Vec<Option<u32>>)> = pieces
+        .iter()
+        .map(|piece| {
+            (
+                StencilPatch {
+                    cage_face: piece.cage_face,
+                    triangle: scheme != Scheme::CatmullClark,
+                    segments: 1 << piece.depth,
+                    first_slot: 0,
+                },
+                face_grid(hierarchy, piece.level, piece.face, piece.depth),
+            )
+        })
+        .collect();
+    let mut grids = grids;
+    // The slots already in the feed.
+    let before = feed.slots.len();
+    // Rows over level-k vertices per slot.
+    let vertex_rows = VertexRows::new(level, scheme, display);
+    let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
+    for (patch, grid) in &mut grids {
+        patch.first_slot = (before + slot_rows.len()) as u32;
+        let s = patch.segments as usize;
+        let scale = s as f64;
+        for i in 0..=s {
+            for j in 0..=s {
+                let Some(v) = grid[i * (s + 1) + j] else {
+                    slot_rows.push(None);
                     continue;
                 };
-                let slot_entries = push_entries(&mut feed, rows.iter().map(&over_cage));
-                feed.slots.push(slot_entries);
-                feed.no_curvature.push(*no_curvature);
-                feed.vertex.push(grid[slot - first].unwrap_or(u32::MAX));
+                let regular = display != Display::Refined && is_regular(level, scheme, v);
+                let derivatives = if regular {
+                    let (towards, reversed) = if i < s {
+                        (grid[(i + 1) * (s + 1) + j], false)
+                    } else {
+                        (grid[(i - 1) * (s + 1) + j], true)
+                    };
+                    towards.and_then(|n| regular_derivatives(level, v, n, reversed))
+                } else {
+                    None
+                };
+                let rows = match derivatives {
+                    Some([p, su, sv, suu, suv, svv]) => {
+                        let mut scaled = [p, su, sv, suu, suv, svv];
+                        for (r, factor) in scaled.iter_mut().zip([
+                            1.0,
+                            scale,
+                            scale,
+                            scale * scale,
+                            scale * scale,
+                            scale * scale,
+                        ]) {
+                            for e in &mut r.0 {
+                                e.1 *= factor;
+                            }
+                        }
+                        (scaled, false)
+                    }
+                    None => {
+                        let [p, t1, t2] = vertex_rows.rows(v);
+                        let none = Row::default;
+                        ([p, t1, t2, none(), none(), none()], true)
+                    }
+                };
+                slot_rows.push(Some(rows));
             }
         }
-        Ok(feed)
+        feed.patches.push(*patch);
+    }
+    let all: Vec<&Row> = slot_rows
+        .iter()
+        .flatten()
+        .flat_map(|(rows, _)| rows.iter())
+        .collect();
+    let composed = compose_to_cage(hierarchy, k, &all);
+    let over_cage = |row: &Row| over_cage(&composed[k], row);
+    for (patch, grid) in &grids {
+        let first = patch.first_slot as usize;
+        for slot in first..first + (patch.segments as usize + 1).pow(2) {
+            let Some((rows, no_curvature)) = &slot_rows[slot - before] else {
+                // Unused triangle slots alias the patch's first slot.
+                let alias = feed.slots[first];
+                feed.slots.push(alias);
+                feed.no_curvature.push(true);
+                feed.vertex.push(u32::MAX);
+                continue;
+            };
+            let slot_entries = push_entries(feed, rows.iter().map(&over_cage));
+            feed.slots.push(slot_entries);
+            feed.no_curvature.push(*no_curvature);
+            feed.vertex.push(grid[slot - first].unwrap_or(u32::MAX));
+        }
     }
 }
