@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 10] = [
+pub const GROUPS: [&str; 11] = [
     "edit",
     "webgl2",
     "frame",
@@ -404,6 +404,7 @@ pub const GROUPS: [&str; 10] = [
     "trim",
     "analysis",
     "construct",
+    "substitutes",
     "all",
 ];
 
@@ -444,6 +445,9 @@ pub fn run(
     }
     if wants("construct") {
         bench_construct(iterations, out)?;
+    }
+    if wants("substitutes") {
+        bench_substitutes(context, iterations, out)?;
     }
     Ok(())
 }
@@ -1070,6 +1074,74 @@ fn bench_subdivision(
             feed.entries.len(),
             bytes as f64 / slots as f64,
         )?;
+    }
+    Ok(())
+}
+
+/// The efficient substitutes against the exact limit, cage by cage: for each substitute its
+/// error against the exact limit at the level's vertices ([`SubdivisionSurface::substitute_error`],
+/// over the substitute patches) and the CPU time to recompute its control points after an edit;
+/// then the exact display and each substitute through the editor's path (full pass, drag
+/// latency), at the same level and so the same vertex count.
+fn bench_substitutes(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::subdiv::patches::Display;
+    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use crate::scene::SubdivObject;
+    let cube = cages::cube(DVec3::ZERO, 2.0)?;
+    let icosahedron = cages::icosahedron(DVec3::ZERO, 1.5)?;
+    let torus = triangulated(&cages::torus(DVec3::ZERO, 2.0, 0.7, 24, 16)?)?;
+    let quads = [Display::Limit, Display::Acc, Display::Gregory];
+    let triangles = [Display::Limit, Display::PnTriangles];
+    let cases: [(&str, &crate::kernel::PolygonMesh, Scheme, u32, &[Display]); 5] = [
+        ("cube", &cube, Scheme::CatmullClark, 4, &quads),
+        ("icosahedron", &icosahedron, Scheme::CatmullClark, 4, &quads),
+        ("24x16 tri torus", &torus, Scheme::CatmullClark, 3, &quads),
+        ("icosahedron", &icosahedron, Scheme::Loop, 4, &triangles),
+        ("24x16 tri torus", &torus, Scheme::Loop, 4, &triangles),
+    ];
+    for (name, mesh, scheme, level, displays) in cases {
+        let options = Options {
+            scheme,
+            ..Default::default()
+        };
+        let surface =
+            SubdivisionSurface::new((*mesh).clone(), Vec::new(), Vec::new(), options, level)?;
+        for &display in displays {
+            let label = match display.substitute() {
+                Some(kind) => {
+                    let e = surface.substitute_error(kind, level, true)?;
+                    let (_, plan) = surface.substitute_feed(level, kind, true)?;
+                    let (points_ms, _) = median_ms(iterations.clamp(1, 20), || {
+                        Ok::<_, std::convert::Infallible>(plan.control_points(surface.points()))
+                    })?;
+                    writeln!(
+                        out,
+                        "{name} {} L{level} vs exact | {} patches, {} samples | distance max {:.2e} rms {:.2e} of the size | normal max {:.2}° mean {:.2}° | points per edit {points_ms:.3} ms",
+                        kind.label(),
+                        e.patches,
+                        e.samples,
+                        e.max_distance,
+                        e.rms_distance,
+                        e.max_normal_degrees,
+                        e.mean_normal_degrees,
+                    )?;
+                    kind.label()
+                }
+                None => "exact limit",
+            };
+            let object = SceneObject::new(
+                format!("{name} {} {label}", scheme.label()),
+                ObjectGeometry::Subdivision(Box::new(SubdivObject::checked(
+                    surface.clone(),
+                    display,
+                )?)),
+            );
+            bench_object(context, object, 1, iterations, out)?;
+        }
     }
     Ok(())
 }

@@ -574,6 +574,61 @@ async function main() {
       await page.close();
     });
 
+    await check('efficient substitutes in the page: Gregory and ACC patches, PN triangles on the GPU, a mouse drag, undo', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const points = [];
+      for (let k = 0; k < 8; k += 1) points.push([k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1]);
+      const faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+      const cage = (display) => ({ type: 'subdivision_surface', name: display, points, faces, level: 3, display });
+      // Every face of the cube has valence-3 corners: one substitute patch of 8 x 8 segments each.
+      await openObjects(page, [cage('acc')]);
+      let s = await status(page);
+      assert(s.error === null && s.patches === 6 && s.vertices === 6 * 81, `ACC: ${JSON.stringify(s)}`);
+      await openObjects(page, [cage('gregory')]);
+      await page.waitForFunction(() => window.knotwork.project().objects[0].display === 'gregory', null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null && s.patches === 6 && s.vertices === 6 * 81, `Gregory: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.frame());
+      await page.evaluate(() => window.knotwork.select(0));
+      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      const [index, [hx, hy]] = await freeHandle(page, 10);
+      await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
+      await page.waitForFunction(() => {
+        const t = window.knotwork.status();
+        return t.undo_steps === 1 && !t.dragging;
+      }, null, { timeout: 60_000 });
+      await nextFrames(page);
+      const moved = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/gregory-dragged.png`, moved);
+      const change = await screenshotDifference(page, before, moved, viewport, 24);
+      assert(change.differing > 200, `the canvas changed with the drag (${change.differing} px)`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      const undone = await page.evaluate(() => window.knotwork.project());
+      assert(undone.objects[0].points[index].every((x, c) => x === points[index][c]), 'undo brings the point back');
+      assert(undone.objects[0].display === 'gregory', 'the display is saved');
+      // PN triangles on a Loop octahedron: one cubic triangle per face.
+      const octahedron = {
+        type: 'subdivision_surface', name: 'pn', scheme: 'loop', level: 2, display: 'pn-triangles',
+        points: [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]],
+        faces: [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]],
+      };
+      await openObjects(page, [octahedron]);
+      await page.waitForFunction(() => window.knotwork.project().objects[0].display === 'pn-triangles', null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null && s.patches === 8 && s.vertices === 8 * 25, `PN triangles: ${JSON.stringify(s)}`);
+      console.log(`      Gregory drag changed ${change.differing} px`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a trimmed surface in the page: a circle drawn with the mouse cuts a hole, export validates, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
