@@ -91,6 +91,10 @@ mod cli {
             /// Write limit positions and normals instead of the refined vertices.
             #[arg(long)]
             limit: bool,
+            /// Write an efficient substitute's positions and normals instead: acc or gregory
+            /// (Catmull-Clark), pn-triangles (Loop).
+            #[arg(long, value_enum)]
+            substitute: Option<SubstituteArg>,
             #[arg(long, value_enum, default_value_t = BoundaryArg::EdgeOnly)]
             boundary: BoundaryArg,
             /// How semi-sharp creases decay: uniform (one less per level) or Chaikin's rule.
@@ -142,6 +146,13 @@ mod cli {
     }
 
     #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+    pub enum SubstituteArg {
+        Acc,
+        Gregory,
+        PnTriangles,
+    }
+
+    #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
     pub enum SchemeArg {
         CatmullClark,
         Loop,
@@ -169,6 +180,7 @@ mod cli {
         pub scheme: SchemeArg,
         pub levels: u32,
         pub limit: bool,
+        pub substitute: Option<SubstituteArg>,
         pub boundary: BoundaryArg,
         pub creasing: CreasingArg,
         pub backend: Backend,
@@ -245,17 +257,29 @@ mod cli {
         }
         .map_err(|e| e.to_string())?;
         let on_gpu = args.backend == Backend::Gpu && args.levels > 0;
-        let display = if args.limit {
-            knotwork::kernel::subdiv::patches::Display::Limit
-        } else {
-            knotwork::kernel::subdiv::patches::Display::Refined
+        use knotwork::kernel::subdiv::patches::Display;
+        let display = match (args.substitute, args.limit) {
+            (Some(SubstituteArg::Acc), _) => Display::Acc,
+            (Some(SubstituteArg::Gregory), _) => Display::Gregory,
+            (Some(SubstituteArg::PnTriangles), _) => Display::PnTriangles,
+            (None, true) => Display::Limit,
+            (None, false) => Display::Refined,
         };
         // On the GPU the CPU gives the topology and the points on no face.
-        let shown = surface
-            .display_mesh(args.levels, display)
-            .map_err(|e| e.to_string())?;
+        let shown = match display.substitute() {
+            Some(kind) => {
+                kind.check_scheme(surface.options.scheme)
+                    .map_err(|e| e.to_string())?;
+                if args.levels == 0 {
+                    return Err("a substitute needs --levels 1 or more".into());
+                }
+                surface.substitute_mesh(args.levels, kind)
+            }
+            None => surface.display_mesh(args.levels, display),
+        }
+        .map_err(|e| e.to_string())?;
         let mut positions = shown.positions;
-        let mut normals = if args.limit {
+        let mut normals = if display != Display::Refined {
             shown.normals
         } else {
             Vec::new()
@@ -268,7 +292,7 @@ mod cli {
                 &context.queue,
                 &surface,
                 args.levels,
-                args.limit,
+                display,
             )
             .map_err(|e| e.to_string())?;
             for (v, result) in gpu.into_iter().enumerate() {
@@ -579,6 +603,7 @@ fn main() -> std::process::ExitCode {
             scheme,
             levels,
             limit,
+            substitute,
             boundary,
             creasing,
             backend,
@@ -590,6 +615,7 @@ fn main() -> std::process::ExitCode {
                 scheme: *scheme,
                 levels: *levels,
                 limit: *limit,
+                substitute: *substitute,
                 boundary: *boundary,
                 creasing: *creasing,
                 backend: *backend,

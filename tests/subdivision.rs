@@ -481,7 +481,7 @@ fn the_gpu_stencil_pass_matches_the_f64_tables() {
                 &context.queue,
                 surface,
                 levels,
-                true,
+                knotwork::kernel::subdiv::patches::Display::Limit,
             )
             .unwrap();
             let mut worst = (0.0f64, 0.0f64);
@@ -504,7 +504,7 @@ fn the_gpu_stencil_pass_matches_the_f64_tables() {
                 &context.queue,
                 surface,
                 levels,
-                false,
+                knotwork::kernel::subdiv::patches::Display::Refined,
             )
             .unwrap();
             for (v, result) in gpu.iter().enumerate() {
@@ -529,7 +529,7 @@ fn the_gpu_curvature_of_a_regular_grid_is_the_b_spline_s() {
         &context.queue,
         &surface,
         3,
-        true,
+        knotwork::kernel::subdiv::patches::Display::Limit,
     )
     .unwrap();
     let mut checked = 0;

@@ -357,7 +357,7 @@ fn the_gpu_stencil_pass_matches_the_f64_display_for_every_new_scheme() {
                     &context.queue,
                     &s,
                     levels,
-                    display == Display::Limit,
+                    display,
                 )
                 .unwrap();
                 let used: std::collections::BTreeSet<u32> =

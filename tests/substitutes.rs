@@ -229,3 +229,74 @@ fn a_substitute_of_another_scheme_is_refused() {
         assert!(p.distance(b[v][0].0) < 1e-12);
     }
 }
+
+/// The `v` lines of an OBJ file.
+fn obj_vertices(text: &str) -> Vec<DVec3> {
+    text.lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let c: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            DVec3::new(c[0], c[1], c[2])
+        })
+        .collect()
+}
+
+#[test]
+fn the_subdivide_command_writes_substitutes_on_both_backends() {
+    let dir = std::env::temp_dir().join(format!("knotwork-substitutes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cube = skewed_cube();
+    let faces: Vec<&[u32]> = cube.mesh().faces().collect();
+    let input = dir.join("cube.obj");
+    std::fs::write(&input, knotwork::io::obj::write(cube.points(), &[], &faces)).unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("subdivide")
+            .arg(&input)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let expected = cube.substitute_mesh(2, SubstituteKind::Gregory).unwrap();
+    for backend in ["cpu", "gpu"] {
+        let out = dir.join(format!("{backend}.obj"));
+        let done = run(&[
+            "--levels",
+            "2",
+            "--substitute",
+            "gregory",
+            "--backend",
+            backend,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            done.status.success(),
+            "{}",
+            String::from_utf8_lossy(&done.stderr)
+        );
+        let text = std::fs::read_to_string(&out).unwrap();
+        let written = obj_vertices(&text);
+        assert_eq!(written.len(), expected.positions.len());
+        assert_eq!(
+            text.lines().filter(|l| l.starts_with("vn ")).count(),
+            written.len()
+        );
+        // Relative to the cube's diagonal (edge 2): f64 text, or the compute shaders' f32.
+        let tolerance = if backend == "cpu" { 1e-12 } else { 1e-5 } * 2.0 * 3f64.sqrt();
+        for (w, e) in written.iter().zip(&expected.positions) {
+            assert!(w.distance(*e) < tolerance, "{backend}: {w} vs {e}");
+        }
+    }
+    let refused = run(&[
+        "--levels",
+        "2",
+        "--substitute",
+        "pn-triangles",
+        "-o",
+        "x.obj",
+    ]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("approximate Loop"));
+    std::fs::remove_dir_all(&dir).ok();
+}

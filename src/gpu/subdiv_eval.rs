@@ -14,28 +14,34 @@ use crate::kernel::subdiv::patches::{Display, LimitFeed};
 /// `None` for vertices on no face.
 pub type LevelVertices = Vec<Option<(DVec3, DVec3, [f64; 4])>>;
 
-/// Evaluates `surface` at level `levels` (≥ 1) on the GPU: the limit (or, with `limit` false,
-/// refined) position, the limit normal and the curvatures of every vertex of the level.
+/// Evaluates `surface` at level `levels` (≥ 1) on the GPU as `display` shows it: the limit
+/// (or refined, or substitute) position, the normal and the curvatures of every vertex of the
+/// level. A substitute's patches are evaluated from their control points, the faces it leaves
+/// exact from the limit stencils.
 pub fn evaluate_level(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     surface: &SubdivisionSurface,
     levels: u32,
-    limit: bool,
+    display: Display,
 ) -> Result<LevelVertices, GpuError> {
-    let display = if limit {
-        Display::Limit
-    } else {
-        Display::Refined
-    };
+    let geometry = |e: crate::kernel::GeometryError| GpuError::Geometry(e.to_string());
+    if let Some(kind) = display.substitute() {
+        let (feed, plan) = surface
+            .substitute_feed(levels, kind, false)
+            .map_err(geometry)?;
+        let mut points = surface.points().to_vec();
+        points.extend(plan.control_points(surface.points()));
+        return evaluate_feed(device, queue, &points, &feed);
+    }
     let feed = surface
         .limit_feed_with(levels, display, false)
-        .map_err(|e| GpuError::Geometry(e.to_string()))?;
+        .map_err(geometry)?;
     evaluate_feed(device, queue, surface.points(), &feed)
 }
 
-/// Evaluates every stencil patch of `feed` over `cage` on the GPU and returns each level
-/// vertex's result.
+/// Evaluates every stencil and substitute patch of `feed` over `cage` (the cage's points,
+/// then any substitute's control points) on the GPU and returns each level vertex's result.
 pub fn evaluate_feed(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -71,10 +77,12 @@ pub fn evaluate_feed(
         .max()
         .map_or(0, |&v| v as usize + 1);
     let mut out: LevelVertices = vec![None; count];
-    for (record, patch) in geometry.records().iter().zip(&feed.patches) {
-        let slots = (patch.segments as usize + 1).pow(2);
+    let grids = feed.patches.iter().map(|p| (p.segments, p.first_slot));
+    let grids = grids.chain(feed.substitutes.iter().map(|p| (p.segments, p.first_slot)));
+    for (record, (segments, first_slot)) in geometry.records().iter().zip(grids) {
+        let slots = (segments as usize + 1).pow(2);
         for k in 0..slots {
-            let vertex = feed.vertex[patch.first_slot as usize + k];
+            let vertex = feed.vertex[first_slot as usize + k];
             if vertex == u32::MAX {
                 continue;
             }

@@ -490,41 +490,10 @@ impl ObjectKind for SubdivObject {
         if level == 0 {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
-        let mut shown = self.surface.display_mesh(level, self.display)?;
-        let prepared = self.prepared()?;
-        if let Some(plan) = &prepared.plan {
-            // The substitute's own points and normals where its patches lie; the level's
-            // vertices on a seam with an exact face take the substitute's, so the export
-            // stays closed.
-            let feed = &prepared.feed;
-            let base = plan.base_points(self.surface.points());
-            let mut control = Vec::with_capacity(plan.kind.point_count());
-            for (k, patch) in feed.substitutes.iter().enumerate() {
-                control.clear();
-                plan.patch_points(&base, k, &mut control);
-                let n = patch.segments as usize;
-                for i in 0..=n {
-                    for j in 0..=n {
-                        let slot = patch.first_slot as usize + i * (n + 1) + j;
-                        let Some(&v) = feed.vertex.get(slot) else {
-                            continue;
-                        };
-                        let (Some(position), Some(normal)) = (
-                            shown.positions.get_mut(v as usize),
-                            shown.normals.get_mut(v as usize),
-                        ) else {
-                            continue;
-                        };
-                        let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-                        let sample = substitutes::evaluate(plan.kind, &control, s, t);
-                        *position = sample.derivatives.point;
-                        if sample.normal != DVec3::ZERO {
-                            *normal = sample.normal;
-                        }
-                    }
-                }
-            }
-        }
+        let shown = match self.display.substitute() {
+            Some(kind) => self.surface.substitute_mesh(level, kind)?,
+            None => self.surface.display_mesh(level, self.display)?,
+        };
         let mut triangles = Vec::new();
         for face in &shown.polygons {
             for k in 1..face.len() - 1 {

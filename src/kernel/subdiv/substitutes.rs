@@ -831,6 +831,32 @@ pub struct SubstituteError {
 }
 
 impl SubdivisionSurface {
+    /// The surface substitute `kind` shows at level `levels`, in f64: the level's faces over
+    /// its vertices, each vertex on a substitute patch at the substitute's point with its
+    /// normal, the others (regular and exact faces) at their limit points with the limit
+    /// normals. Vertices on a seam between a substitute and an exact face take the
+    /// substitute's, so the mesh stays closed.
+    pub fn substitute_mesh(
+        &self,
+        levels: u32,
+        kind: SubstituteKind,
+    ) -> Result<super::display::DisplayMesh, GeometryError> {
+        let (feed, plan) = self.substitute_feed(levels, kind, true)?;
+        let mut shown = self.display_mesh(levels, super::patches::Display::Limit)?;
+        for_each_substitute_vertex(&feed, &plan, self.points(), |v, sample| {
+            let v = v as usize;
+            if let (Some(position), Some(normal)) =
+                (shown.positions.get_mut(v), shown.normals.get_mut(v))
+            {
+                *position = sample.derivatives.point;
+                if sample.normal != DVec3::ZERO {
+                    *normal = sample.normal;
+                }
+            }
+        });
+        Ok(shown)
+    }
+
     /// The error of substitute `kind` at level `levels` against the exact limit (positions and
     /// normals of [`SubdivisionSurface::limit`]) at the level's vertices on the substitute
     /// patches; `regular_as_bspline` as in [`Self::substitute_feed`]. The parametrizations
@@ -847,46 +873,62 @@ impl SubdivisionSurface {
             .mesh()
             .bounds()
             .map_or(1.0, |(lo, hi)| (hi - lo).length().max(f64::MIN_POSITIVE));
-        let base = plan.base_points(self.points());
         let mut error = SubstituteError {
             patches: feed.substitutes.len(),
             ..Default::default()
         };
         let (mut squares, mut angles) = (0.0, 0.0);
-        let mut control = Vec::with_capacity(kind.point_count());
-        for (k, patch) in feed.substitutes.iter().enumerate() {
-            control.clear();
-            plan.patch_points(&base, k, &mut control);
-            let n = patch.segments as usize;
-            for i in 0..=n {
-                for j in 0..=n {
-                    let v = feed.vertex[patch.first_slot as usize + i * (n + 1) + j];
-                    let (Some(exact), Some(normal)) = (
-                        limit.positions.get(v as usize),
-                        limit.normals.get(v as usize),
-                    ) else {
-                        continue;
-                    };
-                    let sample = evaluate(kind, &control, i as f64 / n as f64, j as f64 / n as f64);
-                    let distance = sample.derivatives.point.distance(*exact) / diagonal;
-                    let angle = sample
-                        .normal
-                        .dot(*normal)
-                        .clamp(-1.0, 1.0)
-                        .acos()
-                        .to_degrees();
-                    error.samples += 1;
-                    error.max_distance = error.max_distance.max(distance);
-                    error.max_normal_degrees = error.max_normal_degrees.max(angle);
-                    squares += distance * distance;
-                    angles += angle;
-                }
-            }
-        }
+        for_each_substitute_vertex(&feed, &plan, self.points(), |v, sample| {
+            let (Some(exact), Some(normal)) = (
+                limit.positions.get(v as usize),
+                limit.normals.get(v as usize),
+            ) else {
+                return;
+            };
+            let distance = sample.derivatives.point.distance(*exact) / diagonal;
+            let angle = sample
+                .normal
+                .dot(*normal)
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees();
+            error.samples += 1;
+            error.max_distance = error.max_distance.max(distance);
+            error.max_normal_degrees = error.max_normal_degrees.max(angle);
+            squares += distance * distance;
+            angles += angle;
+        });
         if error.samples > 0 {
             error.rms_distance = (squares / error.samples as f64).sqrt();
             error.mean_normal_degrees = angles / error.samples as f64;
         }
         Ok(error)
+    }
+}
+
+/// Calls `f` with every level vertex on a substitute patch of `feed` (built with `plan`) and the
+/// substitute evaluated there, the patches' points computed from the cage `cage`.
+fn for_each_substitute_vertex(
+    feed: &super::patches::LimitFeed,
+    plan: &SubstitutePlan,
+    cage: &[DVec3],
+    mut f: impl FnMut(u32, SubstituteSample),
+) {
+    let base = plan.base_points(cage);
+    let mut control = Vec::with_capacity(plan.kind.point_count());
+    for (k, patch) in feed.substitutes.iter().enumerate() {
+        control.clear();
+        plan.patch_points(&base, k, &mut control);
+        let n = patch.segments as usize;
+        for i in 0..=n {
+            for j in 0..=n {
+                let v = feed.vertex[patch.first_slot as usize + i * (n + 1) + j];
+                if v == super::level::NONE {
+                    continue;
+                }
+                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+                f(v, evaluate(plan.kind, &control, s, t));
+            }
+        }
     }
 }
