@@ -208,17 +208,15 @@ fn substitute_vertices(
         let st = grid_point(record, k);
         let sample = substitutes::evaluate(sub.kind, control, st.0, st.1);
         let d = sample.derivatives;
+        // The curvature of the geometry, with its own normal Su × Sv.
         let geometric = d.regular_normal();
-        let normal = if sample.normal == DVec3::ZERO {
-            geometric.unwrap_or(DVec3::ZERO)
-        } else {
-            sample.normal
-        };
-        let (normal, curvature, flags) = match geometric {
-            None if normal == DVec3::ZERO => (DVec3::Z, None, VERTEX_IRREGULAR),
-            None => (normal, None, 0),
-            Some(_) if !sample.curvature_defined => (normal, None, 0),
-            Some(g) => (normal, curvature_of(&d, g), 0),
+        let curvature = geometric
+            .filter(|_| sample.curvature_defined)
+            .and_then(|g| curvature_of(&d, g));
+        let (normal, flags) = match (sample.normal, geometric) {
+            (n, _) if n != DVec3::ZERO => (n, 0),
+            (_, Some(g)) => (g, 0),
+            (_, None) => (DVec3::Z, VERTEX_IRREGULAR),
         };
         out.push(grid_vertex(record, index, st, &d, normal, curvature, flags));
     }

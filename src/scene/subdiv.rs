@@ -490,8 +490,11 @@ impl ObjectKind for SubdivObject {
         if level == 0 {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
-        let shown = match self.display.substitute() {
-            Some(kind) => self.surface.substitute_mesh(level, kind)?,
+        let prepared = self.prepared()?;
+        let shown = match &prepared.plan {
+            Some(plan) => self
+                .surface
+                .substitute_mesh_from(level, &prepared.feed, plan)?,
             None => self.surface.display_mesh(level, self.display)?,
         };
         let mut triangles = Vec::new();

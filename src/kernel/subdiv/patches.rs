@@ -42,8 +42,8 @@ impl Display {
 
 /// A substitute patch ([`super::substitutes`]): its kind, `segments` per edge, its control
 /// points from `first_point` of the object's point pool (the cage's points, then the
-/// substitutes' in the plan's order) and
-/// its grid's slots from `first_slot` (for [`LimitFeed::vertex`]; they carry no entries).
+/// substitutes' in the plan's order) and its grid's slots from `first_slot` (for
+/// [`LimitFeed::vertex`]; they carry no entries).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SubstitutePatch {
     pub cage_face: u32,
@@ -375,16 +375,7 @@ impl SubdivisionSurface {
             let rows = display_rows(&hierarchy.levels[k], scheme, display);
             return Ok(polygon_feed(&hierarchy, k, &rows));
         }
-        let mut child_start = 0u32;
-        let mut starts = Vec::with_capacity(hierarchy.levels[0].face_count());
-        for face in hierarchy.levels[0].faces() {
-            starts.push(child_start);
-            child_start += if scheme == Scheme::CatmullClark {
-                face.len() as u32
-            } else {
-                4
-            };
-        }
+        let starts = first_children(&hierarchy.levels[0], scheme);
         let mut pieces = Vec::new();
         for &f in &irregular {
             match scheme {
@@ -458,6 +449,24 @@ impl SubdivisionSurface {
     }
 }
 
+/// Each face's first child one level down: Catmull-Clark splits a face into as many quads as
+/// it has corners, Loop into four triangles, numbered face by face.
+pub(super) fn first_children(level: &Level, scheme: Scheme) -> Vec<u32> {
+    let mut next = 0u32;
+    level
+        .faces()
+        .map(|face| {
+            let first = next;
+            next += if scheme == Scheme::CatmullClark {
+                face.len() as u32
+            } else {
+                4
+            };
+            first
+        })
+        .collect()
+}
+
 /// Appends the stencil patches of `pieces` (faces of the hierarchy's levels, each refined to
 /// level `levels`) showing `display`.
 fn push_stencil_patches(
@@ -473,7 +482,7 @@ fn push_stencil_patches(
     let scheme = hierarchy.options.scheme;
     let k = levels as usize;
     let level = &hierarchy.levels[k];
-    let grids: Vec<(StencilPatch, Vec<Option<u32>>)> = pieces
+    let mut grids: Vec<(StencilPatch, Vec<Option<u32>>)> = pieces
         .iter()
         .map(|piece| {
             (
@@ -487,7 +496,6 @@ fn push_stencil_patches(
             )
         })
         .collect();
-    let mut grids = grids;
     // The slots already in the feed.
     let before = feed.slots.len();
     // Rows over level-k vertices per slot.

@@ -174,12 +174,10 @@ impl SubstitutePlan {
             (cage, None, Vec::new())
         } else {
             let hierarchy = Hierarchy::new(cage, surface.options, 1)?;
-            let mut starts = Vec::with_capacity(hierarchy.levels[0].face_count());
-            let mut next = 0u32;
-            for face in hierarchy.levels[0].faces() {
-                starts.push((next, face.len() as u32));
-                next += face.len() as u32;
-            }
+            let starts = super::patches::first_children(&hierarchy.levels[0], scheme)
+                .into_iter()
+                .zip(hierarchy.levels[0].faces().map(|f| f.len() as u32))
+                .collect();
             let Hierarchy {
                 levels: mut refined,
                 stencils: mut steps,
@@ -361,28 +359,39 @@ impl SubstitutePlan {
         let plus = |a: (i32, i32), b: (i32, i32)| (a.0 + b.0, a.1 + b.1);
         let next_slot = |a: usize| slots[a];
         let prev_slot = |a: usize| (slots[a] + 1) % frames[a].n;
+        // ACC's edge points; Gregory's are ACC's corner tangents moved into the exact limit
+        // tangent plane (p + t/3).
+        let (edge_next, edge_prev): ([DVec3; 4], [DVec3; 4]) = if self.kind == SubstituteKind::Acc {
+            (
+                std::array::from_fn(|a| frames[a].edge[next_slot(a)]),
+                std::array::from_fn(|a| frames[a].edge[prev_slot(a)]),
+            )
+        } else {
+            let normals: [DVec3; 4] = std::array::from_fn(|a| {
+                let [t0, t1] = &self.tangents[q[a] as usize];
+                t0.apply(base).cross(t1.apply(base)).normalize_or_zero()
+            });
+            let edge_point = |a: usize, slot: usize| {
+                let t = frames[a].tangent[slot];
+                frames[a].point + (t - normals[a] * t.dot(normals[a])) / 3.0
+            };
+            (
+                std::array::from_fn(|a| edge_point(a, next_slot(a))),
+                std::array::from_fn(|a| edge_point(a, prev_slot(a))),
+            )
+        };
         let mut grid = [DVec3::ZERO; 16];
         for a in 0..4 {
-            let f = &frames[a];
-            grid[at(CORNER[a])] = f.point;
-            grid[at(plus(CORNER[a], NEXT[a]))] = f.edge[next_slot(a)];
-            grid[at(plus(CORNER[a], PREV[a]))] = f.edge[prev_slot(a)];
-            grid[at(plus(plus(CORNER[a], NEXT[a]), PREV[a]))] = f.interior[slots[a]];
+            grid[at(CORNER[a])] = frames[a].point;
+            grid[at(plus(CORNER[a], NEXT[a]))] = edge_next[a];
+            grid[at(plus(CORNER[a], PREV[a]))] = edge_prev[a];
+            grid[at(plus(plus(CORNER[a], NEXT[a]), PREV[a]))] = frames[a].interior[slots[a]];
         }
         if self.kind == SubstituteKind::Acc {
             out.extend_from_slice(&grid);
             out.extend(acc_tangent_patches(&grid, &frames, &slots));
             return;
         }
-        // Gregory: the edge points in the exact limit tangent plane.
-        let normals: [DVec3; 4] = std::array::from_fn(|a| {
-            let [t0, t1] = &self.tangents[q[a] as usize];
-            t0.apply(base).cross(t1.apply(base)).normalize_or_zero()
-        });
-        let edge_point = |a: usize, slot: usize| {
-            let t = frames[a].tangent[slot];
-            frames[a].point + (t - normals[a] * t.dot(normals[a])) / 3.0
-        };
         let cos = |a: usize| (TAU / frames[a].n as f64).cos();
         let centroid = |g: u32| {
             let corners = self.base.face(g);
@@ -405,25 +414,22 @@ impl SubstitutePlan {
                 (pa * m + e_a * (3.0 - 2.0 * cos(a) - m) + e_b * (2.0 * cos(a)) + r) / 3.0
             };
             let toward_next = face_point(
-                edge_point(a, next_slot(a)),
-                edge_point(b, prev_slot(b)),
+                edge_next[a],
+                edge_prev[b],
                 cos(b),
                 q[z],
                 ring.neighbours[(k + n - 1) % n],
                 ring.faces[(k + n - 1) % n],
             );
             let toward_prev = face_point(
-                edge_point(a, prev_slot(a)),
-                edge_point(z, next_slot(z)),
+                edge_prev[a],
+                edge_next[z],
                 cos(z),
                 q[b],
                 ring.neighbours[(k + 2) % n],
                 ring.faces[(k + 1) % n],
             );
             let corner = CORNER[a];
-            grid[at(corner)] = pa;
-            grid[at(plus(corner, NEXT[a]))] = edge_point(a, next_slot(a));
-            grid[at(plus(corner, PREV[a]))] = edge_point(a, prev_slot(a));
             // Even corners: the next edge runs along u (v = 0 or 1); odd: along v.
             let (along_u, along_v) = if a % 2 == 0 {
                 (toward_next, toward_prev)
@@ -842,8 +848,19 @@ impl SubdivisionSurface {
         kind: SubstituteKind,
     ) -> Result<super::display::DisplayMesh, GeometryError> {
         let (feed, plan) = self.substitute_feed(levels, kind, true)?;
+        self.substitute_mesh_from(levels, &feed, &plan)
+    }
+
+    /// [`Self::substitute_mesh`] from the feed and plan of [`Self::substitute_feed`] already
+    /// built.
+    pub fn substitute_mesh_from(
+        &self,
+        levels: u32,
+        feed: &super::patches::LimitFeed,
+        plan: &SubstitutePlan,
+    ) -> Result<super::display::DisplayMesh, GeometryError> {
         let mut shown = self.display_mesh(levels, super::patches::Display::Limit)?;
-        for_each_substitute_vertex(&feed, &plan, self.points(), |v, sample| {
+        for_each_substitute_vertex(feed, plan, self.points(), |v, sample| {
             let v = v as usize;
             if let (Some(position), Some(normal)) =
                 (shown.positions.get_mut(v), shown.normals.get_mut(v))
