@@ -24,7 +24,9 @@ struct PatchRecord {
     // The patch's trim loops in a trim buffer: first entry and count (0, 0: untrimmed).
     trim_offset: u32,
     trim_count: u32,
-    reserved: u32,
+    // 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
+    // written into every vertex.
+    level: u32,
 }
 
 // PatchRecord.kind of a rational tensor-product Bézier patch (Rust: PATCH_KIND_BEZIER).
@@ -55,7 +57,7 @@ const TRIM_PIECE_HEADER_WORDS: u32 = 5u;
 const STENCIL_NO_CURVATURE: u32 = 0x80000000u;
 
 // One tessellation vertex (Rust: gpu::records::SurfaceVertex). 64 bytes: position at 0, u at 12,
-// normal at 16, v at 28, curvature at 32, object at 48, flags at 52.
+// normal at 16, v at 28, curvature at 32, object at 48, flags at 52, record at 56, level at 60.
 struct SurfaceVertex {
     position: vec3<f32>,
     // (u, v) in the parent surface's own domain.
@@ -69,7 +71,8 @@ struct SurfaceVertex {
     flags: u32,
     // The patch record that wrote the vertex (Rust: SurfaceVertex::record).
     record: u32,
-    reserved: u32,
+    // The record's level (the refinement-level colours).
+    level: u32,
 }
 
 // One parameter for point evaluation (Rust: gpu::records::PointSample): local (s, t) of a patch.

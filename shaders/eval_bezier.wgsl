@@ -439,7 +439,7 @@ fn store_vertex(
         rec.object,
         flags,
         record,
-        0u,
+        rec.level,
     );
 }
 

@@ -13,6 +13,7 @@ const MODE_ZEBRA: u32 = 7u;
 const MODE_ISOPHOTES: u32 = 8u;
 const MODE_REFLECTION: u32 = 9u;
 const MODE_DRAFT: u32 = 10u;
+const MODE_LEVEL: u32 = 11u;
 
 // Rust: gpu::records::VERTEX_NO_CURVATURE.
 const VERTEX_NO_CURVATURE: u32 = 2u;
@@ -24,6 +25,19 @@ const PI: f32 = 3.14159265358979;
 const DRAFT_ENOUGH: vec3<f32> = vec3<f32>(0.10, 0.55, 0.16);
 const DRAFT_LITTLE: vec3<f32> = vec3<f32>(0.90, 0.72, 0.08);
 const DRAFT_UNDERCUT: vec3<f32> = vec3<f32>(0.80, 0.08, 0.06);
+
+// The refinement-level colours (linear RGB; Rust: render::LEVEL_COLORS): level k in colour k,
+// levels past the last in the last.
+const LEVEL_COUNT: u32 = 7u;
+const LEVEL_COLORS: array<vec3<f32>, 7> = array<vec3<f32>, 7>(
+    vec3<f32>(0.55, 0.55, 0.58),
+    vec3<f32>(0.10, 0.25, 0.80),
+    vec3<f32>(0.05, 0.60, 0.75),
+    vec3<f32>(0.15, 0.62, 0.18),
+    vec3<f32>(0.85, 0.75, 0.10),
+    vec3<f32>(0.90, 0.42, 0.08),
+    vec3<f32>(0.80, 0.08, 0.08),
+);
 
 // The patch highlight's tint (Rust: ViewportRenderer::set_highlight).
 const HIGHLIGHT_COLOR: vec3<f32> = vec3<f32>(0.3, 0.85, 0.45);
@@ -38,6 +52,8 @@ struct VertexIn {
     @location(5) object: u32,
     @location(6) flags: u32,
     @location(7) record: u32,
+    // 1 + the subdivision level the vertex comes from; 0 for none.
+    @location(8) level: u32,
 }
 
 // The surface at a fragment: point, unit normal (the surface's own orientation) and curvature
@@ -178,12 +194,14 @@ fn studio(r: vec3<f32>) -> vec3<f32> {
 // The colour of a fragment of the surface in the scene's shading mode: `shape` at the fragment,
 // `vertex_normal` the vertices' interpolated normal, `uv` its (u, v) in the object's domain,
 // `coordinate` and `width` the mode's level coordinate and its change per pixel
-// (analysis_coordinates), `front` whether the front face is seen.
+// (analysis_coordinates), `front` whether the front face is seen, `level` 1 + the subdivision
+// level the vertices come from (0: none).
 fn shade_fragment(
     shape: PixelShape,
     vertex_normal: vec3<f32>,
     uv: vec2<f32>,
     object: u32,
+    level: u32,
     highlighted: bool,
     coordinate: f32,
     width: f32,
@@ -253,6 +271,9 @@ fn shade_fragment(
         let cell = floor(uv * scene.range.zw);
         let odd = (i32(cell.x) + i32(cell.y)) & 1;
         base = select(vec3<f32>(0.85), vec3<f32>(0.12), odd != 0);
+    }
+    if (mode == MODE_LEVEL && level > 0u) {
+        base = LEVEL_COLORS[min(level - 1u, LEVEL_COUNT - 1u)];
     }
     if (!front) {
         n = -n;

@@ -40,6 +40,8 @@ struct VertexOut {
     @location(8) trim_cell: vec2<f32>,
     // The patch record the vertex came from.
     @location(9) @interpolate(flat) record: u32,
+    // 1 + the subdivision level of the patch (0: none).
+    @location(10) @interpolate(flat) level: u32,
 }
 
 struct FragmentOut {
@@ -57,6 +59,7 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     out.uv = vec2<f32>(in.u, in.v);
     out.curvature = in.curvature;
     out.record = in.record;
+    out.level = in.level;
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
     if (TRIMMED) {
@@ -84,7 +87,7 @@ override TRIMMED: bool = true;
 
 // Whether the mode evaluates the surface per fragment.
 fn per_pixel(mode: u32) -> bool {
-    return mode >= MODE_GAUSSIAN;
+    return mode >= MODE_GAUSSIAN && mode <= MODE_DRAFT;
 }
 
 // The fragment's shape: in the analysis modes, from its Bézier patch's derivatives at its
@@ -143,6 +146,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut 
         in.normal,
         in.uv,
         in.object,
+        in.level,
         in.highlighted != 0u,
         coordinates.x,
         min(widths.x, widths.y),

@@ -22,6 +22,8 @@ struct VertexOut {
     @location(5) @interpolate(flat) object: u32,
     // 1 on a highlighted patch.
     @location(6) @interpolate(flat) highlighted: u32,
+    // 1 + the subdivision level of the patch (0: none).
+    @location(7) @interpolate(flat) level: u32,
 }
 
 @vertex
@@ -34,6 +36,7 @@ fn vs_surface_gl(in: VertexIn) -> VertexOut {
     out.curvature = in.curvature;
     out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
     out.object = in.object;
+    out.level = in.level;
     let word = in.record >> 5u;
     if (word < 1024u) {
         let bits = highlight[word >> 2u][word & 3u];
@@ -56,6 +59,7 @@ fn fs_surface_gl(in: VertexOut, @builtin(front_facing) front: bool) -> @location
         in.normal,
         in.uv,
         in.object,
+        in.level,
         in.highlighted != 0u,
         coordinates.x,
         min(widths.x, widths.y),

@@ -677,7 +677,11 @@ impl KnotworkApp {
         self.end_drag(false);
         match self.doc.move_points(object, moves) {
             Ok(moved) => {
-                let shown = self.show_moved(&moved);
+                let shown = if moved.relaid {
+                    self.after_edit(Touched::Structure)
+                } else {
+                    self.show_moved(&moved)
+                };
                 self.highlight_patches.clear();
                 match shown {
                     Ok(()) => {

@@ -83,7 +83,7 @@ pub fn set_tessellation(adaptive: bool, tolerance_px: f32) {
 }
 
 /// Sets the shading mode by name ("plain", "normals", "checker", "gaussian", "mean", "k1",
-/// "k2", "zebra", "isophotes", "reflection", "draft"); false for an unknown name.
+/// "k2", "zebra", "isophotes", "reflection", "draft", "level"); false for an unknown name.
 #[wasm_bindgen]
 pub fn set_shading(mode: String) -> bool {
     match ShadingMode::from_name(&mode) {

@@ -268,8 +268,15 @@ impl KnotworkApp {
             {
                 self.status.error = Some(e);
             }
-        } else if self.doc.commit_drag().is_some() {
-            self.saved.revision += 1;
+        } else if let Some(touched) = self.doc.commit_drag().map(crate::doc::Edit::touched) {
+            if touched == crate::doc::Touched::Structure {
+                // The object chose another layout for its new shape (adaptive refinement).
+                if let Err(e) = self.after_edit(touched) {
+                    self.status.error = Some(e);
+                }
+            } else {
+                self.saved.revision += 1;
+            }
         }
     }
 

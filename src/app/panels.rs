@@ -10,6 +10,7 @@ use crate::doc::create::{Primitive, PrimitiveParams};
 use crate::doc::{Command, direction_name};
 use crate::gpu::records::CURVATURE_RAMP;
 use crate::kernel::Direction;
+use crate::kernel::subdiv::adaptive::DEFAULT_TOLERANCE;
 use crate::kernel::subdiv::patches::Display;
 use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::render::DRAFT_COLORS;
@@ -849,6 +850,7 @@ impl KnotworkApp {
                         options: Options::default(),
                         level: 2,
                         display: Display::Limit,
+                        tolerance: DEFAULT_TOLERANCE,
                         creases: Vec::new(),
                         corners: Vec::new(),
                     };
@@ -922,13 +924,48 @@ impl KnotworkApp {
             Scheme::Loop => displays.push((Display::PnTriangles, "PN triangles")),
             _ => {}
         }
-        if settings.display.substitute().is_some()
-            && !displays.iter().any(|(d, _)| *d == settings.display)
-        {
-            // The scheme changed under a substitute of another scheme: show the limit.
+        if !matches!(settings.options.scheme, Scheme::DooSabin | Scheme::Sqrt3) {
+            displays.push((Display::Adaptive, "adaptive limit (refined where not flat)"));
+        }
+        if !displays.iter().any(|(d, _)| *d == settings.display) {
+            // The scheme changed under a display it does not have: show the limit.
             settings.display = Display::Limit;
         }
         choice(ui, "display", &mut settings.display, &displays);
+        if settings.display == Display::Adaptive {
+            // The tolerance in percent of the cage's diagonal, on a logarithmic slider.
+            let mut percent = settings.tolerance * 100.0;
+            ui.add(
+                egui::Slider::new(&mut percent, 0.005..=5.0)
+                    .logarithmic(true)
+                    .suffix(" %")
+                    .text("flatness tolerance"),
+            )
+            .on_hover_text(
+                "a piece is refined until its level's limit points lie within this distance \
+                 (a share of the cage's diagonal) of its triangles, up to the level",
+            );
+            settings.tolerance = percent / 100.0;
+            if let ObjectGeometry::Subdivision(surface) = &self.scene().objects[s].geometry
+                && let Ok(Some(layout)) = surface.adaptive_layout()
+            {
+                let counts: Vec<String> = layout
+                    .histogram()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, n)| **n > 0)
+                    .map(|(level, n)| format!("level {level}: {n}"))
+                    .collect();
+                ui.label(
+                    egui::RichText::new(format!(
+                        "pieces per level: {}; refined again when a drag ends; \
+                         shading \"Refinement level\" colours them",
+                        counts.join(", ")
+                    ))
+                    .weak(),
+                );
+            }
+        }
         if let Some(kind) = settings.display.substitute() {
             let scope = if kind.is_triangle() {
                 "one cubic triangle per face through the limit points and normals"

@@ -32,10 +32,13 @@ impl PointDrag {
 
 /// What a drag step or a move changed: the object and the Bézier patches of its decomposition
 /// that must be re-derived and re-evaluated (the union of the moved points' supports).
+/// `relaid`: the move ended with the object's layout changed (an adaptive refinement chose
+/// other depths), so its GPU geometry must be rebuilt rather than updated.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PointsMoved {
     pub object: usize,
     pub patches: Vec<usize>,
+    pub relaid: bool,
 }
 
 impl Document {
@@ -118,14 +121,21 @@ impl Document {
         Ok(PointsMoved {
             object,
             patches: patches.into_iter().collect(),
+            relaid: false,
         })
     }
 
     /// Ends the drag as one undo step ("move N point(s)") and returns it; `None` when no drag
-    /// was in progress or nothing moved.
+    /// was in progress or nothing moved. What depends on the object's shape is worked out again
+    /// first ([`crate::scene::ObjectKind::resettled`]); the edit's
+    /// [`Edit::touched`] says whether that changed its layout.
     pub fn commit_drag(&mut self) -> Option<&Edit> {
         let drag = self.drag.take()?;
-        let after = self.scene.objects.get(drag.object)?.clone();
+        let slot = self.scene.objects.get_mut(drag.object)?;
+        if let Some(geometry) = slot.kind().resettled() {
+            slot.geometry = geometry;
+        }
+        let after = slot.clone();
         if after == drag.before {
             return None;
         }
@@ -159,8 +169,10 @@ impl Document {
         let points: Vec<usize> = moves.iter().map(|&(k, _)| k).collect();
         self.begin_drag(object, &points)?;
         match self.drag_to(moves) {
-            Ok(moved) => {
-                self.commit_drag();
+            Ok(mut moved) => {
+                moved.relaid = self
+                    .commit_drag()
+                    .is_some_and(|edit| edit.touched() == super::Touched::Structure);
                 Ok(moved)
             }
             Err(e) => {

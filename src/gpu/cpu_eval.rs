@@ -80,7 +80,7 @@ fn grid_vertex(
                 0
             },
         record: index,
-        reserved: 0,
+        level: record.level,
     }
 }
 

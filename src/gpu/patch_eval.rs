@@ -520,7 +520,7 @@ impl PatchLayout {
                     kind: PATCH_KIND_BEZIER,
                     trim_offset,
                     trim_count,
-                    reserved: 0,
+                    level: 0,
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
                 // A culled patch takes no vertices and no triangles; an adaptive one takes its
@@ -551,9 +551,15 @@ impl PatchLayout {
                     } else {
                         PATCH_KIND_STENCIL_QUAD
                     };
+                    let level = if patch.level == u32::MAX {
+                        0
+                    } else {
+                        patch.level + 1
+                    };
                     records.push(grid_record(
                         kind,
                         s,
+                        level,
                         object,
                         &control_indices,
                         vertex_offset,
@@ -589,6 +595,7 @@ impl PatchLayout {
                     records.push(grid_record(
                         kind,
                         s,
+                        0,
                         object,
                         &control_indices,
                         vertex_offset,
@@ -661,10 +668,11 @@ fn grid_slots(segments: u32, max_groups: u32) -> Result<u64, GpuError> {
 
 /// The record of a grid patch of `kind` (stencil or substitute) with `segments` per edge on
 /// (0, 1)², its control block next in `control_indices` and its vertices and indices at the
-/// given offsets.
+/// given offsets; `level` is [`PatchRecord::level`].
 fn grid_record(
     kind: u32,
     segments: u32,
+    level: u32,
     object: usize,
     control_indices: &[u32],
     vertex_offset: u64,
@@ -683,7 +691,7 @@ fn grid_record(
         kind,
         trim_offset: 0,
         trim_count: 0,
-        reserved: 0,
+        level,
     }
 }
 

@@ -75,7 +75,9 @@ pub struct PatchRecord {
     /// The patch's trim loops: first entry and count in a trim buffer (0, 0: untrimmed).
     pub trim_offset: u32,
     pub trim_count: u32,
-    pub reserved: u32,
+    /// 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
+    /// written into every vertex ([`SurfaceVertex::level`]).
+    pub level: u32,
 }
 
 /// [`SurfaceVertex::flags`] bit: Su × Sv vanishes here (a pole or collapsed edge); the normal
@@ -105,13 +107,14 @@ pub struct SurfaceVertex {
     pub flags: u32,
     /// The patch record that wrote the vertex (for highlighting the patches a drag changes).
     pub record: u32,
-    pub reserved: u32,
+    /// The record's [`PatchRecord::level`] (for the refinement-level colours).
+    pub level: u32,
 }
 
 impl SurfaceVertex {
     /// Vertex attributes: position (0), u (1), normal (2), v (3), curvature (4), object (5),
-    /// flags (6), record (7).
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
+    /// flags (6), record (7), level (8).
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 9] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,
         2 => Float32x3,
@@ -120,6 +123,7 @@ impl SurfaceVertex {
         5 => Uint32,
         6 => Uint32,
         7 => Uint32,
+        8 => Uint32,
     ];
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {

@@ -77,7 +77,7 @@ struct RawMesh {
 }
 
 /// A subdivision surface: its cage, creases `[a, b, sharpness]`, corners `[vertex, sharpness]`,
-/// rules, level and display.
+/// rules, level, display and (the adaptive display's) flatness tolerance.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawCage {
@@ -99,6 +99,9 @@ struct RawCage {
     level: u32,
     #[serde(default)]
     display: Display,
+    /// A fraction of the cage's diagonal; written only for the adaptive display.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tolerance: Option<f64>,
 }
 
 fn read_cage(path: &str, value: serde_json::Value) -> Result<SubdivObject, FormatError> {
@@ -126,7 +129,14 @@ fn read_cage(path: &str, value: serde_json::Value) -> Result<SubdivObject, Forma
     };
     let surface = SubdivisionSurface::new(mesh, creases, corners, options, raw.level)
         .map_err(|e| FormatError::geometry(path, e))?;
-    SubdivObject::checked(surface, raw.display).map_err(|e| FormatError::geometry(path, e))
+    let object =
+        SubdivObject::checked(surface, raw.display).map_err(|e| FormatError::geometry(path, e))?;
+    match raw.tolerance {
+        Some(tolerance) => object
+            .with_tolerance_checked(tolerance)
+            .map_err(|e| FormatError::geometry(path, e)),
+        None => Ok(object),
+    }
 }
 
 fn cage_value(object: &SubdivObject) -> serde_json::Value {
@@ -150,6 +160,7 @@ fn cage_value(object: &SubdivObject) -> serde_json::Value {
         creasing: surface.options.creasing,
         level: surface.level(),
         display: object.display,
+        tolerance: (object.display == Display::Adaptive).then_some(object.tolerance),
     })
     .unwrap_or(serde_json::Value::Null)
 }

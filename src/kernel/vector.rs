@@ -119,3 +119,43 @@ pub fn distance_to_segment<V: Vector>(p: V, a: V, b: V) -> f64 {
     };
     (p - (a + d * t)).norm()
 }
+
+/// The distance from p to the triangle abc: to its plane where p projects inside it
+/// (barycentric coordinates from the normal n = (b − a) × (c − a): the projection is inside
+/// where ((b − a) × (p − a))·n, ((c − b) × (p − b))·n and ((a − c) × (p − c))·n are ≥ 0),
+/// otherwise to the nearest of its edges ([`distance_to_segment`]); a degenerate triangle is
+/// its edges.
+pub fn distance_to_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let n = (b - a).cross(c - a);
+    let area2 = n.length_squared();
+    if area2 > 0.0 {
+        let inside = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(x, y)| (y - x).cross(p - x).dot(n) >= 0.0);
+        if inside {
+            return ((p - a).dot(n)).abs() / area2.sqrt();
+        }
+    }
+    distance_to_segment(p, a, b)
+        .min(distance_to_segment(p, b, c))
+        .min(distance_to_segment(p, c, a))
+}
+
+#[cfg(test)]
+mod triangle_tests {
+    use super::*;
+
+    #[test]
+    fn distance_to_a_triangle_in_each_region() {
+        let (a, b, c) = (DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 2.0);
+        // Above the inside: the height.
+        assert_eq!(distance_to_triangle(DVec3::new(0.5, 0.5, 3.0), a, b, c), 3.0);
+        // Beside edge bc (the hypotenuse x + y = 2), in the plane: √2 / 2 from (1.5, 1.5).
+        let d = distance_to_triangle(DVec3::new(1.5, 1.5, 0.0), a, b, c);
+        assert!((d - 0.5f64.sqrt()).abs() < 1e-15, "{d}");
+        // Past vertex b: the distance to b.
+        assert_eq!(distance_to_triangle(DVec3::new(5.0, -4.0, 0.0), a, b, c), 5.0);
+        // A degenerate triangle is its segment.
+        assert_eq!(distance_to_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, b), 1.0);
+    }
+}

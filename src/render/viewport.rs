@@ -116,6 +116,18 @@ pub fn scene_uniform(
 pub const DRAFT_COLORS: [[f32; 3]; 3] =
     [[0.10, 0.55, 0.16], [0.90, 0.72, 0.08], [0.80, 0.08, 0.06]];
 
+/// The refinement-level colours (linear RGB; `LEVEL_COLORS` in `shaders/shading.wgsl`): level
+/// k in colour k, levels past the last in the last.
+pub const LEVEL_COLORS: [[f32; 3]; 7] = [
+    [0.55, 0.55, 0.58],
+    [0.10, 0.25, 0.80],
+    [0.05, 0.60, 0.75],
+    [0.15, 0.62, 0.18],
+    [0.85, 0.75, 0.10],
+    [0.90, 0.42, 0.08],
+    [0.80, 0.08, 0.08],
+];
+
 /// Linear RGBA of the control point dots.
 pub const POINT_COLOR: [f32; 4] = [0.95, 0.78, 0.25, 1.0];
 

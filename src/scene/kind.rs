@@ -81,6 +81,13 @@ pub trait ObjectKind {
     /// The object mapped by an affine transformation (baked into its control points).
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError>;
 
+    /// When an edit of its points ends (a drag let go): the object with what depends on its
+    /// shape rather than its structure worked out again (an adaptive refinement's depths),
+    /// or `None` where nothing does. The result may differ in layout ([`Self::same_layout`]).
+    fn resettled(&self) -> Option<ObjectGeometry> {
+        None
+    }
+
     /// Whether `other` is the same kind with the same structure (degrees, knots, counts,
     /// patch layout), so that only control point positions or weights differ and the GPU
     /// buffers keep their layout.

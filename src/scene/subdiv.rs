@@ -9,6 +9,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
 use crate::kernel::subdiv::patches::{Display, LimitFeed};
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
@@ -22,6 +23,9 @@ struct Prepared {
     feed: LimitFeed,
     /// How the substitute's control points follow the cage (substitute displays).
     plan: Option<SubstitutePlan>,
+    /// The depth each piece shows (the adaptive display), chosen for the points the object had
+    /// when it was prepared.
+    adaptive: Option<AdaptiveLayout>,
     /// The feed patches of each cage face.
     face_patches: Vec<Vec<u32>>,
     /// The cage faces of each cage point.
@@ -34,6 +38,8 @@ pub struct SubdivSettings {
     pub options: crate::kernel::subdiv::Options,
     pub level: u32,
     pub display: Display,
+    /// The adaptive display's flatness tolerance, a fraction of the cage's diagonal.
+    pub tolerance: f64,
     pub creases: Vec<crate::kernel::subdiv::Crease>,
     pub corners: Vec<crate::kernel::subdiv::Corner>,
 }
@@ -80,12 +86,17 @@ impl SubdivSettings {
 pub struct SubdivObject {
     pub surface: SubdivisionSurface,
     pub display: Display,
+    /// The adaptive display's flatness tolerance, a fraction of the cage's bounding-box
+    /// diagonal ([`crate::kernel::subdiv::adaptive`]).
+    pub tolerance: f64,
     prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
 }
 
 impl PartialEq for SubdivObject {
     fn eq(&self, other: &Self) -> bool {
-        self.surface == other.surface && self.display == other.display
+        self.surface == other.surface
+            && self.display == other.display
+            && self.tolerance == other.tolerance
     }
 }
 
@@ -142,6 +153,7 @@ impl SubdivObject {
             options: self.surface.options,
             level: self.surface.level(),
             display: self.display,
+            tolerance: self.tolerance,
             creases: self.surface.creases().to_vec(),
             corners: self.surface.corners().to_vec(),
         }
@@ -160,36 +172,71 @@ impl SubdivObject {
             settings.options,
             settings.level,
         )?;
-        Self::checked(surface, settings.display)
+        Ok(Self::checked(surface, settings.display)?.with_tolerance_checked(settings.tolerance)?)
     }
 
     /// `surface` shown as `display`, refused where the display does not apply: a substitute
-    /// for another scheme than the one it approximates.
+    /// for another scheme than the one it approximates, adaptive refinement for a scheme whose
+    /// faces do not split into grids.
     pub fn checked(surface: SubdivisionSurface, display: Display) -> Result<Self, GeometryError> {
         if let Some(kind) = display.substitute() {
             kind.check_scheme(surface.options.scheme)?;
         }
+        if display == Display::Adaptive {
+            surface.check_adaptive(DEFAULT_TOLERANCE)?;
+        }
         Ok(Self::new(surface, display))
+    }
+
+    /// The same with flatness tolerance `tolerance` (finite and > 0, else refused).
+    pub fn with_tolerance_checked(self, tolerance: f64) -> Result<Self, GeometryError> {
+        if self.display == Display::Adaptive {
+            self.surface.check_adaptive(tolerance)?;
+        } else if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(GeometryError::Construction {
+                what: "subdivision display",
+                message: format!("the flatness tolerance must be a number > 0, not {tolerance}"),
+            });
+        }
+        Ok(Self {
+            tolerance,
+            prepared: Arc::new(OnceLock::new()),
+            ..self
+        })
     }
 
     pub fn new(surface: SubdivisionSurface, display: Display) -> Self {
         Self {
             surface,
             display,
+            tolerance: DEFAULT_TOLERANCE,
             prepared: Arc::new(OnceLock::new()),
         }
+    }
+
+    /// What the adaptive display chose for each piece when the object was prepared (`None`
+    /// for the other displays).
+    pub fn adaptive_layout(&self) -> Result<Option<AdaptiveLayout>, GeometryError> {
+        Ok(self.prepared()?.adaptive.clone())
     }
 
     fn prepared(&self) -> Result<Arc<Prepared>, GeometryError> {
         self.prepared
             .get_or_init(|| {
                 let level = self.surface.level();
-                let (feed, plan) = match self.display.substitute() {
+                let (mut plan, mut adaptive) = (None, None);
+                let feed = match self.display.substitute() {
                     Some(kind) if level > 0 => {
-                        let (feed, plan) = self.surface.substitute_feed(level, kind, true)?;
-                        (feed, Some(plan))
+                        let (feed, made) = self.surface.substitute_feed(level, kind, true)?;
+                        plan = Some(made);
+                        feed
                     }
-                    _ => (self.surface.limit_feed(level, self.display)?, None),
+                    _ if self.display == Display::Adaptive => {
+                        let (feed, layout) = self.surface.adaptive_feed(level, self.tolerance)?;
+                        adaptive = Some(layout);
+                        feed
+                    }
+                    _ => self.surface.limit_feed(level, self.display)?,
                 };
                 let mesh = self.surface.mesh();
                 let mut face_patches = vec![Vec::new(); mesh.face_count()];
@@ -223,6 +270,7 @@ impl SubdivObject {
                 Ok(Arc::new(Prepared {
                     feed,
                     plan,
+                    adaptive,
                     face_patches,
                     point_faces,
                 }))
@@ -297,9 +345,14 @@ impl SubdivObject {
         }
         let vertex = feed.vertex[slot] as usize;
         let level = self.surface.level();
+        // The adaptive display shows vertices of the level's limit.
+        let display = match self.display {
+            Display::Adaptive => Display::Limit,
+            other => other,
+        };
         let position = self
             .surface
-            .display_mesh(level, self.display)?
+            .display_mesh(level, display)?
             .positions
             .get(vertex)
             .copied();
@@ -491,11 +544,12 @@ impl ObjectKind for SubdivObject {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
         let prepared = self.prepared()?;
-        let shown = match &prepared.plan {
-            Some(plan) => self
+        let shown = match (&prepared.plan, &prepared.adaptive) {
+            (Some(plan), _) => self
                 .surface
                 .substitute_mesh_from(level, &prepared.feed, plan)?,
-            None => self.surface.display_mesh(level, self.display)?,
+            (None, Some(layout)) => self.surface.adaptive_mesh_from(level, layout)?,
+            (None, None) => self.surface.display_mesh(level, self.display)?,
         };
         let mut triangles = Vec::new();
         for face in &shown.polygons {
@@ -513,15 +567,27 @@ impl ObjectKind for SubdivObject {
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
-        Ok(ObjectGeometry::Subdivision(Box::new(Self::new(
-            self.surface.transformed(transform)?,
-            self.display,
-        ))))
+        let mut moved = Self::new(self.surface.transformed(transform)?, self.display);
+        moved.tolerance = self.tolerance;
+        Ok(ObjectGeometry::Subdivision(Box::new(moved)))
+    }
+
+    /// The adaptive display chooses its depths again for the points the cage has now.
+    fn resettled(&self) -> Option<ObjectGeometry> {
+        (self.display == Display::Adaptive && self.surface.level() > 0).then(|| {
+            let mut fresh = Self::new(self.surface.clone(), self.display);
+            fresh.tolerance = self.tolerance;
+            ObjectGeometry::Subdivision(Box::new(fresh))
+        })
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Subdivision(b)
             if b.display == self.display
+                && b.tolerance == self.tolerance
+                && (self.display != Display::Adaptive
+                    || matches!((self.adaptive_layout(), b.adaptive_layout()),
+                        (Ok(x), Ok(y)) if x == y))
                 && b.surface.level() == self.surface.level()
                 && b.surface.options == self.surface.options
                 && b.surface.creases() == self.surface.creases()

@@ -44,10 +44,13 @@ pub enum ShadingMode {
     Reflection = 9,
     /// Draft angle against a pull direction, with a threshold and the undercut marked.
     Draft = 10,
+    /// Each subdivision patch in the colour of the level its vertices come from (adaptive
+    /// refinement shows where it refined); other patches plain.
+    Level = 11,
 }
 
 impl ShadingMode {
-    pub const ALL: [ShadingMode; 11] = [
+    pub const ALL: [ShadingMode; 12] = [
         Self::Plain,
         Self::Normals,
         Self::Checker,
@@ -59,12 +62,13 @@ impl ShadingMode {
         Self::Isophotes,
         Self::Reflection,
         Self::Draft,
+        Self::Level,
     ];
 
     /// Whether the fragment shader evaluates the surface itself at every pixel (the analysis
     /// modes) rather than interpolating the vertices.
     pub fn per_pixel(self) -> bool {
-        self as u32 >= Self::Gaussian as u32
+        (Self::Gaussian as u32..=Self::Draft as u32).contains(&(self as u32))
     }
 
     /// The name in the panel.
@@ -81,6 +85,7 @@ impl ShadingMode {
             Self::Isophotes => "Isophotes",
             Self::Reflection => "Environment reflection",
             Self::Draft => "Draft angle",
+            Self::Level => "Refinement level",
         }
     }
 
@@ -96,7 +101,7 @@ impl ShadingMode {
     }
 
     /// The lowercase name scripts and the status use: "plain", "normals", "checker",
-    /// "gaussian", "mean", "k1", "k2", "zebra", "isophotes", "reflection", "draft".
+    /// "gaussian", "mean", "k1", "k2", "zebra", "isophotes", "reflection", "draft", "level".
     pub fn name(self) -> &'static str {
         match self {
             Self::Plain => "plain",
@@ -110,6 +115,7 @@ impl ShadingMode {
             Self::Isophotes => "isophotes",
             Self::Reflection => "reflection",
             Self::Draft => "draft",
+            Self::Level => "level",
         }
     }
 

@@ -173,12 +173,16 @@ impl DisplayRows {
 impl SubdivisionSurface {
     /// The surface at level `levels` as `display` shows it, in f64: Catmull-Clark and Loop
     /// from [`Self::limit`] (its limit or refined points, with the limit normals); the
-    /// other schemes from [`display_rows`] on the refined level.
+    /// other schemes from [`display_rows`] on the refined level; the adaptive display at the
+    /// default tolerance ([`Self::adaptive_mesh`]).
     pub fn display_mesh(
         &self,
         levels: u32,
         display: Display,
     ) -> Result<DisplayMesh, GeometryError> {
+        if display == Display::Adaptive {
+            return self.adaptive_mesh(levels, super::adaptive::DEFAULT_TOLERANCE);
+        }
         let scheme = self.options.scheme;
         if matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
             let limit = self.limit(levels)?;

@@ -8,6 +8,7 @@
 //! the limit surface. The GPU applies the same tables ([`patches`]); this f64 path is its
 //! oracle and the export path.
 
+pub mod adaptive;
 pub mod cages;
 pub mod display;
 pub mod level;

@@ -3,6 +3,7 @@
 //! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
 //! regular vertices) second derivatives as weighted sums of cage points.
 
+use super::adaptive::{DEFAULT_TOLERANCE, ShownPiece};
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
 use super::limit::{is_regular, regular_derivatives};
@@ -26,6 +27,9 @@ pub enum Display {
     Gregory,
     /// PN triangles: a cubic triangle per triangle with quadratic normals (Loop).
     PnTriangles,
+    /// The limit surface with each piece refined only as deep as a flatness test asks, up to
+    /// the level, crack-free ([`super::adaptive`]).
+    Adaptive,
 }
 
 impl Display {
@@ -35,7 +39,7 @@ impl Display {
             Self::Acc => Some(SubstituteKind::Acc),
             Self::Gregory => Some(SubstituteKind::Gregory),
             Self::PnTriangles => Some(SubstituteKind::PnTriangle),
-            Self::Limit | Self::Refined => None,
+            Self::Limit | Self::Refined | Self::Adaptive => None,
         }
     }
 }
@@ -55,13 +59,15 @@ pub struct SubstitutePatch {
 
 /// A grid of stencil vertices: `(segments + 1)²` slots from `first_slot`, slot (i, j) at
 /// `first_slot + i (segments + 1) + j`, i along the patch's first edge. A triangle patch uses
-/// the slots with i + j ≤ segments.
+/// the slots with i + j ≤ segments. `level`: the subdivision level its vertices come from (the
+/// level it shows, for the refinement-level colours; [`NONE`] for a patch of no single level).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StencilPatch {
     pub cage_face: u32,
     pub triangle: bool,
     pub segments: u32,
     pub first_slot: u32,
+    pub level: u32,
 }
 
 /// One stencil entry: a cage point and its weights for position, Su, Sv, Suu, Suv, Svv.
@@ -139,7 +145,7 @@ pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
 
 /// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
 /// `(2^depth + 1)²` slots (see [`StencilPatch`]); triangle slots past the diagonal are `None`.
-fn face_grid(hierarchy: &Hierarchy, k: usize, face: u32, depth: u32) -> Vec<Option<u32>> {
+pub(super) fn face_grid(hierarchy: &Hierarchy, k: usize, face: u32, depth: u32) -> Vec<Option<u32>> {
     let level = &hierarchy.levels[k];
     let corners = level.face(face);
     let triangle = corners.len() == 3;
@@ -298,6 +304,7 @@ fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> Limit
                 triangle,
                 segments: 1,
                 first_slot,
+                level: k as u32,
             });
             // Slot (i, j) at i · 2 + j, i along the first edge: corners 0, 3 (2), 1, 2 (-).
             let order: [Option<u32>; 4] = if triangle {
@@ -351,6 +358,9 @@ impl SubdivisionSurface {
             }
             return Ok(self.substitute_feed(levels, kind, regular_as_bspline)?.0);
         }
+        if display == Display::Adaptive {
+            return Ok(self.adaptive_feed(levels, DEFAULT_TOLERANCE)?.0);
+        }
         let base = self.base_level()?;
         let scheme = self.options.scheme;
         let mut feed = LimitFeed::default();
@@ -375,28 +385,9 @@ impl SubdivisionSurface {
             let rows = display_rows(&hierarchy.levels[k], scheme, display);
             return Ok(polygon_feed(&hierarchy, k, &rows));
         }
-        let starts = first_children(&hierarchy.levels[0], scheme);
-        let mut pieces = Vec::new();
-        for &f in &irregular {
-            match scheme {
-                Scheme::CatmullClark => {
-                    let n = hierarchy.levels[0].face(f).len() as u32;
-                    pieces.extend((0..n).map(|c| ExactPiece {
-                        level: 1,
-                        face: starts[f as usize] + c,
-                        cage_face: f,
-                        depth: levels - 1,
-                    }));
-                }
-                _ => pieces.push(ExactPiece {
-                    level: 0,
-                    face: f,
-                    cage_face: f,
-                    depth: levels,
-                }),
-            }
-        }
-        push_stencil_patches(&mut feed, &hierarchy, levels, &pieces, display);
+        let pieces = exact_pieces(&hierarchy, &irregular, levels);
+        let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
+        push_stencil_patches(&mut feed, &hierarchy, levels, &shown, display);
         Ok(feed)
     }
 
@@ -427,6 +418,7 @@ impl SubdivisionSurface {
             }
         }
         let hierarchy = Hierarchy::new(base, self.options, levels)?;
+        let exact: Vec<ShownPiece> = exact.into_iter().map(ShownPiece::uniform).collect();
         push_stencil_patches(&mut feed, &hierarchy, levels, &exact, Display::Limit);
         let depth = levels - plan.base_level as u32;
         for (p, planned) in plan.patches.iter().enumerate() {
@@ -467,13 +459,43 @@ pub(super) fn first_children(level: &Level, scheme: Scheme) -> Vec<u32> {
         .collect()
 }
 
-/// Appends the stencil patches of `pieces` (faces of the hierarchy's levels, each refined to
-/// level `levels`) showing `display`.
-fn push_stencil_patches(
+/// The pieces that show cage faces `faces` exactly at level `levels` (≥ 1): Catmull-Clark's
+/// faces split into their level-1 quads (every face of a level ≥ 1 is a quad), the other
+/// schemes' faces themselves.
+pub(super) fn exact_pieces(hierarchy: &Hierarchy, faces: &[u32], levels: u32) -> Vec<ExactPiece> {
+    let scheme = hierarchy.options.scheme;
+    let starts = first_children(&hierarchy.levels[0], scheme);
+    let mut pieces = Vec::new();
+    for &f in faces {
+        match scheme {
+            Scheme::CatmullClark => {
+                let n = hierarchy.levels[0].face(f).len() as u32;
+                pieces.extend((0..n).map(|c| ExactPiece {
+                    level: 1,
+                    face: starts[f as usize] + c,
+                    cage_face: f,
+                    depth: levels - 1,
+                }));
+            }
+            _ => pieces.push(ExactPiece {
+                level: 0,
+                face: f,
+                cage_face: f,
+                depth: levels,
+            }),
+        }
+    }
+    pieces
+}
+
+/// Appends the stencil patches of `pieces` (faces of the hierarchy's levels refined to level
+/// `levels`, each shown on its own grid, [`ShownPiece`]) showing `display`. Every slot shows a
+/// vertex of level `levels`, with its derivatives taken on that level's grid.
+pub(super) fn push_stencil_patches(
     feed: &mut LimitFeed,
     hierarchy: &Hierarchy,
     levels: u32,
-    pieces: &[ExactPiece],
+    pieces: &[ShownPiece],
     display: Display,
 ) {
     if pieces.is_empty() {
@@ -482,17 +504,40 @@ fn push_stencil_patches(
     let scheme = hierarchy.options.scheme;
     let k = levels as usize;
     let level = &hierarchy.levels[k];
-    let mut grids: Vec<(StencilPatch, Vec<Option<u32>>)> = pieces
+    let triangle = scheme != Scheme::CatmullClark;
+    // Per piece: its patch and, per shown slot, the vertex of level k there (the full grid's,
+    // at the position the piece shows) and its neighbour along the full grid's i.
+    let mut grids: Vec<(StencilPatch, Vec<Option<(u32, Option<u32>, bool)>>)> = pieces
         .iter()
-        .map(|piece| {
+        .map(|shown| {
+            let piece = shown.piece;
+            let full = face_grid(hierarchy, piece.level, piece.face, piece.depth);
+            let big = 1usize << piece.depth;
+            let at = |i: usize, j: usize| full[i * (big + 1) + j];
+            let s = shown.segments();
+            let mut slots = Vec::with_capacity((s as usize + 1).pow(2));
+            for a in 0..=s {
+                for b in 0..=s {
+                    slots.push(shown.full_position(triangle, a, b).and_then(|(i, j)| {
+                        let (i, j) = (i as usize, j as usize);
+                        let (towards, reversed) = if i < big {
+                            (at(i + 1, j), false)
+                        } else {
+                            (at(i - 1, j), true)
+                        };
+                        at(i, j).map(|v| (v, towards, reversed))
+                    }));
+                }
+            }
             (
                 StencilPatch {
                     cage_face: piece.cage_face,
-                    triangle: scheme != Scheme::CatmullClark,
-                    segments: 1 << piece.depth,
+                    triangle,
+                    segments: s,
                     first_slot: 0,
+                    level: piece.level as u32 + shown.depth,
                 },
-                face_grid(hierarchy, piece.level, piece.face, piece.depth),
+                slots,
             )
         })
         .collect();
@@ -501,52 +546,45 @@ fn push_stencil_patches(
     // Rows over level-k vertices per slot.
     let vertex_rows = VertexRows::new(level, scheme, display);
     let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
-    for (patch, grid) in &mut grids {
+    for ((patch, grid), shown) in grids.iter_mut().zip(pieces) {
         patch.first_slot = (before + slot_rows.len()) as u32;
-        let s = patch.segments as usize;
-        let scale = s as f64;
-        for i in 0..=s {
-            for j in 0..=s {
-                let Some(v) = grid[i * (s + 1) + j] else {
-                    slot_rows.push(None);
-                    continue;
-                };
-                let regular = display != Display::Refined && is_regular(level, scheme, v);
-                let derivatives = if regular {
-                    let (towards, reversed) = if i < s {
-                        (grid[(i + 1) * (s + 1) + j], false)
-                    } else {
-                        (grid[(i - 1) * (s + 1) + j], true)
-                    };
-                    towards.and_then(|n| regular_derivatives(level, v, n, reversed))
-                } else {
-                    None
-                };
-                let rows = match derivatives {
-                    Some([p, su, sv, suu, suv, svv]) => {
-                        let mut scaled = [p, su, sv, suu, suv, svv];
-                        for (r, factor) in scaled.iter_mut().zip([
-                            1.0,
-                            scale,
-                            scale,
-                            scale * scale,
-                            scale * scale,
-                            scale * scale,
-                        ]) {
-                            for e in &mut r.0 {
-                                e.1 *= factor;
-                            }
+        // Derivatives per unit of the piece's parameter: level k's step is 2^-depth of it.
+        let scale = f64::from(1u32 << shown.piece.depth);
+        for slot in grid.iter() {
+            let Some((v, towards, reversed)) = *slot else {
+                slot_rows.push(None);
+                continue;
+            };
+            let regular = display != Display::Refined && is_regular(level, scheme, v);
+            let derivatives = if regular {
+                towards.and_then(|n| regular_derivatives(level, v, n, reversed))
+            } else {
+                None
+            };
+            let rows = match derivatives {
+                Some([p, su, sv, suu, suv, svv]) => {
+                    let mut scaled = [p, su, sv, suu, suv, svv];
+                    for (r, factor) in scaled.iter_mut().zip([
+                        1.0,
+                        scale,
+                        scale,
+                        scale * scale,
+                        scale * scale,
+                        scale * scale,
+                    ]) {
+                        for e in &mut r.0 {
+                            e.1 *= factor;
                         }
-                        (scaled, false)
                     }
-                    None => {
-                        let [p, t1, t2] = vertex_rows.rows(v);
-                        let none = Row::default;
-                        ([p, t1, t2, none(), none(), none()], true)
-                    }
-                };
-                slot_rows.push(Some(rows));
-            }
+                    (scaled, false)
+                }
+                None => {
+                    let [p, t1, t2] = vertex_rows.rows(v);
+                    let none = Row::default;
+                    ([p, t1, t2, none(), none(), none()], true)
+                }
+            };
+            slot_rows.push(Some(rows));
         }
         feed.patches.push(*patch);
     }
@@ -571,7 +609,7 @@ fn push_stencil_patches(
             let slot_entries = push_entries(feed, rows.iter().map(&over_cage));
             feed.slots.push(slot_entries);
             feed.no_curvature.push(*no_curvature);
-            feed.vertex.push(grid[slot - first].unwrap_or(u32::MAX));
+            feed.vertex.push(grid[slot - first].map_or(u32::MAX, |(v, _, _)| v));
         }
     }
 }
