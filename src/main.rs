@@ -95,6 +95,12 @@ mod cli {
             /// (Catmull-Clark), pn-triangles (Loop).
             #[arg(long, value_enum)]
             substitute: Option<SubstituteArg>,
+            /// Write the adaptive limit instead: each piece refined only until its level's limit
+            /// points lie within TOL (a fraction of the cage's diagonal, e.g. 0.002) of its
+            /// triangles, up to --levels, crack-free; triangles only (catmull-clark, loop,
+            /// butterfly).
+            #[arg(long, value_name = "TOL", conflicts_with = "substitute")]
+            adaptive: Option<f64>,
             #[arg(long, value_enum, default_value_t = BoundaryArg::EdgeOnly)]
             boundary: BoundaryArg,
             /// How semi-sharp creases decay: uniform (one less per level) or Chaikin's rule.
@@ -181,6 +187,7 @@ mod cli {
         pub levels: u32,
         pub limit: bool,
         pub substitute: Option<SubstituteArg>,
+        pub adaptive: Option<f64>,
         pub boundary: BoundaryArg,
         pub creasing: CreasingArg,
         pub backend: Backend,
@@ -262,8 +269,25 @@ mod cli {
             (Some(SubstituteArg::Acc), _) => Display::Acc,
             (Some(SubstituteArg::Gregory), _) => Display::Gregory,
             (Some(SubstituteArg::PnTriangles), _) => Display::PnTriangles,
+            _ if args.adaptive.is_some() => Display::Limit,
             (None, true) => Display::Limit,
             (None, false) => Display::Refined,
+        };
+        // The adaptive limit: the level's limit points, then the triangles the pieces show.
+        let adaptive = match args.adaptive {
+            Some(tolerance) => {
+                if args.levels == 0 {
+                    return Err("adaptive refinement needs --levels 1 or more".into());
+                }
+                let layout = surface
+                    .adaptive_layout(args.levels, tolerance)
+                    .map_err(|e| e.to_string())?;
+                let triangles = surface
+                    .adaptive_triangles(args.levels, &layout)
+                    .map_err(|e| e.to_string())?;
+                Some((tolerance, layout, triangles))
+            }
+            None => None,
         };
         // On the GPU the CPU gives the topology and the points on no face.
         let shown = match display.substitute() {
@@ -287,13 +311,22 @@ mod cli {
         if on_gpu {
             let context =
                 knotwork::gpu::GpuContext::headless_blocking().map_err(|e| e.to_string())?;
-            let gpu = knotwork::gpu::subdiv_eval::evaluate_level(
-                &context.device,
-                &context.queue,
-                &surface,
-                args.levels,
-                display,
-            )
+            let gpu = match &adaptive {
+                Some((tolerance, _, _)) => knotwork::gpu::subdiv_eval::evaluate_adaptive(
+                    &context.device,
+                    &context.queue,
+                    &surface,
+                    args.levels,
+                    *tolerance,
+                ),
+                None => knotwork::gpu::subdiv_eval::evaluate_level(
+                    &context.device,
+                    &context.queue,
+                    &surface,
+                    args.levels,
+                    display,
+                ),
+            }
             .map_err(|e| e.to_string())?;
             for (v, result) in gpu.into_iter().enumerate() {
                 if let (Some((p, n, _)), Some(slot)) = (result, positions.get_mut(v)) {
@@ -304,11 +337,27 @@ mod cli {
                 }
             }
         }
-        let faces: Vec<&[u32]> = shown.polygons.iter().map(Vec::as_slice).collect();
+        let mut polygons = shown.polygons;
+        let mut note = String::new();
+        if let Some((_, layout, triangles)) = &adaptive {
+            let mesh = knotwork::kernel::subdiv::display::DisplayMesh::from_triangles(
+                &positions, &normals, triangles,
+            );
+            (positions, normals, polygons) = (mesh.positions, mesh.normals, mesh.polygons);
+            let counts: Vec<String> = layout
+                .histogram()
+                .iter()
+                .enumerate()
+                .filter(|(_, n)| **n > 0)
+                .map(|(level, n)| format!("level {level}: {n}"))
+                .collect();
+            note = format!("; pieces per {}", counts.join(", "));
+        }
+        let faces: Vec<&[u32]> = polygons.iter().map(Vec::as_slice).collect();
         let obj = knotwork::io::obj::write(&positions, &normals, &faces);
         std::fs::write(args.output, obj).map_err(|e| format!("{}: {e}", args.output.display()))?;
         Ok(format!(
-            "wrote {} ({} vertices, {} faces)",
+            "wrote {} ({} vertices, {} faces{note})",
             args.output.display(),
             positions.len(),
             faces.len()
@@ -604,6 +653,7 @@ fn main() -> std::process::ExitCode {
             levels,
             limit,
             substitute,
+            adaptive,
             boundary,
             creasing,
             backend,
@@ -616,6 +666,7 @@ fn main() -> std::process::ExitCode {
                 levels: *levels,
                 limit: *limit,
                 substitute: *substitute,
+                adaptive: *adaptive,
                 boundary: *boundary,
                 creasing: *creasing,
                 backend: *backend,

@@ -9,8 +9,11 @@
 
 use std::collections::HashMap;
 
+mod common;
+
 use glam::DVec3;
 use knotwork::doc::{Document, Touched};
+use knotwork::gpu::subdiv_eval::evaluate_adaptive;
 use knotwork::kernel::PolygonMesh;
 use knotwork::kernel::subdiv::adaptive::AdaptiveLayout;
 use knotwork::kernel::subdiv::display::DisplayMesh;
@@ -216,7 +219,10 @@ fn every_limit_point_lies_within_the_tolerance_of_the_shown_triangles() {
             "{scheme:?}: a limit point {worst} from the mesh, tolerance {}",
             tolerance * diagonal
         );
-        assert!(worst > 0.0, "{scheme:?}: the mesh is coarser than the limit");
+        assert!(
+            worst > 0.0,
+            "{scheme:?}: the mesh is coarser than the limit"
+        );
     }
 }
 
@@ -276,4 +282,107 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
     assert_eq!(layout(&doc), before);
     doc.redo().unwrap();
     assert_eq!(layout(&doc), after);
+}
+
+#[test]
+fn the_compute_shaders_match_the_f64_adaptive_limit() {
+    let context = common::gpu();
+    for scheme in [Scheme::CatmullClark, Scheme::Loop, Scheme::Butterfly] {
+        let s = spiked_torus(scheme, 3);
+        let tolerance = 0.003;
+        let layout = s.adaptive_layout(3, tolerance).unwrap();
+        let exact = s.display_mesh(3, Display::Limit).unwrap();
+        let gpu = evaluate_adaptive(&context.device, &context.queue, &s, 3, tolerance).unwrap();
+        let triangles = s.adaptive_triangles(3, &layout).unwrap();
+        let (lo, hi) = s.mesh().bounds().unwrap();
+        let size = lo.distance(hi);
+        let mut worst: f64 = 0.0;
+        for v in triangles.iter().flatten() {
+            let Some((p, n, _)) = gpu[*v as usize] else {
+                panic!("{scheme:?}: vertex {v} of a triangle not evaluated");
+            };
+            worst = worst.max(p.distance(exact.positions[*v as usize]) / size);
+            let angle = n.angle_between(exact.normals[*v as usize]).to_degrees();
+            assert!(
+                angle < 0.05,
+                "{scheme:?}: normal {angle}° off at vertex {v}"
+            );
+        }
+        eprintln!("{scheme:?}: GPU vs f64 {worst:.1e} of the size");
+        assert!(worst < 1e-5, "{scheme:?}: {worst:e}");
+    }
+}
+
+#[test]
+fn the_subdivide_command_writes_the_adaptive_limit_on_both_backends() {
+    let dir = std::env::temp_dir().join(format!("knotwork-adaptive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let s = spiked_torus(Scheme::CatmullClark, 0);
+    let faces: Vec<&[u32]> = s.mesh().faces().collect();
+    let input = dir.join("torus.obj");
+    std::fs::write(&input, knotwork::io::obj::write(s.points(), &[], &faces)).unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("subdivide")
+            .arg(&input)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let expected = s.adaptive_mesh(3, 0.004).unwrap();
+    for backend in ["cpu", "gpu"] {
+        let out = dir.join(format!("{backend}.obj"));
+        let done = run(&[
+            "--levels",
+            "3",
+            "--adaptive",
+            "0.004",
+            "--backend",
+            backend,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let said = String::from_utf8_lossy(&done.stdout);
+        assert!(
+            done.status.success(),
+            "{}",
+            String::from_utf8_lossy(&done.stderr)
+        );
+        assert!(said.contains("pieces per level"), "{said}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        let positions: Vec<DVec3> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| {
+                let c: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+                DVec3::new(c[0], c[1], c[2])
+            })
+            .collect();
+        let polygons: Vec<Vec<u32>> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("f "))
+            .map(|l| {
+                l.split_whitespace()
+                    .map(|x| x.split('/').next().unwrap().parse::<u32>().unwrap() - 1)
+                    .collect()
+            })
+            .collect();
+        assert_eq!(polygons, expected.polygons, "{backend}");
+        assert_eq!(positions.len(), expected.positions.len(), "{backend}");
+        let (lo, hi) = s.mesh().bounds().unwrap();
+        let tolerance = if backend == "cpu" { 1e-12 } else { 1e-5 } * lo.distance(hi);
+        for (w, e) in positions.iter().zip(&expected.positions) {
+            assert!(w.distance(*e) < tolerance, "{backend}: {w} vs {e}");
+        }
+        let written = DisplayMesh {
+            positions,
+            normals: Vec::new(),
+            polygons,
+        };
+        assert_closed(backend, &written);
+    }
+    let refused = run(&["--levels", "2", "--adaptive", "0", "-o", "x.obj"]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("tolerance"));
+    std::fs::remove_dir_all(&dir).ok();
 }

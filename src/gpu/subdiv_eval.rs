@@ -40,6 +40,22 @@ pub fn evaluate_level(
     evaluate_feed(device, queue, surface.points(), &feed)
 }
 
+/// Evaluates the adaptive limit of `surface` up to level `levels` (≥ 1) with flatness
+/// tolerance `tolerance` ([`SubdivisionSurface::adaptive_feed`]) on the GPU: the result of
+/// every level vertex a piece shows.
+pub fn evaluate_adaptive(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    surface: &SubdivisionSurface,
+    levels: u32,
+    tolerance: f64,
+) -> Result<LevelVertices, GpuError> {
+    let (feed, _) = surface
+        .adaptive_feed(levels, tolerance)
+        .map_err(|e| GpuError::Geometry(e.to_string()))?;
+    evaluate_feed(device, queue, surface.points(), &feed)
+}
+
 /// Evaluates every stencil and substitute patch of `feed` over `cage` (the cage's points,
 /// then any substitute's control points) on the GPU and returns each level vertex's result.
 pub fn evaluate_feed(

@@ -149,13 +149,22 @@ mod triangle_tests {
     fn distance_to_a_triangle_in_each_region() {
         let (a, b, c) = (DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 2.0);
         // Above the inside: the height.
-        assert_eq!(distance_to_triangle(DVec3::new(0.5, 0.5, 3.0), a, b, c), 3.0);
+        assert_eq!(
+            distance_to_triangle(DVec3::new(0.5, 0.5, 3.0), a, b, c),
+            3.0
+        );
         // Beside edge bc (the hypotenuse x + y = 2), in the plane: √2 / 2 from (1.5, 1.5).
         let d = distance_to_triangle(DVec3::new(1.5, 1.5, 0.0), a, b, c);
         assert!((d - 0.5f64.sqrt()).abs() < 1e-15, "{d}");
         // Past vertex b: the distance to b.
-        assert_eq!(distance_to_triangle(DVec3::new(5.0, -4.0, 0.0), a, b, c), 5.0);
+        assert_eq!(
+            distance_to_triangle(DVec3::new(5.0, -4.0, 0.0), a, b, c),
+            5.0
+        );
         // A degenerate triangle is its segment.
-        assert_eq!(distance_to_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, b), 1.0);
+        assert_eq!(
+            distance_to_triangle(DVec3::new(1.0, 1.0, 0.0), a, b, b),
+            1.0
+        );
     }
 }

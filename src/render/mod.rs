@@ -9,7 +9,7 @@ mod viewport;
 pub use quality::{Quality, is_software};
 
 pub use viewport::{
-    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, LEVEL_COLORS, GuideLines,
-    LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer, adaptive_target,
-    scene_uniform,
+    BACKGROUND, CHECKER_CELLS, COLOR_FORMAT, ControlNet, DEPTH_FORMAT, DRAFT_COLORS, GuideLines,
+    LEVEL_COLORS, LineVertex, POINT_COLOR, SAMPLE_COUNT, ViewTarget, ViewportRenderer,
+    adaptive_target, scene_uniform,
 };

@@ -4,12 +4,13 @@
 //! ([`LimitFeed`]), whose tables depend only on the topology and are built once per topology
 //! change. Level 0 shows the cage itself, as a polygon mesh.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
+use crate::kernel::subdiv::display::DisplayMesh;
 use crate::kernel::subdiv::patches::{Display, LimitFeed};
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
@@ -90,6 +91,9 @@ pub struct SubdivObject {
     /// diagonal ([`crate::kernel::subdiv::adaptive`]).
     pub tolerance: f64,
     prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
+    /// The level's display mesh for the cage points it was computed from, for
+    /// [`ObjectKind::surface_point`] (asked many times between edits).
+    shown: Arc<Mutex<Option<(Vec<DVec3>, Arc<DisplayMesh>)>>>,
 }
 
 impl PartialEq for SubdivObject {
@@ -201,6 +205,7 @@ impl SubdivObject {
         Ok(Self {
             tolerance,
             prepared: Arc::new(OnceLock::new()),
+            shown: Default::default(),
             ..self
         })
     }
@@ -211,6 +216,7 @@ impl SubdivObject {
             display,
             tolerance: DEFAULT_TOLERANCE,
             prepared: Arc::new(OnceLock::new()),
+            shown: Default::default(),
         }
     }
 
@@ -326,6 +332,28 @@ impl SubdivObject {
         patches
     }
 
+    /// The display mesh of the object's level over the level's vertices (the adaptive display
+    /// shows vertices of the limit), computed once for the current cage points.
+    fn level_mesh(&self) -> Result<Arc<DisplayMesh>, GeometryError> {
+        let points = self.surface.points();
+        let mut cache = self.shown.lock().map_err(|_| GeometryError::Construction {
+            what: "subdivision surface",
+            message: "the display cache was poisoned".into(),
+        })?;
+        if let Some((cached, mesh)) = cache.as_ref()
+            && cached.as_slice() == points
+        {
+            return Ok(mesh.clone());
+        }
+        let display = match self.display {
+            Display::Adaptive => Display::Limit,
+            other => other,
+        };
+        let mesh = Arc::new(self.surface.display_mesh(self.surface.level(), display)?);
+        *cache = Some((points.to_vec(), mesh.clone()));
+        Ok(mesh)
+    }
+
     /// The limit (or refined) point of stencil patch `patch`'s grid vertex nearest (s, t), from
     /// the kernel's level-by-level refinement and limit masks (not from the feed's stencils).
     fn stencil_point(
@@ -344,18 +372,7 @@ impl SubdivObject {
             slot = p.first_slot as usize;
         }
         let vertex = feed.vertex[slot] as usize;
-        let level = self.surface.level();
-        // The adaptive display shows vertices of the level's limit.
-        let display = match self.display {
-            Display::Adaptive => Display::Limit,
-            other => other,
-        };
-        let position = self
-            .surface
-            .display_mesh(level, display)?
-            .positions
-            .get(vertex)
-            .copied();
+        let position = self.level_mesh()?.positions.get(vertex).copied();
         position.ok_or(GeometryError::NoSuchPatch {
             patch,
             count: feed.patches.len(),

@@ -29,7 +29,6 @@
 use glam::DVec3;
 
 use super::display::DisplayMesh;
-use super::level::NONE;
 use super::patches::{Display, LimitFeed, exact_pieces, face_grid, push_stencil_patches};
 use super::substitutes::ExactPiece;
 use super::{Hierarchy, Scheme, SubdivisionSurface};
@@ -341,7 +340,13 @@ impl SubdivisionSurface {
         }
         let (hierarchy, layout, _) = self.adaptive_pieces(levels, tolerance)?;
         let mut feed = LimitFeed::default();
-        push_stencil_patches(&mut feed, &hierarchy, levels, &layout.pieces, Display::Limit);
+        push_stencil_patches(
+            &mut feed,
+            &hierarchy,
+            levels,
+            &layout.pieces,
+            Display::Limit,
+        );
         Ok((feed, layout))
     }
 
@@ -362,48 +367,62 @@ impl SubdivisionSurface {
         if levels == 0 {
             return self.display_mesh(0, Display::Limit);
         }
-        let hierarchy = self.hierarchy(levels)?;
+        let triangles = self.adaptive_triangles(levels, layout)?;
         let limit = self.display_mesh(levels, Display::Limit)?;
+        Ok(DisplayMesh::from_triangles(
+            &limit.positions,
+            &limit.normals,
+            &triangles,
+        ))
+    }
+
+    /// The triangles the pieces of `layout` show, over the vertices of level `levels` (≥ 1),
+    /// without the degenerate ones.
+    pub fn adaptive_triangles(
+        &self,
+        levels: u32,
+        layout: &AdaptiveLayout,
+    ) -> Result<Vec<[u32; 3]>, GeometryError> {
+        let hierarchy = self.hierarchy(levels)?;
         let triangle = self.options.scheme != Scheme::CatmullClark;
-        let mut index = vec![NONE; limit.positions.len()];
-        let mut mesh = DisplayMesh {
-            positions: Vec::new(),
-            normals: Vec::new(),
-            polygons: Vec::new(),
-        };
+        let mut out = Vec::new();
         for shown in &layout.pieces {
             let piece = shown.piece;
+            let level = hierarchy
+                .levels
+                .get(piece.level)
+                .ok_or(GeometryError::NoSuchPatch {
+                    patch: piece.level,
+                    count: hierarchy.levels.len(),
+                })?;
+            if piece.face as usize >= level.face_count() {
+                return Err(GeometryError::NoSuchPatch {
+                    patch: piece.face as usize,
+                    count: level.face_count(),
+                });
+            }
             let full = face_grid(&hierarchy, piece.level, piece.face, piece.depth);
             let n = (1usize << piece.depth) + 1;
             for corners in shown.triangles(triangle) {
                 let vertices = corners.map(|(i, j)| full[i as usize * n + j as usize]);
-                let [Some(a), Some(b), Some(c)] = vertices else {
-                    continue;
-                };
-                if a == b || b == c || a == c {
-                    continue;
+                if let [Some(a), Some(b), Some(c)] = vertices
+                    && a != b
+                    && b != c
+                    && a != c
+                {
+                    out.push([a, b, c]);
                 }
-                let mut polygon = Vec::with_capacity(3);
-                for v in [a, b, c] {
-                    let slot = index.get_mut(v as usize).ok_or(GeometryError::NoSuchPatch {
-                        patch: v as usize,
-                        count: limit.positions.len(),
-                    })?;
-                    if *slot == NONE {
-                        *slot = mesh.positions.len() as u32;
-                        mesh.positions.push(limit.positions[v as usize]);
-                        mesh.normals.push(limit.normals[v as usize]);
-                    }
-                    polygon.push(*slot);
-                }
-                mesh.polygons.push(polygon);
             }
         }
-        Ok(mesh)
+        Ok(out)
     }
 
     /// The adaptive layout alone (for reports): what [`Self::adaptive_feed`] chooses.
-    pub fn adaptive_layout(&self, levels: u32, tolerance: f64) -> Result<AdaptiveLayout, GeometryError> {
+    pub fn adaptive_layout(
+        &self,
+        levels: u32,
+        tolerance: f64,
+    ) -> Result<AdaptiveLayout, GeometryError> {
         if levels == 0 {
             self.check_adaptive(tolerance)?;
             return Ok(AdaptiveLayout {

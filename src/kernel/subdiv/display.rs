@@ -149,6 +149,39 @@ pub fn doo_sabin_limit_rows(level: &Level) -> DisplayRows {
     DisplayRows { rows, polygons }
 }
 
+impl DisplayMesh {
+    /// The mesh of `triangles` over the points `positions` (with `normals`, where given per
+    /// point), keeping only the points the triangles use, in the order they first appear.
+    pub fn from_triangles(positions: &[DVec3], normals: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        let mut index = vec![NONE; positions.len()];
+        let mut mesh = Self {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            polygons: Vec::with_capacity(triangles.len()),
+        };
+        for triangle in triangles {
+            let mut polygon = Vec::with_capacity(3);
+            for &v in triangle {
+                let Some(slot) = index.get_mut(v as usize) else {
+                    continue;
+                };
+                if *slot == NONE {
+                    *slot = mesh.positions.len() as u32;
+                    mesh.positions.push(positions[v as usize]);
+                    if let Some(&n) = normals.get(v as usize) {
+                        mesh.normals.push(n);
+                    }
+                }
+                polygon.push(*slot);
+            }
+            if polygon.len() == 3 {
+                mesh.polygons.push(polygon);
+            }
+        }
+        mesh
+    }
+}
+
 impl DisplayRows {
     /// The rows applied to the level's points `points` (f64).
     pub fn apply(&self, points: &[DVec3]) -> DisplayMesh {

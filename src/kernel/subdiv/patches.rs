@@ -145,7 +145,12 @@ pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
 
 /// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
 /// `(2^depth + 1)²` slots (see [`StencilPatch`]); triangle slots past the diagonal are `None`.
-pub(super) fn face_grid(hierarchy: &Hierarchy, k: usize, face: u32, depth: u32) -> Vec<Option<u32>> {
+pub(super) fn face_grid(
+    hierarchy: &Hierarchy,
+    k: usize,
+    face: u32,
+    depth: u32,
+) -> Vec<Option<u32>> {
     let level = &hierarchy.levels[k];
     let corners = level.face(face);
     let triangle = corners.len() == 3;
@@ -609,7 +614,8 @@ pub(super) fn push_stencil_patches(
             let slot_entries = push_entries(feed, rows.iter().map(&over_cage));
             feed.slots.push(slot_entries);
             feed.no_curvature.push(*no_curvature);
-            feed.vertex.push(grid[slot - first].map_or(u32::MAX, |(v, _, _)| v));
+            feed.vertex
+                .push(grid[slot - first].map_or(u32::MAX, |(v, _, _)| v));
         }
     }
 }
