@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 11] = [
+pub const GROUPS: [&str; 12] = [
     "edit",
     "webgl2",
     "frame",
@@ -405,6 +405,7 @@ pub const GROUPS: [&str; 11] = [
     "analysis",
     "construct",
     "substitutes",
+    "adaptive",
     "all",
 ];
 
@@ -448,6 +449,88 @@ pub fn run(
     }
     if wants("substitutes") {
         bench_substitutes(context, iterations, out)?;
+    }
+    if wants("adaptive") {
+        bench_adaptive(context, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Adaptive subdivision against the uniform limit at the same level, on cages with a spike
+/// (one point pulled out) beside wide gentle regions: per tolerance the pieces per level, the
+/// triangles against the uniform level's, the time to choose the depths and build the feed;
+/// then both through the editor's path (full pass, drag latency).
+fn bench_adaptive(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::subdiv::patches::Display;
+    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use crate::scene::SubdivObject;
+    let spiked = |mesh: crate::kernel::PolygonMesh| {
+        let mut points = mesh.points().to_vec();
+        points[7] += DVec3::new(0.4, -0.3, 1.6);
+        let faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
+        crate::kernel::PolygonMesh::new(points, &faces)
+    };
+    let torus = spiked(cages::torus(DVec3::ZERO, 2.0, 0.7, 24, 16)?)?;
+    let triangles = triangulated(&torus)?;
+    let cases = [
+        ("spiked 24x16 torus", &torus, Scheme::CatmullClark, 4),
+        ("spiked 24x16 tri torus", &triangles, Scheme::Loop, 4),
+    ];
+    for (name, mesh, scheme, level) in cases {
+        let options = Options {
+            scheme,
+            ..Default::default()
+        };
+        let surface =
+            SubdivisionSurface::new(mesh.clone(), Vec::new(), Vec::new(), options, level)?;
+        let uniform = surface.display_mesh(level, Display::Limit)?;
+        let uniform_triangles: usize = uniform.polygons.iter().map(|p| p.len() - 2).sum();
+        for tolerance in [0.005, 0.001] {
+            let (layout_ms, layout) = median_ms(iterations.clamp(1, 5), || {
+                surface.adaptive_layout(level, tolerance)
+            })?;
+            let (feed_ms, _) = median_ms(iterations.clamp(1, 5), || {
+                surface.adaptive_feed(level, tolerance)
+            })?;
+            let shown = surface.adaptive_triangles(level, &layout)?.len();
+            let counts: Vec<String> = layout
+                .histogram()
+                .iter()
+                .enumerate()
+                .filter(|(_, n)| **n > 0)
+                .map(|(l, n)| format!("L{l} {n}"))
+                .collect();
+            writeln!(
+                out,
+                "{name} {} adaptive L{level} tol {tolerance:.0e} | pieces {} | {shown} triangles, {:.1} % of uniform {uniform_triangles} | depths {layout_ms:.1} ms, feed {feed_ms:.1} ms",
+                scheme.label(),
+                counts.join(" "),
+                100.0 * shown as f64 / uniform_triangles as f64,
+            )?;
+        }
+        for (display, tolerance) in [
+            (Display::Limit, None),
+            (Display::Adaptive, Some(0.005)),
+            (Display::Adaptive, Some(0.001)),
+        ] {
+            let mut object = SubdivObject::checked(surface.clone(), display)?;
+            let label = match tolerance {
+                Some(t) => {
+                    object = object.with_tolerance_checked(t)?;
+                    format!("adaptive tol {t:.0e}")
+                }
+                None => "uniform".to_owned(),
+            };
+            let object = SceneObject::new(
+                format!("{name} {} {label}", scheme.label()),
+                ObjectGeometry::Subdivision(Box::new(object)),
+            );
+            bench_object(context, object, 7, iterations, out)?;
+        }
     }
     Ok(())
 }

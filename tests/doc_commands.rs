@@ -173,6 +173,7 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
                     },
                     level: (r >> 4) % 4,
                     display: Display::Limit,
+                    tolerance: 0.002,
                     creases: vec![Crease {
                         a: (r >> 6) % 3,
                         b: (r >> 8) % 3,

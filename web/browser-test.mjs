@@ -629,6 +629,65 @@ async function main() {
       await page.close();
     });
 
+    await check('adaptive subdivision in the page: fewer vertices than the uniform level, refinement levels in colour, depths chosen again after a move, undo', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // A flat 6 x 6 grid cage with its middle point raised into a bump: flat around, curved
+      // in the middle (corners kept sharp, so the flat part's outline is straight).
+      const points = [];
+      for (let i = 0; i < 7; i += 1) for (let j = 0; j < 7; j += 1) points.push([i - 3, j - 3, i === 3 && j === 3 ? 3 : 0]);
+      const faces = [];
+      for (let i = 0; i < 6; i += 1) for (let j = 0; j < 6; j += 1) faces.push([7 * i + j, 7 * i + j + 7, 7 * i + j + 8, 7 * i + j + 1]);
+      const cage = (display, tolerance) => ({ type: 'subdivision_surface', name: display, points, faces, level: 3, boundary: 'edge-and-corner', display, ...(tolerance ? { tolerance } : {}) });
+      await openObjects(page, [cage('limit')]);
+      const uniform = await status(page);
+      await openObjects(page, [cage('adaptive', 0.002)]);
+      await page.waitForFunction(() => window.knotwork.project().objects[0].display === 'adaptive', null, { timeout: 60_000 });
+      await nextFrames(page);
+      let s = await status(page);
+      assert(s.error === null && s.patches === 144 && s.vertices < uniform.vertices / 2, `adaptive ${JSON.stringify(s)} vs uniform ${uniform.vertices} vertices`);
+      assert((await page.evaluate(() => window.knotwork.project())).objects[0].tolerance === 0.002, 'the tolerance is saved');
+      await page.evaluate(() => window.knotwork.frame());
+      assert(await page.evaluate(() => window.knotwork.setShading('level')), 'level is a mode');
+      await nextFrames(page);
+      const shot = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/adaptive-levels.png`, shot);
+      // Pixels of the level colours (lit): blue (level 1), cyan (2), green (3).
+      const hues = await page.evaluate(async (data) => {
+        const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
+        const bitmap = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+        const canvas = new OffscreenCanvas(bitmap.width, bitmap.height);
+        const context = canvas.getContext('2d');
+        context.drawImage(bitmap, 0, 0);
+        const p = context.getImageData(0, 0, bitmap.width, bitmap.height).data;
+        const count = { blue: 0, cyan: 0, green: 0 };
+        for (let i = 0; i < p.length; i += 4) {
+          const [r, g, b] = [p[i], p[i + 1], p[i + 2]];
+          if (b > g + 40 && b > r + 60) count.blue += 1;
+          else if (g > r + 60 && b > r + 60 && Math.abs(g - b) < 60) count.cyan += 1;
+          else if (g > r + 60 && g > b + 60) count.green += 1;
+        }
+        return count;
+      }, shot.toString('base64'));
+      const shown = Object.values(hues).filter((n) => n > 200).length;
+      assert(shown >= 2, `at least two refinement levels in colour: ${JSON.stringify(hues)}`);
+      // Flattening the bump: the depths are chosen again (fewer vertices), undo restores.
+      const before = s.vertices;
+      await page.evaluate(() => window.knotwork.moveControlPoint(0, 24, [0, 0, 0]));
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null && s.vertices < before, `after the move ${s.vertices} vertices, before ${before}`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null && s.vertices === before, `undo: ${s.vertices} vertices, ${before} before`);
+      console.log(`      adaptive ${before} vertices against ${uniform.vertices} uniform; level colours ${JSON.stringify(hues)}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a trimmed surface in the page: a circle drawn with the mouse cuts a hole, export validates, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

@@ -82,6 +82,9 @@ impl SubdivSettings {
     }
 }
 
+/// A level's display mesh and the cage points it was computed from.
+type ShownMesh = (Vec<DVec3>, Arc<DisplayMesh>);
+
 /// A subdivision surface in the scene.
 #[derive(Debug, Clone)]
 pub struct SubdivObject {
@@ -93,7 +96,7 @@ pub struct SubdivObject {
     prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
     /// The level's display mesh for the cage points it was computed from, for
     /// [`ObjectKind::surface_point`] (asked many times between edits).
-    shown: Arc<Mutex<Option<(Vec<DVec3>, Arc<DisplayMesh>)>>>,
+    shown: Arc<Mutex<Option<ShownMesh>>>,
 }
 
 impl PartialEq for SubdivObject {
@@ -176,7 +179,7 @@ impl SubdivObject {
             settings.options,
             settings.level,
         )?;
-        Ok(Self::checked(surface, settings.display)?.with_tolerance_checked(settings.tolerance)?)
+        Self::checked(surface, settings.display)?.with_tolerance_checked(settings.tolerance)
     }
 
     /// `surface` shown as `display`, refused where the display does not apply: a substitute

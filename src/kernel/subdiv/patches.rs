@@ -464,6 +464,10 @@ pub(super) fn first_children(level: &Level, scheme: Scheme) -> Vec<u32> {
         .collect()
 }
 
+/// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i and
+/// whether that neighbour lies backwards (the grid's last row).
+type ShownSlot = (u32, Option<u32>, bool);
+
 /// The pieces that show cage faces `faces` exactly at level `levels` (≥ 1): Catmull-Clark's
 /// faces split into their level-1 quads (every face of a level ≥ 1 is a quad), the other
 /// schemes' faces themselves.
@@ -512,7 +516,7 @@ pub(super) fn push_stencil_patches(
     let triangle = scheme != Scheme::CatmullClark;
     // Per piece: its patch and, per shown slot, the vertex of level k there (the full grid's,
     // at the position the piece shows) and its neighbour along the full grid's i.
-    let mut grids: Vec<(StencilPatch, Vec<Option<(u32, Option<u32>, bool)>>)> = pieces
+    let mut grids: Vec<(StencilPatch, Vec<Option<ShownSlot>>)> = pieces
         .iter()
         .map(|shown| {
             let piece = shown.piece;
