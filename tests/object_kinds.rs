@@ -101,7 +101,15 @@ fn one_of_each_kind() -> Vec<SceneObject> {
     // crosses are trimmed per fragment.
     let mut trimmed = common::trimmed_ellipse_object("trimmed (2, 3)");
     trimmed.segments = 6;
-    vec![teapot, nurbs, mesh, cage, trimmed]
+    // A degree-4 triangular dome from the Create dialog.
+    let triangle = knotwork::doc::create::PrimitiveParams {
+        kind: knotwork::doc::create::Primitive::TriangleBezier,
+        degree: [4, 4],
+        ..Default::default()
+    }
+    .build()
+    .unwrap();
+    vec![teapot, nurbs, mesh, cage, trimmed, triangle]
 }
 
 fn size(object: &SceneObject) -> f64 {
@@ -325,7 +333,8 @@ fn every_object_kind_conforms() {
             "a NURBS surface",
             "a polygon mesh",
             "a subdivision surface",
-            "a trimmed NURBS surface"
+            "a trimmed NURBS surface",
+            "a triangular Bézier patch"
         ],
         "one sample of every kind"
     );

@@ -607,6 +607,14 @@ impl KnotworkApp {
                             });
                             ui.end_row();
                         }
+                        if p.kind == Primitive::TriangleBezier {
+                            ui.label("degree");
+                            ui.add(
+                                egui::DragValue::new(&mut p.degree[0])
+                                    .range(1..=crate::kernel::triangle::MAX_TRIANGLE_DEGREE),
+                            );
+                            ui.end_row();
+                        }
                     });
                 create = ui.button("Create").clicked();
             });
@@ -833,6 +841,36 @@ impl KnotworkApp {
 
     /// Subdivision: "Subdivide" for a polygon mesh; rules, level, display and the sharpness of
     /// the selected edge (its two points) or point for a subdivision surface.
+    /// A triangular Bézier patch: its degree and *Elevate degree* (the shape stays).
+    fn triangle_panel(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.selection.object else {
+            return;
+        };
+        let ObjectGeometry::Triangle(patch) = &self.scene().objects[s].geometry else {
+            return;
+        };
+        let degree = patch.degree();
+        ui.separator();
+        ui.label(egui::RichText::new("Triangular patch").strong());
+        ui.label(format!(
+            "degree {degree}, {} points; drag points to shape it",
+            patch.points().len()
+        ));
+        if ui
+            .add_enabled(
+                degree < crate::kernel::triangle::MAX_TRIANGLE_DEGREE,
+                egui::Button::new("Elevate degree"),
+            )
+            .on_hover_text("one degree more, the same surface (more points to shape it with)")
+            .clicked()
+        {
+            self.execute(Command::ElevateDegree {
+                object: s,
+                direction: crate::kernel::Direction::U,
+            });
+        }
+    }
+
     fn subdivision_panel(&mut self, ui: &mut egui::Ui) {
         let Some(s) = self.selection.object else {
             return;
@@ -1118,6 +1156,7 @@ impl KnotworkApp {
         self.properties_panel(ui);
         self.trim_panel(ui);
         self.subdivision_panel(ui);
+        self.triangle_panel(ui);
         ui.separator();
         self.shading_panel(ui);
         ui.separator();

@@ -28,6 +28,7 @@ pub enum Primitive {
     Hermite,
     Sweep,
     BezierPatch,
+    TriangleBezier,
     CageCube,
     CageCylinder,
     CageTorus,
@@ -36,7 +37,7 @@ pub enum Primitive {
 }
 
 impl Primitive {
-    pub const ALL: [Primitive; 19] = [
+    pub const ALL: [Primitive; 20] = [
         Primitive::Plane,
         Primitive::Cylinder,
         Primitive::Cone,
@@ -51,6 +52,7 @@ impl Primitive {
         Primitive::Hermite,
         Primitive::Sweep,
         Primitive::BezierPatch,
+        Primitive::TriangleBezier,
         Primitive::CageCube,
         Primitive::CageCylinder,
         Primitive::CageTorus,
@@ -74,6 +76,7 @@ impl Primitive {
             Primitive::Hermite => "Hermite patch (corner tangents and twists)",
             Primitive::Sweep => "Sweep (circle along an arc)",
             Primitive::BezierPatch => "Bézier patch",
+            Primitive::TriangleBezier => "Triangular Bézier patch",
             Primitive::CageCube => "Subdivision cube",
             Primitive::CageCylinder => "Subdivision cylinder",
             Primitive::CageTorus => "Subdivision torus (48 × 32)",
@@ -95,6 +98,34 @@ fn wavy_hill(center: DVec3, size: f64, ratio: f64) -> Result<NurbsSurface, Geome
         }
     }
     NurbsSurface::bezier([4, 4], points, None)
+}
+
+/// A degree-n triangular Bézier dome over an equilateral triangle of side `size` around
+/// `center`: b_ijk over the triangle's point (i A + j B + k C)/n, raised by
+/// 3 ratio size (ij + jk + ki)/n² (flat edges' ends, curved inside).
+fn triangle_dome(
+    center: DVec3,
+    size: f64,
+    ratio: f64,
+    degree: usize,
+) -> Result<crate::kernel::triangle::TriangleBezier, GeometryError> {
+    let n = degree.max(1);
+    let corner = |k: f64| {
+        let a = TAU * k / 3.0 + TAU / 4.0;
+        center + DVec3::new(a.cos(), a.sin(), 0.0) * size / 3f64.sqrt()
+    };
+    let (a, b, c) = (corner(0.0), corner(1.0), corner(2.0));
+    let nf = n as f64;
+    let mut points = Vec::with_capacity((n + 1) * (n + 2) / 2);
+    for j in 0..=n {
+        for i in 0..=n - j {
+            let k = n - i - j;
+            let (x, y, z) = (i as f64, j as f64, k as f64);
+            let lift = 3.0 * ratio * size * (x * y + y * z + z * x) / (nf * nf);
+            points.push((a * x + b * y + c * z) / nf + DVec3::Z * lift);
+        }
+    }
+    crate::kernel::triangle::TriangleBezier::new(n, points)
 }
 
 /// The Create dialog's parameters.
@@ -141,6 +172,12 @@ impl PrimitiveParams {
             Primitive::CageIcosahedron => Some(cages::icosahedron(c, s)?),
             _ => None,
         };
+        if self.kind == Primitive::TriangleBezier {
+            return Ok(SceneObject::new(
+                "Triangular Bézier patch",
+                ObjectGeometry::Triangle(Box::new(triangle_dome(c, s, r, self.degree[0])?)),
+            ));
+        }
         if let Some(mesh) = cage {
             let surface = if self.kind == Primitive::CageIcosahedron {
                 let options = crate::kernel::subdiv::Options {
@@ -292,7 +329,8 @@ impl PrimitiveParams {
                     c - DVec3::new(s, s, 0.0) * 0.5,
                 ))?
             }
-            Primitive::CageCube
+            Primitive::TriangleBezier
+            | Primitive::CageCube
             | Primitive::CageCylinder
             | Primitive::CageTorus
             | Primitive::CageGrid

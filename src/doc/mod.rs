@@ -589,6 +589,15 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             direction,
         } => {
             let object = object_at(scene, *k)?;
+            // A triangular patch has one degree (the direction does not matter).
+            if let ObjectGeometry::Triangle(patch) = &object.geometry {
+                let elevated = patch.elevated().map_err(geometry_error(object))?;
+                let after = SceneObject {
+                    geometry: ObjectGeometry::Triangle(Box::new(elevated)),
+                    ..object.clone()
+                };
+                return replace(*k, after);
+            }
             let after = with_surface(object, "degree elevation", |s| {
                 s.elevate_degree(*direction, 1)
             })?;

@@ -76,6 +76,17 @@ struct RawMesh {
     faces: Vec<Vec<u32>>,
 }
 
+/// A triangular Bézier patch: its degree and (n + 1)(n + 2)/2 points, row by row (row j holds
+/// b_ij for i = 0..=n − j, k = n − i − j).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTriangle {
+    #[serde(rename = "type")]
+    kind: String,
+    degree: usize,
+    points: Vec<[f64; 3]>,
+}
+
 /// A subdivision surface: its cage, creases `[a, b, sharpness]`, corners `[vertex, sharpness]`,
 /// rules, level, display and (the adaptive display's) flatness tolerance.
 #[derive(Serialize, Deserialize)]
@@ -317,6 +328,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         "bezier_patches",
         "polygon_mesh",
         "subdivision_surface",
+        "triangular_bezier",
         "nurbs_curve",
         "trim_curve",
     ]
@@ -325,7 +337,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
         return Err(FormatError::new(
             format!("{path}.type"),
             format!(
-                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\", \"polygon_mesh\" or \"subdivision_surface\"",
+                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\", \"polygon_mesh\", \"subdivision_surface\" or \"triangular_bezier\"",
                 map.get("type")
                     .map_or("(missing)".to_string(), |t| t.to_string())
             ),
@@ -334,8 +346,20 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     let is_patches = kind == "bezier_patches";
     let is_mesh = kind == "polygon_mesh";
     let is_cage = kind == "subdivision_surface";
+    let is_triangle = kind == "triangular_bezier";
     let value = serde_json::Value::Object(map);
-    let geometry = if is_cage {
+    let geometry = if is_triangle {
+        let raw: RawTriangle = deserialize(path, value)?;
+        let points = raw
+            .points
+            .iter()
+            .map(|&p| glam::DVec3::from_array(p))
+            .collect();
+        ObjectGeometry::Triangle(Box::new(
+            crate::kernel::triangle::TriangleBezier::new(raw.degree, points)
+                .map_err(|e| FormatError::geometry(path, e))?,
+        ))
+    } else if is_cage {
         ObjectGeometry::Subdivision(Box::new(read_cage(path, value)?))
     } else if is_patches {
         ObjectGeometry::Patches(read_patches(path, value)?)
@@ -431,6 +455,12 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
         })
         .unwrap_or(serde_json::Value::Null),
         ObjectGeometry::Subdivision(object) => cage_value(object),
+        ObjectGeometry::Triangle(patch) => serde_json::to_value(RawTriangle {
+            kind: "triangular_bezier".into(),
+            degree: patch.degree(),
+            points: patch.points().iter().map(|p| p.to_array()).collect(),
+        })
+        .unwrap_or(serde_json::Value::Null),
     };
     if let serde_json::Value::Object(map) = &mut value {
         map.insert("name".into(), object.name.clone().into());

@@ -18,6 +18,7 @@ pub mod subdiv;
 pub mod surface;
 pub mod tess;
 pub mod transfinite;
+pub mod triangle;
 pub mod trim;
 pub mod vector;
 

@@ -11,10 +11,12 @@ mod mesh;
 mod nurbs;
 mod patch_set;
 mod subdiv;
+mod triangle;
 mod trimmed;
 
 pub use kind::ObjectKind;
 pub use subdiv::{SubdivObject, SubdivSettings};
+pub use triangle::{slot_parameters, viewport_segments};
 pub use trimmed::TrimFeed;
 
 use glam::DVec3;
@@ -56,6 +58,8 @@ pub enum ObjectGeometry {
     Subdivision(Box<SubdivObject>),
     /// A NURBS surface with trim loops (never with none: that is [`Self::Nurbs`]).
     Trimmed(Box<TrimmedSurface>),
+    /// A triangular Bézier patch of any degree.
+    Triangle(Box<crate::kernel::triangle::TriangleBezier>),
 }
 
 /// What an object feeds the GPU evaluator: rational Bézier patches over one point pool, each
@@ -96,6 +100,7 @@ impl ObjectGeometry {
             ObjectGeometry::Mesh(mesh) => mesh,
             ObjectGeometry::Subdivision(surface) => surface.as_ref(),
             ObjectGeometry::Trimmed(surface) => surface.as_ref(),
+            ObjectGeometry::Triangle(patch) => patch.as_ref(),
         }
     }
 
@@ -107,6 +112,7 @@ impl ObjectGeometry {
             ObjectGeometry::Mesh(mesh) => mesh,
             ObjectGeometry::Subdivision(surface) => surface.as_mut(),
             ObjectGeometry::Trimmed(surface) => surface.as_mut(),
+            ObjectGeometry::Triangle(patch) => patch.as_mut(),
         }
     }
 

@@ -1,0 +1,233 @@
+//! Triangular Bézier patches as a scene object kind. The GPU feed is one stencil patch on the
+//! triangle lattice: each vertex's position and derivatives are the Bernstein polynomials and
+//! their derivatives at its (u, v) ([`crate::kernel::triangle::bernstein_weights`]) times the
+//! control points, evaluated by the compute shaders' stencil pass (with curvature); the table
+//! depends only on the degree and the tessellation, so a drag only uploads the moved point.
+//! The f64 oracle is the de Casteljau algorithm ([`TriangleBezier::evaluate`]).
+
+use std::sync::Arc;
+
+use glam::{DAffine3, DVec3};
+
+use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
+use crate::kernel::subdiv::patches::{LimitFeed, StencilPatch};
+use crate::kernel::tess::{MAX_SPAN_SEGMENTS, Tessellation, TriangleMesh};
+use crate::kernel::triangle::{TriangleBezier, bernstein_weights};
+use crate::kernel::{BezierPatchSet, GeometryError};
+
+/// Segments per edge the viewport gives a triangular patch of degree n: 12 n, from 8 to 96.
+pub fn viewport_segments(degree: usize) -> u32 {
+    (12 * degree as u32).clamp(8, 96)
+}
+
+/// The parameters (u, v) of lattice slot (i, j) of a grid of `segments` per edge: (i, j) / s
+/// inside the triangle; a slot past the diagonal (i + j > s, unused by the triangles) takes
+/// its mirror image across the diagonal, (s − j, s − i) / s — the unit square folded onto the
+/// triangle.
+pub fn slot_parameters(segments: u32, i: u32, j: u32) -> (f64, f64) {
+    let s = f64::from(segments);
+    if i + j <= segments {
+        (f64::from(i) / s, f64::from(j) / s)
+    } else {
+        (f64::from(segments - j) / s, f64::from(segments - i) / s)
+    }
+}
+
+/// The stencil table of a degree-`degree` patch on a lattice of `segments` per edge: one
+/// triangle stencil patch, every slot the Bernstein weights at [`slot_parameters`] (slots past
+/// the diagonal without curvature).
+fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
+    let mut feed = LimitFeed::default();
+    feed.patches.push(StencilPatch {
+        cage_face: 0,
+        triangle: true,
+        segments,
+        first_slot: 0,
+        level: u32::MAX,
+    });
+    for i in 0..=segments {
+        for j in 0..=segments {
+            let (u, v) = slot_parameters(segments, i, j);
+            let start = feed.entries.len() as u32;
+            for (k, w) in bernstein_weights(degree, u, v).into_iter().enumerate() {
+                if w.iter().any(|&x| x != 0.0) {
+                    feed.entries.push((k as u32, w));
+                }
+            }
+            feed.slots.push([start, feed.entries.len() as u32 - start]);
+            feed.no_curvature.push(i + j > segments);
+            feed.vertex.push(u32::MAX);
+        }
+    }
+    feed
+}
+
+impl ObjectKind for TriangleBezier {
+    fn kind_name(&self) -> &'static str {
+        "a triangular Bézier patch"
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "triangular Bézier patch, degree {}, {} points",
+            self.degree(),
+            self.points().len()
+        )
+    }
+
+    fn control_point_count(&self) -> usize {
+        self.points().len()
+    }
+
+    fn control_points(&self) -> Vec<DVec3> {
+        self.points().to_vec()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        vec![1.0; self.points().len()]
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        TriangleBezier::net_lines(self)
+    }
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let first = *self.points().first()?;
+        Some(
+            self.points()
+                .iter()
+                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+        )
+    }
+
+    /// Every point moves the whole patch (feed patch 0).
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        self.set_point(index, position)?;
+        Ok(vec![0])
+    }
+
+    fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
+        Err(GeometryError::Construction {
+            what: "triangular Bézier patch",
+            message: "its points have no weights (it is polynomial)".into(),
+        })
+    }
+
+    /// No Bézier patches: the control points, and one triangle stencil patch over them.
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        let segments = viewport_segments(self.degree());
+        Ok(Decomposition {
+            set: BezierPatchSet::new(self.points().to_vec(), None, Vec::new())?,
+            domains: Vec::new(),
+            stencils: Some(Arc::new(bernstein_feed(self.degree(), segments))),
+            cage_points: self.points().len(),
+            fixed_segments: Some(segments),
+            trims: None,
+        })
+    }
+
+    /// The de Casteljau point at (s, t) folded onto the triangle ([`slot_parameters`] for a
+    /// point past the diagonal).
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        if patch != 0 {
+            return Err(GeometryError::NoSuchPatch { patch, count: 1 });
+        }
+        let (u, v) = if s + t <= 1.0 {
+            (s, t)
+        } else {
+            (1.0 - t, 1.0 - s)
+        };
+        Ok(self.evaluate(u, v).point)
+    }
+
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        _patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        for (index, &p) in self.points().iter().enumerate() {
+            if feed.set.points().get(index) != Some(&p) {
+                feed.set.set_point(index, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The lattice of enough segments per edge for the tolerance (the second-difference bound,
+    /// [`TriangleBezier::segments_for`]) or the segments asked for, each vertex evaluated by de
+    /// Casteljau with its normal, (u, v) and, if asked, curvature.
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let max = MAX_SPAN_SEGMENTS as u32;
+        let s = match tessellation {
+            Tessellation::Tolerance(t) => self.segments_for(t, max),
+            Tessellation::Segments(n) => n.clamp(1, max),
+        };
+        let mut mesh = TriangleMesh {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            curvatures: Vec::new(),
+            triangles: Vec::new(),
+        };
+        // Row j holds i = 0..=s − j, as the lattice's points.
+        let index = |i: u32, j: u32| {
+            crate::kernel::triangle::lattice_index(s as usize, i as usize, j as usize) as u32
+        };
+        for j in 0..=s {
+            for i in 0..=s - j {
+                let (u, v) = (f64::from(i) / f64::from(s), f64::from(j) / f64::from(s));
+                let d = self.evaluate(u, v);
+                let normal = d.regular_normal().unwrap_or_else(|| {
+                    // A degenerate corner: the normal a little way inside.
+                    let (cu, cv) = (u + (1.0 / 3.0 - u) * 1e-6, v + (1.0 / 3.0 - v) * 1e-6);
+                    self.evaluate(cu, cv).regular_normal().unwrap_or(DVec3::Z)
+                });
+                mesh.positions.push(d.point);
+                mesh.normals.push(normal);
+                mesh.uvs.push([u, v]);
+                if curvature {
+                    let forms = FundamentalForms::new(&d, normal);
+                    mesh.curvatures
+                        .push(
+                            CurvatureValues::from_forms(&forms).unwrap_or(CurvatureValues {
+                                gaussian: 0.0,
+                                mean: 0.0,
+                                k1: 0.0,
+                                k2: 0.0,
+                            }),
+                        );
+                }
+                if i + j < s {
+                    mesh.triangles
+                        .push([index(i, j), index(i + 1, j), index(i, j + 1)]);
+                    if i + j + 1 < s {
+                        mesh.triangles.push([
+                            index(i + 1, j),
+                            index(i + 1, j + 1),
+                            index(i, j + 1),
+                        ]);
+                    }
+                }
+            }
+        }
+        Ok(vec![mesh])
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        let moved = self.mapped(|p| transform.transform_point3(p))?;
+        Ok(ObjectGeometry::Triangle(Box::new(moved)))
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        matches!(other, ObjectGeometry::Triangle(b) if b.degree() == self.degree())
+    }
+}
