@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 12] = [
+pub const GROUPS: [&str; 13] = [
     "edit",
     "webgl2",
     "frame",
@@ -406,6 +406,7 @@ pub const GROUPS: [&str; 12] = [
     "construct",
     "substitutes",
     "adaptive",
+    "triangle",
     "all",
 ];
 
@@ -452,6 +453,44 @@ pub fn run(
     }
     if wants("adaptive") {
         bench_adaptive(context, iterations, out)?;
+    }
+    if wants("triangle") {
+        bench_triangle(context, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Triangular Bézier patches (the Create dialog's dome) of degree 3, 6, 10 and 20 on the GPU
+/// (the viewport's lattice: full pass, drag latency) and the f64 export tessellation at a
+/// tolerance of 1e-4 of the size.
+fn bench_triangle(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::doc::create::{Primitive, PrimitiveParams};
+    use crate::kernel::tess::Tessellation;
+    for degree in [3usize, 6, 10, 20] {
+        let object = PrimitiveParams {
+            kind: Primitive::TriangleBezier,
+            degree: [degree, degree],
+            ..Default::default()
+        }
+        .build()?;
+        let size = object.bounds().map_or(1.0, |(lo, hi)| lo.distance(hi));
+        let (ms, triangles) = median_ms(iterations.clamp(1, 5), || {
+            object
+                .tessellate(Tessellation::Tolerance(1e-4 * size), false)
+                .map(|m| m.iter().map(|m| m.triangles.len()).sum::<usize>())
+        })?;
+        writeln!(
+            out,
+            "triangular Bézier degree {degree:>2} export tol 1e-4 × size | {triangles:>7} triangles | {ms:8.2} ms"
+        )?;
+        let mut named = object;
+        named.name = format!("triangular Bézier degree {degree}");
+        let middle = named.control_point_count() / 2;
+        bench_object(context, named, middle, iterations, out)?;
     }
     Ok(())
 }

@@ -265,6 +265,7 @@ fn the_glb_read_back_matches_the_kernel_at_the_stored_uv_and_faces_its_normals()
                             .unwrap()
                     }
                     ObjectGeometry::Patches(set) => set.evaluate(k, uv[0], uv[1]).unwrap().point,
+                    ObjectGeometry::Triangle(patch) => patch.evaluate(uv[0], uv[1]).point,
                     ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => {
                         unreachable!("the demo has no meshes or cages")
                     }

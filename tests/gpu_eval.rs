@@ -72,7 +72,8 @@ impl<'a> ReferenceSurface<'a> {
             ObjectGeometry::Mesh(mesh) => {
                 Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
             }
-            ObjectGeometry::Subdivision(_) => {
+            // Their feeds' Bézier patches (a triangular patch has none: only stencils).
+            ObjectGeometry::Subdivision(_) | ObjectGeometry::Triangle(_) => {
                 Self::Patches(std::borrow::Cow::Owned(object.decompose().unwrap().set))
             }
             ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {

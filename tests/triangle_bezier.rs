@@ -13,7 +13,7 @@ use knotwork::gpu::{SceneSync, SurfaceVertex};
 use knotwork::io::project::{self, Project};
 use knotwork::kernel::tess::Tessellation;
 use knotwork::kernel::triangle::{TriangleBezier, lattice_index, point_count};
-use knotwork::scene::{ObjectGeometry, ObjectKind, Scene, SceneObject, slot_parameters};
+use knotwork::scene::{ObjectGeometry, ObjectKind, Scene, SceneObject};
 
 /// The paraboloid z = x² + y² over the triangle a, b, c as a quadratic patch: its blossom is
 /// f(p, q) = (mean of p and q, p·q), so b_200 = (a, a·a), b_110 = ((a + b)/2, a·b) and so on
@@ -72,7 +72,7 @@ fn gpu_vertices(object: &SceneObject) -> Vec<(f64, f64, SurfaceVertex)> {
     for i in 0..=n {
         for j in 0..=n - i {
             let v = vertices[(records[0].vertex_offset + i * (n + 1) + j) as usize];
-            let (s, t) = slot_parameters(n, i, j);
+            let (s, t) = (f64::from(i) / f64::from(n), f64::from(j) / f64::from(n));
             out.push((s, t, v));
         }
     }

@@ -688,6 +688,56 @@ async function main() {
       await page.close();
     });
 
+    await check('a triangular Bezier patch in the page: the GPU lattice, curvature shading, a move, undo, export validates', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // A cubic dome over a triangle: b_ijk at (i A + j B + k C)/3, raised inside.
+      const [A, B, C] = [[2, 0, 0], [-1, 1.7, 0], [-1, -1.7, 0]];
+      const points = [];
+      for (let j = 0; j <= 3; j += 1) {
+        for (let i = 0; i <= 3 - j; i += 1) {
+          const k = 3 - i - j;
+          const p = [0, 1, 2].map((c) => (i * A[c] + j * B[c] + k * C[c]) / 3);
+          p[2] += 0.6 * (i * j + j * k + k * i) / 3;
+          points.push(p);
+        }
+      }
+      await openObjects(page, [{ type: 'triangular_bezier', name: 'dome', degree: 3, points }]);
+      let s = await status(page);
+      // Degree 3: a lattice of 24 segments per edge, (24 + 1)^2 slots and two triangles per cell
+      // (those past the diagonal degenerate, as every triangle lattice's).
+      assert(s.error === null && s.patches === 1 && s.vertices === 625 && s.triangles === 1152, `dome: ${JSON.stringify(s)}`);
+      await page.evaluate(() => window.knotwork.frame());
+      assert(await page.evaluate(() => window.knotwork.setShading('mean')), 'mean is a mode');
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/triangle-mean.png`, before);
+      // The middle point (b_111, index 5) raised: the surface follows, undo restores it.
+      await page.evaluate(() => window.knotwork.moveControlPoint(0, 5, [0, 0, 2.5]));
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await nextFrames(page);
+      const moved = await page.locator('#knotwork-canvas').screenshot();
+      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const change = await screenshotDifference(page, before, moved, viewport, 24);
+      assert(change.differing > 500, `the canvas changed with the move (${change.differing} px)`);
+      const exported = await page.evaluate(() => {
+        const glb = window.knotwork.exportGlb({ tolerance: 0.001 });
+        let text = '';
+        for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
+        return btoa(text);
+      });
+      const bytes = new Uint8Array(Buffer.from(exported, 'base64'));
+      const report = summary('triangle.glb', await validate(bytes, 'triangle.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      const undone = await page.evaluate(() => window.knotwork.project());
+      assert(undone.objects[0].type === 'triangular_bezier' && undone.objects[0].points[5][2] === points[5][2], 'undo brings the point back');
+      console.log(`      the move changed ${change.differing} px; export ${bytes.length} bytes, validator clean`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a trimmed surface in the page: a circle drawn with the mouse cuts a hole, export validates, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

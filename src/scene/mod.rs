@@ -16,7 +16,7 @@ mod trimmed;
 
 pub use kind::ObjectKind;
 pub use subdiv::{SubdivObject, SubdivSettings};
-pub use triangle::{slot_parameters, viewport_segments};
+pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;
 
 use glam::DVec3;

@@ -16,27 +16,16 @@ use crate::kernel::tess::{MAX_SPAN_SEGMENTS, Tessellation, TriangleMesh};
 use crate::kernel::triangle::{TriangleBezier, bernstein_weights};
 use crate::kernel::{BezierPatchSet, GeometryError};
 
-/// Segments per edge the viewport gives a triangular patch of degree n: 12 n, from 8 to 96.
+/// Segments per edge the viewport gives a triangular patch of degree n: 8 n, from 8 to 64.
 pub fn viewport_segments(degree: usize) -> u32 {
-    (12 * degree as u32).clamp(8, 96)
-}
-
-/// The parameters (u, v) of lattice slot (i, j) of a grid of `segments` per edge: (i, j) / s
-/// inside the triangle; a slot past the diagonal (i + j > s, unused by the triangles) takes
-/// its mirror image across the diagonal, (s − j, s − i) / s — the unit square folded onto the
-/// triangle.
-pub fn slot_parameters(segments: u32, i: u32, j: u32) -> (f64, f64) {
-    let s = f64::from(segments);
-    if i + j <= segments {
-        (f64::from(i) / s, f64::from(j) / s)
-    } else {
-        (f64::from(segments - j) / s, f64::from(segments - i) / s)
-    }
+    (8 * degree as u32).clamp(8, 64)
 }
 
 /// The stencil table of a degree-`degree` patch on a lattice of `segments` per edge: one
-/// triangle stencil patch, every slot the Bernstein weights at [`slot_parameters`] (slots past
-/// the diagonal without curvature).
+/// triangle stencil patch, slot (i, j) the Bernstein weights at (u, v) = (i, j) / s; the slots
+/// past the diagonal (i + j > s, in no triangle) repeat the first slot's (the corner u = v = 0,
+/// whose few non-zero weights cost little) without curvature, as a subdivision surface's
+/// triangle patches do.
 fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
     let mut feed = LimitFeed::default();
     feed.patches.push(StencilPatch {
@@ -46,9 +35,17 @@ fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
         first_slot: 0,
         level: u32::MAX,
     });
+    let s = f64::from(segments);
     for i in 0..=segments {
         for j in 0..=segments {
-            let (u, v) = slot_parameters(segments, i, j);
+            if i + j > segments {
+                let first = feed.slots[0];
+                feed.slots.push(first);
+                feed.no_curvature.push(true);
+                feed.vertex.push(u32::MAX);
+                continue;
+            }
+            let (u, v) = (f64::from(i) / s, f64::from(j) / s);
             let start = feed.entries.len() as u32;
             for (k, w) in bernstein_weights(degree, u, v).into_iter().enumerate() {
                 if w.iter().any(|&x| x != 0.0) {
@@ -56,7 +53,7 @@ fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
                 }
             }
             feed.slots.push([start, feed.entries.len() as u32 - start]);
-            feed.no_curvature.push(i + j > segments);
+            feed.no_curvature.push(false);
             feed.vertex.push(u32::MAX);
         }
     }
@@ -131,18 +128,16 @@ impl ObjectKind for TriangleBezier {
         })
     }
 
-    /// The de Casteljau point at (s, t) folded onto the triangle ([`slot_parameters`] for a
-    /// point past the diagonal).
+    /// The de Casteljau point at (u, v) = (s, t); past the diagonal (s + t > 1, the lattice
+    /// slots in no triangle) the corner u = v = 0 they repeat.
     fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
         if patch != 0 {
             return Err(GeometryError::NoSuchPatch { patch, count: 1 });
         }
-        let (u, v) = if s + t <= 1.0 {
-            (s, t)
-        } else {
-            (1.0 - t, 1.0 - s)
-        };
-        Ok(self.evaluate(u, v).point)
+        if s + t > 1.0 + 1e-9 {
+            return Ok(self.evaluate(0.0, 0.0).point);
+        }
+        Ok(self.evaluate(s, t).point)
     }
 
     fn update_gpu_feed(
