@@ -536,18 +536,11 @@ fn bench_adaptive(
                 surface.adaptive_feed(level, tolerance)
             })?;
             let shown = surface.adaptive_triangles(level, &layout)?.len();
-            let counts: Vec<String> = layout
-                .histogram()
-                .iter()
-                .enumerate()
-                .filter(|(_, n)| **n > 0)
-                .map(|(l, n)| format!("L{l} {n}"))
-                .collect();
             writeln!(
                 out,
-                "{name} {} adaptive L{level} tol {tolerance:.0e} | pieces {} | {shown} triangles, {:.1} % of uniform {uniform_triangles} | depths {layout_ms:.1} ms, feed {feed_ms:.1} ms",
+                "{name} {} adaptive L{level} tol {tolerance:.0e} | pieces per {} | {shown} triangles, {:.1} % of uniform {uniform_triangles} | depths {layout_ms:.1} ms, feed {feed_ms:.1} ms",
                 scheme.label(),
-                counts.join(" "),
+                layout.describe(),
                 100.0 * shown as f64 / uniform_triangles as f64,
             )?;
         }

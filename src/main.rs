@@ -344,14 +344,7 @@ mod cli {
                 &positions, &normals, triangles,
             );
             (positions, normals, polygons) = (mesh.positions, mesh.normals, mesh.polygons);
-            let counts: Vec<String> = layout
-                .histogram()
-                .iter()
-                .enumerate()
-                .filter(|(_, n)| **n > 0)
-                .map(|(level, n)| format!("level {level}: {n}"))
-                .collect();
-            note = format!("; pieces per {}", counts.join(", "));
+            note = format!("; pieces per {}", layout.describe());
         }
         let faces: Vec<&[u32]> = polygons.iter().map(Vec::as_slice).collect();
         let obj = knotwork::io::obj::write(&positions, &normals, &faces);

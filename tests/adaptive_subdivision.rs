@@ -321,14 +321,7 @@ fn the_subdivide_command_writes_the_adaptive_limit_on_both_backends() {
     let faces: Vec<&[u32]> = s.mesh().faces().collect();
     let input = dir.join("torus.obj");
     std::fs::write(&input, knotwork::io::obj::write(s.points(), &[], &faces)).unwrap();
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-            .arg("subdivide")
-            .arg(&input)
-            .args(args)
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| common::run_subdivide(&input, args);
     let expected = s.adaptive_mesh(3, 0.004).unwrap();
     for backend in ["cpu", "gpu"] {
         let out = dir.join(format!("{backend}.obj"));

@@ -9,6 +9,8 @@
 
 use std::collections::HashMap;
 
+mod common;
+
 use glam::{DAffine3, DVec3};
 use knotwork::kernel::PolygonMesh;
 use knotwork::kernel::subdiv::patches::Display;
@@ -249,14 +251,7 @@ fn the_subdivide_command_writes_substitutes_on_both_backends() {
     let faces: Vec<&[u32]> = cube.mesh().faces().collect();
     let input = dir.join("cube.obj");
     std::fs::write(&input, knotwork::io::obj::write(cube.points(), &[], &faces)).unwrap();
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-            .arg("subdivide")
-            .arg(&input)
-            .args(args)
-            .output()
-            .unwrap()
-    };
+    let run = |args: &[&str]| common::run_subdivide(&input, args);
     let expected = cube.substitute_mesh(2, SubstituteKind::Gregory).unwrap();
     for backend in ["cpu", "gpu"] {
         let out = dir.join(format!("{backend}.obj"));

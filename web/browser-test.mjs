@@ -112,6 +112,17 @@ async function screenshotDifference(page, a, b, rect, tolerance) {
   }, { a: a.toString('base64'), b: b.toString('base64'), rect, tolerance });
 }
 
+/** The page's exportGlb(options) as bytes (through base64: the page returns a Uint8Array). */
+async function exportGlbBytes(page, options) {
+  const exported = await page.evaluate((o) => {
+    const glb = window.knotwork.exportGlb(o);
+    let text = '';
+    for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
+    return btoa(text);
+  }, options);
+  return new Uint8Array(Buffer.from(exported, 'base64'));
+}
+
 /** Has the editor draw `count` more frames, so the canvas shows the latest state. */
 async function nextFrames(page, count = 2) {
   const frames = (await status(page)).frames;
@@ -720,13 +731,7 @@ async function main() {
       const viewport = { x: 320, y: 60, width: 940, height: 700 };
       const change = await screenshotDifference(page, before, moved, viewport, 24);
       assert(change.differing > 500, `the canvas changed with the move (${change.differing} px)`);
-      const exported = await page.evaluate(() => {
-        const glb = window.knotwork.exportGlb({ tolerance: 0.001 });
-        let text = '';
-        for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
-        return btoa(text);
-      });
-      const bytes = new Uint8Array(Buffer.from(exported, 'base64'));
+      const bytes = await exportGlbBytes(page, { tolerance: 0.001 });
       const report = summary('triangle.glb', await validate(bytes, 'triangle.glb'));
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
       await page.evaluate(() => window.knotwork.undo());
@@ -781,13 +786,7 @@ async function main() {
       s = await status(page);
       assert(/trims\[/.test(s.error) && s.undo_steps === 1, `refused: ${JSON.stringify(s.error)}`);
 
-      const exported = await page.evaluate(() => {
-        const glb = window.knotwork.exportGlb({ tolerance: 0.001 });
-        let text = '';
-        for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
-        return btoa(text);
-      });
-      const bytes = new Uint8Array(Buffer.from(exported, 'base64'));
+      const bytes = await exportGlbBytes(page, { tolerance: 0.001 });
       const report = summary('trimmed.glb', await validate(bytes, 'trimmed.glb'));
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
 

@@ -987,18 +987,11 @@ impl KnotworkApp {
             if let ObjectGeometry::Subdivision(surface) = &self.scene().objects[s].geometry
                 && let Ok(Some(layout)) = surface.adaptive_layout()
             {
-                let counts: Vec<String> = layout
-                    .histogram()
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, n)| **n > 0)
-                    .map(|(level, n)| format!("level {level}: {n}"))
-                    .collect();
                 ui.label(
                     egui::RichText::new(format!(
                         "pieces per level: {}; refined again when a drag ends; \
                          shading \"Refinement level\" colours them",
-                        counts.join(", ")
+                        layout.describe()
                     ))
                     .weak(),
                 );

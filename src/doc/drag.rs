@@ -96,14 +96,10 @@ impl Document {
                 return Err(EditError::NotDragged { point: k });
             }
             if !p.is_finite() {
-                return Err(geometry_error(target)(GeometryError::NonFinitePoint {
-                    at: Location::point(k),
-                    coordinate: p
-                        .to_array()
-                        .iter()
-                        .position(|x| !x.is_finite())
-                        .unwrap_or(0),
-                }));
+                return Err(geometry_error(target)(GeometryError::non_finite_point(
+                    Location::point(k),
+                    p,
+                )));
             }
         }
         let target = &mut self.scene.objects[object];

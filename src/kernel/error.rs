@@ -217,6 +217,19 @@ pub enum CageProblem {
 }
 
 impl GeometryError {
+    /// [`Self::NonFinitePoint`] for point `p` at `at`, naming its first coordinate that is not
+    /// finite.
+    pub fn non_finite_point(at: Location, p: glam::DVec3) -> Self {
+        Self::NonFinitePoint {
+            at,
+            coordinate: p
+                .to_array()
+                .iter()
+                .position(|x| !x.is_finite())
+                .unwrap_or(0),
+        }
+    }
+
     /// The value this error is about, where it names one.
     pub fn location(&self) -> Option<&Location> {
         match self {

@@ -85,14 +85,10 @@ impl TriangleBezier {
             .get_mut(index)
             .ok_or(GeometryError::NoSuchPoint { index, count })?;
         if !position.is_finite() {
-            return Err(GeometryError::NonFinitePoint {
-                at: Location::point(index),
-                coordinate: position
-                    .to_array()
-                    .iter()
-                    .position(|x| !x.is_finite())
-                    .unwrap_or(0),
-            });
+            return Err(GeometryError::non_finite_point(
+                Location::point(index),
+                position,
+            ));
         }
         *slot = position;
         Ok(())

@@ -91,6 +91,19 @@ pub struct SceneObject {
     pub visible: bool,
 }
 
+impl Decomposition {
+    /// Copies `points` into the set's first points where they differ (a kind whose feed holds
+    /// its control points as they are, first).
+    pub fn sync_points(&mut self, points: &[DVec3]) -> Result<(), GeometryError> {
+        for (index, &p) in points.iter().enumerate() {
+            if self.set.points().get(index) != Some(&p) {
+                self.set.set_point(index, p)?;
+            }
+        }
+        Ok(())
+    }
+}
+
 impl ObjectGeometry {
     /// The object's kind behind the one interface (the only place that looks at the variant).
     pub fn kind(&self) -> &dyn ObjectKind {

@@ -512,11 +512,7 @@ impl ObjectKind for SubdivObject {
         patches: &[usize],
     ) -> Result<(), GeometryError> {
         let cage = self.surface.points();
-        for (index, &p) in cage.iter().enumerate() {
-            if feed.set.points().get(index) != Some(&p) {
-                feed.set.set_point(index, p)?;
-            }
-        }
+        feed.sync_points(cage)?;
         if self.surface.level() == 0 {
             return Ok(());
         }

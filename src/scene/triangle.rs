@@ -145,12 +145,7 @@ impl ObjectKind for TriangleBezier {
         feed: &mut Decomposition,
         _patches: &[usize],
     ) -> Result<(), GeometryError> {
-        for (index, &p) in self.points().iter().enumerate() {
-            if feed.set.points().get(index) != Some(&p) {
-                feed.set.set_point(index, p)?;
-            }
-        }
-        Ok(())
+        feed.sync_points(self.points())
     }
 
     /// The lattice of enough segments per edge for the tolerance (the second-difference bound,

@@ -335,3 +335,13 @@ pub fn open_mixed_grid() -> PolygonMesh {
     ];
     PolygonMesh::new(points, &faces).unwrap()
 }
+
+/// Runs `knotwork subdivide INPUT ARGS…` (the real binary) and returns what it did.
+pub fn run_subdivide(input: &std::path::Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("subdivide")
+        .arg(input)
+        .args(args)
+        .output()
+        .expect("the knotwork binary runs")
+}

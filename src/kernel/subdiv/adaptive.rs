@@ -254,6 +254,18 @@ pub struct AdaptiveLayout {
 }
 
 impl AdaptiveLayout {
+    /// "level 1: 110, level 2: 30": the pieces per level, levels with none left out.
+    pub fn describe(&self) -> String {
+        let counts: Vec<String> = self
+            .histogram()
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| **n > 0)
+            .map(|(level, n)| format!("level {level}: {n}"))
+            .collect();
+        counts.join(", ")
+    }
+
     /// How many pieces show each level (index: level).
     pub fn histogram(&self) -> Vec<usize> {
         let mut counts = Vec::new();
