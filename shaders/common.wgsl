@@ -27,7 +27,14 @@ struct PatchRecord {
     // 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
     // written into every vertex.
     level: u32,
+    // Where the object's displacement lies in the control point buffer (two vec4: pattern code,
+    // amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or DISPLACEMENT_NONE.
+    displacement: u32,
+    reserved: array<u32, 3>,
 }
+
+// PatchRecord.displacement of a patch whose object is not displaced (Rust: DISPLACEMENT_NONE).
+const DISPLACEMENT_NONE: u32 = 0xFFFFFFFFu;
 
 // PatchRecord.kind of a rational tensor-product Bézier patch (Rust: PATCH_KIND_BEZIER).
 const PATCH_KIND_BEZIER: u32 = 0u;

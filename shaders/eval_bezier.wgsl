@@ -419,25 +419,151 @@ fn grid_point_at(rec: PatchRecord, i: u32, j: u32) -> GridPoint {
     return GridPoint(i, j, f32(i) / f32(rec.segments_u), f32(j) / f32(rec.segments_v));
 }
 
-// Writes grid vertex `g` of record `record`, its (u, v) mapped into the record's domain.
+// Codes of the displacement patterns (Rust: kernel::displace::Pattern::code).
+const DISPLACE_WAVES: u32 = 1u;
+const DISPLACE_RIPPLES: u32 = 2u;
+const DISPLACE_NOISE: u32 = 3u;
+const TAU: f32 = 6.28318530718;
+
+// The noise lattice's value at (i, j) in [-1, 1]: the same integer hash as
+// kernel::displace::lattice_value.
+fn lattice_value(i: i32, j: i32) -> f32 {
+    var h = (bitcast<u32>(i) * 0x8da6b343u) ^ (bitcast<u32>(j) * 0xd8163841u);
+    h = h ^ (h >> 15u);
+    h = h * 0x2c1b3c6du;
+    h = h ^ (h >> 12u);
+    h = h * 0x297a2d39u;
+    h = h ^ (h >> 15u);
+    return f32(h & 0xffffu) / 32767.5 - 1.0;
+}
+
+// The quintic fade 6t^5 - 15t^4 + 10t^3 and its derivative.
+fn fade(t: f32) -> vec2<f32> {
+    return vec2<f32>(t * t * t * (t * (t * 6.0 - 15.0) + 10.0), 30.0 * t * t * (t * (t - 2.0) + 1.0));
+}
+
+// The height h and (h_x, h_y) of pattern `code` at frequency f and normalized (x, y)
+// (kernel::displace::Displacement::height).
+fn displacement_height(code: u32, f: f32, x: f32, y: f32) -> vec3<f32> {
+    let w = TAU * f;
+    if (code == DISPLACE_WAVES) {
+        let sx = sin(w * x);
+        let cx = cos(w * x);
+        let sy = sin(w * y);
+        let cy = cos(w * y);
+        return vec3<f32>(sx * sy, w * cx * sy, w * sx * cy);
+    }
+    if (code == DISPLACE_RIPPLES) {
+        let dx = x - 0.5;
+        let dy = y - 0.5;
+        let r = sqrt(dx * dx + dy * dy);
+        let c = cos(w * r);
+        if (r == 0.0) {
+            return vec3<f32>(c, 0.0, 0.0);
+        }
+        let s = sin(w * r);
+        return vec3<f32>(c, -w * s * dx / r, -w * s * dy / r);
+    }
+    let px = x * f;
+    let py = y * f;
+    let fi = floor(px);
+    let fj = floor(py);
+    let i = i32(fi);
+    let j = i32(fj);
+    let a = lattice_value(i, j);
+    let b = lattice_value(i + 1, j);
+    let c = lattice_value(i, j + 1);
+    let d = lattice_value(i + 1, j + 1);
+    let sx = fade(px - fi);
+    let sy = fade(py - fj);
+    let bottom = a + (b - a) * sx.x;
+    let top = c + (d - c) * sx.x;
+    return vec3<f32>(
+        bottom + (top - bottom) * sy.x,
+        ((b - a) + ((d - c) - (b - a)) * sy.x) * sx.y * f,
+        (top - bottom) * sy.y * f,
+    );
+}
+
+// A displaced vertex: position and unit normal.
+struct Displaced {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+}
+
+// `position` moved along `normal` by the record's object's displacement at local (s, t), and
+// the displaced surface's normal from the derivatives `d` (in (s, t)) with the normal's
+// derivatives from the Weingarten equations (kernel::displace::Displacement::apply).
+fn displace(rec: PatchRecord, d: Derivatives, position: vec3<f32>, normal: vec3<f32>, s: f32, t: f32) -> Displaced {
+    let params = control_points[rec.displacement];
+    let object = control_points[rec.displacement + 1u];
+    let span = max(object.yw - object.xz, vec2<f32>(1e-30));
+    let u = rec.domain.x * (1.0 - s) + rec.domain.y * s;
+    let v = rec.domain.z * (1.0 - t) + rec.domain.w * t;
+    let x = (u - object.x) / span.x;
+    let y = (v - object.z) / span.y;
+    let scale = (rec.domain.yw - rec.domain.xz) / span;
+    let hh = displacement_height(u32(params.x), params.z, x, y);
+    let a = params.y;
+    let e = dot(d.su, d.su);
+    let f = dot(d.su, d.sv);
+    let g = dot(d.sv, d.sv);
+    let l = dot(d.suu, normal);
+    let m = dot(d.suv, normal);
+    let n = dot(d.svv, normal);
+    let det = e * g - f * f;
+    var nu = vec3<f32>(0.0);
+    var nv = vec3<f32>(0.0);
+    if (det > 0.0) {
+        nu = (d.su * (m * f - l * g) + d.sv * (l * f - m * e)) / det;
+        nv = (d.su * (n * f - m * g) + d.sv * (m * f - n * e)) / det;
+    }
+    let pu = d.su + (normal * (hh.y * scale.x) + nu * hh.x) * a;
+    let pv = d.sv + (normal * (hh.z * scale.y) + nv * hh.x) * a;
+    let c = cross(pu, pv);
+    var out_normal = normal;
+    let length2 = dot(c, c);
+    if (length2 > 0.0) {
+        out_normal = c / sqrt(length2);
+        if (dot(out_normal, normal) < 0.0) {
+            out_normal = -out_normal;
+        }
+    }
+    return Displaced(position + normal * (a * hh.x), out_normal);
+}
+
+// Writes grid vertex `g` of record `record`, its (u, v) mapped into the record's domain; a
+// displaced object's vertex moved along the normal (displace) and without curvature.
 fn store_vertex(
     rec: PatchRecord,
     record: u32,
     local: u32,
     g: GridPoint,
+    d: Derivatives,
     position: vec3<f32>,
     normal: vec3<f32>,
     curvature: vec4<f32>,
     flags: u32,
 ) {
+    var p = position;
+    var n = normal;
+    var k = curvature;
+    var f = flags;
+    if (rec.displacement != DISPLACEMENT_NONE) {
+        let moved = displace(rec, d, position, normal, g.s, g.t);
+        p = moved.position;
+        n = moved.normal;
+        k = vec4<f32>(0.0);
+        f = f | VERTEX_NO_CURVATURE;
+    }
     vertices[rec.vertex_offset + local] = SurfaceVertex(
-        position,
+        p,
         rec.domain.x * (1.0 - g.s) + rec.domain.y * g.s,
-        normal,
+        n,
         rec.domain.z * (1.0 - g.t) + rec.domain.w * g.t,
-        curvature,
+        k,
         rec.object,
-        flags,
+        f,
         record,
         rec.level,
     );
@@ -448,7 +574,7 @@ fn store_vertex(
 fn write_grid_vertex(rec: PatchRecord, record: u32, i: u32, j: u32, d: Derivatives, shape: Shape) {
     let g = grid_point_at(rec, i, j);
     let position = grid_position(rec, i, j, d.point);
-    store_vertex(rec, record, i * (rec.segments_v + 1u) + j, g, position, shape.normal, shape.curvature, shape.flags);
+    store_vertex(rec, record, i * (rec.segments_v + 1u) + j, g, d, position, shape.normal, shape.curvature, shape.flags);
 }
 
 // The derivatives at row i of the column whose rows the invocation holds.
@@ -566,7 +692,7 @@ fn evaluate_stencil_vertices(
         }
     }
     let g = grid_point(rec, local);
-    store_vertex(rec, patch_list[group.y], local, g, d.point, normal, values, flags);
+    store_vertex(rec, patch_list[group.y], local, g, d, d.point, normal, values, flags);
 }
 
 // Control point k of a substitute patch (its weight is 1).
@@ -621,7 +747,7 @@ fn write_substitute_vertex(rec: PatchRecord, record: u32, local: u32) {
             flags = VERTEX_NO_CURVATURE;
         }
     }
-    store_vertex(rec, record, local, g, sample.d.point, normal, values, flags);
+    store_vertex(rec, record, local, g, sample.d, sample.d.point, normal, values, flags);
 }
 
 // One invocation per grid quad: two counter-clockwise triangles (seen from the side Su x Sv
@@ -1089,14 +1215,24 @@ fn write_adaptive_vertex(slot: AdaptiveSlot, local: u32) {
     if (v.edge != ADAPTIVE_INTERIOR) {
         position = edge_point(rec, adaptive_boundary(rec, v));
     }
+    var normal = shape.normal;
+    var curvature = shape.curvature;
+    var flags = shape.flags;
+    if (rec.displacement != DISPLACEMENT_NONE) {
+        let moved = displace(rec, d, position, normal, v.st.x, v.st.y);
+        position = moved.position;
+        normal = moved.normal;
+        curvature = vec4<f32>(0.0);
+        flags = flags | VERTEX_NO_CURVATURE;
+    }
     vertices[slot.vertex_offset + local] = SurfaceVertex(
         position,
         rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
-        shape.normal,
+        normal,
         rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
-        shape.curvature,
+        curvature,
         rec.object,
-        shape.flags,
+        flags,
         slot.record,
         0u,
     );

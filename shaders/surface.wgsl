@@ -102,7 +102,8 @@ fn pixel_shape(in: VertexOut) -> PixelShape {
         return out;
     }
     let rec = trim_records[in.record];
-    if (rec.kind != PATCH_KIND_BEZIER) {
+    // Stencil and substitute patches and displaced objects: the vertices' values.
+    if (rec.kind != PATCH_KIND_BEZIER || rec.displacement != DISPLACEMENT_NONE) {
         return out;
     }
     let span = rec.domain.yw - rec.domain.xz;

@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 13] = [
+pub const GROUPS: [&str; 14] = [
     "edit",
     "webgl2",
     "frame",
@@ -407,6 +407,7 @@ pub const GROUPS: [&str; 13] = [
     "substitutes",
     "adaptive",
     "triangle",
+    "displacement",
     "all",
 ];
 
@@ -456,6 +457,40 @@ pub fn run(
     }
     if wants("triangle") {
         bench_triangle(context, iterations, out)?;
+    }
+    if wants("displacement") {
+        bench_displacement(context, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Displacement along the normal: the 32 × 32 landscape plain and displaced by each pattern
+/// (full pass, drag latency), and its export with the displacement.
+fn bench_displacement(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::displace::{Displacement, Pattern};
+    use crate::kernel::tess::Tessellation;
+    let plain = large_bspline()?;
+    let centre = 32 * 16 + 16;
+    bench_object(context, plain.clone(), centre, iterations, out)?;
+    for pattern in Pattern::ALL {
+        let mut object = plain.clone();
+        object.displacement = Some(Displacement::new(pattern, 0.05, 24.0)?);
+        object.name = format!("landscape displaced by {}", pattern.label());
+        let (ms, triangles) = median_ms(iterations.clamp(1, 5), || {
+            object
+                .tessellate(Tessellation::Tolerance(1e-3), false)
+                .map(|m| m.iter().map(|m| m.triangles.len()).sum::<usize>())
+        })?;
+        writeln!(
+            out,
+            "{} export (8 segments per cycle) | {triangles:>8} triangles | {ms:8.1} ms",
+            object.name
+        )?;
+        bench_object(context, object, centre, iterations, out)?;
     }
     Ok(())
 }

@@ -35,6 +35,7 @@ fn patch_inputs(feeds: &[Decomposition]) -> Vec<ObjectPatches<'_>> {
             stencils: None,
             cage_points: 0,
             trims: None,
+            displacement: None,
         })
         .collect()
 }

@@ -123,7 +123,9 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             kind,
             trim_offset,
             trim_count,
-            level
+            level,
+            displacement,
+            reserved
         })
     );
     assert_eq!(
@@ -274,7 +276,15 @@ fn evaluator_constants_match_their_rust_counterparts() {
         wgsl_constant(&module, "PATCH_KIND_BEZIER"),
         f64::from(knotwork::gpu::records::PATCH_KIND_BEZIER)
     );
+    use knotwork::kernel::displace::Pattern;
     for (name, value) in [
+        (
+            "DISPLACEMENT_NONE",
+            knotwork::gpu::records::DISPLACEMENT_NONE,
+        ),
+        ("DISPLACE_WAVES", Pattern::Waves.code()),
+        ("DISPLACE_RIPPLES", Pattern::Ripples.code()),
+        ("DISPLACE_NOISE", Pattern::Noise.code()),
         (
             "PATCH_KIND_STENCIL_QUAD",
             knotwork::gpu::records::PATCH_KIND_STENCIL_QUAD,

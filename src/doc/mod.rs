@@ -112,6 +112,12 @@ pub enum Command {
         object: usize,
         settings: crate::scene::SubdivSettings,
     },
+    /// Sets (or with `None` removes) an object's displacement along the normal; refused for
+    /// kinds without a (u, v) domain (polygon meshes, subdivision surfaces).
+    SetDisplacement {
+        object: usize,
+        displacement: Option<crate::kernel::displace::Displacement>,
+    },
     /// Changes the trim loops of a NURBS surface (an edit that would make a loop invalid is
     /// refused with the reason and changes nothing).
     Trim {
@@ -255,6 +261,11 @@ impl Command {
                 format!("subdivision level {}", settings.level)
             }
             Command::Trim { edit, .. } => edit.label(),
+            Command::SetDisplacement {
+                displacement: Some(d),
+                ..
+            } => format!("{} displacement", d.pattern.label()),
+            Command::SetDisplacement { .. } => "remove displacement".into(),
         }
     }
 }
@@ -398,7 +409,9 @@ impl Edit {
                     after,
                 },
             ] => {
-                if before.geometry == after.geometry && before.segments == after.segments {
+                if before.displacement != after.displacement {
+                    Touched::Structure
+                } else if before.geometry == after.geometry && before.segments == after.segments {
                     if before.visible == after.visible {
                         Touched::Nothing
                     } else {
@@ -739,6 +752,34 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                     ..object.clone()
                 },
             )
+        }
+        Command::SetDisplacement {
+            object: k,
+            displacement,
+        } => {
+            let object = object_at(scene, *k)?;
+            if let Some(d) = displacement {
+                // Checked again: a command may come from a script with any numbers.
+                crate::kernel::displace::Displacement::new(d.pattern, d.amplitude, d.frequency)
+                    .map_err(geometry_error(object))?;
+                if object.geometry.displacement_domain().is_none() {
+                    return Err(geometry_error(object)(GeometryError::Construction {
+                        what: "displacement",
+                        message: format!(
+                            "{} has no (u, v) domain to map heights on",
+                            object.kind().kind_name()
+                        ),
+                    }));
+                }
+            }
+            if object.displacement == *displacement {
+                return Err(EditError::NothingTo("change"));
+            }
+            let after = SceneObject {
+                displacement: *displacement,
+                ..object.clone()
+            };
+            replace(*k, after)
         }
         Command::SetSubdivision {
             object: k,

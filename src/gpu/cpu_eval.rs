@@ -13,7 +13,9 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use super::error::GpuError;
-use super::patch_eval::{ObjectPatches, ObjectRange, PatchLayout, SurfaceBuffers};
+use super::patch_eval::{
+    ObjectDisplacement, ObjectPatches, ObjectRange, PatchLayout, SurfaceBuffers,
+};
 use super::records::{
     PATCH_KIND_BEZIER, PatchRecord, SurfaceVertex, VERTEX_IRREGULAR, VERTEX_NO_CURVATURE,
     is_triangle_lattice,
@@ -43,6 +45,8 @@ pub struct CpuGeometry {
     curvature: bool,
     /// The vertices of the records being written, reused between evaluations.
     scratch: Vec<SurfaceVertex>,
+    /// Each object's displacement.
+    displacements: Vec<Option<ObjectDisplacement>>,
 }
 
 /// The curvature (K, H, k1, k2) from derivatives `d` and unit normal `n`, if defined.
@@ -54,6 +58,7 @@ fn curvature_of(d: &SurfaceDerivatives, n: DVec3) -> Option<[f32; 4]> {
 
 /// One vertex of a record's grid: its position, normal, curvature and flags, with (u, v) mapped
 /// into the record's domain (`store_vertex` in `shaders/eval_bezier.wgsl`).
+#[allow(clippy::too_many_arguments)]
 fn grid_vertex(
     record: &PatchRecord,
     index: u32,
@@ -62,9 +67,18 @@ fn grid_vertex(
     normal: DVec3,
     curvature: Option<[f32; 4]>,
     flags: u32,
+    displacement: Option<&ObjectDisplacement>,
 ) -> SurfaceVertex {
     let [u0, u1, v0, v1] = record.domain.map(f64::from);
-    let position = d.point.as_vec3().to_array();
+    // A displaced vertex: the displaced point and normal, no curvature (as `store_vertex`).
+    let (point, normal, curvature) = match displacement {
+        Some(map) => {
+            let (p, n) = map.apply(record, d, d.point, normal, (s, t));
+            (p, n, None)
+        }
+        None => (d.point, normal, curvature),
+    };
+    let position = point.as_vec3().to_array();
     let finite = position.iter().all(|x| x.is_finite());
     SurfaceVertex {
         position: if finite { position } else { [0.0; 3] },
@@ -103,6 +117,7 @@ fn bezier_vertices(
     record: &PatchRecord,
     index: u32,
     with_curvature: bool,
+    displacement: Option<&ObjectDisplacement>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
     let geometry = |e: crate::kernel::GeometryError| GpuError::Geometry(e.to_string());
@@ -138,6 +153,7 @@ fn bezier_vertices(
             normal,
             curvature,
             flags,
+            displacement,
         ));
     }
     Ok(())
@@ -152,6 +168,7 @@ fn stencil_vertices(
     patch: usize,
     record: &PatchRecord,
     index: u32,
+    displacement: Option<&ObjectDisplacement>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
     let missing = || GpuError::Geometry(format!("stencil patch {patch} refers past its tables"));
@@ -181,7 +198,16 @@ fn stencil_vertices(
             Some(n) => (n, curvature_of(&d, n), 0),
         };
         let st = grid_point(record, k as u32);
-        out.push(grid_vertex(record, index, st, &d, normal, curvature, flags));
+        out.push(grid_vertex(
+            record,
+            index,
+            st,
+            &d,
+            normal,
+            curvature,
+            flags,
+            displacement,
+        ));
     }
     Ok(())
 }
@@ -195,6 +221,7 @@ fn substitute_vertices(
     patch: usize,
     record: &PatchRecord,
     index: u32,
+    displacement: Option<&ObjectDisplacement>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
     let missing = || GpuError::Geometry(format!("substitute patch {patch} refers past its points"));
@@ -218,7 +245,16 @@ fn substitute_vertices(
             (_, Some(g)) => (g, 0),
             (_, None) => (DVec3::Z, VERTEX_IRREGULAR),
         };
-        out.push(grid_vertex(record, index, st, &d, normal, curvature, flags));
+        out.push(grid_vertex(
+            record,
+            index,
+            st,
+            &d,
+            normal,
+            curvature,
+            flags,
+            displacement,
+        ));
     }
     Ok(())
 }
@@ -338,6 +374,7 @@ impl CpuGeometry {
             index_count: indices.len() as u32,
             curvature: true,
             scratch: Vec::new(),
+            displacements: objects.iter().map(|o| o.displacement).collect(),
         })
     }
 
@@ -439,6 +476,7 @@ impl CpuGeometry {
             count: feeds.len(),
         })?;
         let local = k - range.first_patch;
+        let displacement = self.displacements.get(object).and_then(Option::as_ref);
         if record.kind == PATCH_KIND_BEZIER {
             bezier_vertices(
                 &feed.set,
@@ -446,6 +484,7 @@ impl CpuGeometry {
                 &record,
                 k as u32,
                 self.curvature,
+                displacement,
                 &mut self.scratch,
             )
         } else {
@@ -461,6 +500,7 @@ impl CpuGeometry {
                     which,
                     &record,
                     k as u32,
+                    displacement,
                     &mut self.scratch,
                 );
             }
@@ -470,6 +510,7 @@ impl CpuGeometry {
                 stencil,
                 &record,
                 k as u32,
+                displacement,
                 &mut self.scratch,
             )
         }

@@ -45,8 +45,8 @@ use super::adaptive_pass::{
 };
 use super::error::GpuError;
 use super::records::{
-    EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_ACC, PATCH_KIND_BEZIER,
-    PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE, PATCH_KIND_STENCIL_QUAD,
+    DISPLACEMENT_NONE, EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_ACC,
+    PATCH_KIND_BEZIER, PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE, PATCH_KIND_STENCIL_QUAD,
     PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL, pack_index};
@@ -377,6 +377,45 @@ pub struct ObjectPatches<'a> {
     /// A trimmed surface's loops and each Bézier patch's coverage: patches wholly trimmed away
     /// are neither evaluated nor drawn, patches a loop crosses are classified per fragment.
     pub trims: Option<&'a TrimFeed>,
+    /// The object's displacement along the normal, applied to every vertex it writes.
+    pub displacement: Option<ObjectDisplacement>,
+}
+
+/// An object's displacement as the evaluators apply it: the height map and the object's own
+/// (u0, u1, v0, v1), over which the map's (x, y) ∈ [0, 1]² runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObjectDisplacement {
+    pub map: crate::kernel::displace::Displacement,
+    pub domain: [f64; 4],
+}
+
+impl ObjectDisplacement {
+    /// The displaced position and normal of a vertex of `record` at local (s, t) with
+    /// derivatives `d` (in (s, t)), `position` and unit `normal` ([`crate::kernel::displace`];
+    /// `displace` in `shaders/eval_bezier.wgsl`).
+    pub fn apply(
+        &self,
+        record: &PatchRecord,
+        d: &crate::kernel::SurfaceDerivatives,
+        position: glam::DVec3,
+        normal: glam::DVec3,
+        (s, t): (f64, f64),
+    ) -> (glam::DVec3, glam::DVec3) {
+        let [u0, u1, v0, v1] = record.domain.map(f64::from);
+        let [du0, du1, dv0, dv1] = self.domain;
+        let (su, sv) = (
+            (du1 - du0).max(f64::MIN_POSITIVE),
+            (dv1 - dv0).max(f64::MIN_POSITIVE),
+        );
+        let x = (u0 + (u1 - u0) * s - du0) / su;
+        let y = (v0 + (v1 - v0) * t - dv0) / sv;
+        let at = crate::kernel::SurfaceDerivatives {
+            point: position,
+            ..*d
+        };
+        self.map
+            .apply(&at, normal, x, y, [(u1 - u0) / su, (v1 - v0) / sv])
+    }
 }
 
 /// Where one object lives in the shared buffers.
@@ -454,6 +493,16 @@ impl PatchLayout {
         let mut trim_words: Vec<u32> = Vec::new();
         for (object, input) in objects.iter().enumerate() {
             let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
+            // The displacement's two vec4 follow the points, among the stencil entries.
+            let displacement = match input.displacement {
+                Some(d) => {
+                    let at = (total_points + entry_data.len()) as u32;
+                    entry_data.push(d.map.gpu_words());
+                    entry_data.push(d.domain.map(|x| x as f32));
+                    at
+                }
+                None => DISPLACEMENT_NONE,
+            };
             let segments = input.segments;
             if !(1..=MAX_SEGMENTS).contains(&segments) {
                 return Err(GpuError::SegmentsOutOfRange {
@@ -521,6 +570,8 @@ impl PatchLayout {
                     trim_offset,
                     trim_count,
                     level: 0,
+                    displacement,
+                    reserved: [0; 3],
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
                 // A culled patch takes no vertices and no triangles; an adaptive one takes its
@@ -559,7 +610,7 @@ impl PatchLayout {
                     records.push(grid_record(
                         kind,
                         s,
-                        level,
+                        (level, displacement),
                         object,
                         &control_indices,
                         vertex_offset,
@@ -595,7 +646,7 @@ impl PatchLayout {
                     records.push(grid_record(
                         kind,
                         s,
-                        0,
+                        (0, displacement),
                         object,
                         &control_indices,
                         vertex_offset,
@@ -668,11 +719,12 @@ fn grid_slots(segments: u32, max_groups: u32) -> Result<u64, GpuError> {
 
 /// The record of a grid patch of `kind` (stencil or substitute) with `segments` per edge on
 /// (0, 1)², its control block next in `control_indices` and its vertices and indices at the
-/// given offsets; `level` is [`PatchRecord::level`].
+/// given offsets; `(level, displacement)` are [`PatchRecord::level`] and
+/// [`PatchRecord::displacement`].
 fn grid_record(
     kind: u32,
     segments: u32,
-    level: u32,
+    (level, displacement): (u32, u32),
     object: usize,
     control_indices: &[u32],
     vertex_offset: u64,
@@ -692,6 +744,8 @@ fn grid_record(
         trim_offset: 0,
         trim_count: 0,
         level,
+        displacement,
+        reserved: [0; 3],
     }
 }
 

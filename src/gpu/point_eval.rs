@@ -54,6 +54,7 @@ pub fn evaluate_points(
             stencils: None,
             cage_points: 0,
             trims: None,
+            displacement: None,
             set: &set,
             domains: &[],
             segments: 1,

@@ -78,7 +78,16 @@ pub struct PatchRecord {
     /// 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
     /// written into every vertex ([`SurfaceVertex::level`]).
     pub level: u32,
+    /// Where the object's displacement lies in the control point buffer (two vec4: pattern
+    /// code, amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or
+    /// [`DISPLACEMENT_NONE`].
+    pub displacement: u32,
+    pub reserved: [u32; 3],
 }
+
+/// [`PatchRecord::displacement`] of a patch whose object is not displaced. WGSL:
+/// `DISPLACEMENT_NONE`.
+pub const DISPLACEMENT_NONE: u32 = u32::MAX;
 
 /// [`SurfaceVertex::flags`] bit: Su × Sv vanishes here (a pole or collapsed edge); the normal
 /// and curvature are limits from the interior. WGSL: `VERTEX_IRREGULAR`.

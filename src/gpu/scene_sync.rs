@@ -351,6 +351,12 @@ impl SceneSync {
                     stencils: d.stencils.as_deref(),
                     cage_points: d.cage_points,
                     trims: d.trims.as_ref(),
+                    displacement: object.displacement.and_then(|map| {
+                        Some(crate::gpu::patch_eval::ObjectDisplacement {
+                            map,
+                            domain: object.geometry.displacement_domain()?,
+                        })
+                    }),
                     segments: d
                         .fixed_segments
                         .unwrap_or_else(|| effective_segments(object.segments, q)),

@@ -77,6 +77,7 @@ pub fn evaluate_feed(
             stencils: Some(feed),
             cage_points: cage.len(),
             trims: None,
+            displacement: None,
         }],
     )?;
     let mut encoder = device.create_command_encoder(&Default::default());

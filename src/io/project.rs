@@ -309,6 +309,21 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             }
         },
     };
+    let displacement = match map.remove("displacement") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(value) => {
+            let at = format!("{path}.displacement");
+            let raw: crate::kernel::displace::Displacement = deserialize(&at, value)?;
+            Some(
+                crate::kernel::displace::Displacement::new(
+                    raw.pattern,
+                    raw.amplitude,
+                    raw.frequency,
+                )
+                .map_err(|e| FormatError::geometry(&at, e))?,
+            )
+        }
+    };
     let name = match map.remove("name") {
         None => None,
         Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
@@ -386,9 +401,19 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             }
         }
     };
+    if displacement.is_some() && geometry.displacement_domain().is_none() {
+        return Err(FormatError::new(
+            format!("{path}.displacement"),
+            format!(
+                "{} has no (u, v) domain to map heights on",
+                geometry.kind().kind_name()
+            ),
+        ));
+    }
     let mut object = SceneObject::new(name.unwrap_or_else(|| format!("Object {path}")), geometry);
     object.visible = visible;
     object.segments = segments;
+    object.displacement = displacement;
     Ok(object)
 }
 
@@ -466,6 +491,12 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
         map.insert("name".into(), object.name.clone().into());
         map.insert("visible".into(), object.visible.into());
         map.insert("segments".into(), object.segments.into());
+        if let Some(d) = &object.displacement {
+            map.insert(
+                "displacement".into(),
+                serde_json::to_value(d).unwrap_or(serde_json::Value::Null),
+            );
+        }
     }
     value
 }

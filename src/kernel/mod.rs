@@ -10,6 +10,7 @@ pub mod construct;
 pub mod continuity;
 pub mod curve;
 pub mod diffgeo;
+pub mod displace;
 pub mod error;
 pub mod mesh;
 pub mod ops;

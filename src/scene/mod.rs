@@ -89,6 +89,8 @@ pub struct SceneObject {
     pub segments: u32,
     /// Hidden objects are kept in the document but neither drawn nor picked.
     pub visible: bool,
+    /// A height map applied along the normal (kinds with a (u, v) domain only).
+    pub displacement: Option<crate::kernel::displace::Displacement>,
 }
 
 impl Decomposition {
@@ -147,6 +149,20 @@ impl ObjectGeometry {
         }
     }
 
+    /// The (u0, u1, v0, v1) a displacement's height map spans: a NURBS (or trimmed) surface's
+    /// domain, (0, 1)² for the patches of a patch set and for a triangular patch; `None` for
+    /// the kinds without a (u, v) domain (polygon meshes, subdivision surfaces).
+    pub fn displacement_domain(&self) -> Option<[f64; 4]> {
+        match self {
+            ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
+                let [(u0, u1), (v0, v1)] = self.nurbs_surface()?.domain();
+                Some([u0, u1, v0, v1])
+            }
+            ObjectGeometry::Patches(_) | ObjectGeometry::Triangle(_) => Some([0.0, 1.0, 0.0, 1.0]),
+            ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => None,
+        }
+    }
+
     /// The NURBS surface of a NURBS or trimmed object.
     pub fn nurbs_surface(&self) -> Option<&NurbsSurface> {
         match self {
@@ -164,6 +180,7 @@ impl SceneObject {
             geometry,
             segments: DEFAULT_SEGMENTS,
             visible: true,
+            displacement: None,
         }
     }
 
@@ -268,13 +285,34 @@ impl SceneObject {
 
     /// The object as triangle meshes for export ([`ObjectKind::tessellate`]): one for a NURBS
     /// surface or a polygon mesh, one per patch for a patch set (each with the patch's own
-    /// (u, v)). `curvature` adds K, H, k1, k2 per vertex.
+    /// (u, v)). `curvature` adds K, H, k1, k2 per vertex (not for a displaced object, which
+    /// is tessellated for its pattern rather than the tolerance).
     pub fn tessellate(
         &self,
         tessellation: tess::Tessellation,
         curvature: bool,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
-        self.kind().tessellate(tessellation, curvature)
+        let Some(map) = self.displacement else {
+            return self.kind().tessellate(tessellation, curvature);
+        };
+        // A displaced object: enough vertices for the pattern (8 per cycle across the domain,
+        // shared among a NURBS surface's spans; at least 4 per span), moved along the normal
+        // ([`crate::kernel::displace::displace_mesh`]).
+        let spans = self.geometry.nurbs_surface().map_or(1, |s| {
+            s.span_breaks(crate::kernel::Direction::U)
+                .len()
+                .max(s.span_breaks(crate::kernel::Direction::V).len())
+                .saturating_sub(1)
+                .max(1)
+        });
+        let segments = ((8.0 * map.frequency / spans as f64).ceil() as u32).clamp(4, MAX_SEGMENTS);
+        let mut meshes = self
+            .kind()
+            .tessellate(tess::Tessellation::Segments(segments), false)?;
+        for mesh in &mut meshes {
+            crate::kernel::displace::displace_mesh(mesh, &map);
+        }
+        Ok(meshes)
     }
 }
 

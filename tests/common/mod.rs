@@ -48,6 +48,7 @@ pub fn upload(
             stencils: None,
             cage_points: 0,
             trims: d.trims.as_ref(),
+            displacement: None,
             set: &d.set,
             domains: &d.domains,
             segments: *segments,
