@@ -930,8 +930,23 @@ fn hull_outside_view(rec: PatchRecord) -> bool {
     return outside != 0u;
 }
 
+// The least segments (along s, along t) a displaced record's pattern needs: 8 per cycle of
+// its frequency over the share of the object's domain the record spans (the export's rule).
+// Neighbours along an edge span the same share of it, so they agree on its count.
+fn displacement_segments(rec: PatchRecord) -> vec2<u32> {
+    if (rec.displacement == DISPLACEMENT_NONE) {
+        return vec2<u32>(1u);
+    }
+    let params = control_points[rec.displacement];
+    let object = control_points[rec.displacement + 1u];
+    let share = (rec.domain.yw - rec.domain.xz) / max(object.yw - object.xz, vec2<f32>(1e-30));
+    let most = f32(max(adaptive_view.counts.y, 1u));
+    return vec2<u32>(clamp(ceil(8.0 * params.z * share), vec2<f32>(1.0), vec2<f32>(most)));
+}
+
 // The levels of every slot's patch: each edge from its own curve, each interior direction the
-// most any row of the net along it needs (gpu::adaptive::ScreenError::patch_levels).
+// most any row of the net along it needs (gpu::adaptive::ScreenError::patch_levels); a
+// displaced patch at least what its pattern needs (displacement_segments).
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn measure_levels(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= adaptive_view.counts.z) {
@@ -958,7 +973,9 @@ fn measure_levels(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var i = 1u; i < p; i++) {
             inner.y = max(inner.y, adaptive_curve_segments(rec, i * (q + 1u), 1u, q));
         }
-        slot.inner = inner;
+        let least = displacement_segments(rec);
+        slot.edges = max(slot.edges, least.xyxy);
+        slot.inner = max(inner, least);
     }
     adaptive_slots[id.x] = slot;
 }

@@ -759,7 +759,9 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.project().objects[0].displacement?.pattern === 'ripples', null, { timeout: 60_000 });
       await nextFrames(page);
       let s = await status(page);
-      assert(s.error === null && s.vertices === 49 * 49, `displaced: ${JSON.stringify(s)}`);
+      // The view-adaptive tessellation gives the flat plate at least 8 segments per cycle of
+      // its pattern (3 cycles: 24 per edge).
+      assert(s.error === null && s.vertices >= 25 * 25, `displaced: ${JSON.stringify(s)}`);
       const rippled = await page.locator('#knotwork-canvas').screenshot();
       await writeFile(`${resultsDir}/displaced-ripples.png`, rippled);
       const viewport = { x: 320, y: 60, width: 940, height: 700 };
