@@ -50,18 +50,32 @@ fn collapsed_edge_normal(d: Derivatives, s: f32, t: f32) -> vec3<f32> {
 // and k1,2 = H +- sqrt(((a - d) / 2)^2 + bc), which (unlike sqrt(H^2 - K)) stays accurate in f32
 // near umbilics. EG - F^2 is taken as |Su x Sv|^2, which does not cancel. `values` is
 // (K, H, k1, k2), all zero where `defined` is false (EG - F^2 = 0 or an overflow).
+// The first fundamental form (E, F, G) and the second (L, M, N) of `d` about the unit normal n.
+struct Forms {
+    first: vec3<f32>,
+    second: vec3<f32>,
+}
+
+fn fundamental_forms(d: Derivatives, n: vec3<f32>) -> Forms {
+    return Forms(
+        vec3<f32>(dot(d.su, d.su), dot(d.su, d.sv), dot(d.sv, d.sv)),
+        vec3<f32>(dot(d.suu, n), dot(d.suv, n), dot(d.svv, n)),
+    );
+}
+
 struct CurvatureResult {
     values: vec4<f32>,
     defined: bool,
 }
 
 fn curvature(d: Derivatives, n: vec3<f32>) -> CurvatureResult {
-    let e = dot(d.su, d.su);
-    let f = dot(d.su, d.sv);
-    let g = dot(d.sv, d.sv);
-    let l = dot(d.suu, n);
-    let m = dot(d.suv, n);
-    let nn = dot(d.svv, n);
+    let forms = fundamental_forms(d, n);
+    let e = forms.first.x;
+    let f = forms.first.y;
+    let g = forms.first.z;
+    let l = forms.second.x;
+    let m = forms.second.y;
+    let nn = forms.second.z;
     let c = cross(d.su, d.sv);
     let det = dot(c, c);
     var out: CurvatureResult;

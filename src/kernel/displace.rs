@@ -15,7 +15,7 @@
 use glam::DVec3;
 
 use super::GeometryError;
-use super::diffgeo::SurfaceDerivatives;
+use super::diffgeo::{FundamentalForms, SurfaceDerivatives};
 
 /// The largest frequency (cycles over the parameter range) a displacement may have.
 pub const MAX_FREQUENCY: f64 = 256.0;
@@ -162,8 +162,7 @@ impl Displacement {
     ) -> (DVec3, DVec3) {
         let [h, hx, hy] = self.height(x, y);
         let a = self.amplitude;
-        let (e, f, g) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
-        let (l, m, n) = (d.suu.dot(normal), d.suv.dot(normal), d.svv.dot(normal));
+        let FundamentalForms { e, f, g, l, m, n } = FundamentalForms::new(d, normal);
         let det = e * g - f * f;
         let (nu, nv) = if det > 0.0 {
             (
