@@ -829,6 +829,28 @@ impl KnotworkApp {
         self.execute(Command::SetSubdivision { object, settings });
     }
 
+    /// Shows subdivision surface `object` as `display` (and with flatness tolerance
+    /// `tolerance`, where given), as one undo step; a display the scheme lacks is refused.
+    fn set_subdivision_display(
+        &mut self,
+        object: usize,
+        display: crate::kernel::subdiv::patches::Display,
+        tolerance: Option<f64>,
+    ) {
+        let Some(crate::scene::ObjectGeometry::Subdivision(surface)) =
+            self.doc.scene.objects.get(object).map(|o| &o.geometry)
+        else {
+            self.status.error = Some(format!("object {object} is not a subdivision surface"));
+            return;
+        };
+        let mut settings = surface.settings();
+        settings.display = display;
+        if let Some(t) = tolerance {
+            settings.tolerance = t;
+        }
+        self.execute(Command::SetSubdivision { object, settings });
+    }
+
     fn apply(&mut self, command: ExternalCommand) {
         match command {
             ExternalCommand::SetSegments(n) => self.set_all_segments(n),
@@ -865,6 +887,18 @@ impl KnotworkApp {
                 b,
                 sharpness,
             } => self.set_crease(object, a, b, sharpness),
+            ExternalCommand::SetSubdivisionDisplay {
+                object,
+                display,
+                tolerance,
+            } => self.set_subdivision_display(object, display, tolerance),
+            ExternalCommand::SetDisplacement {
+                object,
+                displacement,
+            } => self.execute(Command::SetDisplacement {
+                object,
+                displacement,
+            }),
             ExternalCommand::SetTrimTool(name) => self.set_trim_tool(&name),
             ExternalCommand::TrimCircle {
                 object,

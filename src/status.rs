@@ -180,6 +180,19 @@ pub enum ExternalCommand {
         b: u32,
         sharpness: f64,
     },
+    /// Shows subdivision surface `object` as `display`, with the adaptive display's flatness
+    /// tolerance where given.
+    SetSubdivisionDisplay {
+        object: usize,
+        display: crate::kernel::subdiv::patches::Display,
+        tolerance: Option<f64>,
+    },
+    /// Sets (or with `None` removes) an object's displacement along the normal (checked by the
+    /// document).
+    SetDisplacement {
+        object: usize,
+        displacement: Option<crate::kernel::displace::Displacement>,
+    },
     /// Chooses the trim tool by name ("circle", "rectangle", "hexagon", "polyline", "curve"; any
     /// other name: none) for the selected NURBS surface.
     SetTrimTool(String),

@@ -219,6 +219,47 @@ pub fn set_crease(object: u32, a: u32, b: u32, sharpness: f64) {
     });
 }
 
+/// Shows subdivision surface `object` as `display` ("limit", "refined", "acc", "gregory",
+/// "pn-triangles" or "adaptive"), the adaptive display with flatness `tolerance` (a share of
+/// the cage's diagonal; not a number: keep the object's); one undo step, errors in the status.
+/// False for an unknown display name.
+#[wasm_bindgen]
+pub fn set_subdivision_display(object: u32, display: String, tolerance: f64) -> bool {
+    let Ok(display) = serde_json::from_value(serde_json::Value::String(display)) else {
+        return false;
+    };
+    status::send(ExternalCommand::SetSubdivisionDisplay {
+        object: object as usize,
+        display,
+        tolerance: (!tolerance.is_nan()).then_some(tolerance),
+    });
+    true
+}
+
+/// Displaces `object` along its normal by `pattern` ("waves", "ripples", "noise"; "none"
+/// removes the displacement) with `amplitude` and `frequency`; one undo step, errors (a bad
+/// number, an object without a (u, v) domain) in the status. False for an unknown pattern.
+#[wasm_bindgen]
+pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency: f64) -> bool {
+    let displacement = if pattern == "none" {
+        None
+    } else {
+        match serde_json::from_value(serde_json::Value::String(pattern)) {
+            Ok(pattern) => Some(crate::kernel::displace::Displacement {
+                pattern,
+                amplitude,
+                frequency,
+            }),
+            Err(_) => return false,
+        }
+    };
+    status::send(ExternalCommand::SetDisplacement {
+        object: object as usize,
+        displacement,
+    });
+    true
+}
+
 /// Chooses the trim tool for the selected NURBS surface: "circle", "rectangle", "hexagon",
 /// "polyline", "curve", or "" for none; the next clicks on the surface draw the loop.
 #[wasm_bindgen]

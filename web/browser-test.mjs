@@ -650,6 +650,9 @@ async function main() {
       const faces = [];
       for (let i = 0; i < 6; i += 1) for (let j = 0; j < 6; j += 1) faces.push([7 * i + j, 7 * i + j + 7, 7 * i + j + 8, 7 * i + j + 1]);
       const cage = (display, tolerance) => ({ type: 'subdivision_surface', name: display, points, faces, level: 3, boundary: 'edge-and-corner', display, ...(tolerance ? { tolerance } : {}) });
+      // Fixed tessellation: the uniform limit's regular faces at their level's segments.
+      await page.evaluate(() => window.knotwork.setTessellation(false, 0.5));
+      await page.waitForFunction(() => window.knotwork.status().tessellation === 'fixed', null, { timeout: 30_000 });
       await openObjects(page, [cage('limit')]);
       const uniform = await status(page);
       await openObjects(page, [cage('adaptive', 0.002)]);
@@ -694,6 +697,15 @@ async function main() {
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null && s.vertices === before, `undo: ${s.vertices} vertices, ${before} before`);
+      // The script interface switches displays: back to the uniform limit, then adaptive again.
+      assert(!(await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'mosaic'))), 'unknown displays are refused');
+      assert(await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'limit')), 'limit is a display');
+      await page.waitForFunction(() => window.knotwork.project().objects[0].display === 'limit', null, { timeout: 60_000 });
+      await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'adaptive', 0.01));
+      await page.waitForFunction(() => window.knotwork.project().objects[0].tolerance === 0.01, null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null && s.vertices < before, `a coarser tolerance: ${s.vertices} vertices, ${before} before`);
       console.log(`      adaptive ${before} vertices against ${uniform.vertices} uniform; level colours ${JSON.stringify(hues)}`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
@@ -779,6 +791,16 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
       s = await status(page);
       assert(s.error === null, `after undo: ${s.error}`);
+      // The script interface: another pattern, an unknown one refused, removal.
+      assert(!(await page.evaluate(() => window.knotwork.setDisplacement(0, 'plaid', 0.1, 2))), 'unknown patterns are refused');
+      assert(await page.evaluate(() => window.knotwork.setDisplacement(0, 'waves', 0.2, 2)), 'waves is a pattern');
+      await page.waitForFunction(() => window.knotwork.project().objects[0].displacement?.pattern === 'waves', null, { timeout: 60_000 });
+      await page.evaluate(() => window.knotwork.setDisplacement(0, 'waves', 0.2, -1));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(/frequency/.test(s.error), `a bad frequency is refused: ${s.error}`);
+      await page.evaluate(() => window.knotwork.setDisplacement(0, 'none'));
+      await page.waitForFunction(() => !window.knotwork.project().objects[0].displacement, null, { timeout: 60_000 });
       console.log(`      ripples changed ${change.differing} px; export ${bytes.length} bytes, validator clean`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
