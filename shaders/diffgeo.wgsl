@@ -63,6 +63,27 @@ fn fundamental_forms(d: Derivatives, n: vec3<f32>) -> Forms {
     );
 }
 
+// The unit normal's derivatives along u and v by the Weingarten equations (do Carmo 3.3): with
+// D = EG - F^2, N_u = ((MF - LG) S_u + (LF - ME) S_v) / D and N_v = ((NF - MG) S_u +
+// (MF - NE) S_v) / D; zero where D <= 0 (Rust: SurfaceDerivatives::normal_derivatives).
+struct NormalDerivatives {
+    nu: vec3<f32>,
+    nv: vec3<f32>,
+}
+
+fn normal_derivatives(d: Derivatives, n: vec3<f32>) -> NormalDerivatives {
+    let forms = fundamental_forms(d, n);
+    let i = forms.first;     // (E, F, G)
+    let ii = forms.second;   // (L, M, N)
+    let det = i.x * i.z - i.y * i.y;
+    var out: NormalDerivatives;
+    if (det > 0.0) {
+        out.nu = (d.su * (ii.y * i.y - ii.x * i.z) + d.sv * (ii.x * i.y - ii.y * i.x)) / det;
+        out.nv = (d.su * (ii.z * i.y - ii.y * i.z) + d.sv * (ii.y * i.y - ii.z * i.x)) / det;
+    }
+    return out;
+}
+
 struct CurvatureResult {
     values: vec4<f32>,
     defined: bool,

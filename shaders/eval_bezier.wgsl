@@ -505,22 +505,9 @@ fn displace(rec: PatchRecord, d: Derivatives, position: vec3<f32>, normal: vec3<
     let scale = (rec.domain.yw - rec.domain.xz) / span;
     let hh = displacement_height(u32(params.x), params.z, x, y);
     let a = params.y;
-    let forms = fundamental_forms(d, normal);
-    let e = forms.first.x;
-    let f = forms.first.y;
-    let g = forms.first.z;
-    let l = forms.second.x;
-    let m = forms.second.y;
-    let n = forms.second.z;
-    let det = e * g - f * f;
-    var nu = vec3<f32>(0.0);
-    var nv = vec3<f32>(0.0);
-    if (det > 0.0) {
-        nu = (d.su * (m * f - l * g) + d.sv * (l * f - m * e)) / det;
-        nv = (d.su * (n * f - m * g) + d.sv * (m * f - n * e)) / det;
-    }
-    let pu = d.su + (normal * (hh.y * scale.x) + nu * hh.x) * a;
-    let pv = d.sv + (normal * (hh.z * scale.y) + nv * hh.x) * a;
+    let dn = normal_derivatives(d, normal);
+    let pu = d.su + (normal * (hh.y * scale.x) + dn.nu * hh.x) * a;
+    let pv = d.sv + (normal * (hh.z * scale.y) + dn.nv * hh.x) * a;
     let c = cross(pu, pv);
     var out_normal = normal;
     let length2 = dot(c, c);

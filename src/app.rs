@@ -810,14 +810,22 @@ impl KnotworkApp {
 
     /// Sets one crease of a subdivision surface (one undo step; refused with a message for
     /// another kind of object, an edge the cage lacks or a bad sharpness).
+    /// The settings of subdivision surface `object`; `None`, with the error in the status, for
+    /// any other object.
+    fn subdivision_settings(&mut self, object: usize) -> Option<crate::scene::SubdivSettings> {
+        match self.doc.scene.objects.get(object).map(|o| &o.geometry) {
+            Some(crate::scene::ObjectGeometry::Subdivision(surface)) => Some(surface.settings()),
+            _ => {
+                self.status.error = Some(format!("object {object} is not a subdivision surface"));
+                None
+            }
+        }
+    }
+
     fn set_crease(&mut self, object: usize, a: u32, b: u32, sharpness: f64) {
-        let Some(crate::scene::ObjectGeometry::Subdivision(surface)) =
-            self.doc.scene.objects.get(object).map(|o| &o.geometry)
-        else {
-            self.status.error = Some(format!("object {object} is not a subdivision surface"));
+        let Some(mut settings) = self.subdivision_settings(object) else {
             return;
         };
-        let mut settings = surface.settings();
         settings
             .creases
             .retain(|c| (c.a, c.b) != (a, b) && (c.a, c.b) != (b, a));
@@ -837,13 +845,9 @@ impl KnotworkApp {
         display: crate::kernel::subdiv::patches::Display,
         tolerance: Option<f64>,
     ) {
-        let Some(crate::scene::ObjectGeometry::Subdivision(surface)) =
-            self.doc.scene.objects.get(object).map(|o| &o.geometry)
-        else {
-            self.status.error = Some(format!("object {object} is not a subdivision surface"));
+        let Some(mut settings) = self.subdivision_settings(object) else {
             return;
         };
-        let mut settings = surface.settings();
         settings.display = display;
         if let Some(t) = tolerance {
             settings.tolerance = t;

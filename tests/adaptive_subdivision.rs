@@ -277,7 +277,7 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
     let ObjectGeometry::Subdivision(moved) = &doc.scene.objects[0].geometry else {
         panic!("not a subdivision surface");
     };
-    assert_eq!(after, moved.surface.adaptive_layout(3, 0.003).unwrap());
+    assert_eq!(*after, moved.surface.adaptive_layout(3, 0.003).unwrap());
     assert_eq!(doc.undo().unwrap().touched(), Touched::Structure);
     assert_eq!(layout(&doc), before);
     doc.redo().unwrap();

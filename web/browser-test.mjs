@@ -185,6 +185,30 @@ async function dragWithMouse(page, x, y, steps, dx, dy) {
   return times.sort((a, b) => a - b);
 }
 
+/** The viewport's part of the canvas (right of the panel) that screenshots compare. */
+const VIEWPORT = { x: 320, y: 60, width: 940, height: 700 };
+
+/**
+ * Frames the model, selects object 0 and drags one of its handles (with no other handle within
+ * 10 px) with real mouse events, then waits for the drag's undo step. Returns the handle's
+ * index and the canvas before the drag.
+ */
+async function dragFirstObjectHandle(page) {
+  await page.evaluate(() => window.knotwork.frame());
+  await page.evaluate(() => window.knotwork.select(0));
+  await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+  await nextFrames(page);
+  const canvas = await page.locator('#knotwork-canvas').boundingBox();
+  const before = await page.locator('#knotwork-canvas').screenshot();
+  const [index, [hx, hy]] = await freeHandle(page, 10);
+  await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
+  await page.waitForFunction(() => {
+    const t = window.knotwork.status();
+    return t.undo_steps === 1 && !t.dragging;
+  }, null, { timeout: 60_000 });
+  return { index, before };
+}
+
 /** Drag-to-new-frame times for a handle of object 0. */
 async function dragToFrame(page, canvas) {
   await page.evaluate(() => window.knotwork.select(0));
@@ -411,7 +435,7 @@ async function main() {
       await page.waitForFunction((i) => window.knotwork.status().selected_points.join() === String(i), index, { timeout: 30_000 });
       const pickMs = Date.now() - clickStart;
       await nextFrames(page);
-      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const viewport = VIEWPORT;
       const before = await page.locator('#knotwork-canvas').screenshot();
 
       // Drag it with real mouse events.
@@ -536,19 +560,8 @@ async function main() {
       let s = await status(page);
       // Level 3: each quad's four level-1 quads are grids of 5 x 5 limit stencils.
       assert(s.error === null && s.patches === 24 && s.vertices === 24 * 25, `cage: ${JSON.stringify(s)}`);
-      await page.evaluate(() => window.knotwork.frame());
-      await page.evaluate(() => window.knotwork.select(0));
-      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
-      await nextFrames(page);
-      const canvas = await page.locator('#knotwork-canvas').boundingBox();
-      const viewport = { x: 320, y: 60, width: 940, height: 700 };
-      const before = await page.locator('#knotwork-canvas').screenshot();
-      const [index, [hx, hy]] = await freeHandle(page, 10);
-      await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
-      await page.waitForFunction(() => {
-        const t = window.knotwork.status();
-        return t.undo_steps === 1 && !t.dragging;
-      }, null, { timeout: 60_000 });
+      const viewport = VIEWPORT;
+      const { index, before } = await dragFirstObjectHandle(page);
       const dragged = await page.evaluate(() => window.knotwork.project());
       assert(JSON.stringify(dragged.objects[0].points[index]) !== JSON.stringify(points[index]), `cage point ${index} moved`);
       await nextFrames(page);
@@ -601,19 +614,8 @@ async function main() {
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null && s.patches === 6 && s.vertices === 6 * 81, `Gregory: ${JSON.stringify(s)}`);
-      await page.evaluate(() => window.knotwork.frame());
-      await page.evaluate(() => window.knotwork.select(0));
-      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
-      await nextFrames(page);
-      const canvas = await page.locator('#knotwork-canvas').boundingBox();
-      const viewport = { x: 320, y: 60, width: 940, height: 700 };
-      const before = await page.locator('#knotwork-canvas').screenshot();
-      const [index, [hx, hy]] = await freeHandle(page, 10);
-      await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
-      await page.waitForFunction(() => {
-        const t = window.knotwork.status();
-        return t.undo_steps === 1 && !t.dragging;
-      }, null, { timeout: 60_000 });
+      const viewport = VIEWPORT;
+      const { index, before } = await dragFirstObjectHandle(page);
       await nextFrames(page);
       const moved = await page.locator('#knotwork-canvas').screenshot();
       await writeFile(`${resultsDir}/gregory-dragged.png`, moved);
@@ -740,7 +742,7 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
       await nextFrames(page);
       const moved = await page.locator('#knotwork-canvas').screenshot();
-      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const viewport = VIEWPORT;
       const change = await screenshotDifference(page, before, moved, viewport, 24);
       assert(change.differing > 500, `the canvas changed with the move (${change.differing} px)`);
       const bytes = await exportGlbBytes(page, { tolerance: 0.001 });
@@ -776,7 +778,7 @@ async function main() {
       assert(s.error === null && s.vertices >= 25 * 25, `displaced: ${JSON.stringify(s)}`);
       const rippled = await page.locator('#knotwork-canvas').screenshot();
       await writeFile(`${resultsDir}/displaced-ripples.png`, rippled);
-      const viewport = { x: 320, y: 60, width: 940, height: 700 };
+      const viewport = VIEWPORT;
       const change = await screenshotDifference(page, flat, rippled, viewport, 24);
       assert(change.differing > 2000, `the ripples show (${change.differing} px)`);
       const bytes = await exportGlbBytes(page, { tolerance: 0.001 });

@@ -56,19 +56,29 @@ fn curvature_of(d: &SurfaceDerivatives, n: DVec3) -> Option<[f32; 4]> {
         .filter(|c| c.iter().all(|x| x.is_finite()))
 }
 
+/// The record a CPU evaluation writes: the record, its index and its object's displacement.
+#[derive(Clone, Copy)]
+struct Target<'a> {
+    record: &'a PatchRecord,
+    index: u32,
+    displacement: Option<&'a ObjectDisplacement>,
+}
+
 /// One vertex of a record's grid: its position, normal, curvature and flags, with (u, v) mapped
 /// into the record's domain (`store_vertex` in `shaders/eval_bezier.wgsl`).
-#[allow(clippy::too_many_arguments)]
 fn grid_vertex(
-    record: &PatchRecord,
-    index: u32,
+    target: Target<'_>,
     (s, t): (f64, f64),
     d: &SurfaceDerivatives,
     normal: DVec3,
     curvature: Option<[f32; 4]>,
     flags: u32,
-    displacement: Option<&ObjectDisplacement>,
 ) -> SurfaceVertex {
+    let Target {
+        record,
+        index,
+        displacement,
+    } = target;
     let [u0, u1, v0, v1] = record.domain.map(f64::from);
     // A displaced vertex: the displaced point and normal, no curvature (as `store_vertex`).
     let (point, normal, curvature) = match displacement {
@@ -108,18 +118,17 @@ fn grid_point(record: &PatchRecord, k: u32) -> (f64, f64) {
     )
 }
 
-/// The vertices of Bézier patch `patch` of `set` (record `index`), as `evaluate_vertices` writes
+/// The vertices of Bézier patch `patch` of `set` (`target`), as `evaluate_vertices` writes
 /// them: Su × Sv and the curvature at regular points; at degenerate ones the kernel's limit
 /// normal ([`BezierPatchSet::normal_from`]) and the curvature [`CURVATURE_NUDGE`] inward.
 fn bezier_vertices(
     set: &BezierPatchSet,
     patch: usize,
-    record: &PatchRecord,
-    index: u32,
+    target: Target<'_>,
     with_curvature: bool,
-    displacement: Option<&ObjectDisplacement>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
+    let record = target.record;
     let geometry = |e: crate::kernel::GeometryError| GpuError::Geometry(e.to_string());
     let bezier = set.patches().get(patch).ok_or(GpuError::NoSuchPatch {
         object: record.object as usize,
@@ -145,32 +154,22 @@ fn bezier_vertices(
                 (n, k, VERTEX_IRREGULAR)
             }
         };
-        out.push(grid_vertex(
-            record,
-            index,
-            (s, t),
-            &d,
-            normal,
-            curvature,
-            flags,
-            displacement,
-        ));
+        out.push(grid_vertex(target, (s, t), &d, normal, curvature, flags));
     }
     Ok(())
 }
 
-/// The vertices of stencil patch `patch` of `feed` (record `index`) over the cage `points`, as
+/// The vertices of stencil patch `patch` of `feed` (`target`) over the cage `points`, as
 /// `evaluate_stencil_vertices` writes them: each slot's position and derivatives gathered from
 /// its stencil entries, then the normal and, where the stencils define it, the curvature.
 fn stencil_vertices(
     feed: &LimitFeed,
     points: &[DVec3],
     patch: usize,
-    record: &PatchRecord,
-    index: u32,
-    displacement: Option<&ObjectDisplacement>,
+    target: Target<'_>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
+    let record = target.record;
     let missing = || GpuError::Geometry(format!("stencil patch {patch} refers past its tables"));
     let first = feed.patches.get(patch).ok_or_else(missing)?.first_slot as usize;
     let count = ((record.segments_u + 1) * (record.segments_v + 1)) as usize;
@@ -198,32 +197,22 @@ fn stencil_vertices(
             Some(n) => (n, curvature_of(&d, n), 0),
         };
         let st = grid_point(record, k as u32);
-        out.push(grid_vertex(
-            record,
-            index,
-            st,
-            &d,
-            normal,
-            curvature,
-            flags,
-            displacement,
-        ));
+        out.push(grid_vertex(target, st, &d, normal, curvature, flags));
     }
     Ok(())
 }
 
-/// The vertices of substitute patch `patch` of `feed` (record `index`) from its control points
+/// The vertices of substitute patch `patch` of `feed` (`target`) from its control points
 /// in `points`, as `write_substitute_vertex` writes them: the position, the substitute's own
 /// normal and the curvature of its geometry.
 fn substitute_vertices(
     feed: &LimitFeed,
     points: &[DVec3],
     patch: usize,
-    record: &PatchRecord,
-    index: u32,
-    displacement: Option<&ObjectDisplacement>,
+    target: Target<'_>,
     out: &mut Vec<SurfaceVertex>,
 ) -> Result<(), GpuError> {
+    let record = target.record;
     let missing = || GpuError::Geometry(format!("substitute patch {patch} refers past its points"));
     let sub = feed.substitutes.get(patch).ok_or_else(missing)?;
     let first = sub.first_point as usize;
@@ -245,16 +234,7 @@ fn substitute_vertices(
             (_, Some(g)) => (g, 0),
             (_, None) => (DVec3::Z, VERTEX_IRREGULAR),
         };
-        out.push(grid_vertex(
-            record,
-            index,
-            st,
-            &d,
-            normal,
-            curvature,
-            flags,
-            displacement,
-        ));
+        out.push(grid_vertex(target, st, &d, normal, curvature, flags));
     }
     Ok(())
 }
@@ -476,17 +456,13 @@ impl CpuGeometry {
             count: feeds.len(),
         })?;
         let local = k - range.first_patch;
-        let displacement = self.displacements.get(object).and_then(Option::as_ref);
+        let target = Target {
+            record: &record,
+            index: k as u32,
+            displacement: self.displacements.get(object).and_then(Option::as_ref),
+        };
         if record.kind == PATCH_KIND_BEZIER {
-            bezier_vertices(
-                &feed.set,
-                local,
-                &record,
-                k as u32,
-                self.curvature,
-                displacement,
-                &mut self.scratch,
-            )
+            bezier_vertices(&feed.set, local, target, self.curvature, &mut self.scratch)
         } else {
             let tables = feed
                 .stencils
@@ -498,9 +474,7 @@ impl CpuGeometry {
                     tables,
                     feed.set.points(),
                     which,
-                    &record,
-                    k as u32,
-                    displacement,
+                    target,
                     &mut self.scratch,
                 );
             }
@@ -508,9 +482,7 @@ impl CpuGeometry {
                 tables,
                 feed.set.points(),
                 stencil,
-                &record,
-                k as u32,
-                displacement,
+                target,
                 &mut self.scratch,
             )
         }

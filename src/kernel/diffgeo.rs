@@ -42,6 +42,22 @@ pub struct SurfaceDerivatives {
 }
 
 impl SurfaceDerivatives {
+    /// The unit normal's derivatives (N_u, N_v) by the Weingarten equations (do Carmo 3.3):
+    /// with D = EG − F², N_u = ((MF − LG) S_u + (LF − ME) S_v) / D and N_v = ((NF − MG) S_u +
+    /// (MF − NE) S_v) / D; zero where D ≤ 0. `normal` is the unit normal. WGSL:
+    /// `normal_derivatives` in `shaders/diffgeo.wgsl`.
+    pub fn normal_derivatives(&self, normal: DVec3) -> (DVec3, DVec3) {
+        let FundamentalForms { e, f, g, l, m, n } = FundamentalForms::new(self, normal);
+        let det = e * g - f * f;
+        if det <= 0.0 {
+            return (DVec3::ZERO, DVec3::ZERO);
+        }
+        (
+            (self.su * (m * f - l * g) + self.sv * (l * f - m * e)) / det,
+            (self.su * (n * f - m * g) + self.sv * (m * f - n * e)) / det,
+        )
+    }
+
     /// Su × Sv normalized, or `None` where the tangent plane is degenerate: sin² of the angle
     /// between Su and Sv below [`DEGENERATE_SIN2`], or one derivative vanishing against the
     /// other (|Su|² or |Sv|² below [`DEGENERATE_SIN2`] times the other). The second test catches

@@ -3,19 +3,15 @@
 //! and h ∈ [−1, 1] a pattern over the surface's normalized parameters (x, y) ∈ [0, 1]².
 //!
 //! The displaced surface's tangents are S_u + a (h_u N + h N_u) and the same in v, with N_u
-//! and N_v from the Weingarten equations (do Carmo 3.3): with the fundamental forms E, F, G,
-//! L, M, N and D = EG − F²,
-//!
-//!   N_u = ((MF − LG) S_u + (LF − ME) S_v) / D,   N_v = ((NF − MG) S_u + (MF − NE) S_v) / D,
-//!
-//! so the displaced normal needs only the second derivatives the evaluators already have.
+//! and N_v from the Weingarten equations ([`SurfaceDerivatives::normal_derivatives`]), so the
+//! displaced normal needs only the second derivatives the evaluators already have.
 //! `shaders/eval_bezier.wgsl` computes the same in f32 (`displace`); the patterns' integer
 //! hashing is the same on both sides.
 
 use glam::DVec3;
 
 use super::GeometryError;
-use super::diffgeo::{FundamentalForms, SurfaceDerivatives};
+use super::diffgeo::SurfaceDerivatives;
 
 /// The largest frequency (cycles over the parameter range) a displacement may have.
 pub const MAX_FREQUENCY: f64 = 256.0;
@@ -162,16 +158,7 @@ impl Displacement {
     ) -> (DVec3, DVec3) {
         let [h, hx, hy] = self.height(x, y);
         let a = self.amplitude;
-        let FundamentalForms { e, f, g, l, m, n } = FundamentalForms::new(d, normal);
-        let det = e * g - f * f;
-        let (nu, nv) = if det > 0.0 {
-            (
-                (d.su * (m * f - l * g) + d.sv * (l * f - m * e)) / det,
-                (d.su * (n * f - m * g) + d.sv * (m * f - n * e)) / det,
-            )
-        } else {
-            (DVec3::ZERO, DVec3::ZERO)
-        };
+        let (nu, nv) = d.normal_derivatives(normal);
         let pu = d.su + (normal * (hx * scale[0]) + nu * h) * a;
         let pv = d.sv + (normal * (hy * scale[1]) + nv * h) * a;
         let mut displaced = pu.cross(pv).normalize_or_zero();

@@ -26,7 +26,7 @@ struct Prepared {
     plan: Option<SubstitutePlan>,
     /// The depth each piece shows (the adaptive display), chosen for the points the object had
     /// when it was prepared.
-    adaptive: Option<AdaptiveLayout>,
+    adaptive: Option<Arc<AdaptiveLayout>>,
     /// The feed patches of each cage face.
     face_patches: Vec<Vec<u32>>,
     /// The cage faces of each cage point.
@@ -225,7 +225,7 @@ impl SubdivObject {
 
     /// What the adaptive display chose for each piece when the object was prepared (`None`
     /// for the other displays).
-    pub fn adaptive_layout(&self) -> Result<Option<AdaptiveLayout>, GeometryError> {
+    pub fn adaptive_layout(&self) -> Result<Option<Arc<AdaptiveLayout>>, GeometryError> {
         Ok(self.prepared()?.adaptive.clone())
     }
 
@@ -242,7 +242,7 @@ impl SubdivObject {
                     }
                     _ if self.display == Display::Adaptive => {
                         let (feed, layout) = self.surface.adaptive_feed(level, self.tolerance)?;
-                        adaptive = Some(layout);
+                        adaptive = Some(Arc::new(layout));
                         feed
                     }
                     _ => self.surface.limit_feed(level, self.display)?,
