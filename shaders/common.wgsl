@@ -30,8 +30,15 @@ struct PatchRecord {
     // Where the object's displacement lies in the control point buffer (two vec4: pattern code,
     // amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or DISPLACEMENT_NONE.
     displacement: u32,
-    reserved: array<u32, 3>,
+    // Where the object's free-form deformation lattice lies in the control point buffer
+    // (kernel::ffd::Lattice::gpu_block: (origin, packed degrees), the three rows of the inverse
+    // box matrix, then the points), or LATTICE_NONE.
+    lattice: u32,
+    reserved: array<u32, 2>,
 }
+
+// PatchRecord.lattice of a patch whose object has no lattice (Rust: LATTICE_NONE).
+const LATTICE_NONE: u32 = 0xFFFFFFFFu;
 
 // PatchRecord.displacement of a patch whose object is not displaced (Rust: DISPLACEMENT_NONE).
 const DISPLACEMENT_NONE: u32 = 0xFFFFFFFFu;

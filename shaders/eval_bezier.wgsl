@@ -520,8 +520,192 @@ fn displace(rec: PatchRecord, d: Derivatives, position: vec3<f32>, normal: vec3<
     return Displaced(position + normal * (a * hh.x), out_normal);
 }
 
-// Writes grid vertex `g` of record `record`, its (u, v) mapped into the record's domain; a
-// displaced object's vertex moved along the normal (displace) and without curvature.
+// (B_{i,n}(x), B'_{i,n}(x), B''_{i,n}(x)) for i = 0..=n, n <= 4, from the Bernstein
+// polynomials of degrees n, n - 1 and n - 2 (kernel::ffd::bernstein_jet).
+fn lattice_basis(n: u32, x: f32) -> array<vec3<f32>, 5> {
+    var current: array<f32, 5>;
+    var lower1: array<f32, 5>;
+    var lower2: array<f32, 5>;
+    current[0] = 1.0;
+    for (var k = 0u; k < n; k++) {
+        if (k + 2u == n) {
+            lower2 = current;
+        }
+        if (k + 1u == n) {
+            lower1 = current;
+        }
+        var saved = 0.0;
+        for (var j = 0u; j <= k; j++) {
+            let temp = current[j];
+            current[j] = saved + (1.0 - x) * temp;
+            saved = x * temp;
+        }
+        current[k + 1u] = saved;
+    }
+    var out: array<vec3<f32>, 5>;
+    let nf = f32(n);
+    for (var i = 0u; i <= n; i++) {
+        var d1 = 0.0;
+        if (i >= 1u) {
+            d1 += lower1[i - 1u];
+        }
+        if (i < n) {
+            d1 -= lower1[i];
+        }
+        var d2 = 0.0;
+        if (n >= 2u) {
+            if (i >= 2u) {
+                d2 += lower2[i - 2u];
+            }
+            if (i >= 1u && i <= n - 1u) {
+                d2 -= 2.0 * lower2[i - 1u];
+            }
+            if (i + 2u <= n) {
+                d2 += lower2[i];
+            }
+        }
+        out[i] = vec3<f32>(current[i], nf * d1, nf * (nf - 1.0) * d2);
+    }
+    return out;
+}
+
+// A lattice's map at a point, in local coordinates (kernel::ffd::LatticeJet): F, the first
+// derivatives as the columns of `first`, the second ones.
+struct LatticeJet {
+    value: vec3<f32>,
+    first: mat3x3<f32>,
+    ss: vec3<f32>,
+    tt: vec3<f32>,
+    uu: vec3<f32>,
+    st: vec3<f32>,
+    su: vec3<f32>,
+    tu: vec3<f32>,
+}
+
+// The lattice at `base` of the control point buffer: its inverse box matrix A (local = A (X -
+// origin)).
+fn lattice_inverse_axes(base: u32) -> mat3x3<f32> {
+    return transpose(mat3x3<f32>(
+        control_points[base + 1u].xyz,
+        control_points[base + 2u].xyz,
+        control_points[base + 3u].xyz,
+    ));
+}
+
+// The trivariate Bézier sum and its derivatives at local coordinates `x` (Sederberg & Parry
+// 1986; kernel::ffd::Lattice::jet).
+fn lattice_jet(base: u32, x: vec3<f32>) -> LatticeJet {
+    let packed = bitcast<u32>(control_points[base].w);
+    let l = packed & 0xFFu;
+    let m = (packed >> 8u) & 0xFFu;
+    let n = (packed >> 16u) & 0xFFu;
+    let bs = lattice_basis(l, x.x);
+    let bt = lattice_basis(m, x.y);
+    let bu = lattice_basis(n, x.z);
+    var jet: LatticeJet;
+    var fs = vec3<f32>(0.0);
+    var ft = vec3<f32>(0.0);
+    var fu = vec3<f32>(0.0);
+    for (var i = 0u; i <= l; i++) {
+        for (var j = 0u; j <= m; j++) {
+            let a = bs[i];
+            let b = bt[j];
+            for (var k = 0u; k <= n; k++) {
+                let c = bu[k];
+                let p = control_points[base + 4u + (i * (m + 1u) + j) * (n + 1u) + k].xyz;
+                jet.value += p * (a.x * b.x * c.x);
+                fs += p * (a.y * b.x * c.x);
+                ft += p * (a.x * b.y * c.x);
+                fu += p * (a.x * b.x * c.y);
+                jet.ss += p * (a.z * b.x * c.x);
+                jet.tt += p * (a.x * b.z * c.x);
+                jet.uu += p * (a.x * b.x * c.z);
+                jet.st += p * (a.y * b.y * c.x);
+                jet.su += p * (a.y * b.x * c.y);
+                jet.tu += p * (a.x * b.y * c.y);
+            }
+        }
+    }
+    jet.first = mat3x3<f32>(fs, ft, fu);
+    return jet;
+}
+
+// The lattice's second derivative H[x, y] for local directions x, y.
+fn lattice_hessian(jet: LatticeJet, x: vec3<f32>, y: vec3<f32>) -> vec3<f32> {
+    return jet.ss * (x.x * y.x) + jet.tt * (x.y * y.y) + jet.uu * (x.z * y.z)
+        + jet.st * (x.x * y.y + x.y * y.x) + jet.su * (x.x * y.z + x.z * y.x)
+        + jet.tu * (x.y * y.z + x.z * y.y);
+}
+
+// A vertex as written: position, unit normal, curvature and flags.
+struct FinishedVertex {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    curvature: vec4<f32>,
+    flags: u32,
+}
+
+// The vertex of a record with derivatives `d` at local (s, t), its `position` (crack-free on
+// boundaries), normal, curvature and flags as evaluated, finished by the object's
+// displacement (moved along the normal, no curvature; displace) and then its lattice: the
+// point mapped, the normal by the cofactor of the Jacobian J = F' A (which is J Su x J Sv and
+// stays defined at poles), the curvature from the deformed derivatives by the chain rule
+// (kernel::ffd::Lattice::deform).
+fn finish_vertex(
+    rec: PatchRecord,
+    d: Derivatives,
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    values: vec4<f32>,
+    flags: u32,
+    s: f32,
+    t: f32,
+) -> FinishedVertex {
+    var out = FinishedVertex(position, normal, values, flags);
+    if (rec.displacement != DISPLACEMENT_NONE) {
+        let moved = displace(rec, d, position, normal, s, t);
+        out = FinishedVertex(moved.position, moved.normal, vec4<f32>(0.0), flags | VERTEX_NO_CURVATURE);
+    }
+    if (rec.lattice == LATTICE_NONE) {
+        return out;
+    }
+    let base = rec.lattice;
+    let a = lattice_inverse_axes(base);
+    let jet = lattice_jet(base, a * (out.position - control_points[base].xyz));
+    let j = jet.first * a;
+    let cofactor = mat3x3<f32>(cross(j[1], j[2]), cross(j[2], j[0]), cross(j[0], j[1]));
+    let mapped = cofactor * out.normal;
+    var n = out.normal;
+    if (dot(mapped, mapped) > 0.0) {
+        n = normalize(mapped);
+    }
+    var k = vec4<f32>(0.0);
+    var f = out.flags;
+    if (VERTEX_CURVATURE && (f & VERTEX_NO_CURVATURE) == 0u) {
+        let lu = a * d.su;
+        let lv = a * d.sv;
+        let deformed = Derivatives(
+            jet.value,
+            jet.first * lu,
+            jet.first * lv,
+            jet.first * (a * d.suu) + lattice_hessian(jet, lu, lu),
+            jet.first * (a * d.suv) + lattice_hessian(jet, lu, lv),
+            jet.first * (a * d.svv) + lattice_hessian(jet, lv, lv),
+        );
+        let result = curvature(deformed, n);
+        if (result.defined) {
+            k = result.values;
+        } else {
+            f |= VERTEX_NO_CURVATURE;
+        }
+    } else {
+        f |= VERTEX_NO_CURVATURE;
+    }
+    return FinishedVertex(jet.value, n, k, f);
+}
+
+// Writes grid vertex `g` of record `record`, its (u, v) mapped into the record's domain,
+// finished by the object's displacement and lattice (finish_vertex).
 fn store_vertex(
     rec: PatchRecord,
     record: u32,
@@ -533,25 +717,15 @@ fn store_vertex(
     curvature: vec4<f32>,
     flags: u32,
 ) {
-    var p = position;
-    var n = normal;
-    var k = curvature;
-    var f = flags;
-    if (rec.displacement != DISPLACEMENT_NONE) {
-        let moved = displace(rec, d, position, normal, g.s, g.t);
-        p = moved.position;
-        n = moved.normal;
-        k = vec4<f32>(0.0);
-        f = f | VERTEX_NO_CURVATURE;
-    }
+    let v = finish_vertex(rec, d, position, normal, curvature, flags, g.s, g.t);
     vertices[rec.vertex_offset + local] = SurfaceVertex(
-        p,
+        v.position,
         rec.domain.x * (1.0 - g.s) + rec.domain.y * g.s,
-        n,
+        v.normal,
         rec.domain.z * (1.0 - g.t) + rec.domain.w * g.t,
-        k,
+        v.curvature,
         rec.object,
-        f,
+        v.flags,
         record,
         rec.level,
     );
@@ -902,6 +1076,10 @@ fn adaptive_curve_segments(rec: PatchRecord, first: u32, stride: u32, degree: u3
 // space of the homogeneous points: the weights are positive, so the signs are those of the
 // Euclidean points). The patch lies in its control hull, so it is then out of view.
 fn hull_outside_view(rec: PatchRecord) -> bool {
+    // A deformed patch is not where its control points are.
+    if (rec.lattice != LATTICE_NONE) {
+        return false;
+    }
     let count = (rec.degree_u + 1u) * (rec.degree_v + 1u);
     var outside = 63u;
     for (var k = 0u; k < count && outside != 0u; k++) {
@@ -961,7 +1139,14 @@ fn measure_levels(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var i = 1u; i < p; i++) {
             inner.y = max(inner.y, adaptive_curve_segments(rec, i * (q + 1u), 1u, q));
         }
-        let least = displacement_segments(rec);
+        var least = displacement_segments(rec);
+        if (rec.lattice != LATTICE_NONE) {
+            // The hull measures the undeformed patch: at least 2 segments per degree of the
+            // lattice's map.
+            let packed = bitcast<u32>(control_points[rec.lattice].w);
+            let total = (packed & 0xFFu) + ((packed >> 8u) & 0xFFu) + ((packed >> 16u) & 0xFFu);
+            least = max(least, vec2<u32>(min(2u * total, max(adaptive_view.counts.y, 1u))));
+        }
         slot.edges = max(slot.edges, least.xyxy);
         slot.inner = max(inner, least);
     }
@@ -1220,24 +1405,15 @@ fn write_adaptive_vertex(slot: AdaptiveSlot, local: u32) {
     if (v.edge != ADAPTIVE_INTERIOR) {
         position = edge_point(rec, adaptive_boundary(rec, v));
     }
-    var normal = shape.normal;
-    var curvature = shape.curvature;
-    var flags = shape.flags;
-    if (rec.displacement != DISPLACEMENT_NONE) {
-        let moved = displace(rec, d, position, normal, v.st.x, v.st.y);
-        position = moved.position;
-        normal = moved.normal;
-        curvature = vec4<f32>(0.0);
-        flags = flags | VERTEX_NO_CURVATURE;
-    }
+    let out = finish_vertex(rec, d, position, shape.normal, shape.curvature, shape.flags, v.st.x, v.st.y);
     vertices[slot.vertex_offset + local] = SurfaceVertex(
-        position,
+        out.position,
         rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
-        normal,
+        out.normal,
         rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
-        curvature,
+        out.curvature,
         rec.object,
-        flags,
+        out.flags,
         slot.record,
         0u,
     );

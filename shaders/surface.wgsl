@@ -103,7 +103,7 @@ fn pixel_shape(in: VertexOut) -> PixelShape {
     }
     let rec = trim_records[in.record];
     // Stencil and substitute patches and displaced objects: the vertices' values.
-    if (rec.kind != PATCH_KIND_BEZIER || rec.displacement != DISPLACEMENT_NONE) {
+    if (rec.kind != PATCH_KIND_BEZIER || rec.displacement != DISPLACEMENT_NONE || rec.lattice != LATTICE_NONE) {
         return out;
     }
     let span = rec.domain.yw - rec.domain.xz;

@@ -36,6 +36,7 @@ fn patch_inputs(feeds: &[Decomposition]) -> Vec<ObjectPatches<'_>> {
             cage_points: 0,
             trims: None,
             displacement: None,
+            lattice: None,
         })
         .collect()
 }

@@ -125,6 +125,7 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             trim_count,
             level,
             displacement,
+            lattice,
             reserved
         })
     );
@@ -282,6 +283,7 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "DISPLACEMENT_NONE",
             knotwork::gpu::records::DISPLACEMENT_NONE,
         ),
+        ("LATTICE_NONE", knotwork::gpu::records::LATTICE_NONE),
         ("DISPLACE_WAVES", Pattern::Waves.code()),
         ("DISPLACE_RIPPLES", Pattern::Ripples.code()),
         ("DISPLACE_NOISE", Pattern::Noise.code()),
@@ -329,6 +331,16 @@ fn evaluator_constants_match_their_rust_counterparts() {
     );
     // The basis arrays hold MAX_DEGREE + 1 entries.
     assert!(shaders::EVAL_BEZIER.contains(&format!("array<f32, {}>", GPU_MAX_DEGREE + 1)));
+    // A baked lattice keeps patches up to the degree the GPU evaluates.
+    assert_eq!(
+        knotwork::kernel::ffd::EXACT_MAX_DEGREE,
+        GPU_MAX_DEGREE as usize
+    );
+    // The lattice basis arrays hold MAX_LATTICE_DEGREE + 1 entries.
+    assert!(shaders::EVAL_BEZIER.contains(&format!(
+        "array<vec3<f32>, {}>",
+        knotwork::kernel::ffd::MAX_LATTICE_DEGREE + 1
+    )));
 }
 
 #[test]

@@ -118,6 +118,16 @@ pub enum Command {
         object: usize,
         displacement: Option<crate::kernel::displace::Displacement>,
     },
+    /// Puts a free-form deformation lattice around an object (or replaces its lattice, or
+    /// with `None` releases it: the object is shown undeformed again).
+    SetLattice {
+        object: usize,
+        lattice: Option<crate::kernel::ffd::Lattice>,
+    },
+    /// Bakes an object's lattice into its geometry ([`SceneObject::baked_lattice`]; `tolerance`
+    /// a fraction of the object's box diagonal for a refit). The undo step's label says
+    /// whether the result is exact or refitted.
+    ApplyLattice { object: usize, tolerance: f64 },
     /// Changes the trim loops of a NURBS surface (an edit that would make a loop invalid is
     /// refused with the reason and changes nothing).
     Trim {
@@ -266,6 +276,14 @@ impl Command {
                 ..
             } => format!("{} displacement", d.pattern.label()),
             Command::SetDisplacement { .. } => "remove displacement".into(),
+            Command::SetLattice {
+                lattice: Some(l), ..
+            } => {
+                let [a, b, c] = l.degrees();
+                format!("lattice of degree ({a}, {b}, {c})")
+            }
+            Command::SetLattice { .. } => "release lattice".into(),
+            Command::ApplyLattice { .. } => "apply lattice".into(),
         }
     }
 }
@@ -409,8 +427,14 @@ impl Edit {
                     after,
                 },
             ] => {
-                if before.displacement != after.displacement {
+                if before.displacement != after.displacement
+                    || before.lattice.as_ref().map(|l| l.degrees())
+                        != after.lattice.as_ref().map(|l| l.degrees())
+                {
                     Touched::Structure
+                } else if before.lattice != after.lattice && before.geometry == after.geometry {
+                    // Only the lattice's points moved: the GPU uploads the lattice again.
+                    Touched::Points(*index)
                 } else if before.geometry == after.geometry && before.segments == after.segments {
                     if before.visible == after.visible {
                         Touched::Nothing
@@ -505,6 +529,34 @@ fn with_surface(
     map: impl FnOnce(&NurbsSurface) -> Result<NurbsSurface, GeometryError>,
 ) -> Result<SceneObject, EditError> {
     with_trimmed(object, operation, |t| t.with_surface(map(t.surface())?))
+}
+
+/// The change an [`Command::ApplyLattice`] makes, and its label saying how the bake turned out
+/// ("apply lattice: exact: …" or "apply lattice: refitted: …").
+fn plan_apply_lattice(
+    scene: &Scene,
+    command: &Command,
+) -> Result<(Vec<Change>, String), EditError> {
+    let Command::ApplyLattice {
+        object: k,
+        tolerance,
+    } = command
+    else {
+        return Err(EditError::NothingTo("apply"));
+    };
+    let object = object_at(scene, *k)?;
+    let (after, baked) = object
+        .baked_lattice(*tolerance)
+        .map_err(geometry_error(object))?;
+    after.decompose().map_err(geometry_error(object))?;
+    Ok((
+        vec![Change::Replace {
+            index: *k,
+            before: object.clone(),
+            after,
+        }],
+        format!("{}: {}", command.label(), baked.describe()),
+    ))
 }
 
 /// The changes `command` would make, computed without touching the scene.
@@ -731,10 +783,18 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 .kind()
                 .transformed(transform)
                 .map_err(geometry_error(object))?;
+            // The lattice moves with the object (the deformation is carried along).
+            let lattice = object
+                .lattice
+                .as_ref()
+                .map(|l| l.transformed(transform))
+                .transpose()
+                .map_err(geometry_error(object))?;
             replace(
                 *k,
                 SceneObject {
                     geometry,
+                    lattice,
                     ..object.clone()
                 },
             )
@@ -806,6 +866,30 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 },
             )
         }
+        Command::SetLattice { object: k, lattice } => {
+            let object = object_at(scene, *k)?;
+            if let Some(l) = lattice {
+                // Checked again: a command may come from a script with any numbers.
+                crate::kernel::ffd::Lattice::new(
+                    l.origin(),
+                    l.axes(),
+                    l.degrees(),
+                    l.points().to_vec(),
+                )
+                .map_err(geometry_error(object))?;
+            }
+            if object.lattice == *lattice {
+                return Err(EditError::NothingTo("change"));
+            }
+            replace(
+                *k,
+                SceneObject {
+                    lattice: lattice.clone(),
+                    ..object.clone()
+                },
+            )
+        }
+        Command::ApplyLattice { .. } => plan_apply_lattice(scene, command).map(|(c, _)| c),
         Command::Trim { object: k, edit } => {
             let object = object_at(scene, *k)?;
             replace(*k, with_trimmed(object, "trimming", |t| edit.apply(t))?)
@@ -850,11 +934,11 @@ fn split_name(name: &str, suffix: &str) -> String {
 /// Applies `command` to `scene` and returns the edit that undoes it. On error the scene is
 /// unchanged.
 pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
-    let changes = plan(scene, command)?;
-    let edit = Edit {
-        label: command.label(),
-        changes,
+    let (changes, label) = match command {
+        Command::ApplyLattice { .. } => plan_apply_lattice(scene, command)?,
+        _ => (plan(scene, command)?, command.label()),
     };
+    let edit = Edit { label, changes };
     edit.redo(scene)?;
     Ok(edit)
 }

@@ -22,6 +22,7 @@ use super::records::{
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL};
 use crate::kernel::BezierPatchSet;
+use crate::kernel::ffd::Lattice;
 use crate::kernel::diffgeo::{
     CURVATURE_NUDGE, CurvatureValues, FundamentalForms, SurfaceDerivatives,
 };
@@ -47,6 +48,8 @@ pub struct CpuGeometry {
     scratch: Vec<SurfaceVertex>,
     /// Each object's displacement.
     displacements: Vec<Option<ObjectDisplacement>>,
+    /// Each object's free-form deformation lattice.
+    lattices: Vec<Option<Lattice>>,
 }
 
 /// The curvature (K, H, k1, k2) from derivatives `d` and unit normal `n`, if defined.
@@ -56,12 +59,14 @@ fn curvature_of(d: &SurfaceDerivatives, n: DVec3) -> Option<[f32; 4]> {
         .filter(|c| c.iter().all(|x| x.is_finite()))
 }
 
-/// The record a CPU evaluation writes: the record, its index and its object's displacement.
+/// The record a CPU evaluation writes: the record, its index and its object's displacement
+/// and lattice.
 #[derive(Clone, Copy)]
 struct Target<'a> {
     record: &'a PatchRecord,
     index: u32,
     displacement: Option<&'a ObjectDisplacement>,
+    lattice: Option<&'a Lattice>,
 }
 
 /// One vertex of a record's grid: its position, normal, curvature and flags, with (u, v) mapped
@@ -78,6 +83,7 @@ fn grid_vertex(
         record,
         index,
         displacement,
+        lattice,
     } = target;
     let [u0, u1, v0, v1] = record.domain.map(f64::from);
     // A displaced vertex: the displaced point and normal, no curvature (as `store_vertex`).
@@ -87,6 +93,18 @@ fn grid_vertex(
             (p, n, None)
         }
         None => (d.point, normal, curvature),
+    };
+    // Then through the lattice: the point mapped, the normal by the Jacobian's cofactor, the
+    // curvature of the deformed derivatives where it was defined (`lattice_deform`).
+    let (point, normal, curvature) = match lattice {
+        Some(lattice) => {
+            let moved = lattice.deform_normal(point, normal);
+            let curvature = curvature.and_then(|_| {
+                curvature_of(&lattice.deform(&SurfaceDerivatives { point, ..*d }), moved)
+            });
+            (lattice.deform_point(point), moved, curvature)
+        }
+        None => (point, normal, curvature),
     };
     let position = point.as_vec3().to_array();
     let finite = position.iter().all(|x| x.is_finite());
@@ -355,7 +373,29 @@ impl CpuGeometry {
             curvature: true,
             scratch: Vec::new(),
             displacements: objects.iter().map(|o| o.displacement).collect(),
+            lattices: objects.iter().map(|o| o.lattice.cloned()).collect(),
         })
+    }
+
+    /// Takes object `object`'s lattice and marks its patches where it changed (see
+    /// [`super::PatchGeometry::update_lattice`]).
+    pub fn update_lattice(
+        &mut self,
+        object: usize,
+        lattice: Option<&Lattice>,
+    ) -> Result<(), GpuError> {
+        let slot = self
+            .lattices
+            .get_mut(object)
+            .ok_or(GpuError::NoSuchObject {
+                object,
+                count: self.objects.len(),
+            })?;
+        if slot.as_ref() != lattice {
+            *slot = lattice.cloned();
+            self.update_object(object, None)?;
+        }
+        Ok(())
     }
 
     /// Marks `patches` of object `object` (`None`: all of them, stencil patches included) for
@@ -460,6 +500,7 @@ impl CpuGeometry {
             record: &record,
             index: k as u32,
             displacement: self.displacements.get(object).and_then(Option::as_ref),
+            lattice: self.lattices.get(object).and_then(Option::as_ref),
         };
         if record.kind == PATCH_KIND_BEZIER {
             bezier_vertices(&feed.set, local, target, self.curvature, &mut self.scratch)

@@ -45,7 +45,8 @@ use super::adaptive_pass::{
 };
 use super::error::GpuError;
 use super::records::{
-    DISPLACEMENT_NONE, EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, PATCH_KIND_ACC,
+    DISPLACEMENT_NONE, EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, LATTICE_NONE,
+    PATCH_KIND_ACC,
     PATCH_KIND_BEZIER, PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE, PATCH_KIND_STENCIL_QUAD,
     PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE, SurfaceVertex,
 };
@@ -379,6 +380,9 @@ pub struct ObjectPatches<'a> {
     pub trims: Option<&'a TrimFeed>,
     /// The object's displacement along the normal, applied to every vertex it writes.
     pub displacement: Option<ObjectDisplacement>,
+    /// The object's free-form deformation lattice, applied to every vertex it writes (after
+    /// the displacement).
+    pub lattice: Option<&'a crate::kernel::ffd::Lattice>,
 }
 
 /// An object's displacement as the evaluators apply it: the height map and the object's own
@@ -453,6 +457,8 @@ pub(crate) struct PatchLayout {
     pub control_indices: Vec<u32>,
     pub points: Vec<[f32; 4]>,
     pub entry_data: Vec<[f32; 4]>,
+    /// Each object's lattice block: where it starts in the control point buffer, and its words.
+    pub lattices: Vec<Option<(u32, Vec<[f32; 4]>)>>,
     pub trim_words: Vec<u32>,
     /// Vertices and triangle indices of the fixed patches.
     pub vertices: u64,
@@ -491,6 +497,7 @@ impl PatchLayout {
         let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
         let mut quad_groups_x = 0u64;
         let mut trim_words: Vec<u32> = Vec::new();
+        let mut lattices = Vec::with_capacity(objects.len());
         for (object, input) in objects.iter().enumerate() {
             let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
             // The displacement's two vec4 follow the points, among the stencil entries.
@@ -502,6 +509,20 @@ impl PatchLayout {
                     at
                 }
                 None => DISPLACEMENT_NONE,
+            };
+            // So does the lattice's block.
+            let lattice = match input.lattice {
+                Some(l) => {
+                    let at = (total_points + entry_data.len()) as u32;
+                    let block = l.gpu_block();
+                    entry_data.extend_from_slice(&block);
+                    lattices.push(Some((at, block)));
+                    at
+                }
+                None => {
+                    lattices.push(None);
+                    LATTICE_NONE
+                }
             };
             let segments = input.segments;
             if !(1..=MAX_SEGMENTS).contains(&segments) {
@@ -571,7 +592,8 @@ impl PatchLayout {
                     trim_count,
                     level: 0,
                     displacement,
-                    reserved: [0; 3],
+                    lattice,
+                    reserved: [0; 2],
                 });
                 control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
                 // A culled patch takes no vertices and no triangles; an adaptive one takes its
@@ -610,7 +632,7 @@ impl PatchLayout {
                     records.push(grid_record(
                         kind,
                         s,
-                        (level, displacement),
+                        (level, displacement, lattice),
                         object,
                         &control_indices,
                         vertex_offset,
@@ -646,7 +668,7 @@ impl PatchLayout {
                     records.push(grid_record(
                         kind,
                         s,
-                        (0, displacement),
+                        (0, displacement, lattice),
                         object,
                         &control_indices,
                         vertex_offset,
@@ -667,6 +689,7 @@ impl PatchLayout {
             control_indices,
             points,
             entry_data,
+            lattices,
             trim_words,
             vertices: vertex_offset,
             indices: index_offset,
@@ -689,6 +712,8 @@ pub struct PatchGeometry {
     objects: Vec<ObjectRange>,
     /// What the control point buffer holds, to upload only the points an edit changed.
     uploaded: Vec<[f32; 4]>,
+    /// Each object's lattice block as uploaded (its start in the control point buffer).
+    lattices: Vec<Option<(u32, Vec<[f32; 4]>)>>,
     /// The control index buffer's contents (global pool indices, each record's block at its
     /// `control_offset`), to find the points an edit changed.
     control_indices: Vec<u32>,
@@ -719,12 +744,12 @@ fn grid_slots(segments: u32, max_groups: u32) -> Result<u64, GpuError> {
 
 /// The record of a grid patch of `kind` (stencil or substitute) with `segments` per edge on
 /// (0, 1)², its control block next in `control_indices` and its vertices and indices at the
-/// given offsets; `(level, displacement)` are [`PatchRecord::level`] and
-/// [`PatchRecord::displacement`].
+/// given offsets; `(level, displacement, lattice)` are [`PatchRecord::level`],
+/// [`PatchRecord::displacement`] and [`PatchRecord::lattice`].
 fn grid_record(
     kind: u32,
     segments: u32,
-    (level, displacement): (u32, u32),
+    (level, displacement, lattice): (u32, u32, u32),
     object: usize,
     control_indices: &[u32],
     vertex_offset: u64,
@@ -745,7 +770,8 @@ fn grid_record(
         trim_count: 0,
         level,
         displacement,
-        reserved: [0; 3],
+        lattice,
+        reserved: [0; 2],
     }
 }
 
@@ -819,6 +845,7 @@ impl PatchGeometry {
             control_indices,
             points,
             entry_data,
+            lattices,
             trim_words,
             vertices: mut vertex_offset,
             indices: mut index_offset,
@@ -957,6 +984,7 @@ impl PatchGeometry {
             records,
             objects: ranges,
             uploaded: points,
+            lattices,
             control_indices,
             vertex_count: fixed_vertices as u32,
             index_count: fixed_indices as u32,
@@ -1060,6 +1088,44 @@ impl PatchGeometry {
             );
         }
         Ok(changed.len())
+    }
+
+    /// Takes object `object`'s lattice (with the degrees it had at creation, or none as then):
+    /// uploads its block where it changed and marks the object's patches. Returns whether it
+    /// changed.
+    pub fn update_lattice(
+        &mut self,
+        queue: &wgpu::Queue,
+        object: usize,
+        lattice: Option<&crate::kernel::ffd::Lattice>,
+    ) -> Result<bool, GpuError> {
+        let range = self.object_range(object)?;
+        let slot = &mut self.lattices[object];
+        match (slot, lattice) {
+            (None, None) => Ok(false),
+            (Some((at, uploaded)), Some(lattice)) => {
+                let block = lattice.gpu_block();
+                if block.len() != uploaded.len() {
+                    return Err(GpuError::Geometry(
+                        "the lattice's degrees changed without a rebuild".into(),
+                    ));
+                }
+                if block == *uploaded {
+                    return Ok(false);
+                }
+                queue.write_buffer(
+                    &self.control_points,
+                    u64::from(*at) * 16,
+                    bytemuck::cast_slice(&block),
+                );
+                *uploaded = block;
+                self.dirty[range.first_patch..range.first_patch + range.patch_count].fill(true);
+                Ok(true)
+            }
+            _ => Err(GpuError::Geometry(
+                "a lattice was added or removed without a rebuild".into(),
+            )),
+        }
     }
 
     /// Marks every patch for re-evaluation.

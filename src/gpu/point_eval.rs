@@ -55,6 +55,7 @@ pub fn evaluate_points(
             cage_points: 0,
             trims: None,
             displacement: None,
+            lattice: None,
             set: &set,
             domains: &[],
             segments: 1,

@@ -82,8 +82,15 @@ pub struct PatchRecord {
     /// code, amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or
     /// [`DISPLACEMENT_NONE`].
     pub displacement: u32,
-    pub reserved: [u32; 3],
+    /// Where the object's free-form deformation lattice lies in the control point buffer
+    /// ([`crate::kernel::ffd::Lattice::gpu_block`]: header, three rows of the inverse box,
+    /// points), or [`LATTICE_NONE`].
+    pub lattice: u32,
+    pub reserved: [u32; 2],
 }
+
+/// [`PatchRecord::lattice`] of a patch whose object has no lattice. WGSL: `LATTICE_NONE`.
+pub const LATTICE_NONE: u32 = u32::MAX;
 
 /// [`PatchRecord::displacement`] of a patch whose object is not displaced. WGSL:
 /// `DISPLACEMENT_NONE`.

@@ -357,6 +357,7 @@ impl SceneSync {
                             domain: object.geometry.displacement_domain()?,
                         })
                     }),
+                    lattice: object.lattice.as_ref(),
                     segments: d
                         .fixed_segments
                         .unwrap_or_else(|| effective_segments(object.segments, q)),
@@ -417,10 +418,18 @@ impl SceneSync {
                 .map_err(|e| GpuError::Geometry(format!("{}: {e}", target.name)))?,
             None => *slot = feed(target)?,
         }
+        let lattice = target.lattice.as_ref();
         let uploaded = match &mut self.geometry {
-            Some(Built::Compute(g)) => g.update_object(&self.queue, object, &slot.set, patches)?,
+            Some(Built::Compute(g)) => {
+                let points = g.update_object(&self.queue, object, &slot.set, patches)?;
+                g.update_lattice(&self.queue, object, lattice)?;
+                points
+            }
             // The CPU path uploads vertices, not points.
-            Some(Built::Cpu(g)) => g.update_object(object, patches).map(|()| 0)?,
+            Some(Built::Cpu(g)) => {
+                g.update_lattice(object, lattice)?;
+                g.update_object(object, patches).map(|()| 0)?
+            }
             None => 0,
         };
         self.points_uploaded = uploaded;

@@ -78,6 +78,7 @@ pub fn evaluate_feed(
             cage_points: cage.len(),
             trims: None,
             displacement: None,
+            lattice: None,
         }],
     )?;
     let mut encoder = device.create_command_encoder(&Default::default());

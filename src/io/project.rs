@@ -324,6 +324,14 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             )
         }
     };
+    let lattice = match map.remove("lattice") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(value) => {
+            let at = format!("{path}.lattice");
+            let raw: LatticeRecord = deserialize(&at, value)?;
+            Some(raw.lattice().map_err(|e| FormatError::geometry(&at, e))?)
+        }
+    };
     let name = match map.remove("name") {
         None => None,
         Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
@@ -414,7 +422,40 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     object.visible = visible;
     object.segments = segments;
     object.displacement = displacement;
+    object.lattice = lattice;
     Ok(object)
+}
+
+/// An object's free-form deformation lattice in the project file: the box's corner and edges,
+/// the degrees (l, m, n) and the (l + 1)(m + 1)(n + 1) points, P_ijk at (i (m + 1) + j)(n + 1) + k.
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LatticeRecord {
+    origin: [f64; 3],
+    axes: [[f64; 3]; 3],
+    degrees: [usize; 3],
+    points: Vec<[f64; 3]>,
+}
+
+impl LatticeRecord {
+    fn from_lattice(lattice: &crate::kernel::ffd::Lattice) -> Self {
+        Self {
+            origin: lattice.origin().to_array(),
+            axes: lattice.axes().map(|a| a.to_array()),
+            degrees: lattice.degrees(),
+            points: lattice.points().iter().map(|p| p.to_array()).collect(),
+        }
+    }
+
+    /// The lattice, validated ([`crate::kernel::ffd::Lattice::new`]).
+    fn lattice(&self) -> Result<crate::kernel::ffd::Lattice, crate::kernel::GeometryError> {
+        crate::kernel::ffd::Lattice::new(
+            glam::DVec3::from(self.origin),
+            self.axes.map(glam::DVec3::from),
+            self.degrees,
+            self.points.iter().map(|&p| glam::DVec3::from(p)).collect(),
+        )
+    }
 }
 
 fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, FormatError> {
@@ -495,6 +536,13 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
             map.insert(
                 "displacement".into(),
                 serde_json::to_value(d).unwrap_or(serde_json::Value::Null),
+            );
+        }
+        if let Some(lattice) = &object.lattice {
+            map.insert(
+                "lattice".into(),
+                serde_json::to_value(LatticeRecord::from_lattice(lattice))
+                    .unwrap_or(serde_json::Value::Null),
             );
         }
     }

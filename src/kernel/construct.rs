@@ -190,36 +190,8 @@ pub(super) fn interpolate_points<V: Vector>(
         basis_functions(knots, degree, span, t, &mut basis);
         row[span - degree..=span].copy_from_slice(&basis);
     }
-    let mut rhs = points.to_vec();
-    for col in 0..n {
-        let pivot = (col..n)
-            .max_by(|&a, &b| matrix[a][col].abs().total_cmp(&matrix[b][col].abs()))
-            .unwrap_or(col);
-        if matrix[pivot][col].abs() < 1e-14 {
-            return Err(construction(what, "the interpolation system is singular"));
-        }
-        matrix.swap(col, pivot);
-        rhs.swap(col, pivot);
-        for r in col + 1..n {
-            let factor = matrix[r][col] / matrix[col][col];
-            if factor != 0.0 {
-                let (upper, lower) = matrix.split_at_mut(r);
-                for (x, &y) in lower[0][col..].iter_mut().zip(&upper[col][col..]) {
-                    *x -= factor * y;
-                }
-                rhs[r] = rhs[r] - rhs[col] * factor;
-            }
-        }
-    }
-    let mut solution = vec![V::ZERO; n];
-    for r in (0..n).rev() {
-        let mut acc = rhs[r];
-        for c in r + 1..n {
-            acc = acc - solution[c] * matrix[r][c];
-        }
-        solution[r] = acc / matrix[r][r];
-    }
-    Ok(solution)
+    super::vector::solve_linear(matrix, points.to_vec())
+        .ok_or_else(|| construction(what, "the interpolation system is singular"))
 }
 
 /// The non-rational B-spline of degree `degree` (lowered to points − 1 if there are too few

@@ -12,6 +12,7 @@ pub mod curve;
 pub mod diffgeo;
 pub mod displace;
 pub mod error;
+pub mod ffd;
 pub mod mesh;
 pub mod ops;
 pub mod samples;

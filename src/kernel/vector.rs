@@ -98,6 +98,44 @@ impl CurvePoint for DVec3 {
     }
 }
 
+/// The solution x of the n × n system `matrix` x = `rhs` (values of any vector type), by
+/// Gaussian elimination with partial pivoting; `None` when a pivot is below 1e-14 (singular).
+pub fn solve_linear<V: Vector>(mut matrix: Vec<Vec<f64>>, mut rhs: Vec<V>) -> Option<Vec<V>> {
+    let n = rhs.len();
+    if matrix.len() != n || matrix.iter().any(|row| row.len() != n) {
+        return None;
+    }
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&a, &b| matrix[a][col].abs().total_cmp(&matrix[b][col].abs()))
+            .unwrap_or(col);
+        if !(matrix[pivot][col].abs() >= 1e-14) {
+            return None;
+        }
+        matrix.swap(col, pivot);
+        rhs.swap(col, pivot);
+        for r in col + 1..n {
+            let factor = matrix[r][col] / matrix[col][col];
+            if factor != 0.0 {
+                let (upper, lower) = matrix.split_at_mut(r);
+                for (x, &y) in lower[0][col..].iter_mut().zip(&upper[col][col..]) {
+                    *x -= factor * y;
+                }
+                rhs[r] = rhs[r] - rhs[col] * factor;
+            }
+        }
+    }
+    let mut solution = vec![V::ZERO; n];
+    for r in (0..n).rev() {
+        let mut acc = rhs[r];
+        for c in r + 1..n {
+            acc = acc - solution[c] * matrix[r][c];
+        }
+        solution[r] = acc / matrix[r][r];
+    }
+    Some(solution)
+}
+
 /// The binomial coefficient C(n, k) in f64 (exact for the degrees the kernel accepts).
 pub fn binomial(n: usize, k: usize) -> f64 {
     if k > n {

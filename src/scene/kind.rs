@@ -88,6 +88,15 @@ pub trait ObjectKind {
         None
     }
 
+    /// The object with `lattice`'s deformation baked in ([`super::ffd`]): exactly where the
+    /// result is representable, else refitted within `tolerance` (a distance), and how it
+    /// turned out.
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError>;
+
     /// Whether `other` is the same kind with the same structure (degrees, knots, counts,
     /// patch layout), so that only control point positions or weights differ and the GPU
     /// buffers keep their layout.

@@ -119,6 +119,25 @@ impl ObjectKind for PolygonMesh {
         PolygonMesh::transformed(self, transform).map(ObjectGeometry::Mesh)
     }
 
+    /// The vertices move through the lattice (they are the mesh's shape).
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        _tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let mut mesh = self.clone();
+        for (k, &p) in self.points().iter().enumerate() {
+            mesh.set_point(k, lattice.deform_point(p))?;
+        }
+        Ok((
+            ObjectGeometry::Mesh(mesh),
+            crate::kernel::ffd::Baked::Points {
+                error: 0.0,
+                within: true,
+            },
+        ))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Mesh(b)
             if self.points().len() == b.points().len() && self.faces().eq(b.faces()))

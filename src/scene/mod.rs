@@ -6,6 +6,7 @@
 
 pub mod continuity;
 mod demo;
+pub mod ffd;
 mod kind;
 mod mesh;
 mod nurbs;
@@ -22,6 +23,7 @@ pub use trimmed::TrimFeed;
 use glam::DVec3;
 
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
+use crate::kernel::ffd::{Baked, Lattice};
 use crate::kernel::tess;
 use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh, TrimmedSurface};
 
@@ -91,6 +93,9 @@ pub struct SceneObject {
     pub visible: bool,
     /// A height map applied along the normal (kinds with a (u, v) domain only).
     pub displacement: Option<crate::kernel::displace::Displacement>,
+    /// A free-form deformation lattice around the object ([`crate::kernel::ffd`]): while it
+    /// is there, the object is shown deformed and its handles are the lattice's points.
+    pub lattice: Option<Lattice>,
 }
 
 impl Decomposition {
@@ -181,6 +186,7 @@ impl SceneObject {
             segments: DEFAULT_SEGMENTS,
             visible: true,
             displacement: None,
+            lattice: None,
         }
     }
 
@@ -207,22 +213,84 @@ impl SceneObject {
 
     /// How many control points [`Self::control_points`] has (without computing them).
     pub fn control_point_count(&self) -> usize {
-        self.kind().control_point_count()
+        match &self.lattice {
+            Some(lattice) => lattice.points().len(),
+            None => self.kind().control_point_count(),
+        }
     }
 
-    /// The control points the user sees and drags: the NURBS net (Cartesian) or the patch pool.
+    /// The control points the user sees and drags: the NURBS net (Cartesian), the patch pool,
+    /// or the lattice's points while the object has a lattice.
     pub fn control_points(&self) -> Vec<DVec3> {
-        self.kind().control_points()
+        match &self.lattice {
+            Some(lattice) => lattice.points().to_vec(),
+            None => self.kind().control_points(),
+        }
     }
 
     /// Index pairs of the control net's lines over [`Self::control_points`].
     pub fn net_lines(&self) -> Vec<u32> {
-        self.kind().net_lines()
+        match &self.lattice {
+            Some(lattice) => lattice.net_lines(),
+            None => self.kind().net_lines(),
+        }
     }
 
-    /// The box of the control points (which contains the surface).
+    /// Where the control net is a rectangular grid, its [rows, columns] (not a lattice's).
+    pub fn net_grid(&self) -> Option<[usize; 2]> {
+        match &self.lattice {
+            Some(_) => None,
+            None => self.kind().net_grid(),
+        }
+    }
+
+    /// The box of the control points (which contains the surface), and of the lattice's.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        self.kind().bounds()
+        let own = self.kind().bounds();
+        let Some(lattice) = &self.lattice else {
+            return own;
+        };
+        lattice
+            .points()
+            .iter()
+            .map(|&p| (p, p))
+            .chain(own)
+            .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+
+    /// The object with its lattice baked in ([`ObjectKind::bake_lattice`]; `tolerance` a
+    /// fraction of the object's bounding-box diagonal) and no lattice, and how the bake turned
+    /// out. Refused for an object without a lattice and for a displaced one (its height map
+    /// would then follow the deformed surface's normal rather than the original's).
+    pub fn baked_lattice(&self, tolerance: f64) -> Result<(SceneObject, Baked), GeometryError> {
+        let refuse = |message: &str| GeometryError::Construction {
+            what: "apply lattice",
+            message: message.into(),
+        };
+        let Some(lattice) = &self.lattice else {
+            return Err(refuse("the object has no lattice"));
+        };
+        if self.displacement.is_some() {
+            return Err(refuse(
+                "the object is displaced: remove the displacement first (or keep the lattice live)",
+            ));
+        }
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return Err(refuse("the tolerance must be a number > 0"));
+        }
+        let size = self
+            .kind()
+            .bounds()
+            .map_or(1.0, |(lo, hi)| (hi - lo).length().max(1e-12));
+        let (geometry, baked) = self.kind().bake_lattice(lattice, tolerance * size)?;
+        Ok((
+            SceneObject {
+                geometry,
+                lattice: None,
+                ..self.clone()
+            },
+            baked,
+        ))
     }
 
     /// "NURBS (2, 5), 7 × 9 points, rational" and the like, for the panel.
@@ -233,23 +301,36 @@ impl SceneObject {
     /// Moves control point `index` (of [`Self::control_points`]) to `position` and returns the
     /// indices of the Bézier patches that changed ([`ObjectKind::move_control_point`]). A bad
     /// index or a non-finite position is refused and changes nothing.
+    /// A lattice point's move changes no patch of the feed (the lattice itself is uploaded).
     pub fn move_control_point(
         &mut self,
         index: usize,
         position: DVec3,
     ) -> Result<Vec<usize>, GeometryError> {
-        self.geometry.kind_mut().move_control_point(index, position)
+        match &mut self.lattice {
+            Some(lattice) => lattice.set_point(index, position).map(|()| Vec::new()),
+            None => self.geometry.kind_mut().move_control_point(index, position),
+        }
     }
 
     /// Sets the weight of control point `index` (of [`Self::control_points`]), keeping its
     /// position ([`ObjectKind::set_weight`]).
     pub fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError> {
+        if self.lattice.is_some() {
+            return Err(GeometryError::Construction {
+                what: "lattice",
+                message: "its points have no weights".into(),
+            });
+        }
         self.geometry.kind_mut().set_weight(index, weight)
     }
 
     /// The weights of [`Self::control_points`], in the same order.
     pub fn weights(&self) -> Vec<f64> {
-        self.kind().weights()
+        match &self.lattice {
+            Some(lattice) => vec![1.0; lattice.points().len()],
+            None => self.kind().weights(),
+        }
     }
 
     /// Curvature at an n × n grid of parameters in every Bézier patch, from the f64 kernel, each
@@ -287,7 +368,31 @@ impl SceneObject {
     /// surface or a polygon mesh, one per patch for a patch set (each with the patch's own
     /// (u, v)). `curvature` adds K, H, k1, k2 per vertex (not for a displaced object, which
     /// is tessellated for its pattern rather than the tolerance).
+    ///
+    /// An object with a lattice is tessellated as the viewport shows it (its own segments per
+    /// span) and every vertex mapped through the lattice, its normal by the cofactor of the
+    /// lattice's Jacobian ([`Lattice::deform_normal`]); without curvature.
     pub fn tessellate(
+        &self,
+        tessellation: tess::Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
+        let Some(lattice) = &self.lattice else {
+            return self.tessellate_undeformed(tessellation, curvature);
+        };
+        let mut meshes =
+            self.tessellate_undeformed(tess::Tessellation::Segments(self.segments), false)?;
+        for mesh in &mut meshes {
+            for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
+                *n = lattice.deform_normal(*p, *n);
+                *p = lattice.deform_point(*p);
+            }
+        }
+        Ok(meshes)
+    }
+
+    /// [`Self::tessellate`] without the lattice.
+    fn tessellate_undeformed(
         &self,
         tessellation: tess::Tessellation,
         curvature: bool,

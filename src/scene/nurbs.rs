@@ -156,6 +156,15 @@ impl ObjectKind for NurbsSurface {
         NurbsSurface::transformed(self, transform).map(ObjectGeometry::Nurbs)
     }
 
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let (surface, baked) = super::ffd::bake_nurbs(self, lattice, tolerance)?;
+        Ok((ObjectGeometry::Nurbs(surface), baked))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Nurbs(b) if same_net(self, b))
     }

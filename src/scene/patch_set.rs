@@ -93,6 +93,15 @@ impl ObjectKind for BezierPatchSet {
         BezierPatchSet::transformed(self, transform).map(ObjectGeometry::Patches)
     }
 
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let (set, baked) = super::ffd::bake_patch_set(self, lattice, tolerance)?;
+        Ok((ObjectGeometry::Patches(set), baked))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Patches(b)
             if self.patches() == b.patches() && self.points().len() == b.points().len())

@@ -597,6 +597,17 @@ impl ObjectKind for SubdivObject {
         })
     }
 
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let (surface, baked) = super::ffd::bake_cage(&self.surface, lattice, tolerance)?;
+        let mut moved = Self::new(surface, self.display);
+        moved.tolerance = self.tolerance;
+        Ok((ObjectGeometry::Subdivision(Box::new(moved)), baked))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Subdivision(b)
             if b.display == self.display

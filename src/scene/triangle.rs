@@ -217,6 +217,15 @@ impl ObjectKind for TriangleBezier {
         Ok(ObjectGeometry::Triangle(Box::new(moved)))
     }
 
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let (patch, baked) = super::ffd::bake_triangle(self, lattice, tolerance)?;
+        Ok((ObjectGeometry::Triangle(Box::new(patch)), baked))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         matches!(other, ObjectGeometry::Triangle(b) if b.degree() == self.degree())
     }

@@ -108,6 +108,19 @@ impl ObjectKind for TrimmedSurface {
         Ok(ObjectGeometry::from_trimmed(self.with_surface(surface)?))
     }
 
+    /// The surface is baked; the loops stay in its (unchanged) parameter domain.
+    fn bake_lattice(
+        &self,
+        lattice: &crate::kernel::ffd::Lattice,
+        tolerance: f64,
+    ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
+        let (surface, baked) = super::ffd::bake_nurbs(self.surface(), lattice, tolerance)?;
+        Ok((
+            ObjectGeometry::from_trimmed(self.with_surface(surface)?),
+            baked,
+        ))
+    }
+
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
         match other {
             ObjectGeometry::Trimmed(b) => {

@@ -49,6 +49,7 @@ pub fn upload(
             cage_points: 0,
             trims: d.trims.as_ref(),
             displacement: None,
+            lattice: None,
             set: &d.set,
             domains: &d.domains,
             segments: *segments,
