@@ -264,6 +264,9 @@ pub struct KnotworkApp {
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
     snap_step: f64,
+    /// The Lattice panel's degrees for a new lattice, and its tolerance for a refit.
+    lattice_degrees: [usize; 3],
+    lattice_tolerance: f64,
     /// Dragged points snap to other control points / to other surfaces under the cursor.
     snap_points: bool,
     snap_surface: bool,
@@ -357,6 +360,8 @@ impl KnotworkApp {
             trim_handle: None,
             snap: false,
             snap_step: 0.25,
+            lattice_degrees: [2, 2, 2],
+            lattice_tolerance: 1e-3,
             snap_points: false,
             snap_surface: false,
             pick_view: None,
@@ -439,6 +444,39 @@ impl KnotworkApp {
         match result {
             Ok(touched) => self.finish_edit(touched, &command.label()),
             Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// Puts the undisturbed lattice of `degrees` around object `object` (its handles become
+    /// the lattice's points; one undo step).
+    fn add_lattice(&mut self, object: usize, degrees: [usize; 3]) {
+        let Some(bounds) = self
+            .scene()
+            .objects
+            .get(object)
+            .and_then(|o| o.kind().bounds())
+        else {
+            self.status.error = Some(format!("no object {object} to put a lattice around"));
+            return;
+        };
+        match crate::kernel::ffd::Lattice::around(bounds.0, bounds.1, degrees) {
+            Ok(lattice) => {
+                self.selection.points.clear();
+                self.execute(Command::SetLattice {
+                    object,
+                    lattice: Some(lattice),
+                });
+            }
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// Bakes object `object`'s lattice into it; the notice says whether exactly or refitted.
+    fn apply_lattice(&mut self, object: usize, tolerance: f64) {
+        self.selection.points.clear();
+        self.execute(Command::ApplyLattice { object, tolerance });
+        if self.status.error.is_none() {
+            self.status.notice = self.doc.history.undo_label().map(str::to_owned);
         }
     }
 
@@ -903,6 +941,16 @@ impl KnotworkApp {
                 object,
                 displacement,
             }),
+            ExternalCommand::SetLattice { object, degrees } => match degrees {
+                Some(degrees) => self.add_lattice(object, degrees),
+                None => self.execute(Command::SetLattice {
+                    object,
+                    lattice: None,
+                }),
+            },
+            ExternalCommand::ApplyLattice { object, tolerance } => {
+                self.apply_lattice(object, tolerance)
+            }
             ExternalCommand::SetTrimTool(name) => self.set_trim_tool(&name),
             ExternalCommand::TrimCircle {
                 object,

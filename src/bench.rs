@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 14] = [
+pub const GROUPS: [&str; 15] = [
     "edit",
     "webgl2",
     "frame",
@@ -408,6 +408,7 @@ pub const GROUPS: [&str; 14] = [
     "adaptive",
     "triangle",
     "displacement",
+    "lattice",
     "all",
 ];
 
@@ -460,6 +461,47 @@ pub fn run(
     }
     if wants("displacement") {
         bench_displacement(context, iterations, out)?;
+    }
+    if wants("lattice") {
+        bench_lattice(context, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Free-form deformation: the 32 × 32 landscape and the teapot through lattices of degree
+/// (1, 1, 1), (2, 2, 2) and (3, 3, 3) on the GPU (full pass, drag latency of a lattice point),
+/// and baking each (exact or refitted at 1e-3 of the size; time and resulting size).
+fn bench_lattice(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::ffd::Lattice;
+    let mut teapot = SceneObject::new(
+        "teapot",
+        ObjectGeometry::Patches(crate::kernel::samples::utah_teapot()?),
+    );
+    teapot.segments = 16;
+    for base in [large_bspline()?, teapot] {
+        for degree in [1usize, 2, 3] {
+            let mut object = base.clone();
+            let (lo, hi) = object.kind().bounds().ok_or("an empty object")?;
+            let mut lattice = Lattice::around(lo, hi, [degree; 3])?;
+            let top = lattice.point_index(degree, degree, degree);
+            let p = lattice.points()[top];
+            lattice.set_point(top, p + (hi - lo) * 0.2)?;
+            object.lattice = Some(lattice);
+            object.name = format!("{} in a degree-{degree} lattice", base.name);
+            let (ms, baked) = median_ms(iterations.clamp(1, 3), || object.baked_lattice(1e-3))?;
+            writeln!(
+                out,
+                "{} apply | {} | {} control points | {ms:8.1} ms",
+                object.name,
+                baked.1.describe(),
+                baked.0.control_point_count()
+            )?;
+            bench_object(context, object, top, iterations, out)?;
+        }
     }
     Ok(())
 }

@@ -193,6 +193,16 @@ pub enum ExternalCommand {
         object: usize,
         displacement: Option<crate::kernel::displace::Displacement>,
     },
+    /// Puts a lattice of these degrees around an object (`None` releases its lattice).
+    SetLattice {
+        object: usize,
+        degrees: Option<[usize; 3]>,
+    },
+    /// Bakes an object's lattice into it (tolerance: a share of its size, for a refit).
+    ApplyLattice {
+        object: usize,
+        tolerance: f64,
+    },
     /// Chooses the trim tool by name ("circle", "rectangle", "hexagon", "polyline", "curve"; any
     /// other name: none) for the selected NURBS surface.
     SetTrimTool(String),

@@ -260,6 +260,36 @@ pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency:
     true
 }
 
+/// Puts a free-form deformation lattice of degrees (l, m, n) (1 to 4 each) around `object`;
+/// its points become the object's handles (`moveControlPoint` drags them). One undo step;
+/// errors in the status.
+#[wasm_bindgen]
+pub fn add_lattice(object: u32, l: u32, m: u32, n: u32) {
+    status::send(ExternalCommand::SetLattice {
+        object: object as usize,
+        degrees: Some([l, m, n].map(|d| d as usize)),
+    });
+}
+
+/// Removes `object`'s lattice: the object is shown undeformed again (one undo step).
+#[wasm_bindgen]
+pub fn release_lattice(object: u32) {
+    status::send(ExternalCommand::SetLattice {
+        object: object as usize,
+        degrees: None,
+    });
+}
+
+/// Bakes `object`'s lattice into it: exactly where the degree allows, else refitted within
+/// `tolerance` (a share of the object's size); the status's notice says which.
+#[wasm_bindgen]
+pub fn apply_lattice(object: u32, tolerance: f64) {
+    status::send(ExternalCommand::ApplyLattice {
+        object: object as usize,
+        tolerance,
+    });
+}
+
 /// Chooses the trim tool for the selected NURBS surface: "circle", "rectangle", "hexagon",
 /// "polyline", "curve", or "" for none; the next clicks on the surface draw the loop.
 #[wasm_bindgen]

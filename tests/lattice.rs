@@ -45,7 +45,10 @@ fn bent_lattice(object: &SceneObject, degrees: [usize; 3]) -> Lattice {
             lattice.point_index(l, m, n),
             DVec3::new(0.15, -0.1, 0.2) * size,
         ),
-        (lattice.point_index(0, m, 0), DVec3::new(-0.1, 0.1, 0.05) * size),
+        (
+            lattice.point_index(0, m, 0),
+            DVec3::new(-0.1, 0.1, 0.05) * size,
+        ),
         (
             lattice.point_index(l / 2 + 1, 0, n / 2),
             DVec3::new(0.05, 0.0, -0.12) * size,
@@ -169,8 +172,7 @@ fn every_kind_follows_a_bent_lattice_on_both_evaluators() {
                         let exact =
                             lattice.deform_point(object.kind().surface_point(k, s, t).unwrap());
                         let v = vs[record.vertex_offset as usize + i * (n + 1) + j];
-                        worst =
-                            worst.max(DVec3::from(v.position.map(f64::from)).distance(exact));
+                        worst = worst.max(DVec3::from(v.position.map(f64::from)).distance(exact));
                         checked += 1;
                     }
                 }
@@ -214,7 +216,8 @@ fn the_deformed_normal_and_curvature_match_the_kernel() {
                 let v = vs[record.vertex_offset as usize + i * (n + 1) + j];
                 let gpu_n = DVec3::from(v.normal.map(f64::from));
                 worst_n = worst_n.max(gpu_n.angle_between(normal).to_degrees());
-                let Some(c) = CurvatureValues::from_forms(&FundamentalForms::new(&deformed, normal))
+                let Some(c) =
+                    CurvatureValues::from_forms(&FundamentalForms::new(&deformed, normal))
                 else {
                     continue;
                 };
@@ -226,7 +229,9 @@ fn the_deformed_normal_and_curvature_match_the_kernel() {
             }
         }
     }
-    eprintln!("bent sheet: normal {worst_n:.1e}°, mean curvature {worst_h:.1e} relative, {checked} vertices");
+    eprintln!(
+        "bent sheet: normal {worst_n:.1e}°, mean curvature {worst_h:.1e} relative, {checked} vertices"
+    );
     assert!(checked > 100);
     assert!(worst_n < 0.02, "{worst_n}°");
     assert!(worst_h < 1e-2, "{worst_h:e}");
@@ -248,7 +253,9 @@ fn dragging_a_lattice_point_uploads_only_the_lattice() {
         let corner = 7;
         doc.begin_drag(0, &[corner]).unwrap();
         for step in 1..=3 {
-            let moved = doc.drag_by(DVec3::new(0.1, 0.2, -0.1) * f64::from(step)).unwrap();
+            let moved = doc
+                .drag_by(DVec3::new(0.1, 0.2, -0.1) * f64::from(step))
+                .unwrap();
             assert!(moved.patches.is_empty(), "no patch of the feed changes");
             let uploaded = sync.points_moved(&doc.scene, &moved).unwrap();
             assert_eq!(uploaded, 0, "no control point is uploaded");
@@ -257,7 +264,10 @@ fn dragging_a_lattice_point_uploads_only_the_lattice() {
         }
         let dragged = sync.read_vertices().unwrap();
         let (_, full) = vertices(&doc.scene, cpu);
-        assert!(dragged == full, "cpu {cpu}: incremental and full evaluation differ");
+        assert!(
+            dragged == full,
+            "cpu {cpu}: incremental and full evaluation differ"
+        );
         assert!(dragged != before);
         doc.commit_drag().unwrap();
         let touched = doc.undo().unwrap().touched();
@@ -370,14 +380,15 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     // Through a (2, 2, 1) lattice: refitted by bicubic cells within the tolerance.
     teapot.lattice = Some(bent_lattice(&teapot, [2, 2, 1]));
     let (baked, how) = teapot.baked_lattice(1e-3).unwrap();
-    assert!(
-        matches!(how, Baked::Refit { within: true, .. }),
-        "{how:?}"
-    );
+    assert!(matches!(how, Baked::Refit { within: true, .. }), "{how:?}");
     let ObjectGeometry::Patches(set) = &baked.geometry else {
         panic!()
     };
-    assert!(set.patches().iter().all(|p| p.degree_u() == 3 && p.degree_v() == 3));
+    assert!(
+        set.patches()
+            .iter()
+            .all(|p| p.degree_u() == 3 && p.degree_v() == 3)
+    );
 
     // A triangular patch of degree 3 through a trilinear lattice: degree 9, exact.
     let mut triangle = PrimitiveParams {
@@ -477,7 +488,9 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
 
     // The export writes the deformed surface.
     let object = &doc.scene.objects[0];
-    let meshes = object.tessellate(Tessellation::Tolerance(1e-3), false).unwrap();
+    let meshes = object
+        .tessellate(Tessellation::Tolerance(1e-3), false)
+        .unwrap();
     let plain = SceneObject {
         lattice: None,
         ..object.clone()

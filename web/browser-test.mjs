@@ -808,6 +808,59 @@ async function main() {
       await page.close();
     });
 
+    await check('free-form deformation in the page: a lattice bends a sheet on the GPU, export validates, apply is exact, undo', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const sheet = {
+        type: 'nurbs_surface', name: 'sheet', degree: [3, 3], segments: 16,
+        knots: [[0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0, 1, 1, 1, 1]],
+        points: [0, 1, 2, 3].map((i) => [0, 1, 2, 3].map((j) => [i - 1.5, j - 1.5, 0])),
+      };
+      await openObjects(page, [sheet]);
+      await page.evaluate(() => window.knotwork.frame());
+      await nextFrames(page);
+      const flat = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.addLattice(0, 1, 1, 1));
+      await page.waitForFunction(() => window.knotwork.project().objects[0].lattice?.points?.length === 8, null, { timeout: 60_000 });
+      let s = await status(page);
+      assert(s.error === null && s.control_points > 0, `lattice added: ${JSON.stringify(s.error)}`);
+      // Lift one corner of the lattice's top: the sheet bends on the GPU.
+      const lattice = (await page.evaluate(() => window.knotwork.project())).objects[0].lattice;
+      const top = lattice.points[7];
+      await page.evaluate(([x, y, z]) => window.knotwork.moveControlPoint(0, 7, [x, y, z + 2]), top);
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 2, null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null, `after the lattice drag: ${s.error}`);
+      const bent = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/lattice-bent.png`, bent);
+      const change = await screenshotDifference(page, flat, bent, VIEWPORT, 24);
+      assert(change.differing > 2000, `the bend shows (${change.differing} px)`);
+      const bytes = await exportGlbBytes(page, { tolerance: 0.001 });
+      const report = summary('lattice.glb', await validate(bytes, 'lattice.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      // Apply: a bicubic sheet through a trilinear lattice is exactly a degree-9 surface.
+      await page.evaluate(() => window.knotwork.applyLattice(0, 0.001));
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 3, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /exact/.test(s.notice ?? ''), `apply: ${s.error} / ${s.notice}`);
+      const baked = (await page.evaluate(() => window.knotwork.project())).objects[0];
+      assert(!baked.lattice && baked.degree[0] === 9 && baked.degree[1] === 9, `baked: degree ${baked.degree}`);
+      await nextFrames(page);
+      const applied = await page.locator('#knotwork-canvas').screenshot();
+      const same = await screenshotDifference(page, bent, applied, VIEWPORT, 24);
+      assert(same.differing < change.differing / 10, `the baked surface looks like the live one (${same.differing} px differ)`);
+      // Undo twice: the flat sheet with its lattice released is the original again.
+      await page.evaluate(() => window.knotwork.undo());
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 30_000 });
+      await page.evaluate(() => window.knotwork.releaseLattice(0));
+      await page.waitForFunction(() => !window.knotwork.project().objects[0].lattice, null, { timeout: 30_000 });
+      console.log(`      bend changed ${change.differing} px, baked differs by ${same.differing} px; export ${bytes.length} bytes, validator clean`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a trimmed surface in the page: a circle drawn with the mouse cuts a hole, export validates, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

@@ -108,7 +108,7 @@ impl KnotworkApp {
         let Some(object) = self.selection.object.map(|s| &self.doc.scene.objects[s]) else {
             return;
         };
-        let Some([nu, nv]) = object.kind().net_grid() else {
+        let Some([nu, nv]) = object.net_grid() else {
             self.status.error = Some(format!(
                 "rows and columns need a rectangular net; {} is {}",
                 object.name,

@@ -899,6 +899,97 @@ impl KnotworkApp {
         }
     }
 
+    /// Free-form deformation: *Add lattice* of chosen degrees around the selected object;
+    /// while it has one, *Reset* (the undisturbed lattice), *Release* (the undeformed object)
+    /// and *Apply* (baked into the object, exactly or refitted within the tolerance; the
+    /// status says which). The lattice's points are the handles meanwhile.
+    fn lattice_panel(&mut self, ui: &mut egui::Ui) {
+        use crate::kernel::ffd::{Lattice, MAX_LATTICE_DEGREE};
+        let Some(s) = self.selection.object else {
+            return;
+        };
+        let object = &self.scene().objects[s];
+        let current = object.lattice.clone();
+        ui.separator();
+        ui.label(egui::RichText::new("Lattice (free-form deformation)").strong());
+        let mut degrees = self.lattice_degrees;
+        let mut tolerance = self.lattice_tolerance;
+        let (mut command, mut add, mut apply) = (None, false, false);
+        match &current {
+            None => {
+                ui.horizontal(|ui| {
+                    ui.label("degrees");
+                    for d in &mut degrees {
+                        ui.add(egui::DragValue::new(d).range(1..=MAX_LATTICE_DEGREE));
+                    }
+                });
+                if ui
+                    .button("Add lattice")
+                    .on_hover_text(
+                        "a trivariate Bézier lattice around the object: drag its points and \
+                         the surface follows",
+                    )
+                    .clicked()
+                {
+                    add = true;
+                }
+            }
+            Some(lattice) => {
+                let [l, m, n] = lattice.degrees();
+                ui.label(format!(
+                    "degree ({l}, {m}, {n}), {} points: drag them like handles; the map's \
+                     degree is {}",
+                    lattice.points().len(),
+                    lattice.total_degree()
+                ));
+                ui.horizontal(|ui| {
+                    if ui.button("Reset").clicked()
+                        && let Ok(reset) =
+                            Lattice::undisturbed(lattice.origin(), lattice.axes(), [l, m, n])
+                    {
+                        command = Some(Some(reset));
+                    }
+                    if ui
+                        .button("Release")
+                        .on_hover_text("remove the lattice: the object as it was")
+                        .clicked()
+                    {
+                        command = Some(None);
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.label("tolerance");
+                    ui.add(
+                        egui::DragValue::new(&mut tolerance)
+                            .range(1e-6..=0.1)
+                            .speed(1e-4),
+                    )
+                    .on_hover_text("for a refit: a share of the object's size");
+                    if ui
+                        .button("Apply")
+                        .on_hover_text(
+                            "bake the deformation into the object: exact where the degree \
+                             allows, else refitted within the tolerance",
+                        )
+                        .clicked()
+                    {
+                        apply = true;
+                    }
+                });
+            }
+        }
+        self.lattice_degrees = degrees;
+        self.lattice_tolerance = tolerance;
+        if add {
+            self.add_lattice(s, degrees);
+        } else if apply {
+            self.apply_lattice(s, tolerance);
+        } else if let Some(lattice) = command {
+            self.selection.points.clear();
+            self.execute(Command::SetLattice { object: s, lattice });
+        }
+    }
+
     /// A triangular Bézier patch: its degree and *Elevate degree* (the shape stays).
     fn triangle_panel(&mut self, ui: &mut egui::Ui) {
         let Some(s) = self.selection.object else {
@@ -1209,6 +1300,7 @@ impl KnotworkApp {
         self.subdivision_panel(ui);
         self.triangle_panel(ui);
         self.displacement_panel(ui);
+        self.lattice_panel(ui);
         ui.separator();
         self.shading_panel(ui);
         ui.separator();

@@ -127,7 +127,10 @@ pub enum Command {
     /// Bakes an object's lattice into its geometry ([`SceneObject::baked_lattice`]; `tolerance`
     /// a fraction of the object's box diagonal for a refit). The undo step's label says
     /// whether the result is exact or refitted.
-    ApplyLattice { object: usize, tolerance: f64 },
+    ApplyLattice {
+        object: usize,
+        tolerance: f64,
+    },
     /// Changes the trim loops of a NURBS surface (an edit that would make a loop invalid is
     /// refused with the reason and changes nothing).
     Trim {

@@ -22,10 +22,10 @@ use super::records::{
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL};
 use crate::kernel::BezierPatchSet;
-use crate::kernel::ffd::Lattice;
 use crate::kernel::diffgeo::{
     CURVATURE_NUDGE, CurvatureValues, FundamentalForms, SurfaceDerivatives,
 };
+use crate::kernel::ffd::Lattice;
 use crate::kernel::subdiv::patches::LimitFeed;
 use crate::kernel::subdiv::substitutes;
 use crate::kernel::trim::index::TrimIndex;

@@ -45,11 +45,18 @@ fn lattice_error(message: impl Into<String>) -> GeometryError {
 /// A trivariate Bézier lattice over a box (a parallelepiped: corner and three edges).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lattice {
+    /// The box and the degrees (boxed: an object carries its lattice inline).
+    frame: Box<Frame>,
+    /// P_{ijk} at `(i (m + 1) + j) (n + 1) + k`.
+    points: Vec<DVec3>,
+}
+
+/// A lattice's box (corner and edges) and degrees (l, m, n).
+#[derive(Debug, Clone, PartialEq)]
+struct Frame {
     origin: DVec3,
     axes: [DVec3; 3],
     degrees: [usize; 3],
-    /// P_{ijk} at `(i (m + 1) + j) (n + 1) + k`.
-    points: Vec<DVec3>,
 }
 
 /// The lattice's map at one point, in local coordinates: F, its first derivatives
@@ -113,7 +120,9 @@ impl Lattice {
         let volume = axes[0].dot(axes[1].cross(axes[2])).abs();
         let scale = axes[0].length() * axes[1].length() * axes[2].length();
         if !(volume > 1e-9 * scale) || scale == 0.0 {
-            return Err(lattice_error("the box is flat (its edges do not span space)"));
+            return Err(lattice_error(
+                "the box is flat (its edges do not span space)",
+            ));
         }
         let expected = degrees.iter().map(|d| d + 1).product::<usize>();
         if points.len() != expected {
@@ -126,9 +135,11 @@ impl Lattice {
             return Err(lattice_error(format!("point {k} is not finite")));
         }
         Ok(Self {
-            origin,
-            axes,
-            degrees,
+            frame: Box::new(Frame {
+                origin,
+                axes,
+                degrees,
+            }),
             points,
         })
     }
@@ -167,31 +178,27 @@ impl Lattice {
         let edge = hi - lo + 2.0 * margin;
         Self::undisturbed(
             origin,
-            [
-                DVec3::X * edge.x,
-                DVec3::Y * edge.y,
-                DVec3::Z * edge.z,
-            ],
+            [DVec3::X * edge.x, DVec3::Y * edge.y, DVec3::Z * edge.z],
             degrees,
         )
     }
 
     pub fn origin(&self) -> DVec3 {
-        self.origin
+        self.frame.origin
     }
 
     pub fn axes(&self) -> [DVec3; 3] {
-        self.axes
+        self.frame.axes
     }
 
     /// (l, m, n).
     pub fn degrees(&self) -> [usize; 3] {
-        self.degrees
+        self.frame.degrees
     }
 
     /// l + m + n: the total degree of the map, by which a baked patch's degree is multiplied.
     pub fn total_degree(&self) -> usize {
-        self.degrees.iter().sum()
+        self.frame.degrees.iter().sum()
     }
 
     pub fn points(&self) -> &[DVec3] {
@@ -200,7 +207,7 @@ impl Lattice {
 
     /// The index of P_{ijk} in [`Self::points`].
     pub fn point_index(&self, i: usize, j: usize, k: usize) -> usize {
-        let [_, m, n] = self.degrees;
+        let [_, m, n] = self.frame.degrees;
         (i * (m + 1) + j) * (n + 1) + k
     }
 
@@ -220,7 +227,7 @@ impl Lattice {
 
     /// Whether every point is where the undisturbed lattice has it (within `tolerance`).
     pub fn is_undisturbed(&self, tolerance: f64) -> bool {
-        Self::undisturbed(self.origin, self.axes, self.degrees).is_ok_and(|u| {
+        Self::undisturbed(self.frame.origin, self.frame.axes, self.frame.degrees).is_ok_and(|u| {
             u.points
                 .iter()
                 .zip(&self.points)
@@ -230,17 +237,18 @@ impl Lattice {
 
     /// A: local coordinates from world ones, (s, t, u) = A (X − X₀).
     pub fn inverse_axes(&self) -> DMat3 {
-        DMat3::from_cols(self.axes[0], self.axes[1], self.axes[2]).inverse()
+        DMat3::from_cols(self.frame.axes[0], self.frame.axes[1], self.frame.axes[2]).inverse()
     }
 
     /// (s, t, u) of `p`.
     pub fn local(&self, p: DVec3) -> DVec3 {
-        self.inverse_axes() * (p - self.origin)
+        self.inverse_axes() * (p - self.frame.origin)
     }
 
     /// The map and its first and second derivatives at local coordinates `local`.
+    #[allow(clippy::needless_range_loop)] // i, j, k index the three bases and the points
     pub fn jet(&self, local: DVec3) -> LatticeJet {
-        let [l, m, n] = self.degrees;
+        let [l, m, n] = self.frame.degrees;
         let (bs, bt, bu) = (
             bernstein_jet(l, local.x),
             bernstein_jet(m, local.y),
@@ -302,7 +310,7 @@ impl Lattice {
     /// (F∘S)_uv = Σ F_a a_uv^a + Σ F_ab a_u^a a_v^b.
     pub fn deform(&self, d: &SurfaceDerivatives) -> SurfaceDerivatives {
         let a = self.inverse_axes();
-        let jet = self.jet(a * (d.point - self.origin));
+        let jet = self.jet(a * (d.point - self.frame.origin));
         let [lu, lv, luu, luv, lvv] = [d.su, d.sv, d.suu, d.suv, d.svv].map(|x| a * x);
         let first = |x: DVec3| jet.first[0] * x.x + jet.first[1] * x.y + jet.first[2] * x.z;
         let hessian = |x: DVec3, y: DVec3| {
@@ -328,9 +336,9 @@ impl Lattice {
     /// The lattice mapped by an affine transformation (box and points).
     pub fn transformed(&self, transform: &glam::DAffine3) -> Result<Self, GeometryError> {
         Self::new(
-            transform.transform_point3(self.origin),
-            self.axes.map(|a| transform.transform_vector3(a)),
-            self.degrees,
+            transform.transform_point3(self.frame.origin),
+            self.frame.axes.map(|a| transform.transform_vector3(a)),
+            self.frame.degrees,
             self.points
                 .iter()
                 .map(|&p| transform.transform_point3(p))
@@ -340,7 +348,7 @@ impl Lattice {
 
     /// Index pairs of the lattice's lines (between neighbours along each direction).
     pub fn net_lines(&self) -> Vec<u32> {
-        let [l, m, n] = self.degrees;
+        let [l, m, n] = self.frame.degrees;
         let mut lines = Vec::new();
         for i in 0..=l {
             for j in 0..=m {
@@ -364,14 +372,14 @@ impl Lattice {
     /// The words the GPU reads (`shaders/eval_bezier.wgsl`, `lattice_jet`): (X₀, degrees packed
     /// l | m << 8 | n << 16 as the bits of w), the three rows of A, then the points.
     pub fn gpu_block(&self) -> Vec<[f32; 4]> {
-        let [l, m, n] = self.degrees;
+        let [l, m, n] = self.frame.degrees;
         let packed = (l | (m << 8) | (n << 16)) as u32;
         let a = self.inverse_axes().transpose();
         let mut block = vec![
             [
-                self.origin.x as f32,
-                self.origin.y as f32,
-                self.origin.z as f32,
+                self.frame.origin.x as f32,
+                self.frame.origin.y as f32,
+                self.frame.origin.z as f32,
                 f32::from_bits(packed),
             ],
             a.x_axis.extend(0.0).as_vec4().to_array(),
@@ -398,22 +406,13 @@ impl Lattice {
     ) -> Result<([usize; 2], Vec<DVec4>), GeometryError> {
         let [p, q] = degree;
         if points.len() != (p + 1) * (q + 1) || p == 0 || q == 0 {
-            return Err(lattice_error("a patch's point count does not match its degree"));
+            return Err(lattice_error(
+                "a patch's point count does not match its degree",
+            ));
         }
         let big = self.total_degree();
         let [nu, nv] = [big * p, big * q];
-        let patch = |u: f64, v: f64| -> DVec4 {
-            let (mut bu, mut bv) = (vec![0.0; p + 1], vec![0.0; q + 1]);
-            bernstein_all(u, &mut bu);
-            bernstein_all(v, &mut bv);
-            let mut h = DVec4::ZERO;
-            for i in 0..=p {
-                for j in 0..=q {
-                    h += points[i * (q + 1) + j] * (bu[i] * bv[j]);
-                }
-            }
-            h
-        };
+        let patch = |u: f64, v: f64| homogeneous_bezier_point([p, q], points, u, v);
         let mut samples = vec![DVec4::ZERO; (nu + 1) * (nv + 1)];
         for a in 0..=nu {
             for b in 0..=nv {
@@ -478,6 +477,23 @@ impl Lattice {
             .ok_or_else(|| lattice_error("the collocation system is singular"))?;
         TriangleBezier::new(degree, points)
     }
+}
+
+/// The homogeneous point at (u, v) of the Bézier patch of degree (p, q) with homogeneous
+/// points `points` (row-major, i along u): Σ B_{i,p}(u) B_{j,q}(v) P_ij.
+#[allow(clippy::needless_range_loop)] // i and j index both bases and the points
+pub fn homogeneous_bezier_point(degree: [usize; 2], points: &[DVec4], u: f64, v: f64) -> DVec4 {
+    let [p, q] = degree;
+    let (mut bu, mut bv) = (vec![0.0; p + 1], vec![0.0; q + 1]);
+    bernstein_all(u, &mut bu);
+    bernstein_all(v, &mut bv);
+    let mut h = DVec4::ZERO;
+    for i in 0..=p {
+        for j in 0..=q {
+            h += points[i * (q + 1) + j] * (bu[i] * bv[j]);
+        }
+    }
+    h
 }
 
 /// The collocation matrix of the degree-n Bernstein basis at the parameters a / n.
@@ -651,6 +667,9 @@ impl Baked {
     }
 }
 
+/// The bicubic cells of one span (each 16 points, row-major).
+pub type SpanCells = Vec<Vec<DVec3>>;
+
 /// Refits with [`hermite_cells`], doubling the cells per span from 1 until every span is
 /// within `tolerance` or [`MAX_REFIT_CELLS`] is reached: the cells of every span (in the
 /// order of `spans`), the cells used and the largest deviation.
@@ -659,14 +678,13 @@ pub fn refit_spans(
     spans: &[[f64; 4]],
     tolerance: f64,
     derivatives: &dyn Fn(usize, f64, f64) -> Result<SurfaceDerivatives, GeometryError>,
-) -> Result<(Vec<Vec<Vec<DVec3>>>, usize, f64), GeometryError> {
+) -> Result<(Vec<SpanCells>, usize, f64), GeometryError> {
     let mut cells = 1;
     loop {
         let mut all = Vec::with_capacity(spans.len());
         let mut error: f64 = 0.0;
         for (k, &domain) in spans.iter().enumerate() {
-            let (patches, e) =
-                hermite_cells(lattice, domain, cells, &|u, v| derivatives(k, u, v))?;
+            let (patches, e) = hermite_cells(lattice, domain, cells, &|u, v| derivatives(k, u, v))?;
             error = error.max(e);
             all.push(patches);
         }
@@ -686,10 +704,14 @@ mod tests {
             Lattice::around(DVec3::splat(-1.0), DVec3::splat(1.0), [2, 1, 3]).unwrap();
         let middle = lattice.point_index(1, 1, 2);
         let p = lattice.points()[middle];
-        lattice.set_point(middle, p + DVec3::new(0.3, -0.2, 0.5)).unwrap();
+        lattice
+            .set_point(middle, p + DVec3::new(0.3, -0.2, 0.5))
+            .unwrap();
         let corner = lattice.point_index(0, 0, 0);
         let p = lattice.points()[corner];
-        lattice.set_point(corner, p + DVec3::new(-0.1, 0.2, 0.1)).unwrap();
+        lattice
+            .set_point(corner, p + DVec3::new(-0.1, 0.2, 0.1))
+            .unwrap();
         lattice
     }
 
@@ -720,7 +742,8 @@ mod tests {
             assert!(d.distance(jet.first[a]) < 1e-7, "first {a}");
             for b in 0..3 {
                 let f = DVec3::AXES[b] * h;
-                let dd = (lattice.jet(x + e + f).value - lattice.jet(x + e - f).value
+                let dd = (lattice.jet(x + e + f).value
+                    - lattice.jet(x + e - f).value
                     - lattice.jet(x - e + f).value
                     + lattice.jet(x - e - f).value)
                     / (4.0 * h * h);
@@ -742,7 +765,10 @@ mod tests {
             base.origin(),
             base.axes(),
             base.degrees(),
-            base.points().iter().map(|&p| map.transform_point3(p)).collect(),
+            base.points()
+                .iter()
+                .map(|&p| map.transform_point3(p))
+                .collect(),
         )
         .unwrap();
         let d = SurfaceDerivatives {
@@ -788,8 +814,11 @@ mod tests {
             .map(|k| {
                 let (i, j) = (k / 3, k % 3);
                 let w = if k == 4 { 0.6 } else { 1.0 + 0.1 * i as f64 };
-                (DVec3::new(i as f64 * 0.5 - 0.5, j as f64 * 0.5 - 0.5, 0.2 * (i * j) as f64)
-                    * w)
+                (DVec3::new(
+                    i as f64 * 0.5 - 0.5,
+                    j as f64 * 0.5 - 0.5,
+                    0.2 * (i * j) as f64,
+                ) * w)
                     .extend(w)
             })
             .collect();
@@ -808,15 +837,7 @@ mod tests {
 
     impl NurbsPatch {
         fn at(&self, u: f64, v: f64) -> DVec3 {
-            let (mut bu, mut bv) = (vec![0.0; self.0 + 1], vec![0.0; self.1 + 1]);
-            bernstein_all(u, &mut bu);
-            bernstein_all(v, &mut bv);
-            let mut h = DVec4::ZERO;
-            for i in 0..=self.0 {
-                for j in 0..=self.1 {
-                    h += self.2[i * (self.1 + 1) + j] * (bu[i] * bv[j]);
-                }
-            }
+            let h = homogeneous_bezier_point([self.0, self.1], &self.2, u, v);
             h.truncate() / h.w
         }
     }
@@ -883,7 +904,9 @@ mod tests {
         let axes = [DVec3::X, DVec3::Y, DVec3::Z];
         assert!(Lattice::undisturbed(DVec3::ZERO, axes, [0, 1, 1]).is_err());
         assert!(Lattice::undisturbed(DVec3::ZERO, axes, [5, 1, 1]).is_err());
-        assert!(Lattice::undisturbed(DVec3::ZERO, [DVec3::X, DVec3::Y, DVec3::X], [1, 1, 1]).is_err());
+        assert!(
+            Lattice::undisturbed(DVec3::ZERO, [DVec3::X, DVec3::Y, DVec3::X], [1, 1, 1]).is_err()
+        );
         assert!(Lattice::undisturbed(DVec3::NAN, axes, [1, 1, 1]).is_err());
         assert!(Lattice::new(DVec3::ZERO, axes, [1, 1, 1], vec![DVec3::ZERO; 7]).is_err());
         let mut lattice = Lattice::undisturbed(DVec3::ZERO, axes, [1, 1, 1]).unwrap();

@@ -229,7 +229,12 @@ pub fn bake_triangle(
     let degree = lattice.total_degree() * patch.degree();
     if degree <= MAX_TRIANGLE_DEGREE {
         let baked = lattice.compose_triangle(patch)?;
-        return Ok((baked, Baked::Exact { degree: [degree; 2] }));
+        return Ok((
+            baked,
+            Baked::Exact {
+                degree: [degree; 2],
+            },
+        ));
     }
     let baked = lattice.interpolate_triangle(patch, MAX_TRIANGLE_DEGREE)?;
     let n = 2 * MAX_TRIANGLE_DEGREE;
