@@ -37,16 +37,7 @@ fn plane(displacement: Displacement) -> SceneObject {
 
 /// The vertices of `scene` as the compute shaders (or the CPU evaluator) write them.
 fn vertices(scene: &Scene, cpu: bool) -> (SceneSync, Vec<SurfaceVertex>) {
-    let context = common::gpu();
-    let mut sync = if cpu {
-        SceneSync::on_cpu(&context.device, &context.queue)
-    } else {
-        SceneSync::new(&context.device, &context.queue)
-    };
-    sync.rebuild(scene, 1.0).unwrap();
-    sync.evaluate_blocking().unwrap();
-    let v = sync.read_vertices().unwrap();
-    (sync, v)
+    common::evaluate_scene(scene, cpu)
 }
 
 #[test]

@@ -84,6 +84,15 @@ fn assemble(
     Ok(surface)
 }
 
+/// The report of a bicubic refit with `cells` per span that reached `error`.
+fn refitted(cells: usize, error: f64, tolerance: f64) -> Baked {
+    Baked::Refit {
+        cells,
+        error,
+        within: error <= tolerance,
+    }
+}
+
 /// A NURBS surface with the lattice applied: exact (composed Bézier patches, knots removed
 /// back to the continuity they have) where the degree allows, else refitted bicubic.
 pub fn bake_nurbs(
@@ -149,15 +158,7 @@ pub fn bake_nurbs(
         }
     }
     let baked = assemble([3, 3], [&fine[0], &fine[1]], &grid, joint_tolerance)?;
-    let within = error <= tolerance;
-    Ok((
-        baked,
-        Baked::Refit {
-            cells,
-            error,
-            within,
-        },
-    ))
+    Ok((baked, refitted(cells, error, tolerance)))
 }
 
 /// A set of Bézier patches with the lattice applied: each patch composed exactly where the
@@ -207,15 +208,7 @@ pub fn bake_patch_set(
         patches.push(BezierPatch::new(3, 3, indices));
     }
     let baked = BezierPatchSet::new(pool.points, None, patches)?;
-    let within = error <= tolerance;
-    Ok((
-        baked,
-        Baked::Refit {
-            cells,
-            error,
-            within,
-        },
-    ))
+    Ok((baked, refitted(cells, error, tolerance)))
 }
 
 /// A triangular patch with the lattice applied: composed exactly where the degree stays within

@@ -347,3 +347,21 @@ pub fn run_subdivide(input: &std::path::Path, args: &[&str]) -> std::process::Ou
         .output()
         .expect("the knotwork binary runs")
 }
+
+/// The vertices of `scene` as the compute shaders (or, with `cpu`, the WebGL2 path's CPU
+/// evaluator) write them, with the sync layer that wrote them.
+pub fn evaluate_scene(
+    scene: &knotwork::scene::Scene,
+    cpu: bool,
+) -> (knotwork::gpu::SceneSync, Vec<knotwork::gpu::SurfaceVertex>) {
+    let context = gpu();
+    let mut sync = if cpu {
+        knotwork::gpu::SceneSync::on_cpu(&context.device, &context.queue)
+    } else {
+        knotwork::gpu::SceneSync::new(&context.device, &context.queue)
+    };
+    sync.rebuild(scene, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    let v = sync.read_vertices().unwrap();
+    (sync, v)
+}
