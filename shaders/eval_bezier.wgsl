@@ -423,7 +423,58 @@ fn grid_point_at(rec: PatchRecord, i: u32, j: u32) -> GridPoint {
 const DISPLACE_WAVES: u32 = 1u;
 const DISPLACE_RIPPLES: u32 = 2u;
 const DISPLACE_NOISE: u32 = 3u;
+const DISPLACE_IMAGE: u32 = 4u;
 const TAU: f32 = 6.28318530718;
+
+// The uniform cubic B-spline's weights at t in [0, 1) for the points i - 1 .. i + 2, and their
+// derivatives (kernel::displace::cubic_bspline).
+fn cubic_bspline_weights(t: f32) -> vec4<f32> {
+    let s = 1.0 - t;
+    return vec4<f32>(
+        s * s * s,
+        3.0 * t * t * t - 6.0 * t * t + 4.0,
+        -3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0,
+        t * t * t,
+    ) / 6.0;
+}
+
+fn cubic_bspline_slopes(t: f32) -> vec4<f32> {
+    let s = 1.0 - t;
+    return vec4<f32>(-s * s, 3.0 * t * t - 4.0 * t, -3.0 * t * t + 2.0 * t + 1.0, t * t) / 2.0;
+}
+
+// The grey of pixel (i, j) (column, row from the top) of the height image at `base` (header
+// (width, height) as bits, then the values four to a word), the image repeating.
+fn image_value(base: u32, width: i32, height: i32, i: i32, j: i32) -> f32 {
+    let x = ((i % width) + width) % width;
+    let y = ((j % height) + height) % height;
+    let k = u32(y * width + x);
+    return control_points[base + 1u + k / 4u][k % 4u];
+}
+
+// The tiled height image's smooth grey and its derivatives (g, g_x, g_y) at tile coordinates
+// (x, y) (kernel::displace::HeightImage::sample).
+fn image_height(base: u32, x: f32, y: f32) -> vec3<f32> {
+    let header = control_points[base];
+    let width = i32(bitcast<u32>(header.x));
+    let height = i32(bitcast<u32>(header.y));
+    let px = fract(x) * f32(width);
+    let py = fract(1.0 - y) * f32(height);
+    let fi = floor(px);
+    let fj = floor(py);
+    let bx = cubic_bspline_weights(px - fi);
+    let dx = cubic_bspline_slopes(px - fi);
+    let by = cubic_bspline_weights(py - fj);
+    let dy = cubic_bspline_slopes(py - fj);
+    var out = vec3<f32>(0.0);
+    for (var b = 0; b < 4; b++) {
+        for (var a = 0; a < 4; a++) {
+            let g = image_value(base, width, height, i32(fi) + a - 1, i32(fj) + b - 1);
+            out += g * vec3<f32>(bx[a] * by[b], dx[a] * by[b], bx[a] * dy[b]);
+        }
+    }
+    return vec3<f32>(out.x, out.y * f32(width), -out.z * f32(height));
+}
 
 // The noise lattice's value at (i, j) in [-1, 1]: the same integer hash as
 // kernel::displace::lattice_value.
@@ -443,9 +494,13 @@ fn fade(t: f32) -> vec2<f32> {
 }
 
 // The height h and (h_x, h_y) of pattern `code` at frequency f and normalized (x, y)
-// (kernel::displace::Displacement::height).
-fn displacement_height(code: u32, f: f32, x: f32, y: f32) -> vec3<f32> {
+// (kernel::displace::Displacement::height); an image's words start at `image`.
+fn displacement_height(code: u32, f: f32, x: f32, y: f32, image: u32) -> vec3<f32> {
     let w = TAU * f;
+    if (code == DISPLACE_IMAGE) {
+        let g = image_height(image, x * f, y * f);
+        return vec3<f32>(2.0 * g.x - 1.0, 2.0 * g.y * f, 2.0 * g.z * f);
+    }
     if (code == DISPLACE_WAVES) {
         let sx = sin(w * x);
         let cx = cos(w * x);
@@ -503,7 +558,7 @@ fn displace(rec: PatchRecord, d: Derivatives, position: vec3<f32>, normal: vec3<
     let x = (u - object.x) / span.x;
     let y = (v - object.z) / span.y;
     let scale = (rec.domain.yw - rec.domain.xz) / span;
-    let hh = displacement_height(u32(params.x), params.z, x, y);
+    let hh = displacement_height(u32(params.x), params.z, x, y, rec.displacement + 2u);
     let a = params.y;
     let dn = normal_derivatives(d, normal);
     let pu = d.su + (normal * (hh.y * scale.x) + dn.nu * hh.x) * a;
@@ -1096,8 +1151,9 @@ fn hull_outside_view(rec: PatchRecord) -> bool {
     return outside != 0u;
 }
 
-// The least segments (along s, along t) a displaced record's pattern needs: 8 per cycle of
-// its frequency over the share of the object's domain the record spans (the export's rule).
+// The least segments (along s, along t) a displaced record's pattern needs: its segments per cycle
+// (params.w: 8, or an image's pixels) times its frequency over the share of the object's domain
+// the record spans (the export's rule).
 // Neighbours along an edge span the same share of it, so they agree on its count.
 fn displacement_segments(rec: PatchRecord) -> vec2<u32> {
     if (rec.displacement == DISPLACEMENT_NONE) {
@@ -1107,7 +1163,7 @@ fn displacement_segments(rec: PatchRecord) -> vec2<u32> {
     let object = control_points[rec.displacement + 1u];
     let share = (rec.domain.yw - rec.domain.xz) / max(object.yw - object.xz, vec2<f32>(1e-30));
     let most = f32(max(adaptive_view.counts.y, 1u));
-    return vec2<u32>(clamp(ceil(8.0 * params.z * share), vec2<f32>(1.0), vec2<f32>(most)));
+    return vec2<u32>(clamp(ceil(params.w * params.z * share), vec2<f32>(1.0), vec2<f32>(most)));
 }
 
 // The levels of every slot's patch: each edge from its own curve, each interior direction the

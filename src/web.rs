@@ -249,6 +249,7 @@ pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency:
                 pattern,
                 amplitude,
                 frequency,
+                image: None,
             }),
             Err(_) => return false,
         }
@@ -288,6 +289,29 @@ pub fn apply_lattice(object: u32, tolerance: f64) {
         object: object as usize,
         tolerance,
     });
+}
+
+/// Displaces `object` along its normal by the PNG `png` (grey; tiled `frequency` × `frequency`
+/// times; h = 2 grey − 1) scaled by `amplitude`; one undo step. An unreadable image is refused
+/// here with the reason; bad numbers and objects without a (u, v) domain in the status.
+#[wasm_bindgen]
+pub fn set_displacement_image(
+    object: u32,
+    png: Vec<u8>,
+    amplitude: f64,
+    frequency: f64,
+) -> Result<(), String> {
+    let image = crate::io::height_image::decode_png(&png)?;
+    status::send(ExternalCommand::SetDisplacement {
+        object: object as usize,
+        displacement: Some(crate::kernel::displace::Displacement {
+            pattern: crate::kernel::displace::Pattern::Image,
+            amplitude,
+            frequency,
+            image: Some(std::sync::Arc::new(image)),
+        }),
+    });
+    Ok(())
 }
 
 /// Chooses the trim tool for the selected NURBS surface: "circle", "rectangle", "hexagon",

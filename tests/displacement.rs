@@ -40,12 +40,34 @@ fn vertices(scene: &Scene, cpu: bool) -> (SceneSync, Vec<SurfaceVertex>) {
     common::evaluate_scene(scene, cpu)
 }
 
+/// A grey PNG of 24 × 16 smooth bumps.
+fn bumps_png() -> Vec<u8> {
+    let (w, h) = (24u32, 16u32);
+    let grey: Vec<u8> = (0..w * h)
+        .map(|k| {
+            let (i, j) = (f64::from(k % w), f64::from(k / w));
+            (127.5 + 120.0 * (0.5 * i).sin() * (0.7 * j + 0.3).cos()).round() as u8
+        })
+        .collect();
+    knotwork::io::height_image::encode_grey_png(w, h, &grey).unwrap()
+}
+
+/// A displacement by the bumps image tiled 2 × 2 times.
+fn image_map(amplitude: f64) -> Displacement {
+    let image = knotwork::io::height_image::decode_png(&bumps_png()).unwrap();
+    Displacement::with_image(std::sync::Arc::new(image), amplitude, 2.0).unwrap()
+}
+
 #[test]
 fn a_displaced_plane_is_the_height_field_on_both_evaluators() {
-    for pattern in Pattern::ALL {
-        let map = Displacement::new(pattern, 0.15, 3.0).unwrap();
+    let maps = Pattern::ALL
+        .map(|pattern| Displacement::new(pattern, 0.15, 3.0).unwrap())
+        .into_iter()
+        .chain([image_map(0.15)]);
+    for map in maps {
+        let pattern = map.pattern;
         let scene = Scene {
-            objects: vec![plane(map)],
+            objects: vec![plane(map.clone())],
         };
         for cpu in [false, true] {
             let (_, vs) = vertices(&scene, cpu);
@@ -80,7 +102,7 @@ fn a_displaced_sphere_on_the_gpu_is_the_kernels_displaced_sphere() {
     .unwrap();
     sphere.segments = 12;
     let map = Displacement::new(Pattern::Ripples, 0.05, 5.0).unwrap();
-    sphere.displacement = Some(map);
+    sphere.displacement = Some(map.clone());
     let domain = sphere.geometry.displacement_domain().unwrap();
     let scene = Scene {
         objects: vec![sphere.clone()],
@@ -99,8 +121,11 @@ fn a_displaced_sphere_on_the_gpu_is_the_kernels_displaced_sphere() {
                 let Some(normal) = d.regular_normal() else {
                     continue;
                 };
-                let (p, _) =
-                    ObjectDisplacement { map, domain }.apply(record, &d, d.point, normal, (s, t));
+                let (p, _) = ObjectDisplacement {
+                    map: map.clone(),
+                    domain,
+                }
+                .apply(record, &d, d.point, normal, (s, t));
                 let v = vs[(record.vertex_offset + i * (n + 1) + j) as usize];
                 worst = worst.max(DVec3::from(v.position.map(f64::from)).distance(p));
                 checked += 1;
@@ -122,13 +147,13 @@ fn the_document_refuses_cages_and_undoes_a_displacement() {
     .unwrap();
     let map = Displacement::new(Pattern::Waves, 0.1, 2.0).unwrap();
     let mut doc = Document::new(Scene {
-        objects: vec![cage, plane(map)],
+        objects: vec![cage, plane(map.clone())],
     });
     doc.scene.objects[1].displacement = None;
     let original = doc.scene.clone();
     let refused = doc.execute(&Command::SetDisplacement {
         object: 0,
-        displacement: Some(map),
+        displacement: Some(map.clone()),
     });
     assert!(
         refused
@@ -140,7 +165,7 @@ fn the_document_refuses_cages_and_undoes_a_displacement() {
     assert_eq!(doc.scene, original);
     let bad = Displacement {
         frequency: -1.0,
-        ..map
+        ..map.clone()
     };
     assert!(
         doc.execute(&Command::SetDisplacement {
@@ -152,7 +177,7 @@ fn the_document_refuses_cages_and_undoes_a_displacement() {
     let touched = doc
         .execute(&Command::SetDisplacement {
             object: 1,
-            displacement: Some(map),
+            displacement: Some(map.clone()),
         })
         .unwrap()
         .touched();
@@ -167,7 +192,7 @@ fn the_project_file_keeps_it_and_refuses_bad_ones() {
     let map = Displacement::new(Pattern::Noise, -0.04, 6.0).unwrap();
     let text = project::write(&Project {
         scene: Scene {
-            objects: vec![plane(map)],
+            objects: vec![plane(map.clone())],
         },
         view: None,
     });
@@ -191,12 +216,36 @@ fn the_project_file_keeps_it_and_refuses_bad_ones() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("displacement"), "{e}");
+
+    // An image displacement keeps its PNG; a broken one is refused with the field named.
+    let map = image_map(0.07);
+    let text = project::write(&Project {
+        scene: Scene {
+            objects: vec![plane(map.clone())],
+        },
+        view: None,
+    });
+    let back = project::read(&text).unwrap();
+    assert_eq!(back.scene.objects[0].displacement, Some(map));
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["objects"][0]["displacement"]["image"] = "bm90IGEgcG5n".into();
+    let e = project::read(&value.to_string()).unwrap_err().to_string();
+    assert!(e.contains("displacement.image") && e.contains("PNG"), "{e}");
+    value["objects"][0]["displacement"]
+        .as_object_mut()
+        .unwrap()
+        .remove("image");
+    let e = project::read(&value.to_string()).unwrap_err().to_string();
+    assert!(
+        e.contains("image"),
+        "an image pattern without an image: {e}"
+    );
 }
 
 #[test]
 fn the_export_moves_the_points() {
     let map = Displacement::new(Pattern::Waves, 0.2, 2.0).unwrap();
-    let object = plane(map);
+    let object = plane(map.clone());
     let meshes = object
         .tessellate(Tessellation::Tolerance(1e-3), false)
         .unwrap();
@@ -210,4 +259,15 @@ fn the_export_moves_the_points() {
         highest = highest.max(p.z);
     }
     assert!(highest > 0.19, "the crests are exported: {highest}");
+
+    // An image: one segment per pixel of its longer side per tile (24 × 2 here).
+    let map = image_map(0.1);
+    let meshes = plane(map.clone())
+        .tessellate(Tessellation::Tolerance(1e-3), false)
+        .unwrap();
+    assert!(meshes[0].positions.len() >= 49 * 49);
+    for (p, uv) in meshes[0].positions.iter().zip(&meshes[0].uvs) {
+        let z = 0.1 * map.height(uv[0], uv[1])[0];
+        assert!((p.z - z).abs() < 1e-12, "{p} vs {z}");
+    }
 }

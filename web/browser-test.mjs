@@ -801,9 +801,43 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
       s = await status(page);
       assert(/frequency/.test(s.error), `a bad frequency is refused: ${s.error}`);
+      // An image height map: a radial gradient drawn by the page itself, tiled twice.
+      const pngBytes = await page.evaluate(async () => {
+        const canvas = new OffscreenCanvas(32, 32);
+        const g = canvas.getContext('2d');
+        const gradient = g.createRadialGradient(16, 16, 2, 16, 16, 16);
+        gradient.addColorStop(0, '#ffffff');
+        gradient.addColorStop(1, '#000000');
+        g.fillStyle = gradient;
+        g.fillRect(0, 0, 32, 32);
+        const blob = await canvas.convertToBlob({ type: 'image/png' });
+        const png = new Uint8Array(await blob.arrayBuffer());
+        window.knotwork.setDisplacementImage(0, png, 0.3, 2);
+        return png.length;
+      });
+      await page.waitForFunction(() => window.knotwork.project().objects[0].displacement?.pattern === 'image', null, { timeout: 60_000 });
+      await nextFrames(page);
+      s = await status(page);
+      assert(s.error === null, `image displacement: ${s.error}`);
+      const domes = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/displaced-image.png`, domes);
+      const imageChange = await screenshotDifference(page, flat, domes, viewport, 24);
+      assert(imageChange.differing > 2000, `the image's domes show (${imageChange.differing} px)`);
+      const imageGlb = await exportGlbBytes(page, { tolerance: 0.001 });
+      const imageReport = summary('displaced-image.glb', await validate(imageGlb, 'displaced-image.glb'));
+      assert(imageReport.errors === 0 && imageReport.warnings === 0, `validator: ${JSON.stringify(imageReport)}`);
+      const refusal = await page.evaluate(() => {
+        try {
+          window.knotwork.setDisplacementImage(0, new Uint8Array([1, 2, 3]), 0.1, 1);
+          return null;
+        } catch (e) {
+          return String(e);
+        }
+      });
+      assert(refusal && /PNG/.test(refusal), `an unreadable image is refused: ${refusal}`);
       await page.evaluate(() => window.knotwork.setDisplacement(0, 'none'));
       await page.waitForFunction(() => !window.knotwork.project().objects[0].displacement, null, { timeout: 60_000 });
-      console.log(`      ripples changed ${change.differing} px; export ${bytes.length} bytes, validator clean`);
+      console.log(`      ripples changed ${change.differing} px, a ${pngBytes}-byte image ${imageChange.differing} px; exports ${bytes.length} and ${imageGlb.length} bytes, validator clean`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -30,7 +30,12 @@ fn no_companions(name: &str) -> Result<Vec<u8>, String> {
 impl KnotworkApp {
     /// Opens a file's bytes in any format [`crate::io::open`] reads (a `.gltf` must have its
     /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
+    /// A PNG is used as the selected surface's height map instead ([`Self::use_height_image`]).
     pub fn open_file(&mut self, name: &str, bytes: &[u8]) {
+        if crate::io::height_image::is_height_image(name) {
+            self.use_height_image(name, bytes);
+            return;
+        }
         let project = crate::io::open(name, bytes, &no_companions).map_err(|e| e.to_string());
         self.open_result(name, project);
     }
@@ -144,14 +149,14 @@ impl KnotworkApp {
             {
                 // From its path where it has one: the size is checked before reading, and a
                 // .gltf's .bin is read from beside it.
-                let project = if file.path().is_file() {
-                    open_path(file.path())
-                } else {
-                    file.bytes().and_then(|bytes| {
-                        crate::io::open(&name, &bytes, &no_companions).map_err(|e| e.to_string())
-                    })
-                };
-                self.open_result(&name, project);
+                if file.path().is_file() {
+                    self.open_path_or_image(file.path());
+                    continue;
+                }
+                match file.bytes() {
+                    Ok(bytes) => self.open_file(&name, &bytes),
+                    Err(e) => self.open_failed(&name, &e),
+                }
             }
             #[cfg(target_arch = "wasm32")]
             {
@@ -188,23 +193,101 @@ impl KnotworkApp {
         }
     }
 
+    /// Uses the PNG `bytes` as the height map of the selected surface: a displacement by the
+    /// image (keeping the amplitude and frequency it had, else 5 % of its size, once), one
+    /// undo step. Refused with the reason when nothing with a (u, v) domain is selected or the
+    /// image cannot be read.
+    pub(super) fn use_height_image(&mut self, name: &str, bytes: &[u8]) {
+        use crate::kernel::displace::Displacement;
+        let target = self.selection.object.filter(|&s| {
+            self.scene()
+                .objects
+                .get(s)
+                .is_some_and(|o| o.geometry.displacement_domain().is_some())
+        });
+        let Some(s) = target else {
+            self.status.error = Some(format!(
+                "{name}: select a NURBS surface, a Bézier patch set or a triangular patch to use \
+                 the image as its height map"
+            ));
+            return;
+        };
+        let object = &self.scene().objects[s];
+        let size = object
+            .kind()
+            .bounds()
+            .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-9));
+        let (amplitude, frequency) = object
+            .displacement
+            .as_ref()
+            .map_or((0.05 * size, 1.0), |d| (d.amplitude, d.frequency));
+        let displacement = crate::io::height_image::decode_png(bytes).and_then(|image| {
+            Displacement::with_image(Arc::new(image), amplitude, frequency)
+                .map_err(|e| e.to_string())
+        });
+        match displacement {
+            Ok(d) => self.execute(crate::doc::Command::SetDisplacement {
+                object: s,
+                displacement: Some(d),
+            }),
+            Err(e) => self.status.error = Some(format!("{name}: {e}")),
+        }
+    }
+
+    /// Lets the user choose a PNG for the selected surface's height map.
+    pub(super) fn height_image_dialog(&mut self) {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            if let Some(path) = super::platform::choose_file_to_open("PNG height map", &["png"]) {
+                let name = path.display().to_string();
+                match read_limited(&path) {
+                    Ok(bytes) => self.use_height_image(&name, &bytes),
+                    Err(e) => self.status.error = Some(format!("{name}: {e}")),
+                }
+            }
+        }
+        #[cfg(target_arch = "wasm32")]
+        self.pick_into_incoming(".png,image/png");
+    }
+
     /// Shows the open dialog (desktop: blocking native dialog; web: the browser's picker).
     pub(super) fn open_dialog(&mut self) {
         #[cfg(not(target_arch = "wasm32"))]
         {
+            let mut extensions = crate::io::OPEN_EXTENSIONS.to_vec();
+            extensions.push("png");
             if let Some(path) = super::platform::choose_file_to_open(
-                "knotwork project, glTF, OBJ",
-                &crate::io::OPEN_EXTENSIONS,
+                "knotwork project, glTF, OBJ, PNG height map",
+                &extensions,
             ) {
-                let name = path.display().to_string();
-                self.open_result(&name, open_path(&path));
+                self.open_path_or_image(&path);
             }
         }
         #[cfg(target_arch = "wasm32")]
+        self.pick_into_incoming(super::platform::OPEN_ACCEPT);
+    }
+
+    /// Opens the file at `path`, or uses it as a height map if it is a PNG.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn open_path_or_image(&mut self, path: &std::path::Path) {
+        let name = path.display().to_string();
+        if crate::io::height_image::is_height_image(&name) {
+            match read_limited(path) {
+                Ok(bytes) => self.use_height_image(&name, &bytes),
+                Err(e) => self.open_failed(&name, &e),
+            }
+        } else {
+            self.open_result(&name, open_path(path));
+        }
+    }
+
+    /// The browser's picker (offering `accept`); the file arrives with the dropped ones.
+    #[cfg(target_arch = "wasm32")]
+    fn pick_into_incoming(&mut self, accept: &'static str) {
         {
             let incoming = Arc::clone(&self.incoming);
             wasm_bindgen_futures::spawn_local(async move {
-                if let Some(file) = super::platform::pick_file().await {
+                if let Some(file) = super::platform::pick_file(accept).await {
                     if let Ok(mut queue) = incoming.lock() {
                         queue.push(file);
                     }

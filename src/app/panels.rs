@@ -852,25 +852,39 @@ impl KnotworkApp {
         if object.geometry.displacement_domain().is_none() {
             return;
         }
-        let before = object.displacement;
+        let before = object.displacement.clone();
         let size = object
             .bounds()
             .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-9));
         ui.separator();
         ui.label(egui::RichText::new("Displacement").strong());
-        let mut pattern = before.map(|d| d.pattern);
+        let mut pattern = before.as_ref().map(|d| d.pattern);
         let mut options: Vec<(Option<Pattern>, &str)> = vec![(None, "none")];
         options.extend(Pattern::ALL.map(|p| (Some(p), p.label())));
+        options.push((Some(Pattern::Image), "image…"));
         choice(ui, "height map", &mut pattern, &options);
+        let image = before.as_ref().and_then(|d| d.image.clone());
+        if pattern == Some(Pattern::Image) && image.is_none() {
+            // The image comes from a file: the picker, then `use_height_image`.
+            self.height_image_dialog();
+            return;
+        }
         let mut after = pattern.map(|p| {
-            let (amplitude, frequency) =
-                before.map_or((0.02 * size, 4.0), |d| (d.amplitude, d.frequency));
+            let (amplitude, frequency) = before
+                .as_ref()
+                .map_or((0.02 * size, 4.0), |d| (d.amplitude, d.frequency));
             Displacement {
                 pattern: p,
                 amplitude,
                 frequency,
+                image: if p == Pattern::Image {
+                    image.clone()
+                } else {
+                    None
+                },
             }
         });
+        let mut reload = false;
         if let Some(d) = &mut after {
             ui.horizontal(|ui| {
                 ui.label("amplitude");
@@ -882,14 +896,31 @@ impl KnotworkApp {
                         .speed(0.1),
                 );
             });
+            if let Some(image) = &d.image {
+                ui.horizontal(|ui| {
+                    ui.label(format!(
+                        "{} × {} pixels, tiled frequency × frequency times",
+                        image.width(),
+                        image.height()
+                    ));
+                    if ui.button("Other image…").clicked() {
+                        reload = true;
+                    }
+                });
+            }
             ui.label(
                 egui::RichText::new(
                     "moves the surface along its normal by amplitude × a pattern over its \
-                     (u, v); shown with its own normals (no curvature); exported with 8 \
-                     segments per cycle",
+                     (u, v) (an image: 2 × grey − 1, mid-grey stays put); shown with its own \
+                     normals (no curvature); exported with 8 segments per cycle (an image: \
+                     one per pixel)",
                 )
                 .weak(),
             );
+        }
+        if reload {
+            self.height_image_dialog();
+            return;
         }
         if after != before {
             self.execute(Command::SetDisplacement {

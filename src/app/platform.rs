@@ -36,14 +36,19 @@ mod web {
     use wasm_bindgen::JsCast;
     use wasm_bindgen::prelude::*;
 
-    /// Lets the user pick a file with the browser's file picker and returns (name, bytes), or
-    /// `None` if nothing was picked. Files over the size limit are refused unread.
-    pub async fn pick_file() -> Option<(String, Result<Vec<u8>, String>)> {
+    /// What the open picker offers: projects and models, and PNG height images.
+    pub const OPEN_ACCEPT: &str =
+        ".json,.knotwork,.glb,.gltf,.obj,.png,application/json,model/gltf-binary,image/png";
+
+    /// Lets the user pick a file with the browser's file picker (offering `accept`) and returns
+    /// (name, bytes), or `None` if nothing was picked. Files over the size limit are refused
+    /// unread.
+    pub async fn pick_file(accept: &str) -> Option<(String, Result<Vec<u8>, String>)> {
         let document = web_sys::window()?.document()?;
         let input: web_sys::HtmlInputElement =
             document.create_element("input").ok()?.dyn_into().ok()?;
         input.set_type("file");
-        input.set_accept(".json,.knotwork,.glb,.gltf,.obj,application/json,model/gltf-binary");
+        input.set_accept(accept);
         // A promise the input's change event resolves.
         let changed = js_sys::Promise::new(&mut |resolve, _reject| {
             input.set_onchange(Some(&resolve));

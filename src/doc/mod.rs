@@ -823,8 +823,7 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             let object = object_at(scene, *k)?;
             if let Some(d) = displacement {
                 // Checked again: a command may come from a script with any numbers.
-                crate::kernel::displace::Displacement::new(d.pattern, d.amplitude, d.frequency)
-                    .map_err(geometry_error(object))?;
+                d.checked().map_err(geometry_error(object))?;
                 if object.geometry.displacement_domain().is_none() {
                     return Err(geometry_error(object)(GeometryError::Construction {
                         what: "displacement",
@@ -839,7 +838,7 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 return Err(EditError::NothingTo("change"));
             }
             let after = SceneObject {
-                displacement: *displacement,
+                displacement: displacement.clone(),
                 ..object.clone()
             };
             replace(*k, after)

@@ -372,7 +372,7 @@ impl CpuGeometry {
             index_count: indices.len() as u32,
             curvature: true,
             scratch: Vec::new(),
-            displacements: objects.iter().map(|o| o.displacement).collect(),
+            displacements: objects.iter().map(|o| o.displacement.clone()).collect(),
             lattices: objects.iter().map(|o| o.lattice.cloned()).collect(),
         })
     }

@@ -363,7 +363,7 @@ pub enum Tessellation {
 }
 
 /// One scene object's patches, as [`PatchGeometry::new`] takes them.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct ObjectPatches<'a> {
     pub set: &'a BezierPatchSet,
     /// Each patch's parameter rectangle (u0, u1, v0, v1) in the object's own domain (the
@@ -387,7 +387,7 @@ pub struct ObjectPatches<'a> {
 
 /// An object's displacement as the evaluators apply it: the height map and the object's own
 /// (u0, u1, v0, v1), over which the map's (x, y) ∈ [0, 1]² runs.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ObjectDisplacement {
     pub map: crate::kernel::displace::Displacement,
     pub domain: [f64; 4],
@@ -501,11 +501,15 @@ impl PatchLayout {
         for (object, input) in objects.iter().enumerate() {
             let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
             // The displacement's two vec4 follow the points, among the stencil entries.
-            let displacement = match input.displacement {
+            let displacement = match &input.displacement {
                 Some(d) => {
                     let at = (total_points + entry_data.len()) as u32;
                     entry_data.push(d.map.gpu_words());
                     entry_data.push(d.domain.map(|x| x as f32));
+                    // An image's words follow (`image_height` in eval_bezier.wgsl).
+                    if let Some(image) = &d.map.image {
+                        entry_data.extend(image.gpu_words());
+                    }
                     at
                 }
                 None => DISPLACEMENT_NONE,

@@ -351,9 +351,9 @@ impl SceneSync {
                     stencils: d.stencils.as_deref(),
                     cage_points: d.cage_points,
                     trims: d.trims.as_ref(),
-                    displacement: object.displacement.and_then(|map| {
+                    displacement: object.displacement.as_ref().and_then(|map| {
                         Some(crate::gpu::patch_eval::ObjectDisplacement {
-                            map,
+                            map: map.clone(),
                             domain: object.geometry.displacement_domain()?,
                         })
                     }),

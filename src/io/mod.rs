@@ -6,6 +6,7 @@ pub mod eval;
 pub mod fuzz;
 pub mod gltf;
 pub mod gltf_import;
+pub mod height_image;
 pub mod json;
 pub mod obj;
 pub mod project;

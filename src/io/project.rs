@@ -311,17 +311,25 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     };
     let displacement = match map.remove("displacement") {
         None | Some(serde_json::Value::Null) => None,
-        Some(value) => {
+        Some(mut value) => {
             let at = format!("{path}.displacement");
-            let raw: crate::kernel::displace::Displacement = deserialize(&at, value)?;
-            Some(
-                crate::kernel::displace::Displacement::new(
-                    raw.pattern,
-                    raw.amplitude,
-                    raw.frequency,
-                )
-                .map_err(|e| FormatError::geometry(&at, e))?,
-            )
+            // An image pattern's PNG, as base64 (`super::height_image`).
+            let image = match value.as_object_mut().and_then(|m| m.remove("image")) {
+                None => None,
+                Some(serde_json::Value::String(text)) => Some(std::sync::Arc::new(
+                    super::height_image::from_base64(&text)
+                        .map_err(|e| FormatError::new(format!("{at}.image"), e))?,
+                )),
+                Some(other) => {
+                    return Err(FormatError::new(
+                        format!("{at}.image"),
+                        format!("expected a base64 PNG, found {other}"),
+                    ));
+                }
+            };
+            let mut raw: crate::kernel::displace::Displacement = deserialize(&at, value)?;
+            raw.image = image;
+            Some(raw.checked().map_err(|e| FormatError::geometry(&at, e))?)
         }
     };
     let lattice = match map.remove("lattice") {
@@ -533,10 +541,11 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
         map.insert("visible".into(), object.visible.into());
         map.insert("segments".into(), object.segments.into());
         if let Some(d) = &object.displacement {
-            map.insert(
-                "displacement".into(),
-                serde_json::to_value(d).unwrap_or(serde_json::Value::Null),
-            );
+            let mut value = serde_json::to_value(d).unwrap_or(serde_json::Value::Null);
+            if let (Some(image), serde_json::Value::Object(fields)) = (&d.image, &mut value) {
+                fields.insert("image".into(), super::height_image::to_base64(image).into());
+            }
+            map.insert("displacement".into(), value);
         }
         if let Some(lattice) = &object.lattice {
             map.insert(

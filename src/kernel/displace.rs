@@ -1,4 +1,5 @@
-//! Displacement along the normal by a procedural height map (the lecture notes' seed 003):
+//! Displacement along the normal by a procedural or image height map (the lecture notes' seed
+//! 003):
 //! the surface S(u, v) becomes S + a h(x, y) N, where N is the unit normal, a the amplitude
 //! and h ∈ [−1, 1] a pattern over the surface's normalized parameters (x, y) ∈ [0, 1]².
 //!
@@ -7,6 +8,8 @@
 //! displaced normal needs only the second derivatives the evaluators already have.
 //! `shaders/eval_bezier.wgsl` computes the same in f32 (`displace`); the patterns' integer
 //! hashing is the same on both sides.
+
+use std::sync::Arc;
 
 use glam::DVec3;
 
@@ -26,9 +29,13 @@ pub enum Pattern {
     Ripples,
     /// Value noise on an f × f lattice, smoothly (quintic) interpolated: a hammered look.
     Noise,
+    /// A grey image ([`HeightImage`]) tiled f × f times: h = 2 g − 1 for its grey g ∈ [0, 1]
+    /// (mid-grey stays put), between pixels a uniform cubic B-spline.
+    Image,
 }
 
 impl Pattern {
+    /// The procedural patterns (the image one needs an image).
     pub const ALL: [Pattern; 3] = [Pattern::Waves, Pattern::Ripples, Pattern::Noise];
 
     /// The code the GPU reads (`DISPLACE_*` in `shaders/eval_bezier.wgsl`); 0 is none.
@@ -37,6 +44,7 @@ impl Pattern {
             Pattern::Waves => 1,
             Pattern::Ripples => 2,
             Pattern::Noise => 3,
+            Pattern::Image => 4,
         }
     }
 
@@ -45,17 +53,156 @@ impl Pattern {
             Pattern::Waves => "waves",
             Pattern::Ripples => "ripples",
             Pattern::Noise => "noise",
+            Pattern::Image => "image",
         }
     }
 }
 
-/// A displacement: pattern, amplitude (model units, either sign) and frequency.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+/// A displacement: pattern, amplitude (model units, either sign) and frequency; the image of
+/// an [`Pattern::Image`] displacement (kept out of the derived serialization: the project file
+/// writes it as its PNG, `io::project`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Displacement {
     pub pattern: Pattern,
     pub amplitude: f64,
     pub frequency: f64,
+    #[serde(skip)]
+    pub image: Option<Arc<HeightImage>>,
+}
+
+/// The longest side a height image may have, in pixels.
+pub const MAX_IMAGE_SIDE: usize = 1024;
+
+/// A height image: grey values in [0, 1], row-major from the top row (the edge v = 1), and
+/// the encoded file it came from (kept to save it as it was).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightImage {
+    width: usize,
+    height: usize,
+    values: Vec<f32>,
+    source: Vec<u8>,
+}
+
+/// The uniform cubic B-spline's four weights at t ∈ [0, 1) (for the points i − 1 .. i + 2) and
+/// their derivatives (de Boor; Farin §7.3).
+fn cubic_bspline(t: f64) -> ([f64; 4], [f64; 4]) {
+    let s = 1.0 - t;
+    (
+        [
+            s * s * s / 6.0,
+            (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+            (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+            t * t * t / 6.0,
+        ],
+        [
+            -s * s / 2.0,
+            (3.0 * t * t - 4.0 * t) / 2.0,
+            (-3.0 * t * t + 2.0 * t + 1.0) / 2.0,
+            t * t / 2.0,
+        ],
+    )
+}
+
+impl HeightImage {
+    /// Checks the size (2 to [`MAX_IMAGE_SIDE`] pixels a side), the value count and that every
+    /// value lies in [0, 1].
+    pub fn new(
+        width: usize,
+        height: usize,
+        values: Vec<f32>,
+        source: Vec<u8>,
+    ) -> Result<Self, GeometryError> {
+        let refuse = |message: String| {
+            Err(GeometryError::Construction {
+                what: "height image",
+                message,
+            })
+        };
+        if !(2..=MAX_IMAGE_SIDE).contains(&width) || !(2..=MAX_IMAGE_SIDE).contains(&height) {
+            return refuse(format!(
+                "{width} × {height} pixels (each side must be 2 to {MAX_IMAGE_SIDE})"
+            ));
+        }
+        if values.len() != width * height {
+            return refuse(format!("{} values for {width} × {height}", values.len()));
+        }
+        if values.iter().any(|v| !(0.0..=1.0).contains(v)) {
+            return refuse("a grey value outside [0, 1]".into());
+        }
+        Ok(Self {
+            width,
+            height,
+            values,
+            source,
+        })
+    }
+
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The grey values, row-major from the top row.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    /// The encoded file the image came from.
+    pub fn source(&self) -> &[u8] {
+        &self.source
+    }
+
+    /// The grey at pixel (i, j) (column, row from the top), the image repeating in both
+    /// directions.
+    fn value(&self, i: i64, j: i64) -> f64 {
+        let (w, h) = (self.width as i64, self.height as i64);
+        f64::from(self.values[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize])
+    }
+
+    /// The tiled image's smooth grey and its derivatives (g, g_x, g_y) at tile coordinates
+    /// (x, y) (one tile over [0, 1]², y up): the uniform cubic B-spline whose control points
+    /// are the pixels, pixel column i at x = i / width, row j at y = 1 − j / height.
+    /// `shaders/eval_bezier.wgsl` computes the same in f32 (`image_height`).
+    pub fn sample(&self, x: f64, y: f64) -> [f64; 3] {
+        let (w, h) = (self.width as f64, self.height as f64);
+        let px = x.rem_euclid(1.0) * w;
+        let py = (1.0 - y).rem_euclid(1.0) * h;
+        let (i, j) = (px.floor(), py.floor());
+        let ((bx, dx), (by, dy)) = (cubic_bspline(px - i), cubic_bspline(py - j));
+        let (i, j) = (i as i64, j as i64);
+        let mut out = [0.0; 3];
+        for (b, (wy, dwy)) in by.iter().zip(dy).enumerate() {
+            for (a, (wx, dwx)) in bx.iter().zip(dx).enumerate() {
+                let g = self.value(i + a as i64 - 1, j + b as i64 - 1);
+                out[0] += g * wx * wy;
+                out[1] += g * dwx * wy;
+                out[2] += g * wx * dwy;
+            }
+        }
+        // d px / dx = w, d py / dy = −h.
+        [out[0], out[1] * w, -out[2] * h]
+    }
+
+    /// The words the GPU reads after the displacement's two: (width, height) as bits, then
+    /// the values four to a word.
+    pub fn gpu_words(&self) -> Vec<[f32; 4]> {
+        let mut words = vec![[
+            f32::from_bits(self.width as u32),
+            f32::from_bits(self.height as u32),
+            0.0,
+            0.0,
+        ]];
+        words.extend(self.values.chunks(4).map(|c| {
+            let mut word = [0.0; 4];
+            word[..c.len()].copy_from_slice(c);
+            word
+        }));
+        words
+    }
 }
 
 /// The lattice value of noise at integer (i, j): a 32-bit integer hash (a multiply-xorshift
@@ -96,11 +243,52 @@ impl Displacement {
                 format!("{frequency} is outside (0, {MAX_FREQUENCY}]"),
             );
         }
+        if pattern == Pattern::Image {
+            return refuse("pattern", "an image pattern needs an image".into());
+        }
         Ok(Self {
             pattern,
             amplitude,
             frequency,
+            image: None,
         })
+    }
+
+    /// A displacement by `image` tiled `frequency` times (checked as [`Self::new`]).
+    pub fn with_image(
+        image: Arc<HeightImage>,
+        amplitude: f64,
+        frequency: f64,
+    ) -> Result<Self, GeometryError> {
+        let mut checked = Self::new(Pattern::Waves, amplitude, frequency)?;
+        checked.pattern = Pattern::Image;
+        checked.image = Some(image);
+        Ok(checked)
+    }
+
+    /// The same checks again (a displacement that came from a script or a file): the numbers,
+    /// and an image exactly where the pattern is the image.
+    pub fn checked(&self) -> Result<Self, GeometryError> {
+        match (&self.pattern, &self.image) {
+            (Pattern::Image, Some(image)) => {
+                Self::with_image(Arc::clone(image), self.amplitude, self.frequency)
+            }
+            (Pattern::Image, None) => Self::new(Pattern::Image, self.amplitude, self.frequency),
+            (pattern, _) => Self::new(*pattern, self.amplitude, self.frequency),
+        }
+    }
+
+    /// Samples per cycle the pattern needs along each direction of the domain: 8 for a
+    /// procedural pattern, one per pixel of the longer side (at least 8) for an image. The
+    /// export and the view-adaptive tessellation give a displaced object at least this many
+    /// segments per cycle.
+    pub fn segments_per_cycle(&self) -> f64 {
+        match &self.image {
+            Some(image) if self.pattern == Pattern::Image => {
+                image.width.max(image.height).max(8) as f64
+            }
+            _ => 8.0,
+        }
     }
 
     /// h and its partial derivatives (h, h_x, h_y) at normalized (x, y).
@@ -141,6 +329,13 @@ impl Displacement {
                 let hy = (top - bottom) * dsy * f;
                 [h, hx, hy]
             }
+            Pattern::Image => match &self.image {
+                Some(image) => {
+                    let [g, gx, gy] = image.sample(x * f, y * f);
+                    [2.0 * g - 1.0, 2.0 * gx * f, 2.0 * gy * f]
+                }
+                None => [0.0; 3],
+            },
         }
     }
 
@@ -170,13 +365,14 @@ impl Displacement {
         (d.point + normal * (a * h), displaced)
     }
 
-    /// The four floats the GPU reads: pattern code (as a float), amplitude, frequency, 0.
+    /// The four floats the GPU reads first: pattern code (as a float), amplitude, frequency,
+    /// segments per cycle ([`Self::segments_per_cycle`]).
     pub fn gpu_words(&self) -> [f32; 4] {
         [
             self.pattern.code() as f32,
             self.amplitude as f32,
             self.frequency as f32,
-            0.0,
+            self.segments_per_cycle() as f32,
         ]
     }
 }
@@ -213,10 +409,27 @@ pub fn displace_mesh(mesh: &mut super::tess::TriangleMesh, map: &Displacement) {
 mod tests {
     use super::*;
 
+    /// A 5 × 4 image of smooth bumps.
+    fn bumps() -> Arc<HeightImage> {
+        let (w, h) = (5, 4);
+        let values = (0..w * h)
+            .map(|k| {
+                let (i, j) = ((k % w) as f32, (k / w) as f32);
+                0.5 + 0.4 * (1.3 * i).sin() * (0.9 * j + 0.2).cos()
+            })
+            .collect();
+        Arc::new(HeightImage::new(w, h, values, Vec::new()).unwrap())
+    }
+
     #[test]
     fn heights_have_the_derivatives_they_claim() {
-        for pattern in Pattern::ALL {
-            let d = Displacement::new(pattern, 0.1, 3.0).unwrap();
+        let image = Displacement::with_image(bumps(), 0.1, 3.0).unwrap();
+        for d in Pattern::ALL
+            .map(|pattern| Displacement::new(pattern, 0.1, 3.0).unwrap())
+            .into_iter()
+            .chain([image])
+        {
+            let pattern = d.pattern;
             for (x, y) in [(0.13, 0.71), (0.52, 0.33), (0.9, 0.05)] {
                 let [h, hx, hy] = d.height(x, y);
                 assert!((-1.0..=1.0).contains(&h), "{pattern:?}: {h}");
@@ -233,6 +446,35 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn an_image_is_a_periodic_cubic_bspline_of_its_pixels() {
+        let image = bumps();
+        // At a pixel's own position the B-spline is (g_{i−1} + 4 g_i + g_{i+1}) / 6 in each
+        // direction (the uniform cubic B-spline at a knot).
+        let (w, h) = (image.width() as i64, image.height() as i64);
+        let at = |i: i64, j: i64| image.value(i, j);
+        for (i, j) in [(0, 0), (2, 1), (4, 3)] {
+            let row = |j: i64| (at(i - 1, j) + 4.0 * at(i, j) + at(i + 1, j)) / 6.0;
+            let expected = (row(j - 1) + 4.0 * row(j) + row(j + 1)) / 6.0;
+            let (x, y) = (i as f64 / w as f64, 1.0 - j as f64 / h as f64);
+            let [g, _, _] = image.sample(x, y);
+            assert!((g - expected).abs() < 1e-6, "({i}, {j}): {g} vs {expected}");
+        }
+        // Periodic: one tile further is the same.
+        let a = image.sample(0.37, 0.61);
+        let b = image.sample(1.37, -0.39);
+        assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9));
+        // A constant image displaces nothing where it is mid-grey.
+        let flat = HeightImage::new(3, 3, vec![0.5; 9], Vec::new()).unwrap();
+        let d = Displacement::with_image(Arc::new(flat), 1.0, 2.0).unwrap();
+        assert!(d.height(0.3, 0.8).iter().all(|x| x.abs() < 1e-12));
+        // Bad images are refused.
+        assert!(HeightImage::new(1, 5, vec![0.0; 5], Vec::new()).is_err());
+        assert!(HeightImage::new(2, 2, vec![0.0; 3], Vec::new()).is_err());
+        assert!(HeightImage::new(2, 2, vec![0.0, 0.5, 1.5, 0.0], Vec::new()).is_err());
+        assert!(Displacement::new(Pattern::Image, 0.1, 1.0).is_err());
     }
 
     #[test]

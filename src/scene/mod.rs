@@ -397,7 +397,7 @@ impl SceneObject {
         tessellation: tess::Tessellation,
         curvature: bool,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
-        let Some(map) = self.displacement else {
+        let Some(map) = &self.displacement else {
             return self.kind().tessellate(tessellation, curvature);
         };
         // A displaced object: enough vertices for the pattern (8 per cycle across the domain,
@@ -410,12 +410,13 @@ impl SceneObject {
                 .saturating_sub(1)
                 .max(1)
         });
-        let segments = ((8.0 * map.frequency / spans as f64).ceil() as u32).clamp(4, MAX_SEGMENTS);
+        let segments = ((map.segments_per_cycle() * map.frequency / spans as f64).ceil() as u32)
+            .clamp(4, MAX_SEGMENTS);
         let mut meshes = self
             .kind()
             .tessellate(tess::Tessellation::Segments(segments), false)?;
         for mesh in &mut meshes {
-            crate::kernel::displace::displace_mesh(mesh, &map);
+            crate::kernel::displace::displace_mesh(mesh, map);
         }
         Ok(meshes)
     }
