@@ -267,6 +267,8 @@ pub struct KnotworkApp {
     /// The Lattice panel's degrees for a new lattice, and its tolerance for a refit.
     lattice_degrees: [usize; 3],
     lattice_tolerance: f64,
+    /// The other objects ticked to share the next lattice.
+    lattice_also: std::collections::BTreeSet<usize>,
     /// Dragged points snap to other control points / to other surfaces under the cursor.
     snap_points: bool,
     snap_surface: bool,
@@ -362,6 +364,7 @@ impl KnotworkApp {
             snap_step: 0.25,
             lattice_degrees: [2, 2, 2],
             lattice_tolerance: 1e-3,
+            lattice_also: Default::default(),
             snap_points: false,
             snap_surface: false,
             pick_view: None,
@@ -447,28 +450,52 @@ impl KnotworkApp {
         }
     }
 
-    /// Puts the undisturbed lattice of `degrees` around object `object` (its handles become
-    /// the lattice's points; one undo step).
-    fn add_lattice(&mut self, object: usize, degrees: [usize; 3]) {
-        let Some(bounds) = self
-            .scene()
-            .objects
-            .get(object)
-            .and_then(|o| o.kind().bounds())
-        else {
-            self.status.error = Some(format!("no object {object} to put a lattice around"));
+    /// Puts one undisturbed lattice of `degrees` around `objects` (the box of them all; they
+    /// share it), one undo step; their handles become the lattice's points.
+    fn add_lattice(&mut self, objects: &[usize], degrees: [usize; 3]) {
+        let mut bounds: Option<(DVec3, DVec3)> = None;
+        for &object in objects {
+            match self
+                .scene()
+                .objects
+                .get(object)
+                .and_then(|o| o.kind().bounds())
+            {
+                Some((lo, hi)) => {
+                    bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                }
+                None => {
+                    self.status.error = Some(format!("no object {object} to put a lattice around"));
+                    return;
+                }
+            }
+        }
+        let Some((lo, hi)) = bounds else {
+            self.status.error = Some("no objects to put a lattice around".into());
             return;
         };
-        match crate::kernel::ffd::Lattice::around(bounds.0, bounds.1, degrees) {
+        let group = self.scene().new_lattice_group();
+        match crate::kernel::ffd::Lattice::around(lo, hi, degrees) {
             Ok(lattice) => {
                 self.selection.points.clear();
                 self.execute(Command::SetLattice {
-                    object,
-                    lattice: Some(lattice),
+                    objects: objects.to_vec(),
+                    lattice: Some(lattice.with_group(group)),
                 });
             }
             Err(e) => self.status.error = Some(e.to_string()),
         }
+    }
+
+    /// Sets `lattice` (`None`: releases it) on object `object` and every object sharing its
+    /// lattice, one undo step.
+    fn set_linked_lattice(&mut self, object: usize, lattice: Option<crate::kernel::ffd::Lattice>) {
+        let mut objects = self.scene().linked_lattices(object);
+        if objects.is_empty() {
+            objects.push(object);
+        }
+        self.selection.points.clear();
+        self.execute(Command::SetLattice { objects, lattice });
     }
 
     /// Bakes object `object`'s lattice into it; the notice says whether exactly or refitted.
@@ -941,12 +968,13 @@ impl KnotworkApp {
                 object,
                 displacement,
             }),
-            ExternalCommand::SetLattice { object, degrees } => match degrees {
-                Some(degrees) => self.add_lattice(object, degrees),
-                None => self.execute(Command::SetLattice {
-                    object,
-                    lattice: None,
-                }),
+            ExternalCommand::SetLattice { objects, degrees } => match degrees {
+                Some(degrees) => self.add_lattice(&objects, degrees),
+                None => {
+                    if let Some(&first) = objects.first() {
+                        self.set_linked_lattice(first, None);
+                    }
+                }
             },
             ExternalCommand::ApplyLattice { object, tolerance } => {
                 self.apply_lattice(object, tolerance)

@@ -193,9 +193,10 @@ pub enum ExternalCommand {
         object: usize,
         displacement: Option<crate::kernel::displace::Displacement>,
     },
-    /// Puts a lattice of these degrees around an object (`None` releases its lattice).
+    /// Puts one lattice of these degrees around objects (`None` releases the lattice of the
+    /// first and of the objects sharing it).
     SetLattice {
-        object: usize,
+        objects: Vec<usize>,
         degrees: Option<[usize; 3]>,
     },
     /// Bakes an object's lattice into it (tolerance: a share of its size, for a refit).

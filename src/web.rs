@@ -261,22 +261,23 @@ pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency:
     true
 }
 
-/// Puts a free-form deformation lattice of degrees (l, m, n) (1 to 4 each) around `object`;
-/// its points become the object's handles (`moveControlPoint` drags them). One undo step;
-/// errors in the status.
+/// Puts one free-form deformation lattice of degrees (l, m, n) (1 to 4 each) around
+/// `objects` (they share it); its points become each object's handles (`moveControlPoint` on
+/// any of them moves it for all). One undo step; errors in the status.
 #[wasm_bindgen]
-pub fn add_lattice(object: u32, l: u32, m: u32, n: u32) {
+pub fn add_lattice(objects: Vec<u32>, l: u32, m: u32, n: u32) {
     status::send(ExternalCommand::SetLattice {
-        object: object as usize,
+        objects: objects.into_iter().map(|o| o as usize).collect(),
         degrees: Some([l, m, n].map(|d| d as usize)),
     });
 }
 
-/// Removes `object`'s lattice: the object is shown undeformed again (one undo step).
+/// Removes `object`'s lattice, and the same lattice from the objects sharing it: they are shown
+/// undeformed again (one undo step).
 #[wasm_bindgen]
 pub fn release_lattice(object: u32) {
     status::send(ExternalCommand::SetLattice {
-        object: object as usize,
+        objects: vec![object as usize],
         degrees: None,
     });
 }

@@ -450,7 +450,7 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
     let lattice = Lattice::around(lo, hi, [2, 1, 1]).unwrap();
     let edit = doc
         .execute(&Command::SetLattice {
-            object: 0,
+            objects: vec![0],
             lattice: Some(lattice.clone()),
         })
         .unwrap();
@@ -510,7 +510,7 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
     assert!(doc.scene.objects[0].lattice.is_some());
     // Release: the undeformed sheet again; undo and redo walk back and forth.
     doc.execute(&Command::SetLattice {
-        object: 0,
+        objects: vec![0],
         lattice: None,
     })
     .unwrap();
@@ -529,4 +529,106 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
         .is_err()
     );
     assert_eq!(doc.scene, before);
+}
+
+#[test]
+fn objects_sharing_a_lattice_move_together() {
+    // Two sheets side by side in one lattice.
+    let sheet = |name: &str, x: f64| {
+        let points = vec![
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::new(x, 1.0, 0.1),
+            DVec3::new(x + 1.0, 0.0, 0.2),
+            DVec3::new(x + 1.0, 1.0, 0.0),
+        ];
+        let mut object = SceneObject::new(
+            name,
+            ObjectGeometry::Nurbs(NurbsSurface::bezier([1, 1], points, None).unwrap()),
+        );
+        object.segments = 8;
+        object
+    };
+    let mut doc = Document::new(Scene {
+        objects: vec![sheet("left", 0.0), sheet("right", 1.5)],
+    });
+    let original = doc.scene.clone();
+    let (lo, hi) = doc.scene.bounds().unwrap();
+    let group = doc.scene.new_lattice_group();
+    let lattice = Lattice::around(lo, hi, [2, 1, 1])
+        .unwrap()
+        .with_group(group);
+    doc.execute(&Command::SetLattice {
+        objects: vec![0, 1],
+        lattice: Some(lattice.clone()),
+    })
+    .unwrap();
+    assert_eq!(doc.scene.linked_lattices(0), [0, 1]);
+    assert_eq!(doc.scene.linked_lattices(1), [0, 1]);
+    // A lattice of another group is not shared even on the same box.
+    assert_ne!(doc.scene.new_lattice_group(), group);
+
+    // A drag of a point of the left sheet's lattice moves the right sheet's copy too; the GPU
+    // uploads both lattices and evaluates both as a full evaluation would.
+    for cpu in [false, true] {
+        let (mut sync, before) = vertices(&doc.scene, cpu);
+        doc.begin_drag(0, &[4]).unwrap();
+        let moved = doc.drag_by(DVec3::new(0.0, 0.3, 0.8)).unwrap();
+        assert_eq!(moved.linked, [1]);
+        assert_eq!(doc.scene.objects[0].lattice, doc.scene.objects[1].lattice);
+        assert_eq!(sync.points_moved(&doc.scene, &moved).unwrap(), 0);
+        sync.evaluate_blocking().unwrap();
+        let dragged = sync.read_vertices().unwrap();
+        let (_, full) = vertices(&doc.scene, cpu);
+        assert!(dragged == full, "cpu {cpu}: both objects follow");
+        assert!(dragged != before);
+        // Cancelled: both come back.
+        doc.cancel_drag();
+        assert_eq!(doc.scene.objects[0].lattice, Some(lattice.clone()));
+        assert_eq!(doc.scene.objects[1].lattice, Some(lattice.clone()));
+    }
+    doc.begin_drag(1, &[4]).unwrap();
+    doc.drag_by(DVec3::new(0.0, 0.0, 0.5)).unwrap();
+    let edit = doc.commit_drag().unwrap();
+    assert_eq!(edit.changes.len(), 2, "one undo step for both objects");
+    assert_eq!(doc.scene.linked_lattices(0), [0, 1]);
+    // A scripted move of the right sheet's lattice moves the left one's.
+    let target = doc.scene.objects[1].control_points()[0] + DVec3::new(-0.2, 0.0, 0.0);
+    doc.execute(&Command::MovePoints {
+        object: 1,
+        moves: vec![(0, target)],
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects[0].control_points()[0], target);
+    // The project keeps the sharing.
+    let text = project::write(&Project {
+        scene: doc.scene.clone(),
+        view: None,
+    });
+    let reopened = project::read(&text).unwrap().scene;
+    assert_eq!(reopened, doc.scene);
+    assert_eq!(reopened.linked_lattices(1), [0, 1]);
+    // Apply bakes both, saying how for each.
+    let label = doc
+        .execute(&Command::ApplyLattice {
+            object: 0,
+            tolerance: 1e-4,
+        })
+        .unwrap()
+        .label
+        .clone();
+    assert!(
+        label.contains("left: exact") && label.contains("right: exact"),
+        "{label}"
+    );
+    assert!(doc.scene.objects.iter().all(|o| o.lattice.is_none()));
+    doc.undo().unwrap();
+    // Release takes the lattice off both; undoing everything gives the original scene.
+    doc.execute(&Command::SetLattice {
+        objects: doc.scene.linked_lattices(0),
+        lattice: None,
+    })
+    .unwrap();
+    assert!(doc.scene.objects.iter().all(|o| o.lattice.is_none()));
+    while doc.undo().is_ok() {}
+    assert_eq!(doc.scene, original);
 }

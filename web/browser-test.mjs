@@ -842,7 +842,7 @@ async function main() {
       await page.close();
     });
 
-    await check('free-form deformation in the page: a lattice bends a sheet on the GPU, export validates, apply is exact, undo', async () => {
+    await check('free-form deformation in the page: one lattice bends two sheets on the GPU, export validates, apply is exact, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       const sheet = {
@@ -850,12 +850,13 @@ async function main() {
         knots: [[0, 0, 0, 0, 1, 1, 1, 1], [0, 0, 0, 0, 1, 1, 1, 1]],
         points: [0, 1, 2, 3].map((i) => [0, 1, 2, 3].map((j) => [i - 1.5, j - 1.5, 0])),
       };
-      await openObjects(page, [sheet]);
+      const second = { ...sheet, name: 'second', points: sheet.points.map((row) => row.map(([x, y, z]) => [x, y + 3.5, z])) };
+      await openObjects(page, [sheet, second]);
       await page.evaluate(() => window.knotwork.frame());
       await nextFrames(page);
       const flat = await page.locator('#knotwork-canvas').screenshot();
-      await page.evaluate(() => window.knotwork.addLattice(0, 1, 1, 1));
-      await page.waitForFunction(() => window.knotwork.project().objects[0].lattice?.points?.length === 8, null, { timeout: 60_000 });
+      await page.evaluate(() => window.knotwork.addLattice([0, 1], 1, 1, 1));
+      await page.waitForFunction(() => window.knotwork.project().objects[1].lattice?.points?.length === 8, null, { timeout: 60_000 });
       let s = await status(page);
       assert(s.error === null && s.control_points > 0, `lattice added: ${JSON.stringify(s.error)}`);
       // Lift one corner of the lattice's top: the sheet bends on the GPU.
@@ -866,6 +867,8 @@ async function main() {
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null, `after the lattice drag: ${s.error}`);
+      const shared = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(JSON.stringify(shared[0].lattice) === JSON.stringify(shared[1].lattice), 'the second sheet shares the moved lattice');
       const bent = await page.locator('#knotwork-canvas').screenshot();
       await writeFile(`${resultsDir}/lattice-bent.png`, bent);
       const change = await screenshotDifference(page, flat, bent, VIEWPORT, 24);
@@ -878,8 +881,8 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().undo_steps === 3, null, { timeout: 60_000 });
       s = await status(page);
       assert(s.error === null && /exact/.test(s.notice ?? ''), `apply: ${s.error} / ${s.notice}`);
-      const baked = (await page.evaluate(() => window.knotwork.project())).objects[0];
-      assert(!baked.lattice && baked.degree[0] === 9 && baked.degree[1] === 9, `baked: degree ${baked.degree}`);
+      const bakedBoth = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(bakedBoth.every((o) => !o.lattice && o.degree[0] === 9 && o.degree[1] === 9), `baked: degrees ${bakedBoth.map((o) => o.degree)}`);
       await nextFrames(page);
       const applied = await page.locator('#knotwork-canvas').screenshot();
       const same = await screenshotDifference(page, bent, applied, VIEWPORT, 24);
@@ -889,7 +892,7 @@ async function main() {
       await page.evaluate(() => window.knotwork.undo());
       await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 30_000 });
       await page.evaluate(() => window.knotwork.releaseLattice(0));
-      await page.waitForFunction(() => !window.knotwork.project().objects[0].lattice, null, { timeout: 30_000 });
+      await page.waitForFunction(() => window.knotwork.project().objects.every((o) => !o.lattice), null, { timeout: 30_000 });
       console.log(`      bend changed ${change.differing} px, baked differs by ${same.differing} px; export ${bytes.length} bytes, validator clean`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();

@@ -263,10 +263,17 @@ impl KnotworkApp {
         self.auto_range = None;
         self.redraw = true;
         if cancel {
-            if let Some(object) = self.doc.cancel_drag()
-                && let Err(e) = self.after_edit(crate::doc::Touched::Points(object))
-            {
-                self.status.error = Some(e);
+            // Objects sharing the dragged lattice come back too: then everything is rebuilt.
+            let linked = self.doc.drag().is_some_and(|d| !d.linked().is_empty());
+            if let Some(object) = self.doc.cancel_drag() {
+                let touched = if linked {
+                    crate::doc::Touched::Structure
+                } else {
+                    crate::doc::Touched::Points(object)
+                };
+                if let Err(e) = self.after_edit(touched) {
+                    self.status.error = Some(e);
+                }
             }
         } else if let Some(touched) = self.doc.commit_drag().map(crate::doc::Edit::touched) {
             if touched == crate::doc::Touched::Structure {

@@ -930,17 +930,17 @@ impl KnotworkApp {
         }
     }
 
-    /// Free-form deformation: *Add lattice* of chosen degrees around the selected object;
-    /// while it has one, *Reset* (the undisturbed lattice), *Release* (the undeformed object)
-    /// and *Apply* (baked into the object, exactly or refitted within the tolerance; the
-    /// status says which). The lattice's points are the handles meanwhile.
+    /// Free-form deformation: *Add lattice* of chosen degrees around the selected object and
+    /// the other objects ticked (one lattice they share); while it has one, *Reset* (the
+    /// undisturbed lattice), *Release* (the undeformed objects) and *Apply* (baked into them,
+    /// exactly or refitted within the tolerance; the status says which), each for every object
+    /// sharing it. The lattice's points are the handles meanwhile.
     fn lattice_panel(&mut self, ui: &mut egui::Ui) {
-        use crate::kernel::ffd::{Lattice, MAX_LATTICE_DEGREE};
+        use crate::kernel::ffd::MAX_LATTICE_DEGREE;
         let Some(s) = self.selection.object else {
             return;
         };
-        let object = &self.scene().objects[s];
-        let current = object.lattice.clone();
+        let current = self.scene().objects[s].lattice.clone();
         ui.separator();
         ui.label(egui::RichText::new("Lattice (free-form deformation)").strong());
         let mut degrees = self.lattice_degrees;
@@ -954,11 +954,33 @@ impl KnotworkApp {
                         ui.add(egui::DragValue::new(d).range(1..=MAX_LATTICE_DEGREE));
                     }
                 });
+                // Other objects the lattice goes around too.
+                let others: Vec<(usize, String)> = self
+                    .scene()
+                    .objects
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, o)| *k != s && o.visible && o.lattice.is_none())
+                    .map(|(k, o)| (k, o.name.clone()))
+                    .collect();
+                if !others.is_empty() {
+                    ui.label("also around");
+                    for (k, name) in others {
+                        let mut on = self.lattice_also.contains(&k);
+                        if ui.checkbox(&mut on, name).changed() {
+                            if on {
+                                self.lattice_also.insert(k);
+                            } else {
+                                self.lattice_also.remove(&k);
+                            }
+                        }
+                    }
+                }
                 if ui
                     .button("Add lattice")
                     .on_hover_text(
-                        "a trivariate Bézier lattice around the object: drag its points and \
-                         the surface follows",
+                        "a trivariate Bézier lattice around the object (and those ticked): \
+                         drag its points and the surfaces follow",
                     )
                     .clicked()
                 {
@@ -967,22 +989,27 @@ impl KnotworkApp {
             }
             Some(lattice) => {
                 let [l, m, n] = lattice.degrees();
+                let shared = self.scene().linked_lattices(s).len();
                 ui.label(format!(
                     "degree ({l}, {m}, {n}), {} points: drag them like handles; the map's \
-                     degree is {}",
+                     degree is {}{}",
                     lattice.points().len(),
-                    lattice.total_degree()
+                    lattice.total_degree(),
+                    if shared > 1 {
+                        format!("; shared by {shared} objects")
+                    } else {
+                        String::new()
+                    }
                 ));
                 ui.horizontal(|ui| {
                     if ui.button("Reset").clicked()
-                        && let Ok(reset) =
-                            Lattice::undisturbed(lattice.origin(), lattice.axes(), [l, m, n])
+                        && let Ok(reset) = lattice.reset()
                     {
                         command = Some(Some(reset));
                     }
                     if ui
                         .button("Release")
-                        .on_hover_text("remove the lattice: the object as it was")
+                        .on_hover_text("remove the lattice: the objects as they were")
                         .clicked()
                     {
                         command = Some(None);
@@ -999,7 +1026,7 @@ impl KnotworkApp {
                     if ui
                         .button("Apply")
                         .on_hover_text(
-                            "bake the deformation into the object: exact where the degree \
+                            "bake the deformation into the objects: exact where the degree \
                              allows, else refitted within the tolerance",
                         )
                         .clicked()
@@ -1012,12 +1039,14 @@ impl KnotworkApp {
         self.lattice_degrees = degrees;
         self.lattice_tolerance = tolerance;
         if add {
-            self.add_lattice(s, degrees);
+            let mut objects = vec![s];
+            objects.extend(self.lattice_also.iter().copied().filter(|&k| k != s));
+            self.lattice_also.clear();
+            self.add_lattice(&objects, degrees);
         } else if apply {
             self.apply_lattice(s, tolerance);
         } else if let Some(lattice) = command {
-            self.selection.points.clear();
-            self.execute(Command::SetLattice { object: s, lattice });
+            self.set_linked_lattice(s, lattice);
         }
     }
 

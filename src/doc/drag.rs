@@ -21,6 +21,9 @@ pub struct PointDrag {
     before: SceneObject,
     /// Each dragged point and where it started, by increasing index.
     starts: Vec<(usize, DVec3)>,
+    /// The other objects sharing the object's lattice (whose lattice points move too), as
+    /// they were when the drag began.
+    linked: Vec<(usize, SceneObject)>,
 }
 
 impl PointDrag {
@@ -28,17 +31,24 @@ impl PointDrag {
     pub fn starts(&self) -> &[(usize, DVec3)] {
         &self.starts
     }
+
+    /// The other objects whose shared lattice moves with the dragged one.
+    pub fn linked(&self) -> Vec<usize> {
+        self.linked.iter().map(|(k, _)| *k).collect()
+    }
 }
 
 /// What a drag step or a move changed: the object and the Bézier patches of its decomposition
 /// that must be re-derived and re-evaluated (the union of the moved points' supports).
 /// `relaid`: the move ended with the object's layout changed (an adaptive refinement chose
-/// other depths), so its GPU geometry must be rebuilt rather than updated.
+/// other depths), so its GPU geometry must be rebuilt rather than updated. `linked`: other
+/// objects whose shared lattice moved too (their lattices are uploaded again).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PointsMoved {
     pub object: usize,
     pub patches: Vec<usize>,
     pub relaid: bool,
+    pub linked: Vec<usize>,
 }
 
 impl Document {
@@ -64,10 +74,18 @@ impl Document {
         }
         let positions = target.control_points();
         let unique: BTreeSet<usize> = points.iter().copied().collect();
+        let linked = self
+            .scene
+            .linked_lattices(object)
+            .into_iter()
+            .filter(|&k| k != object)
+            .map(|k| (k, self.scene.objects[k].clone()))
+            .collect();
         self.drag = Some(PointDrag {
             object,
             before: target.clone(),
             starts: unique.into_iter().map(|k| (k, positions[k])).collect(),
+            linked,
         });
         Ok(())
     }
@@ -102,22 +120,28 @@ impl Document {
                 )));
             }
         }
-        let target = &mut self.scene.objects[object];
+        let linked = drag.linked();
         let mut patches = BTreeSet::new();
-        for &(k, p) in moves {
-            let support =
-                target
-                    .move_control_point(k, p)
-                    .map_err(|source| EditError::Geometry {
-                        name: target.name.clone(),
-                        source,
-                    })?;
-            patches.extend(support);
+        for index in std::iter::once(object).chain(linked.iter().copied()) {
+            let target = &mut self.scene.objects[index];
+            for &(k, p) in moves {
+                let support =
+                    target
+                        .move_control_point(k, p)
+                        .map_err(|source| EditError::Geometry {
+                            name: target.name.clone(),
+                            source,
+                        })?;
+                if index == object {
+                    patches.extend(support);
+                }
+            }
         }
         Ok(PointsMoved {
             object,
             patches: patches.into_iter().collect(),
             relaid: false,
+            linked,
         })
     }
 
@@ -135,13 +159,22 @@ impl Document {
         if after == drag.before {
             return None;
         }
+        let mut changes = vec![Change::Replace {
+            index: drag.object,
+            before: drag.before,
+            after,
+        }];
+        for (index, before) in drag.linked {
+            let after = self.scene.objects.get(index)?.clone();
+            changes.push(Change::Replace {
+                index,
+                before,
+                after,
+            });
+        }
         Some(self.history.record(Edit {
             label: format!("move {} point(s)", drag.starts.len()),
-            changes: vec![Change::Replace {
-                index: drag.object,
-                before: drag.before,
-                after,
-            }],
+            changes,
         }))
     }
 
@@ -149,6 +182,11 @@ impl Document {
     /// when no drag was in progress.
     pub fn cancel_drag(&mut self) -> Option<usize> {
         let drag = self.drag.take()?;
+        for (index, before) in drag.linked {
+            if let Some(slot) = self.scene.objects.get_mut(index) {
+                *slot = before;
+            }
+        }
         let slot = self.scene.objects.get_mut(drag.object)?;
         *slot = drag.before;
         Some(drag.object)

@@ -118,15 +118,16 @@ pub enum Command {
         object: usize,
         displacement: Option<crate::kernel::displace::Displacement>,
     },
-    /// Puts a free-form deformation lattice around an object (or replaces its lattice, or
-    /// with `None` releases it: the object is shown undeformed again).
+    /// Puts one free-form deformation lattice around objects (they share it: a move of its
+    /// points moves every copy), replaces their lattice, or with `None` releases it (they are
+    /// shown undeformed again).
     SetLattice {
-        object: usize,
+        objects: Vec<usize>,
         lattice: Option<crate::kernel::ffd::Lattice>,
     },
-    /// Bakes an object's lattice into its geometry ([`SceneObject::baked_lattice`]; `tolerance`
-    /// a fraction of the object's box diagonal for a refit). The undo step's label says
-    /// whether the result is exact or refitted.
+    /// Bakes the lattice of an object, and of the objects sharing it, into their geometry
+    /// ([`SceneObject::baked_lattice`]; `tolerance` a fraction of each object's box diagonal
+    /// for a refit). The undo step's label says whether each result is exact or refitted.
     ApplyLattice {
         object: usize,
         tolerance: f64,
@@ -280,10 +281,14 @@ impl Command {
             } => format!("{} displacement", d.pattern.label()),
             Command::SetDisplacement { .. } => "remove displacement".into(),
             Command::SetLattice {
-                lattice: Some(l), ..
+                lattice: Some(l),
+                objects,
             } => {
                 let [a, b, c] = l.degrees();
-                format!("lattice of degree ({a}, {b}, {c})")
+                match objects.len() {
+                    1 => format!("lattice of degree ({a}, {b}, {c})"),
+                    n => format!("lattice of degree ({a}, {b}, {c}) around {n} objects"),
+                }
             }
             Command::SetLattice { .. } => "release lattice".into(),
             Command::ApplyLattice { .. } => "apply lattice".into(),
@@ -547,18 +552,32 @@ fn plan_apply_lattice(
     else {
         return Err(EditError::NothingTo("apply"));
     };
-    let object = object_at(scene, *k)?;
-    let (after, baked) = object
-        .baked_lattice(*tolerance)
-        .map_err(geometry_error(object))?;
-    after.decompose().map_err(geometry_error(object))?;
-    Ok((
-        vec![Change::Replace {
-            index: *k,
+    object_at(scene, *k)?;
+    let linked = scene.linked_lattices(*k);
+    let targets = if linked.len() > 1 { linked } else { vec![*k] };
+    let named = targets.len() > 1;
+    let mut changes = Vec::with_capacity(targets.len());
+    let mut reports = Vec::with_capacity(targets.len());
+    for index in targets {
+        let object = &scene.objects[index];
+        let (after, baked) = object
+            .baked_lattice(*tolerance)
+            .map_err(geometry_error(object))?;
+        after.decompose().map_err(geometry_error(object))?;
+        reports.push(if named {
+            format!("{}: {}", object.name, baked.describe())
+        } else {
+            baked.describe()
+        });
+        changes.push(Change::Replace {
+            index,
             before: object.clone(),
             after,
-        }],
-        format!("{}: {}", command.label(), baked.describe()),
+        });
+    }
+    Ok((
+        changes,
+        format!("{}: {}", command.label(), reports.join("; ")),
     ))
 }
 
@@ -583,17 +602,29 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             }])
         }
         Command::MovePoints { object: k, moves } => {
-            let object = object_at(scene, *k)?;
+            object_at(scene, *k)?;
             if moves.is_empty() {
                 return Err(EditError::NothingSelected { operation: "move" });
             }
-            let mut after = object.clone();
-            for &(index, position) in moves {
-                after
-                    .move_control_point(index, position)
-                    .map_err(geometry_error(object))?;
+            // A shared lattice's points move in every object that shares it.
+            let linked = scene.linked_lattices(*k);
+            let targets = if linked.is_empty() { vec![*k] } else { linked };
+            let mut changes = Vec::with_capacity(targets.len());
+            for index in targets {
+                let object = &scene.objects[index];
+                let mut after = object.clone();
+                for &(point, position) in moves {
+                    after
+                        .move_control_point(point, position)
+                        .map_err(geometry_error(object))?;
+                }
+                changes.push(Change::Replace {
+                    index,
+                    before: object.clone(),
+                    after,
+                });
             }
-            replace(*k, after)
+            Ok(changes)
         }
         Command::SetWeight {
             object: k,
@@ -868,28 +899,36 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 },
             )
         }
-        Command::SetLattice { object: k, lattice } => {
-            let object = object_at(scene, *k)?;
-            if let Some(l) = lattice {
-                // Checked again: a command may come from a script with any numbers.
-                crate::kernel::ffd::Lattice::new(
-                    l.origin(),
-                    l.axes(),
-                    l.degrees(),
-                    l.points().to_vec(),
-                )
-                .map_err(geometry_error(object))?;
+        Command::SetLattice { objects, lattice } => {
+            let mut changes = Vec::new();
+            let mut seen = std::collections::BTreeSet::new();
+            for &k in objects {
+                let object = object_at(scene, k)?;
+                if let Some(l) = lattice {
+                    // Checked again: a command may come from a script with any numbers.
+                    crate::kernel::ffd::Lattice::new(
+                        l.origin(),
+                        l.axes(),
+                        l.degrees(),
+                        l.points().to_vec(),
+                    )
+                    .map_err(geometry_error(object))?;
+                }
+                if object.lattice != *lattice && seen.insert(k) {
+                    changes.push(Change::Replace {
+                        index: k,
+                        before: object.clone(),
+                        after: SceneObject {
+                            lattice: lattice.clone(),
+                            ..object.clone()
+                        },
+                    });
+                }
             }
-            if object.lattice == *lattice {
+            if changes.is_empty() {
                 return Err(EditError::NothingTo("change"));
             }
-            replace(
-                *k,
-                SceneObject {
-                    lattice: lattice.clone(),
-                    ..object.clone()
-                },
-            )
+            Ok(changes)
         }
         Command::ApplyLattice { .. } => plan_apply_lattice(scene, command).map(|(c, _)| c),
         Command::Trim { object: k, edit } => {

@@ -438,8 +438,14 @@ impl SceneSync {
 
     /// A drag step or a move ([`crate::doc::Document::drag_by`], `move_points`): only the
     /// moved points' support is re-derived and re-evaluated.
+    /// Objects sharing a moved lattice upload their lattice again.
     pub fn points_moved(&mut self, scene: &Scene, moved: &PointsMoved) -> Result<usize, GpuError> {
-        self.refresh_object(scene, moved.object, Some(&moved.patches))
+        let uploaded = self.refresh_object(scene, moved.object, Some(&moved.patches))?;
+        for &other in &moved.linked {
+            self.refresh_object(scene, other, Some(&[]))?;
+        }
+        self.points_uploaded = uploaded;
+        Ok(uploaded)
     }
 
     /// Brings the GPU copy up to date after an edit of the document (a command, undo, redo);

@@ -443,6 +443,9 @@ struct LatticeRecord {
     axes: [[f64; 3]; 3],
     degrees: [usize; 3],
     points: Vec<[f64; 3]>,
+    /// Objects whose lattices are equal, group included, share one lattice.
+    #[serde(default)]
+    group: u64,
 }
 
 impl LatticeRecord {
@@ -452,6 +455,7 @@ impl LatticeRecord {
             axes: lattice.axes().map(|a| a.to_array()),
             degrees: lattice.degrees(),
             points: lattice.points().iter().map(|p| p.to_array()).collect(),
+            group: lattice.group(),
         }
     }
 
@@ -463,6 +467,7 @@ impl LatticeRecord {
             self.degrees,
             self.points.iter().map(|&p| glam::DVec3::from(p)).collect(),
         )
+        .map(|l| l.with_group(self.group))
     }
 }
 

@@ -51,12 +51,13 @@ pub struct Lattice {
     points: Vec<DVec3>,
 }
 
-/// A lattice's box (corner and edges) and degrees (l, m, n).
+/// A lattice's box (corner and edges), degrees (l, m, n) and group.
 #[derive(Debug, Clone, PartialEq)]
 struct Frame {
     origin: DVec3,
     axes: [DVec3; 3],
     degrees: [usize; 3],
+    group: u64,
 }
 
 /// The lattice's map at one point, in local coordinates: F, its first derivatives
@@ -139,6 +140,7 @@ impl Lattice {
                 origin,
                 axes,
                 degrees,
+                group: 0,
             }),
             points,
         })
@@ -185,6 +187,18 @@ impl Lattice {
 
     pub fn origin(&self) -> DVec3 {
         self.frame.origin
+    }
+
+    /// Which lattice this is among the document's: objects whose lattices are equal (the same
+    /// group and the same points) share one lattice and move together. 0 unless set.
+    pub fn group(&self) -> u64 {
+        self.frame.group
+    }
+
+    /// The lattice as a member of group `group`.
+    pub fn with_group(mut self, group: u64) -> Self {
+        self.frame.group = group;
+        self
     }
 
     pub fn axes(&self) -> [DVec3; 3] {
@@ -335,6 +349,7 @@ impl Lattice {
 
     /// The lattice mapped by an affine transformation (box and points).
     pub fn transformed(&self, transform: &glam::DAffine3) -> Result<Self, GeometryError> {
+        let group = self.group();
         Self::new(
             transform.transform_point3(self.frame.origin),
             self.frame.axes.map(|a| transform.transform_vector3(a)),
@@ -344,6 +359,13 @@ impl Lattice {
                 .map(|&p| transform.transform_point3(p))
                 .collect(),
         )
+        .map(|l| l.with_group(group))
+    }
+
+    /// The undisturbed lattice on the same box, of the same degrees and group.
+    pub fn reset(&self) -> Result<Self, GeometryError> {
+        Self::undisturbed(self.frame.origin, self.frame.axes, self.frame.degrees)
+            .map(|l| l.with_group(self.group()))
     }
 
     /// Index pairs of the lattice's lines (between neighbours along each direction).

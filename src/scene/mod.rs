@@ -429,6 +429,29 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The objects that share object `object`'s lattice (equal lattices: the same group and
+    /// the same points), `object` among them, by increasing index; empty without a lattice.
+    pub fn linked_lattices(&self, object: usize) -> Vec<usize> {
+        let Some(lattice) = self.objects.get(object).and_then(|o| o.lattice.as_ref()) else {
+            return Vec::new();
+        };
+        self.objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.lattice.as_ref() == Some(lattice))
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// A lattice group number no object's lattice uses yet.
+    pub fn new_lattice_group(&self) -> u64 {
+        self.objects
+            .iter()
+            .filter_map(|o| o.lattice.as_ref().map(Lattice::group))
+            .max()
+            .map_or(1, |g| g + 1)
+    }
+
     /// The box around every object.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         self.objects
