@@ -759,3 +759,68 @@ fn continuity_hair_and_table_cover_the_teapot() {
     let changed = viewport_difference(&before, &after);
     assert!(changed > 200, "the hair changed {changed} pixels");
 }
+
+#[test]
+fn a_lattice_is_added_dragged_with_the_mouse_and_applied_from_the_panel() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let original = harness.state().document().scene.objects[SHEET].clone();
+    select_with_free_handle(&mut harness, SHEET);
+    harness.get_by_label("Add lattice").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Add lattice").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 1), "{s:?}");
+    let with_lattice = harness.state().document().scene.objects[SHEET].clone();
+    let lattice = with_lattice
+        .lattice
+        .clone()
+        .expect("the sheet has a lattice");
+    assert_eq!(lattice.degrees(), [2, 2, 2]);
+    assert_eq!(
+        with_lattice.control_point_count(),
+        27,
+        "the handles are the lattice's"
+    );
+
+    // Drag a lattice point with the mouse: one undo step; the sheet stays, the lattice moves.
+    let (index, at) = select_with_free_handle(&mut harness, SHEET);
+    harness.hover_at(at);
+    harness.run_steps(1);
+    let end = drag_from(&mut harness, at, egui::vec2(10.0, -12.0), 4);
+    press(&harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 2), "{s:?}");
+    let dragged = harness.state().document().scene.objects[SHEET].clone();
+    assert_eq!(dragged.geometry, original.geometry);
+    assert_ne!(
+        dragged.control_points()[index],
+        with_lattice.control_points()[index]
+    );
+
+    // Apply: the (2, 5) sheet through a lattice of total degree 6 is refitted, and says so.
+    harness.get_by_label("Apply").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Apply").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.error, None, "{s:?}");
+    assert!(
+        s.notice.as_deref().is_some_and(|n| n.contains("refitted")),
+        "{s:?}"
+    );
+    let applied = harness.state().document().scene.objects[SHEET].clone();
+    assert!(applied.lattice.is_none());
+    assert_ne!(applied.geometry, original.geometry);
+
+    // Undo three times: the sheet as it was.
+    for _ in 0..3 {
+        harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        harness.run_steps(2);
+    }
+    assert_eq!(harness.state().document().scene.objects[SHEET], original);
+}
