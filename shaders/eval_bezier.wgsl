@@ -190,6 +190,13 @@ struct Shape {
 // the second derivatives and the fundamental forms.
 override VERTEX_CURVATURE: bool = true;
 
+// Set per pipeline (gpu::patch_eval::PipelineKey): false for the patches of objects without a
+// displacement (DISPLACES) or without a lattice (DEFORMS), whose pipelines then carry none of
+// that code (a CPU driver would keep its registers and run its masked branches on every
+// vertex).
+override DISPLACES: bool = true;
+override DEFORMS: bool = true;
+
 // A vertex's shape: its normal and flags, and the curvature of `d` about `curvature_normal`
 // where `measured` (else undefined, flagged VERTEX_NO_CURVATURE).
 fn make_shape(normal: vec3<f32>, flags: u32, d: Derivatives, curvature_normal: vec3<f32>, measured: bool) -> Shape {
@@ -575,55 +582,6 @@ fn displace(rec: PatchRecord, d: Derivatives, position: vec3<f32>, normal: vec3<
     return Displaced(position + normal * (a * hh.x), out_normal);
 }
 
-// (B_{i,n}(x), B'_{i,n}(x), B''_{i,n}(x)) for i = 0..=n, n <= 4, from the Bernstein
-// polynomials of degrees n, n - 1 and n - 2 (kernel::ffd::bernstein_jet).
-fn lattice_basis(n: u32, x: f32) -> array<vec3<f32>, 5> {
-    var current: array<f32, 5>;
-    var lower1: array<f32, 5>;
-    var lower2: array<f32, 5>;
-    current[0] = 1.0;
-    for (var k = 0u; k < n; k++) {
-        if (k + 2u == n) {
-            lower2 = current;
-        }
-        if (k + 1u == n) {
-            lower1 = current;
-        }
-        var saved = 0.0;
-        for (var j = 0u; j <= k; j++) {
-            let temp = current[j];
-            current[j] = saved + (1.0 - x) * temp;
-            saved = x * temp;
-        }
-        current[k + 1u] = saved;
-    }
-    var out: array<vec3<f32>, 5>;
-    let nf = f32(n);
-    for (var i = 0u; i <= n; i++) {
-        var d1 = 0.0;
-        if (i >= 1u) {
-            d1 += lower1[i - 1u];
-        }
-        if (i < n) {
-            d1 -= lower1[i];
-        }
-        var d2 = 0.0;
-        if (n >= 2u) {
-            if (i >= 2u) {
-                d2 += lower2[i - 2u];
-            }
-            if (i >= 1u && i <= n - 1u) {
-                d2 -= 2.0 * lower2[i - 1u];
-            }
-            if (i + 2u <= n) {
-                d2 += lower2[i];
-            }
-        }
-        out[i] = vec3<f32>(current[i], nf * d1, nf * (nf - 1.0) * d2);
-    }
-    return out;
-}
-
 // A lattice's map at a point, in local coordinates (kernel::ffd::LatticeJet): F, the first
 // derivatives as the columns of `first`, the second ones.
 struct LatticeJet {
@@ -647,8 +605,71 @@ fn lattice_inverse_axes(base: u32) -> mat3x3<f32> {
     ));
 }
 
+// The Bernstein basis of degree n <= 4 at x: the five values B_{0..4,n} as (xyzw, last), and
+// their first and second derivatives (kernel::ffd::bernstein_jet), by the triangular
+// recurrence B_{i,k+1} = (1 - x) B_{i,k} + x B_{i-1,k} on vectors, so everything stays in
+// registers (a CPU driver keeps indexed arrays in memory).
+struct LatticeBasis {
+    value: vec4<f32>,
+    value4: f32,
+    d1: vec4<f32>,
+    d1_4: f32,
+    d2: vec4<f32>,
+    d2_4: f32,
+}
+
+fn lattice_basis(n: u32, x: f32) -> LatticeBasis {
+    var b = vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    var b4 = 0.0;
+    var lower1 = b;
+    var lower1_4 = 0.0;
+    var lower2 = b;
+    var lower2_4 = 0.0;
+    let s = 1.0 - x;
+    for (var k = 0u; k < n; k++) {
+        if (k + 2u == n) {
+            lower2 = b;
+            lower2_4 = b4;
+        }
+        if (k + 1u == n) {
+            lower1 = b;
+            lower1_4 = b4;
+        }
+        b4 = s * b4 + x * b.w;
+        b = s * b + x * vec4<f32>(0.0, b.xyz);
+    }
+    let nf = f32(n);
+    let nn = nf * (nf - 1.0);
+    // B' = n (B_{i-1,n-1} - B_{i,n-1}), B'' = n (n - 1) (B_{i-2,n-2} - 2 B_{i-1,n-2} + B_{i,n-2}).
+    let d1 = nf * (vec4<f32>(0.0, lower1.xyz) - lower1);
+    let d2 = nn * (vec4<f32>(0.0, 0.0, lower2.xy) - 2.0 * vec4<f32>(0.0, lower2.xyz) + lower2);
+    return LatticeBasis(
+        b,
+        b4,
+        d1,
+        nf * (lower1.w - lower1_4),
+        d2,
+        nn * (lower2.z - 2.0 * lower2.w + lower2_4),
+    );
+}
+
+// Entry i (0..=4) of a basis vector held as (xyzw, last), by selects rather than indexing.
+fn basis_entry(v: vec4<f32>, last: f32, i: u32) -> f32 {
+    return select(select(select(select(last, v.w, i == 3u), v.z, i == 2u), v.y, i == 1u), v.x, i == 0u);
+}
+
+// (B_i, B'_i, B''_i) of a lattice basis.
+fn basis_triple(b: LatticeBasis, i: u32) -> vec3<f32> {
+    return vec3<f32>(
+        basis_entry(b.value, b.value4, i),
+        basis_entry(b.d1, b.d1_4, i),
+        basis_entry(b.d2, b.d2_4, i),
+    );
+}
+
 // The trivariate Bézier sum and its derivatives at local coordinates `x` (Sederberg & Parry
-// 1986; kernel::ffd::Lattice::jet).
+// 1986; kernel::ffd::Lattice::jet), contracted one direction at a time: along u for each
+// (i, j) the value and two derivatives, along t the six products the jet needs, then along s.
 fn lattice_jet(base: u32, x: vec3<f32>) -> LatticeJet {
     let packed = bitcast<u32>(control_points[base].w);
     let l = packed & 0xFFu;
@@ -661,25 +682,47 @@ fn lattice_jet(base: u32, x: vec3<f32>) -> LatticeJet {
     var fs = vec3<f32>(0.0);
     var ft = vec3<f32>(0.0);
     var fu = vec3<f32>(0.0);
+    var at = base + 4u;
     for (var i = 0u; i <= l; i++) {
+        // Along t: S, S_u, S_uu, S_t, S_tu, S_tt for this i.
+        var s0 = vec3<f32>(0.0);
+        var s_u = vec3<f32>(0.0);
+        var s_uu = vec3<f32>(0.0);
+        var s_t = vec3<f32>(0.0);
+        var s_tu = vec3<f32>(0.0);
+        var s_tt = vec3<f32>(0.0);
         for (var j = 0u; j <= m; j++) {
-            let a = bs[i];
-            let b = bt[j];
+            // Along u: R, R_u, R_uu for this (i, j).
+            var r0 = vec3<f32>(0.0);
+            var r_u = vec3<f32>(0.0);
+            var r_uu = vec3<f32>(0.0);
             for (var k = 0u; k <= n; k++) {
-                let c = bu[k];
-                let p = control_points[base + 4u + (i * (m + 1u) + j) * (n + 1u) + k].xyz;
-                jet.value += p * (a.x * b.x * c.x);
-                fs += p * (a.y * b.x * c.x);
-                ft += p * (a.x * b.y * c.x);
-                fu += p * (a.x * b.x * c.y);
-                jet.ss += p * (a.z * b.x * c.x);
-                jet.tt += p * (a.x * b.z * c.x);
-                jet.uu += p * (a.x * b.x * c.z);
-                jet.st += p * (a.y * b.y * c.x);
-                jet.su += p * (a.y * b.x * c.y);
-                jet.tu += p * (a.x * b.y * c.y);
+                let c = basis_triple(bu, k);
+                let p = control_points[at].xyz;
+                at += 1u;
+                r0 += p * c.x;
+                r_u += p * c.y;
+                r_uu += p * c.z;
             }
+            let b = basis_triple(bt, j);
+            s0 += r0 * b.x;
+            s_u += r_u * b.x;
+            s_uu += r_uu * b.x;
+            s_t += r0 * b.y;
+            s_tu += r_u * b.y;
+            s_tt += r0 * b.z;
         }
+        let a = basis_triple(bs, i);
+        jet.value += s0 * a.x;
+        fu += s_u * a.x;
+        jet.uu += s_uu * a.x;
+        ft += s_t * a.x;
+        jet.tu += s_tu * a.x;
+        jet.tt += s_tt * a.x;
+        fs += s0 * a.y;
+        jet.su += s_u * a.y;
+        jet.st += s_t * a.y;
+        jet.ss += s0 * a.z;
     }
     jet.first = mat3x3<f32>(fs, ft, fu);
     return jet;
@@ -702,10 +745,8 @@ struct FinishedVertex {
 
 // The vertex of a record with derivatives `d` at local (s, t), its `position` (crack-free on
 // boundaries), normal, curvature and flags as evaluated, finished by the object's
-// displacement (moved along the normal, no curvature; displace) and then its lattice: the
-// point mapped, the normal by the cofactor of the Jacobian J = F' A (which is J Su x J Sv and
-// stays defined at poles), the curvature from the deformed derivatives by the chain rule
-// (kernel::ffd::Lattice::deform).
+// displacement (moved along the normal, no curvature; displace) and then its lattice
+// (lattice_deform).
 fn finish_vertex(
     rec: PatchRecord,
     d: Derivatives,
@@ -717,26 +758,33 @@ fn finish_vertex(
     t: f32,
 ) -> FinishedVertex {
     var out = FinishedVertex(position, normal, values, flags);
-    if (rec.displacement != DISPLACEMENT_NONE) {
+    if (DISPLACES && rec.displacement != DISPLACEMENT_NONE) {
         let moved = displace(rec, d, position, normal, s, t);
         out = FinishedVertex(moved.position, moved.normal, vec4<f32>(0.0), flags | VERTEX_NO_CURVATURE);
     }
-    if (rec.lattice == LATTICE_NONE) {
-        return out;
+    if (DEFORMS && rec.lattice != LATTICE_NONE) {
+        out = lattice_deform(rec.lattice, d, out);
     }
-    let base = rec.lattice;
+    return out;
+}
+
+// A vertex `v` of a surface with derivatives `d` mapped through the lattice at `base`: the
+// point, the normal by the cofactor of the Jacobian J = F' A (which is J Su x J Sv and stays
+// defined at poles), the curvature from the deformed derivatives by the chain rule
+// (kernel::ffd::Lattice::deform) where the vertex had one.
+fn lattice_deform(base: u32, d: Derivatives, v: FinishedVertex) -> FinishedVertex {
     let a = lattice_inverse_axes(base);
-    let jet = lattice_jet(base, a * (out.position - control_points[base].xyz));
+    let jet = lattice_jet(base, a * (v.position - control_points[base].xyz));
     let j = jet.first * a;
     let cofactor = mat3x3<f32>(cross(j[1], j[2]), cross(j[2], j[0]), cross(j[0], j[1]));
-    let mapped = cofactor * out.normal;
-    var n = out.normal;
+    let mapped = cofactor * v.normal;
+    var n = v.normal;
     if (dot(mapped, mapped) > 0.0) {
         n = normalize(mapped);
     }
     var k = vec4<f32>(0.0);
-    var f = out.flags;
-    if (VERTEX_CURVATURE && (f & VERTEX_NO_CURVATURE) == 0u) {
+    var f = v.flags | VERTEX_NO_CURVATURE;
+    if (VERTEX_CURVATURE && (v.flags & VERTEX_NO_CURVATURE) == 0u) {
         let lu = a * d.su;
         let lv = a * d.sv;
         let deformed = Derivatives(
@@ -750,11 +798,8 @@ fn finish_vertex(
         let result = curvature(deformed, n);
         if (result.defined) {
             k = result.values;
-        } else {
-            f |= VERTEX_NO_CURVATURE;
+            f = v.flags;
         }
-    } else {
-        f |= VERTEX_NO_CURVATURE;
     }
     return FinishedVertex(jet.value, n, k, f);
 }

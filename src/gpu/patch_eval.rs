@@ -67,6 +67,11 @@ pub struct PipelineKey {
     pub kind: u32,
     pub degree_u: u32,
     pub degree_v: u32,
+    /// Whether the patch's object is displaced (`DISPLACES` in the shader) and whether it is
+    /// deformed by a lattice (`DEFORMS`): the other patches get pipelines without that code,
+    /// which a CPU driver would otherwise pay for in registers on every vertex.
+    pub displaces: bool,
+    pub deforms: bool,
 }
 
 impl PipelineKey {
@@ -75,6 +80,8 @@ impl PipelineKey {
             kind: record.kind,
             degree_u: record.degree_u,
             degree_v: record.degree_v,
+            displaces: record.displacement != DISPLACEMENT_NONE,
+            deforms: record.lattice != LATTICE_NONE,
         }
     }
 }
@@ -258,7 +265,10 @@ impl PatchEvaluator {
                     kind,
                     degree_u: p,
                     degree_v: q,
+                    displaces,
+                    deforms,
                 } = key;
+                let flag = |on: bool| if on { 1.0 } else { 0.0 };
                 if kind != PATCH_KIND_BEZIER {
                     return compute_pipeline(
                         &self.device,
@@ -266,18 +276,19 @@ impl PatchEvaluator {
                         &self.module,
                         "evaluate subdivision limit stencils",
                         "evaluate_stencil_vertices",
-                        &[],
+                        &[("DISPLACES", flag(displaces)), ("DEFORMS", flag(deforms))],
                     );
                 }
                 let bicubic = (p, q) == (3, 3);
                 let fixed_grid = entry == "evaluate_vertices";
-                let flag = |on: bool| if on { 1.0 } else { 0.0 };
                 let constants = [
                     ("BICUBIC_ONLY", flag(bicubic)),
                     ("NET_IN_REGISTERS", flag(bicubic && fixed_grid)),
                     ("DEGREE_U", f64::from(p)),
                     ("DEGREE_V", f64::from(q)),
                     ("VERTEX_CURVATURE", flag(curvature)),
+                    ("DISPLACES", flag(displaces)),
+                    ("DEFORMS", flag(deforms)),
                 ];
                 let layout = if fixed_grid {
                     &self.pipeline_layout
