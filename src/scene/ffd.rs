@@ -332,3 +332,38 @@ pub fn bake_cage(
         },
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::subdiv::{Options, Scheme, cages};
+
+    #[test]
+    fn a_cage_bakes_under_every_scheme() {
+        for (scheme, mesh) in [
+            (Scheme::CatmullClark, cages::cube(DVec3::ZERO, 2.0)),
+            (Scheme::Loop, cages::icosahedron(DVec3::ZERO, 1.0)),
+            (Scheme::DooSabin, cages::grid(DVec3::ZERO, 2.0, 4)),
+            (Scheme::Sqrt3, cages::icosahedron(DVec3::ZERO, 1.0)),
+            (Scheme::Butterfly, cages::icosahedron(DVec3::ZERO, 1.0)),
+        ] {
+            let options = Options {
+                scheme,
+                ..Options::default()
+            };
+            let surface =
+                SubdivisionSurface::new(mesh.unwrap(), Vec::new(), Vec::new(), options, 2).unwrap();
+            let (lo, hi) = crate::kernel::PolygonMesh::bounds(surface.mesh()).unwrap();
+            let mut lattice = Lattice::around(lo, hi, [1, 1, 1]).unwrap();
+            let p = lattice.points()[7];
+            lattice.set_point(7, p + DVec3::splat(0.3)).unwrap();
+            let (baked, how) =
+                bake_cage(&surface, &lattice, 1e-2).unwrap_or_else(|e| panic!("{scheme:?}: {e}"));
+            assert_eq!(baked.points().len(), surface.points().len());
+            let Baked::Points { error, .. } = how else {
+                panic!("{scheme:?}: {how:?}");
+            };
+            assert!(error.is_finite(), "{scheme:?}: {error}");
+        }
+    }
+}
