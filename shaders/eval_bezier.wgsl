@@ -605,6 +605,13 @@ fn lattice_inverse_axes(base: u32) -> mat3x3<f32> {
     ));
 }
 
+// The degrees (l, m, n) of the lattice at `base`, packed l | m << 8 | n << 16 in the bits of its
+// header's w (kernel::ffd::Lattice::gpu_block).
+fn lattice_degrees(base: u32) -> vec3<u32> {
+    let packed = bitcast<u32>(control_points[base].w);
+    return vec3<u32>(packed & 0xFFu, (packed >> 8u) & 0xFFu, (packed >> 16u) & 0xFFu);
+}
+
 // The Bernstein basis of degree n <= 4 at x: the five values B_{0..4,n} as (xyzw, last), and
 // their first and second derivatives (kernel::ffd::bernstein_jet), by the triangular
 // recurrence B_{i,k+1} = (1 - x) B_{i,k} + x B_{i-1,k} on vectors, so everything stays in
@@ -671,10 +678,10 @@ fn basis_triple(b: LatticeBasis, i: u32) -> vec3<f32> {
 // 1986; kernel::ffd::Lattice::jet), contracted one direction at a time: along u for each
 // (i, j) the value and two derivatives, along t the six products the jet needs, then along s.
 fn lattice_jet(base: u32, x: vec3<f32>) -> LatticeJet {
-    let packed = bitcast<u32>(control_points[base].w);
-    let l = packed & 0xFFu;
-    let m = (packed >> 8u) & 0xFFu;
-    let n = (packed >> 16u) & 0xFFu;
+    let degrees = lattice_degrees(base);
+    let l = degrees.x;
+    let m = degrees.y;
+    let n = degrees.z;
     let bs = lattice_basis(l, x.x);
     let bt = lattice_basis(m, x.y);
     let bu = lattice_basis(n, x.z);
@@ -1244,8 +1251,8 @@ fn measure_levels(@builtin(global_invocation_id) id: vec3<u32>) {
         if (rec.lattice != LATTICE_NONE) {
             // The hull measures the undeformed patch: at least 2 segments per degree of the
             // lattice's map.
-            let packed = bitcast<u32>(control_points[rec.lattice].w);
-            let total = (packed & 0xFFu) + ((packed >> 8u) & 0xFFu) + ((packed >> 16u) & 0xFFu);
+            let degrees = lattice_degrees(rec.lattice);
+            let total = degrees.x + degrees.y + degrees.z;
             least = max(least, vec2<u32>(min(2u * total, max(adaptive_view.counts.y, 1u))));
         }
         slot.edges = max(slot.edges, least.xyxy);

@@ -490,10 +490,7 @@ impl KnotworkApp {
     /// Sets `lattice` (`None`: releases it) on object `object` and every object sharing its
     /// lattice, one undo step.
     fn set_linked_lattice(&mut self, object: usize, lattice: Option<crate::kernel::ffd::Lattice>) {
-        let mut objects = self.scene().linked_lattices(object);
-        if objects.is_empty() {
-            objects.push(object);
-        }
+        let objects = self.scene().linked_lattices(object);
         self.selection.points.clear();
         self.execute(Command::SetLattice { objects, lattice });
     }

@@ -553,8 +553,7 @@ fn plan_apply_lattice(
         return Err(EditError::NothingTo("apply"));
     };
     object_at(scene, *k)?;
-    let linked = scene.linked_lattices(*k);
-    let targets = if linked.len() > 1 { linked } else { vec![*k] };
+    let targets = scene.linked_lattices(*k);
     let named = targets.len() > 1;
     let mut changes = Vec::with_capacity(targets.len());
     let mut reports = Vec::with_capacity(targets.len());
@@ -607,8 +606,7 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
                 return Err(EditError::NothingSelected { operation: "move" });
             }
             // A shared lattice's points move in every object that shares it.
-            let linked = scene.linked_lattices(*k);
-            let targets = if linked.is_empty() { vec![*k] } else { linked };
+            let targets = scene.linked_lattices(*k);
             let mut changes = Vec::with_capacity(targets.len());
             for index in targets {
                 let object = &scene.objects[index];

@@ -98,11 +98,10 @@ fn grid_vertex(
     // curvature of the deformed derivatives where it was defined (`lattice_deform`).
     let (point, normal, curvature) = match lattice {
         Some(lattice) => {
-            let moved = lattice.deform_normal(point, normal);
-            let curvature = curvature.and_then(|_| {
-                curvature_of(&lattice.deform(&SurfaceDerivatives { point, ..*d }), moved)
-            });
-            (lattice.deform_point(point), moved, curvature)
+            let (deformed, moved) =
+                lattice.deform_with_normal(&SurfaceDerivatives { point, ..*d }, normal);
+            let curvature = curvature.and_then(|_| curvature_of(&deformed, moved));
+            (deformed.point, moved, curvature)
         }
         None => (point, normal, curvature),
     };

@@ -254,11 +254,6 @@ impl Lattice {
         DMat3::from_cols(self.frame.axes[0], self.frame.axes[1], self.frame.axes[2]).inverse()
     }
 
-    /// (s, t, u) of `p`.
-    pub fn local(&self, p: DVec3) -> DVec3 {
-        self.inverse_axes() * (p - self.frame.origin)
-    }
-
     /// The map and its first and second derivatives at local coordinates `local`.
     #[allow(clippy::needless_range_loop)] // i, j, k index the three bases and the points
     pub fn jet(&self, local: DVec3) -> LatticeJet {
@@ -301,30 +296,73 @@ impl Lattice {
 
     /// F(p).
     pub fn deform_point(&self, p: DVec3) -> DVec3 {
-        self.jet(self.local(p)).value
+        self.jet_at(p).0.value
+    }
+
+    /// The jet at world point `p` and the inverse box matrix A it was taken with.
+    fn jet_at(&self, p: DVec3) -> (LatticeJet, DMat3) {
+        let a = self.inverse_axes();
+        (self.jet(a * (p - self.frame.origin)), a)
+    }
+
+    /// The Jacobian ∂F/∂X from a jet and A.
+    fn world_jacobian(jet: &LatticeJet, a: DMat3) -> DMat3 {
+        DMat3::from_cols(jet.first[0], jet.first[1], jet.first[2]) * a
+    }
+
+    /// cof(J) N normalized (`normal` itself where J is singular).
+    fn mapped_normal(jacobian: DMat3, normal: DVec3) -> DVec3 {
+        cofactor(jacobian)
+            .mul_vec3(normal)
+            .try_normalize()
+            .unwrap_or(normal)
     }
 
     /// The Jacobian ∂F/∂X at `p` (world coordinates).
     pub fn jacobian(&self, p: DVec3) -> DMat3 {
-        let jet = self.jet(self.local(p));
-        DMat3::from_cols(jet.first[0], jet.first[1], jet.first[2]) * self.inverse_axes()
+        let (jet, a) = self.jet_at(p);
+        Self::world_jacobian(&jet, a)
     }
 
     /// The unit normal of the deformed surface at `p` from the undeformed unit normal `normal`:
     /// cof(J) N normalized (`normal` itself where J is singular there).
     pub fn deform_normal(&self, p: DVec3, normal: DVec3) -> DVec3 {
-        cofactor(self.jacobian(p))
-            .mul_vec3(normal)
-            .try_normalize()
-            .unwrap_or(normal)
+        Self::mapped_normal(self.jacobian(p), normal)
+    }
+
+    /// [`Self::deform_point`] and [`Self::deform_normal`] from one evaluation of the lattice.
+    pub fn deform_vertex(&self, p: DVec3, normal: DVec3) -> (DVec3, DVec3) {
+        let (jet, a) = self.jet_at(p);
+        (
+            jet.value,
+            Self::mapped_normal(Self::world_jacobian(&jet, a), normal),
+        )
+    }
+
+    /// [`Self::deform`] and [`Self::deform_normal`] (at `d.point`) from one evaluation of the
+    /// lattice.
+    pub fn deform_with_normal(
+        &self,
+        d: &SurfaceDerivatives,
+        normal: DVec3,
+    ) -> (SurfaceDerivatives, DVec3) {
+        let (jet, a) = self.jet_at(d.point);
+        (
+            Self::chain_rule(&jet, a, d),
+            Self::mapped_normal(Self::world_jacobian(&jet, a), normal),
+        )
     }
 
     /// The deformed surface's point and derivatives from the surface's `d` (chain rule, see the
     /// module's text): with local derivatives a_u = A S_u and so on, (F∘S)_u = Σ F_a a_u^a and
     /// (F∘S)_uv = Σ F_a a_uv^a + Σ F_ab a_u^a a_v^b.
     pub fn deform(&self, d: &SurfaceDerivatives) -> SurfaceDerivatives {
-        let a = self.inverse_axes();
-        let jet = self.jet(a * (d.point - self.frame.origin));
+        let (jet, a) = self.jet_at(d.point);
+        Self::chain_rule(&jet, a, d)
+    }
+
+    /// The chain rule of [`Self::deform`] with the jet at `d.point` and A.
+    fn chain_rule(jet: &LatticeJet, a: DMat3, d: &SurfaceDerivatives) -> SurfaceDerivatives {
         let [lu, lv, luu, luv, lvv] = [d.su, d.sv, d.suu, d.suv, d.svv].map(|x| a * x);
         let first = |x: DVec3| jet.first[0] * x.x + jet.first[1] * x.y + jet.first[2] * x.z;
         let hessian = |x: DVec3, y: DVec3| {
@@ -434,7 +472,7 @@ impl Lattice {
         }
         let big = self.total_degree();
         let [nu, nv] = [big * p, big * q];
-        let patch = |u: f64, v: f64| homogeneous_bezier_point([p, q], points, u, v);
+        let patch = |u: f64, v: f64| bezier_patch_point([p, q], points, u, v);
         let mut samples = vec![DVec4::ZERO; (nu + 1) * (nv + 1)];
         for a in 0..=nu {
             for b in 0..=nv {
@@ -501,21 +539,26 @@ impl Lattice {
     }
 }
 
-/// The homogeneous point at (u, v) of the Bézier patch of degree (p, q) with homogeneous
-/// points `points` (row-major, i along u): Σ B_{i,p}(u) B_{j,q}(v) P_ij.
+/// The point at (u, v) of the Bézier patch of degree (p, q) with points `points` (row-major,
+/// i along u; homogeneous ones for a rational patch): Σ B_{i,p}(u) B_{j,q}(v) P_ij.
 #[allow(clippy::needless_range_loop)] // i and j index both bases and the points
-pub fn homogeneous_bezier_point(degree: [usize; 2], points: &[DVec4], u: f64, v: f64) -> DVec4 {
+pub fn bezier_patch_point<V: super::vector::Vector>(
+    degree: [usize; 2],
+    points: &[V],
+    u: f64,
+    v: f64,
+) -> V {
     let [p, q] = degree;
     let (mut bu, mut bv) = (vec![0.0; p + 1], vec![0.0; q + 1]);
     bernstein_all(u, &mut bu);
     bernstein_all(v, &mut bv);
-    let mut h = DVec4::ZERO;
+    let mut sum = V::ZERO;
     for i in 0..=p {
         for j in 0..=q {
-            h += points[i * (q + 1) + j] * (bu[i] * bv[j]);
+            sum = sum + points[i * (q + 1) + j] * (bu[i] * bv[j]);
         }
     }
-    h
+    sum
 }
 
 /// The collocation matrix of the degree-n Bernstein basis at the parameters a / n.
@@ -600,26 +643,12 @@ pub fn hermite_cells(
             for (s, t) in [(0.5, 0.5), (0.5, 0.0), (0.0, 0.5), (0.25, 0.75)] {
                 let (u, v) = (u0 + hu * (a as f64 + s), v0 + hv * (b as f64 + t));
                 let exact = lattice.deform_point(derivatives(u, v)?.point);
-                error = error.max(bicubic_point(&cell, s, t).distance(exact));
+                error = error.max(bezier_patch_point([3, 3], &cell, s, t).distance(exact));
             }
             out.push(cell);
         }
     }
     Ok((out, error))
-}
-
-/// The point of the bicubic Bézier patch `points` (row-major, i along u) at (s, t).
-pub fn bicubic_point(points: &[DVec3], s: f64, t: f64) -> DVec3 {
-    let (mut bs, mut bt) = ([0.0; 4], [0.0; 4]);
-    bernstein_all(s, &mut bs);
-    bernstein_all(t, &mut bt);
-    let mut p = DVec3::ZERO;
-    for i in 0..4 {
-        for j in 0..4 {
-            p += points[i * 4 + j] * (bs[i] * bt[j]);
-        }
-    }
-    p
 }
 
 /// How a bake turned out, for the user.
@@ -859,7 +888,7 @@ mod tests {
 
     impl NurbsPatch {
         fn at(&self, u: f64, v: f64) -> DVec3 {
-            let h = homogeneous_bezier_point([self.0, self.1], &self.2, u, v);
+            let h = bezier_patch_point([self.0, self.1], &self.2, u, v);
             h.truncate() / h.w
         }
     }

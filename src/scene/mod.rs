@@ -371,7 +371,7 @@ impl SceneObject {
     ///
     /// An object with a lattice is tessellated as the viewport shows it (its own segments per
     /// span) and every vertex mapped through the lattice, its normal by the cofactor of the
-    /// lattice's Jacobian ([`Lattice::deform_normal`]); without curvature.
+    /// lattice's Jacobian ([`Lattice::deform_vertex`]); without curvature.
     pub fn tessellate(
         &self,
         tessellation: tess::Tessellation,
@@ -384,8 +384,7 @@ impl SceneObject {
             self.tessellate_undeformed(tess::Tessellation::Segments(self.segments), false)?;
         for mesh in &mut meshes {
             for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
-                *n = lattice.deform_normal(*p, *n);
-                *p = lattice.deform_point(*p);
+                (*p, *n) = lattice.deform_vertex(*p, *n);
             }
         }
         Ok(meshes)
@@ -430,10 +429,11 @@ pub struct Scene {
 
 impl Scene {
     /// The objects that share object `object`'s lattice (equal lattices: the same group and
-    /// the same points), `object` among them, by increasing index; empty without a lattice.
+    /// the same points), `object` among them, by increasing index; just `object` when it has
+    /// no lattice (what a lattice edit of it applies to).
     pub fn linked_lattices(&self, object: usize) -> Vec<usize> {
         let Some(lattice) = self.objects.get(object).and_then(|o| o.lattice.as_ref()) else {
-            return Vec::new();
+            return vec![object];
         };
         self.objects
             .iter()
