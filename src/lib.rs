@@ -19,7 +19,8 @@ pub mod bench;
 pub mod doc;
 pub mod gpu;
 pub mod io;
-pub mod kernel;
+/// The f64 geometry kernel (the `knotwork-kernel` crate), under its old path.
+pub use knotwork_kernel as kernel;
 pub mod render;
 pub mod scene;
 pub mod shaders;

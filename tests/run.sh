@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test of knotwork:
-#   1. cargo fmt --check, and clippy -D warnings for the desktop and for wasm32;
-#   2. cargo test: kernel, GPU evaluation vs the f64 reference (a real wgpu adapter: lavapipe
-#      where there is no GPU), shader validation and layouts, offscreen image tests, glTF export
+#   1. cargo fmt --check, clippy -D warnings for the desktop and for wasm32, and the kernel crate's
+#      layer (no GPU, UI or format crate; builds for wasm32 alone);
+#   2. cargo test over the workspace: the kernel crate (crates/kernel), GPU evaluation vs the
+#      f64 reference (a real wgpu adapter: lavapipe where there is no GPU), shader validation and layouts, offscreen image tests, glTF export
 #      checked by the Khronos glTF-Validator (npm), and the desktop app itself in a window
 #      (under Xvfb where there is no display);
 #   3. a one-minute smoke of the file readers' fuzz harness (examples/fuzz_smoke.rs);
@@ -70,9 +71,19 @@ fi
 step "cargo fmt --check"
 cargo fmt --all -- --check
 step "cargo clippy (desktop)"
-cargo clippy --all-targets --locked -- -D warnings
+cargo clippy --workspace --all-targets --locked -- -D warnings
 step "cargo clippy (wasm32)"
-cargo clippy --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
+cargo clippy --workspace --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
+# The kernel is a layer of its own: no GPU, UI, file format or browser crate in its graph, and
+# it builds for wasm32 by itself.
+step "kernel layer (knotwork-kernel: dependencies, wasm32 build)"
+forbidden=$(cargo tree --locked -p knotwork-kernel -e normal --prefix none |
+  awk '{ print $1 }' | grep -Ex 'wgpu.*|naga|egui.*|eframe|winit|gltf.*|wasm-bindgen.*|web-sys|js-sys' | sort -u || true)
+if [ -n "$forbidden" ]; then
+  echo "tests/run.sh: knotwork-kernel depends on $(echo $forbidden)" >&2
+  exit 1
+fi
+cargo build --locked -p knotwork-kernel --target wasm32-unknown-unknown
 
 # --- Rust tests --------------------------------------------------------------------------------
 # The npm packages first: the glTF tests run the Khronos validator from web/node_modules.
@@ -82,7 +93,7 @@ step "cargo test"
 log=$(mktemp)
 browser_log=$(mktemp)
 trap 'rm -f "$log" "$browser_log"' EXIT
-cargo test --locked 2>&1 | tee "$log"
+cargo test --workspace --locked 2>&1 | tee "$log"
 rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^passed/) n += $i } END { print n + 0 }' "$log")
 
 # --- Fuzz smoke ---------------------------------------------------------------------------------

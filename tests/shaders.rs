@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
 
+use knotwork::gpu::packing::pattern_code;
 use knotwork::gpu::records::{
     AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE, GPU_CURVATURE_NUDGE, GPU_MAX_DEGREE,
     PatchRecord, PointResult, PointSample, RAMP_STOPS, SceneUniform, SurfaceVertex,
@@ -284,9 +285,9 @@ fn evaluator_constants_match_their_rust_counterparts() {
             knotwork::gpu::records::DISPLACEMENT_NONE,
         ),
         ("LATTICE_NONE", knotwork::gpu::records::LATTICE_NONE),
-        ("DISPLACE_WAVES", Pattern::Waves.code()),
-        ("DISPLACE_RIPPLES", Pattern::Ripples.code()),
-        ("DISPLACE_NOISE", Pattern::Noise.code()),
+        ("DISPLACE_WAVES", pattern_code(Pattern::Waves)),
+        ("DISPLACE_RIPPLES", pattern_code(Pattern::Ripples)),
+        ("DISPLACE_NOISE", pattern_code(Pattern::Noise)),
         (
             "PATCH_KIND_STENCIL_QUAD",
             knotwork::gpu::records::PATCH_KIND_STENCIL_QUAD,

@@ -7,6 +7,7 @@ pub mod async_readback;
 pub mod context;
 pub mod cpu_eval;
 pub mod error;
+pub mod packing;
 pub mod patch_eval;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod point_eval;

@@ -44,6 +44,7 @@ use super::adaptive_pass::{
     AdaptivePass, AdaptivePipelines, AdaptiveStats, AdaptiveTarget, SharedBuffers,
 };
 use super::error::GpuError;
+use super::packing;
 use super::records::{
     DISPLACEMENT_NONE, EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, LATTICE_NONE,
     PATCH_KIND_ACC, PATCH_KIND_BEZIER, PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE,
@@ -515,11 +516,11 @@ impl PatchLayout {
             let displacement = match &input.displacement {
                 Some(d) => {
                     let at = (total_points + entry_data.len()) as u32;
-                    entry_data.push(d.map.gpu_words());
+                    entry_data.push(packing::displacement_words(&d.map));
                     entry_data.push(d.domain.map(|x| x as f32));
                     // An image's words follow (`image_height` in eval_bezier.wgsl).
                     if let Some(image) = &d.map.image {
-                        entry_data.extend(image.gpu_words());
+                        entry_data.extend(packing::height_image_words(image));
                     }
                     at
                 }
@@ -529,7 +530,7 @@ impl PatchLayout {
             let lattice = match input.lattice {
                 Some(l) => {
                     let at = (total_points + entry_data.len()) as u32;
-                    let block = l.gpu_block();
+                    let block = packing::lattice_block(l);
                     entry_data.extend_from_slice(&block);
                     lattices.push(Some((at, block)));
                     at
@@ -1119,7 +1120,7 @@ impl PatchGeometry {
         match (slot, lattice) {
             (None, None) => Ok(false),
             (Some((at, uploaded)), Some(lattice)) => {
-                let block = lattice.gpu_block();
+                let block = packing::lattice_block(lattice);
                 if block.len() != uploaded.len() {
                     return Err(GpuError::Geometry(
                         "the lattice's degrees changed without a rebuild".into(),

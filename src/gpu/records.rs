@@ -83,7 +83,7 @@ pub struct PatchRecord {
     /// [`DISPLACEMENT_NONE`].
     pub displacement: u32,
     /// Where the object's free-form deformation lattice lies in the control point buffer
-    /// ([`crate::kernel::ffd::Lattice::gpu_block`]: header, three rows of the inverse box,
+    /// ([`super::packing::lattice_block`]: header, three rows of the inverse box,
     /// points), or [`LATTICE_NONE`].
     pub lattice: u32,
     pub reserved: [u32; 2],

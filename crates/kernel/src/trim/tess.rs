@@ -1,7 +1,7 @@
 //! Export tessellation of a trimmed surface: a constrained Delaunay triangulation in (u, v)
 //! (spade). The trim loops are flattened so that every boundary chord stays within a quarter of
 //! the tolerance of the trim curve on the surface; the interior takes the points of the untrimmed
-//! surface's tolerance grid ([`crate::kernel::tess::tolerance_grid`]) that lie in the kept
+//! surface's tolerance grid ([`crate::tess::tolerance_grid`]) that lie in the kept
 //! region away from the boundary; a triangle whose deviation from the surface exceeds the
 //! tolerance gets a vertex at its worst interior edge's midpoint (or its centroid) until none
 //! does. Every vertex is the surface at its
@@ -12,8 +12,8 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::piece::distance_to_segment;
 use super::{TrimmedSurface, domain_rect, flatten_loop_mapped};
-use crate::kernel::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
-use crate::kernel::{GeometryError, NurbsSurface};
+use crate::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
+use crate::{GeometryError, NurbsSurface};
 
 /// Rounds of centroid insertion before the triangulation is taken as it is.
 const REFINE_ROUNDS: usize = 10;

@@ -429,31 +429,6 @@ impl Lattice {
         lines
     }
 
-    /// The words the GPU reads (`shaders/eval_bezier.wgsl`, `lattice_jet`): (X₀, degrees packed
-    /// l | m << 8 | n << 16 as the bits of w), the three rows of A, then the points.
-    pub fn gpu_block(&self) -> Vec<[f32; 4]> {
-        let [l, m, n] = self.frame.degrees;
-        let packed = (l | (m << 8) | (n << 16)) as u32;
-        let a = self.inverse_axes().transpose();
-        let mut block = vec![
-            [
-                self.frame.origin.x as f32,
-                self.frame.origin.y as f32,
-                self.frame.origin.z as f32,
-                f32::from_bits(packed),
-            ],
-            a.x_axis.extend(0.0).as_vec4().to_array(),
-            a.y_axis.extend(0.0).as_vec4().to_array(),
-            a.z_axis.extend(0.0).as_vec4().to_array(),
-        ];
-        block.extend(
-            self.points
-                .iter()
-                .map(|p| [p.x as f32, p.y as f32, p.z as f32, 0.0]),
-        );
-        block
-    }
-
     /// The exact composition of the rational Bézier patch of degree (p, q) with homogeneous
     /// points `points` (row-major, i along u) with the lattice: the patch of degree (Dp, Dq)
     /// whose homogeneous points interpolate w^D (F(S), 1) at the (Dp + 1)(Dq + 1) uniform
@@ -896,7 +871,7 @@ mod tests {
     #[test]
     fn composing_a_triangle_is_exact() {
         let lattice = bent();
-        let patch = crate::kernel::triangle::TriangleBezier::new(
+        let patch = crate::triangle::TriangleBezier::new(
             2,
             vec![
                 DVec3::new(-0.5, -0.5, 0.0),

@@ -6,8 +6,8 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::kernel::TrimCurve;
-use crate::kernel::vector::Vector;
+use crate::TrimCurve;
+use crate::vector::Vector;
 
 /// Sign samples per Bézier segment when looking for the extrema of u(t) and v(t).
 const EXTREMUM_SAMPLES: usize = 48;
@@ -251,7 +251,7 @@ impl MonotonePiece {
 /// The least and most halvings of a piece flattened in (u, v).
 pub const UV_DEPTHS: (usize, usize) = (1, 24);
 
-pub use crate::kernel::vector::distance_to_segment;
+pub use crate::vector::distance_to_segment;
 
 /// Crossing parity of the L-shaped path from `from` to `to` (first along u at `from`'s v, then
 /// along v at `to`'s u) with `pieces`: whether the two points are on different sides of the

@@ -565,7 +565,7 @@ pub fn tessellate_mesh(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::construct;
+    use crate::construct;
 
     #[test]
     fn a_plane_needs_one_cell_per_span_and_a_cylinder_gets_finer_with_the_tolerance() {
@@ -605,7 +605,7 @@ mod tests {
 
     #[test]
     fn teapot_patches_sharing_an_edge_share_its_count_and_the_count_follows_the_tolerance() {
-        let teapot = crate::kernel::samples::utah_teapot().unwrap();
+        let teapot = crate::samples::utah_teapot().unwrap();
         let classes = edge_count_classes(&teapot);
         assert_eq!(classes.len(), 2 * teapot.patches().len());
         // Fewer classes than directions (edges are shared), more than one (not one global count).

@@ -2,7 +2,7 @@
 //! geometry, finite differences, and the teapot data.
 
 use glam::DVec3;
-use knotwork::kernel::{BezierPatch, BezierPatchSet, GeometryError, samples};
+use knotwork_kernel::{BezierPatch, BezierPatchSet, GeometryError, samples};
 
 fn grid(n: usize) -> impl Iterator<Item = (f64, f64)> {
     (0..=n).flat_map(move |i| (0..=n).map(move |j| (i as f64 / n as f64, j as f64 / n as f64)))

@@ -38,16 +38,6 @@ impl Pattern {
     /// The procedural patterns (the image one needs an image).
     pub const ALL: [Pattern; 3] = [Pattern::Waves, Pattern::Ripples, Pattern::Noise];
 
-    /// The code the GPU reads (`DISPLACE_*` in `shaders/eval_bezier.wgsl`); 0 is none.
-    pub fn code(self) -> u32 {
-        match self {
-            Pattern::Waves => 1,
-            Pattern::Ripples => 2,
-            Pattern::Noise => 3,
-            Pattern::Image => 4,
-        }
-    }
-
     pub fn label(self) -> &'static str {
         match self {
             Pattern::Waves => "waves",
@@ -185,23 +175,6 @@ impl HeightImage {
         }
         // d px / dx = w, d py / dy = −h.
         [out[0], out[1] * w, -out[2] * h]
-    }
-
-    /// The words the GPU reads after the displacement's two: (width, height) as bits, then
-    /// the values four to a word.
-    pub fn gpu_words(&self) -> Vec<[f32; 4]> {
-        let mut words = vec![[
-            f32::from_bits(self.width as u32),
-            f32::from_bits(self.height as u32),
-            0.0,
-            0.0,
-        ]];
-        words.extend(self.values.chunks(4).map(|c| {
-            let mut word = [0.0; 4];
-            word[..c.len()].copy_from_slice(c);
-            word
-        }));
-        words
     }
 }
 
@@ -363,17 +336,6 @@ impl Displacement {
             displaced = -displaced;
         }
         (d.point + normal * (a * h), displaced)
-    }
-
-    /// The four floats the GPU reads first: pattern code (as a float), amplitude, frequency,
-    /// segments per cycle ([`Self::segments_per_cycle`]).
-    pub fn gpu_words(&self) -> [f32; 4] {
-        [
-            self.pattern.code() as f32,
-            self.amplitude as f32,
-            self.frequency as f32,
-            self.segments_per_cycle() as f32,
-        ]
     }
 }
 

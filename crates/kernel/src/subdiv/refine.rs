@@ -7,7 +7,7 @@ use super::level::{INFINITE_SHARPNESS, Level, NONE};
 use super::schemes::{self, butterfly_edge_row};
 use super::stencil::{Row, Stencils};
 use super::{Creasing, Options, Scheme};
-use crate::kernel::GeometryError;
+use crate::GeometryError;
 
 /// The vertex rules of OpenSubdiv's `Sdc::Crease::Rule`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec3;
 
-use crate::kernel::{GeometryError, PolygonMesh};
+use crate::{GeometryError, PolygonMesh};
 
 /// A cube of edge `size` centred at `center`: 8 points, 6 quads.
 pub fn cube(center: DVec3, size: f64) -> Result<PolygonMesh, GeometryError> {

@@ -5,9 +5,9 @@
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{DAffine3, DVec2, DVec3};
-use knotwork::kernel::basis::uniform_clamped_knots;
-use knotwork::kernel::construct;
-use knotwork::kernel::{
+use knotwork_kernel::basis::uniform_clamped_knots;
+use knotwork_kernel::construct;
+use knotwork_kernel::{
     BezierPatchSet, Direction, GeometryError, NurbsSurface, SpaceCurve, TrimCurve, samples,
 };
 

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::kernel::{CageProblem, GeometryError, Location};
+use crate::{CageProblem, GeometryError, Location};
 
 /// No face on this side of an edge.
 pub const NONE: u32 = u32::MAX;

@@ -9,7 +9,7 @@ use glam::DVec2;
 use super::piece::{monotone_pieces, split_bezier};
 use super::shapes::line;
 use super::{TrimLoop, TrimProblem, refuse};
-use crate::kernel::{Direction, GeometryError, TrimCurve};
+use crate::{Direction, GeometryError, TrimCurve};
 
 /// One Bézier piece of a crossing loop and the side it lies on.
 struct SidePiece {

@@ -13,7 +13,7 @@ use super::patches::Display;
 use super::schemes::{directed_ends, ring_boundary_edges};
 use super::stencil::Row;
 use super::{Scheme, SubdivisionSurface};
-use crate::kernel::GeometryError;
+use crate::GeometryError;
 
 /// Display points as rows over one level's vertices, and the polygons over them.
 #[derive(Debug, Clone, Default)]

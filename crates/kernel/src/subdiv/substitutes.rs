@@ -28,8 +28,8 @@ use super::level::{Level, Ring};
 use super::limit::{is_regular, limit_position, limit_tangents};
 use super::stencil::{Row, Stencils};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
-use crate::kernel::diffgeo::SurfaceDerivatives;
-use crate::kernel::{GeometryError, Location};
+use crate::diffgeo::SurfaceDerivatives;
+use crate::{GeometryError, Location};
 
 /// Which substitute a patch is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -161,7 +161,7 @@ impl SubstitutePlan {
         if levels == 0 {
             return Err(GeometryError::Cage {
                 at: Location::field("level"),
-                problem: crate::kernel::CageProblem::Level {
+                problem: crate::CageProblem::Level {
                     level: 0,
                     max: super::MAX_LEVEL,
                 },

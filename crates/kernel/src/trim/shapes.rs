@@ -4,7 +4,7 @@
 use glam::DVec2;
 
 use super::{TrimLoop, TrimProblem, refuse};
-use crate::kernel::{GeometryError, TrimCurve};
+use crate::{GeometryError, TrimCurve};
 
 fn construction(message: String) -> GeometryError {
     GeometryError::Construction {

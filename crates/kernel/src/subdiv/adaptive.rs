@@ -32,8 +32,8 @@ use super::display::DisplayMesh;
 use super::patches::{Display, LimitFeed, exact_pieces, face_grid, push_stencil_patches};
 use super::substitutes::ExactPiece;
 use super::{Hierarchy, Scheme, SubdivisionSurface};
-use crate::kernel::GeometryError;
-use crate::kernel::vector::distance_to_triangle;
+use crate::GeometryError;
+use crate::vector::distance_to_triangle;
 
 /// The flatness tolerance a new adaptive display starts with, as a fraction of the diagonal of
 /// the cage's bounding box.

@@ -15,7 +15,7 @@ use std::f64::consts::TAU;
 use super::level::{INFINITE_SHARPNESS, Level, NONE, Ring};
 use super::refine::opposite;
 use super::stencil::{Row, Stencils};
-use crate::kernel::GeometryError;
+use crate::GeometryError;
 
 /// The Doo-Sabin weight of corner i of an n-gon for the new point of corner 0 (Doo & Sabin
 /// 1978): α₀ = 1/4 + 5/(4n), αᵢ = (3 + 2 cos(2πi/n))/(4n). For quads (9, 3, 1, 3)/16, the

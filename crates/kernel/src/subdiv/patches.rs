@@ -10,7 +10,7 @@ use super::limit::{is_regular, regular_derivatives};
 use super::stencil::Row;
 use super::substitutes::{ExactPiece, SubstituteKind, SubstitutePlan};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
-use crate::kernel::GeometryError;
+use crate::GeometryError;
 
 /// What the surface shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]

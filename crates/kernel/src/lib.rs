@@ -1,0 +1,56 @@
+//! The geometry kernel of knotwork: pure f64 mathematics, no GPU, no UI and no file formats.
+//!
+//! Curves and surfaces (NURBS, Bézier patch sets, triangular Bézier patches, polygon meshes,
+//! subdivision cages in five schemes), trimmed surfaces, constructions (extrude, revolve, loft,
+//! sweep, Coons, Gordon, Hermite), differential geometry and continuity, free-form deformation
+//! and displacement, and export tessellation. Everything the editor's GPU evaluator draws is
+//! defined here first, and the GPU is tested against these functions.
+//!
+//! ```
+//! use glam::DVec3;
+//! use knotwork_kernel::construct;
+//!
+//! // An exact rational sphere: every point lies at the radius, and the Gaussian curvature is 1/r².
+//! let sphere = construct::sphere(DVec3::ZERO, 2.0)?;
+//! let [(u0, u1), (v0, v1)] = sphere.domain();
+//! let (u, v) = (0.3 * u0 + 0.7 * u1, 0.6 * v0 + 0.4 * v1);
+//! assert!((sphere.point_at(u, v)?.length() - 2.0).abs() < 1e-12);
+//! let local = sphere.local_geometry(u, v)?;
+//! assert!((local.curvature.values().gaussian - 0.25).abs() < 1e-9);
+//! # Ok::<(), knotwork_kernel::GeometryError>(())
+//! ```
+
+// `!(x > 0.0)` is the deliberate NaN-rejecting form of every validity check in the kernel.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod basis;
+pub mod bernstein;
+pub mod bezier;
+pub mod construct;
+pub mod continuity;
+pub mod curve;
+pub mod diffgeo;
+pub mod displace;
+pub mod error;
+pub mod ffd;
+pub mod mesh;
+pub mod ops;
+pub mod samples;
+pub mod subdiv;
+pub mod surface;
+pub mod tess;
+pub mod transfinite;
+pub mod triangle;
+pub mod trim;
+pub mod vector;
+
+pub use bezier::{BezierPatch, BezierPatchSet};
+pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
+pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
+pub use error::{CageProblem, GeometryError, Location};
+pub use mesh::PolygonMesh;
+pub use surface::{Direction, NurbsSurface};
+pub use trim::{TrimLoop, TrimProblem, TrimmedSurface};
+
+/// The highest polynomial degree (per parameter direction) the kernel's Bézier evaluator accepts.
+pub const MAX_BEZIER_DEGREE: usize = 15;
