@@ -5,7 +5,7 @@
 //! of the same type. Evaluation follows The NURBS Book: knot spans by A2.1, basis derivatives by
 //! A2.3, homogeneous surface derivatives by A3.6, rational derivatives by A4.4 (eq. 4.20).
 
-use glam::{DAffine3, DVec3, DVec4};
+use glam::{DAffine3, DVec2, DVec3, DVec4};
 
 use super::basis::{MAX_DEGREE, basis_derivatives_into, domain, find_span, validate_knots};
 use super::bezier::{BezierPatch, BezierPatchSet};
@@ -333,6 +333,12 @@ impl NurbsSurface {
     /// The point S(u, v).
     pub fn point_at(&self, u: f64, v: f64) -> Result<DVec3, GeometryError> {
         Ok(self.evaluate(u, v)?.point)
+    }
+
+    /// The point at (u, v) = (p.x, p.y) moved into the domain first.
+    pub fn point_at_clamped(&self, p: DVec2) -> Result<DVec3, GeometryError> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        self.point_at(p.x.clamp(u0, u1), p.y.clamp(v0, v1))
     }
 
     /// A_kl = ∂^{k+l} A / ∂u^k ∂v^l for k + l ≤ 2 of the homogeneous surface (A3.6).

@@ -1,26 +1,42 @@
-//! Export tessellation of a trimmed surface: a constrained Delaunay triangulation in (u, v)
-//! (spade). The trim loops are flattened so that every boundary chord stays within a quarter of
-//! the tolerance of the trim curve on the surface; the interior takes the points of the untrimmed
-//! surface's tolerance grid ([`crate::tess::tolerance_grid`]) that lie in the kept
-//! region away from the boundary; a triangle whose deviation from the surface exceeds the
-//! tolerance gets a vertex at its worst interior edge's midpoint (or its centroid) until none
-//! does. Every vertex is the surface at its
-//! stored (u, v); triangles outside the kept region are dropped.
+//! Export tessellation of a trimmed surface: the untrimmed surface's parameter grid
+//! ([`crate::tess::grid_for`]) clipped by the trim loops.
+//!
+//! The trim loops are flattened so that every boundary chord stays within a quarter of the
+//! tolerance of the trim curve on the surface, then split where they cross the grid's lines, so
+//! that every piece lies in one cell. A cell no chord touches is kept whole (its two triangles)
+//! or dropped, by the parity of its centre; a cell a chord cuts is triangulated on its own (a
+//! constrained Delaunay triangulation, spade, of its corners, the chord points in it and the
+//! crossings on its sides) and keeps the triangles whose centroids lie inside the loops.
+//! Neighbouring cells see the same points on the side they share, so the mesh has no cracks.
+//!
+//! **Why this keeps the tolerance.** The linear interpolant of a function whose Hessian is
+//! bounded by M deviates by at most M R² / 2 over a triangle, R the radius of the smallest disc
+//! containing it (Waldron, "The error in linear interpolation at the vertices of a simplex",
+//! SIAM J. Numer. Anal. 35, 1998). A piece of a cell lies in the cell's smallest disc, so its
+//! bound is at most the cell's, and the grid keeps the cell's triangles within the tolerance.
+//! A bound is not a measurement, so every triangle of a cut cell is then checked at its
+//! centroid and edge midpoints; a cell that fails gets new grid lines through its middle, until
+//! none does. The triangle count stays that of the untrimmed grid plus a few per boundary
+//! chord.
+
+use std::collections::{BTreeMap, HashMap};
 
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::piece::distance_to_segment;
-use super::{TrimmedSurface, domain_rect, flatten_loop_mapped};
-use crate::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
+use super::{TrimmedSurface, flatten_loop_mapped};
+use crate::tess::{self, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
 use crate::{GeometryError, NurbsSurface};
 
-/// Rounds of centroid insertion before the triangulation is taken as it is.
-const REFINE_ROUNDS: usize = 10;
 /// The share of the tolerance the boundary chords keep to.
 const BOUNDARY_SHARE: f64 = 0.25;
 /// The least and most halvings of a trim piece flattened on the surface.
 const SURFACE_DEPTHS: (usize, usize) = (2, 30);
+/// Rounds of grid refinement where a cut cell's triangles miss the tolerance.
+const REFINE_ROUNDS: usize = 10;
+/// Chord points this close to a grid line (a share of the domain's size) are moved onto it, so
+/// that a loop along a grid line, or through a grid corner, meets it exactly.
+const SNAP: f64 = 1e-11;
 
 fn failed(message: String) -> GeometryError {
     GeometryError::Construction {
@@ -36,10 +52,7 @@ pub fn flatten_on_surface(
     tolerance: f64,
 ) -> Result<Vec<Vec<DVec2>>, GeometryError> {
     let surface = trimmed.surface();
-    let on_surface = |p: DVec2| {
-        let p = clamp_to(surface, p);
-        surface.point_at(p.x, p.y)
-    };
+    let on_surface = |p: DVec2| surface.point_at_clamped(p);
     let mut out = Vec::new();
     for lp in trimmed.loops() {
         let (polygon, _) = flatten_loop_mapped(lp, tolerance, SURFACE_DEPTHS, on_surface)?;
@@ -53,74 +66,8 @@ pub fn flatten_on_surface(
     Ok(out)
 }
 
-fn clamp_to(surface: &NurbsSurface, p: DVec2) -> DVec2 {
-    let [(u0, u1), (v0, v1)] = surface.domain();
-    DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1))
-}
-
-/// Buckets the boundary chords for distance queries.
-struct ChordGrid {
-    origin: DVec2,
-    cell: DVec2,
-    side: usize,
-    buckets: Vec<Vec<(DVec2, DVec2)>>,
-}
-
-impl ChordGrid {
-    fn new(rect: [f64; 4], polygons: &[Vec<DVec2>]) -> Self {
-        let count: usize = polygons.iter().map(Vec::len).sum();
-        let side = ((count as f64).sqrt().ceil() as usize).clamp(1, 1024);
-        let origin = DVec2::new(rect[0], rect[2]);
-        let cell = DVec2::new(
-            ((rect[1] - rect[0]) / side as f64).max(1e-300),
-            ((rect[3] - rect[2]) / side as f64).max(1e-300),
-        );
-        let mut grid = Self {
-            origin,
-            cell,
-            side,
-            buckets: vec![Vec::new(); side * side],
-        };
-        for poly in polygons {
-            for k in 0..poly.len() {
-                let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-                let (i0, j0) = grid.cell_of(a.min(b));
-                let (i1, j1) = grid.cell_of(a.max(b));
-                for j in j0..=j1 {
-                    for i in i0..=i1 {
-                        grid.buckets[j * side + i].push((a, b));
-                    }
-                }
-            }
-        }
-        grid
-    }
-
-    fn cell_of(&self, p: DVec2) -> (usize, usize) {
-        let q = (p - self.origin) / self.cell;
-        let max = (self.side - 1) as f64;
-        (
-            q.x.floor().clamp(0.0, max) as usize,
-            q.y.floor().clamp(0.0, max) as usize,
-        )
-    }
-
-    /// Whether some chord passes within `r` of p.
-    fn near(&self, p: DVec2, r: f64) -> bool {
-        let (i0, j0) = self.cell_of(p - DVec2::splat(r));
-        let (i1, j1) = self.cell_of(p + DVec2::splat(r));
-        (j0..=j1).any(|j| {
-            (i0..=i1).any(|i| {
-                self.buckets[j * self.side + i]
-                    .iter()
-                    .any(|&(a, b)| distance_to_segment(p, a, b) < r)
-            })
-        })
-    }
-}
-
 /// The trimmed surface as a triangle mesh within `tessellation` (a tolerance, or segments per
-/// span for the interior grid with the loops flattened to 1/1000 of the surface's size).
+/// span for the grid with the loops flattened to 1/1000 of the surface's size).
 pub fn tessellate_trimmed(
     trimmed: &TrimmedSurface,
     tessellation: Tessellation,
@@ -136,211 +83,404 @@ pub fn tessellate_trimmed(
             "the tolerance must be finite and > 0, got {tolerance}"
         )));
     }
-    let grid = tess::grid_for(surface, tessellation)?;
+    let mut grid = tess::grid_for(surface, tessellation)?;
     // The boundary at a quarter of the tolerance: the area lost between the chords and the trim
     // curve grows with the perimeter, so a small trimmed face would otherwise lose a larger
     // share of its area than the interior's error.
     let polygons = flatten_on_surface(trimmed, BOUNDARY_SHARE * tolerance)?;
-    let rect = domain_rect(surface);
-    let chords = ChordGrid::new(rect, &polygons);
-
-    let mut points: Vec<DVec2> = Vec::new();
-    let mut edges: Vec<[usize; 2]> = Vec::new();
-    for poly in &polygons {
-        let base = points.len();
-        let n = poly.len();
-        points.extend_from_slice(poly);
-        edges.extend((0..n).map(|k| [base + k, base + (k + 1) % n]));
-    }
-    for (i, &u) in grid.us.iter().enumerate() {
-        for (j, &v) in grid.vs.iter().enumerate() {
-            let hu = spacing(&grid.us, i);
-            let hv = spacing(&grid.vs, j);
-            let p = DVec2::new(u, v);
-            if trimmed.contains(u, v) && !chords.near(p, 0.3 * hu.min(hv)) {
-                points.push(p);
-            }
-        }
-    }
-
-    // Surface points of `points`, computed once each; triangles found within the tolerance.
-    let mut positions: Vec<DVec3> = points
-        .iter()
-        .map(|p| surface.point_at(p.x, p.y))
-        .collect::<Result<_, _>>()?;
-    let mut checked: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
-    // The boundary chords (flattened against the trim curve already, so not refined here).
-    let chord_edges: std::collections::HashSet<[usize; 2]> =
-        edges.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
-    let mut rounds = 0;
-    let mut cdt = build_cdt(&points, &edges)?;
-    let (vertices, triangles) = loop {
-        let (vertices, triangles) = kept_triangles(&cdt);
-        if triangles.len() > MAX_TRIANGLES {
+    let checked = matches!(tessellation, Tessellation::Tolerance(_));
+    let mut round = 0;
+    loop {
+        if grid.triangle_count() > MAX_TRIANGLES {
             return Err(failed(format!(
                 "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
             )));
         }
-        rounds += 1;
-        if rounds > REFINE_ROUNDS {
-            break (vertices, triangles);
+        let clipped = clip_grid(&grid, &polygons)?;
+        round += 1;
+        if !checked || round > REFINE_ROUNDS {
+            return mesh_from(surface, &clipped.points, clipped.triangles, curvature);
         }
-        // The triangulation keeps the input order unless points coincided.
-        let same_order = vertices.len() == points.len();
-        let vertex_positions: Vec<DVec3> = if same_order {
-            positions.clone()
-        } else {
-            vertices
-                .iter()
-                .map(|p| surface.point_at(p.x, p.y))
-                .collect::<Result<_, _>>()?
-        };
-        let mut added = Vec::new();
-        let mut split_edges = std::collections::HashSet::new();
-        for t in &triangles {
-            let mut key = *t;
-            key.sort_unstable();
-            if same_order && checked.contains(&key) {
-                continue;
-            }
-            let [a, b, c] = t.map(|k| k as usize);
-            let centroid = (vertices[a] + vertices[b] + vertices[c]) / 3.0;
-            let flat = (vertex_positions[a] + vertex_positions[b] + vertex_positions[c]) / 3.0;
-            // The worst of the centroid and the interior edges' midpoints gets a vertex: an
-            // edge's midpoint splits the edge (a centroid alone would leave a long edge as it
-            // was).
-            // A triangle on a boundary chord is judged by its other edges: the chord's own
-            // sag is the flattening's (within the tolerance of the trim curve).
-            let on_boundary = same_order
-                && [(a, b), (b, c), (c, a)]
-                    .iter()
-                    .any(|&(x, y)| chord_edges.contains(&[x.min(y), x.max(y)]));
-            let mut worst = if on_boundary {
-                0.0
-            } else {
-                (surface.point_at(centroid.x, centroid.y)? - flat).length()
-            };
-            let mut split = centroid;
-            let mut split_edge = None;
-            for (x, y) in [(a, b), (b, c), (c, a)] {
-                if same_order && chord_edges.contains(&[x.min(y), x.max(y)]) {
-                    continue;
-                }
-                let m = 0.5 * (vertices[x] + vertices[y]);
-                let on_surface = surface.point_at(m.x, m.y)?;
-                let chord = 0.5 * (vertex_positions[x] + vertex_positions[y]);
-                let deviation = (on_surface - chord).length();
-                if deviation > worst {
-                    worst = deviation;
-                    split = m;
-                    split_edge = Some([x.min(y), x.max(y)]);
-                }
-            }
-            // A point that would land right by a boundary chord only makes slivers along it.
-            let reach = [(a, b), (b, c), (c, a)]
-                .iter()
-                .map(|&(x, y)| vertices[x].distance(vertices[y]))
-                .fold(0.0, f64::max);
-            if worst > tolerance && !chords.near(split, 0.05 * reach) {
-                if split_edge.is_none_or(|e| split_edges.insert(e)) {
-                    added.push(split);
-                }
-            } else if same_order {
-                checked.insert(key);
-            }
+        let failing = clipped.failing_cells(surface, tolerance)?;
+        if failing.is_empty() {
+            return mesh_from(surface, &clipped.points, clipped.triangles, curvature);
         }
-        if added.is_empty() {
-            break (vertices, triangles);
-        }
-        // New points go into the triangulation one by one (no rebuild).
-        for p in &added {
-            positions.push(surface.point_at(p.x, p.y)?);
-            cdt.insert(Point2::new(p.x, p.y))
-                .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
-        }
-        points.extend(added);
-    };
-    mesh_from(surface, &vertices, triangles, curvature)
+        grid = split_cells(&grid, &failing);
+    }
 }
 
-/// The grid spacing around index i.
-fn spacing(values: &[f64], i: usize) -> f64 {
-    let before = if i > 0 {
-        values[i] - values[i - 1]
-    } else {
-        f64::INFINITY
+/// The grid with a line through the middle of every cell in `cells` (in both directions).
+fn split_cells(grid: &ParameterGrid, cells: &[[usize; 2]]) -> ParameterGrid {
+    let with_middles = |values: &[f64], at: &mut dyn Iterator<Item = usize>| {
+        let mut out = values.to_vec();
+        out.extend(at.map(|k| 0.5 * (values[k] + values[k + 1])));
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
     };
-    let after = if i + 1 < values.len() {
-        values[i + 1] - values[i]
-    } else {
-        f64::INFINITY
-    };
-    let h = before.min(after);
-    if h.is_finite() { h } else { 0.0 }
+    ParameterGrid {
+        us: with_middles(&grid.us, &mut cells.iter().map(|c| c[0])),
+        vs: with_middles(&grid.vs, &mut cells.iter().map(|c| c[1])),
+    }
 }
 
-/// The vertices and the triangles of `cdt` inside the loops, counter-clockwise in (u, v). Inside-ness is found by a flood fill from the
-/// outside that flips at every constraint edge (each loop's chords), so classifying every
-/// triangle costs O(triangles) whatever the number of loops.
-fn kept_triangles(cdt: &Cdt) -> (Vec<DVec2>, Vec<[u32; 3]>) {
-    let vertices: Vec<DVec2> = cdt
-        .vertices()
-        .map(|v| {
-            let p = v.position();
-            DVec2::new(p.x, p.y)
+/// The grid clipped by the loops: (u, v) points, triangles counter-clockwise in (u, v), and
+/// which triangles lie in a cut cell (from `cut_from` on, with their cells).
+struct ClippedGrid {
+    points: Vec<DVec2>,
+    triangles: Vec<[u32; 3]>,
+    /// The cut cells' triangles: (first triangle, end, cell).
+    cut: Vec<(usize, usize, [usize; 2])>,
+}
+
+impl ClippedGrid {
+    /// The cut cells where a triangle's centroid or an edge midpoint lies farther than
+    /// `tolerance` from the surface at the same (u, v) (an upper bound of its distance).
+    fn failing_cells(
+        &self,
+        surface: &NurbsSurface,
+        tolerance: f64,
+    ) -> Result<Vec<[usize; 2]>, GeometryError> {
+        let mut positions: HashMap<u32, DVec3> = HashMap::new();
+        let mut failing = Vec::new();
+        for &(start, end, cell) in &self.cut {
+            for t in &self.triangles[start..end] {
+                let mut corners = [DVec3::ZERO; 3];
+                for (slot, &k) in corners.iter_mut().zip(t) {
+                    *slot = match positions.get(&k) {
+                        Some(&p) => p,
+                        None => {
+                            let p = surface.point_at_clamped(self.points[k as usize])?;
+                            positions.insert(k, p);
+                            p
+                        }
+                    };
+                }
+                let uv = t.map(|k| self.points[k as usize]);
+                if triangle_deviation(surface, uv, corners)? > tolerance {
+                    failing.push(cell);
+                    break;
+                }
+            }
+        }
+        Ok(failing)
+    }
+}
+
+/// The largest |S(t) − L(t)| at the centroid and the edge midpoints of the triangle with
+/// parameters `uv` and points `corners` (L its linear interpolant).
+pub fn triangle_deviation(
+    surface: &NurbsSurface,
+    uv: [DVec2; 3],
+    corners: [DVec3; 3],
+) -> Result<f64, GeometryError> {
+    let mut worst: f64 = 0.0;
+    let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
+    let flat = (corners[0] + corners[1] + corners[2]) / 3.0;
+    worst = worst.max((surface.point_at_clamped(centroid)? - flat).length());
+    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+        let m = 0.5 * (uv[a] + uv[b]);
+        let chord = 0.5 * (corners[a] + corners[b]);
+        worst = worst.max((surface.point_at_clamped(m)? - chord).length());
+    }
+    Ok(worst)
+}
+
+/// The (u, v) points of a clipped grid, each stored once (by its exact coordinates).
+#[derive(Default)]
+struct PointPool {
+    points: Vec<DVec2>,
+    index: HashMap<[u64; 2], u32>,
+}
+
+impl PointPool {
+    fn id(&mut self, p: DVec2) -> u32 {
+        let key = [p.x.to_bits(), p.y.to_bits()];
+        *self.index.entry(key).or_insert_with(|| {
+            self.points.push(p);
+            (self.points.len() - 1) as u32
         })
-        .collect();
-    // Parity per face (index of the face handle); the outer face is outside.
-    let mut kept: Vec<Option<bool>> = vec![None; cdt.num_all_faces()];
-    let mut queue = std::collections::VecDeque::new();
-    for face in cdt.inner_faces() {
-        for edge in face.adjacent_edges() {
-            if edge.rev().face().is_outer() {
-                kept[face.fix().index()] = Some(edge.is_constraint_edge());
-                queue.push_back(face);
-                break;
-            }
-        }
     }
-    while let Some(face) = queue.pop_front() {
-        let inside = kept[face.fix().index()].unwrap_or(false);
-        for edge in face.adjacent_edges() {
-            if let Some(next) = edge.rev().face().as_inner()
-                && kept[next.fix().index()].is_none()
-            {
-                kept[next.fix().index()] = Some(inside != edge.is_constraint_edge());
-                queue.push_back(next);
-            }
-        }
-    }
-    let mut triangles = Vec::new();
-    for face in cdt.inner_faces() {
-        if kept[face.fix().index()] != Some(true) {
-            continue;
-        }
-        let [a, b, c] = face.vertices().map(|v| v.fix().index());
-        let (pa, pb, pc) = (vertices[a], vertices[b], vertices[c]);
-        let area = (pb - pa).perp_dot(pc - pa);
-        if area == 0.0 {
-            continue;
-        }
-        triangles.push(if area > 0.0 {
-            [a as u32, b as u32, c as u32]
-        } else {
-            [a as u32, c as u32, b as u32]
-        });
-    }
-    (vertices, triangles)
 }
 
-type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+/// What the chords leave in one cell: the points on it or in it, and the chord pieces.
+#[derive(Default)]
+struct CellCut {
+    points: Vec<u32>,
+    pieces: Vec<[u32; 2]>,
+}
 
-/// The constrained Delaunay triangulation of `points` with `edges` fixed (bulk loaded; the
-/// vertex order is kept unless points coincide).
-fn build_cdt(points: &[DVec2], edges: &[[usize; 2]]) -> Result<Cdt, GeometryError> {
-    let input = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
-    Cdt::try_bulk_load_cdt(input, edges.to_vec(), |_| {})
-        .map_err(|e| failed(format!("the triangulation failed: {e:?}")))
+/// `x` moved onto the nearest of the sorted `lines` when it lies within `snap` of it.
+fn snap_to(lines: &[f64], x: f64, snap: f64) -> f64 {
+    let k = lines.partition_point(|&l| l < x);
+    [k.checked_sub(1), Some(k)]
+        .into_iter()
+        .flatten()
+        .filter_map(|k| lines.get(k))
+        .find(|&&l| (l - x).abs() <= snap)
+        .copied()
+        .unwrap_or(x)
+}
+
+/// The cells (spans of the sorted `lines`) whose closed interval holds x: two where x lies on
+/// an inner line, one elsewhere.
+fn spans_holding(lines: &[f64], x: f64) -> std::ops::RangeInclusive<usize> {
+    let last = lines.len() - 2;
+    let k = lines.partition_point(|&l| l < x);
+    if lines.get(k) == Some(&x) {
+        k.saturating_sub(1).min(last)..=k.min(last)
+    } else {
+        let k = k.saturating_sub(1).min(last);
+        k..=k
+    }
+}
+
+/// The polygons with every point within [`SNAP`] of a grid line moved onto it, repeated
+/// points dropped.
+fn snapped(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<Vec<DVec2>> {
+    let size =
+        (grid.us[grid.us.len() - 1] - grid.us[0]).max(grid.vs[grid.vs.len() - 1] - grid.vs[0]);
+    let snap = SNAP * size;
+    polygons
+        .iter()
+        .map(|poly| {
+            let mut out: Vec<DVec2> = Vec::with_capacity(poly.len());
+            for p in poly {
+                let q = DVec2::new(snap_to(&grid.us, p.x, snap), snap_to(&grid.vs, p.y, snap));
+                if out.last() != Some(&q) {
+                    out.push(q);
+                }
+            }
+            while out.len() > 1 && out.first() == out.last() {
+                out.pop();
+            }
+            out
+        })
+        .filter(|poly| poly.len() >= 3)
+        .collect()
+}
+
+/// The chord from a to b split where it crosses the grid's lines, from a to b (points on a
+/// line lie exactly on it).
+fn chord_points(grid: &ParameterGrid, a: DVec2, b: DVec2, snap: f64) -> Vec<DVec2> {
+    let mut out = vec![(0.0, a), (1.0, b)];
+    let crossings = |lines: &[f64], from: f64, to: f64| {
+        let (lo, hi) = (from.min(to), from.max(to));
+        let start = lines.partition_point(|&l| l <= lo);
+        let end = lines.partition_point(|&l| l < hi);
+        lines[start..end.max(start)].to_vec()
+    };
+    for u in crossings(&grid.us, a.x, b.x) {
+        let t = (u - a.x) / (b.x - a.x);
+        let v = snap_to(&grid.vs, a.y + t * (b.y - a.y), snap);
+        out.push((t, DVec2::new(u, v)));
+    }
+    for v in crossings(&grid.vs, a.y, b.y) {
+        let t = (v - a.y) / (b.y - a.y);
+        let u = snap_to(&grid.us, a.x + t * (b.x - a.x), snap);
+        out.push((t, DVec2::new(u, v)));
+    }
+    out.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let mut points: Vec<DVec2> = out.into_iter().map(|(_, p)| p).collect();
+    points.dedup();
+    points
+}
+
+/// The chords of the polygons that overlap each row of cells (in v), for parity tests.
+fn chords_by_row(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<Vec<[DVec2; 2]>> {
+    let mut rows = vec![Vec::new(); grid.vs.len() - 1];
+    for poly in polygons {
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let first = *spans_holding(&grid.vs, a.y.min(b.y)).start();
+            let last = *spans_holding(&grid.vs, a.y.max(b.y)).end();
+            for row in &mut rows[first..=last] {
+                row.push([a, b]);
+            }
+        }
+    }
+    rows
+}
+
+/// Whether p (strictly inside a cell of the row whose chords are `chords`) lies inside the
+/// loops: the parity of the chords crossing the ray from p towards +u.
+fn inside(chords: &[[DVec2; 2]], p: DVec2) -> bool {
+    let mut parity = false;
+    for &[a, b] in chords {
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if x > p.x {
+                parity = !parity;
+            }
+        }
+    }
+    parity
+}
+
+/// The grid clipped by the (closed, even-odd) polygons.
+fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGrid, GeometryError> {
+    let (us, vs) = (&grid.us, &grid.vs);
+    let size = (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
+    let polygons = snapped(grid, polygons);
+    let mut pool = PointPool::default();
+    let mut cuts: BTreeMap<[usize; 2], CellCut> = BTreeMap::new();
+    for poly in &polygons {
+        for k in 0..poly.len() {
+            let points = chord_points(grid, poly[k], poly[(k + 1) % poly.len()], SNAP * size);
+            let ids: Vec<u32> = points.iter().map(|&p| pool.id(p)).collect();
+            for (&p, &id) in points.iter().zip(&ids) {
+                for i in spans_holding(us, p.x) {
+                    for j in spans_holding(vs, p.y) {
+                        cuts.entry([i, j]).or_default().points.push(id);
+                    }
+                }
+            }
+            for (w, pair) in points.windows(2).zip(ids.windows(2)) {
+                let m = 0.5 * (w[0] + w[1]);
+                for i in spans_holding(us, m.x) {
+                    for j in spans_holding(vs, m.y) {
+                        cuts.entry([i, j])
+                            .or_default()
+                            .pieces
+                            .push([pair[0], pair[1]]);
+                    }
+                }
+            }
+        }
+    }
+    let rows = chords_by_row(grid, &polygons);
+    let mut triangles = Vec::new();
+    let mut cut = Vec::new();
+    for i in 0..us.len() - 1 {
+        for j in 0..vs.len() - 1 {
+            let rect = [us[i], us[i + 1], vs[j], vs[j + 1]];
+            let corners = [
+                DVec2::new(rect[0], rect[2]),
+                DVec2::new(rect[1], rect[2]),
+                DVec2::new(rect[1], rect[3]),
+                DVec2::new(rect[0], rect[3]),
+            ];
+            match cuts.get(&[i, j]).filter(|c| c.cuts(&pool.points, rect)) {
+                Some(cell) => {
+                    let start = triangles.len();
+                    triangulate_cell(&mut pool, cell, corners, &rows[j], &mut triangles)?;
+                    cut.push((start, triangles.len(), [i, j]));
+                }
+                None => {
+                    if inside(&rows[j], 0.5 * (corners[0] + corners[2])) {
+                        let [c00, c10, c11, c01] = corners.map(|p| pool.id(p));
+                        triangles.push([c00, c10, c11]);
+                        triangles.push([c00, c11, c01]);
+                    }
+                }
+            }
+        }
+    }
+    Ok(ClippedGrid {
+        points: pool.points,
+        triangles,
+        cut,
+    })
+}
+
+impl CellCut {
+    /// Whether the chords cut the cell `rect` (u0, u1, v0, v1): a point other than its corners,
+    /// or a piece not along its sides.
+    fn cuts(&self, points: &[DVec2], rect: [f64; 4]) -> bool {
+        let corner =
+            |p: DVec2| (p.x == rect[0] || p.x == rect[1]) && (p.y == rect[2] || p.y == rect[3]);
+        let along_side = |p: DVec2, q: DVec2| {
+            (p.x == q.x && (p.x == rect[0] || p.x == rect[1]))
+                || (p.y == q.y && (p.y == rect[2] || p.y == rect[3]))
+        };
+        self.points.iter().any(|&k| !corner(points[k as usize]))
+            || self
+                .pieces
+                .iter()
+                .any(|&[a, b]| !along_side(points[a as usize], points[b as usize]))
+    }
+}
+
+/// Where p lies along the boundary of the cell with `corners` (counter-clockwise from the
+/// first), or None inside.
+fn perimeter_position(corners: [DVec2; 4], p: DVec2) -> Option<f64> {
+    let [c00, c10, c11, c01] = corners;
+    let (w, h) = (c10.x - c00.x, c01.y - c00.y);
+    if p.y == c00.y {
+        Some(p.x - c00.x)
+    } else if p.x == c11.x {
+        Some(w + (p.y - c00.y))
+    } else if p.y == c11.y {
+        Some(w + h + (c11.x - p.x))
+    } else if p.x == c00.x {
+        Some(2.0 * w + h + (c11.y - p.y))
+    } else {
+        None
+    }
+}
+
+/// The triangles of one cut cell inside the loops: a constrained Delaunay triangulation of its
+/// corners and chord points, the cell's sides and the chord pieces fixed.
+fn triangulate_cell(
+    pool: &mut PointPool,
+    cell: &CellCut,
+    corners: [DVec2; 4],
+    row: &[[DVec2; 2]],
+    out: &mut Vec<[u32; 3]>,
+) -> Result<(), GeometryError> {
+    let mut ids: Vec<u32> = corners.iter().map(|&p| pool.id(p)).collect();
+    for &k in &cell.points {
+        if !ids.contains(&k) {
+            ids.push(k);
+        }
+    }
+    let local: HashMap<u32, usize> = ids.iter().enumerate().map(|(n, &k)| (k, n)).collect();
+    let points: Vec<DVec2> = ids.iter().map(|&k| pool.points[k as usize]).collect();
+    // The sides: consecutive points around the perimeter.
+    let mut around: Vec<(f64, usize)> = points
+        .iter()
+        .enumerate()
+        .filter_map(|(n, &p)| perimeter_position(corners, p).map(|s| (s, n)))
+        .collect();
+    around.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut edges: Vec<[usize; 2]> = (0..around.len())
+        .map(|k| [around[k].1, around[(k + 1) % around.len()].1])
+        .collect();
+    for &[a, b] in &cell.pieces {
+        let (a, b) = (local[&a], local[&b]);
+        let (pa, pb) = (points[a], points[b]);
+        let on_side = perimeter_position(corners, pa).is_some()
+            && perimeter_position(corners, pb).is_some()
+            && (pa.x == pb.x || pa.y == pb.y)
+            && perimeter_position(corners, 0.5 * (pa + pb)).is_some();
+        if !on_side {
+            edges.push([a, b]);
+        }
+    }
+    let mut crossed = false;
+    let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+        points.iter().map(|p| Point2::new(p.x, p.y)).collect(),
+        edges,
+        |_| crossed = true,
+    )
+    .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+    if crossed || cdt.num_vertices() != points.len() {
+        return Err(failed(format!(
+            "two trim loops come closer than the tolerance near (u, v) = ({:.6}, {:.6}): choose a smaller tolerance",
+            corners[0].x, corners[0].y
+        )));
+    }
+    for face in cdt.inner_faces() {
+        let [a, b, c] = face.vertices().map(|v| v.fix().index());
+        let (pa, pb, pc) = (points[a], points[b], points[c]);
+        let area = (pb - pa).perp_dot(pc - pa);
+        if area == 0.0 || !inside(row, (pa + pb + pc) / 3.0) {
+            continue;
+        }
+        let [a, b, c] = [a, b, c].map(|n| ids[n]);
+        out.push(if area > 0.0 { [a, b, c] } else { [a, c, b] });
+    }
+    Ok(())
 }
 
 /// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
