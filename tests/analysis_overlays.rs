@@ -7,7 +7,7 @@ use knotwork::kernel::construct;
 use knotwork::render::guides::{
     curvature_combs, curvature_vector, grid_steps, ground_grid, principal_directions,
 };
-use knotwork::scene::ObjectGeometry;
+use knotwork::scene::{ObjectGeometry, SceneObject};
 use knotwork::view::{AnalysisSettings, CombCurves, OrbitCamera};
 
 #[test]
@@ -48,7 +48,7 @@ fn the_curvature_vector_of_a_circle_points_to_its_centre() {
 fn combs_on_a_cylinder_have_equal_hair_on_the_circles_and_none_on_the_lines() {
     let radius = 1.5;
     let cylinder = construct::cylinder(DVec3::ZERO, 4.0 * DVec3::Z, radius).unwrap();
-    let geometry = ObjectGeometry::Nurbs(cylinder);
+    let object = SceneObject::new("cylinder", ObjectGeometry::Nurbs(cylinder));
     let size = 10.0;
     let settings = AnalysisSettings {
         combs: CombCurves::Both,
@@ -56,7 +56,7 @@ fn combs_on_a_cylinder_have_equal_hair_on_the_circles_and_none_on_the_lines() {
         comb_scale: 2.0,
         ..Default::default()
     };
-    let lines = curvature_combs(&geometry, &settings, size);
+    let lines = curvature_combs(&object, &settings, size);
     assert!(!lines.on_top.is_empty());
     // Hair and envelope come as vertex pairs; hair starts on the surface.
     let longest = settings.comb_scale * 0.1 * size;
@@ -83,7 +83,8 @@ fn combs_on_a_cylinder_have_equal_hair_on_the_circles_and_none_on_the_lines() {
 #[test]
 fn principal_directions_on_a_cylinder_run_along_and_around_the_axis() {
     let cylinder = construct::cylinder(DVec3::ZERO, 3.0 * DVec3::Z, 1.0).unwrap();
-    let lines = principal_directions(&ObjectGeometry::Nurbs(cylinder), 6);
+    let cylinder = SceneObject::new("cylinder", ObjectGeometry::Nurbs(cylinder));
+    let lines = principal_directions(&cylinder, 6);
     assert!(
         lines.on_top.len() >= 2 * 2 * 36 / 2,
         "{}",

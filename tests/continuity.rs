@@ -276,3 +276,128 @@ fn the_cli_prints_one_entry_per_shared_edge() {
         assert!(String::from_utf8_lossy(&output.stderr).contains("knotwork continuity:"));
     }
 }
+
+/// The quadratic triangular patch of the graph z = f(x, y) (f linear here) over the triangle
+/// with (x, y) corners `corners` at height `z0`.
+fn flat_triangle(corners: [(f64, f64); 3], z0: f64, f: impl Fn(f64, f64) -> f64) -> SceneObject {
+    use knotwork::kernel::triangle::{TriangleBezier, lattice_index};
+    let at = |x: f64, y: f64| DVec3::new(x, y, z0 + f(x, y));
+    let [u, v, w] = corners;
+    let mid = |a: (f64, f64), b: (f64, f64)| at(0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
+    let mut points = vec![DVec3::ZERO; 6];
+    points[lattice_index(2, 2, 0)] = at(u.0, u.1);
+    points[lattice_index(2, 0, 2)] = at(v.0, v.1);
+    points[lattice_index(2, 0, 0)] = at(w.0, w.1);
+    points[lattice_index(2, 1, 1)] = mid(u, v);
+    points[lattice_index(2, 1, 0)] = mid(u, w);
+    points[lattice_index(2, 0, 1)] = mid(v, w);
+    let patch = TriangleBezier::new(2, points).unwrap();
+    SceneObject::new("triangle", ObjectGeometry::Triangle(Box::new(patch)))
+}
+
+#[test]
+fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
+    use knotwork::kernel::displace::{Displacement, Pattern};
+    use knotwork::kernel::ffd::Lattice;
+    let named = |mut o: SceneObject, name: &str| {
+        o.name = name.into();
+        o
+    };
+    let plane_at = |x0: f64, z: f64, name: &str| {
+        let p = construct::plane(DVec3::new(x0, 0.0, z), DVec3::X, DVec3::Y).unwrap();
+        SceneObject::new(name, ObjectGeometry::Nurbs(p))
+    };
+    // Two triangular patches either side of x = 0, the right one rising at slope 0.4.
+    let slope = 0.4;
+    let t0 = named(
+        flat_triangle([(0.0, 0.0), (0.0, 1.0), (-1.0, 0.0)], 0.0, |_, _| 0.0),
+        "T0",
+    );
+    let t1 = named(
+        flat_triangle([(0.0, 1.0), (0.0, 0.0), (1.0, 0.0)], 0.0, |x, _| slope * x),
+        "T1",
+    );
+    // Two flat squares meeting at x = 1, the left one displaced by waves (a sin(wu) sin(wv),
+    // zero on its sides): across the edge its slope is a w sin(wv), the largest a w.
+    let (a, f) = (0.05, 2.0);
+    let mut d0 = plane_at(0.0, 10.0, "D0");
+    d0.displacement = Some(Displacement::new(Pattern::Waves, a, f).unwrap());
+    let d1 = plane_at(1.0, 10.0, "D1");
+    // Two flat squares meeting at x = 1, the left one turned 25° about that edge by an
+    // affine lattice (exact: a trilinear lattice of an affine image is that map).
+    let theta = 25f64.to_radians();
+    let mut l0 = plane_at(0.0, 20.0, "L0");
+    let l1 = plane_at(1.0, 20.0, "L1");
+    let pivot = DVec3::new(1.0, 0.0, 20.0);
+    let turn = glam::DMat3::from_axis_angle(DVec3::Y, theta);
+    let box_ = Lattice::around(
+        DVec3::new(0.0, 0.0, 20.0),
+        DVec3::new(1.0, 1.0, 20.0),
+        [1, 1, 1],
+    )
+    .unwrap();
+    let turned = box_
+        .points()
+        .iter()
+        .map(|&p| pivot + turn * (p - pivot))
+        .collect();
+    l0.lattice = Some(Lattice::new(box_.origin(), box_.axes(), [1, 1, 1], turned).unwrap());
+    let scene = Scene {
+        objects: vec![t0, t1, d0, d1, l0, l1],
+    };
+    // Through the project file and the command line, as a user would ask.
+    let mut doc = knotwork::doc::Document::default();
+    doc.scene = scene;
+    let dir = std::env::temp_dir().join(format!("knotwork-shown-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("shown.json");
+    std::fs::write(&path, doc.save(None)).unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("continuity")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let entry = |a: &str, b: &str| {
+        let pair = serde_json::json!([a, b]);
+        let found: Vec<&serde_json::Value> = json
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["objects"] == pair)
+            .collect();
+        assert_eq!(found.len(), 1, "{a}-{b}: {json:#}");
+        found[0].clone()
+    };
+    let angle = |e: &serde_json::Value| e["max_angle_degrees"].as_f64().unwrap();
+    let triangles = entry("T0", "T1");
+    assert_eq!(triangles["verdict"], "G0");
+    assert!(
+        close(angle(&triangles), slope.atan().to_degrees(), 1e-9),
+        "{triangles}"
+    );
+    assert!(triangles["max_gap"].as_f64().unwrap() < 1e-12);
+    let displaced = entry("D0", "D1");
+    let steepest = (a * std::f64::consts::TAU * f).atan().to_degrees();
+    assert!(close(angle(&displaced), steepest, 1e-6), "{displaced}");
+    assert!(displaced["max_gap"].as_f64().unwrap() < 1e-12);
+    let deformed = entry("L0", "L1");
+    assert!(close(angle(&deformed), 25.0, 1e-9), "{deformed}");
+    assert!(deformed["max_gap"].as_f64().unwrap() < 1e-12);
+    // Without the displacement and the lattice the same squares meet flat (G2).
+    doc.scene.objects[2].displacement = None;
+    doc.scene.objects[4].lattice = None;
+    let report = analyse(&doc.scene, None, &ContinuityOptions::default());
+    let flat = report
+        .edges
+        .iter()
+        .filter(|e| [e.a.0, e.b.0].iter().all(|&k| report.faces[k].object >= 2))
+        .collect::<Vec<_>>();
+    assert_eq!(flat.len(), 2, "{flat:#?}");
+    assert!(flat.iter().all(|e| e.verdict == Continuity::G2));
+}

@@ -263,6 +263,50 @@ fn conforms(context: &GpuContext, object: SceneObject) {
         "{name}: a patch past the end is refused"
     );
 
+    // 1b. The faces (the one surface interface) against the kind's own definition: a kind
+    // with one face is that face over each feed patch's rectangle, one with several has face k
+    // as feed patch k, and a triangular patch's face is over the square, u = s (1 − t), v = t.
+    // Each face's derivatives agree with differences of its points.
+    let kind_faces = object.kind().faces();
+    let shown_faces = object.faces();
+    assert_eq!(kind_faces.len(), shown_faces.len(), "{name}: faces");
+    for (n, (face, (patch, shown))) in kind_faces.iter().zip(shown_faces).enumerate() {
+        assert_eq!(face.patch, patch, "{name}: face {n}");
+        for (s, t) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.6, 0.2)] {
+            let (point, own) = match (patch, face.triangle) {
+                (Some(k), _) => (shown.point(s, t), object.kind().surface_point(k, s, t)),
+                (None, true) => (
+                    shown.point(s, t),
+                    object.kind().surface_point(0, s * (1.0 - t), t),
+                ),
+                (None, false) => {
+                    let [u0, u1, v0, v1] = feed.domains[0];
+                    (
+                        shown.point(u0 + s * (u1 - u0), v0 + t * (v1 - v0)),
+                        object.kind().surface_point(0, s, t),
+                    )
+                }
+            };
+            let (point, own) = (point.unwrap(), own.unwrap());
+            assert!(
+                point.distance(own) <= 1e-12 * scale,
+                "{name}: face {n} at ({s}, {t}): {point} vs {own}"
+            );
+        }
+        let [(u0, u1), (v0, v1)] = shown.domain();
+        let (u, v) = (u0 + 0.4 * (u1 - u0), v0 + 0.55 * (v1 - v0));
+        let h = 1e-5 * (u1 - u0).max(v1 - v0);
+        let d = shown.derivatives(u, v).unwrap();
+        let su = (shown.point(u + h, v).unwrap() - shown.point(u - h, v).unwrap()) / (2.0 * h);
+        let sv = (shown.point(u, v + h).unwrap() - shown.point(u, v - h).unwrap()) / (2.0 * h);
+        let slack = 1e-6 * (1.0 + d.su.length() + d.sv.length());
+        assert!(
+            d.su.distance(su) <= slack && d.sv.distance(sv) <= slack,
+            "{name}: face {n}'s derivatives"
+        );
+    }
+    drop(kind_faces);
+
     // 2. The GPU, through the sync layer: the compute shaders, and the CPU evaluator of the
     // WebGL2 path.
     let mut doc = Document::new(Scene {

@@ -11,16 +11,16 @@ use crate::render::guides::{
     continuity_hair, curvature_combs, ground_grid, principal_directions, verdict_meets,
 };
 use crate::scene::continuity::{ContinuityOptions, ContinuityReport, analyse};
-use crate::scene::{ObjectGeometry, Scene};
+use crate::scene::{Scene, SceneObject};
 use crate::view::settings::COMB_DENSITY;
 use crate::view::{AnalysisSettings, CombCurves, ContinuityTarget};
 
 /// What the overlays were last built from, and the lines.
 #[derive(Default)]
 pub(super) struct AnalysisState {
-    /// The selected object's geometry, the settings and the size the combs and directions were
-    /// built for, and those lines.
-    selected: Option<(ObjectGeometry, AnalysisSettings, f64, GuideLines)>,
+    /// The selected object (with its displacement and lattice), the settings and the size the
+    /// combs and directions were built for, and those lines.
+    selected: Option<(SceneObject, AnalysisSettings, f64, GuideLines)>,
     /// The scene and options the continuity report was made for.
     continuity: Option<(Scene, ContinuityOptions, ContinuityReport)>,
     /// The lines the renderer holds.
@@ -84,9 +84,8 @@ impl KnotworkApp {
             .object
             .filter(|_| shown)
             .and_then(|s| self.scene().objects.get(s))
-            .filter(|o| o.visible)
-            .map(|o| &o.geometry);
-        if let Some(geometry) = selected {
+            .filter(|o| o.visible);
+        if let Some(object) = selected {
             let size = self
                 .scene()
                 .bounds()
@@ -95,16 +94,16 @@ impl KnotworkApp {
                 .analysis
                 .selected
                 .as_ref()
-                .is_some_and(|(g, s, z, _)| g == geometry && *s == a && *z == size);
+                .is_some_and(|(o, s, z, _)| o == object && *s == a && *z == size);
             if !fresh {
                 let mut built = GuideLines::default();
                 if a.combs != CombCurves::None {
-                    built.extend(&curvature_combs(geometry, &a, size));
+                    built.extend(&curvature_combs(object, &a, size));
                 }
                 if a.principal_directions {
-                    built.extend(&principal_directions(geometry, a.direction_density));
+                    built.extend(&principal_directions(object, a.direction_density));
                 }
-                self.analysis.selected = Some((geometry.clone(), a, size, built));
+                self.analysis.selected = Some((object.clone(), a, size, built));
             }
             if let Some((_, _, _, built)) = &self.analysis.selected {
                 lines.extend(built);

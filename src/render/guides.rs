@@ -6,9 +6,9 @@ use glam::DVec3;
 
 use super::viewport::GuideLines;
 use crate::kernel::Curvature;
-use crate::kernel::continuity::{Continuity, FaceSurface, SharedEdge, Tolerances};
-use crate::scene::ObjectGeometry;
-use crate::scene::continuity::faces_of;
+use crate::kernel::ParametricSurface;
+use crate::kernel::continuity::{Continuity, SharedEdge, Tolerances};
+use crate::scene::SceneObject;
 use crate::view::{AnalysisSettings, CombCurves, ContinuityTarget, OrbitCamera};
 
 /// Linear RGBA of the grid's minor and major lines and the X and Y axes.
@@ -109,7 +109,7 @@ pub fn curvature_vector(c1: DVec3, c2: DVec3) -> Option<DVec3> {
 
 /// The samples of the iso-curve of `face` at the fixed parameter `fixed` of the other direction
 /// (`along_u`: v fixed, u runs).
-fn iso_curve(face: &dyn FaceSurface, along_u: bool, fixed: f64) -> Vec<CombSample> {
+fn iso_curve(face: &dyn ParametricSurface, along_u: bool, fixed: f64) -> Vec<CombSample> {
     let [(u0, u1), (v0, v1)] = face.domain();
     (0..COMB_SAMPLES)
         .map(|k| {
@@ -148,13 +148,9 @@ fn iso_parameters(a: f64, b: f64, count: u32, ends: bool) -> Vec<f64> {
 /// Curvature combs on the object's iso-curves (and boundary edges): hair from each sample
 /// against its curvature vector, length proportional to the curvature (the longest a tenth of
 /// `size` times the scale), and the envelope joining the hair tips.
-pub fn curvature_combs(
-    geometry: &ObjectGeometry,
-    settings: &AnalysisSettings,
-    size: f64,
-) -> GuideLines {
+pub fn curvature_combs(object: &SceneObject, settings: &AnalysisSettings, size: f64) -> GuideLines {
     let mut curves: Vec<Vec<CombSample>> = Vec::new();
-    for (_, face) in faces_of(geometry) {
+    for (_, face) in object.faces() {
         let [(u0, u1), (v0, v1)] = face.domain();
         let density = settings.comb_density;
         let ends = settings.comb_boundary;
@@ -206,10 +202,10 @@ const DIRECTION_K2: [f32; 4] = [0.25, 0.55, 1.0, 1.0];
 /// The principal directions at `density` × `density` points of every face: a short segment
 /// along the k1 direction (warm) and one along k2 (cool), each about a third of the sample
 /// spacing; none at umbilics, where every direction is principal.
-pub fn principal_directions(geometry: &ObjectGeometry, density: u32) -> GuideLines {
+pub fn principal_directions(object: &SceneObject, density: u32) -> GuideLines {
     let mut lines = GuideLines::default();
     let n = f64::from(density.max(1));
-    for (_, face) in faces_of(geometry) {
+    for (_, face) in object.faces() {
         let [(u0, u1), (v0, v1)] = face.domain();
         for i in 0..density {
             for j in 0..density {

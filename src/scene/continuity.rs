@@ -1,12 +1,14 @@
-//! Continuity analysis over a scene's objects: the faces each kind offers (a NURBS surface, a
-//! trimmed surface with its kept region, every patch of a patch set) handed to
-//! [`crate::kernel::continuity`], and the report as the CLI prints it.
+//! Continuity analysis over a scene's objects: the faces each object shows
+//! ([`super::SceneObject::faces`]: every kind's faces through the one surface interface,
+//! displaced and deformed as in the viewport) handed to [`crate::kernel::continuity`], and the
+//! report as the CLI prints it.
 
 use glam::DVec3;
 use serde_json::{Value, json};
 
-use super::{ObjectGeometry, Scene};
-use crate::kernel::continuity::{FaceSurface, PatchFace, SharedEdge, Tolerances, shared_edges};
+use super::Scene;
+use crate::kernel::ParametricSurface;
+use crate::kernel::continuity::{SharedEdge, Tolerances, shared_edges};
 
 /// The tolerances a user sets: the gap as a fraction of the scene's size, the angle in
 /// degrees, the relative curvature difference, and samples per edge.
@@ -46,27 +48,8 @@ pub struct ContinuityReport {
     pub size: f64,
 }
 
-/// The surfaces an object offers to the analyses (continuity, combs, principal directions): a
-/// NURBS surface, a trimmed surface with its kept region, every patch of a patch set (with its
-/// index); none for polygon meshes and subdivision surfaces.
-pub fn faces_of(geometry: &ObjectGeometry) -> Vec<(Option<usize>, Box<dyn FaceSurface + '_>)> {
-    match geometry {
-        ObjectGeometry::Nurbs(s) => vec![(None, Box::new(s) as Box<dyn FaceSurface>)],
-        ObjectGeometry::Trimmed(t) => vec![(None, Box::new(t.as_ref()) as Box<dyn FaceSurface>)],
-        ObjectGeometry::Patches(set) => (0..set.patches().len())
-            .map(|patch| {
-                (
-                    Some(patch),
-                    Box::new(PatchFace { set, patch }) as Box<dyn FaceSurface>,
-                )
-            })
-            .collect(),
-        _ => Vec::new(),
-    }
-}
-
-/// Analyses the shared edges between `objects` (every object when `None`); hidden objects,
-/// polygon meshes and subdivision surfaces are left out.
+/// Analyses the shared edges between the faces of `objects` (every object when `None`) as the
+/// viewport shows them ([`super::SceneObject::faces`]); hidden objects are left out.
 pub fn analyse(
     scene: &Scene,
     objects: Option<&[usize]>,
@@ -74,13 +57,13 @@ pub fn analyse(
 ) -> ContinuityReport {
     let chosen = |k: usize| objects.is_none_or(|list| list.contains(&k));
     let mut faces = Vec::new();
-    let mut surfaces: Vec<Box<dyn FaceSurface + '_>> = Vec::new();
+    let mut surfaces: Vec<Box<dyn ParametricSurface + '_>> = Vec::new();
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for (k, object) in scene.objects.iter().enumerate() {
         if !chosen(k) || !object.visible {
             continue;
         }
-        let object_faces = faces_of(&object.geometry);
+        let object_faces = object.faces();
         if object_faces.is_empty() {
             continue;
         }
@@ -105,7 +88,7 @@ pub fn analyse(
         curvature: options.curvature,
         samples: options.samples.max(2),
     };
-    let refs: Vec<&dyn FaceSurface> = surfaces.iter().map(|s| s.as_ref()).collect();
+    let refs: Vec<&dyn ParametricSurface> = surfaces.iter().map(|s| s.as_ref()).collect();
     let edges = shared_edges(&refs, &tolerances, size);
     ContinuityReport {
         faces,

@@ -8,8 +8,31 @@
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry};
-use crate::kernel::GeometryError;
 use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::{GeometryError, ParametricSurface};
+
+/// One face a kind offers to the analyses, in the kind's own parameters (before any
+/// displacement or lattice: [`super::SceneObject::faces`] shows it as the viewport does).
+pub struct KindFace<'a> {
+    /// Which face of a kind with several (the patch of a patch set, the limit patch of a
+    /// subdivision surface); `None` for a kind with one.
+    pub patch: Option<usize>,
+    pub surface: Box<dyn ParametricSurface + 'a>,
+    /// The surface lives over the triangle u + v ≤ 1 (a triangular patch): the analyses see it
+    /// over the square ([`crate::kernel::parametric::TriangleAsSquare`]).
+    pub triangle: bool,
+}
+
+impl<'a> KindFace<'a> {
+    /// The one face of a kind with one.
+    pub fn whole(surface: impl ParametricSurface + 'a) -> Self {
+        Self {
+            patch: None,
+            surface: Box::new(surface),
+            triangle: false,
+        }
+    }
+}
 
 /// What every kind of object answers.
 pub trait ObjectKind {
@@ -77,6 +100,11 @@ pub trait ObjectKind {
         tessellation: Tessellation,
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError>;
+
+    /// The surfaces the analyses sample (continuity, curvature combs, principal directions),
+    /// through the one surface interface. A kind without a smooth surface says why in its
+    /// implementation and offers none.
+    fn faces(&self) -> Vec<KindFace<'_>>;
 
     /// The object mapped by an affine transformation (baked into its control points).
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError>;

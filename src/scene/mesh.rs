@@ -3,6 +3,7 @@
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, PolygonMesh};
@@ -113,6 +114,13 @@ impl ObjectKind for PolygonMesh {
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
         Ok(vec![tess::tessellate_mesh(self, tessellation, curvature)?])
+    }
+
+    /// None: a polygon mesh is flat facets, with zero curvature inside each and a crease at
+    /// every edge, so the analyses have nothing to measure on it. Subdivide it for a smooth
+    /// surface.
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        Vec::new()
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

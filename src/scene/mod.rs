@@ -15,7 +15,7 @@ mod subdiv;
 mod triangle;
 mod trimmed;
 
-pub use kind::ObjectKind;
+pub use kind::{KindFace, ObjectKind};
 pub use subdiv::{SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;
@@ -24,6 +24,7 @@ use glam::DVec3;
 
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::ffd::{Baked, Lattice};
+use crate::kernel::parametric::{FaceDisplacement, ParametricSurface, ShownFace, TriangleAsSquare};
 use crate::kernel::tess;
 use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh, TrimmedSurface};
 
@@ -193,6 +194,33 @@ impl SceneObject {
     /// The object's kind ([`ObjectKind`]).
     pub fn kind(&self) -> &dyn ObjectKind {
         self.geometry.kind()
+    }
+
+    /// The object's faces as the viewport shows them ([`ObjectKind::faces`], displaced along
+    /// the normal and deformed by the lattice where the object has them; a triangular patch
+    /// over the square), with the index of each face of a kind with several.
+    pub fn faces(&self) -> Vec<(Option<usize>, Box<dyn ParametricSurface + '_>)> {
+        self.kind()
+            .faces()
+            .into_iter()
+            .map(|face| {
+                let [(u0, u1), (v0, v1)] = face.surface.domain();
+                let shown = ShownFace {
+                    displacement: self.displacement.as_ref().map(|map| FaceDisplacement {
+                        map,
+                        domain: [u0, u1, v0, v1],
+                    }),
+                    lattice: self.lattice.as_ref(),
+                    face: face.surface,
+                };
+                let surface: Box<dyn ParametricSurface + '_> = if face.triangle {
+                    Box::new(TriangleAsSquare(shown))
+                } else {
+                    Box::new(shown)
+                };
+                (face.patch, surface)
+            })
+            .collect()
     }
 
     /// What the object feeds the GPU: its Bézier patches and their parameter rectangles

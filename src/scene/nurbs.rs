@@ -4,6 +4,7 @@
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{Direction, GeometryError, NurbsSurface};
@@ -150,6 +151,10 @@ impl ObjectKind for NurbsSurface {
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
         let grid = tess::grid_for(self, tessellation)?;
         Ok(vec![tess::triangulate(self, &grid, curvature)?])
+    }
+
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        vec![KindFace::whole(self)]
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

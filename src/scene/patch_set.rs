@@ -2,7 +2,9 @@
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::parametric::PatchFace;
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{BezierPatchSet, GeometryError};
 
@@ -87,6 +89,17 @@ impl ObjectKind for BezierPatchSet {
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
         tess::tessellate_patches(self, tessellation, curvature)
+    }
+
+    /// Every patch, over [0, 1]².
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        (0..self.patches().len())
+            .map(|patch| KindFace {
+                patch: Some(patch),
+                surface: Box::new(PatchFace { set: self, patch }),
+                triangle: false,
+            })
+            .collect()
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

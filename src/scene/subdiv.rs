@@ -8,7 +8,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
+use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
 use crate::kernel::subdiv::display::DisplayMesh;
 use crate::kernel::subdiv::patches::{Display, LimitFeed};
@@ -580,6 +582,31 @@ impl ObjectKind for SubdivObject {
             curvatures: Vec::new(),
             triangles,
         }])
+    }
+
+    /// The limit surface's regular patches (the bicubic B-spline of each regular face at the
+    /// shown level, exact), from the GPU feed; none at level 0 (the cage is flat facets, as a
+    /// polygon mesh). Faces around
+    /// extraordinary vertices and at the boundary are evaluated by stencils at grid points
+    /// only, and are not offered yet.
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        if self.surface.level() == 0 {
+            return Vec::new();
+        }
+        let Ok(feed) = self.gpu_feed() else {
+            return Vec::new();
+        };
+        let set = Arc::new(feed.set);
+        (0..set.patches().len())
+            .map(|patch| KindFace {
+                patch: Some(patch),
+                surface: Box::new(PatchFace {
+                    set: Arc::clone(&set),
+                    patch,
+                }),
+                triangle: false,
+            })
+            .collect()
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

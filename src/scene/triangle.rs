@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::subdiv::patches::{LimitFeed, StencilPatch};
@@ -210,6 +211,16 @@ impl ObjectKind for TriangleBezier {
             }
         }
         Ok(vec![mesh])
+    }
+
+    /// The patch over its triangle (the analyses see it over the square, its corner (0, 1) a
+    /// collapsed side).
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        vec![KindFace {
+            patch: None,
+            surface: Box::new(self),
+            triangle: true,
+        }]
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
+use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::trim::index::{Coverage, TrimIndex};
@@ -101,6 +102,11 @@ impl ObjectKind for TrimmedSurface {
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
         Ok(vec![tessellate_trimmed(self, tessellation, curvature)?])
+    }
+
+    /// The surface with its kept region.
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        vec![KindFace::whole(self)]
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {

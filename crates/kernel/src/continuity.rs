@@ -1,7 +1,8 @@
 //! Continuity across shared edges (G0 / G1 / G2 with numbers), as CAD tools measure it
 //! (Rhino's GCon, on every edge at once).
 //!
-//! Faces are parametric surfaces over a rectangle, optionally trimmed. Two face sides share an
+//! Faces are parametric surfaces over a rectangle, optionally trimmed
+//! ([`ParametricSurface`]). Two face sides share an
 //! edge when their boundary curves lie within a matching distance of each other over their
 //! whole length (either direction; one face's two sides too, a closed surface's seam). Along a
 //! shared edge, at samples uniform in the first side's parameter, the closest point of the
@@ -19,19 +20,7 @@
 use glam::DVec3;
 
 use super::SurfaceDerivatives;
-
-/// A surface the analysis can sample: a rectangle of parameters, derivatives to order two, and
-/// which parameters trims keep.
-pub trait FaceSurface {
-    /// ((u0, u1), (v0, v1)).
-    fn domain(&self) -> [(f64, f64); 2];
-    /// Position and partial derivatives at (u, v) in the domain; `None` where undefined.
-    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives>;
-    /// Whether (u, v) lies in the kept region (true for an untrimmed surface).
-    fn keeps(&self, _u: f64, _v: f64) -> bool {
-        true
-    }
-}
+use super::parametric::ParametricSurface;
 
 /// A side of a face's parameter rectangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -169,13 +158,13 @@ const MATCH_POINTS: usize = 17;
 /// How far inside the domain (as a share of its size) trims are asked about boundary points.
 const TRIM_NUDGE: f64 = 1e-6;
 
-fn side_point(face: &dyn FaceSurface, side: Side, t: f64) -> Option<DVec3> {
+fn side_point(face: &dyn ParametricSurface, side: Side, t: f64) -> Option<DVec3> {
     let ((u, v), _) = side.parameter(face.domain(), t);
     face.derivatives(u, v).map(|d| d.point)
 }
 
 /// Whether the trims keep the side's point at t (asked just inside the domain).
-fn side_kept(face: &dyn FaceSurface, side: Side, t: f64) -> bool {
+fn side_kept(face: &dyn ParametricSurface, side: Side, t: f64) -> bool {
     let domain = face.domain();
     let ((u, v), _) = side.parameter(domain, t);
     let [(u0, u1), (v0, v1)] = domain;
@@ -200,7 +189,7 @@ fn polyline_distance(points: &[DVec3], p: DVec3) -> f64 {
 /// The parameter t in [0, 1] of the point of `side` closest to `target`, from the start `t0`:
 /// Newton's method on f(t) = (C(t) − p)·C′(t), f′ = C′·C′ + (C − p)·C″ (The NURBS Book §6.1),
 /// clamped to the side.
-fn closest_on_side(face: &dyn FaceSurface, side: Side, target: DVec3, t0: f64) -> f64 {
+fn closest_on_side(face: &dyn ParametricSurface, side: Side, target: DVec3, t0: f64) -> f64 {
     let domain = face.domain();
     let mut t = t0;
     for _ in 0..30 {
@@ -234,7 +223,7 @@ struct SideFrame {
     normal: DVec3,
 }
 
-fn side_frame(face: &dyn FaceSurface, side: Side, t: f64, edge: DVec3) -> Option<SideFrame> {
+fn side_frame(face: &dyn ParametricSurface, side: Side, t: f64, edge: DVec3) -> Option<SideFrame> {
     let ((u, v), _) = side.parameter(face.domain(), t);
     let d = face.derivatives(u, v)?;
     let inward = side.inward(&d);
@@ -268,7 +257,7 @@ pub fn normal_curvature(d: &SurfaceDerivatives, normal: DVec3, w: DVec3) -> Opti
 /// `size` is the scene's size, the scale below which curvatures count as zero for the relative
 /// difference (1e-4 / size).
 pub fn shared_edges(
-    faces: &[&dyn FaceSurface],
+    faces: &[&dyn ParametricSurface],
     tolerances: &Tolerances,
     size: f64,
 ) -> Vec<SharedEdge> {
@@ -300,7 +289,7 @@ pub fn shared_edges(
 
 /// The matching samples of every face side that is not degenerate (shorter than the matching
 /// distance) nor mostly trimmed away.
-fn side_curves(faces: &[&dyn FaceSurface], tolerances: &Tolerances) -> Vec<SideCurve> {
+fn side_curves(faces: &[&dyn ParametricSurface], tolerances: &Tolerances) -> Vec<SideCurve> {
     let mut sides = Vec::new();
     for (face_index, &face) in faces.iter().enumerate() {
         for side in Side::ALL {
@@ -345,7 +334,7 @@ fn side_curves(faces: &[&dyn FaceSurface], tolerances: &Tolerances) -> Vec<SideC
 }
 
 fn measure(
-    faces: &[&dyn FaceSurface],
+    faces: &[&dyn ParametricSurface],
     a: &SideCurve,
     b: &SideCurve,
     reversed: bool,
@@ -453,58 +442,4 @@ fn measure(
         max_relative_curvature_difference,
         verdict,
     })
-}
-
-impl<T: FaceSurface + ?Sized> FaceSurface for &T {
-    fn domain(&self) -> [(f64, f64); 2] {
-        (**self).domain()
-    }
-
-    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
-        (**self).derivatives(u, v)
-    }
-
-    fn keeps(&self, u: f64, v: f64) -> bool {
-        (**self).keeps(u, v)
-    }
-}
-
-impl FaceSurface for super::NurbsSurface {
-    fn domain(&self) -> [(f64, f64); 2] {
-        super::NurbsSurface::domain(self)
-    }
-
-    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
-        self.evaluate(u, v).ok()
-    }
-}
-
-impl FaceSurface for super::TrimmedSurface {
-    fn domain(&self) -> [(f64, f64); 2] {
-        self.surface().domain()
-    }
-
-    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
-        self.surface().evaluate(u, v).ok()
-    }
-
-    fn keeps(&self, u: f64, v: f64) -> bool {
-        self.contains(u, v)
-    }
-}
-
-/// One patch of a Bézier patch set, over [0, 1]².
-pub struct PatchFace<'a> {
-    pub set: &'a super::BezierPatchSet,
-    pub patch: usize,
-}
-
-impl FaceSurface for PatchFace<'_> {
-    fn domain(&self) -> [(f64, f64); 2] {
-        [(0.0, 1.0), (0.0, 1.0)]
-    }
-
-    fn derivatives(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
-        self.set.evaluate(self.patch, u, v).ok()
-    }
 }

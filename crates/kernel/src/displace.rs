@@ -312,10 +312,31 @@ impl Displacement {
         }
     }
 
-    /// The displaced point and unit normal where the surface has derivatives `d` (in its own
-    /// (u, v)) and unit normal `normal`, at normalized (x, y) with dx/du = `scale[0]`, dy/dv =
-    /// `scale[1]` (see the module doc). Where the fundamental forms are degenerate the normal's
-    /// derivatives are taken as 0.
+    /// The displaced point P = S + a h N and its first derivatives
+    /// P_u = S_u + a (h_x x_u N + h N_u), P_v = S_v + a (h_y y_v N + h N_v), where the surface has
+    /// derivatives `d` (in its own (u, v)) and unit normal `normal`, at normalized (x, y) with
+    /// x_u = `scale[0]`, y_v = `scale[1]`. N_u and N_v come from the Weingarten equations
+    /// ([`SurfaceDerivatives::normal_derivatives`]; zero where the forms are degenerate).
+    pub fn displaced_derivatives(
+        &self,
+        d: &SurfaceDerivatives,
+        normal: DVec3,
+        x: f64,
+        y: f64,
+        scale: [f64; 2],
+    ) -> [DVec3; 3] {
+        let [h, hx, hy] = self.height(x, y);
+        let a = self.amplitude;
+        let (nu, nv) = d.normal_derivatives(normal);
+        [
+            d.point + normal * (a * h),
+            d.su + (normal * (hx * scale[0]) + nu * h) * a,
+            d.sv + (normal * (hy * scale[1]) + nv * h) * a,
+        ]
+    }
+
+    /// The displaced point and unit normal ([`Self::displaced_derivatives`]; see the module
+    /// doc), the normal turned to the side of `normal`.
     pub fn apply(
         &self,
         d: &SurfaceDerivatives,
@@ -324,18 +345,14 @@ impl Displacement {
         y: f64,
         scale: [f64; 2],
     ) -> (DVec3, DVec3) {
-        let [h, hx, hy] = self.height(x, y);
-        let a = self.amplitude;
-        let (nu, nv) = d.normal_derivatives(normal);
-        let pu = d.su + (normal * (hx * scale[0]) + nu * h) * a;
-        let pv = d.sv + (normal * (hy * scale[1]) + nv * h) * a;
+        let [point, pu, pv] = self.displaced_derivatives(d, normal, x, y, scale);
         let mut displaced = pu.cross(pv).normalize_or_zero();
         if displaced == DVec3::ZERO {
             displaced = normal;
         } else if displaced.dot(normal) < 0.0 {
             displaced = -displaced;
         }
-        (d.point + normal * (a * h), displaced)
+        (point, displaced)
     }
 }
 

@@ -35,6 +35,7 @@ pub mod error;
 pub mod ffd;
 pub mod mesh;
 pub mod ops;
+pub mod parametric;
 pub mod samples;
 pub mod subdiv;
 pub mod surface;
@@ -49,6 +50,7 @@ pub use curve::{NurbsCurve, SpaceCurve, TrimCurve};
 pub use diffgeo::{Curvature, CurvatureValues, FundamentalForms, SurfaceDerivatives};
 pub use error::{CageProblem, GeometryError, Location};
 pub use mesh::PolygonMesh;
+pub use parametric::ParametricSurface;
 pub use surface::{Direction, NurbsSurface};
 pub use trim::{TrimLoop, TrimProblem, TrimmedSurface};
 
