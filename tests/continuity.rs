@@ -223,6 +223,33 @@ fn the_teapot_patches_meet_without_gaps() {
     assert!(entries[0]["max_angle_degrees"].is_f64());
 }
 
+/// `scene` saved as a project named `name` and `knotwork continuity` run on it with `args`:
+/// the project's path and the printed JSON.
+fn continuity_cli(
+    scene: Scene,
+    name: &str,
+    args: &[&str],
+) -> (std::path::PathBuf, serde_json::Value) {
+    let mut doc = knotwork::doc::Document::default();
+    doc.scene = scene;
+    let dir = std::env::temp_dir().join(format!("knotwork-continuity-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, doc.save(None)).unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("continuity")
+        .arg(&path)
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (path, serde_json::from_slice(&output.stdout).unwrap())
+}
+
 #[test]
 fn the_cli_prints_one_entry_per_shared_edge() {
     let angle = 30f64.to_radians();
@@ -235,28 +262,7 @@ fn the_cli_prints_one_entry_per_shared_edge() {
         )
         .unwrap(),
     ]);
-    let mut doc = knotwork::doc::Document::default();
-    doc.scene = scene;
-    let dir = std::env::temp_dir().join(format!("knotwork-continuity-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("planes.json");
-    std::fs::write(&path, doc.save(None)).unwrap();
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .args([
-            "continuity",
-            path.to_str().unwrap(),
-            "--objects",
-            "S0",
-            "S1",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let (path, json) = continuity_cli(scene, "planes", &["--objects", "S0", "S1"]);
     let entries = json.as_array().unwrap();
     assert_eq!(entries.len(), 1);
     let e = &entries[0];
@@ -346,23 +352,7 @@ fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
         objects: vec![t0, t1, d0, d1, l0, l1],
     };
     // Through the project file and the command line, as a user would ask.
-    let mut doc = knotwork::doc::Document::default();
-    doc.scene = scene;
-    let dir = std::env::temp_dir().join(format!("knotwork-shown-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("shown.json");
-    std::fs::write(&path, doc.save(None)).unwrap();
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .arg("continuity")
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let (_, json) = continuity_cli(scene.clone(), "shown", &[]);
     let entry = |a: &str, b: &str| {
         let pair = serde_json::json!([a, b]);
         let found: Vec<&serde_json::Value> = json
@@ -390,9 +380,10 @@ fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
     assert!(close(angle(&deformed), 25.0, 1e-9), "{deformed}");
     assert!(deformed["max_gap"].as_f64().unwrap() < 1e-12);
     // Without the displacement and the lattice the same squares meet flat (G2).
-    doc.scene.objects[2].displacement = None;
-    doc.scene.objects[4].lattice = None;
-    let report = analyse(&doc.scene, None, &ContinuityOptions::default());
+    let mut scene = scene;
+    scene.objects[2].displacement = None;
+    scene.objects[4].lattice = None;
+    let report = analyse(&scene, None, &ContinuityOptions::default());
     let flat = report
         .edges
         .iter()
