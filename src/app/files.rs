@@ -32,7 +32,10 @@ impl KnotworkApp {
     /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
     /// A PNG is used as the selected surface's height map instead ([`Self::use_height_image`]).
     pub fn open_file(&mut self, name: &str, bytes: &[u8]) {
-        if crate::io::height_image::is_height_image(name) {
+        if !crate::io::formats::format_of(name, bytes)
+            .reader
+            .opens_document()
+        {
             self.use_height_image(name, bytes);
             return;
         }
@@ -254,17 +257,16 @@ impl KnotworkApp {
     pub(super) fn open_dialog(&mut self) {
         #[cfg(not(target_arch = "wasm32"))]
         {
-            let mut extensions = crate::io::OPEN_EXTENSIONS.to_vec();
-            extensions.push("png");
-            if let Some(path) = super::platform::choose_file_to_open(
-                "knotwork project, glTF, OBJ, PNG height map",
-                &extensions,
-            ) {
+            let mut extensions = crate::io::formats::extensions(true);
+            extensions.extend(crate::io::formats::extensions(false));
+            let names: Vec<&str> = crate::io::formats::FORMATS.iter().map(|f| f.name).collect();
+            if let Some(path) = super::platform::choose_file_to_open(&names.join(", "), &extensions)
+            {
                 self.open_path_or_image(&path);
             }
         }
         #[cfg(target_arch = "wasm32")]
-        self.pick_into_incoming(super::platform::OPEN_ACCEPT);
+        self.pick_into_incoming(&crate::io::formats::accept_list());
     }
 
     /// Opens the file at `path`, or uses it as a height map if it is a PNG.
@@ -283,11 +285,12 @@ impl KnotworkApp {
 
     /// The browser's picker (offering `accept`); the file arrives with the dropped ones.
     #[cfg(target_arch = "wasm32")]
-    fn pick_into_incoming(&mut self, accept: &'static str) {
+    fn pick_into_incoming(&mut self, accept: &str) {
+        let accept = accept.to_owned();
         {
             let incoming = Arc::clone(&self.incoming);
             wasm_bindgen_futures::spawn_local(async move {
-                if let Some(file) = super::platform::pick_file(accept).await {
+                if let Some(file) = super::platform::pick_file(&accept).await {
                     if let Ok(mut queue) = incoming.lock() {
                         queue.push(file);
                     }

@@ -36,10 +36,6 @@ mod web {
     use wasm_bindgen::JsCast;
     use wasm_bindgen::prelude::*;
 
-    /// What the open picker offers: projects and models, and PNG height images.
-    pub const OPEN_ACCEPT: &str =
-        ".json,.knotwork,.glb,.gltf,.obj,.png,application/json,model/gltf-binary,image/png";
-
     /// Lets the user pick a file with the browser's file picker (offering `accept`) and returns
     /// (name, bytes), or `None` if nothing was picked. Files over the size limit are refused
     /// unread.

@@ -7,9 +7,10 @@ use base64::Engine;
 
 use crate::kernel::displace::{HeightImage, MAX_IMAGE_SIDE};
 
-/// Whether `name` is a file knotwork reads as a height image (by its extension).
+/// Whether `name` is a file knotwork reads as a height image (by its extension, in
+/// [`super::formats::FORMATS`]).
 pub fn is_height_image(name: &str) -> bool {
-    name.to_ascii_lowercase().ends_with(".png")
+    super::formats::format_of(name, &[]).reader == super::formats::Reader::HeightImage
 }
 
 /// Decodes a PNG into a height image, refusing images larger than [`MAX_IMAGE_SIDE`] a side

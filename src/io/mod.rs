@@ -3,6 +3,9 @@
 
 pub mod construct;
 pub mod eval;
+pub mod formats;
+// The fuzz checks panic by design: not in the page.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod fuzz;
 pub mod gltf;
 pub mod gltf_import;
@@ -14,27 +17,36 @@ pub mod project;
 use json::FormatError;
 use project::Project;
 
-/// The file extensions [`open`] reads.
-pub const OPEN_EXTENSIONS: [&str; 5] = ["json", "knotwork", "glb", "gltf", "obj"];
-
-/// Reads any file knotwork opens, by its contents and name: a GLB (by its magic bytes), a
-/// `.gltf`, an `.obj`, or a project (JSON). `external(name)` reads a file beside it (a
-/// `.gltf`'s `.bin`); where there is none, it returns why.
+/// Reads any document knotwork opens, by its contents and name ([`formats::format_of`]): glTF
+/// (a GLB by its magic bytes, or `.gltf`), an `.obj`, or a project (JSON). `external(name)`
+/// reads a file beside it (a `.gltf`'s `.bin`); where there is none, it returns why. A PNG, a
+/// height map, is refused with what to do with it instead; a file of a format knotwork does not
+/// read is named, with the formats it reads.
 pub fn open(
     name: &str,
     bytes: &[u8],
     external: &dyn Fn(&str) -> Result<Vec<u8>, String>,
 ) -> Result<Project, FormatError> {
     project::check_size(bytes.len() as u64)?;
-    let extension = name
-        .rsplit_once('.')
-        .map(|(_, e)| e.to_ascii_lowercase())
-        .unwrap_or_default();
-    if gltf_import::is_glb(bytes) || extension == "gltf" || extension == "glb" {
-        return gltf_import::read(bytes, external);
+    match formats::format_of(name, bytes).reader {
+        formats::Reader::Gltf => return gltf_import::read(bytes, external),
+        formats::Reader::Obj => return obj::read(&String::from_utf8_lossy(bytes)),
+        formats::Reader::HeightImage => {
+            return Err(FormatError::new(
+                "",
+                "a PNG is a height map, not a document: select a surface and open the PNG in its Displacement panel (or drop it on the window)",
+            ));
+        }
+        formats::Reader::Project => {}
     }
-    if extension == "obj" {
-        return obj::read(&String::from_utf8_lossy(bytes));
+    if let Some(foreign) = formats::foreign_format(name, bytes) {
+        return Err(FormatError::new(
+            "",
+            format!(
+                "this is a {foreign} file, which knotwork does not read; it reads {}",
+                formats::readable_list()
+            ),
+        ));
     }
     let text = std::str::from_utf8(bytes)
         .map_err(|e| FormatError::new("", format!("the file is not UTF-8 text: {e}")))?;
