@@ -7,7 +7,7 @@
 //!   cargo run --example fuzz_smoke -- [--seconds S] [--executions N] [--seed X] [TARGET...]
 //!   cargo run --example fuzz_smoke -- --write-seeds DIR      (a corpus for cargo-fuzz)
 //!
-//! TARGET: project, obj, gltf (default: all). Each failing input is saved under
+//! TARGET: project, obj, gltf, png (default: all). Each failing input is saved under
 //! `fuzz/artifacts/` and the run exits 1.
 
 use std::path::{Path, PathBuf};
@@ -68,8 +68,60 @@ fn seeds(target: Target) -> Vec<Vec<u8>> {
             }
             out.push(TRIANGLE_GLTF.as_bytes().to_vec());
         }
+        Target::HeightImage => {
+            // Grey 8 bits, RGB 16 bits, grey and alpha, a 2-bit palette, 1-bit grey, RGBA.
+            let ramp = |n: usize, scale: usize| (0..n).map(|k| (k * scale % 256) as u8).collect();
+            use png::{BitDepth, ColorType};
+            let cases: [(u32, u32, ColorType, BitDepth, Vec<u8>); 6] = [
+                (4, 3, ColorType::Grayscale, BitDepth::Eight, ramp(12, 21)),
+                (3, 3, ColorType::Rgb, BitDepth::Sixteen, ramp(54, 37)),
+                (
+                    2,
+                    5,
+                    ColorType::GrayscaleAlpha,
+                    BitDepth::Eight,
+                    ramp(20, 13),
+                ),
+                (5, 4, ColorType::Indexed, BitDepth::Two, ramp(8, 91)),
+                (
+                    9,
+                    2,
+                    ColorType::Grayscale,
+                    BitDepth::One,
+                    vec![0b1010_1100, 0x80, 0x5f, 0x00],
+                ),
+                (6, 6, ColorType::Rgba, BitDepth::Eight, ramp(144, 7)),
+            ];
+            for (width, height, colour, depth, data) in cases {
+                if let Some(bytes) = encode_png(width, height, colour, depth, &data) {
+                    out.push(bytes);
+                }
+            }
+        }
     }
     out
+}
+
+/// A PNG of the given shape with `data` as its packed rows (a grey palette for an indexed one).
+fn encode_png(
+    width: u32,
+    height: u32,
+    colour: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) -> Option<Vec<u8>> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
+        encoder.set_color(colour);
+        encoder.set_depth(depth);
+        if colour == png::ColorType::Indexed {
+            encoder.set_palette(vec![0, 0, 0, 90, 90, 90, 180, 180, 180, 255, 255, 255]);
+        }
+        let mut writer = encoder.write_header().ok()?;
+        writer.write_image_data(data).ok()?;
+    }
+    Some(bytes)
 }
 
 /// SplitMix64.
