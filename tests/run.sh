@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Runs every test of knotwork:
-#   1. cargo fmt --check, clippy -D warnings for the desktop and for wasm32, and the kernel crate's
-#      layer (no GPU, UI or format crate; builds for wasm32 alone);
+#   1. cargo fmt --check, clippy -D warnings for the desktop and for wasm32, the kernel crate's
+#      layer (no GPU, UI or format crate; builds for wasm32 alone), and the book (docs/, mdBook)
+#      with its links;
 #   2. cargo test over the workspace: the kernel crate (crates/kernel), GPU evaluation vs the
-#      f64 reference (a real wgpu adapter: lavapipe where there is no GPU), shader validation and layouts, offscreen image tests, glTF export
-#      checked by the Khronos glTF-Validator (npm), and the desktop app itself in a window
-#      (under Xvfb where there is no display);
+#      f64 reference (a real wgpu adapter: lavapipe where there is no GPU), shader validation
+#      and layouts, offscreen image tests, glTF export checked by the Khronos glTF-Validator
+#      (npm), and the desktop app itself in a window (under Xvfb where there is no display);
 #   3. a one-minute smoke of the file readers' fuzz harness (examples/fuzz_smoke.rs);
 #   4. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
 #
@@ -84,6 +85,18 @@ if [ -n "$forbidden" ]; then
   exit 1
 fi
 cargo build --locked -p knotwork-kernel --target wasm32-unknown-unknown
+
+# --- The book -----------------------------------------------------------------------------------
+# The manual (docs/, mdBook) builds, and no link of the book, README.md or ARCHITECTURE.md is
+# broken.
+mdbook_version=0.5.4
+if ! mdbook --version 2>/dev/null | grep -q "v$mdbook_version"; then
+  step "installing mdbook $mdbook_version"
+  cargo install mdbook --version "$mdbook_version" --locked --no-default-features --features search
+fi
+step "the book (mdbook build docs) and its links"
+mdbook build docs
+node docs/check-links.mjs
 
 # --- Rust tests --------------------------------------------------------------------------------
 # The npm packages first: the glTF tests run the Khronos validator from web/node_modules.

@@ -18,7 +18,7 @@ use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
 use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, TOLERANCE_RANGE, ZebraSource};
 
-/// The controls listed in the panel (and the README).
+/// The controls listed in the panel (and in the book's Controls chapter, docs/src/controls.md).
 pub const CONTROLS: [(&str, &str); 17] = [
     ("Click a handle", "select a control point (Shift: toggle)"),
     ("Alt + click", "select its row (Alt + Shift: column)"),
