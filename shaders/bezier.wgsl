@@ -1,6 +1,6 @@
-// Module: rational tensor-product Bézier patch derivatives up to order 2 (the CPU reference is
-// src/kernel/bezier.rs): derivatives in hodograph (difference) form and the rational quotient
-// rule of The NURBS Book, eq. 4.20. The pipeline that composes this module supplies
+// Module: rational tensor-product Bézier patch derivatives up to order 2 (the CPU reference
+// is crates/kernel/src/bezier.rs): derivatives in hodograph (difference) form and the rational
+// quotient rule of The NURBS Book, eq. 4.20. The pipeline that composes this module supplies
 // `fn control_point(rec: PatchRecord, k: u32) -> vec4<f32>`: control point k of the patch,
 // homogeneous (wx, wy, wz, w), row-major with i along u. Needs diffgeo.wgsl (Derivatives).
 

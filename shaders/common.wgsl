@@ -27,12 +27,11 @@ struct PatchRecord {
     // 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
     // written into every vertex.
     level: u32,
-    // Where the object's displacement lies in the control point buffer (two vec4: pattern code,
-    // amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or DISPLACEMENT_NONE.
+    // Where the object's displacement block lies in the control point buffer (see
+    // DISPLACEMENT_HEADER), or DISPLACEMENT_NONE.
     displacement: u32,
-    // Where the object's free-form deformation lattice lies in the control point buffer
-    // (kernel::ffd::Lattice::gpu_block: (origin, packed degrees), the three rows of the inverse
-    // box matrix, then the points), or LATTICE_NONE.
+    // Where the object's free-form deformation lattice block lies in the control point buffer
+    // (see LATTICE_HEADER), or LATTICE_NONE.
     lattice: u32,
     reserved: array<u32, 2>,
 }
@@ -42,6 +41,15 @@ const LATTICE_NONE: u32 = 0xFFFFFFFFu;
 
 // PatchRecord.displacement of a patch whose object is not displaced (Rust: DISPLACEMENT_NONE).
 const DISPLACEMENT_NONE: u32 = 0xFFFFFFFFu;
+
+// The blocks among the control points (Rust: gpu::packing), in vec4s. A lattice block: the
+// header (origin, degrees packed l | m << 8 | n << 16 in the bits of w), the three rows of the
+// inverse box, then the points. A displacement block: (pattern code, amplitude, frequency,
+// segments per cycle), the object's (u0, u1, v0, v1), then an image's block if it has one. An
+// image block: (width, height) as bits, then the grey values four to a vec4.
+const LATTICE_HEADER: u32 = 4u;
+const DISPLACEMENT_HEADER: u32 = 2u;
+const IMAGE_HEADER: u32 = 1u;
 
 // PatchRecord.kind of a rational tensor-product Bézier patch (Rust: PATCH_KIND_BEZIER).
 const PATCH_KIND_BEZIER: u32 = 0u;

@@ -16,6 +16,10 @@ pub const ADAPTIVE: &str = include_str!("../shaders/adaptive.wgsl");
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
 /// Compute: rational Bézier patch evaluation and triangle indices.
 pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
+/// Module: displacement along the normal (patterns, height images, the displaced normal).
+pub const DISPLACE: &str = include_str!("../shaders/displace.wgsl");
+/// Module: free-form deformation by a trivariate Bézier lattice (its map and derivatives).
+pub const LATTICE: &str = include_str!("../shaders/lattice.wgsl");
 /// Module: the efficient substitutes of a subdivision surface (ACC, Gregory, PN triangles).
 pub const SUBSTITUTES: &str = include_str!("../shaders/substitutes.wgsl");
 /// Module: the surface's shading modes (both surface pipelines).
@@ -36,14 +40,20 @@ pub struct PipelineShader {
 }
 
 /// Every module by file name (each composed after `common.wgsl`).
-pub const MODULES: [(&str, &str); 6] = [
+pub const MODULES: [(&str, &str); 8] = [
     ("diffgeo.wgsl", DIFFGEO),
     ("substitutes.wgsl", SUBSTITUTES),
     ("bezier.wgsl", BEZIER),
     ("trim.wgsl", TRIM),
     ("adaptive.wgsl", ADAPTIVE),
     ("shading.wgsl", SHADING),
+    ("displace.wgsl", DISPLACE),
+    ("lattice.wgsl", LATTICE),
 ];
+
+/// The evaluator's control point buffer, for modules that read blocks from it.
+const CONTROL_POINTS_BINDING: &str =
+    "@group(0) @binding(0) var<storage, read> control_points: array<vec4<f32>>;";
 
 /// What a module needs from the pipeline that composes it, for validating the module on its
 /// own: the modules before it and a stand-in for the functions the pipeline supplies.
@@ -54,6 +64,8 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
             "fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> { return vec4<f32>(f32(k)); }",
         ),
         "substitutes.wgsl" => (&[DIFFGEO], ""),
+        "displace.wgsl" => (&[DIFFGEO], CONTROL_POINTS_BINDING),
+        "lattice.wgsl" => (&[], CONTROL_POINTS_BINDING),
         "shading.wgsl" => (
             &[],
             "@group(0) @binding(0) var<uniform> scene: SceneUniform;",
@@ -66,7 +78,7 @@ pub fn module_host(name: &str) -> (&'static [&'static str], &'static str) {
 pub const EVAL_BEZIER_SHADER: PipelineShader = PipelineShader {
     name: "eval_bezier.wgsl",
     body: EVAL_BEZIER,
-    modules: &[DIFFGEO, BEZIER, ADAPTIVE, SUBSTITUTES],
+    modules: &[DIFFGEO, BEZIER, ADAPTIVE, SUBSTITUTES, DISPLACE, LATTICE],
 };
 /// The surface render pipeline.
 pub const SURFACE_SHADER: PipelineShader = PipelineShader {

@@ -309,6 +309,33 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "STENCIL_NO_CURVATURE",
             knotwork::gpu::records::STENCIL_NO_CURVATURE,
         ),
+        ("DISPLACE_IMAGE", pattern_code(Pattern::Image)),
+        ("LATTICE_HEADER", knotwork::gpu::packing::LATTICE_HEADER),
+        (
+            "DISPLACEMENT_HEADER",
+            knotwork::gpu::packing::DISPLACEMENT_HEADER,
+        ),
+        ("IMAGE_HEADER", knotwork::gpu::packing::IMAGE_HEADER),
+        (
+            "ARGS_DRAW",
+            knotwork::gpu::adaptive_pass::ADAPTIVE_ARGS_DRAW,
+        ),
+        (
+            "ARGS_TRIANGLES",
+            knotwork::gpu::adaptive_pass::ADAPTIVE_ARGS_TRIANGLES,
+        ),
+        (
+            "ARGS_STATS",
+            knotwork::gpu::adaptive_pass::ADAPTIVE_ARGS_STATS,
+        ),
+        (
+            "ARGS_GROUPS",
+            knotwork::gpu::adaptive_pass::ADAPTIVE_ARGS_GROUPS,
+        ),
+        (
+            "ARGS_GROUP_WORDS",
+            knotwork::gpu::adaptive_pass::ADAPTIVE_ARGS_GROUP_WORDS,
+        ),
         ("TRIM_PARTIAL", knotwork::gpu::trim_buffer::TRIM_PARTIAL),
         ("TRIM_CULLED", knotwork::gpu::trim_buffer::TRIM_CULLED),
         (

@@ -516,12 +516,7 @@ impl PatchLayout {
             let displacement = match &input.displacement {
                 Some(d) => {
                     let at = (total_points + entry_data.len()) as u32;
-                    entry_data.push(packing::displacement_words(&d.map));
-                    entry_data.push(d.domain.map(|x| x as f32));
-                    // An image's words follow (`image_height` in eval_bezier.wgsl).
-                    if let Some(image) = &d.map.image {
-                        entry_data.extend(packing::height_image_words(image));
-                    }
+                    entry_data.extend(packing::displacement_block(&d.map, d.domain));
                     at
                 }
                 None => DISPLACEMENT_NONE,

@@ -78,13 +78,11 @@ pub struct PatchRecord {
     /// 1 + the subdivision level a stencil patch's vertices come from (0: a patch of no level),
     /// written into every vertex ([`SurfaceVertex::level`]).
     pub level: u32,
-    /// Where the object's displacement lies in the control point buffer (two vec4: pattern
-    /// code, amplitude, frequency, 0; the object's (u0, u1, v0, v1)), or
-    /// [`DISPLACEMENT_NONE`].
+    /// Where the object's displacement block lies in the control point buffer
+    /// ([`super::packing::displacement_block`]), or [`DISPLACEMENT_NONE`].
     pub displacement: u32,
-    /// Where the object's free-form deformation lattice lies in the control point buffer
-    /// ([`super::packing::lattice_block`]: header, three rows of the inverse box,
-    /// points), or [`LATTICE_NONE`].
+    /// Where the object's free-form deformation lattice block lies in the control point
+    /// buffer ([`super::packing::lattice_block`]), or [`LATTICE_NONE`].
     pub lattice: u32,
     pub reserved: [u32; 2],
 }
