@@ -392,3 +392,89 @@ fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
     assert_eq!(flat.len(), 2, "{flat:#?}");
     assert!(flat.iter().all(|e| e.verdict == Continuity::G2));
 }
+
+/// A Catmull-Clark sheet over a 5 × 5 grid of cage points: row i at x = 4 + i cos θ,
+/// z = i sin θ (`turned`), or x = i (`!turned`), each row running along y = 0..4.
+fn subdivision_sheet(name: &str, turned: Option<f64>) -> SceneObject {
+    use knotwork::kernel::PolygonMesh;
+    use knotwork::kernel::subdiv::{Options, SubdivisionSurface};
+    let mut points = Vec::new();
+    for i in 0..5 {
+        for j in 0..5 {
+            let (i, y) = (f64::from(i), f64::from(j));
+            points.push(match turned {
+                Some(theta) => DVec3::new(4.0 + i * theta.cos(), y, i * theta.sin()),
+                None => DVec3::new(i, y, 0.0),
+            });
+        }
+    }
+    let at = |i: u32, j: u32| i * 5 + j;
+    let faces: Vec<Vec<u32>> = (0..4)
+        .flat_map(|i| {
+            (0..4).map(move |j| vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)])
+        })
+        .collect();
+    let mesh = PolygonMesh::new(points, &faces).unwrap();
+    let surface =
+        SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), Options::default(), 2).unwrap();
+    SceneObject::new(name, ObjectGeometry::Subdivision(Box::new(surface.into())))
+}
+
+#[test]
+fn subdivision_surfaces_whose_limit_boundaries_meet_share_that_edge() {
+    // The left sheet's last row and the right sheet's first row are the same points (x = 4), so
+    // the limit boundaries (the cubic B-spline of that row) coincide; flat cages have flat
+    // limits, so the angle across is the turn exactly.
+    let theta = 35f64.to_radians();
+    let scene = Scene {
+        objects: vec![
+            subdivision_sheet("left", None),
+            subdivision_sheet("right", Some(theta)),
+        ],
+    };
+    // Each sheet's limit boundary is the cubic B-spline of its whole boundary loop, which turns
+    // its corners in opposite directions for the two sheets: the boundaries coincide where the
+    // corners are out of reach, on the middle cage faces' level-1 children (y from 1 to 3).
+    let middle = |scene: &Scene| {
+        let report = analyse(scene, None, &ContinuityOptions::default());
+        let across: Vec<SharedEdge> = report
+            .edges
+            .iter()
+            .filter(|e| report.faces[e.a.0].object != report.faces[e.b.0].object)
+            .cloned()
+            .collect();
+        // The faces along x = 4: two children of each middle cage face and the non-corner
+        // child of each corner face.
+        assert_eq!(across.len(), 6, "{across:#?}");
+        let inside = |e: &SharedEdge| {
+            e.samples
+                .iter()
+                .all(|s| (1.0 - 1e-9..=3.0 + 1e-9).contains(&s.point.y))
+        };
+        across.into_iter().filter(inside).collect::<Vec<_>>()
+    };
+    let edges = middle(&scene);
+    assert_eq!(edges.len(), 4);
+    for e in &edges {
+        assert!(e.max_gap.value < 1e-12, "{}", e.max_gap.value);
+        assert!(
+            close(e.max_angle_degrees.value, 35.0, 1e-9),
+            "{}",
+            e.max_angle_degrees.value
+        );
+        assert_eq!(e.verdict, Continuity::G0);
+    }
+    // Untilted, the two sheets continue each other there: G2.
+    let flat = Scene {
+        objects: vec![
+            subdivision_sheet("left", None),
+            subdivision_sheet("right", Some(0.0)),
+        ],
+    };
+    let edges = middle(&flat);
+    assert_eq!(edges.len(), 4);
+    assert!(
+        edges.iter().all(|e| e.verdict == Continuity::G2),
+        "{edges:#?}"
+    );
+}

@@ -272,7 +272,15 @@ fn conforms(context: &GpuContext, object: SceneObject) {
     assert_eq!(kind_faces.len(), shown_faces.len(), "{name}: faces");
     for (n, (face, (patch, shown))) in kind_faces.iter().zip(shown_faces).enumerate() {
         assert_eq!(face.patch, patch, "{name}: face {n}");
-        for (s, t) in [(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.6, 0.2)] {
+        // A face of a stencil patch (a subdivision surface's boundary face) against the
+        // stencils' exact limit points, which lie at the patch's grid points.
+        let stencil = patch.is_some_and(|k| k >= feed.set.patches().len());
+        let samples: &[(f64, f64)] = if stencil {
+            &[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)]
+        } else {
+            &[(0.0, 0.0), (0.3, 0.7), (1.0, 0.5), (0.6, 0.2)]
+        };
+        for &(s, t) in samples {
             let (point, own) = match (patch, face.triangle) {
                 (Some(k), _) => (shown.point(s, t), object.kind().surface_point(k, s, t)),
                 (None, true) => (

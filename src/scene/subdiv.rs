@@ -13,7 +13,7 @@ use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
 use crate::kernel::subdiv::display::DisplayMesh;
-use crate::kernel::subdiv::patches::{Display, LimitFeed};
+use crate::kernel::subdiv::patches::{Display, LimitFeed, boundary_bspline_grid};
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
@@ -137,6 +137,12 @@ const BSPLINE_TO_BEZIER: [[f64; 4]; 4] = [
 
 /// The 16 Bézier points (row-major, first index along u) of the B-spline patch `grid`.
 fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
+    bezier_from_bspline(&grid.map(|k| points[k as usize]))
+}
+
+/// The Bézier points of the uniform bicubic B-spline patch with points `control` (row-major,
+/// first index along u): each direction converted by [`BSPLINE_TO_BEZIER`].
+fn bezier_from_bspline(control: &[DVec3; 16]) -> [DVec3; 16] {
     let mut out = [DVec3::ZERO; 16];
     for i in 0..4 {
         for j in 0..4 {
@@ -145,7 +151,7 @@ fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
                 for b in 0..4 {
                     let w = BSPLINE_TO_BEZIER[i][a] * BSPLINE_TO_BEZIER[j][b];
                     if w != 0.0 {
-                        p += points[grid[a * 4 + b] as usize] * w;
+                        p += control[a * 4 + b] * w;
                     }
                 }
             }
@@ -584,22 +590,75 @@ impl ObjectKind for SubdivObject {
         }])
     }
 
-    /// The limit surface's regular patches (the bicubic B-spline of each regular face at the
-    /// shown level, exact), from the GPU feed; none at level 0 (the cage is flat facets, as a
-    /// polygon mesh). Faces around
-    /// extraordinary vertices and at the boundary are evaluated by stencils at grid points
-    /// only, and are not offered yet.
+    /// The limit surface's exact bicubic patches: each regular face's B-spline (the feed's
+    /// regular patches), and each stencil patch whose face (a Catmull-Clark cage face's child)
+    /// has one side on the boundary, as the B-spline with the outer row extrapolated
+    /// ([`crate::kernel::subdiv::patches::boundary_bspline_grid`]; numbered as that stencil
+    /// patch, over the same (s, t)). None at level 0 (the cage is flat facets, as a polygon
+    /// mesh). Faces around extraordinary vertices and at boundary corners are evaluated by
+    /// stencils at grid points only, and are not offered yet.
     fn faces(&self) -> Vec<KindFace<'_>> {
         if self.surface.level() == 0 {
             return Vec::new();
         }
-        let Ok(feed) = self.gpu_feed() else {
+        let Ok(prepared) = self.prepared() else {
             return Vec::new();
         };
-        let set = Arc::new(feed.set);
-        (0..set.patches().len())
-            .map(|patch| KindFace {
-                patch: Some(patch),
+        let feed = &prepared.feed;
+        let cage = self.surface.points();
+        let mut points = Vec::new();
+        let mut patches = Vec::new();
+        let mut feed_index = Vec::new();
+        let mut push = |control: [DVec3; 16], index: usize| {
+            let first = points.len() as u32;
+            points.extend(bezier_from_bspline(&control));
+            patches.push(BezierPatch::new(3, 3, (first..first + 16).collect()));
+            feed_index.push(index);
+        };
+        for (k, (_, grid)) in feed.regular.iter().enumerate() {
+            push(grid.map(|i| cage[i as usize]), k);
+        }
+        // The pieces' levels (the cage's, or its first refinement's) and their points.
+        let deepest = feed
+            .patches
+            .iter()
+            .map(|p| p.piece[0])
+            .filter(|&l| l <= 1)
+            .max();
+        let levels = deepest.and_then(|d| self.surface.hierarchy(d).ok());
+        if let Some(hierarchy) = &levels {
+            let scheme = self.surface.options.scheme;
+            let refined: Vec<Vec<DVec3>> = (0..hierarchy.levels.len())
+                .map(|l| hierarchy.refine_points_to(cage, l))
+                .collect();
+            for (k, stencil) in feed.patches.iter().enumerate() {
+                let [level, face] = stencil.piece.map(|x| x as usize);
+                let (Some(at), Some(level_points)) =
+                    (hierarchy.levels.get(level), refined.get(level))
+                else {
+                    continue;
+                };
+                if stencil.triangle {
+                    continue;
+                }
+                if let Some(rows) = boundary_bspline_grid(at, scheme, face as u32) {
+                    let control: Vec<DVec3> =
+                        rows.iter().map(|row| row.apply(level_points)).collect();
+                    if let Ok(control) = <[DVec3; 16]>::try_from(control) {
+                        push(control, feed.regular.len() + k);
+                    }
+                }
+            }
+        }
+        let Ok(set) = BezierPatchSet::new(points, None, patches) else {
+            return Vec::new();
+        };
+        let set = Arc::new(set);
+        feed_index
+            .into_iter()
+            .enumerate()
+            .map(|(patch, index)| KindFace {
+                patch: Some(index),
                 surface: Box::new(PatchFace {
                     set: Arc::clone(&set),
                     patch,

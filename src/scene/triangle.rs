@@ -35,6 +35,7 @@ fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
         segments,
         first_slot: 0,
         level: u32::MAX,
+        piece: [u32::MAX; 2],
     });
     let s = f64::from(segments);
     for i in 0..=segments {

@@ -68,6 +68,10 @@ pub struct StencilPatch {
     pub segments: u32,
     pub first_slot: u32,
     pub level: u32,
+    /// The face it shows, as (level, face) of the hierarchy (a cage face, or a child of one);
+    /// [`NONE`]s for a patch of no single face. Slot (0, 0) is that face's first corner and
+    /// the first index runs to its second.
+    pub piece: [u32; 2],
 }
 
 /// One stencil entry: a cage point and its weights for position, Su, Sv, Suu, Suv, Svv.
@@ -134,6 +138,109 @@ pub fn bspline_grid(level: &Level, f: u32) -> Option<[u32; 16]> {
     let (_, d) = quad_ring(level, q[3], q[0])?;
     set(0, 3, d[2]);
     g.iter().all(|&x| x != u32::MAX).then_some(g)
+}
+
+/// The 16 B-spline points, as rows over the level's vertices (index `a * 4 + b` as in
+/// [`bspline_grid`]), of a Catmull-Clark quad `f` with one side on the boundary whose limit is
+/// exactly the bicubic B-spline with that side's outer row extrapolated, P₀ = 2 P₁ − P₂ (the
+/// boundary patch of OpenSubdiv's regular patches). The boundary rules (vertex (1, 6, 1) / 8,
+/// edge midpoint) are the B-spline rules with that row, and the reflection survives uniform
+/// refinement, so the limit's boundary is the cubic B-spline of the boundary polygon with a
+/// natural end condition across it. `None` unless the quad has exactly one boundary side, its
+/// two boundary corners have two quads and three edges, its two inner corners four quads and
+/// four inner edges, and nothing at its corners is sharp.
+pub fn boundary_bspline_grid(level: &Level, scheme: Scheme, f: u32) -> Option<[Row; 16]> {
+    let q: [u32; 4] = level.face(f).try_into().ok()?;
+    if scheme != Scheme::CatmullClark {
+        return None;
+    }
+    let edges = level.face_edges(f);
+    // The quad across side j (from corner j to j + 1), if any.
+    let across: Vec<Option<u32>> = (0..4)
+        .map(|j| {
+            let [x, y] = level.edge_faces[edges[j] as usize];
+            let g = if x == f { y } else { x };
+            (g != NONE).then_some(g)
+        })
+        .collect();
+    let sides: Vec<usize> = (0..4).filter(|&j| across[j].is_none()).collect();
+    let [side] = sides[..] else {
+        return None;
+    };
+    for (k, &v) in q.iter().enumerate() {
+        let on_boundary = k == side || k == (side + 1) % 4;
+        let faces = level.vertex_faces(v);
+        let edges = level.vertex_edges(v);
+        // Boundary edges are stored infinitely sharp (OpenSubdiv's rule); the others are smooth.
+        let smooth = level.vertex_sharpness[v as usize] <= 0.0
+            && edges
+                .iter()
+                .all(|&e| level.is_boundary_edge(e) || level.edge_sharpness[e as usize] <= 0.0)
+            && faces.iter().all(|&g| level.face(g).len() == 4);
+        let boundary_edges = edges.iter().filter(|&&e| level.is_boundary_edge(e)).count();
+        let (want_faces, want_edges, want_boundary) =
+            if on_boundary { (2, 3, 2) } else { (4, 4, 0) };
+        if !smooth
+            || faces.len() != want_faces
+            || edges.len() != want_edges
+            || boundary_edges != want_boundary
+        {
+            return None;
+        }
+    }
+    let mut grid: [Option<Row>; 16] = Default::default();
+    let single = |v: u32| Row(vec![(v, 1.0)]);
+    let at = |a: usize, b: usize| a * 4 + b;
+    for (k, (a, b)) in [(1, 1), (2, 1), (2, 2), (1, 2)].into_iter().enumerate() {
+        grid[at(a, b)] = Some(single(q[k]));
+    }
+    // Beyond side j: the points next to corner j, then next to corner j + 1.
+    let beyond = [
+        [(1, 0), (2, 0)],
+        [(3, 1), (3, 2)],
+        [(2, 3), (1, 3)],
+        [(0, 2), (0, 1)],
+    ];
+    for j in 0..4 {
+        if let Some(g) = across[j] {
+            if level.face(g).len() != 4 {
+                return None;
+            }
+            let [(a0, b0), (a1, b1)] = beyond[j];
+            grid[at(a0, b0)] = Some(single(level.diagonal(g, q[(j + 1) % 4])));
+            grid[at(a1, b1)] = Some(single(level.diagonal(g, q[j])));
+        }
+    }
+    // The diagonal corners of the inner corners: across the fourth quad around them.
+    let corner_points = [(0, 0), (3, 0), (3, 3), (0, 3)];
+    for k in 0..4 {
+        let (before, after) = (across[(k + 3) % 4], across[k]);
+        if let (Some(g0), Some(g1)) = (before, after) {
+            let h = level
+                .vertex_faces(q[k])
+                .iter()
+                .copied()
+                .find(|&h| h != f && h != g0 && h != g1)?;
+            let (a, b) = corner_points[k];
+            grid[at(a, b)] = Some(single(level.diagonal(h, q[k])));
+        }
+    }
+    // The extrapolated row beyond the boundary side: outer = 2 inner − next. Point i of the
+    // row `depth` steps in from the boundary side (0 the outer row).
+    let index = |i: usize, depth: usize| match side {
+        0 => i * 4 + depth,
+        1 => (3 - depth) * 4 + i,
+        2 => i * 4 + 3 - depth,
+        _ => depth * 4 + i,
+    };
+    for i in 0..4 {
+        let mut row = Row::default();
+        row.add_row(grid[index(i, 1)].as_ref()?, 2.0);
+        row.add_row(grid[index(i, 2)].as_ref()?, -1.0);
+        grid[index(i, 0)] = Some(row.merged());
+    }
+    let rows: Vec<Row> = grid.into_iter().collect::<Option<Vec<Row>>>()?;
+    rows.try_into().ok()
 }
 
 /// Whether the limit over cage quad `f` is exactly the bicubic B-spline of its 16 points: all
@@ -310,6 +417,7 @@ fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> Limit
                 segments: 1,
                 first_slot,
                 level: k as u32,
+                piece: [NONE; 2],
             });
             // Slot (i, j) at i · 2 + j, i along the first edge: corners 0, 3 (2), 1, 2 (-).
             let order: [Option<u32>; 4] = if triangle {
@@ -545,6 +653,7 @@ pub(super) fn push_stencil_patches(
                     segments: s,
                     first_slot: 0,
                     level: piece.level as u32 + shown.depth,
+                    piece: [piece.level as u32, piece.face],
                 },
                 slots,
             )
