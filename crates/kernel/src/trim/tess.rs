@@ -135,29 +135,47 @@ struct ClippedGrid {
 
 impl ClippedGrid {
     /// The cut cells where a triangle's centroid or an edge midpoint lies farther than
-    /// `tolerance` from the surface at the same (u, v) (an upper bound of its distance).
+    /// `tolerance` from the surface at the same (u, v) (an upper bound of its distance). Each
+    /// point is evaluated once, and each edge's midpoint once for the two triangles sharing it.
     fn failing_cells(
         &self,
         surface: &NurbsSurface,
         tolerance: f64,
     ) -> Result<Vec<[usize; 2]>, GeometryError> {
-        let mut positions: HashMap<u32, DVec3> = HashMap::new();
+        let mut positions: Vec<Option<DVec3>> = vec![None; self.points.len()];
+        let mut edges: HashMap<[u32; 2], f64> = HashMap::new();
         let mut failing = Vec::new();
         for &(start, end, cell) in &self.cut {
             for t in &self.triangles[start..end] {
                 let mut corners = [DVec3::ZERO; 3];
                 for (slot, &k) in corners.iter_mut().zip(t) {
-                    *slot = match positions.get(&k) {
-                        Some(&p) => p,
+                    *slot = match positions[k as usize] {
+                        Some(p) => p,
                         None => {
                             let p = surface.point_at_clamped(self.points[k as usize])?;
-                            positions.insert(k, p);
+                            positions[k as usize] = Some(p);
                             p
                         }
                     };
                 }
                 let uv = t.map(|k| self.points[k as usize]);
-                if triangle_deviation(surface, uv, corners)? > tolerance {
+                let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
+                let flat = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let mut worst = (surface.point_at_clamped(centroid)? - flat).length();
+                for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                    let key = [t[a].min(t[b]), t[a].max(t[b])];
+                    let deviation = match edges.get(&key) {
+                        Some(&d) => d,
+                        None => {
+                            let m = surface.point_at_clamped(0.5 * (uv[a] + uv[b]))?;
+                            let d = (m - 0.5 * (corners[a] + corners[b])).length();
+                            edges.insert(key, d);
+                            d
+                        }
+                    };
+                    worst = worst.max(deviation);
+                }
+                if worst > tolerance {
                     failing.push(cell);
                     break;
                 }
@@ -165,25 +183,6 @@ impl ClippedGrid {
         }
         Ok(failing)
     }
-}
-
-/// The largest |S(t) − L(t)| at the centroid and the edge midpoints of the triangle with
-/// parameters `uv` and points `corners` (L its linear interpolant).
-pub fn triangle_deviation(
-    surface: &NurbsSurface,
-    uv: [DVec2; 3],
-    corners: [DVec3; 3],
-) -> Result<f64, GeometryError> {
-    let mut worst: f64 = 0.0;
-    let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
-    let flat = (corners[0] + corners[1] + corners[2]) / 3.0;
-    worst = worst.max((surface.point_at_clamped(centroid)? - flat).length());
-    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
-        let m = 0.5 * (uv[a] + uv[b]);
-        let chord = 0.5 * (corners[a] + corners[b]);
-        worst = worst.max((surface.point_at_clamped(m)? - chord).length());
-    }
-    Ok(worst)
 }
 
 /// The (u, v) points of a clipped grid, each stored once (by its exact coordinates).
@@ -434,7 +433,8 @@ fn triangulate_cell(
             ids.push(k);
         }
     }
-    let local: HashMap<u32, usize> = ids.iter().enumerate().map(|(n, &k)| (k, n)).collect();
+    // A cell holds a few points: a linear search finds a point's place in it.
+    let local = |k: u32| ids.iter().position(|&x| x == k);
     let points: Vec<DVec2> = ids.iter().map(|&k| pool.points[k as usize]).collect();
     // The sides: consecutive points around the perimeter.
     let mut around: Vec<(f64, usize)> = points
@@ -447,7 +447,9 @@ fn triangulate_cell(
         .map(|k| [around[k].1, around[(k + 1) % around.len()].1])
         .collect();
     for &[a, b] in &cell.pieces {
-        let (a, b) = (local[&a], local[&b]);
+        let (Some(a), Some(b)) = (local(a), local(b)) else {
+            continue;
+        };
         let (pa, pb) = (points[a], points[b]);
         let on_side = perimeter_position(corners, pa).is_some()
             && perimeter_position(corners, pb).is_some()
@@ -470,15 +472,43 @@ fn triangulate_cell(
             corners[0].x, corners[0].y
         )));
     }
-    for face in cdt.inner_faces() {
-        let [a, b, c] = face.vertices().map(|v| v.fix().index());
-        let (pa, pb, pc) = (points[a], points[b], points[c]);
-        let area = (pb - pa).perp_dot(pc - pa);
-        if area == 0.0 || !inside(row, (pa + pb + pc) / 3.0) {
+    // Which triangles lie inside the loops: one ray for the largest triangle, then a flood
+    // across the cell that flips at every constraint edge it crosses (the sides are
+    // never crossed, so those are the chord pieces, or their parts where a point split one).
+    let mut kept: Vec<Option<bool>> = vec![None; cdt.num_all_faces()];
+    let mut queue = std::collections::VecDeque::new();
+    let area = |face: &spade::handles::FaceHandle<'_, spade::handles::InnerTag, _, _, _, _>| {
+        let [pa, pb, pc] = face.vertices().map(|v| points[v.fix().index()]);
+        ((pb - pa).perp_dot(pc - pa), (pa + pb + pc) / 3.0)
+    };
+    // Seeds from the largest triangles first: a sliver's centroid may sit on a chord.
+    let mut seeds: Vec<_> = cdt.inner_faces().map(|f| (area(&f).0.abs(), f)).collect();
+    seeds.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (twice, face) in seeds {
+        if kept[face.fix().index()].is_some() || twice == 0.0 {
             continue;
         }
-        let [a, b, c] = [a, b, c].map(|n| ids[n]);
-        out.push(if area > 0.0 { [a, b, c] } else { [a, c, b] });
+        kept[face.fix().index()] = Some(inside(row, area(&face).1));
+        queue.push_back(face);
+        while let Some(face) = queue.pop_front() {
+            let here = kept[face.fix().index()].unwrap_or(false);
+            for edge in face.adjacent_edges() {
+                if let Some(next) = edge.rev().face().as_inner()
+                    && kept[next.fix().index()].is_none()
+                {
+                    kept[next.fix().index()] = Some(here != edge.is_constraint_edge());
+                    queue.push_back(next);
+                }
+            }
+        }
+    }
+    for face in cdt.inner_faces() {
+        let (twice, _) = area(&face);
+        if twice == 0.0 || kept[face.fix().index()] != Some(true) {
+            continue;
+        }
+        let [a, b, c] = face.vertices().map(|v| ids[v.fix().index()]);
+        out.push(if twice > 0.0 { [a, b, c] } else { [a, c, b] });
     }
     Ok(())
 }
