@@ -204,6 +204,16 @@ impl SceneObject {
             .faces()
             .into_iter()
             .map(|face| {
+                // Nothing to show differently: the kind's face itself (no second dispatch and
+                // copy on every evaluation).
+                if self.displacement.is_none() && self.lattice.is_none() {
+                    let surface: Box<dyn ParametricSurface + '_> = if face.triangle {
+                        Box::new(TriangleAsSquare(face.surface))
+                    } else {
+                        face.surface
+                    };
+                    return (face.patch, surface);
+                }
                 let [(u0, u1), (v0, v1)] = face.surface.domain();
                 let shown = ShownFace {
                     displacement: self.displacement.as_ref().map(|map| FaceDisplacement {
