@@ -7,7 +7,8 @@
 #      f64 reference (a real wgpu adapter: lavapipe where there is no GPU), shader validation
 #      and layouts, offscreen image tests, glTF export checked by the Khronos glTF-Validator
 #      (npm), and the desktop app itself in a window (under Xvfb where there is no display);
-#   3. a one-minute smoke of the file readers' fuzz harness (examples/fuzz_smoke.rs);
+#   3. a one-minute smoke of the file readers' fuzz harness (examples/fuzz_smoke.rs: project,
+#      OBJ, glTF and PNG height maps);
 #   4. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
 #
 #   tests/run.sh
@@ -110,9 +111,10 @@ cargo test --workspace --locked 2>&1 | tee "$log"
 rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^passed/) n += $i } END { print n + 0 }' "$log")
 
 # --- Fuzz smoke ---------------------------------------------------------------------------------
-# The file readers (project, OBJ, glTF) under the stable mutation harness for about a minute in
-# all; fuzz/run.sh runs the coverage-guided cargo-fuzz targets for as long as asked.
-step "fuzz smoke (project, OBJ and glTF readers)"
+# The file readers (project, OBJ, glTF, PNG height maps) under the stable mutation harness for
+# about a minute in all; fuzz/run.sh runs the coverage-guided cargo-fuzz targets for as long as
+# asked.
+step "fuzz smoke (project, OBJ, glTF and PNG readers)"
 cargo run --quiet --locked --example fuzz_smoke -- --seconds 60
 
 # --- The web page in a browser -----------------------------------------------------------------
