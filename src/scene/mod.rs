@@ -206,27 +206,24 @@ impl SceneObject {
             .map(|face| {
                 // Nothing to show differently: the kind's face itself (no second dispatch and
                 // copy on every evaluation).
-                if self.displacement.is_none() && self.lattice.is_none() {
-                    let surface: Box<dyn ParametricSurface + '_> = if face.triangle {
-                        Box::new(TriangleAsSquare(face.surface))
-                    } else {
+                let shown: Box<dyn ParametricSurface + '_> =
+                    if self.displacement.is_none() && self.lattice.is_none() {
                         face.surface
+                    } else {
+                        let [(u0, u1), (v0, v1)] = face.surface.domain();
+                        Box::new(ShownFace {
+                            displacement: self.displacement.as_ref().map(|map| FaceDisplacement {
+                                map,
+                                domain: [u0, u1, v0, v1],
+                            }),
+                            lattice: self.lattice.as_ref(),
+                            face: face.surface,
+                        })
                     };
-                    return (face.patch, surface);
-                }
-                let [(u0, u1), (v0, v1)] = face.surface.domain();
-                let shown = ShownFace {
-                    displacement: self.displacement.as_ref().map(|map| FaceDisplacement {
-                        map,
-                        domain: [u0, u1, v0, v1],
-                    }),
-                    lattice: self.lattice.as_ref(),
-                    face: face.surface,
-                };
                 let surface: Box<dyn ParametricSurface + '_> = if face.triangle {
                     Box::new(TriangleAsSquare(shown))
                 } else {
-                    Box::new(shown)
+                    shown
                 };
                 (face.patch, surface)
             })

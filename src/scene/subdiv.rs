@@ -642,11 +642,8 @@ impl ObjectKind for SubdivObject {
                     continue;
                 }
                 if let Some(rows) = boundary_bspline_grid(at, scheme, face as u32) {
-                    let control: Vec<DVec3> =
-                        rows.iter().map(|row| row.apply(level_points)).collect();
-                    if let Ok(control) = <[DVec3; 16]>::try_from(control) {
-                        push(control, feed.regular.len() + k);
-                    }
+                    let control = rows.each_ref().map(|row| row.apply(level_points));
+                    push(control, feed.regular.len() + k);
                 }
             }
         }

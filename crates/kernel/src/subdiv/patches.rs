@@ -167,24 +167,28 @@ pub fn boundary_bspline_grid(level: &Level, scheme: Scheme, f: u32) -> Option<[R
     let [side] = sides[..] else {
         return None;
     };
-    for (k, &v) in q.iter().enumerate() {
-        let on_boundary = k == side || k == (side + 1) % 4;
-        let faces = level.vertex_faces(v);
-        let edges = level.vertex_edges(v);
-        // Boundary edges are stored infinitely sharp (OpenSubdiv's rule); the others are smooth.
-        let smooth = level.vertex_sharpness[v as usize] <= 0.0
+    // The inner corners regular; the boundary corners two quads, two boundary edges (stored
+    // infinitely sharp, OpenSubdiv's rule) and one smooth inner edge, nothing else sharp.
+    let regular_boundary_corner = |v: u32| {
+        let (faces, edges) = (level.vertex_faces(v), level.vertex_edges(v));
+        let boundary = edges.iter().filter(|&&e| level.is_boundary_edge(e)).count();
+        level.vertex_sharpness[v as usize] <= 0.0
+            && faces.len() == 2
+            && edges.len() == 3
+            && boundary == 2
+            && faces.iter().all(|&g| level.face(g).len() == 4)
             && edges
                 .iter()
                 .all(|&e| level.is_boundary_edge(e) || level.edge_sharpness[e as usize] <= 0.0)
-            && faces.iter().all(|&g| level.face(g).len() == 4);
-        let boundary_edges = edges.iter().filter(|&&e| level.is_boundary_edge(e)).count();
-        let (want_faces, want_edges, want_boundary) =
-            if on_boundary { (2, 3, 2) } else { (4, 4, 0) };
-        if !smooth
-            || faces.len() != want_faces
-            || edges.len() != want_edges
-            || boundary_edges != want_boundary
-        {
+    };
+    for (k, &v) in q.iter().enumerate() {
+        let on_boundary = k == side || k == (side + 1) % 4;
+        let fits = if on_boundary {
+            regular_boundary_corner(v)
+        } else {
+            is_regular(level, scheme, v)
+        };
+        if !fits {
             return None;
         }
     }

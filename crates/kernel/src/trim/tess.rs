@@ -98,10 +98,11 @@ pub fn tessellate_trimmed(
         }
         let clipped = clip_grid(&grid, &polygons)?;
         round += 1;
-        if !checked || round > REFINE_ROUNDS {
-            return mesh_from(surface, &clipped.points, clipped.triangles, curvature);
-        }
-        let failing = clipped.failing_cells(surface, tolerance)?;
+        let failing = if checked && round <= REFINE_ROUNDS {
+            clipped.failing_cells(surface, tolerance)?
+        } else {
+            Vec::new()
+        };
         if failing.is_empty() {
             return mesh_from(surface, &clipped.points, clipped.triangles, curvature);
         }
@@ -125,7 +126,7 @@ fn split_cells(grid: &ParameterGrid, cells: &[[usize; 2]]) -> ParameterGrid {
 }
 
 /// The grid clipped by the loops: (u, v) points, triangles counter-clockwise in (u, v), and
-/// which triangles lie in a cut cell (from `cut_from` on, with their cells).
+/// which triangles lie in a cut cell.
 struct ClippedGrid {
     points: Vec<DVec2>,
     triangles: Vec<[u32; 3]>,
@@ -234,12 +235,9 @@ fn spans_holding(lines: &[f64], x: f64) -> std::ops::RangeInclusive<usize> {
     }
 }
 
-/// The polygons with every point within [`SNAP`] of a grid line moved onto it, repeated
-/// points dropped.
-fn snapped(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<Vec<DVec2>> {
-    let size =
-        (grid.us[grid.us.len() - 1] - grid.us[0]).max(grid.vs[grid.vs.len() - 1] - grid.vs[0]);
-    let snap = SNAP * size;
+/// The polygons with every point within `snap` of a grid line moved onto it, repeated points
+/// dropped.
+fn snapped(grid: &ParameterGrid, polygons: &[Vec<DVec2>], snap: f64) -> Vec<Vec<DVec2>> {
     polygons
         .iter()
         .map(|poly| {
@@ -319,13 +317,14 @@ fn inside(chords: &[[DVec2; 2]], p: DVec2) -> bool {
 /// The grid clipped by the (closed, even-odd) polygons.
 fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGrid, GeometryError> {
     let (us, vs) = (&grid.us, &grid.vs);
-    let size = (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
-    let polygons = snapped(grid, polygons);
+    // Points within SNAP of the domain's size from a grid line are moved onto it.
+    let snap = SNAP * (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
+    let polygons = snapped(grid, polygons, snap);
     let mut pool = PointPool::default();
     let mut cuts: BTreeMap<[usize; 2], CellCut> = BTreeMap::new();
     for poly in &polygons {
         for k in 0..poly.len() {
-            let points = chord_points(grid, poly[k], poly[(k + 1) % poly.len()], SNAP * size);
+            let points = chord_points(grid, poly[k], poly[(k + 1) % poly.len()], snap);
             let ids: Vec<u32> = points.iter().map(|&p| pool.id(p)).collect();
             for (&p, &id) in points.iter().zip(&ids) {
                 for i in spans_holding(us, p.x) {
@@ -353,16 +352,11 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
     for i in 0..us.len() - 1 {
         for j in 0..vs.len() - 1 {
             let rect = [us[i], us[i + 1], vs[j], vs[j + 1]];
-            let corners = [
-                DVec2::new(rect[0], rect[2]),
-                DVec2::new(rect[1], rect[2]),
-                DVec2::new(rect[1], rect[3]),
-                DVec2::new(rect[0], rect[3]),
-            ];
+            let corners = corners_of(rect);
             match cuts.get(&[i, j]).filter(|c| c.cuts(&pool.points, rect)) {
                 Some(cell) => {
                     let start = triangles.len();
-                    triangulate_cell(&mut pool, cell, corners, &rows[j], &mut triangles)?;
+                    triangulate_cell(&mut pool, cell, rect, &rows[j], &mut triangles)?;
                     cut.push((start, triangles.len(), [i, j]));
                 }
                 None => {
@@ -382,21 +376,33 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
     })
 }
 
+/// The corners of the cell `rect` (u0, u1, v0, v1), counter-clockwise from (u0, v0).
+fn corners_of(rect: [f64; 4]) -> [DVec2; 4] {
+    [
+        DVec2::new(rect[0], rect[2]),
+        DVec2::new(rect[1], rect[2]),
+        DVec2::new(rect[1], rect[3]),
+        DVec2::new(rect[0], rect[3]),
+    ]
+}
+
+/// Whether the segment from p to q runs along a side of the cell `rect` (u0, u1, v0, v1).
+fn along_side(rect: [f64; 4], p: DVec2, q: DVec2) -> bool {
+    (p.x == q.x && (p.x == rect[0] || p.x == rect[1]))
+        || (p.y == q.y && (p.y == rect[2] || p.y == rect[3]))
+}
+
 impl CellCut {
     /// Whether the chords cut the cell `rect` (u0, u1, v0, v1): a point other than its corners,
     /// or a piece not along its sides.
     fn cuts(&self, points: &[DVec2], rect: [f64; 4]) -> bool {
         let corner =
             |p: DVec2| (p.x == rect[0] || p.x == rect[1]) && (p.y == rect[2] || p.y == rect[3]);
-        let along_side = |p: DVec2, q: DVec2| {
-            (p.x == q.x && (p.x == rect[0] || p.x == rect[1]))
-                || (p.y == q.y && (p.y == rect[2] || p.y == rect[3]))
-        };
         self.points.iter().any(|&k| !corner(points[k as usize]))
             || self
                 .pieces
                 .iter()
-                .any(|&[a, b]| !along_side(points[a as usize], points[b as usize]))
+                .any(|&[a, b]| !along_side(rect, points[a as usize], points[b as usize]))
     }
 }
 
@@ -423,10 +429,11 @@ fn perimeter_position(corners: [DVec2; 4], p: DVec2) -> Option<f64> {
 fn triangulate_cell(
     pool: &mut PointPool,
     cell: &CellCut,
-    corners: [DVec2; 4],
+    rect: [f64; 4],
     row: &[[DVec2; 2]],
     out: &mut Vec<[u32; 3]>,
 ) -> Result<(), GeometryError> {
+    let corners = corners_of(rect);
     let mut ids: Vec<u32> = corners.iter().map(|&p| pool.id(p)).collect();
     for &k in &cell.points {
         if !ids.contains(&k) {
@@ -450,12 +457,7 @@ fn triangulate_cell(
         let (Some(a), Some(b)) = (local(a), local(b)) else {
             continue;
         };
-        let (pa, pb) = (points[a], points[b]);
-        let on_side = perimeter_position(corners, pa).is_some()
-            && perimeter_position(corners, pb).is_some()
-            && (pa.x == pb.x || pa.y == pb.y)
-            && perimeter_position(corners, 0.5 * (pa + pb)).is_some();
-        if !on_side {
+        if !along_side(rect, points[a], points[b]) {
             edges.push([a, b]);
         }
     }
