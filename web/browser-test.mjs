@@ -367,7 +367,7 @@ async function main() {
       await page.close();
     });
 
-    await check('every analysis mode draws per pixel, views switch, continuity is measured', async () => {
+    await check('every analysis mode draws per pixel, views switch, continuity is measured (triangular patches too)', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       let previous = await page.locator('#knotwork-canvas').screenshot();
@@ -407,7 +407,31 @@ async function main() {
       assert(!(await page.evaluate(() => window.knotwork.setView('sideways'))), 'unknown views are refused');
       const s = await status(page);
       assert(s.grid_step > 0, `grid step ${s.grid_step}`);
-      console.log(`      ${c.edges} shared edges, ${c.passing} meet G1; grid step ${s.grid_step}`);
+      // Two quadratic triangular patches either side of x = 0, the right one rising at slope
+      // 0.4: one shared edge, a crease (G0), measured through the one surface interface.
+      const flatTriangle = (u, v, w, f) => {
+        const points = [];
+        for (let j = 0; j <= 2; j++) {
+          for (let i = 0; i <= 2 - j; i++) {
+            const k = 2 - i - j;
+            const x = (i * u[0] + j * v[0] + k * w[0]) / 2;
+            const y = (i * u[1] + j * v[1] + k * w[1]) / 2;
+            points.push([x, y, f(x)]);
+          }
+        }
+        return { type: 'triangular_bezier', degree: 2, points };
+      };
+      await page.evaluate((t) => window.knotwork.openProject('triangles.json', t), JSON.stringify({
+        format: 'knotwork', version: 2, objects: [
+          flatTriangle([0, 0], [0, 1], [-1, 0], () => 0),
+          flatTriangle([0, 1], [0, 0], [1, 0], (x) => 0.4 * x),
+        ],
+      }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      await page.waitForFunction(() => window.knotwork.status().continuity?.edges === 1, null, { timeout: 60_000 });
+      const t = (await status(page)).continuity;
+      assert(t.verdicts[0] === 'G0', `triangles' edge ${JSON.stringify(t)}`);
+      console.log(`      ${c.edges} shared edges, ${c.passing} meet G1; grid step ${s.grid_step}; two triangular patches: ${t.verdicts[0]}`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });
