@@ -245,7 +245,9 @@ struct Persistence {
     autosaved_revision: u64,
     last_change: f64,
     pending_revision: u64,
-    /// The revision last published as project text (`window.knotwork.project()`).
+    /// The revision last published as project text (`window.knotwork.project()`, the page
+    /// only).
+    #[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
     published_revision: Option<u64>,
     /// Whether the autosave writes at all (off with `--fresh`).
     autosave: bool,
@@ -875,13 +877,16 @@ impl KnotworkApp {
     /// The settings of subdivision surface `object`; `None`, with the error in the status, for
     /// any other object.
     fn subdivision_settings(&mut self, object: usize) -> Option<crate::scene::SubdivSettings> {
-        match self.doc.scene.objects.get(object).map(|o| &o.geometry) {
-            Some(crate::scene::ObjectGeometry::Subdivision(surface)) => Some(surface.settings()),
-            _ => {
-                self.status.error = Some(format!("object {object} is not a subdivision surface"));
-                None
-            }
+        let surface = self
+            .doc
+            .scene
+            .objects
+            .get(object)
+            .and_then(|o| o.geometry.downcast_ref::<crate::scene::SubdivObject>());
+        if surface.is_none() {
+            self.status.error = Some(format!("object {object} is not a subdivision surface"));
         }
+        surface.map(crate::scene::SubdivObject::settings)
     }
 
     fn set_crease(&mut self, object: usize, a: u32, b: u32, sharpness: f64) {
@@ -1228,6 +1233,9 @@ impl eframe::App for KnotworkApp {
         self.export_window(&ctx);
         self.dialog_window(&ctx);
         self.autosave(&ctx, frame);
+        // The page's script reads the document as project text; the desktop has no reader,
+        // so it serialises only to autosave.
+        #[cfg(target_arch = "wasm32")]
         if self.saved.published_revision != Some(self.saved.revision) && self.drag.is_none() {
             status::publish_project(self.doc.save(None));
             self.saved.published_revision = Some(self.saved.revision);

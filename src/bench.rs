@@ -71,7 +71,7 @@ pub fn landscape(n: usize) -> Result<SceneObject, crate::kernel::GeometryError> 
     let surface = construct::bspline_surface([3, 3], [n, n], points)?;
     Ok(SceneObject::new(
         format!("bicubic B-spline {n} × {n}"),
-        ObjectGeometry::Nurbs(surface),
+        ObjectGeometry::new(surface),
     ))
 }
 
@@ -479,7 +479,7 @@ fn bench_lattice(
     use crate::kernel::ffd::Lattice;
     let mut teapot = SceneObject::new(
         "teapot",
-        ObjectGeometry::Patches(crate::kernel::samples::utah_teapot()?),
+        ObjectGeometry::new(crate::kernel::samples::utah_teapot()?),
     );
     teapot.segments = 16;
     for base in [large_bspline()?, teapot] {
@@ -636,7 +636,7 @@ fn bench_adaptive(
             };
             let object = SceneObject::new(
                 format!("{name} {} {label}", scheme.label()),
-                ObjectGeometry::Subdivision(Box::new(object)),
+                ObjectGeometry::boxed(Box::new(object)),
             );
             bench_object(context, object, 7, iterations, out)?;
         }
@@ -653,7 +653,7 @@ fn bench_construct(
 ) -> Result<(), Box<dyn std::error::Error>> {
     use crate::doc::create::{Primitive, PrimitiveParams};
     use crate::kernel::{Direction, transfinite};
-    let ObjectGeometry::Nurbs(land) = large_bspline()?.geometry else {
+    let Some(land) = large_bspline()?.geometry.nurbs_surface().cloned() else {
         return Err("the landscape is a NURBS surface".into());
     };
     for n in [4usize, 8, 16] {
@@ -683,10 +683,12 @@ fn bench_construct(
             ..Default::default()
         };
         let (ms, object) = median_ms(iterations.clamp(1, 5), || params.build())?;
-        let net = match &object.geometry {
-            ObjectGeometry::Nurbs(s) => format!("{} × {}", s.count()[0], s.count()[1]),
-            _ => String::from("-"),
-        };
+        let net = object
+            .geometry
+            .nurbs_surface()
+            .map_or(String::from("-"), |s| {
+                format!("{} × {}", s.count()[0], s.count()[1])
+            });
         writeln!(
             out,
             "construct {:<45} | {net:>7} control points | {ms:8.3} ms",
@@ -967,7 +969,7 @@ pub fn joined_grid(n: usize) -> Result<Scene, crate::kernel::GeometryError> {
             let surface = crate::kernel::construct::bspline_surface([3, 3], [4, 4], points)?;
             objects.push(SceneObject::new(
                 format!("S{i}_{j}"),
-                ObjectGeometry::Nurbs(surface),
+                ObjectGeometry::new(surface),
             ));
         }
     }
@@ -1137,7 +1139,7 @@ fn cage_object_with(
     )?;
     Ok(SceneObject::new(
         format!("{name} L{level}"),
-        crate::scene::ObjectGeometry::Subdivision(Box::new(surface.into())),
+        crate::scene::ObjectGeometry::new(crate::scene::SubdivObject::from(surface)),
     ))
 }
 
@@ -1327,10 +1329,7 @@ fn bench_substitutes(
             };
             let object = SceneObject::new(
                 format!("{name} {} {label}", scheme.label()),
-                ObjectGeometry::Subdivision(Box::new(SubdivObject::checked(
-                    surface.clone(),
-                    display,
-                )?)),
+                ObjectGeometry::boxed(Box::new(SubdivObject::checked(surface.clone(), display)?)),
             );
             bench_object(context, object, 1, iterations, out)?;
         }
@@ -1442,7 +1441,7 @@ pub fn trimmed_scene(objects: usize, trimmed: bool) -> Result<Scene, crate::kern
             }
             ObjectGeometry::from_trimmed(TrimmedSurface::new(surface, loops)?)
         } else {
-            ObjectGeometry::Nurbs(surface)
+            ObjectGeometry::new(surface)
         };
         let mut object = SceneObject::new(format!("trimmed {k}"), geometry);
         object.segments = 8;
@@ -1463,10 +1462,8 @@ fn bench_trim(
     let curves: usize = trimmed
         .objects
         .iter()
-        .filter_map(|o| match &o.geometry {
-            ObjectGeometry::Trimmed(t) => Some(t.loops().iter().map(Vec::len).sum::<usize>()),
-            _ => None,
-        })
+        .filter_map(|o| o.geometry.as_trimmed())
+        .map(|t| t.loops().iter().map(Vec::len).sum::<usize>())
         .sum();
     let build_ms = build.elapsed().as_secs_f64() * 1e3;
     let plain = trimmed_scene(10, false)?;

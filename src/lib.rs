@@ -1,13 +1,16 @@
 //! knotwork: a freeform-surface editor whose surfaces are evaluated by WGSL compute shaders,
 //! in the browser (WebGPU) and on the desktop (Vulkan, Metal, DX12).
 //!
-//! Layers, each depending only on those above it:
+//! Layers, each depending only on the ones listed before it (the kernel is a crate of its
+//! own, so the compiler keeps its boundary):
 //! - [`kernel`]: pure f64 geometry (no GPU, no UI);
-//! - [`scene`]: the document's objects and their tessellation settings (kernel data only);
-//! - [`doc`]: commands on the scene with undo and redo;
-//! - [`io`]: file formats (knotwork JSON, eval requests);
+//! - [`scene`]: the document's objects, every kind behind one interface, the registry of kinds
+//!   and their project records, and what an edit changed;
+//! - [`view`]: the camera, picking, and the view settings a project saves;
+//! - [`io`]: file formats (the project file, glTF, OBJ, PNG height maps, eval requests);
+//! - [`doc`]: commands on the scene with undo and redo, drags, open and save;
 //! - [`shaders`], [`gpu`]: WGSL sources and the compute evaluator on wgpu;
-//! - [`render`], [`view`]: viewport pipelines and the camera;
+//! - [`render`]: the viewport pipelines;
 //! - [`app`], [`status`]: the eframe editor, identical on web and desktop.
 
 // `!(x > 0.0)` is the deliberate NaN-rejecting form of every validity check in the kernel.

@@ -240,26 +240,20 @@ mod cli {
             SubdivisionSurface::new(mesh, parsed.creases, parsed.corners, options, 0)
         } else {
             let project = knotwork::io::project::read(&text).map_err(|e| e.to_string())?;
-            let found = project
-                .scene
-                .objects
-                .iter()
-                .find_map(|o| match &o.geometry {
-                    knotwork::scene::ObjectGeometry::Subdivision(s) => Some(s.surface.with(
+            let found = project.scene.objects.iter().find_map(|o| {
+                match o.geometry.downcast_ref::<knotwork::scene::SubdivObject>() {
+                    // A subdivision surface keeps its creases and corners.
+                    Some(s) => Some(s.surface.with(
                         options,
                         0,
                         s.surface.creases().to_vec(),
                         s.surface.corners().to_vec(),
                     )),
-                    knotwork::scene::ObjectGeometry::Mesh(m) => Some(SubdivisionSurface::new(
-                        m.clone(),
-                        Vec::new(),
-                        Vec::new(),
-                        options,
-                        0,
-                    )),
-                    _ => None,
-                });
+                    None => o.kind().cage().map(|cage| {
+                        SubdivisionSurface::new(cage.clone(), Vec::new(), Vec::new(), options, 0)
+                    }),
+                }
+            });
             found.ok_or("the project has no subdivision surface or polygon mesh")?
         }
         .map_err(|e| e.to_string())?;
@@ -576,11 +570,11 @@ mod cli {
             match output {
                 None => Ok(knotwork::io::construct::surface_value(surface, name).to_string()),
                 Some(out) => {
-                    let objects = [knotwork::io::json::NamedGeometry {
+                    let objects = [knotwork::scene::json::NamedGeometry {
                         name: Some(name.to_string()),
-                        geometry: knotwork::io::json::Geometry::Surface(surface),
+                        geometry: knotwork::scene::json::Geometry::Surface(surface),
                     }];
-                    std::fs::write(out, knotwork::io::json::write(&objects))
+                    std::fs::write(out, knotwork::scene::json::write(&objects))
                         .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
                     Ok(format!("wrote {} ({name})", out.display()))
                 }

@@ -239,9 +239,14 @@ fn with_shared<R>(f: impl FnOnce(&mut Shared) -> R) -> R {
     f(&mut guard)
 }
 
-/// Publishes the editor's current status.
+/// Publishes the editor's current status where it changed since the last one (the editor
+/// calls this every frame; the copy is made only on a change).
 pub fn publish(status: &AppStatus) {
-    with_shared(|s| s.status = Some(status.clone()));
+    with_shared(|s| {
+        if s.status.as_ref() != Some(status) {
+            s.status = Some(status.clone());
+        }
+    });
 }
 
 /// Publishes where the selected object's control points are on the screen (logical pixels

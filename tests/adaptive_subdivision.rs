@@ -251,14 +251,19 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
         .unwrap()
         .with_tolerance_checked(0.003)
         .unwrap();
-    let layout = |doc: &Document| match &doc.scene.objects[0].geometry {
-        ObjectGeometry::Subdivision(o) => o.adaptive_layout().unwrap().unwrap(),
-        _ => panic!("not a subdivision surface"),
+    let layout = |doc: &Document| {
+        let o = doc.scene.objects[0]
+            .geometry
+            .downcast_ref::<knotwork::scene::SubdivObject>();
+        o.expect("a subdivision surface")
+            .adaptive_layout()
+            .unwrap()
+            .unwrap()
     };
     let mut scene = Scene::default();
     scene.objects.push(SceneObject::new(
         "spike",
-        ObjectGeometry::Subdivision(Box::new(object)),
+        ObjectGeometry::boxed(Box::new(object)),
     ));
     let mut doc = Document::new(scene);
     let before = layout(&doc);
@@ -274,7 +279,10 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
     let after = layout(&doc);
     assert_ne!(after, before);
     // The depths the shape now has, chosen afresh.
-    let ObjectGeometry::Subdivision(moved) = &doc.scene.objects[0].geometry else {
+    let Some(moved) = doc.scene.objects[0]
+        .geometry
+        .downcast_ref::<knotwork::scene::SubdivObject>()
+    else {
         panic!("not a subdivision surface");
     };
     assert_eq!(*after, moved.surface.adaptive_layout(3, 0.003).unwrap());

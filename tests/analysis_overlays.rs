@@ -48,7 +48,7 @@ fn the_curvature_vector_of_a_circle_points_to_its_centre() {
 fn combs_on_a_cylinder_have_equal_hair_on_the_circles_and_none_on_the_lines() {
     let radius = 1.5;
     let cylinder = construct::cylinder(DVec3::ZERO, 4.0 * DVec3::Z, radius).unwrap();
-    let object = SceneObject::new("cylinder", ObjectGeometry::Nurbs(cylinder));
+    let object = SceneObject::new("cylinder", ObjectGeometry::new(cylinder));
     let size = 10.0;
     let settings = AnalysisSettings {
         combs: CombCurves::Both,
@@ -83,7 +83,7 @@ fn combs_on_a_cylinder_have_equal_hair_on_the_circles_and_none_on_the_lines() {
 #[test]
 fn principal_directions_on_a_cylinder_run_along_and_around_the_axis() {
     let cylinder = construct::cylinder(DVec3::ZERO, 3.0 * DVec3::Z, 1.0).unwrap();
-    let cylinder = SceneObject::new("cylinder", ObjectGeometry::Nurbs(cylinder));
+    let cylinder = SceneObject::new("cylinder", ObjectGeometry::new(cylinder));
     let lines = principal_directions(&cylinder, 6);
     assert!(
         lines.on_top.len() >= 2 * 2 * 36 / 2,

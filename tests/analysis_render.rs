@@ -55,7 +55,7 @@ fn sphere() -> (SceneObject, f64) {
     let (u, v) = (0.37 * (u0 + u1), 0.41 * (v0 + v1));
     let p = surface.point_at(u, v).unwrap();
     let orientation = surface.normal(u, v).unwrap().dot(p).signum();
-    let mut object = SceneObject::new("sphere", ObjectGeometry::Nurbs(surface));
+    let mut object = SceneObject::new("sphere", ObjectGeometry::new(surface));
     // Fine enough that the drawn sphere lies within a tenth of a pixel of the ray-cast one (the
     // tessellation decides where a pixel lands on the surface; the analysis at that point is the
     // per-pixel evaluation's own, which the coarse-versus-fine test checks).
@@ -440,7 +440,7 @@ fn waved_surface(lift: f64) -> NurbsSurface {
 }
 
 fn waved_object(lift: f64, segments: u32) -> SceneObject {
-    let mut object = SceneObject::new("waved", ObjectGeometry::Nurbs(waved_surface(lift)));
+    let mut object = SceneObject::new("waved", ObjectGeometry::new(waved_surface(lift)));
     object.segments = segments;
     object
 }
@@ -520,7 +520,7 @@ fn every_analysis_mode_matches_its_reference_image() {
     let camera = waved_camera(2.4);
     let ball = SceneObject::new(
         "ball",
-        ObjectGeometry::Nurbs(construct::sphere(DVec3::new(2.0, 2.5, 1.4), 1.0).unwrap()),
+        ObjectGeometry::new(construct::sphere(DVec3::new(2.0, 2.5, 1.4), 1.0).unwrap()),
     );
     let objects = [waved_object(0.0, 16), ball];
     let mut images = Vec::new();

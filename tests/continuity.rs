@@ -13,7 +13,7 @@ fn scene_of(surfaces: Vec<NurbsSurface>) -> Scene {
         objects: surfaces
             .into_iter()
             .enumerate()
-            .map(|(k, s)| SceneObject::new(format!("S{k}"), ObjectGeometry::Nurbs(s)))
+            .map(|(k, s)| SceneObject::new(format!("S{k}"), ObjectGeometry::new(s)))
             .collect(),
     }
 }
@@ -205,7 +205,7 @@ fn surfaces_apart_share_no_edge() {
 fn the_teapot_patches_meet_without_gaps() {
     let teapot = samples::utah_teapot().unwrap();
     let scene = Scene {
-        objects: vec![SceneObject::new("teapot", ObjectGeometry::Patches(teapot))],
+        objects: vec![SceneObject::new("teapot", ObjectGeometry::new(teapot))],
     };
     let report = analyse(&scene, None, &ContinuityOptions::default());
     eprintln!("{} shared edges", report.edges.len());
@@ -298,7 +298,7 @@ fn flat_triangle(corners: [(f64, f64); 3], z0: f64, f: impl Fn(f64, f64) -> f64)
     points[lattice_index(2, 1, 0)] = mid(u, w);
     points[lattice_index(2, 0, 1)] = mid(v, w);
     let patch = TriangleBezier::new(2, points).unwrap();
-    SceneObject::new("triangle", ObjectGeometry::Triangle(Box::new(patch)))
+    SceneObject::new("triangle", ObjectGeometry::boxed(Box::new(patch)))
 }
 
 #[test]
@@ -311,7 +311,7 @@ fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
     };
     let plane_at = |x0: f64, z: f64, name: &str| {
         let p = construct::plane(DVec3::new(x0, 0.0, z), DVec3::X, DVec3::Y).unwrap();
-        SceneObject::new(name, ObjectGeometry::Nurbs(p))
+        SceneObject::new(name, ObjectGeometry::new(p))
     };
     // Two triangular patches either side of x = 0, the right one rising at slope 0.4.
     let slope = 0.4;
@@ -417,7 +417,10 @@ fn subdivision_sheet(name: &str, turned: Option<f64>) -> SceneObject {
     let mesh = PolygonMesh::new(points, &faces).unwrap();
     let surface =
         SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), Options::default(), 2).unwrap();
-    SceneObject::new(name, ObjectGeometry::Subdivision(Box::new(surface.into())))
+    SceneObject::new(
+        name,
+        ObjectGeometry::new(knotwork::scene::SubdivObject::from(surface)),
+    )
 }
 
 #[test]

@@ -28,7 +28,7 @@ fn plane(displacement: Displacement) -> SceneObject {
     ];
     let mut object = SceneObject::new(
         "plane",
-        ObjectGeometry::Nurbs(NurbsSurface::bezier([1, 1], points, None).unwrap()),
+        ObjectGeometry::new(NurbsSurface::bezier([1, 1], points, None).unwrap()),
     );
     object.segments = 48;
     object.displacement = Some(displacement);

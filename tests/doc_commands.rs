@@ -34,7 +34,7 @@ fn start_scene_with_cage() -> Scene {
     let surface = SubdivisionSurface::from_mesh(cube, 2).unwrap();
     scene.objects.push(SceneObject::new(
         "cage",
-        ObjectGeometry::Subdivision(Box::new(surface.into())),
+        ObjectGeometry::new(knotwork::scene::SubdivObject::from(surface)),
     ));
     scene
 }
@@ -58,7 +58,7 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
             .elevate_degree(Direction::U, (r % 3) as usize)
             .unwrap();
         return Command::Add {
-            object: SceneObject::new(format!("Plane {r}"), ObjectGeometry::Nurbs(surface)),
+            object: SceneObject::new(format!("Plane {r}"), ObjectGeometry::new(surface)),
         };
     }
     let object = r as usize % n;
@@ -324,10 +324,7 @@ fn shape_preserving_edits_keep_the_surface() {
     // Knot insertion and degree elevation through the command layer leave every point in place
     // (compared by evaluation, independent of the control net).
     let mut scene = start_scene();
-    let reference = match &scene.objects[2].geometry {
-        ObjectGeometry::Nurbs(s) => s.clone(),
-        _ => unreachable!(),
-    };
+    let reference = scene.objects[2].geometry.nurbs_surface().unwrap().clone();
     let mut history = History::default();
     for cmd in [
         Command::InsertKnot {
@@ -342,7 +339,10 @@ fn shape_preserving_edits_keep_the_surface() {
     ] {
         history.execute(&mut scene, &cmd).unwrap();
     }
-    let ObjectGeometry::Nurbs(edited) = &scene.objects[2].geometry else {
+    let Some(edited) = scene.objects[2]
+        .geometry
+        .downcast_ref::<knotwork::kernel::NurbsSurface>()
+    else {
         unreachable!()
     };
     assert_ne!(edited.count(), reference.count());

@@ -10,7 +10,6 @@ use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use knotwork::app::{KnotworkApp, wgpu_configuration};
-use knotwork::scene::ObjectGeometry;
 use knotwork::status;
 
 static ONE_EDITOR_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -152,7 +151,12 @@ fn click_drag_with_axis_constraint_and_undo() {
             assert_eq!(a, b, "point {k} must not move");
         }
     }
-    assert!(matches!(after.geometry, ObjectGeometry::Nurbs(_)));
+    assert!(
+        after
+            .geometry
+            .downcast_ref::<knotwork::kernel::NurbsSurface>()
+            .is_some()
+    );
 
     // Ctrl+Z restores the document exactly; Ctrl+Shift+Z redoes.
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
@@ -184,7 +188,10 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
         "{s:?}"
     );
     let sphere = harness.state().document().scene.objects[6].clone();
-    let ObjectGeometry::Nurbs(before) = &sphere.geometry else {
+    let Some(before) = sphere
+        .geometry
+        .downcast_ref::<knotwork::kernel::NurbsSurface>()
+    else {
         panic!("a NURBS sphere")
     };
 
@@ -195,7 +202,10 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
     harness.get_by_label("Insert knot").click_accesskit();
     harness.run_steps(3);
     assert_eq!(status::current().error, None);
-    let ObjectGeometry::Nurbs(after) = &harness.state().document().scene.objects[6].geometry else {
+    let Some(after) = harness.state().document().scene.objects[6]
+        .geometry
+        .downcast_ref::<knotwork::kernel::NurbsSurface>()
+    else {
         panic!("still NURBS")
     };
     assert_eq!(
@@ -261,10 +271,12 @@ fn obj_and_gltf_files_open_in_the_editor_and_the_export_window_counts_triangles(
         (None, 1, 6),
         "{s:?}"
     );
-    assert!(matches!(
-        harness.state().document().scene.objects[0].geometry,
-        ObjectGeometry::Mesh(_)
-    ));
+    assert!(
+        harness.state().document().scene.objects[0]
+            .geometry
+            .downcast_ref::<knotwork::kernel::PolygonMesh>()
+            .is_some()
+    );
     // A broken file is refused and the cube stays.
     harness
         .state_mut()
@@ -462,10 +474,12 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     // Level 2: each quad's four level-1 quads are limit-stencil patches.
     assert_eq!((s.error.as_deref(), s.patches), (None, 24), "{s:?}");
     let subdivided = harness.state().document().scene.objects[0].clone();
-    assert!(matches!(
-        subdivided.geometry,
-        ObjectGeometry::Subdivision(_)
-    ));
+    assert!(
+        subdivided
+            .geometry
+            .downcast_ref::<knotwork::scene::SubdivObject>()
+            .is_some()
+    );
 
     // Drag a cage point with the mouse: one undo step, the cage point moves.
     harness.hover_at(at);
@@ -488,10 +502,12 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     assert_eq!(harness.state().document().scene.objects[0], subdivided);
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_steps(2);
-    assert!(matches!(
-        harness.state().document().scene.objects[0].geometry,
-        ObjectGeometry::Mesh(_)
-    ));
+    assert!(
+        harness.state().document().scene.objects[0]
+            .geometry
+            .downcast_ref::<knotwork::kernel::PolygonMesh>()
+            .is_some()
+    );
     assert_eq!(status::current().patches, 6);
 }
 
@@ -566,7 +582,10 @@ fn a_circle_drawn_on_a_surface_with_the_mouse_cuts_a_hole_and_undo_restores() {
     click_at(&mut harness, at(0.7, 0.5));
     let s = status::current();
     assert_eq!((s.error.as_deref(), s.undo_steps), (None, 1), "{s:?}");
-    let ObjectGeometry::Trimmed(t) = &harness.state().document().scene.objects[0].geometry else {
+    let Some(t) = harness.state().document().scene.objects[0]
+        .geometry
+        .downcast_ref::<knotwork::kernel::TrimmedSurface>()
+    else {
         panic!("the plate is trimmed");
     };
     // The boundary and the hole; the hole is around the centre.
@@ -582,10 +601,12 @@ fn a_circle_drawn_on_a_surface_with_the_mouse_cuts_a_hole_and_undo_restores() {
     harness.key_press(Key::Escape);
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_steps(3);
-    assert!(matches!(
-        harness.state().document().scene.objects[0].geometry,
-        ObjectGeometry::Nurbs(_)
-    ));
+    assert!(
+        harness.state().document().scene.objects[0]
+            .geometry
+            .downcast_ref::<knotwork::kernel::NurbsSurface>()
+            .is_some()
+    );
     let undone = pixel(&mut harness, centre);
     assert!(!is_background(undone), "{undone:?}");
 }

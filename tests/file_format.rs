@@ -5,8 +5,8 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 
 use glam::DVec3;
-use knotwork::io::json::{self, FormatError, Geometry, NamedGeometry};
 use knotwork::kernel::construct;
+use knotwork::scene::json::{self, FormatError, Geometry, NamedGeometry};
 use serde_json::{Value, json};
 
 const BILINEAR: &str = r#"{"type": "nurbs_surface", "degree": [1, 1],

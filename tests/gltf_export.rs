@@ -7,12 +7,14 @@ use std::process::Command;
 
 use glam::DVec3;
 use knotwork::io::gltf::{self as export, CurvatureColors, ExportOptions, from_gltf_axes};
-use knotwork::io::project::{Project, ViewSettings};
+use knotwork::io::project::Project;
 use knotwork::kernel::tess::Tessellation;
+use knotwork::kernel::triangle::TriangleBezier;
 use knotwork::kernel::trim::polygon_contains;
 use knotwork::kernel::trim::tess::flatten_on_surface;
-use knotwork::kernel::{NurbsSurface, PolygonMesh, construct};
+use knotwork::kernel::{BezierPatchSet, NurbsSurface, PolygonMesh, construct};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::view::ViewSettings;
 use knotwork::view::{OrbitCamera, Overlays, ShadingMode};
 
 fn out_dir() -> PathBuf {
@@ -145,7 +147,7 @@ fn every_exported_test_scene_passes_the_khronos_validator() {
             knotwork::gpu::records::curvature_ramp_rgb(),
         )),
     };
-    let mesh = single("cage", ObjectGeometry::Mesh(polygon_mesh()));
+    let mesh = single("cage", ObjectGeometry::new(polygon_mesh()));
     let obj = knotwork::io::obj::read(
         "o pyramid\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0.5 1 0.5\nf 1 2 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n",
     )
@@ -259,18 +261,18 @@ fn the_glb_read_back_matches_the_kernel_at_the_stored_uv_and_faces_its_normals()
         let size = (hi - lo).length();
         for (k, primitive) in primitives.iter().enumerate() {
             for (v, (&p, uv)) in primitive.positions.iter().zip(&primitive.uvs).enumerate() {
-                let expected = match &object.geometry {
-                    ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
-                        let s = object.geometry.nurbs_surface().unwrap();
-                        let [(u0, u1), (v0, v1)] = s.domain();
-                        s.point_at(u0 + (u1 - u0) * uv[0], v0 + (v1 - v0) * uv[1])
-                            .unwrap()
-                    }
-                    ObjectGeometry::Patches(set) => set.evaluate(k, uv[0], uv[1]).unwrap().point,
-                    ObjectGeometry::Triangle(patch) => patch.evaluate(uv[0], uv[1]).point,
-                    ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => {
-                        unreachable!("the demo has no meshes or cages")
-                    }
+                // The demo holds NURBS surfaces, patch sets and a triangular patch.
+                let geometry = &object.geometry;
+                let expected = if let Some(s) = geometry.nurbs_surface() {
+                    let [(u0, u1), (v0, v1)] = s.domain();
+                    s.point_at(u0 + (u1 - u0) * uv[0], v0 + (v1 - v0) * uv[1])
+                        .unwrap()
+                } else if let Some(set) = geometry.downcast_ref::<BezierPatchSet>() {
+                    set.evaluate(k, uv[0], uv[1]).unwrap().point
+                } else if let Some(patch) = geometry.downcast_ref::<TriangleBezier>() {
+                    patch.evaluate(uv[0], uv[1]).point
+                } else {
+                    unreachable!("the demo has no meshes or cages")
                 };
                 assert!(
                     p.distance(expected) <= 1e-6 * size,
@@ -314,7 +316,7 @@ fn the_embedded_model_reopens_equal_to_the_original_from_glb_and_gltf() {
     project.scene.objects[2].visible = false;
     project.scene.objects.push(SceneObject::new(
         "cage",
-        ObjectGeometry::Mesh(polygon_mesh()),
+        ObjectGeometry::new(polygon_mesh()),
     ));
     let e = export::export(&project, &options(Tessellation::Segments(4))).unwrap();
     let reopened = knotwork::io::open("scene.glb", &export::to_glb(&e), &no_files).unwrap();
@@ -333,14 +335,17 @@ fn the_embedded_model_reopens_equal_to_the_original_from_glb_and_gltf() {
 #[test]
 fn another_tools_gltf_opens_as_polygon_meshes_at_the_exported_positions() {
     // knotwork's own export with the model taken out is a plain glTF file.
-    let project = single("cage", ObjectGeometry::Mesh(polygon_mesh()));
+    let project = single("cage", ObjectGeometry::new(polygon_mesh()));
     let mut e = export::export(&project, &options(Tessellation::Segments(1))).unwrap();
     e.root.scenes[0].extras = None;
     let glb = export::to_glb(&e);
     let opened = knotwork::io::open("foreign.glb", &glb, &no_files).unwrap();
     assert_eq!(opened.scene.objects.len(), 1);
     assert_eq!(opened.scene.objects[0].name, "cage");
-    let ObjectGeometry::Mesh(mesh) = &opened.scene.objects[0].geometry else {
+    let Some(mesh) = opened.scene.objects[0]
+        .geometry
+        .downcast_ref::<knotwork::kernel::PolygonMesh>()
+    else {
         panic!("a polygon mesh")
     };
     // Flat faces at one segment: the triangles' corners are the cage's own points (welded back
@@ -408,7 +413,7 @@ fn triangles_stay_within_the_tolerance_of_a_sphere_a_torus_and_a_rational_bsplin
         ),
     ];
     for (name, surface, distance, tolerances) in cases {
-        let project = single(name, ObjectGeometry::Nurbs(surface.clone()));
+        let project = single(name, ObjectGeometry::new(surface.clone()));
         let mut previous = 0;
         for &t in tolerances {
             let e = export::export(&project, &options(Tessellation::Tolerance(t))).unwrap();
@@ -565,7 +570,10 @@ fn trimmed_surfaces_export_valid_gltf_and_their_trims_reopen_exactly() {
             .iter()
             .find(|o| o.name == name)
             .unwrap();
-        let ObjectGeometry::Trimmed(t) = &object.geometry else {
+        let Some(t) = object
+            .geometry
+            .downcast_ref::<knotwork::kernel::TrimmedSurface>()
+        else {
             panic!("{name} is trimmed")
         };
         let [(u0, u1), (v0, v1)] = t.surface().domain();

@@ -67,24 +67,24 @@ const INSIDE_SPAN: f64 = 1e-10;
 
 impl<'a> ReferenceSurface<'a> {
     fn new(object: &'a SceneObject) -> Self {
-        match &object.geometry {
-            ObjectGeometry::Patches(set) => Self::Patches(std::borrow::Cow::Borrowed(set)),
-            ObjectGeometry::Mesh(mesh) => {
-                Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
-            }
-            // Their feeds' Bézier patches (a triangular patch has none: only stencils).
-            ObjectGeometry::Subdivision(_) | ObjectGeometry::Triangle(_) => {
-                Self::Patches(std::borrow::Cow::Owned(object.decompose().unwrap().set))
-            }
-            ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
-                let surface = object.geometry.nurbs_surface().unwrap();
-                let bu = surface.span_breaks(Direction::U);
-                let bv = surface.span_breaks(Direction::V);
-                let spans = bu
-                    .windows(2)
-                    .flat_map(|a| bv.windows(2).map(move |b| [a[0], a[1], b[0], b[1]]))
-                    .collect();
-                Self::Nurbs(surface, spans)
+        let geometry = &object.geometry;
+        if let Some(set) = geometry.downcast_ref::<knotwork::kernel::BezierPatchSet>() {
+            Self::Patches(std::borrow::Cow::Borrowed(set))
+        } else if let Some(mesh) = geometry.downcast_ref::<knotwork::kernel::PolygonMesh>() {
+            Self::Patches(std::borrow::Cow::Owned(mesh.to_bezier_patch_set().unwrap()))
+        } else {
+            match geometry.nurbs_surface() {
+                // Their feeds' Bézier patches (a triangular patch has none: only stencils).
+                None => Self::Patches(std::borrow::Cow::Owned(object.decompose().unwrap().set)),
+                Some(surface) => {
+                    let bu = surface.span_breaks(Direction::U);
+                    let bv = surface.span_breaks(Direction::V);
+                    let spans = bu
+                        .windows(2)
+                        .flat_map(|a| bv.windows(2).map(move |b| [a[0], a[1], b[0], b[1]]))
+                        .collect();
+                    Self::Nurbs(surface, spans)
+                }
             }
         }
     }
@@ -332,7 +332,7 @@ fn a_polygon_mesh_of_triangles_quads_and_an_ngon_matches_the_f64_reference() {
         .collect();
     let faces = [vec![0, 1, 2, 3], vec![3, 4, 5], vec![0, 3, 5, 6, 7, 8]];
     let mesh = knotwork::kernel::PolygonMesh::new(points, &faces).unwrap();
-    let mut object = SceneObject::new("mesh", ObjectGeometry::Mesh(mesh));
+    let mut object = SceneObject::new("mesh", ObjectGeometry::new(mesh));
     object.segments = 6;
     assert_matches(&[object]);
 }
@@ -357,7 +357,7 @@ fn random_rational_nurbs_of_degree_1_to_7_match_the_f64_reference() {
     {
         let surface = common::random_surface(p, q, 1000 + k as u64);
         let mut object =
-            SceneObject::new(format!("random ({p}, {q})"), ObjectGeometry::Nurbs(surface));
+            SceneObject::new(format!("random ({p}, {q})"), ObjectGeometry::new(surface));
         object.segments = 5;
         objects.push(object);
     }
@@ -369,7 +369,7 @@ fn degree_nine_is_evaluated_and_degree_ten_is_refused() {
     let context = common::gpu();
     let evaluator = knotwork::gpu::PatchEvaluator::new(&context.device);
     let nine = common::random_surface(9, 9, 77);
-    let object = SceneObject::new("degree 9", ObjectGeometry::Nurbs(nine));
+    let object = SceneObject::new("degree 9", ObjectGeometry::new(nine));
     let mut object = object;
     object.segments = 4;
     assert_matches(std::slice::from_ref(&object));
@@ -381,7 +381,7 @@ fn degree_nine_is_evaluated_and_degree_ten_is_refused() {
             .collect(),
     )
     .unwrap();
-    let d = SceneObject::new("degree 10", ObjectGeometry::Nurbs(ten))
+    let d = SceneObject::new("degree 10", ObjectGeometry::new(ten))
         .decompose()
         .unwrap();
     match common::upload(&context, &evaluator, &[(&d, 4)]) {
@@ -549,7 +549,7 @@ fn objects_with_equal_boundary_control_points_meet_without_cracks() {
     let objects: Vec<SceneObject> = [("left", left), ("right", right)]
         .into_iter()
         .map(|(name, s)| {
-            let mut o = SceneObject::new(name, ObjectGeometry::Nurbs(s));
+            let mut o = SceneObject::new(name, ObjectGeometry::new(s));
             o.segments = 11;
             o
         })
@@ -582,7 +582,7 @@ fn an_edit_re_evaluates_exactly_the_support_of_the_moved_point() {
     let big = construct::bspline_surface([3, 3], [10, 12], net).unwrap();
     scene
         .objects
-        .push(SceneObject::new("bicubic", ObjectGeometry::Nurbs(big)));
+        .push(SceneObject::new("bicubic", ObjectGeometry::new(big)));
     scene.objects.last_mut().unwrap().segments = 6;
     let mut doc = Document::new(scene);
     let (mut sync, _) = evaluate_scene(&context, &doc.scene.objects, false);

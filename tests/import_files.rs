@@ -3,10 +3,10 @@
 
 use glam::DVec3;
 use knotwork::io::gltf::{self as export, ExportOptions};
-use knotwork::io::json::FormatError;
 use knotwork::io::project::Project;
 use knotwork::kernel::PolygonMesh;
 use knotwork::kernel::tess::Tessellation;
+use knotwork::scene::json::FormatError;
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 use serde_json::{Value, json};
 
@@ -23,7 +23,7 @@ fn foreign() -> (Value, Vec<u8>) {
     .unwrap();
     let project = Project {
         scene: Scene {
-            objects: vec![SceneObject::new("quad", ObjectGeometry::Mesh(mesh))],
+            objects: vec![SceneObject::new("quad", ObjectGeometry::new(mesh))],
         },
         view: None,
     };

@@ -6,9 +6,9 @@
 //! differences, and a written file must read back as the same surface.
 
 use glam::DVec3;
-use knotwork::io::json::{self, Geometry, NamedGeometry};
 use knotwork::kernel::basis::{basis_derivatives, find_span};
 use knotwork::kernel::{Direction, NurbsSurface, SpaceCurve};
+use knotwork::scene::json::{self, Geometry, NamedGeometry};
 use proptest::prelude::*;
 
 mod common;

@@ -18,7 +18,7 @@ use knotwork::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use knotwork::kernel::ffd::{Baked, Lattice};
 use knotwork::kernel::tess::Tessellation;
 use knotwork::kernel::{NurbsSurface, samples};
-use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
 
 /// The vertices of `scene` as the compute shaders (or the CPU evaluator) write them.
 fn vertices(scene: &Scene, cpu: bool) -> (SceneSync, Vec<SurfaceVertex>) {
@@ -112,15 +112,15 @@ fn a_lattice_that_scales_space_doubles_a_sphere_and_halves_its_curvature() {
 fn every_kind() -> Vec<SceneObject> {
     let mut teapot = SceneObject::new(
         "teapot",
-        ObjectGeometry::Patches(samples::utah_teapot().unwrap()),
+        ObjectGeometry::new(samples::utah_teapot().unwrap()),
     );
     teapot.segments = 4;
     let mut nurbs = SceneObject::new(
         "rational (3, 2)",
-        ObjectGeometry::Nurbs(common::random_surface(3, 2, 2026)),
+        ObjectGeometry::new(common::random_surface(3, 2, 2026)),
     );
     nurbs.segments = 7;
-    let mut mesh = SceneObject::new("mesh", ObjectGeometry::Mesh(common::grid_mesh(4)));
+    let mut mesh = SceneObject::new("mesh", ObjectGeometry::new(common::grid_mesh(4)));
     mesh.segments = 3;
     let build = |kind, degree| {
         PrimitiveParams {
@@ -182,7 +182,7 @@ fn every_kind_follows_a_bent_lattice_on_both_evaluators() {
 fn the_deformed_normal_and_curvature_match_the_kernel() {
     let mut object = SceneObject::new(
         "sheet",
-        ObjectGeometry::Nurbs(common::random_surface(3, 3, 11)),
+        ObjectGeometry::new(common::random_surface(3, 3, 11)),
     );
     object.segments = 8;
     let lattice = bent_lattice(&object, [3, 1, 2]);
@@ -232,7 +232,7 @@ fn the_deformed_normal_and_curvature_match_the_kernel() {
 fn dragging_a_lattice_point_uploads_only_the_lattice() {
     let mut teapot = SceneObject::new(
         "teapot",
-        ObjectGeometry::Patches(samples::utah_teapot().unwrap()),
+        ObjectGeometry::new(samples::utah_teapot().unwrap()),
     );
     teapot.segments = 4;
     teapot.lattice = Some(bent_lattice(&teapot, [1, 1, 1]));
@@ -276,8 +276,9 @@ fn bake_deviation(object: &SceneObject, baked: &SceneObject) -> f64 {
     let feed = object.decompose().unwrap();
     let after = baked.decompose().unwrap();
     let mut worst = 0.0f64;
-    match (&object.geometry, &baked.geometry) {
-        (ObjectGeometry::Nurbs(a), ObjectGeometry::Nurbs(b)) => {
+    let nurbs = |g: &ObjectGeometry| g.downcast_ref::<knotwork::kernel::NurbsSurface>().cloned();
+    match (nurbs(&object.geometry), nurbs(&baked.geometry)) {
+        (Some(a), Some(b)) => {
             let [(u0, u1), (v0, v1)] = a.domain();
             for i in 0..=13 {
                 for j in 0..=13 {
@@ -308,7 +309,7 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     // A bicubic B-spline sheet (4 × 3 spans) through a trilinear lattice: degree 9, exact.
     let mut sheet = SceneObject::new(
         "sheet",
-        ObjectGeometry::Nurbs(common::random_surface(3, 3, 5)),
+        ObjectGeometry::new(common::random_surface(3, 3, 5)),
     );
     sheet.lattice = Some(bent_lattice(&sheet, [1, 1, 1]));
     let (baked, how) = sheet.baked_lattice(1e-4).unwrap();
@@ -318,10 +319,16 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     eprintln!("exact bake: {worst:.1e} ({})", how.describe());
     assert!(worst < 1e-9 * size(&sheet), "{worst:e}");
     // The joints keep the continuity they had: the knots come back down from multiplicity 9.
-    let ObjectGeometry::Nurbs(surface) = &baked.geometry else {
+    let Some(surface) = baked
+        .geometry
+        .downcast_ref::<knotwork::kernel::NurbsSurface>()
+    else {
         panic!("a NURBS surface bakes to a NURBS surface");
     };
-    let ObjectGeometry::Nurbs(original) = &sheet.geometry else {
+    let Some(original) = sheet
+        .geometry
+        .downcast_ref::<knotwork::kernel::NurbsSurface>()
+    else {
         unreachable!()
     };
     let joints = |s: &NurbsSurface| s.knots()[0].len() - 2 * (s.degree()[0] + 1);
@@ -343,7 +350,7 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0];
     let mut sheet = SceneObject::new(
         "smooth sheet",
-        ObjectGeometry::Nurbs(
+        ObjectGeometry::new(
             NurbsSurface::new([3, 3], [knots.clone(), knots], [m, m], points, None).unwrap(),
         ),
     );
@@ -361,7 +368,7 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     // The teapot's bicubic patches through a trilinear lattice: exact, patch by patch.
     let mut teapot = SceneObject::new(
         "teapot",
-        ObjectGeometry::Patches(samples::utah_teapot().unwrap()),
+        ObjectGeometry::new(samples::utah_teapot().unwrap()),
     );
     teapot.lattice = Some(bent_lattice(&teapot, [1, 1, 1]));
     let (baked, how) = teapot.baked_lattice(1e-4).unwrap();
@@ -372,7 +379,10 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
     teapot.lattice = Some(bent_lattice(&teapot, [2, 2, 1]));
     let (baked, how) = teapot.baked_lattice(1e-3).unwrap();
     assert!(matches!(how, Baked::Refit { within: true, .. }), "{how:?}");
-    let ObjectGeometry::Patches(set) = &baked.geometry else {
+    let Some(set) = baked
+        .geometry
+        .downcast_ref::<knotwork::kernel::BezierPatchSet>()
+    else {
         panic!()
     };
     assert!(
@@ -405,14 +415,14 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
         knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(common::grid_mesh(5), 2).unwrap();
     let mut cage = SceneObject::new(
         "grid cage",
-        ObjectGeometry::Subdivision(Box::new(surface.into())),
+        ObjectGeometry::new(SubdivObject::from(surface)),
     );
     let lattice = bent_lattice(&cage, [1, 1, 1]);
     cage.lattice = Some(lattice.clone());
     let (baked, how) = cage.baked_lattice(1e-2).unwrap();
     eprintln!("cage bake: {}", how.describe());
-    let (ObjectGeometry::Subdivision(before), ObjectGeometry::Subdivision(after)) =
-        (&cage.geometry, &baked.geometry)
+    let subdivision = |g: &ObjectGeometry| g.downcast_ref::<SubdivObject>().cloned();
+    let (Some(before), Some(after)) = (subdivision(&cage.geometry), subdivision(&baked.geometry))
     else {
         panic!()
     };
@@ -440,7 +450,7 @@ fn baking_is_exact_where_the_degree_allows_and_refitted_elsewhere() {
 fn the_document_undoes_lattices_and_the_project_keeps_them() {
     let mut sheet = SceneObject::new(
         "sheet",
-        ObjectGeometry::Nurbs(common::random_surface(2, 2, 9)),
+        ObjectGeometry::new(common::random_surface(2, 2, 9)),
     );
     sheet.segments = 6;
     let mut doc = Document::new(Scene {
@@ -543,7 +553,7 @@ fn objects_sharing_a_lattice_move_together() {
         ];
         let mut object = SceneObject::new(
             name,
-            ObjectGeometry::Nurbs(NurbsSurface::bezier([1, 1], points, None).unwrap()),
+            ObjectGeometry::new(NurbsSurface::bezier([1, 1], points, None).unwrap()),
         );
         object.segments = 8;
         object

@@ -1,9 +1,12 @@
-//! The conformance test every kind of scene object passes, run for each kind the editor has
-//! (a set of Bézier patches, a NURBS surface, a polygon mesh). A new kind adds a sample of
-//! itself to [`one_of_each_kind`] and must pass the same checks:
+//! The conformance test every kind of scene object passes, run for every kind in the
+//! registry ([`registry::kinds`]) on the examples each kind registers, with no list here: a
+//! new kind registers itself and is checked like the rest. [`QuadraticSheet`] below is a kind
+//! defined in this test module alone, registered at run time, to show that a kind needs no
+//! other edit. The checks:
 //!
 //! 1. its GPU feed (the patches it hands the evaluator) reproduces the kind's own f64
-//!    definition ([`ObjectKind::surface_point`]) to 1e-12 of its size;
+//!    definition ([`ObjectKind::surface_point`]) to 1e-12 of its size, and its faces (the one
+//!    surface interface) do too, with derivatives that agree with differences of points;
 //! 2. the compute shaders, reached through the editor's sync layer, reproduce it to 1e-5;
 //! 3. a drag through the document (the editor's transient edit) re-evaluates only the support
 //!    the kind reports, gives bit for bit what a full evaluation of the moved object gives and
@@ -15,101 +18,236 @@
 
 mod common;
 
-use glam::DVec3;
-use knotwork::doc::{Document, Touched};
+use glam::{DAffine3, DVec3};
+use knotwork::doc::{Command, Document, Touched};
 use knotwork::gpu::{GpuContext, SceneSync, SurfaceVertex};
 use knotwork::io::gltf::{self, ExportOptions};
 use knotwork::io::project::{self, Project};
-use knotwork::kernel::subdiv::{Crease, Options, SubdivisionSurface};
-use knotwork::kernel::tess::Tessellation;
-use knotwork::kernel::{PolygonMesh, samples};
-use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::kernel::ffd::{Baked, Lattice};
+use knotwork::kernel::parametric::PatchFace;
+use knotwork::kernel::subdiv::{Options, SubdivisionSurface};
+use knotwork::kernel::tess::{Tessellation, TriangleMesh};
+use knotwork::kernel::{BezierPatch, BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh};
+use knotwork::scene::json::FormatError;
+use knotwork::scene::registry::{self, KindEntry};
+use knotwork::scene::{Decomposition, KindFace, ObjectGeometry, ObjectKind, Scene, SceneObject};
 
-/// One sample of every kind of object.
-fn one_of_each_kind() -> Vec<SceneObject> {
-    let mut teapot = SceneObject::new(
-        "teapot",
-        ObjectGeometry::Patches(samples::utah_teapot().unwrap()),
-    );
-    teapot.segments = 6;
-    let mut nurbs = SceneObject::new(
-        "rational (3, 2)",
-        ObjectGeometry::Nurbs(common::random_surface(3, 2, 2026)),
-    );
-    nurbs.segments = 7;
-    // A non-planar quad, a triangle and a hexagon (a fan of four patches).
-    let points = vec![
-        DVec3::new(0.0, 0.0, 0.0),
-        DVec3::new(1.0, 0.0, 0.3),
-        DVec3::new(1.0, 1.0, 0.0),
-        DVec3::new(0.0, 1.0, 0.4),
-        DVec3::new(2.0, 0.5, 0.2),
-        DVec3::new(3.0, 0.0, 0.0),
-        DVec3::new(4.0, 0.5, 0.1),
-        DVec3::new(4.0, 1.5, -0.2),
-        DVec3::new(3.0, 2.0, 0.0),
-        DVec3::new(2.0, 1.5, 0.3),
-    ];
-    let faces = vec![vec![0, 1, 2, 3], vec![1, 4, 2], vec![4, 5, 6, 7, 8, 9]];
-    let mut mesh = SceneObject::new(
-        "polygon mesh",
-        ObjectGeometry::Mesh(PolygonMesh::new(points, &faces).unwrap()),
-    );
-    mesh.segments = 5;
-    // A 6 × 6 cage at level 2: its inner faces are bicubic patches, the rest (boundary, a
-    // crease, a triangle pair) limit stencils.
-    let m = 6;
-    let cage_points: Vec<DVec3> = (0..m * m)
-        .map(|k| {
-            let (i, j) = (k / m, k % m);
-            DVec3::new(
-                i as f64,
-                j as f64,
-                0.3 * (i as f64 * 0.9).sin() * (j as f64).cos(),
-            )
-        })
-        .collect();
-    let id = |i: usize, j: usize| (i * m + j) as u32;
-    let mut cage_faces = Vec::new();
-    for i in 0..m - 1 {
-        for j in 0..m - 1 {
-            if (i, j) == (4, 4) {
-                cage_faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                cage_faces.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            } else {
-                cage_faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+/// A kind that lives only in this test: a biquadratic Bézier sheet of 3 × 3 points (row-major,
+/// i along u), evaluated by its own Bernstein sums, written to projects as
+/// `{"type": "quadratic_sheet", "points": [[x, y, z] × 9]}`.
+#[derive(Debug, Clone, PartialEq)]
+struct QuadraticSheet {
+    points: [DVec3; 9],
+}
+
+/// The quadratic Bernstein polynomials at t (The NURBS Book, eq. 1.8).
+fn bernstein2(t: f64) -> [f64; 3] {
+    [(1.0 - t) * (1.0 - t), 2.0 * t * (1.0 - t), t * t]
+}
+
+impl QuadraticSheet {
+    fn patch_set(&self) -> Result<BezierPatchSet, GeometryError> {
+        BezierPatchSet::new(
+            self.points.to_vec(),
+            None,
+            vec![BezierPatch::new(2, 2, (0..9).collect())],
+        )
+    }
+}
+
+impl ObjectKind for QuadraticSheet {
+    fn kind_name(&self) -> &'static str {
+        "a quadratic sheet"
+    }
+
+    fn describe(&self) -> String {
+        "biquadratic sheet, 3 × 3 points".into()
+    }
+
+    fn control_point_count(&self) -> usize {
+        9
+    }
+
+    fn control_points(&self) -> Vec<DVec3> {
+        self.points.to_vec()
+    }
+
+    fn weights(&self) -> Vec<f64> {
+        vec![1.0; 9]
+    }
+
+    fn net_lines(&self) -> Vec<u32> {
+        let mut lines = Vec::new();
+        for i in 0..3u32 {
+            for j in 0..2u32 {
+                lines.extend([3 * i + j, 3 * i + j + 1, 3 * j + i, 3 * (j + 1) + i]);
             }
         }
+        lines
     }
-    let surface = SubdivisionSurface::new(
-        PolygonMesh::new(cage_points, &cage_faces).unwrap(),
-        vec![Crease {
-            a: id(1, 1),
-            b: id(1, 2),
-            sharpness: 1.5,
-        }],
-        Vec::new(),
-        Options::default(),
-        2,
-    )
-    .unwrap();
-    let cage = SceneObject::new(
-        "subdivision cage",
-        ObjectGeometry::Subdivision(Box::new(surface.into())),
-    );
-    // A rational surface kept inside an ellipse: patches outside it are culled, the ones it
-    // crosses are trimmed per fragment.
-    let mut trimmed = common::trimmed_ellipse_object("trimmed (2, 3)");
-    trimmed.segments = 6;
-    // A degree-4 triangular dome from the Create dialog.
-    let triangle = knotwork::doc::create::PrimitiveParams {
-        kind: knotwork::doc::create::Primitive::TriangleBezier,
-        degree: [4, 4],
-        ..Default::default()
+
+    fn net_grid(&self) -> Option<[usize; 2]> {
+        Some([3, 3])
     }
-    .build()
-    .unwrap();
-    vec![teapot, nurbs, mesh, cage, trimmed, triangle]
+
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let lo = self.points.iter().copied().reduce(DVec3::min)?;
+        let hi = self.points.iter().copied().reduce(DVec3::max)?;
+        Some((lo, hi))
+    }
+
+    fn move_control_point(
+        &mut self,
+        index: usize,
+        position: DVec3,
+    ) -> Result<Vec<usize>, GeometryError> {
+        if index >= 9 || !position.is_finite() {
+            return Err(GeometryError::Construction {
+                what: "quadratic sheet",
+                message: format!("no point {index} at {position}"),
+            });
+        }
+        self.points[index] = position;
+        Ok(vec![0])
+    }
+
+    fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
+        Err(GeometryError::Construction {
+            what: "quadratic sheet",
+            message: "its points have no weights".into(),
+        })
+    }
+
+    fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        Ok(Decomposition {
+            set: self.patch_set()?,
+            domains: vec![[0.0, 1.0, 0.0, 1.0]],
+            ..Default::default()
+        })
+    }
+
+    fn surface_point(&self, patch: usize, s: f64, t: f64) -> Result<DVec3, GeometryError> {
+        if patch != 0 {
+            return Err(GeometryError::Construction {
+                what: "quadratic sheet",
+                message: format!("no patch {patch}"),
+            });
+        }
+        let (bs, bt) = (bernstein2(s), bernstein2(t));
+        Ok((0..9).map(|k| self.points[k] * bs[k / 3] * bt[k % 3]).sum())
+    }
+
+    fn update_gpu_feed(
+        &self,
+        feed: &mut Decomposition,
+        _patches: &[usize],
+    ) -> Result<(), GeometryError> {
+        feed.sync_points(&self.points)
+    }
+
+    fn tessellate(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        knotwork::kernel::tess::tessellate_patches(&self.patch_set()?, tessellation, curvature)
+    }
+
+    fn faces(&self) -> Vec<KindFace<'_>> {
+        self.patch_set()
+            .map(|set| KindFace::whole(PatchFace { set, patch: 0 }))
+            .into_iter()
+            .collect()
+    }
+
+    fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
+        Ok(ObjectGeometry::new(Self {
+            points: self.points.map(|p| transform.transform_point3(p)),
+        }))
+    }
+
+    fn bake_lattice(
+        &self,
+        _lattice: &Lattice,
+        _tolerance: f64,
+    ) -> Result<(ObjectGeometry, Baked), GeometryError> {
+        Err(GeometryError::Construction {
+            what: "quadratic sheet",
+            message: "a lattice cannot be baked into it".into(),
+        })
+    }
+
+    fn same_layout(&self, other: &ObjectGeometry) -> bool {
+        other.downcast_ref::<Self>().is_some()
+    }
+
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        Some([0.0, 1.0, 0.0, 1.0])
+    }
+
+    fn nurbs_surface(&self) -> Option<&NurbsSurface> {
+        None
+    }
+
+    fn cage(&self) -> Option<&PolygonMesh> {
+        None
+    }
+
+    fn record(&self) -> serde_json::Value {
+        serde_json::json!({
+            "type": "quadratic_sheet",
+            "points": self.points.iter().map(|p| p.to_array()).collect::<Vec<_>>(),
+        })
+    }
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SheetRecord {
+    #[serde(rename = "type")]
+    _kind: String,
+    points: [[f64; 3]; 9],
+}
+
+fn read_sheet(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    let raw: SheetRecord = registry::deserialize(path, record)?;
+    let points = raw.points.map(DVec3::from_array);
+    if !points.iter().all(|p| p.is_finite()) {
+        return Err(FormatError::new(format!("{path}.points"), "not finite"));
+    }
+    Ok(ObjectGeometry::new(QuadraticSheet { points }))
+}
+
+/// A saddle-like sheet over [0, 2]² with its corner (i, j) at height z(i, j).
+fn sheet(offset: DVec3, z: impl Fn(usize, usize) -> f64) -> QuadraticSheet {
+    QuadraticSheet {
+        points: std::array::from_fn(|k| {
+            let (i, j) = (k / 3, k % 3);
+            offset + DVec3::new(i as f64, j as f64, z(i, j))
+        }),
+    }
+}
+
+fn sheet_examples() -> Vec<SceneObject> {
+    let saddle = sheet(DVec3::ZERO, |i, j| {
+        0.4 * (i as f64 - 1.0) * (j as f64 - 1.0) + 0.1 * j as f64
+    });
+    vec![SceneObject::new(
+        "quadratic sheet",
+        ObjectGeometry::new(saddle),
+    )]
+}
+
+/// Registers [`QuadraticSheet`] (once per test process).
+fn register_sheet() {
+    let entry = KindEntry {
+        record_type: "quadratic_sheet",
+        read: read_sheet,
+        examples: sheet_examples,
+    };
+    match registry::register(entry) {
+        Ok(()) | Err(registry::AlreadyRegistered(_)) => {}
+    }
 }
 
 fn size(object: &SceneObject) -> f64 {
@@ -375,24 +513,105 @@ fn conforms(context: &GpuContext, object: SceneObject) {
 
 #[test]
 fn every_object_kind_conforms() {
+    register_sheet();
     let context = common::gpu();
-    let kinds = one_of_each_kind();
-    let names: Vec<&str> = kinds.iter().map(|o| o.kind().kind_name()).collect();
-    assert_eq!(
-        names,
-        [
-            "a set of Bézier patches",
-            "a NURBS surface",
-            "a polygon mesh",
-            "a subdivision surface",
-            "a trimmed NURBS surface",
-            "a triangular Bézier patch"
-        ],
-        "one sample of every kind"
-    );
-    for object in kinds {
-        conforms(&context, object);
+    let kinds = registry::kinds();
+    let mut names = Vec::new();
+    for entry in &kinds {
+        let examples = (entry.examples)();
+        assert!(!examples.is_empty(), "{}: no examples", entry.record_type);
+        for object in examples {
+            // Each example is written as its entry's records and read back by it.
+            assert_eq!(
+                object.kind().record()["type"],
+                entry.record_type,
+                "{}",
+                object.name
+            );
+            names.push(object.kind().kind_name());
+            conforms(&context, object);
+        }
     }
+    eprintln!("checked: {names:?}");
+    // The built-in kinds (six, two of which share the NURBS records) and the test's own.
+    assert_eq!(kinds.len(), 6, "{names:?}");
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), 7, "{names:?}");
+}
+
+/// A kind registered from this module alone is edited, analysed and saved by the rest of the
+/// editor: a transform and a displacement through the document's commands (each one undo
+/// step), the continuity of two sheets that meet with one tangent plane, and a project with an
+/// unknown record type refused with the types the registry knows.
+#[test]
+fn a_kind_defined_in_a_test_works_everywhere() {
+    register_sheet();
+    // Two sheets sharing the edge x = 2: the second continues the first's cross-boundary
+    // tangent (its first interior row mirrors the first's last one), so they meet with G1.
+    let left = sheet(DVec3::ZERO, |i, j| 0.3 * (i as f64) * (j as f64 - 1.0));
+    let right = QuadraticSheet {
+        points: std::array::from_fn(|k| {
+            let (i, j) = (k / 3, k % 3);
+            match i {
+                0 => left.points[6 + j],
+                1 => 2.0 * left.points[6 + j] - left.points[3 + j],
+                _ => left.points[6 + j] + DVec3::new(2.0, 0.0, -0.2 * j as f64),
+            }
+        }),
+    };
+    let scene = Scene {
+        objects: vec![
+            SceneObject::new("left", ObjectGeometry::new(left.clone())),
+            SceneObject::new("right", ObjectGeometry::new(right)),
+        ],
+    };
+    let report = knotwork::scene::continuity::analyse(
+        &scene,
+        None,
+        &knotwork::scene::continuity::ContinuityOptions::default(),
+    );
+    assert_eq!(report.edges.len(), 1, "{:?}", report.edges);
+    let edge = &report.edges[0];
+    eprintln!(
+        "sheets: gap {:.2e}, angle {:.2e}°",
+        edge.max_gap.value, edge.max_angle_degrees.value
+    );
+    // One tangent plane along the edge, up to the rounding of the angle's arc cosine.
+    assert!(edge.max_gap.value < 1e-12);
+    assert!(edge.max_angle_degrees.value < 1e-4);
+    assert!(matches!(
+        edge.verdict,
+        knotwork::kernel::continuity::Continuity::G1 | knotwork::kernel::continuity::Continuity::G2
+    ));
+
+    let mut doc = Document::new(scene);
+    let moved = DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.5));
+    doc.execute(&Command::Transform {
+        object: 0,
+        transform: moved,
+    })
+    .unwrap();
+    let lifted = doc.scene.objects[0]
+        .geometry
+        .downcast_ref::<QuadraticSheet>()
+        .unwrap();
+    assert_eq!(lifted.points[4], left.points[4] + DVec3::new(0.0, 0.0, 1.5));
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.objects[0].geometry, ObjectGeometry::new(left));
+
+    let text = project::write(&Project {
+        scene: doc.scene.clone(),
+        view: None,
+    });
+    assert!(text.contains("\"quadratic_sheet\""));
+    assert_eq!(project::read(&text).unwrap().scene, doc.scene);
+    let unknown = text.replace("quadratic_sheet", "cubic_sheet");
+    let error = project::read(&unknown).unwrap_err().to_string();
+    assert!(
+        error.contains("cubic_sheet") && error.contains("\"quadratic_sheet\""),
+        "{error}"
+    );
 }
 
 /// The transfinite surfaces of the Create dialog (Gordon, bicubic Coons, Hermite) are NURBS
@@ -484,7 +703,7 @@ fn subdivision_substitutes_conform() {
     for (name, s, display) in cases {
         let object = SceneObject::new(
             name,
-            ObjectGeometry::Subdivision(Box::new(SubdivObject::checked(s, display).unwrap())),
+            ObjectGeometry::boxed(Box::new(SubdivObject::checked(s, display).unwrap())),
         );
         conforms(&context, object);
     }
@@ -558,7 +777,7 @@ fn subdivision_adaptive_conforms() {
             histogram.iter().filter(|&&n| n > 0).count() >= 2,
             "{name}: one level only ({histogram:?})"
         );
-        let object = SceneObject::new(name, ObjectGeometry::Subdivision(Box::new(object)));
+        let object = SceneObject::new(name, ObjectGeometry::boxed(Box::new(object)));
 
         // The vertices' levels as the compute pass writes them: 1 + each piece's level.
         let doc = Document::new(Scene {

@@ -5,9 +5,10 @@
 
 use glam::DVec3;
 use knotwork::doc::{Command, Document};
-use knotwork::io::project::{self, MAX_FILE_BYTES, Project, ViewSettings};
+use knotwork::io::project::{self, MAX_FILE_BYTES, Project};
 use knotwork::kernel::Direction;
 use knotwork::scene::Scene;
+use knotwork::view::ViewSettings;
 use knotwork::view::{OrbitCamera, Overlays, ShadingMode};
 
 /// Each broken file, the JSON path its error must name and words the message must contain.
@@ -186,18 +187,20 @@ fn the_demo_scene_round_trips_bit_for_bit_with_its_view() {
 #[test]
 fn version_1_files_open_as_scenes() {
     let surface = knotwork::kernel::construct::sphere(DVec3::ZERO, 2.0).unwrap();
-    let text = knotwork::io::json::write(&[knotwork::io::json::NamedGeometry {
+    let text = knotwork::scene::json::write(&[knotwork::scene::json::NamedGeometry {
         name: Some("ball".into()),
-        geometry: knotwork::io::json::Geometry::Surface(surface),
+        geometry: knotwork::scene::json::Geometry::Surface(surface),
     }]);
     let Project { scene, view } = project::read(&text).unwrap();
     assert_eq!(view, None);
     assert_eq!(scene.objects.len(), 1);
     assert_eq!(scene.objects[0].name, "ball");
-    let p = match &scene.objects[0].geometry {
-        knotwork::scene::ObjectGeometry::Nurbs(s) => s.point_at(0.3, 0.7).unwrap(),
-        _ => unreachable!(),
-    };
+    let p = scene.objects[0]
+        .geometry
+        .nurbs_surface()
+        .unwrap()
+        .point_at(0.3, 0.7)
+        .unwrap();
     assert!((p.length() - 2.0).abs() < 1e-12);
 }
 

@@ -26,7 +26,7 @@ fn framed_camera(set: &BezierPatchSet) -> OrbitCamera {
 }
 
 fn render(context: &GpuContext, set: &BezierPatchSet, view: &ViewSettings) -> Vec<u8> {
-    let mut teapot = SceneObject::new("patches", ObjectGeometry::Patches(set.clone()));
+    let mut teapot = SceneObject::new("patches", ObjectGeometry::new(set.clone()));
     teapot.segments = SEGMENTS;
     let net = ControlNet::new(
         &context.device,
@@ -450,7 +450,7 @@ fn gaussian_curvature_shading_reads_constant_on_the_sphere_and_zero_on_the_cylin
         ("gaussian-sphere.png", sphere, 0.75),
         ("gaussian-cylinder.png", cylinder, 0.5),
     ] {
-        let objects = [SceneObject::new(name, ObjectGeometry::Nurbs(surface))];
+        let objects = [SceneObject::new(name, ObjectGeometry::new(surface))];
         let image = render_shaded(&context, &objects, ShadingMode::Gaussian, (-0.5, 0.5));
         let checked = assert_flat_colour(name, &image, background, expected_ramp_bytes(x));
         eprintln!(

@@ -570,7 +570,9 @@ const TAGGED_CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1
 #[test]
 fn obj_crease_tags_open_as_a_cage_and_knotwork_subdivide_writes_the_level() {
     let project = knotwork::io::obj::read(TAGGED_CUBE).unwrap();
-    let knotwork::scene::ObjectGeometry::Subdivision(cage) = &project.scene.objects[0].geometry
+    let Some(cage) = project.scene.objects[0]
+        .geometry
+        .downcast_ref::<knotwork::scene::SubdivObject>()
     else {
         panic!("a tagged OBJ opens as a cage");
     };

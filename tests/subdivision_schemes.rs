@@ -12,6 +12,7 @@ use knotwork::kernel::subdiv::patches::Display;
 use knotwork::kernel::subdiv::schemes::{butterfly_ring_weights, doo_sabin_weight, sqrt3_alpha};
 use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
 use knotwork::kernel::{NurbsSurface, PolygonMesh};
+use knotwork::scene::SubdivObject;
 
 fn surface(mesh: PolygonMesh, scheme: Scheme) -> SubdivisionSurface {
     let options = Options {
@@ -470,19 +471,22 @@ fn the_scheme_is_saved_in_the_project_file() {
         let mut scene = knotwork::scene::Scene::default();
         scene.objects.push(SceneObject::new(
             "cage",
-            ObjectGeometry::Subdivision(Box::new(s.into())),
+            ObjectGeometry::new(knotwork::scene::SubdivObject::from(s)),
         ));
         let project = knotwork::io::project::Project { scene, view: None };
         let text = knotwork::io::project::write(&project);
         let name = serde_json::to_string(&scheme).unwrap();
         assert!(text.contains(&name), "{name} missing");
         let back = knotwork::io::project::read(&text).unwrap();
-        match &back.scene.objects[0].geometry {
-            ObjectGeometry::Subdivision(b) => {
+        match back.scene.objects[0]
+            .geometry
+            .downcast_ref::<SubdivObject>()
+        {
+            Some(b) => {
                 assert_eq!(b.surface.options.scheme, scheme);
                 assert_eq!(b.surface.level(), 2);
             }
-            other => panic!("{other:?}"),
+            None => panic!("{:?}", back.scene.objects[0].geometry),
         }
     }
 }
@@ -495,12 +499,15 @@ fn switching_schemes_is_one_undo_step_and_a_refused_switch_changes_nothing() {
     let mut scene = Scene::default();
     scene.objects.push(SceneObject::new(
         "cage",
-        ObjectGeometry::Subdivision(Box::new(cube.into())),
+        ObjectGeometry::new(knotwork::scene::SubdivObject::from(cube)),
     ));
     let mut doc = Document::new(scene);
-    let settings = |doc: &Document| match &doc.scene.objects[0].geometry {
-        ObjectGeometry::Subdivision(s) => s.settings(),
-        other => panic!("{other:?}"),
+    let settings = |doc: &Document| {
+        let geometry = &doc.scene.objects[0].geometry;
+        geometry
+            .downcast_ref::<SubdivObject>()
+            .expect("a subdivision surface")
+            .settings()
     };
     let before = settings(&doc);
     let mut doo_sabin = before.clone();

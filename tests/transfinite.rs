@@ -521,9 +521,9 @@ fn run_construct(request: &serde_json::Value) -> std::process::Output {
 }
 
 fn curve_value(c: &SpaceCurve) -> serde_json::Value {
-    knotwork::io::json::object_to_value(&knotwork::io::json::NamedGeometry {
+    knotwork::scene::json::object_to_value(&knotwork::scene::json::NamedGeometry {
         name: None,
-        geometry: knotwork::io::json::Geometry::Curve(c.clone()),
+        geometry: knotwork::scene::json::Geometry::Curve(c.clone()),
     })
 }
 
@@ -544,8 +544,8 @@ fn knotwork_construct_builds_the_surfaces_from_json() {
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let value: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let read = knotwork::io::json::object_from_value("", value).unwrap();
-    let knotwork::io::json::Geometry::Surface(gordon) = read.geometry else {
+    let read = knotwork::scene::json::object_from_value("", value).unwrap();
+    let knotwork::scene::json::Geometry::Surface(gordon) = read.geometry else {
         panic!("expected a surface: {text}");
     };
     for (curve, v) in u_curves.iter().zip([0.0, 0.25, 0.6, 1.0]) {
@@ -576,8 +576,8 @@ fn knotwork_construct_builds_the_surfaces_from_json() {
         String::from_utf8_lossy(&out.stderr)
     );
     let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let knotwork::io::json::Geometry::Surface(coons) =
-        knotwork::io::json::object_from_value("", value)
+    let knotwork::scene::json::Geometry::Surface(coons) =
+        knotwork::scene::json::object_from_value("", value)
             .unwrap()
             .geometry
     else {

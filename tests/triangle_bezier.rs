@@ -51,7 +51,7 @@ fn dome(n: usize) -> TriangleBezier {
 }
 
 fn object(patch: TriangleBezier) -> SceneObject {
-    SceneObject::new("triangle", ObjectGeometry::Triangle(Box::new(patch)))
+    SceneObject::new("triangle", ObjectGeometry::boxed(Box::new(patch)))
 }
 
 /// The compute shaders' vertices of `object` alone, with their lattice (s, t) (slots past the

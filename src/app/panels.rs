@@ -14,7 +14,7 @@ use crate::kernel::subdiv::adaptive::DEFAULT_TOLERANCE;
 use crate::kernel::subdiv::patches::Display;
 use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::render::DRAFT_COLORS;
-use crate::scene::{ObjectGeometry, SceneObject, SubdivSettings};
+use crate::scene::{SceneObject, SubdivObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
 use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, TOLERANCE_RANGE, ZebraSource};
 
@@ -1055,7 +1055,10 @@ impl KnotworkApp {
         let Some(s) = self.selection.object else {
             return;
         };
-        let ObjectGeometry::Triangle(patch) = &self.scene().objects[s].geometry else {
+        let Some(patch) = self.scene().objects[s]
+            .geometry
+            .downcast_ref::<crate::kernel::triangle::TriangleBezier>()
+        else {
             return;
         };
         let degree = patch.degree();
@@ -1084,8 +1087,11 @@ impl KnotworkApp {
         let Some(s) = self.selection.object else {
             return;
         };
-        let before = match &self.scene().objects[s].geometry {
-            ObjectGeometry::Mesh(_) => {
+        let geometry = &self.scene().objects[s].geometry;
+        let before = match geometry.downcast_ref::<SubdivObject>() {
+            Some(surface) => surface.settings(),
+            // A cage that is not subdivided yet (a polygon mesh).
+            None if geometry.kind().cage().is_some() => {
                 ui.separator();
                 ui.label(egui::RichText::new("Subdivision").strong());
                 if ui
@@ -1108,8 +1114,7 @@ impl KnotworkApp {
                 }
                 return;
             }
-            ObjectGeometry::Subdivision(surface) => surface.settings(),
-            _ => return,
+            None => return,
         };
         ui.separator();
         ui.label(egui::RichText::new("Subdivision").strong());
@@ -1193,7 +1198,9 @@ impl KnotworkApp {
                  (a share of the cage's diagonal) of its triangles, up to the level",
             );
             settings.tolerance = percent / 100.0;
-            if let ObjectGeometry::Subdivision(surface) = &self.scene().objects[s].geometry
+            if let Some(surface) = self.scene().objects[s]
+                .geometry
+                .downcast_ref::<SubdivObject>()
                 && let Ok(Some(layout)) = surface.adaptive_layout()
             {
                 ui.label(

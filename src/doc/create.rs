@@ -175,7 +175,7 @@ impl PrimitiveParams {
         if self.kind == Primitive::TriangleBezier {
             return Ok(SceneObject::new(
                 "Triangular Bézier patch",
-                ObjectGeometry::Triangle(Box::new(triangle_dome(c, s, r, self.degree[0])?)),
+                ObjectGeometry::boxed(Box::new(triangle_dome(c, s, r, self.degree[0])?)),
             ));
         }
         if let Some(mesh) = cage {
@@ -191,7 +191,7 @@ impl PrimitiveParams {
             let name = self.kind.label().split(" (").next().unwrap_or("Cage");
             return Ok(SceneObject::new(
                 name,
-                ObjectGeometry::Subdivision(Box::new(surface.into())),
+                ObjectGeometry::new(crate::scene::SubdivObject::from(surface)),
             ));
         }
         let circle = |z: f64, radius: f64| {
@@ -353,7 +353,7 @@ impl PrimitiveParams {
                 .unwrap_or("Object")
                 .to_string(),
         };
-        Ok(SceneObject::new(name, ObjectGeometry::Nurbs(surface)))
+        Ok(SceneObject::new(name, ObjectGeometry::new(surface)))
     }
 }
 
@@ -373,7 +373,10 @@ mod tests {
         }
         // The sphere is a sphere: every control-net-independent sample lies at the radius.
         let sphere = PrimitiveParams::default().build().unwrap();
-        let ObjectGeometry::Nurbs(s) = &sphere.geometry else {
+        let Some(s) = sphere
+            .geometry
+            .downcast_ref::<crate::kernel::NurbsSurface>()
+        else {
             unreachable!()
         };
         let p = s.point_at(0.3, 0.6).unwrap();

@@ -1,9 +1,10 @@
 //! The open document: the scene, its undo history and the view it was saved with.
 
 use super::{Command, Edit, EditError, History, PointDrag};
-use crate::io::json::FormatError;
-use crate::io::project::{self, Project, ViewSettings};
+use crate::io::project::{self, Project};
 use crate::scene::Scene;
+use crate::scene::json::FormatError;
+use crate::view::ViewSettings;
 
 /// The scene being edited, its history and the drag in progress (a transient edit that is not
 /// in the history yet). Replacing the document (open, new) drops its drag with it, so a drag can
@@ -52,9 +53,6 @@ impl Document {
 
     /// The document as project text (the history is not saved).
     pub fn save(&self, view: Option<ViewSettings>) -> String {
-        project::write(&Project {
-            scene: self.scene.clone(),
-            view,
-        })
+        project::write_scene(&self.scene, view.as_ref())
     }
 }

@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 
 use glam::DVec3;
 
-use super::{Change, Document, Edit, EditError, geometry_error, object_at};
+use super::{Change, Document, Edit, EditError, PointsMoved, geometry_error, object_at};
 use crate::kernel::{GeometryError, Location};
 use crate::scene::SceneObject;
 
@@ -36,19 +36,6 @@ impl PointDrag {
     pub fn linked(&self) -> Vec<usize> {
         self.linked.iter().map(|(k, _)| *k).collect()
     }
-}
-
-/// What a drag step or a move changed: the object and the Bézier patches of its decomposition
-/// that must be re-derived and re-evaluated (the union of the moved points' supports).
-/// `relaid`: the move ended with the object's layout changed (an adaptive refinement chose
-/// other depths), so its GPU geometry must be rebuilt rather than updated. `linked`: other
-/// objects whose shared lattice moved too (their lattices are uploaded again).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PointsMoved {
-    pub object: usize,
-    pub patches: Vec<usize>,
-    pub relaid: bool,
-    pub linked: Vec<usize>,
 }
 
 impl Document {

@@ -16,8 +16,9 @@ use thiserror::Error;
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimLoop, TrimmedSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
 
+pub use crate::scene::change::{PointsMoved, Touched};
 pub use document::Document;
-pub use drag::{PointDrag, PointsMoved};
+pub use drag::PointDrag;
 pub use history::History;
 
 /// One change to the document, as the user asked for it.
@@ -373,17 +374,6 @@ pub struct Edit {
     pub changes: Vec<Change>,
 }
 
-/// How an edit affected an object, for the editor to re-upload as little as possible.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Touched {
-    /// Only control point positions or weights of object `index` changed: same patch layout.
-    Points(usize),
-    /// Objects were added, removed or changed in structure: rebuild the GPU geometry.
-    Structure,
-    /// Only names or similar: nothing to re-upload.
-    Nothing,
-}
-
 impl Edit {
     /// Applies the changes forward (redo). Fails without changing anything if the scene does
     /// not match what the edit expects.
@@ -687,10 +677,13 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
         } => {
             let object = object_at(scene, *k)?;
             // A triangular patch has one degree (the direction does not matter).
-            if let ObjectGeometry::Triangle(patch) = &object.geometry {
+            if let Some(patch) = object
+                .geometry
+                .downcast_ref::<crate::kernel::triangle::TriangleBezier>()
+            {
                 let elevated = patch.elevated().map_err(geometry_error(object))?;
                 let after = SceneObject {
-                    geometry: ObjectGeometry::Triangle(Box::new(elevated)),
+                    geometry: ObjectGeometry::boxed(Box::new(elevated)),
                     ..object.clone()
                 };
                 return replace(*k, after);
@@ -877,22 +870,18 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             settings,
         } => {
             let object = object_at(scene, *k)?;
-            let mesh = match &object.geometry {
-                ObjectGeometry::Mesh(mesh) => mesh,
-                ObjectGeometry::Subdivision(s) => s.surface.mesh(),
-                _ => {
-                    return Err(geometry_error(object)(GeometryError::Construction {
-                        what: "subdivision",
-                        message: "only a polygon mesh or a subdivision surface has a cage".into(),
-                    }));
-                }
+            let Some(mesh) = object.kind().cage() else {
+                return Err(geometry_error(object)(GeometryError::Construction {
+                    what: "subdivision",
+                    message: "only a polygon mesh or a subdivision surface has a cage".into(),
+                }));
             };
             let surface = crate::scene::SubdivObject::with_settings(mesh, settings)
                 .map_err(geometry_error(object))?;
             replace(
                 *k,
                 SceneObject {
-                    geometry: ObjectGeometry::Subdivision(Box::new(surface)),
+                    geometry: ObjectGeometry::boxed(Box::new(surface)),
                     ..object.clone()
                 },
             )

@@ -14,7 +14,7 @@ use super::error::GpuError;
 use super::patch_eval::{
     MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers, Tessellation,
 };
-use crate::doc::{PointsMoved, Touched};
+use crate::scene::change::{PointsMoved, Touched};
 use crate::scene::{Decomposition, Scene, SceneObject};
 
 /// Segments per span edge of an object at quality `quality`, within 1..=[`MAX_SEGMENTS`].

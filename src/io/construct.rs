@@ -1,5 +1,5 @@
 //! The `knotwork construct` request: a transfinite surface built from curves or corner data,
-//! written back as a `nurbs_surface` in knotwork's JSON format ([`super::json`]).
+//! written back as a `nurbs_surface` in knotwork's JSON format ([`crate::scene::json`]).
 //!
 //! - `{"construct": "gordon", "u_curves": [<nurbs_curve>, ...], "v_curves": [...], "degree": 3}`:
 //!   the Gordon surface of the network (u-curves in order of increasing v, v-curves in order of
@@ -16,9 +16,11 @@ use glam::DVec3;
 use serde::Deserialize;
 use serde_json::Value;
 
-use super::json::{FormatError, Geometry, NamedGeometry, object_from_value, object_to_value};
 use crate::kernel::transfinite::{self, HermiteData};
 use crate::kernel::{NurbsSurface, SpaceCurve, construct};
+use crate::scene::json::{
+    FormatError, Geometry, NamedGeometry, object_from_value, object_to_value,
+};
 
 #[derive(Deserialize)]
 #[serde(tag = "construct", rename_all = "lowercase", deny_unknown_fields)]

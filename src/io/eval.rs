@@ -1,7 +1,7 @@
 //! The `knotwork eval` request: evaluate a surface at a list of parameters.
 //!
 //! Request: `{"surface": <surface object>, "params": [[u, v], ...]}` (the surface in the format of
-//! [`super::json`]). Response: `{"results": [...]}`, one entry per parameter pair, in order:
+//! [`crate::scene::json`]). Response: `{"results": [...]}`, one entry per parameter pair, in order:
 //! `{"u", "v", "point", "normal", "su", "sv", "suu", "suv", "svv", "gaussian", "mean", "k1", "k2",
 //! "principal_directions", "regular"}` (vectors as arrays of 3 numbers; `principal_directions` is
 //! null at umbilics; `regular` is false at a pole or collapsed edge, where the normal and the
@@ -12,9 +12,9 @@ use glam::DVec3;
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use super::json::{FormatError, Geometry, object_from_value};
 use crate::kernel::NurbsSurface;
 use crate::kernel::surface::LocalGeometry;
+use crate::scene::json::{FormatError, Geometry, object_from_value};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -37,9 +37,9 @@ use gltf::scene::Transform;
 use gltf::{Document, Semantic};
 
 use super::gltf::from_gltf_axes;
-use super::json::FormatError;
 use super::project::{self, MAX_FILE_BYTES, Project};
 use crate::kernel::PolygonMesh;
+use crate::scene::json::FormatError;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// The most vertices a glTF or OBJ import may create, over all objects.
@@ -483,7 +483,7 @@ fn read_meshes(document: &Document, buffers: &[Vec<u8>]) -> Result<Vec<SceneObje
                 .or(mesh.name())
                 .filter(|n| crate::scene::valid_name(n))
                 .map_or_else(|| format!("glTF mesh {}", objects.len() + 1), str::to_owned);
-            let mut object = SceneObject::new(name, ObjectGeometry::Mesh(polygons));
+            let mut object = SceneObject::new(name, ObjectGeometry::new(polygons));
             object.segments = 1;
             objects.push(object);
         }

@@ -10,11 +10,11 @@ pub mod fuzz;
 pub mod gltf;
 pub mod gltf_import;
 pub mod height_image;
-pub mod json;
+
 pub mod obj;
 pub mod project;
 
-use json::FormatError;
+use crate::scene::json::{self, FormatError};
 use project::Project;
 
 /// Reads any document knotwork opens, by its contents and name ([`formats::format_of`]): glTF
@@ -66,9 +66,9 @@ fn bare_surfaces(text: &str) -> Result<Project, FormatError> {
     let mut scene = crate::scene::Scene::default();
     for (k, object) in json::read(text)?.into_iter().enumerate() {
         let geometry = match object.geometry {
-            json::Geometry::Surface(surface) => crate::scene::ObjectGeometry::Nurbs(surface),
+            json::Geometry::Surface(surface) => crate::scene::ObjectGeometry::new(surface),
             json::Geometry::TrimmedSurface(t) => crate::scene::ObjectGeometry::from_trimmed(t),
-            _ => {
+            json::Geometry::Curve(_) | json::Geometry::Trim(_) => {
                 return Err(FormatError::new(
                     "type",
                     "a curve is not a scene object: open a surface or a project",

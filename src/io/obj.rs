@@ -12,11 +12,11 @@ use glam::DVec3;
 
 use super::gltf::from_gltf_axes;
 use super::gltf_import::{MAX_IMPORT_TRIANGLES, MAX_IMPORT_VERTICES};
-use super::json::FormatError;
 use super::project::{self, Project};
 use crate::kernel::PolygonMesh;
 use crate::kernel::mesh::MAX_FACE_CORNERS;
 use crate::kernel::subdiv::{Corner, Crease, Options, SubdivisionSurface};
+use crate::scene::json::FormatError;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 fn at_line(line: usize, message: impl Into<String>) -> FormatError {
@@ -310,9 +310,9 @@ fn objects(parsed: ObjText, cages: bool) -> Result<Project, FormatError> {
                 .collect();
             let surface = SubdivisionSurface::new(mesh, creases, corners, Options::default(), 0)
                 .map_err(|e| FormatError::new(format!("object {name:?}"), e.to_string()))?;
-            ObjectGeometry::Subdivision(Box::new(surface.into()))
+            ObjectGeometry::new(crate::scene::SubdivObject::from(surface))
         } else {
-            ObjectGeometry::Mesh(mesh)
+            ObjectGeometry::new(mesh)
         };
         let mut object = SceneObject::new(name, geometry);
         object.segments = 1;
@@ -340,7 +340,10 @@ mod tests {
             o tri\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf -3 -2 -1\n";
         let project = read(text).unwrap();
         assert_eq!(project.scene.objects.len(), 2);
-        let ObjectGeometry::Mesh(cube) = &project.scene.objects[0].geometry else {
+        let Some(cube) = project.scene.objects[0]
+            .geometry
+            .downcast_ref::<crate::kernel::PolygonMesh>()
+        else {
             panic!()
         };
         assert_eq!(project.scene.objects[0].name, "cube");
@@ -348,7 +351,10 @@ mod tests {
         // Y-up to Z-up: OBJ (0, 1, 0) is knotwork's +z.
         assert!(cube.points().contains(&DVec3::new(0.0, 0.0, 1.0)));
         assert!(cube.points().contains(&DVec3::new(0.0, -1.0, 0.0)));
-        let ObjectGeometry::Mesh(tri) = &project.scene.objects[1].geometry else {
+        let Some(tri) = project.scene.objects[1]
+            .geometry
+            .downcast_ref::<crate::kernel::PolygonMesh>()
+        else {
             panic!()
         };
         assert_eq!((tri.points().len(), tri.face_count()), (3, 1));

@@ -1,4 +1,4 @@
-//! The project file: knotwork's JSON format ([`super::json`]) extended to a whole scene
+//! The project file: knotwork's JSON format ([`crate::scene::json`]) extended to a whole scene
 //! (version 2).
 //!
 //! ```json
@@ -24,17 +24,10 @@
 //! control points, degrees above 32, segments above [`MAX_SEGMENTS`] and anything malformed give
 //! a [`FormatError`] naming the JSON path, and nothing is allocated beyond the text itself.
 
-use crate::kernel::subdiv::patches::Display;
-use crate::kernel::subdiv::{
-    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
-};
-use crate::scene::SubdivObject;
-use serde::{Deserialize, Serialize};
-
-use super::json::{self, FormatError, Geometry, NamedGeometry};
-use crate::kernel::{BezierPatch, BezierPatchSet, MAX_BEZIER_DEGREE, PolygonMesh};
+use crate::scene::json::{self, FormatError};
+use crate::scene::registry;
 use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
-pub use crate::view::ViewSettings;
+use crate::view::ViewSettings;
 
 /// The project format version this build writes and the newest it reads.
 pub const PROJECT_VERSION: u32 = 2;
@@ -51,137 +44,7 @@ pub struct Project {
     pub view: Option<ViewSettings>,
 }
 
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawPatch {
-    degree: [usize; 2],
-    indices: Vec<u32>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawPatches {
-    #[serde(rename = "type")]
-    kind: String,
-    points: Vec<Vec<f64>>,
-    patches: Vec<RawPatch>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawMesh {
-    #[serde(rename = "type")]
-    kind: String,
-    points: Vec<[f64; 3]>,
-    faces: Vec<Vec<u32>>,
-}
-
-/// A triangular Bézier patch: its degree and (n + 1)(n + 2)/2 points, row by row (row j holds
-/// b_ij for i = 0..=n − j, k = n − i − j).
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawTriangle {
-    #[serde(rename = "type")]
-    kind: String,
-    degree: usize,
-    points: Vec<[f64; 3]>,
-}
-
-/// A subdivision surface: its cage, creases `[a, b, sharpness]`, corners `[vertex, sharpness]`,
-/// rules, level, display and (the adaptive display's) flatness tolerance.
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawCage {
-    #[serde(rename = "type")]
-    kind: String,
-    points: Vec<[f64; 3]>,
-    faces: Vec<Vec<u32>>,
-    #[serde(default)]
-    creases: Vec<(u32, u32, f64)>,
-    #[serde(default)]
-    corners: Vec<(u32, f64)>,
-    #[serde(default)]
-    scheme: Scheme,
-    #[serde(default)]
-    boundary: Boundary,
-    #[serde(default)]
-    creasing: Creasing,
-    #[serde(default)]
-    level: u32,
-    #[serde(default)]
-    display: Display,
-    /// A fraction of the cage's diagonal; written only for the adaptive display.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    tolerance: Option<f64>,
-}
-
-fn read_cage(path: &str, value: serde_json::Value) -> Result<SubdivObject, FormatError> {
-    let raw: RawCage = deserialize(path, value)?;
-    let points = raw
-        .points
-        .iter()
-        .map(|&p| glam::DVec3::from_array(p))
-        .collect();
-    let mesh = PolygonMesh::new(points, &raw.faces).map_err(|e| FormatError::geometry(path, e))?;
-    let creases = raw
-        .creases
-        .iter()
-        .map(|&(a, b, sharpness)| Crease { a, b, sharpness })
-        .collect();
-    let corners = raw
-        .corners
-        .iter()
-        .map(|&(vertex, sharpness)| Corner { vertex, sharpness })
-        .collect();
-    let options = Options {
-        scheme: raw.scheme,
-        boundary: raw.boundary,
-        creasing: raw.creasing,
-    };
-    let surface = SubdivisionSurface::new(mesh, creases, corners, options, raw.level)
-        .map_err(|e| FormatError::geometry(path, e))?;
-    let object =
-        SubdivObject::checked(surface, raw.display).map_err(|e| FormatError::geometry(path, e))?;
-    match raw.tolerance {
-        Some(tolerance) => object
-            .with_tolerance_checked(tolerance)
-            .map_err(|e| FormatError::geometry(path, e)),
-        None => Ok(object),
-    }
-}
-
-fn cage_value(object: &SubdivObject) -> serde_json::Value {
-    let surface = &object.surface;
-    serde_json::to_value(RawCage {
-        kind: "subdivision_surface".into(),
-        points: surface.points().iter().map(|p| p.to_array()).collect(),
-        faces: surface.mesh().faces().map(<[u32]>::to_vec).collect(),
-        creases: surface
-            .creases()
-            .iter()
-            .map(|c| (c.a, c.b, c.sharpness))
-            .collect(),
-        corners: surface
-            .corners()
-            .iter()
-            .map(|c| (c.vertex, c.sharpness))
-            .collect(),
-        scheme: surface.options.scheme,
-        boundary: surface.options.boundary,
-        creasing: surface.options.creasing,
-        level: surface.level(),
-        display: object.display,
-        tolerance: (object.display == Display::Adaptive).then_some(object.tolerance),
-    })
-    .unwrap_or(serde_json::Value::Null)
-}
-
-fn deserialize<T: serde::de::DeserializeOwned>(
-    path: &str,
-    value: serde_json::Value,
-) -> Result<T, FormatError> {
-    serde_path_to_error::deserialize(value).map_err(|e| json::serde_error(path, e))
-}
+use registry::deserialize;
 
 /// Refuses a file of `bytes` bytes above [`MAX_FILE_BYTES`] (before it is read, where the
 /// size is known first).
@@ -353,70 +216,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             ));
         }
     };
-    let kind = map.get("type").and_then(|t| t.as_str()).unwrap_or_default();
-    if ![
-        "nurbs_surface",
-        "bezier_patches",
-        "polygon_mesh",
-        "subdivision_surface",
-        "triangular_bezier",
-        "nurbs_curve",
-        "trim_curve",
-    ]
-    .contains(&kind)
-    {
-        return Err(FormatError::new(
-            format!("{path}.type"),
-            format!(
-                "unknown object type {}: expected \"nurbs_surface\", \"bezier_patches\", \"polygon_mesh\", \"subdivision_surface\" or \"triangular_bezier\"",
-                map.get("type")
-                    .map_or("(missing)".to_string(), |t| t.to_string())
-            ),
-        ));
-    }
-    let is_patches = kind == "bezier_patches";
-    let is_mesh = kind == "polygon_mesh";
-    let is_cage = kind == "subdivision_surface";
-    let is_triangle = kind == "triangular_bezier";
-    let value = serde_json::Value::Object(map);
-    let geometry = if is_triangle {
-        let raw: RawTriangle = deserialize(path, value)?;
-        let points = raw
-            .points
-            .iter()
-            .map(|&p| glam::DVec3::from_array(p))
-            .collect();
-        ObjectGeometry::Triangle(Box::new(
-            crate::kernel::triangle::TriangleBezier::new(raw.degree, points)
-                .map_err(|e| FormatError::geometry(path, e))?,
-        ))
-    } else if is_cage {
-        ObjectGeometry::Subdivision(Box::new(read_cage(path, value)?))
-    } else if is_patches {
-        ObjectGeometry::Patches(read_patches(path, value)?)
-    } else if is_mesh {
-        let raw: RawMesh = deserialize(path, value)?;
-        let points = raw
-            .points
-            .iter()
-            .map(|&p| glam::DVec3::from_array(p))
-            .collect();
-        ObjectGeometry::Mesh(
-            PolygonMesh::new(points, &raw.faces)
-                .map_err(|e| FormatError::new(path.to_string(), e.to_string()))?,
-        )
-    } else {
-        match json::object_from_value(path, value)?.geometry {
-            Geometry::Surface(s) => ObjectGeometry::Nurbs(s),
-            Geometry::TrimmedSurface(t) => ObjectGeometry::from_trimmed(t),
-            Geometry::Curve(_) | Geometry::Trim(_) => {
-                return Err(FormatError::new(
-                    format!("{path}.type"),
-                    "a curve is not a scene object: knotwork projects hold surfaces",
-                ));
-            }
-        }
-    };
+    let geometry = read_kind(path, map)?;
     if displacement.is_some() && geometry.displacement_domain().is_none() {
         return Err(FormatError::new(
             format!("{path}.displacement"),
@@ -471,76 +271,41 @@ impl LatticeRecord {
     }
 }
 
-fn read_patches(path: &str, value: serde_json::Value) -> Result<BezierPatchSet, FormatError> {
-    let raw: RawPatches = deserialize(path, value)?;
-    let (cartesian, weights) = json::curve_points(path, &raw.points, 3)?;
-    let points = cartesian
-        .iter()
-        .map(|c| glam::DVec3::new(c[0], c[1], c[2]))
-        .collect();
-    let mut patches = Vec::with_capacity(raw.patches.len());
-    for (k, patch) in raw.patches.into_iter().enumerate() {
-        let [du, dv] = patch.degree;
-        if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
-            return Err(FormatError::new(
-                format!("{path}.patches[{k}].degree"),
-                format!("degree ({du}, {dv}) is outside 1..={MAX_BEZIER_DEGREE}"),
-            ));
-        }
-        patches.push(BezierPatch::new(du, dv, patch.indices));
+/// The kind's part of an object's record, read by the kind registered for its `"type"`
+/// ([`crate::scene::registry`]).
+fn read_kind(
+    path: &str,
+    map: serde_json::Map<String, serde_json::Value>,
+) -> Result<ObjectGeometry, FormatError> {
+    let record_type = map.get("type").and_then(|t| t.as_str()).unwrap_or_default();
+    if let Some(kind) = registry::kind_of_record(record_type) {
+        return (kind.read)(path, serde_json::Value::Object(map));
     }
-    BezierPatchSet::new(points, Some(weights), patches).map_err(|e| FormatError::geometry(path, e))
+    if ["nurbs_curve", "trim_curve"].contains(&record_type) {
+        return Err(FormatError::new(
+            format!("{path}.type"),
+            "a curve is not a scene object: knotwork projects hold surfaces",
+        ));
+    }
+    let known: Vec<String> = registry::kinds()
+        .iter()
+        .map(|k| format!("\"{}\"", k.record_type))
+        .collect();
+    Err(FormatError::new(
+        format!("{path}.type"),
+        format!(
+            "unknown object type {}: expected one of {}",
+            map.get("type")
+                .map_or("(missing)".to_string(), |t| t.to_string()),
+            known.join(", ")
+        ),
+    ))
 }
 
-/// One scene object as a JSON value.
+/// One scene object as a JSON value: its kind's record ([`crate::scene::ObjectKind::record`])
+/// with the object's name, visibility, segments, displacement and lattice.
 fn object_value(object: &SceneObject) -> serde_json::Value {
-    let mut value = match &object.geometry {
-        ObjectGeometry::Nurbs(s) => json::object_value(
-            &NamedGeometry {
-                name: None,
-                geometry: Geometry::Surface(s.clone()),
-            },
-            true,
-        ),
-        ObjectGeometry::Trimmed(t) => json::object_value(
-            &NamedGeometry {
-                name: None,
-                geometry: Geometry::TrimmedSurface(t.as_ref().clone()),
-            },
-            true,
-        ),
-        ObjectGeometry::Patches(set) => serde_json::to_value(RawPatches {
-            kind: "bezier_patches".into(),
-            points: set
-                .points()
-                .iter()
-                .zip(set.weights())
-                .map(|(p, &w)| vec![p.x, p.y, p.z, w])
-                .collect(),
-            patches: set
-                .patches()
-                .iter()
-                .map(|p| RawPatch {
-                    degree: [p.degree_u(), p.degree_v()],
-                    indices: p.indices().to_vec(),
-                })
-                .collect(),
-        })
-        .unwrap_or(serde_json::Value::Null),
-        ObjectGeometry::Mesh(mesh) => serde_json::to_value(RawMesh {
-            kind: "polygon_mesh".into(),
-            points: mesh.points().iter().map(|p| p.to_array()).collect(),
-            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
-        })
-        .unwrap_or(serde_json::Value::Null),
-        ObjectGeometry::Subdivision(object) => cage_value(object),
-        ObjectGeometry::Triangle(patch) => serde_json::to_value(RawTriangle {
-            kind: "triangular_bezier".into(),
-            degree: patch.degree(),
-            points: patch.points().iter().map(|p| p.to_array()).collect(),
-        })
-        .unwrap_or(serde_json::Value::Null),
-    };
+    let mut value = object.kind().record();
     if let serde_json::Value::Object(map) = &mut value {
         map.insert("name".into(), object.name.clone().into());
         map.insert("visible".into(), object.visible.into());
@@ -566,17 +331,26 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
 /// The project as JSON text (version [`PROJECT_VERSION`]). f64 values are written in their
 /// shortest exact form and surface points homogeneously, so reading gives back the same bits.
 pub fn write(project: &Project) -> String {
-    serde_json::to_string(&to_value(project)).unwrap_or_default()
+    write_scene(&project.scene, project.view.as_ref())
+}
+
+/// [`write`] for a scene and view held apart (the open document's, without copying them).
+pub fn write_scene(scene: &Scene, view: Option<&ViewSettings>) -> String {
+    serde_json::to_string(&scene_value(scene, view)).unwrap_or_default()
 }
 
 /// The project as a JSON value (what [`write`] writes).
 pub fn to_value(project: &Project) -> serde_json::Value {
+    scene_value(&project.scene, project.view.as_ref())
+}
+
+fn scene_value(scene: &Scene, view: Option<&ViewSettings>) -> serde_json::Value {
     let mut file = serde_json::json!({
         "format": "knotwork",
         "version": PROJECT_VERSION,
-        "objects": project.scene.objects.iter().map(object_value).collect::<Vec<_>>(),
+        "objects": scene.objects.iter().map(object_value).collect::<Vec<_>>(),
     });
-    if let (Some(view), serde_json::Value::Object(map)) = (&project.view, &mut file) {
+    if let (Some(view), serde_json::Value::Object(map)) = (view, &mut file) {
         map.insert(
             "view".into(),
             serde_json::to_value(view).unwrap_or(serde_json::Value::Null),

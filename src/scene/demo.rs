@@ -19,12 +19,12 @@ impl Scene {
         let loft = vase_loft()?.transformed(&at(8.0, 8.0))?;
         let goblet = goblet_revolution()?.transformed(&at(15.0, 8.0))?;
         let mut objects = vec![
-            SceneObject::new("Utah teapot", ObjectGeometry::Patches(teapot)),
-            SceneObject::new("Torus (rational)", ObjectGeometry::Nurbs(torus)),
-            SceneObject::new("Sphere (rational)", ObjectGeometry::Nurbs(sphere)),
-            SceneObject::new("B-spline (2, 5)", ObjectGeometry::Nurbs(sheet)),
-            SceneObject::new("Loft", ObjectGeometry::Nurbs(loft)),
-            SceneObject::new("Revolution", ObjectGeometry::Nurbs(goblet)),
+            SceneObject::new("Utah teapot", ObjectGeometry::new(teapot)),
+            SceneObject::new("Torus (rational)", ObjectGeometry::new(torus)),
+            SceneObject::new("Sphere (rational)", ObjectGeometry::new(sphere)),
+            SceneObject::new("B-spline (2, 5)", ObjectGeometry::new(sheet)),
+            SceneObject::new("Loft", ObjectGeometry::new(loft)),
+            SceneObject::new("Revolution", ObjectGeometry::new(goblet)),
         ];
         objects[0].segments = 12;
         Ok(Self { objects })

@@ -1,15 +1,20 @@
 //! The one interface every kind of scene object answers ([`ObjectKind`]): its control points
-//! and net, how its points move, what it feeds the GPU, how it tessellates for export and how
-//! it transforms. The editor, the document's commands, the GPU sync layer and the exporters
-//! ask these questions and never look at the kind itself, so a new kind of object is one
-//! module implementing this trait plus one variant of [`super::ObjectGeometry`] (and its entry
-//! in the project file format).
+//! and net, how its points move, what it feeds the GPU, its faces, how it tessellates for
+//! export, how it transforms, what it can do (be displaced, be trimmed, be subdivided) and its
+//! record in a project file. The editor, the document's commands, the GPU sync layer and the
+//! file formats ask these questions and never look at the kind itself, so a new kind of object
+//! is one type implementing this trait plus one [`super::registry::KindEntry`] (which reads
+//! its records back): the compiler lists every question the kind must answer, and no other
+//! code changes.
+
+use std::any::Any;
+use std::fmt::Debug;
 
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
-use crate::kernel::{GeometryError, ParametricSurface};
+use crate::kernel::{GeometryError, NurbsSurface, ParametricSurface, PolygonMesh, TrimmedSurface};
 
 /// One face a kind offers to the analyses, in the kind's own parameters (before any
 /// displacement or lattice: [`super::SceneObject::faces`] shows it as the viewport does).
@@ -34,8 +39,38 @@ impl<'a> KindFace<'a> {
     }
 }
 
+/// What an [`ObjectGeometry`] needs of its kind as a value (copying, comparing, looking at the
+/// concrete type), for every `Clone + PartialEq + Debug` kind without writing it: the blanket
+/// implementation below is the only one.
+pub trait KindValue: Any + Debug + Send + Sync {
+    /// A copy of the kind behind a new box.
+    fn clone_kind(&self) -> Box<dyn ObjectKind>;
+    /// Whether `other` is the same kind with equal data.
+    fn equals(&self, other: &dyn ObjectKind) -> bool;
+    fn as_any(&self) -> &dyn Any;
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+impl<T: ObjectKind + Clone + PartialEq + Debug + Send + Sync + 'static> KindValue for T {
+    fn clone_kind(&self) -> Box<dyn ObjectKind> {
+        Box::new(self.clone())
+    }
+
+    fn equals(&self, other: &dyn ObjectKind) -> bool {
+        other.as_any().downcast_ref::<T>() == Some(self)
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
 /// What every kind of object answers.
-pub trait ObjectKind {
+pub trait ObjectKind: KindValue {
     /// "NURBS surface", "set of Bézier patches", "polygon mesh": for messages.
     fn kind_name(&self) -> &'static str;
 
@@ -129,4 +164,27 @@ pub trait ObjectKind {
     /// patch layout), so that only control point positions or weights differ and the GPU
     /// buffers keep their layout.
     fn same_layout(&self, other: &ObjectGeometry) -> bool;
+
+    /// The (u0, u1, v0, v1) a displacement's height map spans, or `None` for a kind without
+    /// one (u, v) domain to map heights on (a polygon mesh, a subdivision surface).
+    fn displacement_domain(&self) -> Option<[f64; 4]>;
+
+    /// The NURBS surface of a kind that is one (trimmed or not): what knot insertion, degree
+    /// elevation, splitting and trimming work on.
+    fn nurbs_surface(&self) -> Option<&NurbsSurface>;
+
+    /// [`Self::nurbs_surface`] with the kind's trim loops (none for an untrimmed surface).
+    fn as_trimmed(&self) -> Option<TrimmedSurface> {
+        self.nurbs_surface()
+            .map(|surface| TrimmedSurface::untrimmed(surface.clone()))
+    }
+
+    /// The polygon cage a subdivision surface can be built on (a polygon mesh, or a
+    /// subdivision surface's own cage), or `None`.
+    fn cage(&self) -> Option<&PolygonMesh>;
+
+    /// The kind's record in a project file: a JSON object with its `"type"` (the
+    /// [`super::registry::KindEntry::record_type`] that reads it back) and its own fields. The
+    /// object's name, visibility, segments, displacement and lattice are added around it.
+    fn record(&self) -> serde_json::Value;
 }

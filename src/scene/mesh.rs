@@ -3,8 +3,12 @@
 
 use glam::{DAffine3, DVec3};
 
+use serde::{Deserialize, Serialize};
+
+use super::json::FormatError;
 use super::kind::KindFace;
-use super::{Decomposition, ObjectGeometry, ObjectKind};
+use super::registry::{self, KindEntry};
+use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, PolygonMesh};
 
@@ -124,7 +128,7 @@ impl ObjectKind for PolygonMesh {
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
-        PolygonMesh::transformed(self, transform).map(ObjectGeometry::Mesh)
+        PolygonMesh::transformed(self, transform).map(ObjectGeometry::new)
     }
 
     /// The vertices move through the lattice (they are the mesh's shape).
@@ -138,7 +142,7 @@ impl ObjectKind for PolygonMesh {
             mesh.set_point(k, lattice.deform_point(p))?;
         }
         Ok((
-            ObjectGeometry::Mesh(mesh),
+            ObjectGeometry::new(mesh),
             crate::kernel::ffd::Baked::Points {
                 error: 0.0,
                 within: true,
@@ -147,7 +151,79 @@ impl ObjectKind for PolygonMesh {
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Mesh(b)
-            if self.points().len() == b.points().len() && self.faces().eq(b.faces()))
+        other
+            .downcast_ref::<PolygonMesh>()
+            .is_some_and(|b| self.points().len() == b.points().len() && self.faces().eq(b.faces()))
     }
+
+    /// No one (u, v) domain: a mesh's patches are pieces of polygons.
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        None
+    }
+
+    fn nurbs_surface(&self) -> Option<&crate::kernel::NurbsSurface> {
+        None
+    }
+
+    /// The mesh itself: it can be subdivided.
+    fn cage(&self) -> Option<&PolygonMesh> {
+        Some(self)
+    }
+
+    fn record(&self) -> serde_json::Value {
+        registry::to_record(&MeshRecord {
+            kind: ENTRY.record_type.into(),
+            points: registry::point_records(self.points()),
+            faces: self.faces().map(<[u32]>::to_vec).collect(),
+        })
+    }
+}
+
+/// A polygon mesh: its points and its faces (point indices, counter-clockwise).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshRecord {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+}
+
+pub(super) const ENTRY: KindEntry = KindEntry {
+    record_type: "polygon_mesh",
+    read: read_record,
+    examples,
+};
+
+fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    let raw: MeshRecord = registry::deserialize(path, record)?;
+    let points = registry::points_of(&raw.points);
+    PolygonMesh::new(points, &raw.faces)
+        .map(ObjectGeometry::new)
+        .map_err(|e| FormatError::new(path, e.to_string()))
+}
+
+/// A non-planar quad, a triangle and a hexagon (a fan of four patches).
+fn examples() -> Vec<SceneObject> {
+    let points = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.3),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.4),
+        DVec3::new(2.0, 0.5, 0.2),
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(4.0, 0.5, 0.1),
+        DVec3::new(4.0, 1.5, -0.2),
+        DVec3::new(3.0, 2.0, 0.0),
+        DVec3::new(2.0, 1.5, 0.3),
+    ];
+    let faces = [vec![0, 1, 2, 3], vec![1, 4, 2], vec![4, 5, 6, 7, 8, 9]];
+    PolygonMesh::new(points, &faces)
+        .map(|mesh| {
+            let mut object = SceneObject::new("polygon mesh", ObjectGeometry::new(mesh));
+            object.segments = 5;
+            object
+        })
+        .into_iter()
+        .collect()
 }

@@ -1,21 +1,26 @@
 //! The document the editor shows: named objects, each of one kind — a NURBS surface (any
-//! degree, knots and weights), a set of Bézier patches over shared points (the Utah teapot) or a
-//! polygon mesh — with its own tessellation. Every kind answers the same questions through
-//! [`ObjectKind`] (one module per kind); the rest of the editor asks those. Pure kernel data: no
-//! GPU and no UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
+//! degree, knots and weights, trimmed or not), a set of Bézier patches over shared points (the
+//! Utah teapot), a polygon mesh, a subdivision surface, a triangular Bézier patch, or any kind
+//! registered in [`registry`] — with its own tessellation. Every kind answers the same
+//! questions through [`ObjectKind`] (one module per kind) and writes its own project record;
+//! the rest of the editor asks those and never names a kind. Pure kernel data: no GPU and no
+//! UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
 
+pub mod change;
 pub mod continuity;
 mod demo;
 pub mod ffd;
+pub mod json;
 mod kind;
 mod mesh;
 mod nurbs;
 mod patch_set;
+pub mod registry;
 mod subdiv;
 mod triangle;
 mod trimmed;
 
-pub use kind::{KindFace, ObjectKind};
+pub use kind::{KindFace, KindValue, ObjectKind};
 pub use subdiv::{SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;
@@ -26,7 +31,7 @@ use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::ffd::{Baked, Lattice};
 use crate::kernel::parametric::{FaceDisplacement, ParametricSurface, ShownFace, TriangleAsSquare};
 use crate::kernel::tess;
-use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, PolygonMesh, TrimmedSurface};
+use crate::kernel::{BezierPatchSet, GeometryError, NurbsSurface, TrimmedSurface};
 
 /// Segments per Bézier span edge a new object gets.
 pub const DEFAULT_SEGMENTS: u32 = 16;
@@ -48,21 +53,27 @@ pub fn valid_name(name: &str) -> bool {
     (1..=MAX_NAME_LENGTH).contains(&length) && !name.chars().any(char::is_control)
 }
 
-/// What an object is made of.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ObjectGeometry {
-    /// Rational Bézier patches over one shared pool of points (each patch on (0, 1)²).
-    Patches(BezierPatchSet),
-    /// One NURBS surface.
-    Nurbs(NurbsSurface),
-    /// A polygon mesh (an imported OBJ or glTF mesh), drawn as bilinear patches.
-    Mesh(PolygonMesh),
-    /// A subdivision surface over a polygon cage.
-    Subdivision(Box<SubdivObject>),
-    /// A NURBS surface with trim loops (never with none: that is [`Self::Nurbs`]).
-    Trimmed(Box<TrimmedSurface>),
-    /// A triangular Bézier patch of any degree.
-    Triangle(Box<crate::kernel::triangle::TriangleBezier>),
+/// What an object is made of: one kind of object ([`ObjectKind`]: a NURBS surface, a trimmed
+/// surface, a set of Bézier patches, a polygon mesh, a subdivision surface, a triangular
+/// patch, or any kind registered in [`registry`]) behind the one interface.
+pub struct ObjectGeometry(Box<dyn ObjectKind>);
+
+impl Clone for ObjectGeometry {
+    fn clone(&self) -> Self {
+        Self(self.0.clone_kind())
+    }
+}
+
+impl PartialEq for ObjectGeometry {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.equals(other.0.as_ref())
+    }
+}
+
+impl std::fmt::Debug for ObjectGeometry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
 }
 
 /// What an object feeds the GPU evaluator: rational Bézier patches over one point pool, each
@@ -113,69 +124,59 @@ impl Decomposition {
 }
 
 impl ObjectGeometry {
-    /// The object's kind behind the one interface (the only place that looks at the variant).
+    /// An object of kind `kind`.
+    pub fn new(kind: impl ObjectKind) -> Self {
+        Self(Box::new(kind))
+    }
+
+    /// An object of a boxed kind.
+    pub fn boxed<K: ObjectKind>(kind: Box<K>) -> Self {
+        Self(kind)
+    }
+
+    /// The object's kind behind the one interface.
     pub fn kind(&self) -> &dyn ObjectKind {
-        match self {
-            ObjectGeometry::Patches(set) => set,
-            ObjectGeometry::Nurbs(surface) => surface,
-            ObjectGeometry::Mesh(mesh) => mesh,
-            ObjectGeometry::Subdivision(surface) => surface.as_ref(),
-            ObjectGeometry::Trimmed(surface) => surface.as_ref(),
-            ObjectGeometry::Triangle(patch) => patch.as_ref(),
-        }
+        self.0.as_ref()
     }
 
     /// [`Self::kind`], mutable.
     pub fn kind_mut(&mut self) -> &mut dyn ObjectKind {
-        match self {
-            ObjectGeometry::Patches(set) => set,
-            ObjectGeometry::Nurbs(surface) => surface,
-            ObjectGeometry::Mesh(mesh) => mesh,
-            ObjectGeometry::Subdivision(surface) => surface.as_mut(),
-            ObjectGeometry::Trimmed(surface) => surface.as_mut(),
-            ObjectGeometry::Triangle(patch) => patch.as_mut(),
-        }
+        self.0.as_mut()
     }
 
-    /// A trimmed surface as geometry: [`Self::Nurbs`] when it has no loops.
+    /// The kind as the concrete type `K`, where it is one (for what only that kind offers,
+    /// such as a subdivision surface's settings).
+    pub fn downcast_ref<K: ObjectKind>(&self) -> Option<&K> {
+        self.0.as_any().downcast_ref()
+    }
+
+    /// [`Self::downcast_ref`], mutable.
+    pub fn downcast_mut<K: ObjectKind>(&mut self) -> Option<&mut K> {
+        self.0.as_any_mut().downcast_mut()
+    }
+
+    /// A trimmed surface as geometry: a plain NURBS surface when it has no loops.
     pub fn from_trimmed(trimmed: TrimmedSurface) -> Self {
         if trimmed.is_trimmed() {
-            ObjectGeometry::Trimmed(Box::new(trimmed))
+            Self::new(trimmed)
         } else {
-            ObjectGeometry::Nurbs(trimmed.surface().clone())
+            Self::new(trimmed.surface().clone())
         }
     }
 
-    /// The NURBS surface of a NURBS or trimmed object, with its loops (none for [`Self::Nurbs`]).
+    /// The NURBS surface of a NURBS or trimmed object, with its loops ([`ObjectKind::as_trimmed`]).
     pub fn as_trimmed(&self) -> Option<TrimmedSurface> {
-        match self {
-            ObjectGeometry::Nurbs(s) => Some(TrimmedSurface::untrimmed(s.clone())),
-            ObjectGeometry::Trimmed(t) => Some(t.as_ref().clone()),
-            _ => None,
-        }
+        self.kind().as_trimmed()
     }
 
-    /// The (u0, u1, v0, v1) a displacement's height map spans: a NURBS (or trimmed) surface's
-    /// domain, (0, 1)² for the patches of a patch set and for a triangular patch; `None` for
-    /// the kinds without a (u, v) domain (polygon meshes, subdivision surfaces).
+    /// The (u0, u1, v0, v1) a displacement's height map spans ([`ObjectKind::displacement_domain`]).
     pub fn displacement_domain(&self) -> Option<[f64; 4]> {
-        match self {
-            ObjectGeometry::Nurbs(_) | ObjectGeometry::Trimmed(_) => {
-                let [(u0, u1), (v0, v1)] = self.nurbs_surface()?.domain();
-                Some([u0, u1, v0, v1])
-            }
-            ObjectGeometry::Patches(_) | ObjectGeometry::Triangle(_) => Some([0.0, 1.0, 0.0, 1.0]),
-            ObjectGeometry::Mesh(_) | ObjectGeometry::Subdivision(_) => None,
-        }
+        self.kind().displacement_domain()
     }
 
-    /// The NURBS surface of a NURBS or trimmed object.
+    /// The NURBS surface of a NURBS or trimmed object ([`ObjectKind::nurbs_surface`]).
     pub fn nurbs_surface(&self) -> Option<&NurbsSurface> {
-        match self {
-            ObjectGeometry::Nurbs(s) => Some(s),
-            ObjectGeometry::Trimmed(t) => Some(t.surface()),
-            _ => None,
-        }
+        self.kind().nurbs_surface()
     }
 }
 

@@ -4,10 +4,12 @@
 
 use glam::{DAffine3, DVec3};
 
+use super::json::{self, FormatError, Geometry, NamedGeometry};
 use super::kind::KindFace;
-use super::{Decomposition, ObjectGeometry, ObjectKind};
+use super::registry::KindEntry;
+use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
-use crate::kernel::{Direction, GeometryError, NurbsSurface};
+use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};
 
 impl ObjectKind for NurbsSurface {
     fn kind_name(&self) -> &'static str {
@@ -158,7 +160,7 @@ impl ObjectKind for NurbsSurface {
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
-        NurbsSurface::transformed(self, transform).map(ObjectGeometry::Nurbs)
+        NurbsSurface::transformed(self, transform).map(ObjectGeometry::new)
     }
 
     fn bake_lattice(
@@ -167,12 +169,101 @@ impl ObjectKind for NurbsSurface {
         tolerance: f64,
     ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
         let (surface, baked) = super::ffd::bake_nurbs(self, lattice, tolerance)?;
-        Ok((ObjectGeometry::Nurbs(surface), baked))
+        Ok((ObjectGeometry::new(surface), baked))
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Nurbs(b) if same_net(self, b))
+        other
+            .downcast_ref::<NurbsSurface>()
+            .is_some_and(|b| same_net(self, b))
     }
+
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        Some([u0, u1, v0, v1])
+    }
+
+    fn nurbs_surface(&self) -> Option<&NurbsSurface> {
+        Some(self)
+    }
+
+    fn cage(&self) -> Option<&crate::kernel::PolygonMesh> {
+        None
+    }
+
+    fn record(&self) -> serde_json::Value {
+        surface_record(Geometry::Surface(self.clone()))
+    }
+}
+
+/// A NURBS surface's record, with its trim loops where it has them (knotwork's JSON for
+/// surfaces, [`super::json`], with homogeneous points so that a rational surface reads back
+/// bit for bit).
+pub(super) fn surface_record(geometry: Geometry) -> serde_json::Value {
+    json::object_value(
+        &NamedGeometry {
+            name: None,
+            geometry,
+        },
+        true,
+    )
+}
+
+/// NURBS surfaces, trimmed ones included (a record with `"trims"` reads as a trimmed surface).
+pub(super) const ENTRY: KindEntry = KindEntry {
+    record_type: "nurbs_surface",
+    read: read_record,
+    examples,
+};
+
+fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    match json::object_from_value(path, record)?.geometry {
+        Geometry::Surface(s) => Ok(ObjectGeometry::new(s)),
+        Geometry::TrimmedSurface(t) => Ok(ObjectGeometry::from_trimmed(t)),
+        Geometry::Curve(_) | Geometry::Trim(_) => Err(FormatError::new(
+            format!("{path}.type"),
+            "a curve is not a scene object: knotwork projects hold surfaces",
+        )),
+    }
+}
+
+/// A rational surface of degree (3, 2) on uneven knots (6 × 5 points, weights 0.4 to 1.6).
+fn example_surface() -> Result<NurbsSurface, GeometryError> {
+    let (nu, nv) = (6, 5);
+    let knots_u = vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.55, 1.0, 1.0, 1.0, 1.0];
+    let knots_v = vec![0.0, 0.0, 0.0, 0.4, 0.7, 1.0, 1.0, 1.0];
+    let mut points = Vec::with_capacity(nu * nv);
+    let mut weights = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (x, y) = (i as f64, j as f64);
+            points.push(DVec3::new(x, y, 0.6 * (1.3 * x).sin() * (0.9 * y).cos()));
+            weights.push(1.0 + 0.6 * (2.1 * x + 1.7 * y).sin());
+        }
+    }
+    NurbsSurface::new([3, 2], [knots_u, knots_v], [nu, nv], points, Some(weights))
+}
+
+/// The rational surface alone, and kept inside an ellipse about its domain's centre (patches
+/// outside culled, the ones it crosses trimmed per fragment).
+fn examples() -> Vec<SceneObject> {
+    let Ok(surface) = example_surface() else {
+        return Vec::new();
+    };
+    let mut plain = SceneObject::new("rational (3, 2)", ObjectGeometry::new(surface.clone()));
+    plain.segments = 7;
+    let ellipse = crate::kernel::trim::shapes::ellipse(
+        glam::DVec2::new(0.5, 0.5),
+        glam::DVec2::new(0.3, 0.35),
+    );
+    let trimmed = ellipse.and_then(|e| TrimmedSurface::new(surface, vec![e]));
+    let mut objects = vec![plain];
+    if let Ok(trimmed) = trimmed {
+        let mut object = SceneObject::new("trimmed (3, 2)", ObjectGeometry::from_trimmed(trimmed));
+        object.segments = 6;
+        objects.push(object);
+    }
+    objects
 }
 
 /// Whether two surfaces have the same degrees, knots and net size (so the same Bézier patch

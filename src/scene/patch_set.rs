@@ -2,11 +2,15 @@
 
 use glam::{DAffine3, DVec3};
 
+use serde::{Deserialize, Serialize};
+
+use super::json::{self, FormatError};
 use super::kind::KindFace;
-use super::{Decomposition, ObjectGeometry, ObjectKind};
+use super::registry::{self, KindEntry};
+use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
-use crate::kernel::{BezierPatchSet, GeometryError};
+use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, MAX_BEZIER_DEGREE};
 
 impl ObjectKind for BezierPatchSet {
     fn kind_name(&self) -> &'static str {
@@ -103,7 +107,7 @@ impl ObjectKind for BezierPatchSet {
     }
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
-        BezierPatchSet::transformed(self, transform).map(ObjectGeometry::Patches)
+        BezierPatchSet::transformed(self, transform).map(ObjectGeometry::new)
     }
 
     fn bake_lattice(
@@ -112,11 +116,105 @@ impl ObjectKind for BezierPatchSet {
         tolerance: f64,
     ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
         let (set, baked) = super::ffd::bake_patch_set(self, lattice, tolerance)?;
-        Ok((ObjectGeometry::Patches(set), baked))
+        Ok((ObjectGeometry::new(set), baked))
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Patches(b)
-            if self.patches() == b.patches() && self.points().len() == b.points().len())
+        other.downcast_ref::<BezierPatchSet>().is_some_and(|b| {
+            self.patches() == b.patches() && self.points().len() == b.points().len()
+        })
     }
+
+    /// Every patch's own (0, 1)²: each patch carries the whole height map.
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        Some([0.0, 1.0, 0.0, 1.0])
+    }
+
+    fn nurbs_surface(&self) -> Option<&crate::kernel::NurbsSurface> {
+        None
+    }
+
+    fn cage(&self) -> Option<&crate::kernel::PolygonMesh> {
+        None
+    }
+
+    fn record(&self) -> serde_json::Value {
+        registry::to_record(&PatchesRecord {
+            kind: ENTRY.record_type.into(),
+            points: self
+                .points()
+                .iter()
+                .zip(self.weights())
+                .map(|(p, &w)| vec![p.x, p.y, p.z, w])
+                .collect(),
+            patches: self
+                .patches()
+                .iter()
+                .map(|p| PatchRecord {
+                    degree: [p.degree_u(), p.degree_v()],
+                    indices: p.indices().to_vec(),
+                })
+                .collect(),
+        })
+    }
+}
+
+/// One patch of a set: its degrees and the indices of its (du + 1)(dv + 1) points.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatchRecord {
+    degree: [usize; 2],
+    indices: Vec<u32>,
+}
+
+/// A set of Bézier patches: the shared points `[x, y, z, w]` (Cartesian, w optional) and the
+/// patches.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatchesRecord {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<Vec<f64>>,
+    patches: Vec<PatchRecord>,
+}
+
+pub(super) const ENTRY: KindEntry = KindEntry {
+    record_type: "bezier_patches",
+    read: read_record,
+    examples,
+};
+
+fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    let raw: PatchesRecord = registry::deserialize(path, record)?;
+    let (cartesian, weights) = json::curve_points(path, &raw.points, 3)?;
+    let points = cartesian
+        .iter()
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect();
+    let mut patches = Vec::with_capacity(raw.patches.len());
+    for (k, patch) in raw.patches.into_iter().enumerate() {
+        let [du, dv] = patch.degree;
+        if !(1..=MAX_BEZIER_DEGREE).contains(&du) || !(1..=MAX_BEZIER_DEGREE).contains(&dv) {
+            return Err(FormatError::new(
+                format!("{path}.patches[{k}].degree"),
+                format!("degree ({du}, {dv}) is outside 1..={MAX_BEZIER_DEGREE}"),
+            ));
+        }
+        patches.push(BezierPatch::new(du, dv, patch.indices));
+    }
+    BezierPatchSet::new(points, Some(weights), patches)
+        .map(ObjectGeometry::new)
+        .map_err(|e| FormatError::geometry(path, e))
+}
+
+/// The Utah teapot (32 bicubic patches over shared points).
+fn examples() -> Vec<SceneObject> {
+    crate::kernel::samples::utah_teapot()
+        .map(|set| {
+            let mut teapot = SceneObject::new("teapot", ObjectGeometry::new(set));
+            teapot.segments = 6;
+            teapot
+        })
+        .into_iter()
+        .collect()
 }

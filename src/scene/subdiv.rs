@@ -8,16 +8,22 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{DAffine3, DVec3};
 
+use serde::{Deserialize, Serialize};
+
+use super::json::FormatError;
 use super::kind::KindFace;
-use super::{Decomposition, ObjectGeometry, ObjectKind};
+use super::registry::{self, KindEntry};
+use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
 use crate::kernel::subdiv::display::DisplayMesh;
 use crate::kernel::subdiv::patches::{Display, LimitFeed, boundary_bspline_grid};
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
-use crate::kernel::subdiv::{Scheme, SubdivisionSurface};
+use crate::kernel::subdiv::{
+    Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
+};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
-use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError};
+use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, PolygonMesh};
 
 /// The topology-only part of the GPU feed, shared by every copy of the object until its
 /// topology, sharpness, rules, level or display change.
@@ -668,7 +674,7 @@ impl ObjectKind for SubdivObject {
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
         let mut moved = Self::new(self.surface.transformed(transform)?, self.display);
         moved.tolerance = self.tolerance;
-        Ok(ObjectGeometry::Subdivision(Box::new(moved)))
+        Ok(ObjectGeometry::new(moved))
     }
 
     /// The adaptive display chooses its depths again for the points the cage has now.
@@ -676,7 +682,7 @@ impl ObjectKind for SubdivObject {
         (self.display == Display::Adaptive && self.surface.level() > 0).then(|| {
             let mut fresh = Self::new(self.surface.clone(), self.display);
             fresh.tolerance = self.tolerance;
-            ObjectGeometry::Subdivision(Box::new(fresh))
+            ObjectGeometry::new(fresh)
         })
     }
 
@@ -688,12 +694,12 @@ impl ObjectKind for SubdivObject {
         let (surface, baked) = super::ffd::bake_cage(&self.surface, lattice, tolerance)?;
         let mut moved = Self::new(surface, self.display);
         moved.tolerance = self.tolerance;
-        Ok((ObjectGeometry::Subdivision(Box::new(moved)), baked))
+        Ok((ObjectGeometry::new(moved), baked))
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Subdivision(b)
-            if b.display == self.display
+        other.downcast_ref::<SubdivObject>().is_some_and(|b| {
+            b.display == self.display
                 && b.tolerance == self.tolerance
                 && (self.display != Display::Adaptive
                     || matches!((self.adaptive_layout(), b.adaptive_layout()),
@@ -703,6 +709,150 @@ impl ObjectKind for SubdivObject {
                 && b.surface.creases() == self.surface.creases()
                 && b.surface.corners() == self.surface.corners()
                 && b.surface.points().len() == self.surface.points().len()
-                && b.surface.mesh().faces().eq(self.surface.mesh().faces()))
+                && b.surface.mesh().faces().eq(self.surface.mesh().faces())
+        })
     }
+
+    /// No one (u, v) domain: the limit surface is a patchwork over the cage's faces.
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        None
+    }
+
+    fn nurbs_surface(&self) -> Option<&crate::kernel::NurbsSurface> {
+        None
+    }
+
+    fn cage(&self) -> Option<&PolygonMesh> {
+        Some(self.surface.mesh())
+    }
+
+    fn record(&self) -> serde_json::Value {
+        let surface = &self.surface;
+        registry::to_record(&CageRecord {
+            kind: ENTRY.record_type.into(),
+            points: registry::point_records(surface.points()),
+            faces: surface.mesh().faces().map(<[u32]>::to_vec).collect(),
+            creases: surface
+                .creases()
+                .iter()
+                .map(|c| (c.a, c.b, c.sharpness))
+                .collect(),
+            corners: surface
+                .corners()
+                .iter()
+                .map(|c| (c.vertex, c.sharpness))
+                .collect(),
+            scheme: surface.options.scheme,
+            boundary: surface.options.boundary,
+            creasing: surface.options.creasing,
+            level: surface.level(),
+            display: self.display,
+            tolerance: (self.display == Display::Adaptive).then_some(self.tolerance),
+        })
+    }
+}
+
+/// A subdivision surface: its cage, creases `[a, b, sharpness]`, corners `[vertex, sharpness]`,
+/// rules, level, display and (the adaptive display's) flatness tolerance.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CageRecord {
+    #[serde(rename = "type")]
+    kind: String,
+    points: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
+    #[serde(default)]
+    creases: Vec<(u32, u32, f64)>,
+    #[serde(default)]
+    corners: Vec<(u32, f64)>,
+    #[serde(default)]
+    scheme: Scheme,
+    #[serde(default)]
+    boundary: Boundary,
+    #[serde(default)]
+    creasing: Creasing,
+    #[serde(default)]
+    level: u32,
+    #[serde(default)]
+    display: Display,
+    /// A fraction of the cage's diagonal; written only for the adaptive display.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tolerance: Option<f64>,
+}
+
+pub(super) const ENTRY: KindEntry = KindEntry {
+    record_type: "subdivision_surface",
+    read: read_record,
+    examples,
+};
+
+fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    let raw: CageRecord = registry::deserialize(path, record)?;
+    let geometry = |e| FormatError::geometry(path, e);
+    let points = registry::points_of(&raw.points);
+    let mesh = PolygonMesh::new(points, &raw.faces).map_err(geometry)?;
+    let creases = raw
+        .creases
+        .iter()
+        .map(|&(a, b, sharpness)| Crease { a, b, sharpness })
+        .collect();
+    let corners = raw
+        .corners
+        .iter()
+        .map(|&(vertex, sharpness)| Corner { vertex, sharpness })
+        .collect();
+    let options = Options {
+        scheme: raw.scheme,
+        boundary: raw.boundary,
+        creasing: raw.creasing,
+    };
+    let surface =
+        SubdivisionSurface::new(mesh, creases, corners, options, raw.level).map_err(geometry)?;
+    let object = SubdivObject::checked(surface, raw.display).map_err(geometry)?;
+    match raw.tolerance {
+        Some(tolerance) => object.with_tolerance_checked(tolerance).map_err(geometry),
+        None => Ok(object),
+    }
+    .map(ObjectGeometry::new)
+}
+
+/// A 6 × 6 cage at level 2: its inner faces are bicubic patches, the rest (the boundary, a
+/// crease, a pair of triangles) limit stencils.
+fn examples() -> Vec<SceneObject> {
+    let m = 6;
+    let points: Vec<DVec3> = (0..m * m)
+        .map(|k| {
+            let (i, j) = ((k / m) as f64, (k % m) as f64);
+            DVec3::new(i, j, 0.3 * (i * 0.9).sin() * j.cos())
+        })
+        .collect();
+    let id = |i: usize, j: usize| (i * m + j) as u32;
+    let mut faces = Vec::new();
+    for i in 0..m - 1 {
+        for j in 0..m - 1 {
+            if (i, j) == (4, 4) {
+                faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                faces.push(vec![id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            } else {
+                faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    let crease = Crease {
+        a: id(1, 1),
+        b: id(1, 2),
+        sharpness: 1.5,
+    };
+    PolygonMesh::new(points, &faces)
+        .and_then(|mesh| {
+            SubdivisionSurface::new(mesh, vec![crease], Vec::new(), Options::default(), 2)
+        })
+        .map(|surface| {
+            SceneObject::new(
+                "subdivision cage",
+                ObjectGeometry::new(SubdivObject::from(surface)),
+            )
+        })
+        .into_iter()
+        .collect()
 }

@@ -9,8 +9,12 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
+use serde::{Deserialize, Serialize};
+
+use super::json::FormatError;
 use super::kind::KindFace;
-use super::{Decomposition, ObjectGeometry, ObjectKind};
+use super::registry::{self, KindEntry};
+use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::subdiv::patches::{LimitFeed, StencilPatch};
 use crate::kernel::tess::{MAX_SPAN_SEGMENTS, Tessellation, TriangleMesh};
@@ -226,7 +230,7 @@ impl ObjectKind for TriangleBezier {
 
     fn transformed(&self, transform: &DAffine3) -> Result<ObjectGeometry, GeometryError> {
         let moved = self.mapped(|p| transform.transform_point3(p))?;
-        Ok(ObjectGeometry::Triangle(Box::new(moved)))
+        Ok(ObjectGeometry::new(moved))
     }
 
     fn bake_lattice(
@@ -235,10 +239,75 @@ impl ObjectKind for TriangleBezier {
         tolerance: f64,
     ) -> Result<(ObjectGeometry, crate::kernel::ffd::Baked), GeometryError> {
         let (patch, baked) = super::ffd::bake_triangle(self, lattice, tolerance)?;
-        Ok((ObjectGeometry::Triangle(Box::new(patch)), baked))
+        Ok((ObjectGeometry::new(patch), baked))
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        matches!(other, ObjectGeometry::Triangle(b) if b.degree() == self.degree())
+        other
+            .downcast_ref::<TriangleBezier>()
+            .is_some_and(|b| b.degree() == self.degree())
     }
+
+    /// (0, 1)², of which the patch covers the triangle u + v ≤ 1.
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        Some([0.0, 1.0, 0.0, 1.0])
+    }
+
+    fn nurbs_surface(&self) -> Option<&crate::kernel::NurbsSurface> {
+        None
+    }
+
+    fn cage(&self) -> Option<&crate::kernel::PolygonMesh> {
+        None
+    }
+
+    fn record(&self) -> serde_json::Value {
+        registry::to_record(&TriangleRecord {
+            kind: ENTRY.record_type.into(),
+            degree: self.degree(),
+            points: registry::point_records(self.points()),
+        })
+    }
+}
+
+/// A triangular Bézier patch: its degree and (n + 1)(n + 2)/2 points, row by row (row j holds
+/// b_ij for i = 0..=n − j, k = n − i − j).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TriangleRecord {
+    #[serde(rename = "type")]
+    kind: String,
+    degree: usize,
+    points: Vec<[f64; 3]>,
+}
+
+pub(super) const ENTRY: KindEntry = KindEntry {
+    record_type: "triangular_bezier",
+    read: read_record,
+    examples,
+};
+
+fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
+    let raw: TriangleRecord = registry::deserialize(path, record)?;
+    let points = registry::points_of(&raw.points);
+    TriangleBezier::new(raw.degree, points)
+        .map(ObjectGeometry::new)
+        .map_err(|e| FormatError::geometry(path, e))
+}
+
+/// A quartic dome over the triangle (0, 0), (2, 0), (0, 2): height 12 u v w plus a tilt.
+fn examples() -> Vec<SceneObject> {
+    let n = 4;
+    let mut points = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n - j {
+            let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+            let w = 1.0 - u - v;
+            points.push(DVec3::new(2.0 * u, 2.0 * v, 12.0 * u * v * w + 0.2 * u));
+        }
+    }
+    TriangleBezier::new(n, points)
+        .map(|patch| SceneObject::new("triangular dome", ObjectGeometry::new(patch)))
+        .into_iter()
+        .collect()
 }

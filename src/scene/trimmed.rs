@@ -128,11 +128,30 @@ impl ObjectKind for TrimmedSurface {
     }
 
     fn same_layout(&self, other: &ObjectGeometry) -> bool {
-        match other {
-            ObjectGeometry::Trimmed(b) => {
-                super::nurbs::same_net(self.surface(), b.surface()) && self.loops() == b.loops()
-            }
-            _ => false,
-        }
+        other.downcast_ref::<TrimmedSurface>().is_some_and(|b| {
+            super::nurbs::same_net(self.surface(), b.surface()) && self.loops() == b.loops()
+        })
+    }
+
+    /// The surface's domain: the height map spans it, trimmed or not.
+    fn displacement_domain(&self) -> Option<[f64; 4]> {
+        self.surface().displacement_domain()
+    }
+
+    fn nurbs_surface(&self) -> Option<&NurbsSurface> {
+        Some(self.surface())
+    }
+
+    fn as_trimmed(&self) -> Option<TrimmedSurface> {
+        Some(self.clone())
+    }
+
+    fn cage(&self) -> Option<&crate::kernel::PolygonMesh> {
+        None
+    }
+
+    /// A `nurbs_surface` record with `"trims"` (read back by the NURBS surface's entry).
+    fn record(&self) -> serde_json::Value {
+        super::nurbs::surface_record(super::json::Geometry::TrimmedSurface(self.clone()))
     }
 }

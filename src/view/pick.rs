@@ -425,7 +425,7 @@ mod tests {
     #[test]
     fn a_click_on_a_sphere_reports_its_parameters_and_point() {
         let sphere = crate::kernel::construct::sphere(DVec3::ZERO, 2.0).unwrap();
-        let object = SceneObject::new("ball", ObjectGeometry::Nurbs(sphere.clone()));
+        let object = SceneObject::new("ball", ObjectGeometry::new(sphere.clone()));
         let d = object.decompose().unwrap();
         let origin = DVec3::new(0.3, 10.0, 0.4);
         let hit = pick_surface(&[(&d, true)], origin, DVec3::NEG_Y).unwrap();

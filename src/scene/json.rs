@@ -45,7 +45,7 @@ pub struct FormatError {
 }
 
 impl FormatError {
-    pub(crate) fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
         Self {
             path: path.into(),
             message: message.into(),
@@ -54,7 +54,7 @@ impl FormatError {
 
     /// A kernel error about the object at `path`: its location inside the object (for example
     /// `knots[0][3]`) joins the path, the rest is the message.
-    pub(crate) fn geometry(path: &str, error: GeometryError) -> Self {
+    pub fn geometry(path: &str, error: GeometryError) -> Self {
         match error.location() {
             Some(at) => Self::new(join(path, at.as_str()), error.detail()),
             None => Self::new(path, error.to_string()),
@@ -274,9 +274,9 @@ fn curve_from<P: CurvePoint>(path: &str, raw: RawCurve) -> Result<NurbsCurve<P>,
         .map_err(|e| FormatError::geometry(path, e))
 }
 
-pub(crate) type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
+pub type PointsAndWeights = (Vec<Vec<f64>>, Vec<f64>);
 
-pub(crate) fn curve_points(
+pub fn curve_points(
     path: &str,
     points: &[Vec<f64>],
     dim: usize,
@@ -297,7 +297,7 @@ pub(crate) fn curve_points(
     Ok((cartesian, weights))
 }
 
-pub(crate) fn serde_error(
+pub fn serde_error(
     prefix: &str,
     error: serde_path_to_error::Error<serde_json::Error>,
 ) -> FormatError {
