@@ -290,6 +290,19 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
     assert_eq!(layout(&doc), before);
     doc.redo().unwrap();
     assert_eq!(layout(&doc), after);
+
+    // The same move as a command (a file, a script, a test) ends where the drag ended: the
+    // depths chosen afresh, the document equal.
+    let dragged = doc.scene.clone();
+    doc.undo().unwrap();
+    let target = doc.scene.objects[0].control_points()[7] + DVec3::new(-0.4, 0.3, -1.6);
+    doc.execute(&knotwork::doc::Command::MovePoints {
+        object: 0,
+        moves: vec![(7, target)],
+    })
+    .unwrap();
+    assert_eq!(layout(&doc), after);
+    assert_eq!(doc.scene, dragged);
 }
 
 #[test]

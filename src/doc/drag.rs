@@ -110,18 +110,9 @@ impl Document {
         let linked = drag.linked();
         let mut patches = BTreeSet::new();
         for index in std::iter::once(object).chain(linked.iter().copied()) {
-            let target = &mut self.scene.objects[index];
-            for &(k, p) in moves {
-                let support =
-                    target
-                        .move_control_point(k, p)
-                        .map_err(|source| EditError::Geometry {
-                            name: target.name.clone(),
-                            source,
-                        })?;
-                if index == object {
-                    patches.extend(support);
-                }
+            let support = move_points_of(&mut self.scene.objects[index], moves)?;
+            if index == object {
+                patches.extend(support);
             }
         }
         Ok(PointsMoved {
@@ -202,6 +193,26 @@ impl Document {
             }
         }
     }
+}
+
+/// Moves control points of one object (or its lattice's points) in place and returns the
+/// feed patches they support: the one way points move, for a drag step and for
+/// [`super::Command::MovePoints`] alike.
+pub(super) fn move_points_of(
+    target: &mut SceneObject,
+    moves: &[(usize, DVec3)],
+) -> Result<BTreeSet<usize>, EditError> {
+    let mut patches = BTreeSet::new();
+    for &(k, p) in moves {
+        let support = target
+            .move_control_point(k, p)
+            .map_err(|source| EditError::Geometry {
+                name: target.name.clone(),
+                source,
+            })?;
+        patches.extend(support);
+    }
+    Ok(patches)
 }
 
 #[cfg(test)]

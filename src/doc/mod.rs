@@ -595,16 +595,18 @@ fn plan(scene: &Scene, command: &Command) -> Result<Vec<Change>, EditError> {
             if moves.is_empty() {
                 return Err(EditError::NothingSelected { operation: "move" });
             }
-            // A shared lattice's points move in every object that shares it.
+            // A shared lattice's points move in every object that shares it; the moved object
+            // then works out again what depends on its shape, as a drag does when it ends.
             let targets = scene.linked_lattices(*k);
             let mut changes = Vec::with_capacity(targets.len());
             for index in targets {
                 let object = &scene.objects[index];
                 let mut after = object.clone();
-                for &(point, position) in moves {
-                    after
-                        .move_control_point(point, position)
-                        .map_err(geometry_error(object))?;
+                drag::move_points_of(&mut after, moves)?;
+                if index == *k
+                    && let Some(geometry) = after.kind().resettled()
+                {
+                    after.geometry = geometry;
                 }
                 changes.push(Change::Replace {
                     index,
