@@ -3,6 +3,7 @@
 //! result as an egui image beside a control panel.
 
 mod analysis;
+mod command;
 mod export;
 mod files;
 mod gizmo;
@@ -12,6 +13,7 @@ mod platform;
 mod trim;
 mod views;
 
+pub use command::{AppCommand, CommandQueue, CommandSender, DragStep, channel};
 pub use gizmo::{GizmoHandle, GizmoMode};
 pub use views::StandardView;
 
@@ -36,7 +38,7 @@ use crate::render::{
     ControlNet, Quality, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform,
 };
 use crate::scene::Scene;
-use crate::status::{self, AppStatus, ExternalCommand};
+use crate::status::{self, AppStatus};
 use crate::view::{
     Constraint, PickView, QUALITY_RANGE, ShadingMode, SurfaceHit, TOLERANCE_RANGE, ViewSettings,
 };
@@ -284,8 +286,6 @@ pub struct KnotworkApp {
     saved: Persistence,
     /// A modal message (title, text), e.g. a file that could not be opened.
     dialog: Option<(String, String)>,
-    /// Files picked or dropped, waiting to be opened (name, text).
-    incoming: files::Incoming,
     /// The camera, shading, ramp range, overlays and quality (saved with the project).
     view: ViewSettings,
     /// The automatic range of the current curvature mode (`None`: to be computed).
@@ -311,6 +311,9 @@ pub struct KnotworkApp {
     /// What the transform gizmo does, and its drag under way.
     gizmo_mode: GizmoMode,
     gizmo_drag: Option<gizmo::GizmoDrag>,
+    /// Requests from outside a frame (the page's script interface, tests, file tasks).
+    commands: CommandQueue,
+    sender: CommandSender,
 }
 
 impl KnotworkApp {
@@ -321,7 +324,8 @@ impl KnotworkApp {
         adapter_label: Option<String>,
         restore: bool,
     ) -> Self {
-        status::set_repaint_context(&cc.egui_ctx);
+        let (sender, commands) = channel();
+        commands.connect(&cc.egui_ctx);
         cc.egui_ctx.set_theme(egui::Theme::Dark);
         let mut status = AppStatus {
             quality: 1.0,
@@ -379,7 +383,6 @@ impl KnotworkApp {
                 ..Persistence::default()
             },
             dialog: None,
-            incoming: files::Incoming::default(),
             auto_range: None,
             continuous: false,
             view: ViewSettings {
@@ -399,6 +402,8 @@ impl KnotworkApp {
             camera_move: None,
             gizmo_mode: GizmoMode::Move,
             gizmo_drag: None,
+            commands,
+            sender,
         };
         let restored = if restore {
             app.restore_autosave(cc.storage)
@@ -426,12 +431,12 @@ impl KnotworkApp {
         self
     }
 
-    /// The open document (scene and history).
     /// The camera, shading and overlays.
     pub fn view(&self) -> &ViewSettings {
         &self.view
     }
 
+    /// The open document (scene and history).
     pub fn document(&self) -> &Document {
         &self.doc
     }
@@ -480,10 +485,10 @@ impl KnotworkApp {
         match crate::kernel::ffd::Lattice::around(lo, hi, degrees) {
             Ok(lattice) => {
                 self.selection.points.clear();
-                self.execute(Command::SetLattice {
+                self.apply(AppCommand::Edit(Command::SetLattice {
                     objects: objects.to_vec(),
                     lattice: Some(lattice.with_group(group)),
-                });
+                }));
             }
             Err(e) => self.status.error = Some(e.to_string()),
         }
@@ -494,7 +499,7 @@ impl KnotworkApp {
     fn set_linked_lattice(&mut self, object: usize, lattice: Option<crate::kernel::ffd::Lattice>) {
         let objects = self.scene().linked_lattices(object);
         self.selection.points.clear();
-        self.execute(Command::SetLattice { objects, lattice });
+        self.apply(AppCommand::Edit(Command::SetLattice { objects, lattice }));
     }
 
     /// Bakes object `object`'s lattice into it; the notice says whether exactly or refitted.
@@ -636,7 +641,7 @@ impl KnotworkApp {
         {
             return;
         }
-        self.execute(Command::SetAllSegments { segments });
+        self.apply(AppCommand::Edit(Command::SetAllSegments { segments }));
     }
 
     /// Switches between the view-adaptive tessellation (`tolerance_px` of error on screen) and
@@ -901,7 +906,10 @@ impl KnotworkApp {
                 .creases
                 .push(crate::kernel::subdiv::Crease { a, b, sharpness });
         }
-        self.execute(Command::SetSubdivision { object, settings });
+        self.apply(AppCommand::Edit(Command::SetSubdivision {
+            object,
+            settings,
+        }));
     }
 
     /// Shows subdivision surface `object` as `display` (and with flatness tolerance
@@ -919,91 +927,10 @@ impl KnotworkApp {
         if let Some(t) = tolerance {
             settings.tolerance = t;
         }
-        self.execute(Command::SetSubdivision { object, settings });
-    }
-
-    fn apply(&mut self, command: ExternalCommand) {
-        match command {
-            ExternalCommand::SetSegments(n) => self.set_all_segments(n),
-            ExternalCommand::SetQuality(q) => self.set_quality(q),
-            ExternalCommand::SetTessellation {
-                adaptive,
-                tolerance_px,
-            } => self.set_tessellation(adaptive, tolerance_px),
-            ExternalCommand::SetShading(mode) => self.set_shading(mode),
-            ExternalCommand::SetView(view) => self.set_standard_view(view),
-            ExternalCommand::SetGizmo(mode) => {
-                self.gizmo_mode = mode;
-                self.redraw = true;
-            }
-            ExternalCommand::SetOrthographic(on) => {
-                if self.view.camera.orthographic != on {
-                    self.toggle_orthographic();
-                }
-            }
-            ExternalCommand::SetAnalysis(analysis) => {
-                self.view.analysis = analysis;
-                self.redraw = true;
-            }
-            ExternalCommand::SetRange(range) => self.set_manual_range(range),
-            ExternalCommand::Select(s) => self.select(s),
-            ExternalCommand::MoveControlPoint {
-                object,
-                index,
-                position,
-            } => self.move_points(object, &[(index, DVec3::from(position))]),
-            ExternalCommand::SetCrease {
-                object,
-                a,
-                b,
-                sharpness,
-            } => self.set_crease(object, a, b, sharpness),
-            ExternalCommand::SetSubdivisionDisplay {
-                object,
-                display,
-                tolerance,
-            } => self.set_subdivision_display(object, display, tolerance),
-            ExternalCommand::SetDisplacement {
-                object,
-                displacement,
-            } => self.execute(Command::SetDisplacement {
-                object,
-                displacement,
-            }),
-            ExternalCommand::SetLattice { objects, degrees } => match degrees {
-                Some(degrees) => self.add_lattice(&objects, degrees),
-                None => {
-                    if let Some(&first) = objects.first() {
-                        self.set_linked_lattice(first, None);
-                    }
-                }
-            },
-            ExternalCommand::ApplyLattice { object, tolerance } => {
-                self.apply_lattice(object, tolerance)
-            }
-            ExternalCommand::SetTrimTool(name) => self.set_trim_tool(&name),
-            ExternalCommand::TrimCircle {
-                object,
-                center,
-                radius,
-                keep_inside,
-            } => self.trim_circle(object, center, radius, keep_inside),
-            ExternalCommand::SetContinuous(on) => self.continuous = on,
-            ExternalCommand::FrameModel => self.frame_pending = true,
-            ExternalCommand::Undo => self.step_history(false),
-            ExternalCommand::Redo => self.step_history(true),
-            ExternalCommand::SelectPoints(points) => {
-                let count = self
-                    .selection
-                    .object
-                    .map_or(0, |s| self.doc.scene.objects[s].control_point_count());
-                self.selection.points = points.into_iter().filter(|&k| k < count).collect();
-                self.update_net();
-            }
-            ExternalCommand::Open { name, bytes } => self.open_file(&name, &bytes),
-            ExternalCommand::NewDocument => self.new_document(),
-        }
-        self.redraw = true;
+        self.apply(AppCommand::Edit(Command::SetSubdivision {
+            object,
+            settings,
+        }));
     }
 
     fn set_manual_range(&mut self, range: Option<(f64, f64)>) {
@@ -1208,11 +1135,11 @@ impl eframe::App for KnotworkApp {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        for command in status::take_commands() {
+        for command in self.commands.drain() {
             self.apply(command);
         }
         let ctx = ui.ctx().clone();
-        self.take_incoming(&ctx);
+        self.take_dropped(&ctx);
         self.trim_keys(&ctx);
         self.handle_shortcuts(&ctx);
         self.view_shortcuts(&ctx);

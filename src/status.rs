@@ -1,5 +1,5 @@
 //! The editor's state as the outside sees it — `window.knotwork.status()` in the page, a log line
-//! on the desktop — and commands the outside can send in (`window.knotwork.setSegments(n)`).
+//! on the desktop. Requests go the other way as [`crate::app::AppCommand`]s.
 
 use std::sync::Mutex;
 
@@ -130,106 +130,16 @@ impl AppStatus {
     }
 }
 
-/// Requests from outside the UI (page scripts, tests).
-#[derive(Debug, Clone, PartialEq)]
-pub enum ExternalCommand {
-    /// Segments per Bézier span edge for every object.
-    SetSegments(u32),
-    /// The global quality factor (multiplies every object's segments).
-    SetQuality(f32),
-    /// View-adaptive (with the tolerated error in pixels) or fixed tessellation.
-    SetTessellation {
-        adaptive: bool,
-        tolerance_px: f32,
-    },
-    SetShading(crate::view::ShadingMode),
-    /// Turns the camera to a standard view.
-    SetView(crate::app::StandardView),
-    SetOrthographic(bool),
-    SetGizmo(crate::app::GizmoMode),
-    /// The analysis modes' settings (checked by the sender).
-    SetAnalysis(crate::view::AnalysisSettings),
-    /// A manual colour range, or `None` for the automatic one.
-    SetRange(Option<(f64, f64)>),
-    Select(Option<usize>),
-    /// Moves control point `index` of `object` (see `scene::SceneObject::control_points`).
-    MoveControlPoint {
-        object: usize,
-        index: usize,
-        position: [f64; 3],
-    },
-    /// Redraw every frame (for frame-rate measurements) or only on change.
-    SetContinuous(bool),
-    FrameModel,
-    Undo,
-    Redo,
-    /// Selects control points of the selected object.
-    SelectPoints(Vec<usize>),
-    /// Opens a file's bytes (as if the file `name` were opened): a project, a glTF, an OBJ.
-    Open {
-        name: String,
-        bytes: Vec<u8>,
-    },
-    /// Starts again from the sample scene.
-    NewDocument,
-    /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
-    /// `object` (0 removes the crease).
-    SetCrease {
-        object: usize,
-        a: u32,
-        b: u32,
-        sharpness: f64,
-    },
-    /// Shows subdivision surface `object` as `display`, with the adaptive display's flatness
-    /// tolerance where given.
-    SetSubdivisionDisplay {
-        object: usize,
-        display: crate::kernel::subdiv::patches::Display,
-        tolerance: Option<f64>,
-    },
-    /// Sets (or with `None` removes) an object's displacement along the normal (checked by the
-    /// document).
-    SetDisplacement {
-        object: usize,
-        displacement: Option<crate::kernel::displace::Displacement>,
-    },
-    /// Puts one lattice of these degrees around objects (`None` releases the lattice of the
-    /// first and of the objects sharing it).
-    SetLattice {
-        objects: Vec<usize>,
-        degrees: Option<[usize; 3]>,
-    },
-    /// Bakes an object's lattice into it (tolerance: a share of its size, for a refit).
-    ApplyLattice {
-        object: usize,
-        tolerance: f64,
-    },
-    /// Chooses the trim tool by name ("circle", "rectangle", "hexagon", "polyline", "curve"; any
-    /// other name: none) for the selected NURBS surface.
-    SetTrimTool(String),
-    /// Adds a circular trim loop to a NURBS surface (a hole unless `keep_inside`).
-    TrimCircle {
-        object: usize,
-        center: [f64; 2],
-        radius: f64,
-        keep_inside: bool,
-    },
-}
-
 struct Shared {
     status: Option<AppStatus>,
     handles: Vec<Option<[f32; 2]>>,
     project: String,
-    commands: Vec<ExternalCommand>,
-    repaint: Option<eframe::egui::Context>,
 }
 
 static SHARED: Mutex<Shared> = Mutex::new(Shared {
     status: None,
     handles: Vec::new(),
     project: String::new(),
-    commands: Vec::new(),
-    repaint: None,
 });
 
 fn with_shared<R>(f: impl FnOnce(&mut Shared) -> R) -> R {
@@ -280,30 +190,4 @@ pub fn publish_error(message: String) {
 /// The latest published status (a default one with no backend before the editor runs).
 pub fn current() -> AppStatus {
     with_shared(|s| s.status.clone().unwrap_or_default())
-}
-
-/// Lets [`send`] wake the UI.
-pub fn set_repaint_context(ctx: &eframe::egui::Context) {
-    with_shared(|s| s.repaint = Some(ctx.clone()));
-}
-
-/// The editor's egui context, to wake it from outside a frame.
-pub fn repaint_context() -> Option<eframe::egui::Context> {
-    with_shared(|s| s.repaint.clone())
-}
-
-/// Queues a command for the editor and asks for a frame to process it.
-pub fn send(command: ExternalCommand) {
-    let ctx = with_shared(|s| {
-        s.commands.push(command);
-        s.repaint.clone()
-    });
-    if let Some(ctx) = ctx {
-        ctx.request_repaint();
-    }
-}
-
-/// Takes the queued commands.
-pub fn take_commands() -> Vec<ExternalCommand> {
-    with_shared(|s| std::mem::take(&mut s.commands))
 }

@@ -5,12 +5,24 @@ use std::cell::RefCell;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use crate::app::{KnotworkApp, wgpu_configuration};
-use crate::status::{self, ExternalCommand};
+use crate::app::{AppCommand, CommandQueue, CommandSender, KnotworkApp, wgpu_configuration};
+use crate::doc::Command;
+use crate::status;
 use crate::view::ShadingMode;
 
 thread_local! {
     static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
+    /// The page's end of the editor's command channel, and the editor's end until it starts
+    /// (what the page sends before then waits in the channel).
+    static COMMANDS: (CommandSender, RefCell<Option<CommandQueue>>) = {
+        let (sender, queue) = crate::app::channel();
+        (sender, RefCell::new(Some(queue)))
+    };
+}
+
+/// Sends the editor one request from the page.
+fn send(command: AppCommand) {
+    COMMANDS.with(|(sender, _)| sender.send(command));
 }
 
 /// Starts the editor on the canvas with id `canvas_id`. `adapter_label` is the page's
@@ -30,11 +42,20 @@ pub async fn start(canvas_id: String, adapter_label: String) -> Result<(), JsVal
         ..Default::default()
     };
     let runner = eframe::WebRunner::new();
+    let (sender, queue) =
+        COMMANDS.with(|(sender, queue)| (sender.clone(), queue.borrow_mut().take()));
     let result = runner
         .start(
             canvas,
             options,
-            Box::new(move |cc| Ok(Box::new(KnotworkApp::new(cc, Some(adapter_label), true)))),
+            Box::new(move |cc| {
+                let app = KnotworkApp::new(cc, Some(adapter_label), true);
+                // A second start (a hot reload) keeps the channel the first one took.
+                Ok(Box::new(match queue {
+                    Some(queue) => app.with_commands(queue, sender),
+                    None => app,
+                }))
+            }),
         )
         .await;
     if let Err(e) = &result {
@@ -63,20 +84,20 @@ pub fn status_json() -> String {
 /// Re-tessellates every object at `segments` per Bézier span edge (errors show in the status).
 #[wasm_bindgen]
 pub fn set_segments(segments: u32) {
-    status::send(ExternalCommand::SetSegments(segments));
+    send(AppCommand::SetSegments(segments));
 }
 
 /// Sets the global quality factor (0.25..=4) on every object's segments.
 #[wasm_bindgen]
 pub fn set_quality(quality: f32) {
-    status::send(ExternalCommand::SetQuality(quality));
+    send(AppCommand::SetQuality(quality));
 }
 
 /// Tessellates the patches for the view with `tolerance_px` pixels of error (adaptive), or at
 /// each object's fixed segments.
 #[wasm_bindgen]
 pub fn set_tessellation(adaptive: bool, tolerance_px: f32) {
-    status::send(ExternalCommand::SetTessellation {
+    send(AppCommand::SetTessellation {
         adaptive,
         tolerance_px,
     });
@@ -88,7 +109,7 @@ pub fn set_tessellation(adaptive: bool, tolerance_px: f32) {
 pub fn set_shading(mode: String) -> bool {
     match ShadingMode::from_name(&mode) {
         Some(mode) => {
-            status::send(ExternalCommand::SetShading(mode));
+            send(AppCommand::SetShading(mode));
             true
         }
         None => false,
@@ -104,7 +125,7 @@ pub fn set_analysis(json: String) -> Result<(), String> {
     let analysis: crate::view::AnalysisSettings =
         serde_json::from_str(&json).map_err(|e| e.to_string())?;
     analysis.validate()?;
-    status::send(ExternalCommand::SetAnalysis(analysis));
+    send(AppCommand::SetAnalysis(analysis));
     Ok(())
 }
 
@@ -114,7 +135,7 @@ pub fn set_analysis(json: String) -> Result<(), String> {
 pub fn set_view(name: String) -> bool {
     match crate::app::StandardView::from_name(&name) {
         Some(view) => {
-            status::send(ExternalCommand::SetView(view));
+            send(AppCommand::SetView(view));
             true
         }
         None => false,
@@ -127,7 +148,7 @@ pub fn set_view(name: String) -> bool {
 pub fn set_gizmo(mode: String) -> bool {
     match crate::app::GizmoMode::from_name(&mode) {
         Some(mode) => {
-            status::send(ExternalCommand::SetGizmo(mode));
+            send(AppCommand::SetGizmo(mode));
             true
         }
         None => false,
@@ -137,65 +158,93 @@ pub fn set_gizmo(mode: String) -> bool {
 /// Orthographic (true) or perspective (false) projection.
 #[wasm_bindgen]
 pub fn set_orthographic(on: bool) {
-    status::send(ExternalCommand::SetOrthographic(on));
+    send(AppCommand::SetOrthographic(on));
 }
 
 /// A manual colour range for the curvature modes.
 #[wasm_bindgen]
 pub fn set_range(low: f64, high: f64) {
-    status::send(ExternalCommand::SetRange(Some((low, high))));
+    send(AppCommand::SetRange(Some((low, high))));
 }
 
 /// Back to the automatic (robust percentile) colour range.
 #[wasm_bindgen]
 pub fn auto_range() {
-    status::send(ExternalCommand::SetRange(None));
+    send(AppCommand::SetRange(None));
 }
 
 /// Selects object `index` (negative: none).
 #[wasm_bindgen]
 pub fn select_object(index: i32) {
-    status::send(ExternalCommand::Select(usize::try_from(index).ok()));
+    send(AppCommand::Select(usize::try_from(index).ok()));
 }
 
 /// Moves control point `index` of `object` to (x, y, z).
 #[wasm_bindgen]
 pub fn move_control_point(object: u32, index: u32, x: f64, y: f64, z: f64) {
-    status::send(ExternalCommand::MoveControlPoint {
+    send(AppCommand::Edit(Command::MovePoints {
         object: object as usize,
-        index: index as usize,
-        position: [x, y, z],
-    });
+        moves: vec![(index as usize, glam::DVec3::new(x, y, z))],
+    }));
+}
+
+/// Starts dragging control points `points` of `object`, as the mouse does on their handles
+/// (errors show in the status).
+#[wasm_bindgen]
+pub fn begin_drag(object: u32, points: Vec<u32>) {
+    send(AppCommand::Drag(crate::app::DragStep::Begin {
+        object: object as usize,
+        points: points.into_iter().map(|p| p as usize).collect(),
+    }));
+}
+
+/// Moves the dragged points by (x, y, z) from where the drag started; only the Bézier patches
+/// they support are re-evaluated.
+#[wasm_bindgen]
+pub fn drag_by(x: f64, y: f64, z: f64) {
+    send(AppCommand::Drag(crate::app::DragStep::By(
+        glam::DVec3::new(x, y, z),
+    )));
+}
+
+/// Ends the drag as one undo step (`cancel`: puts the points back).
+#[wasm_bindgen]
+pub fn end_drag(cancel: bool) {
+    send(AppCommand::Drag(if cancel {
+        crate::app::DragStep::Cancel
+    } else {
+        crate::app::DragStep::End
+    }));
 }
 
 /// Redraws every frame (true) or only on change (false).
 #[wasm_bindgen]
 pub fn set_continuous(on: bool) {
-    status::send(ExternalCommand::SetContinuous(on));
+    send(AppCommand::SetContinuous(on));
 }
 
 /// Frames the model in the viewport.
 #[wasm_bindgen]
 pub fn frame_model() {
-    status::send(ExternalCommand::FrameModel);
+    send(AppCommand::FrameModel);
 }
 
 /// Undoes the newest step.
 #[wasm_bindgen]
 pub fn undo() {
-    status::send(ExternalCommand::Undo);
+    send(AppCommand::Undo);
 }
 
 /// Redoes the newest undone step.
 #[wasm_bindgen]
 pub fn redo() {
-    status::send(ExternalCommand::Redo);
+    send(AppCommand::Redo);
 }
 
 /// Selects control points of the selected object.
 #[wasm_bindgen]
 pub fn select_points(points: Vec<u32>) {
-    status::send(ExternalCommand::SelectPoints(
+    send(AppCommand::SelectPoints(
         points.into_iter().map(|p| p as usize).collect(),
     ));
 }
@@ -204,14 +253,14 @@ pub fn select_points(points: Vec<u32>) {
 /// (errors show in the page).
 #[wasm_bindgen]
 pub fn open_file(name: String, bytes: Vec<u8>) {
-    status::send(ExternalCommand::Open { name, bytes });
+    send(AppCommand::Open { name, bytes });
 }
 
 /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
 /// `object` (0 removes the crease; errors show in the status).
 #[wasm_bindgen]
 pub fn set_crease(object: u32, a: u32, b: u32, sharpness: f64) {
-    status::send(ExternalCommand::SetCrease {
+    send(AppCommand::SetCrease {
         object: object as usize,
         a,
         b,
@@ -228,7 +277,7 @@ pub fn set_subdivision_display(object: u32, display: String, tolerance: f64) -> 
     let Ok(display) = serde_json::from_value(serde_json::Value::String(display)) else {
         return false;
     };
-    status::send(ExternalCommand::SetSubdivisionDisplay {
+    send(AppCommand::SetSubdivisionDisplay {
         object: object as usize,
         display,
         tolerance: (!tolerance.is_nan()).then_some(tolerance),
@@ -254,10 +303,10 @@ pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency:
             Err(_) => return false,
         }
     };
-    status::send(ExternalCommand::SetDisplacement {
+    send(AppCommand::Edit(Command::SetDisplacement {
         object: object as usize,
         displacement,
-    });
+    }));
     true
 }
 
@@ -266,9 +315,9 @@ pub fn set_displacement(object: u32, pattern: String, amplitude: f64, frequency:
 /// any of them moves it for all). One undo step; errors in the status.
 #[wasm_bindgen]
 pub fn add_lattice(objects: Vec<u32>, l: u32, m: u32, n: u32) {
-    status::send(ExternalCommand::SetLattice {
+    send(AppCommand::AddLattice {
         objects: objects.into_iter().map(|o| o as usize).collect(),
-        degrees: Some([l, m, n].map(|d| d as usize)),
+        degrees: [l, m, n].map(|d| d as usize),
     });
 }
 
@@ -276,9 +325,8 @@ pub fn add_lattice(objects: Vec<u32>, l: u32, m: u32, n: u32) {
 /// undeformed again (one undo step).
 #[wasm_bindgen]
 pub fn release_lattice(object: u32) {
-    status::send(ExternalCommand::SetLattice {
-        objects: vec![object as usize],
-        degrees: None,
+    send(AppCommand::ReleaseLattice {
+        object: object as usize,
     });
 }
 
@@ -286,10 +334,10 @@ pub fn release_lattice(object: u32) {
 /// `tolerance` (a share of the object's size); the status's notice says which.
 #[wasm_bindgen]
 pub fn apply_lattice(object: u32, tolerance: f64) {
-    status::send(ExternalCommand::ApplyLattice {
+    send(AppCommand::Edit(Command::ApplyLattice {
         object: object as usize,
         tolerance,
-    });
+    }));
 }
 
 /// Displaces `object` along its normal by the PNG `png` (grey; tiled `frequency` × `frequency`
@@ -303,7 +351,7 @@ pub fn set_displacement_image(
     frequency: f64,
 ) -> Result<(), String> {
     let image = crate::io::height_image::decode_png(&png)?;
-    status::send(ExternalCommand::SetDisplacement {
+    send(AppCommand::Edit(Command::SetDisplacement {
         object: object as usize,
         displacement: Some(crate::kernel::displace::Displacement {
             pattern: crate::kernel::displace::Pattern::Image,
@@ -311,7 +359,7 @@ pub fn set_displacement_image(
             frequency,
             image: Some(std::sync::Arc::new(image)),
         }),
-    });
+    }));
     Ok(())
 }
 
@@ -319,25 +367,31 @@ pub fn set_displacement_image(
 /// "polyline", "curve", or "" for none; the next clicks on the surface draw the loop.
 #[wasm_bindgen]
 pub fn set_trim_tool(name: String) {
-    status::send(ExternalCommand::SetTrimTool(name));
+    send(AppCommand::SetTrimTool(name));
 }
 
 /// Adds a circular trim loop of (u, v) radius `r` around (u, v) to NURBS surface `object`: a
-/// hole, or with `keep_inside` the region kept (errors show in the status).
+/// hole, or with `keep_inside` the region kept. A radius that makes no circle is refused here;
+/// a loop the surface refuses (outside its domain, crossing another) in the status.
 #[wasm_bindgen]
-pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) {
-    status::send(ExternalCommand::TrimCircle {
+pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) -> Result<(), String> {
+    let curves =
+        crate::kernel::trim::shapes::ellipse(glam::DVec2::new(u, v), glam::DVec2::splat(r))
+            .map_err(|e| e.to_string())?;
+    send(AppCommand::Edit(Command::Trim {
         object: object as usize,
-        center: [u, v],
-        radius: r,
-        keep_inside,
-    });
+        edit: crate::doc::TrimEdit::Add {
+            curves,
+            keep_inside,
+        },
+    }));
+    Ok(())
 }
 
 /// Starts again from the sample scene.
 #[wasm_bindgen]
 pub fn new_document() {
-    status::send(ExternalCommand::NewDocument);
+    send(AppCommand::NewDocument);
 }
 
 /// Where the selected object's control points are on the page, as JSON `[[x, y] | null, ...]`

@@ -9,7 +9,8 @@
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use knotwork::app::{KnotworkApp, wgpu_configuration};
+use knotwork::app::{AppCommand, DragStep, KnotworkApp, wgpu_configuration};
+use knotwork::doc::Command;
 use knotwork::status;
 
 static ONE_EDITOR_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -349,9 +350,11 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
         .lock()
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
+    // What the page sends goes through the editor's command channel.
+    let page = harness.state().command_sender();
     // The locality of an edit is the fixed tessellation's (the adaptive one re-measures every
     // patch for the view after any change).
-    status::send(status::ExternalCommand::SetTessellation {
+    page.send(AppCommand::SetTessellation {
         adaptive: false,
         tolerance_px: 0.5,
     });
@@ -380,18 +383,17 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
 
     // 2. The page's moveControlPoint.
     let p = harness.state().document().scene.objects[SHEET].control_points()[index];
-    status::send(status::ExternalCommand::MoveControlPoint {
+    page.send(AppCommand::Edit(Command::MovePoints {
         object: SHEET,
-        index,
-        position: (p + glam::DVec3::new(0.0, 0.0, 0.25)).to_array(),
-    });
+        moves: vec![(index, p + glam::DVec3::new(0.0, 0.0, 0.25))],
+    }));
     harness.run_steps(2);
     let s = reevaluated_only(support, "page");
     assert_eq!(s.undo_steps, 2);
     assert_eq!(s.last_edit.as_deref(), Some("move 1 point(s)"));
 
     // 3. The panel's Move button (the selected point, by the panel's offset).
-    status::send(status::ExternalCommand::SelectPoints(vec![index]));
+    page.send(AppCommand::SelectPoints(vec![index]));
     harness.run_steps(1);
     harness
         .get_by_role_and_label(egui::accesskit::Role::Button, "Move")
@@ -399,6 +401,34 @@ fn the_drag_the_panel_and_the_page_take_one_path_and_re_evaluate_the_same_patche
     harness.run_steps(2);
     let s = reevaluated_only(support, "panel");
     assert_eq!(s.error, None);
+    let steps = s.undo_steps;
+
+    // 4. A script's drag: the same steps the mouse takes, as commands.
+    let before = harness.state().document().scene.objects[SHEET].control_points()[index];
+    page.send(AppCommand::Drag(DragStep::Begin {
+        object: SHEET,
+        points: vec![index],
+    }));
+    for k in 1..=3 {
+        page.send(AppCommand::Drag(DragStep::By(glam::DVec3::new(
+            0.0,
+            0.1 * f64::from(k),
+            0.0,
+        ))));
+        harness.run_steps(1);
+        assert!(status::current().dragging);
+        reevaluated_only(support, "script's drag step");
+    }
+    page.send(AppCommand::Drag(DragStep::End));
+    harness.run_steps(2);
+    let s = status::current();
+    assert!(!s.dragging);
+    assert_eq!((s.undo_steps, s.error.as_deref()), (steps + 1, None));
+    let after = harness.state().document().scene.objects[SHEET].control_points()[index];
+    assert!(
+        (after - before - glam::DVec3::new(0.0, 0.3, 0.0)).length() < 1e-12,
+        "{before} -> {after}"
+    );
 }
 
 /// An in-memory stand-in for eframe's storage.
@@ -431,11 +461,13 @@ fn closing_right_after_an_edit_writes_the_autosave() {
         .build_eframe(|cc| KnotworkApp::new(cc, None, true));
     harness.run_steps(3);
     let moved_to = [1.5, -2.0, 3.25];
-    status::send(status::ExternalCommand::MoveControlPoint {
-        object: SHEET,
-        index: 5,
-        position: moved_to,
-    });
+    harness
+        .state()
+        .command_sender()
+        .send(AppCommand::Edit(Command::MovePoints {
+            object: SHEET,
+            moves: vec![(5, glam::DVec3::from(moved_to))],
+        }));
     harness.run_steps(1);
     let s = status::current();
     assert!(
@@ -764,12 +796,13 @@ fn continuity_hair_and_table_cover_the_teapot() {
         .unwrap_or_else(|e| e.into_inner());
     let mut harness = editor();
     let before = picture(&mut harness);
-    status::send(status::ExternalCommand::SetAnalysis(
-        knotwork::view::AnalysisSettings {
+    harness
+        .state()
+        .command_sender()
+        .send(AppCommand::SetAnalysis(knotwork::view::AnalysisSettings {
             continuity: true,
             ..Default::default()
-        },
-    ));
+        }));
     harness.run_steps(4);
     let s = status::current();
     let c = s.continuity.expect("continuity is shown");

@@ -357,6 +357,23 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().patches_reevaluated === 8, null, { timeout: 30_000 });
       s = await status(page);
       assert(s.error === null, `error after the edit: ${s.error}`);
+      // A script's drag of the same point takes the mouse's path: each step re-evaluates the
+      // same 8 patches, and the end is one undo step.
+      const stepsBefore = s.undo_steps;
+      await page.evaluate(() => {
+        window.knotwork.beginDrag(3, [4 * 9 + 4]);
+        window.knotwork.dragBy([0, 0, 0.5]);
+      });
+      await page.waitForFunction(() => window.knotwork.status().dragging, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.patches_in_drag === 8 && s.error === null, `drag step: ${s.patches_in_drag} patches, ${s.error}`);
+      await page.evaluate(() => window.knotwork.endDrag());
+      await page.waitForFunction(() => !window.knotwork.status().dragging, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.undo_steps === stepsBefore + 1, `the drag is one undo step (${stepsBefore} -> ${s.undo_steps})`);
+      const dragged = (await page.evaluate(() => window.knotwork.project())).objects[3].points[4][4];
+      assert(Math.abs(dragged[0] - 1) < 1e-12 && Math.abs(dragged[1] - 5) < 1e-12 && Math.abs(dragged[2] - 3.5) < 1e-12,
+        `the dragged point went from (1, 5, 3) by (0, 0, 0.5) to ${JSON.stringify(dragged)}`);
       // A NaN coordinate is refused and changes nothing.
       await page.evaluate(() => window.knotwork.moveControlPoint(3, 0, [NaN, 0, 0]));
       await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });

@@ -4,11 +4,11 @@
 //! every format of [`crate::io::open`]: projects, knotwork's glTF exports (the embedded model),
 //! other glTF files' meshes and OBJ files.
 
-use std::sync::{Arc, Mutex};
-
 use eframe::egui;
 
-use super::{KnotworkApp, default_scene};
+use std::sync::Arc;
+
+use super::{AppCommand, KnotworkApp, default_scene};
 use crate::doc::Document;
 use crate::io::project::Project;
 
@@ -17,8 +17,14 @@ pub const AUTOSAVE_KEY: &str = "knotwork.project";
 /// Seconds of quiet after an edit before the autosave writes.
 const AUTOSAVE_DELAY: f64 = 0.5;
 
-/// Files picked (asynchronously on the web) or dropped, waiting to be opened: (name, bytes).
-pub type Incoming = Arc<Mutex<Vec<(String, Result<Vec<u8>, String>)>>>;
+/// The request for a file the browser read (or could not read) in the background.
+#[cfg(target_arch = "wasm32")]
+fn opened(name: String, bytes: Result<Vec<u8>, String>) -> AppCommand {
+    match bytes {
+        Ok(bytes) => AppCommand::Open { name, bytes },
+        Err(reason) => AppCommand::OpenFailed { name, reason },
+    }
+}
 
 /// A file with no directory to read companions from (a `.gltf`'s `.bin`).
 fn no_companions(name: &str) -> Result<Vec<u8>, String> {
@@ -43,7 +49,7 @@ impl KnotworkApp {
         self.open_result(name, project);
     }
 
-    fn open_failed(&mut self, name: &str, message: &str) {
+    pub(super) fn open_failed(&mut self, name: &str, message: &str) {
         self.dialog = Some((format!("Could not open {name}"), message.to_owned()));
         self.status.error = Some(format!("{name}: {message}"));
     }
@@ -143,8 +149,9 @@ impl KnotworkApp {
         self.saved.autosaved_revision = self.saved.revision;
     }
 
-    /// Files dropped on the window and files the web picker delivered.
-    pub(super) fn take_incoming(&mut self, ctx: &egui::Context) {
+    /// Opens files dropped on the window (the browser reads them in the background and sends
+    /// an [`AppCommand::Open`]).
+    pub(super) fn take_dropped(&mut self, ctx: &egui::Context) {
         let dropped = ctx.input(|i| i.raw.dropped_files.clone());
         for file in dropped {
             let name = file.path().display().to_string();
@@ -163,27 +170,11 @@ impl KnotworkApp {
             }
             #[cfg(target_arch = "wasm32")]
             {
-                let incoming = Arc::clone(&self.incoming);
+                let sender = self.command_sender();
                 wasm_bindgen_futures::spawn_local(async move {
                     let bytes = file.bytes_async().await;
-                    if let Ok(mut queue) = incoming.lock() {
-                        queue.push((name, bytes));
-                    }
-                    if let Some(ctx) = crate::status::repaint_context() {
-                        ctx.request_repaint();
-                    }
+                    sender.send(opened(name, bytes));
                 });
-            }
-        }
-        let picked: Vec<_> = self
-            .incoming
-            .lock()
-            .map(|mut q| std::mem::take(&mut *q))
-            .unwrap_or_default();
-        for (name, bytes) in picked {
-            match bytes {
-                Ok(bytes) => self.open_file(&name, &bytes),
-                Err(e) => self.open_failed(&name, &e),
             }
         }
     }
@@ -229,10 +220,10 @@ impl KnotworkApp {
                 .map_err(|e| e.to_string())
         });
         match displacement {
-            Ok(d) => self.execute(crate::doc::Command::SetDisplacement {
+            Ok(d) => self.apply(AppCommand::Edit(crate::doc::Command::SetDisplacement {
                 object: s,
                 displacement: Some(d),
-            }),
+            })),
             Err(e) => self.status.error = Some(format!("{name}: {e}")),
         }
     }
@@ -250,7 +241,7 @@ impl KnotworkApp {
             }
         }
         #[cfg(target_arch = "wasm32")]
-        self.pick_into_incoming(".png,image/png");
+        self.pick_in_browser(".png,image/png");
     }
 
     /// Shows the open dialog (desktop: blocking native dialog; web: the browser's picker).
@@ -266,7 +257,7 @@ impl KnotworkApp {
             }
         }
         #[cfg(target_arch = "wasm32")]
-        self.pick_into_incoming(&crate::io::formats::accept_list());
+        self.pick_in_browser(&crate::io::formats::accept_list());
     }
 
     /// Opens the file at `path`, or uses it as a height map if it is a PNG.
@@ -283,23 +274,16 @@ impl KnotworkApp {
         }
     }
 
-    /// The browser's picker (offering `accept`); the file arrives with the dropped ones.
+    /// The browser's picker (offering `accept`); the file arrives as an [`AppCommand::Open`].
     #[cfg(target_arch = "wasm32")]
-    fn pick_into_incoming(&mut self, accept: &str) {
+    fn pick_in_browser(&mut self, accept: &str) {
         let accept = accept.to_owned();
-        {
-            let incoming = Arc::clone(&self.incoming);
-            wasm_bindgen_futures::spawn_local(async move {
-                if let Some(file) = super::platform::pick_file(&accept).await {
-                    if let Ok(mut queue) = incoming.lock() {
-                        queue.push(file);
-                    }
-                    if let Some(ctx) = crate::status::repaint_context() {
-                        ctx.request_repaint();
-                    }
-                }
-            });
-        }
+        let sender = self.command_sender();
+        wasm_bindgen_futures::spawn_local(async move {
+            if let Some((name, bytes)) = super::platform::pick_file(&accept).await {
+                sender.send(opened(name, bytes));
+            }
+        });
     }
 
     /// Saves the project (desktop: a native save dialog; web: a download).

@@ -11,7 +11,7 @@
 use eframe::egui::{self, Color32, Pos2, Stroke};
 use glam::{DAffine3, DVec2, DVec3};
 
-use super::{DragHandle, KnotworkApp};
+use super::{AppCommand, DragHandle, DragStep, KnotworkApp};
 use crate::view::pick::{self, Constraint};
 
 /// What the gizmo does.
@@ -262,8 +262,11 @@ impl KnotworkApp {
         let Some(handle) = self.gizmo_handle_at(pivot, &parts, cursor) else {
             return false;
         };
-        if let Err(e) = self.doc.begin_drag(object, &points) {
-            self.status.error = Some(e.to_string());
+        self.apply(AppCommand::Drag(DragStep::Begin {
+            object,
+            points: points.clone(),
+        }));
+        if self.doc.drag().is_none() {
             return true;
         }
         let all = self.scene().objects[object].control_points();
@@ -358,14 +361,7 @@ impl KnotworkApp {
             .iter()
             .map(|&(k, x)| (k, transform.transform_point3(x)))
             .collect();
-        let result = self
-            .doc
-            .drag_to(&moves)
-            .map_err(|e| e.to_string())
-            .and_then(|moved| self.show_moved(&moved));
-        if let Err(e) = result {
-            self.status.error = Some(e);
-        }
+        self.apply(AppCommand::Drag(DragStep::To(moves)));
     }
 
     /// W / E / R: move, rotate, scale (not while dragging or typing).

@@ -10,7 +10,7 @@
 use eframe::egui;
 use glam::{DVec2, DVec3};
 
-use super::{DragHandle, KnotworkApp, PICK_RADIUS};
+use super::{AppCommand, DragHandle, DragStep, KnotworkApp, PICK_RADIUS};
 use crate::view::pick::{self, Constraint, Projected};
 
 impl KnotworkApp {
@@ -137,8 +137,8 @@ impl KnotworkApp {
             self.selection.points.insert(index);
         }
         let points: Vec<usize> = self.selection.points.iter().copied().collect();
-        if let Err(e) = self.doc.begin_drag(object, &points) {
-            self.status.error = Some(e.to_string());
+        self.apply(AppCommand::Drag(DragStep::Begin { object, points }));
+        if self.doc.drag().is_none() {
             return;
         }
         let anchor = self.doc.scene.objects[object].control_points()[index];
@@ -185,14 +185,7 @@ impl KnotworkApp {
         } else {
             self.status.snapped = None;
         }
-        let result = self
-            .doc
-            .drag_by(target - anchor)
-            .map_err(|e| e.to_string())
-            .and_then(|moved| self.show_moved(&moved));
-        if let Err(e) = result {
-            self.status.error = Some(e);
-        }
+        self.apply(AppCommand::Drag(DragStep::By(target - anchor)));
     }
 
     /// Where a dragged point snaps to under `cursor` (viewport pixels) and what it snapped to:
@@ -323,7 +316,7 @@ impl KnotworkApp {
         if self.drag.is_some() {
             self.drag_keys(ui);
             if ui.input(|i| i.key_pressed(egui::Key::Escape)) {
-                self.end_drag(true);
+                self.apply(AppCommand::Drag(DragStep::Cancel));
             } else if let Some(pos) = response.interact_pointer_pos()
                 && response.dragged_by(egui::PointerButton::Primary)
             {
@@ -335,7 +328,7 @@ impl KnotworkApp {
             }
         }
         if response.drag_stopped() {
-            self.end_drag(false);
+            self.apply(AppCommand::Drag(DragStep::End));
             if let (Some(start), Some(end)) = (
                 self.selection.box_start.take(),
                 response.interact_pointer_pos(),
@@ -396,9 +389,9 @@ impl KnotworkApp {
         if pressed(shortcut(command | Modifiers::SHIFT, Key::Z))
             || pressed(shortcut(command, Key::Y))
         {
-            self.step_history(true);
+            self.apply(AppCommand::Redo);
         } else if pressed(shortcut(command, Key::Z)) {
-            self.step_history(false);
+            self.apply(AppCommand::Undo);
         }
         if pressed(shortcut(command, Key::S)) {
             self.save_dialog();
@@ -415,7 +408,7 @@ impl KnotworkApp {
         if pressed(shortcut(command, Key::D))
             && let Some(object) = self.selection.object
         {
-            self.execute(crate::doc::Command::Duplicate { object });
+            self.apply(AppCommand::Edit(crate::doc::Command::Duplicate { object }));
         }
         if self.drag.is_none() {
             if pressed(shortcut(Modifiers::ALT, Key::A))
@@ -427,7 +420,7 @@ impl KnotworkApp {
             if pressed(shortcut(Modifiers::NONE, Key::Delete))
                 && let Some(object) = self.selection.object
             {
-                self.execute(crate::doc::Command::Delete { object });
+                self.apply(AppCommand::Edit(crate::doc::Command::Delete { object }));
             }
             if pressed(shortcut(Modifiers::NONE, Key::F)) {
                 self.frame_pending = true;

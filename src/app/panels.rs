@@ -5,7 +5,7 @@
 use eframe::egui;
 use glam::{DAffine3, DQuat, DVec3};
 
-use super::{KnotworkApp, SLIDER_SEGMENTS};
+use super::{AppCommand, KnotworkApp, SLIDER_SEGMENTS};
 use crate::doc::create::{Primitive, PrimitiveParams};
 use crate::doc::{Command, direction_name};
 use crate::gpu::records::CURVATURE_RAMP;
@@ -162,14 +162,14 @@ impl KnotworkApp {
                 .on_hover_text(undo.unwrap_or_default())
                 .clicked()
             {
-                self.step_history(false);
+                self.apply(AppCommand::Undo);
             }
             if ui
                 .add_enabled(redo.is_some(), egui::Button::new("Redo"))
                 .on_hover_text(redo.unwrap_or_default())
                 .clicked()
             {
-                self.step_history(true);
+                self.apply(AppCommand::Redo);
             }
             ui.label(
                 egui::RichText::new(format!(
@@ -223,7 +223,7 @@ impl KnotworkApp {
             });
         }
         if let Some((object, visible)) = visibility {
-            self.execute(Command::SetVisible { object, visible });
+            self.apply(AppCommand::Edit(Command::SetVisible { object, visible }));
         }
         if let Some(selection) = clicked {
             self.select(selection);
@@ -234,10 +234,10 @@ impl KnotworkApp {
         };
         ui.horizontal(|ui| {
             if ui.button("Duplicate").clicked() {
-                self.execute(Command::Duplicate { object: s });
+                self.apply(AppCommand::Edit(Command::Duplicate { object: s }));
             }
             if ui.button("Delete").clicked() {
-                self.execute(Command::Delete { object: s });
+                self.apply(AppCommand::Edit(Command::Delete { object: s }));
             }
         });
         ui.horizontal(|ui| {
@@ -248,7 +248,7 @@ impl KnotworkApp {
                 && self.panel.name != self.scene().objects[s].name
             {
                 let name = self.panel.name.clone();
-                self.execute(Command::Rename { object: s, name });
+                self.apply(AppCommand::Edit(Command::Rename { object: s, name }));
             }
         });
         ui.label(egui::RichText::new(self.scene().objects[s].describe()).weak());
@@ -256,10 +256,10 @@ impl KnotworkApp {
         ui.label("Segments per span");
         let response = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS).text("segments"));
         if response.changed() && segments != self.scene().objects[s].segments {
-            self.execute(Command::SetSegments {
+            self.apply(AppCommand::Edit(Command::SetSegments {
                 object: s,
                 segments,
-            });
+            }));
         }
         egui::CollapsingHeader::new("Transform object").show(ui, |ui| {
             ui.horizontal(|ui| {
@@ -292,10 +292,10 @@ impl KnotworkApp {
                         DVec3::ZERO,
                     )
                     * DAffine3::from_translation(-centre);
-                self.execute(Command::Transform {
+                self.apply(AppCommand::Edit(Command::Transform {
                     object: s,
                     transform,
-                });
+                }));
             }
         });
     }
@@ -353,7 +353,10 @@ impl KnotworkApp {
             }
         });
         if p != before {
-            self.move_points(s, &[(self.selection.edit_point, p)]);
+            self.apply(AppCommand::Edit(Command::MovePoints {
+                object: s,
+                moves: vec![(self.selection.edit_point, p)],
+            }));
         }
         ui.horizontal(|ui| {
             ui.label("Move selection by");
@@ -372,7 +375,7 @@ impl KnotworkApp {
                 .iter()
                 .map(|&k| (k, points[k] + delta))
                 .collect();
-            self.move_points(s, &moves);
+            self.apply(AppCommand::Edit(Command::MovePoints { object: s, moves }));
         }
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.snap, "Snap drags to grid");
@@ -424,11 +427,11 @@ impl KnotworkApp {
                     self.selection.points.iter().copied().collect()
                 };
                 let weight = self.panel.weight;
-                self.execute(Command::SetWeight {
+                self.apply(AppCommand::Edit(Command::SetWeight {
                     object: s,
                     points,
                     weight,
-                });
+                }));
             }
         });
         let Some(surface) = self.scene().objects[s].geometry.nurbs_surface() else {
@@ -545,7 +548,7 @@ impl KnotworkApp {
             }
         }
         if let Some(command) = command {
-            self.execute(command);
+            self.apply(AppCommand::Edit(command));
             self.panel.sync(
                 self.doc
                     .scene
@@ -622,7 +625,7 @@ impl KnotworkApp {
         if create {
             match self.panel.create.build() {
                 Ok(object) => {
-                    self.execute(Command::Add { object });
+                    self.apply(AppCommand::Edit(Command::Add { object }));
                     let last = self.scene().objects.len().checked_sub(1);
                     self.select(last);
                     self.panel.show_create = false;
@@ -923,10 +926,10 @@ impl KnotworkApp {
             return;
         }
         if after != before {
-            self.execute(Command::SetDisplacement {
+            self.apply(AppCommand::Edit(Command::SetDisplacement {
                 object: s,
                 displacement: after,
-            });
+            }));
         }
     }
 
@@ -1044,7 +1047,10 @@ impl KnotworkApp {
             self.lattice_also.clear();
             self.add_lattice(&objects, degrees);
         } else if apply {
-            self.apply_lattice(s, tolerance);
+            self.apply(AppCommand::Edit(Command::ApplyLattice {
+                object: s,
+                tolerance,
+            }));
         } else if let Some(lattice) = command {
             self.set_linked_lattice(s, lattice);
         }
@@ -1076,10 +1082,10 @@ impl KnotworkApp {
             .on_hover_text("one degree more, the same surface (more points to shape it with)")
             .clicked()
         {
-            self.execute(Command::ElevateDegree {
+            self.apply(AppCommand::Edit(Command::ElevateDegree {
                 object: s,
                 direction: crate::kernel::Direction::U,
-            });
+            }));
         }
     }
 
@@ -1107,10 +1113,10 @@ impl KnotworkApp {
                         creases: Vec::new(),
                         corners: Vec::new(),
                     };
-                    self.execute(Command::SetSubdivision {
+                    self.apply(AppCommand::Edit(Command::SetSubdivision {
                         object: s,
                         settings,
-                    });
+                    }));
                 }
                 return;
             }
@@ -1267,10 +1273,10 @@ impl KnotworkApp {
             settings.corners.len()
         ));
         if settings != before {
-            self.execute(Command::SetSubdivision {
+            self.apply(AppCommand::Edit(Command::SetSubdivision {
                 object: s,
                 settings,
-            });
+            }));
         }
     }
 

@@ -7,7 +7,7 @@
 use eframe::egui;
 use glam::DVec2;
 
-use super::KnotworkApp;
+use super::{AppCommand, KnotworkApp};
 use crate::doc::{Command, TrimEdit};
 use crate::kernel::trim::shapes;
 use crate::kernel::{Direction, GeometryError, TrimLoop, TrimmedSurface};
@@ -194,20 +194,6 @@ impl KnotworkApp {
         self.redraw = true;
     }
 
-    /// A circular loop around `center` (the page's script interface).
-    pub(super) fn trim_circle(&mut self, object: usize, center: [f64; 2], radius: f64, keep: bool) {
-        match shapes::ellipse(DVec2::from(center), DVec2::splat(radius)) {
-            Ok(curves) => self.execute(Command::Trim {
-                object,
-                edit: TrimEdit::Add {
-                    curves,
-                    keep_inside: keep,
-                },
-            }),
-            Err(e) => self.status.error = Some(e.to_string()),
-        }
-    }
-
     /// Turns the loop being drawn into a command (one undo step).
     pub(super) fn finish_trim(&mut self) {
         let Some(drawing) = self.trim_drawing.as_mut() else {
@@ -216,13 +202,13 @@ impl KnotworkApp {
         let points = std::mem::take(&mut drawing.points);
         let (tool, object) = (drawing.tool, drawing.object);
         match loop_from(tool, &points) {
-            Ok(curves) => self.execute(Command::Trim {
+            Ok(curves) => self.apply(AppCommand::Edit(Command::Trim {
                 object,
                 edit: TrimEdit::Add {
                     curves,
                     keep_inside: self.panel.trim_keep_inside,
                 },
-            }),
+            })),
             Err(e) => self.status.error = Some(e.to_string()),
         }
         self.redraw = true;
@@ -357,7 +343,7 @@ impl KnotworkApp {
             command = Some(edit);
         }
         if let Some(edit) = command {
-            self.execute(Command::Trim { object: s, edit });
+            self.apply(AppCommand::Edit(Command::Trim { object: s, edit }));
         }
     }
 
