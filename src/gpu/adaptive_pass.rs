@@ -19,7 +19,7 @@ use wgpu::util::DeviceExt;
 
 use super::adaptive::ScreenError;
 use super::async_readback::AsyncReadback;
-use super::patch_eval::{PatchEvaluator, PipelineKey};
+use super::pipelines::{PatchEvaluator, PipelineKey};
 use super::records::{AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE};
 
 /// Words of the arguments buffer (WGSL: `ARGS_*` in `shaders/eval_bezier.wgsl`).
@@ -74,33 +74,6 @@ pub struct AdaptiveTarget {
 }
 
 const STATS_BYTES: u64 = 32;
-
-/// The pipelines of the passes that are not specialized by degree (one set per device).
-pub struct AdaptivePipelines {
-    pub(super) levels: wgpu::ComputePipeline,
-    pub(super) scan: wgpu::ComputePipeline,
-    pub(super) triangles: wgpu::ComputePipeline,
-}
-
-impl AdaptivePipelines {
-    pub fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> Self {
-        let make = |label: &str, entry_point: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: None,
-                module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        Self {
-            levels: make("measure adaptive levels", "measure_levels"),
-            scan: make("place adaptive patches", "scan_levels"),
-            triangles: make("write adaptive triangles", "write_adaptive_triangles"),
-        }
-    }
-}
 
 /// One pipeline group's evaluation: the key of its specialized pipelines and where its
 /// dispatch lives.

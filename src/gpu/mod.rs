@@ -9,6 +9,7 @@ pub mod cpu_eval;
 pub mod error;
 pub mod packing;
 pub mod patch_eval;
+pub mod pipelines;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod point_eval;
 #[cfg(not(target_arch = "wasm32"))]
@@ -23,8 +24,7 @@ pub mod trim_buffer;
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use cpu_eval::CpuGeometry;
 pub use error::GpuError;
-pub use patch_eval::{
-    MAX_SEGMENTS, ObjectPatches, PatchBuffers, PatchEvaluator, PatchGeometry, SurfaceBuffers,
-};
+pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchBuffers, PatchGeometry, SurfaceBuffers};
+pub use pipelines::PatchEvaluator;
 pub use records::{PatchRecord, PointResult, PointSample, SceneUniform, SurfaceVertex};
 pub use scene_sync::{GeometryCounts, SceneSync, effective_segments, fit_to_device, has_compute};

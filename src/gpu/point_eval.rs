@@ -8,7 +8,8 @@
 use glam::{DVec3, Vec3};
 
 use super::error::GpuError;
-use super::patch_eval::{ObjectPatches, PatchEvaluator, PatchGeometry};
+use super::patch_eval::{ObjectPatches, PatchGeometry};
+use super::pipelines::PatchEvaluator;
 use super::records::{PointSample, VERTEX_IRREGULAR};
 use crate::kernel::diffgeo::{Curvature, FundamentalForms, SurfaceDerivatives};
 use crate::kernel::surface::LocalGeometry;

@@ -11,9 +11,8 @@
 use super::adaptive_pass::{AdaptiveStats, AdaptiveTarget};
 use super::cpu_eval::CpuGeometry;
 use super::error::GpuError;
-use super::patch_eval::{
-    MAX_SEGMENTS, ObjectPatches, PatchEvaluator, PatchGeometry, SurfaceBuffers, Tessellation,
-};
+use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchGeometry, SurfaceBuffers, Tessellation};
+use super::pipelines::PatchEvaluator;
 use crate::scene::change::{PointsMoved, Touched};
 use crate::scene::{Decomposition, Scene, SceneObject};
 

@@ -5,7 +5,8 @@
 use glam::DVec3;
 
 use super::error::GpuError;
-use super::patch_eval::{ObjectPatches, PatchEvaluator, PatchGeometry};
+use super::patch_eval::{ObjectPatches, PatchGeometry};
+use super::pipelines::PatchEvaluator;
 use crate::kernel::BezierPatchSet;
 use crate::kernel::subdiv::SubdivisionSurface;
 use crate::kernel::subdiv::patches::{Display, LimitFeed};
