@@ -619,3 +619,24 @@ fn trimmed_surfaces_export_valid_gltf_and_their_trims_reopen_exactly() {
         "{sphere_area}"
     );
 }
+
+/// An export whose objects together exceed the triangle limit is refused with the limit in the
+/// message, however small each object is; at a limit it fits under, the same export is written
+/// with the same count. (The page's limit is the 32-bit `MAX_TRIANGLES`, a fifth of the
+/// desktop's.)
+#[test]
+fn an_export_over_the_triangle_limit_is_refused_with_the_limit() {
+    let project = demo_project();
+    let opts = options(Tessellation::Segments(4));
+    let written = export::export(&project, &opts).unwrap();
+    let below = written.triangles - 1;
+    match export::export_within(&project, &opts, below) {
+        Err(e @ export::ExportError::TooManyTriangles { limit }) => {
+            assert_eq!(limit, below);
+            assert!(e.to_string().contains(&below.to_string()), "{e}");
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|e| e.triangles)),
+    }
+    let exact = export::export_within(&project, &opts, written.triangles).unwrap();
+    assert_eq!(exact.triangles, written.triangles);
+}

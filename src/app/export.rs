@@ -73,6 +73,10 @@ pub fn count_triangles(
             triangles += piece.triangles.len();
             vertices += piece.positions.len();
         }
+        let limit = crate::kernel::tess::MAX_TRIANGLES;
+        if triangles > limit {
+            return Err(gltf::ExportError::TooManyTriangles { limit }.to_string());
+        }
     }
     Ok((triangles, vertices))
 }

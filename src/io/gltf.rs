@@ -53,6 +53,11 @@ pub enum ExportError {
         "the export would need {bytes} bytes of buffer data; glTF buffers are limited to 4 GiB"
     )]
     TooLarge { bytes: usize },
+    #[error(
+        "the export would have more than {limit} triangles{where_}: choose a larger tolerance or fewer segments, or hide objects",
+        where_ = if usize::BITS < 64 { " (the most a page can hold; the desktop app exports up to 20,000,000)" } else { "" }
+    )]
+    TooManyTriangles { limit: usize },
 }
 
 /// Curvature colours for COLOR_0: the component (0 K, 1 H, 2 k1, 3 k2), the values at the
@@ -350,6 +355,16 @@ fn primitive(
 /// Tessellates every visible object of `project.scene` and builds the glTF document and
 /// buffer, with the project embedded in `scenes[0].extras.knotwork`.
 pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, ExportError> {
+    export_within(project, options, crate::kernel::tess::MAX_TRIANGLES)
+}
+
+/// [`export`], refused with [`ExportError::TooManyTriangles`] as soon as the objects
+/// tessellated so far have more than `max_triangles` triangles.
+pub fn export_within(
+    project: &Project,
+    options: &ExportOptions,
+    max_triangles: usize,
+) -> Result<Export, ExportError> {
     let visible: Vec<_> = project.scene.objects.iter().filter(|o| o.visible).collect();
     if visible.is_empty() {
         return Err(ExportError::NothingVisible);
@@ -393,6 +408,11 @@ pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, Expo
                 primitive(&mut builder, p, origin, material, options)
             })
             .collect();
+        if triangles > max_triangles {
+            return Err(ExportError::TooManyTriangles {
+                limit: max_triangles,
+            });
+        }
         if primitives.is_empty() {
             continue;
         }

@@ -32,8 +32,14 @@ pub enum Tessellation {
 
 /// The most segments a grid may have per span edge.
 pub const MAX_SPAN_SEGMENTS: usize = 4096;
-/// The most triangles one export may produce (about 1 GiB of f64 vertex data while building).
-pub const MAX_TRIANGLES: usize = 20_000_000;
+/// The most triangles one tessellation (and one export) may produce: about 1 GiB of f64 vertex
+/// data while building on a 64-bit machine. A 32-bit address space (the page's wasm32, where a
+/// failed allocation aborts) holds a fifth of that: at most about 250 MiB while building.
+pub const MAX_TRIANGLES: usize = if usize::BITS < 64 {
+    4_000_000
+} else {
+    20_000_000
+};
 
 /// Samples per span and direction for the second-derivative estimate.
 const DERIVATIVE_SAMPLES: usize = 5;
