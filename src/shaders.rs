@@ -14,8 +14,27 @@ pub const BEZIER: &str = include_str!("../shaders/bezier.wgsl");
 pub const ADAPTIVE: &str = include_str!("../shaders/adaptive.wgsl");
 /// Module: per-fragment trimming against the packed trim loops.
 pub const TRIM: &str = include_str!("../shaders/trim.wgsl");
-/// Compute: rational Bézier patch evaluation and triangle indices.
-pub const EVAL_BEZIER: &str = include_str!("../shaders/eval_bezier.wgsl");
+/// Lists the evaluator's part files once: [`EVAL_BEZIER`] joins them, [`EVAL_PARTS`] names them.
+macro_rules! evaluator_parts {
+    ($($file:literal),+ $(,)?) => {
+        /// Compute: the evaluator's body (rational Bézier patch evaluation into vertices and
+        /// triangle indices), its parts joined in order.
+        pub const EVAL_BEZIER: &str =
+            concat!($(include_str!(concat!("../shaders/", $file)), "\n"),+);
+        /// The evaluator's parts by file name, in the order [`EVAL_BEZIER`] joins them.
+        pub const EVAL_PARTS: &[(&str, &str)] =
+            &[$(($file, include_str!(concat!("../shaders/", $file)))),+];
+    };
+}
+
+// Patch evaluation and vertices, crack-free edges, the fixed grid, the view-adaptive passes.
+evaluator_parts!(
+    "eval_bezier.wgsl",
+    "eval_edges.wgsl",
+    "eval_grid.wgsl",
+    "eval_adaptive.wgsl",
+);
+
 /// Module: displacement along the normal (patterns, height images, the displaced normal).
 pub const DISPLACE: &str = include_str!("../shaders/displace.wgsl");
 /// Module: free-form deformation by a trivariate Bézier lattice (its map and derivatives).

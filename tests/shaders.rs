@@ -39,6 +39,7 @@ fn every_shader_file_is_registered_and_valid() {
         .iter()
         .map(|shader| shader.name.to_string())
         .chain(shaders::MODULES.iter().map(|(name, _)| name.to_string()))
+        .chain(shaders::EVAL_PARTS.iter().map(|(name, _)| name.to_string()))
         .collect();
     registered.insert("common.wgsl".to_owned());
     assert_eq!(
@@ -56,6 +57,13 @@ fn every_shader_file_is_registered_and_valid() {
     }
     for shader in shaders::PIPELINE_SHADERS {
         parse_and_validate(shader.name, &shaders::compose(&shader));
+    }
+    // The evaluator's parts are validated inside it: each is in its body, whole.
+    for (name, part) in shaders::EVAL_PARTS {
+        assert!(
+            shaders::EVAL_BEZIER_SHADER.body.contains(part),
+            "{name} is part of the evaluator"
+        );
     }
 }
 

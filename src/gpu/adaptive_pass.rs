@@ -1,4 +1,4 @@
-//! The view-adaptive tessellation on the GPU: the passes of `shaders/eval_bezier.wgsl` that
+//! The view-adaptive tessellation on the GPU: the passes of `shaders/eval_adaptive.wgsl` that
 //! measure every Bézier patch's levels for the current view ([`super::adaptive::ScreenError`]'s
 //! rule), place the patches in the vertex and index buffers by a prefix sum, and evaluate and
 //! triangulate them by indirect dispatches, with one indirect draw for the renderer. Nothing
@@ -22,7 +22,7 @@ use super::async_readback::AsyncReadback;
 use super::pipelines::{PatchEvaluator, PipelineKey};
 use super::records::{AdaptiveSlot, AdaptiveView, EVAL_WORKGROUP_SIZE};
 
-/// Words of the arguments buffer (WGSL: `ARGS_*` in `shaders/eval_bezier.wgsl`).
+/// Words of the arguments buffer (WGSL: `ARGS_*` in `shaders/eval_adaptive.wgsl`).
 pub const ADAPTIVE_ARGS_DRAW: u32 = 0;
 pub const ADAPTIVE_ARGS_TRIANGLES: u32 = 5;
 pub const ADAPTIVE_ARGS_STATS: u32 = 8;

@@ -256,7 +256,7 @@ fn substitute_vertices(
     Ok(())
 }
 
-/// The triangle indices of one record (`write_triangles` in `shaders/eval_bezier.wgsl`): two
+/// The triangle indices of one record (`write_triangles` in `shaders/eval_grid.wgsl`): two
 /// counter-clockwise triangles per grid quad, the lattice i + j ≤ n of a triangular stencil
 /// patch (unused corners degenerate), and on a patch a trim loop crosses, degenerate triangles
 /// where the triangle's centre (in the surface's domain) is trimmed away by `trims`.

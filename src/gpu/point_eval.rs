@@ -1,6 +1,6 @@
 //! Point evaluation on the GPU (`knotwork eval --backend gpu`): the surface is decomposed into
 //! its Bézier patches as for drawing, each (u, v) is mapped to a patch and its local (s, t), and
-//! the `evaluate_samples` entry of `shaders/eval_bezier.wgsl` computes point, derivatives,
+//! the `evaluate_samples` entry of `shaders/eval_grid.wgsl` computes point, derivatives,
 //! normal and curvature in f32. The derivatives are rescaled from (s, t) to the surface's own
 //! (u, v); the principal directions (a direction field, not a value the shaders store) are
 //! derived on the CPU from the GPU's derivatives and normal.
