@@ -310,6 +310,16 @@ impl KnotworkApp {
         if points.is_empty() {
             return;
         }
+        self.point_selection(ui, points.len());
+        self.point_position(ui, s, &points);
+        self.snap_settings(ui);
+        self.weight_editor(ui, s);
+        self.knots_and_degree(ui, s);
+    }
+
+    /// Which control points are selected (all, none, a row or column), and the one edited by
+    /// number (of `count`).
+    fn point_selection(&mut self, ui: &mut egui::Ui, count: usize) {
         ui.horizontal(|ui| {
             if ui.button("All").clicked() {
                 self.select_all_points();
@@ -336,11 +346,13 @@ impl KnotworkApp {
         ui.label(format!("{} selected", self.selection.points.len()));
         ui.horizontal(|ui| {
             ui.label("Point");
-            ui.add(
-                egui::DragValue::new(&mut self.selection.edit_point).range(0..=points.len() - 1),
-            );
+            ui.add(egui::DragValue::new(&mut self.selection.edit_point).range(0..=count - 1));
         });
-        self.selection.edit_point = self.selection.edit_point.min(points.len() - 1);
+        self.selection.edit_point = self.selection.edit_point.min(count - 1);
+    }
+
+    /// The edited point's coordinates, and moving the selection by an offset.
+    fn point_position(&mut self, ui: &mut egui::Ui, s: usize, points: &[DVec3]) {
         let mut p = points[self.selection.edit_point];
         let before = p;
         ui.horizontal(|ui| {
@@ -377,6 +389,10 @@ impl KnotworkApp {
                 .collect();
             self.apply(AppCommand::Edit(Command::MovePoints { object: s, moves }));
         }
+    }
+
+    /// Snapping of drags: to the grid (and its step), to points, to surfaces.
+    fn snap_settings(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.snap, "Snap drags to grid");
             ui.add(
@@ -398,6 +414,10 @@ impl KnotworkApp {
             ui.checkbox(&mut self.snap_points, "points");
             ui.checkbox(&mut self.snap_surface, "surfaces");
         });
+    }
+
+    /// The weight of the selected points (a rational surface results).
+    fn weight_editor(&mut self, ui: &mut egui::Ui, s: usize) {
         let weights = self.scene().objects[s].weights();
         ui.horizontal(|ui| {
             ui.label("Weight");
@@ -434,6 +454,11 @@ impl KnotworkApp {
                 }));
             }
         });
+    }
+
+    /// A NURBS surface's knots and degree: insert, remove, elevate, split, reverse, swap, and
+    /// the knot vectors as text.
+    fn knots_and_degree(&mut self, ui: &mut egui::Ui, s: usize) {
         let Some(surface) = self.scene().objects[s].geometry.nurbs_surface() else {
             ui.label(egui::RichText::new("knots and degree: a NURBS surface only").weak());
             return;
@@ -1100,24 +1125,7 @@ impl KnotworkApp {
             None if geometry.kind().cage().is_some() => {
                 ui.separator();
                 ui.label(egui::RichText::new("Subdivision").strong());
-                if ui
-                    .button("Subdivide")
-                    .on_hover_text("show the mesh as a Catmull-Clark surface, level 2")
-                    .clicked()
-                {
-                    let settings = SubdivSettings {
-                        options: Options::default(),
-                        level: 2,
-                        display: Display::Limit,
-                        tolerance: DEFAULT_TOLERANCE,
-                        creases: Vec::new(),
-                        corners: Vec::new(),
-                    };
-                    self.apply(AppCommand::Edit(Command::SetSubdivision {
-                        object: s,
-                        settings,
-                    }));
-                }
+                self.subdivide_button(ui, s);
                 return;
             }
             None => return,
@@ -1125,50 +1133,43 @@ impl KnotworkApp {
         ui.separator();
         ui.label(egui::RichText::new("Subdivision").strong());
         let mut settings = before.clone();
-        let options = &mut settings.options;
-        choice(
-            ui,
-            "scheme",
-            &mut options.scheme,
-            &[
-                (Scheme::CatmullClark, "Catmull-Clark"),
-                (Scheme::Loop, "Loop (triangles)"),
-                (Scheme::DooSabin, "Doo-Sabin"),
-                (Scheme::Sqrt3, "√3 Kobbelt (triangles)"),
-                (
-                    Scheme::Butterfly,
-                    "modified butterfly (triangles, interpolating)",
-                ),
-            ],
-        );
-        if !options.scheme.has_creases() {
-            ui.label(
-                egui::RichText::new(format!(
-                    "{} has no crease rules: creases and sharp points apply under \
-                     Catmull-Clark and Loop",
-                    options.scheme.label()
-                ))
-                .weak(),
-            );
+        subdivision_rules(ui, &mut settings.options);
+        self.subdivision_display(ui, s, &mut settings);
+        ui.add(egui::Slider::new(&mut settings.level, 0..=MAX_LEVEL).text("level"));
+        self.sharpness_editor(ui, &mut settings);
+        if settings != before {
+            self.apply(AppCommand::Edit(Command::SetSubdivision {
+                object: s,
+                settings,
+            }));
         }
-        choice(
-            ui,
-            "boundary",
-            &mut options.boundary,
-            &[
-                (Boundary::EdgeOnly, "edge only"),
-                (Boundary::EdgeAndCorner, "edge and corner"),
-            ],
-        );
-        choice(
-            ui,
-            "creasing",
-            &mut options.creasing,
-            &[
-                (Creasing::Uniform, "uniform"),
-                (Creasing::Chaikin, "Chaikin"),
-            ],
-        );
+    }
+
+    /// Turns polygon mesh `s` into a Catmull-Clark surface of level 2.
+    fn subdivide_button(&mut self, ui: &mut egui::Ui, s: usize) {
+        if ui
+            .button("Subdivide")
+            .on_hover_text("show the mesh as a Catmull-Clark surface, level 2")
+            .clicked()
+        {
+            let settings = SubdivSettings {
+                options: Options::default(),
+                level: 2,
+                display: Display::Limit,
+                tolerance: DEFAULT_TOLERANCE,
+                creases: Vec::new(),
+                corners: Vec::new(),
+            };
+            self.apply(AppCommand::Edit(Command::SetSubdivision {
+                object: s,
+                settings,
+            }));
+        }
+    }
+
+    /// The display (the limit, the refined mesh, a substitute the scheme has, the adaptive
+    /// limit and its tolerance) and what it means.
+    fn subdivision_display(&self, ui: &mut egui::Ui, s: usize, settings: &mut SubdivSettings) {
         // The efficient substitutes offered are those of the scheme they approximate.
         let mut displays = vec![
             (Display::Limit, "limit surface"),
@@ -1234,7 +1235,10 @@ impl KnotworkApp {
                 .weak(),
             );
         }
-        ui.add(egui::Slider::new(&mut settings.level, 0..=MAX_LEVEL).text("level"));
+    }
+
+    /// The sharpness of the selected edge (two points) or point (one).
+    fn sharpness_editor(&self, ui: &mut egui::Ui, settings: &mut SubdivSettings) {
         let points: Vec<u32> = self.selection.points.iter().map(|&p| p as u32).collect();
         match points[..] {
             [a, b] => {
@@ -1272,12 +1276,6 @@ impl KnotworkApp {
             settings.creases.len(),
             settings.corners.len()
         ));
-        if settings != before {
-            self.apply(AppCommand::Edit(Command::SetSubdivision {
-                object: s,
-                settings,
-            }));
-        }
     }
 
     pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
@@ -1501,4 +1499,51 @@ pub(super) fn choice<T: PartialEq + Copy>(
                 ui.selectable_value(value, option, text);
             }
         });
+}
+
+/// A subdivision surface's rules: the scheme, the boundary rule and the creasing method.
+fn subdivision_rules(ui: &mut egui::Ui, options: &mut Options) {
+    choice(
+        ui,
+        "scheme",
+        &mut options.scheme,
+        &[
+            (Scheme::CatmullClark, "Catmull-Clark"),
+            (Scheme::Loop, "Loop (triangles)"),
+            (Scheme::DooSabin, "Doo-Sabin"),
+            (Scheme::Sqrt3, "√3 Kobbelt (triangles)"),
+            (
+                Scheme::Butterfly,
+                "modified butterfly (triangles, interpolating)",
+            ),
+        ],
+    );
+    if !options.scheme.has_creases() {
+        ui.label(
+            egui::RichText::new(format!(
+                "{} has no crease rules: creases and sharp points apply under \
+                     Catmull-Clark and Loop",
+                options.scheme.label()
+            ))
+            .weak(),
+        );
+    }
+    choice(
+        ui,
+        "boundary",
+        &mut options.boundary,
+        &[
+            (Boundary::EdgeOnly, "edge only"),
+            (Boundary::EdgeAndCorner, "edge and corner"),
+        ],
+    );
+    choice(
+        ui,
+        "creasing",
+        &mut options.creasing,
+        &[
+            (Creasing::Uniform, "uniform"),
+            (Creasing::Chaikin, "Chaikin"),
+        ],
+    );
 }
