@@ -2,7 +2,7 @@
 //! for. Curve-based surfaces (revolve, extrude, loft, Coons, Gordon, sweep) use built-in
 //! profiles scaled by the parameters.
 
-use crate::kernel::subdiv::{SubdivisionSurface, cages};
+use crate::kernel::subdiv::{Scheme, SubdivisionSurface, cages};
 use std::f64::consts::TAU;
 
 use glam::DVec3;
@@ -162,199 +162,201 @@ pub const DEFAULT_CAGE_LEVEL: u32 = 3;
 impl PrimitiveParams {
     /// Builds the object, named after the primitive. Bad parameters give the kernel's error.
     pub fn build(&self) -> Result<SceneObject, GeometryError> {
-        let c = self.center;
-        let (s, h, r) = (self.size, self.height, self.ratio);
-        let cage = match self.kind {
-            Primitive::CageCube => Some(cages::cube(c, s)?),
-            Primitive::CageCylinder => Some(cages::cylinder(c, s, h, 8, 3)?),
-            Primitive::CageTorus => Some(cages::torus(c, s, s * r, 48, 32)?),
-            Primitive::CageGrid => Some(cages::grid(c, s, 8)?),
-            Primitive::CageIcosahedron => Some(cages::icosahedron(c, s)?),
-            _ => None,
+        let (c, s, h, r) = (self.center, self.size, self.height, self.ratio);
+        let nurbs = |surface: NurbsSurface| ObjectGeometry::new(surface);
+        let geometry = match self.kind {
+            Primitive::TriangleBezier => {
+                ObjectGeometry::boxed(Box::new(triangle_dome(c, s, r, self.degree[0])?))
+            }
+            Primitive::CageCube => subdivided(cages::cube(c, s)?, Scheme::CatmullClark)?,
+            Primitive::CageCylinder => {
+                subdivided(cages::cylinder(c, s, h, 8, 3)?, Scheme::CatmullClark)?
+            }
+            Primitive::CageTorus => {
+                subdivided(cages::torus(c, s, s * r, 48, 32)?, Scheme::CatmullClark)?
+            }
+            Primitive::CageGrid => subdivided(cages::grid(c, s, 8)?, Scheme::CatmullClark)?,
+            Primitive::CageIcosahedron => subdivided(cages::icosahedron(c, s)?, Scheme::Sqrt3)?,
+            Primitive::Plane => nurbs(construct::plane(
+                c - DVec3::new(s, s, 0.0) * 0.5,
+                DVec3::X * s,
+                DVec3::Y * s,
+            )?),
+            Primitive::Cylinder => nurbs(construct::cylinder(c, DVec3::Z * h, s)?),
+            Primitive::Cone => nurbs(construct::cone(c, DVec3::Z * h, s, s * r)?),
+            Primitive::Sphere => nurbs(construct::sphere(c, s)?),
+            Primitive::Torus => nurbs(construct::torus(c, DVec3::Z, s, s * r)?),
+            Primitive::Revolve => nurbs(self.revolved()?),
+            Primitive::Extrude => nurbs(self.extruded()?),
+            Primitive::Loft => nurbs(self.lofted()?),
+            Primitive::Coons => nurbs(self.coons()?),
+            Primitive::BicubicCoons => nurbs(self.bicubic_coons()?),
+            Primitive::Gordon => nurbs(self.gordon()?),
+            Primitive::Hermite => nurbs(self.hermite()?),
+            Primitive::Sweep => nurbs(self.swept()?),
+            Primitive::BezierPatch => nurbs(
+                construct::flat_bezier_patch(self.degree, s, s)?.transformed(
+                    &glam::DAffine3::from_translation(c - DVec3::new(s, s, 0.0) * 0.5),
+                )?,
+            ),
         };
-        if self.kind == Primitive::TriangleBezier {
-            return Ok(SceneObject::new(
-                "Triangular Bézier patch",
-                ObjectGeometry::boxed(Box::new(triangle_dome(c, s, r, self.degree[0])?)),
-            ));
-        }
-        if let Some(mesh) = cage {
-            let surface = if self.kind == Primitive::CageIcosahedron {
-                let options = crate::kernel::subdiv::Options {
-                    scheme: crate::kernel::subdiv::Scheme::Sqrt3,
-                    ..Default::default()
-                };
-                SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, DEFAULT_CAGE_LEVEL)?
-            } else {
-                SubdivisionSurface::from_mesh(mesh, DEFAULT_CAGE_LEVEL)?
-            };
-            let name = self.kind.label().split(" (").next().unwrap_or("Cage");
-            return Ok(SceneObject::new(
-                name,
-                ObjectGeometry::new(crate::scene::SubdivObject::from(surface)),
-            ));
-        }
-        let circle = |z: f64, radius: f64| {
-            construct::circle(c + DVec3::new(0.0, 0.0, z), DVec3::Z, DVec3::X, radius)
-        };
-        let surface: NurbsSurface = match self.kind {
-            Primitive::Plane => {
-                construct::plane(c - DVec3::new(s, s, 0.0) * 0.5, DVec3::X * s, DVec3::Y * s)?
-            }
-            Primitive::Cylinder => construct::cylinder(c, DVec3::Z * h, s)?,
-            Primitive::Cone => construct::cone(c, DVec3::Z * h, s, s * r)?,
-            Primitive::Sphere => construct::sphere(c, s)?,
-            Primitive::Torus => construct::torus(c, DVec3::Z, s, s * r)?,
-            Primitive::Revolve => {
-                let profile: Vec<DVec3> = [(1.0, 0.0), (0.6, 0.35), (0.9, 0.7), (0.5, 1.0)]
-                    .iter()
-                    .map(|&(x, z)| DVec3::new(x * s, 0.0, z * h))
-                    .collect();
-                let curve = construct::interpolate(&profile, 3)?;
-                construct::revolve(&curve, c, DVec3::Z, TAU)?
-            }
-            Primitive::Extrude => {
-                let wave: Vec<DVec3> = (0..6)
-                    .map(|k| {
-                        let x = k as f64 / 5.0;
-                        c + DVec3::new(x * s, 0.25 * s * (x * TAU).sin(), 0.0)
-                    })
-                    .collect();
-                construct::extrude(&construct::interpolate(&wave, 3)?, DVec3::Z * h)?
-            }
-            Primitive::Loft => {
-                let sections = [
-                    circle(0.0, s)?,
-                    circle(0.5 * h, s * r.max(0.05))?,
-                    circle(h, s)?,
-                ];
-                construct::loft(&sections, 2)?
-            }
-            Primitive::Coons => {
-                let edge = |a: DVec3, m: DVec3, b: DVec3| {
-                    construct::interpolate(&[c + a * s, c + m * s, c + b * s], 2)
-                };
-                construct::coons(
-                    &edge(
-                        DVec3::ZERO,
-                        DVec3::new(0.5, 0.0, r),
-                        DVec3::new(1.0, 0.0, 0.0),
-                    )?,
-                    &edge(
-                        DVec3::new(0.0, 1.0, 0.0),
-                        DVec3::new(0.5, 1.0, -r),
-                        DVec3::new(1.0, 1.0, 0.0),
-                    )?,
-                    &edge(
-                        DVec3::ZERO,
-                        DVec3::new(0.0, 0.5, r),
-                        DVec3::new(0.0, 1.0, 0.0),
-                    )?,
-                    &edge(
-                        DVec3::new(1.0, 0.0, 0.0),
-                        DVec3::new(1.0, 0.5, -r),
-                        DVec3::new(1.0, 1.0, 0.0),
-                    )?,
-                )?
-            }
-            Primitive::BicubicCoons => {
-                let hill = wavy_hill(c, s, r)?;
-                let side = |direction, value, order| hill.isocurve(direction, value, order);
-                let (u, v) = (Direction::U, Direction::V);
-                transfinite::bicubic_coons(
-                    [
-                        &side(v, 0.0, 0)?,
-                        &side(v, 1.0, 0)?,
-                        &side(u, 0.0, 0)?,
-                        &side(u, 1.0, 0)?,
-                    ],
-                    [
-                        &side(v, 0.0, 1)?,
-                        &side(v, 1.0, 1)?,
-                        &side(u, 0.0, 1)?,
-                        &side(u, 1.0, 1)?,
-                    ],
-                )?
-            }
-            Primitive::Gordon => {
-                let hill = wavy_hill(c, s, r)?;
-                let u_curves = [0.0, 0.3, 0.7, 1.0]
-                    .map(|v| hill.isocurve(Direction::V, v, 0))
-                    .into_iter()
-                    .collect::<Result<Vec<_>, _>>()?;
-                let v_curves = [0.0, 0.5, 1.0]
-                    .map(|u| hill.isocurve(Direction::U, u, 0))
-                    .into_iter()
-                    .collect::<Result<Vec<_>, _>>()?;
-                transfinite::gordon(&u_curves, &v_curves, 3)?
-            }
-            Primitive::Hermite => {
-                let corner = |x: f64, y: f64| c + DVec3::new((x - 0.5) * s, (y - 0.5) * s, 0.0);
-                let lift = DVec3::Z * (s * r * 3.0);
-                transfinite::hermite_patch(&HermiteData {
-                    points: [
-                        corner(0.0, 0.0),
-                        corner(1.0, 0.0),
-                        corner(0.0, 1.0),
-                        corner(1.0, 1.0),
-                    ],
-                    su: [
-                        DVec3::X * s + lift,
-                        DVec3::X * s - lift,
-                        DVec3::X * s - lift,
-                        DVec3::X * s + lift,
-                    ],
-                    sv: [
-                        DVec3::Y * s + lift,
-                        DVec3::Y * s + lift,
-                        DVec3::Y * s - lift,
-                        DVec3::Y * s - lift,
-                    ],
-                    twist: [DVec3::ZERO; 4],
-                })?
-            }
-            Primitive::Sweep => {
-                let profile = construct::circle(c, DVec3::X, DVec3::Y, s * r)?;
-                let rail_points: Vec<DVec3> = (0..5)
-                    .map(|k| {
-                        let t = k as f64 / 4.0 * std::f64::consts::PI;
-                        c + DVec3::new(0.0, s * (1.0 - t.cos()), h * t.sin() * 0.5)
-                    })
-                    .collect();
-                construct::sweep(&profile, &construct::interpolate(&rail_points, 3)?, 12)?
-            }
-            Primitive::BezierPatch => {
-                let flat = construct::flat_bezier_patch(self.degree, s, s)?;
-                flat.transformed(&glam::DAffine3::from_translation(
-                    c - DVec3::new(s, s, 0.0) * 0.5,
-                ))?
-            }
-            Primitive::TriangleBezier
-            | Primitive::CageCube
-            | Primitive::CageCylinder
-            | Primitive::CageTorus
-            | Primitive::CageGrid
-            | Primitive::CageIcosahedron => {
-                return Err(GeometryError::Construction {
-                    what: "cage",
-                    message: "built above".into(),
-                });
-            }
-        };
-        let name = match self.kind {
+        Ok(SceneObject::new(self.name(), geometry))
+    }
+
+    /// The new object's name: the primitive's, with a Bézier patch's degrees.
+    fn name(&self) -> String {
+        let label = self.kind.label();
+        match self.kind {
+            Primitive::TriangleBezier => "Triangular Bézier patch".to_owned(),
             Primitive::BezierPatch => {
                 format!("Bézier patch ({}, {})", self.degree[0], self.degree[1])
             }
-            Primitive::BicubicCoons => "Bicubic Coons".to_string(),
-            kind => kind
-                .label()
-                .split(' ')
-                .next()
-                .unwrap_or("Object")
-                .to_string(),
-        };
-        Ok(SceneObject::new(name, ObjectGeometry::new(surface)))
+            Primitive::BicubicCoons => "Bicubic Coons".to_owned(),
+            Primitive::CageCube
+            | Primitive::CageCylinder
+            | Primitive::CageTorus
+            | Primitive::CageGrid
+            | Primitive::CageIcosahedron => label.split(" (").next().unwrap_or("Cage").to_owned(),
+            _ => label.split(' ').next().unwrap_or("Object").to_owned(),
+        }
     }
+
+    /// A vase: an interpolated profile revolved a full turn about z (The NURBS Book A8.1).
+    fn revolved(&self) -> Result<NurbsSurface, GeometryError> {
+        let (s, h) = (self.size, self.height);
+        let profile: Vec<DVec3> = [(1.0, 0.0), (0.6, 0.35), (0.9, 0.7), (0.5, 1.0)]
+            .iter()
+            .map(|&(x, z)| DVec3::new(x * s, 0.0, z * h))
+            .collect();
+        let curve = construct::interpolate(&profile, 3)?;
+        construct::revolve(&curve, self.center, DVec3::Z, TAU)
+    }
+
+    /// A wave extruded along z.
+    fn extruded(&self) -> Result<NurbsSurface, GeometryError> {
+        let (c, s) = (self.center, self.size);
+        let wave: Vec<DVec3> = (0..6)
+            .map(|k| {
+                let x = k as f64 / 5.0;
+                c + DVec3::new(x * s, 0.25 * s * (x * TAU).sin(), 0.0)
+            })
+            .collect();
+        construct::extrude(&construct::interpolate(&wave, 3)?, DVec3::Z * self.height)
+    }
+
+    /// Three circles lofted, the middle one narrowed by the ratio.
+    fn lofted(&self) -> Result<NurbsSurface, GeometryError> {
+        let (c, s, h) = (self.center, self.size, self.height);
+        let circle = |z: f64, radius: f64| {
+            construct::circle(c + DVec3::new(0.0, 0.0, z), DVec3::Z, DVec3::X, radius)
+        };
+        let sections = [
+            circle(0.0, s)?,
+            circle(0.5 * h, s * self.ratio.max(0.05))?,
+            circle(h, s)?,
+        ];
+        construct::loft(&sections, 2)
+    }
+
+    /// A bilinearly blended Coons patch between four arched quadratic edges.
+    fn coons(&self) -> Result<NurbsSurface, GeometryError> {
+        let (c, s, r) = (self.center, self.size, self.ratio);
+        let edge = |a: DVec3, m: DVec3, b: DVec3| {
+            construct::interpolate(&[c + a * s, c + m * s, c + b * s], 2)
+        };
+        let (x, y) = (DVec3::X, DVec3::Y);
+        construct::coons(
+            &edge(DVec3::ZERO, DVec3::new(0.5, 0.0, r), x)?,
+            &edge(y, DVec3::new(0.5, 1.0, -r), x + y)?,
+            &edge(DVec3::ZERO, DVec3::new(0.0, 0.5, r), y)?,
+            &edge(x, DVec3::new(1.0, 0.5, -r), x + y)?,
+        )
+    }
+
+    /// The bicubically blended Coons patch of a wavy hill's boundary curves and cross-boundary
+    /// derivatives.
+    fn bicubic_coons(&self) -> Result<NurbsSurface, GeometryError> {
+        let hill = wavy_hill(self.center, self.size, self.ratio)?;
+        let side = |direction, value, order| hill.isocurve(direction, value, order);
+        let (u, v) = (Direction::U, Direction::V);
+        transfinite::bicubic_coons(
+            [
+                &side(v, 0.0, 0)?,
+                &side(v, 1.0, 0)?,
+                &side(u, 0.0, 0)?,
+                &side(u, 1.0, 0)?,
+            ],
+            [
+                &side(v, 0.0, 1)?,
+                &side(v, 1.0, 1)?,
+                &side(u, 0.0, 1)?,
+                &side(u, 1.0, 1)?,
+            ],
+        )
+    }
+
+    /// The Gordon surface of a wavy hill's 4 × 3 isocurve network.
+    fn gordon(&self) -> Result<NurbsSurface, GeometryError> {
+        let hill = wavy_hill(self.center, self.size, self.ratio)?;
+        let u_curves = [0.0, 0.3, 0.7, 1.0]
+            .map(|v| hill.isocurve(Direction::V, v, 0))
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?;
+        let v_curves = [0.0, 0.5, 1.0]
+            .map(|u| hill.isocurve(Direction::U, u, 0))
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?;
+        transfinite::gordon(&u_curves, &v_curves, 3)
+    }
+
+    /// A bicubic Hermite patch over a square, its corner tangents tilted up and down by the
+    /// ratio.
+    fn hermite(&self) -> Result<NurbsSurface, GeometryError> {
+        let (c, s) = (self.center, self.size);
+        let corner = |x: f64, y: f64| c + DVec3::new((x - 0.5) * s, (y - 0.5) * s, 0.0);
+        let lift = DVec3::Z * (s * self.ratio * 3.0);
+        let (su, sv) = (DVec3::X * s, DVec3::Y * s);
+        transfinite::hermite_patch(&HermiteData {
+            points: [
+                corner(0.0, 0.0),
+                corner(1.0, 0.0),
+                corner(0.0, 1.0),
+                corner(1.0, 1.0),
+            ],
+            su: [su + lift, su - lift, su - lift, su + lift],
+            sv: [sv + lift, sv + lift, sv - lift, sv - lift],
+            twist: [DVec3::ZERO; 4],
+        })
+    }
+
+    /// A circle swept along an arched rail.
+    fn swept(&self) -> Result<NurbsSurface, GeometryError> {
+        let (c, s, h) = (self.center, self.size, self.height);
+        let profile = construct::circle(c, DVec3::X, DVec3::Y, s * self.ratio)?;
+        let rail_points: Vec<DVec3> = (0..5)
+            .map(|k| {
+                let t = k as f64 / 4.0 * std::f64::consts::PI;
+                c + DVec3::new(0.0, s * (1.0 - t.cos()), h * t.sin() * 0.5)
+            })
+            .collect();
+        construct::sweep(&profile, &construct::interpolate(&rail_points, 3)?, 12)
+    }
+}
+
+/// A cage shown as a subdivision surface of `scheme` at [`DEFAULT_CAGE_LEVEL`].
+fn subdivided(
+    mesh: crate::kernel::PolygonMesh,
+    scheme: Scheme,
+) -> Result<ObjectGeometry, GeometryError> {
+    let options = crate::kernel::subdiv::Options {
+        scheme,
+        ..Default::default()
+    };
+    let surface =
+        SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, DEFAULT_CAGE_LEVEL)?;
+    Ok(ObjectGeometry::new(crate::scene::SubdivObject::from(
+        surface,
+    )))
 }
 
 #[cfg(test)]
