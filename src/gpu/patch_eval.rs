@@ -210,228 +210,328 @@ impl PatchLayout {
         adaptive: bool,
         max_groups: u32,
     ) -> Result<Self, GpuError> {
-        let stencil_count = |o: &ObjectPatches<'_>| {
-            o.stencils
-                .map_or(0, |f| f.patches.len() + f.substitutes.len())
-        };
         let total_patches: usize = objects
             .iter()
             .map(|o| o.set.patches().len() + stencil_count(o))
             .sum();
-        let total_points: usize = objects.iter().map(|o| o.set.points().len()).sum();
-        // Stencil entries follow the points in the control point buffer, two vec4 each.
-        let mut entry_data: Vec<[f32; 4]> = Vec::new();
         if total_patches > max_groups as usize {
             return Err(GpuError::TooManyPatches {
                 count: total_patches,
                 max: max_groups,
             });
         }
-        let mut records = Vec::with_capacity(total_patches);
-        let mut ranges = Vec::with_capacity(objects.len());
-        let mut control_indices = Vec::new();
-        let mut points = Vec::new();
-        let (mut vertex_offset, mut index_offset) = (0u64, 0u64);
-        let mut quad_groups_x = 0u64;
-        let mut trim_words: Vec<u32> = Vec::new();
-        let mut lattices = Vec::with_capacity(objects.len());
+        let mut layout = Self {
+            records: Vec::with_capacity(total_patches),
+            objects: Vec::with_capacity(objects.len()),
+            control_indices: Vec::new(),
+            points: Vec::new(),
+            entry_data: Vec::new(),
+            lattices: Vec::with_capacity(objects.len()),
+            trim_words: Vec::new(),
+            vertices: 0,
+            indices: 0,
+            quad_groups_x: 0,
+        };
+        let context = LayoutContext {
+            // Stencil entries and the displacement and lattice blocks follow the points in the
+            // control point buffer.
+            total_points: objects.iter().map(|o| o.set.points().len()).sum(),
+            adaptive,
+            max_groups,
+        };
         for (object, input) in objects.iter().enumerate() {
-            let trim_header = input.trims.map(|t| pack_index(&t.index, &mut trim_words));
-            // The displacement's two vec4 follow the points, among the stencil entries.
-            let displacement = match &input.displacement {
-                Some(d) => {
-                    let at = (total_points + entry_data.len()) as u32;
-                    entry_data.extend(packing::displacement_block(&d.map, d.domain));
-                    at
-                }
-                None => DISPLACEMENT_NONE,
-            };
-            // So does the lattice's block.
-            let lattice = match input.lattice {
-                Some(l) => {
-                    let at = (total_points + entry_data.len()) as u32;
-                    let block = packing::lattice_block(l);
-                    entry_data.extend_from_slice(&block);
-                    lattices.push(Some((at, block)));
-                    at
-                }
-                None => {
-                    lattices.push(None);
-                    LATTICE_NONE
-                }
-            };
-            let segments = input.segments;
-            if !(1..=MAX_SEGMENTS).contains(&segments) {
-                return Err(GpuError::SegmentsOutOfRange {
-                    segments,
-                    max: MAX_SEGMENTS,
-                });
-            }
-            let first_point = points.len();
-            let grid_vertices = u64::from(segments + 1).pow(2);
-            let grid_quads = u64::from(segments).pow(2);
-            quad_groups_x = quad_groups_x.max(workgroups(grid_quads));
-            if workgroups(grid_vertices) > u64::from(max_groups) {
-                return Err(GpuError::SegmentsOutOfRange {
-                    segments,
-                    max: MAX_SEGMENTS,
-                });
-            }
-            ranges.push(ObjectRange {
-                first_point,
-                point_count: input.set.points().len(),
-                first_patch: records.len(),
-                patch_count: input.set.patches().len() + stencil_count(input),
-                bezier_count: input.set.patches().len(),
-                cage_points: input.cage_points,
-            });
-            for (k, patch) in input.set.patches().iter().enumerate() {
-                let (du, dv) = (patch.degree_u(), patch.degree_v());
-                if du > GPU_MAX_DEGREE as usize || dv > GPU_MAX_DEGREE as usize {
-                    return Err(GpuError::DegreeTooHigh {
-                        object,
-                        patch: k,
-                        degree_u: du,
-                        degree_v: dv,
-                        max: GPU_MAX_DEGREE,
-                    });
-                }
-                let domain = input
-                    .domains
-                    .get(k)
-                    .copied()
-                    .unwrap_or([0.0, 1.0, 0.0, 1.0])
-                    .map(|x| x as f32);
-                let coverage = input
-                    .trims
-                    .and_then(|t| t.coverage.get(k).copied())
-                    .unwrap_or(Coverage::Inside);
-                let (trim_offset, trim_count) = match (coverage, trim_header) {
-                    (Coverage::Outside, _) => (0, TRIM_CULLED),
-                    (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
-                    _ => (0, 0),
-                };
-                // Adaptive patches have no fixed grid: write_triangles skips them.
-                let grid = if adaptive { 0 } else { segments };
-                records.push(PatchRecord {
-                    degree_u: du as u32,
-                    degree_v: dv as u32,
-                    control_offset: control_indices.len() as u32,
-                    vertex_offset: vertex_offset as u32,
-                    segments_u: grid,
-                    segments_v: grid,
-                    index_offset: index_offset as u32,
-                    object: object as u32,
-                    domain,
-                    kind: PATCH_KIND_BEZIER,
-                    trim_offset,
-                    trim_count,
-                    level: 0,
-                    displacement,
-                    lattice,
-                    reserved: [0; 2],
-                });
-                control_indices.extend(patch.indices().iter().map(|&i| i + first_point as u32));
-                // A culled patch takes no vertices and no triangles; an adaptive one takes its
-                // room after the fixed patches'.
-                if trim_count != TRIM_CULLED && !adaptive {
-                    vertex_offset += grid_vertices;
-                    index_offset += 6 * grid_quads;
-                }
-            }
-            if let Some(feed) = input.stencils {
-                let entry_base = total_points + entry_data.len();
-                for &(index, w) in &feed.entries {
-                    let global = (index as usize + first_point) as u32;
-                    entry_data.push([
-                        f32::from_bits(global),
-                        w[0] as f32,
-                        w[1] as f32,
-                        w[2] as f32,
-                    ]);
-                    entry_data.push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
-                }
-                for patch in &feed.patches {
-                    let s = patch.segments;
-                    let slots = grid_slots(s, max_groups)?;
-                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
-                    let kind = if patch.triangle {
-                        PATCH_KIND_STENCIL_TRIANGLE
-                    } else {
-                        PATCH_KIND_STENCIL_QUAD
-                    };
-                    let level = if patch.level == u32::MAX {
-                        0
-                    } else {
-                        patch.level + 1
-                    };
-                    records.push(grid_record(
-                        kind,
-                        s,
-                        (level, displacement, lattice),
-                        object,
-                        &control_indices,
-                        vertex_offset,
-                        index_offset,
-                    ));
-                    let first = patch.first_slot as usize;
-                    for k in first..first + slots as usize {
-                        let [start, count] = feed.slots[k];
-                        let flag = if feed.no_curvature[k] {
-                            STENCIL_NO_CURVATURE
-                        } else {
-                            0
-                        };
-                        control_indices.push((entry_base + 2 * start as usize) as u32);
-                        control_indices.push(count | flag);
-                    }
-                    vertex_offset += slots;
-                    index_offset += 6 * u64::from(s).pow(2);
-                }
-                for patch in &feed.substitutes {
-                    let s = patch.segments;
-                    let slots = grid_slots(s, max_groups)?;
-                    let count = patch.kind.point_count();
-                    let last = patch.first_point as usize + count;
-                    if last > input.set.points().len() {
-                        return Err(GpuError::Geometry(format!(
-                            "a substitute patch reads point {last} of {}",
-                            input.set.points().len()
-                        )));
-                    }
-                    quad_groups_x = quad_groups_x.max(workgroups(u64::from(s).pow(2)));
-                    let kind = substitute_record_kind(patch.kind);
-                    records.push(grid_record(
-                        kind,
-                        s,
-                        (0, displacement, lattice),
-                        object,
-                        &control_indices,
-                        vertex_offset,
-                        index_offset,
-                    ));
-                    control_indices.extend(
-                        (patch.first_point as usize..last).map(|k| (k + first_point) as u32),
-                    );
-                    vertex_offset += slots;
-                    index_offset += 6 * u64::from(s).pow(2);
-                }
-            }
-            points.extend(homogeneous_points(input.set));
+            layout.push_object(object, input, &context)?;
         }
-        Ok(Self {
-            records,
-            objects: ranges,
-            control_indices,
-            points,
-            entry_data,
-            lattices,
-            trim_words,
-            vertices: vertex_offset,
-            indices: index_offset,
-            quad_groups_x,
-        })
+        Ok(layout)
     }
+
+    /// Where the next entry of the control point buffer after the points goes.
+    fn next_entry(&self, context: &LayoutContext) -> u32 {
+        (context.total_points + self.entry_data.len()) as u32
+    }
+
+    /// Object `object`'s range, records, control indices, blocks and points.
+    fn push_object(
+        &mut self,
+        object: usize,
+        input: &ObjectPatches<'_>,
+        context: &LayoutContext,
+    ) -> Result<(), GpuError> {
+        let trim_header = input
+            .trims
+            .map(|t| pack_index(&t.index, &mut self.trim_words));
+        let blocks = self.push_blocks(input, context);
+        let segments = input.segments;
+        if !(1..=MAX_SEGMENTS).contains(&segments) {
+            return Err(GpuError::SegmentsOutOfRange {
+                segments,
+                max: MAX_SEGMENTS,
+            });
+        }
+        if workgroups(u64::from(segments + 1).pow(2)) > u64::from(context.max_groups) {
+            return Err(GpuError::SegmentsOutOfRange {
+                segments,
+                max: MAX_SEGMENTS,
+            });
+        }
+        let first_point = self.points.len();
+        self.objects.push(ObjectRange {
+            first_point,
+            point_count: input.set.points().len(),
+            first_patch: self.records.len(),
+            patch_count: input.set.patches().len() + stencil_count(input),
+            bezier_count: input.set.patches().len(),
+            cage_points: input.cage_points,
+        });
+        self.push_bezier_patches(object, input, first_point, trim_header, blocks, context)?;
+        if let Some(feed) = input.stencils {
+            self.push_stencil_patches(object, feed, first_point, blocks, context)?;
+            self.push_substitutes(object, input, feed, first_point, blocks, context)?;
+        }
+        self.points.extend(homogeneous_points(input.set));
+        Ok(())
+    }
+
+    /// The object's displacement and lattice blocks, after the points among the stencil
+    /// entries: where each starts ([`DISPLACEMENT_NONE`], [`LATTICE_NONE`] without one).
+    fn push_blocks(&mut self, input: &ObjectPatches<'_>, context: &LayoutContext) -> Blocks {
+        let displacement = match &input.displacement {
+            Some(d) => {
+                let at = self.next_entry(context);
+                self.entry_data
+                    .extend(packing::displacement_block(&d.map, d.domain));
+                at
+            }
+            None => DISPLACEMENT_NONE,
+        };
+        let lattice = match input.lattice {
+            Some(l) => {
+                let at = self.next_entry(context);
+                let block = packing::lattice_block(l);
+                self.entry_data.extend_from_slice(&block);
+                self.lattices.push(Some((at, block)));
+                at
+            }
+            None => {
+                self.lattices.push(None);
+                LATTICE_NONE
+            }
+        };
+        Blocks {
+            displacement,
+            lattice,
+        }
+    }
+
+    /// The object's Bézier patches: one record each with its domain and trim state, and its
+    /// fixed grid's room (none for a culled patch; an adaptive one's room comes after the fixed
+    /// patches').
+    fn push_bezier_patches(
+        &mut self,
+        object: usize,
+        input: &ObjectPatches<'_>,
+        first_point: usize,
+        trim_header: Option<u32>,
+        blocks: Blocks,
+        context: &LayoutContext,
+    ) -> Result<(), GpuError> {
+        let segments = input.segments;
+        let grid_vertices = u64::from(segments + 1).pow(2);
+        let grid_quads = u64::from(segments).pow(2);
+        self.quad_groups_x = self.quad_groups_x.max(workgroups(grid_quads));
+        for (k, patch) in input.set.patches().iter().enumerate() {
+            let (du, dv) = (patch.degree_u(), patch.degree_v());
+            if du > GPU_MAX_DEGREE as usize || dv > GPU_MAX_DEGREE as usize {
+                return Err(GpuError::DegreeTooHigh {
+                    object,
+                    patch: k,
+                    degree_u: du,
+                    degree_v: dv,
+                    max: GPU_MAX_DEGREE,
+                });
+            }
+            let domain = input
+                .domains
+                .get(k)
+                .copied()
+                .unwrap_or([0.0, 1.0, 0.0, 1.0])
+                .map(|x| x as f32);
+            let coverage = input
+                .trims
+                .and_then(|t| t.coverage.get(k).copied())
+                .unwrap_or(Coverage::Inside);
+            let (trim_offset, trim_count) = match (coverage, trim_header) {
+                (Coverage::Outside, _) => (0, TRIM_CULLED),
+                (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),
+                _ => (0, 0),
+            };
+            // Adaptive patches have no fixed grid: write_triangles skips them.
+            let grid = if context.adaptive { 0 } else { segments };
+            self.records.push(PatchRecord {
+                degree_u: du as u32,
+                degree_v: dv as u32,
+                control_offset: self.control_indices.len() as u32,
+                vertex_offset: self.vertices as u32,
+                segments_u: grid,
+                segments_v: grid,
+                index_offset: self.indices as u32,
+                object: object as u32,
+                domain,
+                kind: PATCH_KIND_BEZIER,
+                trim_offset,
+                trim_count,
+                level: 0,
+                displacement: blocks.displacement,
+                lattice: blocks.lattice,
+                reserved: [0; 2],
+            });
+            self.control_indices
+                .extend(patch.indices().iter().map(|&i| i + first_point as u32));
+            if trim_count != TRIM_CULLED && !context.adaptive {
+                self.vertices += grid_vertices;
+                self.indices += 6 * grid_quads;
+            }
+        }
+        Ok(())
+    }
+
+    /// A subdivision surface's exact limit patches: their stencil entries (after the points),
+    /// and per patch a record and its slots' (first entry, count) pairs.
+    fn push_stencil_patches(
+        &mut self,
+        object: usize,
+        feed: &LimitFeed,
+        first_point: usize,
+        blocks: Blocks,
+        context: &LayoutContext,
+    ) -> Result<(), GpuError> {
+        let entry_base = context.total_points + self.entry_data.len();
+        for &(index, w) in &feed.entries {
+            let global = (index as usize + first_point) as u32;
+            self.entry_data.push([
+                f32::from_bits(global),
+                w[0] as f32,
+                w[1] as f32,
+                w[2] as f32,
+            ]);
+            self.entry_data
+                .push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
+        }
+        for patch in &feed.patches {
+            let s = patch.segments;
+            let slots = grid_slots(s, context.max_groups)?;
+            let kind = if patch.triangle {
+                PATCH_KIND_STENCIL_TRIANGLE
+            } else {
+                PATCH_KIND_STENCIL_QUAD
+            };
+            let level = if patch.level == u32::MAX {
+                0
+            } else {
+                patch.level + 1
+            };
+            self.push_grid_record(kind, s, level, blocks, object, slots);
+            let first = patch.first_slot as usize;
+            for k in first..first + slots as usize {
+                let [start, count] = feed.slots[k];
+                let flag = if feed.no_curvature[k] {
+                    STENCIL_NO_CURVATURE
+                } else {
+                    0
+                };
+                self.control_indices
+                    .push((entry_base + 2 * start as usize) as u32);
+                self.control_indices.push(count | flag);
+            }
+        }
+        Ok(())
+    }
+
+    /// A subdivision surface's substitute patches (ACC, Gregory, PN triangles): a record each
+    /// and the indices of its points.
+    fn push_substitutes(
+        &mut self,
+        object: usize,
+        input: &ObjectPatches<'_>,
+        feed: &LimitFeed,
+        first_point: usize,
+        blocks: Blocks,
+        context: &LayoutContext,
+    ) -> Result<(), GpuError> {
+        for patch in &feed.substitutes {
+            let s = patch.segments;
+            let slots = grid_slots(s, context.max_groups)?;
+            let count = patch.kind.point_count();
+            let last = patch.first_point as usize + count;
+            if last > input.set.points().len() {
+                return Err(GpuError::Geometry(format!(
+                    "a substitute patch reads point {last} of {}",
+                    input.set.points().len()
+                )));
+            }
+            let kind = substitute_record_kind(patch.kind);
+            self.push_grid_record(kind, s, 0, blocks, object, slots);
+            self.control_indices
+                .extend((patch.first_point as usize..last).map(|k| (k + first_point) as u32));
+        }
+        Ok(())
+    }
+
+    /// The record of a stencil or substitute patch on an `s` × `s` grid of `slots` vertices,
+    /// whose control block starts at the next control index; its vertices and triangles take
+    /// the next room.
+    fn push_grid_record(
+        &mut self,
+        kind: u32,
+        s: u32,
+        level: u32,
+        blocks: Blocks,
+        object: usize,
+        slots: u64,
+    ) {
+        self.quad_groups_x = self.quad_groups_x.max(workgroups(u64::from(s).pow(2)));
+        self.records.push(PatchRecord {
+            degree_u: 1,
+            degree_v: 1,
+            control_offset: self.control_indices.len() as u32,
+            vertex_offset: self.vertices as u32,
+            segments_u: s,
+            segments_v: s,
+            index_offset: self.indices as u32,
+            object: object as u32,
+            domain: [0.0, 1.0, 0.0, 1.0],
+            kind,
+            trim_offset: 0,
+            trim_count: 0,
+            level,
+            displacement: blocks.displacement,
+            lattice: blocks.lattice,
+            reserved: [0; 2],
+        });
+        self.vertices += slots;
+        self.indices += 6 * u64::from(s).pow(2);
+    }
+}
+
+/// What every object's layout reads: the scene's point count (the entries after it), the
+/// tessellation and the dispatch limit.
+struct LayoutContext {
+    total_points: usize,
+    adaptive: bool,
+    max_groups: u32,
+}
+
+/// Where an object's displacement and lattice blocks start in the control point buffer.
+#[derive(Debug, Clone, Copy)]
+struct Blocks {
+    displacement: u32,
+    lattice: u32,
+}
+
+/// The stencil and substitute patches of an object (a subdivision surface's).
+fn stencil_count(o: &ObjectPatches<'_>) -> usize {
+    o.stencils
+        .map_or(0, |f| f.patches.len() + f.substitutes.len())
 }
 
 /// GPU buffers of a scene's patches at one tessellation.
@@ -476,39 +576,6 @@ fn grid_slots(segments: u32, max_groups: u32) -> Result<u64, GpuError> {
         });
     }
     Ok(slots)
-}
-
-/// The record of a grid patch of `kind` (stencil or substitute) with `segments` per edge on
-/// (0, 1)², its control block next in `control_indices` and its vertices and indices at the
-/// given offsets; `(level, displacement, lattice)` are [`PatchRecord::level`],
-/// [`PatchRecord::displacement`] and [`PatchRecord::lattice`].
-fn grid_record(
-    kind: u32,
-    segments: u32,
-    (level, displacement, lattice): (u32, u32, u32),
-    object: usize,
-    control_indices: &[u32],
-    vertex_offset: u64,
-    index_offset: u64,
-) -> PatchRecord {
-    PatchRecord {
-        degree_u: 1,
-        degree_v: 1,
-        control_offset: control_indices.len() as u32,
-        vertex_offset: vertex_offset as u32,
-        segments_u: segments,
-        segments_v: segments,
-        index_offset: index_offset as u32,
-        object: object as u32,
-        domain: [0.0, 1.0, 0.0, 1.0],
-        kind,
-        trim_offset: 0,
-        trim_count: 0,
-        level,
-        displacement,
-        lattice,
-        reserved: [0; 2],
-    }
 }
 
 /// The record kind of a substitute patch.
