@@ -534,6 +534,44 @@ fn stencil_count(o: &ObjectPatches<'_>) -> usize {
         .map_or(0, |f| f.patches.len() + f.substitutes.len())
 }
 
+/// Refuses a buffer larger than the device binds (`buffers`: what and bytes), and more
+/// triangle indices than the index buffer's u32 offsets reach.
+fn check_buffer_sizes(
+    limits: &wgpu::Limits,
+    buffers: &[(&'static str, u64)],
+    indices: u64,
+) -> Result<(), GpuError> {
+    let limit = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    for &(what, bytes) in buffers {
+        if bytes > limit || indices > u64::from(u32::MAX) / 2 {
+            return Err(GpuError::BufferTooLarge { what, bytes, limit });
+        }
+    }
+    Ok(())
+}
+
+/// Record indices by the [`PipelineKey`] of the pipeline that evaluates them.
+type RecordsByKey = BTreeMap<PipelineKey, Vec<u32>>;
+
+/// The records each pipeline evaluates: those on the fixed grid, and (with `adaptive`) the
+/// Bézier patches the adaptive passes take. Culled patches are in neither.
+fn records_by_key(records: &[PatchRecord], adaptive: bool) -> (RecordsByKey, RecordsByKey) {
+    let (mut fixed, mut view_adaptive) = (RecordsByKey::new(), RecordsByKey::new());
+    for (k, r) in records.iter().enumerate() {
+        if r.trim_count != TRIM_CULLED {
+            let map = if adaptive && r.kind == PATCH_KIND_BEZIER {
+                &mut view_adaptive
+            } else {
+                &mut fixed
+            };
+            map.entry(PipelineKey::of(r)).or_default().push(k as u32);
+        }
+    }
+    (fixed, view_adaptive)
+}
+
 /// GPU buffers of a scene's patches at one tessellation.
 pub struct PatchGeometry {
     control_points: wgpu::Buffer,
@@ -663,19 +701,16 @@ impl PatchGeometry {
         }
         let vertex_bytes = vertex_offset * std::mem::size_of::<SurfaceVertex>() as u64;
         let index_bytes = index_offset * 4;
-        let limit = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        for (what, bytes) in [
-            ("vertex", vertex_bytes),
-            ("index", index_bytes),
-            ("control point and stencil", point_bytes),
-            ("trim", trim_words.len() as u64 * 4),
-        ] {
-            if bytes > limit || index_offset > u64::from(u32::MAX) / 2 {
-                return Err(GpuError::BufferTooLarge { what, bytes, limit });
-            }
-        }
+        check_buffer_sizes(
+            &limits,
+            &[
+                ("vertex", vertex_bytes),
+                ("index", index_bytes),
+                ("control point and stencil", point_bytes),
+                ("trim", trim_words.len() as u64 * 4),
+            ],
+            index_offset,
+        )?;
 
         let storage = wgpu::BufferUsages::STORAGE;
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
@@ -715,41 +750,31 @@ impl PatchGeometry {
         let vertices = output("surface vertices", vertex_bytes, wgpu::BufferUsages::VERTEX);
         let triangle_indices = output("triangle indices", index_bytes, wgpu::BufferUsages::INDEX);
 
-        let mut by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
-        let mut adaptive_by_key: BTreeMap<PipelineKey, Vec<u32>> = BTreeMap::new();
-        for (k, r) in records.iter().enumerate() {
-            if r.trim_count != TRIM_CULLED {
-                let adaptive = adaptive_room.is_some() && r.kind == PATCH_KIND_BEZIER;
-                let map = if adaptive {
-                    &mut adaptive_by_key
-                } else {
-                    &mut by_key
-                };
-                map.entry(PipelineKey::of(r)).or_default().push(k as u32);
-            }
-        }
-        let mut groups = Vec::new();
-        for (key, members) in by_key {
-            let list = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("patch list"),
-                size: members.len() as u64 * 4,
-                usage: storage | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let bind_group = evaluator.bind_group(&[
-                (0, &control_points),
-                (1, &control_index_buffer),
-                (2, &record_buffer),
-                (3, &vertices),
-                (5, &list),
-            ]);
-            groups.push(PatchGroup {
-                key,
-                records: members,
-                list,
-                bind_group,
-            });
-        }
+        let (by_key, adaptive_by_key) = records_by_key(&records, adaptive_room.is_some());
+        let groups = by_key
+            .into_iter()
+            .map(|(key, members)| {
+                let list = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("patch list"),
+                    size: members.len() as u64 * 4,
+                    usage: storage | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let bind_group = evaluator.bind_group(&[
+                    (0, &control_points),
+                    (1, &control_index_buffer),
+                    (2, &record_buffer),
+                    (3, &vertices),
+                    (5, &list),
+                ]);
+                PatchGroup {
+                    key,
+                    records: members,
+                    list,
+                    bind_group,
+                }
+            })
+            .collect();
         let triangles_bind_group =
             evaluator.bind_group(&[(2, &record_buffer), (4, &triangle_indices)]);
         let adaptive = adaptive_room.map(|_| {
