@@ -114,11 +114,11 @@ mod cli {
             output: std::path::PathBuf,
         },
         /// Measure continuity on every shared edge of a project's surfaces (boundary curves
-        /// within 1e-2 of the scene's size of each other; the patches of a patch set count as
-        /// surfaces): prints a JSON array, one entry per shared edge, with the largest gap, angle
-        /// between the normals (degrees) and normal curvature difference across the edge, where
-        /// each lies, and the verdict (open, G0, G1, G2). Tolerances default to the project's
-        /// analysis settings (1e-3 of the size, 1°, 5 %).
+        /// within 1e-2 of the smaller object's size of each other; the patches of a patch set
+        /// count as surfaces): prints a JSON array, one entry per shared edge, with the largest
+        /// gap, angle between the normals (degrees) and normal curvature difference across the
+        /// edge, where each lies, and the verdict (open, G0, G1, G2). Tolerances default to the
+        /// project's analysis settings (1e-3 of the size, 1°, 5 %).
         Continuity {
             /// The project (or any file knotwork opens).
             project: std::path::PathBuf,

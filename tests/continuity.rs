@@ -481,3 +481,47 @@ fn subdivision_surfaces_whose_limit_boundaries_meet_share_that_edge() {
         "{edges:#?}"
     );
 }
+
+/// In the sample scene the teapot stands among objects set metres apart, so the scene's size
+/// is four times the teapot's. Its rim's top and bottom (0.10 apart), its lid's rings and a
+/// patch's two sides were paired as "open" edges at the scene's matching distance ("Utah
+/// teapot patch 3 v0 · Utah teapot patch 3 v1, open, 180°"). Boundaries match within a share of
+/// their own objects' size: the teapot's edges in the scene are those of the teapot alone, and
+/// a face meets itself only along a closed surface's seam.
+#[test]
+fn neighbouring_boundaries_of_one_object_are_not_an_edge_with_a_gap() {
+    let scene = Scene::demo().unwrap();
+    let teapot = scene
+        .objects
+        .iter()
+        .position(|o| o.name.contains("teapot"))
+        .expect("the sample scene has the teapot");
+    let report = analyse(&scene, None, &ContinuityOptions::default());
+    let within_teapot = report
+        .edges
+        .iter()
+        .filter(|e| report.faces[e.a.0].object == teapot && report.faces[e.b.0].object == teapot)
+        .count();
+    let alone = Scene {
+        objects: vec![scene.objects[teapot].clone()],
+    };
+    let alone_edges = analyse(&alone, None, &ContinuityOptions::default()).edges;
+    assert_eq!(within_teapot, alone_edges.len());
+    assert!(alone_edges.iter().all(|e| e.verdict != Continuity::Open));
+    for e in &report.edges {
+        if e.a.0 == e.b.0 {
+            assert!(e.max_gap.value < 1e-9, "a face paired with itself: {e:?}");
+        }
+        if report.faces[e.a.0].object == teapot || report.faces[e.b.0].object == teapot {
+            assert_ne!(e.verdict, Continuity::Open, "{:?} {:?}", e.a, e.b);
+        }
+    }
+    // Every edge left in the sample scene is a real one: none is open.
+    let open: Vec<_> = report
+        .edges
+        .iter()
+        .filter(|e| e.verdict == Continuity::Open)
+        .map(|e| (e.a, e.b, e.max_gap.value))
+        .collect();
+    assert!(open.is_empty(), "{open:?}");
+}

@@ -415,6 +415,8 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().continuity !== null, null, { timeout: 60_000 });
       const c = (await status(page)).continuity;
       assert(c.edges > 40 && c.verdicts.length === c.edges, `continuity ${JSON.stringify(c).slice(0, 200)}`);
+      // Neighbouring boundaries of one object (the teapot's rim, its lid's rings) are not edges.
+      assert(!c.verdicts.includes('open'), `no open edge in the sample scene: ${JSON.stringify(c.verdicts)}`);
       for (const view of ['top', 'front', 'right', 'perspective']) {
         assert(await page.evaluate((v) => window.knotwork.setView(v), view), `${view} is a view`);
         await page.waitForFunction((v) => window.knotwork.status().view === v, view, { timeout: 30_000 });

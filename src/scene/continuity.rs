@@ -8,7 +8,7 @@ use serde_json::{Value, json};
 
 use super::Scene;
 use crate::kernel::ParametricSurface;
-use crate::kernel::continuity::{SharedEdge, Tolerances, shared_edges};
+use crate::kernel::continuity::{SharedEdge, Tolerances, shared_edges_scaled};
 
 /// The tolerances a user sets: the gap as a fraction of the scene's size, the angle in
 /// degrees, the relative curvature difference, and samples per edge.
@@ -58,6 +58,8 @@ pub fn analyse(
     let chosen = |k: usize| objects.is_none_or(|list| list.contains(&k));
     let mut faces = Vec::new();
     let mut surfaces: Vec<Box<dyn ParametricSurface + '_>> = Vec::new();
+    // Each face's object's size: boundaries match within a share of the smaller one's.
+    let mut scales = Vec::new();
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for (k, object) in scene.objects.iter().enumerate() {
         if !chosen(k) || !object.visible {
@@ -67,11 +69,13 @@ pub fn analyse(
         if object_faces.is_empty() {
             continue;
         }
+        let bounds = object.bounds();
         for (patch, surface) in object_faces {
             faces.push(FaceRef { object: k, patch });
             surfaces.push(surface);
+            scales.push(bounds.map_or(f64::INFINITY, |(a, b)| a.distance(b)));
         }
-        if let Some((a, b)) = object.bounds() {
+        if let Some((a, b)) = bounds {
             lo = lo.min(a);
             hi = hi.max(b);
         }
@@ -89,7 +93,7 @@ pub fn analyse(
         samples: options.samples.max(2),
     };
     let refs: Vec<&dyn ParametricSurface> = surfaces.iter().map(|s| s.as_ref()).collect();
-    let edges = shared_edges(&refs, &tolerances, size);
+    let edges = shared_edges_scaled(&refs, &scales, &tolerances, size);
     ContinuityReport {
         faces,
         edges,

@@ -4,7 +4,11 @@
 //! Faces are parametric surfaces over a rectangle, optionally trimmed
 //! ([`ParametricSurface`]). Two face sides share an
 //! edge when their boundary curves lie within a matching distance of each other over their
-//! whole length (either direction; one face's two sides too, a closed surface's seam). Along a
+//! whole length (either direction; one face's two sides too, a closed surface's seam). The
+//! matching distance is a share of the size of the smaller of the two faces' objects
+//! ([`shared_edges_scaled`]): in a scene of objects set apart, the scene's size would make two
+//! neighbouring boundaries of one small object (a teapot's rim, top and bottom) look like one
+//! edge with a gap. Along a
 //! shared edge, at samples uniform in the first side's parameter, the closest point of the
 //! other side is found by Newton's method on the boundary curve, and there:
 //! - **G0**: the gap |Sa − Sb|;
@@ -261,18 +265,39 @@ pub fn shared_edges(
     tolerances: &Tolerances,
     size: f64,
 ) -> Vec<SharedEdge> {
-    let sides = side_curves(faces, tolerances);
+    shared_edges_scaled(faces, &vec![size; faces.len()], tolerances, size)
+}
+
+/// [`shared_edges`] where each face has a size of its own, `scales[k]` (its object's box
+/// diagonal): two sides share an edge when they lie within `tolerances.matching × s / size`
+/// of each other, s the smaller of their faces' scales (capped at `size`).
+pub fn shared_edges_scaled(
+    faces: &[&dyn ParametricSurface],
+    scales: &[f64],
+    tolerances: &Tolerances,
+    size: f64,
+) -> Vec<SharedEdge> {
+    let scale = |face: usize| {
+        let s = scales.get(face).copied().unwrap_or(size);
+        if s.is_finite() && s > 0.0 && s < size {
+            s / size
+        } else {
+            1.0
+        }
+    };
+    let sides = side_curves(faces, |face| tolerances.matching * scale(face));
     let mut edges = Vec::new();
     for (i, a) in sides.iter().enumerate() {
         for b in &sides[i + 1..] {
+            let matching = tolerances.matching * scale(a.face).min(scale(b.face));
             let far = (a.lo - b.hi).max(b.lo - a.hi).max_element();
-            if far > tolerances.matching {
+            if far > matching {
                 continue;
             }
             let within = |from: &SideCurve, to: &SideCurve| {
                 from.points
                     .iter()
-                    .all(|&p| polyline_distance(&to.points, p) <= tolerances.matching)
+                    .all(|&p| polyline_distance(&to.points, p) <= matching)
             };
             if !(within(a, b) && within(b, a)) {
                 continue;
@@ -289,7 +314,11 @@ pub fn shared_edges(
 
 /// The matching samples of every face side that is not degenerate (shorter than the matching
 /// distance) nor mostly trimmed away.
-fn side_curves(faces: &[&dyn ParametricSurface], tolerances: &Tolerances) -> Vec<SideCurve> {
+/// `matching(face)`: the face's matching distance, under which a side counts as degenerate.
+fn side_curves(
+    faces: &[&dyn ParametricSurface],
+    matching: impl Fn(usize) -> f64,
+) -> Vec<SideCurve> {
     let mut sides = Vec::new();
     for (face_index, &face) in faces.iter().enumerate() {
         for side in Side::ALL {
@@ -308,7 +337,7 @@ fn side_curves(faces: &[&dyn ParametricSurface], tolerances: &Tolerances) -> Vec
                 continue;
             };
             let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
-            if !(length > tolerances.matching) {
+            if !(length > matching(face_index)) {
                 continue;
             }
             let lo = points
@@ -331,6 +360,26 @@ fn side_curves(faces: &[&dyn ParametricSurface], tolerances: &Tolerances) -> Vec
         }
     }
     sides
+}
+
+/// The parameter of side `b` closest to `target`: Newton's method from each of the two nearest
+/// matching samples, the better result. A closed side (a seam) has the same point at both ends,
+/// and from the wrong one Newton stops at the clamp, a whole period away.
+fn closest_on_side_from_samples(face: &dyn ParametricSurface, b: &SideCurve, target: DVec3) -> f64 {
+    let mut order: Vec<usize> = (0..b.points.len()).collect();
+    order.sort_by(|&x, &y| {
+        b.points[x]
+            .distance(target)
+            .total_cmp(&b.points[y].distance(target))
+    });
+    let distance =
+        |t: f64| side_point(face, b.side, t).map_or(f64::INFINITY, |p| p.distance(target));
+    order
+        .iter()
+        .take(2)
+        .map(|&k| closest_on_side(face, b.side, target, k as f64 / (MATCH_POINTS - 1) as f64))
+        .min_by(|&x, &y| distance(x).total_cmp(&distance(y)))
+        .unwrap_or(0.5)
 }
 
 fn measure(
@@ -357,14 +406,7 @@ fn measure(
         let Some(edge) = (da.su * du + da.sv * dv).try_normalize() else {
             continue;
         };
-        // Start from the nearest matching sample of b.
-        let start = b
-            .points
-            .iter()
-            .enumerate()
-            .min_by(|x, y| x.1.distance(da.point).total_cmp(&y.1.distance(da.point)))
-            .map_or(0.5, |(k, _)| k as f64 / (MATCH_POINTS - 1) as f64);
-        let tb = closest_on_side(fb, b.side, da.point, start);
+        let tb = closest_on_side_from_samples(fb, b, da.point);
         if !side_kept(fb, b.side, tb) {
             continue;
         }
