@@ -14,15 +14,15 @@ thread_local! {
     static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
     /// The page's end of the editor's command channel, and the editor's end until it starts
     /// (what the page sends before then waits in the channel).
-    static COMMANDS: (CommandSender, RefCell<Option<CommandQueue>>) = {
+    static COMMANDS: RefCell<(CommandSender, Option<CommandQueue>)> = {
         let (sender, queue) = crate::app::channel();
-        (sender, RefCell::new(Some(queue)))
+        RefCell::new((sender, Some(queue)))
     };
 }
 
 /// Sends the editor one request from the page.
 fn send(command: AppCommand) {
-    COMMANDS.with(|(sender, _)| sender.send(command));
+    COMMANDS.with(|c| c.borrow().0.send(command));
 }
 
 /// Starts the editor on the canvas with id `canvas_id`. `adapter_label` is the page's
@@ -42,19 +42,24 @@ pub async fn start(canvas_id: String, adapter_label: String) -> Result<(), JsVal
         ..Default::default()
     };
     let runner = eframe::WebRunner::new();
-    let (sender, queue) =
-        COMMANDS.with(|(sender, queue)| (sender.clone(), queue.borrow_mut().take()));
+    let (sender, queue) = COMMANDS.with(|c| {
+        let mut c = c.borrow_mut();
+        (c.0.clone(), c.1.take())
+    });
     let result = runner
         .start(
             canvas,
             options,
             Box::new(move |cc| {
                 let app = KnotworkApp::new(cc, Some(adapter_label), true);
-                // A second start (a hot reload) keeps the channel the first one took.
-                Ok(Box::new(match queue {
+                // The first start takes the queue the page has filled; a later one (a hot
+                // reload) keeps the editor's own channel, and the page sends there from now on.
+                let app = match queue {
                     Some(queue) => app.with_commands(queue, sender),
                     None => app,
-                }))
+                };
+                COMMANDS.with(|c| c.borrow_mut().0 = app.command_sender());
+                Ok(Box::new(app))
             }),
         )
         .await;

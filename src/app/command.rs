@@ -144,14 +144,9 @@ impl CommandSender {
     /// Queues `command` and asks for a frame to carry it out. A command sent after the editor
     /// has gone is dropped.
     pub fn send(&self, command: AppCommand) {
-        if self.sender.send(command).is_ok() {
-            self.wake();
-        }
-    }
-
-    /// Asks the editor for a frame (work arrived for it outside the channel, a file's bytes).
-    pub fn wake(&self) {
-        if let Some(ctx) = self.repaint.get() {
+        if self.sender.send(command).is_ok()
+            && let Some(ctx) = self.repaint.get()
+        {
             ctx.request_repaint();
         }
     }

@@ -370,20 +370,10 @@ impl PatchLayout {
             self.records.push(PatchRecord {
                 degree_u: du as u32,
                 degree_v: dv as u32,
-                control_offset: self.control_indices.len() as u32,
-                vertex_offset: self.vertices as u32,
-                segments_u: grid,
-                segments_v: grid,
-                index_offset: self.indices as u32,
-                object: object as u32,
                 domain,
-                kind: PATCH_KIND_BEZIER,
                 trim_offset,
                 trim_count,
-                level: 0,
-                displacement: blocks.displacement,
-                lattice: blocks.lattice,
-                reserved: [0; 2],
+                ..self.next_record(PATCH_KIND_BEZIER, grid, 0, blocks, object)
             });
             self.control_indices
                 .extend(patch.indices().iter().map(|&i| i + first_point as u32));
@@ -490,7 +480,24 @@ impl PatchLayout {
         slots: u64,
     ) {
         self.quad_groups_x = self.quad_groups_x.max(workgroups(u64::from(s).pow(2)));
-        self.records.push(PatchRecord {
+        let record = self.next_record(kind, s, level, blocks, object);
+        self.records.push(record);
+        self.vertices += slots;
+        self.indices += 6 * u64::from(s).pow(2);
+    }
+
+    /// A record of `kind` on an `s` × `s` grid over (0, 1)², untrimmed, of degree 1 (grid
+    /// patches ignore it), whose control block, vertices and triangles start at the next free
+    /// place.
+    fn next_record(
+        &self,
+        kind: u32,
+        s: u32,
+        level: u32,
+        blocks: Blocks,
+        object: usize,
+    ) -> PatchRecord {
+        PatchRecord {
             degree_u: 1,
             degree_v: 1,
             control_offset: self.control_indices.len() as u32,
@@ -507,9 +514,7 @@ impl PatchLayout {
             displacement: blocks.displacement,
             lattice: blocks.lattice,
             reserved: [0; 2],
-        });
-        self.vertices += slots;
-        self.indices += 6 * u64::from(s).pow(2);
+        }
     }
 }
 
