@@ -640,3 +640,154 @@ fn an_export_over_the_triangle_limit_is_refused_with_the_limit() {
     let exact = export::export_within(&project, &opts, written.triangles).unwrap();
     assert_eq!(exact.triangles, written.triangles);
 }
+
+/// Every kind as the registry's examples show it, each also displaced and deformed by a
+/// lattice where it can be; the subdivision example at levels 1 to 4 and in every display; an
+/// octahedron in each of the five schemes (and PN triangles for Loop).
+fn every_kind() -> Project {
+    use knotwork::kernel::displace::{Displacement, Pattern};
+    use knotwork::kernel::ffd::Lattice;
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface};
+    use knotwork::scene::{ObjectKind, SubdivObject, registry};
+    let mut objects = Vec::new();
+    for entry in registry::kinds() {
+        for object in (entry.examples)() {
+            if object.kind().displacement_domain().is_some() {
+                let mut displaced = object.clone();
+                displaced.name += " displaced";
+                displaced.displacement =
+                    Some(Displacement::new(Pattern::Waves, 0.05, 2.0).unwrap());
+                objects.push(displaced);
+            }
+            let (lo, hi) = object.kind().bounds().unwrap();
+            let mut lattice = Lattice::around(lo - 0.1, hi + 0.1, [1, 1, 1]).unwrap();
+            let corner = lattice.points()[7];
+            lattice.set_point(7, corner + 0.2 * (hi - lo)).unwrap();
+            let mut deformed = object.clone();
+            deformed.name += " in a lattice";
+            deformed.lattice = Some(lattice);
+            objects.extend([object, deformed]);
+        }
+    }
+    let cage = registry::kinds()
+        .into_iter()
+        .flat_map(|entry| (entry.examples)())
+        .find_map(|o| o.geometry.downcast_ref::<SubdivObject>().cloned())
+        .expect("a subdivision example");
+    for level in 1..=4 {
+        for display in [
+            Display::Limit,
+            Display::Refined,
+            Display::Acc,
+            Display::Gregory,
+            Display::Adaptive,
+        ] {
+            let mut settings = cage.settings();
+            (settings.level, settings.display) = (level, display);
+            let shown = SubdivObject::with_settings(cage.cage().unwrap(), &settings).unwrap();
+            let name = format!("cage level {level} {display:?}");
+            objects.push(SceneObject::new(name, ObjectGeometry::new(shown)));
+        }
+    }
+    let octahedron = PolygonMesh::new(
+        vec![
+            DVec3::X,
+            DVec3::Y,
+            -DVec3::X,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ],
+        &[
+            vec![0, 1, 4],
+            vec![1, 2, 4],
+            vec![2, 3, 4],
+            vec![3, 0, 4],
+            vec![1, 0, 5],
+            vec![2, 1, 5],
+            vec![3, 2, 5],
+            vec![0, 3, 5],
+        ],
+    )
+    .unwrap();
+    let schemes = [
+        (Scheme::CatmullClark, Display::Limit),
+        (Scheme::Loop, Display::Limit),
+        (Scheme::Loop, Display::PnTriangles),
+        (Scheme::DooSabin, Display::Limit),
+        (Scheme::Sqrt3, Display::Limit),
+        (Scheme::Butterfly, Display::Refined),
+    ];
+    for (scheme, display) in schemes {
+        let options = Options {
+            scheme,
+            ..Default::default()
+        };
+        let surface =
+            SubdivisionSurface::new(octahedron.clone(), Vec::new(), Vec::new(), options, 3)
+                .unwrap();
+        let shown = SubdivObject::checked(surface, display).unwrap();
+        let name = format!("octahedron {scheme:?} {display:?}");
+        objects.push(SceneObject::new(name, ObjectGeometry::new(shown)));
+    }
+    Project {
+        scene: Scene { objects },
+        view: None,
+    }
+}
+
+#[test]
+fn every_kind_with_every_export_option_passes_the_khronos_validator() {
+    let project = every_kind();
+    let tolerance = export::default_tolerance(&project.scene);
+    let ramp = knotwork::gpu::records::curvature_ramp_rgb();
+    let mut files = Vec::new();
+    for (t, tessellation) in [
+        Tessellation::Tolerance(tolerance),
+        Tessellation::Segments(3),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        for (c, (curvature, component)) in [
+            (false, None),
+            (true, None),
+            (false, Some(0)),
+            (true, Some(3)),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let options = ExportOptions {
+                tessellation,
+                curvature,
+                colors: component
+                    .map(|k| CurvatureColors::automatic(&project.scene, k, ramp.clone())),
+            };
+            let e = export::export(&project, &options).unwrap();
+            let written = write(&format!("every-kind-{t}-{c}.glb"), &e);
+            // Every vertex of every object has its curvature and colour.
+            let bytes = std::fs::read(&written[0]).unwrap();
+            let document = gltf::Gltf::from_slice(&bytes).unwrap_or_else(|err| {
+                panic!("options {t}/{c}: the export does not read back: {err}")
+            });
+            for mesh in document.meshes() {
+                for primitive in mesh.primitives() {
+                    let vertices = primitive.get(&gltf::Semantic::Positions).unwrap().count();
+                    let extras = [
+                        (curvature, gltf::Semantic::Extras("CURVATURE".into())),
+                        (component.is_some(), gltf::Semantic::Colors(0)),
+                    ];
+                    for (wanted, semantic) in extras {
+                        let count = primitive.get(&semantic).map(|a| a.count());
+                        let expected = wanted.then_some(vertices);
+                        assert_eq!(count, expected, "{:?} {semantic:?}", mesh.name());
+                    }
+                }
+            }
+            files.extend(written);
+        }
+    }
+    validate(&files);
+}

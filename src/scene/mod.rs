@@ -402,25 +402,42 @@ impl SceneObject {
 
     /// The object as triangle meshes for export ([`ObjectKind::tessellate`]): one for a NURBS
     /// surface or a polygon mesh, one per patch for a patch set (each with the patch's own
-    /// (u, v)). `curvature` adds K, H, k1, k2 per vertex (not for a displaced object, which
-    /// is tessellated for its pattern rather than the tolerance).
+    /// (u, v)). A displaced object is tessellated for its pattern rather than the tolerance.
     ///
     /// An object with a lattice is tessellated as the viewport shows it (its own segments per
     /// span) and every vertex mapped through the lattice, its normal by the cofactor of the
-    /// lattice's Jacobian ([`Lattice::deform_vertex`]); without curvature.
+    /// lattice's Jacobian ([`Lattice::deform_vertex`]).
+    ///
+    /// `curvature` adds K, H, k1, k2 to every vertex of every mesh: the kind's exact values
+    /// where it has them, else (subdivision surfaces, displaced and deformed objects) the
+    /// estimate from the mesh and its normals ([`crate::kernel::mesh_curvature`]).
     pub fn tessellate(
         &self,
         tessellation: tess::Tessellation,
         curvature: bool,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
-        let Some(lattice) = &self.lattice else {
-            return self.tessellate_undeformed(tessellation, curvature);
+        let mut meshes = match &self.lattice {
+            None => self.tessellate_undeformed(tessellation, curvature)?,
+            Some(lattice) => {
+                let mut meshes =
+                    self.tessellate_undeformed(tess::Tessellation::Segments(self.segments), false)?;
+                for mesh in &mut meshes {
+                    for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
+                        (*p, *n) = lattice.deform_vertex(*p, *n);
+                    }
+                }
+                meshes
+            }
         };
-        let mut meshes =
-            self.tessellate_undeformed(tess::Tessellation::Segments(self.segments), false)?;
-        for mesh in &mut meshes {
-            for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
-                (*p, *n) = lattice.deform_vertex(*p, *n);
+        if curvature {
+            for mesh in &mut meshes {
+                if mesh.curvatures.len() != mesh.positions.len() {
+                    mesh.curvatures = crate::kernel::mesh_curvature::estimate_vertex_curvatures(
+                        &mesh.positions,
+                        &mesh.normals,
+                        &mesh.triangles,
+                    );
+                }
             }
         }
         Ok(meshes)

@@ -563,7 +563,8 @@ impl ObjectKind for SubdivObject {
 
     /// The surface as displayed at its level (level 0: the cage): the limit mesh or the
     /// refined one ([`SubdivisionSurface::display_mesh`]), polygons split into fans of
-    /// triangles, with the limit normals.
+    /// triangles, with the limit normals. No curvatures: the stencils do not define them at
+    /// every vertex, and [`crate::scene::SceneObject::tessellate`] estimates them on the mesh.
     fn tessellate(
         &self,
         tessellation: Tessellation,

@@ -34,6 +34,7 @@ pub mod displace;
 pub mod error;
 pub mod ffd;
 pub mod mesh;
+pub mod mesh_curvature;
 pub mod ops;
 pub mod parametric;
 pub mod samples;
