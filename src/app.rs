@@ -282,6 +282,8 @@ pub struct KnotworkApp {
     panel: panels::PanelState,
     export: export::ExportSettings,
     export_estimate: Option<export::ExportEstimate>,
+    /// The export being built, one object per frame.
+    running_export: Option<export::RunningExport>,
     /// Revisions of the document: what the autosave and the page have seen of it.
     saved: Persistence,
     /// A modal message (title, text), e.g. a file that could not be opened.
@@ -378,6 +380,7 @@ impl KnotworkApp {
             panel: panels::PanelState::default(),
             export: export::ExportSettings::default(),
             export_estimate: None,
+            running_export: None,
             saved: Persistence {
                 autosave: restore,
                 ..Persistence::default()
@@ -1158,6 +1161,7 @@ impl eframe::App for KnotworkApp {
 
         self.create_window(&ctx);
         self.export_window(&ctx);
+        self.step_export(&ctx);
         self.dialog_window(&ctx);
         self.autosave(&ctx, frame);
         // The page's script reads the document as project text; the desktop has no reader,

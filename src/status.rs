@@ -108,6 +108,8 @@ pub struct AppStatus {
     pub hit: Option<HitStatus>,
     /// The Export window's triangle count (or why it cannot export), while it is open.
     pub export_estimate: Option<String>,
+    /// A running export's progress (0 to 1, by the estimated triangles written), if one runs.
+    pub export_progress: Option<f64>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
     /// Something the editor did on its own that the user should know (e.g. tessellation lowered
@@ -134,12 +136,15 @@ struct Shared {
     status: Option<AppStatus>,
     handles: Vec<Option<[f32; 2]>>,
     project: String,
+    /// Finished exports the page asked for, by request number, until it takes them.
+    exports: Vec<(u32, Result<Vec<u8>, String>)>,
 }
 
 static SHARED: Mutex<Shared> = Mutex::new(Shared {
     status: None,
     handles: Vec::new(),
     project: String::new(),
+    exports: Vec::new(),
 });
 
 fn with_shared<R>(f: impl FnOnce(&mut Shared) -> R) -> R {
@@ -173,6 +178,19 @@ pub fn publish_project(text: String) {
 /// The latest published project text (empty before the editor runs).
 pub fn project() -> String {
     with_shared(|s| s.project.clone())
+}
+
+/// Publishes the result of export request `request`: the `.glb` bytes or why there are none.
+pub fn finish_export(request: u32, result: Result<Vec<u8>, String>) {
+    with_shared(|s| s.exports.push((request, result)));
+}
+
+/// Takes the result of export request `request`, once it is finished.
+pub fn take_export(request: u32) -> Option<Result<Vec<u8>, String>> {
+    with_shared(|s| {
+        let k = s.exports.iter().position(|(r, _)| *r == request)?;
+        Some(s.exports.swap_remove(k).1)
+    })
 }
 
 /// The latest published handle positions.

@@ -11,6 +11,8 @@ use crate::status;
 use crate::view::ShadingMode;
 
 thread_local! {
+    /// The number of the page's next export request.
+    static NEXT_EXPORT: std::cell::Cell<u32> = const { std::cell::Cell::new(1) };
     static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
     /// The page's end of the editor's command channel, and the editor's end until it starts
     /// (what the page sends before then waits in the channel).
@@ -412,15 +414,35 @@ pub fn project_json() -> String {
     status::project()
 }
 
-/// Exports the open document as a `.glb` and returns its bytes (what Export writes), for
-/// scripts and tests. `options` is JSON: `{"tolerance": t}` or `{"segments": n}`, optionally
-/// `"curvature": true` and `"colors": "gaussian" | "mean" | "k1" | "k2"`.
+/// Starts exporting the document as a `.glb`, as it is once every call made before this one
+/// has been carried out (an `openProject` just before is exported, not what it replaced), and
+/// returns the request's number for [`export_result`]. `options` is JSON: `{"tolerance": t}` or
+/// `{"segments": n}`, optionally `"curvature": true` and `"colors": "gaussian" | "mean" | "k1"
+/// | "k2"`; bad options are refused here with the reason. The editor builds the file one object
+/// per frame, with a progress bar and Cancel, so the page stays responsive.
 #[wasm_bindgen]
-pub fn export_glb(options: String) -> Result<Vec<u8>, JsValue> {
-    crate::io::gltf::glb_from_json(
-        &status::project(),
-        &options,
-        crate::gpu::records::curvature_ramp_rgb(),
-    )
-    .map_err(|e| JsValue::from_str(&e))
+pub fn start_export(options: String) -> Result<u32, String> {
+    // Checked now against an empty scene, so the caller hears of a bad option at once; the
+    // editor reads them again against the document (for the colours' automatic range).
+    crate::io::gltf::options_from_json(&options, &Default::default(), Vec::new())?;
+    let request = NEXT_EXPORT.with(|n| {
+        let request = n.get();
+        n.set(request.wrapping_add(1));
+        request
+    });
+    send(AppCommand::Export { request, options });
+    Ok(request)
+}
+
+/// The `.glb` of export request `request` once it is done (undefined while it runs); throws
+/// why it failed or that it was cancelled. A result is handed out once.
+#[wasm_bindgen]
+pub fn export_result(request: u32) -> Result<Option<Vec<u8>>, String> {
+    status::take_export(request).transpose()
+}
+
+/// Cancels the running export.
+#[wasm_bindgen]
+pub fn cancel_export() {
+    send(AppCommand::CancelExport);
 }

@@ -623,22 +623,76 @@ fn trimmed_surfaces_export_valid_gltf_and_their_trims_reopen_exactly() {
 /// An export whose objects together exceed the triangle limit is refused with the limit in the
 /// message, however small each object is; at a limit it fits under, the same export is written
 /// with the same count. (The page's limit is the 32-bit `MAX_TRIANGLES`, a fifth of the
-/// desktop's.)
+/// desktop's.) The estimate (at segments, an upper bound: collapsed triangles are left out)
+/// refuses before anything is tessellated, and names what would fit.
 #[test]
 fn an_export_over_the_triangle_limit_is_refused_with_the_limit() {
     let project = demo_project();
     let opts = options(Tessellation::Segments(4));
     let written = export::export(&project, &opts).unwrap();
+    let estimate: usize = export::estimate_triangles(&project.scene, opts.tessellation, usize::MAX)
+        .unwrap()
+        .iter()
+        .sum();
+    assert!(
+        (written.triangles..=written.triangles * 11 / 10).contains(&estimate),
+        "{estimate} for {}",
+        written.triangles
+    );
     let below = written.triangles - 1;
     match export::export_within(&project, &opts, below) {
-        Err(e @ export::ExportError::TooManyTriangles { limit }) => {
+        Err(
+            e @ export::ExportError::TooManyTriangles {
+                limit, estimated, ..
+            },
+        ) => {
             assert_eq!(limit, below);
+            assert!(estimated, "refused from the estimate");
             assert!(e.to_string().contains(&below.to_string()), "{e}");
+            assert!(e.to_string().contains("choose 3 segments or fewer"), "{e}");
         }
         other => panic!("expected a refusal, got {:?}", other.map(|e| e.triangles)),
     }
-    let exact = export::export_within(&project, &opts, written.triangles).unwrap();
+    let exact = export::export_within(&project, &opts, estimate).unwrap();
     assert_eq!(exact.triangles, written.triangles);
+    // A tolerance that would take hundreds of millions of triangles: refused from the
+    // estimate, with a tolerance that fits.
+    let tiny = options(Tessellation::Tolerance(1e-8));
+    let error = export::export(&project, &tiny).unwrap_err().to_string();
+    assert!(
+        error.contains("about ") && error.contains("choose a tolerance of"),
+        "{error}"
+    );
+}
+
+/// The stepped export (one object a step) gives the one-call export's file, reports its
+/// progress in steps and, finished early, says it was cancelled.
+#[test]
+fn an_export_in_steps_is_the_same_file_and_can_be_cancelled() {
+    let project = demo_project();
+    let opts = options(Tessellation::Segments(3));
+    let whole = export::to_glb(&export::export(&project, &opts).unwrap());
+    let limit = knotwork::kernel::tess::MAX_TRIANGLES;
+    let mut job = export::ExportJob::new(project.clone(), opts.clone(), limit).unwrap();
+    let mut progress = vec![job.progress()];
+    while !job.step().unwrap() {
+        progress.push(job.progress());
+    }
+    progress.push(job.progress());
+    assert_eq!(
+        progress.len(),
+        project.scene.objects.len() + 1,
+        "{progress:?}"
+    );
+    assert!(progress.windows(2).all(|w| w[0] < w[1]), "{progress:?}");
+    assert_eq!((progress[0], progress[progress.len() - 1]), (0.0, 1.0));
+    assert_eq!(export::to_glb(&job.finish().unwrap()), whole);
+    let mut cancelled = export::ExportJob::new(project, opts, limit).unwrap();
+    cancelled.step().unwrap();
+    assert!(matches!(
+        cancelled.finish(),
+        Err(export::ExportError::Cancelled)
+    ));
 }
 
 /// Every kind as the registry's examples show it, each also displaced and deformed by a

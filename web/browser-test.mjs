@@ -114,13 +114,20 @@ async function screenshotDifference(page, a, b, rect, tolerance) {
 
 /** The page's exportGlb(options) as bytes (through base64: the page returns a Uint8Array). */
 async function exportGlbBytes(page, options) {
-  const exported = await page.evaluate((o) => {
-    const glb = window.knotwork.exportGlb(o);
+  const exported = await page.evaluate(async (o) => {
+    const glb = await window.knotwork.exportGlb(o);
     let text = '';
     for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
     return btoa(text);
   }, options);
   return new Uint8Array(Buffer.from(exported, 'base64'));
+}
+
+/** The JSON chunk of a .glb. */
+function glbJson(bytes) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const length = view.getUint32(12, true);
+  return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
 }
 
 /** Has the editor draw `count` more frames, so the canvas shows the latest state. */
@@ -547,16 +554,16 @@ async function main() {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       const before = await page.evaluate(() => window.knotwork.project());
-      // Timed in the page: the first call (V8 runs new WebAssembly in its baseline compiler
-      // and moves hot functions to the optimizing one after some calls) and the median of calls
-      // 6 to 15 (optimized code, as in a session that exports more than once). The bytes travel
-      // to node as base64.
-      const exported = await page.evaluate(() => {
+      // Timed in the page from the call to the promise's bytes (the editor builds one object
+      // per frame, so this includes the frames between): the first call (V8 runs new
+      // WebAssembly in its baseline compiler and moves hot functions to the optimizing one
+      // after some calls) and the median of calls 6 to 15. The bytes travel to node as base64.
+      const exported = await page.evaluate(async () => {
         const times = [];
         let glb;
         for (let k = 0; k < 15; k++) {
           const started = performance.now();
-          glb = window.knotwork.exportGlb({ curvature: true, colors: 'mean' });
+          glb = await window.knotwork.exportGlb({ curvature: true, colors: 'mean' });
           times.push(performance.now() - started);
         }
         const first = times[0];
@@ -586,7 +593,87 @@ async function main() {
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       const wasmBytes = (await stat(new URL('./pkg/knotwork_bg.wasm', import.meta.url))).size;
       console.log(`  export in the page: ${bytes.length} bytes in ${exportMs}, with curvature and colours ` +
-        `(native, the same call: knotwork bench --only export, "as the page's exportGlb does"), ${report.infos} validator infos; wasm bundle ${wasmBytes} bytes`);
+        `(native, without frames: knotwork bench --only export, "as the page's exportGlb does"), ${report.infos} validator infos; wasm bundle ${wasmBytes} bytes`);
+      await page.close();
+    });
+
+    await check('an export reads the document just opened, carries curvature for subdivision surfaces, and a tiny tolerance neither freezes nor runs away', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const points = [];
+      for (let k = 0; k < 8; k += 1) points.push([k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1]);
+      const faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+      const cage = (level) => JSON.stringify({ format: 'knotwork', version: 2, objects: [{ type: 'subdivision_surface', name: 'cage', points, faces, level }] });
+      // Open a level-4 cage, then a level-3 one, and export at once each time, with no frame
+      // between: each export is of the document just opened (Catmull-Clark on a cube: 6 · 4^L
+      // quads, 6 · 4^L + 2 limit vertices).
+      const exported = await page.evaluate(async ([four, three]) => {
+        const base64 = (glb) => {
+          let text = '';
+          for (let k = 0; k < glb.length; k += 0x8000) text += String.fromCharCode(...glb.subarray(k, k + 0x8000));
+          return btoa(text);
+        };
+        window.knotwork.openProject('four.json', four);
+        const a = await window.knotwork.exportGlb({ curvature: true, colors: 'mean' });
+        window.knotwork.openProject('three.json', three);
+        const b = await window.knotwork.exportGlb({ curvature: true, colors: 'k1' });
+        return [base64(a), base64(b)];
+      }, [cage(4), cage(3)]);
+      for (const [k, level] of [[0, 4], [1, 3]]) {
+        const bytes = new Uint8Array(Buffer.from(exported[k], 'base64'));
+        const json = glbJson(bytes);
+        const attributes = json.meshes[0].primitives[0].attributes;
+        const count = (name) => json.accessors[attributes[name]].count;
+        const vertices = 6 * 4 ** level + 2;
+        assert(count('POSITION') === vertices, `level ${level}: ${count('POSITION')} vertices, not ${vertices}`);
+        assert(count('_CURVATURE') === vertices && count('COLOR_0') === vertices, `level ${level}: curvature ${count('_CURVATURE')}, colours ${count('COLOR_0')}`);
+        const report = summary(`cage-${level}.glb`, await validate(bytes, `cage-${level}.glb`));
+        assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      }
+
+      // A tolerance that would need millions of triangles is refused from the estimate, at
+      // once, with a tolerance that would fit; the page keeps drawing.
+      await page.evaluate(() => window.knotwork.newDocument());
+      await page.waitForFunction(() => window.knotwork.status().objects > 1, null, { timeout: 30_000 });
+      const refused = await page.evaluate(async () => {
+        const started = performance.now();
+        try {
+          await window.knotwork.exportGlb({ tolerance: 1e-7 });
+          return { message: null };
+        } catch (e) {
+          return { message: String(e.message ?? e), ms: performance.now() - started };
+        }
+      });
+      assert(/about \d+ triangles/.test(refused.message) && /tolerance of [0-9.e-]+ or more/.test(refused.message), `refused: ${JSON.stringify(refused)}`);
+      assert(refused.ms < 5000, `refused in ${refused.ms} ms`);
+      // Bad options are refused with the value.
+      for (const [options, pattern] of [[{ segments: 0 }, /segments must be a whole number from 1 to \d+, got 0/], [{ tolerance: -1 }, /tolerance must be a number > 0, got -1/], [{ colors: 'red' }, /colors must be/]]) {
+        const message = await page.evaluate(async (o) => window.knotwork.exportGlb(o).then(() => null, (e) => e.message), options);
+        assert(pattern.test(message), `${JSON.stringify(options)}: ${message}`);
+      }
+      // A long export runs one object per frame with its progress in the status, and Cancel
+      // stops it: the promise says so and nothing is left running.
+      const many = [];
+      for (let k = 0; k < 40; k += 1) many.push(landscapeObject(6, 8));
+      await openObjects(page, many);
+      const cancelled = await page.evaluate(async () => {
+        const running = window.knotwork.exportGlb({ tolerance: 1e-3 });
+        const progress = [];
+        for (let frame = 0; frame < 200; frame += 1) {
+          await new Promise((r) => requestAnimationFrame(r));
+          const p = window.knotwork.status().export_progress;
+          if (p !== null) progress.push(p);
+          if (p > 0) break;
+        }
+        window.knotwork.cancelExport();
+        const message = await running.then(() => null, (e) => e.message);
+        return { progress, message };
+      });
+      assert(cancelled.progress.some((p) => p > 0 && p < 1), `progress: ${JSON.stringify(cancelled.progress)}`);
+      assert(/cancelled/.test(cancelled.message), `cancelled: ${cancelled.message}`);
+      await page.waitForFunction(() => window.knotwork.status().export_progress === null, null, { timeout: 30_000 });
+      console.log(`      refused 1e-7 in ${refused.ms.toFixed(0)} ms: ${refused.message}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });
 

@@ -42,6 +42,16 @@ pub enum AppCommand {
     },
     /// Starts again from the sample scene.
     NewDocument,
+    /// Exports the document as it is when the command's turn comes (after every command sent
+    /// before it) as a `.glb`, one object per frame; the result goes to the status under
+    /// `request` ([`crate::status::take_export`]). `options` is JSON as in
+    /// [`crate::io::gltf::options_from_json`].
+    Export {
+        request: u32,
+        options: String,
+    },
+    /// Stops the running export (its result is "cancelled").
+    CancelExport,
     /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
     /// `object` (0 removes the crease): a [`Command::SetSubdivision`] of its settings.
     SetCrease {
@@ -198,6 +208,8 @@ impl KnotworkApp {
             AppCommand::Open { name, bytes } => self.open_file(&name, &bytes),
             AppCommand::OpenFailed { name, reason } => self.open_failed(&name, &reason),
             AppCommand::NewDocument => self.new_document(),
+            AppCommand::Export { request, options } => self.export_for_page(request, &options),
+            AppCommand::CancelExport => self.cancel_export(),
             AppCommand::SetCrease {
                 object,
                 a,

@@ -46,7 +46,7 @@ impl Default for ExportSettings {
 pub struct ExportEstimate {
     revision: u64,
     tessellation: Tessellation,
-    pub result: Result<(usize, usize), String>,
+    pub result: Result<usize, String>,
 }
 
 impl ExportSettings {
@@ -59,26 +59,31 @@ impl ExportSettings {
     }
 }
 
-/// (triangles, vertices) of the visible objects at `tessellation`.
-pub fn count_triangles(
+/// About how many triangles the visible objects make at `tessellation`, or why they cannot
+/// be exported ([`gltf::estimate_triangles`]: quick however small the tolerance).
+pub fn estimate_triangles(
     scene: &crate::scene::Scene,
     tessellation: Tessellation,
-) -> Result<(usize, usize), String> {
-    let (mut triangles, mut vertices) = (0, 0);
-    for object in scene.objects.iter().filter(|o| o.visible) {
-        let pieces = object
-            .tessellate(tessellation, false)
-            .map_err(|e| format!("{}: {e}", object.name))?;
-        for piece in pieces {
-            triangles += piece.triangles.len();
-            vertices += piece.positions.len();
-        }
-        let limit = crate::kernel::tess::MAX_TRIANGLES;
-        if triangles > limit {
-            return Err(gltf::ExportError::TooManyTriangles { limit }.to_string());
-        }
-    }
-    Ok((triangles, vertices))
+) -> Result<usize, String> {
+    gltf::estimate_triangles(scene, tessellation, crate::kernel::tess::MAX_TRIANGLES)
+        .map(|counts| counts.iter().sum())
+        .map_err(|e| e.to_string())
+}
+
+/// Where a finished export goes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExportTarget {
+    /// The page's `exportGlb` call with this request number.
+    Page(u32),
+    /// The Export window's file: the path chosen on the desktop (a `.gltf` writes its `.bin`
+    /// beside it), the download's name in the page.
+    File(String),
+}
+
+/// An export under way: the job and where its result goes.
+pub struct RunningExport {
+    job: gltf::ExportJob,
+    target: ExportTarget,
 }
 
 impl KnotworkApp {
@@ -119,11 +124,11 @@ impl KnotworkApp {
             self.export_estimate = Some(ExportEstimate {
                 revision: self.saved.revision,
                 tessellation,
-                result: count_triangles(&self.doc.scene, tessellation),
+                result: estimate_triangles(&self.doc.scene, tessellation),
             });
         }
         let estimate = match self.export_estimate.as_ref().map(|e| &e.result) {
-            Some(Ok((t, v))) => Ok(format!("{t} triangles, {v} vertices")),
+            Some(Ok(t)) => Ok(format!("about {t} triangles")),
             Some(Err(e)) => Err(e.clone()),
             None => Ok(String::new()),
         };
@@ -131,6 +136,7 @@ impl KnotworkApp {
         let mut open = true;
         let mut write = false;
         let curvature_mode = self.view.shading.curvature_component().is_some();
+        let running = self.running_export.is_some();
         let settings = &mut self.export;
         let before = settings.clone();
         egui::Window::new("Export glTF")
@@ -171,7 +177,7 @@ impl KnotworkApp {
                     Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 100), e),
                 };
                 write = ui
-                    .add_enabled(estimate.is_ok(), egui::Button::new("Export…"))
+                    .add_enabled(estimate.is_ok() && !running, egui::Button::new("Export…"))
                     .clicked();
             });
         if *settings != before {
@@ -186,24 +192,11 @@ impl KnotworkApp {
         }
     }
 
-    /// Builds the export and writes it (desktop: save dialog; web: download).
+    /// Starts the export the window's settings give, to a file (desktop: the path chosen
+    /// first in a save dialog; web: a download when it is done).
     fn export_to_file(&mut self) {
-        let options = self.export_options();
-        let project = Project {
-            scene: self.doc.scene.clone(),
-            view: Some(self.view),
-        };
-        let export = match gltf::export(&project, &options) {
-            Ok(export) => export,
-            Err(e) => {
-                self.dialog = Some(("Could not export".into(), e.to_string()));
-                self.status.error = Some(format!("export: {e}"));
-                return;
-            }
-        };
-        let summary = format!("{} triangles", export.triangles);
         #[cfg(not(target_arch = "wasm32"))]
-        {
+        let path = {
             let (filter, extension) = if self.export.text_format {
                 ("glTF (text + .bin)", "gltf")
             } else {
@@ -224,6 +217,117 @@ impl KnotworkApp {
                 path.push('.');
                 path.push_str(extension);
             }
+            path
+        };
+        #[cfg(target_arch = "wasm32")]
+        let path = "knotwork.glb".to_owned();
+        let options = self.export_options();
+        self.start_export(options, ExportTarget::File(path));
+    }
+
+    /// Starts the page's export request `request` with `options` (JSON, read against the
+    /// document as it is now).
+    pub(super) fn export_for_page(&mut self, request: u32, options: &str) {
+        match gltf::options_from_json(options, &self.doc.scene, curvature_ramp_rgb()) {
+            Ok(options) => self.start_export(options, ExportTarget::Page(request)),
+            Err(e) => crate::status::finish_export(request, Err(e)),
+        }
+    }
+
+    /// Starts an export of the document as it is now; refused (to its target) when one is
+    /// running, when nothing is visible or when the estimate is over the limit.
+    fn start_export(&mut self, options: ExportOptions, target: ExportTarget) {
+        if self.running_export.is_some() {
+            let busy = "another export is running: wait for it or cancel it".to_owned();
+            self.deliver_export(target, Err(busy));
+            return;
+        }
+        let project = Project {
+            scene: self.doc.scene.clone(),
+            view: Some(self.view),
+        };
+        match gltf::ExportJob::new(project, options, crate::kernel::tess::MAX_TRIANGLES) {
+            Ok(job) => self.running_export = Some(RunningExport { job, target }),
+            Err(e) => self.deliver_export(target, Err(e.to_string())),
+        }
+    }
+
+    /// Stops the running export; its target hears that it was cancelled.
+    pub(super) fn cancel_export(&mut self) {
+        if let Some(running) = self.running_export.take() {
+            let cancelled = gltf::ExportError::Cancelled.to_string();
+            self.deliver_export(running.target, Err(cancelled));
+        }
+    }
+
+    /// One step of the running export (one object) per frame, with its progress window;
+    /// the result goes to its target when the last object is done.
+    pub(super) fn step_export(&mut self, ctx: &egui::Context) {
+        let Some(running) = &mut self.running_export else {
+            self.status.export_progress = None;
+            return;
+        };
+        let next = running.job.next_name().unwrap_or_default().to_owned();
+        let progress = running.job.progress();
+        self.status.export_progress = Some(progress);
+        let mut cancel = false;
+        egui::Window::new("Exporting glTF")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_TOP, egui::vec2(0.0, 60.0))
+            .show(ctx, |ui| {
+                ui.add(
+                    egui::ProgressBar::new(progress as f32)
+                        .show_percentage()
+                        .desired_width(260.0),
+                );
+                ui.label(format!("tessellating {next}"));
+                cancel = ui.button("Cancel").clicked();
+            });
+        if cancel {
+            self.cancel_export();
+            return;
+        }
+        match running.job.step() {
+            Ok(false) => ctx.request_repaint(),
+            Ok(true) => {
+                if let Some(running) = self.running_export.take() {
+                    let result = running.job.finish();
+                    self.deliver_export(running.target, result.map_err(|e| e.to_string()));
+                }
+                ctx.request_repaint();
+            }
+            Err(e) => {
+                if let Some(running) = self.running_export.take() {
+                    self.deliver_export(running.target, Err(e.to_string()));
+                }
+            }
+        }
+    }
+
+    /// Hands a finished export to its target: the page's request, a file (desktop) or a
+    /// download (web), with what happened in the status.
+    fn deliver_export(&mut self, target: ExportTarget, result: Result<gltf::Export, String>) {
+        let path = match target {
+            ExportTarget::Page(request) => {
+                crate::status::finish_export(request, result.map(|e| gltf::to_glb(&e)));
+                return;
+            }
+            ExportTarget::File(path) => path,
+        };
+        let export = match result {
+            Ok(export) => export,
+            Err(e) => {
+                if e != gltf::ExportError::Cancelled.to_string() {
+                    self.dialog = Some(("Could not export".into(), e.clone()));
+                }
+                self.status.error = Some(format!("export: {e}"));
+                return;
+            }
+        };
+        let summary = format!("{} triangles", export.triangles);
+        #[cfg(not(target_arch = "wasm32"))]
+        {
             for (file, bytes) in gltf::files(&export, &path) {
                 if let Err(e) = std::fs::write(&file, bytes) {
                     self.status.error = Some(format!("could not write {file}: {e}"));
@@ -235,8 +339,8 @@ impl KnotworkApp {
         #[cfg(target_arch = "wasm32")]
         {
             let bytes = gltf::to_glb(&export);
-            match super::platform::download("knotwork.glb", &bytes, "model/gltf-binary") {
-                Ok(()) => self.status.notice = Some(format!("downloaded knotwork.glb ({summary})")),
+            match super::platform::download(&path, &bytes, "model/gltf-binary") {
+                Ok(()) => self.status.notice = Some(format!("downloaded {path} ({summary})")),
                 Err(e) => self.status.error = Some(format!("could not download: {e}")),
             }
         }

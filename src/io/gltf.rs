@@ -54,10 +54,52 @@ pub enum ExportError {
     )]
     TooLarge { bytes: usize },
     #[error(
-        "the export would have more than {limit} triangles{where_}: choose a larger tolerance or fewer segments, or hide objects",
-        where_ = if usize::BITS < 64 { " (the most a page can hold; the desktop app exports up to 20,000,000)" } else { "" }
+        "the export would have {about}{count} triangles, more than the {limit} one export may have{where_}: {advice}",
+        about = if *estimated { "about " } else { "over " },
+        where_ = if usize::BITS < 64 { " in a page (the desktop app exports up to 20000000)" } else { "" }
     )]
-    TooManyTriangles { limit: usize },
+    TooManyTriangles {
+        limit: usize,
+        /// The estimate, or (`estimated` false) the count when the limit was passed.
+        count: usize,
+        estimated: bool,
+        /// What would fit: a larger tolerance or fewer segments.
+        advice: String,
+    },
+    #[error("the export was cancelled")]
+    Cancelled,
+}
+
+impl ExportError {
+    /// [`ExportError::TooManyTriangles`] for `count` triangles (estimated or counted) at
+    /// `tessellation`, with the tolerance or segment count that would fit `limit`: the count
+    /// falls as 1/tolerance and as 1/segments².
+    pub fn too_many(
+        limit: usize,
+        count: usize,
+        estimated: bool,
+        tessellation: Tessellation,
+    ) -> Self {
+        let ratio = count as f64 / limit.max(1) as f64;
+        let advice = match tessellation {
+            Tessellation::Tolerance(t) => {
+                format!(
+                    "choose a tolerance of {:.2e} or more, or hide objects",
+                    t * ratio * 1.1
+                )
+            }
+            Tessellation::Segments(n) => {
+                let fits = ((f64::from(n) / ratio.sqrt()).floor() as u32).max(1);
+                format!("choose {fits} segments or fewer, or hide objects")
+            }
+        };
+        Self::TooManyTriangles {
+            limit,
+            count,
+            estimated,
+            advice,
+        }
+    }
 }
 
 /// Curvature colours for COLOR_0: the component (0 K, 1 H, 2 k1, 3 k2), the values at the
@@ -127,13 +169,24 @@ pub fn options_from_json(
     let tessellation = match (value.get("tolerance"), value.get("segments")) {
         (Some(t), None) => Tessellation::Tolerance(
             t.as_f64()
-                .ok_or("export options: tolerance must be a number")?,
+                .filter(|t| *t > 0.0 && t.is_finite())
+                .ok_or_else(|| {
+                    format!("export options: tolerance must be a number > 0, got {t}")
+                })?,
         ),
-        (None, Some(n)) => Tessellation::Segments(
-            n.as_u64()
-                .and_then(|n| u32::try_from(n).ok())
-                .ok_or("export options: segments must be a whole number")?,
-        ),
+        (None, Some(n)) => {
+            let max = crate::kernel::tess::MAX_SPAN_SEGMENTS as u64;
+            Tessellation::Segments(
+                n.as_u64()
+                    .filter(|n| (1..=max).contains(n))
+                    .and_then(|n| u32::try_from(n).ok())
+                    .ok_or_else(|| {
+                        format!(
+                            "export options: segments must be a whole number from 1 to {max}, got {n}"
+                        )
+                    })?,
+            )
+        }
         (None, None) => Tessellation::Tolerance(default_tolerance(scene)),
         (Some(_), Some(_)) => {
             return Err("export options: give tolerance or segments, not both".into());
@@ -358,32 +411,131 @@ pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, Expo
     export_within(project, options, crate::kernel::tess::MAX_TRIANGLES)
 }
 
-/// [`export`], refused with [`ExportError::TooManyTriangles`] as soon as the objects
-/// tessellated so far have more than `max_triangles` triangles.
+/// [`export`], refused with [`ExportError::TooManyTriangles`] when the estimate, or the count
+/// of the objects tessellated so far, passes `max_triangles`.
 pub fn export_within(
     project: &Project,
     options: &ExportOptions,
     max_triangles: usize,
 ) -> Result<Export, ExportError> {
-    let visible: Vec<_> = project.scene.objects.iter().filter(|o| o.visible).collect();
-    if visible.is_empty() {
-        return Err(ExportError::NothingVisible);
+    let mut job = ExportJob::new(project.clone(), options.clone(), max_triangles)?;
+    while !job.step()? {}
+    job.finish()
+}
+
+/// About how many triangles the visible objects of `scene` make at `tessellation`
+/// ([`crate::scene::SceneObject::estimated_triangles`], quick however small the tolerance),
+/// per visible object in order; [`ExportError::TooManyTriangles`] when they pass
+/// `max_triangles` together.
+pub fn estimate_triangles(
+    scene: &crate::scene::Scene,
+    tessellation: Tessellation,
+    max_triangles: usize,
+) -> Result<Vec<usize>, ExportError> {
+    let mut total = 0usize;
+    let mut counts = Vec::new();
+    for object in scene.objects.iter().filter(|o| o.visible) {
+        let count =
+            object
+                .estimated_triangles(tessellation)
+                .map_err(|source| ExportError::Geometry {
+                    name: object.name.clone(),
+                    source,
+                })?;
+        total = total.saturating_add(count);
+        counts.push(count);
     }
-    let curvature = options.curvature || options.colors.is_some();
-    let mut builder = Builder {
-        root: json::Root::default(),
-        bin: Vec::new(),
-    };
-    let mut nodes = Vec::new();
-    let (mut triangles, mut vertices) = (0, 0);
-    for object in visible {
-        let geometry_error = |source| ExportError::Geometry {
-            name: object.name.clone(),
-            source,
+    if total > max_triangles {
+        return Err(ExportError::too_many(
+            max_triangles,
+            total,
+            true,
+            tessellation,
+        ));
+    }
+    Ok(counts)
+}
+
+/// An export built one object at a time ([`Self::step`]), so that the editor can show its
+/// progress, stay responsive and cancel it between objects. The estimate is checked before
+/// the first object, and the count after each one.
+pub struct ExportJob {
+    project: Project,
+    options: ExportOptions,
+    max_triangles: usize,
+    /// The visible objects' indices and estimated triangle counts.
+    visible: Vec<(usize, usize)>,
+    /// How many of them are done.
+    done: usize,
+    builder: Builder,
+    nodes: Vec<json::Index<json::Node>>,
+    triangles: usize,
+    vertices: usize,
+}
+
+impl ExportJob {
+    /// A job for the visible objects of `project`; refused at once when none is visible or
+    /// the estimate passes `max_triangles` ([`estimate_triangles`]).
+    pub fn new(
+        project: Project,
+        options: ExportOptions,
+        max_triangles: usize,
+    ) -> Result<Self, ExportError> {
+        let counts = estimate_triangles(&project.scene, options.tessellation, max_triangles)?;
+        let indices =
+            (0..project.scene.objects.len()).filter(|&k| project.scene.objects[k].visible);
+        let visible: Vec<(usize, usize)> = indices.zip(counts).collect();
+        if visible.is_empty() {
+            return Err(ExportError::NothingVisible);
+        }
+        Ok(Self {
+            project,
+            options,
+            max_triangles,
+            visible,
+            done: 0,
+            builder: Builder {
+                root: json::Root::default(),
+                bin: Vec::new(),
+            },
+            nodes: Vec::new(),
+            triangles: 0,
+            vertices: 0,
+        })
+    }
+
+    /// The share of the estimated triangles written so far, 0 to 1.
+    pub fn progress(&self) -> f64 {
+        let total: usize = self.visible.iter().map(|&(_, n)| n.max(1)).sum();
+        let done: usize = self.visible[..self.done]
+            .iter()
+            .map(|&(_, n)| n.max(1))
+            .sum();
+        done as f64 / total.max(1) as f64
+    }
+
+    /// The next object to tessellate, if any.
+    pub fn next_name(&self) -> Option<&str> {
+        let &(k, _) = self.visible.get(self.done)?;
+        Some(&self.project.scene.objects[k].name)
+    }
+
+    /// Tessellates the next visible object into the document; true when every one is done.
+    pub fn step(&mut self) -> Result<bool, ExportError> {
+        let Some(&(k, _)) = self.visible.get(self.done) else {
+            return Ok(true);
         };
+        self.done += 1;
+        let object = &self.project.scene.objects[k];
+        let options = &self.options;
+        let builder = &mut self.builder;
+        let curvature = options.curvature || options.colors.is_some();
         let pieces = object
             .tessellate(options.tessellation, curvature)
-            .map_err(geometry_error)?;
+            .map_err(|source| ExportError::Geometry {
+                name: object.name.clone(),
+                source,
+            })?;
         let (lo, hi) = pieces
             .iter()
             .flat_map(|p| &p.positions)
@@ -399,73 +551,81 @@ pub fn export_within(
         let material = builder
             .root
             .push(material(&object.name, options.colors.is_some()));
-        let primitives: Vec<_> = pieces
-            .iter()
-            .filter(|p| !p.triangles.is_empty())
-            .map(|p| {
-                triangles += p.triangles.len();
-                vertices += p.positions.len();
-                primitive(&mut builder, p, origin, material, options)
-            })
-            .collect();
-        if triangles > max_triangles {
-            return Err(ExportError::TooManyTriangles {
-                limit: max_triangles,
+        let mut primitives = Vec::new();
+        for p in pieces.iter().filter(|p| !p.triangles.is_empty()) {
+            self.triangles += p.triangles.len();
+            self.vertices += p.positions.len();
+            primitives.push(primitive(builder, p, origin, material, options));
+        }
+        if self.triangles > self.max_triangles {
+            return Err(ExportError::too_many(
+                self.max_triangles,
+                self.triangles,
+                false,
+                options.tessellation,
+            ));
+        }
+        if !primitives.is_empty() {
+            let mesh = builder.root.push(json::Mesh {
+                extensions: None,
+                extras: None,
+                name: Some(object.name.clone()),
+                primitives,
+                weights: None,
             });
+            self.nodes.push(builder.root.push(json::Node {
+                name: Some(object.name.clone()),
+                mesh: Some(mesh),
+                translation: Some(origin.as_vec3().to_array()),
+                ..Default::default()
+            }));
         }
-        if primitives.is_empty() {
-            continue;
+        Ok(self.done == self.visible.len())
+    }
+
+    /// The finished document: the buffer, the scene with the embedded project and the asset.
+    /// [`ExportError::Cancelled`] if objects are left ([`Self::step`] was not run to the end).
+    pub fn finish(self) -> Result<Export, ExportError> {
+        if self.done < self.visible.len() {
+            return Err(ExportError::Cancelled);
         }
-        let mesh = builder.root.push(json::Mesh {
+        let Builder { mut root, mut bin } = self.builder;
+        if bin.len() > u32::MAX as usize {
+            return Err(ExportError::TooLarge { bytes: bin.len() });
+        }
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        root.push(json::Buffer {
+            byte_length: bin.len().into(),
+            name: None,
+            uri: None,
             extensions: None,
             extras: None,
-            name: Some(object.name.clone()),
-            primitives,
-            weights: None,
         });
-        nodes.push(builder.root.push(json::Node {
-            name: Some(object.name.clone()),
-            mesh: Some(mesh),
-            translation: Some(origin.as_vec3().to_array()),
+        let model = serde_json::json!({ "knotwork": project::to_value(&self.project) });
+        let scene = root.push(json::Scene {
+            extensions: None,
+            extras: RawValue::from_string(model.to_string()).ok(),
+            name: Some("knotwork".into()),
+            nodes: self.nodes,
+        });
+        root.scene = Some(scene);
+        root.asset = json::Asset {
+            version: "2.0".into(),
+            generator: Some(concat!("knotwork ", env!("CARGO_PKG_VERSION")).into()),
             ..Default::default()
-        }));
+        };
+        if self.options.colors.is_some() {
+            root.extensions_used = vec!["KHR_materials_unlit".into()];
+        }
+        Ok(Export {
+            root,
+            bin,
+            triangles: self.triangles,
+            vertices: self.vertices,
+        })
     }
-    let Builder { mut root, mut bin } = builder;
-    if bin.len() > u32::MAX as usize {
-        return Err(ExportError::TooLarge { bytes: bin.len() });
-    }
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    root.push(json::Buffer {
-        byte_length: bin.len().into(),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: None,
-    });
-    let model = serde_json::json!({ "knotwork": project::to_value(project) });
-    let scene = root.push(json::Scene {
-        extensions: None,
-        extras: RawValue::from_string(model.to_string()).ok(),
-        name: Some("knotwork".into()),
-        nodes,
-    });
-    root.scene = Some(scene);
-    root.asset = json::Asset {
-        version: "2.0".into(),
-        generator: Some(concat!("knotwork ", env!("CARGO_PKG_VERSION")).into()),
-        ..Default::default()
-    };
-    if options.colors.is_some() {
-        root.extensions_used = vec!["KHR_materials_unlit".into()];
-    }
-    Ok(Export {
-        root,
-        bin,
-        triangles,
-        vertices,
-    })
 }
 
 /// An object's material: PBR metallic-roughness, double-sided; white and unlit

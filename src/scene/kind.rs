@@ -136,6 +136,18 @@ pub trait ObjectKind: KindValue {
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError>;
 
+    /// About how many triangles [`Self::tessellate`] makes at `tessellation`, in time that
+    /// does not grow with the answer where the tolerance decides it (so a tiny tolerance is
+    /// refused before the wait). By default the tessellation's own count: right for kinds
+    /// whose mesh the tolerance does not change.
+    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+        Ok(self
+            .tessellate(tessellation, false)?
+            .iter()
+            .map(|m| m.triangles.len())
+            .sum())
+    }
+
     /// The surfaces the analyses sample (continuity, curvature combs, principal directions),
     /// through the one surface interface. A kind without a smooth surface says why in its
     /// implementation and offers none.

@@ -452,9 +452,22 @@ impl SceneObject {
         let Some(map) = &self.displacement else {
             return self.kind().tessellate(tessellation, curvature);
         };
-        // A displaced object: enough vertices for the pattern (8 per cycle across the domain,
-        // shared among a NURBS surface's spans; at least 4 per span), moved along the normal
-        // ([`crate::kernel::displace::displace_mesh`]).
+        let mut meshes = self
+            .kind()
+            .tessellate(self.displacement_tessellation(map), false)?;
+        for mesh in &mut meshes {
+            crate::kernel::displace::displace_mesh(mesh, map);
+        }
+        Ok(meshes)
+    }
+
+    /// A displaced object's tessellation: enough vertices for the pattern (8 per cycle across
+    /// the domain, shared among a NURBS surface's spans; at least 4 per span), which are then
+    /// moved along the normal ([`crate::kernel::displace::displace_mesh`]).
+    fn displacement_tessellation(
+        &self,
+        map: &crate::kernel::displace::Displacement,
+    ) -> tess::Tessellation {
         let spans = self.geometry.nurbs_surface().map_or(1, |s| {
             s.span_breaks(crate::kernel::Direction::U)
                 .len()
@@ -464,13 +477,22 @@ impl SceneObject {
         });
         let segments = ((map.segments_per_cycle() * map.frequency / spans as f64).ceil() as u32)
             .clamp(4, MAX_SEGMENTS);
-        let mut meshes = self
-            .kind()
-            .tessellate(tess::Tessellation::Segments(segments), false)?;
-        for mesh in &mut meshes {
-            crate::kernel::displace::displace_mesh(mesh, map);
-        }
-        Ok(meshes)
+        tess::Tessellation::Segments(segments)
+    }
+
+    /// About how many triangles [`Self::tessellate`] makes, without making them
+    /// ([`ObjectKind::estimated_triangles`], on the tessellation the lattice or the
+    /// displacement chooses where the object has one).
+    pub fn estimated_triangles(
+        &self,
+        tessellation: tess::Tessellation,
+    ) -> Result<usize, GeometryError> {
+        let tessellation = match (&self.displacement, &self.lattice) {
+            (Some(map), _) => self.displacement_tessellation(map),
+            (None, Some(_)) => tess::Tessellation::Segments(self.segments),
+            (None, None) => tessellation,
+        };
+        self.kind().estimated_triangles(tessellation)
     }
 }
 

@@ -155,6 +155,10 @@ impl ObjectKind for NurbsSurface {
         Ok(vec![tess::triangulate(self, &grid, curvature)?])
     }
 
+    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+        tess::estimated_triangles(self, tessellation)
+    }
+
     fn faces(&self) -> Vec<KindFace<'_>> {
         vec![KindFace::whole(self)]
     }

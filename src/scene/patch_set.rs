@@ -95,6 +95,10 @@ impl ObjectKind for BezierPatchSet {
         tess::tessellate_patches(self, tessellation, curvature)
     }
 
+    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+        tess::estimated_patch_triangles(self, tessellation)
+    }
+
     /// Every patch, over [0, 1]².
     fn faces(&self) -> Vec<KindFace<'_>> {
         (0..self.patches().len())

@@ -66,6 +66,16 @@ fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
     feed
 }
 
+/// Segments per edge for an export at `tessellation`: enough for the tolerance
+/// ([`TriangleBezier::segments_for`]) or the segments asked for.
+fn export_segments(patch: &TriangleBezier, tessellation: Tessellation) -> u32 {
+    let max = MAX_SPAN_SEGMENTS as u32;
+    match tessellation {
+        Tessellation::Tolerance(t) => patch.segments_for(t, max),
+        Tessellation::Segments(n) => n.clamp(1, max),
+    }
+}
+
 impl ObjectKind for TriangleBezier {
     fn kind_name(&self) -> &'static str {
         "a triangular Bézier patch"
@@ -154,6 +164,12 @@ impl ObjectKind for TriangleBezier {
         feed.sync_points(self.points())
     }
 
+    /// s² triangles for s segments per edge.
+    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+        let s = export_segments(self, tessellation) as usize;
+        Ok(s * s)
+    }
+
     /// The lattice of enough segments per edge for the tolerance (the second-difference bound,
     /// [`TriangleBezier::segments_for`]) or the segments asked for, each vertex evaluated by de
     /// Casteljau with its normal, (u, v) and, if asked, curvature.
@@ -162,11 +178,7 @@ impl ObjectKind for TriangleBezier {
         tessellation: Tessellation,
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
-        let max = MAX_SPAN_SEGMENTS as u32;
-        let s = match tessellation {
-            Tessellation::Tolerance(t) => self.segments_for(t, max),
-            Tessellation::Segments(n) => n.clamp(1, max),
-        };
+        let s = export_segments(self, tessellation);
         let mut mesh = TriangleMesh {
             positions: Vec::new(),
             normals: Vec::new(),

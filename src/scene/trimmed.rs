@@ -104,6 +104,11 @@ impl ObjectKind for TrimmedSurface {
         Ok(vec![tessellate_trimmed(self, tessellation, curvature)?])
     }
 
+    /// The whole surface's estimate: the trims only take triangles away.
+    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+        crate::kernel::tess::estimated_triangles(self.surface(), tessellation)
+    }
+
     /// The surface with its kept region.
     fn faces(&self) -> Vec<KindFace<'_>> {
         vec![KindFace::whole(self)]

@@ -115,12 +115,7 @@ pub fn tolerance_grid(
     surface: &NurbsSurface,
     tolerance: f64,
 ) -> Result<ParameterGrid, GeometryError> {
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(GeometryError::Construction {
-            what: "tessellation",
-            message: format!("the tolerance must be finite and > 0, got {tolerance}"),
-        });
-    }
+    check_tolerance(tolerance)?;
     let [bu, bv] = [Direction::U, Direction::V].map(|d| surface.span_breaks(d));
     let (mut nu, mut nv) = estimated_segments(surface, &bu, &bv, tolerance)?;
     let mut coarsened = false;
@@ -196,6 +191,96 @@ pub fn tolerance_grid(
         }
     }
     Err(too_fine(&format!("tolerance {tolerance}")))
+}
+
+/// About how many triangles [`grid_for`] gives `surface` at `tessellation`, in time bounded by
+/// its span count (never by the answer): exact for segments; for a tolerance, the grid the
+/// derivative bounds size ([`estimated_segments`], 25 samples per span pair) with the one
+/// coarsening step of [`tolerance_grid`] estimated on a sample of its cells, at most
+/// [`ESTIMATE_CELLS`] of them.
+pub fn estimated_triangles(
+    surface: &NurbsSurface,
+    tessellation: Tessellation,
+) -> Result<usize, GeometryError> {
+    let [bu, bv] = [Direction::U, Direction::V].map(|d| surface.span_breaks(d));
+    let (nu, nv) = match tessellation {
+        Tessellation::Segments(n) => {
+            let n = (n as usize).clamp(1, MAX_SPAN_SEGMENTS);
+            (vec![n; bu.len() - 1], vec![n; bv.len() - 1])
+        }
+        Tessellation::Tolerance(t) => {
+            check_tolerance(t)?;
+            let (nu, nv) = estimated_segments(surface, &bu, &bv, t)?;
+            sampled_coarsening(surface, &bu, &bv, (nu, nv), t)?
+        }
+    };
+    let (cu, cv): (usize, usize) = (nu.iter().sum(), nv.iter().sum());
+    Ok(2usize.saturating_mul(cu).saturating_mul(cv))
+}
+
+/// The most grid cells [`estimated_triangles`] measures.
+pub const ESTIMATE_CELLS: usize = 256;
+
+/// [`tolerance_grid`]'s coarsening step on the grid `(nu, nv)`, each span's worst deviation
+/// measured on an evenly spread sample of its cells (every cell of a small grid).
+fn sampled_coarsening(
+    surface: &NurbsSurface,
+    bu: &[f64],
+    bv: &[f64],
+    (mut nu, mut nv): (Vec<usize>, Vec<usize>),
+    tolerance: f64,
+) -> Result<(Vec<usize>, Vec<usize>), GeometryError> {
+    let (us, vs) = (subdivide(bu, &nu), subdivide(bv, &nv));
+    let (rows, cols) = (us.len() - 1, vs.len() - 1);
+    // A stride per direction so that about ESTIMATE_CELLS cells are measured, each span hit.
+    let per_direction = (ESTIMATE_CELLS as f64).sqrt() as usize;
+    let pick = |cells: usize, counts: &[usize]| -> Vec<usize> {
+        let stride = cells.div_ceil(per_direction).max(1);
+        let mut picked: Vec<usize> = (0..cells).step_by(stride).collect();
+        let mut first = 0;
+        for &n in counts {
+            picked.push(first + n / 2);
+            first += n;
+        }
+        picked.sort_unstable();
+        picked.dedup();
+        picked
+    };
+    let (pick_u, pick_v) = (pick(rows, &nu), pick(cols, &nv));
+    let mut worst_u = vec![0.0f64; nu.len()];
+    let mut worst_v = vec![0.0f64; nv.len()];
+    for &i in &pick_u {
+        for &j in &pick_v {
+            let cell = ParameterGrid {
+                us: vec![us[i], us[i + 1]],
+                vs: vec![vs[j], vs[j + 1]],
+            };
+            let d = cell_deviations(surface, &cell)?[0];
+            let (a, b) = (span_of(&us, bu, i), span_of(&vs, bv, j));
+            worst_u[a] = worst_u[a].max(d);
+            worst_v[b] = worst_v[b].max(d);
+        }
+    }
+    let target = COARSEN_TARGET * tolerance;
+    for (n, worst) in nu.iter_mut().zip(worst_u).chain(nv.iter_mut().zip(worst_v)) {
+        if worst.is_finite() {
+            *n = ((*n as f64) * (worst / target).sqrt())
+                .ceil()
+                .clamp(1.0, *n as f64) as usize;
+        }
+    }
+    Ok((nu, nv))
+}
+
+/// A tolerance is finite and > 0.
+fn check_tolerance(tolerance: f64) -> Result<(), GeometryError> {
+    if tolerance.is_finite() && tolerance > 0.0 {
+        return Ok(());
+    }
+    Err(GeometryError::Construction {
+        what: "tessellation",
+        message: format!("the tolerance must be finite and > 0, got {tolerance}"),
+    })
 }
 
 /// The span of `breaks` that grid cell `cell` (between `params[cell]` and `params[cell + 1]`)
@@ -480,6 +565,38 @@ pub fn tessellate_patches(
         .collect()
 }
 
+/// About how many triangles [`tessellate_patches`] gives `set` at `tessellation`: each patch's
+/// [`estimated_triangles`] grid, its counts shared along joined edges as there.
+pub fn estimated_patch_triangles(
+    set: &BezierPatchSet,
+    tessellation: Tessellation,
+) -> Result<usize, GeometryError> {
+    let classes = edge_count_classes(set);
+    let mut counts = vec![1usize; classes.len()];
+    for k in 0..set.patches().len() {
+        let surface = patch_surface(set, k)?;
+        let (nu, nv) = match tessellation {
+            Tessellation::Segments(n) => {
+                let n = (n as usize).clamp(1, MAX_SPAN_SEGMENTS);
+                (n, n)
+            }
+            Tessellation::Tolerance(t) => {
+                check_tolerance(t)?;
+                let one = [0.0, 1.0];
+                let first = estimated_segments(&surface, &one, &one, t)?;
+                let (nu, nv) = sampled_coarsening(&surface, &one, &one, first, t)?;
+                (nu[0], nv[0])
+            }
+        };
+        let (cu, cv) = (classes[2 * k], classes[2 * k + 1]);
+        counts[cu] = counts[cu].max(nu);
+        counts[cv] = counts[cv].max(nv);
+    }
+    Ok((0..set.patches().len())
+        .map(|k| 2 * counts[classes[2 * k]] * counts[classes[2 * k + 1]])
+        .sum())
+}
+
 /// For each patch k of `set`, the class of its u-direction count (entry 2k: the segments along
 /// its v = 0 and v = 1 edges) and of its v-direction count (entry 2k + 1), numbered from 0.
 /// Two directions are in one class when an edge of one is an edge of the other: the same
@@ -572,6 +689,45 @@ pub fn tessellate_mesh(
 mod tests {
     use super::*;
     use crate::construct;
+
+    #[test]
+    fn the_estimate_is_within_five_percent_of_the_tessellation_and_never_builds_it() {
+        let close = |estimate: usize, actual: usize, what: &str| {
+            let ratio = estimate as f64 / actual as f64;
+            assert!(
+                (0.95..=1.05).contains(&ratio),
+                "{what}: {estimate} for {actual}"
+            );
+        };
+        let teapot = crate::samples::utah_teapot().unwrap();
+        for t in [1e-2, 1e-3] {
+            let estimate = estimated_patch_triangles(&teapot, Tessellation::Tolerance(t)).unwrap();
+            let actual = tessellate_patches(&teapot, Tessellation::Tolerance(t), false).unwrap();
+            close(
+                estimate,
+                actual.iter().map(|p| p.triangles.len()).sum(),
+                "teapot",
+            );
+        }
+        let sphere = construct::sphere(DVec3::ZERO, 2.0).unwrap();
+        let torus = construct::torus(DVec3::ZERO, DVec3::Z, 3.0, 1.0).unwrap();
+        for (name, s) in [("sphere", &sphere), ("torus", &torus)] {
+            for t in [1e-2, 1e-3, 1e-4] {
+                let estimate = estimated_triangles(s, Tessellation::Tolerance(t)).unwrap();
+                close(
+                    estimate,
+                    tolerance_grid(s, t).unwrap().triangle_count(),
+                    name,
+                );
+            }
+            let segments = estimated_triangles(s, Tessellation::Segments(7)).unwrap();
+            assert_eq!(segments, uniform_grid(s, 7).unwrap().triangle_count());
+        }
+        // Far past what a tessellation may build: a number, not an error (nor the wait).
+        let tiny = estimated_patch_triangles(&teapot, Tessellation::Tolerance(1e-9)).unwrap();
+        assert!(tiny > MAX_TRIANGLES, "{tiny}");
+        assert!(estimated_triangles(&sphere, Tessellation::Tolerance(f64::NAN)).is_err());
+    }
 
     #[test]
     fn a_plane_needs_one_cell_per_span_and_a_cylinder_gets_finer_with_the_tolerance() {
