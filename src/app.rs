@@ -239,9 +239,19 @@ struct Selection {
     hit: Option<SurfaceHit>,
 }
 
-/// The document's revisions as the autosave and the page's `project()` see them.
+/// The document's revisions as the autosave and the page's `project()` see them, its name and
+/// the Recent list.
 #[derive(Default)]
 struct Persistence {
+    /// What the open document was opened as ("sample scene", a file's name).
+    name: String,
+    /// The revision right after it was opened (`u64::MAX`: a restored autosave, which counts
+    /// as changed).
+    opened_revision: u64,
+    /// Documents that New and Open replaced, newest first ([`files::RECENT_LIMIT`]).
+    recent: Vec<files::RecentDocument>,
+    /// The Recent list changed since it was last stored.
+    recent_changed: bool,
     /// Counts document changes; the autosave writes when it moves.
     revision: u64,
     autosaved_revision: u64,
@@ -383,6 +393,7 @@ impl KnotworkApp {
             running_export: None,
             saved: Persistence {
                 autosave: restore,
+                name: "sample scene".into(),
                 ..Persistence::default()
             },
             dialog: None,
@@ -409,6 +420,7 @@ impl KnotworkApp {
             sender,
         };
         let restored = if restore {
+            app.load_recent(cc.storage);
             app.restore_autosave(cc.storage)
         } else {
             None
@@ -828,6 +840,7 @@ impl KnotworkApp {
         self.status.dragging = self.doc.drag().is_some();
         self.status.constraint = self.constraint.label();
         self.status.revision = self.saved.revision;
+        self.status.recent = self.saved.recent.iter().map(|r| r.label()).collect();
         self.status.autosaved_revision = self.saved.autosaved_revision;
         self.status.hit = self.selection.hit.map(|h| status::HitStatus {
             object: h.object as u32,

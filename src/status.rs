@@ -106,6 +106,8 @@ pub struct AppStatus {
     pub autosaved_revision: u64,
     /// The last surface point clicked.
     pub hit: Option<HitStatus>,
+    /// The Recent list: documents New and Open replaced, newest first ("name · N objects").
+    pub recent: Vec<String>,
     /// The Export window's triangle count (or why it cannot export), while it is open.
     pub export_estimate: Option<String>,
     /// A running export's progress (0 to 1, by the estimated triangles written), if one runs.

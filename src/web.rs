@@ -395,10 +395,17 @@ pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) -> Re
     Ok(())
 }
 
-/// Starts again from the sample scene.
+/// Starts again from the sample scene, or (`empty`) from no objects; one undo step (the
+/// document before is also kept in the Recent list).
 #[wasm_bindgen]
-pub fn new_document() {
-    send(AppCommand::NewDocument);
+pub fn new_document(empty: bool) {
+    send(AppCommand::NewDocument { empty });
+}
+
+/// Opens entry `index` (0: the newest) of the Recent list (`status().recent`); one undo step.
+#[wasm_bindgen]
+pub fn open_recent(index: u32) {
+    send(AppCommand::OpenRecent(index as usize));
 }
 
 /// Where the selected object's control points are on the page, as JSON `[[x, y] | null, ...]`

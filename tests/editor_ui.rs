@@ -300,6 +300,8 @@ fn a_file_opened_during_a_drag_ends_the_drag_and_the_new_document_is_untouched()
     let (_, at) = select_with_free_handle(&mut harness, SHEET);
     let end = drag_from(&mut harness, at, egui::vec2(8.0, 5.0), 3);
     assert!(status::current().dragging);
+    // The sample with the drag's transient move in it.
+    let dragged = harness.state().document().scene.clone();
 
     // A file arrives mid-drag (a drop, the page's openFile): a cube of 8 points, 6 quads.
     let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
@@ -322,15 +324,27 @@ fn a_file_opened_during_a_drag_ends_the_drag_and_the_new_document_is_untouched()
     assert_eq!(doc.scene, opened.scene, "the opened cube is as read");
     assert_eq!(
         (doc.history.undo_depth(), doc.history.redo_depth()),
-        (0, 0),
-        "a fresh history: the old drag stayed with the old document"
+        (2, 0),
+        "the drag ended as a step of the old document, then the open"
     );
     assert!(doc.drag().is_none());
-    // Undo has nothing to take back and changes nothing.
+    // Undo takes the open back: the old document, with the drag as it was when the file came.
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_steps(2);
-    assert_eq!(harness.state().document().scene, opened.scene);
+    assert_eq!(harness.state().document().scene, dragged);
     assert_eq!(status::current().error, None);
+    // Undo again: the drag's step, the sample as it was before the drag.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    let before = harness.state().document().scene.clone();
+    assert_eq!(before.objects.len(), dragged.objects.len());
+    assert_ne!(before.objects[SHEET], dragged.objects[SHEET]);
+    // Redo twice: the cube again.
+    for _ in 0..2 {
+        harness.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+        harness.run_steps(2);
+    }
+    assert_eq!(harness.state().document().scene, opened.scene);
 }
 
 /// The status after a move: its support was re-evaluated, and only that.
@@ -520,7 +534,8 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     press(&harness, end, false);
     harness.run_steps(2);
     let s = status::current();
-    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 2), "{s:?}");
+    // Opening the file was a step too.
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 3), "{s:?}");
     assert!(s.patches_in_drag > 0 && s.patches_in_drag <= 24, "{s:?}");
     let dragged = harness.state().document().scene.objects[0].clone();
     assert_ne!(
@@ -613,7 +628,8 @@ fn a_circle_drawn_on_a_surface_with_the_mouse_cuts_a_hole_and_undo_restores() {
     click_at(&mut harness, centre);
     click_at(&mut harness, at(0.7, 0.5));
     let s = status::current();
-    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 1), "{s:?}");
+    // Opening the plate, then the trim.
+    assert_eq!((s.error.as_deref(), s.undo_steps), (None, 2), "{s:?}");
     let Some(t) = harness.state().document().scene.objects[0]
         .geometry
         .downcast_ref::<knotwork::kernel::TrimmedSurface>()
@@ -878,4 +894,66 @@ fn a_lattice_is_added_dragged_with_the_mouse_and_applied_from_the_panel() {
         harness.run_steps(2);
     }
     assert_eq!(harness.state().document().scene.objects[SHEET], original);
+}
+
+/// New (sample or empty) and Open are undo steps, and the work they replace stays in the Recent
+/// list, from which it opens again.
+#[test]
+fn new_and_open_are_undo_steps_and_the_work_they_replace_is_in_recent() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    // Some work: a point moved.
+    let page = harness.state().command_sender();
+    page.send(AppCommand::Edit(Command::MovePoints {
+        object: SHEET,
+        moves: vec![(5, glam::DVec3::new(1.0, 2.0, 3.0))],
+    }));
+    harness.run_steps(2);
+    let work = harness.state().document().scene.clone();
+
+    // New → Empty scene, from the menu.
+    harness.get_by_label("New").click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("Empty scene").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!((s.objects, s.undo_steps), (0, 2), "{s:?}");
+    assert_eq!(s.last_edit.as_deref(), Some("new empty scene"));
+    assert_eq!(s.recent, vec!["sample scene · 6 objects".to_owned()]);
+
+    // Undo: the work is back, exactly.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene, work);
+
+    // Redo, then open a file: one more step; the empty scene was not edited, so it is not
+    // remembered.
+    harness.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    harness.run_steps(2);
+    let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    harness.state_mut().open_file("quad.obj", cube.as_bytes());
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.objects, s.undo_steps, s.recent.len()),
+        (1, 3, 1),
+        "{s:?}"
+    );
+
+    // The Recent list opens the work again, as one more step.
+    harness.get_by_label("Recent").click_accesskit();
+    harness.run_steps(2);
+    harness
+        .get_by_label("sample scene · 6 objects")
+        .click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(
+        (s.objects, s.undo_steps, s.error.as_deref()),
+        (6, 4, None),
+        "{s:?}"
+    );
+    assert_eq!(harness.state().document().scene, work);
 }

@@ -462,7 +462,7 @@ async function main() {
       await page.close();
     });
 
-    await check('drag a control point with the mouse, undo with Ctrl+Z, reload finds the autosave', async () => {
+    await check('drag a control point with the mouse, undo with Ctrl+Z, reload finds the autosave; New is undone and its work is in Recent after a reload', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       const canvas = await page.locator('#knotwork-canvas').boundingBox();
@@ -529,6 +529,30 @@ async function main() {
       assert(/restored/.test(s.notice ?? ''), `notice after reload: ${s.notice}`);
       const reloaded = pointOf(await page.evaluate(() => window.knotwork.project()));
       assert(JSON.stringify(reloaded) === JSON.stringify(dragged), `the autosave kept the edit: ${reloaded} vs ${dragged}`);
+
+      // New throws nothing away: it is an undo step, and the work it replaced is in the
+      // Recent list, also after the autosave has written the new document and the page reloads.
+      const work = await page.evaluate(() => window.knotwork.project());
+      await page.evaluate(() => window.knotwork.newDocument({ empty: true }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 0, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(s.undo_steps === 1 && s.last_edit === 'new empty scene', `new: ${JSON.stringify([s.undo_steps, s.last_edit])}`);
+      assert(s.recent.length === 1 && /6 objects/.test(s.recent[0]), `recent: ${JSON.stringify(s.recent)}`);
+      await page.keyboard.press('Control+z');
+      await page.waitForFunction(() => window.knotwork.status().objects === 6, null, { timeout: 30_000 });
+      assert(JSON.stringify(await page.evaluate(() => window.knotwork.project())) === JSON.stringify(work), 'undo brings the work back');
+      await page.evaluate(() => window.knotwork.redo());
+      await page.waitForFunction(() => {
+        const s = window.knotwork.status();
+        return s.objects === 0 && s.autosaved_revision === s.revision;
+      }, null, { timeout: 30_000 });
+      await page.reload();
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      s = await status(page);
+      assert(s.objects === 0 && s.recent.length === 1, `after reload: ${JSON.stringify([s.objects, s.recent])}`);
+      await page.evaluate(() => window.knotwork.openRecent(0));
+      await page.waitForFunction(() => window.knotwork.status().objects === 6, null, { timeout: 30_000 });
+      assert(JSON.stringify(await page.evaluate(() => window.knotwork.project())) === JSON.stringify(work), 'Recent opens the work again');
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -40,8 +40,12 @@ pub enum AppCommand {
         name: String,
         reason: String,
     },
-    /// Starts again from the sample scene.
-    NewDocument,
+    /// Starts again from the sample scene, or (`empty`) from no objects: one undo step.
+    NewDocument {
+        empty: bool,
+    },
+    /// Opens entry `index` (0: the newest) of the Recent list: one undo step.
+    OpenRecent(usize),
     /// Exports the document as it is when the command's turn comes (after every command sent
     /// before it) as a `.glb`, one object per frame; the result goes to the status under
     /// `request` ([`crate::status::take_export`]). `options` is JSON as in
@@ -207,7 +211,8 @@ impl KnotworkApp {
             AppCommand::Redo => self.step_history(true),
             AppCommand::Open { name, bytes } => self.open_file(&name, &bytes),
             AppCommand::OpenFailed { name, reason } => self.open_failed(&name, &reason),
-            AppCommand::NewDocument => self.new_document(),
+            AppCommand::NewDocument { empty } => self.new_document(empty),
+            AppCommand::OpenRecent(index) => self.open_recent(index),
             AppCommand::Export { request, options } => self.export_for_page(request, &options),
             AppCommand::CancelExport => self.cancel_export(),
             AppCommand::SetCrease {

@@ -9,11 +9,33 @@ use eframe::egui;
 use std::sync::Arc;
 
 use super::{AppCommand, KnotworkApp, default_scene};
-use crate::doc::Document;
 use crate::io::project::Project;
 
 /// The storage key of the autosaved project.
 pub const AUTOSAVE_KEY: &str = "knotwork.project";
+/// The storage key of the recent documents (JSON: [`RecentDocument`]s, newest first).
+pub const RECENT_KEY: &str = "knotwork.recent";
+/// How many documents the Recent list keeps.
+pub const RECENT_LIMIT: usize = 5;
+
+/// A document the editor had open before New or Open replaced it, kept so that a reload can
+/// still bring the work back.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RecentDocument {
+    /// What it was opened as ("sample scene", a file's name).
+    pub name: String,
+    pub objects: usize,
+    /// The project text (with its view).
+    pub text: String,
+}
+
+impl RecentDocument {
+    /// "name · 3 objects", as the Recent list shows it.
+    pub fn label(&self) -> String {
+        let s = if self.objects == 1 { "" } else { "s" };
+        format!("{} · {} object{s}", self.name, self.objects)
+    }
+}
 /// Seconds of quiet after an edit before the autosave writes.
 const AUTOSAVE_DELAY: f64 = 0.5;
 
@@ -54,45 +76,120 @@ impl KnotworkApp {
         self.status.error = Some(format!("{name}: {message}"));
     }
 
-    /// Makes `project` the open document (a new, empty history). If the GPU cannot show it,
-    /// a dialog names the problem and the document, its history and the GPU geometry stay as
-    /// they were.
+    /// Makes `project` the open document as one undo step ("open NAME": Undo brings the
+    /// document before back), the document it replaces kept in the Recent list. If the GPU
+    /// cannot show it, a dialog names the problem and the document, its history and the GPU
+    /// geometry stay as they were.
     pub fn open_project(&mut self, name: &str, project: Project) {
-        // A drag in progress belongs to the document being replaced: it ends there.
-        self.end_drag(false);
         let Project { scene, view } = project;
-        let previous = std::mem::replace(&mut self.doc, Document::new(scene));
         let previous_view = self.view;
         if let Some(view) = view {
             self.view = view;
         }
-        if let Err(e) = self.after_edit(crate::doc::Touched::Structure) {
-            // The GPU cannot show it (e.g. a degree above the evaluator's maximum): put the old
-            // document back.
-            self.doc = previous;
+        if let Err(e) = self.replace_scene(name, scene, format!("open {name}")) {
             self.view = previous_view;
-            let _ = self.after_edit(crate::doc::Touched::Structure);
             self.open_failed(name, &e);
             return;
         }
-        self.select(None);
         if view.is_none() {
             self.frame_pending = true;
         }
-        self.status.error = None;
         self.status.notice = Some(format!("opened {name}"));
     }
 
-    /// Starts again from the sample scene (an empty history).
-    pub(super) fn new_document(&mut self) {
-        self.end_drag(false);
-        let scene = default_scene(&mut self.status);
-        self.doc = Document::new(scene);
-        self.select(None);
-        if let Err(e) = self.after_edit(crate::doc::Touched::Structure) {
-            self.status.error = Some(e);
+    /// Starts again from the sample scene, or (`empty`) from no objects at all: one undo
+    /// step, the document it replaces kept in the Recent list.
+    pub(super) fn new_document(&mut self, empty: bool) {
+        let (name, scene) = if empty {
+            ("empty scene", crate::scene::Scene::default())
+        } else {
+            ("sample scene", default_scene(&mut self.status))
+        };
+        match self.replace_scene(name, scene, format!("new {name}")) {
+            Ok(()) => self.frame_pending = true,
+            Err(e) => self.status.error = Some(e),
         }
-        self.frame_pending = true;
+    }
+
+    /// Replaces every object by `scene`'s as one undo step labelled `label`, after keeping
+    /// the document so far in the Recent list (when it was edited since it was opened). On
+    /// failure (the GPU cannot show the new scene) nothing changes.
+    fn replace_scene(
+        &mut self,
+        name: &str,
+        scene: crate::scene::Scene,
+        label: String,
+    ) -> Result<(), String> {
+        // A drag in progress belongs to the document being replaced: it ends there.
+        self.end_drag(false);
+        self.cancel_export();
+        let before = self.current_as_recent();
+        let command = crate::doc::Command::ReplaceScene { scene, label };
+        let touched = self
+            .doc
+            .execute(&command)
+            .map(crate::doc::Edit::touched)
+            .map_err(|e| e.to_string())?;
+        if let Err(e) = self.after_edit(touched) {
+            // The GPU cannot show it (e.g. a degree above the evaluator's maximum): put the
+            // document before back, and forget the step.
+            if self.doc.undo().is_ok() {
+                self.doc.history.drop_redo();
+            }
+            let _ = self.after_edit(touched);
+            return Err(e);
+        }
+        if let Some(recent) = before {
+            self.remember(recent);
+        }
+        self.saved.name = name.to_owned();
+        self.saved.opened_revision = self.saved.revision;
+        self.select(None);
+        self.status.error = None;
+        Ok(())
+    }
+
+    /// The open document as a Recent entry, if it was changed since it was opened (an
+    /// untouched sample or file is there to open again anyway).
+    fn current_as_recent(&self) -> Option<RecentDocument> {
+        (self.saved.revision != self.saved.opened_revision && !self.scene().objects.is_empty())
+            .then(|| RecentDocument {
+                name: self.saved.name.clone(),
+                objects: self.scene().objects.len(),
+                text: self.doc.save(Some(self.view)),
+            })
+    }
+
+    /// Puts `recent` first in the Recent list (once), keeping at most [`RECENT_LIMIT`].
+    fn remember(&mut self, recent: RecentDocument) {
+        let list = &mut self.saved.recent;
+        list.retain(|r| r.text != recent.text);
+        list.insert(0, recent);
+        list.truncate(RECENT_LIMIT);
+        self.saved.recent_changed = true;
+    }
+
+    /// Opens entry `index` of the Recent list (one undo step, as Open).
+    pub(super) fn open_recent(&mut self, index: usize) {
+        let Some(recent) = self.saved.recent.get(index).cloned() else {
+            let count = self.saved.recent.len();
+            self.status.error = Some(format!(
+                "there is no recent document {index}: the list has {count}"
+            ));
+            return;
+        };
+        match crate::io::project::read(&recent.text) {
+            Ok(project) => self.open_project(&recent.name, project),
+            Err(e) => self.open_failed(&recent.name, &e.to_string()),
+        }
+    }
+
+    /// The Recent list from `storage` (empty where there is none or it cannot be read).
+    pub(super) fn load_recent(&mut self, storage: Option<&dyn eframe::Storage>) {
+        let text = storage.and_then(|s| s.get_string(RECENT_KEY));
+        self.saved.recent = text
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .unwrap_or_default();
     }
 
     /// Opens the autosaved project, if there is one; returns what to tell the user.
@@ -107,6 +204,8 @@ impl KnotworkApp {
                     self.view = view;
                     self.frame_pending = false;
                 }
+                self.saved.name = "autosaved project".into();
+                self.saved.opened_revision = u64::MAX;
                 Some("restored the autosaved project".into())
             }
             Err(e) => Some(format!(
@@ -141,6 +240,12 @@ impl KnotworkApp {
     /// in progress counts once it ends). eframe calls this when the window closes, so an edit
     /// made within the autosave delay is not lost.
     pub fn write_autosave(&mut self, storage: &mut dyn eframe::Storage) {
+        if self.saved.autosave
+            && std::mem::take(&mut self.saved.recent_changed)
+            && let Ok(text) = serde_json::to_string(&self.saved.recent)
+        {
+            storage.set_string(RECENT_KEY, text);
+        }
         if !self.saved.autosave || self.saved.revision == self.saved.autosaved_revision {
             return;
         }

@@ -127,13 +127,22 @@ impl KnotworkApp {
     /// New, open, save, undo and redo.
     fn file_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .button("New")
-                .on_hover_text("start again from the sample scene")
-                .clicked()
-            {
-                self.new_document();
-            }
+            ui.menu_button("New", |ui| {
+                if ui
+                    .button("Sample scene")
+                    .on_hover_text("the teapot, a sphere and friends (Undo brings your work back)")
+                    .clicked()
+                {
+                    self.apply(AppCommand::NewDocument { empty: false });
+                }
+                if ui
+                    .button("Empty scene")
+                    .on_hover_text("no objects: start from Create (Undo brings your work back)")
+                    .clicked()
+                {
+                    self.apply(AppCommand::NewDocument { empty: true });
+                }
+            });
             if ui
                 .button("Open…")
                 .on_hover_text("Ctrl + O; or drop a file on the window")
@@ -144,6 +153,20 @@ impl KnotworkApp {
             if ui.button("Save…").on_hover_text("Ctrl + S").clicked() {
                 self.save_dialog();
             }
+            let recent: Vec<String> = self.saved.recent.iter().map(|r| r.label()).collect();
+            ui.add_enabled_ui(!recent.is_empty(), |ui| {
+                ui.menu_button("Recent", |ui| {
+                    for (index, label) in recent.iter().enumerate() {
+                        if ui
+                            .button(label)
+                            .on_hover_text("documents New and Open replaced, newest first")
+                            .clicked()
+                        {
+                            self.apply(AppCommand::OpenRecent(index));
+                        }
+                    }
+                });
+            });
             if ui
                 .button("Export glTF…")
                 .on_hover_text(

@@ -79,6 +79,12 @@ pub enum Command {
     Add {
         object: SceneObject,
     },
+    /// Replaces every object by `scene`'s (New, Open): one undo step, so the document before
+    /// comes back with Undo. `label` names it ("open part.json").
+    ReplaceScene {
+        scene: Scene,
+        label: String,
+    },
     /// Adds a copy of an object right after it.
     Duplicate {
         object: usize,
@@ -264,6 +270,7 @@ impl Command {
                 format!("edit {} knots", direction_name(*direction))
             }
             Command::Add { object } => format!("add {}", object.name),
+            Command::ReplaceScene { label, .. } => label.clone(),
             Command::Duplicate { .. } => "duplicate".into(),
             Command::Delete { .. } => "delete".into(),
             Command::Rename { name, .. } => format!("rename to {name}"),

@@ -17,6 +17,7 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             return apply_lattice(scene, *object, *tolerance, command.label());
         }
         Command::Add { object } => add(scene, object),
+        Command::ReplaceScene { scene: new, .. } => Ok(replace_scene(scene, new)),
         Command::MovePoints { object, moves } => move_points(scene, *object, moves),
         Command::SetWeight {
             object,
@@ -91,6 +92,24 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::SetLattice { objects, lattice } => set_lattice(scene, objects, lattice.as_ref()),
     }?;
     Ok((changes, command.label()))
+}
+
+/// Every object of `scene` removed (the last first) and every object of `new` inserted.
+fn replace_scene(scene: &Scene, new: &Scene) -> Vec<Change> {
+    let removed = scene.objects.iter().enumerate().rev();
+    let removals = removed.map(|(index, object)| Change::Remove {
+        index,
+        object: object.clone(),
+    });
+    let inserts = new
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(index, object)| Change::Insert {
+            index,
+            object: object.clone(),
+        });
+    removals.chain(inserts).collect()
 }
 
 /// One object replaced by `after`.

@@ -718,12 +718,17 @@ impl PatchGeometry {
         )?;
 
         let storage = wgpu::BufferUsages::STORAGE;
+        // wgpu refuses bindings smaller than one element of the shader's array: an empty scene
+        // still gets one zeroed element (the largest, a patch record).
+        let one_element = std::mem::size_of::<PatchRecord>()
+            .max(std::mem::size_of::<SurfaceVertex>())
+            .max(16);
         let init = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| {
+            let zeros = vec![0u8; one_element];
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
-                // wgpu refuses zero-sized bindings; an empty scene still gets 4 bytes.
                 contents: if contents.is_empty() {
-                    &[0; 4]
+                    &zeros
                 } else {
                     contents
                 },
@@ -747,7 +752,7 @@ impl PatchGeometry {
         let output = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: size.max(4),
+                size: size.max(one_element as u64),
                 usage: storage | wgpu::BufferUsages::COPY_SRC | usage,
                 mapped_at_creation: false,
             })
