@@ -465,10 +465,63 @@ impl KnotworkApp {
     fn execute(&mut self, command: Command) {
         // A drag in progress becomes its own undo step first.
         self.end_drag(false);
+        let before = self.selected_net();
         let result = self.doc.execute(&command).map(Edit::touched);
         match result {
-            Ok(touched) => self.finish_edit(touched, &command.label()),
+            Ok(touched) => {
+                self.finish_edit(touched, &command.label());
+                self.follow_points(before);
+            }
             Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+
+    /// The selected object's name and control points (what [`Self::follow_points`] needs).
+    fn selected_net(&self) -> Option<(String, Vec<DVec3>)> {
+        let object = self.doc.scene.objects.get(self.selection.object?)?;
+        Some((object.name.clone(), object.control_points()))
+    }
+
+    /// After an edit that changed how many control points the selected object has (a knot
+    /// inserted or removed, a degree raised), the edited and the selected points become the
+    /// new points nearest to where they were, so that "point 15" never silently becomes
+    /// another point; the notice says when a number changed. `before`: [`Self::selected_net`]
+    /// before the edit.
+    fn follow_points(&mut self, before: Option<(String, Vec<DVec3>)>) {
+        let (Some((name, old)), Some(s)) = (before, self.selection.object) else {
+            return;
+        };
+        let Some(object) = self.doc.scene.objects.get(s).filter(|o| o.name == name) else {
+            return;
+        };
+        let new = object.control_points();
+        if new.len() == old.len() || new.is_empty() {
+            return;
+        }
+        let nearest = |k: usize| {
+            let p = *old.get(k)?;
+            (0..new.len()).min_by(|&a, &b| {
+                new[a]
+                    .distance_squared(p)
+                    .total_cmp(&new[b].distance_squared(p))
+            })
+        };
+        let edited = self.selection.edit_point;
+        let followed = nearest(edited).unwrap_or(0);
+        self.selection.edit_point = followed;
+        self.selection.points = self
+            .selection
+            .points
+            .iter()
+            .filter_map(|&k| nearest(k))
+            .collect();
+        self.update_net();
+        if followed != edited && self.status.error.is_none() {
+            self.status.notice = Some(format!(
+                "point {edited} is now point {followed}: the net has {} points (it had {})",
+                new.len(),
+                old.len()
+            ));
         }
     }
 
@@ -547,6 +600,7 @@ impl KnotworkApp {
     /// Undo (`redo` false) or redo one step.
     fn step_history(&mut self, redo: bool) {
         self.end_drag(false);
+        let before = self.selected_net();
         let result = if redo {
             self.doc.redo()
         } else {
@@ -558,6 +612,7 @@ impl KnotworkApp {
                     self.status.error = Some(e);
                 } else {
                     self.status.error = None;
+                    self.follow_points(before);
                 }
             }
             Err(EditError::NothingTo(_)) => {}

@@ -8,7 +8,7 @@
 
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use knotwork::app::{AppCommand, DragStep, KnotworkApp, wgpu_configuration};
 use knotwork::doc::Command;
 use knotwork::status;
@@ -956,4 +956,97 @@ fn new_and_open_are_undo_steps_and_the_work_they_replace_is_in_recent() {
         "{s:?}"
     );
     assert_eq!(harness.state().document().scene, work);
+}
+
+/// A field shows the current value of what is selected: the weight of the selected point, the
+/// transform fields "no change" after Apply and for another object, and the edited point the
+/// same point after a knot insertion renumbers the net (as the issue saw with point 15).
+#[test]
+fn panel_fields_follow_the_selection_and_the_document() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let slider = |harness: &Harness<'_, KnotworkApp>| {
+        harness
+            .get_by_role_and_label(egui::accesskit::Role::Slider, "w")
+            .accesskit_node()
+            .numeric_value()
+            .expect("the weight slider's value")
+    };
+
+    // The rational sphere: point 1 has weight 1/√2, point 0 weight 1.
+    const SPHERE: usize = 2;
+    select_with_free_handle(&mut harness, SPHERE);
+    for (point, weight) in [(1, std::f64::consts::FRAC_1_SQRT_2), (0, 1.0), (1, 0.7071)] {
+        page.send(AppCommand::SelectPoints(vec![point]));
+        harness.run_steps(2);
+        let shown = slider(&harness);
+        assert!((shown - weight).abs() < 1e-4, "point {point}: {shown}");
+    }
+
+    // Transform: move by −6 in x, Apply; the fields are back to no change, and stay so for
+    // another object.
+    harness.get_by_label("Transform object").click_accesskit();
+    harness.run_steps(2);
+    let before = harness.state().document().scene.objects[SPHERE].clone();
+    harness
+        .get_all_by_label("move")
+        .nth(1)
+        .unwrap()
+        .set_value_accesskit(-6.0);
+    harness.run_steps(2);
+    harness.get_by_label("Apply transform").click_accesskit();
+    harness.run_steps(2);
+    let moved = harness.state().document().scene.objects[SPHERE].control_points()[0];
+    assert!(
+        (moved.x - (before.control_points()[0].x - 6.0)).abs() < 1e-9,
+        "{moved}"
+    );
+    let fields = |harness: &Harness<'_, KnotworkApp>| -> Vec<f64> {
+        harness
+            .get_all_by_label("move")
+            .filter_map(|n| n.accesskit_node().numeric_value())
+            .collect()
+    };
+    assert_eq!(fields(&harness), vec![0.0; 3], "after Apply");
+    harness
+        .get_all_by_label("move")
+        .nth(2)
+        .unwrap()
+        .set_value_accesskit(4.0);
+    harness.run_steps(2);
+    page.send(AppCommand::Select(Some(SHEET)));
+    harness.run_steps(3);
+    assert_eq!(fields(&harness), vec![0.0; 3], "for another object");
+
+    // Point 60 of the sheet (the far end in u), then a knot inserted in u: the panel edits the same point, renumbered.
+    let point = harness.get_by_label("Point");
+    point.set_value_accesskit(60.0);
+    harness.run_steps(2);
+    let at = harness.state().document().scene.objects[SHEET].control_points()[60];
+    harness.get_by_label("Insert knot").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Insert knot").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.error, None);
+    let shown = harness
+        .get_by_label("Point")
+        .accesskit_node()
+        .numeric_value()
+        .unwrap() as usize;
+    let points = harness.state().document().scene.objects[SHEET].control_points();
+    let nearest = (0..points.len())
+        .min_by(|&a, &b| points[a].distance(at).total_cmp(&points[b].distance(at)))
+        .unwrap();
+    assert_eq!(shown, nearest, "{s:?}");
+    assert_ne!(shown, 60, "the knot renumbered the point");
+    assert!(
+        s.notice
+            .as_deref()
+            .is_some_and(|n| n.starts_with(&format!("point 60 is now point {shown}"))),
+        "{s:?}"
+    );
 }

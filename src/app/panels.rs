@@ -57,6 +57,18 @@ pub struct PanelState {
     pub trim_keep_inside: bool,
     /// The trim handle a right-click in the (u, v) panel is about: (loop, curve, point).
     pub trim_menu: Option<(usize, usize, usize)>,
+    /// What the fields were last loaded from ([`KnotworkApp::refresh_fields`]).
+    pub loaded_for: Option<FieldSource>,
+}
+
+/// What the panel's fields show: the selected object, its edited and selected points, and
+/// the document's revision. When any of them changes the fields are loaded again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldSource {
+    object: usize,
+    edit_point: usize,
+    points: Vec<usize>,
+    revision: u64,
 }
 
 impl Default for PanelState {
@@ -75,11 +87,20 @@ impl Default for PanelState {
             show_create: false,
             trim_keep_inside: false,
             trim_menu: None,
+            loaded_for: None,
         }
     }
 }
 
 impl PanelState {
+    /// The transform fields back to "no change" (after Apply, or for another object).
+    fn reset_transform(&mut self) {
+        self.translate = [0.0; 3];
+        self.rotate_deg = 0.0;
+        self.scale = 1.0;
+        self.move_by = [0.0; 3];
+    }
+
     /// Loads the fields from the selected object (after a selection change or an edit).
     pub fn sync(&mut self, object: Option<&SceneObject>) {
         let Some(object) = object else {
@@ -286,9 +307,10 @@ impl KnotworkApp {
         }
         egui::CollapsingHeader::new("Transform object").show(ui, |ui| {
             ui.horizontal(|ui| {
-                ui.label("move");
+                let label = ui.label("move");
                 for v in &mut self.panel.translate {
-                    ui.add(egui::DragValue::new(v).speed(0.05));
+                    ui.add(egui::DragValue::new(v).speed(0.05))
+                        .labelled_by(label.id);
                 }
             });
             ui.horizontal(|ui| {
@@ -319,8 +341,37 @@ impl KnotworkApp {
                     object: s,
                     transform,
                 }));
+                self.panel.reset_transform();
             }
         });
+    }
+
+    /// Loads the fields that show the document (the weight; the transform and move fields,
+    /// which start from "no change" for each object) whenever the selected object, its
+    /// edited or selected points or the document changed since they were loaded, so that a
+    /// field never shows another point's or an earlier state's value.
+    fn refresh_fields(&mut self) {
+        let Some(s) = self.selection.object else {
+            self.panel.loaded_for = None;
+            return;
+        };
+        let source = FieldSource {
+            object: s,
+            edit_point: self.selection.edit_point,
+            points: self.selection.points.iter().copied().collect(),
+            revision: self.saved.revision,
+        };
+        if self.panel.loaded_for.as_ref() == Some(&source) {
+            return;
+        }
+        if self.panel.loaded_for.as_ref().map(|f| f.object) != Some(s) {
+            self.panel.reset_transform();
+        }
+        let shown = source.points.first().copied().unwrap_or(source.edit_point);
+        if let Some(object) = self.scene().objects.get(s) {
+            self.panel.weight = object.weights().get(shown).copied().unwrap_or(1.0);
+        }
+        self.panel.loaded_for = Some(source);
     }
 
     /// The selected object's control points and NURBS operations.
@@ -368,8 +419,9 @@ impl KnotworkApp {
         });
         ui.label(format!("{} selected", self.selection.points.len()));
         ui.horizontal(|ui| {
-            ui.label("Point");
-            ui.add(egui::DragValue::new(&mut self.selection.edit_point).range(0..=count - 1));
+            let label = ui.label("Point");
+            ui.add(egui::DragValue::new(&mut self.selection.edit_point).range(0..=count - 1))
+                .labelled_by(label.id);
         });
         self.selection.edit_point = self.selection.edit_point.min(count - 1);
     }
@@ -442,15 +494,31 @@ impl KnotworkApp {
     /// The weight of the selected points (a rational surface results).
     fn weight_editor(&mut self, ui: &mut egui::Ui, s: usize) {
         let weights = self.scene().objects[s].weights();
+        let points = &self.selection.points;
+        let what = match points.first() {
+            None => format!(
+                "point {}: {}",
+                self.selection.edit_point,
+                weights
+                    .get(self.selection.edit_point)
+                    .copied()
+                    .unwrap_or(1.0)
+            ),
+            Some(_) => {
+                let mut values = points.iter().filter_map(|&k| weights.get(k).copied());
+                let first = values.next().unwrap_or(1.0);
+                let same = values.all(|w| w == first);
+                let s = if points.len() == 1 { "" } else { "s" };
+                if same {
+                    format!("{} selected point{s}: {first}", points.len())
+                } else {
+                    format!("{} selected points: mixed, the first {first}", points.len())
+                }
+            }
+        };
         ui.horizontal(|ui| {
             ui.label("Weight");
-            ui.label(
-                egui::RichText::new(format!(
-                    "(point {}: {})",
-                    self.selection.edit_point, weights[self.selection.edit_point]
-                ))
-                .weak(),
-            );
+            ui.label(egui::RichText::new(format!("({what})")).weak());
         });
         ui.horizontal(|ui| {
             let slider = ui.add(
@@ -1305,6 +1373,7 @@ impl KnotworkApp {
         ui.heading("knotwork");
         ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
         self.file_bar(ui);
+        self.refresh_fields();
         ui.horizontal(|ui| {
             ui.menu_button("View", |ui| self.view_menu(ui));
             for view in [
