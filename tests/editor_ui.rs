@@ -979,7 +979,8 @@ fn panel_fields_follow_the_selection_and_the_document() {
     // The rational sphere: point 1 has weight 1/√2, point 0 weight 1.
     const SPHERE: usize = 2;
     select_with_free_handle(&mut harness, SPHERE);
-    for (point, weight) in [(1, std::f64::consts::FRAC_1_SQRT_2), (0, 1.0), (1, 0.7071)] {
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    for (point, weight) in [(1, half), (0, 1.0), (1, half)] {
         page.send(AppCommand::SelectPoints(vec![point]));
         harness.run_steps(2);
         let shown = slider(&harness);
