@@ -701,6 +701,77 @@ async function main() {
       await page.close();
     });
 
+    await check('the script interface refuses every bad argument with a message naming it, and the document stays', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const before = await page.evaluate(() => window.knotwork.project());
+      // Refused at the call: the call, the argument and the value are named.
+      const thrown = await page.evaluate(() => {
+        const calls = [
+          ['setSegments', () => window.knotwork.setSegments(-1)],
+          ['trimCircle', () => window.knotwork.trimCircle(0, NaN, 0.5, 0.1)],
+          ['moveControlPoint', () => window.knotwork.moveControlPoint(0, 0, 'abc')],
+          ['moveControlPoint', () => window.knotwork.moveControlPoint(0, 0, [0, Infinity, 0])],
+          ['setShading', () => window.knotwork.setShading('bogus')],
+          ['select', () => window.knotwork.select(1.5)],
+          ['selectPoints', () => window.knotwork.selectPoints([0, -3])],
+          ['setRange', () => window.knotwork.setRange(2, 1)],
+          ['openFile', () => window.knotwork.openFile('a.obj', 'v 0 0 0')],
+          ['setQuality', () => window.knotwork.setQuality('high')],
+          ['addLattice', () => window.knotwork.addLattice([0], 0, 2, 2)],
+        ];
+        return calls.map(([name, call]) => {
+          try {
+            call();
+            return `${name}: accepted`;
+          } catch (e) {
+            return e.message;
+          }
+        });
+      });
+      const expected = [
+        /^knotwork\.setSegments: n must be a whole number from 1 .*, got -1$/,
+        /^knotwork\.trimCircle: u must be a finite number, got NaN$/,
+        /^knotwork\.moveControlPoint: position must be an array of three finite numbers .*, got "abc"$/,
+        /^knotwork\.moveControlPoint: position must be .*, got \[0,null,0\]$/,
+        /^knotwork\.setShading: mode must be one of 'plain'.*, got "bogus"$/,
+        /^knotwork\.select: i must be a whole number .*, got 1\.5$/,
+        /^knotwork\.selectPoints: points\[1\] must be a whole number .*, got -3$/,
+        /^knotwork\.setRange: hi must be greater than lo \(2\), got 1$/,
+        /^knotwork\.openFile: bytes must be a Uint8Array.*, got "v 0 0 0"$/,
+        /^knotwork\.setQuality: q must be a finite number, got "high"$/,
+        /^knotwork\.addLattice: l must be a whole number from 1 .*, got 0$/,
+      ];
+      thrown.forEach((message, k) => assert(expected[k].test(message), `call ${k}: ${message}`));
+      // Refused by the editor, which alone knows the document: named in status().error.
+      const refusedByEditor = [
+        [() => window.knotwork.select(99), /no object 99; the scene has 6/],
+        [() => window.knotwork.moveControlPoint(3, 99999, [0, 0, 0]), /99999/],
+        [() => window.knotwork.moveControlPoint(3, 0, [1e300, 0, 0]), /point 0: the coordinate 1e300 is outside/],
+        [() => window.knotwork.setCrease(0, 0, 1, 2), /subdivision|cage/],
+      ];
+      for (const [call, pattern] of refusedByEditor) {
+        await page.evaluate(call);
+        await page.waitForFunction((source) => new RegExp(source).test(window.knotwork.status().error ?? ''), pattern.source, { timeout: 30_000 })
+          .catch(async () => { throw new Error(`${call}: ${JSON.stringify((await status(page)).error)}`); });
+      }
+      await page.evaluate(() => window.knotwork.select(3));
+      await page.evaluate(() => window.knotwork.selectPoints([99999]));
+      await page.waitForFunction(() => /has no point 99999; its points are 0 to 62/.test(window.knotwork.status().error ?? ''), null, { timeout: 30_000 })
+        .catch(async () => { throw new Error(`selectPoints: ${(await status(page)).error}`); });
+      // A file of a format knotwork does not read says which it is and what it reads.
+      for (const [name, format] of [['part.igs', 'IGES'], ['part.3dm', 'Rhino'], ['part.stl', 'STL']]) {
+        await page.evaluate((n) => window.knotwork.openFile(n, new TextEncoder().encode('solid x')), name);
+        await page.waitForFunction((f) => (window.knotwork.status().error ?? '').includes(f), format, { timeout: 30_000 });
+        const message = (await status(page)).error;
+        assert(/knotwork does not read; it reads knotwork project/.test(message), `${name}: ${message}`);
+      }
+      const after = await page.evaluate(() => window.knotwork.project());
+      assert(JSON.stringify(after) === JSON.stringify(before), 'the document is unchanged');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a subdivision cage in the page: limit stencils on the GPU, a mouse drag, a crease, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

@@ -246,19 +246,42 @@ impl KnotworkApp {
             AppCommand::SetRange(range) => self.set_manual_range(range),
             AppCommand::SetContinuous(on) => self.continuous = on,
             AppCommand::FrameModel => self.frame_pending = true,
-            AppCommand::Select(s) => self.select(s),
-            AppCommand::SelectPoints(points) => {
-                let count = self
-                    .selection
-                    .object
-                    .and_then(|s| self.doc.scene.objects.get(s))
-                    .map_or(0, |o| o.control_point_count());
-                self.selection.points = points.into_iter().filter(|&k| k < count).collect();
-                self.update_net();
+            AppCommand::Select(Some(s)) if s >= self.doc.scene.objects.len() => {
+                let count = self.doc.scene.objects.len();
+                self.status.error = Some(format!(
+                    "select: there is no object {s}; the scene has {count} (0 to {})",
+                    count as i64 - 1
+                ));
             }
+            AppCommand::Select(s) => self.select(s),
+            AppCommand::SelectPoints(points) => self.select_points(points),
             AppCommand::SetTrimTool(name) => self.set_trim_tool(&name),
         }
         self.redraw = true;
+    }
+
+    /// Selects control points `points` of the selected object; refused, with the first bad
+    /// index named, when nothing is selected or an index is past its points.
+    fn select_points(&mut self, points: Vec<usize>) {
+        let Some(object) = self
+            .selection
+            .object
+            .and_then(|s| self.doc.scene.objects.get(s))
+        else {
+            self.status.error = Some("selectPoints: select an object first".into());
+            return;
+        };
+        let count = object.control_point_count();
+        if let Some(bad) = points.iter().find(|&&k| k >= count) {
+            self.status.error = Some(format!(
+                "selectPoints: {} has no point {bad}; its points are 0 to {}",
+                object.name,
+                count.saturating_sub(1)
+            ));
+            return;
+        }
+        self.selection.points = points.into_iter().collect();
+        self.update_net();
     }
 
     /// Carries out one step of a drag: the document moves the points, the GPU re-evaluates

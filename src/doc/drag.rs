@@ -204,6 +204,13 @@ pub(super) fn move_points_of(
 ) -> Result<BTreeSet<usize>, EditError> {
     let mut patches = BTreeSet::new();
     for &(k, p) in moves {
+        if let Some(&value) = p
+            .to_array()
+            .iter()
+            .find(|c| !(c.abs() <= super::MAX_COORDINATE))
+        {
+            return Err(EditError::CoordinateOutOfRange { point: k, value });
+        }
         let support = target
             .move_control_point(k, p)
             .map_err(|source| EditError::Geometry {

@@ -341,6 +341,10 @@ pub enum EditError {
     },
     #[error("a weight must be finite and > 0, got {weight}")]
     InvalidWeight { weight: f64 },
+    #[error(
+        "point {point}: the coordinate {value:e} is outside ±{MAX_COORDINATE:e}, the model space the GPU draws and the analyses measure"
+    )]
+    CoordinateOutOfRange { point: usize, value: f64 },
     #[error("nothing selected: {operation} needs at least one control point")]
     NothingSelected { operation: &'static str },
     #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
@@ -356,6 +360,10 @@ pub enum EditError {
     #[error("the document no longer matches the history ({0}); the history was cleared")]
     HistoryMismatch(String),
 }
+
+/// The largest coordinate a moved point may have: beyond it the GPU's f32 loses the shape and
+/// the squared distances of the analyses overflow.
+pub const MAX_COORDINATE: f64 = 1e9;
 
 /// What one applied command did to the scene, in the order it happened.
 #[derive(Debug, Clone, PartialEq)]

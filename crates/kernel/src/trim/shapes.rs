@@ -49,9 +49,15 @@ pub fn polygon(points: &[DVec2]) -> Result<TrimLoop, GeometryError> {
 /// The ellipse with centre `c` and semi-axes `r` (along u and v) as one exact rational
 /// quadratic curve of four 90° arcs (The NURBS Book §7.5, the nine-point circle).
 pub fn ellipse(c: DVec2, r: DVec2) -> Result<TrimLoop, GeometryError> {
-    if !(r.x > 0.0 && r.y > 0.0 && r.is_finite() && c.is_finite()) {
+    if !c.is_finite() {
         return Err(construction(format!(
-            "a circle needs a positive radius, got ({}, {})",
+            "a circle needs a finite centre, got ({}, {})",
+            c.x, c.y
+        )));
+    }
+    if !(r.x > 0.0 && r.y > 0.0 && r.is_finite()) {
+        return Err(construction(format!(
+            "a circle needs a finite radius > 0, got ({}, {})",
             r.x, r.y
         )));
     }
