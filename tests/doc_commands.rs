@@ -301,6 +301,13 @@ fn refused_commands_name_the_problem() {
             "is not finite",
         ),
         (
+            Command::MovePoints {
+                object: 1,
+                moves: vec![(2, DVec3::new(0.0, -1e300, 0.0))],
+            },
+            "point 2: the coordinate -1e300 is outside ±1e9",
+        ),
+        (
             Command::Delete { object: 7 },
             "there is no object 7 (the scene has 3)",
         ),

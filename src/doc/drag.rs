@@ -207,7 +207,7 @@ pub(super) fn move_points_of(
         if let Some(&value) = p
             .to_array()
             .iter()
-            .find(|c| !(c.abs() <= super::MAX_COORDINATE))
+            .find(|c| c.is_finite() && c.abs() > super::MAX_COORDINATE)
         {
             return Err(EditError::CoordinateOutOfRange { point: k, value });
         }
