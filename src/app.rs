@@ -8,6 +8,7 @@ mod export;
 mod files;
 mod gizmo;
 mod input;
+mod overlay;
 mod panels;
 mod platform;
 mod trim;
@@ -20,7 +21,8 @@ pub use views::StandardView;
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
 pub use files::open_path;
-pub use panels::{CONTROLS, parse_knots};
+pub use overlay::{CONTROLS, NAVIGATION_HINT};
+pub use panels::parse_knots;
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -294,6 +296,10 @@ pub struct KnotworkApp {
     export_estimate: Option<export::ExportEstimate>,
     /// The export being built, one object per frame.
     running_export: Option<export::RunningExport>,
+    /// The `?` overlay with the controls is shown.
+    show_help: bool,
+    /// The message the viewport's toast shows.
+    toast: overlay::Toast,
     /// Revisions of the document: what the autosave and the page have seen of it.
     saved: Persistence,
     /// A modal message (title, text), e.g. a file that could not be opened.
@@ -391,6 +397,8 @@ impl KnotworkApp {
             export: export::ExportSettings::default(),
             export_estimate: None,
             running_export: None,
+            show_help: false,
+            toast: overlay::Toast::default(),
             saved: Persistence {
                 autosave: restore,
                 name: "sample scene".into(),
@@ -1150,6 +1158,7 @@ impl KnotworkApp {
         self.paint_trims(ui);
         self.paint_gizmo(ui);
         self.axis_triad(ui);
+        self.viewport_overlays(ui, rect);
         if let Some(drag) = self.doc.drag() {
             ui.painter().text(
                 rect.left_bottom() + egui::vec2(10.0, -10.0),

@@ -1051,3 +1051,64 @@ fn panel_fields_follow_the_selection_and_the_document() {
         "{s:?}"
     );
 }
+
+/// A refused weight shows beside the weight slider and as a toast over the viewport, not only
+/// at the panel's end; `?` opens the controls over the viewport, the toolbar switches shading.
+#[test]
+fn errors_show_where_the_eye_is_and_the_viewport_explains_itself() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    page.send(AppCommand::Select(Some(SHEET)));
+    harness.run_steps(2);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "w")
+        .set_value_accesskit(0.0);
+    harness.run_steps(2);
+    let message = "a weight must be finite and > 0, got 0";
+    assert_eq!(status::current().error.as_deref(), Some(message));
+    let slider = harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "w")
+        .rect();
+    let shown: Vec<egui::Rect> = harness
+        .get_all_by_label(message)
+        .map(|n| n.rect())
+        .collect();
+    // Beside the slider: the next line of the panel.
+    assert!(
+        shown
+            .iter()
+            .any(|r| r.left() < 400.0 && (r.top() - slider.bottom()).abs() < 40.0),
+        "beside the slider {slider:?}: {shown:?}"
+    );
+    // A toast over the viewport (right of the panel, near its top).
+    assert!(
+        shown.iter().any(|r| r.left() > 400.0 && r.top() < 200.0),
+        "over the viewport: {shown:?}"
+    );
+
+    // `?` shows the controls over the viewport, a second `?` hides them.
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::Questionmark);
+    harness.run_steps(2);
+    for (input, action) in knotwork::app::CONTROLS {
+        assert!(harness.query_by_label(input).is_some(), "{input}");
+        assert!(harness.query_by_label(action).is_some(), "{action}");
+    }
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::Questionmark);
+    harness.run_steps(2);
+    assert!(harness.query_by_label("show or hide this list").is_none());
+
+    // The slider is back at the point's weight: a field shows the document's value.
+    let weight = harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "w")
+        .accesskit_node()
+        .numeric_value();
+    assert_eq!(weight, Some(1.0));
+
+    // The toolbar over the canvas switches the shading.
+    harness.get_by_label("Mean").click_accesskit();
+    harness.run_steps(2);
+    assert_eq!(status::current().shading, "mean");
+}

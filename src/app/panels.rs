@@ -18,27 +18,6 @@ use crate::scene::{SceneObject, SubdivObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
 use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, TOLERANCE_RANGE, ZebraSource};
 
-/// The controls listed in the panel (and in the book's Controls chapter, docs/src/controls.md).
-pub const CONTROLS: [(&str, &str); 17] = [
-    ("Click a handle", "select a control point (Shift: toggle)"),
-    ("Alt + click", "select its row (Alt + Shift: column)"),
-    ("Drag a handle", "move the selection in the view plane"),
-    ("X / Y / Z while dragging", "along that axis"),
-    ("Shift + X / Y / Z", "in the plane normal to it"),
-    ("Esc while dragging", "cancel the move"),
-    ("Drag on empty space", "box select (Shift: add)"),
-    ("Click the surface", "select the object, report (u, v)"),
-    ("Right drag", "orbit"),
-    ("Middle drag, Shift + right drag", "pan"),
-    ("Wheel, pinch", "zoom"),
-    ("Ctrl + Z / Ctrl + Shift + Z, Ctrl + Y", "undo / redo"),
-    ("Ctrl + A / Alt + A, Esc", "select all / no points"),
-    ("Ctrl + S / Ctrl + O", "save / open (project, glTF, OBJ)"),
-    ("Ctrl + E", "export glTF"),
-    ("Ctrl + D / Delete", "duplicate / delete the object"),
-    ("F", "frame the scene"),
-];
-
 /// What the panel's fields hold between frames.
 #[derive(Debug, Clone)]
 pub struct PanelState {
@@ -59,6 +38,8 @@ pub struct PanelState {
     pub trim_menu: Option<(usize, usize, usize)>,
     /// What the fields were last loaded from ([`KnotworkApp::refresh_fields`]).
     pub loaded_for: Option<FieldSource>,
+    /// The widget whose last command was refused, and why: shown beside it.
+    pub widget_error: Option<(&'static str, String)>,
 }
 
 /// What the panel's fields show: the selected object, its edited and selected points, and
@@ -88,6 +69,7 @@ impl Default for PanelState {
             trim_keep_inside: false,
             trim_menu: None,
             loaded_for: None,
+            widget_error: None,
         }
     }
 }
@@ -292,19 +274,27 @@ impl KnotworkApp {
                 && self.panel.name != self.scene().objects[s].name
             {
                 let name = self.panel.name.clone();
-                self.apply(AppCommand::Edit(Command::Rename { object: s, name }));
+                self.apply_from(
+                    "name",
+                    AppCommand::Edit(Command::Rename { object: s, name }),
+                );
             }
         });
+        self.widget_error(ui, "name");
         ui.label(egui::RichText::new(self.scene().objects[s].describe()).weak());
         let mut segments = self.scene().objects[s].segments;
         ui.label("Segments per span");
         let response = ui.add(egui::Slider::new(&mut segments, SLIDER_SEGMENTS).text("segments"));
         if response.changed() && segments != self.scene().objects[s].segments {
-            self.apply(AppCommand::Edit(Command::SetSegments {
-                object: s,
-                segments,
-            }));
+            self.apply_from(
+                "segments",
+                AppCommand::Edit(Command::SetSegments {
+                    object: s,
+                    segments,
+                }),
+            );
         }
+        self.widget_error(ui, "segments");
         egui::CollapsingHeader::new("Transform object").show(ui, |ui| {
             ui.horizontal(|ui| {
                 let label = ui.label("move");
@@ -337,13 +327,37 @@ impl KnotworkApp {
                         DVec3::ZERO,
                     )
                     * DAffine3::from_translation(-centre);
-                self.apply(AppCommand::Edit(Command::Transform {
-                    object: s,
-                    transform,
-                }));
+                self.apply_from(
+                    "transform",
+                    AppCommand::Edit(Command::Transform {
+                        object: s,
+                        transform,
+                    }),
+                );
                 self.panel.reset_transform();
             }
+            self.widget_error(ui, "transform");
         });
+    }
+
+    /// Carries out `command` for the panel's widget `widget` ("weight", "knots", …): a refusal
+    /// shows beside that widget ([`Self::widget_error`]) as well as in the toast.
+    fn apply_from(&mut self, widget: &'static str, command: AppCommand) {
+        self.apply(command);
+        self.panel.widget_error = self.status.error.clone().map(|e| (widget, e));
+        if self.panel.widget_error.is_some() {
+            // The refused value leaves the field: it shows the document's again.
+            self.panel.loaded_for = None;
+        }
+    }
+
+    /// The refusal of `widget`'s last command, in red right below it, until the next one.
+    fn widget_error(&self, ui: &mut egui::Ui, widget: &str) {
+        if let Some((w, message)) = &self.panel.widget_error
+            && *w == widget
+        {
+            ui.colored_label(egui::Color32::from_rgb(255, 110, 100), message);
+        }
     }
 
     /// Loads the fields that show the document (the weight; the transform and move fields,
@@ -366,6 +380,7 @@ impl KnotworkApp {
         }
         if self.panel.loaded_for.as_ref().map(|f| f.object) != Some(s) {
             self.panel.reset_transform();
+            self.panel.widget_error = None;
         }
         let shown = source.points.first().copied().unwrap_or(source.edit_point);
         if let Some(object) = self.scene().objects.get(s) {
@@ -440,10 +455,13 @@ impl KnotworkApp {
             }
         });
         if p != before {
-            self.apply(AppCommand::Edit(Command::MovePoints {
-                object: s,
-                moves: vec![(self.selection.edit_point, p)],
-            }));
+            self.apply_from(
+                "point",
+                AppCommand::Edit(Command::MovePoints {
+                    object: s,
+                    moves: vec![(self.selection.edit_point, p)],
+                }),
+            );
         }
         ui.horizontal(|ui| {
             ui.label("Move selection by");
@@ -462,8 +480,12 @@ impl KnotworkApp {
                 .iter()
                 .map(|&k| (k, points[k] + delta))
                 .collect();
-            self.apply(AppCommand::Edit(Command::MovePoints { object: s, moves }));
+            self.apply_from(
+                "point",
+                AppCommand::Edit(Command::MovePoints { object: s, moves }),
+            );
         }
+        self.widget_error(ui, "point");
     }
 
     /// Snapping of drags: to the grid (and its step), to points, to surfaces.
@@ -538,13 +560,17 @@ impl KnotworkApp {
                     self.selection.points.iter().copied().collect()
                 };
                 let weight = self.panel.weight;
-                self.apply(AppCommand::Edit(Command::SetWeight {
-                    object: s,
-                    points,
-                    weight,
-                }));
+                self.apply_from(
+                    "weight",
+                    AppCommand::Edit(Command::SetWeight {
+                        object: s,
+                        points,
+                        weight,
+                    }),
+                );
             }
         });
+        self.widget_error(ui, "weight");
     }
 
     /// A NURBS surface's knots and degree: insert, remove, elevate, split, reverse, swap, and
@@ -660,11 +686,15 @@ impl KnotworkApp {
                         knots,
                     })
                 }
-                Err(e) => self.status.error = Some(format!("{} knots: {e}", direction_name(d))),
+                Err(e) => {
+                    let message = format!("{} knots: {e}", direction_name(d));
+                    self.status.error = Some(message.clone());
+                    self.panel.widget_error = Some(("knots", message));
+                }
             }
         }
         if let Some(command) = command {
-            self.apply(AppCommand::Edit(command));
+            self.apply_from("knots", AppCommand::Edit(command));
             self.panel.sync(
                 self.doc
                     .scene
@@ -672,6 +702,7 @@ impl KnotworkApp {
                     .get(self.selection.object.unwrap_or(usize::MAX)),
             );
         }
+        self.widget_error(ui, "knots");
         if let Some(hit) = self.selection.hit {
             ui.label(
                 egui::RichText::new(format!(
@@ -1369,59 +1400,12 @@ impl KnotworkApp {
         ));
     }
 
-    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
-        ui.heading("knotwork");
-        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
-        self.file_bar(ui);
-        self.refresh_fields();
-        ui.horizontal(|ui| {
-            ui.menu_button("View", |ui| self.view_menu(ui));
-            for view in [
-                super::views::StandardView::Top,
-                super::views::StandardView::Front,
-                super::views::StandardView::Right,
-                super::views::StandardView::Perspective,
-            ] {
-                let label = match view {
-                    super::views::StandardView::Perspective => "Persp",
-                    other => other.label(),
-                };
-                if ui
-                    .small_button(label)
-                    .on_hover_text(format!("{} view ({})", view.name(), view.shortcut()))
-                    .clicked()
-                {
-                    self.set_standard_view(view);
-                }
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("Gizmo");
-            for mode in super::GizmoMode::ALL {
-                let key = match mode {
-                    super::GizmoMode::Move => " (W)",
-                    super::GizmoMode::Rotate => " (E)",
-                    super::GizmoMode::Scale => " (R)",
-                    super::GizmoMode::Off => "",
-                };
-                if ui
-                    .selectable_label(self.gizmo_mode == mode, mode.name())
-                    .on_hover_text(format!("{}{key}", mode.name()))
-                    .clicked()
-                {
-                    self.gizmo_mode = mode;
-                    self.redraw = true;
-                }
-            }
-        });
-        ui.separator();
-        self.info_grid(ui);
-        ui.separator();
+    /// Adaptive or fixed tessellation, the adaptive error and the quality factor.
+    fn tessellation_panel(&mut self, ui: &mut egui::Ui) {
         let mut adaptive = self.view.adaptive;
         let mut tolerance = self.view.tolerance_px;
         let compute = self.gpu.as_ref().is_none_or(|g| g.sync.evaluates_on_gpu());
         ui.horizontal(|ui| {
-            ui.label("Tessellation");
             ui.add_enabled_ui(compute, |ui| {
                 ui.selectable_value(&mut adaptive, true, "Adaptive")
                     .on_hover_text("segments per patch edge from its size and curvature on screen")
@@ -1455,45 +1439,87 @@ impl KnotworkApp {
         {
             self.set_quality(quality);
         }
-        ui.separator();
-        self.objects_panel(ui);
-        ui.separator();
-        self.properties_panel(ui);
-        self.trim_panel(ui);
-        self.subdivision_panel(ui);
-        self.triangle_panel(ui);
-        self.displacement_panel(ui);
-        self.lattice_panel(ui);
-        ui.separator();
-        self.shading_panel(ui);
-        ui.separator();
-        self.analysis_panel(ui);
-        ui.separator();
-        let before = self.view.overlays;
-        ui.checkbox(&mut self.view.overlays.surface, "Surface");
-        ui.checkbox(&mut self.view.overlays.net, "Control net (selected object)");
-        ui.checkbox(&mut self.view.overlays.points, "Control points");
-        if self.view.overlays != before {
-            self.redraw = true;
+    }
+
+    pub(super) fn controls(&mut self, ui: &mut egui::Ui) {
+        ui.heading("knotwork");
+        ui.label(egui::RichText::new("freeform surfaces on the GPU").weak());
+        self.file_bar(ui);
+        self.refresh_fields();
+        ui.horizontal(|ui| {
+            ui.label("Gizmo");
+            for mode in super::GizmoMode::ALL {
+                let key = match mode {
+                    super::GizmoMode::Move => " (W)",
+                    super::GizmoMode::Rotate => " (E)",
+                    super::GizmoMode::Scale => " (R)",
+                    super::GizmoMode::Off => "",
+                };
+                if ui
+                    .selectable_label(self.gizmo_mode == mode, mode.name())
+                    .on_hover_text(format!("{}{key}", mode.name()))
+                    .clicked()
+                {
+                    self.gizmo_mode = mode;
+                    self.redraw = true;
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.menu_button("View", |ui| self.view_menu(ui));
+            if ui
+                .button("Controls  (?)")
+                .on_hover_text("the mouse and keyboard controls, over the viewport")
+                .clicked()
+            {
+                self.show_help = !self.show_help;
+            }
+        });
+        // The outliner first, so that it stays in view in a small window; every section folds.
+        section(ui, "Objects", true, |ui| self.objects_panel(ui));
+        if self.selection.object.is_some() {
+            section(ui, "Selected object", true, |ui| {
+                self.properties_panel(ui);
+                self.trim_panel(ui);
+                self.subdivision_panel(ui);
+                self.triangle_panel(ui);
+                self.displacement_panel(ui);
+                self.lattice_panel(ui);
+            });
         }
-        if ui.button("Frame scene  (F)").clicked() {
-            self.frame_pending = true;
-        }
-        ui.checkbox(&mut self.continuous, "Redraw every frame");
-        ui.separator();
-        ui.label("GPU time, last frame");
-        let ms = |v: Option<f64>| v.map_or("–".to_owned(), |v| format!("{v:.3} ms"));
-        if self.gpu.as_ref().is_some_and(|g| g.timer.is_some()) {
-            ui.label(format!("evaluate  {}", ms(self.status.gpu_eval_ms)));
-            ui.label(format!("draw      {}", ms(self.status.gpu_render_ms)));
-        } else {
-            ui.label(egui::RichText::new("no timestamp queries on this device").weak());
-        }
-        ui.label(format!(
-            "frame interval  {}",
-            ms(self.status.frame_interval_ms)
-        ));
-        ui.label(format!("frames drawn  {}", self.status.frames));
+        section(ui, "Shading", true, |ui| self.shading_panel(ui));
+        section(ui, "Analysis", true, |ui| self.analysis_panel(ui));
+        section(ui, "Display", false, |ui| {
+            let before = self.view.overlays;
+            ui.checkbox(&mut self.view.overlays.surface, "Surface");
+            ui.checkbox(&mut self.view.overlays.net, "Control net (selected object)");
+            ui.checkbox(&mut self.view.overlays.points, "Control points");
+            if self.view.overlays != before {
+                self.redraw = true;
+            }
+            if ui.button("Frame scene  (F)").clicked() {
+                self.frame_pending = true;
+            }
+            ui.checkbox(&mut self.continuous, "Redraw every frame");
+        });
+        section(ui, "Tessellation", false, |ui| self.tessellation_panel(ui));
+        section(ui, "Scene and GPU", false, |ui| {
+            self.info_grid(ui);
+            ui.separator();
+            ui.label("GPU time, last frame");
+            let ms = |v: Option<f64>| v.map_or("–".to_owned(), |v| format!("{v:.3} ms"));
+            if self.gpu.as_ref().is_some_and(|g| g.timer.is_some()) {
+                ui.label(format!("evaluate  {}", ms(self.status.gpu_eval_ms)));
+                ui.label(format!("draw      {}", ms(self.status.gpu_render_ms)));
+            } else {
+                ui.label(egui::RichText::new("no timestamp queries on this device").weak());
+            }
+            ui.label(format!(
+                "frame interval  {}",
+                ms(self.status.frame_interval_ms)
+            ));
+            ui.label(format!("frames drawn  {}", self.status.frames));
+        });
         if let Some(notice) = self.status.notice.clone() {
             ui.separator();
             ui.colored_label(egui::Color32::from_rgb(240, 200, 90), notice);
@@ -1505,15 +1531,14 @@ impl KnotworkApp {
                 self.status.error = None;
             }
         }
-        ui.separator();
-        egui::CollapsingHeader::new("Controls")
-            .default_open(true)
-            .show(ui, |ui| {
-                for (key, action) in CONTROLS {
-                    ui.label(format!("{key}: {action}"));
-                }
-            });
     }
+}
+
+/// A panel section under a header that folds (`open`: unfolded at first).
+fn section(ui: &mut egui::Ui, title: &str, open: bool, body: impl FnOnce(&mut egui::Ui)) {
+    egui::CollapsingHeader::new(egui::RichText::new(title).strong())
+        .default_open(open)
+        .show(ui, body);
 }
 
 /// The colour ramp as a bar with its low, middle and high values.
