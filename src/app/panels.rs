@@ -345,9 +345,11 @@ impl KnotworkApp {
     fn apply_from(&mut self, widget: &'static str, command: AppCommand) {
         self.apply(command);
         self.panel.widget_error = self.status.error.clone().map(|e| (widget, e));
-        if self.panel.widget_error.is_some() {
+        if self.panel.widget_error.is_some()
+            && let Some(source) = &mut self.panel.loaded_for
+        {
             // The refused value leaves the field: it shows the document's again.
-            self.panel.loaded_for = None;
+            source.revision = u64::MAX;
         }
     }
 
