@@ -61,6 +61,13 @@ fn select_with_free_handle(harness: &mut Harness<'_, KnotworkApp>, object: usize
         .expect("a free handle on screen")
 }
 
+/// Selects object `object` through the editor's command channel, as the page does.
+fn page_select(harness: &mut Harness<'_, KnotworkApp>, object: usize) {
+    let page = harness.state().command_sender();
+    page.send(AppCommand::Select(Some(object)));
+    harness.run_steps(2);
+}
+
 /// Presses the primary button at `at` and moves the mouse `steps` times by `step`, holding it.
 fn drag_from(
     harness: &mut Harness<'_, KnotworkApp>,
@@ -175,9 +182,10 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
         .lock()
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
+    let camera_before = harness.state().view().camera.target;
     harness.get_by_label("+ Create…").click();
     harness.run_steps(2);
-    // The dialog opens on a sphere of radius 2 at the origin.
+    // The dialog opens on a sphere of radius 2, placed clear of the sample's objects.
     harness
         .get_by_role_and_label(egui::accesskit::Role::Button, "Create")
         .click();
@@ -188,7 +196,33 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
         (7, Some(6), None),
         "{s:?}"
     );
-    let sphere = harness.state().document().scene.objects[6].clone();
+    let scene = harness.state().document().scene.clone();
+    let sphere = scene.objects[6].clone();
+    let (lo, hi) = sphere.bounds().unwrap();
+    for other in &scene.objects[..6] {
+        let (a, b) = other.bounds().unwrap();
+        let apart = (0..3).any(|k| hi[k] < a[k] || lo[k] > b[k]);
+        assert!(apart, "the new sphere overlaps {}", other.name);
+    }
+    // The camera frames it.
+    let target = harness.state().view().camera.target.as_dvec3();
+    assert!(target.distance(0.5 * (lo + hi)) < 1e-3, "{target} vs {lo} {hi}");
+    assert_ne!(harness.state().view().camera.target, camera_before);
+    // A second one gets a name of its own.
+    harness.get_by_label("+ Create…").click();
+    harness.run_steps(2);
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Button, "Create")
+        .click();
+    harness.run_steps(3);
+    let names: Vec<String> = harness.state().document().scene.objects[6..]
+        .iter()
+        .map(|o| o.name.clone())
+        .collect();
+    assert_eq!(names, ["Sphere", "Sphere 2"]);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    page_select(&mut harness, 6);
     let Some(before) = sphere
         .geometry
         .downcast_ref::<knotwork::kernel::NurbsSurface>()
@@ -215,10 +249,11 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
         "one more row of points in u"
     );
     // Still the sphere of radius 2: compared with the analytic surface, not the old net.
+    let centre = 0.5 * (lo + hi);
     for k in 0..50 {
         let (u, v) = (k as f64 / 49.0, (k * 7 % 50) as f64 / 49.0);
         let p = after.point_at(u, v).unwrap();
-        assert!((p.length() - 2.0).abs() < 1e-12, "{p} at ({u}, {v})");
+        assert!((p.distance(centre) - 2.0).abs() < 1e-12, "{p} at ({u}, {v})");
     }
     assert_eq!(status::current().undo_steps, 2);
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);

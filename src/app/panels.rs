@@ -221,7 +221,7 @@ impl KnotworkApp {
         ui.horizontal(|ui| {
             ui.label(egui::RichText::new("Objects").strong());
             if ui.small_button("+ Create…").clicked() {
-                self.panel.show_create = true;
+                self.open_create();
             }
         });
         let mut clicked = None;
@@ -745,12 +745,18 @@ impl KnotworkApp {
                         ui.label("size / radius");
                         ui.add(egui::DragValue::new(&mut p.size).speed(0.05));
                         ui.end_row();
-                        ui.label("height");
-                        ui.add(egui::DragValue::new(&mut p.height).speed(0.05));
-                        ui.end_row();
-                        ui.label("ratio (top, minor radius, waist, bulge)");
-                        ui.add(egui::DragValue::new(&mut p.ratio).speed(0.01));
-                        ui.end_row();
+                        // Only the fields this primitive uses, named for what they do here.
+                        let (height, ratio) = p.kind.fields();
+                        if let Some(label) = height {
+                            ui.label(label);
+                            ui.add(egui::DragValue::new(&mut p.height).speed(0.05));
+                            ui.end_row();
+                        }
+                        if let Some(label) = ratio {
+                            ui.label(label);
+                            ui.add(egui::DragValue::new(&mut p.ratio).speed(0.01));
+                            ui.end_row();
+                        }
                         if p.kind == Primitive::BezierPatch {
                             ui.label("degrees (u, v)");
                             ui.horizontal(|ui| {
@@ -773,17 +779,32 @@ impl KnotworkApp {
         self.panel.show_create = open;
         if create {
             match self.panel.create.build() {
-                Ok(object) => {
+                Ok(mut object) => {
+                    object.name = self.scene().unique_name(&object.name);
                     self.apply(AppCommand::Edit(Command::Add { object }));
-                    let last = self.scene().objects.len().checked_sub(1);
-                    self.select(last);
-                    self.panel.show_create = false;
+                    if self.status.error.is_none() {
+                        let last = self.scene().objects.len().checked_sub(1);
+                        self.select(last);
+                        // Bring it into view: the camera frames what was just made.
+                        self.frame_selection();
+                        self.panel.show_create = false;
+                    }
                 }
                 Err(e) => {
                     self.status.error = Some(format!("{}: {e}", self.panel.create.kind.label()))
                 }
             }
         }
+    }
+
+    /// Opens the Create window with the centre where the new object is free of the others:
+    /// the view's centre if nothing is there, else beside the scene.
+    pub(super) fn open_create(&mut self) {
+        let p = &self.panel.create;
+        let reach = p.size.max(p.height.abs()).max(0.5) * 1.1;
+        let wanted = self.view.camera.target.as_dvec3();
+        self.panel.create.center = self.scene().free_spot(wanted, reach);
+        self.panel.show_create = true;
     }
 
     /// An error dialog (a file that could not be opened and the like).

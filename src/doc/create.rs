@@ -60,6 +60,24 @@ impl Primitive {
         Primitive::CageIcosahedron,
     ];
 
+    /// What the height and the ratio mean for this primitive, where it uses them (the Create
+    /// window shows only the fields that apply).
+    pub fn fields(self) -> (Option<&'static str>, Option<&'static str>) {
+        use Primitive::*;
+        match self {
+            Cylinder | Revolve | Extrude | CageCylinder => (Some("height"), None),
+            Cone => (Some("height"), Some("top radius (× radius)")),
+            Loft => (Some("height"), Some("waist (× radius)")),
+            Sweep => (Some("height"), Some("profile radius (× size)")),
+            Torus | CageTorus => (None, Some("minor radius (× major)")),
+            Coons => (None, Some("edge bulge (× size)")),
+            BicubicCoons | Gordon => (None, Some("wave height (× size)")),
+            Hermite => (None, Some("corner lift (× size)")),
+            TriangleBezier => (None, Some("dome height (× size)")),
+            Plane | Sphere | BezierPatch | CageCube | CageGrid | CageIcosahedron => (None, None),
+        }
+    }
+
     pub fn label(self) -> &'static str {
         match self {
             Primitive::Plane => "Plane",
@@ -362,6 +380,29 @@ fn subdivided(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_create_window_shows_exactly_the_fields_that_change_the_primitive() {
+        for kind in Primitive::ALL {
+            let base = PrimitiveParams {
+                kind,
+                ..Default::default()
+            };
+            let built = base.build().unwrap();
+            let (height, ratio) = kind.fields();
+            let taller = PrimitiveParams {
+                height: base.height * 1.5,
+                ..base.clone()
+            };
+            let other = PrimitiveParams {
+                ratio: base.ratio * 0.6,
+                ..base.clone()
+            };
+            let label = kind.label();
+            assert_eq!(taller.build().unwrap() != built, height.is_some(), "{label}: height");
+            assert_eq!(other.build().unwrap() != built, ratio.is_some(), "{label}: ratio");
+        }
+    }
 
     #[test]
     fn every_primitive_builds_with_the_defaults_and_decomposes() {

@@ -527,6 +527,39 @@ impl Scene {
             .map_or(1, |g| g + 1)
     }
 
+    /// `base`, or where an object already has that name, `base 2`, `base 3`, … (the first
+    /// that is free).
+    pub fn unique_name(&self, base: &str) -> String {
+        let taken = |name: &str| self.objects.iter().any(|o| o.name == name);
+        if !taken(base) {
+            return base.to_owned();
+        }
+        (2..)
+            .map(|k| format!("{base} {k}"))
+            .find(|name| !taken(name))
+            .unwrap_or_else(|| base.to_owned())
+    }
+
+    /// Where a new object reaching `reach` from its centre can go: `wanted` if no object's box
+    /// comes within that reach of it, else just beyond the scene's box along +x (on the
+    /// ground, level with the scene's middle in y), on a half-unit grid.
+    pub fn free_spot(&self, wanted: DVec3, reach: f64) -> DVec3 {
+        let reach = reach.abs().max(1e-6);
+        let clear = |c: DVec3| {
+            self.objects.iter().filter_map(SceneObject::bounds).all(|(lo, hi)| {
+                (0..3).any(|a| c[a] + reach < lo[a] || c[a] - reach > hi[a])
+            })
+        };
+        if clear(wanted) {
+            return wanted;
+        }
+        let Some((lo, hi)) = self.bounds() else {
+            return wanted;
+        };
+        let spot = DVec3::new(hi.x + 1.25 * reach, 0.5 * (lo.y + hi.y), lo.z.max(0.0));
+        (spot * 2.0).round() * 0.5 + DVec3::X * 0.5
+    }
+
     /// The box around every object.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         self.objects
