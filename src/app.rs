@@ -901,7 +901,10 @@ impl KnotworkApp {
         self.status.redo_steps = self.doc.history.redo_depth() as u32;
         self.status.last_edit = self.doc.history.undo_label().map(str::to_owned);
         self.status.dragging = self.doc.drag().is_some();
-        self.status.constraint = self.constraint.label();
+        self.status.constraint = match &self.gizmo_drag {
+            Some(gizmo) => gizmo.handle().label(),
+            None => self.constraint.label(),
+        };
         self.status.revision = self.saved.revision;
         self.status.recent = self.saved.recent.iter().map(|r| r.label()).collect();
         self.status.autosaved_revision = self.saved.autosaved_revision;
@@ -1160,13 +1163,20 @@ impl KnotworkApp {
         self.axis_triad(ui);
         self.viewport_overlays(ui, rect);
         if let Some(drag) = self.doc.drag() {
+            // A gizmo drag says which part moves the points; a handle drag its constraint.
+            let how = match &self.gizmo_drag {
+                Some(gizmo) => gizmo.handle().label(),
+                None => format!(
+                    "{} · X/Y/Z axis, Shift+X/Y/Z plane",
+                    self.constraint.label()
+                ),
+            };
             ui.painter().text(
                 rect.left_bottom() + egui::vec2(10.0, -10.0),
                 egui::Align2::LEFT_BOTTOM,
                 format!(
-                    "moving {} point(s) · {} · X/Y/Z axis, Shift+X/Y/Z plane, Esc cancels",
-                    drag.starts().len(),
-                    self.constraint.label()
+                    "moving {} point(s) · {how} · Esc cancels",
+                    drag.starts().len()
                 ),
                 egui::FontId::proportional(14.0),
                 egui::Color32::from_rgb(255, 200, 120),

@@ -380,3 +380,44 @@ fn shape_preserving_edits_keep_the_surface() {
     history.undo(&mut scene).unwrap();
     assert_eq!(scene.objects.len(), 3);
 }
+
+/// A subdivision change's undo step says what changed: a crease is a crease, not "subdivision
+/// level 2".
+#[test]
+fn a_crease_is_labelled_as_a_crease_in_the_history() {
+    use knotwork::scene::{SubdivObject, registry};
+    let cage = registry::kinds()
+        .into_iter()
+        .flat_map(|entry| (entry.examples)())
+        .find(|o| o.geometry.downcast_ref::<SubdivObject>().is_some())
+        .expect("a subdivision example");
+    let mut doc = knotwork::doc::Document::new(Scene {
+        objects: vec![cage.clone()],
+    });
+    let settings = |doc: &knotwork::doc::Document| {
+        doc.scene.objects[0]
+            .geometry
+            .downcast_ref::<SubdivObject>()
+            .unwrap()
+            .settings()
+    };
+    let mut creased = settings(&doc);
+    creased.set_crease(0, 1, 2.0);
+    let mut deeper = creased.clone();
+    deeper.level += 1;
+    let mut uncreased = deeper.clone();
+    uncreased.set_crease(0, 1, 0.0);
+    for (settings, label) in [
+        (creased, "crease 0–1 sharpness 2"),
+        (deeper, "subdivision level 3"),
+        (uncreased, "remove crease 0–1"),
+    ] {
+        let edit = doc
+            .execute(&knotwork::doc::Command::SetSubdivision {
+                object: 0,
+                settings,
+            })
+            .unwrap();
+        assert_eq!(edit.label, label);
+    }
+}

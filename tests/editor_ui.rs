@@ -206,7 +206,10 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
     }
     // The camera frames it.
     let target = harness.state().view().camera.target.as_dvec3();
-    assert!(target.distance(0.5 * (lo + hi)) < 1e-3, "{target} vs {lo} {hi}");
+    assert!(
+        target.distance(0.5 * (lo + hi)) < 1e-3,
+        "{target} vs {lo} {hi}"
+    );
     assert_ne!(harness.state().view().camera.target, camera_before);
     // A second one gets a name of its own.
     harness.get_by_label("+ Create…").click();
@@ -253,7 +256,10 @@ fn create_a_sphere_and_insert_a_knot_from_the_panel() {
     for k in 0..50 {
         let (u, v) = (k as f64 / 49.0, (k * 7 % 50) as f64 / 49.0);
         let p = after.point_at(u, v).unwrap();
-        assert!((p.distance(centre) - 2.0).abs() < 1e-12, "{p} at ({u}, {v})");
+        assert!(
+            (p.distance(centre) - 2.0).abs() < 1e-12,
+            "{p} at ({u}, {v})"
+        );
     }
     assert_eq!(status::current().undo_steps, 2);
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
@@ -813,6 +819,10 @@ fn the_gizmo_moves_a_point_along_its_axis_and_undo_restores() {
     let grab = base + (tip - base) * 0.7;
     let direction = (tip - base).normalized();
     let end = drag_from(&mut harness, grab, direction * 6.0, 8);
+    // The hint names the arrow's axis, not the view plane of handle drags.
+    let s = status::current();
+    assert!(s.dragging, "{s:?}");
+    assert_eq!(s.constraint, "gizmo: along the X axis");
     press(&harness, end, false);
     harness.run_steps(3);
     let after = harness.state().document().scene.objects[SHEET].control_points()[index];

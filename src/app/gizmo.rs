@@ -61,6 +61,27 @@ pub enum GizmoHandle {
     ScaleUniform,
 }
 
+impl GizmoHandle {
+    /// What a drag of this part does, for the viewport's hint ("along the X axis").
+    pub fn label(self) -> String {
+        let axis = |a: usize| ["X", "Y", "Z"][a.min(2)];
+        match self {
+            GizmoHandle::Axis(a) => format!("gizmo: along the {} axis", axis(a)),
+            GizmoHandle::Plane(a) => format!("gizmo: in the plane normal to {}", axis(a)),
+            GizmoHandle::Ring(a) => format!("gizmo: rotating about {}", axis(a)),
+            GizmoHandle::ScaleAxis(a) => format!("gizmo: scaling along {}", axis(a)),
+            GizmoHandle::ScaleUniform => "gizmo: scaling uniformly".into(),
+        }
+    }
+}
+
+impl GizmoDrag {
+    /// The part being dragged.
+    pub fn handle(&self) -> GizmoHandle {
+        self.handle
+    }
+}
+
 /// A gizmo drag under way.
 #[derive(Debug, Clone)]
 pub(super) struct GizmoDrag {

@@ -404,7 +404,9 @@ impl KnotworkApp {
         self.point_selection(ui, points.len());
         self.point_position(ui, s, &points);
         self.snap_settings(ui);
-        self.weight_editor(ui, s);
+        if self.scene().objects[s].has_weights() {
+            self.weight_editor(ui, s);
+        }
         self.knots_and_degree(ui, s);
     }
 
@@ -419,17 +421,24 @@ impl KnotworkApp {
                 self.selection.points.clear();
                 self.update_net();
             }
-            if ui
-                .button("Row")
-                .on_hover_text("the row (along v) through the point below")
-                .clicked()
+            let grid = self
+                .selection
+                .object
+                .and_then(|s| self.scene().objects.get(s))
+                .is_some_and(|o| o.net_grid().is_some());
+            if grid
+                && ui
+                    .button("Row")
+                    .on_hover_text("the row (along v) through the point below")
+                    .clicked()
             {
                 self.select_row(self.selection.edit_point, false);
             }
-            if ui
-                .button("Column")
-                .on_hover_text("the column (along u) through the point below")
-                .clicked()
+            if grid
+                && ui
+                    .button("Column")
+                    .on_hover_text("the column (along u) through the point below")
+                    .clicked()
             {
                 self.select_row(self.selection.edit_point, true);
             }

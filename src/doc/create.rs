@@ -392,15 +392,23 @@ mod tests {
             let (height, ratio) = kind.fields();
             let taller = PrimitiveParams {
                 height: base.height * 1.5,
-                ..base.clone()
+                ..base
             };
             let other = PrimitiveParams {
                 ratio: base.ratio * 0.6,
-                ..base.clone()
+                ..base
             };
             let label = kind.label();
-            assert_eq!(taller.build().unwrap() != built, height.is_some(), "{label}: height");
-            assert_eq!(other.build().unwrap() != built, ratio.is_some(), "{label}: ratio");
+            assert_eq!(
+                taller.build().unwrap() != built,
+                height.is_some(),
+                "{label}: height"
+            );
+            assert_eq!(
+                other.build().unwrap() != built,
+                ratio.is_some(),
+                "{label}: ratio"
+            );
         }
     }
 

@@ -88,7 +88,11 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             object,
             displacement,
         } => set_displacement(scene, *object, displacement.as_ref()),
-        Command::SetSubdivision { object, settings } => set_subdivision(scene, *object, settings),
+        Command::SetSubdivision { object, settings } => {
+            let changes = set_subdivision(scene, *object, settings)?;
+            let label = subdivision_label(scene, *object, settings);
+            return Ok((changes, label));
+        }
         Command::SetLattice { objects, lattice } => set_lattice(scene, objects, lattice.as_ref()),
     }?;
     Ok((changes, command.label()))
@@ -433,6 +437,57 @@ fn set_subdivision(
     map_object(scene, k, |o| {
         o.geometry = ObjectGeometry::boxed(Box::new(surface));
     })
+}
+
+/// What a change of subdivision settings did, for its undo step: "subdivide" a mesh, else the
+/// first thing that differs (level, rules, display, creases, corners).
+fn subdivision_label(scene: &Scene, k: usize, new: &crate::scene::SubdivSettings) -> String {
+    let old = scene.objects.get(k).and_then(|o| {
+        o.geometry
+            .downcast_ref::<crate::scene::SubdivObject>()
+            .map(crate::scene::SubdivObject::settings)
+    });
+    let Some(old) = old else {
+        return format!(
+            "subdivide ({}, level {})",
+            new.options.scheme.label(),
+            new.level
+        );
+    };
+    let crease_change = |before: &[crate::kernel::subdiv::Crease]| {
+        let sharpness = |c: &[crate::kernel::subdiv::Crease], a, b| {
+            c.iter()
+                .find(|e| (e.a, e.b) == (a, b) || (e.b, e.a) == (a, b))
+                .map_or(0.0, |e| e.sharpness)
+        };
+        let edges = before.iter().chain(&new.creases).map(|e| (e.a, e.b));
+        let changed: Vec<(u32, u32)> = edges
+            .filter(|&(a, b)| sharpness(before, a, b) != sharpness(&new.creases, a, b))
+            .collect();
+        match changed.as_slice() {
+            [(a, b), ..] if sharpness(&new.creases, *a, *b) == 0.0 => {
+                format!("remove crease {a}–{b}")
+            }
+            [(a, b), ..] => format!(
+                "crease {a}–{b} sharpness {}",
+                sharpness(&new.creases, *a, *b)
+            ),
+            [] => "creases".into(),
+        }
+    };
+    if old.level != new.level {
+        format!("subdivision level {}", new.level)
+    } else if old.options != new.options {
+        format!("{} subdivision", new.options.scheme.label())
+    } else if old.display != new.display || old.tolerance != new.tolerance {
+        format!("show as {:?}", new.display).to_lowercase()
+    } else if old.creases != new.creases {
+        crease_change(&old.creases)
+    } else if old.corners != new.corners {
+        "sharp corners".into()
+    } else {
+        format!("subdivision level {}", new.level)
+    }
 }
 
 /// Puts `lattice` on the objects (or releases theirs); a lattice is checked again, as a

@@ -8,9 +8,15 @@
 use super::error::GpuError;
 
 /// What to do when no adapter can run the compute shaders.
+#[cfg(not(target_arch = "wasm32"))]
 pub const ADAPTER_HINT: &str = "on Linux without a GPU install lavapipe, a software Vulkan driver \
 (Debian/Ubuntu: apt-get install mesa-vulkan-drivers); elsewhere update the graphics driver, \
 or unset WGPU_BACKEND if it names gl";
+/// What to do when no adapter can run the compute shaders, in a browser.
+#[cfg(target_arch = "wasm32")]
+pub const ADAPTER_HINT: &str = "a browser with WebGPU runs the compute shaders (Chrome or Edge \
+113 and later, Safari 26, Firefox 141 on Windows; on Linux start Chrome with \
+--enable-unsafe-webgpu)";
 
 /// The limits knotwork asks of a device: WebGPU's defaults (so what runs natively also runs in
 /// the browser) with 8192² textures.

@@ -111,6 +111,12 @@ pub trait ObjectKind: KindValue {
     /// a weight that is not finite and > 0, or a kind whose points have no weights.
     fn set_weight(&mut self, index: usize, weight: f64) -> Result<(), GeometryError>;
 
+    /// Whether its points carry weights that [`Self::set_weight`] can set (the panel shows the
+    /// weight only then).
+    fn weighted(&self) -> bool {
+        true
+    }
+
     /// What the object feeds the GPU evaluator: rational Bézier patches over a shared point
     /// pool, each with its parameter rectangle in the object's own domain.
     fn gpu_feed(&self) -> Result<Decomposition, GeometryError>;

@@ -55,6 +55,10 @@ impl ObjectKind for PolygonMesh {
         Ok(self.patches_using(index as u32))
     }
 
+    fn weighted(&self) -> bool {
+        false
+    }
+
     fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
         Err(GeometryError::Construction {
             what: "polygon mesh",

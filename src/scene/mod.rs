@@ -361,6 +361,12 @@ impl SceneObject {
         self.geometry.kind_mut().set_weight(index, weight)
     }
 
+    /// Whether its control points have weights to set (not a lattice's, a mesh's, a cage's or a
+    /// polynomial triangle's).
+    pub fn has_weights(&self) -> bool {
+        self.lattice.is_none() && self.kind().weighted()
+    }
+
     /// The weights of [`Self::control_points`], in the same order.
     pub fn weights(&self) -> Vec<f64> {
         match &self.lattice {
@@ -546,9 +552,10 @@ impl Scene {
     pub fn free_spot(&self, wanted: DVec3, reach: f64) -> DVec3 {
         let reach = reach.abs().max(1e-6);
         let clear = |c: DVec3| {
-            self.objects.iter().filter_map(SceneObject::bounds).all(|(lo, hi)| {
-                (0..3).any(|a| c[a] + reach < lo[a] || c[a] - reach > hi[a])
-            })
+            self.objects
+                .iter()
+                .filter_map(SceneObject::bounds)
+                .all(|(lo, hi)| (0..3).any(|a| c[a] + reach < lo[a] || c[a] - reach > hi[a]))
         };
         if clear(wanted) {
             return wanted;

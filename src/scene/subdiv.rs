@@ -443,6 +443,10 @@ impl ObjectKind for SubdivObject {
         Ok(self.patches_near(&prepared, index))
     }
 
+    fn weighted(&self) -> bool {
+        false
+    }
+
     fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
         Err(GeometryError::Construction {
             what: "subdivision surface",

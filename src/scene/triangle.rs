@@ -124,6 +124,10 @@ impl ObjectKind for TriangleBezier {
         Ok(vec![0])
     }
 
+    fn weighted(&self) -> bool {
+        false
+    }
+
     fn set_weight(&mut self, _index: usize, _weight: f64) -> Result<(), GeometryError> {
         Err(GeometryError::Construction {
             what: "triangular Bézier patch",
