@@ -86,8 +86,9 @@ impl KnotworkApp {
             .and_then(|s| self.scene().objects.get(s))
             .filter(|o| o.visible);
         if let Some(object) = selected {
-            let size = self
-                .scene()
+            // Combs scale with the object itself: at scale 1 the longest hair is a tenth of
+            // its own box's diagonal, whatever else is in the scene.
+            let size = object
                 .bounds()
                 .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
             let fresh = self
@@ -164,6 +165,15 @@ impl KnotworkApp {
                 (CombCurves::Both, "u and v"),
             ],
         );
+        let nothing = self.selection.object.is_none();
+        if nothing && (a.combs != CombCurves::None || a.principal_directions) {
+            ui.label(
+                egui::RichText::new(
+                    "select an object: combs and directions show on the selected one",
+                )
+                .color(egui::Color32::from_rgb(240, 200, 90)),
+            );
+        }
         if a.combs != CombCurves::None {
             ui.horizontal(|ui| {
                 ui.label("curves");
@@ -249,10 +259,16 @@ impl KnotworkApp {
             failing
         ));
         let mut framed = None;
-        egui::ScrollArea::vertical()
+        // Scrolls both ways inside the panel's width, so that long face names never widen the
+        // panel (and move the outliner under the cursor); rows do not wrap.
+        let width = ui.available_width();
+        egui::ScrollArea::both()
             .id_salt("continuity table")
-            .max_height(180.0)
+            .max_width(width)
+            .max_height(260.0)
+            .auto_shrink([false, true])
             .show(ui, |ui| {
+                ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
                 egui::Grid::new("continuity rows")
                     .striped(true)
                     .num_columns(5)

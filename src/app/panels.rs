@@ -900,7 +900,12 @@ impl KnotworkApp {
         let Some((lo, hi)) = self.color_range() else {
             return;
         };
-        legend(ui, lo, hi, self.view.shading == ShadingMode::Isophotes);
+        let unit = match self.view.shading {
+            ShadingMode::Isophotes => "°",
+            ShadingMode::Gaussian => " /length²",
+            _ => " /length",
+        };
+        legend(ui, lo, hi, unit);
         let mut auto = self.view.range.is_none();
         if ui.checkbox(&mut auto, "Automatic range (2–98 %)").changed() {
             self.set_manual_range(if auto { None } else { Some((lo, hi)) });
@@ -1597,7 +1602,7 @@ fn direction_editor(ui: &mut egui::Ui, label: &str, direction: &mut [f64; 3]) {
 }
 
 /// The colour ramp from `lo` to `hi` with its numbers (in degrees where `degrees`).
-fn legend(ui: &mut egui::Ui, lo: f64, hi: f64, degrees: bool) {
+fn legend(ui: &mut egui::Ui, lo: f64, hi: f64, unit: &str) {
     let width = ui.available_width().min(240.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
     let mut mesh = egui::Mesh::default();
@@ -1615,19 +1620,43 @@ fn legend(ui: &mut egui::Ui, lo: f64, hi: f64, degrees: bool) {
     }
     ui.painter().add(egui::Shape::mesh(mesh));
     ui.horizontal(|ui| {
-        let text = |v: f64| {
-            if degrees {
-                format!("{v:.0}°")
-            } else {
-                format!("{v:.3e}")
-            }
-        };
-        ui.label(text(lo));
+        let step = (hi - lo).abs();
+        ui.label(plain_number(lo, step));
         ui.add_space((width - 180.0).max(4.0) / 2.0);
-        ui.label(text(0.5 * (lo + hi)));
+        ui.label(plain_number(0.5 * (lo + hi), step));
         ui.add_space((width - 180.0).max(4.0) / 2.0);
-        ui.label(text(hi));
+        ui.label(format!("{}{unit}", plain_number(hi, step)));
     });
+}
+
+/// `value` as a plain decimal ("−2.33", "0.0125", "1250") with as many decimals as the
+/// `spread` of the numbers shown beside it needs (three significant digits of it); beyond
+/// 10⁶ or below 10⁻⁴ (and not zero) in scientific notation ("1.20e−6").
+pub fn plain_number(value: f64, spread: f64) -> String {
+    if !value.is_finite() {
+        return format!("{value}");
+    }
+    let magnitude = value.abs().max(spread.abs());
+    if magnitude == 0.0 {
+        return "0".into();
+    }
+    if !(1e-4..1e6).contains(&magnitude) {
+        let exponent = value.abs().max(1e-300).log10().floor() as i32;
+        let mantissa = value / 10f64.powi(exponent);
+        return format!("{mantissa:.2}e{exponent}").replace('-', "−");
+    }
+    let reference = if spread > 0.0 { spread } else { magnitude };
+    let decimals = (2 - reference.log10().floor() as i32).clamp(0, 6) as usize;
+    let text = format!("{value:.decimals$}").replace('-', "−");
+    if text
+        .trim_start_matches('−')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        "0".into()
+    } else {
+        text
+    }
 }
 
 /// A combo box labelled `label` choosing `value` among `options` (value, text).
@@ -1695,4 +1724,21 @@ fn subdivision_rules(ui: &mut egui::Ui, options: &mut Options) {
             (Creasing::Chaikin, "Chaikin"),
         ],
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain_number;
+
+    #[test]
+    fn legend_numbers_are_plain_decimals_with_the_digits_their_spread_needs() {
+        assert_eq!(plain_number(-2.3321, 4.0), "−2.33");
+        assert_eq!(plain_number(0.25, 0.5), "0.250");
+        assert_eq!(plain_number(1250.4, 2000.0), "1250");
+        assert_eq!(plain_number(0.01234, 0.02), "0.0123");
+        assert_eq!(plain_number(0.0, 0.5), "0");
+        assert_eq!(plain_number(-1e-9, 0.5), "0");
+        assert_eq!(plain_number(1.2e-6, 1e-6), "1.20e−6");
+        assert_eq!(plain_number(3.0e7, 1e7), "3.00e7");
+    }
 }
