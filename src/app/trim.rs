@@ -21,11 +21,11 @@ pub enum TrimTool {
     Polyline,
     /// The closed cubic through the clicked points.
     Interpolating,
-    /// Centre, then a point on the circle (a circle in (u, v)).
+    /// Centre, then a point on the circle: round in model space, on the surface.
     Circle,
     /// Two opposite corners.
     Rectangle,
-    /// Centre, then a corner: a regular hexagon.
+    /// Centre, then a corner: a regular hexagon in model space, on the surface.
     Polygon,
 }
 
@@ -73,6 +73,56 @@ pub struct HandleDrag {
     curve: usize,
     point: usize,
     to: DVec2,
+}
+
+/// Points on the circle drawn by the Circle tool.
+const CIRCLE_POINTS: usize = 24;
+
+/// The (u, v) points of a regular `corners`-gon in model space, drawn on `surface`: centred at
+/// S(`centre`) in the tangent plane there, through S(`through`), each corner pulled onto the
+/// surface at its closest point (The NURBS Book §6.1). A shape that is round (or regular) in
+/// model space rather than in the parameters, which a non-square domain would stretch.
+pub fn model_space_corners(
+    surface: &crate::kernel::NurbsSurface,
+    centre: DVec2,
+    through: DVec2,
+    corners: usize,
+) -> Result<Vec<DVec2>, GeometryError> {
+    let local = surface.local_geometry(centre.x, centre.y)?;
+    let (normal, origin) = (local.normal, local.derivatives.point);
+    let arm = surface.point_at(through.x, through.y)? - origin;
+    let arm = arm - normal * arm.dot(normal);
+    if normal == glam::DVec3::ZERO || !(arm.length() > 1e-12) {
+        return Err(GeometryError::Construction {
+            what: "trim loop",
+            message: "the two points are at the same place on the surface".into(),
+        });
+    }
+    (0..corners)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / corners as f64;
+            let q = origin + arm * a.cos() + normal.cross(arm) * a.sin();
+            surface.closest_point(q).map(|c| DVec2::new(c.u, c.v))
+        })
+        .collect()
+}
+
+/// The loop `tool` makes of `points` (in (u, v)) on `surface`: the circle and the hexagon in
+/// model space ([`model_space_corners`]), the rest in (u, v).
+pub fn loop_on(
+    tool: TrimTool,
+    points: &[DVec2],
+    surface: &crate::kernel::NurbsSurface,
+) -> Result<TrimLoop, GeometryError> {
+    match (tool, points) {
+        (TrimTool::Circle, [c, p, ..]) => {
+            shapes::interpolating_loop(&model_space_corners(surface, *c, *p, CIRCLE_POINTS)?)
+        }
+        (TrimTool::Polygon, [c, p, ..]) => {
+            shapes::polygon(&model_space_corners(surface, *c, *p, 6)?)
+        }
+        _ => loop_from(tool, points),
+    }
 }
 
 /// The loop `tool` makes of `points` (in (u, v)).
@@ -201,7 +251,11 @@ impl KnotworkApp {
         };
         let points = std::mem::take(&mut drawing.points);
         let (tool, object) = (drawing.tool, drawing.object);
-        match loop_from(tool, &points) {
+        let Some((_, trimmed)) = self.selected_trimmed().filter(|(s, _)| *s == object) else {
+            self.status.error = Some("select the surface being trimmed".into());
+            return;
+        };
+        match loop_on(tool, &points, trimmed.surface()) {
             Ok(curves) => self.apply(AppCommand::Edit(Command::Trim {
                 object,
                 edit: TrimEdit::Add {
@@ -242,9 +296,31 @@ impl KnotworkApp {
         };
         let painter = ui.painter().with_clip_rect(self.viewport_rect);
         let loop_color = egui::Color32::from_rgb(255, 200, 60);
+        // Every loop on the surface: edges longer than a 48th of the domain are divided, so
+        // that a straight (u, v) edge (the outer loop's) follows the surface, not a chord.
+        let [(u0, u1), (v0, v1)] = t.surface().domain();
+        let step = (u1 - u0).max(v1 - v0) / 48.0;
+        let on_surface = |polygon: &[DVec2], closed: bool| -> Option<Vec<egui::Pos2>> {
+            let mut points = Vec::new();
+            let count = if closed {
+                polygon.len()
+            } else {
+                polygon.len().saturating_sub(1)
+            };
+            for k in 0..count {
+                let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                let pieces = ((a.distance(b) / step).ceil() as usize).clamp(1, 256);
+                for i in 0..pieces {
+                    points.push(screen(a.lerp(b, i as f64 / pieces as f64))?);
+                }
+            }
+            if !closed {
+                points.push(screen(*polygon.last()?)?);
+            }
+            Some(points)
+        };
         for polygon in t.outline().iter() {
-            let points: Vec<egui::Pos2> = polygon.iter().filter_map(|&p| screen(p)).collect();
-            if points.len() == polygon.len() && points.len() > 1 {
+            if let Some(points) = on_surface(polygon, true).filter(|p| p.len() > 1) {
                 painter.add(egui::Shape::closed_line(
                     points,
                     egui::Stroke::new(1.5, loop_color),
@@ -262,15 +338,53 @@ impl KnotworkApp {
         }
         if let Some(drawing) = self.trim_drawing.as_ref().filter(|d| d.object == s) {
             let color = egui::Color32::from_rgb(90, 220, 255);
-            let placed: Vec<egui::Pos2> =
-                drawing.points.iter().filter_map(|&p| screen(p)).collect();
-            for p in &placed {
-                painter.circle_filled(*p, 3.5, color);
+            for p in drawing.points.iter().filter_map(|&p| screen(p)) {
+                painter.circle_filled(p, 3.5, color);
             }
-            if placed.len() > 1 {
-                painter.add(egui::Shape::line(placed, egui::Stroke::new(1.5, color)));
+            // The shape as it would be with the cursor's point added: a preview before the
+            // click that completes it.
+            let hover = ui
+                .ctx()
+                .pointer_hover_pos()
+                .and_then(|pos| self.surface_uv_at(s, pos));
+            let mut points = drawing.points.clone();
+            points.extend(hover);
+            let preview = if points.len() >= 2 {
+                loop_on(drawing.tool, &points, t.surface())
+                    .ok()
+                    .map(|l| crate::kernel::trim::flatten_loop(&l, step * 0.05))
+            } else {
+                None
+            };
+            let closed = drawing.tool.points_needed().is_some();
+            let line = match &preview {
+                Some(polygon) => on_surface(polygon, true),
+                None => on_surface(&drawing.points, closed && drawing.points.len() > 2),
+            };
+            if let Some(line) = line.filter(|l| l.len() > 1) {
+                painter.add(egui::Shape::line(line, egui::Stroke::new(1.5, color)));
             }
         }
+    }
+
+    /// The (u, v) of object `object`'s surface under the screen position `pos`, if it is there.
+    fn surface_uv_at(&self, object: usize, pos: egui::Pos2) -> Option<DVec2> {
+        let view = self.pick_view?;
+        if !self.viewport_rect.contains(pos) {
+            return None;
+        }
+        let cursor = (pos - self.viewport_rect.min).to_pos2();
+        let (origin, direction) = view.ray(glam::DVec2::new(cursor.x as f64, cursor.y as f64));
+        let gpu = self.gpu.as_ref()?;
+        let objects: Vec<_> = gpu
+            .sync
+            .feeds()
+            .iter()
+            .enumerate()
+            .map(|(k, d)| (d, k == object))
+            .collect();
+        let hit = crate::view::pick::pick_surface(&objects, origin, direction)?;
+        Some(DVec2::new(hit.u, hit.v))
     }
 
     /// The Trim section of the panel for a NURBS surface.
@@ -469,5 +583,42 @@ impl KnotworkApp {
             }
         });
         edit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::construct;
+    use glam::DVec3;
+
+    /// On a 5 × 4 sheet over the unit square of (u, v), the circle tool's loop is round in model
+    /// space (a circle in (u, v) would be an ellipse there), at the radius the second click
+    /// gave; the hexagon is drawn the same way, and two clicks at one place are refused.
+    #[test]
+    fn the_circle_tool_draws_a_circle_round_in_model_space() {
+        let sheet = construct::plane(DVec3::ZERO, DVec3::X * 5.0, DVec3::Y * 4.0).unwrap();
+        let (c, p) = (DVec2::new(0.5, 0.5), DVec2::new(0.7, 0.5));
+        let circle = loop_on(TrimTool::Circle, &[c, p], &sheet).unwrap();
+        let centre = sheet.point_at(c.x, c.y).unwrap();
+        let radius = sheet.point_at(p.x, p.y).unwrap().distance(centre);
+        assert!((radius - 1.0).abs() < 1e-12);
+        for uv in crate::kernel::trim::flatten_loop(&circle, 1e-4) {
+            let q = sheet.point_at(uv.x, uv.y).unwrap();
+            // The interpolating cubic through 24 points of the circle: within 0.1 % of it.
+            assert!(
+                (q.distance(centre) - radius).abs() < 1e-3 * radius,
+                "{uv} at {q}"
+            );
+        }
+        // In (u, v) the same circle is an ellipse: 0.2 across in u, 0.25 in v.
+        let uvs = model_space_corners(&sheet, c, p, 4).unwrap();
+        assert!((uvs[1].y - c.y - 0.25).abs() < 1e-9, "{uvs:?}");
+        let hexagon = loop_on(TrimTool::Polygon, &[c, p], &sheet).unwrap();
+        assert_eq!(hexagon.len(), 6);
+        assert!(matches!(
+            loop_on(TrimTool::Circle, &[c, c], &sheet),
+            Err(GeometryError::Construction { .. })
+        ));
     }
 }
