@@ -67,7 +67,14 @@ async function openEditor(browser, url, { hideWebGpu = false } = {}) {
   return { page, errors };
 }
 
-const status = (page) => page.evaluate(() => window.knotwork.status());
+/**
+ * The page's status, with undo_steps counted from the last openObjects (opening a project is
+ * an undo step of its own, which the checks after it do not count).
+ */
+const status = (page) => page.evaluate(() => {
+  const s = window.knotwork.status();
+  return { ...s, undo_steps: s.undo_steps - (window.__base ?? 0) };
+});
 
 /**
  * Statistics of a screenshot's pixels in a rectangle, decoded in the page (no image library
@@ -130,6 +137,18 @@ function glbJson(bytes) {
   return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
 }
 
+/** The message `call` (run in the page) throws, or null if it does not throw. */
+async function thrownBy(page, call) {
+  return page.evaluate((source) => {
+    try {
+      (0, eval)(source)();
+      return null;
+    } catch (e) {
+      return e.message;
+    }
+  }, call.toString());
+}
+
 /** Has the editor draw `count` more frames, so the canvas shows the latest state. */
 async function nextFrames(page, count = 2) {
   const frames = (await status(page)).frames;
@@ -158,8 +177,15 @@ function landscapeObject(n, segments) {
 /** Opens `objects` as a project and waits for its first frame. */
 async function openObjects(page, objects) {
   const text = JSON.stringify({ format: 'knotwork', version: 2, objects });
+  // Opening is an undo step: wait for it (the object count alone may be the previous
+  // document's), and count the checks' undo steps from it.
+  const before = await page.evaluate(() => window.knotwork.status().undo_steps);
   await page.evaluate((t) => window.knotwork.openProject('bench.json', t), text);
-  await page.waitForFunction((n) => window.knotwork.status().objects === n, objects.length, { timeout: 120_000 });
+  await page.waitForFunction(([n, steps]) => {
+    const s = window.knotwork.status();
+    return s.objects === n && s.undo_steps === steps;
+  }, [objects.length, before + 1], { timeout: 120_000 });
+  await page.evaluate(() => { window.__base = window.knotwork.status().undo_steps; });
   await nextFrames(page, 1);
 }
 
@@ -211,7 +237,7 @@ async function dragFirstObjectHandle(page) {
   await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 4, 10, -8);
   await page.waitForFunction(() => {
     const t = window.knotwork.status();
-    return t.undo_steps === 1 && !t.dragging;
+    return t.undo_steps - (window.__base ?? 0) === 1 && !t.dragging;
   }, null, { timeout: 60_000 });
   return { index, before };
 }
@@ -223,7 +249,7 @@ async function dragToFrame(page, canvas) {
   await nextFrames(page, 1);
   const [, [hx, hy]] = await freeHandle(page, 10);
   const times = await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 5, 6, -4);
-  await page.waitForFunction(() => window.knotwork.status().undo_steps >= 1, null, { timeout: 60_000 });
+  await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) >= 1, null, { timeout: 60_000 });
   return times;
 }
 
@@ -339,7 +365,15 @@ async function main() {
       const viewport = { x: 320, y: 100, width: 900, height: 600 };
       const plain = await page.locator('#knotwork-canvas').screenshot();
       assert(await page.evaluate(() => window.knotwork.setShading('gaussian')), 'gaussian is a mode');
-      assert(!(await page.evaluate(() => window.knotwork.setShading('rainbow'))), 'unknown modes are refused');
+      const rainbow = await page.evaluate(() => {
+        try {
+          window.knotwork.setShading('rainbow');
+          return null;
+        } catch (e) {
+          return e.message;
+        }
+      });
+      assert(/setShading: mode must be one of .*got "rainbow"/.test(rainbow ?? ''), `unknown modes are refused: ${rainbow}`);
       await page.waitForFunction(() => window.knotwork.status().shading === 'gaussian', null, { timeout: 30_000 });
       let s = await status(page);
       assert(s.range_auto && s.range && s.range[0] < s.range[1], `automatic range ${JSON.stringify(s.range)}`);
@@ -381,11 +415,11 @@ async function main() {
       const dragged = (await page.evaluate(() => window.knotwork.project())).objects[3].points[4][4];
       assert(Math.abs(dragged[0] - 1) < 1e-12 && Math.abs(dragged[1] - 5) < 1e-12 && Math.abs(dragged[2] - 3.5) < 1e-12,
         `the dragged point went from (1, 5, 3) by (0, 0, 0.5) to ${JSON.stringify(dragged)}`);
-      // A NaN coordinate is refused and changes nothing.
-      await page.evaluate(() => window.knotwork.moveControlPoint(3, 0, [NaN, 0, 0]));
-      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 30_000 });
-      s = await status(page);
-      assert(/finite/.test(s.error), `the error names the problem: ${s.error}`);
+      // A NaN coordinate is refused at the call and changes nothing.
+      const nan = await thrownBy(page, () => window.knotwork.moveControlPoint(3, 0, [NaN, 0, 0]));
+      assert(/position must be an array of three finite numbers/.test(nan ?? ''), `the error names the problem: ${nan}`);
+      const unchanged = (await page.evaluate(() => window.knotwork.project())).objects[3].points[0][0];
+      assert(unchanged.every(Number.isFinite), `the point is unchanged: ${JSON.stringify(unchanged)}`);
       console.log(`      range ${JSON.stringify(s.range)}, ${s.patches_reevaluated} patches re-evaluated after the edit`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
@@ -430,7 +464,15 @@ async function main() {
         const s = await status(page);
         assert(s.orthographic === (view !== 'perspective'), `${view}: orthographic ${s.orthographic}`);
       }
-      assert(!(await page.evaluate(() => window.knotwork.setView('sideways'))), 'unknown views are refused');
+      const sideways = await page.evaluate(() => {
+        try {
+          window.knotwork.setView('sideways');
+          return null;
+        } catch (e) {
+          return e.message;
+        }
+      });
+      assert(/setView: name must be one of .*got "sideways"/.test(sideways ?? ''), `unknown views are refused: ${sideways}`);
       const s = await status(page);
       assert(s.grid_step > 0, `grid step ${s.grid_step}`);
       // Two quadratic triangular patches either side of x = 0, the right one rising at slope
@@ -796,7 +838,7 @@ async function main() {
       assert(change.differing > 200, `the canvas changed with the drag (${change.differing} px)`);
 
       await page.evaluate(() => window.knotwork.setCrease(0, 0, 1, 10));
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 2, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 2, null, { timeout: 30_000 });
       const creased = await page.evaluate(() => window.knotwork.project());
       const creases = creased.objects[0].creases;
       assert(creases.length === 1 && creases[0][2] === 10, `the crease is in the document: ${JSON.stringify(creases)}`);
@@ -814,7 +856,7 @@ async function main() {
 
       await page.evaluate(() => window.knotwork.undo());
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       const undone = await page.evaluate(() => window.knotwork.project());
       assert(undone.objects[0].points.every((p, k) => p.every((x, c) => x === points[k][c])), 'undo brings the cage back');
       assert(undone.objects[0].creases.length === 0, 'undo removes the crease');
@@ -847,7 +889,7 @@ async function main() {
       const change = await screenshotDifference(page, before, moved, viewport, 24);
       assert(change.differing > 200, `the canvas changed with the drag (${change.differing} px)`);
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       const undone = await page.evaluate(() => window.knotwork.project());
       assert(undone.objects[0].points[index].every((x, c) => x === points[index][c]), 'undo brings the point back');
       assert(undone.objects[0].display === 'gregory', 'the display is saved');
@@ -915,17 +957,18 @@ async function main() {
       // Flattening the bump: the depths are chosen again (fewer vertices), undo restores.
       const before = s.vertices;
       await page.evaluate(() => window.knotwork.moveControlPoint(0, 24, [0, 0, 0]));
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 1, null, { timeout: 60_000 });
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null && s.vertices < before, `after the move ${s.vertices} vertices, before ${before}`);
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null && s.vertices === before, `undo: ${s.vertices} vertices, ${before} before`);
       // The script interface switches displays: back to the uniform limit, then adaptive again.
-      assert(!(await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'mosaic'))), 'unknown displays are refused');
+      const mosaic = await thrownBy(page, () => window.knotwork.setSubdivisionDisplay(0, 'mosaic'));
+      assert(/display must be one of .*got "mosaic"/.test(mosaic ?? ''), `unknown displays are refused: ${mosaic}`);
       assert(await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'limit')), 'limit is a display');
       await page.waitForFunction(() => window.knotwork.project().objects[0].display === 'limit', null, { timeout: 60_000 });
       await page.evaluate(() => window.knotwork.setSubdivisionDisplay(0, 'adaptive', 0.01));
@@ -964,7 +1007,7 @@ async function main() {
       await writeFile(`${resultsDir}/triangle-mean.png`, before);
       // The middle point (b_111, index 5) raised: the surface follows, undo restores it.
       await page.evaluate(() => window.knotwork.moveControlPoint(0, 5, [0, 0, 2.5]));
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 1, null, { timeout: 60_000 });
       await nextFrames(page);
       const moved = await page.locator('#knotwork-canvas').screenshot();
       const viewport = VIEWPORT;
@@ -974,7 +1017,7 @@ async function main() {
       const report = summary('triangle.glb', await validate(bytes, 'triangle.glb'));
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       const undone = await page.evaluate(() => window.knotwork.project());
       assert(undone.objects[0].type === 'triangular_bezier' && undone.objects[0].points[5][2] === points[5][2], 'undo brings the point back');
       console.log(`      the move changed ${change.differing} px; export ${bytes.length} bytes, validator clean`);
@@ -1011,15 +1054,16 @@ async function main() {
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
       // Moving a corner: the plate tilts and stays displaced; undo.
       await page.evaluate(() => window.knotwork.moveControlPoint(0, 3, [2, 2, 1.5]));
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 1, null, { timeout: 60_000 });
       const moved = await page.evaluate(() => window.knotwork.project());
       assert(moved.objects[0].displacement.amplitude === 0.3, 'the displacement stays with the object');
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       s = await status(page);
       assert(s.error === null, `after undo: ${s.error}`);
       // The script interface: another pattern, an unknown one refused, removal.
-      assert(!(await page.evaluate(() => window.knotwork.setDisplacement(0, 'plaid', 0.1, 2))), 'unknown patterns are refused');
+      const plaid = await thrownBy(page, () => window.knotwork.setDisplacement(0, 'plaid', 0.1, 2));
+      assert(/pattern must be one of .*got "plaid"/.test(plaid ?? ''), `unknown patterns are refused: ${plaid}`);
       assert(await page.evaluate(() => window.knotwork.setDisplacement(0, 'waves', 0.2, 2)), 'waves is a pattern');
       await page.waitForFunction(() => window.knotwork.project().objects[0].displacement?.pattern === 'waves', null, { timeout: 60_000 });
       await page.evaluate(() => window.knotwork.setDisplacement(0, 'waves', 0.2, -1));
@@ -1088,7 +1132,7 @@ async function main() {
       const lattice = (await page.evaluate(() => window.knotwork.project())).objects[0].lattice;
       const top = lattice.points[7];
       await page.evaluate(([x, y, z]) => window.knotwork.moveControlPoint(0, 7, [x, y, z + 2]), top);
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 2, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 2, null, { timeout: 60_000 });
       await nextFrames(page);
       s = await status(page);
       assert(s.error === null, `after the lattice drag: ${s.error}`);
@@ -1103,7 +1147,7 @@ async function main() {
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
       // Apply: a bicubic sheet through a trilinear lattice is exactly a degree-9 surface.
       await page.evaluate(() => window.knotwork.applyLattice(0, 0.001));
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 3, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 3, null, { timeout: 60_000 });
       s = await status(page);
       assert(s.error === null && /exact/.test(s.notice ?? ''), `apply: ${s.error} / ${s.notice}`);
       const bakedBoth = (await page.evaluate(() => window.knotwork.project())).objects;
@@ -1115,7 +1159,7 @@ async function main() {
       // Undo twice: the flat sheet with its lattice released is the original again.
       await page.evaluate(() => window.knotwork.undo());
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 1, null, { timeout: 30_000 });
       await page.evaluate(() => window.knotwork.releaseLattice(0));
       await page.waitForFunction(() => window.knotwork.project().objects.every((o) => !o.lattice), null, { timeout: 30_000 });
       console.log(`      bend changed ${change.differing} px, baked differs by ${same.differing} px; export ${bytes.length} bytes, validator clean`);
@@ -1148,7 +1192,7 @@ async function main() {
       await page.evaluate(() => window.knotwork.setTrimTool('circle'));
       await page.mouse.click(canvas.x + cx, canvas.y + cy);
       await page.mouse.click(canvas.x + ex, canvas.y + ey);
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 1, null, { timeout: 60_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 1, null, { timeout: 60_000 });
       let s = await status(page);
       assert(s.error === null, `error: ${s.error}`);
       const trimmed = await page.evaluate(() => window.knotwork.project());
@@ -1171,7 +1215,7 @@ async function main() {
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
 
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
       const undone = await page.evaluate(() => window.knotwork.project());
       assert(!undone.objects[0].trims, 'undo removes the trims');
       await nextFrames(page);
@@ -1269,7 +1313,7 @@ async function main() {
       assert(s.patches_reevaluated >= 1 && s.patches_reevaluated < 84, `re-evaluated ${s.patches_reevaluated}`);
       console.log(`      WebGL2 drag-to-new-frame, demo scene: median ${times[times.length >> 1]} ms (${times.join(', ')})`);
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().undo_steps === 0, null, { timeout: 30_000 });
+      await page.waitForFunction(() => (window.knotwork.status().undo_steps - (window.__base ?? 0)) === 0, null, { timeout: 30_000 });
 
       // A curvature mode from the vertices' curvature.
       assert(await page.evaluate(() => window.knotwork.setShading('mean')), 'mean is a mode');

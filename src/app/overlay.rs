@@ -1,6 +1,6 @@
 //! What the viewport says by itself: a toolbar over the canvas (standard views, shading,
 //! framing, help), a one-line navigation hint, the `?` overlay with the controls, and toasts
-//! that show an error or a notice where the eye is, whichever widget or script caused it.
+//! that show an error where the eye is, whichever widget or script caused it.
 
 use eframe::egui;
 
@@ -154,15 +154,11 @@ impl KnotworkApp {
             });
     }
 
-    /// The newest error or notice over the viewport's top edge, until it times out or is
-    /// closed (the panel keeps it at its end too).
+    /// The newest error over the viewport's top edge, until it times out or is closed (the
+    /// panel keeps it, and the notices, at its end).
     fn toast(&mut self, ctx: &egui::Context, rect: egui::Rect) {
         let now = ctx.input(|i| i.time);
-        let current = match (&self.status.error, &self.status.notice) {
-            (Some(e), _) => Some((e.clone(), true)),
-            (None, Some(n)) => Some((n.clone(), false)),
-            (None, None) => None,
-        };
+        let current = self.status.error.clone().map(|e| (e, true));
         match current {
             Some((text, error)) if self.toast.text != text || self.toast.error != error => {
                 self.toast = Toast {

@@ -596,8 +596,10 @@ impl Scene {
 
 /// The weighted (2 %, 98 %) percentiles of `(value, weight)` pairs (non-finite values and
 /// weights ≤ 0 ignored): a colour range that small regions of extreme values (a pole, a cusp, a
-/// spout's tip) do not wash out. A range of zero width is widened around its value, by 10 % of
-/// it or 1e-9, so a constant reads as the ramp's middle. `None` when nothing is left.
+/// spout's tip) do not wash out. A range narrower than [`NARROWEST_RANGE`] of its values'
+/// size (a constant, up to rounding: the exact sphere's K) is widened around its middle, by
+/// 10 % of it or 1e-9, so a constant reads as the ramp's middle instead of spreading the GPU's
+/// f32 rounding (about 1e-7 of the value) over the whole ramp. `None` when nothing is left.
 pub fn robust_range(values: impl IntoIterator<Item = (f64, f64)>) -> Option<(f64, f64)> {
     let mut sorted: Vec<(f64, f64)> = values
         .into_iter()
@@ -619,13 +621,19 @@ pub fn robust_range(values: impl IntoIterator<Item = (f64, f64)>) -> Option<(f64
         sorted[sorted.len() - 1].0
     };
     let (lo, hi) = (at(0.02), at(0.98));
-    if hi > lo {
+    let size = lo.abs().max(hi.abs());
+    if hi - lo > NARROWEST_RANGE * size {
         Some((lo, hi))
     } else {
-        let pad = (0.1 * lo.abs()).max(1e-9);
-        Some((lo - pad, hi + pad))
+        let middle = 0.5 * (lo + hi);
+        let pad = (0.1 * middle.abs()).max(1e-9);
+        Some((middle - pad, middle + pad))
     }
 }
+
+/// The narrowest automatic colour range, as a share of its values' size: curvature that
+/// varies less than this is shown as constant.
+pub const NARROWEST_RANGE: f64 = 1e-3;
 
 #[cfg(test)]
 mod tests {
@@ -649,6 +657,20 @@ mod tests {
         );
         let (lo, hi) = robust_range([(0.25, 1.0); 10]).unwrap();
         assert!(lo < 0.25 && hi > 0.25 && (lo + hi - 0.5).abs() < 1e-12);
+        // A constant up to rounding (the exact sphere's K in f64) is a constant too: the
+        // range is 10 % wide, not 1e-15, which would colour the GPU's f32 rounding.
+        let sphere = (0..100).map(|k| (0.25 + 1e-16 * f64::from(k % 7) - 3e-16, 1.0));
+        let (lo, hi) = robust_range(sphere).unwrap();
+        assert!(
+            hi - lo > 0.04 && (0.5 * (lo + hi) - 0.25).abs() < 1e-12,
+            "({lo}, {hi})"
+        );
+        // The exact sphere of the sample scene shades as one colour in Gaussian mode.
+        let demo = Scene {
+            objects: vec![Scene::demo().unwrap().objects[2].clone()],
+        };
+        let (lo, hi) = demo.curvature_range(0).unwrap();
+        assert!(hi - lo > 0.01, "({lo}, {hi})");
         assert_eq!(robust_range([(f64::NAN, 1.0)]), None);
     }
 
