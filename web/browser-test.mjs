@@ -365,14 +365,7 @@ async function main() {
       const viewport = { x: 320, y: 100, width: 900, height: 600 };
       const plain = await page.locator('#knotwork-canvas').screenshot();
       assert(await page.evaluate(() => window.knotwork.setShading('gaussian')), 'gaussian is a mode');
-      const rainbow = await page.evaluate(() => {
-        try {
-          window.knotwork.setShading('rainbow');
-          return null;
-        } catch (e) {
-          return e.message;
-        }
-      });
+      const rainbow = await thrownBy(page, () => window.knotwork.setShading('rainbow'));
       assert(/setShading: mode must be one of .*got "rainbow"/.test(rainbow ?? ''), `unknown modes are refused: ${rainbow}`);
       await page.waitForFunction(() => window.knotwork.status().shading === 'gaussian', null, { timeout: 30_000 });
       let s = await status(page);
@@ -464,14 +457,7 @@ async function main() {
         const s = await status(page);
         assert(s.orthographic === (view !== 'perspective'), `${view}: orthographic ${s.orthographic}`);
       }
-      const sideways = await page.evaluate(() => {
-        try {
-          window.knotwork.setView('sideways');
-          return null;
-        } catch (e) {
-          return e.message;
-        }
-      });
+      const sideways = await thrownBy(page, () => window.knotwork.setView('sideways'));
       assert(/setView: name must be one of .*got "sideways"/.test(sideways ?? ''), `unknown views are refused: ${sideways}`);
       const s = await status(page);
       assert(s.grid_step > 0, `grid step ${s.grid_step}`);
