@@ -630,10 +630,12 @@ fn an_export_over_the_triangle_limit_is_refused_with_the_limit() {
     let project = demo_project();
     let opts = options(Tessellation::Segments(4));
     let written = export::export(&project, &opts).unwrap();
-    let estimate: usize = export::estimate_triangles(&project.scene, opts.tessellation, usize::MAX)
-        .unwrap()
-        .iter()
-        .sum();
+    let close = knotwork::kernel::tess::Estimate::Close;
+    let estimate: usize =
+        export::estimate_triangles(&project.scene, opts.tessellation, usize::MAX, close)
+            .unwrap()
+            .iter()
+            .sum();
     assert!(
         (written.triangles..=written.triangles * 11 / 10).contains(&estimate),
         "{estimate} for {}",

@@ -65,7 +65,8 @@ pub fn estimate_triangles(
     scene: &crate::scene::Scene,
     tessellation: Tessellation,
 ) -> Result<usize, String> {
-    gltf::estimate_triangles(scene, tessellation, crate::kernel::tess::MAX_TRIANGLES)
+    use crate::kernel::tess::{Estimate, MAX_TRIANGLES};
+    gltf::estimate_triangles(scene, tessellation, MAX_TRIANGLES, Estimate::Close)
         .map(|counts| counts.iter().sum())
         .map_err(|e| e.to_string())
 }

@@ -874,9 +874,10 @@ impl KnotworkApp {
                 ];
                 for (name, value) in rows {
                     ui.label(name);
-                    // A long adapter name ("ANGLE (Google, Vulkan 1.3.0 (SwiftShader ...") is
-                    // cut to the panel's width, whole on hover, rather than widen the panel.
-                    ui.add(egui::Label::new(value.as_str()).truncate())
+                    // A long adapter name ("ANGLE (Google, Vulkan 1.3.0 (SwiftShader ...") or
+                    // the WebGL2 evaluator wraps within the panel's width: it neither widens
+                    // the panel nor is cut off.
+                    ui.add(egui::Label::new(value.as_str()).wrap())
                         .on_hover_text(value);
                     ui.end_row();
                 }

@@ -36,7 +36,7 @@ use thiserror::Error;
 
 use super::project::{self, Project};
 use crate::kernel::GeometryError;
-use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::tess::{Estimate, Tessellation, TriangleMesh};
 
 /// What went wrong in an export.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -431,17 +431,17 @@ pub fn estimate_triangles(
     scene: &crate::scene::Scene,
     tessellation: Tessellation,
     max_triangles: usize,
+    how: Estimate,
 ) -> Result<Vec<usize>, ExportError> {
     let mut total = 0usize;
     let mut counts = Vec::new();
     for object in scene.objects.iter().filter(|o| o.visible) {
-        let count =
-            object
-                .estimated_triangles(tessellation)
-                .map_err(|source| ExportError::Geometry {
-                    name: object.name.clone(),
-                    source,
-                })?;
+        let count = object
+            .estimated_triangles(tessellation, how)
+            .map_err(|source| ExportError::Geometry {
+                name: object.name.clone(),
+                source,
+            })?;
         total = total.saturating_add(count);
         counts.push(count);
     }
@@ -475,13 +475,20 @@ pub struct ExportJob {
 
 impl ExportJob {
     /// A job for the visible objects of `project`; refused at once when none is visible or
-    /// the estimate passes `max_triangles` ([`estimate_triangles`]).
+    /// the estimate passes `max_triangles` ([`estimate_triangles`]: the derivative bound, and
+    /// only where that passes the limit the closer estimate, so that an export well inside the
+    /// limit pays a few derivative samples per span for the check).
     pub fn new(
         project: Project,
         options: ExportOptions,
         max_triangles: usize,
     ) -> Result<Self, ExportError> {
-        let counts = estimate_triangles(&project.scene, options.tessellation, max_triangles)?;
+        let scene = &project.scene;
+        let tessellation = options.tessellation;
+        let mut counts = estimate_triangles(scene, tessellation, usize::MAX, Estimate::Bound)?;
+        if counts.iter().fold(0usize, |a, &n| a.saturating_add(n)) > max_triangles {
+            counts = estimate_triangles(scene, tessellation, max_triangles, Estimate::Close)?;
+        }
         let indices =
             (0..project.scene.objects.len()).filter(|&k| project.scene.objects[k].visible);
         let visible: Vec<(usize, usize)> = indices.zip(counts).collect();

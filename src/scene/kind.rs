@@ -146,7 +146,11 @@ pub trait ObjectKind: KindValue {
     /// does not grow with the answer where the tolerance decides it (so a tiny tolerance is
     /// refused before the wait). By default the tessellation's own count: right for kinds
     /// whose mesh the tolerance does not change.
-    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+    fn estimated_triangles(
+        &self,
+        tessellation: Tessellation,
+        _how: crate::kernel::tess::Estimate,
+    ) -> Result<usize, GeometryError> {
         Ok(self
             .tessellate(tessellation, false)?
             .iter()

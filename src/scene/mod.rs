@@ -492,13 +492,14 @@ impl SceneObject {
     pub fn estimated_triangles(
         &self,
         tessellation: tess::Tessellation,
+        how: tess::Estimate,
     ) -> Result<usize, GeometryError> {
         let tessellation = match (&self.displacement, &self.lattice) {
             (Some(map), _) => self.displacement_tessellation(map),
             (None, Some(_)) => tess::Tessellation::Segments(self.segments),
             (None, None) => tessellation,
         };
-        self.kind().estimated_triangles(tessellation)
+        self.kind().estimated_triangles(tessellation, how)
     }
 }
 

@@ -155,8 +155,12 @@ impl ObjectKind for NurbsSurface {
         Ok(vec![tess::triangulate(self, &grid, curvature)?])
     }
 
-    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
-        tess::estimated_triangles(self, tessellation)
+    fn estimated_triangles(
+        &self,
+        tessellation: Tessellation,
+        how: tess::Estimate,
+    ) -> Result<usize, GeometryError> {
+        tess::estimated_triangles(self, tessellation, how)
     }
 
     fn faces(&self) -> Vec<KindFace<'_>> {

@@ -95,8 +95,12 @@ impl ObjectKind for BezierPatchSet {
         tess::tessellate_patches(self, tessellation, curvature)
     }
 
-    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
-        tess::estimated_patch_triangles(self, tessellation)
+    fn estimated_triangles(
+        &self,
+        tessellation: Tessellation,
+        how: tess::Estimate,
+    ) -> Result<usize, GeometryError> {
+        tess::estimated_patch_triangles(self, tessellation, how)
     }
 
     /// Every patch, over [0, 1]².

@@ -169,7 +169,11 @@ impl ObjectKind for TriangleBezier {
     }
 
     /// s² triangles for s segments per edge.
-    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
+    fn estimated_triangles(
+        &self,
+        tessellation: Tessellation,
+        _how: crate::kernel::tess::Estimate,
+    ) -> Result<usize, GeometryError> {
         let s = export_segments(self, tessellation) as usize;
         Ok(s * s)
     }

@@ -105,8 +105,12 @@ impl ObjectKind for TrimmedSurface {
     }
 
     /// The whole surface's estimate: the trims only take triangles away.
-    fn estimated_triangles(&self, tessellation: Tessellation) -> Result<usize, GeometryError> {
-        crate::kernel::tess::estimated_triangles(self.surface(), tessellation)
+    fn estimated_triangles(
+        &self,
+        tessellation: Tessellation,
+        how: crate::kernel::tess::Estimate,
+    ) -> Result<usize, GeometryError> {
+        crate::kernel::tess::estimated_triangles(self.surface(), tessellation, how)
     }
 
     /// The surface with its kept region.

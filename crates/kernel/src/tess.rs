@@ -193,14 +193,26 @@ pub fn tolerance_grid(
     Err(too_fine(&format!("tolerance {tolerance}")))
 }
 
+/// How closely [`estimated_triangles`] estimates a tolerance's triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Estimate {
+    /// The grid the derivative bounds size: 25 derivative samples per span pair, an estimate
+    /// from above (the bound is pessimistic, often by 2 or 3 in triangles).
+    Bound,
+    /// The bound with [`tolerance_grid`]'s coarsening measured on a sample of the cells:
+    /// within a few per cent (about 250 cell checks per surface).
+    Close,
+}
+
 /// About how many triangles [`grid_for`] gives `surface` at `tessellation`, in time bounded by
 /// its span count (never by the answer): exact for segments; for a tolerance, the grid the
-/// derivative bounds size ([`estimated_segments`], 25 samples per span pair) with the one
-/// coarsening step of [`tolerance_grid`] estimated on a sample of its cells, at most
-/// [`ESTIMATE_CELLS`] of them.
+/// derivative bounds size ([`estimated_segments`], 25 samples per span pair), with
+/// [`Estimate::Close`] the one coarsening step of [`tolerance_grid`] estimated on a sample of
+/// its cells, at most [`ESTIMATE_CELLS`] of them.
 pub fn estimated_triangles(
     surface: &NurbsSurface,
     tessellation: Tessellation,
+    how: Estimate,
 ) -> Result<usize, GeometryError> {
     let [bu, bv] = [Direction::U, Direction::V].map(|d| surface.span_breaks(d));
     let (nu, nv) = match tessellation {
@@ -210,8 +222,11 @@ pub fn estimated_triangles(
         }
         Tessellation::Tolerance(t) => {
             check_tolerance(t)?;
-            let (nu, nv) = estimated_segments(surface, &bu, &bv, t)?;
-            sampled_coarsening(surface, &bu, &bv, (nu, nv), t)?
+            let bound = estimated_segments(surface, &bu, &bv, t)?;
+            match how {
+                Estimate::Bound => bound,
+                Estimate::Close => sampled_coarsening(surface, &bu, &bv, bound, t)?,
+            }
         }
     };
     let (cu, cv): (usize, usize) = (nu.iter().sum(), nv.iter().sum());
@@ -570,6 +585,7 @@ pub fn tessellate_patches(
 pub fn estimated_patch_triangles(
     set: &BezierPatchSet,
     tessellation: Tessellation,
+    how: Estimate,
 ) -> Result<usize, GeometryError> {
     let classes = edge_count_classes(set);
     let mut counts = vec![1usize; classes.len()];
@@ -584,7 +600,10 @@ pub fn estimated_patch_triangles(
                 check_tolerance(t)?;
                 let one = [0.0, 1.0];
                 let first = estimated_segments(&surface, &one, &one, t)?;
-                let (nu, nv) = sampled_coarsening(&surface, &one, &one, first, t)?;
+                let (nu, nv) = match how {
+                    Estimate::Bound => first,
+                    Estimate::Close => sampled_coarsening(&surface, &one, &one, first, t)?,
+                };
                 (nu[0], nv[0])
             }
         };
@@ -701,7 +720,9 @@ mod tests {
         };
         let teapot = crate::samples::utah_teapot().unwrap();
         for t in [1e-2, 1e-3] {
-            let estimate = estimated_patch_triangles(&teapot, Tessellation::Tolerance(t)).unwrap();
+            let estimate =
+                estimated_patch_triangles(&teapot, Tessellation::Tolerance(t), Estimate::Close)
+                    .unwrap();
             let actual = tessellate_patches(&teapot, Tessellation::Tolerance(t), false).unwrap();
             close(
                 estimate,
@@ -713,20 +734,27 @@ mod tests {
         let torus = construct::torus(DVec3::ZERO, DVec3::Z, 3.0, 1.0).unwrap();
         for (name, s) in [("sphere", &sphere), ("torus", &torus)] {
             for t in [1e-2, 1e-3, 1e-4] {
-                let estimate = estimated_triangles(s, Tessellation::Tolerance(t)).unwrap();
+                let estimate =
+                    estimated_triangles(s, Tessellation::Tolerance(t), Estimate::Close).unwrap();
                 close(
                     estimate,
                     tolerance_grid(s, t).unwrap().triangle_count(),
                     name,
                 );
             }
-            let segments = estimated_triangles(s, Tessellation::Segments(7)).unwrap();
+            let segments =
+                estimated_triangles(s, Tessellation::Segments(7), Estimate::Bound).unwrap();
             assert_eq!(segments, uniform_grid(s, 7).unwrap().triangle_count());
         }
         // Far past what a tessellation may build: a number, not an error (nor the wait).
-        let tiny = estimated_patch_triangles(&teapot, Tessellation::Tolerance(1e-9)).unwrap();
+        let tiny =
+            estimated_patch_triangles(&teapot, Tessellation::Tolerance(1e-9), Estimate::Bound)
+                .unwrap();
         assert!(tiny > MAX_TRIANGLES, "{tiny}");
-        assert!(estimated_triangles(&sphere, Tessellation::Tolerance(f64::NAN)).is_err());
+        assert!(
+            estimated_triangles(&sphere, Tessellation::Tolerance(f64::NAN), Estimate::Close)
+                .is_err()
+        );
     }
 
     #[test]
