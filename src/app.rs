@@ -294,7 +294,7 @@ pub struct KnotworkApp {
     panel: panels::PanelState,
     export: export::ExportSettings,
     export_estimate: Option<export::ExportEstimate>,
-    /// The export being built, one object per frame.
+    /// The export being built, a frame's budget of objects at a time.
     running_export: Option<export::RunningExport>,
     /// The `?` overlay with the controls is shown.
     show_help: bool,

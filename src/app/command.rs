@@ -47,7 +47,7 @@ pub enum AppCommand {
     /// Opens entry `index` (0: the newest) of the Recent list: one undo step.
     OpenRecent(usize),
     /// Exports the document as it is when the command's turn comes (after every command sent
-    /// before it) as a `.glb`, one object per frame; the result goes to the status under
+    /// before it) as a `.glb`, a frame's budget of objects at a time; the result goes to the status under
     /// `request` ([`crate::status::take_export`]). `options` is JSON as in
     /// [`crate::io::gltf::options_from_json`].
     Export {

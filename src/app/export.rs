@@ -71,6 +71,9 @@ pub fn estimate_triangles(
         .map_err(|e| e.to_string())
 }
 
+/// How long a frame spends on a running export before it draws again (milliseconds).
+const EXPORT_FRAME_BUDGET_MS: f64 = 30.0;
+
 /// Where a finished export goes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExportTarget {
@@ -261,8 +264,9 @@ impl KnotworkApp {
         }
     }
 
-    /// One step of the running export (one object) per frame, with its progress window;
-    /// the result goes to its target when the last object is done.
+    /// The running export's objects for up to [`EXPORT_FRAME_BUDGET_MS`] (at least one)
+    /// per frame, with its progress window; the result goes to its target when the last
+    /// object is done.
     pub(super) fn step_export(&mut self, ctx: &egui::Context) {
         let Some(running) = &mut self.running_export else {
             self.status.export_progress = None;
@@ -289,7 +293,16 @@ impl KnotworkApp {
             self.cancel_export();
             return;
         }
-        match running.job.step() {
+        // Objects until a frame's budget is spent (at least one), so that small exports end
+        // in a frame or two and large ones leave the page responsive between steps.
+        let started = super::platform::now_ms();
+        let mut step = running.job.step();
+        while matches!(step, Ok(false))
+            && super::platform::now_ms() - started < EXPORT_FRAME_BUDGET_MS
+        {
+            step = running.job.step();
+        }
+        match step {
             Ok(false) => ctx.request_repaint(),
             Ok(true) => {
                 if let Some(running) = self.running_export.take() {

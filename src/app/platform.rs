@@ -1,5 +1,5 @@
 //! What differs between the desktop and the web page, in one place: choosing a file to open,
-//! choosing where to save, and handing the user a file. The rest of the app is the same on
+//! choosing where to save, handing the user a file, and a clock. The rest of the app is the same on
 //! both and never imports the web entry (`web.rs`).
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -10,6 +10,16 @@ pub use web::*;
 #[cfg(not(target_arch = "wasm32"))]
 mod native {
     use std::path::PathBuf;
+
+    /// Milliseconds on a monotonic clock (for time budgets within a frame).
+    pub fn now_ms() -> f64 {
+        static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+        START
+            .get_or_init(std::time::Instant::now)
+            .elapsed()
+            .as_secs_f64()
+            * 1e3
+    }
 
     /// The native open dialog (blocking): the chosen file, if any.
     pub fn choose_file_to_open(filter: &str, extensions: &[&str]) -> Option<PathBuf> {
@@ -63,6 +73,12 @@ mod web {
                 .map(|b| js_sys::Uint8Array::new(&b).to_vec())
                 .map_err(|_| "the file could not be read".to_string()),
         ))
+    }
+
+    /// Milliseconds since an arbitrary start (the browser's clock; std's `Instant` panics in
+    /// wasm32), for time budgets within a frame.
+    pub fn now_ms() -> f64 {
+        js_sys::Date::now()
     }
 
     /// Offers `bytes` to the user as a downloaded file called `name` of MIME type `mime`.
