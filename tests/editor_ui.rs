@@ -1063,8 +1063,7 @@ fn panel_fields_follow_the_selection_and_the_document() {
         .unwrap()
         .set_value_accesskit(4.0);
     harness.run_steps(2);
-    page.send(AppCommand::Select(Some(SHEET)));
-    harness.run_steps(3);
+    page_select(&mut harness, SHEET);
     assert_eq!(fields(&harness), vec![0.0; 3], "for another object");
 
     // Point 60 of the sheet (the far end in u), then a knot inserted in u: the panel edits the same point, renumbered.
@@ -1105,9 +1104,7 @@ fn errors_show_where_the_eye_is_and_the_viewport_explains_itself() {
         .lock()
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
-    let page = harness.state().command_sender();
-    page.send(AppCommand::Select(Some(SHEET)));
-    harness.run_steps(2);
+    page_select(&mut harness, SHEET);
     harness
         .get_by_role_and_label(egui::accesskit::Role::Slider, "w")
         .set_value_accesskit(0.0);
