@@ -38,6 +38,7 @@ pub mod mesh_curvature;
 pub mod ops;
 pub mod parametric;
 pub mod samples;
+pub mod splines;
 pub mod subdiv;
 pub mod surface;
 pub mod tess;

@@ -1,0 +1,227 @@
+//! Interpolating cubic splines as exact NURBS curves: cubic Hermite splines (points, tangents
+//! and parameters) and Catmull-Rom splines in the Barry–Goldman form (uniform, centripetal and
+//! chordal: α = 0, 0.5, 1).
+//!
+//! Both are piecewise cubic in their own parameter, so each piece is exactly one cubic Bézier
+//! segment: on [t_i, t_{i+1}] with h = t_{i+1} − t_i the Hermite data (P_i, m_i, P_{i+1},
+//! m_{i+1}) are the Bézier points P_i, P_i + h m_i / 3, P_{i+1} − h m_{i+1} / 3, P_{i+1}, and the
+//! pieces join in one cubic B-spline whose interior knots t_i have multiplicity 3 (C¹ there,
+//! as the splines are).
+
+use super::construct::construction;
+use super::curve::NurbsCurve;
+use super::error::GeometryError;
+use super::vector::CurvePoint;
+
+/// The C¹ cubic through `points` at the parameters `params` (strictly increasing) with the
+/// derivatives `tangents` there (d/dt in that parameter): one cubic Hermite piece per interval,
+/// as an exact cubic NURBS curve on [params[0], params[n − 1]].
+pub fn hermite_spline<P: CurvePoint>(
+    points: &[P],
+    tangents: &[P],
+    params: &[f64],
+) -> Result<NurbsCurve<P>, GeometryError> {
+    let what = "Hermite spline";
+    let n = points.len();
+    if n < 2 {
+        return Err(construction(what, "needs at least 2 points"));
+    }
+    if tangents.len() != n || params.len() != n {
+        return Err(construction(
+            what,
+            format!(
+                "needs a tangent and a parameter per point: {n} points, {} tangents, {} parameters",
+                tangents.len(),
+                params.len()
+            ),
+        ));
+    }
+    if let Some(k) = (1..n).find(|&k| !(params[k] > params[k - 1]) || !params[k].is_finite()) {
+        return Err(construction(
+            what,
+            format!(
+                "the parameters must increase: {} then {}",
+                params[k - 1],
+                params[k]
+            ),
+        ));
+    }
+    let mut control = Vec::with_capacity(3 * n - 2);
+    let mut knots = vec![params[0]; 4];
+    for k in 0..n - 1 {
+        let h = params[k + 1] - params[k];
+        if k == 0 {
+            control.push(points[0]);
+        }
+        control.push(points[k] + tangents[k] * (h / 3.0));
+        control.push(points[k + 1] - tangents[k + 1] * (h / 3.0));
+        control.push(points[k + 1]);
+        let multiplicity = if k + 1 == n - 1 { 4 } else { 3 };
+        knots.extend(std::iter::repeat_n(params[k + 1], multiplicity));
+    }
+    NurbsCurve::new(3, knots, control, None)
+}
+
+/// The Catmull-Rom spline through `points[1] … points[n − 2]` (the first and last points only
+/// steer the ends), with knots t_0 = 0, t_{i+1} = t_i + |P_{i+1} − P_i|^α: α = 0 uniform, 0.5
+/// centripetal (no cusps or self-intersections within a segment), 1 chordal. Each segment is
+/// the Barry–Goldman pyramid of linear interpolations ("A recursive evaluation algorithm for a
+/// class of Catmull-Rom splines", SIGGRAPH 1988), a cubic in t whose derivative at P_i is
+/// m_i = (P_i − P_{i−1})/(t_i − t_{i−1}) − (P_{i+1} − P_{i−1})/(t_{i+1} − t_{i−1})
+///       + (P_{i+1} − P_i)/(t_{i+1} − t_i)
+/// (Yuksel, Schaefer & Keyser 2011); so the spline is exactly [`hermite_spline`] with those
+/// tangents, on [t_1, t_{n−2}].
+pub fn catmull_rom<P: CurvePoint>(
+    points: &[P],
+    alpha: f64,
+) -> Result<NurbsCurve<P>, GeometryError> {
+    let what = "Catmull-Rom spline";
+    if points.len() < 4 {
+        return Err(construction(
+            what,
+            format!(
+                "needs at least 4 points (two to pass through and one end control on each side), got {}",
+                points.len()
+            ),
+        ));
+    }
+    if !(0.0..=1.0).contains(&alpha) {
+        return Err(construction(
+            what,
+            format!("α must be in [0, 1] (0 uniform, 0.5 centripetal, 1 chordal), got {alpha}"),
+        ));
+    }
+    let mut t = vec![0.0];
+    for k in 1..points.len() {
+        let step = (points[k] - points[k - 1]).norm().powf(alpha);
+        if !(step > 0.0 && step.is_finite()) {
+            return Err(construction(
+                what,
+                format!("points {} and {k} coincide (or are not finite)", k - 1),
+            ));
+        }
+        t.push(t[k - 1] + step);
+    }
+    let inner = 1..points.len() - 1;
+    let tangents: Vec<P> = inner
+        .clone()
+        .map(|i| {
+            let (p0, p1, p2) = (points[i - 1], points[i], points[i + 1]);
+            (p1 - p0) / (t[i] - t[i - 1]) - (p2 - p0) / (t[i + 1] - t[i - 1])
+                + (p2 - p1) / (t[i + 1] - t[i])
+        })
+        .collect();
+    hermite_spline(&points[inner.clone()], &tangents, &t[inner])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// The Barry–Goldman pyramid for the segment between points[1] and points[2] of four
+    /// points at knots t: three linear interpolations, two, then one (the recursive
+    /// definition, independent of the Hermite form).
+    fn barry_goldman(p: [DVec3; 4], t: [f64; 4], s: f64) -> DVec3 {
+        let lerp = |a: DVec3, b: DVec3, ta: f64, tb: f64| {
+            a * ((tb - s) / (tb - ta)) + b * ((s - ta) / (tb - ta))
+        };
+        let a1 = lerp(p[0], p[1], t[0], t[1]);
+        let a2 = lerp(p[1], p[2], t[1], t[2]);
+        let a3 = lerp(p[2], p[3], t[2], t[3]);
+        let b1 = a1 * ((t[2] - s) / (t[2] - t[0])) + a2 * ((s - t[0]) / (t[2] - t[0]));
+        let b2 = a2 * ((t[3] - s) / (t[3] - t[1])) + a3 * ((s - t[1]) / (t[3] - t[1]));
+        b1 * ((t[2] - s) / (t[2] - t[1])) + b2 * ((s - t[1]) / (t[2] - t[1]))
+    }
+
+    fn points() -> Vec<DVec3> {
+        vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.5),
+            DVec3::new(4.0, 2.5, -1.0),
+            DVec3::new(5.0, -1.0, 0.0),
+            DVec3::new(7.5, 0.0, 2.0),
+            DVec3::new(8.0, 3.0, 1.0),
+        ]
+    }
+
+    #[test]
+    fn catmull_rom_is_the_barry_goldman_pyramid_for_every_alpha() {
+        let p = points();
+        for alpha in [0.0, 0.5, 1.0, 0.3] {
+            let curve = catmull_rom(&p, alpha).unwrap();
+            let mut t = vec![0.0];
+            for k in 1..p.len() {
+                t.push(t[k - 1] + (p[k] - p[k - 1]).length().powf(alpha));
+            }
+            assert_eq!(curve.domain(), (t[1], t[p.len() - 2]));
+            for i in 1..p.len() - 2 {
+                let window = [p[i - 1], p[i], p[i + 1], p[i + 2]];
+                let knots = [t[i - 1], t[i], t[i + 1], t[i + 2]];
+                for k in 0..=10 {
+                    let s = t[i] + (t[i + 1] - t[i]) * f64::from(k) / 10.0;
+                    let expected = barry_goldman(window, knots, s);
+                    let got = curve.point_at(s).unwrap();
+                    assert!(
+                        got.distance(expected) < 1e-12,
+                        "α {alpha} at {s}: {got} vs {expected}"
+                    );
+                }
+            }
+            // Through the inner points, C¹ at them.
+            for i in 1..p.len() - 1 {
+                assert!(curve.point_at(t[i]).unwrap().distance(p[i]) < 1e-12);
+            }
+            for &joint in &t[2..p.len() - 2] {
+                let before = curve.derivatives(joint - 1e-9, 1).unwrap()[1];
+                let after = curve.derivatives(joint + 1e-9, 1).unwrap()[1];
+                let jump = before.distance(after);
+                assert!(jump < 1e-5 * after.length(), "α {alpha} at {joint}");
+            }
+        }
+    }
+
+    #[test]
+    fn uniform_catmull_rom_is_the_classic_matrix_form() {
+        let p = points();
+        let curve = catmull_rom(&p, 0.0).unwrap();
+        // 0.5 · [(2 P1) + (−P0 + P2) s + (2P0 − 5P1 + 4P2 − P3) s² + (−P0 + 3P1 − 3P2 + P3) s³]
+        let (p0, p1, p2, p3) = (p[0], p[1], p[2], p[3]);
+        for k in 0..=8 {
+            let s = f64::from(k) / 8.0;
+            let classic = 0.5
+                * (2.0 * p1
+                    + (p2 - p0) * s
+                    + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * s * s
+                    + (3.0 * p1 - p0 - 3.0 * p2 + p3) * s * s * s);
+            assert!(curve.point_at(1.0 + s).unwrap().distance(classic) < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_hermite_spline_takes_its_points_and_tangents_and_bad_input_is_refused() {
+        let points = [
+            DVec3::ZERO,
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(3.0, 0.0, 1.0),
+        ];
+        let tangents = [DVec3::X, DVec3::new(1.0, -1.0, 0.5), DVec3::Z * 2.0];
+        let params = [0.0, 1.5, 4.0];
+        let curve = hermite_spline(&points, &tangents, &params).unwrap();
+        for k in 0..3 {
+            let d = curve
+                .derivatives(params[k].clamp(0.0, 4.0 - 1e-12), 1)
+                .unwrap();
+            assert!(d[0].distance(points[k]) < 1e-9);
+            assert!(d[1].distance(tangents[k]) < 1e-6, "{k}: {}", d[1]);
+        }
+        assert!(hermite_spline(&points, &tangents, &[0.0, 2.0, 2.0]).is_err());
+        assert!(hermite_spline(&points, &tangents[..2], &params).is_err());
+        assert!(catmull_rom(&points, 0.5).is_err());
+        let mut doubled = super::tests::points();
+        doubled[2] = doubled[1];
+        assert!(catmull_rom(&doubled, 0.5).is_err());
+        assert!(catmull_rom(&super::tests::points(), 1.5).is_err());
+        assert!(catmull_rom(&super::tests::points(), f64::NAN).is_err());
+    }
+}
