@@ -143,22 +143,7 @@ fn chord_length_parameters<V: Vector>(
     points: &[V],
     what: &'static str,
 ) -> Result<Vec<f64>, GeometryError> {
-    let chords: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
-    if let Some(i) = chords.iter().position(|&c| !(c > 0.0) || !c.is_finite()) {
-        return Err(construction(
-            what,
-            format!("points {i} and {} coincide (or are not finite)", i + 1),
-        ));
-    }
-    let total: f64 = chords.iter().sum();
-    let mut params = vec![0.0];
-    let mut acc = 0.0;
-    for c in &chords[..chords.len() - 1] {
-        acc += c;
-        params.push(acc / total);
-    }
-    params.push(1.0);
-    Ok(params)
+    super::splines::parameters(points, super::splines::Parametrization::ChordLength, what)
 }
 
 /// Knots by averaging the parameters (The NURBS Book, eq. 9.8), clamped on [0, 1].
@@ -201,17 +186,12 @@ pub fn interpolate<P: CurvePoint>(
     points: &[P],
     degree: usize,
 ) -> Result<NurbsCurve<P>, GeometryError> {
-    if points.len() < 2 {
-        return Err(construction("interpolate", "needs at least 2 points"));
-    }
-    if degree == 0 {
-        return Err(construction("interpolate", "the degree must be ≥ 1"));
-    }
-    let degree = degree.min(points.len() - 1);
-    let params = chord_length_parameters(points, "interpolate")?;
-    let knots = averaged_knots(&params, degree);
-    let control = interpolate_points(points, &params, degree, &knots, "interpolate")?;
-    NurbsCurve::new(degree, knots, control, None)
+    super::splines::interpolate_through(
+        points,
+        degree,
+        super::splines::Parametrization::ChordLength,
+        None,
+    )
 }
 
 // ----- making curves compatible --------------------------------------------------------------

@@ -1,6 +1,7 @@
-//! Interpolating cubic splines as exact NURBS curves: cubic Hermite splines (points, tangents
-//! and parameters) and Catmull-Rom splines in the Barry–Goldman form (uniform, centripetal and
-//! chordal: α = 0, 0.5, 1).
+//! Interpolating curves as exact NURBS curves: global B-spline interpolation with a choice of
+//! parameters and optional end tangents (The NURBS Book §9.2), cubic Hermite splines (points,
+//! tangents and parameters) and Catmull-Rom splines in the Barry–Goldman form (uniform,
+//! centripetal and chordal: α = 0, 0.5, 1).
 //!
 //! Both are piecewise cubic in their own parameter, so each piece is exactly one cubic Bézier
 //! segment: on [t_i, t_{i+1}] with h = t_{i+1} − t_i the Hermite data (P_i, m_i, P_{i+1},
@@ -8,10 +9,149 @@
 //! pieces join in one cubic B-spline whose interior knots t_i have multiplicity 3 (C¹ there,
 //! as the splines are).
 
-use super::construct::construction;
+use super::basis::{basis_functions, find_span};
+use super::construct::{averaged_knots, construction, interpolate_points};
 use super::curve::NurbsCurve;
 use super::error::GeometryError;
-use super::vector::CurvePoint;
+use super::vector::{CurvePoint, Vector};
+
+/// How the parameters of the points an interpolant passes through are spaced (The NURBS Book
+/// eq. 9.5–9.6): by the distances between them raised to the power 1, ½ or 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parametrization {
+    /// Chord length (eq. 9.5).
+    ChordLength,
+    /// Centripetal (eq. 9.6): the square roots of the chords; better for sharp turns.
+    Centripetal,
+    /// Equally spaced.
+    Uniform,
+}
+
+impl Parametrization {
+    fn exponent(self) -> f64 {
+        match self {
+            Parametrization::ChordLength => 1.0,
+            Parametrization::Centripetal => 0.5,
+            Parametrization::Uniform => 0.0,
+        }
+    }
+}
+
+/// The parameters ū_0 = 0 < … < ū_n = 1 of `points` by `parametrization`; coincident
+/// consecutive points (or points that are not finite) are refused.
+pub fn parameters<V: Vector>(
+    points: &[V],
+    parametrization: Parametrization,
+    what: &'static str,
+) -> Result<Vec<f64>, GeometryError> {
+    let mut steps = Vec::with_capacity(points.len().saturating_sub(1));
+    for (i, w) in points.windows(2).enumerate() {
+        let chord = (w[1] - w[0]).norm();
+        if !(chord > 0.0 && chord.is_finite()) {
+            return Err(construction(
+                what,
+                format!("points {i} and {} coincide (or are not finite)", i + 1),
+            ));
+        }
+        steps.push(chord.powf(parametrization.exponent()));
+    }
+    let total: f64 = steps.iter().sum();
+    let mut params = vec![0.0];
+    let mut acc = 0.0;
+    for s in &steps {
+        acc += s;
+        params.push(acc / total);
+    }
+    if let Some(last) = params.last_mut() {
+        *last = 1.0;
+    }
+    Ok(params)
+}
+
+/// The non-rational B-spline of degree `degree` (lowered where there are too few points) on
+/// [0, 1] through every point of `points` at the parameters `parametrization` gives. Without
+/// end tangents: averaged knots (eq. 9.8) and the collocation system (A9.1). With end
+/// tangents (D_0, D_n), the derivatives C′(0) = D_0 and C′(1) = D_n in the curve's [0, 1]
+/// parameter: two more control points, the knots of eq. 9.22 and the rows
+/// P_1 − P_0 = (u_{p+1}/p) D_0 and P_{n+2} − P_{n+1} = ((1 − u_{m−p−1})/p) D_n (§9.2.2).
+pub fn interpolate_through<P: CurvePoint>(
+    points: &[P],
+    degree: usize,
+    parametrization: Parametrization,
+    end_tangents: Option<(P, P)>,
+) -> Result<NurbsCurve<P>, GeometryError> {
+    let what = "interpolate";
+    if points.len() < 2 {
+        return Err(construction(what, "needs at least 2 points"));
+    }
+    if degree == 0 {
+        return Err(construction(what, "the degree must be ≥ 1"));
+    }
+    let params = parameters(points, parametrization, what)?;
+    let Some((start, end)) = end_tangents else {
+        let degree = degree.min(points.len() - 1);
+        let knots = averaged_knots(&params, degree);
+        let control = interpolate_points(points, &params, degree, &knots, what)?;
+        return NurbsCurve::new(degree, knots, control, None);
+    };
+    if degree < 2 {
+        return Err(construction(
+            what,
+            "end tangents need degree 2 or more (a degree-1 curve's ends are its chords)",
+        ));
+    }
+    if !start
+        .coordinates()
+        .iter()
+        .chain(&end.coordinates())
+        .all(|c| c.is_finite())
+    {
+        return Err(construction(what, "an end tangent is not finite"));
+    }
+    let n = points.len() - 1;
+    let p = degree.min(n + 2);
+    let count = n + 3;
+    // Eq. 9.22: u_{j+p+1} = (1/p) Σ_{i=j}^{j+p−1} ū_i for j = 0 … n − p + 1 (ū padded with its
+    // ends where p > n + 1).
+    let at = |i: usize| params[i.min(n)];
+    let mut knots = vec![0.0; p + 1];
+    for j in 0..count - p - 1 {
+        knots.push((j..j + p).map(at).sum::<f64>() / p as f64);
+    }
+    knots.extend(std::iter::repeat_n(1.0, p + 1));
+    let m = knots.len() - 1;
+    let mut matrix = vec![vec![0.0; count]; count];
+    let mut rhs = Vec::with_capacity(count);
+    let mut basis = vec![0.0; p + 1];
+    // Row 0: the start point; row 1: the start tangent; rows 2 … n: the inner points; row
+    // n + 1: the end tangent; row n + 2: the end point.
+    for (k, &t) in params.iter().enumerate() {
+        let row = match k {
+            0 => 0,
+            k if k == n => n + 2,
+            k => k + 1,
+        };
+        let span = find_span(&knots, p, count, t);
+        basis_functions(&knots, p, span, t, &mut basis);
+        matrix[row][span - p..=span].copy_from_slice(&basis);
+    }
+    matrix[1][0] = -1.0;
+    matrix[1][1] = 1.0;
+    matrix[n + 1][n + 1] = -1.0;
+    matrix[n + 1][n + 2] = 1.0;
+    for row in 0..count {
+        rhs.push(match row {
+            0 => points[0],
+            1 => start * (knots[p + 1] / p as f64),
+            r if r == n + 1 => end * ((1.0 - knots[m - p - 1]) / p as f64),
+            r if r == n + 2 => points[n],
+            r => points[r - 1],
+        });
+    }
+    let control = super::vector::solve_linear(matrix, rhs)
+        .ok_or_else(|| construction(what, "the interpolation system is singular"))?;
+    NurbsCurve::new(p, knots, control, None)
+}
 
 /// The C¹ cubic through `points` at the parameters `params` (strictly increasing) with the
 /// derivatives `tangents` there (d/dt in that parameter): one cubic Hermite piece per interval,
@@ -223,5 +363,77 @@ mod tests {
         assert!(catmull_rom(&doubled, 0.5).is_err());
         assert!(catmull_rom(&super::tests::points(), 1.5).is_err());
         assert!(catmull_rom(&super::tests::points(), f64::NAN).is_err());
+    }
+
+    #[test]
+    fn interpolants_pass_through_their_points_at_their_parameters_and_take_the_end_tangents() {
+        let p = points();
+        let (d0, dn) = (DVec3::new(3.0, 0.0, 1.0), DVec3::new(-2.0, 6.0, 0.0));
+        for parametrization in [
+            Parametrization::ChordLength,
+            Parametrization::Centripetal,
+            Parametrization::Uniform,
+        ] {
+            let params = parameters(&p, parametrization, "test").unwrap();
+            // The parameters follow the chords to the power 1, ½ or 0.
+            let e = match parametrization {
+                Parametrization::ChordLength => 1.0,
+                Parametrization::Centripetal => 0.5,
+                Parametrization::Uniform => 0.0,
+            };
+            let steps: Vec<f64> = p.windows(2).map(|w| w[0].distance(w[1]).powf(e)).collect();
+            let total: f64 = steps.iter().sum();
+            assert!((params[1] - steps[0] / total).abs() < 1e-15);
+            for degree in [1, 2, 3, 5] {
+                let choices = [None, Some((d0, dn))];
+                for tangents in choices.into_iter().filter(|t| degree > 1 || t.is_none()) {
+                    let curve = interpolate_through(&p, degree, parametrization, tangents).unwrap();
+                    for (q, &t) in p.iter().zip(&params) {
+                        let at = curve.point_at(t).unwrap();
+                        assert!(
+                            at.distance(*q) < 1e-10,
+                            "{parametrization:?} {degree}: {at} vs {q}"
+                        );
+                    }
+                    if let Some((a, b)) = tangents {
+                        let start = curve.derivatives(0.0, 1).unwrap()[1];
+                        let end = curve.derivatives(1.0, 1).unwrap()[1];
+                        assert!(
+                            start.distance(a) < 1e-9 && end.distance(b) < 1e-9,
+                            "{degree}"
+                        );
+                    }
+                }
+            }
+        }
+        // Two points and tangents: the cubic Hermite segment on [0, 1].
+        let two = [DVec3::ZERO, DVec3::X * 2.0];
+        let curve = interpolate_through(
+            &two,
+            3,
+            Parametrization::ChordLength,
+            Some((DVec3::Y, DVec3::Y)),
+        )
+        .unwrap();
+        let hermite = hermite_spline(&two, &[DVec3::Y, DVec3::Y], &[0.0, 1.0]).unwrap();
+        for k in 0..=4 {
+            let t = f64::from(k) / 4.0;
+            assert!(
+                curve
+                    .point_at(t)
+                    .unwrap()
+                    .distance(hermite.point_at(t).unwrap())
+                    < 1e-12
+            );
+        }
+        // Bad input is refused with the reason.
+        let doubled = [p[0], p[0], p[1]];
+        assert!(interpolate_through(&doubled, 3, Parametrization::Centripetal, None).is_err());
+        assert!(interpolate_through(&p[..1], 3, Parametrization::Centripetal, None).is_err());
+        assert!(interpolate_through(&p, 0, Parametrization::Centripetal, None).is_err());
+        let linear = interpolate_through(&p, 1, Parametrization::Uniform, Some((d0, dn)));
+        assert!(linear.is_err());
+        let nan = Some((DVec3::NAN, DVec3::X));
+        assert!(interpolate_through(&p, 3, Parametrization::Centripetal, nan).is_err());
     }
 }
