@@ -258,3 +258,65 @@ fn knot_removal_of_inserted_knots_on_random_surfaces() {
         }
     }
 }
+
+/// `count` random points in [−10, 10]³, consecutive ones at least 0.05 apart.
+fn random_points(rng: &mut Rng, count: usize) -> Vec<DVec3> {
+    let mut points: Vec<DVec3> = Vec::with_capacity(count);
+    while points.len() < count {
+        let p = DVec3::new(
+            rng.range(-10.0, 10.0),
+            rng.range(-10.0, 10.0),
+            rng.range(-10.0, 10.0),
+        );
+        if points.last().is_none_or(|q| q.distance(p) > 0.05) {
+            points.push(p);
+        }
+    }
+    points
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Interpolants pass through their points: open (any parametrization, with or without end
+    /// tangents), closed (C^{p−1} at the seam) and Catmull-Rom (through the inner points).
+    #[test]
+    fn interpolants_pass_through_their_points(count in 4usize..12, p in 1usize..=5, seed in any::<u64>()) {
+        use knotwork::kernel::splines::{self, Parametrization};
+        let mut rng = Rng(seed);
+        let points = random_points(&mut rng, count);
+        let tolerance = 1e-8 * 20.0;
+        for parametrization in [Parametrization::ChordLength, Parametrization::Centripetal, Parametrization::Uniform] {
+            let params = splines::parameters(&points, parametrization, "test").unwrap();
+            let tangents = (p > 1).then(|| (DVec3::new(1.0, -2.0, 0.5), DVec3::new(0.0, 3.0, 1.0)));
+            for ends in [None, tangents] {
+                let curve = splines::interpolate_through(&points, p, parametrization, ends).unwrap();
+                for (q, &t) in points.iter().zip(&params) {
+                    let at = curve.point_at(t).unwrap();
+                    prop_assert!(at.distance(*q) < tolerance, "open {parametrization:?} p {p}: {at} vs {q}");
+                }
+            }
+            let mut closed = points.clone();
+            closed.push(points[0]);
+            if points[0].distance(points[count - 1]) > 0.05 {
+                let curve = splines::interpolate_closed(&points, p, parametrization).unwrap();
+                let (start, _) = curve.domain();
+                let params = splines::parameters(&closed, parametrization, "test").unwrap();
+                for (q, &t) in points.iter().zip(&params) {
+                    let t = if t < start { t + 1.0 } else { t };
+                    let at = curve.point_at(t).unwrap();
+                    prop_assert!(at.distance(*q) < tolerance, "closed {parametrization:?} p {p}: {at} vs {q}");
+                }
+            }
+        }
+        for alpha in [0.0, 0.5, 1.0] {
+            let curve = splines::catmull_rom(&points, alpha).unwrap();
+            let mut t = 0.0;
+            for k in 1..count - 1 {
+                t += points[k].distance(points[k - 1]).powf(alpha);
+                let at = curve.point_at(t).unwrap();
+                prop_assert!(at.distance(points[k]) < tolerance, "Catmull-Rom α {alpha}: {at} vs {}", points[k]);
+            }
+        }
+    }
+}
