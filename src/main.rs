@@ -565,14 +565,14 @@ mod cli {
     /// at `output` (which the editor opens).
     pub fn construct(path: &str, output: Option<&std::path::Path>) -> ExitCode {
         let result = read_request(path).and_then(|text| {
-            let (surface, name) =
+            let (geometry, name) =
                 knotwork::io::construct::build(&text).map_err(|e| e.to_string())?;
             match output {
-                None => Ok(knotwork::io::construct::surface_value(surface, name).to_string()),
+                None => Ok(knotwork::io::construct::geometry_value(geometry, name).to_string()),
                 Some(out) => {
                     let objects = [knotwork::scene::json::NamedGeometry {
                         name: Some(name.to_string()),
-                        geometry: knotwork::scene::json::Geometry::Surface(surface),
+                        geometry,
                     }];
                     std::fs::write(out, knotwork::scene::json::write(&objects))
                         .map_err(|e| format!("cannot write {}: {e}", out.display()))?;

@@ -614,3 +614,96 @@ fn knotwork_construct_builds_the_surfaces_from_json() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// The distance from `q` to the curve, by dense sampling refined by golden-section search (an
+/// independent measure: it does not use the curve's own parameters).
+fn distance_to_curve(curve: &SpaceCurve, q: glam::DVec3) -> f64 {
+    let (a, b) = curve.domain();
+    let at = |t: f64| curve.point_at(t.clamp(a, b)).unwrap().distance(q);
+    let n = 2000;
+    let best = (0..=n)
+        .map(|k| a + (b - a) * k as f64 / n as f64)
+        .min_by(|x, y| at(*x).total_cmp(&at(*y)))
+        .unwrap();
+    let (mut lo, mut hi) = (best - (b - a) / n as f64, best + (b - a) / n as f64);
+    for _ in 0..100 {
+        let (m1, m2) = (lo + (hi - lo) * 0.382, lo + (hi - lo) * 0.618);
+        if at(m1) < at(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    at(0.5 * (lo + hi))
+}
+
+/// `knotwork construct` builds curves through points: an open interpolant (with end tangents),
+/// a closed one and a Catmull-Rom spline, each printed as a `nurbs_curve` that passes through
+/// its points; a bad request exits 1 and names the problem.
+#[test]
+fn knotwork_construct_builds_curves_through_points() {
+    let points = [
+        [0.0, 0.0, 0.0],
+        [1.0, 2.0, 0.5],
+        [4.0, 2.5, -1.0],
+        [5.0, -1.0, 0.0],
+        [7.5, 0.0, 2.0],
+    ];
+    let requests = [
+        (
+            serde_json::json!({"construct": "interpolate", "points": points, "degree": 3}),
+            0..5,
+        ),
+        (
+            serde_json::json!({"construct": "interpolate", "points": points, "degree": 3,
+                "parametrization": "centripetal", "tangents": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]}),
+            0..5,
+        ),
+        (
+            serde_json::json!({"construct": "interpolate", "points": points, "degree": 3, "closed": true}),
+            0..5,
+        ),
+        (
+            serde_json::json!({"construct": "catmull_rom", "points": points, "alpha": 0.5}),
+            1..4,
+        ),
+    ];
+    for (request, through) in requests {
+        let out = run_construct(&request);
+        assert!(
+            out.status.success(),
+            "{request}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(value["type"], "nurbs_curve", "{text}");
+        let read = knotwork::scene::json::object_from_value("", value).unwrap();
+        let knotwork::scene::json::Geometry::Curve(curve) = read.geometry else {
+            panic!("expected a curve: {text}");
+        };
+        for k in through {
+            let gap = distance_to_curve(&curve, glam::DVec3::from(points[k]));
+            assert!(gap < 1e-9, "{request}: point {k} is {gap:e} away");
+        }
+    }
+    for (request, message) in [
+        (
+            serde_json::json!({"construct": "catmull_rom", "points": points[..3]}),
+            "at least 4 points",
+        ),
+        (
+            serde_json::json!({"construct": "interpolate", "points": [[0, 0, 0], [0, 0, 0]]}),
+            "coincide",
+        ),
+        (
+            serde_json::json!({"construct": "interpolate", "points": points, "closed": true, "tangents": [[1, 0, 0], [0, 1, 0]]}),
+            "no end tangents",
+        ),
+    ] {
+        let out = run_construct(&request);
+        assert_eq!(out.status.code(), Some(1), "{request}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(message), "{request}: {stderr}");
+    }
+}

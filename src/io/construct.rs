@@ -1,5 +1,6 @@
 //! The `knotwork construct` request: a transfinite surface built from curves or corner data,
-//! written back as a `nurbs_surface` in knotwork's JSON format ([`crate::scene::json`]).
+//! written back as a `nurbs_surface`, or a curve through points written as a `nurbs_curve`, in
+//! knotwork's JSON format ([`crate::scene::json`]).
 //!
 //! - `{"construct": "gordon", "u_curves": [<nurbs_curve>, ...], "v_curves": [...], "degree": 3}`:
 //!   the Gordon surface of the network (u-curves in order of increasing v, v-curves in order of
@@ -11,11 +12,21 @@
 //! - `{"construct": "hermite", "points": [p00, p10, p01, p11], "su": [...], "sv": [...],
 //!   "twist": [...]}`: the bicubic Hermite patch (vectors as `[x, y, z]`, corners in the order
 //!   (0, 0), (1, 0), (0, 1), (1, 1); `twist` defaults to zero vectors).
+//! - `{"construct": "interpolate", "points": [[x, y, z], ...], "degree": 3, "closed": false}`:
+//!   the B-spline through every point (The NURBS Book §9.2; `degree` lowered when there are
+//!   too few points). Optional `"parametrization"`: `"chord_length"` (the default),
+//!   `"centripetal"` or `"uniform"`; `"tangents": [start, end]` for an open curve's end
+//!   derivatives. A closed interpolant does not repeat its first point and is C² (C^{p−1})
+//!   at the seam.
+//! - `{"construct": "catmull_rom", "points": [...], "alpha": 0.5}`: the Catmull-Rom spline
+//!   (α = 0 uniform, 0.5 centripetal, the default, 1 chordal; Barry–Goldman) through
+//!   points[1] … points[n−2], the first and last points serving as end controls.
 
 use glam::DVec3;
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::kernel::splines::{self, Parametrization};
 use crate::kernel::transfinite::{self, HermiteData};
 use crate::kernel::{NurbsSurface, SpaceCurve, construct};
 use crate::scene::json::{
@@ -46,6 +57,47 @@ enum Request {
         #[serde(default)]
         twist: [[f64; 3]; 4],
     },
+    Interpolate {
+        points: Vec<[f64; 3]>,
+        #[serde(default = "default_degree")]
+        degree: usize,
+        #[serde(default)]
+        closed: bool,
+        #[serde(default)]
+        parametrization: ParametrizationName,
+        #[serde(default)]
+        tangents: Option<[[f64; 3]; 2]>,
+    },
+    #[serde(rename = "catmull_rom")]
+    CatmullRom {
+        points: Vec<[f64; 3]>,
+        #[serde(default = "default_alpha")]
+        alpha: f64,
+    },
+}
+
+/// How an interpolant's parameters are spaced, as a request names it.
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum ParametrizationName {
+    #[default]
+    ChordLength,
+    Centripetal,
+    Uniform,
+}
+
+impl From<ParametrizationName> for Parametrization {
+    fn from(name: ParametrizationName) -> Self {
+        match name {
+            ParametrizationName::ChordLength => Parametrization::ChordLength,
+            ParametrizationName::Centripetal => Parametrization::Centripetal,
+            ParametrizationName::Uniform => Parametrization::Uniform,
+        }
+    }
+}
+
+fn default_alpha() -> f64 {
+    0.5
 }
 
 #[derive(Deserialize)]
@@ -96,13 +148,52 @@ fn sides(path: &str, s: Sides) -> Result<[SpaceCurve; 4], FormatError> {
     ])
 }
 
-/// Builds the surface a request describes. A malformed request names the offending JSON path;
-/// a construction that fails (curves that do not meet, …) gives the kernel's reason.
-pub fn build(text: &str) -> Result<(NurbsSurface, &'static str), FormatError> {
+/// Builds the surface (or curve) a request describes, and its name. A malformed request names
+/// the offending JSON path; a construction that fails (curves that do not meet, …) gives the
+/// kernel's reason.
+pub fn build(text: &str) -> Result<(Geometry, &'static str), FormatError> {
     let value: Value = serde_json::from_str(text)
         .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
     let request: Request = serde_path_to_error::deserialize(value)
         .map_err(|e| FormatError::new(e.path().to_string(), e.into_inner().to_string()))?;
+    let geometry = |e: crate::kernel::GeometryError| FormatError::new("", e.to_string());
+    let points = |raw: &[[f64; 3]]| -> Vec<DVec3> { raw.iter().map(|&p| DVec3::from(p)).collect() };
+    match request {
+        Request::Interpolate {
+            points: raw,
+            degree,
+            closed,
+            parametrization,
+            tangents,
+        } => {
+            let q = points(&raw);
+            let how = parametrization.into();
+            let curve = match (closed, tangents) {
+                (true, Some(_)) => {
+                    return Err(FormatError::new(
+                        "tangents",
+                        "a closed interpolant has no end tangents",
+                    ));
+                }
+                (true, None) => splines::interpolate_closed(&q, degree, how),
+                (false, t) => {
+                    let ends = t.map(|[a, b]| (DVec3::from(a), DVec3::from(b)));
+                    splines::interpolate_through(&q, degree, how, ends)
+                }
+            };
+            curve
+                .map(|c| (Geometry::Curve(c), "interpolated curve"))
+                .map_err(geometry)
+        }
+        Request::CatmullRom { points: raw, alpha } => splines::catmull_rom(&points(&raw), alpha)
+            .map(|c| (Geometry::Curve(c), "Catmull-Rom spline"))
+            .map_err(geometry),
+        surface => build_surface(surface).map(|(s, name)| (Geometry::Surface(s), name)),
+    }
+}
+
+/// A surface request's surface and name.
+fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), FormatError> {
     let geometry = |e: crate::kernel::GeometryError| FormatError::new("", e.to_string());
     match request {
         Request::Gordon {
@@ -160,14 +251,18 @@ pub fn build(text: &str) -> Result<(NurbsSurface, &'static str), FormatError> {
             .map(|s| (s, "Hermite patch"))
             .map_err(geometry)
         }
+        Request::Interpolate { .. } | Request::CatmullRom { .. } => Err(FormatError::new(
+            "construct",
+            "this request builds a curve, not a surface",
+        )),
     }
 }
 
-/// The built surface as the `nurbs_surface` JSON object `knotwork eval` and the file format
-/// read.
-pub fn surface_value(surface: NurbsSurface, name: &str) -> Value {
+/// The built object as the JSON object (`nurbs_surface` or `nurbs_curve`) that `knotwork
+/// eval` and the file format read.
+pub fn geometry_value(geometry: Geometry, name: &str) -> Value {
     object_to_value(&NamedGeometry {
         name: Some(name.to_string()),
-        geometry: Geometry::Surface(surface),
+        geometry,
     })
 }
