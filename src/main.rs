@@ -43,7 +43,9 @@ mod cli {
         /// [...], "v_curves": [...], "degree": 3}, {"construct": "coons", "bottom", "top",
         /// "left", "right" (and "cross" for the bicubically blended patch)} or {"construct":
         /// "hermite", "points", "su", "sv", "twist"} (curves as nurbs_curve objects) and prints
-        /// the exact NURBS surface as a nurbs_surface object, or writes it as a knotwork file.
+        /// the exact NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
+        /// {"construct": "interpolate", "points", "degree", "closed", "parametrization",
+        /// "tangents"} and {"construct": "catmull_rom", "points", "alpha"} print a nurbs_curve.
         Construct {
             /// The request file, or - for standard input.
             request: String,
