@@ -509,9 +509,12 @@ fn isocurves_and_cross_derivative_curves_match_the_surface() {
 }
 
 fn run_construct(request: &serde_json::Value) -> std::process::Output {
+    // One file per call: the tests run in parallel threads of one process.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let dir = std::env::temp_dir().join(format!("knotwork-construct-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("request.json");
+    let path = dir.join(format!("request-{call}.json"));
     std::fs::write(&path, request.to_string()).unwrap();
     std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
         .arg("construct")
