@@ -242,8 +242,7 @@ impl KnotworkApp {
     /// running, when nothing is visible or when the estimate is over the limit.
     fn start_export(&mut self, options: ExportOptions, target: ExportTarget) {
         if self.running_export.is_some() {
-            let busy = "another export is running: wait for it or cancel it".to_owned();
-            self.deliver_export(target, Err(busy));
+            self.deliver_export(target, Err(gltf::ExportError::Busy));
             return;
         }
         let project = Project {
@@ -252,15 +251,14 @@ impl KnotworkApp {
         };
         match gltf::ExportJob::new(project, options, crate::kernel::tess::MAX_TRIANGLES) {
             Ok(job) => self.running_export = Some(RunningExport { job, target }),
-            Err(e) => self.deliver_export(target, Err(e.to_string())),
+            Err(e) => self.deliver_export(target, Err(e)),
         }
     }
 
     /// Stops the running export; its target hears that it was cancelled.
     pub(super) fn cancel_export(&mut self) {
         if let Some(running) = self.running_export.take() {
-            let cancelled = gltf::ExportError::Cancelled.to_string();
-            self.deliver_export(running.target, Err(cancelled));
+            self.deliver_export(running.target, Err(gltf::ExportError::Cancelled));
         }
     }
 
@@ -307,13 +305,13 @@ impl KnotworkApp {
             Ok(true) => {
                 if let Some(running) = self.running_export.take() {
                     let result = running.job.finish();
-                    self.deliver_export(running.target, result.map_err(|e| e.to_string()));
+                    self.deliver_export(running.target, result);
                 }
                 ctx.request_repaint();
             }
             Err(e) => {
                 if let Some(running) = self.running_export.take() {
-                    self.deliver_export(running.target, Err(e.to_string()));
+                    self.deliver_export(running.target, Err(e));
                 }
             }
         }
@@ -321,10 +319,15 @@ impl KnotworkApp {
 
     /// Hands a finished export to its target: the page's request, a file (desktop) or a
     /// download (web), with what happened in the status.
-    fn deliver_export(&mut self, target: ExportTarget, result: Result<gltf::Export, String>) {
+    fn deliver_export(
+        &mut self,
+        target: ExportTarget,
+        result: Result<gltf::Export, gltf::ExportError>,
+    ) {
         let path = match target {
             ExportTarget::Page(request) => {
-                crate::status::finish_export(request, result.map(|e| gltf::to_glb(&e)));
+                let bytes = result.map(|e| gltf::to_glb(&e)).map_err(|e| e.to_string());
+                crate::status::finish_export(request, bytes);
                 return;
             }
             ExportTarget::File(path) => path,
@@ -332,8 +335,8 @@ impl KnotworkApp {
         let export = match result {
             Ok(export) => export,
             Err(e) => {
-                if e != gltf::ExportError::Cancelled.to_string() {
-                    self.dialog = Some(("Could not export".into(), e.clone()));
+                if e != gltf::ExportError::Cancelled {
+                    self.dialog = Some(("Could not export".into(), e.to_string()));
                 }
                 self.status.error = Some(format!("export: {e}"));
                 return;

@@ -47,8 +47,7 @@ pub const CONTROLS: [(&str, &str); 15] = [
 pub const NAVIGATION_HINT: &str =
     "right drag: orbit · middle or Shift + right drag: pan · wheel: zoom · F: frame · ?: controls";
 
-/// How long a toast stays (seconds): a notice, and an error.
-const NOTICE_SECONDS: f64 = 5.0;
+/// How long an error's toast stays (seconds).
 const ERROR_SECONDS: f64 = 12.0;
 
 /// The shading modes the toolbar offers (the Shading panel has them all).
@@ -60,11 +59,10 @@ const TOOLBAR_SHADING: [(ShadingMode, &str); 5] = [
     (ShadingMode::Isophotes, "Iso"),
 ];
 
-/// The message a toast shows and since when (egui's clock).
+/// The error a toast shows and since when (egui's clock).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Toast {
     pub text: String,
-    pub error: bool,
     pub since: f64,
 }
 
@@ -158,37 +156,24 @@ impl KnotworkApp {
     /// panel keeps it, and the notices, at its end).
     fn toast(&mut self, ctx: &egui::Context, rect: egui::Rect) {
         let now = ctx.input(|i| i.time);
-        let current = self.status.error.clone().map(|e| (e, true));
-        match current {
-            Some((text, error)) if self.toast.text != text || self.toast.error != error => {
+        match &self.status.error {
+            Some(text) if *text != self.toast.text => {
                 self.toast = Toast {
-                    text,
-                    error,
+                    text: text.clone(),
                     since: now,
                 };
             }
+            Some(_) => {}
             None => self.toast = Toast::default(),
-            _ => {}
         }
-        if self.toast.text.is_empty() {
-            return;
-        }
-        let life = if self.toast.error {
-            ERROR_SECONDS
-        } else {
-            NOTICE_SECONDS
-        };
-        if now - self.toast.since > life {
+        let age = now - self.toast.since;
+        if self.toast.text.is_empty() || age > ERROR_SECONDS {
             return;
         }
         ctx.request_repaint_after(std::time::Duration::from_secs_f64(
-            (life - (now - self.toast.since)).max(0.05),
+            (ERROR_SECONDS - age).max(0.05),
         ));
-        let (fill, title) = if self.toast.error {
-            (egui::Color32::from_rgb(120, 36, 36), "Error")
-        } else {
-            (egui::Color32::from_rgb(92, 76, 28), "Note")
-        };
+        let (fill, title) = (egui::Color32::from_rgb(120, 36, 36), "Error");
         let mut close = false;
         egui::Area::new(egui::Id::unique("viewport toast"))
             .fixed_pos(rect.center_top() + egui::vec2(-230.0, 48.0))
@@ -209,9 +194,7 @@ impl KnotworkApp {
             });
         if close {
             self.toast.since = f64::NEG_INFINITY;
-            if self.toast.error {
-                self.status.error = None;
-            }
+            self.status.error = None;
         }
     }
 

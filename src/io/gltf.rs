@@ -68,6 +68,8 @@ pub enum ExportError {
     },
     #[error("the export was cancelled")]
     Cancelled,
+    #[error("another export is running: wait for it or cancel it")]
+    Busy,
 }
 
 impl ExportError {
