@@ -78,48 +78,22 @@ pub struct HandleDrag {
 /// Points on the circle drawn by the Circle tool.
 const CIRCLE_POINTS: usize = 24;
 
-/// The (u, v) points of a regular `corners`-gon in model space, drawn on `surface`: centred at
-/// S(`centre`) in the tangent plane there, through S(`through`), each corner pulled onto the
-/// surface at its closest point (The NURBS Book §6.1). A shape that is round (or regular) in
-/// model space rather than in the parameters, which a non-square domain would stretch.
-pub fn model_space_corners(
-    surface: &crate::kernel::NurbsSurface,
-    centre: DVec2,
-    through: DVec2,
-    corners: usize,
-) -> Result<Vec<DVec2>, GeometryError> {
-    let local = surface.local_geometry(centre.x, centre.y)?;
-    let (normal, origin) = (local.normal, local.derivatives.point);
-    let arm = surface.point_at(through.x, through.y)? - origin;
-    let arm = arm - normal * arm.dot(normal);
-    if normal == glam::DVec3::ZERO || !(arm.length() > 1e-12) {
-        return Err(GeometryError::Construction {
-            what: "trim loop",
-            message: "the two points are at the same place on the surface".into(),
-        });
-    }
-    (0..corners)
-        .map(|k| {
-            let a = k as f64 * std::f64::consts::TAU / corners as f64;
-            let q = origin + arm * a.cos() + normal.cross(arm) * a.sin();
-            surface.closest_point(q).map(|c| DVec2::new(c.u, c.v))
-        })
-        .collect()
-}
-
 /// The loop `tool` makes of `points` (in (u, v)) on `surface`: the circle and the hexagon in
-/// model space ([`model_space_corners`]), the rest in (u, v).
+/// model space ([`shapes::model_space_corners`]), the rest in (u, v).
 pub fn loop_on(
     tool: TrimTool,
     points: &[DVec2],
     surface: &crate::kernel::NurbsSurface,
 ) -> Result<TrimLoop, GeometryError> {
     match (tool, points) {
-        (TrimTool::Circle, [c, p, ..]) => {
-            shapes::interpolating_loop(&model_space_corners(surface, *c, *p, CIRCLE_POINTS)?)
-        }
+        (TrimTool::Circle, [c, p, ..]) => shapes::interpolating_loop(&shapes::model_space_corners(
+            surface,
+            *c,
+            *p,
+            CIRCLE_POINTS,
+        )?),
         (TrimTool::Polygon, [c, p, ..]) => {
-            shapes::polygon(&model_space_corners(surface, *c, *p, 6)?)
+            shapes::polygon(&shapes::model_space_corners(surface, *c, *p, 6)?)
         }
         _ => loop_from(tool, points),
     }
@@ -612,7 +586,7 @@ mod tests {
             );
         }
         // In (u, v) the same circle is an ellipse: 0.2 across in u, 0.25 in v.
-        let uvs = model_space_corners(&sheet, c, p, 4).unwrap();
+        let uvs = shapes::model_space_corners(&sheet, c, p, 4).unwrap();
         assert!((uvs[1].y - c.y - 0.25).abs() < 1e-9, "{uvs:?}");
         let hexagon = loop_on(TrimTool::Polygon, &[c, p], &sheet).unwrap();
         assert_eq!(hexagon.len(), 6);

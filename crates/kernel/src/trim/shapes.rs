@@ -234,3 +234,31 @@ pub fn delete_loop_point(
     out[c] = TrimCurve::new(degree, knots, points, Some(weights))?;
     Ok(out)
 }
+/// The (u, v) points of a regular `corners`-gon in model space, drawn on `surface`: centred at
+/// S(`centre`) in the tangent plane there, through S(`through`), each corner pulled onto the
+/// surface at its closest point (The NURBS Book §6.1). A shape that is round (or regular) in
+/// model space rather than in the parameters, which a non-square domain would stretch.
+pub fn model_space_corners(
+    surface: &crate::NurbsSurface,
+    centre: DVec2,
+    through: DVec2,
+    corners: usize,
+) -> Result<Vec<DVec2>, GeometryError> {
+    let local = surface.local_geometry(centre.x, centre.y)?;
+    let (normal, origin) = (local.normal, local.derivatives.point);
+    let arm = surface.point_at(through.x, through.y)? - origin;
+    let arm = arm - normal * arm.dot(normal);
+    if normal == glam::DVec3::ZERO || !(arm.length() > 1e-12) {
+        return Err(GeometryError::Construction {
+            what: "trim loop",
+            message: "the two points are at the same place on the surface".into(),
+        });
+    }
+    (0..corners)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / corners as f64;
+            let q = origin + arm * a.cos() + normal.cross(arm) * a.sin();
+            surface.closest_point(q).map(|c| DVec2::new(c.u, c.v))
+        })
+        .collect()
+}
