@@ -1114,10 +1114,12 @@ impl NurbsSurface {
     }
 
     /// The closest point of the surface to `target` (point inversion, The NURBS Book §6.1):
-    /// the nearest of a grid of samples (8 per Bézier span and direction) starts Newton's
-    /// iteration on f = Su·(S − P) = 0, g = Sv·(S − P) = 0 (eq. 6.6). Steps leaving the domain
-    /// are clamped to its boundary; a step that does not reduce the distance is halved; the best
-    /// point seen is returned.
+    /// the local minima of the distance over a grid of samples (8 per Bézier span and
+    /// direction, down to 1 where a direction has more than 8 spans; the four nearest) each
+    /// start Newton's iteration on f = Su·(S − P) = 0,
+    /// g = Sv·(S − P) = 0 (eq. 6.6). Steps leaving the domain are clamped to its boundary; a
+    /// step that does not reduce the distance is halved, and where no Newton step does, a
+    /// steepest-descent step is tried; the nearest point found is returned.
     pub fn closest_point(&self, target: DVec3) -> Result<ClosestPoint, GeometryError> {
         if let Some(coordinate) = target.to_array().iter().position(|c| !c.is_finite()) {
             return Err(GeometryError::NonFinitePoint {
@@ -1125,17 +1127,51 @@ impl NurbsSurface {
                 coordinate,
             });
         }
-        let us = self.span_parameters(Direction::U, 8);
-        let vs = self.span_parameters(Direction::V, 8);
-        let mut best = (f64::INFINITY, 0.0, 0.0);
+        // 8 samples per span, fewer where there are many spans (at least one per span).
+        let per_span = |d: Direction| {
+            let spans = self.span_breaks(d).len().saturating_sub(1).max(1);
+            (64 / spans).clamp(1, 8)
+        };
+        let us = self.span_parameters(Direction::U, per_span(Direction::U));
+        let vs = self.span_parameters(Direction::V, per_span(Direction::V));
+        let (nu, nv) = (us.len(), vs.len());
+        let mut grid = vec![f64::INFINITY; nu * nv];
         self.evaluate_grid(&us, &vs, false, |i, j, d| {
-            let dist = d.point.distance_squared(target);
-            if dist < best.0 {
-                best = (dist, us[i], vs[j]);
-            }
+            grid[i * nv + j] = d.point.distance_squared(target);
         })?;
+        // Newton from the grid's local minima (up to four, nearest first): one start can
+        // land in a local minimum of the distance where the surface folds.
+        let mut starts: Vec<(f64, usize, usize)> = Vec::new();
+        for i in 0..nu {
+            for j in 0..nv {
+                let here = grid[i * nv + j];
+                let lowest = (i.saturating_sub(1)..=(i + 1).min(nu - 1)).all(|a| {
+                    (j.saturating_sub(1)..=(j + 1).min(nv - 1)).all(|b| grid[a * nv + b] >= here)
+                });
+                if lowest {
+                    starts.push((here, i, j));
+                }
+            }
+        }
+        starts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        starts.truncate(4);
+        let mut best: Option<ClosestPoint> = None;
+        for &(_, i, j) in &starts {
+            let found = self.newton_closest_point(target, us[i], vs[j]);
+            if best.as_ref().is_none_or(|b| found.distance < b.distance) {
+                best = Some(found);
+            }
+        }
+        best.ok_or_else(|| GeometryError::Construction {
+            what: "closest point",
+            message: "the surface has no finite sample".into(),
+        })
+    }
+
+    /// Newton's iteration for the closest point from (u, v) (see [`Self::closest_point`]).
+    fn newton_closest_point(&self, target: DVec3, u: f64, v: f64) -> ClosestPoint {
         let [(u0, u1), (v0, v1)] = self.domain();
-        let (_, mut u, mut v) = best;
+        let (mut u, mut v) = (u, v);
         let mut d = rational_derivatives(&self.homogeneous_derivatives(u, v));
         let mut dist = d.point.distance(target);
         for _ in 0..50 {
@@ -1155,22 +1191,30 @@ impl NurbsSurface {
                     -g / d.sv.length_squared().max(1e-300),
                 )
             };
-            // Backtracking: halve the step until the distance does not grow.
-            let mut step = 1.0;
-            let accepted = loop {
-                let un = (u + du * step).clamp(u0, u1);
-                let vn = (v + dv * step).clamp(v0, v1);
-                let dn = rational_derivatives(&self.homogeneous_derivatives(un, vn));
-                let distn = dn.point.distance(target);
-                if distn <= dist {
-                    break Some((un, vn, dn, distn));
-                }
-                step *= 0.5;
-                if step < 1e-6 {
-                    break None;
+            // Backtracking: halve the step until the distance does not grow. Where the Newton
+            // step finds no such point (an indefinite Jacobian near a tight fold), the
+            // steepest-descent step scaled by the tangent lengths is tried the same way.
+            let descend = |(du, dv): (f64, f64)| {
+                let mut step = 1.0;
+                loop {
+                    let un = (u + du * step).clamp(u0, u1);
+                    let vn = (v + dv * step).clamp(v0, v1);
+                    let dn = rational_derivatives(&self.homogeneous_derivatives(un, vn));
+                    let distn = dn.point.distance(target);
+                    if distn <= dist {
+                        return Some((un, vn, dn, distn));
+                    }
+                    step *= 0.5;
+                    if step < 1e-6 {
+                        return None;
+                    }
                 }
             };
-            let Some((un, vn, dn, distn)) = accepted else {
+            let gradient = (
+                -f / d.su.length_squared().max(1e-300),
+                -g / d.sv.length_squared().max(1e-300),
+            );
+            let Some((un, vn, dn, distn)) = descend((du, dv)).or_else(|| descend(gradient)) else {
                 break;
             };
             // Converged once the parameters stop moving (relative to the domain).
@@ -1180,12 +1224,12 @@ impl NurbsSurface {
                 break;
             }
         }
-        Ok(ClosestPoint {
+        ClosestPoint {
             u,
             v,
             point: d.point,
             distance: dist,
-        })
+        }
     }
 }
 
