@@ -280,6 +280,34 @@ impl<P: CurvePoint> NurbsCurve<P> {
         Self::from_homogeneous(self.poly.degree, knots, self.poly.points.clone())
     }
 
+    /// This curve followed by `next`, which starts where this one ends, as one curve: both are
+    /// clamped and raised to the higher degree, `next`'s parameter continues this one's
+    /// (shifted by the end of this domain) and its weights are scaled so that its first weight
+    /// is this curve's last (which leaves its shape unchanged); the joint is a knot of
+    /// multiplicity p, where the curve keeps this curve's end point. A gap between the ends
+    /// closes there.
+    pub fn join(&self, next: &Self) -> Result<Self, GeometryError> {
+        let p = self.degree().max(next.degree());
+        let a = self.clamped().elevate_degree(p - self.degree())?;
+        let b = next.clamped().elevate_degree(p - next.degree())?;
+        let (_, a_end) = a.domain();
+        let (b_start, b_end) = b.domain();
+        let b = b.reparametrized(a_end, a_end + (b_end - b_start))?;
+        let scale = P::weight_of(a.poly.points[a.count() - 1]) / P::weight_of(b.poly.points[0]);
+        let mut points = a.poly.points.clone();
+        points.extend(b.poly.points[1..].iter().map(|&h| h * scale));
+        let mut knots = a.poly.knots[..a.poly.knots.len() - 1].to_vec();
+        knots.extend_from_slice(&b.poly.knots[p + 1..]);
+        Self::from_homogeneous(p, knots, points)
+    }
+
+    /// The parameter a `fraction` of the way through the domain [a, b], kept inside it (a +
+    /// (b − a)·1 can round past b).
+    pub fn parameter_at(&self, fraction: f64) -> f64 {
+        let (a, b) = self.domain();
+        (a + (b - a) * fraction).clamp(a, b)
+    }
+
     /// The interior knots of the domain with their multiplicities.
     pub fn interior_knots(&self) -> Vec<(f64, usize)> {
         interior_knots(&self.poly.knots, self.poly.degree, self.count())

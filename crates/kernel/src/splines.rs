@@ -181,7 +181,17 @@ pub fn interpolate_closed<P: CurvePoint>(
     let mut closed = points.to_vec();
     closed.push(points[0]);
     let params = parameters(&closed, parametrization, what)?;
-    // The periodic knot sequence s_j (j ∈ ℤ) and κ_i = s_{i − p}, i = 0 … n + 2p.
+    let knots = periodic_knots(&params, p);
+    let wrapped = periodic_control(points, &params, p, &knots, what)?;
+    NurbsCurve::new(p, knots, wrapped, None)
+}
+
+/// The unclamped knot vector of a closed interpolant of degree `p` through n points at
+/// `params` (n + 1 values from 0 to 1, the last for the return to the first point): the
+/// parameters for an odd degree and the midpoints between them for an even one, extended
+/// periodically with period 1 to n + 2p + 1 knots; the domain is [κ_p, κ_{p+n}].
+pub(super) fn periodic_knots(params: &[f64], p: usize) -> Vec<f64> {
+    let n = params.len() - 1;
     let base = |j: usize| {
         if p % 2 == 1 {
             params[j]
@@ -193,7 +203,20 @@ pub fn interpolate_closed<P: CurvePoint>(
         let k = j.rem_euclid(n as i64) as usize;
         base(k) + j.div_euclid(n as i64) as f64
     };
-    let knots: Vec<f64> = (0..=(n + 2 * p) as i64).map(|i| s(i - p as i64)).collect();
+    (0..=(n + 2 * p) as i64).map(|i| s(i - p as i64)).collect()
+}
+
+/// The n + p control points (the first p repeated at the end) of the closed B-spline of degree
+/// `p` over [`periodic_knots`] that passes through `points[k]` at `params[k]`: the n × n cyclic
+/// collocation system Σ N_j(ū_k) P_{j mod n} = Q_k.
+pub(super) fn periodic_control<V: Vector>(
+    points: &[V],
+    params: &[f64],
+    p: usize,
+    knots: &[f64],
+    what: &'static str,
+) -> Result<Vec<V>, GeometryError> {
+    let n = points.len();
     let (start, end) = (knots[p], knots[p + n]);
     let count = n + p;
     let mut matrix = vec![vec![0.0; n]; n];
@@ -207,16 +230,15 @@ pub fn interpolate_closed<P: CurvePoint>(
         while u >= end {
             u -= 1.0;
         }
-        let span = find_span(&knots, p, count, u);
-        basis_functions(&knots, p, span, u, &mut basis);
+        let span = find_span(knots, p, count, u);
+        basis_functions(knots, p, span, u, &mut basis);
         for (offset, &b) in basis.iter().enumerate() {
             row[(span - p + offset) % n] += b;
         }
     }
     let control = super::vector::solve_linear(matrix, points.to_vec())
         .ok_or_else(|| construction(what, "the interpolation system is singular"))?;
-    let wrapped: Vec<P> = (0..count).map(|i| control[i % n]).collect();
-    NurbsCurve::new(p, knots, wrapped, None)
+    Ok((0..count).map(|i| control[i % n]).collect())
 }
 
 /// The C¹ cubic through `points` at the parameters `params` (strictly increasing) with the
@@ -266,6 +288,58 @@ pub fn hermite_spline<P: CurvePoint>(
         knots.extend(std::iter::repeat_n(params[k + 1], multiplicity));
     }
     NurbsCurve::new(3, knots, control, None)
+}
+
+/// The most pieces per span [`polynomial_approximation`] uses.
+const MAX_PIECES_PER_SPAN: usize = 256;
+
+/// A non-rational cubic within `tolerance` of `curve` at the same parameters (a rational curve
+/// with uneven weights has no exact place where homogeneous points are blended, as in a loft
+/// across sections with different weights). Per Bézier span, the cubic Hermite spline of the
+/// curve's points and first derivatives ([`hermite_spline`]) at m evenly spaced parameters, with
+/// m doubled from 1 until it is within `tolerance` at the quarter points of every piece (the
+/// Hermite error is O(h⁴)); the spans are joined at their knots, so kinks stay kinks.
+/// A non-rational curve comes back unchanged.
+pub fn polynomial_approximation(
+    curve: &NurbsCurve<glam::DVec3>,
+    tolerance: f64,
+) -> Result<NurbsCurve<glam::DVec3>, GeometryError> {
+    if curve.is_polynomial() {
+        return Ok(curve.clone());
+    }
+    let mut joined: Option<NurbsCurve<glam::DVec3>> = None;
+    for span in curve.bezier_segments() {
+        let mut pieces = 1;
+        let fitted = loop {
+            let params: Vec<f64> = (0..=pieces)
+                .map(|i| span.parameter_at(i as f64 / pieces as f64))
+                .collect();
+            let mut points = Vec::with_capacity(params.len());
+            let mut tangents = Vec::with_capacity(params.len());
+            for &t in &params {
+                let d = span.derivatives(t, 1)?;
+                points.push(d[0]);
+                tangents.push(d[1]);
+            }
+            let fitted = hermite_spline(&points, &tangents, &params)?;
+            let mut worst = 0.0_f64;
+            for w in params.windows(2) {
+                for f in [0.25, 0.5, 0.75] {
+                    let t = w[0] + (w[1] - w[0]) * f;
+                    worst = worst.max(fitted.point_at(t)?.distance(span.point_at(t)?));
+                }
+            }
+            if worst <= tolerance || pieces >= MAX_PIECES_PER_SPAN {
+                break fitted;
+            }
+            pieces *= 2;
+        };
+        joined = Some(match joined {
+            None => fitted,
+            Some(c) => c.join(&fitted)?,
+        });
+    }
+    joined.ok_or_else(|| construction("approximation", "the curve has no spans"))
 }
 
 /// The Catmull-Rom spline through `points[1] … points[n − 2]` (the first and last points only

@@ -59,7 +59,7 @@ pub fn hermite_patch(data: &HermiteData) -> Result<NurbsSurface, GeometryError> 
 }
 
 /// `curve` reparametrized onto [0, 1].
-fn normalized(curve: &SpaceCurve) -> Result<SpaceCurve, GeometryError> {
+pub(super) fn normalized(curve: &SpaceCurve) -> Result<SpaceCurve, GeometryError> {
     curve.reparametrized(0.0, 1.0)
 }
 
@@ -326,7 +326,7 @@ pub fn bicubic_coons(
 const SAMPLES: usize = 96;
 
 /// `curve` (on [0, 1]) at the [`SAMPLES`] + 1 evenly spaced parameters.
-fn samples(curve: &SpaceCurve) -> Result<Vec<DVec3>, GeometryError> {
+pub(super) fn samples(curve: &SpaceCurve) -> Result<Vec<DVec3>, GeometryError> {
     (0..=SAMPLES)
         .map(|i| curve.point_at(i as f64 / SAMPLES as f64))
         .collect()
@@ -335,7 +335,7 @@ fn samples(curve: &SpaceCurve) -> Result<Vec<DVec3>, GeometryError> {
 /// Where two curves on [0, 1] come closest: (s on `c`, t on `d`, distance). The nearest pair
 /// of their [`samples`] (`cs`, `ds`), then Gauss-Newton on |c(s) − d(t)|² (the normal
 /// equations of J = [c′, −d′]), clamped to the domains.
-fn crossing(
+pub(super) fn crossing(
     (c, cs): (&SpaceCurve, &[DVec3]),
     (d, ds): (&SpaceCurve, &[DVec3]),
 ) -> Result<(f64, f64, f64), GeometryError> {
@@ -484,13 +484,31 @@ pub fn gordon(
     }
     let u_params = common_parameters(&at_u, "u-curve", "v-curve", "u")?;
     let v_params = common_parameters(&at_v, "v-curve", "u-curve", "v")?;
+    gordon_at(&us, &vs, &u_params, &v_params, degree)
+}
+
+/// The Gordon surface S = L_v + L_u − T of curves on [0, 1] whose crossings are known: u-curve
+/// k meets v-curve l near us[k](u_params[l]) and vs[l](v_params[k]) (both parameter lists
+/// increasing). The skins interpolate the curves at those parameters with degree `degree`
+/// (lowered to the number of curves − 1) over averaged knots, and T interpolates the midpoints
+/// of the two curves' points at each crossing, so S(u, v_k) = u-curve k + (the interpolant of
+/// the crossing mismatches), exactly u-curve k where the curves meet exactly.
+pub(super) fn gordon_at(
+    us: &[SpaceCurve],
+    vs: &[SpaceCurve],
+    u_params: &[f64],
+    v_params: &[f64],
+    degree: usize,
+) -> Result<NurbsSurface, GeometryError> {
+    const WHAT: &str = "gordon";
+    let (k_count, l_count) = (us.len(), vs.len());
     let p = degree.min(l_count - 1);
     let q = degree.min(k_count - 1);
-    let skin_u_curves = skin(&make_compatible(&us)?, &v_params, q, WHAT)?;
-    let skin_v_curves = skin(&make_compatible(&vs)?, &u_params, p, WHAT)?.swap_uv();
+    let skin_u_curves = skin(&make_compatible(us)?, v_params, q, WHAT)?;
+    let skin_v_curves = skin(&make_compatible(vs)?, u_params, p, WHAT)?.swap_uv();
     // T: the crossing points interpolated along u per u-curve, then across v per column.
-    let knots_u = averaged_knots(&u_params, p);
-    let knots_v = averaged_knots(&v_params, q);
+    let knots_u = averaged_knots(u_params, p);
+    let knots_v = averaged_knots(v_params, q);
     let mut rows = Vec::with_capacity(k_count);
     for (k, c) in us.iter().enumerate() {
         let crossings: Vec<DVec3> = vs
@@ -498,14 +516,12 @@ pub fn gordon(
             .enumerate()
             .map(|(l, d)| Ok((c.point_at(u_params[l])? + d.point_at(v_params[k])?) * 0.5))
             .collect::<Result<_, GeometryError>>()?;
-        rows.push(interpolate_points(
-            &crossings, &u_params, p, &knots_u, WHAT,
-        )?);
+        rows.push(interpolate_points(&crossings, u_params, p, &knots_u, WHAT)?);
     }
     let mut points = vec![DVec3::ZERO; l_count * k_count];
     for i in 0..l_count {
         let column: Vec<DVec3> = rows.iter().map(|row| row[i]).collect();
-        let control = interpolate_points(&column, &v_params, q, &knots_v, WHAT)?;
+        let control = interpolate_points(&column, v_params, q, &knots_v, WHAT)?;
         for (k, point) in control.into_iter().enumerate() {
             points[i * k_count + k] = point;
         }
