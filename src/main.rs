@@ -41,9 +41,13 @@ mod cli {
         },
         /// Build a surface from curves or corner data: reads {"construct": "gordon", "u_curves":
         /// [...], "v_curves": [...], "degree": 3}, {"construct": "coons", "bottom", "top",
-        /// "left", "right" (and "cross" for the bicubically blended patch)} or {"construct":
-        /// "hermite", "points", "su", "sv", "twist"} (curves as nurbs_curve objects) and prints
-        /// the exact NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
+        /// "left", "right" (and "cross" for the bicubically blended patch)}, {"construct":
+        /// "hermite", "points", "su", "sv", "twist"}, {"construct": "loft", "curves", "degree",
+        /// "closed", "style"}, {"construct": "network", "u_curves", "v_curves", "degree"},
+        /// {"construct": "sweep1", "rail", "profiles", "up"}, {"construct": "sweep2", "rails",
+        /// "profiles"}, {"construct": "revolve", "profile", "axis": {"origin", "direction"},
+        /// "angle"} or {"construct": "planar", "boundary"} (curves as nurbs_curve objects) and
+        /// prints the NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
         /// {"construct": "interpolate", "points", "degree", "closed", "parametrization",
         /// "tangents"} and {"construct": "catmull_rom", "points", "alpha"} print a nurbs_curve.
         Construct {
@@ -567,8 +571,14 @@ mod cli {
     /// at `output` (which the editor opens).
     pub fn construct(path: &str, output: Option<&std::path::Path>) -> ExitCode {
         let result = read_request(path).and_then(|text| {
-            let (geometry, name) =
-                knotwork::io::construct::build(&text).map_err(|e| e.to_string())?;
+            let knotwork::io::construct::Built {
+                geometry,
+                name,
+                report,
+            } = knotwork::io::construct::build(&text).map_err(|e| e.to_string())?;
+            if let Some(report) = report {
+                eprintln!("knotwork construct: {report}");
+            }
             match output {
                 None => Ok(knotwork::io::construct::geometry_value(geometry, name).to_string()),
                 Some(out) => {

@@ -320,3 +320,230 @@ proptest! {
         }
     }
 }
+
+/// A smooth rational bicubic surface over [0, 1]² (5 × 5 points on a gently curved grid with
+/// noise, uniform knots, weights 0.5–2): no folds, so point inversion finds its points.
+fn smooth_surface(rng: &mut Rng) -> NurbsSurface {
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    for i in 0..5 {
+        for j in 0..5 {
+            points.push(DVec3::new(
+                i as f64 + rng.range(-0.2, 0.2),
+                j as f64 + rng.range(-0.2, 0.2),
+                rng.range(-1.0, 1.0),
+            ));
+            weights.push(rng.range(0.5, 2.0));
+        }
+    }
+    NurbsSurface::new(
+        [3, 3],
+        [knots.clone(), knots],
+        [5, 5],
+        points,
+        Some(weights),
+    )
+    .unwrap()
+}
+
+/// How far a section of a loft or sweep is from the surface's iso-curve v = v*, where v* is
+/// where point inversion puts the section point nearest the surface: the section must be that
+/// iso-curve, over the same parameter (mapped onto the surface's u domain, in either direction).
+fn section_to_surface(curve: &SpaceCurve, surface: &NurbsSurface) -> f64 {
+    let [(u0, u1), _] = surface.domain();
+    let params: Vec<f64> = (0..=20).map(|i| i as f64 / 20.0).collect();
+    let v = params
+        .iter()
+        .map(|&t| {
+            surface
+                .closest_point(curve.point_at(curve.parameter_at(t)).unwrap())
+                .unwrap()
+        })
+        .min_by(|x, y| x.distance.total_cmp(&y.distance))
+        .unwrap()
+        .v;
+    [false, true]
+        .into_iter()
+        .map(|reversed| {
+            params
+                .iter()
+                .map(|&t| {
+                    let on_curve = curve.point_at(curve.parameter_at(t)).unwrap();
+                    let s = if reversed { 1.0 - t } else { t };
+                    on_curve.distance(surface.point_at(u0 + (u1 - u0) * s, v).unwrap())
+                })
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The largest distance from 11 evenly spaced points of the curve to the surface.
+fn curve_to_surface(curve: &SpaceCurve, surface: &NurbsSurface) -> f64 {
+    (0..=10)
+        .map(|i| curve.point_at(curve.parameter_at(i as f64 / 10.0)).unwrap())
+        .map(|p| surface.closest_point(p).unwrap().distance)
+        .fold(0.0, f64::max)
+}
+
+/// A random open curve roughly along x at height `z`: degree 1–3, 4–7 points, weights 0.5–2.
+fn random_section(rng: &mut Rng, z: f64) -> SpaceCurve {
+    let count = 4 + rng.below(4);
+    let degree = 1 + rng.below(3);
+    let points = (0..count)
+        .map(|i| {
+            DVec3::new(
+                i as f64 * 4.0 / (count - 1) as f64,
+                rng.range(-0.3, 0.3),
+                z + rng.range(-0.3, 0.3),
+            )
+        })
+        .collect();
+    let weights = (0..count).map(|_| rng.range(0.5, 2.0)).collect();
+    let knots = knotwork::kernel::basis::uniform_clamped_knots(degree, count);
+    SpaceCurve::new(degree, knots, points, Some(weights)).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Every section of a loft (open or closed, normal or straight; sections reversed at
+    /// random) lies on it.
+    #[test]
+    fn lofts_contain_their_sections(count in 2usize..6, seed in any::<u64>()) {
+        use knotwork::kernel::loft::{LoftOptions, LoftStyle, loft_sections};
+        let mut rng = Rng(seed);
+        let sections: Vec<SpaceCurve> = (0..count)
+            .map(|k| {
+                let c = random_section(&mut rng, 2.0 * k as f64);
+                if rng.below(2) == 0 { c.reverse() } else { c }
+            })
+            .collect();
+        for closed in [false, true] {
+            for style in [LoftStyle::Normal, LoftStyle::Straight] {
+                if closed && count < 3 {
+                    continue;
+                }
+                let options = LoftOptions { closed, style, ..LoftOptions::default() };
+                let s = loft_sections(&sections, &options).unwrap();
+                for (k, c) in sections.iter().enumerate() {
+                    let d = section_to_surface(c, &s);
+                    prop_assert!(d < 1e-6, "{style:?} closed {closed}: section {k} is {d:e} away");
+                }
+            }
+        }
+    }
+
+    /// Every profile of a one-rail sweep (either frame) lies on it.
+    #[test]
+    fn sweeps_contain_their_profiles(count in 1usize..4, seed in any::<u64>()) {
+        use knotwork::kernel::construct::{circle, interpolate};
+        use knotwork::kernel::sweep::{SweepFrame, sweep_one_rail};
+        let mut rng = Rng(seed);
+        let rail_points: Vec<DVec3> = (0..5)
+            .map(|k| DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 2.0 * k as f64))
+            .collect();
+        let rail = interpolate(&rail_points, 3).unwrap();
+        let (a, b) = rail.domain();
+        let profiles: Vec<SpaceCurve> = (0..count)
+            .map(|k| {
+                let t = a + (b - a) * (k as f64 + rng.range(0.2, 0.8)) / count as f64;
+                let d = rail.derivatives(t, 1).unwrap();
+                circle(d[0], d[1], DVec3::X, rng.range(0.3, 1.0)).unwrap()
+            })
+            .collect();
+        for frame in [SweepFrame::RotationMinimizing, SweepFrame::FixedUp(DVec3::X)] {
+            let s = sweep_one_rail(&rail, &profiles, frame).unwrap();
+            for (k, c) in profiles.iter().enumerate() {
+                let d = curve_to_surface(c, &s);
+                prop_assert!(d < 1e-7, "{frame:?}: profile {k} is {d:e} away");
+            }
+        }
+    }
+
+    /// A surface of revolution keeps every profile point's distance to the axis and height
+    /// along it, exactly, at every angle.
+    #[test]
+    fn revolutions_keep_the_distance_to_the_axis(seed in any::<u64>(), angle in 1.0f64..360.0) {
+        use knotwork::kernel::construct::revolve;
+        let mut rng = Rng(seed);
+        let profile = random_section(&mut rng, 1.0);
+        let origin = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let axis = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(0.2, 1.0));
+        let s = revolve(&profile, origin, axis, angle.to_radians()).unwrap();
+        let z = axis.normalize();
+        let radius = |p: DVec3| (p - origin - z * (p - origin).dot(z)).length();
+        let [(u0, u1), _] = s.domain();
+        let (a, b) = profile.domain();
+        for j in 0..=8 {
+            let v = a + (b - a) * j as f64 / 8.0;
+            let p = profile.point_at(v).unwrap();
+            for i in 0..=8 {
+                let q = s.point_at(u0 + (u1 - u0) * i as f64 / 8.0, v).unwrap();
+                prop_assert!((radius(q) - radius(p)).abs() < 1e-12 * 10.0);
+                prop_assert!((q - p).dot(z).abs() < 1e-12 * 10.0);
+            }
+        }
+    }
+
+    /// Splitting a curve and joining the pieces gives the same curve.
+    #[test]
+    fn split_and_join_leave_curves_unchanged(seed in any::<u64>(), at in 0.05f64..0.95) {
+        let mut rng = Rng(seed);
+        let c = random_section(&mut rng, 0.0);
+        let (a, b) = c.domain();
+        let (left, right) = c.split(a + (b - a) * at).unwrap();
+        let joined = left.join(&right).unwrap();
+        prop_assert_eq!(joined.domain(), c.domain());
+        for i in 0..=30 {
+            let t = c.parameter_at(i as f64 / 30.0);
+            let d = joined.point_at(t).unwrap().distance(c.point_at(t).unwrap());
+            prop_assert!(d < 1e-12, "at {t}: {d:e}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+    /// A network of iso-curves of a smooth rational surface, shuffled, reversed,
+    /// reparametrised and raised in degree at random, gives a surface that contains every
+    /// curve within 1e-5 of the network's size.
+    #[test]
+    fn networks_contain_their_curves(nu in 2usize..5, nv in 2usize..5, seed in any::<u64>()) {
+        use knotwork::kernel::network::network_surface;
+        let mut rng = Rng(seed);
+        let surface = smooth_surface(&mut rng);
+        let values = |n: usize, rng: &mut Rng| -> Vec<f64> {
+            let mut v: Vec<f64> = (0..n).map(|k| k as f64 / (n - 1) as f64).collect();
+            for x in v.iter_mut().take(n - 1).skip(1) {
+                *x += rng.range(-0.1, 0.1) / (n - 1) as f64;
+            }
+            v
+        };
+        let disguise = |c: SpaceCurve, rng: &mut Rng| -> SpaceCurve {
+            let c = if rng.below(2) == 0 { c.reverse() } else { c };
+            let c = c.reparametrized(rng.range(-3.0, 0.0), rng.range(1.0, 4.0)).unwrap();
+            if rng.below(2) == 0 { c.elevate_degree(1).unwrap() } else { c }
+        };
+        let mut us: Vec<SpaceCurve> = values(nu, &mut rng)
+            .into_iter()
+            .map(|v| surface.isocurve(Direction::V, v, 0).unwrap())
+            .collect();
+        let mut vs: Vec<SpaceCurve> = values(nv, &mut rng)
+            .into_iter()
+            .map(|u| surface.isocurve(Direction::U, u, 0).unwrap())
+            .collect();
+        us = us.into_iter().map(|c| disguise(c, &mut rng)).collect();
+        vs = vs.into_iter().map(|c| disguise(c, &mut rng)).collect();
+        us.rotate_left(rng.below(nu));
+        vs.rotate_left(rng.below(nv));
+        let network = network_surface(&us, &vs, 3).unwrap();
+        let size = surface.size().max(1.0);
+        for c in us.iter().chain(&vs) {
+            let d = curve_to_surface(c, &network.surface);
+            prop_assert!(d < 1e-5 * size, "a curve is {d:e} from the network ({})", network.deviation);
+        }
+        prop_assert!(network.deviation.distance < 1e-5 * size, "{}", network.deviation);
+    }
+}

@@ -710,3 +710,248 @@ fn knotwork_construct_builds_curves_through_points() {
         assert!(stderr.contains(message), "{request}: {stderr}");
     }
 }
+
+/// The surface (trimmed or not) a `knotwork construct` request printed; the test fails with
+/// the command's message if it did not succeed.
+fn constructed_surface(request: &serde_json::Value) -> knotwork::scene::json::Geometry {
+    let out = run_construct(request);
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        request["construct"],
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["type"], "nurbs_surface");
+    knotwork::scene::json::object_from_value("", value)
+        .unwrap()
+        .geometry
+}
+
+fn untrimmed(geometry: knotwork::scene::json::Geometry) -> knotwork::kernel::NurbsSurface {
+    match geometry {
+        knotwork::scene::json::Geometry::Surface(s) => s,
+        _ => panic!("expected an untrimmed surface"),
+    }
+}
+
+/// The largest distance from 41 evenly spaced points of the curve to the surface (point
+/// inversion from a grid of starts).
+fn curve_to_surface(curve: &SpaceCurve, surface: &knotwork::kernel::NurbsSurface) -> f64 {
+    (0..=40)
+        .map(|i| curve.point_at(curve.parameter_at(i as f64 / 40.0)).unwrap())
+        .map(|p| surface.closest_point(p).unwrap().distance)
+        .fold(0.0, f64::max)
+}
+
+/// `knotwork construct` builds surfaces from a user's curves: loft, network, one- and two-rail
+/// sweeps, revolve and planar faces; every input curve lies on the result, and requests that
+/// cannot be built exit 1 with the reason.
+#[test]
+fn knotwork_construct_builds_surfaces_from_the_users_curves() {
+    use glam::DVec3;
+    use knotwork::kernel::construct::{arc, circle, interpolate};
+    use std::f64::consts::PI;
+    let values = |cs: &[SpaceCurve]| cs.iter().map(curve_value).collect::<Vec<_>>();
+
+    // Loft: circles at different heights, one reversed and one given a seam elsewhere.
+    let ring = |z: f64, r: f64| circle(DVec3::new(0.0, 0.0, z), DVec3::Z, DVec3::X, r).unwrap();
+    let sections = vec![
+        ring(0.0, 1.0),
+        ring(1.0, 1.6).reverse(),
+        ring(2.0, 0.8),
+        ring(3.0, 1.2),
+    ];
+    for closed in [false, true] {
+        let loft = untrimmed(constructed_surface(&serde_json::json!({
+            "construct": "loft", "curves": values(&sections), "degree": 3, "closed": closed
+        })));
+        for c in &sections {
+            let d = curve_to_surface(c, &loft);
+            assert!(d < 1e-8, "loft (closed {closed}): a section is {d:e} away");
+        }
+    }
+
+    // Network: iso-curves of a bicubic surface, shuffled, some reversed, one made rational
+    // (weights ρ^i: the same curve under a Möbius reparametrisation), one raised in degree
+    // with a knot added, one on another domain.
+    let s = Polynomial::random(3, 3, 77);
+    let (mut u_curves, mut v_curves) = network(&s, &[0.0, 0.3, 0.65, 1.0], &[0.0, 0.4, 1.0]);
+    let mobius = |c: &SpaceCurve| {
+        let points = (0..c.count()).map(|i| c.control_point(i)).collect();
+        let weights = (0..c.count()).map(|i| 2f64.powi(i as i32)).collect();
+        NurbsCurve::new(c.degree(), c.knots().to_vec(), points, Some(weights)).unwrap()
+    };
+    u_curves[1] = mobius(&u_curves[1]).reverse();
+    u_curves.swap(0, 2);
+    v_curves[2] = v_curves[2]
+        .elevate_degree(1)
+        .unwrap()
+        .insert_knot(0.37, 1)
+        .unwrap();
+    v_curves[1] = v_curves[1].reparametrized(2.0, 5.0).unwrap().reverse();
+    v_curves.swap(0, 3);
+    let request = serde_json::json!({
+        "construct": "network", "u_curves": values(&u_curves), "v_curves": values(&v_curves)
+    });
+    let out = run_construct(&request);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("largest deviation"), "{stderr}");
+    let network = untrimmed(constructed_surface(&request));
+    let size = 4.0; // the net spans about 3 × 2 × 1.6
+    for c in u_curves.iter().chain(&v_curves) {
+        let d = curve_to_surface(c, &network);
+        assert!(d < 1e-5 * size, "network: a curve is {d:e} away");
+    }
+
+    // One rail: a circle along a bent rail; two rails: arcs between two lines.
+    let rail = arc(DVec3::ZERO, DVec3::X, DVec3::Z, 5.0, 0.0, PI / 2.0).unwrap();
+    let profiles = vec![circle(DVec3::new(5.0, 0.0, 0.0), DVec3::Z, DVec3::X, 0.5).unwrap()];
+    for up in [None, Some([0.0, 1.0, 0.0])] {
+        let mut request = serde_json::json!({
+            "construct": "sweep1", "rail": curve_value(&rail), "profiles": values(&profiles)
+        });
+        if let Some(up) = up {
+            request["up"] = serde_json::json!(up);
+        }
+        let sweep = untrimmed(constructed_surface(&request));
+        let d = curve_to_surface(&profiles[0], &sweep);
+        assert!(d < 1e-8, "sweep1: the profile is {d:e} away");
+        // The tube keeps its radius about the rail's middle.
+        let middle = DVec3::new(1.0, 0.0, 1.0) * 5.0 * std::f64::consts::FRAC_1_SQRT_2;
+        let tube = sweep.closest_point(middle).unwrap().distance;
+        assert!((tube - 0.5).abs() < 1e-3, "sweep1: radius {tube}");
+    }
+    let rails = [
+        knotwork::kernel::construct::line(DVec3::ZERO, DVec3::new(0.0, 4.0, 0.0)).unwrap(),
+        knotwork::kernel::construct::line(DVec3::new(2.0, 0.0, 0.0), DVec3::new(3.0, 4.0, 0.0))
+            .unwrap(),
+    ];
+    let cap = |a: DVec3, b: DVec3| interpolate(&[a, (a + b) * 0.5 + DVec3::Z, b], 2).unwrap();
+    let profiles = vec![
+        cap(DVec3::new(3.0, 4.0, 0.0), DVec3::new(0.0, 4.0, 0.0)),
+        cap(DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0)),
+    ];
+    let sweep2 = untrimmed(constructed_surface(&serde_json::json!({
+        "construct": "sweep2", "rails": values(&rails), "profiles": values(&profiles)
+    })));
+    for c in profiles.iter() {
+        let d = curve_to_surface(c, &sweep2);
+        assert!(d < 1e-8, "sweep2: a profile is {d:e} away");
+    }
+    for c in rails.iter() {
+        let d = curve_to_surface(c, &sweep2);
+        assert!(d < 1e-6, "sweep2: a rail is {d:e} away");
+    }
+
+    // Revolve about a tilted axis by 270°: every point keeps the profile's distance to the
+    // axis and its height along it.
+    let profile = interpolate(
+        &[
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.5, 1.0),
+            DVec3::new(1.5, 0.0, 2.0),
+        ],
+        2,
+    )
+    .unwrap();
+    let (origin, direction) = (DVec3::new(0.5, -0.5, 0.0), DVec3::new(0.2, 0.1, 1.0));
+    let revolution = untrimmed(constructed_surface(&serde_json::json!({
+        "construct": "revolve", "profile": curve_value(&profile),
+        "axis": {"origin": origin.to_array(), "direction": direction.to_array()}, "angle": 270
+    })));
+    let axis = direction.normalize();
+    let radius = |p: DVec3| (p - origin - axis * (p - origin).dot(axis)).length();
+    let [(u0, u1), _] = revolution.domain();
+    for j in 0..=10 {
+        let v = j as f64 / 10.0;
+        let p = profile.point_at(v).unwrap();
+        for i in 0..=10 {
+            let q = revolution
+                .point_at(u0 + (u1 - u0) * i as f64 / 10.0, v)
+                .unwrap();
+            assert!((radius(q) - radius(p)).abs() < 1e-12, "revolve radius");
+            assert!(((q - p).dot(axis)).abs() < 1e-12, "revolve height");
+        }
+    }
+    // Turning right-handed: a quarter turn takes +x (radially) toward axis × x.
+    let quarter = revolution.point_at(u0 + (u1 - u0) / 3.0, 0.0).unwrap();
+    let start = profile.point_at(0.0).unwrap();
+    let radial = start - origin - axis * (start - origin).dot(axis);
+    let turned = axis.cross(radial);
+    let expected = start - radial + turned;
+    assert!(
+        quarter.distance(expected) < 1e-12,
+        "{quarter} vs {expected}"
+    );
+
+    // Planar: a square of four lines, one given backwards, tilted.
+    let corners = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 1.0),
+        DVec3::new(2.0, 2.0, 1.0),
+        DVec3::new(0.0, 2.0, 0.0),
+    ];
+    let mut edges: Vec<SpaceCurve> = (0..4)
+        .map(|k| knotwork::kernel::construct::line(corners[k], corners[(k + 1) % 4]).unwrap())
+        .collect();
+    edges[2] = edges[2].reverse();
+    let knotwork::scene::json::Geometry::TrimmedSurface(face) = constructed_surface(
+        &serde_json::json!({"construct": "planar", "boundary": values(&edges)}),
+    ) else {
+        panic!("expected a trimmed surface");
+    };
+    assert_eq!(face.loops().len(), 1);
+    let normal = (corners[1] - corners[0])
+        .cross(corners[3] - corners[0])
+        .normalize();
+    for (u, v) in grid(6) {
+        let p = face.surface().point_at(u, v).unwrap();
+        assert!((p - corners[0]).dot(normal).abs() < 1e-12);
+    }
+
+    // Requests that cannot be built: exit 1 with the reason.
+    let bent = {
+        let mut e = edges.clone();
+        e[1] = knotwork::kernel::construct::line(corners[1], corners[2] + DVec3::Z).unwrap();
+        e[2] = knotwork::kernel::construct::line(corners[3], corners[2] + DVec3::Z).unwrap();
+        e
+    };
+    let apart = vec![
+        v_curves[0].map_points(|p| p + DVec3::Z).unwrap(),
+        v_curves[1].clone(),
+    ];
+    for (request, message) in [
+        (
+            serde_json::json!({"construct": "loft", "curves": values(&sections[..1])}),
+            "at least 2 sections",
+        ),
+        (
+            serde_json::json!({"construct": "network", "u_curves": values(&u_curves),
+                "v_curves": values(&apart)}),
+            "do not cross",
+        ),
+        (
+            serde_json::json!({"construct": "planar", "boundary": values(&bent)}),
+            "not planar",
+        ),
+        (
+            serde_json::json!({"construct": "revolve", "profile": curve_value(&profile),
+                "axis": {"origin": [0, 0, 0], "direction": [0, 0, 1]}, "angle": 0}),
+            "angle",
+        ),
+        (
+            serde_json::json!({"construct": "loft", "curves": values(&sections), "degree": 7}),
+            "must be 1 to 3",
+        ),
+    ] {
+        let out = run_construct(&request);
+        assert_eq!(out.status.code(), Some(1), "{request}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains(message),
+            "{}: {stderr}",
+            request["construct"]
+        );
+    }
+}

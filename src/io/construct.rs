@@ -21,12 +21,31 @@
 //! - `{"construct": "catmull_rom", "points": [...], "alpha": 0.5}`: the Catmull-Rom spline
 //!   (α = 0 uniform, 0.5 centripetal, the default, 1 chordal; Barry–Goldman) through
 //!   points[1] … points[n−2], the first and last points serving as end controls.
+//! - `{"construct": "loft", "curves": [...], "degree": 3, "closed": false, "style": "normal"}`:
+//!   the loft through the curves (in any direction; closed curves with any seam), degree 1–3
+//!   across; `style` `"normal"`, `"straight"` or `"loose"` ([`crate::kernel::loft`]).
+//! - `{"construct": "network", "u_curves": [...], "v_curves": [...], "degree": 3}`: the
+//!   surface through a network of crossing curves in any order and direction, rational or not
+//!   ([`crate::kernel::network`]); the largest deviation from the curves is reported.
+//! - `{"construct": "sweep1", "rail": c, "profiles": [c, ...], "up": [x, y, z]}`: the profiles
+//!   swept along the rail, in rotation-minimising frames or, with `up`, frames that keep that
+//!   direction up; `{"construct": "sweep2", "rails": [c, c], "profiles": [...]}`: between two
+//!   rails ([`crate::kernel::sweep`]).
+//! - `{"construct": "revolve", "profile": c, "axis": {"origin": [x, y, z], "direction": [x, y,
+//!   z]}, "angle": 360}`: the exact rational surface of revolution, turning right-handed about
+//!   `direction` by `angle` degrees (negative turns the other way).
+//! - `{"construct": "planar", "boundary": [c, ...]}`: the plane trimmed by the closed planar
+//!   chain of curves, given end to end ([`crate::kernel::planar`]).
 
 use glam::DVec3;
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::kernel::loft::{LoftOptions, LoftStyle, loft_sections};
+use crate::kernel::network::network_surface;
+use crate::kernel::planar::planar_face;
 use crate::kernel::splines::{self, Parametrization};
+use crate::kernel::sweep::{SweepFrame, sweep_one_rail, sweep_two_rails};
 use crate::kernel::transfinite::{self, HermiteData};
 use crate::kernel::{NurbsSurface, SpaceCurve, construct};
 use crate::scene::json::{
@@ -74,6 +93,72 @@ enum Request {
         #[serde(default = "default_alpha")]
         alpha: f64,
     },
+    Loft {
+        curves: Vec<Value>,
+        #[serde(default = "default_degree")]
+        degree: usize,
+        #[serde(default)]
+        closed: bool,
+        #[serde(default)]
+        style: LoftStyleName,
+    },
+    Network {
+        u_curves: Vec<Value>,
+        v_curves: Vec<Value>,
+        #[serde(default = "default_degree")]
+        degree: usize,
+    },
+    Sweep1 {
+        rail: Value,
+        profiles: Vec<Value>,
+        #[serde(default)]
+        up: Option<[f64; 3]>,
+    },
+    Sweep2 {
+        rails: [Value; 2],
+        profiles: Vec<Value>,
+    },
+    Revolve {
+        profile: Value,
+        axis: Axis,
+        #[serde(default = "default_angle")]
+        angle: f64,
+    },
+    Planar {
+        boundary: Vec<Value>,
+    },
+}
+
+/// A loft's style, as a request names it.
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum LoftStyleName {
+    #[default]
+    Normal,
+    Straight,
+    Loose,
+}
+
+impl From<LoftStyleName> for LoftStyle {
+    fn from(name: LoftStyleName) -> Self {
+        match name {
+            LoftStyleName::Normal => LoftStyle::Normal,
+            LoftStyleName::Straight => LoftStyle::Straight,
+            LoftStyleName::Loose => LoftStyle::Loose,
+        }
+    }
+}
+
+/// An axis of revolution.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Axis {
+    origin: [f64; 3],
+    direction: [f64; 3],
+}
+
+fn default_angle() -> f64 {
+    360.0
 }
 
 /// How an interpolant's parameters are spaced, as a request names it.
@@ -148,10 +233,28 @@ fn sides(path: &str, s: Sides) -> Result<[SpaceCurve; 4], FormatError> {
     ])
 }
 
+/// What a request built: the geometry, its name, and a line about how well it fits its input
+/// (a network's largest deviation from its curves).
+pub struct Built {
+    pub geometry: Geometry,
+    pub name: &'static str,
+    pub report: Option<String>,
+}
+
+impl Built {
+    fn plain((geometry, name): (Geometry, &'static str)) -> Self {
+        Self {
+            geometry,
+            name,
+            report: None,
+        }
+    }
+}
+
 /// Builds the surface (or curve) a request describes, and its name. A malformed request names
 /// the offending JSON path; a construction that fails (curves that do not meet, …) gives the
 /// kernel's reason.
-pub fn build(text: &str) -> Result<(Geometry, &'static str), FormatError> {
+pub fn build(text: &str) -> Result<Built, FormatError> {
     let value: Value = serde_json::from_str(text)
         .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
     let request: Request = serde_path_to_error::deserialize(value)
@@ -182,13 +285,35 @@ pub fn build(text: &str) -> Result<(Geometry, &'static str), FormatError> {
                 }
             };
             curve
-                .map(|c| (Geometry::Curve(c), "interpolated curve"))
+                .map(|c| Built::plain((Geometry::Curve(c), "interpolated curve")))
                 .map_err(geometry)
         }
         Request::CatmullRom { points: raw, alpha } => splines::catmull_rom(&points(&raw), alpha)
-            .map(|c| (Geometry::Curve(c), "Catmull-Rom spline"))
+            .map(|c| Built::plain((Geometry::Curve(c), "Catmull-Rom spline")))
             .map_err(geometry),
-        surface => build_surface(surface).map(|(s, name)| (Geometry::Surface(s), name)),
+        Request::Network {
+            u_curves,
+            v_curves,
+            degree,
+        } => {
+            let us = curves("u_curves", u_curves)?;
+            let vs = curves("v_curves", v_curves)?;
+            let network = network_surface(&us, &vs, degree).map_err(geometry)?;
+            Ok(Built {
+                geometry: Geometry::Surface(network.surface),
+                name: "network surface",
+                report: Some(format!("network: {}", network.deviation)),
+            })
+        }
+        Request::Planar { boundary } => {
+            let chain = curves("boundary", boundary)?;
+            planar_face(&chain)
+                .map(|face| Built::plain((Geometry::TrimmedSurface(face), "planar face")))
+                .map_err(geometry)
+        }
+        surface => {
+            build_surface(surface).map(|(s, name)| Built::plain((Geometry::Surface(s), name)))
+        }
     }
 }
 
@@ -251,9 +376,70 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
             .map(|s| (s, "Hermite patch"))
             .map_err(geometry)
         }
-        Request::Interpolate { .. } | Request::CatmullRom { .. } => Err(FormatError::new(
+        Request::Loft {
+            curves: raw,
+            degree,
+            closed,
+            style,
+        } => {
+            let sections = curves("curves", raw)?;
+            let options = LoftOptions {
+                degree,
+                closed,
+                style: style.into(),
+                align: true,
+            };
+            loft_sections(&sections, &options)
+                .map(|s| (s, "loft"))
+                .map_err(geometry)
+        }
+        Request::Sweep1 { rail, profiles, up } => {
+            let rail = curve("rail", rail)?;
+            let profiles = curves("profiles", profiles)?;
+            let frame = up.map_or(SweepFrame::RotationMinimizing, |u| {
+                SweepFrame::FixedUp(DVec3::from(u))
+            });
+            sweep_one_rail(&rail, &profiles, frame)
+                .map(|s| (s, "sweep"))
+                .map_err(geometry)
+        }
+        Request::Sweep2 { rails, profiles } => {
+            let [r0, r1] = rails;
+            let rails = [curve("rails[0]", r0)?, curve("rails[1]", r1)?];
+            let profiles = curves("profiles", profiles)?;
+            sweep_two_rails([&rails[0], &rails[1]], &profiles)
+                .map(|s| (s, "two-rail sweep"))
+                .map_err(geometry)
+        }
+        Request::Revolve {
+            profile,
+            axis,
+            angle,
+        } => {
+            let profile = curve("profile", profile)?;
+            if !(angle.is_finite() && angle != 0.0 && angle.abs() <= 360.0) {
+                return Err(FormatError::new(
+                    "angle",
+                    format!("{angle} must be a number of degrees in [-360, 360], not 0"),
+                ));
+            }
+            // A negative angle turns the other way: about the reversed axis.
+            let direction = DVec3::from(axis.direction) * angle.signum();
+            construct::revolve(
+                &profile,
+                DVec3::from(axis.origin),
+                direction,
+                angle.abs().to_radians(),
+            )
+            .map(|s| (s, "revolution"))
+            .map_err(geometry)
+        }
+        Request::Interpolate { .. }
+        | Request::CatmullRom { .. }
+        | Request::Network { .. }
+        | Request::Planar { .. } => Err(FormatError::new(
             "construct",
-            "this request builds a curve, not a surface",
+            "this request does not build an untrimmed surface",
         )),
     }
 }
