@@ -673,6 +673,7 @@ fn bench_construct(
             "construct Gordon, {n:>2} × {n:<2} curves of 32 points | {cu} × {cv} control points | {ms:8.2} ms"
         )?;
     }
+    bench_modelling(&land, iterations, out)?;
     for kind in [
         Primitive::Gordon,
         Primitive::BicubicCoons,
@@ -695,6 +696,98 @@ fn bench_construct(
             kind.label()
         )?;
     }
+    Ok(())
+}
+
+/// The constructions from a user's curves (f64): the loft of four 16-point section curves
+/// rebuilt after one point moves (what a drag with construction history does per mouse
+/// move), a network of 10 × 10 iso-curves of the landscape that all need refitting, and a
+/// one-rail sweep.
+fn bench_modelling(
+    land: &crate::kernel::NurbsSurface,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::loft::{LoftOptions, loft_sections};
+    use crate::kernel::network::network_surface;
+    use crate::kernel::{Direction, SpaceCurve};
+    use glam::DVec3;
+    let runs = iterations.clamp(1, 5);
+    let section = |z: f64, wobble: f64| -> Result<SpaceCurve, crate::kernel::GeometryError> {
+        let points: Vec<DVec3> = (0..16)
+            .map(|i| {
+                let a = i as f64 / 16.0 * std::f64::consts::TAU;
+                DVec3::new(a.cos() * (2.0 + wobble * (3.0 * a).sin()), a.sin() * 2.0, z)
+            })
+            .collect();
+        crate::kernel::splines::interpolate_closed(
+            &points,
+            3,
+            crate::kernel::splines::Parametrization::ChordLength,
+        )
+    };
+    let mut sections = vec![
+        section(0.0, 0.2)?,
+        section(1.0, 0.5)?,
+        section(2.5, 0.1)?,
+        section(3.0, 0.4)?,
+    ];
+    let mut step = 0;
+    let (ms, surface) = median_ms(runs.max(3), || {
+        // One control point of the second section moves, as in a drag.
+        step += 1;
+        let moved = &sections[1];
+        let mut points: Vec<DVec3> = (0..moved.count()).map(|i| moved.control_point(i)).collect();
+        points[5] += DVec3::new(0.0, 0.0, 0.01 * step as f64);
+        sections[1] = SpaceCurve::new(moved.degree(), moved.knots().to_vec(), points, None)?;
+        loft_sections(&sections, &LoftOptions::default())
+    })?;
+    let [cu, cv] = surface.count();
+    writeln!(
+        out,
+        "construct loft of 4 closed sections of 16 points, rebuilt after a point moves | {cu} × {cv} control points | {ms:8.3} ms"
+    )?;
+    let n = 10;
+    // Iso-curves at 0.05 … 0.95 that run the whole landscape: every curve overhangs the
+    // outermost crossings, so none is crossed at the common parameters and every one is
+    // reparametrized and fitted; every other one is reversed.
+    let at = |k: usize| 0.05 + 0.9 * k as f64 / (n - 1) as f64;
+    let turned = |c: SpaceCurve, k: usize| if k % 2 == 1 { c.reverse() } else { c };
+    let u_curves = (0..n)
+        .map(|k| Ok(turned(land.isocurve(Direction::V, at(k), 0)?, k)))
+        .collect::<Result<Vec<_>, crate::kernel::GeometryError>>()?;
+    let v_curves = (0..n)
+        .map(|k| Ok(turned(land.isocurve(Direction::U, at(k), 0)?, k)))
+        .collect::<Result<Vec<_>, crate::kernel::GeometryError>>()?;
+    let (ms, network) = median_ms(runs, || network_surface(&u_curves, &v_curves, 3))?;
+    let [cu, cv] = network.surface.count();
+    writeln!(
+        out,
+        "construct network of 10 × 10 crossing curves, each refitted | {cu} × {cv} control points | {ms:8.2} ms ({})",
+        network.deviation
+    )?;
+    let rail = crate::kernel::construct::arc(
+        DVec3::ZERO,
+        DVec3::X,
+        DVec3::Z,
+        5.0,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+    )?;
+    let profile =
+        crate::kernel::construct::circle(DVec3::new(5.0, 0.0, 0.0), DVec3::Z, DVec3::X, 0.5)?;
+    let (ms, swept) = median_ms(runs, || {
+        crate::kernel::sweep::sweep_one_rail(
+            &rail,
+            std::slice::from_ref(&profile),
+            crate::kernel::sweep::SweepFrame::RotationMinimizing,
+        )
+    })?;
+    let [cu, cv] = swept.count();
+    writeln!(
+        out,
+        "construct sweep of a circle along a quarter circle | {cu} × {cv} control points | {ms:8.3} ms"
+    )?;
     Ok(())
 }
 
