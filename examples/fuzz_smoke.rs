@@ -68,6 +68,7 @@ fn seeds(target: Target) -> Vec<Vec<u8>> {
             }
             out.push(TRIANGLE_GLTF.as_bytes().to_vec());
         }
+        Target::Construct => out.extend(construct_requests().into_iter().map(String::into_bytes)),
         Target::HeightImage => {
             // Grey 8 bits, RGB 16 bits, grey and alpha, a 2-bit palette, 1-bit grey, RGBA.
             let ramp = |n: usize, scale: usize| (0..n).map(|k| (k * scale % 256) as u8).collect();
@@ -100,6 +101,58 @@ fn seeds(target: Target) -> Vec<Vec<u8>> {
         }
     }
     out
+}
+
+/// A request of every kind `knotwork construct` builds, on small curves.
+fn construct_requests() -> Vec<String> {
+    use glam::DVec3;
+    use knotwork::kernel::SpaceCurve;
+    use knotwork::kernel::construct::{circle, interpolate, line};
+    use knotwork::scene::json::{Geometry, NamedGeometry, object_to_value};
+    let value = |c: &SpaceCurve| {
+        object_to_value(&NamedGeometry {
+            name: None,
+            geometry: Geometry::Curve(c.clone()),
+        })
+    };
+    let curves = || -> Result<Vec<SpaceCurve>, knotwork::kernel::GeometryError> {
+        Ok(vec![
+            circle(DVec3::ZERO, DVec3::Z, DVec3::X, 1.0)?,
+            circle(DVec3::Z, DVec3::Z, DVec3::X, 0.5)?,
+            line(DVec3::ZERO, DVec3::new(0.0, 0.0, 3.0))?,
+            line(DVec3::ZERO, DVec3::X)?,
+            line(DVec3::Y, DVec3::new(1.0, 1.0, 0.2))?,
+            line(DVec3::ZERO, DVec3::Y)?,
+            line(DVec3::X, DVec3::new(1.0, 1.0, 0.2))?,
+            interpolate(
+                &[
+                    DVec3::X,
+                    DVec3::new(1.5, 0.0, 1.0),
+                    DVec3::new(1.0, 0.0, 2.0),
+                ],
+                2,
+            )?,
+        ])
+    };
+    let Ok(c) = curves() else {
+        return Vec::new();
+    };
+    let points = serde_json::json!([[0, 0, 0], [1, 2, 0.5], [3, 1, 0], [4, -1, 1], [6, 0, 0]]);
+    [
+        serde_json::json!({"construct": "loft", "curves": [value(&c[0]), value(&c[1])], "degree": 3}),
+        serde_json::json!({"construct": "loft", "curves": [value(&c[0]), value(&c[1]), value(&c[0].transformed(&glam::DAffine3::from_translation(DVec3::Z * 2.0)).unwrap_or_else(|_| c[0].clone()))], "closed": true, "style": "loose"}),
+        serde_json::json!({"construct": "network", "u_curves": [value(&c[3]), value(&c[4])], "v_curves": [value(&c[5]), value(&c[6])]}),
+        serde_json::json!({"construct": "sweep1", "rail": value(&c[2]), "profiles": [value(&c[0])], "up": [1, 0, 0]}),
+        serde_json::json!({"construct": "sweep2", "rails": [value(&c[5]), value(&c[6])], "profiles": [value(&c[3]), value(&c[4])]}),
+        serde_json::json!({"construct": "revolve", "profile": value(&c[7]), "axis": {"origin": [0, 0, 0], "direction": [0, 0, 1]}, "angle": 270}),
+        serde_json::json!({"construct": "planar", "boundary": [value(&c[0])]}),
+        serde_json::json!({"construct": "interpolate", "points": points, "degree": 3, "closed": true}),
+        serde_json::json!({"construct": "catmull_rom", "points": points, "alpha": 1.0}),
+        serde_json::json!({"construct": "gordon", "u_curves": [value(&c[3]), value(&c[4])], "v_curves": [value(&c[5]), value(&c[6])]}),
+    ]
+    .iter()
+    .map(|r| r.to_string())
+    .collect()
 }
 
 /// A PNG of the given shape with `data` as its packed rows (a grey palette for an indexed one).

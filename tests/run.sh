@@ -114,7 +114,7 @@ rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^
 # The file readers (project, OBJ, glTF, PNG height maps) under the stable mutation harness for
 # about a minute in all; fuzz/run.sh runs the coverage-guided cargo-fuzz targets for as long as
 # asked.
-step "fuzz smoke (project, OBJ, glTF and PNG readers)"
+step "fuzz smoke (project, OBJ, glTF and PNG readers; construct requests)"
 cargo run --quiet --locked --example fuzz_smoke -- --seconds 60
 
 # --- The web page in a browser -----------------------------------------------------------------

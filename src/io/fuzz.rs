@@ -1,11 +1,11 @@
 //! The fuzzing entry points of the readers that take files from users: a project (JSON), an
-//! OBJ, a glTF (`.gltf` JSON or `.glb`) and a PNG height map. The cargo-fuzz targets in `fuzz/`, the stable
+//! OBJ, a glTF (`.gltf` JSON or `.glb`), a PNG height map and a `knotwork construct` request. The cargo-fuzz targets in `fuzz/`, the stable
 //! smoke harness (`examples/fuzz_smoke.rs`) and the regression test all call [`check`].
 //!
 //! Beyond "never panics", every input that opens must survive a round trip: the opened project,
 //! written as a project file and read back, is the same scene; a decoded height map has its
 //! heights in [0, 1], its sides within the limit, and reads back the same from the project
-//! file's base64.
+//! file's base64; a construction that succeeds prints an object that reads back the same.
 
 use super::{height_image, project};
 use crate::kernel::displace::MAX_IMAGE_SIDE;
@@ -17,14 +17,16 @@ pub enum Target {
     Obj,
     Gltf,
     HeightImage,
+    Construct,
 }
 
 impl Target {
-    pub const ALL: [Target; 4] = [
+    pub const ALL: [Target; 5] = [
         Target::Project,
         Target::Obj,
         Target::Gltf,
         Target::HeightImage,
+        Target::Construct,
     ];
 
     pub fn name(self) -> &'static str {
@@ -33,6 +35,7 @@ impl Target {
             Target::Obj => "obj",
             Target::Gltf => "gltf",
             Target::HeightImage => "png",
+            Target::Construct => "construct",
         }
     }
 
@@ -48,6 +51,7 @@ impl Target {
             Target::Gltf if data.starts_with(b"glTF") => "fuzz.glb",
             Target::Gltf => "fuzz.gltf",
             Target::HeightImage => "fuzz.png",
+            Target::Construct => "fuzz.construct.json",
         }
     }
 }
@@ -55,9 +59,10 @@ impl Target {
 /// Opens `data` as `target` would be opened in the editor (no files beside it). Panics only if
 /// a reader panics or an opened file does not survive the round trip; errors are fine.
 pub fn check(target: Target, data: &[u8]) {
-    if target == Target::HeightImage {
-        check_height_image(data);
-        return;
+    match target {
+        Target::HeightImage => return check_height_image(data),
+        Target::Construct => return check_construct(data),
+        _ => {}
     }
     let no_companions = |name: &str| Err(format!("{name}: no files beside a fuzz input"));
     let Ok(opened) = super::open(target.file_name(data), data, &no_companions) else {
@@ -74,6 +79,51 @@ pub fn check(target: Target, data: &[u8]) {
             "an opened {} file could not be reopened after saving: {e}",
             target.name()
         ),
+    }
+}
+
+/// Builds `data` as a `knotwork construct` request; panics only if the construction panics or
+/// a built object, printed as `knotwork construct` prints it, does not read back the same.
+fn check_construct(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let Ok(built) = super::construct::build(text) else {
+        return;
+    };
+    let value = super::construct::geometry_value(built.geometry, built.name);
+    match crate::scene::json::object_from_value("", value.clone()) {
+        // Printed again it is the same object, up to the rounding of a rational point's
+        // Cartesian form (w·P / w).
+        Ok(again) => assert!(
+            nearly_equal(
+                &super::construct::geometry_value(again.geometry, built.name),
+                &value
+            ),
+            "a constructed {} changed when printed and read back",
+            built.name
+        ),
+        Err(e) => panic!("a constructed {} could not be read back: {e}", built.name),
+    }
+}
+
+/// Whether two JSON values are equal, numbers within 1e-12 relative.
+fn nearly_equal(a: &serde_json::Value, b: &serde_json::Value) -> bool {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => match (x.as_f64(), y.as_f64()) {
+            (Some(x), Some(y)) => (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1.0),
+            _ => x == y,
+        },
+        (Value::Array(x), Value::Array(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(x, y)| nearly_equal(x, y))
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            x.len() == y.len()
+                && x.iter()
+                    .all(|(k, v)| y.get(k).is_some_and(|w| nearly_equal(v, w)))
+        }
+        _ => a == b,
     }
 }
 

@@ -79,7 +79,7 @@ fn section_parameters(fixed: &[f64], count: usize) -> Vec<f64> {
 /// The profiles' local control points blended at `t` (profile k at `at[k]`, sorted).
 fn blended(local: &[Vec<DVec4>], at: &[f64], t: f64) -> Vec<DVec4> {
     let last = at.len() - 1;
-    if t <= at[0] {
+    if last == 0 || !(t > at[0]) {
         return local[0].clone();
     }
     if t >= at[last] {
