@@ -49,7 +49,8 @@ mod cli {
         /// "angle"} or {"construct": "planar", "boundary"} (curves as nurbs_curve objects) and
         /// prints the NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
         /// {"construct": "interpolate", "points", "degree", "closed", "parametrization",
-        /// "tangents"} and {"construct": "catmull_rom", "points", "alpha"} print a nurbs_curve.
+        /// "tangents"}, {"construct": "catmull_rom", "points", "alpha"} and the curve edits
+        /// rebuild, fit, offset, project and extend print a nurbs_curve.
         Construct {
             /// The request file, or - for standard input.
             request: String,

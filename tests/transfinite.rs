@@ -955,3 +955,106 @@ fn knotwork_construct_builds_surfaces_from_the_users_curves() {
         );
     }
 }
+
+/// The curve a `knotwork construct` request printed, and its report line on stderr.
+fn constructed_curve(request: &serde_json::Value) -> (SpaceCurve, String) {
+    let out = run_construct(request);
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        request["construct"],
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["type"], "nurbs_curve");
+    let knotwork::scene::json::Geometry::Curve(c) =
+        knotwork::scene::json::object_from_value("", value)
+            .unwrap()
+            .geometry
+    else {
+        panic!("expected a curve");
+    };
+    (c, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// `knotwork construct` edits curves: rebuild and fit (with the largest deviation reported and
+/// checked against the circle they approximate), offset, projection and extension, each
+/// checked against its closed form; bad requests exit 1.
+#[test]
+fn knotwork_construct_edits_curves() {
+    use glam::DVec3;
+    let centre = DVec3::new(1.0, -1.0, 0.5);
+    let circle = knotwork::kernel::construct::circle(centre, DVec3::Z, DVec3::X, 2.0).unwrap();
+    let radius_error = |c: &SpaceCurve, r: f64| {
+        (0..=300)
+            .map(|i| c.point_at(c.parameter_at(i as f64 / 300.0)).unwrap())
+            .map(|p| (p.distance(centre) - r).abs())
+            .fold(0.0, f64::max)
+    };
+    let (rebuilt, report) = constructed_curve(
+        &serde_json::json!({"construct": "rebuild", "curve": curve_value(&circle), "points": 10, "degree": 3}),
+    );
+    assert_eq!((rebuilt.count(), rebuilt.degree()), (10, 3));
+    assert!(rebuilt.is_polynomial());
+    assert!(report.contains("largest deviation"), "{report}");
+    assert!(radius_error(&rebuilt, 2.0) < 1e-2);
+    for tolerance in [1e-3, 1e-6] {
+        let (fitted, _) = constructed_curve(
+            &serde_json::json!({"construct": "fit", "curve": curve_value(&circle), "tolerance": tolerance}),
+        );
+        let e = radius_error(&fitted, 2.0);
+        assert!(e <= tolerance * 1.01, "fit within {tolerance}: {e:e}");
+    }
+    let (offset, _) = constructed_curve(
+        &serde_json::json!({"construct": "offset", "curve": curve_value(&circle), "distance": 0.75}),
+    );
+    assert!(radius_error(&offset, 2.75) < 1e-5);
+    let (projected, _) = constructed_curve(&serde_json::json!({
+        "construct": "project", "curve": curve_value(&circle),
+        "plane": {"origin": [0, 0, 3], "normal": [0, 0, 1]}
+    }));
+    for i in 0..=20 {
+        let p = projected
+            .point_at(projected.parameter_at(i as f64 / 20.0))
+            .unwrap();
+        assert!((p.z - 3.0).abs() < 1e-12);
+    }
+    let arc = knotwork::kernel::construct::arc(centre, DVec3::X, DVec3::Y, 2.0, 0.0, 1.0).unwrap();
+    let (longer, _) = constructed_curve(&serde_json::json!({
+        "construct": "extend", "curve": curve_value(&arc), "length": 1.5, "end": "end"
+    }));
+    let tip = longer.point_at(longer.domain().1).unwrap();
+    let end = centre + DVec3::new(1f64.cos(), 1f64.sin(), 0.0) * 2.0;
+    assert!((tip.distance(end) - 1.5).abs() < 1e-12);
+    assert!(
+        (tip - end).dot(end - centre).abs() < 1e-12,
+        "the extension leaves the tangent"
+    );
+    for (request, message) in [
+        (
+            serde_json::json!({"construct": "rebuild", "curve": curve_value(&circle), "points": 1}),
+            "2 to",
+        ),
+        (
+            serde_json::json!({"construct": "fit", "curve": curve_value(&circle), "tolerance": -1}),
+            "tolerance",
+        ),
+        (
+            serde_json::json!({"construct": "offset", "curve": curve_value(&knotwork::kernel::construct::line(DVec3::ZERO, DVec3::X).unwrap()), "distance": 1}),
+            "give the normal",
+        ),
+        (
+            serde_json::json!({"construct": "extend", "curve": curve_value(&arc), "length": 0}),
+            "positive",
+        ),
+    ] {
+        let out = run_construct(&request);
+        assert_eq!(out.status.code(), Some(1), "{request}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains(message),
+            "{}: {stderr}",
+            request["construct"]
+        );
+    }
+}

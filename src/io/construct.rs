@@ -36,11 +36,20 @@
 //!   `direction` by `angle` degrees (negative turns the other way).
 //! - `{"construct": "planar", "boundary": [c, ...]}`: the plane trimmed by the closed planar
 //!   chain of curves, given end to end ([`crate::kernel::planar`]).
+//! - Curve edits, each printing a `nurbs_curve` ([`crate::kernel::fit`],
+//!   [`crate::kernel::curve_edit`]): `{"construct": "rebuild", "curve": c, "points": 12,
+//!   "degree": 3}`, `{"construct": "fit", "curve": c, "tolerance": 1e-4}` and
+//!   `{"construct": "offset", "curve": c, "distance": d, "normal": [x, y, z], "tolerance": t}`
+//!   (approximations; the largest deviation is reported), `{"construct": "project", "curve": c,
+//!   "plane": {"origin": [...], "normal": [...]}}` and `{"construct": "extend", "curve": c,
+//!   "length": l, "end": "end"}` (exact).
 
 use glam::DVec3;
 use serde::Deserialize;
 use serde_json::Value;
 
+use crate::kernel::curve_edit::{self, CurveEnd};
+use crate::kernel::fit;
 use crate::kernel::loft::{LoftOptions, LoftStyle, loft_sections};
 use crate::kernel::network::network_surface;
 use crate::kernel::planar::planar_face;
@@ -127,6 +136,51 @@ enum Request {
     Planar {
         boundary: Vec<Value>,
     },
+    Rebuild {
+        curve: Value,
+        points: usize,
+        #[serde(default = "default_degree")]
+        degree: usize,
+    },
+    Fit {
+        curve: Value,
+        tolerance: f64,
+    },
+    Offset {
+        curve: Value,
+        distance: f64,
+        #[serde(default)]
+        normal: Option<[f64; 3]>,
+        #[serde(default)]
+        tolerance: Option<f64>,
+    },
+    Project {
+        curve: Value,
+        plane: Plane,
+    },
+    Extend {
+        curve: Value,
+        length: f64,
+        #[serde(default)]
+        end: EndName,
+    },
+}
+
+/// A plane: a point on it and its normal.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Plane {
+    origin: [f64; 3],
+    normal: [f64; 3],
+}
+
+/// Which end of a curve an extension grows from.
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum EndName {
+    Start,
+    #[default]
+    End,
 }
 
 /// A loft's style, as a request names it.
@@ -311,9 +365,83 @@ pub fn build(text: &str) -> Result<Built, FormatError> {
                 .map(|face| Built::plain((Geometry::TrimmedSurface(face), "planar face")))
                 .map_err(geometry)
         }
+        Request::Rebuild {
+            curve: raw,
+            points,
+            degree,
+        } => {
+            let c = curve("curve", raw)?;
+            let rebuilt = fit::rebuild(&c, points, degree).map_err(geometry)?;
+            Ok(rebuilt_curve(rebuilt, "rebuilt curve"))
+        }
+        Request::Fit {
+            curve: raw,
+            tolerance,
+        } => {
+            let c = curve("curve", raw)?;
+            let fitted = fit::fit(&c, tolerance).map_err(geometry)?;
+            Ok(rebuilt_curve(fitted, "fitted curve"))
+        }
+        Request::Offset {
+            curve: raw,
+            distance,
+            normal,
+            tolerance,
+        } => {
+            let c = curve("curve", raw)?;
+            let (lo, hi) = (0..c.count()).map(|i| c.control_point(i)).fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(p), hi.max(p)),
+            );
+            let tolerance = tolerance.unwrap_or(1e-6 * (lo.distance(hi) + distance.abs()));
+            let offset = fit::offset_planar(&c, distance, normal.map(DVec3::from), tolerance)
+                .map_err(geometry)?;
+            Ok(rebuilt_curve(offset, "offset curve"))
+        }
+        Request::Project { curve: raw, plane } => {
+            let c = curve("curve", raw)?;
+            curve_edit::projected_onto_plane(
+                &c,
+                DVec3::from(plane.origin),
+                DVec3::from(plane.normal),
+            )
+            .map(|c| Built::plain((Geometry::Curve(c), "projected curve")))
+            .map_err(geometry)
+        }
+        Request::Extend {
+            curve: raw,
+            length,
+            end,
+        } => {
+            let c = curve("curve", raw)?;
+            let end = match end {
+                EndName::Start => CurveEnd::Start,
+                EndName::End => CurveEnd::End,
+            };
+            curve_edit::extended(&c, length, end)
+                .map(|c| Built::plain((Geometry::Curve(c), "extended curve")))
+                .map_err(geometry)
+        }
         surface => {
             build_surface(surface).map(|(s, name)| Built::plain((Geometry::Surface(s), name)))
         }
+    }
+}
+
+/// A rebuilt, fitted or offset curve, with its largest deviation as the report.
+fn rebuilt_curve(rebuilt: fit::Rebuilt, name: &'static str) -> Built {
+    let p = rebuilt.at;
+    Built {
+        report: Some(format!(
+            "{name}: {} points, largest deviation {:.3e} near ({:.6}, {:.6}, {:.6})",
+            rebuilt.curve.count(),
+            rebuilt.deviation,
+            p.x,
+            p.y,
+            p.z
+        )),
+        geometry: Geometry::Curve(rebuilt.curve),
+        name,
     }
 }
 
@@ -437,7 +565,12 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
         Request::Interpolate { .. }
         | Request::CatmullRom { .. }
         | Request::Network { .. }
-        | Request::Planar { .. } => Err(FormatError::new(
+        | Request::Planar { .. }
+        | Request::Rebuild { .. }
+        | Request::Fit { .. }
+        | Request::Offset { .. }
+        | Request::Project { .. }
+        | Request::Extend { .. } => Err(FormatError::new(
             "construct",
             "this request does not build an untrimmed surface",
         )),
