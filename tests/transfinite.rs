@@ -618,6 +618,19 @@ fn knotwork_construct_builds_the_surfaces_from_json() {
     );
 }
 
+/// Asserts that `knotwork construct` refuses the request with exit code 1 and a message on
+/// stderr that contains `message`.
+fn assert_refused(request: &serde_json::Value, message: &str) {
+    let out = run_construct(request);
+    assert_eq!(out.status.code(), Some(1), "{request}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(message),
+        "{}: {stderr}",
+        request["construct"]
+    );
+}
+
 /// The distance from `q` to the curve, by dense sampling refined by golden-section search (an
 /// independent measure: it does not use the curve's own parameters).
 fn distance_to_curve(curve: &SpaceCurve, q: glam::DVec3) -> f64 {
@@ -704,25 +717,25 @@ fn knotwork_construct_builds_curves_through_points() {
             "no end tangents",
         ),
     ] {
-        let out = run_construct(&request);
-        assert_eq!(out.status.code(), Some(1), "{request}");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(stderr.contains(message), "{request}: {stderr}");
+        assert_refused(&request, message);
     }
+}
+
+/// The object a `knotwork construct` request printed (of JSON type `kind`) and its stderr; the
+/// test fails with the command's message if it did not succeed.
+fn constructed(request: &serde_json::Value, kind: &str) -> (serde_json::Value, String) {
+    let out = run_construct(request);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{}: {stderr}", request["construct"]);
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["type"], kind);
+    (value, stderr)
 }
 
 /// The surface (trimmed or not) a `knotwork construct` request printed; the test fails with
 /// the command's message if it did not succeed.
 fn constructed_surface(request: &serde_json::Value) -> knotwork::scene::json::Geometry {
-    let out = run_construct(request);
-    assert!(
-        out.status.success(),
-        "{}: {}",
-        request["construct"],
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(value["type"], "nurbs_surface");
+    let (value, _) = constructed(request, "nurbs_surface");
     knotwork::scene::json::object_from_value("", value)
         .unwrap()
         .geometry
@@ -945,28 +958,13 @@ fn knotwork_construct_builds_surfaces_from_the_users_curves() {
             "must be 1 to 3",
         ),
     ] {
-        let out = run_construct(&request);
-        assert_eq!(out.status.code(), Some(1), "{request}");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            stderr.contains(message),
-            "{}: {stderr}",
-            request["construct"]
-        );
+        assert_refused(&request, message);
     }
 }
 
 /// The curve a `knotwork construct` request printed, and its report line on stderr.
 fn constructed_curve(request: &serde_json::Value) -> (SpaceCurve, String) {
-    let out = run_construct(request);
-    assert!(
-        out.status.success(),
-        "{}: {}",
-        request["construct"],
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(value["type"], "nurbs_curve");
+    let (value, stderr) = constructed(request, "nurbs_curve");
     let knotwork::scene::json::Geometry::Curve(c) =
         knotwork::scene::json::object_from_value("", value)
             .unwrap()
@@ -974,7 +972,7 @@ fn constructed_curve(request: &serde_json::Value) -> (SpaceCurve, String) {
     else {
         panic!("expected a curve");
     };
-    (c, String::from_utf8_lossy(&out.stderr).into_owned())
+    (c, stderr)
 }
 
 /// `knotwork construct` edits curves: rebuild and fit (with the largest deviation reported and
@@ -1048,13 +1046,6 @@ fn knotwork_construct_edits_curves() {
             "positive",
         ),
     ] {
-        let out = run_construct(&request);
-        assert_eq!(out.status.code(), Some(1), "{request}");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            stderr.contains(message),
-            "{}: {stderr}",
-            request["construct"]
-        );
+        assert_refused(&request, message);
     }
 }

@@ -389,11 +389,8 @@ pub fn build(text: &str) -> Result<Built, FormatError> {
             tolerance,
         } => {
             let c = curve("curve", raw)?;
-            let (lo, hi) = (0..c.count()).map(|i| c.control_point(i)).fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(p), hi.max(p)),
-            );
-            let tolerance = tolerance.unwrap_or(1e-6 * (lo.distance(hi) + distance.abs()));
+            let size = crate::kernel::curve::control_box_size([&c]);
+            let tolerance = tolerance.unwrap_or(1e-6 * (size + distance.abs()));
             let offset = fit::offset_planar(&c, distance, normal.map(DVec3::from), tolerance)
                 .map_err(geometry)?;
             Ok(rebuilt_curve(offset, "offset curve"))

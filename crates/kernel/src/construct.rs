@@ -10,7 +10,7 @@
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-use glam::{DQuat, DVec3, DVec4};
+use glam::{DVec3, DVec4};
 
 use super::basis::{
     basis_functions, find_span, interior_knots, merge_knots, missing_knots, uniform_clamped_knots,
@@ -524,56 +524,15 @@ pub fn sweep(
             format!("sections = {sections} must be in 2..=1000"),
         ));
     }
-    let (a, b) = rail.domain();
-    let samples: Vec<(DVec3, DVec3)> = (0..sections)
-        .map(|k| {
-            let t = a + (b - a) * k as f64 / (sections - 1) as f64;
-            rail.derivatives(t, 1).map(|d| (d[0], d[1]))
-        })
-        .collect::<Result<_, _>>()?;
-    if samples.iter().any(|(_, d)| !(d.length() > 0.0)) {
-        return Err(construction(
-            "sweep",
-            "the rail has a point with zero tangent",
-        ));
-    }
-    let tangents: Vec<DVec3> = samples.iter().map(|(_, d)| d.normalize()).collect();
-    let (mut r, _) = perpendicular_frame(tangents[0]);
-    let mut frames = vec![(tangents[0], r)];
-    for k in 0..sections - 1 {
-        let (x0, x1) = (samples[k].0, samples[k + 1].0);
-        let (t0, t1) = (tangents[k], tangents[k + 1]);
-        let v1 = x1 - x0;
-        let c1 = v1.dot(v1);
-        let (rl, tl) = if c1 > 0.0 {
-            (
-                r - v1 * (2.0 / c1 * v1.dot(r)),
-                t0 - v1 * (2.0 / c1 * v1.dot(t0)),
-            )
-        } else {
-            (r, t0)
-        };
-        let v2 = t1 - tl;
-        let c2 = v2.dot(v2);
-        r = if c2 > 0.0 {
-            rl - v2 * (2.0 / c2 * v2.dot(rl))
-        } else {
-            rl
-        };
-        r = (r - t1 * r.dot(t1)).normalize();
-        frames.push((t1, r));
-    }
-    let (t0, r0) = frames[0];
-    let start = samples[0].0;
-    let base = DQuat::from_mat3(&glam::DMat3::from_cols(r0, t0.cross(r0), t0));
+    let rail = rail.reparametrized(0.0, 1.0)?;
+    let params: Vec<f64> = (0..sections)
+        .map(|k| k as f64 / (sections - 1) as f64)
+        .collect();
+    let frames = super::sweep::rotation_minimizing_frames(&rail, &params, "sweep")?;
+    let start = frames[0];
     let copies = frames
         .iter()
-        .zip(&samples)
-        .map(|(&(t, r), &(origin, _))| {
-            let frame = DQuat::from_mat3(&glam::DMat3::from_cols(r, t.cross(r), t));
-            let rotation = frame * base.inverse();
-            profile.map_points(|p| origin + rotation * (p - start))
-        })
+        .map(|f| profile.map_points(|p| f.placed(start.local(p))))
         .collect::<Result<Vec<_>, _>>()?;
     loft(&copies, 3)
 }

@@ -322,6 +322,20 @@ impl NurbsCurve<DVec3> {
     }
 }
 
+/// The diagonal of the box around the curves' control points (which contains the curves): the
+/// size that the tolerances of constructions from curves are fractions of; 0 for no points.
+pub fn control_box_size<'a>(curves: impl IntoIterator<Item = &'a SpaceCurve>) -> f64 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for c in curves {
+        for i in 0..c.count() {
+            lo = lo.min(c.control_point(i));
+            hi = hi.max(c.control_point(i));
+        }
+    }
+    if lo.x > hi.x { 0.0 } else { lo.distance(hi) }
+}
+
 /// The weights of `count` control points: `None` means all 1; a list of another length is an
 /// error.
 pub(crate) fn weights_or_ones(

@@ -12,7 +12,7 @@ use glam::{DVec3, DVec4};
 
 use super::basis::uniform_clamped_knots;
 use super::construct::{averaged_knots, construction, interpolate_points, make_compatible};
-use super::curve::SpaceCurve;
+use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
 use super::ops::Polygon;
 use super::splines::{
@@ -62,15 +62,7 @@ pub const MAX_LOFT_DEGREE: usize = 3;
 
 /// The size of the box around the curves' control points (at least 1e-300).
 fn size_of(curves: &[SpaceCurve]) -> f64 {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for c in curves {
-        for i in 0..c.count() {
-            lo = lo.min(c.control_point(i));
-            hi = hi.max(c.control_point(i));
-        }
-    }
-    lo.distance(hi).max(1e-300)
+    control_box_size(curves).max(1e-300)
 }
 
 /// A curve's start and end points.
@@ -297,26 +289,23 @@ fn skinned(
                 .collect();
             (knots, columns)
         }
-        (_, false) => {
+        (_, closed) => {
+            // Through every section: interpolation across, periodic when closed.
             let q = degree.min(k - 1);
-            let params = averaged_parameters(&polys, false)?;
-            let knots = averaged_knots(&params, q);
+            let params = averaged_parameters(&polys, closed)?;
+            let knots = if closed {
+                periodic_knots(&params, q)
+            } else {
+                averaged_knots(&params, q)
+            };
             let columns = (0..n)
                 .map(|i| {
                     let column: Vec<DVec4> = polys.iter().map(|p| p.points[i]).collect();
-                    interpolate_points(&column, &params, q, &knots, WHAT)
-                })
-                .collect::<Result<_, _>>()?;
-            (knots, columns)
-        }
-        (_, true) => {
-            let q = degree.min(k - 1);
-            let params = averaged_parameters(&polys, true)?;
-            let knots = periodic_knots(&params, q);
-            let columns = (0..n)
-                .map(|i| {
-                    let column: Vec<DVec4> = polys.iter().map(|p| p.points[i]).collect();
-                    periodic_control(&column, &params, q, &knots, WHAT)
+                    if closed {
+                        periodic_control(&column, &params, q, &knots, WHAT)
+                    } else {
+                        interpolate_points(&column, &params, q, &knots, WHAT)
+                    }
                 })
                 .collect::<Result<_, _>>()?;
             (knots, columns)

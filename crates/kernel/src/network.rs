@@ -26,7 +26,7 @@
 use glam::DVec3;
 
 use super::construct::{averaged_knots, construction, interpolate_points};
-use super::curve::SpaceCurve;
+use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
 use super::surface::NurbsSurface;
 use super::transfinite::{crossing, gordon_at, normalized, samples};
@@ -99,20 +99,6 @@ struct Strand {
     crossings: Vec<f64>,
 }
 
-/// The diagonal of the box around the curves' control points (at least 1e-300).
-fn network_size(curves: &[&SpaceCurve]) -> f64 {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for c in curves {
-        for i in 0..c.count() {
-            let p = c.control_point(i);
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    lo.distance(hi).max(1e-300)
-}
-
 /// The Gordon surface through a network of curves (see the module documentation): `u_curves`
 /// run along u and `v_curves` along v, each family in any order and direction; every u-curve
 /// must cross every v-curve within [`NETWORK_TOLERANCE`] of the network's size. `degree` is
@@ -141,7 +127,7 @@ pub fn network_surface(
     }
     let us: Vec<SpaceCurve> = u_curves.iter().map(normalized).collect::<Result<_, _>>()?;
     let vs: Vec<SpaceCurve> = v_curves.iter().map(normalized).collect::<Result<_, _>>()?;
-    let size = network_size(&us.iter().chain(&vs).collect::<Vec<_>>());
+    let size = control_box_size(us.iter().chain(&vs)).max(1e-300);
     // Every crossing: at_u[k][l] on u-curve k, at_v[l][k] on v-curve l.
     let u_samples: Vec<Vec<DVec3>> = us.iter().map(samples).collect::<Result<_, _>>()?;
     let v_samples: Vec<Vec<DVec3>> = vs.iter().map(samples).collect::<Result<_, _>>()?;

@@ -6,7 +6,7 @@
 use glam::{DVec2, DVec3};
 
 use super::construct::{construction, plane};
-use super::curve::{SpaceCurve, TrimCurve};
+use super::curve::{SpaceCurve, TrimCurve, control_box_size};
 use super::error::GeometryError;
 use super::trim::TrimmedSurface;
 
@@ -101,15 +101,7 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
     if boundary.is_empty() {
         return Err(construction(WHAT, "the boundary has no curves"));
     }
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for c in boundary {
-        for i in 0..c.count() {
-            lo = lo.min(c.control_point(i));
-            hi = hi.max(c.control_point(i));
-        }
-    }
-    let size = lo.distance(hi);
+    let size = control_box_size(boundary);
     if !(size > 0.0) {
         return Err(construction(WHAT, "the boundary has no extent"));
     }

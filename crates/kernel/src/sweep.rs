@@ -36,7 +36,7 @@ const FRAME_SUBSTEPS: usize = 8;
 
 /// An orthonormal frame at a point: `axes` maps local coordinates to space.
 #[derive(Debug, Clone, Copy)]
-struct Frame {
+pub(super) struct Frame {
     origin: DVec3,
     axes: DMat3,
     /// Local coordinates are scaled by this before the axes apply (1 for one rail; the distance
@@ -45,11 +45,13 @@ struct Frame {
 }
 
 impl Frame {
-    fn local(self, p: DVec3) -> DVec3 {
+    /// The local coordinates of the point `p`.
+    pub(super) fn local(self, p: DVec3) -> DVec3 {
         self.axes.transpose() * (p - self.origin) / self.scale
     }
 
-    fn placed(self, local: DVec3) -> DVec3 {
+    /// The point at local coordinates `local`.
+    pub(super) fn placed(self, local: DVec3) -> DVec3 {
         self.origin + self.axes * (local * self.scale)
     }
 }
@@ -257,7 +259,7 @@ fn nearest_rail_parameter(rail: &SpaceCurve, profile: &SpaceCurve) -> Result<f64
 /// Rotation-minimising frames at `params` (increasing, on [0, 1]) by double reflection with
 /// [`FRAME_SUBSTEPS`] steps between consecutive parameters, starting from a frame whose first
 /// axis is perpendicular to the start tangent.
-fn rotation_minimizing_frames(
+pub(super) fn rotation_minimizing_frames(
     rail: &SpaceCurve,
     params: &[f64],
     what: &'static str,
