@@ -149,6 +149,7 @@ fn construct_requests() -> Vec<String> {
         serde_json::json!({"construct": "interpolate", "points": points, "degree": 3, "closed": true}),
         serde_json::json!({"construct": "catmull_rom", "points": points, "alpha": 1.0}),
         serde_json::json!({"construct": "gordon", "u_curves": [value(&c[3]), value(&c[4])], "v_curves": [value(&c[5]), value(&c[6])]}),
+        serde_json::json!({"construct": "edge", "curves": [value(&c[3]), value(&c[6]), value(&c[4]), value(&c[5])]}),
         serde_json::json!({"construct": "rebuild", "curve": value(&c[0]), "points": 8, "degree": 3}),
         serde_json::json!({"construct": "fit", "curve": value(&c[7]), "tolerance": 0.001}),
         serde_json::json!({"construct": "offset", "curve": value(&c[0]), "distance": 0.25}),

@@ -923,6 +923,25 @@ fn knotwork_construct_builds_surfaces_from_the_users_curves() {
         assert!((p - corners[0]).dot(normal).abs() < 1e-12);
     }
 
+    // Edge curves: the square's four sides given as a chain, one backwards; and three of them
+    // with a closing diagonal.
+    let edge = untrimmed(constructed_surface(
+        &serde_json::json!({"construct": "edge", "curves": values(&edges)}),
+    ));
+    for c in &edges {
+        let d = curve_to_surface(c, &edge);
+        assert!(d < 1e-9, "edge surface: a side is {d:e} away");
+    }
+    let diagonal = knotwork::kernel::construct::line(corners[2], corners[0]).unwrap();
+    let triangle = untrimmed(constructed_surface(&serde_json::json!({
+        "construct": "edge", "curves": [curve_value(&edges[0]), curve_value(&edges[1]), curve_value(&diagonal)]
+    })));
+    for i in 0..=10 {
+        let t = i as f64 / 10.0;
+        let p = triangle.point_at(t, 0.0).unwrap();
+        assert!(p.distance(edges[0].point_at(t).unwrap()) < 1e-12);
+    }
+
     // Requests that cannot be built: exit 1 with the reason.
     let bent = {
         let mut e = edges.clone();

@@ -36,6 +36,8 @@
 //!   `direction` by `angle` degrees (negative turns the other way).
 //! - `{"construct": "planar", "boundary": [c, ...]}`: the plane trimmed by the closed planar
 //!   chain of curves, given end to end ([`crate::kernel::planar`]).
+//! - `{"construct": "edge", "curves": [c, c(, c, c)]}`: the surface bounded by 2 to 4 edge
+//!   curves ([`crate::kernel::edge`]).
 //! - Curve edits, each printing a `nurbs_curve` ([`crate::kernel::fit`],
 //!   [`crate::kernel::curve_edit`]): `{"construct": "rebuild", "curve": c, "points": 12,
 //!   "degree": 3}`, `{"construct": "fit", "curve": c, "tolerance": 1e-4}` and
@@ -135,6 +137,9 @@ enum Request {
     },
     Planar {
         boundary: Vec<Value>,
+    },
+    Edge {
+        curves: Vec<Value>,
     },
     Rebuild {
         curve: Value,
@@ -516,6 +521,12 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
             };
             loft_sections(&sections, &options)
                 .map(|s| (s, "loft"))
+                .map_err(geometry)
+        }
+        Request::Edge { curves: raw } => {
+            let edges = curves("curves", raw)?;
+            crate::kernel::edge::edge_surface(&edges)
+                .map(|s| (s, "edge surface"))
                 .map_err(geometry)
         }
         Request::Sweep1 { rail, profiles, up } => {

@@ -32,6 +32,7 @@ pub mod curve;
 pub mod curve_edit;
 pub mod diffgeo;
 pub mod displace;
+pub mod edge;
 pub mod error;
 pub mod ffd;
 pub mod fit;
