@@ -583,6 +583,12 @@ mod cli {
             }
             match output {
                 None => Ok(knotwork::io::construct::geometry_value(geometry, name).to_string()),
+                Some(_) if matches!(geometry, knotwork::scene::json::Geometry::Curve(_)) => {
+                    Err(format!(
+                        "the {name} is a curve, and the editor opens surfaces only: leave out -o \
+                         to print it"
+                    ))
+                }
                 Some(out) => {
                     let objects = [knotwork::scene::json::NamedGeometry {
                         name: Some(name.to_string()),

@@ -703,6 +703,19 @@ fn knotwork_construct_builds_curves_through_points() {
             assert!(gap < 1e-9, "{request}: point {k} is {gap:e} away");
         }
     }
+    // A curve written as a file the editor would refuse: refused here, with what to do.
+    let request = std::env::temp_dir().join(format!("knotwork-curve-{}.json", std::process::id()));
+    std::fs::write(
+        &request,
+        serde_json::json!({"construct": "interpolate", "points": points}).to_string(),
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(["construct", &request.to_string_lossy(), "-o", "/dev/null"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("leave out -o"));
     for (request, message) in [
         (
             serde_json::json!({"construct": "catmull_rom", "points": points[..3]}),
