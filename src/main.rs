@@ -50,8 +50,9 @@ mod cli {
         /// as nurbs_curve objects) and
         /// prints the NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
         /// {"construct": "interpolate", "points", "degree", "closed", "parametrization",
-        /// "tangents"}, {"construct": "catmull_rom", "points", "alpha"} and the curve edits
-        /// rebuild, fit, offset, project and extend print a nurbs_curve.
+        /// "tangents"}, {"construct": "catmull_rom", "points", "alpha"}, circle, ellipse, arc,
+        /// polyline, hermite_spline and the curve edits rebuild, fit, offset, project and
+        /// extend print a nurbs_curve.
         Construct {
             /// The request file, or - for standard input.
             request: String,

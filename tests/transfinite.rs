@@ -1081,3 +1081,93 @@ fn knotwork_construct_edits_curves() {
         assert_refused(&request, message);
     }
 }
+
+/// `knotwork construct` makes exact curves: circles and ellipses in any plane, arcs through
+/// three points, polylines (open and closed) and Hermite splines, each checked against its
+/// closed form.
+#[test]
+fn knotwork_construct_makes_exact_curves() {
+    use glam::DVec3;
+    let sample = |c: &SpaceCurve, n: usize| -> Vec<DVec3> {
+        (0..=n)
+            .map(|i| c.point_at(c.parameter_at(i as f64 / n as f64)).unwrap())
+            .collect()
+    };
+    let centre = DVec3::new(1.0, 2.0, -1.0);
+    let normal = DVec3::new(1.0, 1.0, 2.0).normalize();
+    let (circle, _) = constructed_curve(&serde_json::json!({
+        "construct": "circle", "center": centre.to_array(), "normal": normal.to_array(), "radius": 1.5
+    }));
+    for p in sample(&circle, 100) {
+        assert!((p.distance(centre) - 1.5).abs() < 1e-12);
+        assert!((p - centre).dot(normal).abs() < 1e-12);
+    }
+    let (ellipse, _) = constructed_curve(&serde_json::json!({
+        "construct": "ellipse", "center": centre.to_array(), "normal": [0, 0, 1], "radii": [3.0, 1.0]
+    }));
+    for p in sample(&ellipse, 100) {
+        let d = p - centre;
+        assert!(
+            ((d.x / 3.0).powi(2) + d.y.powi(2) - 1.0).abs() < 1e-12,
+            "{p}"
+        );
+        assert!(d.z.abs() < 1e-12);
+    }
+    let (a, b, c) = (
+        DVec3::new(2.0, 0.0, 1.0),
+        DVec3::new(0.0, 1.0, 1.5),
+        DVec3::new(-1.0, -1.0, 0.0),
+    );
+    let (arc, _) = constructed_curve(
+        &serde_json::json!({"construct": "arc", "points": [a.to_array(), b.to_array(), c.to_array()]}),
+    );
+    assert!(arc.point_at(arc.domain().0).unwrap().distance(a) < 1e-12);
+    assert!(arc.point_at(arc.domain().1).unwrap().distance(c) < 1e-12);
+    assert!(
+        distance_to_curve(&arc, b) < 1e-9,
+        "the arc misses its middle point"
+    );
+    // The circumradius R = |AB| |BC| |CA| / (4 · area).
+    let area = (b - a).cross(c - a).length() / 2.0;
+    let radius = a.distance(b) * b.distance(c) * c.distance(a) / (4.0 * area);
+    let points = sample(&arc, 50);
+    for w in points.windows(3) {
+        // Three neighbouring points of the arc share its circumradius.
+        let (p, q, r) = (w[0], w[1], w[2]);
+        let area = (q - p).cross(r - p).length() / 2.0;
+        let rr = p.distance(q) * q.distance(r) * r.distance(p) / (4.0 * area);
+        assert!((rr - radius).abs() < 1e-6 * radius, "{rr} vs {radius}");
+    }
+    let corners = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]];
+    let (square, _) = constructed_curve(
+        &serde_json::json!({"construct": "polyline", "points": corners, "closed": true}),
+    );
+    assert_eq!(square.degree(), 1);
+    assert!(
+        square
+            .point_at(0.0)
+            .unwrap()
+            .distance(square.point_at(1.0).unwrap())
+            < 1e-15
+    );
+    for p in corners {
+        assert!(distance_to_curve(&square, DVec3::from(p)) < 1e-12);
+    }
+    let (hermite, _) = constructed_curve(&serde_json::json!({
+        "construct": "hermite_spline", "points": [[0, 0, 0], [1, 1, 0], [3, 0, 0]],
+        "tangents": [[1, 0, 0], [1, 0, 0], [0, -1, 0]], "parameters": [0, 1, 2]
+    }));
+    let d = hermite.derivatives(1.0, 1).unwrap();
+    assert!(d[0].distance(DVec3::new(1.0, 1.0, 0.0)) < 1e-12);
+    assert!(d[1].distance(DVec3::X) < 1e-12);
+    let end = hermite.derivatives(2.0, 1).unwrap();
+    assert!(end[1].distance(-DVec3::Y) < 1e-12);
+    assert_refused(
+        &serde_json::json!({"construct": "arc", "points": [[0, 0, 0], [1, 1, 1], [2, 2, 2]]}),
+        "one line",
+    );
+    assert_refused(
+        &serde_json::json!({"construct": "ellipse", "center": [0, 0, 0], "radii": [1, 0]}),
+        "radius",
+    );
+}

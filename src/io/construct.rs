@@ -38,6 +38,12 @@
 //!   chain of curves, given end to end ([`crate::kernel::planar`]).
 //! - `{"construct": "edge", "curves": [c, c(, c, c)]}`: the surface bounded by 2 to 4 edge
 //!   curves ([`crate::kernel::edge`]).
+//! - Curves, each printing an exact `nurbs_curve`: `{"construct": "circle", "center": [...],
+//!   "normal": [0, 0, 1], "radius": r, "x_axis": [1, 0, 0]}`, `{"construct": "ellipse", "center",
+//!   "normal", "radii": [a, b], "x_axis"}`, `{"construct": "arc", "points": [start, through,
+//!   end]}`, `{"construct": "polyline", "points": [...], "closed": false}` and `{"construct":
+//!   "hermite_spline", "points": [...], "tangents": [...], "parameters": [...]}` (parameters
+//!   default to chord length).
 //! - Curve edits, each printing a `nurbs_curve` ([`crate::kernel::fit`],
 //!   [`crate::kernel::curve_edit`]): `{"construct": "rebuild", "curve": c, "points": 12,
 //!   "degree": 3}`, `{"construct": "fit", "curve": c, "tolerance": 1e-4}` and
@@ -141,6 +147,37 @@ enum Request {
     Edge {
         curves: Vec<Value>,
     },
+    Circle {
+        center: [f64; 3],
+        #[serde(default = "default_normal")]
+        normal: [f64; 3],
+        radius: f64,
+        #[serde(default = "default_x_axis")]
+        x_axis: [f64; 3],
+    },
+    Ellipse {
+        center: [f64; 3],
+        #[serde(default = "default_normal")]
+        normal: [f64; 3],
+        radii: [f64; 2],
+        #[serde(default = "default_x_axis")]
+        x_axis: [f64; 3],
+    },
+    Arc {
+        points: [[f64; 3]; 3],
+    },
+    Polyline {
+        points: Vec<[f64; 3]>,
+        #[serde(default)]
+        closed: bool,
+    },
+    #[serde(rename = "hermite_spline")]
+    HermiteSpline {
+        points: Vec<[f64; 3]>,
+        tangents: Vec<[f64; 3]>,
+        #[serde(default)]
+        parameters: Option<Vec<f64>>,
+    },
     Rebuild {
         curve: Value,
         points: usize,
@@ -218,6 +255,14 @@ struct Axis {
 
 fn default_angle() -> f64 {
     360.0
+}
+
+fn default_normal() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+fn default_x_axis() -> [f64; 3] {
+    [1.0, 0.0, 0.0]
 }
 
 /// How an interpolant's parameters are spaced, as a request names it.
@@ -368,6 +413,64 @@ pub fn build(text: &str) -> Result<Built, FormatError> {
             let chain = curves("boundary", boundary)?;
             planar_face(&chain)
                 .map(|face| Built::plain((Geometry::TrimmedSurface(face), "planar face")))
+                .map_err(geometry)
+        }
+        Request::Circle {
+            center,
+            normal,
+            radius,
+            x_axis,
+        } => construct::circle(
+            DVec3::from(center),
+            DVec3::from(normal),
+            DVec3::from(x_axis),
+            radius,
+        )
+        .map(|c| Built::plain((Geometry::Curve(c), "circle")))
+        .map_err(geometry),
+        Request::Ellipse {
+            center,
+            normal,
+            radii,
+            x_axis,
+        } => construct::ellipse(
+            DVec3::from(center),
+            DVec3::from(normal),
+            DVec3::from(x_axis),
+            radii,
+        )
+        .map(|c| Built::plain((Geometry::Curve(c), "ellipse")))
+        .map_err(geometry),
+        Request::Arc { points: [a, b, c] } => {
+            construct::arc_through(DVec3::from(a), DVec3::from(b), DVec3::from(c))
+                .map(|c| Built::plain((Geometry::Curve(c), "arc")))
+                .map_err(geometry)
+        }
+        Request::Polyline {
+            points: raw,
+            closed,
+        } => {
+            let mut q = points(&raw);
+            if closed && let Some(&first) = q.first() {
+                q.push(first);
+            }
+            construct::polyline(&q)
+                .map(|c| Built::plain((Geometry::Curve(c), "polyline")))
+                .map_err(geometry)
+        }
+        Request::HermiteSpline {
+            points: raw,
+            tangents,
+            parameters,
+        } => {
+            let q = points(&raw);
+            let params = match parameters {
+                Some(p) => p,
+                None => splines::parameters(&q, Parametrization::ChordLength, "Hermite spline")
+                    .map_err(geometry)?,
+            };
+            splines::hermite_spline(&q, &points(&tangents), &params)
+                .map(|c| Built::plain((Geometry::Curve(c), "Hermite spline")))
                 .map_err(geometry)
         }
         Request::Rebuild {
@@ -578,7 +681,12 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
         | Request::Fit { .. }
         | Request::Offset { .. }
         | Request::Project { .. }
-        | Request::Extend { .. } => Err(FormatError::new(
+        | Request::Extend { .. }
+        | Request::Circle { .. }
+        | Request::Ellipse { .. }
+        | Request::Arc { .. }
+        | Request::Polyline { .. }
+        | Request::HermiteSpline { .. } => Err(FormatError::new(
             "construct",
             "this request does not build an untrimmed surface",
         )),

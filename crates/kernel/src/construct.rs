@@ -137,6 +137,55 @@ pub fn circle(
     arc(center, x, n.cross(x), radius, 0.0, TAU)
 }
 
+/// The ellipse around `center` in the plane with unit normal `normal` (counter-clockwise seen
+/// from its tip), with semi-axis `radii[0]` along `x` (projected into the plane) and `radii[1]`
+/// across: the unit circle's rational quadratic scaled along the two axes, an affine map, so
+/// the ellipse is exact.
+pub fn ellipse(
+    center: DVec3,
+    normal: DVec3,
+    x: DVec3,
+    radii: [f64; 2],
+) -> Result<SpaceCurve, GeometryError> {
+    check_positive("ellipse", "first radius", radii[0])?;
+    check_positive("ellipse", "second radius", radii[1])?;
+    let unit = circle(DVec3::ZERO, normal, x, 1.0)?;
+    let n = normal.normalize();
+    let x = (x - n * x.dot(n)).normalize();
+    let y = n.cross(x);
+    unit.map_points(|p| center + x * (p.dot(x) * radii[0]) + y * (p.dot(y) * radii[1]))
+}
+
+/// The circular arc from `start` through `through` to `end` (three points not on a line): its
+/// centre is their circumcentre, and it turns from `start` toward `through`. Exact.
+pub fn arc_through(start: DVec3, through: DVec3, end: DVec3) -> Result<SpaceCurve, GeometryError> {
+    let coordinates: Vec<f64> = [start, through, end]
+        .iter()
+        .flat_map(|p| p.to_array())
+        .collect();
+    check_finite("arc", &coordinates)?;
+    let (a, b) = (through - start, end - start);
+    let normal = a.cross(b);
+    if !(normal.length() > 1e-12 * a.length().max(b.length()).powi(2)) {
+        return Err(construction(
+            "arc",
+            "the three points are on one line (or two coincide)",
+        ));
+    }
+    // The circumcentre: start + (|a|² (b × n) + |b|² (n × a)) / (2 |n|²), n = a × b.
+    let center = start
+        + (normal.cross(a) * b.length_squared() + b.cross(normal) * a.length_squared())
+            / (2.0 * normal.length_squared());
+    let radius = start.distance(center);
+    let x = (start - center) / radius;
+    let y = normal.normalize().cross(x);
+    let angle_of = |p: DVec3| {
+        let d = p - center;
+        d.dot(y).atan2(d.dot(x)).rem_euclid(TAU)
+    };
+    arc(center, x, y, radius, 0.0, angle_of(end))
+}
+
 /// Chord-length parameters t_0 = 0 … t_n = 1 (The NURBS Book, eq. 9.5). Coincident
 /// consecutive points are an error.
 fn chord_length_parameters<V: Vector>(
