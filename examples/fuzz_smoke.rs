@@ -150,6 +150,7 @@ fn construct_requests() -> Vec<String> {
         serde_json::json!({"construct": "catmull_rom", "points": points, "alpha": 1.0}),
         serde_json::json!({"construct": "gordon", "u_curves": [value(&c[3]), value(&c[4])], "v_curves": [value(&c[5]), value(&c[6])]}),
         serde_json::json!({"construct": "edge", "curves": [value(&c[3]), value(&c[6]), value(&c[4]), value(&c[5])]}),
+        serde_json::json!({"construct": "extrude", "curve": value(&c[0]), "path": value(&c[7])}),
         serde_json::json!({"construct": "circle", "center": [1, 2, 3], "normal": [0, 1, 1], "radius": 2}),
         serde_json::json!({"construct": "ellipse", "center": [0, 0, 0], "radii": [2, 1], "x_axis": [1, 1, 0]}),
         serde_json::json!({"construct": "arc", "points": [[1, 0, 0], [0, 1, 0], [-1, 0, 0.5]]}),

@@ -46,7 +46,8 @@ mod cli {
         /// "closed", "style"}, {"construct": "network", "u_curves", "v_curves", "degree"},
         /// {"construct": "sweep1", "rail", "profiles", "up"}, {"construct": "sweep2", "rails",
         /// "profiles"}, {"construct": "revolve", "profile", "axis": {"origin", "direction"},
-        /// "angle"}, {"construct": "planar", "boundary"} or {"construct": "edge", "curves"} (curves
+        /// "angle"}, {"construct": "planar", "boundary"}, {"construct": "edge", "curves"} or {"construct":
+        /// "extrude", "curve", "direction" or "path"} (curves
         /// as nurbs_curve objects) and
         /// prints the NURBS surface as a nurbs_surface object, or writes it as a knotwork file;
         /// {"construct": "interpolate", "points", "degree", "closed", "parametrization",

@@ -955,6 +955,28 @@ fn knotwork_construct_builds_surfaces_from_the_users_curves() {
         assert!(p.distance(edges[0].point_at(t).unwrap()) < 1e-12);
     }
 
+    // Extrusions: along a vector, and a rational circle along a rational arc (exact: every
+    // point is a circle point plus an arc point minus the arc's start).
+    let straight = untrimmed(constructed_surface(&serde_json::json!({
+        "construct": "extrude", "curve": curve_value(&profile), "direction": [0, 0, 2]
+    })));
+    let top = straight.point_at(0.5, 1.0).unwrap();
+    assert!(top.distance(profile.point_at(0.5).unwrap() + DVec3::new(0.0, 0.0, 2.0)) < 1e-12);
+    let round = circle(DVec3::ZERO, DVec3::Z, DVec3::X, 1.0).unwrap();
+    let path = arc(DVec3::ZERO, DVec3::X, DVec3::Z, 3.0, 0.0, PI / 2.0).unwrap();
+    let along = untrimmed(constructed_surface(&serde_json::json!({
+        "construct": "extrude", "curve": curve_value(&round), "path": curve_value(&path)
+    })));
+    for (u, v) in grid(5) {
+        let expected =
+            round.point_at(u).unwrap() + path.point_at(v).unwrap() - path.point_at(0.0).unwrap();
+        let got = along.point_at(u, v).unwrap();
+        assert!(
+            got.distance(expected) < 1e-12,
+            "extrude along a path at ({u}, {v})"
+        );
+    }
+
     // Requests that cannot be built: exit 1 with the reason.
     let bent = {
         let mut e = edges.clone();
@@ -988,6 +1010,10 @@ fn knotwork_construct_builds_surfaces_from_the_users_curves() {
         (
             serde_json::json!({"construct": "loft", "curves": values(&sections), "degree": 7}),
             "must be 1 to 3",
+        ),
+        (
+            serde_json::json!({"construct": "extrude", "curve": curve_value(&profile)}),
+            "one of them",
         ),
     ] {
         assert_refused(&request, message);

@@ -38,6 +38,8 @@
 //!   chain of curves, given end to end ([`crate::kernel::planar`]).
 //! - `{"construct": "edge", "curves": [c, c(, c, c)]}`: the surface bounded by 2 to 4 edge
 //!   curves ([`crate::kernel::edge`]).
+//! - `{"construct": "extrude", "curve": c, "direction": [x, y, z]}` or `..., "path": c}`: the
+//!   curve moved along a vector or along a path curve (exact).
 //! - Curves, each printing an exact `nurbs_curve`: `{"construct": "circle", "center": [...],
 //!   "normal": [0, 0, 1], "radius": r, "x_axis": [1, 0, 0]}`, `{"construct": "ellipse", "center",
 //!   "normal", "radii": [a, b], "x_axis"}`, `{"construct": "arc", "points": [start, through,
@@ -146,6 +148,13 @@ enum Request {
     },
     Edge {
         curves: Vec<Value>,
+    },
+    Extrude {
+        curve: Value,
+        #[serde(default)]
+        direction: Option<[f64; 3]>,
+        #[serde(default)]
+        path: Option<Value>,
     },
     Circle {
         center: [f64; 3],
@@ -625,6 +634,25 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
             loft_sections(&sections, &options)
                 .map(|s| (s, "loft"))
                 .map_err(geometry)
+        }
+        Request::Extrude {
+            curve: raw,
+            direction,
+            path,
+        } => {
+            let c = curve("curve", raw)?;
+            match (direction, path) {
+                (Some(d), None) => construct::extrude(&c, DVec3::from(d)),
+                (None, Some(p)) => construct::extrude_along(&c, &curve("path", p)?),
+                _ => {
+                    return Err(FormatError::new(
+                        "construct",
+                        "an extrusion takes a \"direction\" or a \"path\", one of them",
+                    ));
+                }
+            }
+            .map(|s| (s, "extrusion"))
+            .map_err(geometry)
         }
         Request::Edge { curves: raw } => {
             let edges = curves("curves", raw)?;

@@ -327,6 +327,30 @@ pub fn extrude(curve: &SpaceCurve, direction: DVec3) -> Result<NurbsSurface, Geo
     )
 }
 
+/// The translational surface of `curve` moved along `path`: S(u, v) = C(u) + P(v) − P(v₀)
+/// (u along the curve, v along the path). Exact for rational curves too: with control points
+/// C_i + P_j − P(v₀) and weights w_i·ω_j, the numerator splits into C(u)·Σ M_j ω_j and
+/// P(v)·Σ N_i w_i, so the quotient is C(u) + P(v).
+pub fn extrude_along(curve: &SpaceCurve, path: &SpaceCurve) -> Result<NurbsSurface, GeometryError> {
+    let start = path.point_at(path.domain().0)?;
+    let (n, m) = (curve.count(), path.count());
+    let mut points = Vec::with_capacity(n * m);
+    for i in 0..n {
+        let (c, w) = (curve.control_point(i), curve.weight(i));
+        for j in 0..m {
+            let (p, omega) = (path.control_point(j), path.weight(j));
+            let weight = w * omega;
+            points.push(((c + p - start) * weight).extend(weight));
+        }
+    }
+    NurbsSurface::from_homogeneous(
+        [curve.degree(), path.degree()],
+        [curve.knots().to_vec(), path.knots().to_vec()],
+        [n, m],
+        points,
+    )
+}
+
 /// The ruled surface S(u, v) = (1 − v) C0(u) + v C1(u), after making the curves compatible
 /// (for rational curves this is the ruled surface between their homogeneous forms, which is the
 /// standard NURBS ruled surface; The NURBS Book §8.3).
