@@ -699,6 +699,86 @@ fn bench_construct(
     Ok(())
 }
 
+/// Four closed 16-point section curves and their loft, one of whose points moves a little
+/// further at every step (a drag with construction history, as the kernel sees it).
+struct LoftDrag {
+    sections: Vec<crate::kernel::SpaceCurve>,
+    step: usize,
+}
+
+impl LoftDrag {
+    fn new() -> Result<Self, crate::kernel::GeometryError> {
+        use glam::DVec3;
+        let section = |z: f64, wobble: f64| {
+            let points: Vec<DVec3> = (0..16)
+                .map(|i| {
+                    let a = i as f64 / 16.0 * std::f64::consts::TAU;
+                    DVec3::new(a.cos() * (2.0 + wobble * (3.0 * a).sin()), a.sin() * 2.0, z)
+                })
+                .collect();
+            crate::kernel::splines::interpolate_closed(
+                &points,
+                3,
+                crate::kernel::splines::Parametrization::ChordLength,
+            )
+        };
+        Ok(Self {
+            sections: vec![
+                section(0.0, 0.2)?,
+                section(1.0, 0.5)?,
+                section(2.5, 0.1)?,
+                section(3.0, 0.4)?,
+            ],
+            step: 0,
+        })
+    }
+
+    /// Moves point 5 of the second section and lofts again.
+    fn step(&mut self) -> Result<crate::kernel::NurbsSurface, crate::kernel::GeometryError> {
+        use crate::kernel::loft::{LoftOptions, loft_sections};
+        self.step += 1;
+        let moved = &self.sections[1];
+        let mut points: Vec<glam::DVec3> =
+            (0..moved.count()).map(|i| moved.control_point(i)).collect();
+        points[5] += glam::DVec3::new(0.0, 0.0, 0.01 * self.step as f64);
+        self.sections[1] =
+            crate::kernel::SpaceCurve::new(moved.degree(), moved.knots().to_vec(), points, None)?;
+        loft_sections(&self.sections, &LoftOptions::default())
+    }
+}
+
+/// Dragging a point of a section of a loft with construction history: the loft rebuilt, its
+/// GPU feed re-derived and uploaded, and the compute pass run and waited for (wall time).
+fn bench_loft_drag(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut drag = LoftDrag::new()?;
+    let object = SceneObject::new("loft", crate::scene::ObjectGeometry::new(drag.step()?));
+    let (mut doc, mut sync) = document_on_gpu(context, object)?;
+    evaluate_once(context, &mut sync, &mut None)?;
+    let mut times = Vec::new();
+    for i in 0..iterations.max(3) + 2 {
+        let start = Instant::now();
+        doc.scene.objects[0].geometry = crate::scene::ObjectGeometry::new(drag.step()?);
+        sync.refresh_object(&doc.scene, 0, None)?;
+        evaluate_once(context, &mut sync, &mut None)?;
+        if i >= 2 {
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+    writeln!(
+        out,
+        "loft drag (4 closed sections of 16 points) | {:>7} patches {:>9} vertices | rebuild + GPU re-evaluation {:8.3} ms (wall, median)",
+        geometry.patch_count(),
+        geometry.vertex_count(),
+        median(times)
+    )?;
+    Ok(())
+}
+
 /// The constructions from a user's curves (f64): the loft of four 16-point section curves
 /// rebuilt after one point moves (what a drag with construction history does per mouse
 /// move), a network of 10 × 10 iso-curves of the landscape that all need refitting, and a
@@ -708,40 +788,12 @@ fn bench_modelling(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::loft::{LoftOptions, loft_sections};
     use crate::kernel::network::network_surface;
     use crate::kernel::{Direction, SpaceCurve};
     use glam::DVec3;
     let runs = iterations.clamp(1, 5);
-    let section = |z: f64, wobble: f64| -> Result<SpaceCurve, crate::kernel::GeometryError> {
-        let points: Vec<DVec3> = (0..16)
-            .map(|i| {
-                let a = i as f64 / 16.0 * std::f64::consts::TAU;
-                DVec3::new(a.cos() * (2.0 + wobble * (3.0 * a).sin()), a.sin() * 2.0, z)
-            })
-            .collect();
-        crate::kernel::splines::interpolate_closed(
-            &points,
-            3,
-            crate::kernel::splines::Parametrization::ChordLength,
-        )
-    };
-    let mut sections = vec![
-        section(0.0, 0.2)?,
-        section(1.0, 0.5)?,
-        section(2.5, 0.1)?,
-        section(3.0, 0.4)?,
-    ];
-    let mut step = 0;
-    let (ms, surface) = median_ms(runs.max(3), || {
-        // One control point of the second section moves, as in a drag.
-        step += 1;
-        let moved = &sections[1];
-        let mut points: Vec<DVec3> = (0..moved.count()).map(|i| moved.control_point(i)).collect();
-        points[5] += DVec3::new(0.0, 0.0, 0.01 * step as f64);
-        sections[1] = SpaceCurve::new(moved.degree(), moved.knots().to_vec(), points, None)?;
-        loft_sections(&sections, &LoftOptions::default())
-    })?;
+    let mut drag = LoftDrag::new()?;
+    let (ms, surface) = median_ms(runs.max(3), || drag.step())?;
     let [cu, cv] = surface.count();
     writeln!(
         out,
@@ -1091,6 +1143,7 @@ fn bench_edit(
     big.segments = 16;
     bench_object(context, big, 16 * 32 + 16, iterations, out)?;
 
+    bench_loft_drag(context, iterations, out)?;
     bench_pick(iterations, out)?;
     let mut t = teapot.clone();
     t.segments = 64;
