@@ -29,8 +29,8 @@
 //!   ([`crate::kernel::network`]); the largest deviation from the curves is reported.
 //! - `{"construct": "sweep1", "rail": c, "profiles": [c, ...], "up": [x, y, z]}`: the profiles
 //!   swept along the rail, in rotation-minimising frames or, with `up`, frames that keep that
-//!   direction up; `{"construct": "sweep2", "rails": [c, c], "profiles": [...]}`: between two
-//!   rails ([`crate::kernel::sweep`]).
+//!   direction up; `{"construct": "sweep2", "rails": [c, c], "profiles": [...], "keep_height":
+//!   false}`: between two rails ([`crate::kernel::sweep`]).
 //! - `{"construct": "revolve", "profile": c, "axis": {"origin": [x, y, z], "direction": [x, y,
 //!   z]}, "angle": 360}`: the exact rational surface of revolution, turning right-handed about
 //!   `direction` by `angle` degrees (negative turns the other way).
@@ -136,6 +136,8 @@ enum Request {
     Sweep2 {
         rails: [Value; 2],
         profiles: Vec<Value>,
+        #[serde(default)]
+        keep_height: bool,
     },
     Revolve {
         profile: Value,
@@ -670,11 +672,15 @@ fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), Forma
                 .map(|s| (s, "sweep"))
                 .map_err(geometry)
         }
-        Request::Sweep2 { rails, profiles } => {
+        Request::Sweep2 {
+            rails,
+            profiles,
+            keep_height,
+        } => {
             let [r0, r1] = rails;
             let rails = [curve("rails[0]", r0)?, curve("rails[1]", r1)?];
             let profiles = curves("profiles", profiles)?;
-            sweep_two_rails([&rails[0], &rails[1]], &profiles)
+            sweep_two_rails([&rails[0], &rails[1]], &profiles, keep_height)
                 .map(|s| (s, "two-rail sweep"))
                 .map_err(geometry)
         }

@@ -39,9 +39,10 @@ const FRAME_SUBSTEPS: usize = 8;
 pub(super) struct Frame {
     origin: DVec3,
     axes: DMat3,
-    /// Local coordinates are scaled by this before the axes apply (1 for one rail; the distance
-    /// between the rails for two).
-    scale: f64,
+    /// Local coordinates are scaled by this, per axis, before the axes apply (1 for one rail;
+    /// the distance between the rails for two, along the chord only where the height is
+    /// kept).
+    scale: DVec3,
 }
 
 impl Frame {
@@ -177,7 +178,7 @@ fn frame_from(origin: DVec3, t: DVec3, r: DVec3) -> Frame {
     Frame {
         origin,
         axes: DMat3::from_cols(r, t.cross(r), t),
-        scale: 1.0,
+        scale: DVec3::ONE,
     }
 }
 
@@ -303,12 +304,14 @@ pub(super) fn rotation_minimizing_frames(
 /// from the first rail to the second (a profile given the other way round is reversed; the
 /// second rail is reversed if it runs against the first). At a section the frame's first axis
 /// is the chord from rail 0 to rail 1, the third is the rails' mean tangent made
-/// perpendicular to it, and local coordinates scale with the chord's length, so a profile whose
+/// perpendicular to it, and local coordinates scale with the chord's length (only along the
+/// chord with `keep_height`, so that the profiles keep their height), so a profile whose
 /// ends lie on the rails gives sections whose ends lie on them too. u runs along the profiles,
 /// v along the rails.
 pub fn sweep_two_rails(
     rails: [&SpaceCurve; 2],
     profiles: &[SpaceCurve],
+    keep_height: bool,
 ) -> Result<NurbsSurface, GeometryError> {
     const WHAT: &str = "sweep2";
     if profiles.is_empty() {
@@ -415,7 +418,11 @@ pub fn sweep_two_rails(
         Ok(Frame {
             origin: p0,
             axes: DMat3::from_cols(x, z.cross(x), z),
-            scale: length,
+            scale: if keep_height {
+                DVec3::new(length, 1.0, 1.0)
+            } else {
+                DVec3::splat(length)
+            },
         })
     };
     let params = section_parameters(&at, section_count(&[&r0, &r1]));
@@ -497,12 +504,40 @@ mod tests {
             .unwrap()
         };
         let profiles = [bump(0.0, 2.0), bump(4.0, 6.0).reverse(), bump(2.0, 4.0)];
-        let s = sweep_two_rails([&r0, &r1], &profiles).unwrap();
+        let s = sweep_two_rails([&r0, &r1], &profiles, false).unwrap();
         for p in &profiles {
             assert!(distance_from(&s, p) < 1e-9);
         }
         assert!(distance_from(&s, &r0) < 1e-6, "{}", distance_from(&s, &r0));
         assert!(distance_from(&s, &r1) < 1e-6, "{}", distance_from(&s, &r1));
+    }
+
+    #[test]
+    fn a_two_rail_sweep_keeps_the_profile_height_when_asked() {
+        // Rails 2 apart at the start and 6 at the end; one arch 2 wide and 0.6 high.
+        let r0 = line(DVec3::ZERO, DVec3::new(0.0, 4.0, 0.0)).unwrap();
+        let r1 = line(DVec3::new(2.0, 0.0, 0.0), DVec3::new(6.0, 4.0, 0.0)).unwrap();
+        let arch = interpolate(
+            &[
+                DVec3::ZERO,
+                DVec3::new(1.0, 0.0, 0.6),
+                DVec3::new(2.0, 0.0, 0.0),
+            ],
+            2,
+        )
+        .unwrap();
+        let height_at_end = |keep: bool| {
+            let s = sweep_two_rails([&r0, &r1], std::slice::from_ref(&arch), keep).unwrap();
+            let [(u0, u1), (_, v1)] = s.domain();
+            (0..=100)
+                .map(|i| s.point_at(u0 + (u1 - u0) * i as f64 / 100.0, v1).unwrap().z)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let scaled = height_at_end(false);
+        let kept = height_at_end(true);
+        assert!((kept - 0.6).abs() < 1e-9, "kept height {kept}");
+        // The chord at the end is |(6, 4) − (0, 4)| = 6, three times the start's.
+        assert!((scaled - 1.8).abs() < 1e-9, "scaled height {scaled}");
     }
 
     #[test]
