@@ -35,7 +35,7 @@
 //!   z]}, "angle": 360}`: the exact rational surface of revolution, turning right-handed about
 //!   `direction` by `angle` degrees (negative turns the other way).
 //! - `{"construct": "planar", "boundary": [c, ...]}`: the plane trimmed by the closed planar
-//!   chain of curves, given end to end ([`crate::kernel::planar`]).
+//!   chains of curves, in any order (inner loops make holes; [`crate::kernel::planar`]).
 //! - `{"construct": "edge", "curves": [c, c(, c, c)]}`: the surface bounded by 2 to 4 edge
 //!   curves ([`crate::kernel::edge`]).
 //! - `{"construct": "extrude", "curve": c, "direction": [x, y, z]}` or `..., "path": c}`: the

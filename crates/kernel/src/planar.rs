@@ -1,7 +1,8 @@
-//! Planar faces: a closed chain of planar curves becomes a plane trimmed by the chain. The
-//! plane is a bilinear patch a little larger than the chain's control points; the trim loop is
-//! the chain itself in the plane's (u, v) coordinates, which is exact because the map from the
-//! plane to its parameters is affine and NURBS are affinely invariant (the weights are kept).
+//! Planar faces: closed chains of planar curves become a plane trimmed by them (inner chains
+//! make holes). The plane is a bilinear patch a little larger than the chains' control points;
+//! each trim loop is a chain itself in the plane's (u, v) coordinates, which is exact because
+//! the map from the plane to its parameters is affine and NURBS are affinely invariant (the
+//! weights are kept).
 
 use glam::{DVec2, DVec3};
 
@@ -81,6 +82,67 @@ pub fn chained(curves: &[SpaceCurve], tolerance: f64) -> Result<Vec<SpaceCurve>,
     Ok(chain)
 }
 
+/// The curves sorted into closed loops: each loop starts with the first curve not yet used
+/// and grows at either end by a curve (either way round) that starts or ends there, within
+/// `tolerance`, until it closes. A loop that cannot close is refused.
+pub fn loops_of(
+    curves: &[SpaceCurve],
+    tolerance: f64,
+) -> Result<Vec<Vec<SpaceCurve>>, GeometryError> {
+    const WHAT: &str = "planar";
+    let ends = |c: &SpaceCurve| -> Result<(DVec3, DVec3), GeometryError> {
+        let (a, b) = c.domain();
+        Ok((c.point_at(a)?, c.point_at(b)?))
+    };
+    let mut left: Vec<(usize, SpaceCurve)> = curves.iter().cloned().enumerate().collect();
+    let mut loops = Vec::new();
+    while !left.is_empty() {
+        let (first, curve) = left.remove(0);
+        let mut chain = std::collections::VecDeque::from([curve]);
+        loop {
+            let (start, _) = ends(&chain[0])?;
+            let (_, end) = ends(&chain[chain.len() - 1])?;
+            if start.distance(end) <= tolerance {
+                break;
+            }
+            let mut found = None;
+            for (k, (_, c)) in left.iter().enumerate() {
+                let (a, b) = ends(c)?;
+                if a.distance(end) <= tolerance {
+                    found = Some((k, c.clone(), true));
+                } else if b.distance(end) <= tolerance {
+                    found = Some((k, c.reverse(), true));
+                } else if b.distance(start) <= tolerance {
+                    found = Some((k, c.clone(), false));
+                } else if a.distance(start) <= tolerance {
+                    found = Some((k, c.reverse(), false));
+                }
+                if found.is_some() {
+                    break;
+                }
+            }
+            let Some((k, c, at_end)) = found else {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the boundary is open: the chain from curve {first} ends {:.3e} away \
+                         from where it starts and no other curve continues it",
+                        start.distance(end)
+                    ),
+                ));
+            };
+            left.remove(k);
+            if at_end {
+                chain.push_back(c);
+            } else {
+                chain.push_front(c);
+            }
+        }
+        loops.push(chain.into_iter().collect());
+    }
+    Ok(loops)
+}
+
 /// The plane of a closed chain of points: their centroid and the unit normal of Newell's
 /// method (the polygon's vector area), which turns counter-clockwise with the chain.
 fn newell_plane(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
@@ -93,9 +155,11 @@ fn newell_plane(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
     (normal.length() > 0.0).then(|| (centroid, normal.normalize()))
 }
 
-/// A plane trimmed by the closed chain `boundary` (see the module documentation): its normal
-/// turns counter-clockwise with the chain (the right-hand rule). Refused: an open chain, curves
-/// off one plane by more than [`PLANAR_TOLERANCE`] of the chain's size, a chain on a line.
+/// A plane trimmed by the closed chains `boundary` holds (see the module documentation and
+/// [`loops_of`]: the curves in any order and direction, sorted into loops): one loop gives a
+/// face, loops inside it holes, loops inside holes islands. The normal turns counter-clockwise
+/// with the largest loop (the right-hand rule). Refused: a chain that does not close, curves off
+/// one plane by more than [`PLANAR_TOLERANCE`] of their size, loops on a line, loops that cross.
 pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryError> {
     const WHAT: &str = "planar";
     if boundary.is_empty() {
@@ -105,22 +169,34 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
     if !(size > 0.0) {
         return Err(construction(WHAT, "the boundary has no extent"));
     }
-    let chain = chained(boundary, CHAIN_TOLERANCE * size)?;
-    let mut samples = Vec::with_capacity(chain.len() * SAMPLES);
-    for c in &chain {
-        for i in 0..SAMPLES {
-            samples.push(c.point_at(c.parameter_at(i as f64 / SAMPLES as f64))?);
+    let loops = loops_of(boundary, CHAIN_TOLERANCE * size)?;
+    let sample = |chain: &[SpaceCurve]| -> Result<Vec<DVec3>, GeometryError> {
+        let mut samples = Vec::with_capacity(chain.len() * SAMPLES);
+        for c in chain {
+            for i in 0..SAMPLES {
+                samples.push(c.point_at(c.parameter_at(i as f64 / SAMPLES as f64))?);
+            }
         }
-    }
-    let Some((centre, normal)) = newell_plane(&samples) else {
+        Ok(samples)
+    };
+    let samples: Vec<Vec<DVec3>> = loops.iter().map(|l| sample(l)).collect::<Result<_, _>>()?;
+    // The plane of the loop with the largest area (the outer one): its normal turns with it.
+    let Some((centre, normal)) = samples
+        .iter()
+        .filter_map(|s| newell_plane(s).map(|plane| (vector_area(s), plane)))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, plane)| plane)
+    else {
         return Err(construction(WHAT, "the boundary encloses no area"));
     };
     let off = |p: DVec3| (p - centre).dot(normal).abs();
-    let control = chain
+    let control = loops
         .iter()
+        .flatten()
         .flat_map(|c| (0..c.count()).map(|i| c.control_point(i)));
     if let Some(worst) = samples
         .iter()
+        .flatten()
         .copied()
         .chain(control)
         .max_by(|a, b| off(*a).total_cmp(&off(*b)))
@@ -149,7 +225,7 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
     let local = |p: DVec3| DVec2::new((p - centre).dot(e1), (p - centre).dot(e2));
     let mut min = DVec2::splat(f64::INFINITY);
     let mut max = DVec2::splat(f64::NEG_INFINITY);
-    for c in &chain {
+    for c in loops.iter().flatten() {
         for i in 0..c.count() {
             min = min.min(local(c.control_point(i)));
             max = max.max(local(c.control_point(i)));
@@ -164,12 +240,34 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
         e2 * extent.y,
     )?;
     let to_uv = |p: DVec3| (local(p) - min) / extent;
+    let trims = loops
+        .iter()
+        .map(|chain| trim_loop(chain, &to_uv))
+        .collect::<Result<Vec<_>, _>>()?;
+    TrimmedSurface::new(surface, trims)
+}
+
+/// The length of a closed polygon's vector area (Newell).
+fn vector_area(points: &[DVec3]) -> f64 {
+    let mut area = DVec3::ZERO;
+    for (i, p) in points.iter().enumerate() {
+        area += p.cross(points[(i + 1) % points.len()]);
+    }
+    area.length() / 2.0
+}
+
+/// A closed chain of planar curves as a trim loop in the plane's (u, v) (`to_uv`, affine, so
+/// the control points map exactly and the weights stay), its joints closed exactly: each curve
+/// starts at the end of the one before, and the last ends at the first one's start.
+fn trim_loop(
+    chain: &[SpaceCurve],
+    to_uv: &impl Fn(DVec3) -> DVec2,
+) -> Result<Vec<TrimCurve>, GeometryError> {
     let mut trims: Vec<TrimCurve> = Vec::with_capacity(chain.len());
-    for c in &chain {
+    for c in chain {
         let c = c.clamped();
         let mut points: Vec<DVec2> = (0..c.count()).map(|i| to_uv(c.control_point(i))).collect();
         let weights = (0..c.count()).map(|i| c.weight(i)).collect();
-        // Close the joints exactly: each curve starts at the end of the one before.
         if let Some(previous) = trims.last() {
             points[0] = previous.control_point(previous.count() - 1);
         }
@@ -180,16 +278,14 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
             Some(weights),
         )?);
     }
-    // The last curve ends at the first one's start.
     if let (Some(first), Some(last)) = (trims.first().cloned(), trims.last_mut()) {
         let n = last.count();
-        let start = first.control_point(0);
         let mut points: Vec<DVec2> = (0..n).map(|i| last.control_point(i)).collect();
-        points[n - 1] = start;
+        points[n - 1] = first.control_point(0);
         let weights = (0..n).map(|i| last.weight(i)).collect();
         *last = TrimCurve::new(last.degree(), last.knots().to_vec(), points, Some(weights))?;
     }
-    TrimmedSurface::new(surface, vec![trims])
+    Ok(trims)
 }
 
 #[cfg(test)]
@@ -233,6 +329,29 @@ mod tests {
         let face = planar_face(&[a, b, c, d]);
         let face = face.unwrap();
         assert_eq!(face.loops().len(), 1);
+    }
+
+    #[test]
+    fn a_square_with_a_round_hole_has_the_area_between() {
+        // The square's sides out of order and one reversed, then the circle.
+        let c = [
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(4.0, 4.0, 0.0),
+            DVec3::new(0.0, 4.0, 0.0),
+        ];
+        let side = |k: usize| line(c[k], c[(k + 1) % 4]).unwrap();
+        let hole = circle(DVec3::new(2.0, 2.0, 0.0), DVec3::Z, DVec3::X, 1.0).unwrap();
+        let face = planar_face(&[side(2), hole, side(0), side(3).reverse(), side(1)]).unwrap();
+        assert_eq!(face.loops().len(), 2);
+        let s = face.surface();
+        let corner = s.point_at(0.0, 0.0).unwrap();
+        let side_u = s.point_at(1.0, 0.0).unwrap() - corner;
+        let side_v = s.point_at(0.0, 1.0).unwrap() - corner;
+        let area = face.parameter_area(1e-7) * side_u.cross(side_v).length();
+        assert!((area - (16.0 - PI)).abs() < 1e-5, "area {area}");
+        // The normal follows the square (counter-clockwise seen from +z).
+        assert!(s.normal(0.5, 0.5).unwrap().z > 0.999);
     }
 
     #[test]
