@@ -4,7 +4,7 @@
 //! reads the committed file; it does not need OpenCASCADE.
 
 use glam::DVec3;
-use knotwork::kernel::{NurbsSurface, SpaceCurve, construct, fit, loft, planar};
+use knotwork::kernel::{NurbsSurface, SpaceCurve, construct, fit, planar};
 use serde_json::Value;
 
 fn fixtures() -> Value {
@@ -51,7 +51,7 @@ fn curve(record: &Value) -> SpaceCurve {
 
 /// The distance from `p` to the curve (point inversion).
 fn to_curve(c: &SpaceCurve, p: DVec3) -> f64 {
-    let t = loft::closest_parameter(c, p).unwrap();
+    let t = c.closest_parameter(p).unwrap();
     c.point_at(t).unwrap().distance(p)
 }
 

@@ -348,6 +348,11 @@ fn sides(path: &str, s: Sides) -> Result<[SpaceCurve; 4], FormatError> {
     ])
 }
 
+/// A construction's refusal as the request's error (it concerns the request as a whole).
+fn geometry(e: crate::kernel::GeometryError) -> FormatError {
+    FormatError::new("", e.to_string())
+}
+
 /// What a request built: the geometry, its name, and a line about how well it fits its input
 /// (a network's largest deviation from its curves).
 pub struct Built {
@@ -374,7 +379,6 @@ pub fn build(text: &str) -> Result<Built, FormatError> {
         .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
     let request: Request = serde_path_to_error::deserialize(value)
         .map_err(|e| FormatError::new(e.path().to_string(), e.into_inner().to_string()))?;
-    let geometry = |e: crate::kernel::GeometryError| FormatError::new("", e.to_string());
     let points = |raw: &[[f64; 3]]| -> Vec<DVec3> { raw.iter().map(|&p| DVec3::from(p)).collect() };
     match request {
         Request::Interpolate {
@@ -563,7 +567,6 @@ fn rebuilt_curve(rebuilt: fit::Rebuilt, name: &'static str) -> Built {
 
 /// A surface request's surface and name.
 fn build_surface(request: Request) -> Result<(NurbsSurface, &'static str), FormatError> {
-    let geometry = |e: crate::kernel::GeometryError| FormatError::new("", e.to_string());
     match request {
         Request::Gordon {
             u_curves,

@@ -301,6 +301,12 @@ impl<P: CurvePoint> NurbsCurve<P> {
         Self::from_homogeneous(p, knots, points)
     }
 
+    /// The start and end points C(a) and C(b).
+    pub fn ends(&self) -> Result<(P, P), GeometryError> {
+        let (a, b) = self.domain();
+        Ok((self.point_at(a)?, self.point_at(b)?))
+    }
+
     /// The parameter a `fraction` of the way through the domain [a, b], kept inside it (a +
     /// (b − a)·1 can round past b).
     pub fn parameter_at(&self, fraction: f64) -> f64 {
@@ -315,6 +321,39 @@ impl<P: CurvePoint> NurbsCurve<P> {
 }
 
 impl NurbsCurve<DVec3> {
+    /// The parameter of the curve's point nearest `target`: the nearest of 200 samples at
+    /// evenly spaced parameters, refined by Newton's iteration on C′·(C − P) = 0 (The NURBS Book
+    /// §6.1), clamped to the domain.
+    pub fn closest_parameter(&self, target: DVec3) -> Result<f64, GeometryError> {
+        const SAMPLES: usize = 200;
+        let (a, b) = self.domain();
+        let mut nearest = (f64::INFINITY, 0.0);
+        for i in 0..=SAMPLES {
+            let t = self.parameter_at(i as f64 / SAMPLES as f64);
+            let d = self.point_at(t)?.distance_squared(target);
+            if d < nearest.0 {
+                nearest = (d, t);
+            }
+        }
+        let mut t = nearest.1;
+        for _ in 0..30 {
+            let d = self.derivatives(t, 2)?;
+            let r = d[0] - target;
+            let f = d[1].dot(r);
+            let df = d[2].dot(r) + d[1].dot(d[1]);
+            if !(df.abs() > 1e-300) {
+                break;
+            }
+            let next = (t - f / df).clamp(a, b);
+            let moved = (next - t).abs();
+            t = next;
+            if moved <= 1e-15 * (b - a) {
+                break;
+            }
+        }
+        Ok(t)
+    }
+
     /// The curve mapped by an affine transformation. NURBS are affinely invariant: mapping the
     /// control points maps the curve.
     pub fn transformed(&self, transform: &DAffine3) -> Result<Self, GeometryError> {

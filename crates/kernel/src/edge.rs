@@ -50,13 +50,13 @@ pub fn edge_surface(curves: &[SpaceCurve]) -> Result<NurbsSurface, GeometryError
             let mut edges: Vec<SpaceCurve> = Vec::with_capacity(chain.len());
             for c in &chain {
                 let start = match edges.last() {
-                    Some(previous) => previous.point_at(previous.domain().1)?,
-                    None => c.point_at(c.domain().0)?,
+                    Some(previous) => previous.ends()?.1,
+                    None => c.ends()?.0,
                 };
                 edges.push(snapped(c, start, tolerance)?);
             }
             // The last one ends at the first one's start.
-            let first_start = edges[0].point_at(edges[0].domain().0)?;
+            let (first_start, _) = edges[0].ends()?;
             let last = edges.len() - 1;
             let reversed = snapped(&edges[last].reverse(), first_start, tolerance)?;
             edges[last] = reversed.reverse();
@@ -83,11 +83,9 @@ mod tests {
     use crate::construct::{arc, line};
     use std::f64::consts::FRAC_PI_2;
 
+    /// The largest distance from the curve's points to the surface.
     fn distance_from(surface: &NurbsSurface, curve: &SpaceCurve) -> f64 {
-        (0..=30)
-            .map(|i| curve.point_at(curve.parameter_at(i as f64 / 30.0)).unwrap())
-            .map(|p| surface.closest_point(p).unwrap().distance)
-            .fold(0.0, f64::max)
+        crate::test_support::curve_to_surface(surface, curve, 30)
     }
 
     #[test]

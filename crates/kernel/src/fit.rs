@@ -8,7 +8,6 @@ use super::basis::{basis_functions, find_span};
 use super::construct::construction;
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
-use super::loft::closest_parameter;
 use super::splines::{Parametrization, parameters};
 
 /// The most control points a rebuilt or fitted curve may have.
@@ -148,7 +147,7 @@ fn function_deviation(
     let mut worst = (0.0, at(0.0)?);
     for i in 0..=samples {
         let p = at(i as f64 / samples as f64)?;
-        let t = closest_parameter(approximation, p)?;
+        let t = approximation.closest_parameter(p)?;
         let d = approximation.point_at(t)?.distance(p);
         if d > worst.0 {
             worst = (d, p);

@@ -65,3 +65,26 @@ pub use trim::{TrimLoop, TrimProblem, TrimmedSurface};
 
 /// The highest polynomial degree (per parameter direction) the kernel's Bézier evaluator accepts.
 pub const MAX_BEZIER_DEGREE: usize = 15;
+
+/// Helpers the kernel's unit tests share.
+#[cfg(test)]
+pub(crate) mod test_support {
+    use super::{NurbsSurface, SpaceCurve};
+
+    /// The largest distance from `samples` + 1 evenly spaced points of the curve to the surface
+    /// (point inversion).
+    pub(crate) fn curve_to_surface(
+        surface: &NurbsSurface,
+        curve: &SpaceCurve,
+        samples: usize,
+    ) -> f64 {
+        (0..=samples)
+            .map(|i| {
+                curve
+                    .point_at(curve.parameter_at(i as f64 / samples as f64))
+                    .unwrap()
+            })
+            .map(|p| surface.closest_point(p).unwrap().distance)
+            .fold(0.0, f64::max)
+    }
+}

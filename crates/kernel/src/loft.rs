@@ -65,15 +65,9 @@ fn size_of(curves: &[SpaceCurve]) -> f64 {
     control_box_size(curves).max(1e-300)
 }
 
-/// A curve's start and end points.
-fn ends(curve: &SpaceCurve) -> Result<(DVec3, DVec3), GeometryError> {
-    let (a, b) = curve.domain();
-    Ok((curve.point_at(a)?, curve.point_at(b)?))
-}
-
 /// Whether a curve ends where it starts, within `tolerance`.
 pub fn is_closed(curve: &SpaceCurve, tolerance: f64) -> Result<bool, GeometryError> {
-    let (a, b) = ends(curve)?;
+    let (a, b) = curve.ends()?;
     Ok(a.distance(b) <= tolerance)
 }
 
@@ -82,39 +76,6 @@ fn sample(curve: &SpaceCurve, count: usize) -> Result<Vec<DVec3>, GeometryError>
     (0..=count)
         .map(|i| curve.point_at(curve.parameter_at(i as f64 / count as f64)))
         .collect()
-}
-
-/// The parameter of the curve's point nearest `target`: the nearest of 200 samples, refined
-/// by Newton's iteration on C′·(C − P) = 0 (The NURBS Book §6.1), clamped to the domain.
-pub fn closest_parameter(curve: &SpaceCurve, target: DVec3) -> Result<f64, GeometryError> {
-    const SAMPLES: usize = 200;
-    let (a, b) = curve.domain();
-    let points = sample(curve, SAMPLES)?;
-    let nearest = points
-        .iter()
-        .enumerate()
-        .min_by(|x, y| {
-            x.1.distance_squared(target)
-                .total_cmp(&y.1.distance_squared(target))
-        })
-        .map_or(0, |(i, _)| i);
-    let mut t = curve.parameter_at(nearest as f64 / SAMPLES as f64);
-    for _ in 0..30 {
-        let d = curve.derivatives(t, 2)?;
-        let r = d[0] - target;
-        let f = d[1].dot(r);
-        let df = d[2].dot(r) + d[1].dot(d[1]);
-        if !(df.abs() > 1e-300) {
-            break;
-        }
-        let next = (t - f / df).clamp(a, b);
-        let moved = (next - t).abs();
-        t = next;
-        if moved <= 1e-15 * (b - a) {
-            break;
-        }
-    }
-    Ok(t)
 }
 
 /// The closed curve with its start moved to parameter `t` (the piece after `t`, then the piece
@@ -144,9 +105,9 @@ pub fn align_sections(sections: &[SpaceCurve]) -> Result<Vec<SpaceCurve>, Geomet
             aligned.push(section.clone());
             continue;
         };
-        let (p0, p1) = ends(previous)?;
+        let (p0, p1) = previous.ends()?;
         let next = if is_closed(section, tolerance)? {
-            let t = closest_parameter(section, p0)?;
+            let t = section.closest_parameter(p0)?;
             let forward = with_seam_at(section, t)?;
             let backward = forward.reverse();
             let reference = sample(previous, SAMPLES)?;
@@ -158,7 +119,7 @@ pub fn align_sections(sections: &[SpaceCurve]) -> Result<Vec<SpaceCurve>, Geomet
                 forward
             }
         } else {
-            let (q0, q1) = ends(section)?;
+            let (q0, q1) = section.ends()?;
             if q0.distance(p1) + q1.distance(p0) < q0.distance(p0) + q1.distance(p1) {
                 section.reverse()
             } else {
@@ -342,11 +303,7 @@ mod tests {
 
     /// The largest distance from the curve's points to the surface.
     fn distance_from(surface: &NurbsSurface, curve: &SpaceCurve) -> f64 {
-        sample(curve, 40)
-            .unwrap()
-            .into_iter()
-            .map(|p| surface.closest_point(p).unwrap().distance)
-            .fold(0.0, f64::max)
+        crate::test_support::curve_to_surface(surface, curve, 40)
     }
 
     #[test]

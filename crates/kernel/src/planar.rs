@@ -25,29 +25,25 @@ const SAMPLES: usize = 32;
 /// `tolerance`. A single curve must be closed.
 pub fn chained(curves: &[SpaceCurve], tolerance: f64) -> Result<Vec<SpaceCurve>, GeometryError> {
     const WHAT: &str = "planar";
-    let ends = |c: &SpaceCurve| -> Result<(DVec3, DVec3), GeometryError> {
-        let (a, b) = c.domain();
-        Ok((c.point_at(a)?, c.point_at(b)?))
-    };
     let mut chain: Vec<SpaceCurve> = Vec::with_capacity(curves.len());
     for (k, c) in curves.iter().enumerate() {
         let Some(previous) = chain.last() else {
             chain.push(c.clone());
             continue;
         };
-        let (_, previous_end) = ends(previous)?;
-        let (start, end) = ends(c)?;
+        let (_, previous_end) = previous.ends()?;
+        let (start, end) = c.ends()?;
         if start.distance(previous_end) <= tolerance {
             chain.push(c.clone());
         } else if end.distance(previous_end) <= tolerance {
             chain.push(c.reverse());
         } else if k == 1 && {
-            let (first_start, _) = ends(&chain[0])?;
+            let (first_start, _) = chain[0].ends()?;
             start.distance(first_start) <= tolerance || end.distance(first_start) <= tolerance
         } {
             // The first curve was given backwards.
             chain[0] = chain[0].reverse();
-            let (_, first_end) = ends(&chain[0])?;
+            let (_, first_end) = chain[0].ends()?;
             chain.push(if start.distance(first_end) <= tolerance {
                 c.clone()
             } else {
@@ -68,8 +64,8 @@ pub fn chained(curves: &[SpaceCurve], tolerance: f64) -> Result<Vec<SpaceCurve>,
     let (Some(first), Some(last)) = (chain.first(), chain.last()) else {
         return Err(construction(WHAT, "the boundary has no curves"));
     };
-    let (start, _) = ends(first)?;
-    let (_, end) = ends(last)?;
+    let (start, _) = first.ends()?;
+    let (_, end) = last.ends()?;
     if start.distance(end) > tolerance {
         return Err(construction(
             WHAT,
@@ -90,24 +86,20 @@ pub fn loops_of(
     tolerance: f64,
 ) -> Result<Vec<Vec<SpaceCurve>>, GeometryError> {
     const WHAT: &str = "planar";
-    let ends = |c: &SpaceCurve| -> Result<(DVec3, DVec3), GeometryError> {
-        let (a, b) = c.domain();
-        Ok((c.point_at(a)?, c.point_at(b)?))
-    };
     let mut left: Vec<(usize, SpaceCurve)> = curves.iter().cloned().enumerate().collect();
     let mut loops = Vec::new();
     while !left.is_empty() {
         let (first, curve) = left.remove(0);
         let mut chain = std::collections::VecDeque::from([curve]);
         loop {
-            let (start, _) = ends(&chain[0])?;
-            let (_, end) = ends(&chain[chain.len() - 1])?;
+            let (start, _) = chain[0].ends()?;
+            let (_, end) = chain[chain.len() - 1].ends()?;
             if start.distance(end) <= tolerance {
                 break;
             }
             let mut found = None;
             for (k, (_, c)) in left.iter().enumerate() {
-                let (a, b) = ends(c)?;
+                let (a, b) = c.ends()?;
                 if a.distance(end) <= tolerance {
                     found = Some((k, c.clone(), true));
                 } else if b.distance(end) <= tolerance {
@@ -143,16 +135,17 @@ pub fn loops_of(
     Ok(loops)
 }
 
-/// The plane of a closed chain of points: their centroid and the unit normal of Newell's
-/// method (the polygon's vector area), which turns counter-clockwise with the chain.
-fn newell_plane(points: &[DVec3]) -> Option<(DVec3, DVec3)> {
+/// The plane of a closed chain of points: their centroid, the unit normal of Newell's method
+/// (the direction of the polygon's vector area, which turns counter-clockwise with the chain),
+/// and the area (the vector area's length).
+fn newell_plane(points: &[DVec3]) -> Option<(DVec3, DVec3, f64)> {
     let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
     let mut normal = DVec3::ZERO;
     for (i, p) in points.iter().enumerate() {
         let q = points[(i + 1) % points.len()];
         normal += (*p - centroid).cross(q - centroid);
     }
-    (normal.length() > 0.0).then(|| (centroid, normal.normalize()))
+    (normal.length() > 0.0).then(|| (centroid, normal.normalize(), normal.length() / 2.0))
 }
 
 /// A plane trimmed by the closed chains `boundary` holds (see the module documentation and
@@ -181,11 +174,10 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
     };
     let samples: Vec<Vec<DVec3>> = loops.iter().map(|l| sample(l)).collect::<Result<_, _>>()?;
     // The plane of the loop with the largest area (the outer one): its normal turns with it.
-    let Some((centre, normal)) = samples
+    let Some((centre, normal, _)) = samples
         .iter()
-        .filter_map(|s| newell_plane(s).map(|plane| (vector_area(s), plane)))
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, plane)| plane)
+        .filter_map(|s| newell_plane(s))
+        .max_by(|a, b| a.2.total_cmp(&b.2))
     else {
         return Err(construction(WHAT, "the boundary encloses no area"));
     };
@@ -245,15 +237,6 @@ pub fn planar_face(boundary: &[SpaceCurve]) -> Result<TrimmedSurface, GeometryEr
         .map(|chain| trim_loop(chain, &to_uv))
         .collect::<Result<Vec<_>, _>>()?;
     TrimmedSurface::new(surface, trims)
-}
-
-/// The length of a closed polygon's vector area (Newell).
-fn vector_area(points: &[DVec3]) -> f64 {
-    let mut area = DVec3::ZERO;
-    for (i, p) in points.iter().enumerate() {
-        area += p.cross(points[(i + 1) % points.len()]);
-    }
-    area.length() / 2.0
 }
 
 /// A closed chain of planar curves as a trim loop in the plane's (u, v) (`to_uv`, affine, so

@@ -13,7 +13,7 @@ use glam::{DMat3, DVec3, DVec4};
 use super::construct::{construction, make_compatible};
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
-use super::loft::{LoftOptions, LoftStyle, align_sections, closest_parameter, loft_sections};
+use super::loft::{LoftOptions, LoftStyle, align_sections, loft_sections};
 use super::surface::NurbsSurface;
 use super::vector::CurvePoint;
 
@@ -144,16 +144,17 @@ fn section_count(rails: &[&SpaceCurve]) -> usize {
     (4 * spans).clamp(16, MAX_SECTIONS / 2)
 }
 
-/// The profiles sorted by their parameters, which must differ.
-fn sorted_profiles(
+/// The profiles with their keys, sorted by the rail parameter `at(key)`; the parameters must differ.
+fn sorted_profiles<K>(
     profiles: Vec<SpaceCurve>,
-    at: Vec<f64>,
+    keys: Vec<K>,
+    at: impl Fn(&K) -> f64,
     what: &'static str,
-) -> Result<(Vec<SpaceCurve>, Vec<f64>), GeometryError> {
-    let mut pairs: Vec<(SpaceCurve, f64)> = profiles.into_iter().zip(at).collect();
-    pairs.sort_by(|a, b| a.1.total_cmp(&b.1));
+) -> Result<(Vec<SpaceCurve>, Vec<K>), GeometryError> {
+    let mut pairs: Vec<(SpaceCurve, K)> = profiles.into_iter().zip(keys).collect();
+    pairs.sort_by(|a, b| at(&a.1).total_cmp(&at(&b.1)));
     for w in pairs.windows(2) {
-        if !(w[1].1 - w[0].1 > 1e-9) {
+        if !(at(&w[1].1) - at(&w[0].1) > 1e-9) {
             return Err(construction(
                 what,
                 "two profiles sit at the same place on the rail",
@@ -205,7 +206,7 @@ pub fn sweep_one_rail(
         .iter()
         .map(|p| nearest_rail_parameter(&rail, p))
         .collect::<Result<Vec<_>, _>>()?;
-    let (profiles, at) = sorted_profiles(profiles.to_vec(), at, WHAT)?;
+    let (profiles, at) = sorted_profiles(profiles.to_vec(), at, |&t| t, WHAT)?;
     let params = section_parameters(&at, section_count(&[&rail]));
     // The frames at every section and profile parameter (the profiles' are among them).
     let frames = match frame {
@@ -324,45 +325,34 @@ pub fn sweep_two_rails(
     if a0.distance(b1) + b0.distance(a1) < a0.distance(a1) + b0.distance(b1) {
         r1 = r1.reverse();
     }
-    // Each profile from rail 0 to rail 1, with its parameter on each.
+    // Each profile from rail 0 to rail 1, with its parameter on each: the ends are matched to
+    // the rails both ways round, and the nearer way wins.
+    let on_rails_from = |a: DVec3, b: DVec3| -> Result<((f64, f64), f64), GeometryError> {
+        let (s0, s1) = (r0.closest_parameter(a)?, r1.closest_parameter(b)?);
+        let gap = r0.point_at(s0)?.distance(a) + r1.point_at(s1)?.distance(b);
+        Ok(((s0, s1), gap))
+    };
     let mut oriented = Vec::with_capacity(profiles.len());
     let mut on_rails: Vec<(f64, f64)> = Vec::with_capacity(profiles.len());
     for (k, p) in profiles.iter().enumerate() {
-        let (start, end) = (p.point_at(p.domain().0)?, p.point_at(p.domain().1)?);
-        let forward = {
-            let s0 = closest_parameter(&r0, start)?;
-            let s1 = closest_parameter(&r1, end)?;
-            (
-                s0,
-                s1,
-                r0.point_at(s0)?.distance(start) + r1.point_at(s1)?.distance(end),
-            )
-        };
-        let backward = {
-            let s0 = closest_parameter(&r0, end)?;
-            let s1 = closest_parameter(&r1, start)?;
-            (
-                s0,
-                s1,
-                r0.point_at(s0)?.distance(end) + r1.point_at(s1)?.distance(start),
-            )
-        };
-        let (profile, (s0, s1, _)) = if backward.2 < forward.2 {
-            (p.reverse(), backward)
-        } else {
-            (p.clone(), forward)
-        };
+        let (start, end) = p.ends()?;
         if start.distance(end) <= 1e-12 * (1.0 + start.length()) {
             return Err(construction(
                 WHAT,
                 format!("profile {k} is closed; a two-rail profile runs from rail to rail"),
             ));
         }
-        oriented.push(profile);
-        on_rails.push((s0, s1));
+        let (forward, forward_gap) = on_rails_from(start, end)?;
+        let (backward, backward_gap) = on_rails_from(end, start)?;
+        if backward_gap < forward_gap {
+            oriented.push(p.reverse());
+            on_rails.push(backward);
+        } else {
+            oriented.push(p.clone());
+            on_rails.push(forward);
+        }
     }
-    let (profiles, at) = sorted_profiles(oriented, on_rails.iter().map(|p| p.0).collect(), WHAT)?;
-    on_rails.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (profiles, on_rails) = sorted_profiles(oriented, on_rails, |&(s0, _)| s0, WHAT)?;
     for w in on_rails.windows(2) {
         if !(w[1].1 > w[0].1) {
             return Err(construction(
@@ -371,6 +361,7 @@ pub fn sweep_two_rails(
             ));
         }
     }
+    let at: Vec<f64> = on_rails.iter().map(|&(s0, _)| s0).collect();
     // Rail 1's parameter as a piecewise linear function of rail 0's, through the profiles and
     // the ends.
     let mut anchors = vec![(0.0, 0.0)];
@@ -439,11 +430,9 @@ mod tests {
     use crate::construct::{arc, circle, interpolate, line};
     use std::f64::consts::FRAC_PI_2;
 
+    /// The largest distance from the curve's points to the surface.
     fn distance_from(surface: &NurbsSurface, curve: &SpaceCurve) -> f64 {
-        (0..=40)
-            .map(|i| curve.point_at(curve.parameter_at(i as f64 / 40.0)).unwrap())
-            .map(|p| surface.closest_point(p).unwrap().distance)
-            .fold(0.0, f64::max)
+        crate::test_support::curve_to_surface(surface, curve, 40)
     }
 
     #[test]
