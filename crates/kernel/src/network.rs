@@ -28,7 +28,7 @@ use glam::DVec3;
 use super::construct::{averaged_knots, construction, interpolate_points};
 use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
-use super::surface::NurbsSurface;
+use super::surface::{Direction, NurbsSurface};
 use super::transfinite::{crossing, gordon_at, normalized, samples};
 
 /// Curves that come closer than this fraction of the network's size cross.
@@ -37,8 +37,9 @@ pub const NETWORK_TOLERANCE: f64 = 1e-4;
 pub const FIT_TOLERANCE: f64 = 1e-6;
 /// The most curves in one family.
 pub const MAX_NETWORK_CURVES: usize = 64;
-/// The most fitting samples per crossing interval.
-const MAX_SAMPLES_PER_INTERVAL: usize = 32;
+/// The most fitting samples per crossing interval, and in all.
+const MAX_SAMPLES_PER_INTERVAL: usize = 256;
+const MAX_SAMPLES: usize = 1024;
 
 /// One of the two families of a network.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -368,15 +369,21 @@ fn fitted_family(
             }
             fitted.push(curve);
         }
-        if worst <= tolerance || per_interval >= MAX_SAMPLES_PER_INTERVAL {
+        if worst <= tolerance
+            || per_interval >= MAX_SAMPLES_PER_INTERVAL
+            || 2 * sample_params.len() > MAX_SAMPLES
+        {
             return Ok(fitted);
         }
         per_interval *= 2;
     }
 }
 
-/// The largest distance from the input curves (sampled between their first and last crossing)
-/// to the surface at the same common parameters, which bounds their distance to the surface.
+/// The largest distance from the input curves to the surface: each curve is sampled between
+/// its first and last crossing at 17 points per interval (a count that is not a power of two,
+/// so the samples fall between the fitted curves' interpolation points, where their error is),
+/// and each point is projected onto the surface's iso-curve through the curve (v = v_k for
+/// u-curve k) by Newton's iteration from the common parameter ([`foot_on`]).
 fn deviation(
     surface: &NurbsSurface,
     u_strands: &[Strand],
@@ -384,28 +391,25 @@ fn deviation(
     u_params: &[f64],
     v_params: &[f64],
 ) -> Result<NetworkDeviation, GeometryError> {
-    const PER_INTERVAL: usize = 16;
+    const PER_INTERVAL: usize = 17;
     let mut worst = NetworkDeviation {
         distance: 0.0,
         family: Family::U,
         curve: u_strands[0].index,
         point: DVec3::ZERO,
     };
-    for (family, strands, params, across) in [
-        (Family::U, u_strands, u_params, v_params),
-        (Family::V, v_strands, v_params, u_params),
+    for (family, strands, params, across, fixed_direction) in [
+        (Family::U, u_strands, u_params, v_params, Direction::V),
+        (Family::V, v_strands, v_params, u_params, Direction::U),
     ] {
         for (s, &fixed) in strands.iter().zip(across) {
+            let iso = surface.isocurve(fixed_direction, fixed, 0)?;
             let map = MonotoneMap::new(params, &s.crossings);
             for w in params.windows(2) {
                 for j in 0..=PER_INTERVAL {
                     let u = w[0] + (w[1] - w[0]) * j as f64 / PER_INTERVAL as f64;
                     let on_curve = s.curve.point_at(map.at(u))?;
-                    let on_surface = match family {
-                        Family::U => surface.point_at(u, fixed)?,
-                        Family::V => surface.point_at(fixed, u)?,
-                    };
-                    let d = on_curve.distance(on_surface);
+                    let d = foot_on(&iso, on_curve, u)?.distance(on_curve);
                     if d > worst.distance {
                         worst = NetworkDeviation {
                             distance: d,
@@ -419,6 +423,33 @@ fn deviation(
         }
     }
     Ok(worst)
+}
+
+/// The point of `curve` nearest `target` near parameter `start`: Newton's iteration on
+/// C′·(C − P) = 0 (The NURBS Book §6.1) from `start`, clamped to the domain, keeping the nearest
+/// point seen.
+fn foot_on(curve: &SpaceCurve, target: DVec3, start: f64) -> Result<DVec3, GeometryError> {
+    let (a, b) = curve.domain();
+    let mut t = start.clamp(a, b);
+    let mut best = curve.point_at(t)?;
+    for _ in 0..8 {
+        let d = curve.derivatives(t, 2)?;
+        if d[0].distance(target) < best.distance(target) {
+            best = d[0];
+        }
+        let r = d[0] - target;
+        let df = d[2].dot(r) + d[1].dot(d[1]);
+        if !(df.abs() > 1e-300) {
+            break;
+        }
+        t = (t - d[1].dot(r) / df).clamp(a, b);
+    }
+    let last = curve.point_at(t)?;
+    Ok(if last.distance(target) < best.distance(target) {
+        last
+    } else {
+        best
+    })
 }
 
 #[cfg(test)]
