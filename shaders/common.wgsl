@@ -194,3 +194,32 @@ fn srgb_from_linear(rgb: vec3<f32>) -> vec3<f32> {
     let higher = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
     return select(higher, lower, c < vec3<f32>(0.0031308));
 }
+
+// One rational Bézier segment of a curve (Rust: gpu::records::CurveRecord): its degree + 1
+// homogeneous points from `control_offset` in the curve point pool, sampled at `segments` + 1
+// evenly spaced parameters into the curve vertices from `vertex_offset`.
+struct CurveRecord {
+    degree: u32,
+    control_offset: u32,
+    vertex_offset: u32,
+    segments: u32,
+    object: u32,
+    reserved0: u32,
+    reserved1: u32,
+    reserved2: u32,
+}
+
+// One sample of a curve (Rust: gpu::records::CurveVertex). `position.w` is 1, or 0 at a
+// segment's last sample: no line joins it to the next vertex (the next segment starts at the
+// same point, or another curve starts).
+struct CurveVertex {
+    position: vec4<f32>,
+    object: u32,
+    // The segment's record and the sample's parameter s in [0, 1] along it.
+    record: u32,
+    s: f32,
+    reserved: u32,
+}
+
+const CURVE_MAX_DEGREE: u32 = 32u;  // Rust: gpu::records::CURVE_MAX_DEGREE
+const CURVE_WORKGROUP_SIZE: u32 = 64u;  // Rust: gpu::records::CURVE_WORKGROUP_SIZE

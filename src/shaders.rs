@@ -47,6 +47,8 @@ pub const SHADING: &str = include_str!("../shaders/shading.wgsl");
 pub const SURFACE: &str = include_str!("../shaders/surface.wgsl");
 /// Render: the shaded surface on WebGL2 (no storage buffers).
 pub const SURFACE_GL: &str = include_str!("../shaders/surface_gl.wgsl");
+/// Compute: curve evaluation (rational Bézier segments into line-strip vertices).
+pub const EVAL_CURVES: &str = include_str!("../shaders/eval_curves.wgsl");
 /// Render: control net lines and control point dots.
 pub const OVERLAY: &str = include_str!("../shaders/overlay.wgsl");
 
@@ -118,9 +120,17 @@ pub const OVERLAY_SHADER: PipelineShader = PipelineShader {
     modules: &[],
 };
 
+/// The curve evaluator.
+pub const EVAL_CURVES_SHADER: PipelineShader = PipelineShader {
+    name: "eval_curves.wgsl",
+    body: EVAL_CURVES,
+    modules: &[],
+};
+
 /// Every pipeline shader.
-pub const PIPELINE_SHADERS: [PipelineShader; 4] = [
+pub const PIPELINE_SHADERS: [PipelineShader; 5] = [
     EVAL_BEZIER_SHADER,
+    EVAL_CURVES_SHADER,
     SURFACE_SHADER,
     SURFACE_GL_SHADER,
     OVERLAY_SHADER,

@@ -20,6 +20,7 @@ mod common;
 
 use glam::{DAffine3, DVec3};
 use knotwork::doc::{Command, Document, Touched};
+use knotwork::gpu::records::CurveVertex;
 use knotwork::gpu::{GpuContext, SceneSync, SurfaceVertex};
 use knotwork::io::gltf::{self, ExportOptions};
 use knotwork::io::project::{self, Project};
@@ -361,12 +362,185 @@ fn drag_and_undo(
     );
 }
 
+/// Largest distance, over every curve vertex on the GPU, from the kind's own f64 point at that
+/// vertex's segment and parameter, divided by the object's size; also checks that exactly the
+/// segments' last samples end a line (w = 0).
+fn curve_gpu_deviation(sync: &SceneSync, vertices: &[CurveVertex], object: &SceneObject) -> f64 {
+    let curves = sync.curves().unwrap();
+    let first = curves.first_record(0).unwrap();
+    let mut worst = 0.0f64;
+    for (k, record) in curves.records().iter().enumerate() {
+        let n = record.segments as usize;
+        for i in 0..=n {
+            let vertex = vertices[record.vertex_offset as usize + i];
+            assert_eq!(vertex.record as usize, k);
+            assert_eq!(vertex.position[3], if i == n { 0.0 } else { 1.0 });
+            let s = i as f64 / n as f64;
+            let exact = object.kind().surface_point(k - first, s, 0.0).unwrap();
+            let gpu = DVec3::new(
+                f64::from(vertex.position[0]),
+                f64::from(vertex.position[1]),
+                f64::from(vertex.position[2]),
+            );
+            worst = worst.max(gpu.distance(exact));
+        }
+    }
+    worst / size(object)
+}
+
+/// The curve's version of [`conforms`]: its feed (rational Bézier segments) against its own
+/// definition, the curve pass (compute shaders and the CPU evaluator) against it, a drag that
+/// re-evaluates only the moved point's segments and gives what a full evaluation gives, undo
+/// restoring every vertex, save and reopen, and the export as a glTF line strip that reopens as
+/// itself.
+fn curve_conforms(context: &GpuContext, object: SceneObject) {
+    let name = object.name.clone();
+    let scale = size(&object);
+    let feed = object.decompose().unwrap();
+    let curve = feed.curve.as_ref().unwrap();
+    assert!(curve.segment_count() > 0, "{name}: an empty feed");
+    assert!(
+        feed.set.patches().is_empty(),
+        "{name}: a curve has no patches"
+    );
+    for k in 0..curve.segment_count() {
+        for s in [0.0, 0.3, 0.5, 1.0] {
+            let fed = curve.point(k, s).unwrap();
+            let own = object.kind().surface_point(k, s, 0.0).unwrap();
+            assert!(
+                fed.distance(own) <= 1e-12 * scale,
+                "{name}: segment {k} at {s}: {fed} vs {own}"
+            );
+        }
+    }
+    assert!(
+        object
+            .kind()
+            .surface_point(curve.segment_count(), 0.5, 0.0)
+            .is_err()
+    );
+    assert!(object.kind().faces().is_empty());
+
+    let mut doc = Document::new(Scene {
+        objects: vec![object.clone()],
+    });
+    for cpu in [false, true] {
+        let name = format!("{name}{}", if cpu { " (CPU evaluator)" } else { "" });
+        let on = |doc: &Document| {
+            let mut sync = if cpu {
+                SceneSync::on_cpu(&context.device, &context.queue)
+            } else {
+                SceneSync::new(&context.device, &context.queue)
+            };
+            sync.rebuild(&doc.scene, 1.0).unwrap();
+            sync.evaluate_blocking().unwrap();
+            let vertices = sync.read_curve_vertices().unwrap();
+            (sync, vertices)
+        };
+        let (mut sync, original) = on(&doc);
+        let deviation = curve_gpu_deviation(&sync, &original, &object);
+        eprintln!("{name}: GPU vs f64 {deviation:.2e} of its size");
+        assert!(deviation <= 1e-5, "{name}: {deviation:e}");
+
+        let index = object.control_point_count() / 2;
+        doc.begin_drag(0, &[index]).unwrap();
+        for step in 1..=3 {
+            let moved = doc
+                .drag_by(DVec3::new(0.05, -0.03, 0.08) * scale * f64::from(step))
+                .unwrap();
+            assert!(!moved.patches.is_empty());
+            sync.points_moved(&doc.scene, &moved).unwrap();
+            let evaluated = sync.evaluate_blocking().unwrap();
+            assert_eq!(
+                evaluated as usize,
+                moved.patches.len(),
+                "{name}: step {step}"
+            );
+        }
+        let dragged = sync.read_curve_vertices().unwrap();
+        let (_, full) = on(&doc);
+        assert!(
+            dragged == full,
+            "{name}: incremental and full evaluation differ"
+        );
+        assert!(dragged != original, "{name}: the drag moved nothing");
+        let deviation = curve_gpu_deviation(&sync, &dragged, &doc.scene.objects[0]);
+        assert!(deviation <= 1e-5, "{name}: after the drag {deviation:e}");
+        assert!(doc.commit_drag().is_some());
+        let touched = doc.undo().unwrap().touched();
+        assert_eq!(touched, Touched::Points(0), "{name}");
+        assert_eq!(&doc.scene.objects[0], &object, "{name}: undo");
+        sync.apply(&doc.scene, touched, 1.0).unwrap();
+        sync.evaluate_blocking().unwrap();
+        assert!(
+            sync.read_curve_vertices().unwrap() == original,
+            "{name}: undo restores every GPU vertex"
+        );
+    }
+
+    let project = Project {
+        scene: doc.scene.clone(),
+        view: None,
+    };
+    let reopened = project::read(&project::write(&project)).unwrap();
+    assert_eq!(
+        reopened.scene.objects,
+        vec![object.clone()],
+        "{name}: save and reopen"
+    );
+
+    // Export: one line strip within the tolerance of the curve, which reopens as itself.
+    let tolerance = 1e-3 * scale;
+    let options = ExportOptions {
+        tessellation: Tessellation::Tolerance(tolerance),
+        curvature: false,
+        colors: None,
+    };
+    let export = gltf::export(&project, &options).unwrap();
+    assert_eq!((export.triangles, export.lines), (0, 1), "{name}");
+    let glb = gltf::to_glb(&export);
+    let document = ::gltf::Gltf::from_slice(&glb).unwrap();
+    let primitive = document
+        .meshes()
+        .next()
+        .unwrap()
+        .primitives()
+        .next()
+        .unwrap();
+    assert_eq!(primitive.mode(), ::gltf::mesh::Mode::LineStrip);
+    let strip = knotwork::kernel::tess::curve_polyline(
+        object.kind().space_curve().unwrap(),
+        Tessellation::Tolerance(tolerance),
+    )
+    .unwrap();
+    let space_curve = object.kind().space_curve().unwrap();
+    for pair in strip.windows(2) {
+        let middle = 0.5 * (pair[0] + pair[1]);
+        let t = space_curve.closest_parameter(middle).unwrap();
+        let distance = space_curve.point_at(t).unwrap().distance(middle);
+        assert!(
+            distance <= 1.01 * tolerance,
+            "{name}: chord {distance:e} off"
+        );
+    }
+    let no_companions = |name: &str| Err(format!("{name}: not expected"));
+    let back = knotwork::io::open("conformance.glb", &glb, &no_companions).unwrap();
+    assert_eq!(
+        back.scene.objects,
+        vec![object],
+        "{name}: the export reopens as itself"
+    );
+}
+
 fn conforms(context: &GpuContext, object: SceneObject) {
     let name = object.name.clone();
     let scale = size(&object);
 
     // 1. The feed against the kind's own definition.
     let feed = object.decompose().unwrap();
+    if feed.curve.is_some() {
+        return curve_conforms(context, object);
+    }
     let other_patches = feed
         .stencils
         .as_ref()
@@ -533,11 +707,11 @@ fn every_object_kind_conforms() {
         }
     }
     eprintln!("checked: {names:?}");
-    // The built-in kinds (six, two of which share the NURBS records) and the test's own.
-    assert_eq!(kinds.len(), 6, "{names:?}");
+    // The built-in kinds (seven, two of which share the NURBS records) and the test's own.
+    assert_eq!(kinds.len(), 7, "{names:?}");
     names.sort_unstable();
     names.dedup();
-    assert_eq!(names.len(), 7, "{names:?}");
+    assert_eq!(names.len(), 8, "{names:?}");
 }
 
 /// A kind registered from this module alone is edited, analysed and saved by the rest of the

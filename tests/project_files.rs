@@ -60,9 +60,9 @@ const CORPUS: &[(&str, &str, &str)] = &[
         "index 99",
     ),
     (
-        "curve-object",
+        "trim-curve-object",
         "objects[0].type",
-        "a curve is not a scene object",
+        "a trim curve is not a scene object",
     ),
     ("bad-view", "view", "finite and positive"),
     ("bad-tolerance", "view", "tolerance_px 0 is outside 0.1..=8"),

@@ -221,6 +221,51 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             triangle_count
         })
     );
+    use knotwork::gpu::records::{CurveRecord, CurveVertex};
+    assert_eq!(
+        wgsl_layout(&module, "CurveRecord"),
+        rust_layout!(CurveRecord {
+            degree,
+            control_offset,
+            vertex_offset,
+            segments,
+            object,
+            reserved0,
+            reserved1,
+            reserved2
+        })
+    );
+    assert_eq!(
+        wgsl_layout(&module, "CurveVertex"),
+        rust_layout!(CurveVertex {
+            position,
+            object,
+            record,
+            s,
+            reserved
+        })
+    );
+    // The curve pipeline reads a CurveVertex's position and object as attributes 0 and 1.
+    let curve_offsets: Vec<u64> = CurveVertex::ATTRIBUTES.iter().map(|a| a.offset).collect();
+    assert_eq!(
+        curve_offsets,
+        [
+            offset_of!(CurveVertex, position) as u64,
+            offset_of!(CurveVertex, object) as u64
+        ]
+    );
+    assert_eq!(
+        wgsl_constant(&module, "CURVE_MAX_DEGREE"),
+        f64::from(knotwork::gpu::records::CURVE_MAX_DEGREE)
+    );
+    assert_eq!(
+        wgsl_constant(&module, "CURVE_WORKGROUP_SIZE"),
+        f64::from(knotwork::gpu::records::CURVE_WORKGROUP_SIZE)
+    );
+    assert_eq!(
+        knotwork::gpu::records::CURVE_MAX_DEGREE as usize,
+        knotwork::kernel::basis::MAX_DEGREE
+    );
     // The render pipeline reads SurfaceVertex through vertex attributes at the same offsets.
     let attribute_offsets: Vec<u64> = SurfaceVertex::ATTRIBUTES.iter().map(|a| a.offset).collect();
     // (Every member is an attribute.)

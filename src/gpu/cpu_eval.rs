@@ -538,6 +538,7 @@ impl CpuGeometry {
             patches: None,
             trimmed: false,
             indirect: None,
+            curves: None,
         }
     }
 

@@ -6,6 +6,7 @@ pub mod adaptive_pass;
 pub mod async_readback;
 pub mod context;
 pub mod cpu_eval;
+pub mod curve_eval;
 pub mod error;
 pub mod packing;
 pub mod patch_eval;

@@ -73,6 +73,8 @@ pub struct SurfaceBuffers<'a> {
     /// With a view-adaptive tessellation, the `draw_indexed_indirect` arguments (offset 0) the
     /// compute pass wrote; the draw then takes its count from there, not `index_count`.
     pub indirect: Option<&'a wgpu::Buffer>,
+    /// The curves' vertices ([`super::curve_eval`]), where the scene has curves.
+    pub curves: Option<super::curve_eval::CurveBuffers<'a>>,
 }
 
 /// The storage buffers of the patches, as the surface shader's group 1 binds them.
@@ -1104,6 +1106,7 @@ impl PatchGeometry {
             }),
             trimmed: self.records.iter().any(|r| r.trim_count == TRIM_PARTIAL),
             indirect: self.adaptive.as_ref().map(AdaptivePass::draw_arguments),
+            curves: None,
         }
     }
 

@@ -61,7 +61,7 @@ const ADAPTIVE_EVAL_BINDINGS: [(u32, bool); 6] = [
 ];
 
 /// A bind group layout of storage buffers visible to compute: (binding, read-only) each.
-fn storage_layout(
+pub(super) fn storage_layout(
     device: &wgpu::Device,
     label: &str,
     bindings: &[(u32, bool)],
@@ -114,7 +114,7 @@ pub struct PatchEvaluator {
     pub(super) samples_pipeline: wgpu::ComputePipeline,
 }
 
-fn compute_pipeline(
+pub(super) fn compute_pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,

@@ -274,3 +274,56 @@ pub struct PointResult {
     /// (vertex flags, 0, 0, 0).
     pub flags: [u32; 4],
 }
+
+/// The highest curve degree the curve evaluator takes (`CURVE_MAX_DEGREE` in
+/// `shaders/common.wgsl`): the kernel's own limit.
+pub const CURVE_MAX_DEGREE: u32 = 32;
+
+/// Invocations per workgroup of `eval_curves` (`CURVE_WORKGROUP_SIZE` in `shaders/common.wgsl`).
+pub const CURVE_WORKGROUP_SIZE: u32 = 64;
+
+/// One rational Bézier segment of a curve for the curve evaluator. WGSL: `struct CurveRecord` in
+/// `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct CurveRecord {
+    pub degree: u32,
+    /// The segment's first homogeneous point in the curve point pool.
+    pub control_offset: u32,
+    /// Its first vertex; it writes `segments + 1`.
+    pub vertex_offset: u32,
+    /// Line segments it is drawn with.
+    pub segments: u32,
+    /// The scene object it belongs to.
+    pub object: u32,
+    pub reserved0: u32,
+    pub reserved1: u32,
+    pub reserved2: u32,
+}
+
+/// One sample of a curve, as the curve evaluator writes it and the viewport draws it. WGSL:
+/// `struct CurveVertex` in `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct CurveVertex {
+    /// (x, y, z, 1), or w = 0 at a segment's last sample (no line from it to the next vertex).
+    pub position: [f32; 4],
+    pub object: u32,
+    /// The record that wrote it and its parameter s ∈ [0, 1] along that segment.
+    pub record: u32,
+    pub s: f32,
+    pub reserved: u32,
+}
+
+impl CurveVertex {
+    /// The attributes of one end of a drawn pair: position and object (the other end's
+    /// position is attribute 2, from the same buffer one vertex later).
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![
+        0 => Float32x4,
+        1 => Uint32,
+    ];
+    /// The attribute of the pair's second end.
+    pub const NEXT_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![
+        2 => Float32x4,
+    ];
+}

@@ -10,6 +10,7 @@
 
 use super::adaptive_pass::{AdaptiveStats, AdaptiveTarget};
 use super::cpu_eval::CpuGeometry;
+use super::curve_eval::{CurveEvaluator, CurveGeometry, MAX_CURVE_SEGMENTS, ObjectCurve};
 use super::error::GpuError;
 use super::patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchGeometry, SurfaceBuffers, Tessellation};
 use super::pipelines::PatchEvaluator;
@@ -93,6 +94,10 @@ pub struct SceneSync {
     queue: wgpu::Queue,
     /// The compute evaluator, or `None` where the CPU evaluates ([`CpuGeometry`]).
     evaluator: Option<PatchEvaluator>,
+    /// The curve pass, beside the compute evaluator.
+    curve_evaluator: Option<CurveEvaluator>,
+    /// Every curve object's segments and vertices.
+    curves: Option<CurveGeometry>,
     feeds: Vec<Decomposition>,
     geometry: Option<Built>,
     quality_used: f32,
@@ -122,6 +127,8 @@ impl SceneSync {
     fn with_evaluator(device: &wgpu::Device, queue: &wgpu::Queue, compute: bool) -> Self {
         Self {
             evaluator: compute.then(|| PatchEvaluator::new(device)),
+            curve_evaluator: compute.then(|| CurveEvaluator::new(device)),
+            curves: None,
             device: device.clone(),
             queue: queue.clone(),
             feeds: Vec::new(),
@@ -277,12 +284,19 @@ impl SceneSync {
         self.geometry.is_some()
     }
 
-    /// What the renderer draws, once a scene was built.
+    /// What the renderer draws, once a scene was built: the surfaces and the curves.
     pub fn surface_buffers(&self) -> Option<SurfaceBuffers<'_>> {
-        match self.geometry.as_ref()? {
-            Built::Compute(g) => Some(g.surface_buffers()),
-            Built::Cpu(g) => Some(g.surface_buffers()),
-        }
+        let mut buffers = match self.geometry.as_ref()? {
+            Built::Compute(g) => g.surface_buffers(),
+            Built::Cpu(g) => g.surface_buffers(),
+        };
+        buffers.curves = self.curves.as_ref().and_then(CurveGeometry::buffers);
+        Some(buffers)
+    }
+
+    /// The curves' GPU copy, once a scene was built.
+    pub fn curves(&self) -> Option<&CurveGeometry> {
+        self.curves.as_ref()
     }
 
     /// Every patch record, objects in order, once a scene was built.
@@ -376,6 +390,17 @@ impl SceneSync {
                 None => Built::Cpu(CpuGeometry::new(&self.device, &inputs)?),
             })
         })?;
+        let curve_inputs: Vec<ObjectCurve<'_>> = scene
+            .objects
+            .iter()
+            .zip(&feeds)
+            .map(|(object, d)| ObjectCurve {
+                feed: d.curve.as_ref(),
+                segments: effective_segments(object.segments, used).min(MAX_CURVE_SEGMENTS),
+            })
+            .collect();
+        let curves =
+            CurveGeometry::new(&self.device, self.curve_evaluator.as_ref(), &curve_inputs)?;
         let mut geometry = geometry;
         match &mut geometry {
             Built::Compute(g) => g.set_vertex_curvature(self.vertex_curvature),
@@ -383,6 +408,7 @@ impl SceneSync {
         }
         self.feeds = feeds;
         self.geometry = Some(geometry);
+        self.curves = Some(curves);
         self.quality_used = used;
         Ok(refusal.map(|e| {
             format!("tessellation lowered to quality {used:.2} (asked {quality:.2}): {e}")
@@ -418,6 +444,13 @@ impl SceneSync {
             None => *slot = feed(target)?,
         }
         let lattice = target.lattice.as_ref();
+        // A curve's segments are not patches: its patch set is empty.
+        let curve_segments = patches;
+        let patches = if slot.curve.is_some() {
+            Some(&[][..])
+        } else {
+            patches
+        };
         let uploaded = match &mut self.geometry {
             Some(Built::Compute(g)) => {
                 let points = g.update_object(&self.queue, object, &slot.set, patches)?;
@@ -431,6 +464,13 @@ impl SceneSync {
             }
             None => 0,
         };
+        let curve_points = match (&mut self.curves, &slot.curve) {
+            (Some(curves), Some(feed)) => {
+                curves.update_object(&self.queue, object, feed, curve_segments)?
+            }
+            _ => 0,
+        };
+        let uploaded = uploaded + curve_points;
         self.points_uploaded = uploaded;
         Ok(uploaded)
     }
@@ -464,15 +504,21 @@ impl SceneSync {
 
     /// Whether [`Self::encode`] has work to do.
     pub fn needs_evaluation(&self) -> bool {
-        match &self.geometry {
-            Some(Built::Compute(g)) => g.needs_evaluation(),
-            Some(Built::Cpu(g)) => g.needs_evaluation(),
-            None => false,
-        }
+        self.curves
+            .as_ref()
+            .is_some_and(CurveGeometry::needs_evaluation)
+            || match &self.geometry {
+                Some(Built::Compute(g)) => g.needs_evaluation(),
+                Some(Built::Cpu(g)) => g.needs_evaluation(),
+                None => false,
+            }
     }
 
-    /// Marks every patch for re-evaluation (benchmarks).
+    /// Marks every patch and curve segment for re-evaluation (benchmarks).
     pub fn invalidate(&mut self) {
+        if let Some(curves) = &mut self.curves {
+            curves.invalidate();
+        }
         match &mut self.geometry {
             Some(Built::Compute(g)) => g.invalidate(),
             Some(Built::Cpu(g)) => g.invalidate(),
@@ -482,26 +528,36 @@ impl SceneSync {
 
     /// Records the compute pass of the pending work into `encoder` (see
     /// [`PatchGeometry::encode`]); on the CPU path evaluates the pending patches here and
-    /// queues their upload ([`CpuGeometry::evaluate`]). Returns the number of patches evaluated.
+    /// queues their upload ([`CpuGeometry::evaluate`]); then the same for the pending curve
+    /// segments. Returns the number of patches and curve segments evaluated.
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> u32 {
-        match (&mut self.geometry, &self.evaluator) {
-            (Some(Built::Compute(g)), Some(evaluator)) => {
-                g.encode(&self.queue, encoder, evaluator, timestamps)
+        let curves = match (&mut self.curves, &self.curve_evaluator) {
+            (Some(curves), Some(evaluator)) => curves.encode(&self.queue, encoder, evaluator),
+            (Some(curves), None) => {
+                let feeds: Vec<_> = self.feeds.iter().map(|f| f.curve.as_ref()).collect();
+                curves.evaluate_on_cpu(&self.queue, &feeds)
             }
-            (Some(Built::Cpu(g)), _) => match g.evaluate(&self.queue, &self.feeds) {
-                Ok(evaluated) => evaluated,
-                Err(e) => {
-                    // The feeds and the layout come from one rebuild: this is a bug, not input.
-                    log::error!("CPU evaluation failed: {e}");
-                    0
+            (None, _) => 0,
+        };
+        curves
+            + match (&mut self.geometry, &self.evaluator) {
+                (Some(Built::Compute(g)), Some(evaluator)) => {
+                    g.encode(&self.queue, encoder, evaluator, timestamps)
                 }
-            },
-            _ => 0,
-        }
+                (Some(Built::Cpu(g)), _) => match g.evaluate(&self.queue, &self.feeds) {
+                    Ok(evaluated) => evaluated,
+                    Err(e) => {
+                        // The feeds and the layout come from one rebuild: this is a bug, not input.
+                        log::error!("CPU evaluation failed: {e}");
+                        0
+                    }
+                },
+                _ => 0,
+            }
     }
 
     /// Submits the pending work and waits for the GPU (tests, benchmarks, the CLI); returns the
@@ -527,6 +583,15 @@ impl SceneSync {
         match geometry.adaptive_pass() {
             Some(pass) => pass.read_stats(&self.device, &self.queue).map(Some),
             None => Ok(None),
+        }
+    }
+
+    /// The evaluated curve vertices (blocking).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn read_curve_vertices(&self) -> Result<Vec<super::records::CurveVertex>, GpuError> {
+        match &self.curves {
+            Some(curves) => curves.read_vertices(&self.device, &self.queue),
+            None => Ok(Vec::new()),
         }
     }
 

@@ -231,6 +231,8 @@ pub struct Export {
     pub root: json::Root,
     pub bin: Vec<u8>,
     pub triangles: usize,
+    /// Curves written as line strips.
+    pub lines: usize,
     pub vertices: usize,
 }
 
@@ -473,6 +475,7 @@ pub struct ExportJob {
     nodes: Vec<json::Index<json::Node>>,
     triangles: usize,
     vertices: usize,
+    lines: usize,
 }
 
 impl ExportJob {
@@ -509,6 +512,7 @@ impl ExportJob {
             },
             nodes: Vec::new(),
             triangles: 0,
+            lines: 0,
             vertices: 0,
         })
     }
@@ -545,9 +549,19 @@ impl ExportJob {
                 name: object.name.clone(),
                 source,
             })?;
+        // A curve is a line strip.
+        let strip = match object.kind().space_curve() {
+            Some(curve) => crate::kernel::tess::curve_polyline(curve, options.tessellation)
+                .map_err(|source| ExportError::Geometry {
+                    name: object.name.clone(),
+                    source,
+                })?,
+            None => Vec::new(),
+        };
         let (lo, hi) = pieces
             .iter()
             .flat_map(|p| &p.positions)
+            .chain(&strip)
             .map(|&p| to_gltf_axes(p))
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(p), hi.max(p))
@@ -565,6 +579,25 @@ impl ExportJob {
             self.triangles += p.triangles.len();
             self.vertices += p.positions.len();
             primitives.push(primitive(builder, p, origin, material, options));
+        }
+        if strip.len() >= 2 {
+            let positions: Vec<[f32; 3]> = strip
+                .iter()
+                .map(|&p| (to_gltf_axes(p) - origin).as_vec3().to_array())
+                .collect();
+            self.vertices += positions.len();
+            self.lines += 1;
+            let mut attributes = BTreeMap::new();
+            attributes.insert(Valid(Semantic::Positions), builder.floats(&positions, true));
+            primitives.push(json::mesh::Primitive {
+                attributes,
+                extensions: None,
+                extras: None,
+                indices: None,
+                material: Some(material),
+                mode: Valid(Mode::LineStrip),
+                targets: None,
+            });
         }
         if self.triangles > self.max_triangles {
             return Err(ExportError::too_many(
@@ -633,6 +666,7 @@ impl ExportJob {
             bin,
             triangles: self.triangles,
             vertices: self.vertices,
+            lines: self.lines,
         })
     }
 }

@@ -61,21 +61,28 @@ pub fn open(
     project::read(text)
 }
 
-/// A bare object of knotwork's JSON format ([`json::read`]) as a project of its surfaces.
+/// A bare object of knotwork's JSON format ([`json::read`]) as a project of its surfaces and
+/// curves.
 fn bare_surfaces(text: &str) -> Result<Project, FormatError> {
     let mut scene = crate::scene::Scene::default();
     for (k, object) in json::read(text)?.into_iter().enumerate() {
         let geometry = match object.geometry {
             json::Geometry::Surface(surface) => crate::scene::ObjectGeometry::new(surface),
             json::Geometry::TrimmedSurface(t) => crate::scene::ObjectGeometry::from_trimmed(t),
-            json::Geometry::Curve(_) | json::Geometry::Trim(_) => {
+            json::Geometry::Curve(curve) => crate::scene::ObjectGeometry::new(curve),
+            json::Geometry::Trim(_) => {
                 return Err(FormatError::new(
                     "type",
-                    "a curve is not a scene object: open a surface or a project",
+                    "a trim curve is not a scene object: open a surface, a curve or a project",
                 ));
             }
         };
-        let name = object.name.unwrap_or_else(|| format!("Surface {}", k + 1));
+        let base = if geometry.kind().space_curve().is_some() {
+            "Curve"
+        } else {
+            "Surface"
+        };
+        let name = object.name.unwrap_or_else(|| format!("{base} {}", k + 1));
         scene
             .objects
             .push(crate::scene::SceneObject::new(name, geometry));

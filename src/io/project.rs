@@ -281,10 +281,10 @@ fn read_kind(
     if let Some(kind) = registry::kind_of_record(record_type) {
         return (kind.read)(path, serde_json::Value::Object(map));
     }
-    if ["nurbs_curve", "trim_curve"].contains(&record_type) {
+    if record_type == "trim_curve" {
         return Err(FormatError::new(
             format!("{path}.type"),
-            "a curve is not a scene object: knotwork projects hold surfaces",
+            "a trim curve is not a scene object: it belongs in a surface's \"trims\"",
         ));
     }
     let known: Vec<String> = registry::kinds()

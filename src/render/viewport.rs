@@ -3,7 +3,7 @@ use wgpu::util::DeviceExt;
 
 use crate::gpu::adaptive::ScreenError;
 use crate::gpu::adaptive_pass::{ADAPTIVE_MAX_EDGE_PX, ADAPTIVE_MAX_SEGMENTS, AdaptiveTarget};
-use crate::gpu::records::{CURVATURE_RAMP, SceneUniform, SurfaceVertex};
+use crate::gpu::records::{CURVATURE_RAMP, CurveVertex, SceneUniform, SurfaceVertex};
 use crate::gpu::{PatchBuffers, SurfaceBuffers};
 use crate::shaders;
 use crate::view::{
@@ -395,6 +395,7 @@ struct RenderPipelines {
     dot: wgpu::RenderPipeline,
     line_depth: wgpu::RenderPipeline,
     line_top: wgpu::RenderPipeline,
+    curve: wgpu::RenderPipeline,
 }
 
 /// What the render pipelines are made from: layouts and shader modules.
@@ -443,7 +444,7 @@ impl PipelineSources {
              layout: &wgpu::PipelineLayout,
              (module, constants): (&wgpu::ShaderModule, &[(&str, f64)]),
              (vs, fs): (&str, &str),
-             buffer: wgpu::VertexBufferLayout<'_>,
+             buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
              topology: wgpu::PrimitiveTopology,
              (depth_compare, depth_write): (wgpu::CompareFunction, bool)| {
                 device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -456,7 +457,7 @@ impl PipelineSources {
                             constants,
                             ..Default::default()
                         },
-                        buffers: &[Some(buffer)],
+                        buffers,
                     },
                     primitive: wgpu::PrimitiveState {
                         topology,
@@ -492,6 +493,20 @@ impl PipelineSources {
                     cache: None,
                 })
             };
+        // A curve's pairs of consecutive vertices: one instance each, both ends from the one
+        // vertex buffer (bound a second time one vertex later).
+        let curve_layouts = [
+            Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<CurveVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &CurveVertex::ATTRIBUTES,
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<CurveVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &CurveVertex::NEXT_ATTRIBUTES,
+            }),
+        ];
         let on_top = (wgpu::CompareFunction::Always, false);
         let lines = wgpu::PrimitiveTopology::LineList;
         RenderPipelines {
@@ -507,7 +522,7 @@ impl PipelineSources {
                 } else {
                     ("vs_surface_gl", "fs_surface_gl")
                 },
-                SurfaceVertex::layout(),
+                &[Some(SurfaceVertex::layout())],
                 wgpu::PrimitiveTopology::TriangleList,
                 (wgpu::CompareFunction::Less, true),
             ),
@@ -517,7 +532,7 @@ impl PipelineSources {
                 &self.layout,
                 (&self.overlay_module, &[]),
                 ("vs_net", "fs_net"),
-                control_point_layout,
+                &[Some(control_point_layout)],
                 lines,
                 on_top,
             ),
@@ -526,7 +541,7 @@ impl PipelineSources {
                 &self.layout,
                 (&self.overlay_module, &[]),
                 ("vs_dot", "fs_dot"),
-                control_point_instances,
+                &[Some(control_point_instances)],
                 wgpu::PrimitiveTopology::TriangleStrip,
                 on_top,
             ),
@@ -535,7 +550,7 @@ impl PipelineSources {
                 &self.layout,
                 (&self.overlay_module, &[]),
                 ("vs_lines", "fs_lines"),
-                line_layout.clone(),
+                &[Some(line_layout.clone())],
                 lines,
                 (wgpu::CompareFunction::LessEqual, false),
             ),
@@ -544,9 +559,18 @@ impl PipelineSources {
                 &self.layout,
                 (&self.overlay_module, &[]),
                 ("vs_lines", "fs_lines"),
-                line_layout,
+                &[Some(line_layout)],
                 lines,
                 on_top,
+            ),
+            curve: pipeline(
+                "curves",
+                &self.layout,
+                (&self.overlay_module, &[]),
+                ("vs_curve", "fs_curve"),
+                &curve_layouts,
+                wgpu::PrimitiveTopology::TriangleStrip,
+                (wgpu::CompareFunction::LessEqual, false),
             ),
         }
     }
@@ -944,6 +968,13 @@ impl ViewportRenderer {
                 Some(arguments) => pass.draw_indexed_indirect(arguments, 0),
                 None => pass.draw_indexed(0..surface.index_count, 0, 0..1),
             }
+        }
+        if let Some(curves) = surface.curves {
+            let stride = std::mem::size_of::<CurveVertex>() as u64;
+            pass.set_pipeline(&pipelines.curve);
+            pass.set_vertex_buffer(0, curves.vertices.slice(..));
+            pass.set_vertex_buffer(1, curves.vertices.slice(stride..));
+            pass.draw(0..4, 0..curves.vertex_count - 1);
         }
         if let Some(lines) = &self.lines {
             let (depth, top) = self.line_counts;

@@ -195,6 +195,12 @@ pub trait ObjectKind: KindValue {
     /// elevation, splitting and trimming work on.
     fn nurbs_surface(&self) -> Option<&NurbsSurface>;
 
+    /// The NURBS curve of a kind that is one: what curve edits, the constructions of surfaces
+    /// from curves and the line-strip export work on.
+    fn space_curve(&self) -> Option<&crate::kernel::SpaceCurve> {
+        None
+    }
+
     /// [`Self::nurbs_surface`] with the kind's trim loops (none for an untrimmed surface).
     fn as_trimmed(&self) -> Option<TrimmedSurface> {
         self.nurbs_surface()

@@ -8,6 +8,7 @@
 
 pub mod change;
 pub mod continuity;
+mod curve;
 mod demo;
 pub mod ffd;
 pub mod json;
@@ -20,6 +21,7 @@ mod subdiv;
 mod triangle;
 mod trimmed;
 
+pub use curve::{CurveFeed, periodic_twin};
 pub use kind::{KindFace, KindValue, ObjectKind};
 pub use subdiv::{SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
@@ -92,6 +94,8 @@ pub struct Decomposition {
     pub fixed_segments: Option<u32>,
     /// A trimmed surface's classification grid and each Bézier patch's coverage.
     pub trims: Option<TrimFeed>,
+    /// A curve's rational Bézier segments (a curve feeds no patches).
+    pub curve: Option<CurveFeed>,
 }
 
 /// One object of the scene.

@@ -33,12 +33,13 @@ pub struct KindEntry {
 pub struct AlreadyRegistered(pub &'static str);
 
 /// The built-in kinds.
-const BUILT_IN: [KindEntry; 5] = [
+const BUILT_IN: [KindEntry; 6] = [
     super::nurbs::ENTRY,
     super::patch_set::ENTRY,
     super::mesh::ENTRY,
     super::subdiv::ENTRY,
     super::triangle::ENTRY,
+    super::curve::ENTRY,
 ];
 
 /// Kinds registered while the program runs.

@@ -482,6 +482,7 @@ impl ObjectKind for SubdivObject {
             cage_points: stencil_points,
             fixed_segments: Some(1 << self.surface.level()),
             trims: None,
+            curve: None,
         })
     }
 

@@ -145,6 +145,7 @@ impl ObjectKind for TriangleBezier {
             cage_points: self.points().len(),
             fixed_segments: Some(segments),
             trims: None,
+            curve: None,
         })
     }
 

@@ -314,6 +314,59 @@ impl<P: CurvePoint> NurbsCurve<P> {
         (a + (b - a) * fraction).clamp(a, b)
     }
 
+    /// The distinct knots of the domain [a, b], a and b included: the ends of the Bézier
+    /// segments of [`Self::bezier_segments`].
+    pub fn span_breaks(&self) -> Vec<f64> {
+        ops::distinct_breaks(&self.poly.knots, self.poly.degree, self.count())
+    }
+
+    /// The indices of the Bézier segments ([`Self::bezier_segments`]) that control point `i`
+    /// moves: those overlapping its support [u_i, u_{i+p+1}) (The NURBS Book P2.1); none for a
+    /// point it does not have.
+    pub fn segments_supported_by(&self, i: usize) -> Vec<usize> {
+        if i >= self.count() {
+            return Vec::new();
+        }
+        let (lo, hi) = (
+            self.poly.knots[i],
+            self.poly.knots[i + self.poly.degree + 1],
+        );
+        self.span_breaks()
+            .windows(2)
+            .enumerate()
+            .filter(|(_, w)| w[0] < hi && w[1] > lo)
+            .map(|(k, _)| k)
+            .collect()
+    }
+
+    /// The curve with control point `i` moved to `position`, its weight kept. Refused for a
+    /// point it does not have and a position that is not finite.
+    pub fn with_point(&self, i: usize, position: P) -> Result<Self, GeometryError> {
+        let count = self.count();
+        let Some(&h) = self.poly.points.get(i) else {
+            return Err(GeometryError::NoSuchPoint { index: i, count });
+        };
+        let w = P::weight_of(h);
+        check_point(Location::point(i), &position.coordinates(), w)?;
+        let mut poly = self.poly.clone();
+        poly.points[i] = position.to_homogeneous(w);
+        Ok(Self { poly })
+    }
+
+    /// The curve with the weight of control point `i` set to `weight` (finite and > 0), its
+    /// Cartesian position kept.
+    pub fn with_weight(&self, i: usize, weight: f64) -> Result<Self, GeometryError> {
+        let count = self.count();
+        if i >= count {
+            return Err(GeometryError::NoSuchPoint { index: i, count });
+        }
+        let position = self.control_point(i);
+        check_point(Location::point(i), &position.coordinates(), weight)?;
+        let mut poly = self.poly.clone();
+        poly.points[i] = position.to_homogeneous(weight);
+        Ok(Self { poly })
+    }
+
     /// The interior knots of the domain with their multiplicities.
     pub fn interior_knots(&self) -> Vec<(f64, usize)> {
         interior_knots(&self.poly.knots, self.poly.degree, self.count())
@@ -473,4 +526,40 @@ pub(crate) fn check_insertion<V: Vector>(
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cubic() -> SpaceCurve {
+        let points = (0..6)
+            .map(|i| DVec3::new(i as f64, (i * i % 5) as f64, 0.0))
+            .collect();
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 3.0, 3.0, 3.0];
+        SpaceCurve::new(3, knots, points, None).unwrap()
+    }
+
+    #[test]
+    fn a_point_moves_only_the_segments_of_its_support() {
+        let curve = cubic();
+        assert_eq!(curve.span_breaks(), [0.0, 1.0, 2.0, 3.0]);
+        // N_{0,3} lives on [0, 1), N_{2,3} on [0, 3), N_{5,3} on [2, 3) (The NURBS Book P2.1).
+        assert_eq!(curve.segments_supported_by(0), [0]);
+        assert_eq!(curve.segments_supported_by(2), [0, 1, 2]);
+        assert_eq!(curve.segments_supported_by(5), [2]);
+        assert!(curve.segments_supported_by(6).is_empty());
+        let moved = curve.with_point(0, DVec3::new(0.0, 0.0, 4.0)).unwrap();
+        for t in [1.0, 1.5, 2.5, 3.0] {
+            assert_eq!(moved.point_at(t).unwrap(), curve.point_at(t).unwrap());
+        }
+        assert_ne!(moved.point_at(0.5).unwrap(), curve.point_at(0.5).unwrap());
+        assert!(curve.with_point(9, DVec3::ZERO).is_err());
+        assert!(curve.with_point(1, DVec3::NAN).is_err());
+        // A new weight keeps the point where it is.
+        let weighted = curve.with_weight(2, 3.0).unwrap();
+        assert_eq!(weighted.control_point(2), curve.control_point(2));
+        assert_eq!(weighted.weight(2), 3.0);
+        assert!(curve.with_weight(2, 0.0).is_err());
+    }
 }

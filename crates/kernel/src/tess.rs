@@ -704,6 +704,48 @@ pub fn tessellate_mesh(
     Ok(out)
 }
 
+/// The most line segments [`curve_polyline`] gives one Bézier segment of a curve.
+pub const MAX_CURVE_SEGMENTS: usize = 4096;
+
+/// A curve as a polyline for export: per Bézier segment ([`SpaceCurve::span_breaks`]),
+/// `Segments(n)` takes n equal parameter steps, and `Tolerance(t)` halves the steps until every
+/// chord's midpoint lies within t of the curve's point at the middle parameter (at most
+/// [`MAX_CURVE_SEGMENTS`] per segment). The first and last points are the curve's ends.
+pub fn curve_polyline(
+    curve: &crate::SpaceCurve,
+    tessellation: Tessellation,
+) -> Result<Vec<DVec3>, GeometryError> {
+    let breaks = curve.span_breaks();
+    let mut points = vec![curve.point_at(breaks[0])?];
+    for span in breaks.windows(2) {
+        let (a, b) = (span[0], span[1]);
+        let at = |k: usize, n: usize| a + (b - a) * k as f64 / n as f64;
+        let n = match tessellation {
+            Tessellation::Segments(n) => (n as usize).clamp(1, MAX_CURVE_SEGMENTS),
+            Tessellation::Tolerance(tolerance) => {
+                let mut n = 2;
+                while n < MAX_CURVE_SEGMENTS {
+                    let mut worst = 0.0f64;
+                    for k in 0..n {
+                        let (p, q) = (curve.point_at(at(k, n))?, curve.point_at(at(k + 1, n))?);
+                        let middle = curve.point_at(0.5 * (at(k, n) + at(k + 1, n)))?;
+                        worst = worst.max(middle.distance(0.5 * (p + q)));
+                    }
+                    if worst <= tolerance {
+                        break;
+                    }
+                    n *= 2;
+                }
+                n
+            }
+        };
+        for k in 1..=n {
+            points.push(curve.point_at(if k == n { b } else { at(k, n) })?);
+        }
+    }
+    Ok(points)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
