@@ -256,8 +256,12 @@ impl KnotworkApp {
         self.auto_range = None;
         self.redraw = true;
         if cancel {
-            // Objects sharing the dragged lattice come back too: then everything is rebuilt.
-            let linked = self.doc.drag().is_some_and(|d| !d.linked().is_empty());
+            // Objects sharing the dragged lattice, or built from the dragged curve, come back
+            // too: then everything is rebuilt.
+            let linked = self
+                .doc
+                .drag()
+                .is_some_and(|d| !d.linked().is_empty() || !d.dependents().is_empty());
             if let Some(object) = self.doc.cancel_drag() {
                 let touched = if linked {
                     crate::doc::Touched::Structure

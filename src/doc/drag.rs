@@ -24,6 +24,9 @@ pub struct PointDrag {
     /// The other objects sharing the object's lattice (whose lattice points move too), as
     /// they were when the drag began.
     linked: Vec<(usize, SceneObject)>,
+    /// The objects built from the dragged curve (construction history), as they were when the
+    /// drag began: each step builds them again.
+    dependents: Vec<(usize, SceneObject)>,
 }
 
 impl PointDrag {
@@ -35,6 +38,11 @@ impl PointDrag {
     /// The other objects whose shared lattice moves with the dragged one.
     pub fn linked(&self) -> Vec<usize> {
         self.linked.iter().map(|(k, _)| *k).collect()
+    }
+
+    /// The objects built from the dragged curve, which each step builds again.
+    pub fn dependents(&self) -> Vec<usize> {
+        self.dependents.iter().map(|(k, _)| *k).collect()
     }
 }
 
@@ -68,11 +76,19 @@ impl Document {
             .filter(|&k| k != object)
             .map(|k| (k, self.scene.objects[k].clone()))
             .collect();
+        let dependents = self
+            .scene
+            .dependents_of(&target.name)
+            .into_iter()
+            .filter(|&k| k != object)
+            .map(|k| (k, self.scene.objects[k].clone()))
+            .collect();
         self.drag = Some(PointDrag {
             object,
             before: target.clone(),
             starts: unique.into_iter().map(|k| (k, positions[k])).collect(),
             linked,
+            dependents,
         });
         Ok(())
     }
@@ -108,6 +124,7 @@ impl Document {
             }
         }
         let linked = drag.linked();
+        let dependents: Vec<usize> = drag.dependents.iter().map(|(k, _)| *k).collect();
         let mut patches = BTreeSet::new();
         for index in std::iter::once(object).chain(linked.iter().copied()) {
             let support = move_points_of(&mut self.scene.objects[index], moves)?;
@@ -115,11 +132,27 @@ impl Document {
                 patches.extend(support);
             }
         }
+        // The surfaces built from the curve follow it. One that cannot be built for this
+        // position keeps its last shape.
+        let mut rebuilt = Vec::new();
+        let mut relaid = false;
+        for index in dependents {
+            let Ok(Some(after)) =
+                super::construction::rebuilt(&self.scene.objects[index], &self.scene)
+            else {
+                continue;
+            };
+            let before = &self.scene.objects[index];
+            relaid |= !before.kind().same_layout(&after.geometry);
+            self.scene.objects[index] = after;
+            rebuilt.push(index);
+        }
         Ok(PointsMoved {
             object,
             patches: patches.into_iter().collect(),
-            relaid: false,
+            relaid,
             linked,
+            rebuilt,
         })
     }
 
@@ -133,6 +166,10 @@ impl Document {
         if let Some(geometry) = slot.kind().resettled() {
             slot.geometry = geometry;
         }
+        // A direct edit of an object built from curves ends its history.
+        if slot.geometry != drag.before.geometry {
+            slot.construction = None;
+        }
         let after = slot.clone();
         if after == drag.before {
             return None;
@@ -142,13 +179,15 @@ impl Document {
             before: drag.before,
             after,
         }];
-        for (index, before) in drag.linked {
+        for (index, before) in drag.linked.into_iter().chain(drag.dependents) {
             let after = self.scene.objects.get(index)?.clone();
-            changes.push(Change::Replace {
-                index,
-                before,
-                after,
-            });
+            if after != before {
+                changes.push(Change::Replace {
+                    index,
+                    before,
+                    after,
+                });
+            }
         }
         Some(self.history.record(Edit {
             label: format!("move {} point(s)", drag.starts.len()),
@@ -160,7 +199,7 @@ impl Document {
     /// when no drag was in progress.
     pub fn cancel_drag(&mut self) -> Option<usize> {
         let drag = self.drag.take()?;
-        for (index, before) in drag.linked {
+        for (index, before) in drag.linked.into_iter().chain(drag.dependents) {
             if let Some(slot) = self.scene.objects.get_mut(index) {
                 *slot = before;
             }

@@ -5,7 +5,9 @@
 //! Kernel data only: no GPU, no UI. The editor turns picks and drags into commands and
 //! re-uploads the objects an edit touched ([`Edit::touched`]).
 
+pub mod construction;
 pub mod create;
+mod curve_edits;
 pub mod document;
 pub mod drag;
 pub mod history;
@@ -146,6 +148,40 @@ pub enum Command {
         object: usize,
         edit: TrimEdit,
     },
+    /// Builds a construct request on curve objects ([`construction::build`]): a new object
+    /// (with the history kept when `keep_history`, so that it follows its curves), or with
+    /// `replace` the new geometry of that object (a curve rebuilt, fitted, extended, …).
+    Construct {
+        construction: crate::scene::construction::Construction,
+        keep_history: bool,
+        replace: Option<usize>,
+    },
+    /// Ends an object's construction history: it keeps its shape and no longer follows its
+    /// curves.
+    BreakHistory {
+        object: usize,
+    },
+    /// An edit of a curve object that no construct request makes.
+    EditCurve {
+        object: usize,
+        edit: CurveEdit,
+    },
+}
+
+/// An edit of a curve object ([`Command::EditCurve`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CurveEdit {
+    /// Moves the last control point onto the first, closing an open curve (Rhino's CloseCrv).
+    Close,
+    /// A periodic (closed, smooth) curve as a clamped one with its seam at the domain's start:
+    /// the same shape, whose ends can then move apart.
+    Open,
+    /// Removes control point `point` (at least degree + 1 stay): the knots are spaced again
+    /// evenly, clamped at the ends.
+    RemovePoint { point: usize },
+    /// Appends curve object `other` (the nearer of its ends to this curve's end first), which
+    /// is removed; the ends must meet within 1e-6 of the curves' size.
+    Join { other: usize },
 }
 
 /// One change to a surface's trim loops.
@@ -284,6 +320,25 @@ impl Command {
                 format!("subdivision level {}", settings.level)
             }
             Command::Trim { edit, .. } => edit.label(),
+            Command::Construct {
+                construction,
+                replace: Some(_),
+                ..
+            } => construction.command().to_owned(),
+            Command::Construct { construction, .. } => {
+                format!(
+                    "{} from {} curve(s)",
+                    construction.command(),
+                    construction.inputs.len()
+                )
+            }
+            Command::BreakHistory { .. } => "break history".into(),
+            Command::EditCurve { edit, .. } => match edit {
+                CurveEdit::Close => "close curve".into(),
+                CurveEdit::Open => "open curve".into(),
+                CurveEdit::RemovePoint { point } => format!("remove point {point}"),
+                CurveEdit::Join { .. } => "join curves".into(),
+            },
             Command::SetDisplacement {
                 displacement: Some(d),
                 ..
@@ -349,6 +404,10 @@ pub enum EditError {
     NothingSelected { operation: &'static str },
     #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
     InvalidName,
+    #[error(
+        "another object is named \"{name}\", and construction history finds its curves by name: choose another"
+    )]
+    NameTaken { name: String },
     #[error("segments per span must be in 1..={max}, got {segments}")]
     Segments { segments: u32, max: u32 },
     #[error("no drag is in progress")]
@@ -513,7 +572,8 @@ pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> 
 /// Applies `command` to `scene` and returns the edit that undoes it. On error the scene is
 /// unchanged.
 pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
-    let (changes, label) = plan::plan(scene, command)?;
+    let (mut changes, mut label) = plan::plan(scene, command)?;
+    construction::follow(scene, command, &mut changes, &mut label)?;
     let edit = Edit { label, changes };
     edit.redo(scene)?;
     Ok(edit)

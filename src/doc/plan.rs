@@ -10,9 +10,71 @@ use super::{
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
 
+/// Whether object `k` is a curve (which the knot, degree, direction and split commands then
+/// edit as one).
+fn is_curve(scene: &Scene, k: usize) -> bool {
+    scene
+        .objects
+        .get(k)
+        .is_some_and(|o| o.kind().space_curve().is_some())
+}
+
 /// The changes `command` would make and the label of its undo step.
 pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, String), EditError> {
+    use super::curve_edits::{self, map_curve};
     let changes = match command {
+        Command::InsertKnot { object, value, .. } if is_curve(scene, *object) => {
+            map_curve(scene, *object, "knot insertion", |c| {
+                c.insert_knot(*value, 1)
+            })
+        }
+        Command::ElevateDegree { object, .. } if is_curve(scene, *object) => {
+            map_curve(scene, *object, "degree elevation", |c| c.elevate_degree(1))
+        }
+        Command::Reverse { object, .. } if is_curve(scene, *object) => {
+            map_curve(scene, *object, "reversal", |c| Ok(c.reverse()))
+        }
+        Command::Split { object, value, .. } if is_curve(scene, *object) => {
+            let name = &object_at(scene, *object)?.name;
+            curve_edits::split_curve(scene, *object, *value, |suffix| split_name(name, suffix))
+        }
+        Command::RemoveKnot {
+            object,
+            value,
+            tolerance,
+            ..
+        } if is_curve(scene, *object) => {
+            let target = object_at(scene, *object)?;
+            map_curve(scene, *object, "knot removal", |c| {
+                let (removed, count) = c.remove_knot(*value, 1, *tolerance);
+                if count == 0 {
+                    return Err(GeometryError::Construction {
+                        what: "knot removal",
+                        message: format!(
+                            "the knot {value} cannot be removed without moving {} more than {tolerance}",
+                            target.name
+                        ),
+                    });
+                }
+                Ok(removed)
+            })
+        }
+        Command::Construct {
+            construction,
+            keep_history,
+            replace,
+        } => curve_edits::construct(scene, construction, *keep_history, *replace),
+        Command::BreakHistory { object } => {
+            let target = object_at(scene, *object)?;
+            if target.construction.is_none() {
+                return Err(geometry_error(target)(GeometryError::Construction {
+                    what: "break history",
+                    message: "it has no construction history".into(),
+                }));
+            }
+            map_object(scene, *object, |o| o.construction = None)
+        }
+        Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }
@@ -72,6 +134,20 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::Rename { object, name } => {
             if !valid_name(name) {
                 return Err(EditError::InvalidName);
+            }
+            // Construction history finds its curves by name: a name must not capture another's.
+            let taken = scene
+                .objects
+                .iter()
+                .enumerate()
+                .any(|(k, o)| k != *object && &o.name == name);
+            let referenced = scene.objects.iter().any(|o| {
+                o.construction.as_ref().is_some_and(|c| {
+                    c.uses(name) || scene.objects.get(*object).is_some_and(|t| c.uses(&t.name))
+                })
+            });
+            if taken && referenced {
+                return Err(EditError::NameTaken { name: name.clone() });
             }
             map_object(scene, *object, |o| o.name = name.clone())
         }
@@ -501,6 +577,12 @@ fn set_lattice(
     let mut seen = std::collections::BTreeSet::new();
     for &k in objects {
         let object = object_at(scene, k)?;
+        if lattice.is_some() && object.kind().space_curve().is_some() {
+            return Err(geometry_error(object)(GeometryError::Construction {
+                what: "lattice",
+                message: "a lattice deforms surfaces; a curve takes none".into(),
+            }));
+        }
         if let Some(l) = lattice {
             crate::kernel::ffd::Lattice::new(
                 l.origin(),

@@ -477,11 +477,21 @@ impl SceneSync {
 
     /// A drag step or a move ([`crate::doc::Document::drag_by`], `move_points`): only the
     /// moved points' support is re-derived and re-evaluated.
-    /// Objects sharing a moved lattice upload their lattice again.
+    /// Objects sharing a moved lattice upload their lattice again; objects built from a moved
+    /// curve are re-derived whole.
     pub fn points_moved(&mut self, scene: &Scene, moved: &PointsMoved) -> Result<usize, GpuError> {
         let uploaded = self.refresh_object(scene, moved.object, Some(&moved.patches))?;
         for &other in &moved.linked {
             self.refresh_object(scene, other, Some(&[]))?;
+        }
+        // Objects built from the moved curve: re-derived whole, or (another layout) every
+        // buffer built again.
+        if moved.relaid && !moved.rebuilt.is_empty() {
+            self.rebuild(scene, self.quality_used)?;
+        } else {
+            for &other in &moved.rebuilt {
+                self.refresh_object(scene, other, None)?;
+            }
         }
         self.points_uploaded = uploaded;
         Ok(uploaded)

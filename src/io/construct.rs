@@ -377,6 +377,12 @@ impl Built {
 pub fn build(text: &str) -> Result<Built, FormatError> {
     let value: Value = serde_json::from_str(text)
         .map_err(|e| FormatError::new("", format!("not valid JSON: {e}")))?;
+    build_value(value)
+}
+
+/// [`build`] for a request already parsed (the editor's constructions, whose curves it fills
+/// in from the document).
+pub fn build_value(value: Value) -> Result<Built, FormatError> {
     let request: Request = serde_path_to_error::deserialize(value)
         .map_err(|e| FormatError::new(e.path().to_string(), e.into_inner().to_string()))?;
     let points = |raw: &[[f64; 3]]| -> Vec<DVec3> { raw.iter().map(|&p| DVec3::from(p)).collect() };

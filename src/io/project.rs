@@ -203,6 +203,17 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             Some(raw.lattice().map_err(|e| FormatError::geometry(&at, e))?)
         }
     };
+    let construction = match map.remove("construction") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(value) => {
+            let at = format!("{path}.construction");
+            let raw: crate::scene::construction::Construction = deserialize(&at, value)?;
+            Some(
+                crate::scene::construction::Construction::new(raw.request, raw.inputs)
+                    .map_err(|e| FormatError::new(format!("{path}.{}", e.path), e.message))?,
+            )
+        }
+    };
     let name = match map.remove("name") {
         None => None,
         Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
@@ -231,6 +242,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     object.segments = segments;
     object.displacement = displacement;
     object.lattice = lattice;
+    object.construction = construction;
     Ok(object)
 }
 
@@ -303,7 +315,8 @@ fn read_kind(
 }
 
 /// One scene object as a JSON value: its kind's record ([`crate::scene::ObjectKind::record`])
-/// with the object's name, visibility, segments, displacement and lattice.
+/// with the object's name, visibility, segments, displacement, lattice and construction
+/// history.
 fn object_value(object: &SceneObject) -> serde_json::Value {
     let mut value = object.kind().record();
     if let serde_json::Value::Object(map) = &mut value {
@@ -322,6 +335,12 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
                 "lattice".into(),
                 serde_json::to_value(LatticeRecord::from_lattice(lattice))
                     .unwrap_or(serde_json::Value::Null),
+            );
+        }
+        if let Some(construction) = &object.construction {
+            map.insert(
+                "construction".into(),
+                serde_json::to_value(construction).unwrap_or(serde_json::Value::Null),
             );
         }
     }

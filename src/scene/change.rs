@@ -17,11 +17,14 @@ pub enum Touched {
 /// that must be re-derived and re-evaluated (the union of the moved points' supports).
 /// `relaid`: the move ended with the object's layout changed (an adaptive refinement chose
 /// other depths), so its GPU geometry must be rebuilt rather than updated. `linked`: other
-/// objects whose shared lattice moved too (their lattices are uploaded again).
+/// objects whose shared lattice moved too (their lattices are uploaded again). `rebuilt`:
+/// objects built from the moved curve (construction history), built again with it; `relaid`
+/// also says when one of those came out in another layout.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PointsMoved {
     pub object: usize,
     pub patches: Vec<usize>,
     pub relaid: bool,
     pub linked: Vec<usize>,
+    pub rebuilt: Vec<usize>,
 }

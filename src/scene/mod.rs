@@ -7,6 +7,7 @@
 //! UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
 
 pub mod change;
+pub mod construction;
 pub mod continuity;
 mod curve;
 mod demo;
@@ -112,6 +113,9 @@ pub struct SceneObject {
     /// A free-form deformation lattice around the object ([`crate::kernel::ffd`]): while it
     /// is there, the object is shown deformed and its handles are the lattice's points.
     pub lattice: Option<Lattice>,
+    /// How the object was built from curve objects, where it was and the history is kept: it
+    /// is built again when they change ([`construction`]).
+    pub construction: Option<construction::Construction>,
 }
 
 impl Decomposition {
@@ -193,6 +197,7 @@ impl SceneObject {
             visible: true,
             displacement: None,
             lattice: None,
+            construction: None,
         }
     }
 

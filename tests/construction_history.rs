@@ -1,0 +1,487 @@
+//! Surfaces built from the user's curve objects in the document, with construction history: a
+//! loft, sweep or network made from curve objects follows them when a curve is dragged (every
+//! drag step, on the GPU too) or edited by a command, in the same undo step; a rename follows,
+//! a removal or a direct edit of the surface ends the history; projects keep it. And the curve
+//! commands (knots, degree, direction, split and join, close and open, remove a point, rebuild
+//! in place) keep what they promise.
+
+mod common;
+
+use glam::DVec3;
+use knotwork::doc::{Command, CurveEdit, Document, Touched};
+use knotwork::gpu::SceneSync;
+use knotwork::io::project::{self, Project};
+use knotwork::kernel::{Direction, NurbsSurface, SpaceCurve, splines};
+use knotwork::scene::construction::Construction;
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+/// A closed section: a wobbly ellipse of 8 points through which a cubic is interpolated, at
+/// height z.
+fn section(z: f64, wobble: f64) -> SpaceCurve {
+    let points: Vec<DVec3> = (0..8)
+        .map(|i| {
+            let a = i as f64 / 8.0 * std::f64::consts::TAU;
+            DVec3::new(
+                a.cos() * (2.0 + wobble * (3.0 * a).sin()),
+                1.5 * a.sin(),
+                z + 0.2 * wobble * (2.0 * a).cos(),
+            )
+        })
+        .collect();
+    splines::interpolate_closed(&points, 3, splines::Parametrization::ChordLength).unwrap()
+}
+
+fn curve_object(name: &str, curve: SpaceCurve) -> SceneObject {
+    SceneObject::new(name, ObjectGeometry::new(curve))
+}
+
+/// Three section curves named "s0", "s1", "s2".
+fn sections() -> Document {
+    Document::new(Scene {
+        objects: vec![
+            curve_object("s0", section(0.0, 0.2)),
+            curve_object("s1", section(1.2, 0.5)),
+            curve_object("s2", section(2.5, 0.1)),
+        ],
+    })
+}
+
+/// The loft of "s0", "s1", "s2" with history.
+fn loft_construction() -> Construction {
+    Construction::new(
+        serde_json::json!({
+            "construct": "loft",
+            "curves": [{"input": 0}, {"input": 1}, {"input": 2}],
+            "degree": 3
+        }),
+        vec!["s0".into(), "s1".into(), "s2".into()],
+    )
+    .unwrap()
+}
+
+fn surface(object: &SceneObject) -> &NurbsSurface {
+    object.geometry.nurbs_surface().expect("a NURBS surface")
+}
+
+fn curve(object: &SceneObject) -> &SpaceCurve {
+    object.kind().space_curve().expect("a curve")
+}
+
+/// The largest distance from 60 points of `curve` to `surface` (point inversion).
+fn curve_to_surface(curve: &SpaceCurve, surface: &NurbsSurface) -> f64 {
+    (0..=60)
+        .map(|k| {
+            let p = curve.point_at(curve.parameter_at(k as f64 / 60.0)).unwrap();
+            surface.closest_point(p).unwrap().distance
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The largest distance between the two curves at 50 equal parameter fractions.
+fn curve_distance(a: &SpaceCurve, b: &SpaceCurve) -> f64 {
+    (0..=50)
+        .map(|k| {
+            let f = k as f64 / 50.0;
+            let (p, q) = (
+                a.point_at(a.parameter_at(f)).unwrap(),
+                b.point_at(b.parameter_at(f)).unwrap(),
+            );
+            p.distance(q)
+        })
+        .fold(0.0, f64::max)
+}
+
+fn lofted() -> Document {
+    let mut doc = sections();
+    doc.execute(&Command::Construct {
+        construction: loft_construction(),
+        keep_history: true,
+        replace: None,
+    })
+    .unwrap();
+    doc
+}
+
+#[test]
+fn a_loft_of_curve_objects_follows_a_dragged_section_and_undoes_in_one_step() {
+    let mut doc = lofted();
+    assert_eq!(doc.scene.objects.len(), 4);
+    let loft = &doc.scene.objects[3];
+    assert_eq!(loft.name, "loft");
+    assert_eq!(loft.construction, Some(loft_construction()));
+    for k in 0..3 {
+        let d = curve_to_surface(curve(&doc.scene.objects[k]), surface(loft));
+        assert!(d < 1e-7, "section {k}: {d:e}");
+    }
+    let original = doc.scene.clone();
+    let undo_depth = doc.history.undo_depth();
+
+    // Drag point 3 of the middle section: every step builds the loft again through it.
+    doc.begin_drag(1, &[3]).unwrap();
+    for step in 1..=3 {
+        let moved = doc
+            .drag_by(DVec3::new(0.1, 0.2, 0.15) * f64::from(step))
+            .unwrap();
+        assert_eq!(moved.rebuilt, vec![3], "step {step}");
+        let d = curve_to_surface(curve(&doc.scene.objects[1]), surface(&doc.scene.objects[3]));
+        assert!(
+            d < 1e-7,
+            "step {step}: the loft misses the moved section by {d:e}"
+        );
+    }
+    assert_ne!(doc.scene.objects[3], original.objects[3]);
+    assert!(doc.scene.objects[3].construction.is_some());
+    doc.commit_drag().unwrap();
+    assert_eq!(doc.history.undo_depth(), undo_depth + 1, "one undo step");
+    doc.undo().unwrap();
+    assert_eq!(
+        doc.scene, original,
+        "undo brings back the curve and the loft"
+    );
+    doc.redo().unwrap();
+    let d = curve_to_surface(curve(&doc.scene.objects[1]), surface(&doc.scene.objects[3]));
+    assert!(d < 1e-7);
+
+    // A cancelled drag puts the loft back too.
+    let before = doc.scene.clone();
+    doc.begin_drag(0, &[0]).unwrap();
+    doc.drag_by(DVec3::new(0.0, 0.0, -0.4)).unwrap();
+    doc.cancel_drag().unwrap();
+    assert_eq!(doc.scene, before);
+}
+
+#[test]
+fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
+    let mut doc = lofted();
+    // A transform of a section rebuilds the loft in the same step.
+    doc.execute(&Command::Transform {
+        object: 2,
+        transform: glam::DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.8)),
+    })
+    .unwrap();
+    let d = curve_to_surface(curve(&doc.scene.objects[2]), surface(&doc.scene.objects[3]));
+    assert!(d < 1e-7, "{d:e}");
+    assert_eq!(doc.undo().unwrap().touched(), Touched::Structure);
+    assert_eq!(doc.scene, lofted().scene);
+
+    // A rename follows.
+    doc.execute(&Command::Rename {
+        object: 0,
+        name: "bottom".into(),
+    })
+    .unwrap();
+    let construction = doc.scene.objects[3].construction.clone().unwrap();
+    assert_eq!(construction.inputs, ["bottom", "s1", "s2"]);
+    // A name that another object has would capture its history: refused.
+    let taken = doc.execute(&Command::Rename {
+        object: 2,
+        name: "s1".into(),
+    });
+    assert!(taken.is_err(), "{taken:?}");
+    // The curve edits rebuild too (knot insertion keeps the shape, so the loft stays on it).
+    doc.execute(&Command::ElevateDegree {
+        object: 0,
+        direction: Direction::U,
+    })
+    .unwrap();
+    let d = curve_to_surface(curve(&doc.scene.objects[0]), surface(&doc.scene.objects[3]));
+    assert!(d < 1e-7, "{d:e}");
+
+    // Removing an input ends the history; undo brings it back.
+    doc.execute(&Command::Delete { object: 1 }).unwrap();
+    assert_eq!(doc.scene.objects[2].construction, None);
+    doc.undo().unwrap();
+    assert!(doc.scene.objects[3].construction.is_some());
+
+    // A direct edit of the surface ends its history.
+    doc.execute(&Command::MovePoints {
+        object: 3,
+        moves: vec![(0, DVec3::new(5.0, 5.0, 5.0))],
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects[3].construction, None);
+    doc.undo().unwrap();
+    doc.execute(&Command::BreakHistory { object: 3 }).unwrap();
+    assert_eq!(doc.scene.objects[3].construction, None);
+    assert!(doc.execute(&Command::BreakHistory { object: 3 }).is_err());
+}
+
+#[test]
+fn history_is_saved_and_a_bad_one_is_refused_by_path() {
+    let doc = lofted();
+    let text = project::write(&Project {
+        scene: doc.scene.clone(),
+        view: None,
+    });
+    assert!(text.contains("\"construction\""));
+    let back = project::read(&text).unwrap();
+    assert_eq!(back.scene, doc.scene);
+    let bad = text.replace("{\"input\":2}", "{\"input\":5}");
+    assert_ne!(bad, text);
+    let error = project::read(&bad).unwrap_err();
+    assert!(
+        error.path.starts_with("objects[3].construction") && error.message.contains("input 5"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_failed_rebuild_keeps_the_surface_and_says_why() {
+    // A sweep whose profile is moved far off the rail still sweeps; a loft whose section is
+    // collapsed to a point is refused by the kernel and the loft keeps its last shape.
+    let mut doc = lofted();
+    let before = doc.scene.objects[3].clone();
+    let count = curve(&doc.scene.objects[1]).count();
+    let moves: Vec<(usize, DVec3)> = (0..count).map(|k| (k, DVec3::new(0.0, 0.0, 1.2))).collect();
+    let edit = doc
+        .execute(&Command::MovePoints { object: 1, moves })
+        .unwrap();
+    assert!(edit.label.contains("loft not rebuilt"), "{}", edit.label);
+    assert_eq!(doc.scene.objects[3].geometry, before.geometry);
+}
+
+#[test]
+fn a_construction_from_curves_is_one_undo_step_and_bad_input_changes_nothing() {
+    let mut doc = sections();
+    let before = doc.clone();
+    // A loft of one curve is refused with the kernel's reason.
+    let one = Construction::new(
+        serde_json::json!({"construct": "loft", "curves": [{"input": 0}]}),
+        vec!["s0".into()],
+    )
+    .unwrap();
+    let refused = doc.execute(&Command::Construct {
+        construction: one,
+        keep_history: true,
+        replace: None,
+    });
+    assert!(refused.is_err());
+    assert_eq!(doc, before);
+    // An input that is not in the scene, or not a curve.
+    let missing = Construction::new(
+        serde_json::json!({"construct": "loft", "curves": [{"input": 0}, {"input": 1}]}),
+        vec!["s0".into(), "nowhere".into()],
+    )
+    .unwrap();
+    let error = doc
+        .execute(&Command::Construct {
+            construction: missing,
+            keep_history: true,
+            replace: None,
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("nowhere"), "{error}");
+    assert!(
+        Construction::new(
+            serde_json::json!({"curves": [{"input": 3}]}),
+            vec!["a".into()]
+        )
+        .is_err()
+    );
+    // A rebuild in place (no history): the curve object keeps its name.
+    doc.execute(&Command::Construct {
+        construction: Construction::new(
+            serde_json::json!({"construct": "rebuild", "curve": {"input": 0}, "points": 12, "degree": 3}),
+            vec!["s0".into()],
+        )
+        .unwrap(),
+        keep_history: false,
+        replace: Some(0),
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects[0].name, "s0");
+    assert_eq!(curve(&doc.scene.objects[0]).count(), 12);
+    assert!(
+        curve_distance(
+            curve(&doc.scene.objects[0]),
+            curve(&before.scene.objects[0])
+        ) < 0.05
+    );
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before.scene);
+}
+
+#[test]
+fn curve_commands_keep_the_shape_where_they_promise_to() {
+    let open = splines::interpolate_through(
+        &[
+            DVec3::ZERO,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(2.0, 0.5, 0.3),
+            DVec3::new(3.0, -0.5, 0.0),
+            DVec3::new(4.0, 0.0, 0.5),
+        ],
+        3,
+        splines::Parametrization::ChordLength,
+        None,
+    )
+    .unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![curve_object("c", open.clone())],
+    });
+    let (a, b) = open.domain();
+    let middle = 0.5 * (a + b);
+    for command in [
+        Command::InsertKnot {
+            object: 0,
+            direction: Direction::U,
+            value: middle,
+        },
+        Command::ElevateDegree {
+            object: 0,
+            direction: Direction::U,
+        },
+    ] {
+        doc.execute(&command).unwrap();
+        let c = curve(&doc.scene.objects[0]);
+        assert!(curve_distance(c, &open) < 1e-12, "{command:?}");
+        assert!(c.count() > open.count(), "{command:?}");
+        doc.undo().unwrap();
+    }
+    // Reverse runs the other way: its start is the end.
+    doc.execute(&Command::Reverse {
+        object: 0,
+        direction: Direction::U,
+    })
+    .unwrap();
+    let (start, _) = curve(&doc.scene.objects[0]).ends().unwrap();
+    assert!(start.distance(open.ends().unwrap().1) < 1e-12);
+    doc.undo().unwrap();
+    // Split and join give the curve back.
+    doc.execute(&Command::Split {
+        object: 0,
+        direction: Direction::U,
+        value: middle,
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects.len(), 2);
+    assert_eq!(doc.scene.objects[1].name, "c (b)");
+    doc.execute(&Command::EditCurve {
+        object: 0,
+        edit: CurveEdit::Join { other: 1 },
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects.len(), 1);
+    let joined = curve(&doc.scene.objects[0]);
+    for k in 0..=40 {
+        let p = joined
+            .point_at(joined.parameter_at(k as f64 / 40.0))
+            .unwrap();
+        let q = open.point_at(open.closest_parameter(p).unwrap()).unwrap();
+        assert!(
+            p.distance(q) < 1e-9,
+            "joined point {k} is {:e} off",
+            p.distance(q)
+        );
+    }
+    // Close puts the end on the start; then a periodic curve opens to the same shape.
+    doc.execute(&Command::EditCurve {
+        object: 0,
+        edit: CurveEdit::Close,
+    })
+    .unwrap();
+    let (s, e) = curve(&doc.scene.objects[0]).ends().unwrap();
+    assert!(s.distance(e) < 1e-12);
+    assert!(
+        doc.execute(&Command::EditCurve {
+            object: 0,
+            edit: CurveEdit::Close,
+        })
+        .is_err()
+    );
+    let ring = section(0.0, 0.3);
+    let mut rings = Document::new(Scene {
+        objects: vec![curve_object("ring", ring.clone())],
+    });
+    rings
+        .execute(&Command::EditCurve {
+            object: 0,
+            edit: CurveEdit::Open,
+        })
+        .unwrap();
+    assert!(curve_distance(curve(&rings.scene.objects[0]), &ring) < 1e-12);
+    assert!(
+        rings
+            .execute(&Command::EditCurve {
+                object: 0,
+                edit: CurveEdit::Open,
+            })
+            .is_err()
+    );
+    // Removing a point leaves one fewer; the ends stay.
+    let before = curve(&doc.scene.objects[0]).clone();
+    doc.execute(&Command::EditCurve {
+        object: 0,
+        edit: CurveEdit::RemovePoint { point: 2 },
+    })
+    .unwrap();
+    let after = curve(&doc.scene.objects[0]);
+    assert_eq!(after.count(), before.count() - 1);
+    assert_eq!(after.ends().unwrap().0, before.ends().unwrap().0);
+    // Curves take no lattice and no displacement.
+    let lattice = knotwork::kernel::ffd::Lattice::around(DVec3::ZERO, DVec3::ONE, [1, 1, 1]);
+    if let Ok(lattice) = lattice {
+        assert!(
+            doc.execute(&Command::SetLattice {
+                objects: vec![0],
+                lattice: Some(lattice),
+            })
+            .is_err()
+        );
+    }
+}
+
+/// The GPU follows: dragging a section re-evaluates the loft (and the curve), and the loft's
+/// vertices match the kernel's rebuilt loft; incremental equals a full evaluation.
+#[test]
+fn the_gpu_follows_a_dragged_section() {
+    let context = common::gpu();
+    let mut doc = lofted();
+    let mut sync = SceneSync::new(&context.device, &context.queue);
+    sync.rebuild(&doc.scene, 1.0).unwrap();
+    sync.evaluate_blocking().unwrap();
+    doc.begin_drag(1, &[2]).unwrap();
+    for step in 1..=2 {
+        let moved = doc
+            .drag_by(DVec3::new(0.0, 0.3, 0.2) * f64::from(step))
+            .unwrap();
+        sync.points_moved(&doc.scene, &moved).unwrap();
+        sync.evaluate_blocking().unwrap();
+    }
+    let vertices = sync.read_vertices().unwrap();
+    let loft = &doc.scene.objects[3];
+    let first = sync.first_patch(3).unwrap();
+    let records = sync.records().unwrap();
+    let size = {
+        let (lo, hi) = loft.bounds().unwrap();
+        (hi - lo).length()
+    };
+    let mut worst = 0.0f64;
+    for (k, record) in records.iter().enumerate().skip(first) {
+        if record.object != 3 {
+            continue;
+        }
+        let n = record.segments_u as usize;
+        for i in 0..=n {
+            for j in 0..=n {
+                let v = vertices[record.vertex_offset as usize + i * (n + 1) + j];
+                let exact = loft
+                    .kind()
+                    .surface_point(k - first, i as f64 / n as f64, j as f64 / n as f64)
+                    .unwrap();
+                worst = worst.max(DVec3::from(v.position.map(f64::from)).distance(exact));
+            }
+        }
+    }
+    eprintln!(
+        "dragged loft on the GPU vs f64: {:.2e} of its size",
+        worst / size
+    );
+    assert!(worst / size < 1e-5);
+    let mut full = SceneSync::new(&context.device, &context.queue);
+    full.rebuild(&doc.scene, 1.0).unwrap();
+    full.evaluate_blocking().unwrap();
+    assert!(full.read_vertices().unwrap() == vertices);
+    assert!(full.read_curve_vertices().unwrap() == sync.read_curve_vertices().unwrap());
+}
