@@ -4,6 +4,7 @@
 
 mod analysis;
 mod command;
+pub mod curves;
 mod export;
 mod files;
 mod gizmo;
@@ -239,6 +240,8 @@ struct Selection {
     box_start: Option<egui::Pos2>,
     /// The last surface point clicked.
     hit: Option<SurfaceHit>,
+    /// Curve objects picked for a construction, in the order they were picked.
+    curves: Vec<usize>,
 }
 
 /// The document's revisions as the autosave and the page's `project()` see them, its name and
@@ -276,6 +279,8 @@ pub struct KnotworkApp {
     constraint: Constraint,
     /// The trim loop being drawn on the surface, if a trim tool is active.
     trim_drawing: Option<trim::TrimDrawing>,
+    /// The curve being drawn, and the curve tools' settings.
+    curves: curves::CurveState,
     /// The trim control point being dragged in the (u, v) panel.
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
@@ -383,6 +388,7 @@ impl KnotworkApp {
             highlight_patches: Vec::new(),
             constraint: Constraint::Free,
             trim_drawing: None,
+            curves: curves::CurveState::default(),
             trim_handle: None,
             snap: false,
             snap_step: 0.25,
@@ -474,10 +480,18 @@ impl KnotworkApp {
         // A drag in progress becomes its own undo step first.
         self.end_drag(false);
         let before = self.selected_net();
-        let result = self.doc.execute(&command).map(Edit::touched);
+        let result = self
+            .doc
+            .execute(&command)
+            .map(|edit| (edit.touched(), edit.label.clone()));
         match result {
-            Ok(touched) => {
-                self.finish_edit(touched, &command.label());
+            Ok((touched, label)) => {
+                self.finish_edit(touched, &label);
+                // A label with more than the command's (a construction's deviation, a surface
+                // that could not follow its curves) is worth reading.
+                if label != command.label() {
+                    self.status.notice = Some(label);
+                }
                 self.follow_points(before);
             }
             Err(e) => self.status.error = Some(e.to_string()),
@@ -650,6 +664,14 @@ impl KnotworkApp {
             if touched == Touched::Structure {
                 self.status.notice = notice;
             }
+        }
+        if touched == Touched::Structure {
+            let objects = &self.doc.scene.objects;
+            self.selection.curves.retain(|&k| {
+                objects
+                    .get(k)
+                    .is_some_and(|o| o.kind().space_curve().is_some())
+            });
         }
         match touched {
             Touched::Structure => self.select_keep_points(self.selection.object),
@@ -908,6 +930,12 @@ impl KnotworkApp {
         self.status.revision = self.saved.revision;
         self.status.recent = self.saved.recent.iter().map(|r| r.label()).collect();
         self.status.autosaved_revision = self.saved.autosaved_revision;
+        self.status.drawing = self.curves.drawing.as_ref().map(|d| d.points.len() as u32);
+        self.status.picked_curves = self.selection.curves.iter().map(|&k| k as u32).collect();
+        if let Some(curves) = self.gpu.as_ref().and_then(|g| g.sync.curves()) {
+            self.status.curve_segments = curves.records().len() as u32;
+            self.status.curve_vertices = curves.vertex_count();
+        }
         self.status.hit = self.selection.hit.map(|h| status::HitStatus {
             object: h.object as u32,
             u: h.u,
@@ -1159,6 +1187,7 @@ impl KnotworkApp {
         }
         self.paint_box(ui);
         self.paint_trims(ui);
+        self.paint_drawing(ui);
         self.paint_gizmo(ui);
         self.axis_triad(ui);
         self.viewport_overlays(ui, rect);
@@ -1250,6 +1279,7 @@ impl eframe::App for KnotworkApp {
         self.export_window(&ctx);
         self.step_export(&ctx);
         self.dialog_window(&ctx);
+        self.history_prompt(&ctx);
         self.autosave(&ctx, frame);
         // The page's script reads the document as project text; the desktop has no reader,
         // so it serialises only to autosave.

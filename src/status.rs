@@ -106,6 +106,13 @@ pub struct AppStatus {
     pub autosaved_revision: u64,
     /// The last surface point clicked.
     pub hit: Option<HitStatus>,
+    /// Points placed so far while a curve is drawn (null: no curve is being drawn).
+    pub drawing: Option<u32>,
+    /// Curve objects picked for a construction, in order.
+    pub picked_curves: Vec<u32>,
+    /// The curve segments the curve pass evaluates and their vertices.
+    pub curve_segments: u32,
+    pub curve_vertices: u32,
     /// The Recent list: documents New and Open replaced, newest first ("name · N objects").
     pub recent: Vec<String>,
     /// The Export window's triangle count (or why it cannot export), while it is open.

@@ -395,6 +395,84 @@ pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) -> Re
     Ok(())
 }
 
+/// Starts drawing a curve: `kind` "control" (control points), "through" (points to pass
+/// through) or "polyline", of degree `degree`, on the plane "ground", "front", "right",
+/// "view", "surface" (tangent at the last surface point clicked) or "points" (three selected
+/// control points). The next clicks in the viewport place points. False for an unknown kind
+/// or plane.
+#[wasm_bindgen]
+pub fn draw_curve(kind: String, degree: u32, plane: String) -> bool {
+    use crate::app::curves::{DrawKind, DrawStep, PlaneChoice};
+    let (Some(kind), Some(plane)) = (DrawKind::from_name(&kind), PlaneChoice::from_name(&plane))
+    else {
+        return false;
+    };
+    send(AppCommand::DrawCurve(DrawStep::Begin {
+        kind,
+        degree: degree as usize,
+        plane,
+    }));
+    true
+}
+
+/// Places a point of the curve being drawn (moved onto its plane), as a click does.
+#[wasm_bindgen]
+pub fn place_point(x: f64, y: f64, z: f64) {
+    send(AppCommand::DrawCurve(crate::app::curves::DrawStep::Point(
+        glam::DVec3::new(x, y, z),
+    )));
+}
+
+/// Ends the curve being drawn: adds it (closed or not, one undo step), or with `cancel` drops
+/// it.
+#[wasm_bindgen]
+pub fn finish_curve(close: bool, cancel: bool) {
+    use crate::app::curves::DrawStep;
+    send(AppCommand::DrawCurve(if cancel {
+        DrawStep::Cancel
+    } else {
+        DrawStep::Finish { close }
+    }));
+}
+
+/// Picks curve objects for a construction, in order (as Shift + clicks do).
+#[wasm_bindgen]
+pub fn pick_curves(objects: Vec<u32>) {
+    send(AppCommand::PickCurves(
+        objects.into_iter().map(|k| k as usize).collect(),
+    ));
+}
+
+/// Builds a `knotwork construct` request whose curves are `{"input": k}` references to
+/// curve objects `objects[k]`: a new object that follows its curves when `keep_history`, or
+/// with `replace` ≥ 0 that object's new geometry. Malformed JSON is refused here; a
+/// construction the kernel refuses in the status.
+#[wasm_bindgen]
+pub fn construct(
+    request: String,
+    objects: Vec<u32>,
+    keep_history: bool,
+    replace: i32,
+) -> Result<(), String> {
+    let request: serde_json::Value =
+        serde_json::from_str(&request).map_err(|e| format!("construct: not valid JSON: {e}"))?;
+    send(AppCommand::ConstructFrom {
+        request,
+        objects: objects.into_iter().map(|k| k as usize).collect(),
+        keep_history,
+        replace: usize::try_from(replace).ok(),
+    });
+    Ok(())
+}
+
+/// Ends object `object`'s construction history (one undo step).
+#[wasm_bindgen]
+pub fn break_history(object: u32) {
+    send(AppCommand::Edit(Command::BreakHistory {
+        object: object as usize,
+    }));
+}
+
 /// Starts again from the sample scene, or (`empty`) from no objects; one undo step (the
 /// document before is also kept in the Recent list).
 #[wasm_bindgen]

@@ -108,6 +108,19 @@ pub enum AppCommand {
     /// Chooses the trim tool by name ("circle", "rectangle", "hexagon", "polyline", "curve";
     /// any other name: none) for the selected NURBS surface.
     SetTrimTool(String),
+    /// One step of drawing a curve on a construction plane.
+    DrawCurve(super::curves::DrawStep),
+    /// Sets the curves picked for a construction, in order.
+    PickCurves(Vec<usize>),
+    /// Builds a construct request on curve objects (its `{"input": k}` is `objects[k]`): a new
+    /// object (following its curves when `keep_history`), or with `replace` that object's new
+    /// geometry ([`Command::Construct`]).
+    ConstructFrom {
+        request: serde_json::Value,
+        objects: Vec<usize>,
+        keep_history: bool,
+        replace: Option<usize>,
+    },
 }
 
 /// One step of a drag: a transient edit of the document that becomes one undo step when it
@@ -256,6 +269,14 @@ impl KnotworkApp {
             AppCommand::Select(s) => self.select(s),
             AppCommand::SelectPoints(points) => self.select_points(points),
             AppCommand::SetTrimTool(name) => self.set_trim_tool(&name),
+            AppCommand::DrawCurve(step) => self.draw_step(step),
+            AppCommand::PickCurves(objects) => self.pick_curves(objects),
+            AppCommand::ConstructFrom {
+                request,
+                objects,
+                keep_history,
+                replace,
+            } => self.construct_from(request, &objects, keep_history, replace),
         }
         self.redraw = true;
     }

@@ -48,6 +48,9 @@ impl KnotworkApp {
     /// A click in the viewport at `pos`.
     fn click(&mut self, pos: egui::Pos2, shift: bool, alt: bool) {
         let cursor = self.local(pos);
+        if self.curve_click(cursor) {
+            return;
+        }
         if let Some(index) = self.handle_at(cursor) {
             if alt {
                 self.select_row(index, shift);
@@ -65,6 +68,13 @@ impl KnotworkApp {
         let Some(view) = self.pick_view else {
             return;
         };
+        // A curve under the cursor wins over the surface behind it.
+        if self.trim_drawing.is_none()
+            && let Some(curve) = self.curve_at(cursor)
+        {
+            self.click_curve(curve, shift);
+            return;
+        }
         let (origin, direction) = view.ray(cursor);
         let Some(gpu) = &self.gpu else {
             return;
@@ -79,6 +89,9 @@ impl KnotworkApp {
         self.selection.hit = pick::pick_surface(&objects, origin, direction);
         if self.trim_click(self.selection.hit) {
             return;
+        }
+        if !shift {
+            self.selection.curves.clear();
         }
         match self.selection.hit {
             Some(hit) => {
@@ -130,6 +143,11 @@ impl KnotworkApp {
         let Some(object) = self.selection.object else {
             return;
         };
+        if self.scene().objects[object].construction.is_some() {
+            // Its shape comes from its curves: ask before its own points move.
+            self.curves.confirm_break = Some(object);
+            return;
+        }
         if !self.selection.points.contains(&index) {
             if !shift {
                 self.selection.points.clear();
@@ -305,6 +323,10 @@ impl KnotworkApp {
 
     pub(super) fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
         let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
+        if self.curves.drawing.is_some() {
+            let hover = response.hover_pos().map(|p| self.local(p));
+            self.curve_hover(hover);
+        }
         let press = ui.input(|i| i.pointer.press_origin());
         if response.drag_started_by(egui::PointerButton::Primary)
             && let Some(origin) = press
@@ -383,7 +405,7 @@ impl KnotworkApp {
 
     /// Shortcuts that work anywhere except while typing in a field.
     pub(super) fn handle_shortcuts(&mut self, ctx: &egui::Context) {
-        if ctx.egui_wants_keyboard_input() {
+        if ctx.egui_wants_keyboard_input() || self.curve_keys(ctx) {
             return;
         }
         use egui::{Key, KeyboardShortcut, Modifiers};

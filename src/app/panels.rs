@@ -1525,6 +1525,7 @@ impl KnotworkApp {
                 self.lattice_panel(ui);
             });
         }
+        section(ui, "Curves", true, |ui| self.curves_panel(ui));
         section(ui, "Shading", true, |ui| self.shading_panel(ui));
         section(ui, "Analysis", true, |ui| self.analysis_panel(ui));
         section(ui, "Display", false, |ui| {

@@ -189,18 +189,20 @@ fn join(scene: &Scene, k: usize, other: usize) -> Result<Vec<Change>, EditError>
 }
 
 /// [`super::Command::Construct`]: the built object added (named after what it is, made unique)
-/// or, with `replace`, put in that object's place.
+/// or, with `replace`, put in that object's place; and the construction's report on how well
+/// it fits its input (a network's or a fit's largest deviation), where it makes one.
 pub(super) fn construct(
     scene: &Scene,
     construction: &Construction,
     keep_history: bool,
     replace: Option<usize>,
-) -> Result<Vec<Change>, EditError> {
+) -> Result<(Vec<Change>, Option<String>), EditError> {
     let built =
         super::construction::build(construction, scene).map_err(|message| EditError::Geometry {
             name: construction.command().to_owned(),
             source: refuse("construction", message),
         })?;
+    let report = built.report;
     if let Some(k) = replace {
         let object = object_at(scene, k)?;
         let after = SceneObject {
@@ -208,11 +210,12 @@ pub(super) fn construct(
             ..object.clone()
         };
         after.decompose().map_err(geometry_error(object))?;
-        return Ok(vec![Change::Replace {
+        let change = Change::Replace {
             index: k,
             before: object.clone(),
             after,
-        }]);
+        };
+        return Ok((vec![change], report));
     }
     let base = if valid_name(built.name) {
         built.name
@@ -224,8 +227,9 @@ pub(super) fn construct(
         object.construction = Some(construction.clone());
     }
     object.decompose().map_err(geometry_error(&object))?;
-    Ok(vec![Change::Insert {
+    let change = Change::Insert {
         index: scene.objects.len(),
         object,
-    }])
+    };
+    Ok((vec![change], report))
 }

@@ -63,7 +63,15 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             construction,
             keep_history,
             replace,
-        } => curve_edits::construct(scene, construction, *keep_history, *replace),
+        } => {
+            let (changes, report) =
+                curve_edits::construct(scene, construction, *keep_history, *replace)?;
+            let label = match report {
+                Some(report) => format!("{} — {report}", command.label()),
+                None => command.label(),
+            };
+            return Ok((changes, label));
+        }
         Command::BreakHistory { object } => {
             let target = object_at(scene, *object)?;
             if target.construction.is_none() {

@@ -26,7 +26,8 @@
 //!   across; `style` `"normal"`, `"straight"` or `"loose"` ([`crate::kernel::loft`]).
 //! - `{"construct": "network", "u_curves": [...], "v_curves": [...], "degree": 3}`: the
 //!   surface through a network of crossing curves in any order and direction, rational or not
-//!   ([`crate::kernel::network`]); the largest deviation from the curves is reported.
+//!   ([`crate::kernel::network`]); the largest deviation from the curves is reported. With
+//!   `"curves": [...]` instead, both families in one list, told apart by which curves cross.
 //! - `{"construct": "sweep1", "rail": c, "profiles": [c, ...], "up": [x, y, z]}`: the profiles
 //!   swept along the rail, in rotation-minimising frames or, with `up`, frames that keep that
 //!   direction up; `{"construct": "sweep2", "rails": [c, c], "profiles": [...], "keep_height":
@@ -122,8 +123,13 @@ enum Request {
         style: LoftStyleName,
     },
     Network {
+        #[serde(default)]
         u_curves: Vec<Value>,
+        #[serde(default)]
         v_curves: Vec<Value>,
+        /// Both families in one list, in any order: told apart by which cross which.
+        #[serde(default)]
+        curves: Vec<Value>,
         #[serde(default = "default_degree")]
         degree: usize,
     },
@@ -419,10 +425,22 @@ pub fn build_value(value: Value) -> Result<Built, FormatError> {
         Request::Network {
             u_curves,
             v_curves,
+            curves: mixed,
             degree,
         } => {
-            let us = curves("u_curves", u_curves)?;
-            let vs = curves("v_curves", v_curves)?;
+            let (us, vs) = if mixed.is_empty() {
+                (curves("u_curves", u_curves)?, curves("v_curves", v_curves)?)
+            } else if u_curves.is_empty() && v_curves.is_empty() {
+                let all = curves("curves", mixed)?;
+                let (u, v) = crate::kernel::network::families(&all).map_err(geometry)?;
+                let pick = |ks: &[usize]| ks.iter().map(|&k| all[k].clone()).collect::<Vec<_>>();
+                (pick(&u), pick(&v))
+            } else {
+                return Err(FormatError::new(
+                    "curves",
+                    "give either \"curves\" or \"u_curves\" and \"v_curves\"",
+                ));
+            };
             let network = network_surface(&us, &vs, degree).map_err(geometry)?;
             Ok(Built {
                 geometry: Geometry::Surface(network.surface),

@@ -145,11 +145,37 @@ fn iso_parameters(a: f64, b: f64, count: u32, ends: bool) -> Vec<f64> {
     out
 }
 
-/// Curvature combs on the object's iso-curves (and boundary edges): hair from each sample
+/// Curvature combs on the object's iso-curves (and boundary edges), or along a curve object:
+/// hair from each sample
 /// against its curvature vector, length proportional to the curvature (the longest a tenth of
 /// `size` times the scale), and the envelope joining the hair tips.
 pub fn curvature_combs(object: &SceneObject, settings: &AnalysisSettings, size: f64) -> GuideLines {
     let mut curves: Vec<Vec<CombSample>> = Vec::new();
+    // A curve object's comb is its own: 8 samples per Bézier segment times the density.
+    if let Some(curve) = object.kind().space_curve() {
+        let breaks = curve.span_breaks();
+        let per_span = (8 * settings.comb_density.max(1)) as usize;
+        let mut samples = Vec::new();
+        for span in breaks.windows(2) {
+            for k in 0..per_span {
+                let t = span[0] + (span[1] - span[0]) * k as f64 / per_span as f64;
+                samples.push(
+                    curve
+                        .derivatives(t, 2)
+                        .ok()
+                        .and_then(|d| curvature_vector(d[1], d[2]).map(|kappa| (d[0], kappa))),
+                );
+            }
+        }
+        let end = breaks[breaks.len() - 1];
+        samples.push(
+            curve
+                .derivatives(end, 2)
+                .ok()
+                .and_then(|d| curvature_vector(d[1], d[2]).map(|kappa| (d[0], kappa))),
+        );
+        curves.push(samples);
+    }
     for (_, face) in object.faces() {
         let [(u0, u1), (v0, v1)] = face.domain();
         let density = settings.comb_density;

@@ -171,6 +171,62 @@ pub fn network_surface(
     Ok(Network { surface, deviation })
 }
 
+/// The two families of a network given as one list of curves: curves cross (come within
+/// [`NETWORK_TOLERANCE`] of the network's size) only curves of the other family, so the
+/// crossing graph is bipartite and its two colours are the families (the one holding curve 0
+/// first). Refused for a curve that crosses nothing, curves in more than one connected piece,
+/// or a curve that crosses one of its own family.
+pub fn families(curves: &[SpaceCurve]) -> Result<(Vec<usize>, Vec<usize>), GeometryError> {
+    const WHAT: &str = "network";
+    let normal: Vec<SpaceCurve> = curves.iter().map(normalized).collect::<Result<_, _>>()?;
+    let size = control_box_size(&normal).max(1e-300);
+    let sampled: Vec<Vec<DVec3>> = normal.iter().map(samples).collect::<Result<_, _>>()?;
+    let n = curves.len();
+    let mut crosses = vec![Vec::new(); n];
+    for a in 0..n {
+        for b in a + 1..n {
+            let (_, _, distance) = crossing((&normal[a], &sampled[a]), (&normal[b], &sampled[b]))?;
+            if distance <= NETWORK_TOLERANCE * size {
+                crosses[a].push(b);
+                crosses[b].push(a);
+            }
+        }
+    }
+    let mut colour: Vec<Option<bool>> = vec![None; n];
+    if n > 0 {
+        colour[0] = Some(false);
+    }
+    let mut queue = std::collections::VecDeque::from([0usize]);
+    while let Some(a) = queue.pop_front() {
+        let Some(ca) = colour.get(a).copied().flatten() else {
+            continue;
+        };
+        for &b in &crosses[a] {
+            match colour[b] {
+                None => {
+                    colour[b] = Some(!ca);
+                    queue.push_back(b);
+                }
+                Some(cb) if cb == ca => {
+                    return Err(construction(
+                        WHAT,
+                        format!("curves {a} and {b} cross but belong to one direction"),
+                    ));
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    if let Some(lone) = colour.iter().position(Option::is_none) {
+        return Err(construction(
+            WHAT,
+            format!("curve {lone} crosses none of the curves crossing curve 0"),
+        ));
+    }
+    let (u, v): (Vec<usize>, Vec<usize>) = (0..n).partition(|&k| colour[k] == Some(false));
+    Ok((u, v))
+}
+
 /// The order of one family's curves along the first curve of the other: `params[k]` is where
 /// curve k crosses it. Two curves crossing it at one place are refused.
 fn sorted_by(params: &[f64], along: Family, family: Family) -> Result<Vec<usize>, GeometryError> {

@@ -394,6 +394,32 @@ pub fn catmull_rom<P: CurvePoint>(
     hermite_spline(&points[inner.clone()], &tangents, &t[inner])
 }
 
+/// The closed (periodic) B-spline of degree `degree` on the control polygon `points` (not
+/// repeating its first point): uniform knots κ_i = (i − p)/n, the first p points repeated at
+/// the end, over the domain [0, 1]. C^{p−1} everywhere, seam included (The NURBS Book §12.2);
+/// what a designer placing control points of a closed curve expects.
+pub fn periodic_from_control<P: CurvePoint>(
+    points: &[P],
+    degree: usize,
+) -> Result<NurbsCurve<P>, GeometryError> {
+    let n = points.len();
+    if degree == 0 || n < degree + 1 {
+        return Err(GeometryError::Construction {
+            what: "closed curve",
+            message: format!(
+                "a closed curve of degree {degree} needs at least {} points, found {n}",
+                degree + 1
+            ),
+        });
+    }
+    let mut wrapped = points.to_vec();
+    wrapped.extend_from_slice(&points[..degree]);
+    let knots = (0..n + 2 * degree + 1)
+        .map(|i| (i as f64 - degree as f64) / n as f64)
+        .collect();
+    NurbsCurve::new(degree, knots, wrapped, None)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -631,5 +657,31 @@ mod tests {
         let mut doubled = circle.clone();
         doubled[3] = doubled[2];
         assert!(interpolate_closed(&doubled, 3, Parametrization::Centripetal).is_err());
+    }
+
+    #[test]
+    fn a_periodic_curve_from_control_points_closes_smoothly() {
+        let points: Vec<DVec3> = (0..7)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / 7.0;
+                DVec3::new(a.cos(), a.sin(), 0.1 * (3.0 * a).sin())
+            })
+            .collect();
+        for p in 1..=4 {
+            let c = periodic_from_control(&points, p).unwrap();
+            assert_eq!(c.domain(), (0.0, 1.0));
+            let (d0, d1) = (
+                c.derivatives(0.0, p).unwrap(),
+                c.derivatives(1.0, p).unwrap(),
+            );
+            for k in 0..p {
+                let scale = 1.0 + d0[k].length();
+                assert!(
+                    d0[k].distance(d1[k]) < 1e-9 * scale,
+                    "degree {p}, derivative {k}"
+                );
+            }
+        }
+        assert!(periodic_from_control(&points[..2], 2).is_err());
     }
 }
