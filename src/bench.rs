@@ -747,33 +747,135 @@ impl LoftDrag {
     }
 }
 
-/// Dragging a point of a section of a loft with construction history: the loft rebuilt, its
-/// GPU feed re-derived and uploaded, and the compute pass run and waited for (wall time).
+/// Dragging a point of a section of a loft with construction history, through the document
+/// (the editor's own path): each drag step moves the curve, builds the loft again from its
+/// sections, re-derives the loft's and the curve's GPU feeds, and the compute passes run and are
+/// waited for (wall time).
 fn bench_loft_drag(
     context: &GpuContext,
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let mut drag = LoftDrag::new()?;
-    let object = SceneObject::new("loft", crate::scene::ObjectGeometry::new(drag.step()?));
-    let (mut doc, mut sync) = document_on_gpu(context, object)?;
+    use crate::scene::construction::Construction;
+    let drag = LoftDrag::new()?;
+    let names: Vec<String> = (0..drag.sections.len())
+        .map(|k| format!("section {k}"))
+        .collect();
+    let objects = drag
+        .sections
+        .iter()
+        .zip(&names)
+        .map(|(c, name)| SceneObject::new(name, crate::scene::ObjectGeometry::new(c.clone())))
+        .collect();
+    let mut doc = Document::new(Scene { objects });
+    let curves: Vec<serde_json::Value> = (0..names.len())
+        .map(|k| serde_json::json!({ "input": k }))
+        .collect();
+    let construction = Construction::new(
+        serde_json::json!({"construct": "loft", "curves": curves}),
+        names,
+    )?;
+    doc.execute(&crate::doc::Command::Construct {
+        construction,
+        keep_history: true,
+        replace: None,
+    })?;
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)?;
     evaluate_once(context, &mut sync, &mut None)?;
+    doc.begin_drag(1, &[5])?;
     let mut times = Vec::new();
+    let mut relaid = 0;
     for i in 0..iterations.max(3) + 2 {
         let start = Instant::now();
-        doc.scene.objects[0].geometry = crate::scene::ObjectGeometry::new(drag.step()?);
-        sync.refresh_object(&doc.scene, 0, None)?;
+        let moved = doc.drag_by(glam::DVec3::new(0.0, 0.0, 0.01 * i as f64))?;
+        relaid += usize::from(moved.relaid);
+        sync.points_moved(&doc.scene, &moved)?;
         evaluate_once(context, &mut sync, &mut None)?;
         if i >= 2 {
             times.push(start.elapsed().as_secs_f64() * 1e3);
         }
     }
+    doc.commit_drag();
     let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     writeln!(
         out,
-        "loft drag (4 closed sections of 16 points) | {:>7} patches {:>9} vertices | rebuild + GPU re-evaluation {:8.3} ms (wall, median)",
+        "loft drag with history (4 closed sections of 16 points) | {:>7} patches {:>9} vertices | drag step: curve, loft rebuilt, GPU re-evaluation {:8.3} ms (wall, median; {relaid} of {} steps relaid the buffers)",
         geometry.patch_count(),
         geometry.vertex_count(),
+        median(times.clone()),
+        times.len() + 2
+    )?;
+    Ok(())
+}
+
+/// `count` cubic curves of `spans` Bézier segments each (a helix-like wave), as scene objects.
+pub fn curve_field(count: usize, spans: usize) -> Result<Scene, crate::kernel::GeometryError> {
+    let mut objects = Vec::with_capacity(count);
+    for k in 0..count {
+        let n = spans + 3;
+        let points: Vec<glam::DVec3> = (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * std::f64::consts::TAU * 4.0;
+                glam::DVec3::new(
+                    i as f64 * 0.1,
+                    (k as f64 * 0.05) + 0.3 * t.sin(),
+                    0.3 * t.cos(),
+                )
+            })
+            .collect();
+        let knots = crate::kernel::basis::uniform_clamped_knots(3, n);
+        let curve = crate::kernel::SpaceCurve::new(3, knots, points, None)?;
+        objects.push(SceneObject::new(
+            format!("curve {k}"),
+            crate::scene::ObjectGeometry::new(curve),
+        ));
+    }
+    Ok(Scene { objects })
+}
+
+/// Curve evaluation: 1,000 curves of 64 Bézier segments in one curve pass (wall time, waited
+/// for), and one curve's drag step (its segments' support re-evaluated).
+fn bench_curves(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let scene = curve_field(1000, 64)?;
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
+    let mut times = Vec::new();
+    let mut segments = 0;
+    for i in 0..iterations.max(3) + 2 {
+        sync.invalidate();
+        let (_, wall, evaluated) = evaluate_once(context, &mut sync, &mut None)?;
+        segments = evaluated;
+        if i >= 2 {
+            times.push(wall);
+        }
+    }
+    let vertices = sync.curves().map_or(0, |c| c.vertex_count());
+    let pass = median(times);
+    writeln!(
+        out,
+        "curves (1,000 of 64 segments) | {segments:>7} segments {vertices:>9} vertices | pass {pass:8.3} ms (wall), {:.1} M vertices/s",
+        f64::from(vertices) / pass / 1e3
+    )?;
+    let mut doc = Document::new(scene);
+    doc.begin_drag(500, &[30])?;
+    let mut times = Vec::new();
+    let mut support = 0;
+    for i in 0..iterations.max(3) + 2 {
+        let start = Instant::now();
+        let moved = doc.drag_by(glam::DVec3::new(0.0, 0.0, 0.01 * i as f64))?;
+        support = moved.patches.len();
+        sync.points_moved(&doc.scene, &moved)?;
+        evaluate_once(context, &mut sync, &mut None)?;
+        if i >= 2 {
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    writeln!(
+        out,
+        "curve drag among 1,000 curves  | {support:>7} segments re-evaluated | drag step {:8.3} ms (wall, median)",
         median(times)
     )?;
     Ok(())
@@ -1144,6 +1246,7 @@ fn bench_edit(
     bench_object(context, big, 16 * 32 + 16, iterations, out)?;
 
     bench_loft_drag(context, iterations, out)?;
+    bench_curves(context, iterations, out)?;
     bench_pick(iterations, out)?;
     let mut t = teapot.clone();
     t.segments = 64;

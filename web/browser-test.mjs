@@ -1213,6 +1213,107 @@ async function main() {
       await page.close();
     });
 
+    await check('curves in the page: drawn by clicks on the ground, picked with Shift + click, lofted; a dragged section moves the loft on the GPU; undo back to the start', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      await openObjects(page, []);
+      await page.evaluate(() => window.knotwork.setView('top'));
+      await nextFrames(page);
+      const canvas = await page.locator('#knotwork-canvas').boundingBox();
+      const empty = await page.locator('#knotwork-canvas').screenshot();
+      const base = (await status(page)).undo_steps;
+      // Three curves of four clicked control points each, one row of clicks per curve.
+      const rows = [260, 400, 540];
+      const columns = [520, 680, 840, 1000];
+      const clicks = rows.map((y, r) => columns.map((x, c) => [x, y + (c % 2 === 1 ? 30 : -10) * (r + 1)]));
+      for (const [r, row] of clicks.entries()) {
+        await page.evaluate(() => window.knotwork.drawCurve('control', 3, 'ground'));
+        await page.waitForFunction(() => window.knotwork.status().drawing === 0, null, { timeout: 30_000 });
+        for (const [k, [x, y]] of row.entries()) {
+          await page.mouse.click(canvas.x + x, canvas.y + y);
+          await page.waitForFunction((n) => window.knotwork.status().drawing === n, k + 1, { timeout: 30_000 });
+        }
+        await page.keyboard.press('Enter');
+        await page.waitForFunction((n) => {
+          const s = window.knotwork.status();
+          return s.objects === n && s.drawing === null;
+        }, r + 1, { timeout: 30_000 });
+      }
+      let s = await status(page);
+      assert(s.error === null && s.undo_steps - base === 3, `three steps: ${JSON.stringify([s.error, s.undo_steps, base])}`);
+      assert(s.curve_segments === 3 && s.curve_vertices > 3 * 16, `curve segments on the GPU: ${s.curve_segments}, ${s.curve_vertices} vertices`);
+      const drawn = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(drawn.every((o) => o.type === 'nurbs_curve' && o.points.every((p) => Math.abs(p[2] / (p[3] ?? 1)) < 1e-9)), 'three curves on the ground');
+      // The clicks became the control points: their handles are where the mouse clicked.
+      await page.evaluate(() => window.knotwork.select(0));
+      await page.waitForFunction(() => window.knotwork.status().selected === 0, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const handles = await page.evaluate(() => window.knotwork.handles());
+      const off = Math.max(...handles.map((h, k) => Math.hypot(h[0] - clicks[0][k][0], h[1] - clicks[0][k][1])));
+      assert(handles.length === 4 && off < 1.5, `handles ${JSON.stringify(handles)} vs clicks ${JSON.stringify(clicks[0])} (${off.toFixed(2)} px)`);
+      // The curves are drawn: a clamped curve starts at its first control point.
+      await page.evaluate(() => window.knotwork.select(-1));
+      await nextFrames(page);
+      const curves = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/curves-drawn.png`, curves);
+      for (const row of clicks) {
+        const [x, y] = row[0];
+        const around = { x: x - 4, y: y - 4, width: 9, height: 9 };
+        const line = await screenshotDifference(page, empty, curves, around, 40);
+        assert(line.differing >= 6, `a curve is drawn through (${x}, ${y}): ${line.differing} px`);
+      }
+
+      // Shift + click on each curve's start picks the sections in order; then the loft.
+      await page.keyboard.down('Shift');
+      for (const row of clicks) await page.mouse.click(canvas.x + row[0][0], canvas.y + row[0][1]);
+      await page.keyboard.up('Shift');
+      await page.waitForFunction(() => window.knotwork.status().picked_curves.length === 3, null, { timeout: 30_000 });
+      s = await status(page);
+      assert(JSON.stringify(s.picked_curves) === '[0,1,2]', `picked ${JSON.stringify(s.picked_curves)}`);
+      await page.evaluate(() => window.knotwork.construct({ construct: 'loft', curves: [{ input: 0 }, { input: 1 }, { input: 2 }] }, window.knotwork.status().picked_curves));
+      await page.waitForFunction(() => window.knotwork.status().objects === 4, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && s.patches > 0, `loft: ${s.error}, ${s.patches} patches`);
+      const lofted = (await page.evaluate(() => window.knotwork.project())).objects[3];
+      assert(lofted.type === 'nurbs_surface' && lofted.construction?.inputs.length === 3, `the loft keeps its history: ${JSON.stringify(lofted.construction)}`);
+
+      // Drag a middle control point of the middle section with the mouse: every step builds
+      // the loft again and the GPU shows it.
+      await page.evaluate(() => window.knotwork.select(1));
+      await page.waitForFunction(() => window.knotwork.status().selected === 1, null, { timeout: 30_000 });
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      const [hx, hy] = (await page.evaluate(() => window.knotwork.handles()))[1];
+      const times = await dragWithMouse(page, canvas.x + hx, canvas.y + hy, 5, 0, 14);
+      await page.waitForFunction((n) => {
+        const t = window.knotwork.status();
+        return t.undo_steps - (window.__base ?? 0) === n && !t.dragging;
+      }, base + 5, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /move 1 point/.test(s.last_edit), `drag: ${s.error}, ${s.last_edit}`);
+      const moved = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(JSON.stringify(moved[3].points) !== JSON.stringify(lofted.points), 'the loft followed its section');
+      assert(moved[3].construction?.inputs.length === 3, 'and keeps its history');
+      await nextFrames(page);
+      const after = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/curves-loft-dragged.png`, after);
+      const band = { x: 480, y: 300, width: 560, height: 200 };
+      const followed = await screenshotDifference(page, before, after, band, 24);
+      assert(followed.differing > 100, `the loft moved on screen (${followed.differing} px)`);
+      console.log(`      loft drag-to-new-frame: median ${times[times.length >> 1]} ms (${times.join(', ')}); ${followed.differing} px changed`);
+
+      // Undo everything: the drag (loft and section together), the loft, the three curves.
+      for (let k = 0; k < 5; k += 1) await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction((n) => {
+        const t = window.knotwork.status();
+        return t.undo_steps - (window.__base ?? 0) === n && t.objects === 0;
+      }, base, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && s.curve_segments === 0, `back to the start: ${JSON.stringify([s.error, s.curve_segments])}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
