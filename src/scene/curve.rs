@@ -274,7 +274,7 @@ fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, 
 }
 
 /// An exact circle (rational quadratic, closed), a quartic on uneven knots with uneven
-/// weights, and a closed (periodic) cubic interpolant.
+/// weights, one segment of degree 20, and a closed (periodic) cubic interpolant.
 fn examples() -> Vec<SceneObject> {
     use crate::kernel::{construct, splines};
     let mut objects = Vec::new();
@@ -301,6 +301,18 @@ fn examples() -> Vec<SceneObject> {
             "rational quartic",
             ObjectGeometry::new(quartic),
         ));
+    }
+    // One Bézier segment of degree 20: the GPU's Bernstein sums at a high degree.
+    let wave: Vec<DVec3> = (0..21)
+        .map(|i| {
+            let x = i as f64 * 0.3;
+            DVec3::new(x, (1.7 * x).sin(), 0.2 * (0.9 * x).cos())
+        })
+        .collect();
+    let mut knots = vec![0.0; 21];
+    knots.extend([1.0; 21]);
+    if let Ok(high) = SpaceCurve::new(20, knots, wave, None) {
+        objects.push(SceneObject::new("degree 20", ObjectGeometry::new(high)));
     }
     let ring: Vec<DVec3> = (0..6)
         .map(|i| {
