@@ -58,7 +58,7 @@ fn select_with_free_handle(harness: &mut Harness<'_, KnotworkApp>, object: usize
                 j == *k || h.is_none_or(|q| Pos2::new(q[0], q[1]).distance(*p) > 20.0)
             })
         })
-        .expect("a free handle on screen")
+        .unwrap_or_else(|| panic!("a free handle on screen: {handles:?}"))
 }
 
 /// Selects object `object` through the editor's command channel, as the page does.

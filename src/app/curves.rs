@@ -874,30 +874,36 @@ impl KnotworkApp {
             &mut self.curves.keep_history,
             "Keep history (follows its curves)",
         );
-        ui.horizontal(|ui| {
-            ui.checkbox(&mut self.curves.loft_closed, "closed loft");
-            for style in [
-                crate::kernel::loft::LoftStyle::Normal,
-                crate::kernel::loft::LoftStyle::Straight,
-                crate::kernel::loft::LoftStyle::Loose,
-            ] {
-                let label = format!("{style:?}").to_lowercase();
-                ui.radio_value(&mut self.curves.loft_style, style, label);
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("revolve °");
-            ui.add(egui::DragValue::new(&mut self.curves.revolve_angle).range(-360.0..=360.0));
-            ui.label("axis");
-            for c in &mut self.curves.revolve_axis {
-                ui.add(egui::DragValue::new(c).speed(0.05));
-            }
-        });
-        ui.horizontal(|ui| {
+        egui::CollapsingHeader::new("Options").show(ui, |ui| {
+            let c = &mut self.curves;
+            ui.checkbox(&mut c.loft_closed, "closed loft");
+            ui.horizontal(|ui| {
+                ui.label("loft");
+                for style in [
+                    crate::kernel::loft::LoftStyle::Normal,
+                    crate::kernel::loft::LoftStyle::Straight,
+                    crate::kernel::loft::LoftStyle::Loose,
+                ] {
+                    let label = format!("{style:?}").to_lowercase();
+                    ui.radio_value(&mut c.loft_style, style, label);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("revolve by");
+                ui.add(egui::DragValue::new(&mut c.revolve_angle).range(-360.0..=360.0));
+                ui.label("° about");
+            });
+            ui.horizontal(|ui| {
+                for v in &mut c.revolve_axis {
+                    ui.add(egui::DragValue::new(v).speed(0.05));
+                }
+            });
             ui.label("extrude by");
-            for c in &mut self.curves.extrude {
-                ui.add(egui::DragValue::new(c).speed(0.05));
-            }
+            ui.horizontal(|ui| {
+                for v in &mut c.extrude {
+                    ui.add(egui::DragValue::new(v).speed(0.05));
+                }
+            });
         });
         let n = picked.len();
         let mut chosen = None;
@@ -964,7 +970,8 @@ impl KnotworkApp {
                         ui.selectable_value(&mut self.curves.kind, kind, kind.label());
                     }
                 });
-            ui.add(egui::Slider::new(&mut self.curves.degree, 1..=5).text("degree"));
+            ui.label("degree");
+            ui.add(egui::DragValue::new(&mut self.curves.degree).range(1..=5));
         });
         ui.horizontal(|ui| {
             egui::ComboBox::from_id_salt("draw plane")
@@ -1039,72 +1046,82 @@ impl KnotworkApp {
                 t > a && t < b
             })
             .unwrap_or_else(|| curve.parameter_at(0.5));
+        use crate::doc::CurveEdit;
+        let curve_edit = |edit: CurveEdit| Command::EditCurve { object: s, edit };
+        let at_point = "at the selected point's parameter, or mid-curve";
+        let point = self.selection.points.iter().next().copied();
+        let other = self.selection.curves.iter().find(|&&k| k != s).copied();
+        // (button, hover text, command; None: not offered now).
+        let offers = [
+            (
+                "Reverse",
+                "",
+                Some(Command::Reverse {
+                    object: s,
+                    direction,
+                }),
+            ),
+            (
+                "Insert knot",
+                at_point,
+                Some(Command::InsertKnot {
+                    object: s,
+                    direction,
+                    value: at,
+                }),
+            ),
+            (
+                "Raise degree",
+                "",
+                Some(Command::ElevateDegree {
+                    object: s,
+                    direction,
+                }),
+            ),
+            (
+                "Split",
+                at_point,
+                Some(Command::Split {
+                    object: s,
+                    direction,
+                    value: at,
+                }),
+            ),
+            (
+                "Remove point",
+                "the selected control point",
+                point.map(|point| curve_edit(CurveEdit::RemovePoint { point })),
+            ),
+            (
+                "Close",
+                "move the end onto the start",
+                Some(curve_edit(CurveEdit::Close)),
+            ),
+            (
+                "Open",
+                "a periodic curve as a clamped one",
+                Some(curve_edit(CurveEdit::Open)),
+            ),
+            (
+                "Join",
+                "the next picked curve onto this one's end",
+                other.map(|other| curve_edit(CurveEdit::Join { other })),
+            ),
+        ];
         let mut commands = Vec::new();
         ui.horizontal_wrapped(|ui| {
-            if ui.button("Reverse").clicked() {
-                commands.push(edit(Command::Reverse {
-                    object: s,
-                    direction,
-                }));
-            }
-            if ui
-                .button("Insert knot")
-                .on_hover_text("at the selected point's parameter, or mid-curve")
-                .clicked()
-            {
-                commands.push(edit(Command::InsertKnot {
-                    object: s,
-                    direction,
-                    value: at,
-                }));
-            }
-            if ui.button("Raise degree").clicked() {
-                commands.push(edit(Command::ElevateDegree {
-                    object: s,
-                    direction,
-                }));
-            }
-            if ui
-                .button("Split")
-                .on_hover_text("at the selected point's parameter, or mid-curve")
-                .clicked()
-            {
-                commands.push(edit(Command::Split {
-                    object: s,
-                    direction,
-                    value: at,
-                }));
-            }
-            if let Some(&point) = self.selection.points.iter().next()
-                && ui.button("Remove point").clicked()
-            {
-                commands.push(edit(Command::EditCurve {
-                    object: s,
-                    edit: crate::doc::CurveEdit::RemovePoint { point },
-                }));
-            }
-            if ui.button("Close").clicked() {
-                commands.push(edit(Command::EditCurve {
-                    object: s,
-                    edit: crate::doc::CurveEdit::Close,
-                }));
-            }
-            if ui.button("Open").clicked() {
-                commands.push(edit(Command::EditCurve {
-                    object: s,
-                    edit: crate::doc::CurveEdit::Open,
-                }));
-            }
-            if let Some(&other) = self.selection.curves.iter().find(|&&k| k != s)
-                && ui
-                    .button("Join")
-                    .on_hover_text("the next picked curve onto this one's end")
-                    .clicked()
-            {
-                commands.push(edit(Command::EditCurve {
-                    object: s,
-                    edit: crate::doc::CurveEdit::Join { other },
-                }));
+            for (label, hint, command) in offers {
+                if let Some(command) = command {
+                    let button = ui.button(label);
+                    let button = if hint.is_empty() {
+                        button
+                    } else {
+                        button.on_hover_text(hint)
+                    };
+                    if button.clicked() {
+                        commands.push(edit(command));
+                    }
+                }
             }
         });
         let plane = self.plane_for(self.curves.plane).ok();

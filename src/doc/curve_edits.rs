@@ -48,32 +48,13 @@ pub(super) fn map_curve(
 }
 
 /// Splits curve object `k` at parameter `value` into "name (a)" and "name (b)".
-pub(super) fn split_curve(
-    scene: &Scene,
-    k: usize,
-    value: f64,
-    name: impl Fn(&str) -> String,
-) -> Result<Vec<Change>, EditError> {
+pub(super) fn split_curve(scene: &Scene, k: usize, value: f64) -> Result<Vec<Change>, EditError> {
     let object = object_at(scene, k)?;
     let (a, b) = curve_of(object, "split")?
         .split(value)
         .map_err(geometry_error(object))?;
-    let part = |curve, suffix: &str| SceneObject {
-        name: name(suffix),
-        geometry: ObjectGeometry::new(curve),
-        ..object.clone()
-    };
-    Ok(vec![
-        Change::Replace {
-            index: k,
-            before: object.clone(),
-            after: part(a, "a"),
-        },
-        Change::Insert {
-            index: k + 1,
-            object: part(b, "b"),
-        },
-    ])
+    let parts = vec![ObjectGeometry::new(a), ObjectGeometry::new(b)];
+    Ok(super::plan::split_parts(object, k, parts))
 }
 
 fn refuse(what: &'static str, message: impl Into<String>) -> GeometryError {

@@ -35,8 +35,7 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             map_curve(scene, *object, "reversal", |c| Ok(c.reverse()))
         }
         Command::Split { object, value, .. } if is_curve(scene, *object) => {
-            let name = &object_at(scene, *object)?.name;
-            curve_edits::split_curve(scene, *object, *value, |suffix| split_name(name, suffix))
+            curve_edits::split_curve(scene, *object, *value)
         }
         Command::RemoveKnot {
             object,
@@ -403,29 +402,51 @@ fn split(
     let (a, b) = nurbs(object, "split")?
         .split(direction, value)
         .map_err(geometry_error(object))?;
-    let part = |trimmed, suffix: &str| SceneObject {
-        name: split_name(&object.name, suffix),
-        geometry: ObjectGeometry::from_trimmed(trimmed),
-        ..object.clone()
-    };
-    match (a, b) {
-        (Some(a), Some(b)) => Ok(vec![
-            Change::Replace {
-                index: k,
-                before: object.clone(),
-                after: part(a, "a"),
-            },
-            Change::Insert {
-                index: k + 1,
-                object: part(b, "b"),
-            },
-        ]),
-        (Some(only), None) | (None, Some(only)) => replace(scene, k, part(only, "a")),
-        (None, None) => Err(geometry_error(object)(GeometryError::Construction {
+    let parts: Vec<ObjectGeometry> = [a, b]
+        .into_iter()
+        .flatten()
+        .map(ObjectGeometry::from_trimmed)
+        .collect();
+    match parts.len() {
+        0 => Err(geometry_error(object)(GeometryError::Construction {
             what: "split",
             message: "nothing is kept on either side".into(),
         })),
+        _ => Ok(split_parts(object, k, parts)),
     }
+}
+
+/// Object `k` (`object`) split into `parts`: the first in its place as "name (a)", the
+/// others after it as "name (b)", … .
+pub(super) fn split_parts(
+    object: &SceneObject,
+    k: usize,
+    parts: Vec<ObjectGeometry>,
+) -> Vec<Change> {
+    parts
+        .into_iter()
+        .enumerate()
+        .map(|(n, geometry)| {
+            let suffix = char::from(b'a' + (n % 26) as u8).to_string();
+            let part = SceneObject {
+                name: split_name(&object.name, &suffix),
+                geometry,
+                ..object.clone()
+            };
+            if n == 0 {
+                Change::Replace {
+                    index: k,
+                    before: object.clone(),
+                    after: part,
+                }
+            } else {
+                Change::Insert {
+                    index: k + n,
+                    object: part,
+                }
+            }
+        })
+        .collect()
 }
 
 fn trim(scene: &Scene, k: usize, edit: &TrimEdit) -> Result<Vec<Change>, EditError> {
