@@ -396,7 +396,8 @@ pub fn trim_circle(object: u32, u: f64, v: f64, r: f64, keep_inside: bool) -> Re
 }
 
 /// Starts drawing a curve: `kind` "control" (control points), "through" (points to pass
-/// through) or "polyline", of degree `degree`, on the plane "ground", "front", "right",
+/// through), "polyline", "circle" (centre, then a point on it) or "arc" (start, a point on it,
+/// end), of degree `degree`, on the plane "ground", "front", "right",
 /// "view", "surface" (tangent at the last surface point clicked) or "points" (three selected
 /// control points). The next clicks in the viewport place points. False for an unknown kind
 /// or plane.

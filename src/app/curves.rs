@@ -1,6 +1,6 @@
 //! Curves in the editor: drawing them by clicks on a construction plane (control points,
-//! points to pass through, or a polyline; snapping to the grid, to control points and to
-//! curves' ends and midpoints; Enter or a click on the first point finishes, Escape cancels,
+//! points to pass through, or a polyline; snapping to the grid, to control points, to curves'
+//! ends, midpoints and crossings, and perpendicular or tangent to a curve from the last point; Enter or a click on the first point finishes, Escape cancels,
 //! Backspace takes the last point back), picking curves in order for a construction (Shift +
 //! click), and the constructions and curve edits the panel and the page ask for.
 
@@ -12,6 +12,7 @@ use crate::doc::Command;
 use crate::kernel::{GeometryError, SpaceCurve, construct, splines};
 use crate::scene::construction::Construction;
 use crate::scene::{ObjectGeometry, SceneObject};
+use crate::view::osnap;
 
 /// What the clicks of a curve being drawn are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -23,6 +24,10 @@ pub enum DrawKind {
     Through,
     /// Corners of a polyline.
     Polyline,
+    /// The centre, then a point on the circle (an exact rational circle in the plane).
+    Circle,
+    /// The start, a point it passes through, and the end (an exact circular arc).
+    Arc,
 }
 
 impl DrawKind {
@@ -37,6 +42,17 @@ impl DrawKind {
             DrawKind::ControlPoints => "Control points",
             DrawKind::Through => "Through points",
             DrawKind::Polyline => "Polyline",
+            DrawKind::Circle => "Circle",
+            DrawKind::Arc => "Arc (3 points)",
+        }
+    }
+
+    /// Points after which the curve is complete (`None`: finished by the user).
+    pub fn points_needed(self) -> Option<usize> {
+        match self {
+            DrawKind::Circle => Some(2),
+            DrawKind::Arc => Some(3),
+            _ => None,
         }
     }
 
@@ -46,6 +62,8 @@ impl DrawKind {
             DrawKind::ControlPoints => "control",
             DrawKind::Through => "through",
             DrawKind::Polyline => "polyline",
+            DrawKind::Circle => "circle",
+            DrawKind::Arc => "arc",
         }
     }
 
@@ -158,12 +176,15 @@ pub struct CurveDrawing {
 
 /// The curve `kind` makes of `points` (degree lowered to what the points allow): a B-spline
 /// on them as control points (uniform clamped knots; periodic when `closed`), the interpolant
-/// through them (closed: C² at the seam), or the polyline (closed: back to the first point).
+/// through them (closed: C² at the seam), the polyline (closed: back to the first point), the
+/// circle about the first point through the second in the plane with normal `normal`, or the
+/// arc from the first point through the second to the third.
 pub fn drawn_curve(
     kind: DrawKind,
     degree: usize,
     points: &[DVec3],
     closed: bool,
+    normal: DVec3,
 ) -> Result<SpaceCurve, GeometryError> {
     let n = points.len();
     let too_few = |needed: usize| GeometryError::Construction {
@@ -171,6 +192,16 @@ pub fn drawn_curve(
         message: format!("needs at least {needed} points, found {n}"),
     };
     match kind {
+        DrawKind::Circle => match points {
+            [center, on, ..] => {
+                construct::circle(*center, normal, *on - *center, center.distance(*on))
+            }
+            _ => Err(too_few(2)),
+        },
+        DrawKind::Arc => match points {
+            [a, through, b, ..] => construct::arc_through(*a, *through, *b),
+            _ => Err(too_few(3)),
+        },
         DrawKind::Polyline => {
             if n < 2 || (closed && n < 3) {
                 return Err(too_few(if closed { 3 } else { 2 }));
@@ -342,6 +373,13 @@ impl KnotworkApp {
                     return;
                 }
                 drawing.points.push(drawing.plane.project(p));
+                if drawing
+                    .kind
+                    .points_needed()
+                    .is_some_and(|n| drawing.points.len() >= n)
+                {
+                    self.finish_curve(false);
+                }
             }
             DrawStep::Undo => {
                 if let Some(drawing) = &mut self.curves.drawing {
@@ -360,7 +398,8 @@ impl KnotworkApp {
         let Some(drawing) = self.curves.drawing.clone() else {
             return;
         };
-        match drawn_curve(drawing.kind, drawing.degree, &drawing.points, close) {
+        let normal = drawing.plane.normal;
+        match drawn_curve(drawing.kind, drawing.degree, &drawing.points, close, normal) {
             Ok(curve) => {
                 self.curves.drawing = None;
                 let name = self.scene().unique_name("Curve");
@@ -375,9 +414,11 @@ impl KnotworkApp {
         }
     }
 
-    /// Where a click at `cursor` (viewport pixels) places a point: a control point of a shown
-    /// object or a curve's end or midpoint within the pick radius, else the ray's point on the
-    /// plane (on the grid when the grid snap is on).
+    /// Where a click at `cursor` (viewport pixels) places a point: the nearest within the pick
+    /// radius of a control point of a shown object (with point snapping), a curve's end or
+    /// midpoint, two curves' crossing, or the foot of the perpendicular or a tangent point from
+    /// the last point placed to a curve; else the ray's point on the plane (on the grid when the
+    /// grid snap is on).
     fn placement(&self, cursor: DVec2) -> Option<(DVec3, Option<&'static str>)> {
         let drawing = self.curves.drawing.as_ref()?;
         let view = self.pick_view?;
@@ -408,6 +449,36 @@ impl KnotworkApp {
         }
         for &p in &drawing.points {
             consider(p, "point");
+        }
+        // Curves under the cursor: where two cross, and the perpendicular foot and the
+        // tangent points from the last point placed.
+        let size = self
+            .scene()
+            .bounds()
+            .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
+        let near: Vec<osnap::Sampled<'_>> = self
+            .scene()
+            .objects
+            .iter()
+            .filter(|o| o.visible)
+            .filter_map(|o| o.kind().space_curve())
+            .map(|c| osnap::Sampled::new(c, &view))
+            .filter(|s| s.near(cursor, PICK_RADIUS))
+            .collect();
+        for (k, a) in near.iter().enumerate() {
+            for b in &near[k + 1..] {
+                for p in osnap::intersections(a, b, &view, cursor, PICK_RADIUS, 1e-9 * size) {
+                    consider(p, "intersection");
+                }
+            }
+            if let Some(&last) = drawing.points.last() {
+                if let Some(p) = osnap::perpendicular(a.curve, last) {
+                    consider(p, "perpendicular");
+                }
+                for p in osnap::tangents(a.curve, last, drawing.plane.normal) {
+                    consider(p, "tangent");
+                }
+            }
         }
         if let Some((_, p, what)) = best {
             return Some((p, Some(what)));
@@ -499,7 +570,14 @@ impl KnotworkApp {
             6.0,
             4.0,
         ));
-        if let Ok(curve) = drawn_curve(drawing.kind, drawing.degree, &points, false) {
+        let preview = drawn_curve(
+            drawing.kind,
+            drawing.degree,
+            &points,
+            false,
+            drawing.plane.normal,
+        );
+        if let Ok(curve) = preview {
             let line: Vec<egui::Pos2> = (0..=200)
                 .filter_map(|k| {
                     curve
@@ -707,6 +785,58 @@ impl Default for CurveState {
             extend: 0.5,
         }
     }
+}
+
+/// The curvature κ = |C′ × C″| / |C′|³ of `curve` at `count` + 1 evenly spaced parameters
+/// (Farin, Curves and Surfaces for CAGD, §10.2); `None` where C′ vanishes.
+pub fn curvature_profile(curve: &SpaceCurve, count: usize) -> Vec<(f64, Option<f64>)> {
+    (0..=count)
+        .map(|k| {
+            let t = curve.parameter_at(k as f64 / count as f64);
+            let kappa = curve.derivatives(t, 2).ok().and_then(|d| {
+                let speed = d[1].length();
+                (speed > 1e-300).then(|| d[1].cross(d[2]).length() / speed.powi(3))
+            });
+            (t, kappa.filter(|k| k.is_finite()))
+        })
+        .collect()
+}
+
+/// The curve's curvature against its parameter, with the largest value named.
+fn curvature_graph(ui: &mut egui::Ui, curve: &SpaceCurve) {
+    let profile = curvature_profile(curve, 200);
+    let largest = profile.iter().filter_map(|(_, k)| *k).fold(0.0, f64::max);
+    let size = egui::vec2(ui.available_width().min(300.0), 80.0);
+    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 2.0, egui::Color32::from_gray(24));
+    let (a, b) = curve.domain();
+    let to_screen = |t: f64, k: f64| {
+        let x = rect.left() + ((t - a) / (b - a).max(1e-300)) as f32 * rect.width();
+        let y = rect.bottom() - 4.0 - (k / largest.max(1e-300)) as f32 * (rect.height() - 8.0);
+        egui::pos2(x, y)
+    };
+    let line: Vec<egui::Pos2> = profile
+        .iter()
+        .filter_map(|&(t, k)| k.map(|k| to_screen(t, k)))
+        .collect();
+    painter.add(egui::Shape::line(
+        line,
+        egui::Stroke::new(1.5, egui::Color32::from_rgb(120, 200, 255)),
+    ));
+    // The knots: where the curvature may jump.
+    for (knot, _) in curve.interior_knots() {
+        let x = to_screen(knot, 0.0).x;
+        painter.vline(
+            x,
+            rect.y_range(),
+            egui::Stroke::new(1.0, egui::Color32::from_gray(70)),
+        );
+    }
+    ui.label(format!(
+        "largest curvature {largest:.4} (radius {:.4})",
+        1.0 / largest.max(1e-300)
+    ));
 }
 
 /// `{"input": 0}`, `{"input": 1}`, … for curves `range`.
@@ -1124,6 +1254,7 @@ impl KnotworkApp {
                 }
             }
         });
+        egui::CollapsingHeader::new("Curvature graph").show(ui, |ui| curvature_graph(ui, &curve));
         let plane = self.plane_for(self.curves.plane).ok();
         let normal = plane.map_or([0.0, 0.0, 1.0], |p| p.normal.to_array());
         let c = &mut self.curves;
@@ -1190,5 +1321,67 @@ impl KnotworkApp {
                 replace,
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drawn_curves_keep_the_clicks() {
+        let clicks = [
+            DVec3::ZERO,
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(2.0, -0.5, 0.0),
+            DVec3::new(3.0, 0.5, 0.0),
+        ];
+        let n = DVec3::Z;
+        let control = drawn_curve(DrawKind::ControlPoints, 3, &clicks, false, n).unwrap();
+        assert_eq!(control.count(), 4);
+        assert!((0..4).all(|k| control.control_point(k) == clicks[k]));
+        // Degree lowered to what two points allow.
+        let line = drawn_curve(DrawKind::ControlPoints, 3, &clicks[..2], false, n).unwrap();
+        assert_eq!(line.degree(), 1);
+        let through = drawn_curve(DrawKind::Through, 3, &clicks, false, n).unwrap();
+        for q in clicks {
+            let t = through.closest_parameter(q).unwrap();
+            assert!(through.point_at(t).unwrap().distance(q) < 1e-9);
+        }
+        let closed = drawn_curve(DrawKind::ControlPoints, 3, &clicks, true, n).unwrap();
+        let (a, b) = closed.ends().unwrap();
+        assert!(a.distance(b) < 1e-12);
+        let polygon = drawn_curve(DrawKind::Polyline, 1, &clicks, true, n).unwrap();
+        assert_eq!(polygon.count(), 5);
+        // A circle about the first click through the second; an arc through all three.
+        let circle = drawn_curve(DrawKind::Circle, 2, &clicks[..2], false, n).unwrap();
+        let radius = 2f64.sqrt();
+        for (_, k) in curvature_profile(&circle, 50) {
+            assert!((k.unwrap() - 1.0 / radius).abs() < 1e-9);
+        }
+        let arc = drawn_curve(DrawKind::Arc, 2, &clicks[..3], false, n).unwrap();
+        let (start, end) = arc.ends().unwrap();
+        assert!(start.distance(clicks[0]) < 1e-12 && end.distance(clicks[2]) < 1e-12);
+        let t = arc.closest_parameter(clicks[1]).unwrap();
+        assert!(arc.point_at(t).unwrap().distance(clicks[1]) < 1e-9);
+        // Too few points are refused with the count.
+        let refused = drawn_curve(DrawKind::Arc, 2, &clicks[..2], false, n).unwrap_err();
+        assert!(refused.to_string().contains('3'), "{refused}");
+        assert!(drawn_curve(DrawKind::Polyline, 1, &clicks[..1], false, n).is_err());
+    }
+
+    #[test]
+    fn a_plane_meets_a_ray_in_front_and_projects_points() {
+        let plane = ConstructionPlane::new(DVec3::new(0.0, 0.0, 1.0), DVec3::Z * 3.0).unwrap();
+        let hit = plane.hit(DVec3::new(1.0, 2.0, 5.0), DVec3::NEG_Z).unwrap();
+        assert_eq!(hit, DVec3::new(1.0, 2.0, 1.0));
+        assert!(plane.hit(DVec3::new(1.0, 2.0, 5.0), DVec3::Z).is_none());
+        assert!(plane.hit(DVec3::ZERO, DVec3::X).is_none());
+        assert_eq!(
+            plane.project(DVec3::new(4.0, 5.0, 9.0)),
+            DVec3::new(4.0, 5.0, 1.0)
+        );
+        assert!(ConstructionPlane::through(DVec3::ZERO, DVec3::X, DVec3::X * 2.0).is_none());
+        assert!(ConstructionPlane::new(DVec3::NAN, DVec3::Z).is_none());
     }
 }

@@ -10,7 +10,7 @@ use crate::view::ShadingMode;
 
 /// The controls the `?` overlay lists, which are exactly the README's Controls table (a test
 /// compares the two); the book's Controls chapter has the full table.
-pub const CONTROLS: [(&str, &str); 15] = [
+pub const CONTROLS: [(&str, &str); 16] = [
     ("right drag", "orbit"),
     ("middle drag, or Shift + right drag", "pan"),
     ("wheel, pinch", "zoom"),
@@ -27,6 +27,10 @@ pub const CONTROLS: [(&str, &str); 15] = [
     (
         "click the surface",
         "select the object and read (u, v) there",
+    ),
+    (
+        "Shift + click curves",
+        "pick them, in order, for a surface from curves",
     ),
     ("W / E / R", "gizmo: move / rotate / scale"),
     ("Ctrl + Z; Ctrl + Shift + Z or Ctrl + Y", "undo; redo"),

@@ -1,6 +1,7 @@
 //! Camera, screen-space picking, drag constraints and the view settings.
 
 pub mod camera;
+pub mod osnap;
 pub mod pick;
 pub mod settings;
 
