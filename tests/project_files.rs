@@ -60,6 +60,11 @@ const CORPUS: &[(&str, &str, &str)] = &[
         "index 99",
     ),
     (
+        "curve-zero-weight",
+        "objects[0].points[1]",
+        "weight",
+    ),
+    (
         "trim-curve-object",
         "objects[0].type",
         "a trim curve is not a scene object",
