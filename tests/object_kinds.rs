@@ -92,9 +92,7 @@ impl ObjectKind for QuadraticSheet {
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        let lo = self.points.iter().copied().reduce(DVec3::min)?;
-        let hi = self.points.iter().copied().reduce(DVec3::max)?;
-        Some((lo, hi))
+        knotwork::scene::points_box(self.points)
     }
 
     fn move_control_point(

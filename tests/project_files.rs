@@ -59,11 +59,7 @@ const CORPUS: &[(&str, &str, &str)] = &[
         "objects[0].patches[0].indices[3]",
         "index 99",
     ),
-    (
-        "curve-zero-weight",
-        "objects[0].points[1]",
-        "weight",
-    ),
+    ("curve-zero-weight", "objects[0].points[1]", "weight"),
     (
         "trim-curve-object",
         "objects[0].type",

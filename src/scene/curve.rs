@@ -106,10 +106,7 @@ impl ObjectKind for SpaceCurve {
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        let points = ObjectKind::control_points(self);
-        let lo = points.iter().copied().reduce(DVec3::min)?;
-        let hi = points.iter().copied().reduce(DVec3::max)?;
-        Some((lo, hi))
+        super::kind::points_box((0..self.count()).map(|i| self.control_point(i)))
     }
 
     /// The changed segments are the point's local support

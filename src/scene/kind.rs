@@ -16,6 +16,15 @@ use super::{Decomposition, ObjectGeometry};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface, ParametricSurface, PolygonMesh, TrimmedSurface};
 
+/// The box (lowest, highest corner) around `points`; `None` for none: what a kind whose
+/// control points contain its shape answers for [`ObjectKind::bounds`].
+pub fn points_box(points: impl IntoIterator<Item = DVec3>) -> Option<(DVec3, DVec3)> {
+    points
+        .into_iter()
+        .map(|p| (p, p))
+        .reduce(|(lo, hi), (p, _)| (lo.min(p), hi.max(p)))
+}
+
 /// One face a kind offers to the analyses, in the kind's own parameters (before any
 /// displacement or lattice: [`super::SceneObject::faces`] shows it as the viewport does).
 pub struct KindFace<'a> {

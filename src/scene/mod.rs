@@ -23,7 +23,7 @@ mod triangle;
 mod trimmed;
 
 pub use curve::{CurveFeed, periodic_twin};
-pub use kind::{KindFace, KindValue, ObjectKind};
+pub use kind::{KindFace, KindValue, ObjectKind, points_box};
 pub use subdiv::{SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;

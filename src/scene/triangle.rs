@@ -106,12 +106,7 @@ impl ObjectKind for TriangleBezier {
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        let first = *self.points().first()?;
-        Some(
-            self.points()
-                .iter()
-                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
-        )
+        super::kind::points_box(self.points().iter().copied())
     }
 
     /// Every point moves the whole patch (feed patch 0).
