@@ -36,6 +36,7 @@ pub mod edge;
 pub mod error;
 pub mod ffd;
 pub mod fit;
+pub mod intersect;
 pub mod loft;
 pub mod mesh;
 pub mod mesh_curvature;

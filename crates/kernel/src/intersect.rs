@@ -1,0 +1,796 @@
+//! Surface–surface intersection by marching, on the one surface interface
+//! ([`ParametricSurface`]), so it serves every kind with faces.
+//!
+//! 1. **Seeds.** Both domains are cut into cells whose boxes hold the surface: the box of a
+//!    3 × 3 grid of samples grown by twice the second-order Taylor bound
+//!    (|S_uu| Δu² + 2|S_uv| Δu Δv + |S_vv| Δv²)/8 at the samples. Pairs of cells whose boxes meet are cut again,
+//!    the larger first, until both cells are smaller than [`IntersectOptions::smallest`]: a
+//!    closed loop at least that large crosses such a pair, so none is missed. Each remaining
+//!    pair gives a seed by Gauss–Newton from the cells' centres on A(u, v) − B(s, t) = 0 (the
+//!    least-norm step of the 3 × 4 system).
+//! 2. **Marching.** From a seed, the curve's tangent is T = N_A × N_B. A step of length h is
+//!    predicted along T and corrected by Newton onto both surfaces with the plane (X − P)·T = h
+//!    as the fourth equation. The chord from the last point to the new one is compared with the
+//!    curve's point half-way (corrected the same way): when it is off by more than
+//!    [`IntersectOptions::chord`] the step is halved, when by far less it grows by half.
+//! 3. **Ends.** A branch ends on a domain boundary or a trim (found by bisection on h), closes
+//!    when it comes back to its start, or stops where the surfaces touch (|N_A × N_B| below
+//!    [`TANGENT_SINE`]); a touching point is reported, not marched through. Each seed not
+//!    already on a traced branch starts a new one, marched both ways unless it closes.
+//!
+//! (Patrikalakis and Maekawa, *Shape Interrogation for Computer Aided Design and
+//! Manufacturing*, §5.8: subdivision for seeds, marching with Newton correction.)
+
+use glam::{DVec2, DVec3};
+
+use crate::diffgeo::SurfaceDerivatives;
+use crate::error::GeometryError;
+use crate::parametric::ParametricSurface;
+
+/// Below this sine of the angle between the normals, the surfaces are taken to touch there.
+pub const TANGENT_SINE: f64 = 1e-6;
+
+/// The most points one branch may have.
+const MAX_POINTS: usize = 200_000;
+
+/// Cells per direction of the first grid on each surface.
+const FIRST_GRID: usize = 4;
+
+/// What an intersection must meet (absolute distances, in model units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntersectOptions {
+    /// Every point lies within this of both surfaces.
+    pub tolerance: f64,
+    /// The polyline's chords deviate from the curve by at most this.
+    pub chord: f64,
+    /// Closed loops at least this large are found.
+    pub smallest: f64,
+}
+
+impl IntersectOptions {
+    /// The defaults for a scene of diagonal `size`: tolerance 1e-6, chord 1e-3 and smallest
+    /// loop 1e-2 of it.
+    pub fn for_size(size: f64) -> Self {
+        let size = size.max(1e-300);
+        Self {
+            tolerance: 1e-6 * size,
+            chord: 1e-3 * size,
+            smallest: 1e-2 * size,
+        }
+    }
+}
+
+/// How a branch ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BranchEnd {
+    /// On the boundary of one surface's domain.
+    Boundary,
+    /// On a trim loop (outside it the surface is cut away).
+    Trim,
+    /// Where the surfaces touch (the normals are parallel).
+    Tangent,
+    /// The step fell below the tolerance without reaching an end (reported, not hidden).
+    Stalled,
+}
+
+/// One branch of the intersection: points on both surfaces and their parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IntersectionCurve {
+    /// Whether it is a closed loop (its last point is its first again).
+    pub closed: bool,
+    pub points: Vec<DVec3>,
+    /// (u, v) on the first surface and (s, t) on the second, one per point.
+    pub uv_a: Vec<DVec2>,
+    pub uv_b: Vec<DVec2>,
+    /// How its start and end stop (`None` for a closed loop).
+    pub ends: [Option<BranchEnd>; 2],
+}
+
+/// Every branch, and the points where the surfaces touch.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Intersection {
+    pub curves: Vec<IntersectionCurve>,
+    pub touching: Vec<DVec3>,
+}
+
+/// A point on both surfaces: parameters (u, v, s, t) and the point.
+#[derive(Debug, Clone, Copy)]
+struct Common {
+    x: [f64; 4],
+    point: DVec3,
+}
+
+/// One surface with what the marching asks of it.
+struct Side<'a> {
+    surface: &'a dyn ParametricSurface,
+    domain: [(f64, f64); 2],
+}
+
+impl Side<'_> {
+    fn inside(&self, u: f64, v: f64) -> bool {
+        let [(u0, u1), (v0, v1)] = self.domain;
+        u >= u0 && u <= u1 && v >= v0 && v <= v1
+    }
+
+    /// Within one domain width of the domain (where [`newton_step`] may extrapolate).
+    fn near(&self, u: f64, v: f64) -> bool {
+        let [(u0, u1), (v0, v1)] = self.domain;
+        let (du, dv) = (u1 - u0, v1 - v0);
+        u >= u0 - du && u <= u1 + du && v >= v0 - dv && v <= v1 + dv
+    }
+
+    fn clamp(&self, u: f64, v: f64) -> (f64, f64) {
+        let [(u0, u1), (v0, v1)] = self.domain;
+        (u.clamp(u0, u1), v.clamp(v0, v1))
+    }
+
+    fn at(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
+        self.surface.derivatives(u, v)
+    }
+}
+
+/// The sine of the angle between the two surfaces' tangent planes and the unit tangent of
+/// their intersection at `x`.
+fn tangent(a: &SurfaceDerivatives, b: &SurfaceDerivatives) -> Option<(f64, DVec3)> {
+    let na = a.su.cross(a.sv).try_normalize()?;
+    let nb = b.su.cross(b.sv).try_normalize()?;
+    let t = na.cross(nb);
+    let sine = t.length();
+    Some((sine, t / sine.max(1e-300)))
+}
+
+/// Solves the 4 × 4 system `m x = r` (rows of `m`) by the inverse; `None` when it is singular.
+fn solve4(m: [[f64; 4]; 4], r: [f64; 4]) -> Option<[f64; 4]> {
+    let m = glam::DMat4::from_cols_array_2d(&m).transpose();
+    let det = m.determinant();
+    if !(det.abs() > 1e-300) {
+        return None;
+    }
+    let x = (m.inverse() * glam::DVec4::from_array(r)).to_array();
+    x.iter().all(|c| c.is_finite()).then_some(x)
+}
+
+/// Gauss–Newton from `x` onto A(u, v) = B(s, t): the least-norm step of the 3 × 4 system
+/// J dx = −F, J = [A_u A_v −B_s −B_t], parameters kept in the domains. `None` when it does not
+/// come within `tolerance`.
+fn converge(a: &Side<'_>, b: &Side<'_>, mut x: [f64; 4], tolerance: f64) -> Option<Common> {
+    for _ in 0..40 {
+        let da = a.at(x[0], x[1])?;
+        let db = b.at(x[2], x[3])?;
+        let f = da.point - db.point;
+        if f.length() <= tolerance * 1e-3 {
+            return Some(Common {
+                x,
+                point: 0.5 * (da.point + db.point),
+            });
+        }
+        let cols = [da.su, da.sv, -db.su, -db.sv];
+        // (J Jᵀ) y = −F, dx = Jᵀ y.
+        let mut jjt = [[0.0; 3]; 3];
+        for (i, row) in jjt.iter_mut().enumerate() {
+            for (j, entry) in row.iter_mut().enumerate() {
+                *entry = cols.iter().map(|c| c[i] * c[j]).sum();
+            }
+        }
+        let m = glam::DMat3::from_cols_array_2d(&jjt).transpose();
+        if m.determinant().abs() < 1e-300 {
+            return None;
+        }
+        let y = m.inverse() * (-f);
+        let step: Vec<f64> = cols.iter().map(|c| c.dot(y)).collect();
+        let (u, v) = a.clamp(x[0] + step[0], x[1] + step[1]);
+        let (s, t) = b.clamp(x[2] + step[2], x[3] + step[3]);
+        let moved = (u - x[0]).abs() + (v - x[1]).abs() + (s - x[2]).abs() + (t - x[3]).abs();
+        x = [u, v, s, t];
+        if moved == 0.0 {
+            break;
+        }
+    }
+    let (pa, pb) = (a.surface.point(x[0], x[1])?, b.surface.point(x[2], x[3])?);
+    (pa.distance(pb) <= tolerance).then(|| Common {
+        x,
+        point: 0.5 * (pa + pb),
+    })
+}
+
+/// Where a point stops being usable: outside a domain, or cut away by a trim.
+fn stop_kind(a: &Side<'_>, b: &Side<'_>, x: &[f64; 4]) -> Option<BranchEnd> {
+    if !a.inside(x[0], x[1]) || !b.inside(x[2], x[3]) {
+        return Some(BranchEnd::Boundary);
+    }
+    if !a.surface.keeps(x[0], x[1]) || !b.surface.keeps(x[2], x[3]) {
+        return Some(BranchEnd::Trim);
+    }
+    None
+}
+
+/// One direction of a branch from `start`, along `sign`·T: its points after `start`, whether
+/// it came back to `start`, and how it ended.
+fn march(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    start: &Common,
+    sign: f64,
+    options: &IntersectOptions,
+) -> (Vec<Common>, bool, BranchEnd) {
+    let mut points: Vec<Common> = Vec::new();
+    let mut current = *start;
+    let mut previous_direction: Option<DVec3> = None;
+    let mut h = (options.chord * 8.0).max(options.tolerance * 100.0);
+    let h_min = options.tolerance * 10.0;
+    let mut travelled = 0.0;
+    loop {
+        if points.len() >= MAX_POINTS {
+            return (points, false, BranchEnd::Stalled);
+        }
+        let (Some(da), Some(db)) = (
+            a.at(current.x[0], current.x[1]),
+            b.at(current.x[2], current.x[3]),
+        ) else {
+            return (points, false, BranchEnd::Stalled);
+        };
+        let Some((sine, t)) = tangent(&da, &db) else {
+            return (points, false, BranchEnd::Tangent);
+        };
+        if sine < TANGENT_SINE {
+            return (points, false, BranchEnd::Tangent);
+        }
+        // Keep going the same way: the tangent's sign is fixed by the last step.
+        let direction = match previous_direction {
+            Some(before) if t.dot(before) < 0.0 => -t,
+            Some(_) => t,
+            None => t * sign,
+        };
+        // Closing: the start lies ahead within this step.
+        if travelled > 4.0 * h.max(options.chord) {
+            let to_start = start.point - current.point;
+            let ahead = to_start.dot(direction);
+            if ahead > 0.0
+                && ahead <= 1.5 * h
+                && (to_start - direction * ahead).length() <= options.chord.max(ahead * 0.2)
+            {
+                points.push(*start);
+                return (points, true, BranchEnd::Boundary);
+            }
+        }
+        let next = loop {
+            if h < h_min {
+                return (points, false, BranchEnd::Stalled);
+            }
+            let candidate = newton_step(a, b, &current, direction, h, options.tolerance);
+            match candidate {
+                Some(next) if stop_kind(a, b, &next.x).is_none() => {
+                    // Chord check against the curve's point half-way.
+                    let middle = newton_step(a, b, &current, direction, 0.5 * h, options.tolerance);
+                    let error = middle.map_or(f64::INFINITY, |m| {
+                        m.point.distance(0.5 * (current.point + next.point))
+                    });
+                    if error > options.chord {
+                        h *= 0.5;
+                        continue;
+                    }
+                    if error < options.chord * 0.25 {
+                        h *= 1.5;
+                    }
+                    break next;
+                }
+                _ => {
+                    // Past a boundary or a trim (or no convergence there): bisect the step
+                    // down to the last point that is still on both surfaces.
+                    let Some((end, kind)) = boundary_between(a, b, &current, direction, h, options)
+                    else {
+                        h *= 0.5;
+                        continue;
+                    };
+                    if end.point.distance(current.point) > options.tolerance {
+                        points.push(end);
+                    }
+                    return (points, false, kind);
+                }
+            }
+        };
+        travelled += next.point.distance(current.point);
+        previous_direction = Some(direction);
+        points.push(next);
+        current = next;
+    }
+}
+
+/// The last point on both surfaces along `direction` from `from` before a step of `h` leaves a
+/// domain or a trim, by bisection on the step; `None` when the full step stays usable (it
+/// failed for another reason).
+fn boundary_between(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    from: &Common,
+    direction: DVec3,
+    h: f64,
+    options: &IntersectOptions,
+) -> Option<(Common, BranchEnd)> {
+    // The full step's parameters, unclamped, show which boundary is crossed.
+    let beyond = newton_step(a, b, from, direction, h, options.tolerance)?;
+    let kind = stop_kind(a, b, &beyond.x)?;
+    let (mut lo, mut hi) = (0.0, h);
+    let mut last = *from;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        match newton_step(a, b, from, direction, mid, options.tolerance) {
+            Some(p) if stop_kind(a, b, &p.x).is_none() => {
+                lo = mid;
+                last = p;
+            }
+            _ => hi = mid,
+        }
+        if hi - lo <= options.tolerance * 1e-3 {
+            break;
+        }
+    }
+    // Onto the boundary itself: clamp and converge there.
+    let (u, v) = a.clamp(last.x[0], last.x[1]);
+    let (s, t) = b.clamp(last.x[2], last.x[3]);
+    let end = converge(a, b, [u, v, s, t], options.tolerance).unwrap_or(last);
+    Some((end, kind))
+}
+
+/// The point of the intersection on the plane (X − `from`)·`direction` = `h`, by Newton from
+/// `from`'s parameters moved to first order, with the fourth equation of the plane. The
+/// surfaces are evaluated at the nearest point of their domains and extrapolated linearly
+/// beyond, so the parameters may leave a domain (by at most its width): the caller sees where
+/// a branch crosses a boundary.
+fn newton_step(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    from: &Common,
+    direction: DVec3,
+    h: f64,
+    tolerance: f64,
+) -> Option<Common> {
+    // First order: the parameter steps along each surface that move by h·T.
+    let first = |d: &SurfaceDerivatives| -> Option<(f64, f64)> {
+        let target = direction * h;
+        let (e, f, g) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
+        let det = e * g - f * f;
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        let (p, q) = (d.su.dot(target), d.sv.dot(target));
+        Some(((g * p - f * q) / det, (e * q - f * p) / det))
+    };
+    let da = a.at(from.x[0], from.x[1])?;
+    let db = b.at(from.x[2], from.x[3])?;
+    let (du, dv) = first(&da)?;
+    let (ds, dt) = first(&db)?;
+    let mut x = [
+        from.x[0] + du,
+        from.x[1] + dv,
+        from.x[2] + ds,
+        from.x[3] + dt,
+    ];
+    for _ in 0..20 {
+        if !(a.near(x[0], x[1]) && b.near(x[2], x[3])) {
+            return None;
+        }
+        let (cu, cv) = a.clamp(x[0], x[1]);
+        let (cs, ct) = b.clamp(x[2], x[3]);
+        let da = a.at(cu, cv)?;
+        let db = b.at(cs, ct)?;
+        let pa = da.point + da.su * (x[0] - cu) + da.sv * (x[1] - cv);
+        let pb = db.point + db.su * (x[2] - cs) + db.sv * (x[3] - ct);
+        let f = pa - pb;
+        let g = (pa - from.point).dot(direction) - h;
+        if f.length() <= tolerance * 1e-2 && g.abs() <= tolerance * 1e-2 {
+            return Some(Common {
+                x,
+                point: 0.5 * (pa + pb),
+            });
+        }
+        let m = [
+            [da.su.x, da.sv.x, -db.su.x, -db.sv.x],
+            [da.su.y, da.sv.y, -db.su.y, -db.sv.y],
+            [da.su.z, da.sv.z, -db.su.z, -db.sv.z],
+            [da.su.dot(direction), da.sv.dot(direction), 0.0, 0.0],
+        ];
+        let dx = solve4(m, [-f.x, -f.y, -f.z, -g])?;
+        for k in 0..4 {
+            x[k] += dx[k];
+        }
+    }
+    None
+}
+
+/// A cell of a surface's domain and the box that holds its piece of the surface.
+#[derive(Debug, Clone, Copy)]
+struct Cell {
+    u: (f64, f64),
+    v: (f64, f64),
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Cell {
+    /// The cell over [u0, u1] × [v0, v1] with its box (see the module documentation).
+    fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
+        let (du, dv) = (u.1 - u.0, v.1 - v.0);
+        let mut lo = DVec3::INFINITY;
+        let mut hi = DVec3::NEG_INFINITY;
+        let mut bound = 0.0f64;
+        for i in 0..3 {
+            for j in 0..3 {
+                let d = side.at(u.0 + du * i as f64 / 2.0, v.0 + dv * j as f64 / 2.0)?;
+                lo = lo.min(d.point);
+                hi = hi.max(d.point);
+                let second = d.suu.length() * du * du
+                    + 2.0 * d.suv.length() * du * dv
+                    + d.svv.length() * dv * dv;
+                bound = bound.max(second / 8.0);
+            }
+        }
+        let grow = DVec3::splat(2.0 * bound);
+        Some(Self {
+            u,
+            v,
+            lo: lo - grow,
+            hi: hi + grow,
+        })
+    }
+
+    fn size(&self) -> f64 {
+        self.lo.distance(self.hi)
+    }
+
+    fn meets(&self, other: &Cell, slack: f64) -> bool {
+        (self.lo - slack).cmple(other.hi).all() && (other.lo - slack).cmple(self.hi).all()
+    }
+
+    fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
+        let (um, vm) = (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1));
+        [
+            ((self.u.0, um), (self.v.0, vm)),
+            ((um, self.u.1), (self.v.0, vm)),
+            ((self.u.0, um), (vm, self.v.1)),
+            ((um, self.u.1), (vm, self.v.1)),
+        ]
+        .into_iter()
+        .filter_map(|(u, v)| Cell::new(side, u, v))
+        .collect()
+    }
+
+    fn centre(&self) -> (f64, f64) {
+        (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1))
+    }
+}
+
+/// The first grid of cells over a surface's domain.
+fn grid(side: &Side<'_>) -> Vec<Cell> {
+    let [(u0, u1), (v0, v1)] = side.domain;
+    let n = FIRST_GRID;
+    let mut cells = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let u = (
+                u0 + (u1 - u0) * i as f64 / n as f64,
+                u0 + (u1 - u0) * (i + 1) as f64 / n as f64,
+            );
+            let v = (
+                v0 + (v1 - v0) * j as f64 / n as f64,
+                v0 + (v1 - v0) * (j + 1) as f64 / n as f64,
+            );
+            if let Some(cell) = Cell::new(side, u, v) {
+                cells.push(cell);
+            }
+        }
+    }
+    cells
+}
+
+/// The pairs of small cells whose boxes meet (see the module documentation).
+fn candidate_pairs(a: &Side<'_>, b: &Side<'_>, options: &IntersectOptions) -> Vec<(Cell, Cell)> {
+    let mut stack: Vec<(Cell, Cell, u32)> = Vec::new();
+    let (ga, gb) = (grid(a), grid(b));
+    for ca in &ga {
+        for cb in &gb {
+            stack.push((*ca, *cb, 0));
+        }
+    }
+    let mut out = Vec::new();
+    while let Some((ca, cb, depth)) = stack.pop() {
+        if !ca.meets(&cb, options.tolerance) {
+            continue;
+        }
+        let (sa, sb) = (ca.size(), cb.size());
+        if (sa <= options.smallest && sb <= options.smallest) || depth >= 40 {
+            out.push((ca, cb));
+            continue;
+        }
+        if sa >= sb {
+            for q in ca.quarters(a) {
+                stack.push((q, cb, depth + 1));
+            }
+        } else {
+            for q in cb.quarters(b) {
+                stack.push((ca, q, depth + 1));
+            }
+        }
+    }
+    out
+}
+
+/// The distance from `p` to the polyline `points`.
+fn distance_to_polyline(points: &[DVec3], p: DVec3) -> f64 {
+    if points.len() == 1 {
+        return points[0].distance(p);
+    }
+    points
+        .windows(2)
+        .map(|w| {
+            let ab = w[1] - w[0];
+            let t = ((p - w[0]).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+            p.distance(w[0] + ab * t)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Every branch of the intersection of `a` and `b` (see the module documentation).
+pub fn intersect_surfaces(
+    a: &dyn ParametricSurface,
+    b: &dyn ParametricSurface,
+    options: &IntersectOptions,
+) -> Result<Intersection, GeometryError> {
+    let positive = |x: f64| x > 0.0 && x.is_finite();
+    if !(positive(options.tolerance) && positive(options.chord) && positive(options.smallest)) {
+        return Err(GeometryError::Construction {
+            what: "intersection",
+            message: "the tolerance, chord and smallest loop must be numbers > 0".into(),
+        });
+    }
+    let a = Side {
+        surface: a,
+        domain: a.domain(),
+    };
+    let b = Side {
+        surface: b,
+        domain: b.domain(),
+    };
+    let mut result = Intersection::default();
+    // A seed this close to a branch already traced belongs to it.
+    let near = (options.chord * 4.0).max(options.tolerance * 100.0);
+    for (ca, cb) in candidate_pairs(&a, &b, options) {
+        let box_lo = ca.lo.max(cb.lo);
+        let box_hi = ca.hi.min(cb.hi);
+        let covered = result.curves.iter().any(|c| {
+            c.points
+                .iter()
+                .any(|p| p.cmpge(box_lo - near).all() && p.cmple(box_hi + near).all())
+        });
+        if covered {
+            continue;
+        }
+        let (u, v) = ca.centre();
+        let (s, t) = cb.centre();
+        let Some(seed) = converge(&a, &b, [u, v, s, t], options.tolerance) else {
+            continue;
+        };
+        if stop_kind(&a, &b, &seed.x) == Some(BranchEnd::Trim) {
+            continue;
+        }
+        if result
+            .curves
+            .iter()
+            .any(|c| distance_to_polyline(&c.points, seed.point) <= near)
+            || result
+                .touching
+                .iter()
+                .any(|p| p.distance(seed.point) <= near)
+        {
+            continue;
+        }
+        let (Some(da), Some(db)) = (a.at(seed.x[0], seed.x[1]), b.at(seed.x[2], seed.x[3])) else {
+            continue;
+        };
+        if tangent(&da, &db).is_none_or(|(sine, _)| sine < TANGENT_SINE) {
+            result.touching.push(seed.point);
+            continue;
+        }
+        let (forward, closed, end_forward) = march(&a, &b, &seed, 1.0, options);
+        let mut chain: Vec<Common> = Vec::new();
+        let ends = if closed {
+            chain.push(seed);
+            chain.extend(forward);
+            [None, None]
+        } else {
+            let (backward, _, end_backward) = march(&a, &b, &seed, -1.0, options);
+            chain.extend(backward.into_iter().rev());
+            chain.push(seed);
+            chain.extend(forward);
+            [Some(end_backward), Some(end_forward)]
+        };
+        for (end, at) in ends.iter().zip([0, chain.len().saturating_sub(1)]) {
+            if *end == Some(BranchEnd::Tangent) {
+                let p = chain[at].point;
+                if result.touching.iter().all(|q| q.distance(p) > near) {
+                    result.touching.push(p);
+                }
+            }
+        }
+        if chain.len() < 2 {
+            continue;
+        }
+        result.curves.push(IntersectionCurve {
+            closed,
+            points: chain.iter().map(|c| c.point).collect(),
+            uv_a: chain.iter().map(|c| DVec2::new(c.x[0], c.x[1])).collect(),
+            uv_b: chain.iter().map(|c| DVec2::new(c.x[2], c.x[3])).collect(),
+            ends,
+        });
+    }
+    Ok(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::construct;
+
+    fn options() -> IntersectOptions {
+        IntersectOptions {
+            tolerance: 1e-9,
+            chord: 1e-3,
+            smallest: 0.05,
+        }
+    }
+
+    /// Every point lies on both surfaces at its own parameters, and every chord's middle lies
+    /// within the chord tolerance of the curve `on_curve` measures.
+    fn check(
+        a: &dyn ParametricSurface,
+        b: &dyn ParametricSurface,
+        curve: &IntersectionCurve,
+        on_curve: impl Fn(DVec3) -> f64,
+    ) {
+        for ((p, uv), st) in curve.points.iter().zip(&curve.uv_a).zip(&curve.uv_b) {
+            assert!(a.point(uv.x, uv.y).unwrap().distance(*p) < 1e-8, "{p}");
+            assert!(b.point(st.x, st.y).unwrap().distance(*p) < 1e-8, "{p}");
+            assert!(on_curve(*p) < 1e-8, "{p}: {:e}", on_curve(*p));
+        }
+        for w in curve.points.windows(2) {
+            let middle = 0.5 * (w[0] + w[1]);
+            assert!(on_curve(middle) <= 1.2e-3, "chord {:e}", on_curve(middle));
+        }
+    }
+
+    #[test]
+    fn a_plane_cuts_a_sphere_in_a_circle() {
+        let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        let plane = construct::plane(
+            DVec3::new(-2.0, -2.0, 0.3),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(0.0, 4.0, 0.0),
+        )
+        .unwrap();
+        let found = intersect_surfaces(&sphere, &plane, &options()).unwrap();
+        let r = (1.0f64 - 0.09).sqrt();
+        // The sphere's seam (u = 0 and u = 1 meet) may cut the circle into one branch that
+        // ends on the boundary twice; either way the circle is covered once.
+        let length: f64 = found
+            .curves
+            .iter()
+            .map(|c| {
+                c.points
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .sum::<f64>()
+            })
+            .sum();
+        // An inscribed polyline with chords within e of a circle of radius r falls short by
+        // about e/(3r) of its length.
+        assert!(
+            (length - std::f64::consts::TAU * r).abs() < 1e-3 * std::f64::consts::TAU * r,
+            "{length}"
+        );
+        for c in &found.curves {
+            check(&sphere, &plane, c, |p| {
+                ((p.x * p.x + p.y * p.y).sqrt() - r).abs() + (p.z - 0.3).abs()
+            });
+        }
+        assert!(found.touching.is_empty());
+    }
+
+    #[test]
+    fn a_plane_through_a_torus_gives_two_circles() {
+        let torus = construct::torus(DVec3::ZERO, DVec3::Z, 2.0, 0.5).unwrap();
+        let plane = construct::plane(
+            DVec3::new(-3.0, -3.0, 0.2),
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(0.0, 6.0, 0.0),
+        )
+        .unwrap();
+        let found = intersect_surfaces(&torus, &plane, &options()).unwrap();
+        // z = 0.2 cuts the tube (radius 0.5 about the circle of radius 2) at 2 ± √(0.25 − 0.04).
+        let offset = (0.25f64 - 0.04).sqrt();
+        let (outer, inner) = (2.0 + offset, 2.0 - offset);
+        let mut length = 0.0;
+        for c in &found.curves {
+            check(&torus, &plane, c, |p| {
+                let rho = (p.x * p.x + p.y * p.y).sqrt();
+                (rho - outer).abs().min((rho - inner).abs()) + (p.z - 0.2).abs()
+            });
+            length += c
+                .points
+                .windows(2)
+                .map(|w| w[0].distance(w[1]))
+                .sum::<f64>();
+        }
+        let expected = std::f64::consts::TAU * (outer + inner);
+        assert!(
+            (length - expected).abs() < 1e-3 * expected,
+            "{length} vs {expected}"
+        );
+    }
+
+    #[test]
+    fn surfaces_apart_do_not_meet() {
+        let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        let plane = construct::plane(
+            DVec3::new(-2.0, -2.0, 1.5),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(0.0, 4.0, 0.0),
+        )
+        .unwrap();
+        let found = intersect_surfaces(&sphere, &plane, &options()).unwrap();
+        assert!(found.curves.is_empty() && found.touching.is_empty());
+        let bad = IntersectOptions {
+            tolerance: 0.0,
+            ..options()
+        };
+        assert!(intersect_surfaces(&sphere, &plane, &bad).is_err());
+    }
+
+    #[test]
+    fn two_crossing_cylinders_meet_in_the_steinmetz_curves_and_touch_at_the_top() {
+        // Radius 1 about the x axis and about the y axis: the intersection is two ellipses in
+        // the planes x = ±y, which cross where the surfaces touch, at (0, 0, ±1).
+        let along_x =
+            construct::cylinder(DVec3::new(-2.0, 0.0, 0.0), DVec3::new(4.0, 0.0, 0.0), 1.0)
+                .unwrap();
+        let along_y =
+            construct::cylinder(DVec3::new(0.0, -2.0, 0.0), DVec3::new(0.0, 4.0, 0.0), 1.0)
+                .unwrap();
+        let found = intersect_surfaces(&along_x, &along_y, &options()).unwrap();
+        assert!(!found.curves.is_empty());
+        for c in &found.curves {
+            // The distance to the farther cylinder (no more than the distance to the curve).
+            check(&along_x, &along_y, c, |p| {
+                let to_x = ((p.y * p.y + p.z * p.z).sqrt() - 1.0).abs();
+                let to_y = ((p.x * p.x + p.z * p.z).sqrt() - 1.0).abs();
+                to_x.max(to_y)
+            });
+            for p in &c.points {
+                assert!((p.x.abs() - p.y.abs()).abs() < 1e-7, "{p}");
+            }
+        }
+        // The touching points are reported.
+        for top in [DVec3::Z, DVec3::NEG_Z] {
+            assert!(
+                found.touching.iter().any(|p| p.distance(top) < 1e-2)
+                    || found
+                        .curves
+                        .iter()
+                        .any(|c| c.points.iter().any(|p| p.distance(top) < 1e-2)),
+                "{top}: {:?}",
+                found.touching
+            );
+        }
+        // Two ellipses of semi-axes √2 and 1: each about 7.64 long, 15.28 in all.
+        let length: f64 = found
+            .curves
+            .iter()
+            .map(|c| {
+                c.points
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .sum::<f64>()
+            })
+            .sum();
+        assert!((length - 15.28).abs() < 0.05, "{length}");
+    }
+}
