@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 15] = [
+pub const GROUPS: [&str; 16] = [
     "edit",
     "webgl2",
     "frame",
@@ -409,6 +409,7 @@ pub const GROUPS: [&str; 15] = [
     "triangle",
     "displacement",
     "lattice",
+    "intersect",
     "all",
 ];
 
@@ -464,6 +465,52 @@ pub fn run(
     }
     if wants("lattice") {
         bench_lattice(context, iterations, out)?;
+    }
+    if wants("intersect") {
+        bench_intersect(&scene, iterations, out)?;
+    }
+    Ok(())
+}
+
+/// Surface–surface intersection (f64, one core): the teapot (every one of its 32 patches) with
+/// a plane through its body and with a sphere about its body, at tolerance 1e-6 of the scene's
+/// size (chord 1e-3, smallest loop 1e-2); all branches, median wall time.
+fn bench_intersect(
+    scene: &Scene,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    let teapot = scene
+        .objects
+        .first()
+        .ok_or("the demo scene has no teapot")?;
+    let (lo, hi) = teapot.bounds().ok_or("the teapot has no box")?;
+    let size = lo.distance(hi);
+    let centre = 0.5 * (lo + hi);
+    let plane = construct::plane(
+        DVec3::new(lo.x - 1.0, lo.y - 1.0, centre.z),
+        DVec3::new(hi.x - lo.x + 2.0, 0.0, 0.0),
+        DVec3::new(0.0, hi.y - lo.y + 2.0, 0.0),
+    )?;
+    let sphere = construct::sphere(centre, 0.3 * size)?;
+    let options = IntersectOptions::for_size(size);
+    for (name, other) in [("a plane", &plane), ("a sphere", &sphere)] {
+        let faces = teapot.faces();
+        let (ms, (branches, points)) = median_ms(iterations.clamp(3, 20), || {
+            let mut branches = 0;
+            let mut points = 0;
+            for (_, face) in &faces {
+                let found = intersect_surfaces(face.as_ref(), other, &options)?;
+                branches += found.curves.len();
+                points += found.curves.iter().map(|c| c.points.len()).sum::<usize>();
+            }
+            Ok::<_, crate::kernel::GeometryError>((branches, points))
+        })?;
+        writeln!(
+            out,
+            "intersect teapot (32 patches) with {name} | {branches} branches, {points} points | {ms:8.3} ms (one core, median)"
+        )?;
     }
     Ok(())
 }

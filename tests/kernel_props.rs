@@ -547,3 +547,80 @@ proptest! {
         prop_assert!(network.deviation.distance < 1e-5 * size, "{}", network.deviation);
     }
 }
+
+/// A bicubic height field z = h(x, y) over [0, 4]², its heights drawn from `rng` (plus
+/// `lift`), rational with weights in [0.5, 2] when `rational`.
+fn height_field(rng: &mut Rng, lift: f64, rational: bool) -> NurbsSurface {
+    let n = 6;
+    let knots = knotwork::kernel::basis::uniform_clamped_knots(3, n);
+    let points = (0..n * n)
+        .map(|k| {
+            let (i, j) = (k / n, k % n);
+            DVec3::new(
+                4.0 * i as f64 / (n - 1) as f64,
+                4.0 * j as f64 / (n - 1) as f64,
+                lift + rng.range(-0.6, 0.6),
+            )
+        })
+        .collect();
+    let weights = rational.then(|| (0..n * n).map(|_| rng.range(0.5, 2.0)).collect());
+    NurbsSurface::new([3, 3], [knots.clone(), knots], [n, n], points, weights).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Two random bicubic height fields (rational or not) that cross: every point the marching
+    /// finds lies on both surfaces at its own parameters and, by point inversion, within the
+    /// tolerance of both; every chord's middle lies within the chord tolerance of both; and
+    /// every place where h_a − h_b changes sign between neighbours of a 40 × 40 grid of the
+    /// first surface's parameters lies near a branch (none is missed).
+    #[test]
+    fn intersections_lie_on_both_surfaces_and_miss_no_branch(
+        seed in any::<u64>(),
+        rational in any::<bool>(),
+    ) {
+        use knotwork::kernel::intersect::{IntersectOptions, intersect_surfaces};
+        use knotwork::kernel::parametric::ParametricSurface;
+        let mut rng = Rng(seed);
+        let a = height_field(&mut rng, 0.0, rational);
+        let b = height_field(&mut rng, 0.1, false);
+        let options = IntersectOptions { tolerance: 1e-9, chord: 1e-3, smallest: 0.05 };
+        let found = intersect_surfaces(&a, &b, &options).unwrap();
+        for c in &found.curves {
+            for ((p, uv), st) in c.points.iter().zip(&c.uv_a).zip(&c.uv_b) {
+                prop_assert!(a.point(uv.x, uv.y).unwrap().distance(*p) < 1e-8);
+                prop_assert!(b.point(st.x, st.y).unwrap().distance(*p) < 1e-8);
+            }
+            for w in c.points.windows(2) {
+                let m = 0.5 * (w[0] + w[1]);
+                let off = a.closest_point(m).unwrap().distance.max(b.closest_point(m).unwrap().distance);
+                prop_assert!(off <= 1.5e-3, "chord {off:e}");
+            }
+        }
+        // Where the surfaces cross between two grid neighbours (along x, at the same (x, y)
+        // both are height fields over the same square), a branch passes nearby.
+        let height = |s: &NurbsSurface, x: f64, y: f64| s.point_at(x / 4.0, y / 4.0).unwrap_or_else(|e| panic!("({x}, {y}): {e}"));
+        let n = 40;
+        for i in 0..n {
+            for j in 0..=n {
+                let (x0, x1, y) = (4.0 * i as f64 / n as f64, 4.0 * (i + 1) as f64 / n as f64, 4.0 * j as f64 / n as f64);
+                // The heights at the same parameters (the x, y of both fields are affine in the
+                // parameters and equal).
+                let d0 = height(&a, x0, y).z - height(&b, x0, y).z;
+                let d1 = height(&a, x1, y).z - height(&b, x1, y).z;
+                // (Only where both fields are polynomial: a rational one's x and y are not
+                // affine in its parameters.)
+                if !rational && d0 * d1 < 0.0 {
+                    let p = height(&a, x0 + d0 / (d0 - d1) * (x1 - x0), y);
+                    let near = found.curves.iter().flat_map(|c| c.points.windows(2)).any(|w| {
+                        let ab = w[1] - w[0];
+                        let t = ((p - w[0]).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                        p.distance(w[0] + ab * t) < 0.05
+                    });
+                    prop_assert!(near, "a crossing near {p} is on no branch ({} branches)", found.curves.len());
+                }
+            }
+        }
+    }
+}

@@ -1,13 +1,15 @@
 //! Surface–surface intersection by marching, on the one surface interface
 //! ([`ParametricSurface`]), so it serves every kind with faces.
 //!
-//! 1. **Seeds.** Both domains are cut into cells whose boxes hold the surface: the box of a
-//!    3 × 3 grid of samples grown by twice the second-order Taylor bound
-//!    (|S_uu| Δu² + 2|S_uv| Δu Δv + |S_vv| Δv²)/8 at the samples. Pairs of cells whose boxes meet are cut again,
-//!    the larger first, until both cells are smaller than [`IntersectOptions::smallest`]: a
-//!    closed loop at least that large crosses such a pair, so none is missed. Each remaining
-//!    pair gives a seed by Gauss–Newton from the cells' centres on A(u, v) − B(s, t) = 0 (the
-//!    least-norm step of the 3 × 4 system).
+//! 1. **Seeds.** Both domains are cut into cells whose boxes hold the surface: the box of the
+//!    corners and the centre, grown by twice the second-order Taylor bound
+//!    (|S_uu| Δu² + 2|S_uv| Δu Δv + |S_vv| Δv²)/8 at the samples. Pairs of cells whose boxes
+//!    meet are cut again, the larger first, until both cells are smaller than
+//!    [`IntersectOptions::smallest`]: a closed loop at least that large crosses such a pair, so
+//!    none is missed. Each such pair off the branches traced so far gives a seed by
+//!    Gauss–Newton from the cells' centres on A(u, v) − B(s, t) = 0 (the least-norm step of the
+//!    3 × 4 system). A pair that a branch crosses is not cut further when both cells are flat
+//!    (normals within 15°): two nearly flat pieces meet in one arc at most.
 //! 2. **Marching.** From a seed, the curve's tangent is T = N_A × N_B. A step of length h is
 //!    predicted along T and corrected by Newton onto both surfaces with the plane (X − P)·T = h
 //!    as the fourth equation. The chord from the last point to the new one is compared with the
@@ -34,7 +36,7 @@ pub const TANGENT_SINE: f64 = 1e-6;
 const MAX_POINTS: usize = 200_000;
 
 /// Cells per direction of the first grid on each surface.
-const FIRST_GRID: usize = 4;
+const FIRST_GRID: usize = 1;
 
 /// What an intersection must meet (absolute distances, in model units).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -405,7 +407,13 @@ struct Cell {
     v: (f64, f64),
     lo: DVec3,
     hi: DVec3,
+    /// The normals at the samples lie within [`FLAT_COSINE`] of each other: over a pair of
+    /// flat cells the surfaces meet in at most one arc.
+    flat: bool,
 }
+
+/// Normals within this cosine (about 15°) of the first make a cell flat.
+const FLAT_COSINE: f64 = 0.966;
 
 impl Cell {
     /// The cell over [u0, u1] × [v0, v1] with its box (see the module documentation).
@@ -414,16 +422,22 @@ impl Cell {
         let mut lo = DVec3::INFINITY;
         let mut hi = DVec3::NEG_INFINITY;
         let mut bound = 0.0f64;
-        for i in 0..3 {
-            for j in 0..3 {
-                let d = side.at(u.0 + du * i as f64 / 2.0, v.0 + dv * j as f64 / 2.0)?;
-                lo = lo.min(d.point);
-                hi = hi.max(d.point);
-                let second = d.suu.length() * du * du
-                    + 2.0 * d.suv.length() * du * dv
-                    + d.svv.length() * dv * dv;
-                bound = bound.max(second / 8.0);
+        let mut first_normal: Option<DVec3> = None;
+        let mut flat = true;
+        for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)] {
+            let d = side.at(u.0 + du * i, v.0 + dv * j)?;
+            lo = lo.min(d.point);
+            hi = hi.max(d.point);
+            match (d.regular_normal(), first_normal) {
+                (Some(n), None) => first_normal = Some(n),
+                (Some(n), Some(f)) => flat &= n.dot(f) >= FLAT_COSINE,
+                // A pole (a collapsed edge) has no normal; its neighbours decide.
+                (None, _) => {}
             }
+            let second = d.suu.length() * du * du
+                + 2.0 * d.suv.length() * du * dv
+                + d.svv.length() * dv * dv;
+            bound = bound.max(second / 8.0);
         }
         let grow = DVec3::splat(2.0 * bound);
         Some(Self {
@@ -431,6 +445,7 @@ impl Cell {
             v,
             lo: lo - grow,
             hi: hi + grow,
+            flat,
         })
     }
 
@@ -483,38 +498,6 @@ fn grid(side: &Side<'_>) -> Vec<Cell> {
     cells
 }
 
-/// The pairs of small cells whose boxes meet (see the module documentation).
-fn candidate_pairs(a: &Side<'_>, b: &Side<'_>, options: &IntersectOptions) -> Vec<(Cell, Cell)> {
-    let mut stack: Vec<(Cell, Cell, u32)> = Vec::new();
-    let (ga, gb) = (grid(a), grid(b));
-    for ca in &ga {
-        for cb in &gb {
-            stack.push((*ca, *cb, 0));
-        }
-    }
-    let mut out = Vec::new();
-    while let Some((ca, cb, depth)) = stack.pop() {
-        if !ca.meets(&cb, options.tolerance) {
-            continue;
-        }
-        let (sa, sb) = (ca.size(), cb.size());
-        if (sa <= options.smallest && sb <= options.smallest) || depth >= 40 {
-            out.push((ca, cb));
-            continue;
-        }
-        if sa >= sb {
-            for q in ca.quarters(a) {
-                stack.push((q, cb, depth + 1));
-            }
-        } else {
-            for q in cb.quarters(b) {
-                stack.push((ca, q, depth + 1));
-            }
-        }
-    }
-    out
-}
-
 /// The distance from `p` to the polyline `points`.
 fn distance_to_polyline(points: &[DVec3], p: DVec3) -> f64 {
     if points.len() == 1 {
@@ -554,7 +537,19 @@ pub fn intersect_surfaces(
     let mut result = Intersection::default();
     // A seed this close to a branch already traced belongs to it.
     let near = (options.chord * 4.0).max(options.tolerance * 100.0);
-    for (ca, cb) in candidate_pairs(&a, &b, options) {
+    // Depth first over pairs of cells whose boxes meet, tracing a branch as soon as a pair of
+    // small cells gives a seed off the branches so far; a pair of flat cells that a branch
+    // crosses already holds nothing more (two nearly flat pieces meet in one arc at most).
+    let mut stack: Vec<(Cell, Cell, u32)> = Vec::new();
+    for ca in grid(&a) {
+        for cb in grid(&b) {
+            stack.push((ca, cb, 0));
+        }
+    }
+    while let Some((ca, cb, depth)) = stack.pop() {
+        if !ca.meets(&cb, options.tolerance) {
+            continue;
+        }
         let box_lo = ca.lo.max(cb.lo);
         let box_hi = ca.hi.min(cb.hi);
         let covered = result.curves.iter().any(|c| {
@@ -562,7 +557,16 @@ pub fn intersect_surfaces(
                 .iter()
                 .any(|p| p.cmpge(box_lo - near).all() && p.cmple(box_hi + near).all())
         });
-        if covered {
+        let small = ca.size() <= options.smallest && cb.size() <= options.smallest;
+        if covered && (small || (ca.flat && cb.flat)) {
+            continue;
+        }
+        if !small && depth < 40 {
+            if ca.size() >= cb.size() {
+                stack.extend(ca.quarters(&a).into_iter().map(|q| (q, cb, depth + 1)));
+            } else {
+                stack.extend(cb.quarters(&b).into_iter().map(|q| (ca, q, depth + 1)));
+            }
             continue;
         }
         let (u, v) = ca.centre();
@@ -792,5 +796,53 @@ mod tests {
             })
             .sum();
         assert!((length - 15.28).abs() < 0.05, "{length}");
+    }
+
+    #[test]
+    fn every_component_and_a_small_loop_are_found() {
+        // The plane x = 0 through a torus's axis cuts its tube in two circles of radius 0.5
+        // about (0, ±2, 0); a sphere of radius 0.04 (a loop 0.08 across, above the smallest
+        // 0.05) sits on the same plane far from them.
+        let torus = construct::torus(DVec3::ZERO, DVec3::Z, 2.0, 0.5).unwrap();
+        let plane = construct::plane(
+            DVec3::new(0.0, -3.0, -1.0),
+            DVec3::new(0.0, 6.0, 0.0),
+            DVec3::new(0.0, 0.0, 2.0),
+        )
+        .unwrap();
+        let found = intersect_surfaces(&torus, &plane, &options()).unwrap();
+        let mut length = [0.0f64; 2];
+        for c in &found.curves {
+            let side = usize::from(c.points[0].y > 0.0);
+            check(&torus, &plane, c, |p| {
+                let centre = DVec3::new(0.0, if side == 1 { 2.0 } else { -2.0 }, 0.0);
+                (p.distance(centre) - 0.5).abs() + p.x.abs()
+            });
+            length[side] += c
+                .points
+                .windows(2)
+                .map(|w| w[0].distance(w[1]))
+                .sum::<f64>();
+        }
+        for l in length {
+            assert!((l - std::f64::consts::PI).abs() < 3e-3, "{length:?}");
+        }
+        let bead = construct::sphere(DVec3::new(0.0, 0.0, 0.6), 0.04).unwrap();
+        let found = intersect_surfaces(&bead, &plane, &options()).unwrap();
+        let length: f64 = found
+            .curves
+            .iter()
+            .map(|c| {
+                c.points
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .sum::<f64>()
+            })
+            .sum();
+        let expected = std::f64::consts::TAU * 0.04;
+        assert!(
+            (length - expected).abs() < 1e-2 * expected,
+            "{length} vs {expected}"
+        );
     }
 }
