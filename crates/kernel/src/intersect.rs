@@ -635,6 +635,30 @@ mod tests {
     use super::*;
     use crate::construct;
 
+    /// The square plane z = `z` of half-width `half` about the z axis.
+    fn level_plane(z: f64, half: f64) -> crate::NurbsSurface {
+        construct::plane(
+            DVec3::new(-half, -half, z),
+            DVec3::new(2.0 * half, 0.0, 0.0),
+            DVec3::new(0.0, 2.0 * half, 0.0),
+        )
+        .unwrap()
+    }
+
+    /// The length of every branch's polyline together.
+    fn total_length(found: &Intersection) -> f64 {
+        found
+            .curves
+            .iter()
+            .map(|c| {
+                c.points
+                    .windows(2)
+                    .map(|w| w[0].distance(w[1]))
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
     fn options() -> IntersectOptions {
         IntersectOptions {
             tolerance: 1e-9,
@@ -665,26 +689,12 @@ mod tests {
     #[test]
     fn a_plane_cuts_a_sphere_in_a_circle() {
         let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
-        let plane = construct::plane(
-            DVec3::new(-2.0, -2.0, 0.3),
-            DVec3::new(4.0, 0.0, 0.0),
-            DVec3::new(0.0, 4.0, 0.0),
-        )
-        .unwrap();
+        let plane = level_plane(0.3, 2.0);
         let found = intersect_surfaces(&sphere, &plane, &options()).unwrap();
         let r = (1.0f64 - 0.09).sqrt();
         // The sphere's seam (u = 0 and u = 1 meet) may cut the circle into one branch that
         // ends on the boundary twice; either way the circle is covered once.
-        let length: f64 = found
-            .curves
-            .iter()
-            .map(|c| {
-                c.points
-                    .windows(2)
-                    .map(|w| w[0].distance(w[1]))
-                    .sum::<f64>()
-            })
-            .sum();
+        let length = total_length(&found);
         // An inscribed polyline with chords within e of a circle of radius r falls short by
         // about e/(3r) of its length.
         assert!(
@@ -702,12 +712,7 @@ mod tests {
     #[test]
     fn a_plane_through_a_torus_gives_two_circles() {
         let torus = construct::torus(DVec3::ZERO, DVec3::Z, 2.0, 0.5).unwrap();
-        let plane = construct::plane(
-            DVec3::new(-3.0, -3.0, 0.2),
-            DVec3::new(6.0, 0.0, 0.0),
-            DVec3::new(0.0, 6.0, 0.0),
-        )
-        .unwrap();
+        let plane = level_plane(0.2, 3.0);
         let found = intersect_surfaces(&torus, &plane, &options()).unwrap();
         // z = 0.2 cuts the tube (radius 0.5 about the circle of radius 2) at 2 ± √(0.25 − 0.04).
         let offset = (0.25f64 - 0.04).sqrt();
@@ -734,12 +739,7 @@ mod tests {
     #[test]
     fn surfaces_apart_do_not_meet() {
         let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
-        let plane = construct::plane(
-            DVec3::new(-2.0, -2.0, 1.5),
-            DVec3::new(4.0, 0.0, 0.0),
-            DVec3::new(0.0, 4.0, 0.0),
-        )
-        .unwrap();
+        let plane = level_plane(1.5, 2.0);
         let found = intersect_surfaces(&sphere, &plane, &options()).unwrap();
         assert!(found.curves.is_empty() && found.touching.is_empty());
         let bad = IntersectOptions {
@@ -785,16 +785,7 @@ mod tests {
             );
         }
         // Two ellipses of semi-axes √2 and 1: each about 7.64 long, 15.28 in all.
-        let length: f64 = found
-            .curves
-            .iter()
-            .map(|c| {
-                c.points
-                    .windows(2)
-                    .map(|w| w[0].distance(w[1]))
-                    .sum::<f64>()
-            })
-            .sum();
+        let length = total_length(&found);
         assert!((length - 15.28).abs() < 0.05, "{length}");
     }
 
@@ -829,16 +820,7 @@ mod tests {
         }
         let bead = construct::sphere(DVec3::new(0.0, 0.0, 0.6), 0.04).unwrap();
         let found = intersect_surfaces(&bead, &plane, &options()).unwrap();
-        let length: f64 = found
-            .curves
-            .iter()
-            .map(|c| {
-                c.points
-                    .windows(2)
-                    .map(|w| w[0].distance(w[1]))
-                    .sum::<f64>()
-            })
-            .sum();
+        let length = total_length(&found);
         let expected = std::f64::consts::TAU * 0.04;
         assert!(
             (length - expected).abs() < 1e-2 * expected,
