@@ -466,6 +466,16 @@ pub fn construct(
     Ok(())
 }
 
+/// Adds the curves where objects `a` and `b` meet as curve objects (one undo step); objects
+/// that do not meet are refused in the status.
+#[wasm_bindgen]
+pub fn intersect(a: u32, b: u32) {
+    send(AppCommand::Edit(Command::Intersect {
+        a: a as usize,
+        b: b as usize,
+    }));
+}
+
 /// Ends object `object`'s construction history (one undo step).
 #[wasm_bindgen]
 pub fn break_history(object: u32) {

@@ -485,3 +485,84 @@ fn the_gpu_follows_a_dragged_section() {
     assert!(full.read_vertices().unwrap() == vertices);
     assert!(full.read_curve_vertices().unwrap() == sync.read_curve_vertices().unwrap());
 }
+
+/// Intersect in the document: a plane through a sphere gives curve objects on both surfaces
+/// (by point inversion, within 1e-6 of the scene's size), one undo step; surfaces apart, an
+/// object with itself and a curve are refused and change nothing.
+#[test]
+fn intersecting_two_objects_adds_their_curves_of_intersection() {
+    use knotwork::kernel::construct;
+    let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+    let plane = construct::plane(
+        DVec3::new(-2.0, -2.0, 0.4),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap();
+    let high = construct::plane(
+        DVec3::new(-2.0, -2.0, 3.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![
+            SceneObject::new("Ball", ObjectGeometry::new(sphere.clone())),
+            SceneObject::new("Cut", ObjectGeometry::new(plane.clone())),
+            SceneObject::new("High", ObjectGeometry::new(high)),
+            curve_object("s0", section(0.0, 0.2)),
+        ],
+    });
+    let before = doc.scene.clone();
+    let edit = doc
+        .execute(&Command::Intersect { a: 0, b: 1 })
+        .unwrap()
+        .clone();
+    assert!(
+        edit.label.starts_with("intersect Ball × Cut"),
+        "{}",
+        edit.label
+    );
+    let added = &doc.scene.objects[4..];
+    assert!(!added.is_empty());
+    assert_eq!(added[0].name, "Ball × Cut");
+    let size = doc.scene.bounds().map(|(lo, hi)| lo.distance(hi)).unwrap();
+    let r = (1.0f64 - 0.16).sqrt();
+    let mut length = 0.0;
+    for object in added {
+        let c = curve(object);
+        for k in 0..=100 {
+            let p = c.point_at(c.parameter_at(k as f64 / 100.0)).unwrap();
+            assert!(
+                sphere.closest_point(p).unwrap().distance < 1e-6 * size,
+                "{p}"
+            );
+            assert!(
+                plane.closest_point(p).unwrap().distance < 1e-6 * size,
+                "{p}"
+            );
+            assert!(((p.x * p.x + p.y * p.y).sqrt() - r).abs() < 1e-6 * size, "{p}");
+        }
+        length += (0..200)
+            .map(|k| {
+                let t0 = c.parameter_at(k as f64 / 200.0);
+                let t1 = c.parameter_at((k + 1) as f64 / 200.0);
+                c.point_at(t0).unwrap().distance(c.point_at(t1).unwrap())
+            })
+            .sum::<f64>();
+    }
+    assert!(
+        (length - std::f64::consts::TAU * r).abs() < 1e-3,
+        "{length}"
+    );
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before);
+    for (a, b, message) in [(0, 2, "do not meet"), (0, 0, "itself"), (0, 3, "no faces")] {
+        let error = doc
+            .execute(&Command::Intersect { a, b })
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(message), "{error}");
+        assert_eq!(doc.scene, before);
+    }
+}

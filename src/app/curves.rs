@@ -752,6 +752,8 @@ pub struct CurveState {
     pub plane: PlaneChoice,
     /// Constructions keep their history (the result follows its curves).
     pub keep_history: bool,
+    /// The object the selected one is to be intersected with.
+    pub intersect_with: Option<usize>,
     pub loft_closed: bool,
     pub loft_style: crate::kernel::loft::LoftStyle,
     pub revolve_angle: f64,
@@ -773,6 +775,7 @@ impl Default for CurveState {
             degree: 3,
             plane: PlaneChoice::Ground,
             keep_history: true,
+            intersect_with: None,
             loft_closed: false,
             loft_style: crate::kernel::loft::LoftStyle::Normal,
             revolve_angle: 360.0,
@@ -1060,7 +1063,63 @@ impl KnotworkApp {
             });
         }
         self.history_controls(ui);
+        self.intersect_controls(ui);
         self.curve_edit_controls(ui);
+    }
+
+    /// Intersect the selected object with another: the curves where they meet become curve
+    /// objects (one undo step).
+    fn intersect_controls(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.selection.object else {
+            return;
+        };
+        let with_faces: Vec<(usize, String)> = self
+            .scene()
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(k, o)| *k != s && o.kind().space_curve().is_none())
+            .map(|(k, o)| (k, o.name.clone()))
+            .collect();
+        if with_faces.is_empty()
+            || self
+                .scene()
+                .objects
+                .get(s)
+                .is_none_or(|o| o.kind().space_curve().is_some())
+        {
+            return;
+        }
+        if self
+            .curves
+            .intersect_with
+            .is_none_or(|k| !with_faces.iter().any(|(j, _)| *j == k))
+        {
+            self.curves.intersect_with = Some(with_faces[0].0);
+        }
+        ui.separator();
+        ui.horizontal(|ui| {
+            ui.label("Intersect with");
+            let chosen = self.curves.intersect_with.unwrap_or(with_faces[0].0);
+            let name = with_faces
+                .iter()
+                .find(|(k, _)| *k == chosen)
+                .map_or("", |(_, n)| n.as_str());
+            egui::ComboBox::from_id_salt("intersect with")
+                .selected_text(name)
+                .show_ui(ui, |ui| {
+                    for (k, n) in &with_faces {
+                        ui.selectable_value(&mut self.curves.intersect_with, Some(*k), n);
+                    }
+                });
+            if ui
+                .button("Intersect")
+                .on_hover_text("the curves where they meet, as curve objects")
+                .clicked()
+            {
+                self.apply(AppCommand::Edit(Command::Intersect { a: s, b: chosen }));
+            }
+        });
     }
 
     fn drawing_controls(&mut self, ui: &mut egui::Ui) {

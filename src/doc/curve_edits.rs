@@ -214,3 +214,93 @@ pub(super) fn construct(
     };
     Ok((vec![change], report))
 }
+
+/// [`super::Command::Intersect`]: every branch where the faces of objects `a` and `b` meet
+/// ([`crate::kernel::intersect`], tolerance 1e-6 and chords 1e-3 of the scene's size), each as
+/// the cubic through its points (closed and C² for a loop; The NURBS Book §9.2), added as
+/// curve objects; and the label, which counts them and any touching points.
+pub(super) fn intersection_curves(
+    scene: &Scene,
+    a: usize,
+    b: usize,
+) -> Result<(Vec<Change>, String), EditError> {
+    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    use crate::kernel::splines::{self, Parametrization};
+    let (oa, ob) = (object_at(scene, a)?, object_at(scene, b)?);
+    let refuse_with = |object: &SceneObject, message: String| {
+        geometry_error(object)(refuse("intersection", message))
+    };
+    if a == b {
+        return Err(refuse_with(
+            oa,
+            "an object cannot be intersected with itself".into(),
+        ));
+    }
+    for o in [oa, ob] {
+        if o.faces().is_empty() {
+            return Err(refuse_with(
+                o,
+                format!("{} has no faces", o.kind().kind_name()),
+            ));
+        }
+    }
+    let size = scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
+    let options = IntersectOptions::for_size(size);
+    let mut curves = Vec::new();
+    let mut touching = 0;
+    for (_, fa) in oa.faces() {
+        for (_, fb) in ob.faces() {
+            let found = intersect_surfaces(fa.as_ref(), fb.as_ref(), &options)
+                .map_err(geometry_error(oa))?;
+            touching += found.touching.len();
+            for branch in found.curves {
+                let points = &branch.points;
+                let curve = if branch.closed && points.len() >= 4 {
+                    splines::interpolate_closed(
+                        &points[..points.len() - 1],
+                        3,
+                        Parametrization::ChordLength,
+                    )
+                } else {
+                    let degree = 3.min(points.len() - 1);
+                    splines::interpolate_through(points, degree, Parametrization::ChordLength, None)
+                };
+                curves.push(curve.map_err(geometry_error(oa))?);
+            }
+        }
+    }
+    if curves.is_empty() {
+        let message = if touching > 0 {
+            format!(
+                "{} and {} only touch ({touching} point(s))",
+                oa.name, ob.name
+            )
+        } else {
+            format!("{} and {} do not meet", oa.name, ob.name)
+        };
+        return Err(refuse_with(oa, message));
+    }
+    let base = format!("{} × {}", oa.name, ob.name);
+    let base: String = base
+        .chars()
+        .take(crate::scene::MAX_NAME_LENGTH - 4)
+        .collect();
+    let mut next = scene.clone();
+    let mut changes = Vec::new();
+    for curve in curves {
+        let object = SceneObject::new(next.unique_name(&base), ObjectGeometry::new(curve));
+        let change = Change::Insert {
+            index: next.objects.len(),
+            object: object.clone(),
+        };
+        next.objects.push(object);
+        changes.push(change);
+    }
+    let mut label = format!("intersect {}: {} curve(s)", base, changes.len());
+    if touching > 0 {
+        label.push_str(&format!(", {touching} touching point(s)"));
+    }
+    Ok((changes, label))
+}

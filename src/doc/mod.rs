@@ -166,6 +166,12 @@ pub enum Command {
         object: usize,
         edit: CurveEdit,
     },
+    /// Adds the curves where two objects' surfaces meet (found by marching, each a cubic
+    /// through the branch's points) as curve objects "A × B", "A × B 2", ….
+    Intersect {
+        a: usize,
+        b: usize,
+    },
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -333,6 +339,7 @@ impl Command {
                 )
             }
             Command::BreakHistory { .. } => "break history".into(),
+            Command::Intersect { .. } => "intersect".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

@@ -82,6 +82,9 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             map_object(scene, *object, |o| o.construction = None)
         }
         Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
+        Command::Intersect { a, b } => {
+            return curve_edits::intersection_curves(scene, *a, *b);
+        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }
