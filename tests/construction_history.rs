@@ -541,7 +541,10 @@ fn intersecting_two_objects_adds_their_curves_of_intersection() {
                 plane.closest_point(p).unwrap().distance < 1e-6 * size,
                 "{p}"
             );
-            assert!(((p.x * p.x + p.y * p.y).sqrt() - r).abs() < 1e-6 * size, "{p}");
+            assert!(
+                ((p.x * p.x + p.y * p.y).sqrt() - r).abs() < 1e-6 * size,
+                "{p}"
+            );
         }
         length += (0..200)
             .map(|k| {
