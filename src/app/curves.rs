@@ -1026,17 +1026,8 @@ impl KnotworkApp {
                 ui.add(egui::DragValue::new(&mut c.revolve_angle).range(-360.0..=360.0));
                 ui.label("° about");
             });
-            ui.horizontal(|ui| {
-                for v in &mut c.revolve_axis {
-                    ui.add(egui::DragValue::new(v).speed(0.05));
-                }
-            });
-            ui.label("extrude by");
-            ui.horizontal(|ui| {
-                for v in &mut c.extrude {
-                    ui.add(egui::DragValue::new(v).speed(0.05));
-                }
-            });
+            super::panels::direction_editor(ui, "axis", &mut c.revolve_axis);
+            super::panels::direction_editor(ui, "extrude by", &mut c.extrude);
         });
         let n = picked.len();
         let mut chosen = None;

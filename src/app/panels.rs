@@ -1582,7 +1582,7 @@ fn section(ui: &mut egui::Ui, title: &str, open: bool, body: impl FnOnce(&mut eg
 
 /// The colour ramp as a bar with its low, middle and high values.
 /// A direction as three numbers with buttons for the axes.
-fn direction_editor(ui: &mut egui::Ui, label: &str, direction: &mut [f64; 3]) {
+pub(super) fn direction_editor(ui: &mut egui::Ui, label: &str, direction: &mut [f64; 3]) {
     ui.horizontal(|ui| {
         ui.label(label);
         for c in direction.iter_mut() {

@@ -11,7 +11,7 @@ use wgpu::util::DeviceExt;
 
 use super::error::GpuError;
 use super::pipelines::{compute_pipeline, storage_layout};
-use super::records::{CURVE_MAX_DEGREE, CURVE_WORKGROUP_SIZE, CurveRecord, CurveVertex};
+use super::records::{CURVE_MAX_DEGREE, CurveRecord, CurveVertex};
 use crate::scene::CurveFeed;
 use crate::shaders;
 
@@ -318,7 +318,6 @@ impl CurveGeometry {
         pass.set_pipeline(&evaluator.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(count.min(DISPATCH_ROW), count.div_ceil(DISPATCH_ROW), 1);
-        debug_assert_eq!(CURVE_WORKGROUP_SIZE, 64);
         count
     }
 

@@ -35,9 +35,6 @@ pub const TANGENT_SINE: f64 = 1e-6;
 /// The most points one branch may have.
 const MAX_POINTS: usize = 200_000;
 
-/// Cells per direction of the first grid on each surface.
-const FIRST_GRID: usize = 1;
-
 /// What an intersection must meet (absolute distances, in model units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IntersectOptions {
@@ -475,29 +472,6 @@ impl Cell {
     }
 }
 
-/// The first grid of cells over a surface's domain.
-fn grid(side: &Side<'_>) -> Vec<Cell> {
-    let [(u0, u1), (v0, v1)] = side.domain;
-    let n = FIRST_GRID;
-    let mut cells = Vec::new();
-    for i in 0..n {
-        for j in 0..n {
-            let u = (
-                u0 + (u1 - u0) * i as f64 / n as f64,
-                u0 + (u1 - u0) * (i + 1) as f64 / n as f64,
-            );
-            let v = (
-                v0 + (v1 - v0) * j as f64 / n as f64,
-                v0 + (v1 - v0) * (j + 1) as f64 / n as f64,
-            );
-            if let Some(cell) = Cell::new(side, u, v) {
-                cells.push(cell);
-            }
-        }
-    }
-    cells
-}
-
 /// The distance from `p` to the polyline `points`.
 fn distance_to_polyline(points: &[DVec3], p: DVec3) -> f64 {
     if points.len() == 1 {
@@ -540,12 +514,15 @@ pub fn intersect_surfaces(
     // Depth first over pairs of cells whose boxes meet, tracing a branch as soon as a pair of
     // small cells gives a seed off the branches so far; a pair of flat cells that a branch
     // crosses already holds nothing more (two nearly flat pieces meet in one arc at most).
-    let mut stack: Vec<(Cell, Cell, u32)> = Vec::new();
-    for ca in grid(&a) {
-        for cb in grid(&b) {
-            stack.push((ca, cb, 0));
-        }
-    }
+    let whole = |side: &Side<'_>| {
+        let [u, v] = side.domain;
+        Cell::new(side, u, v)
+    };
+    let mut stack: Vec<(Cell, Cell, u32)> = whole(&a)
+        .zip(whole(&b))
+        .map(|(ca, cb)| (ca, cb, 0))
+        .into_iter()
+        .collect();
     while let Some((ca, cb, depth)) = stack.pop() {
         if !ca.meets(&cb, options.tolerance) {
             continue;
