@@ -163,6 +163,26 @@ mod cli {
             #[arg(long, default_value_t = 1e-6)]
             tolerance: f64,
         },
+        /// Offset a surface by a signed distance along its normal: writes a project with the
+        /// input's objects and the offset as "NAME offset" (exact for planes, spheres and
+        /// cylinders; fitted within T × the scene's size elsewhere, over the same domain), and
+        /// prints how it was made, its deviation and where it folds as JSON.
+        Offset {
+            /// The project (or any file knotwork opens).
+            project: std::path::PathBuf,
+            /// The object, by name.
+            #[arg(long)]
+            object: String,
+            /// The signed distance (positive along the normal).
+            #[arg(long, allow_negative_numbers = true)]
+            distance: f64,
+            /// The offset lies within this fraction of the scene's size of the true offset.
+            #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
+            tolerance: f64,
+            /// The project to write.
+            #[arg(short, long)]
+            output: std::path::PathBuf,
+        },
         /// Measure the GPU evaluator: vertices per second of the compute pass (teapot at 64 and
         /// 128 segments, a 32 × 32 bicubic B-spline at 16) and edit latency.
         Bench {
@@ -422,27 +442,11 @@ mod cli {
                     "--tolerance must be a number above 0 (got {tolerance})"
                 ));
             }
-            let project = knotwork::app::open_path(path)
-                .map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+            let project = open_project(path)?;
             let scene = &project.scene;
-            let object = |name: &String| {
-                let o = scene
-                    .objects
-                    .iter()
-                    .find(|o| &o.name == name)
-                    .ok_or_else(|| format!("no object named {name:?}"))?;
-                if o.faces().is_empty() {
-                    return Err(format!(
-                        "{name} is {}, which has no faces",
-                        o.kind().kind_name()
-                    ));
-                }
-                Ok(o)
-            };
+            let object = |name: &String| surface_named(scene, name).map(|k| &scene.objects[k]);
             let (a, b) = (object(&names[0])?, object(&names[1])?);
-            let size = scene
-                .bounds()
-                .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12));
+            let size = knotwork::doc::surface_ops::scene_size(scene);
             let options = IntersectOptions {
                 tolerance: tolerance * size,
                 ..IntersectOptions::for_size(size)
@@ -479,16 +483,105 @@ mod cli {
             );
             Ok(serde_json::json!({ "curves": curves, "touching": touching }))
         };
-        match run() {
+        finish("intersect", run())
+    }
+
+    /// The project (or any file knotwork opens) at `path`.
+    fn open_project(path: &std::path::Path) -> Result<knotwork::io::project::Project, String> {
+        knotwork::app::open_path(path).map_err(|e| format!("cannot open {}: {e}", path.display()))
+    }
+
+    /// The index of the object named `name`, which must have faces.
+    fn surface_named(scene: &knotwork::scene::Scene, name: &str) -> Result<usize, String> {
+        let k = scene
+            .objects
+            .iter()
+            .position(|o| o.name == name)
+            .ok_or_else(|| format!("no object named {name:?}"))?;
+        let o = &scene.objects[k];
+        if o.faces().is_empty() {
+            return Err(format!(
+                "{name} is {}, which has no faces",
+                o.kind().kind_name()
+            ));
+        }
+        Ok(k)
+    }
+
+    /// Writes `project` to `output`.
+    fn write_project(
+        project: &knotwork::io::project::Project,
+        output: &std::path::Path,
+    ) -> Result<(), String> {
+        std::fs::write(output, knotwork::io::project::write(project))
+            .map_err(|e| format!("cannot write {}: {e}", output.display()))
+    }
+
+    /// Prints `result`'s JSON on standard output (exit code 0) or its error on standard error
+    /// (exit code 1), after `knotwork COMMAND: `.
+    fn finish(command: &str, result: Result<serde_json::Value, String>) -> ExitCode {
+        match result {
             Ok(json) => {
                 println!("{json}");
                 ExitCode::SUCCESS
             }
             Err(e) => {
-                eprintln!("knotwork intersect: {e}");
+                eprintln!("knotwork {command}: {e}");
                 ExitCode::FAILURE
             }
         }
+    }
+
+    /// `knotwork offset`: the project with the offset of the named object added.
+    pub fn offset(
+        path: &std::path::Path,
+        name: &str,
+        distance: f64,
+        tolerance: f64,
+        output: &std::path::Path,
+    ) -> ExitCode {
+        use knotwork::doc::surface_ops::{offset_geometry, offset_summary};
+        let run = || -> Result<serde_json::Value, String> {
+            let mut project = open_project(path)?;
+            let k = surface_named(&project.scene, name)?;
+            let started = std::time::Instant::now();
+            let made = offset_geometry(&project.scene, k, distance, tolerance)
+                .map_err(|e| e.to_string())?;
+            let millis = started.elapsed().as_secs_f64() * 1e3;
+            let offsets: Vec<_> = made.iter().map(|(_, o)| o.clone()).collect();
+            let mut names = Vec::new();
+            for (geometry, _) in made {
+                let object_name = project.scene.unique_name(&format!("{name} offset"));
+                names.push(object_name.clone());
+                project
+                    .scene
+                    .objects
+                    .push(knotwork::scene::SceneObject::new(object_name, geometry));
+            }
+            write_project(&project, output)?;
+            let summary = offset_summary(&offsets, distance);
+            eprintln!("{summary} in {millis:.1} ms; wrote {}", output.display());
+            let folds: Vec<_> = offsets
+                .iter()
+                .flat_map(|o| &o.folds)
+                .map(|f| {
+                    serde_json::json!({
+                        "point": f.point.to_array(),
+                        "uv": f.uv.to_array(),
+                        "radius": f.radius,
+                    })
+                })
+                .collect();
+            Ok(serde_json::json!({
+                "objects": names,
+                "exact": offsets.iter().all(|o| o.is_exact()),
+                "deviation": offsets.iter().map(|o| o.deviation).fold(0.0, f64::max),
+                "fold_samples": offsets.iter().map(|o| o.fold_samples).sum::<usize>(),
+                "folds": folds,
+                "summary": summary,
+            }))
+        };
+        finish("offset", run())
     }
 
     /// Runs `knotwork export`: exit code 0 with a summary on stdout, 1 with the error on stderr.
@@ -781,6 +874,15 @@ fn main() -> std::process::ExitCode {
             tolerance,
         }) => {
             return cli::intersect(project, objects, *tolerance);
+        }
+        Some(cli::Command::Offset {
+            project,
+            object,
+            distance,
+            tolerance,
+            output,
+        }) => {
+            return cli::offset(project, object, *distance, *tolerance, output);
         }
         Some(cli::Command::Continuity {
             project,

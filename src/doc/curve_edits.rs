@@ -57,7 +57,7 @@ pub(super) fn split_curve(scene: &Scene, k: usize, value: f64) -> Result<Vec<Cha
     Ok(super::plan::split_parts(object, k, parts))
 }
 
-fn refuse(what: &'static str, message: impl Into<String>) -> GeometryError {
+pub(super) fn refuse(what: &'static str, message: impl Into<String>) -> GeometryError {
     GeometryError::Construction {
         what,
         message: message.into(),
@@ -283,21 +283,11 @@ pub(super) fn intersection_curves(
         return Err(refuse_with(oa, message));
     }
     let base = format!("{} × {}", oa.name, ob.name);
-    let base: String = base
-        .chars()
-        .take(crate::scene::MAX_NAME_LENGTH - 4)
-        .collect();
-    let mut next = scene.clone();
-    let mut changes = Vec::new();
-    for curve in curves {
-        let object = SceneObject::new(next.unique_name(&base), ObjectGeometry::new(curve));
-        let change = Change::Insert {
-            index: next.objects.len(),
-            object: object.clone(),
-        };
-        next.objects.push(object);
-        changes.push(change);
-    }
+    let changes = super::surface_ops::insert_objects(
+        scene,
+        &base,
+        curves.into_iter().map(ObjectGeometry::new),
+    );
     let mut label = format!("intersect {}: {} curve(s)", base, changes.len());
     if touching > 0 {
         label.push_str(&format!(", {touching} touching point(s)"));

@@ -12,6 +12,7 @@ pub mod document;
 pub mod drag;
 pub mod history;
 mod plan;
+pub mod surface_ops;
 
 use glam::{DAffine3, DVec3};
 use thiserror::Error;
@@ -171,6 +172,14 @@ pub enum Command {
     Intersect {
         a: usize,
         b: usize,
+    },
+    /// Adds the offset of an object's faces at signed `distance` along the normal as "NAME
+    /// offset" (exact for planes, spheres and cylinders, fitted within `tolerance` × the
+    /// scene's size elsewhere; [`surface_ops::offset_geometry`]).
+    Offset {
+        object: usize,
+        distance: f64,
+        tolerance: f64,
     },
 }
 
@@ -340,6 +349,7 @@ impl Command {
             }
             Command::BreakHistory { .. } => "break history".into(),
             Command::Intersect { .. } => "intersect".into(),
+            Command::Offset { .. } => "offset".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

@@ -6,6 +6,7 @@ use glam::{DAffine3, DVec3};
 
 use super::{
     Change, Command, EditError, TrimEdit, direction_name, drag, geometry_error, object_at,
+    surface_ops,
 };
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
@@ -84,6 +85,13 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
         Command::Intersect { a, b } => {
             return curve_edits::intersection_curves(scene, *a, *b);
+        }
+        Command::Offset {
+            object,
+            distance,
+            tolerance,
+        } => {
+            return surface_ops::offset(scene, *object, *distance, *tolerance);
         }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());

@@ -41,6 +41,7 @@ pub mod loft;
 pub mod mesh;
 pub mod mesh_curvature;
 pub mod network;
+pub mod offset;
 pub mod ops;
 pub mod parametric;
 pub mod planar;

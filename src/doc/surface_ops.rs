@@ -1,0 +1,161 @@
+//! What the surface operations change: offsets (and the objects they add), worked out without
+//! touching the scene, as in [`super::plan`]. The command line uses the same functions, so the
+//! editor, the page and `knotwork offset` make the same surfaces.
+
+use super::curve_edits::refuse;
+use super::{Change, EditError, geometry_error, object_at};
+use crate::kernel::TrimmedSurface;
+use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
+use crate::scene::{ObjectGeometry, Scene, SceneObject};
+
+/// Spans per direction a face without knots of its own (a Bézier or subdivision patch) starts
+/// its fitted offset from.
+const FACE_OFFSET_SPANS: usize = 2;
+
+/// The diagonal of the scene's box (1 for an empty scene): what relative tolerances scale by.
+pub fn scene_size(scene: &Scene) -> f64 {
+    scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12))
+}
+
+/// Changes that add `objects` at the end of the scene, each under a name not yet taken
+/// (`base`, `base 2`, …), cut to the longest name an object may have.
+pub(super) fn insert_objects(
+    scene: &Scene,
+    base: &str,
+    objects: impl IntoIterator<Item = ObjectGeometry>,
+) -> Vec<Change> {
+    let base: String = base
+        .chars()
+        .take(crate::scene::MAX_NAME_LENGTH - 4)
+        .collect();
+    let mut next = scene.clone();
+    let mut changes = Vec::new();
+    for geometry in objects {
+        let object = SceneObject::new(next.unique_name(&base), geometry);
+        changes.push(Change::Insert {
+            index: next.objects.len(),
+            object: object.clone(),
+        });
+        next.objects.push(object);
+    }
+    changes
+}
+
+/// The offsets of object `k`'s faces by signed `distance` along the normal, each within
+/// `tolerance` (a fraction of the scene's size): a NURBS or trimmed object (neither displaced
+/// nor deformed) gives one surface, exact where its offset is an affine image of it
+/// ([`offset_nurbs`]) and over the same domain with the same trims; any other kind one fitted
+/// surface per face ([`offset_face`]).
+pub fn offset_geometry(
+    scene: &Scene,
+    k: usize,
+    distance: f64,
+    tolerance: f64,
+) -> Result<Vec<(ObjectGeometry, Offset)>, EditError> {
+    let object = object_at(scene, k)?;
+    let fail = geometry_error(object);
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(fail(refuse(
+            "offset",
+            format!("the tolerance must be a number above 0 (got {tolerance})"),
+        )));
+    }
+    if !distance.is_finite() || distance == 0.0 {
+        return Err(fail(refuse(
+            "offset",
+            format!("the distance must be a finite number other than 0 (got {distance})"),
+        )));
+    }
+    let absolute = tolerance * scene_size(scene);
+    let plain = object.displacement.is_none() && object.lattice.is_none();
+    if let (true, Some(trimmed)) = (plain, object.geometry.as_trimmed()) {
+        let offset = offset_nurbs(trimmed.surface(), distance, absolute).map_err(&fail)?;
+        let result = trimmed
+            .with_surface(offset.surface.clone())
+            .map_err(&fail)?;
+        return Ok(vec![(ObjectGeometry::from_trimmed(result), offset)]);
+    }
+    let faces = object.faces();
+    if faces.is_empty() {
+        return Err(fail(refuse(
+            "offset",
+            format!("{} has no faces", object.kind().kind_name()),
+        )));
+    }
+    faces
+        .iter()
+        .map(|(_, face)| {
+            let offset =
+                offset_face(face.as_ref(), distance, absolute, FACE_OFFSET_SPANS).map_err(&fail)?;
+            let geometry =
+                ObjectGeometry::from_trimmed(TrimmedSurface::untrimmed(offset.surface.clone()));
+            Ok((geometry, offset))
+        })
+        .collect()
+}
+
+/// One line about offsets: exact or fitted (with the largest deviation) and where they fold.
+pub fn offset_summary(offsets: &[Offset], distance: f64) -> String {
+    let exact = offsets.iter().filter(|o| o.is_exact()).count();
+    let deviation = offsets.iter().map(|o| o.deviation).fold(0.0, f64::max);
+    let mut text = if exact == offsets.len() {
+        match offsets.first().map(|o| o.shape) {
+            Some(OffsetShape::Plane) => "exact (a plane moved)".to_string(),
+            Some(OffsetShape::Sphere { radius, .. }) => {
+                format!("exact (a sphere of radius {radius:.6} scaled)")
+            }
+            Some(OffsetShape::Cylinder { radius, .. }) => {
+                format!("exact (a cylinder of radius {radius:.6} scaled)")
+            }
+            _ => "exact".to_string(),
+        }
+    } else {
+        format!("fitted, largest deviation {deviation:.3e}")
+    };
+    let folds: usize = offsets.iter().map(|o| o.fold_samples).sum();
+    if folds > 0 {
+        let smallest = offsets
+            .iter()
+            .flat_map(|o| &o.folds)
+            .min_by(|a, b| a.radius.total_cmp(&b.radius));
+        if let Some(f) = smallest {
+            text.push_str(&format!(
+                "; it folds where the radius of curvature is below {:.6} ({folds} sample(s), \
+                 e.g. at ({:.4}, {:.4}, {:.4}), radius {:.6})",
+                distance.abs(),
+                f.point.x,
+                f.point.y,
+                f.point.z,
+                f.radius
+            ));
+        }
+    }
+    text
+}
+
+/// [`super::Command::Offset`]: the offsets of object `k` added as "NAME offset" objects, and the
+/// label.
+pub(super) fn offset(
+    scene: &Scene,
+    k: usize,
+    distance: f64,
+    tolerance: f64,
+) -> Result<(Vec<Change>, String), EditError> {
+    let made = offset_geometry(scene, k, distance, tolerance)?;
+    let name = format!("{} offset", scene.objects[k].name);
+    let offsets: Vec<Offset> = made.iter().map(|(_, o)| o.clone()).collect();
+    let changes = insert_objects(scene, &name, made.into_iter().map(|(g, _)| g));
+    for change in &changes {
+        if let Change::Insert { object, .. } = change {
+            object.decompose().map_err(geometry_error(object))?;
+        }
+    }
+    let label = format!(
+        "offset {} by {distance}: {}",
+        scene.objects[k].name,
+        offset_summary(&offsets, distance)
+    );
+    Ok((changes, label))
+}

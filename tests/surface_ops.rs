@@ -1,0 +1,295 @@
+//! The surface operations through the real binary and the document: `knotwork offset` against
+//! OpenCASCADE's offset surface (tests/reference/occ/surface_ops.json, made by
+//! make_surface_ops.py beside it) and against the closed forms of the sphere and the torus;
+//! the document's Offset command with undo; refusals that leave everything as it was.
+
+use std::process::Command as Process;
+
+use glam::{DVec2, DVec3};
+use knotwork::doc::{Command, document::Document};
+use knotwork::io::project::{self, Project};
+use knotwork::kernel::{NurbsSurface, TrimmedSurface, construct, trim};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use serde_json::Value;
+
+fn temp_dir() -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("knotwork-surface-ops-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write_project(name: &str, objects: Vec<SceneObject>) -> std::path::PathBuf {
+    let path = temp_dir().join(name);
+    let text = project::write(&Project {
+        scene: Scene { objects },
+        view: None,
+    });
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn read_project(path: &std::path::Path) -> Project {
+    project::read(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn knotwork(args: &[&str]) -> std::process::Output {
+    Process::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn surface_object(name: &str, surface: NurbsSurface) -> SceneObject {
+    SceneObject::new(name, ObjectGeometry::new(surface))
+}
+
+fn named<'a>(project: &'a Project, name: &str) -> &'a SceneObject {
+    project
+        .scene
+        .objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no object {name:?}"))
+}
+
+fn scene_size(objects: &[&NurbsSurface]) -> f64 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for s in objects {
+        let (a, b) = s.bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
+    }
+    lo.distance(hi)
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+fn vectors(v: &Value) -> Vec<Vec<f64>> {
+    v.as_array().unwrap().iter().map(numbers).collect()
+}
+
+/// Runs `knotwork offset` on a one-surface project and returns the output project and the
+/// printed JSON.
+fn offset_by_command(
+    file: &str,
+    name: &str,
+    surface: &NurbsSurface,
+    distance: f64,
+    tolerance: Option<f64>,
+) -> (Project, Value) {
+    let path = write_project(file, vec![surface_object(name, surface.clone())]);
+    let out_path = temp_dir().join(format!("out-{file}"));
+    let distance = distance.to_string();
+    let tolerance_text = tolerance.map(|t| t.to_string());
+    let mut args = vec![
+        "offset",
+        path.to_str().unwrap(),
+        "--object",
+        name,
+        "--distance",
+        &distance,
+        "-o",
+        out_path.to_str().unwrap(),
+    ];
+    if let Some(t) = &tolerance_text {
+        args.extend(["--tolerance", t]);
+    }
+    let out = knotwork(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    eprintln!("{file}: {}", stderr.trim());
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    (read_project(&out_path), json)
+}
+
+#[test]
+fn a_rational_bicubic_offset_matches_opencascade() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/reference/occ/surface_ops.json"
+    );
+    let fixtures: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for (k, case) in fixtures["offsets"].as_array().unwrap().iter().enumerate() {
+        let record = &case["surface"];
+        let degree = numbers(&record["degree"]);
+        let knots = record["knots"].as_array().unwrap();
+        let count = numbers(&record["count"]);
+        let surface = NurbsSurface::new(
+            [degree[0] as usize, degree[1] as usize],
+            [numbers(&knots[0]), numbers(&knots[1])],
+            [count[0] as usize, count[1] as usize],
+            vectors(&record["points"])
+                .iter()
+                .map(|p| DVec3::new(p[0], p[1], p[2]))
+                .collect(),
+            Some(numbers(&record["weights"])),
+        )
+        .unwrap();
+        let distance = case["distance"].as_f64().unwrap();
+        let (project, json) =
+            offset_by_command(&format!("occ-{k}.json"), "Wing", &surface, distance, None);
+        assert_eq!(json["objects"][0], "Wing offset");
+        assert_eq!(json["exact"], false);
+        // The input stays as it was.
+        assert_eq!(
+            named(&project, "Wing").geometry.nurbs_surface(),
+            Some(&surface)
+        );
+        let result = named(&project, "Wing offset")
+            .geometry
+            .nurbs_surface()
+            .expect("a NURBS surface")
+            .clone();
+        assert_eq!(result.domain(), surface.domain());
+        let size = scene_size(&[&surface]);
+        let mut worst = 0.0f64;
+        for (uv, p) in vectors(&case["params"])
+            .iter()
+            .zip(vectors(&case["points"]))
+        {
+            let q = result.point_at(uv[0], uv[1]).unwrap();
+            worst = worst.max(q.distance(DVec3::new(p[0], p[1], p[2])));
+        }
+        eprintln!("d = {distance}: {worst:.3e} from OpenCASCADE (size {size:.3})");
+        assert!(worst <= 1e-4 * size, "{worst} > {}", 1e-4 * size);
+    }
+}
+
+#[test]
+fn a_sphere_offset_is_exact_and_a_torus_offset_keeps_its_distance() {
+    let centre = DVec3::new(0.5, 0.0, -1.0);
+    let sphere = construct::sphere(centre, 1.5).unwrap();
+    let (project, json) = offset_by_command("sphere.json", "Ball", &sphere, -0.4, None);
+    assert_eq!(json["exact"], true, "{json}");
+    let inner = named(&project, "Ball offset")
+        .geometry
+        .nurbs_surface()
+        .unwrap();
+    for i in 0..=10 {
+        for j in 0..=10 {
+            let p = inner.point_at(i as f64 / 10.0, j as f64 / 10.0).unwrap();
+            assert!((p.distance(centre) - 1.1).abs() < 1e-12);
+        }
+    }
+    let (major, minor) = (2.0, 0.6);
+    let torus = construct::torus(DVec3::ZERO, DVec3::Z, major, minor).unwrap();
+    let tolerance = 1e-5;
+    let (project, json) = offset_by_command("torus.json", "Ring", &torus, 0.3, Some(tolerance));
+    assert_eq!(json["exact"], false);
+    assert!(json["deviation"].as_f64().unwrap() <= tolerance * scene_size(&[&torus]));
+    let outer = named(&project, "Ring offset")
+        .geometry
+        .nurbs_surface()
+        .unwrap();
+    let size = scene_size(&[&torus]);
+    let mut worst = 0.0f64;
+    for i in 0..=50 {
+        for j in 0..=50 {
+            let p = outer.point_at(i as f64 / 50.0, j as f64 / 50.0).unwrap();
+            let d = ((p.x.hypot(p.y) - major).hypot(p.z) - minor).abs();
+            worst = worst.max((d - 0.3).abs());
+        }
+    }
+    assert!(worst <= tolerance * size, "{worst}");
+}
+
+#[test]
+fn an_offset_past_the_radius_of_curvature_says_where_it_folds() {
+    let cylinder = construct::cylinder(DVec3::ZERO, DVec3::Z * 2.0, 0.5).unwrap();
+    let (_, json) = offset_by_command("fold.json", "Tube", &cylinder, -0.8, None);
+    assert!(json["fold_samples"].as_u64().unwrap() > 0, "{json}");
+    let radius = json["folds"][0]["radius"].as_f64().unwrap();
+    assert!((radius - 0.5).abs() < 1e-6, "{radius}");
+    assert!(json["summary"].as_str().unwrap().contains("folds"));
+}
+
+#[test]
+fn the_offset_command_refuses_what_it_cannot_offset_and_writes_nothing() {
+    let plane = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+    let circle = construct::circle(DVec3::ZERO, DVec3::Z, DVec3::X, 1.0).unwrap();
+    let path = write_project(
+        "refuse.json",
+        vec![
+            surface_object("Floor", plane),
+            SceneObject::new("Hoop", ObjectGeometry::new(circle)),
+        ],
+    );
+    let out_path = temp_dir().join("refused-out.json");
+    let _ = std::fs::remove_file(&out_path);
+    for (args, says) in [
+        (
+            vec!["--object", "Nothing", "--distance", "1"],
+            "no object named",
+        ),
+        (vec!["--object", "Hoop", "--distance", "1"], "no faces"),
+        (vec!["--object", "Floor", "--distance", "0"], "distance"),
+        (vec!["--object", "Floor", "--distance", "NaN"], "distance"),
+        (
+            vec!["--object", "Floor", "--distance", "1", "--tolerance", "-1"],
+            "tolerance",
+        ),
+    ] {
+        let mut all = vec![
+            "offset",
+            path.to_str().unwrap(),
+            "-o",
+            out_path.to_str().unwrap(),
+        ];
+        all.extend(args.iter().copied());
+        let out = knotwork(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert!(!out_path.exists());
+    }
+}
+
+#[test]
+fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
+    let surface = construct::plane(DVec3::ZERO, DVec3::X * 4.0, DVec3::Y * 2.0).unwrap();
+    let lo = DVec2::new(0.2, 0.2);
+    let hi = DVec2::new(0.7, 0.9);
+    let trimmed =
+        TrimmedSurface::new(surface, vec![trim::shapes::rectangle(lo, hi).unwrap()]).unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![SceneObject::new(
+            "Plate",
+            ObjectGeometry::new(trimmed.clone()),
+        )],
+    });
+    let edit = doc
+        .execute(&Command::Offset {
+            object: 0,
+            distance: 0.25,
+            tolerance: 1e-4,
+        })
+        .unwrap();
+    assert!(edit.label.contains("exact"), "{}", edit.label);
+    assert_eq!(doc.scene.objects.len(), 2);
+    let made = &doc.scene.objects[1];
+    assert_eq!(made.name, "Plate offset");
+    let result = made.geometry.as_trimmed().unwrap();
+    assert_eq!(result.loops(), trimmed.loops());
+    let p = result.surface().point_at(0.5, 0.5).unwrap();
+    assert!((p.z.abs() - 0.25).abs() < 1e-12 && (p.x - 2.0).abs() < 1e-12);
+    // A zero distance is refused and changes nothing.
+    let before = doc.scene.clone();
+    assert!(
+        doc.execute(&Command::Offset {
+            object: 0,
+            distance: 0.0,
+            tolerance: 1e-4,
+        })
+        .is_err()
+    );
+    assert_eq!(doc.scene, before);
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.objects.len(), 1);
+}
