@@ -183,6 +183,32 @@ mod cli {
             #[arg(short, long)]
             output: std::path::PathBuf,
         },
+        /// Roll a ball of radius R between two surfaces: writes a project with both trimmed
+        /// back to where the ball touches them and the fillet surface named "fillet", and
+        /// prints what was made as JSON.
+        Fillet {
+            /// The project (or any file knotwork opens).
+            project: std::path::PathBuf,
+            /// The two objects, by name.
+            #[arg(long, num_args = 2, required = true)]
+            objects: Vec<String>,
+            /// The ball's radius.
+            #[arg(long, allow_negative_numbers = true)]
+            radius: f64,
+            /// The side of the first surface the ball lies on: front (where its normal points)
+            /// or back.
+            #[arg(long, default_value = "back", value_parser = ["front", "back"])]
+            side_a: String,
+            /// The side of the second surface the ball lies on.
+            #[arg(long, default_value = "back", value_parser = ["front", "back"])]
+            side_b: String,
+            /// Contact and tangency within this fraction of the scene's size.
+            #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
+            tolerance: f64,
+            /// The project to write.
+            #[arg(short, long)]
+            output: std::path::PathBuf,
+        },
         /// Measure the GPU evaluator: vertices per second of the compute pass (teapot at 64 and
         /// 128 segments, a 32 × 32 bicubic B-spline at 16) and edit latency.
         Bench {
@@ -584,6 +610,70 @@ mod cli {
         finish("offset", run())
     }
 
+    /// The options of `knotwork fillet`.
+    pub struct FilletArgs<'a> {
+        pub input: &'a std::path::Path,
+        pub names: &'a [String],
+        pub radius: f64,
+        pub sides: [&'a str; 2],
+        pub tolerance: f64,
+        pub output: &'a std::path::Path,
+    }
+
+    /// `knotwork fillet`: the project with both objects trimmed back and the fillet added.
+    pub fn fillet(args: FilletArgs) -> ExitCode {
+        use knotwork::doc::surface_ops::{FilletRequest, fillet_objects};
+        let run = || -> Result<serde_json::Value, String> {
+            let mut project = open_project(args.input)?;
+            let a = surface_named(&project.scene, &args.names[0])?;
+            let b = surface_named(&project.scene, &args.names[1])?;
+            let request = FilletRequest {
+                a,
+                b,
+                radius: args.radius,
+                front_a: args.sides[0] == "front",
+                front_b: args.sides[1] == "front",
+                tolerance: args.tolerance,
+            };
+            let started = std::time::Instant::now();
+            let made = fillet_objects(&project.scene, &request).map_err(|e| e.to_string())?;
+            let millis = started.elapsed().as_secs_f64() * 1e3;
+            let mut trimmed = Vec::new();
+            for (index, after) in [a, b].into_iter().zip(made.trimmed) {
+                if let Some(after) = after {
+                    trimmed.push(after.name.clone());
+                    project.scene.objects[index] = after;
+                }
+            }
+            let name = project.scene.unique_name("fillet");
+            project
+                .scene
+                .objects
+                .push(knotwork::scene::SceneObject::new(
+                    name.clone(),
+                    knotwork::scene::ObjectGeometry::new(made.fillet.surface.clone()),
+                ));
+            write_project(&project, args.output)?;
+            eprintln!(
+                "{} sections in {millis:.1} ms; wrote {}",
+                made.fillet.centres.len(),
+                args.output.display()
+            );
+            for note in &made.notes {
+                eprintln!("knotwork fillet: {note}");
+            }
+            Ok(serde_json::json!({
+                "fillet": name,
+                "trimmed": trimmed,
+                "sections": made.fillet.centres.len(),
+                "closed": made.fillet.closed,
+                "branches": made.fillet.branches,
+                "notes": made.notes,
+            }))
+        };
+        finish("fillet", run())
+    }
+
     /// Runs `knotwork export`: exit code 0 with a summary on stdout, 1 with the error on stderr.
     /// `knotwork continuity`: the shared edges' numbers as JSON on standard output.
     pub fn continuity(
@@ -883,6 +973,24 @@ fn main() -> std::process::ExitCode {
             output,
         }) => {
             return cli::offset(project, object, *distance, *tolerance, output);
+        }
+        Some(cli::Command::Fillet {
+            project,
+            objects,
+            radius,
+            side_a,
+            side_b,
+            tolerance,
+            output,
+        }) => {
+            return cli::fillet(cli::FilletArgs {
+                input: project,
+                names: objects,
+                radius: *radius,
+                sides: [side_a, side_b],
+                tolerance: *tolerance,
+                output,
+            });
         }
         Some(cli::Command::Continuity {
             project,

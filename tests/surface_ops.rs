@@ -293,3 +293,219 @@ fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
     doc.undo().unwrap();
     assert_eq!(doc.scene.objects.len(), 1);
 }
+
+/// A wavy floor (normal +z) and a curved wall (normal −y) crossing it near y = 2, both
+/// bicubic.
+fn floor_and_wall() -> (NurbsSurface, NurbsSurface) {
+    let mut floor = Vec::new();
+    for i in 0..6 {
+        for j in 0..6 {
+            let (x, y) = (i as f64 * 0.8, j as f64 * 0.8);
+            floor.push(DVec3::new(x, y, 0.15 * (x * 1.1).sin() * (0.7 * y).cos()));
+        }
+    }
+    let mut wall = Vec::new();
+    for i in 0..6 {
+        for j in 0..5 {
+            let (x, z) = (i as f64 * 0.8, -1.0 + j as f64 * 0.75);
+            wall.push(DVec3::new(x, 2.0 + 0.3 * (0.8 * x).sin() + 0.1 * z * z, z));
+        }
+    }
+    (
+        construct::bspline_surface([3, 3], [6, 6], floor).unwrap(),
+        construct::bspline_surface([3, 3], [6, 5], wall).unwrap(),
+    )
+}
+
+/// Runs `knotwork fillet` and returns the output project and printed JSON.
+fn fillet_by_command(file: &str, objects: Vec<SceneObject>, args: &[&str]) -> (Project, Value) {
+    let path = write_project(file, objects);
+    let out_path = temp_dir().join(format!("out-{file}"));
+    let mut all = vec![
+        "fillet",
+        path.to_str().unwrap(),
+        "-o",
+        out_path.to_str().unwrap(),
+    ];
+    all.extend_from_slice(args);
+    let out = knotwork(&all);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    eprintln!("{file}: {}", stderr.trim());
+    (
+        read_project(&out_path),
+        serde_json::from_slice(&out.stdout).unwrap(),
+    )
+}
+
+/// The angle in degrees between two lines (normals up to sign).
+fn line_angle(a: DVec3, b: DVec3) -> f64 {
+    a.normalize()
+        .dot(b.normalize())
+        .abs()
+        .min(1.0)
+        .acos()
+        .to_degrees()
+}
+
+#[test]
+fn a_fillet_between_bicubic_surfaces_rolls_a_ball_that_touches_both() {
+    let (floor, wall) = floor_and_wall();
+    let (project, json) = fillet_by_command(
+        "fillet-bicubic.json",
+        vec![
+            surface_object("Floor", floor.clone()),
+            surface_object("Wall", wall.clone()),
+        ],
+        &[
+            "--objects",
+            "Floor",
+            "Wall",
+            "--radius",
+            "0.4",
+            "--side-a",
+            "front",
+            "--side-b",
+            "front",
+        ],
+    );
+    assert_eq!(json["fillet"], "fillet", "{json}");
+    let fillet = named(&project, "fillet")
+        .geometry
+        .nurbs_surface()
+        .unwrap()
+        .clone();
+    let size = scene_size(&[&floor, &wall]);
+    let tol = 1e-4 * size;
+    let r = 0.4;
+    let normal = |s: &NurbsSurface, u: f64, v: f64| s.normal(u, v).unwrap();
+    let mut worst = [0.0f64; 5];
+    for j in 0..=23 {
+        let v = j as f64 / 23.0;
+        let (x0, x1) = (
+            fillet.point_at(0.0, v).unwrap(),
+            fillet.point_at(1.0, v).unwrap(),
+        );
+        let (f0, f1) = (
+            floor.closest_point(x0).unwrap(),
+            wall.closest_point(x1).unwrap(),
+        );
+        worst[0] = worst[0].max(f0.distance).max(f1.distance);
+        // The ball's centre from the floor's side, and its distance to both surfaces.
+        let centre = f0.point + r * normal(&floor, f0.u, f0.v);
+        let to_floor = floor.closest_point(centre).unwrap().distance;
+        let to_wall = wall.closest_point(centre).unwrap().distance;
+        worst[1] = worst[1].max((to_floor - r).abs()).max((to_wall - r).abs());
+        for i in 0..=10 {
+            let x = fillet.point_at(i as f64 / 10.0, v).unwrap();
+            worst[2] = worst[2].max((x.distance(centre) - r).abs());
+        }
+        // Tangent to both along the boundaries.
+        worst[3] = worst[3].max(line_angle(
+            normal(&fillet, 0.0, v),
+            normal(&floor, f0.u, f0.v),
+        ));
+        worst[4] = worst[4].max(line_angle(
+            normal(&fillet, 1.0, v),
+            normal(&wall, f1.u, f1.v),
+        ));
+    }
+    eprintln!(
+        "contact {:.2e}, centre {:.2e}, sphere {:.2e}, angles {:.4}° {:.4}° (tolerance {tol:.2e})",
+        worst[0], worst[1], worst[2], worst[3], worst[4]
+    );
+    assert!(
+        worst[0] <= tol && worst[1] <= tol && worst[2] <= tol,
+        "{worst:?}"
+    );
+    assert!(worst[3] <= 0.1 && worst[4] <= 0.1, "{worst:?}");
+    // Both trimmed back: the floor keeps its side away from the wall, the wall its top.
+    let floor_after = named(&project, "Floor").geometry.as_trimmed().unwrap();
+    let wall_after = named(&project, "Wall").geometry.as_trimmed().unwrap();
+    assert!(floor_after.is_trimmed() && wall_after.is_trimmed());
+    let at = |s: &NurbsSurface, p: DVec3| {
+        let c = s.closest_point(p).unwrap();
+        (c.u, c.v)
+    };
+    let (u, v) = at(&floor, DVec3::new(2.0, 0.5, 0.0));
+    assert!(floor_after.contains(u, v));
+    let (u, v) = at(&floor, DVec3::new(2.0, 3.5, 0.0));
+    assert!(!floor_after.contains(u, v));
+    let (u, v) = at(&wall, DVec3::new(2.0, 2.2, 1.8));
+    assert!(wall_after.contains(u, v));
+    let (u, v) = at(&wall, DVec3::new(2.0, 2.2, -0.8));
+    assert!(!wall_after.contains(u, v));
+}
+
+#[test]
+fn a_fillet_between_two_planes_is_a_quarter_cylinder_and_bad_requests_are_refused() {
+    let floor = construct::plane(
+        DVec3::new(-1.0, -2.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap();
+    let wall = construct::plane(
+        DVec3::new(-1.0, 0.0, -2.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 0.0, 4.0),
+    )
+    .unwrap();
+    let objects = vec![
+        surface_object("Floor", floor.clone()),
+        surface_object("Wall", wall.clone()),
+    ];
+    // Default sides (back, back): below the floor (−z) and on the wall's +y side.
+    let (project, _) = fillet_by_command(
+        "fillet-planes.json",
+        objects.clone(),
+        &["--objects", "Floor", "Wall", "--radius", "0.5"],
+    );
+    let fillet = named(&project, "fillet")
+        .geometry
+        .nurbs_surface()
+        .unwrap()
+        .clone();
+    for i in 0..=8 {
+        for j in 0..=8 {
+            let p = fillet.point_at(i as f64 / 8.0, j as f64 / 8.0).unwrap();
+            assert!(p.z <= 1e-9 && p.y >= -1e-9, "{p}");
+            let d = DVec2::new(p.y - 0.5, p.z + 0.5).length();
+            assert!((d - 0.5).abs() < 1e-9, "{d}");
+        }
+    }
+    let path = write_project("fillet-refuse.json", objects);
+    let out_path = temp_dir().join("fillet-refused.json");
+    let _ = std::fs::remove_file(&out_path);
+    for (args, says) in [
+        (
+            vec!["--objects", "Floor", "Nope", "--radius", "0.5"],
+            "no object named",
+        ),
+        (
+            vec!["--objects", "Floor", "Wall", "--radius", "-1"],
+            "radius",
+        ),
+        (
+            vec!["--objects", "Floor", "Wall", "--radius", "9"],
+            "no ball",
+        ),
+        (
+            vec!["--objects", "Floor", "Floor", "--radius", "0.5"],
+            "itself",
+        ),
+    ] {
+        let mut all = vec![
+            "fillet",
+            path.to_str().unwrap(),
+            "-o",
+            out_path.to_str().unwrap(),
+        ];
+        all.extend(args.iter().copied());
+        let out = knotwork(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert!(!out_path.exists());
+    }
+}

@@ -181,6 +181,9 @@ pub enum Command {
         distance: f64,
         tolerance: f64,
     },
+    /// Rolls a ball between two objects ([`surface_ops::fillet_objects`]): adds the fillet
+    /// surface as "fillet" and trims both objects back to where the ball touches them.
+    Fillet(surface_ops::FilletRequest),
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -350,6 +353,7 @@ impl Command {
             Command::BreakHistory { .. } => "break history".into(),
             Command::Intersect { .. } => "intersect".into(),
             Command::Offset { .. } => "offset".into(),
+            Command::Fillet(_) => "fillet".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

@@ -93,6 +93,9 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         } => {
             return surface_ops::offset(scene, *object, *distance, *tolerance);
         }
+        Command::Fillet(request) => {
+            return surface_ops::fillet(scene, request);
+        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }

@@ -159,3 +159,167 @@ pub(super) fn offset(
     );
     Ok((changes, label))
 }
+
+/// A fillet asked for ([`super::Command::Fillet`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilletRequest {
+    pub a: usize,
+    pub b: usize,
+    pub radius: f64,
+    /// Whether the ball lies on the side each surface's normal points to (else the other).
+    pub front_a: bool,
+    pub front_b: bool,
+    /// A fraction of the scene's size.
+    pub tolerance: f64,
+}
+
+/// A fillet made: the fillet surface, A and B trimmed back where their kind can be trimmed,
+/// and notes on what could not be done.
+#[derive(Debug, Clone)]
+pub struct FilletMade {
+    pub fillet: crate::kernel::fillet::Fillet,
+    /// The new A and B (`None` where the object was left as it was).
+    pub trimmed: [Option<SceneObject>; 2],
+    pub notes: Vec<String>,
+}
+
+/// The rolling-ball fillet between objects `a` and `b` ([`crate::kernel::fillet`]): over
+/// every pair of their faces, the longest; A and B (NURBS or trimmed objects) trimmed back to
+/// the contact curves on the side away from the fillet.
+pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMade, EditError> {
+    use crate::kernel::fillet::{FilletOptions, fillet_surfaces};
+    use crate::kernel::trim::cut::trim_along;
+    let (oa, ob) = (object_at(scene, request.a)?, object_at(scene, request.b)?);
+    let fail = geometry_error(oa);
+    if request.a == request.b {
+        return Err(fail(refuse(
+            "fillet",
+            "an object cannot be filleted with itself",
+        )));
+    }
+    if !(request.tolerance.is_finite() && request.tolerance > 0.0) {
+        return Err(fail(refuse(
+            "fillet",
+            format!(
+                "the tolerance must be a number above 0 (got {})",
+                request.tolerance
+            ),
+        )));
+    }
+    for o in [oa, ob] {
+        if o.faces().is_empty() {
+            return Err(geometry_error(o)(refuse(
+                "fillet",
+                format!("{} has no faces", o.kind().kind_name()),
+            )));
+        }
+    }
+    let size = scene_size(scene);
+    let options = FilletOptions {
+        radius: request.radius,
+        side_a: if request.front_a { 1.0 } else { -1.0 },
+        side_b: if request.front_b { 1.0 } else { -1.0 },
+        tolerance: request.tolerance * size,
+        size,
+    };
+    let (faces_a, faces_b) = (oa.faces(), ob.faces());
+    let mut best: Option<(usize, usize, crate::kernel::fillet::Fillet)> = None;
+    let mut last_error = None;
+    for (i, (_, fa)) in faces_a.iter().enumerate() {
+        for (j, (_, fb)) in faces_b.iter().enumerate() {
+            match fillet_surfaces(fa.as_ref(), fb.as_ref(), &options) {
+                Ok(f) => {
+                    let better = best.as_ref().is_none_or(|(_, _, g)| {
+                        spine_length(&f.centres) > spine_length(&g.centres)
+                    });
+                    if better {
+                        best = Some((i, j, f));
+                    }
+                }
+                Err(e) => last_error = Some(e),
+            }
+        }
+    }
+    let Some((_, _, fillet)) = best else {
+        let e = last_error.unwrap_or_else(|| refuse("fillet", "the objects have no faces"));
+        return Err(fail(e));
+    };
+    let mut notes = Vec::new();
+    let mut trimmed = [None, None];
+    for (slot, (object, contact, keep)) in [
+        (oa, &fillet.contact_a, fillet.keep_a),
+        (ob, &fillet.contact_b, fillet.keep_b),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let Some(surface) = object.geometry.as_trimmed() else {
+            notes.push(format!(
+                "{} is {}, which cannot be trimmed: left whole",
+                object.name,
+                object.kind().kind_name()
+            ));
+            continue;
+        };
+        match trim_along(&surface, contact, fillet.closed, keep) {
+            Ok(t) => {
+                let mut next = object.clone();
+                next.geometry = ObjectGeometry::from_trimmed(t);
+                next.construction = None;
+                trimmed[slot] = Some(next);
+            }
+            Err(e) => notes.push(format!("{} not trimmed: {e}", object.name)),
+        }
+    }
+    Ok(FilletMade {
+        fillet,
+        trimmed,
+        notes,
+    })
+}
+
+fn spine_length(points: &[glam::DVec3]) -> f64 {
+    points.windows(2).map(|w| w[0].distance(w[1])).sum()
+}
+
+/// [`super::Command::Fillet`]: A and B trimmed back and the fillet added as "fillet".
+pub(super) fn fillet(
+    scene: &Scene,
+    request: &FilletRequest,
+) -> Result<(Vec<Change>, String), EditError> {
+    let made = fillet_objects(scene, request)?;
+    let mut changes = Vec::new();
+    for (index, after) in [request.a, request.b].into_iter().zip(made.trimmed) {
+        if let Some(after) = after {
+            after.decompose().map_err(geometry_error(&after))?;
+            changes.push(Change::Replace {
+                index,
+                before: scene.objects[index].clone(),
+                after,
+            });
+        }
+    }
+    let inserted = insert_objects(
+        scene,
+        "fillet",
+        [ObjectGeometry::new(made.fillet.surface.clone())],
+    );
+    for change in &inserted {
+        if let Change::Insert { object, .. } = change {
+            object.decompose().map_err(geometry_error(object))?;
+        }
+    }
+    changes.extend(inserted);
+    let mut label = format!(
+        "fillet {} and {}, radius {}: {} sections",
+        scene.objects[request.a].name,
+        scene.objects[request.b].name,
+        request.radius,
+        made.fillet.centres.len()
+    );
+    for note in &made.notes {
+        label.push_str("; ");
+        label.push_str(note);
+    }
+    Ok((changes, label))
+}

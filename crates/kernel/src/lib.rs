@@ -35,6 +35,7 @@ pub mod displace;
 pub mod edge;
 pub mod error;
 pub mod ffd;
+pub mod fillet;
 pub mod fit;
 pub mod intersect;
 pub mod loft;

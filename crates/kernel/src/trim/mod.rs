@@ -10,6 +10,7 @@
 //! degree elevation and weights keep them; reversing a direction and swapping u and v map them;
 //! splitting cuts them on the split line ([`split`]).
 
+pub mod cut;
 pub mod index;
 pub mod piece;
 pub mod shapes;
