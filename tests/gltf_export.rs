@@ -2,7 +2,9 @@
 //! through an independent reader (the `gltf` crate) against the f64 kernel, the embedded
 //! editable model, and the chordal tolerance measured on the written triangles.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::PathBuf;
 use std::process::Command;
 
 use glam::DVec3;
@@ -89,37 +91,7 @@ fn polygon_mesh() -> PolygonMesh {
     PolygonMesh::new(points, &faces).unwrap()
 }
 
-/// Runs the Khronos glTF-Validator on `files`; panics on any error or warning, or if the
-/// validator cannot run.
-fn validate(files: &[PathBuf]) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let script = root.join("web/validate-gltf.mjs");
-    assert!(
-        root.join("web/node_modules/gltf-validator").is_dir(),
-        "the glTF validator is missing: run `npm ci` in web/ (tests/run.sh does)"
-    );
-    let output = Command::new("node")
-        .arg(&script)
-        .args(files)
-        .output()
-        .unwrap_or_else(|e| panic!("the glTF validator needs Node.js: {e}"));
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    eprintln!("{stdout}{}", String::from_utf8_lossy(&output.stderr));
-    let reports: Vec<serde_json::Value> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("validator output"))
-        .collect();
-    assert_eq!(reports.len(), files.len(), "one report per file");
-    for report in &reports {
-        assert_eq!(report["errors"], 0, "{report}");
-        assert_eq!(report["warnings"], 0, "{report}");
-    }
-    assert!(
-        output.status.success(),
-        "validator exit status {}",
-        output.status
-    );
-}
+use common::validate_gltf as validate;
 
 fn write(name: &str, export: &export::Export) -> Vec<PathBuf> {
     let path = out_dir().join(name);

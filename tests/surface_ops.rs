@@ -3,6 +3,8 @@
 //! make_surface_ops.py beside it) and against the closed forms of the sphere and the torus;
 //! the document's Offset command with undo; refusals that leave everything as it was.
 
+mod common;
+
 use std::process::Command as Process;
 
 use glam::{DVec2, DVec3};
@@ -508,4 +510,191 @@ fn a_fillet_between_two_planes_is_a_quarter_cylinder_and_bad_requests_are_refuse
         assert!(stderr.contains(says), "{args:?}: {stderr}");
         assert!(!out_path.exists());
     }
+}
+
+/// The six faces of the box [0, 2] × [0, 1] × [0, 1.5] as separate plane objects, with their
+/// normals pointing every which way.
+fn box_objects() -> Vec<SceneObject> {
+    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
+    [
+        (DVec3::ZERO, x, y),
+        (z, y, x),
+        (DVec3::ZERO, x, z),
+        (y, z, x),
+        (DVec3::ZERO, z, y),
+        (x, y, z),
+    ]
+    .into_iter()
+    .enumerate()
+    .map(|(k, (o, u, v))| surface_object(&format!("Side {k}"), construct::plane(o, u, v).unwrap()))
+    .collect()
+}
+
+/// The triangles of every mesh of a `.glb` as position triples (f32, as stored).
+fn glb_triangles(bytes: &[u8]) -> Vec<Vec<[[f32; 3]; 3]>> {
+    let file = gltf::Gltf::from_slice(bytes).unwrap();
+    let blob = file.blob.as_deref().unwrap();
+    let mut out = Vec::new();
+    for mesh in file.meshes() {
+        let mut triangles = Vec::new();
+        for primitive in mesh.primitives() {
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                continue;
+            }
+            let reader = primitive.reader(|b| (b.index() == 0).then_some(blob));
+            let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+            let indices: Vec<usize> = reader
+                .read_indices()
+                .unwrap()
+                .into_u32()
+                .map(|i| i as usize)
+                .collect();
+            for t in indices.chunks(3) {
+                triangles.push([positions[t[0]], positions[t[1]], positions[t[2]]]);
+            }
+        }
+        out.push(triangles);
+    }
+    out
+}
+
+/// How many edges of the mesh (its vertices welded where their positions are equal) belong
+/// to other than exactly two triangles, and the signed volume it encloses.
+fn open_edges_and_volume(triangles: &[[[f32; 3]; 3]]) -> (usize, f64) {
+    use std::collections::HashMap;
+    let mut ids: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut id = |p: [f32; 3]| {
+        let n = ids.len();
+        *ids.entry(p.map(f32::to_bits)).or_insert(n)
+    };
+    let mut uses: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut volume = 0.0;
+    for t in triangles {
+        let k = t.map(&mut id);
+        for e in 0..3 {
+            let (a, b) = (k[e], k[(e + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+        let [a, b, c] = t.map(|p| DVec3::from(p.map(f64::from)));
+        volume += a.dot(b.cross(c)) / 6.0;
+    }
+    (uses.values().filter(|&&n| n != 2).count(), volume)
+}
+
+#[test]
+fn a_joined_box_exports_as_a_closed_mesh_that_passes_the_validator() {
+    let path = write_project("box.json", box_objects());
+    let joined = temp_dir().join("box-joined.json");
+    let out = knotwork(&[
+        "join",
+        path.to_str().unwrap(),
+        "-o",
+        joined.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    eprintln!("{}", stderr.trim());
+    let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let p = &json["polysurfaces"][0];
+    assert_eq!(json["polysurfaces"].as_array().unwrap().len(), 1, "{json}");
+    assert_eq!(
+        (p["faces"].as_u64(), p["shared_edges"].as_u64()),
+        (Some(6), Some(12))
+    );
+    assert_eq!(
+        (p["naked_edges"].as_u64(), &p["closed"]),
+        (Some(0), &Value::Bool(true))
+    );
+    assert_eq!(read_project(&joined).scene.objects.len(), 1);
+    let glb = temp_dir().join("box.glb");
+    let out = knotwork(&[
+        "export",
+        joined.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let meshes = glb_triangles(&std::fs::read(&glb).unwrap());
+    assert_eq!(meshes.len(), 1, "one mesh for the polysurface");
+    let (open, volume) = open_edges_and_volume(&meshes[0]);
+    assert_eq!(open, 0, "every edge belongs to exactly two triangles");
+    assert!((volume.abs() - 3.0).abs() < 1e-5, "{volume}");
+    common::validate_gltf(&[glb]);
+    // The same faces not joined: the export is six open meshes.
+    let glb = temp_dir().join("box-apart.glb");
+    let out = knotwork(&[
+        "export",
+        path.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let apart = glb_triangles(&std::fs::read(&glb).unwrap());
+    assert_eq!(apart.len(), 6);
+    assert!(open_edges_and_volume(&apart.concat()).0 > 0);
+}
+
+#[test]
+fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
+    // The side as a NURBS cylinder, the caps planes trimmed by circles.
+    let side = construct::cylinder(DVec3::ZERO, DVec3::Z * 1.2, 0.7).unwrap();
+    let cap = |z: f64| {
+        let circle = construct::circle(DVec3::Z * z, DVec3::Z, DVec3::X, 0.7).unwrap();
+        knotwork::kernel::planar::planar_face(&[circle]).unwrap()
+    };
+    let objects = vec![
+        surface_object("Side", side),
+        SceneObject::new("Bottom", ObjectGeometry::from_trimmed(cap(0.0))),
+        SceneObject::new("Top", ObjectGeometry::from_trimmed(cap(1.2))),
+    ];
+    let mut doc = Document::new(Scene {
+        objects: objects.clone(),
+    });
+    let edit = doc
+        .execute(&Command::Join {
+            objects: Vec::new(),
+            tolerance: 1e-6,
+        })
+        .unwrap();
+    eprintln!("{}", edit.label);
+    assert_eq!(doc.scene.objects.len(), 1);
+    let joined = &doc.scene.objects[0];
+    assert_eq!(joined.name, "Side");
+    let meshes = joined
+        .tessellate(knotwork::kernel::tess::Tessellation::Tolerance(1e-3), false)
+        .unwrap();
+    assert_eq!(meshes.len(), 1);
+    let triangles: Vec<[[f32; 3]; 3]> = meshes[0]
+        .triangles
+        .iter()
+        .map(|t| t.map(|k| meshes[0].positions[k as usize].as_vec3().to_array()))
+        .collect();
+    let (open, volume) = open_edges_and_volume(&triangles);
+    assert_eq!(open, 0);
+    let exact = std::f64::consts::PI * 0.49 * 1.2;
+    assert!(
+        (volume.abs() - exact).abs() < 2e-3 * exact,
+        "{volume} vs {exact}"
+    );
+    doc.execute(&Command::Explode { object: 0 }).unwrap();
+    assert_eq!(doc.scene.objects.len(), 3);
+    doc.undo().unwrap();
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.objects, objects);
+    // Surfaces apart: nothing to join, and nothing changes.
+    let mut apart = Document::new(Scene {
+        objects: box_objects()[..2].to_vec(),
+    });
+    let e = apart
+        .execute(&Command::Join {
+            objects: Vec::new(),
+            tolerance: 1e-6,
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("nothing to join"), "{e}");
+    assert_eq!(apart.scene.objects.len(), 2);
 }

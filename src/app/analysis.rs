@@ -15,6 +15,9 @@ use crate::scene::{Scene, SceneObject};
 use crate::view::settings::COMB_DENSITY;
 use crate::view::{AnalysisSettings, CombCurves, ContinuityTarget};
 
+/// The colour of a polysurface's naked edges (magenta, as CAD tools draw them).
+const NAKED_EDGE_COLOR: [f32; 4] = [0.95, 0.2, 0.85, 1.0];
+
 /// What the overlays were last built from, and the lines.
 #[derive(Default)]
 pub(super) struct AnalysisState {
@@ -68,7 +71,8 @@ impl KnotworkApp {
         }
     }
 
-    /// Every line overlay for this frame: grid, combs, directions, continuity hair.
+    /// Every line overlay for this frame: grid, combs, directions, polysurfaces' naked edges,
+    /// continuity hair.
     pub(super) fn guide_lines(&mut self) -> GuideLines {
         let mut lines = GuideLines::default();
         if self.view.overlays.grid {
@@ -108,6 +112,19 @@ impl KnotworkApp {
             }
             if let Some((_, _, _, built)) = &self.analysis.selected {
                 lines.extend(built);
+            }
+        }
+        // A polysurface's naked edges (those no other face shares), always: where it is open.
+        for object in self.scene().objects.iter().filter(|o| o.visible) {
+            if let Some(p) = object
+                .geometry
+                .downcast_ref::<crate::scene::polysurface::Polysurface>()
+            {
+                for edge in p.naked_edges().iter() {
+                    for w in edge.windows(2) {
+                        lines.depth_tested(w[0], w[1], NAKED_EDGE_COLOR);
+                    }
+                }
             }
         }
         if a.continuity {

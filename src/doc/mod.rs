@@ -184,6 +184,16 @@ pub enum Command {
     /// Rolls a ball between two objects ([`surface_ops::fillet_objects`]): adds the fillet
     /// surface as "fillet" and trims both objects back to where the ball touches them.
     Fillet(surface_ops::FilletRequest),
+    /// Joins objects whose faces share edges within `tolerance` × the scene's size into
+    /// polysurfaces (all surfaces when `objects` is empty; [`surface_ops::join_objects`]).
+    Join {
+        objects: Vec<usize>,
+        tolerance: f64,
+    },
+    /// A polysurface's faces as objects of their own.
+    Explode {
+        object: usize,
+    },
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -354,6 +364,8 @@ impl Command {
             Command::Intersect { .. } => "intersect".into(),
             Command::Offset { .. } => "offset".into(),
             Command::Fillet(_) => "fillet".into(),
+            Command::Join { .. } => "join".into(),
+            Command::Explode { .. } => "explode".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

@@ -96,6 +96,12 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::Fillet(request) => {
             return surface_ops::fillet(scene, request);
         }
+        Command::Join { objects, tolerance } => {
+            return surface_ops::join(scene, objects, *tolerance);
+        }
+        Command::Explode { object } => {
+            return surface_ops::explode(scene, *object);
+        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }

@@ -6,6 +6,7 @@ use super::curve_edits::refuse;
 use super::{Change, EditError, geometry_error, object_at};
 use crate::kernel::TrimmedSurface;
 use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
+use crate::scene::polysurface::Polysurface;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// Spans per direction a face without knots of its own (a Bézier or subdivision patch) starts
@@ -321,5 +322,172 @@ pub(super) fn fillet(
         label.push_str("; ");
         label.push_str(note);
     }
+    Ok((changes, label))
+}
+
+/// The faces of an object that can be joined: a NURBS or trimmed surface (one face), or a
+/// polysurface's faces; `None` for any other kind (and for a displaced or deformed object,
+/// whose shown faces are not its NURBS).
+fn joinable_faces(object: &SceneObject) -> Option<Vec<TrimmedSurface>> {
+    if object.displacement.is_some() || object.lattice.is_some() {
+        return None;
+    }
+    if let Some(p) = object.geometry.downcast_ref::<Polysurface>() {
+        return Some(p.faces().to_vec());
+    }
+    object.geometry.as_trimmed().map(|t| vec![t])
+}
+
+/// One polysurface a join makes: the objects it takes (in scene order) and the result.
+#[derive(Debug, Clone)]
+pub struct Joined {
+    pub objects: Vec<usize>,
+    pub polysurface: Polysurface,
+}
+
+/// The polysurfaces joining `objects` (all NURBS, trimmed and polysurface objects when empty)
+/// where their faces share edges within `tolerance` × the scene's size
+/// ([`crate::kernel::join`]); objects that share no edge with another are left out.
+pub fn join_objects(
+    scene: &Scene,
+    objects: &[usize],
+    tolerance: f64,
+) -> Result<Vec<Joined>, EditError> {
+    use crate::kernel::join::find_topology;
+    let chosen: Vec<usize> = if objects.is_empty() {
+        (0..scene.objects.len()).collect()
+    } else {
+        let mut o = objects.to_vec();
+        o.sort_unstable();
+        o.dedup();
+        o
+    };
+    let first = object_at(scene, chosen.first().copied().unwrap_or(0))?;
+    let fail = |message: String| geometry_error(first)(refuse("join", message));
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(fail(format!(
+            "the tolerance must be a number above 0 (got {tolerance})"
+        )));
+    }
+    let absolute = tolerance * scene_size(scene);
+    let mut faces = Vec::new();
+    let mut owner = Vec::new();
+    for &k in &chosen {
+        let object = object_at(scene, k)?;
+        match joinable_faces(object) {
+            Some(f) => {
+                owner.extend(std::iter::repeat_n(k, f.len()));
+                faces.extend(f);
+            }
+            None if objects.is_empty() => {}
+            None => {
+                return Err(geometry_error(object)(refuse(
+                    "join",
+                    format!(
+                        "{} cannot be joined (only NURBS, trimmed and polysurface objects, \
+                         neither displaced nor deformed)",
+                        object.kind().kind_name()
+                    ),
+                )));
+            }
+        }
+    }
+    let topology = find_topology(&faces, absolute).map_err(geometry_error(first))?;
+    let mut joined = Vec::new();
+    for group in topology.components(faces.len()) {
+        let mut members: Vec<usize> = group.iter().map(|&f| owner[f]).collect();
+        members.dedup();
+        // A group of one object joins nothing new (unless it was not a polysurface yet and
+        // its own edges meet, as a cylinder's seam does).
+        let single = members.len() == 1;
+        if single {
+            let object = &scene.objects[members[0]];
+            let already = object.geometry.downcast_ref::<Polysurface>().is_some();
+            let shares = topology
+                .shared
+                .iter()
+                .any(|s| group.contains(&s.a.face) && group.contains(&s.b.face));
+            if already || !shares || group.len() < 2 {
+                continue;
+            }
+        }
+        let group_faces = group.iter().map(|&f| faces[f].clone()).collect();
+        let polysurface = Polysurface::new(group_faces, absolute).map_err(geometry_error(first))?;
+        joined.push(Joined {
+            objects: members,
+            polysurface,
+        });
+    }
+    if joined.is_empty() {
+        return Err(fail(format!(
+            "no edges meet within {absolute:.3e} (the tolerance × the scene's size): nothing \
+             to join"
+        )));
+    }
+    Ok(joined)
+}
+
+/// [`super::Command::Join`]: each polysurface replaces the first object it takes; the others
+/// go.
+pub(super) fn join(
+    scene: &Scene,
+    objects: &[usize],
+    tolerance: f64,
+) -> Result<(Vec<Change>, String), EditError> {
+    let joined = join_objects(scene, objects, tolerance)?;
+    let mut changes = Vec::new();
+    let mut removed = Vec::new();
+    let mut summary = Vec::new();
+    for j in &joined {
+        let index = j.objects[0];
+        let before = scene.objects[index].clone();
+        let mut after = before.clone();
+        after.geometry = ObjectGeometry::new(j.polysurface.clone());
+        after.construction = None;
+        after.decompose().map_err(geometry_error(&after))?;
+        summary.push(format!("{} ({})", after.name, after.describe()));
+        changes.push(Change::Replace {
+            index,
+            before,
+            after,
+        });
+        removed.extend(j.objects[1..].iter().copied());
+    }
+    removed.sort_unstable_by(|a, b| b.cmp(a));
+    for index in removed {
+        changes.push(Change::Remove {
+            index,
+            object: scene.objects[index].clone(),
+        });
+    }
+    Ok((changes, format!("join: {}", summary.join("; "))))
+}
+
+/// [`super::Command::Explode`]: the polysurface's faces as objects of their own, the first in
+/// its place.
+pub(super) fn explode(scene: &Scene, k: usize) -> Result<(Vec<Change>, String), EditError> {
+    let object = object_at(scene, k)?;
+    let Some(p) = object.geometry.downcast_ref::<Polysurface>() else {
+        return Err(geometry_error(object)(refuse(
+            "explode",
+            format!(
+                "needs a polysurface; this object is {}",
+                object.kind().kind_name()
+            ),
+        )));
+    };
+    let mut faces = p.faces().iter().cloned().map(ObjectGeometry::from_trimmed);
+    let Some(first) = faces.next() else {
+        return Err(geometry_error(object)(refuse("explode", "it has no faces")));
+    };
+    let mut after = object.clone();
+    after.geometry = first;
+    let mut changes = vec![Change::Replace {
+        index: k,
+        before: object.clone(),
+        after,
+    }];
+    changes.extend(insert_objects(scene, &object.name, faces));
+    let label = format!("explode {} into {} faces", object.name, p.faces().len());
     Ok((changes, label))
 }

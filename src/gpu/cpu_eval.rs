@@ -324,14 +324,19 @@ impl CpuGeometry {
             }
         }
         let mut indices = Vec::with_capacity(layout.indices as usize);
+        // Each object's records come in its patches' order: count them to know the patch.
+        let mut next_patch = vec![0usize; objects.len()];
         for record in &layout.records {
+            let patch = next_patch
+                .get_mut(record.object as usize)
+                .map_or(0, |k| std::mem::replace(k, *k + 1));
             if record.trim_count == TRIM_CULLED {
                 continue;
             }
             let trims = objects
                 .get(record.object as usize)
                 .and_then(|o| o.trims)
-                .map(|t| t.index.as_ref());
+                .and_then(|t| t.index_for(patch));
             let [u0, u1, v0, v1] = record.domain.map(f64::from);
             let (n, m) = (
                 f64::from(record.segments_u.max(1)),

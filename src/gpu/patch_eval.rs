@@ -259,9 +259,12 @@ impl PatchLayout {
         input: &ObjectPatches<'_>,
         context: &LayoutContext,
     ) -> Result<(), GpuError> {
-        let trim_header = input
-            .trims
-            .map(|t| pack_index(&t.index, &mut self.trim_words));
+        let trim_headers: Vec<u32> = input.trims.map_or_else(Vec::new, |t| {
+            t.indices
+                .iter()
+                .map(|index| pack_index(index, &mut self.trim_words))
+                .collect()
+        });
         let blocks = self.push_blocks(input, context);
         let segments = input.segments;
         if !(1..=MAX_SEGMENTS).contains(&segments) {
@@ -285,7 +288,7 @@ impl PatchLayout {
             bezier_count: input.set.patches().len(),
             cage_points: input.cage_points,
         });
-        self.push_bezier_patches(object, input, first_point, trim_header, blocks, context)?;
+        self.push_bezier_patches(object, input, first_point, &trim_headers, blocks, context)?;
         if let Some(feed) = input.stencils {
             self.push_stencil_patches(object, feed, first_point, blocks, context)?;
             self.push_substitutes(object, input, feed, first_point, blocks, context)?;
@@ -333,7 +336,7 @@ impl PatchLayout {
         object: usize,
         input: &ObjectPatches<'_>,
         first_point: usize,
-        trim_header: Option<u32>,
+        trim_headers: &[u32],
         blocks: Blocks,
         context: &LayoutContext,
     ) -> Result<(), GpuError> {
@@ -362,6 +365,10 @@ impl PatchLayout {
                 .trims
                 .and_then(|t| t.coverage.get(k).copied())
                 .unwrap_or(Coverage::Inside);
+            let trim_header = input
+                .trims
+                .and_then(|t| t.patch_index.get(k))
+                .and_then(|&i| trim_headers.get(i as usize).copied());
             let (trim_offset, trim_count) = match (coverage, trim_header) {
                 (Coverage::Outside, _) => (0, TRIM_CULLED),
                 (Coverage::Partial, Some(header)) => (header, TRIM_PARTIAL),

@@ -17,6 +17,7 @@ mod kind;
 mod mesh;
 mod nurbs;
 mod patch_set;
+pub mod polysurface;
 pub mod registry;
 mod subdiv;
 mod triangle;

@@ -33,13 +33,14 @@ pub struct KindEntry {
 pub struct AlreadyRegistered(pub &'static str);
 
 /// The built-in kinds.
-const BUILT_IN: [KindEntry; 6] = [
+const BUILT_IN: [KindEntry; 7] = [
     super::nurbs::ENTRY,
     super::patch_set::ENTRY,
     super::mesh::ENTRY,
     super::subdiv::ENTRY,
     super::triangle::ENTRY,
     super::curve::ENTRY,
+    super::polysurface::ENTRY,
 ];
 
 /// Kinds registered while the program runs.

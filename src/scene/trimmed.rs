@@ -14,12 +14,42 @@ use crate::kernel::trim::index::{Coverage, TrimIndex};
 use crate::kernel::trim::tess::tessellate_trimmed;
 use crate::kernel::{GeometryError, NurbsSurface, TrimmedSurface};
 
-/// What a trimmed object adds to its GPU feed.
+/// What a trimmed object (or an object of several trimmed faces) adds to its GPU feed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrimFeed {
-    pub index: Arc<TrimIndex>,
+    /// The classification grids, one per trimmed face.
+    pub indices: Vec<Arc<TrimIndex>>,
     /// Each Bézier patch's coverage, in the feed's patch order.
     pub coverage: Vec<Coverage>,
+    /// Which of [`Self::indices`] each patch's trims are, in the feed's patch order (read only
+    /// where the coverage is partial or outside).
+    pub patch_index: Vec<u32>,
+}
+
+impl TrimFeed {
+    /// The feed of one trimmed face whose patches have parameter rectangles `domains`.
+    pub fn single(index: Arc<TrimIndex>, domains: &[[f64; 4]]) -> Self {
+        Self {
+            coverage: domains.iter().map(|&d| index.coverage(d)).collect(),
+            patch_index: vec![0; domains.len()],
+            indices: vec![index],
+        }
+    }
+
+    /// The grid patch `patch`'s trims are classified by.
+    pub fn index_for(&self, patch: usize) -> Option<&TrimIndex> {
+        let k = *self.patch_index.get(patch)? as usize;
+        self.indices.get(k).map(Arc::as_ref)
+    }
+
+    /// Whether patch `patch`'s point (u, v) is kept.
+    pub fn keeps(&self, patch: usize, u: f64, v: f64) -> bool {
+        match self.coverage.get(patch) {
+            Some(Coverage::Inside) | None => true,
+            Some(Coverage::Outside) => false,
+            Some(Coverage::Partial) => self.index_for(patch).is_none_or(|i| i.contains(u, v)),
+        }
+    }
 }
 
 impl ObjectKind for TrimmedSurface {
@@ -76,8 +106,7 @@ impl ObjectKind for TrimmedSurface {
     fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
         let mut feed = self.surface().gpu_feed()?;
         if let Some(index) = self.index() {
-            let coverage = feed.domains.iter().map(|&d| index.coverage(d)).collect();
-            feed.trims = Some(TrimFeed { index, coverage });
+            feed.trims = Some(TrimFeed::single(index, &feed.domains));
         }
         Ok(feed)
     }

@@ -219,7 +219,7 @@ pub fn pick_surface(
         let [u0, u1, v0, v1] = decomposition.domains[patch];
         let (u, v) = (u0 + (u1 - u0) * s, v0 + (v1 - v0) * t);
         if let Some(trims) = &decomposition.trims
-            && !trims.index.contains(u, v)
+            && !trims.keeps(patch, u, v)
         {
             continue;
         }

@@ -365,3 +365,35 @@ pub fn evaluate_scene(
     let v = sync.read_vertices().unwrap();
     (sync, v)
 }
+
+/// Runs the Khronos glTF-Validator on `files`; panics on any error or warning, or if the
+/// validator cannot run.
+pub fn validate_gltf(files: &[PathBuf]) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = root.join("web/validate-gltf.mjs");
+    assert!(
+        root.join("web/node_modules/gltf-validator").is_dir(),
+        "the glTF validator is missing: run `npm ci` in web/ (tests/run.sh does)"
+    );
+    let output = std::process::Command::new("node")
+        .arg(&script)
+        .args(files)
+        .output()
+        .unwrap_or_else(|e| panic!("the glTF validator needs Node.js: {e}"));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    let reports: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("validator output"))
+        .collect();
+    assert_eq!(reports.len(), files.len(), "one report per file");
+    for report in &reports {
+        assert_eq!(report["errors"], 0, "{report}");
+        assert_eq!(report["warnings"], 0, "{report}");
+    }
+    assert!(
+        output.status.success(),
+        "validator exit status {}",
+        output.status
+    );
+}

@@ -38,6 +38,7 @@ pub mod ffd;
 pub mod fillet;
 pub mod fit;
 pub mod intersect;
+pub mod join;
 pub mod loft;
 pub mod mesh;
 pub mod mesh_curvature;

@@ -1,0 +1,1004 @@
+//! Joining faces into polysurfaces: which boundary edges of trimmed NURBS faces coincide
+//! within a tolerance (shared edges), which belong to one face only (naked edges), and a
+//! tessellation that is watertight across the shared edges.
+//!
+//! - **Edges.** Every face is a set of loops in its (u, v) domain: its trim loops, or the
+//!   domain's rectangle (four sides) for an untrimmed face. Each curve of a loop is an edge;
+//!   its image on the surface, S(c(t)), is the edge in space. An edge shorter than the
+//!   tolerance in space (a pole, a collapsed side) is degenerate: neither shared nor naked.
+//! - **Sharing.** Two edges are shared when their ends meet (in the same or the opposite
+//!   direction; a closed edge meets a closed edge) and every one of 17 samples of each lies
+//!   within the tolerance of the other (the distance found by a golden-section search near
+//!   the nearest of 64 samples). Each edge is shared at most once, the closest pairs first.
+//! - **Watertight tessellation.** Each shared edge is sampled once, on one of its faces, at
+//!   a chord tolerance; the other face takes the same points in space, at the parameters of
+//!   its own edge nearest to them. Corners where edges meet are merged into one point. Every
+//!   face is then a constrained Delaunay triangulation of its (u, v) domain with those
+//!   boundary points and the inner points of its tolerance grid, so the two faces at a shared
+//!   edge use one vertex sequence, and a closed polysurface gives a closed mesh. Faces are
+//!   turned to agree in orientation across their shared edges where they can be.
+
+use glam::{DVec2, DVec3};
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use crate::error::GeometryError;
+use crate::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
+use crate::trim::{TrimLoop, TrimmedSurface, domain_rect, polygon_contains, shapes};
+use crate::{CurvatureValues, TrimCurve};
+
+/// Samples per edge compared when edges are matched.
+const MATCH_SAMPLES: usize = 16;
+/// Samples per edge searched first for the nearest point.
+const SEARCH_SAMPLES: usize = 64;
+
+/// One edge: curve `curve` of loop `loop_index` of face `face`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct EdgeId {
+    pub face: usize,
+    pub loop_index: usize,
+    pub curve: usize,
+}
+
+/// Two edges that coincide.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SharedEdge {
+    pub a: EdgeId,
+    pub b: EdgeId,
+    /// Whether b runs the opposite way to a (what two consistently oriented faces give).
+    pub reversed: bool,
+    /// The largest distance found between them.
+    pub gap: f64,
+}
+
+/// The edges of a set of faces, sorted out.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Topology {
+    pub shared: Vec<SharedEdge>,
+    pub naked: Vec<EdgeId>,
+    pub degenerate: Vec<EdgeId>,
+}
+
+impl Topology {
+    /// The faces in connected groups (joined through shared edges), each sorted, in order of
+    /// their first face.
+    pub fn components(&self, faces: usize) -> Vec<Vec<usize>> {
+        let mut parent: Vec<usize> = (0..faces).collect();
+        fn root(parent: &mut [usize], mut k: usize) -> usize {
+            while parent[k] != k {
+                parent[k] = parent[parent[k]];
+                k = parent[k];
+            }
+            k
+        }
+        for s in &self.shared {
+            let (x, y) = (root(&mut parent, s.a.face), root(&mut parent, s.b.face));
+            if x != y {
+                parent[x.max(y)] = x.min(y);
+            }
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut slot = vec![usize::MAX; faces];
+        for k in 0..faces {
+            let r = root(&mut parent, k);
+            if slot[r] == usize::MAX {
+                slot[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            groups[slot[r]].push(k);
+        }
+        groups
+    }
+
+    /// Whether every non-degenerate edge is shared (the faces close up).
+    pub fn is_closed(&self) -> bool {
+        self.naked.is_empty() && !self.shared.is_empty()
+    }
+}
+
+/// The loops of a face: its trim loops, or the domain's rectangle.
+pub fn face_loops(face: &TrimmedSurface) -> Result<Vec<TrimLoop>, GeometryError> {
+    if face.is_trimmed() {
+        return Ok(face.loops().to_vec());
+    }
+    let [u0, u1, v0, v1] = domain_rect(face.surface());
+    Ok(vec![shapes::rectangle(
+        DVec2::new(u0, v0),
+        DVec2::new(u1, v1),
+    )?])
+}
+
+/// The point of a (u, v) curve at t ∈ [0, 1] of its domain.
+fn curve_uv(curve: &TrimCurve, t: f64) -> DVec2 {
+    let (a, b) = curve.domain();
+    curve
+        .point_at(a + (b - a) * t.clamp(0.0, 1.0))
+        .unwrap_or_else(|_| curve.control_point(0))
+}
+
+/// One edge with its surface, ready to be sampled.
+struct Edge<'a> {
+    id: EdgeId,
+    face: &'a TrimmedSurface,
+    curve: &'a TrimCurve,
+    /// Samples at t = k / SEARCH_SAMPLES.
+    samples: Vec<DVec3>,
+    lo: DVec3,
+    hi: DVec3,
+    /// Closed in space (its ends meet).
+    closed: bool,
+    /// Closed in (u, v).
+    closed_uv: bool,
+    degenerate: bool,
+}
+
+impl Edge<'_> {
+    fn point(&self, t: f64) -> DVec3 {
+        let uv = curve_uv(self.curve, t);
+        self.face
+            .surface()
+            .point_at_clamped(uv)
+            .unwrap_or(self.samples[0])
+    }
+
+    fn uv(&self, t: f64) -> DVec2 {
+        curve_uv(self.curve, t)
+    }
+
+    /// The parameter of the edge's point nearest `p` and the distance: the nearest sample,
+    /// then a golden-section search on the intervals either side of it (within `window` of
+    /// a hint when given).
+    fn closest(&self, p: DVec3, hint: Option<(f64, f64)>) -> (f64, f64) {
+        let n = SEARCH_SAMPLES;
+        let candidates: Vec<usize> = match hint {
+            Some((t, window)) => {
+                let lo = ((t - window).max(0.0) * n as f64).floor() as usize;
+                let hi = (((t + window).min(1.0) * n as f64).ceil() as usize).min(n);
+                (lo..=hi).collect()
+            }
+            None => (0..=n).collect(),
+        };
+        let k = candidates
+            .iter()
+            .copied()
+            .min_by(|&a, &b| {
+                self.samples[a]
+                    .distance_squared(p)
+                    .total_cmp(&self.samples[b].distance_squared(p))
+            })
+            .unwrap_or(0);
+        // The intervals either side of the nearest sample (and, on a curve closed in
+        // space, the other end's interval at its ends).
+        let mut intervals = vec![(k.saturating_sub(1), k), (k, (k + 1).min(n))];
+        if self.closed && (k == 0 || k == n) {
+            intervals.push((0, 1));
+            intervals.push((n - 1, n));
+        }
+        intervals
+            .into_iter()
+            .filter(|(a, b)| a < b)
+            .map(|(a, b)| self.golden(p, a as f64 / n as f64, b as f64 / n as f64))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap_or((0.0, self.samples[0].distance(p)))
+    }
+
+    /// The parameter in [a, b] nearest `p` by golden-section search, and the distance.
+    fn golden(&self, p: DVec3, mut a: f64, mut b: f64) -> (f64, f64) {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let f = |t: f64| self.point(t).distance_squared(p);
+        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+        let (mut fc, mut fd) = (f(c), f(d));
+        for _ in 0..48 {
+            if fc < fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - g * (b - a);
+                fc = f(c);
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + g * (b - a);
+                fd = f(d);
+            }
+        }
+        // The ends too: the search only narrows toward them.
+        [(a, f(a)), (b, f(b)), (0.5 * (a + b), f(0.5 * (a + b)))]
+            .into_iter()
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .map(|(t, d2)| (t, d2.sqrt()))
+            .unwrap_or((a, f(a).sqrt()))
+    }
+}
+
+fn edges_of<'a>(
+    faces: &'a [TrimmedSurface],
+    loops: &'a [Vec<TrimLoop>],
+    tolerance: f64,
+) -> Vec<Edge<'a>> {
+    let mut out = Vec::new();
+    for (f, (face, face_loops)) in faces.iter().zip(loops).enumerate() {
+        for (l, lp) in face_loops.iter().enumerate() {
+            for (c, curve) in lp.iter().enumerate() {
+                let id = EdgeId {
+                    face: f,
+                    loop_index: l,
+                    curve: c,
+                };
+                out.push(make_edge(id, face, curve, tolerance));
+            }
+        }
+    }
+    out
+}
+
+fn make_edge<'a>(
+    id: EdgeId,
+    face: &'a TrimmedSurface,
+    curve: &'a TrimCurve,
+    tolerance: f64,
+) -> Edge<'a> {
+    let surface = face.surface();
+    let samples: Vec<DVec3> = (0..=SEARCH_SAMPLES)
+        .map(|k| {
+            let uv = curve_uv(curve, k as f64 / SEARCH_SAMPLES as f64);
+            surface.point_at_clamped(uv).unwrap_or(DVec3::ZERO)
+        })
+        .collect();
+    let lo = samples.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let hi = samples
+        .iter()
+        .copied()
+        .fold(DVec3::NEG_INFINITY, DVec3::max);
+    let length: f64 = samples.windows(2).map(|w| w[0].distance(w[1])).sum();
+    let (first, last) = (samples[0], samples[SEARCH_SAMPLES]);
+    let closed_uv = curve_uv(curve, 0.0).distance(curve_uv(curve, 1.0)) <= 1e-12;
+    Edge {
+        id,
+        face,
+        curve,
+        lo,
+        hi,
+        closed: first.distance(last) <= tolerance,
+        closed_uv,
+        degenerate: length <= tolerance,
+        samples,
+    }
+}
+
+/// Whether edges `e` and `f` coincide within `tolerance`: `Some((reversed, gap))`.
+fn match_edges(e: &Edge, f: &Edge, tolerance: f64) -> Option<(bool, f64)> {
+    if e.closed != f.closed {
+        return None;
+    }
+    let grow = DVec3::splat(tolerance);
+    if (e.lo - grow).cmpgt(f.hi).any() || (f.lo - grow).cmpgt(e.hi).any() {
+        return None;
+    }
+    let n = SEARCH_SAMPLES;
+    let (e0, e1, f0, f1) = (e.samples[0], e.samples[n], f.samples[0], f.samples[n]);
+    let mut gap: f64 = 0.0;
+    let reversed = if e.closed {
+        // Compare directions where e's quarter point lands on f.
+        let (t, d) = f.closest(e.point(0.25), None);
+        if d > tolerance {
+            return None;
+        }
+        let (t2, _) = f.closest(e.point(0.3), None);
+        let step = t2 - t;
+        let step = if step.abs() > 0.5 { -step } else { step };
+        step < 0.0
+    } else if e0.distance(f0) <= tolerance && e1.distance(f1) <= tolerance {
+        gap = e0.distance(f0).max(e1.distance(f1));
+        false
+    } else if e0.distance(f1) <= tolerance && e1.distance(f0) <= tolerance {
+        gap = e0.distance(f1).max(e1.distance(f0));
+        true
+    } else {
+        return None;
+    };
+    for (x, y) in [(e, f), (f, e)] {
+        for k in 1..MATCH_SAMPLES {
+            let (_, d) = y.closest(x.point(k as f64 / MATCH_SAMPLES as f64), None);
+            if d > tolerance {
+                return None;
+            }
+            gap = gap.max(d);
+        }
+    }
+    Some((reversed, gap))
+}
+
+/// The shared, naked and degenerate edges of `faces` at `tolerance` (model units).
+pub fn find_topology(faces: &[TrimmedSurface], tolerance: f64) -> Result<Topology, GeometryError> {
+    let loops: Vec<Vec<TrimLoop>> = faces.iter().map(face_loops).collect::<Result<_, _>>()?;
+    let edges = edges_of(faces, &loops, tolerance);
+    let mut candidates = Vec::new();
+    for i in 0..edges.len() {
+        if edges[i].degenerate {
+            continue;
+        }
+        for j in i + 1..edges.len() {
+            if edges[j].degenerate {
+                continue;
+            }
+            if let Some((reversed, gap)) = match_edges(&edges[i], &edges[j], tolerance) {
+                candidates.push((gap, i, j, reversed));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut used = vec![false; edges.len()];
+    let mut topology = Topology::default();
+    for (gap, i, j, reversed) in candidates {
+        if used[i] || used[j] {
+            continue;
+        }
+        used[i] = true;
+        used[j] = true;
+        topology.shared.push(SharedEdge {
+            a: edges[i].id,
+            b: edges[j].id,
+            reversed,
+            gap,
+        });
+    }
+    for (k, e) in edges.iter().enumerate() {
+        if e.degenerate {
+            topology.degenerate.push(e.id);
+        } else if !used[k] {
+            topology.naked.push(e.id);
+        }
+    }
+    Ok(topology)
+}
+
+/// The edge's points in space at chord tolerance `tolerance` (for drawing naked edges).
+pub fn edge_polyline(
+    faces: &[TrimmedSurface],
+    id: EdgeId,
+    tolerance: f64,
+) -> Result<Vec<DVec3>, GeometryError> {
+    let face = faces
+        .get(id.face)
+        .ok_or_else(|| failed(format!("there is no face {}", id.face)))?;
+    let loops = face_loops(face)?;
+    let curve = loops
+        .get(id.loop_index)
+        .and_then(|l| l.get(id.curve))
+        .ok_or_else(|| failed("there is no such edge".into()))?;
+    let edge = make_edge(id, face, curve, tolerance);
+    Ok(sample_edge(&edge, tolerance)
+        .into_iter()
+        .map(|t| edge.point(t))
+        .collect())
+}
+
+fn failed(message: String) -> GeometryError {
+    GeometryError::Construction {
+        what: "join",
+        message,
+    }
+}
+
+/// Parameters along an edge whose chords stay within `tolerance` of it (checked at each
+/// chord's middle), at least 8 intervals.
+fn sample_edge(edge: &Edge, tolerance: f64) -> Vec<f64> {
+    let mut out = vec![0.0];
+    let mut stack: Vec<(f64, f64, usize)> = (0..8)
+        .rev()
+        .map(|k| (k as f64 / 8.0, (k + 1) as f64 / 8.0, 0))
+        .collect();
+    while let Some((a, b, depth)) = stack.pop() {
+        let m = 0.5 * (a + b);
+        let (pa, pb, pm) = (edge.point(a), edge.point(b), edge.point(m));
+        if depth < 24 && pm.distance(0.5 * (pa + pb)) > tolerance {
+            stack.push((m, b, depth + 1));
+            stack.push((a, m, depth + 1));
+        } else {
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// One vertex of the joined mesh: where it is and which faces use it at which (u, v).
+struct JoinedVertex {
+    position: DVec3,
+    uses: Vec<(usize, DVec2)>,
+}
+
+/// The faces' tessellation as one mesh, watertight across the shared edges of `topology`:
+/// `tolerance` bounds the chords (edges at a quarter of it) and the inner grids.
+pub fn tessellate_joined(
+    faces: &[TrimmedSurface],
+    topology: &Topology,
+    tolerance: f64,
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(failed(format!(
+            "the tolerance must be finite and > 0, got {tolerance}"
+        )));
+    }
+    let loops: Vec<Vec<TrimLoop>> = faces.iter().map(face_loops).collect::<Result<_, _>>()?;
+    let edges = edges_of(faces, &loops, tolerance);
+    let index_of = |id: EdgeId| edges.iter().position(|e| e.id == id);
+    let merge = topology.shared.iter().map(|s| s.gap).fold(0.0, f64::max) + tolerance * 1e-3;
+    let mut vertices: Vec<JoinedVertex> = Vec::new();
+    // Corners: every edge's ends, merged within the largest gap.
+    let corner_of = |p: DVec3, vertices: &mut Vec<JoinedVertex>| -> usize {
+        if let Some(k) = vertices
+            .iter()
+            .position(|v| v.uses.is_empty() && v.position.distance(p) <= merge.max(1e-300))
+        {
+            return k;
+        }
+        vertices.push(JoinedVertex {
+            position: p,
+            uses: Vec::new(),
+        });
+        vertices.len() - 1
+    };
+    // Each edge's vertex sequence, in its own direction: (vertex, t on the edge).
+    let mut sequences: Vec<Option<Vec<(usize, f64)>>> = vec![None; edges.len()];
+    let mut corners_done: Vec<(usize, usize)> = Vec::new();
+    for e in &edges {
+        let start = corner_of(e.samples[0], &mut vertices);
+        let end = corner_of(e.samples[SEARCH_SAMPLES], &mut vertices);
+        corners_done.push((start, end));
+    }
+    // Owners first (naked edges and the first of each shared pair; a closed-in-(u, v) edge
+    // gives way to an open one so the corner sits at the open edge's ends).
+    let mut owners: Vec<(usize, Option<(usize, bool)>)> = Vec::new();
+    let mut followers: Vec<(usize, usize, bool)> = Vec::new();
+    for s in &topology.shared {
+        let (Some(a), Some(b)) = (index_of(s.a), index_of(s.b)) else {
+            continue;
+        };
+        let (own, follow) = if edges[a].closed_uv && !edges[b].closed_uv {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        owners.push((own, None));
+        followers.push((follow, own, s.reversed));
+    }
+    for &id in &topology.naked {
+        if let Some(k) = index_of(id) {
+            owners.push((k, None));
+        }
+    }
+    for (k, _) in owners {
+        let e = &edges[k];
+        let ts = sample_edge(e, 0.25 * tolerance);
+        let (start, end) = corners_done[k];
+        let mut seq = Vec::with_capacity(ts.len());
+        for (i, &t) in ts.iter().enumerate() {
+            let v = if i == 0 {
+                start
+            } else if i + 1 == ts.len() {
+                end
+            } else {
+                vertices.push(JoinedVertex {
+                    position: e.point(t),
+                    uses: Vec::new(),
+                });
+                vertices.len() - 1
+            };
+            seq.push((v, t));
+        }
+        sequences[k] = Some(seq);
+    }
+    for (follow, own, reversed) in followers {
+        let Some(theirs) = sequences[own].clone() else {
+            continue;
+        };
+        let e = &edges[follow];
+        let mut seq = Vec::with_capacity(theirs.len());
+        let count = theirs.len();
+        let mut hint: Option<f64> = None;
+        let ordered: Vec<(usize, f64)> = if reversed {
+            theirs.into_iter().rev().collect()
+        } else {
+            theirs
+        };
+        for (i, (v, _)) in ordered.into_iter().enumerate() {
+            let t = if !e.closed_uv && i == 0 {
+                0.0
+            } else if !e.closed_uv && i + 1 == count {
+                1.0
+            } else {
+                // A closed curve's parameter wraps round at its own seam: search it all.
+                let window = hint
+                    .filter(|_| !e.closed_uv)
+                    .map(|h| (h, 4.0 / SEARCH_SAMPLES as f64));
+                let (t, _) = e.closest(vertices[v].position, window);
+                t
+            };
+            hint = Some(t);
+            seq.push((v, t));
+        }
+        sequences[follow] = Some(seq);
+    }
+    // Degenerate edges: their two ends (the same point in space).
+    for (k, sequence) in sequences.iter_mut().enumerate() {
+        if sequence.is_none() {
+            let (start, end) = corners_done[k];
+            *sequence = Some(vec![(start, 0.0), (end, 1.0)]);
+        }
+    }
+    // Each face: its loops as (vertex, (u, v)) polygons, then the triangulation.
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut triangle_face: Vec<usize> = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        let mut polygons: Vec<Vec<(usize, DVec2)>> = Vec::new();
+        for (l, lp) in loops[f].iter().enumerate() {
+            let mut polygon: Vec<(usize, DVec2)> = Vec::new();
+            for c in 0..lp.len() {
+                let id = EdgeId {
+                    face: f,
+                    loop_index: l,
+                    curve: c,
+                };
+                let Some(k) = index_of(id) else { continue };
+                let Some(seq) = &sequences[k] else { continue };
+                let e = &edges[k];
+                let closed_alone = e.closed_uv && lp.len() == 1;
+                let take = if closed_alone {
+                    // A loop of one closed curve: its points once round.
+                    let mut s = seq.clone();
+                    if s.len() > 1 && s[0].0 == s[s.len() - 1].0 {
+                        s.pop();
+                    }
+                    s
+                } else {
+                    seq[..seq.len() - 1].to_vec()
+                };
+                for (v, t) in take {
+                    polygon.push((v, e.uv(t)));
+                }
+            }
+            if polygon.len() >= 3 {
+                polygons.push(polygon);
+            }
+        }
+        let local = triangulate_face(face, &polygons, tolerance)?;
+        let interior_base = vertices.len();
+        for (uv, _) in &local.interior {
+            vertices.push(JoinedVertex {
+                position: face.surface().point_at_clamped(*uv)?,
+                uses: vec![(f, *uv)],
+            });
+        }
+        // Boundary vertices record this face's (u, v).
+        for polygon in &polygons {
+            for &(v, uv) in polygon {
+                if !vertices[v].uses.iter().any(|(g, _)| *g == f) {
+                    vertices[v].uses.push((f, uv));
+                }
+            }
+        }
+        for t in local.triangles {
+            let id = t.map(|x| match x {
+                Local::Boundary(v) => v,
+                Local::Interior(i) => interior_base + i,
+            });
+            if id[0] == id[1] || id[1] == id[2] || id[0] == id[2] {
+                continue;
+            }
+            triangles.push(id.map(|x| x as u32));
+            triangle_face.push(f);
+        }
+        if triangles.len() > MAX_TRIANGLES {
+            return Err(failed(format!(
+                "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
+            )));
+        }
+    }
+    // Orientation: flip faces so that shared edges run opposite ways where possible.
+    let flip = orientation(faces.len(), topology);
+    for (t, &f) in triangles.iter_mut().zip(&triangle_face) {
+        if flip[f] {
+            t.swap(1, 2);
+        }
+    }
+    build_mesh(faces, &vertices, triangles, &flip, curvature)
+}
+
+/// Which faces to turn over so that faces sharing an edge agree (breadth-first from each
+/// group's first face; a group that cannot agree keeps what the search gave it).
+fn orientation(faces: usize, topology: &Topology) -> Vec<bool> {
+    let mut flip: Vec<Option<bool>> = vec![None; faces];
+    for start in 0..faces {
+        if flip[start].is_some() {
+            continue;
+        }
+        flip[start] = Some(false);
+        let mut queue = vec![start];
+        while let Some(f) = queue.pop() {
+            let here = flip[f].unwrap_or(false);
+            for s in &topology.shared {
+                let other = if s.a.face == f {
+                    s.b.face
+                } else if s.b.face == f {
+                    s.a.face
+                } else {
+                    continue;
+                };
+                if flip[other].is_none() {
+                    // Consistent faces traverse a shared edge in opposite directions.
+                    flip[other] = Some(here == s.reversed);
+                    queue.push(other);
+                }
+            }
+        }
+    }
+    flip.into_iter().map(|f| f.unwrap_or(false)).collect()
+}
+
+/// A vertex of one face's triangulation.
+#[derive(Debug, Clone, Copy)]
+enum Local {
+    Boundary(usize),
+    Interior(usize),
+}
+
+struct FaceTriangulation {
+    interior: Vec<(DVec2, ())>,
+    triangles: Vec<[Local; 3]>,
+}
+
+/// The constrained Delaunay triangulation of one face: its boundary polygons (vertex, (u, v))
+/// as constraints and the inner points of its tolerance grid that keep clear of them.
+fn triangulate_face(
+    face: &TrimmedSurface,
+    polygons: &[Vec<(usize, DVec2)>],
+    tolerance: f64,
+) -> Result<FaceTriangulation, GeometryError> {
+    let surface = face.surface();
+    let mut grid = tess::grid_for(surface, Tessellation::Tolerance(tolerance))?;
+    // The metric: mean |S_u| and |S_v| at the grid's points. The triangulation is Delaunay in
+    // (u |S_u|, v |S_v|), close to the surface's own lengths, and the grid's cells are split
+    // until none is more than twice as long one way as the other there (a grid that may be
+    // coarse along a straight direction must not leave long fans across a curved one).
+    let scale = metric(surface, &grid);
+    refine_aspect(&mut grid, scale);
+    let flat: Vec<Vec<DVec2>> = polygons
+        .iter()
+        .map(|p| p.iter().map(|(_, uv)| *uv).collect())
+        .collect();
+    let inside = |p: DVec2| flat.iter().filter(|poly| polygon_contains(poly, p)).count() % 2 == 1;
+    // Keep grid points a third of a cell from the boundary (no slivers, no point on a chord).
+    let cell = |values: &[f64], k: usize| {
+        let a = if k > 0 {
+            values[k] - values[k - 1]
+        } else {
+            f64::INFINITY
+        };
+        let b = if k + 1 < values.len() {
+            values[k + 1] - values[k]
+        } else {
+            f64::INFINITY
+        };
+        a.min(b)
+    };
+    let segments: Vec<(DVec2, DVec2)> = flat
+        .iter()
+        .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
+        .collect();
+    let mut interior = Vec::new();
+    for (i, &u) in grid.us.iter().enumerate() {
+        for (j, &v) in grid.vs.iter().enumerate() {
+            let p = DVec2::new(u, v);
+            if !inside(p) {
+                continue;
+            }
+            let (cu, cv) = (cell(&grid.us, i), cell(&grid.vs, j));
+            let clear = segments.iter().all(|&(a, b)| {
+                let d = b - a;
+                let t =
+                    ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                let q = a + d * t - p;
+                (q.x / cu).hypot(q.y / cv) > 0.34
+            });
+            if clear {
+                interior.push((p, ()));
+            }
+        }
+    }
+    let mut points: Vec<Point2<f64>> = Vec::new();
+    let mut labels: Vec<Local> = Vec::new();
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    let scaled = |p: DVec2| Point2::new(p.x * scale.x, p.y * scale.y);
+    for polygon in polygons {
+        let first = points.len();
+        for (k, &(v, uv)) in polygon.iter().enumerate() {
+            points.push(scaled(uv));
+            labels.push(Local::Boundary(v));
+            let next = if k + 1 == polygon.len() {
+                first
+            } else {
+                points.len()
+            };
+            edges.push([points.len() - 1, next]);
+        }
+    }
+    for (k, (p, _)) in interior.iter().enumerate() {
+        points.push(scaled(*p));
+        labels.push(Local::Interior(k));
+    }
+    let count = points.len();
+    let mut crossed = false;
+    let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+        points.clone(),
+        edges,
+        |_| crossed = true,
+    )
+    .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+    if crossed || cdt.num_vertices() != count {
+        return Err(failed(
+            "a face's boundary points come closer than the tolerance (or cross): choose a \
+             smaller tolerance"
+                .into(),
+        ));
+    }
+    let mut triangles = Vec::new();
+    for f in cdt.inner_faces() {
+        let ids = f.vertices().map(|v| v.fix().index());
+        let [a, b, c] = ids.map(|k| DVec2::new(points[k].x / scale.x, points[k].y / scale.y));
+        let twice = (b - a).perp_dot(c - a);
+        if twice == 0.0 || !inside((a + b + c) / 3.0) {
+            continue;
+        }
+        let t = ids.map(|k| labels[k]);
+        triangles.push(if twice > 0.0 { t } else { [t[0], t[2], t[1]] });
+    }
+    Ok(FaceTriangulation {
+        interior,
+        triangles,
+    })
+}
+
+/// The mean lengths of S_u and S_v over the grid's points (each at least a millionth of the
+/// larger, and 1 where the surface has no extent).
+fn metric(surface: &crate::NurbsSurface, grid: &tess::ParameterGrid) -> DVec2 {
+    let step = |n: usize| (n / 16).max(1);
+    let (mut su, mut sv, mut count) = (0.0, 0.0, 0.0);
+    for &u in grid.us.iter().step_by(step(grid.us.len())) {
+        for &v in grid.vs.iter().step_by(step(grid.vs.len())) {
+            if let Ok(d) = surface.evaluate(u, v) {
+                su += d.su.length();
+                sv += d.sv.length();
+                count += 1.0;
+            }
+        }
+    }
+    let m = DVec2::new(su, sv) / f64::max(count, 1.0);
+    let top = m.x.max(m.y);
+    if !(top > 0.0 && top.is_finite()) {
+        return DVec2::ONE;
+    }
+    m.max(DVec2::splat(1e-6 * top))
+}
+
+/// Splits the grid's cells evenly so that, in the metric `scale`, no cell is more than twice
+/// as long one way as the finest cell's size the other way (at most 4096 lines a direction).
+fn refine_aspect(grid: &mut tess::ParameterGrid, scale: DVec2) {
+    let widest = |values: &[f64], s: f64| {
+        values
+            .windows(2)
+            .map(|w| (w[1] - w[0]) * s)
+            .fold(0.0, f64::max)
+    };
+    let (hu, hv) = (widest(&grid.us, scale.x), widest(&grid.vs, scale.y));
+    let split = |values: &mut Vec<f64>, s: f64, target: f64| {
+        if !(target > 0.0) {
+            return;
+        }
+        let mut out = Vec::with_capacity(values.len());
+        for w in values.windows(2) {
+            let pieces = (((w[1] - w[0]) * s / target).ceil() as usize).clamp(1, 4096);
+            for k in 0..pieces {
+                out.push(w[0] + (w[1] - w[0]) * k as f64 / pieces as f64);
+            }
+        }
+        out.extend(values.last().copied());
+        if out.len() <= 4096 {
+            *values = out;
+        }
+    };
+    if hv > 2.0 * hu {
+        split(&mut grid.vs, scale.y, 2.0 * hu);
+    } else if hu > 2.0 * hv {
+        split(&mut grid.us, scale.x, 2.0 * hv);
+    }
+}
+
+/// Positions, normals (the mean of the faces' at a shared vertex, turned with the face),
+/// (u, v) of the first face using each vertex, and curvatures.
+fn build_mesh(
+    faces: &[TrimmedSurface],
+    vertices: &[JoinedVertex],
+    triangles: Vec<[u32; 3]>,
+    flip: &[bool],
+    curvature: bool,
+) -> Result<TriangleMesh, GeometryError> {
+    let mut used = vec![u32::MAX; vertices.len()];
+    let mut order = Vec::new();
+    for t in &triangles {
+        for &k in t {
+            if used[k as usize] == u32::MAX {
+                used[k as usize] = order.len() as u32;
+                order.push(k as usize);
+            }
+        }
+    }
+    let mut mesh = TriangleMesh {
+        positions: Vec::with_capacity(order.len()),
+        normals: Vec::with_capacity(order.len()),
+        uvs: Vec::with_capacity(order.len()),
+        curvatures: Vec::new(),
+        triangles: triangles
+            .into_iter()
+            .map(|t| t.map(|k| used[k as usize]))
+            .collect(),
+    };
+    for &k in &order {
+        let v = &vertices[k];
+        mesh.positions.push(v.position);
+        let mut normal = DVec3::ZERO;
+        for &(f, uv) in &v.uses {
+            let n = faces[f].surface().normal(uv.x, uv.y)?;
+            normal += if flip[f] { -n } else { n };
+        }
+        mesh.normals.push(normal.normalize_or(DVec3::Z));
+        let (f, uv) = v.uses.first().copied().unwrap_or((0, DVec2::ZERO));
+        let [u0, u1, v0, v1] = faces
+            .get(f)
+            .map_or([0.0, 1.0, 0.0, 1.0], |face| domain_rect(face.surface()));
+        mesh.uvs.push([
+            (uv.x - u0) / (u1 - u0).max(f64::MIN_POSITIVE),
+            (uv.y - v0) / (v1 - v0).max(f64::MIN_POSITIVE),
+        ]);
+        if curvature {
+            let values = faces
+                .get(f)
+                .and_then(|face| face.surface().local_geometry(uv.x, uv.y).ok())
+                .map(|g| g.curvature.values())
+                .unwrap_or(CurvatureValues::default());
+            let sign = if flip.get(f).copied().unwrap_or(false) {
+                -1.0
+            } else {
+                1.0
+            };
+            mesh.curvatures.push(CurvatureValues {
+                gaussian: values.gaussian,
+                mean: sign * values.mean,
+                k1: if sign > 0.0 { values.k1 } else { -values.k2 },
+                k2: if sign > 0.0 { values.k2 } else { -values.k1 },
+            });
+        }
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::construct;
+    use std::collections::HashMap;
+
+    /// The six faces of the box [0, a] × [0, b] × [0, c], as planes with mixed orientations.
+    pub(crate) fn box_faces(a: f64, b: f64, c: f64) -> Vec<TrimmedSurface> {
+        let plane = |o: DVec3, u: DVec3, v: DVec3| {
+            TrimmedSurface::untrimmed(construct::plane(o, u, v).unwrap())
+        };
+        let (x, y, z) = (DVec3::X * a, DVec3::Y * b, DVec3::Z * c);
+        vec![
+            plane(DVec3::ZERO, x, y),
+            plane(z, x, y),
+            plane(DVec3::ZERO, x, z),
+            plane(y, z, x),
+            plane(DVec3::ZERO, z, y),
+            plane(x, y, z),
+        ]
+    }
+
+    /// Every undirected edge's count of triangles, after welding equal positions.
+    fn edge_uses(mesh: &TriangleMesh) -> HashMap<(u32, u32), usize> {
+        let mut weld: HashMap<[u64; 3], u32> = HashMap::new();
+        let ids: Vec<u32> = mesh
+            .positions
+            .iter()
+            .map(|p| {
+                let key = p.to_array().map(f64::to_bits);
+                let n = weld.len() as u32;
+                *weld.entry(key).or_insert(n)
+            })
+            .collect();
+        let mut uses = HashMap::new();
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                let (a, b) = (ids[t[k] as usize], ids[t[(k + 1) % 3] as usize]);
+                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        uses
+    }
+
+    #[test]
+    fn a_box_of_six_planes_joins_into_one_closed_watertight_mesh() {
+        let faces = box_faces(2.0, 1.0, 1.5);
+        let topology = find_topology(&faces, 1e-9).unwrap();
+        assert_eq!(topology.shared.len(), 12, "{topology:?}");
+        assert!(topology.naked.is_empty());
+        assert!(topology.is_closed());
+        assert_eq!(topology.components(6), vec![vec![0, 1, 2, 3, 4, 5]]);
+        let mesh = tessellate_joined(&faces, &topology, 1e-3, false).unwrap();
+        let uses = edge_uses(&mesh);
+        assert!(
+            uses.values().all(|&n| n == 2),
+            "{:?}",
+            uses.values().filter(|&&n| n != 2).count()
+        );
+        // Consistently oriented: the signed volume is the box's (or its negative).
+        let volume: f64 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        assert!((volume.abs() - 3.0).abs() < 1e-9, "{volume}");
+    }
+
+    #[test]
+    fn faces_apart_stay_apart_and_their_edges_are_naked() {
+        let mut faces = box_faces(1.0, 1.0, 1.0);
+        faces.truncate(2);
+        let topology = find_topology(&faces, 1e-9).unwrap();
+        assert!(topology.shared.is_empty());
+        assert_eq!(topology.naked.len(), 8);
+        assert_eq!(topology.components(2), vec![vec![0], vec![1]]);
+    }
+
+    #[test]
+    fn a_cylinder_with_two_caps_closes_across_its_seam_and_circles() {
+        let cylinder = construct::cylinder(DVec3::ZERO, DVec3::Z * 2.0, 1.0).unwrap();
+        let circle = |z: f64| construct::circle(DVec3::Z * z, DVec3::Z, DVec3::X, 1.0).unwrap();
+        let cap = |z: f64| {
+            let c = circle(z);
+            crate::planar::planar_face(&[c]).unwrap()
+        };
+        let faces = vec![TrimmedSurface::untrimmed(cylinder), cap(0.0), cap(2.0)];
+        let topology = find_topology(&faces, 1e-7).unwrap();
+        // The seam, and the two circles.
+        assert_eq!(topology.shared.len(), 3, "{topology:?}");
+        assert!(topology.naked.is_empty(), "{topology:?}");
+        let mesh = tessellate_joined(&faces, &topology, 1e-3, false).unwrap();
+        let uses = edge_uses(&mesh);
+        let bad = uses.values().filter(|&&n| n != 2).count();
+        assert_eq!(bad, 0);
+        let volume: f64 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        // Every triangle keeps to the tolerance: its centroid off the side or a cap by at
+        // most 1e-3 (a bound the tessellation's grid keeps for its cells).
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+            let m = (a + b + c) / 3.0;
+            let off_side = (m.x.hypot(m.y) - 1.0).abs();
+            let off_cap = m.z.abs().min((m.z - 2.0).abs());
+            assert!(off_side.min(off_cap) <= 1e-3, "{a} {b} {c}");
+        }
+        let exact = std::f64::consts::PI * 2.0;
+        assert!((volume.abs() - exact).abs() < 1e-2 * exact, "{volume}");
+    }
+}
