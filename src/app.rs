@@ -12,6 +12,7 @@ mod input;
 mod overlay;
 mod panels;
 mod platform;
+mod surface_tools;
 mod trim;
 mod views;
 
@@ -281,6 +282,8 @@ pub struct KnotworkApp {
     trim_drawing: Option<trim::TrimDrawing>,
     /// The curve being drawn, and the curve tools' settings.
     curves: curves::CurveState,
+    /// The surface tools' settings (offset, fillet).
+    surface_tools: surface_tools::SurfaceToolState,
     /// The trim control point being dragged in the (u, v) panel.
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
@@ -389,6 +392,7 @@ impl KnotworkApp {
             constraint: Constraint::Free,
             trim_drawing: None,
             curves: curves::CurveState::default(),
+            surface_tools: surface_tools::SurfaceToolState::default(),
             trim_handle: None,
             snap: false,
             snap_step: 0.25,

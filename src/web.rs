@@ -476,6 +476,52 @@ pub fn intersect(a: u32, b: u32) {
     }));
 }
 
+/// Adds the offset of object `object` at signed `distance` along its normal as "NAME offset"
+/// (one undo step; exact for planes, spheres and cylinders, within 1e-4 of the scene's size
+/// elsewhere).
+#[wasm_bindgen]
+pub fn offset(object: u32, distance: f64) {
+    send(AppCommand::Edit(Command::Offset {
+        object: object as usize,
+        distance,
+        tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,
+    }));
+}
+
+/// Rolls a ball of `radius` between objects `a` and `b` on the chosen sides (front: where the
+/// normal points): adds "fillet" and trims both back (one undo step).
+#[wasm_bindgen]
+pub fn fillet(a: u32, b: u32, radius: f64, front_a: bool, front_b: bool) {
+    send(AppCommand::Edit(Command::Fillet(
+        crate::doc::surface_ops::FilletRequest {
+            a: a as usize,
+            b: b as usize,
+            radius,
+            front_a,
+            front_b,
+            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,
+        },
+    )));
+}
+
+/// Joins `objects` (every surface when empty) where their edges meet into polysurfaces (one
+/// undo step).
+#[wasm_bindgen]
+pub fn join(objects: Vec<u32>) {
+    send(AppCommand::Edit(Command::Join {
+        objects: objects.into_iter().map(|k| k as usize).collect(),
+        tolerance: crate::doc::surface_ops::JOIN_TOLERANCE,
+    }));
+}
+
+/// Object `object`, a polysurface, as its faces (one undo step).
+#[wasm_bindgen]
+pub fn explode(object: u32) {
+    send(AppCommand::Edit(Command::Explode {
+        object: object as usize,
+    }));
+}
+
 /// Ends object `object`'s construction history (one undo step).
 #[wasm_bindgen]
 pub fn break_history(object: u32) {

@@ -698,3 +698,53 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
     assert!(e.to_string().contains("nothing to join"), "{e}");
     assert_eq!(apart.scene.objects.len(), 2);
 }
+
+#[test]
+fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
+    let floor = construct::plane(
+        DVec3::new(-1.0, -2.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 2.0, 0.0),
+    )
+    .unwrap();
+    let wall = construct::plane(
+        DVec3::new(-1.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 0.0, 2.0),
+    )
+    .unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![surface_object("Floor", floor), surface_object("Wall", wall)],
+    });
+    // The floor's normal is +z, the wall's −y: the ball sits in the corner, in front of both.
+    doc.execute(&Command::Fillet(
+        knotwork::doc::surface_ops::FilletRequest {
+            a: 0,
+            b: 1,
+            radius: 0.4,
+            front_a: true,
+            front_b: true,
+            tolerance: 1e-4,
+        },
+    ))
+    .unwrap();
+    assert_eq!(doc.scene.objects.len(), 3);
+    let label = doc
+        .execute(&Command::Join {
+            objects: Vec::new(),
+            tolerance: 1e-6,
+        })
+        .unwrap()
+        .label
+        .clone();
+    eprintln!("{label}");
+    assert_eq!(doc.scene.objects.len(), 1, "{label}");
+    let p = doc.scene.objects[0]
+        .geometry
+        .downcast_ref::<knotwork::scene::polysurface::Polysurface>()
+        .unwrap();
+    let topology = p.topology().unwrap();
+    assert_eq!((p.faces().len(), topology.shared.len()), (3, 2), "{label}");
+    // An L-shaped sheet with a rounded corner: 8 naked edges round its outline.
+    assert_eq!(topology.naked.len(), 8, "{topology:?}");
+}

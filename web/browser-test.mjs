@@ -1314,6 +1314,60 @@ async function main() {
       await page.close();
     });
 
+    await check('surface tools in the page: a fillet trims two planes back on the GPU, an offset, a join into a polysurface; undo back to the start', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // A floor (normal +z) and a wall (normal -y) meeting along the x axis.
+      const plane = (name, corners) => ({
+        type: 'nurbs_surface', name, segments: 8, degree: [1, 1],
+        knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
+        points: corners.map((row) => row.map((p) => [...p, 1])),
+      });
+      await openObjects(page, [
+        plane('Floor', [[[-1, -2, 0], [-1, 0, 0]], [[1, -2, 0], [1, 0, 0]]]),
+        plane('Wall', [[[-1, 0, 0], [-1, 0, 2]], [[1, 0, 0], [1, 0, 2]]]),
+      ]);
+      await page.evaluate(() => window.knotwork.frame());
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.fillet(0, 1, 0.5, { frontA: true, frontB: true }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 60_000 });
+      let s = await status(page);
+      assert(s.error === null && /fillet Floor and Wall/.test(s.last_edit), `fillet: ${s.error}, ${s.last_edit}`);
+      let objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects[2].name === 'fillet' && objects[0].trims?.length === 1 && objects[1].trims?.length === 1, `trimmed back, fillet added: ${JSON.stringify(objects.map((o) => [o.name, o.trims?.length]))}`);
+      await nextFrames(page);
+      const filleted = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/surface-tools-fillet.png`, filleted);
+      const changed = await screenshotDifference(page, before, filleted, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(changed.differing > 200, `the fillet shows on screen (${changed.differing} px)`);
+      await page.evaluate(() => window.knotwork.offset(2, 0.1));
+      await page.waitForFunction(() => window.knotwork.status().objects === 4, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /offset fillet/.test(s.last_edit), `offset: ${s.error}, ${s.last_edit}`);
+      await page.evaluate(() => window.knotwork.join([0, 1, 2]));
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /join: Floor \(3 faces, 2 shared edges/.test(s.last_edit), `join: ${s.error}, ${s.last_edit}`);
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects[0].type === 'polysurface' && objects[0].faces.length === 3, `a polysurface: ${objects[0].type}`);
+      assert(s.patches > 0, `its faces on the GPU: ${s.patches} patches`);
+      // Bad input is refused with the reason and changes nothing.
+      await page.evaluate(() => window.knotwork.fillet(0, 1, 50));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.objects === 2, `a refused fillet changes nothing: ${s.error}`);
+      for (let k = 0; k < 3; k += 1) await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => {
+        const t = window.knotwork.status();
+        return t.undo_steps - (window.__base ?? 0) === 0 && t.objects === 2;
+      }, null, { timeout: 60_000 });
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects.every((o) => o.type === 'nurbs_surface' && !o.trims), 'back to the two planes');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

@@ -1518,6 +1518,7 @@ impl KnotworkApp {
         if self.selection.object.is_some() {
             section(ui, "Selected object", true, |ui| {
                 self.properties_panel(ui);
+                self.surface_tools_panel(ui);
                 self.trim_panel(ui);
                 self.subdivision_panel(ui);
                 self.triangle_panel(ui);

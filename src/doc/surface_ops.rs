@@ -9,6 +9,12 @@ use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
 use crate::scene::polysurface::Polysurface;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
+/// The tolerance (a fraction of the scene's size) offsets and fillets keep in the editor.
+pub const EDITOR_TOLERANCE: f64 = 1e-4;
+
+/// The tolerance (a fraction of the scene's size) within which the editor joins edges.
+pub const JOIN_TOLERANCE: f64 = 1e-6;
+
 /// Spans per direction a face without knots of its own (a Bézier or subdivision patch) starts
 /// its fitted offset from.
 const FACE_OFFSET_SPANS: usize = 2;
