@@ -27,7 +27,7 @@ use glam::DVec3;
 use crate::doc::Document;
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers};
-use crate::kernel::construct;
+use crate::kernel::{TrimmedSurface, construct};
 use crate::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 use crate::view::pick::{self, PickView};
@@ -512,6 +512,71 @@ fn bench_intersect(
             "intersect teapot (32 patches) with {name} | {branches} branches, {points} points | {ms:8.3} ms (one core, median)"
         )?;
     }
+    bench_surface_ops(iterations, out)
+}
+
+/// Offsets, a fillet and a join (f64, one core): a bicubic floor offset at 1e-4 of its size
+/// (fitted) and a sphere (exact); the rolling-ball fillet of two crossing bicubics; six planes
+/// joined into a closed box and tessellated watertight at 1e-3 of its size.
+fn bench_surface_ops(
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::fillet::{FilletOptions, fillet_surfaces};
+    use crate::kernel::join::{find_topology, tessellate_joined};
+    use crate::kernel::offset::offset_nurbs;
+    let runs = iterations.clamp(3, 20);
+    let (floor, wall) = crate::kernel::samples::floor_and_wall()?;
+    let size = floor.size();
+    let sphere = construct::sphere(DVec3::ZERO, 1.0)?;
+    for (name, surface, distance, tolerance) in [
+        ("bicubic 6 x 6 (fitted)", &floor, 0.3, 1e-4 * size),
+        ("sphere (exact)", &sphere, 0.2, 1e-4),
+    ] {
+        let (ms, points) = median_ms(runs, || {
+            offset_nurbs(surface, distance, tolerance)
+                .map(|o| o.surface.count()[0] * o.surface.count()[1])
+        })?;
+        writeln!(
+            out,
+            "offset {name} | {points} control points | {ms:8.3} ms (one core, median)"
+        )?;
+    }
+    let options = FilletOptions {
+        radius: 0.4,
+        side_a: 1.0,
+        side_b: 1.0,
+        tolerance: 1e-4 * size,
+        size,
+    };
+    let (ms, sections) = median_ms(runs, || {
+        fillet_surfaces(&floor, &wall, &options).map(|f| f.centres.len())
+    })?;
+    writeln!(
+        out,
+        "fillet two bicubics, radius 0.4 | {sections} sections | {ms:8.3} ms (one core, median)"
+    )?;
+    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
+    let faces: Vec<TrimmedSurface> = [
+        (DVec3::ZERO, y, x),
+        (z, x, y),
+        (DVec3::ZERO, x, z),
+        (y, z, x),
+        (DVec3::ZERO, z, y),
+        (x, y, z),
+    ]
+    .into_iter()
+    .map(|(o, u, v)| construct::plane(o, u, v).map(TrimmedSurface::untrimmed))
+    .collect::<Result<_, _>>()?;
+    let (ms, (shared, triangles)) = median_ms(runs, || {
+        let topology = find_topology(&faces, 1e-9)?;
+        let mesh = tessellate_joined(&faces, &topology, 1e-3 * 2.9, false)?;
+        Ok::<_, crate::kernel::GeometryError>((topology.shared.len(), mesh.triangles.len()))
+    })?;
+    writeln!(
+        out,
+        "join a box of 6 planes and tessellate it watertight | {shared} shared edges, {triangles} triangles | {ms:8.3} ms (one core, median)"
+    )?;
     Ok(())
 }
 

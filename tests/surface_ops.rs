@@ -296,27 +296,8 @@ fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
     assert_eq!(doc.scene.objects.len(), 1);
 }
 
-/// A wavy floor (normal +z) and a curved wall (normal −y) crossing it near y = 2, both
-/// bicubic.
 fn floor_and_wall() -> (NurbsSurface, NurbsSurface) {
-    let mut floor = Vec::new();
-    for i in 0..6 {
-        for j in 0..6 {
-            let (x, y) = (i as f64 * 0.8, j as f64 * 0.8);
-            floor.push(DVec3::new(x, y, 0.15 * (x * 1.1).sin() * (0.7 * y).cos()));
-        }
-    }
-    let mut wall = Vec::new();
-    for i in 0..6 {
-        for j in 0..5 {
-            let (x, z) = (i as f64 * 0.8, -1.0 + j as f64 * 0.75);
-            wall.push(DVec3::new(x, 2.0 + 0.3 * (0.8 * x).sin() + 0.1 * z * z, z));
-        }
-    }
-    (
-        construct::bspline_surface([3, 3], [6, 6], floor).unwrap(),
-        construct::bspline_surface([3, 3], [6, 5], wall).unwrap(),
-    )
+    knotwork::kernel::samples::floor_and_wall().unwrap()
 }
 
 /// Runs `knotwork fillet` and returns the output project and printed JSON.

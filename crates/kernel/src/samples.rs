@@ -51,3 +51,27 @@ pub fn utah_teapot() -> Result<BezierPatchSet, GeometryError> {
     }
     BezierPatchSet::new(points, None, patches)
 }
+
+/// Two bicubic B-spline surfaces that cross like a floor and a wall: a wavy floor over
+/// [0, 4]² (normal +z) and a curved wall near y = 2 rising from z = −1 to 2 (normal −y).
+/// The surface operations' tests and benchmarks fillet and intersect them.
+pub fn floor_and_wall() -> Result<(crate::NurbsSurface, crate::NurbsSurface), GeometryError> {
+    let mut floor = Vec::new();
+    for i in 0..6 {
+        for j in 0..6 {
+            let (x, y) = (i as f64 * 0.8, j as f64 * 0.8);
+            floor.push(DVec3::new(x, y, 0.15 * (x * 1.1).sin() * (0.7 * y).cos()));
+        }
+    }
+    let mut wall = Vec::new();
+    for i in 0..6 {
+        for j in 0..5 {
+            let (x, z) = (i as f64 * 0.8, -1.0 + j as f64 * 0.75);
+            wall.push(DVec3::new(x, 2.0 + 0.3 * (0.8 * x).sin() + 0.1 * z * z, z));
+        }
+    }
+    Ok((
+        super::construct::bspline_surface([3, 3], [6, 6], floor)?,
+        super::construct::bspline_surface([3, 3], [6, 5], wall)?,
+    ))
+}
