@@ -514,6 +514,26 @@ pub fn join(objects: Vec<u32>) {
     }));
 }
 
+/// Trims object `object` by the objects `cutters` (surfaces, or curves on it), keeping the part
+/// nearest the point (x, y, z) (one undo step).
+#[wasm_bindgen]
+pub fn trim_by(object: u32, cutters: Vec<u32>, x: f64, y: f64, z: f64) {
+    send(AppCommand::Edit(Command::TrimBy {
+        object: object as usize,
+        cutters: cutters.into_iter().map(|k| k as usize).collect(),
+        keep: glam::DVec3::new(x, y, z),
+    }));
+}
+
+/// Splits object `object` into the parts the objects `cutters` cut it into (one undo step).
+#[wasm_bindgen]
+pub fn split_by(object: u32, cutters: Vec<u32>) {
+    send(AppCommand::Edit(Command::SplitBy {
+        object: object as usize,
+        cutters: cutters.into_iter().map(|k| k as usize).collect(),
+    }));
+}
+
 /// Object `object`, a polysurface, as its faces (one undo step).
 #[wasm_bindgen]
 pub fn explode(object: u32) {

@@ -729,3 +729,96 @@ fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
     // An L-shaped sheet with a rounded corner: 8 naked edges round its outline.
     assert_eq!(topology.naked.len(), 8, "{topology:?}");
 }
+
+/// The area of an object's export tessellation at `tolerance`.
+fn mesh_area(object: &SceneObject, tolerance: f64) -> f64 {
+    object
+        .tessellate(
+            knotwork::kernel::tess::Tessellation::Tolerance(tolerance),
+            false,
+        )
+        .unwrap()
+        .iter()
+        .flat_map(|m| {
+            m.triangles.iter().map(|t| {
+                let [a, b, c] = t.map(|k| m.positions[k as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+        })
+        .sum()
+}
+
+#[test]
+fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
+    let plane = construct::plane(
+        DVec3::new(-2.0, -2.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap();
+    let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+    let hoop = construct::circle(DVec3::ZERO, DVec3::Z, DVec3::X, 0.5).unwrap();
+    let objects = vec![
+        surface_object("Plate", plane),
+        surface_object("Ball", sphere),
+        SceneObject::new("Hoop", ObjectGeometry::new(hoop)),
+        SceneObject::new(
+            "Above",
+            ObjectGeometry::new(
+                construct::circle(DVec3::Z * 0.3, DVec3::Z, DVec3::X, 0.5).unwrap(),
+            ),
+        ),
+    ];
+    let pi = std::f64::consts::PI;
+    let mut doc = Document::new(Scene {
+        objects: objects.clone(),
+    });
+    // Keep the outside of the sphere's circle: a square with a round hole.
+    doc.execute(&Command::TrimBy {
+        object: 0,
+        cutters: vec![1],
+        keep: DVec3::new(1.8, 1.8, 0.0),
+    })
+    .unwrap();
+    let area = mesh_area(&doc.scene.objects[0], 1e-4);
+    assert!((area - (16.0 - pi)).abs() < 2e-3, "{area}");
+    doc.undo().unwrap();
+    // Keep the inside: the unit disc.
+    doc.execute(&Command::TrimBy {
+        object: 0,
+        cutters: vec![1],
+        keep: DVec3::new(0.1, 0.0, 0.0),
+    })
+    .unwrap();
+    let area = mesh_area(&doc.scene.objects[0], 1e-4);
+    assert!((area - pi).abs() < 2e-3, "{area}");
+    doc.undo().unwrap();
+    // Split by the sphere and by the hoop lying on the plate: three parts.
+    let label = doc
+        .execute(&Command::SplitBy {
+            object: 0,
+            cutters: vec![1, 2],
+        })
+        .unwrap()
+        .label
+        .clone();
+    assert_eq!(doc.scene.objects.len(), 6, "{label}");
+    let parts = [0, 4, 5].map(|k| mesh_area(&doc.scene.objects[k], 1e-4));
+    let mut sorted = parts;
+    sorted.sort_by(f64::total_cmp);
+    let expected = [0.25 * pi, 0.75 * pi, 16.0 - pi];
+    for (got, want) in sorted.iter().zip(expected) {
+        assert!((got - want).abs() < 2e-3, "{parts:?}");
+    }
+    doc.undo().unwrap();
+    // A curve off the surface is refused, and nothing changes.
+    let e = doc
+        .execute(&Command::TrimBy {
+            object: 0,
+            cutters: vec![3],
+            keep: DVec3::ZERO,
+        })
+        .unwrap_err();
+    assert!(e.to_string().contains("project it onto the surface"), "{e}");
+    assert_eq!(doc.scene.objects, objects);
+}

@@ -1364,6 +1364,29 @@ async function main() {
       }, null, { timeout: 60_000 });
       objects = (await page.evaluate(() => window.knotwork.project())).objects;
       assert(objects.every((o) => o.type === 'nurbs_surface' && !o.trims), 'back to the two planes');
+
+      // Trim the floor by a slanted plane through it, keeping the part at -x: drawn by the
+      // frame after the command.
+      await openObjects(page, [
+        plane('Floor', [[[-1, -2, 0], [-1, 0, 0]], [[1, -2, 0], [1, 0, 0]]]),
+        plane('Cutter', [[[-0.3, -3, -1], [0.3, -3, 1]], [[-0.3, 1, -1], [0.3, 1, 1]]]),
+      ]);
+      await nextFrames(page);
+      const whole = await page.locator('#knotwork-canvas').screenshot();
+      const frames = await page.evaluate(() => window.knotwork.status().frames);
+      await page.evaluate(() => window.knotwork.trimBy(0, [1], [-0.9, -1.0, 0]));
+      await page.waitForFunction(() => /trim Floor/.test(window.knotwork.status().last_edit ?? ''), null, { timeout: 60_000 });
+      const shownAt = await page.evaluate(() => window.knotwork.status().frames);
+      s = await status(page);
+      assert(s.error === null, `trim: ${s.error}`);
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects[0].trims?.length >= 1, `the floor is trimmed: ${JSON.stringify(objects[0].trims?.length)}`);
+      console.log(`      trim by intersection: the frame after ${shownAt - frames} frame(s)`);
+      await nextFrames(page);
+      const holed = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/surface-tools-trim.png`, holed);
+      const hole = await screenshotDifference(page, whole, holed, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(hole.differing > 100, `the trim shows on screen (${hole.differing} px)`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -87,7 +87,7 @@ impl KnotworkApp {
             .map(|(d, o)| (d, o.visible))
             .collect();
         self.selection.hit = pick::pick_surface(&objects, origin, direction);
-        if self.trim_click(self.selection.hit) {
+        if self.trim_click(self.selection.hit) || self.trim_pick_click(self.selection.hit) {
             return;
         }
         if !shift {

@@ -19,6 +19,10 @@ pub struct SurfaceToolState {
     /// The ball lies on the side each normal points to (else behind).
     pub front_a: bool,
     pub front_b: bool,
+    /// The object the selected one is to be trimmed or split by.
+    pub cut_with: Option<usize>,
+    /// A trim waiting for the click on the part to keep: (object, cutter).
+    pub pending_trim: Option<(usize, usize)>,
 }
 
 impl Default for SurfaceToolState {
@@ -29,6 +33,8 @@ impl Default for SurfaceToolState {
             radius: 0.1,
             front_a: false,
             front_b: false,
+            cut_with: None,
+            pending_trim: None,
         }
     }
 }
@@ -125,6 +131,66 @@ impl KnotworkApp {
                 }));
             }
         }
+        let cutters: Vec<(usize, String)> = self
+            .scene()
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != s)
+            .map(|(k, o)| (k, o.name.clone()))
+            .collect();
+        let trimmable = self
+            .scene()
+            .objects
+            .get(s)
+            .is_some_and(|o| o.geometry.as_trimmed().is_some());
+        if trimmable && !cutters.is_empty() {
+            let t = &mut self.surface_tools;
+            if t.cut_with
+                .is_none_or(|k| !cutters.iter().any(|(j, _)| *j == k))
+            {
+                t.cut_with = Some(cutters[0].0);
+            }
+            let by = t.cut_with.unwrap_or(cutters[0].0);
+            let name = cutters
+                .iter()
+                .find(|(k, _)| *k == by)
+                .map_or("", |(_, n)| n.as_str());
+            ui.horizontal(|ui| {
+                ui.label("Cut by");
+                egui::ComboBox::from_id_salt("cut by")
+                    .width(90.0)
+                    .selected_text(name)
+                    .show_ui(ui, |ui| {
+                        for (k, n) in &cutters {
+                            ui.selectable_value(&mut t.cut_with, Some(*k), n);
+                        }
+                    });
+            });
+            ui.horizontal(|ui| {
+                let waiting = t.pending_trim == Some((s, by));
+                if ui
+                    .selectable_label(waiting, "Trim…")
+                    .on_hover_text("then click the part of this object to keep")
+                    .clicked()
+                {
+                    t.pending_trim = if waiting { None } else { Some((s, by)) };
+                }
+                if ui
+                    .button("Split")
+                    .on_hover_text("cut into the parts the other object divides it into")
+                    .clicked()
+                {
+                    command = Some(Command::SplitBy {
+                        object: s,
+                        cutters: vec![by],
+                    });
+                }
+            });
+            if t.pending_trim == Some((s, by)) {
+                ui.label("click the part to keep");
+            }
+        }
         ui.horizontal(|ui| {
             if ui
                 .button("Join")
@@ -148,5 +214,23 @@ impl KnotworkApp {
         if let Some(command) = command {
             self.apply(AppCommand::Edit(command));
         }
+    }
+
+    /// A click on the surface while a trim waits for the part to keep: the trim, keeping the
+    /// part under the click. True when the click was taken.
+    pub(super) fn trim_pick_click(&mut self, hit: Option<crate::view::pick::SurfaceHit>) -> bool {
+        let Some((object, cutter)) = self.surface_tools.pending_trim else {
+            return false;
+        };
+        let Some(hit) = hit.filter(|h| h.object == object) else {
+            return false;
+        };
+        self.surface_tools.pending_trim = None;
+        self.apply(AppCommand::Edit(Command::TrimBy {
+            object,
+            cutters: vec![cutter],
+            keep: hit.point,
+        }));
+        true
     }
 }

@@ -194,6 +194,18 @@ pub enum Command {
     Explode {
         object: usize,
     },
+    /// Trims a NURBS or trimmed object by surfaces or curves on it, keeping the part around
+    /// the surface point nearest `keep` ([`surface_ops::cuts_on`]).
+    TrimBy {
+        object: usize,
+        cutters: Vec<usize>,
+        keep: DVec3,
+    },
+    /// Splits a NURBS or trimmed object into the parts surfaces or curves on it cut it into.
+    SplitBy {
+        object: usize,
+        cutters: Vec<usize>,
+    },
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -366,6 +378,8 @@ impl Command {
             Command::Fillet(_) => "fillet".into(),
             Command::Join { .. } => "join".into(),
             Command::Explode { .. } => "explode".into(),
+            Command::TrimBy { .. } => "trim".into(),
+            Command::SplitBy { .. } => "split".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

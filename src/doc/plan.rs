@@ -102,6 +102,16 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::Explode { object } => {
             return surface_ops::explode(scene, *object);
         }
+        Command::TrimBy {
+            object,
+            cutters,
+            keep,
+        } => {
+            return surface_ops::trim_by(scene, *object, cutters, *keep);
+        }
+        Command::SplitBy { object, cutters } => {
+            return surface_ops::split_by(scene, *object, cutters);
+        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }

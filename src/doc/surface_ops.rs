@@ -497,3 +497,164 @@ pub(super) fn explode(scene: &Scene, k: usize) -> Result<(Vec<Change>, String), 
     let label = format!("explode {} into {} faces", object.name, p.faces().len());
     Ok((changes, label))
 }
+
+/// The object's trimmed surface and the cuts that `cutters` make on it: where a surface
+/// cutter meets it (marching, [`crate::kernel::intersect`]), and curve cutters that lie on it
+/// (each point within 1e-4 of the scene's size of the surface) mapped into its domain.
+pub fn cuts_on(
+    scene: &Scene,
+    object: usize,
+    cutters: &[usize],
+) -> Result<(TrimmedSurface, Vec<crate::kernel::trim::cut::Cut>), EditError> {
+    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    use crate::kernel::trim::cut::Cut;
+    let target = object_at(scene, object)?;
+    let fail = geometry_error(target);
+    let surface = match (
+        target.displacement.is_none() && target.lattice.is_none(),
+        target.geometry.as_trimmed(),
+    ) {
+        (true, Some(t)) => t,
+        _ => {
+            return Err(fail(refuse(
+                "trim",
+                format!(
+                    "needs a NURBS or trimmed surface, neither displaced nor deformed; this \
+                     object is {}",
+                    target.kind().kind_name()
+                ),
+            )));
+        }
+    };
+    if cutters.is_empty() {
+        return Err(fail(refuse("trim", "no cutting objects were given")));
+    }
+    let size = scene_size(scene);
+    let mut cuts = Vec::new();
+    for &k in cutters {
+        let cutter = object_at(scene, k)?;
+        if k == object {
+            return Err(fail(refuse("trim", "an object cannot cut itself")));
+        }
+        if let Some(curve) = cutter.kind().space_curve() {
+            let (t0, t1) = curve.domain();
+            let n = 400;
+            let mut points = Vec::with_capacity(n + 1);
+            for i in 0..=n {
+                let p = curve
+                    .point_at(t0 + (t1 - t0) * i as f64 / n as f64)
+                    .map_err(geometry_error(cutter))?;
+                let c = surface
+                    .surface()
+                    .closest_point(p)
+                    .map_err(geometry_error(cutter))?;
+                if c.distance > 1e-4 * size {
+                    return Err(geometry_error(cutter)(refuse(
+                        "trim",
+                        format!(
+                            "the curve is not on {} (off by {:.3e} near ({:.4}, {:.4}, {:.4})): \
+                             project it onto the surface first",
+                            target.name, c.distance, p.x, p.y, p.z
+                        ),
+                    )));
+                }
+                points.push(glam::DVec2::new(c.u, c.v));
+            }
+            let closed = points[0].distance(points[n]) < 1e-9;
+            if closed {
+                points.pop();
+            }
+            cuts.push(Cut { points, closed });
+            continue;
+        }
+        let faces = cutter.faces();
+        if faces.is_empty() {
+            return Err(geometry_error(cutter)(refuse(
+                "trim",
+                format!(
+                    "{} has neither faces nor a curve",
+                    cutter.kind().kind_name()
+                ),
+            )));
+        }
+        let options = IntersectOptions::for_size(size);
+        for (_, face) in &faces {
+            let found = intersect_surfaces(surface.surface(), face.as_ref(), &options)
+                .map_err(geometry_error(cutter))?;
+            for branch in found.curves {
+                let mut points = branch.uv_a;
+                if branch.closed {
+                    points.pop();
+                }
+                if points.len() >= 2 {
+                    cuts.push(Cut {
+                        points,
+                        closed: branch.closed,
+                    });
+                }
+            }
+        }
+    }
+    if cuts.is_empty() {
+        return Err(fail(refuse("trim", "the cutting objects do not meet it")));
+    }
+    let rect = crate::kernel::trim::domain_rect(surface.surface());
+    let gap = 1e-6 * crate::kernel::trim::domain_size(rect);
+    Ok((surface, crate::kernel::trim::cut::chain_cuts(cuts, gap)))
+}
+
+/// [`super::Command::TrimBy`]: the part of the object that the cutters leave around the
+/// point nearest `keep`.
+pub(super) fn trim_by(
+    scene: &Scene,
+    object: usize,
+    cutters: &[usize],
+    keep: glam::DVec3,
+) -> Result<(Vec<Change>, String), EditError> {
+    use crate::kernel::trim::cut::keep_region;
+    let (surface, cuts) = cuts_on(scene, object, cutters)?;
+    let before = &scene.objects[object];
+    let fail = geometry_error(before);
+    let near = surface.surface().closest_point(keep).map_err(&fail)?;
+    let kept = keep_region(&surface, &cuts, glam::DVec2::new(near.u, near.v)).map_err(&fail)?;
+    let mut after = before.clone();
+    after.geometry = ObjectGeometry::from_trimmed(kept);
+    after.construction = None;
+    after.decompose().map_err(geometry_error(&after))?;
+    let label = format!("trim {} by {} curve(s)", before.name, cuts.len());
+    Ok((
+        vec![Change::Replace {
+            index: object,
+            before: before.clone(),
+            after,
+        }],
+        label,
+    ))
+}
+
+/// [`super::Command::SplitBy`]: the object cut into its parts, the first in its place.
+pub(super) fn split_by(
+    scene: &Scene,
+    object: usize,
+    cutters: &[usize],
+) -> Result<(Vec<Change>, String), EditError> {
+    let (surface, cuts) = cuts_on(scene, object, cutters)?;
+    let before = &scene.objects[object];
+    let parts =
+        crate::kernel::trim::cut::split_by(&surface, &cuts).map_err(geometry_error(before))?;
+    let count = parts.len();
+    let mut parts = parts.into_iter().map(ObjectGeometry::from_trimmed);
+    let mut after = before.clone();
+    after.geometry = parts
+        .next()
+        .ok_or_else(|| geometry_error(before)(refuse("split", "no parts")))?;
+    after.construction = None;
+    after.decompose().map_err(geometry_error(&after))?;
+    let mut changes = vec![Change::Replace {
+        index: object,
+        before: before.clone(),
+        after,
+    }];
+    changes.extend(insert_objects(scene, &before.name, parts));
+    Ok((changes, format!("split {} into {count} parts", before.name)))
+}

@@ -284,6 +284,378 @@ pub fn trim_along(
     TrimmedSurface::new(surface.surface().clone(), loops)
 }
 
+/// One cutting curve in a surface's (u, v) domain: points along it, open (running from the
+/// boundary to the boundary) or closed (the first point not repeated at the end).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cut {
+    pub points: Vec<DVec2>,
+    pub closed: bool,
+}
+
+/// Open cuts whose ends meet (within `gap`) joined into one, and a chain that comes back to
+/// its start closed: an intersection curve is cut where it crosses the other surface's seam
+/// or patch boundary, which means nothing on this surface.
+pub fn chain_cuts(cuts: Vec<Cut>, gap: f64) -> Vec<Cut> {
+    let (mut open, mut out): (Vec<Cut>, Vec<Cut>) = cuts.into_iter().partition(|c| !c.closed);
+    while let Some(mut chain) = open.pop() {
+        loop {
+            let (first, last) = (chain.points[0], chain.points[chain.points.len() - 1]);
+            let found = open.iter().enumerate().find_map(|(k, c)| {
+                let (a, b) = (c.points[0], c.points[c.points.len() - 1]);
+                if a.distance(last) <= gap {
+                    Some((k, false, false))
+                } else if b.distance(last) <= gap {
+                    Some((k, true, false))
+                } else if b.distance(first) <= gap {
+                    Some((k, false, true))
+                } else if a.distance(first) <= gap {
+                    Some((k, true, true))
+                } else {
+                    None
+                }
+            });
+            let Some((k, reverse, before)) = found else {
+                break;
+            };
+            let mut next = open.swap_remove(k).points;
+            if reverse {
+                next.reverse();
+            }
+            if before {
+                next.pop();
+                next.extend(chain.points);
+                chain.points = next;
+            } else {
+                chain.points.extend(next.into_iter().skip(1));
+            }
+        }
+        let n = chain.points.len();
+        if n > 3 && chain.points[0].distance(chain.points[n - 1]) <= gap {
+            chain.points.pop();
+            chain.closed = true;
+        }
+        out.push(chain);
+    }
+    out
+}
+
+/// The open cuts as chords from boundary to boundary, and the closed ones as polygons.
+fn prepared(rect: [f64; 4], cuts: &[Cut]) -> Result<Prepared, GeometryError> {
+    let mut chords = Vec::new();
+    let mut rings = Vec::new();
+    for cut in cuts {
+        let points = thinned(&cut.points, cut.closed);
+        if cut.closed {
+            if points.len() >= 3 {
+                rings.push(points);
+            }
+        } else {
+            chords.push(open_cut(rect, &points)?);
+        }
+    }
+    Ok(Prepared { chords, rings })
+}
+
+/// The cuts made ready: open ones as chords from boundary to boundary, closed ones as rings.
+struct Prepared {
+    chords: Vec<Vec<DVec2>>,
+    rings: Vec<Vec<DVec2>>,
+}
+
+/// The region the cuts leave around a point: its outer loop (`None`: the whole domain), that
+/// loop as a polygon, and its holes.
+struct Region {
+    outer: Option<TrimLoop>,
+    outline: Vec<DVec2>,
+    holes: Vec<TrimLoop>,
+}
+
+/// The points without those closer than a fifth of the median spacing to the one kept before
+/// them (and, closed, to the first): a marching step cut short at a boundary or at the loop's
+/// close would make the interpolating cubic swing.
+fn thinned(points: &[DVec2], closed: bool) -> Vec<DVec2> {
+    let mut steps: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    if steps.is_empty() {
+        return points.to_vec();
+    }
+    steps.sort_by(f64::total_cmp);
+    let least = 0.2 * steps[steps.len() / 2];
+    let mut out: Vec<DVec2> = Vec::with_capacity(points.len());
+    let last = points.len() - 1;
+    for (k, &p) in points.iter().enumerate() {
+        let keep_end = !closed && k == last;
+        match out.last() {
+            Some(&q) if q.distance(p) < least && !keep_end => {}
+            Some(&q) if q.distance(p) < least => {
+                // An open curve keeps its end: the point before it goes instead.
+                if out.len() > 1 {
+                    out.pop();
+                }
+                out.push(p);
+            }
+            _ => out.push(p),
+        }
+    }
+    if closed {
+        while out.len() > 3 && out[out.len() - 1].distance(out[0]) < least {
+            out.pop();
+        }
+    }
+    out
+}
+
+/// The point half-way along a polyline (by its points).
+fn middle(points: &[DVec2]) -> DVec2 {
+    let n = points.len();
+    if n % 2 == 1 {
+        points[n / 2]
+    } else {
+        0.5 * (points[n / 2 - 1] + points[n / 2])
+    }
+}
+
+/// The region of the domain that the cuts leave around `keep`, as its loops: the outer loop
+/// (bounded by the chords nearest `keep` and the domain's boundary between them, or the
+/// innermost closed cut around `keep`), and the closed cuts inside it as holes. `None` for
+/// the outer loop where it is the whole domain.
+fn region_loops(
+    rect: [f64; 4],
+    chords: &[Vec<DVec2>],
+    rings: &[Vec<DVec2>],
+    keep: DVec2,
+) -> Result<Region, GeometryError> {
+    let size = domain_size(rect);
+    let [u0, u1, v0, v1] = rect;
+    let whole = vec![
+        DVec2::new(u0, v0),
+        DVec2::new(u1, v0),
+        DVec2::new(u1, v1),
+        DVec2::new(u0, v1),
+    ];
+    // The innermost closed cut around `keep`, if any: the region is inside it.
+    let around = rings
+        .iter()
+        .filter(|r| polygon_contains(r, keep))
+        .min_by(|a, b| {
+            super::signed_area(a)
+                .abs()
+                .total_cmp(&super::signed_area(b).abs())
+        });
+    let (outer, outline): (Option<TrimLoop>, Vec<DVec2>) = if let Some(ring) = around {
+        (Some(vec![cut_curve(ring, true)?]), ring.clone())
+    } else {
+        // Each chord's side holding `keep`; a chord bounds the region when it lies on the
+        // kept side of every other chord.
+        let sides: Vec<(Keep, Vec<DVec2>)> = chords
+            .iter()
+            .map(|c| {
+                let left = side_polygon(rect, c, Keep::Left);
+                if polygon_contains(&left, keep) {
+                    (Keep::Left, left)
+                } else {
+                    (Keep::Right, side_polygon(rect, c, Keep::Right))
+                }
+            })
+            .collect();
+        let bounding: Vec<usize> = (0..chords.len())
+            .filter(|&c| {
+                (0..chords.len())
+                    .all(|d| d == c || polygon_contains(&sides[d].1, middle(&chords[c])))
+            })
+            .collect();
+        if bounding.is_empty() {
+            (None, whole.clone())
+        } else {
+            // Each bounding chord walked with the region on its left: (entry, exit, points).
+            let walked: Vec<(f64, f64, Vec<DVec2>)> = bounding
+                .iter()
+                .map(|&c| {
+                    let mut points = chords[c].clone();
+                    if sides[c].0 == Keep::Right {
+                        points.reverse();
+                    }
+                    let (a, b) = (points[0], points[points.len() - 1]);
+                    (
+                        perimeter_position(rect, a),
+                        perimeter_position(rect, b),
+                        points,
+                    )
+                })
+                .collect();
+            let mut region: TrimLoop = Vec::new();
+            let mut outline = Vec::new();
+            let mut at = 0usize;
+            for _ in 0..walked.len() {
+                let (_, exit, points) = &walked[at];
+                region.push(cut_curve(points, false)?);
+                outline.extend_from_slice(&points[..points.len() - 1]);
+                // The next chord met walking the boundary counter-clockwise from the exit.
+                let ahead = |s: f64| (s - exit).rem_euclid(4.0);
+                let next = (0..walked.len())
+                    .min_by(|&x, &y| ahead(walked[x].0).total_cmp(&ahead(walked[y].0)))
+                    .unwrap_or(at);
+                let mut from = points[points.len() - 1];
+                for corner in boundary_walk(rect, *exit, walked[next].0, true) {
+                    if corner.distance(from) > 1e-12 * size {
+                        region.push(shapes::line(from, corner)?);
+                        outline.push(from);
+                    }
+                    from = corner;
+                }
+                at = next;
+                if at == 0 {
+                    break;
+                }
+            }
+            (Some(region), outline)
+        }
+    };
+    // Closed cuts inside the region (and not around `keep`) are holes; a closed cut inside
+    // such a hole is not (it bounds another part).
+    let candidates: Vec<&Vec<DVec2>> = rings
+        .iter()
+        .filter(|ring| {
+            !std::ptr::eq(*ring, around.map_or(std::ptr::null(), |r| r as *const _))
+                && !polygon_contains(ring, keep)
+                && ring.iter().all(|&p| polygon_contains(&outline, p))
+        })
+        .collect();
+    let mut holes = Vec::new();
+    for ring in &candidates {
+        let nested = candidates
+            .iter()
+            .any(|other| !std::ptr::eq(*other, *ring) && polygon_contains(other, ring[0]));
+        if !nested {
+            holes.push(vec![cut_curve(ring, true)?]);
+        }
+    }
+    Ok(Region {
+        outer,
+        outline,
+        holes,
+    })
+}
+
+/// The part of `surface` that `cuts` leave around `keep` (a point of its domain): the user's
+/// pick of what to keep. The surface's own trims are kept where they lie inside that part; a
+/// trim the cuts cross is refused.
+pub fn keep_region(
+    surface: &TrimmedSurface,
+    cuts: &[Cut],
+    keep: DVec2,
+) -> Result<TrimmedSurface, GeometryError> {
+    let rect = domain_rect(surface.surface());
+    let Prepared { chords, rings } = prepared(rect, cuts)?;
+    let Region {
+        outer,
+        outline,
+        holes,
+    } = region_loops(rect, &chords, &rings, keep)?;
+    if outer.is_none() && holes.is_empty() {
+        return Err(construction(
+            WHAT,
+            "the curves do not cut the surface into parts: nothing to trim",
+        ));
+    }
+    // Holes in the whole domain: the domain's outline is the outer loop.
+    let outer = match outer {
+        Some(o) => Some(o),
+        None => {
+            let [u0, u1, v0, v1] = rect;
+            Some(shapes::rectangle(DVec2::new(u0, v0), DVec2::new(u1, v1))?)
+        }
+    };
+    // The kept part is the region ∩ what the surface kept: its trims inside the region stay,
+    // and the region's own outline only where the surface keeps the ground just inside it.
+    let mut kept_old = Vec::new();
+    for l in surface.loops() {
+        let flat = super::flatten_loop(l, 1e-6 * domain_size(rect));
+        let gap = END_GAP * domain_size(rect);
+        if flat.iter().all(|&p| on_boundary(rect, p, gap)) {
+            // The domain's own outline (an outer loop round the whole domain): the region's
+            // outline replaces it.
+            continue;
+        }
+        let inside = flat
+            .iter()
+            .filter(|&&p| polygon_contains(&outline, p))
+            .count();
+        if inside == flat.len() {
+            kept_old.push(l.clone());
+        } else if inside > 0 {
+            return Err(construction(
+                WHAT,
+                "the curves cross the surface's trims; trim the untrimmed surface instead",
+            ));
+        }
+    }
+    let outer = outer.filter(|_| {
+        just_inside(&outline, domain_size(rect)).is_none_or(|p| surface.contains(p.x, p.y))
+    });
+    let loops: Vec<TrimLoop> = outer.into_iter().chain(holes).chain(kept_old).collect();
+    if loops.is_empty() {
+        return Err(construction(WHAT, "nothing of the surface is left there"));
+    }
+    TrimmedSurface::new(surface.surface().clone(), loops)
+}
+
+/// A point a little inside the polygon, next to its first edge.
+fn just_inside(polygon: &[DVec2], size: f64) -> Option<DVec2> {
+    let (a, b) = (*polygon.first()?, *polygon.get(1)?);
+    let m = 0.5 * (a + b);
+    let normal = (b - a).perp().normalize_or_zero();
+    [1.0, -1.0]
+        .into_iter()
+        .map(|side| m + normal * side * 1e-7 * size)
+        .find(|&p| polygon_contains(polygon, p))
+}
+
+/// The parts `cuts` divide `surface` into (each a trimmed surface), in the order the cuts
+/// first border them.
+pub fn split_by(
+    surface: &TrimmedSurface,
+    cuts: &[Cut],
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    let rect = domain_rect(surface.surface());
+    let Prepared { chords, rings } = prepared(rect, cuts)?;
+    let size = domain_size(rect);
+    // A point just either side of each cut's middle picks each part next to it.
+    let mut probes = Vec::new();
+    for points in chords.iter().chain(&rings) {
+        let n = points.len();
+        let k = n / 2;
+        let (a, b) = (points[k.saturating_sub(1)], points[(k + 1).min(n - 1)]);
+        let normal = (b - a).perp().normalize_or_zero();
+        for side in [1.0, -1.0] {
+            probes.push(points[k] + normal * side * 1e-6 * size);
+        }
+    }
+    let signature = |p: DVec2| -> Vec<bool> {
+        chords
+            .iter()
+            .map(|c| polygon_contains(&side_polygon(rect, c, Keep::Left), p))
+            .chain(rings.iter().map(|r| polygon_contains(r, p)))
+            .collect()
+    };
+    let mut seen: Vec<Vec<bool>> = Vec::new();
+    let mut parts = Vec::new();
+    for p in probes {
+        let s = signature(p);
+        if seen.contains(&s) {
+            continue;
+        }
+        seen.push(s);
+        parts.push(keep_region(surface, cuts, p)?);
+    }
+    if parts.len() < 2 {
+        return Err(construction(
+            WHAT,
+            "the curves do not cut the surface into parts: nothing to split",
+        ));
+    }
+    Ok(parts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -355,5 +727,68 @@ mod tests {
         assert!(inside.contains(0.5, 0.5) && !inside.contains(0.05, 0.05));
         let hole = trim_along(&s, &cut, true, Keep::Right).unwrap();
         assert!(!hole.contains(0.5, 0.5) && hole.contains(0.05, 0.05));
+    }
+
+    #[test]
+    fn two_chords_and_a_hole_keep_the_part_picked() {
+        let s = square();
+        let down = |x: f64| {
+            vec![
+                DVec2::new(x, 0.0),
+                DVec2::new(x + 0.05, 0.5),
+                DVec2::new(x, 1.0),
+            ]
+        };
+        let ring: Vec<DVec2> = (0..10)
+            .map(|i| {
+                let a = i as f64 / 10.0 * std::f64::consts::TAU;
+                DVec2::new(0.5 + 0.08 * a.cos(), 0.5 + 0.08 * a.sin())
+            })
+            .collect();
+        let cuts = vec![
+            Cut {
+                points: down(0.3),
+                closed: false,
+            },
+            Cut {
+                points: down(0.7),
+                closed: false,
+            },
+            Cut {
+                points: ring,
+                closed: true,
+            },
+        ];
+        let middle = keep_region(&s, &cuts, DVec2::new(0.5, 0.2)).unwrap();
+        assert!(middle.contains(0.5, 0.1) && middle.contains(0.6, 0.9));
+        assert!(
+            !middle.contains(0.1, 0.5) && !middle.contains(0.9, 0.5) && !middle.contains(0.5, 0.5)
+        );
+        let left = keep_region(&s, &cuts, DVec2::new(0.1, 0.1)).unwrap();
+        assert!(left.contains(0.1, 0.9) && !left.contains(0.5, 0.2));
+        let parts = split_by(&s, &cuts).unwrap();
+        assert_eq!(parts.len(), 4);
+        let area: f64 = parts.iter().map(|p| p.parameter_area(1e-7)).sum();
+        assert!((area - 1.0).abs() < 1e-5, "{area}");
+    }
+
+    #[test]
+    fn a_trimmed_surface_keeps_its_hole_when_cut_again() {
+        let ring: Vec<DVec2> = (0..12)
+            .map(|i| {
+                let a = i as f64 / 12.0 * std::f64::consts::TAU;
+                DVec2::new(0.2 + 0.05 * a.cos(), 0.5 + 0.05 * a.sin())
+            })
+            .collect();
+        let holed = trim_along(&square(), &ring, true, Keep::Right).unwrap();
+        assert!(!holed.contains(0.2, 0.5));
+        let cut = Cut {
+            points: vec![DVec2::new(0.6, 0.0), DVec2::new(0.6, 1.0)],
+            closed: false,
+        };
+        let left = keep_region(&holed, std::slice::from_ref(&cut), DVec2::new(0.1, 0.1)).unwrap();
+        assert!(left.contains(0.1, 0.1) && !left.contains(0.2, 0.5) && !left.contains(0.8, 0.5));
+        let right = keep_region(&holed, &[cut], DVec2::new(0.9, 0.1)).unwrap();
+        assert!(right.contains(0.8, 0.5) && !right.contains(0.1, 0.1));
     }
 }
