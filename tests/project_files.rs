@@ -61,6 +61,12 @@ const CORPUS: &[(&str, &str, &str)] = &[
     ),
     ("curve-zero-weight", "objects[0].points[1]", "weight"),
     (
+        "polysurface-negative-weight",
+        "objects[0].faces[0].points[1][1]",
+        "weight",
+    ),
+    ("polysurface-no-faces", "objects[0]", "1 to 10000 faces"),
+    (
         "trim-curve-object",
         "objects[0].type",
         "a trim curve is not a scene object",

@@ -822,3 +822,68 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
     assert!(e.to_string().contains("project it onto the surface"), "{e}");
     assert_eq!(doc.scene.objects, objects);
 }
+
+#[test]
+fn a_cylinder_standing_on_a_plane_gets_a_fillet_all_round() {
+    let floor = construct::plane(
+        DVec3::new(-2.0, -2.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap();
+    let post = construct::cylinder(DVec3::new(0.0, 0.0, -1.0), DVec3::Z * 3.0, 0.6).unwrap();
+    let objects = vec![
+        surface_object("Floor", floor.clone()),
+        surface_object("Post", post.clone()),
+    ];
+    // Above the floor (its front, +z) and outside the post (its front: outward normals).
+    let (project, json) = fillet_by_command(
+        "fillet-post.json",
+        objects,
+        &[
+            "--objects",
+            "Floor",
+            "Post",
+            "--radius",
+            "0.25",
+            "--side-a",
+            "front",
+            "--side-b",
+            "front",
+        ],
+    );
+    let fillet = named(&project, "fillet")
+        .geometry
+        .nurbs_surface()
+        .unwrap()
+        .clone();
+    // A quarter torus: every point at 0.25 from the circle of centres (radius 0.85, z = 0.25).
+    let mut worst = 0.0f64;
+    for i in 0..=10 {
+        for j in 0..=40 {
+            let p = fillet.point_at(i as f64 / 10.0, j as f64 / 40.0).unwrap();
+            let d = (p.x.hypot(p.y) - 0.85).hypot(p.z - 0.25);
+            worst = worst.max((d - 0.25).abs());
+        }
+    }
+    let size = scene_size(&[&floor, &post]);
+    assert!(worst <= 1e-4 * size, "{worst} {json}");
+    // The floor keeps everything outside the contact circle (radius 0.85), the post everything
+    // above its contact line (z = 0.25).
+    let floor_after = named(&project, "Floor").geometry.as_trimmed().unwrap();
+    let at = |x: f64, y: f64| ((x + 2.0) / 4.0, (y + 2.0) / 4.0);
+    for (x, y, kept) in [
+        (1.5, 0.0, true),
+        (0.0, -1.2, true),
+        (0.7, 0.0, false),
+        (0.0, 0.0, false),
+    ] {
+        let (u, v) = at(x, y);
+        assert_eq!(floor_after.contains(u, v), kept, "floor at ({x}, {y})");
+    }
+    let post_after = named(&project, "Post").geometry.as_trimmed().unwrap();
+    for (z, kept) in [(1.5, true), (0.1, false), (-0.5, false)] {
+        let v = (z + 1.0) / 3.0;
+        assert_eq!(post_after.contains(0.3, v), kept, "post at z = {z}");
+    }
+}

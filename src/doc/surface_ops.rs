@@ -268,7 +268,18 @@ pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMa
             ));
             continue;
         };
-        match trim_along(&surface, contact, fillet.closed, keep) {
+        // A contact curve whose ends meet on this surface closes here, even where the spine
+        // was cut open (at the other surface's seam).
+        let rect = crate::kernel::trim::domain_rect(surface.surface());
+        let gap = 1e-6 * crate::kernel::trim::domain_size(rect);
+        let ends_meet = contact.len() > 3 && contact[0].distance(contact[contact.len() - 1]) <= gap;
+        let closed = fillet.closed || ends_meet;
+        let points = if ends_meet && !fillet.closed {
+            &contact[..contact.len() - 1]
+        } else {
+            &contact[..]
+        };
+        match trim_along(&surface, points, closed, keep) {
             Ok(t) => {
                 let mut next = object.clone();
                 next.geometry = ObjectGeometry::from_trimmed(t);
