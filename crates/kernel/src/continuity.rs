@@ -52,7 +52,7 @@ impl Side {
 
     /// The parameter (u, v) of the side at t in [0, 1] and the parameter-space derivative of
     /// that point with respect to t.
-    fn parameter(self, domain: [(f64, f64); 2], t: f64) -> ((f64, f64), (f64, f64)) {
+    pub(crate) fn parameter(self, domain: [(f64, f64); 2], t: f64) -> ((f64, f64), (f64, f64)) {
         let [(u0, u1), (v0, v1)] = domain;
         let along_u = u0 + t * (u1 - u0);
         let along_v = v0 + t * (v1 - v0);
@@ -65,7 +65,7 @@ impl Side {
     }
 
     /// The derivative pointing into the face's interior, across this side.
-    fn inward(self, d: &SurfaceDerivatives) -> DVec3 {
+    pub(crate) fn inward(self, d: &SurfaceDerivatives) -> DVec3 {
         match self {
             Side::U0 => d.su,
             Side::U1 => -d.su,
