@@ -612,7 +612,19 @@ proptest! {
                 // (Only where both fields are polynomial: a rational one's x and y are not
                 // affine in its parameters.)
                 if !rational && d0 * d1 < 0.0 {
-                    let p = height(&a, x0 + d0 / (d0 - d1) * (x1 - x0), y);
+                    // The crossing itself, by bisection on h_a − h_b (a linear guess can be far
+                    // off where the difference is tiny and curved, as at a narrow finger).
+                    let (mut lo, mut hi, mut d_lo) = (x0, x1, d0);
+                    for _ in 0..60 {
+                        let m = 0.5 * (lo + hi);
+                        let d = height(&a, m, y).z - height(&b, m, y).z;
+                        if d * d_lo > 0.0 {
+                            (lo, d_lo) = (m, d);
+                        } else {
+                            hi = m;
+                        }
+                    }
+                    let p = height(&a, 0.5 * (lo + hi), y);
                     let near = found.curves.iter().flat_map(|c| c.points.windows(2)).any(|w| {
                         let ab = w[1] - w[0];
                         let t = ((p - w[0]).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);

@@ -9,7 +9,10 @@
 //!    none is missed. Each such pair off the branches traced so far gives a seed by
 //!    Gauss–Newton from the cells' centres on A(u, v) − B(s, t) = 0 (the least-norm step of the
 //!    3 × 4 system). A pair that a branch crosses is not cut further when both cells are flat
-//!    (normals within 15°): two nearly flat pieces meet in one arc at most.
+//!    (normals within 15°) and their normal cones are apart as lines (the pieces meet
+//!    transversally, in one arc at most; no closed loop by Sinha, Klassen and Wang's test,
+//!    1985). Nearly parallel pieces are cut down to the smallest size, since their difference
+//!    may vanish along several arcs.
 //! 2. **Marching.** From a seed, the curve's tangent is T = N_A × N_B. A step of length h is
 //!    predicted along T and corrected by Newton onto both surfaces with the plane (X − P)·T = h
 //!    as the fourth equation. The chord from the last point to the new one is compared with the
@@ -31,6 +34,9 @@ use crate::parametric::ParametricSurface;
 
 /// Below this sine of the angle between the normals, the surfaces are taken to touch there.
 pub const TANGENT_SINE: f64 = 1e-6;
+
+/// The least cosine between the curve's directions at the two ends of a step (about 30°).
+const TURN_COSINE: f64 = 0.866;
 
 /// The most points one branch may have.
 const MAX_POINTS: usize = 200_000;
@@ -100,9 +106,9 @@ struct Common {
 }
 
 /// One surface with what the marching asks of it.
-struct Side<'a> {
-    surface: &'a dyn ParametricSurface,
-    domain: [(f64, f64); 2],
+pub(crate) struct Side<'a> {
+    pub(crate) surface: &'a dyn ParametricSurface,
+    pub(crate) domain: [(f64, f64); 2],
 }
 
 impl Side<'_> {
@@ -118,12 +124,12 @@ impl Side<'_> {
         u >= u0 - du && u <= u1 + du && v >= v0 - dv && v <= v1 + dv
     }
 
-    fn clamp(&self, u: f64, v: f64) -> (f64, f64) {
+    pub(crate) fn clamp(&self, u: f64, v: f64) -> (f64, f64) {
         let [(u0, u1), (v0, v1)] = self.domain;
         (u.clamp(u0, u1), v.clamp(v0, v1))
     }
 
-    fn at(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
+    pub(crate) fn at(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
         self.surface.derivatives(u, v)
     }
 }
@@ -264,7 +270,18 @@ fn march(
                     let error = middle.map_or(f64::INFINITY, |m| {
                         m.point.distance(0.5 * (current.point + next.point))
                     });
-                    if error > options.chord {
+                    // The curve's direction at the new point (the same cross product, so it
+                    // turns continuously along the branch) within about 30° of this one:
+                    // a step that lands on another arm of the curve (across a narrow
+                    // finger, say) points elsewhere and is cut.
+                    let turned = a
+                        .at(next.x[0], next.x[1])
+                        .zip(b.at(next.x[2], next.x[3]))
+                        .and_then(|(na, nb)| tangent(&na, &nb))
+                        .is_none_or(|(_, t2)| {
+                            (t2 * t.dot(direction).signum()).dot(direction) < TURN_COSINE
+                        });
+                    if error > options.chord || (turned && h > 2.0 * h_min) {
                         h *= 0.5;
                         continue;
                     }
@@ -399,35 +416,40 @@ fn newton_step(
 
 /// A cell of a surface's domain and the box that holds its piece of the surface.
 #[derive(Debug, Clone, Copy)]
-struct Cell {
-    u: (f64, f64),
-    v: (f64, f64),
-    lo: DVec3,
-    hi: DVec3,
-    /// The normals at the samples lie within [`FLAT_COSINE`] of each other: over a pair of
-    /// flat cells the surfaces meet in at most one arc.
-    flat: bool,
+pub(crate) struct Cell {
+    pub(crate) u: (f64, f64),
+    pub(crate) v: (f64, f64),
+    pub(crate) lo: DVec3,
+    pub(crate) hi: DVec3,
+    /// The cone of the normals at the samples: its axis (the first regular normal) and
+    /// half-angle (radians). Where two cells' cones are apart as lines, their pieces meet
+    /// transversally everywhere and hold no closed loop.
+    axis: Option<DVec3>,
+    spread: f64,
 }
 
-/// Normals within this cosine (about 15°) of the first make a cell flat.
-const FLAT_COSINE: f64 = 0.966;
+/// The largest spread (radians, about 15°) of a flat cell's normals.
+const FLAT_SPREAD: f64 = 0.26;
+
+/// Added to the cones' half-angles (about 5°): the samples are not every normal.
+const CONE_MARGIN: f64 = 0.09;
 
 impl Cell {
     /// The cell over [u0, u1] × [v0, v1] with its box (see the module documentation).
-    fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
+    pub(crate) fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
         let (du, dv) = (u.1 - u.0, v.1 - v.0);
         let mut lo = DVec3::INFINITY;
         let mut hi = DVec3::NEG_INFINITY;
         let mut bound = 0.0f64;
         let mut first_normal: Option<DVec3> = None;
-        let mut flat = true;
+        let mut spread = 0.0f64;
         for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)] {
             let d = side.at(u.0 + du * i, v.0 + dv * j)?;
             lo = lo.min(d.point);
             hi = hi.max(d.point);
             match (d.regular_normal(), first_normal) {
                 (Some(n), None) => first_normal = Some(n),
-                (Some(n), Some(f)) => flat &= n.dot(f) >= FLAT_COSINE,
+                (Some(n), Some(f)) => spread = spread.max(n.dot(f).clamp(-1.0, 1.0).acos()),
                 // A pole (a collapsed edge) has no normal; its neighbours decide.
                 (None, _) => {}
             }
@@ -442,11 +464,27 @@ impl Cell {
             v,
             lo: lo - grow,
             hi: hi + grow,
-            flat,
+            axis: first_normal,
+            spread,
         })
     }
 
-    fn size(&self) -> f64 {
+    /// Whether the normals at the samples lie within [`FLAT_SPREAD`] of each other.
+    fn flat(&self) -> bool {
+        self.axis.is_some() && self.spread <= FLAT_SPREAD
+    }
+
+    /// Whether the two cells' normal cones are apart as lines (no normal of one parallel to a
+    /// normal of the other): their pieces then meet transversally, in no closed loop.
+    fn transversal(&self, other: &Cell) -> bool {
+        let (Some(a), Some(b)) = (self.axis, other.axis) else {
+            return false;
+        };
+        let angle = a.dot(b).abs().clamp(0.0, 1.0).acos();
+        angle > self.spread + other.spread + 2.0 * CONE_MARGIN
+    }
+
+    pub(crate) fn size(&self) -> f64 {
         self.lo.distance(self.hi)
     }
 
@@ -454,7 +492,7 @@ impl Cell {
         (self.lo - slack).cmple(other.hi).all() && (other.lo - slack).cmple(self.hi).all()
     }
 
-    fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
+    pub(crate) fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
         let (um, vm) = (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1));
         [
             ((self.u.0, um), (self.v.0, vm)),
@@ -467,7 +505,7 @@ impl Cell {
         .collect()
     }
 
-    fn centre(&self) -> (f64, f64) {
+    pub(crate) fn centre(&self) -> (f64, f64) {
         (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1))
     }
 }
@@ -512,8 +550,8 @@ pub fn intersect_surfaces(
     // A seed this close to a branch already traced belongs to it.
     let near = (options.chord * 4.0).max(options.tolerance * 100.0);
     // Depth first over pairs of cells whose boxes meet, tracing a branch as soon as a pair of
-    // small cells gives a seed off the branches so far; a pair of flat cells that a branch
-    // crosses already holds nothing more (two nearly flat pieces meet in one arc at most).
+    // small cells gives a seed off the branches so far; a pair of flat cells with cones apart
+    // that a branch crosses already holds nothing more.
     let whole = |side: &Side<'_>| {
         let [u, v] = side.domain;
         Cell::new(side, u, v)
@@ -535,7 +573,7 @@ pub fn intersect_surfaces(
                 .any(|p| p.cmpge(box_lo - near).all() && p.cmple(box_hi + near).all())
         });
         let small = ca.size() <= options.smallest && cb.size() <= options.smallest;
-        if covered && (small || (ca.flat && cb.flat)) {
+        if covered && (small || (ca.flat() && cb.flat() && ca.transversal(&cb))) {
             continue;
         }
         if !small && depth < 40 {

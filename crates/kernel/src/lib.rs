@@ -26,6 +26,7 @@
 pub mod basis;
 pub mod bernstein;
 pub mod bezier;
+pub mod blend;
 pub mod construct;
 pub mod continuity;
 pub mod curve;
@@ -38,6 +39,7 @@ pub mod ffd;
 pub mod fillet;
 pub mod fit;
 pub mod intersect;
+pub mod intersect_curve;
 pub mod join;
 pub mod loft;
 pub mod mesh;

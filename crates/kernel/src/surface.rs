@@ -1191,7 +1191,7 @@ impl NurbsSurface {
                     -g / d.sv.length_squared().max(1e-300),
                 )
             };
-            // Backtracking: halve the step until the distance does not grow. Where the Newton
+            // Backtracking: halve the step until the distance shrinks. Where the Newton
             // step finds no such point (an indefinite Jacobian near a tight fold), the
             // steepest-descent step scaled by the tangent lengths is tried the same way.
             let descend = |(du, dv): (f64, f64)| {
@@ -1201,7 +1201,9 @@ impl NurbsSurface {
                     let vn = (v + dv * step).clamp(v0, v1);
                     let dn = rational_derivatives(&self.homogeneous_derivatives(un, vn));
                     let distn = dn.point.distance(target);
-                    if distn <= dist {
+                    // Strictly closer: a step the domain's edge clamps to no move at all is
+                    // no step (the steepest descent is tried next).
+                    if distn < dist {
                         return Some((un, vn, dn, distn));
                     }
                     step *= 0.5;

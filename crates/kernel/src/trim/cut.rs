@@ -545,6 +545,9 @@ pub fn keep_region(
     keep: DVec2,
 ) -> Result<TrimmedSurface, GeometryError> {
     let rect = domain_rect(surface.surface());
+    // A point on the domain's edge (a pole picked) is taken a hair inside it.
+    let centre = DVec2::new(0.5 * (rect[0] + rect[1]), 0.5 * (rect[2] + rect[3]));
+    let keep = keep + (centre - keep) * 1e-7;
     let Prepared { chords, rings } = prepared(rect, cuts)?;
     let Region {
         outer,
