@@ -515,9 +515,10 @@ fn bench_intersect(
     bench_surface_ops(iterations, out)
 }
 
-/// Offsets, a fillet and a join (f64, one core): a bicubic floor offset at 1e-4 of its size
-/// (fitted) and a sphere (exact); the rolling-ball fillet of two crossing bicubics; six planes
-/// joined into a closed box and tessellated watertight at 1e-3 of its size.
+/// Offsets, a fillet, a blend, a match and a join (f64, one core): a bicubic floor offset at
+/// 1e-4 of its size (fitted) and a sphere (exact); the rolling-ball fillet of two crossing
+/// bicubics; a G2 blend and a G2 match between two bicubics' edges at 1e-6 of the size; six
+/// planes joined into a closed box and tessellated watertight at 1e-3 of its size.
 fn bench_surface_ops(
     iterations: usize,
     out: &mut impl Write,
@@ -556,6 +557,37 @@ fn bench_surface_ops(
         out,
         "fillet two bicubics, radius 0.4 | {sections} sections | {ms:8.3} ms (one core, median)"
     )?;
+    // The floor and a copy of it moved along and up: a G2 blend across the gap between their
+    // nearest edges, and the copy's edge matched to the floor's at G2.
+    {
+        use crate::kernel::blend::{
+            BlendOptions, EdgeContinuity, blend_edges, match_edge, nearest_sides,
+        };
+        let (lo, hi) = floor.bounds();
+        let step = DVec3::new((hi.x - lo.x) * 1.3, 0.0, 0.2 * size);
+        let copy = floor.transformed(&glam::DAffine3::from_translation(step))?;
+        let (sa, sb, _) = nearest_sides(&floor, &copy, 1e-9 * size).ok_or("no edges")?;
+        let options = BlendOptions {
+            continuity: EdgeContinuity::G2,
+            tension: [1.0, 1.0],
+            tolerance: 1e-6 * size,
+        };
+        let (ms, samples) = median_ms(runs, || {
+            blend_edges(&floor, sa, &copy, sb, &options).map(|b| b.samples)
+        })?;
+        writeln!(
+            out,
+            "G2 blend between two bicubics' edges | {samples} samples | {ms:8.3} ms (one core, median)"
+        )?;
+        let (ms, points) = median_ms(runs, || {
+            match_edge(&copy, sb, &floor, sa, EdgeContinuity::G2, 1e-6 * size)
+                .map(|m| m.surface.count()[0] * m.surface.count()[1])
+        })?;
+        writeln!(
+            out,
+            "G2 match of a bicubic's edge to another's | {points} control points | {ms:8.3} ms (one core, median)"
+        )?;
+    }
     let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
     let faces: Vec<TrimmedSurface> = [
         (DVec3::ZERO, y, x),

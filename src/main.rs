@@ -148,7 +148,8 @@ mod cli {
             #[arg(long)]
             curvature: Option<f64>,
         },
-        /// Intersect two surfaces of a project (by name) by marching: prints `{"curves":
+        /// Intersect two surfaces of a project (by name) by marching (a curve and a surface, or
+        /// two curves: their points, under "points"): prints `{"curves":
         /// [{"closed", "points", "uv": {A: [[u, v], ...], B: [...]}}], "touching": [...]}`,
         /// every branch (closed loops, branches ending on boundaries or trims, several
         /// components), each point within T × the scene's size of both surfaces, chords within
@@ -204,6 +205,60 @@ mod cli {
             side_b: String,
             /// Contact and tangency within this fraction of the scene's size.
             #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
+            tolerance: f64,
+            /// The project to write.
+            #[arg(short, long)]
+            output: std::path::PathBuf,
+        },
+        /// Blend across the gap between an edge of one surface and an edge of another: writes a
+        /// project with the blend surface named "blend" (G0, G1 or G2 to both) and prints how
+        /// it was made as JSON.
+        Blend {
+            /// The project (or any file knotwork opens).
+            project: std::path::PathBuf,
+            /// The two objects, by name.
+            #[arg(long, num_args = 2, required = true)]
+            objects: Vec<String>,
+            /// The edges, one of each object: a side of the face's parameter rectangle (u0, u1,
+            /// v0 or v1), after "FACE:" for an object with several faces; by default the two
+            /// edges nearest each other.
+            #[arg(long, num_args = 2)]
+            edges: Option<Vec<String>>,
+            /// G0, G1 or G2.
+            #[arg(long, default_value = "g2")]
+            continuity: String,
+            /// The tension at both edges (or, given twice, at each).
+            #[arg(long, num_args = 1..=2, default_values_t = [1.0])]
+            tension: Vec<f64>,
+            /// The control rows lie within this fraction of the scene's size of the exact
+            /// construction.
+            #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
+            tolerance: f64,
+            /// The project to write.
+            #[arg(short, long)]
+            output: std::path::PathBuf,
+        },
+        /// Match an edge of a NURBS surface to an edge of another surface at G0, G1 or G2 by
+        /// moving the control rows next to it: writes the project with the object changed and
+        /// prints how as JSON. `knotwork continuity` confirms the result.
+        Match {
+            /// The project (or any file knotwork opens).
+            project: std::path::PathBuf,
+            /// The object whose edge moves, by name.
+            #[arg(long)]
+            object: String,
+            /// The object it is matched to, by name.
+            #[arg(long)]
+            to: String,
+            /// The edges, the moving one first (as for blend); by default the two nearest.
+            #[arg(long, num_args = 2)]
+            edges: Option<Vec<String>>,
+            /// G0, G1 or G2.
+            #[arg(long, default_value = "g2")]
+            continuity: String,
+            /// The new control rows lie within this fraction of the scene's size of the exact
+            /// data.
+            #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
             tolerance: f64,
             /// The project to write.
             #[arg(short, long)]
@@ -483,9 +538,16 @@ mod cli {
             }
             let project = open_project(path)?;
             let scene = &project.scene;
+            let size = knotwork::doc::surface_ops::scene_size(scene);
+            if let Some(points) = curve_points(scene, names, tolerance * size, 1e-2 * size)? {
+                return Ok(serde_json::json!({
+                    "curves": [],
+                    "points": points,
+                    "touching": [],
+                }));
+            }
             let object = |name: &String| surface_named(scene, name).map(|k| &scene.objects[k]);
             let (a, b) = (object(&names[0])?, object(&names[1])?);
-            let size = knotwork::doc::surface_ops::scene_size(scene);
             let options = IntersectOptions {
                 tolerance: tolerance * size,
                 ..IntersectOptions::for_size(size)
@@ -523,6 +585,64 @@ mod cli {
             Ok(serde_json::json!({ "curves": curves, "touching": touching }))
         };
         finish("intersect", run())
+    }
+
+    /// Where a curve meets a surface or another curve (`None` when neither named object is a
+    /// curve): each point with the curve's parameter `t` (per curve, by name, for two curves)
+    /// and the surface's `uv` by name.
+    fn curve_points(
+        scene: &knotwork::scene::Scene,
+        names: &[String],
+        tolerance: f64,
+        smallest: f64,
+    ) -> Result<Option<Vec<serde_json::Value>>, String> {
+        use knotwork::kernel::intersect_curve::{intersect_curve_surface, intersect_curves};
+        let find = |name: &String| {
+            scene
+                .objects
+                .iter()
+                .find(|o| &o.name == name)
+                .ok_or_else(|| format!("no object named {name:?}"))
+        };
+        let (a, b) = (find(&names[0])?, find(&names[1])?);
+        let (ca, cb) = (a.kind().space_curve(), b.kind().space_curve());
+        let points = match (ca, cb) {
+            (None, None) => return Ok(None),
+            (Some(x), Some(y)) => intersect_curves(x, y, tolerance, smallest)
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .map(|h| {
+                    let mut t = serde_json::Map::new();
+                    t.insert(a.name.clone(), h.t_a.into());
+                    t.insert(b.name.clone(), h.t_b.into());
+                    serde_json::json!({ "point": h.point.to_array(), "t": t })
+                })
+                .collect(),
+            (Some(curve), None) | (None, Some(curve)) => {
+                let (surface, curve_name) = if ca.is_some() {
+                    (b, &a.name)
+                } else {
+                    (a, &b.name)
+                };
+                surface_named(scene, &surface.name)?;
+                let mut out = Vec::new();
+                for (_, face) in surface.faces() {
+                    for h in intersect_curve_surface(curve, face.as_ref(), tolerance, smallest)
+                        .map_err(|e| e.to_string())?
+                    {
+                        let mut uv = serde_json::Map::new();
+                        uv.insert(surface.name.clone(), serde_json::json!(h.uv.to_array()));
+                        let mut t = serde_json::Map::new();
+                        t.insert(curve_name.clone(), h.t.into());
+                        out.push(serde_json::json!({
+                            "point": h.point.to_array(), "t": t, "uv": uv,
+                        }));
+                    }
+                }
+                out
+            }
+        };
+        Ok(Some(points))
     }
 
     /// The project (or any file knotwork opens) at `path`.
@@ -685,6 +805,132 @@ mod cli {
             }))
         };
         finish("fillet", run())
+    }
+
+    /// An edge named "v0" or "FACE:v0".
+    fn parse_edge(text: &str) -> Result<knotwork::doc::surface_ops::FaceSide, String> {
+        use knotwork::kernel::continuity::Side;
+        let (face, side) = match text.split_once(':') {
+            Some((f, s)) => (
+                f.trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("edge {text:?}: {f:?} is not a face number"))?,
+                s,
+            ),
+            None => (0, text),
+        };
+        let side = Side::ALL
+            .into_iter()
+            .find(|k| k.name() == side.trim().to_ascii_lowercase())
+            .ok_or_else(|| format!("edge {text:?}: the side must be u0, u1, v0 or v1"))?;
+        Ok((face, side))
+    }
+
+    /// The edges of `--edges`, parsed.
+    fn parse_edges(
+        edges: Option<&[String]>,
+    ) -> Result<Option<[knotwork::doc::surface_ops::FaceSide; 2]>, String> {
+        edges
+            .map(|e| Ok([parse_edge(&e[0])?, parse_edge(&e[1])?]))
+            .transpose()
+    }
+
+    fn parse_continuity(text: &str) -> Result<knotwork::kernel::blend::EdgeContinuity, String> {
+        knotwork::kernel::blend::EdgeContinuity::parse(text)
+            .ok_or_else(|| format!("the continuity must be g0, g1 or g2, not {text:?}"))
+    }
+
+    /// Applies `command` to the project at `input`, writes it to `output` and prints the
+    /// command's label with `what` of the scene after it.
+    fn apply_and_write(
+        name: &str,
+        input: &std::path::Path,
+        output: &std::path::Path,
+        command: impl FnOnce(&knotwork::scene::Scene) -> Result<knotwork::doc::Command, String>,
+        what: impl FnOnce(&knotwork::scene::Scene) -> serde_json::Value,
+    ) -> ExitCode {
+        let run = || -> Result<serde_json::Value, String> {
+            let mut project = open_project(input)?;
+            let command = command(&project.scene)?;
+            let started = std::time::Instant::now();
+            let edit =
+                knotwork::doc::apply(&mut project.scene, &command).map_err(|e| e.to_string())?;
+            let millis = started.elapsed().as_secs_f64() * 1e3;
+            write_project(&project, output)?;
+            eprintln!(
+                "{} in {millis:.1} ms; wrote {}",
+                edit.label,
+                output.display()
+            );
+            let mut json = what(&project.scene);
+            json["summary"] = edit.label.into();
+            Ok(json)
+        };
+        finish(name, run())
+    }
+
+    /// The options of `knotwork blend` and `knotwork match`.
+    pub struct EdgeArgs<'a> {
+        pub input: &'a std::path::Path,
+        /// The two objects (for a match: the one that moves first).
+        pub names: [&'a str; 2],
+        pub edges: Option<&'a [String]>,
+        pub continuity: &'a str,
+        pub tension: &'a [f64],
+        pub tolerance: f64,
+        pub output: &'a std::path::Path,
+    }
+
+    /// `knotwork blend`: the project with the blend between two objects' edges added.
+    pub fn blend(args: EdgeArgs) -> ExitCode {
+        use knotwork::doc::surface_ops::BlendRequest;
+        let tension = [
+            args.tension.first().copied().unwrap_or(1.0),
+            args.tension
+                .get(1)
+                .or(args.tension.first())
+                .copied()
+                .unwrap_or(1.0),
+        ];
+        apply_and_write(
+            "blend",
+            args.input,
+            args.output,
+            |scene| {
+                Ok(knotwork::doc::Command::Blend(BlendRequest {
+                    a: surface_named(scene, args.names[0])?,
+                    b: surface_named(scene, args.names[1])?,
+                    edges: parse_edges(args.edges)?,
+                    continuity: parse_continuity(args.continuity)?,
+                    tension,
+                    tolerance: args.tolerance,
+                }))
+            },
+            |scene| {
+                let name = scene.objects.last().map(|o| o.name.clone());
+                serde_json::json!({ "blend": name })
+            },
+        )
+    }
+
+    /// `knotwork match`: the project with one object's edge matched to another's.
+    pub fn match_edge(args: EdgeArgs) -> ExitCode {
+        use knotwork::doc::surface_ops::MatchRequest;
+        apply_and_write(
+            "match",
+            args.input,
+            args.output,
+            |scene| {
+                Ok(knotwork::doc::Command::Match(MatchRequest {
+                    object: surface_named(scene, args.names[0])?,
+                    target: surface_named(scene, args.names[1])?,
+                    edges: parse_edges(args.edges)?,
+                    continuity: parse_continuity(args.continuity)?,
+                    tolerance: args.tolerance,
+                }))
+            },
+            |_| serde_json::json!({ "matched": args.names[0] }),
+        )
     }
 
     /// `knotwork join`: the project with its surfaces joined where they share edges.
@@ -1031,6 +1277,44 @@ fn main() -> std::process::ExitCode {
             output,
         }) => {
             return cli::join(project, *tolerance, output);
+        }
+        Some(cli::Command::Blend {
+            project,
+            objects,
+            edges,
+            continuity,
+            tension,
+            tolerance,
+            output,
+        }) => {
+            return cli::blend(cli::EdgeArgs {
+                input: project,
+                names: [&objects[0], &objects[1]],
+                edges: edges.as_deref(),
+                continuity,
+                tension,
+                tolerance: *tolerance,
+                output,
+            });
+        }
+        Some(cli::Command::Match {
+            project,
+            object,
+            to,
+            edges,
+            continuity,
+            tolerance,
+            output,
+        }) => {
+            return cli::match_edge(cli::EdgeArgs {
+                input: project,
+                names: [object, to],
+                edges: edges.as_deref(),
+                continuity,
+                tension: &[],
+                tolerance: *tolerance,
+                output,
+            });
         }
         Some(cli::Command::Fillet {
             project,

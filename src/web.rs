@@ -534,6 +534,82 @@ pub fn split_by(object: u32, cutters: Vec<u32>) {
     }));
 }
 
+/// `[face, side, face, side]` (side: 0 u0, 1 u1, 2 v0, 3 v1) as two edges; empty: `None`.
+fn edge_pair(edges: &[u32]) -> Option<[crate::doc::surface_ops::FaceSide; 2]> {
+    use crate::kernel::continuity::Side;
+    let side = |k: u32| Side::ALL.get(k as usize).copied();
+    match edges {
+        [fa, sa, fb, sb] => Some([(*fa as usize, side(*sa)?), (*fb as usize, side(*sb)?)]),
+        _ => None,
+    }
+}
+
+/// G0, G1 or G2 from 0, 1 or 2 (G2 above).
+fn edge_continuity(order: u32) -> crate::kernel::blend::EdgeContinuity {
+    use crate::kernel::blend::EdgeContinuity;
+    match order {
+        0 => EdgeContinuity::G0,
+        1 => EdgeContinuity::G1,
+        _ => EdgeContinuity::G2,
+    }
+}
+
+/// Adds "blend" across the gap between an edge of object `a` and one of `b` at continuity
+/// `continuity` (0, 1, 2: G0, G1, G2) with the tensions at each edge; `edges` as
+/// `[face, side, face, side]`, or empty for the two nearest (one undo step).
+#[wasm_bindgen]
+pub fn blend(a: u32, b: u32, continuity: u32, tension_a: f64, tension_b: f64, edges: Vec<u32>) {
+    send(AppCommand::Edit(Command::Blend(
+        crate::doc::surface_ops::BlendRequest {
+            a: a as usize,
+            b: b as usize,
+            edges: edge_pair(&edges),
+            continuity: edge_continuity(continuity),
+            tension: [tension_a, tension_b],
+            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
+        },
+    )));
+}
+
+/// Moves an edge of object `object` onto an edge of `target` at continuity `continuity`
+/// (edges as for [`blend`]; one undo step).
+#[wasm_bindgen]
+pub fn match_edge(object: u32, target: u32, continuity: u32, edges: Vec<u32>) {
+    send(AppCommand::Edit(Command::Match(
+        crate::doc::surface_ops::MatchRequest {
+            object: object as usize,
+            target: target as usize,
+            edges: edge_pair(&edges),
+            continuity: edge_continuity(continuity),
+            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
+        },
+    )));
+}
+
+/// Adds the sections of object `object` by the planes with normal (nx, ny, nz) through
+/// (ox, oy, oz) + k · `spacing` · normal as curves (one undo step).
+#[wasm_bindgen]
+#[allow(clippy::too_many_arguments)]
+pub fn contour(object: u32, spacing: f64, nx: f64, ny: f64, nz: f64, ox: f64, oy: f64, oz: f64) {
+    send(AppCommand::Edit(Command::Contour {
+        object: object as usize,
+        origin: glam::DVec3::new(ox, oy, oz),
+        normal: glam::DVec3::new(nx, ny, nz),
+        spacing,
+    }));
+}
+
+/// Adds the curves `curves` projected onto object `onto` along (x, y, z), or with `pull`
+/// pulled to its nearest points, as curves (one undo step).
+#[wasm_bindgen]
+pub fn project_curves(curves: Vec<u32>, onto: u32, x: f64, y: f64, z: f64, pull: bool) {
+    send(AppCommand::Edit(Command::Project {
+        curves: curves.into_iter().map(|k| k as usize).collect(),
+        onto: onto as usize,
+        direction: (!pull).then_some(glam::DVec3::new(x, y, z)),
+    }));
+}
+
 /// Object `object`, a polysurface, as its faces (one undo step).
 #[wasm_bindgen]
 pub fn explode(object: u32) {

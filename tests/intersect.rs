@@ -120,19 +120,60 @@ fn a_plane_through_a_sphere_and_a_torus_is_found_by_the_command() {
         );
     }
 
-    // A curve has no faces; a name that is not there is refused by name.
-    let curve = construct::circle(DVec3::ZERO, DVec3::Z, DVec3::X, 1.0).unwrap();
+    // A curve meets the sphere at points: a circle in the equator's plane, centred off the
+    // axis, crosses the equator at x = 1/4; another circle crosses it at two points too.
+    let curve = construct::circle(DVec3::new(0.5, 0.0, 0.0), DVec3::Z, DVec3::X, 1.0).unwrap();
+    let other = construct::circle(DVec3::new(-0.5, 0.0, 0.0), DVec3::Z, DVec3::X, 1.0).unwrap();
+    let mesh =
+        knotwork::kernel::PolygonMesh::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y], &[vec![0, 1, 2]])
+            .unwrap();
     let with_curve = write_project(
         "with-curve.json",
         vec![
             surface_object("Ball", sphere),
             SceneObject::new("Hoop", ObjectGeometry::new(curve)),
+            SceneObject::new("Ring", ObjectGeometry::new(other)),
+            SceneObject::new("Sheet", ObjectGeometry::new(mesh)),
         ],
     );
     let out = run(&[with_curve.to_str().unwrap(), "--objects", "Ball", "Hoop"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points = json["points"].as_array().unwrap();
+    assert_eq!(points.len(), 2, "{json}");
+    for p in points {
+        let xyz: Vec<f64> = p["point"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert!(
+            (xyz[0] - 0.25).abs() < 1e-6 && (xyz[1].abs() - 0.9375f64.sqrt()).abs() < 1e-6,
+            "{p}"
+        );
+        assert!(p["uv"]["Ball"].is_array() && p["t"]["Hoop"].is_number());
+    }
+    let out = run(&[with_curve.to_str().unwrap(), "--objects", "Hoop", "Ring"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points = json["points"].as_array().unwrap();
+    assert_eq!(points.len(), 2, "{json}");
+    assert!(
+        points
+            .iter()
+            .all(|p| p["point"][0].as_f64().unwrap().abs() < 1e-6)
+    );
+    // An object without faces (a polygon mesh) and a name that is not there are refused.
+    let out = run(&[with_curve.to_str().unwrap(), "--objects", "Ball", "Sheet"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        String::from_utf8_lossy(&out.stderr).contains("Hoop is a NURBS curve, which has no faces")
+        String::from_utf8_lossy(&out.stderr).contains("which has no faces"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
     );
     let out = run(&[with_curve.to_str().unwrap(), "--objects", "Ball", "Nowhere"]);
     assert_eq!(out.status.code(), Some(1));

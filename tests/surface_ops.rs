@@ -887,3 +887,356 @@ fn a_cylinder_standing_on_a_plane_gets_a_fillet_all_round() {
         assert_eq!(post_after.contains(0.3, v), kept, "post at z = {z}");
     }
 }
+
+#[test]
+fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
+    let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+    let hoop = construct::circle(DVec3::Z * 2.0, DVec3::Z, DVec3::X, 0.5).unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![
+            surface_object("Ball", sphere),
+            SceneObject::new("Hoop", ObjectGeometry::new(hoop)),
+        ],
+    });
+    // Planes z = -0.5, 0 and 0.5 cut circles; z = ±1 only touch at the poles.
+    doc.execute(&Command::Contour {
+        object: 0,
+        origin: DVec3::ZERO,
+        normal: DVec3::Z,
+        spacing: 0.5,
+    })
+    .unwrap();
+    let mut levels = Vec::new();
+    for object in &doc.scene.objects[2..] {
+        assert!(object.name.starts_with("Ball contour"), "{}", object.name);
+        let curve = object.kind().space_curve().unwrap();
+        let (t0, t1) = curve.domain();
+        let mut worst = 0.0f64;
+        let z = curve.point_at(t0).unwrap().z;
+        for i in 0..=50 {
+            let p = curve.point_at(t0 + (t1 - t0) * i as f64 / 50.0).unwrap();
+            worst = worst.max((p.length() - 1.0).abs()).max((p.z - z).abs());
+        }
+        assert!(worst < 1e-5, "{worst}");
+        levels.push((z * 2.0).round() as i32);
+    }
+    levels.sort();
+    levels.dedup();
+    assert_eq!(levels, vec![-1, 0, 1]);
+    let count = doc.scene.objects.len();
+    // Projected straight down: on the upper half at height √(1 − 0.25).
+    doc.execute(&Command::Project {
+        curves: vec![1],
+        onto: 0,
+        direction: Some(-DVec3::Z),
+    })
+    .unwrap();
+    let projected = doc.scene.objects[count]
+        .kind()
+        .space_curve()
+        .unwrap()
+        .clone();
+    // Pulled: to the nearest points, along the radius.
+    doc.execute(&Command::Project {
+        curves: vec![1],
+        onto: 0,
+        direction: None,
+    })
+    .unwrap();
+    let pulled = doc.scene.objects[count + 1]
+        .kind()
+        .space_curve()
+        .unwrap()
+        .clone();
+    let height = 0.75f64.sqrt();
+    let along = |c: &knotwork::kernel::SpaceCurve, check: &dyn Fn(DVec3) -> f64| {
+        let (t0, t1) = c.domain();
+        (0..=64)
+            .map(|i| check(c.point_at(t0 + (t1 - t0) * i as f64 / 64.0).unwrap()))
+            .fold(0.0f64, f64::max)
+    };
+    let off = along(&projected, &|p| {
+        (p.z - height).abs().max((p.x.hypot(p.y) - 0.5).abs())
+    });
+    assert!(off < 1e-6, "projected {off}");
+    let radial = DVec3::new(0.5, 0.0, 2.0).normalize();
+    let off = along(&pulled, &|p| {
+        (p.length() - 1.0).abs().max((p.z - radial.z).abs())
+    });
+    assert!(off < 1e-6, "pulled {off}");
+    // The projection lies on the sphere: it trims it.
+    doc.execute(&Command::TrimBy {
+        object: 0,
+        cutters: vec![count],
+        keep: DVec3::Z,
+    })
+    .unwrap();
+    let area = mesh_area(&doc.scene.objects[0], 1e-4);
+    let cap = 2.0 * std::f64::consts::PI * (1.0 - height);
+    assert!((area - cap).abs() < 1e-2 * cap, "{area} vs {cap}");
+}
+
+/// A bicubic sheet over [x0, x0 + 2] × [0, 2] at heights `h`.
+fn sheet(x0: f64, h: impl Fn(f64, f64) -> f64) -> NurbsSurface {
+    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
+    let mut points = Vec::new();
+    for i in 0..5 {
+        for j in 0..5 {
+            let (x, y) = (x0 + 0.5 * i as f64, 0.5 * j as f64);
+            points.push(DVec3::new(x, y, h(x, y)));
+        }
+    }
+    NurbsSurface::new([3, 3], [knots.clone(), knots], [5, 5], points, None).unwrap()
+}
+
+/// `knotwork continuity` on `path` for `objects`: every shared edge's JSON.
+fn continuity_of(path: &std::path::Path, objects: &[&str]) -> Vec<Value> {
+    let mut args = vec!["continuity", path.to_str().unwrap(), "--objects"];
+    args.extend_from_slice(objects);
+    let out = knotwork(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice::<Value>(&out.stdout)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone()
+}
+
+#[test]
+fn a_blend_between_two_sheets_is_g2_to_both_by_knotwork_continuity() {
+    let left = sheet(-3.0, |x, y| 0.2 * (0.7 * x).sin() + 0.1 * y * y);
+    let right = sheet(1.0, |x, y| 0.5 + 0.3 * (0.5 * x).cos() * y);
+    let input = write_project(
+        "blend-in.json",
+        vec![surface_object("Left", left), surface_object("Right", right)],
+    );
+    for (continuity, verdict) in [("g1", "G1"), ("g2", "G2")] {
+        let output = temp_dir().join(format!("blend-{continuity}.json"));
+        let out = knotwork(&[
+            "blend",
+            input.to_str().unwrap(),
+            "--objects",
+            "Left",
+            "Right",
+            "--continuity",
+            continuity,
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["blend"], "blend");
+        let edges = continuity_of(&output, &["Left", "blend", "Right"]);
+        assert_eq!(edges.len(), 2, "{edges:?}");
+        for e in &edges {
+            assert!(e["verdict"] == verdict || e["verdict"] == "G2", "{e}");
+            assert!(e["max_angle_degrees"].as_f64().unwrap() < 1e-3, "{e}");
+        }
+        // The blend runs from Left's x = -1 edge to Right's x = 1 edge.
+        let blend = named(&read_project(&output), "blend")
+            .geometry
+            .nurbs_surface()
+            .unwrap()
+            .clone();
+        let [(u0, u1), (v0, v1)] = blend.domain();
+        for k in 0..=4 {
+            let u = u0 + (u1 - u0) * k as f64 / 4.0;
+            assert!((blend.point_at(u, v0).unwrap().x + 1.0).abs() < 1e-6);
+            assert!((blend.point_at(u, v1).unwrap().x - 1.0).abs() < 1e-6);
+        }
+    }
+    // Edges named explicitly; a bad side or continuity is refused by name.
+    let output = temp_dir().join("blend-named.json");
+    let out = knotwork(&[
+        "blend",
+        input.to_str().unwrap(),
+        "--objects",
+        "Left",
+        "Right",
+        "--edges",
+        "u1",
+        "0:u0",
+        "--continuity",
+        "G0",
+        "--tension",
+        "0.5",
+        "2",
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for (flag, value, message) in [
+        ("--edges", "w9", "the side must be u0, u1, v0 or v1"),
+        ("--continuity", "g7", "the continuity must be g0, g1 or g2"),
+    ] {
+        let mut args = vec![
+            "blend",
+            input.to_str().unwrap(),
+            "--objects",
+            "Left",
+            "Right",
+            flag,
+            value,
+        ];
+        if flag == "--edges" {
+            args.push("u0");
+        }
+        args.extend(["-o", output.to_str().unwrap()]);
+        let out = knotwork(&args);
+        assert_eq!(out.status.code(), Some(1));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(message),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
+    // A quarter cylinder of radius 1 about the y axis from x = 1 up to the top, z = 1, where it
+    // leaves horizontally towards −x; a tilted sheet beside its top edge, a little apart.
+    let arc = construct::arc(
+        DVec3::ZERO,
+        DVec3::X,
+        DVec3::Z,
+        1.0,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+    )
+    .unwrap();
+    let roof = construct::extrude(&arc, DVec3::Y * 2.0).unwrap();
+    let flat = sheet(-2.1, |x, y| 1.05 + 0.05 * (x + 0.1) + 0.02 * y);
+    let objects = vec![
+        surface_object("Sheet", flat.clone()),
+        surface_object("Roof", roof),
+    ];
+    let input = write_project("match-in.json", objects.clone());
+    for (continuity, verdicts) in [
+        ("g0", &["G0", "G1", "G2"][..]),
+        ("g1", &["G1", "G2"][..]),
+        ("g2", &["G2"][..]),
+    ] {
+        let output = temp_dir().join(format!("match-{continuity}.json"));
+        let out = knotwork(&[
+            "match",
+            input.to_str().unwrap(),
+            "--object",
+            "Sheet",
+            "--to",
+            "Roof",
+            "--continuity",
+            continuity,
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let edges = continuity_of(&output, &["Sheet", "Roof"]);
+        assert_eq!(edges.len(), 1, "{continuity}: {edges:?}");
+        let verdict = edges[0]["verdict"].as_str().unwrap();
+        assert!(verdicts.contains(&verdict), "{continuity}: {}", edges[0]);
+        if continuity == "g2" {
+            // The roof's curvature across the edge is 1: the sheet bends to it.
+            let e = &edges[0];
+            assert!(
+                e["max_relative_curvature_difference"].as_f64().unwrap() < 1e-3,
+                "{e}"
+            );
+        }
+    }
+
+    // In the document: one undo step, and the far edge stays.
+    let mut doc = Document::new(Scene { objects });
+    doc.execute(&Command::Match(knotwork::doc::surface_ops::MatchRequest {
+        object: 0,
+        target: 1,
+        edges: None,
+        continuity: knotwork::kernel::blend::EdgeContinuity::G2,
+        tolerance: 1e-8,
+    }))
+    .unwrap();
+    let moved = doc.scene.objects[0]
+        .geometry
+        .nurbs_surface()
+        .unwrap()
+        .clone();
+    for k in 0..=4 {
+        let v = k as f64 / 4.0;
+        let far = moved.point_at(0.0, v).unwrap();
+        assert!(far.distance(flat.point_at(0.0, v).unwrap()) < 1e-12);
+        let near = moved.point_at(1.0, v).unwrap();
+        assert!(
+            (near - DVec3::new(0.0, 2.0 * v, 1.0)).length() < 1e-6,
+            "{near}"
+        );
+    }
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.objects[0].geometry.nurbs_surface(), Some(&flat));
+
+    // Refusals say why and leave the document as it was: a match onto itself, an edge of a
+    // face the object does not have, a blend with a tension of 0.
+    let before = doc.scene.clone();
+    let request = knotwork::doc::surface_ops::BlendRequest {
+        a: 0,
+        b: 1,
+        edges: None,
+        continuity: knotwork::kernel::blend::EdgeContinuity::G1,
+        tension: [1.0, 1.0],
+        tolerance: 1e-6,
+    };
+    let refusals = [
+        (
+            Command::Match(knotwork::doc::surface_ops::MatchRequest {
+                object: 0,
+                target: 0,
+                edges: None,
+                continuity: knotwork::kernel::blend::EdgeContinuity::G1,
+                tolerance: 1e-6,
+            }),
+            "needs two different objects",
+        ),
+        (
+            Command::Blend(knotwork::doc::surface_ops::BlendRequest {
+                edges: Some([
+                    (3, knotwork::kernel::continuity::Side::U1),
+                    (0, knotwork::kernel::continuity::Side::V0),
+                ]),
+                ..request
+            }),
+            "not a face 3",
+        ),
+        (
+            Command::Blend(knotwork::doc::surface_ops::BlendRequest {
+                tension: [0.0, 1.0],
+                ..request
+            }),
+            "tension",
+        ),
+    ];
+    for (command, message) in refusals {
+        let e = doc.execute(&command).unwrap_err().to_string();
+        assert!(e.contains(message), "{e}");
+        assert_eq!(doc.scene, before);
+    }
+    doc.execute(&Command::Blend(request)).unwrap();
+    assert_eq!(doc.scene.objects.len(), 3);
+    assert_eq!(doc.scene.objects[2].name, "blend");
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before);
+}

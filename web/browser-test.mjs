@@ -1391,6 +1391,66 @@ async function main() {
       await page.close();
     });
 
+    await check('blend, match, contour and projection in the page: each one undo step, refusals change nothing', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const plane = (name, corners) => ({
+        type: 'nurbs_surface', name, segments: 8, degree: [1, 1],
+        knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
+        points: corners.map((row) => row.map((p) => [...p, 1])),
+      });
+      // Two level plates with a gap between x = -1 and x = 1, the right one higher, and a
+      // line above the left one.
+      await openObjects(page, [
+        plane('Left', [[[-3, 0, 0], [-3, 2, 0]], [[-1, 0, 0], [-1, 2, 0]]]),
+        plane('Right', [[[1, 0, 0.5], [1, 2, 0.5]], [[3, 0, 0.5], [3, 2, 0.5]]]),
+        { type: 'nurbs_curve', name: 'Line', degree: 1, knots: [0, 0, 1, 1], points: [[-2.5, 0.5, 2, 1], [-1.5, 1.5, 2, 1]] },
+      ]);
+      await page.evaluate(() => window.knotwork.frame());
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.blend(0, 1, { continuity: 'G2' }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 4, null, { timeout: 60_000 });
+      let s = await status(page);
+      assert(s.error === null && /G2 blend from Left u1 to Right u0/.test(s.last_edit), `blend: ${s.error}, ${s.last_edit}`);
+      await nextFrames(page);
+      const blended = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/surface-tools-blend.png`, blended);
+      const changed = await screenshotDifference(page, before, blended, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(changed.differing > 200, `the blend shows on screen (${changed.differing} px)`);
+      // Match the right plate's near edge onto the left's at G1: its first rows move.
+      await page.evaluate(() => window.knotwork.matchEdge(1, 0, { continuity: 'G1' }));
+      await page.waitForFunction(() => /match Right/.test(window.knotwork.status().last_edit ?? ''), null, { timeout: 60_000 });
+      let objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      const edge = objects[1].points[0][0];
+      assert(Math.abs(edge[0] / edge[3] + 1) < 1e-6 && Math.abs(edge[2] / edge[3]) < 1e-6, `the edge moved onto Left's: ${JSON.stringify(edge)}`);
+      // Contours of the left plate every 0.4 across x, and the line projected down onto it.
+      await page.evaluate(() => window.knotwork.contour(0, 0.4, { normal: [1, 0, 0], origin: [0.1, 0, 0] }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 9, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /contour Left: 5 curve/.test(s.last_edit), `contour: ${s.error}, ${s.last_edit}`);
+      await page.evaluate(() => window.knotwork.projectCurves([2], 0, [0, 0, -1]));
+      await page.waitForFunction(() => window.knotwork.status().objects === 10, null, { timeout: 60_000 });
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      const projected = objects[9];
+      assert(projected.name === 'Line projected' && projected.points.every((p) => Math.abs(p[2] / (p[3] ?? 1)) < 1e-6), `on the left plate: ${JSON.stringify(projected.points.slice(0, 2))}`);
+      // Refusals: bad arguments throw; what only the document can check is refused in the
+      // status and changes nothing.
+      let thrown = null;
+      try { await page.evaluate(() => window.knotwork.blend(0, 1, { continuity: 'G7' })); } catch (e) { thrown = String(e); }
+      assert(thrown !== null && /options.continuity must be one of/.test(thrown), `a bad continuity throws: ${thrown}`);
+      await page.evaluate(() => window.knotwork.matchEdge(0, 0));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.objects === 10 && /two different objects/.test(s.error), `a refused match changes nothing: ${s.error}`);
+      for (let k = 0; k < 4; k += 1) await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 60_000 });
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(Math.abs(objects[1].points[0][0][0] - 1) < 1e-12, 'undo brings the right plate back');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('editing latency in the browser: pick among 10,000 points, drag-to-new-frame', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

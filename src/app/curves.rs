@@ -754,6 +754,8 @@ pub struct CurveState {
     pub keep_history: bool,
     /// The object the selected one is to be intersected with.
     pub intersect_with: Option<usize>,
+    /// The surface the selected curve is to be projected or pulled onto.
+    pub project_onto: Option<usize>,
     pub loft_closed: bool,
     pub loft_style: crate::kernel::loft::LoftStyle,
     pub revolve_angle: f64,
@@ -776,6 +778,7 @@ impl Default for CurveState {
             plane: PlaneChoice::Ground,
             keep_history: true,
             intersect_with: None,
+            project_onto: None,
             loft_closed: false,
             loft_style: crate::kernel::loft::LoftStyle::Normal,
             revolve_angle: 360.0,
@@ -1055,6 +1058,7 @@ impl KnotworkApp {
         }
         self.history_controls(ui);
         self.intersect_controls(ui);
+        self.project_controls(ui);
         self.curve_edit_controls(ui);
     }
 
@@ -1081,28 +1085,14 @@ impl KnotworkApp {
         {
             return;
         }
-        if self
-            .curves
-            .intersect_with
-            .is_none_or(|k| !with_faces.iter().any(|(j, _)| *j == k))
-        {
-            self.curves.intersect_with = Some(with_faces[0].0);
-        }
         ui.separator();
         ui.horizontal(|ui| {
-            ui.label("Intersect with");
-            let chosen = self.curves.intersect_with.unwrap_or(with_faces[0].0);
-            let name = with_faces
-                .iter()
-                .find(|(k, _)| *k == chosen)
-                .map_or("", |(_, n)| n.as_str());
-            egui::ComboBox::from_id_salt("intersect with")
-                .selected_text(name)
-                .show_ui(ui, |ui| {
-                    for (k, n) in &with_faces {
-                        ui.selectable_value(&mut self.curves.intersect_with, Some(*k), n);
-                    }
-                });
+            let chosen = super::surface_tools::object_choice(
+                ui,
+                "Intersect with",
+                &mut self.curves.intersect_with,
+                &with_faces,
+            );
             if ui
                 .button("Intersect")
                 .on_hover_text("the curves where they meet, as curve objects")
@@ -1111,6 +1101,66 @@ impl KnotworkApp {
                 self.apply(AppCommand::Edit(Command::Intersect { a: s, b: chosen }));
             }
         });
+    }
+
+    /// Project the selected curve onto a surface along the view, or pull it to the surface's
+    /// nearest points: the curves on the surface become curve objects (one undo step).
+    fn project_controls(&mut self, ui: &mut egui::Ui) {
+        let Some(s) = self.selection.object else {
+            return;
+        };
+        if self
+            .scene()
+            .objects
+            .get(s)
+            .is_none_or(|o| o.kind().space_curve().is_none())
+        {
+            return;
+        }
+        let onto: Vec<(usize, String)> = self
+            .scene()
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.geometry.as_trimmed().is_some())
+            .map(|(k, o)| (k, o.name.clone()))
+            .collect();
+        if onto.is_empty() {
+            return;
+        }
+        ui.separator();
+        let chosen =
+            super::surface_tools::object_choice(ui, "Onto", &mut self.curves.project_onto, &onto);
+        let camera = &self.view.camera;
+        let view = (camera.target - camera.eye()).as_dvec3();
+        let mut command = None;
+        ui.horizontal(|ui| {
+            if ui
+                .button("Project")
+                .on_hover_text("along the view direction, onto the surface")
+                .clicked()
+            {
+                command = Some(Command::Project {
+                    curves: vec![s],
+                    onto: chosen,
+                    direction: Some(view),
+                });
+            }
+            if ui
+                .button("Pull")
+                .on_hover_text("each point to the nearest point of the surface")
+                .clicked()
+            {
+                command = Some(Command::Project {
+                    curves: vec![s],
+                    onto: chosen,
+                    direction: None,
+                });
+            }
+        });
+        if let Some(command) = command {
+            self.apply(AppCommand::Edit(command));
+        }
     }
 
     fn drawing_controls(&mut self, ui: &mut egui::Ui) {

@@ -1,12 +1,16 @@
 //! The surface tools of the selected object in the side panel: offset, fillet with another
-//! object, join with the surfaces whose edges meet it, and explode a polysurface. Each is one
-//! command (one undo step); a refusal shows its reason and changes nothing.
+//! object, trim and split by another, blend to or match with another's edge, contours, join
+//! with the surfaces whose edges meet it, and explode a polysurface. Each is one command (one
+//! undo step); a refusal shows its reason and changes nothing.
 
 use eframe::egui;
 
 use super::{AppCommand, KnotworkApp};
 use crate::doc::Command;
-use crate::doc::surface_ops::{EDITOR_TOLERANCE, FilletRequest, JOIN_TOLERANCE};
+use crate::doc::surface_ops::{
+    BlendRequest, EDITOR_TOLERANCE, FilletRequest, JOIN_TOLERANCE, MatchRequest,
+};
+use crate::kernel::blend::EdgeContinuity;
 use crate::scene::polysurface::Polysurface;
 
 /// The surface tools' settings.
@@ -23,6 +27,14 @@ pub struct SurfaceToolState {
     pub cut_with: Option<usize>,
     /// A trim waiting for the click on the part to keep: (object, cutter).
     pub pending_trim: Option<(usize, usize)>,
+    /// The object whose nearest edge the selected one is blended to or matched with.
+    pub edge_with: Option<usize>,
+    pub continuity: EdgeContinuity,
+    /// The blend's tension at both edges.
+    pub tension: f64,
+    /// The distance between contour planes and their normal (0: x, 1: y, 2: z).
+    pub contour_spacing: f64,
+    pub contour_axis: usize,
 }
 
 impl Default for SurfaceToolState {
@@ -35,6 +47,11 @@ impl Default for SurfaceToolState {
             front_b: false,
             cut_with: None,
             pending_trim: None,
+            edge_with: None,
+            continuity: EdgeContinuity::G2,
+            tension: 1.0,
+            contour_spacing: 0.25,
+            contour_axis: 2,
         }
     }
 }
@@ -83,27 +100,7 @@ impl KnotworkApp {
         });
         if !others.is_empty() {
             let t = &mut self.surface_tools;
-            if t.fillet_with
-                .is_none_or(|k| !others.iter().any(|(j, _)| *j == k))
-            {
-                t.fillet_with = Some(others[0].0);
-            }
-            let chosen = t.fillet_with.unwrap_or(others[0].0);
-            let name = others
-                .iter()
-                .find(|(k, _)| *k == chosen)
-                .map_or("", |(_, n)| n.as_str());
-            ui.horizontal(|ui| {
-                ui.label("Fillet with");
-                egui::ComboBox::from_id_salt("fillet with")
-                    .width(90.0)
-                    .selected_text(name)
-                    .show_ui(ui, |ui| {
-                        for (k, n) in &others {
-                            ui.selectable_value(&mut t.fillet_with, Some(*k), n);
-                        }
-                    });
-            });
+            let chosen = object_choice(ui, "Fillet with", &mut t.fillet_with, &others);
             ui.horizontal(|ui| {
                 ui.add(
                     egui::DragValue::new(&mut t.radius)
@@ -146,27 +143,7 @@ impl KnotworkApp {
             .is_some_and(|o| o.geometry.as_trimmed().is_some());
         if trimmable && !cutters.is_empty() {
             let t = &mut self.surface_tools;
-            if t.cut_with
-                .is_none_or(|k| !cutters.iter().any(|(j, _)| *j == k))
-            {
-                t.cut_with = Some(cutters[0].0);
-            }
-            let by = t.cut_with.unwrap_or(cutters[0].0);
-            let name = cutters
-                .iter()
-                .find(|(k, _)| *k == by)
-                .map_or("", |(_, n)| n.as_str());
-            ui.horizontal(|ui| {
-                ui.label("Cut by");
-                egui::ComboBox::from_id_salt("cut by")
-                    .width(90.0)
-                    .selected_text(name)
-                    .show_ui(ui, |ui| {
-                        for (k, n) in &cutters {
-                            ui.selectable_value(&mut t.cut_with, Some(*k), n);
-                        }
-                    });
-            });
+            let by = object_choice(ui, "Cut by", &mut t.cut_with, &cutters);
             ui.horizontal(|ui| {
                 let waiting = t.pending_trim == Some((s, by));
                 if ui
@@ -191,6 +168,10 @@ impl KnotworkApp {
                 ui.label("click the part to keep");
             }
         }
+        if !others.is_empty() {
+            command = command.or(self.edge_tools(ui, s, trimmable, &others));
+        }
+        command = command.or(self.contour_tools(ui, s));
         ui.horizontal(|ui| {
             if ui
                 .button("Join")
@@ -216,6 +197,104 @@ impl KnotworkApp {
         }
     }
 
+    /// Blend to or match with the nearest edge of another object.
+    fn edge_tools(
+        &mut self,
+        ui: &mut egui::Ui,
+        s: usize,
+        movable: bool,
+        others: &[(usize, String)],
+    ) -> Option<Command> {
+        let t = &mut self.surface_tools;
+        let with = object_choice(ui, "Edge of", &mut t.edge_with, others);
+        let mut command = None;
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_id_salt("edge continuity")
+                .width(40.0)
+                .selected_text(t.continuity.name())
+                .show_ui(ui, |ui| {
+                    for c in [EdgeContinuity::G0, EdgeContinuity::G1, EdgeContinuity::G2] {
+                        ui.selectable_value(&mut t.continuity, c, c.name());
+                    }
+                });
+            ui.add(
+                egui::DragValue::new(&mut t.tension)
+                    .speed(0.01)
+                    .range(0.05..=10.0)
+                    .prefix("tension "),
+            );
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .button("Blend")
+                .on_hover_text(
+                    "a surface across the gap between the nearest edges of the two, \
+                     at this continuity with both",
+                )
+                .clicked()
+            {
+                command = Some(Command::Blend(BlendRequest {
+                    a: s,
+                    b: with,
+                    edges: None,
+                    continuity: t.continuity,
+                    tension: [t.tension; 2],
+                    tolerance: EDITOR_TOLERANCE * 1e-2,
+                }));
+            }
+            if movable
+                && ui
+                    .button("Match")
+                    .on_hover_text(
+                        "move this surface's nearest edge onto the other's, \
+                         at this continuity (its control rows there move)",
+                    )
+                    .clicked()
+            {
+                command = Some(Command::Match(MatchRequest {
+                    object: s,
+                    target: with,
+                    edges: None,
+                    continuity: t.continuity,
+                    tolerance: EDITOR_TOLERANCE * 1e-2,
+                }));
+            }
+        });
+        command
+    }
+
+    /// Sections by parallel planes at a spacing, as curves.
+    fn contour_tools(&mut self, ui: &mut egui::Ui, s: usize) -> Option<Command> {
+        let t = &mut self.surface_tools;
+        let mut command = None;
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut t.contour_spacing)
+                    .speed(0.01)
+                    .range(1e-4..=1e6)
+                    .prefix("every "),
+            );
+            for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+                ui.selectable_value(&mut t.contour_axis, k, axis);
+            }
+            if ui
+                .button("Contour")
+                .on_hover_text("the sections by planes across this axis, as curves")
+                .clicked()
+            {
+                let mut normal = glam::DVec3::ZERO;
+                normal[t.contour_axis.min(2)] = 1.0;
+                command = Some(Command::Contour {
+                    object: s,
+                    origin: glam::DVec3::ZERO,
+                    normal,
+                    spacing: t.contour_spacing,
+                });
+            }
+        });
+        command
+    }
+
     /// A click on the surface while a trim waits for the part to keep: the trim, keeping the
     /// part under the click. True when the click was taken.
     pub(super) fn trim_pick_click(&mut self, hit: Option<crate::view::pick::SurfaceHit>) -> bool {
@@ -233,4 +312,35 @@ impl KnotworkApp {
         }));
         true
     }
+}
+
+/// A labelled combo box of `choices` (object index, name) whose choice stays one of them (the
+/// first when it was none or is gone); the chosen index. `choices` must not be empty.
+pub(super) fn object_choice(
+    ui: &mut egui::Ui,
+    label: &str,
+    chosen: &mut Option<usize>,
+    choices: &[(usize, String)],
+) -> usize {
+    let first = choices.first().map_or(0, |(k, _)| *k);
+    if chosen.is_none_or(|k| !choices.iter().any(|(j, _)| *j == k)) {
+        *chosen = Some(first);
+    }
+    let current = chosen.unwrap_or(first);
+    let name = choices
+        .iter()
+        .find(|(k, _)| *k == current)
+        .map_or("", |(_, n)| n.as_str());
+    ui.horizontal(|ui| {
+        ui.label(label);
+        egui::ComboBox::from_id_salt(label)
+            .width(90.0)
+            .selected_text(name)
+            .show_ui(ui, |ui| {
+                for (k, n) in choices {
+                    ui.selectable_value(chosen, Some(*k), n);
+                }
+            });
+    });
+    chosen.unwrap_or(first)
 }

@@ -225,7 +225,6 @@ pub(super) fn intersection_curves(
     b: usize,
 ) -> Result<(Vec<Change>, String), EditError> {
     use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
-    use crate::kernel::splines::{self, Parametrization};
     let (oa, ob) = (object_at(scene, a)?, object_at(scene, b)?);
     let refuse_with = |object: &SceneObject, message: String| {
         geometry_error(object)(refuse("intersection", message))
@@ -256,17 +255,7 @@ pub(super) fn intersection_curves(
                 .map_err(geometry_error(oa))?;
             touching += found.touching.len();
             for branch in found.curves {
-                let points = &branch.points;
-                let curve = if branch.closed && points.len() >= 4 {
-                    splines::interpolate_closed(
-                        &points[..points.len() - 1],
-                        3,
-                        Parametrization::ChordLength,
-                    )
-                } else {
-                    let degree = 3.min(points.len() - 1);
-                    splines::interpolate_through(points, degree, Parametrization::ChordLength, None)
-                };
+                let curve = super::surface_ops::branch_curve(&branch.points, branch.closed);
                 curves.push(curve.map_err(geometry_error(oa))?);
             }
         }

@@ -206,6 +206,27 @@ pub enum Command {
         object: usize,
         cutters: Vec<usize>,
     },
+    /// Adds the sections of an object by parallel planes (through `origin + k · spacing ·
+    /// normal`) as curve objects ([`surface_ops::contour_curves`]).
+    Contour {
+        object: usize,
+        origin: DVec3,
+        normal: DVec3,
+        spacing: f64,
+    },
+    /// Adds a surface across the gap between an edge of one object and an edge of another,
+    /// G0, G1 or G2 to both, as "blend" ([`surface_ops::blend_objects`]).
+    Blend(surface_ops::BlendRequest),
+    /// Moves an edge of a NURBS or trimmed object onto another object's edge at G0, G1 or G2
+    /// by resetting the control rows next to it ([`surface_ops::match_object`]).
+    Match(surface_ops::MatchRequest),
+    /// Adds curves projected onto a surface along `direction`, or pulled to its nearest points
+    /// (`None`), as curve objects ([`surface_ops::projected_curves`]).
+    Project {
+        curves: Vec<usize>,
+        onto: usize,
+        direction: Option<DVec3>,
+    },
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -380,6 +401,10 @@ impl Command {
             Command::Explode { .. } => "explode".into(),
             Command::TrimBy { .. } => "trim".into(),
             Command::SplitBy { .. } => "split".into(),
+            Command::Contour { .. } => "contour".into(),
+            Command::Project { .. } => "project".into(),
+            Command::Blend(_) => "blend".into(),
+            Command::Match(_) => "match".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

@@ -112,6 +112,27 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::SplitBy { object, cutters } => {
             return surface_ops::split_by(scene, *object, cutters);
         }
+        Command::Contour {
+            object,
+            origin,
+            normal,
+            spacing,
+        } => {
+            return surface_ops::contour(scene, *object, *origin, *normal, *spacing);
+        }
+        Command::Blend(request) => {
+            return surface_ops::blend(scene, request);
+        }
+        Command::Match(request) => {
+            return surface_ops::match_edge(scene, request);
+        }
+        Command::Project {
+            curves,
+            onto,
+            direction,
+        } => {
+            return surface_ops::project(scene, curves, *onto, *direction);
+        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }

@@ -571,11 +571,7 @@ pub fn cuts_on(
                 }
                 points.push(glam::DVec2::new(c.u, c.v));
             }
-            let closed = points[0].distance(points[n]) < 1e-9;
-            if closed {
-                points.pop();
-            }
-            cuts.push(Cut { points, closed });
+            cuts.extend(seam_pieces(points, surface.surface()));
             continue;
         }
         let faces = cutter.faces();
@@ -612,6 +608,51 @@ pub fn cuts_on(
     let rect = crate::kernel::trim::domain_rect(surface.surface());
     let gap = 1e-6 * crate::kernel::trim::domain_size(rect);
     Ok((surface, crate::kernel::trim::cut::chain_cuts(cuts, gap)))
+}
+
+/// A curve's (u, v) points as cuts: split where they jump across the surface's seam (a step
+/// longer than a quarter of the domain), the pieces either side of the curve's own start
+/// joined again when it is closed.
+fn seam_pieces(
+    mut points: Vec<glam::DVec2>,
+    surface: &crate::kernel::NurbsSurface,
+) -> Vec<crate::kernel::trim::cut::Cut> {
+    use crate::kernel::trim::cut::Cut;
+    let rect = crate::kernel::trim::domain_rect(surface);
+    let size = crate::kernel::trim::domain_size(rect);
+    let n = points.len() - 1;
+    let closed = points[0].distance(points[n]) < 1e-9 * size;
+    let mut pieces: Vec<Vec<glam::DVec2>> = vec![Vec::new()];
+    for (k, &p) in points.iter().enumerate() {
+        if k > 0 && points[k - 1].distance(p) > 0.25 * size {
+            pieces.push(Vec::new());
+        }
+        if let Some(last) = pieces.last_mut() {
+            last.push(p);
+        }
+    }
+    if pieces.len() == 1 {
+        if closed {
+            points.pop();
+        }
+        return vec![Cut { points, closed }];
+    }
+    if closed {
+        // The last piece runs on into the first.
+        let mut head = pieces.remove(0);
+        if let Some(last) = pieces.last_mut() {
+            head.remove(0);
+            last.extend(head);
+        }
+    }
+    pieces
+        .into_iter()
+        .filter(|p| p.len() >= 2)
+        .map(|points| Cut {
+            points,
+            closed: false,
+        })
+        .collect()
 }
 
 /// [`super::Command::TrimBy`]: the part of the object that the cutters leave around the
@@ -668,4 +709,463 @@ pub(super) fn split_by(
     }];
     changes.extend(insert_objects(scene, &before.name, parts));
     Ok((changes, format!("split {} into {count} parts", before.name)))
+}
+
+/// The most levels one contour command makes.
+pub const MAX_CONTOUR_LEVELS: usize = 1000;
+
+/// The curves where planes through `origin + k · spacing · normal` (every k whose plane
+/// crosses the object's box) meet the object's faces, as cubics through each branch
+/// (closed for a loop; [`crate::kernel::intersect`] within 1e-6 of the scene's size).
+pub fn contour_curves(
+    scene: &Scene,
+    object: usize,
+    origin: glam::DVec3,
+    normal: glam::DVec3,
+    spacing: f64,
+) -> Result<Vec<crate::kernel::SpaceCurve>, EditError> {
+    use crate::kernel::construct;
+    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    let target = object_at(scene, object)?;
+    let fail = geometry_error(target);
+    let n = normal.normalize_or_zero();
+    if n == glam::DVec3::ZERO || !n.is_finite() || !origin.is_finite() {
+        return Err(fail(refuse(
+            "contour",
+            "the planes need a finite point and a normal that is not zero",
+        )));
+    }
+    let faces = target.faces();
+    let Some((lo, hi)) = target.bounds().filter(|_| !faces.is_empty()) else {
+        return Err(fail(refuse(
+            "contour",
+            format!("{} has no faces", target.kind().kind_name()),
+        )));
+    };
+    let corners = (0..8).map(|k| {
+        glam::DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    });
+    let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
+    for c in corners {
+        let h = (c - origin).dot(n);
+        a = a.min(h);
+        b = b.max(h);
+    }
+    if !(spacing.is_finite() && spacing > 0.0) || ((b - a) / spacing) as usize > MAX_CONTOUR_LEVELS
+    {
+        return Err(fail(refuse(
+            "contour",
+            format!(
+                "the spacing must be above 0 and give at most {MAX_CONTOUR_LEVELS} planes across \
+                 the object (got {spacing})"
+            ),
+        )));
+    }
+    let size = scene_size(scene);
+    let options = IntersectOptions::for_size(size);
+    let (x, y) = {
+        let helper = if n.x.abs() < 0.9 {
+            glam::DVec3::X
+        } else {
+            glam::DVec3::Y
+        };
+        let x = n.cross(helper).normalize();
+        (x, n.cross(x))
+    };
+    let centre = 0.5 * (lo + hi);
+    let half = lo.distance(hi).max(1e-9);
+    let mut curves = Vec::new();
+    let mut k = (a / spacing).ceil() as i64;
+    while (k as f64) * spacing <= b {
+        let level = origin + n * (k as f64 * spacing);
+        let c = centre - n * (centre - level).dot(n);
+        let plane =
+            construct::plane(c - (x + y) * half, x * 2.0 * half, y * 2.0 * half).map_err(&fail)?;
+        for (_, face) in &faces {
+            let found = intersect_surfaces(face.as_ref(), &plane, &options).map_err(&fail)?;
+            for branch in found.curves {
+                curves.push(branch_curve(&branch.points, branch.closed).map_err(&fail)?);
+            }
+        }
+        k += 1;
+    }
+    if curves.is_empty() {
+        return Err(fail(refuse("contour", "no plane meets it")));
+    }
+    Ok(curves)
+}
+
+/// The cubic through a branch's points: closed and C² for a loop, clamped otherwise.
+pub fn branch_curve(
+    points: &[glam::DVec3],
+    closed: bool,
+) -> Result<crate::kernel::SpaceCurve, crate::kernel::GeometryError> {
+    use crate::kernel::splines::{self, Parametrization};
+    if closed && points.len() >= 4 {
+        splines::interpolate_closed(&points[..points.len() - 1], 3, Parametrization::ChordLength)
+    } else {
+        let degree = 3.min(points.len().saturating_sub(1)).max(1);
+        splines::interpolate_through(points, degree, Parametrization::ChordLength, None)
+    }
+}
+
+/// [`super::Command::Contour`]: the contour curves added as "NAME contour" objects.
+pub(super) fn contour(
+    scene: &Scene,
+    object: usize,
+    origin: glam::DVec3,
+    normal: glam::DVec3,
+    spacing: f64,
+) -> Result<(Vec<Change>, String), EditError> {
+    let curves = contour_curves(scene, object, origin, normal, spacing)?;
+    let name = format!("{} contour", scene.objects[object].name);
+    let count = curves.len();
+    let changes = insert_objects(scene, &name, curves.into_iter().map(ObjectGeometry::new));
+    Ok((
+        changes,
+        format!("contour {}: {count} curve(s)", scene.objects[object].name),
+    ))
+}
+
+/// The curves `curves` projected onto object `onto` (a NURBS or trimmed surface): along
+/// `direction`, or pulled to the nearest point when it is `None`; each curve sampled at 200
+/// points, and each run of points that land on the kept surface the cubic through them.
+pub fn projected_curves(
+    scene: &Scene,
+    curves: &[usize],
+    onto: usize,
+    direction: Option<glam::DVec3>,
+) -> Result<Vec<(usize, crate::kernel::SpaceCurve)>, EditError> {
+    use crate::kernel::intersect_curve::intersect_curve_surface;
+    const SAMPLES: usize = 200;
+    let target = object_at(scene, onto)?;
+    let fail = geometry_error(target);
+    let surface = match (
+        target.displacement.is_none() && target.lattice.is_none(),
+        target.geometry.as_trimmed(),
+    ) {
+        (true, Some(t)) => t,
+        _ => {
+            return Err(fail(refuse(
+                "project",
+                format!(
+                    "needs a NURBS or trimmed surface to project onto; this object is {}",
+                    target.kind().kind_name()
+                ),
+            )));
+        }
+    };
+    let dir = match direction {
+        Some(d) if d.length() > 0.0 && d.is_finite() => Some(d.normalize()),
+        Some(_) => {
+            return Err(fail(refuse(
+                "project",
+                "the direction is zero or not finite",
+            )));
+        }
+        None => None,
+    };
+    let size = scene_size(scene);
+    let mut out = Vec::new();
+    for &k in curves {
+        let object = object_at(scene, k)?;
+        let Some(curve) = object.kind().space_curve() else {
+            return Err(geometry_error(object)(refuse(
+                "project",
+                format!("needs curves; this object is {}", object.kind().kind_name()),
+            )));
+        };
+        let (t0, t1) = curve.domain();
+        let mut runs: Vec<Vec<glam::DVec3>> = vec![Vec::new()];
+        for i in 0..=SAMPLES {
+            let p = curve
+                .point_at(t0 + (t1 - t0) * i as f64 / SAMPLES as f64)
+                .map_err(geometry_error(object))?;
+            let landed = match dir {
+                None => {
+                    let c = surface.surface().closest_point(p).map_err(&fail)?;
+                    surface.contains(c.u, c.v).then_some(c.point)
+                }
+                Some(d) => {
+                    let ray =
+                        crate::kernel::construct::line(p - d * 2.0 * size, p + d * 2.0 * size)
+                            .map_err(&fail)?;
+                    intersect_curve_surface(&ray, &surface, 1e-9 * size, 1e-2 * size)
+                        .map_err(&fail)?
+                        .into_iter()
+                        .min_by(|a, b| (a.t - 0.5).abs().total_cmp(&(b.t - 0.5).abs()))
+                        .map(|h| h.point)
+                }
+            };
+            match landed {
+                Some(q) => {
+                    if let Some(run) = runs.last_mut()
+                        && run
+                            .last()
+                            .is_none_or(|l: &glam::DVec3| l.distance(q) > 1e-12 * size)
+                    {
+                        run.push(q);
+                    }
+                }
+                None => runs.push(Vec::new()),
+            }
+        }
+        for run in runs.into_iter().filter(|r| r.len() >= 2) {
+            let closed = run.len() > 4 && run[0].distance(run[run.len() - 1]) <= 1e-9 * size;
+            let curve = branch_curve(&run, closed).map_err(geometry_error(object))?;
+            out.push((k, curve));
+        }
+    }
+    if out.is_empty() {
+        return Err(fail(refuse("project", "no curve lands on the surface")));
+    }
+    Ok(out)
+}
+
+/// [`super::Command::Project`]: the projections added as "NAME projected" curve objects.
+pub(super) fn project(
+    scene: &Scene,
+    curves: &[usize],
+    onto: usize,
+    direction: Option<glam::DVec3>,
+) -> Result<(Vec<Change>, String), EditError> {
+    let made = projected_curves(scene, curves, onto, direction)?;
+    let mut next = scene.clone();
+    let mut changes = Vec::new();
+    let count = made.len();
+    for (k, curve) in made {
+        let name = format!("{} projected", scene.objects[k].name);
+        let inserted = insert_objects(&next, &name, [ObjectGeometry::new(curve)]);
+        for change in &inserted {
+            if let Change::Insert { object, .. } = change {
+                next.objects.push(object.clone());
+            }
+        }
+        changes.extend(inserted);
+    }
+    let how = if direction.is_some() {
+        "projected"
+    } else {
+        "pulled"
+    };
+    Ok((
+        changes,
+        format!("{count} curve(s) {how} onto {}", scene.objects[onto].name),
+    ))
+}
+
+/// An edge of an object: one of its faces (`face`, an index into [`SceneObject::faces`]) and a
+/// side of that face's parameter rectangle.
+pub type FaceSide = (usize, crate::kernel::continuity::Side);
+
+/// A blend asked for ([`super::Command::Blend`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlendRequest {
+    pub a: usize,
+    pub b: usize,
+    /// The edge of A and the edge of B to blend; `None`: the pair that lie nearest each other.
+    pub edges: Option<[FaceSide; 2]>,
+    pub continuity: crate::kernel::blend::EdgeContinuity,
+    /// The tension at A's and at B's edge (above 0; 1 is a natural bulge).
+    pub tension: [f64; 2],
+    /// A fraction of the scene's size.
+    pub tolerance: f64,
+}
+
+/// A match asked for ([`super::Command::Match`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MatchRequest {
+    /// The object whose edge moves (a NURBS or trimmed surface).
+    pub object: usize,
+    /// The object it is matched to (any kind with faces; it does not change).
+    pub target: usize,
+    /// The side of the object and the target's edge; `None`: the pair nearest each other.
+    pub edges: Option<[FaceSide; 2]>,
+    pub continuity: crate::kernel::blend::EdgeContinuity,
+    /// A fraction of the scene's size.
+    pub tolerance: f64,
+}
+
+/// The edge of `a` and the edge of `b` nearest each other over all their faces (sides shorter
+/// than 1e-9 of the scene, poles, left out), or the pair asked for, checked.
+fn edge_pair(
+    scene: &Scene,
+    a: usize,
+    b: usize,
+    asked: Option<[FaceSide; 2]>,
+    what: &'static str,
+) -> Result<[FaceSide; 2], EditError> {
+    let (oa, ob) = (object_at(scene, a)?, object_at(scene, b)?);
+    if a == b {
+        return Err(geometry_error(oa)(refuse(
+            what,
+            "needs two different objects",
+        )));
+    }
+    let (fa, fb) = (oa.faces(), ob.faces());
+    for (object, faces) in [(oa, &fa), (ob, &fb)] {
+        if faces.is_empty() || object.kind().space_curve().is_some() {
+            return Err(geometry_error(object)(refuse(
+                what,
+                format!("{} has no faces", object.kind().kind_name()),
+            )));
+        }
+    }
+    if let Some(edges) = asked {
+        for ((object, faces), (face, _)) in [(oa, &fa), (ob, &fb)].into_iter().zip(edges) {
+            if face >= faces.len() {
+                return Err(geometry_error(object)(refuse(
+                    what,
+                    format!("it has {} face(s), not a face {face}", faces.len()),
+                )));
+            }
+        }
+        return Ok(edges);
+    }
+    let degenerate = 1e-9 * scene_size(scene);
+    let mut best: Option<([FaceSide; 2], f64)> = None;
+    for (i, (_, x)) in fa.iter().enumerate() {
+        for (j, (_, y)) in fb.iter().enumerate() {
+            if let Some((sa, sb, d)) =
+                crate::kernel::blend::nearest_sides(x.as_ref(), y.as_ref(), degenerate)
+                && best.is_none_or(|(_, e)| d < e)
+            {
+                best = Some(([(i, sa), (j, sb)], d));
+            }
+        }
+    }
+    best.map(|(e, _)| e)
+        .ok_or_else(|| geometry_error(oa)(refuse(what, "no edge of either is long enough")))
+}
+
+/// The blend between two objects' edges ([`crate::kernel::blend::blend_edges`]) and the
+/// edges it joins.
+pub fn blend_objects(
+    scene: &Scene,
+    request: &BlendRequest,
+) -> Result<(crate::kernel::blend::Blend, [FaceSide; 2]), EditError> {
+    use crate::kernel::blend::{BlendOptions, blend_edges};
+    let edges = edge_pair(scene, request.a, request.b, request.edges, "blend")?;
+    let (oa, ob) = (&scene.objects[request.a], &scene.objects[request.b]);
+    let (fa, fb) = (oa.faces(), ob.faces());
+    let options = BlendOptions {
+        continuity: request.continuity,
+        tension: request.tension,
+        tolerance: request.tolerance * scene_size(scene),
+    };
+    let [(i, sa), (j, sb)] = edges;
+    let blend = blend_edges(fa[i].1.as_ref(), sa, fb[j].1.as_ref(), sb, &options)
+        .map_err(geometry_error(oa))?;
+    Ok((blend, edges))
+}
+
+/// "Name face k side" for an object with several faces, "Name side" otherwise.
+fn edge_name(object: &SceneObject, (face, side): FaceSide) -> String {
+    if object.faces().len() > 1 {
+        format!("{} face {face} {}", object.name, side.name())
+    } else {
+        format!("{} {}", object.name, side.name())
+    }
+}
+
+/// [`super::Command::Blend`]: the blend added as "blend".
+pub(super) fn blend(
+    scene: &Scene,
+    request: &BlendRequest,
+) -> Result<(Vec<Change>, String), EditError> {
+    let (made, [ea, eb]) = blend_objects(scene, request)?;
+    let changes = insert_objects(scene, "blend", [ObjectGeometry::new(made.surface)]);
+    for change in &changes {
+        if let Change::Insert { object, .. } = change {
+            object.decompose().map_err(geometry_error(object))?;
+        }
+    }
+    let label = format!(
+        "{} blend from {} to {} ({} samples, deviation {:.1e})",
+        request.continuity.name(),
+        edge_name(&scene.objects[request.a], ea),
+        edge_name(&scene.objects[request.b], eb),
+        made.samples,
+        made.deviation
+    );
+    Ok((changes, label))
+}
+
+/// The object of `request` with its edge matched to the target's
+/// ([`crate::kernel::blend::match_edge`]), its trims kept, and the edges matched.
+pub fn match_object(
+    scene: &Scene,
+    request: &MatchRequest,
+) -> Result<(SceneObject, crate::kernel::blend::Matched, [FaceSide; 2]), EditError> {
+    let edges = edge_pair(
+        scene,
+        request.object,
+        request.target,
+        request.edges,
+        "match",
+    )?;
+    let before = &scene.objects[request.object];
+    let fail = geometry_error(before);
+    let trimmed = match (
+        before.displacement.is_none() && before.lattice.is_none(),
+        before.geometry.as_trimmed(),
+    ) {
+        (true, Some(t)) => t,
+        _ => {
+            return Err(fail(refuse(
+                "match",
+                format!(
+                    "moves the control points of a NURBS or trimmed surface; this object is {}",
+                    before.kind().kind_name()
+                ),
+            )));
+        }
+    };
+    let [(_, side), (j, target_side)] = edges;
+    let target = scene.objects[request.target].faces();
+    let matched = crate::kernel::blend::match_edge(
+        trimmed.surface(),
+        side,
+        target[j].1.as_ref(),
+        target_side,
+        request.continuity,
+        request.tolerance * scene_size(scene),
+    )
+    .map_err(&fail)?;
+    let mut after = before.clone();
+    after.geometry = ObjectGeometry::from_trimmed(
+        trimmed
+            .with_surface(matched.surface.clone())
+            .map_err(&fail)?,
+    );
+    after.decompose().map_err(geometry_error(&after))?;
+    Ok((after, matched, edges))
+}
+
+/// [`super::Command::Match`]: the object's edge moved onto the target's.
+pub(super) fn match_edge(
+    scene: &Scene,
+    request: &MatchRequest,
+) -> Result<(Vec<Change>, String), EditError> {
+    let (after, matched, [ea, eb]) = match_object(scene, request)?;
+    let before = &scene.objects[request.object];
+    let label = format!(
+        "match {} to {} at {} (deviation {:.1e})",
+        edge_name(before, ea),
+        edge_name(&scene.objects[request.target], eb),
+        request.continuity.name(),
+        matched.deviation
+    );
+    Ok((
+        vec![Change::Replace {
+            index: request.object,
+            before: before.clone(),
+            after,
+        }],
+        label,
+    ))
 }
