@@ -12,6 +12,13 @@
 //! interpolated across them; [`crate::loft`]), so every section at a spine point is exact.
 //! (Choi and Ju, "Constant-radius blending in surface modelling", 1989: the spine as the
 //! intersection of offsets.)
+//!
+//! A **variable radius** runs linearly, by length along the spine, from `radius` to
+//! `radius_end`. The spine is first found for the mean radius; then each of its centres is
+//! solved again for its own radius r by Newton's method on A(u, v) + σ_A r N_A = B(s, t) +
+//! σ_B r N_B with the centre kept in the plane normal to the spine there (four equations in
+//! u, v, s, t; the offsets' exact derivatives), so every section is still a circular arc of
+//! radius r tangent to both surfaces.
 
 use glam::{DVec2, DVec3};
 
@@ -78,6 +85,9 @@ impl ParametricSurface for OffsetFace<'_> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilletOptions {
     pub radius: f64,
+    /// A radius that varies: `radius` where the contact curve on A starts (its end of lower u,
+    /// then lower v), this at its other end, linearly by length in between.
+    pub radius_end: Option<f64>,
     /// +1: the ball lies on the side A's normal points to; −1: the other side.
     pub side_a: f64,
     pub side_b: f64,
@@ -114,24 +124,23 @@ pub fn fillet_surfaces(
     options: &FilletOptions,
 ) -> Result<Fillet, GeometryError> {
     const WHAT: &str = "fillet";
-    let r = options.radius;
-    if !(r.is_finite() && r > 0.0) {
-        return Err(construction(
-            WHAT,
-            format!("the radius must be a number above 0 (got {r})"),
-        ));
+    for r in [Some(options.radius), options.radius_end]
+        .into_iter()
+        .flatten()
+    {
+        if !(r.is_finite() && r > 0.0) {
+            return Err(construction(
+                WHAT,
+                format!("the radius must be a number above 0 (got {r})"),
+            ));
+        }
     }
+    let ends = (options.radius, options.radius_end.unwrap_or(options.radius));
+    let r = 0.5 * (ends.0 + ends.1);
     if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
         return Err(construction(WHAT, "the tolerance must be a number above 0"));
     }
-    let offset_a = OffsetFace {
-        face: a,
-        distance: options.side_a.signum() * r,
-    };
-    let offset_b = OffsetFace {
-        face: b,
-        distance: options.side_b.signum() * r,
-    };
+    let (offset_a, offset_b) = offsets(a, b, options, r);
     let size = options.size.max(options.tolerance);
     let intersect = IntersectOptions {
         tolerance: 1e-2 * options.tolerance,
@@ -154,7 +163,139 @@ pub fn fillet_surfaces(
             ),
         ));
     };
+    let mut spine = spine;
+    if ends.0 != ends.1 {
+        vary_radius(a, b, &mut spine, ends, options)?;
+    }
     build(a, b, &spine, branches)
+}
+
+/// The spine ordered to start where the contact curve on A has the lower (u, then v).
+fn oriented(mut spine: IntersectionCurve) -> IntersectionCurve {
+    let (first, last) = (spine.uv_a[0], spine.uv_a[spine.uv_a.len() - 1]);
+    if (last.x, last.y) < (first.x, first.y) {
+        spine.points.reverse();
+        spine.uv_a.reverse();
+        spine.uv_b.reverse();
+        spine.ends.reverse();
+    }
+    spine
+}
+
+/// Each centre of `spine` solved again for the radius that runs linearly by length from
+/// `ends.0` to `ends.1` (see the module documentation), the contact parameters with it.
+fn vary_radius(
+    a: &dyn ParametricSurface,
+    b: &dyn ParametricSurface,
+    spine: &mut IntersectionCurve,
+    ends: (f64, f64),
+    options: &FilletOptions,
+) -> Result<(), GeometryError> {
+    const WHAT: &str = "fillet";
+    if spine.closed {
+        return Err(construction(
+            WHAT,
+            "the ball rolls all the way round: a closed fillet takes one radius",
+        ));
+    }
+    *spine = oriented(spine.clone());
+    let n = spine.points.len();
+    let mut along = vec![0.0; n];
+    for k in 1..n {
+        along[k] = along[k - 1] + spine.points[k].distance(spine.points[k - 1]);
+    }
+    let total = along[n - 1].max(f64::MIN_POSITIVE);
+    // The constant-radius spine: each centre's plane and tangent come from it.
+    let original = spine.points.clone();
+    let mut solved_points = Vec::with_capacity(n);
+    let (da, db) = (a.domain(), b.domain());
+    let clamp = |x: f64, (lo, hi): (f64, f64)| x.clamp(lo, hi);
+    for (k, length) in along.iter().enumerate() {
+        let r = ends.0 + (ends.1 - ends.0) * length / total;
+        let (oa, ob) = offsets(a, b, options, r);
+        let spine_point = original[k];
+        let tangent =
+            (original[(k + 1).min(n - 1)] - original[k.saturating_sub(1)]).normalize_or_zero();
+        let (mut x, mut y) = (spine.uv_a[k], spine.uv_b[k]);
+        let mut solved = None;
+        for _ in 0..40 {
+            let (Some((pa, au, av)), Some((pb, bu, bv))) = (oa.first(x.x, x.y), ob.first(y.x, y.y))
+            else {
+                break;
+            };
+            let gap = pa - pb;
+            let plane = (pa - spine_point).dot(tangent);
+            if gap.length() <= 1e-3 * options.tolerance && plane.abs() <= 1e-3 * options.tolerance {
+                solved = Some(pa);
+                break;
+            }
+            let j = glam::DMat4::from_cols(
+                au.extend(au.dot(tangent)),
+                av.extend(av.dot(tangent)),
+                (-bu).extend(0.0),
+                (-bv).extend(0.0),
+            );
+            if j.determinant().abs() < 1e-300 {
+                break;
+            }
+            let step = j.inverse() * -gap.extend(plane);
+            x = DVec2::new(clamp(x.x + step.x, da[0]), clamp(x.y + step.y, da[1]));
+            y = DVec2::new(clamp(y.x + step.z, db[0]), clamp(y.y + step.w, db[1]));
+        }
+        solved_points.push(solved.map(|centre| (centre, x, y)));
+    }
+    // The ball may stop fitting near the spine's ends (a larger one would touch past a
+    // surface's edge): the fillet stops there. Anywhere else, or over more than half of it,
+    // the radius cannot vary so.
+    let kept: Vec<usize> = (0..n).filter(|&k| solved_points[k].is_some()).collect();
+    let (first, last) = (
+        kept.first().copied().unwrap_or(n),
+        kept.last().copied().unwrap_or(0),
+    );
+    let gapless = first <= last && kept.len() == last - first + 1;
+    if !gapless || 2 * kept.len() < n || kept.len() < 2 {
+        let k = (0..n)
+            .find(|&k| solved_points[k].is_none() && (k > first || !gapless))
+            .unwrap_or(0);
+        let r = ends.0 + (ends.1 - ends.0) * along[k] / total;
+        let p = original[k];
+        return Err(construction(
+            WHAT,
+            format!(
+                "no ball of radius {r:.6} touches both surfaces near the spine's point \
+                 ({:.4}, {:.4}, {:.4}): the radius cannot run from {} to {} here",
+                p.x, p.y, p.z, ends.0, ends.1
+            ),
+        ));
+    }
+    spine.points.clear();
+    spine.uv_a.clear();
+    spine.uv_b.clear();
+    for (centre, x, y) in solved_points.into_iter().flatten() {
+        spine.points.push(centre);
+        spine.uv_a.push(x);
+        spine.uv_b.push(y);
+    }
+    Ok(())
+}
+
+/// A and B offset by `r` to the sides of `options`: where the ball's centres lie.
+fn offsets<'a>(
+    a: &'a dyn ParametricSurface,
+    b: &'a dyn ParametricSurface,
+    options: &FilletOptions,
+    r: f64,
+) -> (OffsetFace<'a>, OffsetFace<'a>) {
+    (
+        OffsetFace {
+            face: a,
+            distance: options.side_a.signum() * r,
+        },
+        OffsetFace {
+            face: b,
+            distance: options.side_b.signum() * r,
+        },
+    )
 }
 
 fn length(points: &[DVec3]) -> f64 {
@@ -331,6 +472,7 @@ mod tests {
             &wall,
             &FilletOptions {
                 radius: r,
+                radius_end: None,
                 side_a: 1.0,
                 side_b: 1.0,
                 tolerance: 1e-6,
@@ -367,6 +509,7 @@ mod tests {
             &wall,
             &FilletOptions {
                 radius: 5.0,
+                radius_end: None,
                 side_a: 1.0,
                 side_b: 1.0,
                 tolerance: 1e-6,
@@ -375,5 +518,98 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("no ball"), "{e}");
+    }
+
+    #[test]
+    fn a_radius_from_0_2_to_0_6_along_two_planes_touches_both_at_its_own_radius() {
+        let (floor, wall) = right_angle();
+        let options = FilletOptions {
+            radius: 0.2,
+            radius_end: Some(0.6),
+            side_a: 1.0,
+            side_b: 1.0,
+            tolerance: 1e-6,
+            size: 6.0,
+        };
+        let fillet = fillet_surfaces(&floor, &wall, &options).unwrap();
+        let (nf, nw) = (
+            floor.normal(0.5, 0.5).unwrap(),
+            wall.normal(0.5, 0.5).unwrap(),
+        );
+        // The contact on the floor starts at its lower u, x = −1: the radius there is 0.2 and
+        // grows linearly with x to 0.6 at x = 1.
+        let n = fillet.centres.len();
+        for (k, c) in fillet.centres.iter().enumerate() {
+            let r = 0.2 + 0.4 * (c.x + 1.0) / 2.0;
+            // The centre is r from both planes on their front sides.
+            assert!((c.dot(nf) - r).abs() < 1e-6, "{k}/{n}: {c} {r}");
+            assert!((c.dot(nw) - r).abs() < 1e-6, "{k}/{n}: {c} {r}");
+            // The contacts are the feet of the centre on each plane.
+            let pa = floor
+                .point_at(fillet.contact_a[k].x, fillet.contact_a[k].y)
+                .unwrap();
+            let pb = wall
+                .point_at(fillet.contact_b[k].x, fillet.contact_b[k].y)
+                .unwrap();
+            assert!((pa - (*c - nf * r)).length() < 1e-6 && (pb - (*c - nw * r)).length() < 1e-6);
+        }
+        assert!(
+            (fillet.centres[0].x + 1.0).abs() < 1e-6
+                && (fillet.centres[n - 1].x - 1.0).abs() < 1e-6
+        );
+        // A radius that outgrows the planes over most of the way (contact past their edges)
+        // is refused.
+        let grown = FilletOptions {
+            radius_end: Some(9.0),
+            ..options
+        };
+        let e = fillet_surfaces(&floor, &wall, &grown).unwrap_err();
+        assert!(e.to_string().contains("no ball"), "{e}");
+    }
+
+    #[test]
+    fn a_varying_radius_between_two_bicubics_keeps_each_ball_touching_both() {
+        let (floor, wall) = crate::samples::floor_and_wall().unwrap();
+        let size = floor.size().max(wall.size());
+        let options = FilletOptions {
+            radius: 0.3,
+            radius_end: Some(0.5),
+            side_a: 1.0,
+            side_b: 1.0,
+            tolerance: 1e-6 * size,
+            size,
+        };
+        let fillet = fillet_surfaces(&floor, &wall, &options).unwrap();
+        let mut last = 0.0;
+        for (k, c) in fillet.centres.iter().enumerate() {
+            // The ball at this centre touches both: its distance to each is its radius, and
+            // the contacts lie at that distance.
+            let (to_a, to_b) = (
+                floor.closest_point(*c).unwrap().distance,
+                wall.closest_point(*c).unwrap().distance,
+            );
+            assert!((to_a - to_b).abs() < 1e-5, "{k}: {to_a} {to_b}");
+            let pa = floor
+                .point_at(fillet.contact_a[k].x, fillet.contact_a[k].y)
+                .unwrap();
+            let pb = wall
+                .point_at(fillet.contact_b[k].x, fillet.contact_b[k].y)
+                .unwrap();
+            assert!((pa.distance(*c) - to_a).abs() < 1e-5 && (pb.distance(*c) - to_a).abs() < 1e-5);
+            // The radius grows from 0.3 to 0.5 along the fillet.
+            assert!(
+                to_a >= last - 1e-9 && (0.3 - 1e-6..=0.5 + 1e-6).contains(&to_a),
+                "{k}: {to_a}"
+            );
+            last = to_a;
+        }
+        // From 0.3 where it starts; the ball may stop fitting before it reaches 0.5 at the far
+        // end (the spine ends on a surface's edge), but it has grown well on the way.
+        let n = fillet.centres.len();
+        let first = floor.closest_point(fillet.centres[0]).unwrap().distance;
+        assert!(
+            (first - 0.3).abs() < 1e-6 && last > 0.45,
+            "{first} {last} ({n})"
+        );
     }
 }
