@@ -545,6 +545,7 @@ fn bench_surface_ops(
     }
     let options = FilletOptions {
         radius: 0.4,
+        radius_end: None,
         side_a: 1.0,
         side_b: 1.0,
         tolerance: 1e-4 * size,

@@ -196,6 +196,10 @@ mod cli {
             /// The ball's radius.
             #[arg(long, allow_negative_numbers = true)]
             radius: f64,
+            /// A radius that varies: R where the contact curve on A starts (its end of lower u,
+            /// then lower v), this at its other end, linearly by length in between.
+            #[arg(long, allow_negative_numbers = true)]
+            radius_end: Option<f64>,
             /// The side of the first surface the ball lies on: front (where its normal points)
             /// or back.
             #[arg(long, default_value = "back", value_parser = ["front", "back"])]
@@ -748,6 +752,7 @@ mod cli {
         pub input: &'a std::path::Path,
         pub names: &'a [String],
         pub radius: f64,
+        pub radius_end: Option<f64>,
         pub sides: [&'a str; 2],
         pub tolerance: f64,
         pub output: &'a std::path::Path,
@@ -764,6 +769,7 @@ mod cli {
                 a,
                 b,
                 radius: args.radius,
+                radius_end: args.radius_end,
                 front_a: args.sides[0] == "front",
                 front_b: args.sides[1] == "front",
                 tolerance: args.tolerance,
@@ -1320,6 +1326,7 @@ fn main() -> std::process::ExitCode {
             project,
             objects,
             radius,
+            radius_end,
             side_a,
             side_b,
             tolerance,
@@ -1329,6 +1336,7 @@ fn main() -> std::process::ExitCode {
                 input: project,
                 names: objects,
                 radius: *radius,
+                radius_end: *radius_end,
                 sides: [side_a, side_b],
                 tolerance: *tolerance,
                 output,

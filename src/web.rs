@@ -489,14 +489,16 @@ pub fn offset(object: u32, distance: f64) {
 }
 
 /// Rolls a ball of `radius` between objects `a` and `b` on the chosen sides (front: where the
-/// normal points): adds "fillet" and trims both back (one undo step).
+/// normal points): adds "fillet" and trims both back (one undo step). A `radius_end` that is a
+/// number (not NaN) makes the radius run linearly along the fillet to it.
 #[wasm_bindgen]
-pub fn fillet(a: u32, b: u32, radius: f64, front_a: bool, front_b: bool) {
+pub fn fillet(a: u32, b: u32, radius: f64, front_a: bool, front_b: bool, radius_end: f64) {
     send(AppCommand::Edit(Command::Fillet(
         crate::doc::surface_ops::FilletRequest {
             a: a as usize,
             b: b as usize,
             radius,
+            radius_end: (!radius_end.is_nan()).then_some(radius_end),
             front_a,
             front_b,
             tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,

@@ -1154,3 +1154,69 @@ fn errors_show_where_the_eye_is_and_the_viewport_explains_itself() {
     harness.run_steps(2);
     assert_eq!(status::current().shading, "mean");
 }
+
+/// Scrolls to the widget labelled `label` and clicks it.
+fn click_label(harness: &mut Harness<'_, KnotworkApp>, label: &str) {
+    harness.get_by_label(label).scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label(label).click_accesskit();
+    harness.run_steps(3);
+}
+
+#[test]
+fn a_blend_from_the_surface_tools_is_adjusted_in_place_and_stays_one_undo_step() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let plates = r#"{"format": "knotwork", "version": 2, "objects": [
+        {"type": "nurbs_surface", "name": "Left", "degree": [1, 1],
+         "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+         "points": [[[-3, 0, 0], [-3, 2, 0]], [[-1, 0, 0], [-1, 2, 0]]]},
+        {"type": "nurbs_surface", "name": "Right", "degree": [1, 1],
+         "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+         "points": [[[1, 0, 0.5], [1, 2, 0.5]], [[3, 0, 0.5], [3, 2, 0.5]]]}]}"#;
+    harness
+        .state_mut()
+        .open_file("plates.json", plates.as_bytes());
+    harness.run_steps(3);
+    page_select(&mut harness, 0);
+    click_label(&mut harness, "Blend");
+    let across = |harness: &Harness<'_, KnotworkApp>| {
+        let doc = harness.state().document();
+        let blend = doc.scene.objects.get(2).map(|o| {
+            assert_eq!(o.name, "blend");
+            o.geometry.nurbs_surface().map(|s| s.degree()[1])
+        });
+        (doc.scene.objects.len(), doc.history.undo_depth(), blend)
+    };
+    // Opening, then the blend: G2, a quintic across the gap.
+    assert_eq!(
+        across(&harness),
+        (3, 2, Some(Some(5))),
+        "{:?}",
+        status::current()
+    );
+    // G1 applies it again in its place: a cubic across, still the same undo step.
+    click_label(&mut harness, "G1");
+    assert_eq!(
+        across(&harness),
+        (3, 2, Some(Some(3))),
+        "{:?}",
+        status::current()
+    );
+    assert!(
+        status::current()
+            .last_edit
+            .is_some_and(|l| l.starts_with("G1 blend from Left u1 to Right u0")),
+        "{:?}",
+        status::current()
+    );
+    // One undo takes the blend away; after it nothing is adjusted any more.
+    harness.state().command_sender().send(AppCommand::Undo);
+    harness.run_steps(3);
+    assert_eq!(across(&harness), (2, 1, None));
+    page_select(&mut harness, 0);
+    click_label(&mut harness, "G2");
+    assert_eq!(across(&harness), (2, 1, None));
+}

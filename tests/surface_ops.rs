@@ -54,6 +54,15 @@ fn named<'a>(project: &'a Project, name: &str) -> &'a SceneObject {
         .unwrap_or_else(|| panic!("no object {name:?}"))
 }
 
+/// The NURBS surface of the object named `name`.
+fn nurbs_named(project: &Project, name: &str) -> NurbsSurface {
+    named(project, name)
+        .geometry
+        .nurbs_surface()
+        .unwrap_or_else(|| panic!("{name} is not a NURBS surface"))
+        .clone()
+}
+
 fn scene_size(objects: &[&NurbsSurface]) -> f64 {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
@@ -353,11 +362,7 @@ fn a_fillet_between_bicubic_surfaces_rolls_a_ball_that_touches_both() {
         ],
     );
     assert_eq!(json["fillet"], "fillet", "{json}");
-    let fillet = named(&project, "fillet")
-        .geometry
-        .nurbs_surface()
-        .unwrap()
-        .clone();
+    let fillet = nurbs_named(&project, "fillet");
     let size = scene_size(&[&floor, &wall]);
     let tol = 1e-4 * size;
     let r = 0.4;
@@ -444,11 +449,7 @@ fn a_fillet_between_two_planes_is_a_quarter_cylinder_and_bad_requests_are_refuse
         objects.clone(),
         &["--objects", "Floor", "Wall", "--radius", "0.5"],
     );
-    let fillet = named(&project, "fillet")
-        .geometry
-        .nurbs_surface()
-        .unwrap()
-        .clone();
+    let fillet = nurbs_named(&project, "fillet");
     for i in 0..=8 {
         for j in 0..=8 {
             let p = fillet.point_at(i as f64 / 8.0, j as f64 / 8.0).unwrap();
@@ -457,6 +458,40 @@ fn a_fillet_between_two_planes_is_a_quarter_cylinder_and_bad_requests_are_refuse
             assert!((d - 0.5).abs() < 1e-9, "{d}");
         }
     }
+    // A radius that runs from 0.2 at x = −1 (where the contact on the floor starts, at its
+    // lower u) to 0.6 at x = 1: every section is the arc of radius r(x) about (x, r, −r).
+    let (project, _) = fillet_by_command(
+        "fillet-varying.json",
+        objects.clone(),
+        &[
+            "--objects",
+            "Floor",
+            "Wall",
+            "--radius",
+            "0.2",
+            "--radius-end",
+            "0.6",
+        ],
+    );
+    let fillet = nurbs_named(&project, "fillet");
+    let mut worst = 0.0f64;
+    for i in 0..=8 {
+        for j in 0..=32 {
+            let p = fillet.point_at(i as f64 / 8.0, j as f64 / 32.0).unwrap();
+            let r = 0.2 + 0.4 * (p.x + 1.0) / 2.0;
+            worst = worst.max((DVec2::new(p.y - r, p.z + r).length() - r).abs());
+        }
+    }
+    assert!(worst < 1e-4, "{worst}");
+    let [(_, _), (v0, v1)] = fillet.domain();
+    let (start, end) = (
+        fillet.point_at(0.0, v0).unwrap(),
+        fillet.point_at(0.0, v1).unwrap(),
+    );
+    assert!(
+        (start.x + 1.0).abs() < 1e-6 && (end.x - 1.0).abs() < 1e-6,
+        "{start} {end}"
+    );
     let path = write_project("fillet-refuse.json", objects);
     let out_path = temp_dir().join("fillet-refused.json");
     let _ = std::fs::remove_file(&out_path);
@@ -703,6 +738,7 @@ fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
             a: 0,
             b: 1,
             radius: 0.4,
+            radius_end: None,
             front_a: true,
             front_b: true,
             tolerance: 1e-4,
@@ -852,11 +888,7 @@ fn a_cylinder_standing_on_a_plane_gets_a_fillet_all_round() {
             "front",
         ],
     );
-    let fillet = named(&project, "fillet")
-        .geometry
-        .nurbs_surface()
-        .unwrap()
-        .clone();
+    let fillet = nurbs_named(&project, "fillet");
     // A quarter torus: every point at 0.25 from the circle of centres (radius 0.85, z = 0.25).
     let mut worst = 0.0f64;
     for i in 0..=10 {
@@ -989,21 +1021,22 @@ fn sheet(x0: f64, h: impl Fn(f64, f64) -> f64) -> NurbsSurface {
     NurbsSurface::new([3, 3], [knots.clone(), knots], [5, 5], points, None).unwrap()
 }
 
-/// `knotwork continuity` on `path` for `objects`: every shared edge's JSON.
-fn continuity_of(path: &std::path::Path, objects: &[&str]) -> Vec<Value> {
-    let mut args = vec!["continuity", path.to_str().unwrap(), "--objects"];
-    args.extend_from_slice(objects);
-    let out = knotwork(&args);
+/// Runs knotwork, which must succeed, and parses what it prints.
+fn knotwork_json(args: &[&str]) -> Value {
+    let out = knotwork(args);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_slice::<Value>(&out.stdout)
-        .unwrap()
-        .as_array()
-        .unwrap()
-        .clone()
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// `knotwork continuity` on `path` for `objects`: every shared edge's JSON.
+fn continuity_of(path: &std::path::Path, objects: &[&str]) -> Vec<Value> {
+    let mut args = vec!["continuity", path.to_str().unwrap(), "--objects"];
+    args.extend_from_slice(objects);
+    knotwork_json(&args).as_array().unwrap().clone()
 }
 
 #[test]
@@ -1016,7 +1049,7 @@ fn a_blend_between_two_sheets_is_g2_to_both_by_knotwork_continuity() {
     );
     for (continuity, verdict) in [("g1", "G1"), ("g2", "G2")] {
         let output = temp_dir().join(format!("blend-{continuity}.json"));
-        let out = knotwork(&[
+        let json = knotwork_json(&[
             "blend",
             input.to_str().unwrap(),
             "--objects",
@@ -1027,12 +1060,6 @@ fn a_blend_between_two_sheets_is_g2_to_both_by_knotwork_continuity() {
             "-o",
             output.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(json["blend"], "blend");
         let edges = continuity_of(&output, &["Left", "blend", "Right"]);
         assert_eq!(edges.len(), 2, "{edges:?}");
@@ -1055,7 +1082,7 @@ fn a_blend_between_two_sheets_is_g2_to_both_by_knotwork_continuity() {
     }
     // Edges named explicitly; a bad side or continuity is refused by name.
     let output = temp_dir().join("blend-named.json");
-    let out = knotwork(&[
+    knotwork_json(&[
         "blend",
         input.to_str().unwrap(),
         "--objects",
@@ -1072,11 +1099,6 @@ fn a_blend_between_two_sheets_is_g2_to_both_by_knotwork_continuity() {
         "-o",
         output.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     for (flag, value, message) in [
         ("--edges", "w9", "the side must be u0, u1, v0 or v1"),
         ("--continuity", "g7", "the continuity must be g0, g1 or g2"),
@@ -1130,7 +1152,7 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
         ("g2", &["G2"][..]),
     ] {
         let output = temp_dir().join(format!("match-{continuity}.json"));
-        let out = knotwork(&[
+        knotwork_json(&[
             "match",
             input.to_str().unwrap(),
             "--object",
@@ -1142,11 +1164,6 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
             "-o",
             output.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         let edges = continuity_of(&output, &["Sheet", "Roof"]);
         assert_eq!(edges.len(), 1, "{continuity}: {edges:?}");
         let verdict = edges[0]["verdict"].as_str().unwrap();

@@ -175,6 +175,15 @@ function landscapeObject(n, segments) {
 }
 
 /** Opens `objects` as a project and waits for its first frame. */
+// A bilinear plane object named `name` through corners [[p00, p01], [p10, p11]].
+function plane(name, corners) {
+  return {
+    type: 'nurbs_surface', name, segments: 8, degree: [1, 1],
+    knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
+    points: corners.map((row) => row.map((p) => [...p, 1])),
+  };
+}
+
 async function openObjects(page, objects) {
   const text = JSON.stringify({ format: 'knotwork', version: 2, objects });
   // Opening is an undo step: wait for it (the object count alone may be the previous
@@ -1318,11 +1327,6 @@ async function main() {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       // A floor (normal +z) and a wall (normal -y) meeting along the x axis.
-      const plane = (name, corners) => ({
-        type: 'nurbs_surface', name, segments: 8, degree: [1, 1],
-        knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
-        points: corners.map((row) => row.map((p) => [...p, 1])),
-      });
       await openObjects(page, [
         plane('Floor', [[[-1, -2, 0], [-1, 0, 0]], [[1, -2, 0], [1, 0, 0]]]),
         plane('Wall', [[[-1, 0, 0], [-1, 0, 2]], [[1, 0, 0], [1, 0, 2]]]),
@@ -1391,14 +1395,9 @@ async function main() {
       await page.close();
     });
 
-    await check('blend, match, contour and projection in the page: each one undo step, refusals change nothing', async () => {
+    await check('blend, match, contour, projection and a varying fillet in the page: each one undo step, refusals change nothing', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
-      const plane = (name, corners) => ({
-        type: 'nurbs_surface', name, segments: 8, degree: [1, 1],
-        knots: [[0, 0, 1, 1], [0, 0, 1, 1]],
-        points: corners.map((row) => row.map((p) => [...p, 1])),
-      });
       // Two level plates with a gap between x = -1 and x = 1, the right one higher, and a
       // line above the left one.
       await openObjects(page, [
@@ -1447,6 +1446,15 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 60_000 });
       objects = (await page.evaluate(() => window.knotwork.project())).objects;
       assert(Math.abs(objects[1].points[0][0][0] - 1) < 1e-12, 'undo brings the right plate back');
+      // A fillet whose radius runs from 0.2 to 0.5 between a floor and a wall.
+      await openObjects(page, [
+        plane('Floor', [[[-1, -2, 0], [-1, 0, 0]], [[1, -2, 0], [1, 0, 0]]]),
+        plane('Wall', [[[-1, 0, 0], [-1, 0, 2]], [[1, 0, 0], [1, 0, 2]]]),
+      ]);
+      await page.evaluate(() => window.knotwork.fillet(0, 1, 0.2, { frontA: true, frontB: true, radiusEnd: 0.5 }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /fillet Floor and Wall, radius 0.2/.test(s.last_edit), `varying fillet: ${s.error}, ${s.last_edit}`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -20,6 +20,8 @@ pub struct SurfaceToolState {
     /// The object the selected one is to be filleted with.
     pub fillet_with: Option<usize>,
     pub radius: f64,
+    /// A radius that varies along the fillet, to this at its other end.
+    pub radius_end: Option<f64>,
     /// The ball lies on the side each normal points to (else behind).
     pub front_a: bool,
     pub front_b: bool,
@@ -35,6 +37,22 @@ pub struct SurfaceToolState {
     /// The distance between contour planes and their normal (0: x, 1: y, 2: z).
     pub contour_spacing: f64,
     pub contour_axis: usize,
+    /// The last tool applied, while its parameters may still be adjusted.
+    pub last: Option<LastTool>,
+}
+
+/// The last surface tool applied while it is still the document's newest step and nothing
+/// else has changed since (Blender's "adjust last operation"): changing the panel's
+/// parameters applies it again in its place, still one undo step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LastTool {
+    /// The command as applied (the newest undo step).
+    pub command: Command,
+    /// The last command asked for in its place (refused where it differs from `command`).
+    pub tried: Command,
+    /// The undo depth and document revision right after it.
+    pub depth: usize,
+    pub revision: u64,
 }
 
 impl Default for SurfaceToolState {
@@ -43,6 +61,7 @@ impl Default for SurfaceToolState {
             offset: 0.1,
             fillet_with: None,
             radius: 0.1,
+            radius_end: None,
             front_a: false,
             front_b: false,
             cut_with: None,
@@ -52,7 +71,51 @@ impl Default for SurfaceToolState {
             tension: 1.0,
             contour_spacing: 0.25,
             contour_axis: 2,
+            last: None,
         }
+    }
+}
+
+impl SurfaceToolState {
+    /// `command` (a tool's) with the panel's current parameters; `None` for a command the
+    /// panel does not adjust.
+    pub fn adjusted(&self, command: &Command) -> Option<Command> {
+        Some(match command {
+            Command::Blend(r) => Command::Blend(BlendRequest {
+                continuity: self.continuity,
+                tension: [self.tension; 2],
+                ..*r
+            }),
+            Command::Match(r) => Command::Match(MatchRequest {
+                continuity: self.continuity,
+                ..*r
+            }),
+            Command::Offset {
+                object, tolerance, ..
+            } => Command::Offset {
+                object: *object,
+                distance: self.offset,
+                tolerance: *tolerance,
+            },
+            Command::Fillet(r) => Command::Fillet(FilletRequest {
+                radius: self.radius,
+                radius_end: self.radius_end,
+                front_a: self.front_a,
+                front_b: self.front_b,
+                ..*r
+            }),
+            Command::Contour { object, origin, .. } => {
+                let mut normal = glam::DVec3::ZERO;
+                normal[self.contour_axis.min(2)] = 1.0;
+                Command::Contour {
+                    object: *object,
+                    origin: *origin,
+                    normal,
+                    spacing: self.contour_spacing,
+                }
+            }
+            _ => return None,
+        })
     }
 }
 
@@ -113,6 +176,24 @@ impl KnotworkApp {
                 ui.checkbox(&mut t.front_b, "front")
                     .on_hover_text("the ball on the side the other's normal points to");
             });
+            ui.horizontal(|ui| {
+                let mut varying = t.radius_end.is_some();
+                ui.checkbox(&mut varying, "varying to")
+                    .on_hover_text("the radius runs linearly along the fillet to this one");
+                match (varying, t.radius_end) {
+                    (true, None) => t.radius_end = Some(2.0 * t.radius),
+                    (false, Some(_)) => t.radius_end = None,
+                    _ => {}
+                }
+                if let Some(end) = t.radius_end.as_mut() {
+                    ui.add(
+                        egui::DragValue::new(end)
+                            .speed(0.01)
+                            .range(1e-6..=1e6)
+                            .prefix("r "),
+                    );
+                }
+            });
             if ui
                 .button("Fillet")
                 .on_hover_text("roll a ball between the two; both are trimmed back to it")
@@ -122,6 +203,7 @@ impl KnotworkApp {
                     a: s,
                     b: chosen,
                     radius: t.radius,
+                    radius_end: t.radius_end,
                     front_a: t.front_a,
                     front_b: t.front_b,
                     tolerance: EDITOR_TOLERANCE,
@@ -193,8 +275,61 @@ impl KnotworkApp {
             }
         });
         if let Some(command) = command {
-            self.apply(AppCommand::Edit(command));
+            self.apply_tool(command);
         }
+        self.adjust_last_tool(ui);
+    }
+
+    /// Applies a tool's command; one that made an undo step may be adjusted afterwards.
+    fn apply_tool(&mut self, command: Command) {
+        let depth = self.doc.history.undo_depth();
+        self.apply(AppCommand::Edit(command.clone()));
+        let after = self.doc.history.undo_depth();
+        self.surface_tools.last = (after > depth).then(|| LastTool {
+            tried: command.clone(),
+            command,
+            depth: after,
+            revision: self.saved.revision,
+        });
+    }
+
+    /// While the last tool is still the newest step, applies it again in its place when the
+    /// panel's parameters changed; a refused one brings the previous back and says why.
+    fn adjust_last_tool(&mut self, ui: &mut egui::Ui) {
+        let Some(last) = self.surface_tools.last.clone() else {
+            return;
+        };
+        if self.doc.history.undo_depth() != last.depth || self.saved.revision != last.revision {
+            self.surface_tools.last = None;
+            return;
+        }
+        ui.label(
+            egui::RichText::new(format!(
+                "adjusting the last {}: change its settings above",
+                last.command.label()
+            ))
+            .weak(),
+        );
+        let Some(next) = self.surface_tools.adjusted(&last.command) else {
+            return;
+        };
+        if next == last.tried {
+            return;
+        }
+        self.apply(AppCommand::Undo);
+        self.apply(AppCommand::Edit(next.clone()));
+        let accepted = self.doc.history.undo_depth() == last.depth;
+        if !accepted {
+            let refused = self.status.error.clone();
+            self.apply(AppCommand::Redo);
+            self.status.error = refused;
+        }
+        self.surface_tools.last = Some(LastTool {
+            command: if accepted { next.clone() } else { last.command },
+            tried: next,
+            depth: self.doc.history.undo_depth(),
+            revision: self.saved.revision,
+        });
     }
 
     /// Blend to or match with the nearest edge of another object.
@@ -209,14 +344,10 @@ impl KnotworkApp {
         let with = object_choice(ui, "Edge of", &mut t.edge_with, others);
         let mut command = None;
         ui.horizontal(|ui| {
-            egui::ComboBox::from_id_salt("edge continuity")
-                .width(40.0)
-                .selected_text(t.continuity.name())
-                .show_ui(ui, |ui| {
-                    for c in [EdgeContinuity::G0, EdgeContinuity::G1, EdgeContinuity::G2] {
-                        ui.selectable_value(&mut t.continuity, c, c.name());
-                    }
-                });
+            for c in [EdgeContinuity::G0, EdgeContinuity::G1, EdgeContinuity::G2] {
+                ui.selectable_value(&mut t.continuity, c, c.name())
+                    .on_hover_text("position, tangent plane (G1), curvature (G2)");
+            }
             ui.add(
                 egui::DragValue::new(&mut t.tension)
                     .speed(0.01)

@@ -173,6 +173,9 @@ pub struct FilletRequest {
     pub a: usize,
     pub b: usize,
     pub radius: f64,
+    /// A radius that varies along the fillet, to this at its other end
+    /// ([`crate::kernel::fillet::FilletOptions::radius_end`]).
+    pub radius_end: Option<f64>,
     /// Whether the ball lies on the side each surface's normal points to (else the other).
     pub front_a: bool,
     pub front_b: bool,
@@ -224,6 +227,7 @@ pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMa
     let size = scene_size(scene);
     let options = FilletOptions {
         radius: request.radius,
+        radius_end: request.radius_end,
         side_a: if request.front_a { 1.0 } else { -1.0 },
         side_b: if request.front_b { 1.0 } else { -1.0 },
         tolerance: request.tolerance * size,
@@ -328,11 +332,14 @@ pub(super) fn fillet(
         }
     }
     changes.extend(inserted);
+    let radius = match request.radius_end {
+        Some(end) => format!("{} to {end}", request.radius),
+        None => request.radius.to_string(),
+    };
     let mut label = format!(
-        "fillet {} and {}, radius {}: {} sections",
+        "fillet {} and {}, radius {radius}: {} sections",
         scene.objects[request.a].name,
         scene.objects[request.b].name,
-        request.radius,
         made.fillet.centres.len()
     );
     for note in &made.notes {
@@ -844,21 +851,11 @@ pub fn projected_curves(
     const SAMPLES: usize = 200;
     let target = object_at(scene, onto)?;
     let fail = geometry_error(target);
-    let surface = match (
-        target.displacement.is_none() && target.lattice.is_none(),
-        target.geometry.as_trimmed(),
-    ) {
-        (true, Some(t)) => t,
-        _ => {
-            return Err(fail(refuse(
-                "project",
-                format!(
-                    "needs a NURBS or trimmed surface to project onto; this object is {}",
-                    target.kind().kind_name()
-                ),
-            )));
-        }
-    };
+    let surface = own_trimmed(
+        target,
+        "project",
+        "needs a NURBS or trimmed surface to project onto",
+    )?;
     let dir = match direction {
         Some(d) if d.length() > 0.0 && d.is_finite() => Some(d.normalize()),
         Some(_) => {
@@ -1110,21 +1107,11 @@ pub fn match_object(
     )?;
     let before = &scene.objects[request.object];
     let fail = geometry_error(before);
-    let trimmed = match (
-        before.displacement.is_none() && before.lattice.is_none(),
-        before.geometry.as_trimmed(),
-    ) {
-        (true, Some(t)) => t,
-        _ => {
-            return Err(fail(refuse(
-                "match",
-                format!(
-                    "moves the control points of a NURBS or trimmed surface; this object is {}",
-                    before.kind().kind_name()
-                ),
-            )));
-        }
-    };
+    let trimmed = own_trimmed(
+        before,
+        "match",
+        "moves the control points of a NURBS or trimmed surface",
+    )?;
     let [(_, side), (j, target_side)] = edges;
     let target = scene.objects[request.target].faces();
     let matched = crate::kernel::blend::match_edge(
@@ -1168,4 +1155,20 @@ pub(super) fn match_edge(
         }],
         label,
     ))
+}
+
+/// The NURBS or trimmed surface of an object that is neither displaced nor deformed (what it
+/// shows is then its own surface), or `what` refused with `needs` and the object's kind.
+fn own_trimmed(
+    object: &SceneObject,
+    what: &'static str,
+    needs: &str,
+) -> Result<TrimmedSurface, EditError> {
+    match object.geometry.as_trimmed() {
+        Some(t) if object.displacement.is_none() && object.lattice.is_none() => Ok(t),
+        _ => Err(geometry_error(object)(refuse(
+            what,
+            format!("{needs}; this object is {}", object.kind().kind_name()),
+        ))),
+    }
 }
