@@ -533,7 +533,7 @@ mod cli {
     /// `knotwork intersect`: every branch of the intersection of two named objects' faces (each
     /// face of one with each of the other), as JSON on standard output.
     pub fn intersect(path: &std::path::Path, names: &[String], tolerance: f64) -> ExitCode {
-        use knotwork::kernel::intersect::{IntersectOptions, intersect_surfaces};
+        use knotwork::kernel::intersect::IntersectOptions;
         let run = || -> Result<serde_json::Value, String> {
             if !(tolerance.is_finite() && tolerance > 0.0) {
                 return Err(format!(
@@ -559,24 +559,22 @@ mod cli {
             let started = std::time::Instant::now();
             let mut curves = Vec::new();
             let mut touching = Vec::new();
-            for (_, fa) in a.faces() {
-                for (_, fb) in b.faces() {
-                    let found = intersect_surfaces(fa.as_ref(), fb.as_ref(), &options)
-                        .map_err(|e| e.to_string())?;
-                    touching.extend(found.touching.iter().map(|p| p.to_array()));
-                    for c in found.curves {
-                        let uv = |points: &[glam::DVec2]| -> Vec<[f64; 2]> {
-                            points.iter().map(|p| p.to_array()).collect()
-                        };
-                        let mut by_name = serde_json::Map::new();
-                        by_name.insert(a.name.clone(), serde_json::json!(uv(&c.uv_a)));
-                        by_name.insert(b.name.clone(), serde_json::json!(uv(&c.uv_b)));
-                        curves.push(serde_json::json!({
-                            "closed": c.closed,
-                            "points": c.points.iter().map(|p| p.to_array()).collect::<Vec<_>>(),
-                            "uv": by_name,
-                        }));
-                    }
+            let found_all = knotwork::doc::surface_ops::object_intersections(a, b, &options)
+                .map_err(|e| e.to_string())?;
+            for found in found_all {
+                touching.extend(found.touching.iter().map(|p| p.to_array()));
+                for c in found.curves {
+                    let uv = |points: &[glam::DVec2]| -> Vec<[f64; 2]> {
+                        points.iter().map(|p| p.to_array()).collect()
+                    };
+                    let mut by_name = serde_json::Map::new();
+                    by_name.insert(a.name.clone(), serde_json::json!(uv(&c.uv_a)));
+                    by_name.insert(b.name.clone(), serde_json::json!(uv(&c.uv_b)));
+                    curves.push(serde_json::json!({
+                        "closed": c.closed,
+                        "points": c.points.iter().map(|p| p.to_array()).collect::<Vec<_>>(),
+                        "uv": by_name,
+                    }));
                 }
             }
             eprintln!(

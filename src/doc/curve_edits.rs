@@ -224,7 +224,7 @@ pub(super) fn intersection_curves(
     a: usize,
     b: usize,
 ) -> Result<(Vec<Change>, String), EditError> {
-    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    use crate::kernel::intersect::IntersectOptions;
     let (oa, ob) = (object_at(scene, a)?, object_at(scene, b)?);
     let refuse_with = |object: &SceneObject, message: String| {
         geometry_error(object)(refuse("intersection", message))
@@ -249,15 +249,13 @@ pub(super) fn intersection_curves(
     let options = IntersectOptions::for_size(size);
     let mut curves = Vec::new();
     let mut touching = 0;
-    for (_, fa) in oa.faces() {
-        for (_, fb) in ob.faces() {
-            let found = intersect_surfaces(fa.as_ref(), fb.as_ref(), &options)
-                .map_err(geometry_error(oa))?;
-            touching += found.touching.len();
-            for branch in found.curves {
-                let curve = super::surface_ops::branch_curve(&branch.points, branch.closed);
-                curves.push(curve.map_err(geometry_error(oa))?);
-            }
+    for found in
+        super::surface_ops::object_intersections(oa, ob, &options).map_err(geometry_error(oa))?
+    {
+        touching += found.touching.len();
+        for branch in found.curves {
+            let curve = super::surface_ops::branch_curve(&branch.points, branch.closed);
+            curves.push(curve.map_err(geometry_error(oa))?);
         }
     }
     if curves.is_empty() {

@@ -26,6 +26,44 @@ pub fn scene_size(scene: &Scene) -> f64 {
         .map_or(1.0, |(lo, hi)| lo.distance(hi).max(1e-12))
 }
 
+/// Every intersection of a face of object `a` with a face of object `b`
+/// ([`crate::kernel::intersect::intersect_face_sets`]: each face's cells made once).
+pub fn object_intersections(
+    a: &SceneObject,
+    b: &SceneObject,
+    options: &crate::kernel::intersect::IntersectOptions,
+) -> Result<Vec<crate::kernel::intersect::Intersection>, crate::kernel::GeometryError> {
+    let (fa, fb) = (a.faces(), b.faces());
+    face_intersections(&fa, &fb, options)
+}
+
+/// Faces as [`crate::scene::SceneObject::faces`] gives them.
+type Faces<'a> = [(
+    Option<usize>,
+    Box<dyn crate::kernel::parametric::ParametricSurface + 'a>,
+)];
+
+/// The faces as references, for the kernel's functions over sets of faces.
+pub fn face_refs<'a, 'b: 'a>(
+    faces: &'a Faces<'b>,
+) -> Vec<&'a (dyn crate::kernel::parametric::ParametricSurface + 'a)> {
+    faces.iter().map(|(_, f)| f.as_ref() as _).collect()
+}
+
+/// [`object_intersections`] for two lists of faces.
+pub fn face_intersections(
+    a: &Faces<'_>,
+    b: &Faces<'_>,
+    options: &crate::kernel::intersect::IntersectOptions,
+) -> Result<Vec<crate::kernel::intersect::Intersection>, crate::kernel::GeometryError> {
+    Ok(
+        crate::kernel::intersect::intersect_face_sets(&face_refs(a), &face_refs(b), options)?
+            .into_iter()
+            .map(|(_, found)| found)
+            .collect(),
+    )
+}
+
 /// Changes that add `objects` at the end of the scene, each under a name not yet taken
 /// (`base`, `base 2`, …), cut to the longest name an object may have.
 pub(super) fn insert_objects(
@@ -524,7 +562,7 @@ pub fn cuts_on(
     object: usize,
     cutters: &[usize],
 ) -> Result<(TrimmedSurface, Vec<crate::kernel::trim::cut::Cut>), EditError> {
-    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    use crate::kernel::intersect::IntersectOptions;
     use crate::kernel::trim::cut::Cut;
     let target = object_at(scene, object)?;
     let fail = geometry_error(target);
@@ -592,9 +630,12 @@ pub fn cuts_on(
             )));
         }
         let options = IntersectOptions::for_size(size);
-        for (_, face) in &faces {
-            let found = intersect_surfaces(surface.surface(), face.as_ref(), &options)
-                .map_err(geometry_error(cutter))?;
+        let own: &dyn crate::kernel::parametric::ParametricSurface = surface.surface();
+        let cutting: Vec<&dyn crate::kernel::parametric::ParametricSurface> =
+            faces.iter().map(|(_, f)| f.as_ref()).collect();
+        let found_all = crate::kernel::intersect::intersect_face_sets(&[own], &cutting, &options)
+            .map_err(geometry_error(cutter))?;
+        for (_, found) in found_all {
             for branch in found.curves {
                 let mut points = branch.uv_a;
                 if branch.closed {
@@ -732,7 +773,7 @@ pub fn contour_curves(
     spacing: f64,
 ) -> Result<Vec<crate::kernel::SpaceCurve>, EditError> {
     use crate::kernel::construct;
-    use crate::kernel::intersect::{IntersectOptions, intersect_surfaces};
+    use crate::kernel::intersect::IntersectOptions;
     let target = object_at(scene, object)?;
     let fail = geometry_error(target);
     let n = normal.normalize_or_zero();
@@ -792,8 +833,11 @@ pub fn contour_curves(
         let c = centre - n * (centre - level).dot(n);
         let plane =
             construct::plane(c - (x + y) * half, x * 2.0 * half, y * 2.0 * half).map_err(&fail)?;
-        for (_, face) in &faces {
-            let found = intersect_surfaces(face.as_ref(), &plane, &options).map_err(&fail)?;
+        let level_faces: Vec<(
+            Option<usize>,
+            Box<dyn crate::kernel::parametric::ParametricSurface>,
+        )> = vec![(None, Box::new(plane))];
+        for found in face_intersections(&faces, &level_faces, &options).map_err(&fail)? {
             for branch in found.curves {
                 curves.push(branch_curve(&branch.points, branch.closed).map_err(&fail)?);
             }

@@ -6,9 +6,11 @@
 //!    (|S_uu| Δu² + 2|S_uv| Δu Δv + |S_vv| Δv²)/8 at the samples. Pairs of cells whose boxes
 //!    meet are cut again, the larger first, until both cells are smaller than
 //!    [`IntersectOptions::smallest`]: a closed loop at least that large crosses such a pair, so
-//!    none is missed. Each such pair off the branches traced so far gives a seed by
-//!    Gauss–Newton from the cells' centres on A(u, v) − B(s, t) = 0 (the least-norm step of the
-//!    3 × 4 system). A pair that a branch crosses is not cut further when both cells are flat
+//!    none is missed; a pair is also dropped when one cell's box lies wholly on one side of
+//!    the other's slab (its samples' extent along its normal, grown by the same bound), which
+//!    a flat, tilted piece's axis-aligned box cannot tell. Each such pair off the branches
+//!    traced so far gives a seed by Gauss–Newton from the cells' centres on A(u, v) − B(s, t)
+//!    = 0 (the least-norm step of the 3 × 4 system). A pair that a branch crosses is not cut further when both cells are flat
 //!    (normals within 15°) and their normal cones are apart as lines (the pieces meet
 //!    transversally, in one arc at most; no closed loop by Sinha, Klassen and Wang's test,
 //!    1985). Nearly parallel pieces are cut down to the smallest size, since their difference
@@ -106,12 +108,20 @@ struct Common {
 }
 
 /// One surface with what the marching asks of it.
+#[derive(Clone, Copy)]
 pub(crate) struct Side<'a> {
     pub(crate) surface: &'a dyn ParametricSurface,
     pub(crate) domain: [(f64, f64); 2],
 }
 
-impl Side<'_> {
+impl<'a> Side<'a> {
+    pub(crate) fn of(surface: &'a dyn ParametricSurface) -> Self {
+        Self {
+            surface,
+            domain: surface.domain(),
+        }
+    }
+
     fn inside(&self, u: f64, v: f64) -> bool {
         let [(u0, u1), (v0, v1)] = self.domain;
         u >= u0 && u <= u1 && v >= v0 && v <= v1
@@ -414,6 +424,61 @@ fn newton_step(
     None
 }
 
+/// A surface's cells as a quadtree whose quarters are made once, however many cells of the
+/// other surface each is paired with (node 0: the whole domain).
+struct CellTree {
+    nodes: Vec<(Cell, Option<Vec<usize>>)>,
+}
+
+impl CellTree {
+    fn new(side: &Side<'_>) -> Option<Self> {
+        let [u, v] = side.domain;
+        Some(Self {
+            nodes: vec![(Cell::new(side, u, v)?, None)],
+        })
+    }
+
+    fn cell(&self, k: usize) -> Cell {
+        self.nodes[k].0
+    }
+
+    /// The indices of node `k`'s quarters (those the surface is defined on), made on first
+    /// asking.
+    fn children(&mut self, side: &Side<'_>, k: usize) -> Vec<usize> {
+        if let Some(children) = &self.nodes[k].1 {
+            return children.clone();
+        }
+        let quarters = self.nodes[k].0.quarters(side);
+        let first = self.nodes.len();
+        self.nodes.extend(quarters.into_iter().map(|q| (q, None)));
+        let children: Vec<usize> = (first..self.nodes.len()).collect();
+        self.nodes[k].1 = Some(children.clone());
+        children
+    }
+}
+
+/// Whether the segment from `a` to `b` passes through the box [lo, hi] (the slab method: the
+/// parameter intervals where it lies between each pair of faces overlap within [0, 1]).
+fn segment_meets_box(a: DVec3, b: DVec3, lo: DVec3, hi: DVec3) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for k in 0..3 {
+        if d[k].abs() < 1e-300 {
+            if a[k] < lo[k] || a[k] > hi[k] {
+                return false;
+            }
+            continue;
+        }
+        let (p, q) = ((lo[k] - a[k]) / d[k], (hi[k] - a[k]) / d[k]);
+        t0 = t0.max(p.min(q));
+        t1 = t1.min(p.max(q));
+        if t0 > t1 {
+            return false;
+        }
+    }
+    true
+}
+
 /// A cell of a surface's domain and the box that holds its piece of the surface.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Cell {
@@ -426,6 +491,9 @@ pub(crate) struct Cell {
     /// transversally everywhere and hold no closed loop.
     axis: Option<DVec3>,
     spread: f64,
+    /// The piece's extent along `axis` (the samples' projections, grown like the box): a slab
+    /// that holds the piece, tighter than the box where the piece is flat and tilted.
+    slab: (f64, f64),
 }
 
 /// The largest spread (radians, about 15°) of a flat cell's normals.
@@ -443,8 +511,13 @@ impl Cell {
         let mut bound = 0.0f64;
         let mut first_normal: Option<DVec3> = None;
         let mut spread = 0.0f64;
-        for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)] {
+        let mut points = [DVec3::ZERO; 5];
+        for (k, (i, j)) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)]
+            .into_iter()
+            .enumerate()
+        {
             let d = side.at(u.0 + du * i, v.0 + dv * j)?;
+            points[k] = d.point;
             lo = lo.min(d.point);
             hi = hi.max(d.point);
             match (d.regular_normal(), first_normal) {
@@ -459,6 +532,14 @@ impl Cell {
             bound = bound.max(second / 8.0);
         }
         let grow = DVec3::splat(2.0 * bound);
+        let slab = first_normal.map_or((0.0, 0.0), |n| {
+            let (a, b) = points
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p.dot(n)), b.max(p.dot(n)))
+                });
+            (a - 2.0 * bound, b + 2.0 * bound)
+        });
         Some(Self {
             u,
             v,
@@ -466,6 +547,7 @@ impl Cell {
             hi: hi + grow,
             axis: first_normal,
             spread,
+            slab,
         })
     }
 
@@ -482,6 +564,20 @@ impl Cell {
         };
         let angle = a.dot(b).abs().clamp(0.0, 1.0).acos();
         angle > self.spread + other.spread + 2.0 * CONE_MARGIN
+    }
+
+    /// Whether `other`'s box lies wholly on one side of this cell's slab (more than `slack`
+    /// away): the two pieces cannot meet.
+    fn slab_separates(&self, other: &Cell, slack: f64) -> bool {
+        let Some(n) = self.axis else {
+            return false;
+        };
+        // The box's extent along n: its centre's projection ± the half-diagonal's.
+        let centre = 0.5 * (other.lo + other.hi);
+        let half = 0.5 * (other.hi - other.lo);
+        let c = centre.dot(n);
+        let r = half.dot(n.abs());
+        c + r < self.slab.0 - slack || c - r > self.slab.1 + slack
     }
 
     pub(crate) fn size(&self) -> f64 {
@@ -531,6 +627,50 @@ pub fn intersect_surfaces(
     b: &dyn ParametricSurface,
     options: &IntersectOptions,
 ) -> Result<Intersection, GeometryError> {
+    check_options(options)?;
+    let (a, b) = (Side::of(a), Side::of(b));
+    let (Some(mut tree_a), Some(mut tree_b)) = (CellTree::new(&a), CellTree::new(&b)) else {
+        return Ok(Intersection::default());
+    };
+    Ok(intersect_trees(
+        (&a, &mut tree_a),
+        (&b, &mut tree_b),
+        options,
+    ))
+}
+
+/// The branches between face i of one set and face j of another: ((i, j), branches).
+pub type FacePairIntersection = ((usize, usize), Intersection);
+
+/// Every intersection of a face of `a` with a face of `b`, as [`intersect_surfaces`] finds
+/// them, each face's cells made once for all its pairs (a patch set against a surface):
+/// `((i, j), branches)` for each pair of faces that meet.
+pub fn intersect_face_sets(
+    a: &[&dyn ParametricSurface],
+    b: &[&dyn ParametricSurface],
+    options: &IntersectOptions,
+) -> Result<Vec<FacePairIntersection>, GeometryError> {
+    check_options(options)?;
+    let sides_a: Vec<Side<'_>> = a.iter().map(|&f| Side::of(f)).collect();
+    let sides_b: Vec<Side<'_>> = b.iter().map(|&f| Side::of(f)).collect();
+    let mut trees_a: Vec<Option<CellTree>> = sides_a.iter().map(CellTree::new).collect();
+    let mut trees_b: Vec<Option<CellTree>> = sides_b.iter().map(CellTree::new).collect();
+    let mut out = Vec::new();
+    for (i, side_a) in sides_a.iter().enumerate() {
+        for (j, side_b) in sides_b.iter().enumerate() {
+            let (Some(ta), Some(tb)) = (trees_a[i].as_mut(), trees_b[j].as_mut()) else {
+                continue;
+            };
+            let found = intersect_trees((side_a, ta), (side_b, tb), options);
+            if !(found.curves.is_empty() && found.touching.is_empty()) {
+                out.push(((i, j), found));
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn check_options(options: &IntersectOptions) -> Result<(), GeometryError> {
     let positive = |x: f64| x > 0.0 && x.is_finite();
     if !(positive(options.tolerance) && positive(options.chord) && positive(options.smallest)) {
         return Err(GeometryError::Construction {
@@ -538,39 +678,42 @@ pub fn intersect_surfaces(
             message: "the tolerance, chord and smallest loop must be numbers > 0".into(),
         });
     }
-    let a = Side {
-        surface: a,
-        domain: a.domain(),
-    };
-    let b = Side {
-        surface: b,
-        domain: b.domain(),
-    };
+    Ok(())
+}
+
+/// The intersection of two surfaces given with their cell trees (see the module
+/// documentation).
+fn intersect_trees(
+    (a, tree_a): (&Side<'_>, &mut CellTree),
+    (b, tree_b): (&Side<'_>, &mut CellTree),
+    options: &IntersectOptions,
+) -> Intersection {
+    let (a, b) = (*a, *b);
     let mut result = Intersection::default();
     // A seed this close to a branch already traced belongs to it.
     let near = (options.chord * 4.0).max(options.tolerance * 100.0);
     // Depth first over pairs of cells whose boxes meet, tracing a branch as soon as a pair of
     // small cells gives a seed off the branches so far; a pair of flat cells with cones apart
     // that a branch crosses already holds nothing more.
-    let whole = |side: &Side<'_>| {
-        let [u, v] = side.domain;
-        Cell::new(side, u, v)
-    };
-    let mut stack: Vec<(Cell, Cell, u32)> = whole(&a)
-        .zip(whole(&b))
-        .map(|(ca, cb)| (ca, cb, 0))
-        .into_iter()
-        .collect();
-    while let Some((ca, cb, depth)) = stack.pop() {
-        if !ca.meets(&cb, options.tolerance) {
+    let mut stack: Vec<(usize, usize, u32)> = vec![(0, 0, 0)];
+    while let Some((ia, ib, depth)) = stack.pop() {
+        let (ca, cb) = (tree_a.cell(ia), tree_b.cell(ib));
+        if !ca.meets(&cb, options.tolerance)
+            || ca.slab_separates(&cb, options.tolerance)
+            || cb.slab_separates(&ca, options.tolerance)
+        {
             continue;
         }
         let box_lo = ca.lo.max(cb.lo);
         let box_hi = ca.hi.min(cb.hi);
+        let (lo, hi) = (box_lo - near, box_hi + near);
         let covered = result.curves.iter().any(|c| {
             c.points
-                .iter()
-                .any(|p| p.cmpge(box_lo - near).all() && p.cmple(box_hi + near).all())
+                .first()
+                .is_some_and(|&p| segment_meets_box(p, p, lo, hi))
+                || c.points
+                    .windows(2)
+                    .any(|w| segment_meets_box(w[0], w[1], lo, hi))
         });
         let small = ca.size() <= options.smallest && cb.size() <= options.smallest;
         if covered && (small || (ca.flat() && cb.flat() && ca.transversal(&cb))) {
@@ -578,9 +721,11 @@ pub fn intersect_surfaces(
         }
         if !small && depth < 40 {
             if ca.size() >= cb.size() {
-                stack.extend(ca.quarters(&a).into_iter().map(|q| (q, cb, depth + 1)));
+                let children = tree_a.children(&a, ia);
+                stack.extend(children.into_iter().map(|q| (q, ib, depth + 1)));
             } else {
-                stack.extend(cb.quarters(&b).into_iter().map(|q| (ca, q, depth + 1)));
+                let children = tree_b.children(&b, ib);
+                stack.extend(children.into_iter().map(|q| (ia, q, depth + 1)));
             }
             continue;
         }
@@ -642,7 +787,7 @@ pub fn intersect_surfaces(
             ends,
         });
     }
-    Ok(result)
+    result
 }
 
 #[cfg(test)]
