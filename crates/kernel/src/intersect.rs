@@ -264,8 +264,18 @@ fn march(
                 && ahead <= 1.5 * h
                 && (to_start - direction * ahead).length() <= options.chord.max(ahead * 0.2)
             {
-                points.push(*start);
-                return (points, true, BranchEnd::Boundary);
+                // The closing chord passes the same check as any step: the curve's point half
+                // way to the start lies within the chord tolerance of the chord's middle;
+                // otherwise step short of the start and look again.
+                let middle = newton_step(a, b, &current, direction, 0.5 * ahead, options.tolerance);
+                let error = middle.map_or(f64::INFINITY, |m| {
+                    m.point.distance(0.5 * (current.point + start.point))
+                });
+                if error <= options.chord {
+                    points.push(*start);
+                    return (points, true, BranchEnd::Boundary);
+                }
+                h = h.min(0.5 * ahead);
             }
         }
         let next = loop {
