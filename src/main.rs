@@ -165,8 +165,9 @@ mod cli {
             tolerance: f64,
         },
         /// Offset a surface by a signed distance along its normal: writes a project with the
-        /// input's objects and the offset as "NAME offset" (exact for planes, spheres and
-        /// cylinders; fitted within T × the scene's size elsewhere, over the same domain), and
+        /// input's objects and the offset as "NAME offset" (exact for planes, spheres,
+        /// cylinders, cones, tori and other revolutions of lines and arcs; fitted within T × the
+        /// scene's size elsewhere, over the same domain), and
         /// prints how it was made, its deviation and where it folds as JSON.
         Offset {
             /// The project (or any file knotwork opens).

@@ -477,8 +477,8 @@ pub fn intersect(a: u32, b: u32) {
 }
 
 /// Adds the offset of object `object` at signed `distance` along its normal as "NAME offset"
-/// (one undo step; exact for planes, spheres and cylinders, within 1e-4 of the scene's size
-/// elsewhere).
+/// (one undo step; exact for planes, spheres, cylinders, cones, tori and other revolutions of
+/// lines and arcs, within 1e-4 of the scene's size elsewhere).
 #[wasm_bindgen]
 pub fn offset(object: u32, distance: f64) {
     send(AppCommand::Edit(Command::Offset {

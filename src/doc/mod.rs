@@ -174,8 +174,9 @@ pub enum Command {
         b: usize,
     },
     /// Adds the offset of an object's faces at signed `distance` along the normal as "NAME
-    /// offset" (exact for planes, spheres and cylinders, fitted within `tolerance` × the
-    /// scene's size elsewhere; [`surface_ops::offset_geometry`]).
+    /// offset" (exact for planes, spheres, cylinders, cones, tori and other revolutions of
+    /// lines and arcs, fitted within `tolerance` × the scene's size elsewhere;
+    /// [`surface_ops::offset_geometry`]).
     Offset {
         object: usize,
         distance: f64,

@@ -154,6 +154,9 @@ pub fn offset_summary(offsets: &[Offset], distance: f64) -> String {
             Some(OffsetShape::Cylinder { radius, .. }) => {
                 format!("exact (a cylinder of radius {radius:.6} scaled)")
             }
+            Some(OffsetShape::Revolution { .. }) => {
+                "exact (a surface of revolution, its meridian offset)".to_string()
+            }
             _ => "exact".to_string(),
         }
     } else {
