@@ -77,6 +77,13 @@ impl Default for SurfaceToolState {
 }
 
 impl SurfaceToolState {
+    /// The contour planes' normal: the chosen axis.
+    fn contour_normal(&self) -> glam::DVec3 {
+        let mut normal = glam::DVec3::ZERO;
+        normal[self.contour_axis.min(2)] = 1.0;
+        normal
+    }
+
     /// `command` (a tool's) with the panel's current parameters; `None` for a command the
     /// panel does not adjust.
     pub fn adjusted(&self, command: &Command) -> Option<Command> {
@@ -104,16 +111,12 @@ impl SurfaceToolState {
                 front_b: self.front_b,
                 ..*r
             }),
-            Command::Contour { object, origin, .. } => {
-                let mut normal = glam::DVec3::ZERO;
-                normal[self.contour_axis.min(2)] = 1.0;
-                Command::Contour {
-                    object: *object,
-                    origin: *origin,
-                    normal,
-                    spacing: self.contour_spacing,
-                }
-            }
+            Command::Contour { object, origin, .. } => Command::Contour {
+                object: *object,
+                origin: *origin,
+                normal: self.contour_normal(),
+                spacing: self.contour_spacing,
+            },
             _ => return None,
         })
     }
@@ -413,12 +416,10 @@ impl KnotworkApp {
                 .on_hover_text("the sections by planes across this axis, as curves")
                 .clicked()
             {
-                let mut normal = glam::DVec3::ZERO;
-                normal[t.contour_axis.min(2)] = 1.0;
                 command = Some(Command::Contour {
                     object: s,
                     origin: glam::DVec3::ZERO,
-                    normal,
+                    normal: t.contour_normal(),
                     spacing: t.contour_spacing,
                 });
             }

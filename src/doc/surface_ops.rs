@@ -34,7 +34,12 @@ pub fn object_intersections(
     options: &crate::kernel::intersect::IntersectOptions,
 ) -> Result<Vec<crate::kernel::intersect::Intersection>, crate::kernel::GeometryError> {
     let (fa, fb) = (a.faces(), b.faces());
-    face_intersections(&fa, &fb, options)
+    Ok(
+        crate::kernel::intersect::intersect_face_sets(&face_refs(&fa), &face_refs(&fb), options)?
+            .into_iter()
+            .map(|(_, found)| found)
+            .collect(),
+    )
 }
 
 /// Faces as [`crate::scene::SceneObject::faces`] gives them.
@@ -50,20 +55,6 @@ pub fn face_refs<'a, 'b: 'a>(
     faces.iter().map(|(_, f)| f.as_ref() as _).collect()
 }
 
-/// [`object_intersections`] for two lists of faces.
-pub fn face_intersections(
-    a: &Faces<'_>,
-    b: &Faces<'_>,
-    options: &crate::kernel::intersect::IntersectOptions,
-) -> Result<Vec<crate::kernel::intersect::Intersection>, crate::kernel::GeometryError> {
-    Ok(
-        crate::kernel::intersect::intersect_face_sets(&face_refs(a), &face_refs(b), options)?
-            .into_iter()
-            .map(|(_, found)| found)
-            .collect(),
-    )
-}
-
 /// Changes that add `objects` at the end of the scene, each under a name not yet taken
 /// (`base`, `base 2`, …), cut to the longest name an object may have.
 pub(super) fn insert_objects(
@@ -71,13 +62,21 @@ pub(super) fn insert_objects(
     base: &str,
     objects: impl IntoIterator<Item = ObjectGeometry>,
 ) -> Vec<Change> {
-    let base: String = base
-        .chars()
-        .take(crate::scene::MAX_NAME_LENGTH - 4)
-        .collect();
+    insert_named_objects(scene, objects.into_iter().map(|g| (base, g)))
+}
+
+/// [`insert_objects`] with a base name for each object.
+fn insert_named_objects<'a>(
+    scene: &Scene,
+    objects: impl IntoIterator<Item = (&'a str, ObjectGeometry)>,
+) -> Vec<Change> {
     let mut next = scene.clone();
     let mut changes = Vec::new();
-    for geometry in objects {
+    for (base, geometry) in objects {
+        let base: String = base
+            .chars()
+            .take(crate::scene::MAX_NAME_LENGTH - 4)
+            .collect();
         let object = SceneObject::new(next.unique_name(&base), geometry);
         changes.push(Change::Insert {
             index: next.objects.len(),
@@ -634,10 +633,9 @@ pub fn cuts_on(
         }
         let options = IntersectOptions::for_size(size);
         let own: &dyn crate::kernel::parametric::ParametricSurface = surface.surface();
-        let cutting: Vec<&dyn crate::kernel::parametric::ParametricSurface> =
-            faces.iter().map(|(_, f)| f.as_ref()).collect();
-        let found_all = crate::kernel::intersect::intersect_face_sets(&[own], &cutting, &options)
-            .map_err(geometry_error(cutter))?;
+        let found_all =
+            crate::kernel::intersect::intersect_face_sets(&[own], &face_refs(&faces), &options)
+                .map_err(geometry_error(cutter))?;
         for (_, found) in found_all {
             for branch in found.curves {
                 let mut points = branch.uv_a;
@@ -829,23 +827,28 @@ pub fn contour_curves(
     };
     let centre = 0.5 * (lo + hi);
     let half = lo.distance(hi).max(1e-9);
-    let mut curves = Vec::new();
+    let mut planes = Vec::new();
     let mut k = (a / spacing).ceil() as i64;
     while (k as f64) * spacing <= b {
         let level = origin + n * (k as f64 * spacing);
         let c = centre - n * (centre - level).dot(n);
-        let plane =
-            construct::plane(c - (x + y) * half, x * 2.0 * half, y * 2.0 * half).map_err(&fail)?;
-        let level_faces: Vec<(
-            Option<usize>,
-            Box<dyn crate::kernel::parametric::ParametricSurface>,
-        )> = vec![(None, Box::new(plane))];
-        for found in face_intersections(&faces, &level_faces, &options).map_err(&fail)? {
-            for branch in found.curves {
-                curves.push(branch_curve(&branch.points, branch.closed).map_err(&fail)?);
-            }
-        }
+        planes.push(
+            construct::plane(c - (x + y) * half, x * 2.0 * half, y * 2.0 * half).map_err(&fail)?,
+        );
         k += 1;
+    }
+    // Every level at once, so each face's cells are made once; in order of level, then face.
+    let levels: Vec<&dyn crate::kernel::parametric::ParametricSurface> =
+        planes.iter().map(|p| p as _).collect();
+    let mut found =
+        crate::kernel::intersect::intersect_face_sets(&face_refs(&faces), &levels, &options)
+            .map_err(&fail)?;
+    found.sort_by_key(|((face, level), _)| (*level, *face));
+    let mut curves = Vec::new();
+    for (_, found) in found {
+        for branch in found.curves {
+            curves.push(branch_curve(&branch.points, branch.closed).map_err(&fail)?);
+        }
     }
     if curves.is_empty() {
         return Err(fail(refuse("contour", "no plane meets it")));
@@ -894,7 +897,7 @@ pub fn projected_curves(
     onto: usize,
     direction: Option<glam::DVec3>,
 ) -> Result<Vec<(usize, crate::kernel::SpaceCurve)>, EditError> {
-    use crate::kernel::intersect_curve::intersect_curve_surface;
+    use crate::kernel::intersect_curve::intersect_curves_surface;
     const SAMPLES: usize = 200;
     let target = object_at(scene, onto)?;
     let fail = geometry_error(target);
@@ -924,28 +927,43 @@ pub fn projected_curves(
             )));
         };
         let (t0, t1) = curve.domain();
-        let mut runs: Vec<Vec<glam::DVec3>> = vec![Vec::new()];
-        for i in 0..=SAMPLES {
-            let p = curve
-                .point_at(t0 + (t1 - t0) * i as f64 / SAMPLES as f64)
-                .map_err(geometry_error(object))?;
-            let landed = match dir {
-                None => {
-                    let c = surface.surface().closest_point(p).map_err(&fail)?;
-                    surface.contains(c.u, c.v).then_some(c.point)
-                }
-                Some(d) => {
-                    let ray =
+        let points: Vec<glam::DVec3> = (0..=SAMPLES)
+            .map(|i| curve.point_at(t0 + (t1 - t0) * i as f64 / SAMPLES as f64))
+            .collect::<Result<_, _>>()
+            .map_err(geometry_error(object))?;
+        let landed: Vec<Option<glam::DVec3>> = match dir {
+            None => points
+                .iter()
+                .map(|&p| {
+                    let c = surface.surface().closest_point(p)?;
+                    Ok(surface.contains(c.u, c.v).then_some(c.point))
+                })
+                .collect::<Result<_, crate::kernel::GeometryError>>()
+                .map_err(&fail)?,
+            Some(d) => {
+                // Every sample's ray through the surface at once (its cells made once).
+                let rays: Vec<crate::kernel::SpaceCurve> = points
+                    .iter()
+                    .map(|&p| {
                         crate::kernel::construct::line(p - d * 2.0 * size, p + d * 2.0 * size)
-                            .map_err(&fail)?;
-                    intersect_curve_surface(&ray, &surface, 1e-9 * size, 1e-2 * size)
-                        .map_err(&fail)?
-                        .into_iter()
-                        .min_by(|a, b| (a.t - 0.5).abs().total_cmp(&(b.t - 0.5).abs()))
-                        .map(|h| h.point)
-                }
-            };
-            match landed {
+                    })
+                    .collect::<Result<_, _>>()
+                    .map_err(&fail)?;
+                let rays: Vec<&crate::kernel::SpaceCurve> = rays.iter().collect();
+                intersect_curves_surface(&rays, &surface, 1e-9 * size, 1e-2 * size)
+                    .map_err(&fail)?
+                    .into_iter()
+                    .map(|hits| {
+                        hits.into_iter()
+                            .min_by(|a, b| (a.t - 0.5).abs().total_cmp(&(b.t - 0.5).abs()))
+                            .map(|h| h.point)
+                    })
+                    .collect()
+            }
+        };
+        let mut runs: Vec<Vec<glam::DVec3>> = vec![Vec::new()];
+        for q in landed {
+            match q {
                 Some(q) => {
                     if let Some(run) = runs.last_mut()
                         && run
@@ -978,19 +996,18 @@ pub(super) fn project(
     direction: Option<glam::DVec3>,
 ) -> Result<(Vec<Change>, String), EditError> {
     let made = projected_curves(scene, curves, onto, direction)?;
-    let mut next = scene.clone();
-    let mut changes = Vec::new();
     let count = made.len();
-    for (k, curve) in made {
-        let name = format!("{} projected", scene.objects[k].name);
-        let inserted = insert_objects(&next, &name, [ObjectGeometry::new(curve)]);
-        for change in &inserted {
-            if let Change::Insert { object, .. } = change {
-                next.objects.push(object.clone());
-            }
-        }
-        changes.extend(inserted);
-    }
+    let names: Vec<String> = made
+        .iter()
+        .map(|(k, _)| format!("{} projected", scene.objects[*k].name))
+        .collect();
+    let changes = insert_named_objects(
+        scene,
+        names
+            .iter()
+            .zip(made)
+            .map(|(name, (_, curve))| (name.as_str(), ObjectGeometry::new(curve))),
+    );
     let how = if direction.is_some() {
         "projected"
     } else {

@@ -120,15 +120,11 @@ pub fn nearest_sides(
     b: &dyn ParametricSurface,
     degenerate: f64,
 ) -> Option<(Side, Side, f64)> {
+    let long = |f: &dyn ParametricSurface| Side::ALL.map(|s| side_length(f, s) > degenerate);
+    let (long_a, long_b) = (long(a), long(b));
     let mut best: Option<(Side, Side, f64)> = None;
-    for sa in Side::ALL {
-        if side_length(a, sa) <= degenerate {
-            continue;
-        }
-        for sb in Side::ALL {
-            if side_length(b, sb) <= degenerate {
-                continue;
-            }
+    for (sa, _) in Side::ALL.into_iter().zip(long_a).filter(|(_, l)| *l) {
+        for (sb, _) in Side::ALL.into_iter().zip(long_b).filter(|(_, l)| *l) {
             let Some(opposite) = runs_opposite(a, sa, b, sb) else {
                 continue;
             };

@@ -163,10 +163,11 @@ pub fn fillet_surfaces(
             ),
         ));
     };
-    let mut spine = spine;
-    if ends.0 != ends.1 {
-        vary_radius(a, b, &mut spine, ends, options)?;
-    }
+    let spine = if ends.0 != ends.1 {
+        vary_radius(a, b, spine, ends, options)?
+    } else {
+        spine
+    };
     build(a, b, &spine, branches)
 }
 
@@ -182,15 +183,15 @@ fn oriented(mut spine: IntersectionCurve) -> IntersectionCurve {
     spine
 }
 
-/// Each centre of `spine` solved again for the radius that runs linearly by length from
+/// The spine with each centre solved again for the radius that runs linearly by length from
 /// `ends.0` to `ends.1` (see the module documentation), the contact parameters with it.
 fn vary_radius(
     a: &dyn ParametricSurface,
     b: &dyn ParametricSurface,
-    spine: &mut IntersectionCurve,
+    spine: IntersectionCurve,
     ends: (f64, f64),
     options: &FilletOptions,
-) -> Result<(), GeometryError> {
+) -> Result<IntersectionCurve, GeometryError> {
     const WHAT: &str = "fillet";
     if spine.closed {
         return Err(construction(
@@ -198,7 +199,7 @@ fn vary_radius(
             "the ball rolls all the way round: a closed fillet takes one radius",
         ));
     }
-    *spine = oriented(spine.clone());
+    let spine = oriented(spine);
     let n = spine.points.len();
     let mut along = vec![0.0; n];
     for k in 1..n {
@@ -206,7 +207,7 @@ fn vary_radius(
     }
     let total = along[n - 1].max(f64::MIN_POSITIVE);
     // The constant-radius spine: each centre's plane and tangent come from it.
-    let original = spine.points.clone();
+    let original = &spine.points;
     let mut solved_points = Vec::with_capacity(n);
     let (da, db) = (a.domain(), b.domain());
     let clamp = |x: f64, (lo, hi): (f64, f64)| x.clamp(lo, hi);
@@ -268,15 +269,13 @@ fn vary_radius(
             ),
         ));
     }
-    spine.points.clear();
-    spine.uv_a.clear();
-    spine.uv_b.clear();
-    for (centre, x, y) in solved_points.into_iter().flatten() {
-        spine.points.push(centre);
-        spine.uv_a.push(x);
-        spine.uv_b.push(y);
-    }
-    Ok(())
+    let solved: Vec<(DVec3, DVec2, DVec2)> = solved_points.into_iter().flatten().collect();
+    Ok(IntersectionCurve {
+        points: solved.iter().map(|s| s.0).collect(),
+        uv_a: solved.iter().map(|s| s.1).collect(),
+        uv_b: solved.iter().map(|s| s.2).collect(),
+        ..spine
+    })
 }
 
 /// A and B offset by `r` to the sides of `options`: where the ball's centres lie.

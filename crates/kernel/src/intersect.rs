@@ -10,11 +10,11 @@
 //!    the other's slab (its samples' extent along its normal, grown by the same bound), which
 //!    a flat, tilted piece's axis-aligned box cannot tell. Each such pair off the branches
 //!    traced so far gives a seed by Gauss–Newton from the cells' centres on A(u, v) − B(s, t)
-//!    = 0 (the least-norm step of the 3 × 4 system). A pair that a branch crosses is not cut further when both cells are flat
-//!    (normals within 15°) and their normal cones are apart as lines (the pieces meet
-//!    transversally, in one arc at most; no closed loop by Sinha, Klassen and Wang's test,
-//!    1985). Nearly parallel pieces are cut down to the smallest size, since their difference
-//!    may vanish along several arcs.
+//!    = 0 (the least-norm step of the 3 × 4 system). A pair that a branch crosses is not cut
+//!    further when both cells are flat (normals within 15°) and their normal cones are apart
+//!    as lines (the pieces meet transversally, in one arc at most; no closed loop by Sinha,
+//!    Klassen and Wang's test, 1985). Nearly parallel pieces are cut down to the smallest
+//!    size, since their difference may vanish along several arcs.
 //! 2. **Marching.** From a seed, the curve's tangent is T = N_A × N_B. A step of length h is
 //!    predicted along T and corrected by Newton onto both surfaces with the plane (X − P)·T = h
 //!    as the fourth equation. The chord from the last point to the new one is compared with the
@@ -436,25 +436,25 @@ fn newton_step(
 
 /// A surface's cells as a quadtree whose quarters are made once, however many cells of the
 /// other surface each is paired with (node 0: the whole domain).
-struct CellTree {
+pub(crate) struct CellTree {
     nodes: Vec<(Cell, Option<Vec<usize>>)>,
 }
 
 impl CellTree {
-    fn new(side: &Side<'_>) -> Option<Self> {
+    pub(crate) fn new(side: &Side<'_>) -> Option<Self> {
         let [u, v] = side.domain;
         Some(Self {
             nodes: vec![(Cell::new(side, u, v)?, None)],
         })
     }
 
-    fn cell(&self, k: usize) -> Cell {
+    pub(crate) fn cell(&self, k: usize) -> Cell {
         self.nodes[k].0
     }
 
     /// The indices of node `k`'s quarters (those the surface is defined on), made on first
     /// asking.
-    fn children(&mut self, side: &Side<'_>, k: usize) -> Vec<usize> {
+    pub(crate) fn children(&mut self, side: &Side<'_>, k: usize) -> Vec<usize> {
         if let Some(children) = &self.nodes[k].1 {
             return children.clone();
         }
@@ -492,8 +492,8 @@ fn segment_meets_box(a: DVec3, b: DVec3, lo: DVec3, hi: DVec3) -> bool {
 /// A cell of a surface's domain and the box that holds its piece of the surface.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Cell {
-    pub(crate) u: (f64, f64),
-    pub(crate) v: (f64, f64),
+    u: (f64, f64),
+    v: (f64, f64),
     pub(crate) lo: DVec3,
     pub(crate) hi: DVec3,
     /// The cone of the normals at the samples: its axis (the first regular normal) and
@@ -514,7 +514,7 @@ const CONE_MARGIN: f64 = 0.09;
 
 impl Cell {
     /// The cell over [u0, u1] × [v0, v1] with its box (see the module documentation).
-    pub(crate) fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
+    fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
         let (du, dv) = (u.1 - u.0, v.1 - v.0);
         let mut lo = DVec3::INFINITY;
         let mut hi = DVec3::NEG_INFINITY;
@@ -598,7 +598,7 @@ impl Cell {
         (self.lo - slack).cmple(other.hi).all() && (other.lo - slack).cmple(self.hi).all()
     }
 
-    pub(crate) fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
+    fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
         let (um, vm) = (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1));
         [
             ((self.u.0, um), (self.v.0, vm)),

@@ -9,7 +9,7 @@ use glam::{DVec2, DVec3};
 
 use crate::curve::SpaceCurve;
 use crate::error::GeometryError;
-use crate::intersect::{Cell, Side};
+use crate::intersect::{CellTree, Side};
 use crate::parametric::ParametricSurface;
 
 /// A point where a curve meets a surface.
@@ -106,39 +106,49 @@ pub fn intersect_curve_surface(
     tolerance: f64,
     smallest: f64,
 ) -> Result<Vec<CurveSurfacePoint>, GeometryError> {
+    Ok(
+        intersect_curves_surface(&[curve], surface, tolerance, smallest)?
+            .pop()
+            .unwrap_or_default(),
+    )
+}
+
+/// [`intersect_curve_surface`] for several curves against one surface, whose cells are made
+/// once for them all (a curve projected by many rays): one list of points per curve.
+pub fn intersect_curves_surface(
+    curves: &[&SpaceCurve],
+    surface: &dyn ParametricSurface,
+    tolerance: f64,
+    smallest: f64,
+) -> Result<Vec<Vec<CurveSurfacePoint>>, GeometryError> {
     check(tolerance, smallest)?;
-    let side = Side {
-        surface,
-        domain: surface.domain(),
+    let side = Side::of(surface);
+    let Some(mut tree) = CellTree::new(&side) else {
+        return Ok(vec![Vec::new(); curves.len()]);
     };
-    let [(u0, u1), (v0, v1)] = side.domain;
-    let mut cells = Vec::new();
-    for i in 0..4 {
-        for j in 0..4 {
-            let u = (
-                u0 + (u1 - u0) * i as f64 / 4.0,
-                u0 + (u1 - u0) * (i + 1) as f64 / 4.0,
-            );
-            let v = (
-                v0 + (v1 - v0) * j as f64 / 4.0,
-                v0 + (v1 - v0) * (j + 1) as f64 / 4.0,
-            );
-            cells.extend(Cell::new(&side, u, v));
-        }
-    }
-    let mut stack: Vec<(Piece, Cell)> = Vec::new();
-    for p in pieces(curve) {
-        for c in &cells {
-            stack.push((p, *c));
-        }
-    }
+    Ok(curves
+        .iter()
+        .map(|curve| curve_against_cells(curve, &side, &mut tree, tolerance, smallest))
+        .collect())
+}
+
+/// The points where `curve` meets the surface of `side`, over its cells in `tree`.
+fn curve_against_cells(
+    curve: &SpaceCurve,
+    side: &Side<'_>,
+    tree: &mut CellTree,
+    tolerance: f64,
+    smallest: f64,
+) -> Vec<CurveSurfacePoint> {
+    let mut stack: Vec<(Piece, usize)> = pieces(curve).into_iter().map(|p| (p, 0)).collect();
     let mut found: Vec<CurveSurfacePoint> = Vec::new();
     let mut work = 0usize;
-    while let Some((p, c)) = stack.pop() {
+    while let Some((p, k)) = stack.pop() {
         work += 1;
         if work > 4_000_000 || found.len() >= MAX_POINTS {
             break;
         }
+        let c = tree.cell(k);
         if !p.meets(c.lo, c.hi, tolerance) {
             continue;
         }
@@ -146,7 +156,7 @@ pub fn intersect_curve_surface(
         if ps <= smallest && cs <= smallest {
             let (u, v) = c.centre();
             let t = 0.5 * (p.t.0 + p.t.1);
-            if let Some(hit) = newton_curve_surface(curve, &side, [t, u, v], tolerance)
+            if let Some(hit) = newton_curve_surface(curve, side, [t, u, v], tolerance)
                 && !found
                     .iter()
                     .any(|f| f.point.distance(hit.point) <= 10.0 * tolerance)
@@ -157,16 +167,16 @@ pub fn intersect_curve_surface(
         }
         if ps >= cs {
             for h in p.halves(curve) {
-                stack.push((h, c));
+                stack.push((h, k));
             }
         } else {
-            for q in c.quarters(&side) {
+            for q in tree.children(side, k) {
                 stack.push((p, q));
             }
         }
     }
     found.sort_by(|a, b| a.t.total_cmp(&b.t));
-    Ok(found)
+    found
 }
 
 fn newton_curve_surface(

@@ -107,24 +107,8 @@ pub fn offset_nurbs(
     let [us, vs] = [Direction::U, Direction::V].map(|d| sample_parameters(surface, d));
     let samples = sample_grid(surface, &normal, &us, &vs);
     let (folds, fold_samples) = find_folds(surface, &samples, distance);
-    if let Some((shape, transform)) = recognise(surface, &samples, distance) {
-        let result = surface.transformed(&transform)?;
-        let deviation = samples
-            .iter()
-            .filter_map(|s| {
-                let p = result.point_at(s.uv.x, s.uv.y).ok()?;
-                Some(p.distance(s.point + distance * s.normal))
-            })
-            .fold(0.0, f64::max);
-        return Ok(Offset {
-            surface: result,
-            shape,
-            deviation,
-            folds,
-            fold_samples,
-        });
-    }
-    let tol = SHAPE_TOLERANCE * surface.size().max(f64::MIN_POSITIVE);
+    // The largest distance of a result from S + d N at the samples (a sample it cannot
+    // evaluate is infinitely off).
     let off_by = |result: &NurbsSurface| {
         samples
             .iter()
@@ -135,6 +119,18 @@ pub fn offset_nurbs(
             })
             .fold(0.0, f64::max)
     };
+    if let Some((shape, transform)) = recognise(surface, &samples, distance) {
+        let result = surface.transformed(&transform)?;
+        let deviation = off_by(&result);
+        return Ok(Offset {
+            surface: result,
+            shape,
+            deviation,
+            folds,
+            fold_samples,
+        });
+    }
+    let tol = SHAPE_TOLERANCE * surface.size().max(f64::MIN_POSITIVE);
     for swapped in [false, true] {
         let turned = if swapped {
             surface.swap_uv()
