@@ -61,14 +61,21 @@ mod cli {
             #[arg(short, long)]
             output: Option<std::path::PathBuf>,
         },
-        /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf or an .obj) as
-        /// glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it. The project is embedded,
-        /// so knotwork can open the export again. Without --tolerance or --segments the tolerance
-        /// is 1e-3 of the scene's size.
+        /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a
+        /// STEP file) as glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it (the
+        /// project is embedded, so knotwork can open the export again); or as STEP (AP214) when
+        /// OUTPUT ends in .step or .stp. Without --tolerance or --segments the tolerance is 1e-3
+        /// of the scene's size (for STEP, 1e-6 of it bounds the edge curves).
+        /// Describe a STEP file: its bodies, faces per surface type, units, bounding box and
+        /// warnings, as JSON. A file that cannot be read exits 1 with the message.
+        Info {
+            /// The .step/.stp file.
+            input: std::path::PathBuf,
+        },
         Export {
             /// The file to export.
             input: std::path::PathBuf,
-            /// The .glb or .gltf to write.
+            /// The .glb, .gltf, .step or .stp to write.
             #[arg(short, long)]
             output: std::path::PathBuf,
             /// Largest distance from the triangles to the surface, in model units.
@@ -1061,6 +1068,23 @@ mod cli {
         }
     }
 
+    /// Runs `knotwork info`: the STEP file's description as JSON.
+    pub fn info(input: &std::path::Path) -> ExitCode {
+        let result = std::fs::read(input)
+            .map_err(|e| format!("cannot read {}: {e}", input.display()))
+            .and_then(|bytes| knotwork::io::step::info(&bytes).map_err(|e| e.to_string()));
+        match result {
+            Ok(json) => {
+                println!("{json:#}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("knotwork info: {e}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+
     fn export_files(args: &ExportArgs<'_>) -> Result<String, String> {
         use knotwork::io::gltf;
         use knotwork::kernel::tess::Tessellation;
@@ -1068,6 +1092,30 @@ mod cli {
         let input = args.input.display().to_string();
         let project = knotwork::app::open_path(args.input)
             .map_err(|e| format!("cannot open {input}: {e}"))?;
+        let extension = knotwork::io::formats::extension(&args.output.display().to_string());
+        if extension == "step" || extension == "stp" {
+            let size = gltf::default_tolerance(&project.scene) * 1e3;
+            let tolerance = args.tolerance.unwrap_or(size * 1e-6);
+            let name = args
+                .output
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let (text, left_out) =
+                knotwork::io::step::export_scene(&project.scene, &name, tolerance)
+                    .map_err(|e| e.to_string())?;
+            std::fs::write(args.output, &text)
+                .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+            for why in &left_out {
+                eprintln!("knotwork export: left out {why}");
+            }
+            return Ok(format!(
+                "wrote {} ({} bytes), in {:.0} ms",
+                args.output.display(),
+                text.len(),
+                started.elapsed().as_secs_f64() * 1e3
+            ));
+        }
         let tessellation = match (args.tolerance, args.segments) {
             (_, Some(n)) => Tessellation::Segments(n),
             (Some(t), None) => Tessellation::Tolerance(t),
@@ -1351,6 +1399,7 @@ fn main() -> std::process::ExitCode {
         }) => {
             return cli::continuity(project, objects, *samples, [*distance, *angle, *curvature]);
         }
+        Some(cli::Command::Info { input }) => return cli::info(input),
         Some(cli::Command::Export {
             input,
             output,

@@ -1,7 +1,7 @@
 //! The one table of file formats knotwork reads: each format's name, extensions, media types,
 //! how its contents are recognized, and what opening it does. [`super::open`], the desktop's
 //! open dialog and the page's file picker all read this table, so a new format is one module
-//! plus one row here. Formats knotwork does not read but a user may well try (STEP, IGES,
+//! plus one row here. Formats knotwork does not read but a user may well try (IGES,
 //! Rhino, STL) are recognized too, so that the message names them.
 
 /// Which reader a format has; all but a height image open as the document.
@@ -13,6 +13,8 @@ pub enum Reader {
     Gltf,
     /// Wavefront OBJ ([`super::obj`]).
     Obj,
+    /// STEP, ISO 10303-21 ([`super::step`]).
+    Step,
     /// A PNG that becomes the selected surface's displacement ([`super::height_image`]).
     HeightImage,
 }
@@ -46,12 +48,16 @@ fn glb_magic(bytes: &[u8]) -> bool {
     bytes.starts_with(b"glTF")
 }
 
+fn step_magic(bytes: &[u8]) -> bool {
+    super::step::part21::looks_like_part21(&bytes[..bytes.len().min(4096)])
+}
+
 fn png_magic(bytes: &[u8]) -> bool {
     bytes.starts_with(b"\x89PNG\r\n\x1a\n")
 }
 
 /// The formats knotwork reads, the fallback (a project) first.
-pub const FORMATS: [Format; 4] = [
+pub const FORMATS: [Format; 5] = [
     Format {
         name: "knotwork project",
         extensions: &["json", "knotwork"],
@@ -74,6 +80,13 @@ pub const FORMATS: [Format; 4] = [
         reader: Reader::Obj,
     },
     Format {
+        name: "STEP",
+        extensions: &["step", "stp", "p21"],
+        media_types: &["model/step", "application/step"],
+        magic: step_magic,
+        reader: Reader::Step,
+    },
+    Format {
         name: "PNG height map",
         extensions: &["png"],
         media_types: &["image/png"],
@@ -83,8 +96,7 @@ pub const FORMATS: [Format; 4] = [
 ];
 
 /// Formats knotwork does not read, by extensions and leading bytes, for the message.
-const FOREIGN: [(&str, &[&str], &[u8]); 5] = [
-    ("STEP", &["stp", "step", "p21"], b"ISO-10303-21"),
+const FOREIGN: [(&str, &[&str], &[u8]); 4] = [
     ("IGES", &["igs", "iges"], b""),
     ("Rhino 3DM", &["3dm"], b"3D Geometry File Format"),
     ("STL", &["stl"], b""),
@@ -177,19 +189,20 @@ mod tests {
 
     #[test]
     fn foreign_files_are_named_and_the_readable_ones_listed() {
-        assert_eq!(foreign_format("part.STEP", b""), Some("STEP"));
+        assert_eq!(format_of("part.STEP", b"").reader, Reader::Step);
         assert_eq!(
-            foreign_format("noname", b"ISO-10303-21;\nHEADER;"),
-            Some("STEP")
+            format_of("noname", b"ISO-10303-21;\nHEADER;").reader,
+            Reader::Step
         );
+        assert_eq!(foreign_format("part.step", b""), None);
         assert_eq!(foreign_format("hull.igs", b""), Some("IGES"));
         assert_eq!(foreign_format("boat.3dm", b""), Some("Rhino 3DM"));
         assert_eq!(foreign_format("print.stl", b"solid x"), Some("STL"));
         assert_eq!(foreign_format("scene.json", b"{}"), None);
-        let message = crate::io::open("part.step", b"ISO-10303-21;", &|_| Err(String::new()))
-            .expect_err("a STEP file is refused")
+        let message = crate::io::open("part.igs", b"", &|_| Err(String::new()))
+            .expect_err("an IGES file is refused")
             .to_string();
-        assert!(message.contains("STEP"), "{message}");
+        assert!(message.contains("IGES"), "{message}");
         for format in FORMATS {
             assert!(message.contains(format.name), "{message}");
         }
@@ -208,7 +221,12 @@ mod tests {
             }
         }
         assert!(accept.contains("image/png") && accept.contains("model/gltf-binary"));
-        assert_eq!(extensions(true), ["json", "knotwork", "glb", "gltf", "obj"]);
+        assert_eq!(
+            extensions(true),
+            [
+                "json", "knotwork", "glb", "gltf", "obj", "step", "stp", "p21"
+            ]
+        );
         assert_eq!(extensions(false), ["png"]);
     }
 }

@@ -13,6 +13,7 @@ pub mod height_image;
 
 pub mod obj;
 pub mod project;
+pub mod step;
 
 use crate::scene::json::{self, FormatError};
 use project::Project;
@@ -31,6 +32,7 @@ pub fn open(
     match formats::format_of(name, bytes).reader {
         formats::Reader::Gltf => return gltf_import::read(bytes, external),
         formats::Reader::Obj => return obj::read(&String::from_utf8_lossy(bytes)),
+        formats::Reader::Step => return step::read_project(bytes, &mut |_, _| true),
         formats::Reader::HeightImage => {
             return Err(FormatError::new(
                 "",

@@ -77,6 +77,18 @@ impl Polysurface {
         })
     }
 
+    /// `faces` joined at `tolerance` whose shared, naked and degenerate edges are already
+    /// known (a STEP file's topology); an edit works them out again from the faces.
+    pub fn with_topology(
+        faces: Vec<TrimmedSurface>,
+        tolerance: f64,
+        topology: Topology,
+    ) -> Result<Self, GeometryError> {
+        let out = Self::new(faces, tolerance)?;
+        let _ = out.topology.set(Ok(topology));
+        Ok(out)
+    }
+
     pub fn faces(&self) -> &[TrimmedSurface] {
         &self.faces
     }

@@ -1168,6 +1168,13 @@ impl NurbsSurface {
         })
     }
 
+    /// The closest point to `target` found by Newton's iteration from (u, v) alone (see
+    /// [`Self::closest_point`]): for a target near a known point, such as the next sample
+    /// along a curve on the surface.
+    pub fn closest_point_from(&self, target: DVec3, u: f64, v: f64) -> ClosestPoint {
+        self.newton_closest_point(target, u, v)
+    }
+
     /// Newton's iteration for the closest point from (u, v) (see [`Self::closest_point`]).
     fn newton_closest_point(&self, target: DVec3, u: f64, v: f64) -> ClosestPoint {
         let [(u0, u1), (v0, v1)] = self.domain();

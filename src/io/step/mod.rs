@@ -1,0 +1,221 @@
+//! STEP (ISO 10303-21 files of AP203, AP214 and AP242 geometry): reading B-rep shells as
+//! trimmed NURBS bodies ([`read`]) and writing any object with faces as B-spline faces
+//! ([`write`]).
+//!
+//! - [`part21`]: the Part 21 tokenizer and instance table.
+//! - [`entities`]: points, placements, curves and surfaces, every argument checked.
+//! - [`faces`]: a face's surface as an exact NURBS over the face, its loops in (u, v).
+//! - [`read`]: units, the assembly, names, colours, and each shell's faces and shared edges.
+//! - [`write`]: AP214 output.
+//!
+//! A body opens as a polysurface whose shared edges are the file's ([`Polysurface::with_topology`]),
+//! so its export is watertight across them.
+
+pub mod entities;
+pub mod faces;
+pub mod part21;
+pub mod read;
+pub mod write;
+
+use crate::io::project::Project;
+use crate::scene::json::FormatError;
+use crate::scene::polysurface::{MAX_FACES, Polysurface};
+use crate::scene::{ObjectGeometry, Scene, SceneObject};
+
+pub use read::{Stage, StepModel};
+
+/// The join tolerance of a body read: edges within it are shared (mm).
+fn join_tolerance(model: &StepModel) -> f64 {
+    (model.tolerance * 100.0).max(1e-7)
+}
+
+/// A STEP model's bodies as scene objects: one polysurface per body (a body of more than
+/// [`MAX_FACES`] faces in parts of that many), named after its product.
+pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
+    let mut scene = Scene::default();
+    let tolerance = join_tolerance(model);
+    for body in &model.bodies {
+        if body.faces.len() <= MAX_FACES {
+            let p =
+                Polysurface::with_topology(body.faces.clone(), tolerance, body.topology.clone())
+                    .map_err(|e| FormatError::new(body.name.clone(), e.to_string()))?;
+            scene
+                .objects
+                .push(SceneObject::new(body.name.clone(), ObjectGeometry::new(p)));
+        } else {
+            for (k, chunk) in body.faces.chunks(MAX_FACES).enumerate() {
+                let p = Polysurface::new(chunk.to_vec(), tolerance)
+                    .map_err(|e| FormatError::new(body.name.clone(), e.to_string()))?;
+                scene.objects.push(SceneObject::new(
+                    format!("{} part {}", body.name, k + 1),
+                    ObjectGeometry::new(p),
+                ));
+            }
+        }
+    }
+    if scene.objects.is_empty() {
+        let why = model
+            .warnings
+            .first()
+            .map(|w| format!(" ({w})"))
+            .unwrap_or_default();
+        return Err(FormatError::new(
+            "",
+            format!("the STEP file has no faces knotwork could build{why}"),
+        ));
+    }
+    Ok(scene)
+}
+
+/// Reads a STEP file as a project (lengths in millimetres).
+pub fn read_project(
+    bytes: &[u8],
+    progress: &mut dyn FnMut(Stage, f64) -> bool,
+) -> Result<Project, FormatError> {
+    let model = read::read(bytes, progress)?;
+    for w in &model.warnings {
+        log::warn!("STEP: {w}");
+    }
+    Ok(Project {
+        scene: to_scene(&model)?,
+        view: None,
+    })
+}
+
+/// `knotwork info`: the bodies, faces per surface type, unit, bounding box and warnings as
+/// JSON.
+pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
+    let model = read::read(bytes, &mut |_, _| true)?;
+    let mut lo = glam::DVec3::splat(f64::INFINITY);
+    let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
+    let mut bodies = Vec::new();
+    let mut totals: std::collections::BTreeMap<&str, usize> = Default::default();
+    for b in &model.bodies {
+        let mut types: std::collections::BTreeMap<&str, usize> = Default::default();
+        for t in &b.surface_types {
+            *types.entry(t).or_insert(0) += 1;
+            *totals.entry(t).or_insert(0) += 1;
+        }
+        for f in &b.faces {
+            let (a, c) = f.surface().bounds();
+            lo = lo.min(a);
+            hi = hi.max(c);
+        }
+        bodies.push(serde_json::json!({
+            "name": b.name,
+            "faces": b.faces.len(),
+            "surfaces": types,
+            "closed": b.closed,
+            "shared_edges": b.topology.shared.len(),
+            "naked_edges": b.topology.naked.len(),
+            "color": b.color,
+        }));
+    }
+    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
+    Ok(serde_json::json!({
+        "schema": model.schema,
+        "unit": "mm",
+        "file_unit": model.unit_name,
+        "millimetres_per_file_unit": model.millimetres_per_unit,
+        "bodies": bodies,
+        "faces": faces,
+        "surfaces": totals,
+        "bounding_box": if lo.x.is_finite() {
+            serde_json::json!({"min": lo.to_array(), "max": hi.to_array()})
+        } else {
+            serde_json::Value::Null
+        },
+        "warnings": model.warnings,
+    }))
+}
+
+/// The faces of one object as STEP writes them (NURBS and trimmed surfaces, polysurfaces with
+/// their shared edges, Bézier patch sets patch by patch), or why it is left out.
+fn object_faces(
+    object: &SceneObject,
+) -> Result<
+    (
+        Vec<crate::kernel::TrimmedSurface>,
+        Option<crate::kernel::join::Topology>,
+    ),
+    String,
+> {
+    use crate::kernel::bezier::BezierPatchSet;
+    use crate::kernel::{NurbsSurface, TrimmedSurface};
+    if object.displacement.is_some() || object.lattice.is_some() {
+        return Err("it is displaced or deformed (bake it first)".into());
+    }
+    if let Some(p) = object.geometry.downcast_ref::<Polysurface>() {
+        return Ok((p.faces().to_vec(), p.topology().ok().cloned()));
+    }
+    if let Some(t) = object.geometry.as_trimmed() {
+        return Ok((vec![t], None));
+    }
+    if let Some(set) = object.geometry.downcast_ref::<BezierPatchSet>() {
+        let mut faces = Vec::new();
+        for patch in set.patches() {
+            let (p, q) = (patch.degree_u(), patch.degree_v());
+            let mut points = Vec::with_capacity((p + 1) * (q + 1));
+            let mut weights = Vec::with_capacity(points.capacity());
+            for i in 0..=p {
+                for j in 0..=q {
+                    let k = patch.index(i, j) as usize;
+                    points.push(set.points()[k]);
+                    weights.push(set.weights().get(k).copied().unwrap_or(1.0));
+                }
+            }
+            let s =
+                NurbsSurface::bezier([p, q], points, Some(weights)).map_err(|e| e.to_string())?;
+            faces.push(TrimmedSurface::untrimmed(s));
+        }
+        return Ok((faces, None));
+    }
+    Err(format!(
+        "STEP export takes NURBS, trimmed surfaces, polysurfaces and Bézier patch sets, not {}",
+        object.kind().kind_name()
+    ))
+}
+
+/// The visible objects with faces as a STEP file (AP214, millimetres): what was written, and
+/// the objects left out with why.
+pub fn export_scene(
+    scene: &Scene,
+    file_name: &str,
+    tolerance: f64,
+) -> Result<(String, Vec<String>), FormatError> {
+    let mut kept = Vec::new();
+    let mut left_out = Vec::new();
+    for object in scene.objects.iter().filter(|o| o.visible) {
+        if object.kind().space_curve().is_some() {
+            continue;
+        }
+        match object_faces(object) {
+            Ok((faces, topology)) => kept.push((object.name.clone(), faces, topology)),
+            Err(why) => left_out.push(format!("{}: {why}", object.name)),
+        }
+    }
+    if kept.is_empty() {
+        return Err(FormatError::new(
+            "",
+            format!(
+                "nothing to write as STEP{}",
+                if left_out.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", left_out.join("; "))
+                }
+            ),
+        ));
+    }
+    let shapes: Vec<write::StepShape> = kept
+        .iter()
+        .map(|(name, faces, topology)| write::StepShape {
+            name,
+            faces,
+            topology: topology.as_ref(),
+        })
+        .collect();
+    let text = write::write(&shapes, file_name, tolerance)
+        .map_err(|e| FormatError::new("", e.to_string()))?;
+    Ok((text, left_out))
+}

@@ -1,0 +1,933 @@
+//! From the instance table to bodies: units, the assembly (representations placed in each
+//! other by item-defined transformations and mapped items), product names, colours, and each
+//! shell's faces built as trimmed NURBS ([`super::faces`]) with the shell's shared edges.
+
+use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
+
+use glam::{DAffine3, DVec3};
+
+use super::entities::{Entities, bad};
+use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
+use super::part21::{Exchange, Instance, Value};
+use crate::kernel::TrimmedSurface;
+use crate::kernel::join::{EdgeId, SharedEdge, Topology};
+use crate::scene::json::FormatError;
+
+/// The most placed instances of bodies (an assembly that places parts in parts).
+const MAX_PLACEMENTS: usize = 100_000;
+
+/// One body read: a shell's faces placed in the model.
+pub struct StepBody {
+    pub name: String,
+    pub color: Option<[f32; 3]>,
+    pub faces: Vec<TrimmedSurface>,
+    /// Each face's surface type in the file ("plane", "cylinder", ...).
+    pub surface_types: Vec<&'static str>,
+    /// The shared, naked and degenerate edges from the file's topology.
+    pub topology: Topology,
+    /// Whether the file calls the shell closed.
+    pub closed: bool,
+}
+
+/// A STEP file read.
+pub struct StepModel {
+    pub bodies: Vec<StepBody>,
+    /// Millimetres per length unit of the file.
+    pub millimetres_per_unit: f64,
+    /// The file's length unit as written ("millimetre", "inch", ...).
+    pub unit_name: String,
+    pub schema: String,
+    /// Faces skipped, with why.
+    pub warnings: Vec<String>,
+    /// The trim tolerance used (mm).
+    pub tolerance: f64,
+}
+
+/// Which step of reading is under way, for a progress bar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    Parsing,
+    BuildingFaces,
+}
+
+/// The length unit of a unit instance, in millimetres, and its name.
+fn length_unit(x: &Exchange, id: u64, depth: usize) -> Option<(f64, String)> {
+    if depth > 6 {
+        return None;
+    }
+    let instance = x.get(id)?;
+    if let Some(si) = instance.part("SI_UNIT") {
+        // SI_UNIT(prefix, name) as a partial entity; a simple SI_UNIT has (*, prefix, name).
+        let args: Vec<&Value> = si
+            .args
+            .iter()
+            .filter(|v| !matches!(v, Value::Derived))
+            .collect();
+        let (prefix, name) = match args.as_slice() {
+            [p, n] => (p, n),
+            [n] => (&&Value::Null, n),
+            _ => return None,
+        };
+        let Value::Enum(name) = name else { return None };
+        if name != "METRE" {
+            return None;
+        }
+        let factor = match prefix {
+            Value::Enum(p) => match p.as_str() {
+                "EXA" => 1e18,
+                "PETA" => 1e15,
+                "TERA" => 1e12,
+                "GIGA" => 1e9,
+                "MEGA" => 1e6,
+                "KILO" => 1e3,
+                "HECTO" => 1e2,
+                "DECA" => 1e1,
+                "DECI" => 1e-1,
+                "CENTI" => 1e-2,
+                "MILLI" => 1e-3,
+                "MICRO" => 1e-6,
+                "NANO" => 1e-9,
+                "PICO" => 1e-12,
+                _ => return None,
+            },
+            _ => 1.0,
+        };
+        let label = match prefix {
+            Value::Enum(p) => format!("{}metre", p.to_ascii_lowercase()),
+            _ => "metre".into(),
+        };
+        return Some((factor * 1000.0, label));
+    }
+    if let Some(c) = instance.part("CONVERSION_BASED_UNIT") {
+        let name = match c.args.first() {
+            Some(Value::Str(s)) => s.to_ascii_lowercase(),
+            _ => "unit".into(),
+        };
+        let Some(Value::Ref(m)) = c.args.get(1) else {
+            return None;
+        };
+        let measure = x.get(*m)?;
+        let r = measure
+            .part("LENGTH_MEASURE_WITH_UNIT")
+            .or_else(|| measure.part("MEASURE_WITH_UNIT"))?;
+        let value = match r.args.first()? {
+            Value::Typed(_, v) => match **v {
+                Value::Real(f) => f,
+                Value::Integer(i) => i as f64,
+                _ => return None,
+            },
+            Value::Real(f) => *f,
+            _ => return None,
+        };
+        let Some(Value::Ref(unit)) = r.args.get(1) else {
+            return None;
+        };
+        let (base, _) = length_unit(x, *unit, depth + 1)?;
+        let mm = value * base;
+        return (mm.is_finite() && mm > 0.0).then_some((mm, name));
+    }
+    None
+}
+
+/// The file's length unit: the first representation context's, else millimetres.
+fn file_unit(x: &Exchange) -> (f64, String) {
+    for (_, instance) in &x.instances {
+        let Some(ctx) = instance.part("GLOBAL_UNIT_ASSIGNED_CONTEXT") else {
+            continue;
+        };
+        let Some(Value::List(units)) = ctx.args.first() else {
+            continue;
+        };
+        for u in units {
+            if let Value::Ref(id) = u
+                && x.get(*id).is_some_and(|i| i.is("LENGTH_UNIT"))
+                && let Some(found) = length_unit(x, *id, 0)
+            {
+                return found;
+            }
+        }
+    }
+    (1.0, "millimetre".into())
+}
+
+/// A colour found in a style's tree (`COLOUR_RGB`, or a pre-defined colour's name).
+fn colour_in(x: &Exchange, value: &Value, depth: usize, seen: &mut usize) -> Option<[f32; 3]> {
+    *seen += 1;
+    if depth > 12 || *seen > 256 {
+        return None;
+    }
+    match value {
+        Value::Ref(id) => {
+            let instance = x.get(*id)?;
+            if let Some(c) = instance.part("COLOUR_RGB") {
+                let get = |k: usize| match c.args.get(k) {
+                    Some(Value::Real(f)) => Some(*f as f32),
+                    Some(Value::Integer(i)) => Some(*i as f32),
+                    _ => None,
+                };
+                let rgb = [get(1)?, get(2)?, get(3)?];
+                return rgb.iter().all(|c| (0.0..=1.0).contains(c)).then_some(rgb);
+            }
+            if let Some(c) = instance.part("DRAUGHTING_PRE_DEFINED_COLOUR") {
+                let Some(Value::Str(name)) = c.args.first() else {
+                    return None;
+                };
+                return Some(match name.as_str() {
+                    "red" => [1.0, 0.0, 0.0],
+                    "green" => [0.0, 1.0, 0.0],
+                    "blue" => [0.0, 0.0, 1.0],
+                    "yellow" => [1.0, 1.0, 0.0],
+                    "magenta" => [1.0, 0.0, 1.0],
+                    "cyan" => [0.0, 1.0, 1.0],
+                    "black" => [0.0, 0.0, 0.0],
+                    "white" => [1.0, 1.0, 1.0],
+                    _ => return None,
+                });
+            }
+            let args: Vec<Value> = match instance {
+                Instance::Simple(r) => r.args.clone(),
+                Instance::Complex(parts) => parts.iter().flat_map(|r| r.args.clone()).collect(),
+            };
+            args.iter().find_map(|a| colour_in(x, a, depth + 1, seen))
+        }
+        Value::List(items) => items.iter().find_map(|a| colour_in(x, a, depth + 1, seen)),
+        Value::Typed(_, v) => colour_in(x, v, depth + 1, seen),
+        _ => None,
+    }
+}
+
+/// Colours by the item they style.
+fn colours(x: &Exchange) -> HashMap<u64, [f32; 3]> {
+    let mut out = HashMap::new();
+    for (_, instance) in &x.instances {
+        let Some(r) = instance
+            .part("STYLED_ITEM")
+            .or_else(|| instance.part("OVER_RIDING_STYLED_ITEM"))
+        else {
+            continue;
+        };
+        let (Some(styles), Some(Value::Ref(item))) = (r.args.get(1), r.args.get(2)) else {
+            continue;
+        };
+        let mut seen = 0;
+        if let Some(c) = colour_in(x, styles, 0, &mut seen) {
+            out.insert(*item, c);
+        }
+    }
+    out
+}
+
+/// Representations and how they are placed in each other.
+struct Assembly {
+    /// Representation → its items.
+    items: HashMap<u64, Vec<u64>>,
+    /// Parent group → (child group, transform from the child's coordinates to the parent's).
+    children: HashMap<u64, Vec<(u64, DAffine3)>>,
+    /// Representation → its group (representations related without a transformation).
+    group: HashMap<u64, u64>,
+    /// Representation → product name.
+    names: HashMap<u64, String>,
+}
+
+fn find(parent: &mut HashMap<u64, u64>, k: u64) -> u64 {
+    let mut k = k;
+    let mut steps = 0;
+    while let Some(&p) = parent.get(&k) {
+        if p == k || steps > 10_000 {
+            break;
+        }
+        k = p;
+        steps += 1;
+    }
+    k
+}
+
+fn is_representation(name: &str) -> bool {
+    name.ends_with("REPRESENTATION")
+        && !name.contains("RELATIONSHIP")
+        && !name.contains("DEFINITION")
+        && !name.starts_with("CONTEXT_DEPENDENT")
+}
+
+fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
+    let x = e.x;
+    let mut items: HashMap<u64, Vec<u64>> = HashMap::new();
+    for (id, instance) in &x.instances {
+        let parts: Vec<&super::part21::Record> = match instance {
+            Instance::Simple(r) => vec![r],
+            Instance::Complex(p) => p.iter().collect(),
+        };
+        for r in parts {
+            if is_representation(&r.name)
+                && r.args.len() >= 3
+                && let Some(Value::List(list)) = r.args.get(1)
+            {
+                let refs: Vec<u64> = list
+                    .iter()
+                    .filter_map(|v| {
+                        if let Value::Ref(i) = v {
+                            Some(*i)
+                        } else {
+                            None
+                        }
+                    })
+                    .collect();
+                items.entry(*id).or_default().extend(refs);
+            }
+        }
+    }
+    // Product names and the representations of product definitions.
+    let mut pd_reps: HashMap<u64, Vec<u64>> = HashMap::new();
+    let mut names: HashMap<u64, String> = HashMap::new();
+    let product_name = |pd: u64| -> Option<String> {
+        let r = x.get(pd)?.part("PRODUCT_DEFINITION")?;
+        let Some(Value::Ref(pdf)) = r.args.get(2) else {
+            return None;
+        };
+        let f = x.get(*pdf)?;
+        let fr = f
+            .part("PRODUCT_DEFINITION_FORMATION")
+            .or_else(|| f.part("PRODUCT_DEFINITION_FORMATION_WITH_SPECIFIED_SOURCE"))?;
+        let Some(Value::Ref(p)) = fr.args.get(2) else {
+            return None;
+        };
+        let pr = x.get(*p)?.part("PRODUCT")?;
+        match (pr.args.get(1), pr.args.first()) {
+            (Some(Value::Str(n)), _) if !n.is_empty() => Some(n.clone()),
+            (_, Some(Value::Str(n))) if !n.is_empty() => Some(n.clone()),
+            _ => None,
+        }
+    };
+    for (_, instance) in &x.instances {
+        let Some(sdr) = instance.part("SHAPE_DEFINITION_REPRESENTATION") else {
+            continue;
+        };
+        let (Some(Value::Ref(pds)), Some(Value::Ref(rep))) = (sdr.args.first(), sdr.args.get(1))
+        else {
+            continue;
+        };
+        let Some(pdsr) = x.get(*pds).and_then(|i| i.part("PRODUCT_DEFINITION_SHAPE")) else {
+            continue;
+        };
+        let Some(Value::Ref(pd)) = pdsr.args.get(2) else {
+            continue;
+        };
+        pd_reps.entry(*pd).or_default().push(*rep);
+        if let Some(n) = product_name(*pd) {
+            names.insert(*rep, n);
+        }
+    }
+    // Relations: identity links group representations; transformations place children.
+    let mut parent: HashMap<u64, u64> = items.keys().map(|&k| (k, k)).collect();
+    let mut placed: Vec<(u64, u64, DAffine3)> = Vec::new(); // (parent rep, child rep, child→parent)
+    let mut child_of_nauo: HashMap<u64, u64> = HashMap::new(); // relation → child rep
+    for (_, instance) in &x.instances {
+        let Some(cdsr) = instance.part("CONTEXT_DEPENDENT_SHAPE_REPRESENTATION") else {
+            continue;
+        };
+        let (Some(Value::Ref(rel)), Some(Value::Ref(pds))) = (cdsr.args.first(), cdsr.args.get(1))
+        else {
+            continue;
+        };
+        let Some(pdsr) = x.get(*pds).and_then(|i| i.part("PRODUCT_DEFINITION_SHAPE")) else {
+            continue;
+        };
+        let Some(Value::Ref(nauo)) = pdsr.args.get(2) else {
+            continue;
+        };
+        let Some(n) = x
+            .get(*nauo)
+            .and_then(|i| i.part("NEXT_ASSEMBLY_USAGE_OCCURRENCE"))
+        else {
+            continue;
+        };
+        let Some(Value::Ref(child_pd)) = n.args.get(4) else {
+            continue;
+        };
+        if let Some(reps) = pd_reps.get(child_pd) {
+            if let Some(&r) = reps.first() {
+                child_of_nauo.insert(*rel, r);
+                for &r in reps {
+                    child_of_nauo.entry(*rel).or_insert(r);
+                }
+            }
+            // Remember every rep of the child product.
+            if let Some(rel_inst) = x
+                .get(*rel)
+                .and_then(|i| i.part("REPRESENTATION_RELATIONSHIP"))
+                && let (Some(Value::Ref(r1)), Some(Value::Ref(r2))) =
+                    (rel_inst.args.get(2), rel_inst.args.get(3))
+            {
+                if reps.contains(r2) {
+                    child_of_nauo.insert(*rel, *r2);
+                } else if reps.contains(r1) {
+                    child_of_nauo.insert(*rel, *r1);
+                }
+            }
+        }
+    }
+    for (id, instance) in &x.instances {
+        let Some(rr) = instance.part("REPRESENTATION_RELATIONSHIP") else {
+            continue;
+        };
+        let (Some(Value::Ref(r1)), Some(Value::Ref(r2))) = (rr.args.get(2), rr.args.get(3)) else {
+            continue;
+        };
+        let transform = instance.part("REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION");
+        match transform.and_then(|t| t.args.first()) {
+            Some(Value::Ref(idt)) => {
+                let t = e.record(*idt, "ITEM_DEFINED_TRANSFORMATION", 4)?;
+                let f1 = e.placement(e.reference(*idt, t, 2)?)?;
+                let f2 = e.placement(e.reference(*idt, t, 3)?)?;
+                // Maps rep_1's coordinates to rep_2's.
+                let m = f2.to_affine() * f1.to_affine().inverse();
+                let child = child_of_nauo.get(id).copied().unwrap_or(*r1);
+                if child == *r2 {
+                    placed.push((*r1, *r2, m.inverse()));
+                } else {
+                    placed.push((*r2, *r1, m));
+                }
+            }
+            _ => {
+                parent.entry(*r1).or_insert(*r1);
+                parent.entry(*r2).or_insert(*r2);
+                let (a, b) = (find(&mut parent, *r1), find(&mut parent, *r2));
+                if a != b {
+                    parent.insert(a.max(b), a.min(b));
+                }
+            }
+        }
+    }
+    // Mapped items place a representation inside the one that holds them.
+    for (rep, list) in &items {
+        for item in list {
+            let Some(mi) = x.get(*item).and_then(|i| i.part("MAPPED_ITEM")) else {
+                continue;
+            };
+            let (Some(Value::Ref(map)), Some(Value::Ref(target))) =
+                (mi.args.get(1), mi.args.get(2))
+            else {
+                continue;
+            };
+            let r = e.record(*map, "REPRESENTATION_MAP", 2)?;
+            let origin = e.placement(e.reference(*map, r, 0)?)?;
+            let mapped = e.reference(*map, r, 1)?;
+            let target = e.placement(*target)?;
+            placed.push((
+                *rep,
+                mapped,
+                target.to_affine() * origin.to_affine().inverse(),
+            ));
+        }
+    }
+    let mut group = HashMap::new();
+    let keys: Vec<u64> = parent.keys().copied().collect();
+    for k in keys {
+        let g = find(&mut parent, k);
+        group.insert(k, g);
+    }
+    let mut children: HashMap<u64, Vec<(u64, DAffine3)>> = HashMap::new();
+    for (p, c, t) in placed {
+        let gp = *group.get(&p).unwrap_or(&p);
+        let gc = *group.get(&c).unwrap_or(&c);
+        if gp != gc {
+            children.entry(gp).or_default().push((gc, t));
+        }
+    }
+    Ok(Assembly {
+        items,
+        children,
+        group,
+        names,
+    })
+}
+
+/// A body to build: a shell-holding item, where it is placed, its name.
+struct Placement {
+    item: u64,
+    transform: DAffine3,
+    name: Option<String>,
+}
+
+fn is_body(instance: &Instance) -> bool {
+    [
+        "MANIFOLD_SOLID_BREP",
+        "BREP_WITH_VOIDS",
+        "SHELL_BASED_SURFACE_MODEL",
+        "CLOSED_SHELL",
+        "OPEN_SHELL",
+    ]
+    .iter()
+    .any(|n| instance.is(n))
+}
+
+fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
+    let mut group_items: HashMap<u64, Vec<u64>> = HashMap::new();
+    let mut group_names: HashMap<u64, String> = HashMap::new();
+    for (rep, list) in &a.items {
+        let g = *a.group.get(rep).unwrap_or(rep);
+        group_items
+            .entry(g)
+            .or_default()
+            .extend(list.iter().copied());
+        if let Some(n) = a.names.get(rep) {
+            group_names.entry(g).or_insert_with(|| n.clone());
+        }
+    }
+    let mut is_child: HashSet<u64> = HashSet::new();
+    for list in a.children.values() {
+        for (c, _) in list {
+            is_child.insert(*c);
+        }
+    }
+    let mut roots: Vec<u64> = group_items
+        .keys()
+        .copied()
+        .filter(|g| !is_child.contains(g))
+        .collect();
+    roots.sort_unstable();
+    let mut out = Vec::new();
+    let mut stack: Vec<(u64, DAffine3, usize)> = roots
+        .into_iter()
+        .map(|g| (g, DAffine3::IDENTITY, 0))
+        .collect();
+    stack.reverse();
+    let mut placed_items: HashSet<u64> = HashSet::new();
+    while let Some((g, t, depth)) = stack.pop() {
+        if depth > 16 || out.len() >= MAX_PLACEMENTS {
+            continue;
+        }
+        let mut items = group_items.get(&g).cloned().unwrap_or_default();
+        items.sort_unstable();
+        items.dedup();
+        for item in items {
+            if x.get(item).is_some_and(is_body) {
+                placed_items.insert(item);
+                out.push(Placement {
+                    item,
+                    transform: t,
+                    name: group_names.get(&g).cloned(),
+                });
+            }
+        }
+        if let Some(children) = a.children.get(&g) {
+            for (c, tc) in children.iter().rev() {
+                stack.push((*c, t * *tc, depth + 1));
+            }
+        }
+    }
+    // Bodies no representation holds (or a file without representations): as they are.
+    let held: HashSet<u64> = a.items.values().flatten().copied().collect();
+    let mut inner_shells: HashSet<u64> = HashSet::new();
+    for (_, instance) in &x.instances {
+        for name in [
+            "MANIFOLD_SOLID_BREP",
+            "BREP_WITH_VOIDS",
+            "SHELL_BASED_SURFACE_MODEL",
+        ] {
+            if let Some(r) = instance.part(name) {
+                for v in &r.args[1.min(r.args.len())..] {
+                    match v {
+                        Value::Ref(s) => {
+                            inner_shells.insert(*s);
+                        }
+                        Value::List(l) => inner_shells.extend(l.iter().filter_map(|v| {
+                            if let Value::Ref(s) = v {
+                                Some(*s)
+                            } else {
+                                None
+                            }
+                        })),
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    for (id, instance) in &x.instances {
+        if is_body(instance)
+            && !placed_items.contains(id)
+            && !held.contains(id)
+            && !inner_shells.contains(id)
+        {
+            out.push(Placement {
+                item: *id,
+                transform: DAffine3::IDENTITY,
+                name: None,
+            });
+        }
+    }
+    out
+}
+
+/// Reads a STEP file. `progress(stage, fraction)` is called now and then; where it returns
+/// false, reading stops with "cancelled".
+pub fn read(
+    bytes: &[u8],
+    progress: &mut dyn FnMut(Stage, f64) -> bool,
+) -> Result<StepModel, FormatError> {
+    let x = super::part21::parse(bytes, &mut |f| progress(Stage::Parsing, f)).map_err(|e| {
+        if e.message.starts_with("not an ISO-10303-21 file") {
+            FormatError::new("", e.message)
+        } else {
+            FormatError::new("", format!("not a valid STEP file: {e}"))
+        }
+    })?;
+    let schema = x.schemas().join(", ");
+    let (millimetres_per_unit, unit_name) = file_unit(&x);
+    let e = Entities {
+        x: &x,
+        scale: millimetres_per_unit,
+    };
+    // The model's size, from its points, sets the trim tolerance.
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for (id, instance) in &x.instances {
+        if instance.is("CARTESIAN_POINT")
+            && let Ok(p) = e.point(*id)
+        {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    let diagonal = if lo.x.is_finite() {
+        lo.distance(hi)
+    } else {
+        1.0
+    };
+    let tolerance = (diagonal * 1e-6).max(1e-9);
+    let a = assembly(&e)?;
+    let colour_of = colours(&x);
+    let places = placements(&x, &a);
+    let mut warnings = Vec::new();
+    let mut bodies: Vec<StepBody> = Vec::new();
+    let mut edges: HashMap<u64, Rc<EdgeGeometry>> = HashMap::new();
+    let mut built: HashMap<u64, Rc<BuiltBody>> = HashMap::new();
+    let total = places.len().max(1);
+    let mut name_count: HashMap<String, usize> = HashMap::new();
+    for (k, place) in places.iter().enumerate() {
+        if !progress(Stage::BuildingFaces, k as f64 / total as f64) {
+            return Err(FormatError::new("", "cancelled"));
+        }
+        let body = match built.get(&place.item) {
+            Some(b) => b.clone(),
+            None => {
+                let b = Rc::new(build_body(
+                    &e,
+                    place.item,
+                    &mut edges,
+                    tolerance,
+                    &mut warnings,
+                    &colour_of,
+                )?);
+                built.insert(place.item, b.clone());
+                b
+            }
+        };
+        if body.faces.is_empty() {
+            continue;
+        }
+        let mut faces = Vec::with_capacity(body.faces.len());
+        for f in &body.faces {
+            if place.transform == DAffine3::IDENTITY {
+                faces.push(f.clone());
+            } else {
+                let s = f
+                    .surface()
+                    .transformed(&place.transform)
+                    .map_err(|err| bad(&x, place.item, err))?;
+                faces.push(f.with_surface(s).map_err(|err| bad(&x, place.item, err))?);
+            }
+        }
+        let base = place
+            .name
+            .clone()
+            .or_else(|| body.name.clone())
+            .unwrap_or_else(|| "Body".to_string());
+        let n = name_count.entry(base.clone()).or_insert(0);
+        *n += 1;
+        let name = if *n == 1 { base } else { format!("{base} {n}") };
+        bodies.push(StepBody {
+            name,
+            color: body.color,
+            faces,
+            surface_types: body.surface_types.clone(),
+            topology: body.topology.clone(),
+            closed: body.closed,
+        });
+    }
+    progress(Stage::BuildingFaces, 1.0);
+    Ok(StepModel {
+        bodies,
+        millimetres_per_unit,
+        unit_name,
+        schema,
+        warnings,
+        tolerance,
+    })
+}
+
+struct BuiltBody {
+    name: Option<String>,
+    color: Option<[f32; 3]>,
+    faces: Vec<TrimmedSurface>,
+    surface_types: Vec<&'static str>,
+    topology: Topology,
+    closed: bool,
+}
+
+/// The faces of a shell-holding item (`MANIFOLD_SOLID_BREP`, `BREP_WITH_VOIDS`,
+/// `SHELL_BASED_SURFACE_MODEL`, or a shell).
+fn build_body(
+    e: &Entities,
+    item: u64,
+    edges: &mut HashMap<u64, Rc<EdgeGeometry>>,
+    tolerance: f64,
+    warnings: &mut Vec<String>,
+    colour_of: &HashMap<u64, [f32; 3]>,
+) -> Result<BuiltBody, FormatError> {
+    let x = e.x;
+    let instance = e.instance(item)?;
+    let mut shells: Vec<u64> = Vec::new();
+    let mut name = None;
+    if let Some(r) = instance.part("MANIFOLD_SOLID_BREP") {
+        let r = e.record(item, &r.name, 2)?;
+        shells.push(e.reference(item, r, 1)?);
+        name = Some(e.text(r, 0));
+        if let Some(v) = instance.part("BREP_WITH_VOIDS")
+            && let Some(Value::List(l)) = v.args.last()
+        {
+            shells.extend(l.iter().filter_map(|v| {
+                if let Value::Ref(s) = v {
+                    Some(*s)
+                } else {
+                    None
+                }
+            }));
+        }
+    } else if let Some(r) = instance.part("BREP_WITH_VOIDS") {
+        let r = e.record(item, &r.name, 3)?;
+        shells.push(e.reference(item, r, 1)?);
+        shells.extend(e.references(item, r, 2)?);
+        name = Some(e.text(r, 0));
+    } else if let Some(r) = instance.part("SHELL_BASED_SURFACE_MODEL") {
+        let r = e.record(item, &r.name, 2)?;
+        shells.extend(e.references(item, r, 1)?);
+        name = Some(e.text(r, 0));
+    } else {
+        shells.push(item);
+    }
+    let mut faces = Vec::new();
+    let mut surface_types = Vec::new();
+    let mut origins: Vec<Vec<Vec<CurveOrigin>>> = Vec::new();
+    let mut closed = true;
+    let mut face_colours: HashMap<[u32; 3], usize> = HashMap::new();
+    for shell in shells {
+        let si = e.instance(shell)?;
+        let r = si
+            .part("CLOSED_SHELL")
+            .or_else(|| si.part("OPEN_SHELL"))
+            .or_else(|| si.part("ORIENTED_CLOSED_SHELL"))
+            .ok_or_else(|| bad(x, shell, "expected CLOSED_SHELL or OPEN_SHELL"))?;
+        closed &= r.name != "OPEN_SHELL";
+        let r = e.record(shell, &r.name, 2)?;
+        for face_id in e.references(shell, r, 1)? {
+            let (face_id, flip) = match e.instance(face_id)?.part("ORIENTED_FACE") {
+                Some(of) => {
+                    let of = e.record(face_id, &of.name, 4)?;
+                    (e.reference(face_id, of, 2)?, !e.boolean(face_id, of, 3)?)
+                }
+                None => (face_id, false),
+            };
+            let fi = e.instance(face_id)?;
+            let fr = fi
+                .part("ADVANCED_FACE")
+                .or_else(|| fi.part("FACE_SURFACE"))
+                .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
+            let fr = e.record(face_id, &fr.name, 4)?;
+            let bound_ids = e.references(face_id, fr, 1)?;
+            let surface_id = e.reference(face_id, fr, 2)?;
+            let same_sense = e.boolean(face_id, fr, 3)? != flip;
+            let mut bounds = Vec::new();
+            for b in bound_ids {
+                let bi = e.instance(b)?;
+                let br = bi
+                    .part("FACE_OUTER_BOUND")
+                    .or_else(|| bi.part("FACE_BOUND"))
+                    .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
+                let br = e.record(b, &br.name, 3)?;
+                let loop_id = e.reference(b, br, 1)?;
+                let orientation = e.boolean(b, br, 2)?;
+                let li = e.instance(loop_id)?;
+                if li.is("VERTEX_LOOP") {
+                    continue;
+                }
+                let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
+                let mut loop_edges = Vec::new();
+                for oe in e.references(loop_id, lr, 1)? {
+                    let or = e.record(oe, "ORIENTED_EDGE", 5)?;
+                    let edge_id = e.reference(oe, or, 3)?;
+                    let forward = e.boolean(oe, or, 4)?;
+                    let geometry = match edges.get(&edge_id) {
+                        Some(g) => g.clone(),
+                        None => {
+                            let er = e.record(edge_id, "EDGE_CURVE", 5)?;
+                            let vertex = |k: usize| -> Result<DVec3, FormatError> {
+                                let v = e.reference(edge_id, er, k)?;
+                                let vr = e.record(v, "VERTEX_POINT", 2)?;
+                                e.point(e.reference(v, vr, 1)?)
+                            };
+                            let (start, end) = (vertex(1)?, vertex(2)?);
+                            let curve = e.curve(e.reference(edge_id, er, 3)?)?;
+                            let same = e.boolean(edge_id, er, 4)?;
+                            let g = Rc::new(EdgeGeometry::new(curve, start, end, same, tolerance));
+                            edges.insert(edge_id, g.clone());
+                            g
+                        }
+                    };
+                    loop_edges.push(LoopEdge {
+                        id: edge_id,
+                        forward,
+                        geometry,
+                    });
+                }
+                if !loop_edges.is_empty() {
+                    bounds.push(Bound {
+                        edges: loop_edges,
+                        orientation,
+                    });
+                }
+            }
+            let surface = match e.surface(surface_id) {
+                Ok(s) => s,
+                Err(err) if err.message.contains("not read") => {
+                    warnings.push(format!(
+                        "#{face_id} = ADVANCED_FACE skipped: {}",
+                        err.message
+                    ));
+                    continue;
+                }
+                Err(err) => return Err(err),
+            };
+            match build_face(&surface, &bounds, same_sense, tolerance) {
+                Ok(b) => {
+                    faces.push(b.face);
+                    surface_types.push(surface.type_name());
+                    origins.push(b.origins);
+                    if let Some(c) = colour_of.get(&face_id) {
+                        *face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
+                    }
+                }
+                Err(why) => warnings.push(format!(
+                    "#{face_id} = ADVANCED_FACE ({}) skipped: {why}",
+                    surface.type_name()
+                )),
+            }
+        }
+    }
+    let color = colour_of.get(&item).copied().or_else(|| {
+        face_colours
+            .iter()
+            .max_by_key(|&(_, n)| *n)
+            .map(|(c, _)| c.map(f32::from_bits))
+    });
+    let topology = file_topology(&faces, &origins, tolerance);
+    Ok(BuiltBody {
+        name: name.filter(|n| !n.is_empty()),
+        color,
+        faces,
+        surface_types,
+        topology,
+        closed,
+    })
+}
+
+/// The shared, naked and degenerate edges from which loop curves lie on which of the file's
+/// edges (and the seams the reader closed).
+fn file_topology(
+    faces: &[TrimmedSurface],
+    origins: &[Vec<Vec<CurveOrigin>>],
+    tolerance: f64,
+) -> Topology {
+    let mut uses: HashMap<(u8, u64), Vec<(EdgeId, bool)>> = HashMap::new();
+    let mut topology = Topology::default();
+    for (f, loops) in origins.iter().enumerate() {
+        for (l, curves) in loops.iter().enumerate() {
+            for (c, origin) in curves.iter().enumerate() {
+                let id = EdgeId {
+                    face: f,
+                    loop_index: l,
+                    curve: c,
+                };
+                let length = edge_length(&faces[f], l, c);
+                if length <= tolerance {
+                    topology.degenerate.push(id);
+                    continue;
+                }
+                match *origin {
+                    CurveOrigin::Edge { id: e, forward } => {
+                        uses.entry((0, e)).or_default().push((id, forward))
+                    }
+                    CurveOrigin::Seam(s) => uses
+                        .entry((1, s as u64 + ((f as u64) << 32)))
+                        .or_default()
+                        .push((id, true)),
+                    CurveOrigin::Added => topology.naked.push(id),
+                }
+            }
+        }
+    }
+    let mut keys: Vec<_> = uses.keys().copied().collect();
+    keys.sort_unstable();
+    for key in keys {
+        let list = &uses[&key];
+        let mut k = 0;
+        while k + 1 < list.len() {
+            let (a, fa) = list[k];
+            let (b, fb) = list[k + 1];
+            // Seam connectors run opposite ways by construction.
+            let reversed = if key.0 == 1 { true } else { fa != fb };
+            topology.shared.push(SharedEdge {
+                a,
+                b,
+                reversed,
+                gap: edge_gap(faces, a, b, reversed),
+            });
+            k += 2;
+        }
+        if k < list.len() {
+            topology.naked.push(list[k].0);
+        }
+    }
+    topology
+}
+
+fn curve_point(face: &TrimmedSurface, l: usize, c: usize, t: f64) -> Option<DVec3> {
+    let curve = face.loops().get(l)?.get(c)?;
+    let (a, b) = curve.domain();
+    let uv = curve.point_at(a + (b - a) * t).ok()?;
+    face.surface().point_at_clamped(uv).ok()
+}
+
+fn edge_length(face: &TrimmedSurface, l: usize, c: usize) -> f64 {
+    let points: Vec<DVec3> = (0..=4)
+        .filter_map(|k| curve_point(face, l, c, k as f64 / 4.0))
+        .collect();
+    points.windows(2).map(|w| w[0].distance(w[1])).sum()
+}
+
+fn edge_gap(faces: &[TrimmedSurface], a: EdgeId, b: EdgeId, reversed: bool) -> f64 {
+    // The ends correspond exactly (inner points of polylines need not).
+    let mut gap: f64 = 0.0;
+    for k in [0, 4] {
+        let t = k as f64 / 4.0;
+        let tb = if reversed { 1.0 - t } else { t };
+        if let (Some(p), Some(q)) = (
+            curve_point(&faces[a.face], a.loop_index, a.curve, t),
+            curve_point(&faces[b.face], b.loop_index, b.curve, tb),
+        ) {
+            gap = gap.max(p.distance(q));
+        }
+    }
+    gap
+}

@@ -1,0 +1,523 @@
+//! STEP output (AP214, `AUTOMOTIVE_DESIGN`): each object with faces as one product whose shape
+//! is a shell of `ADVANCED_FACE`s on `B_SPLINE_SURFACE_WITH_KNOTS` (rational where weighted)
+//! with their knots, points and weights as they are. Every face is bounded by edge loops whose
+//! edges are `SURFACE_CURVE`s: a 3D B-spline (a cubic through the edge's points, refined until
+//! it lies within the tolerance of the edge, or the exact iso-curve where the trim is one) with
+//! the exact p-curve of every face that uses it. Shared edges (the object's topology) are one
+//! edge used by both faces; faces are turned so that they agree across them, and a shell whose
+//! every edge is shared is closed (a `MANIFOLD_SOLID_BREP`, outward by the sign of its volume),
+//! otherwise open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are millimetres.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+
+use glam::{DVec2, DVec3};
+
+use crate::kernel::join::{EdgeId, Topology, face_loops};
+use crate::kernel::{
+    GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface, construct,
+};
+
+/// One object to write.
+pub struct StepShape<'a> {
+    pub name: &'a str,
+    pub faces: &'a [TrimmedSurface],
+    /// The shared edges, where known.
+    pub topology: Option<&'a Topology>,
+}
+
+struct Out {
+    text: String,
+    next: u64,
+}
+
+impl Out {
+    fn add(&mut self, entity: impl AsRef<str>) -> u64 {
+        let id = self.next;
+        self.next += 1;
+        let _ = writeln!(self.text, "#{id}={};", entity.as_ref());
+        id
+    }
+}
+
+fn real(x: f64) -> String {
+    if x == 0.0 {
+        return "0.".into();
+    }
+    let s = format!("{x:E}");
+    // Part 21 reals need a decimal point in the mantissa: 1E-3 → 1.E-3.
+    match s.split_once('E') {
+        Some((m, e)) if !m.contains('.') => format!("{m}.E{e}"),
+        _ => s,
+    }
+}
+
+fn text(s: &str) -> String {
+    let mut out = String::from("'");
+    for c in s.chars() {
+        match c {
+            '\'' => out.push_str("''"),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_ascii() && !c.is_ascii_control() => out.push(c),
+            c => {
+                let mut units = [0u16; 2];
+                out.push_str("\\X2\\");
+                for u in c.encode_utf16(&mut units) {
+                    let _ = write!(out, "{u:04X}");
+                }
+                out.push_str("\\X0\\");
+            }
+        }
+    }
+    out.push('\'');
+    out
+}
+
+fn refs(ids: &[u64]) -> String {
+    let items: Vec<String> = ids.iter().map(|i| format!("#{i}")).collect();
+    format!("({})", items.join(","))
+}
+
+/// Distinct knots and multiplicities.
+fn knot_lists(knots: &[f64]) -> (String, String) {
+    let mut values: Vec<f64> = Vec::new();
+    let mut counts: Vec<usize> = Vec::new();
+    for &k in knots {
+        if values.last() == Some(&k) {
+            if let Some(c) = counts.last_mut() {
+                *c += 1;
+            }
+        } else {
+            values.push(k);
+            counts.push(1);
+        }
+    }
+    (
+        format!(
+            "({})",
+            counts
+                .iter()
+                .map(|c| c.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        ),
+        format!(
+            "({})",
+            values
+                .iter()
+                .map(|&v| real(v))
+                .collect::<Vec<_>>()
+                .join(",")
+        ),
+    )
+}
+
+fn point3(out: &mut Out, p: DVec3) -> u64 {
+    out.add(format!(
+        "CARTESIAN_POINT('',({},{},{}))",
+        real(p.x),
+        real(p.y),
+        real(p.z)
+    ))
+}
+
+fn point2(out: &mut Out, p: DVec2) -> u64 {
+    out.add(format!("CARTESIAN_POINT('',({},{}))", real(p.x), real(p.y)))
+}
+
+fn surface(out: &mut Out, s: &NurbsSurface) -> u64 {
+    let [p, q] = s.degree();
+    let [nu, nv] = s.count();
+    let mut rows = Vec::with_capacity(nu);
+    for i in 0..nu {
+        let ids: Vec<u64> = (0..nv)
+            .map(|j| point3(out, s.control_point(i, j)))
+            .collect();
+        rows.push(refs(&ids));
+    }
+    let [ku, kv] = s.knots();
+    let (um, uk) = knot_lists(ku);
+    let (vm, vk) = knot_lists(kv);
+    let grid = format!("({})", rows.join(","));
+    if s.is_polynomial() {
+        out.add(format!(
+            "B_SPLINE_SURFACE_WITH_KNOTS('',{p},{q},{grid},.UNSPECIFIED.,.F.,.F.,.F.,{um},{vm},{uk},{vk},.UNSPECIFIED.)"
+        ))
+    } else {
+        let weights: Vec<String> = (0..nu)
+            .map(|i| {
+                format!(
+                    "({})",
+                    (0..nv)
+                        .map(|j| real(s.weight(i, j)))
+                        .collect::<Vec<_>>()
+                        .join(",")
+                )
+            })
+            .collect();
+        out.add(format!(
+            "(BOUNDED_SURFACE() B_SPLINE_SURFACE({p},{q},{grid},.UNSPECIFIED.,.F.,.F.,.F.) B_SPLINE_SURFACE_WITH_KNOTS({um},{vm},{uk},{vk},.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(({})) REPRESENTATION_ITEM('') SURFACE())",
+            weights.join(",")
+        ))
+    }
+}
+
+fn curve_entity(degree: usize, ids: &[u64], knots: &[f64], weights: Option<Vec<f64>>) -> String {
+    let (m, k) = knot_lists(knots);
+    match weights {
+        None => format!(
+            "B_SPLINE_CURVE_WITH_KNOTS('',{degree},{},.UNSPECIFIED.,.F.,.F.,{m},{k},.UNSPECIFIED.)",
+            refs(ids)
+        ),
+        Some(w) => format!(
+            "(BOUNDED_CURVE() B_SPLINE_CURVE({degree},{},.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS({m},{k},.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE(({})) REPRESENTATION_ITEM(''))",
+            refs(ids),
+            w.iter().map(|&x| real(x)).collect::<Vec<_>>().join(",")
+        ),
+    }
+}
+
+fn curve3(out: &mut Out, c: &SpaceCurve) -> u64 {
+    let ids: Vec<u64> = (0..c.count())
+        .map(|i| point3(out, c.control_point(i)))
+        .collect();
+    let w = (!c.is_polynomial()).then(|| (0..c.count()).map(|i| c.weight(i)).collect());
+    out.add(curve_entity(c.degree(), &ids, c.knots(), w))
+}
+
+fn curve2(out: &mut Out, c: &TrimCurve) -> u64 {
+    let ids: Vec<u64> = (0..c.count())
+        .map(|i| point2(out, c.control_point(i)))
+        .collect();
+    let w = (!c.is_polynomial()).then(|| (0..c.count()).map(|i| c.weight(i)).collect());
+    out.add(curve_entity(c.degree(), &ids, c.knots(), w))
+}
+
+/// The 3D curve of a trim curve on its surface: the exact iso-curve where the trim is a
+/// straight iso-line, else a cubic through points of S(c(t)), doubled until its middles lie
+/// within `tolerance`.
+fn edge_curve(
+    face: &TrimmedSurface,
+    trim: &TrimCurve,
+    tolerance: f64,
+) -> Result<SpaceCurve, GeometryError> {
+    let s = face.surface();
+    let (a, b) = trim.ends()?;
+    if trim.degree() == 1 && trim.count() == 2 {
+        let dir = if a.x == b.x {
+            Some((crate::kernel::Direction::U, a.x, a.y, b.y))
+        } else if a.y == b.y {
+            Some((crate::kernel::Direction::V, a.y, a.x, b.x))
+        } else {
+            None
+        };
+        if let Some((d, fixed, t0, t1)) = dir {
+            // The iso-curve at `fixed` runs along the other direction.
+            if let Ok(iso) = s.isocurve(d, fixed, 0) {
+                let (lo, hi) = (t0.min(t1), t0.max(t1));
+                let (d0, d1) = iso.domain();
+                let mut piece = iso;
+                if hi < d1 {
+                    piece = piece.split(hi)?.0;
+                }
+                if lo > d0 {
+                    piece = piece.split(lo)?.1;
+                }
+                return Ok(if t1 < t0 { piece.reverse() } else { piece });
+            }
+        }
+    }
+    let (d0, d1) = trim.domain();
+    let at = |t: f64| -> Result<DVec3, GeometryError> {
+        s.point_at_clamped(trim.point_at(d0 + (d1 - d0) * t)?)
+    };
+    let mut n = 8usize.max(trim.count() * 2);
+    loop {
+        let points: Vec<DVec3> = (0..=n)
+            .map(|k| at(k as f64 / n as f64))
+            .collect::<Result<_, _>>()?;
+        let fitted = construct::interpolate(&points, 3)?;
+        let mut worst: f64 = 0.0;
+        for k in 0..n {
+            let p = at((k as f64 + 0.5) / n as f64)?;
+            let (lo, hi) = fitted.domain();
+            let t = fitted.closest_parameter(p).unwrap_or(lo + (hi - lo) * 0.5);
+            worst = worst.max(fitted.point_at(t)?.distance(p));
+        }
+        if worst <= tolerance || n >= 1024 {
+            let mut c = fitted;
+            // The ends exactly on the corners.
+            let last = c.count() - 1;
+            c = c.with_point(0, points[0])?.with_point(last, points[n])?;
+            return Ok(c);
+        }
+        n *= 2;
+    }
+}
+
+/// Which faces to turn so that shared edges run opposite ways (breadth-first).
+fn face_flips(faces: usize, topology: &Topology) -> Vec<bool> {
+    let mut flip: Vec<Option<bool>> = vec![None; faces];
+    for start in 0..faces {
+        if flip[start].is_some() {
+            continue;
+        }
+        flip[start] = Some(false);
+        let mut queue = vec![start];
+        while let Some(f) = queue.pop() {
+            let here = flip[f].unwrap_or(false);
+            for s in &topology.shared {
+                let other = if s.a.face == f {
+                    s.b.face
+                } else if s.b.face == f {
+                    s.a.face
+                } else {
+                    continue;
+                };
+                if flip[other].is_none() {
+                    flip[other] = Some(here == s.reversed);
+                    queue.push(other);
+                }
+            }
+        }
+    }
+    flip.into_iter().map(|f| f.unwrap_or(false)).collect()
+}
+
+/// The signed volume the faces enclose (divergence theorem over a coarse grid of each face's
+/// kept region), with each face turned by `flip`.
+fn signed_volume(faces: &[TrimmedSurface], flip: &[bool]) -> f64 {
+    let mut total = 0.0;
+    const N: usize = 24;
+    for (face, &f) in faces.iter().zip(flip) {
+        let s = face.surface();
+        let [(u0, u1), (v0, v1)] = s.domain();
+        let (du, dv) = ((u1 - u0) / N as f64, (v1 - v0) / N as f64);
+        for i in 0..N {
+            for j in 0..N {
+                let (u, v) = (u0 + du * (i as f64 + 0.5), v0 + dv * (j as f64 + 0.5));
+                if !face.contains(u, v) {
+                    continue;
+                }
+                if let Ok(d) = s.evaluate(u, v) {
+                    let n = d.su.cross(d.sv) * (du * dv);
+                    let c = d.point.dot(n) / 3.0;
+                    total += if f { -c } else { c };
+                }
+            }
+        }
+    }
+    total
+}
+
+/// A STEP file (AP214) of `shapes`, named `file_name` in its header.
+pub fn write(
+    shapes: &[StepShape],
+    file_name: &str,
+    tolerance: f64,
+) -> Result<String, GeometryError> {
+    let mut out = Out {
+        text: String::new(),
+        next: 1,
+    };
+    let app =
+        out.add("APPLICATION_CONTEXT('core data for automotive mechanical design processes')");
+    out.add(format!(
+        "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#{app})"
+    ));
+    let product_context = out.add(format!("PRODUCT_CONTEXT('',#{app},'mechanical')"));
+    let definition_context = out.add(format!(
+        "PRODUCT_DEFINITION_CONTEXT('part definition',#{app},'design')"
+    ));
+    let mm = out.add("(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.))");
+    let rad = out.add("(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.))");
+    let sr = out.add("(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT())");
+    let uncertainty = out.add(format!(
+        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{mm},'distance_accuracy_value','confusion accuracy')",
+        real(tolerance)
+    ));
+    let context = out.add(format!(
+        "(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{uncertainty})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{mm},#{rad},#{sr})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY'))"
+    ));
+    let context_2d = out.add("(GEOMETRIC_REPRESENTATION_CONTEXT(2) PARAMETRIC_REPRESENTATION_CONTEXT() REPRESENTATION_CONTEXT('2D SPACE',''))");
+    for shape in shapes {
+        let faces = shape.faces;
+        let topology = match shape.topology {
+            Some(t) => t.clone(),
+            None => crate::kernel::join::find_topology(faces, tolerance)?,
+        };
+        let loops: Vec<Vec<Vec<TrimCurve>>> =
+            faces.iter().map(face_loops).collect::<Result<_, _>>()?;
+        let closed = topology.is_closed();
+        let mut flip = face_flips(faces.len(), &topology);
+        if closed && signed_volume(faces, &flip) < 0.0 {
+            for f in &mut flip {
+                *f = !*f;
+            }
+        }
+        let surfaces: Vec<u64> = faces
+            .iter()
+            .map(|f| surface(&mut out, f.surface()))
+            .collect();
+        // Vertices: corners merged within the tolerance.
+        let mut vertices: Vec<(DVec3, u64)> = Vec::new();
+        let mut vertex = |out: &mut Out, p: DVec3| -> u64 {
+            if let Some((_, id)) = vertices.iter().find(|(q, _)| q.distance(p) <= tolerance) {
+                return *id;
+            }
+            let pid = point3(out, p);
+            let id = out.add(format!("VERTEX_POINT('',#{pid})"));
+            vertices.push((p, id));
+            id
+        };
+        let partner: HashMap<EdgeId, (EdgeId, bool)> = topology
+            .shared
+            .iter()
+            .flat_map(|s| [(s.a, (s.b, s.reversed)), (s.b, (s.a, s.reversed))])
+            .collect();
+        let degenerate: std::collections::HashSet<EdgeId> =
+            topology.degenerate.iter().copied().collect();
+        // Edge id and whether the use runs along it.
+        let mut written: HashMap<EdgeId, (u64, bool)> = HashMap::new();
+        let mut face_ids = Vec::new();
+        for (f, face) in faces.iter().enumerate() {
+            let mut bounds = Vec::new();
+            // The outer bound: the loop enclosing the most.
+            let outer_loop = (0..loops[f].len())
+                .max_by(|&a, &b| {
+                    let area = |k: usize| {
+                        crate::kernel::trim::signed_area(&crate::kernel::trim::flatten_loop(
+                            &loops[f][k],
+                            1e-4,
+                        ))
+                        .abs()
+                    };
+                    area(a).total_cmp(&area(b))
+                })
+                .unwrap_or(0);
+            for (l, lp) in loops[f].iter().enumerate() {
+                let mut oriented = Vec::new();
+                for (c, trim) in lp.iter().enumerate() {
+                    let id = EdgeId {
+                        face: f,
+                        loop_index: l,
+                        curve: c,
+                    };
+                    if degenerate.contains(&id) {
+                        continue;
+                    }
+                    let (edge, along) = match written.get(&id) {
+                        Some(&e) => e,
+                        None => {
+                            let c3 = edge_curve(face, trim, tolerance)?;
+                            let (p0, p1) = c3.ends()?;
+                            let v0 = vertex(&mut out, p0);
+                            let v1 = vertex(&mut out, p1);
+                            let cid = curve3(&mut out, &c3);
+                            let mut pcurves = vec![(f, trim.clone())];
+                            if let Some(&(other, reversed)) = partner.get(&id)
+                                && let Some(t) = loops[other.face]
+                                    .get(other.loop_index)
+                                    .and_then(|l| l.get(other.curve))
+                            {
+                                pcurves.push((
+                                    other.face,
+                                    if reversed { t.reverse() } else { t.clone() },
+                                ));
+                            }
+                            let mut pids = Vec::new();
+                            for (g, pc) in &pcurves {
+                                let c2 = curve2(&mut out, pc);
+                                let rep = out.add(format!(
+                                    "DEFINITIONAL_REPRESENTATION('',(#{c2}),#{context_2d})"
+                                ));
+                                pids.push(out.add(format!("PCURVE('',#{},#{rep})", surfaces[*g])));
+                            }
+                            let sc = out.add(format!(
+                                "SURFACE_CURVE('',#{cid},{},.PCURVE_S1.)",
+                                refs(&pids)
+                            ));
+                            let eid = out.add(format!("EDGE_CURVE('',#{v0},#{v1},#{sc},.T.)"));
+                            written.insert(id, (eid, true));
+                            if let Some(&(other, reversed)) = partner.get(&id) {
+                                written.insert(other, (eid, !reversed));
+                            }
+                            (eid, true)
+                        }
+                    };
+                    oriented.push(out.add(format!(
+                        "ORIENTED_EDGE('',*,*,#{edge},{})",
+                        if along { ".T." } else { ".F." }
+                    )));
+                }
+                if oriented.is_empty() {
+                    continue;
+                }
+                let lid = out.add(format!("EDGE_LOOP('',{})", refs(&oriented)));
+                let outer = l == outer_loop;
+                let sense = if flip[f] { ".F." } else { ".T." };
+                bounds.push(out.add(format!(
+                    "{}('',#{lid},{sense})",
+                    if outer {
+                        "FACE_OUTER_BOUND"
+                    } else {
+                        "FACE_BOUND"
+                    }
+                )));
+            }
+            face_ids.push(out.add(format!(
+                "ADVANCED_FACE('',{},#{},{})",
+                refs(&bounds),
+                surfaces[f],
+                if flip[f] { ".F." } else { ".T." }
+            )));
+        }
+        let origin = point3(&mut out, DVec3::ZERO);
+        let z = out.add("DIRECTION('',(0.,0.,1.))");
+        let x = out.add("DIRECTION('',(1.,0.,0.))");
+        let axis = out.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
+        let name = text(shape.name);
+        let rep = if closed {
+            let shell = out.add(format!("CLOSED_SHELL('',{})", refs(&face_ids)));
+            let solid = out.add(format!("MANIFOLD_SOLID_BREP({name},#{shell})"));
+            out.add(format!(
+                "ADVANCED_BREP_SHAPE_REPRESENTATION({name},(#{axis},#{solid}),#{context})"
+            ))
+        } else {
+            let shell = out.add(format!("OPEN_SHELL('',{})", refs(&face_ids)));
+            let model = out.add(format!("SHELL_BASED_SURFACE_MODEL({name},(#{shell}))"));
+            out.add(format!(
+                "MANIFOLD_SURFACE_SHAPE_REPRESENTATION({name},(#{axis},#{model}),#{context})"
+            ))
+        };
+        let product = out.add(format!("PRODUCT({name},{name},'',(#{product_context}))"));
+        let formation = out.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));
+        let definition = out.add(format!(
+            "PRODUCT_DEFINITION('design','',#{formation},#{definition_context})"
+        ));
+        let shape_def = out.add(format!("PRODUCT_DEFINITION_SHAPE('','',#{definition})"));
+        out.add(format!(
+            "SHAPE_DEFINITION_REPRESENTATION(#{shape_def},#{rep})"
+        ));
+    }
+    let mut file = String::new();
+    let _ = writeln!(file, "ISO-10303-21;");
+    let _ = writeln!(file, "HEADER;");
+    let _ = writeln!(file, "FILE_DESCRIPTION(('knotwork export'),'2;1');");
+    let _ = writeln!(
+        file,
+        "FILE_NAME({},'',(''),(''),'knotwork {}','knotwork','');",
+        text(file_name),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        file,
+        "FILE_SCHEMA(('AUTOMOTIVE_DESIGN {{ 1 0 10303 214 1 1 1 1 }}'));"
+    );
+    let _ = writeln!(file, "ENDSEC;");
+    let _ = writeln!(file, "DATA;");
+    file.push_str(&out.text);
+    let _ = writeln!(file, "ENDSEC;");
+    let _ = writeln!(file, "END-ISO-10303-21;");
+    Ok(file)
+}

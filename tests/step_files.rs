@@ -1,0 +1,324 @@
+//! STEP files: OpenCASCADE's files (tests/reference/occ/step/, made by make_step.py beside
+//! them with the cadquery-ocp bindings, with the faces, areas and volumes OpenCASCADE reads
+//! from them) open with the same faces, area and volume, watertight, every triangle within the
+//! tolerance of its face; units and the assembly are applied; the round trip through knotwork's
+//! writer keeps every surface exactly; bad files are refused with the entity named.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+use knotwork::io::step::{self, read::StepModel};
+use knotwork::kernel::join::tessellate_joined;
+use knotwork::kernel::tess::TriangleMesh;
+use serde_json::Value;
+
+fn fixture(name: &str) -> Vec<u8> {
+    let path = format!(
+        "{}/tests/reference/occ/step/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+fn occ(name: &str) -> Value {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/reference/occ/step/step.json"
+    );
+    let all: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    all[name].clone()
+}
+
+fn read(name: &str) -> StepModel {
+    step::read::read(&fixture(name), &mut |_, _| true).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn area(mesh: &TriangleMesh) -> f64 {
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum()
+}
+
+/// The volume enclosed (divergence theorem), and whether, after welding coinciding vertices,
+/// every edge belongs to exactly two triangles.
+fn volume_and_closed(mesh: &TriangleMesh, weld: f64) -> (f64, bool) {
+    let volume: f64 = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    let key = |p: DVec3| {
+        let q = (p / weld).round();
+        (q.x as i64, q.y as i64, q.z as i64)
+    };
+    let mut ids: HashMap<(i64, i64, i64), usize> = HashMap::new();
+    let welded: Vec<usize> = mesh
+        .positions
+        .iter()
+        .map(|&p| {
+            let n = ids.len();
+            *ids.entry(key(p)).or_insert(n)
+        })
+        .collect();
+    let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
+    for t in &mesh.triangles {
+        let v = t.map(|k| welded[k as usize]);
+        if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
+            continue;
+        }
+        for k in 0..3 {
+            let (a, b) = (v[k], v[(k + 1) % 3]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    (volume.abs(), edges.values().all(|&n| n == 2))
+}
+
+/// Each body's watertight mesh at `tolerance`.
+fn meshes(model: &StepModel, tolerance: f64) -> Vec<TriangleMesh> {
+    model
+        .bodies
+        .iter()
+        .map(|b| tessellate_joined(&b.faces, &b.topology, tolerance, false).unwrap())
+        .collect()
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+fn check_against_occ(name: &str, tolerance: f64, rel: f64) {
+    let model = read(name);
+    let expected = occ(name);
+    assert!(model.warnings.is_empty(), "{name}: {:?}", model.warnings);
+    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
+    assert_eq!(
+        faces as u64,
+        expected["faces"].as_u64().unwrap(),
+        "{name}: faces"
+    );
+    let meshes = meshes(&model, tolerance);
+    let a: f64 = meshes.iter().map(area).sum();
+    let mut v = 0.0;
+    for (mesh, body) in meshes.iter().zip(&model.bodies) {
+        let (vol, closed) = volume_and_closed(mesh, tolerance * 1e-3);
+        assert!(closed, "{name}: {} is not a closed mesh", body.name);
+        assert!(
+            body.topology.naked.is_empty(),
+            "{name}: naked edges {:?}",
+            body.topology.naked
+        );
+        v += vol;
+    }
+    let (ea, ev) = (
+        expected["area"].as_f64().unwrap(),
+        expected["volume"].as_f64().unwrap(),
+    );
+    println!(
+        "{name}: area {a:.6} (OCC {ea:.6}, {:.1e}), volume {v:.6} (OCC {ev:.6}, {:.1e})",
+        relative(a, ea),
+        relative(v, ev)
+    );
+    assert!(
+        relative(a, ea) < rel,
+        "{name}: area {a} vs OpenCASCADE's {ea}"
+    );
+    assert!(
+        relative(v, ev) < rel,
+        "{name}: volume {v} vs OpenCASCADE's {ev}"
+    );
+}
+
+/// The sum of each face's area, tessellated alone (its own loops, at `tolerance`).
+fn face_area_sum(model: &StepModel, tolerance: f64) -> f64 {
+    let mut total = 0.0;
+    for b in &model.bodies {
+        for f in &b.faces {
+            let one = std::slice::from_ref(f);
+            let t = knotwork::kernel::join::find_topology(one, tolerance * 1e-3).unwrap();
+            total += area(&tessellate_joined(one, &t, tolerance, false).unwrap());
+        }
+    }
+    total
+}
+
+#[test]
+fn a_box_with_a_hole_and_fillets_opens_with_occs_faces_and_area() {
+    let name = "box-hole-fillets.step";
+    let model = read(name);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let expected = occ(name);
+    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
+    assert_eq!(faces as u64, expected["faces"].as_u64().unwrap());
+    assert!(model.bodies[0].topology.naked.is_empty());
+    let a = face_area_sum(&model, 1e-3);
+    let ea = expected["area"].as_f64().unwrap();
+    assert!(relative(a, ea) < 1e-3, "area {a} vs OpenCASCADE's {ea}");
+}
+
+#[test]
+fn a_sphere_cut_by_planes_has_the_analytic_area_and_volume() {
+    check_against_occ("sphere-cut.step", 1e-3, 1e-3);
+}
+
+#[test]
+fn a_torus_minus_a_cylinder_opens_watertight() {
+    check_against_occ("torus-minus-cylinder.step", 1e-3, 1e-3);
+}
+
+#[test]
+fn a_plate_with_filleted_holes_opens_watertight_with_occs_volume_and_face_areas() {
+    let name = "plate-3.step";
+    let model = read(name);
+    let expected = occ(name);
+    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
+    assert_eq!(faces as u64, expected["faces"].as_u64().unwrap());
+    let mesh = &meshes(&model, 1e-3)[0];
+    let (v, closed) = volume_and_closed(mesh, 1e-6);
+    assert!(closed);
+    let ev = expected["volume"].as_f64().unwrap();
+    assert!(relative(v, ev) < 1e-3, "volume {v} vs OpenCASCADE's {ev}");
+    let a = face_area_sum(&model, 1e-3);
+    let ea = expected["area"].as_f64().unwrap();
+    assert!(relative(a, ea) < 1e-3, "area {a} vs OpenCASCADE's {ea}");
+}
+
+#[test]
+fn an_assembly_in_inches_opens_in_millimetres_with_both_parts_placed() {
+    let name = "assembly.step";
+    // The same file with its length unit an inch (a conversion-based unit of 25.4 mm).
+    let text = String::from_utf8(fixture(name)).unwrap().replace(
+        "#24 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );",
+        "#24 = ( CONVERSION_BASED_UNIT('INCH',#9000) LENGTH_UNIT() NAMED_UNIT(#9001) );\n#9000 = LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#9002);\n#9001 = DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n#9002 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );",
+    );
+    let model = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+    assert_eq!(model.unit_name, "inch");
+    assert!(
+        (model.millimetres_per_unit - 25.4).abs() < 1e-12,
+        "{}",
+        model.millimetres_per_unit
+    );
+    assert_eq!(model.bodies.len(), 2);
+    assert_eq!(model.bodies[0].name, "brick");
+    assert!(model.bodies.iter().all(|b| b.color.is_some()));
+    let expected = occ(name)["analytic_volume_mm3"].as_f64().unwrap() * 25.4f64.powi(3);
+    let mut total = 0.0;
+    let mut lows = Vec::new();
+    for (b, mesh) in model.bodies.iter().zip(meshes(&model, 2.54e-3)) {
+        let (v, _) = volume_and_closed(&mesh, 2.54e-6);
+        assert!(b.topology.naked.is_empty(), "{}", b.name);
+        total += v;
+        let low = mesh
+            .positions
+            .iter()
+            .fold(DVec3::splat(f64::INFINITY), |a, &p| a.min(p));
+        lows.push(low);
+    }
+    assert!(
+        relative(total, expected) < 1e-9,
+        "volume {total} vs {expected}"
+    );
+    // The bricks (1 × 2 × 3 units) are placed at (0, 1, 0) and (5, 1, 0) units.
+    lows.sort_by(|a, b| a.x.total_cmp(&b.x));
+    assert!(
+        lows[0].distance(DVec3::new(0.0, 25.4, 0.0)) < 1e-9,
+        "{}",
+        lows[0]
+    );
+    assert!(
+        lows[1].distance(DVec3::new(127.0, 25.4, 0.0)) < 1e-9,
+        "{}",
+        lows[1]
+    );
+}
+
+#[test]
+fn a_file_written_and_read_back_keeps_every_surface_exactly() {
+    for name in ["sphere-cut.step", "assembly.step"] {
+        let project = step::read_project(&fixture(name), &mut |_, _| true).unwrap();
+        let (text, left_out) = step::export_scene(&project.scene, "round-trip.step", 1e-6).unwrap();
+        assert!(left_out.is_empty(), "{left_out:?}");
+        let again = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+        let first = read(name);
+        assert_eq!(again.bodies.len(), first.bodies.len(), "{name}");
+        for (a, b) in first.bodies.iter().zip(&again.bodies) {
+            assert_eq!(a.faces.len(), b.faces.len(), "{name}: {:?}", again.warnings);
+            // Every surface of the first read comes back with the same knots, points and
+            // weights (in the same order: the writer keeps the faces' order).
+            for (fa, fb) in a.faces.iter().zip(&b.faces) {
+                assert_eq!(fa.surface(), fb.surface(), "{name}: a surface changed");
+            }
+        }
+    }
+}
+
+/// A bad file is refused with a message that names what is wrong.
+fn refused(text: &str) -> String {
+    match step::read::read(text.as_bytes(), &mut |_, _| true) {
+        Ok(_) => panic!("accepted: {text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_files_are_refused_with_the_entity_named() {
+    let good = String::from_utf8(fixture("sphere-cut.step")).unwrap();
+    assert!(refused("solid cube\nendsolid").starts_with("not an ISO-10303-21 file"));
+    let cut = refused(&good[..good.len() / 2]);
+    assert!(
+        cut.contains("truncated") || cut.contains("never ends"),
+        "{cut}"
+    );
+    // An ADVANCED_FACE with an argument missing.
+    let face = good.lines().find(|l| l.contains("ADVANCED_FACE")).unwrap();
+    let id = face.split('=').next().unwrap().trim().to_string();
+    let short = face.replacen(",.T.)", ")", 1).replacen(",.F.)", ")", 1);
+    let e = refused(&good.replace(face, &short));
+    assert!(
+        e.contains(&format!(
+            "{id} = ADVANCED_FACE: expected 4 arguments, found 3"
+        )),
+        "{e}"
+    );
+    // A reference to an instance the file does not have.
+    let surface = face.rsplit(",#").next().unwrap().split(',').next().unwrap();
+    let e = refused(&good.replace(face, &face.replace(&format!(",#{surface},"), ",#999999,")));
+    assert!(
+        e.contains("#999999: a reference to an instance the file does not have"),
+        "{e}"
+    );
+    // A knot vector that does not fit its control points.
+    let spline = "#1=B_SPLINE_CURVE_WITH_KNOTS('',3,(#2,#2),.UNSPECIFIED.,.F.,.F.,(4,4),(0.,1.),.UNSPECIFIED.);#2=CARTESIAN_POINT('',(0.,0.,0.));";
+    let x = knotwork::io::step::part21::parse(
+        format!("ISO-10303-21;HEADER;ENDSEC;DATA;{spline}ENDSEC;END-ISO-10303-21;").as_bytes(),
+        &mut |_| true,
+    )
+    .unwrap();
+    let e = knotwork::io::step::entities::Entities { x: &x, scale: 1.0 }
+        .curve(1)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("#1 = B_SPLINE_CURVE_WITH_KNOTS: the B-spline does not fit"),
+        "{e}"
+    );
+    // Absurd multiplicities are refused before anything is allocated.
+    let huge = spline.replace("(4,4)", "(4000000000000,4)");
+    let x = knotwork::io::step::part21::parse(
+        format!("ISO-10303-21;HEADER;ENDSEC;DATA;{huge}ENDSEC;END-ISO-10303-21;").as_bytes(),
+        &mut |_| true,
+    )
+    .unwrap();
+    let e = knotwork::io::step::entities::Entities { x: &x, scale: 1.0 }
+        .curve(1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("more knots than knotwork reads"), "{e}");
+}
