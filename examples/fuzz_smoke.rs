@@ -7,7 +7,7 @@
 //!   cargo run --example fuzz_smoke -- [--seconds S] [--executions N] [--seed X] [TARGET...]
 //!   cargo run --example fuzz_smoke -- --write-seeds DIR      (a corpus for cargo-fuzz)
 //!
-//! TARGET: project, obj, gltf, png (default: all). Each failing input is saved under
+//! TARGET: project, obj, gltf, png, construct, step (default: all). Each failing input is saved under
 //! `fuzz/artifacts/` and the run exits 1.
 
 use std::path::{Path, PathBuf};
@@ -69,6 +69,15 @@ fn seeds(target: Target) -> Vec<Vec<u8>> {
             out.push(TRIANGLE_GLTF.as_bytes().to_vec());
         }
         Target::Construct => out.extend(construct_requests().into_iter().map(String::into_bytes)),
+        Target::Step => {
+            // OpenCASCADE's files (a cut sphere; two bricks placed by an assembly) and a small
+            // file of every entity the reader maps.
+            for name in ["sphere-cut.step", "assembly.step"] {
+                if let Ok(bytes) = std::fs::read(root.join("tests/reference/occ/step").join(name)) {
+                    out.push(bytes);
+                }
+            }
+        }
         Target::HeightImage => {
             // Grey 8 bits, RGB 16 bits, grey and alpha, a 2-bit palette, 1-bit grey, RGBA.
             let ramp = |n: usize, scale: usize| (0..n).map(|k| (k * scale % 256) as u8).collect();

@@ -8,7 +8,7 @@
 #      and layouts, offscreen image tests, glTF export checked by the Khronos glTF-Validator
 #      (npm), and the desktop app itself in a window (under Xvfb where there is no display);
 #   3. a one-minute smoke of the file readers' fuzz harness (examples/fuzz_smoke.rs: project,
-#      OBJ, glTF and PNG height maps);
+#      OBJ, glTF, STEP and PNG height maps);
 #   4. the web bundle (web/build.sh) in headless Chromium with WebGPU (web/browser-test.mjs).
 #
 #   tests/run.sh
@@ -114,7 +114,7 @@ rust_passed=$(awk '/^test result:/ { for (i = 1; i <= NF; i++) if ($(i + 1) ~ /^
 # The file readers (project, OBJ, glTF, PNG height maps) under the stable mutation harness for
 # about a minute in all; fuzz/run.sh runs the coverage-guided cargo-fuzz targets for as long as
 # asked.
-step "fuzz smoke (project, OBJ, glTF and PNG readers; construct requests)"
+step "fuzz smoke (project, OBJ, glTF, STEP and PNG readers; construct requests)"
 cargo run --quiet --locked --example fuzz_smoke -- --seconds 60
 
 # --- The web page in a browser -----------------------------------------------------------------

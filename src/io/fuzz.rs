@@ -1,5 +1,6 @@
 //! The fuzzing entry points of the readers that take files from users: a project (JSON), an
-//! OBJ, a glTF (`.gltf` JSON or `.glb`), a PNG height map and a `knotwork construct` request. The cargo-fuzz targets in `fuzz/`, the stable
+//! OBJ, a glTF (`.gltf` JSON or `.glb`), a STEP file, a PNG height map and a `knotwork
+//! construct` request. The cargo-fuzz targets in `fuzz/`, the stable
 //! smoke harness (`examples/fuzz_smoke.rs`) and the regression test all call [`check`].
 //!
 //! Beyond "never panics", every input that opens must survive a round trip: the opened project,
@@ -18,15 +19,17 @@ pub enum Target {
     Gltf,
     HeightImage,
     Construct,
+    Step,
 }
 
 impl Target {
-    pub const ALL: [Target; 5] = [
+    pub const ALL: [Target; 6] = [
         Target::Project,
         Target::Obj,
         Target::Gltf,
         Target::HeightImage,
         Target::Construct,
+        Target::Step,
     ];
 
     pub fn name(self) -> &'static str {
@@ -36,6 +39,7 @@ impl Target {
             Target::Gltf => "gltf",
             Target::HeightImage => "png",
             Target::Construct => "construct",
+            Target::Step => "step",
         }
     }
 
@@ -52,6 +56,7 @@ impl Target {
             Target::Gltf => "fuzz.gltf",
             Target::HeightImage => "fuzz.png",
             Target::Construct => "fuzz.construct.json",
+            Target::Step => "fuzz.step",
         }
     }
 }

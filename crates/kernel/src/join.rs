@@ -498,12 +498,17 @@ pub fn tessellate_joined(
         let mut seq = Vec::with_capacity(theirs.len());
         let count = theirs.len();
         let mut hint: Option<f64> = None;
+        let mut previous_own: Option<f64> = None;
         let ordered: Vec<(usize, f64)> = if reversed {
             theirs.into_iter().rev().collect()
         } else {
             theirs
         };
-        for (i, (v, _)) in ordered.into_iter().enumerate() {
+        for (i, (v, own_t)) in ordered.into_iter().enumerate() {
+            // The search window around the last point: at least 4 samples, and three times the
+            // owner's step (its points may be far apart along a straight edge).
+            let step = previous_own.map_or(0.0, |p| (own_t - p).abs());
+            previous_own = Some(own_t);
             let t = if !e.closed_uv && i == 0 {
                 0.0
             } else if !e.closed_uv && i + 1 == count {
@@ -512,7 +517,7 @@ pub fn tessellate_joined(
                 // A closed curve's parameter wraps round at its own seam: search it all.
                 let window = hint
                     .filter(|_| !e.closed_uv)
-                    .map(|h| (h, 4.0 / SEARCH_SAMPLES as f64));
+                    .map(|h| (h, (4.0 / SEARCH_SAMPLES as f64).max(3.0 * step)));
                 let (t, _) = e.closest(vertices[v].position, window);
                 t
             };
@@ -952,6 +957,44 @@ mod tests {
             })
             .sum();
         assert!((volume.abs() - 3.0).abs() < 1e-9, "{volume}");
+    }
+
+    /// The area of a mesh.
+    fn mesh_area(mesh: &TriangleMesh) -> f64 {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+
+    #[test]
+    fn a_face_following_a_straight_shared_edge_takes_its_points_where_they_are() {
+        // A square with a hole near its edge x = 0, joined to a wall along that edge: the wall's
+        // edge is sampled in 8 chords, and the square must place each point at its own (u, v)
+        // (a search window narrower than the chords once put them elsewhere, folding triangles
+        // over the hole's side and adding area).
+        let square = construct::plane(DVec3::ZERO, DVec3::Y * 4.0, DVec3::X * 4.0).unwrap();
+        let hole = shapes::ellipse(DVec2::new(0.5, 0.15), DVec2::splat(0.1)).unwrap();
+        let square = TrimmedSurface::new(
+            square,
+            vec![shapes::rectangle(DVec2::ZERO, DVec2::ONE).unwrap(), hole],
+        )
+        .unwrap();
+        let wall = TrimmedSurface::untrimmed(
+            construct::plane(DVec3::ZERO, DVec3::Z, DVec3::Y * 4.0).unwrap(),
+        );
+        let faces = vec![wall, square];
+        let topology = find_topology(&faces, 1e-9).unwrap();
+        assert_eq!(topology.shared.len(), 1, "{topology:?}");
+        let joined = mesh_area(&tessellate_joined(&faces, &topology, 1e-3, false).unwrap());
+        let expected = 4.0 + 16.0 - std::f64::consts::PI * 0.4 * 0.4;
+        assert!(
+            (joined - expected).abs() < 2e-3 * expected,
+            "{joined} vs {expected}"
+        );
     }
 
     #[test]

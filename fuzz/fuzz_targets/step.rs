@@ -1,0 +1,7 @@
+//! The STEP reader under libFuzzer: see `knotwork::io::fuzz`.
+#![no_main]
+
+use knotwork::io::fuzz::{Target, check};
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| check(Target::Step, data));
