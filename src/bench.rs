@@ -394,7 +394,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 16] = [
+pub const GROUPS: [&str; 17] = [
     "edit",
     "webgl2",
     "frame",
@@ -410,6 +410,7 @@ pub const GROUPS: [&str; 16] = [
     "displacement",
     "lattice",
     "intersect",
+    "step",
     "all",
 ];
 
@@ -468,6 +469,91 @@ pub fn run(
     }
     if wants("intersect") {
         bench_intersect(&scene, iterations, out)?;
+    }
+    if wants("step") {
+        bench_step(iterations, out)?;
+    }
+    Ok(())
+}
+
+/// STEP: OpenCASCADE's plate with a 20 × 20 grid of filleted holes (806 faces,
+/// tests/reference/occ/step/plate-20.step) read (parse, faces as trimmed NURBS, shared edges)
+/// and tessellated watertight at 1e-4 of its diagonal, one core, median wall time; and, where
+/// Python with cadquery-ocp is found (`KNOTWORK_OCC_PYTHON`, else `python3`), OpenCASCADE
+/// reading and meshing the same file at the same deflection in the same run
+/// (make_step.py mesh).
+fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::join::tessellate_joined;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/occ");
+    let path = root.join("step/plate-20.step");
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let runs = iterations.clamp(1, 5);
+    let (read_ms, model) = median_ms(runs, || {
+        crate::io::step::read::read(&bytes, &mut |_, _| true)
+    })?;
+    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
+    let (lo, hi) = model
+        .bodies
+        .iter()
+        .flat_map(|b| b.faces.iter().map(|f| f.surface().bounds()))
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), (c, d)| {
+            (a.min(c), b.max(d))
+        });
+    let tolerance = 1e-4 * lo.distance(hi);
+    let (mesh_ms, triangles) =
+        median_ms(runs, || -> Result<usize, crate::kernel::GeometryError> {
+            let mut n = 0;
+            for b in &model.bodies {
+                n += tessellate_joined(&b.faces, &b.topology, tolerance, false)?
+                    .triangles
+                    .len();
+            }
+            Ok(n)
+        })?;
+    // Memory per face: the surfaces' homogeneous points and knots, and the trim curves'.
+    let mut bytes_held = 0usize;
+    for f in model.bodies.iter().flat_map(|b| &b.faces) {
+        let s = f.surface();
+        bytes_held +=
+            s.homogeneous_points().len() * 32 + (s.knots()[0].len() + s.knots()[1].len()) * 8;
+        for c in f.loops().iter().flatten() {
+            bytes_held += c.count() * 24 + c.knots().len() * 8;
+        }
+    }
+    let total = read_ms + mesh_ms;
+    writeln!(
+        out,
+        "STEP plate 20 × 20 holes ({faces} faces, {:.1} MB) | read {read_ms:8.1} ms, tessellate {mesh_ms:8.1} ms at {tolerance:.3e} ({triangles} triangles), total {total:8.1} ms; {:.1} KB of geometry per face",
+        bytes.len() as f64 / 1e6,
+        bytes_held as f64 / faces.max(1) as f64 / 1e3
+    )?;
+    let python = std::env::var("KNOTWORK_OCC_PYTHON").unwrap_or_else(|_| "python3".into());
+    let occ = std::process::Command::new(&python)
+        .arg(root.join("make_step.py"))
+        .args(["mesh", &path.display().to_string(), &tolerance.to_string()])
+        .output();
+    match occ {
+        Ok(o) if o.status.success() => {
+            let text = String::from_utf8_lossy(&o.stdout);
+            let line = text
+                .lines()
+                .rev()
+                .find(|l| l.starts_with('{'))
+                .unwrap_or("{}");
+            let v: serde_json::Value = serde_json::from_str(line).unwrap_or_default();
+            let occ_ms = v["total_s"].as_f64().unwrap_or(f64::NAN) * 1e3;
+            writeln!(
+                out,
+                "STEP plate, OpenCASCADE         | read {:8.1} ms, mesh {:8.1} ms, total {occ_ms:8.1} ms: knotwork {:.2}× as fast",
+                v["read_s"].as_f64().unwrap_or(f64::NAN) * 1e3,
+                v["mesh_s"].as_f64().unwrap_or(f64::NAN) * 1e3,
+                occ_ms / total
+            )?;
+        }
+        _ => writeln!(
+            out,
+            "STEP plate, OpenCASCADE         | not measured ({python} with cadquery-ocp not found; set KNOTWORK_OCC_PYTHON)"
+        )?,
     }
     Ok(())
 }

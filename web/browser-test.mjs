@@ -6,7 +6,7 @@
 // Screenshots land in web/test-results/. Prints "browser: N passed, M failed" and exits non-zero
 // on any failure; a missing browser is a failure, never a skip.
 import { existsSync } from 'node:fs';
-import { mkdir, stat, writeFile } from 'node:fs/promises';
+import { mkdir, readFile, stat, writeFile } from 'node:fs/promises';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { startServer } from './server.mjs';
@@ -655,6 +655,41 @@ async function main() {
       const wasmBytes = (await stat(new URL('./pkg/knotwork_bg.wasm', import.meta.url))).size;
       console.log(`  export in the page: ${bytes.length} bytes in ${exportMs}, with curvature and colours ` +
         `(native, without frames: knotwork bench --only export, "as the page's exportGlb does"), ${report.infos} validator infos; wasm bundle ${wasmBytes} bytes`);
+      await page.close();
+    });
+
+    await check('a STEP file opens in the page as a watertight polysurface drawn by the GPU, exports a valid glTF; a broken one is refused', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const step = await readFile(new URL('../tests/reference/occ/step/box-hole-fillets.step', import.meta.url));
+      const base64 = step.toString('base64');
+      const openMs = await page.evaluate(async (b) => {
+        const bytes = Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
+        const started = performance.now();
+        window.knotwork.openFile('box-hole-fillets.step', bytes);
+        while (window.knotwork.status().objects !== 1 || window.knotwork.status().patches === 0) {
+          await new Promise((r) => requestAnimationFrame(r));
+          if (performance.now() - started > 60_000) break;
+        }
+        return performance.now() - started;
+      }, base64);
+      const opened = await status(page);
+      assert(opened.objects === 1 && opened.patches > 0 && opened.error === null, `STEP: ${JSON.stringify(opened)}`);
+      const project = await page.evaluate(() => window.knotwork.project());
+      assert(project.objects[0].type === 'polysurface' && project.objects[0].faces.length === 11,
+        `a polysurface of 11 faces: ${JSON.stringify(project.objects[0]).slice(0, 200)}`);
+      const glb = await exportGlbBytes(page, {});
+      const report = summary('step.glb', await validate(glb, 'step.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      const before = await page.evaluate(() => window.knotwork.project());
+      await page.evaluate((b) => window.knotwork.openFile('cut.step',
+        Uint8Array.from(atob(b), (c) => c.charCodeAt(0)).subarray(0, 20000)), base64);
+      await page.waitForFunction(() => /STEP|ISO-10303-21|truncated/.test(window.knotwork.status().error ?? ''), null, { timeout: 30_000 })
+        .catch(async () => { throw new Error(`a truncated STEP file: ${(await status(page)).error}`); });
+      const after = await page.evaluate(() => window.knotwork.project());
+      assert(JSON.stringify(after) === JSON.stringify(before), 'the document is unchanged');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      console.log(`      STEP (11 faces, ${step.length} bytes) opened and drawn in ${openMs.toFixed(0)} ms; export ${glb.length} bytes, validator clean`);
       await page.close();
     });
 

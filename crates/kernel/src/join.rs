@@ -23,7 +23,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::error::GeometryError;
 use crate::tess::{self, MAX_TRIANGLES, Tessellation, TriangleMesh};
-use crate::trim::{TrimLoop, TrimmedSurface, domain_rect, polygon_contains, shapes};
+use crate::trim::{TrimLoop, TrimmedSurface, domain_rect, shapes};
 use crate::{CurvatureValues, TrimCurve};
 
 /// Samples per edge compared when edges are matched.
@@ -423,21 +423,41 @@ pub fn tessellate_joined(
     }
     let loops: Vec<Vec<TrimLoop>> = faces.iter().map(face_loops).collect::<Result<_, _>>()?;
     let edges = edges_of(faces, &loops, tolerance);
-    let index_of = |id: EdgeId| edges.iter().position(|e| e.id == id);
+    let positions: std::collections::HashMap<EdgeId, usize> =
+        edges.iter().enumerate().map(|(k, e)| (e.id, k)).collect();
+    let index_of = |id: EdgeId| positions.get(&id).copied();
     let merge = topology.shared.iter().map(|s| s.gap).fold(0.0, f64::max) + tolerance * 1e-3;
     let mut vertices: Vec<JoinedVertex> = Vec::new();
-    // Corners: every edge's ends, merged within the largest gap.
-    let corner_of = |p: DVec3, vertices: &mut Vec<JoinedVertex>| -> usize {
-        if let Some(k) = vertices
-            .iter()
-            .position(|v| v.uses.is_empty() && v.position.distance(p) <= merge.max(1e-300))
-        {
+    // Corners: every edge's ends, merged within the largest gap (the first corner within it,
+    // found through a grid of cells of that size).
+    let cell_size = merge.max(1e-300);
+    let cell_of = |p: DVec3| (p / cell_size).floor().to_array().map(|c| c as i64);
+    let mut cells: std::collections::HashMap<[i64; 3], Vec<usize>> =
+        std::collections::HashMap::new();
+    let mut corner_of = |p: DVec3, vertices: &mut Vec<JoinedVertex>| -> usize {
+        let [x, y, z] = cell_of(p);
+        let mut found: Option<usize> = None;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    for &k in cells.get(&[x + dx, y + dy, z + dz]).into_iter().flatten() {
+                        if vertices[k].position.distance(p) <= cell_size
+                            && found.is_none_or(|f| k < f)
+                        {
+                            found = Some(k);
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(k) = found {
             return k;
         }
         vertices.push(JoinedVertex {
             position: p,
             uses: Vec::new(),
         });
+        cells.entry([x, y, z]).or_default().push(vertices.len() - 1);
         vertices.len() - 1
     };
     // Each edge's vertex sequence, in its own direction: (vertex, t on the edge).
@@ -673,7 +693,8 @@ fn triangulate_face(
         .iter()
         .map(|p| p.iter().map(|(_, uv)| *uv).collect())
         .collect();
-    let inside = |p: DVec2| flat.iter().filter(|poly| polygon_contains(poly, p)).count() % 2 == 1;
+    let crossings = Crossings::new(&flat);
+    let inside = |p: DVec2| crossings.inside(p);
     // Keep grid points a third of a cell from the boundary (no slivers, no point on a chord).
     let cell = |values: &[f64], k: usize| {
         let a = if k > 0 {
@@ -763,6 +784,63 @@ fn triangulate_face(
         interior,
         triangles,
     })
+}
+
+/// The loops' segments in horizontal bands, for the even-odd test of many points: a point
+/// lies inside an odd number of loops exactly when a ray from it toward +x crosses an odd
+/// number of segments, and only the segments of its band can cross it.
+struct Crossings {
+    lo: f64,
+    height: f64,
+    bands: Vec<Vec<(DVec2, DVec2)>>,
+}
+
+impl Crossings {
+    fn new(polygons: &[Vec<DVec2>]) -> Self {
+        let segments: Vec<(DVec2, DVec2)> = polygons
+            .iter()
+            .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
+            .collect();
+        let (lo, hi) = segments
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (a, b)| {
+                (l.min(a.y).min(b.y), h.max(a.y).max(b.y))
+            });
+        let count = ((segments.len() as f64).sqrt().ceil() as usize).clamp(1, 4096);
+        let height = if hi > lo {
+            (hi - lo) / count as f64
+        } else {
+            1.0
+        };
+        let mut bands = vec![Vec::new(); count];
+        let band = |y: f64| (((y - lo) / height).floor().max(0.0) as usize).min(count - 1);
+        for &(a, b) in &segments {
+            for list in &mut bands[band(a.y.min(b.y))..=band(a.y.max(b.y))] {
+                list.push((a, b));
+            }
+        }
+        Self { lo, height, bands }
+    }
+
+    fn inside(&self, p: DVec2) -> bool {
+        if self.bands.is_empty() || !(p.y >= self.lo) {
+            return false;
+        }
+        let k = ((p.y - self.lo) / self.height).floor() as usize;
+        let Some(band) = self.bands.get(k) else {
+            return false;
+        };
+        let mut inside = false;
+        for &(a, b) in band {
+            if (a.y <= p.y) != (b.y <= p.y) {
+                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                if x > p.x {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
 }
 
 /// The mean lengths of S_u and S_v over the grid's points (each at least a millionth of the

@@ -198,6 +198,9 @@ struct Natural<'a> {
     nurbs: Option<&'a NurbsSurface>,
     periodic: [bool; 2],
     small: f64,
+    /// Global point inversions left for this face (each is a grid search; an edge that is not
+    /// on its surface would otherwise ask for one per sample).
+    searches: std::cell::Cell<usize>,
 }
 
 impl Natural<'_> {
@@ -243,10 +246,17 @@ impl Natural<'_> {
                 let near = hint.map(|[u, v]| s.closest_point_from(p, u, v));
                 let found = match near {
                     Some(c) if c.distance <= self.small * 1e3 => c,
-                    _ => match s.closest_point(p) {
-                        Ok(c) => c,
-                        Err(_) => return [f64::NAN; 2],
-                    },
+                    _ => {
+                        let left = self.searches.get();
+                        if left == 0 {
+                            return [f64::NAN; 2];
+                        }
+                        self.searches.set(left - 1);
+                        match s.closest_point(p) {
+                            Ok(c) => c,
+                            Err(_) => return [f64::NAN; 2],
+                        }
+                    }
                 };
                 [found.u, found.v]
             }
@@ -356,7 +366,7 @@ fn sample_edge(
             )
         })
         .collect();
-    const MAX_SAMPLES: usize = 20_000;
+    const MAX_SAMPLES: usize = 4096;
     while let Some((a, b, depth)) = stack.pop() {
         let last = *out.last().unwrap_or(&make(a, hint));
         let end = make(b, Some(last.n));
@@ -409,6 +419,7 @@ pub fn build_face(
         nurbs,
         periodic,
         small: tolerance * 1e-3,
+        searches: std::cell::Cell::new(256),
     };
     // Samples of every loop, per edge use.
     let mut loops: Vec<Vec<Vec<Sample>>> = Vec::new();
@@ -422,6 +433,15 @@ pub fn build_face(
         }
         fill_poles(&mut edges);
         loops.push(edges);
+    }
+    if nurbs.is_some()
+        && loops
+            .iter()
+            .flatten()
+            .flatten()
+            .any(|s| !(s.n[0].is_finite() && s.n[1].is_finite()))
+    {
+        return Err("its edges do not lie on its surface".into());
     }
     let sense: Vec<f64> = bounds
         .iter()

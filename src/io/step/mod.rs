@@ -29,25 +29,42 @@ fn join_tolerance(model: &StepModel) -> f64 {
     (model.tolerance * 100.0).max(1e-7)
 }
 
+/// An object name from a product's: control characters dropped, at most
+/// [`crate::scene::MAX_NAME_LENGTH`] characters, "Body" when nothing is left.
+fn object_name(name: &str) -> String {
+    let clean: String = name
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(crate::scene::MAX_NAME_LENGTH)
+        .collect();
+    let clean = clean.trim();
+    if clean.is_empty() {
+        "Body".into()
+    } else {
+        clean.to_string()
+    }
+}
+
 /// A STEP model's bodies as scene objects: one polysurface per body (a body of more than
 /// [`MAX_FACES`] faces in parts of that many), named after its product.
 pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
     let mut scene = Scene::default();
     let tolerance = join_tolerance(model);
     for body in &model.bodies {
+        let name = object_name(&body.name);
         if body.faces.len() <= MAX_FACES {
             let p =
                 Polysurface::with_topology(body.faces.clone(), tolerance, body.topology.clone())
-                    .map_err(|e| FormatError::new(body.name.clone(), e.to_string()))?;
+                    .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
             scene
                 .objects
-                .push(SceneObject::new(body.name.clone(), ObjectGeometry::new(p)));
+                .push(SceneObject::new(name, ObjectGeometry::new(p)));
         } else {
             for (k, chunk) in body.faces.chunks(MAX_FACES).enumerate() {
                 let p = Polysurface::new(chunk.to_vec(), tolerance)
-                    .map_err(|e| FormatError::new(body.name.clone(), e.to_string()))?;
+                    .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
                 scene.objects.push(SceneObject::new(
-                    format!("{} part {}", body.name, k + 1),
+                    object_name(&format!("{name} part {}", k + 1)),
                     ObjectGeometry::new(p),
                 ));
             }

@@ -370,61 +370,85 @@ impl<'a> Lexer<'a> {
     }
 }
 
-/// Decodes Part 21's string escapes (see [`Lexer::string`]); what cannot be decoded is kept.
+/// Decodes Part 21's string escapes (see [`Lexer::string`]) byte by byte; what cannot be
+/// decoded is kept as written.
 fn decode_string(raw: &[u8]) -> String {
-    let text = String::from_utf8_lossy(raw);
-    if !text.contains('\\') {
-        return text.into_owned();
+    if !raw.contains(&b'\\') {
+        return String::from_utf8_lossy(raw).into_owned();
     }
-    let mut out = String::new();
-    let mut rest: &str = &text;
-    while let Some(k) = rest.find('\\') {
-        out.push_str(&rest[..k]);
-        rest = &rest[k..];
-        let upper = rest.get(..4).map(str::to_ascii_uppercase);
-        let wide = match upper.as_deref() {
-            Some("\\X2\\") => Some(4),
-            Some("\\X4\\") => Some(8),
+    let upper = |k: usize| raw.get(k).map(u8::to_ascii_uppercase);
+    let hex = |bytes: &[u8]| -> Option<u32> {
+        std::str::from_utf8(bytes)
+            .ok()
+            .and_then(|h| u32::from_str_radix(h, 16).ok())
+    };
+    let mut out: Vec<u8> = Vec::with_capacity(raw.len());
+    let push = |out: &mut Vec<u8>, c: char| {
+        let mut buffer = [0u8; 4];
+        out.extend_from_slice(c.encode_utf8(&mut buffer).as_bytes());
+    };
+    let mut i = 0;
+    while i < raw.len() {
+        if raw[i] != b'\\' {
+            out.push(raw[i]);
+            i += 1;
+            continue;
+        }
+        let wide = match (upper(i + 1), upper(i + 2), upper(i + 3)) {
+            (Some(b'X'), Some(b'2'), Some(b'\\')) => Some(4),
+            (Some(b'X'), Some(b'4'), Some(b'\\')) => Some(8),
             _ => None,
         };
         if let Some(width) = wide {
-            let body_end = rest[4..].to_ascii_uppercase().find("\\X0\\");
-            if let Some(end) = body_end {
-                let body = &rest[4..4 + end];
-                if body.len().is_multiple_of(width) {
-                    let units: Vec<u32> = (0..body.len() / width)
-                        .filter_map(|i| {
-                            u32::from_str_radix(&body[i * width..(i + 1) * width], 16).ok()
-                        })
-                        .collect();
+            let body = i + 4;
+            let end = (body..raw.len()).find(|&k| {
+                raw[k] == b'\\'
+                    && upper(k + 1) == Some(b'X')
+                    && upper(k + 2) == Some(b'0')
+                    && upper(k + 3) == Some(b'\\')
+            });
+            if let Some(end) = end {
+                let digits = &raw[body..end];
+                if digits.len().is_multiple_of(width) && digits.iter().all(u8::is_ascii_hexdigit) {
+                    let units: Vec<u32> = digits.chunks(width).filter_map(hex).collect();
                     if width == 4 {
                         let u16s: Vec<u16> = units.iter().map(|&u| u as u16).collect();
-                        out.push_str(&String::from_utf16_lossy(&u16s));
+                        for c in char::decode_utf16(u16s) {
+                            push(&mut out, c.unwrap_or(char::REPLACEMENT_CHARACTER));
+                        }
                     } else {
-                        out.extend(units.iter().filter_map(|&u| char::from_u32(u)));
+                        for u in units {
+                            push(
+                                &mut out,
+                                char::from_u32(u).unwrap_or(char::REPLACEMENT_CHARACTER),
+                            );
+                        }
                     }
-                    rest = &rest[4 + end + 4..];
+                    i = end + 4;
                     continue;
                 }
             }
         }
-        if upper.as_deref().is_some_and(|u| u.starts_with("\\X\\"))
-            && let Some(c) = rest.get(3..5).and_then(|h| u8::from_str_radix(h, 16).ok())
+        if upper(i + 1) == Some(b'X')
+            && upper(i + 2) == Some(b'\\')
+            && let Some(c) = raw
+                .get(i + 3..i + 5)
+                .filter(|h| h.iter().all(u8::is_ascii_hexdigit))
+                .and_then(hex)
         {
-            out.push(char::from(c));
-            rest = &rest[5..];
+            push(&mut out, char::from(c as u8));
+            i += 5;
             continue;
         }
-        if rest.starts_with("\\\\") {
-            out.push('\\');
-            rest = &rest[2..];
+        if raw.get(i + 1) == Some(&b'\\') {
+            out.push(b'\\');
+            i += 2;
             continue;
         }
-        out.push('\\');
-        rest = &rest[1..];
+        out.push(b'\\');
+        i += 1;
     }
-    out.push_str(rest);
-    out
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 struct Parser<'a> {
@@ -779,6 +803,19 @@ mod tests {
             panic!()
         };
         assert_eq!(n.args[0], Value::Str("été".into()));
+    }
+
+    #[test]
+    fn escapes_next_to_bytes_that_are_not_ascii_decode_without_panicking() {
+        for raw in [
+            &b"\\X2\\00\xe9\xe9\\X0\\"[..],
+            b"\\X\\\xe9",
+            b"ab\\X4\\0001F600\\X0\\\xff\\",
+            b"\\X2\\D800\\X0\\",
+        ] {
+            let _ = decode_string(raw);
+        }
+        assert_eq!(decode_string(b"\\X4\\0001F600\\X0\\"), "\u{1F600}");
     }
 
     #[test]
