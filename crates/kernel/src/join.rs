@@ -633,7 +633,7 @@ pub fn tessellate_joined(
 
 /// Which faces to turn over so that faces sharing an edge agree (breadth-first from each
 /// group's first face; a group that cannot agree keeps what the search gave it).
-fn orientation(faces: usize, topology: &Topology) -> Vec<bool> {
+pub fn orientation(faces: usize, topology: &Topology) -> Vec<bool> {
     let mut flip: Vec<Option<bool>> = vec![None; faces];
     for start in 0..faces {
         if flip[start].is_some() {

@@ -255,35 +255,6 @@ fn edge_curve(
     }
 }
 
-/// Which faces to turn so that shared edges run opposite ways (breadth-first).
-fn face_flips(faces: usize, topology: &Topology) -> Vec<bool> {
-    let mut flip: Vec<Option<bool>> = vec![None; faces];
-    for start in 0..faces {
-        if flip[start].is_some() {
-            continue;
-        }
-        flip[start] = Some(false);
-        let mut queue = vec![start];
-        while let Some(f) = queue.pop() {
-            let here = flip[f].unwrap_or(false);
-            for s in &topology.shared {
-                let other = if s.a.face == f {
-                    s.b.face
-                } else if s.b.face == f {
-                    s.a.face
-                } else {
-                    continue;
-                };
-                if flip[other].is_none() {
-                    flip[other] = Some(here == s.reversed);
-                    queue.push(other);
-                }
-            }
-        }
-    }
-    flip.into_iter().map(|f| f.unwrap_or(false)).collect()
-}
-
 /// The signed volume the faces enclose (divergence theorem over a coarse grid of each face's
 /// kept region), with each face turned by `flip`.
 fn signed_volume(faces: &[TrimmedSurface], flip: &[bool]) -> f64 {
@@ -349,7 +320,7 @@ pub fn write(
         let loops: Vec<Vec<Vec<TrimCurve>>> =
             faces.iter().map(face_loops).collect::<Result<_, _>>()?;
         let closed = topology.is_closed();
-        let mut flip = face_flips(faces.len(), &topology);
+        let mut flip = crate::kernel::join::orientation(faces.len(), &topology);
         if closed && signed_volume(faces, &flip) < 0.0 {
             for f in &mut flip {
                 *f = !*f;
