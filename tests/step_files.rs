@@ -1,8 +1,8 @@
 //! STEP files: OpenCASCADE's files (tests/reference/occ/step/, made by make_step.py beside
 //! them with the cadquery-ocp bindings, with the faces, areas and volumes OpenCASCADE reads
-//! from them) open with the same faces, area and volume, watertight, every triangle within the
-//! tolerance of its face; units and the assembly are applied; the round trip through knotwork's
-//! writer keeps every surface exactly; bad files are refused with the entity named.
+//! from them) open with the same faces, area and volume, watertight; units and the assembly are
+//! applied; the round trip through knotwork's writer keeps every surface exactly; bad files are
+//! refused with the entity named.
 
 use std::collections::HashMap;
 
@@ -31,16 +31,6 @@ fn occ(name: &str) -> Value {
 
 fn read(name: &str) -> StepModel {
     step::read::read(&fixture(name), &mut |_, _| true).unwrap_or_else(|e| panic!("{name}: {e}"))
-}
-
-fn area(mesh: &TriangleMesh) -> f64 {
-    mesh.triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum()
 }
 
 /// The volume enclosed (divergence theorem), and whether, after welding coinciding vertices,
@@ -105,7 +95,7 @@ fn check_against_occ(name: &str, tolerance: f64, rel: f64) {
         "{name}: faces"
     );
     let meshes = meshes(&model, tolerance);
-    let a: f64 = meshes.iter().map(area).sum();
+    let a: f64 = meshes.iter().map(TriangleMesh::area).sum();
     let mut v = 0.0;
     for (mesh, body) in meshes.iter().zip(&model.bodies) {
         let (vol, closed) = volume_and_closed(mesh, tolerance * 1e-3);
@@ -142,7 +132,7 @@ fn a_sphere_cut_by_planes_has_the_analytic_area_and_volume() {
     let analytic = occ("sphere-cut.step");
     let model = read("sphere-cut.step");
     let mesh = &meshes(&model, 1e-4)[0];
-    let (a, (v, _)) = (area(mesh), volume_and_closed(mesh, 1e-7));
+    let (a, (v, _)) = (mesh.area(), volume_and_closed(mesh, 1e-7));
     let (ea, ev) = (
         analytic["analytic_area"].as_f64().unwrap(),
         analytic["analytic_volume"].as_f64().unwrap(),
@@ -237,6 +227,19 @@ fn a_file_written_and_read_back_keeps_every_surface_exactly() {
     }
 }
 
+/// Why curve #1 of a DATA section holding `instances` is refused.
+fn curve_refused(instances: &str) -> String {
+    let x = knotwork::io::step::part21::parse(
+        format!("ISO-10303-21;HEADER;ENDSEC;DATA;{instances}ENDSEC;END-ISO-10303-21;").as_bytes(),
+        &mut |_| true,
+    )
+    .unwrap();
+    knotwork::io::step::entities::Entities { x: &x, scale: 1.0 }
+        .curve(1)
+        .unwrap_err()
+        .to_string()
+}
+
 /// A bad file is refused with a message that names what is wrong.
 fn refused(text: &str) -> String {
     match step::read::read(text.as_bytes(), &mut |_, _| true) {
@@ -274,29 +277,12 @@ fn bad_files_are_refused_with_the_entity_named() {
     );
     // A knot vector that does not fit its control points.
     let spline = "#1=B_SPLINE_CURVE_WITH_KNOTS('',3,(#2,#2),.UNSPECIFIED.,.F.,.F.,(4,4),(0.,1.),.UNSPECIFIED.);#2=CARTESIAN_POINT('',(0.,0.,0.));";
-    let x = knotwork::io::step::part21::parse(
-        format!("ISO-10303-21;HEADER;ENDSEC;DATA;{spline}ENDSEC;END-ISO-10303-21;").as_bytes(),
-        &mut |_| true,
-    )
-    .unwrap();
-    let e = knotwork::io::step::entities::Entities { x: &x, scale: 1.0 }
-        .curve(1)
-        .unwrap_err()
-        .to_string();
+    let e = curve_refused(spline);
     assert!(
         e.starts_with("#1 = B_SPLINE_CURVE_WITH_KNOTS: the B-spline does not fit"),
         "{e}"
     );
     // Absurd multiplicities are refused before anything is allocated.
-    let huge = spline.replace("(4,4)", "(4000000000000,4)");
-    let x = knotwork::io::step::part21::parse(
-        format!("ISO-10303-21;HEADER;ENDSEC;DATA;{huge}ENDSEC;END-ISO-10303-21;").as_bytes(),
-        &mut |_| true,
-    )
-    .unwrap();
-    let e = knotwork::io::step::entities::Entities { x: &x, scale: 1.0 }
-        .curve(1)
-        .unwrap_err()
-        .to_string();
+    let e = curve_refused(&spline.replace("(4,4)", "(4000000000000,4)"));
     assert!(e.contains("more knots than knotwork reads"), "{e}");
 }

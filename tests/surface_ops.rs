@@ -776,12 +776,7 @@ fn mesh_area(object: &SceneObject, tolerance: f64) -> f64 {
         )
         .unwrap()
         .iter()
-        .flat_map(|m| {
-            m.triangles.iter().map(|t| {
-                let [a, b, c] = t.map(|k| m.positions[k as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-        })
+        .map(|m| m.area())
         .sum()
 }
 

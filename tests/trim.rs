@@ -27,19 +27,9 @@ fn boundary() -> TrimLoop {
     rectangle(DVec2::ZERO, DVec2::ONE).unwrap()
 }
 
-fn mesh_area(mesh: &TriangleMesh) -> f64 {
-    mesh.triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum()
-}
-
 fn export_area(t: &TrimmedSurface, tolerance: f64) -> (f64, TriangleMesh) {
     let mesh = tessellate_trimmed(t, Tessellation::Tolerance(tolerance), false).unwrap();
-    (mesh_area(&mesh), mesh)
+    (mesh.area(), mesh)
 }
 
 /// Every vertex of the export is on the surface at its stored (u, v) and in the kept region,

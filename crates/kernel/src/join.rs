@@ -1037,17 +1037,6 @@ mod tests {
         assert!((volume.abs() - 3.0).abs() < 1e-9, "{volume}");
     }
 
-    /// The area of a mesh.
-    fn mesh_area(mesh: &TriangleMesh) -> f64 {
-        mesh.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum()
-    }
-
     #[test]
     fn a_face_following_a_straight_shared_edge_takes_its_points_where_they_are() {
         // A square with a hole near its edge x = 0, joined to a wall along that edge: the wall's
@@ -1067,7 +1056,9 @@ mod tests {
         let faces = vec![wall, square];
         let topology = find_topology(&faces, 1e-9).unwrap();
         assert_eq!(topology.shared.len(), 1, "{topology:?}");
-        let joined = mesh_area(&tessellate_joined(&faces, &topology, 1e-3, false).unwrap());
+        let joined = tessellate_joined(&faces, &topology, 1e-3, false)
+            .unwrap()
+            .area();
         let expected = 4.0 + 16.0 - std::f64::consts::PI * 0.4 * 0.4;
         assert!(
             (joined - expected).abs() < 2e-3 * expected,

@@ -62,6 +62,19 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl TriangleMesh {
+    /// The sum of the triangles' areas.
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| self.positions[k as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+}
+
 /// A tensor grid of parameters over a surface's domain.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParameterGrid {

@@ -538,16 +538,11 @@ pub fn build_face(
     let mut trim_loops: Vec<Vec<(TrimCurve, CurveOrigin)>> = Vec::new();
     let mut chains: Vec<Vec<Piece>> = Vec::new();
     for (k, edges) in loops.iter().enumerate() {
-        let pieces = loop_pieces(
-            edges, &bounds[k], &ranges, sense[k], surface, &natural, tolerance,
-        );
         let pieces = match surface {
             Surface3::Plane(frame) => exact_plane_pieces(&bounds[k], frame, &ranges)?,
-            _ => pieces,
+            _ => loop_pieces(edges, &bounds[k], &ranges, sense[k], &natural),
         };
         // Join the pieces: snap small gaps, bridge poles, break at seam jumps.
-        let mut current: Vec<Piece> = Vec::new();
-        let mut runs: Vec<Vec<Piece>> = Vec::new();
         let n = pieces.len();
         let mut breaks = Vec::new();
         for i in 0..n {
@@ -594,12 +589,13 @@ pub fn build_face(
             trim_loops.push(to_trim_curves(curves, uv_size)?);
         } else {
             // Chains: from just after each break to the next break.
+            let mut current: Vec<Piece> = Vec::new();
             let start = (breaks[0] + 1) % n;
             for j in 0..n {
                 let i = (start + j) % n;
                 current.push(pieces[i].clone());
                 if breaks.contains(&i) {
-                    runs.push(std::mem::take(&mut current));
+                    chains.push(std::mem::take(&mut current));
                 } else {
                     let b = &pieces[(i + 1) % n];
                     if pieces[i].last().distance(b.first()) > 1e-9 * uv_size {
@@ -611,9 +607,6 @@ pub fn build_face(
                         ));
                     }
                 }
-            }
-            for r in runs {
-                chains.push(r);
             }
         }
     }
@@ -775,15 +768,11 @@ impl Piece {
 /// (two points, or every point on the chord) as lines, the rest as polylines.
 fn to_trim_curves(pieces: Vec<Piece>, uv_size: f64) -> Result<Vec<(TrimCurve, CurveOrigin)>, Skip> {
     let mut out = Vec::new();
-    let n = pieces.len();
     let mut previous_end: Option<DVec2> = pieces.last().map(Piece::last);
-    for (k, p) in pieces.into_iter().enumerate() {
+    for p in pieces {
         let mut uv = p.uv.clone();
         if let Some(e) = previous_end {
             uv[0] = e;
-        }
-        if k + 1 == n {
-            // The last piece ends where the first starts (the loop was snapped to it).
         }
         uv.dedup_by(|a, b| a.distance(*b) <= 1e-12 * uv_size);
         if uv.len() < 2 && p.exact.is_none() {
@@ -996,11 +985,8 @@ fn loop_pieces(
     bound: &Bound,
     ranges: &[Range; 2],
     sense: f64,
-    surface: &Surface3,
     natural: &Natural,
-    tolerance: f64,
 ) -> Vec<Piece> {
-    let _ = (surface, tolerance);
     // Unwrapped natural coordinates relative to each angle's start.
     let mut prev: [Option<f64>; 2] = [None, None];
     let mut pieces = Vec::new();

@@ -348,11 +348,8 @@ fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
         if let Some(reps) = pd_reps.get(child_pd) {
             if let Some(&r) = reps.first() {
                 child_of_nauo.insert(*rel, r);
-                for &r in reps {
-                    child_of_nauo.entry(*rel).or_insert(r);
-                }
             }
-            // Remember every rep of the child product.
+            // Where the relation names one of the child product's representations, that one.
             if let Some(rel_inst) = x
                 .get(*rel)
                 .and_then(|i| i.part("REPRESENTATION_RELATIONSHIP"))
