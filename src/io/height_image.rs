@@ -13,9 +13,33 @@ pub fn is_height_image(name: &str) -> bool {
     super::formats::format_of(name, &[]).reader == super::formats::Reader::HeightImage
 }
 
+/// Refuses a palette chunk whose length is not a whole number of RGB entries, at most 256
+/// (PNG specification, 11.2.3 PLTE). The png crate (0.18) panics expanding an image whose
+/// palette ends in a partial entry, so it is checked here, before decoding: chunks are walked
+/// by their declared lengths up to the first IDAT (after which no PLTE may come).
+fn check_palette(bytes: &[u8]) -> Result<(), String> {
+    const SIGNATURE: usize = 8;
+    let mut at = SIGNATURE;
+    while let Some(header) = bytes.get(at..at + 8) {
+        let length = u32::from_be_bytes([header[0], header[1], header[2], header[3]]) as usize;
+        let kind = &header[4..8];
+        if kind == b"PLTE" && (!length.is_multiple_of(3) || length == 0 || length > 3 * 256) {
+            return Err(format!(
+                "the PNG's palette is {length} bytes: a palette is 1 to 256 entries of 3 bytes"
+            ));
+        }
+        if kind == b"IDAT" || kind == b"IEND" {
+            break;
+        }
+        at = at.saturating_add(12).saturating_add(length);
+    }
+    Ok(())
+}
+
 /// Decodes a PNG into a height image, refusing images larger than [`MAX_IMAGE_SIDE`] a side
 /// before decoding their pixels.
 pub fn decode_png(bytes: &[u8]) -> Result<HeightImage, String> {
+    check_palette(bytes)?;
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder
@@ -97,6 +121,26 @@ pub fn encode_grey_png(width: u32, height: u32, grey: &[u8]) -> Result<Vec<u8>, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_palette_ending_in_a_partial_entry_is_refused_and_a_whole_one_decodes() {
+        // A 5 × 4 indexed PNG with valid checksums whose 13-byte palette ends in one byte of a
+        // fifth entry (the png crate panics expanding it).
+        let partial = include_bytes!("../../fuzz/regressions/png/partial-palette-valid-crc");
+        let e = decode_png(partial).unwrap_err();
+        assert!(e.contains("palette is 13 bytes"), "{e}");
+        let mut out = Vec::new();
+        {
+            let mut encoder = png::Encoder::new(&mut out, 2, 2);
+            encoder.set_color(png::ColorType::Indexed);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder.set_palette(vec![0, 0, 0, 255, 255, 255]);
+            let mut writer = encoder.write_header().unwrap();
+            writer.write_image_data(&[0, 1, 1, 0]).unwrap();
+        }
+        let image = decode_png(&out).unwrap();
+        assert_eq!(image.values(), [0.0, 1.0, 1.0, 0.0]);
+    }
 
     #[test]
     fn a_grey_png_round_trips_and_bad_ones_are_refused() {
