@@ -195,12 +195,14 @@ fn studio(r: vec3<f32>) -> vec3<f32> {
 // `vertex_normal` the vertices' interpolated normal, `uv` its (u, v) in the object's domain,
 // `coordinate` and `width` the mode's level coordinate and its change per pixel
 // (analysis_coordinates), `front` whether the front face is seen, `level` 1 + the subdivision
-// level the vertices come from (0: none).
+// level the vertices come from (0: none), `own_color` the object's own colour (linear RGB; w = 0
+// where it has none, and the scene's surface colour is used).
 fn shade_fragment(
     shape: PixelShape,
     vertex_normal: vec3<f32>,
     uv: vec2<f32>,
     object: u32,
+    own_color: vec4<f32>,
     level: u32,
     highlighted: bool,
     coordinate: f32,
@@ -261,6 +263,9 @@ fn shade_fragment(
         return vec4<f32>(facing_n * 0.5 + 0.5, 1.0);
     }
     var base = scene.surface_color.rgb;
+    if (own_color.w > 0.5) {
+        base = own_color.rgb;
+    }
     if (object + 1u == scene.shading.y) {
         base = mix(base, vec3<f32>(0.95, 0.62, 0.25), 0.35);
     }

@@ -24,6 +24,17 @@ fn control_point(rec: PatchRecord, k: u32) -> vec4<f32> {
 // ViewportRenderer::set_highlight).
 @group(0) @binding(1) var<storage, read> highlight: array<u32>;
 
+// Per scene object: its own colour (linear RGB, w = 1) or none (w = 0) (Rust:
+// ViewportRenderer::set_object_colors).
+@group(0) @binding(2) var<storage, read> object_colors: array<vec4<f32>>;
+
+fn object_color(object: u32) -> vec4<f32> {
+    if (object < arrayLength(&object_colors)) {
+        return object_colors[object];
+    }
+    return vec4<f32>(0.0);
+}
+
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
@@ -147,6 +158,7 @@ fn fs_surface(in: VertexOut, @builtin(front_facing) front: bool) -> FragmentOut 
         in.normal,
         in.uv,
         in.object,
+        object_color(in.object),
         in.level,
         in.highlighted != 0u,
         coordinates.x,

@@ -11,6 +11,17 @@
 // patches a drag is changing, drawn tinted. A uniform: WebGL2 has no storage buffers.
 @group(0) @binding(1) var<uniform> highlight: array<vec4<u32>, 256>;
 
+// The first 256 scene objects' own colours (linear RGB, w = 1) or none (w = 0) (Rust:
+// ViewportRenderer::set_object_colors, GL_OBJECT_COLORS).
+@group(0) @binding(2) var<uniform> object_colors: array<vec4<f32>, 256>;
+
+fn object_color(object: u32) -> vec4<f32> {
+    if (object < 256u) {
+        return object_colors[object];
+    }
+    return vec4<f32>(0.0);
+}
+
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
@@ -59,6 +70,7 @@ fn fs_surface_gl(in: VertexOut, @builtin(front_facing) front: bool) -> @location
         in.normal,
         in.uv,
         in.object,
+        object_color(in.object),
         in.level,
         in.highlighted != 0u,
         coordinates.x,

@@ -1137,6 +1137,10 @@ impl KnotworkApp {
             .map_or(1.0, |(t, _)| t.size().0 as f32 / size.0.max(1) as f32);
         gpu.renderer
             .set_highlight(&gpu.device, &gpu.queue, &self.highlight_patches);
+        let colors: Vec<Option<[f32; 3]>> =
+            self.doc.scene.objects.iter().map(|o| o.color).collect();
+        gpu.renderer
+            .set_object_colors(&gpu.device, &gpu.queue, &colors);
         if !gpu.sync.evaluates_on_gpu() {
             // A project or the autosave asked for the view-adaptive tessellation, which runs in
             // compute shaders: this device has none.

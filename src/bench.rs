@@ -120,6 +120,7 @@ fn document_on_gpu(
 ) -> Result<(Document, SceneSync), GpuError> {
     let doc = Document::new(Scene {
         objects: vec![object],
+        unit: None,
     });
     let sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)?;
     Ok((doc, sync))
@@ -999,7 +1000,10 @@ fn bench_loft_drag(
         .zip(&names)
         .map(|(c, name)| SceneObject::new(name, crate::scene::ObjectGeometry::new(c.clone())))
         .collect();
-    let mut doc = Document::new(Scene { objects });
+    let mut doc = Document::new(Scene {
+        objects,
+        unit: None,
+    });
     let curves: Vec<serde_json::Value> = (0..names.len())
         .map(|k| serde_json::json!({ "input": k }))
         .collect();
@@ -1062,7 +1066,10 @@ pub fn curve_field(count: usize, spans: usize) -> Result<Scene, crate::kernel::G
             crate::scene::ObjectGeometry::new(curve),
         ));
     }
-    Ok(Scene { objects })
+    Ok(Scene {
+        objects,
+        unit: None,
+    })
 }
 
 /// Curve evaluation: 1,000 curves of 64 Bézier segments in one curve pass (wall time, waited
@@ -1231,6 +1238,7 @@ fn bench_frame(
     teapot.segments = 64;
     let teapot = Scene {
         objects: vec![teapot],
+        unit: None,
     };
     let renderer = ViewportRenderer::new(&context.device);
     for (name, scene) in [("demo scene", scene), ("teapot 64 seg", &teapot)] {
@@ -1280,6 +1288,7 @@ fn bench_scale(
         object.segments = 4;
         let scene = Scene {
             objects: vec![object],
+            unit: None,
         };
         let started = Instant::now();
         let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
@@ -1406,6 +1415,7 @@ fn bench_analysis(
     let options = crate::scene::continuity::ContinuityOptions::default();
     let teapot = Scene {
         objects: vec![scene.objects[0].clone()],
+        unit: None,
     };
     let grid = joined_grid(10)?;
     for (name, scene) in [
@@ -1452,7 +1462,10 @@ pub fn joined_grid(n: usize) -> Result<Scene, crate::kernel::GeometryError> {
             ));
         }
     }
-    Ok(Scene { objects })
+    Ok(Scene {
+        objects,
+        unit: None,
+    })
 }
 
 /// Edit throughput and latency, picking, drag-to-new-frame and the demo scene's full pass.
@@ -1521,6 +1534,7 @@ fn bench_webgl2(
 ) -> Result<(), Box<dyn std::error::Error>> {
     let mut teapot = Scene {
         objects: scene.objects.first().cloned().into_iter().collect(),
+        unit: None,
     };
     for object in &mut teapot.objects {
         object.segments = 64;
@@ -1902,6 +1916,7 @@ fn bench_export(
                     Default::default(),
                 )),
             )],
+            unit: None,
         },
         view: None,
     };

@@ -1094,8 +1094,9 @@ mod cli {
             .map_err(|e| format!("cannot open {input}: {e}"))?;
         let extension = knotwork::io::formats::extension(&args.output.display().to_string());
         if extension == "step" || extension == "stp" {
-            let size = gltf::default_tolerance(&project.scene) * 1e3;
-            let tolerance = args.tolerance.unwrap_or(size * 1e-6);
+            let tolerance = args
+                .tolerance
+                .unwrap_or_else(|| knotwork::io::step::default_tolerance(&project.scene));
             let name = args
                 .output
                 .file_name()

@@ -681,6 +681,20 @@ pub fn export_result(request: u32) -> Result<Option<Vec<u8>>, String> {
     status::take_export(request).transpose()
 }
 
+/// Starts writing the document's visible objects with faces as STEP (AP214), as it is once
+/// every call made before this one has been carried out; returns the request's number for
+/// [`export_result`], whose bytes are the file's text.
+#[wasm_bindgen]
+pub fn start_step_export() -> u32 {
+    let request = NEXT_EXPORT.with(|n| {
+        let request = n.get();
+        n.set(request.wrapping_add(1));
+        request
+    });
+    send(AppCommand::ExportStep { request });
+    request
+}
+
 /// Cancels the running export.
 #[wasm_bindgen]
 pub fn cancel_export() {

@@ -43,6 +43,7 @@ fn sections() -> Document {
             curve_object("s1", section(1.2, 0.5)),
             curve_object("s2", section(2.5, 0.1)),
         ],
+        unit: None,
     })
 }
 
@@ -319,6 +320,7 @@ fn curve_commands_keep_the_shape_where_they_promise_to() {
     .unwrap();
     let mut doc = Document::new(Scene {
         objects: vec![curve_object("c", open.clone())],
+        unit: None,
     });
     let (a, b) = open.domain();
     let middle = 0.5 * (a + b);
@@ -393,6 +395,7 @@ fn curve_commands_keep_the_shape_where_they_promise_to() {
     let ring = section(0.0, 0.3);
     let mut rings = Document::new(Scene {
         objects: vec![curve_object("ring", ring.clone())],
+        unit: None,
     });
     rings
         .execute(&Command::EditCurve {
@@ -512,6 +515,7 @@ fn intersecting_two_objects_adds_their_curves_of_intersection() {
             SceneObject::new("High", ObjectGeometry::new(high)),
             curve_object("s0", section(0.0, 0.2)),
         ],
+        unit: None,
     });
     let before = doc.scene.clone();
     let edit = doc

@@ -15,6 +15,7 @@ fn scene_of(surfaces: Vec<NurbsSurface>) -> Scene {
             .enumerate()
             .map(|(k, s)| SceneObject::new(format!("S{k}"), ObjectGeometry::new(s)))
             .collect(),
+        unit: None,
     }
 }
 
@@ -206,6 +207,7 @@ fn the_teapot_patches_meet_without_gaps() {
     let teapot = samples::utah_teapot().unwrap();
     let scene = Scene {
         objects: vec![SceneObject::new("teapot", ObjectGeometry::new(teapot))],
+        unit: None,
     };
     let report = analyse(&scene, None, &ContinuityOptions::default());
     eprintln!("{} shared edges", report.edges.len());
@@ -350,6 +352,7 @@ fn triangles_and_displaced_and_deformed_pairs_are_measured_as_shown() {
     l0.lattice = Some(Lattice::new(box_.origin(), box_.axes(), [1, 1, 1], turned).unwrap());
     let scene = Scene {
         objects: vec![t0, t1, d0, d1, l0, l1],
+        unit: None,
     };
     // Through the project file and the command line, as a user would ask.
     let (_, json) = continuity_cli(scene.clone(), "shown", &[]);
@@ -434,6 +437,7 @@ fn subdivision_surfaces_whose_limit_boundaries_meet_share_that_edge() {
             subdivision_sheet("left", None),
             subdivision_sheet("right", Some(theta)),
         ],
+        unit: None,
     };
     // Each sheet's limit boundary is the cubic B-spline of its whole boundary loop, which turns
     // its corners in opposite directions for the two sheets: the boundaries coincide where the
@@ -473,6 +477,7 @@ fn subdivision_surfaces_whose_limit_boundaries_meet_share_that_edge() {
             subdivision_sheet("left", None),
             subdivision_sheet("right", Some(0.0)),
         ],
+        unit: None,
     };
     let edges = middle(&flat);
     assert_eq!(edges.len(), 4);
@@ -504,6 +509,7 @@ fn neighbouring_boundaries_of_one_object_are_not_an_edge_with_a_gap() {
         .count();
     let alone = Scene {
         objects: vec![scene.objects[teapot].clone()],
+        unit: None,
     };
     let alone_edges = analyse(&alone, None, &ContinuityOptions::default()).edges;
     assert_eq!(within_teapot, alone_edges.len());

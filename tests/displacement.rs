@@ -68,6 +68,7 @@ fn a_displaced_plane_is_the_height_field_on_both_evaluators() {
         let pattern = map.pattern;
         let scene = Scene {
             objects: vec![plane(map.clone())],
+            unit: None,
         };
         for cpu in [false, true] {
             let (_, vs) = vertices(&scene, cpu);
@@ -106,6 +107,7 @@ fn a_displaced_sphere_on_the_gpu_is_the_kernels_displaced_sphere() {
     let domain = sphere.geometry.displacement_domain().unwrap();
     let scene = Scene {
         objects: vec![sphere.clone()],
+        unit: None,
     };
     let (sync, vs) = vertices(&scene, false);
     let feed = &sync.feeds()[0];
@@ -148,6 +150,7 @@ fn the_document_refuses_cages_and_undoes_a_displacement() {
     let map = Displacement::new(Pattern::Waves, 0.1, 2.0).unwrap();
     let mut doc = Document::new(Scene {
         objects: vec![cage, plane(map.clone())],
+        unit: None,
     });
     doc.scene.objects[1].displacement = None;
     let original = doc.scene.clone();
@@ -193,6 +196,7 @@ fn the_project_file_keeps_it_and_refuses_bad_ones() {
     let text = project::write(&Project {
         scene: Scene {
             objects: vec![plane(map.clone())],
+            unit: None,
         },
         view: None,
     });
@@ -222,6 +226,7 @@ fn the_project_file_keeps_it_and_refuses_bad_ones() {
     let text = project::write(&Project {
         scene: Scene {
             objects: vec![plane(map.clone())],
+            unit: None,
         },
         view: None,
     });

@@ -393,6 +393,7 @@ fn a_crease_is_labelled_as_a_crease_in_the_history() {
         .expect("a subdivision example");
     let mut doc = knotwork::doc::Document::new(Scene {
         objects: vec![cage.clone()],
+        unit: None,
     });
     let settings = |doc: &knotwork::doc::Document| {
         doc.scene.objects[0]
@@ -420,4 +421,54 @@ fn a_crease_is_labelled_as_a_crease_in_the_history() {
             .unwrap();
         assert_eq!(edit.label, label);
     }
+}
+
+#[test]
+fn colour_and_unit_edits_undo_and_opening_a_step_file_sets_the_unit_as_one_step() {
+    use knotwork::doc::Document;
+    use knotwork::scene::LengthUnit;
+    let mut doc = Document::new(start_scene());
+    let before = doc.clone();
+    doc.execute(&Command::SetColor {
+        object: 1,
+        color: Some([0.8, 0.2, 0.1]),
+    })
+    .unwrap();
+    doc.execute(&Command::SetUnit {
+        unit: Some(LengthUnit::Inch),
+    })
+    .unwrap();
+    assert_eq!(doc.scene.objects[1].color, Some([0.8, 0.2, 0.1]));
+    assert_eq!(doc.scene.unit, Some(LengthUnit::Inch));
+    let refused = doc
+        .execute(&Command::SetColor {
+            object: 1,
+            color: Some([1.5, 0.0, 0.0]),
+        })
+        .unwrap_err();
+    assert_eq!(refused, EditError::InvalidColor);
+    assert_eq!(doc.scene.objects[1].color, Some([0.8, 0.2, 0.1]));
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.unit, None);
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before.scene);
+    // Opening a STEP model replaces the objects and the unit in one step; Undo brings back both.
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/reference/occ/step/assembly.step"
+    ))
+    .unwrap();
+    let project = knotwork::io::step::read_project(&bytes, &mut |_, _| true).unwrap();
+    doc.execute(&Command::ReplaceScene {
+        scene: project.scene.clone(),
+        label: "open assembly.step".into(),
+    })
+    .unwrap();
+    assert_eq!(doc.scene, project.scene);
+    assert_eq!(doc.scene.unit, Some(LengthUnit::Millimetre));
+    assert!(doc.scene.objects.iter().all(|o| o.color.is_some()));
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before.scene);
+    doc.redo().unwrap();
+    assert_eq!(doc.scene.unit, Some(LengthUnit::Millimetre));
 }

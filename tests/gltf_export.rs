@@ -55,6 +55,7 @@ fn single(name: &str, geometry: ObjectGeometry) -> Project {
     Project {
         scene: Scene {
             objects: vec![SceneObject::new(name, geometry)],
+            unit: None,
         },
         view: None,
     }
@@ -518,6 +519,7 @@ fn trimmed_project() -> Project {
                 SceneObject::new("holed sphere", ObjectGeometry::from_trimmed(holed)),
                 SceneObject::new("kept plane", ObjectGeometry::from_trimmed(kept)),
             ],
+            unit: None,
         },
         view: None,
     }
@@ -760,7 +762,10 @@ fn every_kind() -> Project {
         objects.push(SceneObject::new(name, ObjectGeometry::new(shown)));
     }
     Project {
-        scene: Scene { objects },
+        scene: Scene {
+            objects,
+            unit: None,
+        },
         view: None,
     }
 }

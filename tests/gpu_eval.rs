@@ -209,6 +209,7 @@ fn evaluate_scene(
 ) -> (SceneSync, Vec<SurfaceVertex>) {
     let scene = Scene {
         objects: objects.to_vec(),
+        unit: None,
     };
     let mut sync = if cpu {
         SceneSync::on_cpu(&context.device, &context.queue)

@@ -24,6 +24,7 @@ fn foreign() -> (Value, Vec<u8>) {
     let project = Project {
         scene: Scene {
             objects: vec![SceneObject::new("quad", ObjectGeometry::new(mesh))],
+            unit: None,
         },
         view: None,
     };

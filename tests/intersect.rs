@@ -14,7 +14,10 @@ fn write_project(name: &str, objects: Vec<SceneObject>) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
     let text = project::write(&Project {
-        scene: Scene { objects },
+        scene: Scene {
+            objects,
+            unit: None,
+        },
         view: None,
     });
     std::fs::write(&path, text).unwrap();

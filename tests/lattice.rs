@@ -78,6 +78,7 @@ fn a_lattice_that_scales_space_doubles_a_sphere_and_halves_its_curvature() {
         Some(Lattice::new(base.origin(), base.axes(), base.degrees(), scaled).unwrap());
     let scene = Scene {
         objects: vec![sphere],
+        unit: None,
     };
     let r = 2.0 * radius;
     for cpu in [false, true] {
@@ -147,6 +148,7 @@ fn every_kind_follows_a_bent_lattice_on_both_evaluators() {
         let name = object.name.clone();
         let scene = Scene {
             objects: vec![object.clone()],
+            unit: None,
         };
         for cpu in [false, true] {
             let (sync, vs) = vertices(&scene, cpu);
@@ -189,6 +191,7 @@ fn the_deformed_normal_and_curvature_match_the_kernel() {
     object.lattice = Some(lattice.clone());
     let scene = Scene {
         objects: vec![object.clone()],
+        unit: None,
     };
     let (sync, vs) = vertices(&scene, false);
     let feed = &sync.feeds()[0];
@@ -238,6 +241,7 @@ fn dragging_a_lattice_point_uploads_only_the_lattice() {
     teapot.lattice = Some(bent_lattice(&teapot, [1, 1, 1]));
     let mut doc = Document::new(Scene {
         objects: vec![teapot],
+        unit: None,
     });
     for cpu in [false, true] {
         let (mut sync, before) = vertices(&doc.scene, cpu);
@@ -455,6 +459,7 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
     sheet.segments = 6;
     let mut doc = Document::new(Scene {
         objects: vec![sheet.clone()],
+        unit: None,
     });
     let (lo, hi) = sheet.kind().bounds().unwrap();
     let lattice = Lattice::around(lo, hi, [2, 1, 1]).unwrap();
@@ -560,6 +565,7 @@ fn objects_sharing_a_lattice_move_together() {
     };
     let mut doc = Document::new(Scene {
         objects: vec![sheet("left", 0.0), sheet("right", 1.5)],
+        unit: None,
     });
     let original = doc.scene.clone();
     let (lo, hi) = doc.scene.bounds().unwrap();

@@ -422,6 +422,7 @@ fn curve_conforms(context: &GpuContext, object: SceneObject) {
 
     let mut doc = Document::new(Scene {
         objects: vec![object.clone()],
+        unit: None,
     });
     for cpu in [false, true] {
         let name = format!("{name}{}", if cpu { " (CPU evaluator)" } else { "" });
@@ -636,6 +637,7 @@ fn conforms(context: &GpuContext, object: SceneObject) {
     // WebGL2 path.
     let mut doc = Document::new(Scene {
         objects: vec![object.clone()],
+        unit: None,
     });
     for cpu in [false, true] {
         let name = format!("{name}{}", if cpu { " (CPU evaluator)" } else { "" });
@@ -744,6 +746,7 @@ fn a_kind_defined_in_a_test_works_everywhere() {
             SceneObject::new("left", ObjectGeometry::new(left.clone())),
             SceneObject::new("right", ObjectGeometry::new(right)),
         ],
+        unit: None,
     };
     let report = knotwork::scene::continuity::analyse(
         &scene,
@@ -961,6 +964,7 @@ fn subdivision_adaptive_conforms() {
         // The vertices' levels as the compute pass writes them: 1 + each piece's level.
         let doc = Document::new(Scene {
             objects: vec![object.clone()],
+            unit: None,
         });
         let (_, vertices) = on_gpu(&context, &doc, false);
         let mut seen = vec![0usize; histogram.len() + 1];

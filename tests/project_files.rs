@@ -258,3 +258,48 @@ fn a_saved_view_reads_back_and_a_bad_one_is_refused_by_name() {
         assert!(error.to_string().contains(expected), "{fields}: {error}");
     }
 }
+
+#[test]
+fn a_length_unit_and_object_colours_are_saved_and_bad_ones_refused_by_name() {
+    use knotwork::scene::LengthUnit;
+    let text = r#"{"format": "knotwork", "version": 2, "unit": "in", "objects": [
+        {"type": "polygon_mesh", "name": "quad", "color": [1, 0.5, 0],
+         "points": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], "faces": [[0, 1, 2, 3]]}]}"#;
+    let project = project::read(text).unwrap();
+    assert_eq!(project.scene.unit, Some(LengthUnit::Inch));
+    assert_eq!(project.scene.objects[0].color, Some([1.0, 0.5, 0.0]));
+    let again = project::read(&project::write(&project)).unwrap();
+    assert_eq!(again, project, "unit and colour survive a save");
+    // Without a unit the project is unitless, and saving writes no unit.
+    let unitless = text.replace(r#""unit": "in", "#, "");
+    let project = project::read(&unitless).unwrap();
+    assert_eq!(project.scene.unit, None);
+    assert!(!project::write(&project).contains("\"unit\""));
+    for (from, to, path, words) in [
+        (r#""unit": "in""#, r#""unit": "parsec""#, "unit", "\"mm\""),
+        (r#""unit": "in""#, r#""unit": 25.4"#, "unit", "25.4"),
+        ("[1, 0.5, 0]", "[1, 0.5]", "objects[0].color", "[r, g, b]"),
+        (
+            "[1, 0.5, 0]",
+            "[1, 0.5, 2]",
+            "objects[0].color",
+            "from 0 to 1",
+        ),
+        ("[1, 0.5, 0]", "\"red\"", "objects[0].color", "red"),
+    ] {
+        let e = project::read(&text.replace(from, to)).unwrap_err();
+        assert_eq!(e.path, path, "{to}: {e}");
+        assert!(e.to_string().contains(words), "{to}: {e}");
+    }
+    // The metres in each unit, from their definitions (the inch is 25.4 mm exactly).
+    for (unit, metres) in [
+        (LengthUnit::Millimetre, 0.001),
+        (LengthUnit::Centimetre, 0.01),
+        (LengthUnit::Metre, 1.0),
+        (LengthUnit::Inch, 0.0254),
+        (LengthUnit::Foot, 12.0 * 0.0254),
+    ] {
+        assert!((unit.metres() - metres).abs() < 1e-15, "{unit:?}");
+        assert_eq!(LengthUnit::from_symbol(unit.symbol()), Some(unit));
+    }
+}

@@ -693,3 +693,72 @@ fn the_webgl2_path_draws_what_the_compute_path_draws() {
     );
     assert!(far < 0.05, "trimmed: {:.2} % far apart", far * 100.0);
 }
+
+/// An object's own colour (a STEP file's, say) shades it in the lit modes on both paths, in
+/// place of the editor's grey; an object without one keeps the grey.
+#[test]
+fn an_objects_own_colour_shades_it_on_the_compute_and_webgl2_paths() {
+    let context = common::gpu();
+    let scene = knotwork::scene::Scene::demo().unwrap();
+    let mut sphere = scene.objects[2].clone();
+    sphere.segments = 16;
+    let mut view = ViewSettings::default();
+    let (lo, hi) = sphere.bounds().unwrap();
+    view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
+    view.overlays.grid = false;
+    let size = (320, 240);
+    let background = background_bytes();
+    // The share of covered pixels whose red passes green and blue by more than 40.
+    let red_share = |image: &[u8]| {
+        let covered = covered_pixels(image, background);
+        let red = image
+            .chunks(4)
+            .filter(|p| differs_from(p, background, 8))
+            .filter(|p| {
+                i32::from(p[0]) > i32::from(p[1]) + 40 && i32::from(p[0]) > i32::from(p[2]) + 40
+            })
+            .count();
+        (red as f64 / covered.max(1) as f64, covered)
+    };
+    for path in [common::Path::Fixed, common::Path::Cpu] {
+        let draw = |object: &knotwork::scene::SceneObject| {
+            common::draw_offscreen_tessellated(
+                &context,
+                std::slice::from_ref(object),
+                None,
+                &view,
+                size,
+                4,
+                path,
+            )
+        };
+        let grey = draw(&sphere);
+        sphere.color = Some([0.9, 0.1, 0.1]);
+        let red = draw(&sphere);
+        sphere.color = None;
+        let (grey_share, grey_covered) = red_share(&grey);
+        let (red_share, red_covered) = red_share(&red);
+        eprintln!(
+            "{path:?}: red on {:.1} % of the coloured sphere, {:.1} % of the grey one",
+            red_share * 100.0,
+            grey_share * 100.0
+        );
+        if red_share < 0.9 || grey_share > 0.01 {
+            for (name, image) in [("colour-actual.png", &red), ("colour-grey.png", &grey)] {
+                let file = common::artifact_path(name);
+                common::write_png(&file, size.0, size.1, image);
+                eprintln!("wrote {}", file.display());
+            }
+        }
+        assert!(
+            grey_covered > 5_000 && grey_covered.abs_diff(red_covered) < grey_covered / 100,
+            "{grey_covered} vs {red_covered} px"
+        );
+        assert!(red_share > 0.9, "{path:?}: {:.1} % red", red_share * 100.0);
+        assert!(
+            grey_share < 0.01,
+            "{path:?}: {:.1} % red",
+            grey_share * 100.0
+        );
+    }
+}

@@ -286,3 +286,91 @@ fn bad_files_are_refused_with_the_entity_named() {
     let e = curve_refused(&spline.replace("(4,4)", "(4000000000000,4)"));
     assert!(e.contains("more knots than knotwork reads"), "{e}");
 }
+
+/// The world box of a glTF export's meshes (each node's accessor bounds plus its
+/// translation), in glTF's axes.
+fn gltf_box(export: &knotwork::io::gltf::Export) -> (DVec3, DVec3) {
+    let json: Value = serde_json::to_value(&export.root).unwrap();
+    let mut lo = DVec3::INFINITY;
+    let mut hi = DVec3::NEG_INFINITY;
+    let vec3 = |v: &Value| {
+        let a: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        DVec3::new(a[0], a[1], a[2])
+    };
+    for node in json["nodes"].as_array().unwrap() {
+        let t = vec3(&node["translation"]);
+        let mesh = &json["meshes"][node["mesh"].as_u64().unwrap() as usize];
+        for primitive in mesh["primitives"].as_array().unwrap() {
+            let accessor =
+                &json["accessors"][primitive["attributes"]["POSITION"].as_u64().unwrap() as usize];
+            lo = lo.min(t + vec3(&accessor["min"]));
+            hi = hi.max(t + vec3(&accessor["max"]));
+        }
+    }
+    (lo, hi)
+}
+
+#[test]
+fn a_step_model_is_in_millimetres_with_its_colours_and_exports_to_gltf_in_metres() {
+    use knotwork::io::gltf;
+    use knotwork::kernel::tess::Tessellation;
+    use knotwork::scene::LengthUnit;
+    let mut project = step::read_project(&fixture("assembly.step"), &mut |_, _| true).unwrap();
+    assert_eq!(project.scene.unit, Some(LengthUnit::Millimetre));
+    let options = gltf::ExportOptions {
+        tessellation: Tessellation::Tolerance(1e-3),
+        curvature: false,
+        colors: None,
+    };
+    let export = gltf::export(&project, &options).unwrap();
+    // make_step.py placed bricks of 1 × 2 × 3 mm at (0, 1, 0) and (5, 1, 0) mm: x from 0 to 6,
+    // y from 1 to 3, z from 0 to 3 mm, which glTF's Y-up metres make x 0 to 0.006, y 0 to
+    // 0.003, z −0.003 to −0.001.
+    let (lo, hi) = gltf_box(&export);
+    for (got, want) in [
+        (lo, DVec3::new(0.0, 0.0, -0.003)),
+        (hi, DVec3::new(0.006, 0.003, -0.001)),
+    ] {
+        assert!(got.distance(want) < 1e-8, "{got} vs {want} (m)");
+    }
+    // make_step.py gave OpenCASCADE the colour (0.8, 0.2, 0.1) as linear RGB; the file holds
+    // it as sRGB, and the glTF material's base colour is linear again.
+    let json: Value = serde_json::to_value(&export.root).unwrap();
+    let materials = json["materials"].as_array().unwrap();
+    assert_eq!(materials.len(), 2);
+    for m in materials {
+        let base = &m["pbrMetallicRoughness"]["baseColorFactor"];
+        for (k, want) in [0.8, 0.2, 0.1].into_iter().enumerate() {
+            let got = base[k].as_f64().unwrap();
+            assert!((got - want).abs() < 1e-4, "{base} vs (0.8, 0.2, 0.1)");
+        }
+    }
+    // A unitless document's numbers stay as they are.
+    project.scene.unit = None;
+    let (lo, hi) = gltf_box(&gltf::export(&project, &options).unwrap());
+    assert!(
+        lo.distance(DVec3::new(0.0, 0.0, -3.0)) < 1e-5
+            && hi.distance(DVec3::new(6.0, 3.0, -1.0)) < 1e-5,
+        "{lo} {hi}"
+    );
+    // Declared inches, the same numbers are written with an inch unit, and read back as
+    // 25.4 times as many millimetres.
+    project.scene.unit = Some(LengthUnit::Inch);
+    let (text, _) = step::export_scene(&project.scene, "inches.step", 1e-6).unwrap();
+    assert!(
+        text.contains("CONVERSION_BASED_UNIT('INCH'"),
+        "an inch unit"
+    );
+    let again = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+    assert!((again.millimetres_per_unit - 25.4).abs() < 1e-12);
+    let low = meshes(&again, 1e-2)
+        .iter()
+        .flat_map(|m| m.positions.iter().copied())
+        .fold(DVec3::INFINITY, |a, p| a.min(p));
+    assert!(low.distance(DVec3::new(0.0, 25.4, 0.0)) < 1e-9, "{low}");
+}

@@ -23,7 +23,10 @@ fn temp_dir() -> std::path::PathBuf {
 fn write_project(name: &str, objects: Vec<SceneObject>) -> std::path::PathBuf {
     let path = temp_dir().join(name);
     let text = project::write(&Project {
-        scene: Scene { objects },
+        scene: Scene {
+            objects,
+            unit: None,
+        },
         view: None,
     });
     std::fs::write(&path, text).unwrap();
@@ -275,6 +278,7 @@ fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
             "Plate",
             ObjectGeometry::new(trimmed.clone()),
         )],
+        unit: None,
     });
     let edit = doc
         .execute(&Command::Offset {
@@ -670,6 +674,7 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
     ];
     let mut doc = Document::new(Scene {
         objects: objects.clone(),
+        unit: None,
     });
     let edit = doc
         .execute(&Command::Join {
@@ -705,6 +710,7 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
     // Surfaces apart: nothing to join, and nothing changes.
     let mut apart = Document::new(Scene {
         objects: box_objects()[..2].to_vec(),
+        unit: None,
     });
     let e = apart
         .execute(&Command::Join {
@@ -732,6 +738,7 @@ fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
     .unwrap();
     let mut doc = Document::new(Scene {
         objects: vec![surface_object("Floor", floor), surface_object("Wall", wall)],
+        unit: None,
     });
     // The floor's normal is +z, the wall's −y: the ball sits in the corner, in front of both.
     doc.execute(&Command::Fillet(
@@ -804,6 +811,7 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
     let pi = std::f64::consts::PI;
     let mut doc = Document::new(Scene {
         objects: objects.clone(),
+        unit: None,
     });
     // Keep the outside of the sphere's circle: a square with a round hole.
     doc.execute(&Command::TrimBy {
@@ -925,6 +933,7 @@ fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
             surface_object("Ball", sphere),
             SceneObject::new("Hoop", ObjectGeometry::new(hoop)),
         ],
+        unit: None,
     });
     // Planes z = -0.5, 0 and 0.5 cut circles; z = ±1 only touch at the poles.
     doc.execute(&Command::Contour {
@@ -1175,7 +1184,10 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
     }
 
     // In the document: one undo step, and the far edge stays.
-    let mut doc = Document::new(Scene { objects });
+    let mut doc = Document::new(Scene {
+        objects,
+        unit: None,
+    });
     doc.execute(&Command::Match(knotwork::doc::surface_ops::MatchRequest {
         object: 0,
         target: 1,

@@ -60,6 +60,7 @@ fn gpu_vertices(object: &SceneObject) -> Vec<(f64, f64, SurfaceVertex)> {
     let context = common::gpu();
     let doc = Document::new(Scene {
         objects: vec![object.clone()],
+        unit: None,
     });
     let mut sync = SceneSync::new(&context.device, &context.queue);
     sync.rebuild(&doc.scene, 1.0).unwrap();
@@ -155,6 +156,7 @@ fn the_project_file_round_trips_and_refuses_bad_patches() {
     let text = project::write(&Project {
         scene: Scene {
             objects: vec![object(patch.clone())],
+            unit: None,
         },
         view: None,
     });

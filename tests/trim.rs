@@ -344,6 +344,7 @@ fn files_keep_trims_and_refuse_bad_ones_naming_object_loop_and_curve() {
                 "ball",
                 knotwork::scene::ObjectGeometry::from_trimmed(t),
             )],
+            unit: None,
         },
         view: None,
     };
@@ -384,6 +385,7 @@ fn a_refused_trim_edit_names_the_object_and_changes_nothing() {
     use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
     let mut scene = Scene {
         objects: vec![SceneObject::new("Plate", ObjectGeometry::new(unit_plane()))],
+        unit: None,
     };
     let mut history = History::default();
     history

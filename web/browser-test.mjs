@@ -678,9 +678,25 @@ async function main() {
       const project = await page.evaluate(() => window.knotwork.project());
       assert(project.objects[0].type === 'polysurface' && project.objects[0].faces.length === 11,
         `a polysurface of 11 faces: ${JSON.stringify(project.objects[0]).slice(0, 200)}`);
+      assert(project.unit === 'mm', `the project records millimetres: ${project.unit}`);
       const glb = await exportGlbBytes(page, {});
       const report = summary('step.glb', await validate(glb, 'step.glb'));
       assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      // The 40 × 30 × 20 mm box is 0.04 × 0.02 × 0.03 m in glTF's Y-up metres.
+      const json = glbJson(glb);
+      const position = json.accessors[json.meshes[0].primitives[0].attributes.POSITION];
+      const size = position.max.map((hi, k) => hi - position.min[k]);
+      assert([0.04, 0.02, 0.03].every((want, k) => Math.abs(size[k] - want) < 1e-6), `glTF size in metres: ${size}`);
+      // Export → STEP in the page writes the faces back; the file opens again with all of them.
+      const written = await page.evaluate(() => window.knotwork.exportStep());
+      const faces = (written.match(/ADVANCED_FACE\(/g) || []).length;
+      assert(written.startsWith('ISO-10303-21;') && faces === 11, `exportStep: ${faces} faces, ${written.slice(0, 40)}`);
+      await page.evaluate(() => window.knotwork.newDocument({ empty: true }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 0, null, { timeout: 30_000 });
+      await page.evaluate((text) => window.knotwork.openFile('again.step', new TextEncoder().encode(text)), written);
+      await page.waitForFunction(() => window.knotwork.status().objects === 1 && window.knotwork.status().patches > 0, null, { timeout: 60_000 });
+      const reopened = await page.evaluate(() => window.knotwork.project());
+      assert(reopened.objects[0].faces.length === 11 && reopened.unit === 'mm', `the written file reopens: ${reopened.objects[0].faces.length} faces`);
       const before = await page.evaluate(() => window.knotwork.project());
       await page.evaluate((b) => window.knotwork.openFile('cut.step',
         Uint8Array.from(atob(b), (c) => c.charCodeAt(0)).subarray(0, 20000)), base64);
@@ -689,7 +705,7 @@ async function main() {
       const after = await page.evaluate(() => window.knotwork.project());
       assert(JSON.stringify(after) === JSON.stringify(before), 'the document is unchanged');
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
-      console.log(`      STEP (11 faces, ${step.length} bytes) opened and drawn in ${openMs.toFixed(0)} ms; export ${glb.length} bytes, validator clean`);
+      console.log(`      STEP (11 faces, ${step.length} bytes) opened and drawn in ${openMs.toFixed(0)} ms; export ${glb.length} bytes, validator clean; exportStep ${written.length} bytes, reopened`);
       await page.close();
     });
 

@@ -56,6 +56,12 @@ pub enum AppCommand {
     },
     /// Stops the running export (its result is "cancelled").
     CancelExport,
+    /// Writes the document's visible objects with faces as a STEP file, as it is when the
+    /// command's turn comes; the text goes to the status under `request`
+    /// ([`crate::status::take_export`]).
+    ExportStep {
+        request: u32,
+    },
     /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
     /// `object` (0 removes the crease): a [`Command::SetSubdivision`] of its settings.
     SetCrease {
@@ -228,6 +234,9 @@ impl KnotworkApp {
             AppCommand::OpenRecent(index) => self.open_recent(index),
             AppCommand::Export { request, options } => self.export_for_page(request, &options),
             AppCommand::CancelExport => self.cancel_export(),
+            AppCommand::ExportStep { request } => {
+                self.export_step(super::export::ExportTarget::Page(request))
+            }
             AppCommand::SetCrease {
                 object,
                 a,

@@ -229,6 +229,81 @@ impl KnotworkApp {
         self.start_export(options, ExportTarget::File(path));
     }
 
+    /// Writes the visible objects as STEP to a file: the path chosen in a save dialog
+    /// (desktop), a download (web).
+    pub(super) fn export_step_to_file(&mut self) {
+        #[cfg(not(target_arch = "wasm32"))]
+        let path = {
+            let Some(path) =
+                super::platform::choose_file_to_save("STEP", &["step", "stp"], "knotwork.step")
+            else {
+                return;
+            };
+            let mut path = path.display().to_string();
+            let extension = crate::io::formats::extension(&path);
+            if extension != "step" && extension != "stp" {
+                path.push_str(".step");
+            }
+            path
+        };
+        #[cfg(target_arch = "wasm32")]
+        let path = "knotwork.step".to_owned();
+        self.export_step(ExportTarget::File(path));
+    }
+
+    /// Writes the visible objects with faces as STEP ([`crate::io::step::export_scene`], at
+    /// the writer's default tolerance) to `target`; what was left out is said in the status.
+    pub(super) fn export_step(&mut self, target: ExportTarget) {
+        let scene = &self.doc.scene;
+        let file_name = match &target {
+            ExportTarget::File(path) => std::path::Path::new(path)
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            ExportTarget::Page(_) => "knotwork.step".to_owned(),
+        };
+        let tolerance = crate::io::step::default_tolerance(scene);
+        let result = crate::io::step::export_scene(scene, &file_name, tolerance);
+        let (text, left_out) = match result {
+            Ok(written) => written,
+            Err(e) => {
+                match target {
+                    ExportTarget::Page(request) => {
+                        crate::status::finish_export(request, Err(e.to_string()))
+                    }
+                    ExportTarget::File(_) => {
+                        self.dialog = Some(("Could not export STEP".into(), e.to_string()));
+                        self.status.error = Some(format!("STEP export: {e}"));
+                    }
+                }
+                return;
+            }
+        };
+        let left_out = if left_out.is_empty() {
+            String::new()
+        } else {
+            format!("; left out {}", left_out.join("; "))
+        };
+        match target {
+            ExportTarget::Page(request) => {
+                crate::status::finish_export(request, Ok(text.into_bytes()));
+            }
+            ExportTarget::File(path) => {
+                #[cfg(not(target_arch = "wasm32"))]
+                let written = std::fs::write(&path, &text).map_err(|e| e.to_string());
+                #[cfg(target_arch = "wasm32")]
+                let written = super::platform::download(&path, text.as_bytes(), "model/step");
+                match written {
+                    Ok(()) => {
+                        self.status.notice =
+                            Some(format!("wrote {path} ({} bytes){left_out}", text.len()))
+                    }
+                    Err(e) => self.status.error = Some(format!("could not write {path}: {e}")),
+                }
+            }
+        }
+    }
+
     /// Starts the page's export request `request` with `options` (JSON, read against the
     /// document as it is now).
     pub(super) fn export_for_page(&mut self, request: u32, options: &str) {

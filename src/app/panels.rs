@@ -14,7 +14,7 @@ use crate::kernel::subdiv::adaptive::DEFAULT_TOLERANCE;
 use crate::kernel::subdiv::patches::Display;
 use crate::kernel::subdiv::{Boundary, Creasing, MAX_LEVEL, Options, Scheme};
 use crate::render::DRAFT_COLORS;
-use crate::scene::{SceneObject, SubdivObject, SubdivSettings};
+use crate::scene::{LengthUnit, SceneObject, SubdivObject, SubdivSettings};
 use crate::view::settings::{DRAFT_THRESHOLD, ISOPHOTE_SPACING, ZEBRA_PAIRS};
 use crate::view::{QUALITY_RANGE, ShadingMode, StripeFrame, TOLERANCE_RANGE, ZebraSource};
 
@@ -179,8 +179,34 @@ impl KnotworkApp {
             {
                 self.export.show = true;
             }
+            if ui
+                .button("Export STEP…")
+                .on_hover_text(
+                    "the visible surfaces as exact B-spline faces, for CAD systems (AP214)",
+                )
+                .clicked()
+            {
+                self.export_step_to_file();
+            }
         });
         ui.horizontal(|ui| {
+            let unit = self.doc.scene.unit;
+            let name = |u: Option<LengthUnit>| u.map_or("unitless", LengthUnit::symbol);
+            let mut chosen = unit;
+            egui::ComboBox::from_id_salt("document unit")
+                .selected_text(name(unit))
+                .show_ui(ui, |ui| {
+                    for u in std::iter::once(None).chain(LengthUnit::ALL.map(Some)) {
+                        ui.selectable_value(&mut chosen, u, name(u));
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "the unit of the document's coordinates (STEP files open in mm; glTF exports metres)",
+                );
+            if chosen != unit {
+                self.apply(AppCommand::Edit(Command::SetUnit { unit: chosen }));
+            }
             let undo = self.doc.history.undo_label().map(str::to_owned);
             let redo = self.doc.history.redo_label().map(str::to_owned);
             if ui
@@ -213,6 +239,52 @@ impl KnotworkApp {
         };
         if self.saved.autosave {
             ui.label(egui::RichText::new(saved).weak().small());
+        }
+    }
+
+    /// Object `s`'s colour: a few swatches and the editor's grey, each click one undo step.
+    fn color_row(&mut self, ui: &mut egui::Ui, s: usize) {
+        const SWATCHES: [[f32; 3]; 8] = [
+            [0.80, 0.20, 0.15],
+            [0.90, 0.55, 0.15],
+            [0.90, 0.80, 0.25],
+            [0.35, 0.70, 0.30],
+            [0.25, 0.55, 0.85],
+            [0.50, 0.35, 0.75],
+            [0.85, 0.85, 0.85],
+            [0.25, 0.25, 0.28],
+        ];
+        let current = self.scene().objects[s].color;
+        let mut chosen = None;
+        ui.horizontal(|ui| {
+            ui.label("Colour");
+            let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+            for rgb in SWATCHES {
+                let fill = egui::Color32::from_rgb(byte(rgb[0]), byte(rgb[1]), byte(rgb[2]));
+                let mut button = egui::Button::new("  ").fill(fill).small();
+                if current == Some(rgb) {
+                    button = button.stroke(egui::Stroke::new(2.0, egui::Color32::WHITE));
+                }
+                if ui.add(button).clicked() && current != Some(rgb) {
+                    chosen = Some(Some(rgb));
+                }
+            }
+            if ui
+                .add_enabled(current.is_some(), egui::Button::new("Grey").small())
+                .on_hover_text("the editor's colour")
+                .clicked()
+            {
+                chosen = Some(None);
+            }
+            if let Some([r, g, b]) = current
+                && !SWATCHES.contains(&[r, g, b])
+            {
+                ui.label(egui::RichText::new(format!("({r:.2}, {g:.2}, {b:.2})")).weak())
+                    .on_hover_text("the colour the file gave it (sRGB)");
+            }
+        });
+        if let Some(color) = chosen {
+            self.apply(AppCommand::Edit(Command::SetColor { object: s, color }));
         }
     }
 
@@ -281,6 +353,7 @@ impl KnotworkApp {
             }
         });
         self.widget_error(ui, "name");
+        self.color_row(ui, s);
         ui.label(egui::RichText::new(self.scene().objects[s].describe()).weak());
         let mut segments = self.scene().objects[s].segments;
         ui.label("Segments per span");

@@ -83,7 +83,7 @@ pub(super) fn follow(
     }
     let mut next = scene.clone();
     for change in changes.iter() {
-        super::forward(&mut next.objects, change)?;
+        super::forward(&mut next, change)?;
     }
     let mut moved_curves = Vec::new();
     let mut renames = Vec::new();
@@ -99,7 +99,7 @@ pub(super) fn follow(
                 }
             }
             Change::Remove { object, .. } => removed.push(object.name.clone()),
-            Change::Insert { .. } => {}
+            Change::Insert { .. } | Change::Unit { .. } => {}
         }
     }
     // A name removed and inserted again (an object replaced wholesale) is still there.

@@ -18,7 +18,7 @@ use glam::{DAffine3, DVec3};
 use thiserror::Error;
 
 use crate::kernel::{Direction, GeometryError, TrimLoop, TrimmedSurface};
-use crate::scene::{MAX_NAME_LENGTH, Scene, SceneObject};
+use crate::scene::{LengthUnit, MAX_NAME_LENGTH, Scene, SceneObject};
 
 pub use crate::scene::change::{PointsMoved, Touched};
 pub use document::Document;
@@ -102,6 +102,15 @@ pub enum Command {
     SetVisible {
         object: usize,
         visible: bool,
+    },
+    /// Gives the object its own colour (sRGB, each component 0 to 1), or the editor's grey.
+    SetColor {
+        object: usize,
+        color: Option<[f32; 3]>,
+    },
+    /// Declares the unit the document's coordinates are in (the numbers stay as they are).
+    SetUnit {
+        unit: Option<LengthUnit>,
     },
     /// Maps a whole object by an affine transformation (baked into its control points).
     Transform {
@@ -373,6 +382,16 @@ impl Command {
             Command::Delete { .. } => "delete".into(),
             Command::Rename { name, .. } => format!("rename to {name}"),
             Command::SetVisible { visible, .. } => (if *visible { "show" } else { "hide" }).into(),
+            Command::SetColor { color, .. } => (if color.is_some() {
+                "colour"
+            } else {
+                "default colour"
+            })
+            .into(),
+            Command::SetUnit { unit } => match unit {
+                Some(unit) => format!("unit {}", unit.symbol()),
+                None => "unitless".into(),
+            },
             Command::Transform { .. } => "transform".into(),
             Command::SetSegments { segments, .. } => format!("{segments} segments"),
             Command::SetAllSegments { segments } => {
@@ -477,6 +496,8 @@ pub enum EditError {
     NothingSelected { operation: &'static str },
     #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
     InvalidName,
+    #[error("a colour's red, green and blue must each be from 0 to 1")]
+    InvalidColor,
     #[error(
         "another object is named \"{name}\", and construction history finds its curves by name: choose another"
     )]
@@ -513,6 +534,11 @@ pub enum Change {
         index: usize,
         object: SceneObject,
     },
+    /// The document's length unit changed (opening a STEP file, or the unit menu).
+    Unit {
+        before: Option<LengthUnit>,
+        after: Option<LengthUnit>,
+    },
 }
 
 /// One undo step: the changes a command (or a whole drag) made.
@@ -526,17 +552,17 @@ impl Edit {
     /// Applies the changes forward (redo). Fails without changing anything if the scene does
     /// not match what the edit expects.
     pub fn redo(&self, scene: &mut Scene) -> Result<(), EditError> {
-        let mut next = scene.objects.clone();
+        let mut next = scene.clone();
         for change in &self.changes {
             forward(&mut next, change)?;
         }
-        scene.objects = next;
+        *scene = next;
         Ok(())
     }
 
     /// Applies the inverse changes in reverse order (undo).
     pub fn undo(&self, scene: &mut Scene) -> Result<(), EditError> {
-        let mut next = scene.objects.clone();
+        let mut next = scene.clone();
         for change in self.changes.iter().rev() {
             let inverse = match change {
                 Change::Replace {
@@ -556,10 +582,14 @@ impl Edit {
                     index: *index,
                     object: object.clone(),
                 },
+                Change::Unit { before, after } => Change::Unit {
+                    before: *after,
+                    after: *before,
+                },
             };
             forward(&mut next, &inverse)?;
         }
-        scene.objects = next;
+        *scene = next;
         Ok(())
     }
 
@@ -601,8 +631,9 @@ impl Edit {
     }
 }
 
-fn forward(objects: &mut Vec<SceneObject>, change: &Change) -> Result<(), EditError> {
+fn forward(scene: &mut Scene, change: &Change) -> Result<(), EditError> {
     let mismatch = |what: String| Err(EditError::HistoryMismatch(what));
+    let objects = &mut scene.objects;
     match change {
         Change::Replace {
             index,
@@ -624,6 +655,12 @@ fn forward(objects: &mut Vec<SceneObject>, change: &Change) -> Result<(), EditEr
             }
             _ => return mismatch(format!("object {index} differs")),
         },
+        Change::Unit { before, after } => {
+            if scene.unit != *before {
+                return mismatch("the unit differs".into());
+            }
+            scene.unit = *after;
+        }
     }
     Ok(())
 }

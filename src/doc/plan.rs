@@ -212,6 +212,16 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::SetVisible { object, visible } => {
             map_object(scene, *object, |o| o.visible = *visible)
         }
+        Command::SetColor { object, color } => {
+            if color.is_some_and(|c| !c.iter().all(|x| (0.0..=1.0).contains(x))) {
+                return Err(EditError::InvalidColor);
+            }
+            map_object(scene, *object, |o| o.color = *color)
+        }
+        Command::SetUnit { unit } => Ok(vec![Change::Unit {
+            before: scene.unit,
+            after: *unit,
+        }]),
         Command::Transform { object, transform } => transform_object(scene, *object, transform),
         Command::SetSegments { object, segments } => {
             check_segments(*segments)?;
@@ -234,6 +244,10 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
 
 /// Every object of `scene` removed (the last first) and every object of `new` inserted.
 fn replace_scene(scene: &Scene, new: &Scene) -> Vec<Change> {
+    let unit = (scene.unit != new.unit).then_some(Change::Unit {
+        before: scene.unit,
+        after: new.unit,
+    });
     let removed = scene.objects.iter().enumerate().rev();
     let removals = removed.map(|(index, object)| Change::Remove {
         index,
@@ -247,7 +261,7 @@ fn replace_scene(scene: &Scene, new: &Scene) -> Vec<Change> {
             index,
             object: object.clone(),
         });
-    removals.chain(inserts).collect()
+    removals.chain(inserts).chain(unit).collect()
 }
 
 /// One object replaced by `after`.

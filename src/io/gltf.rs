@@ -10,7 +10,11 @@
 //! - Attributes: POSITION, NORMAL (unit), TEXCOORD_0 (the surface's (u, v) normalized to
 //!   [0, 1], not flipped; absent for polygon meshes), optionally COLOR_0 (the curvature colours
 //!   of a shading mode, linear RGB, with `KHR_materials_unlit` so viewers show them as the
-//!   editor does) and `_CURVATURE` (VEC4 float: K, H, k1, k2 in model units).
+//!   editor does) and `_CURVATURE` (VEC4 float: K, H, k1, k2 in the file's length unit).
+//! - **Units.** glTF's unit is the metre: a document with a length unit (a STEP file's
+//!   millimetres, say) is written in metres, positions and curvatures scaled; a unitless
+//!   document's numbers are written as they are. The embedded model keeps its own unit.
+//! - **Colours.** An object with a colour has it as its material's base colour.
 //! - Indexed triangles (unsigned short where a primitive has < 65 536 vertices), counter-clockwise
 //!   seen from the normal side; vertices are shared within a surface.
 //! - **Axes.** knotwork is Z-up, glTF is Y-up (+Z toward the viewer). Every position and normal
@@ -353,14 +357,14 @@ impl Builder {
 fn primitive(
     builder: &mut Builder,
     piece: &TriangleMesh,
-    origin: DVec3,
+    (origin, scale): (DVec3, f64),
     material: json::Index<json::Material>,
     options: &ExportOptions,
 ) -> json::mesh::Primitive {
     let positions: Vec<[f32; 3]> = piece
         .positions
         .iter()
-        .map(|&p| (to_gltf_axes(p) - origin).as_vec3().to_array())
+        .map(|&p| (to_gltf_axes(p) * scale - origin).as_vec3().to_array())
         .collect();
     let normals: Vec<[f32; 3]> = piece
         .normals
@@ -390,7 +394,17 @@ fn primitive(
         let values: Vec<[f32; 4]> = piece
             .curvatures
             .iter()
-            .map(|c| [c.gaussian, c.mean, c.k1, c.k2].map(|x| x as f32))
+            .map(|c| {
+                // Curvatures in the file's unit, the metre: a length scaled by s divides
+                // k1, k2 and H by s and K by s².
+                [
+                    c.gaussian / (scale * scale),
+                    c.mean / scale,
+                    c.k1 / scale,
+                    c.k2 / scale,
+                ]
+                .map(|x| x as f32)
+            })
             .collect();
         attributes.insert(
             Valid(Semantic::Extras("CURVATURE".into())),
@@ -472,6 +486,8 @@ pub struct ExportJob {
     /// How many of them are done.
     done: usize,
     builder: Builder,
+    /// Metres per document unit (1 for a unitless document): glTF's positions are metres.
+    scale: f64,
     nodes: Vec<json::Index<json::Node>>,
     triangles: usize,
     vertices: usize,
@@ -500,7 +516,9 @@ impl ExportJob {
         if visible.is_empty() {
             return Err(ExportError::NothingVisible);
         }
+        let scale = project.scene.unit.map_or(1.0, |u| u.metres());
         Ok(Self {
+            scale,
             project,
             options,
             max_triangles,
@@ -558,11 +576,12 @@ impl ExportJob {
                 })?,
             None => Vec::new(),
         };
+        let scale = self.scale;
         let (lo, hi) = pieces
             .iter()
             .flat_map(|p| &p.positions)
             .chain(&strip)
-            .map(|&p| to_gltf_axes(p))
+            .map(|&p| to_gltf_axes(p) * scale)
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(p), hi.max(p))
             });
@@ -571,19 +590,21 @@ impl ExportJob {
         } else {
             DVec3::ZERO
         };
-        let material = builder
-            .root
-            .push(material(&object.name, options.colors.is_some()));
+        let material = builder.root.push(material(
+            &object.name,
+            options.colors.is_some(),
+            object.color,
+        ));
         let mut primitives = Vec::new();
         for p in pieces.iter().filter(|p| !p.triangles.is_empty()) {
             self.triangles += p.triangles.len();
             self.vertices += p.positions.len();
-            primitives.push(primitive(builder, p, origin, material, options));
+            primitives.push(primitive(builder, p, (origin, scale), material, options));
         }
         if strip.len() >= 2 {
             let positions: Vec<[f32; 3]> = strip
                 .iter()
-                .map(|&p| (to_gltf_axes(p) - origin).as_vec3().to_array())
+                .map(|&p| (to_gltf_axes(p) * scale - origin).as_vec3().to_array())
                 .collect();
             self.vertices += positions.len();
             self.lines += 1;
@@ -671,13 +692,19 @@ impl ExportJob {
     }
 }
 
-/// An object's material: PBR metallic-roughness, double-sided; white and unlit
-/// (`KHR_materials_unlit`) when the vertex colours carry the shading.
-fn material(name: &str, unlit: bool) -> json::Material {
-    let base = if unlit {
-        [1.0, 1.0, 1.0, 1.0]
-    } else {
-        [0.72, 0.74, 0.78, 1.0]
+/// An object's material: PBR metallic-roughness, double-sided, in the object's colour
+/// (`color`, sRGB, made linear as glTF's base colour factor is) or the editor's grey; white
+/// and unlit (`KHR_materials_unlit`) when the vertex colours carry the shading.
+fn material(name: &str, unlit: bool, color: Option<[f32; 3]>) -> json::Material {
+    let base = match (unlit, color) {
+        (true, _) => [1.0, 1.0, 1.0, 1.0],
+        (false, Some([r, g, b])) => [
+            crate::scene::srgb_to_linear(r),
+            crate::scene::srgb_to_linear(g),
+            crate::scene::srgb_to_linear(b),
+            1.0,
+        ],
+        (false, None) => [0.72, 0.74, 0.78, 1.0],
     };
     json::Material {
         name: Some(name.to_owned()),

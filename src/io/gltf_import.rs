@@ -81,7 +81,10 @@ pub fn read(
         return Err(error("meshes", "the file has no triangle meshes to open"));
     }
     Ok(Project {
-        scene: Scene { objects },
+        scene: Scene {
+            objects,
+            unit: None,
+        },
         view: None,
     })
 }

@@ -322,7 +322,10 @@ fn objects(parsed: ObjText, cages: bool) -> Result<Project, FormatError> {
         return Err(FormatError::new("", "the OBJ file has no faces"));
     }
     Ok(Project {
-        scene: Scene { objects },
+        scene: Scene {
+            objects,
+            unit: None,
+        },
         view: None,
     })
 }

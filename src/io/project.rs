@@ -14,6 +14,8 @@
 //!           "shading": "gaussian", "quality": 1.0, "range": [-0.5, 0.5],
 //!           "overlays": {"surface": true, "net": true, "points": false}}}
 //! ```
+//! `"unit"` (`"mm"`, `"cm"`, `"m"`, `"in"` or `"ft"`) is the length unit of every coordinate;
+//! without it a project is unitless. An object's `"color"` is `[r, g, b]` (sRGB, 0 to 1).
 //! The view is [`ViewSettings`] (`range` and `overlays` may be omitted: the automatic range,
 //! everything shown).
 //! Transforms are baked into the control points (as Rhino does), so an object needs no
@@ -26,7 +28,9 @@
 
 use crate::scene::json::{self, FormatError};
 use crate::scene::registry;
-use crate::scene::{DEFAULT_SEGMENTS, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject};
+use crate::scene::{
+    DEFAULT_SEGMENTS, LengthUnit, MAX_SEGMENTS, ObjectGeometry, Scene, SceneObject,
+};
 use crate::view::ViewSettings;
 
 /// The project format version this build writes and the newest it reads.
@@ -126,11 +130,30 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
         Some(_) => return Err(FormatError::new("view", "version 1 files have no view")),
         None => None,
     };
+    let unit = match root.remove("unit") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(serde_json::Value::String(symbol)) if LengthUnit::from_symbol(&symbol).is_some() => {
+            LengthUnit::from_symbol(&symbol)
+        }
+        Some(other) => {
+            let known: Vec<&str> = LengthUnit::ALL.iter().map(|u| u.symbol()).collect();
+            return Err(FormatError::new(
+                "unit",
+                format!(
+                    "expected one of \"{}\", found {other}",
+                    known.join("\", \"")
+                ),
+            ));
+        }
+    };
     if let Some(key) = root.keys().next() {
         return Err(FormatError::new(key.clone(), "unknown field"));
     }
     let mut total = 0usize;
-    let mut scene = Scene::default();
+    let mut scene = Scene {
+        unit,
+        ..Scene::default()
+    };
     for (i, value) in objects.into_iter().enumerate() {
         let path = format!("objects[{i}]");
         let object = read_object(&path, value)?;
@@ -214,6 +237,10 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             )
         }
     };
+    let color = match map.remove("color") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(value) => Some(read_color(&format!("{path}.color"), value)?),
+    };
     let name = match map.remove("name") {
         None => None,
         Some(serde_json::Value::String(n)) if crate::scene::valid_name(&n) => Some(n),
@@ -243,7 +270,32 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     object.displacement = displacement;
     object.lattice = lattice;
     object.construction = construction;
+    object.color = color;
     Ok(object)
+}
+
+/// An object's colour: `[r, g, b]`, sRGB components from 0 to 1.
+fn read_color(path: &str, value: serde_json::Value) -> Result<[f32; 3], FormatError> {
+    let refuse = |found: &serde_json::Value| {
+        FormatError::new(
+            path,
+            format!("expected [r, g, b] with each from 0 to 1, found {found}"),
+        )
+    };
+    let serde_json::Value::Array(items) = &value else {
+        return Err(refuse(&value));
+    };
+    if items.len() != 3 {
+        return Err(refuse(&value));
+    }
+    let mut rgb = [0f32; 3];
+    for (c, item) in rgb.iter_mut().zip(items) {
+        match item.as_f64() {
+            Some(x) if (0.0..=1.0).contains(&x) => *c = x as f32,
+            _ => return Err(refuse(&value)),
+        }
+    }
+    Ok(rgb)
 }
 
 /// An object's free-form deformation lattice in the project file: the box's corner and edges,
@@ -337,6 +389,9 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
                     .unwrap_or(serde_json::Value::Null),
             );
         }
+        if let Some(color) = object.color {
+            map.insert("color".into(), serde_json::json!(color));
+        }
         if let Some(construction) = &object.construction {
             map.insert(
                 "construction".into(),
@@ -369,6 +424,9 @@ fn scene_value(scene: &Scene, view: Option<&ViewSettings>) -> serde_json::Value 
         "version": PROJECT_VERSION,
         "objects": scene.objects.iter().map(object_value).collect::<Vec<_>>(),
     });
+    if let (Some(unit), serde_json::Value::Object(map)) = (scene.unit, &mut file) {
+        map.insert("unit".into(), unit.symbol().into());
+    }
     if let (Some(view), serde_json::Value::Object(map)) = (view, &mut file) {
         map.insert(
             "view".into(),

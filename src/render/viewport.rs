@@ -601,6 +601,11 @@ pub struct ViewportRenderer {
     highlight: wgpu::Buffer,
     /// Whether any bit of `highlight` is set.
     highlighting: bool,
+    /// Per scene object, its own colour (linear RGB, w = 1) or none (w = 0): surface.wgsl's
+    /// `object_colors` (a uniform of [`GL_OBJECT_COLORS`] in surface_gl.wgsl).
+    object_colors: wgpu::Buffer,
+    /// What `object_colors` holds (to skip writing it again).
+    object_colors_written: Vec<[f32; 4]>,
     /// The guide lines' vertices (depth-tested ones first) and the two counts.
     lines: Option<wgpu::Buffer>,
     line_counts: (u32, u32),
@@ -611,6 +616,7 @@ fn scene_bind_group(
     layout: &wgpu::BindGroupLayout,
     scene: &wgpu::Buffer,
     highlight: &wgpu::Buffer,
+    object_colors: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("scene"),
@@ -624,6 +630,10 @@ fn scene_bind_group(
                 binding: 1,
                 resource: highlight.as_entire_binding(),
             },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: object_colors.as_entire_binding(),
+            },
         ],
     })
 }
@@ -632,14 +642,46 @@ fn scene_bind_group(
 /// (`surface_gl.wgsl`), so the first 32,768 patch records can be highlighted there.
 pub const GL_HIGHLIGHT_WORDS: usize = 1024;
 
+/// The object colours of the WebGL2 surface pipeline: a uniform of this many vec4s
+/// (`surface_gl.wgsl`), so the first 256 objects show their own colours there.
+pub const GL_OBJECT_COLORS: usize = 256;
+
 fn highlight_buffer(device: &wgpu::Device, words: usize, storage: bool) -> wgpu::Buffer {
+    shading_buffer(
+        device,
+        "patch highlight bits",
+        words * 4,
+        storage,
+        GL_HIGHLIGHT_WORDS * 4,
+    )
+}
+
+fn object_color_buffer(device: &wgpu::Device, objects: usize, storage: bool) -> wgpu::Buffer {
+    shading_buffer(
+        device,
+        "object colours",
+        objects * 16,
+        storage,
+        GL_OBJECT_COLORS * 16,
+    )
+}
+
+/// A buffer the surface shader reads: storage of `bytes` (at least 16), or, without storage
+/// buffers, a uniform of the fixed `gl_bytes` the WebGL2 shader declares.
+fn shading_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    bytes: usize,
+    storage: bool,
+    gl_bytes: usize,
+) -> wgpu::Buffer {
     let (size, usage) = if storage {
-        (words.max(1) * 4, wgpu::BufferUsages::STORAGE)
+        (bytes.max(16), wgpu::BufferUsages::STORAGE)
     } else {
-        (GL_HIGHLIGHT_WORDS * 4, wgpu::BufferUsages::UNIFORM)
+        (gl_bytes, wgpu::BufferUsages::UNIFORM)
     };
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("patch highlight bits"),
+        label: Some(label),
         size: size as u64,
         usage: usage | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
@@ -701,10 +743,31 @@ impl ViewportRenderer {
                     },
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: if storage {
+                            wgpu::BufferBindingType::Storage { read_only: true }
+                        } else {
+                            wgpu::BufferBindingType::Uniform
+                        },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         });
         let highlight = highlight_buffer(device, 1, storage);
-        let scene_bind_group = scene_bind_group(device, &scene_layout, &scene_buffer, &highlight);
+        let object_colors = object_color_buffer(device, 1, storage);
+        let scene_bind_group = scene_bind_group(
+            device,
+            &scene_layout,
+            &scene_buffer,
+            &highlight,
+            &object_colors,
+        );
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewport"),
             bind_group_layouts: &[Some(&scene_layout)],
@@ -771,6 +834,8 @@ impl ViewportRenderer {
             device: device.clone(),
             highlight,
             highlighting: false,
+            object_colors,
+            object_colors_written: Vec::new(),
         }
     }
 
@@ -809,17 +874,64 @@ impl ViewportRenderer {
         let capacity = (self.highlight.size() / 4) as usize;
         if words > capacity {
             self.highlight = highlight_buffer(device, words.next_power_of_two(), storage);
-            self.scene_bind_group = scene_bind_group(
-                device,
-                &self.scene_layout,
-                &self.scene_buffer,
-                &self.highlight,
-            );
+            self.rebind_scene(device);
         }
         // Clear the rest of the buffer too.
         bits.resize((self.highlight.size() / 4) as usize, 0);
         queue.write_buffer(&self.highlight, 0, bytemuck::cast_slice(&bits));
         self.highlighting = !patches.is_empty();
+    }
+
+    /// Makes group 0 again after one of its buffers was replaced.
+    fn rebind_scene(&mut self, device: &wgpu::Device) {
+        self.scene_bind_group = scene_bind_group(
+            device,
+            &self.scene_layout,
+            &self.scene_buffer,
+            &self.highlight,
+            &self.object_colors,
+        );
+    }
+
+    /// Gives scene object k the colour `colors[k]` (sRGB, 0 to 1) in the lit shading modes,
+    /// or the surface colour where it is `None`, until the next call. Only the first
+    /// [`GL_OBJECT_COLORS`] objects have their own colours on a WebGL2 device.
+    pub fn set_object_colors(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        colors: &[Option<[f32; 3]>],
+    ) {
+        let storage = self.reads_patches();
+        let mut values: Vec<[f32; 4]> = colors
+            .iter()
+            .map(|c| match c {
+                Some(rgb) => {
+                    let [r, g, b] = rgb.map(crate::scene::srgb_to_linear);
+                    [r, g, b, 1.0]
+                }
+                None => [0.0; 4],
+            })
+            .collect();
+        if !storage {
+            values.truncate(GL_OBJECT_COLORS);
+        }
+        while values.last() == Some(&[0.0; 4]) {
+            values.pop();
+        }
+        if values == self.object_colors_written {
+            return;
+        }
+        let capacity = (self.object_colors.size() / 16) as usize;
+        if values.len() > capacity {
+            self.object_colors =
+                object_color_buffer(device, values.len().next_power_of_two(), storage);
+            self.rebind_scene(device);
+        }
+        let mut padded = values.clone();
+        padded.resize((self.object_colors.size() / 16) as usize, [0.0; 4]);
+        queue.write_buffer(&self.object_colors, 0, bytemuck::cast_slice(&padded));
+        self.object_colors_written = values;
     }
 
     /// The guide and analysis lines drawn by every [`Self::render`] until the next call.

@@ -27,7 +27,10 @@ impl Scene {
             SceneObject::new("Revolution", ObjectGeometry::new(goblet)),
         ];
         objects[0].segments = 12;
-        Ok(Self { objects })
+        Ok(Self {
+            objects,
+            unit: None,
+        })
     }
 }
 

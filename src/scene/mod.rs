@@ -117,6 +117,9 @@ pub struct SceneObject {
     /// How the object was built from curve objects, where it was and the history is kept: it
     /// is built again when they change ([`construction`]).
     pub construction: Option<construction::Construction>,
+    /// The object's own colour (sRGB, 0 to 1, as CAD files and colour pickers give it): the
+    /// viewport's lit shading and the glTF material use it; `None` is the editor's grey.
+    pub color: Option<[f32; 3]>,
 }
 
 impl Decomposition {
@@ -199,6 +202,7 @@ impl SceneObject {
             displacement: None,
             lattice: None,
             construction: None,
+            color: None,
         }
     }
 
@@ -517,6 +521,68 @@ impl SceneObject {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Scene {
     pub objects: Vec<SceneObject>,
+    /// The length unit of every coordinate; `None` (a project without one) is unitless, and
+    /// exports keep its numbers as they are.
+    pub unit: Option<LengthUnit>,
+}
+
+/// An sRGB component (0 to 1) as linear light (IEC 61966-2-1: c/12.92 up to 0.04045,
+/// ((c + 0.055)/1.055)^2.4 above).
+pub fn srgb_to_linear(c: f32) -> f32 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// A length unit a document's coordinates are in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LengthUnit {
+    Millimetre,
+    Centimetre,
+    Metre,
+    Inch,
+    Foot,
+}
+
+impl LengthUnit {
+    /// Every unit, in the order a menu lists them.
+    pub const ALL: [LengthUnit; 5] = [
+        LengthUnit::Millimetre,
+        LengthUnit::Centimetre,
+        LengthUnit::Metre,
+        LengthUnit::Inch,
+        LengthUnit::Foot,
+    ];
+
+    /// The unit's symbol, as project files write it: "mm", "cm", "m", "in", "ft".
+    pub fn symbol(self) -> &'static str {
+        match self {
+            LengthUnit::Millimetre => "mm",
+            LengthUnit::Centimetre => "cm",
+            LengthUnit::Metre => "m",
+            LengthUnit::Inch => "in",
+            LengthUnit::Foot => "ft",
+        }
+    }
+
+    /// The unit of symbol `symbol`, if it is one of [`Self::ALL`]'s.
+    pub fn from_symbol(symbol: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
+    }
+
+    /// Metres in one unit (the inch is 25.4 mm exactly, the foot 12 inches).
+    pub fn metres(self) -> f64 {
+        match self {
+            LengthUnit::Millimetre => 1e-3,
+            LengthUnit::Centimetre => 1e-2,
+            LengthUnit::Metre => 1.0,
+            LengthUnit::Inch => 0.0254,
+            LengthUnit::Foot => 0.3048,
+        }
+    }
 }
 
 impl Scene {
@@ -679,6 +745,7 @@ mod tests {
         // The exact sphere of the sample scene shades as one colour in Gaussian mode.
         let demo = Scene {
             objects: vec![Scene::demo().unwrap().objects[2].clone()],
+            unit: None,
         };
         let (lo, hi) = demo.curvature_range(0).unwrap();
         assert!(hi - lo > 0.01, "({lo}, {hi})");

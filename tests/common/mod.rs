@@ -180,8 +180,9 @@ pub fn draw_offscreen_tessellated(
     use knotwork::render::{ViewTarget, ViewportRenderer, scene_uniform};
     let scene = knotwork::scene::Scene {
         objects: objects.to_vec(),
+        unit: None,
     };
-    let (mut sync, renderer) = if path == Path::Cpu {
+    let (mut sync, mut renderer) = if path == Path::Cpu {
         let mut sync = SceneSync::on_cpu(&context.device, &context.queue);
         sync.rebuild(&scene, 1.0).unwrap();
         (sync, ViewportRenderer::for_vertices_only(&context.device))
@@ -191,6 +192,8 @@ pub fn draw_offscreen_tessellated(
     };
     let target = ViewTarget::with_samples(&context.device, width, height, samples);
     assert_eq!(target.samples(), samples);
+    let colors: Vec<Option<[f32; 3]>> = objects.iter().map(|o| o.color).collect();
+    renderer.set_object_colors(&context.device, &context.queue, &colors);
     if path == Path::Adaptive {
         sync.set_adaptive(&scene, true, 1.0).unwrap();
         sync.set_view(knotwork::render::adaptive_target(

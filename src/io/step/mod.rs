@@ -8,8 +8,9 @@
 //! - [`read`]: units, the assembly, names, colours, and each shell's faces and shared edges.
 //! - [`write`]: AP214 output.
 //!
-//! A body opens as a polysurface whose shared edges are the file's ([`Polysurface::with_topology`]),
-//! so its export is watertight across them.
+//! A body opens as a polysurface whose shared edges are the file's
+//! ([`Polysurface::with_topology`]), so its export is watertight across them, coloured as the
+//! file colours it, in a scene whose unit is the millimetre.
 
 pub mod entities;
 pub mod faces;
@@ -20,7 +21,7 @@ pub mod write;
 use crate::io::project::Project;
 use crate::scene::json::FormatError;
 use crate::scene::polysurface::{MAX_FACES, Polysurface};
-use crate::scene::{ObjectGeometry, Scene, SceneObject};
+use crate::scene::{LengthUnit, ObjectGeometry, Scene, SceneObject};
 
 pub use read::{Stage, StepModel};
 
@@ -48,7 +49,10 @@ fn object_name(name: &str) -> String {
 /// A STEP model's bodies as scene objects: one polysurface per body (a body of more than
 /// [`MAX_FACES`] faces in parts of that many), named after its product.
 pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
-    let mut scene = Scene::default();
+    let mut scene = Scene {
+        unit: Some(LengthUnit::Millimetre),
+        ..Scene::default()
+    };
     let tolerance = join_tolerance(model);
     for body in &model.bodies {
         let name = object_name(&body.name);
@@ -56,17 +60,19 @@ pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
             let p =
                 Polysurface::with_topology(body.faces.clone(), tolerance, body.topology.clone())
                     .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
-            scene
-                .objects
-                .push(SceneObject::new(name, ObjectGeometry::new(p)));
+            let mut object = SceneObject::new(name, ObjectGeometry::new(p));
+            object.color = body.color;
+            scene.objects.push(object);
         } else {
             for (k, chunk) in body.faces.chunks(MAX_FACES).enumerate() {
                 let p = Polysurface::new(chunk.to_vec(), tolerance)
                     .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
-                scene.objects.push(SceneObject::new(
+                let mut object = SceneObject::new(
                     object_name(&format!("{name} part {}", k + 1)),
                     ObjectGeometry::new(p),
-                ));
+                );
+                object.color = body.color;
+                scene.objects.push(object);
             }
         }
     }
@@ -193,7 +199,14 @@ fn object_faces(
     ))
 }
 
-/// The visible objects with faces as a STEP file (AP214, millimetres): what was written, and
+/// The STEP writer's default tolerance for `scene`: 1e-6 of its bounding box's diagonal
+/// (corners closer than this are one vertex; edge curves are fitted within it).
+pub fn default_tolerance(scene: &Scene) -> f64 {
+    crate::io::gltf::default_tolerance(scene) * 1e-3
+}
+
+/// The visible objects with faces as a STEP file (AP214, in the scene's unit; millimetres
+/// for a unitless scene): what was written, and
 /// the objects left out with why.
 pub fn export_scene(
     scene: &Scene,
@@ -232,7 +245,7 @@ pub fn export_scene(
             topology: topology.as_ref(),
         })
         .collect();
-    let text = write::write(&shapes, file_name, tolerance)
+    let text = write::write(&shapes, file_name, tolerance, scene.unit)
         .map_err(|e| FormatError::new("", e.to_string()))?;
     Ok((text, left_out))
 }

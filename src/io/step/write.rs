@@ -6,7 +6,8 @@
 //! the exact p-curve of every face that uses it. Shared edges (the object's topology) are one
 //! edge used by both faces; faces are turned so that they agree across them, and a shell whose
 //! every edge is shared is closed (a `MANIFOLD_SOLID_BREP`, outward by the sign of its volume),
-//! otherwise open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are millimetres.
+//! otherwise open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit
+//! (millimetres for a unitless one).
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -17,6 +18,7 @@ use crate::kernel::join::{EdgeId, Topology, face_loops};
 use crate::kernel::{
     GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface, construct,
 };
+use crate::scene::LengthUnit;
 
 /// One object to write.
 pub struct StepShape<'a> {
@@ -281,11 +283,42 @@ fn signed_volume(faces: &[TrimmedSurface], flip: &[bool]) -> f64 {
     total
 }
 
-/// A STEP file (AP214) of `shapes`, named `file_name` in its header.
+/// The length unit entity of `unit`: an SI unit for the metric ones, a conversion-based unit
+/// defined in millimetres for the inch and the foot (ISO 10303-41, `conversion_based_unit`),
+/// so that coordinates are written as the document holds them.
+fn length_unit(out: &mut Out, unit: LengthUnit) -> u64 {
+    let prefix = match unit {
+        LengthUnit::Millimetre => ".MILLI.",
+        LengthUnit::Centimetre => ".CENTI.",
+        LengthUnit::Metre => "$",
+        LengthUnit::Inch | LengthUnit::Foot => {
+            let mm = out.add("(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.))");
+            let measure = out.add(format!(
+                "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{mm})",
+                real(unit.metres() * 1e3)
+            ));
+            let exponents = out.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)");
+            let name = if unit == LengthUnit::Inch {
+                "INCH"
+            } else {
+                "FOOT"
+            };
+            return out.add(format!(
+                "(CONVERSION_BASED_UNIT('{name}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{exponents}))"
+            ));
+        }
+    };
+    out.add(format!(
+        "(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT({prefix},.METRE.))"
+    ))
+}
+
+/// A STEP file (AP214) of `shapes`, in `unit` (millimetres for a unitless document), named `file_name` in its header.
 pub fn write(
     shapes: &[StepShape],
     file_name: &str,
     tolerance: f64,
+    unit: Option<LengthUnit>,
 ) -> Result<String, GeometryError> {
     let mut out = Out {
         text: String::new(),
@@ -300,7 +333,7 @@ pub fn write(
     let definition_context = out.add(format!(
         "PRODUCT_DEFINITION_CONTEXT('part definition',#{app},'design')"
     ));
-    let mm = out.add("(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.))");
+    let mm = length_unit(&mut out, unit.unwrap_or(LengthUnit::Millimetre));
     let rad = out.add("(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.))");
     let sr = out.add("(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT())");
     let uncertainty = out.add(format!(
