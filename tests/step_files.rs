@@ -1,7 +1,7 @@
 //! STEP files: OpenCASCADE's files (tests/reference/occ/step/, made by make_step.py beside
 //! them with the cadquery-ocp bindings, with the faces, areas and volumes OpenCASCADE reads
 //! from them) open with the same faces, area and volume, watertight; units and the assembly are
-//! applied; the round trip through knotwork's writer keeps every surface exactly; bad files are
+//! applied; the round trip through knotwork's writer keeps every surface and colour exactly; bad files are
 //! refused with the entity named.
 
 use std::collections::HashMap;
@@ -218,6 +218,8 @@ fn a_file_written_and_read_back_keeps_every_surface_exactly() {
         assert_eq!(again.bodies.len(), first.bodies.len(), "{name}");
         for (a, b) in first.bodies.iter().zip(&again.bodies) {
             assert_eq!(a.faces.len(), b.faces.len(), "{name}: {:?}", again.warnings);
+            // Colours are written as styled items and read back the same.
+            assert_eq!(a.color, b.color, "{name}");
             // Every surface of the first read comes back with the same knots, points and
             // weights (in the same order: the writer keeps the faces' order).
             for (fa, fb) in a.faces.iter().zip(&b.faces) {

@@ -687,16 +687,34 @@ async function main() {
       const position = json.accessors[json.meshes[0].primitives[0].attributes.POSITION];
       const size = position.max.map((hi, k) => hi - position.min[k]);
       assert([0.04, 0.02, 0.03].every((want, k) => Math.abs(size[k] - want) < 1e-6), `glTF size in metres: ${size}`);
-      // Export → STEP in the page writes the faces back; the file opens again with all of them.
+      // Export → STEP in the page writes every face.
       const written = await page.evaluate(() => window.knotwork.exportStep());
       const faces = (written.match(/ADVANCED_FACE\(/g) || []).length;
       assert(written.startsWith('ISO-10303-21;') && faces === 11, `exportStep: ${faces} faces, ${written.slice(0, 40)}`);
-      await page.evaluate(() => window.knotwork.newDocument({ empty: true }));
-      await page.waitForFunction(() => window.knotwork.status().objects === 0, null, { timeout: 30_000 });
-      await page.evaluate((text) => window.knotwork.openFile('again.step', new TextEncoder().encode(text)), written);
-      await page.waitForFunction(() => window.knotwork.status().objects === 1 && window.knotwork.status().patches > 0, null, { timeout: 60_000 });
-      const reopened = await page.evaluate(() => window.knotwork.project());
-      assert(reopened.objects[0].faces.length === 11 && reopened.unit === 'mm', `the written file reopens: ${reopened.objects[0].faces.length} faces`);
+      // The coloured two-part assembly written by the page opens again with both parts, all
+      // their faces and their colours.
+      const assembly = await readFile(new URL('../tests/reference/occ/step/assembly.step', import.meta.url));
+      const reopened = await page.evaluate(async (b) => {
+        const frames = async (test) => {
+          for (let k = 0; k < 600 && !test(); k += 1) await new Promise((r) => requestAnimationFrame(r));
+        };
+        window.knotwork.openFile('assembly.step', Uint8Array.from(atob(b), (c) => c.charCodeAt(0)));
+        await frames(() => window.knotwork.status().objects === 2);
+        const first = window.knotwork.project();
+        const text = await window.knotwork.exportStep();
+        window.knotwork.newDocument({ empty: true });
+        await frames(() => window.knotwork.status().objects === 0);
+        window.knotwork.openFile('again.step', new TextEncoder().encode(text));
+        await frames(() => window.knotwork.status().objects === 2);
+        return [first, window.knotwork.project()];
+      }, assembly.toString('base64'));
+      const shape = (p) => JSON.stringify(p.objects.map((o) => [o.faces.length, o.color]));
+      assert(reopened[0].objects.length === 2 && reopened[0].objects.every((o) => o.color && o.faces.length === 6),
+        `the assembly: ${shape(reopened[0])}`);
+      assert(shape(reopened[1]) === shape(reopened[0]) && reopened[1].unit === 'mm',
+        `written and opened again: ${shape(reopened[1])} vs ${shape(reopened[0])}`);
+      await page.evaluate((b) => window.knotwork.openFile('box-hole-fillets.step', Uint8Array.from(atob(b), (c) => c.charCodeAt(0))), base64);
+      await page.waitForFunction(() => window.knotwork.status().objects === 1 && window.knotwork.project().objects[0].faces.length === 11, null, { timeout: 60_000 });
       const before = await page.evaluate(() => window.knotwork.project());
       await page.evaluate((b) => window.knotwork.openFile('cut.step',
         Uint8Array.from(atob(b), (c) => c.charCodeAt(0)).subarray(0, 20000)), base64);

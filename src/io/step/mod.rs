@@ -220,7 +220,9 @@ pub fn export_scene(
             continue;
         }
         match object_faces(object) {
-            Ok((faces, topology)) => kept.push((object.name.clone(), faces, topology)),
+            Ok((faces, topology)) => {
+                kept.push((object.name.clone(), faces, topology, object.color))
+            }
             Err(why) => left_out.push(format!("{}: {why}", object.name)),
         }
     }
@@ -239,10 +241,11 @@ pub fn export_scene(
     }
     let shapes: Vec<write::StepShape> = kept
         .iter()
-        .map(|(name, faces, topology)| write::StepShape {
+        .map(|(name, faces, topology, color)| write::StepShape {
             name,
             faces,
             topology: topology.as_ref(),
+            color: *color,
         })
         .collect();
     let text = write::write(&shapes, file_name, tolerance, scene.unit)

@@ -26,6 +26,9 @@ pub struct StepShape<'a> {
     pub faces: &'a [TrimmedSurface],
     /// The shared edges, where known.
     pub topology: Option<&'a Topology>,
+    /// The shape's colour (sRGB, 0 to 1), written as a styled item of its solid or surface
+    /// model.
+    pub color: Option<[f32; 3]>,
 }
 
 struct Out {
@@ -313,6 +316,23 @@ fn length_unit(out: &mut Out, unit: LengthUnit) -> u64 {
     ))
 }
 
+/// Colours `item` (AP214's presentation: a styled item whose surface style's fill area is the
+/// colour, on both sides, listed in a presentation representation of the context).
+fn styled_item(out: &mut Out, item: u64, [r, g, b]: [f32; 3], context: u64) {
+    let c = |x: f32| real(f64::from(x.clamp(0.0, 1.0)));
+    let colour = out.add(format!("COLOUR_RGB('',{},{},{})", c(r), c(g), c(b)));
+    let fill_colour = out.add(format!("FILL_AREA_STYLE_COLOUR('',#{colour})"));
+    let fill = out.add(format!("FILL_AREA_STYLE('',(#{fill_colour}))"));
+    let area = out.add(format!("SURFACE_STYLE_FILL_AREA(#{fill})"));
+    let side = out.add(format!("SURFACE_SIDE_STYLE('',(#{area}))"));
+    let usage = out.add(format!("SURFACE_STYLE_USAGE(.BOTH.,#{side})"));
+    let assignment = out.add(format!("PRESENTATION_STYLE_ASSIGNMENT((#{usage}))"));
+    let styled = out.add(format!("STYLED_ITEM('color',(#{assignment}),#{item})"));
+    out.add(format!(
+        "MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION('',(#{styled}),#{context})"
+    ));
+}
+
 /// A STEP file (AP214) of `shapes`, in `unit` (millimetres for a unitless document), named `file_name` in its header.
 pub fn write(
     shapes: &[StepShape],
@@ -481,19 +501,24 @@ pub fn write(
         let x = out.add("DIRECTION('',(1.,0.,0.))");
         let axis = out.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
         let name = text(shape.name);
-        let rep = if closed {
+        let (rep, item) = if closed {
             let shell = out.add(format!("CLOSED_SHELL('',{})", refs(&face_ids)));
             let solid = out.add(format!("MANIFOLD_SOLID_BREP({name},#{shell})"));
-            out.add(format!(
+            let rep = out.add(format!(
                 "ADVANCED_BREP_SHAPE_REPRESENTATION({name},(#{axis},#{solid}),#{context})"
-            ))
+            ));
+            (rep, solid)
         } else {
             let shell = out.add(format!("OPEN_SHELL('',{})", refs(&face_ids)));
             let model = out.add(format!("SHELL_BASED_SURFACE_MODEL({name},(#{shell}))"));
-            out.add(format!(
+            let rep = out.add(format!(
                 "MANIFOLD_SURFACE_SHAPE_REPRESENTATION({name},(#{axis},#{model}),#{context})"
-            ))
+            ));
+            (rep, model)
         };
+        if let Some(color) = shape.color {
+            styled_item(&mut out, item, color, context);
+        }
         let product = out.add(format!("PRODUCT({name},{name},'',(#{product_context}))"));
         let formation = out.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));
         let definition = out.add(format!(
