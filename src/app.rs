@@ -11,7 +11,7 @@ mod gizmo;
 mod input;
 mod overlay;
 mod panels;
-mod platform;
+pub(crate) mod platform;
 mod surface_tools;
 mod trim;
 mod views;
@@ -304,6 +304,10 @@ pub struct KnotworkApp {
     export_estimate: Option<export::ExportEstimate>,
     /// The export being built, a frame's budget of objects at a time.
     running_export: Option<export::RunningExport>,
+    /// A STEP file being opened a body at a time ([`files::RunningOpen`]).
+    running_open: Option<files::RunningOpen>,
+    /// Commands that came while a file was being opened, carried out after it, in order.
+    deferred: std::collections::VecDeque<AppCommand>,
     /// The `?` overlay with the controls is shown.
     show_help: bool,
     /// The message the viewport's toast shows.
@@ -407,6 +411,8 @@ impl KnotworkApp {
             export: export::ExportSettings::default(),
             export_estimate: None,
             running_export: None,
+            running_open: None,
+            deferred: std::collections::VecDeque::new(),
             show_help: false,
             toast: overlay::Toast::default(),
             saved: Persistence {
@@ -1262,8 +1268,24 @@ impl eframe::App for KnotworkApp {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        for command in self.commands.drain() {
+        // Commands wait while a file is being opened (but for Cancel), so that each is carried
+        // out on the document every command before it left.
+        self.deferred.extend(self.commands.drain());
+        while self.running_open.is_none()
+            || matches!(self.deferred.front(), Some(AppCommand::CancelOpen))
+        {
+            let Some(command) = self.deferred.pop_front() else {
+                break;
+            };
             self.apply(command);
+        }
+        if let Some(k) = self
+            .deferred
+            .iter()
+            .position(|c| matches!(c, AppCommand::CancelOpen))
+        {
+            self.deferred.remove(k);
+            self.cancel_open();
         }
         let ctx = ui.ctx().clone();
         self.take_dropped(&ctx);
@@ -1286,6 +1308,7 @@ impl eframe::App for KnotworkApp {
         self.create_window(&ctx);
         self.export_window(&ctx);
         self.step_export(&ctx);
+        self.step_open(&ctx);
         self.dialog_window(&ctx);
         self.history_prompt(&ctx);
         self.autosave(&ctx, frame);

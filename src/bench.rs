@@ -522,6 +522,15 @@ fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
         }
     }
     let total = read_ms + mesh_ms;
+    let (_, open) = median_ms(runs, || {
+        let clock = std::time::Instant::now();
+        crate::io::step::timed_open(&bytes, &|| clock.elapsed().as_secs_f64() * 1e3)
+    })?;
+    writeln!(
+        out,
+        "STEP plate, opened as the editor does | parse {:8.1} ms, faces built and joined {:8.1} ms in {} steps (longest {:.1} ms), {} faces",
+        open.parse_ms, open.steps_ms, open.steps, open.longest_step_ms, open.faces
+    )?;
     writeln!(
         out,
         "STEP plate 20 × 20 holes ({faces} faces, {:.1} MB) | read {read_ms:8.1} ms, tessellate {mesh_ms:8.1} ms at {tolerance:.3e} ({triangles} triangles), total {total:8.1} ms; {:.1} KB of geometry per face",

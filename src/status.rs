@@ -119,6 +119,8 @@ pub struct AppStatus {
     pub export_estimate: Option<String>,
     /// A running export's progress (0 to 1, by the estimated triangles written), if one runs.
     pub export_progress: Option<f64>,
+    /// A STEP file being opened: its progress (0 to 1), while it is.
+    pub open_progress: Option<f64>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
     /// Something the editor did on its own that the user should know (e.g. tessellation lowered

@@ -695,6 +695,23 @@ pub fn start_step_export() -> u32 {
     request
 }
 
+/// Opens STEP `bytes` as the editor does, all at once (not into the document), and returns
+/// how long it took as JSON: `{parse_ms, steps_ms, longest_step_ms, steps, faces}`, for
+/// comparing the page with `knotwork bench --only step`.
+#[wasm_bindgen]
+pub fn bench_step_open(bytes: Vec<u8>) -> Result<String, String> {
+    let timing = crate::io::step::timed_open(&bytes, &crate::app::platform::now_ms)
+        .map_err(|e| e.to_string())?;
+    serde_json::to_string(&timing).map_err(|e| e.to_string())
+}
+
+/// Stops opening the STEP file being opened (`status().open_progress` is its progress); the
+/// document stays as it was.
+#[wasm_bindgen]
+pub fn cancel_open() {
+    send(AppCommand::CancelOpen);
+}
+
 /// Cancels the running export.
 #[wasm_bindgen]
 pub fn cancel_export() {

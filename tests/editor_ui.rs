@@ -1220,3 +1220,89 @@ fn a_blend_from_the_surface_tools_is_adjusted_in_place_and_stays_one_undo_step()
     click_label(&mut harness, "G2");
     assert_eq!(across(&harness), (2, 1, None));
 }
+
+/// A STEP file opens a face at a time under a progress window: a command sent right after it
+/// waits for it (an undo then takes the open back), Cancel leaves the document as it was, and
+/// the opened parts are in millimetres with the file's colours.
+#[test]
+fn a_step_file_opens_over_frames_with_progress_and_cancel() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let fixture = |name: &str| {
+        std::fs::read(format!(
+            "{}/tests/reference/occ/step/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+    };
+    let before = harness.state().document().scene.clone();
+
+    // Cancel: sent with the open, it stops it before any face is built.
+    page.send(AppCommand::Open {
+        name: "assembly.step".into(),
+        bytes: fixture("assembly.step"),
+    });
+    page.send(AppCommand::CancelOpen);
+    harness.run_steps(4);
+    assert_eq!(harness.state().document().scene, before, "cancelled");
+    assert_eq!(status::current().open_progress, None);
+
+    // The plate of filleted holes (24 faces), then Undo at once: the undo waits for the open,
+    // so it takes the open back.
+    page.send(AppCommand::Open {
+        name: "plate-3.step".into(),
+        bytes: fixture("plate-3.step"),
+    });
+    // Two frames: a window's first frame only sizes it.
+    harness.run_steps(2);
+    let progress = status::current().open_progress;
+    assert!(
+        progress.is_some_and(|p| (0.0..1.0).contains(&p)),
+        "progress while opening: {progress:?}"
+    );
+    assert!(
+        harness.get_all_by_label("Cancel").next().is_some(),
+        "the progress window offers Cancel"
+    );
+    page.send(AppCommand::Undo);
+    let mut frames = 2;
+    while status::current().open_progress.is_some() && frames < 2000 {
+        harness.run_steps(1);
+        frames += 1;
+    }
+    harness.run_steps(2);
+    assert_eq!(
+        harness.state().document().scene,
+        before,
+        "the undo came after the open"
+    );
+    page.send(AppCommand::Redo);
+    harness.run_steps(2);
+    let scene = &harness.state().document().scene;
+    assert_eq!(scene.objects.len(), 1, "the plate");
+    assert_eq!(scene.unit, Some(knotwork::scene::LengthUnit::Millimetre));
+    eprintln!("the plate opened over {frames} frames");
+
+    // The assembly's two parts keep their colours.
+    page.send(AppCommand::Open {
+        name: "assembly.step".into(),
+        bytes: fixture("assembly.step"),
+    });
+    for _ in 0..200 {
+        harness.run_steps(1);
+        if status::current().open_progress.is_none()
+            && harness.state().document().scene.objects.len() == 2
+        {
+            break;
+        }
+    }
+    let scene = &harness.state().document().scene;
+    assert_eq!(scene.objects.len(), 2, "both parts");
+    assert!(
+        scene.objects.iter().all(|o| o.color.is_some()),
+        "their colours"
+    );
+}

@@ -376,3 +376,109 @@ fn a_step_model_is_in_millimetres_with_its_colours_and_exports_to_gltf_in_metres
         .fold(DVec3::INFINITY, |a, p| a.min(p));
     assert!(low.distance(DVec3::new(0.0, 25.4, 0.0)) < 1e-9, "{low}");
 }
+
+#[test]
+fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_steps() {
+    let bytes = fixture("plate-3.step");
+    let whole = step::read_project(&bytes, &mut |_, _| true).unwrap();
+    let mut job = step::OpenJob::new(&bytes).unwrap();
+    let mut seen = vec![job.progress()];
+    let mut steps = 0;
+    while !job.step().unwrap() {
+        steps += 1;
+        seen.push(job.progress());
+    }
+    assert!(steps >= 24, "a face a step: {steps} steps");
+    assert!(
+        seen.windows(2).all(|w| w[0] <= w[1]) && seen[0] == 0.0 && *seen.last().unwrap() <= 1.0,
+        "{seen:?}"
+    );
+    assert_eq!(job.finish().unwrap(), whole);
+    // Stopped half way, nothing comes out.
+    let mut job = step::OpenJob::new(&bytes).unwrap();
+    for _ in 0..steps / 2 {
+        job.step().unwrap();
+    }
+    assert!(job.finish().unwrap_err().to_string().contains("cancelled"));
+    // Not STEP at all: refused at once.
+    let e = step::OpenJob::new(b"solid cube\nendsolid").err().unwrap();
+    assert!(e.to_string().contains("not an ISO-10303-21 file"), "{e}");
+}
+
+/// The largest distance from the joined mesh's triangles (their centroids and edge midpoints,
+/// where a flat triangle strays farthest from a curved face) to the nearest of `faces`'
+/// surfaces: the tessellation's error, triangles and not only vertices. Each point is found on
+/// a surface by Newton's method from the (u, v) of its triangle's corners, and by a search of
+/// the whole surface where that ends farther than `tolerance`.
+fn farthest_triangle_point(
+    mesh: &TriangleMesh,
+    faces: &[knotwork::kernel::TrimmedSurface],
+    tolerance: f64,
+) -> f64 {
+    let margin = DVec3::splat(10.0 * tolerance);
+    let boxes: Vec<(DVec3, DVec3)> = faces
+        .iter()
+        .map(|f| {
+            let (lo, hi) = f.surface().bounds();
+            (lo - margin, hi + margin)
+        })
+        .collect();
+    let mut worst: f64 = 0.0;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+        for p in [
+            (a + b + c) / 3.0,
+            0.5 * (a + b),
+            0.5 * (b + c),
+            0.5 * (c + a),
+        ] {
+            let candidates: Vec<_> = faces
+                .iter()
+                .zip(&boxes)
+                .filter(|(_, (lo, hi))| p.cmpge(*lo).all() && p.cmple(*hi).all())
+                .map(|(f, _)| f.surface())
+                .collect();
+            let mut nearest = f64::INFINITY;
+            for s in &candidates {
+                let [(u0, u1), (v0, v1)] = s.domain();
+                for &k in t {
+                    let [x, y] = mesh.uvs[k as usize];
+                    let found = s.closest_point_from(p, u0 + x * (u1 - u0), v0 + y * (v1 - v0));
+                    nearest = nearest.min(found.distance);
+                }
+            }
+            if nearest > tolerance {
+                for s in &candidates {
+                    if let Ok(found) = s.closest_point(p) {
+                        nearest = nearest.min(found.distance);
+                    }
+                }
+            }
+            worst = worst.max(nearest);
+        }
+    }
+    worst
+}
+
+#[test]
+fn every_triangle_of_a_joined_mesh_lies_within_the_tolerance_of_its_faces() {
+    for (name, tolerance) in [
+        ("box-hole-fillets.step", 1e-2),
+        ("sphere-cut.step", 1e-2),
+        ("torus-minus-cylinder.step", 1e-2),
+    ] {
+        let model = read(name);
+        for body in &model.bodies {
+            let mesh = tessellate_joined(&body.faces, &body.topology, tolerance, false).unwrap();
+            let worst = farthest_triangle_point(&mesh, &body.faces, tolerance);
+            println!(
+                "{name}: {} triangles, farthest {worst:.3e} (tolerance {tolerance:e})",
+                mesh.triangles.len()
+            );
+            assert!(
+                worst <= tolerance,
+                "{name}: a triangle is {worst} from its faces (tolerance {tolerance})"
+            );
+        }
+    }
+}

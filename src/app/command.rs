@@ -56,6 +56,8 @@ pub enum AppCommand {
     },
     /// Stops the running export (its result is "cancelled").
     CancelExport,
+    /// Stops opening the STEP file being opened; the document stays as it was.
+    CancelOpen,
     /// Writes the document's visible objects with faces as a STEP file, as it is when the
     /// command's turn comes; the text goes to the status under `request`
     /// ([`crate::status::take_export`]).
@@ -234,6 +236,7 @@ impl KnotworkApp {
             AppCommand::OpenRecent(index) => self.open_recent(index),
             AppCommand::Export { request, options } => self.export_for_page(request, &options),
             AppCommand::CancelExport => self.cancel_export(),
+            AppCommand::CancelOpen => self.cancel_open(),
             AppCommand::ExportStep { request } => {
                 self.export_step(super::export::ExportTarget::Page(request))
             }

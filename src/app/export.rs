@@ -74,6 +74,45 @@ pub fn estimate_triangles(
 /// How long a frame spends on a running export before it draws again (milliseconds).
 const EXPORT_FRAME_BUDGET_MS: f64 = 30.0;
 
+/// A window at the top with a progress bar, what is under way and Cancel (a long export or
+/// open); true when Cancel was clicked.
+pub(super) fn progress_window(
+    ctx: &egui::Context,
+    title: &str,
+    progress: f64,
+    doing: &str,
+) -> bool {
+    let mut cancel = false;
+    egui::Window::new(title)
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_TOP, egui::vec2(0.0, 60.0))
+        .show(ctx, |ui| {
+            ui.add(
+                egui::ProgressBar::new(progress as f32)
+                    .show_percentage()
+                    .desired_width(260.0),
+            );
+            ui.label(doing);
+            cancel = ui.button("Cancel").clicked();
+        });
+    cancel
+}
+
+/// Runs `step` (true when the work is done) until it is done or fails, or `budget_ms` have
+/// passed: at least once, so that work always moves on, and then only while the frame has time.
+pub(super) fn steps_within<E>(
+    budget_ms: f64,
+    mut step: impl FnMut() -> Result<bool, E>,
+) -> Result<bool, E> {
+    let started = super::platform::now_ms();
+    let mut result = step();
+    while matches!(result, Ok(false)) && super::platform::now_ms() - started < budget_ms {
+        result = step();
+    }
+    result
+}
+
 /// Where a finished export goes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExportTarget {
@@ -348,34 +387,18 @@ impl KnotworkApp {
         let next = running.job.next_name().unwrap_or_default().to_owned();
         let progress = running.job.progress();
         self.status.export_progress = Some(progress);
-        let mut cancel = false;
-        egui::Window::new("Exporting glTF")
-            .collapsible(false)
-            .resizable(false)
-            .anchor(egui::Align2::CENTER_TOP, egui::vec2(0.0, 60.0))
-            .show(ctx, |ui| {
-                ui.add(
-                    egui::ProgressBar::new(progress as f32)
-                        .show_percentage()
-                        .desired_width(260.0),
-                );
-                ui.label(format!("tessellating {next}"));
-                cancel = ui.button("Cancel").clicked();
-            });
-        if cancel {
+        if progress_window(
+            ctx,
+            "Exporting glTF",
+            progress,
+            &format!("tessellating {next}"),
+        ) {
             self.cancel_export();
             return;
         }
         // Objects until a frame's budget is spent (at least one), so that small exports end
         // in a frame or two and large ones leave the page responsive between steps.
-        let started = super::platform::now_ms();
-        let mut step = running.job.step();
-        while matches!(step, Ok(false))
-            && super::platform::now_ms() - started < EXPORT_FRAME_BUDGET_MS
-        {
-            step = running.job.step();
-        }
-        match step {
+        match steps_within(EXPORT_FRAME_BUDGET_MS, || running.job.step()) {
             Ok(false) => ctx.request_repaint(),
             Ok(true) => {
                 if let Some(running) = self.running_export.take() {

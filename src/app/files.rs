@@ -55,6 +55,16 @@ fn no_companions(name: &str) -> Result<Vec<u8>, String> {
     ))
 }
 
+/// How long a frame spends opening a file before it draws again (milliseconds).
+const OPEN_FRAME_BUDGET_MS: f64 = 30.0;
+
+/// A STEP file being opened a body at a time, so that the editor draws its progress and
+/// stays responsive; commands sent meanwhile wait for it.
+pub struct RunningOpen {
+    name: String,
+    job: crate::io::step::OpenJob,
+}
+
 impl KnotworkApp {
     /// Opens a file's bytes in any format [`crate::io::open`] reads (a `.gltf` must have its
     /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
@@ -67,8 +77,69 @@ impl KnotworkApp {
             self.use_height_image(name, bytes);
             return;
         }
+        if crate::io::formats::format_of(name, bytes).reader == crate::io::formats::Reader::Step {
+            self.start_open(name, bytes);
+            return;
+        }
         let project = crate::io::open(name, bytes, &no_companions).map_err(|e| e.to_string());
         self.open_result(name, project);
+    }
+
+    /// Starts opening a STEP file a body at a time ([`RunningOpen`]); refused at once when
+    /// it is not valid STEP. A file being opened already is cancelled first.
+    fn start_open(&mut self, name: &str, bytes: &[u8]) {
+        self.cancel_open();
+        match crate::io::step::OpenJob::new(bytes) {
+            Ok(job) => {
+                self.running_open = Some(RunningOpen {
+                    name: name.to_owned(),
+                    job,
+                })
+            }
+            Err(e) => self.open_failed(name, &e.to_string()),
+        }
+    }
+
+    /// Stops opening the file being opened; the document stays as it was.
+    pub(super) fn cancel_open(&mut self) {
+        if let Some(running) = self.running_open.take() {
+            self.status.open_progress = None;
+            self.status.notice = Some(format!("stopped opening {}", running.name));
+        }
+    }
+
+    /// The file being opened: bodies for up to a frame's budget (at least one), with a
+    /// progress window and Cancel; the document when the last body is done.
+    pub(super) fn step_open(&mut self, ctx: &egui::Context) {
+        let Some(running) = &mut self.running_open else {
+            self.status.open_progress = None;
+            return;
+        };
+        let progress = running.job.progress();
+        self.status.open_progress = Some(progress);
+        let title = format!("Opening {}", running.name);
+        if super::export::progress_window(ctx, &title, progress, running.job.stage()) {
+            self.cancel_open();
+            return;
+        }
+        match super::export::steps_within(OPEN_FRAME_BUDGET_MS, || running.job.step()) {
+            Ok(false) => ctx.request_repaint(),
+            Ok(true) => {
+                if let Some(running) = self.running_open.take() {
+                    self.status.open_progress = None;
+                    let project = running.job.finish().map_err(|e| e.to_string());
+                    self.open_result(&running.name, project);
+                }
+                ctx.request_repaint();
+            }
+            Err(e) => {
+                if let Some(running) = self.running_open.take() {
+                    self.status.open_progress = None;
+                    self.open_failed(&running.name, &e.to_string());
+                }
+                ctx.request_repaint();
+            }
+        }
     }
 
     pub(super) fn open_failed(&mut self, name: &str, message: &str) {
@@ -372,6 +443,13 @@ impl KnotworkApp {
         if crate::io::height_image::is_height_image(&name) {
             match read_limited(path) {
                 Ok(bytes) => self.use_height_image(&name, &bytes),
+                Err(e) => self.open_failed(&name, &e),
+            }
+        } else if crate::io::formats::format_of(&name, &[]).reader
+            == crate::io::formats::Reader::Step
+        {
+            match read_limited(path) {
+                Ok(bytes) => self.open_file(&name, &bytes),
                 Err(e) => self.open_failed(&name, &e),
             }
         } else {

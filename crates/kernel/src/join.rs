@@ -669,6 +669,9 @@ enum Local {
     Interior(usize),
 }
 
+/// How many times a face's triangles farther than the tolerance from it are split.
+const REFINE_ROUNDS: usize = 6;
+
 struct FaceTriangulation {
     interior: Vec<(DVec2, ())>,
     triangles: Vec<[Local; 3]>,
@@ -756,7 +759,7 @@ fn triangulate_face(
     }
     let count = points.len();
     let mut crossed = false;
-    let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
         points.clone(),
         edges,
         |_| crossed = true,
@@ -768,6 +771,68 @@ fn triangulate_face(
              smaller tolerance"
                 .into(),
         ));
+    }
+    // Every triangle within the tolerance, not only its vertices: a triangle whose centroid or
+    // edge midpoint (in (u, v)) is farther than the tolerance from the flat triangle's point
+    // there gets a vertex at its centroid, a few rounds at most. The tolerance grid bounds the
+    // cells, but a triangle joining a boundary to a grid point a third of a cell inside can
+    // be wider than a cell.
+    let unscaled = |p: Point2<f64>| DVec2::new(p.x / scale.x, p.y / scale.y);
+    let mut corner_points: Vec<Option<DVec3>> = vec![None; points.len()];
+    for _ in 0..REFINE_ROUNDS {
+        let mut centroids = Vec::new();
+        for f in cdt.inner_faces() {
+            let ids = f.vertices().map(|v| v.fix().index());
+            let uv = f.vertices().map(|v| unscaled(v.position()));
+            let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
+            if (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) == 0.0 || !inside(centroid) {
+                continue;
+            }
+            let mut corners = [DVec3::ZERO; 3];
+            for k in 0..3 {
+                if corner_points.len() <= ids[k] {
+                    corner_points.resize(ids[k] + 1, None);
+                }
+                corners[k] = match corner_points[ids[k]] {
+                    Some(p) => p,
+                    None => {
+                        let p = surface.point_at_clamped(uv[k])?;
+                        corner_points[ids[k]] = Some(p);
+                        p
+                    }
+                };
+            }
+            let checks = [
+                (centroid, (corners[0] + corners[1] + corners[2]) / 3.0),
+                (0.5 * (uv[0] + uv[1]), 0.5 * (corners[0] + corners[1])),
+                (0.5 * (uv[1] + uv[2]), 0.5 * (corners[1] + corners[2])),
+                (0.5 * (uv[2] + uv[0]), 0.5 * (corners[2] + corners[0])),
+            ];
+            for (at, flat) in checks {
+                if surface.point_at_clamped(at)?.distance(flat) > tolerance {
+                    centroids.push(centroid);
+                    break;
+                }
+            }
+        }
+        if centroids.is_empty() {
+            break;
+        }
+        for c in centroids {
+            let handle = cdt
+                .insert(Point2::new(c.x * scale.x, c.y * scale.y))
+                .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
+            if handle.index() == labels.len() {
+                points.push(Point2::new(c.x * scale.x, c.y * scale.y));
+                labels.push(Local::Interior(interior.len()));
+                interior.push((c, ()));
+            }
+        }
+        if labels.len() > MAX_TRIANGLES {
+            return Err(failed(format!(
+                "more than {MAX_TRIANGLES} triangles: choose a larger tolerance"
+            )));
+        }
     }
     let mut triangles = Vec::new();
     for f in cdt.inner_faces() {

@@ -46,51 +46,209 @@ fn object_name(name: &str) -> String {
     }
 }
 
-/// A STEP model's bodies as scene objects: one polysurface per body (a body of more than
-/// [`MAX_FACES`] faces in parts of that many), named after its product.
-pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
-    let mut scene = Scene {
-        unit: Some(LengthUnit::Millimetre),
-        ..Scene::default()
-    };
-    let tolerance = join_tolerance(model);
-    for body in &model.bodies {
-        let name = object_name(&body.name);
-        if body.faces.len() <= MAX_FACES {
-            let p =
-                Polysurface::with_topology(body.faces.clone(), tolerance, body.topology.clone())
-                    .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
-            let mut object = SceneObject::new(name, ObjectGeometry::new(p));
+/// Body `body` of a model as scene objects, pushed onto `scene`: one polysurface (a body of
+/// more than [`MAX_FACES`] faces in parts of that many), named after its product, in its
+/// colour.
+fn push_body(scene: &mut Scene, body: &read::StepBody, tolerance: f64) -> Result<(), FormatError> {
+    let name = object_name(&body.name);
+    if body.faces.len() <= MAX_FACES {
+        let p = Polysurface::with_topology(body.faces.clone(), tolerance, body.topology.clone())
+            .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
+        let mut object = SceneObject::new(name, ObjectGeometry::new(p));
+        object.color = body.color;
+        scene.objects.push(object);
+    } else {
+        for (k, chunk) in body.faces.chunks(MAX_FACES).enumerate() {
+            let p = Polysurface::new(chunk.to_vec(), tolerance)
+                .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
+            let mut object = SceneObject::new(
+                object_name(&format!("{name} part {}", k + 1)),
+                ObjectGeometry::new(p),
+            );
             object.color = body.color;
             scene.objects.push(object);
-        } else {
-            for (k, chunk) in body.faces.chunks(MAX_FACES).enumerate() {
-                let p = Polysurface::new(chunk.to_vec(), tolerance)
-                    .map_err(|e| FormatError::new(name.clone(), e.to_string()))?;
-                let mut object = SceneObject::new(
-                    object_name(&format!("{name} part {}", k + 1)),
-                    ObjectGeometry::new(p),
-                );
-                object.color = body.color;
-                scene.objects.push(object);
-            }
         }
     }
-    if scene.objects.is_empty() {
-        let why = model
-            .warnings
-            .first()
-            .map(|w| format!(" ({w})"))
-            .unwrap_or_default();
-        return Err(FormatError::new(
-            "",
-            format!("the STEP file has no faces knotwork could build{why}"),
-        ));
+    Ok(())
+}
+
+/// A STEP model's bodies as scene objects ([`push_body`] each), in millimetres.
+pub fn to_scene(model: &StepModel) -> Result<Scene, FormatError> {
+    let mut scene = empty_scene();
+    let tolerance = join_tolerance(model);
+    for body in &model.bodies {
+        push_body(&mut scene, body, tolerance)?;
     }
+    some_faces(model, &scene)?;
     Ok(scene)
 }
 
-/// Reads a STEP file as a project (lengths in millimetres).
+/// Refuses a scene with no objects, with the model's first warning.
+fn some_faces(model: &StepModel, scene: &Scene) -> Result<(), FormatError> {
+    if !scene.objects.is_empty() {
+        return Ok(());
+    }
+    let why = model
+        .warnings
+        .first()
+        .map(|w| format!(" ({w})"))
+        .unwrap_or_default();
+    Err(FormatError::new(
+        "",
+        format!("the STEP file has no faces knotwork could build{why}"),
+    ))
+}
+
+fn empty_scene() -> Scene {
+    Scene {
+        unit: Some(LengthUnit::Millimetre),
+        ..Scene::default()
+    }
+}
+
+/// Where an [`OpenJob`] is.
+enum Phase {
+    /// Building the placed bodies' faces.
+    Reading(Box<read::ReadJob>),
+    /// Joining each body's faces into a polysurface.
+    Joining {
+        model: StepModel,
+        scene: Scene,
+        next: usize,
+    },
+    /// Between the two, for a moment.
+    Empty,
+}
+
+/// A STEP file opened a step at a time, so that the editor can show a progress bar, stay
+/// responsive and cancel: parsed at once ([`Self::new`]), then one placed body built, then
+/// one body joined into a polysurface, per [`Self::step`].
+pub struct OpenJob {
+    phase: Phase,
+}
+
+impl OpenJob {
+    /// Parses `bytes` and reads the file's units, assembly and colours.
+    pub fn new(bytes: &[u8]) -> Result<Self, FormatError> {
+        Ok(Self {
+            phase: Phase::Reading(Box::new(read::ReadJob::new(bytes, &mut |_| true)?)),
+        })
+    }
+
+    /// What is under way, for the progress bar.
+    pub fn stage(&self) -> &'static str {
+        match self.phase {
+            Phase::Reading(_) => "building faces",
+            Phase::Joining { .. } | Phase::Empty => "joining faces along shared edges",
+        }
+    }
+
+    /// The share done, 0 to 1: building counts for four fifths, joining for the rest.
+    pub fn progress(&self) -> f64 {
+        match &self.phase {
+            Phase::Reading(job) => 0.8 * job.progress(),
+            Phase::Joining { model, next, .. } => {
+                0.8 + 0.2 * *next as f64 / model.bodies.len().max(1) as f64
+            }
+            Phase::Empty => 0.8,
+        }
+    }
+
+    /// One body built or joined; true when every one is done.
+    pub fn step(&mut self) -> Result<bool, FormatError> {
+        match &mut self.phase {
+            Phase::Reading(job) => {
+                if !job.step()? {
+                    return Ok(false);
+                }
+                let Phase::Reading(job) = std::mem::replace(&mut self.phase, Phase::Empty) else {
+                    return Ok(false);
+                };
+                let model = job.finish();
+                for w in &model.warnings {
+                    log::warn!("STEP: {w}");
+                }
+                let done = model.bodies.is_empty();
+                self.phase = Phase::Joining {
+                    model,
+                    scene: empty_scene(),
+                    next: 0,
+                };
+                Ok(done)
+            }
+            Phase::Empty => Ok(false),
+            Phase::Joining { model, scene, next } => {
+                if let Some(body) = model.bodies.get(*next) {
+                    push_body(scene, body, join_tolerance(model))?;
+                    *next += 1;
+                }
+                Ok(*next >= model.bodies.len())
+            }
+        }
+    }
+
+    /// The document: every body's objects, in millimetres; refused when no face could be
+    /// built (with the first warning) or the job was not run to the end.
+    pub fn finish(self) -> Result<Project, FormatError> {
+        let Phase::Joining { model, scene, next } = self.phase else {
+            return Err(FormatError::new("", "cancelled"));
+        };
+        if next < model.bodies.len() {
+            return Err(FormatError::new("", "cancelled"));
+        }
+        some_faces(&model, &scene)?;
+        Ok(Project { scene, view: None })
+    }
+}
+
+/// How long opening a file as the editor does took ([`timed_open`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct OpenTiming {
+    /// Parsing, with units, assembly and colours ([`OpenJob::new`]), in milliseconds.
+    pub parse_ms: f64,
+    /// Every step after it.
+    pub steps_ms: f64,
+    /// The longest single step: how long the editor's frame can be held up.
+    pub longest_step_ms: f64,
+    pub steps: usize,
+    pub faces: usize,
+}
+
+/// Opens `bytes` through an [`OpenJob`] to the end, timed by `now_ms` (the benchmark's and
+/// the page's clock), for the figures of `knotwork bench --only step` and the page's
+/// `benchStep`.
+pub fn timed_open(bytes: &[u8], now_ms: &dyn Fn() -> f64) -> Result<OpenTiming, FormatError> {
+    let started = now_ms();
+    let mut job = OpenJob::new(bytes)?;
+    let parsed = now_ms();
+    let (mut steps, mut longest) = (0, 0.0f64);
+    loop {
+        let before = now_ms();
+        let done = job.step()?;
+        longest = longest.max(now_ms() - before);
+        steps += 1;
+        if done {
+            break;
+        }
+    }
+    let project = job.finish()?;
+    let faces = project
+        .scene
+        .objects
+        .iter()
+        .map(|o| o.kind().faces().len())
+        .sum();
+    Ok(OpenTiming {
+        parse_ms: parsed - started,
+        steps_ms: now_ms() - parsed,
+        longest_step_ms: longest,
+        steps,
+        faces,
+    })
+}
+
+/// Reads a STEP file as a project (lengths in millimetres); `progress(stage, fraction)` now
+/// and then, and where it returns false, reading stops with "cancelled".
 pub fn read_project(
     bytes: &[u8],
     progress: &mut dyn FnMut(Stage, f64) -> bool,

@@ -558,110 +558,191 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
     out
 }
 
+/// A STEP file being read: parsed, with its units, assembly and colours worked out at once
+/// ([`Self::new`]), then one placed body built per [`Self::step`], so that the editor can show
+/// the progress, stay responsive between steps and cancel.
+pub struct ReadJob {
+    x: Exchange,
+    schema: String,
+    millimetres_per_unit: f64,
+    unit_name: String,
+    tolerance: f64,
+    colour_of: HashMap<u64, [f32; 3]>,
+    places: Vec<Placement>,
+    /// How many of `places` are done.
+    done: usize,
+    /// The body of the next place, while its faces are built.
+    building: Option<BodyBuild>,
+    warnings: Vec<String>,
+    bodies: Vec<StepBody>,
+    edges: HashMap<u64, Rc<EdgeGeometry>>,
+    built: HashMap<u64, Rc<BuiltBody>>,
+    name_count: HashMap<String, usize>,
+}
+
+impl ReadJob {
+    /// Parses `bytes` (`progress(fraction)` now and then; where it returns false, parsing
+    /// stops with "cancelled") and reads the file's units, assembly and colours.
+    pub fn new(bytes: &[u8], progress: &mut dyn FnMut(f64) -> bool) -> Result<Self, FormatError> {
+        let x = super::part21::parse(bytes, progress).map_err(|e| {
+            if e.message.starts_with("not an ISO-10303-21 file") || e.message == "cancelled" {
+                FormatError::new("", e.message)
+            } else {
+                FormatError::new("", format!("not a valid STEP file: {e}"))
+            }
+        })?;
+        let schema = x.schemas().join(", ");
+        let (millimetres_per_unit, unit_name) = file_unit(&x);
+        let e = Entities {
+            x: &x,
+            scale: millimetres_per_unit,
+        };
+        // The model's size, from its points, sets the trim tolerance.
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for (id, instance) in &x.instances {
+            if instance.is("CARTESIAN_POINT")
+                && let Ok(p) = e.point(*id)
+            {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        let diagonal = if lo.x.is_finite() {
+            lo.distance(hi)
+        } else {
+            1.0
+        };
+        let tolerance = (diagonal * 1e-6).max(1e-9);
+        let a = assembly(&e)?;
+        let colour_of = colours(&x);
+        let places = placements(&x, &a);
+        Ok(Self {
+            x,
+            schema,
+            millimetres_per_unit,
+            unit_name,
+            tolerance,
+            colour_of,
+            places,
+            done: 0,
+            building: None,
+            warnings: Vec::new(),
+            bodies: Vec::new(),
+            edges: HashMap::new(),
+            built: HashMap::new(),
+            name_count: HashMap::new(),
+        })
+    }
+
+    /// The share of the placed bodies built so far, 0 to 1 (the body under way by its faces).
+    pub fn progress(&self) -> f64 {
+        let part = self
+            .building
+            .as_ref()
+            .map_or(0.0, |b| b.next as f64 / b.to_build.len().max(1) as f64);
+        (self.done as f64 + part) / self.places.len().max(1) as f64
+    }
+
+    /// Builds one face of the next placed body, or places the body once its faces are built
+    /// (once per item however often it is placed); true when every body is done.
+    pub fn step(&mut self) -> Result<bool, FormatError> {
+        let Some(place) = self.places.get(self.done) else {
+            return Ok(true);
+        };
+        let x = &self.x;
+        let e = Entities {
+            x,
+            scale: self.millimetres_per_unit,
+        };
+        let body = match self.built.get(&place.item) {
+            Some(b) => b.clone(),
+            None => {
+                let building = match &mut self.building {
+                    Some(b) => b,
+                    None => self.building.insert(start_body(&e, place.item)?),
+                };
+                if !building.done() {
+                    building.build_next(
+                        &e,
+                        &mut self.edges,
+                        self.tolerance,
+                        &mut self.warnings,
+                        &self.colour_of,
+                    )?;
+                    return Ok(false);
+                }
+                let Some(building) = self.building.take() else {
+                    return Ok(false);
+                };
+                let b = Rc::new(building.finish(&self.colour_of, self.tolerance));
+                self.built.insert(place.item, b.clone());
+                b
+            }
+        };
+        self.done += 1;
+        if !body.faces.is_empty() {
+            let mut faces = Vec::with_capacity(body.faces.len());
+            for f in &body.faces {
+                if place.transform == DAffine3::IDENTITY {
+                    faces.push(f.clone());
+                } else {
+                    let s = f
+                        .surface()
+                        .transformed(&place.transform)
+                        .map_err(|err| bad(x, place.item, err))?;
+                    faces.push(f.with_surface(s).map_err(|err| bad(x, place.item, err))?);
+                }
+            }
+            let base = place
+                .name
+                .clone()
+                .or_else(|| body.name.clone())
+                .unwrap_or_else(|| "Body".to_string());
+            let n = self.name_count.entry(base.clone()).or_insert(0);
+            *n += 1;
+            let name = if *n == 1 { base } else { format!("{base} {n}") };
+            self.bodies.push(StepBody {
+                name,
+                color: body.color,
+                faces,
+                surface_types: body.surface_types.clone(),
+                topology: body.topology.clone(),
+                closed: body.closed,
+            });
+        }
+        Ok(self.done == self.places.len())
+    }
+
+    /// The model read ([`Self::step`] run to the end; bodies not yet built are missing).
+    pub fn finish(self) -> StepModel {
+        StepModel {
+            bodies: self.bodies,
+            millimetres_per_unit: self.millimetres_per_unit,
+            unit_name: self.unit_name,
+            schema: self.schema,
+            warnings: self.warnings,
+            tolerance: self.tolerance,
+        }
+    }
+}
+
 /// Reads a STEP file. `progress(stage, fraction)` is called now and then; where it returns
 /// false, reading stops with "cancelled".
 pub fn read(
     bytes: &[u8],
     progress: &mut dyn FnMut(Stage, f64) -> bool,
 ) -> Result<StepModel, FormatError> {
-    let x = super::part21::parse(bytes, &mut |f| progress(Stage::Parsing, f)).map_err(|e| {
-        if e.message.starts_with("not an ISO-10303-21 file") {
-            FormatError::new("", e.message)
-        } else {
-            FormatError::new("", format!("not a valid STEP file: {e}"))
-        }
-    })?;
-    let schema = x.schemas().join(", ");
-    let (millimetres_per_unit, unit_name) = file_unit(&x);
-    let e = Entities {
-        x: &x,
-        scale: millimetres_per_unit,
-    };
-    // The model's size, from its points, sets the trim tolerance.
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for (id, instance) in &x.instances {
-        if instance.is("CARTESIAN_POINT")
-            && let Ok(p) = e.point(*id)
-        {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    let diagonal = if lo.x.is_finite() {
-        lo.distance(hi)
-    } else {
-        1.0
-    };
-    let tolerance = (diagonal * 1e-6).max(1e-9);
-    let a = assembly(&e)?;
-    let colour_of = colours(&x);
-    let places = placements(&x, &a);
-    let mut warnings = Vec::new();
-    let mut bodies: Vec<StepBody> = Vec::new();
-    let mut edges: HashMap<u64, Rc<EdgeGeometry>> = HashMap::new();
-    let mut built: HashMap<u64, Rc<BuiltBody>> = HashMap::new();
-    let total = places.len().max(1);
-    let mut name_count: HashMap<String, usize> = HashMap::new();
-    for (k, place) in places.iter().enumerate() {
-        if !progress(Stage::BuildingFaces, k as f64 / total as f64) {
+    let mut job = ReadJob::new(bytes, &mut |f| progress(Stage::Parsing, f))?;
+    loop {
+        if !progress(Stage::BuildingFaces, job.progress()) {
             return Err(FormatError::new("", "cancelled"));
         }
-        let body = match built.get(&place.item) {
-            Some(b) => b.clone(),
-            None => {
-                let b = Rc::new(build_body(
-                    &e,
-                    place.item,
-                    &mut edges,
-                    tolerance,
-                    &mut warnings,
-                    &colour_of,
-                )?);
-                built.insert(place.item, b.clone());
-                b
-            }
-        };
-        if body.faces.is_empty() {
-            continue;
+        if job.step()? {
+            break;
         }
-        let mut faces = Vec::with_capacity(body.faces.len());
-        for f in &body.faces {
-            if place.transform == DAffine3::IDENTITY {
-                faces.push(f.clone());
-            } else {
-                let s = f
-                    .surface()
-                    .transformed(&place.transform)
-                    .map_err(|err| bad(&x, place.item, err))?;
-                faces.push(f.with_surface(s).map_err(|err| bad(&x, place.item, err))?);
-            }
-        }
-        let base = place
-            .name
-            .clone()
-            .or_else(|| body.name.clone())
-            .unwrap_or_else(|| "Body".to_string());
-        let n = name_count.entry(base.clone()).or_insert(0);
-        *n += 1;
-        let name = if *n == 1 { base } else { format!("{base} {n}") };
-        bodies.push(StepBody {
-            name,
-            color: body.color,
-            faces,
-            surface_types: body.surface_types.clone(),
-            topology: body.topology.clone(),
-            closed: body.closed,
-        });
     }
     progress(Stage::BuildingFaces, 1.0);
-    Ok(StepModel {
-        bodies,
-        millimetres_per_unit,
-        unit_name,
-        schema,
-        warnings,
-        tolerance,
-    })
+    Ok(job.finish())
 }
 
 struct BuiltBody {
@@ -675,14 +756,7 @@ struct BuiltBody {
 
 /// The faces of a shell-holding item (`MANIFOLD_SOLID_BREP`, `BREP_WITH_VOIDS`,
 /// `SHELL_BASED_SURFACE_MODEL`, or a shell).
-fn build_body(
-    e: &Entities,
-    item: u64,
-    edges: &mut HashMap<u64, Rc<EdgeGeometry>>,
-    tolerance: f64,
-    warnings: &mut Vec<String>,
-    colour_of: &HashMap<u64, [f32; 3]>,
-) -> Result<BuiltBody, FormatError> {
+fn start_body(e: &Entities, item: u64) -> Result<BodyBuild, FormatError> {
     let x = e.x;
     let instance = e.instance(item)?;
     let mut shells: Vec<u64> = Vec::new();
@@ -714,11 +788,8 @@ fn build_body(
     } else {
         shells.push(item);
     }
-    let mut faces = Vec::new();
-    let mut surface_types = Vec::new();
-    let mut origins: Vec<Vec<Vec<CurveOrigin>>> = Vec::new();
     let mut closed = true;
-    let mut face_colours: HashMap<[u32; 3], usize> = HashMap::new();
+    let mut to_build = Vec::new();
     for shell in shells {
         let si = e.instance(shell)?;
         let r = si
@@ -729,114 +800,168 @@ fn build_body(
         closed &= r.name != "OPEN_SHELL";
         let r = e.record(shell, &r.name, 2)?;
         for face_id in e.references(shell, r, 1)? {
-            let (face_id, flip) = match e.instance(face_id)?.part("ORIENTED_FACE") {
+            to_build.push(match e.instance(face_id)?.part("ORIENTED_FACE") {
                 Some(of) => {
                     let of = e.record(face_id, &of.name, 4)?;
                     (e.reference(face_id, of, 2)?, !e.boolean(face_id, of, 3)?)
                 }
                 None => (face_id, false),
-            };
-            let fi = e.instance(face_id)?;
-            let fr = fi
-                .part("ADVANCED_FACE")
-                .or_else(|| fi.part("FACE_SURFACE"))
-                .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
-            let fr = e.record(face_id, &fr.name, 4)?;
-            let bound_ids = e.references(face_id, fr, 1)?;
-            let surface_id = e.reference(face_id, fr, 2)?;
-            let same_sense = e.boolean(face_id, fr, 3)? != flip;
-            let mut bounds = Vec::new();
-            for b in bound_ids {
-                let bi = e.instance(b)?;
-                let br = bi
-                    .part("FACE_OUTER_BOUND")
-                    .or_else(|| bi.part("FACE_BOUND"))
-                    .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
-                let br = e.record(b, &br.name, 3)?;
-                let loop_id = e.reference(b, br, 1)?;
-                let orientation = e.boolean(b, br, 2)?;
-                let li = e.instance(loop_id)?;
-                if li.is("VERTEX_LOOP") {
-                    continue;
-                }
-                let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
-                let mut loop_edges = Vec::new();
-                for oe in e.references(loop_id, lr, 1)? {
-                    let or = e.record(oe, "ORIENTED_EDGE", 5)?;
-                    let edge_id = e.reference(oe, or, 3)?;
-                    let forward = e.boolean(oe, or, 4)?;
-                    let geometry = match edges.get(&edge_id) {
-                        Some(g) => g.clone(),
-                        None => {
-                            let er = e.record(edge_id, "EDGE_CURVE", 5)?;
-                            let vertex = |k: usize| -> Result<DVec3, FormatError> {
-                                let v = e.reference(edge_id, er, k)?;
-                                let vr = e.record(v, "VERTEX_POINT", 2)?;
-                                e.point(e.reference(v, vr, 1)?)
-                            };
-                            let (start, end) = (vertex(1)?, vertex(2)?);
-                            let curve = e.curve(e.reference(edge_id, er, 3)?)?;
-                            let same = e.boolean(edge_id, er, 4)?;
-                            let g = Rc::new(EdgeGeometry::new(curve, start, end, same, tolerance));
-                            edges.insert(edge_id, g.clone());
-                            g
-                        }
-                    };
-                    loop_edges.push(LoopEdge {
-                        id: edge_id,
-                        forward,
-                        geometry,
-                    });
-                }
-                if !loop_edges.is_empty() {
-                    bounds.push(Bound {
-                        edges: loop_edges,
-                        orientation,
-                    });
-                }
-            }
-            let surface = match e.surface(surface_id) {
-                Ok(s) => s,
-                Err(err) if err.message.contains("not read") => {
-                    warnings.push(format!(
-                        "#{face_id} = ADVANCED_FACE skipped: {}",
-                        err.message
-                    ));
-                    continue;
-                }
-                Err(err) => return Err(err),
-            };
-            match build_face(&surface, &bounds, same_sense, tolerance) {
-                Ok(b) => {
-                    faces.push(b.face);
-                    surface_types.push(surface.type_name());
-                    origins.push(b.origins);
-                    if let Some(c) = colour_of.get(&face_id) {
-                        *face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
-                    }
-                }
-                Err(why) => warnings.push(format!(
-                    "#{face_id} = ADVANCED_FACE ({}) skipped: {why}",
-                    surface.type_name()
-                )),
-            }
+            });
         }
     }
-    let color = colour_of.get(&item).copied().or_else(|| {
-        face_colours
-            .iter()
-            .max_by_key(|&(_, n)| *n)
-            .map(|(c, _)| c.map(f32::from_bits))
-    });
-    let topology = file_topology(&faces, &origins, tolerance);
-    Ok(BuiltBody {
+    Ok(BodyBuild {
+        item,
         name: name.filter(|n| !n.is_empty()),
-        color,
-        faces,
-        surface_types,
-        topology,
         closed,
+        to_build,
+        next: 0,
+        faces: Vec::new(),
+        surface_types: Vec::new(),
+        origins: Vec::new(),
+        face_colours: HashMap::new(),
     })
+}
+
+/// A body being built a face at a time ([`start_body`], [`BodyBuild::build_next`]).
+struct BodyBuild {
+    item: u64,
+    name: Option<String>,
+    closed: bool,
+    /// The faces, each with whether an `ORIENTED_FACE` turns it over.
+    to_build: Vec<(u64, bool)>,
+    /// How many of `to_build` are done.
+    next: usize,
+    faces: Vec<TrimmedSurface>,
+    surface_types: Vec<&'static str>,
+    origins: Vec<Vec<Vec<CurveOrigin>>>,
+    face_colours: HashMap<[u32; 3], usize>,
+}
+
+impl BodyBuild {
+    fn done(&self) -> bool {
+        self.next >= self.to_build.len()
+    }
+
+    /// Builds the next face (a face that cannot be built is a warning, not an error).
+    fn build_next(
+        &mut self,
+        e: &Entities,
+        edges: &mut HashMap<u64, Rc<EdgeGeometry>>,
+        tolerance: f64,
+        warnings: &mut Vec<String>,
+        colour_of: &HashMap<u64, [f32; 3]>,
+    ) -> Result<(), FormatError> {
+        let x = e.x;
+        let Some(&(face_id, flip)) = self.to_build.get(self.next) else {
+            return Ok(());
+        };
+        self.next += 1;
+        let fi = e.instance(face_id)?;
+        let fr = fi
+            .part("ADVANCED_FACE")
+            .or_else(|| fi.part("FACE_SURFACE"))
+            .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
+        let fr = e.record(face_id, &fr.name, 4)?;
+        let bound_ids = e.references(face_id, fr, 1)?;
+        let surface_id = e.reference(face_id, fr, 2)?;
+        let same_sense = e.boolean(face_id, fr, 3)? != flip;
+        let mut bounds = Vec::new();
+        for b in bound_ids {
+            let bi = e.instance(b)?;
+            let br = bi
+                .part("FACE_OUTER_BOUND")
+                .or_else(|| bi.part("FACE_BOUND"))
+                .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
+            let br = e.record(b, &br.name, 3)?;
+            let loop_id = e.reference(b, br, 1)?;
+            let orientation = e.boolean(b, br, 2)?;
+            let li = e.instance(loop_id)?;
+            if li.is("VERTEX_LOOP") {
+                return Ok(());
+            }
+            let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
+            let mut loop_edges = Vec::new();
+            for oe in e.references(loop_id, lr, 1)? {
+                let or = e.record(oe, "ORIENTED_EDGE", 5)?;
+                let edge_id = e.reference(oe, or, 3)?;
+                let forward = e.boolean(oe, or, 4)?;
+                let geometry = match edges.get(&edge_id) {
+                    Some(g) => g.clone(),
+                    None => {
+                        let er = e.record(edge_id, "EDGE_CURVE", 5)?;
+                        let vertex = |k: usize| -> Result<DVec3, FormatError> {
+                            let v = e.reference(edge_id, er, k)?;
+                            let vr = e.record(v, "VERTEX_POINT", 2)?;
+                            e.point(e.reference(v, vr, 1)?)
+                        };
+                        let (start, end) = (vertex(1)?, vertex(2)?);
+                        let curve = e.curve(e.reference(edge_id, er, 3)?)?;
+                        let same = e.boolean(edge_id, er, 4)?;
+                        let g = Rc::new(EdgeGeometry::new(curve, start, end, same, tolerance));
+                        edges.insert(edge_id, g.clone());
+                        g
+                    }
+                };
+                loop_edges.push(LoopEdge {
+                    id: edge_id,
+                    forward,
+                    geometry,
+                });
+            }
+            if !loop_edges.is_empty() {
+                bounds.push(Bound {
+                    edges: loop_edges,
+                    orientation,
+                });
+            }
+        }
+        let surface = match e.surface(surface_id) {
+            Ok(s) => s,
+            Err(err) if err.message.contains("not read") => {
+                warnings.push(format!(
+                    "#{face_id} = ADVANCED_FACE skipped: {}",
+                    err.message
+                ));
+                return Ok(());
+            }
+            Err(err) => return Err(err),
+        };
+        match build_face(&surface, &bounds, same_sense, tolerance) {
+            Ok(b) => {
+                self.faces.push(b.face);
+                self.surface_types.push(surface.type_name());
+                self.origins.push(b.origins);
+                if let Some(c) = colour_of.get(&face_id) {
+                    *self.face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
+                }
+            }
+            Err(why) => warnings.push(format!(
+                "#{face_id} = ADVANCED_FACE ({}) skipped: {why}",
+                surface.type_name()
+            )),
+        }
+        Ok(())
+    }
+
+    /// The body: its faces, its colour (the item's, else its faces' most common) and the
+    /// file's topology of its faces.
+    fn finish(self, colour_of: &HashMap<u64, [f32; 3]>, tolerance: f64) -> BuiltBody {
+        let color = colour_of.get(&self.item).copied().or_else(|| {
+            self.face_colours
+                .iter()
+                .max_by_key(|&(_, n)| *n)
+                .map(|(c, _)| c.map(f32::from_bits))
+        });
+        let topology = file_topology(&self.faces, &self.origins, tolerance);
+        BuiltBody {
+            name: self.name,
+            color,
+            faces: self.faces,
+            surface_types: self.surface_types,
+            topology,
+            closed: self.closed,
+        }
+    }
 }
 
 /// The shared, naked and degenerate edges from which loop curves lie on which of the file's
