@@ -179,17 +179,6 @@ impl KnotworkApp {
             {
                 self.export.show = true;
             }
-            if ui
-                .button("Export STEP…")
-                .on_hover_text(
-                    "the visible surfaces as exact B-spline faces, for CAD systems (AP214)",
-                )
-                .clicked()
-            {
-                self.export_step_to_file();
-            }
-        });
-        ui.horizontal(|ui| {
             let unit = self.doc.scene.unit;
             let name = |u: Option<LengthUnit>| u.map_or("unitless", LengthUnit::symbol);
             let mut chosen = unit;
@@ -207,6 +196,17 @@ impl KnotworkApp {
             if chosen != unit {
                 self.apply(AppCommand::Edit(Command::SetUnit { unit: chosen }));
             }
+            if ui
+                .button("Export STEP…")
+                .on_hover_text(
+                    "the visible surfaces as exact B-spline faces, for CAD systems (AP214)",
+                )
+                .clicked()
+            {
+                self.export_step_to_file();
+            }
+        });
+        ui.horizontal(|ui| {
             let undo = self.doc.history.undo_label().map(str::to_owned);
             let redo = self.doc.history.redo_label().map(str::to_owned);
             if ui
@@ -256,7 +256,7 @@ impl KnotworkApp {
         ];
         let current = self.scene().objects[s].color;
         let mut chosen = None;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("Colour");
             let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
             for rgb in SWATCHES {
