@@ -1250,11 +1250,11 @@ fn a_step_file_opens_over_frames_with_progress_and_cancel() {
     assert_eq!(harness.state().document().scene, before, "cancelled");
     assert_eq!(status::current().open_progress, None);
 
-    // The plate of filleted holes (24 faces), then Undo at once: the undo waits for the open,
-    // so it takes the open back.
+    // The plate of 20 × 20 filleted holes (806 faces: far more than two frames' 30 ms of
+    // work), then Undo at once: the undo waits for the open, so it takes the open back.
     page.send(AppCommand::Open {
-        name: "plate-3.step".into(),
-        bytes: fixture("plate-3.step"),
+        name: "plate-20.step".into(),
+        bytes: fixture("plate-20.step"),
     });
     // Two frames: a window's first frame only sizes it.
     harness.run_steps(2);
@@ -1269,7 +1269,7 @@ fn a_step_file_opens_over_frames_with_progress_and_cancel() {
     );
     page.send(AppCommand::Undo);
     let mut frames = 2;
-    while status::current().open_progress.is_some() && frames < 2000 {
+    while status::current().open_progress.is_some() && frames < 20_000 {
         harness.run_steps(1);
         frames += 1;
     }
