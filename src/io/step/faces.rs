@@ -137,6 +137,9 @@ enum Range {
     Linear { lo: f64, hi: f64 },
     /// The parameter as it is (B-splines, the meridian of a revolution) over [lo, hi].
     Raw { lo: f64, hi: f64 },
+    /// A closed B-spline direction [lo, hi] (its two ends meet: the surface's own seam), read
+    /// as an angle: x ∈ [0, 2π] ↦ lo + (hi − lo)·x / 2π.
+    Closed { lo: f64, hi: f64 },
 }
 
 /// The rational arc's parameter (on [0, 1]) of the angle `x` ∈ [0, span] along it: the arc is
@@ -161,18 +164,25 @@ impl Range {
             Range::Arc { lo, span } => arc_parameter(x - lo, span),
             Range::Linear { lo, hi } => ((x - lo) / (hi - lo)).clamp(0.0, 1.0),
             Range::Raw { lo, hi } => x.clamp(lo, hi),
+            Range::Closed { lo, hi } => lo + (hi - lo) * (x / TAU).clamp(0.0, 1.0),
         }
     }
 
     fn bounds(&self) -> (f64, f64) {
         match *self {
-            Range::Raw { lo, hi } => (lo, hi),
+            Range::Raw { lo, hi } | Range::Closed { lo, hi } => (lo, hi),
             _ => (0.0, 1.0),
         }
     }
 
     fn full(&self) -> bool {
-        matches!(self, Range::Angle { full: true, .. })
+        matches!(self, Range::Angle { full: true, .. } | Range::Closed { .. })
+    }
+
+    /// How far apart in (u, v) the two sides of a full range's seam are.
+    fn seam_width(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        hi - lo
     }
 }
 
@@ -197,6 +207,9 @@ struct Natural<'a> {
     /// The NURBS for B-splines and extrusions (natural = its (u, v)).
     nurbs: Option<&'a NurbsSurface>,
     periodic: [bool; 2],
+    /// The domain of each closed direction of `nurbs`, whose natural parameter is then an
+    /// angle (its seam at 0).
+    closed: [Option<(f64, f64)>; 2],
     small: f64,
     /// Global point inversions left for this face (each is a grid search; an edge that is not
     /// on its surface would otherwise ask for one per sample).
@@ -243,9 +256,12 @@ impl Natural<'_> {
                 let Some(s) = self.nurbs else {
                     return [f64::NAN; 2];
                 };
+                let hint = hint.map(|n| self.raw(n));
                 let near = hint.map(|[u, v]| s.closest_point_from(p, u, v));
                 let found = match near {
-                    Some(c) if c.distance <= self.small * 1e3 => c,
+                    // From the previous point, Newton finds this one unless it went to another
+                    // local minimum (far off: the edge lies within its tolerance).
+                    Some(c) if c.distance <= self.small * 1e4 => c,
                     _ => {
                         let left = self.searches.get();
                         if left == 0 {
@@ -258,9 +274,26 @@ impl Natural<'_> {
                         }
                     }
                 };
-                [found.u, found.v]
+                let mut n = [found.u, found.v];
+                for (d, closed) in self.closed.iter().enumerate() {
+                    if let Some((lo, hi)) = *closed {
+                        n[d] = (n[d] - lo) / (hi - lo) * TAU;
+                    }
+                }
+                n
             }
         }
+    }
+
+    /// A B-spline's (u, v) from natural parameters (an angle back to its closed direction).
+    fn raw(&self, n: [f64; 2]) -> [f64; 2] {
+        let mut r = n;
+        for (d, closed) in self.closed.iter().enumerate() {
+            if let Some((lo, hi)) = *closed {
+                r[d] = lo + (hi - lo) * n[d].rem_euclid(TAU) / TAU;
+            }
+        }
+        r
     }
 
     fn point(&self, n: [f64; 2]) -> DVec3 {
@@ -295,10 +328,12 @@ impl Natural<'_> {
                 };
                 rotated.at(DVec3::new(m.x, 0.0, m.z))
             }
-            Surface3::Extrusion { .. } | Surface3::Spline(_) => self
-                .nurbs
-                .and_then(|s| s.point_at(n[0], n[1]).ok())
-                .unwrap_or(DVec3::NAN),
+            Surface3::Extrusion { .. } | Surface3::Spline(_) => {
+                let [u, v] = self.raw(n);
+                self.nurbs
+                    .and_then(|s| s.point_at(u, v).ok())
+                    .unwrap_or(DVec3::NAN)
+            }
         }
     }
 
@@ -368,19 +403,60 @@ fn sample_edge(
         .collect();
     const MAX_SAMPLES: usize = 4096;
     while let Some((a, b, depth)) = stack.pop() {
-        let last = *out.last().unwrap_or(&make(a, hint));
+        let last = match out.last() {
+            Some(s) => *s,
+            None => make(a, hint),
+        };
         let end = make(b, Some(last.n));
         let m = 0.5 * (a + b);
+        // The loop's middle against the edge's middle projected onto the surface (an edge
+        // may lie up to its tolerance off the surface; that offset is not the loop's error).
         let mid_point = at(m);
+        let mid_on_surface = natural.point(natural.of(mid_point, Some(last.n)));
         let guess = natural.point(natural.middle(last.n, end.n));
         if depth < 16
             && out.len() + stack.len() < MAX_SAMPLES
-            && guess.distance(mid_point) > tolerance
+            && guess.distance(mid_on_surface) > tolerance
         {
             stack.push((m, b, depth + 1));
             stack.push((a, m, depth + 1));
         } else {
             out.push(end);
+        }
+    }
+    out
+}
+
+/// The domain of each direction in which the surface closes on itself: its two boundary
+/// curves in that direction coincide within `tolerance` (checked at 17 points across).
+fn closed_directions(s: &NurbsSurface, tolerance: f64) -> [Option<(f64, f64)>; 2] {
+    let [du, dv] = s.domain();
+    let mut out = [None, None];
+    for (d, ((lo, hi), (a, b))) in [(du, dv), (dv, du)].into_iter().enumerate() {
+        let side = |x: f64| -> Option<Vec<DVec3>> {
+            (0..=16)
+                .map(|k| {
+                    let t = a + (b - a) * k as f64 / 16.0;
+                    if d == 0 {
+                        s.point_at(x, t)
+                    } else {
+                        s.point_at(t, x)
+                    }
+                    .ok()
+                })
+                .collect()
+        };
+        let (Some(first), Some(last)) = (side(lo), side(hi)) else {
+            continue;
+        };
+        let meets = first
+            .iter()
+            .zip(&last)
+            .all(|(p, q)| p.distance(*q) <= tolerance);
+        // Two sides collapsed to one point (a pole) do not make a closed direction.
+        let collapsed = first.iter().all(|p| p.distance(first[0]) <= tolerance);
+        if meets && !collapsed {
+            out[d] = Some((lo, hi));
         }
     }
     out
@@ -400,7 +476,7 @@ pub fn build_face(
     if bounds.is_empty() {
         return Err("the face has no bounds".into());
     }
-    let periodic = match surface {
+    let mut periodic = match surface {
         Surface3::Plane(_) | Surface3::Extrusion { .. } | Surface3::Spline(_) => [false, false],
         Surface3::Torus { .. } => [true, true],
         _ => [true, false],
@@ -414,12 +490,19 @@ pub fn build_face(
         Surface3::Spline(s) => Some(s),
         _ => extrusion.as_ref(),
     };
+    let closed = nurbs.map_or([None, None], |s| closed_directions(s, tolerance));
+    for d in 0..2 {
+        periodic[d] |= closed[d].is_some();
+    }
     let natural = Natural {
         surface,
         nurbs,
         periodic,
+        closed,
         small: tolerance * 1e-3,
-        searches: std::cell::Cell::new(256),
+        searches: std::cell::Cell::new(
+            64 + 4 * bounds.iter().map(|b| b.edges.len()).sum::<usize>(),
+        ),
     };
     // Samples of every loop, per edge use.
     let mut loops: Vec<Vec<Vec<Sample>>> = Vec::new();
@@ -459,7 +542,11 @@ pub fn build_face(
     for d in 0..2 {
         if periodic[d] {
             let (range, w) = angle_range(&loops, d, bounds);
-            ranges[d] = range;
+            // A closed B-spline keeps its own seam.
+            ranges[d] = match closed[d] {
+                Some((lo, hi)) => Range::Closed { lo, hi },
+                None => range,
+            };
             for (k, wk) in w.into_iter().enumerate() {
                 windings[k][d] = wk;
             }
@@ -553,12 +640,13 @@ pub fn build_face(
                 continue;
             }
             let same_point = a.end_point.distance(b.start_point) <= tolerance;
-            let seam_jump = (0..2)
-                .any(|d| ranges[d].full() && ((pa[d] - pb[d]).abs() - 1.0).abs() < 1e-6)
-                && (0..2).all(|d| {
-                    (ranges[d].full() && ((pa[d] - pb[d]).abs() - 1.0).abs() < 1e-6)
-                        || (pa[d] - pb[d]).abs() < 1e-6
-                });
+            let across = |d: usize| {
+                ranges[d].full()
+                    && ((pa[d] - pb[d]).abs() - ranges[d].seam_width()).abs()
+                        < 1e-6 * ranges[d].seam_width()
+            };
+            let seam_jump = (0..2).any(across)
+                && (0..2).all(|d| across(d) || (pa[d] - pb[d]).abs() < 1e-6 * uv_size);
             if same_point && seam_jump && !(a.end_pole || b.start_pole) {
                 breaks.push(i);
             } else if same_point {
@@ -1013,6 +1101,10 @@ fn loop_pieces(
                             }
                         }
                     }
+                    Range::Closed { .. } => match prev[d] {
+                        Some(p) => p + wrap(s.n[d] - p),
+                        None => s.n[d].rem_euclid(TAU),
+                    },
                     _ => s.n[d],
                 };
                 if !x[d].is_finite() {
@@ -1073,7 +1165,10 @@ fn loop_pieces(
                             x[e] = xa[e] + (xb[e] - xa[e]) * ((seam - xa[d]) / (xb[d] - xa[d]));
                             if matches!(
                                 ranges[e],
-                                Range::Linear { .. } | Range::Arc { .. } | Range::Raw { .. }
+                                Range::Linear { .. }
+                                    | Range::Arc { .. }
+                                    | Range::Raw { .. }
+                                    | Range::Closed { .. }
                             ) && n[e].is_finite()
                             {
                                 x[e] = n[e];

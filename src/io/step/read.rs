@@ -151,6 +151,30 @@ fn file_unit(x: &Exchange) -> (f64, String) {
     (1.0, "millimetre".into())
 }
 
+/// The largest length uncertainty the file declares (`UNCERTAINTY_MEASURE_WITH_UNIT` with a
+/// `LENGTH_MEASURE`), in millimetres; `None` when it declares none.
+fn file_uncertainty(x: &Exchange, millimetres_per_unit: f64) -> Option<f64> {
+    let mut largest: Option<f64> = None;
+    for (_, instance) in &x.instances {
+        let Some(u) = instance.part("UNCERTAINTY_MEASURE_WITH_UNIT") else {
+            continue;
+        };
+        let value = match u.args.first() {
+            Some(Value::Typed(kind, v)) if kind == "LENGTH_MEASURE" => match **v {
+                Value::Real(f) => f,
+                Value::Integer(i) => i as f64,
+                _ => continue,
+            },
+            _ => continue,
+        };
+        let mm = value * millimetres_per_unit;
+        if mm.is_finite() && mm > 0.0 {
+            largest = Some(largest.map_or(mm, |l: f64| l.max(mm)));
+        }
+    }
+    largest
+}
+
 /// A colour found in a style's tree (`COLOUR_RGB`, or a pre-defined colour's name).
 fn colour_in(x: &Exchange, value: &Value, depth: usize, seen: &mut usize) -> Option<[f32; 3]> {
     *seen += 1;
@@ -612,7 +636,12 @@ impl ReadJob {
         } else {
             1.0
         };
-        let tolerance = (diagonal * 1e-6).max(1e-9);
+        // The trim tolerance: a millionth of the model, or the file's own uncertainty where
+        // that is larger (edges written within it), up to a thousandth of the model.
+        let declared = file_uncertainty(&x, millimetres_per_unit).unwrap_or(0.0);
+        let tolerance = (diagonal * 1e-6)
+            .max(declared.min(diagonal * 1e-3))
+            .max(1e-9);
         let a = assembly(&e)?;
         let colour_of = colours(&x);
         let places = placements(&x, &a);
