@@ -120,10 +120,24 @@ pub fn domain(knots: &[f64], degree: usize, count: usize) -> (f64, f64) {
 }
 
 /// The non-vanishing basis functions N_{span−p,p}(u) … N_{span,p}(u) written into
-/// `out[0..=p]` (The NURBS Book, A2.2 "BasisFuns", which is the first half of A2.3: this is
-/// [`basis_derivatives_into`] with order 0). `out` must hold degree + 1 values.
+/// `out[0..=p]` (The NURBS Book, A2.2 "BasisFuns"). The book's `left[j]` = u − u_{span+1−j}
+/// and `right[j]` = u_{span+j} − u are read from the knots where they are used, so nothing
+/// is allocated or cleared; the arithmetic is the same, in the same order, as the first half
+/// of A2.3 ([`basis_derivatives_into`] with order 0), so both give the same bits. `out` must
+/// hold degree + 1 values.
 pub fn basis_functions(knots: &[f64], degree: usize, span: usize, u: f64, out: &mut [f64]) {
-    basis_derivatives_into(knots, degree, span, u, 0, out);
+    out[0] = 1.0;
+    for j in 1..=degree {
+        let mut saved = 0.0;
+        for r in 0..j {
+            let right = knots[span + r + 1] - u;
+            let left = u - knots[span + 1 + r - j];
+            let temp = out[r] / (right + left);
+            out[r] = saved + right * temp;
+            saved = left * temp;
+        }
+        out[j] = saved;
+    }
 }
 
 /// Degrees up to this value use stack scratch space in [`basis_derivatives_into`].
@@ -350,6 +364,27 @@ mod tests {
         // Second derivatives: N''_{2,2} = 1, N''_{3,2} = −2, N''_{4,2} = 1.
         for (got, want) in d[2].iter().zip([1.0, -2.0, 1.0]) {
             assert!((got - want).abs() < 1e-14, "{d:?}");
+        }
+    }
+
+    #[test]
+    fn basis_functions_give_the_same_bits_as_the_first_row_of_a2_3() {
+        // Clamped knots with repeated interior knots, degrees 1 to 9, many parameters.
+        for p in 1..=9 {
+            let mut knots = vec![0.0; p + 1];
+            knots.extend([0.5, 1.0, 1.0, 2.25, 3.0, 3.0, 3.0, 4.5]);
+            knots.extend(vec![6.0; p + 1]);
+            let count = knots.len() - p - 1;
+            for k in 0..=300 {
+                let u = 6.0 * k as f64 / 300.0;
+                let span = find_span(&knots, p, count, u);
+                let mut fast = vec![0.0; p + 1];
+                basis_functions(&knots, p, span, u, &mut fast);
+                let reference = basis_derivatives(&knots, p, span, u, 0);
+                assert_eq!(fast, reference[0], "degree {p}, u = {u}");
+                let sum: f64 = fast.iter().sum();
+                assert!((sum - 1.0).abs() < 1e-14, "partition of unity: {sum}");
+            }
         }
     }
 

@@ -6,8 +6,8 @@
 use glam::{DAffine3, DVec3};
 
 use super::basis::{
-    MAX_DEGREE, basis_derivatives_into, domain, find_span, interior_knots, multiplicity,
-    validate_knots,
+    MAX_DEGREE, basis_derivatives_into, basis_functions, domain, find_span, interior_knots,
+    multiplicity, validate_knots,
 };
 use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
@@ -131,7 +131,16 @@ impl<P: CurvePoint> NurbsCurve<P> {
 
     /// The point C(u).
     pub fn point_at(&self, u: f64) -> Result<P, GeometryError> {
-        Ok(self.derivatives(u, 0)?[0])
+        self.check_in_domain(u)?;
+        let p = self.poly.degree;
+        let span = find_span(&self.poly.knots, p, self.count(), u);
+        let mut basis = [0.0; MAX_DEGREE + 1];
+        basis_functions(&self.poly.knots, p, span, u, &mut basis[..=p]);
+        // The same sum, in the same order, as `derivatives` with order 0 (A4.1).
+        let a = (0..=p).fold(P::Homogeneous::ZERO, |acc, j| {
+            acc + self.poly.points[span - p + j] * basis[j]
+        });
+        Ok(P::weighted_part(a) / P::weight_of(a))
     }
 
     /// C(u) and its derivatives up to `order`: `[C, C′, C″, …]` (homogeneous derivatives by

@@ -30,6 +30,8 @@ use crate::{CurvatureValues, TrimCurve};
 const MATCH_SAMPLES: usize = 16;
 /// Samples per edge searched first for the nearest point.
 const SEARCH_SAMPLES: usize = 64;
+/// The nearest point on an edge is found to this fraction of the tolerance.
+const SEARCH_PRECISION: f64 = 1e-4;
 
 /// One edge: curve `curve` of loop `loop_index` of face `face`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -129,6 +131,8 @@ struct Edge<'a> {
     /// Closed in (u, v).
     closed_uv: bool,
     degenerate: bool,
+    /// How far in space a nearest point may be off: the golden-section search stops there.
+    precision: f64,
 }
 
 impl Edge<'_> {
@@ -181,13 +185,25 @@ impl Edge<'_> {
             .unwrap_or((0.0, self.samples[0].distance(p)))
     }
 
-    /// The parameter in [a, b] nearest `p` by golden-section search, and the distance.
+    /// The parameter in [a, b] nearest `p` by golden-section search, and the distance. [a, b]
+    /// is one interval between samples; the search stops once the bracket, scaled by that
+    /// interval's chord, is shorter than [`Edge::precision`] in space (48 steps at most).
     fn golden(&self, p: DVec3, mut a: f64, mut b: f64) -> (f64, f64) {
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let f = |t: f64| self.point(t).distance_squared(p);
+        let n = SEARCH_SAMPLES as f64;
+        let chord = |t: f64| {
+            let k = ((t * n) as usize).min(SEARCH_SAMPLES - 1);
+            self.samples[k].distance(self.samples[k + 1])
+        };
+        let width = b - a;
+        let stop = width * self.precision / chord(0.5 * (a + b)).max(f64::MIN_POSITIVE);
         let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
         let (mut fc, mut fd) = (f(c), f(d));
         for _ in 0..48 {
+            if b - a <= stop {
+                break;
+            }
             if fc < fd {
                 b = d;
                 d = c;
@@ -263,6 +279,7 @@ fn make_edge<'a>(
         closed_uv,
         degenerate: length <= tolerance,
         samples,
+        precision: SEARCH_PRECISION * tolerance,
     }
 }
 
@@ -716,6 +733,19 @@ fn triangulate_face(
         .iter()
         .flat_map(|p| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])))
         .collect();
+    // Only the segments reaching within a third of a cell of a grid row can be too near its
+    // points: those, row by row.
+    let reach = 0.34;
+    let near_row: Vec<Vec<(DVec2, DVec2)>> = (0..grid.vs.len())
+        .map(|j| {
+            let (v, cv) = (grid.vs[j], reach * cell(&grid.vs, j));
+            segments
+                .iter()
+                .filter(|(a, b)| a.y.min(b.y) <= v + cv && a.y.max(b.y) >= v - cv)
+                .copied()
+                .collect()
+        })
+        .collect();
     let mut interior = Vec::new();
     for (i, &u) in grid.us.iter().enumerate() {
         for (j, &v) in grid.vs.iter().enumerate() {
@@ -724,12 +754,15 @@ fn triangulate_face(
                 continue;
             }
             let (cu, cv) = (cell(&grid.us, i), cell(&grid.vs, j));
-            let clear = segments.iter().all(|&(a, b)| {
+            let clear = near_row[j].iter().all(|&(a, b)| {
+                if a.x.min(b.x) > u + reach * cu || a.x.max(b.x) < u - reach * cu {
+                    return true;
+                }
                 let d = b - a;
                 let t =
                     ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
                 let q = a + d * t - p;
-                (q.x / cu).hypot(q.y / cv) > 0.34
+                (q.x / cu).powi(2) + (q.y / cv).powi(2) > reach * reach
             });
             if clear {
                 interior.push((p, ()));

@@ -7,7 +7,9 @@
 
 use glam::{DAffine3, DVec2, DVec3, DVec4};
 
-use super::basis::{MAX_DEGREE, basis_derivatives_into, domain, find_span, validate_knots};
+use super::basis::{
+    MAX_DEGREE, basis_derivatives_into, basis_functions, domain, find_span, validate_knots,
+};
 use super::bezier::{BezierPatch, BezierPatchSet};
 use super::curve::{
     NurbsCurve, SpaceCurve, check_insertion, check_interior, check_point, check_refinement,
@@ -332,13 +334,42 @@ impl NurbsSurface {
 
     /// The point S(u, v).
     pub fn point_at(&self, u: f64, v: f64) -> Result<DVec3, GeometryError> {
-        Ok(self.evaluate(u, v)?.point)
+        self.check_parameters(u, v)?;
+        let a = self.homogeneous_point(u, v);
+        Ok(a.truncate() / a.w)
     }
 
     /// The point at (u, v) = (p.x, p.y) moved into the domain first.
     pub fn point_at_clamped(&self, p: DVec2) -> Result<DVec3, GeometryError> {
         let [(u0, u1), (v0, v1)] = self.domain();
         self.point_at(p.x.clamp(u0, u1), p.y.clamp(v0, v1))
+    }
+
+    /// A(u, v) = Σ_r Σ_s N_r(u) N_s(v) P^w_rs, the homogeneous point alone (The NURBS Book,
+    /// A4.3 "SurfacePoint" without the division): the basis functions by A2.2, each row of
+    /// control points blended in u first, as [`Self::homogeneous_derivatives`] does, so the
+    /// point is the same to the bit as [`Self::evaluate`]'s. Nothing is allocated.
+    fn homogeneous_point(&self, u: f64, v: f64) -> DVec4 {
+        const CAP: usize = MAX_DEGREE + 1;
+        let [p, q] = self.degree;
+        let su = find_span(&self.knots[0], p, self.count[0], u);
+        let sv = find_span(&self.knots[1], q, self.count[1], v);
+        let mut nu = [0.0; CAP];
+        let mut nv = [0.0; CAP];
+        basis_functions(&self.knots[0], p, su, u, &mut nu[..=p]);
+        basis_functions(&self.knots[1], q, sv, v, &mut nv[..=q]);
+        let mut sum = DVec4::ZERO;
+        for (s, &b) in nv.iter().enumerate().take(q + 1) {
+            let t = nu
+                .iter()
+                .enumerate()
+                .take(p + 1)
+                .fold(DVec4::ZERO, |acc, (r, &a)| {
+                    acc + self.points[(su - p + r) * self.count[1] + sv - q + s] * a
+                });
+            sum += t * b;
+        }
+        sum
     }
 
     /// A_kl = ∂^{k+l} A / ∂u^k ∂v^l for k + l ≤ 2 of the homogeneous surface (A3.6).

@@ -666,6 +666,17 @@ fn crossing_error(p: &Chord, q: &Chord, polygons: &[Vec<DVec2>]) -> Option<Geome
 
 /// Orients each loop by its nesting depth: even depth counter-clockwise, odd clockwise.
 fn normalise(loops: Vec<TrimLoop>, polygons: &[Vec<DVec2>]) -> Vec<TrimLoop> {
+    // Each polygon's box: a point outside it is outside the polygon (many holes in one face
+    // are then compared box against point, not point against every chord).
+    let boxes: Vec<(DVec2, DVec2)> = polygons
+        .iter()
+        .map(|poly| {
+            poly.iter()
+                .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| {
+                    (lo.min(p), hi.max(p))
+                })
+        })
+        .collect();
     loops
         .into_iter()
         .enumerate()
@@ -673,8 +684,14 @@ fn normalise(loops: Vec<TrimLoop>, polygons: &[Vec<DVec2>]) -> Vec<TrimLoop> {
             let probe = polygons[l][0];
             let depth = polygons
                 .iter()
+                .zip(&boxes)
                 .enumerate()
-                .filter(|&(m, poly)| m != l && polygon_contains(poly, probe))
+                .filter(|&(m, (poly, &(lo, hi)))| {
+                    m != l
+                        && probe.cmpge(lo).all()
+                        && probe.cmple(hi).all()
+                        && polygon_contains(poly, probe)
+                })
                 .count();
             let ccw = signed_area(&polygons[l]) > 0.0;
             if ccw == (depth % 2 == 0) {
