@@ -164,6 +164,90 @@ fn a_box_with_a_hole_and_fillets_opens_watertight_with_occs_area_and_volume() {
     check_against_occ("box-hole-fillets.step", 1e-3, 1e-3);
 }
 
+/// `text` with every cylinder, sphere and torus written as an OFFSET_SURFACE of the same kind
+/// of surface, whose radius (minor radius) is `distance` smaller (alternately
+/// `distance` and −`distance`), which is the same surface (ISO 10303-42: S + d·N).
+fn as_offsets(text: &str, distance: f64) -> (String, usize) {
+    let mut next_id: u64 = text
+        .lines()
+        .filter_map(|l| {
+            l.trim()
+                .strip_prefix('#')?
+                .split('=')
+                .next()?
+                .trim()
+                .parse()
+                .ok()
+        })
+        .max()
+        .unwrap_or(0)
+        + 1;
+    let mut out = String::new();
+    let mut count = 0;
+    for line in text.lines() {
+        let kind = [
+            "CYLINDRICAL_SURFACE(",
+            "SPHERICAL_SURFACE(",
+            "TOROIDAL_SURFACE(",
+        ]
+        .into_iter()
+        .find(|k| line.contains(k));
+        let Some(kind) = kind else {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        };
+        let d = if count % 2 == 0 { distance } else { -distance };
+        count += 1;
+        let (id, body) = line.split_once('=').unwrap();
+        // The last argument is the (minor) radius.
+        let body = body.trim().trim_end_matches(';').trim_end_matches(')');
+        let (head, radius) = body.rsplit_once(',').unwrap();
+        let radius: f64 = radius.trim().parse().unwrap();
+        let basis = next_id;
+        next_id += 1;
+        out.push_str(&format!(
+            "{id}= OFFSET_SURFACE('',#{basis},{d:?},.F.);\n#{basis} = {head},{:?});\n",
+            radius - d
+        ));
+        assert!(head.trim_start().starts_with(kind));
+    }
+    (out, count)
+}
+
+#[test]
+fn offset_cylinders_spheres_and_tori_open_as_the_surfaces_they_are() {
+    for name in [
+        "sphere-cut.step",
+        "box-hole-fillets.step",
+        "torus-minus-cylinder.step",
+    ] {
+        let text = String::from_utf8(fixture(name)).unwrap();
+        let (offset, count) = as_offsets(&text, 0.5);
+        assert!(count >= 1, "{name}");
+        let model = step::read::read(offset.as_bytes(), &mut |_, _| true)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        check_model_against_occ(name, &model, 1e-3, 1e-3);
+    }
+    // An offset that is not a surface of its kind is refused with the entity named, and the
+    // face is left out with a warning.
+    let text = String::from_utf8(fixture("sphere-cut.step")).unwrap();
+    let sphere = "#31 = SPHERICAL_SURFACE('',#32,10.);";
+    assert!(text.contains(sphere));
+    let inside_out = text.replace(
+        sphere,
+        "#31 = OFFSET_SURFACE('',#999999,-20.,.F.);\n#999999 = SPHERICAL_SURFACE('',#32,10.);",
+    );
+    let model = step::read::read(inside_out.as_bytes(), &mut |_, _| true).unwrap();
+    let warnings = model.warnings.join("\n");
+    assert!(
+        warnings.contains(
+            "#31 = OFFSET_SURFACE: an offset of -20 leaves the radius at -10, not above 0"
+        ),
+        "{warnings}"
+    );
+}
+
 #[test]
 fn an_assembly_in_inches_opens_in_millimetres_with_both_parts_placed() {
     let name = "assembly.step";

@@ -147,6 +147,21 @@ impl Curve3 {
     }
 }
 
+/// Why a surface was not read: the file is wrong (the whole file is refused), or the surface
+/// is well formed but has no exact NURBS form in knotwork (its faces are left out with a
+/// warning and the rest of the model opens).
+#[derive(Debug)]
+pub enum SurfaceError {
+    Malformed(FormatError),
+    Unbuildable(FormatError),
+}
+
+impl From<FormatError> for SurfaceError {
+    fn from(e: FormatError) -> Self {
+        SurfaceError::Malformed(e)
+    }
+}
+
 /// A surface of the file, in STEP's parametrization where it is analytic.
 #[derive(Debug, Clone)]
 pub enum Surface3 {
@@ -764,13 +779,13 @@ impl<'a> Entities<'a> {
     }
 
     /// The surface `id`.
-    pub fn surface(&self, id: u64) -> Result<Surface3, FormatError> {
+    pub fn surface(&self, id: u64) -> Result<Surface3, SurfaceError> {
         self.surface_at_depth(id, 0)
     }
 
-    fn surface_at_depth(&self, id: u64, depth: usize) -> Result<Surface3, FormatError> {
+    fn surface_at_depth(&self, id: u64, depth: usize) -> Result<Surface3, SurfaceError> {
         if depth > 8 {
-            return Err(bad(self.x, id, "surfaces nested more than 8 deep"));
+            return Err(bad(self.x, id, "surfaces nested more than 8 deep").into());
         }
         let instance = self.instance(id)?;
         let length = |r: &Record, k: usize| -> Result<f64, FormatError> {
@@ -812,7 +827,8 @@ impl<'a> Entities<'a> {
                     self.x,
                     id,
                     "the radius must be ≥ 0 and the semi-angle between 0 and 90°",
-                ));
+                )
+                .into());
             }
             return Ok(Surface3::Cone {
                 frame: self.placement(self.reference(id, r, 1)?)?,
@@ -860,7 +876,7 @@ impl<'a> Entities<'a> {
                 }
             }
             if x.length() <= 1e-12 {
-                return Err(bad(self.x, id, "the meridian lies on the axis"));
+                return Err(bad(self.x, id, "the meridian lies on the axis").into());
             }
             let x = x.normalize();
             let frame = Frame {
@@ -894,13 +910,95 @@ impl<'a> Entities<'a> {
             });
         }
         if instance.is("B_SPLINE_SURFACE") || instance.is("B_SPLINE_SURFACE_WITH_KNOTS") {
-            return self.spline_surface(id).map(Surface3::Spline);
+            return Ok(Surface3::Spline(self.spline_surface(id)?));
         }
         if instance.is("OFFSET_SURFACE") {
-            return Err(bad(self.x, id, "offset surfaces are not read yet"));
+            let r = self.record(id, "OFFSET_SURFACE", 4)?;
+            let basis = self.surface_at_depth(self.reference(id, r, 1)?, depth + 1)?;
+            let distance = self.real(id, r, 2)? * self.scale;
+            return offset_surface(basis, distance)
+                .map_err(|e| SurfaceError::Unbuildable(bad(self.x, id, e)));
         }
-        Err(bad(self.x, id, "this kind of surface is not read"))
+        Err(SurfaceError::Unbuildable(bad(
+            self.x,
+            id,
+            "this kind of surface is not read",
+        )))
     }
+}
+
+/// The surface `distance` along the unit normal S_u × S_v / |S_u × S_v| of `basis`, in the
+/// same (u, v) (ISO 10303-42, offset_surface), where that is again a surface of the same kind:
+/// - a plane moves along its z;
+/// - a cylinder's, a sphere's and a torus's normal points away from the axis, the centre and
+///   the tube's centre circle, so the radius (the minor radius) grows by `distance`;
+/// - a cone's normal at height v is cos α·radial − sin α·z (α the semi-angle), so the point
+///   at (u, v) lands on the cone of the same angle with radius R + d cos α at height
+///   v − d sin α: the same parametrization with the origin moved by −d sin α along z.
+///
+/// Offsets of surfaces of revolution, extrusions and B-splines are not exact rational
+/// surfaces, and an offset through an axis or a centre is not a surface of the kind: both are
+/// refused.
+pub fn offset_surface(basis: Surface3, distance: f64) -> Result<Surface3, String> {
+    if !distance.is_finite() {
+        return Err(format!("the offset distance {distance} is not a number"));
+    }
+    let positive = |value: f64, what: &str| {
+        if value > 0.0 {
+            Ok(value)
+        } else {
+            Err(format!(
+                "an offset of {distance} leaves the {what} at {value}, not above 0"
+            ))
+        }
+    };
+    Ok(match basis {
+        Surface3::Plane(frame) => Surface3::Plane(Frame {
+            origin: frame.origin + frame.z * distance,
+            ..frame
+        }),
+        Surface3::Cylinder { frame, radius } => Surface3::Cylinder {
+            frame,
+            radius: positive(radius + distance, "radius")?,
+        },
+        Surface3::Sphere { frame, radius } => Surface3::Sphere {
+            frame,
+            radius: positive(radius + distance, "radius")?,
+        },
+        Surface3::Torus {
+            frame,
+            major,
+            minor,
+        } => Surface3::Torus {
+            frame,
+            major,
+            minor: positive(minor + distance, "minor radius")?,
+        },
+        Surface3::Cone { frame, radius, tan } => {
+            let cos = 1.0 / (1.0 + tan * tan).sqrt();
+            let sin = tan * cos;
+            let radius = radius + distance * cos;
+            if radius < 0.0 {
+                return Err(format!(
+                    "an offset of {distance} moves the cone's reference circle past its apex"
+                ));
+            }
+            Surface3::Cone {
+                frame: Frame {
+                    origin: frame.origin - frame.z * (distance * sin),
+                    ..frame
+                },
+                radius,
+                tan,
+            }
+        }
+        other => {
+            return Err(format!(
+                "the offset of a {} surface is not exact as a NURBS surface",
+                other.type_name()
+            ));
+        }
+    })
 }
 
 fn describe(v: &Value) -> String {
@@ -908,5 +1006,90 @@ fn describe(v: &Value) -> String {
         Value::Integer(i) => i.to_string(),
         Value::Real(x) => x.to_string(),
         other => other.type_name().to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The point at (u, v) of a surface in STEP's own parametrizations (ISO 10303-42).
+    fn step_point(s: &Surface3, u: f64, v: f64) -> DVec3 {
+        match s {
+            Surface3::Plane(f) => f.origin + f.x * u + f.y * v,
+            Surface3::Cylinder { frame, radius } => {
+                frame.origin + frame.radial(u) * *radius + frame.z * v
+            }
+            Surface3::Cone { frame, radius, tan } => {
+                frame.origin + frame.radial(u) * (radius + v * tan) + frame.z * v
+            }
+            Surface3::Sphere { frame, radius } => {
+                frame.origin + (frame.radial(u) * v.cos() + frame.z * v.sin()) * *radius
+            }
+            Surface3::Torus {
+                frame,
+                major,
+                minor,
+            } => {
+                frame.origin
+                    + frame.radial(u) * (major + minor * v.cos())
+                    + frame.z * (minor * v.sin())
+            }
+            _ => unreachable!("not analytic"),
+        }
+    }
+
+    #[test]
+    fn an_offset_analytic_surface_is_the_basis_moved_along_its_normal() {
+        let z = DVec3::new(0.3, -0.2, 1.0).normalize();
+        let x = z.any_orthonormal_vector();
+        let frame = Frame {
+            origin: DVec3::new(1.0, 2.0, -3.0),
+            x,
+            y: z.cross(x),
+            z,
+        };
+        let surfaces = [
+            Surface3::Plane(frame),
+            Surface3::Cylinder { frame, radius: 2.0 },
+            Surface3::Cone {
+                frame,
+                radius: 2.0,
+                tan: 0.6,
+            },
+            Surface3::Cone {
+                frame,
+                radius: 3.0,
+                tan: -0.4,
+            },
+            Surface3::Sphere { frame, radius: 2.0 },
+            Surface3::Torus {
+                frame,
+                major: 5.0,
+                minor: 1.5,
+            },
+        ];
+        for basis in surfaces {
+            for d in [0.7, -0.4] {
+                let offset = offset_surface(basis.clone(), d).unwrap();
+                for (u, v) in [(0.3, 0.2), (2.0, -0.7), (4.5, 1.1)] {
+                    // The unit normal S_u × S_v by central differences.
+                    let h = 1e-6;
+                    let su = (step_point(&basis, u + h, v) - step_point(&basis, u - h, v)) / h;
+                    let sv = (step_point(&basis, u, v + h) - step_point(&basis, u, v - h)) / h;
+                    let n = su.cross(sv).normalize();
+                    let expected = step_point(&basis, u, v) + d * n;
+                    let got = step_point(&offset, u, v);
+                    assert!(
+                        got.distance(expected) < 1e-8,
+                        "{} offset by {d} at ({u}, {v}): {got} vs {expected}",
+                        basis.type_name()
+                    );
+                }
+            }
+        }
+        let refused = offset_surface(Surface3::Sphere { frame, radius: 2.0 }, -2.0);
+        assert!(refused.unwrap_err().contains("not above 0"));
+        assert!(offset_surface(Surface3::Plane(frame), f64::NAN).is_err());
     }
 }

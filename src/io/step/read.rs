@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use glam::{DAffine3, DVec3};
 
-use super::entities::{Entities, bad};
+use super::entities::{Entities, SurfaceError, bad};
 use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
 use super::part21::{Exchange, Instance, Value};
 use crate::kernel::TrimmedSurface;
@@ -946,14 +946,14 @@ impl BodyBuild {
         }
         let surface = match e.surface(surface_id) {
             Ok(s) => s,
-            Err(err) if err.message.contains("not read") => {
+            Err(SurfaceError::Unbuildable(err)) => {
                 warnings.push(format!(
                     "#{face_id} = ADVANCED_FACE skipped: {}",
                     err.message
                 ));
                 return Ok(());
             }
-            Err(err) => return Err(err),
+            Err(SurfaceError::Malformed(err)) => return Err(err),
         };
         match build_face(&surface, &bounds, same_sense, tolerance) {
             Ok(b) => {
