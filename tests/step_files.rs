@@ -326,6 +326,21 @@ fn a_file_written_and_read_back_keeps_every_surface_exactly() {
             // weights (in the same order: the writer keeps the faces' order).
             for (fa, fb) in a.faces.iter().zip(&b.faces) {
                 assert_eq!(fa.surface(), fb.surface(), "{name}: a surface changed");
+                // The written p-curves are the trim curves, and they are read as they are:
+                // each first-read curve comes back exactly (perhaps run the other way).
+                let again: Vec<_> = fb.loops().iter().flatten().collect();
+                for c in fa.loops().iter().flatten() {
+                    let r = c.reverse();
+                    assert!(
+                        again.iter().any(|d| *d == c || **d == r),
+                        "{name}: a trim curve changed"
+                    );
+                }
+                assert_eq!(
+                    again.len(),
+                    fa.loops().iter().flatten().count(),
+                    "{name}: trim curves"
+                );
             }
         }
     }

@@ -567,6 +567,58 @@ impl<'a> Entities<'a> {
         ))
     }
 
+    /// The p-curves of the curve `id` (a `SURFACE_CURVE` or `SEAM_CURVE`, alone or in a
+    /// complex instance): each `PCURVE`'s basis surface and its 2D curve in that surface's
+    /// (u, v), as a [`Curve3`] in the plane z = 0 with its coordinates as written (parameters,
+    /// not lengths). A p-curve that cannot be read is left out: the face's loops are then
+    /// computed from its 3D edges instead.
+    pub fn pcurves(&self, id: u64) -> Vec<(u64, Curve3)> {
+        let Ok(instance) = self.instance(id) else {
+            return Vec::new();
+        };
+        let Some(part) = instance
+            .part("SURFACE_CURVE")
+            .or_else(|| instance.part("SEAM_CURVE"))
+        else {
+            return Vec::new();
+        };
+        let Ok(r) = self.record(id, &part.name, 3) else {
+            return Vec::new();
+        };
+        let Ok(geometry) = self.references(id, r, 2) else {
+            return Vec::new();
+        };
+        let unscaled = Entities {
+            x: self.x,
+            scale: 1.0,
+        };
+        let mut out = Vec::new();
+        for g in geometry {
+            let Ok(pr) = self.record(g, "PCURVE", 3) else {
+                continue;
+            };
+            let (Ok(surface), Ok(rep)) = (self.reference(g, pr, 1), self.reference(g, pr, 2))
+            else {
+                continue;
+            };
+            let Ok(rr) = self.record(rep, "DEFINITIONAL_REPRESENTATION", 3) else {
+                continue;
+            };
+            let Some(&first) = self
+                .references(rep, rr, 1)
+                .ok()
+                .and_then(|l| l.first().copied())
+                .as_ref()
+            else {
+                continue;
+            };
+            if let Ok(curve) = unscaled.curve(first) {
+                out.push((surface, curve));
+            }
+        }
+        out
+    }
+
     /// The knot vector from distinct knots and their multiplicities, its length checked
     /// before it is allocated.
     fn knot_vector(

@@ -37,6 +37,8 @@ pub struct EdgeGeometry {
     pub t1: f64,
     pub start: DVec3,
     pub end: DVec3,
+    /// The file's p-curves of the edge: (surface id, the curve in its (u, v) at z = 0).
+    pub pcurves: Vec<(u64, Curve3)>,
 }
 
 impl EdgeGeometry {
@@ -72,6 +74,7 @@ impl EdgeGeometry {
             t1,
             start,
             end,
+            pcurves: Vec::new(),
         }
     }
 
@@ -469,12 +472,18 @@ pub type Skip = String;
 /// surface's. `tolerance` bounds the trim loops' distance from the edges.
 pub fn build_face(
     surface: &Surface3,
+    surface_id: u64,
     bounds: &[Bound],
     same_sense: bool,
     tolerance: f64,
 ) -> Result<BuiltFace, Skip> {
     if bounds.is_empty() {
         return Err("the face has no bounds".into());
+    }
+    if let Surface3::Spline(s) = surface
+        && let Some(built) = face_from_pcurves(s, surface_id, bounds, tolerance)
+    {
+        return Ok(built);
     }
     let mut periodic = match surface {
         Surface3::Plane(_) | Surface3::Extrusion { .. } | Surface3::Spline(_) => [false, false],
@@ -777,12 +786,21 @@ pub fn build_face(
             ));
         }
     }
+    finish_face(built_surface, trim_loops)
+}
+
+/// The trimmed surface of `trim_loops` on `surface`, with what each of its loop curves lies
+/// on.
+fn finish_face(
+    surface: NurbsSurface,
+    trim_loops: Vec<Vec<(TrimCurve, CurveOrigin)>>,
+) -> Result<BuiltFace, Skip> {
     let (curves, origins): (Vec<Vec<TrimCurve>>, Vec<Vec<CurveOrigin>>) = trim_loops
         .into_iter()
         .map(|l| l.into_iter().unzip())
         .unzip();
     let given = curves.clone();
-    let face = TrimmedSurface::new(built_surface, curves)
+    let face = TrimmedSurface::new(surface, curves)
         .map_err(|e| format!("its trim loops are not valid: {e}"))?;
     // Construction turns loops to run with the kept region on their left: a loop turned is
     // its curves in reverse order, each reversed, so their origins follow.
@@ -800,6 +818,150 @@ pub fn build_face(
         }
     }
     Ok(BuiltFace { face, origins })
+}
+
+/// The face on the B-spline surface `s` (the file's surface `surface_id`) with the file's own
+/// p-curves as its trim loops, where every edge has one on it that fits: its ends and its
+/// middle on the surface lie within `tolerance` of the edge's ends and of its 3D curve. The
+/// p-curve is taken whole where its ends are the edge's (a writer that gives each edge its
+/// own p-curve, as knotwork's does), else from the edge's parameters on its 3D curve (a
+/// writer whose p-curves share the 3D curve's parameter). A seam edge has two p-curves on the
+/// surface; each use takes the one that continues the loop. Where consecutive p-curves leave
+/// a gap in (u, v) at one point in space (a collapsed side), a straight connector closes it.
+/// `None`: some edge has no such p-curve, or the loops do not close, and the face is built
+/// from its 3D edges instead.
+fn face_from_pcurves(
+    s: &NurbsSurface,
+    surface_id: u64,
+    bounds: &[Bound],
+    tolerance: f64,
+) -> Option<BuiltFace> {
+    let [(u0, u1), (v0, v1)] = s.domain();
+    let uv_size = (u1 - u0).hypot(v1 - v0);
+    let on = |p: DVec2| s.point_at_clamped(p).ok();
+    let mut trim_loops = Vec::new();
+    for bound in bounds {
+        // Each use's candidates, running with the loop.
+        let mut uses: Vec<Vec<TrimCurve>> = Vec::new();
+        for e in &bound.edges {
+            let g = &e.geometry;
+            let candidates: Vec<TrimCurve> = g
+                .pcurves
+                .iter()
+                .filter(|(id, _)| *id == surface_id)
+                .filter_map(|(_, pc)| pcurve_piece(pc, g, &on, tolerance))
+                .map(|c| if e.forward { c } else { c.reverse() })
+                .collect();
+            if candidates.is_empty() {
+                return None;
+            }
+            uses.push(candidates);
+        }
+        // The first use's choice decides the rest (each the candidate nearest the last end).
+        let mut best: Option<(f64, Vec<(TrimCurve, CurveOrigin)>)> = None;
+        for first in 0..uses[0].len() {
+            let mut chain: Vec<(TrimCurve, CurveOrigin)> = Vec::new();
+            let mut worst = 0.0f64;
+            for (k, (candidates, e)) in uses.iter().zip(&bound.edges).enumerate() {
+                let curve = if k == 0 {
+                    candidates[first].clone()
+                } else {
+                    let end = chain.last().map(|(c, _)| c.control_point(c.count() - 1))?;
+                    candidates
+                        .iter()
+                        .min_by(|a, b| {
+                            a.control_point(0)
+                                .distance(end)
+                                .total_cmp(&b.control_point(0).distance(end))
+                        })?
+                        .clone()
+                };
+                chain.push((
+                    curve,
+                    CurveOrigin::Edge {
+                        id: e.id,
+                        forward: e.forward,
+                    },
+                ));
+            }
+            // Gaps: closed by a connector where both sides are one point in space.
+            let mut closed: Vec<(TrimCurve, CurveOrigin)> = Vec::new();
+            let n = chain.len();
+            for k in 0..n {
+                let (c, o) = &chain[k];
+                closed.push((c.clone(), *o));
+                let a = c.control_point(c.count() - 1);
+                let b = chain[(k + 1) % n].0.control_point(0);
+                let gap = a.distance(b);
+                if gap <= 1e-9 * uv_size {
+                    continue;
+                }
+                if on(a)?.distance(on(b)?) > tolerance {
+                    worst = f64::INFINITY;
+                    break;
+                }
+                worst = worst.max(gap);
+                let connector =
+                    TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![a, b], None).ok()?;
+                closed.push((connector, CurveOrigin::Added));
+            }
+            if worst.is_finite() && best.as_ref().is_none_or(|(w, _)| worst < *w) {
+                best = Some((worst, closed));
+            }
+        }
+        trim_loops.push(best?.1);
+    }
+    finish_face(s.clone(), trim_loops).ok()
+}
+
+/// The part of the p-curve `pc` that is the edge `g`, running from its start to its end, as a
+/// trim curve; `on` maps (u, v) to the surface. `None` where it does not fit the edge.
+fn pcurve_piece(
+    pc: &Curve3,
+    g: &EdgeGeometry,
+    on: &dyn Fn(DVec2) -> Option<DVec3>,
+    tolerance: f64,
+) -> Option<TrimCurve> {
+    let flat = |p: DVec3| DVec2::new(p.x, p.y);
+    let closed = g.start.distance(g.end) <= tolerance;
+    let mut ranges = Vec::new();
+    if let Curve3::Spline(c) = pc {
+        let (a, b) = c.domain();
+        // A closed edge: the p-curve runs with the 3D curve, the edge with it when t1 > t0.
+        if !closed || g.t1 >= g.t0 {
+            ranges.push((a, b));
+        }
+        if !closed || g.t1 < g.t0 {
+            ranges.push((b, a));
+        }
+    }
+    ranges.push((g.t0, g.t1));
+    for (a, b) in ranges {
+        let near =
+            |t: f64, p: DVec3| on(flat(pc.point(t))).is_some_and(|q| q.distance(p) <= tolerance);
+        if !(near(a, g.start) && near(b, g.end)) {
+            continue;
+        }
+        // Its middle on the surface lies on the edge's 3D curve.
+        let m = on(flat(pc.point(0.5 * (a + b))))?;
+        let t = g.curve.parameter_of(m);
+        if g.curve.point(t).distance(m) > tolerance {
+            continue;
+        }
+        let piece = pc.piece(a, b).ok()?;
+        let points: Vec<DVec2> = (0..piece.count())
+            .map(|i| flat(piece.control_point(i)))
+            .collect();
+        let weights: Vec<f64> = (0..piece.count()).map(|i| piece.weight(i)).collect();
+        return TrimCurve::new(
+            piece.degree(),
+            piece.knots().to_vec(),
+            points,
+            Some(weights),
+        )
+        .ok();
+    }
+    None
 }
 
 /// A piece of loop in (u, v).

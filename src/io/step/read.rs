@@ -924,9 +924,12 @@ impl BodyBuild {
                             e.point(e.reference(v, vr, 1)?)
                         };
                         let (start, end) = (vertex(1)?, vertex(2)?);
-                        let curve = e.curve(e.reference(edge_id, er, 3)?)?;
+                        let curve_id = e.reference(edge_id, er, 3)?;
+                        let curve = e.curve(curve_id)?;
                         let same = e.boolean(edge_id, er, 4)?;
-                        let g = Rc::new(EdgeGeometry::new(curve, start, end, same, tolerance));
+                        let mut g = EdgeGeometry::new(curve, start, end, same, tolerance);
+                        g.pcurves = e.pcurves(curve_id);
+                        let g = Rc::new(g);
                         edges.insert(edge_id, g.clone());
                         g
                     }
@@ -955,7 +958,7 @@ impl BodyBuild {
             }
             Err(SurfaceError::Malformed(err)) => return Err(err),
         };
-        match build_face(&surface, &bounds, same_sense, tolerance) {
+        match build_face(&surface, surface_id, &bounds, same_sense, tolerance) {
             Ok(b) => {
                 self.faces.push(b.face);
                 self.surface_types.push(surface.type_name());
