@@ -473,7 +473,97 @@ pub fn run(
     }
     if wants("step") {
         bench_step(iterations, out)?;
+        bench_step_large(context, iterations, out)?;
     }
+    Ok(())
+}
+
+/// A STEP model of over 10,000 faces: OpenCASCADE's plate of 806 faces placed 13 times side by
+/// side and written by knotwork's writer, then opened as the editor opens it (the file parsed
+/// in one step, then a face at a time between frames: the longest step is the longest the
+/// editor's frame waits), evaluated on the GPU as the editor does when the model arrives, and
+/// drawn at 1280 × 800 as the viewport draws it at rest and on a software adapter.
+fn bench_step_large(
+    context: &GpuContext,
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    const COPIES: usize = 13;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference/occ/step/plate-20.step");
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let plate = crate::io::step::read_project(&bytes, &mut |_, _| true)?;
+    let object = plate.scene.objects.first().ok_or("the plate has no body")?;
+
+    let (lo, hi) = object.bounds().ok_or("the plate has no box")?;
+    let step = 1.1 * (hi - lo);
+    let mut scene = Scene {
+        objects: Vec::new(),
+        unit: plate.scene.unit,
+    };
+    for k in 0..COPIES {
+        let at = DVec3::new((k % 4) as f64 * step.x, (k / 4) as f64 * step.y, 0.0);
+        scene.objects.push(SceneObject {
+            name: format!("plate {}", k + 1),
+            geometry: object
+                .kind()
+                .transformed(&glam::DAffine3::from_translation(at))?,
+            ..object.clone()
+        });
+    }
+    let tolerance = crate::io::step::default_tolerance(&scene);
+    let (text, _) = crate::io::step::export_scene(&scene, "plates.step", tolerance)?;
+    let clock = Instant::now();
+    let open =
+        crate::io::step::timed_open(text.as_bytes(), &|| clock.elapsed().as_secs_f64() * 1e3)?;
+    writeln!(
+        out,
+        "STEP {COPIES} plates ({} faces, {:.1} MB) | parse {:8.1} ms, faces built and joined {:8.1} ms in {} steps (longest {:.1} ms)",
+        open.faces,
+        text.len() as f64 / 1e6,
+        open.parse_ms,
+        open.steps_ms,
+        open.steps,
+        open.longest_step_ms
+    )?;
+    let opened = crate::io::step::read_project(text.as_bytes(), &mut |_, _| true)?.scene;
+    let start = Instant::now();
+    let sync = evaluated(context, &opened)?;
+    let evaluate_ms = start.elapsed().as_secs_f64() * 1e3;
+    let quality = sync.quality_used();
+    let geometry = sync.geometry().ok_or("nothing on the GPU")?;
+    let view = framed_view(&opened)?;
+    let renderer = ViewportRenderer::new(&context.device);
+    let mut frames = Vec::new();
+    for (samples, (w, h)) in [
+        (4, (1280, 800)),
+        crate::render::Quality::software().target((1280, 800), true),
+    ] {
+        let target = ViewTarget::with_samples(&context.device, w, h, samples);
+        renderer.set_scene(
+            &context.queue,
+            &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
+        );
+        let mut times = Vec::new();
+        for round in 0..iterations.clamp(1, 10) + 2 {
+            let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
+            if round >= 2 {
+                times.push(ms);
+            }
+        }
+        frames.push(format!(
+            "{w} × {h} {samples} sample{} {:.2} ms",
+            if samples == 1 { "" } else { "s" },
+            median(times)
+        ));
+    }
+    writeln!(
+        out,
+        "STEP {COPIES} plates on the GPU            | evaluated {evaluate_ms:8.1} ms, {} patches, {} vertices (quality {quality} to fit the device); frame {}",
+        geometry.patch_count(),
+        geometry.vertex_count(),
+        frames.join(", ")
+    )?;
     Ok(())
 }
 
