@@ -696,7 +696,7 @@ pub fn start_step_export() -> u32 {
 }
 
 /// Opens STEP `bytes` as the editor does, all at once (not into the document), and returns
-/// how long it took as JSON: `{parse_ms, steps_ms, longest_step_ms, steps, faces}`, for
+/// how long it took as JSON: `{first_step_ms, steps_ms, longest_step_ms, steps, faces}`, for
 /// comparing the page with `knotwork bench --only step`.
 #[wasm_bindgen]
 pub fn bench_step_open(bytes: Vec<u8>) -> Result<String, String> {

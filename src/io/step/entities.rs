@@ -213,7 +213,7 @@ impl Surface3 {
     }
 }
 
-fn real_of(v: &Value) -> Option<f64> {
+pub fn real_of(v: &Value) -> Option<f64> {
     match v {
         Value::Real(x) => Some(*x),
         Value::Integer(i) => Some(*i as f64),

@@ -646,119 +646,192 @@ pub fn looks_like_part21(bytes: &[u8]) -> bool {
 /// `END-ISO-10303-21;`. `progress(fraction)` is called now and then with the share of the
 /// bytes read, and parsing stops (with an error) where it returns false.
 pub fn parse(bytes: &[u8], progress: &mut dyn FnMut(f64) -> bool) -> Result<Exchange, SyntaxError> {
-    let mut p = Parser {
-        lexer: Lexer {
-            bytes,
-            at: 0,
-            line: 1,
-            entity: None,
-        },
-        peeked: None,
-    };
-    match p.next()? {
-        Token::Keyword(k) if k == "ISO-10303-21" => {}
-        _ => {
+    let mut parsing = Parsing::default();
+    while !parsing.step(bytes, 4096)? {
+        if !progress(parsing.fraction(bytes)) {
             return Err(SyntaxError {
-                line: 1,
+                line: parsing.line,
                 entity: None,
-                message: "not an ISO-10303-21 file: it does not start with ISO-10303-21;".into(),
+                message: "cancelled".into(),
             });
         }
     }
-    p.expect(Token::Semicolon, "';' after ISO-10303-21")?;
-    let mut exchange = Exchange::default();
-    let mut saw_data = false;
-    loop {
-        match p.next()? {
-            Token::Keyword(k) if k == "HEADER" => {
-                p.expect(Token::Semicolon, "';' after HEADER")?;
-                exchange.header.extend(p.header()?);
-            }
-            Token::Keyword(k) if k == "DATA" => {
-                // DATA may carry a name and schema list in Part 21 edition 3.
-                if p.peek()? == &Token::Open {
-                    p.next()?;
-                    p.list_items(1)?;
+    progress(1.0);
+    Ok(parsing.exchange)
+}
+
+/// A Part 21 parse that stops after a number of instances and goes on where it stopped, so
+/// that a large file is parsed across many frames. It keeps only its place in the bytes (it
+/// stops only between instances, where nothing is read ahead), so the bytes are passed to
+/// every step.
+#[derive(Debug)]
+pub struct Parsing {
+    at: usize,
+    line: usize,
+    started: bool,
+    in_data: bool,
+    saw_data: bool,
+    done: bool,
+    exchange: Exchange,
+}
+
+impl Default for Parsing {
+    fn default() -> Self {
+        Self {
+            at: 0,
+            line: 1,
+            started: false,
+            in_data: false,
+            saw_data: false,
+            done: false,
+            exchange: Exchange::default(),
+        }
+    }
+}
+
+impl Parsing {
+    /// The share of `bytes` read.
+    pub fn fraction(&self, bytes: &[u8]) -> f64 {
+        self.at as f64 / bytes.len().max(1) as f64
+    }
+
+    /// Parses on through at most `instances` more instances of `bytes` (the same bytes every
+    /// time); true once the file has ended.
+    pub fn step(&mut self, bytes: &[u8], instances: usize) -> Result<bool, SyntaxError> {
+        if self.done {
+            return Ok(true);
+        }
+        let mut p = Parser {
+            lexer: Lexer {
+                bytes,
+                at: self.at,
+                line: self.line,
+                entity: None,
+            },
+            peeked: None,
+        };
+        let result = self.run(&mut p, instances);
+        self.at = p.lexer.at;
+        self.line = p.lexer.line;
+        result
+    }
+
+    /// The exchange parsed (complete once [`Self::step`] returned true).
+    pub fn finish(self) -> Exchange {
+        self.exchange
+    }
+
+    fn run(&mut self, p: &mut Parser, budget: usize) -> Result<bool, SyntaxError> {
+        if !self.started {
+            match p.next()? {
+                Token::Keyword(k) if k == "ISO-10303-21" => {}
+                _ => {
+                    return Err(SyntaxError {
+                        line: 1,
+                        entity: None,
+                        message: "not an ISO-10303-21 file: it does not start with ISO-10303-21;"
+                            .into(),
+                    });
                 }
-                p.expect(Token::Semicolon, "';' after DATA")?;
-                saw_data = true;
-                let mut count = 0usize;
-                loop {
-                    match p.next()? {
-                        Token::Ref(id) => {
-                            let instance = p.instance(id)?;
-                            if exchange
-                                .index
-                                .insert(id, exchange.instances.len())
-                                .is_some()
-                            {
-                                return Err(SyntaxError {
-                                    line: p.lexer.line,
-                                    entity: Some(id),
-                                    message: "the instance number is used twice".into(),
-                                });
-                            }
-                            exchange.instances.push((id, instance));
-                            if exchange.instances.len() > MAX_ENTITIES {
-                                return Err(p
-                                    .lexer
-                                    .error(format!("more than {MAX_ENTITIES} instances")));
-                            }
-                            count += 1;
-                            if count.is_multiple_of(4096)
-                                && !progress(p.lexer.at as f64 / bytes.len().max(1) as f64)
-                            {
-                                return Err(p.lexer.error("cancelled"));
-                            }
+            }
+            p.expect(Token::Semicolon, "';' after ISO-10303-21")?;
+            self.started = true;
+        }
+        let exchange = &mut self.exchange;
+        let mut count = 0usize;
+        loop {
+            if self.in_data {
+                match p.next()? {
+                    Token::Ref(id) => {
+                        let instance = p.instance(id)?;
+                        if exchange
+                            .index
+                            .insert(id, exchange.instances.len())
+                            .is_some()
+                        {
+                            return Err(SyntaxError {
+                                line: p.lexer.line,
+                                entity: Some(id),
+                                message: "the instance number is used twice".into(),
+                            });
                         }
-                        Token::Keyword(k) if k == "ENDSEC" => {
-                            p.expect(Token::Semicolon, "';' after ENDSEC")?;
-                            break;
+                        exchange.instances.push((id, instance));
+                        if exchange.instances.len() > MAX_ENTITIES {
+                            return Err(p
+                                .lexer
+                                .error(format!("more than {MAX_ENTITIES} instances")));
                         }
-                        Token::End => {
-                            return Err(p.lexer.error(
-                                "the file ends inside its DATA section (the text is truncated?)",
-                            ));
+                        count += 1;
+                        if count >= budget {
+                            // Between instances: nothing was read ahead.
+                            return Ok(false);
                         }
-                        other => {
-                            return Err(p.lexer.error(format!(
-                                "expected an instance (#123 = ...) or ENDSEC, found {}",
-                                describe(&other)
-                            )));
+                    }
+                    Token::Keyword(k) if k == "ENDSEC" => {
+                        p.expect(Token::Semicolon, "';' after ENDSEC")?;
+                        self.in_data = false;
+                    }
+                    Token::End => {
+                        return Err(p.lexer.error(
+                            "the file ends inside its DATA section (the text is truncated?)",
+                        ));
+                    }
+                    other => {
+                        return Err(p.lexer.error(format!(
+                            "expected an instance (#123 = ...) or ENDSEC, found {}",
+                            describe(&other)
+                        )));
+                    }
+                }
+                continue;
+            }
+            match p.next()? {
+                Token::Keyword(k) if k == "HEADER" => {
+                    p.expect(Token::Semicolon, "';' after HEADER")?;
+                    exchange.header.extend(p.header()?);
+                }
+                Token::Keyword(k) if k == "DATA" => {
+                    // DATA may carry a name and schema list in Part 21 edition 3.
+                    if p.peek()? == &Token::Open {
+                        p.next()?;
+                        p.list_items(1)?;
+                    }
+                    p.expect(Token::Semicolon, "';' after DATA")?;
+                    self.saw_data = true;
+                    self.in_data = true;
+                }
+                Token::Keyword(k) if k == "END-ISO-10303-21" => {
+                    if !self.saw_data {
+                        return Err(p.lexer.error("the file has no DATA section"));
+                    }
+                    self.done = true;
+                    return Ok(true);
+                }
+                Token::Keyword(k) if k == "ANCHOR" || k == "REFERENCE" || k == "SIGNATURE" => {
+                    // Edition 3 sections knotwork does not use: skip to their ENDSEC.
+                    loop {
+                        match p.next()? {
+                            Token::Keyword(e) if e == "ENDSEC" => break,
+                            Token::End => {
+                                return Err(p.lexer.error(format!("the {k} section never ends")));
+                            }
+                            _ => {}
                         }
                     }
                 }
-            }
-            Token::Keyword(k) if k == "END-ISO-10303-21" => break,
-            Token::Keyword(k) if k == "ANCHOR" || k == "REFERENCE" || k == "SIGNATURE" => {
-                // Edition 3 sections knotwork does not use: skip to their ENDSEC.
-                loop {
-                    match p.next()? {
-                        Token::Keyword(e) if e == "ENDSEC" => break,
-                        Token::End => {
-                            return Err(p.lexer.error(format!("the {k} section never ends")));
-                        }
-                        _ => {}
-                    }
+                Token::End => {
+                    return Err(p.lexer.error(
+                        "the file ends without END-ISO-10303-21; (the text is truncated?)",
+                    ));
                 }
-            }
-            Token::End => {
-                return Err(p
-                    .lexer
-                    .error("the file ends without END-ISO-10303-21; (the text is truncated?)"));
-            }
-            other => {
-                return Err(p
-                    .lexer
-                    .error(format!("expected a section, found {}", describe(&other))));
+                other => {
+                    return Err(p
+                        .lexer
+                        .error(format!("expected a section, found {}", describe(&other))));
+                }
             }
         }
     }
-    if !saw_data {
-        return Err(p.lexer.error("the file has no DATA section"));
-    }
-    progress(1.0);
-    Ok(exchange)
 }
 
 #[cfg(test)]
@@ -803,6 +876,34 @@ mod tests {
             panic!()
         };
         assert_eq!(n.args[0], Value::Str("été".into()));
+    }
+
+    #[test]
+    fn a_parse_in_steps_of_one_instance_is_the_parse_at_once() {
+        let at_once = parse_text(SMALL).unwrap();
+        let mut parsing = Parsing::default();
+        let mut steps = 0;
+        while !parsing.step(SMALL.as_bytes(), 1).unwrap() {
+            steps += 1;
+            assert!(parsing.fraction(SMALL.as_bytes()) < 1.0);
+        }
+        // One step per instance, and the last also reads to the end.
+        assert_eq!(steps, 4);
+        let x = parsing.finish();
+        assert_eq!(x.header, at_once.header);
+        assert_eq!(x.instances, at_once.instances);
+        assert_eq!(x.get(3), at_once.get(3));
+        // An error after a stop names the line and instance where it is.
+        let bad = SMALL.replace("#4 = NAME(", "#4 = NAME((");
+        let mut parsing = Parsing::default();
+        let e = loop {
+            match parsing.step(bad.as_bytes(), 1) {
+                Ok(true) => panic!("accepted"),
+                Ok(false) => {}
+                Err(e) => break e,
+            }
+        };
+        assert_eq!(e, parse_text(&bad).unwrap_err());
     }
 
     #[test]

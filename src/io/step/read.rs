@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use glam::{DAffine3, DVec3};
 
-use super::entities::{Entities, SurfaceError, bad};
+use super::entities::{Entities, SurfaceError, bad, real_of};
 use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
 use super::part21::{Exchange, Instance, Value};
 use crate::kernel::TrimmedSurface;
@@ -604,31 +604,46 @@ pub struct ReadJob {
     name_count: HashMap<String, usize>,
 }
 
+/// A Part 21 syntax error as the reader reports it.
+pub fn syntax_error(e: super::part21::SyntaxError) -> FormatError {
+    if e.message.starts_with("not an ISO-10303-21 file") || e.message == "cancelled" {
+        FormatError::new("", e.message)
+    } else {
+        FormatError::new("", format!("not a valid STEP file: {e}"))
+    }
+}
+
 impl ReadJob {
     /// Parses `bytes` (`progress(fraction)` now and then; where it returns false, parsing
     /// stops with "cancelled") and reads the file's units, assembly and colours.
     pub fn new(bytes: &[u8], progress: &mut dyn FnMut(f64) -> bool) -> Result<Self, FormatError> {
-        let x = super::part21::parse(bytes, progress).map_err(|e| {
-            if e.message.starts_with("not an ISO-10303-21 file") || e.message == "cancelled" {
-                FormatError::new("", e.message)
-            } else {
-                FormatError::new("", format!("not a valid STEP file: {e}"))
-            }
-        })?;
+        let x = super::part21::parse(bytes, progress).map_err(syntax_error)?;
+        Self::from_exchange(x)
+    }
+
+    /// The job for a parsed file: its units, assembly and colours read.
+    pub fn from_exchange(x: Exchange) -> Result<Self, FormatError> {
         let schema = x.schemas().join(", ");
         let (millimetres_per_unit, unit_name) = file_unit(&x);
         let e = Entities {
             x: &x,
             scale: millimetres_per_unit,
         };
-        // The model's size, from its points, sets the trim tolerance.
+        // The model's size, from its 3D points (not the 2D points of p-curves, which are
+        // surface parameters), sets the trim tolerance.
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        for (id, instance) in &x.instances {
-            if instance.is("CARTESIAN_POINT")
-                && let Ok(p) = e.point(*id)
+        for (_, instance) in &x.instances {
+            if let Instance::Simple(r) = instance
+                && r.name == "CARTESIAN_POINT"
+                && let Some(Value::List(c)) = r.args.get(1)
+                && let [a, b, c] = c.as_slice()
+                && let (Some(a), Some(b), Some(c)) = (real_of(a), real_of(b), real_of(c))
             {
-                lo = lo.min(p);
-                hi = hi.max(p);
+                let p = DVec3::new(a, b, c) * millimetres_per_unit;
+                if p.is_finite() {
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
             }
         }
         let diagonal = if lo.x.is_finite() {
@@ -744,14 +759,23 @@ impl ReadJob {
 
     /// The model read ([`Self::step`] run to the end; bodies not yet built are missing).
     pub fn finish(self) -> StepModel {
-        StepModel {
+        self.finish_keeping_instances().0
+    }
+
+    /// [`Self::finish`], handing back the file's instances rather than dropping them: freeing
+    /// a large file's millions of instances takes long enough to hold up a frame, so the
+    /// caller can free them a share at a time.
+    pub fn finish_keeping_instances(mut self) -> (StepModel, Vec<(u64, Instance)>) {
+        let instances = std::mem::take(&mut self.x.instances);
+        let model = StepModel {
             bodies: self.bodies,
             millimetres_per_unit: self.millimetres_per_unit,
             unit_name: self.unit_name,
             schema: self.schema,
             warnings: self.warnings,
             tolerance: self.tolerance,
-        }
+        };
+        (model, instances)
     }
 }
 
