@@ -691,6 +691,20 @@ async function main() {
       const written = await page.evaluate(() => window.knotwork.exportStep());
       const faces = (written.match(/ADVANCED_FACE\(/g) || []).length;
       assert(written.startsWith('ISO-10303-21;') && faces === 11, `exportStep: ${faces} faces, ${written.slice(0, 40)}`);
+      // The box written by the page opens again with all 11 faces (its fillets and the hole's
+      // cylinder are B-spline faces now, read through their p-curves), as one closed body.
+      const boxAgain = await page.evaluate(async (text) => {
+        const frames = async (test) => {
+          for (let k = 0; k < 600 && !test(); k += 1) await new Promise((r) => requestAnimationFrame(r));
+        };
+        window.knotwork.newDocument({ empty: true });
+        await frames(() => window.knotwork.status().objects === 0);
+        window.knotwork.openFile('box-again.step', new TextEncoder().encode(text));
+        await frames(() => window.knotwork.status().objects === 1 && window.knotwork.status().open_progress == null);
+        const s = window.knotwork.status();
+        return { objects: s.objects, error: s.error, faces: window.knotwork.project().objects[0]?.faces.length };
+      }, written);
+      assert(boxAgain.objects === 1 && boxAgain.faces === 11 && boxAgain.error === null, `the box written and opened again: ${JSON.stringify(boxAgain)}`);
       // The coloured two-part assembly written by the page opens again with both parts, all
       // their faces and their colours.
       const assembly = await readFile(new URL('../tests/reference/occ/step/assembly.step', import.meta.url));
