@@ -613,3 +613,60 @@ fn every_triangle_of_a_joined_mesh_lies_within_the_tolerance_of_its_faces() {
         }
     }
 }
+
+#[test]
+fn a_triangular_patch_is_written_as_an_exact_b_spline_face() {
+    use knotwork::kernel::triangle::{TriangleBezier, point_count};
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+    // A cubic triangle over the unit right triangle, lifted to z = x y (1 − x − y) · 4.
+    let n = 3;
+    let mut points = vec![DVec3::ZERO; point_count(n)];
+    for j in 0..=n {
+        for i in 0..=n - j {
+            let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+            let k = knotwork::kernel::triangle::lattice_index(n, i, j);
+            points[k] = DVec3::new(10.0 * x, 10.0 * y, if i == 1 && j == 1 { 8.0 } else { 0.0 });
+        }
+    }
+    let patch = TriangleBezier::new(n, points).unwrap();
+    let scene = Scene {
+        objects: vec![SceneObject::new("tri", ObjectGeometry::new(patch.clone()))],
+        unit: None,
+    };
+    let (text, left_out) = step::export_scene(&scene, "tri.step", 1e-6).unwrap();
+    assert!(left_out.is_empty(), "{left_out:?}");
+    let model = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let faces: Vec<_> = model.bodies.iter().flat_map(|b| &b.faces).collect();
+    assert_eq!(faces.len(), 1);
+    // Every point of the face is the triangle's at (u, v) = (s, (1 − s) t).
+    let s = faces[0].surface();
+    for a in 0..=6 {
+        for b in 0..=6 {
+            let (u, t) = (a as f64 / 6.0, b as f64 / 6.0);
+            let want = patch.evaluate(u, (1.0 - u) * t).point;
+            let got = s.point_at(u, t).unwrap();
+            assert!(got.distance(want) < 1e-9, "({u}, {t}): {got} vs {want}");
+        }
+    }
+    // Its mesh has the triangle's area: ∫∫ |b_u × b_v| over the triangle, by the midpoint
+    // rule over the square with the Jacobian 1 − s.
+    let steps = 400;
+    let mut area = 0.0;
+    for a in 0..steps {
+        for b in 0..steps {
+            let (u, t) = (
+                (a as f64 + 0.5) / steps as f64,
+                (b as f64 + 0.5) / steps as f64,
+            );
+            let d = patch.evaluate(u, (1.0 - u) * t);
+            area += d.su.cross(d.sv).length() * (1.0 - u) / (steps * steps) as f64;
+        }
+    }
+    let mesh = &meshes(&model, 1e-3)[0];
+    assert!(
+        relative(mesh.area(), area) < 1e-3 && area > 50.0,
+        "mesh {} vs {area}",
+        mesh.area()
+    );
+}

@@ -14,6 +14,7 @@
 use glam::DVec3;
 
 use super::diffgeo::SurfaceDerivatives;
+use super::vector::binomial;
 use super::{GeometryError, Location};
 
 /// The highest degree a triangular patch may have (231 points).
@@ -97,6 +98,32 @@ impl TriangleBezier {
     /// b_ijk (k = n − i − j).
     pub fn point(&self, i: usize, j: usize) -> DVec3 {
         self.points[lattice_index(self.degree, i, j)]
+    }
+
+    /// The patch as one tensor-product Bézier patch of bidegree (n, n) over the unit square,
+    /// exactly: the square mapped onto the triangle by u = s, v = (1 − s) t, w = (1 − s)(1 − t)
+    /// (the side s = 1 collapses to the corner b_n00; the normal keeps its direction, since
+    /// S_s × S_t = (1 − s) b_u × b_v). Because
+    /// B^n_ijk(s, (1 − s) t, (1 − s)(1 − t)) = B^n_i(s) · B^{n−i}_j(t),
+    /// row i of the tensor patch is the Bézier curve of degree m = n − i with points
+    /// b_{i,j,m−j}, raised to degree n (Farin, Curves and Surfaces for CAGD, degree elevation
+    /// repeated: Q_l = Σ_j C(m, j) C(n − m, l − j) / C(n, l) P_j). Points row by row: index
+    /// i (n + 1) + l, i along s.
+    pub fn tensor_points(&self) -> Vec<DVec3> {
+        let n = self.degree;
+        let mut out = Vec::with_capacity((n + 1) * (n + 1));
+        for i in 0..=n {
+            let m = n - i;
+            for l in 0..=n {
+                let mut q = DVec3::ZERO;
+                for j in l.saturating_sub(n - m)..=l.min(m) {
+                    let c = binomial(m, j) * binomial(n - m, l - j) / binomial(n, l);
+                    q += self.point(i, j) * c;
+                }
+                out.push(q);
+            }
+        }
+        out
     }
 
     /// The point and the derivatives in (u, v) (w = 1 − u − v) at (u, v), by the de Casteljau
@@ -289,6 +316,38 @@ pub fn bernstein_weights(degree: usize, u: f64, v: f64) -> Vec<[f64; 6]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tensor_patch_is_the_triangle_on_the_collapsed_square() {
+        for n in [1, 2, 3, 5] {
+            let points: Vec<DVec3> = (0..point_count(n))
+                .map(|k| {
+                    let x = k as f64;
+                    DVec3::new(
+                        (x * 1.3).sin() * 2.0 + x,
+                        (x * 0.7).cos() - 0.5 * x,
+                        (x * 2.1).sin(),
+                    )
+                })
+                .collect();
+            let patch = TriangleBezier::new(n, points).unwrap();
+            let tensor = crate::NurbsSurface::bezier([n, n], patch.tensor_points(), None).unwrap();
+            for a in 0..=8 {
+                for b in 0..=8 {
+                    let (s, t) = (a as f64 / 8.0, b as f64 / 8.0);
+                    let want = patch.evaluate(s, (1.0 - s) * t).point;
+                    let got = tensor.point_at(s, t).unwrap();
+                    assert!(
+                        got.distance(want) < 1e-12,
+                        "degree {n} at ({s}, {t}): {got} vs {want}"
+                    );
+                }
+            }
+            // The side s = 1 is the corner b_n00.
+            let corner = patch.point(n, 0);
+            assert!(tensor.point_at(1.0, 0.37).unwrap().distance(corner) < 1e-12);
+        }
+    }
 
     fn sample(n: usize) -> TriangleBezier {
         let points = (0..point_count(n))

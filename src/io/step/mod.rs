@@ -414,8 +414,18 @@ fn object_faces(
         }
         return Ok((faces, None));
     }
+    if let Some(t) = object
+        .geometry
+        .downcast_ref::<crate::kernel::triangle::TriangleBezier>()
+    {
+        // Exactly, as the tensor patch over the square collapsed onto the triangle.
+        let n = t.degree();
+        let s = NurbsSurface::bezier([n, n], t.tensor_points(), None).map_err(|e| e.to_string())?;
+        return Ok((vec![TrimmedSurface::untrimmed(s)], None));
+    }
     Err(format!(
-        "STEP export takes NURBS, trimmed surfaces, polysurfaces and Bézier patch sets, not {}",
+        "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets and \
+         triangular patches, not {}",
         object.kind().kind_name()
     ))
 }
