@@ -512,7 +512,7 @@ fn bench_step_large(
         });
     }
     let tolerance = crate::io::step::default_tolerance(&scene);
-    let (text, _) = crate::io::step::export_scene(&scene, "plates.step", tolerance)?;
+    let text = crate::io::step::export_scene(&scene, "plates.step", tolerance)?.text;
     let clock = Instant::now();
     let open =
         crate::io::step::timed_open(text.as_bytes(), &|| clock.elapsed().as_secs_f64() * 1e3)?;

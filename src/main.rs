@@ -1102,9 +1102,15 @@ mod cli {
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            let (text, left_out) =
-                knotwork::io::step::export_scene(&project.scene, &name, tolerance)
-                    .map_err(|e| e.to_string())?;
+            let knotwork::io::step::StepExport {
+                text,
+                left_out,
+                approximated,
+            } = knotwork::io::step::export_scene(&project.scene, &name, tolerance)
+                .map_err(|e| e.to_string())?;
+            for note in &approximated {
+                eprintln!("knotwork export: {note}");
+            }
             std::fs::write(args.output, &text)
                 .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
             for why in &left_out {

@@ -310,9 +310,9 @@ fn a_file_written_and_read_back_keeps_every_surface_exactly() {
     ] {
         let project = step::read_project(&fixture(name), &mut |_, _| true).unwrap();
         let tolerance = step::default_tolerance(&project.scene);
-        let (text, left_out) =
-            step::export_scene(&project.scene, "round-trip.step", tolerance).unwrap();
-        assert!(left_out.is_empty(), "{left_out:?}");
+        let written = step::export_scene(&project.scene, "round-trip.step", tolerance).unwrap();
+        assert!(written.left_out.is_empty(), "{:?}", written.left_out);
+        let text = written.text;
         let again = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
         assert!(again.warnings.is_empty(), "{name}: {:?}", again.warnings);
         check_model_against_occ(name, &again, 1e-3, 1e-3);
@@ -480,7 +480,9 @@ fn a_step_model_is_in_millimetres_with_its_colours_and_exports_to_gltf_in_metres
     // Declared inches, the same numbers are written with an inch unit, and read back as
     // 25.4 times as many millimetres.
     project.scene.unit = Some(LengthUnit::Inch);
-    let (text, _) = step::export_scene(&project.scene, "inches.step", 1e-6).unwrap();
+    let text = step::export_scene(&project.scene, "inches.step", 1e-6)
+        .unwrap()
+        .text;
     assert!(
         text.contains("CONVERSION_BASED_UNIT('INCH'"),
         "an inch unit"
@@ -633,8 +635,9 @@ fn a_triangular_patch_is_written_as_an_exact_b_spline_face() {
         objects: vec![SceneObject::new("tri", ObjectGeometry::new(patch.clone()))],
         unit: None,
     };
-    let (text, left_out) = step::export_scene(&scene, "tri.step", 1e-6).unwrap();
-    assert!(left_out.is_empty(), "{left_out:?}");
+    let written = step::export_scene(&scene, "tri.step", 1e-6).unwrap();
+    assert!(written.left_out.is_empty() && written.approximated.is_empty());
+    let text = written.text;
     let model = step::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
     assert!(model.warnings.is_empty(), "{:?}", model.warnings);
     let faces: Vec<_> = model.bodies.iter().flat_map(|b| &b.faces).collect();
@@ -668,5 +671,49 @@ fn a_triangular_patch_is_written_as_an_exact_b_spline_face() {
         relative(mesh.area(), area) < 1e-3 && area > 50.0,
         "mesh {} vs {area}",
         mesh.area()
+    );
+}
+
+#[test]
+fn a_subdivision_surface_is_written_as_bicubic_patches_close_to_its_limit() {
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{SubdivisionSurface, cages};
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let surface =
+        SubdivisionSurface::from_mesh(cages::cube(DVec3::ZERO, 20.0).unwrap(), 2).unwrap();
+    let scene = Scene {
+        objects: vec![SceneObject::new(
+            "cube",
+            ObjectGeometry::new(SubdivObject::new(surface.clone(), Display::Limit)),
+        )],
+        unit: None,
+    };
+    let written = step::export_scene(&scene, "cube.step", 1e-6).unwrap();
+    assert!(written.left_out.is_empty(), "{:?}", written.left_out);
+    assert_eq!(written.approximated.len(), 1);
+    let note = &written.approximated[0];
+    println!("{note}");
+    assert!(note.contains("bicubic patches"), "{note}");
+    let model = step::read::read(written.text.as_bytes(), &mut |_, _| true).unwrap();
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    assert_eq!(model.bodies.len(), 1);
+    // A closed shell, and the enclosed volume of the limit surface: against the limit mesh of
+    // level 5 (its vertices on the limit), whose volume is within its own chord error.
+    let mesh = &meshes(&model, 1e-3)[0];
+    let (volume, closed) = volume_and_closed(mesh, 1e-6);
+    assert!(closed && model.bodies[0].topology.naked.is_empty());
+    let limit = surface.limit(5).unwrap();
+    let mut reference = 0.0;
+    for face in limit.level.faces() {
+        let p: Vec<DVec3> = face.iter().map(|&v| limit.positions[v as usize]).collect();
+        for k in 1..p.len() - 1 {
+            reference += p[0].dot(p[k].cross(p[k + 1])) / 6.0;
+        }
+    }
+    let reference = reference.abs();
+    println!("volume {volume:.4} vs the level-5 limit mesh's {reference:.4}");
+    assert!(
+        relative(volume, reference) < 2e-3,
+        "{volume} vs {reference}"
     );
 }

@@ -303,8 +303,8 @@ impl KnotworkApp {
         };
         let tolerance = crate::io::step::default_tolerance(scene);
         let result = crate::io::step::export_scene(scene, &file_name, tolerance);
-        let (text, left_out) = match result {
-            Ok(written) => written,
+        let (text, left_out, approximated) = match result {
+            Ok(written) => (written.text, written.left_out, written.approximated),
             Err(e) => {
                 match target {
                     ExportTarget::Page(request) => {
@@ -322,7 +322,10 @@ impl KnotworkApp {
             String::new()
         } else {
             format!("; left out {}", left_out.join("; "))
-        };
+        } + &approximated
+            .iter()
+            .map(|a| format!("; {a}"))
+            .collect::<String>();
         match target {
             ExportTarget::Page(request) => {
                 crate::status::finish_export(request, Ok(text.into_bytes()));

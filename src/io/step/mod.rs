@@ -375,25 +375,29 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
 
 /// The faces of one object as STEP writes them (NURBS and trimmed surfaces, polysurfaces with
 /// their shared edges, Bézier patch sets patch by patch), or why it is left out.
-fn object_faces(
-    object: &SceneObject,
-) -> Result<
-    (
-        Vec<crate::kernel::TrimmedSurface>,
-        Option<crate::kernel::join::Topology>,
-    ),
-    String,
-> {
+/// An object's faces as STEP writes them: the faces, their shared edges where known, and a
+/// note where the faces approximate the object.
+type ObjectFaces = (
+    Vec<crate::kernel::TrimmedSurface>,
+    Option<crate::kernel::join::Topology>,
+    Option<String>,
+);
+
+/// How close to a subdivision surface's limit its approximated patches are asked to be: this
+/// fraction of its cage's bounding-box diagonal (or the export's tolerance where larger).
+pub const SUBDIVISION_TOLERANCE: f64 = 1e-4;
+
+fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, String> {
     use crate::kernel::bezier::BezierPatchSet;
     use crate::kernel::{NurbsSurface, TrimmedSurface};
     if object.displacement.is_some() || object.lattice.is_some() {
         return Err("it is displaced or deformed (bake it first)".into());
     }
     if let Some(p) = object.geometry.downcast_ref::<Polysurface>() {
-        return Ok((p.faces().to_vec(), p.topology().ok().cloned()));
+        return Ok((p.faces().to_vec(), p.topology().ok().cloned(), None));
     }
     if let Some(t) = object.geometry.as_trimmed() {
-        return Ok((vec![t], None));
+        return Ok((vec![t], None, None));
     }
     if let Some(set) = object.geometry.downcast_ref::<BezierPatchSet>() {
         let mut faces = Vec::new();
@@ -412,7 +416,7 @@ fn object_faces(
                 NurbsSurface::bezier([p, q], points, Some(weights)).map_err(|e| e.to_string())?;
             faces.push(TrimmedSurface::untrimmed(s));
         }
-        return Ok((faces, None));
+        return Ok((faces, None, None));
     }
     if let Some(t) = object
         .geometry
@@ -421,11 +425,38 @@ fn object_faces(
         // Exactly, as the tensor patch over the square collapsed onto the triangle.
         let n = t.degree();
         let s = NurbsSurface::bezier([n, n], t.tensor_points(), None).map_err(|e| e.to_string())?;
-        return Ok((vec![TrimmedSurface::untrimmed(s)], None));
+        return Ok((vec![TrimmedSurface::untrimmed(s)], None, None));
+    }
+    if let Some(sub) = object.geometry.downcast_ref::<crate::scene::SubdivObject>() {
+        let (lo, hi) = crate::scene::points_box(sub.surface.points().iter().copied())
+            .ok_or("its cage has no points")?;
+        let asked = (SUBDIVISION_TOLERANCE * lo.distance(hi)).max(tolerance);
+        let limit = sub
+            .surface
+            .limit_patches(asked)
+            .map_err(|e| e.to_string())?;
+        let faces = limit
+            .patches
+            .iter()
+            .map(|p| NurbsSurface::bezier([3, 3], p.to_vec(), None).map(TrimmedSurface::untrimmed))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        // The patches meet along their edges to rounding.
+        let topology =
+            crate::kernel::join::find_topology(&faces, asked).map_err(|e| e.to_string())?;
+        let note = format!(
+            "{}: the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",
+            object.name,
+            faces.len(),
+            limit.level,
+            limit.exact,
+            limit.deviation
+        );
+        return Ok((faces, Some(topology), Some(note)));
     }
     Err(format!(
-        "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets and \
-         triangular patches, not {}",
+        "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets, \
+         triangular patches and Catmull-Clark subdivision surfaces, not {}",
         object.kind().kind_name()
     ))
 }
@@ -436,6 +467,17 @@ pub fn default_tolerance(scene: &Scene) -> f64 {
     crate::io::gltf::default_tolerance(scene) * 1e-3
 }
 
+/// What [`export_scene`] wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepExport {
+    /// The STEP file.
+    pub text: String,
+    /// The objects not written, each with why.
+    pub left_out: Vec<String>,
+    /// The objects written as an approximation, each with how close it is.
+    pub approximated: Vec<String>,
+}
+
 /// The visible objects with faces as a STEP file (AP214, in the scene's unit; millimetres
 /// for a unitless scene): what was written, and
 /// the objects left out with why.
@@ -443,15 +485,17 @@ pub fn export_scene(
     scene: &Scene,
     file_name: &str,
     tolerance: f64,
-) -> Result<(String, Vec<String>), FormatError> {
+) -> Result<StepExport, FormatError> {
     let mut kept = Vec::new();
     let mut left_out = Vec::new();
+    let mut approximated = Vec::new();
     for object in scene.objects.iter().filter(|o| o.visible) {
         if object.kind().space_curve().is_some() {
             continue;
         }
-        match object_faces(object) {
-            Ok((faces, topology)) => {
+        match object_faces(object, tolerance) {
+            Ok((faces, topology, note)) => {
+                approximated.extend(note);
                 kept.push((object.name.clone(), faces, topology, object.color))
             }
             Err(why) => left_out.push(format!("{}: {why}", object.name)),
@@ -481,5 +525,9 @@ pub fn export_scene(
         .collect();
     let text = write::write(&shapes, file_name, tolerance, scene.unit)
         .map_err(|e| FormatError::new("", e.to_string()))?;
-    Ok((text, left_out))
+    Ok(StepExport {
+        text,
+        left_out,
+        approximated,
+    })
 }

@@ -11,6 +11,7 @@
 pub mod adaptive;
 pub mod cages;
 pub mod display;
+pub mod exchange;
 pub mod level;
 pub mod limit;
 pub mod patches;
