@@ -15,9 +15,7 @@ use std::fmt::Write as _;
 use glam::{DVec2, DVec3};
 
 use crate::kernel::join::{EdgeId, Topology, face_loops};
-use crate::kernel::{
-    GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface, construct,
-};
+use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface};
 use crate::scene::LengthUnit;
 
 /// One object to write.
@@ -228,7 +226,11 @@ fn edge_curve(
                 if lo > d0 {
                     piece = piece.split(lo)?.1;
                 }
-                return Ok(if t1 < t0 { piece.reverse() } else { piece });
+                let piece = if t1 < t0 { piece.reverse() } else { piece };
+                // On the p-curve's domain: the iso-curve's parameter is the line's, mapped
+                // affinely, so the two agree at the same parameter.
+                let (d0, d1) = trim.domain();
+                return piece.reparametrized(d0, d1);
             }
         }
     }
@@ -236,25 +238,32 @@ fn edge_curve(
     let at = |t: f64| -> Result<DVec3, GeometryError> {
         s.point_at_clamped(trim.point_at(d0 + (d1 - d0) * t)?)
     };
+    // Sampled at evenly spaced parameters of the p-curve and interpolated at the same
+    // parameters on the p-curve's domain, so that the 3D curve and the p-curve agree at the
+    // same parameter (OpenCASCADE's SameParameter), checked half way between samples.
     let mut n = 8usize.max(trim.count() * 2);
     loop {
         let points: Vec<DVec3> = (0..=n)
             .map(|k| at(k as f64 / n as f64))
             .collect::<Result<_, _>>()?;
-        let fitted = construct::interpolate(&points, 3)?;
+        let fitted = crate::kernel::splines::interpolate_through(
+            &points,
+            3,
+            crate::kernel::splines::Parametrization::Uniform,
+            None,
+        )?;
         let mut worst: f64 = 0.0;
         for k in 0..n {
-            let p = at((k as f64 + 0.5) / n as f64)?;
-            let (lo, hi) = fitted.domain();
-            let t = fitted.closest_parameter(p).unwrap_or(lo + (hi - lo) * 0.5);
-            worst = worst.max(fitted.point_at(t)?.distance(p));
+            let t = (k as f64 + 0.5) / n as f64;
+            worst = worst.max(fitted.point_at(t)?.distance(at(t)?));
         }
         if worst <= tolerance || n >= 1024 {
-            let mut c = fitted;
             // The ends exactly on the corners.
-            let last = c.count() - 1;
-            c = c.with_point(0, points[0])?.with_point(last, points[n])?;
-            return Ok(c);
+            let last = fitted.count() - 1;
+            let c = fitted
+                .with_point(0, points[0])?
+                .with_point(last, points[n])?;
+            return c.reparametrized(d0, d1);
         }
         n *= 2;
     }
