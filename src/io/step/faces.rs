@@ -828,14 +828,28 @@ fn finish_face(
 /// writer whose p-curves share the 3D curve's parameter). A seam edge has two p-curves on the
 /// surface; each use takes the one that continues the loop. Where consecutive p-curves leave
 /// a gap in (u, v) at one point in space (a collapsed side), a straight connector closes it.
-/// `None`: some edge has no such p-curve, or the loops do not close, and the face is built
-/// from its 3D edges instead.
+/// `None`: some edge has no such p-curve, or the loops do not close, or the surface closes on
+/// itself and no edge is a seam, and the face is built from its 3D edges instead.
 fn face_from_pcurves(
     s: &NurbsSurface,
     surface_id: u64,
     bounds: &[Bound],
     tolerance: f64,
 ) -> Option<BuiltFace> {
+    // On a surface that closes on itself, a loop alone may mean the part outside it (a
+    // sphere-like surface with a hole): the p-curves say which only with a seam edge, whose two
+    // p-curves on the surface make the loops bound the face within the domain.
+    let seamed = bounds.iter().flat_map(|b| &b.edges).any(|e| {
+        e.geometry
+            .pcurves
+            .iter()
+            .filter(|(id, _)| *id == surface_id)
+            .count()
+            >= 2
+    });
+    if !seamed && closed_directions(s, tolerance).iter().any(Option::is_some) {
+        return None;
+    }
     let [(u0, u1), (v0, v1)] = s.domain();
     let uv_size = (u1 - u0).hypot(v1 - v0);
     let on = |p: DVec2| s.point_at_clamped(p).ok();
