@@ -217,15 +217,72 @@ pub(super) fn interpolate_points<V: Vector>(
     what: &'static str,
 ) -> Result<Vec<V>, GeometryError> {
     let n = points.len();
-    let mut matrix = vec![vec![0.0; n]; n];
     let mut basis = vec![0.0; degree + 1];
-    for (row, &t) in matrix.iter_mut().zip(params) {
-        let span = find_span(knots, degree, n, t);
-        basis_functions(knots, degree, span, t, &mut basis);
-        row[span - degree..=span].copy_from_slice(&basis);
+    // Each row's p + 1 non-zero entries and the column of the first.
+    let rows: Vec<(usize, Vec<f64>)> = params
+        .iter()
+        .map(|&t| {
+            let span = find_span(knots, degree, n, t);
+            basis_functions(knots, degree, span, t, &mut basis);
+            (span - degree, basis.clone())
+        })
+        .collect();
+    if let Some(control) = solve_banded(&rows, points) {
+        return Ok(control);
+    }
+    let mut matrix = vec![vec![0.0; n]; n];
+    for (row, (first, values)) in matrix.iter_mut().zip(&rows) {
+        row[*first..first + values.len()].copy_from_slice(values);
     }
     super::vector::solve_linear(matrix, points.to_vec())
         .ok_or_else(|| construction(what, "the interpolation system is singular"))
+}
+
+/// The collocation system whose row k is `rows[k]` (its non-zero entries from column
+/// `rows[k].0`) solved by Gaussian elimination without pivoting, in O(n p²): for parameters
+/// in increasing order that satisfy Schoenberg–Whitney the matrix is totally positive and
+/// banded, elimination needs no pivoting and fills nothing outside each row's entries (de Boor,
+/// A Practical Guide to Splines, ch. XIII). `None` where the rows are not in that form or a
+/// pivot vanishes (the caller then solves the full system with pivoting).
+fn solve_banded<V: Vector>(rows: &[(usize, Vec<f64>)], rhs: &[V]) -> Option<Vec<V>> {
+    let n = rows.len();
+    let width = rows.first()?.1.len();
+    let last = |k: usize| rows[k].0 + width - 1;
+    if rows.windows(2).any(|w| w[1].0 < w[0].0)
+        || (0..n).any(|k| rows[k].0 > k || last(k) < k || last(k) >= n)
+    {
+        return None;
+    }
+    let mut a: Vec<Vec<f64>> = rows.iter().map(|(_, v)| v.clone()).collect();
+    let mut b = rhs.to_vec();
+    let at = |k: usize, j: usize| j - rows[k].0;
+    for k in 0..n {
+        let pivot = a[k][at(k, k)];
+        if !(pivot.abs() >= 1e-14) {
+            return None;
+        }
+        let mut i = k + 1;
+        while i < n && rows[i].0 <= k {
+            let f = a[i][at(i, k)] / pivot;
+            if f != 0.0 {
+                for j in k..=last(k) {
+                    let v = a[k][at(k, j)];
+                    a[i][at(i, j)] -= f * v;
+                }
+                b[i] = b[i] - b[k] * f;
+            }
+            i += 1;
+        }
+    }
+    let mut x = vec![V::ZERO; n];
+    for k in (0..n).rev() {
+        let mut acc = b[k];
+        for j in k + 1..=last(k) {
+            acc = acc - x[j] * a[k][at(k, j)];
+        }
+        x[k] = acc / a[k][at(k, k)];
+    }
+    Some(x)
 }
 
 /// The non-rational B-spline of degree `degree` (lowered to points − 1 if there are too few
@@ -666,4 +723,46 @@ pub fn bspline_surface(
         points,
         None,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_banded_interpolation_solve_is_the_full_solve() {
+        // 300 points on a wavy space curve, cubic, chord-length parameters, averaged knots.
+        let points: Vec<DVec3> = (0..300)
+            .map(|k| {
+                let t = k as f64 * 0.05;
+                DVec3::new(t.cos() * (1.0 + 0.3 * (3.0 * t).sin()), t.sin(), 0.2 * t)
+            })
+            .collect();
+        let params = super::super::splines::parameters(
+            &points,
+            super::super::splines::Parametrization::ChordLength,
+            "t",
+        )
+        .unwrap();
+        let knots = averaged_knots(&params, 3);
+        let banded = interpolate_points(&points, &params, 3, &knots, "t").unwrap();
+        // The full system with pivoting.
+        let n = points.len();
+        let mut matrix = vec![vec![0.0; n]; n];
+        let mut basis = vec![0.0; 4];
+        for (row, &t) in matrix.iter_mut().zip(&params) {
+            let span = find_span(&knots, 3, n, t);
+            basis_functions(&knots, 3, span, t, &mut basis);
+            row[span - 3..=span].copy_from_slice(&basis);
+        }
+        let full = super::super::vector::solve_linear(matrix, points.clone()).unwrap();
+        for (a, b) in banded.iter().zip(&full) {
+            assert!(a.distance(*b) < 1e-10, "{a} vs {b}");
+        }
+        // And the curve passes through the points.
+        let curve = SpaceCurve::new(3, knots, banded, None).unwrap();
+        for (p, &t) in points.iter().zip(&params) {
+            assert!(curve.point_at(t).unwrap().distance(*p) < 1e-10);
+        }
+    }
 }

@@ -18,6 +18,10 @@ use crate::kernel::join::{EdgeId, Topology, face_loops};
 use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface};
 use crate::scene::LengthUnit;
 
+/// The most samples an edge's 3D curve is interpolated through (the solve is banded: linear
+/// in the count).
+const MAX_EDGE_SAMPLES: usize = 1 << 16;
+
 /// One object to write.
 pub struct StepShape<'a> {
     pub name: &'a str,
@@ -257,7 +261,7 @@ fn edge_curve(
             let t = (k as f64 + 0.5) / n as f64;
             worst = worst.max(fitted.point_at(t)?.distance(at(t)?));
         }
-        if worst <= tolerance || n >= 1024 {
+        if worst <= tolerance || n >= MAX_EDGE_SAMPLES {
             // The ends exactly on the corners.
             let last = fitted.count() - 1;
             let c = fitted
