@@ -574,33 +574,22 @@ fn bench_step_large(
 /// reading and meshing the same file at the same deflection in the same run
 /// (make_step.py mesh).
 fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::join::tessellate_joined;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/occ");
     let path = root.join("step/plate-20.step");
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let runs = iterations.clamp(1, 5);
-    let (read_ms, model) = median_ms(runs, || {
-        crate::io::step::read::read(&bytes, &mut |_, _| true)
-    })?;
-    let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
-    let (lo, hi) = model
-        .bodies
-        .iter()
-        .flat_map(|b| b.faces.iter().map(|f| f.surface().bounds()))
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), (c, d)| {
-            (a.min(c), b.max(d))
-        });
-    let tolerance = 1e-4 * lo.distance(hi);
-    let (mesh_ms, triangles) =
-        median_ms(runs, || -> Result<usize, crate::kernel::GeometryError> {
-            let mut n = 0;
-            for b in &model.bodies {
-                n += tessellate_joined(&b.faces, &b.topology, tolerance, false)?
-                    .triangles
-                    .len();
-            }
-            Ok(n)
-        })?;
+    let clock = Instant::now();
+    let now = || clock.elapsed().as_secs_f64() * 1e3;
+    let mut timings = Vec::new();
+    for _ in 0..runs {
+        timings.push(crate::io::step::timed_read_and_mesh(&bytes, &now)?);
+    }
+    let read_ms = median(timings.iter().map(|t| t.read_ms).collect());
+    let mesh_ms = median(timings.iter().map(|t| t.mesh_ms).collect());
+    let (tolerance, triangles, faces) = timings
+        .first()
+        .map_or((f64::NAN, 0, 0), |t| (t.tolerance, t.triangles, t.faces));
+    let model = crate::io::step::read::read(&bytes, &mut |_, _| true)?;
     // Memory per face: the surfaces' homogeneous points and knots, and the trim curves'.
     let mut bytes_held = 0usize;
     for f in model.bodies.iter().flat_map(|b| &b.faces) {

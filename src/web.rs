@@ -705,6 +705,16 @@ pub fn bench_step_open(bytes: Vec<u8>) -> Result<String, String> {
     serde_json::to_string(&timing).map_err(|e| e.to_string())
 }
 
+/// Reads STEP `bytes` and meshes every body at 1e-4 of the model's diagonal, all at once (not
+/// into the document), and returns how long it took as JSON: `{read_ms, mesh_ms, tolerance,
+/// triangles, faces}`, the figures `knotwork bench --only step` prints natively.
+#[wasm_bindgen]
+pub fn bench_step_mesh(bytes: Vec<u8>) -> Result<String, String> {
+    let timing = crate::io::step::timed_read_and_mesh(&bytes, &crate::app::platform::now_ms)
+        .map_err(|e| e.to_string())?;
+    serde_json::to_string(&timing).map_err(|e| e.to_string())
+}
+
 /// Stops opening the STEP file being opened (`status().open_progress` is its progress); the
 /// document stays as it was.
 #[wasm_bindgen]

@@ -264,6 +264,56 @@ impl OpenJob {
     }
 }
 
+/// How long reading a file and meshing every body took ([`timed_read_and_mesh`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct MeshTiming {
+    /// Reading the file into bodies of trimmed faces, in milliseconds.
+    pub read_ms: f64,
+    /// Every body's watertight mesh at `tolerance`.
+    pub mesh_ms: f64,
+    /// 1e-4 of the diagonal of the faces' box (the benchmark's tolerance).
+    pub tolerance: f64,
+    pub triangles: usize,
+    pub faces: usize,
+}
+
+/// Reads `bytes` and meshes every body watertight at 1e-4 of the faces' diagonal, timed by
+/// `now_ms`: the figures `knotwork bench --only step` compares with OpenCASCADE, and the
+/// page's `benchStepMesh`.
+pub fn timed_read_and_mesh(
+    bytes: &[u8],
+    now_ms: &dyn Fn() -> f64,
+) -> Result<MeshTiming, FormatError> {
+    let started = now_ms();
+    let model = read::read(bytes, &mut |_, _| true)?;
+    let read_ms = now_ms() - started;
+    let (lo, hi) = model
+        .bodies
+        .iter()
+        .flat_map(|b| b.faces.iter().map(|f| f.surface().bounds()))
+        .fold(
+            (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+            |(a, b), (c, d)| (a.min(c), b.max(d)),
+        );
+    let tolerance = 1e-4 * lo.distance(hi);
+    let started = now_ms();
+    let mut triangles = 0;
+    for b in &model.bodies {
+        triangles +=
+            crate::kernel::join::tessellate_joined(&b.faces, &b.topology, tolerance, false)
+                .map_err(|e| FormatError::new("", format!("{}: {e}", b.name)))?
+                .triangles
+                .len();
+    }
+    Ok(MeshTiming {
+        read_ms,
+        mesh_ms: now_ms() - started,
+        tolerance,
+        triangles,
+        faces: model.bodies.iter().map(|b| b.faces.len()).sum(),
+    })
+}
+
 /// How long opening a file as the editor does took ([`timed_open`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct OpenTiming {
