@@ -539,22 +539,17 @@ fn bench_step_large(
         (4, (1280, 800)),
         crate::render::Quality::software().target((1280, 800), true),
     ] {
-        let target = ViewTarget::with_samples(&context.device, w, h, samples);
-        renderer.set_scene(
-            &context.queue,
-            &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
-        );
-        let mut times = Vec::new();
-        for round in 0..iterations.clamp(1, 10) + 2 {
-            let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
-            if round >= 2 {
-                times.push(ms);
-            }
-        }
+        let ms = median_frame_ms(
+            context,
+            &renderer,
+            geometry,
+            &view,
+            (samples, (w, h)),
+            iterations.clamp(1, 10),
+        )?;
         frames.push(format!(
-            "{w} × {h} {samples} sample{} {:.2} ms",
+            "{w} × {h} {samples} sample{} {ms:.2} ms",
             if samples == 1 { "" } else { "s" },
-            median(times)
         ));
     }
     writeln!(
@@ -1305,6 +1300,31 @@ fn evaluated(context: &GpuContext, scene: &Scene) -> Result<SceneSync, GpuError>
     Ok(sync)
 }
 
+/// The median render pass of `geometry` seen by `view` on a `samples`-sample target of
+/// `size`, over `iterations` frames after two to warm up.
+fn median_frame_ms(
+    context: &GpuContext,
+    renderer: &ViewportRenderer,
+    geometry: &crate::gpu::PatchGeometry,
+    view: &ViewSettings,
+    (samples, (w, h)): (u32, (u32, u32)),
+    iterations: usize,
+) -> Result<f64, GpuError> {
+    let target = ViewTarget::with_samples(&context.device, w, h, samples);
+    renderer.set_scene(
+        &context.queue,
+        &scene_uniform(view, &target, 3.5, (-0.5, 0.5), None),
+    );
+    let mut times = Vec::new();
+    for round in 0..iterations + 2 {
+        let ms = timed_render(context, renderer, &target, geometry, view.overlays)?;
+        if round >= 2 {
+            times.push(ms);
+        }
+    }
+    Ok(median(times))
+}
+
 /// The default view settings with the camera framing `scene`.
 fn framed_view(scene: &Scene) -> Result<ViewSettings, Box<dyn std::error::Error>> {
     let (lo, hi) = scene.bounds().ok_or("empty scene")?;
@@ -1338,23 +1358,19 @@ fn bench_frame(
             (1, (1280, 800)),
             crate::render::Quality::software().target((1280, 800), true),
         ] {
-            let target = ViewTarget::with_samples(&context.device, w, h, samples);
-            renderer.set_scene(
-                &context.queue,
-                &scene_uniform(&view, &target, 3.5, (-0.5, 0.5), None),
-            );
-            let mut times = Vec::new();
-            for round in 0..iterations + 2 {
-                let ms = timed_render(context, &renderer, &target, geometry, view.overlays)?;
-                if round >= 2 {
-                    times.push(ms);
-                }
-            }
+            let ms = median_frame_ms(
+                context,
+                &renderer,
+                geometry,
+                &view,
+                (samples, (w, h)),
+                iterations,
+            )?;
             writeln!(
                 out,
                 "frame {name:<14} | {w:>4} × {h:<4} {samples} sample{} | {:8.2} ms",
                 if samples == 1 { " " } else { "s" },
-                median(times)
+                ms
             )?;
         }
     }
