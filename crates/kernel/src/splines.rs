@@ -89,10 +89,7 @@ pub fn interpolate_through<P: CurvePoint>(
     }
     let params = parameters(points, parametrization, what)?;
     let Some((start, end)) = end_tangents else {
-        let degree = degree.min(points.len() - 1);
-        let knots = averaged_knots(&params, degree);
-        let control = interpolate_points(points, &params, degree, &knots, what)?;
-        return NurbsCurve::new(degree, knots, control, None);
+        return interpolate_at_parameters(points, &params, degree);
     };
     if degree < 2 {
         return Err(construction(
@@ -151,6 +148,39 @@ pub fn interpolate_through<P: CurvePoint>(
     let control = super::vector::solve_linear(matrix, rhs)
         .ok_or_else(|| construction(what, "the interpolation system is singular"))?;
     NurbsCurve::new(p, knots, control, None)
+}
+
+/// The non-rational B-spline of degree `degree` (lowered where there are too few points) on
+/// [0, 1] through `points[k]` at the given parameter `params[k]`, which must rise strictly
+/// from 0 to 1: averaged knots (The NURBS Book eq. 9.8) and the collocation system (A9.1).
+/// For points whose parameters are known (samples of a curve at its own parameter), where
+/// chord lengths would not follow the curve's speed.
+pub fn interpolate_at_parameters<P: CurvePoint>(
+    points: &[P],
+    params: &[f64],
+    degree: usize,
+) -> Result<NurbsCurve<P>, GeometryError> {
+    let what = "interpolate";
+    if points.len() < 2 || params.len() != points.len() {
+        return Err(construction(
+            what,
+            "needs at least 2 points, each with one parameter",
+        ));
+    }
+    if degree == 0 {
+        return Err(construction(what, "the degree must be ≥ 1"));
+    }
+    let rising = params.windows(2).all(|w| w[1] > w[0]);
+    if !(rising && params[0] == 0.0 && params[params.len() - 1] == 1.0) {
+        return Err(construction(
+            what,
+            "the parameters must rise strictly from 0 to 1",
+        ));
+    }
+    let degree = degree.min(points.len() - 1);
+    let knots = averaged_knots(params, degree);
+    let control = interpolate_points(points, params, degree, &knots, what)?;
+    NurbsCurve::new(degree, knots, control, None)
 }
 
 /// The closed B-spline of degree `degree` (lowered to points − 1 where there are too few)
@@ -449,6 +479,28 @@ mod tests {
             DVec3::new(7.5, 0.0, 2.0),
             DVec3::new(8.0, 3.0, 1.0),
         ]
+    }
+
+    #[test]
+    fn interpolation_at_given_parameters_reproduces_a_cubic_and_refuses_bad_parameters() {
+        // A cubic interpolant on the averaged knots reproduces every cubic polynomial
+        // (Schoenberg–Whitney holds there), whatever the spacing of the parameters.
+        let f = |t: f64| DVec3::new(t, 2.0 * t * t - t, 3.0 * t * t * t - t * t + 0.5);
+        let params = [0.0, 0.01, 0.05, 0.3, 0.31, 0.7, 0.9, 1.0];
+        let points: Vec<DVec3> = params.iter().map(|&t| f(t)).collect();
+        let c = interpolate_at_parameters(&points, &params, 3).unwrap();
+        for k in 0..=100 {
+            let t = f64::from(k) / 100.0;
+            assert!(c.point_at(t).unwrap().distance(f(t)) < 1e-12, "at {t}");
+        }
+        for bad in [
+            vec![0.0, 0.5, 0.5, 1.0],
+            vec![0.1, 0.2, 0.3, 1.0],
+            vec![0.0, 0.2, 0.3, 0.9],
+        ] {
+            assert!(interpolate_at_parameters(&points[..4], &bad, 3).is_err());
+        }
+        assert!(interpolate_at_parameters(&points[..4], &params[..3], 3).is_err());
     }
 
     #[test]

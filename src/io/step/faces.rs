@@ -572,6 +572,7 @@ pub fn build_face(
             }
             // A loop going once round the axis (a cap): the face reaches the pole on its left.
             let caps: Vec<usize> = (0..loops.len()).filter(|&k| windings[k][0] != 0).collect();
+            let (lo_sampled, hi_sampled) = (lo, hi);
             if d == 1 && caps.len() == 1 {
                 let k = caps[0];
                 let up = (windings[k][0] as f64 * sense[k]) > 0.0;
@@ -594,11 +595,22 @@ pub fn build_face(
                     _ => {}
                 }
             }
-            if matches!(surface, Surface3::Plane(_)) {
-                // Room for the exact edge curves between their samples.
-                let pad = 0.01 * (hi - lo) + tolerance;
+            // Room for the edges between their samples (exact on planes, smooth elsewhere:
+            // a curve bulges past its samples), except at a pole or an apex the face reaches.
+            let pad = match surface {
+                Surface3::Plane(_) => 0.01 * (hi - lo) + tolerance,
+                Surface3::Sphere { .. } => arc_margin(hi - lo),
+                _ => RANGE_MARGIN * (hi - lo) + tolerance,
+            };
+            if lo == lo_sampled {
                 lo -= pad;
+            }
+            if hi == hi_sampled {
                 hi += pad;
+            }
+            if matches!(surface, Surface3::Sphere { .. }) {
+                lo = lo.max(-FRAC_PI_2);
+                hi = hi.min(FRAC_PI_2);
             }
             ranges[d] = match surface {
                 Surface3::Sphere { .. } => Range::Arc { lo, span: hi - lo },
@@ -636,7 +648,15 @@ pub fn build_face(
     for (k, edges) in loops.iter().enumerate() {
         let pieces = match surface {
             Surface3::Plane(frame) => exact_plane_pieces(&bounds[k], frame, &ranges)?,
-            _ => loop_pieces(edges, &bounds[k], &ranges, sense[k], &natural),
+            _ => {
+                let mut pieces = loop_pieces(edges, &bounds[k], &ranges, sense[k], &natural);
+                for p in &mut pieces {
+                    if let Some(e) = p.edge.and_then(|i| bounds[k].edges.get(i)) {
+                        p.exact = smooth_piece(p, e, &built_surface, tolerance, uv_size);
+                    }
+                }
+                pieces
+            }
         };
         // Join the pieces: snap small gaps, bridge poles, break at seam jumps.
         let n = pieces.len();
@@ -876,20 +896,27 @@ fn face_from_pcurves(
         for first in 0..uses[0].len() {
             let mut chain: Vec<(TrimCurve, CurveOrigin)> = Vec::new();
             let mut worst = 0.0f64;
+            // The candidate each edge took: a seam used twice in the loop takes its other
+            // p-curve the second time (down one side and up the other, even where the two
+            // meet at a pole, whose gap a connector then closes).
+            let mut taken: std::collections::HashMap<u64, usize> = std::collections::HashMap::new();
             for (k, (candidates, e)) in uses.iter().zip(&bound.edges).enumerate() {
-                let curve = if k == 0 {
-                    candidates[first].clone()
+                let choice = if k == 0 {
+                    first
                 } else {
                     let end = chain.last().map(|(c, _)| c.control_point(c.count() - 1))?;
-                    candidates
-                        .iter()
-                        .min_by(|a, b| {
-                            a.control_point(0)
+                    let before = taken.get(&e.id).copied().filter(|_| candidates.len() > 1);
+                    (0..candidates.len())
+                        .filter(|&i| Some(i) != before)
+                        .min_by(|&a, &b| {
+                            candidates[a]
+                                .control_point(0)
                                 .distance(end)
-                                .total_cmp(&b.control_point(0).distance(end))
+                                .total_cmp(&candidates[b].control_point(0).distance(end))
                         })?
-                        .clone()
                 };
+                taken.insert(e.id, choice);
+                let curve = candidates[choice].clone();
                 chain.push((
                     curve,
                     CurveOrigin::Edge {
@@ -983,8 +1010,14 @@ fn pcurve_piece(
 struct Piece {
     uv: Vec<DVec2>,
     origin: CurveOrigin,
-    /// An exact curve (plane edges) instead of the polyline.
+    /// An exact curve (plane edges), or a smooth one through the points
+    /// ([`smooth_piece`]), instead of the polyline.
     exact: Option<TrimCurve>,
+    /// The parameter along its edge use of each point of `uv` (from 0 at the use's start),
+    /// where the piece comes from sampling one edge; empty otherwise.
+    s: Vec<f64>,
+    /// The index in its bound of that edge.
+    edge: Option<usize>,
     start_point: DVec3,
     end_point: DVec3,
     start_pole: bool,
@@ -1003,6 +1036,8 @@ impl Piece {
             uv: vec![a, b],
             origin,
             exact: None,
+            s: Vec::new(),
+            edge: None,
             start_point: at,
             end_point: at,
             start_pole: false,
@@ -1020,6 +1055,8 @@ impl Piece {
                 o => o,
             },
             exact: self.exact.map(|c| c.reverse()),
+            s: self.s.into_iter().rev().collect(),
+            edge: self.edge,
             start_point: self.end_point,
             end_point: self.start_point,
             start_pole: self.end_pole,
@@ -1028,8 +1065,118 @@ impl Piece {
     }
 }
 
-/// Trim curves from pieces, each starting exactly where the one before ends: straight pieces
-/// (two points, or every point on the chord) as lines, the rest as polylines.
+/// The margin a face's range of an angle or a height gets each side of its edges' samples,
+/// as a fraction of the range.
+const RANGE_MARGIN: f64 = 1e-3;
+
+/// The margin each side of an angle range of `span`: `RANGE_MARGIN` of it, but no more than
+/// leaves it on as many rational arcs (a quarter turn each, [`arc_parameter`]) as before.
+fn arc_margin(span: f64) -> f64 {
+    let arcs = (span / FRAC_PI_2 - 1e-9).ceil().max(1.0);
+    let room = (arcs * FRAC_PI_2 * (1.0 - 1e-9) - span).max(0.0);
+    (RANGE_MARGIN * span).min(0.5 * room)
+}
+
+/// How close to its edge a smooth trim curve must come, as a fraction of the loop
+/// tolerance: far inside it, so that the face's area and the 3D curves made from the trim
+/// curves do not depend on the tolerance.
+const SMOOTH_FRACTION: f64 = 1e-2;
+
+/// The most points a smooth trim curve is refined to.
+const SMOOTH_MAX_POINTS: usize = 1 << 14;
+
+/// A cubic B-spline through a curved piece's points at their edge parameters (polylines
+/// meet the tolerance with chords; a cubic through the same points is O(h⁴) from the edge
+/// instead of O(h²)). Checked half way between its points: the surface at the cubic's
+/// (u, v) against the surface's closest point to the edge there must lie within
+/// `SMOOTH_FRACTION` of `tolerance`; where it does not, that half-way point (placed on the
+/// surface by Newton's iteration from the cubic's guess) joins the points, and the cubic is
+/// made again. `None` for a straight piece, and where the check still fails (a pole, a kink),
+/// so the polyline stays.
+fn smooth_piece(
+    piece: &Piece,
+    edge: &LoopEdge,
+    surface: &NurbsSurface,
+    tolerance: f64,
+    uv_size: f64,
+) -> Option<TrimCurve> {
+    if piece.uv.len() < 3 || piece.s.len() != piece.uv.len() || piece.start_pole || piece.end_pole {
+        return None;
+    }
+    let (a, b) = (piece.first(), piece.last());
+    let chord = b - a;
+    let straight = chord.length_squared() > 0.0
+        && piece.uv.iter().all(|&q| {
+            let t = (q - a).dot(chord) / chord.length_squared();
+            (a + chord * t).distance(q) <= 1e-12 * uv_size
+        });
+    if straight {
+        return None;
+    }
+    let at = |s: f64| {
+        if edge.forward {
+            edge.geometry.point(s)
+        } else {
+            edge.geometry.point(1.0 - s)
+        }
+    };
+    let fine = tolerance * SMOOTH_FRACTION;
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    let (lo, hi) = (DVec2::new(u0, v0), DVec2::new(u1, v1));
+    let mut points: Vec<(f64, DVec2)> = piece
+        .s
+        .iter()
+        .copied()
+        .zip(piece.uv.iter().copied())
+        .collect();
+    for _ in 0..8 {
+        let (s0, s1) = (points[0].0, points[points.len() - 1].0);
+        if !(s1 > s0) {
+            return None;
+        }
+        let mut params: Vec<f64> = points.iter().map(|&(s, _)| (s - s0) / (s1 - s0)).collect();
+        let last = params.len() - 1;
+        params[0] = 0.0;
+        params[last] = 1.0;
+        let uv: Vec<DVec2> = points.iter().map(|&(_, q)| q).collect();
+        // Control points held inside the domain (so the curve is, by the convex hull): near a
+        // side the face reaches, the interpolant may overshoot it by a rounding's width.
+        let curve = crate::kernel::splines::interpolate_at_parameters(&uv, &params, 3)
+            .and_then(|c| c.map_points(|q| q.clamp(lo, hi)))
+            .ok()?;
+        let mut refined = Vec::with_capacity(points.len() * 2);
+        let mut good = true;
+        for (i, w) in points.windows(2).enumerate() {
+            refined.push(w[0]);
+            let s = 0.5 * (w[0].0 + w[1].0);
+            let guess = curve.point_at(0.5 * (params[i] + params[i + 1])).ok()?;
+            let fitted = surface.point_at_clamped(guess).ok()?;
+            let found = surface.closest_point_from(at(s), guess.x, guess.y);
+            let placed = DVec2::new(found.u, found.v);
+            // Newton stays near the guess; a jump (a pole, another sheet) ends the attempt.
+            if !(placed.distance(guess) <= w[0].1.distance(w[1].1) + 1e-9 * uv_size) {
+                return None;
+            }
+            if fitted.distance(found.point) > fine {
+                good = false;
+                refined.push((s, placed));
+            }
+        }
+        if good {
+            return Some(curve);
+        }
+        refined.push(points[points.len() - 1]);
+        if refined.len() > SMOOTH_MAX_POINTS {
+            return None;
+        }
+        points = refined;
+    }
+    None
+}
+
+/// Trim curves from pieces, each starting exactly where the one before ends: exact or smooth
+/// curves as they are (their ends snapped onto the loop's points), straight pieces (two
+/// points, or every point on the chord) as lines, the rest as polylines.
 fn to_trim_curves(pieces: Vec<Piece>, uv_size: f64) -> Result<Vec<(TrimCurve, CurveOrigin)>, Skip> {
     let mut out = Vec::new();
     let mut previous_end: Option<DVec2> = pieces.last().map(Piece::last);
@@ -1214,11 +1361,14 @@ fn angle_range(loops: &[Vec<Vec<Sample>>], d: usize, bounds: &[Bound]) -> (Range
                 }
             }
             if best.0 > 1e-9 {
-                let start = (best.1 + best.0).rem_euclid(TAU);
+                // A margin each side: the edges bulge past their samples.
+                let span = TAU - best.0;
+                let margin = arc_margin(span).min(0.25 * best.0);
+                let start = (best.1 + best.0 - margin).rem_euclid(TAU);
                 return (
                     Range::Angle {
                         start,
-                        span: TAU - best.0,
+                        span: span + 2.0 * margin,
                         full: false,
                     },
                     windings,
@@ -1414,6 +1564,7 @@ fn loop_pieces(
             match &mut current {
                 Some((cw, piece)) if *cw == w => {
                     piece.uv.push(to_uv(xb, w));
+                    piece.s.push(sb.s);
                     piece.end_point = sb.p;
                     piece.end_pole = sb.pole;
                 }
@@ -1427,6 +1578,8 @@ fn loop_pieces(
                             uv: vec![to_uv(xa, w), to_uv(xb, w)],
                             origin,
                             exact: None,
+                            s: vec![sa.s, sb.s],
+                            edge: Some(k),
                             start_point: sa.p,
                             end_point: sb.p,
                             start_pole: sa.pole,
@@ -1487,6 +1640,8 @@ fn exact_plane_pieces(
                 forward: e.forward,
             },
             exact: Some(uv),
+            s: Vec::new(),
+            edge: None,
             start_point: pa,
             end_point: pb,
             start_pole: false,

@@ -120,6 +120,35 @@ def torus_minus_cylinder():
     return BRepAlgoAPI_Cut(torus, cyl).Shape()
 
 
+def cylinder_under_sphere():
+    """A cylinder (radius 10, z from 0 to 60) with the sphere of radius 25 about (5, 0, 50)
+    taken away: the side's edge z(θ) = 50 − √(500 + 100 cos θ) is a curve (not a straight
+    line) in the cylinder's (angle, height), and one on the sphere too."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeSphere
+    cyl = BRepPrimAPI_MakeCylinder(10.0, 60.0).Shape()
+    ball = BRepPrimAPI_MakeSphere(gp_Pnt(5, 0, 50), 25.0).Shape()
+    return BRepAlgoAPI_Cut(cyl, ball).Shape()
+
+
+def cylinder_under_sphere_analytic():
+    import numpy as np
+    # The side: ∫ 10 (50 − √(500 + 100 cos θ)) dθ by the trapezoid rule, exact to rounding
+    # for a smooth periodic integrand.
+    n = 4096
+    theta = np.arange(n) * (2 * math.pi / n)
+    side = float(np.sum(10 * (50 - np.sqrt(500 + 100 * np.cos(theta)))) * 2 * math.pi / n)
+    # The sphere's part over the disc: ∫∫ R / √(R² − (x − 5)² − y²) dA in polar coordinates
+    # about the axis (Gauss–Legendre in ρ, the trapezoid rule in φ).
+    x, w = np.polynomial.legendre.leggauss(200)
+    rho = 5 * (x + 1)
+    phi = np.arange(n) * (2 * math.pi / n)
+    rr, pp = np.meshgrid(rho, phi)
+    integrand = 25 / np.sqrt(625 - (rr * np.cos(pp) - 5) ** 2 - (rr * np.sin(pp)) ** 2) * rr
+    cap = float(np.sum(integrand * (5 * w)[None, :]) * 2 * math.pi / n)
+    disc = 100 * math.pi
+    return {"analytic_area": side + cap + disc, "analytic_side_area": side}
+
+
 def plate(n):
     pitch = 10.0
     size = n * pitch
@@ -197,12 +226,24 @@ def main():
         rel = {k: abs(a[k] - b[k]) / abs(a[k]) for k in ("area", "volume")}
         print(json.dumps({"original": a, "written": b, "relative": rel, "same_faces": a["faces"] == b["faces"]}))
         return
+    if len(sys.argv) > 1 and sys.argv[1] == "under-sphere":
+        # Adds this one fixture (and its entry in step.json) without remaking the others.
+        path = write(cylinder_under_sphere(), "cylinder-under-sphere.step")
+        json_path = os.path.join(HERE, "step.json")
+        with open(json_path) as f:
+            out = json.load(f)
+        out["cylinder-under-sphere.step"] = {**measure(read(path)), **cylinder_under_sphere_analytic()}
+        with open(json_path, "w") as f:
+            json.dump(out, f, indent=1, sort_keys=True)
+        print(json.dumps(out["cylinder-under-sphere.step"], indent=1))
+        return
     out = {}
     cases = {
         "box-hole-fillets.step": (box_with_hole(), None),
         "sphere-cut.step": (sphere_cut(), None),
         "torus-minus-cylinder.step": (torus_minus_cylinder(), None),
         "plate-3.step": (plate(3), None),
+        "cylinder-under-sphere.step": (cylinder_under_sphere(), None),
     }
     for name, (shape, _) in cases.items():
         path = write(shape, name)
@@ -215,6 +256,7 @@ def main():
     # Sphere between z = -6 and 6: the zone's area 2πr·2h plus two discs of radius 8.
     out["sphere-cut.step"]["analytic_area"] = 2 * math.pi * r * 2 * h + 2 * math.pi * (r * r - h * h)
     out["sphere-cut.step"]["analytic_volume"] = math.pi * (2 * h * r * r - 2 * h ** 3 / 3)
+    out["cylinder-under-sphere.step"].update(cylinder_under_sphere_analytic())
     # Two 1 x 2 x 3 mm bricks.
     out["assembly.step"]["analytic_volume_mm3"] = 2 * 6.0
     with open(os.path.join(HERE, "step.json"), "w") as f:
