@@ -831,3 +831,44 @@ fn faces_trimmed_by_curved_edges_have_the_analytic_area_far_inside_the_tolerance
         "{name} written: area {second} vs {expected}"
     );
 }
+
+#[test]
+fn a_face_across_a_closed_b_splines_seam_opens_as_the_part_it_bounds() {
+    // One face of a periodic B-spline cylinder from u = −1 to 1, across the surface's seam
+    // at 0, bounded by arcs of a periodic B-spline circle whose vertices lie either side of
+    // the circle's own seam. Read as the seams were, the face was the rest of the cylinder
+    // (858.57 of its 1256.64) and its arcs ran the long way round.
+    let name = "face-across-seam.step";
+    let expected = occ(name)["area"].as_f64().unwrap();
+    let model = read(name);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    let area =
+        |m: &StepModel| -> f64 { m.bodies.iter().flat_map(|b| &b.faces).map(green_area).sum() };
+    let first = area(&model);
+    println!(
+        "{name}: exact area {first:.9} (OpenCASCADE {expected:.9}, {:.1e})",
+        relative(first, expected)
+    );
+    assert!(
+        relative(first, expected) < 1e-9,
+        "{name}: area {first} vs {expected}"
+    );
+    // Its mesh, within the tolerance of the face, has the same area.
+    let mesh = &meshes(&model, 1e-3)[0];
+    assert!(
+        relative(mesh.area(), expected) < 1e-4,
+        "mesh area {}",
+        mesh.area()
+    );
+    // Written and read back: the same face.
+    let project = step::read_project(&fixture(name), &mut |_, _| true).unwrap();
+    let tolerance = step::default_tolerance(&project.scene);
+    let written = step::export_scene(&project.scene, "seam.step", tolerance).unwrap();
+    let again = step::read::read(written.text.as_bytes(), &mut |_, _| true).unwrap();
+    assert!(again.warnings.is_empty(), "{:?}", again.warnings);
+    let second = area(&again);
+    assert!(
+        relative(second, expected) < 1e-9,
+        "{name} written: area {second} vs {expected}"
+    );
+}

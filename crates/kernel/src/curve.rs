@@ -206,6 +206,32 @@ impl<P: CurvePoint> NurbsCurve<P> {
         Ok((Self::from_polygon(left), Self::from_polygon(right)))
     }
 
+    /// The same closed curve (its ends within `tolerance`) with its seam moved to `u` inside
+    /// its domain [a, b] ([`ops::moved_seam`]): over [u, u + b − a], the point at t is the
+    /// old point at t, or at t − (b − a) past b. The part before `u` has its weights scaled by
+    /// one factor (the same shape) so that it meets the part after `u` in homogeneous
+    /// coordinates.
+    pub fn moved_seam(&self, u: f64, tolerance: f64) -> Result<Self, GeometryError> {
+        check_interior(self.domain(), u, "u")?;
+        let (before, after) = ops::split(&self.poly, u);
+        let (Some(&a), Some(&b)) = (after.points.last(), before.points.first()) else {
+            return Err(GeometryError::Construction {
+                what: "move the seam",
+                message: "the curve has no control points".into(),
+            });
+        };
+        let (pa, pb) = (P::project(a), P::project(b));
+        let gap = (pa - pb).norm();
+        if !(gap <= tolerance) {
+            return Err(GeometryError::Construction {
+                what: "move the seam",
+                message: format!("the curve is not closed: its ends are {gap:.3e} apart"),
+            });
+        }
+        let scale = P::weight_of(a) / P::weight_of(b);
+        Ok(Self::from_polygon(ops::moved_seam(&self.poly, u, scale)))
+    }
+
     /// The same curve traversed in the opposite direction over the same domain.
     pub fn reverse(&self) -> Self {
         Self::from_polygon(ops::reverse(&self.poly))

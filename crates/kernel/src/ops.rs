@@ -399,6 +399,27 @@ pub fn split<V: Vector>(poly: &Polygon<V>, u: f64) -> (Polygon<V>, Polygon<V>) {
     )
 }
 
+/// The closed polygon `poly` with its seam moved to `u` (inside its domain [a, b]): split
+/// there (A5.3), the part after `u`, then the part before it shifted by the period b − a, its
+/// homogeneous points times `scale` (so that its first point meets the first part's last;
+/// the same shape), joined at b by a knot of multiplicity p. The domain becomes
+/// [u, u + b − a]. The first point of the part before `u` is dropped for the first part's
+/// last, which the caller has checked coincide.
+pub fn moved_seam<V: Vector>(poly: &Polygon<V>, u: f64, scale: f64) -> Polygon<V> {
+    let p = poly.degree;
+    let (lo, hi) = domain(&poly.knots, p, poly.points.len());
+    let (before, after) = split(poly, u);
+    let mut knots = after.knots[..after.knots.len() - 1].to_vec();
+    knots.extend(before.knots[p + 1..].iter().map(|k| k + (hi - lo)));
+    let mut points = after.points.clone();
+    points.extend(before.points[1..].iter().map(|&h| h * scale));
+    Polygon {
+        degree: p,
+        knots,
+        points,
+    }
+}
+
 /// The same curve traversed backwards over the same domain [a, b]: U'_i = a + b − U_{m−i},
 /// points in reverse order (The NURBS Book, eq. 6.15 for the knots). Applying it twice gives the
 /// original back.

@@ -929,6 +929,63 @@ impl NurbsSurface {
         Ok((left, right))
     }
 
+    /// The same surface, closed in `direction` (its first and last control rows there
+    /// coincide within `tolerance`, as they do on a clamped closed or periodic B-spline),
+    /// with its seam moved to `value` ([`ops::moved_seam`] along every row: split there, the
+    /// part after `value` first, then the part before it shifted by the period, joined at
+    /// the old seam by a knot of multiplicity p, C0 in the parameter and the shape as it
+    /// was). The domain becomes [value, value + period]: the point at u is the old point at
+    /// u, or at u − period past the old end. The second part's weights are scaled by one
+    /// factor (the same shape) so that its first row meets the first part's last row in
+    /// homogeneous coordinates; a surface whose seam rows are not in one ratio is refused.
+    pub fn moved_seam(
+        &self,
+        direction: Direction,
+        value: f64,
+        tolerance: f64,
+    ) -> Result<Self, GeometryError> {
+        let what = "move the seam";
+        let d = direction.index();
+        check_interior(self.domain()[d], value, direction.name())?;
+        let (before, after) = self.split(direction, value)?;
+        let other = self.count[1 - d];
+        let mut ratio: Option<f64> = None;
+        for k in 0..other {
+            let a = *after
+                .polygon(direction, k)
+                .points
+                .last()
+                .unwrap_or(&DVec4::ONE);
+            let b = *before
+                .polygon(direction, k)
+                .points
+                .first()
+                .unwrap_or(&DVec4::ONE);
+            let gap = (a.truncate() / a.w).distance(b.truncate() / b.w);
+            if !(gap <= tolerance) {
+                return Err(GeometryError::Construction {
+                    what,
+                    message: format!(
+                        "the surface is not closed in {}: row {k} is {gap:.3e} apart at its seam",
+                        direction.name()
+                    ),
+                });
+            }
+            let r = a.w / b.w;
+            match ratio {
+                Some(q) if ((r - q) / q).abs() > 1e-9 => {
+                    return Err(GeometryError::Construction {
+                        what,
+                        message: "the weights at the seam are not in one ratio".into(),
+                    });
+                }
+                _ => ratio = Some(r),
+            }
+        }
+        let scale = ratio.unwrap_or(1.0);
+        Ok(self.map_direction(direction, |poly| ops::moved_seam(poly, value, scale)))
+    }
+
     /// The same surface with `direction` reversed (the normal flips).
     pub fn reverse(&self, direction: Direction) -> Self {
         self.map_direction(direction, ops::reverse)

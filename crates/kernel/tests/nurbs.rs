@@ -845,3 +845,106 @@ fn validation_errors_name_field_and_index() {
     assert!(moved.set_point(9, 0, DVec3::ONE).is_err());
     assert_eq!(moved, s);
 }
+
+#[test]
+fn moving_the_seam_of_a_closed_surface_keeps_its_shape() {
+    // A torus (closed both ways, rational) with its seam moved in u and in v: every point
+    // is the old one at the same parameter modulo the period.
+    let t = construct::torus(
+        DVec3::new(1.0, -2.0, 0.5),
+        DVec3::new(0.0, 0.3, 1.0),
+        5.0,
+        1.5,
+    )
+    .unwrap();
+    for (direction, d) in [(Direction::U, 0), (Direction::V, 1)] {
+        let (lo, hi) = t.domain()[d];
+        let period = hi - lo;
+        for cut in [lo + 0.137 * period, lo + 0.5 * period, lo + 0.9 * period] {
+            let moved = t.moved_seam(direction, cut, 1e-9).unwrap();
+            let (a, b) = moved.domain()[d];
+            assert!((a - cut).abs() < 1e-12 && (b - cut - period).abs() < 1e-12);
+            for k in 0..=40 {
+                let x = a + (b - a) * f64::from(k) / 40.0;
+                let old = if x > hi { x - period } else { x };
+                for y in [0.1, 0.45, 0.8] {
+                    let (mu, mv, ou, ov) = if d == 0 {
+                        (x, y, old, y)
+                    } else {
+                        (y, x, y, old)
+                    };
+                    let p = moved.point_at(mu, mv).unwrap();
+                    let q = t.point_at(ou, ov).unwrap();
+                    assert!(
+                        p.distance(q) < 1e-12,
+                        "{direction:?} cut {cut} at {x}: {p} vs {q}"
+                    );
+                }
+            }
+            // Moved again to the old end: the old surface one period on.
+            let back = moved.moved_seam(direction, hi, 1e-9).unwrap();
+            assert!((back.domain()[d].0 - hi).abs() < 1e-12);
+            for k in 0..=10 {
+                let x = hi + period * f64::from(k) / 10.0;
+                let (bu, bv, ou, ov) = if d == 0 {
+                    (x, 0.3, x - period, 0.3)
+                } else {
+                    (0.3, x, 0.3, x - period)
+                };
+                let p = back.point_at(bu, bv).unwrap();
+                assert!(p.distance(t.point_at(ou, ov).unwrap()) < 1e-12);
+            }
+        }
+    }
+    // A surface that is not closed is refused.
+    let open = construct::cylinder(DVec3::ZERO, DVec3::Z, 2.0)
+        .unwrap()
+        .split(Direction::U, 0.5)
+        .unwrap()
+        .0;
+    let (lo, hi) = open.domain()[0];
+    assert!(
+        open.moved_seam(Direction::U, 0.5 * (lo + hi), 1e-9)
+            .is_err()
+    );
+}
+
+#[test]
+fn moving_the_seam_of_a_closed_curve_keeps_its_shape() {
+    // A full rational circle (four arcs, weights 1 and √2/2) and a closed cubic: every point
+    // of the moved curve is the old one at the same parameter modulo the period.
+    let circle =
+        construct::arc(DVec3::new(1.0, 2.0, 3.0), DVec3::X, DVec3::Y, 2.5, 0.0, TAU).unwrap();
+    let points = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(2.0, 1.0, 0.0),
+        DVec3::new(3.0, -1.0, 1.0),
+        DVec3::new(1.0, -2.0, 0.5),
+        DVec3::new(0.0, 0.0, 0.0),
+    ];
+    let cubic = SpaceCurve::new(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0],
+        points.to_vec(),
+        Some(vec![1.0, 2.0, 0.5, 1.0, 3.0]),
+    )
+    .unwrap();
+    for c in [circle, cubic] {
+        let (lo, hi) = c.domain();
+        let period = hi - lo;
+        for cut in [lo + 0.1 * period, lo + 0.5 * period, lo + 0.77 * period] {
+            let moved = c.moved_seam(cut, 1e-12).unwrap();
+            let (a, b) = moved.domain();
+            assert!((a - cut).abs() < 1e-12 && (b - cut - period).abs() < 1e-12);
+            for k in 0..=50 {
+                let t = a + (b - a) * f64::from(k) / 50.0;
+                let old = if t > hi { t - period } else { t };
+                let (p, q) = (moved.point_at(t).unwrap(), c.point_at(old).unwrap());
+                assert!(p.distance(q) < 1e-12, "cut {cut} at {t}: {p} vs {q}");
+            }
+        }
+    }
+    // An open curve is refused.
+    let open = construct::arc(DVec3::ZERO, DVec3::X, DVec3::Y, 1.0, 0.0, PI).unwrap();
+    assert!(open.moved_seam(0.5, 1e-9).is_err());
+}

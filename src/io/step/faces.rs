@@ -44,7 +44,13 @@ pub struct EdgeGeometry {
 impl EdgeGeometry {
     /// The edge from `start` to `end` along `curve` (`same_sense` false: against the curve's
     /// direction). A closed curve gives the whole period when the ends coincide.
-    pub fn new(curve: Curve3, start: DVec3, end: DVec3, same_sense: bool, tolerance: f64) -> Self {
+    pub fn new(
+        mut curve: Curve3,
+        start: DVec3,
+        end: DVec3,
+        same_sense: bool,
+        tolerance: f64,
+    ) -> Self {
         let mut t0 = curve.parameter_of(start);
         let mut t1 = curve.parameter_of(end);
         let closed = start.distance(end) <= tolerance;
@@ -64,9 +70,36 @@ impl EdgeGeometry {
                     t1 += period;
                 }
             }
-        } else if closed && let Curve3::Spline(c) = &curve {
+        } else if let Curve3::Spline(c) = &curve
+            && c.ends().is_ok_and(|(a, b)| a.distance(b) <= tolerance)
+        {
+            // A closed B-spline: the edge may run across the curve's own seam, or round
+            // from a vertex that is not at it. The seam moves to the edge's start then (the
+            // same curve), and the edge runs within the domain.
             let (a, b) = c.domain();
-            (t0, t1) = if same_sense { (a, b) } else { (b, a) };
+            let period = b - a;
+            let near = |t: f64, x: f64| (t - x).abs() <= 1e-9 * period;
+            let (first, last) = if same_sense { (a, b) } else { (b, a) };
+            if near(t0, last) {
+                t0 = first;
+            }
+            if near(t1, first) {
+                t1 = last;
+            }
+            let wraps = closed || if same_sense { t1 < t0 } else { t1 > t0 };
+            if wraps && !near(t0, first) {
+                if let Ok(moved) = c.moved_seam(t0, tolerance) {
+                    let along = if closed { t0 } else { t1 };
+                    (t0, t1) = if same_sense {
+                        (t0, along + period)
+                    } else {
+                        (t0 + period, along)
+                    };
+                    curve = Curve3::Spline(moved);
+                }
+            } else if closed {
+                (t0, t1) = (first, last);
+            }
         }
         Self {
             curve,
@@ -499,7 +532,7 @@ pub fn build_face(
         Surface3::Spline(s) => Some(s),
         _ => extrusion.as_ref(),
     };
-    let closed = nurbs.map_or([None, None], |s| closed_directions(s, tolerance));
+    let mut closed = nurbs.map_or([None, None], |s| closed_directions(s, tolerance));
     for d in 0..2 {
         periodic[d] |= closed[d].is_some();
     }
@@ -535,6 +568,49 @@ pub fn build_face(
     {
         return Err("its edges do not lie on its surface".into());
     }
+    // A face across the seam of a surface closed on itself, without going round it: the
+    // seam moves into the gap the face leaves (the same surface), so that the face is one
+    // region of the domain.
+    let mut reseamed: Option<NurbsSurface> = None;
+    for (d, direction) in [
+        (0, crate::kernel::Direction::U),
+        (1, crate::kernel::Direction::V),
+    ] {
+        let (Some((lo, hi)), Some(s)) = (closed[d], reseamed.as_ref().or(nurbs)) else {
+            continue;
+        };
+        if !crosses_seam(&loops, d) {
+            continue;
+        }
+        let (range, windings) = angle_range(&loops, d, bounds);
+        let Range::Angle {
+            start,
+            span,
+            full: false,
+        } = range
+        else {
+            continue;
+        };
+        if windings.iter().any(|&w| w != 0) {
+            continue;
+        }
+        let cut = (start - 0.5 * (TAU - span)).rem_euclid(TAU);
+        let value = lo + (hi - lo) * cut / TAU;
+        let moved = s
+            .moved_seam(direction, value, tolerance)
+            .map_err(|e| format!("its surface's seam could not be moved: {e}"))?;
+        for sample in loops.iter_mut().flatten().flatten() {
+            sample.n[d] = (sample.n[d] - cut).rem_euclid(TAU);
+        }
+        closed[d] = Some((value, value + (hi - lo)));
+        reseamed = Some(moved);
+    }
+    let nurbs = reseamed.as_ref().or(nurbs);
+    let natural = Natural {
+        nurbs,
+        closed,
+        ..natural
+    };
     let sense: Vec<f64> = bounds
         .iter()
         .map(|b| {
@@ -631,9 +707,8 @@ pub fn build_face(
             }
         }
     }
-    let built_surface = match (surface, &extrusion) {
-        (_, Some(s)) => s.clone(),
-        (Surface3::Spline(s), None) => s.clone(),
+    let built_surface = match (surface, nurbs) {
+        (Surface3::Spline(_) | Surface3::Extrusion { .. }, Some(s)) => s.clone(),
         _ => analytic_nurbs(surface, &ranges)
             .map_err(|e| format!("its surface could not be built: {e}"))?,
     };
@@ -1269,6 +1344,21 @@ fn fill_poles(edges: &mut [Vec<Sample>]) {
             }
         }
     }
+}
+
+/// Whether a loop steps across the seam (natural parameter 0 ≡ 2π) of direction `d`
+/// between consecutive samples.
+fn crosses_seam(loops: &[Vec<Vec<Sample>>], d: usize) -> bool {
+    loops.iter().any(|edges| {
+        let angles: Vec<f64> = edges
+            .iter()
+            .flatten()
+            .map(|s| s.n[d])
+            .filter(|a| a.is_finite())
+            .collect();
+        let n = angles.len();
+        (0..n).any(|i| (angles[(i + 1) % n] - angles[i]).abs() > PI)
+    })
 }
 
 /// The range of the periodic natural parameter `d` over the face, and each loop's winding

@@ -149,6 +149,23 @@ def cylinder_under_sphere_analytic():
     return {"analytic_area": side + cap + disc, "analytic_side_area": side}
 
 
+def face_across_seam():
+    """One face of a periodic B-spline cylinder (radius 10, height 20) from u = −1 to 1: it
+    crosses the surface's seam at u = 0 without going round, and its edges along the circle
+    are arcs of a periodic B-spline circle between vertices on either side of that curve's
+    seam."""
+    from OCP.Geom import Geom_CylindricalSurface, Geom_RectangularTrimmedSurface
+    from OCP.GeomConvert import GeomConvert
+    from OCP.gp import gp_Ax3
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    cylinder = Geom_CylindricalSurface(gp_Ax3(), 10.0)
+    trimmed = Geom_RectangularTrimmedSurface(cylinder, 0.0, 2 * math.pi, 0.0, 20.0)
+    surface = GeomConvert.SurfaceToBSplineSurface_s(trimmed)
+    if not surface.IsUPeriodic():
+        surface.SetUPeriodic()
+    return BRepBuilderAPI_MakeFace(surface, -1.0, 1.0, 0.0, 20.0, 1e-7).Face()
+
+
 def plate(n):
     pitch = 10.0
     size = n * pitch
@@ -226,16 +243,21 @@ def main():
         rel = {k: abs(a[k] - b[k]) / abs(a[k]) for k in ("area", "volume")}
         print(json.dumps({"original": a, "written": b, "relative": rel, "same_faces": a["faces"] == b["faces"]}))
         return
-    if len(sys.argv) > 1 and sys.argv[1] == "under-sphere":
+    added = {
+        "under-sphere": ("cylinder-under-sphere.step", cylinder_under_sphere, cylinder_under_sphere_analytic),
+        "across-seam": ("face-across-seam.step", face_across_seam, dict),
+    }
+    if len(sys.argv) > 1 and sys.argv[1] in added:
         # Adds this one fixture (and its entry in step.json) without remaking the others.
-        path = write(cylinder_under_sphere(), "cylinder-under-sphere.step")
+        name, make, analytic = added[sys.argv[1]]
+        path = write(make(), name)
         json_path = os.path.join(HERE, "step.json")
         with open(json_path) as f:
             out = json.load(f)
-        out["cylinder-under-sphere.step"] = {**measure(read(path)), **cylinder_under_sphere_analytic()}
+        out[name] = {**measure(read(path)), **analytic()}
         with open(json_path, "w") as f:
             json.dump(out, f, indent=1, sort_keys=True)
-        print(json.dumps(out["cylinder-under-sphere.step"], indent=1))
+        print(json.dumps(out[name], indent=1))
         return
     out = {}
     cases = {
@@ -244,6 +266,7 @@ def main():
         "torus-minus-cylinder.step": (torus_minus_cylinder(), None),
         "plate-3.step": (plate(3), None),
         "cylinder-under-sphere.step": (cylinder_under_sphere(), None),
+        "face-across-seam.step": (face_across_seam(), None),
     }
     for name, (shape, _) in cases.items():
         path = write(shape, name)
