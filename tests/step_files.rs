@@ -676,47 +676,77 @@ fn a_triangular_patch_is_written_as_an_exact_b_spline_face() {
 }
 
 #[test]
-fn a_subdivision_surface_is_written_as_bicubic_patches_close_to_its_limit() {
+fn subdivision_surfaces_are_written_as_patches_close_to_their_limits() {
     use knotwork::kernel::subdiv::patches::Display;
-    use knotwork::kernel::subdiv::{SubdivisionSurface, cages};
+    use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
     use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
-    let surface =
-        SubdivisionSurface::from_mesh(cages::cube(DVec3::ZERO, 20.0).unwrap(), 2).unwrap();
-    let scene = Scene {
-        objects: vec![SceneObject::new(
-            "cube",
-            ObjectGeometry::new(SubdivObject::new(surface.clone(), Display::Limit)),
-        )],
-        unit: None,
+    let triangles = |scheme| {
+        let options = Options {
+            scheme,
+            ..Default::default()
+        };
+        let cage = cages::icosahedron(DVec3::new(3.0, -1.0, 2.0), 15.0).unwrap();
+        SubdivisionSurface::new(cage, vec![], vec![], options, 2).unwrap()
     };
-    let written = step::export_scene(&scene, "cube.step", 1e-6).unwrap();
-    assert!(written.left_out.is_empty(), "{:?}", written.left_out);
-    assert_eq!(written.approximated.len(), 1);
-    let note = &written.approximated[0];
-    println!("{note}");
-    assert!(note.contains("bicubic patches"), "{note}");
-    let model = step::read::read(written.text.as_bytes(), &mut |_, _| true).unwrap();
-    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
-    assert_eq!(model.bodies.len(), 1);
-    // A closed shell, and the enclosed volume of the limit surface: against the limit mesh of
-    // level 5 (its vertices on the limit), whose volume is within its own chord error.
-    let mesh = &meshes(&model, 1e-3)[0];
-    let (volume, closed) = volume_and_closed(mesh, 1e-6);
-    assert!(closed && model.bodies[0].topology.naked.is_empty());
-    let limit = surface.limit(5).unwrap();
-    let mut reference = 0.0;
-    for face in limit.level.faces() {
-        let p: Vec<DVec3> = face.iter().map(|&v| limit.positions[v as usize]).collect();
-        for k in 1..p.len() - 1 {
-            reference += p[0].dot(p[k].cross(p[k + 1])) / 6.0;
+    let cases = [
+        (
+            "Catmull-Clark cube",
+            SubdivisionSurface::from_mesh(cages::cube(DVec3::ZERO, 20.0).unwrap(), 2).unwrap(),
+            "bicubic patches",
+        ),
+        (
+            "Loop icosahedron",
+            triangles(Scheme::Loop),
+            "cubic triangles",
+        ),
+        (
+            "butterfly icosahedron",
+            triangles(Scheme::Butterfly),
+            "cubic triangles",
+        ),
+    ];
+    for (name, surface, kind) in cases {
+        let scene = Scene {
+            objects: vec![SceneObject::new(
+                name,
+                ObjectGeometry::new(SubdivObject::new(surface.clone(), Display::Limit)),
+            )],
+            unit: None,
+        };
+        let written = step::export_scene(&scene, "subdivision.step", 1e-6).unwrap();
+        assert!(written.left_out.is_empty(), "{:?}", written.left_out);
+        assert_eq!(written.approximated.len(), 1);
+        let note = &written.approximated[0];
+        println!("{note}");
+        assert!(note.contains(kind), "{note}");
+        let model = step::read::read(written.text.as_bytes(), &mut |_, _| true).unwrap();
+        assert!(model.warnings.is_empty(), "{name}: {:?}", model.warnings);
+        assert_eq!(model.bodies.len(), 1);
+        // A closed shell, and the enclosed volume of the limit surface: against the limit
+        // mesh of level 5 (its vertices on the limit), whose volume is within its own chord
+        // error.
+        let mesh = &meshes(&model, 1e-3)[0];
+        let (volume, closed) = volume_and_closed(mesh, 1e-6);
+        assert!(
+            closed && model.bodies[0].topology.naked.is_empty(),
+            "{name}: naked edges {:?}",
+            model.bodies[0].topology.naked
+        );
+        let limit = surface.limit(5).unwrap();
+        let mut reference = 0.0;
+        for face in limit.level.faces() {
+            let p: Vec<DVec3> = face.iter().map(|&v| limit.positions[v as usize]).collect();
+            for k in 1..p.len() - 1 {
+                reference += p[0].dot(p[k].cross(p[k + 1])) / 6.0;
+            }
         }
+        let reference = reference.abs();
+        println!("{name}: volume {volume:.4} vs the level-5 limit mesh's {reference:.4}");
+        assert!(
+            relative(volume, reference) < 2e-3,
+            "{name}: {volume} vs {reference}"
+        );
     }
-    let reference = reference.abs();
-    println!("volume {volume:.4} vs the level-5 limit mesh's {reference:.4}");
-    assert!(
-        relative(volume, reference) < 2e-3,
-        "{volume} vs {reference}"
-    );
 }
 
 /// The nodes and weights of the n-point Gauss–Legendre rule on [−1, 1] (Newton's iteration

@@ -494,19 +494,29 @@ fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, Str
         // The patches meet along their edges to rounding.
         let topology =
             crate::kernel::join::find_topology(&faces, asked).map_err(|e| e.to_string())?;
-        let note = format!(
-            "{}: the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",
-            object.name,
-            faces.len(),
-            limit.level,
-            limit.exact,
-            limit.deviation
-        );
+        let note = if limit.triangles {
+            format!(
+                "{}: the limit surface as {} cubic triangles of level {} (each a bicubic patch with one side collapsed), within {:.2e} of the limit",
+                object.name,
+                faces.len(),
+                limit.level,
+                limit.deviation
+            )
+        } else {
+            format!(
+                "{}: the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",
+                object.name,
+                faces.len(),
+                limit.level,
+                limit.exact,
+                limit.deviation
+            )
+        };
         return Ok((faces, Some(topology), Some(note)));
     }
     Err(format!(
         "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets, \
-         triangular patches and Catmull-Clark subdivision surfaces, not {}",
+         triangular patches and Catmull-Clark, Loop and butterfly subdivision surfaces, not {}",
         object.kind().kind_name()
     ))
 }

@@ -49,6 +49,9 @@ pub struct LimitPatches {
     /// The largest distance found from an approximated patch to the limit (0 when every patch
     /// is exact).
     pub deviation: f64,
+    /// Whether each patch is a cubic triangle (Loop, butterfly) written as the bicubic patch
+    /// over the square collapsed onto it (its side u = 1 is one point).
+    pub triangles: bool,
 }
 
 fn bernstein3(t: f64) -> [f64; 4] {
@@ -140,20 +143,32 @@ impl SubdivisionSurface {
     /// The limit surface as bicubic Bézier patches within `tolerance` where it can (see the
     /// module's notes): Catmull-Clark only.
     pub fn limit_patches(&self, tolerance: f64) -> Result<LimitPatches, GeometryError> {
-        if self.options.scheme != Scheme::CatmullClark {
-            return Err(GeometryError::Construction {
-                what: "limit patches",
-                message: "only Catmull-Clark surfaces are written as patches".into(),
-            });
-        }
+        let triangles = match self.options.scheme {
+            Scheme::CatmullClark => false,
+            Scheme::Loop | Scheme::Butterfly => true,
+            Scheme::DooSabin | Scheme::Sqrt3 => {
+                return Err(GeometryError::Construction {
+                    what: "limit patches",
+                    message: format!(
+                        "{} surfaces are not written as patches (their faces do not nest \
+                         from level to level)",
+                        self.options.scheme.label()
+                    ),
+                });
+            }
+        };
         let base = self.base_level()?;
-        let start = u32::from(base.faces().any(|f| f.len() != 4));
+        let start = u32::from(!triangles && base.faces().any(|f| f.len() != 4));
         let mut best: Option<LimitPatches> = None;
         for k in start..super::MAX_LEVEL.saturating_sub(2) {
             if base.face_count() << (2 * (k + 3)) > MAX_CHECK_FACES && best.is_some() {
                 break;
             }
-            let patches = self.limit_patches_at(k)?;
+            let patches = if triangles {
+                self.limit_triangles_at(k)?
+            } else {
+                self.limit_patches_at(k)?
+            };
             let done = patches.deviation <= tolerance;
             best = Some(patches);
             if done {
@@ -316,6 +331,138 @@ impl SubdivisionSurface {
             exact,
             level: k,
             deviation,
+            triangles: false,
+        })
+    }
+
+    /// The cubic triangles of level `k`'s faces (Loop, butterfly), each as its collapsed
+    /// bicubic patch: corners at the limit points, each side the cubic that fits the side's
+    /// five limit points of level k + 2 (ends interpolated, fitted from the lower-numbered
+    /// end so that both faces get the same bits), the inner point b₁₁₁ fitting the three
+    /// inner limit points of level k + 2 by least squares. A triangle's grid point (a, b) of
+    /// [`face_grid`] is the patch's (u, v) = (a, b) / 2^depth (corner 1 at u = 1, corner 2 at
+    /// v = 1). The deviation is measured at the 45 limit points of level k + 3.
+    fn limit_triangles_at(&self, k: u32) -> Result<LimitPatches, GeometryError> {
+        use crate::triangle::{TriangleBezier, lattice_index};
+        let scheme = self.options.scheme;
+        let hierarchy = Hierarchy::new(self.base_level()?, self.options, k + 3)?;
+        let mut points = vec![self.points().to_vec()];
+        for stencils in hierarchy.stencils.iter().take(k as usize + 3) {
+            let next = stencils.apply(points.last().map_or(&[][..], |p| p.as_slice()));
+            points.push(next);
+        }
+        let failed = |message: &str| GeometryError::Construction {
+            what: "limit patches",
+            message: message.into(),
+        };
+        let kk = k as usize;
+        let level = &hierarchy.levels[kk];
+        // The limit points over face f at depth d: slot (a, b) at a·(2^d + 1) + b, a + b ≤ 2^d.
+        let limit_grid = |f: u32, depth: u32| -> Result<Vec<Option<DVec3>>, GeometryError> {
+            let l = kk + depth as usize;
+            let s = 1usize << depth;
+            face_grid(&hierarchy, kk, f, depth)
+                .into_iter()
+                .enumerate()
+                .map(|(slot, v)| {
+                    let (a, b) = (slot / (s + 1), slot % (s + 1));
+                    if a + b > s {
+                        return Ok(None);
+                    }
+                    let v = v.ok_or_else(|| failed("a face of the level is not a triangle"))?;
+                    Ok(Some(
+                        limit_position(&hierarchy.levels[l], scheme, v).apply(&points[l]),
+                    ))
+                })
+                .collect()
+        };
+        let at = |grid: &[Option<DVec3>], s: usize, a: usize, b: usize| {
+            grid[a * (s + 1) + b].ok_or_else(|| failed("a limit point is missing"))
+        };
+        // The lattice index (i, j) of point k along side `side` (corner 0 → 1 → 2 → 0).
+        let side_lattice = |side: usize, k: usize| -> (usize, usize) {
+            match side {
+                0 => (k, 0),
+                1 => (3 - k, k),
+                _ => (0, 3 - k),
+            }
+        };
+        let side_slot = |side: usize, k: usize| -> (usize, usize) {
+            match side {
+                0 => (k, 0),
+                1 => (4 - k, k),
+                _ => (0, 4 - k),
+            }
+        };
+        let mut deviation = 0.0f64;
+        let mut out = Vec::with_capacity(level.face_count());
+        for f in 0..level.face_count() as u32 {
+            let corners = level.face(f);
+            if corners.len() != 3 {
+                return Err(failed("a face of the level is not a triangle"));
+            }
+            let fine = limit_grid(f, 2)?;
+            let mut lattice = [DVec3::ZERO; 10];
+            for side in 0..3 {
+                let (a, b) = (corners[side], corners[(side + 1) % 3]);
+                let along: [DVec3; 5] = {
+                    let mut row = [DVec3::ZERO; 5];
+                    for (k, slot) in row.iter_mut().enumerate() {
+                        let (x, y) = side_slot(side, k);
+                        *slot = at(&fine, 4, x, y)?;
+                    }
+                    row
+                };
+                let row = if a < b {
+                    fit_edge(along)
+                } else {
+                    let mut back = along;
+                    back.reverse();
+                    let mut curve = fit_edge(back);
+                    curve.reverse();
+                    curve
+                };
+                for (k, point) in row.into_iter().enumerate() {
+                    let (i, j) = side_lattice(side, k);
+                    lattice[lattice_index(3, i, j)] = point;
+                }
+            }
+            // b₁₁₁ by least squares over the inner points (1, 1), (2, 1), (1, 2) of depth 2,
+            // its basis 6uvw.
+            let centre = lattice_index(3, 1, 1);
+            let (mut num, mut den) = (DVec3::ZERO, 0.0);
+            for (a, b) in [(1, 1), (2, 1), (1, 2)] {
+                let (u, v) = (a as f64 / 4.0, b as f64 / 4.0);
+                let basis = 6.0 * u * v * (1.0 - u - v);
+                lattice[centre] = DVec3::ZERO;
+                let rest = at(&fine, 4, a, b)?
+                    - TriangleBezier::new(3, lattice.to_vec())?
+                        .evaluate(u, v)
+                        .point;
+                num += rest * basis;
+                den += basis * basis;
+            }
+            lattice[centre] = num / den;
+            let patch = TriangleBezier::new(3, lattice.to_vec())?;
+            let check = limit_grid(f, 3)?;
+            for a in 0..=8 {
+                for b in 0..=8 - a {
+                    let p = patch.evaluate(a as f64 / 8.0, b as f64 / 8.0).point;
+                    deviation = deviation.max(p.distance(at(&check, 8, a, b)?));
+                }
+            }
+            if !deviation.is_finite() {
+                return Err(failed("the limit is not finite"));
+            }
+            let tensor = patch.tensor_points();
+            out.push(std::array::from_fn(|i| tensor[i]));
+        }
+        Ok(LimitPatches {
+            patches: out,
+            exact: 0,
+            level: k,
+            deviation,
+            triangles: true,
         })
     }
 }
@@ -408,6 +555,68 @@ mod tests {
                         b != a && boundary(pb).iter().any(|r| r.distance(q) < 1e-12)
                     });
                 assert!(shared, "patch {a}: boundary point {q} is on no other patch");
+            }
+        }
+    }
+    #[test]
+    fn loop_and_butterfly_cages_are_cubic_triangles_within_the_tolerance_that_meet_exactly() {
+        // The butterfly's limit is only C¹ (less smooth than Loop's), so cubics approach it
+        // more slowly: it is asked for less.
+        for (scheme, tolerance) in [(Scheme::Loop, 2e-3), (Scheme::Butterfly, 5e-3)] {
+            let cage = cages::icosahedron(DVec3::new(1.0, 0.0, -2.0), 2.0).unwrap();
+            let options = super::super::Options {
+                scheme,
+                ..Default::default()
+            };
+            let surface = SubdivisionSurface::new(cage, vec![], vec![], options, 1).unwrap();
+            let patches = surface.limit_patches(tolerance).unwrap();
+            assert!(patches.triangles);
+            assert!(patches.deviation <= tolerance, "{}", patches.deviation);
+            assert_eq!(patches.patches.len(), 20 << (2 * patches.level));
+            // Independently: every limit point of a finer level is within the tolerance (and
+            // a little for the points between the checked ones) of the patches.
+            let limit = surface.limit(patches.level + 4).unwrap();
+            let faces = surfaces(&patches);
+            let mut worst = 0.0f64;
+            for p in &limit.positions {
+                let d = faces
+                    .iter()
+                    .filter(|s| {
+                        let (lo, hi) = s.bounds();
+                        p.cmpge(lo - 0.1).all() && p.cmple(hi + 0.1).all()
+                    })
+                    .filter_map(|s| s.closest_point(*p).ok())
+                    .map(|c| c.distance)
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+            println!(
+                "{scheme:?} icosahedron: level {}, {} triangles, deviation {:.2e}, level-{} limit points within {worst:.2e}",
+                patches.level,
+                patches.patches.len(),
+                patches.deviation,
+                patches.level + 4
+            );
+            assert!(worst <= 1.5 * tolerance, "{scheme:?}: worst {worst}");
+            // Each patch's side u = 1 is its corner; the other sides are the triangle's, each
+            // the same bits as a neighbour's side.
+            let boundary = |p: &[DVec3; 16]| -> Vec<DVec3> {
+                (0..4)
+                    .flat_map(|s| (0..4).map(move |k| p[side_index(s, k)]))
+                    .collect()
+            };
+            for (a, pa) in patches.patches.iter().enumerate() {
+                assert!(
+                    (0..4).all(|k| pa[12 + k] == pa[12]),
+                    "side u = 1 is not a point"
+                );
+                for q in boundary(pa) {
+                    let shared =
+                        patches.patches.iter().enumerate().any(|(b, pb)| {
+                            b != a && boundary(pb).iter().any(|r| r.distance(q) == 0.0)
+                        });
+                    assert!(shared, "{scheme:?} patch {a}: {q} is on no other patch");
+                }
             }
         }
     }
