@@ -15,8 +15,10 @@
 //! rounding where both convert their own B-spline points), and the deviation from the limit surface is
 //! measured at the 81 limit points of level k + 3 over each approximated face (against the
 //! patch at the same dyadic parameters, an upper bound of their distance to the patch). The
-//! level rises until that deviation is within the tolerance asked for, or the refinement would
-//! pass a size limit, and the deviation reached is returned with the patches.
+//! level rises (past the levels the editor draws, to `MAX_PATCH_LEVEL`) until that deviation is
+//! within the tolerance asked for, or the refinement would pass a size limit, and the deviation
+//! reached is returned with the patches. Loop and butterfly surfaces take cubic triangles the
+//! same way ([`SubdivisionSurface::limit_patches`]).
 
 use glam::DVec3;
 
@@ -26,7 +28,13 @@ use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
 
 /// The most faces the finest level used for checking may have.
-const MAX_CHECK_FACES: usize = 1 << 22;
+const MAX_CHECK_FACES: usize = 1 << 20;
+
+/// The most faces the finest level checked may have on the first level tried.
+const MAX_FIRST_CHECK_FACES: usize = 1 << 22;
+
+/// The highest level whose faces become patches.
+const MAX_PATCH_LEVEL: u32 = 6;
 
 /// The Bézier points of the uniform cubic B-spline segment with points P0..P3 (rows: Bézier
 /// point, columns: B-spline point).
@@ -160,14 +168,24 @@ impl SubdivisionSurface {
         let base = self.base_level()?;
         let start = u32::from(!triangles && base.faces().any(|f| f.len() != 4));
         let mut best: Option<LimitPatches> = None;
-        for k in start..super::MAX_LEVEL.saturating_sub(2) {
-            if base.face_count() << (2 * (k + 3)) > MAX_CHECK_FACES && best.is_some() {
+        for k in start..=MAX_PATCH_LEVEL {
+            if base.face_count().saturating_mul(1 << (2 * (k + 3))) > MAX_CHECK_FACES
+                && best.is_some()
+            {
                 break;
             }
-            let patches = if triangles {
-                self.limit_triangles_at(k)?
+            // The first level tried may refine further (a large cage gets its patches at
+            // least), within MAX_FIRST_CHECK_FACES; past it, the finest level checked stays
+            // within MAX_CHECK_FACES.
+            let max_faces = if best.is_none() {
+                MAX_FIRST_CHECK_FACES
             } else {
-                self.limit_patches_at(k)?
+                MAX_CHECK_FACES
+            };
+            let patches = if triangles {
+                self.limit_triangles_at(k, max_faces)?
+            } else {
+                self.limit_patches_at(k, max_faces)?
             };
             let done = patches.deviation <= tolerance;
             best = Some(patches);
@@ -181,10 +199,10 @@ impl SubdivisionSurface {
         })
     }
 
-    /// The patches of level `k`'s faces.
-    fn limit_patches_at(&self, k: u32) -> Result<LimitPatches, GeometryError> {
+    /// The patches of level `k`'s faces (refining to level k + 3, each level within `max_faces`).
+    fn limit_patches_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
         let scheme = self.options.scheme;
-        let hierarchy = Hierarchy::new(self.base_level()?, self.options, k + 3)?;
+        let hierarchy = Hierarchy::deep(self.base_level()?, self.options, k + 3, max_faces)?;
         let mut points = vec![self.points().to_vec()];
         for stencils in hierarchy.stencils.iter().take(k as usize + 3) {
             let next = stencils.apply(points.last().map_or(&[][..], |p| p.as_slice()));
@@ -342,10 +360,10 @@ impl SubdivisionSurface {
     /// inner limit points of level k + 2 by least squares. A triangle's grid point (a, b) of
     /// [`face_grid`] is the patch's (u, v) = (a, b) / 2^depth (corner 1 at u = 1, corner 2 at
     /// v = 1). The deviation is measured at the 45 limit points of level k + 3.
-    fn limit_triangles_at(&self, k: u32) -> Result<LimitPatches, GeometryError> {
+    fn limit_triangles_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
         use crate::triangle::{TriangleBezier, lattice_index};
         let scheme = self.options.scheme;
-        let hierarchy = Hierarchy::new(self.base_level()?, self.options, k + 3)?;
+        let hierarchy = Hierarchy::deep(self.base_level()?, self.options, k + 3, max_faces)?;
         let mut points = vec![self.points().to_vec()];
         for stencils in hierarchy.stencils.iter().take(k as usize + 3) {
             let next = stencils.apply(points.last().map_or(&[][..], |p| p.as_slice()));

@@ -409,6 +409,37 @@ impl Hierarchy {
         Ok(hierarchy)
     }
 
+    /// `base` refined `levels` times by `options`, past [`MAX_LEVEL`] (for exchange, where a
+    /// small cage is refined further than it is drawn), while the finest level has at most
+    /// `max_faces` faces.
+    pub(crate) fn deep(
+        base: Level,
+        options: Options,
+        levels: u32,
+        max_faces: usize,
+    ) -> Result<Self, GeometryError> {
+        let mut hierarchy = Self {
+            levels: vec![base],
+            stencils: Vec::new(),
+            options,
+        };
+        for level in 1..=levels {
+            let faces = hierarchy.levels[hierarchy.levels.len() - 1].face_count();
+            if faces.saturating_mul(4) > max_faces {
+                return Err(GeometryError::Cage {
+                    at: Location::field("level"),
+                    problem: CageProblem::TooManyFaces {
+                        level,
+                        faces: faces.saturating_mul(4) as u64,
+                        max: max_faces as u64,
+                    },
+                });
+            }
+            hierarchy.refine_once()?;
+        }
+        Ok(hierarchy)
+    }
+
     fn refine_once(&mut self) -> Result<(), GeometryError> {
         let last = self.levels.len() - 1;
         let (child, stencils) = refine::refine(&self.levels[last], &self.options, last)?;
