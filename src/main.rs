@@ -61,17 +61,17 @@ mod cli {
             #[arg(short, long)]
             output: Option<std::path::PathBuf>,
         },
-        /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a
-        /// STEP file) as glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it (the
-        /// project is embedded, so knotwork can open the export again); or as STEP (AP214) when
-        /// OUTPUT ends in .step or .stp. Without --tolerance or --segments the tolerance is 1e-3
-        /// of the scene's size (for STEP, 1e-6 of it bounds the edge curves).
         /// Describe a STEP file: its bodies, faces per surface type, units, bounding box and
         /// warnings, as JSON. A file that cannot be read exits 1 with the message.
         Info {
             /// The .step/.stp file.
             input: std::path::PathBuf,
         },
+        /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a
+        /// STEP file) as glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it (the
+        /// project is embedded, so knotwork can open the export again); or as STEP (AP214) when
+        /// OUTPUT ends in .step or .stp. Without --tolerance or --segments the tolerance is 1e-3
+        /// of the scene's size (for STEP, 1e-6 of it bounds the edge curves).
         Export {
             /// The file to export.
             input: std::path::PathBuf,

@@ -414,3 +414,30 @@ fn eval_on_the_gpu_without_a_compute_adapter_exits_1_with_the_reason() {
         );
     }
 }
+
+#[test]
+fn every_command_is_described_in_the_help() {
+    // Each subcommand's line in `knotwork --help` says what it does (a misplaced doc comment
+    // once left `export` blank and gave `info` export's text).
+    let out = knotwork().arg("--help").output().unwrap();
+    let help = String::from_utf8_lossy(&out.stdout);
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .collect();
+    assert!(commands.len() > 10, "{help}");
+    for line in commands {
+        let mut words = line.split_whitespace();
+        let name = words.next().unwrap_or_default();
+        let rest: Vec<&str> = words.collect();
+        assert!(!rest.is_empty(), "`{name}` has no description in --help");
+        if name == "info" {
+            assert!(rest.join(" ").starts_with("Describe a STEP file"), "{line}");
+        }
+        if name == "export" {
+            assert!(rest.join(" ").starts_with("Export a project"), "{line}");
+        }
+    }
+}
