@@ -123,6 +123,20 @@ fn fit_edge(points: [DVec3; 5]) -> [DVec3; 4] {
     [a, p1, p2, e]
 }
 
+/// [`fit_edge`] of the five limit points `along` an edge from vertex `a` to vertex `b`, fitted
+/// from the lower-numbered end, so that the faces on both sides get the same bits.
+fn fit_shared_edge(along: [DVec3; 5], a: u32, b: u32) -> [DVec3; 4] {
+    if a < b {
+        fit_edge(along)
+    } else {
+        let mut back = along;
+        back.reverse();
+        let mut curve = fit_edge(back);
+        curve.reverse();
+        curve
+    }
+}
+
 /// Solves the symmetric positive definite 4 × 4 system `m x = r` (three right-hand sides at
 /// once) by Gaussian elimination.
 fn solve4(mut m: [[f64; 4]; 4], mut r: [DVec3; 4]) -> [DVec3; 4] {
@@ -145,6 +159,13 @@ fn solve4(mut m: [[f64; 4]; 4], mut r: [DVec3; 4]) -> [DVec3; 4] {
         x[k] = s / m[k][k];
     }
     x
+}
+
+fn limit_patches_error(message: &str) -> GeometryError {
+    GeometryError::Construction {
+        what: "limit patches",
+        message: message.into(),
+    }
 }
 
 impl SubdivisionSurface {
@@ -199,19 +220,27 @@ impl SubdivisionSurface {
         })
     }
 
-    /// The patches of level `k`'s faces (refining to level k + 3, each level within `max_faces`).
-    fn limit_patches_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
-        let scheme = self.options.scheme;
-        let hierarchy = Hierarchy::deep(self.base_level()?, self.options, k + 3, max_faces)?;
+    /// The hierarchy to level `levels` (each level within `max_faces`) and the cage's points
+    /// carried to every level.
+    fn levels_to(
+        &self,
+        levels: u32,
+        max_faces: usize,
+    ) -> Result<(Hierarchy, Vec<Vec<DVec3>>), GeometryError> {
+        let hierarchy = Hierarchy::deep(self.base_level()?, self.options, levels, max_faces)?;
         let mut points = vec![self.points().to_vec()];
-        for stencils in hierarchy.stencils.iter().take(k as usize + 3) {
+        for stencils in &hierarchy.stencils {
             let next = stencils.apply(points.last().map_or(&[][..], |p| p.as_slice()));
             points.push(next);
         }
-        let failed = |message: &str| GeometryError::Construction {
-            what: "limit patches",
-            message: message.into(),
-        };
+        Ok((hierarchy, points))
+    }
+
+    /// The patches of level `k`'s faces (refining to level k + 3, each level within `max_faces`).
+    fn limit_patches_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
+        let scheme = self.options.scheme;
+        let (hierarchy, points) = self.levels_to(k + 3, max_faces)?;
+        let failed = limit_patches_error;
         let kk = k as usize;
         let level = &hierarchy.levels[kk];
         let limit_grid = |f: u32, depth: u32| -> Result<Vec<DVec3>, GeometryError> {
@@ -290,15 +319,7 @@ impl SubdivisionSurface {
                 let row = shared.unwrap_or_else(|| {
                     let along: [DVec3; 5] =
                         std::array::from_fn(|k| fine[grid_side_index(4, side, k)]);
-                    if a < b {
-                        fit_edge(along)
-                    } else {
-                        let mut back = along;
-                        back.reverse();
-                        let mut curve = fit_edge(back);
-                        curve.reverse();
-                        curve
-                    }
+                    fit_shared_edge(along, a, b)
                 });
                 for (k, point) in row.into_iter().enumerate() {
                     p[side_index(side, k)] = point;
@@ -363,16 +384,8 @@ impl SubdivisionSurface {
     fn limit_triangles_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
         use crate::triangle::{TriangleBezier, lattice_index};
         let scheme = self.options.scheme;
-        let hierarchy = Hierarchy::deep(self.base_level()?, self.options, k + 3, max_faces)?;
-        let mut points = vec![self.points().to_vec()];
-        for stencils in hierarchy.stencils.iter().take(k as usize + 3) {
-            let next = stencils.apply(points.last().map_or(&[][..], |p| p.as_slice()));
-            points.push(next);
-        }
-        let failed = |message: &str| GeometryError::Construction {
-            what: "limit patches",
-            message: message.into(),
-        };
+        let (hierarchy, points) = self.levels_to(k + 3, max_faces)?;
+        let failed = limit_patches_error;
         let kk = k as usize;
         let level = &hierarchy.levels[kk];
         // The limit points over face f at depth d: slot (a, b) at a·(2^d + 1) + b, a + b ≤ 2^d.
@@ -431,15 +444,7 @@ impl SubdivisionSurface {
                     }
                     row
                 };
-                let row = if a < b {
-                    fit_edge(along)
-                } else {
-                    let mut back = along;
-                    back.reverse();
-                    let mut curve = fit_edge(back);
-                    curve.reverse();
-                    curve
-                };
+                let row = fit_shared_edge(along, a, b);
                 for (k, point) in row.into_iter().enumerate() {
                     let (i, j) = side_lattice(side, k);
                     lattice[lattice_index(3, i, j)] = point;
@@ -499,6 +504,32 @@ mod tests {
             .collect()
     }
 
+    /// The largest distance from `points` to the nearest of `faces` (those whose box, grown
+    /// by `margin`, holds the point).
+    fn farthest(points: &[DVec3], faces: &[NurbsSurface], margin: f64) -> f64 {
+        points
+            .iter()
+            .map(|p| {
+                faces
+                    .iter()
+                    .filter(|s| {
+                        let (lo, hi) = s.bounds();
+                        p.cmpge(lo - margin).all() && p.cmple(hi + margin).all()
+                    })
+                    .filter_map(|s| s.closest_point(*p).ok())
+                    .map(|c| c.distance)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The 16 points on a bicubic patch's four sides.
+    fn boundary(p: &[DVec3; 16]) -> Vec<DVec3> {
+        (0..4)
+            .flat_map(|s| (0..4).map(move |k| p[side_index(s, k)]))
+            .collect()
+    }
+
     #[test]
     fn a_regular_cage_is_exact_and_matches_its_limit_points() {
         // A torus of 8 × 6 quads: every vertex has valence 4.
@@ -510,19 +541,8 @@ mod tests {
         assert_eq!(patches.deviation, 0.0);
         // The limit points of level 2 lie on the patches (independently: the limit mesh).
         let limit = surface.limit(2).unwrap();
-        let faces = surfaces(&patches);
-        for p in &limit.positions {
-            let d = faces
-                .iter()
-                .filter(|s| {
-                    let (lo, hi) = s.bounds();
-                    p.cmpge(lo - 1e-6).all() && p.cmple(hi + 1e-6).all()
-                })
-                .filter_map(|s| s.closest_point(*p).ok())
-                .map(|c| c.distance)
-                .fold(f64::INFINITY, f64::min);
-            assert!(d < 1e-9, "a limit point {d} from the patches");
-        }
+        let worst = farthest(&limit.positions, &surfaces(&patches), 1e-6);
+        assert!(worst < 1e-9, "a limit point {worst} from the patches");
     }
 
     #[test]
@@ -536,20 +556,7 @@ mod tests {
         // Every limit point of level 4 is within the deviation (and a little for the points
         // between the checked ones) of the patches.
         let limit = surface.limit(4).unwrap();
-        let faces = surfaces(&patches);
-        let mut worst = 0.0f64;
-        for p in &limit.positions {
-            let d = faces
-                .iter()
-                .filter(|s| {
-                    let (lo, hi) = s.bounds();
-                    p.cmpge(lo - 0.1).all() && p.cmple(hi + 0.1).all()
-                })
-                .filter_map(|s| s.closest_point(*p).ok())
-                .map(|c| c.distance)
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(d);
-        }
+        let worst = farthest(&limit.positions, &surfaces(&patches), 0.1);
         println!(
             "cube: level {}, {} patches ({} exact), deviation {:.2e}, level-4 limit points within {worst:.2e}",
             patches.level,
@@ -561,11 +568,6 @@ mod tests {
         // Neighbouring patches share their boundary rows (to rounding, where both are exact
         // and each converted its own B-spline points): every boundary point of a patch is a
         // boundary point of another.
-        let boundary = |p: &[DVec3; 16]| -> Vec<DVec3> {
-            (0..4)
-                .flat_map(|s| (0..4).map(move |k| p[side_index(s, k)]))
-                .collect()
-        };
         for (a, pa) in patches.patches.iter().enumerate() {
             for q in boundary(pa) {
                 let shared =
@@ -594,20 +596,7 @@ mod tests {
             // Independently: every limit point of a finer level is within the tolerance (and
             // a little for the points between the checked ones) of the patches.
             let limit = surface.limit(patches.level + 4).unwrap();
-            let faces = surfaces(&patches);
-            let mut worst = 0.0f64;
-            for p in &limit.positions {
-                let d = faces
-                    .iter()
-                    .filter(|s| {
-                        let (lo, hi) = s.bounds();
-                        p.cmpge(lo - 0.1).all() && p.cmple(hi + 0.1).all()
-                    })
-                    .filter_map(|s| s.closest_point(*p).ok())
-                    .map(|c| c.distance)
-                    .fold(f64::INFINITY, f64::min);
-                worst = worst.max(d);
-            }
+            let worst = farthest(&limit.positions, &surfaces(&patches), 0.1);
             println!(
                 "{scheme:?} icosahedron: level {}, {} triangles, deviation {:.2e}, level-{} limit points within {worst:.2e}",
                 patches.level,
@@ -618,11 +607,6 @@ mod tests {
             assert!(worst <= 1.5 * tolerance, "{scheme:?}: worst {worst}");
             // Each patch's side u = 1 is its corner; the other sides are the triangle's, each
             // the same bits as a neighbour's side.
-            let boundary = |p: &[DVec3; 16]| -> Vec<DVec3> {
-                (0..4)
-                    .flat_map(|s| (0..4).map(move |k| p[side_index(s, k)]))
-                    .collect()
-            };
             for (a, pa) in patches.patches.iter().enumerate() {
                 assert!(
                     (0..4).all(|k| pa[12 + k] == pa[12]),
