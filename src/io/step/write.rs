@@ -200,15 +200,53 @@ fn curve2(out: &mut Out, c: &TrimCurve) -> u64 {
     out.add(curve_entity(c.degree(), &ids, c.knots(), w))
 }
 
-/// The 3D curve of a trim curve on its surface: the exact iso-curve where the trim is a
-/// straight iso-line, else a cubic through points of S(c(t)), doubled until its middles lie
-/// within `tolerance`.
+/// The affine map of a surface that is one: a polynomial bilinear patch whose four points
+/// form a parallelogram (a plane face as knotwork builds it), S(u, v) = O + U·u + V·v.
+fn affine_map(s: &NurbsSurface) -> Option<(DVec3, DVec3, DVec3)> {
+    if s.degree() != [1, 1] || s.count() != [2, 2] || !s.is_polynomial() {
+        return None;
+    }
+    let [(u0, u1), (v0, v1)] = s.domain();
+    let (p00, p10, p01, p11) = (
+        s.control_point(0, 0),
+        s.control_point(1, 0),
+        s.control_point(0, 1),
+        s.control_point(1, 1),
+    );
+    let size = p00.distance(p11).max(p10.distance(p01));
+    if (p00 + p11).distance(p10 + p01) > 1e-12 * size {
+        return None;
+    }
+    let (du, dv) = ((p10 - p00) / (u1 - u0), (p01 - p00) / (v1 - v0));
+    Some((p00 - du * u0 - dv * v0, du, dv))
+}
+
+/// The 3D curve of a trim curve on its surface: on a plane (an affine surface) the trim's
+/// image exactly (its points mapped, its weights and knots kept); the exact iso-curve where
+/// the trim is a straight iso-line; else a cubic through points of S(c(t)), doubled until its
+/// middles lie within `tolerance`. Each has the trim's parameter.
 fn edge_curve(
     face: &TrimmedSurface,
     trim: &TrimCurve,
     tolerance: f64,
 ) -> Result<SpaceCurve, GeometryError> {
     let s = face.surface();
+    if let Some((origin, du, dv)) = affine_map(s) {
+        let points: Vec<DVec3> = (0..trim.count())
+            .map(|i| {
+                let q = trim.control_point(i);
+                origin + du * q.x + dv * q.y
+            })
+            .collect();
+        let weights: Vec<f64> = (0..trim.count()).map(|i| trim.weight(i)).collect();
+        let rational = weights.iter().any(|&w| w != 1.0);
+        return SpaceCurve::new(
+            trim.degree(),
+            trim.knots().to_vec(),
+            points,
+            rational.then_some(weights),
+        );
+    }
     let (a, b) = trim.ends()?;
     if trim.degree() == 1 && trim.count() == 2 {
         let dir = if a.x == b.x {
@@ -562,4 +600,62 @@ pub fn write(
     let _ = writeln!(file, "ENDSEC;");
     let _ = writeln!(file, "END-ISO-10303-21;");
     Ok(file)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::construct;
+
+    #[test]
+    fn a_plane_faces_edge_curve_is_its_trims_exact_image_at_the_same_parameter() {
+        // A plane over [0, 1]² (u along 4x + y, v along z) with a rational circle trim of
+        // radius 0.3: the 3D curve is S(c(t)) at every t, to rounding, with the trim's
+        // knots and weights; a skewed bilinear patch (not a parallelogram) is not affine.
+        let plane = construct::plane(
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(4.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 2.5),
+        )
+        .unwrap();
+        let circle = construct::arc(
+            DVec3::new(0.5, 0.5, 0.0),
+            DVec3::X,
+            DVec3::Y,
+            0.3,
+            0.0,
+            std::f64::consts::TAU,
+        )
+        .unwrap();
+        let points: Vec<DVec2> = (0..circle.count())
+            .map(|i| circle.control_point(i).truncate())
+            .collect();
+        let weights: Vec<f64> = (0..circle.count()).map(|i| circle.weight(i)).collect();
+        let trim = TrimCurve::new(
+            circle.degree(),
+            circle.knots().to_vec(),
+            points,
+            Some(weights),
+        )
+        .unwrap();
+        let face = TrimmedSurface::new(plane.clone(), vec![vec![trim.clone()]]).unwrap();
+        let c3 = edge_curve(&face, &trim, 1e-9).unwrap();
+        assert_eq!(c3.knots(), trim.knots());
+        assert_eq!(c3.count(), trim.count());
+        let (a, b) = trim.domain();
+        for k in 0..=64 {
+            let t = a + (b - a) * f64::from(k) / 64.0;
+            let on = plane.point_at_clamped(trim.point_at(t).unwrap()).unwrap();
+            assert!(c3.point_at(t).unwrap().distance(on) < 1e-12, "at {t}");
+        }
+        let skewed = construct::bilinear(
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.0, 1.0, 0.5),
+            DVec3::new(1.0, 1.0, 0.0),
+        )
+        .unwrap();
+        assert!(affine_map(&skewed).is_none());
+        assert!(affine_map(&plane).is_some());
+    }
 }
