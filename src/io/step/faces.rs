@@ -1152,6 +1152,23 @@ fn arc_margin(span: f64) -> f64 {
     (RANGE_MARGIN * span).min(0.5 * room)
 }
 
+/// Whether every point of `uv` lies on the chord from its first to its last point (within
+/// 1e-12 of `uv_size`; a zero chord: every point at the first).
+fn on_chord(uv: &[DVec2], uv_size: f64) -> bool {
+    let (Some(&a), Some(&b)) = (uv.first(), uv.last()) else {
+        return true;
+    };
+    let chord = b - a;
+    uv.iter().all(|&q| {
+        let t = if chord.length_squared() > 0.0 {
+            (q - a).dot(chord) / chord.length_squared()
+        } else {
+            0.0
+        };
+        (a + chord * t).distance(q) <= 1e-12 * uv_size
+    })
+}
+
 /// How close to its edge a smooth trim curve must come, as a fraction of the loop
 /// tolerance: far inside it, so that the face's area and the 3D curves made from the trim
 /// curves do not depend on the tolerance.
@@ -1178,14 +1195,7 @@ fn smooth_piece(
     if piece.uv.len() < 3 || piece.s.len() != piece.uv.len() || piece.start_pole || piece.end_pole {
         return None;
     }
-    let (a, b) = (piece.first(), piece.last());
-    let chord = b - a;
-    let straight = chord.length_squared() > 0.0
-        && piece.uv.iter().all(|&q| {
-            let t = (q - a).dot(chord) / chord.length_squared();
-            (a + chord * t).distance(q) <= 1e-12 * uv_size
-        });
-    if straight {
+    if on_chord(&piece.uv, uv_size) {
         return None;
     }
     let at = |s: f64| {
@@ -1269,15 +1279,7 @@ fn to_trim_curves(pieces: Vec<Piece>, uv_size: f64) -> Result<Vec<(TrimCurve, Cu
             uv.push(uv[0]);
         }
         let (a, b) = (uv[0], uv[uv.len() - 1]);
-        let chord = b - a;
-        let straight = uv.iter().all(|&q| {
-            let t = if chord.length_squared() > 0.0 {
-                (q - a).dot(chord) / chord.length_squared()
-            } else {
-                0.0
-            };
-            (a + chord * t).distance(q) <= 1e-12 * uv_size
-        });
+        let straight = on_chord(&uv, uv_size);
         let curve = match (&p.exact, straight) {
             (Some(c), _) => {
                 let c = c.clone();
