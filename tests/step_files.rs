@@ -680,13 +680,18 @@ fn subdivision_surfaces_are_written_as_patches_close_to_their_limits() {
     use knotwork::kernel::subdiv::patches::Display;
     use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
     use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
-    let triangles = |scheme| {
+    let with = |cage, scheme| {
         let options = Options {
             scheme,
             ..Default::default()
         };
-        let cage = cages::icosahedron(DVec3::new(3.0, -1.0, 2.0), 15.0).unwrap();
         SubdivisionSurface::new(cage, vec![], vec![], options, 2).unwrap()
+    };
+    let triangles = |scheme| {
+        with(
+            cages::icosahedron(DVec3::new(3.0, -1.0, 2.0), 15.0).unwrap(),
+            scheme,
+        )
     };
     let cases = [
         (
@@ -702,6 +707,16 @@ fn subdivision_surfaces_are_written_as_patches_close_to_their_limits() {
         (
             "butterfly icosahedron",
             triangles(Scheme::Butterfly),
+            "cubic triangles",
+        ),
+        (
+            "Doo-Sabin cube",
+            with(cages::cube(DVec3::ZERO, 20.0).unwrap(), Scheme::DooSabin),
+            "bicubic patches",
+        ),
+        (
+            "√3 icosahedron",
+            triangles(Scheme::Sqrt3),
             "cubic triangles",
         ),
     ];
@@ -723,8 +738,8 @@ fn subdivision_surfaces_are_written_as_patches_close_to_their_limits() {
         assert!(model.warnings.is_empty(), "{name}: {:?}", model.warnings);
         assert_eq!(model.bodies.len(), 1);
         // A closed shell, and the enclosed volume of the limit surface: against the limit
-        // mesh of level 5 (its vertices on the limit), whose volume is within its own chord
-        // error.
+        // mesh of level 5 (6 for √3, whose levels grow by three), its vertices on the limit,
+        // whose volume is within its own chord error.
         let mesh = &meshes(&model, 1e-3)[0];
         let (volume, closed) = volume_and_closed(mesh, 1e-6);
         assert!(
@@ -732,16 +747,46 @@ fn subdivision_surfaces_are_written_as_patches_close_to_their_limits() {
             "{name}: naked edges {:?}",
             model.bodies[0].topology.naked
         );
-        let limit = surface.limit(5).unwrap();
+        // Doo-Sabin's limit points are the level's face centroids (a step keeps a face's
+        // centroid and shrinks the face about it): its limit mesh is the dual, a polygon of
+        // the centroids of each vertex's faces.
+        let scheme = surface.options.scheme;
+        let level = if scheme == Scheme::Sqrt3 { 6 } else { 5 };
+        let limit = surface.limit(level).unwrap();
+        let polygons: Vec<Vec<DVec3>> = if scheme == Scheme::DooSabin {
+            let centroid = |f: u32| {
+                let face = limit.level.face(f);
+                face.iter()
+                    .map(|&v| limit.positions[v as usize])
+                    .sum::<DVec3>()
+                    / face.len() as f64
+            };
+            (0..limit.level.vertex_count as u32)
+                .map(|v| {
+                    limit
+                        .level
+                        .ring(v)
+                        .faces
+                        .into_iter()
+                        .map(centroid)
+                        .collect()
+                })
+                .collect()
+        } else {
+            limit
+                .level
+                .faces()
+                .map(|face| face.iter().map(|&v| limit.positions[v as usize]).collect())
+                .collect()
+        };
         let mut reference = 0.0;
-        for face in limit.level.faces() {
-            let p: Vec<DVec3> = face.iter().map(|&v| limit.positions[v as usize]).collect();
-            for k in 1..p.len() - 1 {
+        for p in polygons {
+            for k in 1..p.len().saturating_sub(1) {
                 reference += p[0].dot(p[k].cross(p[k + 1])) / 6.0;
             }
         }
         let reference = reference.abs();
-        println!("{name}: volume {volume:.4} vs the level-5 limit mesh's {reference:.4}");
+        println!("{name}: volume {volume:.4} vs the level-{level} limit mesh's {reference:.4}");
         assert!(
             relative(volume, reference) < 2e-3,
             "{name}: {volume} vs {reference}"

@@ -516,7 +516,7 @@ fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, Str
     }
     Err(format!(
         "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets, \
-         triangular patches and Catmull-Clark, Loop and butterfly subdivision surfaces, not {}",
+         triangular patches and subdivision surfaces, not {}",
         object.kind().kind_name()
     ))
 }

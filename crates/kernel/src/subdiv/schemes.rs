@@ -150,10 +150,9 @@ fn child_level(count: usize, faces: &[Vec<u32>]) -> Result<Level, GeometryError>
 /// edge's Chaikin points), one per vertex (its faces' points in ring order, between the
 /// Chaikin points of its boundary edges on the boundary).
 pub fn doo_sabin(level: &Level) -> Result<(Level, Stencils), GeometryError> {
+    let layout = DooSabinLayout::new(level);
     let mut stencils = Stencils::new();
-    let mut corner_start = Vec::with_capacity(level.face_count());
     for face in level.faces() {
-        corner_start.push(stencils.len() as u32);
         let n = face.len();
         for i in 0..n {
             let mut row = Row::default();
@@ -163,21 +162,18 @@ pub fn doo_sabin(level: &Level) -> Result<(Level, Stencils), GeometryError> {
             stencils.push(row);
         }
     }
-    let mut chaikin_start = vec![NONE; level.edges.len()];
     for (e, &[a, b]) in level.edges.iter().enumerate() {
         if level.is_boundary_edge(e as u32) {
-            chaikin_start[e] = stencils.len() as u32;
             stencils.push(Row(vec![(a, 0.75), (b, 0.25)]));
             stencils.push(Row(vec![(a, 0.25), (b, 0.75)]));
         }
     }
-    let point = |f: u32, v: u32| corner_start[f as usize] + corner_index(level, f, v) as u32;
-    let chaikin =
-        |e: u32, v: u32| chaikin_start[e as usize] + u32::from(level.edges[e as usize][0] != v);
+    let point = |f: u32, v: u32| layout.point(level, f, v);
+    let chaikin = |e: u32, v: u32| layout.chaikin(level, e, v);
 
     let mut faces: Vec<Vec<u32>> = Vec::new();
     for (f, face) in level.faces().enumerate() {
-        let start = corner_start[f];
+        let start = layout.corner_start[f];
         faces.push((start..start + face.len() as u32).collect());
     }
     for e in 0..level.edges.len() as u32 {
@@ -207,10 +203,73 @@ pub fn doo_sabin(level: &Level) -> Result<(Level, Stencils), GeometryError> {
             polygon.insert(0, chaikin(out, v));
             polygon.push(chaikin(into, v));
         }
+        debug_assert_eq!(layout.vertex_face[v as usize], faces.len() as u32);
         faces.push(polygon);
     }
     let child = child_level(stencils.len(), &faces)?;
     Ok((child, stencils))
+}
+
+/// Where one Doo-Sabin step ([`doo_sabin`]) puts each child vertex and face of `level`: face
+/// f's new points from `corner_start[f]` (corner by corner), boundary edge e's two Chaikin
+/// points from `chaikin_start[e]`; child face f is face f's, face `face_count + e` edge e's,
+/// and `vertex_face[v]` vertex v's (NONE for a vertex without faces or whose boundary
+/// edges cannot be found).
+#[derive(Debug, Clone)]
+pub struct DooSabinLayout {
+    pub corner_start: Vec<u32>,
+    pub chaikin_start: Vec<u32>,
+    pub vertex_face: Vec<u32>,
+}
+
+impl DooSabinLayout {
+    pub fn new(level: &Level) -> Self {
+        let mut corner_start = Vec::with_capacity(level.face_count());
+        let mut next = 0u32;
+        for face in level.faces() {
+            corner_start.push(next);
+            next += face.len() as u32;
+        }
+        let mut chaikin_start = vec![NONE; level.edges.len()];
+        for (e, start) in chaikin_start.iter_mut().enumerate() {
+            if level.is_boundary_edge(e as u32) {
+                *start = next;
+                next += 2;
+            }
+        }
+        let mut vertex_face = vec![NONE; level.vertex_count];
+        let mut face = (level.face_count() + level.edges.len()) as u32;
+        for (v, slot) in vertex_face.iter_mut().enumerate() {
+            let ring = level.ring(v as u32);
+            if ring.faces.is_empty()
+                || (ring.boundary && ring_boundary_edges(level, v as u32, &ring).is_none())
+            {
+                continue;
+            }
+            *slot = face;
+            face += 1;
+        }
+        Self {
+            corner_start,
+            chaikin_start,
+            vertex_face,
+        }
+    }
+
+    /// The child vertex that face `f`'s corner `v` becomes.
+    pub fn point(&self, level: &Level, f: u32, v: u32) -> u32 {
+        self.corner_start[f as usize] + corner_index(level, f, v) as u32
+    }
+
+    /// The Chaikin point of boundary edge `e` nearer its end `v`.
+    pub fn chaikin(&self, level: &Level, e: u32, v: u32) -> u32 {
+        self.chaikin_start[e as usize] + u32::from(level.edges[e as usize][0] != v)
+    }
+
+    /// The child face of edge `e`.
+    pub fn edge_face(&self, level: &Level, e: u32) -> u32 {
+        (level.face_count() + e as usize) as u32
+    }
 }
 
 /// One √3 step (Kobbelt 2000). Child vertices: the old ones (interior:
@@ -235,14 +294,14 @@ pub fn sqrt3(level: &Level, refine_boundary: bool) -> Result<(Level, Stencils), 
         stencils.push(row);
     }
     let centroid = |f: u32| v_count + f;
-    let mut ternary_start = vec![NONE; level.edges.len()];
+    let ternary_start = sqrt3_ternary_starts(level);
     if refine_boundary {
         for e in 0..level.edges.len() as u32 {
             if !level.is_boundary_edge(e) {
                 continue;
             }
             let [before_x, x, y, after_y] = boundary_run(level, e);
-            ternary_start[e as usize] = stencils.len() as u32;
+            debug_assert_eq!(ternary_start[e as usize], stencils.len() as u32);
             stencils.push(Row(vec![
                 (before_x, 1.0 / 27.0),
                 (x, 16.0 / 27.0),
@@ -274,6 +333,23 @@ pub fn sqrt3(level: &Level, refine_boundary: bool) -> Result<(Level, Stencils), 
     }
     let child = child_level(stencils.len(), &faces)?;
     Ok((child, stencils))
+}
+
+/// Where a boundary-refining √3 step ([`sqrt3`]) puts boundary edge e's two ternary points
+/// (the one nearer the edge's first end first): after the vertices and the centroids, two per
+/// boundary edge in edge order; NONE for an interior edge.
+pub fn sqrt3_ternary_starts(level: &Level) -> Vec<u32> {
+    let mut next = (level.vertex_count + level.face_count()) as u32;
+    (0..level.edges.len() as u32)
+        .map(|e| {
+            if level.is_boundary_edge(e) {
+                next += 2;
+                next - 2
+            } else {
+                NONE
+            }
+        })
+        .collect()
 }
 
 /// `v` blended with the mean of its ring: (1 − w) v + w/n Σ eⱼ, with w = `weight(n)`.
