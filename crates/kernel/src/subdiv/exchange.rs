@@ -1360,6 +1360,12 @@ mod tests {
             ),
             ("Doo-Sabin saddle", Scheme::DooSabin, saddle(false), false),
             (
+                "Doo-Sabin icosahedron",
+                Scheme::DooSabin,
+                cages::icosahedron(centre, 2.0).unwrap(),
+                true,
+            ),
+            (
                 "√3 icosahedron",
                 Scheme::Sqrt3,
                 cages::icosahedron(centre, 2.0).unwrap(),
