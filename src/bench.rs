@@ -639,6 +639,55 @@ fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
             "STEP plate, OpenCASCADE         | not measured ({python} with cadquery-ocp not found; set KNOTWORK_OCC_PYTHON)"
         )?,
     }
+    bench_step_subdivision(runs, out)
+}
+
+/// STEP export of a subdivision surface under each scheme (a 20 mm cube cage for the quad
+/// schemes, an icosahedron of radius 15 for the triangle ones), at the writer's default
+/// tolerance: the limit as patches (refined until within 1e-4 of the cage's size) and the
+/// file written, median wall time, with the patches and the deviation reached.
+fn bench_step_subdivision(
+    runs: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use crate::kernel::subdiv::patches::Display;
+    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use crate::scene::SubdivObject;
+    for (name, scheme) in [
+        ("Catmull-Clark cube", Scheme::CatmullClark),
+        ("Doo-Sabin cube", Scheme::DooSabin),
+        ("Loop icosahedron", Scheme::Loop),
+        ("butterfly icosahedron", Scheme::Butterfly),
+        ("√3 icosahedron", Scheme::Sqrt3),
+    ] {
+        let cage = if scheme.needs_triangles() {
+            cages::icosahedron(DVec3::ZERO, 15.0)?
+        } else {
+            cages::cube(DVec3::ZERO, 20.0)?
+        };
+        let options = Options {
+            scheme,
+            ..Default::default()
+        };
+        let surface = SubdivisionSurface::new(cage, vec![], vec![], options, 2)?;
+        let scene = Scene {
+            objects: vec![SceneObject::new(
+                name,
+                ObjectGeometry::new(SubdivObject::new(surface, Display::Limit)),
+            )],
+            unit: None,
+        };
+        let tolerance = crate::io::step::default_tolerance(&scene);
+        let (ms, written) = median_ms(runs, || {
+            crate::io::step::export_scene(&scene, "subdivision.step", tolerance)
+        })?;
+        let note = written.approximated.first().map_or("", String::as_str);
+        writeln!(
+            out,
+            "STEP export {name:22} | {ms:8.1} ms, {:.2} MB: {note}",
+            written.text.len() as f64 / 1e6
+        )?;
+    }
     Ok(())
 }
 

@@ -256,10 +256,11 @@ struct Side {
 /// and the largest distance from an approximated patch to the 81 limit points of depth 3 over
 /// its region.
 fn fit_quad_regions(
+    level: u32,
     exact: &[Option<[DVec3; 16]>],
     sides: &dyn Fn(u32) -> Result<[Side; 4], GeometryError>,
     limit_grid: &dyn Fn(u32, u32) -> Result<Vec<DVec3>, GeometryError>,
-) -> Result<(Vec<[DVec3; 16]>, f64), GeometryError> {
+) -> Result<LimitPatches, GeometryError> {
     let mut deviation = 0.0f64;
     let mut out = Vec::with_capacity(exact.len());
     for r in 0..exact.len() as u32 {
@@ -331,7 +332,13 @@ fn fit_quad_regions(
         }
         out.push(p);
     }
-    Ok((out, deviation))
+    Ok(LimitPatches {
+        patches: out,
+        exact: exact.iter().flatten().count(),
+        level,
+        deviation,
+        triangles: false,
+    })
 }
 
 /// The limit over triangles that split into s² from one depth to the next (Loop and the
@@ -361,10 +368,10 @@ fn grid_points(grid: Vec<Option<DVec3>>, n: usize) -> ParamPoints {
 }
 
 fn fit_triangle_regions(
-    level: &super::level::Level,
+    (k, level): (u32, &Level),
     (fit_n, fit): (usize, TriangleGrid),
     check: CheckPoints,
-) -> Result<(Vec<[DVec3; 16]>, f64), GeometryError> {
+) -> Result<LimitPatches, GeometryError> {
     use crate::triangle::{TriangleBezier, lattice_index};
     let failed = limit_patches_error;
     let at = |grid: &[Option<DVec3>], n: usize, a: usize, b: usize| {
@@ -466,7 +473,13 @@ fn fit_triangle_regions(
             std::array::from_fn(|i| tensor[i])
         })
         .collect();
-    Ok((out, deviation))
+    Ok(LimitPatches {
+        patches: out,
+        exact: 0,
+        level: k,
+        deviation,
+        triangles: true,
+    })
 }
 
 /// The edge at vertex `w` of `level` between the grid nodes `p` and `q` of a Doo-Sabin region
@@ -821,14 +834,7 @@ impl SubdivisionSurface {
                 control.map(|c| to_bezier(&BSPLINE_TO_BEZIER, &c))
             })
             .collect();
-        let (patches, deviation) = fit_quad_regions(&exact, &sides, &limit_grid)?;
-        Ok(LimitPatches {
-            patches,
-            exact: exact.iter().flatten().count(),
-            level: k,
-            deviation,
-            triangles: false,
-        })
+        fit_quad_regions(k, &exact, &sides, &limit_grid)
     }
 
     /// Doo-Sabin's limit as one four-sided patch per vertex of level `k` (every vertex of a
@@ -896,14 +902,7 @@ impl SubdivisionSurface {
                 ))
             })
             .collect();
-        let (patches, deviation) = fit_quad_regions(&exact, &sides, &limit_grid)?;
-        Ok(LimitPatches {
-            patches,
-            exact: exact.iter().flatten().count(),
-            level: k,
-            deviation,
-            triangles: false,
-        })
+        fit_quad_regions(k, &exact, &sides, &limit_grid)
     }
 
     /// The cubic triangles of level `k`'s faces (Loop, butterfly), each as its collapsed
@@ -926,17 +925,11 @@ impl SubdivisionSurface {
                 })
                 .collect())
         };
-        let (patches, deviation) =
-            fit_triangle_regions(&hierarchy.levels[kk], (4, &|f| limit_grid(f, 2)), &|f| {
-                Ok(grid_points(limit_grid(f, 3)?, 8))
-            })?;
-        Ok(LimitPatches {
-            patches,
-            exact: 0,
-            level: k,
-            deviation,
-            triangles: true,
-        })
+        fit_triangle_regions(
+            (k, &hierarchy.levels[kk]),
+            (4, &|f| limit_grid(f, 2)),
+            &|f| Ok(grid_points(limit_grid(f, 3)?, 8)),
+        )
     }
 
     /// √3's limit as cubic triangles of level `k` (even): fitted to the limit points of level
@@ -1022,14 +1015,7 @@ impl SubdivisionSurface {
             }
             Ok(out)
         };
-        let (patches, deviation) = fit_triangle_regions(level, (3, &fit), &check)?;
-        Ok(LimitPatches {
-            patches,
-            exact: 0,
-            level: k,
-            deviation,
-            triangles: true,
-        })
+        fit_triangle_regions((k, level), (3, &fit), &check)
     }
 }
 
