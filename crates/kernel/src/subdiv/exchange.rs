@@ -1398,4 +1398,97 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn small_and_open_cages_give_patches_or_a_reason_under_every_scheme() {
+        use crate::mesh::PolygonMesh;
+        let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        // An open fan of five triangles round an apex (a pentagonal cone without its base),
+        // a single triangle, a single quad, a pentagon, two triangles, and a quad strip.
+        let ring: Vec<DVec3> = (0..5)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 5.0;
+                p(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let mut fan_points = vec![p(0.0, 0.0, 1.0)];
+        fan_points.extend(ring.iter().copied());
+        let fan: Vec<Vec<u32>> = (0..5).map(|k| vec![0, 1 + k, 1 + (k + 1) % 5]).collect();
+        let cages: Vec<(&str, PolygonMesh)> = vec![
+            ("fan", PolygonMesh::new(fan_points, &fan).unwrap()),
+            (
+                "triangle",
+                PolygonMesh::new(
+                    vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.3)],
+                    &[vec![0, 1, 2]],
+                )
+                .unwrap(),
+            ),
+            (
+                "quad",
+                PolygonMesh::new(
+                    vec![
+                        p(0.0, 0.0, 0.0),
+                        p(1.0, 0.0, 0.2),
+                        p(1.0, 1.0, 0.0),
+                        p(0.0, 1.0, 0.2),
+                    ],
+                    &[vec![0, 1, 2, 3]],
+                )
+                .unwrap(),
+            ),
+            (
+                "pentagon",
+                PolygonMesh::new(ring.clone(), &[vec![0, 1, 2, 3, 4]]).unwrap(),
+            ),
+            (
+                "two triangles",
+                PolygonMesh::new(
+                    vec![
+                        p(0.0, 0.0, 0.0),
+                        p(1.0, 0.0, 0.0),
+                        p(1.0, 1.0, 0.5),
+                        p(0.0, 1.0, 0.0),
+                    ],
+                    &[vec![0, 1, 2], vec![0, 2, 3]],
+                )
+                .unwrap(),
+            ),
+            ("strip", {
+                let points = (0..8)
+                    .map(|k| p((k / 2) as f64, (k % 2) as f64, ((k / 2) as f64).sin()))
+                    .collect();
+                let faces: Vec<Vec<u32>> = (0..3)
+                    .map(|i| vec![2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1])
+                    .collect();
+                PolygonMesh::new(points, &faces).unwrap()
+            }),
+        ];
+        for (what, cage) in cages {
+            for scheme in [
+                Scheme::CatmullClark,
+                Scheme::Loop,
+                Scheme::DooSabin,
+                Scheme::Sqrt3,
+                Scheme::Butterfly,
+            ] {
+                let triangles = cage.faces().all(|f| f.len() == 3);
+                if scheme.needs_triangles() && !triangles {
+                    continue;
+                }
+                let surface = with_scheme(cage.clone(), scheme);
+                match surface.limit_patches(1e-3) {
+                    Ok(patches) => {
+                        assert!(!patches.patches.is_empty(), "{what} {scheme:?}");
+                        assert!(patches.deviation.is_finite(), "{what} {scheme:?}");
+                        assert!(
+                            patches.patches.iter().flatten().all(|q| q.is_finite()),
+                            "{what} {scheme:?}: a patch point is not finite"
+                        );
+                    }
+                    Err(e) => println!("{what} {scheme:?}: {e}"),
+                }
+            }
+        }
+    }
 }
