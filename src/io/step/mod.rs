@@ -502,6 +502,13 @@ fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, Str
                 limit.level,
                 limit.deviation
             )
+        } else if limit.exact == faces.len() {
+            format!(
+                "{}: the limit surface as {} bicubic patches of level {}, every one exact",
+                object.name,
+                faces.len(),
+                limit.level
+            )
         } else {
             format!(
                 "{}: the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",

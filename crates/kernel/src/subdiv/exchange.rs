@@ -617,9 +617,11 @@ fn dual_grid(
 /// it (the edge flipped between the centroids either side), or on the boundary its ternary
 /// points. A triangle on the boundary does not split into nine (its strip along the boundary
 /// holds the centroid of its first-step triangle there): the sub-triangles that are not faces
-/// leave their points out (None), and so does a `corners` that is not a face.
+/// leave their points out (None), and so does a `corners` that is not a face. `ternary[l]` is
+/// level l's [`sqrt3_ternary_starts`].
 fn ternary_grid(
     levels: &[Level],
+    ternary: &[Vec<u32>],
     k: usize,
     corners: [u32; 3],
     depth: u32,
@@ -648,7 +650,6 @@ fn ternary_grid(
     };
     let centroid = |level: &Level, f: u32| level.vertex_count as u32 + f;
     let c = centroid(level, f);
-    let ternary = sqrt3_ternary_starts(middle);
     let mut first = [None; 16];
     let mut put = |a: usize, b: usize, v: u32| first[a * 4 + b] = Some(v);
     put(0, 0, corners[0]);
@@ -665,7 +666,7 @@ fn ternary_grid(
         let points = if y == NONE {
             let e =
                 edge_between(middle, p, q).ok_or_else(|| failed("a boundary side is missing"))?;
-            let t = ternary[e as usize];
+            let t = ternary[k + 1][e as usize];
             if directed_ends(middle, e)[0] == p {
                 [t, t + 1]
             } else {
@@ -693,7 +694,7 @@ fn ternary_grid(
             // Upward: (a, b), (a + 1, b), (a, b + 1); downward: (a + 1, b), (a + 1, b + 1),
             // (a, b + 1), where a + b ≤ 1.
             let up = [vertex(a, b)?, vertex(a + 1, b)?, vertex(a, b + 1)?];
-            let sub = ternary_grid(levels, k + 2, up, depth - 1)?;
+            let sub = ternary_grid(levels, ternary, k + 2, up, depth - 1)?;
             for x in 0..=h {
                 for y in 0..=h - x {
                     let slot = &mut grid[(a * h + x) * (n + 1) + b * h + y];
@@ -702,7 +703,7 @@ fn ternary_grid(
             }
             if a + b <= 1 {
                 let down = [vertex(a + 1, b)?, vertex(a + 1, b + 1)?, vertex(a, b + 1)?];
-                let sub = ternary_grid(levels, k + 2, down, depth - 1)?;
+                let sub = ternary_grid(levels, ternary, k + 2, down, depth - 1)?;
                 for x in 0..=h {
                     for y in 0..=h - x {
                         let slot = &mut grid[((a + 1) * h - y) * (n + 1) + b * h + x + y];
@@ -940,6 +941,7 @@ impl SubdivisionSurface {
         let kk = k as usize;
         let levels = &hierarchy.levels;
         let level = &levels[kk];
+        let ternary: Vec<Vec<u32>> = levels.iter().map(sqrt3_ternary_starts).collect();
         // The vertices of level k + 2·depth over face f: its ternary grid, with the boundary
         // polygon of that level along a boundary side.
         let vertex_grid = |f: u32, depth: u32| -> Result<Vec<Option<u32>>, GeometryError> {
@@ -948,7 +950,7 @@ impl SubdivisionSurface {
                 .try_into()
                 .map_err(|_| limit_patches_error("a face of the level is not a triangle"))?;
             let l = kk + 2 * depth as usize;
-            let mut grid = ternary_grid(levels, kk, corners, depth)?;
+            let mut grid = ternary_grid(levels, &ternary, kk, corners, depth)?;
             let n = 3usize.pow(depth);
             for side in 0..3 {
                 let (p, q) = (corners[side], corners[(side + 1) % 3]);
