@@ -727,6 +727,56 @@ async function main() {
         `the assembly: ${shape(reopened[0])}`);
       assert(shape(reopened[1]) === shape(reopened[0]) && reopened[1].unit === 'mm',
         `written and opened again: ${shape(reopened[1])} vs ${shape(reopened[0])}`);
+      // Subdivision surfaces whose faces do not nest (Doo-Sabin on a cube cage, √3 on an
+      // octahedron) are written as patches and open again as two closed bodies.
+      const corner = (k) => [k & 4 ? 10 : -10, k & 2 ? 10 : -10, k & 1 ? 10 : -10];
+      const cubeFaces = [[0, 2, 6, 4], [1, 5, 7, 3], [0, 4, 5, 1], [2, 3, 7, 6], [0, 1, 3, 2], [4, 6, 7, 5]];
+      const octahedronPoints = [[12, 0, 0], [-12, 0, 0], [0, 12, 0], [0, -12, 0], [0, 0, 12], [0, 0, -12]];
+      const octahedronFaces = [];
+      for (const x of [0, 1]) {
+        for (const y of [2, 3]) {
+          for (const z of [4, 5]) {
+            // Turned to face outwards: (b − a) × (c − a) along a + b + c.
+            const [a, b, c] = [x, y, z].map((i) => octahedronPoints[i]);
+            const u = b.map((v, k) => v - a[k]);
+            const w = c.map((v, k) => v - a[k]);
+            const n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
+            const out = n.reduce((sum, v, k) => sum + v * (a[k] + b[k] + c[k]), 0) > 0;
+            octahedronFaces.push(out ? [x, y, z] : [x, z, y]);
+          }
+        }
+      }
+      const subdivided = await page.evaluate(async (text) => {
+        const frames = async (test) => {
+          for (let k = 0; k < 600 && !test(); k += 1) await new Promise((r) => requestAnimationFrame(r));
+        };
+        window.knotwork.newDocument({ empty: true });
+        await frames(() => window.knotwork.status().objects === 0);
+        window.knotwork.openProject('subdivided.json', text);
+        await frames(() => window.knotwork.status().objects === 2);
+        const written = await window.knotwork.exportStep();
+        window.knotwork.newDocument({ empty: true });
+        await frames(() => window.knotwork.status().objects === 0);
+        window.knotwork.openFile('subdivided.step', new TextEncoder().encode(written));
+        await frames(() => window.knotwork.status().objects === 2 && window.knotwork.status().open_progress == null);
+        const count = (pattern) => (written.match(pattern) || []).length;
+        return {
+          written: count(/ADVANCED_FACE\(/g),
+          closed: count(/CLOSED_SHELL\(/g),
+          error: window.knotwork.status().error,
+          faces: window.knotwork.project().objects.map((o) => o.faces.length),
+        };
+      }, JSON.stringify({
+        format: 'knotwork', version: 2, objects: [
+          { type: 'subdivision_surface', name: 'Doo-Sabin cube', scheme: 'doo-sabin', level: 2,
+            points: [...Array(8).keys()].map(corner), faces: cubeFaces },
+          { type: 'subdivision_surface', name: '√3 octahedron', scheme: 'sqrt3', level: 2,
+            points: octahedronPoints, faces: octahedronFaces },
+        ],
+      }));
+      assert(subdivided.closed === 2 && subdivided.error === null && subdivided.faces.length === 2
+        && subdivided.faces.every((f) => f > 0) && subdivided.faces[0] + subdivided.faces[1] === subdivided.written,
+        `Doo-Sabin and √3 written and opened again: ${JSON.stringify(subdivided)}`);
       await page.evaluate((b) => window.knotwork.openFile('box-hole-fillets.step', Uint8Array.from(atob(b), (c) => c.charCodeAt(0))), base64);
       await page.waitForFunction(() => window.knotwork.status().objects === 1 && window.knotwork.project().objects[0].faces.length === 11, null, { timeout: 60_000 });
       const before = await page.evaluate(() => window.knotwork.project());
@@ -737,7 +787,7 @@ async function main() {
       const after = await page.evaluate(() => window.knotwork.project());
       assert(JSON.stringify(after) === JSON.stringify(before), 'the document is unchanged');
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
-      console.log(`      STEP (11 faces, ${step.length} bytes) opened and drawn in ${openMs.toFixed(0)} ms; export ${glb.length} bytes, validator clean; exportStep ${written.length} bytes, reopened`);
+      console.log(`      STEP (11 faces, ${step.length} bytes) opened and drawn in ${openMs.toFixed(0)} ms; export ${glb.length} bytes, validator clean; exportStep ${written.length} bytes, reopened; Doo-Sabin and √3 written as ${subdivided.faces.join(' + ')} faces in two closed shells, reopened`);
       await page.close();
     });
 
