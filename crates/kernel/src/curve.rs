@@ -286,9 +286,19 @@ impl<P: CurvePoint> NurbsCurve<P> {
 
     /// The same curve with every control point mapped by `f` (weights kept).
     pub fn map_points(&self, f: impl Fn(P) -> P) -> Result<Self, GeometryError> {
+        self.map_into(f)
+    }
+
+    /// The curve whose control points are this one's mapped by `f`, possibly into another
+    /// space (a plane's (u, v) and 3D), with the same degree, knots and weights: for an affine
+    /// `f`, the image of the curve at the same parameter.
+    pub fn map_into<Q: CurvePoint>(
+        &self,
+        f: impl Fn(P) -> Q,
+    ) -> Result<NurbsCurve<Q>, GeometryError> {
         let points = (0..self.count()).map(|i| self.control_point(i)).map(f);
         let weights = (0..self.count()).map(|i| self.weight(i)).collect();
-        Self::new(
+        NurbsCurve::new(
             self.poly.degree,
             self.poly.knots.clone(),
             points.collect(),

@@ -1064,18 +1064,7 @@ fn pcurve_piece(
         if g.curve.point(t).distance(m) > tolerance {
             continue;
         }
-        let piece = pc.piece(a, b).ok()?;
-        let points: Vec<DVec2> = (0..piece.count())
-            .map(|i| flat(piece.control_point(i)))
-            .collect();
-        let weights: Vec<f64> = (0..piece.count()).map(|i| piece.weight(i)).collect();
-        return TrimCurve::new(
-            piece.degree(),
-            piece.knots().to_vec(),
-            points,
-            Some(weights),
-        )
-        .ok();
+        return pc.piece(a, b).ok()?.map_into(flat).ok();
     }
     None
 }
@@ -1708,17 +1697,9 @@ fn exact_plane_pieces(
             let l = frame.local(p);
             DVec2::new((l.x - u0) / (u1 - u0), (l.y - v0) / (v1 - v0))
         };
-        let points: Vec<DVec2> = (0..curve.count())
-            .map(|i| map(curve.control_point(i)))
-            .collect();
-        let weights: Vec<f64> = (0..curve.count()).map(|i| curve.weight(i)).collect();
-        let uv = TrimCurve::new(
-            curve.degree(),
-            curve.knots().to_vec(),
-            points,
-            Some(weights),
-        )
-        .map_err(|err| format!("edge #{}: {err}", e.id))?;
+        let uv = curve
+            .map_into(map)
+            .map_err(|err| format!("edge #{}: {err}", e.id))?;
         let (a, b) = uv.ends().map_err(|err| err.to_string())?;
         let (pa, pb) = if e.forward {
             (g.start, g.end)

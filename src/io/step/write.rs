@@ -232,20 +232,7 @@ fn edge_curve(
 ) -> Result<SpaceCurve, GeometryError> {
     let s = face.surface();
     if let Some((origin, du, dv)) = affine_map(s) {
-        let points: Vec<DVec3> = (0..trim.count())
-            .map(|i| {
-                let q = trim.control_point(i);
-                origin + du * q.x + dv * q.y
-            })
-            .collect();
-        let weights: Vec<f64> = (0..trim.count()).map(|i| trim.weight(i)).collect();
-        let rational = weights.iter().any(|&w| w != 1.0);
-        return SpaceCurve::new(
-            trim.degree(),
-            trim.knots().to_vec(),
-            points,
-            rational.then_some(weights),
-        );
+        return trim.map_into(|q| origin + du * q.x + dv * q.y);
     }
     let (a, b) = trim.ends()?;
     if trim.degree() == 1 && trim.count() == 2 {
@@ -627,17 +614,7 @@ mod tests {
             std::f64::consts::TAU,
         )
         .unwrap();
-        let points: Vec<DVec2> = (0..circle.count())
-            .map(|i| circle.control_point(i).truncate())
-            .collect();
-        let weights: Vec<f64> = (0..circle.count()).map(|i| circle.weight(i)).collect();
-        let trim = TrimCurve::new(
-            circle.degree(),
-            circle.knots().to_vec(),
-            points,
-            Some(weights),
-        )
-        .unwrap();
+        let trim = circle.map_into(|p| p.truncate()).unwrap();
         let face = TrimmedSurface::new(plane.clone(), vec![vec![trim.clone()]]).unwrap();
         let c3 = edge_curve(&face, &trim, 1e-9).unwrap();
         assert_eq!(c3.knots(), trim.knots());

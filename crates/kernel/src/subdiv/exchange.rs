@@ -251,15 +251,15 @@ struct Side {
 /// bicubic patch whose four boundary curves are shared with its neighbours (an exact
 /// neighbour's boundary row as it is, otherwise the cubic fitting the side's five limit points
 /// of depth 2 from the lower-keyed end) and whose four inner points fit the nine inner limit
-/// points of depth 2 by least squares. `limit_grid(r, depth)` gives the (2^depth + 1)² limit
-/// points over region r (first index along u, from corner 0 to corner 1). Returns the patches
-/// and the largest distance from an approximated patch to the 81 limit points of depth 3 over
-/// its region.
+/// points of depth 2 by least squares. `limit_grid(r)` gives the 9 × 9 limit points of depth
+/// 3 over region r (first index along u, from corner 0 to corner 1), whose even ones are
+/// depth 2's. Returns the patches and the largest distance from an approximated patch to the
+/// 81 limit points of depth 3 over its region.
 fn fit_quad_regions(
     level: u32,
     exact: &[Option<[DVec3; 16]>],
     sides: &dyn Fn(u32) -> Result<[Side; 4], GeometryError>,
-    limit_grid: &dyn Fn(u32, u32) -> Result<Vec<DVec3>, GeometryError>,
+    limit_grid: &dyn Fn(u32) -> Result<Vec<DVec3>, GeometryError>,
 ) -> Result<LimitPatches, GeometryError> {
     let mut deviation = 0.0f64;
     let mut out = Vec::with_capacity(exact.len());
@@ -268,7 +268,9 @@ fn fit_quad_regions(
             out.push(p);
             continue;
         }
-        let fine = limit_grid(r, 2)?;
+        let check = limit_grid(r)?;
+        // Depth 2's point (a, b), a, b in 0..=4.
+        let fine = |a: usize, b: usize| check[2 * a * 9 + 2 * b];
         let mut p = [DVec3::ZERO; 16];
         for (side, here) in sides(r)?.into_iter().enumerate() {
             let shared = match exact.get(here.across as usize).copied().flatten() {
@@ -283,7 +285,8 @@ fn fit_quad_regions(
                 None => None,
             };
             let row = shared.unwrap_or_else(|| {
-                let along: [DVec3; 5] = std::array::from_fn(|k| fine[grid_side_index(4, side, k)]);
+                let along: [DVec3; 5] =
+                    std::array::from_fn(|k| check[grid_side_index(8, side, 2 * k)]);
                 fit_shared_edge(&along, here.from, here.to)
             });
             for (k, point) in row.into_iter().enumerate() {
@@ -297,7 +300,7 @@ fn fit_quad_regions(
         for a in 1..4 {
             for b in 1..4 {
                 let (bu, bv) = (bernstein3(a as f64 / 4.0), bernstein3(b as f64 / 4.0));
-                let mut rest = fine[a * 5 + b];
+                let mut rest = fine(a, b);
                 for i in 0..4 {
                     for j in 0..4 {
                         if !inner.contains(&(i, j)) {
@@ -318,7 +321,6 @@ fn fit_quad_regions(
             p[i * 4 + j] = point;
         }
         // The deviation at depth 3's limit points over the region.
-        let check = limit_grid(r, 3)?;
         let eval = |u: f64, v: f64| patch_derivatives(&p, u, v);
         for a in 0..=8 {
             for b in 0..=8 {
@@ -348,12 +350,12 @@ fn fit_quad_regions(
 /// corner so that both faces get the same bits), the inner point b₁₁₁ fitting the grid's inner
 /// limit points by least squares. A grid of n segments per side holds point (a, b), a + b ≤ n,
 /// at slot a·(n + 1) + b: the patch's (u, v) = (a, b)/n (corner 1 at u = 1, corner 2 at v = 1).
-/// `fit` gives each face's grid and its n; `check` the limit points the deviation is measured
-/// at, each with the parameter to look for it near.
-type TriangleGrid<'a> = &'a dyn Fn(u32) -> Result<Vec<Option<DVec3>>, GeometryError>;
+/// `limit(f)` gives face f's checking grid, of `check_n` segments a side (every point the
+/// deviation is measured at), and the points it leaves out with the parameter to look for each
+/// near; the fitting grid, of `fit_n` segments, is every (check_n / fit_n)-th of its points.
+type CheckGrid<'a> = &'a dyn Fn(u32) -> Result<(Vec<Option<DVec3>>, ParamPoints), GeometryError>;
 /// Limit points, each with the patch parameter to look for it near.
 type ParamPoints = Vec<((f64, f64), DVec3)>;
-type CheckPoints<'a> = &'a dyn Fn(u32) -> Result<ParamPoints, GeometryError>;
 
 /// The points of a triangle grid of `n` segments a side with their parameters (a, b)/n.
 fn grid_points(grid: Vec<Option<DVec3>>, n: usize) -> ParamPoints {
@@ -369,8 +371,8 @@ fn grid_points(grid: Vec<Option<DVec3>>, n: usize) -> ParamPoints {
 
 fn fit_triangle_regions(
     (k, level): (u32, &Level),
-    (fit_n, fit): (usize, TriangleGrid),
-    check: CheckPoints,
+    fit_n: usize,
+    (check_n, limit): (usize, CheckGrid),
 ) -> Result<LimitPatches, GeometryError> {
     use crate::triangle::{TriangleBezier, lattice_index};
     let failed = limit_patches_error;
@@ -388,20 +390,24 @@ fn fit_triangle_regions(
             _ => (0, 3 - k),
         }
     };
+    let stride = check_n / fit_n;
     let mut triangles = Vec::with_capacity(level.face_count());
+    let mut checks = Vec::with_capacity(level.face_count());
     for f in 0..level.face_count() as u32 {
         let corners = level.face(f);
         if corners.len() != 3 {
             return Err(failed("a face of the level is not a triangle"));
         }
-        let fine = fit(f)?;
+        let (grid, extra) = limit(f)?;
+        // The fitting grid's point (a, b).
+        let fine = |a: usize, b: usize| at(&grid, check_n, stride * a, stride * b);
         let mut lattice = [DVec3::ZERO; 10];
         for side in 0..3 {
             let (a, b) = (corners[side], corners[(side + 1) % 3]);
             let along = (0..=fit_n)
                 .map(|k| {
                     let slot = side_slot(side, fit_n, k);
-                    at(&fine, fit_n, slot / (fit_n + 1), slot % (fit_n + 1))
+                    fine(slot / (fit_n + 1), slot % (fit_n + 1))
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let row = fit_shared_edge(&along, a, b);
@@ -419,13 +425,16 @@ fn fit_triangle_regions(
             for b in 1..fit_n - a {
                 let (u, v) = (a as f64 / fit_n as f64, b as f64 / fit_n as f64);
                 let basis = 6.0 * u * v * (1.0 - u - v);
-                let rest = at(&fine, fit_n, a, b)? - rim.evaluate(u, v).point;
+                let rest = fine(a, b)? - rim.evaluate(u, v).point;
                 num += rest * basis;
                 den += basis * basis;
             }
         }
         lattice[centre] = num / den;
         triangles.push(TriangleBezier::new(3, lattice.to_vec())?);
+        let mut points = grid_points(grid, check_n);
+        points.extend(extra);
+        checks.push(points);
     }
     // The distance from a limit point to the patches: its own patch's nearest point, or,
     // where that would raise the largest, the nearest point of the patches around its
@@ -439,8 +448,8 @@ fn fit_triangle_regions(
         distance_near(&eval, clamp_triangle, start, limit)
     };
     let mut deviation = 0.0f64;
-    for (f, patch) in triangles.iter().enumerate() {
-        for (start, limit) in check(f as u32)? {
+    for (f, (patch, points)) in triangles.iter().zip(checks).enumerate() {
+        for (start, limit) in points {
             let mut d = nearest(patch, start, limit);
             if d > deviation {
                 for &corner in level.face(f as u32) {
@@ -795,9 +804,9 @@ impl SubdivisionSurface {
         let failed = limit_patches_error;
         let kk = k as usize;
         let level = &hierarchy.levels[kk];
-        let limit_grid = |f: u32, depth: u32| -> Result<Vec<DVec3>, GeometryError> {
-            let l = kk + depth as usize;
-            face_grid(&hierarchy, kk, f, depth)
+        let limit_grid = |f: u32| -> Result<Vec<DVec3>, GeometryError> {
+            let l = kk + 3;
+            face_grid(&hierarchy, kk, f, 3)
                 .into_iter()
                 .map(|v| {
                     let v = v.ok_or_else(|| failed("a face of the level is not a quad"))?;
@@ -865,23 +874,23 @@ impl SubdivisionSurface {
                 regions.push((v, corners));
             }
         }
-        let limit_point = |l: usize, key: u32| -> DVec3 {
-            let level = &levels[l];
-            let faces = level.face_count() as u32;
+        // The limit point of a grid node of level k + 3.
+        let (fine, at) = (&levels[kk + 3], &points[kk + 3]);
+        let limit_point = |key: u32| -> DVec3 {
+            let faces = fine.face_count() as u32;
             if key < faces {
-                let face = level.face(key);
-                face.iter().map(|&v| points[l][v as usize]).sum::<DVec3>() / face.len() as f64
+                let face = fine.face(key);
+                face.iter().map(|&v| at[v as usize]).sum::<DVec3>() / face.len() as f64
             } else {
-                let [a, b] = level.edges[(key - faces) as usize];
-                (points[l][a as usize] + points[l][b as usize]) * 0.5
+                let [a, b] = fine.edges[(key - faces) as usize];
+                (at[a as usize] + at[b as usize]) * 0.5
             }
         };
-        let limit_grid = |r: u32, depth: u32| -> Result<Vec<DVec3>, GeometryError> {
+        let limit_grid = |r: u32| -> Result<Vec<DVec3>, GeometryError> {
             let (v, corners) = regions[r as usize];
-            let l = kk + depth as usize;
-            Ok(dual_grid(levels, &layouts, kk, corners, v, depth)?
+            Ok(dual_grid(levels, &layouts, kk, corners, v, 3)?
                 .into_iter()
-                .map(|key| limit_point(l, key))
+                .map(limit_point)
                 .collect())
         };
         let sides = |r: u32| -> Result<[Side; 4], GeometryError> {
@@ -913,10 +922,9 @@ impl SubdivisionSurface {
         let scheme = self.options.scheme;
         let (hierarchy, points) = self.levels_to(k + 3, max_faces)?;
         let kk = k as usize;
-        let limit_grid = |f: u32, depth: u32| -> Result<Vec<Option<DVec3>>, GeometryError> {
-            let l = kk + depth as usize;
-            let s = 1usize << depth;
-            Ok(face_grid(&hierarchy, kk, f, depth)
+        let limit_grid = |f: u32| -> Result<Vec<Option<DVec3>>, GeometryError> {
+            let (l, s) = (kk + 3, 8);
+            Ok(face_grid(&hierarchy, kk, f, 3)
                 .into_iter()
                 .enumerate()
                 .map(|(slot, v)| {
@@ -928,73 +936,55 @@ impl SubdivisionSurface {
         };
         fit_triangle_regions(
             (k, &hierarchy.levels[kk]),
-            (4, &|f| limit_grid(f, 2)),
-            &|f| Ok(grid_points(limit_grid(f, 3)?, 8)),
+            4,
+            (8, &|f| Ok((limit_grid(f)?, Vec::new()))),
         )
     }
 
     /// √3's limit as cubic triangles of level `k` (even): fitted to the limit points of level
     /// k + 2 (three segments a side, [`ternary_grid`]) and checked at those of level k + 4
-    /// (nine a side).
+    /// (nine a side, the grid the first is every third point of).
     fn limit_sqrt3_at(&self, k: u32, max_faces: usize) -> Result<LimitPatches, GeometryError> {
         let (hierarchy, points) = self.levels_to(k + 4, max_faces)?;
         let kk = k as usize;
         let levels = &hierarchy.levels;
         let level = &levels[kk];
         let ternary: Vec<Vec<u32>> = levels.iter().map(sqrt3_ternary_starts).collect();
-        // The vertices of level k + 2·depth over face f: its ternary grid, with the boundary
-        // polygon of that level along a boundary side.
-        let vertex_grid = |f: u32, depth: u32| -> Result<Vec<Option<u32>>, GeometryError> {
+        let l = kk + 4;
+        let fine = &levels[l];
+        let limit = |v: u32| limit_position(fine, Scheme::Sqrt3, v).apply(&points[l]);
+        // Face f's ternary grid of level k + 4 (nine segments a side; its every third point
+        // is level k + 2's), with that level's boundary polygon along a boundary side; and,
+        // beside a boundary side, the vertices of the strip the grid leaves out: those within
+        // three edges of the side's points (the strip is three edges deep at that level),
+        // each looked for near that point.
+        let limit_grid = |f: u32| -> Result<(Vec<Option<DVec3>>, ParamPoints), GeometryError> {
             let corners: [u32; 3] = level
                 .face(f)
                 .try_into()
                 .map_err(|_| limit_patches_error("a face of the level is not a triangle"))?;
-            let l = kk + 2 * depth as usize;
-            let mut grid = ternary_grid(levels, &ternary, kk, corners, depth)?;
-            let n = 3usize.pow(depth);
-            for side in 0..3 {
-                let (p, q) = (corners[side], corners[(side + 1) % 3]);
-                let on_boundary =
-                    edge_between(level, p, q).is_some_and(|e| level.is_boundary_edge(e));
-                if !on_boundary {
-                    continue;
+            let mut grid = ternary_grid(levels, &ternary, kk, corners, 2)?;
+            let boundary_sides: Vec<usize> = (0..3)
+                .filter(|&side| {
+                    edge_between(level, corners[side], corners[(side + 1) % 3])
+                        .is_some_and(|e| level.is_boundary_edge(e))
+                })
+                .collect();
+            for &side in &boundary_sides {
+                let mut v = corners[side];
+                for j in 0..=9 {
+                    grid[side_slot(side, 9, j)] = Some(v);
+                    v = boundary_neighbours(fine, v)[0];
                 }
-                let mut v = p;
-                for j in 0..=n {
-                    grid[side_slot(side, n, j)] = Some(v);
-                    v = boundary_neighbours(&levels[l], v)[0];
-                }
-                if grid[side_slot(side, n, n)] != Some(q) {
+                if grid[side_slot(side, 9, 9)] != Some(corners[(side + 1) % 3]) {
                     return Err(limit_patches_error(
                         "a boundary side does not reach its corner",
                     ));
                 }
             }
-            Ok(grid)
-        };
-        let limit =
-            |l: usize, v: u32| limit_position(&levels[l], Scheme::Sqrt3, v).apply(&points[l]);
-        let fit = |f: u32| -> Result<Vec<Option<DVec3>>, GeometryError> {
-            Ok(vertex_grid(f, 1)?
-                .into_iter()
-                .map(|v| v.map(|v| limit(kk + 2, v)))
-                .collect())
-        };
-        // Checked at the grid of level k + 4, and, beside a boundary side, at the vertices
-        // of the strip the grid leaves out: those within three edges of the side's points
-        // (the strip is three edges deep at that level), looked for near that point.
-        let check = |f: u32| -> Result<ParamPoints, GeometryError> {
-            let l = kk + 4;
-            let grid = vertex_grid(f, 2)?;
-            let mut out = grid_points(grid.iter().map(|v| v.map(|v| limit(l, v))).collect(), 9);
-            let corners = level.face(f);
-            let fine = &levels[l];
+            let mut extra = Vec::new();
             let mut seen: std::collections::HashSet<u32> = grid.iter().flatten().copied().collect();
-            for side in 0..3 {
-                let (p, q) = (corners[side], corners[(side + 1) % 3]);
-                if !edge_between(level, p, q).is_some_and(|e| level.is_boundary_edge(e)) {
-                    continue;
-                }
+            for &side in &boundary_sides {
                 for j in 0..=9 {
                     let slot = side_slot(side, 9, j);
                     let Some(root) = grid[slot] else { continue };
@@ -1006,7 +996,7 @@ impl SubdivisionSurface {
                             for &e in fine.vertex_edges(v) {
                                 let w = fine.other_end(e, v);
                                 if seen.insert(w) {
-                                    out.push((start, limit(l, w)));
+                                    extra.push((start, limit(w)));
                                     next.push(w);
                                 }
                             }
@@ -1015,9 +1005,9 @@ impl SubdivisionSurface {
                     }
                 }
             }
-            Ok(out)
+            Ok((grid.into_iter().map(|v| v.map(limit)).collect(), extra))
         };
-        fit_triangle_regions((k, level), (3, &fit), &check)
+        fit_triangle_regions((k, level), 3, (9, &limit_grid))
     }
 }
 
