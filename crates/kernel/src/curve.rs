@@ -213,8 +213,9 @@ impl<P: CurvePoint> NurbsCurve<P> {
     /// coordinates.
     pub fn moved_seam(&self, u: f64, tolerance: f64) -> Result<Self, GeometryError> {
         check_interior(self.domain(), u, "u")?;
-        let (before, after) = ops::split(&self.poly, u);
-        let (Some(&a), Some(&b)) = (after.points.last(), before.points.first()) else {
+        // The ends the seam joins: the last point (the part after `u` ends there) and the
+        // first (the part before it starts there).
+        let (Some(&a), Some(&b)) = (self.poly.points.last(), self.poly.points.first()) else {
             return Err(GeometryError::Construction {
                 what: "move the seam",
                 message: "the curve has no control points".into(),

@@ -947,20 +947,14 @@ impl NurbsSurface {
         let what = "move the seam";
         let d = direction.index();
         check_interior(self.domain()[d], value, direction.name())?;
-        let (before, after) = self.split(direction, value)?;
         let other = self.count[1 - d];
         let mut ratio: Option<f64> = None;
+        // Each row's ends, which the seam joins (the part after `value` ends at the last,
+        // the part before it starts at the first).
         for k in 0..other {
-            let a = *after
-                .polygon(direction, k)
-                .points
-                .last()
-                .unwrap_or(&DVec4::ONE);
-            let b = *before
-                .polygon(direction, k)
-                .points
-                .first()
-                .unwrap_or(&DVec4::ONE);
+            let row = self.polygon(direction, k);
+            let a = *row.points.last().unwrap_or(&DVec4::ONE);
+            let b = *row.points.first().unwrap_or(&DVec4::ONE);
             let gap = (a.truncate() / a.w).distance(b.truncate() / b.w);
             if !(gap <= tolerance) {
                 return Err(GeometryError::Construction {
