@@ -114,6 +114,15 @@ pub fn find_span(knots: &[f64], degree: usize, count: usize, u: f64) -> usize {
     (knots.partition_point(|&k| k <= u).saturating_sub(1)).clamp(degree, n)
 }
 
+/// Whether `value` lies in [start, end] up to rounding: at most 8 units in the last place of
+/// the domain's magnitude outside it. A parameter computed as a + (b − a) t lands an ulp past
+/// b as often as not, and the evaluation there (the end span extended by that rounding) is the
+/// end's to the same rounding, so it is accepted rather than refused. NaN is not.
+pub fn in_domain(value: f64, start: f64, end: f64) -> bool {
+    let slack = 8.0 * f64::EPSILON * start.abs().max(end.abs()).max(end - start);
+    value >= start - slack && value <= end + slack
+}
+
 /// The parameter domain [u_p, u_{n+1}] of a knot vector.
 pub fn domain(knots: &[f64], degree: usize, count: usize) -> (f64, f64) {
     (knots[degree], knots[count])

@@ -196,12 +196,9 @@ impl BezierPatchSet {
         v: f64,
     ) -> Result<SurfaceDerivatives, GeometryError> {
         let patch = self.patch(patch)?;
-        if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
-            let (parameter, value) = if (0.0..=1.0).contains(&u) {
-                ("v", v)
-            } else {
-                ("u", u)
-            };
+        let inside = |t: f64| crate::basis::in_domain(t, 0.0, 1.0);
+        if !(inside(u) && inside(v)) {
+            let (parameter, value) = if inside(u) { ("v", v) } else { ("u", u) };
             return Err(GeometryError::OutsideDomain {
                 parameter,
                 value,

@@ -117,7 +117,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
 
     fn check_in_domain(&self, u: f64) -> Result<(), GeometryError> {
         let (start, end) = self.domain();
-        if u >= start && u <= end {
+        if crate::basis::in_domain(u, start, end) {
             Ok(())
         } else {
             Err(GeometryError::OutsideDomain {

@@ -112,8 +112,10 @@ pub fn face_loops(face: &TrimmedSurface) -> Result<Vec<TrimLoop>, GeometryError>
 /// The point of a (u, v) curve at t ∈ [0, 1] of its domain.
 fn curve_uv(curve: &TrimCurve, t: f64) -> DVec2 {
     let (a, b) = curve.domain();
+    // a + (b − a) can round past b: the parameter is kept in the domain.
+    let at = (a + (b - a) * t.clamp(0.0, 1.0)).clamp(a, b);
     curve
-        .point_at(a + (b - a) * t.clamp(0.0, 1.0))
+        .point_at(at)
         .unwrap_or_else(|_| curve.control_point(0))
 }
 
@@ -1078,7 +1080,11 @@ fn build_mesh(
         mesh.positions.push(v.position);
         let mut normal = DVec3::ZERO;
         for &(f, uv) in &v.uses {
-            let n = faces[f].surface().normal(uv.x, uv.y)?;
+            // A boundary vertex may lie a rounding step outside its face's domain (the loop
+            // computed from the file's edges): its normal is the one at the nearest point.
+            let surface = faces[f].surface();
+            let [(u0, u1), (v0, v1)] = surface.domain();
+            let n = surface.normal(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))?;
             normal += if flip[f] { -n } else { n };
         }
         mesh.normals.push(normal.normalize_or(DVec3::Z));

@@ -288,7 +288,7 @@ impl NurbsSurface {
     ) -> Result<SpaceCurve, GeometryError> {
         let d = direction.index();
         let (lo, hi) = self.domain()[d];
-        if !(value >= lo && value <= hi) {
+        if !crate::basis::in_domain(value, lo, hi) {
             return Err(GeometryError::OutsideDomain {
                 parameter: direction.name(),
                 value,
@@ -337,6 +337,13 @@ impl NurbsSurface {
         self.check_parameters(u, v)?;
         let a = self.homogeneous_point(u, v);
         Ok(a.truncate() / a.w)
+    }
+
+    /// The point and derivatives at (u, v) = (p.x, p.y) moved into the domain first; `None`
+    /// where they cannot be evaluated.
+    pub fn evaluate_clamped(&self, p: DVec2) -> Option<SurfaceDerivatives> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        self.evaluate(p.x.clamp(u0, u1), p.y.clamp(v0, v1)).ok()
     }
 
     /// The point at (u, v) = (p.x, p.y) moved into the domain first.
@@ -663,7 +670,10 @@ impl NurbsSurface {
     fn check_grid(&self, us: &[f64], vs: &[f64]) -> Result<(), GeometryError> {
         let [(u0, u1), (v0, v1)] = self.domain();
         for (values, parameter, start, end) in [(us, "u", u0, u1), (vs, "v", v0, v1)] {
-            if let Some(&value) = values.iter().find(|&&t| !(t >= start && t <= end)) {
+            if let Some(&value) = values
+                .iter()
+                .find(|&&t| !crate::basis::in_domain(t, start, end))
+            {
                 return Err(GeometryError::OutsideDomain {
                     parameter,
                     value,

@@ -732,7 +732,8 @@ pub fn curve_polyline(
     let mut points = vec![curve.point_at(breaks[0])?];
     for span in breaks.windows(2) {
         let (a, b) = (span[0], span[1]);
-        let at = |k: usize, n: usize| a + (b - a) * k as f64 / n as f64;
+        // Kept in [a, b]: a + (b − a) can round past b.
+        let at = |k: usize, n: usize| (a + (b - a) * k as f64 / n as f64).clamp(a, b);
         let n = match tessellation {
             Tessellation::Segments(n) => (n as usize).clamp(1, MAX_CURVE_SEGMENTS),
             Tessellation::Tolerance(tolerance) => {
