@@ -565,11 +565,19 @@ pub fn tessellate_joined(
         }
         sequences[follow] = Some(seq);
     }
-    // Degenerate edges: their two ends (the same point in space).
+    // Degenerate edges (a pole, a collapsed side): one point in space, but a line in the
+    // face's (u, v), sampled along it so that the triangles next to it fan into the point.
+    // With its two ends alone, the one triangle across the whole line would have two corners
+    // at the same vertex and be dropped, leaving a hole round the pole.
     for (k, sequence) in sequences.iter_mut().enumerate() {
         if sequence.is_none() {
             let (start, end) = corners_done[k];
-            *sequence = Some(vec![(start, 0.0), (end, 1.0)]);
+            let n = DEGENERATE_SAMPLES;
+            *sequence = Some(
+                (0..=n)
+                    .map(|i| (if i < n { start } else { end }, i as f64 / n as f64))
+                    .collect(),
+            );
         }
     }
     // Each face: its loops as (vertex, (u, v)) polygons, then the triangulation.
@@ -687,6 +695,9 @@ enum Local {
     Boundary(usize),
     Interior(usize),
 }
+
+/// Points along a degenerate edge's line in (u, v) (all of them one vertex).
+const DEGENERATE_SAMPLES: usize = 64;
 
 /// How many times a face's triangles farther than the tolerance from it are split.
 const REFINE_ROUNDS: usize = 6;
@@ -1123,6 +1134,45 @@ mod tests {
     use super::*;
     use crate::construct;
     use std::collections::HashMap;
+
+    /// A whole sphere and a whole torus, one untrimmed face each (its seam and, for the
+    /// sphere, its poles inside the one face): the joined mesh is closed, with the closed
+    /// forms' area and volume.
+    #[test]
+    fn a_whole_sphere_and_a_whole_torus_mesh_closed_with_their_area_and_volume() {
+        use std::f64::consts::PI;
+        let r = 0.93;
+        let sphere = construct::sphere(DVec3::new(1.0, -2.0, 0.5), r).unwrap();
+        let torus = construct::torus(
+            DVec3::new(3.0, 1.0, -1.0),
+            DVec3::new(0.2, 0.5, 1.0),
+            2.0,
+            0.5,
+        )
+        .unwrap();
+        for (surface, area, volume) in [
+            (sphere, 4.0 * PI * r * r, 4.0 / 3.0 * PI * r * r * r),
+            (torus, 4.0 * PI * PI * 2.0 * 0.5, 2.0 * PI * PI * 2.0 * 0.25),
+        ] {
+            let faces = vec![TrimmedSurface::untrimmed(surface)];
+            let topology = find_topology(&faces, 1e-6).unwrap();
+            let mesh = tessellate_joined(&faces, &topology, 1e-4, false).unwrap();
+            let v: f64 = mesh
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+                    a.dot(b.cross(c)) / 6.0
+                })
+                .sum();
+            let a = mesh.area();
+            assert!((a - area).abs() < 1e-3 * area, "area {a}, exact {area}");
+            assert!(
+                (v.abs() - volume).abs() < 1e-3 * volume,
+                "volume {v}, exact {volume}"
+            );
+        }
+    }
 
     /// The six faces of the box [0, a] × [0, b] × [0, c], as planes with mixed orientations.
     pub(crate) fn box_faces(a: f64, b: f64, c: f64) -> Vec<TrimmedSurface> {
