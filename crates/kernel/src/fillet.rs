@@ -500,6 +500,118 @@ mod tests {
         assert!((pa.y - axis.y).abs() < 1e-9 && pa.z.abs() < 1e-12);
     }
 
+    /// Two planes at a right angle in general position (rotated about a skew axis, moved,
+    /// scaled, parametrized along other edges and lengths), radius 0.75 on the scale of
+    /// the first planes: every ball centre is the radius from both planes, each contact is
+    /// the centre's foot, the fillet leaves each plane tangentially, and its area is the
+    /// quarter cylinder's, π r L / 2.
+    #[test]
+    fn two_planes_at_a_right_angle_in_general_position_get_a_tangent_quarter_cylinder() {
+        let cases = [
+            (
+                DVec3::new(0.3, -0.8, 0.5),
+                1.1,
+                DVec3::new(3.0, -7.0, 2.5),
+                1.0,
+            ),
+            (
+                DVec3::new(-0.2, 0.1, 0.9),
+                2.7,
+                DVec3::new(-120.0, 40.0, 9.0),
+                37.0,
+            ),
+            (
+                DVec3::new(1.0, 1.0, 0.2),
+                0.4,
+                DVec3::new(0.01, 0.02, -0.03),
+                0.013,
+            ),
+            (
+                DVec3::new(0.0, 1.0, 0.0),
+                0.7,
+                DVec3::new(1e3, -2e3, 5e2),
+                950.0,
+            ),
+        ];
+        for (seed, &(axis, angle, shift, scale)) in cases.iter().enumerate() {
+            let place = glam::DAffine3::from_translation(shift)
+                * glam::DAffine3::from_axis_angle(axis.normalize(), angle)
+                * glam::DAffine3::from_scale(DVec3::splat(scale));
+            let at = |p: DVec3| place.transform_point3(p);
+            let along = |v: DVec3| place.transform_vector3(v);
+            // The floor z = 0 (x from −2 to 2, y from 0 to 3) and the wall y = 0 (z from 0 to
+            // 3): their corner is the x axis, the ball on the front sides (+z, +y)...
+            let floor = construct::plane(
+                at(DVec3::new(2.0, 0.0, 0.0)),
+                along(DVec3::new(0.0, 3.0, 0.0)),
+                along(DVec3::new(-4.0, 0.0, 0.0)),
+            )
+            .unwrap();
+            let wall = construct::plane(
+                at(DVec3::new(-2.0, 0.0, 0.0)),
+                along(DVec3::new(4.0, 0.0, 0.0)),
+                along(DVec3::new(0.0, 0.0, 3.0)),
+            )
+            .unwrap();
+            let (nf, nw) = (along(DVec3::Z).normalize(), along(DVec3::Y).normalize());
+            let side = |s: &NurbsSurface, n: DVec3| s.normal(0.5, 0.5).unwrap().dot(n).signum();
+            let r = 0.75 * scale;
+            let options = FilletOptions {
+                radius: r,
+                radius_end: None,
+                side_a: side(&floor, nf),
+                side_b: side(&wall, nw),
+                tolerance: 1e-4 * 6.0 * scale,
+                size: 6.0 * scale,
+            };
+            let fillet = fillet_surfaces(&floor, &wall, &options).unwrap();
+            let origin = at(DVec3::ZERO);
+            for (k, c) in fillet.centres.iter().enumerate() {
+                let (df, dw) = ((*c - origin).dot(nf), (*c - origin).dot(nw));
+                assert!(
+                    (df - r).abs() < 1e-6 * scale && (dw - r).abs() < 1e-6 * scale,
+                    "seed {seed}, centre {k}: {df} and {dw} from the planes, radius {r}"
+                );
+                let pa = floor
+                    .point_at(fillet.contact_a[k].x, fillet.contact_a[k].y)
+                    .unwrap();
+                let pb = wall
+                    .point_at(fillet.contact_b[k].x, fillet.contact_b[k].y)
+                    .unwrap();
+                assert!(pa.distance(*c - nf * r) < 1e-6 * scale, "seed {seed}");
+                assert!(pb.distance(*c - nw * r) < 1e-6 * scale, "seed {seed}");
+            }
+            // Tangency: the fillet's cross tangent at each side lies in that plane.
+            let s = &fillet.surface;
+            let [(u0, u1), (v0, v1)] = s.domain();
+            let mut area = 0.0;
+            let (nu, nv) = (16, 64);
+            for j in 0..=8 {
+                let v = v0 + (v1 - v0) * j as f64 / 8.0;
+                for (u, n) in [(u0, nf), (u1, nw)] {
+                    let d = s.evaluate(u, v).unwrap();
+                    let t = d.su.normalize();
+                    let degrees = t.dot(n).abs().asin().to_degrees();
+                    assert!(degrees < 1e-4, "seed {seed}: meets at {degrees}°");
+                }
+            }
+            // The area by the midpoint rule on |S_u × S_v|.
+            for i in 0..nu {
+                for j in 0..nv {
+                    let u = u0 + (u1 - u0) * (i as f64 + 0.5) / nu as f64;
+                    let v = v0 + (v1 - v0) * (j as f64 + 0.5) / nv as f64;
+                    let d = s.evaluate(u, v).unwrap();
+                    area += d.su.cross(d.sv).length() * (u1 - u0) * (v1 - v0) / (nu * nv) as f64;
+                }
+            }
+            let exact = std::f64::consts::FRAC_PI_2 * r * 4.0 * scale;
+            assert!(
+                (area - exact).abs() < 1e-3 * exact,
+                "seed {seed}: area {area}, exact {exact}"
+            );
+        }
+    }
+
     #[test]
     fn a_radius_too_large_for_the_gap_is_refused() {
         let (floor, wall) = right_angle();

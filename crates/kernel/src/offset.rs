@@ -781,6 +781,108 @@ mod tests {
         assert!((through.folds[0].radius - 2.0).abs() < 1e-6);
     }
 
+    /// A single-span surface with its homogeneous points P_ij w_ij scaled by a^i b^j: the
+    /// same surface under a rational linear reparametrisation in each direction (The NURBS
+    /// Book §6.4), with other weights.
+    fn reweighted(s: &NurbsSurface, a: f64, b: f64) -> NurbsSurface {
+        let [_, m] = s.count();
+        let points = s
+            .homogeneous_points()
+            .iter()
+            .enumerate()
+            .map(|(k, h)| *h * a.powi((k / m) as i32) * b.powi((k % m) as i32))
+            .collect();
+        let knots = s.knots().map(<[f64]>::to_vec);
+        NurbsSurface::from_homogeneous(s.degree(), knots, s.count(), points).unwrap()
+    }
+
+    /// A 90° × 90° rational biquadratic sphere patch (latitudes −45° to 45°, a quarter turn
+    /// of longitude) in general position: rotated about a skew axis, moved and scaled, with
+    /// its weights changed by a rational reparametrisation (the same surface). Its offset lies
+    /// on the concentric sphere at every parameter tried, not only at the corners.
+    #[test]
+    fn a_sphere_patch_in_general_position_offsets_to_the_concentric_sphere() {
+        for (seed, &(axis, angle, centre, radius, d, lat0)) in [
+            (
+                DVec3::new(0.3, -0.8, 0.5),
+                1.1,
+                DVec3::new(3.0, -7.0, 2.5),
+                4.0,
+                0.75,
+                -1.0,
+            ),
+            (
+                DVec3::new(-0.2, 0.1, 0.9),
+                2.7,
+                DVec3::new(-120.0, 40.0, 9.0),
+                250.0,
+                -30.0,
+                -1.0,
+            ),
+            (
+                DVec3::new(1.0, 1.0, 0.0),
+                0.4,
+                DVec3::new(0.01, 0.02, -0.03),
+                0.05,
+                0.01,
+                -1.0,
+            ),
+            // The octant: latitudes 0° to 90°, its last row collapsed at the pole.
+            (
+                DVec3::new(0.6, 0.3, -0.7),
+                0.9,
+                DVec3::new(5.0, 1.0, -2.0),
+                3.0,
+                0.75,
+                0.0,
+            ),
+            (DVec3::new(0.0, 0.0, 1.0), 0.0, DVec3::ZERO, 3.0, 0.75, 0.0),
+        ]
+        .iter()
+        .enumerate()
+        {
+            let profile = construct::arc(
+                DVec3::ZERO,
+                DVec3::X,
+                DVec3::Z,
+                1.0,
+                lat0 * std::f64::consts::FRAC_PI_4,
+                lat0 * std::f64::consts::FRAC_PI_4 + std::f64::consts::FRAC_PI_2,
+            )
+            .unwrap();
+            let patch =
+                construct::revolve(&profile, DVec3::ZERO, DVec3::Z, std::f64::consts::FRAC_PI_2)
+                    .unwrap();
+            let place = DAffine3::from_translation(centre)
+                * DAffine3::from_axis_angle(axis.normalize(), angle)
+                * DAffine3::from_scale(DVec3::splat(radius));
+            let placed = patch.transformed(&place).unwrap();
+            for surface in [placed.clone(), reweighted(&placed, 1.7, 0.6)] {
+                let o = offset_nurbs(&surface, d, 1e-6 * radius).unwrap();
+                assert!(
+                    matches!(
+                        o.shape,
+                        OffsetShape::Sphere { .. } | OffsetShape::Revolution { .. }
+                    ),
+                    "seed {seed}: {:?}",
+                    o.shape
+                );
+                let [(u0, u1), (v0, v1)] = o.surface.domain();
+                for i in 0..=8 {
+                    for j in 0..=8 {
+                        let (u, v) = (
+                            u0 + (u1 - u0) * i as f64 / 8.0,
+                            v0 + (v1 - v0) * j as f64 / 8.0,
+                        );
+                        let p = o.surface.point_at(u, v).unwrap();
+                        let off = (p.distance(centre) - (radius + d)).abs();
+                        assert!(off < 1e-9 * radius, "seed {seed}: {off} at ({u}, {v})");
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn a_cylinder_scales_across_its_axis_exactly() {
         let axis = DVec3::new(0.0, 1.0, 1.0);
