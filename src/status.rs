@@ -123,6 +123,9 @@ pub struct AppStatus {
     pub open_progress: Option<f64>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
+    /// What the last file opened could not give (STEP faces skipped: each kind of entity
+    /// that cost faces with their count, then each face), empty when it gave everything.
+    pub warnings: Vec<String>,
     /// Something the editor did on its own that the user should know (e.g. tessellation lowered
     /// to fit the device), or null.
     pub notice: Option<String>,

@@ -55,6 +55,9 @@ fn no_companions(name: &str) -> Result<Vec<u8>, String> {
     ))
 }
 
+/// The most warnings an opened file's dialog lists.
+const SHOWN_WARNINGS: usize = 12;
+
 /// How long a frame spends opening a file before it draws again (milliseconds).
 const OPEN_FRAME_BUDGET_MS: f64 = 30.0;
 
@@ -127,8 +130,13 @@ impl KnotworkApp {
             Ok(true) => {
                 if let Some(running) = self.running_open.take() {
                     self.status.open_progress = None;
+                    let warnings = running.job.warnings().to_vec();
                     let project = running.job.finish().map_err(|e| e.to_string());
+                    let opened = project.is_ok();
                     self.open_result(&running.name, project);
+                    if opened && self.running_open.is_none() && self.dialog.is_none() {
+                        self.show_open_warnings(&running.name, warnings);
+                    }
                 }
                 ctx.request_repaint();
             }
@@ -142,6 +150,35 @@ impl KnotworkApp {
         }
     }
 
+    /// What an opened file could not give, in the status (`warnings`), the notice and a
+    /// dialog listing it (the summary lines first, then each face, at most
+    /// [`SHOWN_WARNINGS`]).
+    fn show_open_warnings(&mut self, name: &str, warnings: Vec<String>) {
+        self.status.warnings = warnings;
+        let Some(first) = self.status.warnings.first() else {
+            return;
+        };
+        self.status.notice = Some(format!("opened {name}: {first}"));
+        let mut text: Vec<String> = self
+            .status
+            .warnings
+            .iter()
+            .take(SHOWN_WARNINGS)
+            .cloned()
+            .collect();
+        let more = self.status.warnings.len().saturating_sub(SHOWN_WARNINGS);
+        if more > 0 {
+            text.push(format!("… and {more} more"));
+        }
+        self.dialog = Some((
+            format!("Opened {name} with warnings"),
+            format!(
+                "Everything else in the file was read.\n\n{}",
+                text.join("\n")
+            ),
+        ));
+    }
+
     pub(super) fn open_failed(&mut self, name: &str, message: &str) {
         self.dialog = Some((format!("Could not open {name}"), message.to_owned()));
         self.status.error = Some(format!("{name}: {message}"));
@@ -152,6 +189,7 @@ impl KnotworkApp {
     /// cannot show it, a dialog names the problem and the document, its history and the GPU
     /// geometry stay as they were.
     pub fn open_project(&mut self, name: &str, project: Project) {
+        self.status.warnings.clear();
         let Project { scene, view } = project;
         let previous_view = self.view;
         if let Some(view) = view {

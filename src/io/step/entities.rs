@@ -147,18 +147,20 @@ impl Curve3 {
     }
 }
 
-/// Why a surface was not read: the file is wrong (the whole file is refused), or the surface
-/// is well formed but has no exact NURBS form in knotwork (its faces are left out with a
-/// warning and the rest of the model opens).
-#[derive(Debug)]
-pub enum SurfaceError {
+/// Why a curve or a surface was not read: the file is wrong (the whole file is refused), or
+/// the entity is well formed but knotwork does not read its kind or has no exact NURBS form
+/// for it (the faces on it are left out with a warning and the rest of the model opens).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EntityError {
+    #[error("{0}")]
     Malformed(FormatError),
+    #[error("{0}")]
     Unbuildable(FormatError),
 }
 
-impl From<FormatError> for SurfaceError {
+impl From<FormatError> for EntityError {
     fn from(e: FormatError) -> Self {
-        SurfaceError::Malformed(e)
+        EntityError::Malformed(e)
     }
 }
 
@@ -475,13 +477,13 @@ impl<'a> Entities<'a> {
 
     /// The curve `id`: line, circle, ellipse, B-spline (rational or not, simple or complex),
     /// polyline; a trimmed curve, a surface curve or a seam curve as its basis or 3D curve.
-    pub fn curve(&self, id: u64) -> Result<Curve3, FormatError> {
+    pub fn curve(&self, id: u64) -> Result<Curve3, EntityError> {
         self.curve_at_depth(id, 0)
     }
 
-    fn curve_at_depth(&self, id: u64, depth: usize) -> Result<Curve3, FormatError> {
+    fn curve_at_depth(&self, id: u64, depth: usize) -> Result<Curve3, EntityError> {
         if depth > 8 {
-            return Err(bad(self.x, id, "curves nested more than 8 deep"));
+            return Err(bad(self.x, id, "curves nested more than 8 deep").into());
         }
         let instance = self.instance(id)?;
         if let Some(r) = instance.part("LINE") {
@@ -492,7 +494,7 @@ impl<'a> Entities<'a> {
             let dir = self.direction(self.reference(vid, vr, 1)?)?;
             let magnitude = self.real(vid, vr, 2)? * self.scale;
             if !(magnitude > 0.0) {
-                return Err(bad(self.x, vid, "the vector's magnitude must be above 0"));
+                return Err(bad(self.x, vid, "the vector's magnitude must be above 0").into());
             }
             return Ok(Curve3::Line {
                 point,
@@ -508,7 +510,8 @@ impl<'a> Entities<'a> {
                     self.x,
                     id,
                     format!("the radius must be above 0, not {radius}"),
-                ));
+                )
+                .into());
             }
             return Ok(Curve3::Circle { frame, radius });
         }
@@ -520,12 +523,15 @@ impl<'a> Entities<'a> {
                 self.real(id, r, 3)? * self.scale,
             );
             if !(a > 0.0 && b > 0.0) {
-                return Err(bad(self.x, id, "the semi-axes must be above 0"));
+                return Err(bad(self.x, id, "the semi-axes must be above 0").into());
             }
             return Ok(Curve3::Ellipse { frame, a, b });
         }
-        if instance.is("B_SPLINE_CURVE") || instance.is("B_SPLINE_CURVE_WITH_KNOTS") {
-            return self.spline_curve(id).map(Curve3::Spline);
+        if instance.is("B_SPLINE_CURVE")
+            || instance.is("B_SPLINE_CURVE_WITH_KNOTS")
+            || ImpliedKnots::in_parts(instance, "CURVE").is_some()
+        {
+            return Ok(Curve3::Spline(self.spline_curve(id)?));
         }
         if instance.is("POLYLINE") {
             let r = self.record(id, "POLYLINE", 2)?;
@@ -535,7 +541,7 @@ impl<'a> Entities<'a> {
                 .map(|&p| self.point(p))
                 .collect::<Result<_, _>>()?;
             if points.len() < 2 {
-                return Err(bad(self.x, id, "a polyline needs at least 2 points"));
+                return Err(bad(self.x, id, "a polyline needs at least 2 points").into());
             }
             let knots: Vec<f64> = std::iter::once(0.0)
                 .chain((0..points.len()).map(|k| k as f64))
@@ -543,7 +549,7 @@ impl<'a> Entities<'a> {
                 .collect();
             return SpaceCurve::new(1, knots, points, None)
                 .map(Curve3::Spline)
-                .map_err(|e| bad(self.x, id, e));
+                .map_err(|e| bad(self.x, id, e).into());
         }
         if instance.is("TRIMMED_CURVE") {
             let r = self.record(id, "TRIMMED_CURVE", 2)?;
@@ -560,11 +566,11 @@ impl<'a> Entities<'a> {
                 return self.curve_at_depth(self.reference(id, r, 1)?, depth + 1);
             }
         }
-        Err(bad(
+        Err(EntityError::Unbuildable(bad(
             self.x,
             id,
             "this kind of curve is not read (lines, circles, ellipses, B-splines, polylines and trimmed and surface curves are)",
-        ))
+        )))
     }
 
     /// The p-curves of the curve `id` (a `SURFACE_CURVE` or `SEAM_CURVE`, alone or in a
@@ -654,28 +660,66 @@ impl<'a> Entities<'a> {
         Ok(out)
     }
 
+    /// The knot vector of a B-spline of `degree` with `count` control points in one
+    /// direction: the file's, or the one its subtype implies.
+    fn knots(
+        &self,
+        id: u64,
+        spec: &KnotSpec<'_>,
+        degree: usize,
+        count: usize,
+    ) -> Result<Vec<f64>, FormatError> {
+        match spec {
+            KnotSpec::Given(multiplicities, knots) => self.knot_vector(id, multiplicities, knots),
+            KnotSpec::Implied(kind) => kind.knots(degree, count).ok_or_else(|| {
+                bad(
+                    self.x,
+                    id,
+                    format!(
+                        "{count} control points do not make a {} B-spline of degree {degree}",
+                        kind.name()
+                    ),
+                )
+            }),
+        }
+    }
+
     fn spline_curve(&self, id: u64) -> Result<SpaceCurve, FormatError> {
         let instance = self.instance(id)?;
-        // (degree, points, multiplicities, knots): one simple record or parts of a complex one.
-        let (degree, points, mults, knots) = match instance {
-            Instance::Simple(_) => {
+        // (degree, points, knots): one simple record or parts of a complex one. The knots are
+        // the file's (multiplicities and distinct values) or implied by the curve's subtype.
+        let (degree, points, knots) = match instance {
+            Instance::Simple(r) if r.name == "B_SPLINE_CURVE_WITH_KNOTS" => {
                 let r = self.record(id, "B_SPLINE_CURVE_WITH_KNOTS", 9)?;
                 (
                     self.arg(id, r, 1)?,
                     self.list(id, r, 2)?,
-                    self.list(id, r, 6)?,
-                    self.list(id, r, 7)?,
+                    KnotSpec::Given(self.list(id, r, 6)?, self.list(id, r, 7)?),
+                )
+            }
+            Instance::Simple(r) => {
+                let kind = ImpliedKnots::of(&r.name)
+                    .ok_or_else(|| bad(self.x, id, "this kind of B-spline curve is not read"))?;
+                let r = self.record(id, &r.name, 6)?;
+                (
+                    self.arg(id, r, 1)?,
+                    self.list(id, r, 2)?,
+                    KnotSpec::Implied(kind),
                 )
             }
             Instance::Complex(_) => {
                 let b = self.record(id, "B_SPLINE_CURVE", 5)?;
-                let k = self.record(id, "B_SPLINE_CURVE_WITH_KNOTS", 3)?;
-                (
-                    self.arg(id, b, 0)?,
-                    self.list(id, b, 1)?,
-                    self.list(id, k, 0)?,
-                    self.list(id, k, 1)?,
-                )
+                let knots = match instance.part("B_SPLINE_CURVE_WITH_KNOTS") {
+                    Some(_) => {
+                        let k = self.record(id, "B_SPLINE_CURVE_WITH_KNOTS", 3)?;
+                        KnotSpec::Given(self.list(id, k, 0)?, self.list(id, k, 1)?)
+                    }
+                    None => KnotSpec::Implied(
+                        ImpliedKnots::in_parts(instance, "CURVE")
+                            .ok_or_else(|| bad(self.x, id, "the B-spline curve has no knots"))?,
+                    ),
+                };
+                (self.arg(id, b, 0)?, self.list(id, b, 1)?, knots)
             }
         };
         let Value::Integer(degree) = degree else {
@@ -705,7 +749,7 @@ impl<'a> Entities<'a> {
                 )),
             })
             .collect::<Result<_, _>>()?;
-        let knots = self.knot_vector(id, mults, knots)?;
+        let knots = self.knots(id, &knots, *degree as usize, cps.len())?;
         let weights = match instance.part("RATIONAL_B_SPLINE_CURVE") {
             Some(r) => {
                 let list = r
@@ -730,30 +774,51 @@ impl<'a> Entities<'a> {
 
     pub fn spline_surface(&self, id: u64) -> Result<NurbsSurface, FormatError> {
         let instance = self.instance(id)?;
-        let (ud, vd, rows, um, vm, uk, vk) = match instance {
-            Instance::Simple(_) => {
+        let (ud, vd, rows, knots) = match instance {
+            Instance::Simple(r) if r.name == "B_SPLINE_SURFACE_WITH_KNOTS" => {
                 let r = self.record(id, "B_SPLINE_SURFACE_WITH_KNOTS", 13)?;
                 (
                     self.arg(id, r, 1)?,
                     self.arg(id, r, 2)?,
                     self.list(id, r, 3)?,
-                    self.list(id, r, 8)?,
-                    self.list(id, r, 9)?,
-                    self.list(id, r, 10)?,
-                    self.list(id, r, 11)?,
+                    [
+                        KnotSpec::Given(self.list(id, r, 8)?, self.list(id, r, 10)?),
+                        KnotSpec::Given(self.list(id, r, 9)?, self.list(id, r, 11)?),
+                    ],
+                )
+            }
+            Instance::Simple(r) => {
+                let kind = ImpliedKnots::of(&r.name)
+                    .ok_or_else(|| bad(self.x, id, "this kind of B-spline surface is not read"))?;
+                let r = self.record(id, &r.name, 8)?;
+                (
+                    self.arg(id, r, 1)?,
+                    self.arg(id, r, 2)?,
+                    self.list(id, r, 3)?,
+                    [KnotSpec::Implied(kind), KnotSpec::Implied(kind)],
                 )
             }
             Instance::Complex(_) => {
                 let b = self.record(id, "B_SPLINE_SURFACE", 7)?;
-                let k = self.record(id, "B_SPLINE_SURFACE_WITH_KNOTS", 5)?;
+                let knots = match instance.part("B_SPLINE_SURFACE_WITH_KNOTS") {
+                    Some(_) => {
+                        let k = self.record(id, "B_SPLINE_SURFACE_WITH_KNOTS", 5)?;
+                        [
+                            KnotSpec::Given(self.list(id, k, 0)?, self.list(id, k, 2)?),
+                            KnotSpec::Given(self.list(id, k, 1)?, self.list(id, k, 3)?),
+                        ]
+                    }
+                    None => {
+                        let kind = ImpliedKnots::in_parts(instance, "SURFACE")
+                            .ok_or_else(|| bad(self.x, id, "the B-spline surface has no knots"))?;
+                        [KnotSpec::Implied(kind), KnotSpec::Implied(kind)]
+                    }
+                };
                 (
                     self.arg(id, b, 0)?,
                     self.arg(id, b, 1)?,
                     self.list(id, b, 2)?,
-                    self.list(id, k, 0)?,
-                    self.list(id, k, 1)?,
-                    self.list(id, k, 2)?,
-                    self.list(id, k, 3)?,
+                    knots,
                 )
             }
         };
@@ -796,7 +861,10 @@ impl<'a> Entities<'a> {
                 points.push(self.point(*pid)?);
             }
         }
-        let knots = [self.knot_vector(id, um, uk)?, self.knot_vector(id, vm, vk)?];
+        let knots = [
+            self.knots(id, &knots[0], p, nu)?,
+            self.knots(id, &knots[1], q, nv)?,
+        ];
         let weights = match instance.part("RATIONAL_B_SPLINE_SURFACE") {
             Some(r) => {
                 let Some(Value::List(wrows)) = r.args.last() else {
@@ -831,11 +899,11 @@ impl<'a> Entities<'a> {
     }
 
     /// The surface `id`.
-    pub fn surface(&self, id: u64) -> Result<Surface3, SurfaceError> {
+    pub fn surface(&self, id: u64) -> Result<Surface3, EntityError> {
         self.surface_at_depth(id, 0)
     }
 
-    fn surface_at_depth(&self, id: u64, depth: usize) -> Result<Surface3, SurfaceError> {
+    fn surface_at_depth(&self, id: u64, depth: usize) -> Result<Surface3, EntityError> {
         if depth > 8 {
             return Err(bad(self.x, id, "surfaces nested more than 8 deep").into());
         }
@@ -961,7 +1029,10 @@ impl<'a> Entities<'a> {
                 vector,
             });
         }
-        if instance.is("B_SPLINE_SURFACE") || instance.is("B_SPLINE_SURFACE_WITH_KNOTS") {
+        if instance.is("B_SPLINE_SURFACE")
+            || instance.is("B_SPLINE_SURFACE_WITH_KNOTS")
+            || ImpliedKnots::in_parts(instance, "SURFACE").is_some()
+        {
             return Ok(Surface3::Spline(self.spline_surface(id)?));
         }
         if instance.is("OFFSET_SURFACE") {
@@ -969,13 +1040,96 @@ impl<'a> Entities<'a> {
             let basis = self.surface_at_depth(self.reference(id, r, 1)?, depth + 1)?;
             let distance = self.real(id, r, 2)? * self.scale;
             return offset_surface(basis, distance)
-                .map_err(|e| SurfaceError::Unbuildable(bad(self.x, id, e)));
+                .map_err(|e| EntityError::Unbuildable(bad(self.x, id, e)));
         }
-        Err(SurfaceError::Unbuildable(bad(
+        Err(EntityError::Unbuildable(bad(
             self.x,
             id,
             "this kind of surface is not read",
         )))
+    }
+}
+
+/// Where a B-spline's knots come from: the file's multiplicities and distinct values, or the
+/// subtype that implies them.
+enum KnotSpec<'a> {
+    Given(&'a [Value], &'a [Value]),
+    Implied(ImpliedKnots),
+}
+
+/// The B-spline subtypes whose knots are implied (ISO 10303-42, 4.3.4 and 4.3.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImpliedKnots {
+    /// `UNIFORM_CURVE`, `UNIFORM_SURFACE`: knots −p, −p + 1, …, n + 1 (k = n + p + 2 of
+    /// them, n + 1 control points), each once.
+    Uniform,
+    /// `QUASI_UNIFORM_CURVE`, `QUASI_UNIFORM_SURFACE`: 0, 1, …, n − p + 1, the ends p + 1
+    /// times.
+    QuasiUniform,
+    /// `BEZIER_CURVE`, `BEZIER_SURFACE`: piecewise Bézier, 0, 1, …, n / p, the ends p + 1
+    /// times and the rest p times.
+    PiecewiseBezier,
+}
+
+impl ImpliedKnots {
+    /// The subtype an entity name stands for.
+    pub fn of(name: &str) -> Option<Self> {
+        match name {
+            "UNIFORM_CURVE" | "UNIFORM_SURFACE" => Some(Self::Uniform),
+            "QUASI_UNIFORM_CURVE" | "QUASI_UNIFORM_SURFACE" => Some(Self::QuasiUniform),
+            "BEZIER_CURVE" | "BEZIER_SURFACE" => Some(Self::PiecewiseBezier),
+            _ => None,
+        }
+    }
+
+    /// The subtype among an instance's parts whose names end in `kind` ("CURVE" or
+    /// "SURFACE").
+    fn in_parts(instance: &Instance, kind: &str) -> Option<Self> {
+        let of = |name: &str| Self::of(name).filter(|_| name.ends_with(kind));
+        match instance {
+            Instance::Simple(r) => of(&r.name),
+            Instance::Complex(parts) => parts.iter().find_map(|r| of(&r.name)),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Uniform => "uniform",
+            Self::QuasiUniform => "quasi-uniform",
+            Self::PiecewiseBezier => "piecewise Bézier",
+        }
+    }
+
+    /// The knot vector for `count` control points of `degree` (count + degree + 1 knots), or
+    /// `None` where the count does not fit the subtype.
+    pub fn knots(self, degree: usize, count: usize) -> Option<Vec<f64>> {
+        if degree == 0 || count <= degree || count > MAX_SPLINE_POINTS {
+            return None;
+        }
+        let total = count + degree + 1;
+        let knots: Vec<f64> = match self {
+            Self::Uniform => (0..total).map(|k| k as f64 - degree as f64).collect(),
+            Self::QuasiUniform => {
+                let last = (count - degree) as f64;
+                std::iter::repeat_n(0.0, degree + 1)
+                    .chain((1..count - degree).map(|k| k as f64))
+                    .chain(std::iter::repeat_n(last, degree + 1))
+                    .collect()
+            }
+            Self::PiecewiseBezier => {
+                if (count - 1) % degree != 0 {
+                    return None;
+                }
+                let segments = (count - 1) / degree;
+                let mut k = vec![0.0; degree + 1];
+                for s in 1..segments {
+                    k.extend(std::iter::repeat_n(s as f64, degree));
+                }
+                k.extend(std::iter::repeat_n(segments as f64, degree + 1));
+                k
+            }
+        };
+        (knots.len() == total).then_some(knots)
     }
 }
 

@@ -247,6 +247,10 @@ struct Natural<'a> {
     /// angle (its seam at 0).
     closed: [Option<(f64, f64)>; 2],
     small: f64,
+    /// The sides of `nurbs` collapsed to a point (a B-spline's pole): the direction whose
+    /// parameter is fixed on the side, and the point. A sample there has no parameter along
+    /// the side; it takes its neighbours' ([`fill_poles`]).
+    collapsed: Vec<(usize, f64, DVec3)>,
     /// Global point inversions left for this face (each is a grid search; an edge that is not
     /// on its surface would otherwise ask for one per sample).
     searches: std::cell::Cell<usize>,
@@ -292,7 +296,18 @@ impl Natural<'_> {
                 let Some(s) = self.nurbs else {
                     return [f64::NAN; 2];
                 };
-                let hint = hint.map(|n| self.raw(n));
+                // A hint at a pole has no parameter along the collapsed side: the middle.
+                let domain = s.domain();
+                let hint = hint.map(|n| {
+                    let r = self.raw(n);
+                    [0, 1].map(|d| {
+                        if r[d].is_finite() {
+                            r[d]
+                        } else {
+                            0.5 * (domain[d].0 + domain[d].1)
+                        }
+                    })
+                });
                 let near = hint.map(|[u, v]| s.closest_point_from(p, u, v));
                 let found = match near {
                     // From the previous point, Newton finds this one unless it went to another
@@ -316,9 +331,26 @@ impl Natural<'_> {
                         n[d] = (n[d] - lo) / (hi - lo) * TAU;
                     }
                 }
+                // On a collapsed side (the point there, or Newton's answer on that side's
+                // parameter, where it stops for points close to the pole) the parameter along
+                // the side is undefined.
+                let on_side = self.collapsed.iter().find(|&&(d, value, _)| {
+                    let (lo, hi) = s.domain()[d];
+                    ([found.u, found.v][d] - value).abs() <= 1e-9 * (hi - lo)
+                });
+                if let Some(&(d, _, _)) = self.pole_at(p).or(on_side) {
+                    n[1 - d] = f64::NAN;
+                }
                 n
             }
         }
+    }
+
+    /// The collapsed side `p` lies at, if any.
+    fn pole_at(&self, p: DVec3) -> Option<&(usize, f64, DVec3)> {
+        self.collapsed
+            .iter()
+            .find(|(_, _, q)| q.distance(p) <= self.small * 1e3)
     }
 
     /// A B-spline's (u, v) from natural parameters (an angle back to its closed direction).
@@ -423,7 +455,7 @@ fn sample_edge(
             p,
             n,
             s,
-            pole: n[0].is_nan() && natural.periodic[0],
+            pole: (n[0].is_nan() && natural.periodic[0]) || natural.pole_at(p).is_some(),
         }
     };
     let mut out = vec![make(0.0, hint)];
@@ -472,7 +504,7 @@ fn closed_directions(s: &NurbsSurface, tolerance: f64) -> [Option<(f64, f64)>; 2
         let side = |x: f64| -> Option<Vec<DVec3>> {
             (0..=16)
                 .map(|k| {
-                    let t = a + (b - a) * k as f64 / 16.0;
+                    let t = (a + (b - a) * k as f64 / 16.0).clamp(a, b);
                     if d == 0 {
                         s.point_at(x, t)
                     } else {
@@ -501,6 +533,54 @@ fn closed_directions(s: &NurbsSurface, tolerance: f64) -> [Option<(f64, f64)>; 2
 /// Why a face was skipped (a warning, not an error).
 pub type Skip = String;
 
+/// A face with no edge loop (bounded by a vertex alone, or by nothing): the whole of a surface
+/// that closes on itself, untrimmed. A sphere is both angles' full range (its poles the
+/// vertices), a torus both full turns, a B-spline that is closed in both directions or
+/// closed in one and collapsed at the ends of the other as it is. A surface with a boundary
+/// cannot be such a face.
+fn whole_face(surface: &Surface3, tolerance: f64) -> Result<BuiltFace, Skip> {
+    let full = Range::Angle {
+        start: 0.0,
+        span: TAU,
+        full: true,
+    };
+    let nurbs = match surface {
+        Surface3::Sphere { .. } => analytic_nurbs(
+            surface,
+            &[
+                full,
+                Range::Arc {
+                    lo: -FRAC_PI_2,
+                    span: PI,
+                },
+            ],
+        ),
+        Surface3::Torus { .. } => analytic_nurbs(surface, &[full, full]),
+        Surface3::Spline(s) => {
+            let closed = closed_directions(s, tolerance);
+            let collapsed = collapsed_sides(s, tolerance);
+            let bounded = (0..2).any(|d| {
+                closed[d].is_none() && collapsed.iter().filter(|(c, _, _)| *c == d).count() < 2
+            });
+            if bounded {
+                return Err("it has no edges, but its B-spline surface has a boundary".into());
+            }
+            Ok(s.clone())
+        }
+        other => {
+            return Err(format!(
+                "it has no edges, but a {} has a boundary",
+                other.type_name()
+            ));
+        }
+    }
+    .map_err(|e| format!("its surface could not be built: {e}"))?;
+    Ok(BuiltFace {
+        face: TrimmedSurface::untrimmed(nurbs),
+        origins: Vec::new(),
+    })
+}
+
 /// Builds the face on `surface` bounded by `bounds`; `same_sense`: the face's normal is the
 /// surface's. `tolerance` bounds the trim loops' distance from the edges.
 pub fn build_face(
@@ -511,7 +591,7 @@ pub fn build_face(
     tolerance: f64,
 ) -> Result<BuiltFace, Skip> {
     if bounds.is_empty() {
-        return Err("the face has no bounds".into());
+        return whole_face(surface, tolerance);
     }
     if let Surface3::Spline(s) = surface
         && let Some(built) = face_from_pcurves(s, surface_id, bounds, tolerance)
@@ -542,6 +622,7 @@ pub fn build_face(
         periodic,
         closed,
         small: tolerance * 1e-3,
+        collapsed: nurbs.map_or_else(Vec::new, |s| collapsed_sides(s, tolerance)),
         searches: std::cell::Cell::new(
             64 + 4 * bounds.iter().map(|b| b.edges.len()).sum::<usize>(),
         ),
@@ -716,6 +797,22 @@ pub fn build_face(
         let [(u0, u1), (v0, v1)] = built_surface.domain();
         (u1 - u0).hypot(v1 - v0)
     };
+    // Consecutive pieces whose ends miss each other in (u, v) by less than the tolerance
+    // on the surface (edges meeting within the file's uncertainty) are snapped together;
+    // a connector is added only across a larger gap in (u, v) that is one point in space (a
+    // pole, a collapsed side). A connector across a tiny gap would make a zigzag that the
+    // loop's own curves cross.
+    let needs_connector = |a: DVec2, b: DVec2| {
+        let gap = a.distance(b);
+        if gap <= 1e-9 * uv_size {
+            return false;
+        }
+        let middle = 0.5 * (a + b);
+        match built_surface.evaluate_clamped(middle) {
+            Some(d) => d.su.length().max(d.sv.length()) * gap > tolerance,
+            None => true,
+        }
+    };
     // Loops in (u, v): pieces per edge use, joined, chains closed.
     let seam_pairs = 0usize;
     let mut trim_loops: Vec<Vec<(TrimCurve, CurveOrigin)>> = Vec::new();
@@ -769,7 +866,7 @@ pub fn build_face(
                 let a = &pieces[i];
                 let b = &pieces[(i + 1) % n];
                 curves.push(a.clone());
-                if a.last().distance(b.first()) > 1e-9 * uv_size {
+                if needs_connector(a.last(), b.first()) {
                     curves.push(Piece::connector(
                         a.last(),
                         b.first(),
@@ -790,7 +887,7 @@ pub fn build_face(
                     chains.push(std::mem::take(&mut current));
                 } else {
                     let b = &pieces[(i + 1) % n];
-                    if pieces[i].last().distance(b.first()) > 1e-9 * uv_size {
+                    if needs_connector(pieces[i].last(), b.first()) {
                         current.push(Piece::connector(
                             pieces[i].last(),
                             b.first(),
@@ -894,6 +991,28 @@ fn finish_face(
         .into_iter()
         .map(|l| l.into_iter().unzip())
         .unzip();
+    // Loop points computed from the file's edges and p-curves can land a few rounding steps
+    // outside the surface's domain (a vertex on the domain's side): they are moved onto it.
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    let slack = 1e-9 * (u1 - u0).hypot(v1 - v0);
+    let onto = |p: DVec2| {
+        let near = |x: f64, lo: f64, hi: f64| {
+            if (lo - slack..=hi + slack).contains(&x) {
+                x.clamp(lo, hi)
+            } else {
+                x
+            }
+        };
+        DVec2::new(near(p.x, u0, u1), near(p.y, v0, v1))
+    };
+    let curves: Vec<Vec<TrimCurve>> = curves
+        .into_iter()
+        .map(|l| {
+            l.into_iter()
+                .map(|c| c.map_points(onto).unwrap_or(c))
+                .collect()
+        })
+        .collect();
     let given = curves.clone();
     let face = TrimmedSurface::new(surface, curves)
         .map_err(|e| format!("its trim loops are not valid: {e}"))?;
@@ -1305,36 +1424,64 @@ fn to_trim_curves(pieces: Vec<Piece>, uv_size: f64) -> Result<Vec<(TrimCurve, Cu
     Ok(out)
 }
 
-/// Gives pole samples (undefined angle) the angle of their nearest neighbour on the edge, or
-/// of the neighbouring edge's end.
+/// Gives pole samples (an angle undefined at an analytic surface's pole, or the parameter
+/// along a B-spline's collapsed side) the value of their nearest neighbour on the edge that
+/// has one, or of the neighbouring edge's end.
 fn fill_poles(edges: &mut [Vec<Sample>]) {
-    for samples in edges.iter_mut() {
-        let n = samples.len();
-        for i in 0..n {
-            if samples[i].n[0].is_nan() {
-                let near = (1..n).find_map(|k| {
-                    [i.checked_sub(k), (i + k < n).then_some(i + k)]
-                        .into_iter()
-                        .flatten()
-                        .find(|&j| samples[j].n[0].is_finite())
-                });
-                if let Some(j) = near {
-                    samples[i].n[0] = samples[j].n[0];
+    for d in 0..2 {
+        let undefined = |s: &Sample| s.pole && s.n[d].is_nan();
+        for samples in edges.iter_mut() {
+            let n = samples.len();
+            for i in 0..n {
+                if undefined(&samples[i]) {
+                    let near = (1..n).find_map(|k| {
+                        [i.checked_sub(k), (i + k < n).then_some(i + k)]
+                            .into_iter()
+                            .flatten()
+                            .find(|&j| samples[j].n[d].is_finite())
+                    });
+                    if let Some(j) = near {
+                        samples[i].n[d] = samples[j].n[d];
+                    }
+                }
+            }
+        }
+        let m = edges.len();
+        for k in 0..m {
+            if edges[k].iter().all(|s| s.n[d].is_nan()) {
+                let before = edges[(k + m - 1) % m].last().map(|s| s.n[d]);
+                if let Some(a) = before.filter(|a| a.is_finite()) {
+                    for s in edges[k].iter_mut().filter(|s| s.pole) {
+                        s.n[d] = a;
+                    }
                 }
             }
         }
     }
-    let m = edges.len();
-    for k in 0..m {
-        if edges[k].iter().all(|s| s.n[0].is_nan()) {
-            let before = edges[(k + m - 1) % m].last().map(|s| s.n[0]);
-            if let Some(a) = before.filter(|a| a.is_finite()) {
-                for s in edges[k].iter_mut() {
-                    s.n[0] = a;
-                }
+}
+
+/// The sides of `s` collapsed to a point within `tolerance` (every control point of the
+/// boundary row or column there): the direction whose parameter is fixed on the side, that
+/// parameter, and the point.
+fn collapsed_sides(s: &NurbsSurface, tolerance: f64) -> Vec<(usize, f64, DVec3)> {
+    let [nu, nv] = s.count();
+    let point = |i: usize, j: usize| s.control_point(i, j);
+    let domain = s.domain();
+    let mut out = Vec::new();
+    for (d, rows) in [(0, [0, nu - 1]), (1, [0, nv - 1])] {
+        for (end, k) in rows.into_iter().enumerate() {
+            let side: Vec<DVec3> = if d == 0 {
+                (0..nv).map(|j| point(k, j)).collect()
+            } else {
+                (0..nu).map(|i| point(i, k)).collect()
+            };
+            if side.iter().all(|p| p.distance(side[0]) <= tolerance) {
+                let value = if end == 0 { domain[d].0 } else { domain[d].1 };
+                out.push((d, value, side[0]));
             }
         }
     }
+    out
 }
 
 /// Whether a loop steps across the seam (natural parameter 0 ≡ 2π) of direction `d`

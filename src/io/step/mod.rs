@@ -88,6 +88,16 @@ fn some_faces(model: &StepModel, scene: &Scene) -> Result<(), FormatError> {
     if !scene.objects.is_empty() {
         return Ok(());
     }
+    if model.bodies.is_empty() && !model.external_files.is_empty() {
+        return Err(FormatError::new(
+            "",
+            format!(
+                "the STEP file holds no geometry of its own: its parts are in other files \
+                 ({}); open those",
+                model.external_files.join(", ")
+            ),
+        ));
+    }
     let why = model
         .warnings
         .first()
@@ -244,6 +254,15 @@ impl OpenJob {
                 instances.truncate(instances.len().saturating_sub(FREE_STEP_INSTANCES));
                 Ok(*next >= model.bodies.len() && instances.is_empty())
             }
+        }
+    }
+
+    /// What the file could not give (faces skipped, each kind of entity that cost faces with
+    /// their count first), once every face is built; empty before.
+    pub fn warnings(&self) -> &[String] {
+        match &self.phase {
+            Phase::Joining { model, .. } => &model.warnings,
+            _ => &[],
         }
     }
 

@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use glam::{DAffine3, DVec3};
 
-use super::entities::{Entities, SurfaceError, bad, real_of};
+use super::entities::{Entities, EntityError, bad, real_of};
 use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
 use super::part21::{Exchange, Instance, Value};
 use crate::kernel::TrimmedSurface;
@@ -42,6 +42,9 @@ pub struct StepModel {
     pub warnings: Vec<String>,
     /// The trim tolerance used (mm).
     pub tolerance: f64,
+    /// The files the model refers to for its parts (`DOCUMENT_FILE` names: an assembly
+    /// written as one file per part keeps only the structure in its top file).
+    pub external_files: Vec<String>,
 }
 
 /// Which step of reading is under way, for a progress bar.
@@ -149,6 +152,21 @@ fn file_unit(x: &Exchange) -> (f64, String) {
         }
     }
     (1.0, "millimetre".into())
+}
+
+/// The names of the files the model refers to (`DOCUMENT_FILE`), in the order written.
+fn external_files(x: &Exchange) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for (_, instance) in &x.instances {
+        if let Some(d) = instance.part("DOCUMENT_FILE")
+            && let Some(Value::Str(name)) = d.args.first()
+            && !name.is_empty()
+            && !out.contains(name)
+        {
+            out.push(name.clone());
+        }
+    }
+    out
 }
 
 /// The largest length uncertainty the file declares (`UNCERTAINTY_MEASURE_WITH_UNIT` with a
@@ -483,6 +501,20 @@ fn is_body(instance: &Instance) -> bool {
     .any(|n| instance.is(n))
 }
 
+/// A placement's key for finding the same place again: the linear map's entries to 1e-9 and
+/// the translation to 1e-6 mm.
+fn place_key(t: &DAffine3) -> [i64; 12] {
+    let m = t.matrix3.to_cols_array();
+    let mut key = [0; 12];
+    for (k, v) in m.iter().enumerate() {
+        key[k] = (v * 1e9).round() as i64;
+    }
+    for (k, v) in t.translation.to_array().iter().enumerate() {
+        key[9 + k] = (v * 1e6).round() as i64;
+    }
+    key
+}
+
 fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
     let mut group_items: HashMap<u64, Vec<u64>> = HashMap::new();
     let mut group_names: HashMap<u64, String> = HashMap::new();
@@ -502,6 +534,12 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
             is_child.insert(*c);
         }
     }
+    let in_components: HashSet<u64> = is_child
+        .iter()
+        .filter_map(|g| group_items.get(g))
+        .flatten()
+        .copied()
+        .collect();
     let mut roots: Vec<u64> = group_items
         .keys()
         .copied()
@@ -514,6 +552,7 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
         .map(|g| (g, DAffine3::IDENTITY, 0))
         .collect();
     stack.reverse();
+    let mut placed_at: HashSet<(u64, [i64; 12])> = HashSet::new();
     let mut placed_items: HashSet<u64> = HashSet::new();
     while let Some((g, t, depth)) = stack.pop() {
         if depth > 16 || out.len() >= MAX_PLACEMENTS {
@@ -523,7 +562,18 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
         items.sort_unstable();
         items.dedup();
         for item in items {
-            if x.get(item).is_some_and(is_body) {
+            // A body that a component of the assembly holds is placed there; a second
+            // representation of it that nothing places (a bare advanced B-rep one beside the
+            // product's) does not put it at the origin as well.
+            if depth == 0 && in_components.contains(&item) {
+                continue;
+            }
+            // A body held by two representations of one product (a shape representation and
+            // an advanced B-rep one, say) reaches the same place twice: it is placed once.
+            if !x.get(item).is_some_and(is_body) {
+                continue;
+            }
+            if placed_at.insert((item, place_key(&t))) {
                 placed_items.insert(item);
                 out.push(Placement {
                     item,
@@ -766,7 +816,10 @@ impl ReadJob {
     /// a large file's millions of instances takes long enough to hold up a frame, so the
     /// caller can free them a share at a time.
     pub fn finish_keeping_instances(mut self) -> (StepModel, Vec<(u64, Instance)>) {
+        let external_files = external_files(&self.x);
         let instances = std::mem::take(&mut self.x.instances);
+        let summary = skipped_summary(&self.warnings);
+        self.warnings.splice(0..0, summary);
         let model = StepModel {
             bodies: self.bodies,
             millimetres_per_unit: self.millimetres_per_unit,
@@ -774,6 +827,7 @@ impl ReadJob {
             schema: self.schema,
             warnings: self.warnings,
             tolerance: self.tolerance,
+            external_files,
         };
         (model, instances)
     }
@@ -796,6 +850,46 @@ pub fn read(
     }
     progress(Stage::BuildingFaces, 1.0);
     Ok(job.finish())
+}
+
+/// The warning for a face left out: `#id = ADVANCED_FACE (surface type) skipped: why`.
+fn skipped_face(face_id: u64, surface_type: Option<&str>, why: &str) -> String {
+    match surface_type {
+        Some(t) => format!("#{face_id} = ADVANCED_FACE ({t}) skipped: {why}"),
+        None => format!("#{face_id} = ADVANCED_FACE skipped: {why}"),
+    }
+}
+
+/// One line per kind of entity that made faces be left out ([`skipped_face`] warnings whose
+/// reason names an entity, `#id = NAME: …`), with how many faces it cost, most first:
+/// "3 faces skipped on QUASI_UNIFORM_SURFACE: this kind of surface is not read".
+fn skipped_summary(warnings: &[String]) -> Vec<String> {
+    let mut by_entity: Vec<(String, usize, String)> = Vec::new();
+    for w in warnings {
+        let Some((_, why)) = w.split_once(" skipped: ") else {
+            continue;
+        };
+        // The reason as `bad` writes it: `#id = ENTITY: message`.
+        let Some((entity, message)) = why
+            .strip_prefix('#')
+            .and_then(|r| r.split_once(" = "))
+            .and_then(|(_, r)| r.split_once(": "))
+        else {
+            continue;
+        };
+        match by_entity.iter_mut().find(|(e, _, _)| e == entity) {
+            Some((_, n, _)) => *n += 1,
+            None => by_entity.push((entity.to_string(), 1, message.to_string())),
+        }
+    }
+    by_entity.sort_by(|a, b| b.1.cmp(&a.1));
+    by_entity
+        .into_iter()
+        .map(|(entity, n, message)| {
+            let faces = if n == 1 { "face" } else { "faces" };
+            format!("{n} {faces} skipped on {entity}: {message}")
+        })
+        .collect()
 }
 
 struct BuiltBody {
@@ -929,8 +1023,10 @@ impl BodyBuild {
             let loop_id = e.reference(b, br, 1)?;
             let orientation = e.boolean(b, br, 2)?;
             let li = e.instance(loop_id)?;
+            // A vertex loop bounds a face that is a whole closed surface (a sphere, its
+            // poles the vertex): it adds no edge.
             if li.is("VERTEX_LOOP") {
-                return Ok(());
+                continue;
             }
             let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
             let mut loop_edges = Vec::new();
@@ -949,7 +1045,14 @@ impl BodyBuild {
                         };
                         let (start, end) = (vertex(1)?, vertex(2)?);
                         let curve_id = e.reference(edge_id, er, 3)?;
-                        let curve = e.curve(curve_id)?;
+                        let curve = match e.curve(curve_id) {
+                            Ok(c) => c,
+                            Err(EntityError::Unbuildable(err)) => {
+                                warnings.push(skipped_face(face_id, None, &err.message));
+                                return Ok(());
+                            }
+                            Err(EntityError::Malformed(err)) => return Err(err),
+                        };
                         let same = e.boolean(edge_id, er, 4)?;
                         let mut g = EdgeGeometry::new(curve, start, end, same, tolerance);
                         g.pcurves = e.pcurves(curve_id);
@@ -973,14 +1076,11 @@ impl BodyBuild {
         }
         let surface = match e.surface(surface_id) {
             Ok(s) => s,
-            Err(SurfaceError::Unbuildable(err)) => {
-                warnings.push(format!(
-                    "#{face_id} = ADVANCED_FACE skipped: {}",
-                    err.message
-                ));
+            Err(EntityError::Unbuildable(err)) => {
+                warnings.push(skipped_face(face_id, None, &err.message));
                 return Ok(());
             }
-            Err(SurfaceError::Malformed(err)) => return Err(err),
+            Err(EntityError::Malformed(err)) => return Err(err),
         };
         match build_face(&surface, surface_id, &bounds, same_sense, tolerance) {
             Ok(b) => {
@@ -991,9 +1091,10 @@ impl BodyBuild {
                     *self.face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
                 }
             }
-            Err(why) => warnings.push(format!(
-                "#{face_id} = ADVANCED_FACE ({}) skipped: {why}",
-                surface.type_name()
+            Err(why) => warnings.push(skipped_face(
+                face_id,
+                Some(surface.type_name()),
+                &why.to_string(),
             )),
         }
         Ok(())
@@ -1029,6 +1130,27 @@ fn file_topology(
 ) -> Topology {
     let mut uses: HashMap<(u8, u64), Vec<(EdgeId, bool)>> = HashMap::new();
     let mut topology = Topology::default();
+    // A face that is a whole closed surface (no edges in the file) has only its own seams and
+    // poles: the kernel finds them on its domain's sides.
+    for (f, face) in faces.iter().enumerate() {
+        if face.is_trimmed() || origins.get(f).is_some_and(|o| !o.is_empty()) {
+            continue;
+        }
+        if let Ok(own) = crate::kernel::join::find_topology(std::slice::from_ref(face), tolerance) {
+            let at = |id: EdgeId| EdgeId { face: f, ..id };
+            topology
+                .shared
+                .extend(own.shared.into_iter().map(|s| SharedEdge {
+                    a: at(s.a),
+                    b: at(s.b),
+                    ..s
+                }));
+            topology.naked.extend(own.naked.into_iter().map(at));
+            topology
+                .degenerate
+                .extend(own.degenerate.into_iter().map(at));
+        }
+    }
     for (f, loops) in origins.iter().enumerate() {
         for (l, curves) in loops.iter().enumerate() {
             for (c, origin) in curves.iter().enumerate() {
