@@ -271,6 +271,27 @@ struct Persistence {
     autosave: bool,
 }
 
+/// A message in a window of its own until the user closes it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Dialog {
+    pub title: String,
+    pub text: String,
+    /// Whether it reports a refusal (the window then says the document is unchanged) rather
+    /// than something done with warnings.
+    pub refused: bool,
+}
+
+impl Dialog {
+    /// A refusal: `title`, why, and that the document is unchanged.
+    pub fn refused(title: impl Into<String>, text: impl Into<String>) -> Self {
+        Self {
+            title: title.into(),
+            text: text.into(),
+            refused: true,
+        }
+    }
+}
+
 pub struct KnotworkApp {
     doc: Document,
     selection: Selection,
@@ -314,8 +335,8 @@ pub struct KnotworkApp {
     toast: overlay::Toast,
     /// Revisions of the document: what the autosave and the page have seen of it.
     saved: Persistence,
-    /// A modal message (title, text), e.g. a file that could not be opened.
-    dialog: Option<(String, String)>,
+    /// A modal message, e.g. a file that could not be opened.
+    dialog: Option<Dialog>,
     /// The camera, shading, ramp range, overlays and quality (saved with the project).
     view: ViewSettings,
     /// The automatic range of the current curvature mode (`None`: to be computed).

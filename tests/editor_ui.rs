@@ -1306,3 +1306,69 @@ fn a_step_file_opens_over_frames_with_progress_and_cancel() {
         "their colours"
     );
 }
+
+/// A STEP file with a face on a surface knotwork does not read opens with the rest of its
+/// faces, and says what it left out: a dialog (not the refusal's "unchanged"), the status's
+/// warnings with the per-entity summary first, and the notice.
+#[test]
+fn a_step_file_with_an_unread_surface_opens_the_rest_and_says_what_was_skipped() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let text = std::fs::read_to_string(format!(
+        "{}/tests/reference/occ/step/box-hole-fillets.step",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let cylinder = "#72 = CYLINDRICAL_SURFACE('',#73,3.);";
+    assert!(text.contains(cylinder));
+    // A well-formed surface of a kind knotwork does not read.
+    let text = text.replace(cylinder, "#72 = CURVE_BOUNDED_SURFACE('',#73,(),.F.);");
+    page.send(AppCommand::Open {
+        name: "holes.step".into(),
+        bytes: text.into_bytes(),
+    });
+    for _ in 0..200 {
+        harness.run_steps(1);
+        if status::current().open_progress.is_none()
+            && !harness.state().document().scene.objects.is_empty()
+        {
+            break;
+        }
+    }
+    harness.run_steps(2);
+    let state = status::current();
+    assert_eq!(
+        state.warnings.first().map(String::as_str),
+        Some("1 face skipped on CURVE_BOUNDED_SURFACE: this kind of surface is not read"),
+        "{:?}",
+        state.warnings
+    );
+    assert!(
+        state
+            .notice
+            .as_deref()
+            .is_some_and(|n| n.starts_with("opened holes.step: 1 face")),
+        "{:?}",
+        state.notice
+    );
+    assert!(
+        harness
+            .get_all_by_label("Opened holes.step with warnings")
+            .next()
+            .is_some(),
+        "the dialog"
+    );
+    assert!(
+        harness
+            .get_all_by_label("The open document is unchanged.")
+            .next()
+            .is_none(),
+        "a warning is not a refusal"
+    );
+    let scene = &harness.state().document().scene;
+    assert_eq!(scene.objects.len(), 1);
+    assert_eq!(scene.objects[0].faces().len(), 10, "every other face");
+}

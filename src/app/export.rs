@@ -311,7 +311,10 @@ impl KnotworkApp {
                         crate::status::finish_export(request, Err(e.to_string()))
                     }
                     ExportTarget::File(_) => {
-                        self.dialog = Some(("Could not export STEP".into(), e.to_string()));
+                        self.dialog = Some(super::Dialog::refused(
+                            "Could not export STEP",
+                            e.to_string(),
+                        ));
                         self.status.error = Some(format!("STEP export: {e}"));
                     }
                 }
@@ -437,7 +440,7 @@ impl KnotworkApp {
             Ok(export) => export,
             Err(e) => {
                 if e != gltf::ExportError::Cancelled {
-                    self.dialog = Some(("Could not export".into(), e.to_string()));
+                    self.dialog = Some(super::Dialog::refused("Could not export", e.to_string()));
                 }
                 self.status.error = Some(format!("export: {e}"));
                 return;

@@ -170,17 +170,21 @@ impl KnotworkApp {
         if more > 0 {
             text.push(format!("… and {more} more"));
         }
-        self.dialog = Some((
-            format!("Opened {name} with warnings"),
-            format!(
+        self.dialog = Some(super::Dialog {
+            title: format!("Opened {name} with warnings"),
+            text: format!(
                 "Everything else in the file was read.\n\n{}",
                 text.join("\n")
             ),
-        ));
+            refused: false,
+        });
     }
 
     pub(super) fn open_failed(&mut self, name: &str, message: &str) {
-        self.dialog = Some((format!("Could not open {name}"), message.to_owned()));
+        self.dialog = Some(super::Dialog::refused(
+            format!("Could not open {name}"),
+            message,
+        ));
         self.status.error = Some(format!("{name}: {message}"));
     }
 

@@ -889,19 +889,22 @@ impl KnotworkApp {
         self.panel.show_create = true;
     }
 
-    /// An error dialog (a file that could not be opened and the like).
+    /// A dialog: an error (a file that could not be opened and the like) or a file opened
+    /// with warnings.
     pub(super) fn dialog_window(&mut self, ctx: &egui::Context) {
-        let Some((title, text)) = self.dialog.clone() else {
+        let Some(dialog) = self.dialog.clone() else {
             return;
         };
         let mut close = false;
-        egui::Window::new(title)
+        egui::Window::new(dialog.title)
             .collapsible(false)
             .resizable(false)
             .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
             .show(ctx, |ui| {
-                ui.label(text);
-                ui.label(egui::RichText::new("The open document is unchanged.").weak());
+                ui.label(dialog.text);
+                if dialog.refused {
+                    ui.label(egui::RichText::new("The open document is unchanged.").weak());
+                }
                 close = ui.button("OK").clicked();
             });
         if close {
