@@ -36,14 +36,7 @@ fn read(name: &str) -> StepModel {
 /// The volume enclosed (divergence theorem), and whether, after welding coinciding vertices,
 /// every edge belongs to exactly two triangles.
 fn volume_and_closed(mesh: &TriangleMesh, weld: f64) -> (f64, bool) {
-    let volume: f64 = mesh
-        .triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum();
+    let volume = mesh.signed_volume();
     let key = |p: DVec3| {
         let q = (p / weld).round();
         (q.x as i64, q.y as i64, q.z as i64)

@@ -1157,14 +1157,7 @@ mod tests {
             let faces = vec![TrimmedSurface::untrimmed(surface)];
             let topology = find_topology(&faces, 1e-6).unwrap();
             let mesh = tessellate_joined(&faces, &topology, 1e-4, false).unwrap();
-            let v: f64 = mesh
-                .triangles
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-                    a.dot(b.cross(c)) / 6.0
-                })
-                .sum();
+            let v = mesh.signed_volume();
             let a = mesh.area();
             assert!((a - area).abs() < 1e-3 * area, "area {a}, exact {area}");
             assert!(
@@ -1278,14 +1271,7 @@ mod tests {
             uses.values().filter(|&&n| n != 2).count()
         );
         // Consistently oriented: the signed volume is the box's (or its negative).
-        let volume: f64 = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum();
+        let volume = mesh.signed_volume();
         assert!((volume.abs() - 3.0).abs() < 1e-9, "{volume}");
     }
 
@@ -1345,14 +1331,7 @@ mod tests {
         let uses = edge_uses(&mesh);
         let bad = uses.values().filter(|&&n| n != 2).count();
         assert_eq!(bad, 0);
-        let volume: f64 = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum();
+        let volume = mesh.signed_volume();
         // Every triangle keeps to the tolerance: its centroid off the side or a cap by at
         // most 1e-3 (a bound the tessellation's grid keeps for its cells).
         for t in &mesh.triangles {

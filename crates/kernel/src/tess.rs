@@ -73,6 +73,18 @@ impl TriangleMesh {
             })
             .sum()
     }
+
+    /// The signed volume the triangles enclose, Σ a · (b × c) / 6 (the divergence theorem
+    /// over a closed mesh; positive when they face outward).
+    pub fn signed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| self.positions[k as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
 }
 
 /// A tensor grid of parameters over a surface's domain.
