@@ -1047,10 +1047,10 @@ mod against_occ {
         let area = reference["area"].as_f64().unwrap_or(f64::NAN);
         let volume = reference["volume"].as_f64().unwrap_or(f64::NAN);
         let volume_bound = (2.0 * tolerance * area / volume).max(1e-3);
-        if !(area_error < 1e-3) {
+        if area_error.is_nan() || area_error >= 1e-3 {
             bad.push(format!("area off by {area_error:.2e}"));
         }
-        if closed && !(volume_error < volume_bound) {
+        if closed && (volume_error.is_nan() || volume_error >= volume_bound) {
             bad.push(format!(
                 "volume off by {volume_error:.2e} (bound {volume_bound:.2e})"
             ));

@@ -1117,7 +1117,7 @@ impl ImpliedKnots {
                     .collect()
             }
             Self::PiecewiseBezier => {
-                if (count - 1) % degree != 0 {
+                if !(count - 1).is_multiple_of(degree) {
                     return None;
                 }
                 let segments = (count - 1) / degree;

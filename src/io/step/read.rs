@@ -882,7 +882,7 @@ fn skipped_summary(warnings: &[String]) -> Vec<String> {
             None => by_entity.push((entity.to_string(), 1, message.to_string())),
         }
     }
-    by_entity.sort_by(|a, b| b.1.cmp(&a.1));
+    by_entity.sort_by_key(|b| std::cmp::Reverse(b.1));
     by_entity
         .into_iter()
         .map(|(entity, n, message)| {
