@@ -1363,8 +1363,7 @@ fn a_step_file_with_an_unread_surface_opens_the_rest_and_says_what_was_skipped()
     );
     assert!(
         harness
-            .get_all_by_label("The open document is unchanged.")
-            .next()
+            .query_by_label("The open document is unchanged.")
             .is_none(),
         "a warning is not a refusal"
     );
