@@ -200,10 +200,20 @@ def make_shape(rng):
         face = BRepBuilderAPI_MakeFace(wire, True).Face()
         angle = 2 * math.pi if kind == "revolve" else u(0.5, 1.8) * math.pi
         return kind, BRepPrimAPI_MakeRevol(face, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), angle).Shape()
-    # extrude: a closed planar profile of a circle's arc and a B-spline, swept along z.
+    # extrude: a closed planar profile of a B-spline and the chord between its ends, swept
+    # along y. A spline that crosses its chord makes a face whose loop crosses itself, which
+    # BRepCheck does not flag: such a seed is skipped.
     profile = spline_profile(rng)
     first = profile.Value(profile.FirstParameter())
     last = profile.Value(profile.LastParameter())
+    a, b = profile.FirstParameter(), profile.LastParameter()
+    sides = set()
+    for k in range(1, 400):
+        p = profile.Value(a + (b - a) * k / 400)
+        cross = (last.X() - first.X()) * (p.Z() - first.Z()) - (last.Z() - first.Z()) * (p.X() - first.X())
+        sides.add(cross > 0)
+    if len(sides) > 1:
+        raise ValueError("the profile crosses its chord")
     e1 = BRepBuilderAPI_MakeEdge(profile).Edge()
     e2 = BRepBuilderAPI_MakeEdge(last, first).Edge()
     wire = BRepBuilderAPI_MakeWire(e1, e2).Wire()
@@ -260,6 +270,9 @@ def main():
                 path = os.path.join(out_dir, name)
                 write(shape, path)
                 m = measure(read(path))
+            except ValueError as e:
+                print(f"seed {seed} skipped: {e}", file=sys.stderr)
+                continue
             except Exception:
                 traceback.print_exc()
                 continue
