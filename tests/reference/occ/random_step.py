@@ -23,6 +23,8 @@ import random
 import sys
 import traceback
 
+import make_step
+
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
 from OCP.BRepBuilderAPI import (
     BRepBuilderAPI_MakeEdge,
@@ -33,7 +35,6 @@ from OCP.BRepBuilderAPI import (
 )
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer, BRepFilletAPI_MakeFillet
-from OCP.BRepGProp import BRepGProp
 from OCP.BRepOffsetAPI import BRepOffsetAPI_ThruSections
 from OCP.BRepPrimAPI import (
     BRepPrimAPI_MakeBox,
@@ -46,7 +47,6 @@ from OCP.BRepPrimAPI import (
 )
 from OCP.GC import GC_MakeCircle, GC_MakeEllipse
 from OCP.Geom import Geom_BSplineCurve
-from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.Interface import Interface_Static
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer
@@ -68,24 +68,18 @@ def count(shape, kind):
 
 
 def measure(shape):
-    props = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(shape, props, 1e-9)
-    area = props.Mass()
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(shape, props, 1e-9)
-    volume = props.Mass()
-    shells = 0
+    """make_step.py's faces, area and volume (adaptive integration to 1e-9), the volume's
+    magnitude, whether every shell is closed, and whether BRepCheck finds the shape valid."""
+    m = make_step.measure(shape)
+    shells = count(shape, TopAbs_SHELL)
     closed = 0
     ex = TopExp_Explorer(shape, TopAbs_SHELL)
     while ex.More():
-        shells += 1
-        if BRep_Tool.IsClosed_s(ex.Current()):
-            closed += 1
+        closed += BRep_Tool.IsClosed_s(ex.Current())
         ex.Next()
     return {
-        "faces": count(shape, TopAbs_FACE),
-        "area": area,
-        "volume": abs(volume),
+        **m,
+        "volume": abs(m["volume"]),
         "closed": shells > 0 and shells == closed,
         "valid": BRepCheck_Analyzer(shape).IsValid(),
     }
