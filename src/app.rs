@@ -34,7 +34,7 @@ use eframe::egui_wgpu;
 
 use glam::DVec3;
 
-use crate::doc::{Command, Document, Edit, EditError, PointsMoved, Touched};
+use crate::doc::{Command, Document, EditError, PointsMoved, Touched};
 
 use crate::gpu::timing::GpuTimer;
 use crate::gpu::{self, GpuError, SceneSync, effective_segments};
@@ -249,8 +249,9 @@ struct Selection {
 /// the Recent list.
 #[derive(Default)]
 struct Persistence {
-    /// What the open document was opened as ("sample scene", a file's name).
-    name: String,
+    /// What the document was opened as when no New or Open is in the undo history ("sample
+    /// scene", "autosaved project"); [`KnotworkApp::document_name`] is what it is now.
+    base_name: String,
     /// The revision right after it was opened (`u64::MAX`: a restored autosave, which counts
     /// as changed).
     opened_revision: u64,
@@ -438,7 +439,7 @@ impl KnotworkApp {
             toast: overlay::Toast::default(),
             saved: Persistence {
                 autosave: restore,
-                name: "sample scene".into(),
+                base_name: "sample scene".into(),
                 ..Persistence::default()
             },
             dialog: None,
@@ -659,9 +660,18 @@ impl KnotworkApp {
         } else {
             self.doc.undo()
         };
-        match result.map(Edit::touched) {
-            Ok(touched) => {
-                if let Err(e) = self.after_edit(touched) {
+        match result.map(|edit| (edit.touched(), edit.document.is_some())) {
+            Ok((touched, document)) => {
+                let result = self.after_edit(touched);
+                if document {
+                    // New or Open undone or redone: another document, whose name follows the
+                    // history. Redone, it is as it was opened; undone, the document before
+                    // counts as changed for the Recent list. The Export window's tolerance
+                    // follows its size.
+                    self.saved.opened_revision = if redo { self.saved.revision } else { u64::MAX };
+                    self.export.tolerance = 0.0;
+                }
+                if let Err(e) = result {
                     self.status.error = Some(e);
                 } else {
                     self.status.error = None;

@@ -188,21 +188,42 @@ fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
     let d = curve_to_surface(curve(&doc.scene.objects[0]), surface(&doc.scene.objects[3]));
     assert!(d < 1e-7, "{d:e}");
 
-    // Removing an input ends the history; undo brings it back.
-    doc.execute(&Command::Delete { object: 1 }).unwrap();
+    // Removing an input ends the history, and the step says so; undo brings it back.
+    let label = doc
+        .execute(&Command::Delete { object: 1 })
+        .unwrap()
+        .label
+        .clone();
     assert_eq!(doc.scene.objects[2].construction, None);
+    assert!(
+        label.contains("loft's construction history ends: s1 was removed"),
+        "{label}"
+    );
     doc.undo().unwrap();
     assert!(doc.scene.objects[3].construction.is_some());
 
-    // A direct edit of the surface ends its history.
-    doc.execute(&Command::MovePoints {
-        object: 3,
-        moves: vec![(0, DVec3::new(5.0, 5.0, 5.0))],
-    })
-    .unwrap();
+    // A direct edit of the surface ends its history, and the step says so.
+    let edit = doc
+        .execute(&Command::MovePoints {
+            object: 3,
+            moves: vec![(0, DVec3::new(5.0, 5.0, 5.0))],
+        })
+        .unwrap();
+    assert!(edit.ends_history());
+    let label = edit.label.clone();
+    assert!(
+        label.contains("loft's construction history ends: it no longer follows its curves"),
+        "{label}"
+    );
     assert_eq!(doc.scene.objects[3].construction, None);
     doc.undo().unwrap();
-    doc.execute(&Command::BreakHistory { object: 3 }).unwrap();
+    // Breaking it on purpose is said by its own label.
+    let label = doc
+        .execute(&Command::BreakHistory { object: 3 })
+        .unwrap()
+        .label
+        .clone();
+    assert_eq!(label, "break history");
     assert_eq!(doc.scene.objects[3].construction, None);
     assert!(doc.execute(&Command::BreakHistory { object: 3 }).is_err());
 }

@@ -462,13 +462,21 @@ fn colour_and_unit_edits_undo_and_opening_a_step_file_sets_the_unit_as_one_step(
     doc.execute(&Command::ReplaceScene {
         scene: project.scene.clone(),
         label: "open assembly.step".into(),
+        name: "assembly.step".into(),
     })
     .unwrap();
     assert_eq!(doc.scene, project.scene);
+    assert_eq!(doc.history.document_name(), Some("assembly.step"));
     assert_eq!(doc.scene.unit, Some(LengthUnit::Millimetre));
     assert!(doc.scene.objects.iter().all(|o| o.color.is_some()));
     doc.undo().unwrap();
     assert_eq!(doc.scene, before.scene);
+    assert_eq!(
+        doc.history.document_name(),
+        None,
+        "the document before has no open step"
+    );
     doc.redo().unwrap();
     assert_eq!(doc.scene.unit, Some(LengthUnit::Millimetre));
+    assert_eq!(doc.history.document_name(), Some("assembly.step"));
 }

@@ -1001,6 +1001,30 @@ fn new_and_open_are_undo_steps_and_the_work_they_replace_is_in_recent() {
         "{s:?}"
     );
     assert_eq!(harness.state().document().scene, work);
+
+    // Undo takes the document back to quad.obj, and its name with it: New remembers it as
+    // quad.obj, not as the sample scene the Recent entry was.
+    page.send(AppCommand::Undo);
+    page.send(AppCommand::NewDocument { empty: true });
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.objects, 0, "{s:?}");
+    assert_eq!(
+        s.recent.first().map(String::as_str),
+        Some("quad.obj · 1 object")
+    );
+
+    // An error is the last command's: a later command that succeeds clears it.
+    page.send(AppCommand::Select(Some(99)));
+    harness.run_steps(1);
+    let error = status::current().error;
+    assert!(
+        error.as_deref().is_some_and(|e| e.contains("no object 99")),
+        "{error:?}"
+    );
+    page.send(AppCommand::Select(None));
+    harness.run_steps(1);
+    assert_eq!(status::current().error, None);
 }
 
 /// A field shows the current value of what is selected: the weight of the selected point, the

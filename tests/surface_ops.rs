@@ -719,7 +719,16 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
         })
         .unwrap_err();
     assert!(e.to_string().contains("nothing to join"), "{e}");
+    assert!(e.to_string().starts_with("the scene's objects: "), "{e}");
     assert_eq!(apart.scene.objects.len(), 2);
+    // Picked, they are named: the join is theirs, not the first object's alone.
+    let e = apart
+        .execute(&Command::Join {
+            objects: vec![1, 0],
+            tolerance: 1e-6,
+        })
+        .unwrap_err();
+    assert!(e.to_string().starts_with("Side 0 and Side 1: "), "{e}");
 }
 
 #[test]
@@ -814,12 +823,16 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
         unit: None,
     });
     // Keep the outside of the sphere's circle: a square with a round hole.
-    doc.execute(&Command::TrimBy {
-        object: 0,
-        cutters: vec![1],
-        keep: DVec3::new(1.8, 1.8, 0.0),
-    })
-    .unwrap();
+    let label = doc
+        .execute(&Command::TrimBy {
+            object: 0,
+            cutters: vec![1],
+            keep: DVec3::new(1.8, 1.8, 0.0),
+        })
+        .unwrap()
+        .label
+        .clone();
+    assert_eq!(label, "trim Plate by Ball");
     let area = mesh_area(&doc.scene.objects[0], 1e-4);
     assert!((area - (16.0 - pi)).abs() < 2e-3, "{area}");
     doc.undo().unwrap();
@@ -1264,4 +1277,101 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
     assert_eq!(doc.scene.objects[2].name, "blend");
     doc.undo().unwrap();
     assert_eq!(doc.scene, before);
+}
+
+/// A fillet between a wavy bicubic sheet and a cylinder through it, in general position
+/// (rotated, moved, scaled): the ball touches both tangentially along the contact curves, both
+/// are trimmed back in the same undo step, and the fillet joins them into one polysurface at
+/// the editor's join tolerance, as Rhino's FilletSrf then Join does.
+#[test]
+fn a_fillet_between_a_wavy_sheet_and_a_cylinder_in_general_position_trims_both_and_joins() {
+    let place = glam::DAffine3::from_scale_rotation_translation(
+        DVec3::splat(3.7),
+        glam::DQuat::from_euler(glam::EulerRot::ZXY, 0.7, -1.1, 2.3),
+        DVec3::new(12.0, -5.0, 8.0),
+    );
+    let wavy = sheet(0.0, |x, y| 0.15 * (2.0 * x).sin() * (1.5 * y).cos())
+        .transformed(&place)
+        .unwrap();
+    let post = construct::cylinder(DVec3::new(1.0, 1.0, -1.0), DVec3::Z * 2.5, 0.4)
+        .unwrap()
+        .transformed(&place)
+        .unwrap();
+    let size = scene_size(&[&wavy, &post]);
+    for (front_a, front_b) in [(true, true), (false, true), (true, false), (false, false)] {
+        let mut doc = Document::new(Scene {
+            objects: vec![
+                surface_object("Sheet", wavy.clone()),
+                surface_object("Post", post.clone()),
+            ],
+            unit: None,
+        });
+        let result = doc.execute(&Command::Fillet(
+            knotwork::doc::surface_ops::FilletRequest {
+                a: 0,
+                b: 1,
+                radius: 0.15 * 3.7,
+                radius_end: None,
+                front_a,
+                front_b,
+                tolerance: knotwork::doc::surface_ops::EDITOR_TOLERANCE,
+            },
+        ));
+        let label = match result {
+            Ok(edit) => edit.label.clone(),
+            Err(e) => {
+                eprintln!("sides {front_a} {front_b}: refused: {e}");
+                assert_eq!(doc.scene.objects.len(), 2);
+                continue;
+            }
+        };
+        eprintln!("sides {front_a} {front_b}: {label}");
+        let fillet = doc.scene.objects[2].geometry.as_trimmed().unwrap();
+        let fillet = fillet.surface().clone();
+        let mut worst = [0.0f64; 2];
+        let mut facing = [0usize; 2];
+        for (k, input) in [&wavy, &post].into_iter().enumerate() {
+            for j in 0..=40 {
+                let v = j as f64 / 40.0;
+                let x = fillet.point_at(k as f64, v).unwrap();
+                let c = input.closest_point(x).unwrap();
+                let (nf, ni) = (
+                    fillet.normal(k as f64, v).unwrap(),
+                    input.normal(c.u, c.v).unwrap(),
+                );
+                worst[k] = worst[k].max(line_angle(nf, ni));
+                facing[k] += usize::from(nf.dot(ni) > 0.0);
+            }
+        }
+        eprintln!(
+            "angles at the contacts {:.4}° {:.4}°, normals along {facing:?} of 41",
+            worst[0], worst[1]
+        );
+        assert!(worst[0] <= 0.1 && worst[1] <= 0.1, "{worst:?} {label}");
+        // The fillet faces as the sheet does across their edge (whichever side the ball is
+        // on), and the same way all along the post: a join is consistently oriented where
+        // the sheet and the post are.
+        assert_eq!(facing[0], 41, "{label}");
+        let post_agrees = front_a == front_b;
+        assert_eq!(facing[1], if post_agrees { 41 } else { 0 }, "{label}");
+        for k in 0..2 {
+            assert!(
+                doc.scene.objects[k]
+                    .geometry
+                    .as_trimmed()
+                    .unwrap()
+                    .is_trimmed(),
+                "{label}"
+            );
+        }
+        let joined = doc.execute(&Command::Join {
+            objects: Vec::new(),
+            tolerance: knotwork::doc::surface_ops::JOIN_TOLERANCE,
+        });
+        let joined = match joined {
+            Ok(edit) => edit.label.clone(),
+            Err(e) => panic!("sides {front_a} {front_b}: {e} (size {size})"),
+        };
+        assert_eq!(doc.scene.objects.len(), 1, "{joined}");
+    }
 }

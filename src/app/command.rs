@@ -217,8 +217,11 @@ impl KnotworkApp {
     }
 
     /// Carries out one request: the one place where the page, tests, panels and the mouse
-    /// change the editor. Errors show in the status; a refused edit changes nothing.
+    /// change the editor. Errors show in the status; a refused edit changes nothing. The
+    /// status's error is this command's (or a later one's, for work it starts): an error from
+    /// an earlier command does not outlive it.
     pub fn apply(&mut self, command: AppCommand) {
+        self.status.error = None;
         match command {
             AppCommand::Edit(Command::MovePoints { object, moves }) => {
                 self.move_points(object, &moves);

@@ -71,8 +71,41 @@ pub fn estimate_triangles(
         .map_err(|e| e.to_string())
 }
 
-/// How long a frame spends on a running export before it draws again (milliseconds).
-const EXPORT_FRAME_BUDGET_MS: f64 = 30.0;
+/// The least a frame spends on long work (an export, opening a file) before it draws again
+/// (milliseconds).
+const LEAST_WORK_MS: f64 = 30.0;
+/// The most a frame spends on long work (milliseconds): Cancel answers within about this.
+const MOST_WORK_MS: f64 = 10_000.0;
+/// Long work takes this many times as long per frame as the rest of the frame (drawing,
+/// the browser) took since its last turn: 80 % of the wall time, however slow drawing is.
+const WORK_PER_OTHER: f64 = 4.0;
+
+/// Long work spread over frames by wall time: each frame works [`WORK_PER_OTHER`] times as
+/// long as everything else took since the last turn, within [`LEAST_WORK_MS`] and
+/// [`MOST_WORK_MS`]. A fast frame (a GPU) keeps the page at 10 frames a second or more;
+/// a slow one (a software adapter, where one frame may take seconds) no longer holds the
+/// work back to a few milliseconds per frame.
+#[derive(Debug, Default)]
+pub(super) struct FrameBudget {
+    /// When the last turn ended ([`super::platform::now_ms`]).
+    last_end_ms: Option<f64>,
+}
+
+impl FrameBudget {
+    /// How long this frame's turn may work (milliseconds), given the time now.
+    fn budget_ms(&self, now_ms: f64) -> f64 {
+        let other = self.last_end_ms.map_or(0.0, |end| (now_ms - end).max(0.0));
+        (WORK_PER_OTHER * other).clamp(LEAST_WORK_MS, MOST_WORK_MS)
+    }
+
+    /// One frame's turn: [`steps_within`] this frame's budget.
+    pub(super) fn run<E>(&mut self, step: impl FnMut() -> Result<bool, E>) -> Result<bool, E> {
+        let budget = self.budget_ms(super::platform::now_ms());
+        let result = steps_within(budget, step);
+        self.last_end_ms = Some(super::platform::now_ms());
+        result
+    }
+}
 
 /// A window at the top with a progress bar, what is under way and Cancel (a long export or
 /// open); true when Cancel was clicked.
@@ -127,6 +160,7 @@ pub enum ExportTarget {
 pub struct RunningExport {
     job: gltf::ExportJob,
     target: ExportTarget,
+    budget: FrameBudget,
 }
 
 impl KnotworkApp {
@@ -370,7 +404,13 @@ impl KnotworkApp {
             view: Some(self.view),
         };
         match gltf::ExportJob::new(project, options, crate::kernel::tess::MAX_TRIANGLES) {
-            Ok(job) => self.running_export = Some(RunningExport { job, target }),
+            Ok(job) => {
+                self.running_export = Some(RunningExport {
+                    job,
+                    target,
+                    budget: FrameBudget::default(),
+                })
+            }
             Err(e) => self.deliver_export(target, Err(e)),
         }
     }
@@ -382,7 +422,7 @@ impl KnotworkApp {
         }
     }
 
-    /// The running export's objects for up to [`EXPORT_FRAME_BUDGET_MS`] (at least one)
+    /// The running export's objects for as long as its [`FrameBudget`] gives (at least one)
     /// per frame, with its progress window; the result goes to its target when the last
     /// object is done.
     pub(super) fn step_export(&mut self, ctx: &egui::Context) {
@@ -404,7 +444,8 @@ impl KnotworkApp {
         }
         // Objects until a frame's budget is spent (at least one), so that small exports end
         // in a frame or two and large ones leave the page responsive between steps.
-        match steps_within(EXPORT_FRAME_BUDGET_MS, || running.job.step()) {
+        let job = &mut running.job;
+        match running.budget.run(|| job.step()) {
             Ok(false) => ctx.request_repaint(),
             Ok(true) => {
                 if let Some(running) = self.running_export.take() {
@@ -465,5 +506,26 @@ impl KnotworkApp {
                 Err(e) => self.status.error = Some(format!("could not download: {e}")),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The turn is four times the rest of the frame, within 30 ms and 10 s: a first turn
+    /// (nothing measured yet) and a fast frame get the least, a frame that drew for 20 ms
+    /// 80 ms, and a software adapter's 4 s frame the most.
+    #[test]
+    fn a_turn_of_long_work_grows_with_the_time_the_rest_of_the_frame_takes() {
+        let mut budget = FrameBudget::default();
+        assert_eq!(budget.budget_ms(1000.0), 30.0);
+        budget.last_end_ms = Some(1000.0);
+        assert_eq!(budget.budget_ms(1001.0), 30.0);
+        assert_eq!(budget.budget_ms(1020.0), 80.0);
+        assert_eq!(budget.budget_ms(1500.0), 2000.0);
+        assert_eq!(budget.budget_ms(5000.0), 10_000.0);
+        // A clock that steps back counts as no time.
+        assert_eq!(budget.budget_ms(900.0), 30.0);
     }
 }

@@ -58,14 +58,12 @@ fn no_companions(name: &str) -> Result<Vec<u8>, String> {
 /// The most warnings an opened file's dialog lists.
 const SHOWN_WARNINGS: usize = 12;
 
-/// How long a frame spends opening a file before it draws again (milliseconds).
-const OPEN_FRAME_BUDGET_MS: f64 = 30.0;
-
 /// A STEP file being opened a body at a time, so that the editor draws its progress and
 /// stays responsive; commands sent meanwhile wait for it.
 pub struct RunningOpen {
     name: String,
     job: crate::io::step::OpenJob,
+    budget: super::export::FrameBudget,
 }
 
 impl KnotworkApp {
@@ -97,6 +95,7 @@ impl KnotworkApp {
                 self.running_open = Some(RunningOpen {
                     name: name.to_owned(),
                     job,
+                    budget: Default::default(),
                 })
             }
             Err(e) => self.open_failed(name, &e.to_string()),
@@ -111,7 +110,8 @@ impl KnotworkApp {
         }
     }
 
-    /// The file being opened: bodies for up to a frame's budget (at least one), with a
+    /// The file being opened: bodies for as long as its [`super::export::FrameBudget`] gives
+    /// (at least one), with a
     /// progress window and Cancel; the document when the last body is done.
     pub(super) fn step_open(&mut self, ctx: &egui::Context) {
         let Some(running) = &mut self.running_open else {
@@ -125,7 +125,8 @@ impl KnotworkApp {
             self.cancel_open();
             return;
         }
-        match super::export::steps_within(OPEN_FRAME_BUDGET_MS, || running.job.step()) {
+        let job = &mut running.job;
+        match running.budget.run(|| job.step()) {
             Ok(false) => ctx.request_repaint(),
             Ok(true) => {
                 if let Some(running) = self.running_open.take() {
@@ -237,7 +238,11 @@ impl KnotworkApp {
         self.end_drag(false);
         self.cancel_export();
         let before = self.current_as_recent();
-        let command = crate::doc::Command::ReplaceScene { scene, label };
+        let command = crate::doc::Command::ReplaceScene {
+            scene,
+            label,
+            name: name.to_owned(),
+        };
         let touched = self
             .doc
             .execute(&command)
@@ -255,11 +260,22 @@ impl KnotworkApp {
         if let Some(recent) = before {
             self.remember(recent);
         }
-        self.saved.name = name.to_owned();
         self.saved.opened_revision = self.saved.revision;
+        // The Export window's tolerance follows the new document's size.
+        self.export.tolerance = 0.0;
         self.select(None);
         self.status.error = None;
         Ok(())
+    }
+
+    /// What the open document was opened as ("sample scene", a file's name): the newest New
+    /// or Open the undo history still holds, else what the editor started with.
+    pub fn document_name(&self) -> String {
+        self.doc
+            .history
+            .document_name()
+            .unwrap_or(&self.saved.base_name)
+            .to_owned()
     }
 
     /// The open document as a Recent entry, if it was changed since it was opened (an
@@ -267,7 +283,7 @@ impl KnotworkApp {
     fn current_as_recent(&self) -> Option<RecentDocument> {
         (self.saved.revision != self.saved.opened_revision && !self.scene().objects.is_empty())
             .then(|| RecentDocument {
-                name: self.saved.name.clone(),
+                name: self.document_name(),
                 objects: self.scene().objects.len(),
                 text: self.doc.save(Some(self.view)),
             })
@@ -317,7 +333,7 @@ impl KnotworkApp {
                     self.view = view;
                     self.frame_pending = false;
                 }
-                self.saved.name = "autosaved project".into();
+                self.saved.base_name = "autosaved project".into();
                 self.saved.opened_revision = u64::MAX;
                 Some("restored the autosaved project".into())
             }

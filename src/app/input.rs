@@ -290,7 +290,15 @@ impl KnotworkApp {
                     self.status.error = Some(e);
                 }
             }
-        } else if let Some(touched) = self.doc.commit_drag().map(crate::doc::Edit::touched) {
+        } else if let Some((touched, ended)) = self.doc.commit_drag().map(|edit| {
+            (
+                edit.touched(),
+                edit.ends_history().then(|| edit.label.clone()),
+            )
+        }) {
+            if ended.is_some() {
+                self.status.notice = ended;
+            }
             if touched == crate::doc::Touched::Structure {
                 // The object chose another layout for its new shape (adaptive refinement).
                 if let Err(e) = self.after_edit(touched) {

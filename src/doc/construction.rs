@@ -50,6 +50,32 @@ pub fn rebuilt(object: &SceneObject, scene: &Scene) -> Result<Option<SceneObject
     }))
 }
 
+/// The objects whose construction history `changes` end (each was built from curves before
+/// and is not after).
+pub(super) fn ended_histories(changes: &[Change]) -> impl Iterator<Item = &str> {
+    changes.iter().filter_map(|change| match change {
+        Change::Replace { before, after, .. }
+            if before.construction.is_some() && after.construction.is_none() =>
+        {
+            Some(before.name.as_str())
+        }
+        _ => None,
+    })
+}
+
+/// Adds to `label` whose construction history `changes` end, if any: dragging their curves
+/// no longer moves them, which the user should hear.
+pub(super) fn say_ended_histories(changes: &[Change], label: &mut String) {
+    let ended: Vec<String> = ended_histories(changes)
+        .map(|name| format!("{name}'s construction history ends: it no longer follows its curves"))
+        .collect();
+    if !ended.is_empty() {
+        label.push_str(" (");
+        label.push_str(&ended.join("; "));
+        label.push(')');
+    }
+}
+
 /// Completes a command's changes with what construction history asks for:
 /// - an object whose geometry the command changed itself loses its history (a copy or a split
 ///   part never takes it);
@@ -76,6 +102,11 @@ pub(super) fn follow(
             Change::Insert { object, .. } if copies => object.construction = None,
             _ => {}
         }
+    }
+    // An object whose history the command ended (a direct edit, a trim, a fillet's trim):
+    // the label says so, since dragging its curves no longer moves it.
+    if !matches!(command, Command::BreakHistory { .. }) {
+        say_ended_histories(changes, label);
     }
     let histories = |objects: &[SceneObject]| objects.iter().any(|o| o.construction.is_some());
     if !histories(&scene.objects) {
@@ -117,8 +148,12 @@ pub(super) fn follow(
             renamed = renamed.renamed(from, to);
         }
         after.construction = Some(renamed.clone());
-        if removed.iter().any(|name| renamed.uses(name)) {
+        if let Some(gone) = removed.iter().find(|name| renamed.uses(name)) {
             after.construction = None;
+            failures.push(format!(
+                "{}'s construction history ends: {gone} was removed",
+                object.name
+            ));
         } else if moved_curves.iter().any(|name| renamed.uses(name)) {
             match build(&renamed, &next) {
                 Ok(rebuilt) => after.geometry = rebuilt.geometry,

@@ -189,9 +189,12 @@ impl Document {
                 });
             }
         }
+        let mut label = format!("move {} point(s)", drag.starts.len());
+        super::construction::say_ended_histories(&changes, &mut label);
         Some(self.history.record(Edit {
-            label: format!("move {} point(s)", drag.starts.len()),
+            label,
             changes,
+            document: None,
         }))
     }
 

@@ -11,6 +11,8 @@ pub const HISTORY_LIMIT: usize = 500;
 pub struct History {
     undo: Vec<Edit>,
     redo: Vec<Edit>,
+    /// The document name of the newest step dropped beyond [`HISTORY_LIMIT`] that had one.
+    dropped_document: Option<String>,
 }
 
 impl History {
@@ -25,7 +27,10 @@ impl History {
     pub fn record(&mut self, edit: Edit) -> &Edit {
         self.redo.clear();
         if self.undo.len() == HISTORY_LIMIT {
-            self.undo.remove(0);
+            let dropped = self.undo.remove(0);
+            if dropped.document.is_some() {
+                self.dropped_document = dropped.document;
+            }
         }
         self.undo.push(edit);
         &self.undo[self.undo.len() - 1]
@@ -78,6 +83,7 @@ impl History {
     pub fn clear(&mut self) {
         self.undo.clear();
         self.redo.clear();
+        self.dropped_document = None;
     }
 
     /// The label of the step [`Self::undo`] would undo.
@@ -88,6 +94,16 @@ impl History {
     /// The label of the step [`Self::redo`] would redo.
     pub fn redo_label(&self) -> Option<&str> {
         self.redo.last().map(|e| e.label.as_str())
+    }
+
+    /// The name of the document the newest New or Open still applied made
+    /// ([`Edit::document`], or the last one dropped from the history), if any is.
+    pub fn document_name(&self) -> Option<&str> {
+        self.undo
+            .iter()
+            .rev()
+            .find_map(|e| e.document.as_deref())
+            .or(self.dropped_document.as_deref())
     }
 
     /// Steps that can be undone.

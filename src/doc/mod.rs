@@ -83,10 +83,12 @@ pub enum Command {
         object: SceneObject,
     },
     /// Replaces every object by `scene`'s (New, Open): one undo step, so the document before
-    /// comes back with Undo. `label` names it ("open part.json").
+    /// comes back with Undo. `label` names it ("open part.json"); `name` is what the new
+    /// document is called ("part.json", "sample scene"), which its [`Edit`] keeps.
     ReplaceScene {
         scene: Scene,
         label: String,
+        name: String,
     },
     /// Adds a copy of an object right after it.
     Duplicate {
@@ -546,9 +548,19 @@ pub enum Change {
 pub struct Edit {
     pub label: String,
     pub changes: Vec<Change>,
+    /// The name of the document this step made (New, Open: [`Command::ReplaceScene`]'s
+    /// `name`), so that the editor names the document after Undo and Redo too.
+    pub document: Option<String>,
 }
 
 impl Edit {
+    /// Whether this step ended an object's construction history.
+    pub fn ends_history(&self) -> bool {
+        construction::ended_histories(&self.changes)
+            .next()
+            .is_some()
+    }
+
     /// Applies the changes forward (redo). Fails without changing anything if the scene does
     /// not match what the edit expects.
     pub fn redo(&self, scene: &mut Scene) -> Result<(), EditError> {
@@ -684,7 +696,15 @@ pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> 
 pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
     let (mut changes, mut label) = plan::plan(scene, command)?;
     construction::follow(scene, command, &mut changes, &mut label)?;
-    let edit = Edit { label, changes };
+    let document = match command {
+        Command::ReplaceScene { name, .. } => Some(name.clone()),
+        _ => None,
+    };
+    let edit = Edit {
+        label,
+        changes,
+        document,
+    };
     edit.redo(scene)?;
     Ok(edit)
 }

@@ -12,8 +12,12 @@ use crate::scene::{ObjectGeometry, Scene, SceneObject};
 /// The tolerance (a fraction of the scene's size) offsets and fillets keep in the editor.
 pub const EDITOR_TOLERANCE: f64 = 1e-4;
 
-/// The tolerance (a fraction of the scene's size) within which the editor joins edges.
-pub const JOIN_TOLERANCE: f64 = 1e-6;
+/// The tolerance (a fraction of the scene's size) within which the editor joins edges: the
+/// tolerance its operations keep ([`EDITOR_TOLERANCE`]), since the edges a fillet, a blend or
+/// a trim makes agree only to within it (a fillet's edge and the trim it cut meet to a few
+/// 1e-6 of the size on a cylinder). One modelling tolerance for making and joining, as in
+/// Rhino.
+pub const JOIN_TOLERANCE: f64 = EDITOR_TOLERANCE;
 
 /// Spans per direction a face without knots of its own (a Bézier or subdivision patch) starts
 /// its fitted offset from.
@@ -223,8 +227,9 @@ pub struct FilletRequest {
     pub tolerance: f64,
 }
 
-/// A fillet made: the fillet surface, A and B trimmed back where their kind can be trimmed,
-/// and notes on what could not be done.
+/// A fillet made: the fillet surface, A and B trimmed back where their kind can be trimmed
+/// (a surface that can be trimmed but not along the fillet refuses the whole fillet), and
+/// notes on what was left whole.
 #[derive(Debug, Clone)]
 pub struct FilletMade {
     pub fillet: crate::kernel::fillet::Fillet,
@@ -330,7 +335,17 @@ pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMa
                 next.construction = None;
                 trimmed[slot] = Some(next);
             }
-            Err(e) => notes.push(format!("{} not trimmed: {e}", object.name)),
+            // Half a fillet (one side trimmed, the other not) is not a result: the whole
+            // command is refused and nothing changes.
+            Err(e) => {
+                return Err(geometry_error(object)(refuse(
+                    "fillet",
+                    format!(
+                        "it cannot be trimmed back along the fillet ({e}); nothing was changed: \
+                         try the other side or another radius"
+                    ),
+                )));
+            }
         }
     }
     Ok(FilletMade {
@@ -426,8 +441,16 @@ pub fn join_objects(
         o.dedup();
         o
     };
-    let first = object_at(scene, chosen.first().copied().unwrap_or(0))?;
-    let fail = |message: String| geometry_error(first)(refuse("join", message));
+    for &k in &chosen {
+        object_at(scene, k)?;
+    }
+    // A failure of the whole join names every object it took part in.
+    let all = objects_named(scene, &chosen, objects.is_empty());
+    let fail_all = |source| EditError::Geometry {
+        name: all.clone(),
+        source,
+    };
+    let fail = |message: String| fail_all(refuse("join", message));
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(fail(format!(
             "the tolerance must be a number above 0 (got {tolerance})"
@@ -456,7 +479,7 @@ pub fn join_objects(
             }
         }
     }
-    let topology = find_topology(&faces, absolute).map_err(geometry_error(first))?;
+    let topology = find_topology(&faces, absolute).map_err(fail_all)?;
     let mut joined = Vec::new();
     for group in topology.components(faces.len()) {
         let mut members: Vec<usize> = group.iter().map(|&f| owner[f]).collect();
@@ -476,7 +499,11 @@ pub fn join_objects(
             }
         }
         let group_faces = group.iter().map(|&f| faces[f].clone()).collect();
-        let polysurface = Polysurface::new(group_faces, absolute).map_err(geometry_error(first))?;
+        let polysurface =
+            Polysurface::new(group_faces, absolute).map_err(|source| EditError::Geometry {
+                name: objects_named(scene, &members, false),
+                source,
+            })?;
         joined.push(Joined {
             objects: members,
             polysurface,
@@ -489,6 +516,25 @@ pub fn join_objects(
         )));
     }
     Ok(joined)
+}
+
+/// The names of objects `indices` for a message: "A", "A and B", "A, B and C", "A, B and 3
+/// more"; `every` (all of the scene's, none picked): "the scene's objects".
+fn objects_named(scene: &Scene, indices: &[usize], every: bool) -> String {
+    if every && indices.len() > 1 {
+        return "the scene's objects".into();
+    }
+    let names: Vec<&str> = indices
+        .iter()
+        .filter_map(|&k| scene.objects.get(k))
+        .map(|o| o.name.as_str())
+        .collect();
+    match names.as_slice() {
+        [] => "no objects".into(),
+        [one] => (*one).to_owned(),
+        [most @ .., last] if names.len() <= 3 => format!("{} and {last}", most.join(", ")),
+        [a, b, rest @ ..] => format!("{a}, {b} and {} more", rest.len()),
+    }
 }
 
 /// [`super::Command::Join`]: each polysurface replaces the first object it takes; the others
@@ -722,7 +768,11 @@ pub(super) fn trim_by(
     after.geometry = ObjectGeometry::from_trimmed(kept);
     after.construction = None;
     after.decompose().map_err(geometry_error(&after))?;
-    let label = format!("trim {} by {} curve(s)", before.name, cuts.len());
+    let label = format!(
+        "trim {} by {}",
+        before.name,
+        objects_named(scene, cutters, false)
+    );
     Ok((
         vec![Change::Replace {
             index: object,

@@ -345,6 +345,7 @@ fn build(
     )?;
     // The side of each contact curve away from the fillet, from the middle section.
     let m = count / 2;
+    let surface = oriented_like(surface, a, contact_a[m])?;
     let keep_a = away_side(
         a,
         &contact_a,
@@ -368,6 +369,27 @@ fn build(
         keep_a,
         keep_b,
         branches,
+    })
+}
+
+/// `fillet` facing the way face `a` faces where they touch (at `a`'s point `contact`), its
+/// v direction reversed where it did not: the fillet continues A's orientation across their
+/// shared edge, so that it is drawn from the same side as A and a join of the two is
+/// consistently oriented (whichever side of A the ball rolls on).
+fn oriented_like(
+    fillet: NurbsSurface,
+    a: &dyn ParametricSurface,
+    contact: DVec2,
+) -> Result<NurbsSurface, GeometryError> {
+    let undefined = || construction("fillet", "a contact normal is undefined");
+    let at = contact_point(a, contact)?;
+    let on_fillet = fillet.closest_point(at)?;
+    let fillet_normal = fillet.normal(on_fillet.u, on_fillet.v)?;
+    let a_normal = a.normal(contact.x, contact.y).ok_or_else(undefined)?;
+    Ok(if fillet_normal.dot(a_normal) < 0.0 {
+        fillet.reverse(crate::surface::Direction::V)
+    } else {
+        fillet
     })
 }
 

@@ -29,7 +29,7 @@ impl Keep {
     }
 }
 
-const WHAT: &str = "trim by a curve";
+const WHAT: &str = "trim";
 
 /// How far (a fraction of the domain's size) an open cut's end may lie from the boundary and
 /// still count as on it.
