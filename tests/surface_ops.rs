@@ -1375,3 +1375,71 @@ fn a_fillet_between_a_wavy_sheet_and_a_cylinder_in_general_position_trims_both_a
         assert_eq!(doc.scene.objects.len(), 1, "{joined}");
     }
 }
+
+/// Two overlapping cuts on one surface, as in Rhino: a plate in general position trimmed by
+/// one ball, then by a second ball that overlaps the first hole, keeps the plate less the
+/// union of the two discs (closed form: two discs less their lens), within the mesh's
+/// tolerance; undo takes each cut back.
+#[test]
+fn a_second_trim_across_the_first_keeps_what_both_keep() {
+    use std::f64::consts::PI;
+    let place = glam::DAffine3::from_scale_rotation_translation(
+        DVec3::splat(2.3),
+        glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.4, -0.9, 1.7),
+        DVec3::new(-3.0, 7.0, 2.0),
+    );
+    let plate = construct::plane(
+        DVec3::new(-2.0, -2.0, 0.0),
+        DVec3::new(4.0, 0.0, 0.0),
+        DVec3::new(0.0, 4.0, 0.0),
+    )
+    .unwrap()
+    .transformed(&place)
+    .unwrap();
+    let ball = |x: f64| {
+        construct::sphere(DVec3::new(x, 0.2, 0.0), 1.0)
+            .unwrap()
+            .transformed(&place)
+            .unwrap()
+    };
+    let objects = vec![
+        surface_object("Plate", plate),
+        surface_object("Ball", ball(-0.4)),
+        surface_object("Other ball", ball(0.6)),
+    ];
+    let mut doc = Document::new(Scene {
+        objects: objects.clone(),
+        unit: None,
+    });
+    let corner = place.transform_point3(DVec3::new(1.8, 1.8, 0.0));
+    for cutter in [1, 2] {
+        let trimmed = doc.execute(&Command::TrimBy {
+            object: 0,
+            cutters: vec![cutter],
+            keep: corner,
+        });
+        if let Err(e) = trimmed {
+            panic!("trim by {cutter}: {e}");
+        }
+    }
+    let scale = 2.3f64 * 2.3;
+    let segment = |r: f64, d: f64| r * r * (d / r).acos() - d * (r * r - d * d).sqrt();
+    let union = 2.0 * PI - 2.0 * segment(1.0, 0.5);
+    let exact = (16.0 - union) * scale;
+    let area = mesh_area(&doc.scene.objects[0], 1e-4);
+    assert!((area - exact).abs() < 2e-3 * scale, "{area} vs {exact}");
+    // The lens between the holes is gone, the plate's far side is kept.
+    let kept = |doc: &Document, x: f64, y: f64| {
+        let t = doc.scene.objects[0].geometry.as_trimmed().unwrap();
+        let c = t
+            .surface()
+            .closest_point(place.transform_point3(DVec3::new(x, y, 0.0)))
+            .unwrap();
+        t.contains(c.u, c.v)
+    };
+    assert!(!kept(&doc, 0.1, 0.2) && kept(&doc, 1.8, -1.8) && !kept(&doc, 1.3, 0.2));
+    doc.undo().unwrap();
+    assert!(kept(&doc, 1.3, 0.2) && !kept(&doc, -0.9, 0.2));
+    doc.undo().unwrap();
+    assert_eq!(doc.scene.objects, objects);
+}

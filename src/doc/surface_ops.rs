@@ -31,7 +31,10 @@ pub fn scene_size(scene: &Scene) -> f64 {
 }
 
 /// Every intersection of a face of object `a` with a face of object `b`
-/// ([`crate::kernel::intersect::intersect_face_sets`]: each face's cells made once).
+/// ([`crate::kernel::intersect::intersect_face_sets`]: each face's cells made once), with
+/// the branches of a loop across a seam joined into one closed branch
+/// ([`crate::kernel::intersect::Intersection::joined_across_seams`], within 10 × the
+/// tolerance).
 pub fn object_intersections(
     a: &SceneObject,
     b: &SceneObject,
@@ -41,7 +44,7 @@ pub fn object_intersections(
     Ok(
         crate::kernel::intersect::intersect_face_sets(&face_refs(&fa), &face_refs(&fb), options)?
             .into_iter()
-            .map(|(_, found)| found)
+            .map(|(_, found)| found.joined_across_seams(10.0 * options.tolerance))
             .collect(),
     )
 }

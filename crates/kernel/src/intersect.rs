@@ -100,6 +100,70 @@ pub struct Intersection {
     pub touching: Vec<DVec3>,
 }
 
+impl Intersection {
+    /// The branches with those that meet end to end on a domain boundary (within `gap`, in
+    /// space) joined into one: a loop across a seam (a closed surface's domain boundary) is
+    /// marched as branches that end on the seam from either side; joined, it is one branch,
+    /// closed where it comes back to its start. The parameters jump where it crosses the
+    /// seam. Branches that meet where the surfaces touch (a [`BranchEnd::Tangent`] end, where
+    /// two branches cross) stay apart.
+    pub fn joined_across_seams(mut self, gap: f64) -> Self {
+        let (mut open, mut out): (Vec<IntersectionCurve>, Vec<IntersectionCurve>) =
+            self.curves.into_iter().partition(|c| !c.closed);
+        let at_seam = |c: &IntersectionCurve, end: usize| c.ends[end] == Some(BranchEnd::Boundary);
+        let end_point = |c: &IntersectionCurve, end: usize| {
+            if end == 0 {
+                c.points[0]
+            } else {
+                c.points[c.points.len() - 1]
+            }
+        };
+        while let Some(mut chain) = open.pop() {
+            loop {
+                // Another branch whose start or end meets the chain's end.
+                let found = open.iter().enumerate().find_map(|(k, c)| {
+                    (0..2).find_map(|end| {
+                        (at_seam(&chain, 1)
+                            && at_seam(c, end)
+                            && end_point(c, end).distance(end_point(&chain, 1)) <= gap)
+                            .then_some((k, end))
+                    })
+                });
+                let Some((k, end)) = found else {
+                    break;
+                };
+                let mut next = open.swap_remove(k);
+                if end == 1 {
+                    next.points.reverse();
+                    next.uv_a.reverse();
+                    next.uv_b.reverse();
+                    next.ends.reverse();
+                }
+                // The joint is one point: the chain's.
+                chain.points.extend(next.points.into_iter().skip(1));
+                chain.uv_a.extend(next.uv_a.into_iter().skip(1));
+                chain.uv_b.extend(next.uv_b.into_iter().skip(1));
+                chain.ends[1] = next.ends[1];
+            }
+            let n = chain.points.len();
+            if n > 3
+                && at_seam(&chain, 0)
+                && at_seam(&chain, 1)
+                && chain.points[0].distance(chain.points[n - 1]) <= gap
+            {
+                chain.points[n - 1] = chain.points[0];
+                chain.uv_a[n - 1] = chain.uv_a[0];
+                chain.uv_b[n - 1] = chain.uv_b[0];
+                chain.closed = true;
+                chain.ends = [None, None];
+            }
+            out.push(chain);
+        }
+        self.curves = out;
+        self
+    }
+}
+
 /// A point on both surfaces: parameters (u, v, s, t) and the point.
 #[derive(Debug, Clone, Copy)]
 struct Common {
@@ -219,6 +283,16 @@ fn stop_kind(a: &Side<'_>, b: &Side<'_>, x: &[f64; 4]) -> Option<BranchEnd> {
     None
 }
 
+/// The share of the chord tolerance a step's middle may stray: the curve strays from a chord
+/// most at its middle only where its curvature is even along it, and up to a third more
+/// elsewhere (as OpenCASCADE's lines, sampled finely, show on random sheets).
+const CHORD_MARGIN: f64 = 0.75;
+
+/// The share of the chord tolerance below which a step's middle alone is checked
+/// ([`chord_error`]): a curve that strays this little at its middle is far inside the
+/// tolerance at its quarters unless it turns back within the step, which the turn check cuts.
+const PLAIN: f64 = 0.25;
+
 /// One direction of a branch from `start`, along `sign`·T: its points after `start`, whether
 /// it came back to `start`, and how it ended.
 fn march(
@@ -267,11 +341,15 @@ fn march(
                 // The closing chord passes the same check as any step: the curve's point half
                 // way to the start lies within the chord tolerance of the chord's middle;
                 // otherwise step short of the start and look again.
-                let middle = newton_step(a, b, &current, direction, 0.5 * ahead, options.tolerance);
-                let error = middle.map_or(f64::INFINITY, |m| {
-                    m.point.distance(0.5 * (current.point + start.point))
-                });
-                if error <= options.chord {
+                let error = chord_error(
+                    a,
+                    b,
+                    &current,
+                    start,
+                    options.tolerance,
+                    PLAIN * options.chord,
+                );
+                if error <= CHORD_MARGIN * options.chord {
                     points.push(*start);
                     return (points, true, BranchEnd::Boundary);
                 }
@@ -286,10 +364,14 @@ fn march(
             match candidate {
                 Some(next) if stop_kind(a, b, &next.x).is_none() => {
                     // Chord check against the curve's point half-way.
-                    let middle = newton_step(a, b, &current, direction, 0.5 * h, options.tolerance);
-                    let error = middle.map_or(f64::INFINITY, |m| {
-                        m.point.distance(0.5 * (current.point + next.point))
-                    });
+                    let error = chord_error(
+                        a,
+                        b,
+                        &current,
+                        &next,
+                        options.tolerance,
+                        PLAIN * options.chord,
+                    );
                     // The curve's direction at the new point (the same cross product, so it
                     // turns continuously along the branch) within about 30° of this one:
                     // a step that lands on another arm of the curve (across a narrow
@@ -301,7 +383,7 @@ fn march(
                         .is_none_or(|(_, t2)| {
                             (t2 * t.dot(direction).signum()).dot(direction) < TURN_COSINE
                         });
-                    if error > options.chord || (turned && h > 2.0 * h_min) {
+                    if error > CHORD_MARGIN * options.chord || (turned && h > 2.0 * h_min) {
                         h *= 0.5;
                         continue;
                     }
@@ -318,6 +400,22 @@ fn march(
                         h *= 0.5;
                         continue;
                     };
+                    // The last chord, to the boundary, is held to the tolerance too: where it
+                    // strays, a shorter step first.
+                    let along = (end.point - current.point).dot(direction);
+                    if chord_error(
+                        a,
+                        b,
+                        &current,
+                        &end,
+                        options.tolerance,
+                        PLAIN * options.chord,
+                    ) > CHORD_MARGIN * options.chord
+                        && along > 4.0 * h_min
+                    {
+                        h = 0.5 * along;
+                        continue;
+                    }
                     if end.point.distance(current.point) > options.tolerance {
                         points.push(end);
                     }
@@ -330,6 +428,35 @@ fn march(
         points.push(next);
         current = next;
     }
+}
+
+/// How far the curve strays from the chord `from`–`to`: the distance from the chord's middle
+/// to the curve's point on the plane through it normal to the chord and, where that is more
+/// than `plain` (a step near its limit), the same at a quarter and three quarters of it (the
+/// middle alone misses a curve whose curvature changes along the step, as near an
+/// inflection), the largest; infinite where such a point is not found.
+fn chord_error(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    from: &Common,
+    to: &Common,
+    tolerance: f64,
+    plain: f64,
+) -> f64 {
+    let chord = to.point - from.point;
+    let length = chord.length();
+    if !(length > 0.0) {
+        return 0.0;
+    }
+    let off = |f: f64| {
+        newton_step(a, b, from, chord / length, f * length, tolerance)
+            .map_or(f64::INFINITY, |m| m.point.distance(from.point + f * chord))
+    };
+    let middle = off(0.5);
+    if middle <= plain {
+        return middle;
+    }
+    middle.max(off(0.25)).max(off(0.75))
 }
 
 /// The last point on both surfaces along `direction` from `from` before a step of `h` leaves a
@@ -361,11 +488,74 @@ fn boundary_between(
             break;
         }
     }
-    // Onto the boundary itself: clamp and converge there.
-    let (u, v) = a.clamp(last.x[0], last.x[1]);
-    let (s, t) = b.clamp(last.x[2], last.x[3]);
-    let end = converge(a, b, [u, v, s, t], options.tolerance).unwrap_or(last);
+    // Onto the boundary itself: the crossed parameter held at its bound while the other
+    // three solve A = B (where that converges), else clamp and converge.
+    let onto = (kind == BranchEnd::Boundary)
+        .then(|| crossed_bound(a, b, &beyond.x))
+        .flatten()
+        .and_then(|(i, bound)| converge_holding(a, b, last.x, i, bound, options.tolerance));
+    let end = onto.unwrap_or_else(|| {
+        let (u, v) = a.clamp(last.x[0], last.x[1]);
+        let (s, t) = b.clamp(last.x[2], last.x[3]);
+        converge(a, b, [u, v, s, t], options.tolerance).unwrap_or(last)
+    });
     Some((end, kind))
+}
+
+/// The parameter (0–3: u, v, s, t) that `x` takes past its domain, and the bound it passed.
+fn crossed_bound(a: &Side<'_>, b: &Side<'_>, x: &[f64; 4]) -> Option<(usize, f64)> {
+    let bounds = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]];
+    (0..4).find_map(|i| {
+        let (lo, hi) = bounds[i];
+        if x[i] < lo {
+            Some((i, lo))
+        } else if x[i] > hi {
+            Some((i, hi))
+        } else {
+            None
+        }
+    })
+}
+
+/// Newton from `x` onto A(u, v) = B(s, t) with parameter `held` fixed at `value`: the 3 × 3
+/// system of the other three (a boundary isocurve of one surface meeting the other surface),
+/// so that a branch ends exactly on the boundary it crosses, where a branch from the other
+/// side of a seam ends too. `None` when it does not converge within `tolerance` or leaves a
+/// domain.
+fn converge_holding(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    mut x: [f64; 4],
+    held: usize,
+    value: f64,
+    tolerance: f64,
+) -> Option<Common> {
+    x[held] = value;
+    let free: Vec<usize> = (0..4).filter(|&i| i != held).collect();
+    for _ in 0..30 {
+        let da = a.at(x[0], x[1])?;
+        let db = b.at(x[2], x[3])?;
+        let f = da.point - db.point;
+        if f.length() <= tolerance * 1e-3 {
+            return (a.inside(x[0], x[1]) && b.inside(x[2], x[3])).then(|| Common {
+                x,
+                point: 0.5 * (da.point + db.point),
+            });
+        }
+        let cols = [da.su, da.sv, -db.su, -db.sv];
+        let m = glam::DMat3::from_cols(cols[free[0]], cols[free[1]], cols[free[2]]);
+        if !(m.determinant().abs() > 1e-300) {
+            return None;
+        }
+        let step = m.inverse() * (-f);
+        for (k, &i) in free.iter().enumerate() {
+            x[i] += step[k];
+        }
+        if !x.iter().all(|c| c.is_finite()) || !a.near(x[0], x[1]) || !b.near(x[2], x[3]) {
+            return None;
+        }
+    }
+    None
 }
 
 /// The point of the intersection on the plane (X − `from`)·`direction` = `h`, by Newton from
@@ -505,6 +695,10 @@ pub(crate) struct Cell {
     /// that holds the piece, tighter than the box where the piece is flat and tilted.
     slab: (f64, f64),
 }
+
+/// How many times [`IntersectOptions::smallest`] a pair of flat, transversal cells that a
+/// branch crosses may measure and be passed over as holding nothing more.
+const SETTLED_CELLS: f64 = 8.0;
 
 /// The largest spread (radians, about 15°) of a flat cell's normals.
 const FLAT_SPREAD: f64 = 0.26;
@@ -726,7 +920,14 @@ fn intersect_trees(
                     .any(|w| segment_meets_box(w[0], w[1], lo, hi))
         });
         let small = ca.size() <= options.smallest && cb.size() <= options.smallest;
-        if covered && (small || (ca.flat() && cb.flat() && ca.transversal(&cb))) {
+        // Flat cells with cones apart hold no closed loop, but a large one may hold a second
+        // arc beside the branch that crosses it (its image is not convex, or a short branch
+        // cuts its corner): only cells within a few times the smallest loop are passed over.
+        let settled = ca.flat()
+            && cb.flat()
+            && ca.transversal(&cb)
+            && ca.size().max(cb.size()) <= SETTLED_CELLS * options.smallest;
+        if covered && (small || settled) {
             continue;
         }
         if !small && depth < 40 {
@@ -765,18 +966,29 @@ fn intersect_trees(
             result.touching.push(seed.point);
             continue;
         }
-        let (forward, closed, end_forward) = march(&a, &b, &seed, 1.0, options);
+        let (forward, mut closed, end_forward) = march(&a, &b, &seed, 1.0, options);
         let mut chain: Vec<Common> = Vec::new();
         let ends = if closed {
             chain.push(seed);
             chain.extend(forward);
             [None, None]
         } else {
-            let (backward, _, end_backward) = march(&a, &b, &seed, -1.0, options);
-            chain.extend(backward.into_iter().rev());
-            chain.push(seed);
-            chain.extend(forward);
-            [Some(end_backward), Some(end_forward)]
+            let (backward, back_closed, end_backward) = march(&a, &b, &seed, -1.0, options);
+            if back_closed {
+                // The loop came round the other way back to the seed: the forward march
+                // stopped at a seam (a closed surface's domain boundary) that the backward
+                // one crossed on its closing chord. The loop is closed, and the forward piece
+                // lies on it.
+                closed = true;
+                chain.extend(backward.into_iter().rev());
+                chain.push(seed);
+                [None, None]
+            } else {
+                chain.extend(backward.into_iter().rev());
+                chain.push(seed);
+                chain.extend(forward);
+                [Some(end_backward), Some(end_forward)]
+            }
         };
         for (end, at) in ends.iter().zip([0, chain.len().saturating_sub(1)]) {
             if *end == Some(BranchEnd::Tangent) {
@@ -957,6 +1169,60 @@ mod tests {
         // Two ellipses of semi-axes √2 and 1: each about 7.64 long, 15.28 in all.
         let length = total_length(&found);
         assert!((length - 15.28).abs() < 0.05, "{length}");
+    }
+
+    /// A thin cylinder (radius 0.6) through a thick one (radius 1) at right angles, both
+    /// in general position (rotated and moved, each seam somewhere on the loops): two closed
+    /// loops, each reported closed, every point on both cylinders.
+    #[test]
+    fn a_thin_cylinder_through_a_thick_one_meets_it_in_two_closed_loops() {
+        for (k, angles) in [
+            (0.3, -1.2, 2.1),
+            (1.7, 0.4, -0.8),
+            (-2.5, 1.1, 0.2),
+            (0.0, 0.0, 0.0),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let rotation =
+                glam::DQuat::from_euler(glam::EulerRot::ZXY, angles.0, angles.1, angles.2);
+            let place = glam::DAffine3::from_rotation_translation(
+                rotation,
+                DVec3::new(3.0, -1.0, 0.5 * k as f64),
+            );
+            let thick = construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::Z * 4.0, 1.0)
+                .unwrap()
+                .transformed(&place)
+                .unwrap();
+            let thin = construct::cylinder(DVec3::new(-2.0, 0.1, 0.2), DVec3::X * 4.0, 0.6)
+                .unwrap()
+                .transformed(&place)
+                .unwrap();
+            let back = place.inverse();
+            let found = intersect_surfaces(&thick, &thin, &options())
+                .unwrap()
+                .joined_across_seams(10.0 * options().tolerance);
+            let closed = found.curves.iter().filter(|c| c.closed).count();
+            assert_eq!(
+                (found.curves.len(), closed),
+                (2, 2),
+                "rotation {k}: {:?}",
+                found
+                    .curves
+                    .iter()
+                    .map(|c| (c.closed, c.ends))
+                    .collect::<Vec<_>>()
+            );
+            for c in &found.curves {
+                check(&thick, &thin, c, |p| {
+                    let q = back.transform_point3(p);
+                    let to_thick = (q.x.hypot(q.y) - 1.0).abs();
+                    let to_thin = ((q.y - 0.1).hypot(q.z - 0.2) - 0.6).abs();
+                    to_thick.max(to_thin)
+                });
+            }
+        }
     }
 
     #[test]

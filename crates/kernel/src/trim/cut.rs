@@ -221,8 +221,9 @@ pub fn side_of(
 
 /// `surface` trimmed along the cut through `cut` ((u, v) points; `closed`: a loop, the first
 /// point not repeated at the end), keeping the side `keep`. An untrimmed surface takes any cut;
-/// a trimmed one a cut that crosses none of its loops (a closed cut toggles the region it
-/// encloses; an open cut keeps the loops on the kept side).
+/// on a trimmed one, an open cut keeps the loops on the kept side, or where it crosses one,
+/// the part next to its middle of what both keep; a closed cut toggles the region it encloses
+/// and may cross no loop.
 pub fn trim_along(
     surface: &TrimmedSurface,
     cut: &[DVec2],
@@ -266,19 +267,17 @@ pub fn trim_along(
     if !surface.is_trimmed() {
         return TrimmedSurface::new(surface.surface().clone(), vec![region]);
     }
-    // Keep the existing loops on the kept side; a loop the cut crosses is refused by the
-    // validation (loops may not cross).
+    // Keep the existing loops on the kept side; where the cut crosses one, the part next to
+    // the cut's middle of what both keep.
     let polygon = side_polygon(rect, &points, keep);
     let mut loops = vec![region];
     for l in surface.loops() {
-        let flat = super::flatten_loop(l, 1e-6 * domain_size(rect));
+        let flat = super::flatten_loop(l, CROSSING_FLATNESS * domain_size(rect));
         if flat.iter().all(|&p| polygon_contains(&polygon, p)) {
             loops.push(l.clone());
         } else if flat.iter().any(|&p| polygon_contains(&polygon, p)) {
-            return Err(construction(
-                WHAT,
-                "the curve crosses the surface's trims; trim the untrimmed surface instead",
-            ));
+            let beside = beside_middle(&points, keep, domain_size(rect));
+            return kept_within_trims(surface, &loops[..1], beside);
         }
     }
     TrimmedSurface::new(surface.surface().clone(), loops)
@@ -537,8 +536,9 @@ fn region_loops(
 }
 
 /// The part of `surface` that `cuts` leave around `keep` (a point of its domain): the user's
-/// pick of what to keep. The surface's own trims are kept where they lie inside that part; a
-/// trim the cuts cross is refused.
+/// pick of what to keep. The surface's own trims are kept where they lie inside that part;
+/// where the cuts cross one, the part around `keep` of what both keep
+/// ([`kept_within_trims`]).
 pub fn keep_region(
     surface: &TrimmedSurface,
     cuts: &[Cut],
@@ -571,35 +571,138 @@ pub fn keep_region(
     // The kept part is the region ∩ what the surface kept: its trims inside the region stay,
     // and the region's own outline only where the surface keeps the ground just inside it.
     let mut kept_old = Vec::new();
+    let flatness = CROSSING_FLATNESS * domain_size(rect);
+    let hole_polygons: Vec<Vec<DVec2>> = holes
+        .iter()
+        .map(|h| super::flatten_loop(h, flatness))
+        .collect();
+    let in_region = |p: DVec2| {
+        polygon_contains(&outline, p) && !hole_polygons.iter().any(|h| polygon_contains(h, p))
+    };
     for l in surface.loops() {
-        let flat = super::flatten_loop(l, 1e-6 * domain_size(rect));
+        let flat = super::flatten_loop(l, flatness);
         let gap = END_GAP * domain_size(rect);
         if flat.iter().all(|&p| on_boundary(rect, p, gap)) {
             // The domain's own outline (an outer loop round the whole domain): the region's
             // outline replaces it.
             continue;
         }
-        let inside = flat
-            .iter()
-            .filter(|&&p| polygon_contains(&outline, p))
-            .count();
+        let inside = flat.iter().filter(|&&p| in_region(p)).count();
         if inside == flat.len() {
             kept_old.push(l.clone());
         } else if inside > 0 {
-            return Err(construction(
-                WHAT,
-                "the curves cross the surface's trims; trim the untrimmed surface instead",
-            ));
+            // The cuts cross the surface's trims (a second trim): the part around `keep` of
+            // what both keep.
+            let region: Vec<TrimLoop> = outer.into_iter().chain(holes).collect();
+            return kept_within_trims(surface, &region, keep);
         }
     }
     let outer = outer.filter(|_| {
         just_inside(&outline, domain_size(rect)).is_none_or(|p| surface.contains(p.x, p.y))
     });
+    // A new hole where the surface keeps nothing already (inside one of its holes) would
+    // make that ground kept again by the even-odd rule: it goes.
+    let holes = holes
+        .into_iter()
+        .zip(&hole_polygons)
+        .filter(|(_, polygon)| {
+            just_inside(polygon, domain_size(rect)).is_none_or(|p| surface.contains(p.x, p.y))
+        })
+        .map(|(hole, _)| hole);
     let loops: Vec<TrimLoop> = outer.into_iter().chain(holes).chain(kept_old).collect();
     if loops.is_empty() {
         return Err(construction(WHAT, "nothing of the surface is left there"));
     }
     TrimmedSurface::new(surface.surface().clone(), loops)
+}
+
+/// The chord tolerance (a fraction of the domain's size) of the loops a trim across a
+/// surface's own trims makes.
+const CROSSING_FLATNESS: f64 = 1e-6;
+
+/// The part around `keep` of what both `region` (loops in `surface`'s domain, kept by the
+/// even-odd rule as trims are) and `surface`'s own trims keep: a trim that crosses the
+/// surface's trims (a second cut into a trimmed surface, a fillet trimming a trimmed face).
+/// Both are flattened to polygons within [`CROSSING_FLATNESS`] of the domain's size and
+/// intersected (i_overlay's boolean operations, robust where the two share runs of the
+/// domain's boundary); each loop of the part becomes one straight-sided trim curve.
+fn kept_within_trims(
+    surface: &TrimmedSurface,
+    region: &[TrimLoop],
+    keep: DVec2,
+) -> Result<TrimmedSurface, GeometryError> {
+    use i_overlay::core::{fill_rule::FillRule, overlay_rule::OverlayRule};
+    use i_overlay::float::single::SingleFloatOverlay;
+    let rect = domain_rect(surface.surface());
+    let tolerance = CROSSING_FLATNESS * domain_size(rect);
+    let contours = |loops: &[TrimLoop]| -> Vec<Vec<[f64; 2]>> {
+        loops
+            .iter()
+            .map(|l| {
+                super::flatten_loop(l, tolerance)
+                    .iter()
+                    .map(|p| [p.x, p.y])
+                    .collect()
+            })
+            .collect()
+    };
+    let own = if surface.is_trimmed() {
+        contours(surface.loops())
+    } else {
+        let [u0, u1, v0, v1] = rect;
+        vec![vec![[u0, v0], [u1, v0], [u1, v1], [u0, v1]]]
+    };
+    let parts = contours(region).overlay(&own, OverlayRule::Intersect, FillRule::EvenOdd);
+    let points = |contour: &Vec<[f64; 2]>| -> Vec<DVec2> {
+        contour.iter().map(|&[u, v]| DVec2::new(u, v)).collect()
+    };
+    // Each part is its outer contour, then its holes.
+    let around = parts.iter().find(|part| {
+        part.split_first().is_some_and(|(outer, holes)| {
+            polygon_contains(&points(outer), keep)
+                && holes.iter().all(|h| !polygon_contains(&points(h), keep))
+        })
+    });
+    let Some(part) = around else {
+        return Err(construction(WHAT, "nothing of the surface is left there"));
+    };
+    let loops = part
+        .iter()
+        .map(|contour| polyline_loop(&points(contour)))
+        .collect::<Result<Vec<_>, _>>()?;
+    TrimmedSurface::new(surface.surface().clone(), loops)
+}
+
+/// The closed polygon through `points` as one degree-1 trim curve (chord-length knots), back
+/// to its first point.
+fn polyline_loop(points: &[DVec2]) -> Result<TrimLoop, GeometryError> {
+    if points.len() < 3 {
+        return Err(construction(
+            WHAT,
+            "a loop of the trimmed part is degenerate",
+        ));
+    }
+    let mut closed = points.to_vec();
+    closed.push(points[0]);
+    let mut knots = vec![0.0, 0.0];
+    let mut length = 0.0;
+    for w in closed.windows(2).take(closed.len() - 2) {
+        length += w[0].distance(w[1]);
+        knots.push(length);
+    }
+    length += closed[closed.len() - 2].distance(closed[closed.len() - 1]);
+    knots.extend([length, length]);
+    Ok(vec![crate::TrimCurve::new(1, knots, closed, None)?])
+}
+
+/// A point a little to the `keep` side of the cut through `points` (1e-5 of the domain's
+/// size from its middle point, more than a flattened loop strays).
+fn beside_middle(points: &[DVec2], keep: Keep, size: f64) -> DVec2 {
+    let k = (points.len() / 2).min(points.len().saturating_sub(2));
+    let (a, b) = (points[k], points[k + 1]);
+    let left = (b - a).perp().normalize_or_zero();
+    let sign = if keep == Keep::Left { 1.0 } else { -1.0 };
+    a + left * sign * 1e-5 * size
 }
 
 /// A point a little inside the polygon, next to its first edge.
@@ -667,6 +770,101 @@ mod tests {
 
     fn square() -> TrimmedSurface {
         TrimmedSurface::untrimmed(construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap())
+    }
+
+    /// Points round the circle about `c` of radius `r`, counter-clockwise.
+    fn circle_points(c: DVec2, r: f64, n: usize) -> Vec<DVec2> {
+        (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                c + r * DVec2::new(a.cos(), a.sin())
+            })
+            .collect()
+    }
+
+    /// A cut across the surface's own trims keeps what both keep around the point picked:
+    /// a chord through a hole, a circle across an earlier chord, a second circle across the
+    /// first; the areas are the closed forms (circular segments and lenses).
+    #[test]
+    fn a_second_cut_across_the_trims_keeps_what_both_keep() {
+        use std::f64::consts::PI;
+        let segment = |r: f64, d: f64| r * r * (d / r).acos() - d * (r * r - d * d).sqrt();
+        let area = |t: &TrimmedSurface| t.parameter_area(1e-7);
+        let line = |x: f64| Cut {
+            points: vec![DVec2::new(x, 0.0), DVec2::new(x, 1.0)],
+            closed: false,
+        };
+        let ring = |c: DVec2, r: f64| Cut {
+            points: circle_points(c, r, 64),
+            closed: true,
+        };
+        // A hole of radius 0.1 at (0.3, 0.5), then the chord x = 0.35 through it: the left.
+        let holed = keep_region(
+            &square(),
+            &[ring(DVec2::new(0.3, 0.5), 0.1)],
+            DVec2::new(0.9, 0.9),
+        )
+        .unwrap();
+        let left = keep_region(&holed, &[line(0.35)], DVec2::new(0.1, 0.1)).unwrap();
+        let exact = 0.35 - (PI * 0.01 - segment(0.1, 0.05));
+        assert!(
+            (area(&left) - exact).abs() < 1e-5,
+            "{} {exact}",
+            area(&left)
+        );
+        assert!(!left.contains(0.3, 0.5) && left.contains(0.1, 0.1) && !left.contains(0.5, 0.1));
+        // The chord x = 0.6 kept left, then the circle about (0.6, 0.5) of radius 0.3 kept
+        // inside: half the disc.
+        let half = keep_region(&square(), &[line(0.6)], DVec2::new(0.1, 0.5)).unwrap();
+        let disc = keep_region(
+            &half,
+            &[ring(DVec2::new(0.6, 0.5), 0.3)],
+            DVec2::new(0.5, 0.5),
+        )
+        .unwrap();
+        assert!(
+            (area(&disc) - 0.5 * PI * 0.09).abs() < 1e-5,
+            "{}",
+            area(&disc)
+        );
+        // Two overlapping holes: the square less their union (two discs less their lens).
+        let first = keep_region(
+            &square(),
+            &[ring(DVec2::new(0.4, 0.5), 0.2)],
+            DVec2::new(0.05, 0.05),
+        )
+        .unwrap();
+        let both = keep_region(
+            &first,
+            &[ring(DVec2::new(0.6, 0.5), 0.2)],
+            DVec2::new(0.05, 0.05),
+        )
+        .unwrap();
+        let lens = 2.0 * segment(0.2, 0.1);
+        let exact = 1.0 - (2.0 * PI * 0.04 - lens);
+        assert!(
+            (area(&both) - exact).abs() < 1e-5,
+            "{} {exact}",
+            area(&both)
+        );
+        // Inside the first hole nothing is left.
+        assert!(keep_region(&first, &[line(0.45)], DVec2::new(0.4, 0.5)).is_err());
+        // A trim along a chord (a fillet's) across the hole: the side asked for, less the
+        // hole's part there.
+        let along = trim_along(
+            &first,
+            &[DVec2::new(0.5, 0.0), DVec2::new(0.5, 1.0)],
+            false,
+            Keep::Right,
+        )
+        .unwrap();
+        let exact = 0.5 - segment(0.2, 0.1);
+        assert!(
+            (area(&along) - exact).abs() < 1e-5,
+            "{} {exact}",
+            area(&along)
+        );
+        assert!(along.contains(0.9, 0.5) && !along.contains(0.2, 0.5));
     }
 
     #[test]
