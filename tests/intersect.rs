@@ -80,18 +80,7 @@ fn a_plane_through_a_sphere_and_a_torus_is_found_by_the_command() {
         };
         let mut length = 0.0;
         for curve in curves {
-            let points: Vec<DVec3> = curve["points"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|p| {
-                    DVec3::new(
-                        p[0].as_f64().unwrap(),
-                        p[1].as_f64().unwrap(),
-                        p[2].as_f64().unwrap(),
-                    )
-                })
-                .collect();
+            let points = json_points(&curve["points"]);
             assert_eq!(
                 curve["uv"][name].as_array().unwrap().len(),
                 points.len(),
@@ -191,48 +180,70 @@ fn a_plane_through_a_sphere_and_a_torus_is_found_by_the_command() {
     assert_eq!(out.status.code(), Some(1));
 }
 
-/// Two crossing cylinders in general position (a thin one through a thick one): the command
-/// reports two closed loops, each as one closed branch, even where a loop crosses a
-/// cylinder's seam; every point lies on both cylinders.
-#[test]
-fn crossing_cylinders_give_two_closed_loops_by_the_command() {
-    let place = glam::DAffine3::from_rotation_translation(
-        glam::DQuat::from_euler(glam::EulerRot::ZXY, 0.3, -1.2, 2.1),
-        DVec3::new(3.0, -1.0, 0.7),
-    );
-    let thick = construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::Z * 4.0, 1.0)
+/// The points of a JSON array of [x, y, z].
+fn json_points(v: &serde_json::Value) -> Vec<DVec3> {
+    v.as_array()
         .unwrap()
-        .transformed(&place)
-        .unwrap();
-    let thin = construct::cylinder(DVec3::new(-2.0, 0.1, 0.2), DVec3::X * 4.0, 0.6)
-        .unwrap()
-        .transformed(&place)
-        .unwrap();
-    let path = write_project(
-        "crossing-cylinders.json",
-        vec![surface_object("Thick", thick), surface_object("Thin", thin)],
-    );
-    let out = run(&[path.to_str().unwrap(), "--objects", "Thick", "Thin"]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let curves = json["curves"].as_array().unwrap();
-    let closed: Vec<bool> = curves
         .iter()
-        .map(|c| c["closed"].as_bool().unwrap())
-        .collect();
-    assert_eq!(closed, [true, true], "{stderr}");
-    let back = place.inverse();
-    for curve in curves {
-        for p in curve["points"].as_array().unwrap() {
-            let q = back.transform_point3(DVec3::new(
+        .map(|p| {
+            DVec3::new(
                 p[0].as_f64().unwrap(),
                 p[1].as_f64().unwrap(),
                 p[2].as_f64().unwrap(),
-            ));
-            let to_thick = (q.x.hypot(q.y) - 1.0).abs();
-            let to_thin = ((q.y - 0.1).hypot(q.z - 0.2) - 0.6).abs();
-            assert!(to_thick.max(to_thin) < 1e-6, "{q}");
+            )
+        })
+        .collect()
+}
+
+/// Two crossing cylinders in general position (a thin one through a thick one, rotated and
+/// moved four ways, so that the loops cross the cylinders' seams in different places): the
+/// command reports two closed loops, each as one closed branch; every point lies on both
+/// cylinders.
+#[test]
+fn crossing_cylinders_give_two_closed_loops_by_the_command() {
+    for (k, angles) in [
+        (0.3, -1.2, 2.1),
+        (1.7, 0.4, -0.8),
+        (-2.5, 1.1, 0.2),
+        (0.0, 0.0, 0.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let place = glam::DAffine3::from_rotation_translation(
+            glam::DQuat::from_euler(glam::EulerRot::ZXY, angles.0, angles.1, angles.2),
+            DVec3::new(3.0, -1.0, 0.5 * k as f64),
+        );
+        let thick = construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::Z * 4.0, 1.0)
+            .unwrap()
+            .transformed(&place)
+            .unwrap();
+        let thin = construct::cylinder(DVec3::new(-2.0, 0.1, 0.2), DVec3::X * 4.0, 0.6)
+            .unwrap()
+            .transformed(&place)
+            .unwrap();
+        let path = write_project(
+            &format!("crossing-cylinders-{k}.json"),
+            vec![surface_object("Thick", thick), surface_object("Thin", thin)],
+        );
+        let out = run(&[path.to_str().unwrap(), "--objects", "Thick", "Thin"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let curves = json["curves"].as_array().unwrap();
+        let closed: Vec<bool> = curves
+            .iter()
+            .map(|c| c["closed"].as_bool().unwrap())
+            .collect();
+        assert_eq!(closed, [true, true], "placement {k}: {stderr}");
+        let back = place.inverse();
+        for curve in curves {
+            for p in json_points(&curve["points"]) {
+                let q = back.transform_point3(p);
+                let to_thick = (q.x.hypot(q.y) - 1.0).abs();
+                let to_thin = ((q.y - 0.1).hypot(q.z - 0.2) - 0.6).abs();
+                assert!(to_thick.max(to_thin) < 1e-6, "{q}");
+            }
         }
     }
 }
@@ -265,15 +276,7 @@ mod against_occ {
                 .map(|x| x.as_f64().unwrap())
                 .collect()
         };
-        let points = record["points"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| {
-                let p = numbers(p);
-                DVec3::new(p[0], p[1], p[2])
-            })
-            .collect();
+        let points = super::json_points(&record["points"]);
         NurbsSurface::new(
             pair(&record["degree"]),
             [numbers(&record["knots"][0]), numbers(&record["knots"][1])],
@@ -313,19 +316,7 @@ mod against_occ {
             .as_array()
             .unwrap()
             .iter()
-            .map(|c| {
-                c.as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|p| {
-                        DVec3::new(
-                            p[0].as_f64().unwrap(),
-                            p[1].as_f64().unwrap(),
-                            p[2].as_f64().unwrap(),
-                        )
-                    })
-                    .collect()
-            })
+            .map(super::json_points)
             .collect();
         let ours: Vec<&[DVec3]> = found.curves.iter().map(|c| c.points.as_slice()).collect();
         if ours.is_empty() {

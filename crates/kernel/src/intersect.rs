@@ -1171,60 +1171,6 @@ mod tests {
         assert!((length - 15.28).abs() < 0.05, "{length}");
     }
 
-    /// A thin cylinder (radius 0.6) through a thick one (radius 1) at right angles, both
-    /// in general position (rotated and moved, each seam somewhere on the loops): two closed
-    /// loops, each reported closed, every point on both cylinders.
-    #[test]
-    fn a_thin_cylinder_through_a_thick_one_meets_it_in_two_closed_loops() {
-        for (k, angles) in [
-            (0.3, -1.2, 2.1),
-            (1.7, 0.4, -0.8),
-            (-2.5, 1.1, 0.2),
-            (0.0, 0.0, 0.0),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let rotation =
-                glam::DQuat::from_euler(glam::EulerRot::ZXY, angles.0, angles.1, angles.2);
-            let place = glam::DAffine3::from_rotation_translation(
-                rotation,
-                DVec3::new(3.0, -1.0, 0.5 * k as f64),
-            );
-            let thick = construct::cylinder(DVec3::new(0.0, 0.0, -2.0), DVec3::Z * 4.0, 1.0)
-                .unwrap()
-                .transformed(&place)
-                .unwrap();
-            let thin = construct::cylinder(DVec3::new(-2.0, 0.1, 0.2), DVec3::X * 4.0, 0.6)
-                .unwrap()
-                .transformed(&place)
-                .unwrap();
-            let back = place.inverse();
-            let found = intersect_surfaces(&thick, &thin, &options())
-                .unwrap()
-                .joined_across_seams(10.0 * options().tolerance);
-            let closed = found.curves.iter().filter(|c| c.closed).count();
-            assert_eq!(
-                (found.curves.len(), closed),
-                (2, 2),
-                "rotation {k}: {:?}",
-                found
-                    .curves
-                    .iter()
-                    .map(|c| (c.closed, c.ends))
-                    .collect::<Vec<_>>()
-            );
-            for c in &found.curves {
-                check(&thick, &thin, c, |p| {
-                    let q = back.transform_point3(p);
-                    let to_thick = (q.x.hypot(q.y) - 1.0).abs();
-                    let to_thin = ((q.y - 0.1).hypot(q.z - 0.2) - 0.6).abs();
-                    to_thick.max(to_thin)
-                });
-            }
-        }
-    }
-
     #[test]
     fn every_component_and_a_small_loop_are_found() {
         // The plane x = 0 through a torus's axis cuts its tube in two circles of radius 0.5
