@@ -97,16 +97,16 @@ fn blended(local: &[Vec<DVec4>], at: &[f64], t: f64) -> Vec<DVec4> {
         .collect()
 }
 
-/// Lofts the sections: the profiles written in the frames at their places, aligned there (so
+/// The sections at `params`: the profiles written in the frames at their places, aligned there (so
 /// that closed profiles' seams and directions match in the moving frame, not in space) and
 /// made compatible, then blended at each parameter and placed in `frame(t)`.
-fn loft_in_frames(
+fn sections_in_frames(
     profiles: &[SpaceCurve],
     frames_at_profiles: &[Frame],
     at: &[f64],
     params: &[f64],
     frame: impl Fn(f64) -> Result<Frame, GeometryError>,
-) -> Result<NurbsSurface, GeometryError> {
+) -> Result<Vec<SpaceCurve>, GeometryError> {
     let local = profiles
         .iter()
         .zip(frames_at_profiles)
@@ -122,15 +122,82 @@ fn loft_in_frames(
             SpaceCurve::from_homogeneous(polys[0].degree, polys[0].knots.clone(), points)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    loft_sections(
-        &sections,
-        &LoftOptions {
-            degree: 3,
-            closed: false,
-            style: LoftStyle::Normal,
-            align: false,
-        },
-    )
+    Ok(sections)
+}
+
+/// How far (a fraction of the rails' size) a sweep may stray from its exact sections between
+/// the ones it lofts: well inside the 1e-4 of the size that the editor's constructions keep.
+const SWEEP_TOLERANCE: f64 = 3e-5;
+
+/// Points of each section between two lofted ones compared with the surface.
+const CHECKS_PER_SECTION: usize = 9;
+
+/// The sweep lofted through the exact `sections` at `count` evenly spaced parameters (with
+/// the profiles' `fixed` ones), the count doubled while the exact section half-way between
+/// two lofted ones strays from the surface by more than [`SWEEP_TOLERANCE`] of `size` (its
+/// points' distances, by point inversion from the same u and the v of its rail parameter),
+/// up to [`MAX_SECTIONS`].
+fn refined_sweep(
+    fixed: &[f64],
+    mut count: usize,
+    size: f64,
+    sections: impl Fn(&[f64]) -> Result<Vec<SpaceCurve>, GeometryError>,
+) -> Result<NurbsSurface, GeometryError> {
+    let loft = |curves: &[SpaceCurve]| {
+        loft_sections(
+            curves,
+            &LoftOptions {
+                degree: 3,
+                closed: false,
+                style: LoftStyle::Normal,
+                align: false,
+            },
+        )
+    };
+    let mut params = section_parameters(fixed, count);
+    let mut curves = sections(&params)?;
+    loop {
+        let surface = loft(&curves)?;
+        if 2 * count > MAX_SECTIONS {
+            return Ok(surface);
+        }
+        let finer_params = section_parameters(fixed, 2 * count);
+        let finer = sections(&finer_params)?;
+        // The sections share the surface's u; its v runs with the rail parameter, near
+        // enough for Newton to start from.
+        let [_, (v0, v1)] = surface.domain();
+        let mut worst = 0.0f64;
+        for (t, curve) in finer_params.iter().zip(&finer) {
+            if params.contains(t) {
+                continue;
+            }
+            let (t0, t1) = curve.domain();
+            for i in 0..CHECKS_PER_SECTION {
+                let u = t0 + (t1 - t0) * i as f64 / (CHECKS_PER_SECTION - 1) as f64;
+                let p = curve.point_at(u)?;
+                let near = surface.closest_point_from(p, u, v0 + (v1 - v0) * t);
+                worst = worst.max(near.distance);
+            }
+        }
+        if worst <= SWEEP_TOLERANCE * size {
+            return Ok(surface);
+        }
+        count *= 2;
+        (params, curves) = (finer_params, finer);
+    }
+}
+
+/// The diagonal of the box round the curves' control points.
+fn size_of(curves: &[&SpaceCurve]) -> f64 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for c in curves {
+        for h in c.homogeneous_points() {
+            let p = DVec3::project(*h);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    lo.distance(hi)
 }
 
 /// The number of evenly spaced sections for rails: four per Bézier span of the busiest rail,
@@ -207,14 +274,15 @@ pub fn sweep_one_rail(
         .map(|p| nearest_rail_parameter(&rail, p))
         .collect::<Result<Vec<_>, _>>()?;
     let (profiles, at) = sorted_profiles(profiles.to_vec(), at, |&t| t, WHAT)?;
-    let params = section_parameters(&at, section_count(&[&rail]));
-    // The frames at every section and profile parameter (the profiles' are among them).
-    let frames = match frame {
-        SweepFrame::FixedUp(up) => {
-            if !(up.length() > 1e-300) || !up.is_finite() {
-                return Err(construction(WHAT, "the up direction has zero length"));
-            }
-            params
+    if let SweepFrame::FixedUp(up) = frame
+        && (!(up.length() > 1e-300) || !up.is_finite())
+    {
+        return Err(construction(WHAT, "the up direction has zero length"));
+    }
+    // The sections at `params` (the profiles' parameters among them), in the frames there.
+    let sections = |params: &[f64]| -> Result<Vec<SpaceCurve>, GeometryError> {
+        let frames = match frame {
+            SweepFrame::FixedUp(up) => params
                 .iter()
                 .map(|&t| {
                     let tangent = unit_tangent(&rail, t, WHAT)?;
@@ -227,22 +295,25 @@ pub fn sweep_one_rail(
                     }
                     Ok(frame_from(rail.point_at(t)?, tangent, side))
                 })
-                .collect::<Result<Vec<_>, _>>()?
-        }
-        SweepFrame::RotationMinimizing => rotation_minimizing_frames(&rail, &params, WHAT)?,
-    };
-    let frame_at = |t: f64| -> Result<Frame, GeometryError> {
-        let i = params
+                .collect::<Result<Vec<_>, _>>()?,
+            SweepFrame::RotationMinimizing => rotation_minimizing_frames(&rail, params, WHAT)?,
+        };
+        let frame_at = |t: f64| -> Result<Frame, GeometryError> {
+            let i = params
+                .iter()
+                .position(|&p| p == t)
+                .ok_or_else(|| construction(WHAT, "a section without a frame"))?;
+            Ok(frames[i])
+        };
+        let profile_frames = at
             .iter()
-            .position(|&p| p == t)
-            .ok_or_else(|| construction(WHAT, "a section without a frame"))?;
-        Ok(frames[i])
+            .map(|&t| frame_at(t))
+            .collect::<Result<Vec<_>, _>>()?;
+        sections_in_frames(&profiles, &profile_frames, &at, params, frame_at)
     };
-    let profile_frames = at
-        .iter()
-        .map(|&t| frame_at(t))
-        .collect::<Result<Vec<_>, _>>()?;
-    loft_in_frames(&profiles, &profile_frames, &at, &params, frame_at)
+    let mut curves: Vec<&SpaceCurve> = profiles.iter().collect();
+    curves.push(&rail);
+    refined_sweep(&at, section_count(&[&rail]), size_of(&curves), sections)
 }
 
 /// The rail parameter (on [0, 1]) nearest to a profile: where the profile and the rail come
@@ -416,12 +487,18 @@ pub fn sweep_two_rails(
             },
         })
     };
-    let params = section_parameters(&at, section_count(&[&r0, &r1]));
     let profile_frames = at
         .iter()
         .map(|&t| frame(t))
         .collect::<Result<Vec<_>, _>>()?;
-    loft_in_frames(&profiles, &profile_frames, &at, &params, frame)
+    let mut curves: Vec<&SpaceCurve> = profiles.iter().collect();
+    curves.extend([&r0, &r1]);
+    refined_sweep(
+        &at,
+        section_count(&[&r0, &r1]),
+        size_of(&curves),
+        |params| sections_in_frames(&profiles, &profile_frames, &at, params, frame),
+    )
 }
 
 #[cfg(test)]
@@ -499,6 +576,105 @@ mod tests {
         }
         assert!(distance_from(&s, &r0) < 1e-6, "{}", distance_from(&s, &r0));
         assert!(distance_from(&s, &r1) < 1e-6, "{}", distance_from(&s, &r1));
+    }
+
+    /// A rotation and a move of general position.
+    fn placement() -> glam::DAffine3 {
+        glam::DAffine3::from_scale_rotation_translation(
+            DVec3::splat(3.3),
+            glam::DQuat::from_euler(glam::EulerRot::YXZ, 0.8, -0.5, 2.2),
+            DVec3::new(-4.0, 9.0, 1.5),
+        )
+    }
+
+    /// The size the sweeps keep their tolerance against: the box round the curves.
+    fn size(curves: &[&SpaceCurve]) -> f64 {
+        super::size_of(curves)
+    }
+
+    /// A pipe (a circle swept along a wavy cubic rail in general position, rotation-minimising
+    /// frames): every point of it lies the circle's radius from the rail, within 1e-4 of the
+    /// size, between the lofted sections as well as on them.
+    #[test]
+    fn a_pipe_along_a_wavy_rail_keeps_its_radius() {
+        let place = placement();
+        let rail: Vec<DVec3> = (0..7)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new(t, 0.8 * (1.3 * t).sin(), 0.5 * (0.9 * t).cos())
+            })
+            .collect();
+        let rail = interpolate(&rail, 3).unwrap().transformed(&place).unwrap();
+        let start = rail.point_at(rail.domain().0).unwrap();
+        let tangent = rail.derivatives(rail.domain().0, 1).unwrap()[1].normalize();
+        let radius = 0.3 * 3.3;
+        let x = super::perpendicular(tangent);
+        let profile = circle(start, tangent, x, radius).unwrap();
+        let s =
+            sweep_one_rail(&rail, std::slice::from_ref(&profile), SweepFrame::default()).unwrap();
+        let tolerance = 1e-4 * size(&[&rail, &profile]);
+        let [(u0, u1), (v0, v1)] = s.domain();
+        let mut worst = 0.0f64;
+        for i in 0..=16 {
+            for j in 0..=97 {
+                let p = s
+                    .point_at(
+                        u0 + (u1 - u0) * i as f64 / 16.0,
+                        v0 + (v1 - v0) * j as f64 / 97.0,
+                    )
+                    .unwrap();
+                let t = rail.closest_parameter(p).unwrap();
+                worst = worst.max((rail.point_at(t).unwrap().distance(p) - radius).abs());
+            }
+        }
+        assert!(
+            worst <= tolerance,
+            "radius off by {worst:e} (tolerance {tolerance:e})"
+        );
+    }
+
+    /// A two-rail sweep between a cubic rail and a rational cubic rail, through a rational
+    /// arc, in general position: both rails lie on the surface within 1e-4 of the size.
+    #[test]
+    fn a_two_rail_sweep_of_an_arc_between_a_cubic_and_a_rational_rail_holds_both() {
+        let place = placement();
+        let r0: Vec<DVec3> = (0..6)
+            .map(|i| DVec3::new(0.3 * (i as f64).sin(), i as f64, 0.2 * i as f64))
+            .collect();
+        let r0 = interpolate(&r0, 3).unwrap().transformed(&place).unwrap();
+        let r1 = crate::curve::NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0],
+            vec![
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(3.0, 1.5, 0.5),
+                DVec3::new(2.5, 3.0, 1.2),
+                DVec3::new(3.5, 4.0, 0.4),
+                DVec3::new(2.6, 5.0, 1.0),
+            ],
+            Some(vec![1.0, 1.7, 0.6, 1.3, 1.0]),
+        )
+        .unwrap()
+        .transformed(&place)
+        .unwrap();
+        let (a, b) = (r0.point_at(0.0).unwrap(), r1.point_at(0.0).unwrap());
+        let middle = 0.5 * (a + b);
+        let half = 0.5 * a.distance(b);
+        let x = (a - middle).normalize();
+        let up = place.transform_vector3(DVec3::Z).normalize();
+        let y = (up - x * up.dot(x)).normalize();
+        // Half a circle from A over the top to B: a rational arc.
+        let arch = arc(middle, x, y, half, 0.0, std::f64::consts::PI).unwrap();
+        let s = sweep_two_rails([&r0, &r1], std::slice::from_ref(&arch), false).unwrap();
+        let tolerance = 1e-4 * size(&[&r0, &r1, &arch]);
+        assert!(distance_from(&s, &arch) < 1e-9);
+        for rail in [&r0, &r1] {
+            let d = crate::test_support::curve_to_surface(&s, rail, 200);
+            assert!(
+                d <= tolerance,
+                "rail off by {d:e} (tolerance {tolerance:e})"
+            );
+        }
     }
 
     #[test]
