@@ -74,8 +74,9 @@ pub fn estimate_triangles(
 /// The least a frame spends on long work (an export, opening a file) before it draws again
 /// (milliseconds).
 const LEAST_WORK_MS: f64 = 30.0;
-/// The most a frame spends on long work (milliseconds): Cancel answers within about this.
-const MOST_WORK_MS: f64 = 10_000.0;
+/// The most a frame spends on long work (milliseconds): the page answers (Cancel, a click)
+/// within about this, however slow drawing is.
+const MOST_WORK_MS: f64 = 1_000.0;
 /// Long work takes this many times as long per frame as the rest of the frame (drawing,
 /// the browser) took since its last turn: 80 % of the wall time, however slow drawing is.
 const WORK_PER_OTHER: f64 = 4.0;
@@ -84,18 +85,24 @@ const WORK_PER_OTHER: f64 = 4.0;
 /// long as everything else took since the last turn, within [`LEAST_WORK_MS`] and
 /// [`MOST_WORK_MS`]. A fast frame (a GPU) keeps the page at 10 frames a second or more;
 /// a slow one (a software adapter, where one frame may take seconds) no longer holds the
-/// work back to a few milliseconds per frame.
+/// work back to a few milliseconds per frame: it works up to a second between frames.
 #[derive(Debug, Default)]
 pub(super) struct FrameBudget {
     /// When the last turn ended ([`super::platform::now_ms`]).
     last_end_ms: Option<f64>,
+    /// The last turn's budget (milliseconds; 0 before the first).
+    last_budget_ms: f64,
 }
 
 impl FrameBudget {
-    /// How long this frame's turn may work (milliseconds), given the time now.
+    /// How long this frame's turn may work (milliseconds), given the time now: at most twice
+    /// the last turn's, so that a job starts with short turns (its progress shows, Cancel
+    /// answers at once) and grows to its share over a few frames.
     fn budget_ms(&self, now_ms: f64) -> f64 {
         let other = self.last_end_ms.map_or(0.0, |end| (now_ms - end).max(0.0));
-        (WORK_PER_OTHER * other).clamp(LEAST_WORK_MS, MOST_WORK_MS)
+        (WORK_PER_OTHER * other)
+            .min(2.0 * self.last_budget_ms)
+            .clamp(LEAST_WORK_MS, MOST_WORK_MS)
     }
 
     /// One frame's turn: [`steps_within`] this frame's budget.
@@ -103,6 +110,7 @@ impl FrameBudget {
         let budget = self.budget_ms(super::platform::now_ms());
         let result = steps_within(budget, step);
         self.last_end_ms = Some(super::platform::now_ms());
+        self.last_budget_ms = budget;
         result
     }
 }
@@ -513,19 +521,37 @@ impl KnotworkApp {
 mod tests {
     use super::*;
 
-    /// The turn is four times the rest of the frame, within 30 ms and 10 s: a first turn
-    /// (nothing measured yet) and a fast frame get the least, a frame that drew for 20 ms
-    /// 80 ms, and a software adapter's 4 s frame the most.
+    /// The turn is four times the rest of the frame, within 30 ms and 1 s, and at most twice
+    /// the last: a first turn (nothing measured yet) and a fast frame get the least, a frame
+    /// that drew for 20 ms 80 ms, and a software adapter's 4 s frames 30, 60, 120, … ms up to
+    /// the most.
     #[test]
     fn a_turn_of_long_work_grows_with_the_time_the_rest_of_the_frame_takes() {
         let mut budget = FrameBudget::default();
         assert_eq!(budget.budget_ms(1000.0), 30.0);
         budget.last_end_ms = Some(1000.0);
+        budget.last_budget_ms = 1000.0;
         assert_eq!(budget.budget_ms(1001.0), 30.0);
         assert_eq!(budget.budget_ms(1020.0), 80.0);
-        assert_eq!(budget.budget_ms(1500.0), 2000.0);
-        assert_eq!(budget.budget_ms(5000.0), 10_000.0);
+        assert_eq!(budget.budget_ms(1200.0), 800.0);
+        assert_eq!(budget.budget_ms(5000.0), 1000.0);
         // A clock that steps back counts as no time.
         assert_eq!(budget.budget_ms(900.0), 30.0);
+        // Slow frames from the start: the turns double up to the most.
+        let mut slow = FrameBudget::default();
+        let mut turns = Vec::new();
+        let mut now = 0.0;
+        for _ in 0..8 {
+            let b = slow.budget_ms(now);
+            turns.push(b);
+            slow.last_budget_ms = b;
+            now += b;
+            slow.last_end_ms = Some(now);
+            now += 4000.0;
+        }
+        assert_eq!(
+            turns,
+            [30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1000.0, 1000.0]
+        );
     }
 }
