@@ -296,8 +296,8 @@ impl KnotworkApp {
                 edit.ends_history().then(|| edit.label.clone()),
             )
         }) {
-            if ended.is_some() {
-                self.status.notice = ended;
+            if let Some(ended) = ended {
+                self.status.notice = Some(ended);
             }
             if touched == crate::doc::Touched::Structure {
                 // The object chose another layout for its new shape (adaptive refinement).

@@ -63,7 +63,13 @@ impl History {
             edit.undo(scene)
         };
         if let Err(e) = applied {
+            // The edit failed, so the scene is as it was: an undo's edit is still applied.
+            let showing = match (forward, &edit.document) {
+                (false, Some(name)) => Some(name.clone()),
+                _ => self.document_name().map(str::to_owned),
+            };
             self.clear();
+            self.dropped_document = showing;
             return Err(e);
         }
         let to = if forward {
@@ -80,10 +86,11 @@ impl History {
         self.redo.pop();
     }
 
+    /// Forgets every step; the name of the document still showing is kept.
     pub fn clear(&mut self) {
+        self.dropped_document = self.document_name().map(str::to_owned);
         self.undo.clear();
         self.redo.clear();
-        self.dropped_document = None;
     }
 
     /// The label of the step [`Self::undo`] would undo.

@@ -587,6 +587,25 @@ mod tests {
         )
     }
 
+    /// The largest `error` over an (nu + 1) × (nv + 1) grid of the surface's domain.
+    fn worst_over_grid(
+        s: &NurbsSurface,
+        nu: usize,
+        nv: usize,
+        error: impl Fn(DVec3) -> f64,
+    ) -> f64 {
+        let [(u0, u1), (v0, v1)] = s.domain();
+        let mut worst = 0.0_f64;
+        for i in 0..=nu {
+            for j in 0..=nv {
+                let u = u0 + (u1 - u0) * i as f64 / nu as f64;
+                let v = v0 + (v1 - v0) * j as f64 / nv as f64;
+                worst = worst.max(error(s.point_at(u, v).unwrap()));
+            }
+        }
+        worst
+    }
+
     /// The size the sweeps keep their tolerance against: the box round the curves.
     fn size(curves: &[&SpaceCurve]) -> f64 {
         super::size_of(curves)
@@ -613,20 +632,10 @@ mod tests {
         let s =
             sweep_one_rail(&rail, std::slice::from_ref(&profile), SweepFrame::default()).unwrap();
         let tolerance = 1e-4 * size(&[&rail, &profile]);
-        let [(u0, u1), (v0, v1)] = s.domain();
-        let mut worst = 0.0f64;
-        for i in 0..=16 {
-            for j in 0..=97 {
-                let p = s
-                    .point_at(
-                        u0 + (u1 - u0) * i as f64 / 16.0,
-                        v0 + (v1 - v0) * j as f64 / 97.0,
-                    )
-                    .unwrap();
-                let t = rail.closest_parameter(p).unwrap();
-                worst = worst.max((rail.point_at(t).unwrap().distance(p) - radius).abs());
-            }
-        }
+        let worst = worst_over_grid(&s, 16, 97, |p| {
+            let t = rail.closest_parameter(p).unwrap();
+            (rail.point_at(t).unwrap().distance(p) - radius).abs()
+        });
         assert!(
             worst <= tolerance,
             "radius off by {worst:e} (tolerance {tolerance:e})"
@@ -721,20 +730,9 @@ mod tests {
         let rail = arc(DVec3::ZERO, DVec3::X, DVec3::Z, 5.0, 0.0, FRAC_PI_2).unwrap();
         let profile = circle(DVec3::new(5.0, 0.0, 0.0), DVec3::Z, DVec3::X, 0.5).unwrap();
         let s = sweep_one_rail(&rail, &[profile], SweepFrame::default()).unwrap();
-        let [(u0, u1), (v0, v1)] = s.domain();
-        let mut worst = 0.0_f64;
-        for i in 0..=60 {
-            for j in 0..=60 {
-                let p = s
-                    .point_at(
-                        u0 + (u1 - u0) * i as f64 / 60.0,
-                        v0 + (v1 - v0) * j as f64 / 60.0,
-                    )
-                    .unwrap();
-                let off = ((p.x.hypot(p.z) - 5.0).powi(2) + p.y * p.y).sqrt() - 0.5;
-                worst = worst.max(off.abs());
-            }
-        }
+        let worst = worst_over_grid(&s, 60, 60, |p| {
+            (((p.x.hypot(p.z) - 5.0).powi(2) + p.y * p.y).sqrt() - 0.5).abs()
+        });
         assert!(worst < 2e-5, "{worst:e} off the torus");
     }
 }
