@@ -1071,40 +1071,13 @@ mod against_occ {
     /// The public files knotwork does not yet read as OpenCASCADE does, each with what is
     /// wrong. The test fails when one of them passes (take it off the list) as it does when
     /// any other file fails.
-    const KNOWN: &[(&str, &str)] = &[
-        (
-            "cax-if__as1-tu-203.stp",
-            "the join's triangulation of face #707 fails (TooSmall)",
-        ),
-        (
-            "cax-if__s1-c5-214__HEAD_BACK.stp",
-            "OpenCASCADE's own reading looks wrong: it gives 71,280 mm² and 880,900 mm³ where \
+    const KNOWN: &[(&str, &str)] = &[(
+        "cax-if__s1-c5-214__HEAD_BACK.stp",
+        "OpenCASCADE's own reading looks wrong: it gives 71,280 mm² and 880,900 mm³ where \
              the same part written by two other systems (s1-tu-203 headback, s1_pe_214 \
              head_back_prt) reads 46,550 and 45,930 mm², 23,340 and 22,780 mm³; knotwork gives \
              47,600 mm² and 23,800 mm³",
-        ),
-        (
-            "cax-if__s1-c5-214__MAINBODY_BACK.stp",
-            "the round trip loses faces: knotwork's own file reads back with loops that do not \
-             close",
-        ),
-        (
-            "cax-if__s1-c5-214__MAINBODY_FRONT.stp",
-            "the round trip loses faces (as MAINBODY_BACK)",
-        ),
-        (
-            "cax-if__s1-c5-214__TAIL_TURBINE.stp",
-            "the round trip loses the spherical face: its written loop does not close by 5e-4",
-        ),
-        (
-            "cax-if__s1_pe_214__head_back_prt.stp",
-            "the round trip's mesh fails (TooSmall)",
-        ),
-        (
-            "cax-if__s1_pe_214__head_front_prt.stp",
-            "the round trip's mesh fails (TooSmall)",
-        ),
-    ];
+    )];
 
     /// Every file listed in `dir`/`list` (one JSON object a line), checked: the failures. A
     /// file in [`KNOWN`], or whose line has a "known" reason, is expected to fail.

@@ -785,7 +785,9 @@ fn triangulate_face(
     let mut points: Vec<Point2<f64>> = Vec::new();
     let mut labels: Vec<Local> = Vec::new();
     let mut edges: Vec<[usize; 2]> = Vec::new();
-    let scaled = |p: DVec2| Point2::new(p.x * scale.x, p.y * scale.y);
+    // Coordinates within 2^-142 of zero (rounding off a zero parameter) are zero: the
+    // triangulation refuses smaller ones (TooSmall).
+    let scaled = |p: DVec2| spade::mitigate_underflow(Point2::new(p.x * scale.x, p.y * scale.y));
     for polygon in polygons {
         let first = points.len();
         for (k, &(v, uv)) in polygon.iter().enumerate() {
@@ -867,10 +869,10 @@ fn triangulate_face(
         }
         for c in centroids {
             let handle = cdt
-                .insert(Point2::new(c.x * scale.x, c.y * scale.y))
+                .insert(scaled(c))
                 .map_err(|e| failed(format!("the triangulation failed: {e:?}")))?;
             if handle.index() == labels.len() {
-                points.push(Point2::new(c.x * scale.x, c.y * scale.y));
+                points.push(scaled(c));
                 labels.push(Local::Interior(interior.len()));
                 interior.push((c, ()));
             }
@@ -1301,6 +1303,46 @@ mod tests {
         assert!(
             (joined - expected).abs() < 2e-3 * expected,
             "{joined} vs {expected}"
+        );
+    }
+
+    /// A trim corner a rounding step off u = 0 (1e-200, as a parameter computed near zero
+    /// comes out): its area is the polygon's, where the triangulation once refused the
+    /// coordinate (TooSmall, below 2^-142).
+    #[test]
+    fn a_trim_point_a_rounding_step_off_zero_is_meshed() {
+        let plane = construct::plane(
+            DVec3::new(2.0, -1.0, 0.5),
+            DVec3::new(3.0, 1.0, 0.0),
+            DVec3::new(0.0, -1.0, 2.0),
+        )
+        .unwrap();
+        let corners = [
+            DVec2::new(1e-200, 0.2),
+            DVec2::new(0.8, -1e-180),
+            DVec2::new(0.9, 0.9),
+            DVec2::new(-1e-190, 0.7),
+        ];
+        let face =
+            TrimmedSurface::new(plane.clone(), vec![shapes::polygon(&corners).unwrap()]).unwrap();
+        let faces = vec![face];
+        let topology = find_topology(&faces, 1e-9).unwrap();
+        let area = tessellate_joined(&faces, &topology, 1e-3, false)
+            .unwrap()
+            .area();
+        // The polygon's (u, v) area (shoelace) times |S_u × S_v|.
+        let uv: f64 = (0..4)
+            .map(|k| corners[k].perp_dot(corners[(k + 1) % 4]))
+            .sum::<f64>()
+            .abs()
+            / 2.0;
+        let jacobian = DVec3::new(3.0, 1.0, 0.0)
+            .cross(DVec3::new(0.0, -1.0, 2.0))
+            .length();
+        assert!(
+            (area - uv * jacobian).abs() < 1e-9 * area,
+            "{area} vs {}",
+            uv * jacobian
         );
     }
 

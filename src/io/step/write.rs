@@ -4,7 +4,9 @@
 //! edges are `SURFACE_CURVE`s: a 3D B-spline (a cubic through the edge's points, refined until
 //! it lies within the tolerance of the edge, or the exact iso-curve where the trim is one) with
 //! the exact p-curve of every face that uses it. Shared edges (the object's topology) are one
-//! edge used by both faces; faces are turned so that they agree across them, and a shell whose
+//! edge used by both faces, each vertex is one point where the corners the loops and shared
+//! edges join meet, and every edge curve ends on its vertices; the uncertainty written is the
+//! tolerance asked, or the widest gap the shape's corners and shared edges carry; faces are turned so that they agree across them, and a shell whose
 //! every edge is shared is closed (a `MANIFOLD_SOLID_BREP`, outward by the sign of its volume),
 //! otherwise open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit
 //! (millimetres for a unitless one).
@@ -21,6 +23,9 @@ use crate::scene::LengthUnit;
 /// The most samples an edge's 3D curve is interpolated through (the solve is banded: linear
 /// in the count).
 const MAX_EDGE_SAMPLES: usize = 1 << 16;
+
+/// Stands for the uncertainty's measure until the shapes are written.
+const UNCERTAINTY_MARK: &str = "LENGTH_MEASURE(<uncertainty>)";
 
 /// One object to write.
 pub struct StepShape<'a> {
@@ -298,6 +303,113 @@ fn edge_curve(
     }
 }
 
+/// The vertices of a shape: every corner of every loop (where one trim curve ends and the
+/// next starts) belongs to one vertex, found by joining the corners that the loops and the
+/// shared edges say are one (union–find), so that each vertex is one point even where the
+/// faces' own corners lie apart by more than the tolerance (files from other systems carry
+/// gaps up to their own uncertainty). Each vertex lies at the mean of its corners.
+struct Vertices {
+    /// Index of the start corner of each curve (its end is the next index).
+    first: HashMap<EdgeId, usize>,
+    /// The class of each corner.
+    class: Vec<usize>,
+    /// The point of each class (indexed by class).
+    point: Vec<DVec3>,
+    /// Twice the largest distance of a corner from its vertex: a bound on how far apart the
+    /// corners of one vertex lie.
+    spread: f64,
+}
+
+impl Vertices {
+    fn of(
+        faces: &[TrimmedSurface],
+        loops: &[Vec<Vec<TrimCurve>>],
+        topology: &Topology,
+    ) -> Result<Self, GeometryError> {
+        let mut first = HashMap::new();
+        let mut points = Vec::new();
+        let mut parent: Vec<usize> = Vec::new();
+        fn root(parent: &mut [usize], mut k: usize) -> usize {
+            while parent[k] != k {
+                parent[k] = parent[parent[k]];
+                k = parent[k];
+            }
+            k
+        }
+        fn join(parent: &mut [usize], a: usize, b: usize) {
+            let (ra, rb) = (root(parent, a), root(parent, b));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        for (f, face) in faces.iter().enumerate() {
+            for (l, lp) in loops[f].iter().enumerate() {
+                let start = points.len();
+                for (c, trim) in lp.iter().enumerate() {
+                    first.insert(
+                        EdgeId {
+                            face: f,
+                            loop_index: l,
+                            curve: c,
+                        },
+                        points.len(),
+                    );
+                    let (a, b) = trim.ends()?;
+                    points.push(face.surface().point_at_clamped(a)?);
+                    points.push(face.surface().point_at_clamped(b)?);
+                    let k = parent.len();
+                    parent.extend([k, k + 1]);
+                }
+                // Each curve's end is the next one's start.
+                let n = lp.len();
+                for c in 0..n {
+                    join(&mut parent, start + 2 * c + 1, start + 2 * ((c + 1) % n));
+                }
+            }
+        }
+        for id in &topology.degenerate {
+            if let Some(&k) = first.get(id) {
+                join(&mut parent, k, k + 1);
+            }
+        }
+        for e in &topology.shared {
+            if let (Some(&a), Some(&b)) = (first.get(&e.a), first.get(&e.b)) {
+                let (b0, b1) = if e.reversed { (b + 1, b) } else { (b, b + 1) };
+                join(&mut parent, a, b0);
+                join(&mut parent, a + 1, b1);
+            }
+        }
+        let class: Vec<usize> = (0..parent.len()).map(|k| root(&mut parent, k)).collect();
+        let mut sum = vec![(DVec3::ZERO, 0usize); parent.len()];
+        for (k, &r) in class.iter().enumerate() {
+            sum[r].0 += points[k];
+            sum[r].1 += 1;
+        }
+        let point: Vec<DVec3> = sum
+            .into_iter()
+            .map(|(p, n)| if n > 0 { p / n as f64 } else { p })
+            .collect();
+        let spread = class
+            .iter()
+            .enumerate()
+            .map(|(k, &r)| 2.0 * points[k].distance(point[r]))
+            .fold(0.0, f64::max);
+        Ok(Self {
+            first,
+            class,
+            point,
+            spread,
+        })
+    }
+
+    /// The class of the start (or end) corner of a curve.
+    fn corner(&self, id: &EdgeId, end: bool) -> Option<usize> {
+        self.first
+            .get(id)
+            .map(|&k| self.class[k + usize::from(end)])
+    }
+}
+
 /// The signed volume the faces enclose (divergence theorem over a coarse grid of each face's
 /// kept region), with each face turned by `flip`.
 fn signed_volume(faces: &[TrimmedSurface], flip: &[bool]) -> f64 {
@@ -394,10 +506,13 @@ pub fn write(
     let mm = length_unit(&mut out, unit.unwrap_or(LengthUnit::Millimetre));
     let rad = out.add("(NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.))");
     let sr = out.add("(NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT())");
+    // Written once the shapes are: the tolerance asked, or the gaps the shapes' edges and
+    // vertices carry where those are wider (a model read from a file within its own
+    // uncertainty keeps it).
     let uncertainty = out.add(format!(
-        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{mm},'distance_accuracy_value','confusion accuracy')",
-        real(tolerance)
+        "UNCERTAINTY_MEASURE_WITH_UNIT({UNCERTAINTY_MARK},#{mm},'distance_accuracy_value','confusion accuracy')"
     ));
+    let mut uncertain = tolerance;
     let context = out.add(format!(
         "(GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{uncertainty})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{mm},#{rad},#{sr})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY'))"
     ));
@@ -421,16 +536,34 @@ pub fn write(
             .iter()
             .map(|f| surface(&mut out, f.surface()))
             .collect();
-        // Vertices: corners merged within the tolerance.
+        // Vertices: the corners the loops and shared edges join, and those within the
+        // tolerance of each other.
+        let corners = Vertices::of(faces, &loops, &topology)?;
+        uncertain = topology
+            .shared
+            .iter()
+            .map(|e| e.gap)
+            .fold(uncertain.max(corners.spread), f64::max);
         let mut vertices: Vec<(DVec3, u64)> = Vec::new();
-        let mut vertex = |out: &mut Out, p: DVec3| -> u64 {
-            if let Some((_, id)) = vertices.iter().find(|(q, _)| q.distance(p) <= tolerance) {
-                return *id;
+        let mut of_class: HashMap<usize, (DVec3, u64)> = HashMap::new();
+        let mut vertex = |out: &mut Out, class: Option<usize>, p: DVec3| -> (DVec3, u64) {
+            if let Some(&v) = class.and_then(|c| of_class.get(&c)) {
+                return v;
             }
-            let pid = point3(out, p);
-            let id = out.add(format!("VERTEX_POINT('',#{pid})"));
-            vertices.push((p, id));
-            id
+            let p = class.map_or(p, |c| corners.point[c]);
+            let v = match vertices.iter().find(|(q, _)| q.distance(p) <= tolerance) {
+                Some(&v) => v,
+                None => {
+                    let pid = point3(out, p);
+                    let id = out.add(format!("VERTEX_POINT('',#{pid})"));
+                    vertices.push((p, id));
+                    (p, id)
+                }
+            };
+            if let Some(c) = class {
+                of_class.insert(c, v);
+            }
+            v
         };
         let partner: HashMap<EdgeId, (EdgeId, bool)> = topology
             .shared
@@ -473,8 +606,11 @@ pub fn write(
                         None => {
                             let c3 = edge_curve(face, trim, tolerance)?;
                             let (p0, p1) = c3.ends()?;
-                            let v0 = vertex(&mut out, p0);
-                            let v1 = vertex(&mut out, p1);
+                            let (p0, v0) = vertex(&mut out, corners.corner(&id, false), p0);
+                            let (p1, v1) = vertex(&mut out, corners.corner(&id, true), p1);
+                            // The curve ends on its vertices exactly.
+                            let last = c3.count() - 1;
+                            let c3 = c3.with_point(0, p0)?.with_point(last, p1)?;
                             let cid = curve3(&mut out, &c3);
                             let mut pcurves = vec![(f, trim.clone())];
                             if let Some(&(other, reversed)) = partner.get(&id)
@@ -567,6 +703,11 @@ pub fn write(
             "SHAPE_DEFINITION_REPRESENTATION(#{shape_def},#{rep})"
         ));
     }
+    let data = out.text.replacen(
+        UNCERTAINTY_MARK,
+        &format!("LENGTH_MEASURE({})", real(uncertain)),
+        1,
+    );
     let mut file = String::new();
     let _ = writeln!(file, "ISO-10303-21;");
     let _ = writeln!(file, "HEADER;");
@@ -583,7 +724,7 @@ pub fn write(
     );
     let _ = writeln!(file, "ENDSEC;");
     let _ = writeln!(file, "DATA;");
-    file.push_str(&out.text);
+    file.push_str(&data);
     let _ = writeln!(file, "ENDSEC;");
     let _ = writeln!(file, "END-ISO-10303-21;");
     Ok(file)
@@ -634,5 +775,57 @@ mod tests {
         .unwrap();
         assert!(affine_map(&skewed).is_none());
         assert!(affine_map(&plane).is_some());
+    }
+
+    /// Two faces whose shared edge's ends lie 3e-3 of their size apart (as files from other
+    /// systems carry, within their own uncertainty), written at a tolerance of 1e-6 of the
+    /// size: each corner the topology joins is one vertex, every edge ends on its vertices,
+    /// and the file says how far apart its corners lie, so both faces read back, their loops
+    /// closed and their edge shared. Before, the second face's loop ended 3e-3 from where it
+    /// started and the face was skipped.
+    #[test]
+    fn faces_whose_shared_corners_lie_apart_read_back_with_their_edge_shared() {
+        let size = 37.0;
+        let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.7, -1.1, 0.4);
+        let place = |p: DVec3| turn * (p * size) + DVec3::new(-120.0, 45.0, 8.0);
+        let gap = 3e-3;
+        let plane = |o: DVec3, u: DVec3, v: DVec3| {
+            let o = place(o);
+            construct::plane(o, place(u) - o, place(v) - o).unwrap()
+        };
+        let a = plane(DVec3::ZERO, DVec3::X, DVec3::Y);
+        let b = plane(
+            DVec3::new(1.0, 0.0, gap),
+            DVec3::new(2.0, 0.0, 0.3),
+            DVec3::new(1.0, 1.0, gap),
+        );
+        let faces = [TrimmedSurface::untrimmed(a), TrimmedSurface::untrimmed(b)];
+        let topology = crate::kernel::join::find_topology(&faces, 1e-2 * size).unwrap();
+        assert_eq!(topology.shared.len(), 1);
+        let text = write(
+            &[StepShape {
+                name: "gap",
+                faces: &faces,
+                topology: Some(&topology),
+                color: None,
+            }],
+            "gap.step",
+            1e-6 * size,
+            None,
+        )
+        .unwrap();
+        // Four corners each, two of them shared.
+        assert_eq!(text.matches("VERTEX_POINT(").count(), 6);
+        let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+        assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+        let body = &model.bodies[0];
+        assert_eq!(body.faces.len(), 2);
+        assert_eq!(body.topology.shared.len(), 1, "{:?}", body.topology);
+        assert!(
+            model.tolerance >= gap * size,
+            "read at {:e}, the corners {:e} apart",
+            model.tolerance,
+            gap * size
+        );
     }
 }

@@ -463,7 +463,10 @@ fn triangulate_cell(
     }
     let mut crossed = false;
     let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
-        points.iter().map(|p| Point2::new(p.x, p.y)).collect(),
+        points
+            .iter()
+            .map(|p| spade::mitigate_underflow(Point2::new(p.x, p.y)))
+            .collect(),
         edges,
         |_| crossed = true,
     )
