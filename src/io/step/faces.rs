@@ -276,6 +276,12 @@ impl Natural<'_> {
             }
             Surface3::Sphere { frame, radius } => {
                 let l = frame.local(p);
+                // Within the tolerance of a pole, the pole: its latitude exactly ±π/2 (else a
+                // loop through a pole vertex a rounding step off the axis leaves a hole of
+                // that latitude's circle round it) and no longitude.
+                if l.x.hypot(l.y) <= self.small * 1e3 {
+                    return [f64::NAN, FRAC_PI_2.copysign(l.z)];
+                }
                 [angle(l), (l.z / radius).clamp(-1.0, 1.0).asin()]
             }
             Surface3::Torus { frame, major, .. } => {
