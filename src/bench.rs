@@ -562,17 +562,34 @@ fn bench_step_large(
     Ok(())
 }
 
-/// STEP: OpenCASCADE's plate with a 20 × 20 grid of filleted holes (806 faces,
-/// tests/reference/occ/step/plate-20.step) read (parse, faces as trimmed NURBS, shared edges)
-/// and tessellated watertight at 1e-4 of its diagonal, one core, median wall time; and, where
+/// STEP: OpenCASCADE's plates with a 20 × 20 grid of filleted holes (806 faces,
+/// tests/reference/occ/step/plate-20.step) and of filleted blind holes (1,206 faces: planes,
+/// cylinders, tori; blind-20.step), each read (parse, faces as trimmed NURBS, shared edges) and
+/// tessellated watertight at 1e-4 of its diagonal, one core, median wall time; and, where
 /// Python with cadquery-ocp is found (`KNOTWORK_OCC_PYTHON`, else `python3`), OpenCASCADE
 /// reading and meshing the same file at the same deflection in the same run
 /// (make_step.py mesh).
 fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/occ");
-    let path = root.join("step/plate-20.step");
-    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let runs = iterations.clamp(1, 5);
+    for (file, what) in [
+        ("plate-20.step", "20 × 20 holes"),
+        ("blind-20.step", "20 × 20 blind holes"),
+    ] {
+        bench_step_plate(file, what, runs, out)?;
+    }
+    bench_step_subdivision(runs, out)
+}
+
+/// One plate of [`bench_step`].
+fn bench_step_plate(
+    file: &str,
+    what: &str,
+    runs: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/occ");
+    let path = root.join("step").join(file);
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let clock = Instant::now();
     let now = || clock.elapsed().as_secs_f64() * 1e3;
     let mut timings = Vec::new();
@@ -602,12 +619,12 @@ fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
     })?;
     writeln!(
         out,
-        "STEP plate, opened as the editor does | first step {:6.1} ms, then parsed, built and joined in {:8.1} ms over {} steps (longest {:.1} ms), {} faces",
+        "STEP {what}, opened as the editor does | first step {:6.1} ms, then parsed, built and joined in {:8.1} ms over {} steps (longest {:.1} ms), {} faces",
         open.first_step_ms, open.steps_ms, open.steps, open.longest_step_ms, open.faces
     )?;
     writeln!(
         out,
-        "STEP plate 20 × 20 holes ({faces} faces, {:.1} MB) | read {read_ms:8.1} ms, tessellate {mesh_ms:8.1} ms at {tolerance:.3e} ({triangles} triangles), total {total:8.1} ms; {:.1} KB of geometry per face",
+        "STEP {what} ({faces} faces, {:.1} MB) | read {read_ms:8.1} ms, tessellate {mesh_ms:8.1} ms at {tolerance:.3e} ({triangles} triangles), total {total:8.1} ms; {:.1} KB of geometry per face",
         bytes.len() as f64 / 1e6,
         bytes_held as f64 / faces.max(1) as f64 / 1e3
     )?;
@@ -628,7 +645,7 @@ fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
             let occ_ms = v["total_s"].as_f64().unwrap_or(f64::NAN) * 1e3;
             writeln!(
                 out,
-                "STEP plate, OpenCASCADE         | read {:8.1} ms, mesh {:8.1} ms, total {occ_ms:8.1} ms: knotwork {:.2}× as fast",
+                "STEP {what}, OpenCASCADE | read {:8.1} ms, mesh {:8.1} ms, total {occ_ms:8.1} ms: knotwork {:.2}× as fast",
                 v["read_s"].as_f64().unwrap_or(f64::NAN) * 1e3,
                 v["mesh_s"].as_f64().unwrap_or(f64::NAN) * 1e3,
                 occ_ms / total
@@ -636,10 +653,10 @@ fn bench_step(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
         }
         _ => writeln!(
             out,
-            "STEP plate, OpenCASCADE         | not measured ({python} with cadquery-ocp not found; set KNOTWORK_OCC_PYTHON)"
+            "STEP {what}, OpenCASCADE | not measured ({python} with cadquery-ocp not found; set KNOTWORK_OCC_PYTHON)"
         )?,
     }
-    bench_step_subdivision(runs, out)
+    Ok(())
 }
 
 /// STEP export of a subdivision surface under each scheme (a 20 mm cube cage for the quad

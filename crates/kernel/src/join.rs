@@ -31,7 +31,7 @@ const MATCH_SAMPLES: usize = 16;
 /// Samples per edge searched first for the nearest point.
 const SEARCH_SAMPLES: usize = 64;
 /// The nearest point on an edge is found to this fraction of the tolerance.
-const SEARCH_PRECISION: f64 = 1e-4;
+const SEARCH_PRECISION: f64 = 1e-2;
 
 /// One edge: curve `curve` of loop `loop_index` of face `face`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -175,6 +175,25 @@ impl Edge<'_> {
         // The intervals either side of the nearest sample (and, on a curve closed in
         // space, the other end's interval at its ends).
         let mut intervals = vec![(k.saturating_sub(1), k), (k, (k + 1).min(n))];
+        // Near the edge (a follower's vertex lies on it), the nearest point lies in the
+        // interval whose chord passes within a tenth of its length, where the point projects
+        // well inside that chord: that interval alone.
+        if k > 0 && k < n {
+            let off = |i: usize| {
+                let (a, b) = (self.samples[i], self.samples[i + 1]);
+                let d = b - a;
+                let length = d.length().max(f64::MIN_POSITIVE);
+                let t = (p - a).dot(d) / (length * length);
+                let clamped = t.clamp(0.0, 1.0);
+                ((a + d * clamped).distance(p) / length, t)
+            };
+            let near = [(k - 1, off(k - 1)), (k, off(k))]
+                .into_iter()
+                .find(|(_, (distance, t))| *distance < 0.1 && (0.05..=0.95).contains(t));
+            if let Some((i, _)) = near {
+                intervals = vec![(i, i + 1)];
+            }
+        }
         if self.closed && (k == 0 || k == n) {
             intervals.push((0, 1));
             intervals.push((n - 1, n));
@@ -187,46 +206,111 @@ impl Edge<'_> {
             .unwrap_or((0.0, self.samples[0].distance(p)))
     }
 
-    /// The parameter in [a, b] nearest `p` by golden-section search, and the distance. [a, b]
-    /// is one interval between samples; the search stops once the bracket, scaled by that
-    /// interval's chord, is shorter than [`Edge::precision`] in space (48 steps at most).
-    fn golden(&self, p: DVec3, mut a: f64, mut b: f64) -> (f64, f64) {
-        let g = 0.5 * (5f64.sqrt() - 1.0);
+    /// The parameter in [a, b] nearest `p`, and the distance: Brent's minimisation of the
+    /// squared distance (parabolic interpolation through the three best points, a
+    /// golden-section step where the parabola's step is not trusted; R. P. Brent, Algorithms
+    /// for Minimization without Derivatives, 1973, ch. 5), 60 steps at most. [a, b] is one
+    /// interval between samples; the search stops once the bracket, scaled by that interval's
+    /// chord, is shorter than [`Edge::precision`] in space. The interval's ends (samples) count
+    /// too: the search only narrows toward them.
+    fn golden(&self, p: DVec3, a: f64, b: f64) -> (f64, f64) {
         let f = |t: f64| self.point(t).distance_squared(p);
         let n = SEARCH_SAMPLES as f64;
-        let chord = |t: f64| {
-            let k = ((t * n) as usize).min(SEARCH_SAMPLES - 1);
-            self.samples[k].distance(self.samples[k + 1])
-        };
-        let width = b - a;
-        let stop = width * self.precision / chord(0.5 * (a + b)).max(f64::MIN_POSITIVE);
-        let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-        let (mut fc, mut fd) = (f(c), f(d));
-        for _ in 0..48 {
-            if b - a <= stop {
-                break;
-            }
-            if fc < fd {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - g * (b - a);
-                fc = f(c);
+        let sample = |t: f64| ((t * n).round() as usize).min(SEARCH_SAMPLES);
+        let (ka, kb) = (sample(a), sample(b));
+        let chord = self.samples[ka].distance(self.samples[kb]);
+        let stop = 0.5 * (b - a) * self.precision / chord.max(f64::MIN_POSITIVE);
+        let (t, d2) = brent_minimum(f, a, b, stop);
+        [
+            (t, d2),
+            (a, self.samples[ka].distance_squared(p)),
+            (b, self.samples[kb].distance_squared(p)),
+        ]
+        .into_iter()
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(t, d2)| (t, d2.sqrt()))
+        .unwrap_or((t, d2.sqrt()))
+    }
+}
+
+/// The minimum of `f` on [a, b] to within `tolerance` in the argument, and its value: Brent's
+/// method (R. P. Brent, Algorithms for Minimization without Derivatives, 1973, ch. 5):
+/// successive parabolic interpolation through the three best points so far, with a
+/// golden-section step into the larger part of the bracket whenever the parabola's step falls
+/// outside it or does not halve the step before last. At most 60 evaluations.
+fn brent_minimum(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, tolerance: f64) -> (f64, f64) {
+    // (3 − √5) / 2: the golden section's smaller part.
+    let golden = 0.5 * (3.0 - 5f64.sqrt());
+    let mut x = a + golden * (b - a);
+    let (mut w, mut v) = (x, x);
+    let mut fx = f(x);
+    let (mut fw, mut fv) = (fx, fx);
+    // The step just taken and the one before it.
+    let (mut d, mut e) = (0.0f64, 0.0f64);
+    for _ in 0..60 {
+        let middle = 0.5 * (a + b);
+        let tol1 = tolerance.max(4.0 * f64::EPSILON * x.abs());
+        let tol2 = 2.0 * tol1;
+        if (x - middle).abs() <= tol2 - 0.5 * (b - a) {
+            break;
+        }
+        let mut parabolic = false;
+        if e.abs() > tol1 {
+            // The parabola through (x, fx), (w, fw), (v, fv): its vertex at x + p / q.
+            let r = (x - w) * (fx - fv);
+            let mut q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
             } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + g * (b - a);
-                fd = f(d);
+                q = -q;
+            }
+            let before = e;
+            if p.abs() < (0.5 * q * before).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < tol2 || b - u < tol2 {
+                    d = tol1.copysign(middle - x);
+                }
+                parabolic = true;
             }
         }
-        // The ends too: the search only narrows toward them.
-        [(a, f(a)), (b, f(b)), (0.5 * (a + b), f(0.5 * (a + b)))]
-            .into_iter()
-            .min_by(|x, y| x.1.total_cmp(&y.1))
-            .map(|(t, d2)| (t, d2.sqrt()))
-            .unwrap_or((a, f(a).sqrt()))
+        if !parabolic {
+            e = if x >= middle { a - x } else { b - x };
+            d = golden * e;
+        }
+        let u = if d.abs() >= tol1 {
+            x + d
+        } else {
+            x + tol1.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv) = (w, fw);
+            (w, fw) = (x, fx);
+            (x, fx) = (u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv) = (w, fw);
+                (w, fw) = (u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
     }
+    (x, fx)
 }
 
 fn edges_of<'a>(
@@ -1304,6 +1388,36 @@ mod tests {
             (joined - expected).abs() < 2e-3 * expected,
             "{joined} vs {expected}"
         );
+    }
+
+    /// Brent's minimum of functions with known minima, within the tolerance asked, in far
+    /// fewer evaluations than golden sections alone (about 1.44 per halving of the bracket);
+    /// a minimum at an end of the bracket is approached.
+    #[test]
+    fn brent_finds_known_minima_in_few_steps() {
+        let cases: [(&dyn Fn(f64) -> f64, f64, f64, f64); 4] = [
+            (&|t: f64| (t - 0.3).powi(2) + 1.0, 0.0, 1.0, 0.3),
+            (
+                &|t: f64| (t - 2.1).powi(4) + (t - 2.1).powi(2),
+                1.0,
+                3.5,
+                2.1,
+            ),
+            (&|t: f64| -(t.sin()), 0.0, 3.0, std::f64::consts::FRAC_PI_2),
+            (&|t: f64| t * t, 0.5, 2.0, 0.5),
+        ];
+        for (f, a, b, expected) in cases {
+            let calls = std::cell::Cell::new(0);
+            let counted = |t: f64| {
+                calls.set(calls.get() + 1);
+                assert!((a..=b).contains(&t), "{t} outside [{a}, {b}]");
+                f(t)
+            };
+            let (t, ft) = brent_minimum(counted, a, b, 1e-9);
+            assert!((t - expected).abs() < 1e-6, "{t} vs {expected}");
+            assert!((ft - f(t)).abs() == 0.0);
+            assert!(calls.get() <= 45, "{} evaluations", calls.get());
+        }
     }
 
     /// A trim corner a rounding step off u = 0 (1e-200, as a parameter computed near zero

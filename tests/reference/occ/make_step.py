@@ -6,6 +6,7 @@ the files it writes into tests/reference/occ/step/.
     make_step.py            the test fixtures and step.json
     make_step.py plate N    the bench plate: N x N filleted holes (N = 20: about 1,000 faces),
                             written to step/plate-N.step
+    make_step.py blind N    the same with blind holes (N = 20: 1,206 faces), step/blind-N.step
     make_step.py mesh FILE DEFLECTION   reads and meshes FILE with OpenCASCADE, prints seconds
     make_step.py measure FILE           prints OpenCASCADE's faces, area and volume of FILE
     make_step.py roundtrip ORIGINAL WRITTEN   both measured, and their relative differences
@@ -166,7 +167,9 @@ def face_across_seam():
     return BRepBuilderAPI_MakeFace(surface, -1.0, 1.0, 0.0, 20.0, 1e-7).Face()
 
 
-def plate(n):
+def plate(n, blind=False):
+    """A 10 mm pitch plate, 5 mm thick, with n x n holes of radius 2.5 whose top rims are
+    filleted (radius 0.8); blind ones stop 3 mm down (a floor each: planes, cylinders, tori)."""
     pitch = 10.0
     size = n * pitch
     shape = BRepPrimAPI_MakeBox(size, size, 5.0).Shape()
@@ -177,7 +180,8 @@ def plate(n):
     builder.MakeCompound(tools)
     for i in range(n):
         for j in range(n):
-            c = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(pitch * (i + 0.5), pitch * (j + 0.5), -1), gp_Dir(0, 0, 1)), 2.5, 7.0).Shape()
+            bottom, height = (2.0, 4.0) if blind else (-1.0, 7.0)
+            c = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(pitch * (i + 0.5), pitch * (j + 0.5), bottom), gp_Dir(0, 0, 1)), 2.5, height).Shape()
             builder.Add(tools, c)
     shape = BRepAlgoAPI_Cut(shape, tools).Shape()
     # Fillet the holes' top rims.
@@ -220,10 +224,11 @@ def assembly():
 
 def main():
     os.makedirs(HERE, exist_ok=True)
-    if len(sys.argv) > 1 and sys.argv[1] == "plate":
+    if len(sys.argv) > 1 and sys.argv[1] in ("plate", "blind"):
         n = int(sys.argv[2])
-        s = plate(n)
-        path = write(s, f"plate-{n}.step")
+        blind = sys.argv[1] == "blind"
+        s = plate(n, blind)
+        path = write(s, f"{'blind' if blind else 'plate'}-{n}.step")
         print(path, measure(read(path)))
         return
     if len(sys.argv) > 1 and sys.argv[1] == "mesh":
