@@ -1395,7 +1395,9 @@ mod tests {
     /// a minimum at an end of the bracket is approached.
     #[test]
     fn brent_finds_known_minima_in_few_steps() {
-        let cases: [(&dyn Fn(f64) -> f64, f64, f64, f64); 4] = [
+        // The function, its bracket and where its minimum lies.
+        type Case<'a> = (&'a dyn Fn(f64) -> f64, f64, f64, f64);
+        let cases: [Case; 4] = [
             (&|t: f64| (t - 0.3).powi(2) + 1.0, 0.0, 1.0, 0.3),
             (
                 &|t: f64| (t - 2.1).powi(4) + (t - 2.1).powi(2),
