@@ -1034,7 +1034,7 @@ mod against_occ {
             "| {file} | {} ({occ_faces}) | {area_error:.1e}{} | {} | {} | {} | {ms:.0} |{}",
             m.faces,
             extrapolated.map_or(String::new(), |e| format!(
-                " (extrapolated to δ = 0; {e:.1e} at δ)"
+                " (extrapolated to δ = 0 from δ and δ/4; the mesh at δ differs by {e:.1e})"
             )),
             if closed {
                 format!("{volume_error:.1e}")
