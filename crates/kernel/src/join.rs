@@ -8,8 +8,8 @@
 //!   tolerance in space (a pole, a collapsed side) is degenerate: neither shared nor naked.
 //! - **Sharing.** Two edges are shared when their ends meet (in the same or the opposite
 //!   direction; a closed edge meets a closed edge) and every one of 17 samples of each lies
-//!   within the tolerance of the other (the distance found by a golden-section search near
-//!   the nearest of 64 samples). Each edge is shared at most once, the closest pairs first.
+//!   within the tolerance of the other (the distance found by Brent's minimisation near the
+//!   nearest of 64 samples). Each edge is shared at most once, the closest pairs first.
 //! - **Watertight tessellation.** Each shared edge is sampled once, on one of its faces, at
 //!   a chord tolerance; the other face takes the same points in space, at the parameters of
 //!   its own edge nearest to them. Corners where edges meet are merged into one point. Every
@@ -133,7 +133,7 @@ struct Edge<'a> {
     /// Closed in (u, v).
     closed_uv: bool,
     degenerate: bool,
-    /// How far in space a nearest point may be off: the golden-section search stops there.
+    /// How far in space a nearest point may be off: the search for it stops there.
     precision: f64,
 }
 
@@ -151,8 +151,9 @@ impl Edge<'_> {
     }
 
     /// The parameter of the edge's point nearest `p` and the distance: the nearest sample,
-    /// then a golden-section search on the intervals either side of it (within `window` of
-    /// a hint when given).
+    /// then Brent's minimisation on the intervals either side of it, or on the one the point
+    /// lies along where it lies near the edge (the samples within `window` of a hint when
+    /// given).
     fn closest(&self, p: DVec3, hint: Option<(f64, f64)>) -> (f64, f64) {
         let n = SEARCH_SAMPLES;
         let candidates: Vec<usize> = match hint {
@@ -201,7 +202,7 @@ impl Edge<'_> {
         intervals
             .into_iter()
             .filter(|(a, b)| a < b)
-            .map(|(a, b)| self.golden(p, a as f64 / n as f64, b as f64 / n as f64))
+            .map(|(a, b)| self.nearest_between(p, a as f64 / n as f64, b as f64 / n as f64))
             .min_by(|x, y| x.1.total_cmp(&y.1))
             .unwrap_or((0.0, self.samples[0].distance(p)))
     }
@@ -213,7 +214,7 @@ impl Edge<'_> {
     /// interval between samples; the search stops once the bracket, scaled by that interval's
     /// chord, is shorter than [`Edge::precision`] in space. The interval's ends (samples) count
     /// too: the search only narrows toward them.
-    fn golden(&self, p: DVec3, a: f64, b: f64) -> (f64, f64) {
+    fn nearest_between(&self, p: DVec3, a: f64, b: f64) -> (f64, f64) {
         let f = |t: f64| self.point(t).distance_squared(p);
         let n = SEARCH_SAMPLES as f64;
         let sample = |t: f64| ((t * n).round() as usize).min(SEARCH_SAMPLES);

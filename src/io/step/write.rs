@@ -6,10 +6,11 @@
 //! the exact p-curve of every face that uses it. Shared edges (the object's topology) are one
 //! edge used by both faces, each vertex is one point where the corners the loops and shared
 //! edges join meet, and every edge curve ends on its vertices; the uncertainty written is the
-//! tolerance asked, or the widest gap the shape's corners and shared edges carry; faces are turned so that they agree across them, and a shell whose
-//! every edge is shared is closed (a `MANIFOLD_SOLID_BREP`, outward by the sign of its volume),
-//! otherwise open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit
-//! (millimetres for a unitless one).
+//! tolerance asked, or the widest gap the shape's corners and shared edges carry; faces are
+//! turned so that they agree across them, and a shell whose every edge is shared is closed (a
+//! `MANIFOLD_SOLID_BREP`, outward by the sign of its volume), otherwise open (a
+//! `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit (millimetres for a
+//! unitless one).
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
