@@ -227,25 +227,72 @@ impl MonotonePiece {
         if out.last() != Some(&start) {
             out.push(start);
         }
-        // (t0, t1, the mapped points at t0 and t1, depth).
-        let mut stack = vec![(0.0, 1.0, map(start)?, map(at(1.0))?, 0usize)];
-        while let Some((t0, t1, s0, s1, depth)) = stack.pop() {
+        // Each interval's midpoint is its parent's quarter point, carried down rather than
+        // evaluated again (the parameters are dyadic, so they are the same numbers exactly).
+        let (end, middle) = (at(1.0), at(0.5));
+        let mut stack = vec![Interval {
+            t0: 0.0,
+            t1: 1.0,
+            s0: map(start)?,
+            s1: map(end)?,
+            end,
+            middle: (middle, map(middle)?),
+            depth: 0,
+        }];
+        while let Some(span) = stack.pop() {
+            let Interval {
+                t0,
+                t1,
+                s0,
+                s1,
+                end,
+                middle,
+                depth,
+            } = span;
             let tm = 0.5 * (t0 + t1);
-            let sm = map(at(tm))?;
-            let mut worst = distance_to_segment(sm, s0, s1);
-            for f in [0.25, 0.75] {
-                let q = map(at(t0 + f * (t1 - t0)))?;
-                worst = worst.max(distance_to_segment(q, s0, s1));
-            }
+            let (first, third) = (at(t0 + 0.25 * (t1 - t0)), at(t0 + 0.75 * (t1 - t0)));
+            let (q1, q3) = (map(first)?, map(third)?);
+            let sm = middle.1;
+            let worst = distance_to_segment(sm, s0, s1)
+                .max(distance_to_segment(q1, s0, s1))
+                .max(distance_to_segment(q3, s0, s1));
             if (worst > tolerance || depth < min_depth) && depth < max_depth {
-                stack.push((tm, t1, sm, s1, depth + 1));
-                stack.push((t0, tm, s0, sm, depth + 1));
+                stack.push(Interval {
+                    t0: tm,
+                    t1,
+                    s0: sm,
+                    s1,
+                    end,
+                    middle: (third, q3),
+                    depth: depth + 1,
+                });
+                stack.push(Interval {
+                    t0,
+                    t1: tm,
+                    s0,
+                    s1: sm,
+                    end: middle.0,
+                    middle: (first, q1),
+                    depth: depth + 1,
+                });
             } else {
-                out.push(at(t1));
+                out.push(end);
             }
         }
         Ok(())
     }
+}
+
+/// One parameter interval of [`MonotonePiece::flatten_mapped`]: its ends, their mapped
+/// points, the (u, v) point at its end and its midpoint with its mapped point.
+struct Interval<V> {
+    t0: f64,
+    t1: f64,
+    s0: V,
+    s1: V,
+    end: DVec2,
+    middle: (DVec2, V),
+    depth: usize,
 }
 
 /// The least and most halvings of a piece flattened in (u, v).
