@@ -973,8 +973,9 @@ mod against_occ {
     }
 
     /// One file against OpenCASCADE's reading of it (`reference`: faces, area, volume, and
-    /// `closed` or shells and closed shells): what is wrong, empty when nothing is.
-    fn check(dir: &str, reference: &Value) -> Vec<String> {
+    /// `closed` or shells and closed shells): what is wrong, empty when nothing is. Without
+    /// `compare_measures` the area and volume are printed but not compared.
+    fn check(dir: &str, reference: &Value, compare_measures: bool) -> Vec<String> {
         let file = reference["file"].as_str().unwrap_or_default();
         let bytes = match std::fs::read(format!("{dir}/{file}")) {
             Ok(b) => b,
@@ -1062,7 +1063,7 @@ mod against_occ {
         let area = reference["area"].as_f64().unwrap_or(f64::NAN);
         let volume = reference["volume"].as_f64().unwrap_or(f64::NAN);
         let volume_bound = (2.0 * tolerance * area / volume).max(1e-3);
-        if area_error.is_nan() || area_error >= 1e-3 {
+        if compare_measures && (area_error.is_nan() || area_error >= 1e-3) {
             bad.push(format!(
                 "area off by {area_error:.2e}{}",
                 if extrapolated.is_some() {
@@ -1072,7 +1073,7 @@ mod against_occ {
                 }
             ));
         }
-        if closed && (volume_error.is_nan() || volume_error >= volume_bound) {
+        if compare_measures && closed && (volume_error.is_nan() || volume_error >= volume_bound) {
             bad.push(format!(
                 "volume off by {volume_error:.2e} (bound {volume_bound:.2e})"
             ));
@@ -1093,12 +1094,16 @@ mod against_occ {
     /// The public files knotwork does not yet read as OpenCASCADE does, each with what is
     /// wrong. The test fails when one of them passes (take it off the list) as it does when
     /// any other file fails.
-    const KNOWN: &[(&str, &str)] = &[(
+    const KNOWN: &[(&str, &str)] = &[];
+
+    /// The public files whose area and volume OpenCASCADE reads wrong, each with the evidence:
+    /// their faces, watertightness and round trip are checked, their area and volume printed.
+    const MISREAD_BY_OCC: &[(&str, &str)] = &[(
         "cax-if__s1-c5-214__HEAD_BACK.stp",
-        "OpenCASCADE's own reading looks wrong: it gives 71,280 mm² and 880,900 mm³ where \
-             the same part written by two other systems (s1-tu-203 headback, s1_pe_214 \
-             head_back_prt) reads 46,550 and 45,930 mm², 23,340 and 22,780 mm³; knotwork gives \
-             47,600 mm² and 23,800 mm³",
+        "OpenCASCADE gives 71,280 mm² and 880,900 mm³ (the same after ShapeFix_Shape and as \
+             NURBS) where the same part written by two other systems (s1-tu-203 headback, \
+             s1_pe_214 head_back_prt) reads 46,550 and 45,930 mm², 23,340 and 22,780 mm³; \
+             knotwork gives 47,600 mm² and 23,800 mm³",
     )];
 
     /// Every file listed in `dir`/`list` (one JSON object a line), checked: the failures. A
@@ -1132,8 +1137,12 @@ mod against_occ {
                 continue;
             }
             checked += 1;
-            let bad = check(dir, &reference);
             let file = reference["file"].as_str().unwrap_or_default();
+            let misread = MISREAD_BY_OCC.iter().find(|(f, _)| *f == file);
+            if let Some((_, why)) = misread {
+                println!("OpenCASCADE's area and volume not compared: {file}: {why}");
+            }
+            let bad = check(dir, &reference, misread.is_none());
             let known = reference["known"]
                 .as_str()
                 .or_else(|| KNOWN.iter().find(|(f, _)| *f == file).map(|(_, why)| *why));

@@ -425,7 +425,7 @@ impl NurbsCurve<DVec3> {
     /// §6.1), clamped to the domain.
     pub fn closest_parameter(&self, target: DVec3) -> Result<f64, GeometryError> {
         const SAMPLES: usize = 200;
-        let (a, b) = self.domain();
+        let (a, _) = self.domain();
         let mut nearest = (f64::INFINITY, 0.0);
         for i in 0..=SAMPLES {
             let t = self.parameter_at(i as f64 / SAMPLES as f64);
@@ -434,7 +434,15 @@ impl NurbsCurve<DVec3> {
                 nearest = (d, t);
             }
         }
-        let mut t = nearest.1;
+        self.closest_parameter_from(target, nearest.1)
+    }
+
+    /// The parameter of a point of the curve nearest `target`, by Newton's iteration on
+    /// C′·(C − P) = 0 from `start` (The NURBS Book §6.1), clamped to the domain: the nearest
+    /// point near `start`, a local minimum of the distance.
+    pub fn closest_parameter_from(&self, target: DVec3, start: f64) -> Result<f64, GeometryError> {
+        let (a, b) = self.domain();
+        let mut t = start.clamp(a, b);
         for _ in 0..30 {
             let d = self.derivatives(t, 2)?;
             let r = d[0] - target;

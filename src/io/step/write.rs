@@ -231,6 +231,39 @@ fn affine_map(s: &NurbsSurface) -> Option<(DVec3, DVec3, DVec3)> {
 /// image exactly (its points mapped, its weights and knots kept); the exact iso-curve where
 /// the trim is a straight iso-line; else a cubic through points of S(c(t)), doubled until its
 /// middles lie within `tolerance`. Each has the trim's parameter.
+/// The largest distance from the p-curve `trim` on `surface` to the edge curve `c3`, at
+/// points half way between 16 evenly spaced parameters of the p-curve, each to its nearest
+/// point of the curve (Newton's iteration from the nearest of as many samples of `c3`): what
+/// the file's uncertainty must cover for a reader to find the p-curve on its edge (faces
+/// read from other systems share edges that lie apart, the ends as well as between them).
+fn pcurve_gap(
+    surface: &NurbsSurface,
+    trim: &TrimCurve,
+    c3: &SpaceCurve,
+) -> Result<f64, GeometryError> {
+    const SAMPLES: usize = 16;
+    let (d0, d1) = trim.domain();
+    let (a, b) = c3.domain();
+    let along: Vec<(f64, DVec3)> = (0..=SAMPLES)
+        .map(|k| {
+            let t = a + (b - a) * k as f64 / SAMPLES as f64;
+            c3.point_at(t).map(|p| (t, p))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut gap: f64 = 0.0;
+    for k in 0..SAMPLES {
+        let s = (k as f64 + 0.5) / SAMPLES as f64;
+        let p = surface.point_at_clamped(trim.point_at(d0 + (d1 - d0) * s)?)?;
+        let start = along
+            .iter()
+            .min_by(|x, y| x.1.distance_squared(p).total_cmp(&y.1.distance_squared(p)))
+            .map_or(a, |x| x.0);
+        let t = c3.closest_parameter_from(p, start)?;
+        gap = gap.max(c3.point_at(t)?.distance(p));
+    }
+    Ok(gap)
+}
+
 fn edge_curve(
     face: &TrimmedSurface,
     trim: &TrimCurve,
@@ -626,6 +659,8 @@ pub fn write(
                             }
                             let mut pids = Vec::new();
                             for (g, pc) in &pcurves {
+                                uncertain =
+                                    uncertain.max(pcurve_gap(faces[*g].surface(), pc, &c3)?);
                                 let c2 = curve2(&mut out, pc);
                                 let rep = out.add(format!(
                                     "DEFINITIONAL_REPRESENTATION('',(#{c2}),#{context_2d})"
@@ -827,6 +862,72 @@ mod tests {
             "read at {:e}, the corners {:e} apart",
             model.tolerance,
             gap * size
+        );
+    }
+
+    /// Two faces whose shared edge meets at its ends but bows 3e-3 of their size apart half way
+    /// (a file from another system read within its uncertainty, whose topology measured the
+    /// ends alone), written at 1e-6 of the size: the file says how far the edge's p-curves lie
+    /// from its curve, so both faces read back with the edge shared. Before, the bowed face's
+    /// p-curve was refused ("its edges do not lie on its surface").
+    #[test]
+    fn faces_whose_shared_edge_bows_apart_read_back_with_their_edge_shared() {
+        let size = 23.0;
+        let turn = glam::DQuat::from_euler(glam::EulerRot::XYZ, -0.3, 0.9, 2.2);
+        let place = |p: DVec3| turn * (p * size) + DVec3::new(64.0, -7.0, 310.0);
+        let bow = 3e-3;
+        let plane = construct::plane(
+            place(DVec3::ZERO),
+            place(DVec3::X) - place(DVec3::ZERO),
+            place(DVec3::Y) - place(DVec3::ZERO),
+        )
+        .unwrap();
+        // Quadratic along the edge (u = 0), its middle control point 2 bow off the plane.
+        let bowed = NurbsSurface::bezier(
+            [1, 2],
+            [
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.5, 2.0 * bow),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(2.0, 0.0, 0.3),
+                DVec3::new(2.0, 0.5, 0.3),
+                DVec3::new(2.0, 1.0, 0.3),
+            ]
+            .map(place)
+            .to_vec(),
+            None,
+        )
+        .unwrap();
+        let faces = [
+            TrimmedSurface::untrimmed(plane),
+            TrimmedSurface::untrimmed(bowed),
+        ];
+        let mut topology = crate::kernel::join::find_topology(&faces, 1e-2 * size).unwrap();
+        assert_eq!(topology.shared.len(), 1);
+        // As a reader's topology: the gap measured at the ends.
+        topology.shared[0].gap = 0.0;
+        let text = write(
+            &[StepShape {
+                name: "bow",
+                faces: &faces,
+                topology: Some(&topology),
+                color: None,
+            }],
+            "bow.step",
+            1e-6 * size,
+            None,
+        )
+        .unwrap();
+        let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+        assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+        let body = &model.bodies[0];
+        assert_eq!(body.faces.len(), 2);
+        assert_eq!(body.topology.shared.len(), 1, "{:?}", body.topology);
+        assert!(
+            model.tolerance >= 0.99 * bow * size,
+            "read at {:e}, the edge bows {:e} apart",
+            model.tolerance,
+            bow * size
         );
     }
 }
