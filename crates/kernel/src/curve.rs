@@ -425,7 +425,6 @@ impl NurbsCurve<DVec3> {
     /// §6.1), clamped to the domain.
     pub fn closest_parameter(&self, target: DVec3) -> Result<f64, GeometryError> {
         const SAMPLES: usize = 200;
-        let (a, _) = self.domain();
         let mut nearest = (f64::INFINITY, 0.0);
         for i in 0..=SAMPLES {
             let t = self.parameter_at(i as f64 / SAMPLES as f64);
