@@ -134,8 +134,16 @@ impl<P: CurvePoint> NurbsCurve<P> {
         self.check_in_domain(u)?;
         let p = self.poly.degree;
         let span = find_span(&self.poly.knots, p, self.count(), u);
-        let mut basis = [0.0; MAX_DEGREE + 1];
-        basis_functions(&self.poly.knots, p, span, u, &mut basis[..=p]);
+        // Scratch for the usual degrees, not zeroed at the largest.
+        let mut small = [0.0; 8];
+        let mut large;
+        let basis: &mut [f64] = if p < small.len() {
+            &mut small[..=p]
+        } else {
+            large = [0.0; MAX_DEGREE + 1];
+            &mut large[..=p]
+        };
+        basis_functions(&self.poly.knots, p, span, u, basis);
         // The same sum, in the same order, as `derivatives` with order 0 (A4.1).
         let a = (0..=p).fold(P::Homogeneous::ZERO, |acc, j| {
             acc + self.poly.points[span - p + j] * basis[j]

@@ -118,6 +118,9 @@ impl ParameterBasis {
     }
 }
 
+/// Orders (degree + 1) below this are evaluated with scratch space on the stack of this size.
+const SMALL_ORDER: usize = 8;
+
 impl NurbsSurface {
     /// A surface from Cartesian control points (row-major, i along u) and optional weights
     /// (`None`: all 1). `count` = [points along u, points along v].
@@ -357,7 +360,15 @@ impl NurbsSurface {
     /// control points blended in u first, as [`Self::homogeneous_derivatives`] does, so the
     /// point is the same to the bit as [`Self::evaluate`]'s. Nothing is allocated.
     fn homogeneous_point(&self, u: f64, v: f64) -> DVec4 {
-        const CAP: usize = MAX_DEGREE + 1;
+        if self.degree[0].max(self.degree[1]) < SMALL_ORDER {
+            self.homogeneous_point_in::<SMALL_ORDER>(u, v)
+        } else {
+            self.homogeneous_point_in::<{ MAX_DEGREE + 1 }>(u, v)
+        }
+    }
+
+    /// [`Self::homogeneous_point`] with scratch space for degrees below `CAP`.
+    fn homogeneous_point_in<const CAP: usize>(&self, u: f64, v: f64) -> DVec4 {
         let [p, q] = self.degree;
         let su = find_span(&self.knots[0], p, self.count[0], u);
         let sv = find_span(&self.knots[1], q, self.count[1], v);
@@ -381,12 +392,27 @@ impl NurbsSurface {
 
     /// A_kl = ∂^{k+l} A / ∂u^k ∂v^l for k + l ≤ 2 of the homogeneous surface (A3.6).
     fn homogeneous_derivatives(&self, u: f64, v: f64) -> [[DVec4; 3]; 3] {
-        const CAP: usize = MAX_DEGREE + 1;
+        const LARGE: usize = MAX_DEGREE + 1;
+        if self.degree[0].max(self.degree[1]) < SMALL_ORDER {
+            self.homogeneous_derivatives_in::<SMALL_ORDER, { 3 * SMALL_ORDER }>(u, v)
+        } else {
+            self.homogeneous_derivatives_in::<LARGE, { 3 * LARGE }>(u, v)
+        }
+    }
+
+    /// [`Self::homogeneous_derivatives`] with scratch space for degrees below `CAP`
+    /// (`CAP3` = 3 `CAP`): zeroing scratch sized for the largest degree took longer than the
+    /// sums themselves.
+    fn homogeneous_derivatives_in<const CAP: usize, const CAP3: usize>(
+        &self,
+        u: f64,
+        v: f64,
+    ) -> [[DVec4; 3]; 3] {
         let [p, q] = self.degree;
         let su = find_span(&self.knots[0], p, self.count[0], u);
         let sv = find_span(&self.knots[1], q, self.count[1], v);
-        let mut nu = [0.0; 3 * CAP];
-        let mut nv = [0.0; 3 * CAP];
+        let mut nu = [0.0; CAP3];
+        let mut nv = [0.0; CAP3];
         basis_derivatives_into(&self.knots[0], p, su, u, 2, &mut nu[..3 * (p + 1)]);
         basis_derivatives_into(&self.knots[1], q, sv, v, 2, &mut nv[..3 * (q + 1)]);
         let mut skl = [[DVec4::ZERO; 3]; 3];
