@@ -658,9 +658,13 @@ pub fn write(
                                 ));
                             }
                             let mut pids = Vec::new();
-                            for (g, pc) in &pcurves {
-                                uncertain =
-                                    uncertain.max(pcurve_gap(faces[*g].surface(), pc, &c3)?);
+                            for (k, (g, pc)) in pcurves.iter().enumerate() {
+                                // The curve was fitted to the first (within the tolerance,
+                                // its ends moved by the corners' spread): the other is measured.
+                                if k > 0 {
+                                    uncertain =
+                                        uncertain.max(pcurve_gap(faces[*g].surface(), pc, &c3)?);
+                                }
                                 let c2 = curve2(&mut out, pc);
                                 let rep = out.add(format!(
                                     "DEFINITIONAL_REPRESENTATION('',(#{c2}),#{context_2d})"
