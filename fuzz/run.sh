@@ -10,7 +10,7 @@
 #
 # The corpus starts from valid and broken files (fuzz/corpus/TARGET, made on first use) and grows
 # there; failing inputs land in fuzz/artifacts/TARGET. Copy a fixed one into
-# fuzz/regressions/TARGET/ so that `cargo test --test fuzz_regressions` keeps it fixed.
+# fuzz/regressions/TARGET/ so that `cargo test --test it fuzz_regressions::` keeps it fixed.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$HOME/.cache/knotwork-target}

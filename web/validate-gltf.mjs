@@ -1,5 +1,5 @@
 // Runs the official Khronos glTF-Validator (npm gltf-validator) on glTF files and fails on any
-// error or warning. Used by the Rust tests (tests/gltf_export.rs) and the browser test.
+// error or warning. Used by the Rust tests (tests/it/gltf_export.rs) and the browser test.
 //
 //   node web/validate-gltf.mjs FILE.glb [FILE.gltf ...]
 //

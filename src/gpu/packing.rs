@@ -1,7 +1,7 @@
 //! The blocks the compute shaders read for an object's displacement and free-form deformation
 //! lattice, packed from the kernel's types. They lie among the stencil entries of the
 //! control-point buffer (see [`super::records::PatchRecord`]). Their headers' sizes are the
-//! WGSL constants of the same names in `shaders/common.wgsl`, and `tests/shaders.rs` checks the
+//! WGSL constants of the same names in `shaders/common.wgsl`, and `tests/it/shaders.rs` checks the
 //! codes and sizes against them.
 
 use crate::kernel::displace::{Displacement, HeightImage, Pattern};

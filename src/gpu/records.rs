@@ -1,5 +1,6 @@
 //! Data shared by Rust and WGSL: one definition per side, checked against each other by
-//! `tests/shader_layouts.rs` (naga reflection of `shaders/common.wgsl`).
+//! `tests/it/shaders.rs` (`shared_records_have_the_same_layout_on_both_sides`: naga reflection of
+//! `shaders/common.wgsl`).
 
 use bytemuck::{Pod, Zeroable};
 

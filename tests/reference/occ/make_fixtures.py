@@ -5,7 +5,7 @@ Run with the Python bindings of OpenCASCADE (`pip install cadquery-ocp`):
 
     python3 tests/reference/occ/make_fixtures.py > tests/reference/occ/modelling.json
 
-The test suite (tests/occ_reference.rs) reads the JSON this prints; it does not need
+The test suite (tests/it/occ_reference.rs) reads the JSON this prints; it does not need
 OpenCASCADE. Each case gives the inputs (curves as degree, knots, poles and weights, the same
 curve knotwork builds) and what OpenCASCADE made of them: points on its surface or curve, or a
 measure (an area).

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Random surface pairs intersected by OpenCASCADE (GeomAPI_IntSS), for knotwork's
-differential intersection test (tests/intersect.rs).
+differential intersection test (tests/it/intersect.rs).
 
 Run with the Python bindings of OpenCASCADE (`pip install cadquery-ocp`):
 

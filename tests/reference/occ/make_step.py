@@ -1,5 +1,5 @@
 """STEP fixtures written by OpenCASCADE (the cadquery-ocp bindings), with the areas and volumes
-OpenCASCADE computes for them, for tests/step_files.rs. Not run by the tests: run it by hand
+OpenCASCADE computes for them, for tests/it/step_files.rs. Not run by the tests: run it by hand
 (python3 -m venv v && v/bin/pip install cadquery-ocp && v/bin/python make_step.py) and commit
 the files it writes into tests/reference/occ/step/.
 

@@ -5,7 +5,7 @@ Run with the Python bindings of OpenCASCADE (`pip install cadquery-ocp`):
 
     python3 tests/reference/occ/make_surface_ops.py > tests/reference/occ/surface_ops.json
 
-The test suite (tests/surface_ops.rs) reads the JSON this prints; it does not need
+The test suite (tests/it/surface_ops.rs) reads the JSON this prints; it does not need
 OpenCASCADE. Each offset case gives a rational B-spline surface (degrees, full knot vectors,
 poles row-major with i along u, weights), a signed distance, and the points of OpenCASCADE's
 Geom_OffsetSurface (S + d N, N = Su x Sv / |Su x Sv|) at a grid of parameters.

@@ -1,5 +1,5 @@
 """Random STEP files written by OpenCASCADE (the cadquery-ocp bindings) for the differential
-test in tests/step_files.rs: each seed draws a shape (primitives, cuts, commons, fuses,
+test in tests/it/step_files.rs: each seed draws a shape (primitives, cuts, commons, fuses,
 fillets, chamfers, lofts, revolved and extruded splines), puts it in general position (a
 random rotation about a random axis, a translation, a scale from 1e-2 to 1e4) and sometimes
 converts every surface to a rational B-spline of raised degree (BRepBuilderAPI_NurbsConvert

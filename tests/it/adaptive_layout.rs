@@ -3,7 +3,7 @@
 //! T-junctions): for many segment counts, every vertex's (s, t) and edge sample and every
 //! triangle agree, run on the GPU (lavapipe where there is none).
 
-mod common;
+use crate::common;
 
 use knotwork::gpu::adaptive::PatchLevels;
 use knotwork::shaders;

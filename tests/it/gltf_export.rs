@@ -2,7 +2,7 @@
 //! through an independent reader (the `gltf` crate) against the f64 kernel, the embedded
 //! editable model, and the chordal tolerance measured on the written triangles.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::Command;

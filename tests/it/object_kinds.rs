@@ -16,7 +16,7 @@
 //! 5. it exports to glTF with triangles inside its control points' box, and the export reopens
 //!    as the same object.
 
-mod common;
+use crate::common;
 
 use glam::{DAffine3, DVec3};
 use knotwork::doc::{Command, Document, Touched};
@@ -583,7 +583,7 @@ fn conforms(context: &GpuContext, object: SceneObject) {
     let shown_faces = object.faces();
     assert_eq!(kind_faces.len(), shown_faces.len(), "{name}: faces");
     // A polysurface's face k is its k-th trimmed face over that face's own domain (several
-    // feed patches): checked against the faces it was joined from in tests/surface_ops.rs.
+    // feed patches): checked against the faces it was joined from in tests/it/surface_ops.rs.
     let polysurface = object.geometry.downcast_ref::<Polysurface>().is_some();
     for (n, (face, (patch, shown))) in kind_faces.iter().zip(shown_faces).enumerate() {
         assert_eq!(face.patch, patch, "{name}: face {n}");
@@ -895,7 +895,7 @@ fn subdivision_substitutes_conform() {
 /// they meet): Catmull-Clark on a torus with a spike and on a cube with a corner pulled out,
 /// Loop on an icosahedron with one point pulled out. The GPU writes each vertex's refinement
 /// level. (The butterfly's limit leaves the control points' box, which `conforms` checks; its
-/// GPU evaluation is checked in tests/adaptive_subdivision.rs.)
+/// GPU evaluation is checked in tests/it/adaptive_subdivision.rs.)
 #[test]
 fn subdivision_adaptive_conforms() {
     use knotwork::kernel::subdiv::patches::Display;

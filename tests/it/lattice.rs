@@ -7,7 +7,7 @@
 //! document undoes it all, the project keeps the lattice and refuses bad ones, the export
 //! writes the deformed surface.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use knotwork::doc::create::{Primitive, PrimitiveParams};

@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-mod common;
+use crate::common;
 
 use glam::{DAffine3, DVec3};
 use knotwork::kernel::PolygonMesh;

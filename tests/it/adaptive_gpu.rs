@@ -8,7 +8,7 @@
 //!   bit-identical vertices, even after the scan had to coarsen everything to fit;
 //! - the vertex count follows the screen, not the model.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 

@@ -5,7 +5,7 @@
 //! per-pixel evaluation of the surface can. Failures write the actual, expected and difference
 //! images.
 
-mod common;
+use crate::common;
 
 use glam::{DMat4, DVec3, DVec4};
 use knotwork::kernel::{NurbsSurface, construct};

@@ -4,7 +4,7 @@
 //! of its isoparametric curves), interpolation of every given curve and derivative, the
 //! two-by-two Gordon surface as the bilinear Coons patch, and refusals with reasons.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use glam::DVec3;

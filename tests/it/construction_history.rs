@@ -5,7 +5,7 @@
 //! commands (knots, degree, direction, split and join, close and open, remove a point, rebuild
 //! in place) keep what they promise.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use knotwork::doc::{Command, CurveEdit, Document, Touched};

@@ -5,7 +5,7 @@
 //! changes nothing on the GPU; the project file round-trips and refuses bad patches with the
 //! field named; the export's triangles stay within the tolerance.
 
-mod common;
+use crate::common;
 
 use glam::{DVec2, DVec3};
 use knotwork::doc::Document;

@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use knotwork::doc::{Document, Touched};

@@ -11,7 +11,7 @@ use knotwork::kernel::{Direction, NurbsSurface, SpaceCurve};
 use knotwork::scene::json::{self, Geometry, NamedGeometry};
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::{Rng, random_knots, random_surface};
 
 /// Random parameters in the domain, including its corners and edges.

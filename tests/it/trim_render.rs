@@ -4,7 +4,7 @@
 //! The silhouette must agree within one pixel. Failing comparisons write the actual, expected
 //! and difference images.
 
-mod common;
+use crate::common;
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Vec3};
 use knotwork::kernel::trim::polygon_contains;

@@ -14,8 +14,6 @@ use knotwork::kernel::{Direction, construct};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivSettings};
 use proptest::prelude::*;
 
-mod common;
-
 /// A small scene with every kind of object: the teapot's lid (Bézier patches over shared
 /// points), a rational torus and a non-uniform B-spline.
 fn start_scene() -> Scene {

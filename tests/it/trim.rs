@@ -2,7 +2,7 @@
 //! closed forms, the classification grid against an independent polygon test, orientation
 //! independence, every refusal with its message, splitting, and property tests on random loops.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

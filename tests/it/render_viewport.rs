@@ -2,7 +2,7 @@
 //! offscreen on a real device and compared with what the f64 reference says should be seen.
 //! Failing comparisons write the actual, expected and difference images (see the panic message).
 
-mod common;
+use crate::common;
 
 use glam::{DMat4, DVec3};
 use knotwork::gpu::GpuContext;

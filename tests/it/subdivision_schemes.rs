@@ -4,7 +4,7 @@
 //! face and vertex counts per level, limit masks that refinement leaves in place, refused
 //! cages, the CLI and the project file, and the GPU's stencil pass against the f64 display.
 
-mod common;
+use crate::common;
 
 use common::{grid_mesh, open_mixed_grid, triangle_lattice};
 use glam::DVec3;

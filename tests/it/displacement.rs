@@ -5,7 +5,7 @@
 //! a displacement; the project file keeps it and refuses bad ones with the field named; the
 //! export moves its points.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use knotwork::doc::create::{Primitive, PrimitiveParams};

@@ -2,7 +2,7 @@
 //! positions, normals and curvature of every object kind, watertight seams, incremental updates
 //! and refused requests.
 
-mod common;
+use crate::common;
 
 use std::collections::{BTreeSet, HashMap};
 

@@ -4,7 +4,7 @@
 //! semi-sharp blending, affine invariance, symmetry, refused cages, and the GPU's stencil pass
 //! against the f64 tables.
 
-mod common;
+use crate::common;
 
 use common::{grid_mesh, height, open_mixed_grid, triangle_lattice};
 use glam::{DAffine3, DMat3, DVec3};

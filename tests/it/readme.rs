@@ -5,7 +5,7 @@ use knotwork::app::{CONTROLS, NAVIGATION_HINT};
 
 /// The rows of the table under `## Controls` in README.md: (input, action).
 fn readme_controls() -> Vec<(String, String)> {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let section = readme
         .split("## Controls")
         .nth(1)

@@ -3,7 +3,7 @@
 //! make_surface_ops.py beside it) and against the closed forms of the sphere and the torus;
 //! the document's Offset command with undo; refusals that leave everything as it was.
 
-mod common;
+use crate::common;
 
 use std::process::Command as Process;
 

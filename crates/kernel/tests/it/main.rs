@@ -1,0 +1,8 @@
+//! The kernel's integration tests in one test binary (a module per file, as the app's
+//! `tests/it/`): `cargo test -p knotwork-kernel --test it nurbs::` runs one file's tests.
+
+mod bezier;
+mod nurbs;
+mod parametric;
+mod subdivision_boundary;
+mod trimmed_export;

@@ -1,0 +1,41 @@
+//! knotwork's integration tests, gathered into one test binary: each file of this folder is a
+//! module, so that the app is linked once for all of them rather than once per file (the test
+//! suite's cold build on two cores was dominated by linking). Run one file's tests with its
+//! module name as the filter: `cargo test --test it step_files::`.
+
+mod common;
+
+mod adaptive_gpu;
+mod adaptive_layout;
+mod adaptive_subdivision;
+mod analysis_overlays;
+mod analysis_render;
+mod construction_history;
+mod continuity;
+mod desktop_app;
+mod displacement;
+mod doc_commands;
+mod editor_ui;
+mod file_format;
+mod fuzz_regressions;
+mod gltf_export;
+mod gpu_eval;
+mod import_files;
+mod intersect;
+mod kernel_props;
+mod lattice;
+mod object_kinds;
+mod occ_reference;
+mod project_files;
+mod readme;
+mod render_viewport;
+mod shaders;
+mod step_files;
+mod subdivision;
+mod subdivision_schemes;
+mod substitutes;
+mod surface_ops;
+mod transfinite;
+mod triangle_bezier;
+mod trim;
+mod trim_render;
