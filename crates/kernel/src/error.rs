@@ -2,6 +2,7 @@
 
 use std::fmt;
 
+use glam::DVec2;
 use thiserror::Error;
 
 /// Where inside an object a rejected value lies, written as the JSON path below the object in
@@ -175,10 +176,7 @@ pub enum GeometryError {
     #[error("{at}: {problem}")]
     Cage { at: Location, problem: CageProblem },
     #[error("{at}: {problem}")]
-    Trim {
-        at: Location,
-        problem: super::trim::TrimProblem,
-    },
+    Trim { at: Location, problem: TrimProblem },
     #[error("sample data {name}: {message}")]
     SampleData { name: &'static str, message: String },
 }
@@ -260,5 +258,51 @@ impl GeometryError {
                 .map_or_else(|| text.clone(), str::to_owned),
             None => text,
         }
+    }
+}
+
+/// Why a trim loop was refused; the [`Location`] names the loop and curve (`trims[1][2]`).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TrimProblem {
+    #[error("the loop has no curves")]
+    EmptyLoop,
+    #[error(
+        "the loop is open: curve {curve} ends at {end} but curve {next} starts at {start} (each curve must start where the one before it ends)"
+    )]
+    Open {
+        curve: usize,
+        next: usize,
+        end: Uv,
+        start: Uv,
+    },
+    #[error("the curve leaves the surface's domain [{u0}, {u1}] × [{v0}, {v1}] near {near}")]
+    OutsideDomain {
+        near: Uv,
+        u0: f64,
+        u1: f64,
+        v0: f64,
+        v1: f64,
+    },
+    #[error("the loop crosses itself: this curve meets curve {other} of the same loop near {near}")]
+    SelfIntersection { other: usize, near: Uv },
+    #[error("the loop crosses loop {other_loop} (its curve {other_curve}) near {near}")]
+    Crossing {
+        other_loop: usize,
+        other_curve: usize,
+        near: Uv,
+    },
+    #[error("the loop encloses no area")]
+    ZeroArea,
+    #[error("{0}")]
+    Curve(String),
+}
+
+/// A (u, v) point in a message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Uv(pub DVec2);
+
+impl fmt::Display for Uv {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(f, "({:.6}, {:.6})", self.0.x, self.0.y)
     }
 }

@@ -21,11 +21,11 @@ use std::fmt;
 use std::sync::{Arc, OnceLock};
 
 use glam::DVec2;
-use thiserror::Error;
 
 use self::index::TrimIndex;
 use self::piece::{MonotonePiece, distance_to_segment, monotone_pieces};
 use super::error::{GeometryError, Location};
+pub use super::error::{TrimProblem, Uv};
 use super::vector::Vector;
 use super::{Direction, NurbsSurface, TrimCurve};
 
@@ -42,52 +42,6 @@ pub const FLATTEN_TOLERANCE: f64 = 1e-6;
 /// Loops are first checked on polygons this close to them (a fraction of the domain's size),
 /// and on [`FLATTEN_TOLERANCE`]'s only where parts of them come within a few times this.
 const SCREEN_TOLERANCE: f64 = 1e-4;
-
-/// Why a trim loop was refused; the [`Location`] names the loop and curve (`trims[1][2]`).
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum TrimProblem {
-    #[error("the loop has no curves")]
-    EmptyLoop,
-    #[error(
-        "the loop is open: curve {curve} ends at {end} but curve {next} starts at {start} (each curve must start where the one before it ends)"
-    )]
-    Open {
-        curve: usize,
-        next: usize,
-        end: Uv,
-        start: Uv,
-    },
-    #[error("the curve leaves the surface's domain [{u0}, {u1}] × [{v0}, {v1}] near {near}")]
-    OutsideDomain {
-        near: Uv,
-        u0: f64,
-        u1: f64,
-        v0: f64,
-        v1: f64,
-    },
-    #[error("the loop crosses itself: this curve meets curve {other} of the same loop near {near}")]
-    SelfIntersection { other: usize, near: Uv },
-    #[error("the loop crosses loop {other_loop} (its curve {other_curve}) near {near}")]
-    Crossing {
-        other_loop: usize,
-        other_curve: usize,
-        near: Uv,
-    },
-    #[error("the loop encloses no area")]
-    ZeroArea,
-    #[error("{0}")]
-    Curve(String),
-}
-
-/// A (u, v) point in a message.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Uv(pub DVec2);
-
-impl fmt::Display for Uv {
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        write!(f, "({:.6}, {:.6})", self.0.x, self.0.y)
-    }
-}
 
 /// The location of curve `curve` of loop `trim_loop`: `trims[loop][curve]`.
 pub fn trim_location(trim_loop: usize, curve: usize) -> Location {
