@@ -817,6 +817,17 @@ mod tests {
         assert!(affine_map(&plane).is_some());
     }
 
+    /// The file of a shape of `faces` with `topology`, written at `tolerance`.
+    fn two_faces_written(faces: &[TrimmedSurface], topology: &Topology, tolerance: f64) -> String {
+        let shape = StepShape {
+            name: "two faces",
+            faces,
+            topology: Some(topology),
+            color: None,
+        };
+        write(&[shape], "two-faces.step", tolerance, None).unwrap()
+    }
+
     /// Two faces whose shared edge's ends lie 3e-3 of their size apart (as files from other
     /// systems carry, within their own uncertainty), written at a tolerance of 1e-6 of the
     /// size: each corner the topology joins is one vertex, every edge ends on its vertices,
@@ -842,18 +853,7 @@ mod tests {
         let faces = [TrimmedSurface::untrimmed(a), TrimmedSurface::untrimmed(b)];
         let topology = crate::kernel::join::find_topology(&faces, 1e-2 * size).unwrap();
         assert_eq!(topology.shared.len(), 1);
-        let text = write(
-            &[StepShape {
-                name: "gap",
-                faces: &faces,
-                topology: Some(&topology),
-                color: None,
-            }],
-            "gap.step",
-            1e-6 * size,
-            None,
-        )
-        .unwrap();
+        let text = two_faces_written(&faces, &topology, 1e-6 * size);
         // Four corners each, two of them shared.
         assert_eq!(text.matches("VERTEX_POINT(").count(), 6);
         let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
@@ -910,18 +910,7 @@ mod tests {
         assert_eq!(topology.shared.len(), 1);
         // As a reader's topology: the gap measured at the ends.
         topology.shared[0].gap = 0.0;
-        let text = write(
-            &[StepShape {
-                name: "bow",
-                faces: &faces,
-                topology: Some(&topology),
-                color: None,
-            }],
-            "bow.step",
-            1e-6 * size,
-            None,
-        )
-        .unwrap();
+        let text = two_faces_written(&faces, &topology, 1e-6 * size);
         let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
         assert!(model.warnings.is_empty(), "{:?}", model.warnings);
         let body = &model.bodies[0];
