@@ -30,9 +30,10 @@
 
 use glam::DVec3;
 
-use crate::construct::{averaged_knots, construction, interpolate_points};
 use crate::continuity::Side;
 use crate::error::GeometryError;
+use crate::error::construction;
+use crate::interpolation::{averaged_knots, interpolate_points};
 use crate::parametric::ParametricSurface;
 use crate::surface::{Direction, NurbsSurface};
 

@@ -3,9 +3,10 @@
 
 use glam::DVec3;
 
-use super::construct::{construction, line};
+use super::construct::line;
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
+use super::error::construction;
 
 /// `curve` projected onto the plane through `origin` with normal `normal` along the normal:
 /// P ↦ P − n ((P − o)·n). The projection is affine, so mapping the control points (weights

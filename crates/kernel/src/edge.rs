@@ -4,9 +4,10 @@
 
 use glam::DVec3;
 
-use super::construct::{construction, coons, ruled};
+use super::construct::{coons, ruled};
 use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
+use super::error::construction;
 use super::loft::align_sections;
 use super::planar::chained;
 use super::splines::polynomial_approximation;

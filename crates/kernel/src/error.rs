@@ -306,3 +306,11 @@ impl fmt::Display for Uv {
         write!(f, "({:.6}, {:.6})", self.0.x, self.0.y)
     }
 }
+
+/// The error of a construction (`what`) refused with `message`.
+pub fn construction(what: &'static str, message: impl Into<String>) -> GeometryError {
+    GeometryError::Construction {
+        what,
+        message: message.into(),
+    }
+}

@@ -22,10 +22,10 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::construct::construction;
 use crate::curve::SpaceCurve;
 use crate::diffgeo::SurfaceDerivatives;
 use crate::error::GeometryError;
+use crate::error::construction;
 use crate::intersect::{IntersectOptions, IntersectionCurve, intersect_surfaces};
 use crate::loft::{LoftOptions, LoftStyle, loft_sections};
 use crate::offset::face_normal;

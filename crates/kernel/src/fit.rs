@@ -5,9 +5,9 @@
 use glam::DVec3;
 
 use super::basis::{basis_functions, find_span};
-use super::construct::construction;
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
+use super::error::construction;
 use super::splines::{Parametrization, parameters};
 
 /// The most control points a rebuilt or fitted curve may have.

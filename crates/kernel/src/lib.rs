@@ -38,6 +38,7 @@ pub mod error;
 pub mod ffd;
 pub mod fillet;
 pub mod fit;
+pub mod interpolation;
 pub mod intersect;
 pub mod intersect_curve;
 pub mod join;

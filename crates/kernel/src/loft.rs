@@ -11,9 +11,10 @@
 use glam::{DVec3, DVec4};
 
 use super::basis::uniform_clamped_knots;
-use super::construct::{averaged_knots, construction, interpolate_points, make_compatible};
 use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
+use super::error::construction;
+use super::interpolation::{averaged_knots, interpolate_points, make_compatible};
 use super::ops::Polygon;
 use super::splines::{
     Parametrization, parameters, periodic_control, periodic_knots, polynomial_approximation,

@@ -25,9 +25,10 @@
 
 use glam::DVec3;
 
-use super::construct::{averaged_knots, construction, interpolate_points};
 use super::curve::{SpaceCurve, control_box_size};
 use super::error::GeometryError;
+use super::error::construction;
+use super::interpolation::{averaged_knots, interpolate_points};
 use super::surface::{Direction, NurbsSurface};
 use super::transfinite::{crossing, gordon_at, normalized, samples};
 

@@ -28,8 +28,8 @@
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
 use crate::basis::{basis_functions, find_span};
-use crate::construct::construction;
 use crate::error::GeometryError;
+use crate::error::construction;
 use crate::parametric::ParametricSurface;
 use crate::surface::{Direction, NurbsSurface};
 

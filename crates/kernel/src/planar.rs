@@ -6,9 +6,10 @@
 
 use glam::{DVec2, DVec3};
 
-use super::construct::{construction, plane};
+use super::construct::plane;
 use super::curve::{SpaceCurve, TrimCurve, control_box_size};
 use super::error::GeometryError;
+use super::error::construction;
 use super::trim::TrimmedSurface;
 
 /// How far off their plane the curves may be, as a fraction of the chain's size.

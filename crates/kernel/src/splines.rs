@@ -10,9 +10,10 @@
 //! as the splines are).
 
 use super::basis::{basis_functions, find_span};
-use super::construct::{averaged_knots, construction, interpolate_points};
 use super::curve::NurbsCurve;
 use super::error::GeometryError;
+use super::error::construction;
+use super::interpolation::{averaged_knots, interpolate_points};
 use super::vector::{CurvePoint, Vector};
 
 /// How the parameters of the points an interpolant passes through are spaced (The NURBS Book

@@ -10,9 +10,10 @@
 
 use glam::{DMat3, DVec3, DVec4};
 
-use super::construct::{construction, make_compatible};
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
+use super::error::construction;
+use super::interpolation::make_compatible;
 use super::loft::{LoftOptions, LoftStyle, align_sections, loft_sections};
 use super::surface::NurbsSurface;
 use super::vector::CurvePoint;

@@ -11,9 +11,10 @@
 use glam::{DVec3, DVec4};
 
 use super::basis::{interior_knots, merge_knots, missing_knots};
-use super::construct::{averaged_knots, construction, interpolate_points, make_compatible, skin};
 use super::curve::SpaceCurve;
 use super::error::GeometryError;
+use super::error::construction;
+use super::interpolation::{averaged_knots, interpolate_points, make_compatible, skin};
 use super::surface::{Direction, NurbsSurface};
 
 /// The corners of [0, 1]² in the order the Hermite data lists them.

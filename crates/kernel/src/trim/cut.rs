@@ -8,8 +8,8 @@
 use glam::DVec2;
 
 use super::{TrimLoop, TrimmedSurface, domain_rect, domain_size, polygon_contains, shapes};
-use crate::construct::construction;
 use crate::error::GeometryError;
+use crate::error::construction;
 use crate::splines::{Parametrization, interpolate_closed, interpolate_through};
 
 /// Which side of a cut curve, looking along it, is kept.
