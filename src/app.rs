@@ -9,6 +9,7 @@ mod export;
 mod files;
 mod gizmo;
 mod input;
+mod operations;
 mod overlay;
 mod panels;
 pub(crate) mod platform;
@@ -22,7 +23,7 @@ pub use views::StandardView;
 
 pub use files::AUTOSAVE_KEY;
 #[cfg(not(target_arch = "wasm32"))]
-pub use files::open_path;
+pub use files::{apply_to_file, open_path};
 pub use overlay::{CONTROLS, NAVIGATION_HINT};
 pub use panels::parse_knots;
 
@@ -306,6 +307,8 @@ pub struct KnotworkApp {
     curves: curves::CurveState,
     /// The surface tools' settings (offset, fillet).
     surface_tools: surface_tools::SurfaceToolState,
+    /// Whether the Operations panel's operations keep their history.
+    operations_keep_history: bool,
     /// The trim control point being dragged in the (u, v) panel.
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
@@ -419,6 +422,7 @@ impl KnotworkApp {
             trim_drawing: None,
             curves: curves::CurveState::default(),
             surface_tools: surface_tools::SurfaceToolState::default(),
+            operations_keep_history: true,
             trim_handle: None,
             snap: false,
             snap_step: 0.25,

@@ -22,6 +22,7 @@ pub mod bench;
 pub mod doc;
 pub mod gpu;
 pub mod io;
+pub mod ops;
 /// The f64 geometry kernel (the `knotwork-kernel` crate), under its old path.
 pub use knotwork_kernel as kernel;
 pub mod render;

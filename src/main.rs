@@ -56,6 +56,14 @@ fn main() -> std::process::ExitCode {
         }) => {
             return cli::offset(project, object, *distance, *tolerance, output);
         }
+        Some(cli::Command::Apply {
+            operation,
+            project,
+            history,
+            output,
+        }) => {
+            return cli::apply(operation, project, *history, output);
+        }
         Some(cli::Command::Join {
             project,
             tolerance,

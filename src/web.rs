@@ -466,14 +466,37 @@ pub fn construct(
     Ok(())
 }
 
+/// Runs an operation (one undo step), without history.
+fn send_operation(operation: impl crate::scene::operation::OperationParams) {
+    send(AppCommand::Edit(Command::Apply {
+        operation: crate::scene::operation::Operation::new(operation),
+        keep_history: false,
+    }));
+}
+
+/// Runs any registered operation given as its JSON value, `{"op": NAME, ...its fields}`
+/// with objects by their index (`knotwork apply` takes the same; one undo step). With
+/// `keep_history`, what it adds is made again whenever an object it reads changes. A value
+/// no operation reads is refused here, naming the bad field; an operation the document refuses
+/// says why in the status.
+#[wasm_bindgen]
+pub fn apply(operation: String, keep_history: bool) -> Result<(), String> {
+    let operation = crate::ops::parse(&operation).map_err(|e| format!("apply: {e}"))?;
+    send(AppCommand::Edit(Command::Apply {
+        operation,
+        keep_history,
+    }));
+    Ok(())
+}
+
 /// Adds the curves where objects `a` and `b` meet as curve objects (one undo step); objects
 /// that do not meet are refused in the status.
 #[wasm_bindgen]
 pub fn intersect(a: u32, b: u32) {
-    send(AppCommand::Edit(Command::Intersect {
-        a: a as usize,
-        b: b as usize,
-    }));
+    send_operation(crate::ops::intersect::Intersect {
+        a: (a as usize).into(),
+        b: (b as usize).into(),
+    });
 }
 
 /// Adds the offset of object `object` at signed `distance` along its normal as "NAME offset"
@@ -481,11 +504,11 @@ pub fn intersect(a: u32, b: u32) {
 /// lines and arcs, within 1e-4 of the scene's size elsewhere).
 #[wasm_bindgen]
 pub fn offset(object: u32, distance: f64) {
-    send(AppCommand::Edit(Command::Offset {
-        object: object as usize,
+    send_operation(crate::ops::offset::Offset {
+        object: (object as usize).into(),
         distance,
         tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,
-    }));
+    });
 }
 
 /// Rolls a ball of `radius` between objects `a` and `b` on the chosen sides (front: where the
@@ -593,12 +616,12 @@ pub fn match_edge(object: u32, target: u32, continuity: u32, edges: Vec<u32>) {
 #[wasm_bindgen]
 #[allow(clippy::too_many_arguments)]
 pub fn contour(object: u32, spacing: f64, nx: f64, ny: f64, nz: f64, ox: f64, oy: f64, oz: f64) {
-    send(AppCommand::Edit(Command::Contour {
-        object: object as usize,
-        origin: glam::DVec3::new(ox, oy, oz),
-        normal: glam::DVec3::new(nx, ny, nz),
+    send_operation(crate::ops::contour::Contour {
+        object: (object as usize).into(),
+        origin: [ox, oy, oz],
+        normal: [nx, ny, nz],
         spacing,
-    }));
+    });
 }
 
 /// Adds the curves `curves` projected onto object `onto` along (x, y, z), or with `pull`

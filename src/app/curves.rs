@@ -1098,7 +1098,15 @@ impl KnotworkApp {
                 .on_hover_text("the curves where they meet, as curve objects")
                 .clicked()
             {
-                self.apply(AppCommand::Edit(Command::Intersect { a: s, b: chosen }));
+                self.apply(AppCommand::Edit(Command::Apply {
+                    operation: crate::scene::operation::Operation::new(
+                        crate::ops::intersect::Intersect {
+                            a: s.into(),
+                            b: chosen.into(),
+                        },
+                    ),
+                    keep_history: false,
+                }));
             }
         });
     }

@@ -579,3 +579,47 @@ pub fn open_path(path: &std::path::Path) -> Result<Project, String> {
     };
     crate::io::open(&path.display().to_string(), &bytes, &companion).map_err(|e| e.to_string())
 }
+
+/// `knotwork apply`: runs the operation whose JSON value (`{"op": NAME, ...}`) is `operation`
+/// on the document in the file `project` (any format [`open_path`] reads), through
+/// the document as the editor does (with history when `keep_history`), writes the result as a
+/// project to `output` and returns what it did as JSON: `{"label", "added", "changed",
+/// "removed"}` (object names). Refused, with nothing written, when the operation cannot be
+/// read or the document refuses it.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn apply_to_file(
+    operation: &str,
+    project: &std::path::Path,
+    output: &std::path::Path,
+    keep_history: bool,
+) -> Result<serde_json::Value, String> {
+    use crate::doc::{Change, Command};
+    let operation = crate::ops::parse(operation).map_err(|e| format!("the operation: {e}"))?;
+    let mut document =
+        open_path(project).map_err(|e| format!("cannot open {}: {e}", project.display()))?;
+    let edit = crate::doc::apply(
+        &mut document.scene,
+        &Command::Apply {
+            operation,
+            keep_history,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let (mut added, mut changed, mut removed) = (Vec::new(), Vec::new(), Vec::new());
+    for change in &edit.changes {
+        match change {
+            Change::Insert { object, .. } => added.push(object.name.clone()),
+            Change::Replace { after, .. } => changed.push(after.name.clone()),
+            Change::Remove { object, .. } => removed.push(object.name.clone()),
+            Change::Unit { .. } => {}
+        }
+    }
+    std::fs::write(output, crate::io::project::write(&document))
+        .map_err(|e| format!("cannot write {}: {e}", output.display()))?;
+    Ok(serde_json::json!({
+        "label": edit.label,
+        "added": added,
+        "changed": changed,
+        "removed": removed,
+    }))
+}

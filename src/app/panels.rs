@@ -1602,6 +1602,9 @@ impl KnotworkApp {
                 self.lattice_panel(ui);
             });
         }
+        if self.selection.object.is_some() {
+            section(ui, "Operations", false, |ui| self.operations_panel(ui));
+        }
         section(ui, "Curves", true, |ui| self.curves_panel(ui));
         section(ui, "Shading", true, |ui| self.shading_panel(ui));
         section(ui, "Analysis", true, |ui| self.analysis_panel(ui));

@@ -3,6 +3,9 @@
 //! with the surfaces whose edges meet it, and explode a polysurface. Each is one command (one
 //! undo step); a refusal shows its reason and changes nothing.
 
+use crate::ops::contour::Contour;
+use crate::ops::offset::Offset;
+use crate::scene::operation::Operation;
 use eframe::egui;
 
 use super::{AppCommand, KnotworkApp};
@@ -97,13 +100,29 @@ impl SurfaceToolState {
                 continuity: self.continuity,
                 ..*r
             }),
-            Command::Offset {
-                object, tolerance, ..
-            } => Command::Offset {
-                object: *object,
-                distance: self.offset,
-                tolerance: *tolerance,
-            },
+            Command::Apply {
+                operation,
+                keep_history,
+            } => {
+                let operation = if let Some(o) = operation.params::<Offset>() {
+                    Operation::new(Offset {
+                        distance: self.offset,
+                        ..o.clone()
+                    })
+                } else if let Some(c) = operation.params::<Contour>() {
+                    Operation::new(Contour {
+                        normal: self.contour_normal().to_array(),
+                        spacing: self.contour_spacing,
+                        ..c.clone()
+                    })
+                } else {
+                    return None;
+                };
+                Command::Apply {
+                    operation,
+                    keep_history: *keep_history,
+                }
+            }
             Command::Fillet(r) => Command::Fillet(FilletRequest {
                 radius: self.radius,
                 radius_end: self.radius_end,
@@ -111,12 +130,6 @@ impl SurfaceToolState {
                 front_b: self.front_b,
                 ..*r
             }),
-            Command::Contour { object, origin, .. } => Command::Contour {
-                object: *object,
-                origin: *origin,
-                normal: self.contour_normal(),
-                spacing: self.contour_spacing,
-            },
             _ => return None,
         })
     }
@@ -157,10 +170,13 @@ impl KnotworkApp {
                 .on_hover_text("a copy at this distance along the normal (negative: behind)")
                 .clicked()
             {
-                command = Some(Command::Offset {
-                    object: s,
-                    distance: self.surface_tools.offset,
-                    tolerance: EDITOR_TOLERANCE,
+                command = Some(Command::Apply {
+                    operation: Operation::new(Offset {
+                        object: s.into(),
+                        distance: self.surface_tools.offset,
+                        tolerance: EDITOR_TOLERANCE,
+                    }),
+                    keep_history: false,
                 });
             }
         });
@@ -416,11 +432,14 @@ impl KnotworkApp {
                 .on_hover_text("the sections by planes across this axis, as curves")
                 .clicked()
             {
-                command = Some(Command::Contour {
-                    object: s,
-                    origin: glam::DVec3::ZERO,
-                    normal: t.contour_normal(),
-                    spacing: t.contour_spacing,
+                command = Some(Command::Apply {
+                    operation: Operation::new(Contour {
+                        object: s.into(),
+                        origin: [0.0; 3],
+                        normal: t.contour_normal().to_array(),
+                        spacing: t.contour_spacing,
+                    }),
+                    keep_history: false,
                 });
             }
         });

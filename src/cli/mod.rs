@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod apply;
 mod bench;
 mod construct;
 mod continuity;
@@ -19,6 +20,7 @@ mod join;
 mod offset;
 mod subdivide;
 
+pub use self::apply::apply;
 pub use self::bench::bench;
 pub use self::construct::construct;
 pub use self::continuity::continuity;
@@ -213,6 +215,24 @@ pub enum Command {
         /// The offset lies within this fraction of the scene's size of the true offset.
         #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
         tolerance: f64,
+        /// The project to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+    },
+    /// Apply any operation to a project: OPERATION is a JSON file (or - for standard input)
+    /// holding {"op": NAME, ...its fields}, objects given by their index in the project, e.g.
+    /// {"op": "offset", "object": 0, "distance": 0.5}. Writes the project with the result
+    /// (one undo step of the editor's) and prints {"label", "added", "changed", "removed"} as
+    /// JSON; exit 1 with the reason where the operation cannot be read or done.
+    Apply {
+        /// The operation's JSON value.
+        operation: std::path::PathBuf,
+        /// The project (or any file knotwork opens).
+        project: std::path::PathBuf,
+        /// What the operation adds keeps its history, so the editor makes it again when an
+        /// object it was made from changes.
+        #[arg(long)]
+        history: bool,
         /// The project to write.
         #[arg(short, long)]
         output: std::path::PathBuf,

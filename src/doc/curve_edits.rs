@@ -215,11 +215,11 @@ pub(super) fn construct(
     Ok((vec![change], report))
 }
 
-/// [`super::Command::Intersect`]: every branch where the faces of objects `a` and `b` meet
+/// [`crate::ops::intersect`]: every branch where the faces of objects `a` and `b` meet
 /// ([`crate::kernel::intersect`], tolerance 1e-6 and chords 1e-3 of the scene's size), each as
 /// the cubic through its points (closed and C² for a loop; The NURBS Book §9.2), added as
 /// curve objects; and the label, which counts them and any touching points.
-pub(super) fn intersection_curves(
+pub(crate) fn intersection_curves(
     scene: &Scene,
     a: usize,
     b: usize,

@@ -76,11 +76,8 @@ impl Document {
             .filter(|&k| k != object)
             .map(|k| (k, self.scene.objects[k].clone()))
             .collect();
-        let dependents = self
-            .scene
-            .dependents_of(&target.name)
+        let dependents = super::construction::dependents_of(&self.scene, object)
             .into_iter()
-            .filter(|&k| k != object)
             .map(|k| (k, self.scene.objects[k].clone()))
             .collect();
         self.drag = Some(PointDrag {
@@ -169,6 +166,7 @@ impl Document {
         // A direct edit of an object built from curves ends its history.
         if slot.geometry != drag.before.geometry {
             slot.construction = None;
+            slot.recipe = None;
         }
         let after = slot.clone();
         if after == drag.before {

@@ -7,7 +7,7 @@
 
 pub mod construction;
 pub mod create;
-mod curve_edits;
+pub(crate) mod curve_edits;
 pub mod document;
 pub mod drag;
 pub mod history;
@@ -15,12 +15,11 @@ mod plan;
 pub mod surface_ops;
 
 use glam::{DAffine3, DVec3};
-use thiserror::Error;
 
 use crate::kernel::{Direction, GeometryError, TrimLoop, TrimmedSurface};
-use crate::scene::{LengthUnit, MAX_NAME_LENGTH, Scene, SceneObject};
+use crate::scene::{LengthUnit, Scene, SceneObject};
 
-pub use crate::scene::change::{PointsMoved, Touched};
+pub use crate::scene::change::{Change, EditError, MAX_COORDINATE, PointsMoved, Touched};
 pub use document::Document;
 pub use drag::PointDrag;
 pub use history::History;
@@ -178,21 +177,6 @@ pub enum Command {
         object: usize,
         edit: CurveEdit,
     },
-    /// Adds the curves where two objects' surfaces meet (found by marching, each a cubic
-    /// through the branch's points) as curve objects "A × B", "A × B 2", ….
-    Intersect {
-        a: usize,
-        b: usize,
-    },
-    /// Adds the offset of an object's faces at signed `distance` along the normal as "NAME
-    /// offset" (exact for planes, spheres, cylinders, cones, tori and other revolutions of
-    /// lines and arcs, fitted within `tolerance` × the scene's size elsewhere;
-    /// [`surface_ops::offset_geometry`]).
-    Offset {
-        object: usize,
-        distance: f64,
-        tolerance: f64,
-    },
     /// Rolls a ball between two objects ([`surface_ops::fillet_objects`]): adds the fillet
     /// surface as "fillet" and trims both objects back to where the ball touches them.
     Fillet(surface_ops::FilletRequest),
@@ -218,14 +202,6 @@ pub enum Command {
         object: usize,
         cutters: Vec<usize>,
     },
-    /// Adds the sections of an object by parallel planes (through `origin + k · spacing ·
-    /// normal`) as curve objects ([`surface_ops::contour_curves`]).
-    Contour {
-        object: usize,
-        origin: DVec3,
-        normal: DVec3,
-        spacing: f64,
-    },
     /// Adds a surface across the gap between an edge of one object and an edge of another,
     /// G0, G1 or G2 to both, as "blend" ([`surface_ops::blend_objects`]).
     Blend(surface_ops::BlendRequest),
@@ -238,6 +214,13 @@ pub enum Command {
         curves: Vec<usize>,
         onto: usize,
         direction: Option<DVec3>,
+    },
+    /// Runs an operation ([`crate::scene::operation`]): the road every operation takes. With
+    /// `keep_history`, each object it adds keeps the operation ([`crate::scene::operation::Recipe`])
+    /// and is made again when an object it reads changes.
+    Apply {
+        operation: crate::scene::operation::Operation,
+        keep_history: bool,
     },
 }
 
@@ -352,6 +335,14 @@ impl TrimEdit {
 }
 
 impl Command {
+    /// [`Command::Apply`] of the operation `params`, without history.
+    pub fn operation(params: impl crate::scene::operation::OperationParams) -> Self {
+        Command::Apply {
+            operation: crate::scene::operation::Operation::new(params),
+            keep_history: false,
+        }
+    }
+
     /// A short name for the undo and redo buttons.
     pub fn label(&self) -> String {
         match self {
@@ -416,14 +407,12 @@ impl Command {
                 )
             }
             Command::BreakHistory { .. } => "break history".into(),
-            Command::Intersect { .. } => "intersect".into(),
-            Command::Offset { .. } => "offset".into(),
+            Command::Apply { operation, .. } => operation.label(),
             Command::Fillet(_) => "fillet".into(),
             Command::Join { .. } => "join".into(),
             Command::Explode { .. } => "explode".into(),
             Command::TrimBy { .. } => "trim".into(),
             Command::SplitBy { .. } => "split".into(),
-            Command::Contour { .. } => "contour".into(),
             Command::Project { .. } => "project".into(),
             Command::Blend(_) => "blend".into(),
             Command::Match(_) => "match".into(),
@@ -460,87 +449,6 @@ pub fn direction_name(direction: Direction) -> &'static str {
         Direction::U => "u",
         Direction::V => "v",
     }
-}
-
-/// Why a command was refused. The document is unchanged.
-#[derive(Debug, Clone, PartialEq, Error)]
-pub enum EditError {
-    #[error("there is no object {object} (the scene has {count})")]
-    NoSuchObject { object: usize, count: usize },
-    #[error("{name}: {operation} needs a NURBS surface; this object is {kind}")]
-    NeedsNurbs {
-        name: String,
-        operation: &'static str,
-        kind: &'static str,
-    },
-    #[error("{name}: {source}")]
-    Geometry {
-        name: String,
-        #[source]
-        source: GeometryError,
-    },
-    #[error(
-        "{name}: the knot {direction} = {value} cannot be removed without moving the surface more than {tolerance}"
-    )]
-    KnotNotRemovable {
-        name: String,
-        direction: &'static str,
-        value: f64,
-        tolerance: f64,
-    },
-    #[error("a weight must be finite and > 0, got {weight}")]
-    InvalidWeight { weight: f64 },
-    #[error(
-        "point {point}: the coordinate {value:e} is outside ±{MAX_COORDINATE:e}, the model space the GPU draws and the analyses measure"
-    )]
-    CoordinateOutOfRange { point: usize, value: f64 },
-    #[error("nothing selected: {operation} needs at least one control point")]
-    NothingSelected { operation: &'static str },
-    #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
-    InvalidName,
-    #[error("a colour's red, green and blue must each be from 0 to 1")]
-    InvalidColor,
-    #[error(
-        "another object is named \"{name}\", and construction history finds its curves by name: choose another"
-    )]
-    NameTaken { name: String },
-    #[error("segments per span must be in 1..={max}, got {segments}")]
-    Segments { segments: u32, max: u32 },
-    #[error("no drag is in progress")]
-    NoDrag,
-    #[error("point {point} is not part of the drag")]
-    NotDragged { point: usize },
-    #[error("the history has nothing to {0}")]
-    NothingTo(&'static str),
-    #[error("the document no longer matches the history ({0}); the history was cleared")]
-    HistoryMismatch(String),
-}
-
-/// The largest coordinate a moved point may have: beyond it the GPU's f32 loses the shape and
-/// the squared distances of the analyses overflow.
-pub const MAX_COORDINATE: f64 = 1e9;
-
-/// What one applied command did to the scene, in the order it happened.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Change {
-    Replace {
-        index: usize,
-        before: SceneObject,
-        after: SceneObject,
-    },
-    Insert {
-        index: usize,
-        object: SceneObject,
-    },
-    Remove {
-        index: usize,
-        object: SceneObject,
-    },
-    /// The document's length unit changed (opening a STEP file, or the unit menu).
-    Unit {
-        before: Option<LengthUnit>,
-        after: Option<LengthUnit>,
-    },
 }
 
 /// One undo step: the changes a command (or a whole drag) made.
@@ -695,6 +603,7 @@ pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> 
 /// unchanged.
 pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
     let (mut changes, mut label) = plan::plan(scene, command)?;
+    give_new_objects_ids(scene, &mut changes);
     construction::follow(scene, command, &mut changes, &mut label)?;
     let document = match command {
         Command::ReplaceScene { name, .. } => Some(name.clone()),
@@ -707,4 +616,31 @@ pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
     };
     edit.redo(scene)?;
     Ok(edit)
+}
+
+/// Gives every object `changes` insert that would share its [`crate::scene::operation::ObjectId`]
+/// with another (a copy, a split part, a part of an exploded polysurface) an id of its own, so
+/// that ids stay unique in the scene.
+fn give_new_objects_ids(scene: &Scene, changes: &mut [Change]) {
+    let removed: std::collections::HashSet<_> = changes
+        .iter()
+        .filter_map(|c| match c {
+            Change::Remove { object, .. } => Some(object.id),
+            _ => None,
+        })
+        .collect();
+    let mut present: std::collections::HashSet<_> = scene
+        .objects
+        .iter()
+        .map(|o| o.id)
+        .filter(|id| !removed.contains(id))
+        .collect();
+    for change in changes.iter_mut() {
+        if let Change::Insert { object, .. } = change
+            && !present.insert(object.id)
+        {
+            object.id = crate::scene::operation::ObjectId::fresh();
+            present.insert(object.id);
+        }
+    }
 }

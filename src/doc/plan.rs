@@ -72,27 +72,26 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             };
             return Ok((changes, label));
         }
+        Command::Apply {
+            operation,
+            keep_history,
+        } => {
+            return super::construction::plan_operation(scene, operation, *keep_history);
+        }
         Command::BreakHistory { object } => {
             let target = object_at(scene, *object)?;
-            if target.construction.is_none() {
+            if !target.has_history() {
                 return Err(geometry_error(target)(GeometryError::Construction {
                     what: "break history",
                     message: "it has no construction history".into(),
                 }));
             }
-            map_object(scene, *object, |o| o.construction = None)
+            map_object(scene, *object, |o| {
+                o.construction = None;
+                o.recipe = None;
+            })
         }
         Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
-        Command::Intersect { a, b } => {
-            return curve_edits::intersection_curves(scene, *a, *b);
-        }
-        Command::Offset {
-            object,
-            distance,
-            tolerance,
-        } => {
-            return surface_ops::offset(scene, *object, *distance, *tolerance);
-        }
         Command::Fillet(request) => {
             return surface_ops::fillet(scene, request);
         }
@@ -111,14 +110,6 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         }
         Command::SplitBy { object, cutters } => {
             return surface_ops::split_by(scene, *object, cutters);
-        }
-        Command::Contour {
-            object,
-            origin,
-            normal,
-            spacing,
-        } => {
-            return surface_ops::contour(scene, *object, *origin, *normal, *spacing);
         }
         Command::Blend(request) => {
             return surface_ops::blend(scene, request);

@@ -189,9 +189,9 @@ pub fn offset_summary(offsets: &[Offset], distance: f64) -> String {
     text
 }
 
-/// [`super::Command::Offset`]: the offsets of object `k` added as "NAME offset" objects, and the
+/// [`crate::ops::offset`]: the offsets of object `k` added as "NAME offset" objects, and the
 /// label.
-pub(super) fn offset(
+pub(crate) fn offset(
     scene: &Scene,
     k: usize,
     distance: f64,
@@ -923,8 +923,8 @@ pub fn branch_curve(
     }
 }
 
-/// [`super::Command::Contour`]: the contour curves added as "NAME contour" objects.
-pub(super) fn contour(
+/// [`crate::ops::contour`]: the contour curves added as "NAME contour" objects.
+pub(crate) fn contour(
     scene: &Scene,
     object: usize,
     origin: glam::DVec3,

@@ -166,7 +166,50 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
         }
         scene.objects.push(object);
     }
+    // Histories name their inputs by position in the file; the document keeps them by id.
+    for k in 0..scene.objects.len() {
+        if let Some(recipe) = &scene.objects[k].recipe {
+            let operation = recipe.operation.by_id(&scene).map_err(|e| {
+                FormatError::new(format!("objects[{k}].history.operation"), e.to_string())
+            })?;
+            if let Some(recipe) = &mut scene.objects[k].recipe {
+                recipe.operation = operation;
+            }
+        }
+    }
     Ok(Project { scene, view })
+}
+
+/// An operation's history as a project keeps it: `{"operation": {"op": ..., its inputs by
+/// their index in the file}, "output": k}`.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RecipeRecord {
+    operation: serde_json::Value,
+    #[serde(default)]
+    output: usize,
+}
+
+fn read_recipe(
+    path: &str,
+    value: serde_json::Value,
+) -> Result<crate::scene::operation::Recipe, FormatError> {
+    let raw: RecipeRecord = deserialize(path, value)?;
+    let operation = crate::ops::from_value(&format!("{path}.operation"), raw.operation)?;
+    if let Some(bad) = operation
+        .objects()
+        .into_iter()
+        .find(|r| matches!(r, crate::scene::operation::ObjectRef::Id(_)))
+    {
+        return Err(FormatError::new(
+            format!("{path}.operation"),
+            format!("names an object by {bad:?}; a file names objects by index"),
+        ));
+    }
+    Ok(crate::scene::operation::Recipe {
+        operation,
+        output: raw.output,
+    })
 }
 
 fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, FormatError> {
@@ -237,6 +280,10 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
             )
         }
     };
+    let recipe = match map.remove("history") {
+        None | Some(serde_json::Value::Null) => None,
+        Some(value) => Some(read_recipe(&format!("{path}.history"), value)?),
+    };
     let color = match map.remove("color") {
         None | Some(serde_json::Value::Null) => None,
         Some(value) => Some(read_color(&format!("{path}.color"), value)?),
@@ -270,6 +317,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     object.displacement = displacement;
     object.lattice = lattice;
     object.construction = construction;
+    object.recipe = recipe;
     object.color = color;
     Ok(object)
 }
@@ -369,7 +417,7 @@ fn read_kind(
 /// One scene object as a JSON value: its kind's record ([`crate::scene::ObjectKind::record`])
 /// with the object's name, visibility, segments, displacement, lattice and construction
 /// history.
-fn object_value(object: &SceneObject) -> serde_json::Value {
+fn object_value(scene: &Scene, object: &SceneObject) -> serde_json::Value {
     let mut value = object.kind().record();
     if let serde_json::Value::Object(map) = &mut value {
         map.insert("name".into(), object.name.clone().into());
@@ -398,6 +446,17 @@ fn object_value(object: &SceneObject) -> serde_json::Value {
                 serde_json::to_value(construction).unwrap_or(serde_json::Value::Null),
             );
         }
+        // An input gone from the scene has ended the history already (the document ends it
+        // when one is removed); one that is not found is not written.
+        if let Some(Ok(operation)) = object.recipe.as_ref().map(|r| r.operation.by_index(scene)) {
+            map.insert(
+                "history".into(),
+                serde_json::json!({
+                    "operation": operation.to_json(),
+                    "output": object.recipe.as_ref().map_or(0, |r| r.output),
+                }),
+            );
+        }
     }
     value
 }
@@ -422,7 +481,11 @@ fn scene_value(scene: &Scene, view: Option<&ViewSettings>) -> serde_json::Value 
     let mut file = serde_json::json!({
         "format": "knotwork",
         "version": PROJECT_VERSION,
-        "objects": scene.objects.iter().map(object_value).collect::<Vec<_>>(),
+        "objects": scene
+            .objects
+            .iter()
+            .map(|o| object_value(scene, o))
+            .collect::<Vec<_>>(),
     });
     if let (Some(unit), serde_json::Value::Object(map)) = (scene.unit, &mut file) {
         map.insert("unit".into(), unit.symbol().into());

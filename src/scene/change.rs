@@ -1,6 +1,13 @@
 //! What an edit changed in a scene, in the terms the GPU sync layer re-uploads by: the
 //! document ([`crate::doc`]) says it, the GPU ([`crate::gpu::SceneSync`]) acts on it, and
-//! neither needs the other.
+//! neither needs the other. It also holds what every edit is made of ([`Change`]) and why one is
+//! refused ([`EditError`]), so that an operation ([`super::operation`]) plans changes without
+//! depending on the document.
+
+use thiserror::Error;
+
+use super::{LengthUnit, MAX_NAME_LENGTH, SceneObject};
+use crate::kernel::GeometryError;
 
 /// How an edit affected an object, for the editor to re-upload as little as possible.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -27,4 +34,96 @@ pub struct PointsMoved {
     pub relaid: bool,
     pub linked: Vec<usize>,
     pub rebuilt: Vec<usize>,
+}
+
+/// Why a command was refused. The document is unchanged.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum EditError {
+    #[error("there is no object {object} (the scene has {count})")]
+    NoSuchObject { object: usize, count: usize },
+    #[error("an object it reads (id {id}) is no longer in the scene")]
+    ObjectGone { id: u64 },
+    #[error("{operation}: {field} {message}")]
+    BadParameter {
+        operation: &'static str,
+        field: &'static str,
+        message: String,
+    },
+    #[error("{name}: {operation} needs a NURBS surface; this object is {kind}")]
+    NeedsNurbs {
+        name: String,
+        operation: &'static str,
+        kind: &'static str,
+    },
+    #[error("{name}: {source}")]
+    Geometry {
+        name: String,
+        #[source]
+        source: GeometryError,
+    },
+    #[error(
+        "{name}: the knot {direction} = {value} cannot be removed without moving the surface more than {tolerance}"
+    )]
+    KnotNotRemovable {
+        name: String,
+        direction: &'static str,
+        value: f64,
+        tolerance: f64,
+    },
+    #[error("a weight must be finite and > 0, got {weight}")]
+    InvalidWeight { weight: f64 },
+    #[error(
+        "point {point}: the coordinate {value:e} is outside ±{MAX_COORDINATE:e}, the model space the GPU draws and the analyses measure"
+    )]
+    CoordinateOutOfRange { point: usize, value: f64 },
+    #[error("nothing selected: {operation} needs at least one control point")]
+    NothingSelected { operation: &'static str },
+    #[error("a name must be 1 to {MAX_NAME_LENGTH} characters, without control characters")]
+    InvalidName,
+    #[error("a colour's red, green and blue must each be from 0 to 1")]
+    InvalidColor,
+    #[error(
+        "another object is named \"{name}\", and construction history finds its curves by name: choose another"
+    )]
+    NameTaken { name: String },
+    #[error("segments per span must be in 1..={max}, got {segments}")]
+    Segments { segments: u32, max: u32 },
+    #[error("no drag is in progress")]
+    NoDrag,
+    #[error("point {point} is not part of the drag")]
+    NotDragged { point: usize },
+    #[error("the history has nothing to {0}")]
+    NothingTo(&'static str),
+    #[error("the document no longer matches the history ({0}); the history was cleared")]
+    HistoryMismatch(String),
+}
+
+/// The largest coordinate a moved point may have: beyond it the GPU's f32 loses the shape and
+/// the squared distances of the analyses overflow.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// What one applied command did to the scene, in the order it happened.
+#[derive(Debug, Clone, PartialEq)]
+// An edit holds a handful of changes, each a whole object before and after: boxing them would
+// cost an allocation per change for no saving.
+#[allow(clippy::large_enum_variant)]
+pub enum Change {
+    Replace {
+        index: usize,
+        before: SceneObject,
+        after: SceneObject,
+    },
+    Insert {
+        index: usize,
+        object: SceneObject,
+    },
+    Remove {
+        index: usize,
+        object: SceneObject,
+    },
+    /// The document's length unit changed (opening a STEP file, or the unit menu).
+    Unit {
+        before: Option<LengthUnit>,
+        after: Option<LengthUnit>,
+    },
 }

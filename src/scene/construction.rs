@@ -140,18 +140,6 @@ fn fill_references(value: &mut Value, records: &[Value]) -> Result<(), InputErro
     }
 }
 
-impl Scene {
-    /// The objects built from object `name` (their construction uses it), by increasing index.
-    pub fn dependents_of(&self, name: &str) -> Vec<usize> {
-        self.objects
-            .iter()
-            .enumerate()
-            .filter(|(_, o)| o.construction.as_ref().is_some_and(|c| c.uses(name)))
-            .map(|(k, _)| k)
-            .collect()
-    }
-}
-
 impl SceneObject {
     /// The object with construction history `construction`.
     pub fn with_construction(mut self, construction: Construction) -> Self {

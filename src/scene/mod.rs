@@ -16,6 +16,7 @@ pub mod json;
 mod kind;
 mod mesh;
 mod nurbs;
+pub mod operation;
 mod patch_set;
 pub mod polysurface;
 pub mod registry;
@@ -101,8 +102,11 @@ pub struct Decomposition {
 }
 
 /// One object of the scene.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct SceneObject {
+    /// The object's identity while the program runs (not part of its equality: an object
+    /// read back from a file equals the one written).
+    pub id: operation::ObjectId,
     pub name: String,
     pub geometry: ObjectGeometry,
     /// Segments per Bézier span edge (before the global quality factor).
@@ -117,9 +121,38 @@ pub struct SceneObject {
     /// How the object was built from curve objects, where it was and the history is kept: it
     /// is built again when they change ([`construction`]).
     pub construction: Option<construction::Construction>,
+    /// How an operation made the object, where its history is kept: it is made again when the
+    /// operation's inputs change ([`operation::Recipe`]).
+    pub recipe: Option<operation::Recipe>,
     /// The object's own colour (sRGB, 0 to 1, as CAD files and colour pickers give it): the
     /// viewport's lit shading and the glTF material use it; `None` is the editor's grey.
     pub color: Option<[f32; 3]>,
+}
+
+impl PartialEq for SceneObject {
+    fn eq(&self, other: &Self) -> bool {
+        let Self {
+            id: _,
+            name,
+            geometry,
+            segments,
+            visible,
+            displacement,
+            lattice,
+            construction,
+            recipe,
+            color,
+        } = self;
+        *name == other.name
+            && *geometry == other.geometry
+            && *segments == other.segments
+            && *visible == other.visible
+            && *displacement == other.displacement
+            && *lattice == other.lattice
+            && *construction == other.construction
+            && *recipe == other.recipe
+            && *color == other.color
+    }
 }
 
 impl Decomposition {
@@ -195,6 +228,7 @@ impl ObjectGeometry {
 impl SceneObject {
     pub fn new(name: impl Into<String>, geometry: ObjectGeometry) -> Self {
         Self {
+            id: operation::ObjectId::fresh(),
             name: name.into(),
             geometry,
             segments: DEFAULT_SEGMENTS,
@@ -202,8 +236,14 @@ impl SceneObject {
             displacement: None,
             lattice: None,
             construction: None,
+            recipe: None,
             color: None,
         }
+    }
+
+    /// Whether the object keeps history of how it was made (from curves or by an operation).
+    pub fn has_history(&self) -> bool {
+        self.construction.is_some() || self.recipe.is_some()
     }
 
     /// The object's kind ([`ObjectKind`]).

@@ -6,6 +6,7 @@
 //! in place) keep what they promise.
 
 use crate::common;
+use knotwork::ops::intersect::Intersect;
 
 use glam::DVec3;
 use knotwork::doc::{Command, CurveEdit, Document, Touched};
@@ -540,7 +541,10 @@ fn intersecting_two_objects_adds_their_curves_of_intersection() {
     });
     let before = doc.scene.clone();
     let edit = doc
-        .execute(&Command::Intersect { a: 0, b: 1 })
+        .execute(&Command::operation(Intersect {
+            a: 0.into(),
+            b: 1.into(),
+        }))
         .unwrap()
         .clone();
     assert!(
@@ -587,7 +591,10 @@ fn intersecting_two_objects_adds_their_curves_of_intersection() {
     assert_eq!(doc.scene, before);
     for (a, b, message) in [(0, 2, "do not meet"), (0, 0, "itself"), (0, 3, "no faces")] {
         let error = doc
-            .execute(&Command::Intersect { a, b })
+            .execute(&Command::operation(Intersect {
+                a: a.into(),
+                b: b.into(),
+            }))
             .unwrap_err()
             .to_string();
         assert!(error.contains(message), "{error}");

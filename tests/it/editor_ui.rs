@@ -13,9 +13,9 @@ use knotwork::app::{AppCommand, DragStep, KnotworkApp, wgpu_configuration};
 use knotwork::doc::Command;
 use knotwork::status;
 
-static ONE_EDITOR_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+pub(crate) static ONE_EDITOR_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-fn editor() -> Harness<'static, KnotworkApp> {
+pub(crate) fn editor() -> Harness<'static, KnotworkApp> {
     let setup = wgpu_configuration(false).wgpu_setup;
     let mut harness = Harness::builder()
         .with_size(egui::vec2(1280.0, 800.0))
@@ -1180,7 +1180,7 @@ fn errors_show_where_the_eye_is_and_the_viewport_explains_itself() {
 }
 
 /// Scrolls to the widget labelled `label` and clicks it.
-fn click_label(harness: &mut Harness<'_, KnotworkApp>, label: &str) {
+pub(crate) fn click_label(harness: &mut Harness<'_, KnotworkApp>, label: &str) {
     harness.get_by_label(label).scroll_to_me();
     harness.run_steps(2);
     harness.get_by_label(label).click_accesskit();

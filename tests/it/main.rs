@@ -26,6 +26,7 @@ mod kernel_props;
 mod lattice;
 mod object_kinds;
 mod occ_reference;
+mod operations;
 mod project_files;
 mod readme;
 mod render_viewport;

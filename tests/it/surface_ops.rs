@@ -4,6 +4,8 @@
 //! the document's Offset command with undo; refusals that leave everything as it was.
 
 use crate::common;
+use knotwork::ops::contour::Contour;
+use knotwork::ops::offset::Offset;
 
 use std::process::Command as Process;
 
@@ -281,11 +283,11 @@ fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
         unit: None,
     });
     let edit = doc
-        .execute(&Command::Offset {
-            object: 0,
+        .execute(&Command::operation(Offset {
+            object: 0.into(),
             distance: 0.25,
             tolerance: 1e-4,
-        })
+        }))
         .unwrap();
     assert!(edit.label.contains("exact"), "{}", edit.label);
     assert_eq!(doc.scene.objects.len(), 2);
@@ -298,11 +300,11 @@ fn the_offset_command_in_the_document_adds_one_undo_step_and_keeps_trims() {
     // A zero distance is refused and changes nothing.
     let before = doc.scene.clone();
     assert!(
-        doc.execute(&Command::Offset {
-            object: 0,
+        doc.execute(&Command::operation(Offset {
+            object: 0.into(),
             distance: 0.0,
             tolerance: 1e-4,
-        })
+        }))
         .is_err()
     );
     assert_eq!(doc.scene, before);
@@ -949,12 +951,12 @@ fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
         unit: None,
     });
     // Planes z = -0.5, 0 and 0.5 cut circles; z = ±1 only touch at the poles.
-    doc.execute(&Command::Contour {
-        object: 0,
-        origin: DVec3::ZERO,
-        normal: DVec3::Z,
+    doc.execute(&Command::operation(Contour {
+        object: 0.into(),
+        origin: [0.0; 3],
+        normal: [0.0, 0.0, 1.0],
         spacing: 0.5,
-    })
+    }))
     .unwrap();
     let mut levels = Vec::new();
     for object in &doc.scene.objects[2..] {

@@ -1,0 +1,53 @@
+//! The Operations panel: every registered operation ([`crate::ops::operations`]) that has no
+//! panel of its own and applies to the selection (the selected object, then the curves picked
+//! in order) is a button; a click runs it with its default parameters through
+//! [`crate::doc::Command::Apply`], as the page's `apply` and `knotwork apply` do. With "Keep
+//! history" what it adds is made again when the objects it was made from change.
+
+use eframe::egui;
+
+use super::{AppCommand, KnotworkApp};
+use crate::doc::Command;
+
+impl KnotworkApp {
+    /// The selected object, then the picked curves (each once).
+    fn operation_selection(&self) -> Vec<usize> {
+        let mut selection: Vec<usize> = self.selection.object.into_iter().collect();
+        for &k in &self.selection.curves {
+            if !selection.contains(&k) {
+                selection.push(k);
+            }
+        }
+        selection
+    }
+
+    /// The Operations section's contents.
+    pub(super) fn operations_panel(&mut self, ui: &mut egui::Ui) {
+        let selection = self.operation_selection();
+        let offered: Vec<_> = crate::ops::operations()
+            .into_iter()
+            .filter(|entry| !entry.own_panel)
+            .filter_map(|entry| Some((entry, (entry.on_selection)(self.scene(), &selection)?)))
+            .collect();
+        if offered.is_empty() {
+            ui.weak("none applies to the selection");
+            return;
+        }
+        ui.checkbox(&mut self.operations_keep_history, "Keep history")
+            .on_hover_text("what the operation adds follows the objects it was made from");
+        let mut chosen = None;
+        ui.horizontal_wrapped(|ui| {
+            for (entry, operation) in offered {
+                if ui.button(entry.name).on_hover_text(entry.summary).clicked() {
+                    chosen = Some(operation);
+                }
+            }
+        });
+        if let Some(operation) = chosen {
+            self.apply(AppCommand::Edit(Command::Apply {
+                operation,
+                keep_history: self.operations_keep_history,
+            }));
+        }
+    }
+}
