@@ -516,47 +516,45 @@ pub fn offset(object: u32, distance: f64) {
 /// number (not NaN) makes the radius run linearly along the fillet to it.
 #[wasm_bindgen]
 pub fn fillet(a: u32, b: u32, radius: f64, front_a: bool, front_b: bool, radius_end: f64) {
-    send(AppCommand::Edit(Command::Fillet(
-        crate::doc::surface_ops::FilletRequest {
-            a: a as usize,
-            b: b as usize,
-            radius,
-            radius_end: (!radius_end.is_nan()).then_some(radius_end),
-            front_a,
-            front_b,
-            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,
-        },
-    )));
+    send_operation(crate::doc::surface_ops::FilletRequest {
+        a: (a as usize).into(),
+        b: (b as usize).into(),
+        radius,
+        radius_end: (!radius_end.is_nan()).then_some(radius_end),
+        front_a,
+        front_b,
+        tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE,
+    });
 }
 
 /// Joins `objects` (every surface when empty) where their edges meet into polysurfaces (one
 /// undo step).
 #[wasm_bindgen]
 pub fn join(objects: Vec<u32>) {
-    send(AppCommand::Edit(Command::Join {
-        objects: objects.into_iter().map(|k| k as usize).collect(),
+    send_operation(crate::ops::join::Join {
+        objects: objects.into_iter().map(|k| (k as usize).into()).collect(),
         tolerance: crate::doc::surface_ops::JOIN_TOLERANCE,
-    }));
+    });
 }
 
 /// Trims object `object` by the objects `cutters` (surfaces, or curves on it), keeping the part
 /// nearest the point (x, y, z) (one undo step).
 #[wasm_bindgen]
 pub fn trim_by(object: u32, cutters: Vec<u32>, x: f64, y: f64, z: f64) {
-    send(AppCommand::Edit(Command::TrimBy {
-        object: object as usize,
-        cutters: cutters.into_iter().map(|k| k as usize).collect(),
-        keep: glam::DVec3::new(x, y, z),
-    }));
+    send_operation(crate::ops::trim::Trim {
+        object: (object as usize).into(),
+        cutters: cutters.into_iter().map(|k| (k as usize).into()).collect(),
+        keep: [x, y, z],
+    });
 }
 
 /// Splits object `object` into the parts the objects `cutters` cut it into (one undo step).
 #[wasm_bindgen]
 pub fn split_by(object: u32, cutters: Vec<u32>) {
-    send(AppCommand::Edit(Command::SplitBy {
-        object: object as usize,
-        cutters: cutters.into_iter().map(|k| k as usize).collect(),
-    }));
+    send_operation(crate::ops::split::Split {
+        object: (object as usize).into(),
+        cutters: cutters.into_iter().map(|k| (k as usize).into()).collect(),
+    });
 }
 
 /// `[face, side, face, side]` (side: 0 u0, 1 u1, 2 v0, 3 v1) as two edges; empty: `None`.
@@ -584,31 +582,27 @@ fn edge_continuity(order: u32) -> crate::kernel::blend::EdgeContinuity {
 /// `[face, side, face, side]`, or empty for the two nearest (one undo step).
 #[wasm_bindgen]
 pub fn blend(a: u32, b: u32, continuity: u32, tension_a: f64, tension_b: f64, edges: Vec<u32>) {
-    send(AppCommand::Edit(Command::Blend(
-        crate::doc::surface_ops::BlendRequest {
-            a: a as usize,
-            b: b as usize,
-            edges: edge_pair(&edges),
-            continuity: edge_continuity(continuity),
-            tension: [tension_a, tension_b],
-            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
-        },
-    )));
+    send_operation(crate::doc::surface_ops::BlendRequest {
+        a: (a as usize).into(),
+        b: (b as usize).into(),
+        edges: edge_pair(&edges),
+        continuity: edge_continuity(continuity),
+        tension: [tension_a, tension_b],
+        tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
+    });
 }
 
 /// Moves an edge of object `object` onto an edge of `target` at continuity `continuity`
 /// (edges as for [`blend`]; one undo step).
 #[wasm_bindgen]
 pub fn match_edge(object: u32, target: u32, continuity: u32, edges: Vec<u32>) {
-    send(AppCommand::Edit(Command::Match(
-        crate::doc::surface_ops::MatchRequest {
-            object: object as usize,
-            target: target as usize,
-            edges: edge_pair(&edges),
-            continuity: edge_continuity(continuity),
-            tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
-        },
-    )));
+    send_operation(crate::doc::surface_ops::MatchRequest {
+        object: (object as usize).into(),
+        target: (target as usize).into(),
+        edges: edge_pair(&edges),
+        continuity: edge_continuity(continuity),
+        tolerance: crate::doc::surface_ops::EDITOR_TOLERANCE * 1e-2,
+    });
 }
 
 /// Adds the sections of object `object` by the planes with normal (nx, ny, nz) through
@@ -628,19 +622,19 @@ pub fn contour(object: u32, spacing: f64, nx: f64, ny: f64, nz: f64, ox: f64, oy
 /// pulled to its nearest points, as curves (one undo step).
 #[wasm_bindgen]
 pub fn project_curves(curves: Vec<u32>, onto: u32, x: f64, y: f64, z: f64, pull: bool) {
-    send(AppCommand::Edit(Command::Project {
-        curves: curves.into_iter().map(|k| k as usize).collect(),
-        onto: onto as usize,
-        direction: (!pull).then_some(glam::DVec3::new(x, y, z)),
-    }));
+    send_operation(crate::ops::project::ProjectCurves {
+        curves: curves.into_iter().map(|k| (k as usize).into()).collect(),
+        onto: (onto as usize).into(),
+        direction: (!pull).then_some([x, y, z]),
+    });
 }
 
 /// Object `object`, a polysurface, as its faces (one undo step).
 #[wasm_bindgen]
 pub fn explode(object: u32) {
-    send(AppCommand::Edit(Command::Explode {
-        object: object as usize,
-    }));
+    send_operation(crate::ops::explode::Explode {
+        object: (object as usize).into(),
+    });
 }
 
 /// Ends object `object`'s construction history (one undo step).

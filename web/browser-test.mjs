@@ -1551,7 +1551,15 @@ async function main() {
       await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
       s = await status(page);
       assert(s.objects === 2, `a refused fillet changes nothing: ${s.error}`);
-      for (let k = 0; k < 3; k += 1) await page.evaluate(() => window.knotwork.undo());
+      // Any operation as its value: the page's apply reads it through the registry.
+      await page.evaluate(() => window.knotwork.apply({ op: 'explode', object: 0 }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 4, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && /explode Floor into 3 faces/.test(s.last_edit), `apply explode: ${s.error}, ${s.last_edit}`);
+      let refused = '';
+      try { await page.evaluate(() => window.knotwork.apply({ op: 'offset', object: 0, distance: 'far' })); } catch (e) { refused = String(e); }
+      assert(/distance/.test(refused), `a bad field is named: ${refused}`);
+      for (let k = 0; k < 4; k += 1) await page.evaluate(() => window.knotwork.undo());
       await page.waitForFunction(() => {
         const t = window.knotwork.status();
         return t.undo_steps - (window.__base ?? 0) === 0 && t.objects === 2;

@@ -1148,22 +1148,22 @@ impl KnotworkApp {
                 .on_hover_text("along the view direction, onto the surface")
                 .clicked()
             {
-                command = Some(Command::Project {
-                    curves: vec![s],
-                    onto: chosen,
-                    direction: Some(view),
-                });
+                command = Some(Command::operation(crate::ops::project::ProjectCurves {
+                    curves: vec![s.into()],
+                    onto: chosen.into(),
+                    direction: Some(view.to_array()),
+                }));
             }
             if ui
                 .button("Pull")
                 .on_hover_text("each point to the nearest point of the surface")
                 .clicked()
             {
-                command = Some(Command::Project {
-                    curves: vec![s],
-                    onto: chosen,
+                command = Some(Command::operation(crate::ops::project::ProjectCurves {
+                    curves: vec![s.into()],
+                    onto: chosen.into(),
                     direction: None,
-                });
+                }));
             }
         });
         if let Some(command) = command {

@@ -91,15 +91,6 @@ impl SurfaceToolState {
     /// panel does not adjust.
     pub fn adjusted(&self, command: &Command) -> Option<Command> {
         Some(match command {
-            Command::Blend(r) => Command::Blend(BlendRequest {
-                continuity: self.continuity,
-                tension: [self.tension; 2],
-                ..*r
-            }),
-            Command::Match(r) => Command::Match(MatchRequest {
-                continuity: self.continuity,
-                ..*r
-            }),
             Command::Apply {
                 operation,
                 keep_history,
@@ -108,6 +99,25 @@ impl SurfaceToolState {
                     Operation::new(Offset {
                         distance: self.offset,
                         ..o.clone()
+                    })
+                } else if let Some(r) = operation.params::<BlendRequest>() {
+                    Operation::new(BlendRequest {
+                        continuity: self.continuity,
+                        tension: [self.tension; 2],
+                        ..*r
+                    })
+                } else if let Some(r) = operation.params::<MatchRequest>() {
+                    Operation::new(MatchRequest {
+                        continuity: self.continuity,
+                        ..*r
+                    })
+                } else if let Some(r) = operation.params::<FilletRequest>() {
+                    Operation::new(FilletRequest {
+                        radius: self.radius,
+                        radius_end: self.radius_end,
+                        front_a: self.front_a,
+                        front_b: self.front_b,
+                        ..*r
                     })
                 } else if let Some(c) = operation.params::<Contour>() {
                     Operation::new(Contour {
@@ -123,13 +133,6 @@ impl SurfaceToolState {
                     keep_history: *keep_history,
                 }
             }
-            Command::Fillet(r) => Command::Fillet(FilletRequest {
-                radius: self.radius,
-                radius_end: self.radius_end,
-                front_a: self.front_a,
-                front_b: self.front_b,
-                ..*r
-            }),
             _ => return None,
         })
     }
@@ -218,9 +221,9 @@ impl KnotworkApp {
                 .on_hover_text("roll a ball between the two; both are trimmed back to it")
                 .clicked()
             {
-                command = Some(Command::Fillet(FilletRequest {
-                    a: s,
-                    b: chosen,
+                command = Some(Command::operation(FilletRequest {
+                    a: s.into(),
+                    b: chosen.into(),
                     radius: t.radius,
                     radius_end: t.radius_end,
                     front_a: t.front_a,
@@ -259,10 +262,10 @@ impl KnotworkApp {
                     .on_hover_text("cut into the parts the other object divides it into")
                     .clicked()
                 {
-                    command = Some(Command::SplitBy {
-                        object: s,
-                        cutters: vec![by],
-                    });
+                    command = Some(Command::operation(crate::ops::split::Split {
+                        object: s.into(),
+                        cutters: vec![by.into()],
+                    }));
                 }
             });
             if t.pending_trim == Some((s, by)) {
@@ -279,10 +282,10 @@ impl KnotworkApp {
                 .on_hover_text("join with every surface whose edges meet this one's")
                 .clicked()
             {
-                command = Some(Command::Join {
+                command = Some(Command::operation(crate::ops::join::Join {
                     objects: Vec::new(),
                     tolerance: JOIN_TOLERANCE,
-                });
+                }));
             }
             if polysurface
                 && ui
@@ -290,7 +293,9 @@ impl KnotworkApp {
                     .on_hover_text("the polysurface's faces as objects of their own")
                     .clicked()
             {
-                command = Some(Command::Explode { object: s });
+                command = Some(Command::operation(crate::ops::explode::Explode {
+                    object: s.into(),
+                }));
             }
         });
         if let Some(command) = command {
@@ -383,9 +388,9 @@ impl KnotworkApp {
                 )
                 .clicked()
             {
-                command = Some(Command::Blend(BlendRequest {
-                    a: s,
-                    b: with,
+                command = Some(Command::operation(BlendRequest {
+                    a: s.into(),
+                    b: with.into(),
                     edges: None,
                     continuity: t.continuity,
                     tension: [t.tension; 2],
@@ -401,9 +406,9 @@ impl KnotworkApp {
                     )
                     .clicked()
             {
-                command = Some(Command::Match(MatchRequest {
-                    object: s,
-                    target: with,
+                command = Some(Command::operation(MatchRequest {
+                    object: s.into(),
+                    target: with.into(),
                     edges: None,
                     continuity: t.continuity,
                     tolerance: EDITOR_TOLERANCE * 1e-2,
@@ -456,11 +461,13 @@ impl KnotworkApp {
             return false;
         };
         self.surface_tools.pending_trim = None;
-        self.apply(AppCommand::Edit(Command::TrimBy {
-            object,
-            cutters: vec![cutter],
-            keep: hit.point,
-        }));
+        self.apply(AppCommand::Edit(Command::operation(
+            crate::ops::trim::Trim {
+                object: object.into(),
+                cutters: vec![cutter.into()],
+                keep: hit.point.to_array(),
+            },
+        )));
         true
     }
 }

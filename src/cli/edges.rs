@@ -60,9 +60,9 @@ pub fn blend(args: EdgeArgs) -> ExitCode {
         args.input,
         args.output,
         |scene| {
-            Ok(knotwork::doc::Command::Blend(BlendRequest {
-                a: surface_named(scene, args.names[0])?,
-                b: surface_named(scene, args.names[1])?,
+            Ok(knotwork::doc::Command::operation(BlendRequest {
+                a: surface_named(scene, args.names[0])?.into(),
+                b: surface_named(scene, args.names[1])?.into(),
                 edges: parse_edges(args.edges)?,
                 continuity: parse_continuity(args.continuity)?,
                 tension,
@@ -84,9 +84,9 @@ pub fn match_edge(args: EdgeArgs) -> ExitCode {
         args.input,
         args.output,
         |scene| {
-            Ok(knotwork::doc::Command::Match(MatchRequest {
-                object: surface_named(scene, args.names[0])?,
-                target: surface_named(scene, args.names[1])?,
+            Ok(knotwork::doc::Command::operation(MatchRequest {
+                object: surface_named(scene, args.names[0])?.into(),
+                target: surface_named(scene, args.names[1])?.into(),
                 edges: parse_edges(args.edges)?,
                 continuity: parse_continuity(args.continuity)?,
                 tolerance: args.tolerance,

@@ -23,8 +23,8 @@ pub fn fillet(args: FilletArgs) -> ExitCode {
         let a = surface_named(&project.scene, &args.names[0])?;
         let b = surface_named(&project.scene, &args.names[1])?;
         let request = FilletRequest {
-            a,
-            b,
+            a: a.into(),
+            b: b.into(),
             radius: args.radius,
             radius_end: args.radius_end,
             front_a: args.sides[0] == "front",

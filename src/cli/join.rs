@@ -10,10 +10,10 @@ pub fn join(path: &std::path::Path, tolerance: f64, output: &std::path::Path) ->
     let run = || -> Result<serde_json::Value, String> {
         let mut project = open_project(path)?;
         let started = std::time::Instant::now();
-        let command = knotwork::doc::Command::Join {
+        let command = knotwork::doc::Command::operation(knotwork::ops::join::Join {
             objects: Vec::new(),
             tolerance,
-        };
+        });
         let edit = knotwork::doc::apply(&mut project.scene, &command).map_err(|e| e.to_string())?;
         let millis = started.elapsed().as_secs_f64() * 1e3;
         let mut joined = Vec::new();

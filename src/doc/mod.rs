@@ -177,44 +177,6 @@ pub enum Command {
         object: usize,
         edit: CurveEdit,
     },
-    /// Rolls a ball between two objects ([`surface_ops::fillet_objects`]): adds the fillet
-    /// surface as "fillet" and trims both objects back to where the ball touches them.
-    Fillet(surface_ops::FilletRequest),
-    /// Joins objects whose faces share edges within `tolerance` × the scene's size into
-    /// polysurfaces (all surfaces when `objects` is empty; [`surface_ops::join_objects`]).
-    Join {
-        objects: Vec<usize>,
-        tolerance: f64,
-    },
-    /// A polysurface's faces as objects of their own.
-    Explode {
-        object: usize,
-    },
-    /// Trims a NURBS or trimmed object by surfaces or curves on it, keeping the part around
-    /// the surface point nearest `keep` ([`surface_ops::cuts_on`]).
-    TrimBy {
-        object: usize,
-        cutters: Vec<usize>,
-        keep: DVec3,
-    },
-    /// Splits a NURBS or trimmed object into the parts surfaces or curves on it cut it into.
-    SplitBy {
-        object: usize,
-        cutters: Vec<usize>,
-    },
-    /// Adds a surface across the gap between an edge of one object and an edge of another,
-    /// G0, G1 or G2 to both, as "blend" ([`surface_ops::blend_objects`]).
-    Blend(surface_ops::BlendRequest),
-    /// Moves an edge of a NURBS or trimmed object onto another object's edge at G0, G1 or G2
-    /// by resetting the control rows next to it ([`surface_ops::match_object`]).
-    Match(surface_ops::MatchRequest),
-    /// Adds curves projected onto a surface along `direction`, or pulled to its nearest points
-    /// (`None`), as curve objects ([`surface_ops::projected_curves`]).
-    Project {
-        curves: Vec<usize>,
-        onto: usize,
-        direction: Option<DVec3>,
-    },
     /// Runs an operation ([`crate::scene::operation`]): the road every operation takes. With
     /// `keep_history`, each object it adds keeps the operation ([`crate::scene::operation::Recipe`])
     /// and is made again when an object it reads changes.
@@ -408,14 +370,6 @@ impl Command {
             }
             Command::BreakHistory { .. } => "break history".into(),
             Command::Apply { operation, .. } => operation.label(),
-            Command::Fillet(_) => "fillet".into(),
-            Command::Join { .. } => "join".into(),
-            Command::Explode { .. } => "explode".into(),
-            Command::TrimBy { .. } => "trim".into(),
-            Command::SplitBy { .. } => "split".into(),
-            Command::Project { .. } => "project".into(),
-            Command::Blend(_) => "blend".into(),
-            Command::Match(_) => "match".into(),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

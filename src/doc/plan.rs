@@ -6,7 +6,6 @@ use glam::{DAffine3, DVec3};
 
 use super::{
     Change, Command, EditError, TrimEdit, direction_name, drag, geometry_error, object_at,
-    surface_ops,
 };
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};
 use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
@@ -92,38 +91,6 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             })
         }
         Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
-        Command::Fillet(request) => {
-            return surface_ops::fillet(scene, request);
-        }
-        Command::Join { objects, tolerance } => {
-            return surface_ops::join(scene, objects, *tolerance);
-        }
-        Command::Explode { object } => {
-            return surface_ops::explode(scene, *object);
-        }
-        Command::TrimBy {
-            object,
-            cutters,
-            keep,
-        } => {
-            return surface_ops::trim_by(scene, *object, cutters, *keep);
-        }
-        Command::SplitBy { object, cutters } => {
-            return surface_ops::split_by(scene, *object, cutters);
-        }
-        Command::Blend(request) => {
-            return surface_ops::blend(scene, request);
-        }
-        Command::Match(request) => {
-            return surface_ops::match_edge(scene, request);
-        }
-        Command::Project {
-            curves,
-            onto,
-            direction,
-        } => {
-            return surface_ops::project(scene, curves, *onto, *direction);
-        }
         Command::ApplyLattice { object, tolerance } => {
             return apply_lattice(scene, *object, *tolerance, command.label());
         }

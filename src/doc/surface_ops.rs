@@ -6,6 +6,7 @@ use super::curve_edits::refuse;
 use super::{Change, EditError, geometry_error, object_at};
 use crate::kernel::TrimmedSurface;
 use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
+use crate::scene::operation::ObjectRef;
 use crate::scene::polysurface::Polysurface;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
@@ -214,20 +215,38 @@ pub(crate) fn offset(
     Ok((changes, label))
 }
 
-/// A fillet asked for ([`super::Command::Fillet`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A fillet asked for: the operation `{"op": "fillet", "a": i, "b": j, "radius": r,
+/// "radius_end": r1, "front_a": true, "front_b": true, "tolerance": t}` ([`crate::ops::fillet`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FilletRequest {
-    pub a: usize,
-    pub b: usize,
+    pub a: ObjectRef,
+    pub b: ObjectRef,
     pub radius: f64,
     /// A radius that varies along the fillet, to this at its other end
     /// ([`crate::kernel::fillet::FilletOptions::radius_end`]).
+    #[serde(default)]
     pub radius_end: Option<f64>,
     /// Whether the ball lies on the side each surface's normal points to (else the other).
+    #[serde(default)]
     pub front_a: bool,
+    #[serde(default)]
     pub front_b: bool,
     /// A fraction of the scene's size.
+    #[serde(default = "editor_tolerance")]
     pub tolerance: f64,
+}
+
+fn editor_tolerance() -> f64 {
+    EDITOR_TOLERANCE
+}
+
+fn edge_tolerance() -> f64 {
+    EDITOR_TOLERANCE * 1e-2
+}
+
+fn unit_tension() -> [f64; 2] {
+    [1.0; 2]
 }
 
 /// A fillet made: the fillet surface, A and B trimmed back where their kind can be trimmed
@@ -247,9 +266,10 @@ pub struct FilletMade {
 pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMade, EditError> {
     use crate::kernel::fillet::{FilletOptions, fillet_surfaces};
     use crate::kernel::trim::cut::trim_along;
-    let (oa, ob) = (object_at(scene, request.a)?, object_at(scene, request.b)?);
+    let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
+    let (oa, ob) = (object_at(scene, a)?, object_at(scene, b)?);
     let fail = geometry_error(oa);
-    if request.a == request.b {
+    if a == b {
         return Err(fail(refuse(
             "fillet",
             "an object cannot be filleted with itself",
@@ -362,14 +382,15 @@ fn spine_length(points: &[glam::DVec3]) -> f64 {
     points.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
 
-/// [`super::Command::Fillet`]: A and B trimmed back and the fillet added as "fillet".
-pub(super) fn fillet(
+/// [`crate::ops::fillet`]: A and B trimmed back and the fillet added as "fillet".
+pub(crate) fn fillet(
     scene: &Scene,
     request: &FilletRequest,
 ) -> Result<(Vec<Change>, String), EditError> {
     let made = fillet_objects(scene, request)?;
+    let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
     let mut changes = Vec::new();
-    for (index, after) in [request.a, request.b].into_iter().zip(made.trimmed) {
+    for (index, after) in [a, b].into_iter().zip(made.trimmed) {
         if let Some(after) = after {
             after.decompose().map_err(geometry_error(&after))?;
             changes.push(Change::Replace {
@@ -396,8 +417,8 @@ pub(super) fn fillet(
     };
     let mut label = format!(
         "fillet {} and {}, radius {radius}: {} sections",
-        scene.objects[request.a].name,
-        scene.objects[request.b].name,
+        scene.objects[a].name,
+        scene.objects[b].name,
         made.fillet.centres.len()
     );
     for note in &made.notes {
@@ -542,7 +563,7 @@ fn objects_named(scene: &Scene, indices: &[usize], every: bool) -> String {
 
 /// [`super::Command::Join`]: each polysurface replaces the first object it takes; the others
 /// go.
-pub(super) fn join(
+pub(crate) fn join(
     scene: &Scene,
     objects: &[usize],
     tolerance: f64,
@@ -578,7 +599,7 @@ pub(super) fn join(
 
 /// [`super::Command::Explode`]: the polysurface's faces as objects of their own, the first in
 /// its place.
-pub(super) fn explode(scene: &Scene, k: usize) -> Result<(Vec<Change>, String), EditError> {
+pub(crate) fn explode(scene: &Scene, k: usize) -> Result<(Vec<Change>, String), EditError> {
     let object = object_at(scene, k)?;
     let Some(p) = object.geometry.downcast_ref::<Polysurface>() else {
         return Err(geometry_error(object)(refuse(
@@ -755,7 +776,7 @@ fn seam_pieces(
 
 /// [`super::Command::TrimBy`]: the part of the object that the cutters leave around the
 /// point nearest `keep`.
-pub(super) fn trim_by(
+pub(crate) fn trim_by(
     scene: &Scene,
     object: usize,
     cutters: &[usize],
@@ -787,7 +808,7 @@ pub(super) fn trim_by(
 }
 
 /// [`super::Command::SplitBy`]: the object cut into its parts, the first in its place.
-pub(super) fn split_by(
+pub(crate) fn split_by(
     scene: &Scene,
     object: usize,
     cutters: &[usize],
@@ -1042,7 +1063,7 @@ pub fn projected_curves(
 }
 
 /// [`super::Command::Project`]: the projections added as "NAME projected" curve objects.
-pub(super) fn project(
+pub(crate) fn project(
     scene: &Scene,
     curves: &[usize],
     onto: usize,
@@ -1076,31 +1097,40 @@ pub(super) fn project(
 /// side of that face's parameter rectangle.
 pub type FaceSide = (usize, crate::kernel::continuity::Side);
 
-/// A blend asked for ([`super::Command::Blend`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A blend asked for: the operation `{"op": "blend", "a": i, "b": j, "edges": [[face, "u0"],
+/// [face, "v1"]], "continuity": "G2", "tension": [1, 1], "tolerance": t}` ([`crate::ops::blend`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BlendRequest {
-    pub a: usize,
-    pub b: usize,
+    pub a: ObjectRef,
+    pub b: ObjectRef,
     /// The edge of A and the edge of B to blend; `None`: the pair that lie nearest each other.
+    #[serde(default)]
     pub edges: Option<[FaceSide; 2]>,
     pub continuity: crate::kernel::blend::EdgeContinuity,
     /// The tension at A's and at B's edge (above 0; 1 is a natural bulge).
+    #[serde(default = "unit_tension")]
     pub tension: [f64; 2],
     /// A fraction of the scene's size.
+    #[serde(default = "edge_tolerance")]
     pub tolerance: f64,
 }
 
-/// A match asked for ([`super::Command::Match`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A match asked for: the operation `{"op": "match", "object": i, "target": j, "edges": ...,
+/// "continuity": "G2", "tolerance": t}` ([`crate::ops::matching`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MatchRequest {
     /// The object whose edge moves (a NURBS or trimmed surface).
-    pub object: usize,
+    pub object: ObjectRef,
     /// The object it is matched to (any kind with faces; it does not change).
-    pub target: usize,
+    pub target: ObjectRef,
     /// The side of the object and the target's edge; `None`: the pair nearest each other.
+    #[serde(default)]
     pub edges: Option<[FaceSide; 2]>,
     pub continuity: crate::kernel::blend::EdgeContinuity,
     /// A fraction of the scene's size.
+    #[serde(default = "edge_tolerance")]
     pub tolerance: f64,
 }
 
@@ -1163,8 +1193,9 @@ pub fn blend_objects(
     request: &BlendRequest,
 ) -> Result<(crate::kernel::blend::Blend, [FaceSide; 2]), EditError> {
     use crate::kernel::blend::{BlendOptions, blend_edges};
-    let edges = edge_pair(scene, request.a, request.b, request.edges, "blend")?;
-    let (oa, ob) = (&scene.objects[request.a], &scene.objects[request.b]);
+    let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
+    let edges = edge_pair(scene, a, b, request.edges, "blend")?;
+    let (oa, ob) = (&scene.objects[a], &scene.objects[b]);
     let (fa, fb) = (oa.faces(), ob.faces());
     let options = BlendOptions {
         continuity: request.continuity,
@@ -1186,12 +1217,13 @@ fn edge_name(object: &SceneObject, (face, side): FaceSide) -> String {
     }
 }
 
-/// [`super::Command::Blend`]: the blend added as "blend".
-pub(super) fn blend(
+/// [`crate::ops::blend`]: the blend added as "blend".
+pub(crate) fn blend(
     scene: &Scene,
     request: &BlendRequest,
 ) -> Result<(Vec<Change>, String), EditError> {
     let (made, [ea, eb]) = blend_objects(scene, request)?;
+    let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
     let changes = insert_objects(scene, "blend", [ObjectGeometry::new(made.surface)]);
     for change in &changes {
         if let Change::Insert { object, .. } = change {
@@ -1201,8 +1233,8 @@ pub(super) fn blend(
     let label = format!(
         "{} blend from {} to {} ({} samples, deviation {:.1e})",
         request.continuity.name(),
-        edge_name(&scene.objects[request.a], ea),
-        edge_name(&scene.objects[request.b], eb),
+        edge_name(&scene.objects[a], ea),
+        edge_name(&scene.objects[b], eb),
         made.samples,
         made.deviation
     );
@@ -1215,14 +1247,12 @@ pub fn match_object(
     scene: &Scene,
     request: &MatchRequest,
 ) -> Result<(SceneObject, crate::kernel::blend::Matched, [FaceSide; 2]), EditError> {
-    let edges = edge_pair(
-        scene,
-        request.object,
-        request.target,
-        request.edges,
-        "match",
-    )?;
-    let before = &scene.objects[request.object];
+    let (object, target) = (
+        scene.resolve(request.object)?,
+        scene.resolve(request.target)?,
+    );
+    let edges = edge_pair(scene, object, target, request.edges, "match")?;
+    let before = &scene.objects[object];
     let fail = geometry_error(before);
     let trimmed = own_trimmed(
         before,
@@ -1230,7 +1260,7 @@ pub fn match_object(
         "moves the control points of a NURBS or trimmed surface",
     )?;
     let [(_, side), (j, target_side)] = edges;
-    let target = scene.objects[request.target].faces();
+    let target = scene.objects[target].faces();
     let matched = crate::kernel::blend::match_edge(
         trimmed.surface(),
         side,
@@ -1250,23 +1280,27 @@ pub fn match_object(
     Ok((after, matched, edges))
 }
 
-/// [`super::Command::Match`]: the object's edge moved onto the target's.
-pub(super) fn match_edge(
+/// [`crate::ops::matching`]: the object's edge moved onto the target's.
+pub(crate) fn match_edge(
     scene: &Scene,
     request: &MatchRequest,
 ) -> Result<(Vec<Change>, String), EditError> {
     let (after, matched, [ea, eb]) = match_object(scene, request)?;
-    let before = &scene.objects[request.object];
+    let (object, target) = (
+        scene.resolve(request.object)?,
+        scene.resolve(request.target)?,
+    );
+    let before = &scene.objects[object];
     let label = format!(
         "match {} to {} at {} (deviation {:.1e})",
         edge_name(before, ea),
-        edge_name(&scene.objects[request.target], eb),
+        edge_name(&scene.objects[target], eb),
         request.continuity.name(),
         matched.deviation
     );
     Ok((
         vec![Change::Replace {
-            index: request.object,
+            index: object,
             before: before.clone(),
             after,
         }],

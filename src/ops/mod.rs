@@ -8,15 +8,35 @@
 //! one line in [`BUILT_IN`]. An operation defined elsewhere (a plug-in, a test) joins with
 //! [`register`] instead and is then read, offered and applied like these.
 
+pub mod blend;
 pub mod contour;
+pub mod explode;
+pub mod fillet;
 pub mod intersect;
+pub mod join;
+pub mod matching;
 pub mod offset;
+pub mod project;
+pub mod split;
+pub mod trim;
 
 use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 3] = [offset::ENTRY, intersect::ENTRY, contour::ENTRY];
+pub const BUILT_IN: [OperationEntry; 11] = [
+    offset::ENTRY,
+    fillet::ENTRY,
+    blend::ENTRY,
+    matching::ENTRY,
+    intersect::ENTRY,
+    contour::ENTRY,
+    join::ENTRY,
+    explode::ENTRY,
+    trim::ENTRY,
+    split::ENTRY,
+    project::ENTRY,
+];
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.
 pub fn register(entry: OperationEntry) -> Result<(), OperationTaken> {
@@ -91,4 +111,12 @@ pub fn finite(
             if positive { " above 0" } else { "" }
         ),
     })
+}
+
+/// The indices of the objects `objects` name now.
+pub fn resolve_all(
+    scene: &crate::scene::Scene,
+    objects: &[crate::scene::operation::ObjectRef],
+) -> Result<Vec<usize>, crate::doc::EditError> {
+    objects.iter().map(|&o| scene.resolve(o)).collect()
 }

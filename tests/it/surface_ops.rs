@@ -5,7 +5,12 @@
 
 use crate::common;
 use knotwork::ops::contour::Contour;
+use knotwork::ops::explode::Explode;
+use knotwork::ops::join::Join;
 use knotwork::ops::offset::Offset;
+use knotwork::ops::project::ProjectCurves;
+use knotwork::ops::split::Split;
+use knotwork::ops::trim::Trim;
 
 use std::process::Command as Process;
 
@@ -679,10 +684,10 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
         unit: None,
     });
     let edit = doc
-        .execute(&Command::Join {
+        .execute(&Command::operation(Join {
             objects: Vec::new(),
             tolerance: 1e-6,
-        })
+        }))
         .unwrap();
     eprintln!("{}", edit.label);
     assert_eq!(doc.scene.objects.len(), 1);
@@ -704,7 +709,8 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
         (volume.abs() - exact).abs() < 2e-3 * exact,
         "{volume} vs {exact}"
     );
-    doc.execute(&Command::Explode { object: 0 }).unwrap();
+    doc.execute(&Command::operation(Explode { object: 0.into() }))
+        .unwrap();
     assert_eq!(doc.scene.objects.len(), 3);
     doc.undo().unwrap();
     doc.undo().unwrap();
@@ -715,20 +721,20 @@ fn a_trimmed_cylinder_with_caps_joins_watertight_and_explodes_back() {
         unit: None,
     });
     let e = apart
-        .execute(&Command::Join {
+        .execute(&Command::operation(Join {
             objects: Vec::new(),
             tolerance: 1e-6,
-        })
+        }))
         .unwrap_err();
     assert!(e.to_string().contains("nothing to join"), "{e}");
     assert!(e.to_string().starts_with("the scene's objects: "), "{e}");
     assert_eq!(apart.scene.objects.len(), 2);
     // Picked, they are named: the join is theirs, not the first object's alone.
     let e = apart
-        .execute(&Command::Join {
-            objects: vec![1, 0],
+        .execute(&Command::operation(Join {
+            objects: vec![1.into(), 0.into()],
             tolerance: 1e-6,
-        })
+        }))
         .unwrap_err();
     assert!(e.to_string().starts_with("Side 0 and Side 1: "), "{e}");
 }
@@ -752,10 +758,10 @@ fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
         unit: None,
     });
     // The floor's normal is +z, the wall's −y: the ball sits in the corner, in front of both.
-    doc.execute(&Command::Fillet(
+    doc.execute(&Command::operation(
         knotwork::doc::surface_ops::FilletRequest {
-            a: 0,
-            b: 1,
+            a: 0.into(),
+            b: 1.into(),
             radius: 0.4,
             radius_end: None,
             front_a: true,
@@ -766,10 +772,10 @@ fn a_fillet_and_the_surfaces_it_trimmed_join_into_one_polysurface() {
     .unwrap();
     assert_eq!(doc.scene.objects.len(), 3);
     let label = doc
-        .execute(&Command::Join {
+        .execute(&Command::operation(Join {
             objects: Vec::new(),
             tolerance: 1e-6,
-        })
+        }))
         .unwrap()
         .label
         .clone();
@@ -826,11 +832,11 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
     });
     // Keep the outside of the sphere's circle: a square with a round hole.
     let label = doc
-        .execute(&Command::TrimBy {
-            object: 0,
-            cutters: vec![1],
-            keep: DVec3::new(1.8, 1.8, 0.0),
-        })
+        .execute(&Command::operation(Trim {
+            object: 0.into(),
+            cutters: vec![1.into()],
+            keep: DVec3::new(1.8, 1.8, 0.0).to_array(),
+        }))
         .unwrap()
         .label
         .clone();
@@ -839,21 +845,21 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
     assert!((area - (16.0 - pi)).abs() < 2e-3, "{area}");
     doc.undo().unwrap();
     // Keep the inside: the unit disc.
-    doc.execute(&Command::TrimBy {
-        object: 0,
-        cutters: vec![1],
-        keep: DVec3::new(0.1, 0.0, 0.0),
-    })
+    doc.execute(&Command::operation(Trim {
+        object: 0.into(),
+        cutters: vec![1.into()],
+        keep: DVec3::new(0.1, 0.0, 0.0).to_array(),
+    }))
     .unwrap();
     let area = mesh_area(&doc.scene.objects[0], 1e-4);
     assert!((area - pi).abs() < 2e-3, "{area}");
     doc.undo().unwrap();
     // Split by the sphere and by the hoop lying on the plate: three parts.
     let label = doc
-        .execute(&Command::SplitBy {
-            object: 0,
-            cutters: vec![1, 2],
-        })
+        .execute(&Command::operation(Split {
+            object: 0.into(),
+            cutters: vec![1.into(), 2.into()],
+        }))
         .unwrap()
         .label
         .clone();
@@ -868,11 +874,11 @@ fn a_plane_trimmed_and_split_by_a_sphere_and_by_a_curve_on_it() {
     doc.undo().unwrap();
     // A curve off the surface is refused, and nothing changes.
     let e = doc
-        .execute(&Command::TrimBy {
-            object: 0,
-            cutters: vec![3],
-            keep: DVec3::ZERO,
-        })
+        .execute(&Command::operation(Trim {
+            object: 0.into(),
+            cutters: vec![3.into()],
+            keep: DVec3::ZERO.to_array(),
+        }))
         .unwrap_err();
     assert!(e.to_string().contains("project it onto the surface"), "{e}");
     assert_eq!(doc.scene.objects, objects);
@@ -977,11 +983,11 @@ fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
     assert_eq!(levels, vec![-1, 0, 1]);
     let count = doc.scene.objects.len();
     // Projected straight down: on the upper half at height √(1 − 0.25).
-    doc.execute(&Command::Project {
-        curves: vec![1],
-        onto: 0,
-        direction: Some(-DVec3::Z),
-    })
+    doc.execute(&Command::operation(ProjectCurves {
+        curves: vec![1.into()],
+        onto: 0.into(),
+        direction: Some((-DVec3::Z).to_array()),
+    }))
     .unwrap();
     let projected = doc.scene.objects[count]
         .kind()
@@ -989,11 +995,11 @@ fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
         .unwrap()
         .clone();
     // Pulled: to the nearest points, along the radius.
-    doc.execute(&Command::Project {
-        curves: vec![1],
-        onto: 0,
+    doc.execute(&Command::operation(ProjectCurves {
+        curves: vec![1.into()],
+        onto: 0.into(),
         direction: None,
-    })
+    }))
     .unwrap();
     let pulled = doc.scene.objects[count + 1]
         .kind()
@@ -1017,11 +1023,11 @@ fn a_sphere_contoured_and_curves_projected_and_pulled_onto_it() {
     });
     assert!(off < 1e-6, "pulled {off}");
     // The projection lies on the sphere: it trims it.
-    doc.execute(&Command::TrimBy {
-        object: 0,
-        cutters: vec![count],
-        keep: DVec3::Z,
-    })
+    doc.execute(&Command::operation(Trim {
+        object: 0.into(),
+        cutters: vec![count.into()],
+        keep: DVec3::Z.to_array(),
+    }))
     .unwrap();
     let area = mesh_area(&doc.scene.objects[0], 1e-4);
     let cap = 2.0 * std::f64::consts::PI * (1.0 - height);
@@ -1203,13 +1209,15 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
         objects,
         unit: None,
     });
-    doc.execute(&Command::Match(knotwork::doc::surface_ops::MatchRequest {
-        object: 0,
-        target: 1,
-        edges: None,
-        continuity: knotwork::kernel::blend::EdgeContinuity::G2,
-        tolerance: 1e-8,
-    }))
+    doc.execute(&Command::operation(
+        knotwork::doc::surface_ops::MatchRequest {
+            object: 0.into(),
+            target: 1.into(),
+            edges: None,
+            continuity: knotwork::kernel::blend::EdgeContinuity::G2,
+            tolerance: 1e-8,
+        },
+    ))
     .unwrap();
     let moved = doc.scene.objects[0]
         .geometry
@@ -1233,8 +1241,8 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
     // face the object does not have, a blend with a tension of 0.
     let before = doc.scene.clone();
     let request = knotwork::doc::surface_ops::BlendRequest {
-        a: 0,
-        b: 1,
+        a: 0.into(),
+        b: 1.into(),
         edges: None,
         continuity: knotwork::kernel::blend::EdgeContinuity::G1,
         tension: [1.0, 1.0],
@@ -1242,9 +1250,9 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
     };
     let refusals = [
         (
-            Command::Match(knotwork::doc::surface_ops::MatchRequest {
-                object: 0,
-                target: 0,
+            Command::operation(knotwork::doc::surface_ops::MatchRequest {
+                object: 0.into(),
+                target: 0.into(),
                 edges: None,
                 continuity: knotwork::kernel::blend::EdgeContinuity::G1,
                 tolerance: 1e-6,
@@ -1252,7 +1260,7 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
             "needs two different objects",
         ),
         (
-            Command::Blend(knotwork::doc::surface_ops::BlendRequest {
+            Command::operation(knotwork::doc::surface_ops::BlendRequest {
                 edges: Some([
                     (3, knotwork::kernel::continuity::Side::U1),
                     (0, knotwork::kernel::continuity::Side::V0),
@@ -1262,7 +1270,7 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
             "not a face 3",
         ),
         (
-            Command::Blend(knotwork::doc::surface_ops::BlendRequest {
+            Command::operation(knotwork::doc::surface_ops::BlendRequest {
                 tension: [0.0, 1.0],
                 ..request
             }),
@@ -1274,7 +1282,7 @@ fn matching_a_sheet_to_a_rounded_roof_by_the_command_line_and_the_document() {
         assert!(e.contains(message), "{e}");
         assert_eq!(doc.scene, before);
     }
-    doc.execute(&Command::Blend(request)).unwrap();
+    doc.execute(&Command::operation(request)).unwrap();
     assert_eq!(doc.scene.objects.len(), 3);
     assert_eq!(doc.scene.objects[2].name, "blend");
     doc.undo().unwrap();
@@ -1308,10 +1316,10 @@ fn a_fillet_between_a_wavy_sheet_and_a_cylinder_in_general_position_trims_both_a
             ],
             unit: None,
         });
-        let result = doc.execute(&Command::Fillet(
+        let result = doc.execute(&Command::operation(
             knotwork::doc::surface_ops::FilletRequest {
-                a: 0,
-                b: 1,
+                a: 0.into(),
+                b: 1.into(),
                 radius: 0.15 * 3.7,
                 radius_end: None,
                 front_a,
@@ -1366,10 +1374,10 @@ fn a_fillet_between_a_wavy_sheet_and_a_cylinder_in_general_position_trims_both_a
                 "{label}"
             );
         }
-        let joined = doc.execute(&Command::Join {
+        let joined = doc.execute(&Command::operation(Join {
             objects: Vec::new(),
             tolerance: knotwork::doc::surface_ops::JOIN_TOLERANCE,
-        });
+        }));
         let joined = match joined {
             Ok(edit) => edit.label.clone(),
             Err(e) => panic!("sides {front_a} {front_b}: {e} (size {size})"),
@@ -1415,11 +1423,11 @@ fn a_second_trim_across_the_first_keeps_what_both_keep() {
     });
     let corner = place.transform_point3(DVec3::new(1.8, 1.8, 0.0));
     for cutter in [1, 2] {
-        let trimmed = doc.execute(&Command::TrimBy {
-            object: 0,
-            cutters: vec![cutter],
-            keep: corner,
-        });
+        let trimmed = doc.execute(&Command::operation(Trim {
+            object: 0.into(),
+            cutters: vec![cutter.into()],
+            keep: corner.to_array(),
+        }));
         if let Err(e) = trimmed {
             panic!("trim by {cutter}: {e}");
         }

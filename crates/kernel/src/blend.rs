@@ -37,8 +37,10 @@ use crate::interpolation::{averaged_knots, interpolate_points};
 use crate::parametric::ParametricSurface;
 use crate::surface::{Direction, NurbsSurface};
 
-/// The continuity a blend or a match keeps with the surfaces it meets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+/// The continuity a blend or a match keeps with the surfaces it meets (serde: "G0", "G1", "G2").
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
 pub enum EdgeContinuity {
     /// Position only.
     G0,

@@ -26,8 +26,11 @@ use glam::DVec3;
 use super::SurfaceDerivatives;
 use super::parametric::ParametricSurface;
 
-/// A side of a face's parameter rectangle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+/// A side of a face's parameter rectangle (serde: "u0", "u1", "v0", "v1").
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Side {
     /// u = u0 (v runs along the edge).
     U0,

@@ -1,0 +1,33 @@
+//! Fillet: a ball of a radius rolled between two objects; the fillet surface is added as
+//! "fillet" and both objects are trimmed back to where the ball touches them
+//! ([`crate::doc::surface_ops::fillet_objects`]).
+
+use crate::doc::EditError;
+use crate::doc::surface_ops::{self, FilletRequest};
+use crate::scene::Scene;
+use crate::scene::operation::{ObjectRef, OperationEntry, OperationParams, Planned, entry};
+
+impl OperationParams for FilletRequest {
+    const NAME: &'static str = "fillet";
+
+    fn objects_mut(&mut self) -> Vec<&mut ObjectRef> {
+        vec![&mut self.a, &mut self.b]
+    }
+
+    fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
+        super::finite(Self::NAME, "radius", self.radius, true)?;
+        if let Some(end) = self.radius_end {
+            super::finite(Self::NAME, "radius_end", end, true)?;
+        }
+        super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
+        surface_ops::fillet(scene, self)
+    }
+}
+
+pub const ENTRY: OperationEntry = OperationEntry {
+    own_panel: true,
+    ..entry::<FilletRequest>(
+        "a rolling-ball fillet between two objects, trimming both",
+        |_, _| None,
+    )
+};
