@@ -18,13 +18,15 @@ pub mod matching;
 pub mod offset;
 pub mod project;
 pub mod split;
+pub mod transform;
 pub mod trim;
 
 use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 11] = [
+pub const BUILT_IN: [OperationEntry; 12] = [
+    transform::ENTRY,
     offset::ENTRY,
     fillet::ENTRY,
     blend::ENTRY,

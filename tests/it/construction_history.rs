@@ -156,10 +156,12 @@ fn a_loft_of_curve_objects_follows_a_dragged_section_and_undoes_in_one_step() {
 fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
     let mut doc = lofted();
     // A transform of a section rebuilds the loft in the same step.
-    doc.execute(&Command::Transform {
-        object: 2,
-        transform: glam::DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.8)),
-    })
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(
+            2,
+            &glam::DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.8)),
+        ),
+    ))
     .unwrap();
     let d = curve_to_surface(curve(&doc.scene.objects[2]), surface(&doc.scene.objects[3]));
     assert!(d < 1e-7, "{d:e}");

@@ -117,14 +117,14 @@ fn command(scene: &Scene, kind: u8, r: u32, a: f64, b: f64, c: f64) -> Command {
                 Command::SwapUv { object }
             }
         }
-        9 => Command::Transform {
+        9 => Command::operation(knotwork::ops::transform::Transform::new(
             object,
-            transform: DAffine3::from_scale_rotation_translation(
+            &DAffine3::from_scale_rotation_translation(
                 DVec3::splat(0.5 + a),
                 glam::DQuat::from_rotation_z(c),
                 DVec3::new(b, -a, c),
             ),
-        },
+        )),
         11 if r & 4 == 0 => {
             // Trims: a circular hole somewhere in the domain (refused where it leaves the
             // domain or crosses a loop there already), keeping the other side, deleting a loop.

@@ -769,10 +769,9 @@ fn a_kind_defined_in_a_test_works_everywhere() {
 
     let mut doc = Document::new(scene);
     let moved = DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.5));
-    doc.execute(&Command::Transform {
-        object: 0,
-        transform: moved,
-    })
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(0, &moved),
+    ))
     .unwrap();
     let lifted = doc.scene.objects[0]
         .geometry

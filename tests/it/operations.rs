@@ -156,6 +156,16 @@ fn the_registry_reads_operations_and_names_what_is_wrong() {
     assert!(e.contains("op"), "{e}");
     let e = refusal(r#"{"op": "offset", "object": 0, "distance": "far"}"#);
     assert!(e.contains("distance"), "{e}");
+    // A transform's value gives back the affine map bit for bit, through JSON too.
+    let t = glam::DAffine3::from_scale_rotation_translation(
+        DVec3::new(0.7, 1.3, 2.1),
+        glam::DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.9),
+        DVec3::new(-4.5, 0.25, 1e-3),
+    );
+    let transform = knotwork::ops::transform::Transform::new(3, &t);
+    assert_eq!(transform.affine(), t);
+    let read = ops::parse(&Operation::new(transform.clone()).to_json().to_string()).unwrap();
+    assert_eq!(read.params(), Some(&transform));
     // A second operation of the same name is refused.
     assert!(ops::register(MOVED_COPY).is_err());
     // A refused plan names the field and changes nothing.
@@ -235,17 +245,15 @@ fn history_follows_its_input_by_id_through_drags_commands_renames_and_files() {
         name: "Wing".into(),
     })
     .unwrap();
-    doc.execute(&Command::Transform {
-        object: 0,
-        transform: glam::DAffine3::from_rotation_z(0.4),
-    })
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(0, &glam::DAffine3::from_rotation_z(0.4)),
+    ))
     .unwrap();
     assert!(moved_by(&doc.scene.objects[0], &doc.scene.objects[2], by));
     let tail = doc.scene.objects[1].clone();
-    doc.execute(&Command::Transform {
-        object: 1,
-        transform: glam::DAffine3::from_translation(DVec3::X),
-    })
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(1, &glam::DAffine3::from_translation(DVec3::X)),
+    ))
     .unwrap();
     assert!(moved_by(&doc.scene.objects[0], &doc.scene.objects[2], by));
     assert_ne!(doc.scene.objects[1], tail);
