@@ -1042,7 +1042,7 @@ impl KnotworkApp {
             .scene
             .objects
             .get(object)
-            .and_then(|o| o.geometry.downcast_ref::<crate::scene::SubdivObject>());
+            .and_then(|o| o.geometry.as_subdivision());
         if surface.is_none() {
             self.status.error = Some(format!("object {object} is not a subdivision surface"));
         }

@@ -116,10 +116,7 @@ impl KnotworkApp {
         }
         // A polysurface's naked edges (those no other face shares), always: where it is open.
         for object in self.scene().objects.iter().filter(|o| o.visible) {
-            if let Some(p) = object
-                .geometry
-                .downcast_ref::<crate::scene::polysurface::Polysurface>()
-            {
+            if let Some(p) = object.geometry.as_polysurface() {
                 for edge in p.naked_edges().iter() {
                     for w in edge.windows(2) {
                         lines.depth_tested(w[0], w[1], NAKED_EDGE_COLOR);

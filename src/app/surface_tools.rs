@@ -14,7 +14,6 @@ use crate::doc::surface_ops::{
     BlendRequest, EDITOR_TOLERANCE, FilletRequest, JOIN_TOLERANCE, MatchRequest,
 };
 use crate::kernel::blend::EdgeContinuity;
-use crate::scene::polysurface::Polysurface;
 
 /// The surface tools' settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -150,7 +149,7 @@ impl KnotworkApp {
         if object.kind().space_curve().is_some() || object.faces().is_empty() {
             return;
         }
-        let polysurface = object.geometry.downcast_ref::<Polysurface>().is_some();
+        let polysurface = object.geometry.as_polysurface().is_some();
         let others: Vec<(usize, String)> = self
             .scene()
             .objects

@@ -6,7 +6,6 @@ use super::*;
 
 /// `knotwork join`: the project with its surfaces joined where they share edges.
 pub fn join(path: &std::path::Path, tolerance: f64, output: &std::path::Path) -> ExitCode {
-    use knotwork::scene::polysurface::Polysurface;
     let run = || -> Result<serde_json::Value, String> {
         let mut project = open_project(path)?;
         let started = std::time::Instant::now();
@@ -18,7 +17,7 @@ pub fn join(path: &std::path::Path, tolerance: f64, output: &std::path::Path) ->
         let millis = started.elapsed().as_secs_f64() * 1e3;
         let mut joined = Vec::new();
         for object in &project.scene.objects {
-            let Some(p) = object.geometry.downcast_ref::<Polysurface>() else {
+            let Some(p) = object.geometry.as_polysurface() else {
                 continue;
             };
             let topology = p.topology().map_err(|e| e.to_string())?;

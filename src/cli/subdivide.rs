@@ -66,7 +66,7 @@ fn subdivide_file(args: &SubdivideArgs<'_>) -> Result<String, String> {
     } else {
         let project = knotwork::io::project::read(&text).map_err(|e| e.to_string())?;
         let found = project.scene.objects.iter().find_map(|o| {
-            match o.geometry.downcast_ref::<knotwork::scene::SubdivObject>() {
+            match o.geometry.as_subdivision() {
                 // A subdivision surface keeps its creases and corners.
                 Some(s) => Some(s.surface.with(
                     options,

@@ -424,10 +424,7 @@ mod tests {
         }
         // The sphere is a sphere: every control-net-independent sample lies at the radius.
         let sphere = PrimitiveParams::default().build().unwrap();
-        let Some(s) = sphere
-            .geometry
-            .downcast_ref::<crate::kernel::NurbsSurface>()
-        else {
+        let Some(s) = sphere.kind().nurbs_surface() else {
             unreachable!()
         };
         let p = s.point_at(0.3, 0.6).unwrap();

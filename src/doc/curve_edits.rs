@@ -3,6 +3,7 @@
 //! as a new object or replacing one). Worked out without touching the scene, as in
 //! [`super::plan`].
 
+use super::parts::refuse;
 use super::{Change, CurveEdit, EditError, geometry_error, object_at};
 use crate::kernel::{GeometryError, SpaceCurve};
 use crate::scene::construction::Construction;
@@ -54,14 +55,7 @@ pub(super) fn split_curve(scene: &Scene, k: usize, value: f64) -> Result<Vec<Cha
         .split(value)
         .map_err(geometry_error(object))?;
     let parts = vec![ObjectGeometry::new(a), ObjectGeometry::new(b)];
-    Ok(super::plan::split_parts(object, k, parts))
-}
-
-pub(super) fn refuse(what: &'static str, message: impl Into<String>) -> GeometryError {
-    GeometryError::Construction {
-        what,
-        message: message.into(),
-    }
+    Ok(super::parts::split_parts(object, k, parts))
 }
 
 /// The changes of a [`CurveEdit`] of curve object `k`.

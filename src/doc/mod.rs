@@ -11,10 +11,11 @@ pub(crate) mod curve_edits;
 pub mod document;
 pub mod drag;
 pub mod history;
+mod parts;
 mod plan;
 pub mod surface_ops;
 
-use glam::{DAffine3, DVec3};
+use glam::DVec3;
 
 use crate::kernel::{Direction, GeometryError, TrimLoop, TrimmedSurface};
 use crate::scene::{LengthUnit, Scene, SceneObject};
@@ -112,11 +113,6 @@ pub enum Command {
     /// Declares the unit the document's coordinates are in (the numbers stay as they are).
     SetUnit {
         unit: Option<LengthUnit>,
-    },
-    /// Maps a whole object by an affine transformation (baked into its control points).
-    Transform {
-        object: usize,
-        transform: DAffine3,
     },
     /// Segments per Bézier span edge of one object's tessellation.
     SetSegments {
@@ -347,7 +343,6 @@ impl Command {
                 Some(unit) => format!("unit {}", unit.symbol()),
                 None => "unitless".into(),
             },
-            Command::Transform { .. } => "transform".into(),
             Command::SetSegments { segments, .. } => format!("{segments} segments"),
             Command::SetAllSegments { segments } => {
                 format!("{segments} segments for every object")

@@ -2,13 +2,13 @@
 //! command (or per family of commands that share their checks), so that a refused command
 //! leaves the document as it was.
 
-use glam::{DAffine3, DVec3};
+use glam::DVec3;
 
 use super::{
     Change, Command, EditError, TrimEdit, direction_name, drag, geometry_error, object_at,
 };
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};
-use crate::scene::{MAX_NAME_LENGTH, ObjectGeometry, Scene, SceneObject, valid_name};
+use crate::scene::{ObjectGeometry, Scene, SceneObject, valid_name};
 
 /// Whether object `k` is a curve (which the knot, degree, direction and split commands then
 /// edit as one).
@@ -180,7 +180,6 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             before: scene.unit,
             after: *unit,
         }]),
-        Command::Transform { object, transform } => transform_object(scene, *object, transform),
         Command::SetSegments { object, segments } => {
             check_segments(*segments)?;
             map_object(scene, *object, |o| o.segments = *segments)
@@ -307,7 +306,7 @@ fn duplicate(scene: &Scene, index: usize) -> Result<Vec<Change>, EditError> {
     Ok(vec![Change::Insert {
         index: index + 1,
         object: SceneObject {
-            name: split_name(&object.name, "copy"),
+            name: super::parts::split_name(&object.name, "copy"),
             ..object.clone()
         },
     }])
@@ -397,10 +396,7 @@ fn remove_knot(
 /// direction does not matter for it.
 fn elevate_degree(scene: &Scene, k: usize, direction: Direction) -> Result<Vec<Change>, EditError> {
     let object = object_at(scene, k)?;
-    if let Some(patch) = object
-        .geometry
-        .downcast_ref::<crate::kernel::triangle::TriangleBezier>()
-    {
+    if let Some(patch) = object.kind().triangle_patch() {
         let elevated = patch.elevated().map_err(geometry_error(object))?;
         let after = SceneObject {
             geometry: ObjectGeometry::boxed(Box::new(elevated)),
@@ -435,73 +431,12 @@ fn split(
             what: "split",
             message: "nothing is kept on either side".into(),
         })),
-        _ => Ok(split_parts(object, k, parts)),
+        _ => Ok(super::parts::split_parts(object, k, parts)),
     }
-}
-
-/// Object `k` (`object`) split into `parts`: the first in its place as "name (a)", the
-/// others after it as "name (b)", … .
-pub(super) fn split_parts(
-    object: &SceneObject,
-    k: usize,
-    parts: Vec<ObjectGeometry>,
-) -> Vec<Change> {
-    parts
-        .into_iter()
-        .enumerate()
-        .map(|(n, geometry)| {
-            let suffix = char::from(b'a' + (n % 26) as u8).to_string();
-            let part = SceneObject {
-                name: split_name(&object.name, &suffix),
-                geometry,
-                ..object.clone()
-            };
-            if n == 0 {
-                Change::Replace {
-                    index: k,
-                    before: object.clone(),
-                    after: part,
-                }
-            } else {
-                Change::Insert {
-                    index: k + n,
-                    object: part,
-                }
-            }
-        })
-        .collect()
 }
 
 fn trim(scene: &Scene, k: usize, edit: &TrimEdit) -> Result<Vec<Change>, EditError> {
     map_trimmed(scene, k, "trimming", |t| edit.apply(t))
-}
-
-/// Maps the object and its lattice (the deformation is carried along) by `transform`.
-fn transform_object(
-    scene: &Scene,
-    k: usize,
-    transform: &DAffine3,
-) -> Result<Vec<Change>, EditError> {
-    let object = object_at(scene, k)?;
-    let geometry = object
-        .kind()
-        .transformed(transform)
-        .map_err(geometry_error(object))?;
-    let lattice = object
-        .lattice
-        .as_ref()
-        .map(|l| l.transformed(transform))
-        .transpose()
-        .map_err(geometry_error(object))?;
-    replace(
-        scene,
-        k,
-        SceneObject {
-            geometry,
-            lattice,
-            ..object.clone()
-        },
-    )
 }
 
 fn set_all_segments(scene: &Scene, segments: u32) -> Result<Vec<Change>, EditError> {
@@ -572,7 +507,7 @@ fn set_subdivision(
 fn subdivision_label(scene: &Scene, k: usize, new: &crate::scene::SubdivSettings) -> String {
     let old = scene.objects.get(k).and_then(|o| {
         o.geometry
-            .downcast_ref::<crate::scene::SubdivObject>()
+            .as_subdivision()
             .map(crate::scene::SubdivObject::settings)
     });
     let Some(old) = old else {
@@ -702,11 +637,4 @@ fn check_segments(segments: u32) -> Result<(), EditError> {
     } else {
         Err(EditError::Segments { segments, max })
     }
-}
-
-/// "Name (a)", keeping the name within [`MAX_NAME_LENGTH`].
-fn split_name(name: &str, suffix: &str) -> String {
-    let keep = MAX_NAME_LENGTH.saturating_sub(suffix.chars().count() + 3);
-    let base: String = name.chars().take(keep).collect();
-    format!("{base} ({suffix})")
 }

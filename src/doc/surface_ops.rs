@@ -2,7 +2,7 @@
 //! touching the scene, as in [`super::plan`]. The command line uses the same functions, so the
 //! editor, the page and `knotwork offset` make the same surfaces.
 
-use super::curve_edits::refuse;
+use super::parts::refuse;
 use super::{Change, EditError, geometry_error, object_at};
 use crate::kernel::TrimmedSurface;
 use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
@@ -435,7 +435,7 @@ fn joinable_faces(object: &SceneObject) -> Option<Vec<TrimmedSurface>> {
     if object.displacement.is_some() || object.lattice.is_some() {
         return None;
     }
-    if let Some(p) = object.geometry.downcast_ref::<Polysurface>() {
+    if let Some(p) = object.geometry.as_polysurface() {
         return Some(p.faces().to_vec());
     }
     object.geometry.as_trimmed().map(|t| vec![t])
@@ -513,7 +513,7 @@ pub fn join_objects(
         let single = members.len() == 1;
         if single {
             let object = &scene.objects[members[0]];
-            let already = object.geometry.downcast_ref::<Polysurface>().is_some();
+            let already = object.geometry.as_polysurface().is_some();
             let shares = topology
                 .shared
                 .iter()
@@ -601,7 +601,7 @@ pub(crate) fn join(
 /// its place.
 pub(crate) fn explode(scene: &Scene, k: usize) -> Result<(Vec<Change>, String), EditError> {
     let object = object_at(scene, k)?;
-    let Some(p) = object.geometry.downcast_ref::<Polysurface>() else {
+    let Some(p) = object.geometry.as_polysurface() else {
         return Err(geometry_error(object)(refuse(
             "explode",
             format!(

@@ -343,10 +343,7 @@ mod tests {
             o tri\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf -3 -2 -1\n";
         let project = read(text).unwrap();
         assert_eq!(project.scene.objects.len(), 2);
-        let Some(cube) = project.scene.objects[0]
-            .geometry
-            .downcast_ref::<crate::kernel::PolygonMesh>()
-        else {
+        let Some(cube) = project.scene.objects[0].kind().cage() else {
             panic!()
         };
         assert_eq!(project.scene.objects[0].name, "cube");
@@ -354,10 +351,7 @@ mod tests {
         // Y-up to Z-up: OBJ (0, 1, 0) is knotwork's +z.
         assert!(cube.points().contains(&DVec3::new(0.0, 0.0, 1.0)));
         assert!(cube.points().contains(&DVec3::new(0.0, -1.0, 0.0)));
-        let Some(tri) = project.scene.objects[1]
-            .geometry
-            .downcast_ref::<crate::kernel::PolygonMesh>()
-        else {
+        let Some(tri) = project.scene.objects[1].kind().cage() else {
             panic!()
         };
         assert_eq!((tri.points().len(), tri.face_count()), (3, 1));

@@ -9,7 +9,7 @@ use glam::{DAffine3, DVec3, DVec4};
 
 use super::json::{self, FormatError, Geometry, NamedGeometry};
 use super::kind::KindFace;
-use super::registry::KindEntry;
+use super::record::KindEntry;
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve};

@@ -16,6 +16,16 @@ use super::{Decomposition, ObjectGeometry};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface, ParametricSurface, PolygonMesh, TrimmedSurface};
 
+/// A kind's faces for exchange ([`ObjectKind::exchange_faces`]).
+#[derive(Debug, Clone)]
+pub struct ExchangeFaces {
+    pub faces: Vec<TrimmedSurface>,
+    /// Their shared edges, where the kind knows them.
+    pub topology: Option<crate::kernel::join::Topology>,
+    /// How the faces approximate the kind, where they do.
+    pub note: Option<String>,
+}
+
 /// The box (lowest, highest corner) around `points`; `None` for none: what a kind whose
 /// control points contain its shape answers for [`ObjectKind::bounds`].
 pub fn points_box(points: impl IntoIterator<Item = DVec3>) -> Option<(DVec3, DVec3)> {
@@ -219,6 +229,28 @@ pub trait ObjectKind: KindValue {
     /// The polygon cage a subdivision surface can be built on (a polygon mesh, or a
     /// subdivision surface's own cage), or `None`.
     fn cage(&self) -> Option<&PolygonMesh>;
+
+    /// The triangular Bézier patch of a kind that is one (what its degree elevation and the
+    /// triangle panel work on), or `None`.
+    fn triangle_patch(&self) -> Option<&crate::kernel::triangle::TriangleBezier> {
+        None
+    }
+
+    /// The kind's faces as trimmed NURBS surfaces for exchange (STEP writes them): exact for
+    /// NURBS, trimmed surfaces, polysurfaces (with their shared edges), Bézier patch sets and
+    /// triangular patches; a subdivision surface's limit within `tolerance` (model units, or
+    /// finer where the kind asks for it), with a note saying how well. `None` for a kind that
+    /// has no such faces (a curve, a polygon mesh).
+    fn exchange_faces(&self, tolerance: f64) -> Option<Result<ExchangeFaces, GeometryError>> {
+        let _ = tolerance;
+        self.as_trimmed().map(|t| {
+            Ok(ExchangeFaces {
+                faces: vec![t],
+                topology: None,
+                note: None,
+            })
+        })
+    }
 
     /// The kind's record in a project file: a JSON object with its `"type"` (the
     /// [`super::registry::KindEntry::record_type`] that reads it back) and its own fields. The

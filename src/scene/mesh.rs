@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::FormatError;
 use super::kind::KindFace;
-use super::registry::{self, KindEntry};
+use super::record::{self, KindEntry};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, PolygonMesh};
@@ -175,9 +175,9 @@ impl ObjectKind for PolygonMesh {
     }
 
     fn record(&self) -> serde_json::Value {
-        registry::to_record(&MeshRecord {
+        record::to_record(&MeshRecord {
             kind: ENTRY.record_type.into(),
-            points: registry::point_records(self.points()),
+            points: record::point_records(self.points()),
             faces: self.faces().map(<[u32]>::to_vec).collect(),
         })
     }
@@ -200,8 +200,8 @@ pub(super) const ENTRY: KindEntry = KindEntry {
 };
 
 fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
-    let raw: MeshRecord = registry::deserialize(path, record)?;
-    let points = registry::points_of(&raw.points);
+    let raw: MeshRecord = record::deserialize(path, record)?;
+    let points = record::points_of(&raw.points);
     PolygonMesh::new(points, &raw.faces)
         .map(ObjectGeometry::new)
         .map_err(|e| FormatError::new(path, e.to_string()))

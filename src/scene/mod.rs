@@ -19,14 +19,15 @@ mod nurbs;
 pub mod operation;
 mod patch_set;
 pub mod polysurface;
+pub mod record;
 pub mod registry;
 mod subdiv;
 mod triangle;
 mod trimmed;
 
 pub use curve::{CurveFeed, periodic_twin};
-pub use kind::{KindFace, KindValue, ObjectKind, points_box};
-pub use subdiv::{SubdivObject, SubdivSettings};
+pub use kind::{ExchangeFaces, KindFace, KindValue, ObjectKind, points_box};
+pub use subdiv::{SUBDIVISION_TOLERANCE, SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;
 

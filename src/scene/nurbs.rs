@@ -6,7 +6,7 @@ use glam::{DAffine3, DVec3};
 
 use super::json::{self, FormatError, Geometry, NamedGeometry};
 use super::kind::KindFace;
-use super::registry::KindEntry;
+use super::record::KindEntry;
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
 use crate::kernel::{Direction, GeometryError, NurbsSurface, TrimmedSurface};

@@ -315,7 +315,7 @@ fn read_params<T: OperationParams>(
     if let serde_json::Value::Object(map) = &mut value {
         map.remove("op");
     }
-    let params: T = super::registry::deserialize(path, value)?;
+    let params: T = super::record::deserialize(path, value)?;
     Ok(Operation::new(params))
 }
 

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::{self, FormatError};
 use super::kind::KindFace;
-use super::registry::{self, KindEntry};
+use super::record::{self, KindEntry};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::tess::{self, Tessellation, TriangleMesh};
@@ -146,8 +146,40 @@ impl ObjectKind for BezierPatchSet {
         None
     }
 
+    /// Patch by patch, each exact as a rational Bézier NURBS.
+    fn exchange_faces(
+        &self,
+        _tolerance: f64,
+    ) -> Option<Result<super::ExchangeFaces, GeometryError>> {
+        let face = |patch: &crate::kernel::BezierPatch| {
+            let (p, q) = (patch.degree_u(), patch.degree_v());
+            let mut points = Vec::with_capacity((p + 1) * (q + 1));
+            let mut weights = Vec::with_capacity(points.capacity());
+            for i in 0..=p {
+                for j in 0..=q {
+                    let k = patch.index(i, j) as usize;
+                    points.push(self.points()[k]);
+                    weights.push(self.weights().get(k).copied().unwrap_or(1.0));
+                }
+            }
+            crate::kernel::NurbsSurface::bezier([p, q], points, Some(weights))
+                .map(crate::kernel::TrimmedSurface::untrimmed)
+        };
+        Some(
+            self.patches()
+                .iter()
+                .map(face)
+                .collect::<Result<Vec<_>, _>>()
+                .map(|faces| super::ExchangeFaces {
+                    faces,
+                    topology: None,
+                    note: None,
+                }),
+        )
+    }
+
     fn record(&self) -> serde_json::Value {
-        registry::to_record(&PatchesRecord {
+        record::to_record(&PatchesRecord {
             kind: ENTRY.record_type.into(),
             points: self
                 .points()
@@ -193,7 +225,7 @@ pub(super) const ENTRY: KindEntry = KindEntry {
 };
 
 fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
-    let raw: PatchesRecord = registry::deserialize(path, record)?;
+    let raw: PatchesRecord = record::deserialize(path, record)?;
     let (cartesian, weights) = json::curve_points(path, &raw.points, 3)?;
     let points = cartesian
         .iter()

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::FormatError;
 use super::kind::{KindFace, points_box};
-use super::registry::{KindEntry, deserialize, to_record};
+use super::record::{KindEntry, deserialize, to_record};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject, TrimFeed};
 use crate::kernel::bezier::{BezierPatch, BezierPatchSet};
 use crate::kernel::join::{Topology, edge_polyline, find_topology, tessellate_joined};
@@ -162,6 +162,14 @@ impl Polysurface {
     fn changed(&mut self) {
         self.topology = Arc::default();
         self.naked = Arc::default();
+    }
+}
+
+impl ObjectGeometry {
+    /// The object as faces joined along shared edges (what join makes and explode takes
+    /// apart; its naked edges are where it is open), or `None`.
+    pub fn as_polysurface(&self) -> Option<&Polysurface> {
+        self.downcast_ref()
     }
 }
 
@@ -424,6 +432,17 @@ impl ObjectKind for Polysurface {
 
     fn cage(&self) -> Option<&crate::kernel::PolygonMesh> {
         None
+    }
+
+    fn exchange_faces(
+        &self,
+        _tolerance: f64,
+    ) -> Option<Result<super::ExchangeFaces, GeometryError>> {
+        Some(Ok(super::ExchangeFaces {
+            faces: self.faces().to_vec(),
+            topology: self.topology().ok().cloned(),
+            note: None,
+        }))
     }
 
     fn record(&self) -> serde_json::Value {

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::FormatError;
 use super::kind::KindFace;
-use super::registry::{self, KindEntry};
+use super::record::{self, KindEntry};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
@@ -397,6 +397,66 @@ impl SubdivObject {
     }
 }
 
+/// How close to a subdivision surface's limit its exchanged patches are asked to be: this
+/// fraction of its cage's bounding-box diagonal (or the export's tolerance where larger).
+pub const SUBDIVISION_TOLERANCE: f64 = 1e-4;
+
+impl SubdivObject {
+    /// [`ObjectKind::exchange_faces`] of a subdivision surface.
+    fn limit_faces(&self, tolerance: f64) -> Result<super::ExchangeFaces, GeometryError> {
+        use crate::kernel::{NurbsSurface, TrimmedSurface};
+        let no_points = || GeometryError::Construction {
+            what: "subdivision limit",
+            message: "its cage has no points".into(),
+        };
+        let (lo, hi) =
+            super::points_box(self.surface.points().iter().copied()).ok_or_else(no_points)?;
+        let asked = (SUBDIVISION_TOLERANCE * lo.distance(hi)).max(tolerance);
+        let limit = self.surface.limit_patches(asked)?;
+        let faces = limit
+            .patches
+            .iter()
+            .map(|p| NurbsSurface::bezier([3, 3], p.to_vec(), None).map(TrimmedSurface::untrimmed))
+            .collect::<Result<Vec<_>, _>>()?;
+        // The patches meet along their edges to rounding.
+        let topology = crate::kernel::join::find_topology(&faces, asked)?;
+        let note = if limit.triangles {
+            format!(
+                "the limit surface as {} cubic triangles of level {} (each a bicubic patch with one side collapsed), within {:.2e} of the limit",
+                faces.len(),
+                limit.level,
+                limit.deviation
+            )
+        } else if limit.exact == faces.len() {
+            format!(
+                "the limit surface as {} bicubic patches of level {}, every one exact",
+                faces.len(),
+                limit.level
+            )
+        } else {
+            format!(
+                "the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",
+                faces.len(),
+                limit.level,
+                limit.exact,
+                limit.deviation
+            )
+        };
+        Ok(super::ExchangeFaces {
+            faces,
+            topology: Some(topology),
+            note: Some(note),
+        })
+    }
+}
+
+impl ObjectGeometry {
+    /// The object as a subdivision surface (its rules, level, display and creases), or `None`.
+    pub fn as_subdivision(&self) -> Option<&SubdivObject> {
+        self.downcast_ref()
+    }
+}
+
 impl ObjectKind for SubdivObject {
     fn kind_name(&self) -> &'static str {
         "a subdivision surface"
@@ -732,11 +792,21 @@ impl ObjectKind for SubdivObject {
         Some(self.surface.mesh())
     }
 
+    /// The limit surface as bicubic (or collapsed-triangle) patches within `tolerance`, or
+    /// [`SUBDIVISION_TOLERANCE`] of the cage's diagonal where that is larger, with their
+    /// shared edges.
+    fn exchange_faces(
+        &self,
+        tolerance: f64,
+    ) -> Option<Result<super::ExchangeFaces, GeometryError>> {
+        Some(self.limit_faces(tolerance))
+    }
+
     fn record(&self) -> serde_json::Value {
         let surface = &self.surface;
-        registry::to_record(&CageRecord {
+        record::to_record(&CageRecord {
             kind: ENTRY.record_type.into(),
-            points: registry::point_records(surface.points()),
+            points: record::point_records(surface.points()),
             faces: surface.mesh().faces().map(<[u32]>::to_vec).collect(),
             creases: surface
                 .creases()
@@ -793,9 +863,9 @@ pub(super) const ENTRY: KindEntry = KindEntry {
 };
 
 fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
-    let raw: CageRecord = registry::deserialize(path, record)?;
+    let raw: CageRecord = record::deserialize(path, record)?;
     let geometry = |e| FormatError::geometry(path, e);
-    let points = registry::points_of(&raw.points);
+    let points = record::points_of(&raw.points);
     let mesh = PolygonMesh::new(points, &raw.faces).map_err(geometry)?;
     let creases = raw
         .creases

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::json::FormatError;
 use super::kind::KindFace;
-use super::registry::{self, KindEntry};
+use super::record::{self, KindEntry};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
 use crate::kernel::subdiv::patches::{LimitFeed, StencilPatch};
@@ -277,11 +277,32 @@ impl ObjectKind for TriangleBezier {
         None
     }
 
+    fn triangle_patch(&self) -> Option<&TriangleBezier> {
+        Some(self)
+    }
+
+    /// Exactly, as the tensor patch over the square collapsed onto the triangle.
+    fn exchange_faces(
+        &self,
+        _tolerance: f64,
+    ) -> Option<Result<super::ExchangeFaces, GeometryError>> {
+        let n = self.degree();
+        Some(
+            crate::kernel::NurbsSurface::bezier([n, n], self.tensor_points(), None).map(|s| {
+                super::ExchangeFaces {
+                    faces: vec![crate::kernel::TrimmedSurface::untrimmed(s)],
+                    topology: None,
+                    note: None,
+                }
+            }),
+        )
+    }
+
     fn record(&self) -> serde_json::Value {
-        registry::to_record(&TriangleRecord {
+        record::to_record(&TriangleRecord {
             kind: ENTRY.record_type.into(),
             degree: self.degree(),
-            points: registry::point_records(self.points()),
+            points: record::point_records(self.points()),
         })
     }
 }
@@ -304,8 +325,8 @@ pub(super) const ENTRY: KindEntry = KindEntry {
 };
 
 fn read_record(path: &str, record: serde_json::Value) -> Result<ObjectGeometry, FormatError> {
-    let raw: TriangleRecord = registry::deserialize(path, record)?;
-    let points = registry::points_of(&raw.points);
+    let raw: TriangleRecord = record::deserialize(path, record)?;
+    let points = record::points_of(&raw.points);
     TriangleBezier::new(raw.degree, points)
         .map(ObjectGeometry::new)
         .map_err(|e| FormatError::geometry(path, e))

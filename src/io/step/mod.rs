@@ -452,93 +452,16 @@ type ObjectFaces = (
     Option<String>,
 );
 
-/// How close to a subdivision surface's limit its approximated patches are asked to be: this
-/// fraction of its cage's bounding-box diagonal (or the export's tolerance where larger).
-pub const SUBDIVISION_TOLERANCE: f64 = 1e-4;
+pub use crate::scene::SUBDIVISION_TOLERANCE;
 
 fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, String> {
-    use crate::kernel::bezier::BezierPatchSet;
-    use crate::kernel::{NurbsSurface, TrimmedSurface};
     if object.displacement.is_some() || object.lattice.is_some() {
         return Err("it is displaced or deformed (bake it first)".into());
     }
-    if let Some(p) = object.geometry.downcast_ref::<Polysurface>() {
-        return Ok((p.faces().to_vec(), p.topology().ok().cloned(), None));
-    }
-    if let Some(t) = object.geometry.as_trimmed() {
-        return Ok((vec![t], None, None));
-    }
-    if let Some(set) = object.geometry.downcast_ref::<BezierPatchSet>() {
-        let mut faces = Vec::new();
-        for patch in set.patches() {
-            let (p, q) = (patch.degree_u(), patch.degree_v());
-            let mut points = Vec::with_capacity((p + 1) * (q + 1));
-            let mut weights = Vec::with_capacity(points.capacity());
-            for i in 0..=p {
-                for j in 0..=q {
-                    let k = patch.index(i, j) as usize;
-                    points.push(set.points()[k]);
-                    weights.push(set.weights().get(k).copied().unwrap_or(1.0));
-                }
-            }
-            let s =
-                NurbsSurface::bezier([p, q], points, Some(weights)).map_err(|e| e.to_string())?;
-            faces.push(TrimmedSurface::untrimmed(s));
-        }
-        return Ok((faces, None, None));
-    }
-    if let Some(t) = object
-        .geometry
-        .downcast_ref::<crate::kernel::triangle::TriangleBezier>()
-    {
-        // Exactly, as the tensor patch over the square collapsed onto the triangle.
-        let n = t.degree();
-        let s = NurbsSurface::bezier([n, n], t.tensor_points(), None).map_err(|e| e.to_string())?;
-        return Ok((vec![TrimmedSurface::untrimmed(s)], None, None));
-    }
-    if let Some(sub) = object.geometry.downcast_ref::<crate::scene::SubdivObject>() {
-        let (lo, hi) = crate::scene::points_box(sub.surface.points().iter().copied())
-            .ok_or("its cage has no points")?;
-        let asked = (SUBDIVISION_TOLERANCE * lo.distance(hi)).max(tolerance);
-        let limit = sub
-            .surface
-            .limit_patches(asked)
-            .map_err(|e| e.to_string())?;
-        let faces = limit
-            .patches
-            .iter()
-            .map(|p| NurbsSurface::bezier([3, 3], p.to_vec(), None).map(TrimmedSurface::untrimmed))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| e.to_string())?;
-        // The patches meet along their edges to rounding.
-        let topology =
-            crate::kernel::join::find_topology(&faces, asked).map_err(|e| e.to_string())?;
-        let note = if limit.triangles {
-            format!(
-                "{}: the limit surface as {} cubic triangles of level {} (each a bicubic patch with one side collapsed), within {:.2e} of the limit",
-                object.name,
-                faces.len(),
-                limit.level,
-                limit.deviation
-            )
-        } else if limit.exact == faces.len() {
-            format!(
-                "{}: the limit surface as {} bicubic patches of level {}, every one exact",
-                object.name,
-                faces.len(),
-                limit.level
-            )
-        } else {
-            format!(
-                "{}: the limit surface as {} bicubic patches of level {}, {} exact, the others within {:.2e} of the limit",
-                object.name,
-                faces.len(),
-                limit.level,
-                limit.exact,
-                limit.deviation
-            )
-        };
-        return Ok((faces, Some(topology), Some(note)));
+    if let Some(faces) = object.kind().exchange_faces(tolerance) {
+        let faces = faces.map_err(|e| e.to_string())?;
+        let note = faces.note.map(|note| format!("{}: {note}", object.name));
+        return Ok((faces.faces, faces.topology, note));
     }
     Err(format!(
         "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets, \

@@ -46,6 +46,15 @@ fn cage_error(at: Location, problem: CageProblem) -> GeometryError {
 }
 
 impl Level {
+    /// The vertex of triangle `f` that is not on edge (a, b).
+    pub fn opposite(&self, f: u32, a: u32, b: u32) -> u32 {
+        self.face(f)
+            .iter()
+            .copied()
+            .find(|&x| x != a && x != b)
+            .unwrap_or(a)
+    }
+
     /// Builds the adjacency of `faces` over `vertex_count` vertices. `edges` lists edges known
     /// in advance (a refinement's child edges, in OpenSubdiv's order); the others are numbered
     /// in the order the faces first use them (face by face, corner j to j + 1), as OpenSubdiv

@@ -182,14 +182,9 @@ fn vertex_row(level: &Level, options: &Options, v: u32) -> Row {
     p_row.blend(c_row, weight)
 }
 
-/// The vertex of triangle `f` that is not on edge (a, b).
+/// The vertex of triangle `f` that is not on edge (a, b) ([`Level::opposite`]).
 pub fn opposite(level: &Level, f: u32, a: u32, b: u32) -> u32 {
-    level
-        .face(f)
-        .iter()
-        .copied()
-        .find(|&x| x != a && x != b)
-        .unwrap_or(a)
+    level.opposite(f, a, b)
 }
 
 /// The child of edge `e` (`Scheme::ComputeEdgeVertexMask`). Smooth: Catmull-Clark

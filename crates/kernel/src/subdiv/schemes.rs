@@ -13,7 +13,6 @@
 use std::f64::consts::TAU;
 
 use super::level::{INFINITE_SHARPNESS, Level, NONE, Ring};
-use super::refine::opposite;
 use super::stencil::{Row, Stencils};
 use crate::GeometryError;
 
@@ -398,7 +397,7 @@ fn across(level: &Level, f: u32, a: u32, b: u32) -> Option<u32> {
     let e = edge_between(level, a, b)?;
     let [x, y] = level.edge_faces[e as usize];
     let other = if x == f { y } else { x };
-    (other != NONE).then(|| opposite(level, other, a, b))
+    (other != NONE).then(|| level.opposite(other, a, b))
 }
 
 /// The extraordinary rule around interior vertex `v` for its edge to `w`:
@@ -435,7 +434,7 @@ pub fn butterfly_edge_row(level: &Level, e: u32) -> Row {
     }
     let interior = |v: u32| !is_boundary_vertex(level, v);
     let valence = |v: u32| level.vertex_edges(v).len();
-    let (c0, c1) = (opposite(level, f0, a, b), opposite(level, f1, a, b));
+    let (c0, c1) = (level.opposite(f0, a, b), level.opposite(f1, a, b));
     match (interior(a), interior(b)) {
         (true, true) if valence(a) == 6 && valence(b) == 6 => {
             let wings = [

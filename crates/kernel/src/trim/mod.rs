@@ -535,26 +535,33 @@ fn clear_of_each_other(
     let cos_sharp = 20f64.to_radians().cos();
     let mut clear = true;
     each_close_pair(rect, chords, margin, |p, q| {
-        let n = polygons[p.trim_loop].len();
-        let neighbours = p.trim_loop == q.trim_loop
-            && (q.position == p.position + 1
-                || p.position == q.position + 1
-                || (p.position == 0 && q.position == n - 1)
-                || (q.position == 0 && p.position == n - 1));
-        clear = if neighbours {
-            let (shared, x, y) = if p.b == q.a {
-                (p.b, p.a, q.b)
-            } else {
-                (p.a, p.b, q.a)
-            };
-            let (e1, e2) = (x - shared, y - shared);
-            e1.dot(e2) < cos_sharp * e1.length() * e2.length()
-        } else {
-            chord_distance(p, q) > margin
+        clear = match corner(p, q, polygons) {
+            Some((shared, x, y)) => {
+                let (e1, e2) = (x - shared, y - shared);
+                e1.dot(e2) < cos_sharp * e1.length() * e2.length()
+            }
+            None => chord_distance(p, q) > margin,
         };
         clear
     });
     clear
+}
+
+/// Where chords `p` and `q` follow each other along one loop: the vertex they share and the
+/// far end of `p` and of `q`; `None` for chords that are not neighbours.
+fn corner(p: &Chord, q: &Chord, polygons: &[Vec<DVec2>]) -> Option<(DVec2, DVec2, DVec2)> {
+    if p.trim_loop != q.trim_loop {
+        return None;
+    }
+    let n = polygons[p.trim_loop].len();
+    let follows = |a: &Chord, b: &Chord| b.position == (a.position + 1) % n;
+    if follows(p, q) {
+        Some((p.b, p.a, q.b))
+    } else if follows(q, p) {
+        Some((p.a, p.b, q.a))
+    } else {
+        None
+    }
 }
 
 /// The distance between two chords: 0 where they meet, else the least of their ends'
@@ -659,30 +666,20 @@ fn crossing_error(p: &Chord, q: &Chord, polygons: &[Vec<DVec2>]) -> Option<Geome
     } else {
         (p, q)
     };
-    if p.trim_loop == q.trim_loop {
-        let n = polygons[p.trim_loop].len();
-        let neighbours = q.position == p.position + 1 || (p.position == 0 && q.position == n - 1);
-        if neighbours {
-            // They share a vertex; refuse only a fold back along the same line.
-            let (shared, x, y) = if q.position == p.position + 1 {
-                (p.b, p.a, q.b)
-            } else {
-                (p.a, p.b, q.a)
-            };
-            let (e1, e2) = (x - shared, y - shared);
-            let folded =
-                e1.perp_dot(e2).abs() <= 1e-12 * e1.length() * e2.length() && e1.dot(e2) > 0.0;
-            return folded.then(|| {
-                refuse(
-                    q.trim_loop,
-                    q.curve,
-                    TrimProblem::SelfIntersection {
-                        other: p.curve,
-                        near: Uv(shared),
-                    },
-                )
-            });
-        }
+    if let Some((shared, x, y)) = corner(p, q, polygons) {
+        // They share a vertex; refuse only a fold back along the same line.
+        let (e1, e2) = (x - shared, y - shared);
+        let folded = e1.perp_dot(e2).abs() <= 1e-12 * e1.length() * e2.length() && e1.dot(e2) > 0.0;
+        return folded.then(|| {
+            refuse(
+                q.trim_loop,
+                q.curve,
+                TrimProblem::SelfIntersection {
+                    other: p.curve,
+                    near: Uv(shared),
+                },
+            )
+        });
     }
     if !chords_meet(p.a, p.b, q.a, q.b) {
         return None;
