@@ -229,8 +229,8 @@ pub(super) fn follow(
     let mut failures = Vec::new();
     for index in 0..next.objects.len() {
         let object = &next.objects[index];
+        let mut after = object.clone();
         if let Some(recipe) = &object.recipe {
-            let mut after = object.clone();
             let reads = recipe.operation.objects();
             let reads_id =
                 |id: &ObjectId| reads.contains(&crate::scene::operation::ObjectRef::Id(*id));
@@ -250,38 +250,26 @@ pub(super) fn follow(
                     Err(e) => failures.push(format!("{} not made again: {e}", object.name)),
                 }
             }
-            if &after != object {
-                extra.push(Change::Replace {
-                    index,
-                    before: object.clone(),
-                    after: after.clone(),
-                });
-                next.objects[index] = after;
+        } else if let Some(construction) = &object.construction {
+            let mut renamed = construction.clone();
+            for (from, to) in &renames {
+                renamed = renamed.renamed(from, to);
             }
-            continue;
-        }
-        let Some(construction) = &object.construction else {
-            continue;
-        };
-        let mut after = object.clone();
-        let mut renamed = construction.clone();
-        for (from, to) in &renames {
-            renamed = renamed.renamed(from, to);
-        }
-        after.construction = Some(renamed.clone());
-        if let Some(gone) = removed.iter().find(|name| renamed.uses(name)) {
-            after.construction = None;
-            failures.push(format!(
-                "{}'s construction history ends: {gone} was removed",
-                object.name
-            ));
-        } else if moved_curves.iter().any(|name| renamed.uses(name)) {
-            match build(&renamed, &next) {
-                Ok(rebuilt) => after.geometry = rebuilt.geometry,
-                Err(e) => failures.push(format!("{} not rebuilt: {e}", object.name)),
+            after.construction = Some(renamed.clone());
+            if let Some(gone) = removed.iter().find(|name| renamed.uses(name)) {
+                after.construction = None;
+                failures.push(format!(
+                    "{}'s construction history ends: {gone} was removed",
+                    object.name
+                ));
+            } else if moved_curves.iter().any(|name| renamed.uses(name)) {
+                match build(&renamed, &next) {
+                    Ok(rebuilt) => after.geometry = rebuilt.geometry,
+                    Err(e) => failures.push(format!("{} not rebuilt: {e}", object.name)),
+                }
             }
         }
-        if &after != object {
+        if after != *object {
             extra.push(Change::Replace {
                 index,
                 before: object.clone(),
