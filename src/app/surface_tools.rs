@@ -39,6 +39,9 @@ pub struct SurfaceToolState {
     /// The distance between contour planes and their normal (0: x, 1: y, 2: z).
     pub contour_spacing: f64,
     pub contour_axis: usize,
+    /// Whether what Offset, Blend and Contour add keeps its history (made again when the
+    /// surfaces it was made from change).
+    pub keep_history: bool,
     /// The last tool applied, while its parameters may still be adjusted.
     pub last: Option<LastTool>,
 }
@@ -73,6 +76,7 @@ impl Default for SurfaceToolState {
             tension: 1.0,
             contour_spacing: 0.25,
             contour_axis: 2,
+            keep_history: false,
             last: None,
         }
     }
@@ -159,7 +163,14 @@ impl KnotworkApp {
             .map(|(k, o)| (k, o.name.clone()))
             .collect();
         ui.separator();
-        ui.label(egui::RichText::new("Surface tools").strong());
+        ui.horizontal(|ui| {
+            ui.label(egui::RichText::new("Surface tools").strong());
+            ui.checkbox(&mut self.surface_tools.keep_history, "Follow")
+                .on_hover_text(
+                    "what Offset, Blend and Contour add keeps its history: it is made again \
+                     when the surfaces it was made from change",
+                );
+        });
         let mut command = None;
         ui.horizontal(|ui| {
             ui.add(
@@ -178,7 +189,7 @@ impl KnotworkApp {
                         distance: self.surface_tools.offset,
                         tolerance: EDITOR_TOLERANCE,
                     }),
-                    keep_history: false,
+                    keep_history: self.surface_tools.keep_history,
                 });
             }
         });
@@ -387,14 +398,17 @@ impl KnotworkApp {
                 )
                 .clicked()
             {
-                command = Some(Command::operation(BlendRequest {
-                    a: s.into(),
-                    b: with.into(),
-                    edges: None,
-                    continuity: t.continuity,
-                    tension: [t.tension; 2],
-                    tolerance: EDITOR_TOLERANCE * 1e-2,
-                }));
+                command = Some(Command::Apply {
+                    operation: Operation::new(BlendRequest {
+                        a: s.into(),
+                        b: with.into(),
+                        edges: None,
+                        continuity: t.continuity,
+                        tension: [t.tension; 2],
+                        tolerance: EDITOR_TOLERANCE * 1e-2,
+                    }),
+                    keep_history: t.keep_history,
+                });
             }
             if movable
                 && ui
@@ -443,7 +457,7 @@ impl KnotworkApp {
                         normal: t.contour_normal().to_array(),
                         spacing: t.contour_spacing,
                     }),
-                    keep_history: false,
+                    keep_history: t.keep_history,
                 });
             }
         });

@@ -391,3 +391,137 @@ fn the_page_and_the_panel_run_a_registered_operation_in_the_editor() {
     assert_eq!(harness.state().document().scene.objects.len(), count + 1);
     let _ = harness.get_by_label("Keep history");
 }
+
+/// The signed distance of `p` from the plane through `origin` with unit normal `normal`.
+fn height(p: DVec3, origin: DVec3, normal: DVec3) -> f64 {
+    (p - origin).dot(normal)
+}
+
+#[test]
+fn built_in_operations_kept_with_history_follow_their_inputs_exactly() {
+    use knotwork::kernel::NurbsSurface;
+    use knotwork::ops::contour::Contour;
+    use knotwork::ops::offset::Offset;
+    // A plane in general position (a bilinear patch on a random frame) and a sphere.
+    let frame = glam::DAffine3::from_scale_rotation_translation(
+        DVec3::splat(1.7),
+        glam::DQuat::from_euler(glam::EulerRot::ZYX, 0.9, -0.4, 1.3),
+        DVec3::new(3.0, -2.0, 0.5),
+    );
+    let corners = [
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+    ]
+    .map(|p| frame.transform_point3(p));
+    let plane = NurbsSurface::bezier([1, 1], corners.to_vec(), None).unwrap();
+    let sphere = knotwork::doc::create::PrimitiveParams::default()
+        .build()
+        .unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![
+            SceneObject::new("Plate", ObjectGeometry::new(plane)),
+            SceneObject {
+                name: "Ball".into(),
+                ..sphere
+            },
+        ],
+        unit: None,
+    });
+    let d = 0.35;
+    doc.execute(&Command::Apply {
+        operation: Operation::new(Offset {
+            object: 0.into(),
+            distance: d,
+            tolerance: 1e-4,
+        }),
+        keep_history: true,
+    })
+    .unwrap();
+    doc.execute(&Command::Apply {
+        operation: Operation::new(Contour {
+            object: 1.into(),
+            origin: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+            spacing: 0.5,
+        }),
+        keep_history: true,
+    })
+    .unwrap();
+    let contours: Vec<usize> = (3..doc.scene.objects.len()).collect();
+    assert!(contours.len() >= 7, "{}", contours.len());
+    // The plate turned and moved by a command, then one corner dragged along the plane: the
+    // offset stays the plane moved by d along its normal (exact), every point of it.
+    let turn = glam::DAffine3::from_rotation_translation(
+        glam::DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7),
+        DVec3::new(-1.0, 0.25, 2.0),
+    );
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(0, &turn),
+    ))
+    .unwrap();
+    let points = doc.scene.objects[0].control_points();
+    let (u, v) = (points[2] - points[0], points[1] - points[0]);
+    doc.begin_drag(0, &[3]).unwrap();
+    doc.drag_by(0.3 * u + 0.2 * v).unwrap();
+    doc.commit_drag().unwrap();
+    let p = doc.scene.objects[0].control_points();
+    let (origin, normal) = (p[0], (p[2] - p[0]).cross(p[1] - p[0]).normalize());
+    // The dragged corner stayed in the plane, so the plate is still flat.
+    assert!(height(p[3], origin, normal).abs() < 1e-12);
+    let offset = doc.scene.objects[2].clone();
+    assert!(offset.recipe.is_some());
+    let made = offset.faces();
+    let [(u0, u1), (v0, v1)] = made[0].1.domain();
+    for i in 0..=8 {
+        for j in 0..=8 {
+            let (s, t) = (
+                u0 + (u1 - u0) * i as f64 / 8.0,
+                v0 + (v1 - v0) * j as f64 / 8.0,
+            );
+            let p = made[0].1.point(s, t).unwrap();
+            let h = height(p, origin, normal);
+            assert!((h.abs() - d).abs() < 1e-12, "height {h} at ({s}, {t})");
+        }
+    }
+    // The ball moved up by a quarter: every contour it still has lies on its plane z = c, on
+    // the circle of radius sqrt(4 - (c - 1/4)²).
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(
+            1,
+            &glam::DAffine3::from_translation(DVec3::new(0.0, 0.0, 0.25)),
+        ),
+    ))
+    .unwrap();
+    for &k in &contours {
+        let object = &doc.scene.objects[k];
+        assert!(object.recipe.is_some(), "{}", object.name);
+        let curve = object.kind().space_curve().unwrap();
+        let (t0, t1) = curve.domain();
+        let first = curve.point_at(t0).unwrap();
+        let c = (first.z / 0.5).round() * 0.5;
+        let radius = (4.0 - (c - 0.25) * (c - 0.25)).sqrt();
+        for n in 0..=32 {
+            let p = curve.point_at(t0 + (t1 - t0) * n as f64 / 32.0).unwrap();
+            assert!(
+                (p.z - c).abs() < 1e-6,
+                "{}: z {} on plane {c}",
+                object.name,
+                p.z
+            );
+            let r = p.truncate().length();
+            assert!(
+                (r - radius).abs() < 1e-3 * radius,
+                "{}: radius {r} vs {radius}",
+                object.name
+            );
+        }
+    }
+    // Undo brings back the ball and its contours as they were.
+    let moved = doc.scene.clone();
+    doc.undo().unwrap();
+    assert_ne!(doc.scene.objects[3].geometry, moved.objects[3].geometry);
+    doc.redo().unwrap();
+    assert_eq!(doc.scene, moved);
+}
