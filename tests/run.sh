@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test of knotwork:
-#   1. cargo fmt --check, clippy -D warnings for the desktop and for wasm32, the kernel crate's
-#      layer (no GPU, UI or format crate; builds for wasm32 alone), and the book (docs/, mdBook)
-#      with its links;
+#   1. cargo fmt --check, clippy -D warnings for the desktop and for wasm32, the kernel and STEP
+#      crates' layers (no GPU, UI or browser crate; each builds for wasm32 alone), and the book
+#      (docs/, mdBook) with its links;
 #   2. cargo test over the workspace: the kernel crate (crates/kernel), GPU evaluation vs the
 #      f64 reference (a real wgpu adapter: lavapipe where there is no GPU), shader validation
 #      and layouts, offscreen image tests, glTF export checked by the Khronos glTF-Validator
@@ -86,6 +86,15 @@ if [ -n "$forbidden" ]; then
   exit 1
 fi
 cargo build --locked -p knotwork-kernel --target wasm32-unknown-unknown
+# STEP is a crate on the kernel alone in the same way.
+step "STEP layer (knotwork-step: dependencies, wasm32 build)"
+forbidden=$(cargo tree --locked -p knotwork-step -e normal --prefix none |
+  awk '{ print $1 }' | grep -Ex 'knotwork|wgpu.*|naga|egui.*|eframe|winit|gltf.*|wasm-bindgen.*|web-sys|js-sys' | sort -u || true)
+if [ -n "$forbidden" ]; then
+  echo "tests/run.sh: knotwork-step depends on $(echo $forbidden)" >&2
+  exit 1
+fi
+cargo build --locked -p knotwork-step --target wasm32-unknown-unknown
 
 # --- The book -----------------------------------------------------------------------------------
 # The manual (docs/, mdBook) builds, and no link of the book, README.md or ARCHITECTURE.md is

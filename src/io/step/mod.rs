@@ -1,22 +1,12 @@
-//! STEP (ISO 10303-21 files of AP203, AP214 and AP242 geometry): reading B-rep shells as
-//! trimmed NURBS bodies ([`read`]) and writing any object with faces as B-spline faces
-//! ([`write`]).
-//!
-//! - [`part21`]: the Part 21 tokenizer and instance table.
-//! - [`entities`]: points, placements, curves and surfaces, every argument checked.
-//! - [`faces`]: a face's surface as an exact NURBS over the face, its loops in (u, v).
-//! - [`read`]: units, the assembly, names, colours, and each shell's faces and shared edges.
-//! - [`write`]: AP214 output.
+//! STEP in the editor: the `knotwork-step` crate (`crates/step`: the Part 21 tokenizer, the
+//! entities, faces, reading and writing, on the kernel alone) re-exported here, and the glue
+//! between its bodies and the scene's objects.
 //!
 //! A body opens as a polysurface whose shared edges are the file's
 //! ([`Polysurface::with_topology`]), so its export is watertight across them, coloured as the
 //! file colours it, in a scene whose unit is the millimetre.
 
-pub mod entities;
-pub mod faces;
-pub mod part21;
-pub mod read;
-pub mod write;
+pub use knotwork_step::{entities, faces, part21, read, write};
 
 use crate::io::project::Project;
 use crate::scene::json::FormatError;
@@ -24,6 +14,23 @@ use crate::scene::polysurface::{MAX_FACES, Polysurface};
 use crate::scene::{LengthUnit, ObjectGeometry, Scene, SceneObject};
 
 pub use read::{Stage, StepModel};
+
+impl From<knotwork_step::FormatError> for FormatError {
+    fn from(error: knotwork_step::FormatError) -> Self {
+        FormatError::new(error.path, error.message)
+    }
+}
+
+/// The unit a STEP file declares for a scene's unit.
+fn step_unit(unit: LengthUnit) -> knotwork_step::LengthUnit {
+    match unit {
+        LengthUnit::Millimetre => knotwork_step::LengthUnit::Millimetre,
+        LengthUnit::Centimetre => knotwork_step::LengthUnit::Centimetre,
+        LengthUnit::Metre => knotwork_step::LengthUnit::Metre,
+        LengthUnit::Inch => knotwork_step::LengthUnit::Inch,
+        LengthUnit::Foot => knotwork_step::LengthUnit::Foot,
+    }
+}
 
 /// The join tolerance of a body read: edges within it are shared (mm).
 fn join_tolerance(model: &StepModel) -> f64 {
@@ -532,7 +539,7 @@ pub fn export_scene(
             color: *color,
         })
         .collect();
-    let text = write::write(&shapes, file_name, tolerance, scene.unit)
+    let text = write::write(&shapes, file_name, tolerance, scene.unit.map(step_unit))
         .map_err(|e| FormatError::new("", e.to_string()))?;
     Ok(StepExport {
         text,

@@ -10,9 +10,9 @@ use glam::{DAffine3, DVec3};
 use super::entities::{Entities, EntityError, bad, real_of};
 use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
 use super::part21::{Exchange, Instance, Value};
+use crate::FormatError;
 use crate::kernel::TrimmedSurface;
 use crate::kernel::join::{EdgeId, SharedEdge, Topology};
-use crate::scene::json::FormatError;
 
 /// The most placed instances of bodies (an assembly that places parts in parts).
 const MAX_PLACEMENTS: usize = 100_000;

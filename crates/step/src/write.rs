@@ -17,9 +17,9 @@ use std::fmt::Write as _;
 
 use glam::{DVec2, DVec3};
 
+use crate::LengthUnit;
 use crate::kernel::join::{EdgeId, Topology, face_loops};
 use crate::kernel::{GeometryError, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface};
-use crate::scene::LengthUnit;
 
 /// The most samples an edge's 3D curve is interpolated through (the solve is banded: linear
 /// in the count).
@@ -480,16 +480,17 @@ fn length_unit(out: &mut Out, unit: LengthUnit) -> u64 {
         LengthUnit::Metre => "$",
         LengthUnit::Inch | LengthUnit::Foot => {
             let mm = out.add("(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.))");
+            // The international inch and foot, exactly.
+            let (name, millimetres) = if unit == LengthUnit::Inch {
+                ("INCH", 25.4)
+            } else {
+                ("FOOT", 304.8)
+            };
             let measure = out.add(format!(
                 "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{mm})",
-                real(unit.metres() * 1e3)
+                real(millimetres)
             ));
             let exponents = out.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)");
-            let name = if unit == LengthUnit::Inch {
-                "INCH"
-            } else {
-                "FOOT"
-            };
             return out.add(format!(
                 "(CONVERSION_BASED_UNIT('{name}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{exponents}))"
             ));
@@ -856,7 +857,7 @@ mod tests {
         let text = two_faces_written(&faces, &topology, 1e-6 * size);
         // Four corners each, two of them shared.
         assert_eq!(text.matches("VERTEX_POINT(").count(), 6);
-        let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+        let model = crate::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
         assert!(model.warnings.is_empty(), "{:?}", model.warnings);
         let body = &model.bodies[0];
         assert_eq!(body.faces.len(), 2);
@@ -911,7 +912,7 @@ mod tests {
         // As a reader's topology: the gap measured at the ends.
         topology.shared[0].gap = 0.0;
         let text = two_faces_written(&faces, &topology, 1e-6 * size);
-        let model = super::super::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
+        let model = crate::read::read(text.as_bytes(), &mut |_, _| true).unwrap();
         assert!(model.warnings.is_empty(), "{:?}", model.warnings);
         let body = &model.bodies[0];
         assert_eq!(body.faces.len(), 2);

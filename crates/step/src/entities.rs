@@ -8,8 +8,8 @@ use std::f64::consts::TAU;
 use glam::{DAffine3, DMat3, DVec3};
 
 use super::part21::{Exchange, Instance, Record, Value};
+use crate::FormatError;
 use crate::kernel::{NurbsSurface, SpaceCurve, construct};
-use crate::scene::json::FormatError;
 
 /// The most control points of one B-spline curve or surface, and the most knots (after the
 /// multiplicities are expanded): checked before anything is allocated.
