@@ -49,7 +49,7 @@ fn glb_magic(bytes: &[u8]) -> bool {
 }
 
 fn step_magic(bytes: &[u8]) -> bool {
-    super::step::part21::looks_like_part21(&bytes[..bytes.len().min(4096)])
+    knotwork_step::part21::looks_like_part21(&bytes[..bytes.len().min(4096)])
 }
 
 fn png_magic(bytes: &[u8]) -> bool {

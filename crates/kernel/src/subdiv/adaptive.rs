@@ -29,25 +29,12 @@
 use glam::DVec3;
 
 use super::display::DisplayMesh;
-use super::patches::{Display, LimitFeed, exact_pieces, face_grid, push_stencil_patches};
-use super::substitutes::ExactPiece;
+use super::patches::{exact_pieces, face_grid, push_stencil_patches};
+pub use super::pieces::{DEFAULT_TOLERANCE, ShownPiece};
+use super::pieces::{Display, ExactPiece, LimitFeed};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
 use crate::vector::distance_to_triangle;
-
-/// The flatness tolerance a new adaptive display starts with, as a fraction of the diagonal of
-/// the cage's bounding box.
-pub const DEFAULT_TOLERANCE: f64 = 0.002;
-
-/// A piece of the surface as a stencil patch shows it: at `depth` (≤ the piece's own full
-/// depth), each edge at `edge_depths[k]` (≤ `depth`; edge k runs from corner k to corner k + 1
-/// of the piece's face; a triangle uses three).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ShownPiece {
-    pub piece: ExactPiece,
-    pub depth: u32,
-    pub edge_depths: [u32; 4],
-}
 
 /// `x` moved to the nearest multiple of `stride`, ties toward 0.
 fn snap(x: u32, stride: u32) -> u32 {

@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::level::{Level, NONE};
 use super::limit::{limit_position, limit_tangents};
-use super::patches::Display;
+use super::pieces::{DEFAULT_TOLERANCE, Display};
 use super::schemes::{directed_ends, ring_boundary_edges};
 use super::stencil::Row;
 use super::{Scheme, SubdivisionSurface};
@@ -214,7 +214,7 @@ impl SubdivisionSurface {
         display: Display,
     ) -> Result<DisplayMesh, GeometryError> {
         if display == Display::Adaptive {
-            return self.adaptive_mesh(levels, super::adaptive::DEFAULT_TOLERANCE);
+            return self.adaptive_mesh(levels, DEFAULT_TOLERANCE);
         }
         let scheme = self.options.scheme;
         if matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {

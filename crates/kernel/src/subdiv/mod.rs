@@ -15,6 +15,7 @@ pub mod exchange;
 pub mod level;
 pub mod limit;
 pub mod patches;
+pub mod pieces;
 pub mod refine;
 pub mod schemes;
 pub mod stencil;

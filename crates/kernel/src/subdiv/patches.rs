@@ -3,97 +3,16 @@
 //! vertex of the chosen level inside an irregular face, its limit position, tangents and (at
 //! regular vertices) second derivatives as weighted sums of cage points.
 
-use super::adaptive::{DEFAULT_TOLERANCE, ShownPiece};
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
 use super::limit::{is_regular, regular_derivatives};
+use super::pieces::{
+    DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
+};
+pub use super::pieces::{Display, Entry, LimitFeed, StencilPatch, SubstitutePatch};
 use super::stencil::Row;
-use super::substitutes::{ExactPiece, SubstituteKind, SubstitutePlan};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
-
-/// What the surface shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Display {
-    /// The limit surface at the level's vertices.
-    #[default]
-    Limit,
-    /// The refined mesh itself ("cage level N").
-    Refined,
-    /// ACC: a bicubic patch per quad with tangent patches for the normals (Catmull-Clark).
-    Acc,
-    /// Gregory patches (ACC-2): a G¹ rational bicubic patch per quad (Catmull-Clark).
-    Gregory,
-    /// PN triangles: a cubic triangle per triangle with quadratic normals (Loop).
-    PnTriangles,
-    /// The limit surface with each piece refined only as deep as a flatness test asks, up to
-    /// the level, crack-free ([`super::adaptive`]).
-    Adaptive,
-}
-
-impl Display {
-    /// The substitute this display shows, if it is one.
-    pub fn substitute(self) -> Option<SubstituteKind> {
-        match self {
-            Self::Acc => Some(SubstituteKind::Acc),
-            Self::Gregory => Some(SubstituteKind::Gregory),
-            Self::PnTriangles => Some(SubstituteKind::PnTriangle),
-            Self::Limit | Self::Refined | Self::Adaptive => None,
-        }
-    }
-}
-
-/// A substitute patch ([`super::substitutes`]): its kind, `segments` per edge, its control
-/// points from `first_point` of the object's point pool (the cage's points, then the
-/// substitutes' in the plan's order) and its grid's slots from `first_slot` (for
-/// [`LimitFeed::vertex`]; they carry no entries).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SubstitutePatch {
-    pub cage_face: u32,
-    pub kind: SubstituteKind,
-    pub segments: u32,
-    pub first_point: u32,
-    pub first_slot: u32,
-}
-
-/// A grid of stencil vertices: `(segments + 1)²` slots from `first_slot`, slot (i, j) at
-/// `first_slot + i (segments + 1) + j`, i along the patch's first edge. A triangle patch uses
-/// the slots with i + j ≤ segments. `level`: the subdivision level its vertices come from (the
-/// level it shows, for the refinement-level colours; [`NONE`] for a patch of no single level).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StencilPatch {
-    pub cage_face: u32,
-    pub triangle: bool,
-    pub segments: u32,
-    pub first_slot: u32,
-    pub level: u32,
-    /// The face it shows, as (level, face) of the hierarchy (a cage face, or a child of one);
-    /// [`NONE`]s for a patch of no single face. Slot (0, 0) is that face's first corner and
-    /// the first index runs to its second.
-    pub piece: [u32; 2],
-}
-
-/// One stencil entry: a cage point and its weights for position, Su, Sv, Suu, Suv, Svv.
-pub type Entry = (u32, [f64; 6]);
-
-/// The GPU feed of a subdivision surface at one level.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct LimitFeed {
-    /// Regular cage quads and their 4 × 4 B-spline points (cage indices, row-major with the
-    /// first index along u).
-    pub regular: Vec<(u32, [u32; 16])>,
-    pub patches: Vec<StencilPatch>,
-    /// Per slot: first entry and entry count.
-    pub slots: Vec<[u32; 2]>,
-    /// Per slot: the curvature is not defined by the stencils (irregular or sharp vertices).
-    pub no_curvature: Vec<bool>,
-    /// Per slot: the vertex of the level it shows (`u32::MAX` for unused triangle slots).
-    pub vertex: Vec<u32>,
-    pub entries: Vec<Entry>,
-    /// Substitute patches, after the stencil patches.
-    pub substitutes: Vec<SubstitutePatch>,
-}
 
 /// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
 fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
@@ -556,24 +475,6 @@ impl SubdivisionSurface {
         }
         Ok((feed, plan))
     }
-}
-
-/// Each face's first child one level down: Catmull-Clark splits a face into as many quads as
-/// it has corners, Loop into four triangles, numbered face by face.
-pub(super) fn first_children(level: &Level, scheme: Scheme) -> Vec<u32> {
-    let mut next = 0u32;
-    level
-        .faces()
-        .map(|face| {
-            let first = next;
-            next += if scheme == Scheme::CatmullClark {
-                face.len() as u32
-            } else {
-                4
-            };
-            first
-        })
-        .collect()
 }
 
 /// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i and

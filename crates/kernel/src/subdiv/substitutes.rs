@@ -26,116 +26,12 @@ use glam::DVec3;
 
 use super::level::{Level, Ring};
 use super::limit::{is_regular, limit_position, limit_tangents};
-use super::stencil::{Row, Stencils};
-use super::{Hierarchy, Scheme, SubdivisionSurface};
+use super::pieces::{Display, LimitFeed, first_children};
+pub use super::pieces::{ExactPiece, PlannedPatch, SubstituteKind, SubstitutePlan};
+use super::stencil::Row;
+use super::{Hierarchy, SubdivisionSurface};
 use crate::diffgeo::SurfaceDerivatives;
 use crate::{GeometryError, Location};
-
-/// Which substitute a patch is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SubstituteKind {
-    /// 16 geometry points (row-major, first index along u), 12 u-tangent points (3 along u ×
-    /// 4 along v), 12 v-tangent points (4 × 3).
-    Acc,
-    /// The 16 points of a bicubic grid whose four interior points are the ones the edges
-    /// v = 0 and v = 1 determine, then the four the edges u = 0 and u = 1 determine, for the
-    /// interior points (1, 1), (2, 1), (1, 2), (2, 2).
-    Gregory,
-    /// The cubic triangle's b300, b030, b003, b210, b120, b021, b012, b102, b201, b111, then the
-    /// quadratic normal triangle's n200, n020, n002, n110, n011, n101 (b_ijk weights corner 0
-    /// by i, corner 1 by j, corner 2 by k).
-    PnTriangle,
-}
-
-impl SubstituteKind {
-    /// Control points per patch.
-    pub const fn point_count(self) -> usize {
-        match self {
-            Self::Acc => 40,
-            Self::Gregory => 20,
-            Self::PnTriangle => 16,
-        }
-    }
-
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Acc => "ACC patches",
-            Self::Gregory => "Gregory patches",
-            Self::PnTriangle => "PN triangles",
-        }
-    }
-
-    /// The subdivision scheme the substitute approximates.
-    pub fn scheme(self) -> Scheme {
-        match self {
-            Self::Acc | Self::Gregory => Scheme::CatmullClark,
-            Self::PnTriangle => Scheme::Loop,
-        }
-    }
-
-    pub fn is_triangle(self) -> bool {
-        self == Self::PnTriangle
-    }
-
-    /// Refuses a cage under another scheme than the one the substitute approximates.
-    pub fn check_scheme(self, scheme: Scheme) -> Result<(), GeometryError> {
-        if scheme == self.scheme() {
-            return Ok(());
-        }
-        Err(GeometryError::Construction {
-            what: "subdivision display",
-            message: format!(
-                "{} approximate {} subdivision; this cage uses {}",
-                self.label(),
-                self.scheme().label(),
-                scheme.label()
-            ),
-        })
-    }
-}
-
-/// One face replaced by a substitute: the face of the base mesh (the cage, or level 1) and the
-/// cage face it lies in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PlannedPatch {
-    pub base_face: u32,
-    pub cage_face: u32,
-}
-
-/// A face left to the exact limit: its face on level `level` of the hierarchy, the cage face
-/// it lies in, and the refinement depth below that level.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ExactPiece {
-    pub level: usize,
-    pub face: u32,
-    pub cage_face: u32,
-    pub depth: u32,
-}
-
-/// How a cage's substitute is built: which faces become substitute patches, which stay exact,
-/// and the topology the control points are computed on (built once per topology change).
-#[derive(Debug, Clone)]
-pub struct SubstitutePlan {
-    pub kind: SubstituteKind,
-    /// Cage faces shown as their bicubic B-spline patch (regular quads of a quad cage).
-    pub regular: Vec<u32>,
-    /// Faces shown by the exact limit stencils.
-    pub exact: Vec<ExactPiece>,
-    /// The substitute patches, in feed order.
-    pub patches: Vec<PlannedPatch>,
-    /// The level the patches live on (0: the cage).
-    pub base_level: usize,
-    base: Level,
-    /// Level 1's points from the cage's, when the patches live on level 1.
-    to_base: Option<Stencils>,
-    rings: Vec<Ring>,
-    /// Per patch, each corner's place in its ring (the ring's face index of the patch's face).
-    corner_slots: Vec<[usize; 4]>,
-    /// Per base vertex the limit position (PN triangles) and two limit tangents (PN triangles,
-    /// Gregory); empty rows where not needed.
-    positions: Vec<Row>,
-    tangents: Vec<[Row; 2]>,
-}
 
 /// Whether the limit at `v` is smooth: inside the surface, nothing sharp at it or along its
 /// edges, at least three faces.
@@ -174,7 +70,7 @@ impl SubstitutePlan {
             (cage, None, Vec::new())
         } else {
             let hierarchy = Hierarchy::new(cage, surface.options, 1)?;
-            let starts = super::patches::first_children(&hierarchy.levels[0], scheme)
+            let starts = first_children(&hierarchy.levels[0], scheme)
                 .into_iter()
                 .zip(hierarchy.levels[0].faces().map(|f| f.len() as u32))
                 .collect();
@@ -856,10 +752,10 @@ impl SubdivisionSurface {
     pub fn substitute_mesh_from(
         &self,
         levels: u32,
-        feed: &super::patches::LimitFeed,
+        feed: &LimitFeed,
         plan: &SubstitutePlan,
     ) -> Result<super::display::DisplayMesh, GeometryError> {
-        let mut shown = self.display_mesh(levels, super::patches::Display::Limit)?;
+        let mut shown = self.display_mesh(levels, Display::Limit)?;
         for_each_substitute_vertex(feed, plan, self.points(), |v, sample| {
             let v = v as usize;
             if let (Some(position), Some(normal)) =
@@ -926,7 +822,7 @@ impl SubdivisionSurface {
 /// Calls `f` with every level vertex on a substitute patch of `feed` (built with `plan`) and the
 /// substitute evaluated there, the patches' points computed from the cage `cage`.
 fn for_each_substitute_vertex(
-    feed: &super::patches::LimitFeed,
+    feed: &LimitFeed,
     plan: &SubstitutePlan,
     cage: &[DVec3],
     mut f: impl FnMut(u32, SubstituteSample),
