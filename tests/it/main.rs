@@ -24,6 +24,7 @@ mod import_files;
 mod intersect;
 mod kernel_props;
 mod lattice;
+mod layers;
 mod object_kinds;
 mod occ_reference;
 mod operations;
