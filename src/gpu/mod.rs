@@ -21,6 +21,7 @@ pub mod scene_sync;
 pub mod subdiv_eval;
 pub mod timing;
 pub mod trim_buffer;
+pub mod vertex_evaluator;
 
 pub use context::{GpuContext, backend_name, check_adapter, choose_adapter, device_descriptor};
 pub use cpu_eval::CpuGeometry;
@@ -29,3 +30,4 @@ pub use patch_eval::{MAX_SEGMENTS, ObjectPatches, PatchBuffers, PatchGeometry, S
 pub use pipelines::PatchEvaluator;
 pub use records::{PatchRecord, PointResult, PointSample, SceneUniform, SurfaceVertex};
 pub use scene_sync::{GeometryCounts, SceneSync, effective_segments, fit_to_device, has_compute};
+pub use vertex_evaluator::VertexEvaluator;

@@ -79,6 +79,23 @@ enum Built {
     Cpu(CpuGeometry),
 }
 
+impl Built {
+    /// Either evaluator, through what both answer.
+    fn evaluator(&self) -> &dyn super::VertexEvaluator {
+        match self {
+            Built::Compute(g) => g,
+            Built::Cpu(g) => g,
+        }
+    }
+
+    fn evaluator_mut(&mut self) -> &mut dyn super::VertexEvaluator {
+        match self {
+            Built::Compute(g) => g,
+            Built::Cpu(g) => g,
+        }
+    }
+}
+
 /// Sizes of the built scene, for the status.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct GeometryCounts {
@@ -144,10 +161,8 @@ impl SceneSync {
     /// on by default); kept across rebuilds.
     pub fn set_vertex_curvature(&mut self, on: bool) {
         self.vertex_curvature = on;
-        match &mut self.geometry {
-            Some(Built::Compute(g)) => g.set_vertex_curvature(on),
-            Some(Built::Cpu(g)) => g.set_vertex_curvature(on),
-            None => {}
+        if let Some(g) = &mut self.geometry {
+            g.evaluator_mut().set_vertex_curvature(on);
         }
     }
 
@@ -271,6 +286,11 @@ impl SceneSync {
         }
     }
 
+    /// The built evaluator, compute or CPU, through what both answer.
+    pub fn evaluator(&self) -> Option<&dyn super::VertexEvaluator> {
+        self.geometry.as_ref().map(Built::evaluator)
+    }
+
     /// The CPU evaluator's buffers, once a scene was built (`None` on the compute path).
     pub fn cpu_geometry(&self) -> Option<&CpuGeometry> {
         match &self.geometry {
@@ -286,10 +306,7 @@ impl SceneSync {
 
     /// What the renderer draws, once a scene was built: the surfaces and the curves.
     pub fn surface_buffers(&self) -> Option<SurfaceBuffers<'_>> {
-        let mut buffers = match self.geometry.as_ref()? {
-            Built::Compute(g) => g.surface_buffers(),
-            Built::Cpu(g) => g.surface_buffers(),
-        };
+        let mut buffers = self.geometry.as_ref()?.evaluator().surface_buffers();
         buffers.curves = self.curves.as_ref().and_then(CurveGeometry::buffers);
         Some(buffers)
     }
@@ -301,35 +318,22 @@ impl SceneSync {
 
     /// Every patch record, objects in order, once a scene was built.
     pub fn records(&self) -> Option<&[super::PatchRecord]> {
-        match self.geometry.as_ref()? {
-            Built::Compute(g) => Some(g.records()),
-            Built::Cpu(g) => Some(g.records()),
-        }
+        Some(self.geometry.as_ref()?.evaluator().records())
     }
 
     /// The record index of object `object`'s first patch.
     pub fn first_patch(&self, object: usize) -> Option<usize> {
-        match self.geometry.as_ref()? {
-            Built::Compute(g) => g.first_patch(object),
-            Built::Cpu(g) => g.first_patch(object),
-        }
+        self.geometry.as_ref()?.evaluator().first_patch(object)
     }
 
     /// Patches, control points, vertices and triangle indices of the built scene.
     pub fn counts(&self) -> Option<GeometryCounts> {
-        Some(match self.geometry.as_ref()? {
-            Built::Compute(g) => GeometryCounts {
-                patches: g.patch_count(),
-                control_points: g.control_point_count(),
-                vertices: g.vertex_count(),
-                indices: g.index_count(),
-            },
-            Built::Cpu(g) => GeometryCounts {
-                patches: g.patch_count(),
-                control_points: g.control_point_count(),
-                vertices: g.vertex_count(),
-                indices: g.index_count(),
-            },
+        let g = self.geometry.as_ref()?.evaluator();
+        Some(GeometryCounts {
+            patches: g.patch_count(),
+            control_points: g.control_point_count(),
+            vertices: g.vertex_count(),
+            indices: g.index_count(),
         })
     }
 
@@ -402,10 +406,9 @@ impl SceneSync {
         let curves =
             CurveGeometry::new(&self.device, self.curve_evaluator.as_ref(), &curve_inputs)?;
         let mut geometry = geometry;
-        match &mut geometry {
-            Built::Compute(g) => g.set_vertex_curvature(self.vertex_curvature),
-            Built::Cpu(g) => g.set_vertex_curvature(self.vertex_curvature),
-        }
+        geometry
+            .evaluator_mut()
+            .set_vertex_curvature(self.vertex_curvature);
         self.feeds = feeds;
         self.geometry = Some(geometry);
         self.curves = Some(curves);
@@ -517,11 +520,10 @@ impl SceneSync {
         self.curves
             .as_ref()
             .is_some_and(CurveGeometry::needs_evaluation)
-            || match &self.geometry {
-                Some(Built::Compute(g)) => g.needs_evaluation(),
-                Some(Built::Cpu(g)) => g.needs_evaluation(),
-                None => false,
-            }
+            || self
+                .geometry
+                .as_ref()
+                .is_some_and(|g| g.evaluator().needs_evaluation())
     }
 
     /// Marks every patch and curve segment for re-evaluation (benchmarks).
@@ -529,10 +531,8 @@ impl SceneSync {
         if let Some(curves) = &mut self.curves {
             curves.invalidate();
         }
-        match &mut self.geometry {
-            Some(Built::Compute(g)) => g.invalidate(),
-            Some(Built::Cpu(g)) => g.invalidate(),
-            None => {}
+        if let Some(g) = &mut self.geometry {
+            g.evaluator_mut().invalidate();
         }
     }
 
@@ -609,8 +609,7 @@ impl SceneSync {
     #[cfg(not(target_arch = "wasm32"))]
     pub fn read_vertices(&self) -> Result<Vec<super::SurfaceVertex>, GpuError> {
         match &self.geometry {
-            Some(Built::Compute(g)) => g.read_vertices(&self.device, &self.queue),
-            Some(Built::Cpu(g)) => g.read_vertices(&self.device, &self.queue),
+            Some(g) => g.evaluator().read_vertices(&self.device, &self.queue),
             None => Ok(Vec::new()),
         }
     }

@@ -314,12 +314,20 @@ fn the_cpu_evaluator_matches_the_f64_reference_and_the_compute_layout() {
         let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * (1.0 + b.abs());
         assert!(close(g.u, c.u) && close(g.v, c.v), "{g:?} {c:?}");
     }
-    let triangles = |sync: &SceneSync| match (sync.geometry(), sync.cpu_geometry()) {
-        (Some(g), _) => g.read_triangle_indices(&context.device, &context.queue),
-        (_, Some(c)) => c.read_triangle_indices(&context.device, &context.queue),
-        _ => panic!("nothing built"),
+    // Both through the one evaluator contract: the same counts and the same triangles.
+    let (g, c) = (gpu.evaluator().unwrap(), cpu.evaluator().unwrap());
+    assert_eq!(
+        (g.patch_count(), g.vertex_count(), g.index_count()),
+        (c.patch_count(), c.vertex_count(), c.index_count())
+    );
+    assert_eq!(
+        (0..6).map(|k| g.first_patch(k)).collect::<Vec<_>>(),
+        (0..6).map(|k| c.first_patch(k)).collect::<Vec<_>>()
+    );
+    let triangles = |e: &dyn knotwork::gpu::VertexEvaluator| {
+        e.read_triangle_indices(&context.device, &context.queue)
     };
-    assert_eq!(triangles(&gpu).unwrap(), triangles(&cpu).unwrap());
+    assert_eq!(triangles(g).unwrap(), triangles(c).unwrap());
 }
 
 #[test]
