@@ -584,7 +584,8 @@ pub fn open_path(path: &std::path::Path) -> Result<Project, String> {
 /// on the document in the file `project` (any format [`open_path`] reads), through
 /// the document as the editor does (with history when `keep_history`), writes the result as a
 /// project to `output` and returns what it did as JSON: `{"label", "added", "changed",
-/// "removed"}` (object names). Refused, with nothing written, when the operation cannot be
+/// "removed"}` (object names), and `"report"` where the operation gives one (an offset's
+/// deviation and folds, a fillet's sections). Refused, with nothing written, when the operation cannot be
 /// read or the document refuses it.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn apply_to_file(
@@ -597,7 +598,7 @@ pub fn apply_to_file(
     let operation = crate::ops::parse(operation).map_err(|e| format!("the operation: {e}"))?;
     let mut document =
         open_path(project).map_err(|e| format!("cannot open {}: {e}", project.display()))?;
-    let edit = crate::doc::apply(
+    let (edit, report) = crate::doc::apply_reporting(
         &mut document.scene,
         &Command::Apply {
             operation,
@@ -616,10 +617,14 @@ pub fn apply_to_file(
     }
     std::fs::write(output, crate::io::project::write(&document))
         .map_err(|e| format!("cannot write {}: {e}", output.display()))?;
-    Ok(serde_json::json!({
+    let mut result = serde_json::json!({
         "label": edit.label,
         "added": added,
         "changed": changed,
         "removed": removed,
-    }))
+    });
+    if let Some(report) = report {
+        result["report"] = report;
+    }
+    Ok(result)
 }

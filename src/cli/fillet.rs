@@ -15,9 +15,10 @@ pub struct FilletArgs<'a> {
     pub output: &'a std::path::Path,
 }
 
-/// `knotwork fillet`: the project with both objects trimmed back and the fillet added.
+/// `knotwork fillet`: the project with both objects trimmed back and the fillet added, through
+/// the document (the fillet operation, [`knotwork::ops::fillet`]).
 pub fn fillet(args: FilletArgs) -> ExitCode {
-    use knotwork::doc::surface_ops::{FilletRequest, fillet_objects};
+    use knotwork::doc::surface_ops::FilletRequest;
     let run = || -> Result<serde_json::Value, String> {
         let mut project = open_project(args.input)?;
         let a = surface_named(&project.scene, &args.names[0])?;
@@ -32,40 +33,34 @@ pub fn fillet(args: FilletArgs) -> ExitCode {
             tolerance: args.tolerance,
         };
         let started = std::time::Instant::now();
-        let made = fillet_objects(&project.scene, &request).map_err(|e| e.to_string())?;
+        let (edit, report) = knotwork::doc::apply_reporting(
+            &mut project.scene,
+            &knotwork::doc::Command::operation(request),
+        )
+        .map_err(|e| e.to_string())?;
         let millis = started.elapsed().as_secs_f64() * 1e3;
-        let mut trimmed = Vec::new();
-        for (index, after) in [a, b].into_iter().zip(made.trimmed) {
-            if let Some(after) = after {
-                trimmed.push(after.name.clone());
-                project.scene.objects[index] = after;
-            }
-        }
-        let name = project.scene.unique_name("fillet");
-        project
-            .scene
-            .objects
-            .push(knotwork::scene::SceneObject::new(
-                name.clone(),
-                knotwork::scene::ObjectGeometry::new(made.fillet.surface.clone()),
-            ));
+        let trimmed: Vec<String> = edit
+            .changes
+            .iter()
+            .filter_map(|c| match c {
+                knotwork::doc::Change::Replace { after, .. } => Some(after.name.clone()),
+                _ => None,
+            })
+            .collect();
+        let name = added_names(&edit).into_iter().next().unwrap_or_default();
         write_project(&project, args.output)?;
+        let mut report = report.unwrap_or_else(|| serde_json::json!({}));
         eprintln!(
             "{} sections in {millis:.1} ms; wrote {}",
-            made.fillet.centres.len(),
+            report["sections"],
             args.output.display()
         );
-        for note in &made.notes {
-            eprintln!("knotwork fillet: {note}");
+        for note in report["notes"].as_array().into_iter().flatten() {
+            eprintln!("knotwork fillet: {}", note.as_str().unwrap_or_default());
         }
-        Ok(serde_json::json!({
-            "fillet": name,
-            "trimmed": trimmed,
-            "sections": made.fillet.centres.len(),
-            "closed": made.fillet.closed,
-            "branches": made.fillet.branches,
-            "notes": made.notes,
-        }))
+        report["fillet"] = name.into();
+        report["trimmed"] = trimmed.into();
+        Ok(report)
     };
     finish("fillet", run())
 }

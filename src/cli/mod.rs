@@ -414,6 +414,17 @@ fn write_project(
         .map_err(|e| format!("cannot write {}: {e}", output.display()))
 }
 
+/// The names of the objects an edit added, in order.
+fn added_names(edit: &knotwork::doc::Edit) -> Vec<String> {
+    edit.changes
+        .iter()
+        .filter_map(|c| match c {
+            knotwork::doc::Change::Insert { object, .. } => Some(object.name.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Prints `result`'s JSON on standard output (exit code 0) or its error on standard error
 /// (exit code 1), after `knotwork COMMAND: `.
 fn finish(command: &str, result: Result<serde_json::Value, String>) -> ExitCode {

@@ -17,8 +17,8 @@ pub(super) fn plan_operation(
     scene: &Scene,
     operation: &Operation,
     keep_history: bool,
-) -> Result<Planned, EditError> {
-    let (mut changes, label) = operation.plan(scene)?;
+) -> Result<(Planned, Option<serde_json::Value>), EditError> {
+    let ((mut changes, label), report) = operation.plan_with_report(scene)?;
     if keep_history {
         let kept = operation.by_id(scene)?;
         let mut output = 0;
@@ -33,7 +33,7 @@ pub(super) fn plan_operation(
             }
         }
     }
-    Ok((changes, label))
+    Ok(((changes, label), report))
 }
 
 /// The geometry `recipe` makes from `scene` as it is now: its operation planned again, and the

@@ -551,7 +551,23 @@ pub(crate) fn geometry_error(object: &SceneObject) -> impl Fn(GeometryError) -> 
 /// Applies `command` to `scene` and returns the edit that undoes it. On error the scene is
 /// unchanged.
 pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
-    let (mut changes, mut label) = plan::plan(scene, command)?;
+    apply_reporting(scene, command).map(|(edit, _)| edit)
+}
+
+/// [`apply`], with the report of an operation that gives one
+/// ([`crate::scene::operation::OperationParams::plan_with_report`]: a fit's deviation, where an
+/// offset folds), for `knotwork apply` and the command line.
+pub fn apply_reporting(
+    scene: &mut Scene,
+    command: &Command,
+) -> Result<(Edit, Option<serde_json::Value>), EditError> {
+    let ((mut changes, mut label), report) = match command {
+        Command::Apply {
+            operation,
+            keep_history,
+        } => construction::plan_operation(scene, operation, *keep_history)?,
+        _ => (plan::plan(scene, command)?, None),
+    };
     give_new_objects_ids(scene, &mut changes);
     construction::follow(scene, command, &mut changes, &mut label)?;
     let document = match command {
@@ -564,7 +580,7 @@ pub fn apply(scene: &mut Scene, command: &Command) -> Result<Edit, EditError> {
         document,
     };
     edit.redo(scene)?;
-    Ok(edit)
+    Ok((edit, report))
 }
 
 /// Gives every object `changes` insert that would share its [`crate::scene::operation::ObjectId`]

@@ -75,7 +75,8 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             operation,
             keep_history,
         } => {
-            return super::construction::plan_operation(scene, operation, *keep_history);
+            return super::construction::plan_operation(scene, operation, *keep_history)
+                .map(|(planned, _)| planned);
         }
         Command::BreakHistory { object } => {
             let target = object_at(scene, *object)?;

@@ -6,7 +6,7 @@ use super::parts::refuse;
 use super::{Change, EditError, geometry_error, object_at};
 use crate::kernel::TrimmedSurface;
 use crate::kernel::offset::{Offset, OffsetShape, offset_face, offset_nurbs};
-use crate::scene::operation::ObjectRef;
+use crate::scene::operation::{ObjectRef, Planned};
 use crate::scene::polysurface::Polysurface;
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
@@ -197,22 +197,18 @@ pub(crate) fn offset(
     k: usize,
     distance: f64,
     tolerance: f64,
-) -> Result<(Vec<Change>, String), EditError> {
+) -> Result<(Planned, Vec<Offset>), EditError> {
     let made = offset_geometry(scene, k, distance, tolerance)?;
     let name = format!("{} offset", scene.objects[k].name);
     let offsets: Vec<Offset> = made.iter().map(|(_, o)| o.clone()).collect();
     let changes = insert_objects(scene, &name, made.into_iter().map(|(g, _)| g));
-    for change in &changes {
-        if let Change::Insert { object, .. } = change {
-            object.decompose().map_err(geometry_error(object))?;
-        }
-    }
+    check_inserted(&changes)?;
     let label = format!(
         "offset {} by {distance}: {}",
         scene.objects[k].name,
         offset_summary(&offsets, distance)
     );
-    Ok((changes, label))
+    Ok(((changes, label), offsets))
 }
 
 /// A fillet asked for: the operation `{"op": "fillet", "a": i, "b": j, "radius": r,
@@ -386,11 +382,11 @@ fn spine_length(points: &[glam::DVec3]) -> f64 {
 pub(crate) fn fillet(
     scene: &Scene,
     request: &FilletRequest,
-) -> Result<(Vec<Change>, String), EditError> {
+) -> Result<(Planned, FilletMade), EditError> {
     let made = fillet_objects(scene, request)?;
     let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
     let mut changes = Vec::new();
-    for (index, after) in [a, b].into_iter().zip(made.trimmed) {
+    for (index, after) in [a, b].into_iter().zip(made.trimmed.clone()) {
         if let Some(after) = after {
             after.decompose().map_err(geometry_error(&after))?;
             changes.push(Change::Replace {
@@ -405,11 +401,7 @@ pub(crate) fn fillet(
         "fillet",
         [ObjectGeometry::new(made.fillet.surface.clone())],
     );
-    for change in &inserted {
-        if let Change::Insert { object, .. } = change {
-            object.decompose().map_err(geometry_error(object))?;
-        }
-    }
+    check_inserted(&inserted)?;
     changes.extend(inserted);
     let radius = match request.radius_end {
         Some(end) => format!("{} to {end}", request.radius),
@@ -425,7 +417,17 @@ pub(crate) fn fillet(
         label.push_str("; ");
         label.push_str(note);
     }
-    Ok((changes, label))
+    Ok(((changes, label), made))
+}
+
+/// Refuses objects a plan would insert that the GPU feed cannot take.
+fn check_inserted(changes: &[Change]) -> Result<(), EditError> {
+    for change in changes {
+        if let Change::Insert { object, .. } = change {
+            object.decompose().map_err(geometry_error(object))?;
+        }
+    }
+    Ok(())
 }
 
 /// The faces of an object that can be joined: a NURBS or trimmed surface (one face), or a

@@ -14,13 +14,24 @@ impl OperationParams for FilletRequest {
         vec![&mut self.a, &mut self.b]
     }
 
-    fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
+    /// The report: `{"sections", "closed", "branches", "notes"}`.
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
         super::finite(Self::NAME, "radius", self.radius, true)?;
         if let Some(end) = self.radius_end {
             super::finite(Self::NAME, "radius_end", end, true)?;
         }
         super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
-        surface_ops::fillet(scene, self)
+        let (planned, made) = surface_ops::fillet(scene, self)?;
+        let report = serde_json::json!({
+            "sections": made.fillet.centres.len(),
+            "closed": made.fillet.closed,
+            "branches": made.fillet.branches,
+            "notes": made.notes,
+        });
+        Ok((planned, Some(report)))
     }
 }
 

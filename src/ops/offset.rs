@@ -32,10 +32,35 @@ impl OperationParams for Offset {
         vec![&mut self.object]
     }
 
-    fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
+    /// The report: `{"exact", "deviation", "fold_samples", "folds": [{"point", "uv",
+    /// "radius"}], "summary"}` (how each face was offset and where it folds).
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
         let distance = super::finite(Self::NAME, "distance", self.distance, false)?;
         let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
-        surface_ops::offset(scene, scene.resolve(self.object)?, distance, tolerance)
+        let (planned, offsets) =
+            surface_ops::offset(scene, scene.resolve(self.object)?, distance, tolerance)?;
+        let folds: Vec<_> = offsets
+            .iter()
+            .flat_map(|o| &o.folds)
+            .map(|f| {
+                serde_json::json!({
+                    "point": f.point.to_array(),
+                    "uv": f.uv.to_array(),
+                    "radius": f.radius,
+                })
+            })
+            .collect();
+        let report = serde_json::json!({
+            "exact": offsets.iter().all(|o| o.is_exact()),
+            "deviation": offsets.iter().map(|o| o.deviation).fold(0.0, f64::max),
+            "fold_samples": offsets.iter().map(|o| o.fold_samples).sum::<usize>(),
+            "folds": folds,
+            "summary": surface_ops::offset_summary(&offsets, distance),
+        });
+        Ok((planned, Some(report)))
     }
 }
 

@@ -136,7 +136,20 @@ pub trait OperationParams:
 
     /// The changes it would make to `scene` and the label of the undo step; refused with the
     /// reason (naming the bad field) and no change when it cannot be done.
-    fn plan(&self, scene: &Scene) -> Result<Planned, EditError>;
+    fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
+        self.plan_with_report(scene).map(|(planned, _)| planned)
+    }
+
+    /// [`Self::plan`] and what the operation found besides its changes (a fit's deviation,
+    /// where an offset folds, how many sections a fillet has), as JSON for `knotwork apply`
+    /// and the command line; `None` where the label says it all. An operation implements
+    /// this one or [`Self::plan`].
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
+        Ok((self.plan(scene)?, None))
+    }
 }
 
 /// An operation behind one interface (implemented for every [`OperationParams`]).
@@ -147,6 +160,11 @@ pub trait OperationKind: Debug + Send + Sync + 'static {
     fn objects(&self) -> Vec<ObjectRef>;
     fn objects_mut(&mut self) -> Vec<&mut ObjectRef>;
     fn plan(&self, scene: &Scene) -> Result<Planned, EditError>;
+    /// The plan and the operation's report ([`OperationParams::plan_with_report`]).
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError>;
     /// Its JSON value, `{"op": NAME, ...fields}`.
     fn to_json(&self) -> serde_json::Value;
     fn clone_kind(&self) -> Box<dyn OperationKind>;
@@ -177,6 +195,13 @@ impl<T: OperationParams> OperationKind for T {
 
     fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
         OperationParams::plan(self, scene)
+    }
+
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
+        OperationParams::plan_with_report(self, scene)
     }
 
     fn to_json(&self) -> serde_json::Value {
