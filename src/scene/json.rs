@@ -21,12 +21,9 @@
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 use crate::kernel::vector::{CurvePoint, Vector};
-use crate::kernel::{
-    GeometryError, NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface,
-};
+use crate::kernel::{NurbsCurve, NurbsSurface, SpaceCurve, TrimCurve, TrimmedSurface};
 
 /// The format version this build writes and the newest it reads.
 pub const FORMAT_VERSION: u32 = 1;
@@ -35,42 +32,8 @@ pub const FORMAT_VERSION: u32 = 1;
 /// without bound beyond what the JSON text itself holds).
 pub const MAX_CONTROL_POINTS: usize = 10_000_000;
 
-/// Why a JSON document could not be read. `path` is the JSON path of the offending value
-/// (empty for the whole document).
-#[derive(Debug, Clone, PartialEq, Error)]
-#[error("{}{message}", if path.is_empty() { String::new() } else { format!("{path}: ") })]
-pub struct FormatError {
-    pub path: String,
-    pub message: String,
-}
-
-impl FormatError {
-    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
-        Self {
-            path: path.into(),
-            message: message.into(),
-        }
-    }
-
-    /// A kernel error about the object at `path`: its location inside the object (for example
-    /// `knots[0][3]`) joins the path, the rest is the message.
-    pub fn geometry(path: &str, error: GeometryError) -> Self {
-        match error.location() {
-            Some(at) => Self::new(join(path, at.as_str()), error.detail()),
-            None => Self::new(path, error.to_string()),
-        }
-    }
-}
-
-fn join(path: &str, field: &str) -> String {
-    if path.is_empty() {
-        field.to_string()
-    } else if field.starts_with('[') {
-        format!("{path}{field}")
-    } else {
-        format!("{path}.{field}")
-    }
-}
+pub use crate::kernel::FormatError;
+use crate::kernel::format::join_path as join;
 
 /// One geometric object of a file.
 #[derive(Debug, Clone, PartialEq)]

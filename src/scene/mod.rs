@@ -31,6 +31,9 @@ pub use subdiv::{SUBDIVISION_TOLERANCE, SubdivObject, SubdivSettings};
 pub use triangle::viewport_segments;
 pub use trimmed::TrimFeed;
 
+/// The length unit (the kernel's), where the scene's users have always found it.
+pub use crate::kernel::LengthUnit;
+
 use glam::DVec3;
 
 use crate::kernel::diffgeo::{CurvatureValues, FundamentalForms};
@@ -575,54 +578,6 @@ pub fn srgb_to_linear(c: f32) -> f32 {
         c / 12.92
     } else {
         ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// A length unit a document's coordinates are in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LengthUnit {
-    Millimetre,
-    Centimetre,
-    Metre,
-    Inch,
-    Foot,
-}
-
-impl LengthUnit {
-    /// Every unit, in the order a menu lists them.
-    pub const ALL: [LengthUnit; 5] = [
-        LengthUnit::Millimetre,
-        LengthUnit::Centimetre,
-        LengthUnit::Metre,
-        LengthUnit::Inch,
-        LengthUnit::Foot,
-    ];
-
-    /// The unit's symbol, as project files write it: "mm", "cm", "m", "in", "ft".
-    pub fn symbol(self) -> &'static str {
-        match self {
-            LengthUnit::Millimetre => "mm",
-            LengthUnit::Centimetre => "cm",
-            LengthUnit::Metre => "m",
-            LengthUnit::Inch => "in",
-            LengthUnit::Foot => "ft",
-        }
-    }
-
-    /// The unit of symbol `symbol`, if it is one of [`Self::ALL`]'s.
-    pub fn from_symbol(symbol: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|u| u.symbol() == symbol)
-    }
-
-    /// Metres in one unit (the inch is 25.4 mm exactly, the foot 12 inches).
-    pub fn metres(self) -> f64 {
-        match self {
-            LengthUnit::Millimetre => 1e-3,
-            LengthUnit::Centimetre => 1e-2,
-            LengthUnit::Metre => 1.0,
-            LengthUnit::Inch => 0.0254,
-            LengthUnit::Foot => 0.3048,
-        }
     }
 }
 

@@ -20,30 +20,4 @@ pub mod write;
 
 use knotwork_kernel as kernel;
 
-/// Why a file could not be read: `path` says where (an instance, `#12`, and the argument), the
-/// message what is wrong.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}{message}", if path.is_empty() { String::new() } else { format!("{path}: ") })]
-pub struct FormatError {
-    pub path: String,
-    pub message: String,
-}
-
-impl FormatError {
-    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
-        Self {
-            path: path.into(),
-            message: message.into(),
-        }
-    }
-}
-
-/// The length unit a written file declares.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LengthUnit {
-    Millimetre,
-    Centimetre,
-    Metre,
-    Inch,
-    Foot,
-}
+pub use knotwork_kernel::{FormatError, LengthUnit};

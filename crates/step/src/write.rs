@@ -480,17 +480,16 @@ fn length_unit(out: &mut Out, unit: LengthUnit) -> u64 {
         LengthUnit::Metre => "$",
         LengthUnit::Inch | LengthUnit::Foot => {
             let mm = out.add("(LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.))");
-            // The international inch and foot, exactly.
-            let (name, millimetres) = if unit == LengthUnit::Inch {
-                ("INCH", 25.4)
-            } else {
-                ("FOOT", 304.8)
-            };
             let measure = out.add(format!(
                 "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{mm})",
-                real(millimetres)
+                real(unit.metres() * 1e3)
             ));
             let exponents = out.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)");
+            let name = if unit == LengthUnit::Inch {
+                "INCH"
+            } else {
+                "FOOT"
+            };
             return out.add(format!(
                 "(CONVERSION_BASED_UNIT('{name}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{exponents}))"
             ));

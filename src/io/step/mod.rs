@@ -15,23 +15,6 @@ use crate::scene::{LengthUnit, ObjectGeometry, Scene, SceneObject};
 
 pub use read::{Stage, StepModel};
 
-impl From<knotwork_step::FormatError> for FormatError {
-    fn from(error: knotwork_step::FormatError) -> Self {
-        FormatError::new(error.path, error.message)
-    }
-}
-
-/// The unit a STEP file declares for a scene's unit.
-fn step_unit(unit: LengthUnit) -> knotwork_step::LengthUnit {
-    match unit {
-        LengthUnit::Millimetre => knotwork_step::LengthUnit::Millimetre,
-        LengthUnit::Centimetre => knotwork_step::LengthUnit::Centimetre,
-        LengthUnit::Metre => knotwork_step::LengthUnit::Metre,
-        LengthUnit::Inch => knotwork_step::LengthUnit::Inch,
-        LengthUnit::Foot => knotwork_step::LengthUnit::Foot,
-    }
-}
-
 /// The join tolerance of a body read: edges within it are shared (mm).
 fn join_tolerance(model: &StepModel) -> f64 {
     (model.tolerance * 100.0).max(1e-7)
@@ -539,7 +522,7 @@ pub fn export_scene(
             color: *color,
         })
         .collect();
-    let text = write::write(&shapes, file_name, tolerance, scene.unit.map(step_unit))
+    let text = write::write(&shapes, file_name, tolerance, scene.unit)
         .map_err(|e| FormatError::new("", e.to_string()))?;
     Ok(StepExport {
         text,
