@@ -77,24 +77,22 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 step "cargo clippy (wasm32)"
 cargo clippy --workspace --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
 # The kernel is a layer of its own: no GPU, UI, file format or browser crate in its graph, and
-# it builds for wasm32 by itself.
-step "kernel layer (knotwork-kernel: dependencies, wasm32 build)"
-forbidden=$(cargo tree --locked -p knotwork-kernel -e normal --prefix none |
-  awk '{ print $1 }' | grep -Ex 'wgpu.*|naga|egui.*|eframe|winit|gltf.*|wasm-bindgen.*|web-sys|js-sys' | sort -u || true)
-if [ -n "$forbidden" ]; then
-  echo "tests/run.sh: knotwork-kernel depends on $(echo $forbidden)" >&2
-  exit 1
-fi
-cargo build --locked -p knotwork-kernel --target wasm32-unknown-unknown
-# STEP is a crate on the kernel alone in the same way.
-step "STEP layer (knotwork-step: dependencies, wasm32 build)"
-forbidden=$(cargo tree --locked -p knotwork-step -e normal --prefix none |
-  awk '{ print $1 }' | grep -Ex 'knotwork|wgpu.*|naga|egui.*|eframe|winit|gltf.*|wasm-bindgen.*|web-sys|js-sys' | sort -u || true)
-if [ -n "$forbidden" ]; then
-  echo "tests/run.sh: knotwork-step depends on $(echo $forbidden)" >&2
-  exit 1
-fi
-cargo build --locked -p knotwork-step --target wasm32-unknown-unknown
+# it builds for wasm32 by itself; STEP is a crate on the kernel alone in the same way.
+layer() {
+  local crate=$1 forbidden
+  step "$crate layer (dependencies, wasm32 build)"
+  forbidden=$(cargo tree --locked -p "$crate" -e normal --prefix none | tail -n +2 |
+    awk '{ print $1 }' |
+    grep -Ex 'knotwork|knotwork-step|wgpu.*|naga|egui.*|eframe|winit|gltf.*|wasm-bindgen.*|web-sys|js-sys' |
+    sort -u || true)
+  if [ -n "$forbidden" ]; then
+    echo "tests/run.sh: $crate depends on $(echo $forbidden)" >&2
+    exit 1
+  fi
+  cargo build --locked -p "$crate" --target wasm32-unknown-unknown
+}
+layer knotwork-kernel
+layer knotwork-step
 
 # --- The book -----------------------------------------------------------------------------------
 # The manual (docs/, mdBook) builds, and no link of the book, README.md or ARCHITECTURE.md is
