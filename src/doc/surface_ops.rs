@@ -378,15 +378,17 @@ fn spine_length(points: &[glam::DVec3]) -> f64 {
     points.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
 
-/// [`crate::ops::fillet`]: A and B trimmed back and the fillet added as "fillet".
+/// [`crate::ops::fillet`]: A and B trimmed back and the fillet added as "fillet", and what was
+/// made (its trimmed objects moved into the changes).
 pub(crate) fn fillet(
     scene: &Scene,
     request: &FilletRequest,
 ) -> Result<(Planned, FilletMade), EditError> {
-    let made = fillet_objects(scene, request)?;
+    let mut made = fillet_objects(scene, request)?;
     let (a, b) = (scene.resolve(request.a)?, scene.resolve(request.b)?);
     let mut changes = Vec::new();
-    for (index, after) in [a, b].into_iter().zip(made.trimmed.clone()) {
+    // The trimmed objects go into the changes; what is returned keeps the fillet and notes.
+    for (index, after) in [a, b].into_iter().zip(std::mem::take(&mut made.trimmed)) {
         if let Some(after) = after {
             after.decompose().map_err(geometry_error(&after))?;
             changes.push(Change::Replace {

@@ -21,9 +21,9 @@ use std::sync::{PoisonError, RwLock};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+use super::Scene;
 use super::change::{Change, EditError};
 use super::json::FormatError;
-use super::{Scene, SceneObject};
 
 /// An object's identity while the program runs: given once, when the object is made, kept by
 /// every edit of it, and never given to another object. It is not written to files (a
@@ -106,11 +106,6 @@ impl Scene {
                 .position(|o| o.id == id)
                 .ok_or(EditError::ObjectGone { id: id.get() }),
         }
-    }
-
-    /// The object `object` names now.
-    pub fn object(&self, object: ObjectRef) -> Result<&SceneObject, EditError> {
-        Ok(&self.objects[self.resolve(object)?])
     }
 }
 

@@ -432,26 +432,21 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
     }))
 }
 
-/// The faces of one object as STEP writes them (NURBS and trimmed surfaces, polysurfaces with
-/// their shared edges, Bézier patch sets patch by patch), or why it is left out.
-/// An object's faces as STEP writes them: the faces, their shared edges where known, and a
-/// note where the faces approximate the object.
-type ObjectFaces = (
-    Vec<crate::kernel::TrimmedSurface>,
-    Option<crate::kernel::join::Topology>,
-    Option<String>,
-);
-
 pub use crate::scene::SUBDIVISION_TOLERANCE;
 
-fn object_faces(object: &SceneObject, tolerance: f64) -> Result<ObjectFaces, String> {
+/// The faces of one object as STEP writes them ([`crate::scene::ObjectKind::exchange_faces`]),
+/// its note naming the object, or why it is left out.
+fn object_faces(
+    object: &SceneObject,
+    tolerance: f64,
+) -> Result<crate::scene::ExchangeFaces, String> {
     if object.displacement.is_some() || object.lattice.is_some() {
         return Err("it is displaced or deformed (bake it first)".into());
     }
     if let Some(faces) = object.kind().exchange_faces(tolerance) {
-        let faces = faces.map_err(|e| e.to_string())?;
-        let note = faces.note.map(|note| format!("{}: {note}", object.name));
-        return Ok((faces.faces, faces.topology, note));
+        let mut faces = faces.map_err(|e| e.to_string())?;
+        faces.note = faces.note.map(|note| format!("{}: {note}", object.name));
+        return Ok(faces);
     }
     Err(format!(
         "STEP export takes NURBS, trimmed surfaces, polysurfaces, Bézier patch sets, \
@@ -493,9 +488,14 @@ pub fn export_scene(
             continue;
         }
         match object_faces(object, tolerance) {
-            Ok((faces, topology, note)) => {
-                approximated.extend(note);
-                kept.push((object.name.clone(), faces, topology, object.color))
+            Ok(faces) => {
+                approximated.extend(faces.note);
+                kept.push((
+                    object.name.clone(),
+                    faces.faces,
+                    faces.topology,
+                    object.color,
+                ))
             }
             Err(why) => left_out.push(format!("{}: {why}", object.name)),
         }
