@@ -1138,7 +1138,7 @@ fn bench_loft_drag(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::scene::construction::Construction;
+    use crate::ops::construct::{Construct, LoftStyleName, Request};
     let drag = LoftDrag::new()?;
     let names: Vec<String> = (0..drag.sections.len())
         .map(|k| format!("section {k}"))
@@ -1153,17 +1153,15 @@ fn bench_loft_drag(
         objects,
         unit: None,
     });
-    let curves: Vec<serde_json::Value> = (0..names.len())
-        .map(|k| serde_json::json!({ "input": k }))
-        .collect();
-    let construction = Construction::new(
-        serde_json::json!({"construct": "loft", "curves": curves}),
-        names,
-    )?;
-    doc.execute(&crate::doc::Command::Construct {
-        construction,
+    let loft = Construct::new(Request::Loft {
+        curves: (0..names.len()).map(Into::into).collect(),
+        degree: 3,
+        closed: false,
+        style: LoftStyleName::Normal,
+    });
+    doc.execute(&crate::doc::Command::Apply {
+        operation: crate::scene::operation::Operation::new(loft),
         keep_history: true,
-        replace: None,
     })?;
     let mut sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)?;
     evaluate_once(context, &mut sync, &mut None)?;

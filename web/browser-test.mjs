@@ -1474,7 +1474,7 @@ async function main() {
       s = await status(page);
       assert(s.error === null && s.patches > 0, `loft: ${s.error}, ${s.patches} patches`);
       const lofted = (await page.evaluate(() => window.knotwork.project())).objects[3];
-      assert(lofted.type === 'nurbs_surface' && lofted.construction?.inputs.length === 3, `the loft keeps its history: ${JSON.stringify(lofted.construction)}`);
+      assert(lofted.type === 'nurbs_surface' && lofted.history?.operation?.curves?.length === 3, `the loft keeps its history: ${JSON.stringify(lofted.history)}`);
 
       // Drag a middle control point of the middle section with the mouse: every step builds
       // the loft again and the GPU shows it.
@@ -1492,7 +1492,7 @@ async function main() {
       assert(s.error === null && /move 1 point/.test(s.last_edit), `drag: ${s.error}, ${s.last_edit}`);
       const moved = (await page.evaluate(() => window.knotwork.project())).objects;
       assert(JSON.stringify(moved[3].points) !== JSON.stringify(lofted.points), 'the loft followed its section');
-      assert(moved[3].construction?.inputs.length === 3, 'and keeps its history');
+      assert(moved[3].history?.operation?.curves?.length === 3, 'and keeps its history');
       await nextFrames(page);
       const after = await page.locator('#knotwork-canvas').screenshot();
       await writeFile(`${resultsDir}/curves-loft-dragged.png`, after);

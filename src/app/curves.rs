@@ -10,7 +10,8 @@ use glam::{DVec2, DVec3};
 use super::{AppCommand, KnotworkApp, PICK_RADIUS};
 use crate::doc::Command;
 use crate::kernel::{GeometryError, SpaceCurve, construct, splines};
-use crate::scene::construction::Construction;
+use crate::ops::construct::Construct;
+use crate::scene::operation::{ObjectRef, Operation};
 use crate::scene::{ObjectGeometry, SceneObject};
 use crate::view::osnap;
 
@@ -689,8 +690,8 @@ impl KnotworkApp {
     }
 
     /// Builds `request` on curve objects `objects` (each `{"input": k}` of the request is
-    /// object `objects[k]`): a new object that follows its curves when `keep_history`, or with
-    /// `replace` the new geometry of that object.
+    /// object `objects[k]`; [`Construct::with_inputs`]): a new object that follows its curves
+    /// when `keep_history`, or with `replace` the new geometry of that object.
     pub(super) fn construct_from(
         &mut self,
         request: serde_json::Value,
@@ -698,38 +699,14 @@ impl KnotworkApp {
         keep_history: bool,
         replace: Option<usize>,
     ) {
-        let names: Result<Vec<String>, String> = objects
-            .iter()
-            .map(|&k| match self.scene().objects.get(k) {
-                Some(o) if o.kind().space_curve().is_some() => Ok(o.name.clone()),
-                Some(o) => Err(format!(
-                    "{} is {}, not a curve",
-                    o.name,
-                    o.kind().kind_name()
-                )),
-                None => Err(format!("there is no object {k}")),
-            })
-            .collect();
-        let construction = names.and_then(|names| {
-            let mut unique = names.clone();
-            unique.sort();
-            unique.dedup();
-            if unique.len() < names.len()
-                && names
-                    .iter()
-                    .any(|n| self.scene().objects.iter().filter(|o| &o.name == n).count() > 1)
-            {
-                return Err("two input curves share a name: rename one first".into());
-            }
-            Construction::new(request, names).map_err(|e| e.to_string())
-        });
-        match construction {
-            Ok(construction) => {
+        let objects: Vec<ObjectRef> = objects.iter().map(|&k| k.into()).collect();
+        match Construct::with_inputs("", request, &objects) {
+            Ok(mut construct) => {
+                construct.replace = replace.map(ObjectRef::Index);
                 let count = self.scene().objects.len();
-                self.execute(Command::Construct {
-                    construction,
-                    keep_history,
-                    replace,
+                self.execute(Command::Apply {
+                    operation: Operation::new(construct),
+                    keep_history: keep_history && replace.is_none(),
                 });
                 if replace.is_none() && self.scene().objects.len() > count {
                     self.select(Some(count));
@@ -912,13 +889,12 @@ impl KnotworkApp {
             self.curves.confirm_break = None;
             return;
         };
-        let text = match &target.construction {
-            Some(c) => format!(
-                "{} is the {} of {}, and follows them. Editing its own points ends that: it will \
-                 no longer follow its curves.",
+        let text = match &target.recipe {
+            Some(recipe) => format!(
+                "{} is the {}, and follows them. Editing its own points ends that: it will no \
+                 longer follow them.",
                 target.name,
-                c.command(),
-                c.inputs.join(", ")
+                recipe.describe(self.scene())
             ),
             None => {
                 self.curves.confirm_break = None;
@@ -926,7 +902,7 @@ impl KnotworkApp {
             }
         };
         let mut answer = None;
-        egui::Window::new("Edit a surface built from curves?")
+        egui::Window::new("Edit an object that follows others?")
             .collapsible(false)
             .resizable(false)
             .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
@@ -1234,20 +1210,17 @@ impl KnotworkApp {
         let Some(s) = self.selection.object else {
             return;
         };
-        let Some(construction) = self
+        let Some(described) = self
             .scene()
             .objects
             .get(s)
-            .and_then(|o| o.construction.clone())
+            .and_then(|o| o.recipe.as_ref())
+            .map(|r| r.describe(self.scene()))
         else {
             return;
         };
         ui.horizontal_wrapped(|ui| {
-            ui.label(format!(
-                "{} of {} (follows them)",
-                construction.command(),
-                construction.inputs.join(", ")
-            ));
+            ui.label(format!("{described} (follows them)"));
             if ui.button("Break history").clicked() {
                 self.apply(AppCommand::Edit(Command::BreakHistory { object: s }));
             }

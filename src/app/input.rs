@@ -143,7 +143,7 @@ impl KnotworkApp {
         let Some(object) = self.selection.object else {
             return;
         };
-        if self.scene().objects[object].construction.is_some() {
+        if self.scene().objects[object].has_history() {
             // Its shape comes from its curves: ask before its own points move.
             self.curves.confirm_break = Some(object);
             return;

@@ -1,13 +1,11 @@
 //! What the curve commands change: the knot, degree, direction and split commands on a curve
-//! object, [`CurveEdit`]s, and [`Command::Construct`] (a construction on curve objects, added
-//! as a new object or replacing one). Worked out without touching the scene, as in
-//! [`super::plan`].
+//! object and [`CurveEdit`]s (constructions on curve objects are the operation
+//! [`crate::ops::construct`]). Worked out without touching the scene, as in [`super::plan`].
 
 use super::parts::refuse;
 use super::{Change, CurveEdit, EditError, geometry_error, object_at};
 use crate::kernel::{GeometryError, SpaceCurve};
-use crate::scene::construction::Construction;
-use crate::scene::{ObjectGeometry, Scene, SceneObject, valid_name};
+use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// The object's curve, or the error naming `operation`.
 pub(super) fn curve_of<'a>(
@@ -161,52 +159,6 @@ fn join(scene: &Scene, k: usize, other: usize) -> Result<Vec<Change>, EditError>
         object: second.clone(),
     });
     Ok(changes)
-}
-
-/// [`super::Command::Construct`]: the built object added (named after what it is, made unique)
-/// or, with `replace`, put in that object's place; and the construction's report on how well
-/// it fits its input (a network's or a fit's largest deviation), where it makes one.
-pub(super) fn construct(
-    scene: &Scene,
-    construction: &Construction,
-    keep_history: bool,
-    replace: Option<usize>,
-) -> Result<(Vec<Change>, Option<String>), EditError> {
-    let built =
-        super::construction::build(construction, scene).map_err(|message| EditError::Geometry {
-            name: construction.command().to_owned(),
-            source: refuse("construction", message),
-        })?;
-    let report = built.report;
-    if let Some(k) = replace {
-        let object = object_at(scene, k)?;
-        let after = SceneObject {
-            geometry: built.geometry,
-            ..object.clone()
-        };
-        after.decompose().map_err(geometry_error(object))?;
-        let change = Change::Replace {
-            index: k,
-            before: object.clone(),
-            after,
-        };
-        return Ok((vec![change], report));
-    }
-    let base = if valid_name(built.name) {
-        built.name
-    } else {
-        "surface"
-    };
-    let mut object = SceneObject::new(scene.unique_name(base), built.geometry);
-    if keep_history {
-        object.construction = Some(construction.clone());
-    }
-    object.decompose().map_err(geometry_error(&object))?;
-    let change = Change::Insert {
-        index: scene.objects.len(),
-        object,
-    };
-    Ok((vec![change], report))
 }
 
 /// [`crate::ops::intersect`]: every branch where the faces of objects `a` and `b` meet

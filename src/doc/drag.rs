@@ -163,9 +163,8 @@ impl Document {
         if let Some(geometry) = slot.kind().resettled() {
             slot.geometry = geometry;
         }
-        // A direct edit of an object built from curves ends its history.
+        // A direct edit of an object made with history ends its history.
         if slot.geometry != drag.before.geometry {
-            slot.construction = None;
             slot.recipe = None;
         }
         let after = slot.clone();

@@ -155,14 +155,6 @@ pub enum Command {
         object: usize,
         edit: TrimEdit,
     },
-    /// Builds a construct request on curve objects ([`construction::build`]): a new object
-    /// (with the history kept when `keep_history`, so that it follows its curves), or with
-    /// `replace` the new geometry of that object (a curve rebuilt, fitted, extended, …).
-    Construct {
-        construction: crate::scene::construction::Construction,
-        keep_history: bool,
-        replace: Option<usize>,
-    },
     /// Ends an object's construction history: it keeps its shape and no longer follows its
     /// curves.
     BreakHistory {
@@ -351,18 +343,6 @@ impl Command {
                 format!("subdivision level {}", settings.level)
             }
             Command::Trim { edit, .. } => edit.label(),
-            Command::Construct {
-                construction,
-                replace: Some(_),
-                ..
-            } => construction.command().to_owned(),
-            Command::Construct { construction, .. } => {
-                format!(
-                    "{} from {} curve(s)",
-                    construction.command(),
-                    construction.inputs.len()
-                )
-            }
             Command::BreakHistory { .. } => "break history".into(),
             Command::Apply { operation, .. } => operation.label(),
             Command::EditCurve { edit, .. } => match edit {

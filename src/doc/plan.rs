@@ -58,19 +58,6 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
                 Ok(removed)
             })
         }
-        Command::Construct {
-            construction,
-            keep_history,
-            replace,
-        } => {
-            let (changes, report) =
-                curve_edits::construct(scene, construction, *keep_history, *replace)?;
-            let label = match report {
-                Some(report) => format!("{} — {report}", command.label()),
-                None => command.label(),
-            };
-            return Ok((changes, label));
-        }
         Command::Apply {
             operation,
             keep_history,
@@ -86,10 +73,7 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
                     message: "it has no construction history".into(),
                 }));
             }
-            map_object(scene, *object, |o| {
-                o.construction = None;
-                o.recipe = None;
-            })
+            map_object(scene, *object, |o| o.recipe = None)
         }
         Command::EditCurve { object, edit } => curve_edits::edit_curve(scene, *object, edit),
         Command::ApplyLattice { object, tolerance } => {
@@ -151,20 +135,6 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
         Command::Rename { object, name } => {
             if !valid_name(name) {
                 return Err(EditError::InvalidName);
-            }
-            // Construction history finds its curves by name: a name must not capture another's.
-            let taken = scene
-                .objects
-                .iter()
-                .enumerate()
-                .any(|(k, o)| k != *object && &o.name == name);
-            let referenced = scene.objects.iter().any(|o| {
-                o.construction.as_ref().is_some_and(|c| {
-                    c.uses(name) || scene.objects.get(*object).is_some_and(|t| c.uses(&t.name))
-                })
-            });
-            if taken && referenced {
-                return Err(EditError::NameTaken { name: name.clone() });
             }
             map_object(scene, *object, |o| o.name = name.clone())
         }

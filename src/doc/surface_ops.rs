@@ -351,7 +351,7 @@ pub fn fillet_objects(scene: &Scene, request: &FilletRequest) -> Result<FilletMa
             Ok(t) => {
                 let mut next = object.clone();
                 next.geometry = ObjectGeometry::from_trimmed(t);
-                next.construction = None;
+                next.recipe = None;
                 trimmed[slot] = Some(next);
             }
             // Half a fillet (one side trimmed, the other not) is not a result: the whole
@@ -581,7 +581,7 @@ pub(crate) fn join(
         let before = scene.objects[index].clone();
         let mut after = before.clone();
         after.geometry = ObjectGeometry::new(j.polysurface.clone());
-        after.construction = None;
+        after.recipe = None;
         after.decompose().map_err(geometry_error(&after))?;
         summary.push(format!("{} ({})", after.name, after.describe()));
         changes.push(Change::Replace {
@@ -794,7 +794,7 @@ pub(crate) fn trim_by(
     let kept = keep_region(&surface, &cuts, glam::DVec2::new(near.u, near.v)).map_err(&fail)?;
     let mut after = before.clone();
     after.geometry = ObjectGeometry::from_trimmed(kept);
-    after.construction = None;
+    after.recipe = None;
     after.decompose().map_err(geometry_error(&after))?;
     let label = format!(
         "trim {} by {}",
@@ -827,7 +827,7 @@ pub(crate) fn split_by(
     after.geometry = parts
         .next()
         .ok_or_else(|| geometry_error(before)(refuse("split", "no parts")))?;
-    after.construction = None;
+    after.recipe = None;
     after.decompose().map_err(geometry_error(&after))?;
     let mut changes = vec![Change::Replace {
         index: object,

@@ -22,6 +22,12 @@
 //! transform field. `visible`, `segments`, `name` and `view` may be omitted. Version 1 files
 //! (surfaces only, no view) open too; curves are refused with the path of the offending object.
 //!
+//! An object made with history keeps `"history": {"operation": {"op": ..., its inputs by
+//! their index in the file}, "output": k}` (a loft of curves 0 to 2 is `{"op": "construct",
+//! "construct": "loft", "curves": [0, 1, 2]}`). Projects saved before constructions from
+//! curves were operations keep `"construction": {"request": …{"input": k}…, "inputs":
+//! [names]}` instead; they open as that `construct` history, on the first object of each name.
+//!
 //! Reading is defensive: files above [`MAX_FILE_BYTES`], more than [`MAX_TOTAL_POINTS`]
 //! control points, degrees above 32, segments above [`MAX_SEGMENTS`] and anything malformed give
 //! a [`FormatError`] naming the JSON path, and nothing is allocated beyond the text itself.
@@ -154,9 +160,11 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
         unit,
         ..Scene::default()
     };
+    let mut constructions = Vec::with_capacity(objects.len());
     for (i, value) in objects.into_iter().enumerate() {
         let path = format!("objects[{i}]");
-        let object = read_object(&path, value)?;
+        let (object, construction) = read_object(&path, value)?;
+        constructions.push(construction);
         total = total.saturating_add(object.control_point_count());
         if total > MAX_TOTAL_POINTS {
             return Err(FormatError::new(
@@ -165,6 +173,11 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
             ));
         }
         scene.objects.push(object);
+    }
+    for (k, construction) in constructions.into_iter().enumerate() {
+        if let Some(construction) = construction {
+            scene.objects[k].recipe = Some(saved_construction(&scene, k, construction)?);
+        }
     }
     // Histories name their inputs by position in the file; the document keeps them by id.
     for k in 0..scene.objects.len() {
@@ -178,6 +191,43 @@ pub fn read_value(value: serde_json::Value) -> Result<Project, FormatError> {
         }
     }
     Ok(Project { scene, view })
+}
+
+/// Object `k`'s construction as an earlier build saved it, as the `construct` operation's
+/// history on the objects its input names name (the first of each name, as that build read it).
+fn saved_construction(
+    scene: &Scene,
+    k: usize,
+    construction: SavedConstruction,
+) -> Result<crate::scene::operation::Recipe, FormatError> {
+    let at = format!("objects[{k}].construction");
+    let objects = construction
+        .inputs
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            scene
+                .objects
+                .iter()
+                .position(|o| &o.name == name)
+                .map(crate::scene::operation::ObjectRef::Index)
+                .ok_or_else(|| {
+                    FormatError::new(
+                        format!("{at}.inputs[{j}]"),
+                        format!("no object is named \"{name}\""),
+                    )
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let operation = crate::ops::construct::Construct::with_inputs(
+        &format!("{at}.request"),
+        construction.request,
+        &objects,
+    )?;
+    Ok(crate::scene::operation::Recipe {
+        operation: crate::scene::operation::Operation::new(operation),
+        output: 0,
+    })
 }
 
 /// An operation's history as a project keeps it: `{"operation": {"op": ..., its inputs by
@@ -212,7 +262,20 @@ fn read_recipe(
     })
 }
 
-fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, FormatError> {
+/// A construction from curve objects as projects saved it before constructions were operations:
+/// `{"request": …{"input": k}…, "inputs": [names]}`, the k-th input being the first object of
+/// that name. Read into the `construct` operation's history once every object is read.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SavedConstruction {
+    request: serde_json::Value,
+    inputs: Vec<String>,
+}
+
+fn read_object(
+    path: &str,
+    value: serde_json::Value,
+) -> Result<(SceneObject, Option<SavedConstruction>), FormatError> {
     let serde_json::Value::Object(mut map) = value else {
         return Err(FormatError::new(path, "expected an object"));
     };
@@ -271,14 +334,7 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     };
     let construction = match map.remove("construction") {
         None | Some(serde_json::Value::Null) => None,
-        Some(value) => {
-            let at = format!("{path}.construction");
-            let raw: crate::scene::construction::Construction = deserialize(&at, value)?;
-            Some(
-                crate::scene::construction::Construction::new(raw.request, raw.inputs)
-                    .map_err(|e| FormatError::new(format!("{path}.{}", e.path), e.message))?,
-            )
-        }
+        Some(value) => Some(deserialize(&format!("{path}.construction"), value)?),
     };
     let recipe = match map.remove("history") {
         None | Some(serde_json::Value::Null) => None,
@@ -316,10 +372,9 @@ fn read_object(path: &str, value: serde_json::Value) -> Result<SceneObject, Form
     object.segments = segments;
     object.displacement = displacement;
     object.lattice = lattice;
-    object.construction = construction;
     object.recipe = recipe;
     object.color = color;
-    Ok(object)
+    Ok((object, construction))
 }
 
 /// An object's colour: `[r, g, b]`, sRGB components from 0 to 1.
@@ -415,8 +470,7 @@ fn read_kind(
 }
 
 /// One scene object as a JSON value: its kind's record ([`crate::scene::ObjectKind::record`])
-/// with the object's name, visibility, segments, displacement, lattice and construction
-/// history.
+/// with the object's name, visibility, segments, displacement, lattice, colour and history.
 fn object_value(scene: &Scene, object: &SceneObject) -> serde_json::Value {
     let mut value = object.kind().record();
     if let serde_json::Value::Object(map) = &mut value {
@@ -439,12 +493,6 @@ fn object_value(scene: &Scene, object: &SceneObject) -> serde_json::Value {
         }
         if let Some(color) = object.color {
             map.insert("color".into(), serde_json::json!(color));
-        }
-        if let Some(construction) = &object.construction {
-            map.insert(
-                "construction".into(),
-                serde_json::to_value(construction).unwrap_or(serde_json::Value::Null),
-            );
         }
         // An input gone from the scene has ended the history already (the document ends it
         // when one is removed); one that is not found is not written.

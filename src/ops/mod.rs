@@ -9,6 +9,7 @@
 //! [`register`] instead and is then read, offered and applied like these.
 
 pub mod blend;
+pub mod construct;
 pub mod contour;
 pub mod explode;
 pub mod fillet;
@@ -25,7 +26,8 @@ use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 12] = [
+pub const BUILT_IN: [OperationEntry; 13] = [
+    construct::ENTRY,
     transform::ENTRY,
     offset::ENTRY,
     fillet::ENTRY,

@@ -82,10 +82,6 @@ pub enum EditError {
     InvalidName,
     #[error("a colour's red, green and blue must each be from 0 to 1")]
     InvalidColor,
-    #[error(
-        "another object is named \"{name}\", and construction history finds its curves by name: choose another"
-    )]
-    NameTaken { name: String },
     #[error("segments per span must be in 1..={max}, got {segments}")]
     Segments { segments: u32, max: u32 },
     #[error("no drag is in progress")]

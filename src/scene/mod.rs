@@ -7,7 +7,6 @@
 //! UI. The GPU evaluator takes each object's feed ([`SceneObject::decompose`]).
 
 pub mod change;
-pub mod construction;
 pub mod continuity;
 mod curve;
 mod demo;
@@ -122,9 +121,6 @@ pub struct SceneObject {
     /// A free-form deformation lattice around the object ([`crate::kernel::ffd`]): while it
     /// is there, the object is shown deformed and its handles are the lattice's points.
     pub lattice: Option<Lattice>,
-    /// How the object was built from curve objects, where it was and the history is kept: it
-    /// is built again when they change ([`construction`]).
-    pub construction: Option<construction::Construction>,
     /// How an operation made the object, where its history is kept: it is made again when the
     /// operation's inputs change ([`operation::Recipe`]).
     pub recipe: Option<operation::Recipe>,
@@ -134,7 +130,16 @@ pub struct SceneObject {
 }
 
 impl PartialEq for SceneObject {
+    /// Equal in everything but their ids; a recipe's inputs are compared by id, so objects of
+    /// two scenes whose recipes read the same places compare equal only through
+    /// [`Scene`]'s equality.
     fn eq(&self, other: &Self) -> bool {
+        self.eq_apart_from_recipe(other) && self.recipe == other.recipe
+    }
+}
+
+impl SceneObject {
+    fn eq_apart_from_recipe(&self, other: &Self) -> bool {
         let Self {
             id: _,
             name,
@@ -143,8 +148,7 @@ impl PartialEq for SceneObject {
             visible,
             displacement,
             lattice,
-            construction,
-            recipe,
+            recipe: _,
             color,
         } = self;
         *name == other.name
@@ -153,8 +157,6 @@ impl PartialEq for SceneObject {
             && *visible == other.visible
             && *displacement == other.displacement
             && *lattice == other.lattice
-            && *construction == other.construction
-            && *recipe == other.recipe
             && *color == other.color
     }
 }
@@ -239,7 +241,6 @@ impl SceneObject {
             visible: true,
             displacement: None,
             lattice: None,
-            construction: None,
             recipe: None,
             color: None,
         }
@@ -247,7 +248,7 @@ impl SceneObject {
 
     /// Whether the object keeps history of how it was made (from curves or by an operation).
     pub fn has_history(&self) -> bool {
-        self.construction.is_some() || self.recipe.is_some()
+        self.recipe.is_some()
     }
 
     /// The object's kind ([`ObjectKind`]).
@@ -562,12 +563,33 @@ impl SceneObject {
 }
 
 /// The objects of one document.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct Scene {
     pub objects: Vec<SceneObject>,
     /// The length unit of every coordinate; `None` (a project without one) is unitless, and
     /// exports keep its numbers as they are.
     pub unit: Option<LengthUnit>,
+}
+
+impl PartialEq for Scene {
+    /// The same objects in the same order and the same unit; histories are equal when their
+    /// operations read the objects at the same places (ids differ between two scenes: a
+    /// project read back, a scene built twice).
+    fn eq(&self, other: &Self) -> bool {
+        let by_place = |scene: &Scene, object: &SceneObject| {
+            object
+                .recipe
+                .as_ref()
+                .map(|r| (r.operation.by_index(scene).ok(), r.output))
+        };
+        self.unit == other.unit
+            && self.objects.len() == other.objects.len()
+            && self
+                .objects
+                .iter()
+                .zip(&other.objects)
+                .all(|(a, b)| a.eq_apart_from_recipe(b) && by_place(self, a) == by_place(other, b))
+    }
 }
 
 /// An sRGB component (0 to 1) as linear light (IEC 61966-2-1: c/12.92 up to 0.04045,

@@ -126,6 +126,12 @@ pub trait OperationParams:
         Self::NAME.replace('_', " ")
     }
 
+    /// What it makes, in a word or two, for sentences such as "X is the loft of a, b, c"
+    /// (its label unless it says otherwise).
+    fn title(&self) -> String {
+        self.label()
+    }
+
     /// The objects it reads, to be renamed, followed and resolved.
     fn objects_mut(&mut self) -> Vec<&mut ObjectRef>;
 
@@ -151,6 +157,8 @@ pub trait OperationParams:
 pub trait OperationKind: Debug + Send + Sync + 'static {
     fn name(&self) -> &'static str;
     fn label(&self) -> String;
+    /// What it makes, in a word or two ([`OperationParams::title`]).
+    fn title(&self) -> String;
     /// The objects it reads.
     fn objects(&self) -> Vec<ObjectRef>;
     fn objects_mut(&mut self) -> Vec<&mut ObjectRef>;
@@ -174,6 +182,10 @@ impl<T: OperationParams> OperationKind for T {
 
     fn label(&self) -> String {
         OperationParams::label(self)
+    }
+
+    fn title(&self) -> String {
+        OperationParams::title(self)
     }
 
     fn objects(&self) -> Vec<ObjectRef> {
@@ -294,6 +306,21 @@ pub struct Recipe {
     pub operation: Operation,
     /// This object's place among the objects the operation adds (0: the first).
     pub output: usize,
+}
+
+impl Recipe {
+    /// "loft of s0, s1, s2": what the operation makes and the names the objects it reads have
+    /// in `scene` now.
+    pub fn describe(&self, scene: &Scene) -> String {
+        let names: Vec<&str> = self
+            .operation
+            .objects()
+            .into_iter()
+            .filter_map(|object| scene.resolve(object).ok())
+            .map(|k| scene.objects[k].name.as_str())
+            .collect();
+        format!("{} of {}", self.operation.title(), names.join(", "))
+    }
 }
 
 /// One operation, as registered.

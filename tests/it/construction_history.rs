@@ -13,7 +13,8 @@ use knotwork::doc::{Command, CurveEdit, Document, Touched};
 use knotwork::gpu::SceneSync;
 use knotwork::io::project::{self, Project};
 use knotwork::kernel::{Direction, NurbsSurface, SpaceCurve, splines};
-use knotwork::scene::construction::Construction;
+use knotwork::ops::construct::Construct;
+use knotwork::scene::operation::Operation;
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// A closed section: a wobbly ellipse of 8 points through which a cubic is interpolated, at
@@ -48,17 +49,22 @@ fn sections() -> Document {
     })
 }
 
-/// The loft of "s0", "s1", "s2" with history.
-fn loft_construction() -> Construction {
-    Construction::new(
-        serde_json::json!({
-            "construct": "loft",
-            "curves": [{"input": 0}, {"input": 1}, {"input": 2}],
-            "degree": 3
-        }),
-        vec!["s0".into(), "s1".into(), "s2".into()],
-    )
-    .unwrap()
+/// The loft of objects 0, 1 and 2 ("s0", "s1", "s2").
+fn loft_construction() -> Operation {
+    construct(serde_json::json!({"construct": "loft", "curves": [0, 1, 2], "degree": 3}))
+}
+
+/// The construct operation `request` (its curves objects by index).
+fn construct(request: serde_json::Value) -> Operation {
+    Operation::new(Construct::read("", request).unwrap())
+}
+
+/// Runs `operation` with its history kept.
+fn with_history(operation: Operation) -> Command {
+    Command::Apply {
+        operation,
+        keep_history: true,
+    }
 }
 
 fn surface(object: &SceneObject) -> &NurbsSurface {
@@ -95,12 +101,7 @@ fn curve_distance(a: &SpaceCurve, b: &SpaceCurve) -> f64 {
 
 fn lofted() -> Document {
     let mut doc = sections();
-    doc.execute(&Command::Construct {
-        construction: loft_construction(),
-        keep_history: true,
-        replace: None,
-    })
-    .unwrap();
+    doc.execute(&with_history(loft_construction())).unwrap();
     doc
 }
 
@@ -110,7 +111,8 @@ fn a_loft_of_curve_objects_follows_a_dragged_section_and_undoes_in_one_step() {
     assert_eq!(doc.scene.objects.len(), 4);
     let loft = &doc.scene.objects[3];
     assert_eq!(loft.name, "loft");
-    assert_eq!(loft.construction, Some(loft_construction()));
+    let kept = &loft.recipe.as_ref().expect("history").operation;
+    assert_eq!(kept.by_index(&doc.scene).unwrap(), loft_construction());
     for k in 0..3 {
         let d = curve_to_surface(curve(&doc.scene.objects[k]), surface(loft));
         assert!(d < 1e-7, "section {k}: {d:e}");
@@ -132,7 +134,7 @@ fn a_loft_of_curve_objects_follows_a_dragged_section_and_undoes_in_one_step() {
         );
     }
     assert_ne!(doc.scene.objects[3], original.objects[3]);
-    assert!(doc.scene.objects[3].construction.is_some());
+    assert!(doc.scene.objects[3].recipe.is_some());
     doc.commit_drag().unwrap();
     assert_eq!(doc.history.undo_depth(), undo_depth + 1, "one undo step");
     doc.undo().unwrap();
@@ -174,14 +176,34 @@ fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
         name: "bottom".into(),
     })
     .unwrap();
-    let construction = doc.scene.objects[3].construction.clone().unwrap();
-    assert_eq!(construction.inputs, ["bottom", "s1", "s2"]);
-    // A name that another object has would capture its history: refused.
-    let taken = doc.execute(&Command::Rename {
+    let recipe = doc.scene.objects[3].recipe.clone().unwrap();
+    assert_eq!(recipe.describe(&doc.scene), "loft of bottom, s1, s2");
+    // History holds its inputs by id: a name that another object has captures nothing, and
+    // the loft still follows the curve renamed.
+    doc.execute(&Command::Rename {
         object: 2,
         name: "s1".into(),
-    });
-    assert!(taken.is_err(), "{taken:?}");
+    })
+    .unwrap();
+    assert_eq!(
+        doc.scene.objects[3]
+            .recipe
+            .as_ref()
+            .unwrap()
+            .describe(&doc.scene),
+        "loft of bottom, s1, s1"
+    );
+    doc.execute(&Command::operation(
+        knotwork::ops::transform::Transform::new(
+            2,
+            &glam::DAffine3::from_translation(DVec3::new(0.1, 0.0, 0.3)),
+        ),
+    ))
+    .unwrap();
+    let d = curve_to_surface(curve(&doc.scene.objects[2]), surface(&doc.scene.objects[3]));
+    assert!(d < 1e-7, "the loft follows the renamed curve: {d:e}");
+    doc.undo().unwrap();
+    doc.undo().unwrap();
     // The curve edits rebuild too (knot insertion keeps the shape, so the loft stays on it).
     doc.execute(&Command::ElevateDegree {
         object: 0,
@@ -197,13 +219,13 @@ fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
         .unwrap()
         .label
         .clone();
-    assert_eq!(doc.scene.objects[2].construction, None);
+    assert_eq!(doc.scene.objects[2].recipe, None);
     assert!(
         label.contains("loft's construction history ends: s1 was removed"),
         "{label}"
     );
     doc.undo().unwrap();
-    assert!(doc.scene.objects[3].construction.is_some());
+    assert!(doc.scene.objects[3].recipe.is_some());
 
     // A direct edit of the surface ends its history, and the step says so.
     let edit = doc
@@ -218,7 +240,7 @@ fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
         label.contains("loft's construction history ends: it no longer follows its curves"),
         "{label}"
     );
-    assert_eq!(doc.scene.objects[3].construction, None);
+    assert_eq!(doc.scene.objects[3].recipe, None);
     doc.undo().unwrap();
     // Breaking it on purpose is said by its own label.
     let label = doc
@@ -227,7 +249,7 @@ fn commands_on_input_curves_rebuild_rename_or_end_the_history() {
         .label
         .clone();
     assert_eq!(label, "break history");
-    assert_eq!(doc.scene.objects[3].construction, None);
+    assert_eq!(doc.scene.objects[3].recipe, None);
     assert!(doc.execute(&Command::BreakHistory { object: 3 }).is_err());
 }
 
@@ -238,14 +260,119 @@ fn history_is_saved_and_a_bad_one_is_refused_by_path() {
         scene: doc.scene.clone(),
         view: None,
     });
-    assert!(text.contains("\"construction\""));
+    assert!(text.contains("\"history\""));
     let back = project::read(&text).unwrap();
     assert_eq!(back.scene, doc.scene);
+    let bad = text.replace("\"curves\":[0,1,2]", "\"curves\":[0,1,5]");
+    assert_ne!(bad, text);
+    let error = project::read(&bad).unwrap_err();
+    assert!(
+        error.path.starts_with("objects[3].history") && error.message.contains("object 5"),
+        "{error}"
+    );
+}
+
+/// A project saved before constructions from curves became operations (by commit 7c54d1f; see
+/// `tests/reference/projects/README.md`) opens with its histories: a loft of three sections
+/// given in a shuffled order, an extrusion of one of them, and an offset of the extrusion. A
+/// drag of a section moves all three, each still exactly on what it was made from.
+#[test]
+fn a_project_saved_with_the_earlier_construction_history_opens_and_follows() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/reference/projects/history-2026-11-28.json"
+    ))
+    .unwrap();
+    let project = project::read(&text).unwrap();
+    let mut doc = Document::new(project.scene);
+    let names: Vec<&str> = doc.scene.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "ring",
+            "waist",
+            "rim",
+            "loft",
+            "extrusion",
+            "extrusion offset"
+        ]
+    );
+    let describe = |doc: &Document, k: usize| {
+        doc.scene.objects[k]
+            .recipe
+            .as_ref()
+            .map(|r| r.describe(&doc.scene))
+    };
+    assert_eq!(
+        describe(&doc, 3).as_deref(),
+        Some("loft of rim, ring, waist")
+    );
+    assert_eq!(describe(&doc, 4).as_deref(), Some("extrude of rim"));
+    assert_eq!(describe(&doc, 5).as_deref(), Some("offset of extrusion"));
+    // The loose loft passes through its first and last sections (rim and waist; its middle
+    // one is a control row, not interpolated).
+    let on_loft = |doc: &Document, k: usize| {
+        curve_to_surface(curve(&doc.scene.objects[k]), surface(&doc.scene.objects[3]))
+    };
+    for k in [2, 1] {
+        assert!(
+            on_loft(&doc, k) < 1e-7,
+            "section {k}: {:e}",
+            on_loft(&doc, k)
+        );
+    }
+    assert!(
+        on_loft(&doc, 0) > 1e-3,
+        "the middle section is a control row"
+    );
+    // Drag the rim: the loft, the extrusion and its offset follow in one step.
+    let before = doc.scene.clone();
+    doc.begin_drag(2, &[1, 2]).unwrap();
+    let moved = doc.drag_by(DVec3::new(0.2, -0.1, 0.25)).unwrap();
+    assert_eq!(moved.rebuilt, vec![3, 4, 5]);
+    doc.commit_drag().unwrap();
+    for k in [2, 1] {
+        assert!(
+            on_loft(&doc, k) < 1e-7,
+            "section {k}: {:e}",
+            on_loft(&doc, k)
+        );
+    }
+    let extrusion = surface(&doc.scene.objects[4]);
+    let rim = curve(&doc.scene.objects[2]);
+    let d = curve_to_surface(rim, extrusion);
+    assert!(d < 1e-7, "the extrusion starts on the moved rim: {d:e}");
+    // The offset is 0.125 from the extrusion: sample it and measure back.
+    let offset = surface(&doc.scene.objects[5]);
+    let [(u0, u1), (v0, v1)] = offset.domain();
+    for i in 1..8 {
+        for j in 1..8 {
+            let p = offset
+                .point_at(
+                    u0 + (u1 - u0) * i as f64 / 8.0,
+                    v0 + (v1 - v0) * j as f64 / 8.0,
+                )
+                .unwrap();
+            let d = extrusion.closest_point(p).unwrap().distance;
+            assert!((d - 0.125).abs() < 1e-3, "offset distance {d}");
+        }
+    }
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before);
+    // The bad reference an old file could hold is refused by path, as that build refused it.
     let bad = text.replace("{\"input\":2}", "{\"input\":5}");
     assert_ne!(bad, text);
     let error = project::read(&bad).unwrap_err();
     assert!(
         error.path.starts_with("objects[3].construction") && error.message.contains("input 5"),
+        "{error}"
+    );
+    let renamed = text.replace("\"inputs\":[\"rim\"]", "\"inputs\":[\"nowhere\"]");
+    assert_ne!(renamed, text);
+    let error = project::read(&renamed).unwrap_err();
+    assert!(
+        error.path.starts_with("objects[4].construction.inputs[0]")
+            && error.message.contains("nowhere"),
         "{error}"
     );
 }
@@ -270,49 +397,31 @@ fn a_construction_from_curves_is_one_undo_step_and_bad_input_changes_nothing() {
     let mut doc = sections();
     let before = doc.clone();
     // A loft of one curve is refused with the kernel's reason.
-    let one = Construction::new(
-        serde_json::json!({"construct": "loft", "curves": [{"input": 0}]}),
-        vec!["s0".into()],
-    )
-    .unwrap();
-    let refused = doc.execute(&Command::Construct {
-        construction: one,
-        keep_history: true,
-        replace: None,
-    });
+    let one = construct(serde_json::json!({"construct": "loft", "curves": [0]}));
+    let refused = doc.execute(&with_history(one));
     assert!(refused.is_err());
     assert_eq!(doc, before);
     // An input that is not in the scene, or not a curve.
-    let missing = Construction::new(
-        serde_json::json!({"construct": "loft", "curves": [{"input": 0}, {"input": 1}]}),
-        vec!["s0".into(), "nowhere".into()],
-    )
-    .unwrap();
-    let error = doc
-        .execute(&Command::Construct {
-            construction: missing,
-            keep_history: true,
-            replace: None,
-        })
-        .unwrap_err()
-        .to_string();
-    assert!(error.contains("nowhere"), "{error}");
+    let missing = construct(serde_json::json!({"construct": "loft", "curves": [0, 7]}));
+    let error = doc.execute(&with_history(missing)).unwrap_err().to_string();
     assert!(
-        Construction::new(
-            serde_json::json!({"curves": [{"input": 3}]}),
-            vec!["a".into()]
+        error.contains("curves[1]") && error.contains("object 7"),
+        "{error}"
+    );
+    assert!(
+        Construct::with_inputs(
+            "",
+            serde_json::json!({"construct": "loft", "curves": [{"input": 3}]}),
+            &[0.into()]
         )
         .is_err()
     );
     // A rebuild in place (no history): the curve object keeps its name.
-    doc.execute(&Command::Construct {
-        construction: Construction::new(
-            serde_json::json!({"construct": "rebuild", "curve": {"input": 0}, "points": 12, "degree": 3}),
-            vec!["s0".into()],
-        )
-        .unwrap(),
+    doc.execute(&Command::Apply {
+        operation: construct(serde_json::json!(
+            {"construct": "rebuild", "curve": 0, "points": 12, "degree": 3, "replace": 0}
+        )),
         keep_history: false,
-        replace: Some(0),
     })
     .unwrap();
     assert_eq!(doc.scene.objects[0].name, "s0");
