@@ -1,9 +1,15 @@
-//! Throughput and edit latency of the GPU evaluator (the same figures as `knotwork bench`, see
-//! `src/bench.rs`), and the f64 CPU reference for comparison.
+//! Throughput and edit latency of the GPU evaluator (the same figures as `knotwork bench`: the
+//! benchmark groups of `src/cli/bench/groups.rs`, compiled in here too), and the f64 CPU
+//! reference for comparison.
 //!
 //!   cargo bench --bench gpu_eval            (KNOTWORK_BENCH_ITERATIONS=N to change the count)
 
 use std::time::{Duration, Instant};
+
+// The group names are the command line's, which this bench does not parse.
+#[allow(dead_code)]
+#[path = "../src/cli/bench/groups.rs"]
+mod groups;
 
 use knotwork::gpu::GpuContext;
 use knotwork::kernel::{BezierPatchSet, samples};
@@ -46,7 +52,7 @@ fn main() {
             std::process::exit(1);
         }
     };
-    if let Err(e) = knotwork::bench::run(&context, iterations, "all", &mut std::io::stdout()) {
+    if let Err(e) = groups::run(&context, iterations, "all", &mut std::io::stdout()) {
         eprintln!("gpu_eval: {e}");
         std::process::exit(1);
     }

@@ -11,7 +11,7 @@ mod gizmo;
 mod input;
 mod operations;
 mod overlay;
-mod panels;
+pub mod panels;
 pub(crate) mod platform;
 mod surface_tools;
 mod trim;

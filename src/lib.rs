@@ -17,8 +17,6 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod app;
-#[cfg(not(target_arch = "wasm32"))]
-pub mod bench;
 pub mod doc;
 pub mod gpu;
 pub mod io;

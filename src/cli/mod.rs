@@ -342,7 +342,7 @@ pub enum Command {
         iterations: u64,
         /// Only one group of figures (or all): edit (the compute pass, edits, picking, drags),
         /// webgl2, frame, scale, export, subdivision, trim or analysis.
-        #[arg(long, default_value = "all", value_parser = clap::builder::PossibleValuesParser::new(knotwork::bench::GROUPS))]
+        #[arg(long, default_value = "all", value_parser = clap::builder::PossibleValuesParser::new(self::bench::groups::GROUPS))]
         only: String,
     },
 }

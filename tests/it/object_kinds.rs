@@ -981,3 +981,67 @@ fn subdivision_adaptive_conforms() {
         conforms(&context, object);
     }
 }
+
+/// A kind defined here brings its own panel with its registration: selected in the editor,
+/// the sheet shows the panel registered for it under *Selected object*, and a NURBS surface
+/// does not; its button runs a document command (one undo step).
+#[test]
+fn a_kind_defined_in_a_test_shows_its_own_panel_in_the_editor() {
+    use egui_kittest::kittest::Queryable;
+    use knotwork::app::panels::kinds::{self, KindPanel};
+    use knotwork::app::{AppCommand, KnotworkApp};
+    register_sheet();
+    kinds::register(KindPanel {
+        kinds: &["a quadratic sheet"],
+        show: |app: &mut KnotworkApp, ui, s| {
+            ui.label("Quadratic sheet: 9 points");
+            if ui.button("Lift the sheet").clicked() {
+                app.apply(AppCommand::Edit(Command::operation(
+                    knotwork::ops::transform::Transform::new(
+                        s,
+                        &DAffine3::from_translation(DVec3::Z),
+                    ),
+                )));
+            }
+        },
+    });
+    let _one = crate::editor_ui::ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut harness = crate::editor_ui::editor();
+    let page = harness.state().command_sender();
+    let sheet = SceneObject::new(
+        "sheet",
+        ObjectGeometry::new(sheet(DVec3::ZERO, |i, j| 0.2 * (i * j) as f64)),
+    );
+    page.send(AppCommand::Edit(Command::Add {
+        object: sheet.clone(),
+    }));
+    harness.run_steps(2);
+    let k = harness.state().document().scene.objects.len() - 1;
+    page.send(AppCommand::Select(Some(k)));
+    harness.run_steps(3);
+    assert!(
+        harness
+            .query_by_label("Quadratic sheet: 9 points")
+            .is_some()
+    );
+    let depth = harness.state().document().history.undo_depth();
+    harness.get_by_label("Lift the sheet").scroll_to_me();
+    harness.run_steps(1);
+    harness.get_by_label("Lift the sheet").click_accesskit();
+    harness.run_steps(3);
+    let lifted = &harness.state().document().scene.objects[k];
+    assert_eq!(harness.state().document().history.undo_depth(), depth + 1);
+    let (lo, _) = lifted.bounds().unwrap();
+    let (was, _) = sheet.bounds().unwrap();
+    assert!((lo.z - was.z - 1.0).abs() < 1e-12, "{lo} {was}");
+    // The teapot (object 0) is not a sheet: no sheet panel.
+    page.send(AppCommand::Select(Some(0)));
+    harness.run_steps(3);
+    assert!(
+        harness
+            .query_by_label("Quadratic sheet: 9 points")
+            .is_none()
+    );
+}

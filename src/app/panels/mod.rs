@@ -4,6 +4,7 @@
 
 mod create;
 mod deform;
+pub mod kinds;
 mod objects;
 mod properties;
 mod shading;
@@ -261,8 +262,7 @@ impl KnotworkApp {
                 self.properties_panel(ui);
                 self.surface_tools_panel(ui);
                 self.trim_panel(ui);
-                self.subdivision_panel(ui);
-                self.triangle_panel(ui);
+                self.kind_panels(ui);
                 self.displacement_panel(ui);
                 self.lattice_panel(ui);
             });

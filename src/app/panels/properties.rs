@@ -25,7 +25,6 @@ impl KnotworkApp {
         if self.scene().objects[s].has_weights() {
             self.weight_editor(ui, s);
         }
-        self.knots_and_degree(ui, s);
     }
 
     /// Which control points are selected (all, none, a row or column), and the one edited by
@@ -206,7 +205,6 @@ impl KnotworkApp {
     /// the knot vectors as text.
     pub(in crate::app) fn knots_and_degree(&mut self, ui: &mut egui::Ui, s: usize) {
         let Some(surface) = self.scene().objects[s].geometry.nurbs_surface() else {
-            ui.label(egui::RichText::new("knots and degree: a NURBS surface only").weak());
             return;
         };
         let surface = surface.clone();

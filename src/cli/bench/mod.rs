@@ -2,6 +2,8 @@
 
 use std::process::ExitCode;
 
+pub mod groups;
+
 /// Runs `knotwork bench`.
 pub fn bench(iterations: u64, only: &str) -> ExitCode {
     let context = match knotwork::gpu::GpuContext::headless_blocking() {
@@ -11,7 +13,7 @@ pub fn bench(iterations: u64, only: &str) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    match knotwork::bench::run(&context, iterations as usize, only, &mut std::io::stdout()) {
+    match groups::run(&context, iterations as usize, only, &mut std::io::stdout()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("knotwork bench: {e}");

@@ -1,4 +1,6 @@
-//! `knotwork bench` (and `cargo bench --bench gpu_eval`): throughput of the compute pass and
+//! The benchmark groups of `knotwork bench` (and of `cargo bench --bench gpu_eval`, which
+//! compiles this file in too; outside the library, so that its hot modules carry no benchmark
+//! code): throughput of the compute pass and
 //! edit latency on whatever adapter wgpu finds (lavapipe where there is no GPU).
 //!
 //! - Throughput: vertices (position, normal, (u, v), curvature) per second of the evaluation
@@ -24,14 +26,14 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::doc::Document;
-use crate::gpu::timing::GpuTimer;
-use crate::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers};
-use crate::kernel::{TrimmedSurface, construct};
-use crate::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
-use crate::scene::{ObjectGeometry, Scene, SceneObject};
-use crate::view::pick::{self, PickView};
-use crate::view::{OrbitCamera, ViewSettings};
+use knotwork::doc::Document;
+use knotwork::gpu::timing::GpuTimer;
+use knotwork::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers};
+use knotwork::kernel::{TrimmedSurface, construct};
+use knotwork::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use knotwork::view::pick::{self, PickView};
+use knotwork::view::{OrbitCamera, ViewSettings};
 
 /// Runs `f` `runs` times (at least once): the median wall time in milliseconds and the last
 /// result.
@@ -54,12 +56,12 @@ fn median(mut values: Vec<f64>) -> f64 {
 
 /// A 32 × 32 bicubic B-spline surface (29 × 29 Bézier patches) over uniform knots, a gentle
 /// landscape 10 units across.
-pub fn large_bspline() -> Result<SceneObject, crate::kernel::GeometryError> {
+pub fn large_bspline() -> Result<SceneObject, knotwork::kernel::GeometryError> {
     landscape(32)
 }
 
 /// An n × n bicubic B-spline landscape over uniform knots.
-pub fn landscape(n: usize) -> Result<SceneObject, crate::kernel::GeometryError> {
+pub fn landscape(n: usize) -> Result<SceneObject, knotwork::kernel::GeometryError> {
     let points = (0..n)
         .flat_map(|i| {
             (0..n).map(move |j| {
@@ -235,7 +237,7 @@ fn bench_pick(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
     for _ in 0..iterations.max(5) * 5 {
         let start = Instant::now();
         let projected: Vec<_> = points.iter().map(|&p| view.project(p)).collect();
-        found = pick::pick_point(&projected, target, crate::app::PICK_RADIUS);
+        found = pick::pick_point(&projected, target, knotwork::app::PICK_RADIUS);
         pick_ms.push(start.elapsed().as_secs_f64() * 1e3);
         let start = Instant::now();
         let projected: Vec<_> = points.iter().map(|&p| view.project(p)).collect();
@@ -286,9 +288,9 @@ fn bench_drag_frame(
     // As the editor draws a drag: at full quality on a GPU, at the lower quality in motion on a
     // software adapter; at the object's fixed segments, then tessellated for the view.
     let qualities = [
-        (crate::render::Quality::hardware(), "GPU quality"),
+        (knotwork::render::Quality::hardware(), "GPU quality"),
         (
-            crate::render::Quality::software(),
+            knotwork::render::Quality::software(),
             "software-adapter quality",
         ),
     ];
@@ -299,8 +301,11 @@ fn bench_drag_frame(
         let (samples, (w, h)) = quality.target((1280, 800), true);
         let mode = if adaptive {
             sync.set_adaptive(&doc.scene, true, 1.0)?;
-            let target =
-                crate::render::adaptive_target(&view.camera, (w, h), f64::from(view.tolerance_px));
+            let target = knotwork::render::adaptive_target(
+                &view.camera,
+                (w, h),
+                f64::from(view.tolerance_px),
+            );
             sync.set_view(target);
             evaluate_once(context, &mut sync, &mut None)?;
             sync.read_adaptive_stats()?;
@@ -492,7 +497,7 @@ fn bench_step_large(
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/reference/occ/step/plate-20.step");
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let plate = crate::io::step::read_project(&bytes, &mut |_, _| true)?;
+    let plate = knotwork::io::step::read_project(&bytes, &mut |_, _| true)?;
     let object = plate.scene.objects.first().ok_or("the plate has no body")?;
 
     let (lo, hi) = object.bounds().ok_or("the plate has no box")?;
@@ -511,11 +516,11 @@ fn bench_step_large(
             ..object.clone()
         });
     }
-    let tolerance = crate::io::step::default_tolerance(&scene);
-    let text = crate::io::step::export_scene(&scene, "plates.step", tolerance)?.text;
+    let tolerance = knotwork::io::step::default_tolerance(&scene);
+    let text = knotwork::io::step::export_scene(&scene, "plates.step", tolerance)?.text;
     let clock = Instant::now();
     let open =
-        crate::io::step::timed_open(text.as_bytes(), &|| clock.elapsed().as_secs_f64() * 1e3)?;
+        knotwork::io::step::timed_open(text.as_bytes(), &|| clock.elapsed().as_secs_f64() * 1e3)?;
     writeln!(
         out,
         "STEP {COPIES} plates ({} faces, {:.1} MB) | first step {:6.1} ms, then parsed, built and joined in {:8.1} ms over {} steps (longest {:.1} ms)",
@@ -526,7 +531,7 @@ fn bench_step_large(
         open.steps,
         open.longest_step_ms
     )?;
-    let opened = crate::io::step::read_project(text.as_bytes(), &mut |_, _| true)?.scene;
+    let opened = knotwork::io::step::read_project(text.as_bytes(), &mut |_, _| true)?.scene;
     let start = Instant::now();
     let sync = evaluated(context, &opened)?;
     let evaluate_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -537,7 +542,7 @@ fn bench_step_large(
     let mut frames = Vec::new();
     for (samples, (w, h)) in [
         (4, (1280, 800)),
-        crate::render::Quality::software().target((1280, 800), true),
+        knotwork::render::Quality::software().target((1280, 800), true),
     ] {
         let ms = median_frame_ms(
             context,
@@ -594,14 +599,14 @@ fn bench_step_plate(
     let now = || clock.elapsed().as_secs_f64() * 1e3;
     let mut timings = Vec::new();
     for _ in 0..runs {
-        timings.push(crate::io::step::timed_read_and_mesh(&bytes, &now)?);
+        timings.push(knotwork::io::step::timed_read_and_mesh(&bytes, &now)?);
     }
     let read_ms = median(timings.iter().map(|t| t.read_ms).collect());
     let mesh_ms = median(timings.iter().map(|t| t.mesh_ms).collect());
     let (tolerance, triangles, faces) = timings
         .first()
         .map_or((f64::NAN, 0, 0), |t| (t.tolerance, t.triangles, t.faces));
-    let model = crate::io::step::read::read(&bytes, &mut |_, _| true)?;
+    let model = knotwork::io::step::read::read(&bytes, &mut |_, _| true)?;
     // Memory per face: the surfaces' homogeneous points and knots, and the trim curves'.
     let mut bytes_held = 0usize;
     for f in model.bodies.iter().flat_map(|b| &b.faces) {
@@ -615,7 +620,7 @@ fn bench_step_plate(
     let total = read_ms + mesh_ms;
     let (_, open) = median_ms(runs, || {
         let clock = std::time::Instant::now();
-        crate::io::step::timed_open(&bytes, &|| clock.elapsed().as_secs_f64() * 1e3)
+        knotwork::io::step::timed_open(&bytes, &|| clock.elapsed().as_secs_f64() * 1e3)
     })?;
     writeln!(
         out,
@@ -667,9 +672,9 @@ fn bench_step_subdivision(
     runs: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::subdiv::patches::Display;
-    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
-    use crate::scene::SubdivObject;
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use knotwork::scene::SubdivObject;
     for (name, scheme) in [
         ("Catmull-Clark cube", Scheme::CatmullClark),
         ("Doo-Sabin cube", Scheme::DooSabin),
@@ -694,9 +699,9 @@ fn bench_step_subdivision(
             )],
             unit: None,
         };
-        let tolerance = crate::io::step::default_tolerance(&scene);
+        let tolerance = knotwork::io::step::default_tolerance(&scene);
         let (ms, written) = median_ms(runs, || {
-            crate::io::step::export_scene(&scene, "subdivision.step", tolerance)
+            knotwork::io::step::export_scene(&scene, "subdivision.step", tolerance)
         })?;
         let note = written.approximated.first().map_or("", String::as_str);
         writeln!(
@@ -717,7 +722,7 @@ fn bench_intersect(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::intersect::{IntersectOptions, intersect_face_sets};
+    use knotwork::kernel::intersect::{IntersectOptions, intersect_face_sets};
     let teapot = scene
         .objects
         .first()
@@ -734,7 +739,7 @@ fn bench_intersect(
     let options = IntersectOptions::for_size(size);
     for (name, other) in [("a plane", &plane), ("a sphere", &sphere)] {
         let faces = teapot.faces();
-        let faces = crate::doc::surface_ops::face_refs(&faces);
+        let faces = knotwork::doc::surface_ops::face_refs(&faces);
         let (ms, (branches, points)) = median_ms(iterations.clamp(3, 20), || {
             let mut branches = 0;
             let mut points = 0;
@@ -742,7 +747,7 @@ fn bench_intersect(
                 branches += found.curves.len();
                 points += found.curves.iter().map(|c| c.points.len()).sum::<usize>();
             }
-            Ok::<_, crate::kernel::GeometryError>((branches, points))
+            Ok::<_, knotwork::kernel::GeometryError>((branches, points))
         })?;
         writeln!(
             out,
@@ -760,11 +765,11 @@ fn bench_surface_ops(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::fillet::{FilletOptions, fillet_surfaces};
-    use crate::kernel::join::{find_topology, tessellate_joined};
-    use crate::kernel::offset::offset_nurbs;
+    use knotwork::kernel::fillet::{FilletOptions, fillet_surfaces};
+    use knotwork::kernel::join::{find_topology, tessellate_joined};
+    use knotwork::kernel::offset::offset_nurbs;
     let runs = iterations.clamp(3, 20);
-    let (floor, wall) = crate::kernel::samples::floor_and_wall()?;
+    let (floor, wall) = knotwork::kernel::samples::floor_and_wall()?;
     let size = floor.size();
     let sphere = construct::sphere(DVec3::ZERO, 1.0)?;
     for (name, surface, distance, tolerance) in [
@@ -798,7 +803,7 @@ fn bench_surface_ops(
     // The floor and a copy of it moved along and up: a G2 blend across the gap between their
     // nearest edges, and the copy's edge matched to the floor's at G2.
     {
-        use crate::kernel::blend::{
+        use knotwork::kernel::blend::{
             BlendOptions, EdgeContinuity, blend_edges, match_edge, nearest_sides,
         };
         let (lo, hi) = floor.bounds();
@@ -841,7 +846,7 @@ fn bench_surface_ops(
     let (ms, (shared, triangles)) = median_ms(runs, || {
         let topology = find_topology(&faces, 1e-9)?;
         let mesh = tessellate_joined(&faces, &topology, 1e-3 * 2.9, false)?;
-        Ok::<_, crate::kernel::GeometryError>((topology.shared.len(), mesh.triangles.len()))
+        Ok::<_, knotwork::kernel::GeometryError>((topology.shared.len(), mesh.triangles.len()))
     })?;
     writeln!(
         out,
@@ -858,10 +863,10 @@ fn bench_lattice(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::ffd::Lattice;
+    use knotwork::kernel::ffd::Lattice;
     let mut teapot = SceneObject::new(
         "teapot",
-        ObjectGeometry::new(crate::kernel::samples::utah_teapot()?),
+        ObjectGeometry::new(knotwork::kernel::samples::utah_teapot()?),
     );
     teapot.segments = 16;
     for base in [large_bspline()?, teapot] {
@@ -895,8 +900,8 @@ fn bench_displacement(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::displace::{Displacement, Pattern};
-    use crate::kernel::tess::Tessellation;
+    use knotwork::kernel::displace::{Displacement, Pattern};
+    use knotwork::kernel::tess::Tessellation;
     let plain = large_bspline()?;
     let centre = 32 * 16 + 16;
     bench_object(context, plain.clone(), centre, iterations, out)?;
@@ -927,8 +932,8 @@ fn bench_triangle(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::doc::create::{Primitive, PrimitiveParams};
-    use crate::kernel::tess::Tessellation;
+    use knotwork::doc::create::{Primitive, PrimitiveParams};
+    use knotwork::kernel::tess::Tessellation;
     for degree in [3usize, 6, 10, 20] {
         let object = PrimitiveParams {
             kind: Primitive::TriangleBezier,
@@ -963,14 +968,14 @@ fn bench_adaptive(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::subdiv::patches::Display;
-    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
-    use crate::scene::SubdivObject;
-    let spiked = |mesh: crate::kernel::PolygonMesh| {
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use knotwork::scene::SubdivObject;
+    let spiked = |mesh: knotwork::kernel::PolygonMesh| {
         let mut points = mesh.points().to_vec();
         points[7] += DVec3::new(0.4, -0.3, 1.6);
         let faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
-        crate::kernel::PolygonMesh::new(points, &faces)
+        knotwork::kernel::PolygonMesh::new(points, &faces)
     };
     let torus = spiked(cages::torus(DVec3::ZERO, 2.0, 0.7, 24, 16)?)?;
     let triangles = triangulated(&torus)?;
@@ -1033,8 +1038,8 @@ fn bench_construct(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::doc::create::{Primitive, PrimitiveParams};
-    use crate::kernel::{Direction, transfinite};
+    use knotwork::doc::create::{Primitive, PrimitiveParams};
+    use knotwork::kernel::{Direction, transfinite};
     let Some(land) = large_bspline()?.geometry.nurbs_surface().cloned() else {
         return Err("the landscape is a NURBS surface".into());
     };
@@ -1084,12 +1089,12 @@ fn bench_construct(
 /// Four closed 16-point section curves and their loft, one of whose points moves a little
 /// further at every step (a drag with construction history, as the kernel sees it).
 struct LoftDrag {
-    sections: Vec<crate::kernel::SpaceCurve>,
+    sections: Vec<knotwork::kernel::SpaceCurve>,
     step: usize,
 }
 
 impl LoftDrag {
-    fn new() -> Result<Self, crate::kernel::GeometryError> {
+    fn new() -> Result<Self, knotwork::kernel::GeometryError> {
         use glam::DVec3;
         let section = |z: f64, wobble: f64| {
             let points: Vec<DVec3> = (0..16)
@@ -1098,10 +1103,10 @@ impl LoftDrag {
                     DVec3::new(a.cos() * (2.0 + wobble * (3.0 * a).sin()), a.sin() * 2.0, z)
                 })
                 .collect();
-            crate::kernel::splines::interpolate_closed(
+            knotwork::kernel::splines::interpolate_closed(
                 &points,
                 3,
-                crate::kernel::splines::Parametrization::ChordLength,
+                knotwork::kernel::splines::Parametrization::ChordLength,
             )
         };
         Ok(Self {
@@ -1116,15 +1121,19 @@ impl LoftDrag {
     }
 
     /// Moves point 5 of the second section and lofts again.
-    fn step(&mut self) -> Result<crate::kernel::NurbsSurface, crate::kernel::GeometryError> {
-        use crate::kernel::loft::{LoftOptions, loft_sections};
+    fn step(&mut self) -> Result<knotwork::kernel::NurbsSurface, knotwork::kernel::GeometryError> {
+        use knotwork::kernel::loft::{LoftOptions, loft_sections};
         self.step += 1;
         let moved = &self.sections[1];
         let mut points: Vec<glam::DVec3> =
             (0..moved.count()).map(|i| moved.control_point(i)).collect();
         points[5] += glam::DVec3::new(0.0, 0.0, 0.01 * self.step as f64);
-        self.sections[1] =
-            crate::kernel::SpaceCurve::new(moved.degree(), moved.knots().to_vec(), points, None)?;
+        self.sections[1] = knotwork::kernel::SpaceCurve::new(
+            moved.degree(),
+            moved.knots().to_vec(),
+            points,
+            None,
+        )?;
         loft_sections(&self.sections, &LoftOptions::default())
     }
 }
@@ -1138,7 +1147,7 @@ fn bench_loft_drag(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::ops::construct::{Construct, LoftStyleName, Request};
+    use knotwork::ops::construct::{Construct, LoftStyleName, Request};
     let drag = LoftDrag::new()?;
     let names: Vec<String> = (0..drag.sections.len())
         .map(|k| format!("section {k}"))
@@ -1147,7 +1156,7 @@ fn bench_loft_drag(
         .sections
         .iter()
         .zip(&names)
-        .map(|(c, name)| SceneObject::new(name, crate::scene::ObjectGeometry::new(c.clone())))
+        .map(|(c, name)| SceneObject::new(name, knotwork::scene::ObjectGeometry::new(c.clone())))
         .collect();
     let mut doc = Document::new(Scene {
         objects,
@@ -1159,8 +1168,8 @@ fn bench_loft_drag(
         closed: false,
         style: LoftStyleName::Normal,
     });
-    doc.execute(&crate::doc::Command::Apply {
-        operation: crate::scene::operation::Operation::new(loft),
+    doc.execute(&knotwork::doc::Command::Apply {
+        operation: knotwork::scene::operation::Operation::new(loft),
         keep_history: true,
     })?;
     let mut sync = SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)?;
@@ -1192,7 +1201,7 @@ fn bench_loft_drag(
 }
 
 /// `count` cubic curves of `spans` Bézier segments each (a helix-like wave), as scene objects.
-pub fn curve_field(count: usize, spans: usize) -> Result<Scene, crate::kernel::GeometryError> {
+pub fn curve_field(count: usize, spans: usize) -> Result<Scene, knotwork::kernel::GeometryError> {
     let mut objects = Vec::with_capacity(count);
     for k in 0..count {
         let n = spans + 3;
@@ -1206,11 +1215,11 @@ pub fn curve_field(count: usize, spans: usize) -> Result<Scene, crate::kernel::G
                 )
             })
             .collect();
-        let knots = crate::kernel::basis::uniform_clamped_knots(3, n);
-        let curve = crate::kernel::SpaceCurve::new(3, knots, points, None)?;
+        let knots = knotwork::kernel::basis::uniform_clamped_knots(3, n);
+        let curve = knotwork::kernel::SpaceCurve::new(3, knots, points, None)?;
         objects.push(SceneObject::new(
             format!("curve {k}"),
-            crate::scene::ObjectGeometry::new(curve),
+            knotwork::scene::ObjectGeometry::new(curve),
         ));
     }
     Ok(Scene {
@@ -1272,13 +1281,13 @@ fn bench_curves(
 /// move), a network of 10 × 10 iso-curves of the landscape that all need refitting, and a
 /// one-rail sweep.
 fn bench_modelling(
-    land: &crate::kernel::NurbsSurface,
+    land: &knotwork::kernel::NurbsSurface,
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::network::network_surface;
-    use crate::kernel::{Direction, SpaceCurve};
     use glam::DVec3;
+    use knotwork::kernel::network::network_surface;
+    use knotwork::kernel::{Direction, SpaceCurve};
     let runs = iterations.clamp(1, 5);
     let mut drag = LoftDrag::new()?;
     let (ms, surface) = median_ms(runs.max(3), || drag.step())?;
@@ -1295,10 +1304,10 @@ fn bench_modelling(
     let turned = |c: SpaceCurve, k: usize| if k % 2 == 1 { c.reverse() } else { c };
     let u_curves = (0..n)
         .map(|k| Ok(turned(land.isocurve(Direction::V, at(k), 0)?, k)))
-        .collect::<Result<Vec<_>, crate::kernel::GeometryError>>()?;
+        .collect::<Result<Vec<_>, knotwork::kernel::GeometryError>>()?;
     let v_curves = (0..n)
         .map(|k| Ok(turned(land.isocurve(Direction::U, at(k), 0)?, k)))
-        .collect::<Result<Vec<_>, crate::kernel::GeometryError>>()?;
+        .collect::<Result<Vec<_>, knotwork::kernel::GeometryError>>()?;
     let (ms, network) = median_ms(runs, || network_surface(&u_curves, &v_curves, 3))?;
     let [cu, cv] = network.surface.count();
     writeln!(
@@ -1306,7 +1315,7 @@ fn bench_modelling(
         "construct network of 10 × 10 crossing curves, each refitted | {cu} × {cv} control points | {ms:8.2} ms ({})",
         network.deviation
     )?;
-    let rail = crate::kernel::construct::arc(
+    let rail = knotwork::kernel::construct::arc(
         DVec3::ZERO,
         DVec3::X,
         DVec3::Z,
@@ -1315,12 +1324,12 @@ fn bench_modelling(
         std::f64::consts::FRAC_PI_2,
     )?;
     let profile =
-        crate::kernel::construct::circle(DVec3::new(5.0, 0.0, 0.0), DVec3::Z, DVec3::X, 0.5)?;
+        knotwork::kernel::construct::circle(DVec3::new(5.0, 0.0, 0.0), DVec3::Z, DVec3::X, 0.5)?;
     let (ms, swept) = median_ms(runs, || {
-        crate::kernel::sweep::sweep_one_rail(
+        knotwork::kernel::sweep::sweep_one_rail(
             &rail,
             std::slice::from_ref(&profile),
-            crate::kernel::sweep::SweepFrame::RotationMinimizing,
+            knotwork::kernel::sweep::SweepFrame::RotationMinimizing,
         )
     })?;
     let [cu, cv] = swept.count();
@@ -1336,8 +1345,8 @@ fn timed_render(
     context: &GpuContext,
     renderer: &ViewportRenderer,
     target: &ViewTarget,
-    geometry: &crate::gpu::PatchGeometry,
-    overlays: crate::view::Overlays,
+    geometry: &knotwork::gpu::PatchGeometry,
+    overlays: knotwork::view::Overlays,
 ) -> Result<f64, GpuError> {
     let start = Instant::now();
     let mut encoder = context.device.create_command_encoder(&Default::default());
@@ -1369,7 +1378,7 @@ fn evaluated(context: &GpuContext, scene: &Scene) -> Result<SceneSync, GpuError>
 fn median_frame_ms(
     context: &GpuContext,
     renderer: &ViewportRenderer,
-    geometry: &crate::gpu::PatchGeometry,
+    geometry: &knotwork::gpu::PatchGeometry,
     view: &ViewSettings,
     (samples, (w, h)): (u32, (u32, u32)),
     iterations: usize,
@@ -1420,7 +1429,7 @@ fn bench_frame(
         for (samples, (w, h)) in [
             (4, (1280, 800)),
             (1, (1280, 800)),
-            crate::render::Quality::software().target((1280, 800), true),
+            knotwork::render::Quality::software().target((1280, 800), true),
         ] {
             let ms = median_frame_ms(
                 context,
@@ -1536,7 +1545,7 @@ fn bench_analysis(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::view::ShadingMode;
+    use knotwork::view::ShadingMode;
     let sync = evaluated(context, scene)?;
     let geometry = sync.geometry().ok_or("nothing on the GPU")?;
     let renderer = ViewportRenderer::new(&context.device);
@@ -1580,7 +1589,7 @@ fn bench_analysis(
             },
         )?;
     }
-    let options = crate::scene::continuity::ContinuityOptions::default();
+    let options = knotwork::scene::continuity::ContinuityOptions::default();
     let teapot = Scene {
         objects: vec![scene.objects[0].clone()],
         unit: None,
@@ -1594,7 +1603,7 @@ fn bench_analysis(
         let mut edges = 0;
         for _ in 0..iterations.clamp(1, 5) {
             let start = Instant::now();
-            edges = crate::scene::continuity::analyse(scene, None, &options)
+            edges = knotwork::scene::continuity::analyse(scene, None, &options)
                 .edges
                 .len();
             times.push(start.elapsed().as_secs_f64() * 1e3);
@@ -1611,7 +1620,7 @@ fn bench_analysis(
 
 /// `n` × `n` bicubic surfaces, each a 4 × 4 net over a unit square of a wavy height field,
 /// meeting edge to edge (C0 along shared nets, the height field's continuity inside).
-pub fn joined_grid(n: usize) -> Result<Scene, crate::kernel::GeometryError> {
+pub fn joined_grid(n: usize) -> Result<Scene, knotwork::kernel::GeometryError> {
     let height = |x: f64, y: f64| 0.3 * (0.9 * x).sin() * (1.1 * y).cos();
     let mut objects = Vec::new();
     for i in 0..n {
@@ -1623,7 +1632,7 @@ pub fn joined_grid(n: usize) -> Result<Scene, crate::kernel::GeometryError> {
                     points.push(DVec3::new(x, y, height(x, y)));
                 }
             }
-            let surface = crate::kernel::construct::bspline_surface([3, 3], [4, 4], points)?;
+            let surface = knotwork::kernel::construct::bspline_surface([3, 3], [4, 4], points)?;
             objects.push(SceneObject::new(
                 format!("S{i}_{j}"),
                 ObjectGeometry::new(surface),
@@ -1750,7 +1759,7 @@ fn bench_webgl2(
     let mut view = ViewSettings::default();
     let (lo, hi) = doc.scene.bounds().ok_or("empty scene")?;
     view.camera.frame(lo.as_vec3(), hi.as_vec3(), 1.6);
-    let (samples, (w, h)) = crate::render::Quality::software().target((1280, 800), true);
+    let (samples, (w, h)) = knotwork::render::Quality::software().target((1280, 800), true);
     let target = ViewTarget::with_samples(&context.device, w, h, samples);
     renderer.set_scene(
         &context.queue,
@@ -1771,29 +1780,29 @@ fn bench_webgl2(
 /// A Catmull-Clark cage as a scene object at `level`.
 fn cage_object(
     name: &str,
-    mesh: crate::kernel::PolygonMesh,
+    mesh: knotwork::kernel::PolygonMesh,
     level: u32,
-) -> Result<SceneObject, crate::kernel::GeometryError> {
+) -> Result<SceneObject, knotwork::kernel::GeometryError> {
     cage_object_with(
         name,
         mesh,
         level,
-        crate::kernel::subdiv::Scheme::CatmullClark,
+        knotwork::kernel::subdiv::Scheme::CatmullClark,
     )
 }
 
 /// A cage under `scheme` as a scene object at `level`.
 fn cage_object_with(
     name: &str,
-    mesh: crate::kernel::PolygonMesh,
+    mesh: knotwork::kernel::PolygonMesh,
     level: u32,
-    scheme: crate::kernel::subdiv::Scheme,
-) -> Result<SceneObject, crate::kernel::GeometryError> {
-    let options = crate::kernel::subdiv::Options {
+    scheme: knotwork::kernel::subdiv::Scheme,
+) -> Result<SceneObject, knotwork::kernel::GeometryError> {
+    let options = knotwork::kernel::subdiv::Options {
         scheme,
         ..Default::default()
     };
-    let surface = crate::kernel::subdiv::SubdivisionSurface::new(
+    let surface = knotwork::kernel::subdiv::SubdivisionSurface::new(
         mesh,
         Vec::new(),
         Vec::new(),
@@ -1802,14 +1811,14 @@ fn cage_object_with(
     )?;
     Ok(SceneObject::new(
         format!("{name} L{level}"),
-        crate::scene::ObjectGeometry::new(crate::scene::SubdivObject::from(surface)),
+        knotwork::scene::ObjectGeometry::new(knotwork::scene::SubdivObject::from(surface)),
     ))
 }
 
 /// `mesh` with each quad split along its first diagonal (other faces kept).
 fn triangulated(
-    mesh: &crate::kernel::PolygonMesh,
-) -> Result<crate::kernel::PolygonMesh, crate::kernel::GeometryError> {
+    mesh: &knotwork::kernel::PolygonMesh,
+) -> Result<knotwork::kernel::PolygonMesh, knotwork::kernel::GeometryError> {
     let mut faces = Vec::with_capacity(2 * mesh.face_count());
     for face in mesh.faces() {
         if let [a, b, c, d] = *face {
@@ -1819,7 +1828,7 @@ fn triangulated(
             faces.push(face.to_vec());
         }
     }
-    crate::kernel::PolygonMesh::new(mesh.points().to_vec(), &faces)
+    knotwork::kernel::PolygonMesh::new(mesh.points().to_vec(), &faces)
 }
 
 /// Subdivision: the 48 × 32 torus cage at levels 3 and 4 and a 100,000-face torus at level 2
@@ -1833,8 +1842,8 @@ fn bench_subdivision(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::subdiv::cages;
-    use crate::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::cages;
+    use knotwork::kernel::subdiv::patches::Display;
     let torus = cages::torus(DVec3::ZERO, 2.0, 0.6, 48, 32)?;
     for level in [3, 4] {
         bench_object(
@@ -1866,7 +1875,7 @@ fn bench_subdivision(
     // The other schemes, every face through limit stencils: Doo-Sabin and √3 (one stencil
     // patch per polygon, at most 65,535) on a 24 × 16 torus, quads and split into triangles;
     // the butterfly (a grid per cage triangle) on the 48 × 32 one split into triangles.
-    use crate::kernel::subdiv::Scheme;
+    use knotwork::kernel::subdiv::Scheme;
     let small = cages::torus(DVec3::ZERO, 2.0, 0.6, 24, 16)?;
     let small_triangles = triangulated(&small)?;
     let triangles = triangulated(&torus)?;
@@ -1900,7 +1909,8 @@ fn bench_subdivision(
     }
 
     for level in [3, 4] {
-        let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(torus.clone(), level)?;
+        let surface =
+            knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(torus.clone(), level)?;
         let start = Instant::now();
         let feed = surface.limit_feed_with(level, Display::Limit, false)?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -1909,7 +1919,7 @@ fn bench_subdivision(
         let mut pass_ms = Vec::new();
         for _ in 0..iterations.clamp(1, 5) {
             let start = Instant::now();
-            match crate::gpu::subdiv_eval::evaluate_feed(
+            match knotwork::gpu::subdiv_eval::evaluate_feed(
                 &context.device,
                 &context.queue,
                 surface.points(),
@@ -1945,15 +1955,21 @@ fn bench_substitutes(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::kernel::subdiv::patches::Display;
-    use crate::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
-    use crate::scene::SubdivObject;
+    use knotwork::kernel::subdiv::patches::Display;
+    use knotwork::kernel::subdiv::{Options, Scheme, SubdivisionSurface, cages};
+    use knotwork::scene::SubdivObject;
     let cube = cages::cube(DVec3::ZERO, 2.0)?;
     let icosahedron = cages::icosahedron(DVec3::ZERO, 1.5)?;
     let torus = triangulated(&cages::torus(DVec3::ZERO, 2.0, 0.7, 24, 16)?)?;
     let quads = [Display::Limit, Display::Acc, Display::Gregory];
     let triangles = [Display::Limit, Display::PnTriangles];
-    let cases: [(&str, &crate::kernel::PolygonMesh, Scheme, u32, &[Display]); 5] = [
+    let cases: [(
+        &str,
+        &knotwork::kernel::PolygonMesh,
+        Scheme,
+        u32,
+        &[Display],
+    ); 5] = [
         ("cube", &cube, Scheme::CatmullClark, 4, &quads),
         ("icosahedron", &icosahedron, Scheme::CatmullClark, 4, &quads),
         ("24x16 tri torus", &torus, Scheme::CatmullClark, 3, &quads),
@@ -2007,9 +2023,9 @@ fn bench_export(
     iterations: usize,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use crate::io::gltf::{self, CurvatureColors, ExportOptions};
-    use crate::io::project::Project;
-    use crate::kernel::tess::Tessellation;
+    use knotwork::io::gltf::{self, CurvatureColors, ExportOptions};
+    use knotwork::io::project::Project;
+    use knotwork::kernel::tess::Tessellation;
     let project = Project {
         scene: scene.clone(),
         view: None,
@@ -2020,7 +2036,7 @@ fn bench_export(
             tessellation: Tessellation::Tolerance(fraction * size),
             curvature,
             colors: curvature.then(|| {
-                CurvatureColors::automatic(scene, 1, crate::gpu::records::curvature_ramp_rgb())
+                CurvatureColors::automatic(scene, 1, knotwork::gpu::records::curvature_ramp_rgb())
             }),
         };
         let (ms, (triangles, bytes)) = median_ms(iterations.clamp(1, 5), || {
@@ -2042,10 +2058,10 @@ fn bench_export(
     // What the web page's exportGlb runs (as WebAssembly there): the document as project-file
     // text, the default tolerance, curvature and mean-curvature colours over the automatic
     // range; the browser test prints the page's figure for the same call.
-    let text = crate::io::project::write(&project);
+    let text = knotwork::io::project::write(&project);
     let options = r#"{"curvature": true, "colors": "mean"}"#;
     let (ms, bytes) = median_ms(iterations.clamp(1, 5), || {
-        gltf::glb_from_json(&text, options, crate::gpu::records::curvature_ramp_rgb())
+        gltf::glb_from_json(&text, options, knotwork::gpu::records::curvature_ramp_rgb())
             .map(|glb| glb.len())
     })?;
     writeln!(
@@ -2062,7 +2078,7 @@ fn bench_export(
                 scene,
                 tessellation,
                 usize::MAX,
-                crate::kernel::tess::Estimate::Close,
+                knotwork::kernel::tess::Estimate::Close,
             )
             .map(|counts| counts.iter().sum::<usize>())
         })?;
@@ -2073,13 +2089,13 @@ fn bench_export(
     }
     // Curvature for a subdivision surface's export: its stencils leave it undefined at
     // extraordinary vertices, so it is estimated on the mesh (Rusinkiewicz 2004).
-    let cube = crate::kernel::subdiv::cages::cube(glam::DVec3::ZERO, 2.0)?;
-    let surface = crate::kernel::subdiv::SubdivisionSurface::from_mesh(cube, 5)?;
+    let cube = knotwork::kernel::subdiv::cages::cube(glam::DVec3::ZERO, 2.0)?;
+    let surface = knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(cube, 5)?;
     let cage = Project {
         scene: Scene {
-            objects: vec![crate::scene::SceneObject::new(
+            objects: vec![knotwork::scene::SceneObject::new(
                 "cube cage",
-                crate::scene::ObjectGeometry::new(crate::scene::SubdivObject::new(
+                knotwork::scene::ObjectGeometry::new(knotwork::scene::SubdivObject::new(
                     surface,
                     Default::default(),
                 )),
@@ -2114,10 +2130,13 @@ fn bench_export(
 /// by side (1,000 patches for 10), each trimmed by its domain's boundary and one hole in every
 /// patch, a ten-sided loop of cubic curves (about 10,000 curves for 10 objects); with `trimmed`
 /// false the same surfaces untrimmed.
-pub fn trimmed_scene(objects: usize, trimmed: bool) -> Result<Scene, crate::kernel::GeometryError> {
-    use crate::kernel::trim::shapes;
-    use crate::kernel::{TrimCurve, TrimmedSurface};
+pub fn trimmed_scene(
+    objects: usize,
+    trimmed: bool,
+) -> Result<Scene, knotwork::kernel::GeometryError> {
     use glam::DVec2;
+    use knotwork::kernel::trim::shapes;
+    use knotwork::kernel::{TrimCurve, TrimmedSurface};
     let mut scene = Scene::default();
     for k in 0..objects {
         let landscape = landscape(13)?;
@@ -2226,7 +2245,7 @@ fn bench_trim(
     let size = trimmed.bounds().map_or(1.0, |(lo, hi)| {
         (hi - lo).length() / trimmed.objects.len() as f64
     });
-    let tessellation = crate::kernel::tess::Tessellation::Tolerance(1e-3 * size);
+    let tessellation = knotwork::kernel::tess::Tessellation::Tolerance(1e-3 * size);
     let mut times = Vec::new();
     let mut triangles = 0;
     for _ in 0..iterations.clamp(1, 3) {
