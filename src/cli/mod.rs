@@ -91,7 +91,8 @@ pub enum Command {
     /// Describe a STEP file: its bodies, faces per surface type, units, bounding box and
     /// warnings, as JSON. A file that cannot be read exits 1 with the message.
     Info {
-        /// The .step/.stp file.
+        /// The file: STEP (its bodies as the file has them), or a project, glTF or OBJ (its
+        /// objects, each with its area and, closed, its volume and centroid).
         input: std::path::PathBuf,
     },
     /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a

@@ -91,3 +91,38 @@ fn bare_surfaces(text: &str) -> Result<Project, FormatError> {
     }
     Ok(Project { scene, view: None })
 }
+
+/// A scene described for `knotwork info`: its unit and each object as a body (name, kind,
+/// faces, whether they close it, area and, closed, volume and centroid; exact:
+/// [`crate::kernel::mass`]). Objects without NURBS faces give their name and kind alone.
+pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
+    let bodies: Vec<serde_json::Value> = scene
+        .objects
+        .iter()
+        .map(|object| {
+            let mut body = serde_json::json!({
+                "name": object.name,
+                "kind": object.kind().kind_name(),
+            });
+            if let Some(faces) = object.body() {
+                body["faces"] = faces.faces.len().into();
+                body["closed"] = faces.closed.into();
+                match faces.measure() {
+                    Ok((area, mass)) => {
+                        body["area"] = area.into();
+                        if let Some(m) = mass {
+                            body["volume"] = m.volume.into();
+                            body["centroid"] = serde_json::json!(m.centroid.to_array());
+                        }
+                    }
+                    Err(e) => body["error"] = e.to_string().into(),
+                }
+            }
+            body
+        })
+        .collect();
+    serde_json::json!({
+        "unit": scene.unit.map(|u| u.symbol()),
+        "bodies": bodies,
+    })
+}

@@ -173,6 +173,56 @@ impl ObjectGeometry {
     }
 }
 
+/// An object's faces as one body: what its mass properties are measured on.
+pub struct Body {
+    pub faces: Vec<TrimmedSurface>,
+    /// The faces to turn over so that all agree in orientation across shared edges
+    /// ([`crate::kernel::join::orientation`]).
+    pub flipped: Vec<bool>,
+    /// Whether the faces close it (no naked edge).
+    pub closed: bool,
+}
+
+impl Body {
+    /// The area, and for a closed body the mass properties ([`crate::kernel::mass`]).
+    pub fn measure(
+        &self,
+    ) -> Result<(f64, Option<crate::kernel::mass::MassProperties>), GeometryError> {
+        if self.closed {
+            let m = crate::kernel::mass::mass_properties(&self.faces, &self.flipped)?;
+            Ok((m.area, Some(m)))
+        } else {
+            Ok((crate::kernel::mass::area(&self.faces)?, None))
+        }
+    }
+}
+
+impl SceneObject {
+    /// The object's faces as one body: a polysurface's faces with the topology of its join
+    /// tolerance, or a NURBS surface's face alone (a sphere, a torus) at 1e-6 of its size;
+    /// `None` for a kind without trimmed NURBS faces.
+    pub fn body(&self) -> Option<Body> {
+        let (faces, topology) = match self.geometry.as_polysurface() {
+            Some(p) => (p.faces().to_vec(), p.topology().ok().cloned()),
+            None => {
+                let face = self.geometry.as_trimmed()?;
+                let tolerance = 1e-6 * face.surface().size();
+                let topology = find_topology(std::slice::from_ref(&face), tolerance).ok();
+                (vec![face], topology)
+            }
+        };
+        let closed = topology.as_ref().is_some_and(|t| t.naked.is_empty());
+        let flipped = topology.map_or_else(Vec::new, |t| {
+            crate::kernel::join::orientation(faces.len(), &t)
+        });
+        Some(Body {
+            faces,
+            flipped,
+            closed,
+        })
+    }
+}
+
 impl ObjectKind for Polysurface {
     fn kind_name(&self) -> &'static str {
         "a polysurface"

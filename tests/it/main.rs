@@ -25,6 +25,7 @@ mod intersect;
 mod kernel_props;
 mod lattice;
 mod layers;
+mod mass;
 mod object_kinds;
 mod occ_reference;
 mod operations;

@@ -44,6 +44,7 @@ pub mod intersect;
 pub mod intersect_curve;
 pub mod join;
 pub mod loft;
+pub mod mass;
 pub mod mesh;
 pub mod mesh_curvature;
 pub mod network;

@@ -22,10 +22,18 @@ pub struct KindPanel {
 }
 
 /// The built-in kinds' panels.
-pub const BUILT_IN: [KindPanel; 3] = [
+pub const BUILT_IN: [KindPanel; 4] = [
     KindPanel {
         kinds: &["a NURBS surface", "a trimmed NURBS surface"],
         show: |app, ui, s| app.knots_and_degree(ui, s),
+    },
+    KindPanel {
+        kinds: &[
+            "a NURBS surface",
+            "a trimmed NURBS surface",
+            "a polysurface",
+        ],
+        show: |app, ui, s| app.mass_panel(ui, s),
     },
     KindPanel {
         kinds: &["a subdivision surface", "a polygon mesh"],

@@ -5,6 +5,7 @@
 mod create;
 mod deform;
 pub mod kinds;
+mod measure;
 mod objects;
 mod properties;
 mod shading;
@@ -42,6 +43,9 @@ pub struct PanelState {
     pub loaded_for: Option<FieldSource>,
     /// The widget whose last command was refused, and why: shown beside it.
     pub widget_error: Option<(&'static str, String)>,
+    /// The last mass properties measured: the object, the document's revision then, and the
+    /// lines to show (or why it could not be measured).
+    pub measured: Option<(usize, u64, Result<Vec<String>, String>)>,
 }
 
 /// What the panel's fields show: the selected object, its edited and selected points, and
@@ -72,6 +76,7 @@ impl Default for PanelState {
             trim_menu: None,
             loaded_for: None,
             widget_error: None,
+            measured: None,
         }
     }
 }

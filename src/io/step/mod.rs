@@ -404,7 +404,7 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
             lo = lo.min(a);
             hi = hi.max(c);
         }
-        bodies.push(serde_json::json!({
+        let mut body = serde_json::json!({
             "name": b.name,
             "faces": b.faces.len(),
             "surfaces": types,
@@ -412,7 +412,18 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
             "shared_edges": b.topology.shared.len(),
             "naked_edges": b.topology.naked.len(),
             "color": b.color,
-        }));
+        });
+        body["area"] = crate::kernel::mass::area(&b.faces)
+            .map_or(serde_json::Value::Null, serde_json::Value::from);
+        // Volume and centroid for a closed body (exact: the divergence theorem over the faces).
+        let flipped = crate::kernel::join::orientation(b.faces.len(), &b.topology);
+        if b.closed
+            && let Ok(m) = crate::kernel::mass::mass_properties(&b.faces, &flipped)
+        {
+            body["volume"] = m.volume.into();
+            body["centroid"] = serde_json::json!(m.centroid.to_array());
+        }
+        bodies.push(body);
     }
     let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
     Ok(serde_json::json!({

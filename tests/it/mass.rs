@@ -1,0 +1,136 @@
+//! Mass properties: `knotwork info` gives each body's area and, closed, its volume and centroid,
+//! exactly (the divergence theorem over the faces, not a mesh), checked against closed forms
+//! on bodies in general position: a box of planes with mixed orientations joined into a
+//! polysurface, a NURBS sphere, an open cup (area only), and a STEP sphere cut by two planes
+//! whose area and volume the script that made it computed in closed form.
+
+use glam::{DAffine3, DQuat, DVec3};
+use knotwork::io::project::{self, Project};
+use knotwork::kernel::construct;
+use knotwork::kernel::trim::TrimmedSurface;
+use knotwork::scene::polysurface::Polysurface;
+use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+use serde_json::Value;
+use std::f64::consts::PI;
+
+fn info(path: &std::path::Path) -> Value {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .arg("info")
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+fn point(value: &Value) -> DVec3 {
+    let a: Vec<f64> = serde_json::from_value(value.clone()).unwrap();
+    DVec3::new(a[0], a[1], a[2])
+}
+
+#[test]
+fn knotwork_info_gives_each_bodys_exact_area_volume_and_centroid() {
+    let motion = DAffine3::from_scale_rotation_translation(
+        DVec3::splat(1.7),
+        DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.5).normalize(), 2.1),
+        DVec3::new(41.0, -13.0, 7.5),
+    );
+    let plane = |o: DVec3, u: DVec3, v: DVec3| {
+        let s = construct::plane(o, u, v)
+            .unwrap()
+            .transformed(&motion)
+            .unwrap();
+        TrimmedSurface::untrimmed(s)
+    };
+    // The box [0, 2] × [0, 1] × [0, 1.5], its planes facing either way.
+    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
+    let faces = vec![
+        plane(DVec3::ZERO, y, x),
+        plane(z, y, x),
+        plane(DVec3::ZERO, x, z),
+        plane(y, x, z),
+        plane(DVec3::ZERO, z, y),
+        plane(x, y, z),
+    ];
+    let block = Polysurface::new(faces, 1e-9).unwrap();
+    let r = 0.9;
+    let centre = DVec3::new(-3.0, 2.0, 1.0);
+    let sphere = construct::sphere(centre, r)
+        .unwrap()
+        .transformed(&motion)
+        .unwrap();
+    let side = construct::cylinder(DVec3::ZERO, DVec3::Z, 0.8).unwrap();
+    let circle = construct::circle(DVec3::ZERO, DVec3::Z, DVec3::X, 0.8).unwrap();
+    let cap = knotwork::kernel::planar::planar_face(&[circle]).unwrap();
+    let cup = Polysurface::new(vec![TrimmedSurface::untrimmed(side), cap], 1e-7).unwrap();
+    let scene = Scene {
+        objects: vec![
+            SceneObject::new("block", ObjectGeometry::new(block)),
+            SceneObject::new("ball", ObjectGeometry::new(sphere)),
+            SceneObject::new("cup", ObjectGeometry::new(cup)),
+        ],
+        unit: None,
+    };
+    let path = crate::common::artifact_path("mass-bodies.json");
+    std::fs::write(&path, project::write(&Project { scene, view: None })).unwrap();
+    let out = info(&path);
+    let bodies = out["bodies"].as_array().unwrap();
+    let s = 1.7_f64;
+
+    let block = &bodies[0];
+    assert_eq!(block["closed"], true, "{block}");
+    let volume = block["volume"].as_f64().unwrap();
+    assert!(relative(volume, 3.0 * s.powi(3)) < 1e-12, "{volume}");
+    let area = block["area"].as_f64().unwrap();
+    assert!(relative(area, 13.0 * s * s) < 1e-12, "{area}");
+    let middle = motion.transform_point3(DVec3::new(1.0, 0.5, 0.75));
+    assert!(point(&block["centroid"]).distance(middle) < 1e-9, "{block}");
+
+    let ball = &bodies[1];
+    assert_eq!(ball["closed"], true, "{ball}");
+    let rs = r * s;
+    let volume = ball["volume"].as_f64().unwrap();
+    assert!(
+        relative(volume, 4.0 / 3.0 * PI * rs.powi(3)) < 1e-9,
+        "{volume}"
+    );
+    assert!(relative(ball["area"].as_f64().unwrap(), 4.0 * PI * rs * rs) < 1e-9);
+    assert!(point(&ball["centroid"]).distance(motion.transform_point3(centre)) < 1e-9);
+
+    let cup = &bodies[2];
+    assert_eq!(cup["closed"], false, "{cup}");
+    assert!(cup.get("volume").is_none(), "{cup}");
+    let area = 2.0 * PI * 0.8 + PI * 0.64;
+    assert!(
+        relative(cup["area"].as_f64().unwrap(), area) < 1e-9,
+        "{cup}"
+    );
+}
+
+#[test]
+fn knotwork_info_measures_a_step_body_to_its_closed_form() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/occ/step");
+    let reference: Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{dir}/step.json")).unwrap())
+            .unwrap();
+    let out = info(std::path::Path::new(&format!("{dir}/sphere-cut.step")));
+    let body = &out["bodies"][0];
+    let expected = &reference["sphere-cut.step"];
+    let area = body["area"].as_f64().unwrap();
+    let volume = body["volume"].as_f64().unwrap();
+    let exact_area = expected["analytic_area"].as_f64().unwrap();
+    let exact_volume = expected["analytic_volume"].as_f64().unwrap();
+    assert!(relative(area, exact_area) < 1e-9, "{area} {exact_area}");
+    assert!(
+        relative(volume, exact_volume) < 1e-9,
+        "{volume} {exact_volume}"
+    );
+}
