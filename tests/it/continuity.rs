@@ -238,18 +238,9 @@ fn continuity_cli(
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, doc.save(None)).unwrap();
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .arg("continuity")
-        .arg(&path)
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    (path, serde_json::from_slice(&output.stdout).unwrap())
+    let mut all = vec![std::ffi::OsString::from("continuity"), path.clone().into()];
+    all.extend(args.iter().map(std::ffi::OsString::from));
+    (path, crate::common::knotwork_json(&all))
 }
 
 #[test]

@@ -14,17 +14,7 @@ use serde_json::Value;
 use std::f64::consts::PI;
 
 fn info(path: &std::path::Path) -> Value {
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .arg("info")
-        .arg(path)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    serde_json::from_slice(&output.stdout).unwrap()
+    crate::common::knotwork_json(&[std::ffi::OsStr::new("info"), path.as_os_str()])
 }
 
 fn relative(a: f64, b: f64) -> f64 {

@@ -400,3 +400,18 @@ pub fn validate_gltf(files: &[PathBuf]) {
         output.status
     );
 }
+
+/// Runs the `knotwork` binary with `args` and reads its standard output as JSON; the test
+/// fails with its standard error when it exits with an error.
+pub fn knotwork_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(args)
+        .output()
+        .expect("the knotwork binary runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).expect("JSON on standard output")
+}
