@@ -168,15 +168,28 @@ fn order(surface: &NurbsSurface) -> usize {
     }
 }
 
-/// The integrands of `surface` at (u, v), about `origin`.
-fn integrand(
+/// Σ w_i w_j f(u_i, v_j) of the integrands of `surface` about `origin` over the grid `us` ×
+/// `vs` with weights `wu` and `wv` (first derivatives only, by the surface's grid evaluation).
+fn grid_sum(
     surface: &NurbsSurface,
-    u: f64,
-    v: f64,
+    (us, wu): (&[f64], &[f64]),
+    (vs, wv): (&[f64], &[f64]),
     origin: DVec3,
 ) -> Result<Moments, GeometryError> {
-    let d: SurfaceDerivatives = surface.evaluate(u, v)?;
-    Ok(Moments::at(d.point - origin, d.su.cross(d.sv)))
+    let mut total = Moments::default();
+    surface.evaluate_grid(us, vs, false, |i, j, d: &SurfaceDerivatives| {
+        total += Moments::at(d.point - origin, d.su.cross(d.sv)) * (wu[i] * wv[j]);
+    })?;
+    Ok(total)
+}
+
+/// The nodes and weights of `rule` mapped to [a, b], appended to `nodes` and `weights`.
+fn nodes_on(a: f64, b: f64, rule: &[(f64, f64)], nodes: &mut Vec<f64>, weights: &mut Vec<f64>) {
+    let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+    for &(x, w) in rule {
+        nodes.push(mid + half * x);
+        weights.push(w * half);
+    }
 }
 
 /// Gauss–Legendre over [a, b] with `rule` ([`gauss_legendre`]).
@@ -202,27 +215,29 @@ pub fn face_moments(face: &TrimmedSurface, origin: DVec3) -> Result<Moments, Geo
     let vs = surface.span_breaks(Direction::V);
     if !face.is_trimmed() {
         // The whole domain: a tensor rule on every Bézier span.
-        let mut total = Moments::default();
+        let (mut nu, mut wu, mut nv, mut wv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for u in us.windows(2) {
-            for v in vs.windows(2) {
-                total += integrate(u[0], u[1], &rule, |u| {
-                    integrate(v[0], v[1], &rule, |v| integrand(surface, u, v, origin))
-                })?;
-            }
+            nodes_on(u[0], u[1], &rule, &mut nu, &mut wu);
         }
-        return Ok(total);
+        for v in vs.windows(2) {
+            nodes_on(v[0], v[1], &rule, &mut nv, &mut wv);
+        }
+        return grid_sum(surface, (&nu, &wu), (&nv, &wv), origin);
     }
     // F(u, v) = ∫_{u₀}^{u} f(s, v) ds, split at the u knots below u.
     let inner = |u: f64, v: f64| -> Result<Moments, GeometryError> {
-        let mut total = Moments::default();
+        let (mut nodes, mut weights) = (Vec::new(), Vec::new());
         for w in us.windows(2) {
             let (a, b) = (w[0], w[1].min(u));
             if b <= a {
                 break;
             }
-            total += integrate(a, b, &rule, |s| integrand(surface, s, v, origin))?;
+            nodes_on(a, b, &rule, &mut nodes, &mut weights);
         }
-        Ok(total)
+        if nodes.is_empty() {
+            return Ok(Moments::default());
+        }
+        grid_sum(surface, (&nodes, &weights), (&[v], &[1.0]), origin)
     };
     // Loops may stray outside the domain by their validation's tolerance: clamped.
     let [(u0, u1), (v0, v1)] = surface.domain();

@@ -400,7 +400,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 17] = [
+pub const GROUPS: [&str; 18] = [
     "edit",
     "webgl2",
     "frame",
@@ -417,6 +417,7 @@ pub const GROUPS: [&str; 17] = [
     "lattice",
     "intersect",
     "step",
+    "mass",
     "all",
 ];
 
@@ -479,6 +480,9 @@ pub fn run(
     if wants("step") {
         bench_step(iterations, out)?;
         bench_step_large(context, iterations, out)?;
+    }
+    if wants("mass") {
+        bench_mass(iterations, out)?;
     }
     Ok(())
 }
@@ -2264,5 +2268,45 @@ fn bench_trim(
         "export trimmed, tol 1e-3 × size | {triangles:>9} triangles | {ms:8.1} ms, {:.2} M triangles/s (grid clipped by the loops)",
         triangles as f64 / ms / 1e3,
     )?;
+    Ok(())
+}
+
+/// Exact mass properties ([`knotwork::kernel::mass`]): a NURBS sphere, and every closed body of
+/// OpenCASCADE's plate of 806 faces (planes and cylinders trimmed by their holes) and of the
+/// CAx-IF's B-spline head (rational bicubic faces), as `knotwork info` measures them.
+fn bench_mass(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std::error::Error>> {
+    use knotwork::kernel::mass::mass_properties;
+    use knotwork::kernel::trim::TrimmedSurface;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let sphere = TrimmedSurface::untrimmed(construct::sphere(DVec3::new(1.0, 2.0, 3.0), 2.0)?);
+    let (ms, m) = median_ms(iterations.max(3), || {
+        mass_properties(std::slice::from_ref(&sphere), &[])
+    })?;
+    writeln!(
+        out,
+        "mass NURBS sphere (32 rational patches)        | {ms:8.3} ms (volume {:.12})",
+        m.volume
+    )?;
+    for (file, name) in [
+        ("tests/reference/occ/step/plate-20.step", "plate, 806 faces"),
+        (
+            "tests/reference/step-public/cax-if__s1-tu-203__headfront.stp",
+            "B-spline head, 5 faces",
+        ),
+    ] {
+        let bytes = std::fs::read(root.join(file))?;
+        let model = knotwork::io::step::read::read(&bytes, &mut |_, _| true)?;
+        let (ms, volume) = median_ms(iterations.max(3), || {
+            model
+                .bodies
+                .iter()
+                .map(|b| {
+                    let flipped = knotwork::kernel::join::orientation(b.faces.len(), &b.topology);
+                    mass_properties(&b.faces, &flipped).map(|m| m.volume)
+                })
+                .sum::<Result<f64, _>>()
+        })?;
+        writeln!(out, "mass {name:<40} | {ms:8.3} ms (volume {volume:.6})")?;
+    }
     Ok(())
 }
