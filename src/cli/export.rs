@@ -1,4 +1,4 @@
-//! `knotwork export`: a project or a file exported as glTF or STEP.
+//! `knotwork export`: a project or a file exported as glTF, STEP or binary STL.
 
 use std::process::ExitCode;
 
@@ -63,6 +63,22 @@ fn export_files(args: &ExportArgs<'_>) -> Result<String, String> {
             "wrote {} ({} bytes), in {:.0} ms",
             args.output.display(),
             text.len(),
+            started.elapsed().as_secs_f64() * 1e3
+        ));
+    }
+    if extension == "stl" {
+        let tolerance = args
+            .tolerance
+            .unwrap_or_else(|| gltf::default_tolerance(&project.scene));
+        let (bytes, facets) =
+            knotwork::io::stl::write(&project.scene, Tessellation::Tolerance(tolerance))
+                .map_err(|e| e.to_string())?;
+        std::fs::write(args.output, &bytes)
+            .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+        return Ok(format!(
+            "wrote {} ({} bytes): {facets} facets, tolerance {tolerance:.3e}, in {:.0} ms",
+            args.output.display(),
+            bytes.len(),
             started.elapsed().as_secs_f64() * 1e3
         ));
     }

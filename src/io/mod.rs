@@ -14,6 +14,7 @@ pub mod height_image;
 pub mod obj;
 pub mod project;
 pub mod step;
+pub mod stl;
 
 use crate::scene::json::{self, FormatError};
 use project::Project;

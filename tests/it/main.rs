@@ -34,6 +34,7 @@ mod readme;
 mod render_viewport;
 mod shaders;
 mod step_files;
+mod stl_export;
 mod subdivision;
 mod subdivision_schemes;
 mod substitutes;

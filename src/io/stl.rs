@@ -1,0 +1,73 @@
+//! Binary STL for printing: every visible object's export mesh (the tessellation glTF uses,
+//! within the same tolerance), one facet list. A joined polysurface's mesh shares its vertices
+//! along shared edges, so a closed body comes out watertight; each object's triangles are
+//! turned so that a closed one's normals point outward (its signed volume positive). STL has no
+//! unit: coordinates are the document's (millimetres when it says so, as printers assume).
+//!
+//! Layout (little-endian): an 80-byte header, the facet count (u32), then per facet the normal
+//! and three vertices as f32 triples and a zero u16 attribute count: 50 bytes a facet.
+
+use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::scene::Scene;
+
+/// Why an STL could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum StlError {
+    #[error("nothing to export: no visible object has faces")]
+    Empty,
+    #[error("{name}: {source}")]
+    Object {
+        name: String,
+        source: crate::kernel::GeometryError,
+    },
+    #[error("{0} facets are more than an STL file holds")]
+    TooMany(usize),
+}
+
+/// The binary STL of `scene`'s visible objects at `tessellation`, and its facet count.
+pub fn write(scene: &Scene, tessellation: Tessellation) -> Result<(Vec<u8>, usize), StlError> {
+    let mut meshes: Vec<TriangleMesh> = Vec::new();
+    for object in scene.objects.iter().filter(|o| o.visible) {
+        let mut parts =
+            object
+                .tessellate(tessellation, false)
+                .map_err(|source| StlError::Object {
+                    name: object.name.clone(),
+                    source,
+                })?;
+        // One object's parts are one body: turned together, outward when they enclose volume.
+        let volume: f64 = parts.iter().map(TriangleMesh::signed_volume).sum();
+        if volume < 0.0 {
+            for part in &mut parts {
+                for t in &mut part.triangles {
+                    t.swap(1, 2);
+                }
+            }
+        }
+        meshes.extend(parts);
+    }
+    let facets: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+    if facets == 0 {
+        return Err(StlError::Empty);
+    }
+    let count = u32::try_from(facets).map_err(|_| StlError::TooMany(facets))?;
+    let mut bytes = Vec::with_capacity(84 + 50 * facets);
+    let mut header = [b' '; 80];
+    let unit = scene.unit.map_or("unitless", |u| u.symbol());
+    let title = format!("knotwork binary STL, {unit}");
+    header[..title.len().min(80)].copy_from_slice(&title.as_bytes()[..title.len().min(80)]);
+    bytes.extend_from_slice(&header);
+    bytes.extend_from_slice(&count.to_le_bytes());
+    for mesh in &meshes {
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+            for v in [(b - a).cross(c - a).normalize_or_zero(), a, b, c] {
+                for x in v.to_array() {
+                    bytes.extend_from_slice(&(x as f32).to_le_bytes());
+                }
+            }
+            bytes.extend_from_slice(&[0, 0]);
+        }
+    }
+    Ok((bytes, facets))
+}
