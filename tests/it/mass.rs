@@ -33,24 +33,7 @@ fn knotwork_info_gives_each_bodys_exact_area_volume_and_centroid() {
         DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.5).normalize(), 2.1),
         DVec3::new(41.0, -13.0, 7.5),
     );
-    let plane = |o: DVec3, u: DVec3, v: DVec3| {
-        let s = construct::plane(o, u, v)
-            .unwrap()
-            .transformed(&motion)
-            .unwrap();
-        TrimmedSurface::untrimmed(s)
-    };
-    // The box [0, 2] × [0, 1] × [0, 1.5], its planes facing either way.
-    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
-    let faces = vec![
-        plane(DVec3::ZERO, y, x),
-        plane(z, y, x),
-        plane(DVec3::ZERO, x, z),
-        plane(y, x, z),
-        plane(DVec3::ZERO, z, y),
-        plane(x, y, z),
-    ];
-    let block = Polysurface::new(faces, 1e-9).unwrap();
+    let block = crate::common::box_of_planes(&motion);
     let r = 0.9;
     let centre = DVec3::new(-3.0, 2.0, 1.0);
     let sphere = construct::sphere(centre, r)

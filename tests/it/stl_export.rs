@@ -9,8 +9,6 @@ use std::f64::consts::PI;
 use glam::{DAffine3, DQuat, DVec3};
 use knotwork::io::project::{self, Project};
 use knotwork::kernel::construct;
-use knotwork::kernel::trim::TrimmedSurface;
-use knotwork::scene::polysurface::Polysurface;
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// The facets of a binary STL: (normal, [a, b, c]) in f32.
@@ -35,24 +33,7 @@ fn an_stl_of_closed_bodies_is_watertight_outward_and_holds_their_volume() {
         DQuat::from_axis_angle(DVec3::new(-0.4, 0.7, 0.2).normalize(), 0.9),
         DVec3::new(-30.0, 55.0, 12.0),
     );
-    let plane = |o: DVec3, u: DVec3, v: DVec3| {
-        TrimmedSurface::untrimmed(
-            construct::plane(o, u, v)
-                .unwrap()
-                .transformed(&motion)
-                .unwrap(),
-        )
-    };
-    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
-    let faces = vec![
-        plane(DVec3::ZERO, y, x),
-        plane(z, y, x),
-        plane(DVec3::ZERO, x, z),
-        plane(y, x, z),
-        plane(DVec3::ZERO, z, y),
-        plane(x, y, z),
-    ];
-    let block = Polysurface::new(faces, 1e-9).unwrap();
+    let block = crate::common::box_of_planes(&motion);
     let ball = construct::sphere(DVec3::new(-2.0, 1.0, 0.5), 0.8)
         .unwrap()
         .transformed(&motion)

@@ -415,3 +415,26 @@ pub fn knotwork_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value
     );
     serde_json::from_slice(&output.stdout).expect("JSON on standard output")
 }
+
+/// The box [0, 2] × [0, 1] × [0, 1.5] as six planes facing either way (so that only the shared
+/// edges say how to orient them), moved by `motion` and joined: volume 3 and area 13 before
+/// the motion's scale.
+pub fn box_of_planes(motion: &glam::DAffine3) -> knotwork::scene::polysurface::Polysurface {
+    use knotwork::kernel::trim::TrimmedSurface;
+    let plane = |o: DVec3, u: DVec3, v: DVec3| {
+        let s = knotwork::kernel::construct::plane(o, u, v)
+            .and_then(|s| s.transformed(motion))
+            .expect("a plane");
+        TrimmedSurface::untrimmed(s)
+    };
+    let (x, y, z) = (DVec3::X * 2.0, DVec3::Y, DVec3::Z * 1.5);
+    let faces = vec![
+        plane(DVec3::ZERO, y, x),
+        plane(z, y, x),
+        plane(DVec3::ZERO, x, z),
+        plane(y, x, z),
+        plane(DVec3::ZERO, z, y),
+        plane(x, y, z),
+    ];
+    knotwork::scene::polysurface::Polysurface::new(faces, 1e-9).expect("six faces")
+}
