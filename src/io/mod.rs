@@ -108,6 +108,9 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
             if let Some(faces) = object.body() {
                 body["faces"] = faces.faces.len().into();
                 body["closed"] = faces.closed.into();
+                if let Some(topology) = &faces.topology {
+                    body["validity"] = validity_value(&faces.faces, topology);
+                }
                 match faces.measure() {
                     Ok((area, mass)) => {
                         body["area"] = area.into();
@@ -125,5 +128,35 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
     serde_json::json!({
         "unit": scene.unit.map(|u| u.symbol()),
         "bodies": bodies,
+    })
+}
+
+/// A body's validity for `knotwork info` ([`crate::kernel::join::validity`]): the counts of
+/// naked, non-manifold and misoriented edges, and each one's place (its face, loop and curve,
+/// and a point half way along it).
+pub fn validity_value(
+    faces: &[crate::kernel::trim::TrimmedSurface],
+    topology: &crate::kernel::join::Topology,
+) -> serde_json::Value {
+    use crate::kernel::join::{EdgeId, edge_polyline, validity};
+    let v = validity(faces.len(), topology);
+    let size = faces.iter().map(|f| f.surface().size()).fold(0.0, f64::max);
+    let place = |e: EdgeId| {
+        let at = edge_polyline(faces, e, 1e-3 * size)
+            .ok()
+            .and_then(|points| points.get(points.len() / 2).copied())
+            .map(|p| p.to_array());
+        serde_json::json!({"face": e.face, "loop": e.loop_index, "curve": e.curve, "at": at})
+    };
+    serde_json::json!({
+        "closed_shell": v.is_closed_shell(),
+        "naked_edges": v.naked.len(),
+        "non_manifold_edges": v.non_manifold.len(),
+        "misoriented_edges": v.misoriented.len(),
+        "places": {
+            "naked": v.naked.iter().map(|&e| place(e)).collect::<Vec<_>>(),
+            "non_manifold": v.non_manifold.iter().map(|&e| place(e)).collect::<Vec<_>>(),
+            "misoriented": v.misoriented.iter().map(|&(a, _)| place(a)).collect::<Vec<_>>(),
+        },
     })
 }

@@ -181,6 +181,8 @@ pub struct Body {
     pub flipped: Vec<bool>,
     /// Whether the faces close it (no naked edge).
     pub closed: bool,
+    /// Their shared and naked edges, where they could be worked out.
+    pub topology: Option<Topology>,
 }
 
 impl Body {
@@ -212,13 +214,14 @@ impl SceneObject {
             }
         };
         let closed = topology.as_ref().is_some_and(|t| t.naked.is_empty());
-        let flipped = topology.map_or_else(Vec::new, |t| {
-            crate::kernel::join::orientation(faces.len(), &t)
+        let flipped = topology.as_ref().map_or_else(Vec::new, |t| {
+            crate::kernel::join::orientation(faces.len(), t)
         });
         Some(Body {
             faces,
             flipped,
             closed,
+            topology,
         })
     }
 }

@@ -78,8 +78,18 @@ fn knotwork_info_gives_each_bodys_exact_area_volume_and_centroid() {
     assert!(relative(ball["area"].as_f64().unwrap(), 4.0 * PI * rs * rs) < 1e-9);
     assert!(point(&ball["centroid"]).distance(motion.transform_point3(centre)) < 1e-9);
 
+    assert_eq!(block["validity"]["closed_shell"], true, "{block}");
     let cup = &bodies[2];
     assert_eq!(cup["closed"], false, "{cup}");
+    // The cup's open rim is its naked edge, found at the rim's height (z = 1, radius 0.8).
+    let validity = &cup["validity"];
+    assert_eq!(validity["closed_shell"], false, "{validity}");
+    assert_eq!(validity["naked_edges"], 1, "{validity}");
+    let rim = point(&validity["places"]["naked"][0]["at"]);
+    assert!(
+        (rim.z - 1.0).abs() < 1e-9 && (rim.truncate().length() - 0.8).abs() < 1e-3,
+        "{rim}"
+    );
     assert!(cup.get("volume").is_none(), "{cup}");
     let area = 2.0 * PI * 0.8 + PI * 0.64;
     assert!(

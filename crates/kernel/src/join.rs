@@ -774,6 +774,52 @@ pub fn orientation(faces: usize, topology: &Topology) -> Vec<bool> {
     flip.into_iter().map(|f| f.unwrap_or(false)).collect()
 }
 
+/// What keeps a set of faces from bounding a solid, edge by edge: naked edges (one face
+/// only), edges that more than two faces share (non-manifold), and shared edges whose two faces
+/// cannot be turned to agree once every other edge is satisfied (a one-sided surface, or faces
+/// stitched with a twist), each pair as found.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Validity {
+    pub naked: Vec<EdgeId>,
+    pub non_manifold: Vec<EdgeId>,
+    pub misoriented: Vec<(EdgeId, EdgeId)>,
+}
+
+impl Validity {
+    /// Whether the faces close a consistently oriented, manifold shell.
+    pub fn is_closed_shell(&self) -> bool {
+        self.naked.is_empty() && self.non_manifold.is_empty() && self.misoriented.is_empty()
+    }
+}
+
+/// The validity of `faces` faces joined as `topology` says ([`Validity`]): the orientation is
+/// [`orientation`]'s, and an edge it leaves disagreeing is misoriented.
+pub fn validity(faces: usize, topology: &Topology) -> Validity {
+    let flip = orientation(faces, topology);
+    let mut uses: std::collections::BTreeMap<EdgeId, usize> = Default::default();
+    for s in &topology.shared {
+        *uses.entry(s.a).or_default() += 1;
+        *uses.entry(s.b).or_default() += 1;
+    }
+    let flipped = |f: usize| flip.get(f).copied().unwrap_or(false);
+    Validity {
+        naked: topology.naked.clone(),
+        non_manifold: uses
+            .into_iter()
+            .filter(|&(_, n)| n > 1)
+            .map(|(e, _)| e)
+            .collect(),
+        // Consistent faces traverse a shared edge in opposite directions (as `orientation`
+        // turns them).
+        misoriented: topology
+            .shared
+            .iter()
+            .filter(|s| flipped(s.b.face) != (flipped(s.a.face) == s.reversed))
+            .map(|s| (s.a, s.b))
+            .collect(),
+    }
+}
+
 /// A vertex of one face's triangulation.
 #[derive(Debug, Clone, Copy)]
 enum Local {
@@ -1502,5 +1548,59 @@ mod tests {
         }
         let exact = std::f64::consts::PI * 2.0;
         assert!((volume.abs() - exact).abs() < 1e-2 * exact, "{volume}");
+    }
+
+    /// The validity check finds each kind of fault by edge: a box of planes with mixed
+    /// orientations is a closed shell; without its top it has four naked edges; three faces
+    /// stitched in a ring with one twist cannot agree in orientation; an edge in two pairs is
+    /// non-manifold.
+    #[test]
+    fn validity_reports_naked_non_manifold_and_misoriented_edges_by_place() {
+        let faces = box_faces(2.0, 1.0, 1.5);
+        let topology = find_topology(&faces, 1e-9).unwrap();
+        let v = validity(faces.len(), &topology);
+        assert!(v.is_closed_shell(), "{v:?}");
+        let open: Vec<TrimmedSurface> = faces[..5].to_vec();
+        let v = validity(open.len(), &find_topology(&open, 1e-9).unwrap());
+        assert_eq!(v.naked.len(), 4, "{v:?}");
+        assert!(v.misoriented.is_empty() && v.non_manifold.is_empty());
+        let edge = |face: usize, curve: usize| EdgeId {
+            face,
+            loop_index: 0,
+            curve,
+        };
+        let pair = |a: EdgeId, b: EdgeId, reversed: bool| SharedEdge {
+            a,
+            b,
+            reversed,
+            gap: 0.0,
+        };
+        let twisted = Topology {
+            shared: vec![
+                pair(edge(0, 0), edge(1, 0), true),
+                pair(edge(1, 1), edge(2, 0), true),
+                pair(edge(2, 1), edge(0, 1), false),
+            ],
+            naked: Vec::new(),
+            degenerate: Vec::new(),
+        };
+        // Any two of the three pairs can be satisfied, never the third: one is reported.
+        let v = validity(3, &twisted);
+        assert_eq!(v.misoriented.len(), 1, "{v:?}");
+        assert!(
+            twisted
+                .shared
+                .iter()
+                .any(|p| (p.a, p.b) == v.misoriented[0])
+        );
+        let shared_thrice = Topology {
+            shared: vec![
+                pair(edge(0, 0), edge(1, 0), true),
+                pair(edge(0, 0), edge(2, 0), true),
+            ],
+            naked: Vec::new(),
+            degenerate: Vec::new(),
+        };
+        assert_eq!(validity(3, &shared_thrice).non_manifold, vec![edge(0, 0)]);
     }
 }

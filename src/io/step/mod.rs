@@ -423,6 +423,7 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
             body["volume"] = m.volume.into();
             body["centroid"] = serde_json::json!(m.centroid.to_array());
         }
+        body["validity"] = super::validity_value(&b.faces, &b.topology);
         bodies.push(body);
     }
     let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
