@@ -107,9 +107,9 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
             });
             if let Some(faces) = object.body() {
                 body["faces"] = faces.faces.len().into();
-                body["closed"] = faces.closed.into();
-                if let Some(topology) = &faces.topology {
-                    body["validity"] = validity_value(&faces.faces, topology);
+                body["closed"] = faces.closed().into();
+                if let Some(validity) = &faces.validity {
+                    body["validity"] = validity_value(&faces.faces, validity);
                 }
                 match faces.measure() {
                     Ok((area, mass)) => {
@@ -131,15 +131,14 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
     })
 }
 
-/// A body's validity for `knotwork info` ([`crate::kernel::join::validity`]): the counts of
-/// naked, non-manifold and misoriented edges, and each one's place (its face, loop and curve,
-/// and a point half way along it).
+/// A body's validity `v` for `knotwork info` ([`crate::kernel::join::validity`]): the counts
+/// of naked, non-manifold and misoriented edges, and each one's place (its face, loop and
+/// curve, and a point half way along it).
 pub fn validity_value(
     faces: &[crate::kernel::trim::TrimmedSurface],
-    topology: &crate::kernel::join::Topology,
+    v: &crate::kernel::join::Validity,
 ) -> serde_json::Value {
-    use crate::kernel::join::{EdgeId, edge_polyline, validity};
-    let v = validity(faces.len(), topology);
+    use crate::kernel::join::{EdgeId, edge_polyline};
     let size = faces.iter().map(|f| f.surface().size()).fold(0.0, f64::max);
     let place = |e: EdgeId| {
         let at = edge_polyline(faces, e, 1e-3 * size)

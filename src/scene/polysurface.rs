@@ -176,25 +176,27 @@ impl ObjectGeometry {
 /// An object's faces as one body: what its mass properties are measured on.
 pub struct Body {
     pub faces: Vec<TrimmedSurface>,
-    /// The faces to turn over so that all agree in orientation across shared edges
-    /// ([`crate::kernel::join::orientation`]).
-    pub flipped: Vec<bool>,
-    /// Whether the faces close it (no naked edge).
-    pub closed: bool,
-    /// Their shared and naked edges, where they could be worked out.
-    pub topology: Option<Topology>,
+    /// Their naked, non-manifold and misoriented edges and the orientation that makes them
+    /// agree ([`crate::kernel::join::validity`]), where the edges could be worked out.
+    pub validity: Option<crate::kernel::join::Validity>,
 }
 
 impl Body {
+    /// Whether the faces close it (no naked edge).
+    pub fn closed(&self) -> bool {
+        self.validity.as_ref().is_some_and(|v| v.naked.is_empty())
+    }
+
     /// The area, and for a closed body the mass properties ([`crate::kernel::mass`]).
     pub fn measure(
         &self,
     ) -> Result<(f64, Option<crate::kernel::mass::MassProperties>), GeometryError> {
-        if self.closed {
-            let m = crate::kernel::mass::mass_properties(&self.faces, &self.flipped)?;
-            Ok((m.area, Some(m)))
-        } else {
-            Ok((crate::kernel::mass::area(&self.faces)?, None))
+        match &self.validity {
+            Some(v) if v.naked.is_empty() => {
+                let m = crate::kernel::mass::mass_properties(&self.faces, &v.flipped)?;
+                Ok((m.area, Some(m)))
+            }
+            _ => Ok((crate::kernel::mass::area(&self.faces)?, None)),
         }
     }
 }
@@ -213,16 +215,8 @@ impl SceneObject {
                 (vec![face], topology)
             }
         };
-        let closed = topology.as_ref().is_some_and(|t| t.naked.is_empty());
-        let flipped = topology.as_ref().map_or_else(Vec::new, |t| {
-            crate::kernel::join::orientation(faces.len(), t)
-        });
-        Some(Body {
-            faces,
-            flipped,
-            closed,
-            topology,
-        })
+        let validity = topology.map(|t| crate::kernel::join::validity(faces.len(), &t));
+        Some(Body { faces, validity })
     }
 }
 

@@ -1395,3 +1395,32 @@ fn a_step_file_with_an_unread_surface_opens_the_rest_and_says_what_was_skipped()
     assert_eq!(scene.objects.len(), 1);
     assert_eq!(scene.objects[0].faces().len(), 10, "every other face");
 }
+
+/// *Measure* in the editor: the sample torus (R = 2, r = 0.8) shows its exact area 4π²Rr and
+/// volume 2π²Rr², and the measure goes when the document changes.
+#[test]
+fn measure_shows_the_selected_bodys_exact_area_and_volume() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    page_select(&mut harness, 1);
+    harness.get_by_label("Measure").scroll_to_me();
+    harness.run_steps(1);
+    harness.get_by_label("Measure").click_accesskit();
+    harness.run_steps(3);
+    let pi2 = std::f64::consts::PI * std::f64::consts::PI;
+    let area = format!("area {:.6}", 4.0 * pi2 * 2.0 * 0.8);
+    let volume = format!("volume {:.6}", 2.0 * pi2 * 2.0 * 0.64);
+    assert!(harness.query_by_label(&area).is_some(), "{area}");
+    assert!(harness.query_by_label(&volume).is_some(), "{volume}");
+    // An edit of the document takes the figures away until Measure is pressed again.
+    let page = harness.state().command_sender();
+    page.send(AppCommand::Edit(Command::SetVisible {
+        object: 0,
+        visible: false,
+    }));
+    harness.run_steps(3);
+    assert!(harness.query_by_label(&volume).is_none());
+    assert!(harness.query_by_label("Measure").is_some());
+}

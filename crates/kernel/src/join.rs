@@ -783,6 +783,8 @@ pub struct Validity {
     pub naked: Vec<EdgeId>,
     pub non_manifold: Vec<EdgeId>,
     pub misoriented: Vec<(EdgeId, EdgeId)>,
+    /// The faces turned over to agree across shared edges ([`orientation`]).
+    pub flipped: Vec<bool>,
 }
 
 impl Validity {
@@ -817,6 +819,7 @@ pub fn validity(faces: usize, topology: &Topology) -> Validity {
             .filter(|s| flipped(s.b.face) != (flipped(s.a.face) == s.reversed))
             .map(|s| (s.a, s.b))
             .collect(),
+        flipped: flip,
     }
 }
 

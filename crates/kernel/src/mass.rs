@@ -12,8 +12,11 @@
 //!   left, ∫∫_D f du dv = ∮_∂D F(u, v) dv with F(u, v) = ∫_{u₀}^{u} f(s, v) ds: a line
 //!   integral along the trim curves of an inner integral along u, both by Gauss–Legendre, each
 //!   split where the integrand is less smooth (the trim curve's knots, and where it crosses a
-//!   knot line of the surface). Gonzalez-Ochoa, Mahoney and Murray, "Computation of mass
-//!   properties of B-rep solids", 1998, use the same reduction.
+//!   knot line of the surface).
+//!
+//! Gonzalez-Ochoa, McCammon and Peters, "Computing moments of objects enclosed by piecewise
+//! polynomial surfaces" (ACM Transactions on Graphics 17(3), 1998), compute moments through the
+//! divergence theorem in the same way.
 //!
 //! Coordinates are taken about the centre of the faces' bounding box, so that a body far from
 //! the origin keeps its digits.

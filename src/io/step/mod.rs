@@ -416,14 +416,14 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
         body["area"] = crate::kernel::mass::area(&b.faces)
             .map_or(serde_json::Value::Null, serde_json::Value::from);
         // Volume and centroid for a closed body (exact: the divergence theorem over the faces).
-        let flipped = crate::kernel::join::orientation(b.faces.len(), &b.topology);
+        let validity = crate::kernel::join::validity(b.faces.len(), &b.topology);
         if b.closed
-            && let Ok(m) = crate::kernel::mass::mass_properties(&b.faces, &flipped)
+            && let Ok(m) = crate::kernel::mass::mass_properties(&b.faces, &validity.flipped)
         {
             body["volume"] = m.volume.into();
             body["centroid"] = serde_json::json!(m.centroid.to_array());
         }
-        body["validity"] = super::validity_value(&b.faces, &b.topology);
+        body["validity"] = super::validity_value(&b.faces, &validity);
         bodies.push(body);
     }
     let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();
