@@ -64,6 +64,15 @@ fn main() -> std::process::ExitCode {
         }) => {
             return cli::apply(operation, project, *history, output);
         }
+        Some(cli::Command::Boolean {
+            operation,
+            a,
+            b,
+            output,
+            tolerance,
+        }) => {
+            return cli::boolean((*operation).into(), a, b, output, *tolerance);
+        }
         Some(cli::Command::Join {
             project,
             tolerance,

@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod apply;
 mod bench;
+mod boolean;
 mod construct;
 mod continuity;
 mod edges;
@@ -22,6 +23,7 @@ mod subdivide;
 
 pub use self::apply::apply;
 pub use self::bench::bench;
+pub use self::boolean::boolean;
 pub use self::construct::construct;
 pub use self::continuity::continuity;
 pub use self::edges::{EdgeArgs, blend, match_edge};
@@ -53,6 +55,24 @@ pub struct Cli {
     pub open: Option<std::path::PathBuf>,
     #[command(subcommand)]
     pub command: Option<Command>,
+}
+
+/// The boolean operations on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BooleanArg {
+    Union,
+    Difference,
+    Intersection,
+}
+
+impl From<BooleanArg> for knotwork::kernel::boolean::BooleanOp {
+    fn from(op: BooleanArg) -> Self {
+        match op {
+            BooleanArg::Union => Self::Union,
+            BooleanArg::Difference => Self::Difference,
+            BooleanArg::Intersection => Self::Intersection,
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -321,6 +341,25 @@ pub enum Command {
         /// The project to write.
         #[arg(short, long)]
         output: std::path::PathBuf,
+    },
+    /// Combine solids: every closed body of A with every closed body of B (B may hold many
+    /// tools that do not overlap one another), written to OUTPUT as STEP solids; prints the
+    /// result's solids, faces and volume as JSON. An open body, a missing file or an empty
+    /// result exits 1 with the message.
+    Boolean {
+        /// union, difference (A minus B) or intersection.
+        #[arg(value_enum)]
+        operation: BooleanArg,
+        /// The first file (STEP, a project, or anything knotwork opens).
+        a: std::path::PathBuf,
+        /// The second file.
+        b: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Distances below this are one (model units); 1e-6 of the inputs' size by default.
+        #[arg(long)]
+        tolerance: Option<f64>,
     },
     /// Join the surfaces that share edges into polysurfaces: writes the project with them
     /// joined and prints each polysurface's faces, shared and naked edges as JSON. Its

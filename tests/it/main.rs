@@ -10,6 +10,7 @@ mod adaptive_layout;
 mod adaptive_subdivision;
 mod analysis_overlays;
 mod analysis_render;
+mod boolean;
 mod construction_history;
 mod continuity;
 mod desktop_app;

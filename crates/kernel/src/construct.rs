@@ -37,7 +37,7 @@ fn check_positive(what: &'static str, name: &str, value: f64) -> Result<(), Geom
 }
 
 /// An orthonormal pair (x, y) perpendicular to `axis` (any choice; stable for all directions).
-fn perpendicular_frame(axis: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn perpendicular_frame(axis: DVec3) -> (DVec3, DVec3) {
     let z = axis.normalize();
     let x = z.any_orthonormal_vector();
     (x, z.cross(x))

@@ -338,6 +338,17 @@ pub fn area(faces: &[TrimmedSurface]) -> Result<f64, GeometryError> {
         .sum()
 }
 
+/// The volume that `faces` enclose with their normals as they are: positive where they point
+/// out of it, negative where they point in (the divergence theorem, as
+/// [`mass_properties`]).
+pub fn signed_volume(faces: &[TrimmedSurface]) -> Result<f64, GeometryError> {
+    let (origin, _) = centre(faces);
+    faces
+        .iter()
+        .map(|f| face_moments(f, origin).map(|m| m.volume))
+        .sum()
+}
+
 /// The mass properties of the body that `faces` bound: closed, and consistently oriented once
 /// the faces marked in `flipped` are turned over (every normal outward, or every one inward,
 /// which the sign of the volume tells; [`crate::join::orientation`] finds the flips from the

@@ -1,0 +1,1046 @@
+//! Booleans of solids: union, difference and intersection of closed shells of trimmed faces,
+//! in the kernel's f64, on its surface intersection, trimming and join (the boundary
+//! evaluation of Requicha and Voelcker, 1985; Hoffmann, *Geometric and Solid Modeling*,
+//! ch. 3):
+//!
+//! 1. **Orient.** Each operand's faces are joined ([`find_topology`]); an operand that does
+//!    not close up is refused. Faces are turned to agree across their shared edges and then
+//!    all outward (the enclosed volume, [`mass_properties`], positive).
+//! 2. **Intersect.** Every face of one operand whose box meets a face of the other is
+//!    intersected with it by marching ([`intersect_surfaces`], trims respected); the (u, v)
+//!    polylines are cuts on both faces. Two planar faces in one plane do not cross but
+//!    overlap: each one's boundary curves, mapped into the other's plane, are its cuts.
+//!    Branches that run along a face's boundary (an edge lying on a face) cut nothing.
+//! 3. **Split.** Each face's boundary and cuts are arranged in its (u, v) domain
+//!    ([`arrangement`]); every part the face keeps becomes a trimmed face: its boundary runs
+//!    are pieces of the face's own trim curves, its cut runs cubics through the marched
+//!    points (chord-length parameters, The NURBS Book §9.2.1), so the two faces that meet
+//!    along a cut carry the same 3D edge.
+//! 4. **Classify.** A point well inside each part is tested against the other operand: on a
+//!    coplanar face of it (kept once, by the first operand, when the outward normals agree
+//!    for union and intersection, when they are opposite for difference), or inside or
+//!    outside by the winding number of its tessellation (the solid angles of its triangles,
+//!    Van Oosterom and Strackee, 1983, over 4π).
+//! 5. **Assemble.** Union keeps what lies outside the other operand, intersection what lies
+//!    inside, difference A's parts outside B and B's parts inside A turned over. The parts are
+//!    joined; a result that does not close is refused with where it is open, never returned.
+//!    Each closed group of faces is a shell; one enclosing negative volume is a void of the
+//!    smallest shell around it.
+
+pub mod arrangement;
+
+use glam::{DVec2, DVec3};
+
+use crate::error::{GeometryError, construction};
+use crate::intersect::{BranchEnd, IntersectionCurve};
+use crate::intersect::{IntersectOptions, intersect_surfaces};
+use crate::join::{face_loops, find_topology, validity};
+use crate::mass::signed_volume;
+use crate::splines::{Parametrization, interpolate_through};
+use crate::surface::Direction;
+use crate::tess::{Tessellation, grid_for, triangulate};
+use crate::trim::tess::tessellate_trimmed;
+use crate::trim::{TrimLoop, TrimmedSurface, domain_rect, domain_size};
+use crate::{NurbsSurface, TrimCurve};
+use arrangement::{Polyline, Region, Source};
+
+const WHAT: &str = "boolean";
+
+/// The three booleans.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BooleanOp {
+    Union,
+    Difference,
+    Intersection,
+}
+
+impl BooleanOp {
+    pub const ALL: [BooleanOp; 3] = [
+        BooleanOp::Union,
+        BooleanOp::Difference,
+        BooleanOp::Intersection,
+    ];
+
+    /// The name the command line and the page use.
+    pub fn name(self) -> &'static str {
+        match self {
+            BooleanOp::Union => "union",
+            BooleanOp::Difference => "difference",
+            BooleanOp::Intersection => "intersection",
+        }
+    }
+
+    /// The operation named `name` (as [`Self::name`] gives it).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|op| op.name() == name)
+    }
+}
+
+/// One closed solid of a result: its outer shell's faces, then each void's (outward normals
+/// everywhere, so a void's face outward from the solid's material).
+#[derive(Debug, Clone)]
+pub struct ResultSolid {
+    pub shells: Vec<Vec<TrimmedSurface>>,
+}
+
+impl ResultSolid {
+    /// Every face of every shell.
+    pub fn faces(&self) -> Vec<TrimmedSurface> {
+        self.shells.iter().flatten().cloned().collect()
+    }
+}
+
+/// What a boolean made.
+#[derive(Debug, Clone, Default)]
+pub struct BooleanResult {
+    pub solids: Vec<ResultSolid>,
+    /// Faces split by the other operand.
+    pub split_faces: usize,
+    /// Intersection branches used as cuts.
+    pub branches: usize,
+}
+
+impl BooleanResult {
+    /// Every face of every solid.
+    pub fn faces(&self) -> Vec<TrimmedSurface> {
+        self.solids.iter().flat_map(ResultSolid::faces).collect()
+    }
+}
+
+/// A closed operand: faces turned outward, their boxes and, for a plane, its point and normal.
+struct Operand {
+    faces: Vec<TrimmedSurface>,
+    boxes: Vec<(DVec3, DVec3)>,
+    planes: Vec<Option<(DVec3, DVec3)>>,
+}
+
+fn union_box(boxes: &[(DVec3, DVec3)]) -> (DVec3, DVec3) {
+    boxes.iter().fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), &(a, b)| (lo.min(a), hi.max(b)),
+    )
+}
+
+/// `faces` turned to agree across shared edges, and all outward: the faces of one or more
+/// closed shells (at `tolerance`). Refuses faces that do not close (naming the operand by
+/// `label`).
+pub fn outward_faces(
+    faces: &[TrimmedSurface],
+    tolerance: f64,
+    label: &str,
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    if faces.is_empty() {
+        return Err(construction(WHAT, format!("{label} has no faces")));
+    }
+    let topology = find_topology(faces, tolerance)?;
+    let v = validity(faces.len(), &topology);
+    if !v.is_closed_shell() {
+        return Err(construction(
+            WHAT,
+            format!(
+                "{label} is not a closed solid: {} open edge(s), {} edge(s) shared by more \
+                 than two faces, {} edge(s) whose faces cannot be turned to agree; join its \
+                 faces into a closed body first",
+                v.naked.len(),
+                v.non_manifold.len(),
+                v.misoriented.len()
+            ),
+        ));
+    }
+    let mut out: Vec<TrimmedSurface> = Vec::with_capacity(faces.len());
+    for (k, face) in faces.iter().enumerate() {
+        out.push(if v.flipped.get(k).copied().unwrap_or(false) {
+            face.reverse(Direction::U)?
+        } else {
+            face.clone()
+        });
+    }
+    // Each closed shell is turned to enclose positive volume, unless it lies inside another
+    // shell of the operand (a void), which then encloses negative volume.
+    let components = topology.components(out.len());
+    let volumes: Vec<f64> = components
+        .iter()
+        .map(|c| {
+            let shell: Vec<TrimmedSurface> = c.iter().map(|&k| out[k].clone()).collect();
+            signed_volume(&shell)
+        })
+        .collect::<Result<_, _>>()?;
+    let boxes: Vec<(DVec3, DVec3)> = components
+        .iter()
+        .map(|c| {
+            union_box(
+                &c.iter()
+                    .map(|&k| out[k].surface().bounds())
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    for (i, c) in components.iter().enumerate() {
+        // A shell strictly inside another shell's box is a void and encloses negative volume.
+        let inner = (0..components.len()).any(|j| {
+            j != i
+                && boxes[j].0.cmplt(boxes[i].0).all()
+                && boxes[j].1.cmpgt(boxes[i].1).all()
+                && volumes[j].abs() > volumes[i].abs()
+        });
+        let want_positive = !inner;
+        if (volumes[i] > 0.0) != want_positive {
+            for &k in c {
+                out[k] = out[k].reverse(Direction::U)?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The plane of a planar face (a point and the unit normal), where every control point lies
+/// within `tolerance` of it.
+fn plane_of(face: &TrimmedSurface, tolerance: f64) -> Option<(DVec3, DVec3)> {
+    let s = face.surface();
+    let [(u0, u1), (v0, v1)] = s.domain();
+    let d = s.evaluate(0.5 * (u0 + u1), 0.5 * (v0 + v1)).ok()?;
+    let normal = d.regular_normal()?;
+    let [n, m] = s.count();
+    let flat = (0..n)
+        .flat_map(|i| (0..m).map(move |j| (i, j)))
+        .all(|(i, j)| (s.control_point(i, j) - d.point).dot(normal).abs() <= tolerance);
+    flat.then_some((d.point, normal))
+}
+
+impl Operand {
+    fn new(faces: Vec<TrimmedSurface>, tolerance: f64) -> Self {
+        let boxes = faces.iter().map(|f| f.surface().bounds()).collect();
+        let planes = faces
+            .iter()
+            .map(|f| plane_of(f, tolerance * 1e-2))
+            .collect();
+        Self {
+            faces,
+            boxes,
+            planes,
+        }
+    }
+}
+
+/// The boolean `op` of two solids (`a`'s and `b`'s faces; each may hold several closed
+/// shells that do not overlap one another), joined and checked at `tolerance` (model units;
+/// see the module documentation).
+pub fn boolean(
+    op: BooleanOp,
+    a: &[TrimmedSurface],
+    b: &[TrimmedSurface],
+    tolerance: f64,
+) -> Result<BooleanResult, GeometryError> {
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(construction(
+            WHAT,
+            format!("the tolerance must be a number above 0, got {tolerance}"),
+        ));
+    }
+    let a = Operand::new(outward_faces(a, tolerance, "the first body")?, tolerance);
+    let b = Operand::new(outward_faces(b, tolerance, "the second body")?, tolerance);
+    let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
+    let size = lo.distance(hi);
+    let options = IntersectOptions {
+        tolerance: tolerance * 1e-5,
+        chord: (size * 2e-5).max(tolerance),
+        smallest: size * 2e-3,
+    };
+    let mut cuts_a: Vec<Vec<Polyline>> = vec![Vec::new(); a.faces.len()];
+    let mut cuts_b: Vec<Vec<Polyline>> = vec![Vec::new(); b.faces.len()];
+    // Coplanar partners: (face of a, face of b).
+    let mut coplanar: Vec<(usize, usize)> = Vec::new();
+    let mut branches = 0;
+    let grow = DVec3::splat(tolerance);
+    #[allow(clippy::needless_range_loop)] // i and j index both operands' lists alike
+    for i in 0..a.faces.len() {
+        for j in 0..b.faces.len() {
+            let (ba, bb) = (a.boxes[i], b.boxes[j]);
+            if (ba.0 - grow).cmpgt(bb.1).any() || (bb.0 - grow).cmpgt(ba.1).any() {
+                continue;
+            }
+            if let (Some((pa, na)), Some((pb, nb))) = (a.planes[i], b.planes[j])
+                && na.cross(nb).length() < 1e-9
+            {
+                {
+                    if (pb - pa).dot(na).abs() <= tolerance {
+                        coplanar.push((i, j));
+                        let k = cuts_a[i].len();
+                        cuts_a[i].extend(mapped_boundary(&b.faces[j], &a.faces[i], tolerance, k)?);
+                        let k = cuts_b[j].len();
+                        cuts_b[j].extend(mapped_boundary(&a.faces[i], &b.faces[j], tolerance, k)?);
+                    }
+                    continue;
+                }
+            }
+            if only_touches(a.planes[i], &b.faces[j], tolerance)
+                || only_touches(b.planes[j], &a.faces[i], tolerance)
+            {
+                continue;
+            }
+            let mut found = intersect_surfaces(&a.faces[i], &b.faces[j], &options)?;
+            meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
+            for branch in found.curves {
+                if along_boundary(&a.faces[i], &branch.uv_a, tolerance)
+                    || along_boundary(&b.faces[j], &branch.uv_b, tolerance)
+                {
+                    continue;
+                }
+                branches += 1;
+                let closed = branch.closed;
+                for (list, uv) in [(&mut cuts_a[i], branch.uv_a), (&mut cuts_b[j], branch.uv_b)] {
+                    let mut points = uv;
+                    if closed {
+                        points.pop();
+                        without_overshoot(&mut points);
+                    }
+                    if points.len() >= 2 {
+                        let k = list.len();
+                        list.push(Polyline {
+                            source: Source::Cut(k),
+                            points,
+                            params: Vec::new(),
+                            closed,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let mesh_a = classifier(&a.faces, size)?;
+    let mesh_b = classifier(&b.faces, size)?;
+    let mut pieces: Vec<TrimmedSurface> = Vec::new();
+    let mut split_faces = 0;
+    for (side, (own, cuts, other, other_mesh)) in
+        [(&a, &cuts_a, &b, &mesh_b), (&b, &cuts_b, &a, &mesh_a)]
+            .into_iter()
+            .enumerate()
+    {
+        for (k, face) in own.faces.iter().enumerate() {
+            let parts = if cuts[k].is_empty() {
+                vec![(face.clone(), whole_face_point(face, tolerance)?)]
+            } else {
+                split_faces += 1;
+                split_face(face, &cuts[k], tolerance)?
+            };
+            for (part, uv) in parts {
+                let partners: Vec<usize> = coplanar
+                    .iter()
+                    .filter_map(|&(i, j)| match side {
+                        0 if i == k => Some(j),
+                        1 if j == k => Some(i),
+                        _ => None,
+                    })
+                    .collect();
+                let place = classify(&part, uv, other, &partners, other_mesh, tolerance)?;
+                let keep = match (op, side, place) {
+                    (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
+                    (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
+                    (BooleanOp::Union, 0, Place::OnSame) => Keep::AsIs,
+                    (BooleanOp::Intersection, _, Place::Inside) => Keep::AsIs,
+                    (BooleanOp::Intersection, 0, Place::OnSame) => Keep::AsIs,
+                    (BooleanOp::Difference, 0, Place::Outside | Place::OnOpposite) => Keep::AsIs,
+                    (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
+                    _ => Keep::No,
+                };
+                match keep {
+                    Keep::AsIs => pieces.push(part),
+                    Keep::Turned => pieces.push(part.reverse(Direction::U)?),
+                    Keep::No => {}
+                }
+            }
+        }
+    }
+    let solids = assemble(pieces, tolerance)?;
+    Ok(BooleanResult {
+        solids,
+        split_faces,
+        branches,
+    })
+}
+
+/// A closed branch's points without those at its end that run on past its start (a loop is
+/// closed where it comes back near its start, a step or so beyond it).
+fn without_overshoot(points: &mut Vec<DVec2>) {
+    while points.len() > 3 {
+        let (p0, p1, last) = (points[0], points[1], points[points.len() - 1]);
+        let step = p1 - p0;
+        if last.distance(p0) < 2.0 * step.length() && (last - p0).dot(step) > 0.0 {
+            points.pop();
+        } else {
+            break;
+        }
+    }
+}
+
+/// Whether `face` lies wholly on one side of the plane (within `tolerance`): it may touch the
+/// plane along its edge (an edge lying on a face) but crosses no face in it.
+fn only_touches(plane: Option<(DVec3, DVec3)>, face: &TrimmedSurface, tolerance: f64) -> bool {
+    let Some((point, normal)) = plane else {
+        return false;
+    };
+    let s = face.surface();
+    let [n, m] = s.count();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..n {
+        for j in 0..m {
+            let d = (s.control_point(i, j) - point).dot(normal);
+            lo = lo.min(d);
+            hi = hi.max(d);
+        }
+    }
+    lo >= -tolerance || hi <= tolerance
+}
+
+/// Branches that stop where the surfaces touch (two equal cylinders crossing: their curves
+/// cross there) carried on to one common point: the mean of the ends within `reach` of one
+/// another, on both surfaces, so the cuts meet and divide the faces.
+fn meet_at_tangent_points(curves: &mut [IntersectionCurve], reach: f64) {
+    let mut ends: Vec<(usize, usize)> = Vec::new();
+    for (k, c) in curves.iter().enumerate() {
+        for end in 0..2 {
+            if c.ends[end] == Some(BranchEnd::Tangent) && !c.points.is_empty() {
+                ends.push((k, end));
+            }
+        }
+    }
+    let at = |c: &IntersectionCurve, end: usize| if end == 0 { 0 } else { c.points.len() - 1 };
+    let mut used = vec![false; ends.len()];
+    for x in 0..ends.len() {
+        if used[x] {
+            continue;
+        }
+        let (k, e) = ends[x];
+        let p = curves[k].points[at(&curves[k], e)];
+        let group: Vec<usize> = (x..ends.len())
+            .filter(|&y| {
+                let (m, f) = ends[y];
+                !used[y] && curves[m].points[at(&curves[m], f)].distance(p) <= reach
+            })
+            .collect();
+        if group.len() < 2 {
+            continue;
+        }
+        let n = group.len() as f64;
+        let (mut point, mut uv_a, mut uv_b) = (DVec3::ZERO, DVec2::ZERO, DVec2::ZERO);
+        for &y in &group {
+            used[y] = true;
+            let (m, f) = ends[y];
+            let i = at(&curves[m], f);
+            point += curves[m].points[i] / n;
+            uv_a += curves[m].uv_a[i] / n;
+            uv_b += curves[m].uv_b[i] / n;
+        }
+        for &y in &group {
+            let (m, f) = ends[y];
+            let c = &mut curves[m];
+            if f == 0 {
+                c.points.insert(0, point);
+                c.uv_a.insert(0, uv_a);
+                c.uv_b.insert(0, uv_b);
+            } else {
+                c.points.push(point);
+                c.uv_a.push(uv_a);
+                c.uv_b.push(uv_b);
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Keep {
+    AsIs,
+    Turned,
+    No,
+}
+
+/// Where a part lies with respect to the other operand.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    Inside,
+    Outside,
+    /// On a coplanar face whose outward normal agrees.
+    OnSame,
+    /// On a coplanar face whose outward normal is opposite.
+    OnOpposite,
+}
+
+/// The triangles of an operand's faces (outward), for the winding number.
+struct Classifier {
+    triangles: Vec<[DVec3; 3]>,
+}
+
+fn classifier(faces: &[TrimmedSurface], size: f64) -> Result<Classifier, GeometryError> {
+    let mut triangles = Vec::new();
+    for face in faces {
+        let tolerance = (face.surface().size() * 2e-4).max(size * 1e-6);
+        let mesh = if face.is_trimmed() {
+            tessellate_trimmed(face, Tessellation::Tolerance(tolerance), false)?
+        } else {
+            let grid = grid_for(face.surface(), Tessellation::Tolerance(tolerance))?;
+            triangulate(face.surface(), &grid, false)?
+        };
+        for t in &mesh.triangles {
+            triangles.push(t.map(|k| mesh.positions[k as usize]));
+        }
+    }
+    Ok(Classifier { triangles })
+}
+
+impl Classifier {
+    /// The winding number of the closed triangle set about `p` (its sign follows the
+    /// tessellation's turn, so the caller takes its size): the sum of the triangles'
+    /// solid angles seen from `p` over 4π (Van Oosterom and Strackee's formula,
+    /// tan(Ω/2) = a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)).
+    fn winding(&self, p: DVec3) -> f64 {
+        let mut total = 0.0;
+        for t in &self.triangles {
+            let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
+            let (la, lb, lc) = (a.length(), b.length(), c.length());
+            let numerator = a.dot(b.cross(c));
+            let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+            total += 2.0 * numerator.atan2(denominator);
+        }
+        total / (4.0 * std::f64::consts::PI)
+    }
+}
+
+fn inside_domain(face: &TrimmedSurface, uv: DVec2, slack: f64) -> bool {
+    let [u0, u1, v0, v1] = domain_rect(face.surface());
+    uv.x >= u0 - slack && uv.x <= u1 + slack && uv.y >= v0 - slack && uv.y <= v1 + slack
+}
+
+/// Where the part (its point at `uv`) lies with respect to `other`.
+fn classify(
+    part: &TrimmedSurface,
+    uv: DVec2,
+    other: &Operand,
+    coplanar: &[usize],
+    mesh: &Classifier,
+    tolerance: f64,
+) -> Result<Place, GeometryError> {
+    let d = part.surface().evaluate(uv.x, uv.y)?;
+    let p = d.point;
+    for &j in coplanar {
+        let face = &other.faces[j];
+        let Some(q) = plane_uv(face.surface(), p) else {
+            continue;
+        };
+        let slack = 1e-12 * domain_size(domain_rect(face.surface()));
+        if !(inside_domain(face, q, slack) && face.contains(q.x, q.y)) {
+            continue;
+        }
+        let on = face.surface().evaluate(q.x, q.y)?;
+        if on.point.distance(p) > tolerance {
+            continue;
+        }
+        let (Some(n_part), Some(n_other)) = (d.regular_normal(), on.regular_normal()) else {
+            continue;
+        };
+        return Ok(if n_part.dot(n_other) > 0.0 {
+            Place::OnSame
+        } else {
+            Place::OnOpposite
+        });
+    }
+    Ok(if mesh.winding(p).abs() > 0.5 {
+        Place::Inside
+    } else {
+        Place::Outside
+    })
+}
+
+/// The (u, v) of `p` on a planar surface, unclamped: the affine map through the domain's
+/// centre inverted, then Newton's steps on the surface's tangent plane (exact for an affine
+/// plane in one step).
+fn plane_uv(surface: &NurbsSurface, p: DVec3) -> Option<DVec2> {
+    let [(u0, u1), (v0, v1)] = surface.domain();
+    let mut uv = DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    for _ in 0..8 {
+        let at = DVec2::new(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1));
+        let d = surface.evaluate(at.x, at.y).ok()?;
+        // The point at uv by the tangent plane at the clamped point (outside the domain the
+        // plane carries on affinely).
+        let here = d.point + d.su * (uv.x - at.x) + d.sv * (uv.y - at.y);
+        let r = p - here;
+        let (a, b, c) = (d.su.dot(d.su), d.su.dot(d.sv), d.sv.dot(d.sv));
+        let det = a * c - b * b;
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        let (x, y) = (d.su.dot(r), d.sv.dot(r));
+        let step = DVec2::new((c * x - b * y) / det, (a * y - b * x) / det);
+        uv += step;
+        if step.length() <= 1e-14 * (u1 - u0).abs().max((v1 - v0).abs()) {
+            break;
+        }
+    }
+    uv.is_finite().then_some(uv)
+}
+
+/// The boundary curves of `from` as open cuts on the coplanar face `onto` (each curve's ends
+/// corners), numbered from `first`.
+fn mapped_boundary(
+    from: &TrimmedSurface,
+    onto: &TrimmedSurface,
+    tolerance: f64,
+    first: usize,
+) -> Result<Vec<Polyline>, GeometryError> {
+    let mut out = Vec::new();
+    for line in boundary_polylines(from, tolerance)? {
+        let mut points = Vec::with_capacity(line.points.len());
+        for uv in &line.points {
+            let p = from.surface().point_at(uv.x, uv.y)?;
+            if let Some(q) = plane_uv(onto.surface(), p) {
+                points.push(q);
+            }
+        }
+        if points.len() >= 2 {
+            out.push(Polyline {
+                source: Source::Cut(first + out.len()),
+                points,
+                params: Vec::new(),
+                closed: false,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// How far a chord of a flattened boundary may stray from its curve, in (u, v), and the
+/// snap distance, for a face joined at `tolerance`.
+fn face_scales(face: &TrimmedSurface, tolerance: f64) -> (f64, f64) {
+    let rect = domain_rect(face.surface());
+    let size = domain_size(rect);
+    let speed = (face.surface().size() / size).max(1e-300);
+    let snap = (tolerance / speed).max(1e-10 * size).min(1e-4 * size);
+    let flat = (snap * 0.25).max(1e-9 * size);
+    (flat, snap)
+}
+
+/// The face's boundary curves (its trim loops, or the domain's rectangle) flattened, with
+/// each point's curve parameter: each curve's chords within the face's flatness of it
+/// (midpoint bisection).
+fn boundary_polylines(
+    face: &TrimmedSurface,
+    tolerance: f64,
+) -> Result<Vec<Polyline>, GeometryError> {
+    let (flat, _) = face_scales(face, tolerance);
+    let mut out = Vec::new();
+    for curve in face_loops(face)?.iter().flatten() {
+        let (points, params) = flatten_curve(curve, flat)?;
+        out.push(Polyline {
+            source: Source::Boundary(out.len()),
+            points,
+            params,
+            closed: false,
+        });
+    }
+    Ok(out)
+}
+
+/// The curve's points where each chord lies within `flat` of the curve (checked at its
+/// middle, bisected up to 2^14 pieces per span), with their parameters.
+fn flatten_curve(curve: &TrimCurve, flat: f64) -> Result<(Vec<DVec2>, Vec<f64>), GeometryError> {
+    let mut breaks = curve.span_breaks();
+    breaks.dedup();
+    if curve.degree() == 1 {
+        let points = breaks
+            .iter()
+            .map(|&t| curve.point_at(t))
+            .collect::<Result<Vec<_>, _>>()?;
+        return Ok((points, breaks));
+    }
+    let mut points = vec![curve.point_at(breaks[0])?];
+    let mut params = vec![breaks[0]];
+    for w in breaks.windows(2) {
+        // Four pieces per span first, then bisect where a chord strays.
+        let mut stack: Vec<(f64, f64, u32)> = (0..4)
+            .rev()
+            .map(|k| {
+                let (a, b) = (
+                    w[0] + (w[1] - w[0]) * k as f64 / 4.0,
+                    w[0] + (w[1] - w[0]) * (k + 1) as f64 / 4.0,
+                );
+                (a, b, 0)
+            })
+            .collect();
+        while let Some((a, b, depth)) = stack.pop() {
+            let (pa, pb) = (curve.point_at(a)?, curve.point_at(b)?);
+            let pm = curve.point_at(0.5 * (a + b))?;
+            if depth < 14 && pm.distance(0.5 * (pa + pb)) > flat {
+                let m = 0.5 * (a + b);
+                stack.push((m, b, depth + 1));
+                stack.push((a, m, depth + 1));
+                continue;
+            }
+            points.push(pb);
+            params.push(b);
+        }
+    }
+    Ok((points, params))
+}
+
+/// Whether a branch runs along the face's boundary (its points at a quarter, half and three
+/// quarters of the way all within the snap distance of it).
+fn along_boundary(face: &TrimmedSurface, uv: &[DVec2], tolerance: f64) -> bool {
+    if uv.len() < 2 {
+        return true;
+    }
+    let (flat, snap) = face_scales(face, tolerance);
+    let Ok(lines) = boundary_polylines(face, tolerance) else {
+        return false;
+    };
+    let reach = (snap * 4.0).max(flat * 4.0);
+    [1, 2, 3].iter().all(|&q| {
+        let p = uv[(uv.len() - 1) * q / 4];
+        lines.iter().any(|l| {
+            l.points.windows(2).any(|w| {
+                let ab = w[1] - w[0];
+                let t = ((p - w[0]).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+                p.distance(w[0] + ab * t) <= reach
+            })
+        })
+    })
+}
+
+/// A point well inside an uncut face.
+fn whole_face_point(face: &TrimmedSurface, tolerance: f64) -> Result<DVec2, GeometryError> {
+    let regions = arrangement::regions(
+        &boundary_polylines(face, tolerance)?,
+        face_scales(face, tolerance).1,
+    );
+    regions
+        .iter()
+        .find(|r| face.contains(r.inside.x, r.inside.y))
+        .map(|r| r.inside)
+        .ok_or_else(|| construction(WHAT, "a face keeps no part of its domain"))
+}
+
+/// The parts of `face` that `cuts` divide it into, each with a point well inside it.
+fn split_face(
+    face: &TrimmedSurface,
+    cuts: &[Polyline],
+    tolerance: f64,
+) -> Result<Vec<(TrimmedSurface, DVec2)>, GeometryError> {
+    let (_, snap) = face_scales(face, tolerance);
+    let loops = face_loops(face)?;
+    let curves: Vec<&TrimCurve> = loops.iter().flatten().collect();
+    let mut lines = boundary_polylines(face, tolerance)?;
+    lines.extend(cuts.iter().cloned());
+    let slack = 1e-9 * domain_size(domain_rect(face.surface()));
+    let mut parts = Vec::new();
+    for region in arrangement::regions(&lines, snap) {
+        let Region {
+            loops: runs,
+            inside,
+        } = region;
+        if !(inside_domain(face, inside, slack) && face.contains(inside.x, inside.y)) {
+            continue;
+        }
+        let mut trim_loops: Vec<TrimLoop> = Vec::with_capacity(runs.len());
+        for l in runs {
+            let mut curves_out = Vec::with_capacity(l.len());
+            for run in &l {
+                curves_out.push(run_curve(run, &curves, domain_rect(face.surface()))?);
+            }
+            trim_loops.push(curves_out);
+        }
+        parts.push((
+            TrimmedSurface::new(face.surface().clone(), trim_loops)?,
+            inside,
+        ));
+    }
+    Ok(parts)
+}
+
+/// The curve along one run: a piece of the boundary curve it follows (its ends set onto the
+/// run's ends), or a cubic through a cut's points.
+fn run_curve(
+    run: &arrangement::Run,
+    curves: &[&TrimCurve],
+    rect: [f64; 4],
+) -> Result<TrimCurve, GeometryError> {
+    let (first, last) = (run.points[0], run.points[run.points.len() - 1]);
+    if let Source::Boundary(c) = run.source
+        && let Some(curve) = curves.get(c)
+    {
+        {
+            let (t0, t1) = (run.params[0], run.params[run.params.len() - 1]);
+            let (t0, t1) = (closest_on(curve, first, t0), closest_on(curve, last, t1));
+            let forwards = t0 <= t1;
+            let (lo, hi) = if forwards { (t0, t1) } else { (t1, t0) };
+            let mut piece = (*curve).clone();
+            let (d0, d1) = piece.domain();
+            let eps = 1e-12 * (d1 - d0).abs().max(1e-300);
+            if hi < d1 - eps && hi > d0 + eps {
+                piece = piece.split(hi)?.0;
+            }
+            let (d0, d1) = piece.domain();
+            if lo > d0 + eps && lo < d1 - eps {
+                piece = piece.split(lo)?.1;
+            }
+            if !forwards {
+                piece = piece.reverse();
+            }
+            let n = piece.count();
+            piece = piece.with_point(0, first)?.with_point(n - 1, last)?;
+            return Ok(piece);
+        }
+    }
+    let mut points: Vec<DVec2> = Vec::with_capacity(run.points.len());
+    for &p in &run.points {
+        if points.last().is_none_or(|q: &DVec2| q.distance(p) > 0.0) {
+            points.push(p);
+        }
+    }
+    if run.closed && points.len() >= 2 && points[0] != points[points.len() - 1] {
+        points.push(points[0]);
+    }
+    if points.len() <= 2 {
+        return TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![first, last], None);
+    }
+    // A cubic through points along the domain's edge may bulge a hair past it: its control
+    // points are kept in the domain (the curve stays in their hull).
+    let [u0, u1, v0, v1] = rect;
+    interpolate_through(&points, 3, Parametrization::ChordLength, None)?
+        .map_points(|p| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1)))
+}
+
+/// The parameter of the curve's point nearest `p`, by Newton's steps from `t`.
+fn closest_on(curve: &TrimCurve, p: DVec2, mut t: f64) -> f64 {
+    let (a, b) = curve.domain();
+    for _ in 0..12 {
+        let Ok(d) = curve.derivatives(t, 2) else {
+            break;
+        };
+        let r = d[0] - p;
+        let f = r.dot(d[1]);
+        let df = d[1].dot(d[1]) + r.dot(d[2]);
+        if df.abs() < 1e-300 {
+            break;
+        }
+        let next = (t - f / df).clamp(a, b);
+        if (next - t).abs() <= 1e-15 * (b - a).abs() {
+            t = next;
+            break;
+        }
+        t = next;
+    }
+    t
+}
+
+/// The 3D corners of every loop of every face.
+fn corners(pieces: &[TrimmedSurface]) -> Result<Vec<DVec3>, GeometryError> {
+    let mut out = Vec::new();
+    for face in pieces {
+        for curve in face_loops(face)?.iter().flatten() {
+            let uv = curve.control_point(0);
+            out.push(face.surface().point_at(uv.x, uv.y)?);
+        }
+    }
+    Ok(out)
+}
+
+/// The parameter of the (u, v) curve whose point on `surface` is nearest `p`, and the
+/// distance: the nearest of 64 samples, then a ternary search between its neighbours.
+fn nearest_on_edge(
+    surface: &NurbsSurface,
+    curve: &TrimCurve,
+    p: DVec3,
+) -> Result<(f64, f64), GeometryError> {
+    let (a, b) = curve.domain();
+    let distance = |t: f64| -> Result<f64, GeometryError> {
+        let uv = curve.point_at(t.clamp(a, b))?;
+        Ok(surface.point_at(uv.x, uv.y)?.distance(p))
+    };
+    let n = 64;
+    let mut best = (0usize, f64::INFINITY);
+    for k in 0..=n {
+        let d = distance(a + (b - a) * k as f64 / n as f64)?;
+        if d < best.1 {
+            best = (k, d);
+        }
+    }
+    let step = (b - a) / n as f64;
+    let (mut lo, mut hi) = (
+        a + step * best.0.saturating_sub(1) as f64,
+        (a + step * (best.0 + 1) as f64).min(b),
+    );
+    for _ in 0..60 {
+        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if distance(m1)? < distance(m2)? {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    Ok((t, distance(t)?))
+}
+
+/// Open edges split where another face's corner lies on them (a T-junction: a face that
+/// meets two faces along one straight edge, as a block standing over another's edge):
+/// whether any was split.
+fn imprint_vertices(
+    pieces: &mut [TrimmedSurface],
+    naked: &[crate::join::EdgeId],
+    tolerance: f64,
+) -> Result<bool, GeometryError> {
+    let points = corners(pieces)?;
+    let mut changed = false;
+    let mut by_face: std::collections::BTreeMap<usize, Vec<&crate::join::EdgeId>> =
+        Default::default();
+    for e in naked {
+        by_face.entry(e.face).or_default().push(e);
+    }
+    for (face_index, mut edges) in by_face {
+        // From the last curve back, so replacing one by its parts moves none still to come.
+        edges.sort_by_key(|e| std::cmp::Reverse((e.loop_index, e.curve)));
+        let face = &pieces[face_index];
+        let mut loops = face_loops(face)?;
+        let mut face_changed = false;
+        for e in edges {
+            let Some(curve) = loops
+                .get(e.loop_index)
+                .and_then(|l| l.get(e.curve))
+                .cloned()
+            else {
+                continue;
+            };
+            let (a, b) = curve.domain();
+            let ends = [curve.point_at(a)?, curve.point_at(b)?]
+                .map(|uv| face.surface().point_at(uv.x, uv.y));
+            let ends = [ends[0].clone()?, ends[1].clone()?];
+            let (lo, hi) = ends
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                    (lo.min(p), hi.max(p))
+                });
+            let reach = DVec3::splat(tolerance) + (hi - lo) * 0.5;
+            let mut cuts: Vec<f64> = Vec::new();
+            for &p in &points {
+                if ends.iter().any(|e| e.distance(p) <= tolerance * 10.0)
+                    || (p - 0.5 * (lo + hi)).abs().cmpgt(reach * 2.0).any()
+                {
+                    continue;
+                }
+                let (t, d) = nearest_on_edge(face.surface(), &curve, p)?;
+                let eps = 1e-9 * (b - a);
+                if d <= tolerance && t > a + eps && t < b - eps {
+                    cuts.push(t);
+                }
+            }
+            if cuts.is_empty() {
+                continue;
+            }
+            cuts.sort_by(f64::total_cmp);
+            cuts.dedup_by(|x, y| (*x - *y).abs() <= 1e-9 * (b - a));
+            let mut parts = Vec::new();
+            let mut rest = curve;
+            for &t in cuts.iter().rev() {
+                let (left, right) = rest.split(t)?;
+                parts.push(right);
+                rest = left;
+            }
+            parts.push(rest);
+            parts.reverse();
+            let l = &mut loops[e.loop_index];
+            l.splice(e.curve..=e.curve, parts);
+            face_changed = true;
+        }
+        if face_changed {
+            pieces[face_index] = TrimmedSurface::new(face.surface().clone(), loops)?;
+            changed = true;
+        }
+    }
+    Ok(changed)
+}
+
+/// The kept parts joined into closed shells and sorted into solids with their voids; refused
+/// where they do not close.
+fn assemble(
+    pieces: Vec<TrimmedSurface>,
+    tolerance: f64,
+) -> Result<Vec<ResultSolid>, GeometryError> {
+    if pieces.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut pieces = pieces;
+    let mut topology = find_topology(&pieces, tolerance)?;
+    let mut v = validity(pieces.len(), &topology);
+    if !v.is_closed_shell() && imprint_vertices(&mut pieces, &v.naked, tolerance)? {
+        topology = find_topology(&pieces, tolerance)?;
+        v = validity(pieces.len(), &topology);
+    }
+    if !v.is_closed_shell() {
+        let place = v
+            .naked
+            .first()
+            .or(v.non_manifold.first())
+            .and_then(|e| {
+                let face = pieces.get(e.face)?;
+                let loops = face_loops(face).ok()?;
+                let curve = loops.get(e.loop_index)?.get(e.curve)?;
+                let (a, b) = curve.domain();
+                let uv = curve.point_at(0.5 * (a + b)).ok()?;
+                face.surface().point_at(uv.x, uv.y).ok()
+            })
+            .map(|p| format!(" (near ({:.6}, {:.6}, {:.6}))", p.x, p.y, p.z))
+            .unwrap_or_default();
+        return Err(construction(
+            WHAT,
+            format!(
+                "the result does not close: {} open edge(s), {} edge(s) shared by more than two \
+                 faces, {} misoriented{place}; the inputs may touch in a way this boolean cannot \
+                 resolve",
+                v.naked.len(),
+                v.non_manifold.len(),
+                v.misoriented.len()
+            ),
+        ));
+    }
+    let components = topology.components(pieces.len());
+    let mut shells: Vec<(Vec<TrimmedSurface>, f64, (DVec3, DVec3))> = Vec::new();
+    for c in components {
+        let faces: Vec<TrimmedSurface> = c.iter().map(|&k| pieces[k].clone()).collect();
+        let volume = signed_volume(&faces)?;
+        let bounds = union_box(
+            &faces
+                .iter()
+                .map(|f| f.surface().bounds())
+                .collect::<Vec<_>>(),
+        );
+        shells.push((faces, volume, bounds));
+    }
+    let mut solids: Vec<(ResultSolid, f64, (DVec3, DVec3))> = Vec::new();
+    let (outer, voids): (Vec<_>, Vec<_>) = shells.into_iter().partition(|s| s.1 > 0.0);
+    for (faces, volume, bounds) in outer {
+        solids.push((
+            ResultSolid {
+                shells: vec![faces],
+            },
+            volume,
+            bounds,
+        ));
+    }
+    for (faces, _, (lo, hi)) in voids {
+        let holder = solids
+            .iter_mut()
+            .filter(|(_, _, (a, b))| a.cmple(lo).all() && b.cmpge(hi).all())
+            .min_by(|x, y| x.1.total_cmp(&y.1));
+        match holder {
+            Some((solid, _, _)) => solid.shells.push(faces),
+            None => {
+                return Err(construction(
+                    WHAT,
+                    "the result has a shell turned inside out that no solid holds",
+                ));
+            }
+        }
+    }
+    Ok(solids.into_iter().map(|s| s.0).collect())
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,81 @@
+"""Writes the boolean fixtures: input STEP files made with OpenCASCADE (cadquery-ocp) and
+OpenCASCADE's own volumes of their union, difference and intersection (BRepAlgoAPI_Fuse, Cut
+and Common; BRepGProp), in occt-booleans.jsonl.
+
+    python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
+    /tmp/ocpenv/bin/python tests/reference/boolean/make_fixtures.py
+"""
+import json
+import math
+import os
+
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
+from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeSphere
+from OCP.BRep import BRep_Builder
+from OCP.GProp import GProp_GProps
+from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+from OCP.IFSelect import IFSelect_RetDone
+from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+from OCP.TopoDS import TopoDS_Compound
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def volume(shape):
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    return props.Mass()
+
+
+def placed(shape, seed):
+    """The shape in general position: a rotation about a skew axis and a shift."""
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0.3 + seed, -0.5, 0.8)), 0.7 + 0.3 * seed)
+    s = gp_Trsf()
+    s.SetTranslation(gp_Vec(12.5 * seed, -7.25, 3.125))
+    t = s.Multiplied(t)
+    return BRepBuilderAPI_Transform(shape, t, True).Shape()
+
+
+def write(shape, name):
+    w = STEPControl_Writer()
+    w.Transfer(shape, STEPControl_AsIs)
+    assert w.Write(os.path.join(HERE, name)) == IFSelect_RetDone
+
+
+def compound(shapes):
+    c = TopoDS_Compound()
+    b = BRep_Builder()
+    b.MakeCompound(c)
+    for s in shapes:
+        b.Add(c, s)
+    return c
+
+
+def box(x, y, z, dx, dy, dz):
+    return BRepPrimAPI_MakeBox(gp_Pnt(x, y, z), dx, dy, dz).Shape()
+
+
+def cylinder(p, d, r, h):
+    return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(*p), gp_Dir(*d)), r, h).Shape()
+
+
+cases = {
+    "blocks": (box(0, 0, 0, 20, 15, 10), box(12, 7, 4, 13, 17, 11)),
+    "flush": (box(0, 0, 0, 20, 20, 10), box(5, 5, 5, 10, 20, 5)),
+    "ball-block": (box(0, 0, 0, 20, 20, 20), BRepPrimAPI_MakeSphere(gp_Pnt(20, 10, 10), 7).Shape()),
+}
+
+with open(os.path.join(HERE, "occt-booleans.jsonl"), "w") as out:
+    for seed, (name, (a, b)) in enumerate(sorted(cases.items())):
+        a, b = placed(a, seed % 3), placed(b, seed % 3)
+        write(a, f"{name}-a.step")
+        write(b, f"{name}-b.step")
+        row = {"case": name, "a": volume(a), "b": volume(b)}
+        for op, maker in [("union", BRepAlgoAPI_Fuse), ("difference", BRepAlgoAPI_Cut),
+                          ("intersection", BRepAlgoAPI_Common)]:
+            row[op] = volume(maker(a, b).Shape())
+        out.write(json.dumps(row) + "\n")
+        print(row)
