@@ -81,6 +81,8 @@ impl BooleanOp {
 #[derive(Debug, Clone)]
 pub struct ResultSolid {
     pub shells: Vec<Vec<TrimmedSurface>>,
+    /// The volume it encloses (its voids' taken off).
+    pub volume: f64,
 }
 
 impl ResultSolid {
@@ -107,9 +109,11 @@ impl BooleanResult {
     }
 }
 
-/// A closed operand: faces turned outward, their boxes and, for a plane, its point and normal.
+/// A closed operand: faces turned outward, its shells (faces by index), their boxes and, for
+/// a plane, its point and normal.
 struct Operand {
     faces: Vec<TrimmedSurface>,
+    shells: Vec<Vec<usize>>,
     boxes: Vec<(DVec3, DVec3)>,
     planes: Vec<Option<(DVec3, DVec3)>>,
 }
@@ -128,7 +132,7 @@ pub fn outward_faces(
     faces: &[TrimmedSurface],
     tolerance: f64,
     label: &str,
-) -> Result<Vec<TrimmedSurface>, GeometryError> {
+) -> Result<(Vec<TrimmedSurface>, Vec<Vec<usize>>), GeometryError> {
     if faces.is_empty() {
         return Err(construction(WHAT, format!("{label} has no faces")));
     }
@@ -190,7 +194,7 @@ pub fn outward_faces(
             }
         }
     }
-    Ok(out)
+    Ok((out, components))
 }
 
 /// The plane of a planar face (a point and the unit normal), where every control point lies
@@ -208,7 +212,7 @@ fn plane_of(face: &TrimmedSurface, tolerance: f64) -> Option<(DVec3, DVec3)> {
 }
 
 impl Operand {
-    fn new(faces: Vec<TrimmedSurface>, tolerance: f64) -> Self {
+    fn new((faces, shells): (Vec<TrimmedSurface>, Vec<Vec<usize>>), tolerance: f64) -> Self {
         let boxes = faces.iter().map(|f| f.surface().bounds()).collect();
         let planes = faces
             .iter()
@@ -216,6 +220,7 @@ impl Operand {
             .collect();
         Self {
             faces,
+            shells,
             boxes,
             planes,
         }
@@ -288,27 +293,32 @@ pub fn boolean(
                 }
                 branches += 1;
                 let closed = branch.closed;
-                for (list, uv) in [(&mut cuts_a[i], branch.uv_a), (&mut cuts_b[j], branch.uv_b)] {
+                for (list, uv, face) in [
+                    (&mut cuts_a[i], branch.uv_a, &a.faces[i]),
+                    (&mut cuts_b[j], branch.uv_b, &b.faces[j]),
+                ] {
                     let mut points = uv;
                     if closed {
                         points.pop();
                         without_overshoot(&mut points);
                     }
-                    if points.len() >= 2 {
-                        let k = list.len();
-                        list.push(Polyline {
-                            source: Source::Cut(k),
-                            points,
-                            params: Vec::new(),
-                            closed,
-                        });
+                    for (points, closed) in across_seams(points, closed, face) {
+                        if points.len() >= 2 {
+                            let k = list.len();
+                            list.push(Polyline {
+                                source: Source::Cut(k),
+                                points,
+                                params: Vec::new(),
+                                closed,
+                            });
+                        }
                     }
                 }
             }
         }
     }
-    let mesh_a = classifier(&a.faces, size)?;
-    let mesh_b = classifier(&b.faces, size)?;
+    let mesh_a = classifier(&a, size)?;
+    let mesh_b = classifier(&b, size)?;
     let mut pieces: Vec<TrimmedSurface> = Vec::new();
     let mut split_faces = 0;
     for (side, (own, cuts, other, other_mesh)) in
@@ -359,16 +369,131 @@ pub fn boolean(
     })
 }
 
+/// Whether the surface closes on itself across u = u0, u1 and across v = v0, v1 (its edges
+/// there coincide at nine samples, within 1e-9 of its size).
+fn seams(surface: &NurbsSurface) -> (bool, bool) {
+    let [u0, u1, v0, v1] = domain_rect(surface);
+    let gap = 1e-9 * surface.size();
+    let meets = |a: (f64, f64), b: (f64, f64)| match (
+        surface.point_at(a.0, a.1),
+        surface.point_at(b.0, b.1),
+    ) {
+        (Ok(p), Ok(q)) => p.distance(q) <= gap,
+        _ => false,
+    };
+    let fractions = (0..9).map(|k| (k as f64 + 0.5) / 9.0);
+    let closed_u = fractions.clone().all(|f| {
+        let v = v0 + (v1 - v0) * f;
+        meets((u0, v), (u1, v))
+    });
+    let closed_v = fractions.clone().all(|f| {
+        let u = u0 + (u1 - u0) * f;
+        meets((u, v0), (u, v1))
+    });
+    (closed_u, closed_v)
+}
+
+/// A branch's (u, v) points cut where they jump across a closed surface's seam (a step of
+/// more than a quarter of the domain in u or v), each piece carried on to the domain's edge
+/// where the jump crosses it (v, or u, interpolated linearly across); a closed branch that
+/// crosses the seam becomes open pieces, the one through its start joined up.
+fn across_seams(
+    points: Vec<DVec2>,
+    closed: bool,
+    face: &TrimmedSurface,
+) -> Vec<(Vec<DVec2>, bool)> {
+    let [u0, u1, v0, v1] = domain_rect(face.surface());
+    let (w, h) = (u1 - u0, v1 - v0);
+    let n = points.len();
+    if n < 2 {
+        return vec![(points, closed)];
+    }
+    let steps = if closed { n } else { n - 1 };
+    let (seam_u, seam_v) = seams(face.surface());
+    if !(seam_u || seam_v) {
+        return vec![(points, closed)];
+    }
+    let jump = |p: DVec2, q: DVec2| {
+        (seam_u && (q.x - p.x).abs() > 0.25 * w) || (seam_v && (q.y - p.y).abs() > 0.25 * h)
+    };
+    let first_jump = (0..steps).find(|&k| jump(points[k], points[(k + 1) % n]));
+    let Some(start) = first_jump else {
+        return vec![(points, closed)];
+    };
+    // A closed branch is walked from just after its first jump, round to it again.
+    let order: Vec<usize> = if closed {
+        (1..=n).map(|k| (start + k) % n).collect()
+    } else {
+        (0..n).collect()
+    };
+    // Where p → q crosses the seam: the ends on either edge.
+    let crossing = |p: DVec2, q: DVec2| -> (DVec2, DVec2) {
+        if seam_u && (q.x - p.x).abs() > 0.25 * w {
+            let (pe, qe) = if p.x > q.x { (u1, u0) } else { (u0, u1) };
+            let (dp, dq) = ((pe - p.x).abs(), (q.x - qe).abs());
+            let t = dp / (dp + dq).max(1e-300);
+            let v = p.y + (q.y - p.y) * t;
+            (DVec2::new(pe, v), DVec2::new(qe, v))
+        } else {
+            let (pe, qe) = if p.y > q.y { (v1, v0) } else { (v0, v1) };
+            let (dp, dq) = ((pe - p.y).abs(), (q.y - qe).abs());
+            let t = dp / (dp + dq).max(1e-300);
+            let u = p.x + (q.x - p.x) * t;
+            (DVec2::new(u, pe), DVec2::new(u, qe))
+        }
+    };
+    let mut pieces: Vec<Vec<DVec2>> = vec![Vec::new()];
+    for (m, &k) in order.iter().enumerate() {
+        let p = points[k];
+        if m > 0 {
+            let prev = points[order[m - 1]];
+            if jump(prev, p) {
+                let (end, begin) = crossing(prev, p);
+                if let Some(last) = pieces.last_mut() {
+                    last.push(end);
+                }
+                pieces.push(vec![begin]);
+            }
+        }
+        if let Some(last) = pieces.last_mut() {
+            last.push(p);
+        }
+    }
+    if closed {
+        // The walk ends where it began: across the first jump again.
+        let (p, q) = (points[start], points[(start + 1) % n]);
+        let (end, _) = crossing(p, q);
+        if let Some(last) = pieces.last_mut() {
+            last.push(end);
+        }
+        let (_, begin) = crossing(p, q);
+        if let Some(first) = pieces.first_mut() {
+            first.insert(0, begin);
+        }
+    }
+    pieces.into_iter().map(|p| (p, false)).collect()
+}
+
 /// A closed branch's points without those at its end that run on past its start (a loop is
 /// closed where it comes back near its start, a step or so beyond it).
 fn without_overshoot(points: &mut Vec<DVec2>) {
-    while points.len() > 3 {
-        let (p0, p1, last) = (points[0], points[1], points[points.len() - 1]);
+    // Three points at most, and only where the first step is a step along the curve (not a
+    // jump across a seam, which is far longer than the one before the end).
+    for _ in 0..3 {
+        let n = points.len();
+        if n <= 4 {
+            return;
+        }
+        let (p0, p1, last) = (points[0], points[1], points[n - 1]);
         let step = p1 - p0;
-        if last.distance(p0) < 2.0 * step.length() && (last - p0).dot(step) > 0.0 {
+        let before = points[n - 2].distance(last);
+        if step.length() <= 4.0 * before
+            && last.distance(p0) < step.length()
+            && (last - p0).dot(step) > 0.0
+        {
             points.pop();
         } else {
-            break;
+            return;
         }
     }
 }
@@ -465,41 +590,58 @@ enum Place {
     OnOpposite,
 }
 
-/// The triangles of an operand's faces (outward), for the winding number.
+/// The triangles of each shell of an operand, with the shell's box, for the winding number.
 struct Classifier {
-    triangles: Vec<[DVec3; 3]>,
+    shells: Vec<((DVec3, DVec3), Vec<[DVec3; 3]>)>,
 }
 
-fn classifier(faces: &[TrimmedSurface], size: f64) -> Result<Classifier, GeometryError> {
-    let mut triangles = Vec::new();
-    for face in faces {
-        let tolerance = (face.surface().size() * 2e-4).max(size * 1e-6);
-        let mesh = if face.is_trimmed() {
-            tessellate_trimmed(face, Tessellation::Tolerance(tolerance), false)?
-        } else {
-            let grid = grid_for(face.surface(), Tessellation::Tolerance(tolerance))?;
-            triangulate(face.surface(), &grid, false)?
-        };
-        for t in &mesh.triangles {
-            triangles.push(t.map(|k| mesh.positions[k as usize]));
+fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError> {
+    let mut shells = Vec::with_capacity(operand.shells.len());
+    for shell in &operand.shells {
+        let mut triangles = Vec::new();
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &k in shell {
+            let face = &operand.faces[k];
+            let tolerance = (face.surface().size() * 2e-4).max(size * 1e-6);
+            let mesh = if face.is_trimmed() {
+                tessellate_trimmed(face, Tessellation::Tolerance(tolerance), false)?
+            } else {
+                let grid = grid_for(face.surface(), Tessellation::Tolerance(tolerance))?;
+                triangulate(face.surface(), &grid, false)?
+            };
+            for p in &mesh.positions {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+            for t in &mesh.triangles {
+                triangles.push(t.map(|k| mesh.positions[k as usize]));
+            }
         }
+        shells.push(((lo, hi), triangles));
     }
-    Ok(Classifier { triangles })
+    Ok(Classifier { shells })
 }
 
 impl Classifier {
-    /// The winding number of the closed triangle set about `p` (its sign follows the
-    /// tessellation's turn, so the caller takes its size): the sum of the triangles'
-    /// solid angles seen from `p` over 4π (Van Oosterom and Strackee's formula,
-    /// tan(Ω/2) = a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)).
+    /// The winding number of the closed triangle sets about `p` (its sign follows the
+    /// tessellation's turn, so the caller takes its size): the sum of the triangles' solid
+    /// angles seen from `p` over 4π (Van Oosterom and Strackee's formula, tan(Ω/2) =
+    /// a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)). A shell whose box does not
+    /// hold `p` winds zero times round it and is skipped.
     fn winding(&self, p: DVec3) -> f64 {
         let mut total = 0.0;
-        for t in &self.triangles {
-            let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
-            let (la, lb, lc) = (a.length(), b.length(), c.length());
-            let numerator = a.dot(b.cross(c));
-            let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-            total += 2.0 * numerator.atan2(denominator);
+        for ((lo, hi), triangles) in &self.shells {
+            let margin = (*hi - *lo) * 1e-3;
+            if (p - *lo + margin).min_element() < 0.0 || (*hi + margin - p).min_element() < 0.0 {
+                continue;
+            }
+            for t in triangles {
+                let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
+                let (la, lb, lc) = (a.length(), b.length(), c.length());
+                let numerator = a.dot(b.cross(c));
+                let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+                total += 2.0 * numerator.atan2(denominator);
+            }
         }
         total / (4.0 * std::f64::consts::PI)
     }
@@ -1019,18 +1161,22 @@ fn assemble(
         solids.push((
             ResultSolid {
                 shells: vec![faces],
+                volume,
             },
             volume,
             bounds,
         ));
     }
-    for (faces, _, (lo, hi)) in voids {
+    for (faces, void_volume, (lo, hi)) in voids {
         let holder = solids
             .iter_mut()
             .filter(|(_, _, (a, b))| a.cmple(lo).all() && b.cmpge(hi).all())
             .min_by(|x, y| x.1.total_cmp(&y.1));
         match holder {
-            Some((solid, _, _)) => solid.shells.push(faces),
+            Some((solid, _, _)) => {
+                solid.shells.push(faces);
+                solid.volume += void_volume;
+            }
             None => {
                 return Err(construction(
                     WHAT,
