@@ -592,8 +592,11 @@ enum Place {
 
 /// The triangles of each shell of an operand, with the shell's box, for the winding number.
 struct Classifier {
-    shells: Vec<((DVec3, DVec3), Vec<[DVec3; 3]>)>,
+    shells: Vec<ShellTriangles>,
 }
+
+/// One shell's box and triangles.
+type ShellTriangles = ((DVec3, DVec3), Vec<[DVec3; 3]>);
 
 fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError> {
     let mut shells = Vec::with_capacity(operand.shells.len());
