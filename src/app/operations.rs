@@ -29,7 +29,33 @@ impl KnotworkApp {
             .filter(|entry| !entry.own_panel)
             .filter_map(|entry| Some((entry, (entry.on_selection)(self.scene(), &selection)?)))
             .collect();
-        if offered.is_empty() {
+        let booleans: Vec<_> = [
+            (
+                crate::ops::boolean::Kind::Union,
+                "Union",
+                "one body of all the selected",
+            ),
+            (
+                crate::ops::boolean::Kind::Difference,
+                "Difference",
+                "the first selected body minus the others",
+            ),
+            (
+                crate::ops::boolean::Kind::Intersection,
+                "Intersection",
+                "what the first selected body has in common with the others",
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(kind, label, tip)| {
+            Some((
+                crate::ops::boolean::offered(self.scene(), &selection, kind)?,
+                label,
+                tip,
+            ))
+        })
+        .collect();
+        if offered.is_empty() && booleans.is_empty() {
             ui.weak("none applies to the selection");
             return;
         }
@@ -43,6 +69,16 @@ impl KnotworkApp {
                 }
             }
         });
+        if !booleans.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("Solids:");
+                for (operation, label, tip) in booleans {
+                    if ui.button(label).on_hover_text(tip).clicked() {
+                        chosen = Some(operation);
+                    }
+                }
+            });
+        }
         if let Some(operation) = chosen {
             self.apply(AppCommand::Edit(Command::Apply {
                 operation,

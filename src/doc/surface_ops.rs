@@ -1327,3 +1327,104 @@ fn own_trimmed(
         ))),
     }
 }
+
+/// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
+/// boolean`]) as one new polysurface named after them, the inputs hidden, at `tolerance` (a
+/// fraction of the scene's size). Refused, changing nothing, for an object that is not a
+/// closed body, an object in both lists, or an empty result.
+pub(crate) fn boolean(
+    scene: &Scene,
+    op: crate::kernel::boolean::BooleanOp,
+    a: &[usize],
+    b: &[usize],
+    tolerance: f64,
+) -> Result<Planned, EditError> {
+    use crate::kernel::boolean::{BooleanOp, boolean};
+    let what = op.name();
+    let first = *a.first().ok_or(EditError::BadParameter {
+        operation: "boolean",
+        field: "a",
+        message: "needs at least one body".into(),
+    })?;
+    if b.is_empty() {
+        return Err(EditError::BadParameter {
+            operation: "boolean",
+            field: "b",
+            message: "needs at least one body".into(),
+        });
+    }
+    let mut faces = [Vec::new(), Vec::new()];
+    for (side, list) in [a, b].into_iter().enumerate() {
+        for &k in list {
+            let object = object_at(scene, k)?;
+            if side == 1 && a.contains(&k) {
+                return Err(geometry_error(object)(refuse(
+                    what,
+                    "is in both lists: a body cannot be combined with itself",
+                )));
+            }
+            let body = object.body().filter(|b| b.closed()).ok_or_else(|| {
+                geometry_error(object)(refuse(
+                    what,
+                    format!(
+                        "is not a closed body ({}); join its faces into a closed polysurface first",
+                        object.kind().kind_name()
+                    ),
+                ))
+            })?;
+            faces[side].extend(body.faces);
+        }
+    }
+    let size = scene_size(scene);
+    let made = boolean(op, &faces[0], &faces[1], tolerance * size)
+        .map_err(geometry_error(&scene.objects[first]))?;
+    let all = made.faces();
+    if all.is_empty() {
+        return Err(geometry_error(&scene.objects[first])(refuse(
+            what,
+            match op {
+                BooleanOp::Intersection => "the bodies do not overlap: nothing is common to them",
+                _ => "nothing is left",
+            },
+        )));
+    }
+    let polysurface = Polysurface::new(all, tolerance * size * 10.0)
+        .map_err(geometry_error(&scene.objects[first]))?;
+    let symbol = match op {
+        BooleanOp::Union => "∪",
+        BooleanOp::Difference => "−",
+        BooleanOp::Intersection => "∩",
+    };
+    let name = format!(
+        "{} {symbol} {}",
+        objects_named(scene, a, false),
+        objects_named(scene, b, false)
+    );
+    let mut changes = Vec::new();
+    for &k in a.iter().chain(b) {
+        let before = &scene.objects[k];
+        if before.visible {
+            let mut after = before.clone();
+            after.visible = false;
+            changes.push(Change::Replace {
+                index: k,
+                before: before.clone(),
+                after,
+            });
+        }
+    }
+    changes.extend(insert_objects(
+        scene,
+        &name,
+        [ObjectGeometry::new(polysurface)],
+    ));
+    let volume: f64 = made.solids.iter().map(|s| s.volume).sum();
+    let label = format!(
+        "{what} of {} and {}: {} solid{}, volume {volume:.6}",
+        objects_named(scene, a, false),
+        objects_named(scene, b, false),
+        made.solids.len(),
+        if made.solids.len() == 1 { "" } else { "s" },
+    );
+    Ok((changes, label))
+}

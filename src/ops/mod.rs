@@ -9,6 +9,7 @@
 //! [`register`] instead and is then read, offered and applied like these.
 
 pub mod blend;
+pub mod boolean;
 pub mod construct;
 pub mod contour;
 pub mod explode;
@@ -26,7 +27,7 @@ use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 13] = [
+pub const BUILT_IN: [OperationEntry; 14] = [
     construct::ENTRY,
     transform::ENTRY,
     offset::ENTRY,
@@ -40,6 +41,7 @@ pub const BUILT_IN: [OperationEntry; 13] = [
     trim::ENTRY,
     split::ENTRY,
     project::ENTRY,
+    boolean::ENTRY,
 ];
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.

@@ -106,3 +106,109 @@ fn an_open_body_or_a_missing_file_exits_1_with_the_reason() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("empty"));
     assert!(!out.join("empty.step").exists());
 }
+
+mod in_the_document {
+    use glam::{DAffine3, DVec3};
+    use knotwork::doc::{Command, Document};
+    use knotwork::ops::boolean::{Boolean, Kind, offered};
+    use knotwork::ops::transform::Transform;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+    use crate::common::box_of_planes;
+
+    /// Box A = [0, 2] × [0, 1] × [0, 1.5] and box B, the same moved by (1, 0.5, 0.5): they share
+    /// 1 × 0.5 × 1.
+    fn two_boxes() -> Document {
+        let mut scene = Scene::default();
+        scene.objects.clear();
+        scene.objects.push(SceneObject::new(
+            "A",
+            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
+        ));
+        scene.objects.push(SceneObject::new(
+            "B",
+            ObjectGeometry::new(box_of_planes(&DAffine3::from_translation(DVec3::new(
+                1.0, 0.5, 0.5,
+            )))),
+        ));
+        Document::new(scene)
+    }
+
+    fn volume(object: &SceneObject) -> f64 {
+        let faces = object.body().expect("a body").faces;
+        knotwork::kernel::mass::signed_volume(&faces).expect("a volume")
+    }
+
+    #[test]
+    fn a_difference_with_history_hides_its_inputs_follows_a_moved_tool_and_undoes() {
+        let mut doc = two_boxes();
+        let original = doc.scene.clone();
+        let operation = offered(&doc.scene, &[0, 1], Kind::Difference).expect("offered");
+        doc.execute(&Command::Apply {
+            operation,
+            keep_history: true,
+        })
+        .expect("the difference");
+        assert_eq!(doc.scene.objects.len(), 3);
+        assert!(!doc.scene.objects[0].visible && !doc.scene.objects[1].visible);
+        let result = &doc.scene.objects[2];
+        assert_eq!(result.name, "A − B");
+        assert!(result.body().expect("a body").closed());
+        assert!((volume(result) - 2.5).abs() < 1e-9, "{}", volume(result));
+        // Moving the tool by 0.25 along x makes the result again: 3 − 0.75 × 0.5 × 1.
+        doc.execute(&Command::operation(Transform::new(
+            1,
+            &DAffine3::from_translation(DVec3::new(0.25, 0.0, 0.0)),
+        )))
+        .expect("the move");
+        assert!(doc.scene.objects[2].recipe.is_some(), "the history is kept");
+        let moved = volume(&doc.scene.objects[2]);
+        assert!((moved - 2.625).abs() < 1e-9, "{moved}");
+        doc.undo().unwrap();
+        assert!((volume(&doc.scene.objects[2]) - 2.5).abs() < 1e-9);
+        doc.undo().unwrap();
+        assert_eq!(
+            doc.scene, original,
+            "one undo step takes the difference back"
+        );
+    }
+
+    #[test]
+    fn a_refused_boolean_says_why_and_changes_nothing() {
+        let mut doc = two_boxes();
+        // B far away: nothing in common.
+        doc.execute(&Command::operation(Transform::new(
+            1,
+            &DAffine3::from_translation(DVec3::new(10.0, 0.0, 0.0)),
+        )))
+        .unwrap();
+        let before = doc.scene.clone();
+        let depth = doc.history.undo_depth();
+        let common = Command::operation(Boolean {
+            operation: Kind::Intersection,
+            a: vec![0.into()],
+            b: vec![1.into()],
+            tolerance: 1e-6,
+        });
+        let e = doc.execute(&common).unwrap_err();
+        assert!(e.to_string().contains("do not overlap"), "{e}");
+        assert_eq!(doc.scene, before);
+        assert_eq!(doc.history.undo_depth(), depth);
+        // A body with itself, and an unknown operation name in JSON, are refused too.
+        let itself = Command::operation(Boolean {
+            operation: Kind::Union,
+            a: vec![0.into()],
+            b: vec![0.into()],
+            tolerance: 1e-6,
+        });
+        let e = doc.execute(&itself).unwrap_err();
+        assert!(e.to_string().contains("itself"), "{e}");
+        let bad = knotwork::ops::named("boolean").expect("registered");
+        let read = (bad.read)(
+            "",
+            serde_json::json!({"operation": "xor", "a": [0], "b": [1]}),
+        );
+        assert!(read.is_err());
+        assert_eq!(doc.scene, before);
+    }
+}

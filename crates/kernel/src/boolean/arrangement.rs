@@ -563,7 +563,7 @@ pub fn point_inside(outer: &[DVec2], holes: &[&Vec<DVec2>]) -> DVec2 {
         });
     let mut best = (f64::NEG_INFINITY, outer[0]);
     // Irrational-looking heights, so a line rarely passes through a vertex.
-    for f in [0.5, 0.327_9, 0.681_3, 0.141_421_36, 0.886_226_9] {
+    for f in [0.496_7, 0.327_9, 0.681_3, 0.141_421_36, 0.886_226_9] {
         let y = lo.y + (hi.y - lo.y) * f;
         let mut xs: Vec<f64> = Vec::new();
         for polygon in std::iter::once(outer).chain(holes.iter().map(|h| h.as_slice())) {

@@ -1,0 +1,99 @@
+//! Boolean: union, difference or intersection of closed bodies, as one new polysurface, the
+//! inputs hidden ([`crate::doc::surface_ops::boolean`] on [`crate::kernel::boolean`]). With
+//! history the result follows its inputs: moving a body or dragging a control point of one
+//! re-runs it.
+
+use serde::{Deserialize, Serialize};
+
+use crate::doc::EditError;
+use crate::doc::surface_ops;
+use crate::kernel::boolean::BooleanOp;
+use crate::scene::Scene;
+use crate::scene::operation::{
+    ObjectRef, Operation, OperationEntry, OperationParams, Planned, entry,
+};
+
+use super::resolve_all;
+
+/// Which boolean (`"union"`, `"difference"`: a minus b, `"intersection"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    Union,
+    Difference,
+    Intersection,
+}
+
+impl From<Kind> for BooleanOp {
+    fn from(kind: Kind) -> Self {
+        match kind {
+            Kind::Union => BooleanOp::Union,
+            Kind::Difference => BooleanOp::Difference,
+            Kind::Intersection => BooleanOp::Intersection,
+        }
+    }
+}
+
+/// `{"op": "boolean", "operation": "difference", "a": [i], "b": [j, ...], "tolerance": t}`:
+/// the bodies of `a` combined with those of `b` (tools that do not overlap one another);
+/// `tolerance` a fraction of the scene's size, 1e-6 by default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Boolean {
+    pub operation: Kind,
+    pub a: Vec<ObjectRef>,
+    pub b: Vec<ObjectRef>,
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+/// The default tolerance: 1e-6 of the scene's size.
+pub const BOOLEAN_TOLERANCE: f64 = 1e-6;
+
+fn default_tolerance() -> f64 {
+    BOOLEAN_TOLERANCE
+}
+
+impl OperationParams for Boolean {
+    const NAME: &'static str = "boolean";
+
+    fn objects_mut(&mut self) -> Vec<&mut ObjectRef> {
+        self.a.iter_mut().chain(self.b.iter_mut()).collect()
+    }
+
+    fn plan(&self, scene: &Scene) -> Result<Planned, EditError> {
+        let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
+        let a = resolve_all(scene, &self.a)?;
+        let b = resolve_all(scene, &self.b)?;
+        surface_ops::boolean(scene, self.operation.into(), &a, &b, tolerance)
+    }
+}
+
+/// The operation for a selection: the first object against the rest (each with faces); the
+/// editor's Union, Difference and Intersection buttons.
+pub fn offered(scene: &Scene, selection: &[usize], kind: Kind) -> Option<Operation> {
+    match selection {
+        [first, rest @ ..]
+            if !rest.is_empty()
+                && selection
+                    .iter()
+                    .all(|&k| scene.objects.get(k).is_some_and(|o| !o.faces().is_empty())) =>
+        {
+            Some(Operation::new(Boolean {
+                operation: kind,
+                a: vec![(*first).into()],
+                b: rest.iter().map(|&k| k.into()).collect(),
+                tolerance: BOOLEAN_TOLERANCE,
+            }))
+        }
+        _ => None,
+    }
+}
+
+pub const ENTRY: OperationEntry = OperationEntry {
+    own_panel: true,
+    ..entry::<Boolean>(
+        "union, difference or intersection of closed bodies: the first selected against the rest",
+        |scene, selection| offered(scene, selection, Kind::Difference),
+    )
+};
