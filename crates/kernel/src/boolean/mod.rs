@@ -650,6 +650,16 @@ impl Classifier {
     }
 }
 
+/// The surface's derivatives at `uv` taken into its domain (a loop may stray past the
+/// domain's edge by a rounding).
+fn evaluate_clamped(
+    surface: &NurbsSurface,
+    uv: DVec2,
+) -> Result<crate::diffgeo::SurfaceDerivatives, GeometryError> {
+    let [u0, u1, v0, v1] = domain_rect(surface);
+    surface.evaluate(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))
+}
+
 fn inside_domain(face: &TrimmedSurface, uv: DVec2, slack: f64) -> bool {
     let [u0, u1, v0, v1] = domain_rect(face.surface());
     uv.x >= u0 - slack && uv.x <= u1 + slack && uv.y >= v0 - slack && uv.y <= v1 + slack
@@ -664,7 +674,7 @@ fn classify(
     mesh: &Classifier,
     tolerance: f64,
 ) -> Result<Place, GeometryError> {
-    let d = part.surface().evaluate(uv.x, uv.y)?;
+    let d = evaluate_clamped(part.surface(), uv)?;
     let p = d.point;
     for &j in coplanar {
         let face = &other.faces[j];
@@ -675,7 +685,7 @@ fn classify(
         if !(inside_domain(face, q, slack) && face.contains(q.x, q.y)) {
             continue;
         }
-        let on = face.surface().evaluate(q.x, q.y)?;
+        let on = evaluate_clamped(face.surface(), q)?;
         if on.point.distance(p) > tolerance {
             continue;
         }
@@ -735,7 +745,7 @@ fn mapped_boundary(
     for line in boundary_polylines(from, tolerance)? {
         let mut points = Vec::with_capacity(line.points.len());
         for uv in &line.points {
-            let p = from.surface().point_at(uv.x, uv.y)?;
+            let p = from.surface().point_at_clamped(*uv)?;
             if let Some(q) = plane_uv(onto.surface(), p) {
                 points.push(q);
             }
@@ -930,7 +940,7 @@ fn run_curve(
             }
             let n = piece.count();
             piece = piece.with_point(0, first)?.with_point(n - 1, last)?;
-            return Ok(piece);
+            return inside_rect(piece, rect);
         }
     }
     let mut points: Vec<DVec2> = Vec::with_capacity(run.points.len());
@@ -943,13 +953,23 @@ fn run_curve(
         points.push(points[0]);
     }
     if points.len() <= 2 {
-        return TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![first, last], None);
+        return inside_rect(
+            TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![first, last], None)?,
+            rect,
+        );
     }
-    // A cubic through points along the domain's edge may bulge a hair past it: its control
-    // points are kept in the domain (the curve stays in their hull).
+    inside_rect(
+        interpolate_through(&points, 3, Parametrization::ChordLength, None)?,
+        rect,
+    )
+}
+
+/// The curve with its control points kept in the domain `rect`: a cubic through points along
+/// the domain's edge, or a node a rounding outside it, may stray a hair past the edge (the
+/// curve stays in its points' hull).
+fn inside_rect(curve: TrimCurve, rect: [f64; 4]) -> Result<TrimCurve, GeometryError> {
     let [u0, u1, v0, v1] = rect;
-    interpolate_through(&points, 3, Parametrization::ChordLength, None)?
-        .map_points(|p| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1)))
+    curve.map_points(|p| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1)))
 }
 
 /// The parameter of the curve's point nearest `p`, by Newton's steps from `t`.
@@ -981,7 +1001,7 @@ fn corners(pieces: &[TrimmedSurface]) -> Result<Vec<DVec3>, GeometryError> {
     for face in pieces {
         for curve in face_loops(face)?.iter().flatten() {
             let uv = curve.control_point(0);
-            out.push(face.surface().point_at(uv.x, uv.y)?);
+            out.push(face.surface().point_at_clamped(uv)?);
         }
     }
     Ok(out)
@@ -997,7 +1017,7 @@ fn nearest_on_edge(
     let (a, b) = curve.domain();
     let distance = |t: f64| -> Result<f64, GeometryError> {
         let uv = curve.point_at(t.clamp(a, b))?;
-        Ok(surface.point_at(uv.x, uv.y)?.distance(p))
+        Ok(surface.point_at_clamped(uv)?.distance(p))
     };
     let n = 64;
     let mut best = (0usize, f64::INFINITY);
@@ -1055,7 +1075,7 @@ fn imprint_vertices(
             };
             let (a, b) = curve.domain();
             let ends = [curve.point_at(a)?, curve.point_at(b)?]
-                .map(|uv| face.surface().point_at(uv.x, uv.y));
+                .map(|uv| face.surface().point_at_clamped(uv));
             let ends = [ends[0].clone()?, ends[1].clone()?];
             let (lo, hi) = ends
                 .iter()
@@ -1129,7 +1149,7 @@ fn assemble(
                 let curve = loops.get(e.loop_index)?.get(e.curve)?;
                 let (a, b) = curve.domain();
                 let uv = curve.point_at(0.5 * (a + b)).ok()?;
-                face.surface().point_at(uv.x, uv.y).ok()
+                face.surface().point_at_clamped(uv).ok()
             })
             .map(|p| format!(" (near ({:.6}, {:.6}, {:.6}))", p.x, p.y, p.z))
             .unwrap_or_default();
