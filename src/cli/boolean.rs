@@ -88,7 +88,7 @@ pub fn boolean(
         for (k, solid) in result.solids.iter().enumerate() {
             let all = solid.faces();
             faces += all.len();
-            volume += solid.volume;
+            volume += solid.volume().map_err(|e| e.to_string())?;
             let p = Polysurface::new(all, tolerance * 10.0).map_err(|e| e.to_string())?;
             scene.objects.push(SceneObject::new(
                 format!("{} {}", op.name(), k + 1),

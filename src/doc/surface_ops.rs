@@ -1418,9 +1418,8 @@ pub(crate) fn boolean(
         &name,
         [ObjectGeometry::new(polysurface)],
     ));
-    let volume: f64 = made.solids.iter().map(|s| s.volume).sum();
     let label = format!(
-        "{what} of {} and {}: {} solid{}, volume {volume:.6}",
+        "{what} of {} and {}: {} solid{}",
         objects_named(scene, a, false),
         objects_named(scene, b, false),
         made.solids.len(),

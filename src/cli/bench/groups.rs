@@ -400,7 +400,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 18] = [
+pub const GROUPS: [&str; 19] = [
     "edit",
     "webgl2",
     "frame",
@@ -418,6 +418,7 @@ pub const GROUPS: [&str; 18] = [
     "intersect",
     "step",
     "mass",
+    "boolean",
     "all",
 ];
 
@@ -483,6 +484,9 @@ pub fn run(
     }
     if wants("mass") {
         bench_mass(iterations, out)?;
+    }
+    if wants("boolean") {
+        bench_boolean(iterations, out)?;
     }
     Ok(())
 }
@@ -2308,5 +2312,129 @@ fn bench_mass(iterations: usize, out: &mut impl Write) -> Result<(), Box<dyn std
         })?;
         writeln!(out, "mass {name:<40} | {ms:8.3} ms (volume {volume:.6})")?;
     }
+    Ok(())
+}
+
+/// The faces of a prism over the regular `sides`-gon of radius `radius` around `centre` in the
+/// xy plane, `height` tall: `sides` planes and two capping discs.
+fn prism(
+    centre: DVec3,
+    radius: f64,
+    sides: usize,
+    height: f64,
+) -> Result<Vec<TrimmedSurface>, knotwork::kernel::GeometryError> {
+    let corner = |k: usize| {
+        let angle = std::f64::consts::TAU * k as f64 / sides as f64;
+        centre + DVec3::new(angle.cos(), angle.sin(), 0.0) * radius
+    };
+    let up = DVec3::Z * height;
+    let mut faces = Vec::with_capacity(sides + 2);
+    for k in 0..sides {
+        let (a, b) = (corner(k), corner(k + 1));
+        faces.push(TrimmedSurface::untrimmed(construct::plane(a, b - a, up)?));
+    }
+    for lift in [DVec3::ZERO, up] {
+        // One line per side, so that each edge of a cap meets one side.
+        let outline: Vec<_> = (0..sides)
+            .map(|k| construct::line(corner(k) + lift, corner(k + 1) + lift))
+            .collect::<Result<_, _>>()?;
+        faces.push(knotwork::kernel::planar::planar_face(&outline)?);
+    }
+    Ok(faces)
+}
+
+/// Booleans: the plate of the issue (130 × 130 × 10 minus 144 pins, every third slanted) read
+/// from STEP, cut and written as STEP in one go (OpenCASCADE's time for the same, recorded when
+/// the fixtures were made, beside it); and one drag step of a live difference of two
+/// 20-face prisms (the tool moved, the difference made again through its history).
+fn bench_boolean(
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use knotwork::doc::{Command, Document};
+    use knotwork::kernel::boolean::{BooleanOp, boolean};
+    use knotwork::ops::boolean::{Boolean, Kind};
+    use knotwork::ops::transform::Transform;
+    use knotwork::scene::polysurface::Polysurface;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/boolean");
+    let read_faces = |name: &str| -> Result<Vec<TrimmedSurface>, Box<dyn std::error::Error>> {
+        let bytes = std::fs::read(root.join(name))?;
+        let model = knotwork::io::step::read::read(&bytes, &mut |_, _| true)?;
+        Ok(model.bodies.into_iter().flat_map(|b| b.faces).collect())
+    };
+    let started = Instant::now();
+    let (plate, pins) = (read_faces("plate-a.step")?, read_faces("plate-b.step")?);
+    let read_ms = started.elapsed().as_secs_f64() * 1e3;
+    let at = Instant::now();
+    let made = boolean(BooleanOp::Difference, &plate, &pins, 1e-6 * 184.0)?;
+    let boolean_ms = at.elapsed().as_secs_f64() * 1e3;
+    let at = Instant::now();
+    let mut scene = Scene::default();
+    scene.objects.clear();
+    scene.objects.push(SceneObject::new(
+        "plate",
+        ObjectGeometry::new(Polysurface::new(made.faces(), 1e-4)?),
+    ));
+    let tolerance = knotwork::io::step::default_tolerance(&scene);
+    let written = knotwork::io::step::export_scene(&scene, "plate.step", tolerance)?;
+    let write_ms = at.elapsed().as_secs_f64() * 1e3;
+    let occt: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("occt-plate.json"))?)?;
+    writeln!(
+        out,
+        "boolean plate minus 144 pins, read+cut+write   | {:8.1} ms (read {read_ms:.1}, boolean {boolean_ms:.1}, write {write_ms:.1}; {} faces, {} bytes, volume {:.4}; OpenCASCADE {:.1} ms)",
+        read_ms + boolean_ms + write_ms,
+        made.faces().len(),
+        written.text.len(),
+        made.solids
+            .iter()
+            .map(|s| s.volume())
+            .sum::<Result<f64, _>>()?,
+        occt["occt_read_cut_write_seconds"]
+            .as_f64()
+            .unwrap_or(f64::NAN)
+            * 1e3,
+    )?;
+    // Two 20-face prisms, the second turned and shifted; the difference kept with history.
+    let mut scene = Scene::default();
+    scene.objects.clear();
+    let a = prism(DVec3::ZERO, 1.0, 18, 1.0)?;
+    let b = knotwork::kernel::solids::transformed(
+        &prism(DVec3::ZERO, 0.6, 18, 1.4)?,
+        &glam::DAffine3::from_rotation_translation(
+            glam::DQuat::from_rotation_x(0.3),
+            DVec3::new(0.7, 0.2, -0.2),
+        ),
+    )?;
+    for (name, faces) in [("A", a), ("B", b)] {
+        scene.objects.push(SceneObject::new(
+            name,
+            ObjectGeometry::new(Polysurface::new(faces, 1e-6)?),
+        ));
+    }
+    let mut doc = Document::new(scene);
+    doc.execute(&Command::Apply {
+        operation: knotwork::scene::operation::Operation::new(Boolean {
+            operation: Kind::Difference,
+            a: vec![0.into()],
+            b: vec![1.into()],
+            tolerance: 1e-6,
+        }),
+        keep_history: true,
+    })?;
+    let mut step = 0;
+    let (ms, _) = median_ms(iterations.max(3), || {
+        step += 1;
+        let shift = if step % 2 == 0 { 0.01 } else { -0.01 };
+        doc.execute(&Command::operation(Transform::new(
+            1,
+            &glam::DAffine3::from_translation(DVec3::new(shift, 0.0, 0.0)),
+        )))
+        .map(|_| ())
+    })?;
+    writeln!(
+        out,
+        "boolean drag step, two 20-face prisms (live)   | {ms:8.3} ms"
+    )?;
     Ok(())
 }

@@ -81,11 +81,14 @@ impl BooleanOp {
 #[derive(Debug, Clone)]
 pub struct ResultSolid {
     pub shells: Vec<Vec<TrimmedSurface>>,
-    /// The volume it encloses (its voids' taken off).
-    pub volume: f64,
 }
 
 impl ResultSolid {
+    /// The volume it encloses, its voids' taken off (exact: [`signed_volume`]).
+    pub fn volume(&self) -> Result<f64, GeometryError> {
+        signed_volume(&self.faces())
+    }
+
     /// Every face of every shell.
     pub fn faces(&self) -> Vec<TrimmedSurface> {
         self.shells.iter().flatten().cloned().collect()
@@ -1166,9 +1169,16 @@ fn assemble(
         ));
     }
     let components = topology.components(pieces.len());
-    let mut shells: Vec<(Vec<TrimmedSurface>, f64, (DVec3, DVec3))> = Vec::new();
-    for c in components {
-        let faces: Vec<TrimmedSurface> = c.iter().map(|&k| pieces[k].clone()).collect();
+    let shells: Vec<Vec<TrimmedSurface>> = components
+        .iter()
+        .map(|c| c.iter().map(|&k| pieces[k].clone()).collect())
+        .collect();
+    if shells.len() == 1 {
+        // One closed shell of outward faces: the solid (its volume is worked out on demand).
+        return Ok(vec![ResultSolid { shells }]);
+    }
+    let mut sorted: Vec<(Vec<TrimmedSurface>, f64, (DVec3, DVec3))> = Vec::new();
+    for faces in shells {
         let volume = signed_volume(&faces)?;
         let bounds = union_box(
             &faces
@@ -1176,30 +1186,26 @@ fn assemble(
                 .map(|f| f.surface().bounds())
                 .collect::<Vec<_>>(),
         );
-        shells.push((faces, volume, bounds));
+        sorted.push((faces, volume, bounds));
     }
     let mut solids: Vec<(ResultSolid, f64, (DVec3, DVec3))> = Vec::new();
-    let (outer, voids): (Vec<_>, Vec<_>) = shells.into_iter().partition(|s| s.1 > 0.0);
+    let (outer, voids): (Vec<_>, Vec<_>) = sorted.into_iter().partition(|s| s.1 > 0.0);
     for (faces, volume, bounds) in outer {
         solids.push((
             ResultSolid {
                 shells: vec![faces],
-                volume,
             },
             volume,
             bounds,
         ));
     }
-    for (faces, void_volume, (lo, hi)) in voids {
+    for (faces, _, (lo, hi)) in voids {
         let holder = solids
             .iter_mut()
             .filter(|(_, _, (a, b))| a.cmple(lo).all() && b.cmpge(hi).all())
             .min_by(|x, y| x.1.total_cmp(&y.1));
         match holder {
-            Some((solid, _, _)) => {
-                solid.shells.push(faces);
-                solid.volume += void_volume;
-            }
+            Some((solid, _, _)) => solid.shells.push(faces),
             None => {
                 return Err(construction(
                     WHAT,
