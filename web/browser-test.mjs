@@ -1593,6 +1593,67 @@ async function main() {
       await page.close();
     });
 
+    await check('a live boolean in the page: two boxes joined into bodies, their difference with history follows the moved tool on the GPU; undo back', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // Each box as six planes; join makes each a closed polysurface.
+      const box = (name, [x0, y0, z0], [x1, y1, z1]) => [
+        plane(`${name} bottom`, [[[x0, y0, z0], [x0, y1, z0]], [[x1, y0, z0], [x1, y1, z0]]]),
+        plane(`${name} top`, [[[x0, y0, z1], [x0, y1, z1]], [[x1, y0, z1], [x1, y1, z1]]]),
+        plane(`${name} front`, [[[x0, y0, z0], [x0, y0, z1]], [[x1, y0, z0], [x1, y0, z1]]]),
+        plane(`${name} back`, [[[x0, y1, z0], [x0, y1, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+        plane(`${name} left`, [[[x0, y0, z0], [x0, y0, z1]], [[x0, y1, z0], [x0, y1, z1]]]),
+        plane(`${name} right`, [[[x1, y0, z0], [x1, y0, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+      ];
+      await openObjects(page, [...box('A', [-1, -0.5, 0], [1, 0.5, 1.5]), ...box('B', [0, 0, 0.5], [2, 1, 2])]);
+      await page.evaluate(() => window.knotwork.join([]));
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      let objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects.every((o) => o.type === 'polysurface' && o.faces.length === 6), `two bodies: ${JSON.stringify(objects.map((o) => [o.type, o.faces?.length]))}`);
+      await page.evaluate(() => window.knotwork.frame());
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.apply({ op: 'boolean', operation: 'difference', a: [0], b: [1] }, { keepHistory: true }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 120_000 });
+      let s = await status(page);
+      assert(s.error === null && /difference of A bottom and B bottom/.test(s.last_edit), `difference: ${s.error}, ${s.last_edit}`);
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(!objects[0].visible && !objects[1].visible, 'the inputs are hidden');
+      assert(objects[2].type === 'polysurface' && objects[2].faces.length > 6, `the result: ${objects[2].type}, ${objects[2].faces?.length} faces`);
+      await nextFrames(page);
+      const cut = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/boolean-difference.png`, cut);
+      const shown = await screenshotDifference(page, before, cut, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(shown.differing > 200, `the difference shows on screen (${shown.differing} px)`);
+      // Move the tool: the difference is made again through its history, and drawn.
+      const faces = objects[2].faces.length;
+      const started = await page.evaluate(() => performance.now());
+      await page.evaluate(() => window.knotwork.apply({ op: 'transform', object: 1, matrix: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation: [0, 0, 0.4] }));
+      await page.waitForFunction(() => /transform/.test(window.knotwork.status().last_edit ?? ''), null, { timeout: 60_000 });
+      await nextFrames(page);
+      const took = Math.round((await page.evaluate(() => performance.now())) - started);
+      s = await status(page);
+      assert(s.error === null, `move: ${s.error}`);
+      const moved = await page.locator('#knotwork-canvas').screenshot();
+      const followed = await screenshotDifference(page, cut, moved, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(followed.differing > 50, `the difference followed the tool on screen (${followed.differing} px)`);
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(objects[2].type === 'polysurface' && objects[2].faces.length >= faces - 2, `still a body: ${objects[2].faces?.length} faces`);
+      console.log(`      live boolean: the tool moved and the difference drawn again in ${took} ms`);
+      // A refused boolean (a body with itself) changes nothing.
+      await page.evaluate(() => window.knotwork.apply({ op: 'boolean', operation: 'union', a: [2], b: [2] }));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.objects === 3 && /itself/.test(s.error), `refused: ${s.error}`);
+      for (let k = 0; k < 3; k += 1) await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => {
+        const t = window.knotwork.status();
+        return t.undo_steps - (window.__base ?? 0) === 0 && t.objects === 12;
+      }, null, { timeout: 60_000 });
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('blend, match, contour, projection and a varying fillet in the page: each one undo step, refusals change nothing', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

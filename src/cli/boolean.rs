@@ -3,16 +3,17 @@
 
 use std::process::ExitCode;
 
-use knotwork::kernel::boolean::{BooleanOp, boolean as combine};
+use knotwork::kernel::boolean::{BooleanOp, boolean_joined as combine};
+use knotwork::kernel::join::Topology;
 use knotwork::kernel::trim::TrimmedSurface;
-use knotwork::scene::polysurface::Polysurface;
+use knotwork::scene::polysurface::{Body, Polysurface};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 
 use super::*;
 
 /// The closed bodies of the file at `path` (its objects with faces), each one's faces; an
 /// open body is refused by name.
-fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Vec<TrimmedSurface>>), String> {
+fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), String> {
     let project = open_project(path)?;
     let mut bodies = Vec::new();
     for object in &project.scene.objects {
@@ -28,7 +29,7 @@ fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Vec<TrimmedSurface>>)
                 object.name
             ));
         }
-        bodies.push(body.faces);
+        bodies.push(body);
     }
     if bodies.is_empty() {
         return Err(format!("{} holds no solid", path.display()));
@@ -36,11 +37,15 @@ fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Vec<TrimmedSurface>>)
     Ok((project.scene, bodies))
 }
 
-fn diagonal(bodies: &[Vec<TrimmedSurface>]) -> f64 {
-    let (lo, hi) = bodies.iter().flatten().map(|f| f.surface().bounds()).fold(
-        (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
-        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
-    );
+fn diagonal(bodies: &[Body]) -> f64 {
+    let (lo, hi) = bodies
+        .iter()
+        .flat_map(|b| &b.faces)
+        .map(|f| f.surface().bounds())
+        .fold(
+            (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
     lo.distance(hi)
 }
 
@@ -63,10 +68,28 @@ pub fn boolean(
             Some(t) => return Err(format!("the tolerance must be a number above 0, got {t}")),
             None => 1e-6 * size,
         };
-        let faces_a: Vec<TrimmedSurface> = bodies_a.into_iter().flatten().collect();
-        let faces_b: Vec<TrimmedSurface> = bodies_b.into_iter().flatten().collect();
+        // All of a file's bodies as one operand, each body's shared edges numbered on.
+        let joined = |bodies: Vec<Body>| -> (Vec<TrimmedSurface>, Option<Topology>) {
+            let known = bodies.iter().all(|b| b.topology.is_some());
+            let topology = known.then(|| {
+                Topology::concatenated(
+                    bodies
+                        .iter()
+                        .filter_map(|b| Some((b.topology.as_ref()?, b.faces.len()))),
+                )
+            });
+            (bodies.into_iter().flat_map(|b| b.faces).collect(), topology)
+        };
+        let (faces_a, topology_a) = joined(bodies_a);
+        let (faces_b, topology_b) = joined(bodies_b);
         let at = std::time::Instant::now();
-        let result = combine(op, &faces_a, &faces_b, tolerance).map_err(|e| e.to_string())?;
+        let result = combine(
+            op,
+            (&faces_a, topology_a.as_ref()),
+            (&faces_b, topology_b.as_ref()),
+            tolerance,
+        )
+        .map_err(|e| e.to_string())?;
         let boolean_ms = at.elapsed().as_secs_f64() * 1e3;
         if result.solids.is_empty() {
             return Err(format!(

@@ -1339,7 +1339,8 @@ pub(crate) fn boolean(
     b: &[usize],
     tolerance: f64,
 ) -> Result<Planned, EditError> {
-    use crate::kernel::boolean::{BooleanOp, boolean};
+    use crate::kernel::boolean::{BooleanOp, boolean_joined};
+    use crate::kernel::join::Topology;
     let what = op.name();
     let first = *a.first().ok_or(EditError::BadParameter {
         operation: "boolean",
@@ -1354,6 +1355,7 @@ pub(crate) fn boolean(
         });
     }
     let mut faces = [Vec::new(), Vec::new()];
+    let mut topologies: [Vec<(Topology, usize)>; 2] = [Vec::new(), Vec::new()];
     for (side, list) in [a, b].into_iter().enumerate() {
         for &k in list {
             let object = object_at(scene, k)?;
@@ -1372,12 +1374,29 @@ pub(crate) fn boolean(
                     ),
                 ))
             })?;
+            let count = body.faces.len();
             faces[side].extend(body.faces);
+            if let Some(t) = body.topology {
+                topologies[side].push((t, count));
+            }
         }
     }
+    // Each body's own shared edges, numbered on through the list (known for every body, or
+    // worked out again).
+    let joined: Vec<Option<Topology>> = (0..2)
+        .map(|side| {
+            (topologies[side].len() == [a, b][side].len())
+                .then(|| Topology::concatenated(topologies[side].iter().map(|(t, n)| (t, *n))))
+        })
+        .collect();
     let size = scene_size(scene);
-    let made = boolean(op, &faces[0], &faces[1], tolerance * size)
-        .map_err(geometry_error(&scene.objects[first]))?;
+    let made = boolean_joined(
+        op,
+        (&faces[0], joined[0].as_ref()),
+        (&faces[1], joined[1].as_ref()),
+        tolerance * size,
+    )
+    .map_err(geometry_error(&scene.objects[first]))?;
     let all = made.faces();
     if all.is_empty() {
         return Err(geometry_error(&scene.objects[first])(refuse(

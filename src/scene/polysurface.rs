@@ -179,6 +179,8 @@ pub struct Body {
     /// Their naked, non-manifold and misoriented edges and the orientation that makes them
     /// agree ([`crate::kernel::join::validity`]), where the edges could be worked out.
     pub validity: Option<crate::kernel::join::Validity>,
+    /// The shared and naked edges the validity was found from.
+    pub topology: Option<Topology>,
 }
 
 impl Body {
@@ -215,8 +217,14 @@ impl SceneObject {
                 (vec![face], topology)
             }
         };
-        let validity = topology.map(|t| crate::kernel::join::validity(faces.len(), &t));
-        Some(Body { faces, validity })
+        let validity = topology
+            .as_ref()
+            .map(|t| crate::kernel::join::validity(faces.len(), t));
+        Some(Body {
+            faces,
+            validity,
+            topology,
+        })
     }
 }
 

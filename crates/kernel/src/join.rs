@@ -91,6 +91,29 @@ impl Topology {
         groups
     }
 
+    /// The topologies of several face lists put one after another: each part's faces
+    /// numbered on from the faces before it (`parts`: each topology with its face count).
+    pub fn concatenated<'a>(parts: impl IntoIterator<Item = (&'a Topology, usize)>) -> Topology {
+        let mut out = Topology::default();
+        let mut offset = 0;
+        for (t, faces) in parts {
+            let shift = |e: EdgeId| EdgeId {
+                face: e.face + offset,
+                ..e
+            };
+            out.shared.extend(t.shared.iter().map(|s| SharedEdge {
+                a: shift(s.a),
+                b: shift(s.b),
+                ..*s
+            }));
+            out.naked.extend(t.naked.iter().map(|&e| shift(e)));
+            out.degenerate
+                .extend(t.degenerate.iter().map(|&e| shift(e)));
+            offset += faces;
+        }
+        out
+    }
+
     /// Whether every non-degenerate edge is shared (the faces close up).
     pub fn is_closed(&self) -> bool {
         self.naked.is_empty() && !self.shared.is_empty()

@@ -34,7 +34,7 @@ use glam::{DVec2, DVec3};
 use crate::error::{GeometryError, construction};
 use crate::intersect::{BranchEnd, IntersectionCurve};
 use crate::intersect::{IntersectOptions, intersect_surfaces};
-use crate::join::{face_loops, find_topology, validity};
+use crate::join::{Topology, face_loops, find_topology, validity};
 use crate::mass::signed_volume;
 use crate::splines::{Parametrization, interpolate_through};
 use crate::surface::Direction;
@@ -45,6 +45,9 @@ use crate::{NurbsSurface, TrimCurve};
 use arrangement::{Polyline, Region, Source};
 
 const WHAT: &str = "boolean";
+
+/// A result's faces are joined within this many times the boolean's tolerance.
+pub const JOIN_FACTOR: f64 = 10.0;
 
 /// The three booleans.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -139,8 +142,19 @@ pub fn outward_faces(
     if faces.is_empty() {
         return Err(construction(WHAT, format!("{label} has no faces")));
     }
-    let topology = find_topology(faces, tolerance)?;
-    let v = validity(faces.len(), &topology);
+    outward_faces_joined(faces, &find_topology(faces, tolerance)?, label)
+}
+
+/// [`outward_faces`] for faces whose shared edges are already known (a polysurface's).
+pub fn outward_faces_joined(
+    faces: &[TrimmedSurface],
+    topology: &Topology,
+    label: &str,
+) -> Result<(Vec<TrimmedSurface>, Vec<Vec<usize>>), GeometryError> {
+    if faces.is_empty() {
+        return Err(construction(WHAT, format!("{label} has no faces")));
+    }
+    let v = validity(faces.len(), topology);
     if !v.is_closed_shell() {
         return Err(construction(
             WHAT,
@@ -239,14 +253,30 @@ pub fn boolean(
     b: &[TrimmedSurface],
     tolerance: f64,
 ) -> Result<BooleanResult, GeometryError> {
+    boolean_joined(op, (a, None), (b, None), tolerance)
+}
+
+/// [`boolean`] of operands whose shared edges may already be known (a polysurface's
+/// topology, so that a live boolean does not join its inputs again on every drag step).
+pub fn boolean_joined(
+    op: BooleanOp,
+    (a, topology_a): (&[TrimmedSurface], Option<&Topology>),
+    (b, topology_b): (&[TrimmedSurface], Option<&Topology>),
+    tolerance: f64,
+) -> Result<BooleanResult, GeometryError> {
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         return Err(construction(
             WHAT,
             format!("the tolerance must be a number above 0, got {tolerance}"),
         ));
     }
-    let a = Operand::new(outward_faces(a, tolerance, "the first body")?, tolerance);
-    let b = Operand::new(outward_faces(b, tolerance, "the second body")?, tolerance);
+    let oriented =
+        |faces: &[TrimmedSurface], topology: Option<&Topology>, label: &str| match topology {
+            Some(t) => outward_faces_joined(faces, t, label),
+            None => outward_faces(faces, tolerance, label),
+        };
+    let a = Operand::new(oriented(a, topology_a, "the first body")?, tolerance);
+    let b = Operand::new(oriented(b, topology_b, "the second body")?, tolerance);
     let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
     let size = lo.distance(hi);
     let options = IntersectOptions {
@@ -521,7 +551,7 @@ fn only_touches(plane: Option<(DVec3, DVec3)>, face: &TrimmedSurface, tolerance:
 }
 
 /// Branches that stop where the surfaces touch (two equal cylinders crossing: their curves
-/// cross there) carried on to one common point: the mean of the ends within `reach` of one
+/// cross there) ended at one common point: the mean of the ends within `reach` of one
 /// another, on both surfaces, so the cuts meet and divide the faces.
 fn meet_at_tangent_points(curves: &mut [IntersectionCurve], reach: f64) {
     let mut ends: Vec<(usize, usize)> = Vec::new();
@@ -559,17 +589,30 @@ fn meet_at_tangent_points(curves: &mut [IntersectionCurve], reach: f64) {
             uv_a += curves[m].uv_a[i] / n;
             uv_b += curves[m].uv_b[i] / n;
         }
+        // Near the touching point the marched points wander (the normals are nearly parallel,
+        // so the curve's direction is ill-defined): those within `reach` of it are dropped and
+        // the end moved onto it, so the cubic through the rest runs smoothly into it.
         for &y in &group {
             let (m, f) = ends[y];
             let c = &mut curves[m];
             if f == 0 {
-                c.points.insert(0, point);
-                c.uv_a.insert(0, uv_a);
-                c.uv_b.insert(0, uv_b);
-            } else {
-                c.points.push(point);
-                c.uv_a.push(uv_a);
-                c.uv_b.push(uv_b);
+                c.points.reverse();
+                c.uv_a.reverse();
+                c.uv_b.reverse();
+            }
+            while c.points.len() > 2 && c.points[c.points.len() - 2].distance(point) <= reach {
+                c.points.pop();
+                c.uv_a.pop();
+                c.uv_b.pop();
+            }
+            let i = c.points.len() - 1;
+            c.points[i] = point;
+            c.uv_a[i] = uv_a;
+            c.uv_b[i] = uv_b;
+            if f == 0 {
+                c.points.reverse();
+                c.uv_a.reverse();
+                c.uv_b.reverse();
             }
         }
     }
@@ -1135,10 +1178,14 @@ fn assemble(
         return Ok(Vec::new());
     }
     let mut pieces = pieces;
-    let mut topology = find_topology(&pieces, tolerance)?;
+    // The parts meet along edges made from the same marched points on both faces; they are
+    // paired within ten times the tolerance (the cubics through those points on the two faces
+    // differ most near where the surfaces touch, where the points are least certain).
+    let join = tolerance * JOIN_FACTOR;
+    let mut topology = find_topology(&pieces, join)?;
     let mut v = validity(pieces.len(), &topology);
-    if !v.is_closed_shell() && imprint_vertices(&mut pieces, &v.naked, tolerance)? {
-        topology = find_topology(&pieces, tolerance)?;
+    if !v.is_closed_shell() && imprint_vertices(&mut pieces, &v.naked, join)? {
+        topology = find_topology(&pieces, join)?;
         v = validity(pieces.len(), &topology);
     }
     if !v.is_closed_shell() {

@@ -176,22 +176,30 @@ fn a_block_minus_a_through_hole() {
     }
 }
 
-/// Two equal cylinders crossing touch at two points where their intersection curves cross;
-/// the split there does not yet close (refused, not returned).
+/// Two equal cylinders crossing at right angles, each turned about its own axis (so their
+/// seams lie anywhere), in general position: their common part is the Steinmetz solid,
+/// 16 r³ / 3. Their surfaces touch at two points where the intersection curves cross; the
+/// curves are ended there at one common point on both.
 #[test]
-#[ignore = "equal crossing cylinders: the faces do not yet close where the curves cross"]
 fn crossing_cylinders_have_the_steinmetz_volume() {
-    for seed in 6..8 {
+    for (seed, turns) in [(6, (0.7, 1.9)), (7, (2.3, 0.4))] {
         let (motion, s) = placement(seed);
         let s3 = s.powi(3);
         let r = 0.4;
-        // Two cylinders of one radius crossing at right angles: 16 r³ / 3 in common.
+        let spin =
+            |axis: DVec3, angle: f64| DAffine3::from_quat(DQuat::from_axis_angle(axis, angle));
         let c1 = moved(
-            capped_cylinder(DVec3::new(-2.0, 0.0, 0.0), DVec3::X * 4.0, r).unwrap(),
+            moved(
+                capped_cylinder(DVec3::new(-2.0, 0.0, 0.0), DVec3::X * 4.0, r).unwrap(),
+                &spin(DVec3::X, turns.0),
+            ),
             &motion,
         );
         let c2 = moved(
-            capped_cylinder(DVec3::new(0.0, -2.0, 0.0), DVec3::Y * 4.0, r).unwrap(),
+            moved(
+                capped_cylinder(DVec3::new(0.0, -2.0, 0.0), DVec3::Y * 4.0, r).unwrap(),
+                &spin(DVec3::Y, turns.1),
+            ),
             &motion,
         );
         check(
@@ -200,7 +208,38 @@ fn crossing_cylinders_have_the_steinmetz_volume() {
             s,
             "Steinmetz",
         );
+        // And the union and difference keep the invariants with the cylinders' volumes.
+        let v = PI * r * r * 4.0 * s3;
+        let common = 16.0 * r.powi(3) / 3.0 * s3;
+        check(
+            &run(BooleanOp::Union, &c1, &c2, s),
+            2.0 * v - common,
+            s,
+            "Steinmetz union",
+        );
+        check(
+            &run(BooleanOp::Difference, &c1, &c2, s),
+            v - common,
+            s,
+            "Steinmetz difference",
+        );
     }
+}
+
+/// The same with both seams through the touching points (where the curves end on the seam,
+/// not where the surfaces touch): not yet closed, refused.
+#[test]
+#[ignore = "equal crossing cylinders whose seams pass through the touching points"]
+fn crossing_cylinders_with_their_seams_through_the_touching_points() {
+    let r = 0.4;
+    let c1 = capped_cylinder(DVec3::new(-2.0, 0.0, 0.0), DVec3::X * 4.0, r).unwrap();
+    let c2 = capped_cylinder(DVec3::new(0.0, -2.0, 0.0), DVec3::Y * 4.0, r).unwrap();
+    check(
+        &run(BooleanOp::Intersection, &c1, &c2, 1.0),
+        16.0 * r.powi(3) / 3.0,
+        1.0,
+        "Steinmetz with seams at the touching points",
+    );
 }
 
 #[test]
