@@ -99,4 +99,53 @@ pub(crate) mod test_support {
             .map(|p| surface.closest_point(p).unwrap().distance)
             .fold(0.0, f64::max)
     }
+
+    use glam::{DAffine3, DQuat, DVec3};
+
+    /// Marsaglia's xorshift64 from `seed` (any value; 0 is moved off).
+    pub(crate) struct Xorshift(u64);
+
+    impl Xorshift {
+        pub fn new(seed: u64) -> Self {
+            Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        }
+
+        /// The generator in state `state` (not 0) as it is, unmixed.
+        pub fn from_state(state: u64) -> Self {
+            Self(state.max(1))
+        }
+
+        /// The next 64 random bits.
+        pub fn bits(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+
+        /// A number in [0, 1).
+        pub fn unit(&mut self) -> f64 {
+            (self.bits() >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        /// An integer in [0, n).
+        pub fn below(&mut self, n: u64) -> u64 {
+            self.bits() % n
+        }
+    }
+
+    /// A rotation about a random axis, a uniform scale in [0.5, 3.5) and a shift in
+    /// [-100, 100)³, from `seed`: the motion and its scale.
+    pub(crate) fn placement(seed: u64) -> (DAffine3, f64) {
+        let mut random = Xorshift::new(seed);
+        let mut next = || random.unit();
+        let axis = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
+        let rotation = DQuat::from_axis_angle(axis, 6.0 * next());
+        let scale = 0.5 + 3.0 * next();
+        let shift = DVec3::new(next(), next(), next()) * 200.0 - 100.0;
+        (
+            DAffine3::from_scale_rotation_translation(DVec3::splat(scale), rotation, shift),
+            scale,
+        )
+    }
 }

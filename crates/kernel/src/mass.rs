@@ -400,26 +400,9 @@ pub fn mass_properties(
 mod tests {
     use super::*;
     use crate::construct;
-    use glam::{DAffine3, DQuat, DVec2};
+    use glam::DVec2;
 
-    /// A rigid motion and uniform scale in general position.
-    fn placement(seed: u64) -> (DAffine3, f64) {
-        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let axis = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
-        let rotation = DQuat::from_axis_angle(axis, 6.0 * next());
-        let scale = 0.5 + 3.0 * next();
-        let shift = DVec3::new(next(), next(), next()) * 200.0 - 100.0;
-        (
-            DAffine3::from_scale_rotation_translation(DVec3::splat(scale), rotation, shift),
-            scale,
-        )
-    }
+    use crate::test_support::placement;
 
     fn relative(a: f64, b: f64) -> f64 {
         (a - b).abs() / b.abs().max(1e-300)

@@ -7,24 +7,7 @@ use glam::{DAffine3, DQuat, DVec3};
 use super::*;
 use crate::solids::{block, capped_cylinder, transformed};
 
-/// A rigid motion and uniform scale in general position.
-fn placement(seed: u64) -> (DAffine3, f64) {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let axis = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
-    let rotation = DQuat::from_axis_angle(axis, 6.0 * next());
-    let scale = 0.5 + 3.0 * next();
-    let shift = DVec3::new(next(), next(), next()) * 200.0 - 100.0;
-    (
-        DAffine3::from_scale_rotation_translation(DVec3::splat(scale), rotation, shift),
-        scale,
-    )
-}
+use crate::test_support::{Xorshift, placement};
 
 fn volume(faces: &[TrimmedSurface]) -> f64 {
     if faces.is_empty() {
@@ -322,13 +305,8 @@ fn aligned_blocks_with_faces_facing_either_way() {
 /// keep vol(A ∪ B) + vol(A ∩ B) = vol(A) + vol(B) and vol(A − B) + vol(A ∩ B) = vol(A).
 #[test]
 fn random_blocks_on_a_grid_keep_the_volume_invariants() {
-    let mut state = 0x5EED_u64;
-    let mut next = |n: u64| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state % n
-    };
+    let mut random = Xorshift::from_state(0x5EED);
+    let mut next = |n: u64| random.below(n);
     let mut refused = Vec::new();
     let cases = 40;
     for case in 0..cases {
@@ -377,13 +355,8 @@ fn random_blocks_on_a_grid_keep_the_volume_invariants() {
 /// may be refused, never answered with an open body.
 #[test]
 fn random_cylinders_against_blocks_keep_the_volume_invariants() {
-    let mut state = 0xC1_u64;
-    let mut next = |n: u64| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state % n
-    };
+    let mut random = Xorshift::from_state(0xC1);
+    let mut next = |n: u64| random.below(n);
     let mut refused = Vec::new();
     let cases = 16;
     for case in 0..cases {
@@ -435,4 +408,36 @@ fn random_cylinders_against_blocks_keep_the_volume_invariants() {
     }
     eprintln!("{} of {} refused", refused.len(), cases * 3);
     assert!(refused.is_empty(), "{refused:#?}");
+}
+
+/// Found by a random run: a cylinder whose axis is a vertical edge of the block and whose top
+/// cap lies in the block's top plane (the cap's disc centred on the block's corner). Not yet
+/// closed: refused, never answered open.
+#[test]
+#[ignore = "a cylinder's cap coplanar with a block's face, centred on its corner"]
+fn a_cylinder_capped_in_a_block_face_around_its_corner() {
+    let (motion, s) = placement(203);
+    let a = moved(
+        block(DVec3::new(1.0, 0.0, 0.5), DVec3::new(0.75, 0.75, 1.0)).unwrap(),
+        &motion,
+    );
+    let b = moved(
+        capped_cylinder(DVec3::new(1.75, 0.0, 0.25), DVec3::Z * 1.25, 0.5).unwrap(),
+        &motion,
+    );
+    let s3 = s.powi(3);
+    // A quarter of the cylinder's disc over the block's height 1: π r² / 4.
+    let common = PI * 0.25 / 4.0 * s3;
+    check(
+        &run(BooleanOp::Intersection, &a, &b, s),
+        common,
+        s,
+        "quarter cylinder",
+    );
+    check(
+        &run(BooleanOp::Union, &a, &b, s),
+        0.5625 * s3 + PI * 0.25 * 1.25 * s3 - common,
+        s,
+        "union",
+    );
 }
