@@ -115,13 +115,15 @@ impl BooleanResult {
     }
 }
 
-/// A closed operand: faces turned outward, its shells (faces by index), their boxes and, for
-/// a plane, its point and normal.
+/// A closed operand: faces turned outward, its shells (faces by index), their boxes, for a
+/// plane its point and normal, and each face's boundary flattened (made once, read by every
+/// branch and split of the face).
 struct Operand {
     faces: Vec<TrimmedSurface>,
     shells: Vec<Vec<usize>>,
     boxes: Vec<(DVec3, DVec3)>,
     planes: Vec<Option<(DVec3, DVec3)>>,
+    boundaries: Vec<Vec<Polyline>>,
 }
 
 fn union_box(boxes: &[(DVec3, DVec3)]) -> (DVec3, DVec3) {
@@ -229,18 +231,26 @@ fn plane_of(face: &TrimmedSurface, tolerance: f64) -> Option<(DVec3, DVec3)> {
 }
 
 impl Operand {
-    fn new((faces, shells): (Vec<TrimmedSurface>, Vec<Vec<usize>>), tolerance: f64) -> Self {
+    fn new(
+        (faces, shells): (Vec<TrimmedSurface>, Vec<Vec<usize>>),
+        tolerance: f64,
+    ) -> Result<Self, GeometryError> {
         let boxes = faces.iter().map(|f| f.surface().bounds()).collect();
         let planes = faces
             .iter()
             .map(|f| plane_of(f, tolerance * 1e-2))
             .collect();
-        Self {
+        let boundaries = faces
+            .iter()
+            .map(|f| boundary_polylines(f, tolerance))
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
             faces,
             shells,
             boxes,
             planes,
-        }
+            boundaries,
+        })
     }
 }
 
@@ -275,8 +285,8 @@ pub fn boolean_joined(
             Some(t) => outward_faces_joined(faces, t, label),
             None => outward_faces(faces, tolerance, label),
         };
-    let a = Operand::new(oriented(a, topology_a, "the first body")?, tolerance);
-    let b = Operand::new(oriented(b, topology_b, "the second body")?, tolerance);
+    let a = Operand::new(oriented(a, topology_a, "the first body")?, tolerance)?;
+    let b = Operand::new(oriented(b, topology_b, "the second body")?, tolerance)?;
     let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
     let size = lo.distance(hi);
     let options = IntersectOptions {
@@ -304,9 +314,19 @@ pub fn boolean_joined(
                     if (pb - pa).dot(na).abs() <= tolerance {
                         coplanar.push((i, j));
                         let k = cuts_a[i].len();
-                        cuts_a[i].extend(mapped_boundary(&b.faces[j], &a.faces[i], tolerance, k)?);
+                        cuts_a[i].extend(mapped_boundary(
+                            &b.faces[j],
+                            &b.boundaries[j],
+                            &a.faces[i],
+                            k,
+                        )?);
                         let k = cuts_b[j].len();
-                        cuts_b[j].extend(mapped_boundary(&a.faces[i], &b.faces[j], tolerance, k)?);
+                        cuts_b[j].extend(mapped_boundary(
+                            &a.faces[i],
+                            &a.boundaries[i],
+                            &b.faces[j],
+                            k,
+                        )?);
                     }
                     continue;
                 }
@@ -319,8 +339,8 @@ pub fn boolean_joined(
             let mut found = intersect_surfaces(&a.faces[i], &b.faces[j], &options)?;
             meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
             for branch in found.curves {
-                if along_boundary(&a.faces[i], &branch.uv_a, tolerance)
-                    || along_boundary(&b.faces[j], &branch.uv_b, tolerance)
+                if along_boundary(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance)
+                    || along_boundary(&b.faces[j], &b.boundaries[j], &branch.uv_b, tolerance)
                 {
                     continue;
                 }
@@ -361,10 +381,13 @@ pub fn boolean_joined(
     {
         for (k, face) in own.faces.iter().enumerate() {
             let parts = if cuts[k].is_empty() {
-                vec![(face.clone(), whole_face_point(face, tolerance)?)]
+                vec![(
+                    face.clone(),
+                    whole_face_point(face, &own.boundaries[k], tolerance)?,
+                )]
             } else {
                 split_faces += 1;
-                split_face(face, &cuts[k], tolerance)?
+                split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
             };
             for (part, uv) in parts {
                 let partners: Vec<usize> = coplanar
@@ -779,16 +802,16 @@ fn plane_uv(surface: &NurbsSurface, p: DVec3) -> Option<DVec2> {
     uv.is_finite().then_some(uv)
 }
 
-/// The boundary curves of `from` as open cuts on the coplanar face `onto` (each curve's ends
-/// corners), numbered from `first`.
+/// The boundary curves of `from` (flattened: `lines`) as open cuts on the coplanar face
+/// `onto` (each curve's ends corners), numbered from `first`.
 fn mapped_boundary(
     from: &TrimmedSurface,
+    lines: &[Polyline],
     onto: &TrimmedSurface,
-    tolerance: f64,
     first: usize,
 ) -> Result<Vec<Polyline>, GeometryError> {
     let mut out = Vec::new();
-    for line in boundary_polylines(from, tolerance)? {
+    for line in lines {
         let mut points = Vec::with_capacity(line.points.len());
         for uv in &line.points {
             let p = from.surface().point_at_clamped(*uv)?;
@@ -882,16 +905,13 @@ fn flatten_curve(curve: &TrimCurve, flat: f64) -> Result<(Vec<DVec2>, Vec<f64>),
     Ok((points, params))
 }
 
-/// Whether a branch runs along the face's boundary (its points at a quarter, half and three
-/// quarters of the way all within the snap distance of it).
-fn along_boundary(face: &TrimmedSurface, uv: &[DVec2], tolerance: f64) -> bool {
+/// Whether a branch runs along the face's boundary (flattened: `lines`; its points at a
+/// quarter, half and three quarters of the way all within the snap distance of it).
+fn along_boundary(face: &TrimmedSurface, lines: &[Polyline], uv: &[DVec2], tolerance: f64) -> bool {
     if uv.len() < 2 {
         return true;
     }
     let (flat, snap) = face_scales(face, tolerance);
-    let Ok(lines) = boundary_polylines(face, tolerance) else {
-        return false;
-    };
     let reach = (snap * 4.0).max(flat * 4.0);
     [1, 2, 3].iter().all(|&q| {
         let p = uv[(uv.len() - 1) * q / 4];
@@ -905,12 +925,13 @@ fn along_boundary(face: &TrimmedSurface, uv: &[DVec2], tolerance: f64) -> bool {
     })
 }
 
-/// A point well inside an uncut face.
-fn whole_face_point(face: &TrimmedSurface, tolerance: f64) -> Result<DVec2, GeometryError> {
-    let regions = arrangement::regions(
-        &boundary_polylines(face, tolerance)?,
-        face_scales(face, tolerance).1,
-    );
+/// A point well inside an uncut face (its boundary flattened: `lines`).
+fn whole_face_point(
+    face: &TrimmedSurface,
+    lines: &[Polyline],
+    tolerance: f64,
+) -> Result<DVec2, GeometryError> {
+    let regions = arrangement::regions(lines, face_scales(face, tolerance).1);
     regions
         .iter()
         .find(|r| face.contains(r.inside.x, r.inside.y))
@@ -918,16 +939,18 @@ fn whole_face_point(face: &TrimmedSurface, tolerance: f64) -> Result<DVec2, Geom
         .ok_or_else(|| construction(WHAT, "a face keeps no part of its domain"))
 }
 
-/// The parts of `face` that `cuts` divide it into, each with a point well inside it.
+/// The parts of `face` (its boundary flattened: `boundary`) that `cuts` divide it into, each
+/// with a point well inside it.
 fn split_face(
     face: &TrimmedSurface,
+    boundary: &[Polyline],
     cuts: &[Polyline],
     tolerance: f64,
 ) -> Result<Vec<(TrimmedSurface, DVec2)>, GeometryError> {
     let (_, snap) = face_scales(face, tolerance);
     let loops = face_loops(face)?;
     let curves: Vec<&TrimCurve> = loops.iter().flatten().collect();
-    let mut lines = boundary_polylines(face, tolerance)?;
+    let mut lines = boundary.to_vec();
     lines.extend(cuts.iter().cloned());
     let slack = 1e-9 * domain_size(domain_rect(face.surface()));
     let mut parts = Vec::new();
