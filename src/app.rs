@@ -5,7 +5,7 @@
 mod analysis;
 mod command;
 pub mod curves;
-mod export;
+pub mod export;
 mod files;
 mod gizmo;
 mod input;

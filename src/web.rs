@@ -682,11 +682,7 @@ pub fn start_export(options: String) -> Result<u32, String> {
     // Checked now against an empty scene, so the caller hears of a bad option at once; the
     // editor reads them again against the document (for the colours' automatic range).
     crate::io::gltf::options_from_json(&options, &Default::default(), Vec::new())?;
-    let request = NEXT_EXPORT.with(|n| {
-        let request = n.get();
-        n.set(request.wrapping_add(1));
-        request
-    });
+    let request = next_export_request();
     send(AppCommand::Export { request, options });
     Ok(request)
 }
@@ -703,13 +699,34 @@ pub fn export_result(request: u32) -> Result<Option<Vec<u8>>, String> {
 /// [`export_result`], whose bytes are the file's text.
 #[wasm_bindgen]
 pub fn start_step_export() -> u32 {
-    let request = NEXT_EXPORT.with(|n| {
+    let request = next_export_request();
+    send(AppCommand::ExportFile {
+        request,
+        format: crate::app::export::FileExport::Step,
+    });
+    request
+}
+
+/// Starts writing the document's visible objects as a file for printing, `format` "stl"
+/// (binary STL) or "3mf", as [`start_step_export`] does; the request's bytes are the file.
+#[wasm_bindgen]
+pub fn start_print_export(format: &str) -> Result<u32, String> {
+    use crate::app::export::FileExport;
+    let format = FileExport::from_name(format)
+        .filter(|f| *f != FileExport::Step)
+        .ok_or_else(|| format!("no print format {format:?}: \"stl\" or \"3mf\""))?;
+    let request = next_export_request();
+    send(AppCommand::ExportFile { request, format });
+    Ok(request)
+}
+
+/// The next export request's number.
+fn next_export_request() -> u32 {
+    NEXT_EXPORT.with(|n| {
         let request = n.get();
         n.set(request.wrapping_add(1));
         request
-    });
-    send(AppCommand::ExportStep { request });
-    request
+    })
 }
 
 /// Opens STEP `bytes` as the editor does, all at once (not into the document), and returns

@@ -1593,7 +1593,7 @@ async function main() {
       await page.close();
     });
 
-    await check('a live boolean in the page: two boxes joined into bodies, their difference with history follows the moved tool on the GPU; undo back', async () => {
+    await check('a live boolean in the page: two boxes joined into bodies, their difference with history follows the moved tool on the GPU, printed as STL and 3MF; undo back', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       // Each box as six planes; join makes each a closed polysurface.
@@ -1639,7 +1639,31 @@ async function main() {
       assert(followed.differing > 50, `the difference followed the tool on screen (${followed.differing} px)`);
       objects = (await page.evaluate(() => window.knotwork.project())).objects;
       assert(objects[2].type === 'polysurface' && objects[2].faces.length >= faces - 2, `still a body: ${objects[2].faces?.length} faces`);
-      console.log(`      live boolean: the tool moved and the difference drawn again in ${took} ms`);
+      // The result printed from the page: a binary STL holding its volume (the tool now
+      // takes 1 x 0.5 x 0.6 from the 2 x 1 x 1.5 block: 2.7), and a 3MF package.
+      const printed = await page.evaluate(async () => {
+        const stl = await window.knotwork.exportStl();
+        const view = new DataView(stl.buffer, stl.byteOffset, stl.byteLength);
+        const facets = view.getUint32(80, true);
+        let volume = 0;
+        for (let k = 0; k < facets; k += 1) {
+          const at = 84 + 50 * k + 12;
+          const p = [0, 1, 2].map((c) => [0, 1, 2].map((i) => view.getFloat32(at + 12 * c + 4 * i, true)));
+          const [a, b, c] = p;
+          volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+        }
+        const package3mf = await window.knotwork.export3mf();
+        const text = new TextDecoder().decode(package3mf);
+        return {
+          stlBytes: stl.length, facets, volume,
+          zip: package3mf[0] === 0x50 && package3mf[1] === 0x4b && package3mf[2] === 3 && package3mf[3] === 4,
+          objects: (text.match(/<object /g) || []).length,
+          unit: /<model unit="[a-z]+"/.test(text),
+        };
+      });
+      assert(printed.stlBytes === 84 + 50 * printed.facets && Math.abs(printed.volume - 2.7) < 1e-5, `exportStl: ${JSON.stringify(printed)}`);
+      assert(printed.zip && printed.objects === 1 && printed.unit, `export3mf: ${JSON.stringify(printed)}`);
+      console.log(`      live boolean: the tool moved and the difference drawn again in ${took} ms; printed as STL (${printed.facets} facets, volume ${printed.volume.toFixed(6)}) and 3MF`);
       // A refused boolean (a body with itself) changes nothing.
       await page.evaluate(() => window.knotwork.apply({ op: 'boolean', operation: 'union', a: [2], b: [2] }));
       await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });

@@ -58,11 +58,12 @@ pub enum AppCommand {
     CancelExport,
     /// Stops opening the STEP file being opened; the document stays as it was.
     CancelOpen,
-    /// Writes the document's visible objects with faces as a STEP file, as it is when the
-    /// command's turn comes; the text goes to the status under `request`
-    /// ([`crate::status::take_export`]).
-    ExportStep {
+    /// Writes the document's visible objects with faces as a file of `format` (STEP, STL,
+    /// 3MF), as it is when the command's turn comes; the bytes go to the status under
+    /// `request` ([`crate::status::take_export`]).
+    ExportFile {
         request: u32,
+        format: super::export::FileExport,
     },
     /// Sets the sharpness of the cage edge between points `a` and `b` of subdivision surface
     /// `object` (0 removes the crease): a [`Command::SetSubdivision`] of its settings.
@@ -240,8 +241,8 @@ impl KnotworkApp {
             AppCommand::Export { request, options } => self.export_for_page(request, &options),
             AppCommand::CancelExport => self.cancel_export(),
             AppCommand::CancelOpen => self.cancel_open(),
-            AppCommand::ExportStep { request } => {
-                self.export_step(super::export::ExportTarget::Page(request))
+            AppCommand::ExportFile { request, format } => {
+                self.export_file(format, super::export::ExportTarget::Page(request))
             }
             AppCommand::SetCrease {
                 object,

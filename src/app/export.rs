@@ -1,5 +1,6 @@
 //! The Export glTF window: tessellation by tolerance or segments, curvature attributes, the
-//! triangle count before writing, then a save dialog (desktop) or a download (web).
+//! triangle count before writing, then a save dialog (desktop) or a download (web); and the
+//! exports written at once ([`FileExport`]): STEP, and STL and 3MF for printing.
 
 use eframe::egui;
 
@@ -164,6 +165,97 @@ pub enum ExportTarget {
     File(String),
 }
 
+/// A file export written at once, without the glTF window's settings: exact STEP, or a mesh
+/// for printing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileExport {
+    /// AP214 with exact B-spline faces, solids as `MANIFOLD_SOLID_BREP`.
+    Step,
+    /// Binary STL.
+    Stl,
+    /// 3MF with the document's unit and each object's colour.
+    ThreeMf,
+}
+
+impl FileExport {
+    /// The format's name, as menus say it.
+    pub fn label(self) -> &'static str {
+        match self {
+            FileExport::Step => "STEP",
+            FileExport::Stl => "STL",
+            FileExport::ThreeMf => "3MF",
+        }
+    }
+
+    /// The file name extensions, the usual one first.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            FileExport::Step => &["step", "stp"],
+            FileExport::Stl => &["stl"],
+            FileExport::ThreeMf => &["3mf"],
+        }
+    }
+
+    /// The media type of a download.
+    #[cfg(target_arch = "wasm32")]
+    fn mime(self) -> &'static str {
+        match self {
+            FileExport::Step => "model/step",
+            FileExport::Stl => "model/stl",
+            FileExport::ThreeMf => "model/3mf",
+        }
+    }
+
+    /// The format named `name` (as the page names it: "step", "stl", "3mf").
+    pub fn from_name(name: &str) -> Option<Self> {
+        [FileExport::Step, FileExport::Stl, FileExport::ThreeMf]
+            .into_iter()
+            .find(|f| f.extensions().contains(&name.to_ascii_lowercase().as_str()))
+    }
+
+    /// The file of `scene`'s visible objects in this format, and notes for the status (what
+    /// was left out or approximated), or why it cannot be written.
+    pub fn write(
+        self,
+        scene: &crate::scene::Scene,
+        file_name: &str,
+    ) -> Result<(Vec<u8>, String), String> {
+        let tessellation = Tessellation::Tolerance(gltf::default_tolerance(scene));
+        match self {
+            FileExport::Step => {
+                let tolerance = crate::io::step::default_tolerance(scene);
+                let written = crate::io::step::export_scene(scene, file_name, tolerance)
+                    .map_err(|e| e.to_string())?;
+                let mut notes = String::new();
+                if !written.left_out.is_empty() {
+                    notes = format!("; left out {}", written.left_out.join("; "));
+                }
+                for a in &written.approximated {
+                    notes.push_str("; ");
+                    notes.push_str(a);
+                }
+                Ok((written.text.into_bytes(), notes))
+            }
+            FileExport::Stl => {
+                let (bytes, facets) =
+                    crate::io::stl::write(scene, tessellation).map_err(|e| e.to_string())?;
+                Ok((bytes, format!(": {facets} facets")))
+            }
+            FileExport::ThreeMf => {
+                let package =
+                    crate::io::threemf::write(scene, tessellation).map_err(|e| e.to_string())?;
+                Ok((
+                    package.bytes,
+                    format!(
+                        ": {} objects, {} triangles",
+                        package.objects, package.triangles
+                    ),
+                ))
+            }
+        }
+    }
+}
+
 /// An export under way: the job and where its result goes.
 pub struct RunningExport {
     job: gltf::ExportJob,
@@ -310,80 +402,71 @@ impl KnotworkApp {
         self.start_export(options, ExportTarget::File(path));
     }
 
-    /// Writes the visible objects as STEP to a file: the path chosen in a save dialog
+    /// Writes the visible objects as `format` to a file: the path chosen in a save dialog
     /// (desktop), a download (web).
-    pub(super) fn export_step_to_file(&mut self) {
+    pub(super) fn export_file_to_path(&mut self, format: FileExport) {
+        let default_name = format!("knotwork.{}", format.extensions()[0]);
         #[cfg(not(target_arch = "wasm32"))]
         let path = {
-            let Some(path) =
-                super::platform::choose_file_to_save("STEP", &["step", "stp"], "knotwork.step")
-            else {
+            let Some(path) = super::platform::choose_file_to_save(
+                format.label(),
+                format.extensions(),
+                &default_name,
+            ) else {
                 return;
             };
             let mut path = path.display().to_string();
             let extension = crate::io::formats::extension(&path);
-            if extension != "step" && extension != "stp" {
-                path.push_str(".step");
+            if !format.extensions().contains(&extension.as_str()) {
+                path.push('.');
+                path.push_str(format.extensions()[0]);
             }
             path
         };
         #[cfg(target_arch = "wasm32")]
-        let path = "knotwork.step".to_owned();
-        self.export_step(ExportTarget::File(path));
+        let path = default_name;
+        self.export_file(format, ExportTarget::File(path));
     }
 
-    /// Writes the visible objects with faces as STEP ([`crate::io::step::export_scene`], at
-    /// the writer's default tolerance) to `target`; what was left out is said in the status.
-    pub(super) fn export_step(&mut self, target: ExportTarget) {
+    /// Writes the visible objects with faces as `format` to `target`: STEP at the writer's
+    /// default tolerance ([`crate::io::step::export_scene`]), STL and 3MF at the glTF export's
+    /// default tolerance; what was left out is said in the status, a refusal in a dialog.
+    pub(super) fn export_file(&mut self, format: FileExport, target: ExportTarget) {
         let scene = &self.doc.scene;
         let file_name = match &target {
             ExportTarget::File(path) => std::path::Path::new(path)
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default(),
-            ExportTarget::Page(_) => "knotwork.step".to_owned(),
+            ExportTarget::Page(_) => format!("knotwork.{}", format.extensions()[0]),
         };
-        let tolerance = crate::io::step::default_tolerance(scene);
-        let result = crate::io::step::export_scene(scene, &file_name, tolerance);
-        let (text, left_out, approximated) = match result {
-            Ok(written) => (written.text, written.left_out, written.approximated),
+        let (bytes, notes) = match format.write(scene, &file_name) {
+            Ok(written) => written,
             Err(e) => {
                 match target {
-                    ExportTarget::Page(request) => {
-                        crate::status::finish_export(request, Err(e.to_string()))
-                    }
+                    ExportTarget::Page(request) => crate::status::finish_export(request, Err(e)),
                     ExportTarget::File(_) => {
                         self.dialog = Some(super::Dialog::refused(
-                            "Could not export STEP",
-                            e.to_string(),
+                            format!("Could not export {}", format.label()),
+                            e.clone(),
                         ));
-                        self.status.error = Some(format!("STEP export: {e}"));
+                        self.status.error = Some(format!("{} export: {e}", format.label()));
                     }
                 }
                 return;
             }
         };
-        let left_out = if left_out.is_empty() {
-            String::new()
-        } else {
-            format!("; left out {}", left_out.join("; "))
-        } + &approximated
-            .iter()
-            .map(|a| format!("; {a}"))
-            .collect::<String>();
         match target {
-            ExportTarget::Page(request) => {
-                crate::status::finish_export(request, Ok(text.into_bytes()));
-            }
+            ExportTarget::Page(request) => crate::status::finish_export(request, Ok(bytes)),
             ExportTarget::File(path) => {
                 #[cfg(not(target_arch = "wasm32"))]
-                let written = std::fs::write(&path, &text).map_err(|e| e.to_string());
+                let written = std::fs::write(&path, &bytes).map_err(|e| e.to_string());
                 #[cfg(target_arch = "wasm32")]
-                let written = super::platform::download(&path, text.as_bytes(), "model/step");
+                let written = super::platform::download(&path, &bytes, format.mime());
                 match written {
                     Ok(()) => {
                         self.status.notice =
-                            Some(format!("wrote {path} ({} bytes){left_out}", text.len()))
+                            Some(format!("wrote {path} ({} bytes){notes}", bytes.len()))
                     }
                     Err(e) => self.status.error = Some(format!("could not write {path}: {e}")),
                 }

@@ -1,4 +1,4 @@
-//! `knotwork export`: a project or a file exported as glTF, STEP or binary STL.
+//! `knotwork export`: a project or a file exported as glTF, STEP, binary STL or 3MF.
 
 use std::process::ExitCode;
 
@@ -79,6 +79,27 @@ fn export_files(args: &ExportArgs<'_>) -> Result<String, String> {
             "wrote {} ({} bytes): {facets} facets, tolerance {tolerance:.3e}, in {:.0} ms",
             args.output.display(),
             bytes.len(),
+            started.elapsed().as_secs_f64() * 1e3
+        ));
+    }
+    if extension == "3mf" {
+        let tolerance = args
+            .tolerance
+            .unwrap_or_else(|| gltf::default_tolerance(&project.scene));
+        let package =
+            knotwork::io::threemf::write(&project.scene, Tessellation::Tolerance(tolerance))
+                .map_err(|e| e.to_string())?;
+        std::fs::write(args.output, &package.bytes)
+            .map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+        return Ok(format!(
+            "wrote {} ({} bytes): {} objects, {} triangles, {} vertices, unit {}, tolerance \
+             {tolerance:.3e}, in {:.0} ms",
+            args.output.display(),
+            package.bytes.len(),
+            package.objects,
+            package.triangles,
+            package.vertices,
+            knotwork::io::threemf::unit_name(project.scene.unit),
             started.elapsed().as_secs_f64() * 1e3
         ));
     }

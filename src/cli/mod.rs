@@ -117,13 +117,15 @@ pub enum Command {
     },
     /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a
     /// STEP file) as glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it (the
-    /// project is embedded, so knotwork can open the export again); or as STEP (AP214) when
-    /// OUTPUT ends in .step or .stp. Without --tolerance or --segments the tolerance is 1e-3
-    /// of the scene's size (for STEP, 1e-6 of it bounds the edge curves).
+    /// project is embedded, so knotwork can open the export again); as STEP (AP214) when
+    /// OUTPUT ends in .step or .stp; for printing as binary STL (.stl) or 3MF (.3mf, with the
+    /// document's unit and each object's colour), closed bodies watertight with outward
+    /// normals. Without --tolerance or --segments the tolerance is 1e-3 of the scene's size
+    /// (for STEP, 1e-6 of it bounds the edge curves).
     Export {
         /// The file to export.
         input: std::path::PathBuf,
-        /// The .glb, .gltf, .step or .stp to write.
+        /// The .glb, .gltf, .step, .stp, .stl or .3mf to write.
         #[arg(short, long)]
         output: std::path::PathBuf,
         /// Largest distance from the triangles to the surface, in model units.

@@ -15,6 +15,8 @@ pub mod obj;
 pub mod project;
 pub mod step;
 pub mod stl;
+pub mod threemf;
+pub mod zip;
 
 use crate::scene::json::{self, FormatError};
 use project::Project;

@@ -3,6 +3,7 @@
 use eframe::egui;
 use glam::{DAffine3, DQuat, DVec3};
 
+use crate::app::export::FileExport;
 use crate::app::{AppCommand, KnotworkApp, SLIDER_SEGMENTS};
 use crate::doc::Command;
 use crate::scene::LengthUnit;
@@ -84,8 +85,25 @@ impl KnotworkApp {
                 )
                 .clicked()
             {
-                self.export_step_to_file();
+                self.export_file_to_path(FileExport::Step);
             }
+            ui.menu_button("Export STL / 3MF", |ui| {
+                for (format, what) in [
+                    (FileExport::Stl, "binary STL: closed bodies watertight, normals outward"),
+                    (
+                        FileExport::ThreeMf,
+                        "3MF: the document's unit and each object's colour, closed bodies watertight",
+                    ),
+                ] {
+                    if ui
+                        .button(format!("Export {}…", format.label()))
+                        .on_hover_text(what)
+                        .clicked()
+                    {
+                        self.export_file_to_path(format);
+                    }
+                }
+            });
         });
         ui.horizontal(|ui| {
             let undo = self.doc.history.undo_label().map(str::to_owned);
