@@ -193,9 +193,10 @@ impl Body {
     pub fn measure(
         &self,
     ) -> Result<(f64, Option<crate::kernel::mass::MassProperties>), GeometryError> {
-        match &self.validity {
-            Some(v) if v.naked.is_empty() => {
-                let m = crate::kernel::mass::mass_properties(&self.faces, &v.flipped)?;
+        match (&self.validity, &self.topology) {
+            (Some(v), Some(topology)) if v.naked.is_empty() => {
+                // Each shell outward, a void's volume taken away.
+                let m = crate::kernel::mass::solid_mass_properties(&self.faces, topology)?;
                 Ok((m.area, Some(m)))
             }
             _ => Ok((crate::kernel::mass::area(&self.faces)?, None)),

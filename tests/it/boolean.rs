@@ -58,9 +58,25 @@ fn booleans_of_step_bodies_match_opencascade_and_the_volume_invariants() {
                 bodies.len() as u64,
                 result["solids"].as_u64().expect("solids")
             );
+            let mut read_back = 0.0;
             for body in bodies {
                 assert_eq!(body["closed"], true, "{case} {op}: {body}");
+                read_back += body["volume"].as_f64().expect("a closed body's volume");
             }
+            // A void is written as one (BREP_WITH_VOIDS, its shell turned over) and read back
+            // as one: the file holds the boolean's volume.
+            assert!(
+                relative(read_back, volume) < 1e-6,
+                "{case} {op}: the file holds {read_back}, the boolean made {volume}"
+            );
+            let text = std::fs::read_to_string(&written).expect("the written file");
+            let voids = result["voids"].as_u64().expect("voids");
+            assert_eq!(
+                text.matches("ORIENTED_CLOSED_SHELL('',*,").count() as u64,
+                voids,
+                "{case} {op}"
+            );
+            assert_eq!(text.contains("BREP_WITH_VOIDS("), voids > 0, "{case} {op}");
             ours.insert(op, volume);
         }
         let (va, vb) = (row["a"].as_f64().unwrap(), row["b"].as_f64().unwrap());
@@ -72,6 +88,34 @@ fn booleans_of_step_bodies_match_opencascade_and_the_volume_invariants() {
         assert!(
             (ours["difference"] + ours["intersection"] - va).abs() < 1e-6 * scale,
             "{case}: {ours:?}"
+        );
+    }
+}
+
+#[test]
+fn opencascades_own_results_open_with_its_volumes() {
+    // A block with a box-shaped cavity (BREP_WITH_VOIDS, the void an ORIENTED_CLOSED_SHELL
+    // turned over) and a block with a ball's dent bounded by a meridian circle through the
+    // ball's poles: both as OpenCASCADE wrote them, each one closed body with its volume.
+    let dir = fixtures();
+    let rows = std::fs::read_to_string(dir.join("occt-booleans.jsonl")).expect("references");
+    for case in ["cavity", "ball-block"] {
+        let row: serde_json::Value = rows
+            .lines()
+            .map(|l| serde_json::from_str(l).expect("a JSON row"))
+            .find(|r: &serde_json::Value| r["case"] == case)
+            .expect("the case's row");
+        let file = dir.join(format!("{case}-occt-difference.step"));
+        let info = knotwork_json(&["info".as_ref(), file.as_os_str()]);
+        let bodies = info["bodies"].as_array().expect("bodies");
+        assert_eq!(bodies.len(), 1, "{case}: {info}");
+        let body = &bodies[0];
+        assert_eq!(body["validity"]["closed_shell"], true, "{case}: {body}");
+        let volume = body["volume"].as_f64().expect("a volume");
+        let reference = row["difference"].as_f64().expect("OpenCASCADE's volume");
+        assert!(
+            relative(volume, reference) < 1e-6,
+            "{case}: {volume} against OpenCASCADE's {reference}"
         );
     }
 }

@@ -797,6 +797,30 @@ pub fn orientation(faces: usize, topology: &Topology) -> Vec<bool> {
     flip.into_iter().map(|f| f.unwrap_or(false)).collect()
 }
 
+/// How a body's closed shells nest, from each shell's bounding box (`boxes`, corners) and the
+/// volume it encloses (`volumes`, either sign): for each shell, the innermost shell around it
+/// (whose box holds its box strictly and which encloses more), or `None` for an outermost one;
+/// and whether it is a void (inside an odd number of shells: a cavity, whereas a shell inside a
+/// cavity is a solid again). Shells of one valid body do not cross, so boxes decide.
+pub fn shell_nesting(boxes: &[(DVec3, DVec3)], volumes: &[f64]) -> Vec<(Option<usize>, bool)> {
+    let around = |i: usize, j: usize| {
+        j != i
+            && boxes[j].0.cmplt(boxes[i].0).all()
+            && boxes[j].1.cmpgt(boxes[i].1).all()
+            && volumes[j].abs() > volumes[i].abs()
+    };
+    (0..boxes.len())
+        .map(|i| {
+            let outside: Vec<usize> = (0..boxes.len()).filter(|&j| around(i, j)).collect();
+            let innermost = outside
+                .iter()
+                .copied()
+                .min_by(|&a, &b| volumes[a].abs().total_cmp(&volumes[b].abs()));
+            (innermost, !outside.len().is_multiple_of(2))
+        })
+        .collect()
+}
+
 /// What keeps a set of faces from bounding a solid, edge by edge: naked edges (one face
 /// only), edges that more than two faces share (non-manifold), and shared edges whose two faces
 /// cannot be turned to agree once every other edge is satisfied (a one-sided surface, or faces

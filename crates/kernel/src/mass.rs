@@ -357,10 +357,79 @@ pub fn mass_properties(
     faces: &[TrimmedSurface],
     flipped: &[bool],
 ) -> Result<MassProperties, GeometryError> {
+    let (origin, _) = centre(faces);
+    let moments = faces
+        .iter()
+        .map(|f| face_moments(f, origin))
+        .collect::<Result<Vec<_>, _>>()?;
+    properties_of(faces, &moments, flipped)
+}
+
+/// The faces of a closed body (`faces`, joined by `topology` into one or more closed shells)
+/// to turn over so that every normal points out of the material: each shell agrees across its
+/// shared edges ([`crate::join::orientation`]) and encloses positive volume, unless it is a
+/// void ([`crate::join::shell_nesting`]), which encloses negative volume; and each face's
+/// moments about the centre of the faces' boxes, as they are.
+pub fn outward_flips(
+    faces: &[TrimmedSurface],
+    topology: &crate::join::Topology,
+) -> Result<(Vec<bool>, Vec<Moments>), GeometryError> {
+    let (origin, _) = centre(faces);
+    let moments = faces
+        .iter()
+        .map(|f| face_moments(f, origin))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut flipped = crate::join::orientation(faces.len(), topology);
+    let shells = topology.components(faces.len());
+    let volumes: Vec<f64> = shells
+        .iter()
+        .map(|shell| {
+            shell
+                .iter()
+                .map(|&k| moments[k].volume * if flipped[k] { -1.0 } else { 1.0 })
+                .sum()
+        })
+        .collect();
+    let boxes: Vec<(DVec3, DVec3)> = shells
+        .iter()
+        .map(|shell| {
+            let lo_hi: Vec<_> = shell.iter().map(|&k| faces[k].surface().bounds()).collect();
+            lo_hi.iter().fold(
+                (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                |(lo, hi), &(a, b)| (lo.min(a), hi.max(b)),
+            )
+        })
+        .collect();
+    let nesting = crate::join::shell_nesting(&boxes, &volumes);
+    for ((shell, volume), (_, void)) in shells.iter().zip(&volumes).zip(&nesting) {
+        if (*volume > 0.0) == *void {
+            for &k in shell {
+                flipped[k] = !flipped[k];
+            }
+        }
+    }
+    Ok((flipped, moments))
+}
+
+/// The mass properties of a closed body of one or more shells, a void's volume taken away
+/// ([`outward_flips`], then [`mass_properties`]).
+pub fn solid_mass_properties(
+    faces: &[TrimmedSurface],
+    topology: &crate::join::Topology,
+) -> Result<MassProperties, GeometryError> {
+    let (flipped, moments) = outward_flips(faces, topology)?;
+    properties_of(faces, &moments, &flipped)
+}
+
+/// [`mass_properties`] from each face's `moments` about the centre of the faces' boxes.
+fn properties_of(
+    faces: &[TrimmedSurface],
+    moments: &[Moments],
+    flipped: &[bool],
+) -> Result<MassProperties, GeometryError> {
     let (origin, diagonal) = centre(faces);
     let mut m = Moments::default();
-    for (k, face) in faces.iter().enumerate() {
-        let moments = face_moments(face, origin)?;
+    for (k, &moments) in moments.iter().enumerate() {
         m += if flipped.get(k).copied().unwrap_or(false) {
             moments.flipped()
         } else {

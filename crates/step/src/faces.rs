@@ -600,7 +600,7 @@ pub fn build_face(
         return whole_face(surface, tolerance);
     }
     if let Surface3::Spline(s) = surface
-        && let Some(built) = face_from_pcurves(s, surface_id, bounds, tolerance)
+        && let Some(built) = face_from_pcurves(s, surface_id, bounds, same_sense, tolerance)
     {
         return Ok(built);
     }
@@ -655,6 +655,16 @@ pub fn build_face(
     {
         return Err("its edges do not lie on its surface".into());
     }
+    let sense: Vec<f64> = bounds
+        .iter()
+        .map(|b| {
+            if b.orientation == same_sense {
+                1.0
+            } else {
+                -1.0
+            }
+        })
+        .collect();
     // A face across the seam of a surface closed on itself, without going round it: the
     // seam moves into the gap the face leaves (the same surface), so that the face is one
     // region of the domain.
@@ -669,7 +679,8 @@ pub fn build_face(
         if !crosses_seam(&loops, d) {
             continue;
         }
-        let (range, windings) = angle_range(&loops, d, bounds);
+        let (range, windings) =
+            angle_range(&loops, d, bounds, (!periodic[1 - d]).then_some(&sense));
         let Range::Angle {
             start,
             span,
@@ -698,22 +709,12 @@ pub fn build_face(
         closed,
         ..natural
     };
-    let sense: Vec<f64> = bounds
-        .iter()
-        .map(|b| {
-            if b.orientation == same_sense {
-                1.0
-            } else {
-                -1.0
-            }
-        })
-        .collect();
     // Ranges of the natural parameters.
     let mut ranges = [Range::Linear { lo: 0.0, hi: 1.0 }; 2];
     let mut windings: Vec<[i64; 2]> = vec![[0, 0]; loops.len()];
     for d in 0..2 {
         if periodic[d] {
-            let (range, w) = angle_range(&loops, d, bounds);
+            let (range, w) = angle_range(&loops, d, bounds, (!periodic[1 - d]).then_some(&sense));
             // A closed B-spline keeps its own seam.
             ranges[d] = match closed[d] {
                 Some((lo, hi)) => Range::Closed { lo, hi },
@@ -1054,11 +1055,13 @@ fn face_from_pcurves(
     s: &NurbsSurface,
     surface_id: u64,
     bounds: &[Bound],
+    same_sense: bool,
     tolerance: f64,
 ) -> Option<BuiltFace> {
     // On a surface that closes on itself, a loop alone may mean the part outside it (a
-    // sphere-like surface with a hole): the p-curves say which only with a seam edge, whose two
-    // p-curves on the surface make the loops bound the face within the domain.
+    // sphere-like surface with a hole): the p-curves say which with a seam edge, whose two
+    // p-curves on the surface make the loops bound the face within the domain, or by their
+    // direction (below).
     let seamed = bounds.iter().flat_map(|b| &b.edges).any(|e| {
         e.geometry
             .pcurves
@@ -1067,9 +1070,7 @@ fn face_from_pcurves(
             .count()
             >= 2
     });
-    if !seamed && closed_directions(s, tolerance).iter().any(Option::is_some) {
-        return None;
-    }
+    let ambiguous = !seamed && closed_directions(s, tolerance).iter().any(Option::is_some);
     let [(u0, u1), (v0, v1)] = s.domain();
     let uv_size = (u1 - u0).hypot(v1 - v0);
     let on = |p: DVec2| s.point_at_clamped(p).ok();
@@ -1151,6 +1152,31 @@ fn face_from_pcurves(
             }
         }
         trim_loops.push(best?.1);
+    }
+    if ambiguous {
+        // The face lies on the left of each bound's loop seen from its normal: in (u, v),
+        // inside the loops where they run counter-clockwise once turned by each bound's
+        // sense. Where they run the other way the face is the part outside them, which the
+        // general path builds.
+        let kept: f64 = trim_loops
+            .iter()
+            .zip(bounds)
+            .map(|(l, b)| {
+                let curves: Vec<TrimCurve> = l.iter().map(|(c, _)| c.clone()).collect();
+                let area = crate::kernel::trim::signed_area(&crate::kernel::trim::flatten_loop(
+                    &curves,
+                    1e-6 * uv_size,
+                ));
+                if b.orientation == same_sense {
+                    area
+                } else {
+                    -area
+                }
+            })
+            .sum();
+        if !(kept > 0.0) {
+            return None;
+        }
     }
     finish_face(s.clone(), trim_loops).ok()
 }
@@ -1507,7 +1533,12 @@ fn crosses_seam(loops: &[Vec<Vec<Sample>>], d: usize) -> bool {
 
 /// The range of the periodic natural parameter `d` over the face, and each loop's winding
 /// number about it.
-fn angle_range(loops: &[Vec<Vec<Sample>>], d: usize, bounds: &[Bound]) -> (Range, Vec<i64>) {
+fn angle_range(
+    loops: &[Vec<Vec<Sample>>],
+    d: usize,
+    bounds: &[Bound],
+    sense: Option<&[f64]>,
+) -> (Range, Vec<i64>) {
     let mut windings = Vec::new();
     let mut intervals: Vec<(f64, f64)> = Vec::new();
     let mut full = false;
@@ -1587,13 +1618,23 @@ fn angle_range(loops: &[Vec<Vec<Sample>>], d: usize, bounds: &[Bound]) -> (Range
             }
         }
         if let (Some(first), Some(last)) = (merged.first().copied(), merged.last().copied()) {
-            let mut best = (first.0 + TAU - last.1, last.1);
-            for w in merged.windows(2) {
-                let gap = w[1].0 - w[0].1;
-                if gap > best.0 {
-                    best = (gap, w[0].1);
-                }
-            }
+            // The gaps (width, start), widest first: the face is all but one of them.
+            let mut gaps = vec![(first.0 + TAU - last.1, last.1)];
+            gaps.extend(merged.windows(2).map(|w| (w[1].0 - w[0].1, w[0].1)));
+            gaps.sort_by(|a, b| b.0.total_cmp(&a.0));
+            // Edges that cover no angle between their ends (meridians, seen from the axis)
+            // leave gaps alike: the loops' direction says which side the face lies on (the
+            // kept region on their left, turned by each bound's sense).
+            let best = sense
+                .and_then(|sense| {
+                    gaps.iter()
+                        .copied()
+                        .filter(|g| g.0 > 1e-9)
+                        .find(|&(width, start)| {
+                            kept_area(loops, d, (start + 0.5 * width).rem_euclid(TAU), sense) > 0.0
+                        })
+                })
+                .unwrap_or(gaps[0]);
             if best.0 > 1e-9 {
                 // A margin each side: the edges bulge past their samples.
                 let span = TAU - best.0;
@@ -1618,6 +1659,35 @@ fn angle_range(loops: &[Vec<Vec<Sample>>], d: usize, bounds: &[Bound]) -> (Range
         },
         windings,
     )
+}
+
+/// The area in natural parameters that the loops enclose (each counted with its bound's
+/// `sense`, positive where the loop runs counter-clockwise in (u, v)), with angle `d` measured
+/// from `start` (the middle of a gap no edge covers) round to a full turn (the other parameter
+/// as it is; samples at a pole, whose angle is undefined, left out): positive where the face
+/// lies in that turn.
+fn kept_area(loops: &[Vec<Vec<Sample>>], d: usize, start: f64, sense: &[f64]) -> f64 {
+    let mut total = 0.0;
+    for (edges, &sense) in loops.iter().zip(sense) {
+        let points: Vec<[f64; 2]> = edges
+            .iter()
+            .flatten()
+            .filter(|s| !s.pole && s.n[0].is_finite() && s.n[1].is_finite())
+            .map(|s| {
+                let mut n = s.n;
+                n[d] = (n[d] - start).rem_euclid(TAU);
+                n
+            })
+            .collect();
+        let twice: f64 = (0..points.len())
+            .map(|k| {
+                let (a, b) = (points[k], points[(k + 1) % points.len()]);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum();
+        total += 0.5 * sense * twice;
+    }
+    total
 }
 
 /// `x` moved by whole turns to be nearest `a`.

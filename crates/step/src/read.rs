@@ -596,6 +596,7 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
             "MANIFOLD_SOLID_BREP",
             "BREP_WITH_VOIDS",
             "SHELL_BASED_SURFACE_MODEL",
+            "ORIENTED_CLOSED_SHELL",
         ] {
             if let Some(r) = instance.part(name) {
                 for v in &r.args[1.min(r.args.len())..] {
@@ -937,23 +938,31 @@ fn start_body(e: &Entities, item: u64) -> Result<BodyBuild, FormatError> {
     }
     let mut closed = true;
     let mut to_build = Vec::new();
-    for shell in shells {
+    for mut shell in shells {
+        // An ORIENTED_CLOSED_SHELL (name, *, shell, orientation), as a void is written, is
+        // its shell, every face turned over where the orientation is .F..
+        let mut turned = false;
+        if let Some(r) = e.instance(shell)?.part("ORIENTED_CLOSED_SHELL") {
+            let r = e.record(shell, &r.name, 4)?;
+            turned = !e.boolean(shell, r, 3)?;
+            shell = e.reference(shell, r, 2)?;
+        }
         let si = e.instance(shell)?;
         let r = si
             .part("CLOSED_SHELL")
             .or_else(|| si.part("OPEN_SHELL"))
-            .or_else(|| si.part("ORIENTED_CLOSED_SHELL"))
             .ok_or_else(|| bad(x, shell, "expected CLOSED_SHELL or OPEN_SHELL"))?;
         closed &= r.name != "OPEN_SHELL";
         let r = e.record(shell, &r.name, 2)?;
         for face_id in e.references(shell, r, 1)? {
-            to_build.push(match e.instance(face_id)?.part("ORIENTED_FACE") {
+            let (face, reversed) = match e.instance(face_id)?.part("ORIENTED_FACE") {
                 Some(of) => {
                     let of = e.record(face_id, &of.name, 4)?;
                     (e.reference(face_id, of, 2)?, !e.boolean(face_id, of, 3)?)
                 }
                 None => (face_id, false),
-            });
+            };
+            to_build.push((face, reversed != turned));
         }
     }
     Ok(BodyBuild {

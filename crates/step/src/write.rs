@@ -7,9 +7,11 @@
 //! edge used by both faces, each vertex is one point where the corners the loops and shared
 //! edges join meet, and every edge curve ends on its vertices; the uncertainty written is the
 //! tolerance asked, or the widest gap the shape's corners and shared edges carry; faces are
-//! turned so that they agree across them, and a shell whose every edge is shared is closed (a
-//! `MANIFOLD_SOLID_BREP`, outward by the sign of its volume), otherwise open (a
-//! `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit (millimetres for a
+//! turned so that they agree across them, and a shape whose every edge is shared is closed:
+//! each of its shells outward by the sign of its volume, one solid per shell that is not a
+//! cavity (a `MANIFOLD_SOLID_BREP`, or a `BREP_WITH_VOIDS` whose voids are the shells directly
+//! inside it, written as `ORIENTED_CLOSED_SHELL`s turned over, as ISO 10303-42 has them);
+//! otherwise it is open (a `SHELL_BASED_SURFACE_MODEL`). Lengths are in the document's unit (millimetres for a
 //! unitless one).
 
 use std::collections::HashMap;
@@ -444,12 +446,12 @@ impl Vertices {
     }
 }
 
-/// The signed volume the faces enclose (divergence theorem over a coarse grid of each face's
-/// kept region), with each face turned by `flip`.
-fn signed_volume(faces: &[TrimmedSurface], flip: &[bool]) -> f64 {
+/// The signed volume the faces of `shell` (indices into `faces`) enclose (divergence theorem
+/// over a coarse grid of each face's kept region), with each face turned by `flip`.
+fn signed_volume(faces: &[TrimmedSurface], flip: &[bool], shell: &[usize]) -> f64 {
     let mut total = 0.0;
     const N: usize = 24;
-    for (face, &f) in faces.iter().zip(flip) {
+    for (face, &f) in shell.iter().map(|&k| (&faces[k], &flip[k])) {
         let s = face.surface();
         let [(u0, u1), (v0, v1)] = s.domain();
         let (du, dv) = ((u1 - u0) / N as f64, (v1 - v0) / N as f64);
@@ -561,10 +563,31 @@ pub fn write(
             faces.iter().map(face_loops).collect::<Result<_, _>>()?;
         let closed = topology.is_closed();
         let mut flip = crate::kernel::join::orientation(faces.len(), &topology);
-        if closed && signed_volume(faces, &flip) < 0.0 {
-            for f in &mut flip {
-                *f = !*f;
+        // Closed: each shell turned to enclose positive volume, as a solid is written; a void
+        // is its shell written so and turned over where the solid refers to it.
+        let shells = topology.components(faces.len());
+        let mut nesting = vec![(None, false); shells.len()];
+        if closed {
+            let mut volumes = Vec::with_capacity(shells.len());
+            for shell in &shells {
+                let volume = signed_volume(faces, &flip, shell);
+                if volume < 0.0 {
+                    for &f in shell {
+                        flip[f] = !flip[f];
+                    }
+                }
+                volumes.push(volume.abs());
             }
+            let boxes: Vec<(DVec3, DVec3)> = shells
+                .iter()
+                .map(|shell| {
+                    shell.iter().map(|&f| faces[f].surface().bounds()).fold(
+                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+                    )
+                })
+                .collect();
+            nesting = crate::kernel::join::shell_nesting(&boxes, &volumes);
         }
         let surfaces: Vec<u64> = faces
             .iter()
@@ -715,23 +738,51 @@ pub fn write(
         let x = out.add("DIRECTION('',(1.,0.,0.))");
         let axis = out.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
         let name = text(shape.name);
-        let (rep, item) = if closed {
-            let shell = out.add(format!("CLOSED_SHELL('',{})", refs(&face_ids)));
-            let solid = out.add(format!("MANIFOLD_SOLID_BREP({name},#{shell})"));
+        let (rep, items) = if closed {
+            // One solid per shell that is not a void: a MANIFOLD_SOLID_BREP, or a
+            // BREP_WITH_VOIDS naming the voids directly inside it, turned over.
+            let shell_ids: Vec<u64> = shells
+                .iter()
+                .map(|shell| {
+                    let ids: Vec<u64> = shell.iter().map(|&f| face_ids[f]).collect();
+                    out.add(format!("CLOSED_SHELL('',{})", refs(&ids)))
+                })
+                .collect();
+            let mut solids = Vec::new();
+            for (i, &shell) in shell_ids.iter().enumerate() {
+                if nesting[i].1 {
+                    continue;
+                }
+                let voids: Vec<u64> = (0..shells.len())
+                    .filter(|&j| nesting[j] == (Some(i), true))
+                    .map(|j| out.add(format!("ORIENTED_CLOSED_SHELL('',*,#{},.F.)", shell_ids[j])))
+                    .collect();
+                solids.push(if voids.is_empty() {
+                    out.add(format!("MANIFOLD_SOLID_BREP({name},#{shell})"))
+                } else {
+                    out.add(format!("BREP_WITH_VOIDS({name},#{shell},{})", refs(&voids)))
+                });
+            }
+            let items: Vec<u64> = std::iter::once(axis)
+                .chain(solids.iter().copied())
+                .collect();
             let rep = out.add(format!(
-                "ADVANCED_BREP_SHAPE_REPRESENTATION({name},(#{axis},#{solid}),#{context})"
+                "ADVANCED_BREP_SHAPE_REPRESENTATION({name},{},#{context})",
+                refs(&items)
             ));
-            (rep, solid)
+            (rep, solids)
         } else {
             let shell = out.add(format!("OPEN_SHELL('',{})", refs(&face_ids)));
             let model = out.add(format!("SHELL_BASED_SURFACE_MODEL({name},(#{shell}))"));
             let rep = out.add(format!(
                 "MANIFOLD_SURFACE_SHAPE_REPRESENTATION({name},(#{axis},#{model}),#{context})"
             ));
-            (rep, model)
+            (rep, vec![model])
         };
         if let Some(color) = shape.color {
-            styled_item(&mut out, item, color, context);
+            for item in items {
+                styled_item(&mut out, item, color, context);
+            }
         }
         let product = out.add(format!("PRODUCT({name},{name},'',(#{product_context}))"));
         let formation = out.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));

@@ -418,7 +418,7 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
         // Volume and centroid for a closed body (exact: the divergence theorem over the faces).
         let validity = crate::kernel::join::validity(b.faces.len(), &b.topology);
         if b.closed
-            && let Ok(m) = crate::kernel::mass::mass_properties(&b.faces, &validity.flipped)
+            && let Ok(m) = crate::kernel::mass::solid_mass_properties(&b.faces, &b.topology)
         {
             body["volume"] = m.volume.into();
             body["centroid"] = serde_json::json!(m.centroid.to_array());

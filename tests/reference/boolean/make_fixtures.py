@@ -73,6 +73,9 @@ cases = {
     "blocks": (box(0, 0, 0, 20, 15, 10), box(12, 7, 4, 13, 17, 11)),
     "flush": (box(0, 0, 0, 20, 20, 10), box(5, 5, 5, 10, 20, 5)),
     "ball-block": (box(0, 0, 0, 20, 20, 20), BRepPrimAPI_MakeSphere(gp_Pnt(20, 10, 10), 7).Shape()),
+    # Tools wholly inside: the difference is a solid with a void (BREP_WITH_VOIDS).
+    "cavity": (box(0, 0, 0, 20, 15, 10), box(5, 4, 3, 6, 5, 4)),
+    "bubble": (box(0, 0, 0, 20, 15, 10), BRepPrimAPI_MakeSphere(gp_Pnt(11, 6, 5), 3.5).Shape()),
 }
 
 # The benchmark: a 130 x 130 x 10 plate minus 144 pins through it, every third one slanted.
@@ -116,6 +119,11 @@ with open(os.path.join(HERE, "occt-booleans.jsonl"), "w") as out:
         row = {"case": name, "a": volume(a), "b": volume(b)}
         for op, maker in [("union", BRepAlgoAPI_Fuse), ("difference", BRepAlgoAPI_Cut),
                           ("intersection", BRepAlgoAPI_Common)]:
-            row[op] = volume(maker(a, b).Shape())
+            result = maker(a, b).Shape()
+            row[op] = volume(result)
+            # OpenCASCADE's own results for knotwork to read: a solid with a void (its shell
+            # an ORIENTED_CLOSED_SHELL in a BREP_WITH_VOIDS), a dent bounded by a meridian.
+            if name in ("cavity", "ball-block") and op == "difference":
+                write(result, f"{name}-occt-{op}.step")
         out.write(json.dumps(row) + "\n")
         print(row)

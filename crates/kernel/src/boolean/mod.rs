@@ -170,49 +170,21 @@ pub fn outward_faces_joined(
             ),
         ));
     }
-    let mut out: Vec<TrimmedSurface> = Vec::with_capacity(faces.len());
-    for (k, face) in faces.iter().enumerate() {
-        out.push(if v.flipped.get(k).copied().unwrap_or(false) {
-            face.reverse(Direction::U)?
-        } else {
-            face.clone()
-        });
-    }
-    // Each closed shell is turned to enclose positive volume, unless it lies inside another
+    // Each closed shell turned to enclose positive volume, unless it lies inside another
     // shell of the operand (a void), which then encloses negative volume.
-    let components = topology.components(out.len());
-    let volumes: Vec<f64> = components
+    let (flipped, _) = crate::mass::outward_flips(faces, topology)?;
+    let out = faces
         .iter()
-        .map(|c| {
-            let shell: Vec<TrimmedSurface> = c.iter().map(|&k| out[k].clone()).collect();
-            signed_volume(&shell)
-        })
-        .collect::<Result<_, _>>()?;
-    let boxes: Vec<(DVec3, DVec3)> = components
-        .iter()
-        .map(|c| {
-            union_box(
-                &c.iter()
-                    .map(|&k| out[k].surface().bounds())
-                    .collect::<Vec<_>>(),
-            )
-        })
-        .collect();
-    for (i, c) in components.iter().enumerate() {
-        // A shell strictly inside another shell's box is a void and encloses negative volume.
-        let inner = (0..components.len()).any(|j| {
-            j != i
-                && boxes[j].0.cmplt(boxes[i].0).all()
-                && boxes[j].1.cmpgt(boxes[i].1).all()
-                && volumes[j].abs() > volumes[i].abs()
-        });
-        let want_positive = !inner;
-        if (volumes[i] > 0.0) != want_positive {
-            for &k in c {
-                out[k] = out[k].reverse(Direction::U)?;
+        .zip(&flipped)
+        .map(|(face, &f)| {
+            if f {
+                face.reverse(Direction::U)
+            } else {
+                Ok(face.clone())
             }
-        }
-    }
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let components = topology.components(out.len());
     Ok((out, components))
 }
 
