@@ -235,6 +235,10 @@ impl TrimmedSurface {
         self.mapped(self.surface.swap_uv(), |p| DVec2::new(p.y, p.x))
     }
 
+    /// The loops carried by `f`, a reflection of the domain onto `surface`'s (u ↦ u0 + u1 − u,
+    /// or u and v exchanged). A reflection keeps the loops closed, inside the domain, apart
+    /// and nested as they were, and turns each one's direction: each is run backwards to keep
+    /// the kept region on its left, without validating them again.
     fn mapped(
         &self,
         surface: NurbsSurface,
@@ -243,9 +247,19 @@ impl TrimmedSurface {
         let loops = self
             .loops
             .iter()
-            .map(|l| l.iter().map(|c| c.map_points(f)).collect())
+            .map(|l| {
+                l.iter()
+                    .rev()
+                    .map(|c| c.map_points(f).map(|c| c.reverse()))
+                    .collect()
+            })
             .collect::<Result<Vec<TrimLoop>, _>>()?;
-        Self::new(surface, loops)
+        Ok(Self {
+            surface,
+            loops,
+            index: Arc::default(),
+            outline: Arc::default(),
+        })
     }
 
     /// The other side kept: the domain's boundary loop added, or removed where one is there
