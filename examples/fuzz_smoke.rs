@@ -7,7 +7,7 @@
 //!   cargo run --example fuzz_smoke -- [--seconds S] [--executions N] [--seed X] [TARGET...]
 //!   cargo run --example fuzz_smoke -- --write-seeds DIR      (a corpus for cargo-fuzz)
 //!
-//! TARGET: project, obj, gltf, png, construct, step (default: all). Each failing input is saved under
+//! TARGET: project, obj, gltf, png, construct, step, boolean (default: all). Each failing input is saved under
 //! `fuzz/artifacts/` and the run exits 1.
 
 use std::path::{Path, PathBuf};
@@ -77,6 +77,16 @@ fn seeds(target: Target) -> Vec<Vec<u8>> {
                     out.push(bytes);
                 }
             }
+        }
+        Target::Boolean => {
+            // Two blocks crossing, a block and a cylinder through it, blocks sharing a face
+            // plane, a ball against a turned cone (kind, place on the grid, sizes, turn).
+            out.push(vec![0, 8, 8, 8, 7, 7, 7, 0, 0, 9, 9, 9, 7, 7, 7, 0]);
+            out.push(vec![0, 6, 6, 8, 9, 9, 3, 0, 1, 8, 8, 4, 2, 2, 11, 0]);
+            out.push(vec![0, 8, 8, 8, 3, 3, 3, 0, 0, 11, 8, 8, 3, 3, 3, 0]);
+            out.push(vec![
+                2, 8, 8, 8, 5, 5, 5, 3, 3, 8, 8, 7, 6, 4, 6, 40, 20, 200, 90,
+            ]);
         }
         Target::HeightImage => {
             // Grey 8 bits, RGB 16 bits, grey and alpha, a 2-bit palette, 1-bit grey, RGBA.
@@ -363,6 +373,9 @@ fn fuzz(target: Target, options: &Options, budget: Duration) -> (u64, Vec<PathBu
             mutate(&mut rng, seed, other)
         };
         executions += 1;
+        // The input under test, where a run that hangs can be found.
+        let _ = std::fs::create_dir_all(&artifacts);
+        let _ = std::fs::write(artifacts.join(format!("{}-running", target.name())), &input);
         if std::panic::catch_unwind(|| check(target, &input)).is_err() {
             let _ = std::fs::create_dir_all(&artifacts);
             let path = artifacts.join(format!("{}-{executions}", target.name()));

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes the readers that take files from users (targets: project, obj, gltf, png, construct,
-# step).
+# step) and the boolean on two primitive solids the bytes place (target: boolean).
 #
 #   fuzz/run.sh TARGET SECONDS [LIBFUZZER-ARGS...]   coverage-guided: cargo-fuzz (libFuzzer) on
 #                                                    the nightly toolchain; `cargo install
@@ -25,7 +25,7 @@ fi
 target=${1:?usage: fuzz/run.sh TARGET SECONDS [LIBFUZZER-ARGS...]}
 seconds=${2:?usage: fuzz/run.sh TARGET SECONDS [LIBFUZZER-ARGS...]}
 shift 2
-case "$target" in project|obj|gltf|png|construct|step) ;; *) echo "fuzz/run.sh: unknown target $target" >&2; exit 2 ;; esac
+case "$target" in project|obj|gltf|png|construct|step|boolean) ;; *) echo "fuzz/run.sh: unknown target $target" >&2; exit 2 ;; esac
 command -v cargo-fuzz >/dev/null || { echo "fuzz/run.sh: cargo install cargo-fuzz" >&2; exit 1; }
 if [ ! -d "fuzz/corpus/$target" ]; then
   cargo run --quiet --locked --example fuzz_smoke -- --write-seeds fuzz/corpus "$target"

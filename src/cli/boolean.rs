@@ -112,7 +112,8 @@ pub fn boolean(
             let all = solid.faces();
             faces += all.len();
             volume += solid.volume().map_err(|e| e.to_string())?;
-            let p = Polysurface::new(all, tolerance * 10.0).map_err(|e| e.to_string())?;
+            let p = Polysurface::with_topology(all, tolerance * 10.0, solid.topology.clone())
+                .map_err(|e| e.to_string())?;
             scene.objects.push(SceneObject::new(
                 format!("{} {}", op.name(), k + 1),
                 ObjectGeometry::new(p),

@@ -1407,7 +1407,8 @@ pub(crate) fn boolean(
             },
         )));
     }
-    let polysurface = Polysurface::new(all, tolerance * size * 10.0)
+    // Joined as the boolean joined them (within ten times its tolerance).
+    let polysurface = Polysurface::with_topology(all, tolerance * size * 10.0, made.topology())
         .map_err(geometry_error(&scene.objects[first]))?;
     let symbol = match op {
         BooleanOp::Union => "∪",

@@ -1,6 +1,6 @@
 //! The fuzzing entry points of the readers that take files from users: a project (JSON), an
 //! OBJ, a glTF (`.gltf` JSON or `.glb`), a STEP file, a PNG height map and a `knotwork
-//! construct` request. The cargo-fuzz targets in `fuzz/`, the stable
+//! construct` request; and the boolean, on two primitive solids the bytes place. The cargo-fuzz targets in `fuzz/`, the stable
 //! smoke harness (`examples/fuzz_smoke.rs`) and the regression test all call [`check`].
 //!
 //! Beyond "never panics", every input that opens must survive a round trip: the opened project,
@@ -20,16 +20,18 @@ pub enum Target {
     HeightImage,
     Construct,
     Step,
+    Boolean,
 }
 
 impl Target {
-    pub const ALL: [Target; 6] = [
+    pub const ALL: [Target; 7] = [
         Target::Project,
         Target::Obj,
         Target::Gltf,
         Target::HeightImage,
         Target::Construct,
         Target::Step,
+        Target::Boolean,
     ];
 
     pub fn name(self) -> &'static str {
@@ -40,6 +42,7 @@ impl Target {
             Target::HeightImage => "png",
             Target::Construct => "construct",
             Target::Step => "step",
+            Target::Boolean => "boolean",
         }
     }
 
@@ -57,6 +60,7 @@ impl Target {
             Target::HeightImage => "fuzz.png",
             Target::Construct => "fuzz.construct.json",
             Target::Step => "fuzz.step",
+            Target::Boolean => "fuzz.boolean",
         }
     }
 }
@@ -67,6 +71,7 @@ pub fn check(target: Target, data: &[u8]) {
     match target {
         Target::HeightImage => return check_height_image(data),
         Target::Construct => return check_construct(data),
+        Target::Boolean => return check_boolean(data),
         _ => {}
     }
     let no_companions = |name: &str| Err(format!("{name}: no files beside a fuzz input"));
@@ -110,6 +115,117 @@ fn check_construct(data: &[u8]) {
         ),
         Err(e) => panic!("a constructed {} could not be read back: {e}", built.name),
     }
+}
+
+/// The two solids the bytes of `data` describe, in turn: a kind (block, capped cylinder, ball,
+/// capped cone), its place and sizes on a quarter grid (so that faces share planes, touch and
+/// cross as often as they miss), and for some a turn about an axis the bytes give.
+fn primitive_solids(data: &[u8]) -> Option<[Vec<crate::kernel::TrimmedSurface>; 2]> {
+    use crate::kernel::solids::{ball, block, capped_cone, capped_cylinder, transformed};
+    use glam::{DAffine3, DQuat, DVec3};
+    if data.is_empty() {
+        return None;
+    }
+    let mut at = 0;
+    let mut byte = || {
+        let b = data[at % data.len()];
+        at += 1;
+        b
+    };
+    let mut solid = || {
+        let kind = byte() % 4;
+        let mut grid = || f64::from(byte() % 17) * 0.25 - 2.0;
+        let place = DVec3::new(grid(), grid(), grid());
+        let mut size = || 0.25 + f64::from(byte() % 12) * 0.25;
+        let (sx, sy, sz) = (size(), size(), size());
+        let faces = match kind {
+            0 => block(place, DVec3::new(sx, sy, sz)),
+            1 => capped_cylinder(place, DVec3::new(0.0, 0.0, sz), 0.5 * sx),
+            2 => ball(place, 0.5 * sx),
+            _ => capped_cone(place, DVec3::new(0.0, 0.0, sz), 0.5 * sx, 0.25 * sy),
+        }
+        .ok()?;
+        let turn = byte();
+        if turn % 3 == 0 {
+            return Some(faces);
+        }
+        let axis = DVec3::new(
+            f64::from(byte()) - 127.5,
+            f64::from(byte()) - 127.5,
+            f64::from(byte()) - 127.5,
+        );
+        let rotation = DQuat::from_axis_angle(axis.normalize(), f64::from(turn) * 0.0245);
+        transformed(&faces, &DAffine3::from_quat(rotation)).ok()
+    };
+    Some([solid()?, solid()?])
+}
+
+/// Combines the two solids `data` describes ([`primitive_solids`]) in all three ways; panics
+/// only if a boolean panics, returns a result that does not close (joined again from its faces
+/// alone), or, where all three succeed, breaks vol(A ∪ B) + vol(A ∩ B) = vol(A) + vol(B) or
+/// vol(A − B) + vol(A ∩ B) = vol(A) beyond 1e-6 of the volumes. A refusal is fine.
+fn check_boolean(data: &[u8]) {
+    use crate::kernel::boolean::{BooleanOp, boolean};
+    use crate::kernel::join::{find_topology, validity};
+    use crate::kernel::mass::signed_volume;
+    let Some([a, b]) = primitive_solids(data) else {
+        return;
+    };
+    let tolerance = 1e-6 * 8.0;
+    let mut volumes = Vec::new();
+    for op in [
+        BooleanOp::Union,
+        BooleanOp::Difference,
+        BooleanOp::Intersection,
+    ] {
+        let Ok(made) = boolean(op, &a, &b, tolerance) else {
+            return;
+        };
+        let faces = made.faces();
+        if faces.is_empty() {
+            volumes.push(0.0);
+            continue;
+        }
+        let topology = find_topology(&faces, 10.0 * tolerance)
+            .unwrap_or_else(|e| panic!("the {} cannot be joined again: {e}", op.name()));
+        let v = validity(faces.len(), &topology);
+        assert!(
+            v.is_closed_shell(),
+            "the {} does not close: {} open, {} non-manifold, {} misoriented edges",
+            op.name(),
+            v.naked.len(),
+            v.non_manifold.len(),
+            v.misoriented.len()
+        );
+        let volume: f64 = made
+            .solids
+            .iter()
+            .map(|s| s.volume())
+            .sum::<Result<f64, _>>()
+            .unwrap_or_else(|e| panic!("the {} has no volume: {e}", op.name()));
+        assert!(
+            volume.is_finite() && volume >= 0.0,
+            "{}: volume {volume}",
+            op.name()
+        );
+        volumes.push(volume);
+    }
+    let (Ok(va), Ok(vb)) = (signed_volume(&a), signed_volume(&b)) else {
+        return;
+    };
+    let (va, vb) = (va.abs(), vb.abs());
+    let scale = va + vb;
+    assert!(
+        (volumes[0] + volumes[2] - va - vb).abs() <= 1e-6 * scale,
+        "vol(A ∪ B) + vol(A ∩ B) = {} for vol(A) + vol(B) = {}",
+        volumes[0] + volumes[2],
+        va + vb
+    );
+    assert!(
+        (volumes[1] + volumes[2] - va).abs() <= 1e-6 * scale,
+        "vol(A − B) + vol(A ∩ B) = {} for vol(A) = {va}",
+        volumes[1] + volumes[2]
+    );
 }
 
 /// Whether two JSON values are equal, numbers within 1e-12 relative.

@@ -165,6 +165,24 @@ impl Polysurface {
     }
 }
 
+/// The largest singular value of `m` (how far it stretches a unit vector at most): the square
+/// root of MᵀM's largest eigenvalue, by power iteration.
+fn largest_singular_value(m: glam::DMat3) -> f64 {
+    let mtm = m.transpose() * m;
+    let mut v = DVec3::new(0.577, 0.578, 0.576);
+    let mut value = 0.0;
+    for _ in 0..64 {
+        let w = mtm * v;
+        let length = w.length();
+        if !(length > 0.0) {
+            return 0.0;
+        }
+        value = length;
+        v = w / length;
+    }
+    value.sqrt()
+}
+
 impl ObjectGeometry {
     /// The object as faces joined along shared edges (what join makes and explode takes
     /// apart; its naked edges are where it is open), or `None`.
@@ -441,7 +459,20 @@ impl ObjectKind for Polysurface {
             .iter()
             .map(|f| f.with_surface(f.surface().transformed(transform)?))
             .collect::<Result<_, _>>()?;
-        Ok(ObjectGeometry::new(self.with_faces(faces)?))
+        // An affine map keeps which edges coincide: the shared edges carry over (their gaps
+        // stretched by at most the map's largest singular value), not worked out again.
+        let moved = match self.topology.get() {
+            Some(Ok(topology)) => {
+                let stretch = largest_singular_value(transform.matrix3);
+                let mut topology = topology.clone();
+                for s in &mut topology.shared {
+                    s.gap *= stretch;
+                }
+                Self::with_topology(faces, self.tolerance, topology)?
+            }
+            _ => self.with_faces(faces)?,
+        };
+        Ok(ObjectGeometry::new(moved))
     }
 
     fn bake_lattice(

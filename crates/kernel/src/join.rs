@@ -114,6 +114,33 @@ impl Topology {
         out
     }
 
+    /// The edges of the faces `faces` (indices into this topology's faces) alone, numbered as
+    /// they come in `faces`; a shared edge with a face outside them is left out.
+    pub fn restricted(&self, faces: &[usize]) -> Topology {
+        let local: std::collections::HashMap<usize, usize> =
+            faces.iter().enumerate().map(|(k, &f)| (f, k)).collect();
+        let to_local = |e: EdgeId| local.get(&e.face).map(|&face| EdgeId { face, ..e });
+        Topology {
+            shared: self
+                .shared
+                .iter()
+                .filter_map(|s| {
+                    Some(SharedEdge {
+                        a: to_local(s.a)?,
+                        b: to_local(s.b)?,
+                        ..*s
+                    })
+                })
+                .collect(),
+            naked: self.naked.iter().filter_map(|&e| to_local(e)).collect(),
+            degenerate: self
+                .degenerate
+                .iter()
+                .filter_map(|&e| to_local(e))
+                .collect(),
+        }
+    }
+
     /// Whether every non-degenerate edge is shared (the faces close up).
     pub fn is_closed(&self) -> bool {
         self.naked.is_empty() && !self.shared.is_empty()

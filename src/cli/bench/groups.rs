@@ -2373,7 +2373,11 @@ fn bench_boolean(
     scene.objects.clear();
     scene.objects.push(SceneObject::new(
         "plate",
-        ObjectGeometry::new(Polysurface::new(made.faces(), 1e-4)?),
+        ObjectGeometry::new(Polysurface::with_topology(
+            made.faces(),
+            1e-5 * 184.0,
+            made.topology(),
+        )?),
     ));
     let tolerance = knotwork::io::step::default_tolerance(&scene);
     let written = knotwork::io::step::export_scene(&scene, "plate.step", tolerance)?;

@@ -33,9 +33,10 @@ use glam::{DVec2, DVec3};
 
 use crate::error::{GeometryError, construction};
 use crate::intersect::{BranchEnd, IntersectionCurve};
-use crate::intersect::{IntersectOptions, intersect_surfaces};
+use crate::intersect::{CachedTrees, IntersectOptions, intersect_cached};
 use crate::join::{Topology, face_loops, find_topology, validity};
 use crate::mass::signed_volume;
+use crate::parametric::ParametricSurface;
 use crate::splines::{Parametrization, interpolate_at_parameters, interpolate_through};
 use crate::surface::Direction;
 use crate::tess::{Tessellation, grid_for, triangulate};
@@ -84,6 +85,9 @@ impl BooleanOp {
 #[derive(Debug, Clone)]
 pub struct ResultSolid {
     pub shells: Vec<Vec<TrimmedSurface>>,
+    /// The shared edges of its faces as [`Self::faces`] numbers them, as the result was
+    /// joined (within ten times the tolerance).
+    pub topology: Topology,
 }
 
 impl ResultSolid {
@@ -112,6 +116,15 @@ impl BooleanResult {
     /// Every face of every solid.
     pub fn faces(&self) -> Vec<TrimmedSurface> {
         self.solids.iter().flat_map(ResultSolid::faces).collect()
+    }
+
+    /// The shared edges of [`Self::faces`], known from the join that made them.
+    pub fn topology(&self) -> Topology {
+        Topology::concatenated(
+            self.solids
+                .iter()
+                .map(|s| (&s.topology, s.shells.iter().map(Vec::len).sum())),
+        )
     }
 }
 
@@ -259,6 +272,19 @@ pub fn boolean_joined(
         };
     let a = Operand::new(oriented(a, topology_a, "the first body")?, tolerance)?;
     let b = Operand::new(oriented(b, topology_b, "the second body")?, tolerance)?;
+    // Equal bodies (a body and its copy): the union and the intersection are the body, the
+    // difference is empty; their faces, lying on one another, are not intersected.
+    if a.faces.len() == b.faces.len() && a.faces.iter().all(|f| b.faces.contains(f)) {
+        let solids = match op {
+            BooleanOp::Difference => Vec::new(),
+            BooleanOp::Union | BooleanOp::Intersection => assemble(a.faces.clone(), tolerance)?,
+        };
+        return Ok(BooleanResult {
+            solids,
+            split_faces: 0,
+            branches: 0,
+        });
+    }
     let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
     let size = lo.distance(hi);
     let options = IntersectOptions {
@@ -266,6 +292,9 @@ pub fn boolean_joined(
         chord: (size * 2e-5).max(tolerance),
         smallest: size * 2e-3,
     };
+    // Each face's cell tree is made once for all the pairs it is in.
+    let mut trees_a = CachedTrees::new(a.faces.iter().map(|f| f as &dyn ParametricSurface));
+    let mut trees_b = CachedTrees::new(b.faces.iter().map(|f| f as &dyn ParametricSurface));
     let mut cuts_a: Vec<Vec<Polyline>> = vec![Vec::new(); a.faces.len()];
     let mut cuts_b: Vec<Vec<Polyline>> = vec![Vec::new(); b.faces.len()];
     // Coplanar partners: (face of a, face of b).
@@ -308,7 +337,19 @@ pub fn boolean_joined(
             {
                 continue;
             }
-            let mut found = intersect_surfaces(&a.faces[i], &b.faces[j], &options)?;
+            let mut found = intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?;
+            if found.overlapping {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "face {} of the first body and face {} of the second lie on one another \
+                         over an area of a curved surface (equal bodies, or a shared cylinder \
+                         or sphere), which this boolean does not resolve yet",
+                        i + 1,
+                        j + 1
+                    ),
+                ));
+            }
             meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
             for branch in found.curves {
                 if along_boundary(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance)
@@ -1307,16 +1348,27 @@ fn assemble(
         ));
     }
     let components = topology.components(pieces.len());
-    let shells: Vec<Vec<TrimmedSurface>> = components
-        .iter()
-        .map(|c| c.iter().map(|&k| pieces[k].clone()).collect())
-        .collect();
-    if shells.len() == 1 {
+    let solid = |shells: &[&Vec<usize>]| ResultSolid {
+        shells: shells
+            .iter()
+            .map(|c| c.iter().map(|&k| pieces[k].clone()).collect())
+            .collect(),
+        topology: topology.restricted(
+            &shells
+                .iter()
+                .copied()
+                .flatten()
+                .copied()
+                .collect::<Vec<_>>(),
+        ),
+    };
+    if components.len() == 1 {
         // One closed shell of outward faces: the solid (its volume is worked out on demand).
-        return Ok(vec![ResultSolid { shells }]);
+        return Ok(vec![solid(&[&components[0]])]);
     }
-    let mut sorted: Vec<(Vec<TrimmedSurface>, f64, (DVec3, DVec3))> = Vec::new();
-    for faces in shells {
+    let mut sorted: Vec<(&Vec<usize>, f64, (DVec3, DVec3))> = Vec::new();
+    for c in &components {
+        let faces: Vec<TrimmedSurface> = c.iter().map(|&k| pieces[k].clone()).collect();
         let volume = signed_volume(&faces)?;
         let bounds = union_box(
             &faces
@@ -1324,26 +1376,19 @@ fn assemble(
                 .map(|f| f.surface().bounds())
                 .collect::<Vec<_>>(),
         );
-        sorted.push((faces, volume, bounds));
+        sorted.push((c, volume, bounds));
     }
-    let mut solids: Vec<(ResultSolid, f64, (DVec3, DVec3))> = Vec::new();
+    // Each outer shell with the voids it holds (the smallest outer shell around each).
     let (outer, voids): (Vec<_>, Vec<_>) = sorted.into_iter().partition(|s| s.1 > 0.0);
-    for (faces, volume, bounds) in outer {
-        solids.push((
-            ResultSolid {
-                shells: vec![faces],
-            },
-            volume,
-            bounds,
-        ));
-    }
-    for (faces, _, (lo, hi)) in voids {
-        let holder = solids
-            .iter_mut()
-            .filter(|(_, _, (a, b))| a.cmple(lo).all() && b.cmpge(hi).all())
-            .min_by(|x, y| x.1.total_cmp(&y.1));
+    let mut held: Vec<Vec<&Vec<usize>>> = outer.iter().map(|o| vec![o.0]).collect();
+    for (c, _, (lo, hi)) in voids {
+        let holder = outer
+            .iter()
+            .enumerate()
+            .filter(|(_, (_, _, (a, b)))| a.cmple(lo).all() && b.cmpge(hi).all())
+            .min_by(|x, y| x.1.1.total_cmp(&y.1.1));
         match holder {
-            Some((solid, _, _)) => solid.shells.push(faces),
+            Some((k, _)) => held[k].push(c),
             None => {
                 return Err(construction(
                     WHAT,
@@ -1352,7 +1397,7 @@ fn assemble(
             }
         }
     }
-    Ok(solids.into_iter().map(|s| s.0).collect())
+    Ok(held.iter().map(|shells| solid(shells)).collect())
 }
 
 #[cfg(test)]

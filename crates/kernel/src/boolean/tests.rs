@@ -441,3 +441,43 @@ fn a_cylinder_capped_in_a_block_face_around_its_corner() {
         "union",
     );
 }
+
+/// A body combined with its copy: the union and the intersection are the body, the difference
+/// is empty (its faces lie on one another everywhere and are not intersected); two equal
+/// cylinders on one axis, one shifted along it, share a curved face over an area: refused,
+/// saying so, in a bounded time (the intersection stops after its most cell pairs).
+#[test]
+fn a_body_and_its_copy_and_cylinders_sharing_their_side() {
+    let (motion, s) = placement(31);
+    let s3 = s.powi(3);
+    let r = 0.4;
+    let pin = moved(
+        capped_cylinder(DVec3::ZERO, DVec3::Z * 2.0, r).unwrap(),
+        &motion,
+    );
+    let copy = pin.clone();
+    let exact = std::f64::consts::PI * r * r * 2.0 * s3;
+    check(
+        &run(BooleanOp::Union, &pin, &copy, s),
+        exact,
+        s,
+        "union with a copy",
+    );
+    check(
+        &run(BooleanOp::Intersection, &pin, &copy, s),
+        exact,
+        s,
+        "intersection with a copy",
+    );
+    assert!(run(BooleanOp::Difference, &pin, &copy, s).solids.is_empty());
+    let shifted = moved(
+        capped_cylinder(DVec3::Z, DVec3::Z * 2.0, r).unwrap(),
+        &motion,
+    );
+    let started = std::time::Instant::now();
+    match boolean(BooleanOp::Union, &pin, &shifted, 1e-6 * s) {
+        Ok(made) => check(&made, exact * 1.5, s, "cylinders sharing their side"),
+        Err(e) => assert!(e.to_string().contains("lie on one another"), "{e}"),
+    }
+    eprintln!("cylinders sharing their side: {:?}", started.elapsed());
+}
