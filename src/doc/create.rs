@@ -19,6 +19,9 @@ pub enum Primitive {
     Cone,
     Sphere,
     Torus,
+    SolidBox,
+    SolidCylinder,
+    SolidCone,
     Revolve,
     Extrude,
     Loft,
@@ -37,12 +40,15 @@ pub enum Primitive {
 }
 
 impl Primitive {
-    pub const ALL: [Primitive; 20] = [
+    pub const ALL: [Primitive; 23] = [
         Primitive::Plane,
         Primitive::Cylinder,
         Primitive::Cone,
         Primitive::Sphere,
         Primitive::Torus,
+        Primitive::SolidBox,
+        Primitive::SolidCylinder,
+        Primitive::SolidCone,
         Primitive::Revolve,
         Primitive::Extrude,
         Primitive::Loft,
@@ -65,8 +71,10 @@ impl Primitive {
     pub fn fields(self) -> (Option<&'static str>, Option<&'static str>) {
         use Primitive::*;
         match self {
-            Cylinder | Revolve | Extrude | CageCylinder => (Some("height"), None),
-            Cone => (Some("height"), Some("top radius (× radius)")),
+            Cylinder | Revolve | Extrude | CageCylinder | SolidBox | SolidCylinder => {
+                (Some("height"), None)
+            }
+            Cone | SolidCone => (Some("height"), Some("top radius (× radius)")),
             Loft => (Some("height"), Some("waist (× radius)")),
             Sweep => (Some("height"), Some("profile radius (× size)")),
             Torus | CageTorus => (None, Some("minor radius (× major)")),
@@ -85,6 +93,9 @@ impl Primitive {
             Primitive::Cone => "Cone",
             Primitive::Sphere => "Sphere",
             Primitive::Torus => "Torus",
+            Primitive::SolidBox => "Box (solid; size is its width)",
+            Primitive::SolidCylinder => "Cylinder (solid, capped)",
+            Primitive::SolidCone => "Cone (solid, capped)",
             Primitive::Revolve => "Revolve (vase profile)",
             Primitive::Extrude => "Extrude (wave curve)",
             Primitive::Loft => "Loft (three circles)",
@@ -174,6 +185,16 @@ impl Default for PrimitiveParams {
     }
 }
 
+/// `faces` as one closed polysurface, joined within 1e-6 of `size`.
+fn solid(
+    faces: Vec<crate::kernel::TrimmedSurface>,
+    size: f64,
+) -> Result<ObjectGeometry, GeometryError> {
+    Ok(ObjectGeometry::new(
+        crate::scene::polysurface::Polysurface::new(faces, 1e-6 * size)?,
+    ))
+}
+
 /// The level a new cage is shown at.
 pub const DEFAULT_CAGE_LEVEL: u32 = 3;
 
@@ -204,6 +225,19 @@ impl PrimitiveParams {
             Primitive::Cone => nurbs(construct::cone(c, DVec3::Z * h, s, s * r)?),
             Primitive::Sphere => nurbs(construct::sphere(c, s)?),
             Primitive::Torus => nurbs(construct::torus(c, DVec3::Z, s, s * r)?),
+            // Closed polysurfaces, solids that booleans take, joined within 1e-6 of their size.
+            Primitive::SolidBox => solid(
+                crate::kernel::solids::block(c - DVec3::new(s, s, 0.0) * 0.5, DVec3::new(s, s, h))?,
+                s.max(h),
+            )?,
+            Primitive::SolidCylinder => solid(
+                crate::kernel::solids::capped_cylinder(c, DVec3::Z * h, s)?,
+                s.max(h),
+            )?,
+            Primitive::SolidCone => solid(
+                crate::kernel::solids::capped_cone(c, DVec3::Z * h, s, s * r)?,
+                s.max(h),
+            )?,
             Primitive::Revolve => nurbs(self.revolved()?),
             Primitive::Extrude => nurbs(self.extruded()?),
             Primitive::Loft => nurbs(self.lofted()?),

@@ -117,3 +117,50 @@ fn knotwork_info_measures_a_step_body_to_its_closed_form() {
         "{volume} {exact_volume}"
     );
 }
+
+#[test]
+fn the_create_dialogs_solids_are_closed_bodies_with_their_closed_form_volumes() {
+    use knotwork::doc::create::{Primitive, PrimitiveParams};
+    let (s, h, r) = (1.3, 2.1, 0.4);
+    let cases = [
+        (Primitive::SolidBox, s * s * h, 2.0 * s * s + 4.0 * s * h),
+        (
+            Primitive::SolidCylinder,
+            PI * s * s * h,
+            2.0 * PI * s * s + 2.0 * PI * s * h,
+        ),
+        (
+            // A frustum of radii s and r·s: πh(R² + Rr + r²)/3; its side π(R + r)·slant.
+            Primitive::SolidCone,
+            PI * h * (s * s + s * (r * s) + (r * s) * (r * s)) / 3.0,
+            PI * s * s
+                + PI * (r * s) * (r * s)
+                + PI * (s + r * s) * (h * h + (s - r * s) * (s - r * s)).sqrt(),
+        ),
+    ];
+    for (kind, volume, area) in cases {
+        let object = PrimitiveParams {
+            kind,
+            center: DVec3::new(0.7, -2.0, 5.0),
+            size: s,
+            height: h,
+            ratio: r,
+            degree: [3, 3],
+        }
+        .build()
+        .unwrap();
+        let body = object.body().expect("a body");
+        assert!(body.closed(), "{kind:?} is closed");
+        let (measured_area, mass) = body.measure().unwrap();
+        let m = mass.expect("a closed body's mass properties");
+        assert!(
+            relative(m.volume, volume) < 1e-9,
+            "{kind:?}: {} for {volume}",
+            m.volume
+        );
+        assert!(
+            relative(measured_area, area) < 1e-9,
+            "{kind:?}: {measured_area} for {area}"
+        );
+    }
+}
