@@ -55,21 +55,14 @@ fn bodies_project(name: &str) -> (std::path::PathBuf, f64) {
 /// Runs `knotwork export INPUT -o OUTPUT --tolerance T` and returns the file's bytes.
 fn exported(input: &std::path::Path, output: &str, tolerance: f64) -> Vec<u8> {
     let output = crate::common::artifact_path(output);
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .args([
-            "export".as_ref(),
-            input.as_os_str(),
-            "-o".as_ref(),
-            output.as_os_str(),
-        ])
-        .args(["--tolerance", &tolerance.to_string()])
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    crate::common::knotwork_ok(&[
+        "export".as_ref(),
+        input.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+        "--tolerance".as_ref(),
+        tolerance.to_string().as_ref(),
+    ]);
     std::fs::read(&output).unwrap()
 }
 
@@ -291,20 +284,14 @@ fn a_boolean_with_a_through_hole_prints_as_one_closed_mesh_of_genus_one() {
     let reference =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/boolean");
     let solid = crate::common::artifact_path("3mf-hole.step");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
-        .arg("boolean")
-        .arg("difference")
-        .arg(reference.join("hole-a.step"))
-        .arg(reference.join("hole-b.step"))
-        .arg("-o")
-        .arg(&solid)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    crate::common::knotwork_json(&[
+        "boolean".as_ref(),
+        "difference".as_ref(),
+        reference.join("hole-a.step").as_os_str(),
+        reference.join("hole-b.step").as_os_str(),
+        "-o".as_ref(),
+        solid.as_os_str(),
+    ]);
     let entries = zip_entries(&exported(&solid, "3mf-hole.3mf", 0.01));
     let objects = mesh_objects(std::str::from_utf8(&entries[2].1).unwrap());
     assert_eq!(objects.len(), 1);

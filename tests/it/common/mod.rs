@@ -401,9 +401,9 @@ pub fn validate_gltf(files: &[PathBuf]) {
     );
 }
 
-/// Runs the `knotwork` binary with `args` and reads its standard output as JSON; the test
-/// fails with its standard error when it exits with an error.
-pub fn knotwork_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
+/// Runs the `knotwork` binary with `args`; the test fails with its standard error when it
+/// exits with an error.
+pub fn knotwork_ok<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
         .args(args)
         .output()
@@ -413,7 +413,13 @@ pub fn knotwork_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    serde_json::from_slice(&output.stdout).expect("JSON on standard output")
+    output
+}
+
+/// Runs the `knotwork` binary with `args` ([`knotwork_ok`]) and reads its standard output as
+/// JSON.
+pub fn knotwork_json<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> serde_json::Value {
+    serde_json::from_slice(&knotwork_ok(args).stdout).expect("JSON on standard output")
 }
 
 /// The box [0, 2] × [0, 1] × [0, 1.5] as six planes facing either way (so that only the shared
