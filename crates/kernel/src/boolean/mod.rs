@@ -393,14 +393,16 @@ pub fn boolean_joined(
             .enumerate()
     {
         for (k, face) in own.faces.iter().enumerate() {
+            // Each part's trim loops (none: the whole face) and a point well inside it; a
+            // part is made (its loops validated) only where it is kept.
             let parts = if cuts[k].is_empty() {
-                vec![(
-                    face.clone(),
-                    whole_face_point(face, &own.boundaries[k], tolerance)?,
-                )]
+                vec![(None, whole_face_point(face, &own.boundaries[k], tolerance)?)]
             } else {
                 split_faces += 1;
                 split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
+                    .into_iter()
+                    .map(|(loops, inside)| (Some(loops), inside))
+                    .collect()
             };
             for (part, uv) in parts {
                 let partners: Vec<usize> = coplanar
@@ -411,7 +413,8 @@ pub fn boolean_joined(
                         _ => None,
                     })
                     .collect();
-                let place = classify(&part, uv, other, &partners, other_mesh, tolerance)?;
+                // A part lies on its face's surface: classified by that, before it is made.
+                let place = classify(face, uv, other, &partners, other_mesh, tolerance)?;
                 let keep = match (op, side, place) {
                     (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
                     (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
@@ -422,11 +425,17 @@ pub fn boolean_joined(
                     (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
                     _ => Keep::No,
                 };
-                match keep {
-                    Keep::AsIs => pieces.push(part),
-                    Keep::Turned => pieces.push(part.reverse(Direction::U)?),
-                    Keep::No => {}
+                if keep == Keep::No {
+                    continue;
                 }
+                let part = match part {
+                    Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
+                    None => face.clone(),
+                };
+                pieces.push(match keep {
+                    Keep::Turned => part.reverse(Direction::U)?,
+                    _ => part,
+                });
             }
         }
     }
@@ -975,13 +984,13 @@ fn whole_face_point(
 }
 
 /// The parts of `face` (its boundary flattened: `boundary`) that `cuts` divide it into, each
-/// with a point well inside it.
+/// as its trim loops on the face's surface (not yet validated) with a point well inside it.
 fn split_face(
     face: &TrimmedSurface,
     boundary: &[Polyline],
     cuts: &[Polyline],
     tolerance: f64,
-) -> Result<Vec<(TrimmedSurface, DVec2)>, GeometryError> {
+) -> Result<Vec<(Vec<TrimLoop>, DVec2)>, GeometryError> {
     let (_, snap) = face_scales(face, tolerance);
     let loops = face_loops(face)?;
     let curves: Vec<&TrimCurve> = loops.iter().flatten().collect();
@@ -1005,10 +1014,7 @@ fn split_face(
             }
             trim_loops.push(curves_out);
         }
-        parts.push((
-            TrimmedSurface::new(face.surface().clone(), trim_loops)?,
-            inside,
-        ));
+        parts.push((trim_loops, inside));
     }
     Ok(parts)
 }
