@@ -393,10 +393,9 @@ pub fn outward_flips(
     let boxes: Vec<(DVec3, DVec3)> = shells
         .iter()
         .map(|shell| {
-            let lo_hi: Vec<_> = shell.iter().map(|&k| faces[k].surface().bounds()).collect();
-            lo_hi.iter().fold(
+            shell.iter().map(|&k| faces[k].surface().bounds()).fold(
                 (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                |(lo, hi), &(a, b)| (lo.min(a), hi.max(b)),
+                |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
             )
         })
         .collect();

@@ -961,11 +961,8 @@ fn whole_face_point(
         return Ok(DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)));
     }
     let mut polygons = face.flattened_loops(face_scales(face, tolerance).0);
-    polygons.sort_by(|a, b| {
-        crate::trim::signed_area(b)
-            .abs()
-            .total_cmp(&crate::trim::signed_area(a).abs())
-    });
+    // The outer loop first: each loop's area worked out once, not at every comparison.
+    polygons.sort_by_cached_key(|p| std::cmp::Reverse(crate::trim::signed_area(p).abs().to_bits()));
     if let Some((outer, holes)) = polygons.split_first()
         && outer.len() >= 3
     {
