@@ -55,11 +55,11 @@ pub struct Run {
 }
 
 /// One part of the domain: its outer loop (counter-clockwise) then its holes (clockwise),
-/// and a point well inside it.
+/// and points well inside it, the one furthest from its boundary first ([`points_inside`]).
 #[derive(Debug, Clone)]
 pub struct Region {
     pub loops: Vec<Vec<Run>>,
-    pub inside: DVec2,
+    pub inside: Vec<DVec2>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -545,7 +545,7 @@ fn trace(points: &[DVec2], hard: &[bool], segments: &[Segment]) -> Vec<Region> {
         .iter()
         .map(|&o| {
             let hole_polygons: Vec<&Vec<DVec2>> = holes[o].iter().map(|&k| &polygons[k]).collect();
-            let inside = point_inside(&polygons[o], &hole_polygons);
+            let inside = points_inside(&polygons[o], &hole_polygons);
             let mut loops = vec![runs_of(&cycles[o])];
             loops.extend(holes[o].iter().map(|&k| runs_of(&cycles[k])));
             Region { loops, inside }
@@ -553,15 +553,19 @@ fn trace(points: &[DVec2], hard: &[bool], segments: &[Segment]) -> Vec<Region> {
         .collect()
 }
 
-/// A point well inside `outer` and outside every hole: the middle of the widest span that a
-/// few horizontal lines across the region have inside it.
-pub fn point_inside(outer: &[DVec2], holes: &[&Vec<DVec2>]) -> DVec2 {
+/// Points well inside `outer` and outside every hole, the surest first: the middle of the
+/// widest span that a few horizontal lines across the region have inside it, then that span's
+/// points a third of the way from either end, then the middles of the other lines' widest
+/// spans (more than one, for a region that some other body touches along a line through the
+/// first).
+pub fn points_inside(outer: &[DVec2], holes: &[&Vec<DVec2>]) -> Vec<DVec2> {
     let (lo, hi) = outer
         .iter()
         .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), &p| {
             (lo.min(p), hi.max(p))
         });
-    let mut best = (f64::NEG_INFINITY, outer[0]);
+    // Each line's widest span: (width, its ends' x, the line's y).
+    let mut spans: Vec<(f64, f64, f64, f64)> = Vec::new();
     // Irrational-looking heights, so a line rarely passes through a vertex.
     for f in [0.496_7, 0.327_9, 0.681_3, 0.141_421_36, 0.886_226_9] {
         let y = lo.y + (hi.y - lo.y) * f;
@@ -576,14 +580,32 @@ pub fn point_inside(outer: &[DVec2], holes: &[&Vec<DVec2>]) -> DVec2 {
             }
         }
         xs.sort_by(f64::total_cmp);
-        for pair in xs.chunks_exact(2) {
-            let width = pair[1] - pair[0];
-            if width > best.0 {
-                best = (width, DVec2::new(0.5 * (pair[0] + pair[1]), y));
-            }
-        }
+        let widest = xs
+            .chunks_exact(2)
+            .map(|pair| (pair[1] - pair[0], pair[0], pair[1], y))
+            .max_by(|p, q| p.0.total_cmp(&q.0));
+        spans.extend(widest);
     }
-    best.1
+    spans.sort_by(|p, q| q.0.total_cmp(&p.0));
+    let Some(&(_, x0, x1, y)) = spans.first() else {
+        return vec![outer[0]];
+    };
+    let mut points = vec![
+        DVec2::new(0.5 * (x0 + x1), y),
+        DVec2::new(x0 + (x1 - x0) / 3.0, y),
+        DVec2::new(x1 - (x1 - x0) / 3.0, y),
+    ];
+    points.extend(
+        spans[1..]
+            .iter()
+            .map(|&(_, x0, x1, y)| DVec2::new(0.5 * (x0 + x1), y)),
+    );
+    points
+}
+
+/// The first of [`points_inside`]: a point well inside `outer` and outside every hole.
+pub fn point_inside(outer: &[DVec2], holes: &[&Vec<DVec2>]) -> DVec2 {
+    points_inside(outer, holes)[0]
 }
 
 #[cfg(test)]
@@ -667,7 +689,7 @@ mod tests {
             .find(|r| r.loops.len() == 2)
             .expect("a holed part");
         assert!(holed.loops[1][0].closed);
-        let p = holed.inside;
+        let p = holed.inside[0];
         assert!(!(p.x > 0.4 && p.x < 0.6 && p.y > 0.4 && p.y < 0.6));
     }
 

@@ -351,18 +351,25 @@ pub fn boolean_joined(
                 ));
             }
             meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
+            without_repeats(&mut found.curves, 4.0 * options.chord);
             for branch in found.curves {
-                if along_boundary(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance)
-                    || along_boundary(&b.faces[j], &b.boundaries[j], &branch.uv_b, tolerance)
-                {
+                // A branch along an edge of either face (an edge lying on a face) cuts
+                // nothing; one along a closed surface's seam, which is no edge of the body,
+                // cuts the other face only.
+                let edge_a = boundary_kind(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance);
+                let edge_b = boundary_kind(&b.faces[j], &b.boundaries[j], &branch.uv_b, tolerance);
+                if edge_a == Some(Boundary::Edge) || edge_b == Some(Boundary::Edge) {
                     continue;
                 }
                 branches += 1;
                 let closed = branch.closed;
-                for (list, uv, face) in [
-                    (&mut cuts_a[i], branch.uv_a, &a.faces[i]),
-                    (&mut cuts_b[j], branch.uv_b, &b.faces[j]),
+                for (list, uv, face, on_seam) in [
+                    (&mut cuts_a[i], branch.uv_a, &a.faces[i], edge_a.is_some()),
+                    (&mut cuts_b[j], branch.uv_b, &b.faces[j], edge_b.is_some()),
                 ] {
+                    if on_seam {
+                        continue;
+                    }
                     let mut points = uv;
                     if closed {
                         points.pop();
@@ -396,7 +403,10 @@ pub fn boolean_joined(
             // Each part's trim loops (none: the whole face) and a point well inside it; a
             // part is made (its loops validated) only where it is kept.
             let parts = if cuts[k].is_empty() {
-                vec![(None, whole_face_point(face, &own.boundaries[k], tolerance)?)]
+                vec![(
+                    None,
+                    whole_face_points(face, &own.boundaries[k], tolerance)?,
+                )]
             } else {
                 split_faces += 1;
                 split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
@@ -414,7 +424,7 @@ pub fn boolean_joined(
                     })
                     .collect();
                 // A part lies on its face's surface: classified by that, before it is made.
-                let place = classify(face, uv, other, &partners, other_mesh, tolerance)?;
+                let place = classify(face, &uv, other, &partners, other_mesh, tolerance)?;
                 let keep = match (op, side, place) {
                     (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
                     (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
@@ -595,6 +605,48 @@ fn only_touches(plane: Option<(DVec3, DVec3)>, face: &TrimmedSurface, tolerance:
     lo >= -tolerance || hi <= tolerance
 }
 
+/// The branches without any that runs along another, longer one (within `reach` at its ends,
+/// quarters and middle): marching finds a line along a closed surface's seam once from each
+/// side, and the two copies would cut a face twice along one line.
+fn without_repeats(curves: &mut Vec<IntersectionCurve>, reach: f64) {
+    let near = |p: DVec3, polyline: &[DVec3]| {
+        polyline.windows(2).any(|w| {
+            let ab = w[1] - w[0];
+            let t = ((p - w[0]).dot(ab) / ab.length_squared().max(1e-300)).clamp(0.0, 1.0);
+            p.distance(w[0] + ab * t) <= reach
+        }) || polyline.first().is_some_and(|q| q.distance(p) <= reach)
+    };
+    let length = |c: &IntersectionCurve| {
+        c.points
+            .windows(2)
+            .map(|w| w[0].distance(w[1]))
+            .sum::<f64>()
+    };
+    let mut order: Vec<usize> = (0..curves.len()).collect();
+    order.sort_by(|&x, &y| length(&curves[y]).total_cmp(&length(&curves[x])));
+    let mut kept: Vec<usize> = Vec::new();
+    for x in order {
+        let c = &curves[x];
+        let n = c.points.len();
+        let covered = n > 0
+            && kept.iter().any(|&y| {
+                [0, n / 4, n / 2, 3 * n / 4, n - 1]
+                    .iter()
+                    .all(|&k| near(c.points[k], &curves[y].points))
+            });
+        if !covered {
+            kept.push(x);
+        }
+    }
+    kept.sort_unstable();
+    let mut index = 0;
+    curves.retain(|_| {
+        let keep = kept.binary_search(&index).is_ok();
+        index += 1;
+        keep
+    });
+}
+
 /// Branches that stop where the surfaces touch (two equal cylinders crossing: their curves
 /// cross there) ended at one common point: the mean of the ends within `reach` of one
 /// another, on both surfaces, so the cuts meet and divide the faces.
@@ -684,6 +736,8 @@ enum Place {
 /// The triangles of each shell of an operand, with the shell's box, for the winding number.
 struct Classifier {
     shells: Vec<ShellTriangles>,
+    /// How far a triangle may lie from its face.
+    flatness: f64,
 }
 
 /// One shell's box and triangles.
@@ -713,7 +767,14 @@ fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError>
         }
         shells.push(((lo, hi), triangles));
     }
-    Ok(Classifier { shells })
+    // The most a face's tessellation strays from it (as above, with the tessellation's own
+    // rounding), for telling a point on the body's boundary.
+    let flatness = operand
+        .faces
+        .iter()
+        .map(|f| (f.surface().size() * 2e-4).max(size * 1e-6))
+        .fold(size * 1e-9, f64::max);
+    Ok(Classifier { shells, flatness })
 }
 
 impl Classifier {
@@ -722,8 +783,13 @@ impl Classifier {
     /// angles seen from `p` over 4π (Van Oosterom and Strackee's formula, tan(Ω/2) =
     /// a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)). A shell whose box does not
     /// hold `p` winds zero times round it and is skipped.
-    fn winding(&self, p: DVec3) -> f64 {
+    ///
+    /// Also whether `p` lies within twice the tessellation's flatness of a triangle's plane
+    /// over the triangle: about on the body's boundary, where the winding number is no guide.
+    fn winding(&self, p: DVec3) -> (f64, bool) {
         let mut total = 0.0;
+        let mut on_boundary = false;
+        let near = 2.0 * self.flatness;
         for ((lo, hi), triangles) in &self.shells {
             let margin = (*hi - *lo) * 1e-3;
             if (p - *lo + margin).min_element() < 0.0 || (*hi + margin - p).min_element() < 0.0 {
@@ -735,9 +801,21 @@ impl Classifier {
                 let numerator = a.dot(b.cross(c));
                 let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
                 total += 2.0 * numerator.atan2(denominator);
+                // |(b − a) × (c − a)| ≤ (|a| + |b|)(|a| + |c|): most triangles are ruled out
+                // before their normal is worked out.
+                if !on_boundary && numerator.abs() <= near * (la + lb) * (la + lc) {
+                    // p's height over the triangle's plane is the triple product over twice its
+                    // area; over the triangle where the three edge tests agree.
+                    let normal = (b - a).cross(c - a);
+                    if numerator.abs() <= near * normal.length() {
+                        let sides = [a.cross(b), b.cross(c), c.cross(a)].map(|e| e.dot(normal));
+                        on_boundary =
+                            sides.iter().all(|&x| x >= 0.0) || sides.iter().all(|&x| x <= 0.0);
+                    }
+                }
             }
         }
-        total / (4.0 * std::f64::consts::PI)
+        (total / (4.0 * std::f64::consts::PI), on_boundary)
     }
 }
 
@@ -756,15 +834,41 @@ fn inside_domain(face: &TrimmedSurface, uv: DVec2, slack: f64) -> bool {
     uv.x >= u0 - slack && uv.x <= u1 + slack && uv.y >= v0 - slack && uv.y <= v1 + slack
 }
 
-/// Where the part (its point at `uv`) lies with respect to `other`.
+/// Where the part (its points at `candidates`, all inside it) lies with respect to `other`:
+/// as the first point says, unless that point lies about on the other body's boundary (a face
+/// touching it along a line through the point), when the candidate the winding number is
+/// surest of decides.
 fn classify(
+    part: &TrimmedSurface,
+    candidates: &[DVec2],
+    other: &Operand,
+    coplanar: &[usize],
+    mesh: &Classifier,
+    tolerance: f64,
+) -> Result<Place, GeometryError> {
+    let mut best = (Place::Outside, -1.0);
+    for &uv in candidates {
+        let (place, sureness) = classify_at(part, uv, other, coplanar, mesh, tolerance)?;
+        if sureness > best.1 {
+            best = (place, sureness);
+        }
+        if sureness >= 0.25 {
+            break;
+        }
+    }
+    Ok(best.0)
+}
+
+/// Where the part's point at `uv` lies with respect to `other`, and how sure that is (1 on a
+/// coplanar face; else how far the winding number is from the undecided ½).
+fn classify_at(
     part: &TrimmedSurface,
     uv: DVec2,
     other: &Operand,
     coplanar: &[usize],
     mesh: &Classifier,
     tolerance: f64,
-) -> Result<Place, GeometryError> {
+) -> Result<(Place, f64), GeometryError> {
     let d = evaluate_clamped(part.surface(), uv)?;
     let p = d.point;
     for &j in coplanar {
@@ -783,17 +887,25 @@ fn classify(
         let (Some(n_part), Some(n_other)) = (d.regular_normal(), on.regular_normal()) else {
             continue;
         };
-        return Ok(if n_part.dot(n_other) > 0.0 {
+        let place = if n_part.dot(n_other) > 0.0 {
             Place::OnSame
         } else {
             Place::OnOpposite
-        });
+        };
+        return Ok((place, 1.0));
     }
-    Ok(if mesh.winding(p).abs() > 0.5 {
+    let (winding, on_boundary) = mesh.winding(p);
+    let place = if winding.abs() > 0.5 {
         Place::Inside
     } else {
         Place::Outside
-    })
+    };
+    let sureness = if on_boundary {
+        0.0
+    } else {
+        (winding.abs() - 0.5).abs()
+    };
+    Ok((place, sureness))
 }
 
 /// The (u, v) of `p` on a planar surface, unclamped: the affine map through the domain's
@@ -927,6 +1039,58 @@ fn flatten_curve(curve: &TrimCurve, flat: f64) -> Result<(Vec<DVec2>, Vec<f64>),
     Ok((points, params))
 }
 
+/// What part of a face's boundary a branch runs along.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Boundary {
+    /// An edge of the face.
+    Edge,
+    /// The seam of a closed surface, along the boundary on both of its sides (no edge of the
+    /// body: the surface runs smoothly across it).
+    Seam,
+}
+
+/// Whether a branch (its (u, v) points on `face`, whose boundary flattened is `lines`) runs
+/// along the face's boundary ([`along_boundary`]), and if so whether along an edge or a seam
+/// (its points moved across to the seam's other side are along the boundary too).
+fn boundary_kind(
+    face: &TrimmedSurface,
+    lines: &[Polyline],
+    uv: &[DVec2],
+    tolerance: f64,
+) -> Option<Boundary> {
+    if !along_boundary(face, lines, uv, tolerance) {
+        return None;
+    }
+    let (seam_u, seam_v) = seams(face.surface());
+    let [u0, u1, v0, v1] = domain_rect(face.surface());
+    let (flat, snap) = face_scales(face, tolerance);
+    let reach = (snap * 4.0).max(flat * 4.0);
+    // All the branch's points on one side of a seam, moved to its other side.
+    let across =
+        |coordinate: fn(DVec2) -> f64, lo: f64, hi: f64, moved: fn(DVec2, f64) -> DVec2| {
+            [(lo, hi), (hi, lo)].into_iter().find_map(|(from, to)| {
+                uv.iter()
+                    .all(|&p| (coordinate(p) - from).abs() <= reach)
+                    .then(|| uv.iter().map(|&p| moved(p, to)).collect::<Vec<_>>())
+            })
+        };
+    let mut sides: Vec<Vec<DVec2>> = Vec::new();
+    if seam_u {
+        sides.extend(across(|p| p.x, u0, u1, |p, u| DVec2::new(u, p.y)));
+    }
+    if seam_v {
+        sides.extend(across(|p| p.y, v0, v1, |p, v| DVec2::new(p.x, v)));
+    }
+    let on_seam = sides
+        .iter()
+        .any(|other| along_boundary(face, lines, other, tolerance));
+    Some(if on_seam {
+        Boundary::Seam
+    } else {
+        Boundary::Edge
+    })
+}
+
 /// Whether a branch runs along the face's boundary (flattened: `lines`; its points at a
 /// quarter, half and three quarters of the way all within the snap distance of it).
 fn along_boundary(face: &TrimmedSurface, lines: &[Polyline], uv: &[DVec2], tolerance: f64) -> bool {
@@ -951,14 +1115,18 @@ fn along_boundary(face: &TrimmedSurface, lines: &[Polyline], uv: &[DVec2], toler
 /// for an untrimmed face; for a trimmed one the middle of the widest span a few lines across
 /// its loops keep (the kept region is inside an odd number of loops); else the inside point of
 /// the planar arrangement's region that the face keeps.
-fn whole_face_point(
+fn whole_face_points(
     face: &TrimmedSurface,
     lines: &[Polyline],
     tolerance: f64,
-) -> Result<DVec2, GeometryError> {
+) -> Result<Vec<DVec2>, GeometryError> {
     let [u0, u1, v0, v1] = domain_rect(face.surface());
     if !face.is_trimmed() {
-        return Ok(DVec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1)));
+        // The centre, then points off its lines, in case the face touches the other body
+        // along a line through the centre.
+        return Ok([(0.5, 0.5), (0.3, 0.7), (0.7, 0.3), (0.2, 0.4), (0.8, 0.6)]
+            .map(|(s, t)| DVec2::new(u0 + (u1 - u0) * s, v0 + (v1 - v0) * t))
+            .to_vec());
     }
     let mut polygons = face.flattened_loops(face_scales(face, tolerance).0);
     // The outer loop first: each loop's area worked out once, not at every comparison.
@@ -967,18 +1135,21 @@ fn whole_face_point(
         && outer.len() >= 3
     {
         let holes: Vec<&Vec<DVec2>> = holes.iter().collect();
-        let p = arrangement::point_inside(outer, &holes);
-        if p != outer[0] && p.is_finite() {
-            return Ok(p);
+        let points = arrangement::points_inside(outer, &holes);
+        if points[0] != outer[0] && points[0].is_finite() {
+            return Ok(points);
         }
     }
     let regions = arrangement::regions(lines, face_scales(face, tolerance).1);
     regions
         .iter()
-        .find(|r| face.contains(r.inside.x, r.inside.y))
-        .map(|r| r.inside)
+        .find(|r| face.contains(r.inside[0].x, r.inside[0].y))
+        .map(|r| r.inside.clone())
         .ok_or_else(|| construction(WHAT, "a face keeps no part of its domain"))
 }
+
+/// A part of a split face: its trim loops and points well inside it, the surest first.
+type SplitPart = (Vec<TrimLoop>, Vec<DVec2>);
 
 /// The parts of `face` (its boundary flattened: `boundary`) that `cuts` divide it into, each
 /// as its trim loops on the face's surface (not yet validated) with a point well inside it.
@@ -987,7 +1158,7 @@ fn split_face(
     boundary: &[Polyline],
     cuts: &[Polyline],
     tolerance: f64,
-) -> Result<Vec<(Vec<TrimLoop>, DVec2)>, GeometryError> {
+) -> Result<Vec<SplitPart>, GeometryError> {
     let (_, snap) = face_scales(face, tolerance);
     let loops = face_loops(face)?;
     let curves: Vec<&TrimCurve> = loops.iter().flatten().collect();
@@ -1000,7 +1171,8 @@ fn split_face(
             loops: runs,
             inside,
         } = region;
-        if !(inside_domain(face, inside, slack) && face.contains(inside.x, inside.y)) {
+        let first = inside[0];
+        if !(inside_domain(face, first, slack) && face.contains(first.x, first.y)) {
             continue;
         }
         let mut trim_loops: Vec<TrimLoop> = Vec::with_capacity(runs.len());
@@ -1026,6 +1198,8 @@ fn run_curve(
     tolerance: f64,
 ) -> Result<TrimCurve, GeometryError> {
     let rect = domain_rect(surface);
+    // A twentieth of the tolerance, in (u, v).
+    let hair = 0.05 * tolerance * domain_size(rect) / surface.size().max(1e-300);
     let (first, last) = (run.points[0], run.points[run.points.len() - 1]);
     if let Source::Boundary(c) = run.source
         && let Some(curve) = curves.get(c)
@@ -1050,7 +1224,7 @@ fn run_curve(
             }
             let n = piece.count();
             piece = piece.with_point(0, first)?.with_point(n - 1, last)?;
-            return inside_rect(piece, rect);
+            return inside_rect(piece, rect, hair, false);
         }
     }
     let mut points: Vec<DVec2> = Vec::with_capacity(run.points.len());
@@ -1066,6 +1240,8 @@ fn run_curve(
         return inside_rect(
             TrimCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![first, last], None)?,
             rect,
+            hair,
+            true,
         );
     }
     // The same curve whichever way the run goes (the regions on either side of a cut each
@@ -1079,7 +1255,12 @@ fn run_curve(
         points.reverse();
     }
     let curve = sparse_cubic(&points, surface, SPARSE_FIT * tolerance)?;
-    inside_rect(if forwards { curve } else { curve.reverse() }, rect)
+    inside_rect(
+        if forwards { curve } else { curve.reverse() },
+        rect,
+        hair,
+        true,
+    )
 }
 
 /// How close to the marched points a cut's curve keeps, as a fraction of the tolerance: the
@@ -1147,10 +1328,63 @@ fn sparse_cubic(
 
 /// The curve with its control points kept in the domain `rect`: a cubic through points along
 /// the domain's edge, or a node a rounding outside it, may stray a hair past the edge (the
-/// curve stays in its points' hull).
-fn inside_rect(curve: TrimCurve, rect: [f64; 4]) -> Result<TrimCurve, GeometryError> {
+/// curve stays in its points' hull). Control points further out than `hair` (a cubic through
+/// points that touch the edge, bulging past it between them) are first brought in to the
+/// curve by knot insertion, the spans they bear halved (The NURBS Book, A5.4: the control
+/// polygon converges to the curve), so that clamping them moves the curve no more than `hair`.
+/// A `cut`'s (not a boundary curve's) inner control points are clamped a rounding inside.
+fn inside_rect(
+    curve: TrimCurve,
+    rect: [f64; 4],
+    hair: f64,
+    cut: bool,
+) -> Result<TrimCurve, GeometryError> {
     let [u0, u1, v0, v1] = rect;
-    curve.map_points(|p| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1)))
+    let stray = |p: DVec2| (u0 - p.x).max(p.x - u1).max(v0 - p.y).max(p.y - v1);
+    let mut curve = curve;
+    for _ in 0..8 {
+        let p = curve.degree();
+        let knots = curve.knots().to_vec();
+        let mut midpoints: Vec<f64> = Vec::new();
+        for i in (0..curve.count()).filter(|&i| stray(curve.control_point(i)) > hair) {
+            for j in i..=(i + p).min(knots.len() - 2) {
+                let (a, b) = (knots[j], knots[j + 1]);
+                if b > a {
+                    midpoints.push(0.5 * (a + b));
+                }
+            }
+        }
+        if midpoints.is_empty() {
+            break;
+        }
+        midpoints.sort_by(f64::total_cmp);
+        midpoints.dedup();
+        curve = curve.refine(&midpoints)?;
+    }
+    if !cut {
+        return curve.map_points(|p| DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1)));
+    }
+    // A cut's inner control points that were outside are set a rounding inside, so that a
+    // cut touching the edge between its ends (a circle tangent to it) stays off it.
+    let inset = 1e-9 * domain_size(rect);
+    let n = curve.count();
+    let mut out = curve.clone();
+    for i in 0..n {
+        let p = curve.control_point(i);
+        let q = DVec2::new(p.x.clamp(u0, u1), p.y.clamp(v0, v1));
+        let q = if i > 0 && i + 1 < n && q != p {
+            DVec2::new(
+                q.x.clamp(u0 + inset, u1 - inset),
+                q.y.clamp(v0 + inset, v1 - inset),
+            )
+        } else {
+            q
+        };
+        if q != p {
+            out = out.with_point(i, q)?;
+        }
+    }
+    Ok(out)
 }
 
 /// The parameter of the curve's point nearest `p`, by Newton's steps from `t`.
@@ -1189,7 +1423,8 @@ fn corners(pieces: &[TrimmedSurface]) -> Result<Vec<DVec3>, GeometryError> {
 }
 
 /// The parameter of the (u, v) curve whose point on `surface` is nearest `p`, and the
-/// distance: the nearest of 64 samples, then a ternary search between its neighbours.
+/// distance: the three nearest local minima of 64 samples (a closed edge has two at its
+/// meeting ends), each refined by a ternary search between its neighbours.
 fn nearest_on_edge(
     surface: &NurbsSurface,
     curve: &TrimCurve,
@@ -1201,28 +1436,37 @@ fn nearest_on_edge(
         Ok(surface.point_at_clamped(uv)?.distance(p))
     };
     let n = 64;
-    let mut best = (0usize, f64::INFINITY);
-    for k in 0..=n {
-        let d = distance(a + (b - a) * k as f64 / n as f64)?;
-        if d < best.1 {
-            best = (k, d);
-        }
-    }
     let step = (b - a) / n as f64;
-    let (mut lo, mut hi) = (
-        a + step * best.0.saturating_sub(1) as f64,
-        (a + step * (best.0 + 1) as f64).min(b),
-    );
-    for _ in 0..60 {
-        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
-        if distance(m1)? < distance(m2)? {
-            hi = m2;
-        } else {
-            lo = m1;
+    let samples: Vec<f64> = (0..=n)
+        .map(|k| distance(a + step * k as f64))
+        .collect::<Result<_, _>>()?;
+    let mut minima: Vec<usize> = (0..=n)
+        .filter(|&k| {
+            (k == 0 || samples[k] <= samples[k - 1]) && (k == n || samples[k] <= samples[k + 1])
+        })
+        .collect();
+    minima.sort_by(|&x, &y| samples[x].total_cmp(&samples[y]));
+    let mut best = (a, f64::INFINITY);
+    for &k in minima.iter().take(3) {
+        let (mut lo, mut hi) = (
+            a + step * k.saturating_sub(1) as f64,
+            (a + step * (k + 1) as f64).min(b),
+        );
+        for _ in 0..60 {
+            let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if distance(m1)? < distance(m2)? {
+                hi = m2;
+            } else {
+                lo = m1;
+            }
+        }
+        let t = 0.5 * (lo + hi);
+        let d = distance(t)?;
+        if d < best.1 {
+            best = (t, d);
         }
     }
-    let t = 0.5 * (lo + hi);
-    Ok((t, distance(t)?))
+    Ok(best)
 }
 
 /// Open edges split where another face's corner lies on them (a T-junction: a face that
@@ -1258,16 +1502,19 @@ fn imprint_vertices(
             let ends = [curve.point_at(a)?, curve.point_at(b)?]
                 .map(|uv| face.surface().point_at_clamped(uv));
             let ends = [ends[0].clone()?, ends[1].clone()?];
-            let (lo, hi) = ends
-                .iter()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-                    (lo.min(p), hi.max(p))
-                });
-            let reach = DVec3::splat(tolerance) + (hi - lo) * 0.5;
+            // The edge's box from samples along it (its ends alone say nothing of a closed
+            // edge, a whole circle), grown by a tenth for what lies between the samples.
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for k in 0..=16 {
+                let uv = curve.point_at(a + (b - a) * f64::from(k) / 16.0)?;
+                let p = face.surface().point_at_clamped(uv)?;
+                (lo, hi) = (lo.min(p), hi.max(p));
+            }
+            let reach = DVec3::splat(tolerance) + (hi - lo) * 0.6;
             let mut cuts: Vec<f64> = Vec::new();
             for &p in &points {
                 if ends.iter().any(|e| e.distance(p) <= tolerance * 10.0)
-                    || (p - 0.5 * (lo + hi)).abs().cmpgt(reach * 2.0).any()
+                    || (p - 0.5 * (lo + hi)).abs().cmpgt(reach).any()
                 {
                     continue;
                 }
