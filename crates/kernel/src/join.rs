@@ -185,6 +185,9 @@ struct Edge<'a> {
     degenerate: bool,
     /// How far in space a nearest point may be off: the search for it stops there.
     precision: f64,
+    /// How far the edge bows away from the chords between its samples, worked out when
+    /// first needed ([`Edge::bow`]).
+    bow: std::cell::OnceCell<f64>,
 }
 
 impl Edge<'_> {
@@ -198,6 +201,49 @@ impl Edge<'_> {
 
     fn uv(&self, t: f64) -> DVec2 {
         curve_uv(self.curve, t)
+    }
+
+    /// An allowance for how far the edge strays from the polyline through its samples: one
+    /// and a half times the largest distance of a chord's middle from the edge's point
+    /// halfway along it (a smooth curve's chord error peaks about its middle); zero for a
+    /// straight edge.
+    fn bow(&self) -> f64 {
+        *self.bow.get_or_init(|| {
+            let n = SEARCH_SAMPLES;
+            let largest = (0..n)
+                .map(|k| {
+                    let middle = self.point((k as f64 + 0.5) / n as f64);
+                    middle.distance(0.5 * (self.samples[k] + self.samples[k + 1]))
+                })
+                .fold(0.0, f64::max);
+            1.5 * largest
+        })
+    }
+
+    /// The distance from `p` to the edge, as far as telling whether it is within `tolerance`
+    /// needs: the distance to the polyline through the samples, grown by the edge's bow,
+    /// where that settles it (an upper bound when within, a lower bound when beyond), else
+    /// the nearest point's ([`Edge::closest`]).
+    fn distance_within(&self, p: DVec3, tolerance: f64) -> f64 {
+        let polyline = self
+            .samples
+            .windows(2)
+            .map(|w| {
+                let d = w[1] - w[0];
+                let t =
+                    ((p - w[0]).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                (w[0] + d * t).distance_squared(p)
+            })
+            .fold(f64::INFINITY, f64::min)
+            .sqrt();
+        let bow = self.bow();
+        if polyline + bow <= tolerance {
+            polyline + bow
+        } else if polyline - bow > tolerance {
+            polyline - bow
+        } else {
+            self.closest(p, None).1
+        }
     }
 
     /// The parameter of the edge's point nearest `p` and the distance: the nearest sample,
@@ -417,6 +463,7 @@ fn make_edge<'a>(
         degenerate: length <= tolerance,
         samples,
         precision: SEARCH_PRECISION * tolerance,
+        bow: std::cell::OnceCell::new(),
     }
 }
 
@@ -453,7 +500,7 @@ fn match_edges(e: &Edge, f: &Edge, tolerance: f64) -> Option<(bool, f64)> {
     };
     for (x, y) in [(e, f), (f, e)] {
         for k in 1..MATCH_SAMPLES {
-            let (_, d) = y.closest(x.point(k as f64 / MATCH_SAMPLES as f64), None);
+            let d = y.distance_within(x.point(k as f64 / MATCH_SAMPLES as f64), tolerance);
             if d > tolerance {
                 return None;
             }

@@ -7,8 +7,9 @@
 //!    not close up is refused. Faces are turned to agree across their shared edges and then
 //!    all outward (the enclosed volume, [`mass_properties`], positive).
 //! 2. **Intersect.** Every face of one operand whose box meets a face of the other is
-//!    intersected with it by marching ([`intersect_surfaces`], trims respected); the (u, v)
-//!    polylines are cuts on both faces. Two planar faces in one plane do not cross but
+//!    intersected with it by marching ([`intersect_surfaces`], trims respected), or, for two
+//!    flat faces, along their planes' line clipped to both; the (u, v) polylines are cuts on
+//!    both faces. Two planar faces in one plane do not cross but
 //!    overlap: each one's boundary curves, mapped into the other's plane, are its cuts.
 //!    Branches that run along a face's boundary (an edge lying on a face) cut nothing.
 //! 3. **Split.** Each face's boundary and cuts are arranged in its (u, v) domain
@@ -33,7 +34,7 @@ use glam::{DVec2, DVec3};
 
 use crate::error::{GeometryError, construction};
 use crate::intersect::{BranchEnd, IntersectionCurve};
-use crate::intersect::{CachedTrees, IntersectOptions, intersect_cached};
+use crate::intersect::{CachedTrees, IntersectOptions, Intersection, intersect_cached};
 use crate::join::{Topology, face_loops, find_topology, validity};
 use crate::mass::signed_volume;
 use crate::parametric::ParametricSurface;
@@ -337,7 +338,22 @@ pub fn boolean_joined(
             {
                 continue;
             }
-            let mut found = intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?;
+            // Two flat faces meet along their planes' line, clipped to both: exactly, and far
+            // faster than marching.
+            let straight = match (a.planes[i], b.planes[j]) {
+                (Some(plane_a), Some(plane_b)) => plane_branches(
+                    (&a.faces[i], plane_a, &a.boundaries[i]),
+                    (&b.faces[j], plane_b, &b.boundaries[j]),
+                ),
+                _ => None,
+            };
+            let mut found = match straight {
+                Some(curves) => Intersection {
+                    curves,
+                    ..Default::default()
+                },
+                None => intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?,
+            };
             if found.overlapping {
                 return Err(construction(
                     WHAT,
@@ -584,6 +600,121 @@ fn without_overshoot(points: &mut Vec<DVec2>) {
             return;
         }
     }
+}
+
+/// Whether the surface is an affine map of its domain (u, v ↦ o + u·U + v·V: degree one
+/// each way, equal weights, a parallelogram of control points), so that a line in space is a
+/// line in its (u, v).
+fn affine(surface: &NurbsSurface) -> bool {
+    surface.degree() == [1, 1] && surface.count() == [2, 2] && surface.is_polynomial() && {
+        let p = |i, j| surface.control_point(i, j);
+        (p(0, 0) + p(1, 1) - p(1, 0) - p(0, 1)).length() <= 1e-12 * surface.size()
+    }
+}
+
+/// The branches where two flat faces (each with its plane and its boundary flattened) cross,
+/// when both are affine ([`affine`]; else `None`, for marching): their planes' line (the
+/// point on both planes, (h₁(n₂ × d) + h₂(d × n₁)) / |d|² with d = n₁ × n₂, for planes
+/// n·x = h) clipped to each face in its (u, v), the spans both keep. Each is sampled at nine
+/// points (straight in both domains), its ends on the faces' boundaries; where a face's edge
+/// is shared, the neighbour's branch ends at the same three planes' point.
+fn plane_branches(
+    (face_a, (point_a, normal_a), lines_a): (&TrimmedSurface, (DVec3, DVec3), &[Polyline]),
+    (face_b, (point_b, normal_b), lines_b): (&TrimmedSurface, (DVec3, DVec3), &[Polyline]),
+) -> Option<Vec<IntersectionCurve>> {
+    if !(affine(face_a.surface()) && affine(face_b.surface())) {
+        return None;
+    }
+    let d = normal_a.cross(normal_b);
+    let d2 = d.length_squared();
+    if d2 < 1e-18 {
+        return None;
+    }
+    let (h_a, h_b) = (normal_a.dot(point_a), normal_b.dot(point_b));
+    let origin = (h_a * normal_b.cross(d) + h_b * d.cross(normal_a)) / d2;
+    let direction = d / d2.sqrt();
+    let spans_a = line_in_face(face_a, lines_a, origin, direction)?;
+    let spans_b = line_in_face(face_b, lines_b, origin, direction)?;
+    let (uv_a0, uv_a1) = (
+        plane_uv(face_a.surface(), origin)?,
+        plane_uv(face_a.surface(), origin + direction)?,
+    );
+    let (uv_b0, uv_b1) = (
+        plane_uv(face_b.surface(), origin)?,
+        plane_uv(face_b.surface(), origin + direction)?,
+    );
+    let shortest = 1e-9 * (face_a.surface().size() + face_b.surface().size());
+    let mut curves = Vec::new();
+    for &(a0, a1) in &spans_a {
+        for &(b0, b1) in &spans_b {
+            let (t0, t1) = (a0.max(b0), a1.min(b1));
+            if t1 - t0 <= shortest {
+                continue;
+            }
+            let ts: Vec<f64> = (0..=8)
+                .map(|k| t0 + (t1 - t0) * f64::from(k) / 8.0)
+                .collect();
+            curves.push(IntersectionCurve {
+                closed: false,
+                points: ts.iter().map(|&t| origin + direction * t).collect(),
+                uv_a: ts.iter().map(|&t| uv_a0 + (uv_a1 - uv_a0) * t).collect(),
+                uv_b: ts.iter().map(|&t| uv_b0 + (uv_b1 - uv_b0) * t).collect(),
+                ends: [Some(BranchEnd::Boundary); 2],
+            });
+        }
+    }
+    Some(curves)
+}
+
+/// The spans of the line `origin + t·direction` that an affine flat face keeps: where the
+/// line crosses its boundary (flattened: `lines`) in its (u, v), the pieces between whose
+/// middles the face contains, joined where they meet. `None` where the line cannot be put
+/// into the face's (u, v).
+fn line_in_face(
+    face: &TrimmedSurface,
+    lines: &[Polyline],
+    origin: DVec3,
+    direction: DVec3,
+) -> Option<Vec<(f64, f64)>> {
+    let q0 = plane_uv(face.surface(), origin)?;
+    let e = plane_uv(face.surface(), origin + direction)? - q0;
+    if e.length_squared() == 0.0 {
+        return None;
+    }
+    let mut ts: Vec<f64> = Vec::new();
+    for line in lines {
+        let n = line.points.len();
+        let steps = if line.closed { n } else { n.saturating_sub(1) };
+        for k in 0..steps {
+            let (w0, w1) = (line.points[k], line.points[(k + 1) % n]);
+            let f = w1 - w0;
+            let den = e.perp_dot(f);
+            if den == 0.0 {
+                continue;
+            }
+            let r = w0 - q0;
+            let (t, s) = (r.perp_dot(f) / den, r.perp_dot(e) / den);
+            if (0.0..=1.0).contains(&s) {
+                ts.push(t);
+            }
+        }
+    }
+    ts.sort_by(f64::total_cmp);
+    ts.dedup();
+    let rect = domain_rect(face.surface());
+    let slack = 1e-12 * domain_size(rect);
+    let mut spans: Vec<(f64, f64)> = Vec::new();
+    for pair in ts.windows(2) {
+        let (t0, t1) = (pair[0], pair[1]);
+        let middle = q0 + e * (0.5 * (t0 + t1));
+        if t1 > t0 && inside_domain(face, middle, slack) && face.contains(middle.x, middle.y) {
+            match spans.last_mut() {
+                Some(last) if last.1 == t0 => last.1 = t1,
+                _ => spans.push((t0, t1)),
+            }
+        }
+    }
+    Some(spans)
 }
 
 /// Whether `face` lies wholly on one side of the plane (within `tolerance`): it may touch the

@@ -558,3 +558,37 @@ fn cylinders_touching_blocks_along_lines_and_seams() {
         }
     }
 }
+
+/// Two blocks turned about different axes, one grazing the other's edge at a shallow angle
+/// (the census found the crossing point on the edge placed 1e-4 apart on its two faces when
+/// marched; the planes' line puts it at the three planes' point): the union and the
+/// intersection add up to the two blocks, the difference and the intersection to the first.
+#[test]
+fn blocks_turned_apart_meet_at_the_three_planes_point() {
+    let turn = |faces: Vec<TrimmedSurface>, axis: [f64; 3], angle: f64| {
+        let rotation = DQuat::from_axis_angle(DVec3::from(axis).normalize(), angle);
+        moved(faces, &DAffine3::from_quat(rotation))
+    };
+    let a = turn(
+        block(DVec3::new(0.0, -1.0, -0.25), DVec3::new(2.0, 1.5, 1.25)).unwrap(),
+        [-0.5457823368931042, 0.0699720944734749, -0.8350003273834671],
+        3.381,
+    );
+    let b = turn(
+        block(DVec3::new(-1.0, -0.25, 0.0), DVec3::new(0.75, 0.75, 2.5)).unwrap(),
+        [-0.542589986033689, -0.8385481602338831, 0.049326362366699],
+        4.9,
+    );
+    let (va, vb) = (2.0 * 1.5 * 1.25, 0.75 * 0.75 * 2.5);
+    // The census's tolerance.
+    let run =
+        |op: BooleanOp| boolean(op, &a, &b, 8e-6).unwrap_or_else(|e| panic!("{}: {e}", op.name()));
+    let union = run(BooleanOp::Union);
+    let common = run(BooleanOp::Intersection);
+    let difference = run(BooleanOp::Difference);
+    let vc = volume(&common.faces());
+    assert!(vc > 1e-3, "they overlap: {vc}");
+    check(&union, va + vb - vc, 1.0, "union");
+    check(&difference, va - vc, 1.0, "difference");
+    check(&common, vc, 1.0, "intersection");
+}
