@@ -29,6 +29,9 @@
 //!    smallest shell around it.
 
 pub mod arrangement;
+pub mod split;
+
+pub use split::split;
 
 use glam::{DVec2, DVec3};
 
@@ -286,6 +289,94 @@ pub fn boolean_joined(
             branches: 0,
         });
     }
+    let Cuts {
+        a: cuts_a,
+        b: cuts_b,
+        coplanar,
+        branches,
+        size,
+    } = cut_faces(&a, &b, tolerance)?;
+    let mesh_a = classifier(&a, size)?;
+    let mesh_b = classifier(&b, size)?;
+    let mut pieces: Vec<TrimmedSurface> = Vec::new();
+    let mut split_faces = 0;
+    for (side, (own, cuts, other, other_mesh)) in
+        [(&a, &cuts_a, &b, &mesh_b), (&b, &cuts_b, &a, &mesh_a)]
+            .into_iter()
+            .enumerate()
+    {
+        for (k, face) in own.faces.iter().enumerate() {
+            // Each part's trim loops (none: the whole face) and a point well inside it; a
+            // part is made (its loops validated) only where it is kept.
+            let parts = if cuts[k].is_empty() {
+                vec![(
+                    None,
+                    whole_face_points(face, &own.boundaries[k], tolerance)?,
+                )]
+            } else {
+                split_faces += 1;
+                split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
+                    .into_iter()
+                    .map(|part| (Some(part.loops), part.inside))
+                    .collect()
+            };
+            for (part, uv) in parts {
+                let partners: Vec<usize> = coplanar
+                    .iter()
+                    .filter_map(|&(i, j)| match side {
+                        0 if i == k => Some(j),
+                        1 if j == k => Some(i),
+                        _ => None,
+                    })
+                    .collect();
+                // A part lies on its face's surface: classified by that, before it is made.
+                let place = classify(face, &uv, other, &partners, other_mesh, tolerance)?;
+                let keep = match (op, side, place) {
+                    (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
+                    (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
+                    (BooleanOp::Union, 0, Place::OnSame) => Keep::AsIs,
+                    (BooleanOp::Intersection, _, Place::Inside) => Keep::AsIs,
+                    (BooleanOp::Intersection, 0, Place::OnSame) => Keep::AsIs,
+                    (BooleanOp::Difference, 0, Place::Outside | Place::OnOpposite) => Keep::AsIs,
+                    (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
+                    _ => Keep::No,
+                };
+                if keep == Keep::No {
+                    continue;
+                }
+                let part = match part {
+                    Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
+                    None => face.clone(),
+                };
+                pieces.push(match keep {
+                    Keep::Turned => part.reverse(Direction::U)?,
+                    _ => part,
+                });
+            }
+        }
+    }
+    let solids = assemble(pieces, tolerance)?;
+    Ok(BooleanResult {
+        solids,
+        split_faces,
+        branches,
+    })
+}
+
+/// Where two operands' faces cross: each face's cuts (in its (u, v)), the pairs of faces
+/// lying in one plane, how many branches cut, and the size of both operands' box.
+struct Cuts {
+    a: Vec<Vec<Polyline>>,
+    b: Vec<Vec<Polyline>>,
+    /// Coplanar partners: (face of a, face of b).
+    coplanar: Vec<(usize, usize)>,
+    branches: usize,
+    size: f64,
+}
+
+/// Step 2 of the module documentation: every pair of faces whose boxes meet intersected
+/// (see there), the branches turned into cuts on both faces.
+fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryError> {
     let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
     let size = lo.distance(hi);
     let options = IntersectOptions {
@@ -406,70 +497,12 @@ pub fn boolean_joined(
             }
         }
     }
-    let mesh_a = classifier(&a, size)?;
-    let mesh_b = classifier(&b, size)?;
-    let mut pieces: Vec<TrimmedSurface> = Vec::new();
-    let mut split_faces = 0;
-    for (side, (own, cuts, other, other_mesh)) in
-        [(&a, &cuts_a, &b, &mesh_b), (&b, &cuts_b, &a, &mesh_a)]
-            .into_iter()
-            .enumerate()
-    {
-        for (k, face) in own.faces.iter().enumerate() {
-            // Each part's trim loops (none: the whole face) and a point well inside it; a
-            // part is made (its loops validated) only where it is kept.
-            let parts = if cuts[k].is_empty() {
-                vec![(
-                    None,
-                    whole_face_points(face, &own.boundaries[k], tolerance)?,
-                )]
-            } else {
-                split_faces += 1;
-                split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
-                    .into_iter()
-                    .map(|(loops, inside)| (Some(loops), inside))
-                    .collect()
-            };
-            for (part, uv) in parts {
-                let partners: Vec<usize> = coplanar
-                    .iter()
-                    .filter_map(|&(i, j)| match side {
-                        0 if i == k => Some(j),
-                        1 if j == k => Some(i),
-                        _ => None,
-                    })
-                    .collect();
-                // A part lies on its face's surface: classified by that, before it is made.
-                let place = classify(face, &uv, other, &partners, other_mesh, tolerance)?;
-                let keep = match (op, side, place) {
-                    (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
-                    (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
-                    (BooleanOp::Union, 0, Place::OnSame) => Keep::AsIs,
-                    (BooleanOp::Intersection, _, Place::Inside) => Keep::AsIs,
-                    (BooleanOp::Intersection, 0, Place::OnSame) => Keep::AsIs,
-                    (BooleanOp::Difference, 0, Place::Outside | Place::OnOpposite) => Keep::AsIs,
-                    (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
-                    _ => Keep::No,
-                };
-                if keep == Keep::No {
-                    continue;
-                }
-                let part = match part {
-                    Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
-                    None => face.clone(),
-                };
-                pieces.push(match keep {
-                    Keep::Turned => part.reverse(Direction::U)?,
-                    _ => part,
-                });
-            }
-        }
-    }
-    let solids = assemble(pieces, tolerance)?;
-    Ok(BooleanResult {
-        solids,
-        split_faces,
+    Ok(Cuts {
+        a: cuts_a,
+        b: cuts_b,
+        coplanar,
         branches,
+        size,
     })
 }
 
@@ -1280,7 +1313,12 @@ fn whole_face_points(
 }
 
 /// A part of a split face: its trim loops and points well inside it, the surest first.
-type SplitPart = (Vec<TrimLoop>, Vec<DVec2>);
+struct SplitPart {
+    loops: Vec<TrimLoop>,
+    inside: Vec<DVec2>,
+    /// The middle in space of each of its edges that runs along a cut.
+    cut_middles: Vec<DVec3>,
+}
 
 /// The parts of `face` (its boundary flattened: `boundary`) that `cuts` divide it into, each
 /// as its trim loops on the face's surface (not yet validated) with a point well inside it.
@@ -1307,14 +1345,25 @@ fn split_face(
             continue;
         }
         let mut trim_loops: Vec<TrimLoop> = Vec::with_capacity(runs.len());
+        let mut cut_middles = Vec::new();
         for l in runs {
             let mut curves_out = Vec::with_capacity(l.len());
             for run in &l {
-                curves_out.push(run_curve(run, &curves, face.surface(), tolerance)?);
+                let curve = run_curve(run, &curves, face.surface(), tolerance)?;
+                if let Source::Cut(_) = run.source {
+                    let (t0, t1) = curve.domain();
+                    let middle = curve.point_at(0.5 * (t0 + t1))?;
+                    cut_middles.push(face.surface().point_at_clamped(middle)?);
+                }
+                curves_out.push(curve);
             }
             trim_loops.push(curves_out);
         }
-        parts.push((trim_loops, inside));
+        parts.push(SplitPart {
+            loops: trim_loops,
+            inside,
+            cut_middles,
+        });
     }
     Ok(parts)
 }

@@ -592,3 +592,136 @@ fn blocks_turned_apart_meet_at_the_three_planes_point() {
     check(&difference, va - vc, 1.0, "difference");
     check(&common, vc, 1.0, "intersection");
 }
+
+/// A flat sheet through `point` with unit normal `normal`, `half` wide each way.
+fn sheet(point: DVec3, normal: DVec3, half: f64) -> TrimmedSurface {
+    let normal = normal.normalize();
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let origin = point - (u + v) * half;
+    TrimmedSurface::untrimmed(
+        crate::construct::plane(origin, u * 2.0 * half, v * 2.0 * half).unwrap(),
+    )
+}
+
+/// The volumes of a split's pieces, smallest first; each piece closed and consistently
+/// oriented.
+fn split_volumes(body: &[TrimmedSurface], tool: &[TrimmedSurface], scale: f64) -> Vec<f64> {
+    let pieces = split((body, None), tool, 1e-6 * scale).unwrap_or_else(|e| panic!("split: {e}"));
+    let mut volumes: Vec<f64> = pieces
+        .iter()
+        .map(|p| {
+            let result = BooleanResult {
+                solids: vec![p.clone()],
+                split_faces: 0,
+                branches: 0,
+            };
+            let v = p.volume().expect("volume");
+            check(&result, v, scale, "piece");
+            v
+        })
+        .collect();
+    volumes.sort_by(f64::total_cmp);
+    volumes
+}
+
+fn close(got: &[f64], expected: &[f64], scale: f64, what: &str) {
+    assert_eq!(
+        got.len(),
+        expected.len(),
+        "{what}: {got:?} for {expected:?}"
+    );
+    for (g, e) in got.iter().zip(expected) {
+        assert!(
+            (g - e).abs() <= 1e-6 * scale.powi(3),
+            "{what}: {got:?} for {expected:?}"
+        );
+    }
+}
+
+/// A block split by a sheet across it, a cylinder by one through its axis, a ball by a
+/// slanted one and a block by an open cylinder's side through it, each in general
+/// position: the pieces' volumes are the closed forms (a prism's, half a cylinder, a
+/// spherical cap's πh²(3r − h)/3, a cylinder's).
+#[test]
+fn a_solid_split_by_a_surface_into_closed_pieces() {
+    for seed in [3, 11] {
+        let (motion, s) = placement(seed);
+        let s3 = s.powi(3);
+        let to = |faces: Vec<TrimmedSurface>| moved(faces, &motion);
+        // A 2 × 1 × 1 block cut at x = 0.7 by a sheet turned about z so that it meets the
+        // bottom at x = 0.7 - 0.25 t and the top alike: a prism split in the ratio of its
+        // trapezoids.
+        let body = to(block(DVec3::ZERO, DVec3::new(2.0, 1.0, 1.0)).unwrap());
+        let normal = DVec3::new(1.0, 0.25, 0.0);
+        let tool = to(vec![sheet(DVec3::new(0.7, 0.5, 0.5), normal, 3.0)]);
+        // x on the sheet at y: 0.7 - 0.25 (y - 0.5); the part below x has area 0.7 (a
+        // trapezoid whose mean width is 0.7).
+        close(
+            &split_volumes(&body, &tool, s),
+            &[0.7 * s3, 1.3 * s3],
+            s,
+            "block",
+        );
+        // A cylinder of radius 0.6 and height 1.5, split through its axis.
+        let body = to(capped_cylinder(DVec3::ZERO, DVec3::new(0.0, 0.0, 1.5), 0.6).unwrap());
+        let tool = to(vec![sheet(
+            DVec3::new(0.0, 0.0, 0.75),
+            DVec3::new(0.3, 1.0, 0.0),
+            3.0,
+        )]);
+        let half = 0.5 * PI * 0.36 * 1.5 * s3;
+        close(
+            &split_volumes(&body, &tool, s),
+            &[half, half],
+            s,
+            "cylinder",
+        );
+        // A ball of radius 1 cut by a slanted plane 0.4 from its centre: caps of heights 0.6
+        // and 1.4.
+        let body = to(crate::solids::ball(DVec3::ZERO, 1.0).unwrap());
+        let normal = DVec3::new(0.3, -0.5, 0.8).normalize();
+        let tool = to(vec![sheet(normal * 0.4, normal, 3.0)]);
+        let cap = |h: f64| PI * h * h * (3.0 - h) / 3.0 * s3;
+        close(
+            &split_volumes(&body, &tool, s),
+            &[cap(0.6), cap(1.4)],
+            s,
+            "ball",
+        );
+        // A 2 × 2 × 1 block split by the side of a cylinder of radius 0.5 standing through
+        // it (its caps left off): the core and the block around it.
+        let body = to(block(DVec3::ZERO, DVec3::new(2.0, 2.0, 1.0)).unwrap());
+        let side: Vec<TrimmedSurface> =
+            capped_cylinder(DVec3::new(1.0, 0.9, -1.0), DVec3::new(0.0, 0.0, 3.0), 0.5)
+                .unwrap()
+                .into_iter()
+                .filter(|f| !f.is_trimmed())
+                .collect();
+        assert_eq!(side.len(), 1, "the cylinder's side");
+        let core = PI * 0.25 * s3;
+        close(
+            &split_volumes(&body, &to(side), s),
+            &[core, 4.0 * s3 - core],
+            s,
+            "core",
+        );
+    }
+}
+
+/// A surface that misses the body, one that stops inside it and one lying in a face's plane
+/// are refused with what is wrong.
+#[test]
+fn a_split_that_cannot_divide_the_body_is_refused() {
+    let body = block(DVec3::ZERO, DVec3::new(2.0, 1.0, 1.0)).unwrap();
+    let refusal = |tool: TrimmedSurface| match split((&body, None), &[tool], 1e-6) {
+        Ok(pieces) => panic!("{} pieces", pieces.len()),
+        Err(e) => e.to_string(),
+    };
+    let missing = refusal(sheet(DVec3::new(5.0, 0.5, 0.5), DVec3::X, 1.0));
+    assert!(missing.contains("does not cross"), "{missing}");
+    let inside = refusal(sheet(DVec3::new(1.0, 0.5, 0.8), DVec3::X, 0.3));
+    assert!(inside.contains("does not divide"), "{inside}");
+    let on_face = refusal(sheet(DVec3::new(1.0, 0.5, 1.0), DVec3::Z, 3.0));
+    assert!(on_face.contains("lies in the plane"), "{on_face}");
+}
