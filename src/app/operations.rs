@@ -45,6 +45,11 @@ impl KnotworkApp {
                 "Intersection",
                 "what the first selected body has in common with the others",
             ),
+            (
+                crate::ops::boolean::Kind::Split,
+                "Split",
+                "the first selected body cut by the other selected surfaces into closed pieces",
+            ),
         ]
         .into_iter()
         .filter_map(|(kind, label, tip)| {

@@ -1328,38 +1328,27 @@ fn own_trimmed(
     }
 }
 
-/// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
-/// boolean`]) as one new polysurface named after them, the inputs hidden, at `tolerance` (a
-/// fraction of the scene's size). Refused, changing nothing, for an object that is not a
-/// closed body, an object in both lists, or an empty result.
-pub(crate) fn boolean(
+/// Two lists' closed bodies: their faces, and their shared edges where known.
+type ClosedBodies = (
+    [Vec<TrimmedSurface>; 2],
+    [Option<crate::kernel::join::Topology>; 2],
+);
+
+/// The faces of the closed bodies in each list, with their shared edges numbered on through
+/// the list where every body's are known; refused for an object that is not a closed body
+/// or one in both lists.
+fn closed_bodies(
     scene: &Scene,
-    op: crate::kernel::boolean::BooleanOp,
-    a: &[usize],
-    b: &[usize],
-    tolerance: f64,
-) -> Result<Planned, EditError> {
-    use crate::kernel::boolean::{BooleanOp, boolean_joined};
+    what: &'static str,
+    lists: [&[usize]; 2],
+) -> Result<ClosedBodies, EditError> {
     use crate::kernel::join::Topology;
-    let what = op.name();
-    let first = *a.first().ok_or(EditError::BadParameter {
-        operation: "boolean",
-        field: "a",
-        message: "needs at least one body".into(),
-    })?;
-    if b.is_empty() {
-        return Err(EditError::BadParameter {
-            operation: "boolean",
-            field: "b",
-            message: "needs at least one body".into(),
-        });
-    }
     let mut faces = [Vec::new(), Vec::new()];
     let mut topologies: [Vec<(Topology, usize)>; 2] = [Vec::new(), Vec::new()];
-    for (side, list) in [a, b].into_iter().enumerate() {
+    for (side, list) in lists.into_iter().enumerate() {
         for &k in list {
             let object = object_at(scene, k)?;
-            if side == 1 && a.contains(&k) {
+            if side == 1 && lists[0].contains(&k) {
                 return Err(geometry_error(object)(refuse(
                     what,
                     "is in both lists: a body cannot be combined with itself",
@@ -1383,12 +1372,121 @@ pub(crate) fn boolean(
     }
     // Each body's own shared edges, numbered on through the list (known for every body, or
     // worked out again).
-    let joined: Vec<Option<Topology>> = (0..2)
-        .map(|side| {
-            (topologies[side].len() == [a, b][side].len())
-                .then(|| Topology::concatenated(topologies[side].iter().map(|(t, n)| (t, *n))))
-        })
-        .collect();
+    let joined = [0, 1].map(|side| {
+        (topologies[side].len() == lists[side].len())
+            .then(|| Topology::concatenated(topologies[side].iter().map(|(t, n)| (t, *n))))
+    });
+    Ok((faces, joined))
+}
+
+/// The closed bodies `body` split by the faces of `tool` (surfaces or polysurfaces reaching
+/// through them; [`crate::kernel::boolean::split`]) into closed pieces, each a new
+/// polysurface named after the body, the body hidden, at `tolerance` (a fraction of the
+/// scene's size). Refused, changing nothing, for an object that is not a closed body, a tool
+/// without faces, or a surface that does not divide the body.
+pub(crate) fn split_solid(
+    scene: &Scene,
+    body: &[usize],
+    tool: &[usize],
+    tolerance: f64,
+) -> Result<Planned, EditError> {
+    use crate::kernel::boolean::split;
+    let what = "split";
+    let first = *body.first().ok_or(EditError::BadParameter {
+        operation: "boolean",
+        field: "a",
+        message: "needs a body to split".into(),
+    })?;
+    let ([faces, _], [joined, _]) = closed_bodies(scene, what, [body, &[]])?;
+    let mut cutters = Vec::new();
+    for &k in tool {
+        let object = object_at(scene, k)?;
+        if body.contains(&k) {
+            return Err(geometry_error(object)(refuse(
+                what,
+                "is the body being split: pick another surface to split it with",
+            )));
+        }
+        let cutter = object.body().map(|b| b.faces).unwrap_or_default();
+        if cutter.is_empty() {
+            return Err(geometry_error(object)(refuse(
+                what,
+                format!("has no faces to split with ({})", object.kind().kind_name()),
+            )));
+        }
+        cutters.extend(cutter);
+    }
+    if cutters.is_empty() {
+        return Err(EditError::BadParameter {
+            operation: "boolean",
+            field: "b",
+            message: "needs a surface to split with".into(),
+        });
+    }
+    let size = scene_size(scene);
+    let pieces = split((&faces, joined.as_ref()), &cutters, tolerance * size)
+        .map_err(geometry_error(&scene.objects[first]))?;
+    let mut polysurfaces = Vec::with_capacity(pieces.len());
+    for piece in &pieces {
+        polysurfaces.push(ObjectGeometry::new(
+            Polysurface::with_topology(
+                piece.faces(),
+                tolerance * size * 10.0,
+                piece.topology.clone(),
+            )
+            .map_err(geometry_error(&scene.objects[first]))?,
+        ));
+    }
+    let mut changes = Vec::new();
+    for &k in body {
+        let before = &scene.objects[k];
+        if before.visible {
+            let mut after = before.clone();
+            after.visible = false;
+            changes.push(Change::Replace {
+                index: k,
+                before: before.clone(),
+                after,
+            });
+        }
+    }
+    let name = objects_named(scene, body, false);
+    changes.extend(insert_objects(scene, &name, polysurfaces));
+    let label = format!(
+        "split of {name} by {}: {} piece{}",
+        objects_named(scene, tool, false),
+        pieces.len(),
+        if pieces.len() == 1 { "" } else { "s" },
+    );
+    Ok((changes, label))
+}
+
+/// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
+/// boolean`]) as one new polysurface named after them, the inputs hidden, at `tolerance` (a
+/// fraction of the scene's size). Refused, changing nothing, for an object that is not a
+/// closed body, an object in both lists, or an empty result.
+pub(crate) fn boolean(
+    scene: &Scene,
+    op: crate::kernel::boolean::BooleanOp,
+    a: &[usize],
+    b: &[usize],
+    tolerance: f64,
+) -> Result<Planned, EditError> {
+    use crate::kernel::boolean::{BooleanOp, boolean_joined};
+    let what = op.name();
+    let first = *a.first().ok_or(EditError::BadParameter {
+        operation: "boolean",
+        field: "a",
+        message: "needs at least one body".into(),
+    })?;
+    if b.is_empty() {
+        return Err(EditError::BadParameter {
+            operation: "boolean",
+            field: "b",
+            message: "needs at least one body".into(),
+        });
+    }
+    let (faces, joined) = closed_bodies(scene, what, [a, b])?;
     let size = scene_size(scene);
     let made = boolean_joined(
         op,

@@ -1,7 +1,8 @@
 //! Boolean: union, difference or intersection of closed bodies, as one new polysurface, the
-//! inputs hidden ([`crate::doc::surface_ops::boolean`] on [`crate::kernel::boolean`]). With
-//! history the result follows its inputs: moving a body or dragging a control point of one
-//! re-runs it.
+//! inputs hidden ([`crate::doc::surface_ops::boolean`] on [`crate::kernel::boolean`]); or a
+//! split of closed bodies by surfaces into closed pieces, the body hidden
+//! ([`crate::doc::surface_ops::split_solid`]). With history the result follows its inputs:
+//! moving a body or dragging a control point of one re-runs it.
 
 use serde::{Deserialize, Serialize};
 
@@ -15,27 +16,32 @@ use crate::scene::operation::{
 
 use super::resolve_all;
 
-/// Which boolean (`"union"`, `"difference"`: a minus b, `"intersection"`).
+/// Which boolean (`"union"`, `"difference"`: a minus b, `"intersection"`, `"split"`: a cut
+/// by the surfaces of b into closed pieces).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
     Union,
     Difference,
     Intersection,
+    Split,
 }
 
-impl From<Kind> for BooleanOp {
-    fn from(kind: Kind) -> Self {
-        match kind {
-            Kind::Union => BooleanOp::Union,
-            Kind::Difference => BooleanOp::Difference,
-            Kind::Intersection => BooleanOp::Intersection,
+impl Kind {
+    /// The kernel's boolean, for all but a split.
+    pub fn boolean_op(self) -> Option<BooleanOp> {
+        match self {
+            Kind::Union => Some(BooleanOp::Union),
+            Kind::Difference => Some(BooleanOp::Difference),
+            Kind::Intersection => Some(BooleanOp::Intersection),
+            Kind::Split => None,
         }
     }
 }
 
 /// `{"op": "boolean", "operation": "difference", "a": [i], "b": [j, ...], "tolerance": t}`:
-/// the bodies of `a` combined with those of `b` (tools that do not overlap one another);
+/// the bodies of `a` combined with those of `b` (tools that do not overlap one another), or
+/// for `"split"` cut by the faces of `b` (surfaces reaching through them);
 /// `tolerance` a fraction of the scene's size, 1e-6 by default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -65,12 +71,15 @@ impl OperationParams for Boolean {
         let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
         let a = resolve_all(scene, &self.a)?;
         let b = resolve_all(scene, &self.b)?;
-        surface_ops::boolean(scene, self.operation.into(), &a, &b, tolerance)
+        match self.operation.boolean_op() {
+            Some(op) => surface_ops::boolean(scene, op, &a, &b, tolerance),
+            None => surface_ops::split_solid(scene, &a, &b, tolerance),
+        }
     }
 }
 
 /// The operation for a selection: the first object against the rest (each with faces); the
-/// editor's Union, Difference and Intersection buttons.
+/// editor's Union, Difference, Intersection and Split buttons.
 pub fn offered(scene: &Scene, selection: &[usize], kind: Kind) -> Option<Operation> {
     match selection {
         [first, rest @ ..]

@@ -255,4 +255,83 @@ mod in_the_document {
         assert!(read.is_err());
         assert_eq!(doc.scene, before);
     }
+
+    /// Box A split by a slanted sheet through it, with history: two closed pieces whose
+    /// volumes are the prism's parts (the sheet meets A's bottom along x = 0.8 − 0.2 (y −
+    /// 0.5) and leans the same at every height: 0.8 × 1 × 1.5 and the rest), A hidden; moving
+    /// the sheet by 0.3 along x makes them again; a sheet beside the box is refused, changing
+    /// nothing; undo takes the split back in one step.
+    #[test]
+    fn a_split_by_a_surface_makes_closed_pieces_that_follow_the_surface() {
+        let mut doc = two_boxes();
+        doc.scene.objects.truncate(1);
+        let normal = DVec3::new(1.0, 0.2, 0.0);
+        let along = DVec3::Z.cross(normal).normalize() * 4.0;
+        let corner = DVec3::new(0.8, 0.5, 0.0) - along * 0.5 - DVec3::Z;
+        let sheet =
+            knotwork::kernel::construct::plane(corner, along, DVec3::Z * 4.0).expect("a plane");
+        doc.scene.objects.push(SceneObject::new(
+            "sheet",
+            ObjectGeometry::new(knotwork::kernel::TrimmedSurface::untrimmed(sheet)),
+        ));
+        let original = doc.scene.clone();
+        let operation = offered(&doc.scene, &[0, 1], Kind::Split).expect("offered");
+        doc.execute(&Command::Apply {
+            operation,
+            keep_history: true,
+        })
+        .expect("the split");
+        assert_eq!(doc.scene.objects.len(), 4, "two pieces added");
+        assert!(!doc.scene.objects[0].visible && doc.scene.objects[1].visible);
+        let pieces = |doc: &Document| {
+            let mut v: Vec<f64> = doc.scene.objects[2..].iter().map(volume).collect();
+            v.sort_by(f64::total_cmp);
+            for object in &doc.scene.objects[2..] {
+                assert!(
+                    object.body().expect("a body").closed(),
+                    "{} closed",
+                    object.name
+                );
+            }
+            v
+        };
+        let v = pieces(&doc);
+        assert!(
+            (v[0] - 1.2).abs() < 1e-6 && (v[1] - 1.8).abs() < 1e-6,
+            "{v:?}"
+        );
+        doc.execute(&Command::operation(Transform::new(
+            1,
+            &DAffine3::from_translation(DVec3::new(0.3, 0.0, 0.0)),
+        )))
+        .expect("the move");
+        let v = pieces(&doc);
+        assert!(
+            (v[0] - 1.35).abs() < 1e-6 && (v[1] - 1.65).abs() < 1e-6,
+            "{v:?}"
+        );
+        // Beside the box: refused with the reason, nothing changed.
+        let before = doc.scene.clone();
+        let depth = doc.history.undo_depth();
+        doc.execute(&Command::operation(Transform::new(
+            1,
+            &DAffine3::from_translation(DVec3::new(9.0, 0.0, 0.0)),
+        )))
+        .ok();
+        let refused = doc.execute(&Command::operation(Boolean {
+            operation: Kind::Split,
+            a: vec![0.into()],
+            b: vec![1.into()],
+            tolerance: 1e-6,
+        }));
+        assert!(refused.is_err());
+        let e = refused.unwrap_err().to_string();
+        assert!(e.contains("does not cross"), "{e}");
+        doc.undo().unwrap();
+        assert_eq!(doc.scene, before);
+        assert_eq!(doc.history.undo_depth(), depth);
+        doc.undo().unwrap();
+        doc.undo().unwrap();
+        assert_eq!(doc.scene, original, "one undo step takes the split back");
+    }
 }
