@@ -172,6 +172,7 @@ fn check_boolean(data: &[u8]) {
         return;
     };
     let tolerance = 1e-6 * 8.0;
+    check_split(&a, &b, data, tolerance);
     let mut volumes = Vec::new();
     for op in [
         BooleanOp::Union,
@@ -225,6 +226,70 @@ fn check_boolean(data: &[u8]) {
         (volumes[1] + volumes[2] - va).abs() <= 1e-6 * scale,
         "vol(A − B) + vol(A ∩ B) = {} for vol(A) = {va}",
         volumes[1] + volumes[2]
+    );
+}
+
+/// Splits `a` by a flat sheet through the middle of `b`'s box, turned as the last bytes of
+/// `data` say; panics only if the split panics, a piece does not close when joined again
+/// from its faces alone, or the pieces' volumes do not add up to `a`'s (within 1e-6 of it
+/// or the tolerance times its area). A refusal is fine.
+fn check_split(
+    a: &[crate::kernel::TrimmedSurface],
+    b: &[crate::kernel::TrimmedSurface],
+    data: &[u8],
+    tolerance: f64,
+) {
+    use crate::kernel::boolean::split;
+    use crate::kernel::join::{find_topology, validity};
+    use crate::kernel::mass::signed_volume;
+    use glam::DVec3;
+    let (lo, hi) = b
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), f| {
+            let (l, h) = f.surface().bounds();
+            (lo.min(l), hi.max(h))
+        });
+    let byte = |k: usize| f64::from(data[data.len() - 1 - k % data.len()]) - 127.5;
+    let normal = DVec3::new(byte(0), byte(1), byte(2) + 0.5);
+    let Some(normal) = normal.try_normalize() else {
+        return;
+    };
+    let u = normal.any_orthonormal_vector() * 20.0;
+    let v = normal.cross(u);
+    let centre = 0.5 * (lo + hi);
+    let Ok(sheet) = crate::kernel::construct::plane(centre - 0.5 * (u + v), u, v) else {
+        return;
+    };
+    let tool = [crate::kernel::TrimmedSurface::untrimmed(sheet)];
+    let Ok(pieces) = split((a, None), &tool, tolerance) else {
+        return;
+    };
+    let mut total = 0.0;
+    for piece in &pieces {
+        let faces = piece.faces();
+        let topology = find_topology(&faces, 10.0 * tolerance)
+            .unwrap_or_else(|e| panic!("a piece of the split cannot be joined again: {e}"));
+        let v = validity(faces.len(), &topology);
+        assert!(
+            v.is_closed_shell(),
+            "a piece of the split does not close: {} open, {} non-manifold, {} misoriented edges",
+            v.naked.len(),
+            v.non_manifold.len(),
+            v.misoriented.len()
+        );
+        total += piece
+            .volume()
+            .unwrap_or_else(|e| panic!("a piece of the split has no volume: {e}"));
+    }
+    let (Ok(va), Ok(area)) = (signed_volume(a), crate::kernel::mass::area(a)) else {
+        return;
+    };
+    // Each piece's cap and its body parts meet along cut curves fitted apart on each face
+    // (within the tolerance): a piece's volume is as good as the tolerance times its area.
+    assert!(
+        (total - va.abs()).abs() <= (1e-6 * va.abs()).max(tolerance * area),
+        "the split's pieces hold {total} of the body's {}",
+        va.abs()
     );
 }
 
