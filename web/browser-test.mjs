@@ -1678,6 +1678,46 @@ async function main() {
       await page.close();
     });
 
+    await check('a body split by a surface in the page: two closed pieces, the body hidden, the surface kept; a split by itself refused; undo back', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const [x0, y0, z0, x1, y1, z1] = [-1, -0.5, 0, 1, 0.5, 1.5];
+      // The box as six planes, and a slanted sheet through it (x = 0.35 - 0.15 z).
+      await openObjects(page, [
+        plane('Box bottom', [[[x0, y0, z0], [x0, y1, z0]], [[x1, y0, z0], [x1, y1, z0]]]),
+        plane('Box top', [[[x0, y0, z1], [x0, y1, z1]], [[x1, y0, z1], [x1, y1, z1]]]),
+        plane('Box front', [[[x0, y0, z0], [x0, y0, z1]], [[x1, y0, z0], [x1, y0, z1]]]),
+        plane('Box back', [[[x0, y1, z0], [x0, y1, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+        plane('Box left', [[[x0, y0, z0], [x0, y0, z1]], [[x0, y1, z0], [x0, y1, z1]]]),
+        plane('Box right', [[[x1, y0, z0], [x1, y0, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+        plane('Sheet', [[[0.5, -2, -1], [0.5, 2, -1]], [[-0.1, -2, 3], [-0.1, 2, 3]]]),
+      ]);
+      await page.evaluate(() => window.knotwork.join([0, 1, 2, 3, 4, 5]));
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      let objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      const body = objects.findIndex((o) => o.type === 'polysurface');
+      const sheet = objects.findIndex((o) => o.type !== 'polysurface');
+      assert(body >= 0 && sheet >= 0, `a body and a sheet: ${JSON.stringify(objects.map((o) => o.type))}`);
+      await page.evaluate(([a, b]) => window.knotwork.apply({ op: 'boolean', operation: 'split', a: [a], b: [b] }, { keepHistory: true }), [body, sheet]);
+      await page.waitForFunction(() => window.knotwork.status().objects === 4, null, { timeout: 120_000 });
+      let s = await status(page);
+      assert(s.error === null && /split of .* 2 pieces/.test(s.last_edit), `split: ${s.error}, ${s.last_edit}`);
+      objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(!objects[body].visible && objects[sheet].visible, 'the body hidden, the sheet kept');
+      const pieces = objects.slice(2);
+      assert(pieces.every((o) => o.type === 'polysurface' && o.faces.length === 6 && o.visible), `two six-faced pieces: ${JSON.stringify(pieces.map((o) => [o.type, o.faces?.length]))}`);
+      // A body split by itself is refused, with the reason, changing nothing.
+      await page.evaluate((k) => window.knotwork.apply({ op: 'boolean', operation: 'split', a: [k], b: [k] }), body);
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.objects === 4 && /split/.test(s.error), `refused: ${s.error}`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      console.log('      split: a box cut by a slanted sheet into two closed six-faced pieces');
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('blend, match, contour, projection and a varying fillet in the page: each one undo step, refusals change nothing', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
