@@ -148,7 +148,10 @@ fn main() -> std::process::ExitCode {
         }) => {
             return cli::continuity(project, objects, *samples, [*distance, *angle, *curvature]);
         }
-        Some(cli::Command::Info { input }) => return cli::info(input),
+        Some(cli::Command::Info {
+            input,
+            self_intersections,
+        }) => return cli::info(input, *self_intersections),
         Some(cli::Command::Export {
             input,
             output,

@@ -5,20 +5,20 @@
 use std::process::ExitCode;
 
 /// Runs `knotwork info`: the file's description as JSON.
-pub fn info(input: &std::path::Path) -> ExitCode {
+pub fn info(input: &std::path::Path, self_intersections: bool) -> ExitCode {
     let name = input.to_string_lossy();
     let result = std::fs::read(input)
         .map_err(|e| format!("cannot read {}: {e}", input.display()))
         .and_then(|bytes| {
             let format = knotwork::io::formats::format_of(&name, &bytes);
             if matches!(format.reader, knotwork::io::formats::Reader::Step) {
-                knotwork::io::step::info(&bytes).map_err(|e| e.to_string())
+                knotwork::io::step::info(&bytes, self_intersections).map_err(|e| e.to_string())
             } else {
                 let project = knotwork::io::open(&name, &bytes, &|_| {
                     Err("external files are not read here".into())
                 })
                 .map_err(|e| e.to_string())?;
-                Ok(knotwork::io::scene_info(&project.scene))
+                Ok(knotwork::io::scene_info(&project.scene, self_intersections))
             }
         });
     match result {

@@ -114,6 +114,10 @@ pub enum Command {
         /// The file: STEP (its bodies as the file has them), or a project, glTF or OBJ (its
         /// objects, each with its area and, closed, its volume and centroid).
         input: std::path::PathBuf,
+        /// Also look for self-intersections (faces of a body crossing each other), each
+        /// body's pairs of faces intersected: slower on large files.
+        #[arg(long)]
+        self_intersections: bool,
     },
     /// Export a project (or a surface in knotwork's JSON format, a .glb/.gltf, an .obj or a
     /// STEP file) as glTF 2.0: OUTPUT.glb, or OUTPUT.gltf with OUTPUT.bin beside it (the

@@ -98,7 +98,7 @@ fn bare_surfaces(text: &str) -> Result<Project, FormatError> {
 /// A scene described for `knotwork info`: its unit and each object as a body (name, kind,
 /// faces, whether they close it, area and, closed, volume and centroid; exact:
 /// [`crate::kernel::mass`]). Objects without NURBS faces give their name and kind alone.
-pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
+pub fn scene_info(scene: &crate::scene::Scene, self_intersections: bool) -> serde_json::Value {
     let bodies: Vec<serde_json::Value> = scene
         .objects
         .iter()
@@ -111,7 +111,7 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
                 body["faces"] = faces.faces.len().into();
                 body["closed"] = faces.closed().into();
                 if let Some(validity) = &faces.validity {
-                    body["validity"] = validity_value(&faces.faces, validity);
+                    body["validity"] = validity_value(&faces.faces, validity, self_intersections);
                 }
                 match faces.measure() {
                     Ok((area, mass)) => {
@@ -135,10 +135,13 @@ pub fn scene_info(scene: &crate::scene::Scene) -> serde_json::Value {
 
 /// A body's validity `v` for `knotwork info` ([`crate::kernel::join::validity`]): the counts
 /// of naked, non-manifold and misoriented edges, and each one's place (its face, loop and
-/// curve, and a point half way along it).
+/// curve, and a point half way along it); with `self_intersections`, also where its faces
+/// cross each other ([`crate::kernel::boolean::self_intersections`] at 1e-6 of the body's
+/// size: the two faces and a point on the crossing).
 pub fn validity_value(
     faces: &[crate::kernel::trim::TrimmedSurface],
     v: &crate::kernel::join::Validity,
+    self_intersections: bool,
 ) -> serde_json::Value {
     use crate::kernel::join::{EdgeId, edge_polyline};
     let size = faces.iter().map(|f| f.surface().size()).fold(0.0, f64::max);
@@ -149,7 +152,7 @@ pub fn validity_value(
             .map(|p| p.to_array());
         serde_json::json!({"face": e.face, "loop": e.loop_index, "curve": e.curve, "at": at})
     };
-    serde_json::json!({
+    let mut value = serde_json::json!({
         "closed_shell": v.is_closed_shell(),
         "naked_edges": v.naked.len(),
         "non_manifold_edges": v.non_manifold.len(),
@@ -159,5 +162,24 @@ pub fn validity_value(
             "non_manifold": v.non_manifold.iter().map(|&e| place(e)).collect::<Vec<_>>(),
             "misoriented": v.misoriented.iter().map(|&(a, _)| place(a)).collect::<Vec<_>>(),
         },
-    })
+    });
+    if self_intersections {
+        let (lo, hi) = faces.iter().map(|f| f.surface().bounds()).fold(
+            (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+            |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
+        );
+        let tolerance = 1e-6 * lo.distance(hi).max(f64::MIN_POSITIVE);
+        match crate::kernel::boolean::self_intersections(faces, tolerance) {
+            Ok(found) => {
+                value["self_intersections"] = found.len().into();
+                value["places"]["self_intersections"] = found
+                    .iter()
+                    .map(|c| serde_json::json!({"faces": [c.faces.0, c.faces.1], "at": c.at.to_array()}))
+                    .collect::<Vec<_>>()
+                    .into();
+            }
+            Err(e) => value["self_intersections_error"] = e.to_string().into(),
+        }
+    }
+    value
 }

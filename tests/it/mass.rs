@@ -164,3 +164,66 @@ fn the_create_dialogs_solids_are_closed_bodies_with_their_closed_form_volumes() 
         );
     }
 }
+
+/// `knotwork info --self-intersections` finds none on a closed box, and where two overlapping
+/// boxes joined into one polysurface cross (each crossing on both boxes' boundaries, between a
+/// face of each); without the flag it is not looked for.
+#[test]
+fn knotwork_info_finds_where_a_body_passes_through_itself() {
+    let motion = DAffine3::from_scale_rotation_translation(
+        DVec3::splat(1.3),
+        DQuat::from_axis_angle(DVec3::new(-0.4, 0.7, 0.2).normalize(), 0.9),
+        DVec3::new(-6.0, 3.0, 12.0),
+    );
+    let block = crate::common::box_of_planes(&motion);
+    let shifted = motion * DAffine3::from_translation(DVec3::new(1.0, 0.5, 0.5));
+    let other = crate::common::box_of_planes(&shifted);
+    let mut faces = block.faces().to_vec();
+    faces.extend(other.faces().iter().cloned());
+    let crossing = Polysurface::new(faces, 1e-7).unwrap();
+    let scene = Scene {
+        objects: vec![
+            SceneObject::new("block", ObjectGeometry::new(block)),
+            SceneObject::new("crossing", ObjectGeometry::new(crossing)),
+        ],
+        unit: None,
+    };
+    let path = crate::common::artifact_path("self-intersecting-bodies.json");
+    std::fs::write(&path, project::write(&Project { scene, view: None })).unwrap();
+    let plain = info(&path);
+    assert!(plain["bodies"][0]["validity"]["self_intersections"].is_null());
+    let out = crate::common::knotwork_json(&[
+        std::ffi::OsStr::new("info"),
+        path.as_os_str(),
+        std::ffi::OsStr::new("--self-intersections"),
+    ]);
+    let bodies = out["bodies"].as_array().unwrap();
+    assert_eq!(
+        bodies[0]["validity"]["self_intersections"], 0,
+        "{:#}",
+        bodies[0]
+    );
+    let found = bodies[1]["validity"]["self_intersections"]
+        .as_u64()
+        .unwrap();
+    assert!(found >= 4, "{:#}", bodies[1]["validity"]);
+    let inverse = motion.inverse();
+    for place in bodies[1]["validity"]["places"]["self_intersections"]
+        .as_array()
+        .unwrap()
+    {
+        let faces: Vec<usize> = serde_json::from_value(place["faces"].clone()).unwrap();
+        assert!(faces[0] < 6 && faces[1] >= 6, "a face of each box: {place}");
+        let p = inverse.transform_point3(point(&place["at"]));
+        let on_box = |lo: DVec3, hi: DVec3| {
+            (p - lo).min_element() >= -1e-6
+                && (hi - p).min_element() >= -1e-6
+                && ((p - lo).min_element().abs() <= 1e-6 || (hi - p).min_element().abs() <= 1e-6)
+        };
+        assert!(
+            on_box(DVec3::ZERO, DVec3::new(2.0, 1.0, 1.5))
+                && on_box(DVec3::new(1.0, 0.5, 0.5), DVec3::new(3.0, 1.5, 2.0)),
+            "{p} on both boxes"
+        );
+    }
+}

@@ -387,7 +387,7 @@ pub fn read_project(
 
 /// `knotwork info`: the bodies, faces per surface type, unit, bounding box and warnings as
 /// JSON.
-pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
+pub fn info(bytes: &[u8], self_intersections: bool) -> Result<serde_json::Value, FormatError> {
     let model = read::read(bytes, &mut |_, _| true)?;
     let mut lo = glam::DVec3::splat(f64::INFINITY);
     let mut hi = glam::DVec3::splat(f64::NEG_INFINITY);
@@ -423,7 +423,7 @@ pub fn info(bytes: &[u8]) -> Result<serde_json::Value, FormatError> {
             body["volume"] = m.volume.into();
             body["centroid"] = serde_json::json!(m.centroid.to_array());
         }
-        body["validity"] = super::validity_value(&b.faces, &validity);
+        body["validity"] = super::validity_value(&b.faces, &validity, self_intersections);
         bodies.push(body);
     }
     let faces: usize = model.bodies.iter().map(|b| b.faces.len()).sum();

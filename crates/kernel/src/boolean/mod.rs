@@ -363,6 +363,97 @@ pub fn boolean_joined(
     })
 }
 
+/// Where two faces of one body cross: the faces (by index) and a point on the crossing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfIntersection {
+    pub faces: (usize, usize),
+    pub at: DVec3,
+}
+
+/// Where the faces of one body cross each other (a self-intersection), at `tolerance` (model
+/// units): every pair of faces whose boxes meet intersected as in a boolean (see the module
+/// documentation), the branches along either face's edges or seams (neighbours meeting along
+/// their shared edge) left out; what remains is where the body passes through itself, one
+/// point per branch. Faces in one plane are passed over.
+pub fn self_intersections(
+    faces: &[TrimmedSurface],
+    tolerance: f64,
+) -> Result<Vec<SelfIntersection>, GeometryError> {
+    if !(tolerance > 0.0 && tolerance.is_finite()) {
+        return Err(construction(
+            WHAT,
+            format!("the tolerance must be a number above 0, got {tolerance}"),
+        ));
+    }
+    let body = Operand::new(
+        (faces.to_vec(), vec![(0..faces.len()).collect()]),
+        tolerance,
+    )?;
+    let (lo, hi) = union_box(&body.boxes);
+    let size = lo.distance(hi);
+    let options = IntersectOptions {
+        tolerance: tolerance * 1e-5,
+        chord: (size * 2e-5).max(tolerance),
+        smallest: size * 2e-3,
+    };
+    // Two caches, so that a pair can borrow a tree from each.
+    let mut trees_a = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
+    let mut trees_b = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
+    let grow = DVec3::splat(tolerance);
+    let mut found = Vec::new();
+    for i in 0..body.faces.len() {
+        for j in i + 1..body.faces.len() {
+            let (ba, bb) = (body.boxes[i], body.boxes[j]);
+            if (ba.0 - grow).cmpgt(bb.1).any() || (bb.0 - grow).cmpgt(ba.1).any() {
+                continue;
+            }
+            if let (Some((_, na)), Some((_, nb))) = (body.planes[i], body.planes[j])
+                && na.cross(nb).length() < 1e-9
+            {
+                continue;
+            }
+            if only_touches(body.planes[i], &body.faces[j], tolerance)
+                || only_touches(body.planes[j], &body.faces[i], tolerance)
+            {
+                continue;
+            }
+            let straight = match (body.planes[i], body.planes[j]) {
+                (Some(plane_a), Some(plane_b)) => plane_branches(
+                    (&body.faces[i], plane_a, &body.boundaries[i]),
+                    (&body.faces[j], plane_b, &body.boundaries[j]),
+                ),
+                _ => None,
+            };
+            let curves = match straight {
+                Some(curves) => curves,
+                None => {
+                    let pair = intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?;
+                    if pair.overlapping {
+                        continue;
+                    }
+                    pair.curves
+                }
+            };
+            for branch in curves {
+                let n = branch.points.len();
+                if n == 0
+                    || boundary_kind(&body.faces[i], &body.boundaries[i], &branch.uv_a, tolerance)
+                        .is_some()
+                    || boundary_kind(&body.faces[j], &body.boundaries[j], &branch.uv_b, tolerance)
+                        .is_some()
+                {
+                    continue;
+                }
+                found.push(SelfIntersection {
+                    faces: (i, j),
+                    at: branch.points[n / 2],
+                });
+            }
+        }
+    }
+    Ok(found)
+}
+
 /// Where two operands' faces cross: each face's cuts (in its (u, v)), the pairs of faces
 /// lying in one plane, how many branches cut, and the size of both operands' box.
 struct Cuts {

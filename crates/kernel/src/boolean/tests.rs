@@ -725,3 +725,66 @@ fn a_split_that_cannot_divide_the_body_is_refused() {
     let on_face = refusal(sheet(DVec3::new(1.0, 0.5, 1.0), DVec3::Z, 3.0));
     assert!(on_face.contains("lies in the plane"), "{on_face}");
 }
+
+/// Closed bodies that do not pass through themselves (a block, a capped cylinder, a ball, a
+/// boolean's result with a hole through it) have no self-intersection; two overlapping
+/// blocks' faces taken as one body cross where the blocks' faces do (four segments on the
+/// top and bottom of the first, four on the second's sides, ...), each reported once, on the
+/// crossing.
+#[test]
+fn self_intersections_are_where_a_body_passes_through_itself() {
+    let (motion, s) = placement(5);
+    let a = moved(
+        block(DVec3::ZERO, DVec3::new(2.0, 1.5, 1.0)).unwrap(),
+        &motion,
+    );
+    let tolerance = 1e-6 * s;
+    let pin = moved(
+        capped_cylinder(DVec3::new(1.0, 0.75, -1.0), DVec3::new(0.0, 0.0, 3.0), 0.3).unwrap(),
+        &motion,
+    );
+    let holed = boolean(BooleanOp::Difference, &a, &pin, tolerance)
+        .expect("a hole")
+        .faces();
+    for (what, body) in [
+        ("block", a.clone()),
+        ("cylinder", pin.clone()),
+        (
+            "ball",
+            moved(crate::solids::ball(DVec3::ZERO, 1.0).unwrap(), &motion),
+        ),
+        ("block with a hole", holed),
+    ] {
+        let found = self_intersections(&body, tolerance).expect("checked");
+        assert!(found.is_empty(), "{what}: {found:?}");
+    }
+    // The block and a second one through its top: the second's four sides cross the first's
+    // top, and the first's four sides... (x from 1.5 to 2.5 passes the right face at x = 2).
+    let b = moved(
+        block(DVec3::new(1.5, 0.5, 0.5), DVec3::new(1.0, 0.5, 1.0)).unwrap(),
+        &motion,
+    );
+    let mut both = a.clone();
+    both.extend(b);
+    let found = self_intersections(&both, tolerance).expect("checked");
+    assert!(!found.is_empty(), "overlapping blocks cross");
+    let inverse = motion.inverse();
+    for crossing in &found {
+        let (i, j) = crossing.faces;
+        assert!(i < 6 && j >= 6, "a face of each block: {crossing:?}");
+        // Back in the blocks' frame the point lies on both blocks' boundaries.
+        let p = inverse.transform_point3(crossing.at);
+        let on = |lo: DVec3, hi: DVec3| {
+            let inside = (p - lo).min_element() >= -1e-6 && (hi - p).min_element() >= -1e-6;
+            let on_face = [p - lo, hi - p]
+                .iter()
+                .any(|d| d.min_element().abs() <= 1e-6);
+            inside && on_face
+        };
+        assert!(
+            on(DVec3::ZERO, DVec3::new(2.0, 1.5, 1.0))
+                && on(DVec3::new(1.5, 0.5, 0.5), DVec3::new(2.5, 1.0, 1.5)),
+            "{p} on both blocks"
+        );
+    }
+}
