@@ -1397,7 +1397,8 @@ fn a_step_file_with_an_unread_surface_opens_the_rest_and_says_what_was_skipped()
 }
 
 /// *Measure* in the editor: the sample torus (R = 2, r = 0.8) shows its exact area 4π²Rr and
-/// volume 2π²Rr², and the measure goes when the document changes.
+/// volume 2π²Rr², and that it does not cross itself; the measure goes when the document
+/// changes.
 #[test]
 fn measure_shows_the_selected_bodys_exact_area_and_volume() {
     let _turn = ONE_EDITOR_AT_A_TIME
@@ -1414,6 +1415,7 @@ fn measure_shows_the_selected_bodys_exact_area_and_volume() {
     let volume = format!("volume {:.6}", 2.0 * pi2 * 2.0 * 0.64);
     assert!(harness.query_by_label(&area).is_some(), "{area}");
     assert!(harness.query_by_label(&volume).is_some(), "{volume}");
+    assert!(harness.query_by_label("no self-intersection").is_some());
     // An edit of the document takes the figures away until Measure is pressed again.
     let page = harness.state().command_sender();
     page.send(AppCommand::Edit(Command::SetVisible {
