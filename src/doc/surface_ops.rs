@@ -1328,6 +1328,23 @@ fn own_trimmed(
     }
 }
 
+/// The changes that hide the visible ones of `objects` (a boolean's inputs).
+fn hidden(scene: &Scene, objects: &[usize]) -> Vec<Change> {
+    objects
+        .iter()
+        .filter_map(|&k| {
+            let before = scene.objects.get(k).filter(|o| o.visible)?;
+            let mut after = before.clone();
+            after.visible = false;
+            Some(Change::Replace {
+                index: k,
+                before: before.clone(),
+                after,
+            })
+        })
+        .collect()
+}
+
 /// Two lists' closed bodies: their faces, and their shared edges where known.
 type ClosedBodies = (
     [Vec<TrimmedSurface>; 2],
@@ -1437,19 +1454,7 @@ pub(crate) fn split_solid(
             .map_err(geometry_error(&scene.objects[first]))?,
         ));
     }
-    let mut changes = Vec::new();
-    for &k in body {
-        let before = &scene.objects[k];
-        if before.visible {
-            let mut after = before.clone();
-            after.visible = false;
-            changes.push(Change::Replace {
-                index: k,
-                before: before.clone(),
-                after,
-            });
-        }
-    }
+    let mut changes = hidden(scene, body);
     let name = objects_named(scene, body, false);
     changes.extend(insert_objects(scene, &name, polysurfaces));
     let label = format!(
@@ -1518,19 +1523,7 @@ pub(crate) fn boolean(
         objects_named(scene, a, false),
         objects_named(scene, b, false)
     );
-    let mut changes = Vec::new();
-    for &k in a.iter().chain(b) {
-        let before = &scene.objects[k];
-        if before.visible {
-            let mut after = before.clone();
-            after.visible = false;
-            changes.push(Change::Replace {
-                index: k,
-                before: before.clone(),
-                after,
-            });
-        }
-    }
+    let mut changes = hidden(scene, &[a, b].concat());
     changes.extend(insert_objects(
         scene,
         &name,

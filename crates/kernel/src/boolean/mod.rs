@@ -243,6 +243,18 @@ impl Operand {
     }
 }
 
+/// The tolerance refused unless it is a finite number above 0.
+fn positive(tolerance: f64) -> Result<(), GeometryError> {
+    if tolerance > 0.0 && tolerance.is_finite() {
+        Ok(())
+    } else {
+        Err(construction(
+            WHAT,
+            format!("the tolerance must be a number above 0, got {tolerance}"),
+        ))
+    }
+}
+
 /// The boolean `op` of two solids (`a`'s and `b`'s faces; each may hold several closed
 /// shells that do not overlap one another), joined and checked at `tolerance` (model units;
 /// see the module documentation).
@@ -263,12 +275,7 @@ pub fn boolean_joined(
     (b, topology_b): (&[TrimmedSurface], Option<&Topology>),
     tolerance: f64,
 ) -> Result<BooleanResult, GeometryError> {
-    if !(tolerance > 0.0 && tolerance.is_finite()) {
-        return Err(construction(
-            WHAT,
-            format!("the tolerance must be a number above 0, got {tolerance}"),
-        ));
-    }
+    positive(tolerance)?;
     let oriented =
         |faces: &[TrimmedSurface], topology: Option<&Topology>, label: &str| match topology {
             Some(t) => outward_faces_joined(faces, t, label),
@@ -379,23 +386,12 @@ pub fn self_intersections(
     faces: &[TrimmedSurface],
     tolerance: f64,
 ) -> Result<Vec<SelfIntersection>, GeometryError> {
-    if !(tolerance > 0.0 && tolerance.is_finite()) {
-        return Err(construction(
-            WHAT,
-            format!("the tolerance must be a number above 0, got {tolerance}"),
-        ));
-    }
+    positive(tolerance)?;
     let body = Operand::new(
         (faces.to_vec(), vec![(0..faces.len()).collect()]),
         tolerance,
     )?;
-    let (lo, hi) = union_box(&body.boxes);
-    let size = lo.distance(hi);
-    let options = IntersectOptions {
-        tolerance: tolerance * 1e-5,
-        chord: (size * 2e-5).max(tolerance),
-        smallest: size * 2e-3,
-    };
+    let (_, options) = marching_options(&[&body, &body], tolerance);
     // Two caches, so that a pair can borrow a tree from each.
     let mut trees_a = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
     let mut trees_b = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
@@ -412,29 +408,16 @@ pub fn self_intersections(
             {
                 continue;
             }
-            if only_touches(body.planes[i], &body.faces[j], tolerance)
-                || only_touches(body.planes[j], &body.faces[i], tolerance)
-            {
+            let pair = face_pair(
+                (&body, &mut trees_a, i),
+                (&body, &mut trees_b, j),
+                &options,
+                tolerance,
+            )?;
+            let Some(pair) = pair.filter(|p| !p.overlapping) else {
                 continue;
-            }
-            let straight = match (body.planes[i], body.planes[j]) {
-                (Some(plane_a), Some(plane_b)) => plane_branches(
-                    (&body.faces[i], plane_a, &body.boundaries[i]),
-                    (&body.faces[j], plane_b, &body.boundaries[j]),
-                ),
-                _ => None,
             };
-            let curves = match straight {
-                Some(curves) => curves,
-                None => {
-                    let pair = intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?;
-                    if pair.overlapping {
-                        continue;
-                    }
-                    pair.curves
-                }
-            };
-            for branch in curves {
+            for branch in pair.curves {
                 let n = branch.points.len();
                 if n == 0
                     || boundary_kind(&body.faces[i], &body.boundaries[i], &branch.uv_a, tolerance)
@@ -454,6 +437,37 @@ pub fn self_intersections(
     Ok(found)
 }
 
+/// Where face `i` of `a` and face `j` of `b` cross (their boxes meeting, their planes not
+/// parallel): `None` where one lies wholly on one side of the other's plane (touching it at
+/// most); else two flat faces along their planes' line clipped to both (exactly, and far
+/// faster than marching), others by marching on their cell trees.
+fn face_pair(
+    (a, trees_a, i): (&Operand, &mut CachedTrees, usize),
+    (b, trees_b, j): (&Operand, &mut CachedTrees, usize),
+    options: &IntersectOptions,
+    tolerance: f64,
+) -> Result<Option<Intersection>, GeometryError> {
+    if only_touches(a.planes[i], &b.faces[j], tolerance)
+        || only_touches(b.planes[j], &a.faces[i], tolerance)
+    {
+        return Ok(None);
+    }
+    let straight = match (a.planes[i], b.planes[j]) {
+        (Some(plane_a), Some(plane_b)) => plane_branches(
+            (&a.faces[i], plane_a, &a.boundaries[i]),
+            (&b.faces[j], plane_b, &b.boundaries[j]),
+        ),
+        _ => None,
+    };
+    Ok(Some(match straight {
+        Some(curves) => Intersection {
+            curves,
+            ..Default::default()
+        },
+        None => intersect_cached((trees_a, i), (trees_b, j), options)?,
+    }))
+}
+
 /// Where two operands' faces cross: each face's cuts (in its (u, v)), the pairs of faces
 /// lying in one plane, how many branches cut, and the size of both operands' box.
 struct Cuts {
@@ -465,16 +479,25 @@ struct Cuts {
     size: f64,
 }
 
-/// Step 2 of the module documentation: every pair of faces whose boxes meet intersected
-/// (see there), the branches turned into cuts on both faces.
-fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryError> {
-    let (lo, hi) = union_box(&[union_box(&a.boxes), union_box(&b.boxes)]);
+/// The size of the operands' box and the marching's settings for it: points within 1e-5 of
+/// the tolerance, chords within 2e-5 of the size (the tolerance at least), cells down to
+/// 2e-3 of it.
+fn marching_options(operands: &[&Operand], tolerance: f64) -> (f64, IntersectOptions) {
+    let boxes: Vec<(DVec3, DVec3)> = operands.iter().map(|o| union_box(&o.boxes)).collect();
+    let (lo, hi) = union_box(&boxes);
     let size = lo.distance(hi);
     let options = IntersectOptions {
         tolerance: tolerance * 1e-5,
         chord: (size * 2e-5).max(tolerance),
         smallest: size * 2e-3,
     };
+    (size, options)
+}
+
+/// Step 2 of the module documentation: every pair of faces whose boxes meet intersected
+/// (see there), the branches turned into cuts on both faces.
+fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryError> {
+    let (size, options) = marching_options(&[a, b], tolerance);
     // Each face's cell tree is made once for all the pairs it is in.
     let mut trees_a = CachedTrees::new(a.faces.iter().map(|f| f as &dyn ParametricSurface));
     let mut trees_b = CachedTrees::new(b.faces.iter().map(|f| f as &dyn ParametricSurface));
@@ -515,26 +538,14 @@ fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryE
                     continue;
                 }
             }
-            if only_touches(a.planes[i], &b.faces[j], tolerance)
-                || only_touches(b.planes[j], &a.faces[i], tolerance)
-            {
+            let Some(mut found) = face_pair(
+                (a, &mut trees_a, i),
+                (b, &mut trees_b, j),
+                &options,
+                tolerance,
+            )?
+            else {
                 continue;
-            }
-            // Two flat faces meet along their planes' line, clipped to both: exactly, and far
-            // faster than marching.
-            let straight = match (a.planes[i], b.planes[j]) {
-                (Some(plane_a), Some(plane_b)) => plane_branches(
-                    (&a.faces[i], plane_a, &a.boundaries[i]),
-                    (&b.faces[j], plane_b, &b.boundaries[j]),
-                ),
-                _ => None,
-            };
-            let mut found = match straight {
-                Some(curves) => Intersection {
-                    curves,
-                    ..Default::default()
-                },
-                None => intersect_cached((&mut trees_a, i), (&mut trees_b, j), &options)?,
             };
             if found.overlapping {
                 return Err(construction(

@@ -25,12 +25,7 @@ pub fn split(
     tool: &[TrimmedSurface],
     tolerance: f64,
 ) -> Result<Vec<ResultSolid>, GeometryError> {
-    if !(tolerance > 0.0 && tolerance.is_finite()) {
-        return Err(construction(
-            WHAT,
-            format!("the tolerance must be a number above 0, got {tolerance}"),
-        ));
-    }
+    positive(tolerance)?;
     if tool.is_empty() {
         return Err(construction(WHAT, "the splitting surface has no faces"));
     }
