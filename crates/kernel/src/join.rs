@@ -60,35 +60,44 @@ pub struct Topology {
     pub degenerate: Vec<EdgeId>,
 }
 
+/// The items `0..count` in connected groups, `links` joining pairs (union–find with path
+/// halving), each group sorted, in order of its first item.
+pub fn connected_groups(
+    count: usize,
+    links: impl IntoIterator<Item = (usize, usize)>,
+) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..count).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    for (a, b) in links {
+        let (x, y) = (root(&mut parent, a), root(&mut parent, b));
+        if x != y {
+            parent[x.max(y)] = x.min(y);
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut slot = vec![usize::MAX; count];
+    for k in 0..count {
+        let r = root(&mut parent, k);
+        if slot[r] == usize::MAX {
+            slot[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[slot[r]].push(k);
+    }
+    groups
+}
+
 impl Topology {
     /// The faces in connected groups (joined through shared edges), each sorted, in order of
     /// their first face.
     pub fn components(&self, faces: usize) -> Vec<Vec<usize>> {
-        let mut parent: Vec<usize> = (0..faces).collect();
-        fn root(parent: &mut [usize], mut k: usize) -> usize {
-            while parent[k] != k {
-                parent[k] = parent[parent[k]];
-                k = parent[k];
-            }
-            k
-        }
-        for s in &self.shared {
-            let (x, y) = (root(&mut parent, s.a.face), root(&mut parent, s.b.face));
-            if x != y {
-                parent[x.max(y)] = x.min(y);
-            }
-        }
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        let mut slot = vec![usize::MAX; faces];
-        for k in 0..faces {
-            let r = root(&mut parent, k);
-            if slot[r] == usize::MAX {
-                slot[r] = groups.len();
-                groups.push(Vec::new());
-            }
-            groups[slot[r]].push(k);
-        }
-        groups
+        connected_groups(faces, self.shared.iter().map(|s| (s.a.face, s.b.face)))
     }
 
     /// The topologies of several face lists put one after another: each part's faces

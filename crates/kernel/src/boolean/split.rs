@@ -96,30 +96,15 @@ pub fn split(
     let part_edges = edge_middles(&parts)?;
     let cap_loops: Vec<Vec<TrimLoop>> = caps.iter().map(face_loops).collect::<Result<_, _>>()?;
     let on_cut = |middle: DVec3| cut_middles.iter().any(|m| m.distance(middle) <= join);
-    let mut group: Vec<usize> = (0..parts.len()).collect();
-    fn root(group: &mut [usize], mut k: usize) -> usize {
-        while group[k] != k {
-            group[k] = group[group[k]];
-            k = group[k];
-        }
-        k
-    }
-    let unite = |group: &mut Vec<usize>, x: usize, y: usize| {
-        let (rx, ry) = (root(group, x), root(group, y));
-        group[rx] = ry;
-    };
     // Parts joined across every edge but the cuts.
-    let middle_of = |e: &crate::join::EdgeId| {
-        part_edges
-            .iter()
-            .find(|m| m.id == *e)
-            .map_or(DVec3::NAN, |m| m.middle)
-    };
-    for shared in &joined.shared {
-        if !on_cut(middle_of(&shared.a)) {
-            unite(&mut group, shared.a.face, shared.b.face);
-        }
-    }
+    let middles: std::collections::HashMap<crate::join::EdgeId, DVec3> =
+        part_edges.iter().map(|e| (e.id, e.middle)).collect();
+    let mut links: Vec<(usize, usize)> = joined
+        .shared
+        .iter()
+        .filter(|s| !middles.get(&s.a).is_some_and(|&m| on_cut(m)))
+        .map(|s| (s.a.face, s.b.face))
+        .collect();
     // Across a cap: the parts whose edge runs against the cap's along it lie on its one side
     // (the cap as it is closes them), those whose edge runs with it on the other.
     let mut along_cuts = vec![false; parts.len()];
@@ -150,18 +135,14 @@ pub fn split(
             meets.push((c, part));
             let side = usize::from(edge.direction.dot(way) > 0.0);
             match sides[side] {
-                Some(first) => unite(&mut group, first, part),
+                Some(first) => links.push((first, part)),
                 None => sides[side] = Some(part),
             }
         }
     }
-    let mut components: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
-    for k in 0..parts.len() {
-        let r = root(&mut group, k);
-        components.entry(r).or_default().push(k);
-    }
+    let components = crate::join::connected_groups(parts.len(), links);
     let (sides, shells): (Vec<Vec<usize>>, Vec<Vec<usize>>) = components
-        .into_values()
+        .into_iter()
         .partition(|c| c.iter().any(|&k| along_cuts[k]));
     if sides.len() < 2 {
         return Err(construction(
@@ -184,25 +165,37 @@ pub fn split(
         pieces.push(faces);
     }
     // Shells the surface does not reach: a void goes with the piece around it (the first
-    // whose winding number holds a point of it), a lump stands alone.
+    // whose winding number holds a point of it), a lump stands alone. The pieces' classifiers
+    // are made once, when there is a void.
+    let mut voids = Vec::new();
     for shell in shells {
         let faces: Vec<TrimmedSurface> = shell.iter().map(|&k| parts[k].clone()).collect();
         if signed_volume(&faces)? > 0.0 {
             pieces.push(faces);
-            continue;
+        } else {
+            voids.push(faces);
         }
+    }
+    let mut holders: Option<Vec<Classifier>> = None;
+    for faces in voids {
         let lines = boundary_polylines(&faces[0], tolerance)?;
         let inside_point = whole_face_points(&faces[0], &lines, tolerance)?[0];
         let probe = faces[0].surface().point_at_clamped(inside_point)?;
-        let mut holder = None;
-        for (k, piece) in pieces.iter().enumerate() {
-            let operand =
-                Operand::new((piece.clone(), vec![(0..piece.len()).collect()]), tolerance)?;
-            if classifier(&operand, cuts.size)?.winding(probe).0.abs() > 0.5 {
-                holder = Some(k);
-                break;
+        if holders.is_none() {
+            let mut made = Vec::with_capacity(pieces.len());
+            for piece in &pieces {
+                let all = vec![(0..piece.len()).collect()];
+                made.push(classifier(
+                    &Operand::new((piece.clone(), all), tolerance)?,
+                    cuts.size,
+                )?);
             }
+            holders = Some(made);
         }
+        let holder = holders
+            .iter()
+            .flatten()
+            .position(|c| c.winding(probe).0.abs() > 0.5);
         match holder {
             Some(k) => pieces[k].extend(faces),
             None => pieces.push(faces),
