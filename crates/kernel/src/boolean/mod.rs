@@ -1006,32 +1006,80 @@ struct Classifier {
     flatness: f64,
 }
 
-/// One shell's box and triangles.
-type ShellTriangles = ((DVec3, DVec3), Vec<[DVec3; 3]>);
+/// One shell's box, its triangles and its flat faces.
+struct ShellTriangles {
+    lo: DVec3,
+    hi: DVec3,
+    /// Triangles that lie on their face: the tessellations of curved faces.
+    triangles: Vec<[DVec3; 3]>,
+    /// The fans of flat faces: each face's signed area as a chain of triangles from one
+    /// boundary point, which may reach past the face (where they cancel), so a point near
+    /// them is tested against the face itself.
+    fans: Vec<[DVec3; 3]>,
+    /// The flat faces with a point and the unit normal of their planes.
+    flat: Vec<(TrimmedSurface, DVec3, DVec3)>,
+}
 
+/// The winding-number classifier of an operand's shells. A flat affine face ([`affine`]) is
+/// its boundary's fan: every chord of its loops (in their turn, outer loops anticlockwise in
+/// (u, v)) with one boundary point, the face as a chain of signed triangles whose solid angles
+/// add up to the face's. A curved face whose one loop is its domain's edge is its surface's
+/// grid; any other face its trimmed tessellation.
 fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError> {
     let mut shells = Vec::with_capacity(operand.shells.len());
     for shell in &operand.shells {
-        let mut triangles = Vec::new();
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let mut made = ShellTriangles {
+            lo: DVec3::INFINITY,
+            hi: DVec3::NEG_INFINITY,
+            triangles: Vec::new(),
+            fans: Vec::new(),
+            flat: Vec::new(),
+        };
         for &k in shell {
             let face = &operand.faces[k];
-            let tolerance = (face.surface().size() * 2e-4).max(size * 1e-6);
-            let mesh = if face.is_trimmed() {
-                tessellate_trimmed(face, Tessellation::Tolerance(tolerance), false)?
-            } else {
-                let grid = grid_for(face.surface(), Tessellation::Tolerance(tolerance))?;
-                triangulate(face.surface(), &grid, false)?
-            };
-            for p in &mesh.positions {
-                lo = lo.min(*p);
-                hi = hi.max(*p);
+            let surface = face.surface();
+            let (lo, hi) = operand.boxes[k];
+            made.lo = made.lo.min(lo);
+            made.hi = made.hi.max(hi);
+            if let (Some((point, normal)), true) = (operand.planes[k], affine(surface)) {
+                let mut apex = None;
+                for line in &operand.boundaries[k] {
+                    let points = line
+                        .points
+                        .iter()
+                        .map(|&q| surface.point_at_clamped(q))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    let apex = *apex.get_or_insert(points[0]);
+                    for w in points.windows(2) {
+                        made.fans.push([apex, w[0], w[1]]);
+                    }
+                }
+                made.flat.push((face.clone(), point, normal));
+                continue;
             }
+            let tolerance = (surface.size() * 2e-4).max(size * 1e-6);
+            let mesh = match kept_rectangle(face, &operand.boundaries[k]) {
+                Some([u0, u1, v0, v1]) => {
+                    let grid = grid_for(surface, Tessellation::Tolerance(tolerance))?;
+                    let within = |values: &[f64], a: f64, b: f64| {
+                        let mut out = vec![a];
+                        out.extend(values.iter().copied().filter(|&x| x > a && x < b));
+                        out.push(b);
+                        out
+                    };
+                    let grid = crate::tess::ParameterGrid {
+                        us: within(&grid.us, u0, u1),
+                        vs: within(&grid.vs, v0, v1),
+                    };
+                    triangulate(surface, &grid, false)?
+                }
+                None => tessellate_trimmed(face, Tessellation::Tolerance(tolerance), false)?,
+            };
             for t in &mesh.triangles {
-                triangles.push(t.map(|k| mesh.positions[k as usize]));
+                made.triangles.push(t.map(|k| mesh.positions[k as usize]));
             }
         }
-        shells.push(((lo, hi), triangles));
+        shells.push(made);
     }
     // The most a face's tessellation strays from it (as above, with the tessellation's own
     // rounding), for telling a point on the body's boundary.
@@ -1043,35 +1091,75 @@ fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError>
     Ok(Classifier { shells, flatness })
 }
 
+/// The rectangle [u₀, u₁] × [v₀, v₁] the face keeps when it is untrimmed (its domain) or
+/// its one loop (flattened as `lines`) is a rectangle along the parameter lines: the loop's
+/// area in (u, v) (the shoelace sum over its chords) that of its box.
+fn kept_rectangle(face: &TrimmedSurface, lines: &[Polyline]) -> Option<[f64; 4]> {
+    if !face.is_trimmed() {
+        return Some(domain_rect(face.surface()));
+    }
+    if face.loops().len() != 1 {
+        return None;
+    }
+    let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+    let mut area = 0.0;
+    for w in lines.iter().flat_map(|l| l.points.windows(2)) {
+        area += 0.5 * w[0].perp_dot(w[1]);
+        lo = lo.min(w[0]).min(w[1]);
+        hi = hi.max(w[0]).max(w[1]);
+    }
+    let extent = hi - lo;
+    let boxed = extent.x * extent.y;
+    (boxed > 0.0 && (area - boxed).abs() <= 1e-9 * boxed).then_some([lo.x, hi.x, lo.y, hi.y])
+}
+
+/// The solid angle of triangle `t` seen from `p`, with the triple product a·(b×c) and the
+/// lengths (|a| + |b|)(|a| + |c|) that bound twice its area, where a, b, c run from `p` to its
+/// corners (Van Oosterom and Strackee's formula, tan(Ω/2) =
+/// a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)).
+fn solid_angle(t: &[DVec3; 3], p: DVec3) -> (f64, f64, f64) {
+    let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let numerator = a.dot(b.cross(c));
+    let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    (
+        2.0 * numerator.atan2(denominator),
+        numerator,
+        (la + lb) * (la + lc),
+    )
+}
+
 impl Classifier {
     /// The winding number of the closed triangle sets about `p` (its sign follows the
     /// tessellation's turn, so the caller takes its size): the sum of the triangles' solid
-    /// angles seen from `p` over 4π (Van Oosterom and Strackee's formula, tan(Ω/2) =
-    /// a·(b×c) / (|a||b||c| + (a·b)|c| + (b·c)|a| + (c·a)|b|)). A shell whose box does not
-    /// hold `p` winds zero times round it and is skipped.
+    /// angles ([`solid_angle`]) over 4π. A shell whose box does not hold `p` winds zero times
+    /// round it and is skipped.
     ///
     /// Also whether `p` lies within twice the tessellation's flatness of a triangle's plane
-    /// over the triangle: about on the body's boundary, where the winding number is no guide.
+    /// over the triangle, or of a flat face: about on the body's boundary, where the winding
+    /// number is no guide.
     fn winding(&self, p: DVec3) -> (f64, bool) {
         let mut total = 0.0;
         let mut on_boundary = false;
         let near = 2.0 * self.flatness;
-        for ((lo, hi), triangles) in &self.shells {
-            let margin = (*hi - *lo) * 1e-3;
-            if (p - *lo + margin).min_element() < 0.0 || (*hi + margin - p).min_element() < 0.0 {
+        for shell in &self.shells {
+            let margin = (shell.hi - shell.lo) * 1e-3 + near;
+            if (p - shell.lo + margin).min_element() < 0.0
+                || (shell.hi + margin - p).min_element() < 0.0
+            {
                 continue;
             }
-            for t in triangles {
-                let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
-                let (la, lb, lc) = (a.length(), b.length(), c.length());
-                let numerator = a.dot(b.cross(c));
-                let denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-                total += 2.0 * numerator.atan2(denominator);
-                // |(b − a) × (c − a)| ≤ (|a| + |b|)(|a| + |c|): most triangles are ruled out
-                // before their normal is worked out.
-                if !on_boundary && numerator.abs() <= near * (la + lb) * (la + lc) {
+            for t in &shell.fans {
+                total += solid_angle(t, p).0;
+            }
+            for t in &shell.triangles {
+                let (angle, numerator, bound) = solid_angle(t, p);
+                total += angle;
+                // Most triangles are ruled out before their normal is worked out.
+                if !on_boundary && numerator.abs() <= near * bound {
                     // p's height over the triangle's plane is the triple product over twice its
                     // area; over the triangle where the three edge tests agree.
+                    let (a, b, c) = (t[0] - p, t[1] - p, t[2] - p);
                     let normal = (b - a).cross(c - a);
                     if numerator.abs() <= near * normal.length() {
                         let sides = [a.cross(b), b.cross(c), c.cross(a)].map(|e| e.dot(normal));
@@ -1079,6 +1167,15 @@ impl Classifier {
                             sides.iter().all(|&x| x >= 0.0) || sides.iter().all(|&x| x <= 0.0);
                     }
                 }
+            }
+            if !on_boundary {
+                on_boundary = shell.flat.iter().any(|(face, point, normal)| {
+                    (p - *point).dot(*normal).abs() <= near
+                        && plane_uv(face.surface(), p).is_some_and(|q| {
+                            let slack = 1e-12 * domain_size(domain_rect(face.surface()));
+                            inside_domain(face, q, slack) && face.contains(q.x, q.y)
+                        })
+                });
             }
         }
         (total / (4.0 * std::f64::consts::PI), on_boundary)
