@@ -847,43 +847,40 @@ pub fn intersect_surfaces(
     ))
 }
 
-/// Faces whose cell trees are made once, on first use, and kept (with the cells refined so
-/// far) for every other pair the face takes part in.
-pub(crate) struct CachedTrees<'a> {
-    sides: Vec<Side<'a>>,
+/// The cell trees of a list of faces, each made on first use and kept (with the cells
+/// refined so far) for every other pair the face takes part in.
+pub(crate) struct CachedTrees {
     trees: Vec<Option<Option<CellTree>>>,
 }
 
-impl<'a> CachedTrees<'a> {
-    pub(crate) fn new(faces: impl IntoIterator<Item = &'a dyn ParametricSurface>) -> Self {
-        let sides: Vec<Side<'a>> = faces.into_iter().map(Side::of).collect();
-        let trees = sides.iter().map(|_| None).collect();
-        Self { sides, trees }
+impl CachedTrees {
+    /// No tree made yet for any of `count` faces.
+    pub(crate) fn new(count: usize) -> Self {
+        Self {
+            trees: (0..count).map(|_| None).collect(),
+        }
     }
 }
 
-/// [`intersect_surfaces`] of face `i` of `a` and face `j` of `b`, each face's cell tree made
-/// once for all its pairs.
+/// [`intersect_surfaces`] of face `a` (number `i` of its list) and face `b` (number `j` of
+/// its), each face's cell tree made once for all its pairs.
 pub(crate) fn intersect_cached(
-    (a, i): (&mut CachedTrees<'_>, usize),
-    (b, j): (&mut CachedTrees<'_>, usize),
+    (a, trees_a, i): (&dyn ParametricSurface, &mut CachedTrees, usize),
+    (b, trees_b, j): (&dyn ParametricSurface, &mut CachedTrees, usize),
     options: &IntersectOptions,
 ) -> Result<Intersection, GeometryError> {
     check_options(options)?;
-    let CachedTrees { sides, trees } = a;
-    let (side_a, tree_a) = (
-        &sides[i],
-        trees[i].get_or_insert_with(|| CellTree::new(&sides[i])),
-    );
-    let CachedTrees { sides, trees } = b;
-    let (side_b, tree_b) = (
-        &sides[j],
-        trees[j].get_or_insert_with(|| CellTree::new(&sides[j])),
-    );
+    let (side_a, side_b) = (Side::of(a), Side::of(b));
+    let tree_a = trees_a.trees[i].get_or_insert_with(|| CellTree::new(&side_a));
+    let tree_b = trees_b.trees[j].get_or_insert_with(|| CellTree::new(&side_b));
     let (Some(tree_a), Some(tree_b)) = (tree_a.as_mut(), tree_b.as_mut()) else {
         return Ok(Intersection::default());
     };
-    Ok(intersect_trees((side_a, tree_a), (side_b, tree_b), options))
+    Ok(intersect_trees(
+        (&side_a, tree_a),
+        (&side_b, tree_b),
+        options,
+    ))
 }
 
 /// The most pairs of cells one intersection looks at. Surfaces that cross are done in a few

@@ -29,8 +29,10 @@
 //!    smallest shell around it.
 
 pub mod arrangement;
+pub mod job;
 pub mod split;
 
+pub use job::{BooleanInput, BooleanJob};
 pub use split::split;
 
 use glam::{DVec2, DVec3};
@@ -40,7 +42,6 @@ use crate::intersect::{BranchEnd, IntersectionCurve};
 use crate::intersect::{CachedTrees, IntersectOptions, Intersection, intersect_cached};
 use crate::join::{Topology, face_loops, find_topology, validity};
 use crate::mass::signed_volume;
-use crate::parametric::ParametricSurface;
 use crate::splines::{Parametrization, interpolate_at_parameters, interpolate_through};
 use crate::surface::Direction;
 use crate::tess::{Tessellation, grid_for, triangulate};
@@ -268,106 +269,88 @@ pub fn boolean(
 }
 
 /// [`boolean`] of operands whose shared edges may already be known (a polysurface's
-/// topology, so that a live boolean does not join its inputs again on every drag step).
+/// topology, so that a live boolean does not join its inputs again on every drag step): a
+/// [`BooleanJob`] run to its end.
 pub fn boolean_joined(
     op: BooleanOp,
     (a, topology_a): (&[TrimmedSurface], Option<&Topology>),
     (b, topology_b): (&[TrimmedSurface], Option<&Topology>),
     tolerance: f64,
 ) -> Result<BooleanResult, GeometryError> {
-    positive(tolerance)?;
-    let oriented =
-        |faces: &[TrimmedSurface], topology: Option<&Topology>, label: &str| match topology {
-            Some(t) => outward_faces_joined(faces, t, label),
-            None => outward_faces(faces, tolerance, label),
+    let mut job = BooleanJob::new(
+        op,
+        (a.to_vec(), topology_a.cloned()),
+        (b.to_vec(), topology_b.cloned()),
+        tolerance,
+    )?;
+    while !job.step()? {}
+    job.finish()
+}
+
+/// The parts of face `k` of operand `own` (side 0: the first) that the boolean `op` keeps,
+/// turned where the difference keeps them inside out, added to `pieces`: the face split by
+/// its `cuts` (or whole), each part classified against `other` (its faces in one plane with
+/// the part's face, by `coplanar`'s pairs, else `other_mesh`'s winding number) before it is
+/// made. True when the face was split.
+#[allow(clippy::too_many_arguments)] // one face's part of the boolean: what it reads
+fn keep_parts(
+    op: BooleanOp,
+    (side, k): (usize, usize),
+    own: &Operand,
+    cuts: &[Polyline],
+    (other, other_mesh): (&Operand, &Classifier),
+    coplanar: &[(usize, usize)],
+    tolerance: f64,
+    pieces: &mut Vec<TrimmedSurface>,
+) -> Result<bool, GeometryError> {
+    let face = &own.faces[k];
+    // Each part's trim loops (none: the whole face) and a point well inside it; a part is
+    // made (its loops validated) only where it is kept.
+    let parts = if cuts.is_empty() {
+        vec![(
+            None,
+            whole_face_points(face, &own.boundaries[k], tolerance)?,
+        )]
+    } else {
+        split_face(face, &own.boundaries[k], cuts, tolerance)?
+            .into_iter()
+            .map(|part| (Some(part.loops), part.inside))
+            .collect()
+    };
+    let partners: Vec<usize> = coplanar
+        .iter()
+        .filter_map(|&(i, j)| match side {
+            0 if i == k => Some(j),
+            1 if j == k => Some(i),
+            _ => None,
+        })
+        .collect();
+    for (part, uv) in parts {
+        // A part lies on its face's surface: classified by that, before it is made.
+        let place = classify(face, &uv, other, &partners, other_mesh, tolerance)?;
+        let keep = match (op, side, place) {
+            (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
+            (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
+            (BooleanOp::Union, 0, Place::OnSame) => Keep::AsIs,
+            (BooleanOp::Intersection, _, Place::Inside) => Keep::AsIs,
+            (BooleanOp::Intersection, 0, Place::OnSame) => Keep::AsIs,
+            (BooleanOp::Difference, 0, Place::Outside | Place::OnOpposite) => Keep::AsIs,
+            (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
+            _ => Keep::No,
         };
-    let a = Operand::new(oriented(a, topology_a, "the first body")?, tolerance)?;
-    let b = Operand::new(oriented(b, topology_b, "the second body")?, tolerance)?;
-    // Equal bodies (a body and its copy): the union and the intersection are the body, the
-    // difference is empty; their faces, lying on one another, are not intersected.
-    if a.faces.len() == b.faces.len() && a.faces.iter().all(|f| b.faces.contains(f)) {
-        let solids = match op {
-            BooleanOp::Difference => Vec::new(),
-            BooleanOp::Union | BooleanOp::Intersection => assemble(a.faces.clone(), tolerance)?,
+        if keep == Keep::No {
+            continue;
+        }
+        let part = match part {
+            Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
+            None => face.clone(),
         };
-        return Ok(BooleanResult {
-            solids,
-            split_faces: 0,
-            branches: 0,
+        pieces.push(match keep {
+            Keep::Turned => part.reverse(Direction::U)?,
+            _ => part,
         });
     }
-    let Cuts {
-        a: cuts_a,
-        b: cuts_b,
-        coplanar,
-        branches,
-        size,
-    } = cut_faces(&a, &b, tolerance)?;
-    let mesh_a = classifier(&a, size)?;
-    let mesh_b = classifier(&b, size)?;
-    let mut pieces: Vec<TrimmedSurface> = Vec::new();
-    let mut split_faces = 0;
-    for (side, (own, cuts, other, other_mesh)) in
-        [(&a, &cuts_a, &b, &mesh_b), (&b, &cuts_b, &a, &mesh_a)]
-            .into_iter()
-            .enumerate()
-    {
-        for (k, face) in own.faces.iter().enumerate() {
-            // Each part's trim loops (none: the whole face) and a point well inside it; a
-            // part is made (its loops validated) only where it is kept.
-            let parts = if cuts[k].is_empty() {
-                vec![(
-                    None,
-                    whole_face_points(face, &own.boundaries[k], tolerance)?,
-                )]
-            } else {
-                split_faces += 1;
-                split_face(face, &own.boundaries[k], &cuts[k], tolerance)?
-                    .into_iter()
-                    .map(|part| (Some(part.loops), part.inside))
-                    .collect()
-            };
-            for (part, uv) in parts {
-                let partners: Vec<usize> = coplanar
-                    .iter()
-                    .filter_map(|&(i, j)| match side {
-                        0 if i == k => Some(j),
-                        1 if j == k => Some(i),
-                        _ => None,
-                    })
-                    .collect();
-                // A part lies on its face's surface: classified by that, before it is made.
-                let place = classify(face, &uv, other, &partners, other_mesh, tolerance)?;
-                let keep = match (op, side, place) {
-                    (_, 1, Place::OnSame | Place::OnOpposite) => Keep::No,
-                    (BooleanOp::Union, _, Place::Outside) => Keep::AsIs,
-                    (BooleanOp::Union, 0, Place::OnSame) => Keep::AsIs,
-                    (BooleanOp::Intersection, _, Place::Inside) => Keep::AsIs,
-                    (BooleanOp::Intersection, 0, Place::OnSame) => Keep::AsIs,
-                    (BooleanOp::Difference, 0, Place::Outside | Place::OnOpposite) => Keep::AsIs,
-                    (BooleanOp::Difference, 1, Place::Inside) => Keep::Turned,
-                    _ => Keep::No,
-                };
-                if keep == Keep::No {
-                    continue;
-                }
-                let part = match part {
-                    Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
-                    None => face.clone(),
-                };
-                pieces.push(match keep {
-                    Keep::Turned => part.reverse(Direction::U)?,
-                    _ => part,
-                });
-            }
-        }
-    }
-    let solids = assemble(pieces, tolerance)?;
-    Ok(BooleanResult {
-        solids,
-        split_faces,
-        branches,
-    })
+    Ok(!cuts.is_empty())
 }
 
 /// Where two faces of one body cross: the faces (by index) and a point on the crossing.
@@ -393,8 +376,8 @@ pub fn self_intersections(
     )?;
     let (_, options) = marching_options(&[&body, &body], tolerance);
     // Two caches, so that a pair can borrow a tree from each.
-    let mut trees_a = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
-    let mut trees_b = CachedTrees::new(body.faces.iter().map(|f| f as &dyn ParametricSurface));
+    let mut trees_a = CachedTrees::new(body.faces.len());
+    let mut trees_b = CachedTrees::new(body.faces.len());
     let grow = DVec3::splat(tolerance);
     let mut found = Vec::new();
     for i in 0..body.faces.len() {
@@ -464,7 +447,11 @@ fn face_pair(
             curves,
             ..Default::default()
         },
-        None => intersect_cached((trees_a, i), (trees_b, j), options)?,
+        None => intersect_cached(
+            (&a.faces[i], trees_a, i),
+            (&b.faces[j], trees_b, j),
+            options,
+        )?,
     }))
 }
 
@@ -497,115 +484,172 @@ fn marching_options(operands: &[&Operand], tolerance: f64) -> (f64, IntersectOpt
 /// Step 2 of the module documentation: every pair of faces whose boxes meet intersected
 /// (see there), the branches turned into cuts on both faces.
 fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryError> {
-    let (size, options) = marching_options(&[a, b], tolerance);
-    // Each face's cell tree is made once for all the pairs it is in.
-    let mut trees_a = CachedTrees::new(a.faces.iter().map(|f| f as &dyn ParametricSurface));
-    let mut trees_b = CachedTrees::new(b.faces.iter().map(|f| f as &dyn ParametricSurface));
-    let mut cuts_a: Vec<Vec<Polyline>> = vec![Vec::new(); a.faces.len()];
-    let mut cuts_b: Vec<Vec<Polyline>> = vec![Vec::new(); b.faces.len()];
-    // Coplanar partners: (face of a, face of b).
-    let mut coplanar: Vec<(usize, usize)> = Vec::new();
-    let mut branches = 0;
-    let grow = DVec3::splat(tolerance);
-    #[allow(clippy::needless_range_loop)] // i and j index both operands' lists alike
-    for i in 0..a.faces.len() {
-        for j in 0..b.faces.len() {
+    let mut cutter = Cutter::new(a, b, tolerance);
+    while !cutter.next_pair(a, b, tolerance)? {}
+    Ok(cutter.cuts)
+}
+
+/// The cuts of two operands' faces made a pair of faces at a time ([`cut_faces`]).
+struct Cutter {
+    options: IntersectOptions,
+    /// Each face's cell tree, made once for all the pairs it is in.
+    trees: (CachedTrees, CachedTrees),
+    cuts: Cuts,
+    /// The next pair: (face of a, face of b).
+    next: (usize, usize),
+}
+
+impl Cutter {
+    fn new(a: &Operand, b: &Operand, tolerance: f64) -> Self {
+        let (size, options) = marching_options(&[a, b], tolerance);
+        Self {
+            options,
+            trees: (
+                CachedTrees::new(a.faces.len()),
+                CachedTrees::new(b.faces.len()),
+            ),
+            cuts: Cuts {
+                a: vec![Vec::new(); a.faces.len()],
+                b: vec![Vec::new(); b.faces.len()],
+                coplanar: Vec::new(),
+                branches: 0,
+                size,
+            },
+            next: (0, 0),
+        }
+    }
+
+    /// How far through the pairs it is, from 0 to 1.
+    fn progress(&self, b: &Operand) -> f64 {
+        let (i, j) = self.next;
+        let all = self.cuts.a.len() * b.faces.len();
+        if all == 0 {
+            1.0
+        } else {
+            ((i * b.faces.len() + j) as f64 / all as f64).min(1.0)
+        }
+    }
+
+    /// The pairs up to and including the next whose boxes meet, cut; true when none is left.
+    fn next_pair(
+        &mut self,
+        a: &Operand,
+        b: &Operand,
+        tolerance: f64,
+    ) -> Result<bool, GeometryError> {
+        let grow = DVec3::splat(tolerance);
+        while self.next.0 < a.faces.len() && !b.faces.is_empty() {
+            let (i, j) = self.next;
+            self.next = if j + 1 < b.faces.len() {
+                (i, j + 1)
+            } else {
+                (i + 1, 0)
+            };
             let (ba, bb) = (a.boxes[i], b.boxes[j]);
             if (ba.0 - grow).cmpgt(bb.1).any() || (bb.0 - grow).cmpgt(ba.1).any() {
                 continue;
             }
-            if let (Some((pa, na)), Some((pb, nb))) = (a.planes[i], b.planes[j])
-                && na.cross(nb).length() < 1e-9
-            {
-                {
-                    if (pb - pa).dot(na).abs() <= tolerance {
-                        coplanar.push((i, j));
-                        let k = cuts_a[i].len();
-                        cuts_a[i].extend(mapped_boundary(
-                            &b.faces[j],
-                            &b.boundaries[j],
-                            &a.faces[i],
-                            k,
-                        )?);
-                        let k = cuts_b[j].len();
-                        cuts_b[j].extend(mapped_boundary(
-                            &a.faces[i],
-                            &a.boundaries[i],
-                            &b.faces[j],
-                            k,
-                        )?);
-                    }
-                    continue;
-                }
+            self.pair(a, b, (i, j), tolerance)?;
+            return Ok(false);
+        }
+        Ok(true)
+    }
+
+    /// Face `i` of `a` and face `j` of `b`, whose boxes meet, cut.
+    fn pair(
+        &mut self,
+        a: &Operand,
+        b: &Operand,
+        (i, j): (usize, usize),
+        tolerance: f64,
+    ) -> Result<(), GeometryError> {
+        let Cuts {
+            a: cuts_a,
+            b: cuts_b,
+            coplanar,
+            branches,
+            ..
+        } = &mut self.cuts;
+        let (trees_a, trees_b) = &mut self.trees;
+        let options = &self.options;
+        if let (Some((pa, na)), Some((pb, nb))) = (a.planes[i], b.planes[j])
+            && na.cross(nb).length() < 1e-9
+        {
+            if (pb - pa).dot(na).abs() <= tolerance {
+                coplanar.push((i, j));
+                let k = cuts_a[i].len();
+                cuts_a[i].extend(mapped_boundary(
+                    &b.faces[j],
+                    &b.boundaries[j],
+                    &a.faces[i],
+                    k,
+                )?);
+                let k = cuts_b[j].len();
+                cuts_b[j].extend(mapped_boundary(
+                    &a.faces[i],
+                    &a.boundaries[i],
+                    &b.faces[j],
+                    k,
+                )?);
             }
-            let Some(mut found) = face_pair(
-                (a, &mut trees_a, i),
-                (b, &mut trees_b, j),
-                &options,
-                tolerance,
-            )?
-            else {
+            return Ok(());
+        }
+        let Some(mut found) = face_pair((a, trees_a, i), (b, trees_b, j), options, tolerance)?
+        else {
+            return Ok(());
+        };
+        if found.overlapping {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "face {} of the first body and face {} of the second lie on one another \
+                     over an area of a curved surface (equal bodies, or a shared cylinder \
+                     or sphere), which this boolean does not resolve yet",
+                    i + 1,
+                    j + 1
+                ),
+            ));
+        }
+        meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
+        without_repeats(&mut found.curves, 4.0 * options.chord);
+        for branch in found.curves {
+            // A branch along an edge of either face (an edge lying on a face) cuts
+            // nothing; one along a closed surface's seam, which is no edge of the body,
+            // cuts the other face only.
+            let edge_a = boundary_kind(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance);
+            let edge_b = boundary_kind(&b.faces[j], &b.boundaries[j], &branch.uv_b, tolerance);
+            if edge_a == Some(Boundary::Edge) || edge_b == Some(Boundary::Edge) {
                 continue;
-            };
-            if found.overlapping {
-                return Err(construction(
-                    WHAT,
-                    format!(
-                        "face {} of the first body and face {} of the second lie on one another \
-                         over an area of a curved surface (equal bodies, or a shared cylinder \
-                         or sphere), which this boolean does not resolve yet",
-                        i + 1,
-                        j + 1
-                    ),
-                ));
             }
-            meet_at_tangent_points(&mut found.curves, 10.0 * options.chord);
-            without_repeats(&mut found.curves, 4.0 * options.chord);
-            for branch in found.curves {
-                // A branch along an edge of either face (an edge lying on a face) cuts
-                // nothing; one along a closed surface's seam, which is no edge of the body,
-                // cuts the other face only.
-                let edge_a = boundary_kind(&a.faces[i], &a.boundaries[i], &branch.uv_a, tolerance);
-                let edge_b = boundary_kind(&b.faces[j], &b.boundaries[j], &branch.uv_b, tolerance);
-                if edge_a == Some(Boundary::Edge) || edge_b == Some(Boundary::Edge) {
+            *branches += 1;
+            let closed = branch.closed;
+            for (list, uv, face, on_seam) in [
+                (&mut cuts_a[i], branch.uv_a, &a.faces[i], edge_a.is_some()),
+                (&mut cuts_b[j], branch.uv_b, &b.faces[j], edge_b.is_some()),
+            ] {
+                if on_seam {
                     continue;
                 }
-                branches += 1;
-                let closed = branch.closed;
-                for (list, uv, face, on_seam) in [
-                    (&mut cuts_a[i], branch.uv_a, &a.faces[i], edge_a.is_some()),
-                    (&mut cuts_b[j], branch.uv_b, &b.faces[j], edge_b.is_some()),
-                ] {
-                    if on_seam {
-                        continue;
-                    }
-                    let mut points = uv;
-                    if closed {
-                        points.pop();
-                        without_overshoot(&mut points);
-                    }
-                    for (points, closed) in across_seams(points, closed, face) {
-                        if points.len() >= 2 {
-                            let k = list.len();
-                            list.push(Polyline {
-                                source: Source::Cut(k),
-                                points,
-                                params: Vec::new(),
-                                closed,
-                            });
-                        }
+                let mut points = uv;
+                if closed {
+                    points.pop();
+                    without_overshoot(&mut points);
+                }
+                for (points, closed) in across_seams(points, closed, face) {
+                    if points.len() >= 2 {
+                        let k = list.len();
+                        list.push(Polyline {
+                            source: Source::Cut(k),
+                            points,
+                            params: Vec::new(),
+                            closed,
+                        });
                     }
                 }
             }
         }
+        Ok(())
     }
-    Ok(Cuts {
-        a: cuts_a,
-        b: cuts_b,
-        coplanar,
-        branches,
-        size,
-    })
 }
 
 /// Whether the surface closes on itself across u = u0, u1 and across v = v0, v1 (its edges

@@ -159,6 +159,60 @@ fn a_block_minus_a_through_hole() {
     }
 }
 
+/// A block minus three pins through it, done a step at a time: the progress never goes back
+/// and ends at 1, the stage is named at every step, and the result has the closed-form volume
+/// (the block less three cylinders). A job dropped half-way leaves nothing behind, and one
+/// given a tolerance of 0 is refused before it starts.
+#[test]
+fn a_boolean_done_a_step_at_a_time() {
+    let (motion, s) = placement(11);
+    let r = 0.2;
+    let a = moved(
+        block(DVec3::ZERO, DVec3::new(2.0, 1.5, 1.0)).unwrap(),
+        &motion,
+    );
+    let mut pins = Vec::new();
+    for (k, x) in [0.4, 1.0, 1.6].into_iter().enumerate() {
+        pins.extend(moved(
+            capped_cylinder(DVec3::new(x, 0.3 + 0.4 * k as f64, -0.5), DVec3::Z * 2.0, r).unwrap(),
+            &motion,
+        ));
+    }
+    let mut job = BooleanJob::new(
+        BooleanOp::Difference,
+        (a.clone(), None),
+        (pins.clone(), None),
+        1e-6 * s,
+    )
+    .unwrap();
+    let (mut last, mut steps, mut stages) = (job.progress(), 0, Vec::new());
+    assert_eq!(last, 0.0);
+    while !job.step().unwrap() {
+        steps += 1;
+        let now = job.progress();
+        assert!(now >= last && now <= 1.0, "progress {last} then {now}");
+        last = now;
+        if stages.last() != Some(&job.stage()) {
+            stages.push(job.stage());
+        }
+        assert!(steps < 10_000, "the job does not end");
+    }
+    assert_eq!(job.progress(), 1.0);
+    assert!(steps > 10, "{steps} steps");
+    assert!(stages.len() >= 4, "{stages:?}");
+    let cut = job.finish().unwrap();
+    check(&cut, (3.0 - 3.0 * PI * r * r) * s.powi(3), s, "three pins");
+    assert_eq!(cut.split_faces, 2 + 3);
+    let mut dropped =
+        BooleanJob::new(BooleanOp::Union, (a.clone(), None), (pins, None), 1e-6 * s).unwrap();
+    for _ in 0..5 {
+        dropped.step().unwrap();
+    }
+    assert!(dropped.progress() > 0.0 && dropped.progress() < 1.0);
+    assert!(dropped.finish().is_err());
+    assert!(BooleanJob::new(BooleanOp::Union, (a.clone(), None), (a, None), 0.0).is_err());
+}
+
 /// Two equal cylinders crossing at right angles, each turned about its own axis (so their
 /// seams lie anywhere), in general position: their common part is the Steinmetz solid,
 /// 16 r³ / 3. Their surfaces touch at two points where the intersection curves cross; the
