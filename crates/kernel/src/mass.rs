@@ -216,13 +216,15 @@ pub fn face_moments(face: &TrimmedSurface, origin: DVec3) -> Result<Moments, Geo
     let rule = gauss_legendre(order(surface));
     let us = surface.span_breaks(Direction::U);
     let vs = surface.span_breaks(Direction::V);
-    if !face.is_trimmed() {
-        // The whole domain: a tensor rule on every Bézier span.
+    if let Some([u0, u1, v0, v1]) = face.kept_rectangle() {
+        // The whole domain or a rectangle of it: a tensor rule on every Bézier span, cut to
+        // the rectangle.
+        let within = crate::tess::values_within;
         let (mut nu, mut wu, mut nv, mut wv) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for u in us.windows(2) {
+        for u in within(&us, u0, u1).windows(2) {
             nodes_on(u[0], u[1], &rule, &mut nu, &mut wu);
         }
-        for v in vs.windows(2) {
+        for v in within(&vs, v0, v1).windows(2) {
             nodes_on(v[0], v[1], &rule, &mut nv, &mut wv);
         }
         return grid_sum(surface, (&nu, &wu), (&nv, &wv), origin);
@@ -570,6 +572,71 @@ mod tests {
             // (u, v) ↦ (4u, 3v): areas scale by 12.
             let expected = (0.81 - PI * radius * radius) * 12.0;
             assert!(relative(m.area, expected) < 1e-11, "{} {expected}", m.area);
+        }
+    }
+
+    /// A face kept on a rectangle of its domain (a STEP cylinder trimmed to its height) is
+    /// integrated on the rectangle's tensor rule; its moments are those of the same rectangle
+    /// cut along a diagonal into two triangles (integrated along their boundaries, another
+    /// path), on a rational cylinder, a refined bicubic patch and a plane, in general position
+    /// (the area within 1e-9: its integrand, a square root, is no polynomial for either rule).
+    #[test]
+    fn a_face_kept_on_a_rectangle_has_the_moments_of_its_two_triangles() {
+        let cylinder = construct::cylinder(DVec3::ZERO, DVec3::Z * 2.0, 0.8).unwrap();
+        let wavy = construct::plane(DVec3::ZERO, DVec3::X * 3.0, DVec3::Y * 2.0)
+            .unwrap()
+            .elevate_degree(Direction::U, 2)
+            .unwrap()
+            .elevate_degree(Direction::V, 2)
+            .unwrap()
+            .refine(Direction::U, &[0.4])
+            .unwrap();
+        let [n, m] = wavy.count();
+        let mut bumped = wavy.clone();
+        for i in 0..n {
+            for j in 0..m {
+                let p = bumped.control_point(i, j);
+                bumped
+                    .set_point(i, j, p + DVec3::Z * (0.3 * ((i * 7 + j * 3) % 5) as f64))
+                    .unwrap();
+            }
+        }
+        let plane = construct::plane(DVec3::ZERO, DVec3::X, DVec3::Y * 1.5).unwrap();
+        let (lo, hi) = (DVec2::new(0.13, 0.21), DVec2::new(0.77, 0.9));
+        let (ll, lr, ur, ul) = (lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y));
+        for (seed, surface) in [cylinder, bumped, plane].into_iter().enumerate() {
+            let (motion, _) = placement(seed as u64 + 3);
+            let surface = surface.transformed(&motion).unwrap();
+            let face = TrimmedSurface::new(
+                surface.clone(),
+                vec![crate::trim::shapes::rectangle(lo, hi).unwrap()],
+            )
+            .unwrap();
+            assert_eq!(face.kept_rectangle(), Some([lo.x, hi.x, lo.y, hi.y]));
+            let triangle = |points: &[DVec2]| {
+                let face = TrimmedSurface::new(
+                    surface.clone(),
+                    vec![crate::trim::shapes::polygon(points).unwrap()],
+                )
+                .unwrap();
+                assert_eq!(face.kept_rectangle(), None);
+                face_moments(&face, DVec3::ONE).unwrap()
+            };
+            let whole = face_moments(&face, DVec3::ONE).unwrap();
+            let halves = triangle(&[ll, lr, ur]) + triangle(&[ll, ur, ul]);
+            assert!(
+                relative(whole.area, halves.area) < 1e-9,
+                "{seed}: {} {}",
+                whole.area,
+                halves.area
+            );
+            assert!(whole.first.distance(halves.first) < 1e-10 * whole.area.powf(1.5));
+            assert!(
+                (whole.volume - halves.volume).abs() < 1e-10 * whole.area.powf(1.5),
+                "{seed}: {} {}",
+                whole.volume,
+                halves.volume
+            );
         }
     }
 

@@ -439,6 +439,15 @@ pub fn cell_deviations(
     Ok(out)
 }
 
+/// `a`, the sorted `values` strictly between `a` and `b`, and `b`: parameter lines (a grid's,
+/// a surface's span breaks) cut to [a, b].
+pub(crate) fn values_within(values: &[f64], a: f64, b: f64) -> Vec<f64> {
+    let mut out = vec![a];
+    out.extend(values.iter().copied().filter(|&x| x > a && x < b));
+    out.push(b);
+    out
+}
+
 /// The grid for `tessellation`.
 pub fn grid_for(
     surface: &NurbsSurface,

@@ -1102,18 +1102,12 @@ fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError>
                 continue;
             }
             let tolerance = (surface.size() * 2e-4).max(size * 1e-6);
-            let mesh = match kept_rectangle(face, &operand.boundaries[k]) {
+            let mesh = match face.kept_rectangle() {
                 Some([u0, u1, v0, v1]) => {
                     let grid = grid_for(surface, Tessellation::Tolerance(tolerance))?;
-                    let within = |values: &[f64], a: f64, b: f64| {
-                        let mut out = vec![a];
-                        out.extend(values.iter().copied().filter(|&x| x > a && x < b));
-                        out.push(b);
-                        out
-                    };
                     let grid = crate::tess::ParameterGrid {
-                        us: within(&grid.us, u0, u1),
-                        vs: within(&grid.vs, v0, v1),
+                        us: crate::tess::values_within(&grid.us, u0, u1),
+                        vs: crate::tess::values_within(&grid.vs, v0, v1),
                     };
                     triangulate(surface, &grid, false)?
                 }
@@ -1133,28 +1127,6 @@ fn classifier(operand: &Operand, size: f64) -> Result<Classifier, GeometryError>
         .map(|f| (f.surface().size() * 2e-4).max(size * 1e-6))
         .fold(size * 1e-9, f64::max);
     Ok(Classifier { shells, flatness })
-}
-
-/// The rectangle [u₀, u₁] × [v₀, v₁] the face keeps when it is untrimmed (its domain) or
-/// its one loop (flattened as `lines`) is a rectangle along the parameter lines: the loop's
-/// area in (u, v) (the shoelace sum over its chords) that of its box.
-fn kept_rectangle(face: &TrimmedSurface, lines: &[Polyline]) -> Option<[f64; 4]> {
-    if !face.is_trimmed() {
-        return Some(domain_rect(face.surface()));
-    }
-    if face.loops().len() != 1 {
-        return None;
-    }
-    let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    let mut area = 0.0;
-    for w in lines.iter().flat_map(|l| l.points.windows(2)) {
-        area += 0.5 * w[0].perp_dot(w[1]);
-        lo = lo.min(w[0]).min(w[1]);
-        hi = hi.max(w[0]).max(w[1]);
-    }
-    let extent = hi - lo;
-    let boxed = extent.x * extent.y;
-    (boxed > 0.0 && (area - boxed).abs() <= 1e-9 * boxed).then_some([lo.x, hi.x, lo.y, hi.y])
 }
 
 /// The solid angle of triangle `t` seen from `p`, with the triple product a·(b×c) and the

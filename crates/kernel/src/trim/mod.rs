@@ -179,6 +179,34 @@ impl TrimmedSurface {
         )
     }
 
+    /// The rectangle [u₀, u₁] × [v₀, v₁] of the domain the face keeps, when it keeps one:
+    /// untrimmed (its domain), or one loop whose every curve has its control points on one
+    /// side of their common box (within 1e-12 of the domain's size), so that each curve runs
+    /// along that side and the loop, which cannot cross itself, goes once round the box.
+    pub fn kept_rectangle(&self) -> Option<[f64; 4]> {
+        let rect = domain_rect(&self.surface);
+        let [trim_loop] = self.loops.as_slice() else {
+            return self.loops.is_empty().then_some(rect);
+        };
+        let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
+        for curve in trim_loop {
+            for i in 0..curve.count() {
+                let p = curve.control_point(i);
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        let slack = 1e-12 * domain_size(rect);
+        let sides = [(0, lo.x), (0, hi.x), (1, lo.y), (1, hi.y)];
+        let on_a_side = trim_loop.iter().all(|curve| {
+            sides.iter().any(|&(axis, at)| {
+                (0..curve.count()).all(|i| (curve.control_point(i)[axis] - at).abs() <= slack)
+            })
+        });
+        (on_a_side && hi.x - lo.x > slack && hi.y - lo.y > slack)
+            .then_some([lo.x, hi.x, lo.y, hi.y])
+    }
+
     /// Whether (u, v) is kept.
     pub fn contains(&self, u: f64, v: f64) -> bool {
         self.index().is_none_or(|index| index.contains(u, v))
