@@ -331,6 +331,8 @@ pub struct KnotworkApp {
     running_export: Option<export::RunningExport>,
     /// A STEP file being opened a body at a time ([`files::RunningOpen`]).
     running_open: Option<files::RunningOpen>,
+    /// A boolean run a step at a time ([`operations::RunningBoolean`]).
+    running_boolean: Option<operations::RunningBoolean>,
     /// Commands that came while a file was being opened, carried out after it, in order.
     deferred: std::collections::VecDeque<AppCommand>,
     /// The `?` overlay with the controls is shown.
@@ -438,6 +440,7 @@ impl KnotworkApp {
             export_estimate: None,
             running_export: None,
             running_open: None,
+            running_boolean: None,
             deferred: std::collections::VecDeque::new(),
             show_help: false,
             toast: overlay::Toast::default(),
@@ -1303,11 +1306,14 @@ impl eframe::App for KnotworkApp {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        // Commands wait while a file is being opened (but for Cancel), so that each is carried
-        // out on the document every command before it left.
+        // Commands wait while a file is being opened or a boolean runs (but for Cancel), so
+        // that each is carried out on the document every command before it left.
         self.deferred.extend(self.commands.drain());
-        while self.running_open.is_none()
-            || matches!(self.deferred.front(), Some(AppCommand::CancelOpen))
+        while (self.running_open.is_none() && self.running_boolean.is_none())
+            || matches!(
+                self.deferred.front(),
+                Some(AppCommand::CancelOpen | AppCommand::CancelBoolean)
+            )
         {
             let Some(command) = self.deferred.pop_front() else {
                 break;
@@ -1321,6 +1327,14 @@ impl eframe::App for KnotworkApp {
         {
             self.deferred.remove(k);
             self.cancel_open();
+        }
+        if let Some(k) = self
+            .deferred
+            .iter()
+            .position(|c| matches!(c, AppCommand::CancelBoolean))
+        {
+            self.deferred.remove(k);
+            self.cancel_boolean();
         }
         let ctx = ui.ctx().clone();
         self.take_dropped(&ctx);
@@ -1344,6 +1358,7 @@ impl eframe::App for KnotworkApp {
         self.export_window(&ctx);
         self.step_export(&ctx);
         self.step_open(&ctx);
+        self.step_boolean(&ctx);
         self.dialog_window(&ctx);
         self.history_prompt(&ctx);
         self.autosave(&ctx, frame);

@@ -121,6 +121,8 @@ pub struct AppStatus {
     pub export_progress: Option<f64>,
     /// A STEP file being opened: its progress (0 to 1), while it is.
     pub open_progress: Option<f64>,
+    /// A boolean running a step at a time: its progress (0 to 1), while it runs.
+    pub boolean_progress: Option<f64>,
     /// The last error the user should see, or null.
     pub error: Option<String>,
     /// What the last file opened could not give (STEP faces skipped: each kind of entity

@@ -749,6 +749,28 @@ pub fn bench_step_mesh(bytes: Vec<u8>) -> Result<String, String> {
     serde_json::to_string(&timing).map_err(|e| e.to_string())
 }
 
+/// Runs a boolean as the editor's Union, Difference and Intersection buttons do: a step at a
+/// time, a frame's budget each, with a progress window and Cancel (`status().boolean_progress`
+/// is its progress while it runs), then applied as `apply` would (one undo step). `boolean` is
+/// `{"operation": "union" | "difference" | "intersection" | "split", "a": [i], "b": [j, ...],
+/// "tolerance": t}` (as `apply`'s boolean without `"op"`). Calls made meanwhile wait for it.
+#[wasm_bindgen]
+pub fn run_boolean(boolean: String, keep_history: bool) -> Result<(), String> {
+    let params: crate::ops::boolean::Boolean =
+        serde_json::from_str(&boolean).map_err(|e| format!("boolean: {e}"))?;
+    send(AppCommand::Boolean {
+        params,
+        keep_history,
+    });
+    Ok(())
+}
+
+/// Stops the boolean `run_boolean` or the editor started; the document stays as it was.
+#[wasm_bindgen]
+pub fn cancel_boolean() {
+    send(AppCommand::CancelBoolean);
+}
+
 /// Stops opening the STEP file being opened (`status().open_progress` is its progress); the
 /// document stays as it was.
 #[wasm_bindgen]

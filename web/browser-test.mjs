@@ -1678,6 +1678,80 @@ async function main() {
       await page.close();
     });
 
+    await check('a long boolean in the page: the plate minus its 144 pins (145 bodies from two STEP files) runs over frames with progress and Cancel, the page drawing meanwhile; run to its end, 150 faces whose STL holds OpenCASCADE\'s volume', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const fixture = async (name) => (await readFile(new URL(`../tests/reference/boolean/${name}`, import.meta.url))).toString('base64');
+      const [plate, pins] = [await fixture('plate-a.step'), await fixture('plate-b.step')];
+      const reference = JSON.parse(await readFile(new URL('../tests/reference/boolean/occt-plate.json', import.meta.url), 'utf8')).difference;
+      const ran = await page.evaluate(async ([plateB64, pinsB64]) => {
+        const decode = (b) => Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
+        const waitFor = async (test, limit) => {
+          const started = performance.now();
+          let frames = 0;
+          const progress = [];
+          while (!test() && performance.now() - started < limit) {
+            await new Promise((r) => requestAnimationFrame(r));
+            frames += 1;
+            const p = window.knotwork.status().boolean_progress;
+            if (p !== null && p !== undefined) progress.push(p);
+          }
+          return { ms: performance.now() - started, frames, progress };
+        };
+        // Each file opened, its bodies taken (the plate, then one per pin); all put in one
+        // document.
+        const bodies = [];
+        const phases = [];
+        for (const [name, b64] of [['plate-a.step', plateB64], ['plate-b.step', pinsB64]]) {
+          window.knotwork.openFile(name, decode(b64));
+          const opened = await waitFor(() => window.knotwork.status().open_progress === null && window.knotwork.status().objects >= 1 && (window.knotwork.status().last_edit ?? '').includes(name), 120_000);
+          phases.push({ name, ms: Math.round(opened.ms), last_edit: window.knotwork.status().last_edit, error: window.knotwork.status().error });
+          bodies.push(...window.knotwork.project().objects);
+        }
+        const project = window.knotwork.project();
+        project.objects = bodies;
+        window.knotwork.openProject('plate.json', JSON.stringify(project));
+        await waitFor(() => window.knotwork.status().objects === bodies.length && (window.knotwork.status().last_edit ?? '').includes('plate.json'), 60_000);
+        const before = JSON.stringify(window.knotwork.project());
+        const count = window.knotwork.status().objects;
+        phases.push({ merged: count, error: window.knotwork.status().error });
+        const pins = Array.from({ length: count - 1 }, (_, k) => k + 1);
+        window.knotwork.runBoolean({ operation: 'difference', a: [0], b: pins });
+        const shown = await waitFor(() => (window.knotwork.status().boolean_progress ?? 0) > 0.2, 120_000);
+        phases.push({ shownMs: Math.round(shown.ms), status: JSON.stringify(window.knotwork.status()).slice(0, 600) });
+        window.knotwork.cancelBoolean();
+        await waitFor(() => window.knotwork.status().boolean_progress === null, 10_000);
+        const unchanged = JSON.stringify(window.knotwork.project()) === before;
+        window.knotwork.runBoolean({ operation: 'difference', a: [0], b: pins });
+        const run = await waitFor(() => window.knotwork.status().boolean_progress === null && window.knotwork.status().objects === count + 1, 300_000);
+        const s = window.knotwork.status();
+        const objects = window.knotwork.project().objects;
+        const stl = await window.knotwork.exportStl();
+        const view = new DataView(stl.buffer, stl.byteOffset, stl.byteLength);
+        const facets = view.getUint32(80, true);
+        let volume = 0;
+        for (let k = 0; k < facets; k += 1) {
+          const at = 84 + 50 * k + 12;
+          const [a, b, c] = [0, 1, 2].map((i) => [0, 1, 2].map((j) => view.getFloat32(at + 12 * i + 4 * j, true)));
+          volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+        }
+        return { phases, count, shown, unchanged, run, error: s.error, lastEdit: s.last_edit, hidden: objects.slice(0, count).every((o) => !o.visible), shown_result: objects[count]?.visible, faces: objects[count]?.faces?.length, volume };
+      }, [plate, pins]);
+      const rising = ran.run.progress.every((p, k, all) => k === 0 || p >= all[k - 1]);
+      // The page's animation frames keep coming between the boolean's turns.
+      assert(ran.shown.progress.length >= 2 && ran.shown.frames >= 2, `progress shown while the page runs: ${ran.shown.progress.length} readings over ${ran.shown.frames} animation frames; ${JSON.stringify(ran.phases)}`);
+      assert(ran.unchanged, 'Cancel leaves the document as it was');
+      assert(ran.error === null && /difference/.test(ran.lastEdit ?? ''), `applied: ${ran.error}, ${ran.lastEdit}`);
+      assert(rising && ran.run.progress.length >= 3, `the progress only rises over the run: ${ran.run.progress.length} readings`);
+      assert(ran.count === 145 && ran.hidden && ran.shown_result && ran.faces === 150, `the plate and 144 pins hidden, a result of 150 faces: ${ran.count} objects, hidden ${ran.hidden}, ${ran.faces} faces`);
+      // The STL's holes are polygons inscribed in the pins' circles at the export tolerance
+      // (1e-3 of the diagonal): its volume is OpenCASCADE's and a little more (under 2 %).
+      assert(ran.volume >= reference && ran.volume - reference < 0.02 * reference, `volume ${ran.volume} against OpenCASCADE's ${reference}`);
+      console.log(`      long boolean: cancelled at ${(100 * ran.shown.progress.slice(-1)[0]).toFixed(0)} % after ${ran.shown.frames} frames; run to its end in ${Math.round(ran.run.ms)} ms over ${ran.run.frames} frames (${ran.run.progress.length} progress readings); STL volume ${ran.volume.toFixed(3)} against OpenCASCADE's ${reference.toFixed(3)}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a body split by a surface in the page: two closed pieces, the body hidden, the surface kept; a split by itself refused; undo back', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });

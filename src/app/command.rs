@@ -58,6 +58,14 @@ pub enum AppCommand {
     CancelExport,
     /// Stops opening the STEP file being opened; the document stays as it was.
     CancelOpen,
+    /// Runs a union, difference or intersection a step at a time, with its progress and
+    /// Cancel (a split at once), and applies it as [`Command::Apply`] would: one undo step.
+    Boolean {
+        params: crate::ops::boolean::Boolean,
+        keep_history: bool,
+    },
+    /// Stops the boolean running a step at a time; the document stays as it was.
+    CancelBoolean,
     /// Writes the document's visible objects with faces as a file of `format` (STEP, STL,
     /// 3MF), as it is when the command's turn comes; the bytes go to the status under
     /// `request` ([`crate::status::take_export`]).
@@ -241,6 +249,11 @@ impl KnotworkApp {
             AppCommand::Export { request, options } => self.export_for_page(request, &options),
             AppCommand::CancelExport => self.cancel_export(),
             AppCommand::CancelOpen => self.cancel_open(),
+            AppCommand::Boolean {
+                params,
+                keep_history,
+            } => self.start_boolean(params, keep_history),
+            AppCommand::CancelBoolean => self.cancel_boolean(),
             AppCommand::ExportFile { request, format } => {
                 self.export_file(format, super::export::ExportTarget::Page(request))
             }

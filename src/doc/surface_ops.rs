@@ -1466,19 +1466,65 @@ pub(crate) fn split_solid(
     Ok((changes, label))
 }
 
-/// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
-/// boolean`]) as one new polysurface named after them, the inputs hidden, at `tolerance` (a
-/// fraction of the scene's size). Refused, changing nothing, for an object that is not a
-/// closed body, an object in both lists, or an empty result.
-pub(crate) fn boolean(
+/// A boolean of the scene's closed bodies ready to run a step at a time (the editor's long
+/// booleans, with progress and Cancel): the job, and what it was made from, so that its
+/// result can stand in for running it again when the same boolean is then applied
+/// ([`PreparedBoolean::finished`]).
+pub struct PreparedBoolean {
+    pub job: crate::kernel::boolean::BooleanJob,
+    key: BooleanKey,
+    /// The first body's name, which a refusal names.
+    name: String,
+}
+
+/// What a boolean's result follows from: the operation, its tolerance in model units and
+/// both operands' faces.
+#[derive(PartialEq)]
+struct BooleanKey {
+    op: crate::kernel::boolean::BooleanOp,
+    tolerance: f64,
+    faces: [Vec<TrimmedSurface>; 2],
+}
+
+thread_local! {
+    /// The result of the last boolean the editor ran a step at a time, until it is applied.
+    static FINISHED_BOOLEAN: std::cell::RefCell<Option<(BooleanKey, crate::kernel::boolean::BooleanResult)>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+impl PreparedBoolean {
+    /// The finished job's result kept for the next [`boolean`] of the same operands (the
+    /// operation applied as usual then takes it instead of running again; anything changed
+    /// in between, and it runs again); a refusal as that boolean would give it.
+    pub fn finished(self) -> Result<(), EditError> {
+        let made = self.job.finish().map_err(|source| EditError::Geometry {
+            name: self.name.clone(),
+            source,
+        })?;
+        FINISHED_BOOLEAN.with(|slot| *slot.borrow_mut() = Some((self.key, made)));
+        Ok(())
+    }
+
+    /// A refusal from the job's step, as the boolean would give it.
+    pub fn refused(&self, source: crate::kernel::GeometryError) -> EditError {
+        EditError::Geometry {
+            name: self.name.clone(),
+            source,
+        }
+    }
+}
+
+/// The boolean `op` of the closed bodies `a` and `b` at `tolerance` (a fraction of the
+/// scene's size), ready to run ([`PreparedBoolean`]); refused, changing nothing, for an
+/// empty list or an object that is not a closed body.
+pub(crate) fn prepare_boolean(
     scene: &Scene,
     op: crate::kernel::boolean::BooleanOp,
     a: &[usize],
     b: &[usize],
     tolerance: f64,
-) -> Result<Planned, EditError> {
-    use crate::kernel::boolean::{BooleanOp, boolean_joined};
-    let what = op.name();
+) -> Result<PreparedBoolean, EditError> {
+    use crate::kernel::boolean::BooleanJob;
     let first = *a.first().ok_or(EditError::BadParameter {
         operation: "boolean",
         field: "a",
@@ -1491,15 +1537,64 @@ pub(crate) fn boolean(
             message: "needs at least one body".into(),
         });
     }
-    let (faces, joined) = closed_bodies(scene, what, [a, b])?;
-    let size = scene_size(scene);
-    let made = boolean_joined(
+    let ([faces_a, faces_b], [joined_a, joined_b]) = closed_bodies(scene, op.name(), [a, b])?;
+    let tolerance = tolerance * scene_size(scene);
+    let key = BooleanKey {
         op,
-        (&faces[0], joined[0].as_ref()),
-        (&faces[1], joined[1].as_ref()),
-        tolerance * size,
-    )
-    .map_err(geometry_error(&scene.objects[first]))?;
+        tolerance,
+        faces: [faces_a.clone(), faces_b.clone()],
+    };
+    let object = &scene.objects[first];
+    let job = BooleanJob::new(op, (faces_a, joined_a), (faces_b, joined_b), tolerance)
+        .map_err(geometry_error(object))?;
+    Ok(PreparedBoolean {
+        job,
+        key,
+        name: object.name.clone(),
+    })
+}
+
+/// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
+/// boolean`]) as one new polysurface named after them, the inputs hidden, at `tolerance` (a
+/// fraction of the scene's size): the result the editor's step-at-a-time run of the same
+/// boolean left ([`PreparedBoolean::finished`]), else run now. Refused, changing nothing,
+/// for an object that is not a closed body, an object in both lists, or an empty result.
+pub(crate) fn boolean(
+    scene: &Scene,
+    op: crate::kernel::boolean::BooleanOp,
+    a: &[usize],
+    b: &[usize],
+    tolerance: f64,
+) -> Result<Planned, EditError> {
+    use crate::kernel::boolean::BooleanOp;
+    let what = op.name();
+    let mut prepared = prepare_boolean(scene, op, a, b, tolerance)?;
+    let first = a[0];
+    let kept = FINISHED_BOOLEAN.with(|slot| {
+        let mut slot = slot.borrow_mut();
+        match slot.take() {
+            Some((key, made)) if key == prepared.key => Some(made),
+            other => {
+                *slot = other;
+                None
+            }
+        }
+    });
+    let made = match kept {
+        Some(made) => made,
+        None => {
+            while !prepared
+                .job
+                .step()
+                .map_err(geometry_error(&scene.objects[first]))?
+            {}
+            prepared
+                .job
+                .finish()
+                .map_err(geometry_error(&scene.objects[first]))?
+        }
+    };
+    let size = scene_size(scene);
     let all = made.faces();
     if all.is_empty() {
         return Err(geometry_error(&scene.objects[first])(refuse(

@@ -78,9 +78,31 @@ impl OperationParams for Boolean {
     }
 }
 
+impl Boolean {
+    /// The union, difference or intersection ready to run a step at a time (the editor's long
+    /// booleans; [`surface_ops::PreparedBoolean`]); `None` for a split, which runs at once.
+    pub fn prepare(
+        &self,
+        scene: &Scene,
+    ) -> Result<Option<surface_ops::PreparedBoolean>, EditError> {
+        let Some(op) = self.operation.boolean_op() else {
+            return Ok(None);
+        };
+        let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
+        let a = resolve_all(scene, &self.a)?;
+        let b = resolve_all(scene, &self.b)?;
+        surface_ops::prepare_boolean(scene, op, &a, &b, tolerance).map(Some)
+    }
+}
+
 /// The operation for a selection: the first object against the rest (each with faces); the
 /// editor's Union, Difference, Intersection and Split buttons.
 pub fn offered(scene: &Scene, selection: &[usize], kind: Kind) -> Option<Operation> {
+    params(scene, selection, kind).map(Operation::new)
+}
+
+/// [`offered`]'s parameters.
+pub fn params(scene: &Scene, selection: &[usize], kind: Kind) -> Option<Boolean> {
     match selection {
         [first, rest @ ..]
             if !rest.is_empty()
@@ -88,12 +110,12 @@ pub fn offered(scene: &Scene, selection: &[usize], kind: Kind) -> Option<Operati
                     .iter()
                     .all(|&k| scene.objects.get(k).is_some_and(|o| !o.faces().is_empty())) =>
         {
-            Some(Operation::new(Boolean {
+            Some(Boolean {
                 operation: kind,
                 a: vec![(*first).into()],
                 b: rest.iter().map(|&k| k.into()).collect(),
                 tolerance: BOOLEAN_TOLERANCE,
-            }))
+            })
         }
         _ => None,
     }

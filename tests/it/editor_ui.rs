@@ -1426,3 +1426,117 @@ fn measure_shows_the_selected_bodys_exact_area_and_volume() {
     assert!(harness.query_by_label(&volume).is_none());
     assert!(harness.query_by_label("Measure").is_some());
 }
+
+/// A long boolean in the editor: a block 8 × 6 × 1 minus 30 pins of radius 0.25 through it
+/// (a few hundred milliseconds of work, far more than the first turn's 50 ms) shows its
+/// progress with Cancel, and Cancel leaves the document as it was; run again, it is applied
+/// as one undo step with the block less the pins' volume (48 − 30 · π r² · 1), the inputs
+/// hidden. Commands sent while it runs wait for it.
+#[test]
+fn a_long_boolean_runs_over_frames_with_progress_and_cancel() {
+    use glam::{DAffine3, DVec3};
+    use knotwork::ops::boolean::{Boolean, Kind};
+    use knotwork::scene::polysurface::Polysurface;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let mut scene = Scene::default();
+    scene.objects.clear();
+    // The box of planes is [0, 2] × [0, 1] × [0, 1.5].
+    let block =
+        crate::common::box_of_planes(&DAffine3::from_scale(DVec3::new(4.0, 6.0, 1.0 / 1.5)));
+    let (r, rows, columns) = (0.25, 5, 6);
+    let mut pins = Vec::new();
+    for i in 0..columns {
+        for j in 0..rows {
+            let centre = DVec3::new(0.7 + 1.3 * i as f64, 0.6 + 1.2 * j as f64, -0.5);
+            pins.extend(
+                knotwork::kernel::solids::capped_cylinder(centre, DVec3::Z * 2.0, r).unwrap(),
+            );
+        }
+    }
+    scene
+        .objects
+        .push(SceneObject::new("plate", ObjectGeometry::new(block)));
+    scene.objects.push(SceneObject::new(
+        "pins",
+        ObjectGeometry::new(Polysurface::new(pins, 1e-6).unwrap()),
+    ));
+    page.send(AppCommand::Open {
+        name: "plate.knotwork".into(),
+        bytes: knotwork::io::project::write_scene(&scene, None).into_bytes(),
+    });
+    harness.run_steps(2);
+    let opened = harness.state().document().scene.clone();
+    assert_eq!(opened.objects.len(), 2, "{:?}", status::current().error);
+    let depth = harness.state().document().history.undo_depth();
+    let difference = || AppCommand::Boolean {
+        params: Boolean {
+            operation: Kind::Difference,
+            a: vec![0.into()],
+            b: vec![1.into()],
+            tolerance: 1e-6,
+        },
+        keep_history: false,
+    };
+
+    // Started, it shows its progress and Cancel; a command sent meanwhile waits; Cancel
+    // (sent after it) is carried out at once and leaves the document as it was.
+    page.send(difference());
+    harness.run_steps(2);
+    let progress = status::current().boolean_progress;
+    assert!(
+        progress.is_some_and(|p| (0.0..1.0).contains(&p)),
+        "progress while running: {progress:?}"
+    );
+    assert!(
+        harness.get_all_by_label("Cancel").next().is_some(),
+        "the progress window offers Cancel"
+    );
+    page.send(AppCommand::Edit(Command::SetVisible {
+        object: 1,
+        visible: false,
+    }));
+    page.send(AppCommand::CancelBoolean);
+    harness.run_steps(2);
+    assert_eq!(status::current().boolean_progress, None);
+    let scene = &harness.state().document().scene;
+    assert_eq!(scene.objects.len(), 2, "cancelled: nothing added");
+    assert!(
+        !scene.objects[1].visible,
+        "the waiting command ran after the cancel"
+    );
+    page.send(AppCommand::Undo);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene, opened);
+
+    // Run to its end: one undo step, the inputs hidden, the closed-form volume.
+    page.send(difference());
+    let mut frames = 0;
+    harness.run_steps(2);
+    while status::current().boolean_progress.is_some() && frames < 20_000 {
+        harness.run_steps(1);
+        frames += 1;
+    }
+    harness.run_steps(1);
+    eprintln!("the difference ran over {frames} frames");
+    let doc = harness.state().document();
+    assert_eq!(status::current().error, None);
+    assert_eq!(doc.scene.objects.len(), 3);
+    assert_eq!(doc.history.undo_depth(), depth + 1);
+    assert!(!doc.scene.objects[0].visible && !doc.scene.objects[1].visible);
+    let body = doc.scene.objects[2].body().expect("a body");
+    assert!(body.closed());
+    let volume = knotwork::kernel::mass::signed_volume(&body.faces).unwrap();
+    let expected = 48.0 - (rows * columns) as f64 * std::f64::consts::PI * r * r;
+    assert!(
+        (volume - expected).abs() < 1e-6 * expected,
+        "volume {volume}, expected {expected}"
+    );
+    page.send(AppCommand::Undo);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene, opened);
+}
