@@ -1320,21 +1320,16 @@ impl eframe::App for KnotworkApp {
             };
             self.apply(command);
         }
-        if let Some(k) = self
+        // A Cancel waiting behind other commands stops the work they wait for.
+        while let Some(k) = self
             .deferred
             .iter()
-            .position(|c| matches!(c, AppCommand::CancelOpen))
+            .position(|c| matches!(c, AppCommand::CancelOpen | AppCommand::CancelBoolean))
         {
-            self.deferred.remove(k);
-            self.cancel_open();
-        }
-        if let Some(k) = self
-            .deferred
-            .iter()
-            .position(|c| matches!(c, AppCommand::CancelBoolean))
-        {
-            self.deferred.remove(k);
-            self.cancel_boolean();
+            match self.deferred.remove(k) {
+                Some(AppCommand::CancelOpen) => self.cancel_open(),
+                _ => self.cancel_boolean(),
+            }
         }
         let ctx = ui.ctx().clone();
         self.take_dropped(&ctx);

@@ -150,6 +150,25 @@ async function thrownBy(page, call) {
 }
 
 /** Has the editor draw `count` more frames, so the canvas shows the latest state. */
+// Installs window.__waitFor(test, limit, key) in the page: animation frames until test()
+// holds or limit ms pass, with the readings of status()[key] (a progress) along the way.
+async function installWaitFor(page) {
+  await page.evaluate(() => {
+    window.__waitFor = async (test, limit, key) => {
+      const started = performance.now();
+      let frames = 0;
+      const progress = [];
+      while (!test() && performance.now() - started < limit) {
+        await new Promise((r) => requestAnimationFrame(r));
+        frames += 1;
+        const p = window.knotwork.status()[key];
+        if (p !== null && p !== undefined) progress.push(p);
+      }
+      return { ms: performance.now() - started, frames, progress };
+    };
+  });
+}
+
 async function nextFrames(page, count = 2) {
   const frames = (await status(page)).frames;
   await page.evaluate(() => window.knotwork.setContinuous(true));
@@ -797,20 +816,10 @@ async function main() {
       // OpenCASCADE's plate of 20 × 20 filleted holes: 806 faces, 2.8 MB.
       const plate = await readFile(new URL('../tests/reference/occ/step/plate-20.step', import.meta.url));
       await page.evaluate(() => window.knotwork.setContinuous(true));
+      await installWaitFor(page);
       const opened = await page.evaluate(async (b) => {
         const bytes = Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
-        const waitFor = async (test, limit) => {
-          const started = performance.now();
-          let frames = 0;
-          let progress = [];
-          while (!test() && performance.now() - started < limit) {
-            await new Promise((r) => requestAnimationFrame(r));
-            frames += 1;
-            const p = window.knotwork.status().open_progress;
-            if (p !== null && p !== undefined) progress.push(p);
-          }
-          return { ms: performance.now() - started, frames, progress };
-        };
+        const waitFor = (test, limit) => window.__waitFor(test, limit, 'open_progress');
         const before = JSON.stringify(window.knotwork.project());
         // Cancel once the progress bar shows.
         window.knotwork.openFile('plate-20.step', bytes);
@@ -1684,20 +1693,10 @@ async function main() {
       const fixture = async (name) => (await readFile(new URL(`../tests/reference/boolean/${name}`, import.meta.url))).toString('base64');
       const [plate, pins] = [await fixture('plate-a.step'), await fixture('plate-b.step')];
       const reference = JSON.parse(await readFile(new URL('../tests/reference/boolean/occt-plate.json', import.meta.url), 'utf8')).difference;
+      await installWaitFor(page);
       const ran = await page.evaluate(async ([plateB64, pinsB64]) => {
         const decode = (b) => Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
-        const waitFor = async (test, limit) => {
-          const started = performance.now();
-          let frames = 0;
-          const progress = [];
-          while (!test() && performance.now() - started < limit) {
-            await new Promise((r) => requestAnimationFrame(r));
-            frames += 1;
-            const p = window.knotwork.status().boolean_progress;
-            if (p !== null && p !== undefined) progress.push(p);
-          }
-          return { ms: performance.now() - started, frames, progress };
-        };
+        const waitFor = (test, limit) => window.__waitFor(test, limit, 'boolean_progress');
         // Each file opened, its bodies taken (the plate, then one per pin); all put in one
         // document.
         const bodies = [];

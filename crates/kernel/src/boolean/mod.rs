@@ -577,20 +577,14 @@ impl Cutter {
         {
             if (pb - pa).dot(na).abs() <= tolerance {
                 coplanar.push((i, j));
-                let k = cuts_a[i].len();
-                cuts_a[i].extend(mapped_boundary(
-                    &b.faces[j],
-                    &b.boundaries[j],
-                    &a.faces[i],
-                    k,
-                )?);
-                let k = cuts_b[j].len();
-                cuts_b[j].extend(mapped_boundary(
-                    &a.faces[i],
-                    &a.boundaries[i],
-                    &b.faces[j],
-                    k,
-                )?);
+                // Each face cut by the other's boundary mapped into its plane.
+                for (list, (from, lines), onto) in [
+                    (&mut cuts_a[i], (&b.faces[j], &b.boundaries[j]), &a.faces[i]),
+                    (&mut cuts_b[j], (&a.faces[i], &a.boundaries[i]), &b.faces[j]),
+                ] {
+                    let k = list.len();
+                    list.extend(mapped_boundary(from, lines, onto, k)?);
+                }
             }
             return Ok(());
         }
