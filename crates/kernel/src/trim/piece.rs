@@ -28,23 +28,27 @@ pub struct MonotonePiece {
 /// The point of the rational Bézier curve `points` at t (de Casteljau, The NURBS Book A1.5, on
 /// homogeneous points), projected.
 pub fn bezier_point(points: &[DVec3], t: f64) -> DVec2 {
-    const SMALL: usize = 16;
-    let n = points.len();
-    let mut small = [DVec3::ZERO; SMALL];
-    let mut large = Vec::new();
-    let work: &mut [DVec3] = if n <= SMALL {
-        small[..n].copy_from_slice(points);
-        &mut small[..n]
-    } else {
-        large.extend_from_slice(points);
-        &mut large
-    };
-    for r in 1..n {
-        for i in 0..n - r {
-            work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
+    with_copy(points, |work| {
+        let n = work.len();
+        for r in 1..n {
+            for i in 0..n - r {
+                work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
+            }
         }
+        work[0].truncate() / work[0].z
+    })
+}
+
+/// `f` of a scratch copy of `points` (on the stack for degrees up to 7, the usual ones).
+fn with_copy<R>(points: &[DVec3], f: impl FnOnce(&mut [DVec3]) -> R) -> R {
+    const SMALL: usize = 8;
+    if points.len() <= SMALL {
+        let mut small = [DVec3::ZERO; SMALL];
+        small[..points.len()].copy_from_slice(points);
+        f(&mut small[..points.len()])
+    } else {
+        f(&mut points.to_vec())
     }
-    work[0].truncate() / work[0].z
 }
 
 /// The two halves of the Bézier curve `points` at t (de Casteljau subdivision), each over
@@ -68,8 +72,12 @@ pub fn split_bezier(points: &[DVec3], t: f64) -> (Vec<DVec3>, Vec<DVec3>) {
 /// d/dt of coordinate `axis` (0: u, 1: v) of the rational curve, up to the positive factor
 /// 1/w²: x'w − xw' of the homogeneous Bézier polynomials.
 fn derivative_numerator(points: &[DVec3], axis: usize, t: f64) -> f64 {
-    let n = points.len() - 1;
-    let mut work = points.to_vec();
+    with_copy(points, |work| derivative_numerator_in(work, axis, t))
+}
+
+/// [`derivative_numerator`] on `work`, a scratch copy of the points.
+fn derivative_numerator_in(work: &mut [DVec3], axis: usize, t: f64) -> f64 {
+    let n = work.len() - 1;
     for r in 1..n {
         for i in 0..=n - r {
             work[i] = work[i] * (1.0 - t) + work[i + 1] * t;
@@ -89,7 +97,22 @@ fn turning_parameters(points: &[DVec3]) -> Vec<f64> {
     if points.len() < 3 {
         return out;
     }
+    // A polynomial piece (equal weights) whose control points never step back along an axis
+    // has a derivative of one sign along it (the hodograph's control points are those steps,
+    // The NURBS Book eq. 1.9), so it does not turn there.
+    let polynomial = points.iter().all(|p| p.z == points[0].z);
     for axis in 0..2 {
+        if polynomial {
+            let steps = points.windows(2).map(|w| w[1][axis] - w[0][axis]);
+            let (mut rising, mut falling) = (false, false);
+            for step in steps {
+                rising |= step > 0.0;
+                falling |= step < 0.0;
+            }
+            if !(rising && falling) {
+                continue;
+            }
+        }
         let f = |t: f64| derivative_numerator(points, axis, t);
         let mut t0 = 0.0;
         let mut f0 = f(t0);
