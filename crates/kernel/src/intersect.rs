@@ -312,14 +312,16 @@ fn march(
     let mut h = (options.chord * 8.0).max(options.tolerance * 100.0);
     let h_min = options.tolerance * 10.0;
     let mut travelled = 0.0;
+    // Both surfaces' derivatives at the current point, when the last step worked them out.
+    let mut known: Option<(SurfaceDerivatives, SurfaceDerivatives)> = None;
     loop {
         if points.len() >= MAX_POINTS {
             return (points, false, BranchEnd::Stalled);
         }
-        let (Some(da), Some(db)) = (
-            a.at(current.x[0], current.x[1]),
-            b.at(current.x[2], current.x[3]),
-        ) else {
+        let Some((da, db)) = known.take().or_else(|| {
+            a.at(current.x[0], current.x[1])
+                .zip(b.at(current.x[2], current.x[3]))
+        }) else {
             return (points, false, BranchEnd::Stalled);
         };
         let Some((sine, t)) = tangent(&da, &db) else {
@@ -380,10 +382,10 @@ fn march(
                     // turns continuously along the branch) within about 30° of this one:
                     // a step that lands on another arm of the curve (across a narrow
                     // finger, say) points elsewhere and is cut.
-                    let turned = a
-                        .at(next.x[0], next.x[1])
-                        .zip(b.at(next.x[2], next.x[3]))
-                        .and_then(|(na, nb)| tangent(&na, &nb))
+                    let at_next = a.at(next.x[0], next.x[1]).zip(b.at(next.x[2], next.x[3]));
+                    let turned = at_next
+                        .as_ref()
+                        .and_then(|(na, nb)| tangent(na, nb))
                         .is_none_or(|(_, t2)| {
                             (t2 * t.dot(direction).signum()).dot(direction) < TURN_COSINE
                         });
@@ -394,6 +396,7 @@ fn march(
                     if error < options.chord * 0.25 {
                         h *= 1.5;
                     }
+                    known = at_next;
                     break next;
                 }
                 _ => {
