@@ -342,7 +342,18 @@ fn keep_parts(
             continue;
         }
         let part = match part {
-            Some(loops) => TrimmedSurface::new(face.surface().clone(), loops)?,
+            Some(loops) => TrimmedSurface::new(face.surface().clone(), loops).map_err(|e| {
+                construction(
+                    WHAT,
+                    format!(
+                        "a part of face {} of the {} body could not be trimmed ({e}): the \
+                             cuts on it come too close to each other or to its edges, as where \
+                             the bodies meet near a corner, a cone's apex or a ball's pole",
+                        k + 1,
+                        if side == 0 { "first" } else { "second" }
+                    ),
+                )
+            })?,
             None => face.clone(),
         };
         pieces.push(match keep {
