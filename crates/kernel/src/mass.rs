@@ -229,11 +229,19 @@ pub fn face_moments(face: &TrimmedSurface, origin: DVec3) -> Result<Moments, Geo
         }
         return grid_sum(surface, (&nu, &wu), (&nv, &wv), origin);
     }
-    // F(u, v) = ∫_{u₀}^{u} f(s, v) ds, split at the u knots below u.
+    // Green's theorem (∫∫ f du dv = ∮ F dv = −∮ G du) with the inner integral F(u, v) =
+    // ∫_{u₀}^{u} f(s, v) ds, split at the u knots below u; or, on a surface swept straight
+    // along v (degree 1 and one span in v, the weights constant along it: an extrusion such
+    // as a cylinder) with more spans in u, G(u, v) = ∫_{v₀}^{v} f(u, s) ds, one short rule.
+    let along_v = vs.len() == 2 && us.len() > 2 && surface.degree()[1] == 1 && {
+        let [n, m] = surface.count();
+        (0..n).all(|i| (1..m).all(|j| surface.weight(i, j) == surface.weight(i, 0)))
+    };
     let inner = |u: f64, v: f64| -> Result<Moments, GeometryError> {
+        let (breaks, to) = if along_v { (&vs, v) } else { (&us, u) };
         let (mut nodes, mut weights) = (Vec::new(), Vec::new());
-        for w in us.windows(2) {
-            let (a, b) = (w[0], w[1].min(u));
+        for w in breaks.windows(2) {
+            let (a, b) = (w[0], w[1].min(to));
             if b <= a {
                 break;
             }
@@ -242,13 +250,25 @@ pub fn face_moments(face: &TrimmedSurface, origin: DVec3) -> Result<Moments, Geo
         if nodes.is_empty() {
             return Ok(Moments::default());
         }
-        grid_sum(surface, (&nodes, &weights), (&[v], &[1.0]), origin)
+        if along_v {
+            grid_sum(surface, (&[u], &[1.0]), (&nodes, &weights), origin)
+        } else {
+            grid_sum(surface, (&nodes, &weights), (&[v], &[1.0]), origin)
+        }
     };
+    // The boundary integrand's factor: v′ for F, −u′ for G.
+    let (axis, sign) = if along_v { (0, -1.0) } else { (1, 1.0) };
     // Loops may stray outside the domain by their validation's tolerance: clamped.
     let [(u0, u1), (v0, v1)] = surface.domain();
     let mut total = Moments::default();
     for trim_loop in face.loops() {
         for curve in trim_loop {
+            // A curve along which that coordinate is constant (all its control points
+            // share it) adds nothing.
+            let first = curve.control_point(0)[axis];
+            if (1..curve.count()).all(|i| curve.control_point(i)[axis] == first) {
+                continue;
+            }
             // The boundary integrand is F along the curve times v′: polynomial of a degree
             // the surface's and the curve's give, or rational (arcs), which needs more.
             let extra = if curve.is_polynomial() { 0 } else { 12 };
@@ -257,7 +277,7 @@ pub fn face_moments(face: &TrimmedSurface, origin: DVec3) -> Result<Moments, Geo
                 total += integrate(a, b, &boundary, |t| {
                     let d = curve.derivatives(t, 1)?;
                     let (u, v) = (d[0].x.clamp(u0, u1), d[0].y.clamp(v0, v1));
-                    Ok(inner(u, v)? * d[1].y)
+                    Ok(inner(u, v)? * (sign * d[1][axis]))
                 })?;
             }
         }
@@ -578,7 +598,8 @@ mod tests {
     /// A face kept on a rectangle of its domain (a STEP cylinder trimmed to its height) is
     /// integrated on the rectangle's tensor rule; its moments are those of the same rectangle
     /// cut along a diagonal into two triangles (integrated along their boundaries, another
-    /// path), on a rational cylinder, a refined bicubic patch and a plane, in general position
+    /// path: on the cylinder with the inner integral along its axis, elsewhere along u), on a
+    /// rational cylinder, a refined bicubic patch and a plane, in general position
     /// (the area within 1e-9: its integrand, a square root, is no polynomial for either rule).
     #[test]
     fn a_face_kept_on_a_rectangle_has_the_moments_of_its_two_triangles() {
