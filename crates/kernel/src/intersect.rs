@@ -634,7 +634,8 @@ fn newton_step(
 /// A surface's cells as a quadtree whose quarters are made once, however many cells of the
 /// other surface each is paired with (node 0: the whole domain).
 pub(crate) struct CellTree {
-    nodes: Vec<(Cell, Option<Vec<usize>>)>,
+    /// Each cell with its quarters' indices (a range: they are made together), once made.
+    nodes: Vec<(Cell, Option<std::ops::Range<usize>>)>,
 }
 
 impl CellTree {
@@ -651,14 +652,14 @@ impl CellTree {
 
     /// The indices of node `k`'s quarters (those the surface is defined on), made on first
     /// asking.
-    pub(crate) fn children(&mut self, side: &Side<'_>, k: usize) -> Vec<usize> {
+    pub(crate) fn children(&mut self, side: &Side<'_>, k: usize) -> std::ops::Range<usize> {
         if let Some(children) = &self.nodes[k].1 {
             return children.clone();
         }
         let quarters = self.nodes[k].0.quarters(side);
         let first = self.nodes.len();
         self.nodes.extend(quarters.into_iter().map(|q| (q, None)));
-        let children: Vec<usize> = (first..self.nodes.len()).collect();
+        let children = first..self.nodes.len();
         self.nodes[k].1 = Some(children.clone());
         children
     }
@@ -717,17 +718,31 @@ impl Cell {
     /// The cell over [u0, u1] × [v0, v1] with its box (see the module documentation).
     fn new(side: &Side<'_>, u: (f64, f64), v: (f64, f64)) -> Option<Self> {
         let (du, dv) = (u.1 - u.0, v.1 - v.0);
+        let at = |i: f64, j: f64| side.at(u.0 + du * i, v.0 + dv * j);
+        Some(Self::from_samples(
+            u,
+            v,
+            [
+                at(0.0, 0.0)?,
+                at(1.0, 0.0)?,
+                at(0.0, 1.0)?,
+                at(1.0, 1.0)?,
+                at(0.5, 0.5)?,
+            ],
+        ))
+    }
+
+    /// The cell over [u0, u1] × [v0, v1] from the surface at its corners ((u0, v0), (u1, v0),
+    /// (u0, v1), (u1, v1)) and its centre.
+    fn from_samples(u: (f64, f64), v: (f64, f64), samples: [SurfaceDerivatives; 5]) -> Self {
+        let (du, dv) = (u.1 - u.0, v.1 - v.0);
         let mut lo = DVec3::INFINITY;
         let mut hi = DVec3::NEG_INFINITY;
         let mut bound = 0.0f64;
         let mut first_normal: Option<DVec3> = None;
         let mut spread = 0.0f64;
         let mut points = [DVec3::ZERO; 5];
-        for (k, (i, j)) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)]
-            .into_iter()
-            .enumerate()
-        {
-            let d = side.at(u.0 + du * i, v.0 + dv * j)?;
+        for (k, d) in samples.iter().enumerate() {
             points[k] = d.point;
             lo = lo.min(d.point);
             hi = hi.max(d.point);
@@ -751,7 +766,7 @@ impl Cell {
                 });
             (a - 2.0 * bound, b + 2.0 * bound)
         });
-        Some(Self {
+        Self {
             u,
             v,
             lo: lo - grow,
@@ -759,7 +774,7 @@ impl Cell {
             axis: first_normal,
             spread,
             slab,
-        })
+        }
     }
 
     /// Whether the normals at the samples lie within [`FLAT_SPREAD`] of each other.
@@ -801,15 +816,26 @@ impl Cell {
 
     fn quarters(&self, side: &Side<'_>) -> Vec<Cell> {
         let (um, vm) = (0.5 * (self.u.0 + self.u.1), 0.5 * (self.v.0 + self.v.1));
-        [
-            ((self.u.0, um), (self.v.0, vm)),
-            ((um, self.u.1), (self.v.0, vm)),
-            ((self.u.0, um), (vm, self.v.1)),
-            ((um, self.u.1), (vm, self.v.1)),
-        ]
-        .into_iter()
-        .filter_map(|(u, v)| Cell::new(side, u, v))
-        .collect()
+        // The 3 × 3 corners the quarters share, each worked out once.
+        let (us, vs) = ([self.u.0, um, self.u.1], [self.v.0, vm, self.v.1]);
+        let corner: [[Option<SurfaceDerivatives>; 3]; 3] =
+            std::array::from_fn(|j| std::array::from_fn(|i| side.at(us[i], vs[j])));
+        let mut out = Vec::with_capacity(4);
+        for (i, j) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let (u, v) = ((us[i], us[i + 1]), (vs[j], vs[j + 1]));
+            let centre = side.at(0.5 * (u.0 + u.1), 0.5 * (v.0 + v.1));
+            let samples = [
+                corner[j][i],
+                corner[j][i + 1],
+                corner[j + 1][i],
+                corner[j + 1][i + 1],
+                centre,
+            ];
+            if let [Some(a), Some(b), Some(c), Some(d), Some(e)] = samples {
+                out.push(Cell::from_samples(u, v, [a, b, c, d, e]));
+            }
+        }
+        out
     }
 
     pub(crate) fn centre(&self) -> (f64, f64) {
@@ -988,10 +1014,10 @@ fn intersect_trees(
         if !small && depth < 40 {
             if ca.size() >= cb.size() {
                 let children = tree_a.children(&a, ia);
-                stack.extend(children.into_iter().map(|q| (q, ib, depth + 1)));
+                stack.extend(children.map(|q| (q, ib, depth + 1)));
             } else {
                 let children = tree_b.children(&b, ib);
-                stack.extend(children.into_iter().map(|q| (ia, q, depth + 1)));
+                stack.extend(children.map(|q| (ia, q, depth + 1)));
             }
             continue;
         }
