@@ -150,10 +150,23 @@ async function thrownBy(page, call) {
 }
 
 /** Has the editor draw `count` more frames, so the canvas shows the latest state. */
-// Installs window.__waitFor(test, limit, key) in the page: animation frames until test()
-// holds or limit ms pass, with the readings of status()[key] (a progress) along the way.
-async function installWaitFor(page) {
+// Installs in the page window.__waitFor(test, limit, key): animation frames until test()
+// holds or limit ms pass, with the readings of status()[key] (a progress) along the way; and
+// window.__stlVolume(bytes): a binary STL's facet count and enclosed volume (the divergence
+// theorem over its facets).
+async function installPageHelpers(page) {
   await page.evaluate(() => {
+    window.__stlVolume = (stl) => {
+      const view = new DataView(stl.buffer, stl.byteOffset, stl.byteLength);
+      const facets = view.getUint32(80, true);
+      let volume = 0;
+      for (let k = 0; k < facets; k += 1) {
+        const at = 84 + 50 * k + 12;
+        const [a, b, c] = [0, 1, 2].map((i) => [0, 1, 2].map((j) => view.getFloat32(at + 12 * i + 4 * j, true)));
+        volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+      }
+      return { facets, volume };
+    };
     window.__waitFor = async (test, limit, key) => {
       const started = performance.now();
       let frames = 0;
@@ -816,7 +829,7 @@ async function main() {
       // OpenCASCADE's plate of 20 × 20 filleted holes: 806 faces, 2.8 MB.
       const plate = await readFile(new URL('../tests/reference/occ/step/plate-20.step', import.meta.url));
       await page.evaluate(() => window.knotwork.setContinuous(true));
-      await installWaitFor(page);
+      await installPageHelpers(page);
       const opened = await page.evaluate(async (b) => {
         const bytes = Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
         const waitFor = (test, limit) => window.__waitFor(test, limit, 'open_progress');
@@ -1650,17 +1663,10 @@ async function main() {
       assert(objects[2].type === 'polysurface' && objects[2].faces.length >= faces - 2, `still a body: ${objects[2].faces?.length} faces`);
       // The result printed from the page: a binary STL holding its volume (the tool now
       // takes 1 x 0.5 x 0.6 from the 2 x 1 x 1.5 block: 2.7), and a 3MF package.
+      await installPageHelpers(page);
       const printed = await page.evaluate(async () => {
         const stl = await window.knotwork.exportStl();
-        const view = new DataView(stl.buffer, stl.byteOffset, stl.byteLength);
-        const facets = view.getUint32(80, true);
-        let volume = 0;
-        for (let k = 0; k < facets; k += 1) {
-          const at = 84 + 50 * k + 12;
-          const p = [0, 1, 2].map((c) => [0, 1, 2].map((i) => view.getFloat32(at + 12 * c + 4 * i, true)));
-          const [a, b, c] = p;
-          volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-        }
+        const { facets, volume } = window.__stlVolume(stl);
         const package3mf = await window.knotwork.export3mf();
         const text = new TextDecoder().decode(package3mf);
         return {
@@ -1693,7 +1699,7 @@ async function main() {
       const fixture = async (name) => (await readFile(new URL(`../tests/reference/boolean/${name}`, import.meta.url))).toString('base64');
       const [plate, pins] = [await fixture('plate-a.step'), await fixture('plate-b.step')];
       const reference = JSON.parse(await readFile(new URL('../tests/reference/boolean/occt-plate.json', import.meta.url), 'utf8')).difference;
-      await installWaitFor(page);
+      await installPageHelpers(page);
       const ran = await page.evaluate(async ([plateB64, pinsB64]) => {
         const decode = (b) => Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
         const waitFor = (test, limit) => window.__waitFor(test, limit, 'boolean_progress');
@@ -1725,15 +1731,7 @@ async function main() {
         const run = await waitFor(() => window.knotwork.status().boolean_progress === null && window.knotwork.status().objects === count + 1, 300_000);
         const s = window.knotwork.status();
         const objects = window.knotwork.project().objects;
-        const stl = await window.knotwork.exportStl();
-        const view = new DataView(stl.buffer, stl.byteOffset, stl.byteLength);
-        const facets = view.getUint32(80, true);
-        let volume = 0;
-        for (let k = 0; k < facets; k += 1) {
-          const at = 84 + 50 * k + 12;
-          const [a, b, c] = [0, 1, 2].map((i) => [0, 1, 2].map((j) => view.getFloat32(at + 12 * i + 4 * j, true)));
-          volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
-        }
+        const { volume } = window.__stlVolume(await window.knotwork.exportStl());
         return { phases, count, shown, unchanged, run, error: s.error, lastEdit: s.last_edit, hidden: objects.slice(0, count).every((o) => !o.visible), shown_result: objects[count]?.visible, faces: objects[count]?.faces?.length, volume };
       }, [plate, pins]);
       const rising = ran.run.progress.every((p, k, all) => k === 0 || p >= all[k - 1]);
