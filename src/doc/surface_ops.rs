@@ -1497,34 +1497,44 @@ impl PreparedBoolean {
     /// operation applied as usual then takes it instead of running again; anything changed
     /// in between, and it runs again); a refusal as that boolean would give it.
     pub fn finished(self) -> Result<(), EditError> {
-        let made = self.job.finish().map_err(|source| EditError::Geometry {
-            name: self.name.clone(),
-            source,
-        })?;
-        FINISHED_BOOLEAN.with(|slot| *slot.borrow_mut() = Some((self.key, made)));
+        let Self { job, key, name } = self;
+        let made = job.finish().map_err(|source| refusal(&name, source))?;
+        FINISHED_BOOLEAN.with(|slot| *slot.borrow_mut() = Some((key, made)));
         Ok(())
     }
 
     /// A refusal from the job's step, as the boolean would give it.
     pub fn refused(&self, source: crate::kernel::GeometryError) -> EditError {
-        EditError::Geometry {
-            name: self.name.clone(),
-            source,
-        }
+        refusal(&self.name, source)
     }
 }
 
-/// The boolean `op` of the closed bodies `a` and `b` at `tolerance` (a fraction of the
-/// scene's size), ready to run ([`PreparedBoolean`]); refused, changing nothing, for an
-/// empty list or an object that is not a closed body.
-pub(crate) fn prepare_boolean(
+/// The boolean's refusal `source`, naming its first body `name`.
+fn refusal(name: &str, source: crate::kernel::GeometryError) -> EditError {
+    EditError::Geometry {
+        name: name.to_owned(),
+        source,
+    }
+}
+
+/// The operands of the boolean `op` of the closed bodies `a` and `b` at `tolerance` (a
+/// fraction of the scene's size): what its result follows from, both operands' shared edges
+/// where known, and the first body's name; refused, changing nothing, for an empty list or
+/// an object that is not a closed body.
+fn boolean_operands(
     scene: &Scene,
     op: crate::kernel::boolean::BooleanOp,
     a: &[usize],
     b: &[usize],
     tolerance: f64,
-) -> Result<PreparedBoolean, EditError> {
-    use crate::kernel::boolean::BooleanJob;
+) -> Result<
+    (
+        BooleanKey,
+        [Option<crate::kernel::join::Topology>; 2],
+        String,
+    ),
+    EditError,
+> {
     let first = *a.first().ok_or(EditError::BadParameter {
         operation: "boolean",
         field: "a",
@@ -1537,21 +1547,31 @@ pub(crate) fn prepare_boolean(
             message: "needs at least one body".into(),
         });
     }
-    let ([faces_a, faces_b], [joined_a, joined_b]) = closed_bodies(scene, op.name(), [a, b])?;
-    let tolerance = tolerance * scene_size(scene);
+    let (faces, joined) = closed_bodies(scene, op.name(), [a, b])?;
     let key = BooleanKey {
         op,
-        tolerance,
-        faces: [faces_a.clone(), faces_b.clone()],
+        tolerance: tolerance * scene_size(scene),
+        faces,
     };
-    let object = &scene.objects[first];
-    let job = BooleanJob::new(op, (faces_a, joined_a), (faces_b, joined_b), tolerance)
-        .map_err(geometry_error(object))?;
-    Ok(PreparedBoolean {
-        job,
-        key,
-        name: object.name.clone(),
-    })
+    Ok((key, joined, scene.objects[first].name.clone()))
+}
+
+/// The boolean `op` of the closed bodies `a` and `b` at `tolerance` (a fraction of the
+/// scene's size), ready to run ([`PreparedBoolean`]); refused as [`boolean_operands`] is.
+pub(crate) fn prepare_boolean(
+    scene: &Scene,
+    op: crate::kernel::boolean::BooleanOp,
+    a: &[usize],
+    b: &[usize],
+    tolerance: f64,
+) -> Result<PreparedBoolean, EditError> {
+    use crate::kernel::boolean::BooleanJob;
+    let (key, [joined_a, joined_b], name) = boolean_operands(scene, op, a, b, tolerance)?;
+    // The job takes its own copy: the key stays to be compared when the result is applied.
+    let [faces_a, faces_b] = key.faces.clone();
+    let job = BooleanJob::new(op, (faces_a, joined_a), (faces_b, joined_b), key.tolerance)
+        .map_err(|source| refusal(&name, source))?;
+    Ok(PreparedBoolean { job, key, name })
 }
 
 /// The boolean `op` of the bodies `a` and `b` (objects with closed faces; [`crate::kernel::
@@ -1566,14 +1586,15 @@ pub(crate) fn boolean(
     b: &[usize],
     tolerance: f64,
 ) -> Result<Planned, EditError> {
+    use crate::kernel::boolean::BooleanJob;
     use crate::kernel::boolean::BooleanOp;
     let what = op.name();
-    let mut prepared = prepare_boolean(scene, op, a, b, tolerance)?;
+    let (key, [joined_a, joined_b], _) = boolean_operands(scene, op, a, b, tolerance)?;
     let first = a[0];
     let kept = FINISHED_BOOLEAN.with(|slot| {
         let mut slot = slot.borrow_mut();
         match slot.take() {
-            Some((key, made)) if key == prepared.key => Some(made),
+            Some((done, made)) if done == key => Some(made),
             other => {
                 *slot = other;
                 None
@@ -1583,14 +1604,14 @@ pub(crate) fn boolean(
     let made = match kept {
         Some(made) => made,
         None => {
-            while !prepared
-                .job
-                .step()
-                .map_err(geometry_error(&scene.objects[first]))?
-            {}
-            prepared
-                .job
-                .finish()
+            // Run now, the operands handed to the job rather than copied.
+            let BooleanKey {
+                faces: [faces_a, faces_b],
+                tolerance,
+                ..
+            } = key;
+            BooleanJob::new(op, (faces_a, joined_a), (faces_b, joined_b), tolerance)
+                .and_then(BooleanJob::run)
                 .map_err(geometry_error(&scene.objects[first]))?
         }
     };

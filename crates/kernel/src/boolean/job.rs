@@ -272,6 +272,12 @@ impl BooleanJob {
         }
     }
 
+    /// Every step at once: the result, or the first refusal.
+    pub fn run(mut self) -> Result<BooleanResult, GeometryError> {
+        while !self.step()? {}
+        self.finish()
+    }
+
     /// The result, once [`Self::step`] has said it is ready; else a refusal.
     pub fn finish(self) -> Result<BooleanResult, GeometryError> {
         match self.stage {

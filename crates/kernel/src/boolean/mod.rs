@@ -277,14 +277,13 @@ pub fn boolean_joined(
     (b, topology_b): (&[TrimmedSurface], Option<&Topology>),
     tolerance: f64,
 ) -> Result<BooleanResult, GeometryError> {
-    let mut job = BooleanJob::new(
+    BooleanJob::new(
         op,
         (a.to_vec(), topology_a.cloned()),
         (b.to_vec(), topology_b.cloned()),
         tolerance,
-    )?;
-    while !job.step()? {}
-    job.finish()
+    )?
+    .run()
 }
 
 /// The parts of face `k` of operand `own` (side 0: the first) that the boolean `op` keeps,
