@@ -8,8 +8,9 @@
 //!    all outward (the enclosed volume, [`mass_properties`], positive).
 //! 2. **Intersect.** Every face of one operand whose box meets a face of the other is
 //!    intersected with it by marching ([`intersect_surfaces`], trims respected), or, for two
-//!    flat faces, along their planes' line clipped to both; the (u, v) polylines are cuts on
-//!    both faces. Two planar faces in one plane do not cross but
+//!    flat faces, along their planes' line clipped to both, or, for a flat face and a ruled
+//!    one (a cylinder, a cone, an extrusion), along the plane's section of the ruled surface
+//!    ([`ruled`]); the (u, v) polylines are cuts on both faces. Two planar faces in one plane do not cross but
 //!    overlap: each one's boundary curves, mapped into the other's plane, are its cuts.
 //!    Branches that run along a face's boundary (an edge lying on a face) cut nothing.
 //! 3. **Split.** Each face's boundary and cuts are arranged in its (u, v) domain
@@ -30,6 +31,7 @@
 
 pub mod arrangement;
 pub mod job;
+mod ruled;
 pub mod split;
 
 pub use job::{BooleanInput, BooleanJob};
@@ -49,6 +51,7 @@ use crate::trim::tess::tessellate_trimmed;
 use crate::trim::{TrimLoop, TrimmedSurface, domain_rect, domain_size};
 use crate::{NurbsSurface, TrimCurve};
 use arrangement::{Polyline, Region, Source};
+use ruled::plane_ruled_branches;
 
 const WHAT: &str = "boolean";
 
@@ -452,6 +455,26 @@ fn face_pair(
         ),
         _ => None,
     };
+    // A flat face and a ruled one: the plane's section of the ruled surface.
+    let straight = straight.or_else(|| match (a.planes[i], b.planes[j]) {
+        (Some(plane), None) => {
+            plane_ruled_branches(&a.faces[i], plane, &b.faces[j], options, tolerance)
+        }
+        (None, Some(plane)) => {
+            plane_ruled_branches(&b.faces[j], plane, &a.faces[i], options, tolerance).map(
+                |curves| {
+                    curves
+                        .into_iter()
+                        .map(|mut c| {
+                            std::mem::swap(&mut c.uv_a, &mut c.uv_b);
+                            c
+                        })
+                        .collect()
+                },
+            )
+        }
+        _ => None,
+    });
     Ok(Some(match straight {
         Some(curves) => Intersection {
             curves,
@@ -729,6 +752,12 @@ fn across_seams(
             (DVec2::new(u, pe), DVec2::new(u, qe))
         }
     };
+    // A point on the seam itself is not repeated by its crossing.
+    let push = |piece: &mut Vec<DVec2>, p: DVec2| {
+        if piece.last() != Some(&p) {
+            piece.push(p);
+        }
+    };
     let mut pieces: Vec<Vec<DVec2>> = vec![Vec::new()];
     for (m, &k) in order.iter().enumerate() {
         let p = points[k];
@@ -737,24 +766,25 @@ fn across_seams(
             if jump(prev, p) {
                 let (end, begin) = crossing(prev, p);
                 if let Some(last) = pieces.last_mut() {
-                    last.push(end);
+                    push(last, end);
                 }
                 pieces.push(vec![begin]);
             }
         }
         if let Some(last) = pieces.last_mut() {
-            last.push(p);
+            push(last, p);
         }
     }
     if closed {
         // The walk ends where it began: across the first jump again.
         let (p, q) = (points[start], points[(start + 1) % n]);
-        let (end, _) = crossing(p, q);
+        let (end, begin) = crossing(p, q);
         if let Some(last) = pieces.last_mut() {
-            last.push(end);
+            push(last, end);
         }
-        let (_, begin) = crossing(p, q);
-        if let Some(first) = pieces.first_mut() {
+        if let Some(first) = pieces.first_mut()
+            && first.first() != Some(&begin)
+        {
             first.insert(0, begin);
         }
     }
