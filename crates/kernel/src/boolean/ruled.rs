@@ -23,7 +23,9 @@ use crate::NurbsSurface;
 use crate::SpaceCurve;
 use crate::intersect::{BranchEnd, IntersectOptions, IntersectionCurve};
 use crate::surface::Direction;
+use crate::trim::piece::split_bezier;
 use crate::trim::{TrimmedSurface, domain_rect, domain_size};
+use crate::vector::distance_to_segment;
 
 /// The deepest Bézier subdivision while isolating a rim's roots (2⁻⁴⁰ of a span): roots
 /// still not apart there are a double root, where the plane touches a rim.
@@ -447,15 +449,12 @@ impl Section<'_> {
                 outside = middle;
             }
         }
-        if self.leaves(&outside).is_some() {
-            let [u0, u1, v0, v1] = self.rect;
-            inside.uv_flat = inside.uv_flat.clamp(DVec2::new(u0, v0), DVec2::new(u1, v1));
-            let uv = outside.uv_flat;
-            if uv.x < u0 || uv.x > u1 {
-                inside.uv_flat.x = uv.x.clamp(u0, u1);
-            }
-            if uv.y < v0 || uv.y > v1 {
-                inside.uv_flat.y = uv.y.clamp(v0, v1);
+        // Onto the side crossed: the coordinate the outer point has past it.
+        let (lo, hi) = self.corners();
+        let past = outside.uv_flat.clamp(lo, hi);
+        for axis in 0..2 {
+            if past[axis] != outside.uv_flat[axis] {
+                inside.uv_flat[axis] = past[axis];
             }
         }
         Some(inside)
@@ -518,18 +517,9 @@ impl Section<'_> {
                 .min((uv.y - v1).abs())
                 <= slack
         };
-        let mut k = 0;
-        while k < samples.len() {
-            if ends[k].is_none() {
-                k += 1;
-                continue;
-            }
-            let start = k;
-            while k < samples.len() && ends[k].is_some() {
-                k += 1;
-            }
-            if samples[start..k].iter().all(grazing) {
-                for m in start..k {
+        for range in runs_of(ends, true) {
+            if samples[range.clone()].iter().all(grazing) {
+                for m in range {
                     ends[m] = None;
                     samples[m].uv_flat = samples[m].uv_flat.clamp(lo, hi);
                 }
@@ -566,17 +556,8 @@ impl Section<'_> {
         out: &mut Vec<IntersectionCurve>,
     ) -> Option<()> {
         let n = samples.len();
-        let mut k = 0;
-        while k < n {
-            if ends[k].is_some() {
-                k += 1;
-                continue;
-            }
-            let start = k;
-            while k < n && ends[k].is_none() {
-                k += 1;
-            }
-            let mut run: Vec<Sample> = samples[start..k].to_vec();
+        for std::ops::Range { start, end } in runs_of(ends, false) {
+            let mut run: Vec<Sample> = samples[start..end].to_vec();
             let mut kinds = [Some(BranchEnd::Boundary); 2];
             if start > 0 {
                 let cut = self.crossing(samples[start], samples[start - 1], options.tolerance)?;
@@ -587,27 +568,28 @@ impl Section<'_> {
                 }
                 kinds[0] = ends[start - 1];
             }
-            if k < n {
-                let cut = self.crossing(samples[k - 1], samples[k], options.tolerance)?;
+            if end < n {
+                let cut = self.crossing(samples[end - 1], samples[end], options.tolerance)?;
                 let last = run.len() - 1;
                 if cut.point.distance(run[last].point) > options.tolerance {
                     run.push(cut);
                 } else {
                     run[last] = cut;
                 }
-                kinds[1] = ends[k];
+                kinds[1] = ends[end];
             }
             // No point within a few tolerances of an end, where splitting would snap it on.
-            let (first, last) = (run[0].point, run[run.len() - 1].point);
+            let (first, last) = (run[0], run[run.len() - 1]);
             let near = 4.0 * self.tolerance;
-            let inner = run.len().saturating_sub(1);
-            let mut index = 0;
-            run.retain(|p| {
-                index += 1;
-                index == 1
-                    || index == inner + 1
-                    || (p.point.distance(first) > near && p.point.distance(last) > near)
-            });
+            let clear = |p: &Sample| {
+                p.point.distance(first.point) > near && p.point.distance(last.point) > near
+            };
+            if run.len() > 2 {
+                run = std::iter::once(first)
+                    .chain(run[1..run.len() - 1].iter().copied().filter(clear))
+                    .chain(std::iter::once(last))
+                    .collect();
+            }
             // A short run (a corner clipped) gets points enough for a cubic through them
             // to follow it: at least LEAST_CHORDS chords between its ends.
             if run.len() >= 2 && run.len() <= LEAST_CHORDS {
@@ -626,16 +608,20 @@ impl Section<'_> {
     }
 }
 
-/// The distance from `p` to the segment `a`–`b`.
-fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let length2 = d.length_squared();
-    let t = if length2 > 0.0 {
-        ((p - a).dot(d) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + d * t)
+/// The index ranges of the longest runs of samples that leave (`leaving`) or are kept.
+fn runs_of(ends: &[Option<BranchEnd>], leaving: bool) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < ends.len() {
+        let start = k;
+        while k < ends.len() && ends[k].is_some() == ends[start].is_some() {
+            k += 1;
+        }
+        if ends[start].is_some() == leaving {
+            out.push(start..k);
+        }
+    }
+    out
 }
 
 /// The distance from the segment `a`–`b` to the sides of the rectangle `lo`–`hi` (zero
@@ -693,12 +679,7 @@ fn rim_roots(
             .iter()
             .map(|q| (normal.dot(q.truncate()) - h * q.w, q.w))
             .unzip();
-        let polynomial = Bernstein {
-            numerator,
-            weights,
-            tolerance,
-        };
-        polynomial.isolate((a, b), 0, &mut roots)?;
+        Bernstein::new(&numerator, &weights, tolerance).isolate((a, b), 0, &mut roots)?;
     }
     roots.retain(|&s| s > s0 && s < s1);
     roots.sort_by(f64::total_cmp);
@@ -721,83 +702,60 @@ fn sign_changes(c: &[f64]) -> usize {
     changes
 }
 
-/// The polynomial Σ Bᵢ(x)·cᵢ at x in [0, 1] by de Casteljau, with both halves' coefficients
-/// when `halves` is given (The NURBS Book, A1.5).
-fn de_casteljau(c: &[f64], x: f64, halves: Option<(&mut Vec<f64>, &mut Vec<f64>)>) -> f64 {
-    let mut work = c.to_vec();
-    let n = work.len();
-    let mut left = Vec::with_capacity(n);
-    let mut right = Vec::with_capacity(n);
-    left.push(work[0]);
-    right.push(work[n - 1]);
-    for r in 1..n {
-        for i in 0..n - r {
-            work[i] = (1.0 - x) * work[i] + x * work[i + 1];
-        }
-        left.push(work[0]);
-        right.push(work[n - 1 - r]);
-    }
-    if let Some((l, r)) = halves {
-        right.reverse();
-        *l = left;
-        *r = right;
-    }
-    work[0]
-}
-
-/// A rational function's numerator and denominator in one Bernstein basis, with how close
-/// to zero it may come without crossing ([`rim_roots`]).
+/// A rational function in one Bernstein basis, each coefficient (numerator, weight, 0) (so
+/// that de Casteljau's [`split_bezier`] halves both at once), with how close to zero it may
+/// come without crossing ([`rim_roots`]).
 struct Bernstein {
-    numerator: Vec<f64>,
-    weights: Vec<f64>,
+    coefficients: Vec<DVec3>,
     tolerance: f64,
 }
 
 impl Bernstein {
-    /// The halves over [0, ½] and [½, 1].
-    fn halves(&self) -> (Self, Self) {
-        let (mut nl, mut nr, mut wl, mut wr) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        de_casteljau(&self.numerator, 0.5, Some((&mut nl, &mut nr)));
-        de_casteljau(&self.weights, 0.5, Some((&mut wl, &mut wr)));
-        let tolerance = self.tolerance;
-        (
-            Self {
-                numerator: nl,
-                weights: wl,
-                tolerance,
-            },
-            Self {
-                numerator: nr,
-                weights: wr,
-                tolerance,
-            },
-        )
+    fn new(numerator: &[f64], weights: &[f64], tolerance: f64) -> Self {
+        Self {
+            coefficients: numerator
+                .iter()
+                .zip(weights)
+                .map(|(&c, &w)| DVec3::new(c, w, 0.0))
+                .collect(),
+            tolerance,
+        }
+    }
+
+    /// The numerator at x in [0, 1]: the last point of the left half at x.
+    fn numerator_at(&self, x: f64) -> f64 {
+        split_bezier(&self.coefficients, x)
+            .0
+            .last()
+            .map_or(0.0, |p| p.x)
     }
 
     /// Whether the function stays beyond ±tolerance over the whole interval.
     fn clear(&self) -> bool {
-        let pairs = || self.numerator.iter().zip(&self.weights);
-        pairs().all(|(&c, &w)| c > self.tolerance * w)
-            || pairs().all(|(&c, &w)| c < -self.tolerance * w)
+        let all = |f: &dyn Fn(&DVec3) -> bool| self.coefficients.iter().all(f);
+        all(&|p| p.x > self.tolerance * p.y) || all(&|p| p.x < -self.tolerance * p.y)
     }
 
     /// Its roots on the parameter interval `(a, b)`, pushed to `out` ([`rim_roots`]).
     fn isolate(&self, (a, b): (f64, f64), depth: usize, out: &mut Vec<f64>) -> Option<()> {
-        let c = &self.numerator;
-        let changes = sign_changes(c);
+        let numerator: Vec<f64> = self.coefficients.iter().map(|p| p.x).collect();
+        let changes = sign_changes(&numerator);
         if changes == 0 && self.clear() {
             return Some(());
         }
         if changes == 1 {
             // One root: bisection on the numerator, from the first coefficient's sign.
             let (mut lo, mut hi) = (0.0, 1.0);
-            let low_sign = c.iter().find(|&&x| x != 0.0).is_some_and(|&x| x > 0.0);
+            let low_sign = numerator
+                .iter()
+                .find(|&&x| x != 0.0)
+                .is_some_and(|&x| x > 0.0);
             for _ in 0..64 {
                 let mid = 0.5 * (lo + hi);
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                let value = de_casteljau(c, mid, None);
+                let value = self.numerator_at(mid);
                 if value == 0.0 {
                     (lo, hi) = (mid, mid);
                     break;
@@ -814,10 +772,14 @@ impl Bernstein {
         if depth >= ISOLATION_DEPTH {
             return None;
         }
-        let (left, right) = self.halves();
+        let (left, right) = split_bezier(&self.coefficients, 0.5);
         let middle = 0.5 * (a + b);
-        left.isolate((a, middle), depth + 1, out)?;
-        right.isolate((middle, b), depth + 1, out)
+        let half = |coefficients| Self {
+            coefficients,
+            tolerance: self.tolerance,
+        };
+        half(left).isolate((a, middle), depth + 1, out)?;
+        half(right).isolate((middle, b), depth + 1, out)
     }
 }
 
@@ -896,7 +858,9 @@ mod tests {
                         for m in marched.curves.iter().flat_map(|m| &m.points) {
                             let n = c.points.len();
                             let near = (0..n)
-                                .map(|k| distance_3d(*m, c.points[k], c.points[(k + 1) % n]))
+                                .map(|k| {
+                                    distance_to_segment(*m, c.points[k], c.points[(k + 1) % n])
+                                })
                                 .fold(f64::INFINITY, f64::min);
                             assert!(near <= options.chord, "{near}");
                         }
@@ -905,12 +869,6 @@ mod tests {
                 assert_eq!(loops, 2, "seed {seed} cone {cone}: the slab's two faces");
             }
         }
-    }
-
-    fn distance_3d(p: DVec3, a: DVec3, b: DVec3) -> f64 {
-        let d = b - a;
-        let t = ((p - a).dot(d) / d.length_squared().max(1e-300)).clamp(0.0, 1.0);
-        p.distance(a + d * t)
     }
 
     #[test]
@@ -928,11 +886,7 @@ mod tests {
             a0 + 2.0 * a1 / 3.0 + a2 / 3.0,
             a0 + a1 + a2 + a3,
         ];
-        let cubic = Bernstein {
-            numerator: c.to_vec(),
-            weights: vec![1.0; 4],
-            tolerance: 1e-9,
-        };
+        let cubic = Bernstein::new(&c, &[1.0; 4], 1e-9);
         let mut roots = Vec::new();
         cubic.isolate((2.0, 4.0), 0, &mut roots).unwrap();
         roots.sort_by(f64::total_cmp);
@@ -946,19 +900,11 @@ mod tests {
             vec![0.09, -0.21, 0.49],
             vec![0.09 + 1e-10, -0.21 + 1e-10, 0.49 + 1e-10],
         ] {
-            let near = Bernstein {
-                numerator,
-                weights: vec![1.0; 3],
-                tolerance: 1e-9,
-            };
+            let near = Bernstein::new(&numerator, &[1.0; 3], 1e-9);
             assert!(near.isolate((0.0, 1.0), 0, &mut Vec::new()).is_none());
         }
         // One kept clear of it is: no root.
-        let clear = Bernstein {
-            numerator: vec![0.09 + 1e-3, -0.21 + 1e-3, 0.49 + 1e-3],
-            weights: vec![1.0; 3],
-            tolerance: 1e-9,
-        };
+        let clear = Bernstein::new(&[0.09 + 1e-3, -0.21 + 1e-3, 0.49 + 1e-3], &[1.0; 3], 1e-9);
         let mut none = Vec::new();
         clear.isolate((0.0, 1.0), 0, &mut none).unwrap();
         assert!(none.is_empty());
