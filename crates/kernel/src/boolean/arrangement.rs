@@ -18,7 +18,7 @@
 //! where polylines meet, end or turn from one to another, with the parameters along a
 //! boundary curve carried through the splits.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::DVec2;
 
@@ -107,7 +107,7 @@ impl Grid {
         Self {
             lo,
             cell,
-            cells: HashMap::new(),
+            cells: HashMap::default(),
         }
     }
 
@@ -175,7 +175,7 @@ pub fn regions(polylines: &[Polyline], snap: f64) -> Vec<Region> {
     let mut remap = vec![0; points.len()];
     let mut kept_points = Vec::new();
     let mut kept_hard = Vec::new();
-    let mut slot: HashMap<usize, usize> = HashMap::new();
+    let mut slot: HashMap<usize, usize> = HashMap::default();
     for k in 0..points.len() {
         let r = merged[k];
         let s = *slot.entry(r).or_insert_with(|| {
@@ -196,7 +196,7 @@ pub fn regions(polylines: &[Polyline], snap: f64) -> Vec<Region> {
     // 2. Splits where a vertex touches a segment or two segments cross.
     let segments = split_segments(&mut points, &mut hard, segments, snap);
     // 3. One segment per pair of vertices, then no free ends.
-    let mut by_pair: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut by_pair: HashMap<(usize, usize), usize> = HashMap::default();
     let mut unique: Vec<Segment> = Vec::new();
     for s in segments {
         if s.a == s.b {
@@ -229,7 +229,7 @@ fn merge_close(points: &[DVec2], snap: f64) -> Vec<usize> {
     let mut groups = UnionFind::new(points.len());
     let cell = snap.max(1e-300) * 2.0;
     let key = |p: DVec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
-    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::default();
     for (k, &p) in points.iter().enumerate() {
         let (x, y) = key(p);
         for dx in -1..=1 {
@@ -274,7 +274,7 @@ fn split_segments(
     }
     // Splits per segment: (fraction along it, vertex).
     let mut splits: Vec<Vec<(f64, usize)>> = vec![Vec::new(); segments.len()];
-    let mut seen: HashSet<(usize, usize)> = HashSet::new();
+    let mut seen: HashSet<(usize, usize)> = HashSet::default();
     let mut crossings: Vec<(usize, usize, f64, f64)> = Vec::new();
     for list in grid.cells.values() {
         for (x, &i) in list.iter().enumerate() {
