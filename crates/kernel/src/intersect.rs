@@ -292,6 +292,15 @@ fn stop_kind(a: &Side<'_>, b: &Side<'_>, x: &[f64; 4]) -> Option<BranchEnd> {
 /// elsewhere (as OpenCASCADE's lines, sampled finely, show on random sheets).
 const CHORD_MARGIN: f64 = 0.75;
 
+/// How many chord tolerances a surface's point half-way between a step's ends in its own
+/// parameters may stray across the chord ([`parameter_bend`]), beyond the curve's own bow,
+/// before the step is shortened.
+const BEND_FACTOR: f64 = 1.0;
+
+/// The cosine of the largest turn between two steps in either surface's (u, v) (20°; see
+/// [`parameters_turn`]).
+const PARAMETER_TURN_COSINE: f64 = 0.94;
+
 /// The share of the chord tolerance below which a step's middle alone is checked
 /// ([`chord_error`]): a curve that strays this little at its middle is far inside the
 /// tolerance at its quarters unless it turns back within the step, which the turn check cuts.
@@ -308,6 +317,8 @@ fn march(
 ) -> (Vec<Common>, bool, BranchEnd) {
     let mut points: Vec<Common> = Vec::new();
     let mut current = *start;
+    // The point before `current`, once there is one.
+    let mut before: Option<Common> = None;
     let mut previous_direction: Option<DVec3> = None;
     let mut h = (options.chord * 8.0).max(options.tolerance * 100.0);
     let h_min = options.tolerance * 10.0;
@@ -389,7 +400,14 @@ fn march(
                         .is_none_or(|(_, t2)| {
                             (t2 * t.dot(direction).signum()).dot(direction) < TURN_COSINE
                         });
-                    if error > CHORD_MARGIN * options.chord || (turned && h > 2.0 * h_min) {
+                    // Where a surface's parameters run unevenly along the step (near a
+                    // sphere's pole, where a curve passing close sweeps u), the (u, v)
+                    // points are kept close enough for curves through them to follow.
+                    let bent = h > 2.0 * h_min
+                        && (parameter_bend(a, b, &current, &next)
+                            > error + BEND_FACTOR * options.chord
+                            || before.is_some_and(|p| parameters_turn(&p, &current, &next)));
+                    if error > CHORD_MARGIN * options.chord || (turned && h > 2.0 * h_min) || bent {
                         h *= 0.5;
                         continue;
                     }
@@ -433,8 +451,45 @@ fn march(
         travelled += next.point.distance(current.point);
         previous_direction = Some(direction);
         points.push(next);
+        before = Some(current);
         current = next;
     }
+}
+
+/// How far each surface's point half-way between the step's ends in its own parameters
+/// lies from the line of the chord `from`–`to`, the larger (across the chord only: sliding
+/// along the curve does no harm). About the curve's own bow from the chord where the
+/// parameters run evenly, far more where they do not (near a sphere's pole, where a curve
+/// passing close sweeps u), where (u, v) curves through the points would stray in space
+/// between them.
+fn parameter_bend(a: &Side<'_>, b: &Side<'_>, from: &Common, to: &Common) -> f64 {
+    let chord = to.point - from.point;
+    let length2 = chord.length_squared();
+    if !(length2 > 0.0) {
+        return 0.0;
+    }
+    let off = |side: &Side<'_>, i: usize| {
+        let (u, v) = (
+            0.5 * (from.x[i] + to.x[i]),
+            0.5 * (from.x[i + 1] + to.x[i + 1]),
+        );
+        side.surface.point(u, v).map_or(f64::INFINITY, |p| {
+            let d = p - from.point;
+            (d - chord * (d.dot(chord) / length2)).length()
+        })
+    };
+    off(a, 0).max(off(b, 2))
+}
+
+/// Whether the (u, v) points `p`, `q`, `r` on either surface turn by more than about 20° at
+/// `q`: a curve through such points overshoots the corner by a share of the step, which in
+/// space is large where the parameters are bunched (the same turn near a sphere's pole).
+fn parameters_turn(p: &Common, q: &Common, r: &Common) -> bool {
+    [0, 2].into_iter().any(|i| {
+        let d1 = DVec2::new(q.x[i] - p.x[i], q.x[i + 1] - p.x[i + 1]);
+        let d2 = DVec2::new(r.x[i] - q.x[i], r.x[i + 1] - q.x[i + 1]);
+        d1.dot(d2) < PARAMETER_TURN_COSINE * d1.length() * d2.length()
+    })
 }
 
 /// How far the curve strays from the chord `from`–`to`: the distance from the chord's middle

@@ -842,3 +842,49 @@ fn self_intersections_are_where_a_body_passes_through_itself() {
         );
     }
 }
+
+/// A ball cut by a plane whose circle passes close by the ball's pole, enclosing it or not:
+/// there the sphere's u sweeps most of its range within a short way, and the cut's (u, v)
+/// curve must still follow the circle in space. The cap's volume is π h² (3r − h) / 3 for
+/// its height h.
+#[test]
+fn a_ball_cut_by_a_plane_passing_by_its_pole() {
+    use crate::solids::ball;
+    let r = 0.8;
+    let tilt: f64 = 0.3;
+    let mut seed = 60;
+    for miss in [-0.02, -0.004, 0.003, 0.012, 0.05] {
+        seed += 1;
+        let (motion, s) = placement(seed);
+        // The plane's normal is turned `tilt` from the pole's axis; its circle keeps
+        // `tilt + miss` from the normal, so it passes `miss` (in angle) beyond the pole.
+        let circle = tilt + miss;
+        let d = r * circle.cos();
+        let turn = DAffine3::from_quat(DQuat::from_rotation_x(tilt));
+        let a = moved(ball(DVec3::ZERO, r).unwrap(), &motion);
+        let b = moved(
+            block(
+                DVec3::new(-1.5 * r, -1.5 * r, d),
+                DVec3::new(3.0 * r, 3.0 * r, 3.0 * r),
+            )
+            .unwrap(),
+            &(motion * turn),
+        );
+        let h = r - d;
+        let cap = PI * h * h * (3.0 * r - h) / 3.0;
+        let s3 = s.powi(3);
+        let what = format!("the plane passing {miss} rad by the pole");
+        check(
+            &run(BooleanOp::Intersection, &a, &b, s),
+            cap * s3,
+            s,
+            &format!("cap, {what}"),
+        );
+        check(
+            &run(BooleanOp::Difference, &a, &b, s),
+            (4.0 / 3.0 * PI * r.powi(3) - cap) * s3,
+            s,
+            &format!("ball less the cap, {what}"),
+        );
+    }
+}
