@@ -425,19 +425,21 @@ fn march(
                         h *= 0.5;
                         continue;
                     };
-                    // The last chord, to the boundary, is held to the tolerance too: where it
-                    // strays, a shorter step first.
+                    // The last chord, to the boundary, is held to the tolerance and to even
+                    // (u, v) steps too: where it strays, a shorter step first.
                     let along = (end.point - current.point).dot(direction);
-                    if chord_error(
+                    let error = chord_error(
                         a,
                         b,
                         &current,
                         &end,
                         options.tolerance,
                         PLAIN * options.chord,
-                    ) > CHORD_MARGIN * options.chord
-                        && along > 4.0 * h_min
-                    {
+                    );
+                    let bent = parameter_bend(a, b, &current, &end)
+                        > error + BEND_FACTOR * options.chord
+                        || before.is_some_and(|p| parameters_turn(&p, &current, &end));
+                    if (error > CHORD_MARGIN * options.chord || bent) && along > 4.0 * h_min {
                         h = 0.5 * along;
                         continue;
                     }
@@ -532,9 +534,9 @@ fn boundary_between(
     h: f64,
     options: &IntersectOptions,
 ) -> Option<(Common, BranchEnd)> {
-    // The full step's parameters, unclamped, show which boundary is crossed.
+    // The full step leaves a domain or a trim (or does not converge).
     let beyond = newton_step(a, b, from, direction, h, options.tolerance)?;
-    let kind = stop_kind(a, b, &beyond.x)?;
+    stop_kind(a, b, &beyond.x)?;
     let (mut lo, mut hi) = (0.0, h);
     let mut last = *from;
     for _ in 0..60 {
@@ -550,12 +552,19 @@ fn boundary_between(
             break;
         }
     }
+    // What is crossed first is what the step just past the last usable point crosses: a
+    // trim lying inside the domain (a face trimmed a little short of its surface's edge)
+    // stops the branch before the domain's edge does.
+    let past = newton_step(a, b, from, direction, hi, options.tolerance).unwrap_or(beyond);
+    let kind = stop_kind(a, b, &past.x).or(stop_kind(a, b, &beyond.x))?;
     // Onto the boundary itself: the crossed parameter held at its bound while the other
-    // three solve A = B (where that converges), else clamp and converge.
+    // three solve A = B (where that converges, and the point is kept by both faces' trims),
+    // else clamp and converge.
     let onto = (kind == BranchEnd::Boundary)
-        .then(|| crossed_bound(a, b, &beyond.x))
+        .then(|| crossed_bound(a, b, &past.x))
         .flatten()
-        .and_then(|(i, bound)| converge_holding(a, b, last.x, i, bound, options.tolerance));
+        .and_then(|(i, bound)| converge_holding(a, b, last.x, i, bound, options.tolerance))
+        .filter(|p| a.surface.keeps(p.x[0], p.x[1]) && b.surface.keeps(p.x[2], p.x[3]));
     let end = onto.unwrap_or_else(|| {
         let (u, v) = a.clamp(last.x[0], last.x[1]);
         let (s, t) = b.clamp(last.x[2], last.x[3]);
