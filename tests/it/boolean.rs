@@ -92,6 +92,74 @@ fn booleans_of_step_bodies_match_opencascade_and_the_volume_invariants() {
     }
 }
 
+/// Random pairs of OpenCASCADE's primitives (boxes, cylinders, spheres, cones with both ends
+/// cut, tori) in general position, each pair overlapping
+/// (`tests/reference/boolean/make_random_fixtures.py`): every union, difference and
+/// intersection is made (a refusal fails the test), and its volume is OpenCASCADE's within
+/// 1e-6 of the two bodies' volumes together. OpenCASCADE trims its faces a little inside
+/// their surfaces' domains and puts its seams and poles where it likes: the cases that first
+/// failed here were branches run past a trim to the domain's edge, and cuts passing close
+/// by a sphere's pole.
+#[test]
+fn random_opencascade_primitives_combine_to_its_volumes() {
+    use knotwork::kernel::boolean::{BooleanOp, boolean_joined};
+    let dir = fixtures();
+    let read = |name: &str| {
+        let bytes = std::fs::read(dir.join(name)).expect("a fixture");
+        knotwork::io::step::read::read(&bytes, &mut |_, _| true)
+            .expect("a STEP model")
+            .bodies
+    };
+    let (firsts, seconds) = (read("random-a.step"), read("random-b.step"));
+    let rows = std::fs::read_to_string(dir.join("occt-random.jsonl")).expect("references");
+    let rows: Vec<serde_json::Value> = rows
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON row"))
+        .collect();
+    assert_eq!(firsts.len(), rows.len());
+    assert_eq!(seconds.len(), rows.len());
+    for ((a, b), row) in firsts.iter().zip(&seconds).zip(&rows) {
+        let what = format!(
+            "case {} ({} and {})",
+            row["case"], row["a_kind"], row["b_kind"]
+        );
+        let (lo, hi) = a
+            .faces
+            .iter()
+            .chain(&b.faces)
+            .map(|f| f.surface().bounds())
+            .fold(
+                (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+                |(lo, hi), (p, q)| (lo.min(p), hi.max(q)),
+            );
+        let tolerance = 1e-6 * lo.distance(hi);
+        let scale = row["a"].as_f64().expect("a volume") + row["b"].as_f64().expect("b volume");
+        for (op, name) in [
+            (BooleanOp::Union, "union"),
+            (BooleanOp::Difference, "difference"),
+            (BooleanOp::Intersection, "intersection"),
+        ] {
+            let made = boolean_joined(
+                op,
+                (&a.faces, Some(&a.topology)),
+                (&b.faces, Some(&b.topology)),
+                tolerance,
+            )
+            .unwrap_or_else(|e| panic!("{what} {name}: {e}"));
+            let volume: f64 = made
+                .solids
+                .iter()
+                .map(|s| s.volume().expect("a closed solid's volume"))
+                .sum();
+            let reference = row[name].as_f64().expect("OpenCASCADE's volume");
+            assert!(
+                (volume - reference).abs() <= 1e-6 * scale,
+                "{what} {name}: {volume} against OpenCASCADE's {reference}"
+            );
+        }
+    }
+}
+
 #[test]
 fn opencascades_own_results_open_with_its_volumes() {
     // A block with a box-shaped cavity (BREP_WITH_VOIDS, the void an ORIENTED_CLOSED_SHELL
