@@ -556,15 +556,27 @@ fn boundary_between(
     // trim lying inside the domain (a face trimmed a little short of its surface's edge)
     // stops the branch before the domain's edge does.
     let past = newton_step(a, b, from, direction, hi, options.tolerance).unwrap_or(beyond);
-    let kind = stop_kind(a, b, &past.x).or(stop_kind(a, b, &beyond.x))?;
+    let mut kind = stop_kind(a, b, &past.x).or(stop_kind(a, b, &beyond.x))?;
     // Onto the boundary itself: the crossed parameter held at its bound while the other
-    // three solve A = B (where that converges, and the point is kept by both faces' trims),
-    // else clamp and converge.
-    let onto = (kind == BranchEnd::Boundary)
-        .then(|| crossed_bound(a, b, &past.x))
-        .flatten()
+    // three solve A = B, where that converges and the point is kept by both faces' trims or
+    // lies within a hair of where the trim stopped the branch (a trim along a seam, a
+    // rounding inside it: the branch's piece on the seam's other side ends on the seam
+    // too); else clamp and converge.
+    let hair = |i: usize| {
+        let (lo, hi) = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]][i];
+        1e-9 * (hi - lo)
+    };
+    let near_last = |p: &Common| (0..4).all(|i| (p.x[i] - last.x[i]).abs() <= hair(i));
+    let onto = crossed_bound(a, b, &past.x)
+        .or(crossed_bound(a, b, &beyond.x))
+        .filter(|&(i, bound)| kind == BranchEnd::Boundary || (last.x[i] - bound).abs() <= hair(i))
         .and_then(|(i, bound)| converge_holding(a, b, last.x, i, bound, options.tolerance))
-        .filter(|p| a.surface.keeps(p.x[0], p.x[1]) && b.surface.keeps(p.x[2], p.x[3]));
+        .filter(|p| {
+            (a.surface.keeps(p.x[0], p.x[1]) && b.surface.keeps(p.x[2], p.x[3])) || near_last(p)
+        });
+    if onto.is_some() {
+        kind = BranchEnd::Boundary;
+    }
     let end = onto.unwrap_or_else(|| {
         let (u, v) = a.clamp(last.x[0], last.x[1]);
         let (s, t) = b.clamp(last.x[2], last.x[3]);
@@ -1154,7 +1166,104 @@ fn intersect_trees(
             ends,
         });
     }
+    continue_across_seams(&a, &b, &mut result, options);
     result
+}
+
+/// Branches carried on across closed surfaces' seams: where a branch ends on a domain edge
+/// that its surface meets again on the opposite edge (a cylinder's or a torus's seam), and
+/// no branch starts or ends at the matching point there, the march goes on from it. The
+/// seeds miss such a piece when it is short: its cells lie next to the branch it continues,
+/// so they look traced already (a circle crossing a cylinder's seam just above its rim).
+fn continue_across_seams(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    result: &mut Intersection,
+    options: &IntersectOptions,
+) {
+    let bounds = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]];
+    let hair = |i: usize| 1e-9 * (bounds[i].1 - bounds[i].0);
+    let gap = (options.tolerance * 100.0).max(options.chord * 1e-3);
+    let near = (options.chord * 4.0).max(options.tolerance * 100.0);
+    let at = |c: &IntersectionCurve, k: usize| Common {
+        x: [c.uv_a[k].x, c.uv_a[k].y, c.uv_b[k].x, c.uv_b[k].y],
+        point: c.points[k],
+    };
+    let same = |p: &[f64; 4], q: &[f64; 4]| (0..4).all(|i| (p[i] - q[i]).abs() <= hair(i) * 10.0);
+    let mut queue: Vec<(usize, usize)> = (0..result.curves.len())
+        .flat_map(|c| [(c, 0), (c, usize::MAX)])
+        .collect();
+    let mut added = 0;
+    while let Some((c, end)) = queue.pop() {
+        let curve = &result.curves[c];
+        let (k, kind) = match end {
+            0 => (0, curve.ends[0]),
+            _ => (curve.points.len() - 1, curve.ends[1]),
+        };
+        if curve.closed || kind != Some(BranchEnd::Boundary) || added >= 64 {
+            continue;
+        }
+        let from = at(curve, k);
+        for i in 0..4 {
+            let (lo, hi) = bounds[i];
+            let mut x = from.x;
+            x[i] = if (x[i] - lo).abs() <= hair(i) {
+                hi
+            } else if (x[i] - hi).abs() <= hair(i) {
+                lo
+            } else {
+                continue;
+            };
+            let (side, j) = if i < 2 { (a, 0) } else { (b, 2) };
+            if !side
+                .surface
+                .point(x[j], x[j + 1])
+                .is_some_and(|p| p.distance(from.point) <= gap)
+            {
+                continue;
+            }
+            let taken = result.curves.iter().any(|other| {
+                !other.points.is_empty()
+                    && [0, other.points.len() - 1]
+                        .into_iter()
+                        .any(|m| same(&at(other, m).x, &x))
+            });
+            if taken {
+                continue;
+            }
+            let seed = Common {
+                x,
+                point: from.point,
+            };
+            // Of the two ways from the seam, the one into the domain.
+            let Some((points, _, stop)) = [1.0, -1.0]
+                .into_iter()
+                .map(|sign| march(a, b, &seed, sign, options))
+                .max_by_key(|(points, _, _)| points.len())
+                .filter(|(points, _, _)| !points.is_empty())
+            else {
+                continue;
+            };
+            let middle = points[points.len() / 2].point;
+            if result
+                .curves
+                .iter()
+                .any(|other| distance_to_polyline(&other.points, middle) <= near)
+            {
+                continue;
+            }
+            let chain: Vec<Common> = std::iter::once(seed).chain(points).collect();
+            result.curves.push(IntersectionCurve {
+                closed: false,
+                points: chain.iter().map(|c| c.point).collect(),
+                uv_a: chain.iter().map(|c| DVec2::new(c.x[0], c.x[1])).collect(),
+                uv_b: chain.iter().map(|c| DVec2::new(c.x[2], c.x[3])).collect(),
+                ends: [Some(BranchEnd::Boundary), Some(stop)],
+            });
+            added += 1;
+            queue.push((result.curves.len() - 1, usize::MAX));
+        }
+    }
 }
 
 #[cfg(test)]
