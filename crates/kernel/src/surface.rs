@@ -221,6 +221,20 @@ impl NurbsSurface {
         [0, 1].map(|d| domain(&self.knots[d], self.degree[d], self.count[d]))
     }
 
+    /// The plane the surface lies in, when every control point lies within `tolerance` of
+    /// the tangent plane at the middle of the domain (then the whole surface does, by the
+    /// convex hull property): that point and the unit normal there.
+    pub fn plane(&self, tolerance: f64) -> Option<(DVec3, DVec3)> {
+        let [(u0, u1), (v0, v1)] = self.domain();
+        let d = self.evaluate(0.5 * (u0 + u1), 0.5 * (v0 + v1)).ok()?;
+        let normal = d.regular_normal()?;
+        let [n, m] = self.count;
+        let flat = (0..n)
+            .flat_map(|i| (0..m).map(move |j| (i, j)))
+            .all(|(i, j)| (self.control_point(i, j) - d.point).dot(normal).abs() <= tolerance);
+        flat.then_some((d.point, normal))
+    }
+
     /// The axis-aligned box of the control points, which contains the surface (convex hull).
     pub fn bounds(&self) -> (DVec3, DVec3) {
         let first = self.control_point(0, 0);

@@ -212,15 +212,7 @@ pub fn outward_faces_joined(
 /// The plane of a planar face (a point and the unit normal), where every control point lies
 /// within `tolerance` of it.
 fn plane_of(face: &TrimmedSurface, tolerance: f64) -> Option<(DVec3, DVec3)> {
-    let s = face.surface();
-    let [(u0, u1), (v0, v1)] = s.domain();
-    let d = s.evaluate(0.5 * (u0 + u1), 0.5 * (v0 + v1)).ok()?;
-    let normal = d.regular_normal()?;
-    let [n, m] = s.count();
-    let flat = (0..n)
-        .flat_map(|i| (0..m).map(move |j| (i, j)))
-        .all(|(i, j)| (s.control_point(i, j) - d.point).dot(normal).abs() <= tolerance);
-    flat.then_some((d.point, normal))
+    face.surface().plane(tolerance)
 }
 
 impl Operand {
