@@ -446,25 +446,63 @@ impl Vertices {
     }
 }
 
-/// The signed volume the faces of `shell` (indices into `faces`) enclose (divergence theorem
-/// over a coarse grid of each face's kept region), with each face turned by `flip`.
+/// The signed volume the faces of `shell` (indices into `faces`) enclose, with each face
+/// turned by `flip`: the divergence theorem with the field ((p − c)·d) d, whose divergence is
+/// 1, over a coarse grid of each face's kept region. Its flux through a flat face parallel
+/// to d is nil, so d is taken along the flat face with the most trim curves (a plate's face
+/// with its holes), and along the next such face where the two are not parallel: those faces
+/// are passed over, and with them the trim index their many loops would need. A face that
+/// keeps a rectangle of its domain needs none either.
 fn signed_volume(faces: &[TrimmedSurface], flip: &[bool], shell: &[usize]) -> f64 {
-    let mut total = 0.0;
     const N: usize = 24;
-    for (face, &f) in shell.iter().map(|&k| (&faces[k], &flip[k])) {
+    let size = shell.iter().map(|&k| faces[k].surface().bounds()).fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+    );
+    let centre = 0.5 * (size.0 + size.1);
+    let flat = 1e-12 * size.0.distance(size.1);
+    let normals: Vec<Option<DVec3>> = shell
+        .iter()
+        .map(|&k| faces[k].surface().plane(flat).map(|(_, n)| n))
+        .collect();
+    let curves = |k: usize| faces[k].loops().iter().map(Vec::len).sum::<usize>();
+    let mut busiest: Vec<(usize, DVec3)> = shell
+        .iter()
+        .zip(&normals)
+        .filter_map(|(&k, n)| n.map(|n| (curves(k), n)))
+        .collect();
+    busiest.sort_by_key(|b| std::cmp::Reverse(b.0));
+    let direction = match busiest.as_slice() {
+        [] => DVec3::X,
+        [(_, n), rest @ ..] => rest
+            .iter()
+            .map(|(_, m)| n.cross(*m))
+            .find(|d| d.length() > 1e-6)
+            .map_or_else(|| n.any_orthonormal_vector(), DVec3::normalize),
+    };
+    let mut total = 0.0;
+    for (&k, normal) in shell.iter().zip(&normals) {
+        if normal.is_some_and(|n| n.dot(direction).abs() <= 1e-12) {
+            continue;
+        }
+        let face = &faces[k];
         let s = face.surface();
-        let [(u0, u1), (v0, v1)] = s.domain();
+        let kept = face.kept_rectangle();
+        let [(u0, u1), (v0, v1)] = match kept {
+            Some([u0, u1, v0, v1]) => [(u0, u1), (v0, v1)],
+            None => s.domain(),
+        };
         let (du, dv) = ((u1 - u0) / N as f64, (v1 - v0) / N as f64);
         for i in 0..N {
             for j in 0..N {
                 let (u, v) = (u0 + du * (i as f64 + 0.5), v0 + dv * (j as f64 + 0.5));
-                if !face.contains(u, v) {
+                if kept.is_none() && !face.contains(u, v) {
                     continue;
                 }
                 if let Ok(d) = s.evaluate(u, v) {
                     let n = d.su.cross(d.sv) * (du * dv);
-                    let c = d.point.dot(n) / 3.0;
-                    total += if f { -c } else { c };
+                    let c = (d.point - centre).dot(direction) * n.dot(direction);
+                    total += if flip[k] { -c } else { c };
                 }
             }
         }
