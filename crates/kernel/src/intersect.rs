@@ -295,7 +295,7 @@ const CHORD_MARGIN: f64 = 0.75;
 /// How many chord tolerances a surface's point half-way between a step's ends in its own
 /// parameters may stray across the chord ([`parameter_bend`]), beyond the curve's own bow,
 /// before the step is shortened.
-const BEND_FACTOR: f64 = 1.0;
+const BEND_FACTOR: f64 = 0.25;
 
 /// The cosine of the largest turn between two steps in either surface's (u, v) (20°; see
 /// [`parameters_turn`]).
