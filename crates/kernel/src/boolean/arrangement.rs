@@ -171,7 +171,7 @@ pub fn regions(polylines: &[Polyline], snap: f64) -> Vec<Region> {
         return Vec::new();
     }
     // 1. Points within the snap distance are one.
-    let merged = merge_close(&points, snap);
+    let merged = merge_close(&points, &hard, snap);
     let mut remap = vec![0; points.len()];
     let mut kept_points = Vec::new();
     let mut kept_hard = Vec::new();
@@ -224,10 +224,14 @@ pub fn regions(polylines: &[Polyline], snap: f64) -> Vec<Region> {
     trace(&points, &hard, &segments)
 }
 
-/// For each point, the lowest index of the points within `snap` of it (transitively).
-fn merge_close(points: &[DVec2], snap: f64) -> Vec<usize> {
+/// For each point, the lowest index of the points within `snap` of it (transitively), and of
+/// the `end` points (an open polyline's first or last) within [`END_SNAP`] times `snap` of
+/// another end: two cuts meeting at a point where three faces meet come from two different
+/// intersections, each ending where it leaves a face, and their ends may lie a tolerance or
+/// so apart.
+fn merge_close(points: &[DVec2], end: &[bool], snap: f64) -> Vec<usize> {
     let mut groups = UnionFind::new(points.len());
-    let cell = snap.max(1e-300) * 2.0;
+    let cell = (snap * END_SNAP).max(1e-300) * 2.0;
     let key = |p: DVec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
     let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::default();
     for (k, &p) in points.iter().enumerate() {
@@ -236,7 +240,12 @@ fn merge_close(points: &[DVec2], snap: f64) -> Vec<usize> {
             for dy in -1..=1 {
                 if let Some(list) = grid.get(&(x + dx, y + dy)) {
                     for &j in list {
-                        if points[j].distance(p) <= snap {
+                        let reach = if end[j] && end[k] {
+                            snap * END_SNAP
+                        } else {
+                            snap
+                        };
+                        if points[j].distance(p) <= reach {
                             groups.join(j, k);
                         }
                     }
@@ -247,6 +256,10 @@ fn merge_close(points: &[DVec2], snap: f64) -> Vec<usize> {
     }
     (0..points.len()).map(|k| groups.root(k)).collect()
 }
+
+/// How many times the snap distance two polylines' ends may lie apart and still be one
+/// point ([`merge_close`]).
+const END_SNAP: f64 = 4.0;
 
 /// The segments split where a vertex lies within `snap` of a segment's inside, and where two
 /// cross (a new vertex, a corner).
