@@ -100,7 +100,7 @@ fn booleans_of_step_bodies_match_opencascade_and_the_volume_invariants() {
 /// their surfaces' domains and puts its seams and poles where it likes: the cases that first
 /// failed here were branches run past a trim to the domain's edge, cuts passing close by a
 /// sphere's pole, and a short piece of a cut beyond a cylinder's seam just above its rim
-/// (six of them come from larger censuses, kept as regressions).
+/// (seven of them come from larger censuses, kept as regressions).
 #[test]
 fn random_opencascade_primitives_combine_to_its_volumes() {
     use knotwork::kernel::boolean::{BooleanOp, boolean_joined};

@@ -147,10 +147,16 @@ impl Ruled {
     }
 }
 
+/// The largest share of the rulings' length one chord of a section may cross
+/// ([`Section::refine`]).
+const MAX_TAU_STEP: f64 = 0.125;
+
 /// One point of a branch: its s, the point, and its (u, v) on the flat and the ruled face.
 #[derive(Clone, Copy)]
 struct Sample {
     s: f64,
+    /// Where the point lies along its ruling (0 on the first rim, 1 on the second).
+    tau: f64,
     point: DVec3,
     uv_flat: DVec2,
     uv_ruled: DVec2,
@@ -301,6 +307,7 @@ impl Section<'_> {
         let t = if tau == 1.0 { t1 } else { t0 + (t1 - t0) * tau };
         point.is_finite().then(|| Sample {
             s,
+            tau,
             point,
             uv_flat: self.frame.uv(point),
             uv_ruled: self.ruled.uv(at, t),
@@ -355,7 +362,12 @@ impl Section<'_> {
         let straight = d0.length_squared() == 0.0
             || d1.length_squared() == 0.0
             || d0.normalize().dot(d1.normalize()) >= TURN_COSINE;
-        if off <= 0.5 * chord && straight {
+        // Where the section runs almost along the rulings, τ races through most of its
+        // range over a short stretch of s: samples even in s would leave long gaps, which
+        // curves through the (u, v) points cannot follow (a little off in s is far off in
+        // space round the rim). A chord crosses at most a share of the rulings' length.
+        let short = (to.tau - from.tau).abs() <= MAX_TAU_STEP;
+        if off <= 0.5 * chord && straight && short {
             out.push(to);
             return Some(());
         }
