@@ -11,22 +11,12 @@ import os
 
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
-from OCP.BRepGProp import BRepGProp
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeSphere
-from OCP.BRep import BRep_Builder
-from OCP.GProp import GProp_GProps
 from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
-from OCP.IFSelect import IFSelect_RetDone
-from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
-from OCP.TopoDS import TopoDS_Compound
+
+from occ_shapes import compound, volume, write_step
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def volume(shape):
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(shape, props)
-    return props.Mass()
 
 
 def placed(shape, seed):
@@ -40,18 +30,7 @@ def placed(shape, seed):
 
 
 def write(shape, name):
-    w = STEPControl_Writer()
-    w.Transfer(shape, STEPControl_AsIs)
-    assert w.Write(os.path.join(HERE, name)) == IFSelect_RetDone
-
-
-def compound(shapes):
-    c = TopoDS_Compound()
-    b = BRep_Builder()
-    b.MakeCompound(c)
-    for s in shapes:
-        b.Add(c, s)
-    return c
+    write_step(shape, os.path.join(HERE, name))
 
 
 def box(x, y, z, dx, dy, dz):

@@ -14,30 +14,20 @@ import math
 import os
 import random
 
-from OCP.BRep import BRep_Builder
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
 from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
 from OCP.BRepCheck import BRepCheck_Analyzer
-from OCP.BRepGProp import BRepGProp
 from OCP.BRepPrimAPI import (BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCone,
                              BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakeSphere,
                              BRepPrimAPI_MakeTorus)
-from OCP.GProp import GProp_GProps
-from OCP.IFSelect import IFSelect_RetDone
-from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
-from OCP.TopoDS import TopoDS_Compound
 from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
 
 # Another directory, count and seed (for a larger census than the committed fixture).
+from occ_shapes import compound, volume, write_step
+
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "36"))
 SEED = int(os.environ.get("SEED", "20261129"))
-
-
-def volume(shape):
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(shape, props)
-    return props.Mass()
 
 
 def primitive(rng):
@@ -76,19 +66,8 @@ def placed(shape, rng, centre):
     return BRepBuilderAPI_Transform(shape, s.Multiplied(t), True).Shape()
 
 
-def compound(shapes):
-    c = TopoDS_Compound()
-    b = BRep_Builder()
-    b.MakeCompound(c)
-    for s in shapes:
-        b.Add(c, s)
-    return c
-
-
 def write(shape, name):
-    w = STEPControl_Writer()
-    w.Transfer(shape, STEPControl_AsIs)
-    assert w.Write(os.path.join(HERE, name)) == IFSelect_RetDone
+    write_step(shape, os.path.join(HERE, name))
 
 
 def kept_cases(seed):
