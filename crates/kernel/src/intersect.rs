@@ -403,11 +403,11 @@ fn march(
                     // Where a surface's parameters run unevenly along the step (near a
                     // sphere's pole, where a curve passing close sweeps u), the (u, v)
                     // points are kept close enough for curves through them to follow.
-                    let bent = h > 2.0 * h_min
-                        && (parameter_bend(a, b, &current, &next)
-                            > error + BEND_FACTOR * options.chord
-                            || before.is_some_and(|p| parameters_turn(&p, &current, &next)));
-                    if error > CHORD_MARGIN * options.chord || (turned && h > 2.0 * h_min) || bent {
+                    if error > CHORD_MARGIN * options.chord
+                        || (turned && h > 2.0 * h_min)
+                        || (h > 2.0 * h_min
+                            && uneven(a, b, before.as_ref(), &current, &next, error, options))
+                    {
                         h *= 0.5;
                         continue;
                     }
@@ -436,10 +436,10 @@ fn march(
                         options.tolerance,
                         PLAIN * options.chord,
                     );
-                    let bent = parameter_bend(a, b, &current, &end)
-                        > error + BEND_FACTOR * options.chord
-                        || before.is_some_and(|p| parameters_turn(&p, &current, &end));
-                    if (error > CHORD_MARGIN * options.chord || bent) && along > 4.0 * h_min {
+                    if (error > CHORD_MARGIN * options.chord
+                        || uneven(a, b, before.as_ref(), &current, &end, error, options))
+                        && along > 4.0 * h_min
+                    {
                         h = 0.5 * along;
                         continue;
                     }
@@ -456,6 +456,23 @@ fn march(
         before = Some(current);
         current = next;
     }
+}
+
+/// Whether the step `from`–`to` (after `before`, where there is one) runs unevenly in either
+/// surface's parameters: its (u, v) middle strays across the chord by more than the curve's
+/// own bow (`error`) and a share of the chord tolerance, or its (u, v) turns sharply from the
+/// step before.
+fn uneven(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    before: Option<&Common>,
+    from: &Common,
+    to: &Common,
+    error: f64,
+    options: &IntersectOptions,
+) -> bool {
+    parameter_bend(a, b, from, to) > error + BEND_FACTOR * options.chord
+        || before.is_some_and(|p| parameters_turn(p, from, to))
 }
 
 /// How far each surface's point half-way between the step's ends in its own parameters
@@ -562,10 +579,8 @@ fn boundary_between(
     // lies within a hair of where the trim stopped the branch (a trim along a seam, a
     // rounding inside it: the branch's piece on the seam's other side ends on the seam
     // too); else clamp and converge.
-    let hair = |i: usize| {
-        let (lo, hi) = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]][i];
-        1e-9 * (hi - lo)
-    };
+    let bounds = parameter_bounds(a, b);
+    let hair = |i: usize| hair(&bounds, i);
     let near_last = |p: &Common| (0..4).all(|i| (p.x[i] - last.x[i]).abs() <= hair(i));
     let onto = crossed_bound(a, b, &past.x)
         .or(crossed_bound(a, b, &beyond.x))
@@ -585,9 +600,19 @@ fn boundary_between(
     Some((end, kind))
 }
 
+/// The ranges of the four parameters (u, v, s, t).
+fn parameter_bounds(a: &Side<'_>, b: &Side<'_>) -> [(f64, f64); 4] {
+    [a.domain[0], a.domain[1], b.domain[0], b.domain[1]]
+}
+
+/// A hair in parameter `i` (0–3: u, v, s, t): 1e-9 of its range.
+fn hair(bounds: &[(f64, f64); 4], i: usize) -> f64 {
+    1e-9 * (bounds[i].1 - bounds[i].0)
+}
+
 /// The parameter (0–3: u, v, s, t) that `x` takes past its domain, and the bound it passed.
 fn crossed_bound(a: &Side<'_>, b: &Side<'_>, x: &[f64; 4]) -> Option<(usize, f64)> {
-    let bounds = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]];
+    let bounds = parameter_bounds(a, b);
     (0..4).find_map(|i| {
         let (lo, hi) = bounds[i];
         if x[i] < lo {
@@ -1045,8 +1070,7 @@ fn intersect_trees(
 ) -> Intersection {
     let (a, b) = (*a, *b);
     let mut result = Intersection::default();
-    // A seed this close to a branch already traced belongs to it.
-    let near = (options.chord * 4.0).max(options.tolerance * 100.0);
+    let near = seed_reach(options);
     // Depth first over pairs of cells whose boxes meet, tracing a branch as soon as a pair of
     // small cells gives a seed off the branches so far; a pair of flat cells with cones apart
     // that a branch crosses already holds nothing more.
@@ -1158,16 +1182,26 @@ fn intersect_trees(
         if chain.len() < 2 {
             continue;
         }
-        result.curves.push(IntersectionCurve {
-            closed,
-            points: chain.iter().map(|c| c.point).collect(),
-            uv_a: chain.iter().map(|c| DVec2::new(c.x[0], c.x[1])).collect(),
-            uv_b: chain.iter().map(|c| DVec2::new(c.x[2], c.x[3])).collect(),
-            ends,
-        });
+        result.curves.push(branch(&chain, closed, ends));
     }
     continue_across_seams(&a, &b, &mut result, options);
     result
+}
+
+/// How near a branch already traced a seed (or a seam's continuation) belongs to it.
+fn seed_reach(options: &IntersectOptions) -> f64 {
+    (options.chord * 4.0).max(options.tolerance * 100.0)
+}
+
+/// The branch through the marched points `chain`.
+fn branch(chain: &[Common], closed: bool, ends: [Option<BranchEnd>; 2]) -> IntersectionCurve {
+    IntersectionCurve {
+        closed,
+        points: chain.iter().map(|c| c.point).collect(),
+        uv_a: chain.iter().map(|c| DVec2::new(c.x[0], c.x[1])).collect(),
+        uv_b: chain.iter().map(|c| DVec2::new(c.x[2], c.x[3])).collect(),
+        ends,
+    }
 }
 
 /// Branches carried on across closed surfaces' seams: where a branch ends on a domain edge
@@ -1181,10 +1215,10 @@ fn continue_across_seams(
     result: &mut Intersection,
     options: &IntersectOptions,
 ) {
-    let bounds = [a.domain[0], a.domain[1], b.domain[0], b.domain[1]];
-    let hair = |i: usize| 1e-9 * (bounds[i].1 - bounds[i].0);
+    let bounds = parameter_bounds(a, b);
+    let hair = |i: usize| hair(&bounds, i);
     let gap = (options.tolerance * 100.0).max(options.chord * 1e-3);
-    let near = (options.chord * 4.0).max(options.tolerance * 100.0);
+    let near = seed_reach(options);
     let at = |c: &IntersectionCurve, k: usize| Common {
         x: [c.uv_a[k].x, c.uv_a[k].y, c.uv_b[k].x, c.uv_b[k].y],
         point: c.points[k],
@@ -1253,13 +1287,11 @@ fn continue_across_seams(
                 continue;
             }
             let chain: Vec<Common> = std::iter::once(seed).chain(points).collect();
-            result.curves.push(IntersectionCurve {
-                closed: false,
-                points: chain.iter().map(|c| c.point).collect(),
-                uv_a: chain.iter().map(|c| DVec2::new(c.x[0], c.x[1])).collect(),
-                uv_b: chain.iter().map(|c| DVec2::new(c.x[2], c.x[3])).collect(),
-                ends: [Some(BranchEnd::Boundary), Some(stop)],
-            });
+            result.curves.push(branch(
+                &chain,
+                false,
+                [Some(BranchEnd::Boundary), Some(stop)],
+            ));
             added += 1;
             queue.push((result.curves.len() - 1, usize::MAX));
         }

@@ -446,21 +446,23 @@ impl Vertices {
     }
 }
 
-/// The signed volume the faces of `shell` (indices into `faces`) enclose, with each face
-/// turned by `flip`: the divergence theorem with the field ((p − c)·d) d, whose divergence is
-/// 1, over a coarse grid of each face's kept region. Its flux through a flat face parallel
+/// The signed volume the faces of `shell` (indices into `faces`, within the box `lo`–`hi`)
+/// enclose, with each face turned by `flip`: the divergence theorem with the field
+/// ((p − c)·d) d, whose divergence is 1, over a coarse grid of each face's kept region, c the
+/// box's centre. Its flux through a flat face parallel
 /// to d is nil, so d is taken along the flat face with the most trim curves (a plate's face
 /// with its holes), and along the next such face where the two are not parallel: those faces
 /// are passed over, and with them the trim index their many loops would need. A face that
 /// keeps a rectangle of its domain needs none either.
-fn signed_volume(faces: &[TrimmedSurface], flip: &[bool], shell: &[usize]) -> f64 {
+fn signed_volume(
+    faces: &[TrimmedSurface],
+    flip: &[bool],
+    shell: &[usize],
+    (lo, hi): (DVec3, DVec3),
+) -> f64 {
     const N: usize = 24;
-    let size = shell.iter().map(|&k| faces[k].surface().bounds()).fold(
-        (DVec3::INFINITY, DVec3::NEG_INFINITY),
-        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
-    );
-    let centre = 0.5 * (size.0 + size.1);
-    let flat = 1e-12 * size.0.distance(size.1);
+    let centre = 0.5 * (lo + hi);
+    let flat = 1e-12 * lo.distance(hi);
     let normals: Vec<Option<DVec3>> = shell
         .iter()
         .map(|&k| faces[k].surface().plane(flat).map(|(_, n)| n))
@@ -606,16 +608,6 @@ pub fn write(
         let shells = topology.components(faces.len());
         let mut nesting = vec![(None, false); shells.len()];
         if closed {
-            let mut volumes = Vec::with_capacity(shells.len());
-            for shell in &shells {
-                let volume = signed_volume(faces, &flip, shell);
-                if volume < 0.0 {
-                    for &f in shell {
-                        flip[f] = !flip[f];
-                    }
-                }
-                volumes.push(volume.abs());
-            }
             let boxes: Vec<(DVec3, DVec3)> = shells
                 .iter()
                 .map(|shell| {
@@ -625,6 +617,16 @@ pub fn write(
                     )
                 })
                 .collect();
+            let mut volumes = Vec::with_capacity(shells.len());
+            for (shell, &bounds) in shells.iter().zip(&boxes) {
+                let volume = signed_volume(faces, &flip, shell, bounds);
+                if volume < 0.0 {
+                    for &f in shell {
+                        flip[f] = !flip[f];
+                    }
+                }
+                volumes.push(volume.abs());
+            }
             nesting = crate::kernel::join::shell_nesting(&boxes, &volumes);
         }
         let surfaces: Vec<u64> = faces
