@@ -36,6 +36,7 @@ pub mod diffgeo;
 pub mod displace;
 pub mod edge;
 pub mod error;
+pub mod features;
 pub mod ffd;
 pub mod fillet;
 pub mod fit;

@@ -1,0 +1,302 @@
+//! A closed shell of flat faces read as a polyhedron: its vertices (trim loop corners merged
+//! within the tolerance, points where a boundary runs straight on dropped), its faces (plane,
+//! and loops of vertices with the face on their left seen from the outward normal) and its
+//! edges (each between two faces, once each way).
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::boolean::outward_faces;
+use crate::error::{GeometryError, construction};
+use crate::join::face_loops;
+use crate::trim::TrimmedSurface;
+
+use super::{WHAT, point};
+
+/// A flat face: its plane `normal · x = offset` (outward unit normal) and its loops.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Facet {
+    pub normal: DVec3,
+    pub offset: f64,
+    /// Vertex indices, each loop with the face on its left seen from the normal's tip (the
+    /// outer loop counter-clockwise, holes clockwise).
+    pub loops: Vec<Vec<usize>>,
+}
+
+/// An edge: from vertex `a` to `b` in face `left`'s loop, from `b` to `a` in face `right`'s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PolyEdge {
+    pub a: usize,
+    pub b: usize,
+    pub left: usize,
+    pub right: usize,
+}
+
+/// A closed polyhedron.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polyhedron {
+    pub vertices: Vec<DVec3>,
+    pub faces: Vec<Facet>,
+    pub edges: Vec<PolyEdge>,
+    /// The edge of each directed pair (a, b) as some face's loop runs it.
+    directed: HashMap<(usize, usize), usize>,
+}
+
+impl Polyhedron {
+    /// The polyhedron of the closed shell `faces` (turned outward first), or why it is not
+    /// one: a face that is not flat, a boundary that is not straight, an edge not shared by
+    /// exactly two faces.
+    pub fn from_faces(faces: &[TrimmedSurface], tolerance: f64) -> Result<Self, GeometryError> {
+        let (faces, _) = outward_faces(faces, tolerance, "the solid")?;
+        let mut vertices: Vec<DVec3> = Vec::new();
+        let mut vertex_of = |p: DVec3| -> usize {
+            if let Some(k) = vertices.iter().position(|q| q.distance(p) <= tolerance) {
+                k
+            } else {
+                vertices.push(p);
+                vertices.len() - 1
+            }
+        };
+        let mut facets = Vec::with_capacity(faces.len());
+        for (k, face) in faces.iter().enumerate() {
+            let surface = face.surface();
+            let Some((origin, _)) = surface.plane(tolerance) else {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "face {k} is curved; edge features are built on solids whose faces \
+                         are all flat"
+                    ),
+                ));
+            };
+            let [(u0, u1), (v0, v1)] = surface.domain();
+            let normal = surface.normal(0.5 * (u0 + u1), 0.5 * (v0 + v1))?;
+            let mut loops = Vec::new();
+            for trim_loop in face_loops(face)? {
+                let mut ring = Vec::new();
+                for curve in &trim_loop {
+                    let (t0, t1) = curve.domain();
+                    let at = |t: f64| -> Result<DVec3, GeometryError> {
+                        let uv = curve.point_at(t)?;
+                        surface.point_at_clamped(uv)
+                    };
+                    let (a, b) = (at(t0)?, at(t1)?);
+                    for s in [0.25, 0.5, 0.75] {
+                        let m = at(t0 + s * (t1 - t0))?;
+                        let chord = b - a;
+                        let off = if chord.length() > 0.0 {
+                            (m - a).reject_from(chord).length()
+                        } else {
+                            m.distance(a)
+                        };
+                        if off > tolerance {
+                            return Err(construction(
+                                WHAT,
+                                format!(
+                                    "the edge of face {k} at {} is curved; edge features are \
+                                     built on solids whose edges are all straight",
+                                    point(m)
+                                ),
+                            ));
+                        }
+                    }
+                    ring.push(vertex_of(a));
+                }
+                ring.dedup();
+                while ring.len() > 1 && ring.first() == ring.last() {
+                    ring.pop();
+                }
+                if ring.len() >= 3 {
+                    loops.push(ring);
+                }
+            }
+            facets.push(Facet {
+                normal,
+                offset: normal.dot(origin),
+                loops,
+            });
+        }
+        // Points where a boundary runs straight on are not corners.
+        for facet in &mut facets {
+            for ring in &mut facet.loops {
+                let mut changed = true;
+                while changed && ring.len() > 3 {
+                    changed = false;
+                    for i in 0..ring.len() {
+                        let n = ring.len();
+                        let (p, q, r) = (
+                            vertices[ring[(i + n - 1) % n]],
+                            vertices[ring[i]],
+                            vertices[ring[(i + 1) % n]],
+                        );
+                        let (d0, d1) = (q - p, r - q);
+                        if d0.cross(d1).length() <= tolerance * d0.length().max(d1.length())
+                            && d0.dot(d1) > 0.0
+                        {
+                            ring.remove(i);
+                            changed = true;
+                            break;
+                        }
+                    }
+                }
+            }
+        }
+        let mut directed = HashMap::new();
+        for (f, facet) in facets.iter().enumerate() {
+            for ring in &facet.loops {
+                for i in 0..ring.len() {
+                    let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                    if directed.insert((a, b), f).is_some() {
+                        return Err(construction(
+                            WHAT,
+                            format!(
+                                "the edge from {} to {} is used twice the same way; the solid \
+                                 is not a manifold",
+                                point(vertices[a]),
+                                point(vertices[b])
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        let mut edges = Vec::new();
+        let mut edge_of = HashMap::new();
+        for (&(a, b), &left) in &directed {
+            let Some(&right) = directed.get(&(b, a)) else {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the edge from {} to {} has a face on one side only; the solid is \
+                         open there",
+                        point(vertices[a]),
+                        point(vertices[b])
+                    ),
+                ));
+            };
+            if a < b {
+                edge_of.insert((a, b), edges.len());
+                edge_of.insert((b, a), edges.len());
+                edges.push(PolyEdge { a, b, left, right });
+            }
+        }
+        // A fixed order, whatever the hash map's.
+        let mut order: Vec<usize> = (0..edges.len()).collect();
+        order.sort_by_key(|&k| (edges[k].a, edges[k].b));
+        let edges: Vec<PolyEdge> = order.iter().map(|&k| edges[k]).collect();
+        let directed = edges
+            .iter()
+            .enumerate()
+            .flat_map(|(k, e)| [((e.a, e.b), k), ((e.b, e.a), k)])
+            .collect();
+        Ok(Self {
+            vertices,
+            faces: facets,
+            edges,
+            directed,
+        })
+    }
+
+    /// The edge between vertices `a` and `b`, either way.
+    pub fn edge_between(&self, a: usize, b: usize) -> Option<usize> {
+        self.directed.get(&(a, b)).copied()
+    }
+
+    /// The edges at vertex `v`.
+    pub fn edges_at(&self, v: usize) -> Vec<usize> {
+        (0..self.edges.len())
+            .filter(|&k| self.edges[k].a == v || self.edges[k].b == v)
+            .collect()
+    }
+
+    /// The edge nearest `p` (its segment's distance).
+    pub fn nearest_edge(&self, p: DVec3) -> Option<usize> {
+        (0..self.edges.len()).min_by(|&i, &j| {
+            self.edge_distance(i, p)
+                .total_cmp(&self.edge_distance(j, p))
+        })
+    }
+
+    /// The face nearest `p`: its plane's distance where `p` lies over the face, else the
+    /// distance to its boundary.
+    pub fn nearest_face(&self, p: DVec3) -> Option<usize> {
+        (0..self.faces.len()).min_by(|&i, &j| {
+            self.face_distance(i, p)
+                .total_cmp(&self.face_distance(j, p))
+        })
+    }
+
+    /// The distance from `p` to face `f`.
+    pub fn face_distance(&self, f: usize, p: DVec3) -> f64 {
+        let facet = &self.faces[f];
+        let n = facet.normal;
+        let (x, _) = (n.any_orthonormal_vector(), ());
+        let y = n.cross(x);
+        let flat = |q: DVec3| glam::DVec2::new(q.dot(x), q.dot(y));
+        let inside = facet
+            .loops
+            .iter()
+            .map(|ring| {
+                let polygon: Vec<glam::DVec2> =
+                    ring.iter().map(|&v| flat(self.vertices[v])).collect();
+                usize::from(crate::trim::polygon_contains(&polygon, flat(p)))
+            })
+            .sum::<usize>()
+            % 2
+            == 1;
+        if inside {
+            return (n.dot(p) - facet.offset).abs();
+        }
+        let mut best = f64::INFINITY;
+        for ring in &facet.loops {
+            for i in 0..ring.len() {
+                let (a, b) = (
+                    self.vertices[ring[i]],
+                    self.vertices[ring[(i + 1) % ring.len()]],
+                );
+                best = best.min(segment_distance(a, b, p));
+            }
+        }
+        best
+    }
+
+    /// The distance from `p` to edge `k`'s segment.
+    pub fn edge_distance(&self, k: usize, p: DVec3) -> f64 {
+        segment_distance(
+            self.vertices[self.edges[k].a],
+            self.vertices[self.edges[k].b],
+            p,
+        )
+    }
+
+    /// The unit direction of edge `k` from `a` to `b`.
+    pub fn direction(&self, k: usize) -> DVec3 {
+        let e = self.edges[k];
+        (self.vertices[e.b] - self.vertices[e.a]).normalize()
+    }
+
+    /// The unit vector in face `f`'s plane, perpendicular to edge `k`, pointing into `f`.
+    pub fn inward(&self, k: usize, f: usize) -> DVec3 {
+        let t = self.direction(k);
+        let n = self.faces[f].normal;
+        if self.edges[k].left == f {
+            n.cross(t)
+        } else {
+            n.cross(-t)
+        }
+    }
+
+    /// Whether edge `k` is convex (the faces' material makes an angle below 180° there).
+    pub fn is_convex(&self, k: usize) -> bool {
+        let e = self.edges[k];
+        self.inward(k, e.left).dot(self.faces[e.right].normal) < 0.0
+    }
+}
+
+/// The distance from `p` to the segment from `a` to `b`.
+fn segment_distance(a: DVec3, b: DVec3, p: DVec3) -> f64 {
+    let d = b - a;
+    let t = ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    p.distance(a + d * t)
+}

@@ -1,0 +1,755 @@
+//! Fillets and chamfers of a polyhedron's edges (see the module documentation of
+//! [`super`]): each face cut back to lines set back from its picked edges, each picked edge
+//! a cylinder (fillet) or a flat strip (chamfer) between them, and each corner of three picked
+//! edges closed by a spherical or flat triangle.
+
+use std::collections::HashMap;
+use std::f64::consts::FRAC_PI_2;
+
+use glam::{DVec2, DVec3};
+
+use crate::construct::{arc, extrude, line, revolve};
+use crate::curve::{SpaceCurve, TrimCurve};
+use crate::error::{GeometryError, construction};
+use crate::planar::planar_face;
+use crate::surface::{Direction, NurbsSurface};
+use crate::trim::TrimmedSurface;
+
+use super::polyhedron::Polyhedron;
+use super::{EdgePick, FeatureResult, WHAT, closed_result, picked_edges, point};
+
+/// What is made of each picked edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EdgeFeature {
+    /// A rolling-ball fillet of this radius.
+    Fillet { radius: f64 },
+    /// A chamfer set back `distance` on the edge's left face (the face its loop runs the edge
+    /// from its lower vertex) and `other` on the right one.
+    Chamfer { distance: f64, other: f64 },
+}
+
+/// A line: a point and a unit direction.
+#[derive(Debug, Clone, Copy)]
+struct Line {
+    origin: DVec3,
+    direction: DVec3,
+}
+
+/// A plane `normal · x = offset`.
+#[derive(Debug, Clone, Copy)]
+struct Plane {
+    normal: DVec3,
+    offset: f64,
+}
+
+/// What a face's corner becomes.
+#[derive(Debug, Clone)]
+enum Corner {
+    Point(DVec3),
+    /// The corner cut off by a curve from `from` to `to` (an end face's corner under a
+    /// fillet or chamfer that ends on it).
+    Cut {
+        from: DVec3,
+        curve: SpaceCurve,
+        to: DVec3,
+    },
+}
+
+impl Corner {
+    fn first(&self) -> DVec3 {
+        match self {
+            Corner::Point(p) => *p,
+            Corner::Cut { from, .. } => *from,
+        }
+    }
+
+    fn last(&self) -> DVec3 {
+        match self {
+            Corner::Point(p) => *p,
+            Corner::Cut { to, .. } => *to,
+        }
+    }
+}
+
+/// One picked edge's lines.
+#[derive(Debug, Clone, Copy)]
+struct Round {
+    /// Unit direction from vertex a to b.
+    t: DVec3,
+    /// −1 where the ball lies inside the material (a convex edge), +1 outside.
+    side: f64,
+    /// Set-back distances on the left and right faces.
+    set_left: f64,
+    set_right: f64,
+}
+
+struct Builder<'a> {
+    solid: &'a Polyhedron,
+    feature: EdgeFeature,
+    rounds: HashMap<usize, Round>,
+    tolerance: f64,
+}
+
+/// The intersection of two lines in one plane.
+fn meet(a: Line, b: Line) -> Option<DVec3> {
+    let n = a.direction.cross(b.direction);
+    let nn = n.length_squared();
+    if nn < 1e-20 {
+        return None;
+    }
+    let alpha = (b.origin - a.origin).cross(b.direction).dot(n) / nn;
+    Some(a.origin + a.direction * alpha)
+}
+
+/// Where a line crosses a plane.
+fn pierce(l: Line, p: Plane) -> Option<DVec3> {
+    let d = p.normal.dot(l.direction);
+    if d.abs() < 1e-12 {
+        return None;
+    }
+    Some(l.origin + l.direction * ((p.offset - p.normal.dot(l.origin)) / d))
+}
+
+/// The curve σ ↦ (u, v(u)) over a rational quadratic basis (knots `knots`, weights `w`,
+/// Bézier segments joined at double knots, as [`arc`] makes them) whose v carries the values
+/// `y`: v(u) = Σ wᵢ Nᵢ(u) yᵢ / Σ wᵢ Nᵢ(u). Exact as a rational cubic: on each segment, with
+/// u = k₀ + σΔ, the homogeneous coordinates are (u·W, Σ wᵢyᵢBᵢ², W) with W = Σ wᵢBᵢ², and
+/// σBᵢ² = (i+1)/3 · B³ᵢ₊₁ and degree elevation (The NURBS Book §5.5) give their cubic
+/// Bernstein coefficients.
+fn graph_curve(knots: &[f64], w: &[f64], y: &[f64]) -> Result<TrimCurve, GeometryError> {
+    let mut breaks: Vec<f64> = knots.to_vec();
+    breaks.dedup();
+    let segments = breaks.len() - 1;
+    if w.len() != 2 * segments + 1 || y.len() != w.len() {
+        return Err(construction(
+            WHAT,
+            "a fillet's arc is not piecewise quadratic",
+        ));
+    }
+    let elevate = |x: [f64; 3]| {
+        [
+            x[0],
+            (x[0] + 2.0 * x[1]) / 3.0,
+            (2.0 * x[1] + x[2]) / 3.0,
+            x[2],
+        ]
+    };
+    let shifted = |x: [f64; 3]| [0.0, x[0] / 3.0, 2.0 * x[1] / 3.0, x[2]];
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    let mut cubic_knots = vec![breaks[0]; 4];
+    for j in 0..segments {
+        let (k0, k1) = (breaks[j], breaks[j + 1]);
+        let ws = [w[2 * j], w[2 * j + 1], w[2 * j + 2]];
+        let qs = [ws[0] * y[2 * j], ws[1] * y[2 * j + 1], ws[2] * y[2 * j + 2]];
+        let (hw, hq, hs) = (elevate(ws), elevate(qs), shifted(ws));
+        for i in usize::from(j > 0)..4 {
+            let hu = k0 * hw[i] + (k1 - k0) * hs[i];
+            points.push(DVec2::new(hu / hw[i], hq[i] / hw[i]));
+            weights.push(hw[i]);
+        }
+        if j + 1 < segments {
+            cubic_knots.extend([k1; 3]);
+        }
+    }
+    cubic_knots.extend([breaks[segments]; 4]);
+    TrimCurve::new(3, cubic_knots, points, Some(weights))
+}
+
+impl Builder<'_> {
+    fn plane(&self, f: usize) -> Plane {
+        let facet = &self.solid.faces[f];
+        Plane {
+            normal: facet.normal,
+            offset: facet.offset,
+        }
+    }
+
+    /// Edge `k`'s line.
+    fn edge_line(&self, k: usize) -> Line {
+        Line {
+            origin: self.solid.vertices[self.solid.edges[k].a],
+            direction: self.solid.direction(k),
+        }
+    }
+
+    /// The line in face `f` that bounds it along edge `k`: the edge, or where the face is cut
+    /// back for the edge's fillet or chamfer.
+    fn bound(&self, k: usize, f: usize) -> Line {
+        let line = self.edge_line(k);
+        match self.rounds.get(&k) {
+            None => line,
+            Some(r) => {
+                let back = if self.solid.edges[k].left == f {
+                    r.set_left
+                } else {
+                    r.set_right
+                };
+                Line {
+                    origin: line.origin + self.solid.inward(k, f) * back,
+                    ..line
+                }
+            }
+        }
+    }
+
+    fn radius(&self) -> f64 {
+        match self.feature {
+            EdgeFeature::Fillet { radius } => radius,
+            EdgeFeature::Chamfer { .. } => 0.0,
+        }
+    }
+
+    /// Edge `k`'s fillet arc at vertex a, from its left contact to its right one, and its
+    /// centre there.
+    fn arc(&self, k: usize) -> Result<(SpaceCurve, DVec3), GeometryError> {
+        let e = self.solid.edges[k];
+        let r = self.rounds[&k];
+        let radius = self.radius();
+        let (nl, nr) = (
+            self.solid.faces[e.left].normal,
+            self.solid.faces[e.right].normal,
+        );
+        let contact = self.bound(k, e.left).origin;
+        let centre = contact + nl * (r.side * radius);
+        let (x, y) = (nl * -r.side, nr * -r.side);
+        let sweep = x.angle_between(y);
+        Ok((arc(centre, x, y, radius, 0.0, sweep)?, centre))
+    }
+
+    /// Where edge `k`'s cut (the plane `p` through its fillet or strip) lies along the edge,
+    /// for each of its arc's control points: λᵢ with the ruling through control point Pᵢ
+    /// meeting the plane at Pᵢ + λᵢ t.
+    fn lambdas(&self, k: usize, p: Plane) -> Result<(SpaceCurve, Vec<f64>), GeometryError> {
+        let (arc, _) = self.arc(k)?;
+        let t = self.rounds[&k].t;
+        let d = p.normal.dot(t);
+        if d.abs() < 1e-9 {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the fillet of the edge along {} runs parallel to the face it must end on",
+                    point(t)
+                ),
+            ));
+        }
+        let lambdas = (0..arc.count())
+            .map(|i| (p.offset - p.normal.dot(arc.control_point(i))) / d)
+            .collect();
+        Ok((arc, lambdas))
+    }
+
+    /// The fillet of edge `k` cut by plane `p`: a conic, exact (its arc's control points
+    /// moved along the edge onto the plane, the weights kept), from the left contact to the
+    /// right one.
+    fn section(&self, k: usize, p: Plane) -> Result<SpaceCurve, GeometryError> {
+        let (arc, lambdas) = self.lambdas(k, p)?;
+        let t = self.rounds[&k].t;
+        let points = (0..arc.count())
+            .map(|i| arc.control_point(i) + t * lambdas[i])
+            .collect();
+        let weights = (0..arc.count()).map(|i| arc.weight(i)).collect();
+        SpaceCurve::new(2, arc.knots().to_vec(), points, Some(weights))
+    }
+
+    fn other_face(&self, k: usize, f: usize) -> usize {
+        let e = self.solid.edges[k];
+        if e.left == f { e.right } else { e.left }
+    }
+
+    /// Face `f`'s corner at vertex `v`, between the edges from `previous` and to `next`.
+    fn corner(
+        &self,
+        f: usize,
+        previous: usize,
+        v: usize,
+        next: usize,
+    ) -> Result<Corner, GeometryError> {
+        let solid = self.solid;
+        let (Some(e_in), Some(e_out)) =
+            (solid.edge_between(previous, v), solid.edge_between(v, next))
+        else {
+            return Err(construction(WHAT, "a face's loop runs along no edge"));
+        };
+        let (picked_in, picked_out) = (
+            self.rounds.contains_key(&e_in),
+            self.rounds.contains_key(&e_out),
+        );
+        if picked_in || picked_out {
+            return meet(self.bound(e_in, f), self.bound(e_out, f))
+                .map(Corner::Point)
+                .ok_or_else(|| {
+                    construction(
+                        WHAT,
+                        format!(
+                            "the face at {} runs straight on at a corner",
+                            point(solid.vertices[v])
+                        ),
+                    )
+                });
+        }
+        let third: Vec<usize> = solid
+            .edges_at(v)
+            .into_iter()
+            .filter(|&k| k != e_in && k != e_out && self.rounds.contains_key(&k))
+            .collect();
+        let Some(&e3) = third.first() else {
+            return Ok(Corner::Point(solid.vertices[v]));
+        };
+        // The picked edge's fillet or strip ends on this face.
+        let (h, g) = (self.other_face(e_in, f), self.other_face(e_out, f));
+        let plane = self.plane(f);
+        let missing = || {
+            construction(
+                WHAT,
+                format!(
+                    "the feature of the edge at {} does not reach the face it ends on",
+                    point(solid.vertices[v])
+                ),
+            )
+        };
+        let from = pierce(self.bound(e3, h), plane).ok_or_else(missing)?;
+        let to = pierce(self.bound(e3, g), plane).ok_or_else(missing)?;
+        let curve = match self.feature {
+            EdgeFeature::Chamfer { .. } => line(from, to)?,
+            EdgeFeature::Fillet { .. } => {
+                let c = self.section(e3, plane)?;
+                if solid.edges[e3].left == h {
+                    c
+                } else {
+                    c.reverse()
+                }
+            }
+        };
+        Ok(Corner::Cut { from, curve, to })
+    }
+}
+
+/// The face `face` turned, where needed, so that its normal at its domain's middle points
+/// along `outward` there.
+pub(crate) fn facing(
+    face: TrimmedSurface,
+    outward: impl Fn(DVec3) -> DVec3,
+) -> Result<TrimmedSurface, GeometryError> {
+    let s = face.surface();
+    let [(u0, u1), (v0, v1)] = s.domain();
+    let (u, v) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    let d = s.evaluate(u, v)?;
+    if s.normal_from(&d, u, v).dot(outward(d.point)) < 0.0 {
+        face.reverse(Direction::U)
+    } else {
+        Ok(face)
+    }
+}
+
+/// `feature` made of the edges of the polyhedral solid `faces` that `pick` names (see the
+/// module documentation), joined and checked at `tolerance`.
+pub fn round_edges(
+    faces: &[TrimmedSurface],
+    pick: &EdgePick,
+    feature: EdgeFeature,
+    tolerance: f64,
+) -> Result<FeatureResult, GeometryError> {
+    let what = match feature {
+        EdgeFeature::Fillet { radius } => {
+            if !(radius.is_finite() && radius > 0.0) {
+                return Err(construction(
+                    WHAT,
+                    format!("the radius must be a number above 0, got {radius}"),
+                ));
+            }
+            "fillet"
+        }
+        EdgeFeature::Chamfer { distance, other } => {
+            for d in [distance, other] {
+                if !(d.is_finite() && d > 0.0) {
+                    return Err(construction(
+                        WHAT,
+                        format!("the distance must be a number above 0, got {d}"),
+                    ));
+                }
+            }
+            "chamfer"
+        }
+    };
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(construction(
+            WHAT,
+            format!("the tolerance must be a number above 0, got {tolerance}"),
+        ));
+    }
+    let solid = Polyhedron::from_faces(faces, tolerance)?;
+    let picked = picked_edges(&solid, pick)?;
+    let mut rounds = HashMap::new();
+    for &k in &picked {
+        let e = solid.edges[k];
+        let (ml, mr) = (solid.inward(k, e.left), solid.inward(k, e.right));
+        let psi = ml.angle_between(mr);
+        let at = || {
+            format!(
+                "from {} to {}",
+                point(solid.vertices[e.a]),
+                point(solid.vertices[e.b])
+            )
+        };
+        if !(psi > 1e-6 && psi < std::f64::consts::PI - 1e-6) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the faces at the edge {} meet flat or fold back; it has no {what}",
+                    at()
+                ),
+            ));
+        }
+        let side = if solid.is_convex(k) { -1.0 } else { 1.0 };
+        let (set_left, set_right) = match feature {
+            EdgeFeature::Fillet { radius } => {
+                let c = radius / (0.5 * psi).tan();
+                (c, c)
+            }
+            EdgeFeature::Chamfer { distance, other } => (distance, other),
+        };
+        rounds.insert(
+            k,
+            Round {
+                t: solid.direction(k),
+                side,
+                set_left,
+                set_right,
+            },
+        );
+        for v in [e.a, e.b] {
+            let at_v = solid.edges_at(v);
+            let faces_at: std::collections::BTreeSet<usize> = at_v
+                .iter()
+                .flat_map(|&j| [solid.edges[j].left, solid.edges[j].right])
+                .collect();
+            if at_v.len() != 3 || faces_at.len() != 3 {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the corner at {} joins {} edges; a {what} ends only at corners of three \
+                         edges and three faces for now",
+                        point(solid.vertices[v]),
+                        at_v.len()
+                    ),
+                ));
+            }
+        }
+    }
+    let b = Builder {
+        solid: &solid,
+        feature,
+        rounds,
+        tolerance,
+    };
+    // Each face's corners, then its loops.
+    let mut corners: HashMap<(usize, usize), Corner> = HashMap::new();
+    let mut out = Vec::new();
+    for (f, facet) in solid.faces.iter().enumerate() {
+        let mut boundary = Vec::new();
+        for ring in &facet.loops {
+            let n = ring.len();
+            let ring_corners = (0..n)
+                .map(|i| b.corner(f, ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]))
+                .collect::<Result<Vec<_>, _>>()?;
+            for i in 0..n {
+                let (here, there) = (&ring_corners[i], &ring_corners[(i + 1) % n]);
+                if let Corner::Cut { curve, .. } = here {
+                    boundary.push(curve.clone());
+                }
+                let (p, q) = (here.last(), there.first());
+                let along = solid.vertices[ring[(i + 1) % n]] - solid.vertices[ring[i]];
+                if (q - p).dot(along) <= tolerance * along.length() {
+                    let k = solid.edge_between(ring[i], ring[(i + 1) % n]).unwrap_or(0);
+                    let e = solid.edges[k];
+                    return Err(construction(
+                        WHAT,
+                        format!(
+                            "the {what} is too large for the edge from {} to {}: the {what}s at \
+                             its ends overlap on face {f}",
+                            point(solid.vertices[e.a]),
+                            point(solid.vertices[e.b])
+                        ),
+                    ));
+                }
+                boundary.push(line(p, q)?);
+            }
+            for (i, c) in ring_corners.into_iter().enumerate() {
+                corners.insert((f, ring[i]), c);
+            }
+        }
+        let face = planar_face(&boundary).map_err(|e| {
+            construction(
+                WHAT,
+                format!("the {what} leaves face {f} without a valid boundary ({e})"),
+            )
+        })?;
+        let normal = facet.normal;
+        out.push(facing(face, |_| normal)?);
+    }
+    // Unpicked edges whose ends moved: both faces must agree on the new end.
+    let corner_at = |f: usize, v: usize| -> Result<&Corner, GeometryError> {
+        corners
+            .get(&(f, v))
+            .ok_or_else(|| construction(WHAT, "a face lost a corner"))
+    };
+    for (k, e) in solid.edges.iter().enumerate() {
+        if b.rounds.contains_key(&k) {
+            continue;
+        }
+        for (v, from_left) in [(e.a, true), (e.b, false)] {
+            // The left face runs a → b: its corner at a ends the edge with its last point,
+            // at b starts it with its first; the right face the other way round.
+            let (l, r) = (corner_at(e.left, v)?, corner_at(e.right, v)?);
+            let (pl, pr) = if from_left {
+                (l.last(), r.first())
+            } else {
+                (l.first(), r.last())
+            };
+            if pl.distance(pr) > 10.0 * tolerance {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the corner at {} needs a vertex blend, which is not built yet: the \
+                         {what}s there leave a gap of {:.3e}",
+                        point(solid.vertices[v]),
+                        pl.distance(pr)
+                    ),
+                ));
+            }
+        }
+    }
+    // The picked edges' fillets or strips.
+    for &k in &picked {
+        let e = solid.edges[k];
+        let r = b.rounds[&k];
+        let (la, lb) = (
+            corner_at(e.left, e.a)?.first(),
+            corner_at(e.left, e.b)?.first(),
+        );
+        let (ra, rb) = (
+            corner_at(e.right, e.a)?.first(),
+            corner_at(e.right, e.b)?.first(),
+        );
+        match feature {
+            EdgeFeature::Chamfer { .. } => {
+                let strip =
+                    planar_face(&[line(la, lb)?, line(lb, rb)?, line(rb, ra)?, line(ra, la)?])?;
+                let (nl, nr) = (solid.faces[e.left].normal, solid.faces[e.right].normal);
+                out.push(facing(strip, |_| nl + nr)?);
+            }
+            EdgeFeature::Fillet { .. } => {
+                let ends = [b.end_plane(k, e.a)?, b.end_plane(k, e.b)?];
+                for (v, plane, (l, rr)) in [(e.a, ends[0], (la, ra)), (e.b, ends[1], (lb, rb))] {
+                    let section = b.section(k, plane)?;
+                    let (s0, s1) = section.ends()?;
+                    if s0.distance(l) > 10.0 * tolerance || s1.distance(rr) > 10.0 * tolerance {
+                        return Err(construction(
+                            WHAT,
+                            format!(
+                                "the corner at {} needs a vertex blend, which is not built yet: \
+                                 the fillets there miss each other by {:.3e}",
+                                point(solid.vertices[v]),
+                                s0.distance(l).max(s1.distance(rr))
+                            ),
+                        ));
+                    }
+                }
+                let face = b.fillet_face(k, ends)?;
+                let (_, centre) = b.arc(k)?;
+                let side = r.side;
+                let t = r.t;
+                out.push(facing(face, |p| {
+                    let on_axis = centre + t * (p - centre).dot(t);
+                    (p - on_axis) * -side
+                })?);
+            }
+        }
+    }
+    // Corners of three picked edges.
+    for v in 0..solid.vertices.len() {
+        let at_v = solid.edges_at(v);
+        if at_v.len() != 3 || !at_v.iter().all(|k| b.rounds.contains_key(k)) {
+            continue;
+        }
+        let faces_at: Vec<usize> = {
+            let mut f: Vec<usize> = at_v
+                .iter()
+                .flat_map(|&j| [solid.edges[j].left, solid.edges[j].right])
+                .collect();
+            f.sort_unstable();
+            f.dedup();
+            f
+        };
+        let q: Vec<DVec3> = faces_at
+            .iter()
+            .map(|&f| corner_at(f, v).map(Corner::first))
+            .collect::<Result<_, _>>()?;
+        let normals: Vec<DVec3> = faces_at.iter().map(|&f| solid.faces[f].normal).collect();
+        match feature {
+            EdgeFeature::Chamfer { .. } => {
+                let patch =
+                    planar_face(&[line(q[0], q[1])?, line(q[1], q[2])?, line(q[2], q[0])?])?;
+                let n = normals[0] + normals[1] + normals[2];
+                out.push(facing(patch, |_| n)?);
+            }
+            EdgeFeature::Fillet { radius } => {
+                let side = b.rounds[&at_v[0]].side;
+                let centre = (0..3)
+                    .map(|i| q[i] + normals[i] * (side * radius))
+                    .sum::<DVec3>()
+                    / 3.0;
+                let dirs = [normals[0] * -side, normals[1] * -side, normals[2] * -side];
+                let ball = corner_ball(centre, radius, dirs).ok_or_else(|| {
+                    construction(
+                        WHAT,
+                        format!(
+                            "the corner at {} needs a vertex blend for faces that do not meet at \
+                             right angles, which is not built yet",
+                            point(solid.vertices[v])
+                        ),
+                    )
+                })??;
+                out.push(facing(TrimmedSurface::untrimmed(ball), |p| {
+                    (p - centre) * -side
+                })?);
+            }
+        }
+    }
+    closed_result(out, tolerance * 10.0, picked.len(), what)
+}
+
+/// The spherical triangle of the ball of radius `radius` around `centre` between the unit
+/// directions `dirs`, one of them at right angles to the other two: that one is the pole of
+/// a quarter circle revolved from one of the others to the third, so the triangle is the whole
+/// patch (exact). None where no direction is at right angles to the others.
+fn corner_ball(
+    centre: DVec3,
+    radius: f64,
+    dirs: [DVec3; 3],
+) -> Option<Result<NurbsSurface, GeometryError>> {
+    let pole = (0..3).find(|&j| (0..3).all(|k| k == j || dirs[j].dot(dirs[k]).abs() < 1e-9))?;
+    let (a, b) = (dirs[(pole + 1) % 3], dirs[(pole + 2) % 3]);
+    let p = dirs[pole];
+    let axis = if p.cross(a).dot(b) > 0.0 { p } else { -p };
+    Some(
+        arc(centre, p, a, radius, 0.0, FRAC_PI_2)
+            .and_then(|profile| revolve(&profile, centre, axis, a.angle_between(b))),
+    )
+}
+
+impl Builder<'_> {
+    /// The plane edge `k`'s fillet ends on at vertex `v` (see the module documentation).
+    fn end_plane(&self, k: usize, v: usize) -> Result<Plane, GeometryError> {
+        let solid = self.solid;
+        let e = solid.edges[k];
+        let r = self.rounds[&k];
+        let others: Vec<usize> = solid.edges_at(v).into_iter().filter(|&j| j != k).collect();
+        let (Some(&k_left), Some(&k_right)) = (
+            others
+                .iter()
+                .find(|&&j| solid.edges[j].left == e.left || solid.edges[j].right == e.left),
+            others
+                .iter()
+                .find(|&&j| solid.edges[j].left == e.right || solid.edges[j].right == e.right),
+        ) else {
+            return Err(construction(WHAT, "a corner's edges do not meet its faces"));
+        };
+        let h = self.other_face(k_left, e.left);
+        let picked: Vec<usize> = [k_left, k_right]
+            .into_iter()
+            .filter(|j| self.rounds.contains_key(j))
+            .collect();
+        if picked.is_empty() {
+            return Ok(self.plane(h));
+        }
+        if picked.iter().any(|j| self.rounds[j].side != r.side) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the corner at {} joins a convex and a concave filleted edge; that vertex \
+                     blend is not built yet",
+                    point(solid.vertices[v])
+                ),
+            ));
+        }
+        // The corner ball's centre: on this fillet's axis, r from face h on the ball's side.
+        let (_, centre) = self.arc(k)?;
+        let radius = self.radius();
+        let hp = self.plane(h);
+        let centre = pierce(
+            Line {
+                origin: centre,
+                direction: r.t,
+            },
+            Plane {
+                normal: hp.normal,
+                offset: hp.offset + r.side * radius,
+            },
+        )
+        .ok_or_else(|| construction(WHAT, "a fillet runs parallel to the face it ends on"))?;
+        let toward = |j: usize| {
+            let d = solid.direction(j);
+            if solid.edges[j].b == v { d } else { -d }
+        };
+        let normal = if picked.len() == 2 {
+            toward(k)
+        } else {
+            toward(k) - toward(picked[0])
+        };
+        let normal = normal.normalize();
+        Ok(Plane {
+            normal,
+            offset: normal.dot(centre),
+        })
+    }
+
+    /// Edge `k`'s fillet: the cylinder of its arc along the edge, over the stretch between
+    /// its end planes, trimmed by their conics where they are not square to the edge.
+    fn fillet_face(&self, k: usize, ends: [Plane; 2]) -> Result<TrimmedSurface, GeometryError> {
+        let t = self.rounds[&k].t;
+        let (arc, at_a) = self.lambdas(k, ends[0])?;
+        let (_, at_b) = self.lambdas(k, ends[1])?;
+        let low = at_a.iter().copied().fold(f64::INFINITY, f64::min);
+        let high = at_b.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let length = high - low;
+        let e = self.solid.edges[k];
+        if !(length > self.tolerance) || at_a.iter().zip(&at_b).any(|(a, b)| a >= b) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the fillet is too large for the edge from {} to {}",
+                    point(self.solid.vertices[e.a]),
+                    point(self.solid.vertices[e.b])
+                ),
+            ));
+        }
+        let start = arc.map_points(|p| p + t * low)?;
+        let surface = extrude(&start, t * length)?;
+        let flat = |l: &[f64]| {
+            let (lo, hi) = l
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                    (lo.min(x), hi.max(x))
+                });
+            hi - lo <= 1e-12 * length.max(1.0)
+        };
+        if flat(&at_a) && flat(&at_b) {
+            return Ok(TrimmedSurface::untrimmed(surface));
+        }
+        let to_v = |l: &[f64]| l.iter().map(|x| (x - low) / length).collect::<Vec<f64>>();
+        let (va, vb) = (to_v(&at_a), to_v(&at_b));
+        let weights: Vec<f64> = (0..arc.count()).map(|i| arc.weight(i)).collect();
+        let bottom = graph_curve(arc.knots(), &weights, &va)?;
+        let top = graph_curve(arc.knots(), &weights, &vb)?;
+        let last = va.len() - 1;
+        let trim = vec![
+            bottom,
+            line(DVec2::new(1.0, va[last]), DVec2::new(1.0, vb[last]))?,
+            top.reverse(),
+            line(DVec2::new(0.0, vb[0]), DVec2::new(0.0, va[0]))?,
+        ];
+        TrimmedSurface::new(surface, vec![trim])
+    }
+}

@@ -1,0 +1,159 @@
+//! Shells of polyhedra (see the module documentation of [`super`]): the solid hollowed to a
+//! wall thickness, inward or outward, with chosen faces left open, and sharp walls where the
+//! offset faces meet (the intersection join).
+
+use glam::{DMat3, DVec3};
+
+use crate::boolean::{BooleanOp, boolean};
+use crate::construct::line;
+use crate::error::{GeometryError, construction};
+use crate::planar::planar_face;
+use crate::trim::TrimmedSurface;
+
+use super::polyhedron::Polyhedron;
+use super::rounds::facing;
+use super::{FeatureResult, WHAT, point};
+
+/// The polyhedron with each face `f`'s plane moved `distance(f)` along its outward normal and
+/// each corner where its faces' moved planes meet, as flat faces; refused where a corner's
+/// planes do not meet in one point or a face turns over (the offset is more than the body
+/// allows there).
+pub fn offset_polyhedron(
+    solid: &Polyhedron,
+    distance: impl Fn(usize) -> f64,
+    tolerance: f64,
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    let mut moved = Vec::with_capacity(solid.vertices.len());
+    for (v, &p) in solid.vertices.iter().enumerate() {
+        let mut faces: Vec<usize> = solid
+            .edges_at(v)
+            .into_iter()
+            .flat_map(|k| [solid.edges[k].left, solid.edges[k].right])
+            .collect();
+        faces.sort_unstable();
+        faces.dedup();
+        // Least squares over the moved planes, about the old corner: (Σ nnᵀ) x = Σ n (dᵢ),
+        // x the corner's move; exact where three planes meet.
+        let mut m = DMat3::ZERO;
+        let mut rhs = DVec3::ZERO;
+        for &f in &faces {
+            let n = solid.faces[f].normal;
+            m += DMat3::from_cols(n * n.x, n * n.y, n * n.z);
+            rhs += n * (distance(f) + solid.faces[f].offset - n.dot(p));
+        }
+        if m.determinant().abs() < 1e-12 {
+            return Err(construction(
+                WHAT,
+                format!("the faces at the corner {} do not fix a point", point(p)),
+            ));
+        }
+        let q = p + m.inverse() * rhs;
+        let off = faces
+            .iter()
+            .map(|&f| {
+                let facet = &solid.faces[f];
+                (facet.normal.dot(q) - facet.offset - distance(f)).abs()
+            })
+            .fold(0.0, f64::max);
+        if off > tolerance {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the {} faces at the corner {} do not meet in one point once moved; a shell \
+                     is built only where they do",
+                    faces.len(),
+                    point(p)
+                ),
+            ));
+        }
+        moved.push(q);
+    }
+    let mut out = Vec::with_capacity(solid.faces.len());
+    for (f, facet) in solid.faces.iter().enumerate() {
+        let mut boundary = Vec::new();
+        for ring in &facet.loops {
+            for i in 0..ring.len() {
+                let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                let (old, new) = (solid.vertices[b] - solid.vertices[a], moved[b] - moved[a]);
+                if new.dot(old) <= tolerance * old.length() {
+                    return Err(construction(
+                        WHAT,
+                        format!(
+                            "the wall is thicker than the body allows: the edge from {} to {} \
+                             of face {f} vanishes",
+                            point(solid.vertices[a]),
+                            point(solid.vertices[b])
+                        ),
+                    ));
+                }
+                boundary.push(line(moved[a], moved[b])?);
+            }
+        }
+        let face = planar_face(&boundary).map_err(|e| {
+            construction(
+                WHAT,
+                format!("the wall is thicker than the body allows at face {f} ({e})"),
+            )
+        })?;
+        let normal = facet.normal;
+        out.push(facing(face, |_| normal)?);
+    }
+    Ok(out)
+}
+
+/// The polyhedral solid `faces` hollowed to the wall thickness `thickness` (below 0 inward,
+/// above 0 outward), the faces nearest the points `open` removed, at `tolerance`.
+pub fn shell(
+    faces: &[TrimmedSurface],
+    thickness: f64,
+    open: &[DVec3],
+    tolerance: f64,
+) -> Result<FeatureResult, GeometryError> {
+    if !(thickness.is_finite() && thickness != 0.0) {
+        return Err(construction(
+            WHAT,
+            format!("the thickness must be a number other than 0, got {thickness}"),
+        ));
+    }
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(construction(
+            WHAT,
+            format!("the tolerance must be a number above 0, got {tolerance}"),
+        ));
+    }
+    let solid = Polyhedron::from_faces(faces, tolerance)?;
+    let mut opened = Vec::new();
+    for &p in open {
+        if !p.is_finite() {
+            return Err(construction(WHAT, "a picking point is not a finite number"));
+        }
+        opened.extend(solid.nearest_face(p));
+    }
+    opened.sort_unstable();
+    opened.dedup();
+    if opened.len() >= solid.faces.len() {
+        return Err(construction(WHAT, "a shell cannot leave every face open"));
+    }
+    let is_open = |f: usize| opened.contains(&f);
+    let t = thickness.abs();
+    let (outer, inner) = if thickness < 0.0 {
+        (
+            offset_polyhedron(&solid, |_| 0.0, tolerance)?,
+            offset_polyhedron(&solid, |f| if is_open(f) { t } else { -t }, tolerance)?,
+        )
+    } else {
+        (
+            offset_polyhedron(&solid, |f| if is_open(f) { 0.0 } else { t }, tolerance)?,
+            offset_polyhedron(&solid, |f| if is_open(f) { t } else { 0.0 }, tolerance)?,
+        )
+    };
+    let result = boolean(BooleanOp::Difference, &outer, &inner, tolerance)?;
+    if result.solids.is_empty() {
+        return Err(construction(WHAT, "the shell leaves nothing"));
+    }
+    Ok(FeatureResult {
+        faces: result.faces(),
+        topology: result.topology(),
+        picked: opened.len(),
+    })
+}

@@ -1,0 +1,359 @@
+//! Edge features against closed forms, in general position.
+
+use std::f64::consts::PI;
+
+use glam::{DAffine3, DVec2, DVec3};
+
+use super::*;
+use crate::construct::line;
+use crate::planar::planar_face;
+use crate::solids::{block, transformed};
+use crate::test_support::placement;
+
+/// The prism over the counter-clockwise polygon `base` (in the xy plane) of height `h`.
+fn prism(base: &[DVec2], h: f64) -> Vec<TrimmedSurface> {
+    let at = |p: DVec2, z: f64| DVec3::new(p.x, p.y, z);
+    let n = base.len();
+    let ring = |z: f64| -> Vec<_> {
+        (0..n)
+            .map(|i| line(at(base[i], z), at(base[(i + 1) % n], z)).unwrap())
+            .collect()
+    };
+    let mut faces = vec![
+        planar_face(&ring(0.0)).unwrap(),
+        planar_face(&ring(h)).unwrap(),
+    ];
+    for i in 0..n {
+        let (a, b) = (base[i], base[(i + 1) % n]);
+        faces.push(
+            planar_face(&[
+                line(at(a, 0.0), at(b, 0.0)).unwrap(),
+                line(at(b, 0.0), at(b, h)).unwrap(),
+                line(at(b, h), at(a, h)).unwrap(),
+                line(at(a, h), at(a, 0.0)).unwrap(),
+            ])
+            .unwrap(),
+        );
+    }
+    faces
+}
+
+fn placed(faces: Vec<TrimmedSurface>, motion: &DAffine3) -> Vec<TrimmedSurface> {
+    transformed(&faces, motion).unwrap()
+}
+
+fn assert_volume(result: &FeatureResult, expected: f64, what: &str) {
+    let v = result.volume().unwrap();
+    assert!(
+        (v - expected).abs() <= 1e-7 * expected,
+        "{what}: volume {v}, expected {expected} (off by {:.3e})",
+        v - expected
+    );
+}
+
+/// The box a × b × c with every edge filleted at r, spherical corners: the inner box grown by
+/// a ball (its faces, quarter cylinders along its edges, eighth balls at its corners).
+fn rounded_box(a: f64, b: f64, c: f64, r: f64) -> f64 {
+    let (x, y, z) = (a - 2.0 * r, b - 2.0 * r, c - 2.0 * r);
+    x * y * z
+        + 2.0 * r * (x * y + y * z + z * x)
+        + PI * r * r * (x + y + z)
+        + 4.0 * PI * r.powi(3) / 3.0
+}
+
+#[test]
+fn a_box_with_every_edge_filleted_has_the_closed_form_volume() {
+    for seed in 0..4 {
+        let (motion, s) = placement(700 + seed);
+        let (a, b, c, r) = (2.0, 1.5, 1.0, 0.1 + 0.08 * seed as f64);
+        let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+        let result = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Fillet { radius: r * s },
+            1e-7 * s,
+        )
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!(result.faces.len(), 6 + 12 + 8);
+        assert_volume(
+            &result,
+            rounded_box(a, b, c, r) * s.powi(3),
+            &format!("seed {seed}"),
+        );
+    }
+}
+
+#[test]
+fn one_box_edge_filleted_or_chamfered_takes_its_corner_prism() {
+    for seed in 0..3 {
+        let (motion, s) = placement(710 + seed);
+        let (a, b, c, r) = (2.0, 1.5, 1.0, 0.3);
+        let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+        // The edge along x at y = b, z = c.
+        let near = motion.transform_point3(DVec3::new(1.0, b, c));
+        let pick = EdgePick::Near(vec![near]);
+        let fillet = round_edges(
+            &body,
+            &pick,
+            EdgeFeature::Fillet { radius: r * s },
+            1e-7 * s,
+        )
+        .unwrap();
+        let want = (a * b * c - (1.0 - PI / 4.0) * r * r * a) * s.powi(3);
+        assert_volume(&fillet, want, "fillet");
+        let chamfer = round_edges(
+            &body,
+            &pick,
+            EdgeFeature::Chamfer {
+                distance: r * s,
+                other: 0.5 * r * s,
+            },
+            1e-7 * s,
+        )
+        .unwrap();
+        assert_volume(
+            &chamfer,
+            (a * b * c - 0.25 * r * r * a) * s.powi(3),
+            "chamfer",
+        );
+    }
+}
+
+#[test]
+fn two_box_edges_meet_in_a_mitre() {
+    // The top edges along x at y = b and along y at x = a: the fillets meet in the bisecting
+    // plane; the vertical edge between them keeps its sharp corner below the mitre.
+    let (motion, s) = placement(720);
+    let (a, b, c, r) = (2.0, 1.5, 1.0, 0.3);
+    let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+    let pick = EdgePick::Near(vec![
+        motion.transform_point3(DVec3::new(1.0, b, c)),
+        motion.transform_point3(DVec3::new(a, 0.7, c)),
+    ]);
+    let result = round_edges(
+        &body,
+        &pick,
+        EdgeFeature::Fillet { radius: r * s },
+        1e-7 * s,
+    )
+    .unwrap();
+    // Each edge's corner prism over its whole length; the two overlap in the corner cube r³
+    // where the removed region is where either of the cylinders' corner regions lies: the
+    // square less the quarter disc along x, and along y; their union within the cube is the
+    // cube less the intersection of the two quarter cylinders (the Steinmetz solid's eighth
+    // ... 2r³/3 of the bicylinder's 16r³/3 lies in one octant: 16r³/3 / 8).
+    let removed_x = (1.0 - PI / 4.0) * r * r * a;
+    let removed_y = (1.0 - PI / 4.0) * r * r * b;
+    let overlap = r.powi(3) - 2.0 * (PI / 4.0) * r.powi(3) + (2.0 / 3.0) * r.powi(3);
+    let want = (a * b * c - removed_x - removed_y + overlap) * s.powi(3);
+    assert_volume(&result, want, "mitre");
+}
+
+#[test]
+fn a_chamfered_box_has_the_closed_form_volume() {
+    for seed in 0..3 {
+        let (motion, s) = placement(730 + seed);
+        let (a, b, c, d) = (2.0, 1.5, 1.0, 0.2);
+        let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+        let result = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Chamfer {
+                distance: d * s,
+                other: d * s,
+            },
+            1e-7 * s,
+        )
+        .unwrap();
+        assert_eq!(result.faces.len(), 6 + 12 + 8);
+        // Each edge's triangular prism between the corner cubes, and in each corner cube the
+        // part of u + v + w < 2d (from the corner): (2d)³/6 less three d³/6.
+        let removed = 2.0 * d * d * (a + b + c) - 12.0 * d.powi(3) + 8.0 * (5.0 / 6.0) * d.powi(3);
+        assert_volume(
+            &result,
+            (a * b * c - removed) * s.powi(3),
+            &format!("seed {seed}"),
+        );
+    }
+}
+
+#[test]
+fn a_concave_edge_is_filled_by_its_fillet() {
+    // An L-shaped prism: its one concave edge (the inner corner at (1, 1)) filleted adds the
+    // square less the quarter disc along the height.
+    let l = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(2.0, 0.0),
+        DVec2::new(2.0, 1.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(1.0, 2.0),
+        DVec2::new(0.0, 2.0),
+    ];
+    let (h, r) = (0.7, 0.25);
+    for seed in 0..3 {
+        let (motion, s) = placement(740 + seed);
+        let body = placed(prism(&l, h), &motion);
+        let pick = EdgePick::Near(vec![motion.transform_point3(DVec3::new(1.0, 1.0, 0.3))]);
+        let fillet = round_edges(
+            &body,
+            &pick,
+            EdgeFeature::Fillet { radius: r * s },
+            1e-7 * s,
+        )
+        .unwrap();
+        assert_volume(
+            &fillet,
+            (3.0 * h + (1.0 - PI / 4.0) * r * r * h) * s.powi(3),
+            "fillet",
+        );
+        let chamfer = round_edges(
+            &body,
+            &pick,
+            EdgeFeature::Chamfer {
+                distance: r * s,
+                other: r * s,
+            },
+            1e-7 * s,
+        )
+        .unwrap();
+        assert_volume(&chamfer, (3.0 * h + 0.5 * r * r * h) * s.powi(3), "chamfer");
+    }
+}
+
+#[test]
+fn a_prism_with_every_edge_filleted_is_its_inner_prism_grown_by_a_ball() {
+    // A convex pentagonal prism: the rounded solid is the Minkowski sum of the prism moved in
+    // by r with a ball, V + A·r + (perimeters' edges)·πr²/4 ... by Steiner's formula:
+    // V(K + rB) = V + S r + M r² + 4πr³/3, with M = Σ edges' length × exterior angle / 2.
+    let pentagon: Vec<DVec2> = (0..5)
+        .map(|i| {
+            let t = 2.0 * PI * i as f64 / 5.0 + 0.3;
+            DVec2::new(t.cos(), t.sin()) * (1.0 + 0.2 * (i % 2) as f64)
+        })
+        .collect();
+    let (h, r) = (1.2, 0.1);
+    let (motion, s) = placement(750);
+    let body = placed(prism(&pentagon, h), &motion);
+    let result = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        1e-7 * s,
+    )
+    .unwrap();
+    // The inner prism: each side line moved in by r.
+    let n = pentagon.len();
+    let lines: Vec<(DVec2, DVec2)> = (0..n)
+        .map(|i| {
+            let (a, b) = (pentagon[i], pentagon[(i + 1) % n]);
+            let d = (b - a).normalize();
+            (a + DVec2::new(-d.y, d.x) * r, d)
+        })
+        .collect();
+    let inner: Vec<DVec2> = (0..n)
+        .map(|i| {
+            let (p, d) = lines[(i + n - 1) % n];
+            let (q, e) = lines[i];
+            let t = (q - p).perp_dot(e) / d.perp_dot(e);
+            p + d * t
+        })
+        .collect();
+    let area = (0..n)
+        .map(|i| inner[i].perp_dot(inner[(i + 1) % n]))
+        .sum::<f64>()
+        / 2.0;
+    let perimeter = (0..n)
+        .map(|i| inner[i].distance(inner[(i + 1) % n]))
+        .sum::<f64>();
+    let hi = h - 2.0 * r;
+    let volume = area * hi;
+    let surface = 2.0 * area + perimeter * hi;
+    // Mean width term: vertical edges turn by 2π in all, the 2n cap edges by π/2 each.
+    let m = 0.5 * (2.0 * PI * hi + 2.0 * perimeter * PI / 2.0);
+    let want = volume + surface * r + m * r * r + 4.0 * PI * r.powi(3) / 3.0;
+    assert_volume(&result, want * s.powi(3), "pentagonal prism");
+}
+
+#[test]
+fn a_shelled_box_has_the_closed_form_volume() {
+    for seed in 0..2 {
+        let (motion, s) = placement(760 + seed);
+        let (a, b, c, t) = (2.0, 1.5, 1.0, 0.1);
+        let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+        let top = motion.transform_point3(DVec3::new(1.0, 0.7, c));
+        let tol = 1e-7 * s;
+        let s3 = s.powi(3);
+        let cases = [
+            (
+                -t,
+                vec![],
+                a * b * c - (a - 2.0 * t) * (b - 2.0 * t) * (c - 2.0 * t),
+            ),
+            (
+                -t,
+                vec![top],
+                a * b * c - (a - 2.0 * t) * (b - 2.0 * t) * (c - t),
+            ),
+            (
+                t,
+                vec![],
+                (a + 2.0 * t) * (b + 2.0 * t) * (c + 2.0 * t) - a * b * c,
+            ),
+            (
+                t,
+                vec![top],
+                (a + 2.0 * t) * (b + 2.0 * t) * (c + t) - a * b * c,
+            ),
+        ];
+        for (thickness, open, want) in cases {
+            let result = shell(&body, thickness * s, &open, tol)
+                .unwrap_or_else(|e| panic!("seed {seed} {thickness} {}: {e}", open.len()));
+            assert_volume(
+                &result,
+                want * s3,
+                &format!("seed {seed} {thickness} {}", open.len()),
+            );
+        }
+    }
+}
+
+#[test]
+fn features_that_cannot_be_built_are_refused_with_the_reason() {
+    let body = block(DVec3::ZERO, DVec3::ONE).unwrap();
+    let too_large = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: 0.6 },
+        1e-7,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(too_large.contains("too large"), "{too_large}");
+    for bad in [0.0, -1.0, f64::NAN] {
+        assert!(
+            round_edges(
+                &body,
+                &EdgePick::All,
+                EdgeFeature::Fillet { radius: bad },
+                1e-7
+            )
+            .is_err()
+        );
+        assert!(shell(&body, bad, &[], 1e-7).is_err() || bad < 0.0);
+    }
+    let thick = shell(&body, -0.6, &[], 1e-7).unwrap_err().to_string();
+    assert!(thick.contains("thicker"), "{thick}");
+    let ball = crate::solids::ball(DVec3::ZERO, 1.0).unwrap();
+    let curved = round_edges(
+        &ball,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: 0.1 },
+        1e-7,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        curved.contains("curved") || curved.contains("flat"),
+        "{curved}"
+    );
+}
