@@ -73,6 +73,41 @@ fn main() -> std::process::ExitCode {
         }) => {
             return cli::boolean((*operation).into(), a, b, output, *tolerance);
         }
+        Some(cli::Command::FilletEdges {
+            input,
+            output,
+            radius,
+            near,
+        }) => {
+            return cli::feature(
+                cli::Feature::Fillet { radius: *radius },
+                input,
+                near,
+                output,
+            );
+        }
+        Some(cli::Command::ChamferEdges {
+            input,
+            output,
+            distance,
+            near,
+        }) => {
+            let feature = cli::Feature::Chamfer {
+                distance: *distance,
+            };
+            return cli::feature(feature, input, near, output);
+        }
+        Some(cli::Command::Shell {
+            input,
+            output,
+            thickness,
+            open,
+        }) => {
+            let feature = cli::Feature::Shell {
+                thickness: *thickness,
+            };
+            return cli::feature(feature, input, open, output);
+        }
         Some(cli::Command::Join {
             project,
             tolerance,

@@ -13,7 +13,7 @@ use super::*;
 
 /// The closed bodies of the file at `path` (its objects with faces), each one's faces; an
 /// open body is refused by name.
-fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), String> {
+pub(super) fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), String> {
     let project = open_project(path)?;
     let mut bodies = Vec::new();
     for object in &project.scene.objects {
@@ -37,7 +37,7 @@ fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), String> {
     Ok((project.scene, bodies))
 }
 
-fn diagonal(bodies: &[Body]) -> f64 {
+pub(super) fn diagonal(bodies: &[Body]) -> f64 {
     let (lo, hi) = bodies
         .iter()
         .flat_map(|b| &b.faces)
@@ -101,31 +101,21 @@ pub fn boolean(
                 }
             ));
         }
-        let mut scene = Scene {
-            unit: scene_a.unit,
-            ..Scene::default()
-        };
-        scene.objects.clear();
         let mut volume = 0.0;
         let mut faces = 0;
+        let mut solids = Vec::new();
         for (k, solid) in result.solids.iter().enumerate() {
             let all = solid.faces();
             faces += all.len();
             volume += solid.volume().map_err(|e| e.to_string())?;
-            let p = Polysurface::with_topology(all, tolerance * 10.0, solid.topology.clone())
-                .map_err(|e| e.to_string())?;
-            scene.objects.push(SceneObject::new(
+            solids.push((
                 format!("{} {}", op.name(), k + 1),
-                ObjectGeometry::new(p),
+                all,
+                solid.topology.clone(),
             ));
         }
         let at = std::time::Instant::now();
-        let name = output.to_string_lossy();
-        let step_tolerance = knotwork::io::step::default_tolerance(&scene);
-        let written = knotwork::io::step::export_scene(&scene, &name, step_tolerance)
-            .map_err(|e| e.to_string())?;
-        std::fs::write(output, written.text)
-            .map_err(|e| format!("cannot write {}: {e}", output.display()))?;
+        let left_out = write_solids(scene_a.unit, solids, tolerance, output)?;
         let write_ms = at.elapsed().as_secs_f64() * 1e3;
         Ok(serde_json::json!({
             "operation": op.name(),
@@ -138,8 +128,37 @@ pub fn boolean(
             "read_ms": read_ms,
             "boolean_ms": boolean_ms,
             "write_ms": write_ms,
-            "left_out": written.left_out,
+            "left_out": left_out,
         }))
     };
     finish("boolean", run())
+}
+
+/// Writes the named solids (each its faces and their shared edges, joined within ten times
+/// `tolerance`) to the STEP file `output` in `unit`; returns what the writer left out.
+pub(super) fn write_solids(
+    unit: Option<knotwork::kernel::format::LengthUnit>,
+    solids: Vec<(String, Vec<TrimmedSurface>, Topology)>,
+    tolerance: f64,
+    output: &std::path::Path,
+) -> Result<serde_json::Value, String> {
+    let mut scene = Scene {
+        unit,
+        ..Scene::default()
+    };
+    scene.objects.clear();
+    for (name, faces, topology) in solids {
+        let p = Polysurface::with_topology(faces, tolerance * 10.0, topology)
+            .map_err(|e| e.to_string())?;
+        scene
+            .objects
+            .push(SceneObject::new(name, ObjectGeometry::new(p)));
+    }
+    let name = output.to_string_lossy();
+    let step_tolerance = knotwork::io::step::default_tolerance(&scene);
+    let written = knotwork::io::step::export_scene(&scene, &name, step_tolerance)
+        .map_err(|e| e.to_string())?;
+    std::fs::write(output, written.text)
+        .map_err(|e| format!("cannot write {}: {e}", output.display()))?;
+    Ok(serde_json::json!(written.left_out))
 }

@@ -14,6 +14,7 @@ mod continuity;
 mod edges;
 mod eval;
 mod export;
+mod features;
 mod fillet;
 mod info;
 mod intersect;
@@ -29,6 +30,7 @@ pub use self::continuity::continuity;
 pub use self::edges::{EdgeArgs, blend, match_edge};
 pub use self::eval::eval;
 pub use self::export::{ExportArgs, export};
+pub use self::features::{Feature, feature};
 pub use self::fillet::{FilletArgs, fillet};
 pub use self::info::info;
 pub use self::intersect::intersect;
@@ -366,6 +368,54 @@ pub enum Command {
         /// Distances below this are one (model units); 1e-6 of the inputs' size by default.
         #[arg(long)]
         tolerance: Option<f64>,
+    },
+    /// Fillet a solid's edges with a rolling ball: each --near point picks the one edge
+    /// nearest it; with none, every edge. Writes the solids to OUTPUT as STEP and prints the
+    /// result's faces and volume as JSON; a fillet that cannot be built exits 1 with the
+    /// reason.
+    FilletEdges {
+        /// The file (STEP, a project, or anything knotwork opens).
+        input: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The ball's radius (model units).
+        #[arg(long, allow_negative_numbers = true)]
+        radius: f64,
+        /// A point X,Y,Z near an edge to fillet (repeatable).
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        near: Vec<String>,
+    },
+    /// Chamfer a solid's edges, set back the distance on both faces; --near as for
+    /// fillet-edges.
+    ChamferEdges {
+        /// The file (STEP, a project, or anything knotwork opens).
+        input: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The set-back on each face (model units).
+        #[arg(long, allow_negative_numbers = true)]
+        distance: f64,
+        /// A point X,Y,Z near an edge to chamfer (repeatable).
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        near: Vec<String>,
+    },
+    /// Hollow a solid to a wall thickness: below 0 the wall lies inside the solid, above 0
+    /// outside it; each --open point removes the face nearest it. Sharp walls where the
+    /// offset faces meet.
+    Shell {
+        /// The file (STEP, a project, or anything knotwork opens).
+        input: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The wall thickness (model units; the sign picks the side).
+        #[arg(long, allow_negative_numbers = true)]
+        thickness: f64,
+        /// A point X,Y,Z near a face to leave open (repeatable).
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        open: Vec<String>,
     },
     /// Join the surfaces that share edges into polysurfaces: writes the project with them
     /// joined and prints each polysurface's faces, shared and naked edges as JSON. Its

@@ -17,6 +17,7 @@ mod desktop_app;
 mod displacement;
 mod doc_commands;
 mod editor_ui;
+mod features;
 mod file_format;
 mod fuzz_regressions;
 mod gltf_export;

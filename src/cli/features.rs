@@ -1,0 +1,156 @@
+//! `knotwork fillet-edges`, `chamfer-edges` and `shell`: edge and face features of a file's
+//! solids ([`knotwork::kernel::features`]), written as STEP solids.
+
+use std::process::ExitCode;
+
+use glam::DVec3;
+use knotwork::kernel::features::{
+    EdgeFeature, EdgePick, FeatureResult, Polyhedron, round_edges, shell as shell_solid,
+};
+
+use super::boolean::{diagonal, solids_of, write_solids};
+use super::finish;
+
+/// A point given as "X,Y,Z".
+pub fn parse_point(text: &str) -> Result<DVec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y, z] = parts[..] else {
+        return Err(format!("{text:?} is not a point X,Y,Z"));
+    };
+    let number = |s: &str| -> Result<f64, String> {
+        s.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{text:?}: {s:?} is not a finite number"))
+    };
+    Ok(DVec3::new(number(x)?, number(y)?, number(z)?))
+}
+
+/// What one of the three commands makes.
+pub enum Feature {
+    Fillet { radius: f64 },
+    Chamfer { distance: f64 },
+    Shell { thickness: f64 },
+}
+
+impl Feature {
+    fn command(&self) -> &'static str {
+        match self {
+            Feature::Fillet { .. } => "fillet-edges",
+            Feature::Chamfer { .. } => "chamfer-edges",
+            Feature::Shell { .. } => "shell",
+        }
+    }
+}
+
+/// Runs the feature on every solid of `input` (with `points`, each point goes to the solid
+/// with the edge or face nearest it, and solids without one are written unchanged) and
+/// writes the solids to `output`; prints the solids, faces, volume and timings as JSON.
+pub fn feature(
+    feature: Feature,
+    input: &std::path::Path,
+    points: &[String],
+    output: &std::path::Path,
+) -> ExitCode {
+    let command = feature.command();
+    let run = || -> Result<serde_json::Value, String> {
+        let points = points
+            .iter()
+            .map(|p| parse_point(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        let started = std::time::Instant::now();
+        let (scene, bodies) = solids_of(input)?;
+        let read_ms = started.elapsed().as_secs_f64() * 1e3;
+        let tolerance = 1e-6 * diagonal(&bodies);
+        // Each point to the body nearest it.
+        let mut mine: Vec<Vec<DVec3>> = vec![Vec::new(); bodies.len()];
+        if bodies.len() == 1 {
+            mine[0] = points.clone();
+        } else {
+            let solids: Vec<Option<Polyhedron>> = bodies
+                .iter()
+                .map(|b| Polyhedron::from_faces(&b.faces, tolerance).ok())
+                .collect();
+            for &p in &points {
+                let distance = |s: &Option<Polyhedron>| {
+                    s.as_ref().map_or(f64::INFINITY, |s| match feature {
+                        Feature::Shell { .. } => s
+                            .nearest_face(p)
+                            .map_or(f64::INFINITY, |f| s.face_distance(f, p)),
+                        _ => s
+                            .nearest_edge(p)
+                            .map_or(f64::INFINITY, |k| s.edge_distance(k, p)),
+                    })
+                };
+                let best = (0..bodies.len())
+                    .min_by(|&i, &j| distance(&solids[i]).total_cmp(&distance(&solids[j])))
+                    .unwrap_or(0);
+                mine[best].push(p);
+            }
+        }
+        let at = std::time::Instant::now();
+        let mut solids = Vec::new();
+        let (mut volume, mut faces, mut picked) = (0.0, 0, 0);
+        for (k, (body, mine)) in bodies.into_iter().zip(mine).enumerate() {
+            let name = format!("{command} {}", k + 1);
+            let skip = !points.is_empty() && mine.is_empty();
+            let result = if skip {
+                let topology = body.topology.clone().unwrap_or_default();
+                FeatureResult {
+                    faces: body.faces,
+                    topology,
+                    picked: 0,
+                }
+            } else {
+                let pick = if mine.is_empty() {
+                    EdgePick::All
+                } else {
+                    EdgePick::Near(mine.clone())
+                };
+                match feature {
+                    Feature::Fillet { radius } => round_edges(
+                        &body.faces,
+                        &pick,
+                        EdgeFeature::Fillet { radius },
+                        tolerance,
+                    ),
+                    Feature::Chamfer { distance } => round_edges(
+                        &body.faces,
+                        &pick,
+                        EdgeFeature::Chamfer {
+                            distance,
+                            other: distance,
+                        },
+                        tolerance,
+                    ),
+                    Feature::Shell { thickness } => {
+                        shell_solid(&body.faces, thickness, &mine, tolerance)
+                    }
+                }
+                .map_err(|e| e.to_string())?
+            };
+            volume += result.volume().map_err(|e| e.to_string())?;
+            faces += result.faces.len();
+            picked += result.picked;
+            solids.push((name, result.faces, result.topology));
+        }
+        let feature_ms = at.elapsed().as_secs_f64() * 1e3;
+        let count = solids.len();
+        let at = std::time::Instant::now();
+        let left_out = write_solids(scene.unit, solids, tolerance, output)?;
+        let write_ms = at.elapsed().as_secs_f64() * 1e3;
+        Ok(serde_json::json!({
+            "operation": command,
+            "solids": count,
+            "faces": faces,
+            "picked": picked,
+            "volume": volume,
+            "tolerance": tolerance,
+            "read_ms": read_ms,
+            "feature_ms": feature_ms,
+            "write_ms": write_ms,
+            "left_out": left_out,
+        }))
+    };
+    finish(command, run())
+}

@@ -1,0 +1,204 @@
+"""Writes edge-feature fixtures: random solids in general position (boxes, convex prisms,
+L-shaped prisms, cylinders), every one in inputs.step (one solid per case, in order), and
+OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet), a chamfer
+(BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection join; with
+no face removed it gives the offset solid alone, and the closed hollow is that offset inside
+the solid) of each in occt-features.jsonl: the feature, its value, the points that pick its
+edges (edge midpoints) or the faces left open (face centroids), and the result's volume and
+area (BRepGProp). A case is kept only where OpenCASCADE's result is valid
+(BRepCheck_Analyzer).
+
+    python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
+    /tmp/ocpenv/bin/python tests/reference/features/make_fixtures.py
+"""
+import json
+import math
+import os
+import random
+import sys
+
+from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakePolygon, BRepBuilderAPI_MakeFace,
+                                BRepBuilderAPI_Transform)
+from OCP.BRepCheck import BRepCheck_Analyzer
+from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer, BRepFilletAPI_MakeFillet
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepOffset import BRepOffset_Skin
+from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
+from OCP.GeomAbs import GeomAbs_Intersection
+from OCP.GProp import GProp_GProps
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS
+from OCP.OCP.collections import List_TopoDS_Shape as TopTools_ListOfShape
+from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "boolean"))
+from occ_shapes import compound, volume, write_step  # noqa: E402
+
+HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
+CASES = int(os.environ.get("CASES", "48"))
+SEED = int(os.environ.get("SEED", "59"))
+KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder").split(",")
+
+
+def area(shape):
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, props)
+    return props.Mass()
+
+
+def centroid(shape):
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, props)
+    c = props.CentreOfMass()
+    return [c.X(), c.Y(), c.Z()]
+
+
+def shapes_of(shape, kind):
+    out = []
+    explorer = TopExp_Explorer(shape, kind)
+    while explorer.More():
+        s = explorer.Current()
+        if not any(s.IsSame(o) for o in out):
+            out.append(s)
+        explorer.Next()
+    return out
+
+
+def edge_middle(edge):
+    props = GProp_GProps()
+    BRepGProp.LinearProperties_s(edge, props)
+    c = props.CentreOfMass()
+    return [c.X(), c.Y(), c.Z()]
+
+
+def edge_direction(edge):
+    """The unit vector from the edge's first vertex to its last."""
+    from OCP.BRep import BRep_Tool
+    from OCP.TopExp import TopExp
+    a = BRep_Tool.Pnt_s(TopExp.FirstVertex_s(TopoDS.Edge(edge)))
+    b = BRep_Tool.Pnt_s(TopExp.LastVertex_s(TopoDS.Edge(edge)))
+    return gp_Vec(a, b).Normalized()
+
+
+def prism(points, h):
+    """The prism over the polygon `points` (xy, counter-clockwise) of height h."""
+    poly = BRepBuilderAPI_MakePolygon()
+    for x, y in points:
+        poly.Add(gp_Pnt(x, y, 0))
+    poly.Close()
+    face = BRepBuilderAPI_MakeFace(poly.Wire()).Face()
+    return BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, h)).Shape()
+
+
+def solid(rng, kind):
+    """A solid of `kind` near the origin and its smallest feature size."""
+    if kind == "box":
+        d = [rng.uniform(3, 10) for _ in range(3)]
+        return BRepPrimAPI_MakeBox(gp_Pnt(-d[0] / 2, -d[1] / 2, -d[2] / 2), *d).Shape(), min(d), None
+    if kind == "prism":
+        n = rng.randint(3, 7)
+        angles = sorted(rng.uniform(0, 2 * math.pi) for _ in range(n))
+        # Corners apart by at least a fifth of the even spacing, so no edge is tiny.
+        angles = [2 * math.pi * (k + rng.uniform(-0.3, 0.3)) / n for k in range(n)]
+        r, h = rng.uniform(3, 6), rng.uniform(3, 8)
+        pts = [(r * math.cos(a), r * math.sin(a)) for a in angles]
+        side = min(math.dist(pts[k], pts[(k + 1) % n]) for k in range(n))
+        return prism(pts, h), min(side, h), None
+    if kind == "ell":
+        a, b, w = rng.uniform(5, 9), rng.uniform(5, 9), rng.uniform(2, 3.5)
+        h = rng.uniform(2, 6)
+        pts = [(0, 0), (a, 0), (a, w), (w, w), (w, b), (0, b)]
+        return prism(pts, h), min(w, h), (w, w, h / 2)
+    r, h = rng.uniform(2, 5), rng.uniform(3, 10)
+    return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -h / 2), gp_Dir(0, 0, 1)), r, h).Shape(), min(r, h), None
+
+
+def placed(shape, rng):
+    """The shape turned about a random axis and moved at random, and the motion."""
+    axis = [rng.gauss(0, 1) for _ in range(3)]
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(*axis)), rng.uniform(0, 2 * math.pi))
+    s = gp_Trsf()
+    s.SetTranslation(gp_Vec(*[rng.uniform(-50, 50) for _ in range(3)]))
+    motion = s.Multiplied(t)
+    return BRepBuilderAPI_Transform(shape, motion, True).Shape(), motion
+
+
+def case(rng):
+    kind = rng.choice(KINDS)
+    shape, size, marker = solid(rng, kind)
+    shape, motion = placed(shape, rng)
+    edges = shapes_of(shape, TopAbs_EDGE)
+    faces = shapes_of(shape, TopAbs_FACE)
+    feature = rng.choice(["fillet", "chamfer", "shell"])
+    row = {"kind": kind, "feature": feature, "near": [], "open": []}
+    if feature in ("fillet", "chamfer"):
+        if kind == "ell":
+            # The concave edge alone.
+            p = gp_Pnt(*marker).Transformed(motion)
+            chosen = [min(edges, key=lambda e: math.dist(edge_middle(e), [p.X(), p.Y(), p.Z()]))]
+        elif kind == "prism" and feature == "chamfer":
+            # The upright edges or the caps' edges: where three chamfers meet at a corner whose
+            # faces are not square, OpenCASCADE closes some corners with the flat triangle
+            # through the faces' corners and others otherwise.
+            upright = rng.random() < 0.5
+            axis = gp_Vec(0, 0, 1).Transformed(motion)
+            chosen = [e for e in edges if (abs(edge_direction(e).Dot(axis)) > 0.5) == upright]
+        elif kind == "box" and rng.random() < 0.5:
+            chosen = rng.sample(edges, rng.randint(1, len(edges)))
+        elif kind == "cylinder":
+            chosen = rng.sample(edges, rng.randint(1, len(edges)))
+        else:
+            chosen = edges
+        if len(chosen) < len(edges):
+            row["near"] = [edge_middle(e) for e in chosen]
+        value = rng.uniform(0.05, 0.3) * size
+        maker = BRepFilletAPI_MakeFillet(shape) if feature == "fillet" else BRepFilletAPI_MakeChamfer(shape)
+        for e in chosen:
+            maker.Add(value, TopoDS.Edge(e))
+        result = maker.Shape()
+    else:
+        value = rng.choice([-1, 1]) * rng.uniform(0.05, 0.2) * size
+        removed = TopTools_ListOfShape()
+        if rng.random() < 0.6:
+            f = rng.choice(faces)
+            removed.Append(f)
+            row["open"] = [centroid(f)]
+        maker = BRepOffsetAPI_MakeThickSolid()
+        maker.MakeThickSolidByJoin(shape, removed, value, 1e-7, BRepOffset_Skin, False, False,
+                                   GeomAbs_Intersection)
+        result = maker.Shape()
+    row["value"] = value
+    if not BRepCheck_Analyzer(result).IsValid():
+        return None
+    row["volume"] = volume(result)
+    row["area"] = area(result)
+    if feature == "shell" and not row["open"]:
+        # With no face removed, OpenCASCADE gives the offset solid alone; the closed hollow
+        # is the solid and that offset, one inside the other.
+        row["volume"] = abs(abs(row["volume"]) - volume(shape))
+        row["area"] += area(shape)
+    return shape, row
+
+
+rng = random.Random(SEED)
+inputs, rows = [], []
+while len(rows) < CASES:
+    try:
+        made = case(rng)
+    except Exception as e:  # OpenCASCADE could not build it
+        if os.environ.get("SHOW"):
+            print("refused:", e, file=sys.stderr)
+        made = None
+    if made is None:
+        continue
+    shape, row = made
+    inputs.append(shape)
+    rows.append({"case": len(rows), **row})
+
+write_step(compound(inputs), os.path.join(HERE, "inputs.step"))
+with open(os.path.join(HERE, "occt-features.jsonl"), "w") as out:
+    for row in rows:
+        out.write(json.dumps(row) + "\n")
