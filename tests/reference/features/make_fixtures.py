@@ -3,10 +3,10 @@ L-shaped prisms, cylinders), every one in inputs.step (one solid per case, in or
 OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet), a chamfer
 (BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection join; with
 no face removed it gives the offset solid alone, and the closed hollow is that offset inside
-the solid) of each in occt-features.jsonl: the feature, its value, the points that pick its
-edges (edge midpoints) or the faces left open (face centroids), and the result's volume and
-area (BRepGProp). A case is kept only where OpenCASCADE's result is valid
-(BRepCheck_Analyzer).
+the solid) of each in occt-features.jsonl: the feature, its value, the points that pick
+its edges (edge midpoints) or the faces left open (points on the faces near their centroids),
+and the result's volume and area (BRepGProp). A case is kept only where OpenCASCADE's result
+is valid (BRepCheck_Analyzer).
 
     python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
     /tmp/ocpenv/bin/python tests/reference/features/make_fixtures.py
@@ -53,6 +53,31 @@ def centroid(shape):
     BRepGProp.SurfaceProperties_s(shape, props)
     c = props.CentreOfMass()
     return [c.X(), c.Y(), c.Z()]
+
+
+def point_on(face):
+    """A point of the face near its centroid (the centroid of an L-shaped face lies outside
+    it): the inside sample of a grid over its (u, v) bounds nearest the centroid."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepClass import BRepClass_FaceClassifier
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_IN
+    from OCP.gp import gp_Pnt2d
+    f = TopoDS.Face(face)
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(f)
+    surface = BRep_Tool.Surface_s(f)
+    c = centroid(face)
+    best = None
+    for i in range(1, 24):
+        for j in range(1, 24):
+            u, v = u0 + (u1 - u0) * i / 24, v0 + (v1 - v0) * j / 24
+            if BRepClass_FaceClassifier(f, gp_Pnt2d(u, v), 1e-9).State() != TopAbs_IN:
+                continue
+            p = surface.Value(u, v)
+            p = [p.X(), p.Y(), p.Z()]
+            if best is None or math.dist(p, c) < math.dist(best, c):
+                best = p
+    return best
 
 
 def shapes_of(shape, kind):
@@ -149,7 +174,13 @@ def case(rng):
         elif kind == "box" and rng.random() < 0.5:
             chosen = rng.sample(edges, rng.randint(1, len(edges)))
         elif kind == "cylinder":
-            chosen = rng.sample(edges, rng.randint(1, len(edges)))
+            # The rims (not the seam, which OpenCASCADE leaves alone).
+            from OCP.BRepAdaptor import BRepAdaptor_Curve
+            from OCP.GeomAbs import GeomAbs_Circle
+            rims = [e for e in edges if BRepAdaptor_Curve(TopoDS.Edge(e)).GetType() == GeomAbs_Circle]
+            chosen = rng.sample(rims, rng.randint(1, len(rims)))
+            if len(chosen) == len(rims):
+                edges = rims
         else:
             chosen = edges
         if len(chosen) < len(edges):
@@ -162,10 +193,17 @@ def case(rng):
     else:
         value = rng.choice([-1, 1]) * rng.uniform(0.05, 0.2) * size
         removed = TopTools_ListOfShape()
+        if kind == "ell":
+            # Not a face along the concave edge: OpenCASCADE's thick solid is wrong there (the
+            # solid itself, or a wall missing, where the closed form says otherwise).
+            p = gp_Pnt(*marker).Transformed(motion)
+            p = [p.X(), p.Y(), p.Z()]
+            faces = [f for f in faces
+                     if min(math.dist(edge_middle(e), p) for e in shapes_of(f, TopAbs_EDGE)) > 1e-6]
         if rng.random() < 0.6:
             f = rng.choice(faces)
             removed.Append(f)
-            row["open"] = [centroid(f)]
+            row["open"] = [point_on(f)]
         maker = BRepOffsetAPI_MakeThickSolid()
         maker.MakeThickSolidByJoin(shape, removed, value, 1e-7, BRepOffset_Skin, False, False,
                                    GeomAbs_Intersection)

@@ -30,6 +30,7 @@
 //! thicker than the body) is refused with the edge, corner or face and the reason.
 
 pub mod polyhedron;
+pub mod revolved;
 pub mod rounds;
 pub mod shell;
 

@@ -378,6 +378,9 @@ pub fn round_edges(
             format!("the tolerance must be a number above 0, got {tolerance}"),
         ));
     }
+    if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
+        return super::revolved::round_revolved(faces, pick, feature, tolerance, what);
+    }
     let solid = Polyhedron::from_faces(faces, tolerance)?;
     let picked = picked_edges(&solid, pick)?;
     let mut rounds = HashMap::new();

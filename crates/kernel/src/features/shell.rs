@@ -121,6 +121,11 @@ pub fn shell(
             format!("the tolerance must be a number above 0, got {tolerance}"),
         ));
     }
+    if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
+        let (outer, inner, picked) =
+            super::revolved::shell_revolved(faces, thickness, open, tolerance)?;
+        return hollow(&outer, &inner, tolerance, picked);
+    }
     let solid = Polyhedron::from_faces(faces, tolerance)?;
     let mut opened = Vec::new();
     for &p in open {
@@ -147,13 +152,23 @@ pub fn shell(
             offset_polyhedron(&solid, |f| if is_open(f) { t } else { 0.0 }, tolerance)?,
         )
     };
-    let result = boolean(BooleanOp::Difference, &outer, &inner, tolerance)?;
+    hollow(&outer, &inner, tolerance, opened.len())
+}
+
+/// `outer` less `inner`: the shell's last step.
+fn hollow(
+    outer: &[TrimmedSurface],
+    inner: &[TrimmedSurface],
+    tolerance: f64,
+    picked: usize,
+) -> Result<FeatureResult, GeometryError> {
+    let result = boolean(BooleanOp::Difference, outer, inner, tolerance)?;
     if result.solids.is_empty() {
         return Err(construction(WHAT, "the shell leaves nothing"));
     }
     Ok(FeatureResult {
         faces: result.faces(),
         topology: result.topology(),
-        picked: opened.len(),
+        picked,
     })
 }

@@ -357,3 +357,81 @@ fn features_that_cannot_be_built_are_refused_with_the_reason() {
         "{curved}"
     );
 }
+
+#[test]
+fn a_cylinders_rims_round_to_tori_and_cut_to_cones() {
+    use crate::solids::capped_cylinder;
+    for seed in 0..3 {
+        let (motion, s) = placement(770 + seed);
+        let (radius, h, r) = (1.5, 2.0, 0.3);
+        let body = placed(
+            capped_cylinder(DVec3::ZERO, DVec3::Z * h, radius).unwrap(),
+            &motion,
+        );
+        let tol = 1e-7 * s;
+        let s3 = s.powi(3);
+        let cylinder = PI * radius * radius * h;
+        // Pappus: the corner region less the quarter disc, about the axis.
+        let spandrel = 2.0 * PI * ((radius - r) * (1.0 - PI / 4.0) * r * r + r.powi(3) / 6.0);
+        let fillet = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Fillet { radius: r * s },
+            tol,
+        )
+        .unwrap();
+        assert_volume(&fillet, (cylinder - 2.0 * spandrel) * s3, "fillet");
+        let top = motion.transform_point3(DVec3::new(radius, 0.0, h));
+        let one = round_edges(
+            &body,
+            &EdgePick::Near(vec![top]),
+            EdgeFeature::Fillet { radius: r * s },
+            tol,
+        )
+        .unwrap();
+        assert_volume(&one, (cylinder - spandrel) * s3, "one rim");
+        let cone = 2.0 * PI * (radius - r / 3.0) * r * r / 2.0;
+        let chamfer = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Chamfer {
+                distance: r * s,
+                other: r * s,
+            },
+            tol,
+        )
+        .unwrap();
+        assert_volume(&chamfer, (cylinder - 2.0 * cone) * s3, "chamfer");
+        let t = 0.2;
+        let closed = shell(&body, -t * s, &[], tol).unwrap();
+        assert_volume(
+            &closed,
+            (cylinder - PI * (radius - t).powi(2) * (h - 2.0 * t)) * s3,
+            "closed shell",
+        );
+        let cup = shell(
+            &body,
+            -t * s,
+            &[motion.transform_point3(DVec3::new(0.3, 0.2, h))],
+            tol,
+        )
+        .unwrap();
+        assert_volume(
+            &cup,
+            (cylinder - PI * (radius - t).powi(2) * (h - t)) * s3,
+            "cup",
+        );
+        let outer = shell(
+            &body,
+            t * s,
+            &[motion.transform_point3(DVec3::new(0.3, 0.2, h))],
+            tol,
+        )
+        .unwrap();
+        assert_volume(
+            &outer,
+            (PI * (radius + t).powi(2) * (h + t) - cylinder) * s3,
+            "outward cup",
+        );
+    }
+}
