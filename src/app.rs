@@ -309,6 +309,11 @@ pub struct KnotworkApp {
     surface_tools: surface_tools::SurfaceToolState,
     /// Whether the Operations panel's operations keep their history.
     operations_keep_history: bool,
+    /// The radius, distance or wall thickness the Features row makes (0: not set yet, a
+    /// fiftieth of the scene's size).
+    feature_size: f64,
+    /// A feature's value being dragged or typed in the Features row, until it is let go.
+    feature_edit: Option<f64>,
     /// The trim control point being dragged in the (u, v) panel.
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
@@ -425,6 +430,8 @@ impl KnotworkApp {
             curves: curves::CurveState::default(),
             surface_tools: surface_tools::SurfaceToolState::default(),
             operations_keep_history: true,
+            feature_size: 0.0,
+            feature_edit: None,
             trim_handle: None,
             snap: false,
             snap_step: 0.25,

@@ -63,8 +63,11 @@ impl KnotworkApp {
             ))
         })
         .collect();
+        let features = self.features_row(ui, &selection);
         if offered.is_empty() && booleans.is_empty() {
-            ui.weak("none applies to the selection");
+            if !features {
+                ui.weak("none applies to the selection");
+            }
             return;
         }
         ui.checkbox(&mut self.operations_keep_history, "Keep history")
@@ -99,6 +102,111 @@ impl KnotworkApp {
                 keep_history: self.operations_keep_history,
             });
         }
+    }
+
+    /// The Features row, for a selected closed body: a size and the buttons that fillet or
+    /// chamfer every edge with it or shell the body to it (inward); and for a fillet, chamfer
+    /// or shell made with history, its value, which edits it in place (one undo step). False
+    /// where neither applies.
+    fn features_row(&mut self, ui: &mut egui::Ui, selection: &[usize]) -> bool {
+        use crate::ops::features::{ChamferEdges, FilletEdges, Shell};
+        let Some(&k) = selection.first() else {
+            return false;
+        };
+        let Some(object) = self.scene().objects.get(k) else {
+            return false;
+        };
+        let recipe = object.recipe.clone();
+        let closed = object.body().is_some_and(|b| b.closed());
+        let mut command = None;
+        // A feature's value, edited in place when the drag or the typing ends.
+        if let Some(recipe) = &recipe {
+            let operation = &recipe.operation;
+            let editing = &mut self.feature_edit;
+            let edited = if let Some(p) = operation.params::<FilletEdges>() {
+                let mut p = p.clone();
+                value_row(ui, "Fillet radius", &mut p.radius, editing).then(|| Operation::new(p))
+            } else if let Some(p) = operation.params::<ChamferEdges>() {
+                let mut p = p.clone();
+                value_row(ui, "Chamfer distance", &mut p.distance, editing)
+                    .then(|| Operation::new(p))
+            } else if let Some(p) = operation.params::<Shell>() {
+                let mut p = p.clone();
+                value_row(ui, "Shell thickness", &mut p.thickness, editing)
+                    .then(|| Operation::new(p))
+            } else {
+                None
+            };
+            if let Some(operation) = edited {
+                command = Some(Command::EditRecipe {
+                    object: k,
+                    operation,
+                });
+            }
+        }
+        if closed {
+            if !(self.feature_size > 0.0) {
+                self.feature_size = 0.02 * crate::doc::surface_ops::scene_size(self.scene());
+            }
+            let size = self.feature_size;
+            let keep = self.operations_keep_history;
+            ui.horizontal_wrapped(|ui| {
+                ui.label("Features:");
+                ui.add(
+                    egui::DragValue::new(&mut self.feature_size)
+                        .speed(0.01 * size)
+                        .range(1e-9..=f64::MAX),
+                )
+                .on_hover_text("the radius, chamfer distance or wall thickness");
+                let apply = |operation| Command::Apply {
+                    operation,
+                    keep_history: keep,
+                };
+                let object = k.into();
+                if ui
+                    .button("Fillet edges")
+                    .on_hover_text("round every edge with a rolling ball of this radius")
+                    .clicked()
+                {
+                    command = Some(apply(Operation::new(FilletEdges {
+                        object,
+                        radius: size,
+                        near: Vec::new(),
+                        tolerance: crate::ops::features::FEATURE_TOLERANCE,
+                    })));
+                }
+                if ui
+                    .button("Chamfer edges")
+                    .on_hover_text("cut every edge back this far on both faces")
+                    .clicked()
+                {
+                    command = Some(apply(Operation::new(ChamferEdges {
+                        object,
+                        distance: size,
+                        other: None,
+                        near: Vec::new(),
+                        tolerance: crate::ops::features::FEATURE_TOLERANCE,
+                    })));
+                }
+                if ui
+                    .button("Shell")
+                    .on_hover_text("hollow the body to this wall thickness, inside it")
+                    .clicked()
+                {
+                    command = Some(apply(Operation::new(Shell {
+                        object,
+                        thickness: -size,
+                        open: Vec::new(),
+                        tolerance: crate::ops::features::FEATURE_TOLERANCE,
+                    })));
+                }
+            });
+        }
+        let shown = closed || recipe.is_some();
+        if let Some(command) = command {
+            self.execute(command);
+        }
+        shown
     }
 
     /// Starts the boolean `params` a step at a time ([`RunningBoolean`]): as much as
@@ -214,4 +322,32 @@ pub struct RunningBoolean {
     keep_history: bool,
     prepared: crate::doc::surface_ops::PreparedBoolean,
     budget: FrameBudget,
+}
+
+/// A labelled value of a feature made with history, `editing` the value being dragged or
+/// typed (kept between frames); true, with `value` the new one, when the drag or the typing
+/// ends on a change.
+fn value_row(ui: &mut egui::Ui, label: &str, value: &mut f64, editing: &mut Option<f64>) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        let mut shown = editing.unwrap_or(*value);
+        let speed = 0.01 * shown.abs().max(1e-6);
+        let response = ui.add(egui::DragValue::new(&mut shown).speed(speed));
+        if response.changed() {
+            *editing = Some(shown);
+        }
+        let done = response.drag_stopped() || response.lost_focus();
+        match editing.take() {
+            Some(v) if done => {
+                let changed = v != *value;
+                *value = v;
+                changed
+            }
+            other => {
+                *editing = other;
+                false
+            }
+        }
+    })
+    .inner
 }

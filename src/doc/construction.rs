@@ -146,7 +146,9 @@ pub(super) fn follow(
     for change in changes.iter_mut() {
         match change {
             Change::Replace { before, after, .. }
-                if after.has_history() && before.geometry != after.geometry =>
+                if after.has_history()
+                    && before.geometry != after.geometry
+                    && !matches!(command, Command::EditRecipe { .. }) =>
             {
                 after.recipe = None;
             }

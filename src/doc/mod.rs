@@ -172,6 +172,13 @@ pub enum Command {
         operation: crate::scene::operation::Operation,
         keep_history: bool,
     },
+    /// Changes the operation an object with history was made by (a fillet's radius, a
+    /// shell's thickness: the same operation with other values) and makes the object again,
+    /// with what follows it, as one undo step.
+    EditRecipe {
+        object: usize,
+        operation: crate::scene::operation::Operation,
+    },
 }
 
 /// An edit of a curve object ([`Command::EditCurve`]).
@@ -345,6 +352,7 @@ impl Command {
             Command::Trim { edit, .. } => edit.label(),
             Command::BreakHistory { .. } => "break history".into(),
             Command::Apply { operation, .. } => operation.label(),
+            Command::EditRecipe { operation, .. } => format!("edit {}", operation.label()),
             Command::EditCurve { edit, .. } => match edit {
                 CurveEdit::Close => "close curve".into(),
                 CurveEdit::Open => "open curve".into(),

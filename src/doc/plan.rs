@@ -65,6 +65,48 @@ pub(super) fn plan(scene: &Scene, command: &Command) -> Result<(Vec<Change>, Str
             return super::construction::plan_operation(scene, operation, *keep_history)
                 .map(|(planned, _)| planned);
         }
+        Command::EditRecipe { object, operation } => {
+            let target = object_at(scene, *object)?;
+            let Some(recipe) = &target.recipe else {
+                return Err(geometry_error(target)(GeometryError::Construction {
+                    what: "edit history",
+                    message: "it has no construction history".into(),
+                }));
+            };
+            if recipe.operation.name() != operation.name() {
+                return Err(EditError::BadParameter {
+                    operation: operation.name(),
+                    field: "op",
+                    message: format!(
+                        "{} was made by {}, not {}",
+                        target.name,
+                        recipe.operation.name(),
+                        operation.name()
+                    ),
+                });
+            }
+            let mut after = target.clone();
+            after.recipe = Some(crate::scene::operation::Recipe {
+                operation: operation.by_id(scene)?,
+                output: recipe.output,
+            });
+            let remade = super::construction::rebuilt(&after, scene)
+                .map_err(|message| {
+                    geometry_error(target)(GeometryError::Construction {
+                        what: "edit history",
+                        message,
+                    })
+                })?
+                .unwrap_or(after);
+            return Ok((
+                vec![Change::Replace {
+                    index: *object,
+                    before: target.clone(),
+                    after: remade,
+                }],
+                command.label(),
+            ));
+        }
         Command::BreakHistory { object } => {
             let target = object_at(scene, *object)?;
             if !target.has_history() {

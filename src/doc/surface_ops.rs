@@ -1654,3 +1654,89 @@ pub(crate) fn boolean(
     );
     Ok((changes, label))
 }
+
+/// A fillet, chamfer or shell of a closed body ([`crate::kernel::features`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolidFeature {
+    /// Rolling-ball fillets of this radius on the edges picked.
+    Fillet { radius: f64 },
+    /// Chamfers set back `distance` on one face and `other` on the other.
+    Chamfer { distance: f64, other: f64 },
+    /// Hollowed to this wall thickness (below 0 inward), the faces picked left open.
+    Shell { thickness: f64 },
+}
+
+impl SolidFeature {
+    /// The name the result and the undo step take.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolidFeature::Fillet { .. } => "fillet",
+            SolidFeature::Chamfer { .. } => "chamfer",
+            SolidFeature::Shell { .. } => "shell",
+        }
+    }
+}
+
+/// `feature` made of the closed body `object`: each of `points` picks the edge (or, for a
+/// shell, the face) nearest it, none every edge (no face); the result a new polysurface
+/// "NAME fillet" (chamfer, shell), the body hidden, at `tolerance` (a fraction of the
+/// scene's size); and what it took and enclosed. Refused, changing nothing, for an object
+/// that is not a closed body or a feature the kernel cannot build (the reason names the
+/// edge or face).
+pub(crate) fn solid_feature(
+    scene: &Scene,
+    object: usize,
+    feature: SolidFeature,
+    points: &[glam::DVec3],
+    tolerance: f64,
+) -> Result<(Planned, crate::kernel::features::FeatureResult), EditError> {
+    use crate::kernel::features::{EdgeFeature, EdgePick, round_edges, shell};
+    let what = feature.name();
+    let ([faces, _], _) = closed_bodies(scene, what, [&[object], &[]])?;
+    let target = object_at(scene, object)?;
+    let size = scene_size(scene);
+    let pick = if points.is_empty() {
+        EdgePick::All
+    } else {
+        EdgePick::Near(points.to_vec())
+    };
+    let made = match feature {
+        SolidFeature::Fillet { radius } => round_edges(
+            &faces,
+            &pick,
+            EdgeFeature::Fillet { radius },
+            tolerance * size,
+        ),
+        SolidFeature::Chamfer { distance, other } => round_edges(
+            &faces,
+            &pick,
+            EdgeFeature::Chamfer { distance, other },
+            tolerance * size,
+        ),
+        SolidFeature::Shell { thickness } => shell(&faces, thickness, points, tolerance * size),
+    }
+    .map_err(geometry_error(target))?;
+    let polysurface = Polysurface::with_topology(
+        made.faces.clone(),
+        tolerance * size * 10.0,
+        made.topology.clone(),
+    )
+    .map_err(geometry_error(target))?;
+    let mut changes = hidden(scene, &[object]);
+    let name = format!("{} {what}", target.name);
+    changes.extend(insert_objects(
+        scene,
+        &name,
+        [ObjectGeometry::new(polysurface)],
+    ));
+    let label = match feature {
+        SolidFeature::Shell { .. } => format!("shell of {}", target.name),
+        _ => format!(
+            "{what} of {} edge{} of {}",
+            made.picked,
+            if made.picked == 1 { "" } else { "s" },
+            target.name
+        ),
+    };
+    Ok(((changes, label), made))
+}

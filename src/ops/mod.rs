@@ -13,6 +13,7 @@ pub mod boolean;
 pub mod construct;
 pub mod contour;
 pub mod explode;
+pub mod features;
 pub mod fillet;
 pub mod intersect;
 pub mod join;
@@ -27,7 +28,7 @@ use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 14] = [
+pub const BUILT_IN: [OperationEntry; 17] = [
     construct::ENTRY,
     transform::ENTRY,
     offset::ENTRY,
@@ -42,6 +43,9 @@ pub const BUILT_IN: [OperationEntry; 14] = [
     split::ENTRY,
     project::ENTRY,
     boolean::ENTRY,
+    features::FILLET_ENTRY,
+    features::CHAMFER_ENTRY,
+    features::SHELL_ENTRY,
 ];
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.

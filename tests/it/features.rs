@@ -121,3 +121,307 @@ fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
         failures.join("\n")
     );
 }
+
+/// The command line's contract: `fillet-edges`, `chamfer-edges` and `shell` write a STEP
+/// file whose solid OpenCASCADE's volume matches (read back by knotwork), and exit 1 with
+/// the reason where the feature cannot be built.
+#[test]
+fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
+    let dir = std::env::temp_dir().join(format!("knotwork-features-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    // A 4 × 3 × 2 box written as STEP.
+    let box_faces =
+        knotwork::kernel::solids::block(DVec3::new(1.0, -2.0, 0.5), DVec3::new(4.0, 3.0, 2.0))
+            .expect("a block");
+    let input = dir.join("box.step");
+    let topology = knotwork::kernel::join::find_topology(&box_faces, 1e-9).expect("joined");
+    let mut scene = knotwork::scene::Scene::default();
+    scene.objects.clear();
+    scene.objects.push(knotwork::scene::SceneObject::new(
+        "box",
+        knotwork::scene::ObjectGeometry::new(
+            knotwork::scene::polysurface::Polysurface::with_topology(box_faces, 1e-8, topology)
+                .expect("a polysurface"),
+        ),
+    ));
+    let written = knotwork::io::step::export_scene(&scene, "box", 1e-9).expect("STEP");
+    std::fs::write(&input, written.text).expect("written");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .args(args)
+            .output()
+            .expect("the binary runs")
+    };
+    let volume_of = |path: &std::path::Path| -> f64 {
+        let bytes = std::fs::read(path).expect("the output");
+        let bodies = knotwork::io::step::read::read(&bytes, &mut |_, _| true)
+            .expect("STEP")
+            .bodies;
+        bodies
+            .iter()
+            .map(|b| knotwork::kernel::mass::signed_volume(&b.faces).expect("a volume"))
+            .sum()
+    };
+    let out = dir.join("out.step");
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let r: f64 = 0.3;
+    let pi = std::f64::consts::PI;
+    let rounded = 3.4 * 2.4 * 1.4
+        + 2.0 * r * (3.4 * 2.4 + 2.4 * 1.4 + 1.4 * 3.4)
+        + pi * r * r * (3.4 + 2.4 + 1.4)
+        + 4.0 * pi * r.powi(3) / 3.0;
+    let cases: [(&[&str], f64); 4] = [
+        (&["fillet-edges", i, "-o", o, "--radius", "0.3"], rounded),
+        // The edge along x at y = 1, z = 2.5 (picked by its middle); then with the edge along
+        // y at x = 5, the two chamfers meet in a mitre: the two corner prisms less their
+        // common part at the corner, D³/3.
+        (
+            &[
+                "fillet-edges",
+                i,
+                "-o",
+                o,
+                "--radius",
+                "0.3",
+                "--near",
+                "3,1,2.5",
+            ],
+            24.0 - (1.0 - pi / 4.0) * 0.09 * 4.0,
+        ),
+        (
+            &[
+                "chamfer-edges",
+                i,
+                "-o",
+                o,
+                "--distance",
+                "0.2",
+                "--near",
+                "3,1,2.5",
+                "--near",
+                "5,-0.5,2.5",
+            ],
+            24.0 - 0.02 * 7.0 + 0.008 / 3.0,
+        ),
+        (
+            &[
+                "shell",
+                i,
+                "-o",
+                o,
+                "--thickness",
+                "-0.25",
+                "--open",
+                "3,-0.5,2.5",
+            ],
+            24.0 - 3.5 * 2.5 * 1.75,
+        ),
+    ];
+    for (args, want) in cases {
+        let output = run(args);
+        assert!(
+            output.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+        let printed = json["volume"].as_f64().expect("a volume");
+        let read = volume_of(&out);
+        assert!(
+            (printed - want).abs() < 1e-6 * want,
+            "{args:?}: {printed} against {want}"
+        );
+        assert!(
+            (read - printed).abs() < 1e-6 * printed,
+            "{args:?}: read back {read}, printed {printed}"
+        );
+    }
+    // Too large a radius, a bad number, a missing file: exit 1 with the reason, nothing written.
+    std::fs::remove_file(&out).ok();
+    for (args, says) in [
+        (
+            &["fillet-edges", i, "-o", o, "--radius", "1.5"][..],
+            "too large",
+        ),
+        (
+            &["chamfer-edges", i, "-o", o, "--distance", "-1"][..],
+            "above 0",
+        ),
+        (&["shell", i, "-o", o, "--thickness", "-1.2"][..], "thicker"),
+        (
+            &[
+                "fillet-edges",
+                i,
+                "-o",
+                o,
+                "--radius",
+                "0.1",
+                "--near",
+                "1,2",
+            ][..],
+            "X,Y,Z",
+        ),
+        (
+            &["shell", "no-such-file.step", "-o", o, "--thickness", "0.1"][..],
+            "no-such-file",
+        ),
+    ] {
+        let output = run(args);
+        assert_eq!(output.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} wrote a file");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+mod in_the_document {
+    use glam::{DAffine3, DVec3};
+    use knotwork::doc::{Command, Document};
+    use knotwork::ops::features::{FilletEdges, Shell};
+    use knotwork::ops::transform::Transform;
+    use knotwork::scene::operation::Operation;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
+
+    use crate::common::box_of_planes;
+
+    fn volume(object: &SceneObject) -> f64 {
+        let faces = object.body().expect("a body").faces;
+        knotwork::kernel::mass::signed_volume(&faces).expect("a volume")
+    }
+
+    /// The rounded 2 × 1 × 1.5 box at radius r.
+    fn rounded(r: f64) -> f64 {
+        let pi = std::f64::consts::PI;
+        let (x, y, z) = (2.0 - 2.0 * r, 1.0 - 2.0 * r, 1.5 - 2.0 * r);
+        x * y * z
+            + 2.0 * r * (x * y + y * z + z * x)
+            + pi * r * r * (x + y + z)
+            + 4.0 * pi * r.powi(3) / 3.0
+    }
+
+    #[test]
+    fn a_fillet_with_history_follows_its_body_edits_in_place_and_undoes() {
+        let mut scene = Scene::default();
+        scene.objects.clear();
+        scene.objects.push(SceneObject::new(
+            "A",
+            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
+        ));
+        let mut doc = Document::new(scene);
+        let original = doc.scene.clone();
+        let fillet = FilletEdges {
+            object: 0.into(),
+            radius: 0.1,
+            near: Vec::new(),
+            tolerance: 1e-6,
+        };
+        doc.execute(&Command::Apply {
+            operation: Operation::new(fillet.clone()),
+            keep_history: true,
+        })
+        .expect("the fillet");
+        assert_eq!(doc.scene.objects.len(), 2);
+        assert!(!doc.scene.objects[0].visible);
+        assert_eq!(doc.scene.objects[1].name, "A fillet");
+        assert!((volume(&doc.scene.objects[1]) - rounded(0.1)).abs() < 1e-9);
+        // Moving the body moves the fillet.
+        doc.execute(&Command::operation(Transform::new(
+            0,
+            &DAffine3::from_translation(DVec3::X),
+        )))
+        .expect("the move");
+        let (lo, _) = doc.scene.objects[1]
+            .body()
+            .unwrap()
+            .faces
+            .iter()
+            .map(|f| f.surface().bounds())
+            .fold(
+                (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+            );
+        assert!((lo.x - 1.0).abs() < 1e-9, "{lo}");
+        // The radius edited in place: one undo step, the history kept.
+        let depth = doc.history.undo_depth();
+        let bigger = FilletEdges {
+            radius: 0.2,
+            ..fillet
+        };
+        let recipe = doc.scene.objects[1].recipe.clone().expect("history");
+        let mut edited = recipe
+            .operation
+            .params::<FilletEdges>()
+            .expect("a fillet")
+            .clone();
+        edited.radius = bigger.radius;
+        doc.execute(&Command::EditRecipe {
+            object: 1,
+            operation: Operation::new(edited),
+        })
+        .expect("the edit");
+        assert_eq!(doc.history.undo_depth(), depth + 1);
+        assert!(doc.scene.objects[1].recipe.is_some());
+        assert!((volume(&doc.scene.objects[1]) - rounded(0.2)).abs() < 1e-9);
+        // Too large a radius is refused, changing nothing.
+        let before = doc.scene.clone();
+        let mut huge = recipe.operation.params::<FilletEdges>().unwrap().clone();
+        huge.radius = 0.6;
+        let e = doc
+            .execute(&Command::EditRecipe {
+                object: 1,
+                operation: Operation::new(huge),
+            })
+            .unwrap_err();
+        assert!(e.to_string().contains("too large"), "{e}");
+        assert_eq!(doc.scene, before);
+        // A shell is refused on an object that is not a closed body.
+        let e = doc
+            .execute(&Command::operation(Shell {
+                object: 0.into(),
+                thickness: f64::NAN,
+                open: Vec::new(),
+                tolerance: 1e-6,
+            }))
+            .unwrap_err();
+        assert!(e.to_string().contains("thickness"), "{e}");
+        doc.undo().unwrap();
+        doc.undo().unwrap();
+        doc.undo().unwrap();
+        assert_eq!(doc.scene, original, "undo takes every step back");
+    }
+
+    #[test]
+    fn the_page_reads_each_feature_by_name() {
+        for (value, name) in [
+            (
+                serde_json::json!({"op": "fillet_edges", "object": 0, "radius": 0.1}),
+                "fillet_edges",
+            ),
+            (
+                serde_json::json!({"op": "chamfer_edges", "object": 0, "distance": 0.1, "near": [[1.0, 0.0, 0.0]]}),
+                "chamfer_edges",
+            ),
+            (
+                serde_json::json!({"op": "shell", "object": 0, "thickness": -0.1, "open": [[1.0, 0.5, 1.5]]}),
+                "shell",
+            ),
+        ] {
+            let operation = knotwork::ops::from_value("$", value).expect("read");
+            assert_eq!(operation.name(), name);
+            let mut scene = Scene::default();
+            scene.objects.clear();
+            scene.objects.push(SceneObject::new(
+                "A",
+                ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
+            ));
+            let mut doc = Document::new(scene);
+            doc.execute(&Command::Apply {
+                operation,
+                keep_history: false,
+            })
+            .expect("applied");
+            assert!(doc.scene.objects[1].body().unwrap().closed());
+        }
+    }
+}
