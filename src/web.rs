@@ -489,6 +489,20 @@ pub fn apply(operation: String, keep_history: bool) -> Result<(), String> {
     Ok(())
 }
 
+/// Edits the operation object `object` was made by with history: `operation` is the same
+/// operation with other values, as `apply` takes it (`{"op": "fillet_edges", "object": 0,
+/// "radius": 0.2}`, objects by index); the object is made again in place, with what follows
+/// it, as one undo step. A refusal says why in the status and changes nothing.
+#[wasm_bindgen]
+pub fn edit_history(object: u32, operation: String) -> Result<(), String> {
+    let operation = crate::ops::parse(&operation).map_err(|e| format!("editHistory: {e}"))?;
+    send(AppCommand::Edit(Command::EditRecipe {
+        object: object as usize,
+        operation,
+    }));
+    Ok(())
+}
+
 /// Adds the curves where objects `a` and `b` meet as curve objects (one undo step); objects
 /// that do not meet are refused in the status.
 #[wasm_bindgen]

@@ -1693,6 +1693,69 @@ async function main() {
       await page.close();
     });
 
+    await check('edge features in the page: a box joined into a body, every edge filleted with history, drawn on the GPU, printed with the rounded box\'s volume; the radius edited in place, a shell, undo back', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      const [x0, y0, z0, x1, y1, z1] = [-1, -0.5, 0, 1, 0.5, 1.5];
+      await openObjects(page, [
+        plane('bottom', [[[x0, y0, z0], [x0, y1, z0]], [[x1, y0, z0], [x1, y1, z0]]]),
+        plane('top', [[[x0, y0, z1], [x0, y1, z1]], [[x1, y0, z1], [x1, y1, z1]]]),
+        plane('front', [[[x0, y0, z0], [x0, y0, z1]], [[x1, y0, z0], [x1, y0, z1]]]),
+        plane('back', [[[x0, y1, z0], [x0, y1, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+        plane('left', [[[x0, y0, z0], [x0, y0, z1]], [[x0, y1, z0], [x0, y1, z1]]]),
+        plane('right', [[[x1, y0, z0], [x1, y0, z1]], [[x1, y1, z0], [x1, y1, z1]]]),
+      ]);
+      await page.evaluate(() => window.knotwork.join([]));
+      await page.waitForFunction(() => window.knotwork.status().objects === 1, null, { timeout: 60_000 });
+      await page.evaluate(() => window.knotwork.frame());
+      await nextFrames(page);
+      const before = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.filletEdges(0, 0.2, { keepHistory: true }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 2, null, { timeout: 60_000 });
+      let s = await status(page);
+      assert(s.error === null && /fillet of 12 edges/.test(s.last_edit), `fillet: ${s.error}, ${s.last_edit}`);
+      let objects = (await page.evaluate(() => window.knotwork.project())).objects;
+      assert(!objects[0].visible && objects[1].type === 'polysurface' && objects[1].faces.length === 26, `the rounded box: ${objects[1].type}, ${objects[1].faces?.length} faces`);
+      await nextFrames(page);
+      const rounded = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/fillet-edges.png`, rounded);
+      const shown = await screenshotDifference(page, before, rounded, { x: 200, y: 100, width: 1000, height: 600 }, 24);
+      assert(shown.differing > 100, `the fillets show on screen (${shown.differing} px)`);
+      // The rounded 2 × 1 × 1.5 box at r: the inner box grown by a ball.
+      const volumeAt = (r) => {
+        const [a, b, c] = [2 - 2 * r, 1 - 2 * r, 1.5 - 2 * r];
+        return a * b * c + 2 * r * (a * b + b * c + c * a) + Math.PI * r * r * (a + b + c) + 4 * Math.PI * r ** 3 / 3;
+      };
+      // The printed mesh's chords lie inside the curved faces: its volume a little below.
+      const near = (mesh, exact) => mesh <= exact + 1e-9 && exact - mesh < 4e-3 * exact;
+      await installPageHelpers(page);
+      let printed = await page.evaluate(async () => window.__stlVolume(await window.knotwork.exportStl()));
+      assert(near(printed.volume, volumeAt(0.2)), `exportStl volume ${printed.volume} against ${volumeAt(0.2)}`);
+      // The radius edited in place: one undo step, the history kept.
+      await page.evaluate(() => window.knotwork.editHistory(1, { op: 'fillet_edges', object: 0, radius: 0.3 }));
+      await page.waitForFunction(() => /edit fillet/.test(window.knotwork.status().last_edit ?? ''), null, { timeout: 60_000 });
+      printed = await page.evaluate(async () => window.__stlVolume(await window.knotwork.exportStl()));
+      assert(near(printed.volume, volumeAt(0.3)), `edited: volume ${printed.volume} against ${volumeAt(0.3)}`);
+      // Too large a radius is refused, naming the edge; a bad value throws.
+      await page.evaluate(() => window.knotwork.editHistory(1, { op: 'fillet_edges', object: 0, radius: 0.6 }));
+      await page.waitForFunction(() => window.knotwork.status().error !== null, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(/too large/.test(s.error) && s.objects === 2, `refused: ${s.error}`);
+      let thrown = null;
+      try { await page.evaluate(() => window.knotwork.filletEdges(0, 'big')); } catch (e) { thrown = String(e); }
+      assert(thrown !== null && /radius/.test(thrown), `a bad radius throws: ${thrown}`);
+      // A shell of the box with its top open.
+      await page.evaluate(() => window.knotwork.shell(0, -0.1, { open: [[0, 0, 1.5]] }));
+      await page.waitForFunction(() => window.knotwork.status().objects === 3, null, { timeout: 60_000 });
+      printed = await page.evaluate(async () => window.__stlVolume(await window.knotwork.exportStl()));
+      assert(near(printed.volume, volumeAt(0.3) + 3 - 1.8 * 0.8 * 1.4), `shell: volume ${printed.volume}`);
+      for (let k = 0; k < 3; k += 1) await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().objects === 1, null, { timeout: 60_000 });
+      console.log(`      edge features: 26 faces drawn, printed volume ${volumeAt(0.3).toFixed(6)} after the edit`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
     await check('a long boolean in the page: the plate minus its 144 pins (145 bodies from two STEP files) runs over frames with progress and Cancel, the page drawing meanwhile; run to its end, 150 faces whose STL holds OpenCASCADE\'s volume', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
