@@ -435,3 +435,87 @@ fn a_cylinders_rims_round_to_tori_and_cut_to_cones() {
         );
     }
 }
+
+/// Each curved face of `result` meets a neighbour tangentially along its domain's sides (its
+/// boundary, for the untrimmed fillets and corners; seams and poles left out): at 9 points of
+/// each side, some other face passes within the tolerance with its normal within 0.1° of this
+/// face's.
+fn assert_tangent(result: &FeatureResult, tolerance: f64, what: &str) {
+    let faces = &result.faces;
+    let mut checked = 0;
+    for (k, face) in faces.iter().enumerate() {
+        let s = face.surface();
+        if s.plane(tolerance).is_some() || face.is_trimmed() {
+            continue;
+        }
+        let [(u0, u1), (v0, v1)] = s.domain();
+        for i in 0..=8 {
+            let t = i as f64 / 8.0;
+            for (u, v) in [
+                (u0, v0 + (v1 - v0) * t),
+                (u1, v0 + (v1 - v0) * t),
+                (u0 + (u1 - u0) * t, v0),
+                (u0 + (u1 - u0) * t, v1),
+            ] {
+                let Ok(n) = s.normal(u, v) else { continue };
+                let p = s.point_at(u, v).unwrap();
+                // A seam (the side meets the opposite one) or a pole meets the face itself.
+                let across = [(u0 + u1 - u, v), (u, v0 + v1 - v), (u0, v), (u, v0)];
+                if across.iter().filter(|&&(a, b)| (a, b) != (u, v)).any(|&(a, b)| {
+                    s.point_at(a, b).unwrap().distance(p) <= tolerance
+                }) {
+                    continue;
+                }
+                let best = faces
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != k)
+                    .filter_map(|(_, other)| {
+                        let c = other.surface().closest_point(p).ok()?;
+                        (c.distance <= 10.0 * tolerance).then(|| {
+                            let m = other.surface().normal(c.u, c.v).ok()?;
+                            Some(n.angle_between(m).to_degrees())
+                        })?
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    best < 0.1,
+                    "{what}: face {k} at {p} meets its neighbour at {best}°"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 0, "{what}: nothing checked");
+}
+
+#[test]
+fn fillets_meet_their_neighbours_tangentially() {
+    use crate::solids::capped_cylinder;
+    let (motion, s) = placement(780);
+    let tol = 1e-7 * s;
+    let boxed = placed(
+        block(DVec3::ZERO, DVec3::new(2.0, 1.5, 1.0)).unwrap(),
+        &motion,
+    );
+    let rounded = round_edges(
+        &boxed,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: 0.2 * s },
+        tol,
+    )
+    .unwrap();
+    assert_tangent(&rounded, tol, "box");
+    let cylinder = placed(
+        capped_cylinder(DVec3::ZERO, DVec3::Z * 2.0, 1.0).unwrap(),
+        &motion,
+    );
+    let rims = round_edges(
+        &cylinder,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: 0.2 * s },
+        tol,
+    )
+    .unwrap();
+    assert_tangent(&rims, tol, "cylinder");
+}
