@@ -400,7 +400,7 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 19] = [
+pub const GROUPS: [&str; 20] = [
     "edit",
     "webgl2",
     "frame",
@@ -419,6 +419,7 @@ pub const GROUPS: [&str; 19] = [
     "step",
     "mass",
     "boolean",
+    "features",
     "all",
 ];
 
@@ -487,6 +488,9 @@ pub fn run(
     }
     if wants("boolean") {
         bench_boolean(iterations, out)?;
+    }
+    if wants("features") {
+        bench_features(iterations, out)?;
     }
     Ok(())
 }
@@ -2453,6 +2457,108 @@ fn bench_boolean(
     writeln!(
         out,
         "boolean drag step, two 20-face prisms (live)   | {ms:8.3} ms"
+    )?;
+    Ok(())
+}
+
+/// Edge features on a 20-face part (the 18-sided prism: 54 edges, 36 corners), on one core:
+/// every edge filleted (cylinders, and a ball's triangle at each corner) and chamfered, the
+/// part shelled with its top open (offset and boolean), each with the result joined and
+/// checked closed; and one step of a radius dragged on the editor's fillet with history (the
+/// fillet made again in place, as one undo step).
+fn bench_features(
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use knotwork::doc::{Command, Document};
+    use knotwork::kernel::features::{EdgeFeature, EdgePick, round_edges, shell};
+    use knotwork::ops::features::FilletEdges;
+    use knotwork::scene::operation::Operation;
+    use knotwork::scene::polysurface::Polysurface;
+    let part = prism(DVec3::ZERO, 1.0, 18, 1.0)?;
+    let tolerance = 1e-6 * 2.3;
+    let (fillet_ms, filleted) = median_ms(iterations.max(3), || {
+        round_edges(
+            &part,
+            &EdgePick::All,
+            EdgeFeature::Fillet { radius: 0.05 },
+            tolerance,
+        )
+    })?;
+    let (chamfer_ms, chamfered) = median_ms(iterations.max(3), || {
+        round_edges(
+            &part,
+            &EdgePick::All,
+            EdgeFeature::Chamfer {
+                distance: 0.05,
+                other: 0.05,
+            },
+            tolerance,
+        )
+    })?;
+    let top = [DVec3::new(0.0, 0.0, 1.0)];
+    let (shell_ms, shelled) = median_ms(iterations.clamp(3, 5), || {
+        shell(&part, -0.05, &top, tolerance)
+    })?;
+    writeln!(
+        out,
+        "fillet every edge, 20-face prism (54 edges)    | {fillet_ms:8.2} ms ({} faces, volume {:.6})",
+        filleted.faces.len(),
+        filleted.volume()?
+    )?;
+    writeln!(
+        out,
+        "chamfer every edge, 20-face prism              | {chamfer_ms:8.2} ms ({} faces, volume {:.6})",
+        chamfered.faces.len(),
+        chamfered.volume()?
+    )?;
+    writeln!(
+        out,
+        "shell, 20-face prism, top open                 | {shell_ms:8.2} ms ({} faces, volume {:.6})",
+        shelled.faces.len(),
+        shelled.volume()?
+    )?;
+    // The radius dragged: each step edits the fillet's history in place.
+    let mut scene = Scene::default();
+    scene.objects.clear();
+    scene.objects.push(SceneObject::new(
+        "part",
+        ObjectGeometry::new(Polysurface::new(part, 1e-6)?),
+    ));
+    let mut doc = Document::new(scene);
+    let fillet = FilletEdges {
+        object: 0.into(),
+        radius: 0.05,
+        near: Vec::new(),
+        tolerance: 1e-6,
+    };
+    doc.execute(&Command::Apply {
+        operation: Operation::new(fillet.clone()),
+        keep_history: true,
+    })?;
+    let mut step = 0;
+    let (drag_ms, _) = median_ms(iterations.max(3), || {
+        step += 1;
+        let recipe = doc.scene.objects[1]
+            .recipe
+            .clone()
+            .ok_or("the fillet has no history")?;
+        let mut edited = recipe
+            .operation
+            .params::<FilletEdges>()
+            .ok_or("not a fillet")?
+            .clone();
+        edited.radius = 0.05 + 0.001 * (step % 10) as f64;
+        doc.execute(&Command::EditRecipe {
+            object: 1,
+            operation: Operation::new(edited),
+        })
+        .map(|_| ())
+        .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))
+    })?;
+    writeln!(
+        out,
+        "fillet radius drag step, 20-face prism (live)  | {drag_ms:8.2} ms"
     )?;
     Ok(())
 }

@@ -461,9 +461,11 @@ fn assert_tangent(result: &FeatureResult, tolerance: f64, what: &str) {
                 let p = s.point_at(u, v).unwrap();
                 // A seam (the side meets the opposite one) or a pole meets the face itself.
                 let across = [(u0 + u1 - u, v), (u, v0 + v1 - v), (u0, v), (u, v0)];
-                if across.iter().filter(|&&(a, b)| (a, b) != (u, v)).any(|&(a, b)| {
-                    s.point_at(a, b).unwrap().distance(p) <= tolerance
-                }) {
+                if across
+                    .iter()
+                    .filter(|&&(a, b)| (a, b) != (u, v))
+                    .any(|&(a, b)| s.point_at(a, b).unwrap().distance(p) <= tolerance)
+                {
                     continue;
                 }
                 let best = faces
