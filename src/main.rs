@@ -108,6 +108,40 @@ fn main() -> std::process::ExitCode {
             };
             return cli::feature(feature, input, open, output);
         }
+        Some(cli::Command::OffsetFace {
+            input,
+            output,
+            distance,
+            face,
+        }) => {
+            let feature = cli::Feature::OffsetFace {
+                distance: *distance,
+            };
+            return cli::feature(feature, input, face, output);
+        }
+        Some(cli::Command::DraftFace {
+            input,
+            output,
+            angle,
+            face,
+            neutral,
+            pull,
+        }) => {
+            let frame = cli::parse_point(neutral).and_then(|n| Ok((n, cli::parse_point(pull)?)));
+            let (neutral, pull) = match frame {
+                Ok(frame) => frame,
+                Err(e) => {
+                    eprintln!("knotwork draft-face: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let feature = cli::Feature::Draft {
+                angle: angle.to_radians(),
+                neutral,
+                pull,
+            };
+            return cli::feature(feature, input, face, output);
+        }
         Some(cli::Command::Join {
             project,
             tolerance,

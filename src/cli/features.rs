@@ -5,7 +5,8 @@ use std::process::ExitCode;
 
 use glam::DVec3;
 use knotwork::kernel::features::{
-    EdgeFeature, EdgePick, FeatureResult, Polyhedron, round_edges, shell as shell_solid,
+    EdgeFeature, EdgePick, FeatureResult, Polyhedron, draft_faces, offset_faces, round_edges,
+    shell as shell_solid,
 };
 
 use super::boolean::{diagonal, solids_of, write_solids};
@@ -28,9 +29,24 @@ pub fn parse_point(text: &str) -> Result<DVec3, String> {
 
 /// What one of the three commands makes.
 pub enum Feature {
-    Fillet { radius: f64 },
-    Chamfer { distance: f64 },
-    Shell { thickness: f64 },
+    Fillet {
+        radius: f64,
+    },
+    Chamfer {
+        distance: f64,
+    },
+    Shell {
+        thickness: f64,
+    },
+    OffsetFace {
+        distance: f64,
+    },
+    Draft {
+        /// Radians.
+        angle: f64,
+        neutral: DVec3,
+        pull: DVec3,
+    },
 }
 
 impl Feature {
@@ -39,6 +55,8 @@ impl Feature {
             Feature::Fillet { .. } => "fillet-edges",
             Feature::Chamfer { .. } => "chamfer-edges",
             Feature::Shell { .. } => "shell",
+            Feature::OffsetFace { .. } => "offset-face",
+            Feature::Draft { .. } => "draft-face",
         }
     }
 }
@@ -126,6 +144,14 @@ pub fn feature(
                     Feature::Shell { thickness } => {
                         shell_solid(&body.faces, thickness, &mine, tolerance)
                     }
+                    Feature::OffsetFace { distance } => {
+                        offset_faces(&body.faces, &mine, distance, tolerance)
+                    }
+                    Feature::Draft {
+                        angle,
+                        neutral,
+                        pull,
+                    } => draft_faces(&body.faces, &mine, angle, (neutral, pull), tolerance),
                 }
                 .map_err(|e| e.to_string())?
             };

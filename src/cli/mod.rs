@@ -30,7 +30,7 @@ pub use self::continuity::continuity;
 pub use self::edges::{EdgeArgs, blend, match_edge};
 pub use self::eval::eval;
 pub use self::export::{ExportArgs, export};
-pub use self::features::{Feature, feature};
+pub use self::features::{Feature, feature, parse_point};
 pub use self::fillet::{FilletArgs, fillet};
 pub use self::info::info;
 pub use self::intersect::intersect;
@@ -416,6 +416,57 @@ pub enum Command {
         /// A point X,Y,Z near a face to leave open (repeatable).
         #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
         open: Vec<String>,
+    },
+    /// Move faces of a solid along their normals (each --face point picks the face nearest
+    /// it), the neighbouring faces extended or trimmed to them.
+    OffsetFace {
+        /// The file (STEP, a project, or anything knotwork opens).
+        input: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// How far (model units; below 0 into the solid).
+        #[arg(long, allow_negative_numbers = true)]
+        distance: f64,
+        /// A point X,Y,Z near a face to move (repeatable, at least one).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            allow_hyphen_values = true,
+            required = true
+        )]
+        face: Vec<String>,
+    },
+    /// Draft faces of a solid: tilt each about the line where it meets the neutral plane, by
+    /// the angle (degrees; above 0 the part narrows along the pull direction).
+    DraftFace {
+        /// The file (STEP, a project, or anything knotwork opens).
+        input: std::path::PathBuf,
+        /// The STEP file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The draft angle in degrees.
+        #[arg(long, allow_negative_numbers = true)]
+        angle: f64,
+        /// A point X,Y,Z near a face to draft (repeatable, at least one).
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            allow_hyphen_values = true,
+            required = true
+        )]
+        face: Vec<String>,
+        /// A point of the neutral plane.
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+        neutral: String,
+        /// The pull direction, across the neutral plane.
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            allow_hyphen_values = true,
+            default_value = "0,0,1"
+        )]
+        pull: String,
     },
     /// Join the surfaces that share edges into polysurfaces: writes the project with them
     /// joined and prints each polysurface's faces, shared and naked edges as JSON. Its

@@ -1664,6 +1664,15 @@ pub enum SolidFeature {
     Chamfer { distance: f64, other: f64 },
     /// Hollowed to this wall thickness (below 0 inward), the faces picked left open.
     Shell { thickness: f64 },
+    /// The faces picked moved this far along their normals.
+    OffsetFace { distance: f64 },
+    /// The faces picked tilted by `angle` (radians) about where they meet the neutral plane
+    /// through `origin` across `pull`.
+    Draft {
+        angle: f64,
+        origin: glam::DVec3,
+        pull: glam::DVec3,
+    },
 }
 
 impl SolidFeature {
@@ -1673,12 +1682,14 @@ impl SolidFeature {
             SolidFeature::Fillet { .. } => "fillet",
             SolidFeature::Chamfer { .. } => "chamfer",
             SolidFeature::Shell { .. } => "shell",
+            SolidFeature::OffsetFace { .. } => "offset face",
+            SolidFeature::Draft { .. } => "draft",
         }
     }
 }
 
 /// `feature` made of the closed body `object`: each of `points` picks the edge (or, for a
-/// shell, the face) nearest it, none every edge (no face); the result a new polysurface
+/// shell, an offset or a draft, the face) nearest it, none every edge (no face); the result a new polysurface
 /// "NAME fillet" (chamfer, shell), the body hidden, at `tolerance` (a fraction of the
 /// scene's size); and what it took and enclosed. Refused, changing nothing, for an object
 /// that is not a closed body or a feature the kernel cannot build (the reason names the
@@ -1690,7 +1701,9 @@ pub(crate) fn solid_feature(
     points: &[glam::DVec3],
     tolerance: f64,
 ) -> Result<(Planned, crate::kernel::features::FeatureResult), EditError> {
-    use crate::kernel::features::{EdgeFeature, EdgePick, round_edges, shell};
+    use crate::kernel::features::{
+        EdgeFeature, EdgePick, draft_faces, offset_faces, round_edges, shell,
+    };
     let what = feature.name();
     let ([faces, _], _) = closed_bodies(scene, what, [&[object], &[]])?;
     let target = object_at(scene, object)?;
@@ -1714,6 +1727,14 @@ pub(crate) fn solid_feature(
             tolerance * size,
         ),
         SolidFeature::Shell { thickness } => shell(&faces, thickness, points, tolerance * size),
+        SolidFeature::OffsetFace { distance } => {
+            offset_faces(&faces, points, distance, tolerance * size)
+        }
+        SolidFeature::Draft {
+            angle,
+            origin,
+            pull,
+        } => draft_faces(&faces, points, angle, (origin, pull), tolerance * size),
     }
     .map_err(geometry_error(target))?;
     let polysurface = Polysurface::with_topology(
@@ -1731,6 +1752,12 @@ pub(crate) fn solid_feature(
     ));
     let label = match feature {
         SolidFeature::Shell { .. } => format!("shell of {}", target.name),
+        SolidFeature::OffsetFace { .. } | SolidFeature::Draft { .. } => format!(
+            "{what} of {} face{} of {}",
+            made.picked,
+            if made.picked == 1 { "" } else { "s" },
+            target.name
+        ),
         _ => format!(
             "{what} of {} edge{} of {}",
             made.picked,

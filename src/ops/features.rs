@@ -1,5 +1,6 @@
 //! Edge and face features of closed bodies: fillets (`fillet_edges`), chamfers
-//! (`chamfer_edges`) and shells (`shell`), each a new polysurface, the body hidden
+//! (`chamfer_edges`), shells (`shell`), faces moved (`offset_face`) and drafted
+//! (`draft_face`), each a new polysurface, the body hidden
 //! ([`crate::doc::surface_ops::solid_feature`] on [`crate::kernel::features`]). Each picks
 //! edges (faces, for a shell) by points near them; with history the result follows the body,
 //! and editing the value re-runs it in place ([`crate::doc::Command::EditRecipe`]).
@@ -188,6 +189,96 @@ impl OperationParams for Shell {
     }
 }
 
+/// `{"op": "offset_face", "object": k, "faces": [[x, y, z], ...], "distance": d,
+/// "tolerance": t}`: each point picks the face nearest it, moved `distance` along its outward
+/// normal (in below 0), its neighbours extended or trimmed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OffsetFace {
+    pub object: ObjectRef,
+    pub faces: Vec<[f64; 3]>,
+    pub distance: f64,
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+impl OperationParams for OffsetFace {
+    const NAME: &'static str = "offset_face";
+
+    fn objects_mut(&mut self) -> Vec<&mut ObjectRef> {
+        vec![&mut self.object]
+    }
+
+    /// The report: `{"picked", "faces", "volume"}`.
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
+        let distance = super::finite(Self::NAME, "distance", self.distance, false)?;
+        let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
+        let faces = points(Self::NAME, "faces", &self.faces)?;
+        planned(
+            scene,
+            self.object,
+            SolidFeature::OffsetFace { distance },
+            &faces,
+            tolerance,
+        )
+    }
+}
+
+/// `{"op": "draft_face", "object": k, "faces": [[x, y, z], ...], "angle": degrees,
+/// "neutral": [x, y, z], "pull": [x, y, z], "tolerance": t}`: each point picks the face
+/// nearest it, tilted by `angle` about the line where it meets the neutral plane (through
+/// `neutral`, across `pull`: the direction the part leaves its mould; [0, 0, 1] by default),
+/// a positive angle narrowing the part along `pull`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DraftFace {
+    pub object: ObjectRef,
+    pub faces: Vec<[f64; 3]>,
+    pub angle: f64,
+    pub neutral: [f64; 3],
+    #[serde(default = "up")]
+    pub pull: [f64; 3],
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+}
+
+fn up() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+impl OperationParams for DraftFace {
+    const NAME: &'static str = "draft_face";
+
+    fn objects_mut(&mut self) -> Vec<&mut ObjectRef> {
+        vec![&mut self.object]
+    }
+
+    /// The report: `{"picked", "faces", "volume"}`.
+    fn plan_with_report(
+        &self,
+        scene: &Scene,
+    ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
+        let angle = super::finite(Self::NAME, "angle", self.angle, false)?;
+        let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
+        let faces = points(Self::NAME, "faces", &self.faces)?;
+        let frame = points(Self::NAME, "neutral", &[self.neutral, self.pull])?;
+        planned(
+            scene,
+            self.object,
+            SolidFeature::Draft {
+                angle: angle.to_radians(),
+                origin: frame[0],
+                pull: frame[1],
+            },
+            &faces,
+            tolerance,
+        )
+    }
+}
+
 /// The default size of a feature on the selected body: a fiftieth of the scene's size.
 fn default_size(scene: &Scene) -> f64 {
     0.02 * surface_ops::scene_size(scene)
@@ -236,5 +327,21 @@ pub const SHELL_ENTRY: OperationEntry = OperationEntry {
                 tolerance: FEATURE_TOLERANCE,
             }))
         },
+    )
+};
+
+pub const OFFSET_FACE_ENTRY: OperationEntry = OperationEntry {
+    own_panel: true,
+    ..entry::<OffsetFace>(
+        "faces of a closed body moved along their normals (each point picks the nearest face)",
+        |_, _| None,
+    )
+};
+
+pub const DRAFT_ENTRY: OperationEntry = OperationEntry {
+    own_panel: true,
+    ..entry::<DraftFace>(
+        "faces of a closed body tilted about a neutral plane (each point picks the nearest face)",
+        |_, _| None,
     )
 };

@@ -28,7 +28,7 @@ use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 17] = [
+pub const BUILT_IN: [OperationEntry; 19] = [
     construct::ENTRY,
     transform::ENTRY,
     offset::ENTRY,
@@ -46,6 +46,8 @@ pub const BUILT_IN: [OperationEntry; 17] = [
     features::FILLET_ENTRY,
     features::CHAMFER_ENTRY,
     features::SHELL_ENTRY,
+    features::OFFSET_FACE_ENTRY,
+    features::DRAFT_ENTRY,
 ];
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.

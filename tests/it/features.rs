@@ -170,7 +170,7 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
         + 2.0 * r * (3.4 * 2.4 + 2.4 * 1.4 + 1.4 * 3.4)
         + pi * r * r * (3.4 + 2.4 + 1.4)
         + 4.0 * pi * r.powi(3) / 3.0;
-    let cases: [(&[&str], f64); 4] = [
+    let cases: [(&[&str], f64); 6] = [
         (&["fillet-edges", i, "-o", o, "--radius", "0.3"], rounded),
         // The edge along x at y = 1, z = 2.5 (picked by its middle); then with the edge along
         // y at x = 5, the two chamfers meet in a mitre: the two corner prisms less their
@@ -215,6 +215,37 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
                 "3,-0.5,2.5",
             ],
             24.0 - 3.5 * 2.5 * 1.75,
+        ),
+        // The top up by 0.5; the faces x = 1 and x = 5 drafted 5° about z = 0.5.
+        (
+            &[
+                "offset-face",
+                i,
+                "-o",
+                o,
+                "--distance",
+                "0.5",
+                "--face",
+                "3,-0.5,2.5",
+            ],
+            4.0 * 3.0 * 2.5,
+        ),
+        (
+            &[
+                "draft-face",
+                i,
+                "-o",
+                o,
+                "--angle",
+                "5",
+                "--face",
+                "1,0,1",
+                "--face",
+                "5,0,1",
+                "--neutral",
+                "0,0,0.5",
+            ],
+            3.0 * 2.0 * (4.0 - 2.0 * 5f64.to_radians().tan()),
         ),
     ];
     for (args, want) in cases {

@@ -29,6 +29,7 @@
 //! built (a radius too large for an edge, a corner these constructions do not close, a wall
 //! thicker than the body) is refused with the edge, corner or face and the reason.
 
+pub mod faces;
 pub mod polyhedron;
 pub mod revolved;
 pub mod rounds;
@@ -41,6 +42,7 @@ use crate::join::{Topology, find_topology, validity};
 use crate::mass::signed_volume;
 use crate::trim::TrimmedSurface;
 
+pub use faces::{draft_faces, offset_faces};
 pub use polyhedron::Polyhedron;
 pub use rounds::{EdgeFeature, round_edges};
 pub use shell::shell;

@@ -23,6 +23,29 @@ pub fn offset_polyhedron(
     distance: impl Fn(usize) -> f64,
     tolerance: f64,
 ) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    replaned(
+        solid,
+        |f| {
+            let facet = &solid.faces[f];
+            (facet.normal, facet.offset + distance(f))
+        },
+        tolerance,
+        "the wall is thicker than the body allows",
+    )
+}
+
+/// The polyhedron with each face `f` on the plane `plane(f)` (its unit outward normal n and
+/// offset k: n · x = k) and each corner where its faces' planes meet (least squares about the
+/// old corner, (Σ nnᵀ) δ = Σ n (k − n · p), exact where three planes meet), as flat faces;
+/// refused where a corner's planes do not meet in one point, or an edge vanishes or turns
+/// over (`too_far` says why).
+pub fn replaned(
+    solid: &Polyhedron,
+    plane: impl Fn(usize) -> (DVec3, f64),
+    tolerance: f64,
+    too_far: &str,
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    let planes: Vec<(DVec3, f64)> = (0..solid.faces.len()).map(plane).collect();
     let mut moved = Vec::with_capacity(solid.vertices.len());
     for (v, &p) in solid.vertices.iter().enumerate() {
         let mut faces: Vec<usize> = solid
@@ -32,14 +55,12 @@ pub fn offset_polyhedron(
             .collect();
         faces.sort_unstable();
         faces.dedup();
-        // Least squares over the moved planes, about the old corner: (Σ nnᵀ) x = Σ n (dᵢ),
-        // x the corner's move; exact where three planes meet.
         let mut m = DMat3::ZERO;
         let mut rhs = DVec3::ZERO;
         for &f in &faces {
-            let n = solid.faces[f].normal;
+            let (n, k) = planes[f];
             m += DMat3::from_cols(n * n.x, n * n.y, n * n.z);
-            rhs += n * (distance(f) + solid.faces[f].offset - n.dot(p));
+            rhs += n * (k - n.dot(p));
         }
         if m.determinant().abs() < 1e-12 {
             return Err(construction(
@@ -50,17 +71,14 @@ pub fn offset_polyhedron(
         let q = p + m.inverse() * rhs;
         let off = faces
             .iter()
-            .map(|&f| {
-                let facet = &solid.faces[f];
-                (facet.normal.dot(q) - facet.offset - distance(f)).abs()
-            })
+            .map(|&f| (planes[f].0.dot(q) - planes[f].1).abs())
             .fold(0.0, f64::max);
         if off > tolerance {
             return Err(construction(
                 WHAT,
                 format!(
-                    "the {} faces at the corner {} do not meet in one point once moved; a shell \
-                     is built only where they do",
+                    "the {} faces at the corner {} do not meet in one point once moved; the \
+                     feature is built only where they do",
                     faces.len(),
                     point(p)
                 ),
@@ -79,8 +97,7 @@ pub fn offset_polyhedron(
                     return Err(construction(
                         WHAT,
                         format!(
-                            "the wall is thicker than the body allows: the edge from {} to {} \
-                             of face {f} vanishes",
+                            "{too_far}: the edge from {} to {} of face {f} vanishes",
                             point(solid.vertices[a]),
                             point(solid.vertices[b])
                         ),
@@ -89,13 +106,9 @@ pub fn offset_polyhedron(
                 boundary.push(line(moved[a], moved[b])?);
             }
         }
-        let face = planar_face(&boundary).map_err(|e| {
-            construction(
-                WHAT,
-                format!("the wall is thicker than the body allows at face {f} ({e})"),
-            )
-        })?;
-        let normal = facet.normal;
+        let face = planar_face(&boundary)
+            .map_err(|e| construction(WHAT, format!("{too_far} at face {f} ({e})")))?;
+        let normal = planes[f].0;
         out.push(facing(face, |_| normal)?);
     }
     Ok(out)

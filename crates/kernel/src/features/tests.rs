@@ -521,3 +521,63 @@ fn fillets_meet_their_neighbours_tangentially() {
     .unwrap();
     assert_tangent(&rims, tol, "cylinder");
 }
+
+#[test]
+fn faces_offset_and_drafted_keep_the_body_closed() {
+    for seed in 0..3 {
+        let (motion, s) = placement(790 + seed);
+        let (a, b, c) = (2.0, 1.5, 1.0);
+        let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+        let tol = 1e-7 * s;
+        let s3 = s.powi(3);
+        let at = |p: DVec3| motion.transform_point3(p);
+        // The top up by 0.3 and the side x = a in by 0.2.
+        let top = offset_faces(&body, &[at(DVec3::new(1.0, 0.7, c))], 0.3 * s, tol).unwrap();
+        assert_volume(&top, a * b * (c + 0.3) * s3, "top offset");
+        let side = offset_faces(&body, &[at(DVec3::new(a, 0.7, 0.5))], -0.2 * s, tol).unwrap();
+        assert_volume(&side, (a - 0.2) * b * c * s3, "side offset");
+        // The four sides drafted 5° about the bottom, pulled up: a prismatoid,
+        // V = c/6 (A₀ + 4 A½ + A₁).
+        let theta: f64 = 5f64.to_radians();
+        let sides = [
+            DVec3::new(0.0, 0.7, 0.5),
+            DVec3::new(a, 0.7, 0.5),
+            DVec3::new(1.0, 0.0, 0.5),
+            DVec3::new(1.0, b, 0.5),
+        ]
+        .map(at);
+        let pull = motion.transform_vector3(DVec3::Z);
+        let drafted = draft_faces(&body, &sides, theta, (at(DVec3::ZERO), pull), tol).unwrap();
+        let shrink = |h: f64| (a - 2.0 * h * theta.tan()) * (b - 2.0 * h * theta.tan());
+        let want = c / 6.0 * (shrink(0.0) + 4.0 * shrink(0.5 * c) + shrink(c));
+        assert_volume(&drafted, want * s3, "draft");
+        // About the top instead (neutral plane z = c), the sides lean out going down.
+        let from_top = draft_faces(
+            &body,
+            &sides,
+            theta,
+            (at(DVec3::new(0.0, 0.0, c)), pull),
+            tol,
+        )
+        .unwrap();
+        let grow = |h: f64| (a + 2.0 * h * theta.tan()) * (b + 2.0 * h * theta.tan());
+        let want = c / 6.0 * (grow(0.0) + 4.0 * grow(0.5 * c) + grow(c));
+        assert_volume(&from_top, want * s3, "draft about the top");
+    }
+    // Refusals: a face through the body, the neutral plane parallel to the face.
+    let body = block(DVec3::ZERO, DVec3::ONE).unwrap();
+    let e = offset_faces(&body, &[DVec3::new(0.5, 0.5, 1.0)], -1.5, 1e-7)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("further"), "{e}");
+    let e = draft_faces(
+        &body,
+        &[DVec3::new(0.5, 0.5, 1.0)],
+        0.1,
+        (DVec3::ZERO, DVec3::Z),
+        1e-7,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("parallel"), "{e}");
+}
