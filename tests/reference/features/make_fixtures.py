@@ -1,12 +1,12 @@
 """Writes edge-feature fixtures: random solids in general position (boxes, convex prisms,
-L-shaped prisms, cylinders), every one in inputs.step (one solid per case, in order), and
-OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet), a chamfer
-(BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection join; with
-no face removed it gives the offset solid alone, and the closed hollow is that offset inside
-the solid) of each in occt-features.jsonl: the feature, its value, the points that pick
-its edges (edge midpoints) or the faces left open (points on the faces near their centroids),
-and the result's volume and area (BRepGProp). A case is kept only where OpenCASCADE's result
-is valid (BRepCheck_Analyzer).
+L-shaped prisms, cylinders, wedges: boxes with a smaller top), every one in inputs.step (one
+solid per case, in order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet),
+a chamfer (BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection
+join; with no face removed it gives the offset solid alone, and the closed hollow is that
+offset inside the solid) of each in occt-features.jsonl: the feature, its value, the points
+that pick its edges (edge midpoints) or the faces left open (points on the faces near their
+centroids), and the result's volume and area (BRepGProp). A case is kept only where
+OpenCASCADE's result is valid (BRepCheck_Analyzer).
 
     python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
     /tmp/ocpenv/bin/python tests/reference/features/make_fixtures.py
@@ -24,7 +24,8 @@ from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer, BRepFilletAPI_MakeFille
 from OCP.BRepGProp import BRepGProp
 from OCP.BRepOffset import BRepOffset_Skin
 from OCP.BRepOffsetAPI import BRepOffsetAPI_MakeThickSolid
-from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
+from OCP.BRepPrimAPI import (BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism,
+                             BRepPrimAPI_MakeWedge)
 from OCP.GeomAbs import GeomAbs_Intersection
 from OCP.GProp import GProp_GProps
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
@@ -39,7 +40,7 @@ from occ_shapes import compound, volume, write_step  # noqa: E402
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "48"))
 SEED = int(os.environ.get("SEED", "59"))
-KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder").split(",")
+KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge").split(",")
 
 
 def area(shape):
@@ -136,6 +137,13 @@ def solid(rng, kind):
         h = rng.uniform(2, 6)
         pts = [(0, 0), (a, 0), (a, w), (w, w), (w, b), (0, b)]
         return prism(pts, h), min(w, h), (w, w, h / 2)
+    if kind == "wedge":
+        # A box whose top is a smaller rectangle: no corner has a face square to the others.
+        dx, dy, dz = rng.uniform(4, 9), rng.uniform(3, 6), rng.uniform(4, 9)
+        x0, z0 = rng.uniform(0.5, 1.5), rng.uniform(0.5, 1.5)
+        x1, z1 = dx - rng.uniform(0.5, 1.5), dz - rng.uniform(0.5, 1.5)
+        shape = BRepPrimAPI_MakeWedge(dx, dy, dz, x0, z0, x1, z1).Shape()
+        return shape, min(dy, x1 - x0, z1 - z0), None
     r, h = rng.uniform(2, 5), rng.uniform(3, 10)
     return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -h / 2), gp_Dir(0, 0, 1)), r, h).Shape(), min(r, h), None
 
@@ -157,7 +165,9 @@ def case(rng):
     shape, motion = placed(shape, rng)
     edges = shapes_of(shape, TopAbs_EDGE)
     faces = shapes_of(shape, TopAbs_FACE)
-    feature = rng.choice(["fillet", "chamfer", "shell"])
+    # Chamfers of every edge of a wedge are left out: OpenCASCADE closes some corners whose
+    # faces are not square with another patch than the flat triangle through their corners.
+    feature = rng.choice(["fillet", "shell"] if kind == "wedge" else ["fillet", "chamfer", "shell"])
     row = {"kind": kind, "feature": feature, "near": [], "open": []}
     if feature in ("fillet", "chamfer"):
         if kind == "ell":

@@ -12,7 +12,7 @@ use crate::construct::{arc, extrude, line, revolve};
 use crate::curve::{SpaceCurve, TrimCurve};
 use crate::error::{GeometryError, construction};
 use crate::planar::planar_face;
-use crate::surface::{Direction, NurbsSurface};
+use crate::surface::Direction;
 use crate::trim::TrimmedSurface;
 
 use super::polyhedron::Polyhedron;
@@ -604,42 +604,111 @@ pub fn round_edges(
                     .sum::<DVec3>()
                     / 3.0;
                 let dirs = [normals[0] * -side, normals[1] * -side, normals[2] * -side];
-                let ball = corner_ball(centre, radius, dirs).ok_or_else(|| {
-                    construction(
-                        WHAT,
-                        format!(
-                            "the corner at {} needs a vertex blend for faces that do not meet at \
-                             right angles, which is not built yet",
-                            point(solid.vertices[v])
-                        ),
-                    )
-                })??;
-                out.push(facing(TrimmedSurface::untrimmed(ball), |p| {
-                    (p - centre) * -side
-                })?);
+                let ball = corner_ball(centre, radius, dirs)?;
+                out.push(facing(ball, |p| (p - centre) * -side)?);
             }
         }
     }
     closed_result(out, tolerance * 10.0, picked.len(), what)
 }
 
+/// The angle that carries parameter t of `curve` to `target` (radians, by `angle_of`, which
+/// grows with t), by bisection: the parameter of a point on a circular arc.
+fn arc_parameter(curve: &SpaceCurve, angle_of: impl Fn(DVec3) -> f64, target: f64) -> f64 {
+    let (mut lo, mut hi) = curve.domain();
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        match curve.point_at(mid) {
+            Ok(p) if angle_of(p) < target => lo = mid,
+            _ => hi = mid,
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// The spherical triangle of the ball of radius `radius` around `centre` between the unit
-/// directions `dirs`, one of them at right angles to the other two: that one is the pole of
-/// a quarter circle revolved from one of the others to the third, so the triangle is the whole
-/// patch (exact). None where no direction is at right angles to the others.
+/// directions `dirs`: the ball revolved about one of them (the pole, the one most nearly at
+/// right angles to the others) from the meridian through the second to the one through the
+/// third, so two sides are meridians (lines of the domain) and the third, the great arc
+/// between the second and the third, is a trim curve through 49 of its points in (u, v)
+/// (each found on the revolution's and the meridian's arcs by bisection). Where the pole is
+/// at right angles to both others, the great arc is the equator and the patch is the whole
+/// surface (exact).
 fn corner_ball(
     centre: DVec3,
     radius: f64,
     dirs: [DVec3; 3],
-) -> Option<Result<NurbsSurface, GeometryError>> {
-    let pole = (0..3).find(|&j| (0..3).all(|k| k == j || dirs[j].dot(dirs[k]).abs() < 1e-9))?;
-    let (a, b) = (dirs[(pole + 1) % 3], dirs[(pole + 2) % 3]);
-    let p = dirs[pole];
+) -> Result<TrimmedSurface, GeometryError> {
+    let off = |j: usize| {
+        (0..3)
+            .filter(|&k| k != j)
+            .map(|k| dirs[j].dot(dirs[k]).abs())
+            .fold(0.0, f64::max)
+    };
+    let pole = (0..3)
+        .min_by(|&i, &j| off(i).total_cmp(&off(j)))
+        .unwrap_or(0);
+    let (p, a, b) = (dirs[pole], dirs[(pole + 1) % 3], dirs[(pole + 2) % 3]);
     let axis = if p.cross(a).dot(b) > 0.0 { p } else { -p };
-    Some(
-        arc(centre, p, a, radius, 0.0, FRAC_PI_2)
-            .and_then(|profile| revolve(&profile, centre, axis, a.angle_between(b))),
-    )
+    let flat = |d: DVec3| (d - p * d.dot(p)).normalize_or_zero();
+    let (a_flat, b_flat) = (flat(a), flat(b));
+    if a_flat == DVec3::ZERO || b_flat == DVec3::ZERO {
+        return Err(construction(WHAT, "a corner's faces meet along a line"));
+    }
+    let sweep = a_flat.angle_between(b_flat);
+    let polar = |d: DVec3| d.cross(p).length().atan2(d.dot(p));
+    const SAMPLES: usize = 48;
+    let great: Vec<DVec3> = (0..=SAMPLES)
+        .map(|i| {
+            let t = i as f64 / SAMPLES as f64;
+            let angle = a.angle_between(b);
+            let w = b - a * a.dot(b);
+            let w = w.normalize_or_zero();
+            a * (angle * t).cos() + w * (angle * t).sin()
+        })
+        .collect();
+    let square = off(pole) < 1e-9;
+    let reach = if square {
+        FRAC_PI_2
+    } else {
+        great.iter().map(|&d| polar(d)).fold(0.0, f64::max) * (1.0 + 1e-9)
+    };
+    let profile = arc(centre, p, a_flat, radius, 0.0, reach)?;
+    let surface = revolve(&profile, centre, axis, sweep)?;
+    if square {
+        return Ok(TrimmedSurface::untrimmed(surface));
+    }
+    // (u, v) of a direction: u on the revolution's unit arc by its longitude from a, v on the
+    // meridian by its polar angle.
+    let around = arc(DVec3::ZERO, DVec3::X, DVec3::Y, 1.0, 0.0, sweep)?;
+    let longitude = |q: DVec3| q.y.atan2(q.x).rem_euclid(std::f64::consts::TAU);
+    let y_axis = axis.cross(a_flat);
+    let down = |q: DVec3| polar((q - centre) / radius);
+    let uv = |d: DVec3| {
+        let lon = (d.dot(y_axis))
+            .atan2(d.dot(a_flat))
+            .rem_euclid(std::f64::consts::TAU);
+        let lon = if lon > sweep + 1e-9 { 0.0 } else { lon };
+        DVec2::new(
+            arc_parameter(&around, longitude, lon),
+            arc_parameter(&profile, down, polar(d)),
+        )
+    };
+    let points: Vec<DVec2> = great.iter().map(|&d| uv(d)).collect();
+    let (first, last) = (points[0], points[SAMPLES]);
+    let side = crate::splines::interpolate_through(
+        &points,
+        3,
+        crate::splines::Parametrization::ChordLength,
+        None,
+    )?;
+    let trim = vec![
+        line(DVec2::new(0.0, 0.0), DVec2::new(0.0, first.y))?,
+        side,
+        line(DVec2::new(1.0, last.y), DVec2::new(1.0, 0.0))?,
+        line(DVec2::new(1.0, 0.0), DVec2::new(0.0, 0.0))?,
+    ];
+    TrimmedSurface::new(surface, vec![trim])
 }
 
 impl Builder<'_> {

@@ -581,3 +581,51 @@ fn faces_offset_and_drafted_keep_the_body_closed() {
     .to_string();
     assert!(e.contains("parallel"), "{e}");
 }
+
+#[test]
+fn a_frustum_with_every_edge_filleted_follows_steiners_formula() {
+    // A box drafted on all four sides: no corner has a face at right angles to the other two,
+    // so every corner ball is trimmed by a great arc. The rounded solid is the inner parallel
+    // body K' grown by a ball: V' + S' r + M' r² + 4πr³/3, M' = ½ Σ length × (π − dihedral).
+    let (motion, s) = placement(800);
+    let (a, b, c, r) = (2.0, 1.5, 1.0, 0.12);
+    let box_faces = block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap();
+    let sides = [
+        DVec3::new(0.0, 0.7, 0.5),
+        DVec3::new(a, 0.7, 0.5),
+        DVec3::new(1.0, 0.0, 0.5),
+        DVec3::new(1.0, b, 0.5),
+    ];
+    let frustum = draft_faces(&box_faces, &sides, 0.2, (DVec3::ZERO, DVec3::Z), 1e-9)
+        .unwrap()
+        .faces;
+    let body = placed(frustum.clone(), &motion);
+    let rounded = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        1e-7 * s,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(rounded.faces.len(), 26);
+    let solid = Polyhedron::from_faces(&frustum, 1e-9).unwrap();
+    let inner_faces = shell::offset_polyhedron(&solid, |_| -r, 1e-9).unwrap();
+    let inner = Polyhedron::from_faces(&inner_faces, 1e-9).unwrap();
+    let volume = crate::mass::signed_volume(&inner_faces).unwrap();
+    let area = crate::mass::mass_properties(&inner_faces, &[])
+        .unwrap()
+        .area;
+    let m: f64 = (0..inner.edges.len())
+        .map(|k| {
+            let e = inner.edges[k];
+            let length = inner.vertices[e.a].distance(inner.vertices[e.b]);
+            let dihedral = inner
+                .inward(k, e.left)
+                .angle_between(inner.inward(k, e.right));
+            0.5 * length * (PI - dihedral)
+        })
+        .sum();
+    let want = volume + area * r + m * r * r + 4.0 * PI * r.powi(3) / 3.0;
+    assert_volume(&rounded, want * s.powi(3), "frustum");
+    assert_tangent(&rounded, 1e-7 * s, "frustum");
+}
