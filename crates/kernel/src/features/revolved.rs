@@ -79,6 +79,51 @@ impl Segment {
     }
 }
 
+/// A segment of a profile moved off itself: a line (a point and a unit direction) or a
+/// circle (centre and radius).
+#[derive(Debug, Clone, Copy)]
+enum Piece {
+    Line(DVec2, DVec2),
+    Circle(DVec2, f64),
+}
+
+/// Where two pieces meet: the crossing nearest `guess` (None where they do not meet).
+fn meet_pieces(a: Piece, b: Piece, guess: DVec2) -> Option<DVec2> {
+    let nearest = |points: Vec<DVec2>| {
+        points
+            .into_iter()
+            .min_by(|p, q| p.distance(guess).total_cmp(&q.distance(guess)))
+    };
+    match (a, b) {
+        (Piece::Line(p, d), Piece::Line(q, e)) => {
+            let cross = d.perp_dot(e);
+            (cross.abs() > 1e-12).then(|| p + d * ((q - p).perp_dot(e) / cross))
+        }
+        (Piece::Line(p, d), Piece::Circle(c, r)) | (Piece::Circle(c, r), Piece::Line(p, d)) => {
+            // |p + t d − c|² = r²: t² + 2 t d·(p − c) + |p − c|² − r² = 0.
+            let w = p - c;
+            let (half, constant) = (d.dot(w), w.length_squared() - r * r);
+            let disc = half * half - constant;
+            (disc >= 0.0).then(|| {
+                let root = disc.sqrt();
+                nearest(vec![p + d * (-half - root), p + d * (-half + root)])
+            })?
+        }
+        (Piece::Circle(c0, r0), Piece::Circle(c1, r1)) => {
+            let d = c0.distance(c1);
+            if d < 1e-300 || d > r0 + r1 || d < (r0 - r1).abs() {
+                return None;
+            }
+            let along = (d * d + r0 * r0 - r1 * r1) / (2.0 * d);
+            let h = (r0 * r0 - along * along).max(0.0).sqrt();
+            let u = (c1 - c0) / d;
+            let m = c0 + u * along;
+            let across = DVec2::new(-u.y, u.x) * h;
+            nearest(vec![m + across, m - across])
+        }
+    }
+}
+
 /// The centre of the circle through three points of a plane.
 fn circumcentre(a: DVec2, m: DVec2, b: DVec2) -> Option<DVec2> {
     let (p, q) = (m - a, b - a);
@@ -295,6 +340,15 @@ impl Profile {
                         on_axis: false,
                     }
                 }
+                (0, Some((c, radius))) if c.x.abs() <= tolerance => {
+                    // A whole ball on the axis: pole to pole.
+                    Segment {
+                        a: DVec2::new(0.0, c.y - radius),
+                        b: DVec2::new(0.0, c.y + radius),
+                        through: Some(DVec2::new(radius, c.y)),
+                        on_axis: false,
+                    }
+                }
                 _ => return Err(not(k)),
             };
             pieces.push(piece);
@@ -413,54 +467,106 @@ impl Profile {
     }
 
     /// The profile with each segment `k` off the axis moved `distance(k)` along its outward
-    /// normal and each corner where the moved lines meet (the axis kept).
+    /// normal (a line shifted, an arc's circle grown or shrunk about its centre) and each
+    /// corner where the moved pieces meet (where two pieces are tangent, the corner moved
+    /// along their common normal; the axis kept).
     pub fn offset(&self, distance: impl Fn(usize) -> f64) -> Result<Self, GeometryError> {
         let n = self.segments.len();
-        let moved: Vec<(DVec2, DVec2)> = self
+        let thick = |s: &Segment| {
+            construction(
+                WHAT,
+                format!(
+                    "the wall is thicker than the body allows: the face from {} to {} vanishes",
+                    point(self.at(s.a)),
+                    point(self.at(s.b))
+                ),
+            )
+        };
+        let shifts: Vec<f64> = (0..n)
+            .map(|k| {
+                if self.segments[k].on_axis {
+                    0.0
+                } else {
+                    distance(k)
+                }
+            })
+            .collect();
+        let moved: Vec<Piece> = self
             .segments
             .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                if s.through.is_some() {
-                    return Err(construction(
-                        WHAT,
-                        "a shell of a solid of revolution with curved meridians is not built yet",
-                    ));
+            .zip(&shifts)
+            .map(|(s, &shift)| match s.through {
+                None => {
+                    let d = s.direction();
+                    Ok(Piece::Line(s.a + DVec2::new(d.y, -d.x) * shift, d))
                 }
-                let d = s.direction();
-                let shift = if s.on_axis { 0.0 } else { distance(k) };
-                Ok((s.a + DVec2::new(d.y, -d.x) * shift, d))
+                Some(m) => {
+                    let c = circumcentre(s.a, m, s.b).ok_or_else(|| thick(s))?;
+                    let radius = c.distance(s.a);
+                    // Outward away from the centre: the circle grows by the shift.
+                    let grow = s.outward(m).dot(m - c).signum();
+                    let moved = radius + grow * shift;
+                    if moved <= 0.0 {
+                        return Err(thick(s));
+                    }
+                    Ok(Piece::Circle(c, moved))
+                }
             })
             .collect::<Result<_, _>>()?;
-        let corner = |i: usize| -> DVec2 {
-            let (p, d) = moved[(i + n - 1) % n];
-            let (q, e) = moved[i];
-            let cross = d.perp_dot(e);
-            if cross.abs() < 1e-12 {
-                q
+        let mut corners = Vec::with_capacity(n);
+        for i in 0..n {
+            let (before, after) = (&self.segments[(i + n - 1) % n], &self.segments[i]);
+            let v = after.a;
+            let (n0, n1) = (before.outward(v), after.outward(v));
+            let guess = v + (n0 * shifts[(i + n - 1) % n] + n1 * shifts[i]) * 0.5;
+            let corner = if n0.distance(n1) < 1e-9 {
+                if (shifts[i] - shifts[(i + n - 1) % n]).abs() > 1e-12 {
+                    return Err(construction(
+                        WHAT,
+                        format!(
+                            "a face left open meets a tangent face at {}; that shell is not \
+                             built yet",
+                            point(self.at(v))
+                        ),
+                    ));
+                }
+                Some(v + n1 * shifts[i])
             } else {
-                p + d * ((q - p).perp_dot(e) / cross)
-            }
-        };
-        let corners: Vec<DVec2> = (0..n).map(corner).collect();
+                meet_pieces(moved[(i + n - 1) % n], moved[i], guess)
+            };
+            corners.push(corner.ok_or_else(|| thick(after))?);
+        }
         let mut segments = Vec::with_capacity(n);
         for (k, s) in self.segments.iter().enumerate() {
             let (a, b) = (corners[k], corners[(k + 1) % n]);
-            if (b - a).dot(s.b - s.a) <= 1e-9 * (s.b - s.a).length_squared()
-                || a.x < -1e-9
-                || b.x < -1e-9
-            {
-                return Err(construction(
-                    WHAT,
-                    format!(
-                        "the wall is thicker than the body allows: the face from {} to {} \
-                         vanishes",
-                        point(self.at(s.a)),
-                        point(self.at(s.b))
-                    ),
-                ));
+            if a.x < -1e-9 || b.x < -1e-9 {
+                return Err(thick(s));
             }
-            segments.push(Segment { a, b, ..*s });
+            let through = match (s.through, moved[k]) {
+                (Some(m), Piece::Circle(c, radius)) => {
+                    let t = c + (m - c).normalize() * radius;
+                    // The arc keeps its turn: a, the middle and b in the same order about c.
+                    let turn = |p: DVec2, q: DVec2| (p - c).perp_dot(q - c);
+                    let (old, new) = (turn(s.a, m) * turn(m, s.b), turn(a, t) * turn(t, b));
+                    if old.signum() != new.signum() || turn(s.a, m).signum() != turn(a, t).signum()
+                    {
+                        return Err(thick(s));
+                    }
+                    Some(t)
+                }
+                _ => {
+                    if (b - a).dot(s.b - s.a) <= 1e-9 * (s.b - s.a).length_squared() {
+                        return Err(thick(s));
+                    }
+                    None
+                }
+            };
+            segments.push(Segment {
+                a,
+                b,
+                through,
+                on_axis: s.on_axis,
+            });
         }
         Ok(Self {
             segments,

@@ -629,3 +629,55 @@ fn a_frustum_with_every_edge_filleted_follows_steiners_formula() {
     assert_volume(&rounded, want * s.powi(3), "frustum");
     assert_tangent(&rounded, 1e-7 * s, "frustum");
 }
+
+#[test]
+fn balls_and_rounded_cylinders_shell_to_their_closed_forms() {
+    use crate::solids::{ball, capped_cylinder};
+    let (motion, s) = placement(810);
+    let tol = 1e-7 * s;
+    let s3 = s.powi(3);
+    let (radius, t) = (1.2, 0.15);
+    let sphere = placed(ball(DVec3::new(0.3, -0.2, 0.1), radius).unwrap(), &motion);
+    let inward = shell(&sphere, -t * s, &[], tol).unwrap();
+    let cube = |r: f64| 4.0 * PI * r.powi(3) / 3.0;
+    assert_volume(
+        &inward,
+        (cube(radius) - cube(radius - t)) * s3,
+        "ball inward",
+    );
+    let outward = shell(&sphere, t * s, &[], tol).unwrap();
+    assert_volume(
+        &outward,
+        (cube(radius + t) - cube(radius)) * s3,
+        "ball outward",
+    );
+    // A cylinder with its rims filleted at r, shelled inward by t < r: the inner body is the
+    // cylinder of R − t, h − 2t with its rims filleted at r − t (tangent arcs stay tangent).
+    let (big, h, r) = (1.5, 2.0, 0.4);
+    let cylinder = placed(
+        capped_cylinder(DVec3::ZERO, DVec3::Z * h, big).unwrap(),
+        &motion,
+    );
+    let rounded = round_edges(
+        &cylinder,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        tol,
+    )
+    .unwrap();
+    let spandrel =
+        |big: f64, r: f64| 2.0 * PI * ((big - r) * (1.0 - PI / 4.0) * r * r + r.powi(3) / 6.0);
+    let solid = |big: f64, h: f64, r: f64| PI * big * big * h - 2.0 * spandrel(big, r);
+    let hollow = shell(&rounded.faces, -t * s, &[], tol).unwrap();
+    assert_volume(
+        &hollow,
+        (solid(big, h, r) - solid(big - t, h - 2.0 * t, r - t)) * s3,
+        "rounded cylinder",
+    );
+    let grown = shell(&rounded.faces, t * s, &[], tol).unwrap();
+    assert_volume(
+        &grown,
+        (solid(big + t, h + 2.0 * t, r + t) - solid(big, h, r)) * s3,
+        "rounded cylinder outward",
+    );
+}
