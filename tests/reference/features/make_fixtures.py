@@ -170,8 +170,8 @@ def case(rng):
     feature = rng.choice(["fillet", "shell"] if kind == "wedge" else ["fillet", "chamfer", "shell"])
     row = {"kind": kind, "feature": feature, "near": [], "open": []}
     if feature in ("fillet", "chamfer"):
-        if kind == "ell":
-            # The concave edge alone.
+        if kind == "ell" and (feature == "chamfer" or rng.random() < 0.5):
+            # The concave edge alone (or, for a fillet, every edge: below).
             p = gp_Pnt(*marker).Transformed(motion)
             chosen = [min(edges, key=lambda e: math.dist(edge_middle(e), [p.X(), p.Y(), p.Z()]))]
         elif kind == "prism" and feature == "chamfer":

@@ -29,6 +29,7 @@
 //! built (a radius too large for an edge, a corner these constructions do not close, a wall
 //! thicker than the body) is refused with the edge, corner or face and the reason.
 
+pub mod extruded;
 pub mod faces;
 pub mod polyhedron;
 pub mod revolved;

@@ -703,6 +703,9 @@ pub(crate) fn round_revolved(
     };
     picked.sort_unstable();
     picked.dedup();
+    if edges.is_empty() {
+        return Err(construction(WHAT, "the solid has no edges to round"));
+    }
     if picked.is_empty() {
         return Err(construction(WHAT, "no edge is picked"));
     }

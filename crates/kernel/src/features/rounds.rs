@@ -383,6 +383,16 @@ pub fn round_edges(
     }
     let solid = Polyhedron::from_faces(faces, tolerance)?;
     let picked = picked_edges(&solid, pick)?;
+    // Every edge of a right prism with a concave edge: the rims' fillets run on round the
+    // concave fillets' tops ([`super::extruded`]).
+    if let EdgeFeature::Fillet { radius } = feature {
+        let concave = (0..solid.edges.len()).any(|k| !solid.is_convex(k));
+        if picked.len() == solid.edges.len() && concave {
+            if let Some(made) = super::extruded::fillet_prism(&solid, radius) {
+                return closed_result(made?, tolerance * 10.0, picked.len(), what);
+            }
+        }
+    }
     let mut rounds = HashMap::new();
     for &k in &picked {
         let e = solid.edges[k];
