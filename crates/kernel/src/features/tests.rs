@@ -729,3 +729,70 @@ fn an_l_shaped_block_with_every_edge_filleted_has_steiners_volume() {
         assert_tangent(&result, 1e-7 * s, "L");
     }
 }
+
+#[test]
+fn random_features_either_close_or_say_why() {
+    // Random convex prisms, random picks and sizes (many too large): every answer is a closed
+    // shell that takes material away (a fillet, a chamfer, an inward shell) or encloses some
+    // (an outward shell, which grows spikes at sharp corners: the intersection join), or a
+    // refusal with a reason; nothing panics.
+    let mut random = crate::test_support::Xorshift::new(59);
+    let mut made = 0;
+    for case in 0..60 {
+        let n = 3 + random.below(5) as usize;
+        let base: Vec<DVec2> = (0..n)
+            .map(|i| {
+                let t = 2.0 * PI * (i as f64 + 0.6 * (random.unit() - 0.5)) / n as f64;
+                // On a circle, so convex.
+                DVec2::new(t.cos(), t.sin())
+            })
+            .collect();
+        let h = 0.4 + random.unit();
+        let (motion, s) = placement(900 + case);
+        let body = placed(prism(&base, h), &motion);
+        let outward = crate::boolean::outward_faces(&body, 1e-7 * s, "the prism")
+            .unwrap()
+            .0;
+        let original = crate::mass::signed_volume(&outward).unwrap();
+        let size = (0.02 + 0.5 * random.unit()) * s;
+        let pick = if random.below(2) == 0 {
+            EdgePick::All
+        } else {
+            let k = random.below(n as u64) as usize;
+            let p = DVec3::new(base[k].x, base[k].y, h * random.unit());
+            EdgePick::Near(vec![motion.transform_point3(p)])
+        };
+        let tol = 1e-7 * s;
+        let results = [
+            round_edges(&body, &pick, EdgeFeature::Fillet { radius: size }, tol).map(|r| (r, -1.0)),
+            round_edges(
+                &body,
+                &pick,
+                EdgeFeature::Chamfer {
+                    distance: size,
+                    other: 0.7 * size,
+                },
+                tol,
+            )
+            .map(|r| (r, -1.0)),
+            shell(&body, -0.3 * size, &[], tol).map(|r| (r, -1.0)),
+            shell(&body, 0.3 * size, &[], tol).map(|r| (r, 1.0)),
+        ];
+        for (which, result) in results.into_iter().enumerate() {
+            match result {
+                Ok((r, grows)) => {
+                    let v = r.volume().unwrap();
+                    assert!(v > 0.0, "case {case}: volume {v}");
+                    assert!(
+                        grows > 0.0 || v < original,
+                        "case {case}, feature {which} of size {size} (h {h}, {n} sides, \
+                         {pick:?}): volume {v} of {original}"
+                    );
+                    made += 1;
+                }
+                Err(e) => assert!(!e.to_string().is_empty()),
+            }
+        }
+    }
+    assert!(made > 60, "only {made} of 240 made");
+}
