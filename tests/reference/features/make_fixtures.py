@@ -1,6 +1,6 @@
 """Writes edge-feature fixtures: random solids in general position (boxes, convex prisms,
-L-shaped prisms, cylinders, wedges: boxes with a smaller top), every one in inputs.step (one
-solid per case, in order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet),
+L-shaped prisms, cylinders, wedges: boxes with a smaller top, boxes with every edge filleted
+by OpenCASCADE), every one in inputs.step (one solid per case, in order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet),
 a chamfer (BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection
 join; with no face removed it gives the offset solid alone, and the closed hollow is that
 offset inside the solid) of each in occt-features.jsonl: the feature, its value, the points
@@ -40,7 +40,7 @@ from occ_shapes import compound, volume, write_step  # noqa: E402
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "48"))
 SEED = int(os.environ.get("SEED", "59"))
-KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge").split(",")
+KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge,roundbox").split(",")
 
 
 def area(shape):
@@ -137,6 +137,15 @@ def solid(rng, kind):
         h = rng.uniform(2, 6)
         pts = [(0, 0), (a, 0), (a, w), (w, w), (w, b), (0, b)]
         return prism(pts, h), min(w, h), (w, w, h / 2)
+    if kind == "roundbox":
+        # A box with every edge filleted by OpenCASCADE: a smooth solid to shell.
+        d = [rng.uniform(4, 10) for _ in range(3)]
+        box = BRepPrimAPI_MakeBox(gp_Pnt(-d[0] / 2, -d[1] / 2, -d[2] / 2), *d).Shape()
+        r = rng.uniform(0.15, 0.3) * min(d)
+        maker = BRepFilletAPI_MakeFillet(box)
+        for e in shapes_of(box, TopAbs_EDGE):
+            maker.Add(r, TopoDS.Edge(e))
+        return maker.Shape(), r, None
     if kind == "wedge":
         # A box whose top is a smaller rectangle: no corner has a face square to the others.
         dx, dy, dz = rng.uniform(4, 9), rng.uniform(3, 6), rng.uniform(4, 9)
@@ -167,7 +176,8 @@ def case(rng):
     faces = shapes_of(shape, TopAbs_FACE)
     # Chamfers of every edge of a wedge are left out: OpenCASCADE closes some corners whose
     # faces are not square with another patch than the flat triangle through their corners.
-    feature = rng.choice(["fillet", "shell"] if kind == "wedge" else ["fillet", "chamfer", "shell"])
+    feature = rng.choice({"wedge": ["fillet", "shell"], "roundbox": ["shell"]}.get(
+        kind, ["fillet", "chamfer", "shell"]))
     row = {"kind": kind, "feature": feature, "near": [], "open": []}
     if feature in ("fillet", "chamfer"):
         if kind == "ell" and (feature == "chamfer" or rng.random() < 0.5):
@@ -203,6 +213,11 @@ def case(rng):
     else:
         value = rng.choice([-1, 1]) * rng.uniform(0.05, 0.2) * size
         removed = TopTools_ListOfShape()
+        if kind == "roundbox":
+            # Open a flat face only.
+            from OCP.BRepAdaptor import BRepAdaptor_Surface
+            from OCP.GeomAbs import GeomAbs_Plane
+            faces = [f for f in faces if BRepAdaptor_Surface(TopoDS.Face(f)).GetType() == GeomAbs_Plane]
         if kind == "ell":
             # Not a face along the concave edge: OpenCASCADE's thick solid is wrong there (the
             # solid itself, or a wall missing, where the closed form says otherwise).
@@ -228,6 +243,10 @@ def case(rng):
         # is the solid and that offset, one inside the other.
         row["volume"] = abs(abs(row["volume"]) - volume(shape))
         row["area"] += area(shape)
+    if feature == "shell" and not row["volume"] < 2 * area(shape) * abs(value):
+        # No wall of that thickness holds more than twice the solid's area times it:
+        # OpenCASCADE's thick solid of a filleted box with a face open is sometimes the box.
+        return None
     return shape, row
 
 

@@ -35,6 +35,7 @@ pub mod polyhedron;
 pub mod revolved;
 pub mod rounds;
 pub mod shell;
+pub mod smooth;
 
 use glam::DVec3;
 

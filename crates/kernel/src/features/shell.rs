@@ -135,9 +135,11 @@ pub fn shell(
         ));
     }
     if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
-        let (outer, inner, picked) =
-            super::revolved::shell_revolved(faces, thickness, open, tolerance)?;
-        return hollow(&outer, &inner, tolerance, picked);
+        // A solid of revolution, else a smooth solid.
+        return match super::revolved::shell_revolved(faces, thickness, open, tolerance) {
+            Ok((outer, inner, picked)) => hollow(&outer, &inner, tolerance, picked),
+            Err(_) => super::smooth::shell_smooth(faces, thickness, open, tolerance),
+        };
     }
     let solid = Polyhedron::from_faces(faces, tolerance)?;
     let mut opened = Vec::new();

@@ -796,3 +796,45 @@ fn random_features_either_close_or_say_why() {
     }
     assert!(made > 60, "only {made} of 240 made");
 }
+
+#[test]
+fn a_rounded_box_shells_to_its_closed_form() {
+    // A box with every edge filleted at r, shelled inward by t < r: the inner body is the box
+    // moved in by t with every edge filleted at r − t.
+    let (motion, s) = placement(830);
+    let tol = 1e-7 * s;
+    let (a, b, c, r, t) = (2.0, 1.5, 1.0, 0.3, 0.1);
+    let body = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+    let rounded = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        tol,
+    )
+    .unwrap();
+    let closed = shell(&rounded.faces, -t * s, &[], tol).unwrap_or_else(|e| panic!("{e}"));
+    let inner = rounded_box(a - 2.0 * t, b - 2.0 * t, c - 2.0 * t, r - t);
+    assert_volume(
+        &closed,
+        (rounded_box(a, b, c, r) - inner) * s.powi(3),
+        "closed",
+    );
+    let outer = shell(&rounded.faces, t * s, &[], tol).unwrap_or_else(|e| panic!("{e}"));
+    let grown = rounded_box(a + 2.0 * t, b + 2.0 * t, c + 2.0 * t, r + t);
+    assert_volume(
+        &outer,
+        (grown - rounded_box(a, b, c, r)) * s.powi(3),
+        "outward",
+    );
+    // With its top open: the inner body reaches out through the top's flat part.
+    let top = motion.transform_point3(DVec3::new(1.0, 0.7, c));
+    let cup = shell(&rounded.faces, -t * s, &[top], tol).unwrap_or_else(|e| panic!("{e}"));
+    // The cut above the inner body: the inner top's flat part (a − 2r) × (b − 2r) (the inner
+    // body's flat top is (a − 2t − 2(r − t)) wide) times t.
+    let slot = (a - 2.0 * r) * (b - 2.0 * r) * t;
+    assert_volume(
+        &cup,
+        (rounded_box(a, b, c, r) - inner - slot) * s.powi(3),
+        "open top",
+    );
+}
