@@ -121,7 +121,7 @@ fn rounded(ring: &[DVec2], r: f64, prism: &Prism) -> Result<Vec<Piece>, Geometry
     let n = ring.len();
     let dir = |i: usize| (ring[(i + 1) % n] - ring[i]).normalize();
     let mut corners = Vec::with_capacity(n);
-    for i in 0..n {
+    for (i, &corner) in ring.iter().enumerate() {
         let (d0, d1) = (dir((i + n - 1) % n), dir(i));
         let turn = d0.perp_dot(d1);
         let psi = (-d0).dot(d1).clamp(-1.0, 1.0).acos();
@@ -132,7 +132,7 @@ fn rounded(ring: &[DVec2], r: f64, prism: &Prism) -> Result<Vec<Piece>, Geometry
             ));
         }
         let c = r / (0.5 * psi).tan();
-        let (p1, p2) = (ring[i] - d0 * c, ring[i] + d1 * c);
+        let (p1, p2) = (corner - d0 * c, corner + d1 * c);
         let convex = turn > 0.0;
         let centre = if convex {
             p1 + left(d0) * r

@@ -261,10 +261,10 @@ impl Profile {
                         .map(|p| profile.rh(p))
                 })
                 .collect::<Result<_, _>>()?;
-            if let Some((_, n)) = surface.plane(tolerance) {
-                if n.cross(axis).length() > 1e-9 {
-                    return Err(not(k));
-                }
+            if let Some((_, n)) = surface.plane(tolerance)
+                && n.cross(axis).length() > 1e-9
+            {
+                return Err(not(k));
             }
             // The meridian: a line, or a circle, through the samples.
             let p0 = grid[0];

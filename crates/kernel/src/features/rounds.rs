@@ -387,10 +387,11 @@ pub fn round_edges(
     // concave fillets' tops ([`super::extruded`]).
     if let EdgeFeature::Fillet { radius } = feature {
         let concave = (0..solid.edges.len()).any(|k| !solid.is_convex(k));
-        if picked.len() == solid.edges.len() && concave {
-            if let Some(made) = super::extruded::fillet_prism(&solid, radius) {
-                return closed_result(made?, tolerance * 10.0, picked.len(), what);
-            }
+        if picked.len() == solid.edges.len()
+            && concave
+            && let Some(made) = super::extruded::fillet_prism(&solid, radius)
+        {
+            return closed_result(made?, tolerance * 10.0, picked.len(), what);
         }
     }
     let mut rounds = HashMap::new();
