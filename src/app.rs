@@ -6,6 +6,7 @@ mod analysis;
 mod command;
 pub mod curves;
 pub mod export;
+mod features;
 mod files;
 mod gizmo;
 mod input;
@@ -309,11 +310,8 @@ pub struct KnotworkApp {
     surface_tools: surface_tools::SurfaceToolState,
     /// Whether the Operations panel's operations keep their history.
     operations_keep_history: bool,
-    /// The radius, distance or wall thickness the Features row makes (0: not set yet, a
-    /// fiftieth of the scene's size).
-    feature_size: f64,
-    /// A feature's value being dragged or typed in the Features row, until it is let go.
-    feature_edit: Option<f64>,
+    /// The Features row's size, the edges picked for it and its value being edited.
+    features: features::FeatureState,
     /// The trim control point being dragged in the (u, v) panel.
     trim_handle: Option<trim::HandleDrag>,
     snap: bool,
@@ -430,8 +428,7 @@ impl KnotworkApp {
             curves: curves::CurveState::default(),
             surface_tools: surface_tools::SurfaceToolState::default(),
             operations_keep_history: true,
-            feature_size: 0.0,
-            feature_edit: None,
+            features: features::FeatureState::default(),
             trim_handle: None,
             snap: false,
             snap_step: 0.25,
@@ -1247,6 +1244,7 @@ impl KnotworkApp {
         self.paint_box(ui);
         self.paint_trims(ui);
         self.paint_drawing(ui);
+        self.paint_feature_edges(ui);
         self.paint_gizmo(ui);
         self.axis_triad(ui);
         self.viewport_overlays(ui, rect);

@@ -86,7 +86,12 @@ impl KnotworkApp {
             .zip(&self.doc.scene.objects)
             .map(|(d, o)| (d, o.visible))
             .collect();
-        self.selection.hit = pick::pick_surface(&objects, origin, direction);
+        let hit = pick::pick_surface(&objects, origin, direction);
+        let face = hit.map(|h| h.point);
+        if self.feature_click(cursor, shift, face) {
+            return;
+        }
+        self.selection.hit = hit;
         if self.trim_click(self.selection.hit) || self.trim_pick_click(self.selection.hit) {
             return;
         }
@@ -384,6 +389,8 @@ impl KnotworkApp {
         {
             self.click(pos, shift, alt);
         }
+        let hover = response.hover_pos().map(|p| self.local(p));
+        self.feature_hover(hover);
         let delta = response.drag_delta();
         if delta != egui::Vec2::ZERO {
             let height = self.viewport_rect.height();

@@ -1540,3 +1540,73 @@ fn a_long_boolean_runs_over_frames_with_progress_and_cancel() {
     harness.run_steps(2);
     assert_eq!(harness.state().document().scene, opened);
 }
+
+#[test]
+fn an_edge_picked_in_the_viewport_is_filleted() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let body = crate::common::box_of_planes(&glam::DAffine3::IDENTITY);
+    page.send(AppCommand::Edit(Command::Add {
+        object: knotwork::scene::SceneObject::new(
+            "Block",
+            knotwork::scene::ObjectGeometry::new(body),
+        ),
+    }));
+    harness.run_steps(3);
+    let k = harness.state().document().scene.objects.len() - 1;
+    page_select(&mut harness, k);
+    harness.run_steps(2);
+    // The edge from (0, 0, 0) to (2, 0, 0): the screen middle of its corners' handles lies on
+    // it.
+    let points = harness.state().document().scene.objects[k].control_points();
+    let handles = status::handles();
+    let screen = |p: glam::DVec3| {
+        let i = points
+            .iter()
+            .position(|q| q.distance(p) < 1e-12)
+            .expect("a corner");
+        let h = handles[i].expect("the corner on screen");
+        Pos2::new(h[0], h[1])
+    };
+    let (a, b) = (
+        screen(glam::DVec3::ZERO),
+        screen(glam::DVec3::new(2.0, 0.0, 0.0)),
+    );
+    let middle = a + (b - a) * 0.5;
+    harness.get_by_label("Operations").scroll_to_me();
+    harness.run_steps(1);
+    harness.get_by_label("Operations").click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("Pick").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Pick").click_accesskit();
+    harness.run_steps(2);
+    click_at(&mut harness, middle);
+    harness.get_by_label("1 picked").scroll_to_me();
+    harness.get_by_label("Fillet edges").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.error, None, "{s:?}");
+    assert!(
+        s.last_edit
+            .as_deref()
+            .is_some_and(|e| e.contains("fillet of 1 edge")),
+        "{s:?}"
+    );
+    let scene = &harness.state().document().scene;
+    let made = scene.objects.last().expect("the fillet");
+    let volume = |o: &knotwork::scene::SceneObject| {
+        knotwork::kernel::mass::signed_volume(&o.body().expect("a body").faces).expect("a volume")
+    };
+    // The box's 3 less the corner prism of the edge along x: (1 − π/4) r² × 2.
+    let r = 0.02 * knotwork::doc::surface_ops::scene_size(scene);
+    let want = 3.0 - (1.0 - std::f64::consts::PI / 4.0) * r * r * 2.0;
+    assert!(
+        (volume(made) - want).abs() < 1e-9,
+        "{} against {want}",
+        volume(made)
+    );
+}
