@@ -16,6 +16,10 @@ use crate::scene::operation::Operation;
 /// How near the cursor an edge must pass to be picked (points).
 const PICK_RADIUS: f64 = 10.0;
 
+/// What the cached edges were made from: the object, and the document's undo and redo
+/// depths.
+type EdgesKey = (usize, usize, usize);
+
 /// The Features row's state.
 #[derive(Default)]
 pub(super) struct FeatureState {
@@ -28,9 +32,8 @@ pub(super) struct FeatureState {
     picking: bool,
     /// The points picked: on edges, or on faces.
     picks: Vec<DVec3>,
-    /// The selected body's shared edges as polylines, and what they were made from (the
-    /// object, and the document's undo and redo depths).
-    edges: Option<((usize, usize, usize), Vec<Vec<DVec3>>)>,
+    /// The selected body's shared edges as polylines, and what they were made from.
+    edges: Option<(EdgesKey, Vec<Vec<DVec3>>)>,
     /// The edge under the cursor.
     hover: Option<usize>,
 }

@@ -14,15 +14,7 @@ use super::{FeatureResult, WHAT, closed_result};
 
 /// The faces of `solid` nearest `points`, without repeats; refused for none.
 fn picked_faces(solid: &Polyhedron, points: &[DVec3]) -> Result<Vec<usize>, GeometryError> {
-    let mut faces = Vec::new();
-    for &p in points {
-        if !p.is_finite() {
-            return Err(construction(WHAT, "a picking point is not a finite number"));
-        }
-        faces.extend(solid.nearest_face(p));
-    }
-    faces.sort_unstable();
-    faces.dedup();
+    let faces = solid.nearest_faces(points)?;
     if faces.is_empty() {
         return Err(construction(WHAT, "no face is picked"));
     }

@@ -227,11 +227,26 @@ impl Polyhedron {
         })
     }
 
+    /// The faces nearest `points` (one each), sorted, without repeats; refused for a point
+    /// that is not finite.
+    pub fn nearest_faces(&self, points: &[DVec3]) -> Result<Vec<usize>, GeometryError> {
+        let mut faces = Vec::with_capacity(points.len());
+        for &p in points {
+            if !p.is_finite() {
+                return Err(construction(WHAT, "a picking point is not a finite number"));
+            }
+            faces.extend(self.nearest_face(p));
+        }
+        faces.sort_unstable();
+        faces.dedup();
+        Ok(faces)
+    }
+
     /// The distance from `p` to face `f`.
     pub fn face_distance(&self, f: usize, p: DVec3) -> f64 {
         let facet = &self.faces[f];
         let n = facet.normal;
-        let (x, _) = (n.any_orthonormal_vector(), ());
+        let x = n.any_orthonormal_vector();
         let y = n.cross(x);
         let flat = |q: DVec3| glam::DVec2::new(q.dot(x), q.dot(y));
         let inside = facet

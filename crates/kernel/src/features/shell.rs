@@ -142,15 +142,7 @@ pub fn shell(
         };
     }
     let solid = Polyhedron::from_faces(faces, tolerance)?;
-    let mut opened = Vec::new();
-    for &p in open {
-        if !p.is_finite() {
-            return Err(construction(WHAT, "a picking point is not a finite number"));
-        }
-        opened.extend(solid.nearest_face(p));
-    }
-    opened.sort_unstable();
-    opened.dedup();
+    let opened = solid.nearest_faces(open)?;
     if opened.len() >= solid.faces.len() {
         return Err(construction(WHAT, "a shell cannot leave every face open"));
     }
