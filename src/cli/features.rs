@@ -10,7 +10,7 @@ use knotwork::kernel::features::{
 };
 
 use super::boolean::{diagonal, solids_of, write_solids};
-use super::finish;
+use super::*;
 
 /// A point given as "X,Y,Z".
 pub fn parse_point(text: &str) -> Result<DVec3, String> {

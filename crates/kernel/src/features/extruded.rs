@@ -27,8 +27,7 @@ use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
 
 use super::polyhedron::Polyhedron;
-use super::rounds::facing;
-use super::{WHAT, point};
+use super::{WHAT, facing, point};
 
 /// A right prism: the frame of its bottom cap (origin, axes in the plane, up), its height
 /// and its profile's loops in the bottom plane (the material on each loop's left).

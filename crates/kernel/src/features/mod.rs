@@ -42,6 +42,7 @@ use glam::DVec3;
 use crate::error::{GeometryError, construction};
 use crate::join::{Topology, find_topology, validity};
 use crate::mass::signed_volume;
+use crate::surface::Direction;
 use crate::trim::TrimmedSurface;
 
 pub use faces::{draft_faces, offset_faces};
@@ -54,6 +55,23 @@ const WHAT: &str = "edge feature";
 /// A point as the messages print it.
 pub(crate) fn point(p: DVec3) -> String {
     format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z)
+}
+
+/// The face `face` turned, where needed, so that its normal at its domain's middle points
+/// along `outward` there.
+pub(crate) fn facing(
+    face: TrimmedSurface,
+    outward: impl Fn(DVec3) -> DVec3,
+) -> Result<TrimmedSurface, GeometryError> {
+    let s = face.surface();
+    let [(u0, u1), (v0, v1)] = s.domain();
+    let (u, v) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    let d = s.evaluate(u, v)?;
+    if s.normal_from(&d, u, v).dot(outward(d.point)) < 0.0 {
+        face.reverse(Direction::U)
+    } else {
+        Ok(face)
+    }
 }
 
 /// Which edges a feature takes.

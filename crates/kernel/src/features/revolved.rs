@@ -22,8 +22,7 @@ use crate::join::face_loops;
 use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
 
-use super::rounds::facing;
-use super::{EdgeFeature, WHAT, point};
+use super::{EdgeFeature, WHAT, facing, point};
 
 /// One segment of a profile: from `a` to `b` in (r, h), a straight line, or the circular arc
 /// through `through`.

@@ -12,11 +12,10 @@ use crate::construct::{arc, extrude, line, revolve};
 use crate::curve::{SpaceCurve, TrimCurve};
 use crate::error::{GeometryError, construction};
 use crate::planar::planar_face;
-use crate::surface::Direction;
 use crate::trim::TrimmedSurface;
 
 use super::polyhedron::Polyhedron;
-use super::{EdgePick, FeatureResult, WHAT, closed_result, picked_edges, point};
+use super::{EdgePick, FeatureResult, WHAT, closed_result, facing, picked_edges, point};
 
 /// What is made of each picked edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -322,23 +321,6 @@ impl Builder<'_> {
             }
         };
         Ok(Corner::Cut { from, curve, to })
-    }
-}
-
-/// The face `face` turned, where needed, so that its normal at its domain's middle points
-/// along `outward` there.
-pub(crate) fn facing(
-    face: TrimmedSurface,
-    outward: impl Fn(DVec3) -> DVec3,
-) -> Result<TrimmedSurface, GeometryError> {
-    let s = face.surface();
-    let [(u0, u1), (v0, v1)] = s.domain();
-    let (u, v) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
-    let d = s.evaluate(u, v)?;
-    if s.normal_from(&d, u, v).dot(outward(d.point)) < 0.0 {
-        face.reverse(Direction::U)
-    } else {
-        Ok(face)
     }
 }
 

@@ -11,8 +11,7 @@ use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
 
 use super::polyhedron::Polyhedron;
-use super::rounds::facing;
-use super::{FeatureResult, WHAT, point};
+use super::{FeatureResult, WHAT, facing, point};
 
 /// The polyhedron with each face `f`'s plane moved `distance(f)` along its outward normal and
 /// each corner where its faces' moved planes meet, as flat faces; refused where a corner's
