@@ -14,6 +14,14 @@ use super::*;
 /// The closed bodies of the file at `path` (its objects with faces), each one's faces; an
 /// open body is refused by name.
 pub(super) fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), String> {
+    named_solids_of(path)
+        .map(|(scene, bodies)| (scene, bodies.into_iter().map(|(_, b)| b).collect()))
+}
+
+/// [`solids_of`], each body with its object's name.
+pub(super) fn named_solids_of(
+    path: &std::path::Path,
+) -> Result<(Scene, Vec<(String, Body)>), String> {
     let project = open_project(path)?;
     let mut bodies = Vec::new();
     for object in &project.scene.objects {
@@ -29,7 +37,7 @@ pub(super) fn solids_of(path: &std::path::Path) -> Result<(Scene, Vec<Body>), St
                 object.name
             ));
         }
-        bodies.push(body);
+        bodies.push((object.name.clone(), body));
     }
     if bodies.is_empty() {
         return Err(format!("{} holds no solid", path.display()));

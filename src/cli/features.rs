@@ -9,7 +9,7 @@ use knotwork::kernel::features::{
     shell as shell_solid,
 };
 
-use super::boolean::{diagonal, solids_of, write_solids};
+use super::boolean::{diagonal, named_solids_of, write_solids};
 use super::*;
 
 /// A point given as "X,Y,Z".
@@ -77,7 +77,8 @@ pub fn feature(
             .map(|p| parse_point(p))
             .collect::<Result<Vec<_>, _>>()?;
         let started = std::time::Instant::now();
-        let (scene, bodies) = solids_of(input)?;
+        let (scene, named) = named_solids_of(input)?;
+        let (names, bodies): (Vec<String>, Vec<_>) = named.into_iter().unzip();
         let read_ms = started.elapsed().as_secs_f64() * 1e3;
         let tolerance = 1e-6 * diagonal(&bodies);
         // Each point to the body nearest it.
@@ -153,7 +154,13 @@ pub fn feature(
                         pull,
                     } => draft_faces(&body.faces, &mine, angle, (neutral, pull), tolerance),
                 }
-                .map_err(|e| e.to_string())?
+                .map_err(|e| {
+                    if names.len() > 1 {
+                        format!("{}: {e}", names[k])
+                    } else {
+                        e.to_string()
+                    }
+                })?
             };
             volume += result.volume().map_err(|e| e.to_string())?;
             faces += result.faces.len();

@@ -1,12 +1,13 @@
 """Writes edge-feature fixtures: random solids in general position (boxes, convex prisms,
 L-shaped prisms, cylinders, wedges: boxes with a smaller top, boxes with every edge filleted
-by OpenCASCADE), every one in inputs.step (one solid per case, in order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet),
-a chamfer (BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection
-join; with no face removed it gives the offset solid alone, and the closed hollow is that
-offset inside the solid) of each in occt-features.jsonl: the feature, its value, the points
-that pick its edges (edge midpoints) or the faces left open (points on the faces near their
-centroids), and the result's volume and area (BRepGProp). A case is kept only where
-OpenCASCADE's result is valid (BRepCheck_Analyzer).
+by OpenCASCADE, boxes with a round hole), every one in inputs.step (one solid per case, in
+order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet), a chamfer
+(BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection join; with
+no face removed it gives the offset solid alone, and the closed hollow is that offset inside
+the solid) of each in occt-features.jsonl: the feature, its value, the points that pick its
+edges (edge midpoints) or the faces left open (points on the faces near their centroids),
+and the result's volume and area (BRepGProp). A case is kept only where OpenCASCADE's result
+is valid (BRepCheck_Analyzer).
 
     python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
     /tmp/ocpenv/bin/python tests/reference/features/make_fixtures.py
@@ -40,7 +41,7 @@ from occ_shapes import compound, volume, write_step  # noqa: E402
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "48"))
 SEED = int(os.environ.get("SEED", "59"))
-KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge,roundbox").split(",")
+KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge,roundbox,plate").split(",")
 
 
 def area(shape):
@@ -122,7 +123,8 @@ def solid(rng, kind):
     """A solid of `kind` near the origin and its smallest feature size."""
     if kind == "box":
         d = [rng.uniform(3, 10) for _ in range(3)]
-        return BRepPrimAPI_MakeBox(gp_Pnt(-d[0] / 2, -d[1] / 2, -d[2] / 2), *d).Shape(), min(d), None
+        corner = gp_Pnt(-d[0] / 2, -d[1] / 2, -d[2] / 2)
+        return BRepPrimAPI_MakeBox(corner, *d).Shape(), min(d), None
     if kind == "prism":
         n = rng.randint(3, 7)
         angles = sorted(rng.uniform(0, 2 * math.pi) for _ in range(n))
@@ -137,6 +139,16 @@ def solid(rng, kind):
         h = rng.uniform(2, 6)
         pts = [(0, 0), (a, 0), (a, w), (w, w), (w, b), (0, b)]
         return prism(pts, h), min(w, h), (w, w, h / 2)
+    if kind == "plate":
+        # A box with a round hole through it: its straight edges take the features.
+        from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+        d = [rng.uniform(5, 10), rng.uniform(5, 10), rng.uniform(2, 4)]
+        box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), *d).Shape()
+        r = rng.uniform(0.5, 1.5)
+        x, y = rng.uniform(2, d[0] - 2), rng.uniform(2, d[1] - 2)
+        axis = gp_Ax2(gp_Pnt(x, y, -1), gp_Dir(0, 0, 1))
+        pin = BRepPrimAPI_MakeCylinder(axis, r, d[2] + 2).Shape()
+        return BRepAlgoAPI_Cut(box, pin).Shape(), min(d[2], 1.0), None
     if kind == "roundbox":
         # A box with every edge filleted by OpenCASCADE: a smooth solid to shell.
         d = [rng.uniform(4, 10) for _ in range(3)]
@@ -154,7 +166,8 @@ def solid(rng, kind):
         shape = BRepPrimAPI_MakeWedge(dx, dy, dz, x0, z0, x1, z1).Shape()
         return shape, min(dy, x1 - x0, z1 - z0), None
     r, h = rng.uniform(2, 5), rng.uniform(3, 10)
-    return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -h / 2), gp_Dir(0, 0, 1)), r, h).Shape(), min(r, h), None
+    axis = gp_Ax2(gp_Pnt(0, 0, -h / 2), gp_Dir(0, 0, 1))
+    return BRepPrimAPI_MakeCylinder(axis, r, h).Shape(), min(r, h), None
 
 
 def placed(shape, rng):
@@ -176,8 +189,8 @@ def case(rng):
     faces = shapes_of(shape, TopAbs_FACE)
     # Chamfers of every edge of a wedge are left out: OpenCASCADE closes some corners whose
     # faces are not square with another patch than the flat triangle through their corners.
-    feature = rng.choice({"wedge": ["fillet", "shell"], "roundbox": ["shell"]}.get(
-        kind, ["fillet", "chamfer", "shell"]))
+    feature = rng.choice({"wedge": ["fillet", "shell"], "roundbox": ["shell"],
+                          "plate": ["fillet", "chamfer"]}.get(kind, ["fillet", "chamfer", "shell"]))
     row = {"kind": kind, "feature": feature, "near": [], "open": []}
     if feature in ("fillet", "chamfer"):
         if kind == "ell" and (feature == "chamfer" or rng.random() < 0.5):
@@ -191,13 +204,27 @@ def case(rng):
             upright = rng.random() < 0.5
             axis = gp_Vec(0, 0, 1).Transformed(motion)
             chosen = [e for e in edges if (abs(edge_direction(e).Dot(axis)) > 0.5) == upright]
+        elif kind == "plate":
+            # The edges between two flat faces (not the hole's rims or seam); all, or some.
+            from OCP.BRepAdaptor import BRepAdaptor_Surface
+            from OCP.GeomAbs import GeomAbs_Plane
+            flat = [f for f in shapes_of(shape, TopAbs_FACE)
+                    if BRepAdaptor_Surface(TopoDS.Face(f)).GetType() == GeomAbs_Plane]
+            straight = [e for e in edges
+                        if sum(any(e.IsSame(g) for g in shapes_of(f, TopAbs_EDGE))
+                               for f in flat) == 2]
+            some = rng.sample(straight, rng.randint(1, len(straight)))
+            chosen = straight if rng.random() < 0.5 else some
+            if len(chosen) == len(straight):
+                edges = chosen
         elif kind == "box" and rng.random() < 0.5:
             chosen = rng.sample(edges, rng.randint(1, len(edges)))
         elif kind == "cylinder":
             # The rims (not the seam, which OpenCASCADE leaves alone).
             from OCP.BRepAdaptor import BRepAdaptor_Curve
             from OCP.GeomAbs import GeomAbs_Circle
-            rims = [e for e in edges if BRepAdaptor_Curve(TopoDS.Edge(e)).GetType() == GeomAbs_Circle]
+            rims = [e for e in edges
+                    if BRepAdaptor_Curve(TopoDS.Edge(e)).GetType() == GeomAbs_Circle]
             chosen = rng.sample(rims, rng.randint(1, len(rims)))
             if len(chosen) == len(rims):
                 edges = rims
@@ -206,7 +233,8 @@ def case(rng):
         if len(chosen) < len(edges):
             row["near"] = [edge_middle(e) for e in chosen]
         value = rng.uniform(0.05, 0.3) * size
-        maker = BRepFilletAPI_MakeFillet(shape) if feature == "fillet" else BRepFilletAPI_MakeChamfer(shape)
+        make = BRepFilletAPI_MakeFillet if feature == "fillet" else BRepFilletAPI_MakeChamfer
+        maker = make(shape)
         for e in chosen:
             maker.Add(value, TopoDS.Edge(e))
         result = maker.Shape()
@@ -217,7 +245,8 @@ def case(rng):
             # Open a flat face only.
             from OCP.BRepAdaptor import BRepAdaptor_Surface
             from OCP.GeomAbs import GeomAbs_Plane
-            faces = [f for f in faces if BRepAdaptor_Surface(TopoDS.Face(f)).GetType() == GeomAbs_Plane]
+            faces = [f for f in faces
+                     if BRepAdaptor_Surface(TopoDS.Face(f)).GetType() == GeomAbs_Plane]
         if kind == "ell":
             # Not a face along the concave edge: OpenCASCADE's thick solid is wrong there (the
             # solid itself, or a wall missing, where the closed form says otherwise).

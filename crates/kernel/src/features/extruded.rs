@@ -54,6 +54,9 @@ impl Prism {
 /// them; None where it is not one.
 fn prism_of(solid: &Polyhedron) -> Option<Prism> {
     let faces = &solid.faces;
+    if !solid.kept.is_empty() || faces.iter().any(|f| !f.kept.is_empty()) {
+        return None;
+    }
     let bottom = (0..faces.len()).find(|&f| {
         let n = faces[f].normal;
         let parallel = faces

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use crate::boolean::outward_faces;
+use crate::curve::SpaceCurve;
 use crate::error::{GeometryError, construction};
 use crate::join::face_loops;
 use crate::trim::TrimmedSurface;
@@ -22,6 +23,8 @@ pub struct Facet {
     /// Vertex indices, each loop with the face on its left seen from the normal's tip (the
     /// outer loop counter-clockwise, holes clockwise).
     pub loops: Vec<Vec<usize>>,
+    /// Loops with a curved edge (a round hole), kept as they are: their edges in space.
+    pub kept: Vec<Vec<SpaceCurve>>,
 }
 
 /// An edge: from vertex `a` to `b` in face `left`'s loop, from `b` to `a` in face `right`'s.
@@ -39,6 +42,9 @@ pub struct Polyhedron {
     pub vertices: Vec<DVec3>,
     pub faces: Vec<Facet>,
     pub edges: Vec<PolyEdge>,
+    /// The faces that are not flat (a round hole's wall), kept as they are: a feature takes
+    /// none of their edges.
+    pub kept: Vec<TrimmedSurface>,
     /// The edge of each directed pair (a, b) as some face's loop runs it.
     directed: HashMap<(usize, usize), usize>,
 }
@@ -48,6 +54,21 @@ impl Polyhedron {
     /// one: a face that is not flat, a boundary that is not straight, an edge not shared by
     /// exactly two faces.
     pub fn from_faces(faces: &[TrimmedSurface], tolerance: f64) -> Result<Self, GeometryError> {
+        Self::read(faces, tolerance, false)
+    }
+
+    /// [`Self::from_faces`] where curved faces, and loops of flat faces with a curved edge
+    /// (round holes), may be kept as they are: the edges between flat faces are the
+    /// polyhedron's.
+    pub fn with_curved(faces: &[TrimmedSurface], tolerance: f64) -> Result<Self, GeometryError> {
+        Self::read(faces, tolerance, true)
+    }
+
+    fn read(
+        faces: &[TrimmedSurface],
+        tolerance: f64,
+        allow_curved: bool,
+    ) -> Result<Self, GeometryError> {
         let (faces, _) = outward_faces(faces, tolerance, "the solid")?;
         let mut vertices: Vec<DVec3> = Vec::new();
         let mut vertex_of = |p: DVec3| -> usize {
@@ -59,21 +80,36 @@ impl Polyhedron {
             }
         };
         let mut facets = Vec::with_capacity(faces.len());
+        let mut kept_faces = Vec::new();
         for (k, face) in faces.iter().enumerate() {
             let surface = face.surface();
             let Some((origin, _)) = surface.plane(tolerance) else {
-                return Err(construction(
-                    WHAT,
-                    format!(
-                        "face {k} is curved; edge features are built on solids whose faces \
-                         are all flat"
-                    ),
-                ));
+                if !allow_curved {
+                    return Err(construction(
+                        WHAT,
+                        format!(
+                            "face {k} is curved; edge features are built on solids whose \
+                             faces are all flat"
+                        ),
+                    ));
+                }
+                kept_faces.push(face.clone());
+                continue;
             };
             let [(u0, u1), (v0, v1)] = surface.domain();
             let normal = surface.normal(0.5 * (u0 + u1), 0.5 * (v0 + v1))?;
             let mut loops = Vec::new();
-            for trim_loop in face_loops(face)? {
+            let mut kept = Vec::new();
+            'rings: for trim_loop in face_loops(face)? {
+                if allow_curved && !trim_loop.iter().all(|c| straight(surface, c, tolerance)) {
+                    kept.push(in_space(surface, &trim_loop, tolerance).ok_or_else(|| {
+                        construction(
+                            WHAT,
+                            format!("face {k}'s plane is not an affine image of its domain"),
+                        )
+                    })??);
+                    continue 'rings;
+                }
                 let mut ring = Vec::new();
                 for curve in &trim_loop {
                     let (t0, t1) = curve.domain();
@@ -115,33 +151,14 @@ impl Polyhedron {
                 normal,
                 offset: normal.dot(origin),
                 loops,
+                kept,
             });
         }
-        // Points where a boundary runs straight on are not corners.
-        for facet in &mut facets {
-            for ring in &mut facet.loops {
-                let mut changed = true;
-                while changed && ring.len() > 3 {
-                    changed = false;
-                    for i in 0..ring.len() {
-                        let n = ring.len();
-                        let (p, q, r) = (
-                            vertices[ring[(i + n - 1) % n]],
-                            vertices[ring[i]],
-                            vertices[ring[(i + 1) % n]],
-                        );
-                        let (d0, d1) = (q - p, r - q);
-                        if d0.cross(d1).length() <= tolerance * d0.length().max(d1.length())
-                            && d0.dot(d1) > 0.0
-                        {
-                            ring.remove(i);
-                            changed = true;
-                            break;
-                        }
-                    }
-                }
-            }
-        }
+        straighten(&mut facets, &vertices, tolerance);
+        // Faces in one plane that share an edge (a face a file split in two) are one face.
+        let facets = merged_coplanar(facets, tolerance)?;
+        let mut facets = facets;
+        straighten(&mut facets, &vertices, tolerance);
         let mut directed = HashMap::new();
         for (f, facet) in facets.iter().enumerate() {
             for ring in &facet.loops {
@@ -194,6 +211,7 @@ impl Polyhedron {
             vertices,
             faces: facets,
             edges,
+            kept: kept_faces,
             directed,
         })
     }
@@ -314,4 +332,180 @@ fn segment_distance(a: DVec3, b: DVec3, p: DVec3) -> f64 {
     let d = b - a;
     let t = ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
     p.distance(a + d * t)
+}
+
+/// Drops the points where a loop runs straight on (not corners).
+fn straighten(facets: &mut [Facet], vertices: &[DVec3], tolerance: f64) {
+    for facet in facets {
+        for ring in &mut facet.loops {
+            let mut changed = true;
+            while changed && ring.len() > 3 {
+                changed = false;
+                for i in 0..ring.len() {
+                    let n = ring.len();
+                    let (p, q, r) = (
+                        vertices[ring[(i + n - 1) % n]],
+                        vertices[ring[i]],
+                        vertices[ring[(i + 1) % n]],
+                    );
+                    let (d0, d1) = (q - p, r - q);
+                    if d0.cross(d1).length() <= tolerance * d0.length().max(d1.length())
+                        && d0.dot(d1) > 0.0
+                    {
+                        ring.remove(i);
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The faces with each group of faces in one plane that share edges made one face: their
+/// loops' edges less the ones they share, traced into loops again.
+fn merged_coplanar(facets: Vec<Facet>, tolerance: f64) -> Result<Vec<Facet>, GeometryError> {
+    let mut owner: HashMap<(usize, usize), usize> = HashMap::new();
+    for (f, facet) in facets.iter().enumerate() {
+        for ring in &facet.loops {
+            for i in 0..ring.len() {
+                owner.insert((ring[i], ring[(i + 1) % ring.len()]), f);
+            }
+        }
+    }
+    let coplanar = |f: usize, g: usize| {
+        facets[f].normal.dot(facets[g].normal) > 1.0 - 1e-9
+            && (facets[f].offset - facets[g].offset).abs() <= tolerance
+    };
+    let links: Vec<(usize, usize)> = owner
+        .iter()
+        .filter_map(|(&(a, b), &f)| {
+            let g = *owner.get(&(b, a))?;
+            (f != g && coplanar(f, g)).then_some((f, g))
+        })
+        .collect();
+    if links.is_empty() {
+        return Ok(facets);
+    }
+    let groups = crate::join::connected_groups(facets.len(), links);
+    let mut out = Vec::with_capacity(groups.len());
+    for group in groups {
+        if group.len() == 1 {
+            out.push(facets[group[0]].clone());
+            continue;
+        }
+        // The group's edges that no other face of it runs back along.
+        let mut next: HashMap<usize, Vec<usize>> = HashMap::new();
+        for &f in &group {
+            for ring in &facets[f].loops {
+                for i in 0..ring.len() {
+                    let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                    let inner = owner.get(&(b, a)).is_some_and(|g| group.contains(g));
+                    if !inner {
+                        next.entry(a).or_default().push(b);
+                    }
+                }
+            }
+        }
+        let mut loops = Vec::new();
+        while let Some(&start) = next.keys().min() {
+            let mut ring = vec![start];
+            let mut at = start;
+            loop {
+                let Some(outs) = next.get_mut(&at) else {
+                    return Err(construction(
+                        WHAT,
+                        "faces in one plane do not close into loops",
+                    ));
+                };
+                if outs.len() > 1 {
+                    return Err(construction(
+                        WHAT,
+                        "faces in one plane touch at a corner only; that is not built yet",
+                    ));
+                }
+                let Some(to) = outs.pop() else {
+                    return Err(construction(
+                        WHAT,
+                        "faces in one plane do not close into loops",
+                    ));
+                };
+                next.remove(&at);
+                if to == start {
+                    break;
+                }
+                ring.push(to);
+                at = to;
+            }
+            loops.push(ring);
+        }
+        out.push(Facet {
+            loops,
+            kept: group
+                .iter()
+                .flat_map(|&f| facets[f].kept.iter().cloned())
+                .collect(),
+            ..facets[group[0]].clone()
+        });
+    }
+    Ok(out)
+}
+
+/// Whether the trim curve's image on `surface` is straight (three inner points within
+/// `tolerance` of its chord).
+fn straight(surface: &crate::NurbsSurface, curve: &crate::TrimCurve, tolerance: f64) -> bool {
+    let (t0, t1) = curve.domain();
+    let at = |t: f64| {
+        curve
+            .point_at(t)
+            .and_then(|uv| surface.point_at_clamped(uv))
+            .ok()
+    };
+    let (Some(a), Some(b)) = (at(t0), at(t1)) else {
+        return false;
+    };
+    [0.25, 0.5, 0.75].iter().all(|&s| {
+        at(t0 + s * (t1 - t0)).is_some_and(|m| {
+            let chord = b - a;
+            let off = if chord.length() > 0.0 {
+                (m - a).reject_from(chord).length()
+            } else {
+                m.distance(a)
+            };
+            off <= tolerance
+        })
+    })
+}
+
+/// The loop's edges in space on the flat `surface`, exact where the plane is an affine image
+/// of its domain (a parallelogram of degree one: each trim curve's control points mapped,
+/// its weights kept); None where it is not one.
+fn in_space(
+    surface: &crate::NurbsSurface,
+    trim_loop: &[crate::TrimCurve],
+    tolerance: f64,
+) -> Option<Result<Vec<SpaceCurve>, GeometryError>> {
+    let [n, m] = surface.count();
+    if surface.degree() != [1, 1] || n != 2 || m != 2 || !surface.is_polynomial() {
+        return None;
+    }
+    let p = |i, j| surface.control_point(i, j);
+    if (p(0, 0) + p(1, 1) - p(0, 1) - p(1, 0)).length() > tolerance {
+        return None;
+    }
+    Some(
+        trim_loop
+            .iter()
+            .map(|c| {
+                let points = (0..c.count())
+                    .map(|i| {
+                        let uv = c.control_point(i);
+                        surface.point_at(uv.x, uv.y)
+                    })
+                    .collect::<Result<Vec<DVec3>, _>>()?;
+                let weights = (0..c.count()).map(|i| c.weight(i)).collect();
+                SpaceCurve::new(c.degree(), c.knots().to_vec(), points, Some(weights))
+            })
+            .collect(),
+    )
 }

@@ -352,7 +352,20 @@ impl Profile {
             };
             pieces.push(piece);
         }
-        profile.segments = chain(pieces, tolerance)?;
+        // Faces a file split along meridians (two half cylinders) are one segment.
+        let mut unique: Vec<Segment> = Vec::with_capacity(pieces.len());
+        for piece in pieces {
+            let same = |s: &Segment| {
+                let near = |p: DVec2, q: DVec2| p.distance(q) <= 10.0 * tolerance;
+                (near(s.a, piece.a) && near(s.b, piece.b)
+                    || near(s.a, piece.b) && near(s.b, piece.a))
+                    && s.through.is_some() == piece.through.is_some()
+            };
+            if !unique.iter().any(same) {
+                unique.push(piece);
+            }
+        }
+        profile.segments = chain(unique, tolerance)?;
         Ok(profile)
     }
 

@@ -360,10 +360,18 @@ pub fn round_edges(
             format!("the tolerance must be a number above 0, got {tolerance}"),
         ));
     }
-    if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
-        return super::revolved::round_revolved(faces, pick, feature, tolerance, what);
-    }
-    let solid = Polyhedron::from_faces(faces, tolerance)?;
+    // A solid of revolution; else flat faces, curved ones (round holes) kept as they are.
+    let solid = if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
+        match super::revolved::round_revolved(faces, pick, feature, tolerance, what) {
+            Ok(made) => return Ok(made),
+            Err(revolved) => match Polyhedron::with_curved(faces, tolerance) {
+                Ok(solid) if !solid.edges.is_empty() => solid,
+                _ => return Err(revolved),
+            },
+        }
+    } else {
+        Polyhedron::from_faces(faces, tolerance)?
+    };
     let picked = picked_edges(&solid, pick)?;
     // Every edge of a right prism with a concave edge: the rims' fillets run on round the
     // concave fillets' tops ([`super::extruded`]).
@@ -475,6 +483,7 @@ pub fn round_edges(
                 corners.insert((f, ring[i]), c);
             }
         }
+        boundary.extend(facet.kept.iter().flatten().cloned());
         let face = planar_face(&boundary).map_err(|e| {
             construction(
                 WHAT,
@@ -484,6 +493,7 @@ pub fn round_edges(
         let normal = facet.normal;
         out.push(facing(face, |_| normal)?);
     }
+    out.extend(solid.kept.iter().cloned());
     // Unpicked edges whose ends moved: both faces must agree on the new end.
     let corner_at = |f: usize, v: usize| -> Result<&Corner, GeometryError> {
         corners

@@ -136,6 +136,15 @@ pub fn shell(
     if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
         // A solid of revolution, else a smooth solid.
         return match super::revolved::shell_revolved(faces, thickness, open, tolerance) {
+            // No face open: the outer body and the inner one turned over, a solid with a
+            // void, without a boolean (they do not meet).
+            Ok((outer, inner, 0)) => {
+                let mut faces = outer;
+                for face in &inner {
+                    faces.push(face.reverse(crate::surface::Direction::U)?);
+                }
+                super::closed_result(faces, tolerance * 10.0, 0, "shell")
+            }
             Ok((outer, inner, picked)) => hollow(&outer, &inner, tolerance, picked),
             Err(_) => super::smooth::shell_smooth(faces, thickness, open, tolerance),
         };

@@ -838,3 +838,138 @@ fn a_rounded_box_shells_to_its_closed_form() {
         "open top",
     );
 }
+
+#[test]
+fn faces_split_in_one_plane_are_one_face() {
+    // A box whose top is two rectangles (as some files split a face): the seam between them
+    // is no edge, so every edge filleted is the rounded box.
+    let (a, b, c, r) = (2.0, 1.5, 1.0, 0.2);
+    let mut faces = block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap();
+    // The top and the sides along x go; the sides come back with the seam's end as a corner.
+    faces.retain(|f| {
+        let (lo, hi) = f.surface().bounds();
+        !(lo.z > c - 1e-9 || hi.y < 1e-9 || lo.y > b - 1e-9)
+    });
+    for y in [0.0, b] {
+        let p = |x: f64, z: f64| DVec3::new(x, y, z);
+        let ring = [p(0.0, 0.0), p(a, 0.0), p(a, c), p(0.8, c), p(0.0, c)];
+        faces.push(
+            planar_face(
+                &(0..5)
+                    .map(|i| line(ring[i], ring[(i + 1) % 5]).unwrap())
+                    .collect::<Vec<_>>(),
+            )
+            .unwrap(),
+        );
+    }
+    let z = |x: f64, y: f64| DVec3::new(x, y, c);
+    for (x0, x1) in [(0.0, 0.8), (0.8, a)] {
+        faces.push(
+            planar_face(&[
+                line(z(x0, 0.0), z(x1, 0.0)).unwrap(),
+                line(z(x1, 0.0), z(x1, b)).unwrap(),
+                line(z(x1, b), z(x0, b)).unwrap(),
+                line(z(x0, b), z(x0, 0.0)).unwrap(),
+            ])
+            .unwrap(),
+        );
+    }
+    let (motion, s) = placement(840);
+    let body = placed(faces, &motion);
+    let result = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        1e-7 * s,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_volume(&result, rounded_box(a, b, c, r) * s.powi(3), "split top");
+}
+
+#[test]
+fn a_cylinder_split_in_halves_rounds_as_one() {
+    // The side as two half cylinders and each cap's circle as two half circles (as some files
+    // write a cylinder): one profile, the rims filleted by Pappus.
+    use crate::construct::{arc, revolve};
+    let (radius, h, r) = (1.5, 2.0, 0.3);
+    let mut faces = Vec::new();
+    for side in [1.0, -1.0] {
+        let foot = DVec3::X * (side * radius);
+        let meridian = line(foot, foot + DVec3::Z * h).unwrap();
+        faces.push(TrimmedSurface::untrimmed(
+            revolve(&meridian, DVec3::ZERO, DVec3::Z, PI).unwrap(),
+        ));
+    }
+    for z in [0.0, h] {
+        let centre = DVec3::Z * z;
+        let halves = [
+            arc(centre, DVec3::X, DVec3::Y, radius, 0.0, PI).unwrap(),
+            arc(centre, DVec3::X, DVec3::Y, radius, PI, 2.0 * PI).unwrap(),
+        ];
+        faces.push(planar_face(&halves).unwrap());
+    }
+    let (motion, s) = placement(850);
+    let body = placed(faces, &motion);
+    let result = round_edges(
+        &body,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        1e-7 * s,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let spandrel = 2.0 * PI * ((radius - r) * (1.0 - PI / 4.0) * r * r + r.powi(3) / 6.0);
+    assert_volume(
+        &result,
+        (PI * radius * radius * h - 2.0 * spandrel) * s.powi(3),
+        "halves",
+    );
+}
+
+#[test]
+fn a_block_with_a_round_hole_keeps_the_hole_while_its_edges_round() {
+    // A block with a through hole (the boolean's result): its twelve straight edges filleted
+    // or chamfered, the hole's wall and rims kept as they were.
+    use crate::boolean::{BooleanOp, boolean};
+    use crate::solids::capped_cylinder;
+    let (a, b, c, r, hole) = (3.0, 2.0, 1.0, 0.2, 0.4);
+    let (motion, s) = placement(860);
+    let block_faces = placed(block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap(), &motion);
+    let pin = placed(
+        capped_cylinder(DVec3::new(1.2, 1.0, -0.5), DVec3::Z * (c + 1.0), hole).unwrap(),
+        &motion,
+    );
+    let tol = 1e-7 * s;
+    let plate = boolean(BooleanOp::Difference, &block_faces, &pin, tol)
+        .unwrap()
+        .faces();
+    let bore = PI * hole * hole * c;
+    let fillet = round_edges(
+        &plate,
+        &EdgePick::All,
+        EdgeFeature::Fillet { radius: r * s },
+        tol,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(fillet.picked, 12);
+    assert_volume(
+        &fillet,
+        (rounded_box(a, b, c, r) - bore) * s.powi(3),
+        "fillet",
+    );
+    let chamfer = round_edges(
+        &plate,
+        &EdgePick::All,
+        EdgeFeature::Chamfer {
+            distance: r * s,
+            other: r * s,
+        },
+        tol,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let removed = 2.0 * r * r * (a + b + c) - 12.0 * r.powi(3) + 8.0 * (5.0 / 6.0) * r.powi(3);
+    assert_volume(
+        &chamfer,
+        (a * b * c - removed - bore) * s.powi(3),
+        "chamfer",
+    );
+}
