@@ -114,29 +114,19 @@ impl Polyhedron {
                 for curve in &trim_loop {
                     let (t0, t1) = curve.domain();
                     let at = |t: f64| -> Result<DVec3, GeometryError> {
-                        let uv = curve.point_at(t)?;
-                        surface.point_at_clamped(uv)
+                        surface.point_at_clamped(curve.point_at(t)?)
                     };
-                    let (a, b) = (at(t0)?, at(t1)?);
-                    for s in [0.25, 0.5, 0.75] {
-                        let m = at(t0 + s * (t1 - t0))?;
-                        let chord = b - a;
-                        let off = if chord.length() > 0.0 {
-                            (m - a).reject_from(chord).length()
-                        } else {
-                            m.distance(a)
-                        };
-                        if off > tolerance {
-                            return Err(construction(
-                                WHAT,
-                                format!(
-                                    "the edge of face {k} at {} is curved; edge features are \
-                                     built on solids whose edges are all straight",
-                                    point(m)
-                                ),
-                            ));
-                        }
+                    if !straight(surface, curve, tolerance) {
+                        return Err(construction(
+                            WHAT,
+                            format!(
+                                "the edge of face {k} at {} is curved; edge features are built \
+                                 on solids whose edges are all straight",
+                                point(at(0.5 * (t0 + t1))?)
+                            ),
+                        ));
                     }
+                    let a = at(t0)?;
                     ring.push(vertex_of(a));
                 }
                 ring.dedup();
@@ -480,7 +470,7 @@ fn straight(surface: &crate::NurbsSurface, curve: &crate::TrimCurve, tolerance: 
 /// The loop's edges in space on the flat `surface`, exact where the plane is an affine image
 /// of its domain (a parallelogram of degree one: each trim curve's control points mapped,
 /// its weights kept); None where it is not one.
-fn in_space(
+pub(crate) fn in_space(
     surface: &crate::NurbsSurface,
     trim_loop: &[crate::TrimCurve],
     tolerance: f64,

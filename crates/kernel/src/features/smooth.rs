@@ -136,23 +136,16 @@ pub(crate) fn shell_smooth(
         };
         let surface = low.surface();
         for trim_loop in face_loops(low)? {
-            for curve in &trim_loop {
-                // The plane is affine in (u, v): the edge's control points are the trim
-                // curve's mapped.
-                let points = (0..curve.count())
-                    .map(|i| {
-                        let uv = curve.control_point(i);
-                        surface.point_at(uv.x, uv.y)
-                    })
-                    .collect::<Result<Vec<DVec3>, _>>()?;
-                let weights = (0..curve.count()).map(|i| curve.weight(i)).collect();
-                let edge = crate::curve::SpaceCurve::new(
-                    curve.degree(),
-                    curve.knots().to_vec(),
-                    points,
-                    Some(weights),
-                )?;
-                let wall = extrude(&edge, normal * t)?;
+            let edges = super::polyhedron::in_space(surface, &trim_loop, tolerance).ok_or_else(
+                || {
+                    construction(
+                        WHAT,
+                        format!("face {k}'s plane is not an affine image of its domain"),
+                    )
+                },
+            )??;
+            for (curve, edge) in trim_loop.iter().zip(&edges) {
+                let wall = extrude(edge, normal * t)?;
                 // Facing into the opening: to the left of the edge about the face's normal
                 // (the loops keep the face on their left).
                 let (t0, t1) = curve.domain();
