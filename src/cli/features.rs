@@ -9,6 +9,8 @@ use knotwork::kernel::features::{
     shell as shell_solid,
 };
 
+use knotwork::kernel::features::polyhedron::segment_distance;
+
 use super::boolean::{diagonal, named_solids_of, write_solids};
 use super::*;
 
@@ -86,23 +88,46 @@ pub fn feature(
         if bodies.len() == 1 {
             mine[0] = points.clone();
         } else {
+            // Edges as polylines, any body's (a curved one's rims too); faces by the
+            // polyhedron where the body is one, else by its edges.
             let solids: Vec<Option<Polyhedron>> = bodies
                 .iter()
                 .map(|b| Polyhedron::from_faces(&b.faces, tolerance).ok())
                 .collect();
-            for &p in &points {
-                let distance = |s: &Option<Polyhedron>| {
-                    s.as_ref().map_or(f64::INFINITY, |s| match feature {
-                        Feature::Shell { .. } => s
-                            .nearest_face(p)
-                            .map_or(f64::INFINITY, |f| s.face_distance(f, p)),
-                        _ => s
-                            .nearest_edge(p)
-                            .map_or(f64::INFINITY, |k| s.edge_distance(k, p)),
+            let lines: Vec<Vec<Vec<DVec3>>> = bodies
+                .iter()
+                .map(|b| {
+                    b.topology.as_ref().map_or_else(Vec::new, |t| {
+                        t.shared
+                            .iter()
+                            .filter_map(|s| {
+                                knotwork::kernel::join::edge_polyline(
+                                    &b.faces,
+                                    s.a,
+                                    1e3 * tolerance,
+                                )
+                                .ok()
+                            })
+                            .collect()
                     })
+                })
+                .collect();
+            for &p in &points {
+                let edge_gap = |k: usize| {
+                    lines[k]
+                        .iter()
+                        .flat_map(|line| line.windows(2))
+                        .map(|pair| segment_distance(pair[0], pair[1], p))
+                        .fold(f64::INFINITY, f64::min)
+                };
+                let distance = |k: usize| match (&solids[k], &feature) {
+                    (Some(s), Feature::Shell { .. }) => s
+                        .nearest_face(p)
+                        .map_or(f64::INFINITY, |f| s.face_distance(f, p)),
+                    _ => edge_gap(k),
                 };
                 let best = (0..bodies.len())
-                    .min_by(|&i, &j| distance(&solids[i]).total_cmp(&distance(&solids[j])))
+                    .min_by(|&i, &j| distance(i).total_cmp(&distance(j)))
                     .unwrap_or(0);
                 mine[best].push(p);
             }

@@ -306,6 +306,82 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `fillet-edges` on a file with a box and a plate with a round hole: a point near the hole's
+/// rim goes to the plate (its edges are found on any body, curved or not) and rounds the rim
+/// to a torus, whose volume Pappus gives; the box is written unchanged.
+#[test]
+fn the_command_line_rounds_a_holes_rim_on_the_body_nearest_the_point() {
+    use knotwork::kernel::boolean::{BooleanOp, boolean};
+    use knotwork::kernel::solids::{block, capped_cylinder};
+    let dir = std::env::temp_dir().join(format!("knotwork-rims-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let (hole, r) = (0.5_f64, 0.2_f64);
+    let box_faces = block(DVec3::ZERO, DVec3::new(2.0, 2.0, 2.0)).expect("a block");
+    let plate = boolean(
+        BooleanOp::Difference,
+        &block(DVec3::new(10.0, 0.0, 0.0), DVec3::new(4.0, 3.0, 1.0)).expect("a block"),
+        &capped_cylinder(DVec3::new(12.0, 1.5, -0.5), DVec3::Z * 2.0, hole).expect("a pin"),
+        1e-9,
+    )
+    .expect("a plate")
+    .faces();
+    let mut scene = knotwork::scene::Scene::default();
+    scene.objects.clear();
+    for (name, faces) in [("box", box_faces), ("plate", plate)] {
+        let topology = knotwork::kernel::join::find_topology(&faces, 1e-7).expect("joined");
+        scene.objects.push(knotwork::scene::SceneObject::new(
+            name,
+            knotwork::scene::ObjectGeometry::new(
+                knotwork::scene::polysurface::Polysurface::with_topology(faces, 1e-7, topology)
+                    .expect("a polysurface"),
+            ),
+        ));
+    }
+    let input = dir.join("two.step");
+    let written = knotwork::io::step::export_scene(&scene, "two", 1e-9).expect("STEP");
+    std::fs::write(&input, written.text).expect("written");
+    let out = dir.join("out.step");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args([
+            "fillet-edges",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--radius",
+            "0.2",
+            "--near",
+            "12.3,1.9,1.05",
+        ])
+        .output()
+        .expect("the binary runs");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(json["picked"].as_u64(), Some(1), "{json}");
+    let pi = std::f64::consts::PI;
+    // The corner region r²(1 − π/4), its centroid r(10 − 3π)/(3(4 − π)) out from the rim.
+    let torus =
+        2.0 * pi * (hole + r * (10.0 - 3.0 * pi) / (3.0 * (4.0 - pi))) * r * r * (1.0 - pi / 4.0);
+    let want = 8.0 + 12.0 - pi * hole * hole - torus;
+    let bytes = std::fs::read(&out).expect("the output");
+    let bodies = knotwork::io::step::read::read(&bytes, &mut |_, _| true)
+        .expect("STEP")
+        .bodies;
+    assert_eq!(bodies.len(), 2);
+    let read: f64 = bodies
+        .iter()
+        .map(|b| knotwork::kernel::mass::signed_volume(&b.faces).expect("a volume"))
+        .sum();
+    assert!(
+        (read - want).abs() < 1e-6 * want,
+        "read {read}, want {want}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 mod in_the_document {
     use glam::{DAffine3, DVec3};
     use knotwork::doc::{Command, Document};

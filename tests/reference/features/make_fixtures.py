@@ -1,6 +1,7 @@
 """Writes edge-feature fixtures: random solids in general position (boxes, convex prisms,
 L-shaped prisms, cylinders, wedges: boxes with a smaller top, boxes with every edge filleted
-by OpenCASCADE, boxes with a round hole), every one in inputs.step (one solid per case, in
+by OpenCASCADE, boxes with a round hole through them, a blind pocket in them or a pin standing
+on them), every one in inputs.step (one solid per case, in
 order), and OpenCASCADE's result of a fillet (BRepFilletAPI_MakeFillet), a chamfer
 (BRepFilletAPI_MakeChamfer) or a shell (BRepOffsetAPI_MakeThickSolid, intersection join; with
 no face removed it gives the offset solid alone, and the closed hollow is that offset inside
@@ -40,8 +41,9 @@ from occ_shapes import compound, volume, write_step  # noqa: E402
 
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "48"))
-SEED = int(os.environ.get("SEED", "59"))
-KINDS = os.environ.get("KINDS", "box,prism,ell,cylinder,wedge,roundbox,plate").split(",")
+SEED = int(os.environ.get("SEED", "61"))
+KINDS = os.environ.get("KINDS",
+                       "box,prism,ell,cylinder,wedge,roundbox,plate,boss,pocket").split(",")
 
 
 def area(shape):
@@ -139,16 +141,25 @@ def solid(rng, kind):
         h = rng.uniform(2, 6)
         pts = [(0, 0), (a, 0), (a, w), (w, w), (w, b), (0, b)]
         return prism(pts, h), min(w, h), (w, w, h / 2)
-    if kind == "plate":
-        # A box with a round hole through it: its straight edges take the features.
-        from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+    if kind in ("plate", "boss", "pocket"):
+        # A box with a round hole through it, a blind pocket in it or a pin standing on it.
+        from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
         d = [rng.uniform(5, 10), rng.uniform(5, 10), rng.uniform(2, 4)]
         box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), *d).Shape()
-        r = rng.uniform(0.5, 1.5)
-        x, y = rng.uniform(2, d[0] - 2), rng.uniform(2, d[1] - 2)
-        axis = gp_Ax2(gp_Pnt(x, y, -1), gp_Dir(0, 0, 1))
-        pin = BRepPrimAPI_MakeCylinder(axis, r, d[2] + 2).Shape()
-        return BRepAlgoAPI_Cut(box, pin).Shape(), min(d[2], 1.0), None
+        r = rng.uniform(0.5, 1.2)
+        x, y = rng.uniform(r + 1, d[0] - r - 1), rng.uniform(r + 1, d[1] - r - 1)
+        up = gp_Dir(0, 0, 1)
+        if kind == "plate":
+            pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, y, -1), up), r, d[2] + 2).Shape()
+            return BRepAlgoAPI_Cut(box, pin).Shape(), min(d[2], 1.0), None
+        if kind == "pocket":
+            depth = rng.uniform(0.4, 0.8) * d[2]
+            pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, y, d[2] - depth), up), r,
+                                           depth + 1).Shape()
+            return BRepAlgoAPI_Cut(box, pin).Shape(), min(depth, r, 1.0), None
+        height = rng.uniform(1, 3)
+        pin = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, y, d[2] - 1), up), r, height + 1).Shape()
+        return BRepAlgoAPI_Fuse(box, pin).Shape(), min(height, r, 1.0), None
     if kind == "roundbox":
         # A box with every edge filleted by OpenCASCADE: a smooth solid to shell.
         d = [rng.uniform(4, 10) for _ in range(3)]
@@ -190,7 +201,8 @@ def case(rng):
     # Chamfers of every edge of a wedge are left out: OpenCASCADE closes some corners whose
     # faces are not square with another patch than the flat triangle through their corners.
     feature = rng.choice({"wedge": ["fillet", "shell"], "roundbox": ["shell"],
-                          "plate": ["fillet", "chamfer"]}.get(kind, ["fillet", "chamfer", "shell"]))
+                          "plate": ["fillet", "chamfer"], "boss": ["fillet", "chamfer"],
+                          "pocket": ["fillet", "chamfer"]}.get(kind, ["fillet", "chamfer", "shell"]))
     row = {"kind": kind, "feature": feature, "near": [], "open": []}
     if feature in ("fillet", "chamfer"):
         if kind == "ell" and (feature == "chamfer" or rng.random() < 0.5):
@@ -204,19 +216,17 @@ def case(rng):
             upright = rng.random() < 0.5
             axis = gp_Vec(0, 0, 1).Transformed(motion)
             chosen = [e for e in edges if (abs(edge_direction(e).Dot(axis)) > 0.5) == upright]
-        elif kind == "plate":
-            # The edges between two flat faces (not the hole's rims or seam); all, or some.
+        elif kind in ("plate", "boss", "pocket"):
+            # Every edge but the wall's seam (the one edge with no flat face): the straight
+            # edges and the rims, all or some.
             from OCP.BRepAdaptor import BRepAdaptor_Surface
             from OCP.GeomAbs import GeomAbs_Plane
             flat = [f for f in shapes_of(shape, TopAbs_FACE)
                     if BRepAdaptor_Surface(TopoDS.Face(f)).GetType() == GeomAbs_Plane]
-            straight = [e for e in edges
-                        if sum(any(e.IsSame(g) for g in shapes_of(f, TopAbs_EDGE))
-                               for f in flat) == 2]
-            some = rng.sample(straight, rng.randint(1, len(straight)))
-            chosen = straight if rng.random() < 0.5 else some
-            if len(chosen) == len(straight):
-                edges = chosen
+            edges = [e for e in edges
+                     if any(e.IsSame(g) for f in flat for g in shapes_of(f, TopAbs_EDGE))]
+            some = rng.sample(edges, rng.randint(1, len(edges)))
+            chosen = edges if rng.random() < 0.5 else some
         elif kind == "box" and rng.random() < 0.5:
             chosen = rng.sample(edges, rng.randint(1, len(edges)))
         elif kind == "cylinder":

@@ -33,6 +33,7 @@ pub mod extruded;
 pub mod faces;
 pub mod polyhedron;
 pub mod revolved;
+pub mod rims;
 pub mod rounds;
 pub mod shell;
 pub mod smooth;
@@ -133,30 +134,6 @@ pub(crate) fn closed_result(
         topology,
         picked,
     })
-}
-
-/// The edges of `solid` that `pick` names, without repeats, in the polyhedron's numbering.
-pub fn picked_edges(solid: &Polyhedron, pick: &EdgePick) -> Result<Vec<usize>, GeometryError> {
-    let mut edges: Vec<usize> = match pick {
-        EdgePick::All => (0..solid.edges.len()).collect(),
-        EdgePick::Near(points) => points
-            .iter()
-            .map(|&p| {
-                if !p.is_finite() {
-                    return Err(construction(WHAT, "a picking point is not a finite number"));
-                }
-                solid
-                    .nearest_edge(p)
-                    .ok_or_else(|| construction(WHAT, "the solid has no edges"))
-            })
-            .collect::<Result<_, _>>()?,
-    };
-    edges.sort_unstable();
-    edges.dedup();
-    if edges.is_empty() {
-        return Err(construction(WHAT, "no edge is picked"));
-    }
-    Ok(edges)
 }
 
 #[cfg(test)]

@@ -318,7 +318,7 @@ impl Polyhedron {
 }
 
 /// The distance from `p` to the segment from `a` to `b`.
-fn segment_distance(a: DVec3, b: DVec3, p: DVec3) -> f64 {
+pub fn segment_distance(a: DVec3, b: DVec3, p: DVec3) -> f64 {
     let d = b - a;
     let t = ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
     p.distance(a + d * t)

@@ -146,7 +146,10 @@ pub struct Profile {
 
 /// The axis of a surface of revolution: a family of its isocurves are circles with their
 /// centres on one line along their common normal. None where it is not one.
-fn revolution_axis(surface: &crate::NurbsSurface, tolerance: f64) -> Option<(DVec3, DVec3)> {
+pub(crate) fn revolution_axis(
+    surface: &crate::NurbsSurface,
+    tolerance: f64,
+) -> Option<(DVec3, DVec3)> {
     let [(u0, u1), (v0, v1)] = surface.domain();
     let at = |s: f64, t: f64, across: bool| {
         let (u, v) = if across { (t, s) } else { (s, t) };

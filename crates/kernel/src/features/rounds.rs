@@ -15,7 +15,7 @@ use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
 
 use super::polyhedron::Polyhedron;
-use super::{EdgePick, FeatureResult, WHAT, closed_result, facing, picked_edges, point};
+use super::{EdgePick, FeatureResult, WHAT, closed_result, facing, point};
 
 /// What is made of each picked edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -361,7 +361,7 @@ pub fn round_edges(
         ));
     }
     // A solid of revolution; else flat faces, curved ones (round holes) kept as they are.
-    let solid = if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
+    let mut solid = if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
         match super::revolved::round_revolved(faces, pick, feature, tolerance, what) {
             Ok(made) => return Ok(made),
             Err(revolved) => match Polyhedron::with_curved(faces, tolerance) {
@@ -372,13 +372,16 @@ pub fn round_edges(
     } else {
         Polyhedron::from_faces(faces, tolerance)?
     };
-    let picked = picked_edges(&solid, pick)?;
+    // Round holes' and bosses' walls: their rims are edges too.
+    let walls = super::rims::take_walls(&mut solid, tolerance)?;
+    let (picked, rims) = super::rims::picked_with_rims(&solid, &walls, pick)?;
     // Every edge of a right prism with a concave edge: the rims' fillets run on round the
     // concave fillets' tops ([`super::extruded`]).
     if let EdgeFeature::Fillet { radius } = feature {
         let concave = (0..solid.edges.len()).any(|k| !solid.is_convex(k));
         if picked.len() == solid.edges.len()
             && concave
+            && walls.is_empty()
             && let Some(made) = super::extruded::fillet_prism(&solid, radius)
         {
             return closed_result(made?, tolerance * 10.0, picked.len(), what);
@@ -440,6 +443,26 @@ pub fn round_edges(
                 ));
             }
         }
+    }
+    // The walls: rebuilt, their picked rims rounded, their circles given to the flat faces.
+    let setback = |f: usize, a: usize, b: usize| -> f64 {
+        solid
+            .edge_between(a, b)
+            .and_then(|k| {
+                rounds.get(&k).map(|r| {
+                    if solid.edges[k].left == f {
+                        r.set_left
+                    } else {
+                        r.set_right
+                    }
+                })
+            })
+            .unwrap_or(0.0)
+    };
+    let (wall_faces, circles) =
+        super::rims::build_walls(&solid, &walls, &rims, feature, &setback, tolerance)?;
+    for (f, circle) in circles {
+        solid.faces[f].kept.push(vec![circle]);
     }
     let b = Builder {
         solid: &solid,
@@ -612,7 +635,8 @@ pub fn round_edges(
             }
         }
     }
-    closed_result(out, tolerance * 10.0, picked.len(), what)
+    out.extend(wall_faces);
+    closed_result(out, tolerance * 10.0, picked.len() + rims.len(), what)
 }
 
 /// The angle that carries parameter t of `curve` to `target` (radians, by `angle_of`, which

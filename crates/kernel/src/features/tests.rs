@@ -927,8 +927,8 @@ fn a_cylinder_split_in_halves_rounds_as_one() {
 
 #[test]
 fn a_block_with_a_round_hole_keeps_the_hole_while_its_edges_round() {
-    // A block with a through hole (the boolean's result): its twelve straight edges filleted
-    // or chamfered, the hole's wall and rims kept as they were.
+    // A block with a through hole (the boolean's result): every edge filleted or chamfered,
+    // its twelve straight ones and the hole's two rims (tori or cones, by Pappus).
     use crate::boolean::{BooleanOp, boolean};
     use crate::solids::capped_cylinder;
     let (a, b, c, r, hole) = (3.0, 2.0, 1.0, 0.2, 0.4);
@@ -950,10 +950,11 @@ fn a_block_with_a_round_hole_keeps_the_hole_while_its_edges_round() {
         tol,
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(fillet.picked, 12);
+    assert_eq!(fillet.picked, 14);
+    let rims = |chamfer| 2.0 * rim_volume(hole, r, true, chamfer);
     assert_volume(
         &fillet,
-        (rounded_box(a, b, c, r) - bore) * s.powi(3),
+        (rounded_box(a, b, c, r) - bore - rims(false)) * s.powi(3),
         "fillet",
     );
     let chamfer = round_edges(
@@ -969,7 +970,139 @@ fn a_block_with_a_round_hole_keeps_the_hole_while_its_edges_round() {
     let removed = 2.0 * r * r * (a + b + c) - 12.0 * r.powi(3) + 8.0 * (5.0 / 6.0) * r.powi(3);
     assert_volume(
         &chamfer,
-        (a * b * c - removed - bore) * s.powi(3),
+        (a * b * c - removed - bore - rims(true)) * s.powi(3),
         "chamfer",
     );
+}
+
+/// The corner region a fillet of radius r takes from (or adds to) a right-angled edge: its
+/// area r²(1 − π/4) and its centroid's distance from each face, r (10 − 3π) / (3 (4 − π)).
+fn spandrel(r: f64) -> (f64, f64) {
+    (
+        r * r * (1.0 - PI / 4.0),
+        r * (10.0 - 3.0 * PI) / (3.0 * (4.0 - PI)),
+    )
+}
+
+/// The volume a fillet (or, with `chamfer`, a chamfer) of radius r takes from a circular
+/// edge of radius `rim` whose flat face runs away from it outward (`outward`) or inward:
+/// the corner region revolved about the axis (Pappus).
+fn rim_volume(rim: f64, r: f64, outward: bool, chamfer: bool) -> f64 {
+    let (area, centroid) = if chamfer {
+        (0.5 * r * r, r / 3.0)
+    } else {
+        spandrel(r)
+    };
+    let s = if outward { 1.0 } else { -1.0 };
+    2.0 * PI * (rim + s * centroid) * area
+}
+
+#[test]
+fn hole_and_boss_rims_round_to_tori_and_cut_to_cones() {
+    // A block with a through hole, one with a blind pocket and one with a pin standing on it
+    // (the boolean's results), in general position: each rim is a circle where a plane meets
+    // a cylinder square to it, its fillet a torus and its chamfer a cone, whose volumes
+    // Pappus gives.
+    use crate::boolean::{BooleanOp, boolean};
+    use crate::solids::capped_cylinder;
+    let (a, b, c) = (4.0, 3.0, 1.0);
+    let (hole, pocket, pin) = (0.4, 0.5, 0.3);
+    let (depth, height) = (0.6, 0.8);
+    let (centre, r) = (DVec2::new(1.7, 1.2), 0.15);
+    let at = |x: f64, z: f64| DVec3::new(centre.x + x, centre.y, z);
+    // Each body: the tool, the boolean, its plain volume and its rims (a point on each, its
+    // radius, whether its flat face runs outward from it, whether it is convex).
+    type Rims = Vec<(DVec3, f64, bool, bool)>;
+    let bodies: [(Vec<TrimmedSurface>, BooleanOp, f64, Rims); 3] = [
+        (
+            capped_cylinder(at(0.0, -0.5), DVec3::Z * (c + 1.0), hole).unwrap(),
+            BooleanOp::Difference,
+            a * b * c - PI * hole * hole * c,
+            vec![
+                (at(hole, c), hole, true, true),
+                (at(hole, 0.0), hole, true, true),
+            ],
+        ),
+        (
+            capped_cylinder(at(0.0, c - depth), DVec3::Z * (depth + 1.0), pocket).unwrap(),
+            BooleanOp::Difference,
+            a * b * c - PI * pocket * pocket * depth,
+            vec![
+                (at(pocket, c), pocket, true, true),
+                (at(pocket, c - depth), pocket, false, false),
+            ],
+        ),
+        (
+            capped_cylinder(at(0.0, c - 0.5), DVec3::Z * (height + 0.5), pin).unwrap(),
+            BooleanOp::Union,
+            a * b * c + PI * pin * pin * height,
+            vec![
+                (at(pin, c), pin, true, false),
+                (at(pin, c + height), pin, false, true),
+            ],
+        ),
+    ];
+    for (n, (tool, op, plain, rims)) in bodies.into_iter().enumerate() {
+        let seed = 871 + n as u64;
+        let (motion, s) = placement(seed);
+        let tol = 1e-7 * s;
+        let to = |p: DVec3| motion.transform_point3(p);
+        let block_faces = block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap();
+        let body = boolean(op, &block_faces, &tool, 1e-9).unwrap().faces();
+        let body = placed(body, &motion);
+        for chamfer in [false, true] {
+            let feature = if chamfer {
+                EdgeFeature::Chamfer {
+                    distance: r * s,
+                    other: r * s,
+                }
+            } else {
+                EdgeFeature::Fillet { radius: r * s }
+            };
+            let change = |rims: &[(DVec3, f64, bool, bool)]| -> f64 {
+                rims.iter()
+                    .map(|&(_, rim, outward, convex)| {
+                        let v = rim_volume(rim, r, outward, chamfer);
+                        if convex { -v } else { v }
+                    })
+                    .sum()
+            };
+            let made = round_edges(
+                &body,
+                &EdgePick::Near(rims.iter().map(|q| to(q.0)).collect()),
+                feature,
+                tol,
+            )
+            .unwrap_or_else(|e| panic!("body {n}, chamfer {chamfer}: {e}"));
+            assert_eq!(made.picked, 2);
+            assert_volume(&made, (plain + change(&rims)) * s.powi(3), "both rims");
+            if !chamfer {
+                assert_tangent(&made, tol, "rim fillets");
+            }
+            // Each rim alone.
+            for rim in &rims {
+                let made = round_edges(&body, &EdgePick::Near(vec![to(rim.0)]), feature, tol)
+                    .unwrap_or_else(|e| panic!("body {n}, chamfer {chamfer}: {e}"));
+                assert_volume(
+                    &made,
+                    (plain + change(std::slice::from_ref(rim))) * s.powi(3),
+                    "one rim",
+                );
+            }
+        }
+        // A radius wider than a rim that shrinks, or one whose ends overlap along the wall.
+        let wide = round_edges(
+            &body,
+            &EdgePick::Near(rims.iter().map(|q| to(q.0)).collect()),
+            EdgeFeature::Fillet { radius: 0.55 * s },
+            tol,
+        )
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+        assert!(
+            wide.contains("wider than the circle") || wide.contains("overlap"),
+            "body {n}: {wide}"
+        );
+    }
 }
