@@ -1,6 +1,11 @@
-//! Every edge of a right prism filleted at once (a polygon, convex or not, with holes or not,
-//! extruded square to its caps): the ball rolls along each cap's rim after the upright edges
-//! are rounded, so where a concave upright edge meets a convex rim (an L-shaped block's inner
+//! Right prisms (an outline of lines and circular arcs, convex or not, with holes or not,
+//! extruded square to its caps) filleted along their caps' rims. An outline whose pieces meet
+//! tangentially (a rounded rectangle, a slot, a disc with flats, a round hole) has no upright
+//! edges: each cap's loop is one tangent chain, picked whole by any of its edges, and its
+//! fillet is the quarter circle swept along it (a cylinder along a line, a torus about an arc:
+//! the ball's centre on the arc moved in by r), or its chamfer the chord swept (a plane, a
+//! cone). A polygon's every edge is filleted at once: the ball rolls along each cap's rim
+//! after the upright edges are rounded, so where a concave upright edge meets a convex rim (an L-shaped block's inner
 //! corner) the rim's fillet runs on round the concave fillet's top instead of needing a
 //! vertex blend:
 //!
@@ -16,28 +21,145 @@
 //! area and A′, P′ the moved-in cap's area and perimeter (Steiner's formula for the sections
 //! of a rim, each the cap grown by √(r² − s²)); the tests check it.
 
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 use glam::{DVec2, DVec3};
 
+use crate::boolean::outward_faces;
 use crate::construct::{arc, extrude, line, revolve};
 use crate::curve::SpaceCurve;
 use crate::error::{GeometryError, construction};
+use crate::join::face_loops;
+use crate::mass::signed_volume;
 use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
 
-use super::polyhedron::Polyhedron;
-use super::{WHAT, facing, point};
+use super::polyhedron::{Polyhedron, in_space};
+use super::revolved::revolution_axis;
+use super::{EdgeFeature, EdgePick, WHAT, facing, point};
+
+/// One piece of a prism's outline in its bottom plane: a line, or the arc of `radius` about
+/// `centre` turning by `sweep` (counter-clockwise seen from above where positive).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Piece {
+    Line(DVec2, DVec2),
+    Arc {
+        from: DVec2,
+        centre: DVec2,
+        radius: f64,
+        sweep: f64,
+    },
+}
+
+impl Piece {
+    fn start(&self) -> DVec2 {
+        match *self {
+            Piece::Line(a, _) => a,
+            Piece::Arc { from, .. } => from,
+        }
+    }
+
+    fn end(&self) -> DVec2 {
+        match *self {
+            Piece::Line(_, b) => b,
+            Piece::Arc {
+                from,
+                centre,
+                sweep,
+                ..
+            } => centre + DVec2::from_angle(sweep).rotate(from - centre),
+        }
+    }
+
+    /// The unit direction of travel at the start (`at_end` false) or the end.
+    fn tangent(&self, at_end: bool) -> DVec2 {
+        match *self {
+            Piece::Line(a, b) => (b - a).normalize(),
+            Piece::Arc { centre, sweep, .. } => {
+                let p = if at_end { self.end() } else { self.start() };
+                left(p - centre).normalize() * sweep.signum()
+            }
+        }
+    }
+
+    fn reversed(self) -> Self {
+        match self {
+            Piece::Line(a, b) => Piece::Line(b, a),
+            Piece::Arc {
+                centre,
+                radius,
+                sweep,
+                ..
+            } => Piece::Arc {
+                from: self.end(),
+                centre,
+                radius,
+                sweep: -sweep,
+            },
+        }
+    }
+
+    /// The signed area the piece sweeps about the origin, ½∮(x dy − y dx) (exact for an arc:
+    /// ½[R²θ + R cₓ (sin φ₁ − sin φ₀) − R c_y (cos φ₁ − cos φ₀)]).
+    fn area(&self) -> f64 {
+        match *self {
+            Piece::Line(a, b) => 0.5 * a.perp_dot(b),
+            Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep,
+            } => {
+                let f0 = (from - centre).to_angle();
+                let f1 = f0 + sweep;
+                0.5 * (radius * radius * sweep + radius * centre.x * (f1.sin() - f0.sin())
+                    - radius * centre.y * (f1.cos() - f0.cos()))
+            }
+        }
+    }
+
+    /// The distance from `q` to the piece.
+    fn distance(&self, q: DVec2) -> f64 {
+        match *self {
+            Piece::Line(a, b) => {
+                let d = b - a;
+                let t =
+                    ((q - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                q.distance(a + d * t)
+            }
+            Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep,
+            } => {
+                let angle = DVec2::from_angle(-(from - centre).to_angle())
+                    .rotate(q - centre)
+                    .to_angle();
+                let within = if sweep >= 0.0 {
+                    angle.rem_euclid(TAU) <= sweep
+                } else {
+                    (-angle).rem_euclid(TAU) <= -sweep
+                };
+                if within {
+                    (q.distance(centre) - radius).abs()
+                } else {
+                    q.distance(self.start()).min(q.distance(self.end()))
+                }
+            }
+        }
+    }
+}
 
 /// A right prism: the frame of its bottom cap (origin, axes in the plane, up), its height
-/// and its profile's loops in the bottom plane (the material on each loop's left).
+/// and its outline's loops in the bottom plane (the material on each loop's left).
 struct Prism {
     origin: DVec3,
     e1: DVec3,
     e2: DVec3,
     up: DVec3,
     height: f64,
-    loops: Vec<Vec<DVec2>>,
+    loops: Vec<Vec<Piece>>,
 }
 
 impl Prism {
@@ -47,6 +169,11 @@ impl Prism {
 
     fn vector(&self, q: DVec2) -> DVec3 {
         self.e1 * q.x + self.e2 * q.y
+    }
+
+    fn flat(&self, p: DVec3) -> (DVec2, f64) {
+        let d = p - self.origin;
+        (DVec2::new(d.dot(self.e1), d.dot(self.e2)), d.dot(self.up))
     }
 }
 
@@ -81,12 +208,16 @@ fn prism_of(solid: &Polyhedron) -> Option<Prism> {
         .loops
         .iter()
         .map(|ring| {
-            ring.iter()
+            let ring: Vec<DVec2> = ring
+                .iter()
                 .rev()
                 .map(|&v| {
                     let d = solid.vertices[v] - origin;
                     DVec2::new(d.dot(e1), d.dot(e2))
                 })
+                .collect();
+            (0..ring.len())
+                .map(|i| Piece::Line(ring[i], ring[(i + 1) % ring.len()]))
                 .collect()
         })
         .collect();
@@ -100,91 +231,281 @@ fn prism_of(solid: &Polyhedron) -> Option<Prism> {
     })
 }
 
-/// One piece of a rounded profile: a line, or an arc of radius r about `centre` (convex:
-/// turning left, the material inside).
-#[derive(Debug, Clone, Copy)]
-enum Piece {
-    Line(DVec2, DVec2),
-    Arc {
-        from: DVec2,
-        to: DVec2,
-        centre: DVec2,
-        convex: bool,
-    },
+/// The closed shell `faces` as a right prism whose upright faces are planes and cylinders
+/// (an outline of lines and arcs), or None where it is not one: two flat caps with opposite
+/// normals, every other face a plane or a cylinder square to them, and the volume the
+/// outline's area times the height.
+fn curved_prism_of(faces: &[TrimmedSurface], tolerance: f64) -> Option<Prism> {
+    let (faces, _) = outward_faces(faces, tolerance, "the solid").ok()?;
+    let planes: Vec<Option<DVec3>> = faces
+        .iter()
+        .map(|f| {
+            let s = f.surface();
+            s.plane(tolerance)?;
+            let [(u0, u1), (v0, v1)] = s.domain();
+            s.normal(0.5 * (u0 + u1), 0.5 * (v0 + v1)).ok()
+        })
+        .collect();
+    let upright = |k: usize, up: DVec3| match planes[k] {
+        Some(n) => n.dot(up).abs() < 1e-9,
+        None => revolution_axis(faces[k].surface(), tolerance)
+            .is_some_and(|(_, axis)| axis.cross(up).length() < 1e-7),
+    };
+    let bottom = (0..faces.len()).find(|&f| {
+        planes[f].is_some_and(|n| {
+            (0..faces.len()).all(|g| {
+                g == f || upright(g, n) || planes[g].is_some_and(|m| m.dot(n) < -1.0 + 1e-9)
+            }) && (0..faces.len())
+                .filter(|&g| planes[g].is_some_and(|m| m.dot(n) < -1.0 + 1e-9))
+                .count()
+                == 1
+        })
+    })?;
+    let up = -planes[bottom]?;
+    let top = (0..faces.len()).find(|&g| planes[g].is_some_and(|m| m.dot(up) > 1.0 - 1e-9))?;
+    let surface = faces[bottom].surface();
+    let origin = surface
+        .point_at(surface.domain()[0].0, surface.domain()[1].0)
+        .ok()?;
+    let e1 = up.any_orthonormal_vector();
+    let e2 = up.cross(e1);
+    let top_surface = faces[top].surface();
+    let height = (top_surface
+        .point_at(top_surface.domain()[0].0, top_surface.domain()[1].0)
+        .ok()?
+        - origin)
+        .dot(up);
+    let mut prism = Prism {
+        origin,
+        e1,
+        e2,
+        up,
+        height,
+        loops: Vec::new(),
+    };
+    for trim_loop in face_loops(&faces[bottom]).ok()? {
+        let curves = in_space(surface, &trim_loop, tolerance)?.ok()?;
+        let mut pieces: Vec<Piece> = Vec::new();
+        for curve in &curves {
+            let piece = piece_of(&prism, curve, tolerance)?;
+            // Pieces of one line or one circle, split by the file, are one.
+            match pieces
+                .last()
+                .and_then(|&last| merged(last, piece, tolerance))
+            {
+                Some(m) => *pieces.last_mut()? = m,
+                None => pieces.push(piece),
+            }
+        }
+        // The last piece may continue the first.
+        if pieces.len() > 1
+            && let Some(j) = merged(pieces[pieces.len() - 1], pieces[0], tolerance)
+        {
+            pieces.pop();
+            pieces[0] = j;
+        }
+        prism.loops.push(pieces);
+    }
+    // The outer loop counter-clockwise seen from above, the holes clockwise.
+    let areas: Vec<f64> = prism
+        .loops
+        .iter()
+        .map(|l| l.iter().map(Piece::area).sum())
+        .collect();
+    let outer = (0..areas.len()).max_by(|&i, &j| areas[i].abs().total_cmp(&areas[j].abs()))?;
+    for (k, l) in prism.loops.iter_mut().enumerate() {
+        if (areas[k] > 0.0) != (k == outer) {
+            *l = l.iter().rev().map(|p| p.reversed()).collect();
+        }
+    }
+    let area: f64 = prism.loops.iter().flatten().map(Piece::area).sum();
+    let volume = signed_volume(&faces).ok()?;
+    ((volume - area * height).abs() <= 1e-6 * volume.abs()).then_some(prism)
+}
+
+/// `first` and `second` (which follows it) as one piece where they are parts of one line or
+/// one circle turning the same way.
+fn merged(first: Piece, second: Piece, tolerance: f64) -> Option<Piece> {
+    match (first, second) {
+        (Piece::Line(a, b), Piece::Line(_, c))
+            if (c - a).perp_dot((b - a).normalize()).abs() <= tolerance =>
+        {
+            Some(Piece::Line(a, c))
+        }
+        (
+            Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep,
+            },
+            Piece::Arc {
+                centre: c2,
+                radius: r2,
+                sweep: s2,
+                ..
+            },
+        ) if centre.distance(c2) <= tolerance
+            && (radius - r2).abs() <= tolerance
+            && sweep * s2 > 0.0 =>
+        {
+            Some(Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep: sweep + s2,
+            })
+        }
+        _ => None,
+    }
+}
+
+/// A curve in a prism's bottom plane as a piece of its outline: a line or a circular arc;
+/// None where it is neither.
+fn piece_of(prism: &Prism, curve: &SpaceCurve, tolerance: f64) -> Option<Piece> {
+    let (t0, t1) = curve.domain();
+    let points: Vec<DVec2> = (0..=16)
+        .map(|i| {
+            curve
+                .point_at(t0 + (t1 - t0) * i as f64 / 16.0)
+                .ok()
+                .map(|p| prism.flat(p).0)
+        })
+        .collect::<Option<_>>()?;
+    let (a, b) = (points[0], points[16]);
+    let chord = b - a;
+    if chord.length() > tolerance
+        && points
+            .iter()
+            .all(|&p| (p - a).perp_dot(chord.normalize()).abs() <= tolerance)
+    {
+        return Some(Piece::Line(a, b));
+    }
+    // The circle through the first point, two inner ones (the ends may coincide).
+    let (p, q) = (points[5], points[11]);
+    let centre = {
+        let (d1, d2) = (p - a, q - a);
+        let det = 2.0 * d1.perp_dot(d2);
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        a + DVec2::new(
+            d2.y * d1.length_squared() - d1.y * d2.length_squared(),
+            d1.x * d2.length_squared() - d2.x * d1.length_squared(),
+        ) / det
+    };
+    let radius = a.distance(centre);
+    if points
+        .iter()
+        .any(|&p| (p.distance(centre) - radius).abs() > tolerance)
+    {
+        return None;
+    }
+    let mut sweep = 0.0;
+    for pair in points.windows(2) {
+        sweep += (pair[0] - centre).angle_to(pair[1] - centre);
+    }
+    Some(Piece::Arc {
+        from: a,
+        centre,
+        radius,
+        sweep,
+    })
 }
 
 fn left(d: DVec2) -> DVec2 {
     DVec2::new(-d.y, d.x)
 }
 
-/// The loop's corners rounded at radius r: its pieces in order; refused where two roundings
-/// overlap on an edge.
-fn rounded(ring: &[DVec2], r: f64, prism: &Prism) -> Result<Vec<Piece>, GeometryError> {
+/// The loop's sharp corners between two lines rounded at radius r (arcs of radius r, convex
+/// or concave); tangent junctions kept; refused where two roundings overlap on an edge or a
+/// sharp corner touches an arc.
+fn rounded(ring: &[Piece], r: f64, prism: &Prism) -> Result<Vec<Piece>, GeometryError> {
     let n = ring.len();
-    let dir = |i: usize| (ring[(i + 1) % n] - ring[i]).normalize();
-    let mut corners = Vec::with_capacity(n);
-    for (i, &corner) in ring.iter().enumerate() {
-        let (d0, d1) = (dir((i + n - 1) % n), dir(i));
+    let mut trimmed: Vec<Piece> = ring.to_vec();
+    let mut arcs: Vec<Option<Piece>> = vec![None; n];
+    for i in 0..n {
+        let (before, after) = (ring[(i + n - 1) % n], ring[i]);
+        let (d0, d1) = (before.tangent(true), after.tangent(false));
         let turn = d0.perp_dot(d1);
-        let psi = (-d0).dot(d1).clamp(-1.0, 1.0).acos();
-        if turn.abs() < 1e-12 {
+        if turn.abs() < 1e-9 && d0.dot(d1) > 0.0 {
+            continue;
+        }
+        let corner = after.start();
+        let (Piece::Line(..), Piece::Line(..)) = (before, after) else {
             return Err(construction(
                 WHAT,
-                "a cap's boundary runs straight on at a corner",
+                format!(
+                    "the outline's corner at {} is sharp between a line and an arc; its upright \
+                     edge's fillet is not built yet",
+                    point(prism.at(corner, 0.0))
+                ),
             ));
-        }
+        };
+        let psi = (-d0).dot(d1).clamp(-1.0, 1.0).acos();
         let c = r / (0.5 * psi).tan();
         let (p1, p2) = (corner - d0 * c, corner + d1 * c);
-        let convex = turn > 0.0;
-        let centre = if convex {
+        let centre = if turn > 0.0 {
             p1 + left(d0) * r
         } else {
             p1 - left(d0) * r
         };
-        corners.push((p1, p2, centre, convex));
+        arcs[i] = Some(Piece::Arc {
+            from: p1,
+            centre,
+            radius: r,
+            sweep: d0.angle_to(d1),
+        });
+        if let Piece::Line(_, b) = &mut trimmed[(i + n - 1) % n] {
+            *b = p1;
+        }
+        if let Piece::Line(a, _) = &mut trimmed[i] {
+            *a = p2;
+        }
     }
     let mut pieces = Vec::with_capacity(2 * n);
     for i in 0..n {
-        let (p1, p2, centre, convex) = corners[i];
-        pieces.push(Piece::Arc {
-            from: p1,
-            to: p2,
-            centre,
-            convex,
-        });
-        let next = corners[(i + 1) % n].0;
-        if (next - p2).dot(dir(i)) <= 1e-9 * (ring[(i + 1) % n] - ring[i]).length() {
+        if let Some(arc) = arcs[i] {
+            pieces.push(arc);
+        }
+        if let (Piece::Line(a, b), Piece::Line(a0, b0)) = (trimmed[i], ring[i])
+            && (b - a).dot(b0 - a0) <= 1e-9 * (b0 - a0).length_squared()
+        {
             return Err(construction(
                 WHAT,
                 format!(
                     "the fillet is too large for the edge from {} to {}: the roundings at its \
                      ends overlap",
-                    point(prism.at(ring[i], 0.0)),
-                    point(prism.at(ring[(i + 1) % n], 0.0))
+                    point(prism.at(a0, 0.0)),
+                    point(prism.at(b0, 0.0))
                 ),
             ));
         }
-        pieces.push(Piece::Line(p2, next));
+        pieces.push(trimmed[i]);
     }
     Ok(pieces)
 }
 
-/// The arc about `centre` (3D) from `from` to `to` (on a circle about it, in a plane across
-/// `up`), turning about `up` (left) or against it.
-fn arc_about(
-    centre: DVec3,
-    from: DVec3,
-    to: DVec3,
-    up: DVec3,
-    counter: bool,
+/// The arc of `radius` about `centre` from the direction of `from`, turning by `sweep`, at
+/// height z.
+fn arc_curve(
+    prism: &Prism,
+    centre: DVec2,
+    from: DVec2,
+    radius: f64,
+    sweep: f64,
+    z: f64,
 ) -> Result<SpaceCurve, GeometryError> {
-    let (a, b) = (from - centre, to - centre);
-    let radius = a.length();
-    let axis = if counter { up } else { -up };
-    let x = a / radius;
-    let y = axis.cross(x);
-    let sweep = b.dot(y).atan2(b.dot(x)).rem_euclid(std::f64::consts::TAU);
-    arc(centre, x, y, radius, 0.0, sweep)
+    let x = prism.vector((from - centre).normalize());
+    let axis = if sweep > 0.0 { prism.up } else { -prism.up };
+    arc(
+        prism.at(centre, z),
+        x,
+        axis.cross(x),
+        radius,
+        0.0,
+        sweep.abs(),
+    )
 }
 
 /// Every edge of the right prism `solid` filleted at radius `r` (see the module
@@ -194,120 +515,255 @@ pub(crate) fn fillet_prism(
     r: f64,
 ) -> Option<Result<Vec<TrimmedSurface>, GeometryError>> {
     let prism = prism_of(solid)?;
-    Some(build(&prism, r))
+    let caps = vec![[true, true]; prism.loops.len()];
+    Some(build(&prism, EdgeFeature::Fillet { radius: r }, &caps))
 }
 
-fn build(prism: &Prism, r: f64) -> Result<Vec<TrimmedSurface>, GeometryError> {
-    let h = prism.height;
-    if !(2.0 * r < h) {
-        return Err(construction(
-            WHAT,
-            format!("the radius {r} is too large for the body's height {h}"),
-        ));
-    }
-    let up = prism.up;
-    let mut out = Vec::new();
-    let mut caps: [Vec<SpaceCurve>; 2] = [Vec::new(), Vec::new()];
-    for ring in &prism.loops {
-        for piece in rounded(ring, r, prism)? {
-            match piece {
-                Piece::Line(a, b) => {
-                    let d = (b - a).normalize();
-                    let m = left(d);
-                    let inner = |q: DVec2| q + m * r;
-                    let out_dir = -prism.vector(m);
-                    // The wall.
-                    let wall = planar_face(&[
-                        line(prism.at(a, r), prism.at(b, r))?,
-                        line(prism.at(b, r), prism.at(b, h - r))?,
-                        line(prism.at(b, h - r), prism.at(a, h - r))?,
-                        line(prism.at(a, h - r), prism.at(a, r))?,
-                    ])?;
-                    out.push(facing(wall, |_| out_dir)?);
-                    // The caps' edges, and the rims: a quarter cylinder each.
-                    for (level, z, sign) in [(0, 0.0, -1.0), (1, h, 1.0)] {
-                        caps[level].push(line(prism.at(inner(a), z), prism.at(inner(b), z))?);
-                        let centre = prism.at(inner(a), z - sign * r);
-                        let quarter = arc(centre, out_dir, up * sign, r, 0.0, FRAC_PI_2)?;
-                        let rim = extrude(&quarter, prism.vector(b - a))?;
-                        let axis_point = centre;
-                        let along = prism.vector(d);
-                        out.push(facing(TrimmedSurface::untrimmed(rim), |p| {
-                            let q = p - axis_point;
-                            q - along * q.dot(along)
-                        })?);
-                    }
+/// `feature` on the edges of `faces` that `pick` names, where `faces` is a right prism with
+/// an outline of lines and arcs (see the module documentation): None where it is not one,
+/// with the number of edges (chains) picked.
+pub(crate) fn round_curved_prism(
+    faces: &[TrimmedSurface],
+    pick: &EdgePick,
+    feature: EdgeFeature,
+    tolerance: f64,
+) -> Option<Result<(Vec<TrimmedSurface>, usize), GeometryError>> {
+    let prism = curved_prism_of(faces, tolerance)?;
+    Some(round_picked(&prism, pick, feature))
+}
+
+fn round_picked(
+    prism: &Prism,
+    pick: &EdgePick,
+    feature: EdgeFeature,
+) -> Result<(Vec<TrimmedSurface>, usize), GeometryError> {
+    // Each loop's sharp corners (its upright edges).
+    let sharp: Vec<Vec<usize>> = prism
+        .loops
+        .iter()
+        .map(|l| {
+            let n = l.len();
+            (0..n)
+                .filter(|&i| {
+                    let (d0, d1) = (l[(i + n - 1) % n].tangent(true), l[i].tangent(false));
+                    !(d0.perp_dot(d1).abs() < 1e-9 && d0.dot(d1) > 0.0)
+                })
+                .collect()
+        })
+        .collect();
+    let mut caps = vec![[false, false]; prism.loops.len()];
+    let mut uprights = 0;
+    match pick {
+        EdgePick::All => {
+            caps.iter_mut().for_each(|c| *c = [true, true]);
+            uprights = sharp.iter().map(Vec::len).sum();
+        }
+        EdgePick::Near(points) => {
+            for &p in points {
+                if !p.is_finite() {
+                    return Err(construction(WHAT, "a picking point is not a finite number"));
                 }
-                Piece::Arc {
-                    from,
-                    to,
-                    centre,
-                    convex,
-                } => {
-                    // The wall: the arc extruded.
-                    let base = arc_about(
-                        prism.at(centre, r),
-                        prism.at(from, r),
-                        prism.at(to, r),
-                        up,
-                        convex,
-                    )?;
-                    let wall = extrude(&base, up * (h - 2.0 * r))?;
-                    let c3 = prism.at(centre, 0.0);
-                    let radial = move |p: DVec3| {
-                        let q = p - c3;
-                        q - up * q.dot(up)
-                    };
-                    out.push(facing(TrimmedSurface::untrimmed(wall), |p| {
-                        if convex { radial(p) } else { -radial(p) }
-                    })?);
-                    let u = (from - centre).normalize();
-                    for (level, z, sign) in [(0, 0.0, -1.0), (1, h, 1.0)] {
-                        let axis = if convex { up } else { -up };
-                        let sweep = {
-                            let (a, b) = (from - centre, to - centre);
-                            a.normalize().dot(b.normalize()).clamp(-1.0, 1.0).acos()
-                        };
-                        if convex {
-                            // A ball's part about the corner's centre.
-                            let ball = prism.at(centre, z - sign * r);
-                            let meridian =
-                                arc(ball, prism.vector(u), up * sign, r, 0.0, FRAC_PI_2)?;
-                            let patch = revolve(&meridian, ball, axis, sweep)?;
-                            out.push(facing(TrimmedSurface::untrimmed(patch), |p| p - ball)?);
-                        } else {
-                            // A torus: the ball's centre on the circle of radius 2r.
-                            let ring_point = prism.at(centre + u * (2.0 * r), z - sign * r);
-                            let meridian =
-                                arc(ring_point, -prism.vector(u), up * sign, r, 0.0, FRAC_PI_2)?;
-                            let patch =
-                                revolve(&meridian, prism.at(centre, z - sign * r), axis, sweep)?;
-                            let hub = prism.at(centre, z - sign * r);
-                            out.push(facing(TrimmedSurface::untrimmed(patch), |p| {
-                                let q = p - hub;
-                                let flat = (q - up * q.dot(up)).normalize_or_zero();
-                                p - (hub + flat * (2.0 * r))
-                            })?);
-                            // The cap's edge: the arc of radius 2r.
-                            let (a, b) = (
-                                centre + u * (2.0 * r),
-                                centre + (to - centre).normalize() * (2.0 * r),
-                            );
-                            caps[level].push(arc_about(
-                                prism.at(centre, z),
-                                prism.at(a, z),
-                                prism.at(b, z),
-                                up,
-                                false,
-                            )?);
+                let (q, z) = prism.flat(p);
+                let mut best = (f64::INFINITY, None);
+                for (l, pieces) in prism.loops.iter().enumerate() {
+                    for piece in pieces {
+                        let d = piece.distance(q);
+                        for (cap, h) in [(0, 0.0), (1, prism.height)] {
+                            let gap = d.hypot(z - h);
+                            if gap < best.0 {
+                                best = (gap, Some((l, Some(cap))));
+                            }
                         }
                     }
+                    for &i in &sharp[l] {
+                        let corner = pieces[i].start();
+                        let dz = if z < 0.0 {
+                            -z
+                        } else if z > prism.height {
+                            z - prism.height
+                        } else {
+                            0.0
+                        };
+                        let gap = q.distance(corner).hypot(dz);
+                        if gap < best.0 {
+                            best = (gap, Some((l, None)));
+                        }
+                    }
+                }
+                match best.1 {
+                    Some((l, Some(cap))) => caps[l][cap] = true,
+                    Some((_, None)) => uprights += 1,
+                    None => return Err(construction(WHAT, "the solid has no edges")),
                 }
             }
         }
     }
+    let picked = caps.iter().flatten().filter(|&&c| c).count() + uprights;
+    let every = caps.iter().all(|c| c[0] && c[1]);
+    let corners: usize = sharp.iter().map(Vec::len).sum();
+    if corners > 0 && !(every && matches!(pick, EdgePick::All)) {
+        return Err(construction(
+            WHAT,
+            "the outline has sharp corners: a fillet along its rims is built with every edge \
+             picked, where its chains end on the upright edges' fillets",
+        ));
+    }
+    if corners > 0 && !matches!(feature, EdgeFeature::Fillet { .. }) {
+        return Err(construction(
+            WHAT,
+            "a chamfer of every edge of an outline with sharp corners and arcs is not built yet",
+        ));
+    }
+    Ok((build(prism, feature, &caps)?, picked))
+}
+
+fn build(
+    prism: &Prism,
+    feature: EdgeFeature,
+    caps: &[[bool; 2]],
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    let h = prism.height;
+    // How far a rim's feature reaches into the cap and down the wall.
+    let (in_cap, in_wall) = match feature {
+        EdgeFeature::Fillet { radius } => (radius, radius),
+        EdgeFeature::Chamfer { distance, other } => (distance, other),
+    };
+    let twice = caps.iter().any(|c| c[0] && c[1]);
+    if !(in_wall < h) || (twice && !(2.0 * in_wall < h)) {
+        return Err(construction(
+            WHAT,
+            format!("the radius {in_wall} is too large for the body's height {h}"),
+        ));
+    }
+    let up = prism.up;
+    let mut out = Vec::new();
+    let mut cap_curves: [Vec<SpaceCurve>; 2] = [Vec::new(), Vec::new()];
+    for (ring, picked) in prism.loops.iter().zip(caps) {
+        let z0 = if picked[0] { in_wall } else { 0.0 };
+        let z1 = if picked[1] { h - in_wall } else { h };
+        for piece in rounded(ring, in_wall, prism)? {
+            let m = left(piece.tangent(false));
+            // The wall's outward direction at a point, and the rims' sections at the start.
+            let wall_out: Box<dyn Fn(DVec3) -> DVec3> = match piece {
+                Piece::Line(..) => {
+                    let o = -prism.vector(m);
+                    Box::new(move |_| o)
+                }
+                Piece::Arc { centre, sweep, .. } => {
+                    let c3 = prism.at(centre, 0.0);
+                    let s = sweep.signum();
+                    Box::new(move |p: DVec3| {
+                        let q = p - c3;
+                        (q - up * q.dot(up)) * s
+                    })
+                }
+            };
+            let start = piece.start();
+            match piece {
+                Piece::Line(a, b) => {
+                    let wall = planar_face(&[
+                        line(prism.at(a, z0), prism.at(b, z0))?,
+                        line(prism.at(b, z0), prism.at(b, z1))?,
+                        line(prism.at(b, z1), prism.at(a, z1))?,
+                        line(prism.at(a, z1), prism.at(a, z0))?,
+                    ])?;
+                    out.push(facing(wall, &wall_out)?);
+                }
+                Piece::Arc {
+                    from,
+                    centre,
+                    radius,
+                    sweep,
+                } => {
+                    let base = arc_curve(prism, centre, from, radius, sweep, z0)?;
+                    let wall = extrude(&base, up * (z1 - z0))?;
+                    out.push(facing(TrimmedSurface::untrimmed(wall), &wall_out)?);
+                }
+            }
+            for (level, z, sign) in [(0, 0.0, -1.0), (1, h, 1.0)] {
+                if !picked[level] {
+                    cap_curves[level].push(match piece {
+                        Piece::Line(a, b) => line(prism.at(a, z), prism.at(b, z))?,
+                        Piece::Arc {
+                            from,
+                            centre,
+                            radius,
+                            sweep,
+                        } => arc_curve(prism, centre, from, radius, sweep, z)?,
+                    });
+                    continue;
+                }
+                // The rim's section at the piece's start: the quarter circle of the ball
+                // (or the chord) from the wall to the cap.
+                let section = match feature {
+                    EdgeFeature::Fillet { radius } => arc(
+                        prism.at(start + m * radius, z - sign * radius),
+                        -prism.vector(m),
+                        up * sign,
+                        radius,
+                        0.0,
+                        FRAC_PI_2,
+                    )?,
+                    EdgeFeature::Chamfer { .. } => line(
+                        prism.at(start, z - sign * in_wall),
+                        prism.at(start + m * in_cap, z),
+                    )?,
+                };
+                let rim = match piece {
+                    Piece::Line(a, b) => {
+                        cap_curves[level].push(line(
+                            prism.at(a + m * in_cap, z),
+                            prism.at(b + m * in_cap, z),
+                        )?);
+                        extrude(&section, prism.vector(b - a))?
+                    }
+                    Piece::Arc {
+                        from,
+                        centre,
+                        radius,
+                        sweep,
+                    } => {
+                        // Moved in: towards the centre about a convex arc, away about a
+                        // concave one.
+                        let inner = radius - sweep.signum() * in_cap;
+                        if inner < -1e-9 * radius {
+                            return Err(construction(
+                                WHAT,
+                                format!(
+                                    "the {} is too large for the rounded edge about {}: its \
+                                     radius is {radius:.6}",
+                                    if matches!(feature, EdgeFeature::Fillet { .. }) {
+                                        "fillet"
+                                    } else {
+                                        "chamfer"
+                                    },
+                                    point(prism.at(centre, z))
+                                ),
+                            ));
+                        }
+                        if inner > 1e-9 * radius {
+                            let from_in = centre + (from - centre) * (inner / radius);
+                            cap_curves[level]
+                                .push(arc_curve(prism, centre, from_in, inner, sweep, z)?);
+                        }
+                        let axis = if sweep > 0.0 { up } else { -up };
+                        revolve(&section, prism.at(centre, z), axis, sweep.abs())?
+                    }
+                };
+                out.push(facing(TrimmedSurface::untrimmed(rim), |p| {
+                    wall_out(p) + up * sign
+                })?);
+            }
+        }
+    }
     for (level, sign) in [(0, -1.0), (1, 1.0)] {
-        let cap = planar_face(&caps[level])?;
+        if cap_curves[level].is_empty() {
+            return Err(construction(
+                WHAT,
+                "a cap vanishes: the feature is as wide as it",
+            ));
+        }
+        let cap = planar_face(&cap_curves[level])?;
         out.push(facing(cap, |_| up * sign)?);
     }
     Ok(out)

@@ -366,7 +366,14 @@ pub fn round_edges(
             Ok(made) => return Ok(made),
             Err(revolved) => match Polyhedron::with_curved(faces, tolerance) {
                 Ok(solid) if !solid.edges.is_empty() => solid,
-                _ => return Err(revolved),
+                // A prism whose outline has arcs: its rims as tangent chains.
+                _ => match super::extruded::round_curved_prism(faces, pick, feature, tolerance) {
+                    Some(made) => {
+                        let (made, picked) = made?;
+                        return closed_result(made, tolerance * 10.0, picked, what);
+                    }
+                    None => return Err(revolved),
+                },
             },
         }
     } else {

@@ -1106,3 +1106,128 @@ fn hole_and_boss_rims_round_to_tori_and_cut_to_cones() {
         );
     }
 }
+
+#[test]
+fn a_rounded_outlines_rims_are_tangent_chains_filleted_whole() {
+    // A box with its four upright edges filleted at ρ (a rounded rectangle extruded), then with
+    // a round hole through it, in general position: each cap's outline is one tangent chain
+    // of lines and arcs, picked whole by a point near any of its pieces. Its fillet removes
+    // the corner region along the lines and, revolved, about each arc (Pappus: the region's
+    // centroid at ρ − k r from the corner's axis); a chamfer the triangle the same way.
+    use crate::boolean::{BooleanOp, boolean};
+    use crate::solids::capped_cylinder;
+    let (a, b, h, rho, hole) = (4.0, 3.0, 1.5, 0.6, 0.5);
+    for (n, r) in [(0_u64, 0.25), (1, 0.6)] {
+        let (motion, s) = placement(890 + n);
+        let tol = 1e-7 * s;
+        let to = |p: DVec3| motion.transform_point3(p);
+        let upright: Vec<DVec3> = [(0.0, 0.0), (a, 0.0), (a, b), (0.0, b)]
+            .iter()
+            .map(|&(x, y)| to(DVec3::new(x, y, 0.5 * h)))
+            .collect();
+        let slab = round_edges(
+            &placed(block(DVec3::ZERO, DVec3::new(a, b, h)).unwrap(), &motion),
+            &EdgePick::Near(upright),
+            EdgeFeature::Fillet { radius: rho * s },
+            tol,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+        .faces;
+        let plain = (a * b - (4.0 - PI) * rho * rho) * h;
+        let lines = 2.0 * (a - 2.0 * rho) + 2.0 * (b - 2.0 * rho);
+        let rim = |chamfer: bool| {
+            let (area, centroid) = if chamfer {
+                (0.5 * r * r, r / 3.0)
+            } else {
+                spandrel(r)
+            };
+            area * (lines + 2.0 * PI * (rho - centroid))
+        };
+        for chamfer in [false, true] {
+            let feature = if chamfer {
+                EdgeFeature::Chamfer {
+                    distance: r * s,
+                    other: r * s,
+                }
+            } else {
+                EdgeFeature::Fillet { radius: r * s }
+            };
+            // Every edge: both rims.
+            let all = round_edges(&slab, &EdgePick::All, feature, tol)
+                .unwrap_or_else(|e| panic!("r {r}, chamfer {chamfer}: {e}"));
+            assert_eq!(all.picked, 2);
+            assert_volume(&all, (plain - 2.0 * rim(chamfer)) * s.powi(3), "both rims");
+            // One point near the top's straight piece takes the whole top chain.
+            let top = round_edges(
+                &slab,
+                &EdgePick::Near(vec![to(DVec3::new(0.5 * a, -0.01, h + 0.01))]),
+                feature,
+                tol,
+            )
+            .unwrap_or_else(|e| panic!("r {r}, chamfer {chamfer}: {e}"));
+            assert_eq!(top.picked, 1);
+            assert_volume(&top, (plain - rim(chamfer)) * s.powi(3), "top rim");
+            if !chamfer {
+                assert_tangent(&all, tol, "chain fillets");
+            }
+        }
+        // With a round hole through it: the hole's rims are chains too (a torus each, the
+        // ball's centre at the hole's radius plus r).
+        let holed = boolean(
+            BooleanOp::Difference,
+            &slab,
+            &placed(
+                capped_cylinder(DVec3::new(2.0, 1.5, -0.5), DVec3::Z * (h + 1.0), hole).unwrap(),
+                &motion,
+            ),
+            tol,
+        )
+        .unwrap()
+        .faces();
+        let all = round_edges(
+            &holed,
+            &EdgePick::All,
+            EdgeFeature::Fillet { radius: 0.25 * s },
+            tol,
+        )
+        .unwrap_or_else(|e| panic!("holed: {e}"));
+        if r == 0.25 {
+            assert_eq!(all.picked, 4);
+            assert_volume(
+                &all,
+                (plain
+                    - PI * hole * hole * h
+                    - 2.0 * rim(false)
+                    - 2.0 * rim_volume(hole, 0.25, true, false))
+                    * s.powi(3),
+                "holed",
+            );
+        }
+    }
+    // A box with two upright edges filleted keeps two sharp corners: a chain picked alone
+    // would end on them, which is refused with the reason.
+    let (motion, s) = placement(899);
+    let tol = 1e-7 * s;
+    let to = |p: DVec3| motion.transform_point3(p);
+    let half = round_edges(
+        &placed(block(DVec3::ZERO, DVec3::new(a, b, h)).unwrap(), &motion),
+        &EdgePick::Near(vec![
+            to(DVec3::new(0.0, 0.0, 0.5)),
+            to(DVec3::new(a, 0.0, 0.5)),
+        ]),
+        EdgeFeature::Fillet { radius: rho * s },
+        tol,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+    .faces;
+    let refused = round_edges(
+        &half,
+        &EdgePick::Near(vec![to(DVec3::new(0.5 * a, 0.0, h))]),
+        EdgeFeature::Fillet { radius: 0.2 * s },
+        tol,
+    )
+    .err()
+    .map(|e| e.to_string())
+    .unwrap_or_default();
+    assert!(refused.contains("sharp corners"), "{refused}");
+}
