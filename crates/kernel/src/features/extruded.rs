@@ -36,7 +36,7 @@ use crate::trim::TrimmedSurface;
 
 use super::polyhedron::{Polyhedron, in_space};
 use super::revolved::revolution_axis;
-use super::{EdgeFeature, EdgePick, WHAT, facing, point};
+use super::{EdgeFeature, EdgePick, FeatureResult, WHAT, closed_result, facing, point};
 
 /// One piece of a prism's outline in its bottom plane: a line, or the arc of `radius` about
 /// `centre` turning by `sweep` (counter-clockwise seen from above where positive).
@@ -516,7 +516,12 @@ pub(crate) fn fillet_prism(
 ) -> Option<Result<Vec<TrimmedSurface>, GeometryError>> {
     let prism = prism_of(solid)?;
     let caps = vec![[true, true]; prism.loops.len()];
-    Some(build(&prism, EdgeFeature::Fillet { radius: r }, &caps))
+    Some(build(
+        &prism,
+        EdgeFeature::Fillet { radius: r },
+        &caps,
+        true,
+    ))
 }
 
 /// `feature` on the edges of `faces` that `pick` names, where `faces` is a right prism with
@@ -614,13 +619,16 @@ fn round_picked(
             "a chamfer of every edge of an outline with sharp corners and arcs is not built yet",
         ));
     }
-    Ok((build(prism, feature, &caps)?, picked))
+    Ok((build(prism, feature, &caps, true)?, picked))
 }
 
+/// The prism's faces with `feature` along the rims `caps` names (each loop's bottom and top),
+/// its outline's sharp corners first rounded at the radius where `round_corners`.
 fn build(
     prism: &Prism,
     feature: EdgeFeature,
     caps: &[[bool; 2]],
+    round_corners: bool,
 ) -> Result<Vec<TrimmedSurface>, GeometryError> {
     let h = prism.height;
     // How far a rim's feature reaches into the cap and down the wall.
@@ -641,7 +649,12 @@ fn build(
     for (ring, picked) in prism.loops.iter().zip(caps) {
         let z0 = if picked[0] { in_wall } else { 0.0 };
         let z1 = if picked[1] { h - in_wall } else { h };
-        for piece in rounded(ring, in_wall, prism)? {
+        let ring = if round_corners {
+            rounded(ring, in_wall, prism)?
+        } else {
+            ring.clone()
+        };
+        for piece in ring {
             let m = left(piece.tangent(false));
             // The wall's outward direction at a point, and the rims' sections at the start.
             let wall_out: Box<dyn Fn(DVec3) -> DVec3> = match piece {
@@ -767,4 +780,247 @@ fn build(
         out.push(facing(cap, |_| up * sign)?);
     }
     Ok(out)
+}
+
+/// The loop's pieces moved into the material by `distance` (below 0: out of it): each line
+/// along its normal, each arc's radius shrunk or grown about its centre; pieces meeting
+/// tangentially still do, sharp corners between lines go to where the moved lines meet.
+/// Refused where an arc or a line vanishes, or a sharp corner touches an arc.
+fn offset_loop(ring: &[Piece], distance: f64, prism: &Prism) -> Result<Vec<Piece>, GeometryError> {
+    let n = ring.len();
+    let moved: Vec<Piece> = ring
+        .iter()
+        .map(|&piece| match piece {
+            Piece::Line(a, b) => {
+                let m = left((b - a).normalize()) * distance;
+                Ok(Piece::Line(a + m, b + m))
+            }
+            Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep,
+            } => {
+                let r = radius - sweep.signum() * distance;
+                if r <= 1e-9 * radius {
+                    return Err(construction(
+                        WHAT,
+                        format!(
+                            "the wall is thicker than the body allows: the arc about {} of \
+                             radius {radius:.6} vanishes",
+                            point(prism.at(centre, 0.0))
+                        ),
+                    ));
+                }
+                Ok(Piece::Arc {
+                    from: centre + (from - centre) * (r / radius),
+                    centre,
+                    radius: r,
+                    sweep,
+                })
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    let mut out = moved.clone();
+    for i in 0..n {
+        let (before, after) = (ring[(i + n - 1) % n], ring[i]);
+        let (d0, d1) = (before.tangent(true), after.tangent(false));
+        if d0.perp_dot(d1).abs() < 1e-9 && d0.dot(d1) > 0.0 {
+            continue;
+        }
+        let (Piece::Line(a0, b0), Piece::Line(a1, b1)) = (moved[(i + n - 1) % n], moved[i]) else {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the outline's corner at {} is sharp between a line and an arc; its offset \
+                     is not built yet",
+                    point(prism.at(after.start(), 0.0))
+                ),
+            ));
+        };
+        // Where the moved lines meet.
+        let (u, v) = (b0 - a0, b1 - a1);
+        let t = (a1 - a0).perp_dot(v) / u.perp_dot(v);
+        let corner = a0 + u * t;
+        if let Piece::Line(_, b) = &mut out[(i + n - 1) % n] {
+            *b = corner;
+        }
+        if let Piece::Line(a, _) = &mut out[i] {
+            *a = corner;
+        }
+    }
+    for (new, old) in out.iter().zip(ring) {
+        if let (Piece::Line(a, b), Piece::Line(a0, b0)) = (*new, *old)
+            && (b - a).dot(b0 - a0) <= 1e-9 * (b0 - a0).length_squared()
+        {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the wall is thicker than the body allows: the edge from {} to {} vanishes",
+                    point(prism.at(a0, 0.0)),
+                    point(prism.at(b0, 0.0))
+                ),
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The shell of `faces` to `thickness` (below 0 inside) with the caps nearest `open` left
+/// open, where `faces` is a right prism with an outline of lines and arcs (see
+/// [`super::shell`]); None where it is not one. Built face by face, no boolean: the outer
+/// body's walls and closed cap, the inner body's reversed, and at an open cap a ring between
+/// each loop and its offset. Only caps may be left open: a wall's neighbours would no longer
+/// meet it tangentially.
+pub(crate) fn shell_prism(
+    faces: &[TrimmedSurface],
+    thickness: f64,
+    open: &[DVec3],
+    tolerance: f64,
+) -> Option<Result<FeatureResult, GeometryError>> {
+    let prism = curved_prism_of(faces, tolerance)?;
+    Some(
+        shell_of(&prism, thickness, open)
+            .and_then(|(faces, picked)| closed_result(faces, tolerance * 10.0, picked, "shell")),
+    )
+}
+
+/// A loop's pieces as curves at height z.
+fn loop_curves(prism: &Prism, ring: &[Piece], z: f64) -> Result<Vec<SpaceCurve>, GeometryError> {
+    ring.iter()
+        .map(|&piece| match piece {
+            Piece::Line(a, b) => line(prism.at(a, z), prism.at(b, z)),
+            Piece::Arc {
+                from,
+                centre,
+                radius,
+                sweep,
+            } => arc_curve(prism, centre, from, radius, sweep, z),
+        })
+        .collect()
+}
+
+fn shell_of(
+    prism: &Prism,
+    thickness: f64,
+    open: &[DVec3],
+) -> Result<(Vec<TrimmedSurface>, usize), GeometryError> {
+    let h = prism.height;
+    let mut opened = [false, false];
+    for &p in open {
+        if !p.is_finite() {
+            return Err(construction(WHAT, "a picking point is not a finite number"));
+        }
+        let (q, z) = prism.flat(p);
+        let wall = prism
+            .loops
+            .iter()
+            .flatten()
+            .map(|piece| {
+                let dz = if z < 0.0 {
+                    -z
+                } else if z > h {
+                    z - h
+                } else {
+                    0.0
+                };
+                piece.distance(q).hypot(dz)
+            })
+            .fold(f64::INFINITY, f64::min);
+        let (bottom, top) = (z.abs(), (z - h).abs());
+        if wall < bottom.min(top) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the face nearest {} is a wall of the outline; a shell of this body opens \
+                     only its caps for now",
+                    point(p)
+                ),
+            ));
+        }
+        opened[usize::from(top < bottom)] = true;
+    }
+    if opened[0] && opened[1] {
+        return Err(construction(
+            WHAT,
+            "a shell of this body opening both caps is a tube; build it as the outline's \
+             offset extruded",
+        ));
+    }
+    let t = thickness.abs();
+    // The outline moved in by `d` (walls), between heights z0 and z1.
+    let moved = |d: f64, z0: f64, z1: f64| -> Result<Prism, GeometryError> {
+        if z1 - z0 <= 1e-9 * h {
+            return Err(construction(
+                WHAT,
+                "the wall is thicker than the body allows: its caps meet",
+            ));
+        }
+        Ok(Prism {
+            origin: prism.origin + prism.up * z0,
+            height: z1 - z0,
+            loops: prism
+                .loops
+                .iter()
+                .map(|l| offset_loop(l, d, prism))
+                .collect::<Result<Vec<_>, _>>()?,
+            ..*prism
+        })
+    };
+    // The outer and inner bodies: the solid and its inward offset, or the outward offset and
+    // the solid; an open cap stays where the solid's is.
+    let (d_out, d_in) = if thickness < 0.0 { (0.0, t) } else { (-t, 0.0) };
+    let (o0, o1) = (
+        if thickness > 0.0 && !opened[0] {
+            -t
+        } else {
+            0.0
+        },
+        if thickness > 0.0 && !opened[1] {
+            h + t
+        } else {
+            h
+        },
+    );
+    let (i0, i1) = (
+        if thickness < 0.0 && !opened[0] {
+            t
+        } else {
+            0.0
+        },
+        if thickness < 0.0 && !opened[1] {
+            h - t
+        } else {
+            h
+        },
+    );
+    let (outer, inner) = (moved(d_out, o0, o1)?, moved(d_in, i0, i1)?);
+    let plain = |p: &Prism| {
+        build(
+            p,
+            EdgeFeature::Fillet { radius: 0.0 },
+            &vec![[false, false]; p.loops.len()],
+            false,
+        )
+    };
+    let mut faces = plain(&outer)?;
+    let mut hollow = plain(&inner)?;
+    let picked = opened.iter().filter(|&&o| o).count();
+    if let Some(level) = opened.iter().position(|&o| o) {
+        // Both bodies' caps there give way to a ring between each loop and its offset.
+        let (z, sign) = if level == 0 { (0.0, -1.0) } else { (h, 1.0) };
+        let at = faces.len() - 2 + level;
+        faces.remove(at);
+        hollow.remove(at);
+        let up = prism.up;
+        for (a, b) in outer.loops.iter().zip(&inner.loops) {
+            let mut ring = loop_curves(prism, a, z)?;
+            ring.extend(loop_curves(prism, b, z)?);
+            faces.push(facing(planar_face(&ring)?, |_| up * sign)?);
+        }
+    }
+    for face in &hollow {
+        faces.push(face.reverse(crate::surface::Direction::U)?);
+    }
+    Ok((faces, picked))
 }

@@ -134,19 +134,27 @@ pub fn shell(
         ));
     }
     if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
-        // A solid of revolution, else a smooth solid.
-        return match super::revolved::shell_revolved(faces, thickness, open, tolerance) {
-            // No face open: the outer body and the inner one turned over, a solid with a
-            // void, without a boolean (they do not meet).
-            Ok((outer, inner, 0)) => {
+        // A solid of revolution, an extruded outline of lines and arcs (a plate with a round
+        // hole, a box with rounded upright edges), else a solid whose every edge is tangent.
+        let made = match super::revolved::shell_revolved(faces, thickness, open, tolerance) {
+            Ok(made) => made,
+            Err(_) => {
+                return match super::extruded::shell_prism(faces, thickness, open, tolerance) {
+                    Some(made) => made,
+                    None => super::smooth::shell_smooth(faces, thickness, open, tolerance),
+                };
+            }
+        };
+        return match made {
+            // Nothing open: the solid with the inner body as a void.
+            (outer, inner, 0) => {
                 let mut faces = outer;
                 for face in &inner {
                     faces.push(face.reverse(crate::surface::Direction::U)?);
                 }
                 super::closed_result(faces, tolerance * 10.0, 0, "shell")
             }
-            Ok((outer, inner, picked)) => hollow(&outer, &inner, tolerance, picked),
-            Err(_) => super::smooth::shell_smooth(faces, thickness, open, tolerance),
+            (outer, inner, picked) => hollow(&outer, &inner, tolerance, picked),
         };
     }
     let solid = Polyhedron::from_faces(faces, tolerance)?;

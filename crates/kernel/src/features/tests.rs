@@ -1231,3 +1231,75 @@ fn a_rounded_outlines_rims_are_tangent_chains_filleted_whole() {
     .unwrap_or_default();
     assert!(refused.contains("sharp corners"), "{refused}");
 }
+
+#[test]
+fn extruded_outlines_with_arcs_shell_to_their_offsets() {
+    // A box with rounded upright edges and a block with a round hole through it, in general
+    // position, shelled inward and outward, closed or with a cap open: the inner body is the
+    // outline offset (lines moved, arcs grown or shrunk about their centres, sharp corners
+    // where the moved lines meet) between the caps moved.
+    use crate::boolean::{BooleanOp, boolean};
+    use crate::solids::capped_cylinder;
+    let (a, b, h, rho, hole, t) = (4.0, 3.0, 1.5, 0.6, 0.5, 0.2);
+    for (n, holed) in [(0_u64, false), (1, true)] {
+        let (motion, s) = placement(900 + n);
+        let tol = 1e-7 * s;
+        let to = |p: DVec3| motion.transform_point3(p);
+        let block_faces = placed(block(DVec3::ZERO, DVec3::new(a, b, h)).unwrap(), &motion);
+        // The outline's area offset by d (outward below 0).
+        let area: Box<dyn Fn(f64) -> f64> = if holed {
+            Box::new(move |d: f64| (a - 2.0 * d) * (b - 2.0 * d) - PI * (hole + d).powi(2))
+        } else {
+            Box::new(move |d: f64| (a - 2.0 * d) * (b - 2.0 * d) - (4.0 - PI) * (rho - d).powi(2))
+        };
+        let body = if holed {
+            boolean(
+                BooleanOp::Difference,
+                &block_faces,
+                &placed(
+                    capped_cylinder(DVec3::new(2.0, 1.5, -0.5), DVec3::Z * (h + 1.0), hole)
+                        .unwrap(),
+                    &motion,
+                ),
+                tol,
+            )
+            .unwrap()
+            .faces()
+        } else {
+            let upright: Vec<DVec3> = [(0.0, 0.0), (a, 0.0), (a, b), (0.0, b)]
+                .iter()
+                .map(|&(x, y)| to(DVec3::new(x, y, 0.5 * h)))
+                .collect();
+            round_edges(
+                &block_faces,
+                &EdgePick::Near(upright),
+                EdgeFeature::Fillet { radius: rho * s },
+                tol,
+            )
+            .unwrap()
+            .faces
+        };
+        let v0 = area(0.0) * h;
+        let top = vec![to(DVec3::new(0.3, 0.3 + rho, h))];
+        for (thickness, open, want) in [
+            (-t, vec![], v0 - area(t) * (h - 2.0 * t)),
+            (-t, top.clone(), v0 - area(t) * (h - t)),
+            (t, vec![], area(-t) * (h + 2.0 * t) - v0),
+            (t, top.clone(), area(-t) * (h + t) - v0),
+        ] {
+            let made = shell(&body, thickness * s, &open, tol).unwrap_or_else(|e| {
+                panic!(
+                    "holed {holed}, thickness {thickness}, open {}: {e}",
+                    open.len()
+                )
+            });
+            assert_volume(&made, want * s.powi(3), "prism shell");
+        }
+        // A wall open, or a wall thicker than the rounded corner allows.
+        let side = shell(&body, -t * s, &[to(DVec3::new(0.5 * a, 0.0, 0.5 * h))], tol)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(side.contains("opens only its caps"), "{side}");
+    }
+}
