@@ -2518,6 +2518,71 @@ fn bench_features(
         shelled.faces.len(),
         shelled.volume()?
     )?;
+    // A block with a round hole (its rims a torus each), then the same block with its upright
+    // edges rounded (its caps' rims tangent chains), filleted, and shelled with the top open.
+    {
+        use knotwork::kernel::boolean::{BooleanOp, boolean};
+        use knotwork::kernel::solids::{block, capped_cylinder};
+        let size = DVec3::new(4.0, 3.0, 1.5);
+        let hole = capped_cylinder(DVec3::new(2.0, 1.5, -0.5), DVec3::Z * 2.5, 0.5)?;
+        let tolerance = 1e-6 * size.length();
+        let plate = boolean(
+            BooleanOp::Difference,
+            &block(DVec3::ZERO, size)?,
+            &hole,
+            tolerance,
+        )?
+        .faces();
+        let (rims_ms, rims) = median_ms(iterations.max(3), || {
+            round_edges(
+                &plate,
+                &EdgePick::All,
+                EdgeFeature::Fillet { radius: 0.2 },
+                tolerance,
+            )
+        })?;
+        let corners: Vec<DVec3> = [(0.0, 0.0), (4.0, 0.0), (4.0, 3.0), (0.0, 3.0)]
+            .iter()
+            .map(|&(x, y)| DVec3::new(x, y, 0.75))
+            .collect();
+        let slab = round_edges(
+            &block(DVec3::ZERO, size)?,
+            &EdgePick::Near(corners),
+            EdgeFeature::Fillet { radius: 0.6 },
+            tolerance,
+        )?
+        .faces;
+        let slab = boolean(BooleanOp::Difference, &slab, &hole, tolerance)?.faces();
+        let (chains_ms, chains) = median_ms(iterations.max(3), || {
+            round_edges(
+                &slab,
+                &EdgePick::All,
+                EdgeFeature::Fillet { radius: 0.2 },
+                tolerance,
+            )
+        })?;
+        let top = [DVec3::new(1.0, 1.0, 1.5)];
+        let (slab_shell_ms, slab_shell) =
+            median_ms(iterations.max(3), || shell(&slab, -0.2, &top, tolerance))?;
+        writeln!(
+            out,
+            "fillet every edge, block with a hole (14)      | {rims_ms:8.2} ms ({} faces, volume {:.6})",
+            rims.faces.len(),
+            rims.volume()?
+        )?;
+        writeln!(
+            out,
+            "fillet 4 rim chains, rounded plate with a hole | {chains_ms:8.2} ms ({} faces, volume {:.6})",
+            chains.faces.len(),
+            chains.volume()?
+        )?;
+        writeln!(
+            out,
+            "shell, rounded plate with a hole, top open     | {slab_shell_ms:8.2} ms ({} faces, volume {:.6})",
+            slab_shell.faces.len(),
+            slab_shell.volume()?
+        )?;
+    }
     // The radius dragged: each step edits the fillet's history in place.
     let mut scene = Scene::default();
     scene.objects.clear();

@@ -975,6 +975,18 @@ fn a_block_with_a_round_hole_keeps_the_hole_while_its_edges_round() {
     );
 }
 
+/// A fillet of radius r, or a chamfer of r on both faces.
+fn fillet_or_chamfer(chamfer: bool, r: f64) -> EdgeFeature {
+    if chamfer {
+        EdgeFeature::Chamfer {
+            distance: r,
+            other: r,
+        }
+    } else {
+        EdgeFeature::Fillet { radius: r }
+    }
+}
+
 /// The corner region a fillet of radius r takes from (or adds to) a right-angled edge: its
 /// area r²(1 − π/4) and its centroid's distance from each face, r (10 − 3π) / (3 (4 − π)).
 fn spandrel(r: f64) -> (f64, f64) {
@@ -1051,14 +1063,7 @@ fn hole_and_boss_rims_round_to_tori_and_cut_to_cones() {
         let body = boolean(op, &block_faces, &tool, 1e-9).unwrap().faces();
         let body = placed(body, &motion);
         for chamfer in [false, true] {
-            let feature = if chamfer {
-                EdgeFeature::Chamfer {
-                    distance: r * s,
-                    other: r * s,
-                }
-            } else {
-                EdgeFeature::Fillet { radius: r * s }
-            };
+            let feature = fillet_or_chamfer(chamfer, r * s);
             let change = |rims: &[(DVec3, f64, bool, bool)]| -> f64 {
                 rims.iter()
                     .map(|&(_, rim, outward, convex)| {
@@ -1144,14 +1149,7 @@ fn a_rounded_outlines_rims_are_tangent_chains_filleted_whole() {
             area * (lines + 2.0 * PI * (rho - centroid))
         };
         for chamfer in [false, true] {
-            let feature = if chamfer {
-                EdgeFeature::Chamfer {
-                    distance: r * s,
-                    other: r * s,
-                }
-            } else {
-                EdgeFeature::Fillet { radius: r * s }
-            };
+            let feature = fillet_or_chamfer(chamfer, r * s);
             // Every edge: both rims.
             let all = round_edges(&slab, &EdgePick::All, feature, tol)
                 .unwrap_or_else(|e| panic!("r {r}, chamfer {chamfer}: {e}"));
