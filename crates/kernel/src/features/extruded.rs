@@ -4,8 +4,10 @@
 //! edges: each cap's loop is one tangent chain, picked whole by any of its edges, and its
 //! fillet is the quarter circle swept along it (a cylinder along a line, a torus about an arc:
 //! the ball's centre on the arc moved in by r), or its chamfer the chord swept (a plane, a
-//! cone). A polygon's every edge is filleted at once: the ball rolls along each cap's rim
-//! after the upright edges are rounded, so where a concave upright edge meets a convex rim (an L-shaped block's inner
+//! cone). An outline with sharp corners (a polygon, or lines and arcs meeting at an angle)
+//! has every edge filleted at once: the ball rolls along each cap's rim after the upright
+//! edges are rounded (at a corner the circle of radius r tangent to both pieces, its centre
+//! where their offsets meet), so where a concave upright edge meets a convex rim (an L-shaped block's inner
 //! corner) the rim's fillet runs on round the concave fillet's top instead of needing a
 //! vertex blend:
 //!
@@ -417,12 +419,141 @@ fn left(d: DVec2) -> DVec2 {
     DVec2::new(-d.y, d.x)
 }
 
-/// The loop's sharp corners between two lines rounded at radius r (arcs of radius r, convex
-/// or concave); tangent junctions kept; refused where two roundings overlap on an edge or a
-/// sharp corner touches an arc.
+/// The piece moved into the material by `distance` (below 0: out of it): a line along its
+/// normal, an arc's radius shrunk (convex) or grown (concave) about its centre; None where an
+/// arc shrinks to nothing.
+fn offset_piece(piece: Piece, distance: f64) -> Option<Piece> {
+    match piece {
+        Piece::Line(a, b) => {
+            let m = left((b - a).normalize()) * distance;
+            Some(Piece::Line(a + m, b + m))
+        }
+        Piece::Arc {
+            from,
+            centre,
+            radius,
+            sweep,
+        } => {
+            let r = radius - sweep.signum() * distance;
+            (r > 1e-9 * radius).then(|| Piece::Arc {
+                from: centre + (from - centre) * (r / radius),
+                centre,
+                radius: r,
+                sweep,
+            })
+        }
+    }
+}
+
+/// Where the line or circle of `a` meets that of `b`, the meeting nearest `near`.
+fn meet(a: Piece, b: Piece, near: DVec2) -> Option<DVec2> {
+    let nearest = |points: &[DVec2]| {
+        points
+            .iter()
+            .copied()
+            .filter(|p| p.is_finite())
+            .min_by(|p, q| p.distance(near).total_cmp(&q.distance(near)))
+    };
+    // A line (point, unit direction) against a circle (centre, radius).
+    let line_circle = |p: DVec2, u: DVec2, o: DVec2, rho: f64| {
+        let w = p - o;
+        let (half, c) = (u.dot(w), w.length_squared() - rho * rho);
+        let disc = half * half - c;
+        (disc >= 0.0).then(|| {
+            let root = disc.sqrt();
+            [p + u * (-half - root), p + u * (-half + root)]
+        })
+    };
+    match (a, b) {
+        (Piece::Line(p, q), Piece::Line(s, t)) => {
+            let (u, v) = (q - p, t - s);
+            let d = u.perp_dot(v);
+            (d.abs() > 1e-300).then(|| p + u * ((s - p).perp_dot(v) / d))
+        }
+        (Piece::Line(p, q), Piece::Arc { centre, radius, .. })
+        | (Piece::Arc { centre, radius, .. }, Piece::Line(p, q)) => {
+            nearest(&line_circle(p, (q - p).normalize(), centre, radius)?)
+        }
+        (
+            Piece::Arc {
+                centre: o1,
+                radius: r1,
+                ..
+            },
+            Piece::Arc {
+                centre: o2,
+                radius: r2,
+                ..
+            },
+        ) => {
+            let d = o1.distance(o2);
+            if d <= 1e-300 {
+                return None;
+            }
+            let e = (o2 - o1) / d;
+            let along = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+            let h2 = r1 * r1 - along * along;
+            (h2 >= 0.0).then_some(())?;
+            let h = h2.sqrt();
+            let m = o1 + e * along;
+            nearest(&[m + left(e) * h, m - left(e) * h])
+        }
+    }
+}
+
+/// The point of the piece's line or circle nearest `p`.
+fn foot(piece: Piece, p: DVec2) -> DVec2 {
+    match piece {
+        Piece::Line(a, b) => {
+            let d = (b - a).normalize();
+            a + d * (p - a).dot(d)
+        }
+        Piece::Arc { centre, radius, .. } => centre + (p - centre).normalize() * radius,
+    }
+}
+
+/// The signed angle from `a` to `b` turning the way of `sweep` (in (0, 2π) or (−2π, 0)).
+fn turning(a: DVec2, b: DVec2, sweep: f64) -> f64 {
+    let s = a.angle_to(b);
+    if sweep > 0.0 && s < 0.0 {
+        s + TAU
+    } else if sweep < 0.0 && s > 0.0 {
+        s - TAU
+    } else {
+        s
+    }
+}
+
+/// The piece running from `start` to `end` instead (both on its line or circle); the piece
+/// itself where they are its own ends (a whole circle stays whole).
+fn between(piece: Piece, start: DVec2, end: DVec2) -> Piece {
+    if start == piece.start() && end == piece.end() {
+        return piece;
+    }
+    match piece {
+        Piece::Line(..) => Piece::Line(start, end),
+        Piece::Arc {
+            centre,
+            radius,
+            sweep,
+            ..
+        } => Piece::Arc {
+            from: start,
+            centre,
+            radius,
+            sweep: turning(start - centre, end - centre, sweep),
+        },
+    }
+}
+
+/// The loop's sharp corners rounded at radius r in the plane: at each, the circle of radius r
+/// tangent to both pieces (its centre where their offsets by r meet, inside at a convex
+/// corner and outside at a concave one), the pieces cut back to where it touches them;
+/// tangent junctions kept. Refused where two roundings overlap on a piece or a rounding
+/// does not fit.
 fn rounded(ring: &[Piece], r: f64, prism: &Prism) -> Result<Vec<Piece>, GeometryError> {
     let n = ring.len();
-    let mut trimmed: Vec<Piece> = ring.to_vec();
+    let mut ends: Vec<(DVec2, DVec2)> = ring.iter().map(|p| (p.start(), p.end())).collect();
     let mut arcs: Vec<Option<Piece>> = vec![None; n];
     for i in 0..n {
         let (before, after) = (ring[(i + n - 1) % n], ring[i]);
@@ -432,56 +563,47 @@ fn rounded(ring: &[Piece], r: f64, prism: &Prism) -> Result<Vec<Piece>, Geometry
             continue;
         }
         let corner = after.start();
-        let (Piece::Line(..), Piece::Line(..)) = (before, after) else {
-            return Err(construction(
-                WHAT,
-                format!(
-                    "the outline's corner at {} is sharp between a line and an arc; its upright \
-                     edge's fillet is not built yet",
-                    point(prism.at(corner, 0.0))
-                ),
-            ));
-        };
-        let psi = (-d0).dot(d1).clamp(-1.0, 1.0).acos();
-        let c = r / (0.5 * psi).tan();
-        let (p1, p2) = (corner - d0 * c, corner + d1 * c);
-        let centre = if turn > 0.0 {
-            p1 + left(d0) * r
-        } else {
-            p1 - left(d0) * r
-        };
+        let side = if turn > 0.0 { r } else { -r };
+        let centre = offset_piece(before, side)
+            .zip(offset_piece(after, side))
+            .and_then(|(a, b)| meet(a, b, corner))
+            .ok_or_else(|| {
+                construction(
+                    WHAT,
+                    format!(
+                        "the fillet of the upright edge at {} does not fit between its faces",
+                        point(prism.at(corner, 0.0))
+                    ),
+                )
+            })?;
+        let (p1, p2) = (foot(before, centre), foot(after, centre));
         arcs[i] = Some(Piece::Arc {
             from: p1,
             centre,
             radius: r,
-            sweep: d0.angle_to(d1),
+            sweep: (p1 - centre).angle_to(p2 - centre),
         });
-        if let Piece::Line(_, b) = &mut trimmed[(i + n - 1) % n] {
-            *b = p1;
-        }
-        if let Piece::Line(a, _) = &mut trimmed[i] {
-            *a = p2;
-        }
+        ends[(i + n - 1) % n].1 = p1;
+        ends[i].0 = p2;
     }
     let mut pieces = Vec::with_capacity(2 * n);
     for i in 0..n {
         if let Some(arc) = arcs[i] {
             pieces.push(arc);
         }
-        if let (Piece::Line(a, b), Piece::Line(a0, b0)) = (trimmed[i], ring[i])
-            && (b - a).dot(b0 - a0) <= 1e-9 * (b0 - a0).length_squared()
-        {
+        let piece = between(ring[i], ends[i].0, ends[i].1);
+        if !runs_on(piece, ring[i]) {
             return Err(construction(
                 WHAT,
                 format!(
                     "the fillet is too large for the edge from {} to {}: the roundings at its \
                      ends overlap",
-                    point(prism.at(a0, 0.0)),
-                    point(prism.at(b0, 0.0))
+                    point(prism.at(ring[i].start(), 0.0)),
+                    point(prism.at(ring[i].end(), 0.0))
                 ),
             ));
         }
-        pieces.push(trimmed[i]);
+        pieces.push(piece);
     }
     Ok(pieces)
 }
@@ -790,80 +912,70 @@ fn offset_loop(ring: &[Piece], distance: f64, prism: &Prism) -> Result<Vec<Piece
     let n = ring.len();
     let moved: Vec<Piece> = ring
         .iter()
-        .map(|&piece| match piece {
-            Piece::Line(a, b) => {
-                let m = left((b - a).normalize()) * distance;
-                Ok(Piece::Line(a + m, b + m))
-            }
-            Piece::Arc {
-                from,
-                centre,
-                radius,
-                sweep,
-            } => {
-                let r = radius - sweep.signum() * distance;
-                if r <= 1e-9 * radius {
-                    return Err(construction(
-                        WHAT,
-                        format!(
-                            "the wall is thicker than the body allows: the arc about {} of \
-                             radius {radius:.6} vanishes",
-                            point(prism.at(centre, 0.0))
-                        ),
-                    ));
-                }
-                Ok(Piece::Arc {
-                    from: centre + (from - centre) * (r / radius),
-                    centre,
-                    radius: r,
-                    sweep,
-                })
-            }
+        .map(|&piece| {
+            offset_piece(piece, distance).ok_or_else(|| {
+                construction(
+                    WHAT,
+                    format!(
+                        "the wall is thicker than the body allows: the arc from {} vanishes",
+                        point(prism.at(piece.start(), 0.0))
+                    ),
+                )
+            })
         })
         .collect::<Result<_, _>>()?;
-    let mut out = moved.clone();
+    let mut ends: Vec<(DVec2, DVec2)> = moved.iter().map(|p| (p.start(), p.end())).collect();
     for i in 0..n {
         let (before, after) = (ring[(i + n - 1) % n], ring[i]);
         let (d0, d1) = (before.tangent(true), after.tangent(false));
         if d0.perp_dot(d1).abs() < 1e-9 && d0.dot(d1) > 0.0 {
             continue;
         }
-        let (Piece::Line(a0, b0), Piece::Line(a1, b1)) = (moved[(i + n - 1) % n], moved[i]) else {
-            return Err(construction(
+        // A sharp corner goes to where the moved pieces meet.
+        let corner = meet(moved[(i + n - 1) % n], moved[i], after.start()).ok_or_else(|| {
+            construction(
                 WHAT,
                 format!(
-                    "the outline's corner at {} is sharp between a line and an arc; its offset \
-                     is not built yet",
+                    "the wall is thicker than the body allows: the faces at {} no longer meet",
                     point(prism.at(after.start(), 0.0))
                 ),
-            ));
-        };
-        // Where the moved lines meet.
-        let (u, v) = (b0 - a0, b1 - a1);
-        let t = (a1 - a0).perp_dot(v) / u.perp_dot(v);
-        let corner = a0 + u * t;
-        if let Piece::Line(_, b) = &mut out[(i + n - 1) % n] {
-            *b = corner;
-        }
-        if let Piece::Line(a, _) = &mut out[i] {
-            *a = corner;
-        }
+            )
+        })?;
+        ends[(i + n - 1) % n].1 = corner;
+        ends[i].0 = corner;
     }
-    for (new, old) in out.iter().zip(ring) {
-        if let (Piece::Line(a, b), Piece::Line(a0, b0)) = (*new, *old)
-            && (b - a).dot(b0 - a0) <= 1e-9 * (b0 - a0).length_squared()
-        {
-            return Err(construction(
-                WHAT,
-                format!(
-                    "the wall is thicker than the body allows: the edge from {} to {} vanishes",
-                    point(prism.at(a0, 0.0)),
-                    point(prism.at(b0, 0.0))
-                ),
-            ));
+    (0..n)
+        .map(|i| {
+            let piece = between(moved[i], ends[i].0, ends[i].1);
+            if runs_on(piece, ring[i]) {
+                Ok(piece)
+            } else {
+                Err(construction(
+                    WHAT,
+                    format!(
+                        "the wall is thicker than the body allows: the edge from {} to {} \
+                         vanishes",
+                        point(prism.at(ring[i].start(), 0.0)),
+                        point(prism.at(ring[i].end(), 0.0))
+                    ),
+                ))
+            }
+        })
+        .collect()
+}
+
+/// Whether `piece`, cut back or moved from `old`, still runs its way: a line the same
+/// direction, an arc turning the same way by a nearby angle (not wrapped round).
+fn runs_on(piece: Piece, old: Piece) -> bool {
+    match (piece, old) {
+        (Piece::Line(a, b), Piece::Line(a0, b0)) => {
+            (b - a).dot(b0 - a0) > 1e-9 * (b0 - a0).length_squared()
         }
+        (Piece::Arc { sweep, .. }, Piece::Arc { sweep: s0, .. }) => {
+            sweep * s0 > 0.0 && sweep.abs() > 1e-9 && (sweep - s0).abs() < FRAC_PI_2
+        }
+        _ => false,
     }
-    Ok(out)
 }
 
 /// The shell of `faces` to `thickness` (below 0 inside) with the caps nearest `open` left

@@ -1301,3 +1301,88 @@ fn extruded_outlines_with_arcs_shell_to_their_offsets() {
         assert!(side.contains("opens only its caps"), "{side}");
     }
 }
+
+#[test]
+fn an_outline_with_sharp_corners_at_an_arc_rounds_and_shells() {
+    // A rectangle whose top side bulges as a circular arc (sharp corners where the arc meets
+    // the sides) extruded, in general position. Every edge filleted: the inner prism over the
+    // outline moved in by r, grown by the ball (Steiner: V = A′H + (2A′ + P′H) r + (πH +
+    // πP′/2) r² + 4πr³/3, H = h − 2r); shelled: the outline's offset area times the inner
+    // height. The offset outline is the rectangle moved in and the arc's circle shrunk about
+    // its centre, its area (w − 2d)(y − d) + a√(ρ² − a²) + ρ² asin(a/ρ) with a = w/2 − d,
+    // ρ = R − d, y the centre's height.
+    use crate::construct::{arc_through, extrude};
+    let (w, l, c, h) = (3.0_f64, 2.0_f64, 1.0_f64, 1.5_f64);
+    let radius = (0.25 * w * w + c * c).sqrt();
+    let yc = l - c;
+    let offset_area = |d: f64| {
+        let (a, rho) = (0.5 * w - d, radius - d);
+        (w - 2.0 * d) * (yc - d) + a * (rho * rho - a * a).sqrt() + rho * rho * (a / rho).asin()
+    };
+    let offset_perimeter = |d: f64| {
+        let (a, rho) = (0.5 * w - d, radius - d);
+        (w - 2.0 * d) + 2.0 * (yc + (rho * rho - a * a).sqrt() - d) + 2.0 * rho * (a / rho).asin()
+    };
+    let at = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let outline = |z: f64| {
+        vec![
+            line(at(0.0, 0.0, z), at(w, 0.0, z)).unwrap(),
+            line(at(w, 0.0, z), at(w, l, z)).unwrap(),
+            arc_through(at(w, l, z), at(0.5 * w, yc + radius, z), at(0.0, l, z)).unwrap(),
+            line(at(0.0, l, z), at(0.0, 0.0, z)).unwrap(),
+        ]
+    };
+    let mut faces = vec![
+        planar_face(&outline(0.0)).unwrap(),
+        planar_face(&outline(h)).unwrap(),
+    ];
+    for (p, q) in [
+        ((0.0, 0.0), (w, 0.0)),
+        ((w, 0.0), (w, l)),
+        ((0.0, l), (0.0, 0.0)),
+    ] {
+        faces.push(
+            planar_face(&[
+                line(at(p.0, p.1, 0.0), at(q.0, q.1, 0.0)).unwrap(),
+                line(at(q.0, q.1, 0.0), at(q.0, q.1, h)).unwrap(),
+                line(at(q.0, q.1, h), at(p.0, p.1, h)).unwrap(),
+                line(at(p.0, p.1, h), at(p.0, p.1, 0.0)).unwrap(),
+            ])
+            .unwrap(),
+        );
+    }
+    faces.push(TrimmedSurface::untrimmed(
+        extrude(&outline(0.0)[2], DVec3::Z * h).unwrap(),
+    ));
+    for seed in [910_u64, 911] {
+        let (motion, s) = placement(seed);
+        let tol = 1e-7 * s;
+        let body = placed(faces.clone(), &motion);
+        let r = 0.3;
+        let big_h = h - 2.0 * r;
+        let (a1, p1) = (offset_area(r), offset_perimeter(r));
+        let steiner = a1 * big_h
+            + (2.0 * a1 + p1 * big_h) * r
+            + (PI * big_h + 0.5 * PI * p1) * r * r
+            + 4.0 * PI * r.powi(3) / 3.0;
+        let made = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Fillet { radius: r * s },
+            tol,
+        )
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_volume(&made, steiner * s.powi(3), "every edge");
+        assert_tangent(&made, tol, "every edge");
+        let v0 = offset_area(0.0) * h;
+        let t = 0.2;
+        for (thickness, want) in [
+            (-t, v0 - offset_area(t) * (h - 2.0 * t)),
+            (t, offset_area(-t) * (h + 2.0 * t) - v0),
+        ] {
+            let made = shell(&body, thickness * s, &[], tol)
+                .unwrap_or_else(|e| panic!("seed {seed}, shell {thickness}: {e}"));
+            assert_volume(&made, want * s.powi(3), "shell");
+        }
+    }
+}
