@@ -1245,6 +1245,7 @@ impl KnotworkApp {
         self.paint_trims(ui);
         self.paint_drawing(ui);
         self.paint_feature_edges(ui);
+        self.feature_handle(ui);
         self.paint_gizmo(ui);
         self.axis_triad(ui);
         self.viewport_overlays(ui, rect);

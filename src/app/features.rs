@@ -3,7 +3,8 @@
 //! viewport (*Pick*: a click near an edge picks it, Shift adds more, a click on a face away
 //! from edges picks the face, for a shell; the picked edges are drawn, and the one under the
 //! cursor); and, for a feature made with history, its value, which edits it in place (one
-//! undo step, [`Command::EditRecipe`]).
+//! undo step, [`Command::EditRecipe`]), in the row or, for a fillet or chamfer of picked
+//! edges, by a handle dragged in the viewport.
 
 use eframe::egui;
 use glam::{DVec2, DVec3};
@@ -36,7 +37,12 @@ pub(super) struct FeatureState {
     edges: Option<(EdgesKey, Vec<Vec<DVec3>>)>,
     /// The edge under the cursor.
     hover: Option<usize>,
+    /// A fillet's radius or a chamfer's distance while its handle is dragged.
+    handle: Option<f64>,
 }
+
+/// How far right of its edge point a feature's handle sits at a value of 0 (points).
+const HANDLE_GAP: f64 = 14.0;
 
 /// The nearest point to `p` on the segment from `a` to `b` (2D), as a fraction along it, and
 /// its distance.
@@ -177,6 +183,108 @@ impl KnotworkApp {
             if let Some(q) = screen(p) {
                 painter.circle_filled(q, 3.0, accent);
             }
+        }
+    }
+
+    /// For a selected fillet or chamfer made with history on picked edges, a handle right of
+    /// its first picked point, as far as the radius (or distance) looks on screen there:
+    /// dragged sideways it sets the value, shown beside it, and letting go edits the feature
+    /// in place (one undo step), as the row's value does.
+    pub(super) fn feature_handle(&mut self, ui: &egui::Ui) {
+        let (Some(k), Some(view), rect) =
+            (self.selection.object, self.pick_view, self.viewport_rect)
+        else {
+            return;
+        };
+        let Some(recipe) = self.scene().objects.get(k).and_then(|o| o.recipe.clone()) else {
+            return;
+        };
+        let operation = &recipe.operation;
+        let (value, near, label) = if let Some(p) = operation.params::<FilletEdges>() {
+            (p.radius, p.near.first().copied(), "r")
+        } else if let Some(p) = operation.params::<ChamferEdges>() {
+            (p.distance, p.near.first().copied(), "d")
+        } else {
+            return;
+        };
+        let Some(anchor) = near.map(DVec3::from_array) else {
+            return;
+        };
+        let Some(centre) = view.project(anchor) else {
+            return;
+        };
+        // Points per unit length at the anchor: the longest image of a short step along an
+        // axis.
+        let step = value.abs().max(1e-9);
+        let scale = [DVec3::X, DVec3::Y, DVec3::Z]
+            .iter()
+            .filter_map(|&e| view.project(anchor + e * step))
+            .map(|q| q.screen.distance(centre.screen) / step)
+            .fold(0.0, f64::max);
+        if !(scale.is_finite() && scale > 0.0) {
+            return;
+        }
+        let origin = rect.min.to_vec2();
+        let at_anchor = egui::pos2(centre.screen.x as f32, centre.screen.y as f32) + origin;
+        let shown = self.features.handle.unwrap_or(value);
+        let at = at_anchor + egui::vec2((HANDLE_GAP + shown * scale) as f32, 0.0);
+        let id = ui.scope_id().with("feature handle");
+        let response = ui.interact(
+            egui::Rect::from_center_size(at, egui::vec2(16.0, 16.0)),
+            id,
+            egui::Sense::drag(),
+        );
+        response
+            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Slider, true, "Feature handle"));
+        if response.dragged()
+            && let Some(pointer) = response.interact_pointer_pos()
+        {
+            let v = (f64::from(pointer.x - at_anchor.x) - HANDLE_GAP) / scale;
+            self.features.handle = Some(v.max(1e-3 * value.abs()));
+            self.redraw = true;
+        }
+        let accent = egui::Color32::from_rgb(255, 160, 50);
+        let painter = ui.painter().with_clip_rect(rect);
+        painter.line_segment([at_anchor, at], egui::Stroke::new(1.5, accent));
+        painter.circle_filled(at_anchor, 3.0, accent);
+        painter.circle(
+            at,
+            if response.hovered() || response.dragged() {
+                7.0
+            } else {
+                5.0
+            },
+            egui::Color32::WHITE,
+            egui::Stroke::new(2.0, accent),
+        );
+        painter.text(
+            at + egui::vec2(10.0, -10.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!("{label} {shown:.4}"),
+            egui::FontId::proportional(13.0),
+            egui::Color32::WHITE,
+        );
+        if response.drag_stopped()
+            && let Some(v) = self.features.handle.take()
+            && v != value
+        {
+            let operation = if let Some(p) = operation.params::<FilletEdges>() {
+                Operation::new(FilletEdges {
+                    radius: v,
+                    ..p.clone()
+                })
+            } else if let Some(p) = operation.params::<ChamferEdges>() {
+                Operation::new(ChamferEdges {
+                    distance: v,
+                    ..p.clone()
+                })
+            } else {
+                return;
+            };
+            self.execute(Command::EditRecipe {
+                object: k,
+                operation,
+            });
         }
     }
 

@@ -1610,3 +1610,77 @@ fn an_edge_picked_in_the_viewport_is_filleted() {
         volume(made)
     );
 }
+
+#[test]
+fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
+    // A block's edge filleted with history, then its radius dragged by the handle beside the
+    // picked edge: letting go makes the fillet again at the larger radius (the corner prism's
+    // volume, (1 − π/4) r² × 2, grows), as one undo step that undo takes back.
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let body = crate::common::box_of_planes(&glam::DAffine3::IDENTITY);
+    page.send(AppCommand::Edit(Command::Add {
+        object: knotwork::scene::SceneObject::new(
+            "Block",
+            knotwork::scene::ObjectGeometry::new(body),
+        ),
+    }));
+    harness.run_steps(3);
+    let k = harness.state().document().scene.objects.len() - 1;
+    let fillet = knotwork::ops::features::FilletEdges {
+        object: k.into(),
+        radius: 0.1,
+        near: vec![[1.0, 0.0, 0.0]],
+        tolerance: knotwork::ops::features::FEATURE_TOLERANCE,
+    };
+    page.send(AppCommand::Edit(Command::Apply {
+        operation: knotwork::scene::operation::Operation::new(fillet),
+        keep_history: true,
+    }));
+    harness.run_steps(3);
+    let made = harness.state().document().scene.objects.len() - 1;
+    page_select(&mut harness, made);
+    harness.run_steps(3);
+    let radius = |harness: &Harness<'_, KnotworkApp>| {
+        let object = &harness.state().document().scene.objects[made];
+        object
+            .recipe
+            .as_ref()
+            .and_then(|r| {
+                r.operation
+                    .params::<knotwork::ops::features::FilletEdges>()
+                    .map(|p| p.radius)
+            })
+            .expect("the fillet's recipe")
+    };
+    let volume = |harness: &Harness<'_, KnotworkApp>| {
+        let object = &harness.state().document().scene.objects[made];
+        knotwork::kernel::mass::signed_volume(&object.body().expect("a body").faces)
+            .expect("a volume")
+    };
+    let steps = status::current().undo_steps;
+    let handle = harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "Feature handle")
+        .rect()
+        .center();
+    let end = drag_from(&mut harness, handle, egui::vec2(1.0, 0.0), 3);
+    press(&harness, end, false);
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.error, None, "{s:?}");
+    let r = radius(&harness);
+    assert!(r > 0.1, "the radius grew: {r}");
+    let want = 3.0 - (1.0 - std::f64::consts::PI / 4.0) * r * r * 2.0;
+    assert!(
+        (volume(&harness) - want).abs() < 1e-9,
+        "{} against {want}",
+        volume(&harness)
+    );
+    assert_eq!(s.undo_steps, steps + 1, "one undo step");
+    harness.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    harness.run_steps(3);
+    assert_eq!(radius(&harness), 0.1);
+}
