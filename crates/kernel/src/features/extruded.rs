@@ -447,58 +447,11 @@ fn offset_piece(piece: Piece, distance: f64) -> Option<Piece> {
 
 /// Where the line or circle of `a` meets that of `b`, the meeting nearest `near`.
 fn meet(a: Piece, b: Piece, near: DVec2) -> Option<DVec2> {
-    let nearest = |points: &[DVec2]| {
-        points
-            .iter()
-            .copied()
-            .filter(|p| p.is_finite())
-            .min_by(|p, q| p.distance(near).total_cmp(&q.distance(near)))
+    let carrier = |piece: Piece| match piece {
+        Piece::Line(p, q) => super::revolved::Piece::Line(p, (q - p).normalize()),
+        Piece::Arc { centre, radius, .. } => super::revolved::Piece::Circle(centre, radius),
     };
-    // A line (point, unit direction) against a circle (centre, radius).
-    let line_circle = |p: DVec2, u: DVec2, o: DVec2, rho: f64| {
-        let w = p - o;
-        let (half, c) = (u.dot(w), w.length_squared() - rho * rho);
-        let disc = half * half - c;
-        (disc >= 0.0).then(|| {
-            let root = disc.sqrt();
-            [p + u * (-half - root), p + u * (-half + root)]
-        })
-    };
-    match (a, b) {
-        (Piece::Line(p, q), Piece::Line(s, t)) => {
-            let (u, v) = (q - p, t - s);
-            let d = u.perp_dot(v);
-            (d.abs() > 1e-300).then(|| p + u * ((s - p).perp_dot(v) / d))
-        }
-        (Piece::Line(p, q), Piece::Arc { centre, radius, .. })
-        | (Piece::Arc { centre, radius, .. }, Piece::Line(p, q)) => {
-            nearest(&line_circle(p, (q - p).normalize(), centre, radius)?)
-        }
-        (
-            Piece::Arc {
-                centre: o1,
-                radius: r1,
-                ..
-            },
-            Piece::Arc {
-                centre: o2,
-                radius: r2,
-                ..
-            },
-        ) => {
-            let d = o1.distance(o2);
-            if d <= 1e-300 {
-                return None;
-            }
-            let e = (o2 - o1) / d;
-            let along = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
-            let h2 = r1 * r1 - along * along;
-            (h2 >= 0.0).then_some(())?;
-            let h = h2.sqrt();
-            let m = o1 + e * along;
-            nearest(&[m + left(e) * h, m - left(e) * h])
-        }
-    }
+    super::revolved::meet_pieces(carrier(a), carrier(b), near)
 }
 
 /// The point of the piece's line or circle nearest `p`.

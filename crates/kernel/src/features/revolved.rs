@@ -81,13 +81,13 @@ impl Segment {
 /// A segment of a profile moved off itself: a line (a point and a unit direction) or a
 /// circle (centre and radius).
 #[derive(Debug, Clone, Copy)]
-enum Piece {
+pub(crate) enum Piece {
     Line(DVec2, DVec2),
     Circle(DVec2, f64),
 }
 
 /// Where two pieces meet: the crossing nearest `guess` (None where they do not meet).
-fn meet_pieces(a: Piece, b: Piece, guess: DVec2) -> Option<DVec2> {
+pub(crate) fn meet_pieces(a: Piece, b: Piece, guess: DVec2) -> Option<DVec2> {
     let nearest = |points: Vec<DVec2>| {
         points
             .into_iter()
