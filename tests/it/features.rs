@@ -532,3 +532,42 @@ mod in_the_document {
         }
     }
 }
+
+/// A turned part from the CAx-IF round robin (another CAD system's STEP file: a cylinder
+/// with a spherical cap, its edges on curved meridians): every sharp edge filleted and
+/// chamfered at 0.2, against OpenCASCADE's `BRepFilletAPI_MakeFillet` and `MakeChamfer` on
+/// the same file (`tests/reference/features/occ_real_part.py`).
+#[test]
+fn a_real_turned_part_takes_opencascades_fillet_and_chamfer() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference/step-public/cax-if__s1_pe_214__foot_back_prt.stp");
+    let bytes = std::fs::read(path).expect("the part");
+    let bodies = knotwork::io::step::read::read(&bytes, &mut |_, _| true)
+        .expect("a STEP model")
+        .bodies;
+    let faces = &bodies[0].faces;
+    let (lo, hi) = faces.iter().map(|f| f.surface().bounds()).fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), (p, q)| (lo.min(p), hi.max(q)),
+    );
+    let tolerance = 1e-6 * lo.distance(hi);
+    for (feature, want) in [
+        (EdgeFeature::Fillet { radius: 0.2 }, 2357.2641141337044),
+        (
+            EdgeFeature::Chamfer {
+                distance: 0.2,
+                other: 0.2,
+            },
+            2355.9012748780187,
+        ),
+    ] {
+        let made = round_edges(faces, &EdgePick::All, feature, tolerance)
+            .unwrap_or_else(|e| panic!("{feature:?}: {e}"));
+        assert_eq!(made.picked, 2);
+        let v = made.volume().expect("a volume");
+        assert!(
+            (v - want).abs() < 1e-8 * want,
+            "{feature:?}: {v} against OpenCASCADE's {want}"
+        );
+    }
+}

@@ -123,6 +123,40 @@ pub(crate) fn meet_pieces(a: Piece, b: Piece, guess: DVec2) -> Option<DVec2> {
     }
 }
 
+/// The line or circle of `s` moved `distance` into the material (the side its outward
+/// normal points away from); None where a circle shrinks to nothing.
+fn carrier(s: &Segment, distance: f64) -> Option<Piece> {
+    match s.through {
+        None => {
+            let d = s.direction();
+            Some(Piece::Line(s.a + DVec2::new(-d.y, d.x) * distance, d))
+        }
+        Some(m) => {
+            let c = circumcentre(s.a, m, s.b)?;
+            let radius = s.a.distance(c);
+            // Outward along the radius: the material inside the circle, which shrinks.
+            let inside = s.outward(s.a).dot(s.a - c) > 0.0;
+            let r = if inside {
+                radius - distance
+            } else {
+                radius + distance
+            };
+            (r > 0.0).then_some(Piece::Circle(c, r))
+        }
+    }
+}
+
+/// The point of the line or circle of `s` nearest `p`.
+fn foot(s: &Segment, p: DVec2) -> DVec2 {
+    match s.through.and_then(|m| circumcentre(s.a, m, s.b)) {
+        None => {
+            let d = s.direction();
+            s.a + d * (p - s.a).dot(d)
+        }
+        Some(c) => c + (p - c).normalize_or_zero() * s.a.distance(c),
+    }
+}
+
 /// The centre of the circle through three points of a plane.
 fn circumcentre(a: DVec2, m: DVec2, b: DVec2) -> Option<DVec2> {
     let (p, q) = (m - a, b - a);
@@ -384,6 +418,40 @@ impl Profile {
             .collect()
     }
 
+    /// [`Self::from_faces`], refused unless the profile revolved encloses the volume the
+    /// faces do (to 1e-7): a face read as a line or an arc within the tolerance that is
+    /// another curve (a spline meridian) would otherwise change the body the feature is
+    /// built on.
+    pub fn exactly(faces: &[TrimmedSurface], tolerance: f64) -> Result<Self, GeometryError> {
+        let profile = Self::from_faces(faces, tolerance)?;
+        let (outward, _) = outward_faces(faces, tolerance, "the solid")?;
+        let (read, made) = (
+            crate::mass::signed_volume(&outward)?.abs(),
+            crate::mass::signed_volume(&profile.faces()?)?.abs(),
+        );
+        if (read - made).abs() > 1e-7 * read {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the solid's faces are not exactly lines and arcs turned about its axis \
+                     (read as such, its volume {read:.6} becomes {made:.6}); a face with another \
+                     meridian is not built yet"
+                ),
+            ));
+        }
+        Ok(profile)
+    }
+
+    /// Whether the faces meet at an angle at the vertex where segment `i` starts (not
+    /// tangentially, as a ball's cap on a cylinder of its radius).
+    pub fn is_sharp(&self, i: usize) -> bool {
+        let n = self.segments.len();
+        let (before, after) = (self.segments[(i + n - 1) % n], self.segments[i]);
+        let v = after.a;
+        let (o1, o2) = (before.outward(v), after.outward(v));
+        o1.perp_dot(o2).abs() >= 1e-9 || o1.dot(o2) < 0.0
+    }
+
     /// The distance from `p` to the circle of the edge where segment `i` starts.
     pub fn edge_distance(&self, i: usize, p: DVec3) -> f64 {
         self.rh(p).distance(self.segments[i].a)
@@ -408,39 +476,58 @@ impl Profile {
             let (before, after) = (self.segments[(i + n - 1) % n], self.segments[i]);
             let v = after.a;
             let edge = || point(self.at(v));
-            if before.through.is_some() || after.through.is_some() {
-                return Err(construction(
-                    WHAT,
-                    format!(
-                        "the edge at {} lies on a curved meridian; that is not built yet",
-                        edge()
-                    ),
-                ));
-            }
-            let (d1, d2) = (before.direction(), after.direction());
+            // The directions of travel at the vertex (the material on the left: the outward
+            // normal turned a quarter left).
+            let travel = |s: &Segment| {
+                let o = s.outward(v);
+                DVec2::new(-o.y, o.x)
+            };
+            let (d1, d2) = (travel(&before), travel(&after));
             let turn = d1.perp_dot(d2);
-            let psi: f64 = (-d1).dot(d2).clamp(-1.0, 1.0).acos();
-            if turn.abs() < 1e-9 {
+            if turn.abs() < 1e-9 && d1.dot(d2) > 0.0 {
                 return Err(construction(
                     WHAT,
                     format!("the faces at the edge {} meet flat", edge()),
                 ));
             }
-            let (c1, c2, through) = match feature {
+            let (p1, p2, through) = match feature {
                 EdgeFeature::Fillet { radius } => {
-                    let c = radius / (0.5 * psi).tan();
-                    let p1 = v - d1 * c;
-                    let inward = DVec2::new(-d1.y, d1.x);
-                    let centre = if turn > 0.0 {
-                        p1 + inward * radius
-                    } else {
-                        p1 - inward * radius
-                    };
-                    (c, c, Some(centre + (v - centre).normalize() * radius))
+                    // The ball's centre: where both segments moved by r towards it meet
+                    // (inside the material at a convex edge, outside at a concave one).
+                    let side = if turn > 0.0 { radius } else { -radius };
+                    let centre = carrier(&before, side)
+                        .zip(carrier(&after, side))
+                        .and_then(|(a, b)| meet_pieces(a, b, v))
+                        .ok_or_else(|| {
+                            construction(
+                                WHAT,
+                                format!(
+                                    "the fillet of the edge {} does not fit between its faces",
+                                    edge()
+                                ),
+                            )
+                        })?;
+                    let (p1, p2) = (foot(&before, centre), foot(&after, centre));
+                    let middle = (0.5 * (p1 + p2) - centre).normalize_or_zero();
+                    (p1, p2, Some(centre + middle * radius))
                 }
-                EdgeFeature::Chamfer { distance, other } => (distance, other, None),
+                EdgeFeature::Chamfer { distance, other } => {
+                    let back = |s: &Segment, d: f64, toward: DVec2| match s.through {
+                        None => Some(v + toward * d),
+                        Some(_) => carrier(s, 0.0)
+                            .and_then(|c| meet_pieces(c, Piece::Circle(v, d), v + toward * d)),
+                    };
+                    let p1 = back(&before, distance, -d1);
+                    let p2 = back(&after, other, d2);
+                    let (Some(p1), Some(p2)) = (p1, p2) else {
+                        return Err(construction(
+                            WHAT,
+                            format!("the chamfer of the edge {} does not fit", edge()),
+                        ));
+                    };
+                    (p1, p2, None)
+                }
             };
-            let (p1, p2) = (v - d1 * c1, v + d2 * c2);
             segments[(i + n - 1) % n].b = p1;
             segments[i].a = p2;
             inserted.push((
@@ -452,6 +539,21 @@ impl Profile {
                     on_axis: false,
                 },
             ));
+        }
+        // Arcs cut back keep their circle and their way round: a new middle point.
+        for (new, old) in segments.iter_mut().zip(&self.segments) {
+            if let Some(m) = old.through
+                && (new.a != old.a || new.b != old.b)
+                && let Some(c) = circumcentre(old.a, m, old.b)
+            {
+                let way = (m - old.a).perp_dot(old.b - m).signum();
+                let (a, b) = (new.a - c, new.b - c);
+                let mut angle = a.angle_to(b);
+                if angle * way < 0.0 {
+                    angle += way * std::f64::consts::TAU;
+                }
+                new.through = Some(c + DVec2::from_angle(0.5 * angle).rotate(a));
+            }
         }
         // Every segment keeps its direction and some length.
         for (old, new) in self.segments.iter().zip(&segments) {
@@ -701,10 +803,15 @@ pub(crate) fn round_revolved(
     tolerance: f64,
     what: &str,
 ) -> Result<super::FeatureResult, GeometryError> {
-    let profile = Profile::from_faces(faces, tolerance)?;
+    let profile = Profile::exactly(faces, tolerance)?;
     let edges = profile.edges();
     let mut picked: Vec<usize> = match pick {
-        super::EdgePick::All => edges.clone(),
+        // Every edge where the faces meet at an angle.
+        super::EdgePick::All => edges
+            .iter()
+            .copied()
+            .filter(|&i| profile.is_sharp(i))
+            .collect(),
         super::EdgePick::Near(points) => points
             .iter()
             .filter_map(|&p| {
@@ -735,7 +842,7 @@ pub(crate) fn shell_revolved(
     open: &[DVec3],
     tolerance: f64,
 ) -> Result<(Vec<TrimmedSurface>, Vec<TrimmedSurface>, usize), GeometryError> {
-    let profile = Profile::from_faces(faces, tolerance)?;
+    let profile = Profile::exactly(faces, tolerance)?;
     let walls: Vec<usize> = (0..profile.segments.len())
         .filter(|&k| !profile.segments[k].on_axis)
         .collect();
