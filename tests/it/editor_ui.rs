@@ -1541,12 +1541,8 @@ fn a_long_boolean_runs_over_frames_with_progress_and_cancel() {
     assert_eq!(harness.state().document().scene, opened);
 }
 
-#[test]
-fn an_edge_picked_in_the_viewport_is_filleted() {
-    let _turn = ONE_EDITOR_AT_A_TIME
-        .lock()
-        .unwrap_or_else(|p| p.into_inner());
-    let mut harness = editor();
+/// Adds the 2 × 1 × 1.5 block of planes through the page and returns its index.
+fn add_block(harness: &mut Harness<'_, KnotworkApp>) -> usize {
     let page = harness.state().command_sender();
     let body = crate::common::box_of_planes(&glam::DAffine3::IDENTITY);
     page.send(AppCommand::Edit(Command::Add {
@@ -1556,7 +1552,16 @@ fn an_edge_picked_in_the_viewport_is_filleted() {
         ),
     }));
     harness.run_steps(3);
-    let k = harness.state().document().scene.objects.len() - 1;
+    harness.state().document().scene.objects.len() - 1
+}
+
+#[test]
+fn an_edge_picked_in_the_viewport_is_filleted() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let k = add_block(&mut harness);
     page_select(&mut harness, k);
     harness.run_steps(2);
     // The edge from (0, 0, 0) to (2, 0, 0): the screen middle of its corners' handles lies on
@@ -1621,15 +1626,7 @@ fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
     let page = harness.state().command_sender();
-    let body = crate::common::box_of_planes(&glam::DAffine3::IDENTITY);
-    page.send(AppCommand::Edit(Command::Add {
-        object: knotwork::scene::SceneObject::new(
-            "Block",
-            knotwork::scene::ObjectGeometry::new(body),
-        ),
-    }));
-    harness.run_steps(3);
-    let k = harness.state().document().scene.objects.len() - 1;
+    let k = add_block(&mut harness);
     let fillet = knotwork::ops::features::FilletEdges {
         object: k.into(),
         radius: 0.1,
