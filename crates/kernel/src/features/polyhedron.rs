@@ -144,7 +144,10 @@ impl Polyhedron {
                 kept,
             });
         }
-        straighten(&mut facets, &vertices, tolerance);
+        // A vertex lying on another face's edge (a fused body: a side face whose edge
+        // runs past the corner where a face above starts) splits that edge, so the faces on
+        // either side run the same pieces.
+        split_at_vertices(&mut facets, &vertices, tolerance);
         // Faces in one plane that share an edge (a face a file split in two) are one face.
         let facets = merged_coplanar(facets, tolerance)?;
         let mut facets = facets;
@@ -250,19 +253,33 @@ impl Polyhedron {
         Ok(faces)
     }
 
-    /// The distance from `p` to face `f`.
+    /// The distance from `p` to face `f` (its kept curved loops, a round hole's rim, taken
+    /// as polygons through 64 points of each curve).
     pub fn face_distance(&self, f: usize, p: DVec3) -> f64 {
         let facet = &self.faces[f];
         let n = facet.normal;
         let x = n.any_orthonormal_vector();
         let y = n.cross(x);
         let flat = |q: DVec3| glam::DVec2::new(q.dot(x), q.dot(y));
-        let inside = facet
+        let mut rings: Vec<Vec<DVec3>> = facet
             .loops
             .iter()
+            .map(|ring| ring.iter().map(|&v| self.vertices[v]).collect())
+            .collect();
+        for ring in &facet.kept {
+            let mut points = Vec::new();
+            for curve in ring {
+                let (t0, t1) = curve.domain();
+                points.extend(
+                    (0..64).filter_map(|i| curve.point_at(t0 + (t1 - t0) * i as f64 / 64.0).ok()),
+                );
+            }
+            rings.push(points);
+        }
+        let inside = rings
+            .iter()
             .map(|ring| {
-                let polygon: Vec<glam::DVec2> =
-                    ring.iter().map(|&v| flat(self.vertices[v])).collect();
+                let polygon: Vec<glam::DVec2> = ring.iter().map(|&q| flat(q)).collect();
                 usize::from(crate::trim::polygon_contains(&polygon, flat(p)))
             })
             .sum::<usize>()
@@ -272,13 +289,9 @@ impl Polyhedron {
             return (n.dot(p) - facet.offset).abs();
         }
         let mut best = f64::INFINITY;
-        for ring in &facet.loops {
+        for ring in &rings {
             for i in 0..ring.len() {
-                let (a, b) = (
-                    self.vertices[ring[i]],
-                    self.vertices[ring[(i + 1) % ring.len()]],
-                );
-                best = best.min(segment_distance(a, b, p));
+                best = best.min(segment_distance(ring[i], ring[(i + 1) % ring.len()], p));
             }
         }
         best
@@ -322,6 +335,41 @@ pub fn segment_distance(a: DVec3, b: DVec3, p: DVec3) -> f64 {
     let d = b - a;
     let t = ((p - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
     p.distance(a + d * t)
+}
+
+/// Each loop edge with vertices lying on it (within `tolerance`, strictly between its ends)
+/// split at them, in order along it.
+fn split_at_vertices(facets: &mut [Facet], vertices: &[DVec3], tolerance: f64) {
+    for facet in facets {
+        for ring in &mut facet.loops {
+            let mut split = Vec::with_capacity(ring.len());
+            for i in 0..ring.len() {
+                let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                split.push(a);
+                let (p, q) = (vertices[a], vertices[b]);
+                let d = q - p;
+                let length = d.length();
+                if length <= tolerance {
+                    continue;
+                }
+                let mut inner: Vec<(f64, usize)> = vertices
+                    .iter()
+                    .enumerate()
+                    .filter(|&(v, &x)| {
+                        v != a
+                            && v != b
+                            && x.distance(p) > tolerance
+                            && x.distance(q) > tolerance
+                            && segment_distance(p, q, x) <= tolerance
+                    })
+                    .map(|(v, &x)| ((x - p).dot(d) / length, v))
+                    .collect();
+                inner.sort_by(|x, y| x.0.total_cmp(&y.0));
+                split.extend(inner.into_iter().map(|(_, v)| v));
+            }
+            *ring = split;
+        }
+    }
 }
 
 /// Drops the points where a loop runs straight on (not corners).

@@ -388,6 +388,77 @@ pub fn build_walls(
     Ok((out, rims))
 }
 
+/// The walls offset for a shell: each flat face `f` moved `face_offset(f)` along its outward
+/// normal and each wall `w` by `wall_offset(w)` (its radius grown by that where its material
+/// is inside, shrunk where outside), each wall rebuilt between its end faces' new planes
+/// (the height along the axis where a plane moved by δ meets it changes by δ / (n · axis)),
+/// and each end's new circle with the flat face it bounds; refused where a circle closes up
+/// or a wall's ends pass each other (the offset is more than the body allows there).
+pub fn offset_walls(
+    solid: &Polyhedron,
+    walls: &[Wall],
+    face_offset: &dyn Fn(usize) -> f64,
+    wall_offset: &dyn Fn(usize) -> f64,
+    tolerance: f64,
+) -> Result<WallFaces, GeometryError> {
+    let mut out = Vec::new();
+    let mut rims = Vec::new();
+    for (w, wall) in walls.iter().enumerate() {
+        let radius = wall.radius + wall.outward * wall_offset(w);
+        if radius <= 10.0 * tolerance {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the wall is thicker than the body allows: the round wall through {} closes up",
+                    point(wall.rim_point(0))
+                ),
+            ));
+        }
+        let mut heights = [0.0; 2];
+        for (end, height) in heights.iter_mut().enumerate() {
+            let f = wall.ends[end].facet;
+            let along = solid.faces[f].normal.dot(wall.axis);
+            *height = wall.ends[end].height + face_offset(f) / along;
+            let centre = wall.origin + wall.axis * *height;
+            rims.push((f, circle(centre, wall.axis, wall.x, radius)?));
+        }
+        if (heights[1] - heights[0]) * (wall.ends[1].height - wall.ends[0].height) <= 0.0 {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the wall is thicker than the body allows: the round wall through {}                      vanishes",
+                    point(wall.rim_point(0))
+                ),
+            ));
+        }
+        let band = line(
+            wall.origin + wall.axis * heights[0] + wall.x * radius,
+            wall.origin + wall.axis * heights[1] + wall.x * radius,
+        )?;
+        let face = TrimmedSurface::untrimmed(revolve(&band, wall.origin, wall.axis, TAU)?);
+        let (origin, axis, outward) = (wall.origin, wall.axis, wall.outward);
+        out.push(facing(face, |p| {
+            (p - origin).reject_from(axis).normalize_or_zero() * outward
+        })?);
+    }
+    Ok((out, rims))
+}
+
+/// The distance from `p` to wall `wall`'s band (its radial distance where `p` lies between
+/// the rims, else the nearer rim's).
+pub fn wall_distance(wall: &Wall, p: DVec3) -> f64 {
+    let h = (p - wall.origin).dot(wall.axis);
+    let (lo, hi) = (
+        wall.ends[0].height.min(wall.ends[1].height),
+        wall.ends[0].height.max(wall.ends[1].height),
+    );
+    if h >= lo && h <= hi {
+        ((p - wall.origin).reject_from(wall.axis).length() - wall.radius).abs()
+    } else {
+        wall.rim_distance(0, p).min(wall.rim_distance(1, p))
+    }
+}
+
 /// The faces [`build_walls`] makes, and the circles it gives the flat faces.
 pub type WallFaces = (Vec<TrimmedSurface>, Vec<(usize, SpaceCurve)>);
 

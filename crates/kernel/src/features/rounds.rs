@@ -34,6 +34,15 @@ struct Line {
     direction: DVec3,
 }
 
+impl Line {
+    /// The distance from `p` to the line.
+    fn distance(&self, p: DVec3) -> f64 {
+        (p - self.origin)
+            .reject_from_normalized(self.direction)
+            .length()
+    }
+}
+
 /// A plane `normal · x = offset`.
 #[derive(Debug, Clone, Copy)]
 struct Plane {
@@ -251,6 +260,75 @@ impl Builder<'_> {
         SpaceCurve::new(2, arc.knots().to_vec(), points, Some(weights))
     }
 
+    /// At vertex `v` where three chamfered edges meet and one differs in convexity from the
+    /// other two (a concave upright edge under two convex cap edges, or a convex one over two
+    /// concave base edges): that edge and the face the other two share. OpenCASCADE's
+    /// `BRepFilletAPI_MakeChamfer` closes such a corner with a flat quadrilateral: the two
+    /// like strips end square to their edges where the odd strip meets their other faces,
+    /// and the shared face is cut straight between their ends.
+    ///
+    /// For fillets the odd edge must stand square to the shared face (a prism's upright edge,
+    /// a boss's or a pocket's): the like fillets' ball then rolls round the odd fillet on a
+    /// torus about its axis, as OpenCASCADE's `BRepFilletAPI_MakeFillet` rounds it.
+    fn mixed_corner(&self, v: usize) -> Option<(usize, usize)> {
+        let at_v = self.solid.edges_at(v);
+        if at_v.len() != 3 {
+            return None;
+        }
+        let sides: Vec<f64> = at_v
+            .iter()
+            .map(|k| self.rounds.get(k).map(|r| r.side))
+            .collect::<Option<_>>()?;
+        let odd = (0..3).find(|&i| sides.iter().filter(|&&s| s == sides[i]).count() == 1)?;
+        let (j0, j1) = (at_v[(odd + 1) % 3], at_v[(odd + 2) % 3]);
+        let (a, b) = (self.solid.edges[j0], self.solid.edges[j1]);
+        let shared = [a.left, a.right]
+            .into_iter()
+            .find(|&f| f == b.left || f == b.right)?;
+        if matches!(self.feature, EdgeFeature::Fillet { .. })
+            && self.rounds[&at_v[odd]]
+                .t
+                .cross(self.solid.faces[shared].normal)
+                .length()
+                > 1e-9
+        {
+            return None;
+        }
+        Some((at_v[odd], shared))
+    }
+
+    /// The foot on the shared face `f` of odd edge `odd`'s fillet axis: the centre of the
+    /// mixed corner's torus on that face.
+    fn odd_axis_foot(&self, odd: usize, f: usize) -> Result<DVec3, GeometryError> {
+        let (_, centre) = self.arc(odd)?;
+        pierce(
+            Line {
+                origin: centre,
+                direction: self.rounds[&odd].t,
+            },
+            self.plane(f),
+        )
+        .ok_or_else(|| construction(WHAT, "a fillet runs parallel to the face it ends on"))
+    }
+
+    /// Where like edge `k`'s strip ends on the shared face `f` at a mixed chamfer corner
+    /// with odd edge `odd`: on its bound line in `f`, square to the edge through the corner
+    /// of its other face.
+    fn square_end(&self, k: usize, f: usize, odd: usize, v: usize) -> Result<DVec3, GeometryError> {
+        let w = self.other_face(k, f);
+        let corner = meet(self.bound(odd, w), self.bound(k, w)).ok_or_else(|| {
+            construction(
+                WHAT,
+                format!(
+                    "the chamfers at {} run parallel on a face",
+                    point(self.solid.vertices[v])
+                ),
+            )
+        })?;
+        let l = self.bound(k, f);
+        Ok(l.origin + l.direction * (corner - l.origin).dot(l.direction))
+    }
+
     fn other_face(&self, k: usize, f: usize) -> usize {
         let e = self.solid.edges[k];
         if e.left == f { e.right } else { e.left }
@@ -274,6 +352,30 @@ impl Builder<'_> {
             self.rounds.contains_key(&e_in),
             self.rounds.contains_key(&e_out),
         );
+        if let Some((odd, shared)) = self.mixed_corner(v)
+            && shared == f
+        {
+            let from = self.square_end(e_in, f, odd, v)?;
+            let to = self.square_end(e_out, f, odd, v)?;
+            let curve = match self.feature {
+                EdgeFeature::Chamfer { .. } => line(from, to)?,
+                EdgeFeature::Fillet { .. } => {
+                    let c = self.odd_axis_foot(odd, f)?;
+                    let (x, y) = (from - c, to - c);
+                    if (x.length() - y.length()).abs() > 10.0 * self.tolerance {
+                        return Err(construction(
+                            WHAT,
+                            format!(
+                                "the fillets at {} do not roll round one another",
+                                point(solid.vertices[v])
+                            ),
+                        ));
+                    }
+                    arc(c, x, y, x.length(), 0.0, x.angle_between(y))?
+                }
+            };
+            return Ok(Corner::Cut { from, curve, to });
+        }
         if picked_in || picked_out {
             return meet(self.bound(e_in, f), self.bound(e_out, f))
                 .map(Corner::Point)
@@ -560,13 +662,15 @@ pub fn round_edges(
     for &k in &picked {
         let e = solid.edges[k];
         let r = b.rounds[&k];
+        // The left face runs a → b, so its corner at a is where the edge starts (its last
+        // point) and at b where it ends (its first); the right face the other way round.
         let (la, lb) = (
-            corner_at(e.left, e.a)?.first(),
+            corner_at(e.left, e.a)?.last(),
             corner_at(e.left, e.b)?.first(),
         );
         let (ra, rb) = (
             corner_at(e.right, e.a)?.first(),
-            corner_at(e.right, e.b)?.first(),
+            corner_at(e.right, e.b)?.last(),
         );
         match feature {
             EdgeFeature::Chamfer { .. } => {
@@ -624,11 +728,89 @@ pub fn round_edges(
             .collect::<Result<_, _>>()?;
         let normals: Vec<DVec3> = faces_at.iter().map(|&f| solid.faces[f].normal).collect();
         match feature {
+            EdgeFeature::Chamfer { .. } if b.mixed_corner(v).is_some() => {
+                let Some((_, shared)) = b.mixed_corner(v) else {
+                    continue;
+                };
+                let Corner::Cut { from, to, .. } = corner_at(shared, v)? else {
+                    return Err(construction(WHAT, "a mixed chamfer corner lost its cut"));
+                };
+                // The ring's edges into and out of the shared face's corner, and their
+                // other faces' corners.
+                let (from, to) = (*from, *to);
+                let through = |p: DVec3| -> Result<DVec3, GeometryError> {
+                    let k = at_v
+                        .iter()
+                        .copied()
+                        .filter(|&k| {
+                            let e = solid.edges[k];
+                            e.left == shared || e.right == shared
+                        })
+                        .min_by(|&i, &j| {
+                            b.bound(i, shared)
+                                .distance(p)
+                                .total_cmp(&b.bound(j, shared).distance(p))
+                        })
+                        .ok_or_else(|| construction(WHAT, "a corner lost its edges"))?;
+                    Ok(corner_at(b.other_face(k, shared), v)?.first())
+                };
+                let (c_from, c_to) = (through(from)?, through(to)?);
+                let patch = planar_face(&[
+                    line(from, c_from)?,
+                    line(c_from, c_to)?,
+                    line(c_to, to)?,
+                    line(to, from)?,
+                ])
+                .map_err(|e| {
+                    construction(
+                        WHAT,
+                        format!(
+                            "the chamfers at {} do not close with a flat patch ({e})",
+                            point(solid.vertices[v])
+                        ),
+                    )
+                })?;
+                let n = normals[0] + normals[1] + normals[2];
+                out.push(facing(patch, |_| n)?);
+            }
             EdgeFeature::Chamfer { .. } => {
                 let patch =
                     planar_face(&[line(q[0], q[1])?, line(q[1], q[2])?, line(q[2], q[0])?])?;
                 let n = normals[0] + normals[1] + normals[2];
                 out.push(facing(patch, |_| n)?);
+            }
+            EdgeFeature::Fillet { .. } if b.mixed_corner(v).is_some() => {
+                let Some((odd, shared)) = b.mixed_corner(v) else {
+                    continue;
+                };
+                let Corner::Cut { from, to, .. } = corner_at(shared, v)? else {
+                    return Err(construction(WHAT, "a mixed fillet corner lost its cut"));
+                };
+                // The like fillet ending at `from`: its end section revolved about the odd
+                // fillet's axis to the other's.
+                let like = at_v
+                    .iter()
+                    .copied()
+                    .filter(|&k| k != odd)
+                    .min_by(|&i, &j| {
+                        b.bound(i, shared)
+                            .distance(*from)
+                            .total_cmp(&b.bound(j, shared).distance(*from))
+                    })
+                    .ok_or_else(|| construction(WHAT, "a corner lost its edges"))?;
+                let section = b.section(like, b.end_plane(like, v)?)?;
+                let foot = b.odd_axis_foot(odd, shared)?;
+                let (x, y) = (*from - foot, *to - foot);
+                let torus = revolve(&section, foot, x.cross(y), x.angle_between(y))?;
+                // The ball centres' circle: over the face's arc, r off the face.
+                let side = b.rounds[&like].side;
+                let axis = b.rounds[&odd].t;
+                let lift = b.plane(shared).normal * (side * b.radius());
+                let ring = x.length();
+                out.push(facing(TrimmedSurface::untrimmed(torus), |p| {
+                    let radial = (p - foot).reject_from_normalized(axis).normalize_or_zero();
+                    (p - (foot + lift + radial * ring)) * -side
+                })?);
             }
             EdgeFeature::Fillet { radius } => {
                 let side = b.rounds[&at_v[0]].side;
@@ -762,6 +944,24 @@ impl Builder<'_> {
         ) else {
             return Err(construction(WHAT, "a corner's edges do not meet its faces"));
         };
+        if let Some((odd, shared)) = self.mixed_corner(v) {
+            // The odd fillet ends where the like fillets' ball centres run; the like ones
+            // square to their edges through the odd one's axis.
+            let radius = self.radius();
+            if k == odd {
+                let like = self.rounds[&k_left].side;
+                let p = self.plane(shared);
+                return Ok(Plane {
+                    offset: p.offset + like * radius,
+                    ..p
+                });
+            }
+            let foot = self.odd_axis_foot(odd, shared)?;
+            return Ok(Plane {
+                normal: r.t,
+                offset: r.t.dot(foot),
+            });
+        }
         let h = self.other_face(k_left, e.left);
         let picked: Vec<usize> = [k_left, k_right]
             .into_iter()

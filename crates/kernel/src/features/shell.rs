@@ -6,6 +6,7 @@ use glam::{DMat3, DVec3};
 
 use crate::boolean::{BooleanOp, boolean};
 use crate::construct::line;
+use crate::curve::SpaceCurve;
 use crate::error::{GeometryError, construction};
 use crate::planar::planar_face;
 use crate::trim::TrimmedSurface;
@@ -44,6 +45,18 @@ pub fn replaned(
     tolerance: f64,
     too_far: &str,
 ) -> Result<Vec<TrimmedSurface>, GeometryError> {
+    replaned_with(solid, plane, &[], tolerance, too_far)
+}
+
+/// [`replaned`], each face given the loops `extra` names for it (face, closed curve) too:
+/// the circles of round walls offset with it.
+pub fn replaned_with(
+    solid: &Polyhedron,
+    plane: impl Fn(usize) -> (DVec3, f64),
+    extra: &[(usize, SpaceCurve)],
+    tolerance: f64,
+    too_far: &str,
+) -> Result<Vec<TrimmedSurface>, GeometryError> {
     let planes: Vec<(DVec3, f64)> = (0..solid.faces.len()).map(plane).collect();
     let mut moved = Vec::with_capacity(solid.vertices.len());
     for (v, &p) in solid.vertices.iter().enumerate() {
@@ -54,6 +67,11 @@ pub fn replaned(
             .collect();
         faces.sort_unstable();
         faces.dedup();
+        if faces.is_empty() {
+            // A point dropped from every loop (where an edge runs straight on): no corner.
+            moved.push(p);
+            continue;
+        }
         let mut m = DMat3::ZERO;
         let mut rhs = DVec3::ZERO;
         for &f in &faces {
@@ -105,6 +123,12 @@ pub fn replaned(
                 boundary.push(line(moved[a], moved[b])?);
             }
         }
+        boundary.extend(
+            extra
+                .iter()
+                .filter(|(g, _)| *g == f)
+                .map(|(_, c)| c.clone()),
+        );
         let face = planar_face(&boundary)
             .map_err(|e| construction(WHAT, format!("{too_far} at face {f} ({e})")))?;
         let normal = planes[f].0;
@@ -139,10 +163,14 @@ pub fn shell(
         let made = match super::revolved::shell_revolved(faces, thickness, open, tolerance) {
             Ok(made) => made,
             Err(_) => {
-                return match super::extruded::shell_prism(faces, thickness, open, tolerance) {
-                    Some(made) => made,
-                    None => super::smooth::shell_smooth(faces, thickness, open, tolerance),
-                };
+                if let Some(made) = super::extruded::shell_prism(faces, thickness, open, tolerance)
+                {
+                    return made;
+                }
+                if let Some(made) = shell_walled(faces, thickness, open, tolerance) {
+                    return made;
+                }
+                return super::smooth::shell_smooth(faces, thickness, open, tolerance);
             }
         };
         return match made {
@@ -176,6 +204,82 @@ pub fn shell(
         )
     };
     hollow(&outer, &inner, tolerance, opened.len())
+}
+
+/// The shell of a flat-faced solid with round walls square to its faces (a pin standing on
+/// a block, a drilled hole, a blind pocket): every flat face and wall offset exactly
+/// ([`super::rims::offset_walls`]), the corners where the moved planes meet; None where the
+/// solid is not one (then another reader tries).
+fn shell_walled(
+    faces: &[TrimmedSurface],
+    thickness: f64,
+    open: &[DVec3],
+    tolerance: f64,
+) -> Option<Result<FeatureResult, GeometryError>> {
+    let mut solid = Polyhedron::with_curved(faces, tolerance).ok()?;
+    // Picked while the flat faces still hold their rims (a pin's top is a disc).
+    let opened = solid.nearest_faces(open);
+    let face_near = |p: DVec3| solid.nearest_face(p).map(|f| solid.face_distance(f, p));
+    let near: Vec<Option<f64>> = open.iter().map(|&p| face_near(p)).collect();
+    let walls = super::rims::take_walls(&mut solid, tolerance).ok()?;
+    if solid.edges.is_empty()
+        || walls.is_empty()
+        || !solid.kept.is_empty()
+        || solid.faces.iter().any(|f| !f.kept.is_empty())
+    {
+        return None;
+    }
+    Some((|| {
+        let opened = opened?;
+        for (&p, &face) in open.iter().zip(&near) {
+            let wall = walls
+                .iter()
+                .map(|w| super::rims::wall_distance(w, p))
+                .fold(f64::INFINITY, f64::min);
+            if face.is_none_or(|d| wall < d) {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the face nearest {} is a round wall; a shell opens flat faces only",
+                        point(p)
+                    ),
+                ));
+            }
+        }
+        if opened.len() >= solid.faces.len() {
+            return Err(construction(WHAT, "a shell cannot leave every face open"));
+        }
+        let is_open = |f: usize| opened.contains(&f);
+        let t = thickness.abs();
+        let offset = |face: &dyn Fn(usize) -> f64, wall: f64| {
+            let (wall_faces, circles) =
+                super::rims::offset_walls(&solid, &walls, face, &|_| wall, tolerance)?;
+            let mut made = replaned_with(
+                &solid,
+                |f| {
+                    let facet = &solid.faces[f];
+                    (facet.normal, facet.offset + face(f))
+                },
+                &circles,
+                tolerance,
+                "the wall is thicker than the body allows",
+            )?;
+            made.extend(wall_faces);
+            Ok::<_, GeometryError>(made)
+        };
+        let (outer, inner) = if thickness < 0.0 {
+            (
+                offset(&|_| 0.0, 0.0)?,
+                offset(&|f| if is_open(f) { t } else { -t }, -t)?,
+            )
+        } else {
+            (
+                offset(&|f| if is_open(f) { 0.0 } else { t }, t)?,
+                offset(&|f| if is_open(f) { t } else { 0.0 }, 0.0)?,
+            )
+        };
+        hollow(&outer, &inner, tolerance, opened.len())
+    })())
 }
 
 /// `outer` less `inner`: the shell's last step.
