@@ -1386,3 +1386,238 @@ fn an_outline_with_sharp_corners_at_an_arc_rounds_and_shells() {
         }
     }
 }
+
+#[test]
+fn an_l_shaped_block_with_every_edge_chamfered_closes_its_inner_corners_flat() {
+    // The L of area A and perimeter P, height h, every edge chamfered at d. Slices at depth s
+    // under a cap (u = d − s): the L moved in by u (A − Pu + (5 − 1)u², five convex corners
+    // and one concave), each convex corner cut by the corner triangle's plane (legs s:
+    // s²/2), the concave one filled up to the flat quadrilateral from the upright chamfer's
+    // end to the cap's straight cut (legs d + u: (d + u)²/2, as OpenCASCADE closes it); in
+    // the middle the upright chamfers alone (−5d²/2 + d²/2). Integrated:
+    // V = (h − 2d)(A − 2d²) + 2Ad − Pd² + 10d³/3.
+    let (a, b, w, h, d) = (3.0, 2.5, 1.0, 0.8, 0.15);
+    let l = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(a, 0.0),
+        DVec2::new(a, w),
+        DVec2::new(w, w),
+        DVec2::new(w, b),
+        DVec2::new(0.0, b),
+    ];
+    let area = a * w + (b - w) * w;
+    let perimeter = 2.0 * (a + b);
+    let want = (h - 2.0 * d) * (area - 2.0 * d * d) + 2.0 * area * d - perimeter * d * d
+        + 10.0 * d.powi(3) / 3.0;
+    for seed in 0..3 {
+        let (motion, s) = placement(940 + seed);
+        let body = placed(prism(&l, h), &motion);
+        let result = round_edges(
+            &body,
+            &EdgePick::All,
+            EdgeFeature::Chamfer {
+                distance: d * s,
+                other: d * s,
+            },
+            1e-7 * s,
+        )
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_volume(&result, want * s.powi(3), &format!("seed {seed}"));
+    }
+}
+
+/// A block a × b × c with a block w × l × h fused on its top (`up`) or cut from it, away from
+/// its edges, as the boolean leaves them.
+fn block_with_block(
+    (a, b, c): (f64, f64, f64),
+    (x, y, w, l, h): (f64, f64, f64, f64, f64),
+    up: bool,
+) -> Vec<TrimmedSurface> {
+    use crate::boolean::{BooleanOp, boolean};
+    let base = block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap();
+    let (op, z, height) = if up {
+        (BooleanOp::Union, c - 0.5, h + 0.5)
+    } else {
+        (BooleanOp::Difference, c - h, h + 0.5)
+    };
+    let tool = block(DVec3::new(x, y, z), DVec3::new(w, l, height)).unwrap();
+    boolean(op, &base, &tool, 1e-9).unwrap().faces()
+}
+
+#[test]
+fn a_boss_and_a_pocket_fillet_round_their_feet_and_mouths_on_tori() {
+    // Every edge at r: the block is the rounded box; the boss or pocket is its outline
+    // rounded at r (area wl − (4 − π)r², perimeter P′) times its height, and the rims' balls
+    // roll round that outline: the spandrel S = (1 − π/4)r², centroid x̄ = (10 − 3π)r/(12 − 3π)
+    // from the edge, swept on curves moved in or out by x̄ (Pappus: P′ ∓ 2πx̄). The boss's top
+    // takes S(P′ − 2πx̄), its foot gives S(P′ + 2πx̄); the pocket the other way round. Net:
+    // ± (A′h + 4πx̄S) = ±(A′h + π(10 − 3π)r³/3). Where the foot's concave fillets meet the
+    // convex upright one (and the mouth's convex ones the concave upright one), the corner
+    // is a torus about the upright fillet's axis.
+    let (a, b, c) = (4.0, 3.5, 1.2);
+    let (x, y, w, l, h) = (1.1, 0.9, 1.6, 1.3, 0.7);
+    let r = 0.12;
+    let outline = w * l - (4.0 - PI) * r * r;
+    let corners = PI * (10.0 - 3.0 * PI) * r.powi(3) / 3.0;
+    for (n, up) in [true, false].into_iter().enumerate() {
+        let want = rounded_box(a, b, c, r)
+            + if up {
+                outline * h + corners
+            } else {
+                -(outline * h + corners)
+            };
+        let body = block_with_block((a, b, c), (x, y, w, l, h), up);
+        for seed in 0..2 {
+            let (motion, s) = placement(950 + 2 * n as u64 + seed);
+            let result = round_edges(
+                &placed(body.clone(), &motion),
+                &EdgePick::All,
+                EdgeFeature::Fillet { radius: r * s },
+                1e-7 * s,
+            )
+            .unwrap_or_else(|e| panic!("up {up}, seed {seed}: {e}"));
+            assert_volume(&result, want * s.powi(3), &format!("up {up}, seed {seed}"));
+            assert_tangent(&result, 1e-7 * s, "boss or pocket");
+        }
+    }
+}
+
+#[test]
+fn an_l_whose_caps_are_split_into_rectangles_is_read_whole() {
+    // The L prism with each cap given as two rectangles, as a boolean union of two blocks
+    // leaves it: the long rectangle's inner side is two edges, one along the inner wall and
+    // one along the short rectangle, meeting at the inner corner where it runs straight on.
+    // Read whole, it is the L: its fillet and chamfer of every edge and its shell have the
+    // L's volumes.
+    let (a, b, w, h) = (3.0, 2.5, 1.0, 0.8);
+    let l = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(a, 0.0),
+        DVec2::new(a, w),
+        DVec2::new(w, w),
+        DVec2::new(w, b),
+        DVec2::new(0.0, b),
+    ];
+    let whole = prism(&l, h);
+    let polygon = |corners: &[DVec2], z: f64, up: bool| {
+        let at = |p: DVec2| DVec3::new(p.x, p.y, z);
+        let mut c = corners.to_vec();
+        if !up {
+            c.reverse();
+        }
+        let n = c.len();
+        let sides: Vec<_> = (0..n)
+            .map(|i| line(at(c[i]), at(c[(i + 1) % n])).unwrap())
+            .collect();
+        planar_face(&sides).unwrap()
+    };
+    let long = [l[0], l[1], l[2], l[3], DVec2::new(0.0, w)];
+    let short = [DVec2::new(0.0, w), l[3], l[4], l[5]];
+    // The walls, the one along x = 0 split where the blocks met too.
+    let mut split: Vec<TrimmedSurface> = whole[2..7].to_vec();
+    let wall = |p: DVec2, q: DVec2| {
+        let at = |p: DVec2, z: f64| DVec3::new(p.x, p.y, z);
+        planar_face(&[
+            line(at(p, 0.0), at(q, 0.0)).unwrap(),
+            line(at(q, 0.0), at(q, h)).unwrap(),
+            line(at(q, h), at(p, h)).unwrap(),
+            line(at(p, h), at(p, 0.0)).unwrap(),
+        ])
+        .unwrap()
+    };
+    split.push(wall(l[5], DVec2::new(0.0, w)));
+    split.push(wall(DVec2::new(0.0, w), l[0]));
+    for (z, up) in [(0.0, false), (h, true)] {
+        split.push(polygon(&long, z, up));
+        split.push(polygon(&short, z, up));
+    }
+    let features = [
+        EdgeFeature::Fillet { radius: 0.15 },
+        EdgeFeature::Chamfer {
+            distance: 0.15,
+            other: 0.15,
+        },
+    ];
+    let (motion, s) = placement(960);
+    for feature in features {
+        let want = round_edges(&whole, &EdgePick::All, feature, 1e-9)
+            .unwrap()
+            .volume()
+            .unwrap();
+        let scaled = match feature {
+            EdgeFeature::Fillet { radius } => EdgeFeature::Fillet { radius: radius * s },
+            EdgeFeature::Chamfer { distance, other } => EdgeFeature::Chamfer {
+                distance: distance * s,
+                other: other * s,
+            },
+        };
+        let result = round_edges(
+            &placed(split.clone(), &motion),
+            &EdgePick::All,
+            scaled,
+            1e-7 * s,
+        )
+        .unwrap_or_else(|e| panic!("{feature:?}: {e}"));
+        assert_volume(&result, want * s.powi(3), &format!("{feature:?}"));
+    }
+    let t = 0.1;
+    let want = a * w + (b - w) * w;
+    let want = want * h - (want - 2.0 * (a + b) * t + 4.0 * t * t) * (h - 2.0 * t);
+    let result = shell(&placed(split, &motion), -t * s, &[], 1e-7 * s).unwrap();
+    assert_volume(&result, want * s.powi(3), "shell");
+}
+
+#[test]
+fn a_block_with_a_pin_shells_with_its_round_wall_offset() {
+    // A block a × b × c with a pin of radius ρ standing H on it. Inward by t, closed: the
+    // inner body is the block moved in and the pin of radius ρ − t standing H on it; open at
+    // the pin's top, the inner pin runs t higher, through it. Outward: the block moved out
+    // and the pin of radius ρ + t standing H on it.
+    use crate::boolean::{BooleanOp, boolean};
+    use crate::solids::capped_cylinder;
+    let (a, b, c) = (4.0, 3.0, 1.0);
+    let (centre, rho, height) = (DVec2::new(1.7, 1.2), 0.5, 0.8);
+    let t = 0.1;
+    let base = block(DVec3::ZERO, DVec3::new(a, b, c)).unwrap();
+    let pin = capped_cylinder(
+        DVec3::new(centre.x, centre.y, c - 0.5),
+        DVec3::Z * (height + 0.5),
+        rho,
+    )
+    .unwrap();
+    let body = boolean(BooleanOp::Union, &base, &pin, 1e-9)
+        .unwrap()
+        .faces();
+    let solid = a * b * c + PI * rho * rho * height;
+    let inner_block = (a - 2.0 * t) * (b - 2.0 * t) * (c - 2.0 * t);
+    let top = DVec3::new(centre.x, centre.y, c + height);
+    let cases = [
+        (
+            -t,
+            vec![],
+            solid - inner_block - PI * (rho - t).powi(2) * height,
+        ),
+        (
+            -t,
+            vec![top],
+            solid - inner_block - PI * (rho - t).powi(2) * (height + t),
+        ),
+        (
+            t,
+            vec![],
+            (a + 2.0 * t) * (b + 2.0 * t) * (c + 2.0 * t) + PI * (rho + t).powi(2) * height - solid,
+        ),
+    ];
+    for (n, (thickness, open, want)) in cases.into_iter().enumerate() {
+        let (motion, s) = placement(970 + n as u64);
+        let open: Vec<DVec3> = open.iter().map(|&p| motion.transform_point3(p)).collect();
+        let result = shell(
+            &placed(body.clone(), &motion),
+            thickness * s,
+            &open,
+            1e-7 * s,
+        )
+        .unwrap_or_else(|e| panic!("case {n}: {e}"));
+        assert_volume(&result, want * s.powi(3), &format!("case {n}"));
+    }
+}
