@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use crate::construct::{arc, extrude, line, revolve};
+use crate::construct::{arc, bilinear, extrude, line, revolve};
 use crate::curve::{SpaceCurve, TrimCurve};
 use crate::error::{GeometryError, construction};
 use crate::planar::planar_face;
@@ -260,18 +260,26 @@ impl Builder<'_> {
         SpaceCurve::new(2, arc.knots().to_vec(), points, Some(weights))
     }
 
-    /// At vertex `v` where three chamfered edges meet and one differs in convexity from the
-    /// other two (a concave upright edge under two convex cap edges, or a convex one over two
-    /// concave base edges): that edge and the face the other two share. OpenCASCADE's
-    /// `BRepFilletAPI_MakeChamfer` closes such a corner with a flat quadrilateral: the two
-    /// like strips end square to their edges where the odd strip meets their other faces,
-    /// and the shared face is cut straight between their ends.
+    /// A corner of three picked edges closed by a quadrilateral rather than a triangle or a
+    /// ball: the pivot edge and the face the other two share, or None.
     ///
-    /// For fillets the odd edge must stand square to the shared face (a prism's upright edge,
-    /// a boss's or a pocket's): the like fillets' ball then rolls round the odd fillet on a
-    /// torus about its axis, as OpenCASCADE's `BRepFilletAPI_MakeFillet` rounds it.
+    /// Chamfers, as OpenCASCADE's `BRepFilletAPI_MakeChamfer` closes them: where one edge
+    /// differs in convexity from the other two (a concave upright edge under two convex cap
+    /// edges, a convex one over two concave base edges) it is the pivot; where all three are
+    /// alike, the pivot is the edge whose strip each other strip meets no nearer the vertex
+    /// than it meets the third one. The other two strips end square to their edges where
+    /// the pivot's strip meets their other faces, and the face they share is cut straight
+    /// between those ends; for alike edges the corner stays the flat triangle through the
+    /// three faces' corners where that cut is shorter than 0.3 times the longer diagonal of
+    /// the quadrilateral (a right-angled corner's cut has no length).
+    ///
+    /// Fillets only where one edge differs in convexity and stands square to the shared face
+    /// (a prism's upright edge, a boss's or a pocket's): the like fillets' ball then rolls
+    /// round the odd fillet on a torus about its axis, as OpenCASCADE's
+    /// `BRepFilletAPI_MakeFillet` rounds it.
     fn mixed_corner(&self, v: usize) -> Option<(usize, usize)> {
-        let at_v = self.solid.edges_at(v);
+        let solid = self.solid;
+        let at_v = solid.edges_at(v);
         if at_v.len() != 3 {
             return None;
         }
@@ -279,22 +287,56 @@ impl Builder<'_> {
             .iter()
             .map(|k| self.rounds.get(k).map(|r| r.side))
             .collect::<Option<_>>()?;
-        let odd = (0..3).find(|&i| sides.iter().filter(|&&s| s == sides[i]).count() == 1)?;
-        let (j0, j1) = (at_v[(odd + 1) % 3], at_v[(odd + 2) % 3]);
-        let (a, b) = (self.solid.edges[j0], self.solid.edges[j1]);
-        let shared = [a.left, a.right]
-            .into_iter()
-            .find(|&f| f == b.left || f == b.right)?;
-        if matches!(self.feature, EdgeFeature::Fillet { .. })
-            && self.rounds[&at_v[odd]]
+        let shared = |j: usize, k: usize| {
+            let (a, b) = (solid.edges[j], solid.edges[k]);
+            [a.left, a.right]
+                .into_iter()
+                .find(|&f| f == b.left || f == b.right)
+        };
+        let odd = (0..3).find(|&i| sides.iter().filter(|&&s| s == sides[i]).count() == 1);
+        if let EdgeFeature::Fillet { .. } = self.feature {
+            let odd = odd?;
+            let face = shared(at_v[(odd + 1) % 3], at_v[(odd + 2) % 3])?;
+            let square = self.rounds[&at_v[odd]]
                 .t
-                .cross(self.solid.faces[shared].normal)
+                .cross(solid.faces[face].normal)
                 .length()
-                > 1e-9
-        {
-            return None;
+                <= 1e-9;
+            return square.then_some((at_v[odd], face));
         }
-        Some((at_v[odd], shared))
+        if let Some(odd) = odd {
+            let face = shared(at_v[(odd + 1) % 3], at_v[(odd + 2) % 3])?;
+            return Some((at_v[odd], face));
+        }
+        // Where strips j and k meet: the corner of their shared face; how far along j
+        // from the vertex that lies.
+        let meeting = |j: usize, k: usize| -> Option<DVec3> {
+            let f = shared(j, k)?;
+            meet(self.bound(j, f), self.bound(k, f))
+        };
+        let along = |j: usize, p: DVec3| {
+            let e = solid.edges[j];
+            let d = if e.a == v {
+                solid.direction(j)
+            } else {
+                -solid.direction(j)
+            };
+            (p - solid.vertices[v]).dot(d)
+        };
+        let slack = 1e-9 * (1.0 + solid.vertices[v].length()) + self.tolerance;
+        for i in 0..3 {
+            let (pivot, j, k) = (at_v[i], at_v[(i + 1) % 3], at_v[(i + 2) % 3]);
+            let (q_ij, q_ik, q_jk) = (meeting(pivot, j)?, meeting(pivot, k)?, meeting(j, k)?);
+            if along(j, q_ij) < along(j, q_jk) - slack || along(k, q_ik) < along(k, q_jk) - slack {
+                continue;
+            }
+            let face = shared(j, k)?;
+            let end_j = self.square_end(j, face, pivot, v).ok()?;
+            let end_k = self.square_end(k, face, pivot, v).ok()?;
+            let diagonal = end_j.distance(q_ik).max(end_k.distance(q_ij));
+            return (end_j.distance(end_k) >= 0.3 * diagonal).then_some((pivot, face));
+        }
+        None
     }
 
     /// The foot on the shared face `f` of odd edge `odd`'s fillet axis: the centre of the
@@ -729,47 +771,52 @@ pub fn round_edges(
         let normals: Vec<DVec3> = faces_at.iter().map(|&f| solid.faces[f].normal).collect();
         match feature {
             EdgeFeature::Chamfer { .. } if b.mixed_corner(v).is_some() => {
-                let Some((_, shared)) = b.mixed_corner(v) else {
+                let Some((pivot, shared)) = b.mixed_corner(v) else {
                     continue;
                 };
                 let Corner::Cut { from, to, .. } = corner_at(shared, v)? else {
                     return Err(construction(WHAT, "a mixed chamfer corner lost its cut"));
                 };
-                // The ring's edges into and out of the shared face's corner, and their
-                // other faces' corners.
                 let (from, to) = (*from, *to);
+                // Each end's edge (the one whose square end it is), and where the pivot's
+                // strip meets that edge's other face.
                 let through = |p: DVec3| -> Result<DVec3, GeometryError> {
-                    let k = at_v
-                        .iter()
-                        .copied()
-                        .filter(|&k| {
-                            let e = solid.edges[k];
-                            e.left == shared || e.right == shared
-                        })
-                        .min_by(|&i, &j| {
-                            b.bound(i, shared)
-                                .distance(p)
-                                .total_cmp(&b.bound(j, shared).distance(p))
-                        })
+                    let mut ends = Vec::new();
+                    for &k in &at_v {
+                        if k != pivot {
+                            ends.push((b.square_end(k, shared, pivot, v)?.distance(p), k));
+                        }
+                    }
+                    let (_, k) = ends
+                        .into_iter()
+                        .min_by(|x, y| x.0.total_cmp(&y.0))
                         .ok_or_else(|| construction(WHAT, "a corner lost its edges"))?;
                     Ok(corner_at(b.other_face(k, shared), v)?.first())
                 };
                 let (c_from, c_to) = (through(from)?, through(to)?);
-                let patch = planar_face(&[
-                    line(from, c_from)?,
-                    line(c_from, c_to)?,
-                    line(c_to, to)?,
-                    line(to, from)?,
-                ])
-                .map_err(|e| {
-                    construction(
-                        WHAT,
-                        format!(
-                            "the chamfers at {} do not close with a flat patch ({e})",
-                            point(solid.vertices[v])
-                        ),
-                    )
-                })?;
+                // Flat where the four corners lie in a plane; else, as OpenCASCADE fills
+                // the four straight sides, the bilinear patch through them.
+                let normal = (c_from - from).cross(to - from);
+                let flat = (c_to - from).dot(normal.normalize_or_zero()).abs() <= tolerance;
+                let patch = if flat {
+                    planar_face(&[
+                        line(from, c_from)?,
+                        line(c_from, c_to)?,
+                        line(c_to, to)?,
+                        line(to, from)?,
+                    ])
+                    .map_err(|e| {
+                        construction(
+                            WHAT,
+                            format!(
+                                "the chamfers at {} do not close with a flat patch ({e})",
+                                point(solid.vertices[v])
+                            ),
+                        )
+                    })?
+                } else {
+                    TrimmedSurface::untrimmed(bilinear(from, c_from, to, c_to)?)
+                };
                 let n = normals[0] + normals[1] + normals[2];
                 out.push(facing(patch, |_| n)?);
             }

@@ -1621,3 +1621,46 @@ fn a_block_with_a_pin_shells_with_its_round_wall_offset() {
         assert_volume(&result, want * s.powi(3), &format!("case {n}"));
     }
 }
+
+#[test]
+fn a_hexagonal_and_an_octagonal_prism_chamfered_close_their_corners_with_quadrilaterals() {
+    // A regular n-gon prism (area A, perimeter P, interior angle θ ≥ 120°, c = cot(θ/2)),
+    // height h, every edge chamfered at d. The upright chamfer cuts each corner's triangle
+    // (legs d: d² sin θ / 2) up to d under the caps; there, as OpenCASCADE closes such a
+    // corner, a flat quadrilateral runs from its end to the cap's straight cut between the
+    // cap strips' square ends. The slice at depth d − u is the n-gon moved in by u
+    // (A − Pu + n c u²) less, at each corner, the triangle of legs d − cu:
+    // V = (h − 2d)(A − n d² sin θ / 2) + 2 [Ad − Pd²/2 + n c d³/3
+    //     − (n sin θ / 2) d³ (1 − (1 − c)³) / (3c)].
+    let (radius, h, d) = (2.0, 1.5, 0.2);
+    for n in [6usize, 8] {
+        let theta = PI - 2.0 * PI / n as f64;
+        let c = 1.0 / (theta / 2.0).tan();
+        let base: Vec<DVec2> = (0..n)
+            .map(|k| {
+                let a = 2.0 * PI * k as f64 / n as f64;
+                DVec2::new(radius * a.cos(), radius * a.sin())
+            })
+            .collect();
+        let side = 2.0 * radius * (PI / n as f64).sin();
+        let perimeter = n as f64 * side;
+        let area = 0.5 * n as f64 * radius * radius * (2.0 * PI / n as f64).sin();
+        let nf = n as f64;
+        let want = (h - 2.0 * d) * (area - nf * d * d * theta.sin() / 2.0)
+            + 2.0
+                * (area * d - perimeter * d * d / 2.0 + nf * c * d.powi(3) / 3.0
+                    - nf * theta.sin() / 2.0 * d.powi(3) * (1.0 - (1.0 - c).powi(3)) / (3.0 * c));
+        let (motion, s) = placement(980 + n as u64);
+        let result = round_edges(
+            &placed(prism(&base, h), &motion),
+            &EdgePick::All,
+            EdgeFeature::Chamfer {
+                distance: d * s,
+                other: d * s,
+            },
+            1e-7 * s,
+        )
+        .unwrap_or_else(|e| panic!("{n}-gon: {e}"));
+        assert_volume(&result, want * s.powi(3), &format!("{n}-gon"));
+    }
+}
