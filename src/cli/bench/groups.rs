@@ -2582,6 +2582,62 @@ fn bench_features(
             slab_shell.faces.len(),
             slab_shell.volume()?
         )?;
+        // A block with a block fused on its top (tori where the foot's concave fillets
+        // meet the upright convex ones, quadrilaterals closing the chamfers there), and a
+        // block with a pin, shelled (planes and the round wall offset, then the boolean).
+        let boss = boolean(
+            BooleanOp::Union,
+            &block(DVec3::ZERO, size)?,
+            &block(DVec3::new(1.0, 1.0, 1.0), DVec3::new(1.5, 1.0, 1.5))?,
+            tolerance,
+        )?
+        .faces();
+        let (boss_fillet_ms, boss_fillet) = median_ms(iterations.max(3), || {
+            round_edges(
+                &boss,
+                &EdgePick::All,
+                EdgeFeature::Fillet { radius: 0.15 },
+                tolerance,
+            )
+        })?;
+        let (boss_chamfer_ms, boss_chamfer) = median_ms(iterations.max(3), || {
+            round_edges(
+                &boss,
+                &EdgePick::All,
+                EdgeFeature::Chamfer {
+                    distance: 0.15,
+                    other: 0.15,
+                },
+                tolerance,
+            )
+        })?;
+        let pin = boolean(
+            BooleanOp::Union,
+            &block(DVec3::ZERO, size)?,
+            &capped_cylinder(DVec3::new(2.0, 1.5, 1.0), DVec3::Z * 1.5, 0.5)?,
+            tolerance,
+        )?
+        .faces();
+        let (pin_shell_ms, pin_shell) =
+            median_ms(iterations.clamp(3, 5), || shell(&pin, -0.2, &[], tolerance))?;
+        writeln!(
+            out,
+            "fillet every edge, block with a boss (24)      | {boss_fillet_ms:8.2} ms ({} faces, volume {:.6})",
+            boss_fillet.faces.len(),
+            boss_fillet.volume()?
+        )?;
+        writeln!(
+            out,
+            "chamfer every edge, block with a boss          | {boss_chamfer_ms:8.2} ms ({} faces, volume {:.6})",
+            boss_chamfer.faces.len(),
+            boss_chamfer.volume()?
+        )?;
+        writeln!(
+            out,
+            "shell, block with a pin, closed                | {pin_shell_ms:8.2} ms ({} faces, volume {:.6})",
+            pin_shell.faces.len(),
+            pin_shell.volume()?
+        )?;
     }
     // The radius dragged: each step edits the fillet's history in place.
     let mut scene = Scene::default();
