@@ -320,6 +320,10 @@ def case(rng):
             # corner where the concave edge meets two convex ones with a flat quadrilateral).
             p = gp_Pnt(*marker).Transformed(motion)
             chosen = [min(edges, key=lambda e: math.dist(edge_middle(e), [p.X(), p.Y(), p.Z()]))]
+        elif kind in ("prism", "wedge") and feature == "chamfer" and rng.random() < 0.3:
+            # Some edges: where two chamfers meet at a corner and the third edge is left,
+            # the body is cut by both strips' planes.
+            chosen = rng.sample(edges, rng.randint(1, len(edges) - 1))
         elif kind == "prism" and feature == "chamfer" and rng.random() < 0.5:
             # The upright edges or the caps' edges (else every edge: where three chamfers
             # meet at a corner far from square OpenCASCADE closes it with a quadrilateral).

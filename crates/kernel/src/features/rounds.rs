@@ -339,6 +339,65 @@ impl Builder<'_> {
         None
     }
 
+    /// At vertex `v` where two convex chamfered edges meet and the third edge, convex too,
+    /// is not picked, with their set-back lines meeting that edge at different points: the
+    /// chamfered body there is the solid cut by both strips' planes (as OpenCASCADE's is).
+    /// The strip that cuts the unpicked edge further from the vertex (the dominant one) also
+    /// cuts the other picked edge's far face, along the line where its plane meets that
+    /// face, up to the other strip; returns (dominant, other, that face, the unpicked edge's
+    /// new end, where the cut meets the other strip's set-back line).
+    fn two_chamfers(&self, v: usize) -> Option<(usize, usize, usize, DVec3, DVec3)> {
+        if !matches!(self.feature, EdgeFeature::Chamfer { .. }) {
+            return None;
+        }
+        let solid = self.solid;
+        let at_v = solid.edges_at(v);
+        if at_v.len() != 3 || at_v.iter().any(|&k| !solid.is_convex(k)) {
+            return None;
+        }
+        let picked: Vec<usize> = at_v
+            .iter()
+            .copied()
+            .filter(|k| self.rounds.contains_key(k))
+            .collect();
+        let &[p, q] = picked.as_slice() else {
+            return None;
+        };
+        let unpicked = at_v.iter().copied().find(|k| !picked.contains(k))?;
+        let (ep, eq) = (solid.edges[p], solid.edges[q]);
+        let shared = [ep.left, ep.right]
+            .into_iter()
+            .find(|&f| f == eq.left || f == eq.right)?;
+        let (face_p, face_q) = (self.other_face(p, shared), self.other_face(q, shared));
+        let on_p = meet(self.bound(p, face_p), self.edge_line(unpicked))?;
+        let on_q = meet(self.bound(q, face_q), self.edge_line(unpicked))?;
+        let (dp, dq) = (
+            on_p.distance(solid.vertices[v]),
+            on_q.distance(solid.vertices[v]),
+        );
+        if (dp - dq).abs() <= 10.0 * self.tolerance {
+            return None;
+        }
+        let (dominant, other, face, far) = if dp > dq {
+            (p, q, face_q, on_p)
+        } else {
+            (q, p, face_p, on_q)
+        };
+        // The dominant strip's plane: through its edge and both set-back lines.
+        let e = solid.edges[dominant];
+        let (l, r) = (self.bound(dominant, e.left), self.bound(dominant, e.right));
+        let normal = self.rounds[&dominant].t.cross(r.origin - l.origin);
+        let along = normal.cross(solid.faces[face].normal);
+        let cut = meet(
+            Line {
+                origin: far,
+                direction: along.normalize_or_zero(),
+            },
+            self.bound(other, face),
+        )?;
+        Some((dominant, other, face, far, cut))
+    }
+
     /// The foot on the shared face `f` of odd edge `odd`'s fillet axis: the centre of the
     /// mixed corner's torus on that face.
     fn odd_axis_foot(&self, odd: usize, f: usize) -> Result<DVec3, GeometryError> {
@@ -394,6 +453,20 @@ impl Builder<'_> {
             self.rounds.contains_key(&e_in),
             self.rounds.contains_key(&e_out),
         );
+        if let Some((_, other, face, far, cut)) = self.two_chamfers(v)
+            && face == f
+        {
+            let (from, to) = if e_out == other {
+                (far, cut)
+            } else {
+                (cut, far)
+            };
+            return Ok(Corner::Cut {
+                from,
+                curve: line(from, to)?,
+                to,
+            });
+        }
         if let Some((odd, shared)) = self.mixed_corner(v)
             && shared == f
         {
@@ -716,8 +789,20 @@ pub fn round_edges(
         );
         match feature {
             EdgeFeature::Chamfer { .. } => {
-                let strip =
-                    planar_face(&[line(la, lb)?, line(lb, rb)?, line(rb, ra)?, line(ra, la)?])?;
+                // A dominant strip at a corner of two chamfers runs on to the other's.
+                let cut_at = |v: usize| {
+                    b.two_chamfers(v)
+                        .filter(|&(dominant, ..)| dominant == k)
+                        .map(|(.., cut)| cut)
+                };
+                let mut ring = vec![la, lb];
+                ring.extend(cut_at(e.b));
+                ring.extend([rb, ra]);
+                ring.extend(cut_at(e.a));
+                let sides = (0..ring.len())
+                    .map(|i| line(ring[i], ring[(i + 1) % ring.len()]))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let strip = planar_face(&sides)?;
                 let (nl, nr) = (solid.faces[e.left].normal, solid.faces[e.right].normal);
                 out.push(facing(strip, |_| nl + nr)?);
             }

@@ -1664,3 +1664,63 @@ fn a_hexagonal_and_an_octagonal_prism_chamfered_close_their_corners_with_quadril
         assert_volume(&result, want * s.powi(3), &format!("{n}-gon"));
     }
 }
+
+#[test]
+fn two_chamfers_at_a_corner_that_is_not_square_cut_as_their_planes_do() {
+    // A hexagonal prism with an upright edge and a cap edge at one corner chamfered (the
+    // third edge there not): the convex body cut by the two strips' planes, which the
+    // boolean gives independently (the body less a large block on the far side of each).
+    use crate::boolean::{BooleanOp, boolean};
+    use glam::DQuat;
+    let (radius, h, d) = (2.0, 1.5, 0.2);
+    let base: Vec<DVec2> = (0..6)
+        .map(|k| {
+            let a = PI * k as f64 / 3.0;
+            DVec2::new(radius * a.cos(), radius * a.sin())
+        })
+        .collect();
+    let body = prism(&base, h);
+    let corner = DVec3::new(radius, 0.0, h);
+    let next = DVec3::new(base[1].x, base[1].y, h);
+    let prev = DVec3::new(base[5].x, base[5].y, 0.0);
+    // The upright edge's strip: the plane through the points d along both walls.
+    let walls = [
+        (next - corner).normalize() * d,
+        (DVec3::new(prev.x, prev.y, h) - corner).normalize() * d,
+    ];
+    let upright = (corner + walls[0], DVec3::X);
+    // The cap edge's strip: through the line d in on the cap and the line d down the wall.
+    let wall_normal = DVec3::new((PI / 6.0).cos(), (PI / 6.0).sin(), 0.0);
+    let cap = (corner - DVec3::Z * d, (wall_normal + DVec3::Z).normalize());
+    let mut want = body.clone();
+    for (point, normal) in [upright, cap] {
+        let slab = block(
+            DVec3::new(-50.0, -50.0, 0.0),
+            DVec3::new(100.0, 100.0, 100.0),
+        )
+        .unwrap();
+        let motion =
+            DAffine3::from_rotation_translation(DQuat::from_rotation_arc(DVec3::Z, normal), point);
+        let slab = placed(slab, &motion);
+        want = boolean(BooleanOp::Difference, &want, &slab, 1e-9)
+            .unwrap()
+            .faces();
+    }
+    let want = crate::mass::signed_volume(&want).unwrap();
+    let (motion, s) = placement(990);
+    let picks = vec![
+        motion.transform_point3(DVec3::new(radius, 0.0, 0.5 * h)),
+        motion.transform_point3(0.5 * (corner + next)),
+    ];
+    let result = round_edges(
+        &placed(body, &motion),
+        &EdgePick::Near(picks),
+        EdgeFeature::Chamfer {
+            distance: d * s,
+            other: d * s,
+        },
+        1e-7 * s,
+    )
+    .unwrap();
+    assert_volume(&result, want * s.powi(3), "two chamfers");
+}
