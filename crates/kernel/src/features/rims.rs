@@ -251,7 +251,7 @@ pub fn build_walls(
         EdgeFeature::Chamfer { .. } => "chamfer",
     };
     let mut out = Vec::new();
-    let mut circles: Vec<(usize, DVec3, f64, DVec3)> = Vec::new();
+    let mut circles: Vec<(usize, DVec3, f64)> = Vec::new();
     for (w, wall) in walls.iter().enumerate() {
         let radial = |p: DVec3| (p - wall.origin).reject_from(wall.axis).normalize_or_zero();
         let mut heights = [wall.ends[0].height, wall.ends[1].height];
@@ -318,7 +318,7 @@ pub fn build_walls(
                     }
                 }
             }
-            for &(f, c, r, _) in &circles {
+            for &(f, c, r) in &circles {
                 if f == wall.ends[end].facet {
                     let gap = c.distance(centre);
                     if !(gap > r + new_radius + tolerance
@@ -338,7 +338,7 @@ pub fn build_walls(
                     ),
                 ));
             }
-            circles.push((wall.ends[end].facet, centre, new_radius, normal));
+            circles.push((wall.ends[end].facet, centre, new_radius));
             if on_plane > 0.0 {
                 let edge = rim;
                 let (mp, mc) = (radial(edge) * sp, wall.axis * sc);
@@ -381,7 +381,7 @@ pub fn build_walls(
     }
     let mut rims = Vec::new();
     for (wall, chunk) in walls.iter().zip(circles.chunks(2)) {
-        for &(f, c, r, _) in chunk {
+        for &(f, c, r) in chunk {
             rims.push((f, circle(c, wall.axis, wall.x, r)?));
         }
     }
