@@ -38,6 +38,29 @@ fn prism(base: &[DVec2], h: f64) -> Vec<TrimmedSurface> {
     faces
 }
 
+/// The regular n-gon of circumradius `radius` about the origin, a corner on +x.
+fn regular_polygon(n: usize, radius: f64) -> Vec<DVec2> {
+    (0..n)
+        .map(|k| {
+            let a = 2.0 * PI * k as f64 / n as f64;
+            DVec2::new(radius * a.cos(), radius * a.sin())
+        })
+        .collect()
+}
+
+/// The L of arms a × w (along x) and w × b (along y), counter-clockwise from the origin:
+/// its inner corner at (w, w).
+fn l_outline(a: f64, b: f64, w: f64) -> [DVec2; 6] {
+    [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(a, 0.0),
+        DVec2::new(a, w),
+        DVec2::new(w, w),
+        DVec2::new(w, b),
+        DVec2::new(0.0, b),
+    ]
+}
+
 fn placed(faces: Vec<TrimmedSurface>, motion: &DAffine3) -> Vec<TrimmedSurface> {
     transformed(&faces, motion).unwrap()
 }
@@ -181,14 +204,7 @@ fn a_chamfered_box_has_the_closed_form_volume() {
 fn a_concave_edge_is_filled_by_its_fillet() {
     // An L-shaped prism: its one concave edge (the inner corner at (1, 1)) filleted adds the
     // square less the quarter disc along the height.
-    let l = [
-        DVec2::new(0.0, 0.0),
-        DVec2::new(2.0, 0.0),
-        DVec2::new(2.0, 1.0),
-        DVec2::new(1.0, 1.0),
-        DVec2::new(1.0, 2.0),
-        DVec2::new(0.0, 2.0),
-    ];
+    let l = l_outline(2.0, 2.0, 1.0);
     let (h, r) = (0.7, 0.25);
     for seed in 0..3 {
         let (motion, s) = placement(740 + seed);
@@ -698,14 +714,7 @@ fn an_l_shaped_block_with_every_edge_filleted_has_steiners_volume() {
     // A′ = A(L₋ᵣ) + (4 − π) r², P′ = P(L₋ᵣ) − 4r + πr), V = A (h − 2r) + 2 (A′ r + P′ πr²/4
     // + 2πr³/3).
     let (a, b, w, h, r) = (3.0, 2.5, 1.0, 0.8, 0.15);
-    let l = [
-        DVec2::new(0.0, 0.0),
-        DVec2::new(a, 0.0),
-        DVec2::new(a, w),
-        DVec2::new(w, w),
-        DVec2::new(w, b),
-        DVec2::new(0.0, b),
-    ];
+    let l = l_outline(a, b, w);
     let area_l = a * w + (b - w) * w;
     let spandrel = (1.0 - PI / 4.0) * r * r;
     let area = area_l - 5.0 * spandrel + spandrel;
@@ -1397,14 +1406,7 @@ fn an_l_shaped_block_with_every_edge_chamfered_closes_its_inner_corners_flat() {
     // the middle the upright chamfers alone (−5d²/2 + d²/2). Integrated:
     // V = (h − 2d)(A − 2d²) + 2Ad − Pd² + 10d³/3.
     let (a, b, w, h, d) = (3.0, 2.5, 1.0, 0.8, 0.15);
-    let l = [
-        DVec2::new(0.0, 0.0),
-        DVec2::new(a, 0.0),
-        DVec2::new(a, w),
-        DVec2::new(w, w),
-        DVec2::new(w, b),
-        DVec2::new(0.0, b),
-    ];
+    let l = l_outline(a, b, w);
     let area = a * w + (b - w) * w;
     let perimeter = 2.0 * (a + b);
     let want = (h - 2.0 * d) * (area - 2.0 * d * d) + 2.0 * area * d - perimeter * d * d
@@ -1490,14 +1492,7 @@ fn an_l_whose_caps_are_split_into_rectangles_is_read_whole() {
     // Read whole, it is the L: its fillet and chamfer of every edge and its shell have the
     // L's volumes.
     let (a, b, w, h) = (3.0, 2.5, 1.0, 0.8);
-    let l = [
-        DVec2::new(0.0, 0.0),
-        DVec2::new(a, 0.0),
-        DVec2::new(a, w),
-        DVec2::new(w, w),
-        DVec2::new(w, b),
-        DVec2::new(0.0, b),
-    ];
+    let l = l_outline(a, b, w);
     let whole = prism(&l, h);
     let polygon = |corners: &[DVec2], z: f64, up: bool| {
         let at = |p: DVec2| DVec3::new(p.x, p.y, z);
@@ -1636,12 +1631,7 @@ fn a_hexagonal_and_an_octagonal_prism_chamfered_close_their_corners_with_quadril
     for n in [6usize, 8] {
         let theta = PI - 2.0 * PI / n as f64;
         let c = 1.0 / (theta / 2.0).tan();
-        let base: Vec<DVec2> = (0..n)
-            .map(|k| {
-                let a = 2.0 * PI * k as f64 / n as f64;
-                DVec2::new(radius * a.cos(), radius * a.sin())
-            })
-            .collect();
+        let base = regular_polygon(n, radius);
         let side = 2.0 * radius * (PI / n as f64).sin();
         let perimeter = n as f64 * side;
         let area = 0.5 * n as f64 * radius * radius * (2.0 * PI / n as f64).sin();
@@ -1673,12 +1663,7 @@ fn two_chamfers_at_a_corner_that_is_not_square_cut_as_their_planes_do() {
     use crate::boolean::{BooleanOp, boolean};
     use glam::DQuat;
     let (radius, h, d) = (2.0, 1.5, 0.2);
-    let base: Vec<DVec2> = (0..6)
-        .map(|k| {
-            let a = PI * k as f64 / 3.0;
-            DVec2::new(radius * a.cos(), radius * a.sin())
-        })
-        .collect();
+    let base = regular_polygon(6, radius);
     let body = prism(&base, h);
     let corner = DVec3::new(radius, 0.0, h);
     let next = DVec3::new(base[1].x, base[1].y, h);
