@@ -91,11 +91,20 @@ struct Round {
     set_right: f64,
 }
 
+/// A corner of two chamfers ([`Builder::find_two_chamfers`]): the dominant edge, the other,
+/// the face the dominant strip also cuts, the unpicked edge's new end and where the cut meets
+/// the other strip.
+type TwoChamfers = (usize, usize, usize, DVec3, DVec3);
+
 struct Builder<'a> {
     solid: &'a Polyhedron,
     feature: EdgeFeature,
     rounds: HashMap<usize, Round>,
     tolerance: f64,
+    /// Each vertex's quadrilateral or torus corner and its corner of two chamfers, found once
+    /// ([`Builder::classify_corners`]).
+    mixed: HashMap<usize, (usize, usize)>,
+    two: HashMap<usize, TwoChamfers>,
 }
 
 /// The intersection of two lines in one plane.
@@ -277,7 +286,7 @@ impl Builder<'_> {
     /// (a prism's upright edge, a boss's or a pocket's): the like fillets' ball then rolls
     /// round the odd fillet on a torus about its axis, as OpenCASCADE's
     /// `BRepFilletAPI_MakeFillet` rounds it.
-    fn mixed_corner(&self, v: usize) -> Option<(usize, usize)> {
+    fn find_mixed_corner(&self, v: usize) -> Option<(usize, usize)> {
         let solid = self.solid;
         let at_v = solid.edges_at(v);
         if at_v.len() != 3 {
@@ -346,7 +355,7 @@ impl Builder<'_> {
     /// cuts the other picked edge's far face, along the line where its plane meets that
     /// face, up to the other strip; returns (dominant, other, that face, the unpicked edge's
     /// new end, where the cut meets the other strip's set-back line).
-    fn two_chamfers(&self, v: usize) -> Option<(usize, usize, usize, DVec3, DVec3)> {
+    fn find_two_chamfers(&self, v: usize) -> Option<TwoChamfers> {
         if !matches!(self.feature, EdgeFeature::Chamfer { .. }) {
             return None;
         }
@@ -396,6 +405,30 @@ impl Builder<'_> {
             self.bound(other, face),
         )?;
         Some((dominant, other, face, far, cut))
+    }
+
+    /// Finds each vertex's special corner once: [`Self::find_mixed_corner`] and
+    /// [`Self::find_two_chamfers`], read back by [`Self::mixed_corner`] and
+    /// [`Self::two_chamfers`] wherever a face, strip, fillet or patch meets the vertex.
+    fn classify_corners(&mut self) {
+        let vertices = 0..self.solid.vertices.len();
+        self.mixed = vertices
+            .clone()
+            .filter_map(|v| self.find_mixed_corner(v).map(|m| (v, m)))
+            .collect();
+        self.two = vertices
+            .filter_map(|v| self.find_two_chamfers(v).map(|t| (v, t)))
+            .collect();
+    }
+
+    /// The pivot and shared face of vertex `v`'s quadrilateral or torus corner, if it has one.
+    fn mixed_corner(&self, v: usize) -> Option<(usize, usize)> {
+        self.mixed.get(&v).copied()
+    }
+
+    /// Vertex `v`'s corner of two chamfers, if it has one.
+    fn two_chamfers(&self, v: usize) -> Option<TwoChamfers> {
+        self.two.get(&v).copied()
     }
 
     /// The foot on the shared face `f` of odd edge `odd`'s fillet axis: the centre of the
@@ -688,12 +721,15 @@ pub fn round_edges(
     for (f, circle) in circles {
         solid.faces[f].kept.push(vec![circle]);
     }
-    let b = Builder {
+    let mut b = Builder {
         solid: &solid,
         feature,
         rounds,
         tolerance,
+        mixed: HashMap::new(),
+        two: HashMap::new(),
     };
+    b.classify_corners();
     // Each face's corners, then its loops.
     let mut corners: HashMap<(usize, usize), Corner> = HashMap::new();
     let mut out = Vec::new();
