@@ -48,7 +48,7 @@ use crate::trim::TrimmedSurface;
 
 pub use faces::{draft_faces, offset_faces};
 pub use polyhedron::Polyhedron;
-pub use rounds::{EdgeFeature, round_edges};
+pub use rounds::{EdgeFeature, round_edges, round_edges_varying};
 pub use shell::shell;
 
 const WHAT: &str = "edge feature";

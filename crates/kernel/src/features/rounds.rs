@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use glam::{DVec2, DVec3};
 
-use crate::construct::{arc, bilinear, extrude, line, revolve};
+use crate::construct::{arc, bilinear, extrude, line, revolve, ruled};
 use crate::curve::{SpaceCurve, TrimCurve};
 use crate::error::{GeometryError, construction};
 use crate::planar::planar_face;
@@ -86,9 +86,21 @@ struct Round {
     t: DVec3,
     /// −1 where the ball lies inside the material (a convex edge), +1 outside.
     side: f64,
-    /// Set-back distances on the left and right faces.
+    /// Set-back distances on the left and right faces at vertex a.
     set_left: f64,
     set_right: f64,
+    /// A fillet's radius at vertex a (0 for a chamfer).
+    radius: f64,
+    /// The radius at vertex b over the radius at a: 1 but for a fillet whose radius varies
+    /// along the edge, where the set-backs grow by the same factor.
+    grow: f64,
+}
+
+impl Round {
+    /// Whether the fillet's radius varies along its edge.
+    fn varies(&self) -> bool {
+        (self.grow - 1.0).abs() > 1e-12
+    }
 }
 
 /// A corner of two chamfers ([`Builder::find_two_chamfers`]): the dominant edge, the other,
@@ -202,18 +214,20 @@ impl Builder<'_> {
                 } else {
                     r.set_right
                 };
+                let inward = self.solid.inward(k, f);
+                let origin = line.origin + inward * back;
+                if !r.varies() {
+                    return Line { origin, ..line };
+                }
+                // A varying fillet's contact runs from its set-back at a to the grown one
+                // at b.
+                let e = self.solid.edges[k];
+                let end = self.solid.vertices[e.b] + inward * (back * r.grow);
                 Line {
-                    origin: line.origin + self.solid.inward(k, f) * back,
-                    ..line
+                    origin,
+                    direction: (end - origin).normalize(),
                 }
             }
-        }
-    }
-
-    fn radius(&self) -> f64 {
-        match self.feature {
-            EdgeFeature::Fillet { radius } => radius,
-            EdgeFeature::Chamfer { .. } => 0.0,
         }
     }
 
@@ -222,7 +236,7 @@ impl Builder<'_> {
     fn arc(&self, k: usize) -> Result<(SpaceCurve, DVec3), GeometryError> {
         let e = self.solid.edges[k];
         let r = self.rounds[&k];
-        let radius = self.radius();
+        let radius = r.radius;
         let (nl, nr) = (
             self.solid.faces[e.left].normal,
             self.solid.faces[e.right].normal,
@@ -256,10 +270,66 @@ impl Builder<'_> {
         Ok((arc, lambdas))
     }
 
+    /// The point of a varying fillet's edge line where its radius would be 0:
+    /// r(s) = r_a (1 + (grow − 1) s / L) vanishes at s = L / (1 − grow).
+    fn apex(&self, k: usize) -> DVec3 {
+        let e = self.solid.edges[k];
+        let (a, b) = (self.solid.vertices[e.a], self.solid.vertices[e.b]);
+        a + (b - a) / (1.0 - self.rounds[&k].grow)
+    }
+
+    /// A fillet whose radius varies linearly along its edge from r_a at vertex a to r_b at
+    /// b: each section square to the edge is the arc of the ball of radius r(s) there, its
+    /// centre and contacts r(s)-proportional offsets of the edge point, so every section is
+    /// the arc at a scaled about the point O of the edge line where r would be 0. The fillet
+    /// is the cone from O over the arc at a, and a plane n·x = c cuts the ruling through
+    /// the arc's control point Qᵢ at scale μᵢ = (c − n·O) / n·(Qᵢ − O). Projected from O, a
+    /// rational curve stays rational of its degree: its control points go to
+    /// O + μᵢ(Qᵢ − O) and its weights to wᵢ/μᵢ (the section is exact).
+    ///
+    /// The arc at a, the apex O, and the scales μᵢ, refused where the plane misses a
+    /// ruling on the fillet's side of O.
+    fn cone_scales(
+        &self,
+        k: usize,
+        p: Plane,
+    ) -> Result<(SpaceCurve, DVec3, Vec<f64>), GeometryError> {
+        let (arc, _) = self.arc(k)?;
+        let e = self.solid.edges[k];
+        let (a, b) = (self.solid.vertices[e.a], self.solid.vertices[e.b]);
+        let apex = self.apex(k);
+        let reach = p.offset - p.normal.dot(apex);
+        let scales: Vec<f64> = (0..arc.count())
+            .map(|i| reach / p.normal.dot(arc.control_point(i) - apex))
+            .collect();
+        if scales.iter().any(|m| !(m.is_finite() && *m > 1e-9)) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the varying fillet of the edge from {} to {} does not reach the face it \
+                     must end on",
+                    point(a),
+                    point(b)
+                ),
+            ));
+        }
+        Ok((arc, apex, scales))
+    }
+
     /// The fillet of edge `k` cut by plane `p`: a conic, exact (its arc's control points
     /// moved along the edge onto the plane, the weights kept), from the left contact to the
     /// right one.
     fn section(&self, k: usize, p: Plane) -> Result<SpaceCurve, GeometryError> {
+        if self.rounds[&k].varies() {
+            let (arc, apex, scales) = self.cone_scales(k, p)?;
+            let points = (0..arc.count())
+                .map(|i| apex + (arc.control_point(i) - apex) * scales[i])
+                .collect();
+            let weights = (0..arc.count())
+                .map(|i| arc.weight(i) / scales[i])
+                .collect();
+            return SpaceCurve::new(2, arc.knots().to_vec(), points, Some(weights));
+        }
         let (arc, lambdas) = self.lambdas(k, p)?;
         let t = self.rounds[&k].t;
         let points = (0..arc.count())
@@ -582,6 +652,45 @@ pub fn round_edges(
     feature: EdgeFeature,
     tolerance: f64,
 ) -> Result<FeatureResult, GeometryError> {
+    round_edges_varying(faces, pick, feature, &[], tolerance)
+}
+
+/// [`round_edges`] with fillet radii set at vertices: each `(point, radius)` of `radii` sets
+/// the radius at the picked edges' end nearest the point, and each picked edge's radius runs
+/// linearly from its value at one end to that at the other (the feature's radius where none
+/// is set; OpenCASCADE's `SetRadius(R, IC, V)` sets a radius at a vertex the same way). A
+/// fillet whose radius varies is exact: the section square to the edge at each point is the
+/// rolling-ball arc of the radius there (as OpenCASCADE's evolving fillets are defined), and
+/// the linear law makes these arcs one cone ([`Builder::cone_scales`]). For now it is built
+/// on solids with flat faces only, ending at corners where no other edge is filleted.
+pub fn round_edges_varying(
+    faces: &[TrimmedSurface],
+    pick: &EdgePick,
+    feature: EdgeFeature,
+    radii: &[(DVec3, f64)],
+    tolerance: f64,
+) -> Result<FeatureResult, GeometryError> {
+    for &(p, r) in radii {
+        if !(r.is_finite() && r > 0.0 && p.is_finite()) {
+            return Err(construction(
+                WHAT,
+                format!("a radius at a point must be a number above 0 at a finite point, got {r}"),
+            ));
+        }
+        if let EdgeFeature::Chamfer { .. } = feature {
+            return Err(construction(
+                WHAT,
+                "radii at points are for fillets; a chamfer's distances are the same along its \
+                 edge",
+            ));
+        }
+    }
+    let varying = |what: &str| {
+        construction(
+            WHAT,
+            format!("a fillet whose radius varies is built on {what} for now"),
+        )
+    };
     let what = match feature {
         EdgeFeature::Fillet { radius } => {
             if !(radius.is_finite() && radius > 0.0) {
@@ -612,6 +721,9 @@ pub fn round_edges(
     }
     // A solid of revolution; else flat faces, curved ones (round holes) kept as they are.
     let mut solid = if faces.iter().any(|f| f.surface().plane(tolerance).is_none()) {
+        if !radii.is_empty() {
+            return Err(varying("solids with flat faces only"));
+        }
         match super::revolved::round_revolved(faces, pick, feature, tolerance, what) {
             Ok(made) => return Ok(made),
             Err(revolved) => match Polyhedron::with_curved(faces, tolerance) {
@@ -632,11 +744,30 @@ pub fn round_edges(
     // Round holes' and bosses' walls: their rims are edges too.
     let walls = super::rims::take_walls(&mut solid, tolerance)?;
     let (picked, rims) = super::rims::picked_with_rims(&solid, &walls, pick)?;
+    if !radii.is_empty() && !walls.is_empty() {
+        return Err(varying("solids without round walls"));
+    }
+    // The radius set at each vertex: at the picked edges' end nearest each point.
+    let mut vertex_radius: HashMap<usize, f64> = HashMap::new();
+    for &(p, r) in radii {
+        let nearest = picked
+            .iter()
+            .flat_map(|&k| [solid.edges[k].a, solid.edges[k].b])
+            .min_by(|&i, &j| {
+                solid.vertices[i]
+                    .distance(p)
+                    .total_cmp(&solid.vertices[j].distance(p))
+            });
+        if let Some(v) = nearest {
+            vertex_radius.insert(v, r);
+        }
+    }
     // Every edge of a right prism with a concave edge: the rims' fillets run on round the
     // concave fillets' tops ([`super::extruded`]).
     if let EdgeFeature::Fillet { radius } = feature {
         let concave = (0..solid.edges.len()).any(|k| !solid.is_convex(k));
         if picked.len() == solid.edges.len()
+            && radii.is_empty()
             && concave
             && walls.is_empty()
             && let Some(made) = super::extruded::fillet_prism(&solid, radius)
@@ -666,22 +797,24 @@ pub fn round_edges(
             ));
         }
         let side = if solid.is_convex(k) { -1.0 } else { 1.0 };
-        let (set_left, set_right) = match feature {
+        let (set_left, set_right, radius, grow) = match feature {
             EdgeFeature::Fillet { radius } => {
-                let c = radius / (0.5 * psi).tan();
-                (c, c)
+                let at = |v: usize| vertex_radius.get(&v).copied().unwrap_or(radius);
+                let (ra, rb) = (at(e.a), at(e.b));
+                let c = ra / (0.5 * psi).tan();
+                (c, c, ra, rb / ra)
             }
-            EdgeFeature::Chamfer { distance, other } => (distance, other),
+            EdgeFeature::Chamfer { distance, other } => (distance, other, 0.0, 1.0),
         };
-        rounds.insert(
-            k,
-            Round {
-                t: solid.direction(k),
-                side,
-                set_left,
-                set_right,
-            },
-        );
+        let round = Round {
+            t: solid.direction(k),
+            side,
+            set_left,
+            set_right,
+            radius,
+            grow,
+        };
+        rounds.insert(k, round);
         for v in [e.a, e.b] {
             let at_v = solid.edges_at(v);
             let faces_at: std::collections::BTreeSet<usize> = at_v
@@ -696,6 +829,19 @@ pub fn round_edges(
                          edges and three faces for now",
                         point(solid.vertices[v]),
                         at_v.len()
+                    ),
+                ));
+            }
+            let alone = at_v.iter().all(|&j| j == k || !picked.contains(&j));
+            if round.varies() && !alone {
+                return Err(construction(
+                    WHAT,
+                    format!(
+                        "the fillet of the edge {} varies in radius and meets another fillet at \
+                         {}; a varying fillet ends only at corners where no other edge is \
+                         filleted, for now",
+                        at(),
+                        point(solid.vertices[v])
                     ),
                 ));
             }
@@ -750,6 +896,26 @@ pub fn round_edges(
                 if (q - p).dot(along) <= tolerance * along.length() {
                     let k = solid.edge_between(ring[i], ring[(i + 1) % n]).unwrap_or(0);
                     let e = solid.edges[k];
+                    let varying = [e.a, e.b].into_iter().find(|&v| {
+                        solid
+                            .edges_at(v)
+                            .iter()
+                            .any(|j| b.rounds.get(j).is_some_and(Round::varies))
+                    });
+                    if let Some(v) = varying {
+                        return Err(construction(
+                            WHAT,
+                            format!(
+                                "the fillet of varying radius at {} is too large for face \
+                                 {f}: its contact runs past the end of the edge from {} to {} \
+                                 before it reaches the face it ends on (beyond its edge its \
+                                 radius keeps changing at the same rate)",
+                                point(solid.vertices[v]),
+                                point(solid.vertices[e.a]),
+                                point(solid.vertices[e.b])
+                            ),
+                        ));
+                    }
                     return Err(construction(
                         WHAT,
                         format!(
@@ -862,7 +1028,14 @@ pub fn round_edges(
                 let face = b.fillet_face(k, ends)?;
                 let (_, centre) = b.arc(k)?;
                 let side = r.side;
-                let t = r.t;
+                // The ball centres' line: along the edge, or, where the radius varies, from
+                // the centre at a to its scaled copy at b.
+                let t = if r.varies() {
+                    let apex = b.apex(k);
+                    ((apex + (centre - apex) * r.grow) - centre).normalize()
+                } else {
+                    r.t
+                };
                 out.push(facing(face, |p| {
                     let on_axis = centre + t * (p - centre).dot(t);
                     (p - on_axis) * -side
@@ -973,15 +1146,15 @@ pub fn round_edges(
                 // The ball centres' circle: over the face's arc, r off the face.
                 let side = b.rounds[&like].side;
                 let axis = b.rounds[&odd].t;
-                let lift = b.plane(shared).normal * (side * b.radius());
+                let lift = b.plane(shared).normal * (side * b.rounds[&like].radius);
                 let ring = x.length();
                 out.push(facing(TrimmedSurface::untrimmed(torus), |p| {
                     let radial = (p - foot).reject_from_normalized(axis).normalize_or_zero();
                     (p - (foot + lift + radial * ring)) * -side
                 })?);
             }
-            EdgeFeature::Fillet { radius } => {
-                let side = b.rounds[&at_v[0]].side;
+            EdgeFeature::Fillet { .. } => {
+                let (side, radius) = (b.rounds[&at_v[0]].side, b.rounds[&at_v[0]].radius);
                 let centre = (0..3)
                     .map(|i| q[i] + normals[i] * (side * radius))
                     .sum::<DVec3>()
@@ -1115,7 +1288,7 @@ impl Builder<'_> {
         if let Some((odd, shared)) = self.mixed_corner(v) {
             // The odd fillet ends where the like fillets' ball centres run; the like ones
             // square to their edges through the odd one's axis.
-            let radius = self.radius();
+            let radius = r.radius;
             if k == odd {
                 let like = self.rounds[&k_left].side;
                 let p = self.plane(shared);
@@ -1150,7 +1323,7 @@ impl Builder<'_> {
         }
         // The corner ball's centre: on this fillet's axis, r from face h on the ball's side.
         let (_, centre) = self.arc(k)?;
-        let radius = self.radius();
+        let radius = r.radius;
         let hp = self.plane(h);
         let centre = pierce(
             Line {
@@ -1182,6 +1355,9 @@ impl Builder<'_> {
     /// Edge `k`'s fillet: the cylinder of its arc along the edge, over the stretch between
     /// its end planes, trimmed by their conics where they are not square to the edge.
     fn fillet_face(&self, k: usize, ends: [Plane; 2]) -> Result<TrimmedSurface, GeometryError> {
+        if self.rounds[&k].varies() {
+            return self.varying_fillet_face(k, ends);
+        }
         let t = self.rounds[&k].t;
         let (arc, at_a) = self.lambdas(k, ends[0])?;
         let (_, at_b) = self.lambdas(k, ends[1])?;
@@ -1217,6 +1393,65 @@ impl Builder<'_> {
         let weights: Vec<f64> = (0..arc.count()).map(|i| arc.weight(i)).collect();
         let bottom = graph_curve(arc.knots(), &weights, &va)?;
         let top = graph_curve(arc.knots(), &weights, &vb)?;
+        let last = va.len() - 1;
+        let trim = vec![
+            bottom,
+            line(DVec2::new(1.0, va[last]), DVec2::new(1.0, vb[last]))?,
+            top.reverse(),
+            line(DVec2::new(0.0, vb[0]), DVec2::new(0.0, va[0]))?,
+        ];
+        TrimmedSurface::new(surface, vec![trim])
+    }
+
+    /// A fillet of varying radius (see [`Builder::cone_scales`]): the ruled surface between
+    /// the arc at a scaled about the apex to the least and the greatest scale its end planes
+    /// cut, v running along the edge, trimmed by the end sections. On that surface the point
+    /// O + σ(v)(C(u) − O) with σ(v) = σ₀ + v(σ₁ − σ₀) lies on a plane where
+    /// v(u) = Σ (wᵢ/μᵢ) Nᵢ(u) yᵢ / Σ (wᵢ/μᵢ) Nᵢ(u) with yᵢ = (μᵢ − σ₀)/(σ₁ − σ₀): the trim curve
+    /// of [`graph_curve`] over the section's weights.
+    fn varying_fillet_face(
+        &self,
+        k: usize,
+        ends: [Plane; 2],
+    ) -> Result<TrimmedSurface, GeometryError> {
+        let (arc, apex, at_a) = self.cone_scales(k, ends[0])?;
+        let (_, _, at_b) = self.cone_scales(k, ends[1])?;
+        let growing = self.rounds[&k].grow > 1.0;
+        let (low, high) = if growing {
+            (
+                at_a.iter().copied().fold(f64::INFINITY, f64::min),
+                at_b.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            )
+        } else {
+            (
+                at_a.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                at_b.iter().copied().fold(f64::INFINITY, f64::min),
+            )
+        };
+        let span = high - low;
+        let to_v = |m: &[f64]| m.iter().map(|x| (x - low) / span).collect::<Vec<f64>>();
+        let (va, vb) = (to_v(&at_a), to_v(&at_b));
+        let e = self.solid.edges[k];
+        if !(span.abs() > 1e-12) || va.iter().zip(&vb).any(|(a, b)| a >= b) {
+            return Err(construction(
+                WHAT,
+                format!(
+                    "the fillet is too large for the edge from {} to {}",
+                    point(self.solid.vertices[e.a]),
+                    point(self.solid.vertices[e.b])
+                ),
+            ));
+        }
+        let scaled = |m: f64| arc.map_points(|p| apex + (p - apex) * m);
+        let surface = ruled(&scaled(low)?, &scaled(high)?)?;
+        let square = |v: &[f64], end: f64| v.iter().all(|x| (x - end).abs() <= 1e-12);
+        if square(&va, 0.0) && square(&vb, 1.0) {
+            return Ok(TrimmedSurface::untrimmed(surface));
+        }
+        let weights_at =
+            |m: &[f64]| -> Vec<f64> { (0..arc.count()).map(|i| arc.weight(i) / m[i]).collect() };
+        let bottom = graph_curve(arc.knots(), &weights_at(&at_a), &va)?;
+        let top = graph_curve(arc.knots(), &weights_at(&at_b), &vb)?;
         let last = va.len() - 1;
         let trim = vec![
             bottom,

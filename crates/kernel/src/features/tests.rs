@@ -466,6 +466,24 @@ fn a_cylinders_rims_round_to_tori_and_cut_to_cones() {
 /// each side, some other face passes within the tolerance with its normal within 0.1° of this
 /// face's.
 fn assert_tangent(result: &FeatureResult, tolerance: f64, what: &str) {
+    assert_tangent_at(result, tolerance, what, |[(u0, u1), (v0, v1)], t| {
+        vec![
+            (u0, v0 + (v1 - v0) * t),
+            (u1, v0 + (v1 - v0) * t),
+            (u0 + (u1 - u0) * t, v0),
+            (u0 + (u1 - u0) * t, v1),
+        ]
+    });
+}
+
+/// [`assert_tangent`] at the points `at(domain, t)` names of each untrimmed curved face's
+/// boundary, for t in 0, 1/8, …, 1.
+fn assert_tangent_at(
+    result: &FeatureResult,
+    tolerance: f64,
+    what: &str,
+    at: impl Fn([(f64, f64); 2], f64) -> Vec<(f64, f64)>,
+) {
     let faces = &result.faces;
     let mut checked = 0;
     for (k, face) in faces.iter().enumerate() {
@@ -476,12 +494,7 @@ fn assert_tangent(result: &FeatureResult, tolerance: f64, what: &str) {
         let [(u0, u1), (v0, v1)] = s.domain();
         for i in 0..=8 {
             let t = i as f64 / 8.0;
-            for (u, v) in [
-                (u0, v0 + (v1 - v0) * t),
-                (u1, v0 + (v1 - v0) * t),
-                (u0 + (u1 - u0) * t, v0),
-                (u0 + (u1 - u0) * t, v1),
-            ] {
+            for (u, v) in at(s.domain(), t) {
                 let Ok(n) = s.normal(u, v) else { continue };
                 let p = s.point_at(u, v).unwrap();
                 // A seam (the side meets the opposite one) or a pole meets the face itself.
@@ -1708,4 +1721,63 @@ fn two_chamfers_at_a_corner_that_is_not_square_cut_as_their_planes_do() {
     )
     .unwrap();
     assert_volume(&result, want * s.powi(3), "two chamfers");
+}
+
+/// The area between a corner of angle ψ and its rolling-ball fillet of radius 1:
+/// cot(ψ/2) − (π − ψ)/2 (two right triangles less the arc's sector).
+fn spandrel_area(psi: f64) -> f64 {
+    1.0 / (0.5 * psi).tan() - 0.5 * (PI - psi)
+}
+
+#[test]
+fn an_upright_edge_filleted_from_one_radius_to_another_takes_its_integral() {
+    // An upright edge of a right prism (height h, interior angle ψ, or ψ outside the
+    // material at a concave corner) filleted from r_a at the base to r_b at the top: each
+    // level's section is the fillet of the radius there, so the fillet takes (or, concave,
+    // adds) ∫ spandrel(ψ) r(z)² dz = spandrel(ψ) h (r_a² + r_a r_b + r_b²) / 3.
+    let h = 1.5;
+    let mut cases: Vec<(Vec<DVec2>, usize, &str)> = vec![
+        (regular_polygon(3, 1.2), 0, "triangle"),
+        (regular_polygon(5, 1.2), 2, "pentagon"),
+        (regular_polygon(7, 1.2), 4, "heptagon"),
+    ];
+    let l = l_outline(2.0, 1.6, 0.7).to_vec();
+    cases.push((l.clone(), 1, "L outer corner"));
+    cases.push((l, 3, "L inner corner"));
+    for (i, (base, corner, what)) in cases.into_iter().enumerate() {
+        let n = base.len();
+        let area = (0..n)
+            .map(|j| base[j].perp_dot(base[(j + 1) % n]))
+            .sum::<f64>()
+            / 2.0;
+        let (prev, here, next) = (
+            base[(corner + n - 1) % n],
+            base[corner],
+            base[(corner + 1) % n],
+        );
+        let (to_prev, to_next) = (prev - here, next - here);
+        let convex = to_next.perp_dot(to_prev) > 0.0;
+        let psi = to_prev.angle_to(to_next).abs();
+        for (ra, rb) in [(0.1, 0.25), (0.3, 0.05)] {
+            let (motion, s) = placement(1200 + i as u64);
+            let body = placed(prism(&base, h), &motion);
+            let at = |z: f64| motion.transform_point3(DVec3::new(here.x, here.y, z));
+            let result = round_edges_varying(
+                &body,
+                &EdgePick::Near(vec![at(0.5 * h)]),
+                EdgeFeature::Fillet { radius: 1.0 },
+                &[(at(0.0), ra * s), (at(h), rb * s)],
+                1e-7 * s,
+            )
+            .unwrap_or_else(|e| panic!("{what} {ra}→{rb}: {e}"));
+            let taken = spandrel_area(psi) * h * (ra * ra + ra * rb + rb * rb) / 3.0;
+            let want = area * h + if convex { -taken } else { taken };
+            assert_volume(&result, want * s.powi(3), &format!("{what} {ra}→{rb}"));
+            // Along its contacts; its ends meet the caps at an angle, as the radius changes.
+            assert_tangent_at(&result, 1e-6 * s, what, |[(u0, u1), (v0, v1)], t| {
+                let v = v0 + (v1 - v0) * (0.05 + 0.9 * t);
+                vec![(u0, v), (u1, v)]
+            });
+        }
+    }
 }
