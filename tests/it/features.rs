@@ -4,7 +4,9 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
-use knotwork::kernel::features::{EdgeFeature, EdgePick, FeatureResult, round_edges, shell};
+use knotwork::kernel::features::{
+    EdgeFeature, EdgePick, FeatureResult, round_edges, round_edges_varying, shell,
+};
 use knotwork::kernel::mass::mass_properties;
 
 fn fixtures() -> PathBuf {
@@ -64,12 +66,67 @@ fn run(
 
 #[test]
 fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
+    compare_with_opencascade("inputs.step", "occt-features.jsonl", &[], run);
+}
+
+/// Fillets whose radius runs linearly from one end of an edge to the other
+/// (`tests/reference/features/make_varying.py`): the radii set at the edges' vertices.
+#[test]
+fn random_prisms_take_opencascades_fillets_of_varying_radius() {
+    // Beyond an edge's end knotwork's radius keeps its rate (the fillet stays one smooth
+    // cone) where OpenCASCADE eases it off; where the end face meets the edge at a shallow
+    // angle, that contact can leave the face before it reaches the end face, and knotwork
+    // refuses (one case of 24).
+    compare_with_opencascade(
+        "varying.step",
+        "occt-varying.jsonl",
+        &["runs past the end of the edge"],
+        |faces, row, tolerance| {
+            let radii = row["radii"]
+                .as_array()
+                .expect("radii")
+                .iter()
+                .map(|p| {
+                    let c: Vec<f64> = p
+                        .as_array()
+                        .expect("x, y, z, r")
+                        .iter()
+                        .map(|x| x.as_f64().expect("a number"))
+                        .collect();
+                    (DVec3::new(c[0], c[1], c[2]), c[3])
+                })
+                .collect::<Vec<_>>();
+            round_edges_varying(
+                faces,
+                &EdgePick::Near(points(row, "near")),
+                EdgeFeature::Fillet { radius: 1.0 },
+                &radii,
+                tolerance,
+            )
+            .map_err(|e| e.to_string())
+        },
+    );
+}
+
+/// Each solid of `step` made by `run` with its row of `jsonl` and its volume and area
+/// compared with OpenCASCADE's to 1e-4; a refusal fails unless its reason holds one of
+/// `excused`, and at most one case in ten may be excused.
+fn compare_with_opencascade(
+    step: &str,
+    jsonl: &str,
+    excused: &[&str],
+    run: impl Fn(
+        &[knotwork::kernel::trim::TrimmedSurface],
+        &serde_json::Value,
+        f64,
+    ) -> Result<FeatureResult, String>,
+) {
     let dir = fixtures();
-    let bytes = std::fs::read(dir.join("inputs.step")).expect("the fixture");
+    let bytes = std::fs::read(dir.join(step)).expect("the fixture");
     let bodies = knotwork::io::step::read::read(&bytes, &mut |_, _| true)
         .expect("a STEP model")
         .bodies;
-    let rows: Vec<serde_json::Value> = std::fs::read_to_string(dir.join("occt-features.jsonl"))
+    let rows: Vec<serde_json::Value> = std::fs::read_to_string(dir.join(jsonl))
         .expect("references")
         .lines()
         .map(|l| serde_json::from_str(l).expect("a JSON row"))
@@ -77,14 +134,16 @@ fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
     assert_eq!(bodies.len(), rows.len());
     let mut failures = Vec::new();
     let mut checked = 0;
+    let mut worst: f64 = 0.0;
+    let mut refused = Vec::new();
     for (body, row) in bodies.iter().zip(&rows) {
         let what = format!(
             "case {} ({} {} {:.4}, {} picked)",
             row["case"],
             row["kind"],
-            row["feature"],
+            row["feature"].as_str().unwrap_or("fillet"),
             row["value"].as_f64().unwrap_or(0.0),
-            points(row, "near").len() + points(row, "open").len()
+            points(row, "near").len() + row["open"].as_array().map_or(0, Vec::len)
         );
         let (lo, hi) = body.faces.iter().map(|f| f.surface().bounds()).fold(
             (DVec3::INFINITY, DVec3::NEG_INFINITY),
@@ -93,6 +152,10 @@ fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
         let tolerance = 1e-6 * lo.distance(hi);
         let result = match run(&body.faces, row, tolerance) {
             Ok(r) => r,
+            Err(e) if excused.iter().any(|x| e.contains(x)) => {
+                refused.push(format!("{what}: refused: {e}"));
+                continue;
+            }
             Err(e) => {
                 failures.push(format!("{what}: refused: {e}"));
                 continue;
@@ -105,6 +168,7 @@ fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
         );
         let dv = (mass.volume - volume).abs() / volume;
         let da = (mass.area - area).abs() / area;
+        worst = worst.max(dv).max(da);
         if dv > 1e-4 || da > 1e-4 {
             failures.push(format!(
                 "{what}: volume {} against {volume} ({dv:.2e}), area {} against {area} ({da:.2e})",
@@ -113,7 +177,14 @@ fn random_solids_take_opencascades_fillets_chamfers_and_shells() {
         }
         checked += 1;
     }
-    eprintln!("{checked} of {} cases made and compared", rows.len());
+    eprintln!(
+        "{checked} of {} cases of {step} made and compared, worst relative difference {worst:.2e}",
+        rows.len()
+    );
+    for r in &refused {
+        eprintln!("excused: {r}");
+    }
+    assert!(refused.len() * 10 <= rows.len(), "too many refused");
     assert!(
         failures.is_empty(),
         "{} failures:\n{}",
@@ -170,8 +241,27 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
         + 2.0 * r * (3.4 * 2.4 + 2.4 * 1.4 + 1.4 * 3.4)
         + pi * r * r * (3.4 + 2.4 + 1.4)
         + 4.0 * pi * r.powi(3) / 3.0;
-    let cases: [(&[&str], f64); 6] = [
+    let cases: [(&[&str], f64); 7] = [
         (&["fillet-edges", i, "-o", o, "--radius", "0.3"], rounded),
+        // The same edge from radius 0.1 at x = 1 to 0.4 at x = 5: each section square to the
+        // edge is the fillet of the radius there, so it takes (1 − π/4) ∫ r² dx.
+        (
+            &[
+                "fillet-edges",
+                i,
+                "-o",
+                o,
+                "--radius",
+                "0.3",
+                "--near",
+                "3,1,2.5",
+                "--radius-at",
+                "1,1,2.5,0.1",
+                "--radius-at",
+                "5.2,1.1,2.5,0.4",
+            ],
+            24.0 - (1.0 - pi / 4.0) * 4.0 * (0.01 + 0.04 + 0.16) / 3.0,
+        ),
         // The edge along x at y = 1, z = 2.5 (picked by its middle); then with the edge along
         // y at x = 5, the two chamfers meet in a mitre: the two corner prisms less their
         // common part at the corner, D³/3.
@@ -295,6 +385,34 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
         (
             &["shell", "no-such-file.step", "-o", o, "--thickness", "0.1"][..],
             "no-such-file",
+        ),
+        (
+            &[
+                "fillet-edges",
+                i,
+                "-o",
+                o,
+                "--radius",
+                "0.1",
+                "--near",
+                "3,1,2.5",
+                "--radius-at",
+                "5,1,2.5,2.5",
+            ][..],
+            "too large",
+        ),
+        (
+            &[
+                "fillet-edges",
+                i,
+                "-o",
+                o,
+                "--radius",
+                "0.1",
+                "--radius-at",
+                "5,1,2.5",
+            ][..],
+            "X,Y,Z,R",
         ),
     ] {
         let output = run(args);
@@ -421,6 +539,7 @@ mod in_the_document {
             object: 0.into(),
             radius: 0.1,
             near: Vec::new(),
+            radius_at: Vec::new(),
             tolerance: 1e-6,
         };
         doc.execute(&Command::Apply {
@@ -496,6 +615,64 @@ mod in_the_document {
         doc.undo().unwrap();
         doc.undo().unwrap();
         assert_eq!(doc.scene, original, "undo takes every step back");
+    }
+
+    /// The page's fillet with radii at an edge's ends: the box's edge along x at y = z = 0
+    /// from 0.1 at x = 0 to 0.3 at x = 2 takes (1 − π/4) ∫ r² dx; the end radius edited in
+    /// place is one undo step, and a radius too large for the box is refused, changing
+    /// nothing.
+    #[test]
+    fn a_fillet_of_varying_radius_edits_its_end_radii_in_place() {
+        let mut scene = Scene::default();
+        scene.objects.clear();
+        scene.objects.push(SceneObject::new(
+            "A",
+            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
+        ));
+        let mut doc = Document::new(scene);
+        let operation = knotwork::ops::from_value(
+            "$",
+            serde_json::json!({"op": "fillet_edges", "object": 0, "radius": 0.1,
+                "near": [[1.0, 0.0, 0.0]], "radius_at": [[2.0, 0.0, 0.0, 0.3]]}),
+        )
+        .expect("read");
+        doc.execute(&Command::Apply {
+            operation,
+            keep_history: true,
+        })
+        .expect("the fillet");
+        let taken = |ra: f64, rb: f64| {
+            (1.0 - std::f64::consts::PI / 4.0) * 2.0 * (ra * ra + ra * rb + rb * rb) / 3.0
+        };
+        assert!((volume(&doc.scene.objects[1]) - (3.0 - taken(0.1, 0.3))).abs() < 1e-9);
+        let recipe = doc.scene.objects[1].recipe.clone().expect("history");
+        let mut edited = recipe
+            .operation
+            .params::<FilletEdges>()
+            .expect("a fillet")
+            .clone();
+        edited.radius_at[0][3] = 0.5;
+        let depth = doc.history.undo_depth();
+        let before = doc.scene.clone();
+        doc.execute(&Command::EditRecipe {
+            object: 1,
+            operation: Operation::new(edited.clone()),
+        })
+        .expect("the edit");
+        assert_eq!(doc.history.undo_depth(), depth + 1);
+        assert!((volume(&doc.scene.objects[1]) - (3.0 - taken(0.1, 0.5))).abs() < 1e-9);
+        let edited_scene = doc.scene.clone();
+        edited.radius_at[0][3] = 1.2;
+        let e = doc
+            .execute(&Command::EditRecipe {
+                object: 1,
+                operation: Operation::new(edited),
+            })
+            .unwrap_err();
+        assert!(e.to_string().contains("too large"), "{e}");
+        assert_eq!(doc.scene, edited_scene);
+        doc.undo().unwrap();
+        assert_eq!(doc.scene, before);
     }
 
     #[test]
