@@ -78,9 +78,13 @@ fn main() -> std::process::ExitCode {
             output,
             radius,
             near,
+            radius_at,
         }) => {
             return cli::feature(
-                cli::Feature::Fillet { radius: *radius },
+                cli::Feature::Fillet {
+                    radius: *radius,
+                    radius_at: radius_at.clone(),
+                },
                 input,
                 near,
                 output,

@@ -39,6 +39,8 @@ pub(super) struct FeatureState {
     hover: Option<usize>,
     /// A fillet's radius or a chamfer's distance while its handle is dragged.
     handle: Option<f64>,
+    /// A fillet's radii at edge ends being dragged or typed, one per radius set.
+    edit_ends: Vec<Option<f64>>,
 }
 
 /// How far right of its edge point a feature's handle sits at a value of 0 (points).
@@ -309,7 +311,42 @@ impl KnotworkApp {
             let editing = &mut self.features.edit;
             let edited = if let Some(p) = operation.params::<FilletEdges>() {
                 let mut p = p.clone();
-                value_row(ui, "Fillet radius", &mut p.radius, editing).then(|| Operation::new(p))
+                let mut changed = value_row(ui, "Fillet radius", &mut p.radius, editing);
+                // Radii at edge ends: each a row; a picked edge's fillet can be made to vary.
+                let ends = &mut self.features.edit_ends;
+                ends.resize(p.radius_at.len(), None);
+                let mut dropped = None;
+                for (i, (at, editing)) in p.radius_at.iter_mut().zip(ends.iter_mut()).enumerate() {
+                    ui.horizontal(|ui| {
+                        changed |=
+                            value_row(ui, &format!("Radius at end {}", i + 1), &mut at[3], editing);
+                        if ui
+                            .small_button("×")
+                            .on_hover_text("take this radius out")
+                            .clicked()
+                        {
+                            dropped = Some(i);
+                        }
+                    });
+                }
+                if let Some(i) = dropped {
+                    p.radius_at.remove(i);
+                    changed = true;
+                }
+                if let Some(&first) = p.near.first()
+                    && ui
+                        .small_button("Vary radius")
+                        .on_hover_text(
+                            "set the radius at the end of the first picked edge nearest where it \
+                             was picked; the radius then runs linearly to the other end",
+                        )
+                        .clicked()
+                {
+                    p.radius_at
+                        .push([first[0], first[1], first[2], 2.0 * p.radius]);
+                    changed = true;
+                }
+                changed.then(|| Operation::new(p))
             } else if let Some(p) = operation.params::<ChamferEdges>() {
                 let mut p = p.clone();
                 value_row(ui, "Chamfer distance", &mut p.distance, editing)
@@ -380,6 +417,7 @@ impl KnotworkApp {
                         object,
                         radius: size,
                         near: near.clone(),
+                        radius_at: Vec::new(),
                         tolerance: FEATURE_TOLERANCE,
                     })));
                 }

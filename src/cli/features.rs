@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use glam::DVec3;
 use knotwork::kernel::features::{
     EdgeFeature, EdgePick, FeatureResult, Polyhedron, draft_faces, offset_faces, round_edges,
-    shell as shell_solid,
+    round_edges_varying, shell as shell_solid,
 };
 
 use knotwork::kernel::features::polyhedron::segment_distance;
@@ -29,10 +29,28 @@ pub fn parse_point(text: &str) -> Result<DVec3, String> {
     Ok(DVec3::new(number(x)?, number(y)?, number(z)?))
 }
 
+/// A radius at a point, given as "X,Y,Z,R".
+pub fn parse_point_radius(text: &str) -> Result<(DVec3, f64), String> {
+    let Some((at, r)) = text.rsplit_once(',') else {
+        return Err(format!("{text:?} is not a point and a radius X,Y,Z,R"));
+    };
+    let point =
+        parse_point(at).map_err(|_| format!("{text:?} is not a point and a radius X,Y,Z,R"))?;
+    let r = r
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|r| r.is_finite())
+        .ok_or_else(|| format!("{text:?}: {r:?} is not a finite number"))?;
+    Ok((point, r))
+}
+
 /// What one of the three commands makes.
 pub enum Feature {
     Fillet {
         radius: f64,
+        /// Radii at the picked edges' ends nearest points, "X,Y,Z,R" each.
+        radius_at: Vec<String>,
     },
     Chamfer {
         distance: f64,
@@ -78,6 +96,13 @@ pub fn feature(
             .iter()
             .map(|p| parse_point(p))
             .collect::<Result<Vec<_>, _>>()?;
+        let radii = match &feature {
+            Feature::Fillet { radius_at, .. } => radius_at
+                .iter()
+                .map(|p| parse_point_radius(p))
+                .collect::<Result<Vec<_>, _>>()?,
+            _ => Vec::new(),
+        };
         let started = std::time::Instant::now();
         let (scene, named) = named_solids_of(input)?;
         let (names, bodies): (Vec<String>, Vec<_>) = named.into_iter().unzip();
@@ -85,8 +110,10 @@ pub fn feature(
         let tolerance = 1e-6 * diagonal(&bodies);
         // Each point to the body nearest it.
         let mut mine: Vec<Vec<DVec3>> = vec![Vec::new(); bodies.len()];
+        let mut mine_radii: Vec<Vec<(DVec3, f64)>> = vec![Vec::new(); bodies.len()];
         if bodies.len() == 1 {
             mine[0] = points.clone();
+            mine_radii[0] = radii.clone();
         } else {
             // Edges as polylines, any body's (a curved one's rims too); faces by the
             // polyhedron where the body is one, else by its edges.
@@ -112,7 +139,7 @@ pub fn feature(
                     })
                 })
                 .collect();
-            for &p in &points {
+            let owner = |p: DVec3| {
                 let edge_gap = |k: usize| {
                     lines[k]
                         .iter()
@@ -126,16 +153,21 @@ pub fn feature(
                         .map_or(f64::INFINITY, |f| s.face_distance(f, p)),
                     _ => edge_gap(k),
                 };
-                let best = (0..bodies.len())
+                (0..bodies.len())
                     .min_by(|&i, &j| distance(i).total_cmp(&distance(j)))
-                    .unwrap_or(0);
-                mine[best].push(p);
+                    .unwrap_or(0)
+            };
+            for &p in &points {
+                mine[owner(p)].push(p);
+            }
+            for &(p, r) in &radii {
+                mine_radii[owner(p)].push((p, r));
             }
         }
         let at = std::time::Instant::now();
         let mut solids = Vec::new();
         let (mut volume, mut faces, mut picked) = (0.0, 0, 0);
-        for (k, (body, mine)) in bodies.into_iter().zip(mine).enumerate() {
+        for (k, ((body, mine), radii)) in bodies.into_iter().zip(mine).zip(mine_radii).enumerate() {
             let name = format!("{command} {}", k + 1);
             let skip = !points.is_empty() && mine.is_empty();
             let result = if skip {
@@ -152,10 +184,11 @@ pub fn feature(
                     EdgePick::Near(mine.clone())
                 };
                 match feature {
-                    Feature::Fillet { radius } => round_edges(
+                    Feature::Fillet { radius, .. } => round_edges_varying(
                         &body.faces,
                         &pick,
                         EdgeFeature::Fillet { radius },
+                        &radii,
                         tolerance,
                     ),
                     Feature::Chamfer { distance } => round_edges(

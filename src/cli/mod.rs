@@ -385,6 +385,11 @@ pub enum Command {
         /// A point X,Y,Z near an edge to fillet (repeatable).
         #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
         near: Vec<String>,
+        /// The radius R at the end of a picked edge nearest X,Y,Z (repeatable): each picked
+        /// edge's radius runs linearly from its value at one end to that at the other,
+        /// --radius where none is set.
+        #[arg(long, value_name = "X,Y,Z,R", allow_hyphen_values = true)]
+        radius_at: Vec<String>,
     },
     /// Chamfer a solid's edges, set back the distance on both faces; --near as for
     /// fillet-edges.

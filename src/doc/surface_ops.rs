@@ -1689,7 +1689,8 @@ impl SolidFeature {
 }
 
 /// `feature` made of the closed body `object`: each of `points` picks the edge (or, for a
-/// shell, an offset or a draft, the face) nearest it, none every edge (no face); the result a new polysurface
+/// shell, an offset or a draft, the face) nearest it, none every edge (no face); a fillet's
+/// `radii` set its radius at the picked edges' ends nearest them; the result a new polysurface
 /// "NAME fillet" (chamfer, shell), the body hidden, at `tolerance` (a fraction of the
 /// scene's size); and what it took and enclosed. Refused, changing nothing, for an object
 /// that is not a closed body or a feature the kernel cannot build (the reason names the
@@ -1698,11 +1699,11 @@ pub(crate) fn solid_feature(
     scene: &Scene,
     object: usize,
     feature: SolidFeature,
-    points: &[glam::DVec3],
+    (points, radii): (&[glam::DVec3], &[(glam::DVec3, f64)]),
     tolerance: f64,
 ) -> Result<(Planned, crate::kernel::features::FeatureResult), EditError> {
     use crate::kernel::features::{
-        EdgeFeature, EdgePick, draft_faces, offset_faces, round_edges, shell,
+        EdgeFeature, EdgePick, draft_faces, offset_faces, round_edges, round_edges_varying, shell,
     };
     let what = feature.name();
     let ([faces, _], _) = closed_bodies(scene, what, [&[object], &[]])?;
@@ -1714,10 +1715,11 @@ pub(crate) fn solid_feature(
         EdgePick::Near(points.to_vec())
     };
     let made = match feature {
-        SolidFeature::Fillet { radius } => round_edges(
+        SolidFeature::Fillet { radius } => round_edges_varying(
             &faces,
             &pick,
             EdgeFeature::Fillet { radius },
+            radii,
             tolerance * size,
         ),
         SolidFeature::Chamfer { distance, other } => round_edges(

@@ -45,11 +45,12 @@ fn points(
 }
 
 /// The plan and report of one feature.
+/// `picks`: the points that pick edges or faces, and a fillet's radii at points.
 fn planned(
     scene: &Scene,
     object: ObjectRef,
     feature: SolidFeature,
-    picks: &[glam::DVec3],
+    picks: (&[glam::DVec3], &[(glam::DVec3, f64)]),
     tolerance: f64,
 ) -> Result<(Planned, Option<serde_json::Value>), EditError> {
     let (plan, made) =
@@ -71,7 +72,10 @@ fn closed_body(scene: &Scene, selection: &[usize]) -> Option<usize> {
 }
 
 /// `{"op": "fillet_edges", "object": k, "radius": r, "near": [[x, y, z], ...],
-/// "tolerance": t}`: each point picks the edge nearest it; none, every edge.
+/// "radius_at": [[x, y, z, r], ...], "tolerance": t}`: each point picks the edge nearest it;
+/// none, every edge. Each `radius_at` sets the radius at the picked edges' end nearest its
+/// point, the radius running linearly along each edge between its ends
+/// ([`crate::kernel::features::round_edges_varying`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilletEdges {
@@ -79,6 +83,8 @@ pub struct FilletEdges {
     pub radius: f64,
     #[serde(default)]
     pub near: Vec<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub radius_at: Vec<[f64; 4]>,
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
 }
@@ -98,11 +104,17 @@ impl OperationParams for FilletEdges {
         let radius = super::finite(Self::NAME, "radius", self.radius, true)?;
         let tolerance = super::finite(Self::NAME, "tolerance", self.tolerance, true)?;
         let near = points(Self::NAME, "near", &self.near)?;
+        let at: Vec<[f64; 3]> = self.radius_at.iter().map(|a| [a[0], a[1], a[2]]).collect();
+        let radii = points(Self::NAME, "radius_at", &at)?
+            .into_iter()
+            .zip(&self.radius_at)
+            .map(|(p, a)| Ok((p, super::finite(Self::NAME, "radius_at", a[3], true)?)))
+            .collect::<Result<Vec<_>, EditError>>()?;
         planned(
             scene,
             self.object,
             SolidFeature::Fillet { radius },
-            &near,
+            (&near, &radii),
             tolerance,
         )
     }
@@ -144,7 +156,7 @@ impl OperationParams for ChamferEdges {
             scene,
             self.object,
             SolidFeature::Chamfer { distance, other },
-            &near,
+            (&near, &[]),
             tolerance,
         )
     }
@@ -183,7 +195,7 @@ impl OperationParams for Shell {
             scene,
             self.object,
             SolidFeature::Shell { thickness },
-            &open,
+            (&open, &[]),
             tolerance,
         )
     }
@@ -221,7 +233,7 @@ impl OperationParams for OffsetFace {
             scene,
             self.object,
             SolidFeature::OffsetFace { distance },
-            &faces,
+            (&faces, &[]),
             tolerance,
         )
     }
@@ -273,7 +285,7 @@ impl OperationParams for DraftFace {
                 origin: frame[0],
                 pull: frame[1],
             },
-            &faces,
+            (&faces, &[]),
             tolerance,
         )
     }
@@ -293,6 +305,7 @@ pub const FILLET_ENTRY: OperationEntry = OperationEntry {
                 object: closed_body(scene, selection)?.into(),
                 radius: default_size(scene),
                 near: Vec::new(),
+                radius_at: Vec::new(),
                 tolerance: FEATURE_TOLERANCE,
             }))
         },

@@ -1631,6 +1631,7 @@ fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
         object: k.into(),
         radius: 0.1,
         near: vec![[1.0, 0.0, 0.0]],
+        radius_at: Vec::new(),
         tolerance: knotwork::ops::features::FEATURE_TOLERANCE,
     };
     page.send(AppCommand::Edit(Command::Apply {
@@ -1680,4 +1681,59 @@ fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
     harness.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
     harness.run_steps(3);
     assert_eq!(radius(&harness), 0.1);
+}
+
+#[test]
+fn a_fillets_vary_radius_button_sets_the_picked_ends_radius_in_one_step() {
+    // A block's edge along x filleted with history at 0.1, picked near its end at x = 2:
+    // *Vary radius* sets the radius there to twice the fillet's, one undo step, and the
+    // fillet runs from 0.1 at x = 0 to 0.2 at x = 2, taking (1 − π/4) ∫ r² dx.
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let page = harness.state().command_sender();
+    let k = add_block(&mut harness);
+    let fillet = knotwork::ops::features::FilletEdges {
+        object: k.into(),
+        radius: 0.1,
+        near: vec![[1.5, 0.0, 0.0]],
+        radius_at: Vec::new(),
+        tolerance: knotwork::ops::features::FEATURE_TOLERANCE,
+    };
+    page.send(AppCommand::Edit(Command::Apply {
+        operation: knotwork::scene::operation::Operation::new(fillet),
+        keep_history: true,
+    }));
+    harness.run_steps(3);
+    let made = harness.state().document().scene.objects.len() - 1;
+    page_select(&mut harness, made);
+    harness.run_steps(3);
+    let steps = status::current().undo_steps;
+    harness.get_by_label("Operations").scroll_to_me();
+    harness.run_steps(1);
+    harness.get_by_label("Operations").click_accesskit();
+    harness.run_steps(2);
+    harness.get_by_label("Vary radius").scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label("Vary radius").click_accesskit();
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(s.error, None, "{s:?}");
+    assert_eq!(s.undo_steps, steps + 1, "one undo step");
+    let object = &harness.state().document().scene.objects[made];
+    let radii = object
+        .recipe
+        .as_ref()
+        .and_then(|r| {
+            r.operation
+                .params::<knotwork::ops::features::FilletEdges>()
+                .map(|p| p.radius_at.clone())
+        })
+        .expect("the fillet's recipe");
+    assert_eq!(radii, vec![[1.5, 0.0, 0.0, 0.2]]);
+    let volume = knotwork::kernel::mass::signed_volume(&object.body().expect("a body").faces)
+        .expect("a volume");
+    let want = 3.0 - (1.0 - std::f64::consts::PI / 4.0) * 2.0 * (0.01 + 0.02 + 0.04) / 3.0;
+    assert!((volume - want).abs() < 1e-9, "{volume} against {want}");
 }

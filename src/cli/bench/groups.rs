@@ -2471,7 +2471,9 @@ fn bench_features(
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     use knotwork::doc::{Command, Document};
-    use knotwork::kernel::features::{EdgeFeature, EdgePick, round_edges, shell};
+    use knotwork::kernel::features::{
+        EdgeFeature, EdgePick, round_edges, round_edges_varying, shell,
+    };
     use knotwork::ops::features::FilletEdges;
     use knotwork::scene::operation::Operation;
     use knotwork::scene::polysurface::Polysurface;
@@ -2517,6 +2519,34 @@ fn bench_features(
         "shell, 20-face prism, top open                 | {shell_ms:8.2} ms ({} faces, volume {:.6})",
         shelled.faces.len(),
         shelled.volume()?
+    )?;
+    // Every other upright edge, its radius running from 0.03 at the base to 0.08 at the top.
+    let (uprights, radii): (Vec<DVec3>, Vec<[(DVec3, f64); 2]>) = (0..18)
+        .step_by(2)
+        .map(|k| {
+            let angle = std::f64::consts::TAU * k as f64 / 18.0;
+            let foot = DVec3::new(angle.cos(), angle.sin(), 0.0);
+            (
+                foot + DVec3::Z * 0.5,
+                [(foot, 0.03), (foot + DVec3::Z, 0.08)],
+            )
+        })
+        .unzip();
+    let radii: Vec<(DVec3, f64)> = radii.into_iter().flatten().collect();
+    let (varying_ms, varied) = median_ms(iterations.max(3), || {
+        round_edges_varying(
+            &part,
+            &EdgePick::Near(uprights.clone()),
+            EdgeFeature::Fillet { radius: 0.05 },
+            &radii,
+            tolerance,
+        )
+    })?;
+    writeln!(
+        out,
+        "fillet 9 upright edges, radius 0.03 to 0.08    | {varying_ms:8.2} ms ({} faces, volume {:.6})",
+        varied.faces.len(),
+        varied.volume()?
     )?;
     // A block with a round hole (its rims a torus each), then the same block with its upright
     // edges rounded (its caps' rims tangent chains), filleted, and shelled with the top open.
@@ -2651,6 +2681,7 @@ fn bench_features(
         object: 0.into(),
         radius: 0.05,
         near: Vec::new(),
+        radius_at: Vec::new(),
         tolerance: 1e-6,
     };
     doc.execute(&Command::Apply {
