@@ -1616,21 +1616,15 @@ fn an_edge_picked_in_the_viewport_is_filleted() {
     );
 }
 
-#[test]
-fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
-    // A block's edge filleted with history, then its radius dragged by the handle beside the
-    // picked edge: letting go makes the fillet again at the larger radius (the corner prism's
-    // volume, (1 − π/4) r² × 2, grows), as one undo step that undo takes back.
-    let _turn = ONE_EDITOR_AT_A_TIME
-        .lock()
-        .unwrap_or_else(|p| p.into_inner());
-    let mut harness = editor();
+/// The block's edge nearest `near` filleted at 0.1 with history, the fillet selected: its
+/// index.
+fn fillet_with_history(harness: &mut Harness<'_, KnotworkApp>, near: [f64; 3]) -> usize {
     let page = harness.state().command_sender();
-    let k = add_block(&mut harness);
+    let k = add_block(harness);
     let fillet = knotwork::ops::features::FilletEdges {
         object: k.into(),
         radius: 0.1,
-        near: vec![[1.0, 0.0, 0.0]],
+        near: vec![near],
         radius_at: Vec::new(),
         tolerance: knotwork::ops::features::FEATURE_TOLERANCE,
     };
@@ -1640,8 +1634,21 @@ fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
     }));
     harness.run_steps(3);
     let made = harness.state().document().scene.objects.len() - 1;
-    page_select(&mut harness, made);
+    page_select(harness, made);
     harness.run_steps(3);
+    made
+}
+
+#[test]
+fn a_fillets_handle_dragged_in_the_viewport_edits_its_radius_in_one_step() {
+    // A block's edge filleted with history, then its radius dragged by the handle beside the
+    // picked edge: letting go makes the fillet again at the larger radius (the corner prism's
+    // volume, (1 − π/4) r² × 2, grows), as one undo step that undo takes back.
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let made = fillet_with_history(&mut harness, [1.0, 0.0, 0.0]);
     let radius = |harness: &Harness<'_, KnotworkApp>| {
         let object = &harness.state().document().scene.objects[made];
         object
@@ -1692,23 +1699,7 @@ fn a_fillets_vary_radius_button_sets_the_picked_ends_radius_in_one_step() {
         .lock()
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = editor();
-    let page = harness.state().command_sender();
-    let k = add_block(&mut harness);
-    let fillet = knotwork::ops::features::FilletEdges {
-        object: k.into(),
-        radius: 0.1,
-        near: vec![[1.5, 0.0, 0.0]],
-        radius_at: Vec::new(),
-        tolerance: knotwork::ops::features::FEATURE_TOLERANCE,
-    };
-    page.send(AppCommand::Edit(Command::Apply {
-        operation: knotwork::scene::operation::Operation::new(fillet),
-        keep_history: true,
-    }));
-    harness.run_steps(3);
-    let made = harness.state().document().scene.objects.len() - 1;
-    page_select(&mut harness, made);
-    harness.run_steps(3);
+    let made = fillet_with_history(&mut harness, [1.5, 0.0, 0.0]);
     let steps = status::current().undo_steps;
     harness.get_by_label("Operations").scroll_to_me();
     harness.run_steps(1);

@@ -510,6 +510,17 @@ mod in_the_document {
 
     use crate::common::box_of_planes;
 
+    /// A document holding the 2 × 1 × 1.5 box "A".
+    fn box_document() -> Document {
+        let mut scene = Scene::default();
+        scene.objects.clear();
+        scene.objects.push(SceneObject::new(
+            "A",
+            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
+        ));
+        Document::new(scene)
+    }
+
     fn volume(object: &SceneObject) -> f64 {
         let faces = object.body().expect("a body").faces;
         knotwork::kernel::mass::signed_volume(&faces).expect("a volume")
@@ -527,13 +538,7 @@ mod in_the_document {
 
     #[test]
     fn a_fillet_with_history_follows_its_body_edits_in_place_and_undoes() {
-        let mut scene = Scene::default();
-        scene.objects.clear();
-        scene.objects.push(SceneObject::new(
-            "A",
-            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
-        ));
-        let mut doc = Document::new(scene);
+        let mut doc = box_document();
         let original = doc.scene.clone();
         let fillet = FilletEdges {
             object: 0.into(),
@@ -623,13 +628,7 @@ mod in_the_document {
     /// nothing.
     #[test]
     fn a_fillet_of_varying_radius_edits_its_end_radii_in_place() {
-        let mut scene = Scene::default();
-        scene.objects.clear();
-        scene.objects.push(SceneObject::new(
-            "A",
-            ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
-        ));
-        let mut doc = Document::new(scene);
+        let mut doc = box_document();
         let operation = knotwork::ops::from_value(
             "$",
             serde_json::json!({"op": "fillet_edges", "object": 0, "radius": 0.1,
@@ -693,13 +692,7 @@ mod in_the_document {
         ] {
             let operation = knotwork::ops::from_value("$", value).expect("read");
             assert_eq!(operation.name(), name);
-            let mut scene = Scene::default();
-            scene.objects.clear();
-            scene.objects.push(SceneObject::new(
-                "A",
-                ObjectGeometry::new(box_of_planes(&DAffine3::IDENTITY)),
-            ));
-            let mut doc = Document::new(scene);
+            let mut doc = box_document();
             doc.execute(&Command::Apply {
                 operation,
                 keep_history: false,

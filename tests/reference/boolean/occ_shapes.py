@@ -29,3 +29,30 @@ def write_step(shape, path):
     w = STEPControl_Writer()
     w.Transfer(shape, STEPControl_AsIs)
     assert w.Write(path) == IFSelect_RetDone
+
+
+def write_cases(case, rng, cases, step_path, jsonl_path):
+    """Draws `cases` cases from `case(rng)` (a (shape, row) pair, or None where it is not
+    kept; an exception where OpenCASCADE could not build it, printed with SHOW set) and
+    writes their shapes to `step_path` as one compound and their rows, numbered, to
+    `jsonl_path`."""
+    import json
+    import os
+    import sys
+    inputs, rows = [], []
+    while len(rows) < cases:
+        try:
+            made = case(rng)
+        except Exception as e:  # OpenCASCADE could not build it
+            if os.environ.get("SHOW"):
+                print("refused:", e, file=sys.stderr)
+            made = None
+        if made is None:
+            continue
+        shape, row = made
+        inputs.append(shape)
+        rows.append({"case": len(rows), **row})
+    write_step(compound(inputs), step_path)
+    with open(jsonl_path, "w") as out:
+        for row in rows:
+            out.write(json.dumps(row) + "\n")

@@ -17,7 +17,6 @@ has the rolling ball's volume by Steiner's formula (OpenCASCADE closes a few cor
     python3 -m venv /tmp/ocpenv && /tmp/ocpenv/bin/pip install cadquery-ocp
     /tmp/ocpenv/bin/python tests/reference/features/make_fixtures.py
 """
-import json
 import math
 import os
 import random
@@ -41,7 +40,7 @@ from OCP.OCP.collections import List_TopoDS_Shape as TopTools_ListOfShape
 from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "boolean"))
-from occ_shapes import compound, volume, write_step  # noqa: E402
+from occ_shapes import volume, write_cases  # noqa: E402
 
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "64"))
@@ -471,22 +470,5 @@ def case(rng):
     return given, row
 
 
-rng = random.Random(SEED)
-inputs, rows = [], []
-while len(rows) < CASES:
-    try:
-        made = case(rng)
-    except Exception as e:  # OpenCASCADE could not build it
-        if os.environ.get("SHOW"):
-            print("refused:", e, file=sys.stderr)
-        made = None
-    if made is None:
-        continue
-    shape, row = made
-    inputs.append(shape)
-    rows.append({"case": len(rows), **row})
-
-write_step(compound(inputs), os.path.join(HERE, "inputs.step"))
-with open(os.path.join(HERE, "occt-features.jsonl"), "w") as out:
-    for row in rows:
-        out.write(json.dumps(row) + "\n")
+write_cases(case, random.Random(SEED), CASES, os.path.join(HERE, "inputs.step"),
+            os.path.join(HERE, "occt-features.jsonl"))

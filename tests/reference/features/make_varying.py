@@ -12,7 +12,6 @@ volume and area (BRepGProp). A case is kept only where OpenCASCADE's result is v
 
     /tmp/ocpenv/bin/python tests/reference/features/make_varying.py
 """
-import json
 import math
 import os
 import random
@@ -34,7 +33,7 @@ from OCP.TopoDS import TopoDS
 from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Pnt2d, gp_Trsf, gp_Vec
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "boolean"))
-from occ_shapes import compound, volume, write_step  # noqa: E402
+from occ_shapes import volume, write_cases  # noqa: E402
 
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "24"))
@@ -143,22 +142,5 @@ def case(rng):
     return shape, row
 
 
-rng = random.Random(SEED)
-inputs, rows = [], []
-while len(rows) < CASES:
-    try:
-        made = case(rng)
-    except Exception as e:  # OpenCASCADE could not build it
-        if os.environ.get("SHOW"):
-            print("refused:", e, file=sys.stderr)
-        made = None
-    if made is None:
-        continue
-    shape, row = made
-    inputs.append(shape)
-    rows.append({"case": len(rows), **row})
-
-write_step(compound(inputs), os.path.join(HERE, "varying.step"))
-with open(os.path.join(HERE, "occt-varying.jsonl"), "w") as out:
-    for row in rows:
-        out.write(json.dumps(row) + "\n")
+write_cases(case, random.Random(SEED), CASES, os.path.join(HERE, "varying.step"),
+            os.path.join(HERE, "occt-varying.jsonl"))

@@ -1391,16 +1391,7 @@ impl Builder<'_> {
         let to_v = |l: &[f64]| l.iter().map(|x| (x - low) / length).collect::<Vec<f64>>();
         let (va, vb) = (to_v(&at_a), to_v(&at_b));
         let weights: Vec<f64> = (0..arc.count()).map(|i| arc.weight(i)).collect();
-        let bottom = graph_curve(arc.knots(), &weights, &va)?;
-        let top = graph_curve(arc.knots(), &weights, &vb)?;
-        let last = va.len() - 1;
-        let trim = vec![
-            bottom,
-            line(DVec2::new(1.0, va[last]), DVec2::new(1.0, vb[last]))?,
-            top.reverse(),
-            line(DVec2::new(0.0, vb[0]), DVec2::new(0.0, va[0]))?,
-        ];
-        TrimmedSurface::new(surface, vec![trim])
+        end_trimmed(surface, arc.knots(), [(&weights, &va), (&weights, &vb)])
     }
 
     /// A fillet of varying radius (see [`Builder::cone_scales`]): the ruled surface between
@@ -1450,15 +1441,29 @@ impl Builder<'_> {
         }
         let weights_at =
             |m: &[f64]| -> Vec<f64> { (0..arc.count()).map(|i| arc.weight(i) / m[i]).collect() };
-        let bottom = graph_curve(arc.knots(), &weights_at(&at_a), &va)?;
-        let top = graph_curve(arc.knots(), &weights_at(&at_b), &vb)?;
-        let last = va.len() - 1;
-        let trim = vec![
-            bottom,
-            line(DVec2::new(1.0, va[last]), DVec2::new(1.0, vb[last]))?,
-            top.reverse(),
-            line(DVec2::new(0.0, vb[0]), DVec2::new(0.0, va[0]))?,
-        ];
-        TrimmedSurface::new(surface, vec![trim])
+        end_trimmed(
+            surface,
+            arc.knots(),
+            [(&weights_at(&at_a), &va), (&weights_at(&at_b), &vb)],
+        )
     }
+}
+
+/// A fillet surface (u across the arc over `knots`, v along the edge in [0, 1]) trimmed
+/// between its end sections, each given by its weights and v values ([`graph_curve`]).
+fn end_trimmed(
+    surface: crate::surface::NurbsSurface,
+    knots: &[f64],
+    [(wa, va), (wb, vb)]: [(&[f64], &[f64]); 2],
+) -> Result<TrimmedSurface, GeometryError> {
+    let bottom = graph_curve(knots, wa, va)?;
+    let top = graph_curve(knots, wb, vb)?;
+    let last = va.len() - 1;
+    let trim = vec![
+        bottom,
+        line(DVec2::new(1.0, va[last]), DVec2::new(1.0, vb[last]))?,
+        top.reverse(),
+        line(DVec2::new(0.0, vb[0]), DVec2::new(0.0, va[0]))?,
+    ];
+    TrimmedSurface::new(surface, vec![trim])
 }
