@@ -22,8 +22,7 @@ import os
 import random
 import sys
 
-from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakePolygon, BRepBuilderAPI_MakeFace,
-                                BRepBuilderAPI_Transform)
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Transform
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepFilletAPI import BRepFilletAPI_MakeChamfer, BRepFilletAPI_MakeFillet
 from OCP.BRepGProp import BRepGProp
@@ -37,10 +36,10 @@ from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 from OCP.OCP.collections import List_TopoDS_Shape as TopTools_ListOfShape
-from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Vec
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "boolean"))
-from occ_shapes import volume, write_cases  # noqa: E402
+from occ_shapes import placed, prism, volume, write_cases  # noqa: E402
 
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "64"))
@@ -121,16 +120,6 @@ def edge_direction(edge):
     a = BRep_Tool.Pnt_s(TopExp.FirstVertex_s(TopoDS.Edge(edge)))
     b = BRep_Tool.Pnt_s(TopExp.LastVertex_s(TopoDS.Edge(edge)))
     return gp_Vec(a, b).Normalized()
-
-
-def prism(points, h):
-    """The prism over the polygon `points` (xy, counter-clockwise) of height h."""
-    poly = BRepBuilderAPI_MakePolygon()
-    for x, y in points:
-        poly.Add(gp_Pnt(x, y, 0))
-    poly.Close()
-    face = BRepBuilderAPI_MakeFace(poly.Wire()).Face()
-    return BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, h)).Shape()
 
 
 def solid(rng, kind):
@@ -312,17 +301,6 @@ def bulge_agrees(params, r, got):
     want = (area * H + (2 * area + perimeter * H) * r + (math.pi * H + math.pi * perimeter / 2) * r * r
             + 4 * math.pi * r ** 3 / 3)
     return abs(abs(got) - want) <= 1e-6 * want
-
-
-def placed(shape, rng):
-    """The shape turned about a random axis and moved at random, and the motion."""
-    axis = [rng.gauss(0, 1) for _ in range(3)]
-    t = gp_Trsf()
-    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(*axis)), rng.uniform(0, 2 * math.pi))
-    s = gp_Trsf()
-    s.SetTranslation(gp_Vec(*[rng.uniform(-50, 50) for _ in range(3)]))
-    motion = s.Multiplied(t)
-    return BRepBuilderAPI_Transform(shape, motion, True).Shape(), motion
 
 
 def case(rng):

@@ -19,21 +19,18 @@ import sys
 
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve
-from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon,
-                                BRepBuilderAPI_Transform)
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet
 from OCP.BRepGProp import BRepGProp
-from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
 from OCP.GProp import GProp_GProps
 from OCP.OCP.collections import Array1_gp_Pnt2d
 from OCP.TopAbs import TopAbs_EDGE
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Pnt2d, gp_Trsf, gp_Vec
+from OCP.gp import gp_Pnt2d
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "boolean"))
-from occ_shapes import volume, write_cases  # noqa: E402
+from occ_shapes import placed, prism, volume, write_cases  # noqa: E402
 
 HERE = os.environ.get("OUT", os.path.dirname(os.path.abspath(__file__)))
 CASES = int(os.environ.get("CASES", "24"))
@@ -68,24 +65,6 @@ def outline(rng):
     return "prism", points
 
 
-def prism(points, h):
-    poly = BRepBuilderAPI_MakePolygon()
-    for x, y in points:
-        poly.Add(gp_Pnt(x, y, 0))
-    poly.Close()
-    face = BRepBuilderAPI_MakeFace(poly.Wire()).Face()
-    return BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, h)).Shape()
-
-
-def placed(shape, rng):
-    axis = [rng.gauss(0, 1) for _ in range(3)]
-    t = gp_Trsf()
-    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(*axis)), rng.uniform(0, 2 * math.pi))
-    s = gp_Trsf()
-    s.SetTranslation(gp_Vec(*[rng.uniform(-50, 50) for _ in range(3)]))
-    return BRepBuilderAPI_Transform(shape, s.Multiplied(t), True).Shape()
-
-
 def xyz(p):
     return [p.X(), p.Y(), p.Z()]
 
@@ -95,7 +74,7 @@ def case(rng):
     if made is None:
         return None
     kind, points = made
-    shape = placed(prism(points, rng.uniform(3, 8)), rng)
+    shape, _ = placed(prism(points, rng.uniform(3, 8)), rng)
     edges = []
     ex = TopExp_Explorer(shape, TopAbs_EDGE)
     while ex.More():
