@@ -1352,6 +1352,19 @@ impl Builder<'_> {
         })
     }
 
+    /// The refusal of a fillet whose end sections cross on edge `k`.
+    fn too_large(&self, k: usize) -> GeometryError {
+        let e = self.solid.edges[k];
+        construction(
+            WHAT,
+            format!(
+                "the fillet is too large for the edge from {} to {}",
+                point(self.solid.vertices[e.a]),
+                point(self.solid.vertices[e.b])
+            ),
+        )
+    }
+
     /// Edge `k`'s fillet: the cylinder of its arc along the edge, over the stretch between
     /// its end planes, trimmed by their conics where they are not square to the edge.
     fn fillet_face(&self, k: usize, ends: [Plane; 2]) -> Result<TrimmedSurface, GeometryError> {
@@ -1364,16 +1377,8 @@ impl Builder<'_> {
         let low = at_a.iter().copied().fold(f64::INFINITY, f64::min);
         let high = at_b.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         let length = high - low;
-        let e = self.solid.edges[k];
         if !(length > self.tolerance) || at_a.iter().zip(&at_b).any(|(a, b)| a >= b) {
-            return Err(construction(
-                WHAT,
-                format!(
-                    "the fillet is too large for the edge from {} to {}",
-                    point(self.solid.vertices[e.a]),
-                    point(self.solid.vertices[e.b])
-                ),
-            ));
+            return Err(self.too_large(k));
         }
         let start = arc.map_points(|p| p + t * low)?;
         let surface = extrude(&start, t * length)?;
@@ -1422,16 +1427,8 @@ impl Builder<'_> {
         let span = high - low;
         let to_v = |m: &[f64]| m.iter().map(|x| (x - low) / span).collect::<Vec<f64>>();
         let (va, vb) = (to_v(&at_a), to_v(&at_b));
-        let e = self.solid.edges[k];
         if !(span.abs() > 1e-12) || va.iter().zip(&vb).any(|(a, b)| a >= b) {
-            return Err(construction(
-                WHAT,
-                format!(
-                    "the fillet is too large for the edge from {} to {}",
-                    point(self.solid.vertices[e.a]),
-                    point(self.solid.vertices[e.b])
-                ),
-            ));
+            return Err(self.too_large(k));
         }
         let scaled = |m: f64| arc.map_points(|p| apex + (p - apex) * m);
         let surface = ruled(&scaled(low)?, &scaled(high)?)?;
