@@ -262,14 +262,13 @@ def solid(rng, kind):
         shape = BRepPrimAPI_MakeWedge(dx, dy, dz, x0, z0, x1, z1).Shape()
         return shape, min(dy, x1 - x0, z1 - z0), None
     if kind == "cone":
-        # A frustum: its rims are the circles where the cone meets the caps at an angle.
-        # (A cone to its apex turned at random is left out: knotwork does not find the axis
-        # of some such cones.)
+        # A frustum (its rims the circles where the cone meets the caps at an angle), or a
+        # cone to its apex (one rim).
         from OCP.BRepPrimAPI import BRepPrimAPI_MakeCone
         r, h = rng.uniform(2, 5), rng.uniform(3, 8)
-        top = rng.uniform(0.3, 0.8) * r
+        top = rng.uniform(0.3, 0.8) * r if rng.random() < 0.6 else 0.0
         axis = gp_Ax2(gp_Pnt(0, 0, -h / 2), gp_Dir(0, 0, 1))
-        return BRepPrimAPI_MakeCone(axis, r, top, h).Shape(), min(top, h) / 2, None
+        return BRepPrimAPI_MakeCone(axis, r, top, h).Shape(), min(top or r / 2, h) / 2, None
     if kind == "tube":
         # A cylinder with a coaxial hole through it: convex rims outside, inside too.
         from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut

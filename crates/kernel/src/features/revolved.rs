@@ -270,12 +270,21 @@ impl Profile {
             let surface = face.surface();
             // The circle edges' (r, h).
             let mut ends: Vec<DVec2> = Vec::new();
+            // The (u, v) box the face's loops span: a surface may run on past them (a cone's
+            // past its apex, onto the other nappe), where its meridian folds back.
+            let [(du0, du1), (dv0, dv1)] = surface.domain();
+            let (mut lo, mut hi) = (DVec2::new(du1, dv1), DVec2::new(du0, dv0));
             for trim_loop in face_loops(face)? {
                 for curve in &trim_loop {
                     let (t0, t1) = curve.domain();
-                    let q: Vec<DVec2> = (0..7)
-                        .map(|i| {
-                            let uv = curve.point_at(t0 + (t1 - t0) * i as f64 / 6.0)?;
+                    let uvs: Vec<DVec2> = (0..7)
+                        .map(|i| curve.point_at(t0 + (t1 - t0) * i as f64 / 6.0))
+                        .collect::<Result<_, GeometryError>>()?;
+                    let q: Vec<DVec2> = uvs
+                        .iter()
+                        .map(|&uv| {
+                            lo = lo.min(uv);
+                            hi = hi.max(uv);
                             Ok(profile.rh(surface.point_at_clamped(uv)?))
                         })
                         .collect::<Result<_, GeometryError>>()?;
@@ -288,7 +297,11 @@ impl Profile {
                     }
                 }
             }
-            let [(u0, u1), (v0, v1)] = surface.domain();
+            let (u0, u1, v0, v1) = if lo.x < hi.x && lo.y < hi.y {
+                (lo.x.max(du0), hi.x.min(du1), lo.y.max(dv0), hi.y.min(dv1))
+            } else {
+                (du0, du1, dv0, dv1)
+            };
             let grid: Vec<DVec2> = (0..49)
                 .map(|i| {
                     let (s, t) = ((i % 7) as f64 / 6.0, (i / 7) as f64 / 6.0);
