@@ -904,7 +904,25 @@ impl Cell {
         let half = 0.5 * (other.hi - other.lo);
         let c = centre.dot(n);
         let r = half.dot(n.abs());
-        c + r < self.slab.0 - slack || c - r > self.slab.1 + slack
+        let (mut lo, mut hi) = (c - r, c + r);
+        // Where the other piece's normals lie near n (two offset surfaces, a thin wall, in
+        // general position, where the box is much wider than the piece along n), its own
+        // slab bounds it more tightly: with m its axis turned toward n, a point p of it has
+        // p·m within its slab and |p − centre| within the box's half-diagonal h, so
+        // p·n = p·m + (p − centre)·(n − m) + centre·(n − m) lies within
+        // [slab] + centre·(n − m) ± h |n − m|.
+        if let Some(m) = other.axis {
+            let (m, (s0, s1)) = if m.dot(n) < 0.0 {
+                (-m, (-other.slab.1, -other.slab.0))
+            } else {
+                (m, other.slab)
+            };
+            let tilt = n - m;
+            let (shift, reach) = (centre.dot(tilt), half.length() * tilt.length());
+            lo = lo.max(s0 + shift - reach);
+            hi = hi.min(s1 + shift + reach);
+        }
+        hi < self.slab.0 - slack || lo > self.slab.1 + slack
     }
 
     pub(crate) fn size(&self) -> f64 {
