@@ -97,9 +97,10 @@ struct Round {
 }
 
 impl Round {
-    /// Whether the fillet's radius varies along its edge.
+    /// Whether the fillet's radius varies along its edge: by more than 1e-9 of itself (less
+    /// puts the cone's apex so far off that its sections lose more than they would gain).
     fn varies(&self) -> bool {
-        (self.grow - 1.0).abs() > 1e-12
+        (self.grow - 1.0).abs() > 1e-9
     }
 }
 
