@@ -585,7 +585,12 @@ proptest! {
         let mut rng = Rng(seed);
         let a = height_field(&mut rng, 0.0, rational);
         let b = height_field(&mut rng, 0.1, false);
-        let options = IntersectOptions { tolerance: 1e-9, chord: 1e-3, smallest: 0.05 };
+        let options = IntersectOptions {
+            tolerance: 1e-9,
+            chord: 1e-3,
+            smallest: 0.05,
+            cell_pairs: knotwork::kernel::intersect::MAX_CELL_PAIRS,
+        };
         let found = intersect_surfaces(&a, &b, &options).unwrap();
         for c in &found.curves {
             for ((p, uv), st) in c.points.iter().zip(&c.uv_a).zip(&c.uv_b) {

@@ -146,6 +146,7 @@ pub fn fillet_surfaces(
         tolerance: 1e-2 * options.tolerance,
         chord: (4.0 * options.tolerance).min(1e-3 * size),
         smallest: (1e-2 * size).max(r * 0.5),
+        cell_pairs: crate::intersect::MAX_CELL_PAIRS,
     };
     let found = intersect_surfaces(&offset_a, &offset_b, &intersect)?;
     let branches = found.curves.len();

@@ -52,6 +52,9 @@ pub struct IntersectOptions {
     pub chord: f64,
     /// Closed loops at least this large are found.
     pub smallest: f64,
+    /// The most pairs of cells one intersection looks at before it takes the surfaces for
+    /// coinciding ([`MAX_CELL_PAIRS`] by default).
+    pub cell_pairs: usize,
 }
 
 impl IntersectOptions {
@@ -63,6 +66,7 @@ impl IntersectOptions {
             tolerance: 1e-6 * size,
             chord: 1e-3 * size,
             smallest: 1e-2 * size,
+            cell_pairs: MAX_CELL_PAIRS,
         }
     }
 }
@@ -1096,7 +1100,7 @@ fn intersect_trees(
     let mut visited = 0usize;
     while let Some((ia, ib, depth)) = stack.pop() {
         visited += 1;
-        if visited > MAX_CELL_PAIRS {
+        if visited > options.cell_pairs {
             result.overlapping = true;
             break;
         }
@@ -1350,6 +1354,7 @@ mod tests {
             tolerance: 1e-9,
             chord: 1e-3,
             smallest: 0.05,
+            cell_pairs: MAX_CELL_PAIRS,
         }
     }
 

@@ -71,6 +71,9 @@ pub struct BooleanJob {
     op: BooleanOp,
     tolerance: f64,
     stage: Stage,
+    /// The most cell pairs one pair of faces' intersection looks at
+    /// ([`crate::intersect::MAX_CELL_PAIRS`] unless [`Self::with_cell_pairs`] says).
+    cell_pairs: usize,
 }
 
 /// How much of the whole each stage takes, roughly (from a plate with 144 pins through it):
@@ -95,7 +98,16 @@ impl BooleanJob {
             op,
             tolerance,
             stage: Stage::Orient { a, b },
+            cell_pairs: crate::intersect::MAX_CELL_PAIRS,
         })
+    }
+
+    /// The job with each pair of faces' intersection looking at up to `pairs` cell pairs
+    /// before it takes the faces for coinciding: more for operands that cannot coincide
+    /// over an area but may lie close along one (a solid and its thin offset, in a shell).
+    pub fn with_cell_pairs(mut self, pairs: usize) -> Self {
+        self.cell_pairs = pairs;
+        self
     }
 
     /// Does the next step; true when the result is ready for [`Self::finish`]. An error ends
@@ -139,7 +151,7 @@ impl BooleanJob {
                         branches: 0,
                     }));
                 }
-                let cutter = Box::new(Cutter::new(&a, &b, tolerance));
+                let cutter = Box::new(Cutter::new(&a, &b, tolerance, self.cell_pairs));
                 Stage::Cut { a, b, cutter }
             }
             Stage::Cut { a, b, mut cutter } => {

@@ -502,6 +502,7 @@ fn marching_options(operands: &[&Operand], tolerance: f64) -> (f64, IntersectOpt
         tolerance: tolerance * 1e-5,
         chord: (size * 2e-5).max(tolerance),
         smallest: size * 2e-3,
+        cell_pairs: crate::intersect::MAX_CELL_PAIRS,
     };
     (size, options)
 }
@@ -509,7 +510,7 @@ fn marching_options(operands: &[&Operand], tolerance: f64) -> (f64, IntersectOpt
 /// Step 2 of the module documentation: every pair of faces whose boxes meet intersected
 /// (see there), the branches turned into cuts on both faces.
 fn cut_faces(a: &Operand, b: &Operand, tolerance: f64) -> Result<Cuts, GeometryError> {
-    let mut cutter = Cutter::new(a, b, tolerance);
+    let mut cutter = Cutter::new(a, b, tolerance, crate::intersect::MAX_CELL_PAIRS);
     while !cutter.next_pair(a, b, tolerance)? {}
     Ok(cutter.cuts)
 }
@@ -525,10 +526,13 @@ struct Cutter {
 }
 
 impl Cutter {
-    fn new(a: &Operand, b: &Operand, tolerance: f64) -> Self {
+    fn new(a: &Operand, b: &Operand, tolerance: f64, cell_pairs: usize) -> Self {
         let (size, options) = marching_options(&[a, b], tolerance);
         Self {
-            options,
+            options: IntersectOptions {
+                cell_pairs,
+                ..options
+            },
             trees: (
                 CachedTrees::new(a.faces.len()),
                 CachedTrees::new(b.faces.len()),

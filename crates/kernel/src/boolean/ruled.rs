@@ -839,6 +839,7 @@ mod tests {
                     tolerance: 1e-11 * size,
                     chord: 2e-4 * size,
                     smallest: 1e-2 * size,
+                    cell_pairs: crate::intersect::MAX_CELL_PAIRS,
                 };
                 let mut loops = 0;
                 for flat in &slab {

@@ -4,7 +4,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::boolean::{BooleanOp, boolean};
+use crate::boolean::{BooleanJob, BooleanOp};
 use crate::construct::line;
 use crate::curve::SpaceCurve;
 use crate::error::{GeometryError, construction};
@@ -289,7 +289,17 @@ fn hollow(
     tolerance: f64,
     picked: usize,
 ) -> Result<FeatureResult, GeometryError> {
-    let result = boolean(BooleanOp::Difference, outer, inner, tolerance)?;
+    // The offset body lies along the solid a wall's thickness away, never on it: a thin
+    // wall in general position takes more cell pairs than the boolean's default to tell
+    // the two apart.
+    let result = BooleanJob::new(
+        BooleanOp::Difference,
+        (outer.to_vec(), None),
+        (inner.to_vec(), None),
+        tolerance,
+    )?
+    .with_cell_pairs(10 * crate::intersect::MAX_CELL_PAIRS)
+    .run()?;
     if result.solids.is_empty() {
         return Err(construction(WHAT, "the shell leaves nothing"));
     }
