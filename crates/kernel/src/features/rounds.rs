@@ -1029,11 +1029,10 @@ pub fn round_edges_varying(
                 let face = b.fillet_face(k, ends)?;
                 let (_, centre) = b.arc(k)?;
                 let side = r.side;
-                // The ball centres' line: along the edge, or, where the radius varies, from
-                // the centre at a to its scaled copy at b.
+                // The ball centres' line: along the edge, or, where the radius varies,
+                // through the cone's apex.
                 let t = if r.varies() {
-                    let apex = b.apex(k);
-                    ((apex + (centre - apex) * r.grow) - centre).normalize()
+                    (centre - b.apex(k)).normalize()
                 } else {
                     r.t
                 };
