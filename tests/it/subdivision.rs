@@ -689,3 +689,115 @@ fn a_boundary_is_the_b_spline_with_mirrored_phantom_points() {
         }
     }
 }
+
+/// The stencil tables (the refinement's, their composition over the cage and every limit
+/// slot's) are built on every core: a pool of one thread and one of four give the same feed
+/// bit for bit, on cages in general position (jittered points) with extraordinary vertices,
+/// semi-sharp creases and a sharp corner, under Catmull-Clark, Loop and Doo-Sabin.
+#[test]
+fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
+    use knotwork::kernel::subdiv::patches::Display;
+    let mut rng = common::Rng(59);
+    let mut jittered = |mesh: PolygonMesh| {
+        let points: Vec<DVec3> = mesh
+            .points()
+            .iter()
+            .map(|p| {
+                *p + DVec3::new(
+                    rng.range(-0.2, 0.2),
+                    rng.range(-0.2, 0.2),
+                    rng.range(-0.2, 0.2),
+                )
+            })
+            .collect();
+        let faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
+        PolygonMesh::new(points, &faces).unwrap()
+    };
+    let sharp = |mesh: PolygonMesh, scheme: Scheme| {
+        let [a, b] = [
+            mesh.faces().next().unwrap()[0],
+            mesh.faces().next().unwrap()[1],
+        ];
+        with(
+            mesh,
+            vec![Crease {
+                a,
+                b,
+                sharpness: 1.5,
+            }],
+            vec![Corner {
+                vertex: 5,
+                sharpness: 2.0,
+            }],
+            Options {
+                scheme,
+                ..Options::default()
+            },
+        )
+    };
+    let cases = [
+        (
+            sharp(
+                jittered(cages::cube(DVec3::ZERO, 2.0).unwrap()),
+                Scheme::CatmullClark,
+            ),
+            4,
+        ),
+        (
+            sharp(
+                jittered(cages::icosahedron(DVec3::ZERO, 1.5).unwrap()),
+                Scheme::CatmullClark,
+            ),
+            3,
+        ),
+        (
+            sharp(
+                jittered(cages::icosahedron(DVec3::ZERO, 1.5).unwrap()),
+                Scheme::Loop,
+            ),
+            4,
+        ),
+        (
+            sharp(
+                jittered(cages::cube(DVec3::ZERO, 2.0).unwrap()),
+                Scheme::DooSabin,
+            ),
+            3,
+        ),
+    ];
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    for (surface, level) in &cases {
+        let build = || {
+            surface
+                .limit_feed_with(*level, Display::Limit, false)
+                .unwrap()
+        };
+        let one = pool(1).install(build);
+        let four = pool(4).install(build);
+        assert!(!one.slots.is_empty() && !one.entries.is_empty());
+        assert!(
+            one == four,
+            "{:?} level {level}: the feeds differ",
+            surface.options.scheme
+        );
+        let refine = || {
+            surface
+                .hierarchy(*level)
+                .unwrap()
+                .refine_points(surface.points())
+        };
+        let points_one = pool(1).install(refine);
+        let points_four = pool(4).install(refine);
+        assert!(
+            points_one
+                .iter()
+                .zip(&points_four)
+                .all(|(a, b)| a.to_array() == b.to_array())
+        );
+    }
+}

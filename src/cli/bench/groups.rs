@@ -432,6 +432,11 @@ pub fn run(
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
     writeln!(out, "adapter: {}", context.describe())?;
+    writeln!(
+        out,
+        "threads: {} (RAYON_NUM_THREADS sets them)",
+        rayon::current_num_threads()
+    )?;
     let wants = |g: &str| group == "all" || group == g;
     if wants("trim") {
         bench_trim(context, iterations, out)?;
@@ -1920,9 +1925,13 @@ fn bench_subdivision(
         bench_object(context, object, 200, iterations, out)?;
     }
 
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     for level in [3, 4] {
         let surface =
             knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(torus.clone(), level)?;
+        let start = Instant::now();
+        one_thread.install(|| surface.limit_feed_with(level, Display::Limit, false))?;
+        let one_ms = start.elapsed().as_secs_f64() * 1e3;
         let start = Instant::now();
         let feed = surface.limit_feed_with(level, Display::Limit, false)?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -1949,7 +1958,8 @@ fn bench_subdivision(
         };
         writeln!(
             out,
-            "torus cage L{level}, all stencils  | table build {build_ms:8.1} ms | {slots} slots, {} entries, {:.0} bytes per refined vertex | {pass}",
+            "torus cage L{level}, all stencils  | table build {build_ms:8.1} ms on {} threads, {one_ms:8.1} ms on one | {slots} slots, {} entries, {:.0} bytes per refined vertex | {pass}",
+            rayon::current_num_threads(),
             feed.entries.len(),
             bytes as f64 / slots as f64,
         )?;

@@ -58,7 +58,7 @@ pub struct VertexRows<'a> {
     level: &'a Level,
     scheme: Scheme,
     display: Display,
-    limit: Vec<std::cell::OnceCell<Row>>,
+    limit: Vec<std::sync::OnceLock<Row>>,
 }
 
 impl<'a> VertexRows<'a> {

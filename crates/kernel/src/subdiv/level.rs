@@ -1,7 +1,8 @@
 //! The topology of one subdivision level: faces, edges (numbered as OpenSubdiv's Vtr numbers
 //! them), their adjacency and sharpness, with the manifold checks a cage must pass.
 
-use std::collections::HashMap;
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 use crate::{CageProblem, GeometryError, Location};
 
@@ -66,9 +67,25 @@ impl Level {
         faces: &[&[u32]],
         mut edges: Vec<[u32; 2]>,
     ) -> Result<Self, GeometryError> {
-        let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(edges.len().max(16));
-        for (e, &[a, b]) in edges.iter().enumerate() {
-            index.insert((a.min(b), a.max(b)), e as u32);
+        // Edges given in advance, found by their smaller end (a refinement gives every edge:
+        // a short scan, no hashing); the others are numbered as the faces first use them.
+        let ends_in_range = edges.iter().flatten().all(|&v| (v as usize) < vertex_count);
+        let (low_starts, low_edges) = if ends_in_range {
+            group(
+                vertex_count,
+                edges
+                    .iter()
+                    .enumerate()
+                    .map(|(e, &[a, b])| (a.min(b), e as u32)),
+            )
+        } else {
+            (vec![0; vertex_count + 1], Vec::new())
+        };
+        let mut index: FxHashMap<(u32, u32), u32> = FxHashMap::default();
+        if !ends_in_range {
+            for (e, &[a, b]) in edges.iter().enumerate() {
+                index.insert((a.min(b), a.max(b)), e as u32);
+            }
         }
         let mut face_starts = Vec::with_capacity(faces.len() + 1);
         let corner_count: usize = faces.iter().map(|f| f.len()).sum();
@@ -101,11 +118,22 @@ impl Level {
             for (j, &a) in face.iter().enumerate() {
                 let b = face[(j + 1) % face.len()];
                 let key = (a.min(b), a.max(b));
-                let e = *index.entry(key).or_insert_with(|| {
-                    edges.push([a, b]);
-                    uses.push([NONE; 2]);
-                    (edges.len() - 1) as u32
-                });
+                let low = key.0 as usize;
+                let found = low_edges[low_starts[low] as usize..low_starts[low + 1] as usize]
+                    .iter()
+                    .copied()
+                    .find(|&e| {
+                        let [x, y] = edges[e as usize];
+                        x.max(y) == key.1
+                    });
+                let e = match found {
+                    Some(e) => e,
+                    None => *index.entry(key).or_insert_with(|| {
+                        edges.push([a, b]);
+                        uses.push([NONE; 2]);
+                        (edges.len() - 1) as u32
+                    }),
+                };
                 let side = usize::from(a > b);
                 let slot = &mut uses[e as usize];
                 if slot[side] != NONE {
@@ -158,11 +186,12 @@ impl Level {
 
     /// Every vertex with faces must have them in one fan: as many edges as faces (interior)
     /// or one more with exactly two boundary edges, and the ring walk must reach them all.
+    /// The first such vertex by index is named, however many threads look (in parallel).
     fn check_fans(&self) -> Result<(), GeometryError> {
-        for v in 0..self.vertex_count as u32 {
+        let fanned = |v: u32| {
             let faces = self.vertex_faces(v).len();
             if faces == 0 {
-                continue;
+                return true;
             }
             let boundary = self
                 .vertex_edges(v)
@@ -175,14 +204,18 @@ impl Level {
                 2 => edges == faces + 1,
                 _ => false,
             };
-            if !shaped || self.ring(v).faces.len() != faces {
-                return Err(cage_error(
-                    Location::point(v as usize),
-                    CageProblem::NonManifoldVertex,
-                ));
-            }
+            shaped && self.ring(v).faces.len() == faces
+        };
+        match (0..self.vertex_count as u32)
+            .into_par_iter()
+            .find_first(|&v| !fanned(v))
+        {
+            Some(v) => Err(cage_error(
+                Location::point(v as usize),
+                CageProblem::NonManifoldVertex,
+            )),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     pub fn face_count(&self) -> usize {

@@ -223,39 +223,38 @@ pub fn is_regular(level: &Level, scheme: Scheme, v: u32) -> bool {
             .all(|&f| level.face(f).len() == 4)
 }
 
-/// Position, Su, Sv, Suu, Suv, Svv of the limit at a regular vertex `v` (see [`is_regular`])
-/// per unit knot spacing, with u pointing to neighbour `plus_u` (or away from it when
-/// `reversed`): the tensor products of the cubic B-spline's values (1, 4, 1)/6, first
-/// derivatives (−1, 0, 1)/2 and second derivatives (1, −2, 1) at a knot.
-pub fn regular_derivatives(level: &Level, v: u32, plus_u: u32, reversed: bool) -> Option<[Row; 6]> {
+/// The 3 × 3 neighbourhood of a regular vertex `v` (see [`is_regular`]) with u pointing to
+/// neighbour `plus_u` (or away from it when `reversed`): entry 3a + b is the point a − 1 steps
+/// along u and b − 1 along v from `v`.
+pub fn regular_grid(level: &Level, v: u32, plus_u: u32, reversed: bool) -> Option<[u32; 9]> {
     let ring = level.ring(v);
     let start = ring.neighbours.iter().position(|&x| x == plus_u)?;
     let start = if reversed { (start + 2) % 4 } else { start };
     let e = |k: usize| ring.neighbours[(start + k) % 4];
     let d = |k: usize| level.diagonal(ring.faces[(start + k) % 4], v);
-    // grid[a + 1][b + 1]: the point a steps along u and b along v from `v`.
-    let grid = [[d(2), e(2), d(1)], [e(3), v, e(1)], [d(3), e(0), d(0)]];
+    Some([d(2), e(2), d(1), e(3), v, e(1), d(3), e(0), d(0)])
+}
+
+/// The weights of position, Su, Sv, Suu, Suv, Svv of the limit at a regular vertex on its
+/// [`regular_grid`], per `1/scale` of knot spacing (derivatives by a parameter in which the
+/// knots are `1/scale` apart): the tensor products of the cubic B-spline's values
+/// (1, 4, 1)/6, first derivatives (−1, 0, 1)/2 and second derivatives (1, −2, 1) at a knot.
+pub fn regular_weights(scale: f64) -> [[f64; 6]; 9] {
     let value = [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0];
-    let first = [-0.5, 0.0, 0.5];
-    let second = [1.0, -2.0, 1.0];
-    let tensor = |wu: &[f64; 3], wv: &[f64; 3]| {
-        let mut row = Row::default();
-        for a in 0..3 {
-            for b in 0..3 {
-                let w = wu[a] * wv[b];
-                if w != 0.0 {
-                    row.add(grid[a][b], w);
-                }
-            }
+    let first = [-0.5 * scale, 0.0, 0.5 * scale];
+    let second = [scale * scale, -2.0 * scale * scale, scale * scale];
+    let mut weights = [[0.0; 6]; 9];
+    for a in 0..3 {
+        for b in 0..3 {
+            weights[3 * a + b] = [
+                value[a] * value[b],
+                first[a] * value[b],
+                value[a] * first[b],
+                second[a] * value[b],
+                first[a] * first[b],
+                value[a] * second[b],
+            ];
         }
-        row.merged()
-    };
-    Some([
-        tensor(&value, &value),
-        tensor(&first, &value),
-        tensor(&value, &first),
-        tensor(&second, &value),
-        tensor(&first, &first),
-        tensor(&value, &second),
-    ])
+    }
+    weights
 }

@@ -5,14 +5,15 @@
 
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
-use super::limit::{is_regular, regular_derivatives};
+use super::limit::{is_regular, regular_grid, regular_weights};
 use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
 };
 pub use super::pieces::{Display, Entry, LimitFeed, StencilPatch, SubstitutePatch};
-use super::stencil::Row;
+use super::stencil::{Accumulator, Row, WideRows, build_rows};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
+use rayon::prelude::*;
 
 /// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
 fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
@@ -225,20 +226,26 @@ pub(super) fn face_grid(
     grid
 }
 
+/// Marks in `needed` the vertices `rows` reach.
+fn mark_reached<'a>(needed: &mut [bool], rows: impl Iterator<Item = &'a Row>) {
+    for row in rows {
+        for &(i, _) in &row.0 {
+            needed[i as usize] = true;
+        }
+    }
+}
+
 /// Rows over level `k`'s vertices expressed over the cage's points: composes the stencils of
-/// the levels below for the rows named (and only those).
-fn compose_to_cage(hierarchy: &Hierarchy, k: usize, rows: &[&Row]) -> Vec<Vec<Row>> {
+/// the levels below, level by level as OpenSubdiv's Far factorises its tables, for the level-k
+/// vertices `needed_at_k` marks (and only those; the others' rows are empty). Each level's
+/// rows are gathered in a flat sparse accumulator over the cage, in blocks on every core.
+fn compose_to_cage(hierarchy: &Hierarchy, k: usize, needed_at_k: Vec<bool>) -> WideRows<1> {
     // needed[level]: which vertices of each level the rows reach.
-    let mut needed: Vec<Vec<bool>> = hierarchy
-        .levels
+    let mut needed: Vec<Vec<bool>> = hierarchy.levels[..k]
         .iter()
         .map(|l| vec![false; l.vertex_count])
         .collect();
-    for row in rows {
-        for &(i, _) in &row.0 {
-            needed[k][i as usize] = true;
-        }
-    }
+    needed.push(needed_at_k);
     for level in (1..=k).rev() {
         let stencils = &hierarchy.stencils[level - 1];
         let (upper, lower) = needed.split_at_mut(level);
@@ -252,58 +259,48 @@ fn compose_to_cage(hierarchy: &Hierarchy, k: usize, rows: &[&Row]) -> Vec<Vec<Ro
             }
         }
     }
-    let mut composed: Vec<Vec<Row>> = Vec::with_capacity(k + 1);
-    composed.push(
-        (0..hierarchy.levels[0].vertex_count as u32)
-            .map(|v| Row(vec![(v, 1.0)]))
-            .collect(),
-    );
+    let cage = hierarchy.levels[0].vertex_count;
+    let mut composed = WideRows {
+        offsets: (0..=cage as u32).collect(),
+        entries: (0..cage as u32).map(|v| (v, [1.0])).collect(),
+    };
     for level in 1..=k {
         let stencils = &hierarchy.stencils[level - 1];
-        let below = &composed[level - 1];
-        let rows: Vec<Row> = (0..hierarchy.levels[level].vertex_count)
-            .map(|v| {
-                if !needed[level][v] {
-                    return Row::default();
+        let below = &composed;
+        let needed = &needed[level];
+        composed = build_rows(hierarchy.levels[level].vertex_count, cage, |v, sum| {
+            if !needed[v] {
+                return;
+            }
+            let (s, e) = (
+                stencils.offsets[v] as usize,
+                stencils.offsets[v + 1] as usize,
+            );
+            for t in s..e {
+                for (i, w) in below.row(stencils.indices[t] as usize) {
+                    sum.add_scaled(*i, stencils.weights[t], w);
                 }
-                let mut row = Row::default();
-                let (s, e) = (
-                    stencils.offsets[v] as usize,
-                    stencils.offsets[v + 1] as usize,
-                );
-                for t in s..e {
-                    row.add_row(&below[stencils.indices[t] as usize], stencils.weights[t]);
-                }
-                row.merged()
-            })
-            .collect();
-        composed.push(rows);
+            }
+        });
     }
     composed
 }
 
-/// `row` (over a level's vertices) over the cage's points, given each level vertex's row over
-/// the cage (`composed`).
-fn over_cage(composed: &[Row], row: &Row) -> Row {
-    let mut out = Row::default();
-    for &(i, w) in &row.0 {
-        out.add_row(&composed[i as usize], w);
-    }
-    out.merged()
-}
-
-/// Appends one slot's entries (up to six rows: position, Su, Sv, Suu, Suv, Svv, each over the
-/// cage) merged by cage point; returns the slot's first entry and count.
-fn push_entries(feed: &mut LimitFeed, rows: impl Iterator<Item = Row>) -> [u32; 2] {
-    let mut merged: std::collections::BTreeMap<u32, [f64; 6]> = Default::default();
+/// Gathers the rows of one slot (up to six: position, Su, Sv, Suu, Suv, Svv, each over a
+/// level's vertices) over the cage's points into `sum`, given each level vertex's row over the
+/// cage (`composed`).
+fn gather_over_cage<'a>(
+    composed: &WideRows<1>,
+    rows: impl Iterator<Item = &'a Row>,
+    sum: &mut Accumulator<6>,
+) {
     for (c, row) in rows.enumerate() {
         for &(i, w) in &row.0 {
-            merged.entry(i).or_insert([0.0; 6])[c] += w;
+            for &(j, [x]) in composed.row(i as usize) {
+                sum.add(j, c, w * x);
+            }
         }
     }
-    let start = feed.entries.len() as u32;
-    feed.entries.extend(merged);
-    [start, feed.entries.len() as u32 - start]
 }
 
 /// The GPU feed of a display given as polygons over rows ([`DisplayRows`]) on level `k`:
@@ -311,16 +308,21 @@ fn push_entries(feed: &mut LimitFeed, rows: impl Iterator<Item = Row>) -> [u32; 
 /// polygons fans of triangles; slots of the same display point share its entries. The
 /// patches belong to no single cage face (`cage_face` is [`NONE`]).
 fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> LimitFeed {
-    let all: Vec<&Row> = display.rows.iter().flat_map(|r| r.iter()).collect();
-    let composed = compose_to_cage(hierarchy, k, &all);
+    let mut needed = vec![false; hierarchy.levels[k].vertex_count];
+    mark_reached(&mut needed, display.rows.iter().flatten());
+    let composed = compose_to_cage(hierarchy, k, needed);
+    let cage = hierarchy.levels[0].vertex_count;
+    let point_entries = build_rows(display.rows.len(), cage, |p, sum| {
+        gather_over_cage(&composed, display.rows[p].iter(), sum);
+    });
     let mut feed = LimitFeed::default();
     let mut entries: Vec<Option<[u32; 2]>> = vec![None; display.rows.len()];
     let mut slot_of = |feed: &mut LimitFeed, point: u32| -> [u32; 2] {
         *entries[point as usize].get_or_insert_with(|| {
-            let rows = display.rows[point as usize]
-                .iter()
-                .map(|row| over_cage(&composed[k], row));
-            push_entries(feed, rows)
+            let start = feed.entries.len() as u32;
+            feed.entries
+                .extend_from_slice(point_entries.row(point as usize));
+            [start, feed.entries.len() as u32 - start]
         })
     };
     for polygon in &display.polygons {
@@ -510,6 +512,15 @@ pub(super) fn exact_pieces(hierarchy: &Hierarchy, faces: &[u32], levels: u32) ->
     pieces
 }
 
+/// The rows of one shown slot over its level's vertices: a regular Catmull-Clark vertex's
+/// 3 × 3 neighbourhood ([`regular_grid`]) with its derivatives' scale, whose weights
+/// ([`regular_weights`]) give the position and every first and second derivative; any other
+/// vertex's limit position and two tangents (the curvature undefined).
+enum SlotRows {
+    Regular([u32; 9], f64),
+    Rows([Row; 3]),
+}
+
 /// Appends the stencil patches of `pieces` (faces of the hierarchy's levels refined to level
 /// `levels`, each shown on its own grid, [`ShownPiece`]) showing `display`. Every slot shows a
 /// vertex of level `levels`, with its derivatives taken on that level's grid.
@@ -566,62 +577,67 @@ pub(super) fn push_stencil_patches(
         .collect();
     // The slots already in the feed.
     let before = feed.slots.len();
-    // Rows over level-k vertices per slot.
+    // Per slot over level-k vertices: a regular vertex's 3 × 3 grid and its scale, or the
+    // rows of its limit position and tangents (no curvature).
     let vertex_rows = VertexRows::new(level, scheme, display);
-    let mut slot_rows: Vec<Option<([Row; 6], bool)>> = Vec::new();
-    for ((patch, grid), shown) in grids.iter_mut().zip(pieces) {
+    let per_piece: Vec<Vec<Option<SlotRows>>> = grids
+        .par_iter()
+        .zip(pieces)
+        .map(|((_, grid), shown)| {
+            // Derivatives per unit of the piece's parameter: level k's step is 2^-depth of it.
+            let scale = f64::from(1u32 << shown.piece.depth);
+            grid.iter()
+                .map(|slot| {
+                    let (v, towards, reversed) = (*slot)?;
+                    let regular = display != Display::Refined && is_regular(level, scheme, v);
+                    let neighbourhood = if regular {
+                        towards.and_then(|n| regular_grid(level, v, n, reversed))
+                    } else {
+                        None
+                    };
+                    Some(match neighbourhood {
+                        Some(points) => SlotRows::Regular(points, scale),
+                        None => SlotRows::Rows(vertex_rows.rows(v)),
+                    })
+                })
+                .collect()
+        })
+        .collect();
+    let mut slot_rows: Vec<Option<SlotRows>> = Vec::new();
+    for ((patch, _), rows) in grids.iter_mut().zip(per_piece) {
         patch.first_slot = (before + slot_rows.len()) as u32;
-        // Derivatives per unit of the piece's parameter: level k's step is 2^-depth of it.
-        let scale = f64::from(1u32 << shown.piece.depth);
-        for slot in grid.iter() {
-            let Some((v, towards, reversed)) = *slot else {
-                slot_rows.push(None);
-                continue;
-            };
-            let regular = display != Display::Refined && is_regular(level, scheme, v);
-            let derivatives = if regular {
-                towards.and_then(|n| regular_derivatives(level, v, n, reversed))
-            } else {
-                None
-            };
-            let rows = match derivatives {
-                Some([p, su, sv, suu, suv, svv]) => {
-                    let mut scaled = [p, su, sv, suu, suv, svv];
-                    for (r, factor) in scaled.iter_mut().zip([
-                        1.0,
-                        scale,
-                        scale,
-                        scale * scale,
-                        scale * scale,
-                        scale * scale,
-                    ]) {
-                        for e in &mut r.0 {
-                            e.1 *= factor;
-                        }
-                    }
-                    (scaled, false)
-                }
-                None => {
-                    let [p, t1, t2] = vertex_rows.rows(v);
-                    let none = Row::default;
-                    ([p, t1, t2, none(), none(), none()], true)
-                }
-            };
-            slot_rows.push(Some(rows));
-        }
+        slot_rows.extend(rows);
         feed.patches.push(*patch);
     }
-    let all: Vec<&Row> = slot_rows
-        .iter()
-        .flatten()
-        .flat_map(|(rows, _)| rows.iter())
-        .collect();
-    let composed = compose_to_cage(hierarchy, k, &all);
-    let over_cage = |row: &Row| over_cage(&composed[k], row);
+    let mut needed = vec![false; level.vertex_count];
+    for slot in slot_rows.iter().flatten() {
+        match slot {
+            SlotRows::Regular(points, _) => {
+                for &p in points {
+                    needed[p as usize] = true;
+                }
+            }
+            SlotRows::Rows(rows) => mark_reached(&mut needed, rows.iter()),
+        }
+    }
+    let composed = compose_to_cage(hierarchy, k, needed);
+    let cage = hierarchy.levels[0].vertex_count;
+    let slot_entries = build_rows(slot_rows.len(), cage, |slot, sum| match &slot_rows[slot] {
+        Some(SlotRows::Regular(points, scale)) => {
+            for (&p, weights) in points.iter().zip(regular_weights(*scale).iter()) {
+                for &(j, [x]) in composed.row(p as usize) {
+                    sum.add_scaled(j, x, weights);
+                }
+            }
+        }
+        Some(SlotRows::Rows(rows)) => gather_over_cage(&composed, rows.iter(), sum),
+        None => {}
+    });
+    let base = feed.entries.len() as u32;
     for (patch, grid) in &grids {
         let first = patch.first_slot as usize;
         for slot in first..first + (patch.segments as usize + 1).pow(2) {
-            let Some((rows, no_curvature)) = &slot_rows[slot - before] else {
+            let Some(rows) = &slot_rows[slot - before] else {
                 // Unused triangle slots alias the patch's first slot.
                 let alias = feed.slots[first];
                 feed.slots.push(alias);
@@ -629,11 +645,17 @@ pub(super) fn push_stencil_patches(
                 feed.vertex.push(u32::MAX);
                 continue;
             };
-            let slot_entries = push_entries(feed, rows.iter().map(&over_cage));
-            feed.slots.push(slot_entries);
-            feed.no_curvature.push(*no_curvature);
+            let [start, end] = [slot - before, slot - before + 1].map(|r| slot_entries.offsets[r]);
+            feed.slots.push([base + start, end - start]);
+            feed.no_curvature.push(matches!(rows, SlotRows::Rows(_)));
             feed.vertex
                 .push(grid[slot - first].map_or(u32::MAX, |(v, _, _)| v));
         }
+    }
+    // The slots' entries follow the feed's, in slot order.
+    if feed.entries.is_empty() {
+        feed.entries = slot_entries.entries;
+    } else {
+        feed.entries.extend(slot_entries.entries);
     }
 }

@@ -1,6 +1,9 @@
-//! Stencil tables: each output point as a weighted sum of input points (compressed rows).
+//! Stencil tables: each output point as a weighted sum of input points (compressed rows), and
+//! the sparse accumulation that composes them (Gustavson's algorithm over flat arrays, row
+//! blocks on every core).
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Rows of weights over input points: row i is `indices[offsets[i]..offsets[i + 1]]` with the
 /// matching `weights`. Applying it is a gather, so it runs the same on the CPU and the GPU.
@@ -77,7 +80,12 @@ impl Stencils {
     }
 
     pub fn push(&mut self, row: Row) {
-        for (i, w) in row.merged().0 {
+        self.push_merged(row.merged());
+    }
+
+    /// Pushes a row already [`Row::merged`].
+    pub fn push_merged(&mut self, row: Row) {
+        for (i, w) in row.0 {
             self.indices.push(i);
             self.weights.push(w);
         }
@@ -95,4 +103,118 @@ impl Stencils {
             })
             .collect()
     }
+}
+
+/// Gustavson's sparse accumulator: `N`-component weights gathered by index into a flat array
+/// of the whole index range, the indices touched listed so that reading and clearing cost only
+/// what was added (no maps, no sorting of repeated entries).
+pub struct Accumulator<const N: usize> {
+    values: Vec<[f64; N]>,
+    seen: Vec<bool>,
+    touched: Vec<u32>,
+}
+
+impl<const N: usize> Accumulator<N> {
+    /// An empty accumulator over indices `0..size`.
+    pub fn new(size: usize) -> Self {
+        Self {
+            values: vec![[0.0; N]; size],
+            seen: vec![false; size],
+            touched: Vec::new(),
+        }
+    }
+
+    fn slot(&mut self, index: u32) -> &mut [f64; N] {
+        let i = index as usize;
+        if !self.seen[i] {
+            self.seen[i] = true;
+            self.touched.push(index);
+        }
+        &mut self.values[i]
+    }
+
+    /// Adds `weight` to component `component` of `index`.
+    pub fn add(&mut self, index: u32, component: usize, weight: f64) {
+        self.slot(index)[component] += weight;
+    }
+
+    /// Adds `scale · weights` to `index`.
+    pub fn add_scaled(&mut self, index: u32, scale: f64, weights: &[f64; N]) {
+        let slot = self.slot(index);
+        for (s, w) in slot.iter_mut().zip(weights) {
+            *s += scale * w;
+        }
+    }
+
+    /// Appends the gathered entries to `out` by increasing index and clears the accumulator.
+    pub fn drain_into(&mut self, out: &mut Vec<(u32, [f64; N])>) {
+        self.touched.sort_unstable();
+        for &i in &self.touched {
+            let i = i as usize;
+            out.push((i as u32, std::mem::replace(&mut self.values[i], [0.0; N])));
+            self.seen[i] = false;
+        }
+        self.touched.clear();
+    }
+}
+
+/// Rows of `N`-component weights (compressed: row r is `entries[offsets[r]..offsets[r + 1]]`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WideRows<const N: usize> {
+    pub offsets: Vec<u32>,
+    pub entries: Vec<(u32, [f64; N])>,
+}
+
+impl<const N: usize> WideRows<N> {
+    /// Row `r`'s entries.
+    pub fn row(&self, r: usize) -> &[(u32, [f64; N])] {
+        &self.entries[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    }
+}
+
+/// Rows built per block of this many, one block per task.
+const ROW_BLOCK: usize = 512;
+
+/// `count` rows over indices `0..size`, row r gathered by `row(r, accumulator)`, in blocks on
+/// every core. Each row's entries come out sorted by index, and every sum is taken in the
+/// order `row` adds, so the table is bit for bit the same whatever the number of threads.
+pub fn build_rows<const N: usize>(
+    count: usize,
+    size: usize,
+    row: impl Fn(usize, &mut Accumulator<N>) + Sync,
+) -> WideRows<N> {
+    // Per block: each row's length and the entries.
+    type Block<const N: usize> = (Vec<u32>, Vec<(u32, [f64; N])>);
+    let blocks: Vec<Block<N>> = (0..count.div_ceil(ROW_BLOCK))
+        .into_par_iter()
+        .map_init(
+            || Accumulator::new(size),
+            |accumulator, b| {
+                let rows = b * ROW_BLOCK..((b + 1) * ROW_BLOCK).min(count);
+                let mut lengths = Vec::with_capacity(rows.len());
+                let mut entries = Vec::new();
+                for r in rows {
+                    let before = entries.len();
+                    row(r, accumulator);
+                    accumulator.drain_into(&mut entries);
+                    lengths.push((entries.len() - before) as u32);
+                }
+                (lengths, entries)
+            },
+        )
+        .collect();
+    let total = blocks.iter().map(|(_, e)| e.len()).sum();
+    let mut table = WideRows {
+        offsets: Vec::with_capacity(count + 1),
+        entries: Vec::with_capacity(total),
+    };
+    table.offsets.push(0);
+    for (lengths, entries) in blocks {
+        for length in lengths {
+            let last = table.offsets[table.offsets.len() - 1];
+            table.offsets.push(last + length);
+        }
+        table.entries.extend(entries);
+    }
+    table
 }
