@@ -1254,3 +1254,41 @@ mod against_occ {
         assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
 }
+
+/// Reading's meshing runs on every core (the edges sampled, the shared edges matched and the
+/// faces triangulated in parallel): a pool of one thread and one of four mesh real files from
+/// other CAD systems (a CAx-IF round-robin part and OpenCASCADE's plate with filleted holes)
+/// into the same mesh, bit for bit.
+#[test]
+fn the_joined_mesh_is_the_same_bit_for_bit_on_one_thread_and_on_four() {
+    let public = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/step-public");
+    let models = [
+        step::read::read(
+            &std::fs::read(format!("{public}/cax-if__dm1-oc-214.stp")).unwrap(),
+            &mut |_, _| true,
+        )
+        .unwrap(),
+        read("plate-3.step"),
+    ];
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    for model in &models {
+        for body in &model.bodies {
+            let mesh = || tessellate_joined(&body.faces, &body.topology, 1e-2, true).unwrap();
+            let one = pool(1).install(mesh);
+            let four = pool(4).install(mesh);
+            assert!(!one.triangles.is_empty(), "{}: no triangles", body.name);
+            // Compared as printed (shortest round-trip digits), so that a NaN curvature
+            // compares equal to itself.
+            assert!(
+                format!("{one:?}") == format!("{four:?}"),
+                "{}: the meshes differ",
+                body.name
+            );
+        }
+    }
+}

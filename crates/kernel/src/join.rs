@@ -19,6 +19,7 @@
 //!   turned to agree in orientation across their shared edges where they can be.
 
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::error::GeometryError;
@@ -196,7 +197,7 @@ struct Edge<'a> {
     precision: f64,
     /// How far the edge bows away from the chords between its samples, worked out when
     /// first needed ([`Edge::bow`]).
-    bow: std::cell::OnceCell<f64>,
+    bow: std::sync::OnceLock<f64>,
 }
 
 impl Edge<'_> {
@@ -424,20 +425,27 @@ fn edges_of<'a>(
     loops: &'a [Vec<TrimLoop>],
     tolerance: f64,
 ) -> Vec<Edge<'a>> {
-    let mut out = Vec::new();
-    for (f, (face, face_loops)) in faces.iter().zip(loops).enumerate() {
-        for (l, lp) in face_loops.iter().enumerate() {
-            for (c, curve) in lp.iter().enumerate() {
-                let id = EdgeId {
-                    face: f,
-                    loop_index: l,
-                    curve: c,
-                };
-                out.push(make_edge(id, face, curve, tolerance));
+    // Face by face on every core, in face order.
+    let per_face: Vec<Vec<Edge<'a>>> = faces
+        .par_iter()
+        .zip(loops)
+        .enumerate()
+        .map(|(f, (face, face_loops))| {
+            let mut out = Vec::new();
+            for (l, lp) in face_loops.iter().enumerate() {
+                for (c, curve) in lp.iter().enumerate() {
+                    let id = EdgeId {
+                        face: f,
+                        loop_index: l,
+                        curve: c,
+                    };
+                    out.push(make_edge(id, face, curve, tolerance));
+                }
             }
-        }
-    }
-    out
+            out
+        })
+        .collect();
+    per_face.into_iter().flatten().collect()
 }
 
 fn make_edge<'a>(
@@ -472,7 +480,7 @@ fn make_edge<'a>(
         degenerate: length <= tolerance,
         samples,
         precision: SEARCH_PRECISION * tolerance,
-        bow: std::cell::OnceCell::new(),
+        bow: std::sync::OnceLock::new(),
     }
 }
 
@@ -699,19 +707,28 @@ pub fn tessellate_joined(
             owners.push((k, None));
         }
     }
-    for (k, _) in owners {
-        let e = &edges[k];
-        let ts = sample_edge(e, 0.25 * tolerance);
+    // The owners' samples along their edges, on every core; their vertices numbered in order.
+    let owner_samples: Vec<Vec<(f64, DVec3)>> = owners
+        .par_iter()
+        .map(|&(k, _)| {
+            let e = &edges[k];
+            sample_edge(e, 0.25 * tolerance)
+                .into_iter()
+                .map(|t| (t, e.point(t)))
+                .collect()
+        })
+        .collect();
+    for (&(k, _), samples) in owners.iter().zip(owner_samples) {
         let (start, end) = corners_done[k];
-        let mut seq = Vec::with_capacity(ts.len());
-        for (i, &t) in ts.iter().enumerate() {
+        let mut seq = Vec::with_capacity(samples.len());
+        for (i, &(t, position)) in samples.iter().enumerate() {
             let v = if i == 0 {
                 start
-            } else if i + 1 == ts.len() {
+            } else if i + 1 == samples.len() {
                 end
             } else {
                 vertices.push(JoinedVertex {
-                    position: e.point(t),
+                    position,
                     uses: Vec::new(),
                 });
                 vertices.len() - 1
@@ -720,41 +737,41 @@ pub fn tessellate_joined(
         }
         sequences[k] = Some(seq);
     }
-    for (follow, own, reversed) in followers {
-        let Some(theirs) = sequences[own].clone() else {
-            continue;
-        };
-        let e = &edges[follow];
-        let mut seq = Vec::with_capacity(theirs.len());
-        let count = theirs.len();
-        let mut hint: Option<f64> = None;
-        let mut previous_own: Option<f64> = None;
-        let ordered: Vec<(usize, f64)> = if reversed {
-            theirs.into_iter().rev().collect()
-        } else {
-            theirs
-        };
-        for (i, (v, own_t)) in ordered.into_iter().enumerate() {
-            // The search window around the last point: at least 4 samples, and three times the
-            // owner's step (its points may be far apart along a straight edge).
-            let step = previous_own.map_or(0.0, |p| (own_t - p).abs());
-            previous_own = Some(own_t);
-            let t = if !e.closed_uv && i == 0 {
-                0.0
-            } else if !e.closed_uv && i + 1 == count {
-                1.0
-            } else {
-                // A closed curve's parameter wraps round at its own seam: search it all.
-                let window = hint
-                    .filter(|_| !e.closed_uv)
-                    .map(|h| (h, (4.0 / SEARCH_SAMPLES as f64).max(3.0 * step)));
-                let (t, _) = e.closest(vertices[v].position, window);
-                t
-            };
-            hint = Some(t);
-            seq.push((v, t));
+    // The followers' parameters at the owners' points (a search each, on every core). Where a
+    // follower is also another's owner, its sequence must be in place first: one at a time.
+    let follows_a_follower = {
+        let following: std::collections::HashSet<usize> =
+            followers.iter().map(|&(f, _, _)| f).collect();
+        followers
+            .iter()
+            .any(|&(_, own, _)| following.contains(&own))
+    };
+    let follow = |&(follow, own, reversed): &(usize, usize, bool),
+                  sequences: &[Option<Vec<(usize, f64)>>]| {
+        let theirs = sequences[own].as_ref()?;
+        Some(follower_sequence(
+            &edges[follow],
+            theirs,
+            reversed,
+            &vertices,
+        ))
+    };
+    if follows_a_follower {
+        for pair in &followers {
+            if let Some(seq) = follow(pair, &sequences) {
+                sequences[pair.0] = Some(seq);
+            }
         }
-        sequences[follow] = Some(seq);
+    } else {
+        let found: Vec<Option<Vec<(usize, f64)>>> = followers
+            .par_iter()
+            .map(|pair| follow(pair, &sequences))
+            .collect();
+        for (pair, seq) in followers.iter().zip(found) {
+            if let Some(seq) = seq {
+                sequences[pair.0] = Some(seq);
+            }
+        }
     }
     // Degenerate edges (a pole, a collapsed side): one point in space, but a line in the
     // face's (u, v), sampled along it so that the triangles next to it fan into the point.
@@ -771,51 +788,38 @@ pub fn tessellate_joined(
             );
         }
     }
-    // Each face: its loops as (vertex, (u, v)) polygons, then the triangulation.
+    // Each face: its loops as (vertex, (u, v)) polygons, then the triangulation and its inner
+    // points on every core, merged in face order (the same mesh whatever the thread count, the
+    // first face that fails named).
+    let polygons: Vec<Vec<Vec<(usize, DVec2)>>> = (0..faces.len())
+        .map(|f| face_polygons(f, &loops[f], &edges, &sequences, &index_of))
+        .collect();
+    let triangulated: Vec<Result<(FaceTriangulation, Vec<DVec3>), GeometryError>> = faces
+        .par_iter()
+        .zip(&polygons)
+        .map(|(face, polygons)| {
+            let local = triangulate_face(face, polygons, tolerance)?;
+            let points = local
+                .interior
+                .iter()
+                .map(|(uv, _)| face.surface().point_at_clamped(*uv))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok((local, points))
+        })
+        .collect();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut triangle_face: Vec<usize> = Vec::new();
-    for (f, face) in faces.iter().enumerate() {
-        let mut polygons: Vec<Vec<(usize, DVec2)>> = Vec::new();
-        for (l, lp) in loops[f].iter().enumerate() {
-            let mut polygon: Vec<(usize, DVec2)> = Vec::new();
-            for c in 0..lp.len() {
-                let id = EdgeId {
-                    face: f,
-                    loop_index: l,
-                    curve: c,
-                };
-                let Some(k) = index_of(id) else { continue };
-                let Some(seq) = &sequences[k] else { continue };
-                let e = &edges[k];
-                let closed_alone = e.closed_uv && lp.len() == 1;
-                let take = if closed_alone {
-                    // A loop of one closed curve: its points once round.
-                    let mut s = seq.clone();
-                    if s.len() > 1 && s[0].0 == s[s.len() - 1].0 {
-                        s.pop();
-                    }
-                    s
-                } else {
-                    seq[..seq.len() - 1].to_vec()
-                };
-                for (v, t) in take {
-                    polygon.push((v, e.uv(t)));
-                }
-            }
-            if polygon.len() >= 3 {
-                polygons.push(polygon);
-            }
-        }
-        let local = triangulate_face(face, &polygons, tolerance)?;
+    for (f, (result, polygons)) in triangulated.into_iter().zip(&polygons).enumerate() {
+        let (local, points) = result?;
         let interior_base = vertices.len();
-        for (uv, _) in &local.interior {
+        for ((uv, _), position) in local.interior.iter().zip(points) {
             vertices.push(JoinedVertex {
-                position: face.surface().point_at_clamped(*uv)?,
+                position,
                 uses: vec![(f, *uv)],
             });
         }
         // Boundary vertices record this face's (u, v).
-        for polygon in &polygons {
+        for polygon in polygons {
             for &(v, uv) in polygon {
                 if !vertices[v].uses.iter().any(|(g, _)| *g == f) {
                     vertices[v].uses.push((f, uv));
@@ -847,6 +851,91 @@ pub fn tessellate_joined(
         }
     }
     build_mesh(faces, &vertices, triangles, &flip, curvature)
+}
+
+/// A follower edge's vertex sequence: the owner's vertices `theirs` (in the owner's direction,
+/// turned round when `reversed`), each at the parameter of `e` nearest it, searched near the
+/// last one found (and over all of a closed edge, whose parameter wraps round).
+fn follower_sequence(
+    e: &Edge<'_>,
+    theirs: &[(usize, f64)],
+    reversed: bool,
+    vertices: &[JoinedVertex],
+) -> Vec<(usize, f64)> {
+    let mut seq = Vec::with_capacity(theirs.len());
+    let count = theirs.len();
+    let mut hint: Option<f64> = None;
+    let mut previous_own: Option<f64> = None;
+    let ordered: Vec<(usize, f64)> = if reversed {
+        theirs.iter().rev().copied().collect()
+    } else {
+        theirs.to_vec()
+    };
+    for (i, (v, own_t)) in ordered.into_iter().enumerate() {
+        // The search window around the last point: at least 4 samples, and three times the
+        // owner's step (its points may be far apart along a straight edge).
+        let step = previous_own.map_or(0.0, |p| (own_t - p).abs());
+        previous_own = Some(own_t);
+        let t = if !e.closed_uv && i == 0 {
+            0.0
+        } else if !e.closed_uv && i + 1 == count {
+            1.0
+        } else {
+            // A closed curve's parameter wraps round at its own seam: search it all.
+            let window = hint
+                .filter(|_| !e.closed_uv)
+                .map(|h| (h, (4.0 / SEARCH_SAMPLES as f64).max(3.0 * step)));
+            let (t, _) = e.closest(vertices[v].position, window);
+            t
+        };
+        hint = Some(t);
+        seq.push((v, t));
+    }
+    seq
+}
+
+/// Face `f`'s loops as (vertex, (u, v)) polygons: each curve's vertex sequence on the shared
+/// edges, all but its last point (the next curve's first), a loop of one closed curve once
+/// round; loops of fewer than three points left out.
+fn face_polygons(
+    f: usize,
+    loops: &[TrimLoop],
+    edges: &[Edge<'_>],
+    sequences: &[Option<Vec<(usize, f64)>>],
+    index_of: &dyn Fn(EdgeId) -> Option<usize>,
+) -> Vec<Vec<(usize, DVec2)>> {
+    let mut polygons: Vec<Vec<(usize, DVec2)>> = Vec::new();
+    for (l, lp) in loops.iter().enumerate() {
+        let mut polygon: Vec<(usize, DVec2)> = Vec::new();
+        for c in 0..lp.len() {
+            let id = EdgeId {
+                face: f,
+                loop_index: l,
+                curve: c,
+            };
+            let Some(k) = index_of(id) else { continue };
+            let Some(seq) = &sequences[k] else { continue };
+            let e = &edges[k];
+            let closed_alone = e.closed_uv && lp.len() == 1;
+            let take = if closed_alone {
+                // A loop of one closed curve: its points once round.
+                let mut s = seq.clone();
+                if s.len() > 1 && s[0].0 == s[s.len() - 1].0 {
+                    s.pop();
+                }
+                s
+            } else {
+                seq[..seq.len() - 1].to_vec()
+            };
+            for (v, t) in take {
+                polygon.push((v, e.uv(t)));
+            }
+        }
+        if polygon.len() >= 3 {
+            polygons.push(polygon);
+        }
+    }
+    polygons
 }
 
 /// Which faces to turn over so that faces sharing an edge agree (breadth-first from each
@@ -1352,45 +1441,57 @@ fn build_mesh(
             .map(|t| t.map(|k| used[k as usize]))
             .collect(),
     };
-    for &k in &order {
-        let v = &vertices[k];
-        mesh.positions.push(v.position);
-        let mut normal = DVec3::ZERO;
-        for &(f, uv) in &v.uses {
-            // A boundary vertex may lie a rounding step outside its face's domain (the loop
-            // computed from the file's edges): its normal is the one at the nearest point.
-            let surface = faces[f].surface();
-            let [(u0, u1), (v0, v1)] = surface.domain();
-            let n = surface.normal(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))?;
-            normal += if flip[f] { -n } else { n };
-        }
-        mesh.normals.push(normal.normalize_or(DVec3::Z));
-        let (f, uv) = v.uses.first().copied().unwrap_or((0, DVec2::ZERO));
-        let [u0, u1, v0, v1] = faces
-            .get(f)
-            .map_or([0.0, 1.0, 0.0, 1.0], |face| domain_rect(face.surface()));
-        mesh.uvs.push([
-            (uv.x - u0) / (u1 - u0).max(f64::MIN_POSITIVE),
-            (uv.y - v0) / (v1 - v0).max(f64::MIN_POSITIVE),
-        ]);
-        if curvature {
-            let values = faces
+    // Each vertex's normal, (u, v) and curvature on every core, pushed in order.
+    type VertexData = (DVec3, [f64; 2], Option<CurvatureValues>);
+    let data: Vec<Result<VertexData, GeometryError>> = order
+        .par_iter()
+        .map(|&k| {
+            let v = &vertices[k];
+            let mut normal = DVec3::ZERO;
+            for &(f, uv) in &v.uses {
+                // A boundary vertex may lie a rounding step outside its face's domain (the
+                // loop computed from the file's edges): its normal is the one at the nearest
+                // point.
+                let surface = faces[f].surface();
+                let [(u0, u1), (v0, v1)] = surface.domain();
+                let n = surface.normal(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))?;
+                normal += if flip[f] { -n } else { n };
+            }
+            let (f, uv) = v.uses.first().copied().unwrap_or((0, DVec2::ZERO));
+            let [u0, u1, v0, v1] = faces
                 .get(f)
-                .and_then(|face| face.surface().local_geometry(uv.x, uv.y).ok())
-                .map(|g| g.curvature.values())
-                .unwrap_or(CurvatureValues::default());
-            let sign = if flip.get(f).copied().unwrap_or(false) {
-                -1.0
-            } else {
-                1.0
-            };
-            mesh.curvatures.push(CurvatureValues {
-                gaussian: values.gaussian,
-                mean: sign * values.mean,
-                k1: if sign > 0.0 { values.k1 } else { -values.k2 },
-                k2: if sign > 0.0 { values.k2 } else { -values.k1 },
+                .map_or([0.0, 1.0, 0.0, 1.0], |face| domain_rect(face.surface()));
+            let unit_uv = [
+                (uv.x - u0) / (u1 - u0).max(f64::MIN_POSITIVE),
+                (uv.y - v0) / (v1 - v0).max(f64::MIN_POSITIVE),
+            ];
+            let curvature = curvature.then(|| {
+                let values = faces
+                    .get(f)
+                    .and_then(|face| face.surface().local_geometry(uv.x, uv.y).ok())
+                    .map(|g| g.curvature.values())
+                    .unwrap_or(CurvatureValues::default());
+                let sign = if flip.get(f).copied().unwrap_or(false) {
+                    -1.0
+                } else {
+                    1.0
+                };
+                CurvatureValues {
+                    gaussian: values.gaussian,
+                    mean: sign * values.mean,
+                    k1: if sign > 0.0 { values.k1 } else { -values.k2 },
+                    k2: if sign > 0.0 { values.k2 } else { -values.k1 },
+                }
             });
-        }
+            Ok((normal.normalize_or(DVec3::Z), unit_uv, curvature))
+        })
+        .collect();
+    for (&k, result) in order.iter().zip(data) {
+        let (normal, uv, curvature) = result?;
+        mesh.positions.push(vertices[k].position);
+        mesh.normals.push(normal);
+        mesh.uvs.push(uv);
+        mesh.curvatures.extend(curvature);
     }
     Ok(mesh)
 }
