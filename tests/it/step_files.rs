@@ -1270,12 +1270,7 @@ fn the_joined_mesh_is_the_same_bit_for_bit_on_one_thread_and_on_four() {
         .unwrap(),
         read("plate-3.step"),
     ];
-    let pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
+    let pool = crate::common::thread_pool;
     for model in &models {
         for body in &model.bodies {
             let mesh = || tessellate_joined(&body.faces, &body.topology, 1e-2, true).unwrap();

@@ -765,12 +765,7 @@ fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
             3,
         ),
     ];
-    let pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
+    let pool = common::thread_pool;
     for (surface, level) in &cases {
         let build = || {
             surface

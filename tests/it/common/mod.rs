@@ -444,3 +444,12 @@ pub fn box_of_planes(motion: &glam::DAffine3) -> knotwork::scene::polysurface::P
     ];
     knotwork::scene::polysurface::Polysurface::new(faces, 1e-9).expect("six faces")
 }
+
+/// A thread pool of `threads` threads, to run the kernel's parallel builders in (and compare
+/// what pools of different sizes build).
+pub fn thread_pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
