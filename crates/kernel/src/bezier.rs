@@ -81,7 +81,7 @@ impl BezierPatchSet {
     ) -> Result<Self, GeometryError> {
         let weights = super::curve::weights_or_ones(points.len(), weights)?;
         for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
-            super::curve::check_point(Location::point(index), &p.to_array(), w)?;
+            super::curve::check_point(|| Location::point(index), &p.to_array(), w)?;
         }
         for (patch_index, patch) in patches.iter().enumerate() {
             let (du, dv) = (patch.degree_u, patch.degree_v);

@@ -35,7 +35,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
     ) -> Result<Self, GeometryError> {
         let weights = weights_or_ones(points.len(), weights)?;
         for (i, (p, &w)) in points.iter().zip(&weights).enumerate() {
-            check_point(Location::point(i), &p.coordinates(), w)?;
+            check_point(|| Location::point(i), &p.coordinates(), w)?;
         }
         let homogeneous = points
             .iter()
@@ -54,7 +54,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
         validate_knots("knots", degree, points.len(), &knots)?;
         for (i, &h) in points.iter().enumerate() {
             check_point(
-                Location::point(i),
+                || Location::point(i),
                 &P::weighted_part(h).coordinates(),
                 P::weight_of(h),
             )?;
@@ -401,7 +401,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
             return Err(GeometryError::NoSuchPoint { index: i, count });
         };
         let w = P::weight_of(h);
-        check_point(Location::point(i), &position.coordinates(), w)?;
+        check_point(|| Location::point(i), &position.coordinates(), w)?;
         let mut poly = self.poly.clone();
         poly.points[i] = position.to_homogeneous(w);
         Ok(Self { poly })
@@ -415,7 +415,7 @@ impl<P: CurvePoint> NurbsCurve<P> {
             return Err(GeometryError::NoSuchPoint { index: i, count });
         }
         let position = self.control_point(i);
-        check_point(Location::point(i), &position.coordinates(), weight)?;
+        check_point(|| Location::point(i), &position.coordinates(), weight)?;
         let mut poly = self.poly.clone();
         poly.points[i] = position.to_homogeneous(weight);
         Ok(Self { poly })
@@ -505,17 +505,21 @@ pub(crate) fn weights_or_ones(
     Ok(weights)
 }
 
-/// Checks a Cartesian control point and its weight; `at` names it in errors.
+/// Checks a Cartesian control point and its weight; `at` names it in errors (made only for an
+/// error: formatting a name for each of a million points showed in profiles).
 pub(crate) fn check_point(
-    at: Location,
+    at: impl FnOnce() -> Location,
     coordinates: &[f64],
     weight: f64,
 ) -> Result<(), GeometryError> {
     if let Some(coordinate) = coordinates.iter().position(|c| !c.is_finite()) {
-        return Err(GeometryError::NonFinitePoint { at, coordinate });
+        return Err(GeometryError::NonFinitePoint {
+            at: at(),
+            coordinate,
+        });
     }
     if !(weight.is_finite() && weight > 0.0) {
-        return Err(GeometryError::BadWeight { at, weight });
+        return Err(GeometryError::BadWeight { at: at(), weight });
     }
     Ok(())
 }

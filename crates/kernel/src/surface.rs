@@ -135,7 +135,7 @@ impl NurbsSurface {
         check_count(count, points.len())?;
         for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
             let (i, j) = (index / count[1], index % count[1]);
-            check_point(Location::grid_point(i, j), &p.to_array(), w)?;
+            check_point(|| Location::grid_point(i, j), &p.to_array(), w)?;
         }
         let homogeneous = points
             .iter()
@@ -157,7 +157,7 @@ impl NurbsSurface {
         check_count(count, points.len())?;
         for (index, h) in points.iter().enumerate() {
             let (i, j) = (index / count[1], index % count[1]);
-            check_point(Location::grid_point(i, j), &h.to_array()[..3], h.w)?;
+            check_point(|| Location::grid_point(i, j), &h.to_array()[..3], h.w)?;
         }
         Ok(Self {
             degree,
@@ -255,7 +255,7 @@ impl NurbsSurface {
     pub fn set_point(&mut self, i: usize, j: usize, position: DVec3) -> Result<(), GeometryError> {
         let index = self.index_checked(i, j)?;
         let w = self.points[index].w;
-        check_point(Location::grid_point(i, j), &position.to_array(), w)?;
+        check_point(|| Location::grid_point(i, j), &position.to_array(), w)?;
         self.points[index] = (position * w).extend(w);
         Ok(())
     }
@@ -265,7 +265,7 @@ impl NurbsSurface {
     pub fn set_weight(&mut self, i: usize, j: usize, weight: f64) -> Result<(), GeometryError> {
         let index = self.index_checked(i, j)?;
         let p = self.control_point(i, j);
-        check_point(Location::grid_point(i, j), &p.to_array(), weight)?;
+        check_point(|| Location::grid_point(i, j), &p.to_array(), weight)?;
         self.points[index] = (p * weight).extend(weight);
         Ok(())
     }
