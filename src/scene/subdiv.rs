@@ -528,10 +528,19 @@ impl ObjectKind for SubdivObject {
             points.extend(plan.control_points(cage));
         }
         let stencil_points = points.len();
-        let mut patches = Vec::with_capacity(prepared.feed.regular.len());
-        for (_, grid) in &prepared.feed.regular {
+        // Each regular face's Bézier points on every core, appended in face order.
+        use rayon::prelude::*;
+        let converted: Vec<[DVec3; 16]> = prepared
+            .feed
+            .regular
+            .par_iter()
+            .map(|(_, grid)| bezier_points(cage, grid))
+            .collect();
+        let mut patches = Vec::with_capacity(converted.len());
+        points.reserve(16 * converted.len());
+        for bezier in converted {
             let first = points.len() as u32;
-            points.extend(bezier_points(cage, grid));
+            points.extend(bezier);
             patches.push(BezierPatch::new(3, 3, (first..first + 16).collect()));
         }
         let domains = vec![[0.0, 1.0, 0.0, 1.0]; patches.len()];

@@ -403,15 +403,21 @@ impl SubdivisionSurface {
         let scheme = self.options.scheme;
         let mut feed = LimitFeed::default();
         let mut irregular = Vec::new();
-        for f in 0..base.face_count() as u32 {
-            let grid = (regular_as_bspline
-                && display == Display::Limit
-                && is_regular_face(&base, scheme, f))
-            .then(|| bspline_grid(&base, f))
-            .flatten();
+        // Each face's B-spline points where it is regular, on every core, in face order.
+        let grids: Vec<Option<[u32; 16]>> = (0..base.face_count() as u32)
+            .into_par_iter()
+            .map(|f| {
+                (regular_as_bspline
+                    && display == Display::Limit
+                    && is_regular_face(&base, scheme, f))
+                .then(|| bspline_grid(&base, f))
+                .flatten()
+            })
+            .collect();
+        for (f, grid) in grids.into_iter().enumerate() {
             match grid {
-                Some(g) => feed.regular.push((f, g)),
-                None => irregular.push(f),
+                Some(g) => feed.regular.push((f as u32, g)),
+                None => irregular.push(f as u32),
             }
         }
         if irregular.is_empty() || levels == 0 {
