@@ -67,26 +67,17 @@ impl Level {
         faces: &[&[u32]],
         mut edges: Vec<[u32; 2]>,
     ) -> Result<Self, GeometryError> {
-        // Edges given in advance, found by their smaller end (a refinement gives every edge:
-        // a short scan, no hashing); the others are numbered as the faces first use them.
-        let ends_in_range = edges.iter().flatten().all(|&v| (v as usize) < vertex_count);
-        let (low_starts, low_edges) = if ends_in_range {
-            group(
-                vertex_count,
-                edges
-                    .iter()
-                    .enumerate()
-                    .map(|(e, &[a, b])| (a.min(b), e as u32)),
-            )
-        } else {
-            (vec![0; vertex_count + 1], Vec::new())
-        };
+        // Edges given in advance (a refinement gives every edge, between vertices of the
+        // level), found by their smaller end: a short scan, no hashing. The others are
+        // numbered as the faces first use them.
+        let (low_starts, low_edges) = group(
+            vertex_count,
+            edges
+                .iter()
+                .enumerate()
+                .map(|(e, &[a, b])| (a.min(b), e as u32)),
+        );
         let mut index: FxHashMap<(u32, u32), u32> = FxHashMap::default();
-        if !ends_in_range {
-            for (e, &[a, b]) in edges.iter().enumerate() {
-                index.insert((a.min(b), a.max(b)), e as u32);
-            }
-        }
         let mut face_starts = Vec::with_capacity(faces.len() + 1);
         let corner_count: usize = faces.iter().map(|f| f.len()).sum();
         let mut face_vertices = Vec::with_capacity(corner_count);
