@@ -17,6 +17,7 @@ pub mod point_eval;
 pub mod readback;
 pub mod records;
 pub mod scene_sync;
+mod stencil_pages;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod subdiv_eval;
 pub mod timing;

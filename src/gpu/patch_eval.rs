@@ -196,6 +196,9 @@ pub(crate) struct PatchLayout {
     pub control_indices: Vec<u32>,
     pub points: Vec<[f32; 4]>,
     pub entry_data: Vec<[f32; 4]>,
+    /// Where the stencil entries start in `entry_data`: the objects' displacement and lattice
+    /// blocks come before.
+    pub stencil_start: usize,
     /// Each object's lattice block: where it starts in the control point buffer, and its words.
     pub lattices: Vec<Option<(u32, Vec<[f32; 4]>)>>,
     pub trim_words: Vec<u32>,
@@ -228,6 +231,7 @@ impl PatchLayout {
             control_indices: Vec::new(),
             points: Vec::new(),
             entry_data: Vec::new(),
+            stencil_start: 0,
             lattices: Vec::with_capacity(objects.len()),
             trim_words: Vec::new(),
             vertices: 0,
@@ -241,8 +245,16 @@ impl PatchLayout {
             adaptive,
             max_groups,
         };
-        for (object, input) in objects.iter().enumerate() {
-            layout.push_object(object, input, &context)?;
+        // Every object's displacement and lattice blocks come first, then the stencil entries:
+        // the entries can then be paged ([`super::stencil_pages`]) behind one copy of the
+        // points and blocks.
+        let blocks: Vec<Blocks> = objects
+            .iter()
+            .map(|input| layout.push_blocks(input, &context))
+            .collect();
+        layout.stencil_start = layout.entry_data.len();
+        for ((object, input), blocks) in objects.iter().enumerate().zip(blocks) {
+            layout.push_object(object, input, blocks, &context)?;
         }
         Ok(layout)
     }
@@ -252,11 +264,13 @@ impl PatchLayout {
         (context.total_points + self.entry_data.len()) as u32
     }
 
-    /// Object `object`'s range, records, control indices, blocks and points.
+    /// Object `object`'s range, records, control indices and points (its blocks are
+    /// `blocks`).
     fn push_object(
         &mut self,
         object: usize,
         input: &ObjectPatches<'_>,
+        blocks: Blocks,
         context: &LayoutContext,
     ) -> Result<(), GpuError> {
         let trim_headers: Vec<u32> = input.trims.map_or_else(Vec::new, |t| {
@@ -265,7 +279,6 @@ impl PatchLayout {
                 .map(|index| pack_index(index, &mut self.trim_words))
                 .collect()
         });
-        let blocks = self.push_blocks(input, context);
         let segments = input.segments;
         if !(1..=MAX_SEGMENTS).contains(&segments) {
             return Err(GpuError::SegmentsOutOfRange {
@@ -297,8 +310,8 @@ impl PatchLayout {
         Ok(())
     }
 
-    /// The object's displacement and lattice blocks, after the points among the stencil
-    /// entries: where each starts ([`DISPLACEMENT_NONE`], [`LATTICE_NONE`] without one).
+    /// The object's displacement and lattice blocks, after the points and the blocks of the
+    /// objects before: where each starts ([`DISPLACEMENT_NONE`], [`LATTICE_NONE`] without one).
     fn push_blocks(&mut self, input: &ObjectPatches<'_>, context: &LayoutContext) -> Blocks {
         let displacement = match &input.displacement {
             Some(d) => {
@@ -548,6 +561,13 @@ fn stencil_count(o: &ObjectPatches<'_>) -> usize {
         .map_or(0, |f| f.patches.len() + f.substitutes.len())
 }
 
+/// The bytes one storage binding may hold on a device with `limits`.
+fn binding_limit(limits: &wgpu::Limits) -> u64 {
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
 /// Refuses a buffer larger than the device binds (`buffers`: what and bytes), and more
 /// triangle indices than the index buffer's u32 offsets reach.
 fn check_buffer_sizes(
@@ -555,9 +575,7 @@ fn check_buffer_sizes(
     buffers: &[(&'static str, u64)],
     indices: u64,
 ) -> Result<(), GpuError> {
-    let limit = limits
-        .max_storage_buffer_binding_size
-        .min(limits.max_buffer_size);
+    let limit = binding_limit(limits);
     for &(what, bytes) in buffers {
         if bytes > limit || indices > u64::from(u32::MAX) / 2 {
             return Err(GpuError::BufferTooLarge { what, bytes, limit });
@@ -589,6 +607,9 @@ fn records_by_key(records: &[PatchRecord], adaptive: bool) -> (RecordsByKey, Rec
 /// GPU buffers of a scene's patches at one tessellation.
 pub struct PatchGeometry {
     control_points: wgpu::Buffer,
+    /// Stencil pages 1, 2, … ([`super::stencil_pages`]): each begins with a copy of the points
+    /// and blocks at the start of `control_points`, which every upload there also updates.
+    page_buffers: Vec<wgpu::Buffer>,
     control_index_buffer: wgpu::Buffer,
     record_buffer: wgpu::Buffer,
     trim_buffer: wgpu::Buffer,
@@ -697,16 +718,37 @@ impl PatchGeometry {
         let PatchLayout {
             records,
             objects: ranges,
-            control_indices,
+            mut control_indices,
             points,
             entry_data,
+            stencil_start,
             lattices,
             trim_words,
             vertices: mut vertex_offset,
             indices: mut index_offset,
             quad_groups_x,
         } = PatchLayout::new(objects, adaptive_room.is_some(), max_groups)?;
-        let point_bytes = (points.len() + entry_data.len()) as u64 * 16;
+        // Stencil entries beyond one binding go into pages, each behind its own copy of the
+        // points and blocks.
+        let capacity = (binding_limit(&limits) / 16) as usize;
+        let mut pool = points.clone();
+        let pages = if points.len() + entry_data.len() > capacity {
+            let pages = super::stencil_pages::paginate(
+                &records,
+                &mut control_indices,
+                (&entry_data, points.len()),
+                points.len() + stencil_start,
+                capacity,
+            )?;
+            pool.extend_from_slice(&entry_data[..stencil_start]);
+            Some(pages)
+        } else {
+            pool.extend_from_slice(&entry_data);
+            None
+        };
+        drop(entry_data);
+        let first_page = pages.as_ref().map_or(0, |p| p.entries[0].len());
+        let point_bytes = (pool.len() + first_page) as u64 * 16;
 
         let (fixed_vertices, fixed_indices) = (vertex_offset, index_offset);
         if let Some(room) = adaptive_room {
@@ -744,13 +786,33 @@ impl PatchGeometry {
                 usage,
             })
         };
-        let mut pool = points.clone();
-        pool.extend_from_slice(&entry_data);
-        let control_points = init(
+        // The points and blocks, then (paged) the page's entries.
+        let points_then = |label: &str, entries: &[[f32; 4]]| {
+            let bytes = ((pool.len() + entries.len()) * 16).max(one_element);
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes as u64,
+                usage: storage | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: true,
+            });
+            {
+                let mut view = buffer
+                    .get_mapped_range_mut(..)
+                    .map_err(|e| GpuError::Geometry(format!("a new buffer did not map: {e}")))?;
+                let (head, all) = (pool.len() * 16, (pool.len() + entries.len()) * 16);
+                view.slice(..head)
+                    .copy_from_slice(bytemuck::cast_slice(&pool));
+                view.slice(head..all)
+                    .copy_from_slice(bytemuck::cast_slice(entries));
+            }
+            buffer.unmap();
+            Ok::<_, GpuError>(buffer)
+        };
+        let no_entries: &[[f32; 4]] = &[];
+        let control_points = points_then(
             "control points",
-            bytemuck::cast_slice(&pool),
-            storage | wgpu::BufferUsages::COPY_DST,
-        );
+            pages.as_ref().map_or(no_entries, |p| &p.entries[0]),
+        )?;
         let control_index_buffer = init(
             "control indices",
             bytemuck::cast_slice(&control_indices),
@@ -769,18 +831,41 @@ impl PatchGeometry {
         let vertices = output("surface vertices", vertex_bytes, wgpu::BufferUsages::VERTEX);
         let triangle_indices = output("triangle indices", index_bytes, wgpu::BufferUsages::INDEX);
 
+        // Page k's buffer: the head, then the page's entries (page 0 is `control_points`).
+        let (page_buffers, record_page) = match pages {
+            Some(pages) => {
+                let buffers = pages.entries[1..]
+                    .iter()
+                    .map(|entries| points_then("stencil page", entries))
+                    .collect::<Result<_, _>>()?;
+                (buffers, pages.record_page)
+            }
+            None => (Vec::new(), vec![0; records.len()]),
+        };
         let (by_key, adaptive_by_key) = records_by_key(&records, adaptive_room.is_some());
-        let groups = by_key
-            .into_iter()
-            .map(|(key, members)| {
+        let by_page = by_key.into_iter().flat_map(|(key, members)| {
+            let mut pages: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+            for r in members {
+                pages.entry(record_page[r as usize]).or_default().push(r);
+            }
+            pages
+                .into_iter()
+                .map(move |(page, members)| (key, page, members))
+        });
+        let groups = by_page
+            .map(|(key, page, members)| {
                 let list = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("patch list"),
                     size: members.len() as u64 * 4,
                     usage: storage | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
+                let points = match page {
+                    0 => &control_points,
+                    k => &page_buffers[k as usize - 1],
+                };
                 let bind_group = evaluator.bind_group(&[
-                    (0, &control_points),
+                    (0, points),
                     (1, &control_index_buffer),
                     (2, &record_buffer),
                     (3, &vertices),
@@ -820,6 +905,7 @@ impl PatchGeometry {
 
         Ok(Self {
             control_points,
+            page_buffers,
             control_index_buffer,
             record_buffer,
             trim_buffer,
@@ -928,9 +1014,9 @@ impl PatchGeometry {
             for &g in run {
                 self.uploaded[g] = fresh[g - range.first_point];
             }
-            queue.write_buffer(
-                &self.control_points,
-                first as u64 * 16,
+            self.write_head(
+                queue,
+                first as u64,
                 bytemuck::cast_slice(&self.uploaded[first..=last]),
             );
         }
@@ -960,18 +1046,23 @@ impl PatchGeometry {
                 if block == *uploaded {
                     return Ok(false);
                 }
-                queue.write_buffer(
-                    &self.control_points,
-                    u64::from(*at) * 16,
-                    bytemuck::cast_slice(&block),
-                );
-                *uploaded = block;
+                let at = u64::from(*at);
+                *uploaded = block.clone();
+                self.write_head(queue, at, bytemuck::cast_slice(&block));
                 self.dirty[range.first_patch..range.first_patch + range.patch_count].fill(true);
                 Ok(true)
             }
             _ => Err(GpuError::Geometry(
                 "a lattice was added or removed without a rebuild".into(),
             )),
+        }
+    }
+
+    /// Writes `bytes` at vec4 `at` of the points and blocks: in the control point buffer and
+    /// in every stencil page's copy.
+    fn write_head(&self, queue: &wgpu::Queue, at: u64, bytes: &[u8]) {
+        for buffer in std::iter::once(&self.control_points).chain(&self.page_buffers) {
+            queue.write_buffer(buffer, at * 16, bytes);
         }
     }
 
@@ -1152,8 +1243,8 @@ impl PatchGeometry {
         }
     }
 
-    /// Bytes of GPU memory the geometry holds: control points, indices, records, trims,
-    /// vertices, triangles and the patch lists.
+    /// Bytes of GPU memory the geometry holds: control points (and stencil pages), indices,
+    /// records, trims, vertices, triangles and the patch lists.
     pub fn buffer_bytes(&self) -> u64 {
         [
             &self.control_points,
@@ -1165,6 +1256,7 @@ impl PatchGeometry {
         ]
         .iter()
         .map(|b| b.size())
+        .chain(self.page_buffers.iter().map(wgpu::Buffer::size))
         .chain(self.groups.iter().map(|g| g.list.size()))
         .sum::<u64>()
             + self.adaptive.as_ref().map_or(0, AdaptivePass::buffer_bytes)
