@@ -256,8 +256,8 @@ impl Edge<'_> {
         }
     }
 
-    /// The parameter of the edge's point nearest `p` and the distance: the nearest sample,
-    /// then Brent's minimisation on the intervals either side of it, or on the one the point
+    /// The parameter of the edge's point nearest `p` and the distance: the nearest sample
+    /// (where `p` lies within [`Edge::precision`] of it, that sample), then Brent's minimisation on the intervals either side of it, or on the one the point
     /// lies along where it lies near the edge (the samples within `window` of a hint when
     /// given).
     fn closest(&self, p: DVec3, hint: Option<(f64, f64)>) -> (f64, f64) {
@@ -279,6 +279,12 @@ impl Edge<'_> {
                     .total_cmp(&self.samples[b].distance_squared(p))
             })
             .unwrap_or(0);
+        // A point at a sample (a follower's vertex where the owner put one: nearly every
+        // search while joining) is found there, to the search's precision, without searching.
+        let at_sample = self.samples[k].distance(p);
+        if at_sample <= self.precision {
+            return (k as f64 / n as f64, at_sample);
+        }
         // The intervals either side of the nearest sample (and, on a curve closed in
         // space, the other end's interval at its ends).
         let mut intervals = vec![(k.saturating_sub(1), k), (k, (k + 1).min(n))];

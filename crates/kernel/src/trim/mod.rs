@@ -391,11 +391,27 @@ pub fn flatten_loop_mapped<V: Vector, E>(
     depths: (usize, usize),
     map: impl Fn(DVec2) -> Result<V, E> + Copy,
 ) -> Result<(Vec<DVec2>, Vec<usize>), E> {
+    let pieces: Vec<Vec<MonotonePiece>> = l
+        .iter()
+        .enumerate()
+        .map(|(c, curve)| monotone_pieces(curve, (0, c)))
+        .collect();
+    flatten_pieces_mapped(pieces.iter().map(Vec::as_slice), tolerance, depths, map)
+}
+
+/// [`flatten_loop_mapped`] of a loop already cut into monotone pieces, one slice per curve
+/// in the loop's order (as [`TrimIndex::pieces`] holds them).
+pub fn flatten_pieces_mapped<'a, V: Vector, E>(
+    curves: impl IntoIterator<Item = &'a [MonotonePiece]>,
+    tolerance: f64,
+    depths: (usize, usize),
+    map: impl Fn(DVec2) -> Result<V, E> + Copy,
+) -> Result<(Vec<DVec2>, Vec<usize>), E> {
     let mut out = Vec::new();
     let mut owners = Vec::new();
-    for (c, curve) in l.iter().enumerate() {
+    for (c, pieces) in curves.into_iter().enumerate() {
         let start = out.len();
-        for piece in monotone_pieces(curve, (0, c)) {
+        for piece in pieces {
             piece.flatten_mapped(tolerance, depths, map, &mut out)?;
         }
         if out.len() > start {

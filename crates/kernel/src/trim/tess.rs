@@ -19,12 +19,12 @@
 //! none does. The triangle count stays that of the untrimmed grid plus a few per boundary
 //! chord.
 
-use std::collections::{BTreeMap, HashMap};
+use rustc_hash::FxHashMap as HashMap;
 
 use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use super::{TrimmedSurface, flatten_loop_mapped};
+use super::{TrimmedSurface, flatten_pieces_mapped};
 use crate::tess::{self, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
 use crate::{GeometryError, NurbsSurface};
 
@@ -46,16 +46,22 @@ fn failed(message: String) -> GeometryError {
 }
 
 /// The loops flattened for the surface: each chord's midpoint on the surface within
-/// `tolerance` of the chord in space (checked at t = 1/4, 1/2, 3/4 of every chord).
+/// `tolerance` of the chord in space (checked at t = 1/4, 1/2, 3/4 of every chord). The loops'
+/// monotone pieces come from the trimmed surface's classification index, built once and shared
+/// with the GPU's trim buffers, rather than being cut again on every export.
 pub fn flatten_on_surface(
     trimmed: &TrimmedSurface,
     tolerance: f64,
 ) -> Result<Vec<Vec<DVec2>>, GeometryError> {
     let surface = trimmed.surface();
     let on_surface = |p: DVec2| surface.point_at_clamped(p);
+    let Some(index) = trimmed.index() else {
+        return Ok(Vec::new());
+    };
     let mut out = Vec::new();
-    for lp in trimmed.loops() {
-        let (polygon, _) = flatten_loop_mapped(lp, tolerance, SURFACE_DEPTHS, on_surface)?;
+    for lp in index.pieces.chunk_by(|a, b| a.source.0 == b.source.0) {
+        let curves = lp.chunk_by(|a, b| a.source.1 == b.source.1);
+        let (polygon, _) = flatten_pieces_mapped(curves, tolerance, SURFACE_DEPTHS, on_surface)?;
         if polygon.len() > MAX_TRIANGLES {
             return Err(failed(
                 "the trim loops need too many points at this tolerance".into(),
@@ -144,7 +150,7 @@ impl ClippedGrid {
         tolerance: f64,
     ) -> Result<Vec<[usize; 2]>, GeometryError> {
         let mut positions: Vec<Option<DVec3>> = vec![None; self.points.len()];
-        let mut edges: HashMap<[u32; 2], f64> = HashMap::new();
+        let mut edges: HashMap<[u32; 2], f64> = HashMap::default();
         let mut failing = Vec::new();
         for &(start, end, cell) in &self.cut {
             for t in &self.triangles[start..end] {
@@ -321,7 +327,7 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
     let snap = SNAP * (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
     let polygons = snapped(grid, polygons, snap);
     let mut pool = PointPool::default();
-    let mut cuts: BTreeMap<[usize; 2], CellCut> = BTreeMap::new();
+    let mut cuts: HashMap<[usize; 2], CellCut> = HashMap::default();
     for poly in &polygons {
         for k in 0..poly.len() {
             let points = chord_points(grid, poly[k], poly[(k + 1) % poly.len()], snap);
