@@ -41,20 +41,24 @@ impl PrintBody<'_> {
 
 /// The export meshes of `scene`'s visible objects with triangles at `tessellation`, each
 /// object's parts turned together so that its signed volume (the divergence theorem over the
-/// triangles) is not negative: outward for a closed body.
+/// triangles) is not negative: outward for a closed body. The objects are tessellated on every
+/// core and taken in scene order (the first object that fails is the one named).
 pub fn printable_bodies(
     scene: &Scene,
     tessellation: Tessellation,
 ) -> Result<Vec<PrintBody<'_>>, PrintError> {
+    use rayon::prelude::*;
+    let visible: Vec<&SceneObject> = scene.objects.iter().filter(|o| o.visible).collect();
+    let tessellated: Vec<_> = visible
+        .par_iter()
+        .map(|object| object.tessellate(tessellation, false))
+        .collect();
     let mut bodies = Vec::new();
-    for object in scene.objects.iter().filter(|o| o.visible) {
-        let mut parts =
-            object
-                .tessellate(tessellation, false)
-                .map_err(|source| PrintError::Object {
-                    name: object.name.clone(),
-                    source,
-                })?;
+    for (object, parts) in visible.into_iter().zip(tessellated) {
+        let mut parts = parts.map_err(|source| PrintError::Object {
+            name: object.name.clone(),
+            source,
+        })?;
         let volume: f64 = parts.iter().map(TriangleMesh::signed_volume).sum();
         if volume < 0.0 {
             for part in &mut parts {
