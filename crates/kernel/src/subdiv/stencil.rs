@@ -188,33 +188,46 @@ pub fn build_rows<const N: usize>(
     let blocks: Vec<Block<N>> = (0..count.div_ceil(ROW_BLOCK))
         .into_par_iter()
         .map_init(
-            || Accumulator::new(size),
-            |accumulator, b| {
+            // The worker's accumulator, and its last block's entry count: the next block's
+            // room, so that its entries are not copied as they grow.
+            || (Accumulator::new(size), 0),
+            |(accumulator, last), b| {
                 let rows = b * ROW_BLOCK..((b + 1) * ROW_BLOCK).min(count);
                 let mut lengths = Vec::with_capacity(rows.len());
-                let mut entries = Vec::new();
+                let mut entries = Vec::with_capacity(*last + *last / 8);
                 for r in rows {
                     let before = entries.len();
                     row(r, accumulator);
                     accumulator.drain_into(&mut entries);
                     lengths.push((entries.len() - before) as u32);
                 }
+                *last = entries.len();
                 (lengths, entries)
             },
         )
         .collect();
-    let total = blocks.iter().map(|(_, e)| e.len()).sum();
-    let mut table = WideRows {
-        offsets: Vec::with_capacity(count + 1),
-        entries: Vec::with_capacity(total),
-    };
-    table.offsets.push(0);
-    for (lengths, entries) in blocks {
+    let mut offsets = Vec::with_capacity(count + 1);
+    offsets.push(0u32);
+    for (lengths, _) in &blocks {
         for length in lengths {
-            let last = table.offsets[table.offsets.len() - 1];
-            table.offsets.push(last + length);
+            let last = offsets[offsets.len() - 1];
+            offsets.push(last + length);
         }
-        table.entries.extend(entries);
     }
-    table
+    // The blocks' entries copied into one table on every core (a large table's fresh pages
+    // are then touched by all of them).
+    let total = offsets[offsets.len() - 1] as usize;
+    let mut entries = vec![(0u32, [0.0; N]); total];
+    let mut rest = entries.as_mut_slice();
+    let mut parts = Vec::with_capacity(blocks.len());
+    for (_, block) in &blocks {
+        let (part, tail) = rest.split_at_mut(block.len());
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .zip(&blocks)
+        .for_each(|(part, (_, block))| part.copy_from_slice(block));
+    WideRows { offsets, entries }
 }
