@@ -257,9 +257,9 @@ impl Edge<'_> {
     }
 
     /// The parameter of the edge's point nearest `p` and the distance: the nearest sample
-    /// (where `p` lies within [`Edge::precision`] of it, that sample), then Brent's minimisation on the intervals either side of it, or on the one the point
-    /// lies along where it lies near the edge (the samples within `window` of a hint when
-    /// given).
+    /// (that sample itself where `p` lies within [`Edge::precision`] of it), then Brent's
+    /// minimisation on the intervals either side of it, or on the one the point lies along
+    /// where it lies near the edge (the samples within `window` of a hint when given).
     fn closest(&self, p: DVec3, hint: Option<(f64, f64)>) -> (f64, f64) {
         let n = SEARCH_SAMPLES;
         let candidates: Vec<usize> = match hint {

@@ -7,6 +7,8 @@
 //! every point is outside. The fragment shader reads this structure (packed by
 //! `gpu::trim_buffer`) and runs the same test.
 
+use std::sync::Arc;
+
 use glam::DVec2;
 
 use super::piece::{MonotonePiece, distance_to_segment, path_parity};
@@ -59,13 +61,15 @@ pub struct TrimIndex {
     pub cells: Vec<Cell>,
     /// Piece indices of every cell, cell after cell.
     pub lists: Vec<u32>,
-    pub pieces: Vec<MonotonePiece>,
+    /// Every loop's monotone pieces, loop by loop and curve by curve (shared with the trimmed
+    /// surface they came from).
+    pub pieces: Arc<[MonotonePiece]>,
 }
 
 impl TrimIndex {
     /// The grid over `domain` for `pieces`; `flat[k]` is piece k flattened (for choosing
     /// reference points and for listing a piece only in the cells it passes through).
-    pub fn build(domain: [f64; 4], pieces: Vec<MonotonePiece>, flat: &[Vec<DVec2>]) -> Self {
+    pub fn build(domain: [f64; 4], pieces: Arc<[MonotonePiece]>, flat: &[Vec<DVec2>]) -> Self {
         let per_side =
             ((pieces.len() as f64 * CELLS_PER_PIECE).sqrt().ceil() as usize).clamp(1, MAX_CELLS);
         let (cells_u, cells_v) = (per_side, per_side);

@@ -63,6 +63,9 @@ pub struct TrimmedSurface {
     /// The classification grid, built on first use and shared by clones (loops never change
     /// after construction).
     index: Arc<OnceLock<Arc<TrimIndex>>>,
+    /// Every loop's monotone pieces ([`Self::monotone_pieces`]), cut on first use and shared
+    /// by the index and the export tessellation.
+    pieces: Arc<OnceLock<Arc<[MonotonePiece]>>>,
     /// The loops flattened for drawing ([`Self::outline`]), built on first use and shared.
     outline: Arc<OnceLock<Arc<Vec<Vec<DVec2>>>>>,
 }
@@ -116,6 +119,7 @@ impl TrimmedSurface {
             surface,
             loops,
             index: Arc::default(),
+            pieces: Arc::default(),
             outline: Arc::default(),
         })
     }
@@ -126,6 +130,7 @@ impl TrimmedSurface {
             surface,
             loops: Vec::new(),
             index: Arc::default(),
+            pieces: Arc::default(),
             outline: Arc::default(),
         }
     }
@@ -156,6 +161,7 @@ impl TrimmedSurface {
                 surface,
                 loops: self.loops.clone(),
                 index: self.index.clone(),
+                pieces: self.pieces.clone(),
                 outline: self.outline.clone(),
             });
         }
@@ -167,6 +173,22 @@ impl TrimmedSurface {
         Self::new(self.surface.clone(), loops)
     }
 
+    /// Every loop's curves cut into monotone pieces, loop by loop and curve by curve (each
+    /// piece's `source` is its (loop, curve)); cut on first use and shared by clones.
+    pub fn monotone_pieces(&self) -> Arc<[MonotonePiece]> {
+        self.pieces
+            .get_or_init(|| {
+                let mut pieces = Vec::new();
+                for (l, lp) in self.loops.iter().enumerate() {
+                    for (c, curve) in lp.iter().enumerate() {
+                        pieces.extend(monotone_pieces(curve, (l, c)));
+                    }
+                }
+                pieces.into()
+            })
+            .clone()
+    }
+
     /// The classification grid ([`TrimIndex`]), `None` when untrimmed.
     pub fn index(&self) -> Option<Arc<TrimIndex>> {
         if self.loops.is_empty() {
@@ -174,7 +196,12 @@ impl TrimmedSurface {
         }
         Some(
             self.index
-                .get_or_init(|| Arc::new(build_index(domain_rect(&self.surface), &self.loops)))
+                .get_or_init(|| {
+                    Arc::new(build_index(
+                        domain_rect(&self.surface),
+                        self.monotone_pieces(),
+                    ))
+                })
                 .clone(),
         )
     }
@@ -286,6 +313,7 @@ impl TrimmedSurface {
             surface,
             loops,
             index: Arc::default(),
+            pieces: Arc::default(),
             outline: Arc::default(),
         })
     }
@@ -400,7 +428,7 @@ pub fn flatten_loop_mapped<V: Vector, E>(
 }
 
 /// [`flatten_loop_mapped`] of a loop already cut into monotone pieces, one slice per curve
-/// in the loop's order (as [`TrimIndex::pieces`] holds them).
+/// in the loop's order (as [`TrimmedSurface::monotone_pieces`] holds them).
 pub fn flatten_pieces_mapped<'a, V: Vector, E>(
     curves: impl IntoIterator<Item = &'a [MonotonePiece]>,
     tolerance: f64,
@@ -447,14 +475,8 @@ pub fn polygon_contains(polygon: &[DVec2], p: DVec2) -> bool {
     inside
 }
 
-fn build_index(rect: [f64; 4], loops: &[TrimLoop]) -> TrimIndex {
+fn build_index(rect: [f64; 4], pieces: Arc<[MonotonePiece]>) -> TrimIndex {
     let tolerance = FLATTEN_TOLERANCE * domain_size(rect);
-    let mut pieces: Vec<MonotonePiece> = Vec::new();
-    for (l, lp) in loops.iter().enumerate() {
-        for (c, curve) in lp.iter().enumerate() {
-            pieces.extend(monotone_pieces(curve, (l, c)));
-        }
-    }
     let flat: Vec<Vec<DVec2>> = pieces
         .iter()
         .map(|p| {

@@ -47,19 +47,17 @@ fn failed(message: String) -> GeometryError {
 
 /// The loops flattened for the surface: each chord's midpoint on the surface within
 /// `tolerance` of the chord in space (checked at t = 1/4, 1/2, 3/4 of every chord). The loops'
-/// monotone pieces come from the trimmed surface's classification index, built once and shared
-/// with the GPU's trim buffers, rather than being cut again on every export.
+/// monotone pieces are the trimmed surface's, cut once and shared with its classification
+/// index, rather than cut again on every export.
 pub fn flatten_on_surface(
     trimmed: &TrimmedSurface,
     tolerance: f64,
 ) -> Result<Vec<Vec<DVec2>>, GeometryError> {
     let surface = trimmed.surface();
     let on_surface = |p: DVec2| surface.point_at_clamped(p);
-    let Some(index) = trimmed.index() else {
-        return Ok(Vec::new());
-    };
+    let pieces = trimmed.monotone_pieces();
     let mut out = Vec::new();
-    for lp in index.pieces.chunk_by(|a, b| a.source.0 == b.source.0) {
+    for lp in pieces.chunk_by(|a, b| a.source.0 == b.source.0) {
         let curves = lp.chunk_by(|a, b| a.source.1 == b.source.1);
         let (polygon, _) = flatten_pieces_mapped(curves, tolerance, SURFACE_DEPTHS, on_surface)?;
         if polygon.len() > MAX_TRIANGLES {
