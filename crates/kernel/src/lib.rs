@@ -45,6 +45,7 @@ pub mod interpolation;
 pub mod intersect;
 pub mod intersect_curve;
 pub mod join;
+mod lanes;
 pub mod loft;
 pub mod mass;
 pub mod mesh;

@@ -16,11 +16,13 @@ use super::curve::{
     homogeneous_tolerance,
 };
 use super::diffgeo::{
-    CURVATURE_NUDGE, Curvature, CurvatureValues, DEGENERATE_SIN2, FundamentalForms, NORMAL_NUDGE,
+    CURVATURE_NUDGE, Curvature, CurvatureValues, FundamentalForms, NORMAL_NUDGE,
     SurfaceDerivatives, rational_derivatives,
 };
 use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
+
+mod grid;
 
 /// A parameter direction of a surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -656,7 +658,7 @@ impl NurbsSurface {
         out.clear();
         out.reserve(us.len() * vs.len());
         self.check_grid(us, vs)?;
-        if !self.grid_specialized::<false>(us, vs, &mut |s, _| out.push(s)) {
+        if !self.grid_specialized(us, vs, out) {
             self.evaluate_grid_unchecked(us, vs, false, |i, j, d| {
                 out.push(GridSample {
                     point: d.point,
@@ -690,18 +692,17 @@ impl NurbsSurface {
         out.clear();
         out.reserve(us.len() * vs.len());
         self.check_grid(us, vs)?;
-        let mut push = |s, c| out.push((s, c));
-        if !self.grid_specialized::<true>(us, vs, &mut push) {
+        if !self.grid_specialized(us, vs, out) {
             self.evaluate_grid_unchecked(us, vs, true, |i, j, d| {
                 let normal = self.normal_from(d, us[i], vs[j]);
                 let curvature = self.curvature_from(d, normal, us[i], vs[j]);
-                push(
+                out.push((
                     GridSample {
                         point: d.point,
                         normal,
                     },
                     curvature.values(),
-                );
+                ));
             });
         }
         Ok(())
@@ -725,124 +726,23 @@ impl NurbsSurface {
         Ok(())
     }
 
-    /// Runs [`Self::grid_fixed`] for v-degrees 1 to 5; false (nothing done) for higher ones.
-    fn grid_specialized<const CURVATURE: bool>(
+    /// Runs [`Self::grid_lanes`] for v-degrees 1 to 5, appending to `out`; false (nothing
+    /// done) for higher ones.
+    fn grid_specialized<T: grid::GridOutput>(
         &self,
         us: &[f64],
         vs: &[f64],
-        out: &mut impl FnMut(GridSample, CurvatureValues),
+        out: &mut Vec<T>,
     ) -> bool {
         match self.degree[1] {
-            1 => self.grid_fixed::<2, CURVATURE>(us, vs, out),
-            2 => self.grid_fixed::<3, CURVATURE>(us, vs, out),
-            3 => self.grid_fixed::<4, CURVATURE>(us, vs, out),
-            4 => self.grid_fixed::<5, CURVATURE>(us, vs, out),
-            5 => self.grid_fixed::<6, CURVATURE>(us, vs, out),
+            1 => self.grid_lanes::<2, T>(us, vs, out),
+            2 => self.grid_lanes::<3, T>(us, vs, out),
+            3 => self.grid_lanes::<4, T>(us, vs, out),
+            4 => self.grid_lanes::<5, T>(us, vs, out),
+            5 => self.grid_lanes::<6, T>(us, vs, out),
             _ => return false,
         }
         true
-    }
-
-    /// The grid loop with the v-order Q = q + 1 known at compile time (parameters already
-    /// checked). `CURVATURE` adds second derivatives and the curvature values.
-    fn grid_fixed<const Q: usize, const CURVATURE: bool>(
-        &self,
-        us: &[f64],
-        vs: &[f64],
-        out: &mut impl FnMut(GridSample, CurvatureValues),
-    ) {
-        let [p, q] = self.degree;
-        debug_assert_eq!(q + 1, Q);
-        let order = if CURVATURE { 2 } else { 1 };
-        let basis_u = ParameterBasis::new(&self.knots[0], p, self.count[0], us, order);
-        let basis_v = ParameterBasis::new(&self.knots[1], q, self.count[1], vs, order);
-        let fixed_v: Vec<(usize, [[f64; Q]; 3])> = (0..vs.len())
-            .map(|t| {
-                let mut d = [[0.0; Q]; 3];
-                for (k, row) in d.iter_mut().enumerate().take(order + 1) {
-                    row.copy_from_slice(basis_v.at(t, k, Q));
-                }
-                (basis_v.spans[t] - q, d)
-            })
-            .collect();
-        let cv = self.count[1];
-        let mut iso = [
-            vec![DVec4::ZERO; cv],
-            vec![DVec4::ZERO; cv],
-            vec![DVec4::ZERO; cv],
-        ];
-        for (i, &span_u) in basis_u.spans.iter().enumerate() {
-            for (k, row) in iso.iter_mut().enumerate().take(order + 1) {
-                let bu = basis_u.at(i, k, p + 1);
-                let rows = &self.points[(span_u - p) * cv..(span_u + 1) * cv];
-                row.fill(DVec4::ZERO);
-                for (r, &b) in bu.iter().enumerate() {
-                    for (acc, &h) in row.iter_mut().zip(&rows[r * cv..(r + 1) * cv]) {
-                        *acc += h * b;
-                    }
-                }
-            }
-            for (j, (first, bv)) in fixed_v.iter().enumerate() {
-                let window = |k: usize| -> &[DVec4; Q] {
-                    iso[k][*first..*first + Q]
-                        .try_into()
-                        .unwrap_or_else(|_| unreachable!("span window has Q points"))
-                };
-                let sum = |pts: &[DVec4; Q], b: &[f64; Q]| {
-                    let mut acc = DVec4::ZERO;
-                    for s in 0..Q {
-                        acc += pts[s] * b[s];
-                    }
-                    acc
-                };
-                let (p0, p1) = (window(0), window(1));
-                let a00 = sum(p0, &bv[0]);
-                let a01 = sum(p0, &bv[1]);
-                let a10 = sum(p1, &bv[0]);
-                if !CURVATURE {
-                    let w = a00.w;
-                    let point = a00.truncate() / w;
-                    // Su and Sv scaled by w² > 0: same directions, no divisions.
-                    let tu = a10.truncate() * w - a00.truncate() * a10.w;
-                    let tv = a01.truncate() * w - a00.truncate() * a01.w;
-                    let n = tu.cross(tv);
-                    let n2 = n.length_squared();
-                    let normal = if n2 > DEGENERATE_SIN2 * tu.length_squared() * tv.length_squared()
-                        && n2 > 0.0
-                    {
-                        n * (1.0 / n2.sqrt())
-                    } else {
-                        let d = rational_derivatives(&self.homogeneous_derivatives(us[i], vs[j]));
-                        self.normal_from(&d, us[i], vs[j])
-                    };
-                    out(GridSample { point, normal }, CurvatureValues::default());
-                } else {
-                    let p2 = window(2);
-                    let zero = DVec4::ZERO;
-                    let a = [
-                        [a00, a01, sum(p0, &bv[2])],
-                        [a10, sum(p1, &bv[1]), zero],
-                        [sum(p2, &bv[0]), zero, zero],
-                    ];
-                    let d = rational_derivatives(&a);
-                    let regular = d.regular_normal();
-                    let values = regular.and_then(|n| {
-                        CurvatureValues::from_forms(&FundamentalForms::new(&d, n)).map(|c| (n, c))
-                    });
-                    let (normal, curvature) = values.unwrap_or_else(|| {
-                        let n = self.normal_from(&d, us[i], vs[j]);
-                        (n, self.curvature_from(&d, n, us[i], vs[j]).values())
-                    });
-                    out(
-                        GridSample {
-                            point: d.point,
-                            normal,
-                        },
-                        curvature,
-                    );
-                }
-            }
-        }
     }
 
     /// `segments + 1` parameters per Bézier span of `direction`, spans' ends shared: the
