@@ -28,7 +28,7 @@ use glam::DVec3;
 
 use knotwork::doc::Document;
 use knotwork::gpu::timing::GpuTimer;
-use knotwork::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers};
+use knotwork::gpu::{GpuContext, GpuError, SceneSync, SurfaceBuffers, SurfaceVertex};
 use knotwork::kernel::{TrimmedSurface, construct};
 use knotwork::render::{ControlNet, ViewTarget, ViewportRenderer, adaptive_target, scene_uniform};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
@@ -170,7 +170,7 @@ fn bench_object(
         let pass = gpu.unwrap_or(wall);
         writeln!(
             out,
-            "{:<26} {:>3} seg | {:>7} patches {:>9} vertices | pass {:8.3} ms ({}, best {best_pass:.3} ms; {}) | {:7.2} M vertices/s | submit+wait {:8.3} ms",
+            "{:<26} {:>3} seg | {:>7} patches {:>9} vertices | pass {:8.3} ms ({}, best {best_pass:.3} ms; {}) | {:7.2} M vertices/s, {:6.2} GB/s of vertices written | submit+wait {:8.3} ms",
             doc.scene.objects[0].name,
             doc.scene.objects[0].segments,
             patch_count,
@@ -183,6 +183,7 @@ fn bench_object(
                 "no curvature"
             },
             vertices / (pass * 1e-3) / 1e6,
+            vertices * std::mem::size_of::<SurfaceVertex>() as f64 / (pass * 1e-3) / 1e9,
             wall,
         )?;
     }
@@ -1539,11 +1540,15 @@ fn bench_scale(
             }
             let patches = geometry.patch_count();
             let visible = stats.map_or(patches, |s| s.visible_patches);
+            let pass = median(pass);
             writeln!(
                 out,
-                "scale {patches:>6} patches, {mode:<14} | {visible:>6} visible | {:>8} vertices | upload {upload_ms:8.1} ms | pass {:8.2} ms (submit+wait) | frame 1280 × 800 {:8.1} ms (4 samples), {:8.1} ms (1 sample) | {:.0} bytes per patch",
+                "scale {patches:>6} patches, {mode:<14} | {visible:>6} visible | {:>8} vertices | upload {upload_ms:8.1} ms | pass {:8.2} ms (submit+wait), {:6.2} GB/s of vertices written | frame 1280 × 800 {:8.1} ms (4 samples), {:8.1} ms (1 sample) | {:.0} bytes per patch",
                 geometry.vertex_count(),
-                median(pass),
+                pass,
+                f64::from(geometry.vertex_count()) * std::mem::size_of::<SurfaceVertex>() as f64
+                    / (pass * 1e-3)
+                    / 1e9,
                 frames[0],
                 frames[1],
                 geometry.buffer_bytes() as f64 / f64::from(patches.max(1)),
