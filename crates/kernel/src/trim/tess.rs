@@ -25,6 +25,8 @@ use glam::{DVec2, DVec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::{TrimmedSurface, flatten_pieces_mapped};
+use crate::diffgeo::CurvatureValues;
+use crate::surface::GridSample;
 use crate::tess::{self, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
 use crate::{GeometryError, NurbsSurface};
 
@@ -108,7 +110,13 @@ pub fn tessellate_trimmed(
             Vec::new()
         };
         if failing.is_empty() {
-            return mesh_from(surface, &clipped.points, clipped.triangles, curvature);
+            return mesh_from(
+                surface,
+                &grid,
+                &clipped.points,
+                clipped.triangles,
+                curvature,
+            );
         }
         grid = split_cells(&grid, &failing);
     }
@@ -287,8 +295,17 @@ fn chord_points(grid: &ParameterGrid, a: DVec2, b: DVec2, snap: f64) -> Vec<DVec
     points
 }
 
-/// The chords of the polygons that overlap each row of cells (in v), for parity tests.
-fn chords_by_row(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<Vec<[DVec2; 2]>> {
+/// The chords of the polygons that overlap one row of cells (in v), sorted by their larger u,
+/// for parity tests.
+#[derive(Default)]
+struct RowChords {
+    /// Each chord's larger u, ascending.
+    right: Vec<f64>,
+    chords: Vec<[DVec2; 2]>,
+}
+
+/// The chords of the polygons by row of cells.
+fn chords_by_row(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<RowChords> {
     let mut rows = vec![Vec::new(); grid.vs.len() - 1];
     for poly in polygons {
         for k in 0..poly.len() {
@@ -300,14 +317,24 @@ fn chords_by_row(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<Vec<[DVec
             }
         }
     }
-    rows
+    rows.into_iter()
+        .map(|mut chords: Vec<[DVec2; 2]>| {
+            chords.sort_by(|p, q| p[0].x.max(p[1].x).total_cmp(&q[0].x.max(q[1].x)));
+            RowChords {
+                right: chords.iter().map(|c| c[0].x.max(c[1].x)).collect(),
+                chords,
+            }
+        })
+        .collect()
 }
 
-/// Whether p (strictly inside a cell of the row whose chords are `chords`) lies inside the
-/// loops: the parity of the chords crossing the ray from p towards +u.
-fn inside(chords: &[[DVec2; 2]], p: DVec2) -> bool {
+/// Whether p (strictly inside a cell of the row whose chords are `row`) lies inside the
+/// loops: the parity of the chords crossing the ray from p towards +u. Chords that end left
+/// of p cannot cross it, so only those reaching past p.x are tested.
+fn inside(row: &RowChords, p: DVec2) -> bool {
+    let first = row.right.partition_point(|&x| x <= p.x);
     let mut parity = false;
-    for &[a, b] in chords {
+    for &[a, b] in &row.chords[first..] {
         if (a.y > p.y) != (b.y > p.y) {
             let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
             if x > p.x {
@@ -325,7 +352,10 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
     let snap = SNAP * (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
     let polygons = snapped(grid, polygons, snap);
     let mut pool = PointPool::default();
-    let mut cuts: HashMap<[usize; 2], CellCut> = HashMap::default();
+    // The cut of cell (i, j) at i * rows + j.
+    let rows_count = vs.len() - 1;
+    let mut cuts: Vec<CellCut> = Vec::new();
+    cuts.resize_with((us.len() - 1) * rows_count, CellCut::default);
     for poly in &polygons {
         for k in 0..poly.len() {
             let points = chord_points(grid, poly[k], poly[(k + 1) % poly.len()], snap);
@@ -333,7 +363,7 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
             for (&p, &id) in points.iter().zip(&ids) {
                 for i in spans_holding(us, p.x) {
                     for j in spans_holding(vs, p.y) {
-                        cuts.entry([i, j]).or_default().points.push(id);
+                        cuts[i * rows_count + j].points.push(id);
                     }
                 }
             }
@@ -341,10 +371,7 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
                 let m = 0.5 * (w[0] + w[1]);
                 for i in spans_holding(us, m.x) {
                     for j in spans_holding(vs, m.y) {
-                        cuts.entry([i, j])
-                            .or_default()
-                            .pieces
-                            .push([pair[0], pair[1]]);
+                        cuts[i * rows_count + j].pieces.push([pair[0], pair[1]]);
                     }
                 }
             }
@@ -357,7 +384,8 @@ fn clip_grid(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Result<ClippedGri
         for j in 0..vs.len() - 1 {
             let rect = [us[i], us[i + 1], vs[j], vs[j + 1]];
             let corners = corners_of(rect);
-            match cuts.get(&[i, j]).filter(|c| c.cuts(&pool.points, rect)) {
+            let cell = &cuts[i * rows_count + j];
+            match Some(cell).filter(|c| c.cuts(&pool.points, rect)) {
                 Some(cell) => {
                     let start = triangles.len();
                     triangulate_cell(&mut pool, cell, rect, &rows[j], &mut triangles)?;
@@ -434,7 +462,7 @@ fn triangulate_cell(
     pool: &mut PointPool,
     cell: &CellCut,
     rect: [f64; 4],
-    row: &[[DVec2; 2]],
+    row: &RowChords,
     out: &mut Vec<[u32; 3]>,
 ) -> Result<(), GeometryError> {
     let corners = corners_of(rect);
@@ -523,8 +551,13 @@ fn triangulate_cell(
 }
 
 /// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
+/// Vertices on the crossings of `grid` (most of them, where the holes are small against the
+/// surface) come from one evaluation of the whole grid in SIMD lanes
+/// ([`NurbsSurface::tessellate_grid`]); the chord points, and every point where less than half
+/// the grid is used, one at a time.
 fn mesh_from(
     surface: &NurbsSurface,
+    grid: &ParameterGrid,
     vertices: &[DVec2],
     triangles: Vec<[u32; 3]>,
     curvature: bool,
@@ -539,12 +572,48 @@ fn mesh_from(
             }
         }
     }
+    let crossing = |p: DVec2| -> Option<usize> {
+        let i = grid.us.binary_search_by(|u| u.total_cmp(&p.x)).ok()?;
+        let j = grid.vs.binary_search_by(|v| v.total_cmp(&p.y)).ok()?;
+        Some(i * grid.vs.len() + j)
+    };
+    let on_grid = order
+        .iter()
+        .filter(|&&k| crossing(vertices[k]).is_some())
+        .count();
+    let evaluated: Option<Vec<(GridSample, CurvatureValues)>> =
+        if 2 * on_grid >= grid.us.len() * grid.vs.len() {
+            if curvature {
+                surface.curvature_grid(&grid.us, &grid.vs).ok()
+            } else {
+                surface
+                    .tessellate_grid(&grid.us, &grid.vs)
+                    .ok()
+                    .map(|samples| {
+                        samples
+                            .into_iter()
+                            .map(|s| (s, CurvatureValues::default()))
+                            .collect()
+                    })
+            }
+        } else {
+            None
+        };
     let [(u0, u1), (v0, v1)] = surface.domain();
     let mut mesh = TriangleMesh::default();
     for &k in &order {
         let p = vertices[k];
         let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
-        if curvature {
+        if let Some((sample, values)) = crossing(p)
+            .and_then(|at| evaluated.as_ref()?.get(at))
+            .filter(|_| (u, v) == (p.x, p.y))
+        {
+            mesh.positions.push(sample.point);
+            mesh.normals.push(sample.normal);
+            if curvature {
+                mesh.curvatures.push(*values);
+            }
+        } else if curvature {
             let local = surface.local_geometry(u, v)?;
             mesh.positions.push(local.derivatives.point);
             mesh.normals.push(local.normal);
