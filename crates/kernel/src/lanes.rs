@@ -7,7 +7,7 @@
 //! instruction (the caller picks one at run time). Both builds give the
 //! same bits, and the same as scalar code with the same operation order.
 
-use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, Sub};
 
 /// Four f64 values, one per lane.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -85,14 +85,6 @@ lane_op!(Add, add, +);
 lane_op!(Sub, sub, -);
 lane_op!(Mul, mul, *);
 lane_op!(Div, div, /);
-
-impl Neg for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn neg(self) -> F4 {
-        F4(self.0.map(|x| -x))
-    }
-}
 
 /// `a && b` lane by lane.
 #[inline(always)]

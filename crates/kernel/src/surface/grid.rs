@@ -141,7 +141,7 @@ impl NurbsSurface {
             for (k, iso_k) in iso.iter_mut().enumerate().take(order + 1) {
                 for (l, &i) in rows_of_lanes.iter().enumerate() {
                     let span_u = basis_u.spans[i];
-                    let bu = basis_u.at(i, k, self.degree[0] + 1);
+                    let bu = basis_u.at(i, k, p + 1);
                     let net = &self.points[(span_u - p) * cv..(span_u + 1) * cv];
                     for (j, slot) in iso_k.iter_mut().enumerate() {
                         let mut acc = DVec4::ZERO;
@@ -203,15 +203,10 @@ impl NurbsSurface {
                     let tv = a01.xyz.scale(w) - a00.xyz.scale(a01.w);
                     let n = tu.cross(tv);
                     let n2 = n.length_squared();
-                    // The tests of `SurfaceDerivatives::regular_normal`, scale-free: at a pole
-                    // of a rational surface the derivative along the collapsed edge is
-                    // rounding noise that can pass the sin² test alone.
-                    let (a, b) = (tu.length_squared(), tv.length_squared());
-                    let limit = F4::splat(DEGENERATE_SIN2);
-                    let regular = and(
-                        and(n2.gt(limit * (a * b)), n2.gt(F4::splat(0.0))),
-                        a.min(b).gt(limit * a.max(b)),
-                    );
+                    // Both tests of `regular_normal`: at a pole of a rational surface the
+                    // derivative along the collapsed edge is rounding noise that can pass the
+                    // sin² test alone.
+                    let regular = regular_lanes(n2, tu.length_squared(), tv.length_squared());
                     let normal = n.scale(F4::splat(1.0) / n2.sqrt());
                     let mut samples: [T; 4] = std::array::from_fn(|l| {
                         T::from_parts(
@@ -285,13 +280,21 @@ fn second_derivatives(a00: H4, a01: H4, a02: H4, a10: H4, a11: H4, a20: H4) -> D
 fn regular_normal(d: &Derivatives4) -> (V3, [bool; 4]) {
     let n = d.su.cross(d.sv);
     let n2 = n.length_squared();
-    let (a, b) = (d.su.length_squared(), d.sv.length_squared());
+    let regular = regular_lanes(n2, d.su.length_squared(), d.sv.length_squared());
+    (n.div(n2.sqrt()), regular)
+}
+
+/// The lanes where the tangent plane is regular, by the tests of
+/// [`SurfaceDerivatives::regular_normal`] from |n|² = |a × b|², |a|² and |b|²: sin² of the
+/// angle above [`DEGENERATE_SIN2`], and neither vector vanishing against the other. The tests
+/// are scale-free, so a and b may be Su and Sv scaled alike (by w²).
+#[inline(always)]
+fn regular_lanes(n2: F4, a: F4, b: F4) -> [bool; 4] {
     let limit = F4::splat(DEGENERATE_SIN2);
-    let regular = and(
+    and(
         and(n2.gt(limit * (a * b)), n2.gt(F4::splat(0.0))),
         a.min(b).gt(limit * a.max(b)),
-    );
-    (n.div(n2.sqrt()), regular)
+    )
 }
 
 /// [`CurvatureValues::from_forms`] of [`crate::diffgeo::FundamentalForms::new`] for four
