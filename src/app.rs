@@ -111,6 +111,9 @@ struct ViewportGpu {
     /// Samples and resolution at rest and in motion, from the adapter.
     quality: Quality,
     timer: Option<GpuTimer>,
+    /// The export grids' evaluator on this device, made at the first export that uses it.
+    #[cfg(not(target_arch = "wasm32"))]
+    export_grids: Option<Arc<crate::gpu::export_grids::GpuGrids>>,
 }
 
 impl ViewportGpu {
@@ -127,6 +130,8 @@ impl ViewportGpu {
             egui_renderer: Arc::clone(&state.renderer),
             device,
             net: None,
+            #[cfg(not(target_arch = "wasm32"))]
+            export_grids: None,
         }
     }
 

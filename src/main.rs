@@ -232,6 +232,7 @@ fn main() -> std::process::ExitCode {
             segments,
             curvature,
             colors,
+            backend,
         }) => {
             return cli::export(cli::ExportArgs {
                 input,
@@ -240,6 +241,7 @@ fn main() -> std::process::ExitCode {
                 segments: *segments,
                 curvature: *curvature,
                 colors: *colors,
+                backend: *backend,
             });
         }
         None => {}

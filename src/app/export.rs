@@ -8,7 +8,7 @@ use super::KnotworkApp;
 use crate::gpu::records::curvature_ramp_rgb;
 use crate::io::gltf::{self, CurvatureColors, ExportOptions};
 use crate::io::project::Project;
-use crate::kernel::tess::Tessellation;
+use crate::kernel::tess::{GridSampler, Tessellation};
 
 /// What the Export window remembers.
 #[derive(Debug, Clone, PartialEq)]
@@ -219,6 +219,7 @@ impl FileExport {
         self,
         scene: &crate::scene::Scene,
         file_name: &str,
+        sampler: &dyn GridSampler,
     ) -> Result<(Vec<u8>, String), String> {
         let tessellation = Tessellation::Tolerance(gltf::default_tolerance(scene));
         match self {
@@ -237,13 +238,13 @@ impl FileExport {
                 Ok((written.text.into_bytes(), notes))
             }
             FileExport::Stl => {
-                let (bytes, facets) =
-                    crate::io::stl::write(scene, tessellation).map_err(|e| e.to_string())?;
+                let (bytes, facets) = crate::io::stl::write(scene, tessellation, sampler)
+                    .map_err(|e| e.to_string())?;
                 Ok((bytes, format!(": {facets} facets")))
             }
             FileExport::ThreeMf => {
-                let package =
-                    crate::io::threemf::write(scene, tessellation).map_err(|e| e.to_string())?;
+                let package = crate::io::threemf::write(scene, tessellation, sampler)
+                    .map_err(|e| e.to_string())?;
                 Ok((
                     package.bytes,
                     format!(
@@ -432,7 +433,6 @@ impl KnotworkApp {
     /// default tolerance ([`crate::io::step::export_scene`]), STL and 3MF at the glTF export's
     /// default tolerance; what was left out is said in the status, a refusal in a dialog.
     pub(super) fn export_file(&mut self, format: FileExport, target: ExportTarget) {
-        let scene = &self.doc.scene;
         let file_name = match &target {
             ExportTarget::File(path) => std::path::Path::new(path)
                 .file_name()
@@ -440,7 +440,9 @@ impl KnotworkApp {
                 .unwrap_or_default(),
             ExportTarget::Page(_) => format!("knotwork.{}", format.extensions()[0]),
         };
-        let (bytes, notes) = match format.write(scene, &file_name) {
+        let sampler = self.export_sampler();
+        let scene = &self.doc.scene;
+        let (bytes, notes) = match format.write(scene, &file_name, sampler.as_ref()) {
             Ok(written) => written,
             Err(e) => {
                 match target {
@@ -483,6 +485,30 @@ impl KnotworkApp {
         }
     }
 
+    /// Who evaluates an export's tessellation grids: on the desktop, the GPU's compute
+    /// shaders where the adapter is a hardware one that has them (made once, on the viewport's
+    /// device); else the f64 kernel: in the page, whose GPU cannot be read back within a
+    /// frame, and on a software adapter, where the kernel's SIMD grids are faster than the
+    /// emulated GPU. The triangles are the kernel's either way.
+    fn export_sampler(&mut self) -> std::sync::Arc<dyn GridSampler + Send> {
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(gpu) = &mut self.gpu
+            && gpu.sync.evaluates_on_gpu()
+            && !self.status.software_adapter
+        {
+            return gpu
+                .export_grids
+                .get_or_insert_with(|| {
+                    std::sync::Arc::new(crate::gpu::export_grids::GpuGrids::new(
+                        &gpu.device,
+                        &gpu.queue,
+                    ))
+                })
+                .clone();
+        }
+        std::sync::Arc::new(crate::kernel::tess::KernelGrids)
+    }
+
     /// Starts an export of the document as it is now; refused (to its target) when one is
     /// running, when nothing is visible or when the estimate is over the limit.
     fn start_export(&mut self, options: ExportOptions, target: ExportTarget) {
@@ -494,8 +520,10 @@ impl KnotworkApp {
             scene: self.doc.scene.clone(),
             view: Some(self.view),
         };
+        let sampler = self.export_sampler();
         match gltf::ExportJob::new(project, options, crate::kernel::tess::MAX_TRIANGLES) {
-            Ok(job) => {
+            Ok(mut job) => {
+                job.sample_grids_with(sampler);
                 self.running_export = Some(RunningExport {
                     job,
                     target,

@@ -146,6 +146,11 @@ pub enum Command {
         /// Add COLOR_0: this curvature on the viewport's colour ramp (automatic range).
         #[arg(long, value_enum)]
         colors: Option<ColorMode>,
+        /// Who evaluates the tessellation grids: the GPU's compute shaders, the f64 kernel, or
+        /// (auto) the GPU where a hardware adapter with compute shaders exists, else the CPU.
+        /// The triangles are the same either way; the GPU's values agree within f32 precision.
+        #[arg(long, value_enum, default_value_t = GridBackend::Auto)]
+        backend: GridBackend,
     },
     /// Subdivide a cage: INPUT is an OBJ (OpenSubdiv crease tags `t crease 2/1/0 A B S` and
     /// `t corner 1/1/0 V S` are read) or a project (its first subdivision surface or polygon
@@ -627,6 +632,15 @@ fn parse_continuity(text: &str) -> Result<knotwork::kernel::blend::EdgeContinuit
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Backend {
+    Cpu,
+    Gpu,
+}
+
+/// Who evaluates an export's tessellation grids (`knotwork export --backend`).
+#[derive(Clone, Copy, PartialEq, Eq, Debug, ValueEnum)]
+pub enum GridBackend {
+    /// The GPU on a hardware adapter with compute shaders, else the CPU.
+    Auto,
     Cpu,
     Gpu,
 }

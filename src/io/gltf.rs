@@ -40,7 +40,7 @@ use thiserror::Error;
 
 use super::project::{self, Project};
 use crate::kernel::GeometryError;
-use crate::kernel::tess::{Estimate, Tessellation, TriangleMesh};
+use crate::kernel::tess::{Estimate, GridSampler, KernelGrids, Tessellation, TriangleMesh};
 
 /// What went wrong in an export.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -429,6 +429,23 @@ pub fn export(project: &Project, options: &ExportOptions) -> Result<Export, Expo
     export_within(project, options, crate::kernel::tess::MAX_TRIANGLES)
 }
 
+/// [`export`] with the objects' parameter grids evaluated by `sampler` (the GPU's, where
+/// the caller has one: [`crate::gpu::export_grids`]).
+pub fn export_with(
+    project: &Project,
+    options: &ExportOptions,
+    sampler: std::sync::Arc<dyn GridSampler + Send>,
+) -> Result<Export, ExportError> {
+    let mut job = ExportJob::new(
+        project.clone(),
+        options.clone(),
+        crate::kernel::tess::MAX_TRIANGLES,
+    )?;
+    job.sample_grids_with(sampler);
+    while !job.step()? {}
+    job.finish()
+}
+
 /// [`export`], refused with [`ExportError::TooManyTriangles`] when the estimate, or the count
 /// of the objects tessellated so far, passes `max_triangles`.
 pub fn export_within(
@@ -492,6 +509,8 @@ pub struct ExportJob {
     triangles: usize,
     vertices: usize,
     lines: usize,
+    /// Who evaluates the objects' parameter grids: the f64 kernel unless told otherwise.
+    sampler: std::sync::Arc<dyn GridSampler + Send>,
 }
 
 impl ExportJob {
@@ -532,7 +551,15 @@ impl ExportJob {
             triangles: 0,
             lines: 0,
             vertices: 0,
+            sampler: std::sync::Arc::new(KernelGrids),
         })
+    }
+
+    /// Has `sampler` evaluate the parameter grids of the objects still to come (the GPU's
+    /// compute shaders, [`crate::gpu::export_grids::GpuGrids`]); the triangles are the
+    /// kernel's either way.
+    pub fn sample_grids_with(&mut self, sampler: std::sync::Arc<dyn GridSampler + Send>) {
+        self.sampler = sampler;
     }
 
     /// The share of the estimated triangles written so far, 0 to 1.
@@ -562,7 +589,7 @@ impl ExportJob {
         let builder = &mut self.builder;
         let curvature = options.curvature || options.colors.is_some();
         let pieces = object
-            .tessellate(options.tessellation, curvature)
+            .tessellate_with(options.tessellation, curvature, self.sampler.as_ref())
             .map_err(|source| ExportError::Geometry {
                 name: object.name.clone(),
                 source,

@@ -8,7 +8,7 @@
 //! Layout (little-endian): an 80-byte header, the facet count (u32), then per facet the normal
 //! and three vertices as f32 triples and a zero u16 attribute count: 50 bytes a facet.
 
-use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::tess::{GridSampler, Tessellation, TriangleMesh};
 use crate::scene::{Scene, SceneObject};
 
 /// Why a file for printing (STL, 3MF) could not be written.
@@ -43,15 +43,16 @@ impl PrintBody<'_> {
 /// object's parts turned together so that its signed volume (the divergence theorem over the
 /// triangles) is not negative: outward for a closed body. The objects are tessellated on every
 /// core and taken in scene order (the first object that fails is the one named).
-pub fn printable_bodies(
-    scene: &Scene,
+pub fn printable_bodies<'a>(
+    scene: &'a Scene,
     tessellation: Tessellation,
-) -> Result<Vec<PrintBody<'_>>, PrintError> {
+    sampler: &dyn GridSampler,
+) -> Result<Vec<PrintBody<'a>>, PrintError> {
     use rayon::prelude::*;
     let visible: Vec<&SceneObject> = scene.objects.iter().filter(|o| o.visible).collect();
     let tessellated: Vec<_> = visible
         .par_iter()
-        .map(|object| object.tessellate(tessellation, false))
+        .map(|object| object.tessellate_with(tessellation, false, sampler))
         .collect();
     let mut bodies = Vec::new();
     for (object, parts) in visible.into_iter().zip(tessellated) {
@@ -78,9 +79,14 @@ pub fn printable_bodies(
     Ok(bodies)
 }
 
-/// The binary STL of `scene`'s visible objects at `tessellation`, and its facet count.
-pub fn write(scene: &Scene, tessellation: Tessellation) -> Result<(Vec<u8>, usize), PrintError> {
-    let bodies = printable_bodies(scene, tessellation)?;
+/// The binary STL of `scene`'s visible objects at `tessellation` (grids evaluated by
+/// `sampler`), and its facet count.
+pub fn write(
+    scene: &Scene,
+    tessellation: Tessellation,
+    sampler: &dyn GridSampler,
+) -> Result<(Vec<u8>, usize), PrintError> {
+    let bodies = printable_bodies(scene, tessellation, sampler)?;
     let facets: usize = bodies.iter().map(PrintBody::facets).sum();
     let count = u32::try_from(facets).map_err(|_| PrintError::TooMany(facets))?;
     let mut bytes = Vec::with_capacity(84 + 50 * facets);

@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 
 use super::stl::{PrintBody, PrintError, printable_bodies};
 use crate::kernel::LengthUnit;
-use crate::kernel::tess::Tessellation;
+use crate::kernel::tess::{GridSampler, Tessellation};
 use crate::scene::Scene;
 
 /// Why a 3MF file could not be written.
@@ -112,9 +112,14 @@ pub fn welded(body: &PrintBody<'_>) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     (vertices, triangles)
 }
 
-/// The 3MF package of `scene`'s visible objects at `tessellation`.
-pub fn write(scene: &Scene, tessellation: Tessellation) -> Result<ThreeMf, ThreeMfError> {
-    let bodies = printable_bodies(scene, tessellation)?;
+/// The 3MF package of `scene`'s visible objects at `tessellation` (grids evaluated by
+/// `sampler`).
+pub fn write(
+    scene: &Scene,
+    tessellation: Tessellation,
+    sampler: &dyn GridSampler,
+) -> Result<ThreeMf, ThreeMfError> {
+    let bodies = printable_bodies(scene, tessellation, sampler)?;
     let mut model = String::new();
     // Writing to a String cannot fail: the results of write! are ignored below.
     let _ = write!(

@@ -13,7 +13,7 @@ use std::fmt::Debug;
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry};
-use crate::kernel::tess::{Tessellation, TriangleMesh};
+use crate::kernel::tess::{GridSampler, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface, ParametricSurface, PolygonMesh, TrimmedSurface};
 
 /// A kind's faces for exchange ([`ObjectKind::exchange_faces`]).
@@ -160,6 +160,19 @@ pub trait ObjectKind: KindValue {
         tessellation: Tessellation,
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError>;
+
+    /// [`Self::tessellate`] with the parameter grids evaluated by `sampler` (the GPU's
+    /// compute shaders in the editor), for kinds that tessellate on tensor grids of NURBS
+    /// surfaces; the rest ignore it and tessellate as [`Self::tessellate`] does.
+    fn tessellate_with(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+        sampler: &dyn GridSampler,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let _ = sampler;
+        self.tessellate(tessellation, curvature)
+    }
 
     /// About how many triangles [`Self::tessellate`] makes at `tessellation`, in time that
     /// does not grow with the answer where the tolerance decides it (so a tiny tolerance is

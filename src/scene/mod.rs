@@ -481,11 +481,26 @@ impl SceneObject {
         tessellation: tess::Tessellation,
         curvature: bool,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
+        self.tessellate_with(tessellation, curvature, &tess::KernelGrids)
+    }
+
+    /// [`Self::tessellate`] with the kind's parameter grids evaluated by `sampler`
+    /// ([`ObjectKind::tessellate_with`]); displacement, lattices and estimated curvatures are
+    /// applied on the CPU as there.
+    pub fn tessellate_with(
+        &self,
+        tessellation: tess::Tessellation,
+        curvature: bool,
+        sampler: &dyn tess::GridSampler,
+    ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
         let mut meshes = match &self.lattice {
-            None => self.tessellate_undeformed(tessellation, curvature)?,
+            None => self.tessellate_undeformed(tessellation, curvature, sampler)?,
             Some(lattice) => {
-                let mut meshes =
-                    self.tessellate_undeformed(tess::Tessellation::Segments(self.segments), false)?;
+                let mut meshes = self.tessellate_undeformed(
+                    tess::Tessellation::Segments(self.segments),
+                    false,
+                    sampler,
+                )?;
                 for mesh in &mut meshes {
                     for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
                         (*p, *n) = lattice.deform_vertex(*p, *n);
@@ -513,13 +528,16 @@ impl SceneObject {
         &self,
         tessellation: tess::Tessellation,
         curvature: bool,
+        sampler: &dyn tess::GridSampler,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
         let Some(map) = &self.displacement else {
-            return self.kind().tessellate(tessellation, curvature);
+            return self
+                .kind()
+                .tessellate_with(tessellation, curvature, sampler);
         };
-        let mut meshes = self
-            .kind()
-            .tessellate(self.displacement_tessellation(map), false)?;
+        let mut meshes =
+            self.kind()
+                .tessellate_with(self.displacement_tessellation(map), false, sampler)?;
         for mesh in &mut meshes {
             crate::kernel::displace::displace_mesh(mesh, map);
         }

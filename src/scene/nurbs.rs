@@ -151,8 +151,19 @@ impl ObjectKind for NurbsSurface {
         tessellation: Tessellation,
         curvature: bool,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        self.tessellate_with(tessellation, curvature, &tess::KernelGrids)
+    }
+
+    fn tessellate_with(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+        sampler: &dyn tess::GridSampler,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
         let grid = tess::grid_for(self, tessellation)?;
-        Ok(vec![tess::triangulate(self, &grid, curvature)?])
+        Ok(vec![tess::triangulate_with(
+            self, &grid, curvature, sampler,
+        )?])
     }
 
     fn estimated_triangles(

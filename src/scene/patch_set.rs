@@ -95,6 +95,15 @@ impl ObjectKind for BezierPatchSet {
         tess::tessellate_patches(self, tessellation, curvature)
     }
 
+    fn tessellate_with(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+        sampler: &dyn tess::GridSampler,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        tess::tessellate_patches_with(self, tessellation, curvature, sampler)
+    }
+
     fn estimated_triangles(
         &self,
         tessellation: Tessellation,

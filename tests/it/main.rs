@@ -22,6 +22,7 @@ mod file_format;
 mod fuzz_regressions;
 mod gltf_export;
 mod gpu_eval;
+mod gpu_export;
 mod import_files;
 mod intersect;
 mod kernel_props;

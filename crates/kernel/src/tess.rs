@@ -459,6 +459,84 @@ pub fn grid_for(
     }
 }
 
+/// Points, unit normals and (when asked) K, H, k1, k2 of a surface on a tensor grid,
+/// row-major (u outer, as [`NurbsSurface::tessellate_grid`] orders them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GridValues {
+    pub samples: Vec<GridSample>,
+    /// One per sample when curvature was asked for, else empty.
+    pub curvatures: Vec<CurvatureValues>,
+}
+
+/// Who evaluates export grids. [`KernelGrids`] is the f64 kernel (the reference); the editor
+/// also has one on the GPU's compute shaders, whose answers agree within f32 precision. The
+/// grids themselves, the triangles and everything else of an export are chosen on the CPU, so
+/// the two give the same topology.
+pub trait GridSampler: Sync {
+    /// Every `(surface, grid)` of `jobs` evaluated on its grid, in order; curvatures when
+    /// `curvature`.
+    fn sample_grids(
+        &self,
+        jobs: &[(&NurbsSurface, &ParameterGrid)],
+        curvature: bool,
+    ) -> Result<Vec<GridValues>, GeometryError>;
+
+    /// How far rounding may move the positions it returns for `surface` (a distance): two
+    /// corners of a triangle within twice this are one point, so the triangle has no area (a
+    /// pole's triangles stay out whoever evaluates, and wherever the surface lies). By
+    /// default f64 rounding ([`rounding_slack`]).
+    fn position_slack(&self, surface: &NurbsSurface) -> f64 {
+        rounding_slack(surface)
+    }
+}
+
+/// 16 units in the last place of f64 at `surface`'s largest coordinate: how far rounding may
+/// move a point the kernel evaluates on it.
+pub fn rounding_slack(surface: &NurbsSurface) -> f64 {
+    let (lo, hi) = surface.bounds();
+    let largest = lo.abs().max(hi.abs()).max_element();
+    if largest.is_finite() {
+        16.0 * f64::EPSILON * largest
+    } else {
+        0.0
+    }
+}
+
+/// The f64 kernel's grids ([`NurbsSurface::tessellate_grid`], [`NurbsSurface::curvature_grid`]),
+/// the jobs spread over rayon's pool (each computed on its own, so any thread count gives the
+/// same bits).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct KernelGrids;
+
+impl GridSampler for KernelGrids {
+    fn sample_grids(
+        &self,
+        jobs: &[(&NurbsSurface, &ParameterGrid)],
+        curvature: bool,
+    ) -> Result<Vec<GridValues>, GeometryError> {
+        use rayon::prelude::*;
+        jobs.par_iter()
+            .map(|(surface, grid)| {
+                if curvature {
+                    let (samples, curvatures) = surface
+                        .curvature_grid(&grid.us, &grid.vs)?
+                        .into_iter()
+                        .unzip();
+                    Ok(GridValues {
+                        samples,
+                        curvatures,
+                    })
+                } else {
+                    Ok(GridValues {
+                        samples: surface.tessellate_grid(&grid.us, &grid.vs)?,
+                        curvatures: Vec::new(),
+                    })
+                }
+            })
+            .collect()
+    }
+}
+
 /// The surface on `grid` as a triangle mesh: positions and unit normals from
 /// [`NurbsSurface::tessellate_grid`] (curvatures from [`NurbsSurface::curvature_grid`] when
 /// `curvature`), (u, v) normalized over the domain, and two triangles per cell. Triangles of
@@ -468,17 +546,70 @@ pub fn triangulate(
     grid: &ParameterGrid,
     curvature: bool,
 ) -> Result<TriangleMesh, GeometryError> {
+    triangulate_with(surface, grid, curvature, &KernelGrids)
+}
+
+/// [`triangulate`] with the grid evaluated by `sampler`.
+pub fn triangulate_with(
+    surface: &NurbsSurface,
+    grid: &ParameterGrid,
+    curvature: bool,
+    sampler: &dyn GridSampler,
+) -> Result<TriangleMesh, GeometryError> {
+    triangulate_all(&[(surface, grid)], curvature, sampler)?
+        .pop()
+        .ok_or_else(|| sampler_error(1, 0))
+}
+
+/// Every `(surface, grid)` of `jobs` triangulated as [`triangulate`] does, the grids evaluated
+/// by `sampler` in one call.
+pub fn triangulate_all(
+    jobs: &[(&NurbsSurface, &ParameterGrid)],
+    curvature: bool,
+    sampler: &dyn GridSampler,
+) -> Result<Vec<TriangleMesh>, GeometryError> {
+    let values = sampler.sample_grids(jobs, curvature)?;
+    if values.len() != jobs.len() {
+        return Err(sampler_error(jobs.len(), values.len()));
+    }
+    jobs.iter()
+        .zip(values)
+        .map(|(&(surface, grid), values)| {
+            let slack = sampler.position_slack(surface);
+            mesh_on_grid(surface, grid, values, curvature, slack)
+        })
+        .collect()
+}
+
+/// The error for a sampler that answered `got` of `asked` grids or samples.
+fn sampler_error(asked: usize, got: usize) -> GeometryError {
+    GeometryError::Construction {
+        what: "grid evaluation",
+        message: format!("asked for {asked} values, the evaluator returned {got}"),
+    }
+}
+
+/// The triangle mesh of `surface` on `grid` from the grid's evaluated `values`: (u, v)
+/// normalized over the domain, two triangles per cell, those of zero area (within `slack`, a
+/// distance: [`is_degenerate`]) left out.
+fn mesh_on_grid(
+    surface: &NurbsSurface,
+    grid: &ParameterGrid,
+    values: GridValues,
+    curvature: bool,
+    slack: f64,
+) -> Result<TriangleMesh, GeometryError> {
     let (us, vs) = (&grid.us, &grid.vs);
-    let mut mesh = TriangleMesh::default();
-    let samples: Vec<GridSample> = if curvature {
-        let grid = surface.curvature_grid(us, vs)?;
-        mesh.curvatures = grid.iter().map(|(_, c)| *c).collect();
-        grid.into_iter().map(|(s, _)| s).collect()
-    } else {
-        surface.tessellate_grid(us, vs)?
+    let count = us.len() * vs.len();
+    if values.samples.len() != count || (curvature && values.curvatures.len() != count) {
+        return Err(sampler_error(count, values.samples.len()));
+    }
+    let mut mesh = TriangleMesh {
+        positions: values.samples.iter().map(|s| s.point).collect(),
+        normals: values.samples.iter().map(|s| s.normal).collect(),
+        curvatures: values.curvatures,
+        ..Default::default()
     };
-    mesh.positions = samples.iter().map(|s| s.point).collect();
-    mesh.normals = samples.iter().map(|s| s.normal).collect();
     let [(u0, u1), (v0, v1)] = surface.domain();
     mesh.uvs = us
         .iter()
@@ -492,7 +623,7 @@ pub fn triangulate(
         for j in 0..nv - 1 {
             let [a, b, c, d] = cell_corners(nv, i, j).map(|k| k as u32);
             for t in [[a, b, c], [a, c, d]] {
-                if !is_degenerate(&mesh.positions, t) {
+                if !is_degenerate(&mesh.positions, t, slack) {
                     mesh.triangles.push(t);
                 }
             }
@@ -512,15 +643,16 @@ fn cell_corners(nv: usize, i: usize, j: usize) -> [usize; 4] {
     ]
 }
 
-/// Whether triangle `t` has (numerically) no area.
-fn is_degenerate(positions: &[DVec3], t: [u32; 3]) -> bool {
+/// Whether triangle `t` has (numerically) no area: twice its area at most 1e-12 of its
+/// longest edge squared, or an edge of at most 2 `slack` (how far rounding may move the
+/// positions: two corners that are one point, as at a pole, placed a rounding error apart).
+fn is_degenerate(positions: &[DVec3], t: [u32; 3], slack: f64) -> bool {
     let [a, b, c] = t.map(|i| positions[i as usize]);
-    let (e1, e2) = (b - a, c - a);
-    let scale = e1
-        .length_squared()
-        .max(e2.length_squared())
-        .max((c - b).length_squared());
-    e1.cross(e2).length() <= 1e-12 * scale
+    let (e1, e2, e3) = (b - a, c - a, c - b);
+    let lengths = [e1, e2, e3].map(DVec3::length_squared);
+    let scale = lengths[0].max(lengths[1]).max(lengths[2]);
+    let shortest = lengths[0].min(lengths[1]).min(lengths[2]);
+    e1.cross(e2).length() <= 1e-12 * scale || shortest <= 4.0 * slack * slack
 }
 
 /// One Bézier patch of a set as a NURBS surface on [0, 1]².
@@ -551,6 +683,16 @@ pub fn tessellate_patches(
     set: &BezierPatchSet,
     tessellation: Tessellation,
     curvature: bool,
+) -> Result<Vec<TriangleMesh>, GeometryError> {
+    tessellate_patches_with(set, tessellation, curvature, &KernelGrids)
+}
+
+/// [`tessellate_patches`] with the grids evaluated by `sampler` (in one call).
+pub fn tessellate_patches_with(
+    set: &BezierPatchSet,
+    tessellation: Tessellation,
+    curvature: bool,
+    sampler: &dyn GridSampler,
 ) -> Result<Vec<TriangleMesh>, GeometryError> {
     let surfaces = (0..set.patches().len())
         .map(|k| patch_surface(set, k))
@@ -607,11 +749,8 @@ pub fn tessellate_patches(
             }
         }
     };
-    surfaces
-        .iter()
-        .zip(&grids)
-        .map(|(s, g)| triangulate(s, g, curvature))
-        .collect()
+    let jobs: Vec<(&NurbsSurface, &ParameterGrid)> = surfaces.iter().zip(&grids).collect();
+    triangulate_all(&jobs, curvature, sampler)
 }
 
 /// About how many triangles [`tessellate_patches`] gives `set` at `tessellation`: each patch's
@@ -959,6 +1098,33 @@ mod tests {
             let n = t.map(|i| mesh.normals[i as usize]);
             let face = (b - a).cross(c - a);
             assert!(face.dot(n[0] + n[1] + n[2]) > 0.0);
+        }
+    }
+
+    /// Which triangles are empty does not depend on where the surface lies: a sphere's pole
+    /// triangles stay out far from the origin too, where f64 rounding puts a pole's points a
+    /// few units in the last place apart (it did not: 1e-12 of a small triangle's edge is
+    /// below that rounding).
+    #[test]
+    fn pole_triangles_stay_out_far_from_the_origin() {
+        let at_origin = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        let grid = uniform_grid(&at_origin, 24).unwrap();
+        let expected = triangulate(&at_origin, &grid, false)
+            .unwrap()
+            .triangles
+            .len();
+        // Each cell at a pole loses its empty triangle.
+        assert!(expected < grid.triangle_count());
+        for offset in [
+            DVec3::new(1234.5, -678.9, 250.0),
+            DVec3::new(-3.0e4, 7.5e4, 1.0e5),
+        ] {
+            for radius in [1.0, 0.01] {
+                let far = construct::sphere(offset, radius).unwrap();
+                let grid = uniform_grid(&far, 24).unwrap();
+                let mesh = triangulate(&far, &grid, false).unwrap();
+                assert_eq!(mesh.triangles.len(), expected, "{offset} r = {radius}");
+            }
         }
     }
 }

@@ -27,7 +27,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 use super::{TrimmedSurface, flatten_pieces_mapped};
 use crate::diffgeo::CurvatureValues;
 use crate::surface::GridSample;
-use crate::tess::{self, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
+use crate::tess::{self, GridSampler, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
 use crate::{GeometryError, NurbsSurface};
 
 /// The share of the tolerance the boundary chords keep to.
@@ -79,6 +79,17 @@ pub fn tessellate_trimmed(
     tessellation: Tessellation,
     curvature: bool,
 ) -> Result<TriangleMesh, GeometryError> {
+    tessellate_trimmed_with(trimmed, tessellation, curvature, &tess::KernelGrids)
+}
+
+/// [`tessellate_trimmed`] with the vertices on the grid's crossings evaluated by `sampler`
+/// (the cut cells are clipped, and the boundary's vertices evaluated, by the kernel).
+pub fn tessellate_trimmed_with(
+    trimmed: &TrimmedSurface,
+    tessellation: Tessellation,
+    curvature: bool,
+    sampler: &dyn GridSampler,
+) -> Result<TriangleMesh, GeometryError> {
     let surface = trimmed.surface();
     let tolerance = match tessellation {
         Tessellation::Tolerance(t) => t,
@@ -116,6 +127,7 @@ pub fn tessellate_trimmed(
                 &clipped.points,
                 clipped.triangles,
                 curvature,
+                sampler,
             );
         }
         grid = split_cells(&grid, &failing);
@@ -552,15 +564,16 @@ fn triangulate_cell(
 
 /// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
 /// Vertices on the crossings of `grid` (most of them, where the holes are small against the
-/// surface) come from one evaluation of the whole grid in SIMD lanes
-/// ([`NurbsSurface::tessellate_grid`]); the chord points, and every point where less than half
-/// the grid is used, one at a time.
+/// surface) come from one evaluation of the whole grid by `sampler` (the kernel's SIMD lanes,
+/// [`NurbsSurface::tessellate_grid`], or the GPU's); the chord points, and every point where
+/// less than half the grid is used, one at a time from the kernel.
 fn mesh_from(
     surface: &NurbsSurface,
     grid: &ParameterGrid,
     vertices: &[DVec2],
     triangles: Vec<[u32; 3]>,
     curvature: bool,
+    sampler: &dyn GridSampler,
 ) -> Result<TriangleMesh, GeometryError> {
     let mut used = vec![u32::MAX; vertices.len()];
     let mut order = Vec::new();
@@ -583,19 +596,22 @@ fn mesh_from(
         .count();
     let evaluated: Option<Vec<(GridSample, CurvatureValues)>> =
         if 2 * on_grid >= grid.us.len() * grid.vs.len() {
-            if curvature {
-                surface.curvature_grid(&grid.us, &grid.vs).ok()
-            } else {
-                surface
-                    .tessellate_grid(&grid.us, &grid.vs)
-                    .ok()
-                    .map(|samples| {
-                        samples
-                            .into_iter()
-                            .map(|s| (s, CurvatureValues::default()))
-                            .collect()
-                    })
-            }
+            sampler
+                .sample_grids(&[(surface, grid)], curvature)
+                .ok()
+                .and_then(|mut values| values.pop())
+                .filter(|values| {
+                    values.samples.len() == grid.us.len() * grid.vs.len()
+                        && (!curvature || values.curvatures.len() == values.samples.len())
+                })
+                .map(|values| {
+                    let mut curvatures = values.curvatures.into_iter();
+                    values
+                        .samples
+                        .into_iter()
+                        .map(|s| (s, curvatures.next().unwrap_or_default()))
+                        .collect()
+                })
         } else {
             None
         };
