@@ -1068,6 +1068,12 @@ struct FaceTriangulation {
 
 /// The constrained Delaunay triangulation of one face: its boundary polygons (vertex, (u, v))
 /// as constraints and the inner points of its tolerance grid that keep clear of them.
+/// A number in [0, 1) different for every row `j` (the fractional part of j times the golden
+/// ratio), so that no two rows of a grid are shifted alike.
+fn row_shift(j: usize) -> f64 {
+    (j as f64 * 0.618_033_988_749_894_9).fract()
+}
+
 fn triangulate_face(
     face: &TrimmedSurface,
     polygons: &[Vec<(usize, DVec2)>],
@@ -1137,7 +1143,12 @@ fn triangulate_face(
                 (q.x / cu).powi(2) + (q.y / cv).powi(2) > reach * reach
             });
             if clear {
-                interior.push((p, ()));
+                // Moved along u by a millionth of the cell, by a different amount in every
+                // row: a grid's cells are rectangles, whose corners lie on one circle, which
+                // sends each Delaunay in-circle test to exact arithmetic; sheared into
+                // parallelograms they are decided in floating point.
+                let shift = 1e-6 * cu * row_shift(j);
+                interior.push((DVec2::new(u + shift, v), ()));
             }
         }
     }
@@ -1184,9 +1195,18 @@ fn triangulate_face(
     // there gets a vertex at its centroid, a few rounds at most. The tolerance grid bounds the
     // cells, but a triangle joining a boundary to a grid point a third of a cell inside can
     // be wider than a cell.
+    // A flat face needs no check: its triangles and the face lie in one slab a quarter of the
+    // tolerance thick on either side of its plane. A triangle that passed keeps passing: later
+    // rounds check only the triangles that are new (by their three corners).
     let unscaled = |p: Point2<f64>| DVec2::new(p.x / scale.x, p.y / scale.y);
     let mut corner_points: Vec<Option<DVec3>> = vec![None; points.len()];
-    for _ in 0..REFINE_ROUNDS {
+    let rounds = if surface.plane(0.25 * tolerance).is_some() {
+        0
+    } else {
+        REFINE_ROUNDS
+    };
+    let mut passed: rustc_hash::FxHashSet<[usize; 3]> = Default::default();
+    for _ in 0..rounds {
         let kept = kept_faces(&cdt);
         let mut centroids = Vec::new();
         for f in cdt.inner_faces() {
@@ -1194,6 +1214,11 @@ fn triangulate_face(
             let uv = f.vertices().map(|v| unscaled(v.position()));
             let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
             if (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) == 0.0 || !kept[f.fix().index()] {
+                continue;
+            }
+            let mut key = ids;
+            key.sort_unstable();
+            if passed.contains(&key) {
                 continue;
             }
             let mut corners = [DVec3::ZERO; 3];
@@ -1216,11 +1241,17 @@ fn triangulate_face(
                 (0.5 * (uv[1] + uv[2]), 0.5 * (corners[1] + corners[2])),
                 (0.5 * (uv[2] + uv[0]), 0.5 * (corners[2] + corners[0])),
             ];
+            let mut fails = false;
             for (at, flat) in checks {
                 if surface.point_at_clamped(at)?.distance(flat) > tolerance {
-                    centroids.push(centroid);
+                    fails = true;
                     break;
                 }
+            }
+            if fails {
+                centroids.push(centroid);
+            } else {
+                passed.insert(key);
             }
         }
         if centroids.is_empty() {
