@@ -1206,6 +1206,7 @@ fn triangulate_face(
         REFINE_ROUNDS
     };
     let mut passed: rustc_hash::FxHashSet<[usize; 3]> = Default::default();
+    let mut edge_fails: rustc_hash::FxHashMap<[usize; 2], bool> = Default::default();
     for _ in 0..rounds {
         let kept = kept_faces(&cdt);
         let mut centroids = Vec::new();
@@ -1235,18 +1236,25 @@ fn triangulate_face(
                     }
                 };
             }
-            let checks = [
-                (centroid, (corners[0] + corners[1] + corners[2]) / 3.0),
-                (0.5 * (uv[0] + uv[1]), 0.5 * (corners[0] + corners[1])),
-                (0.5 * (uv[1] + uv[2]), 0.5 * (corners[1] + corners[2])),
-                (0.5 * (uv[2] + uv[0]), 0.5 * (corners[2] + corners[0])),
-            ];
-            let mut fails = false;
-            for (at, flat) in checks {
-                if surface.point_at_clamped(at)?.distance(flat) > tolerance {
-                    fails = true;
+            let flat = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let mut fails = surface.point_at_clamped(centroid)?.distance(flat) > tolerance;
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                if fails {
                     break;
                 }
+                // An edge's midpoint depends on the edge alone: both its triangles, and every
+                // round, share one answer.
+                let edge = [ids[a].min(ids[b]), ids[a].max(ids[b])];
+                fails = match edge_fails.get(&edge) {
+                    Some(&known) => known,
+                    None => {
+                        let at = 0.5 * (uv[a] + uv[b]);
+                        let flat = 0.5 * (corners[a] + corners[b]);
+                        let known = surface.point_at_clamped(at)?.distance(flat) > tolerance;
+                        edge_fails.insert(edge, known);
+                        known
+                    }
+                };
             }
             if fails {
                 centroids.push(centroid);
