@@ -77,30 +77,20 @@ impl Prepared {
     }
 }
 
-/// For each of the sorted `values`, the span of `breaks` it falls in (the last span at the
-/// end) and its local parameter there; an error for a value outside the breaks.
+/// For each of `values`, the span of `breaks` it falls in and its local parameter there
+/// ([`super::point_eval::locate`]); an error for a value outside the breaks.
 fn locate_all(breaks: &[f64], values: &[f64]) -> Result<Vec<(u32, f32)>, GeometryError> {
-    let (Some(&first), Some(&last)) = (breaks.first(), breaks.last()) else {
-        return Err(GeometryError::Construction {
-            what: "GPU export grid",
-            message: "the surface has no spans".into(),
-        });
-    };
-    let spans = breaks.len() - 1;
     values
         .iter()
         .map(|&x| {
-            if !(x >= first && x <= last) || spans == 0 {
-                return Err(GeometryError::OutsideDomain {
+            super::point_eval::locate(breaks, x)
+                .map(|(span, t)| (span as u32, t as f32))
+                .ok_or(GeometryError::OutsideDomain {
                     parameter: "grid",
                     value: x,
-                    start: first,
-                    end: last,
-                });
-            }
-            let span = breaks[1..spans].partition_point(|&b| b <= x);
-            let (a, b) = (breaks[span], breaks[span + 1]);
-            Ok((span as u32, ((x - a) / (b - a)).clamp(0.0, 1.0) as f32))
+                    start: breaks.first().copied().unwrap_or(f64::NAN),
+                    end: breaks.last().copied().unwrap_or(f64::NAN),
+                })
         })
         .collect()
 }

@@ -17,7 +17,7 @@ use crate::kernel::{Direction, GeometryError, NurbsSurface};
 
 /// The Bézier span of `breaks` containing `x` (the last span at the domain's end) and the local
 /// parameter in it; `None` outside [breaks[0], breaks[last]].
-fn locate(breaks: &[f64], x: f64) -> Option<(usize, f64)> {
+pub(super) fn locate(breaks: &[f64], x: f64) -> Option<(usize, f64)> {
     let (first, last) = (*breaks.first()?, *breaks.last()?);
     if !(x >= first && x <= last) || breaks.len() < 2 {
         return None;
