@@ -205,7 +205,10 @@ pub(super) fn face_grid(
     let placements: [(usize, usize, bool); 4] = if triangle {
         [(0, 0, false), (h, 0, false), (0, h, false), (h, h, true)]
     } else {
-        [(0, 0, false), (h, 0, false), (h, h, false), (0, h, false)]
+        std::array::from_fn(|c| {
+            let (i, j) = quad_child_origin(c, h);
+            (i, j, false)
+        })
     };
     for (c, &(oi, oj, inverted)) in placements.iter().enumerate() {
         let sub = face_grid(hierarchy, k + 1, first_child + c as u32, depth - 1);
@@ -224,6 +227,60 @@ pub(super) fn face_grid(
         }
     }
     grid
+}
+
+/// Where child `c` of a quad's refinement starts on the quad's grid, `h` steps being half its
+/// side: refine() orders a quad's children from its corners 0, 1, 2, 3, each with the quad's
+/// own axes.
+fn quad_child_origin(c: usize, h: usize) -> (usize, usize) {
+    [(0, 0), (h, 0), (h, h), (0, h)][c % 4]
+}
+
+/// The uniform cubic B-spline's four basis functions on one knot span, t ∈ [0, 1], and their
+/// first and second derivatives: rows value, d/dt, d²/dt² (the segment polynomials
+/// (1 − t)³/6, (3t³ − 6t² + 4)/6, (−3t³ + 3t² + 3t + 1)/6, t³/6; The NURBS Book, eq. 2.5
+/// evaluated on unit knot spacing).
+fn uniform_cubic_basis(t: f64) -> [[f64; 4]; 3] {
+    let s = 1.0 - t;
+    [
+        [
+            s * s * s / 6.0,
+            (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+            (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+            t * t * t / 6.0,
+        ],
+        [
+            -0.5 * s * s,
+            1.5 * t * t - 2.0 * t,
+            -1.5 * t * t + t + 0.5,
+            0.5 * t * t,
+        ],
+        [s, 3.0 * t - 2.0, 1.0 - 3.0 * t, t],
+    ]
+}
+
+/// Adds to `sum` the weights of the bicubic B-spline over `grid` ([`bspline_grid`]) at
+/// (u, v) of its quad: position, Su, Sv, Suu, Suv, Svv, the derivatives per `1/scale` of the
+/// quad's parameter.
+fn add_bspline_weights(grid: &[u32; 16], u: f64, v: f64, scale: f64, sum: &mut Accumulator<6>) {
+    let (bu, bv) = (uniform_cubic_basis(u), uniform_cubic_basis(v));
+    let s2 = scale * scale;
+    for a in 0..4 {
+        for b in 0..4 {
+            let weights = [
+                bu[0][a] * bv[0][b],
+                scale * bu[1][a] * bv[0][b],
+                scale * bu[0][a] * bv[1][b],
+                s2 * bu[2][a] * bv[0][b],
+                s2 * bu[1][a] * bv[1][b],
+                s2 * bu[0][a] * bv[2][b],
+            ];
+            // On the quad's edges a row of basis functions vanishes with its derivatives.
+            if weights.iter().any(|&w| w != 0.0) {
+                sum.add_scaled(grid[a * 4 + b], 1.0, &weights);
+            }
+        }
+    }
 }
 
 /// Marks in `needed` the vertices `rows` reach.
@@ -525,6 +582,12 @@ pub(super) fn exact_pieces(hierarchy: &Hierarchy, faces: &[u32], levels: u32) ->
 enum SlotRows {
     Regular([u32; 9], f64),
     Rows([Row; 3]),
+    /// On a regular cage quad: that quad and (u, v) on it, the bicubic's values in closed form.
+    BSpline {
+        face: u32,
+        u: f64,
+        v: f64,
+    },
 }
 
 /// Appends the stencil patches of `pieces` (faces of the hierarchy's levels refined to level
@@ -536,6 +599,20 @@ pub(super) fn push_stencil_patches(
     levels: u32,
     pieces: &[ShownPiece],
     display: Display,
+) {
+    push_stencil_patches_with(feed, hierarchy, levels, pieces, display, true);
+}
+
+/// [`push_stencil_patches`], with the slots on regular cage quads in closed form
+/// (`closed_form`) or, as on any other face, composed from the refinement's rows (the tests'
+/// reference).
+fn push_stencil_patches_with(
+    feed: &mut LimitFeed,
+    hierarchy: &Hierarchy,
+    levels: u32,
+    pieces: &[ShownPiece],
+    display: Display,
+    closed_form: bool,
 ) {
     if pieces.is_empty() {
         return;
@@ -586,10 +663,55 @@ pub(super) fn push_stencil_patches(
     // Per slot over level-k vertices: a regular vertex's 3 × 3 grid and its scale, or the
     // rows of its limit position and tangents (no curvature).
     let vertex_rows = VertexRows::new(level, scheme, display);
+    // Catmull-Clark's limit over a regular cage quad is the bicubic B-spline of its 16 points
+    // ([`is_regular_face`]): a slot of one of its level-1 quads takes the B-spline's values at
+    // its parameter on the cage quad in closed form (as OpenSubdiv's limit stencils evaluate a
+    // regular patch's basis), with no refinement rows composed.
+    let base = &hierarchy.levels[0];
+    let closed_form = closed_form && scheme == Scheme::CatmullClark && display == Display::Limit;
+    let starts = if closed_form {
+        first_children(base, scheme)
+    } else {
+        Vec::new()
+    };
+    let bspline_faces: Vec<Option<[u32; 16]>> = (0..base.face_count() as u32)
+        .into_par_iter()
+        .map(|f| {
+            (closed_form && is_regular_face(base, scheme, f))
+                .then(|| bspline_grid(base, f))
+                .flatten()
+        })
+        .collect();
     let per_piece: Vec<Vec<Option<SlotRows>>> = grids
         .par_iter()
         .zip(pieces)
         .map(|((_, grid), shown)| {
+            let piece = shown.piece;
+            if piece.level == 1
+                && bspline_faces
+                    .get(piece.cage_face as usize)
+                    .is_some_and(Option::is_some)
+            {
+                // The piece's full grid (2^depth segments) is one quarter of the cage quad's,
+                // with the quad's axes.
+                let c = (piece.face - starts[piece.cage_face as usize]) as usize;
+                let full = 1usize << piece.depth;
+                let (oi, oj) = quad_child_origin(c, full);
+                let side = (2 * full) as f64;
+                let s = shown.segments();
+                return (0..grid.len() as u32)
+                    .map(|slot| {
+                        grid[slot as usize]?;
+                        let (a, b) = (slot / (s + 1), slot % (s + 1));
+                        let (i, j) = shown.full_position(false, a, b)?;
+                        Some(SlotRows::BSpline {
+                            face: piece.cage_face,
+                            u: (oi + i as usize) as f64 / side,
+                            v: (oj + j as usize) as f64 / side,
+                        })
+                    })
+                    .collect();
+            }
             // Derivatives per unit of the piece's parameter: level k's step is 2^-depth of it.
             let scale = f64::from(1u32 << shown.piece.depth);
             grid.iter()
@@ -624,6 +746,7 @@ pub(super) fn push_stencil_patches(
                 }
             }
             SlotRows::Rows(rows) => mark_reached(&mut needed, rows.iter()),
+            SlotRows::BSpline { .. } => {}
         }
     }
     let composed = compose_to_cage(hierarchy, k, needed);
@@ -637,6 +760,12 @@ pub(super) fn push_stencil_patches(
             }
         }
         Some(SlotRows::Rows(rows)) => gather_over_cage(&composed, rows.iter(), sum),
+        // A level-1 quad's parameter is half the cage quad's.
+        Some(SlotRows::BSpline { face, u, v }) => {
+            if let Some(grid) = &bspline_faces[*face as usize] {
+                add_bspline_weights(grid, *u, *v, 0.5, sum);
+            }
+        }
         None => {}
     });
     let base = feed.entries.len() as u32;
@@ -663,5 +792,156 @@ pub(super) fn push_stencil_patches(
         feed.entries = slot_entries.entries;
     } else {
         feed.entries.extend(slot_entries.entries);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::PolygonMesh;
+    use crate::subdiv::{Crease, Options, cages};
+    use glam::{DQuat, DVec3};
+
+    /// A small deterministic generator (xorshift) for the cages' placement and noise.
+    struct Draw(u64);
+
+    impl Draw {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        fn signed(&mut self) -> f64 {
+            2.0 * self.next() - 1.0
+        }
+    }
+
+    /// Cages with regular quads beside extraordinary vertices, triangles, a crease and a
+    /// boundary, their points jittered and the whole under a random rotation, scale and
+    /// translation.
+    fn general_cages(seed: u64) -> Vec<SubdivisionSurface> {
+        let mut draw = Draw(seed);
+        let torus = cages::torus(DVec3::ZERO, 2.0, 0.7, 9, 7).unwrap();
+        // One quad split into two triangles: valence-5 and valence-3 corners.
+        let mut faces: Vec<Vec<u32>> = torus.faces().map(|f| f.to_vec()).collect();
+        let q = faces.remove(10);
+        faces.push(vec![q[0], q[1], q[2]]);
+        faces.push(vec![q[0], q[2], q[3]]);
+        let split = PolygonMesh::new(torus.points().to_vec(), &faces).unwrap();
+        let cylinder = cages::cylinder(DVec3::ZERO, 1.0, 3.0, 8, 6).unwrap();
+        let grid = cages::grid(DVec3::ZERO, 2.0, 6).unwrap();
+        let crease = vec![Crease {
+            a: 3,
+            b: 4,
+            sharpness: 1.5,
+        }];
+        let mut out = Vec::new();
+        for (mesh, creases) in [
+            (split, Vec::new()),
+            (torus, crease),
+            (cylinder, Vec::new()),
+            (grid, Vec::new()),
+        ] {
+            let axis = DVec3::new(draw.signed(), draw.signed(), draw.signed()).normalize();
+            let rotation = DQuat::from_axis_angle(axis, 6.0 * draw.next());
+            let scale = 0.05 + 20.0 * draw.next();
+            let shift = DVec3::new(draw.signed(), draw.signed(), draw.signed()) * 100.0;
+            let points: Vec<DVec3> = mesh
+                .points()
+                .iter()
+                .map(|&p| {
+                    let jitter = DVec3::new(draw.signed(), draw.signed(), draw.signed()) * 0.15;
+                    rotation * ((p + jitter) * scale) + shift
+                })
+                .collect();
+            let faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
+            let mesh = PolygonMesh::new(points, &faces).unwrap();
+            out.push(
+                SubdivisionSurface::new(mesh, creases, Vec::new(), Options::default(), 3).unwrap(),
+            );
+        }
+        out
+    }
+
+    /// Every face as stencil patches at `levels`, the regular quads' slots in closed form or
+    /// composed from the refinement's rows.
+    fn all_stencils(surface: &SubdivisionSurface, levels: u32, closed_form: bool) -> LimitFeed {
+        let base = surface.base_level().unwrap();
+        let faces: Vec<u32> = (0..base.face_count() as u32).collect();
+        let hierarchy = Hierarchy::new(base, surface.options, levels).unwrap();
+        let pieces = exact_pieces(&hierarchy, &faces, levels);
+        let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
+        let mut feed = LimitFeed::default();
+        push_stencil_patches_with(
+            &mut feed,
+            &hierarchy,
+            levels,
+            &shown,
+            Display::Limit,
+            closed_form,
+        );
+        feed
+    }
+
+    /// Position, Su, Sv, Suu, Suv, Svv of `slot`.
+    fn slot_values(feed: &LimitFeed, points: &[DVec3], slot: usize) -> [DVec3; 6] {
+        let [start, count] = feed.slots[slot];
+        let mut out = [DVec3::ZERO; 6];
+        for (i, w) in &feed.entries[start as usize..(start + count) as usize] {
+            for c in 0..6 {
+                out[c] += points[*i as usize] * w[c];
+            }
+        }
+        out
+    }
+
+    /// The closed-form B-spline slots on regular cage quads give what composing the
+    /// refinement's masks level by level gives (position, first and second derivatives), and
+    /// the positions and normals of the level's limit.
+    #[test]
+    fn regular_quads_in_closed_form_match_the_composed_refinement() {
+        for seed in [0x9e37_79b9_7f4a_7c15, 0x2545_f491_4f6c_dd1d] {
+            for (c, surface) in general_cages(seed).iter().enumerate() {
+                let (lo, hi) = surface.mesh().bounds().unwrap();
+                let size = (hi - lo).length();
+                let points = surface.points();
+                let base = surface.base_level().unwrap();
+                let regular = (0..base.face_count() as u32)
+                    .filter(|&f| is_regular_face(&base, Scheme::CatmullClark, f))
+                    .count();
+                assert!(
+                    regular > 0 && regular < base.face_count(),
+                    "cage {c}: {regular} regular quads"
+                );
+                for levels in 1..=3 {
+                    let closed = all_stencils(surface, levels, true);
+                    let composed = all_stencils(surface, levels, false);
+                    assert_eq!(closed.vertex, composed.vertex);
+                    assert_eq!(closed.no_curvature, composed.no_curvature);
+                    let limit = surface.limit(levels).unwrap();
+                    let mut worst = [0.0f64; 3];
+                    for slot in 0..closed.slots.len() {
+                        let vertex = closed.vertex[slot];
+                        if vertex == u32::MAX {
+                            continue;
+                        }
+                        let a = slot_values(&closed, points, slot);
+                        let b = slot_values(&composed, points, slot);
+                        for k in 0..6 {
+                            worst[0] = worst[0].max((a[k] - b[k]).length() / size);
+                        }
+                        let v = vertex as usize;
+                        worst[1] = worst[1].max((a[0] - limit.positions[v]).length() / size);
+                        worst[2] = worst[2].max(a[1].cross(a[2]).angle_between(limit.normals[v]));
+                    }
+                    assert!(
+                        worst[0] < 1e-12 && worst[1] < 1e-12 && worst[2] < 1e-7,
+                        "seed {seed:x} cage {c} level {levels}: {worst:?}"
+                    );
+                }
+            }
+        }
     }
 }
