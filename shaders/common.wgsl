@@ -78,23 +78,52 @@ const TRIM_PIECE_HEADER_WORDS: u32 = 5u;
 // Bit of a stencil slot's count: the curvature is not defined there (Rust: STENCIL_NO_CURVATURE).
 const STENCIL_NO_CURVATURE: u32 = 0x80000000u;
 
-// One tessellation vertex (Rust: gpu::records::SurfaceVertex). 64 bytes: position at 0, u at 12,
-// normal at 16, v at 28, curvature at 32, object at 48, flags at 52, record at 56, level at 60.
+// One tessellation vertex (Rust: gpu::records::SurfaceVertex). 48 bytes: position at 0, u at 12,
+// normal at 16, v at 28, (K, H) at 32, record at 40, tag at 44.
 struct SurfaceVertex {
     position: vec3<f32>,
     // (u, v) in the parent surface's own domain.
     u: f32,
     normal: vec3<f32>,
     v: f32,
-    // (Gaussian K, mean H, k1, k2), k1 >= k2, positive toward the normal.
-    curvature: vec4<f32>,
-    object: u32,
-    // VERTEX_IRREGULAR (1): the normal is a limit; VERTEX_NO_CURVATURE (2): curvature undefined.
-    flags: u32,
+    // (Gaussian K, mean H), positive toward the normal; vertex_curvature gives k1 and k2.
+    gaussian_mean: vec2<f32>,
     // The patch record that wrote the vertex (Rust: SurfaceVertex::record).
     record: u32,
-    // The record's level (the refinement-level colours).
+    // The scene object (VERTEX_OBJECT_MASK), the record's level (4 bits at VERTEX_LEVEL_SHIFT,
+    // for the refinement-level colours) and the flags (4 bits at VERTEX_FLAGS_SHIFT):
+    // VERTEX_IRREGULAR (1), the normal is a limit; VERTEX_NO_CURVATURE (2), curvature undefined.
+    tag: u32,
+}
+
+// Rust: gpu::records::VERTEX_OBJECT_MASK, VERTEX_LEVEL_SHIFT, VERTEX_FLAGS_SHIFT.
+const VERTEX_OBJECT_MASK: u32 = 0xFFFFFFu;
+const VERTEX_LEVEL_SHIFT: u32 = 24u;
+const VERTEX_FLAGS_SHIFT: u32 = 28u;
+
+// A vertex from its parts, `curvature` (K, H, k1, k2) kept as (K, H) (Rust: SurfaceVertex::new).
+fn surface_vertex(
+    position: vec3<f32>,
+    uv: vec2<f32>,
+    normal: vec3<f32>,
+    curvature: vec4<f32>,
+    object: u32,
+    flags: u32,
+    record: u32,
     level: u32,
+) -> SurfaceVertex {
+    let tag = (object & VERTEX_OBJECT_MASK) | (min(level, 15u) << VERTEX_LEVEL_SHIFT)
+        | ((flags & 15u) << VERTEX_FLAGS_SHIFT);
+    return SurfaceVertex(position, uv.x, normal, uv.y, curvature.xy, record, tag);
+}
+
+// (K, H, k1, k2) from a vertex's (K, H): k1,2 = H +- sqrt(max(H^2 - K, 0)), within sqrt(eps) |H|
+// of the evaluator's near umbilics (Rust: SurfaceVertex::curvature).
+fn vertex_curvature(gaussian_mean: vec2<f32>) -> vec4<f32> {
+    let k = gaussian_mean.x;
+    let h = gaussian_mean.y;
+    let root = sqrt(max(h * h - k, 0.0));
+    return vec4<f32>(k, h, h + root, h - root);
 }
 
 // One parameter for point evaluation (Rust: gpu::records::PointSample): local (s, t) of a patch.

@@ -424,11 +424,13 @@ fn write_adaptive_vertex(slot: AdaptiveSlot, local: u32) {
         position = edge_point(rec, adaptive_boundary(rec, v));
     }
     let out = finish_vertex(rec, d, position, shape.normal, shape.curvature, shape.flags, v.st.x, v.st.y);
-    vertices[slot.vertex_offset + local] = SurfaceVertex(
+    vertices[slot.vertex_offset + local] = surface_vertex(
         out.position,
-        rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
+        vec2<f32>(
+            rec.domain.x * (1.0 - v.st.x) + rec.domain.y * v.st.x,
+            rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
+        ),
         out.normal,
-        rec.domain.z * (1.0 - v.st.y) + rec.domain.w * v.st.y,
         out.curvature,
         rec.object,
         out.flags,

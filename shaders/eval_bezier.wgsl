@@ -341,11 +341,13 @@ fn store_vertex(
     flags: u32,
 ) {
     let v = finish_vertex(rec, d, position, normal, curvature, flags, g.s, g.t);
-    vertices[rec.vertex_offset + local] = SurfaceVertex(
+    vertices[rec.vertex_offset + local] = surface_vertex(
         v.position,
-        rec.domain.x * (1.0 - g.s) + rec.domain.y * g.s,
+        vec2<f32>(
+            rec.domain.x * (1.0 - g.s) + rec.domain.y * g.s,
+            rec.domain.z * (1.0 - g.t) + rec.domain.w * g.t,
+        ),
         v.normal,
-        rec.domain.z * (1.0 - g.t) + rec.domain.w * g.t,
         v.curvature,
         rec.object,
         v.flags,

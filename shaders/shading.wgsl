@@ -48,12 +48,25 @@ struct VertexIn {
     @location(1) u: f32,
     @location(2) normal: vec3<f32>,
     @location(3) v: f32,
-    @location(4) curvature: vec4<f32>,
-    @location(5) object: u32,
-    @location(6) flags: u32,
-    @location(7) record: u32,
-    // 1 + the subdivision level the vertex comes from; 0 for none.
-    @location(8) level: u32,
+    // (K, H): vertex_curvature gives (K, H, k1, k2).
+    @location(4) gaussian_mean: vec2<f32>,
+    @location(5) record: u32,
+    // Object, level (1 + the subdivision level the vertex comes from; 0 for none) and flags
+    // (SurfaceVertex::tag in common.wgsl).
+    @location(6) tag: u32,
+}
+
+fn vertex_object(in: VertexIn) -> u32 {
+    return in.tag & VERTEX_OBJECT_MASK;
+}
+
+fn vertex_level(in: VertexIn) -> u32 {
+    return (in.tag >> VERTEX_LEVEL_SHIFT) & 15u;
+}
+
+// 1 where the vertex's curvature is defined, 0 where it is not.
+fn vertex_defined(in: VertexIn) -> f32 {
+    return select(1.0, 0.0, ((in.tag >> VERTEX_FLAGS_SHIFT) & VERTEX_NO_CURVATURE) != 0u);
 }
 
 // The surface at a fragment: point, unit normal (the surface's own orientation) and curvature

@@ -68,11 +68,11 @@ fn vs_surface(in: VertexIn) -> VertexOut {
     out.world = in.position;
     out.normal = in.normal;
     out.uv = vec2<f32>(in.u, in.v);
-    out.curvature = in.curvature;
+    out.curvature = vertex_curvature(in.gaussian_mean);
     out.record = in.record;
-    out.level = in.level;
-    out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
-    out.object = in.object;
+    out.level = vertex_level(in);
+    out.defined = vertex_defined(in);
+    out.object = vertex_object(in);
     if (TRIMMED) {
         let trim = trim_varying(in.record, out.uv);
         out.trim_grid = trim.grid;

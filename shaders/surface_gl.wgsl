@@ -44,10 +44,10 @@ fn vs_surface_gl(in: VertexIn) -> VertexOut {
     out.world = in.position;
     out.normal = in.normal;
     out.uv = vec2<f32>(in.u, in.v);
-    out.curvature = in.curvature;
-    out.defined = select(1.0, 0.0, (in.flags & VERTEX_NO_CURVATURE) != 0u);
-    out.object = in.object;
-    out.level = in.level;
+    out.curvature = vertex_curvature(in.gaussian_mean);
+    out.defined = vertex_defined(in);
+    out.object = vertex_object(in);
+    out.level = vertex_level(in);
     let word = in.record >> 5u;
     if (word < 1024u) {
         let bits = highlight[word >> 2u][word & 3u];

@@ -107,22 +107,24 @@ fn grid_vertex(
     };
     let position = point.as_vec3().to_array();
     let finite = position.iter().all(|x| x.is_finite());
-    SurfaceVertex {
-        position: if finite { position } else { [0.0; 3] },
-        u: (u0 * (1.0 - s) + u1 * s) as f32,
-        normal: normal.as_vec3().to_array(),
-        v: (v0 * (1.0 - t) + v1 * t) as f32,
-        curvature: curvature.unwrap_or([0.0; 4]),
-        object: record.object,
-        flags: flags
+    SurfaceVertex::new(
+        if finite { position } else { [0.0; 3] },
+        (
+            (u0 * (1.0 - s) + u1 * s) as f32,
+            (v0 * (1.0 - t) + v1 * t) as f32,
+        ),
+        normal.as_vec3().to_array(),
+        curvature.unwrap_or([0.0; 4]),
+        record.object,
+        flags
             | if curvature.is_none() {
                 VERTEX_NO_CURVATURE
             } else {
                 0
             },
-        record: index,
-        level: record.level,
-    }
+        index,
+        record.level,
+    )
 }
 
 /// Grid point k of a record: (i, j) row-major with i along u, and local (s, t).

@@ -31,6 +31,8 @@ pub enum GpuError {
     },
     #[error("{count} patches exceed the {max} one dispatch can evaluate")]
     TooManyPatches { count: usize, max: u32 },
+    #[error("{count} objects exceed the {max} the GPU's vertices can name")]
+    TooManyObjects { count: usize, max: usize },
     #[error("tessellation of {segments} segments per patch edge is outside 1..={max}")]
     SegmentsOutOfRange { segments: u32, max: u32 },
     #[error("the {what} buffer would need {bytes} bytes; this device allows {limit}")]

@@ -225,6 +225,14 @@ impl PatchLayout {
                 max: max_groups,
             });
         }
+        // A vertex names its object in 24 bits (SurfaceVertex::tag).
+        let max_objects = super::records::VERTEX_OBJECT_MASK as usize + 1;
+        if objects.len() > max_objects {
+            return Err(GpuError::TooManyObjects {
+                count: objects.len(),
+                max: max_objects,
+            });
+        }
         let mut layout = Self {
             records: Vec::with_capacity(total_patches),
             objects: Vec::with_capacity(objects.len()),

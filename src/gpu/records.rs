@@ -102,7 +102,19 @@ pub const VERTEX_IRREGULAR: u32 = 1;
 /// the curvature modes show the vertex neutrally). WGSL: `VERTEX_NO_CURVATURE`.
 pub const VERTEX_NO_CURVATURE: u32 = 2;
 
-/// One tessellation vertex as the compute pass writes it and the render pass reads it.
+/// Bits of [`SurfaceVertex::tag`] that hold the scene object (the low 24); the scene may hold at
+/// most this many objects for the GPU. WGSL: `VERTEX_OBJECT_MASK`.
+pub const VERTEX_OBJECT_MASK: u32 = (1 << 24) - 1;
+/// Where [`SurfaceVertex::tag`] holds the record's level (4 bits). WGSL: `VERTEX_LEVEL_SHIFT`.
+pub const VERTEX_LEVEL_SHIFT: u32 = 24;
+/// Where [`SurfaceVertex::tag`] holds the flags (4 bits). WGSL: `VERTEX_FLAGS_SHIFT`.
+pub const VERTEX_FLAGS_SHIFT: u32 = 28;
+
+/// One tessellation vertex as the compute pass writes it and the render pass reads it: 48
+/// bytes, position and normal in full f32 precision, the curvature as its Gaussian and mean
+/// values (the principal ones follow, k1,2 = H ± √(H² − K): within √ε·|H| of the evaluator's
+/// near umbilics, where that root cancels, exact elsewhere), and object, level and flags in
+/// one word.
 /// WGSL: `struct SurfaceVertex` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -113,33 +125,78 @@ pub struct SurfaceVertex {
     pub normal: [f32; 3],
     /// v in the parent surface's own domain.
     pub v: f32,
-    /// (Gaussian K, mean H, k1, k2) with k1 ≥ k2, positive toward the normal (the kernel's
-    /// convention: a sphere with outward normals has k = −1/r).
-    pub curvature: [f32; 4],
-    /// The scene object.
-    pub object: u32,
-    /// [`VERTEX_IRREGULAR`] | [`VERTEX_NO_CURVATURE`].
-    pub flags: u32,
+    /// (Gaussian K, mean H), positive toward the normal (the kernel's convention: a sphere with
+    /// outward normals has H = −1/r); zero where the curvature is undefined.
+    pub gaussian_mean: [f32; 2],
     /// The patch record that wrote the vertex (for highlighting the patches a drag changes).
     pub record: u32,
-    /// The record's [`PatchRecord::level`] (for the refinement-level colours).
-    pub level: u32,
+    /// The scene object ([`VERTEX_OBJECT_MASK`]), the record's [`PatchRecord::level`] (at
+    /// [`VERTEX_LEVEL_SHIFT`], for the refinement-level colours) and [`VERTEX_IRREGULAR`] |
+    /// [`VERTEX_NO_CURVATURE`] (at [`VERTEX_FLAGS_SHIFT`]).
+    pub tag: u32,
 }
 
 impl SurfaceVertex {
-    /// Vertex attributes: position (0), u (1), normal (2), v (3), curvature (4), object (5),
-    /// flags (6), record (7), level (8).
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 9] = wgpu::vertex_attr_array![
+    /// Vertex attributes: position (0), u (1), normal (2), v (3), (K, H) (4), record (5),
+    /// tag (6).
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
         0 => Float32x3,
         1 => Float32,
         2 => Float32x3,
         3 => Float32,
-        4 => Float32x4,
+        4 => Float32x2,
         5 => Uint32,
         6 => Uint32,
-        7 => Uint32,
-        8 => Uint32,
     ];
+
+    /// A vertex from its parts; `curvature` is (K, H, k1, k2), of which K and H are kept;
+    /// `level` is kept to 4 bits and `object` to [`VERTEX_OBJECT_MASK`]. WGSL: `surface_vertex`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        position: [f32; 3],
+        (u, v): (f32, f32),
+        normal: [f32; 3],
+        curvature: [f32; 4],
+        object: u32,
+        flags: u32,
+        record: u32,
+        level: u32,
+    ) -> Self {
+        Self {
+            position,
+            u,
+            normal,
+            v,
+            gaussian_mean: [curvature[0], curvature[1]],
+            record,
+            tag: (object & VERTEX_OBJECT_MASK)
+                | (level.min(15) << VERTEX_LEVEL_SHIFT)
+                | ((flags & 15) << VERTEX_FLAGS_SHIFT),
+        }
+    }
+
+    /// (Gaussian K, mean H, k1, k2), k1 ≥ k2: k1,2 = H ± √(max(H² − K, 0)). WGSL:
+    /// `vertex_curvature`.
+    pub fn curvature(&self) -> [f32; 4] {
+        let [k, h] = self.gaussian_mean;
+        let root = (h * h - k).max(0.0).sqrt();
+        [k, h, h + root, h - root]
+    }
+
+    /// The scene object.
+    pub fn object(&self) -> u32 {
+        self.tag & VERTEX_OBJECT_MASK
+    }
+
+    /// The record's level.
+    pub fn level(&self) -> u32 {
+        (self.tag >> VERTEX_LEVEL_SHIFT) & 15
+    }
+
+    /// [`VERTEX_IRREGULAR`] | [`VERTEX_NO_CURVATURE`].
+    pub fn flags(&self) -> u32 {
+        self.tag >> VERTEX_FLAGS_SHIFT
+    }
 
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {

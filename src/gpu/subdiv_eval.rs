@@ -107,7 +107,7 @@ pub fn evaluate_feed(
             }
             let v = vertices[record.vertex_offset as usize + k];
             let f = |a: [f32; 3]| DVec3::from(a.map(f64::from));
-            out[vertex as usize] = Some((f(v.position), f(v.normal), v.curvature.map(f64::from)));
+            out[vertex as usize] = Some((f(v.position), f(v.normal), v.curvature().map(f64::from)));
         }
     }
     Ok(out)

@@ -89,7 +89,7 @@ impl ShadingMode {
         }
     }
 
-    /// The curvature component it shows (index into [`crate::gpu::records::SurfaceVertex::curvature`]), if any.
+    /// The curvature component it shows (index into [`crate::gpu::records::SurfaceVertex::curvature`]'s (K, H, k1, k2)), if any.
     pub fn curvature_component(self) -> Option<usize> {
         match self {
             Self::Gaussian => Some(0),

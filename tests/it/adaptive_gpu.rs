@@ -317,7 +317,7 @@ fn the_adaptive_tessellation_matches_its_references_and_is_watertight() {
                 error < 2e-5,
                 "slot {s} vertex {k}: off by {error} of the size"
             );
-            assert_eq!(v.object as usize, info.object);
+            assert_eq!(v.object() as usize, info.object);
             assert_eq!(v.record as usize, slot.record as usize);
             checked_vertices += 1;
         }

@@ -1448,11 +1448,12 @@ fn a_long_boolean_runs_over_frames_with_progress_and_cancel() {
     // The box of planes is [0, 2] × [0, 1] × [0, 1.5].
     let block =
         crate::common::box_of_planes(&DAffine3::from_scale(DVec3::new(4.0, 6.0, 1.0 / 1.5)));
-    let (r, rows, columns) = (0.25, 5, 6);
+    // 80 pins: long enough that two frames do not finish it on a quiet machine.
+    let (r, rows, columns) = (0.2, 8, 10);
     let mut pins = Vec::new();
     for i in 0..columns {
         for j in 0..rows {
-            let centre = DVec3::new(0.7 + 1.3 * i as f64, 0.6 + 1.2 * j as f64, -0.5);
+            let centre = DVec3::new(0.6 + 0.75 * i as f64, 0.55 + 0.7 * j as f64, -0.5);
             pins.extend(
                 knotwork::kernel::solids::capped_cylinder(centre, DVec3::Z * 2.0, r).unwrap(),
             );

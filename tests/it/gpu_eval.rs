@@ -147,7 +147,7 @@ fn compare_object(
                     .position
                     .iter()
                     .chain(&vertex.normal)
-                    .chain(&vertex.curvature)
+                    .chain(&vertex.gaussian_mean)
                     .chain([&vertex.u, &vertex.v]);
                 assert!(
                     all.clone().all(|x| x.is_finite()),
@@ -179,12 +179,12 @@ fn compare_object(
                 worst.vertices += 1;
                 if let Some(c) = curvature
                     && sin2 > CURVATURE_SIN2
-                    && vertex.flags & (VERTEX_IRREGULAR | VERTEX_NO_CURVATURE) == 0
+                    && vertex.flags() & (VERTEX_IRREGULAR | VERTEX_NO_CURVATURE) == 0
                 {
                     // Dimensionless: K scaled by size², H, k1 and k2 by size.
                     let exact = [c.gaussian, c.mean, c.k1, c.k2];
                     let scales = [size * size, size, size, size];
-                    for ((gpu, exact), scale) in vertex.curvature.iter().zip(exact).zip(scales) {
+                    for ((gpu, exact), scale) in vertex.curvature().iter().zip(exact).zip(scales) {
                         let gpu = f64::from(*gpu);
                         let error = (gpu - exact).abs() * scale / (exact.abs() * scale).max(1.0);
                         if error > worst.curvature {
@@ -256,7 +256,10 @@ fn assert_matches_on(objects: &[SceneObject], cpu: bool, limits: Limits) {
         );
         // Every vertex carries its object's index.
         let record = records[first];
-        assert_eq!(vertices[record.vertex_offset as usize].object, index as u32);
+        assert_eq!(
+            vertices[record.vertex_offset as usize].object(),
+            index as u32
+        );
     }
 }
 
@@ -301,7 +304,7 @@ fn the_cpu_evaluator_matches_the_f64_reference_and_the_compute_layout() {
     let flags_apart = gpu_vertices
         .iter()
         .zip(&cpu_vertices)
-        .filter(|(g, c)| g.flags != c.flags)
+        .filter(|(g, c)| g.flags() != c.flags())
         .count();
     assert!(
         flags_apart * 1000 <= gpu_vertices.len(),
@@ -309,7 +312,7 @@ fn the_cpu_evaluator_matches_the_f64_reference_and_the_compute_layout() {
         gpu_vertices.len()
     );
     for (g, c) in gpu_vertices.iter().zip(&cpu_vertices) {
-        assert_eq!((g.object, g.record), (c.object, c.record));
+        assert_eq!((g.object(), g.record), (c.object(), c.record));
         // The GPU interpolates (u, v) in f32: a few ulps apart.
         let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * (1.0 + b.abs());
         assert!(close(g.u, c.u) && close(g.v, c.v), "{g:?} {c:?}");
@@ -678,7 +681,7 @@ fn bad_requests_are_refused_and_leave_the_device_usable() {
         new(u32::MAX),
         Err(GpuError::SegmentsOutOfRange { .. })
     ));
-    // 1024 segments: 1025² vertices × 32 patches × 64 bytes is far past the binding limit.
+    // 1024 segments: 1025² vertices × 32 patches × 48 bytes is far past the binding limit.
     match new(MAX_SEGMENTS) {
         Err(GpuError::BufferTooLarge {
             what: "vertex",
@@ -742,17 +745,17 @@ fn degenerate_points_are_finite_and_flagged() {
     let geometry = sync.geometry().unwrap();
     let irregular: Vec<&SurfaceVertex> = vertices
         .iter()
-        .filter(|v| v.flags & VERTEX_IRREGULAR != 0)
+        .filter(|v| v.flags() & VERTEX_IRREGULAR != 0)
         .collect();
     assert!(vertices.iter().all(|v| {
         v.position
             .iter()
             .chain(&v.normal)
-            .chain(&v.curvature)
+            .chain(&v.gaussian_mean)
             .all(|x| x.is_finite())
     }));
-    let teapot_irregular = irregular.iter().filter(|v| v.object == 0).count();
-    let sphere_irregular: Vec<_> = irregular.iter().filter(|v| v.object == 1).collect();
+    let teapot_irregular = irregular.iter().filter(|v| v.object() == 0).count();
+    let sphere_irregular: Vec<_> = irregular.iter().filter(|v| v.object() == 1).collect();
     let n = |object: usize| {
         geometry.records()[geometry.first_patch(object).unwrap()].segments_u as usize + 1
     };
@@ -761,8 +764,8 @@ fn degenerate_points_are_finite_and_flagged() {
     // Sphere: the poles are the v-ends of its 8 patches' edges.
     assert_eq!(sphere_irregular.len(), 8 * n(1), "sphere");
     for v in sphere_irregular {
-        assert!(v.flags & VERTEX_NO_CURVATURE == 0);
-        let k = f64::from(v.curvature[0]);
+        assert!(v.flags() & VERTEX_NO_CURVATURE == 0);
+        let k = f64::from(v.curvature()[0]);
         // Sampled GPU_CURVATURE_NUDGE inside in f32: within 0.2 %.
         assert!(
             (k - 0.25).abs() < 5e-4,
@@ -794,13 +797,13 @@ fn vertices_without_curvature_are_otherwise_the_same() {
     let mut curved = 0;
     for (a, b) in with.iter().zip(&without) {
         assert_eq!(
-            (a.position, a.normal, a.u, a.v, a.object, a.record),
-            (b.position, b.normal, b.u, b.v, b.object, b.record)
+            (a.position, a.normal, a.u, a.v, a.object(), a.record),
+            (b.position, b.normal, b.u, b.v, b.object(), b.record)
         );
-        assert_eq!(a.flags & VERTEX_IRREGULAR, b.flags & VERTEX_IRREGULAR);
-        assert_eq!(b.curvature, [0.0; 4]);
-        assert_ne!(b.flags & VERTEX_NO_CURVATURE, 0);
-        curved += usize::from(a.curvature != [0.0; 4]);
+        assert_eq!(a.flags() & VERTEX_IRREGULAR, b.flags() & VERTEX_IRREGULAR);
+        assert_eq!(b.gaussian_mean, [0.0; 2]);
+        assert_ne!(b.flags() & VERTEX_NO_CURVATURE, 0);
+        curved += usize::from(a.gaussian_mean != [0.0; 2]);
     }
     assert!(
         curved * 2 > with.len(),

@@ -90,12 +90,12 @@ fn a_lattice_that_scales_space_doubles_a_sphere_and_halves_its_curvature() {
             worst_p = worst_p.max((p.length() - r).abs() / r);
             let n = DVec3::from(v.normal.map(f64::from));
             worst_n = worst_n.max(n.angle_between(p.normalize()).min(n.angle_between(-p)));
-            if v.flags & 2 == 0 {
+            if v.flags() & 2 == 0 {
                 with_curvature += 1;
                 // K = 1 / r², |H| = 1 / r on the sphere of radius r.
                 worst_k = worst_k
-                    .max((f64::from(v.curvature[0]) * r * r - 1.0).abs())
-                    .max((f64::from(v.curvature[1]).abs() * r - 1.0).abs());
+                    .max((f64::from(v.curvature()[0]) * r * r - 1.0).abs())
+                    .max((f64::from(v.curvature()[1]).abs() * r - 1.0).abs());
             }
         }
         eprintln!(
@@ -215,9 +215,9 @@ fn the_deformed_normal_and_curvature_match_the_kernel() {
                 else {
                     continue;
                 };
-                if v.flags & 2 == 0 {
+                if v.flags() & 2 == 0 {
                     let scale = c.mean.abs().max(c.k1.abs()).max(c.k2.abs()).max(1e-3);
-                    worst_h = worst_h.max((f64::from(v.curvature[1]) - c.mean).abs() / scale);
+                    worst_h = worst_h.max((f64::from(v.curvature()[1]) - c.mean).abs() / scale);
                     checked += 1;
                 }
             }

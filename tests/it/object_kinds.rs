@@ -968,7 +968,7 @@ fn subdivision_adaptive_conforms() {
         let (_, vertices) = on_gpu(&context, &doc, false);
         let mut seen = vec![0usize; histogram.len() + 1];
         for v in &vertices {
-            seen[v.level as usize] += 1;
+            seen[v.level() as usize] += 1;
         }
         for (level, &pieces) in histogram.iter().enumerate() {
             assert_eq!(

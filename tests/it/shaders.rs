@@ -145,11 +145,9 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             u,
             normal,
             v,
-            curvature,
-            object,
-            flags,
+            gaussian_mean,
             record,
-            level
+            tag
         })
     );
     assert_eq!(

@@ -104,10 +104,10 @@ fn a_quadratic_patch_is_the_paraboloid_and_the_gpu_gives_its_curvature() {
             4.0 / (q * q),
             2.0 * (1.0 + 2.0 * xy.length_squared()) / q.powf(1.5),
         );
-        let [gk, gh, _, _] = v.curvature.map(f64::from);
+        let [gk, gh, _, _] = v.curvature().map(f64::from);
         worst[1] = worst[1].max((gk - k).abs() / k);
         worst[2] = worst[2].max((gh.abs() - h).abs() / h);
-        assert_eq!(v.flags & 2, 0, "curvature defined at ({s}, {t})");
+        assert_eq!(v.flags() & 2, 0, "curvature defined at ({s}, {t})");
         // The normal is the paraboloid's (up to orientation): (−2x, −2y, 1) normalized.
         let normal = DVec3::new(-2.0 * xy.x, -2.0 * xy.y, 1.0).normalize();
         let n = DVec3::from(v.normal.map(f64::from));
