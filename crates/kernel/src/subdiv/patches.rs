@@ -800,29 +800,14 @@ mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
     use crate::subdiv::{Crease, Options, cages};
+    use crate::test_support::Xorshift;
     use glam::{DQuat, DVec3};
-
-    /// A small deterministic generator (xorshift) for the cages' placement and noise.
-    struct Draw(u64);
-
-    impl Draw {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-
-        fn signed(&mut self) -> f64 {
-            2.0 * self.next() - 1.0
-        }
-    }
 
     /// Cages with regular quads beside extraordinary vertices, triangles, a crease and a
     /// boundary, their points jittered and the whole under a random rotation, scale and
     /// translation.
     fn general_cages(seed: u64) -> Vec<SubdivisionSurface> {
-        let mut draw = Draw(seed);
+        let mut draw = Xorshift::new(seed);
         let torus = cages::torus(DVec3::ZERO, 2.0, 0.7, 9, 7).unwrap();
         // One quad split into two triangles: valence-5 and valence-3 corners.
         let mut faces: Vec<Vec<u32>> = torus.faces().map(|f| f.to_vec()).collect();
@@ -844,15 +829,28 @@ mod tests {
             (cylinder, Vec::new()),
             (grid, Vec::new()),
         ] {
-            let axis = DVec3::new(draw.signed(), draw.signed(), draw.signed()).normalize();
-            let rotation = DQuat::from_axis_angle(axis, 6.0 * draw.next());
-            let scale = 0.05 + 20.0 * draw.next();
-            let shift = DVec3::new(draw.signed(), draw.signed(), draw.signed()) * 100.0;
+            let axis = DVec3::new(
+                2.0 * draw.unit() - 1.0,
+                2.0 * draw.unit() - 1.0,
+                2.0 * draw.unit() - 1.0,
+            )
+            .normalize();
+            let rotation = DQuat::from_axis_angle(axis, 6.0 * draw.unit());
+            let scale = 0.05 + 20.0 * draw.unit();
+            let shift = DVec3::new(
+                2.0 * draw.unit() - 1.0,
+                2.0 * draw.unit() - 1.0,
+                2.0 * draw.unit() - 1.0,
+            ) * 100.0;
             let points: Vec<DVec3> = mesh
                 .points()
                 .iter()
                 .map(|&p| {
-                    let jitter = DVec3::new(draw.signed(), draw.signed(), draw.signed()) * 0.15;
+                    let jitter = DVec3::new(
+                        2.0 * draw.unit() - 1.0,
+                        2.0 * draw.unit() - 1.0,
+                        2.0 * draw.unit() - 1.0,
+                    ) * 0.15;
                     rotation * ((p + jitter) * scale) + shift
                 })
                 .collect();
