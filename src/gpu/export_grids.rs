@@ -85,7 +85,7 @@ fn locate_all(breaks: &[f64], values: &[f64]) -> Result<Vec<(u32, f32)>, Geometr
         .map(|&x| {
             super::point_eval::locate(breaks, x)
                 .map(|(span, t)| (span as u32, t as f32))
-                .ok_or(GeometryError::OutsideDomain {
+                .ok_or_else(|| GeometryError::OutsideDomain {
                     parameter: "grid",
                     value: x,
                     start: breaks.first().copied().unwrap_or(f64::NAN),

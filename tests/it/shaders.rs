@@ -360,6 +360,18 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "STENCIL_NO_CURVATURE",
             knotwork::gpu::records::STENCIL_NO_CURVATURE,
         ),
+        (
+            "VERTEX_OBJECT_MASK",
+            knotwork::gpu::records::VERTEX_OBJECT_MASK,
+        ),
+        (
+            "VERTEX_LEVEL_SHIFT",
+            knotwork::gpu::records::VERTEX_LEVEL_SHIFT,
+        ),
+        (
+            "VERTEX_FLAGS_SHIFT",
+            knotwork::gpu::records::VERTEX_FLAGS_SHIFT,
+        ),
         ("DISPLACE_IMAGE", pattern_code(Pattern::Image)),
         ("LATTICE_HEADER", knotwork::gpu::packing::LATTICE_HEADER),
         (

@@ -174,6 +174,14 @@ pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
     face.len() == 4 && face.iter().all(|&v| is_regular(level, scheme, v))
 }
 
+/// The B-spline points of cage quad `f` ([`bspline_grid`]) where its limit is that bicubic
+/// ([`is_regular_face`]).
+fn regular_bspline_grid(level: &Level, scheme: Scheme, f: u32) -> Option<[u32; 16]> {
+    is_regular_face(level, scheme, f)
+        .then(|| bspline_grid(level, f))
+        .flatten()
+}
+
 /// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
 /// `(2^depth + 1)²` slots (see [`StencilPatch`]); triangle slots past the diagonal are `None`.
 pub(super) fn face_grid(
@@ -464,11 +472,9 @@ impl SubdivisionSurface {
         let grids: Vec<Option<[u32; 16]>> = (0..base.face_count() as u32)
             .into_par_iter()
             .map(|f| {
-                (regular_as_bspline
-                    && display == Display::Limit
-                    && is_regular_face(&base, scheme, f))
-                .then(|| bspline_grid(&base, f))
-                .flatten()
+                (regular_as_bspline && display == Display::Limit)
+                    .then(|| regular_bspline_grid(&base, scheme, f))
+                    .flatten()
             })
             .collect();
         for (f, grid) in grids.into_iter().enumerate() {
@@ -669,19 +675,17 @@ fn push_stencil_patches_with(
     // regular patch's basis), with no refinement rows composed.
     let base = &hierarchy.levels[0];
     let closed_form = closed_form && scheme == Scheme::CatmullClark && display == Display::Limit;
-    let starts = if closed_form {
-        first_children(base, scheme)
+    let (starts, bspline_faces): (Vec<u32>, Vec<Option<[u32; 16]>>) = if closed_form {
+        (
+            first_children(base, scheme),
+            (0..base.face_count() as u32)
+                .into_par_iter()
+                .map(|f| regular_bspline_grid(base, scheme, f))
+                .collect(),
+        )
     } else {
-        Vec::new()
+        Default::default()
     };
-    let bspline_faces: Vec<Option<[u32; 16]>> = (0..base.face_count() as u32)
-        .into_par_iter()
-        .map(|f| {
-            (closed_form && is_regular_face(base, scheme, f))
-                .then(|| bspline_grid(base, f))
-                .flatten()
-        })
-        .collect();
     let per_piece: Vec<Vec<Option<SlotRows>>> = grids
         .par_iter()
         .zip(pieces)
@@ -800,8 +804,8 @@ mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
     use crate::subdiv::{Crease, Options, cages};
-    use crate::test_support::Xorshift;
-    use glam::{DQuat, DVec3};
+    use crate::test_support::{Xorshift, placement};
+    use glam::DVec3;
 
     /// Cages with regular quads beside extraordinary vertices, triangles, a crease and a
     /// boundary, their points jittered and the whole under a random rotation, scale and
@@ -829,29 +833,13 @@ mod tests {
             (cylinder, Vec::new()),
             (grid, Vec::new()),
         ] {
-            let axis = DVec3::new(
-                2.0 * draw.unit() - 1.0,
-                2.0 * draw.unit() - 1.0,
-                2.0 * draw.unit() - 1.0,
-            )
-            .normalize();
-            let rotation = DQuat::from_axis_angle(axis, 6.0 * draw.unit());
-            let scale = 0.05 + 20.0 * draw.unit();
-            let shift = DVec3::new(
-                2.0 * draw.unit() - 1.0,
-                2.0 * draw.unit() - 1.0,
-                2.0 * draw.unit() - 1.0,
-            ) * 100.0;
+            let (motion, _) = placement(draw.bits());
             let points: Vec<DVec3> = mesh
                 .points()
                 .iter()
                 .map(|&p| {
-                    let jitter = DVec3::new(
-                        2.0 * draw.unit() - 1.0,
-                        2.0 * draw.unit() - 1.0,
-                        2.0 * draw.unit() - 1.0,
-                    ) * 0.15;
-                    rotation * ((p + jitter) * scale) + shift
+                    let jitter = DVec3::new(draw.unit(), draw.unit(), draw.unit()) * 0.3 - 0.15;
+                    motion.transform_point3(p + jitter)
                 })
                 .collect();
             let faces: Vec<Vec<u32>> = mesh.faces().map(|f| f.to_vec()).collect();
