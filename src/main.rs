@@ -15,6 +15,11 @@ fn main() -> std::process::ExitCode {
         Some(cli::Command::Construct { request, output }) => {
             return cli::construct(request, output.as_deref());
         }
+        Some(cli::Command::Cage {
+            input,
+            output,
+            tool,
+        }) => return cli::cage(input, output, tool),
         Some(cli::Command::Subdivide {
             input,
             scheme,

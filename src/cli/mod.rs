@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 mod apply;
 mod bench;
 mod boolean;
+mod cage;
 mod construct;
 mod continuity;
 mod edges;
@@ -25,6 +26,7 @@ mod subdivide;
 pub use self::apply::apply;
 pub use self::bench::bench;
 pub use self::boolean::boolean;
+pub use self::cage::{CageTool, cage};
 pub use self::construct::construct;
 pub use self::continuity::continuity;
 pub use self::edges::{EdgeArgs, blend, match_edge};
@@ -151,6 +153,18 @@ pub enum Command {
         /// The triangles are the same either way; the GPU's values agree within f32 precision.
         #[arg(long, value_enum, default_value_t = GridBackend::Auto)]
         backend: GridBackend,
+    },
+    /// Apply one topology tool to an OBJ cage and write the new cage as OBJ: `knotwork cage
+    /// IN.obj -o OUT.obj extrude --faces 0,1 --offset 0.5`. Faces and vertices are named by
+    /// their 0-based index in the file; vertices keep their indices where they survive, new
+    /// ones follow, and faces keep their winding. OpenSubdiv crease tags are read and written.
+    Cage {
+        input: std::path::PathBuf,
+        /// The OBJ to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        #[command(subcommand)]
+        tool: CageTool,
     },
     /// Subdivide a cage: INPUT is an OBJ (OpenSubdiv crease tags `t crease 2/1/0 A B S` and
     /// `t corner 1/1/0 V S` are read) or a project (its first subdivision surface or polygon

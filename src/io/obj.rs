@@ -256,6 +256,22 @@ pub fn write(positions: &[DVec3], normals: &[DVec3], faces: &[&[u32]]) -> String
     out
 }
 
+/// OBJ text of a cage as written (no change of axes): `v` and `f` lines, then OpenSubdiv's tags
+/// for its creases (`t crease 2/1/0 A B S`) and corners (`t corner 1/1/0 V S`), 0-based as
+/// [`parse`] reads them.
+pub fn write_cage(cage: &crate::kernel::subdiv::cage_edit::Cage) -> String {
+    use std::fmt::Write;
+    let faces: Vec<&[u32]> = cage.faces.iter().map(Vec::as_slice).collect();
+    let mut out = write(&cage.points, &[], &faces);
+    for c in &cage.creases {
+        let _ = writeln!(out, "t crease 2/1/0 {} {} {}", c.a, c.b, c.sharpness);
+    }
+    for c in &cage.corners {
+        let _ = writeln!(out, "t corner 1/1/0 {} {}", c.vertex, c.sharpness);
+    }
+    out
+}
+
 /// The scene objects of a parsed file, turned from OBJ's Y-up into knotwork's Z-up.
 fn objects(parsed: ObjText, cages: bool) -> Result<Project, FormatError> {
     let vertices: Vec<DVec3> = parsed.vertices.iter().map(|&p| from_gltf_axes(p)).collect();

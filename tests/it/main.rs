@@ -11,6 +11,7 @@ mod adaptive_subdivision;
 mod analysis_overlays;
 mod analysis_render;
 mod boolean;
+mod cage_tools;
 mod construction_history;
 mod continuity;
 mod desktop_app;

@@ -9,6 +9,7 @@
 //! oracle and the export path.
 
 pub mod adaptive;
+pub mod cage_edit;
 pub mod cages;
 pub mod display;
 pub mod exchange;

@@ -1,0 +1,952 @@
+//! Topology tools on a subdivision cage, as Blender's edit mode has them: extrude and inset faces,
+//! loop cut, bevel edges, bridge edge loops, merge vertices, dissolve edges and delete faces.
+//!
+//! Every tool takes a [`Cage`] (points, polygon faces, creases and corners) and returns the new
+//! cage. The conventions are the same for all of them:
+//! - a vertex that survives keeps its index, and the vertices a tool adds follow the old ones;
+//!   vertices no face uses any more are dropped, the survivors keeping their order;
+//! - a face keeps the winding of the face it came from, and new faces are wound to agree with
+//!   their neighbours;
+//! - creases and corners go with the edges and vertices they were on (an edge split in pieces
+//!   gives each piece its sharpness; a copied edge, as the top of an extrusion, copies it).
+//!
+//! Where Blender's tool has options, the defaults of its edit-mode tool are taken: an inset is
+//! even (its strip has the width asked for along every edge), dissolving edges also dissolves
+//! the vertices left between only two edges, and a merge keeps the first vertex named.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use glam::DVec3;
+use thiserror::Error;
+
+use super::{Corner, Crease};
+
+/// Why a cage tool refused.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CageEditError {
+    #[error("face {0} is not in the cage ({1} faces)")]
+    NoFace(usize, usize),
+    #[error("vertex {0} is not in the cage ({1} vertices)")]
+    NoVertex(u32, usize),
+    #[error("the cage has no edge between vertices {0} and {1}")]
+    NoEdge(u32, u32),
+    #[error("{0}")]
+    Invalid(String),
+}
+
+fn invalid(message: impl Into<String>) -> CageEditError {
+    CageEditError::Invalid(message.into())
+}
+
+/// A polygon cage being edited: points, faces (each a loop of point indices, counter-clockwise
+/// seen from its front), and the sharp edges and vertices.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Cage {
+    pub points: Vec<DVec3>,
+    pub faces: Vec<Vec<u32>>,
+    pub creases: Vec<Crease>,
+    pub corners: Vec<Corner>,
+}
+
+/// Where a tool's region average normal or an inset's offset direction cannot be formed.
+const DEGENERATE: f64 = 1e-300;
+
+fn key(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+/// The Newell normal of a polygon (unit; zero when the polygon has no area).
+pub fn polygon_normal(points: &[DVec3], face: &[u32]) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for c in 0..face.len() {
+        let p = points[face[c] as usize];
+        let q = points[face[(c + 1) % face.len()] as usize];
+        n += DVec3::new(
+            (p.y - q.y) * (p.z + q.z),
+            (p.z - q.z) * (p.x + q.x),
+            (p.x - q.x) * (p.y + q.y),
+        );
+    }
+    n.normalize_or_zero()
+}
+
+/// The factor by which a step along the bisector of two unit directions must grow to be `1`
+/// along each of them: 1 / cos(θ/2) for the angle θ between them.
+fn even_offset_factor(a: DVec3, b: DVec3) -> f64 {
+    let half = (a + b).normalize_or_zero();
+    let cos = half.dot(a);
+    if cos > 1e-4 { 1.0 / cos } else { 1.0 }
+}
+
+impl Cage {
+    /// The half-edges: (from, to) ↦ (face, corner of `from`).
+    fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
+        let mut map = HashMap::with_capacity(self.faces.iter().map(Vec::len).sum());
+        for (f, face) in self.faces.iter().enumerate() {
+            for c in 0..face.len() {
+                map.insert((face[c], face[(c + 1) % face.len()]), (f, c));
+            }
+        }
+        map
+    }
+
+    fn check_faces(&self, faces: &[usize]) -> Result<Vec<usize>, CageEditError> {
+        let mut out: Vec<usize> = Vec::with_capacity(faces.len());
+        for &f in faces {
+            if f >= self.faces.len() {
+                return Err(CageEditError::NoFace(f, self.faces.len()));
+            }
+            if !out.contains(&f) {
+                out.push(f);
+            }
+        }
+        if out.is_empty() {
+            return Err(invalid("no faces were named"));
+        }
+        Ok(out)
+    }
+
+    fn check_vertex(&self, v: u32) -> Result<(), CageEditError> {
+        if (v as usize) < self.points.len() {
+            Ok(())
+        } else {
+            Err(CageEditError::NoVertex(v, self.points.len()))
+        }
+    }
+
+    fn check_edge(&self, a: u32, b: u32) -> Result<(), CageEditError> {
+        self.check_vertex(a)?;
+        self.check_vertex(b)?;
+        let found = self.faces.iter().any(|face| {
+            (0..face.len()).any(|c| key(face[c], face[(c + 1) % face.len()]) == key(a, b))
+        });
+        if found {
+            Ok(())
+        } else {
+            Err(CageEditError::NoEdge(a, b))
+        }
+    }
+
+    fn sharpness_of_edges(&self) -> HashMap<(u32, u32), f64> {
+        self.creases
+            .iter()
+            .map(|c| (key(c.a, c.b), c.sharpness))
+            .collect()
+    }
+
+    /// Adds a crease on edge a–b (the larger sharpness where one is there already).
+    fn add_crease(&mut self, a: u32, b: u32, sharpness: f64) {
+        if let Some(c) = self.creases.iter_mut().find(|c| key(c.a, c.b) == key(a, b)) {
+            c.sharpness = c.sharpness.max(sharpness);
+        } else {
+            self.creases.push(Crease { a, b, sharpness });
+        }
+    }
+
+    /// Drops the vertices the tool left unused that a face of `before` used (the survivors keep
+    /// their order; a vertex no face used before stays), faces of fewer than 3 corners, and the
+    /// creases and corners whose edges or vertices are gone.
+    fn compacted(mut self, before: &Self) -> Self {
+        self.faces.retain(|f| f.len() >= 3);
+        let mut used = vec![true; self.points.len()];
+        for face in &before.faces {
+            for &v in face {
+                used[v as usize] = false;
+            }
+        }
+        for face in &self.faces {
+            for &v in face {
+                used[v as usize] = true;
+            }
+        }
+        let mut map = vec![u32::MAX; self.points.len()];
+        let mut points = Vec::with_capacity(self.points.len());
+        for (v, &p) in self.points.iter().enumerate() {
+            if used[v] {
+                map[v] = points.len() as u32;
+                points.push(p);
+            }
+        }
+        for face in &mut self.faces {
+            for v in face.iter_mut() {
+                *v = map[*v as usize];
+            }
+        }
+        let edges: HashSet<(u32, u32)> = self
+            .faces
+            .iter()
+            .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
+            .collect();
+        let mut seen = HashSet::new();
+        let creases =
+            self.creases
+                .iter()
+                .filter_map(|c| {
+                    let (a, b) = (*map.get(c.a as usize)?, *map.get(c.b as usize)?);
+                    (a != u32::MAX && b != u32::MAX && edges.contains(&key(a, b)))
+                        .then_some(Crease { a, b, ..*c })
+                })
+                .filter(|c| seen.insert(key(c.a, c.b)))
+                .collect();
+        let mut seen = HashSet::new();
+        let corners = self
+            .corners
+            .iter()
+            .filter_map(|c| {
+                let vertex = *map.get(c.vertex as usize)?;
+                (vertex != u32::MAX).then_some(Corner { vertex, ..*c })
+            })
+            .filter(|c| seen.insert(c.vertex))
+            .collect();
+        Self {
+            points,
+            faces: self.faces,
+            creases,
+            corners,
+        }
+    }
+
+    /// Region extrude (Blender's Extrude Region): the faces are lifted by `offset` along the
+    /// region's average normal (the sum of the faces' unit normals, normalized, as Blender's
+    /// Normal orientation has it), and every edge on the region's border (an edge the region
+    /// shares with a face outside it, or an open edge of the cage) gets a side quad. Each
+    /// region vertex gets a copy, in index order; originals no face uses any more (the region's
+    /// inner vertices) are dropped. The lifted faces keep their indices; the sides follow.
+    pub fn extrude_faces(&self, faces: &[usize], offset: f64) -> Result<Self, CageEditError> {
+        let region = self.check_faces(faces)?;
+        if !offset.is_finite() {
+            return Err(invalid("the offset must be a finite number"));
+        }
+        let mut normal = DVec3::ZERO;
+        for &f in &region {
+            normal += polygon_normal(&self.points, &self.faces[f]);
+        }
+        let normal = normal.normalize_or_zero();
+        if normal.length_squared() < 0.5 {
+            return Err(invalid(
+                "the faces' normals cancel out: the region has no direction to extrude along",
+            ));
+        }
+        let in_region: HashSet<usize> = region.iter().copied().collect();
+        let mut verts: Vec<u32> = region
+            .iter()
+            .flat_map(|&f| self.faces[f].iter().copied())
+            .collect();
+        verts.sort_unstable();
+        verts.dedup();
+        let mut out = self.clone();
+        let mut copy = HashMap::with_capacity(verts.len());
+        for &v in &verts {
+            copy.insert(v, out.points.len() as u32);
+            out.points.push(self.points[v as usize] + normal * offset);
+        }
+        let half = self.half_edges();
+        let sharp = self.sharpness_of_edges();
+        for &f in &region {
+            let face = &self.faces[f];
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                let border = half
+                    .get(&(b, a))
+                    .is_none_or(|&(g, _)| !in_region.contains(&g));
+                if border {
+                    out.faces.push(vec![a, b, copy[&b], copy[&a]]);
+                }
+                if let Some(&s) = sharp.get(&key(a, b)) {
+                    out.add_crease(copy[&a], copy[&b], s);
+                }
+            }
+            out.faces[f] = face.iter().map(|v| copy[v]).collect();
+        }
+        for corner in &self.corners {
+            if let Some(&c) = copy.get(&corner.vertex) {
+                out.corners.push(Corner {
+                    vertex: c,
+                    ..*corner
+                });
+            }
+        }
+        Ok(out.compacted(self))
+    }
+
+    /// The inward directions of a face's edges in its plane: for corner c, the unit vector
+    /// square to edge (c, c + 1) pointing into the face.
+    fn inward_directions(&self, face: &[u32]) -> Vec<DVec3> {
+        let n = polygon_normal(&self.points, face);
+        (0..face.len())
+            .map(|c| {
+                let a = self.points[face[c] as usize];
+                let b = self.points[face[(c + 1) % face.len()] as usize];
+                n.cross(b - a).normalize_or_zero()
+            })
+            .collect()
+    }
+
+    /// Inset of each face on its own (Blender's Inset Faces, Individual, even offset): a face's
+    /// corners move into it so that each edge moves `thickness` square to itself in the
+    /// face's plane; the moved corners are new vertices (appended face by face, in corner
+    /// order), the face keeps its index and becomes the inner face, and a strip of quads joins
+    /// it to the old border.
+    pub fn inset_individual(&self, faces: &[usize], thickness: f64) -> Result<Self, CageEditError> {
+        let region = self.check_faces(faces)?;
+        check_thickness(thickness)?;
+        let mut out = self.clone();
+        for &f in &region {
+            let face = self.faces[f].clone();
+            let inward = self.inward_directions(&face);
+            let k = face.len();
+            let first = out.points.len() as u32;
+            for c in 0..k {
+                let (a, b) = (inward[(c + k - 1) % k], inward[c]);
+                let step = (a + b).normalize_or_zero() * even_offset_factor(a, b) * thickness;
+                out.points.push(self.points[face[c] as usize] + step);
+            }
+            let inner: Vec<u32> = (0..k as u32).map(|c| first + c).collect();
+            for c in 0..k {
+                let d = (c + 1) % k;
+                out.faces.push(vec![face[c], face[d], inner[d], inner[c]]);
+            }
+            out.faces[f] = inner;
+        }
+        Ok(out.compacted(self))
+    }
+
+    /// Inset of a region (Blender's Inset Faces, even offset, boundary on): the region's border
+    /// moves into the region by `thickness` (each border edge square to itself in its face's
+    /// plane, the corners where two border edges meet moved along their bisector by the even
+    /// factor). The region keeps its vertices, moved; new vertices take the border's old
+    /// places, the faces outside are joined to them, and a strip of quads lies between.
+    pub fn inset_region(&self, faces: &[usize], thickness: f64) -> Result<Self, CageEditError> {
+        let region = self.check_faces(faces)?;
+        check_thickness(thickness)?;
+        let in_region: HashSet<usize> = region.iter().copied().collect();
+        let half = self.half_edges();
+        // Border half-edges of region faces: (from, to, inward direction of that edge).
+        let mut outgoing: BTreeMap<u32, Vec<(u32, DVec3)>> = BTreeMap::new();
+        let mut incoming: HashMap<u32, Vec<(u32, DVec3)>> = HashMap::new();
+        let mut border = Vec::new();
+        for &f in &region {
+            let face = &self.faces[f];
+            let inward = self.inward_directions(face);
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                let on_border = half
+                    .get(&(b, a))
+                    .is_none_or(|&(g, _)| !in_region.contains(&g));
+                if on_border {
+                    outgoing.entry(a).or_default().push((b, inward[c]));
+                    incoming.entry(b).or_default().push((a, inward[c]));
+                    border.push((a, b));
+                }
+            }
+        }
+        if border.is_empty() {
+            return Err(invalid(
+                "the faces enclose the whole cage: the region has no border to inset",
+            ));
+        }
+        let mut out = self.clone();
+        let mut copy: HashMap<u32, u32> = HashMap::new();
+        for (&v, leaving) in &outgoing {
+            let arriving = incoming.get(&v).map(Vec::as_slice).unwrap_or(&[]);
+            if leaving.len() != 1 || arriving.len() != 1 {
+                return Err(invalid(format!(
+                    "the region touches itself at vertex {v}: inset it as separate regions"
+                )));
+            }
+            let (a, b) = (arriving[0].1, leaving[0].1);
+            let step = (a + b).normalize_or_zero() * even_offset_factor(a, b) * thickness;
+            copy.insert(v, out.points.len() as u32);
+            out.points.push(self.points[v as usize]);
+            out.points[v as usize] = self.points[v as usize] + step;
+        }
+        for (f, face) in out.faces.iter_mut().enumerate() {
+            if !in_region.contains(&f) {
+                for v in face.iter_mut() {
+                    if let Some(&c) = copy.get(v) {
+                        *v = c;
+                    }
+                }
+            }
+        }
+        let sharp = self.sharpness_of_edges();
+        for &(a, b) in &border {
+            out.faces.push(vec![copy[&a], copy[&b], b, a]);
+            // The outer edge keeps the crease the border had.
+            if let Some(&s) = sharp.get(&key(a, b)) {
+                out.add_crease(copy[&a], copy[&b], s);
+            }
+        }
+        for corner in &self.corners {
+            if let Some(&c) = copy.get(&corner.vertex) {
+                out.corners.push(Corner {
+                    vertex: c,
+                    ..*corner
+                });
+            }
+        }
+        Ok(out.compacted(self))
+    }
+
+    /// The edge ring through edge a–b: from quad to quad across opposite edges, both ways,
+    /// until an open edge, a face that is not a quad, or the ring closes. Each entry is an edge
+    /// (as the directed pair of the first quad that reached it) and the quads it was crossed
+    /// through are returned beside.
+    fn edge_ring(&self, a: u32, b: u32) -> (Vec<(u32, u32)>, Vec<usize>) {
+        let half = self.half_edges();
+        let mut edges = vec![(a, b)];
+        let mut quads = Vec::new();
+        let mut seen_edges: HashSet<(u32, u32)> = HashSet::from([key(a, b)]);
+        let mut seen_faces = HashSet::new();
+        // Walk each way: first through the face holding a→b, then through the one holding b→a.
+        let mut backward = Vec::new();
+        for (start, list) in [((a, b), 0), ((b, a), 1)] {
+            let mut at = start;
+            while let Some(&(f, c)) = half.get(&at) {
+                let face = &self.faces[f];
+                if face.len() != 4 || !seen_faces.insert(f) {
+                    break;
+                }
+                quads.push(f);
+                // The opposite edge, in the same direction along the ring's cut lines.
+                let (p, q) = (face[(c + 3) % 4], face[(c + 2) % 4]);
+                if !seen_edges.insert(key(p, q)) {
+                    break;
+                }
+                if list == 0 {
+                    edges.push((p, q));
+                } else {
+                    backward.push((p, q));
+                }
+                at = (p, q);
+            }
+        }
+        backward.reverse();
+        backward.extend(edges);
+        (backward, quads)
+    }
+
+    /// Loop cut (Blender's Loop Cut, even): the edge ring through edge a–b is cut `cuts` times at
+    /// equal fractions, and every quad of the ring becomes `cuts + 1` quads across it. A face at
+    /// an end of an open ring that is not a quad takes the new points into its edge. A crease
+    /// on a ring edge goes to each of its pieces.
+    pub fn loop_cut(&self, a: u32, b: u32, cuts: u32) -> Result<Self, CageEditError> {
+        self.check_edge(a, b)?;
+        if cuts == 0 || cuts > 1000 {
+            return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
+        }
+        let (ring, quads) = self.edge_ring(a, b);
+        let mut out = self.clone();
+        let sharp = self.sharpness_of_edges();
+        // Each ring edge's new points, listed from its lower-numbered end.
+        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        for &(p, q) in &ring {
+            let (lo, hi) = key(p, q);
+            let (pl, ph) = (self.points[lo as usize], self.points[hi as usize]);
+            let first = out.points.len() as u32;
+            for i in 1..=cuts {
+                let t = f64::from(i) / f64::from(cuts + 1);
+                out.points.push(pl + (ph - pl) * t);
+            }
+            let list: Vec<u32> = (first..first + cuts).collect();
+            if let Some(&s) = sharp.get(&(lo, hi)) {
+                let chain: Vec<u32> = std::iter::once(lo)
+                    .chain(list.iter().copied())
+                    .chain(std::iter::once(hi))
+                    .collect();
+                for w in chain.windows(2) {
+                    out.add_crease(w[0], w[1], s);
+                }
+            }
+            inner.insert((lo, hi), list);
+        }
+        // The points of edge p→q in that direction, ends included.
+        let along = |p: u32, q: u32| -> Option<Vec<u32>> {
+            let list = inner.get(&key(p, q))?;
+            let mut chain = Vec::with_capacity(list.len() + 2);
+            chain.push(p);
+            if p < q {
+                chain.extend(list.iter().copied());
+            } else {
+                chain.extend(list.iter().rev().copied());
+            }
+            chain.push(q);
+            Some(chain)
+        };
+        let quad_set: HashSet<usize> = quads.iter().copied().collect();
+        let mut added = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            if quad_set.contains(&f) {
+                // Rotate so the ring crosses edges (c0, c1) and (c2, c3).
+                let r = (0..4)
+                    .find(|&r| {
+                        inner.contains_key(&key(face[r], face[(r + 1) % 4]))
+                            && inner.contains_key(&key(face[(r + 2) % 4], face[(r + 3) % 4]))
+                    })
+                    .unwrap_or(0);
+                let c = |k: usize| face[(r + k) % 4];
+                let (Some(x), Some(y)) = (along(c(0), c(1)), along(c(3), c(2))) else {
+                    continue;
+                };
+                let pieces: Vec<Vec<u32>> = (0..x.len() - 1)
+                    .map(|i| vec![x[i], x[i + 1], y[i + 1], y[i]])
+                    .collect();
+                let mut pieces = pieces.into_iter();
+                if let Some(first) = pieces.next() {
+                    out.faces[f] = first;
+                }
+                added.extend(pieces);
+            } else {
+                // A face beside the ring's end takes the new points into its edge.
+                let mut grown = Vec::with_capacity(face.len());
+                for c in 0..face.len() {
+                    let (p, q) = (face[c], face[(c + 1) % face.len()]);
+                    grown.push(p);
+                    if let Some(chain) = along(p, q) {
+                        grown.extend_from_slice(&chain[1..chain.len() - 1]);
+                    }
+                }
+                out.faces[f] = grown;
+            }
+        }
+        out.faces.extend(added);
+        Ok(out.compacted(self))
+    }
+
+    /// Delete faces (Blender's Delete Faces): the faces go, and so do the vertices only they
+    /// used.
+    pub fn delete_faces(&self, faces: &[usize]) -> Result<Self, CageEditError> {
+        let region: HashSet<usize> = self.check_faces(faces)?.into_iter().collect();
+        let mut out = self.clone();
+        out.faces = self
+            .faces
+            .iter()
+            .enumerate()
+            .filter(|(f, _)| !region.contains(f))
+            .map(|(_, face)| face.clone())
+            .collect();
+        if out.faces.is_empty() {
+            return Err(invalid("deleting every face would leave an empty cage"));
+        }
+        Ok(out.compacted(self))
+    }
+
+    /// Merge vertices (Blender's Merge, at centre or at first): every named vertex becomes the
+    /// first one named, placed at their centroid or where the first is. Faces lose the corners
+    /// that fall together; a face left with fewer than three goes.
+    pub fn merge_vertices(&self, vertices: &[u32], at_first: bool) -> Result<Self, CageEditError> {
+        let mut named: Vec<u32> = Vec::with_capacity(vertices.len());
+        for &v in vertices {
+            self.check_vertex(v)?;
+            if !named.contains(&v) {
+                named.push(v);
+            }
+        }
+        let Some(&keep) = named.first() else {
+            return Err(invalid("no vertices were named"));
+        };
+        let mut out = self.clone();
+        if !at_first {
+            let sum: DVec3 = named.iter().map(|&v| self.points[v as usize]).sum();
+            out.points[keep as usize] = sum / named.len() as f64;
+        }
+        let gone: HashSet<u32> = named[1..].iter().copied().collect();
+        let to = |v: u32| if gone.contains(&v) { keep } else { v };
+        let mut faces = Vec::with_capacity(self.faces.len());
+        for face in &self.faces {
+            let mut merged: Vec<u32> = face.iter().map(|&v| to(v)).collect();
+            merged.dedup();
+            while merged.len() > 1 && merged.first() == merged.last() {
+                merged.pop();
+            }
+            if merged.len() >= 3 {
+                faces.push(merged);
+            }
+        }
+        // Two faces over the same corners after the merge are one face twice: keep the first.
+        let mut seen = HashSet::new();
+        faces.retain(|f: &Vec<u32>| {
+            let mut sorted = f.clone();
+            sorted.sort_unstable();
+            seen.insert(sorted)
+        });
+        out.faces = faces;
+        for c in &mut out.creases {
+            (c.a, c.b) = (to(c.a), to(c.b));
+        }
+        out.creases.retain(|c| c.a != c.b);
+        for c in &mut out.corners {
+            c.vertex = to(c.vertex);
+        }
+        if out.faces.is_empty() {
+            return Err(invalid("merging these vertices would leave no face"));
+        }
+        Ok(out.compacted(self))
+    }
+
+    /// Dissolve edges (Blender's Dissolve Edges, dissolving vertices too): the faces on both
+    /// sides of each edge become one face (the lowest-numbered of them keeps its index and its
+    /// winding), and each end of a dissolved edge that is left between only two edges is
+    /// dissolved as well. A dissolve that would leave a face with a hole is refused.
+    pub fn dissolve_edges(&self, edges: &[(u32, u32)]) -> Result<Self, CageEditError> {
+        if edges.is_empty() {
+            return Err(invalid("no edges were named"));
+        }
+        let half = self.half_edges();
+        let mut gone: HashSet<(u32, u32)> = HashSet::new();
+        // Union-find over faces.
+        let mut parent: Vec<usize> = (0..self.faces.len()).collect();
+        fn root(parent: &mut [usize], mut f: usize) -> usize {
+            while parent[f] != f {
+                parent[f] = parent[parent[f]];
+                f = parent[f];
+            }
+            f
+        }
+        for &(a, b) in edges {
+            self.check_edge(a, b)?;
+            let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+                return Err(invalid(format!(
+                    "edge {a}-{b} is on the cage's border: there is no second face to join"
+                )));
+            };
+            gone.insert(key(a, b));
+            let (rf, rg) = (root(&mut parent, f), root(&mut parent, g));
+            parent[rf.max(rg)] = rf.min(rg);
+        }
+        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for f in 0..self.faces.len() {
+            let r = root(&mut parent, f);
+            groups.entry(r).or_default().push(f);
+        }
+        let mut new_faces: Vec<Option<Vec<u32>>> = self.faces.iter().cloned().map(Some).collect();
+        for (_, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
+            // The group's border: its half-edges that are not dissolved.
+            let mut next: HashMap<u32, u32> = HashMap::new();
+            let mut start = None;
+            for &f in &members {
+                let face = &self.faces[f];
+                for c in 0..face.len() {
+                    let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                    if gone.contains(&key(a, b)) {
+                        continue;
+                    }
+                    if next.insert(a, b).is_some() {
+                        return Err(invalid(format!(
+                            "dissolving these edges would join faces that touch at vertex {a}"
+                        )));
+                    }
+                    if start.is_none() && f == members[0] {
+                        start = Some(a);
+                    }
+                }
+            }
+            let Some(start) = start.or_else(|| next.keys().next().copied()) else {
+                return Err(invalid("dissolving these edges would leave no face"));
+            };
+            let mut merged = vec![start];
+            let mut at = start;
+            while let Some(&b) = next.get(&at) {
+                if b == start {
+                    break;
+                }
+                merged.push(b);
+                at = b;
+                if merged.len() > next.len() {
+                    break;
+                }
+            }
+            if merged.len() != next.len() {
+                return Err(invalid(
+                    "dissolving these edges would leave a face with a hole in it",
+                ));
+            }
+            new_faces[members[0]] = Some(merged);
+            for &f in &members[1..] {
+                new_faces[f] = None;
+            }
+        }
+        // Which ends of the dissolved edges go too, decided on the cage before the dissolve
+        // (Blender's rules): not a corner between two triangles being joined into a quad, and
+        // not a vertex where several dissolved edges meet beside a face that keeps both its
+        // edges there; of those, the ones left between only two edges.
+        let dissolved_at = |v: u32| gone.iter().filter(|&&(a, b)| a == v || b == v).count();
+        let keeps_a_face = |v: u32| {
+            self.faces.iter().any(|face| {
+                let k = face.len();
+                (0..k).any(|c| {
+                    face[c] == v
+                        && !gone.contains(&key(face[(c + k - 1) % k], v))
+                        && !gone.contains(&key(v, face[(c + 1) % k]))
+                })
+            })
+        };
+        let mut marked = HashSet::new();
+        for &(a, b) in edges {
+            let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+                continue;
+            };
+            let triangles = self.faces[f].len() == 3 && self.faces[g].len() == 3;
+            for v in [a, b] {
+                let count = dissolved_at(v);
+                if (triangles && count == 1) || (count != 1 && keeps_a_face(v)) {
+                    continue;
+                }
+                marked.insert(v);
+            }
+        }
+        let mut faces: Vec<Vec<u32>> = new_faces.into_iter().flatten().collect();
+        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
+        for face in &faces {
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                neighbours.entry(a).or_default().insert(b);
+                neighbours.entry(b).or_default().insert(a);
+            }
+        }
+        let lone: HashSet<u32> = marked
+            .into_iter()
+            .filter(|v| neighbours.get(v).is_some_and(|n| n.len() == 2))
+            .collect();
+        for face in &mut faces {
+            face.retain(|v| !lone.contains(v));
+            if face.len() < 3 {
+                return Err(invalid(
+                    "dissolving these edges would leave a face of fewer than three corners",
+                ));
+            }
+        }
+        let mut out = self.clone();
+        out.faces = faces;
+        Ok(out.compacted(self))
+    }
+
+    /// Bridge two edge loops (Blender's Bridge Edge Loops): each loop is a closed chain of open
+    /// edges named by its vertices in order, both of the same length. The second loop is
+    /// turned to run the same way round as the first (their normals along the line between
+    /// their centres), and rotated to the pairing with the least total length of the bridging
+    /// edges; quads then join the loops, wound to agree with the faces already on the loops.
+    pub fn bridge_loops(&self, first: &[u32], second: &[u32]) -> Result<Self, CageEditError> {
+        if first.len() < 3 || first.len() != second.len() {
+            return Err(invalid(format!(
+                "the loops need the same number of vertices, at least 3 (got {} and {})",
+                first.len(),
+                second.len()
+            )));
+        }
+        let half = self.half_edges();
+        let mut seen = HashSet::new();
+        for loop_ in [first, second] {
+            for i in 0..loop_.len() {
+                let (a, b) = (loop_[i], loop_[(i + 1) % loop_.len()]);
+                self.check_edge(a, b)?;
+                if !seen.insert(a) {
+                    return Err(invalid(format!("vertex {a} is named twice in the loops")));
+                }
+                if half.contains_key(&(a, b)) && half.contains_key(&(b, a)) {
+                    return Err(invalid(format!(
+                        "edge {a}-{b} already has a face on each side: bridge open edges"
+                    )));
+                }
+            }
+        }
+        let centre = |l: &[u32]| -> DVec3 {
+            l.iter().map(|&v| self.points[v as usize]).sum::<DVec3>() / l.len() as f64
+        };
+        let (c1, c2) = (centre(first), centre(second));
+        let axis = c2 - c1;
+        let n1 = polygon_normal(&self.points, first);
+        let n2 = polygon_normal(&self.points, second);
+        let mut second: Vec<u32> = second.to_vec();
+        let same_way = if axis.length_squared() > DEGENERATE {
+            (n1.dot(axis) >= 0.0) == (n2.dot(axis) >= 0.0)
+        } else {
+            n1.dot(n2) >= 0.0
+        };
+        if !same_way {
+            second.reverse();
+        }
+        let k = first.len();
+        let cost = |shift: usize| -> f64 {
+            (0..k)
+                .map(|i| {
+                    self.points[first[i] as usize]
+                        .distance(self.points[second[(i + shift) % k] as usize])
+                })
+                .sum()
+        };
+        let best = (0..k)
+            .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
+            .unwrap_or(0);
+        second.rotate_left(best);
+        // Wind the quads against the face already on the first loop's edges.
+        let forward = half.contains_key(&(first[0], first[1 % k]));
+        let mut out = self.clone();
+        for i in 0..k {
+            let j = (i + 1) % k;
+            let quad = if forward {
+                vec![first[j], first[i], second[i], second[j]]
+            } else {
+                vec![first[i], first[j], second[j], second[i]]
+            };
+            out.faces.push(quad);
+        }
+        Ok(out.compacted(self))
+    }
+}
+
+impl Cage {
+    /// Bevel edges (Blender's Bevel of edges: offset width, profile 0.5, that is a circular arc
+    /// where the faces meet square). Each beveled edge becomes a band of `segments` quads
+    /// whose sides lie `width` from the edge in its two faces (measured square to the edge, in
+    /// each face's plane), and the band's ends are arcs in the faces at the edge's ends: the
+    /// arc from one side point a to the other b is the affine image of a quarter circle,
+    /// c + (a − c)·cos φ + (b − c)·sin φ with c = a + b − v, at φ = π/2 · k / segments, so it
+    /// leaves a and b along the faces beside it.
+    ///
+    /// Each end of a beveled edge must be a vertex of three edges with no other beveled edge
+    /// (a box's edge, a ring of edges across a cage); other corners are refused by name.
+    pub fn bevel_edges(
+        &self,
+        edges: &[(u32, u32)],
+        width: f64,
+        segments: u32,
+    ) -> Result<Self, CageEditError> {
+        if edges.is_empty() {
+            return Err(invalid("no edges were named"));
+        }
+        if !(width.is_finite() && width > 0.0) {
+            return Err(invalid("the width must be a finite number > 0"));
+        }
+        if segments == 0 || segments > 1000 {
+            return Err(invalid(format!(
+                "segments must be 1 to 1000 (got {segments})"
+            )));
+        }
+        let half = self.half_edges();
+        let mut ends: HashMap<u32, usize> = HashMap::new();
+        for &(a, b) in edges {
+            self.check_edge(a, b)?;
+            for v in [a, b] {
+                *ends.entry(v).or_default() += 1;
+            }
+        }
+        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
+        for face in &self.faces {
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                neighbours.entry(a).or_default().insert(b);
+                neighbours.entry(b).or_default().insert(a);
+            }
+        }
+        for (&v, &count) in &ends {
+            let valence = neighbours.get(&v).map_or(0, HashSet::len);
+            if count > 1 {
+                return Err(invalid(format!(
+                    "vertex {v} ends {count} of the beveled edges: a bevel corner where \
+                     beveled edges meet is not built yet"
+                )));
+            }
+            if valence != 3 {
+                return Err(invalid(format!(
+                    "vertex {v} has {valence} edges: a beveled edge must end at a vertex of \
+                     three edges"
+                )));
+            }
+        }
+        let mut out = self.clone();
+        let p = |v: u32| self.points[v as usize];
+        // The point on edge v–x where the line `width` from edge v–u in their face meets it.
+        let side_point = |v: u32, u: u32, x: u32| -> DVec3 {
+            let along = (p(x) - p(v)).normalize_or_zero();
+            let edge = (p(u) - p(v)).normalize_or_zero();
+            let sin = along.cross(edge).length();
+            p(v) + along * (width / sin.max(1e-12))
+        };
+        // Per beveled edge end v (with the other end u): the arc's new vertices from the side
+        // in the face holding v→u to the side in the face holding u→v, and the faces.
+        struct End {
+            arc: Vec<u32>,
+        }
+        let mut arcs: HashMap<(u32, u32), End> = HashMap::new();
+        let mut replace: HashMap<(usize, u32), Vec<u32>> = HashMap::new();
+        for &(a, b) in edges {
+            let (Some(&(fx, cx)), Some(&(fy, cy))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+                return Err(invalid(format!(
+                    "edge {a}-{b} is on the cage's border: a bevel needs a face on each side"
+                )));
+            };
+            let (face_x, face_y) = (&self.faces[fx], &self.faces[fy]);
+            let (kx, ky) = (face_x.len(), face_y.len());
+            for (v, u) in [(a, b), (b, a)] {
+                // In face X (holding a→b) and face Y (holding b→a), v's other neighbour.
+                let (x, y) = if v == a {
+                    (face_x[(cx + kx - 1) % kx], face_y[(cy + 2) % ky])
+                } else {
+                    (face_x[(cx + 2) % kx], face_y[(cy + ky - 1) % ky])
+                };
+                let (pa, pb) = (side_point(v, u, x), side_point(v, u, y));
+                let centre = pa + pb - p(v);
+                let first = out.points.len() as u32;
+                for k in 0..=segments {
+                    let phi = std::f64::consts::FRAC_PI_2 * f64::from(k) / f64::from(segments);
+                    out.points
+                        .push(centre + (pa - centre) * phi.cos() + (pb - centre) * phi.sin());
+                }
+                let arc: Vec<u32> = (first..=first + segments).collect();
+                replace.insert((fx, v), vec![arc[0]]);
+                replace.insert((fy, v), vec![arc[segments as usize]]);
+                // The third face at v holds y→a→x at a = v, and x→b→y at b = v: the arc
+                // enters it from the Y side at a, from the X side at b.
+                let (into, arc_in): (u32, Vec<u32>) = if v == a {
+                    (y, arc.iter().rev().copied().collect())
+                } else {
+                    (x, arc.clone())
+                };
+                let third = half
+                    .get(&(into, v))
+                    .map(|&(f, _)| f)
+                    .filter(|&f| f != fx && f != fy);
+                let Some(third) = third else {
+                    return Err(invalid(format!(
+                        "the faces around vertex {v} do not close: it cannot be beveled"
+                    )));
+                };
+                replace.insert((third, v), arc_in);
+                arcs.insert((v, u), End { arc });
+            }
+        }
+        for (f, face) in out.faces.iter_mut().enumerate() {
+            if face.iter().any(|&v| ends.contains_key(&v)) {
+                let mut grown = Vec::with_capacity(face.len() + segments as usize);
+                for &v in face.iter() {
+                    match replace.get(&(f, v)) {
+                        Some(list) => grown.extend_from_slice(list),
+                        None => grown.push(v),
+                    }
+                }
+                *face = grown;
+            }
+        }
+        for &(a, b) in edges {
+            let (Some(pa), Some(pb)) = (arcs.get(&(a, b)), arcs.get(&(b, a))) else {
+                continue;
+            };
+            // Face X holds a→b, now arc_a[0]→arc_b[0], and face Y arc_b[S]→arc_a[S]; the
+            // band's quads hold the reverse of both.
+            for k in 0..segments as usize {
+                out.faces
+                    .push(vec![pb.arc[k], pa.arc[k], pa.arc[k + 1], pb.arc[k + 1]]);
+            }
+        }
+        Ok(out.compacted(self))
+    }
+}
+
+fn check_thickness(thickness: f64) -> Result<(), CageEditError> {
+    if thickness.is_finite() && thickness >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid("the thickness must be a finite number ≥ 0"))
+    }
+}

@@ -1,0 +1,194 @@
+//! `knotwork cage`: one topology tool applied to an OBJ cage, the new cage written as OBJ.
+
+use std::process::ExitCode;
+
+use clap::Subcommand;
+use knotwork::kernel::subdiv::cage_edit::Cage;
+
+/// The tools of `knotwork cage`, with faces and vertices named by their 0-based index in the
+/// file.
+#[derive(Subcommand, Clone, Debug)]
+pub enum CageTool {
+    /// Extrude faces as one region along the region's average normal.
+    Extrude {
+        /// Faces, e.g. 0,4,5.
+        #[arg(long)]
+        faces: String,
+        /// How far the region moves (negative: into the cage).
+        #[arg(long, allow_negative_numbers = true)]
+        offset: f64,
+    },
+    /// Inset faces as one region (or each on its own with --individual), the strip even.
+    Inset {
+        #[arg(long)]
+        faces: String,
+        /// The strip's width, ≥ 0.
+        #[arg(long)]
+        thickness: f64,
+        #[arg(long)]
+        individual: bool,
+    },
+    /// Cut the edge ring through the edge between vertices A and B N times, evenly.
+    Loopcut {
+        /// The edge, as A,B.
+        #[arg(long)]
+        edge: String,
+        #[arg(long, default_value_t = 1)]
+        cuts: u32,
+    },
+    /// Bevel edges: each becomes a band of S segments, its sides W from the edge.
+    Bevel {
+        /// Edges, as A-B,C-D.
+        #[arg(long)]
+        edges: String,
+        #[arg(long)]
+        width: f64,
+        #[arg(long, default_value_t = 1)]
+        segments: u32,
+    },
+    /// Join two closed loops of open edges with a band of quads.
+    Bridge {
+        /// The first loop's vertices in order, e.g. 0,1,2,3.
+        #[arg(long)]
+        loop1: String,
+        #[arg(long)]
+        loop2: String,
+    },
+    /// Merge vertices into the first named, at their centre or where the first is.
+    Merge {
+        #[arg(long)]
+        vertices: String,
+        #[arg(long, value_enum, default_value_t = MergeAt::Centre)]
+        at: MergeAt,
+    },
+    /// Dissolve edges: the faces on both sides become one.
+    Dissolve {
+        /// Edges, as A-B,C-D.
+        #[arg(long)]
+        edges: String,
+    },
+    /// Delete faces, and the vertices only they used.
+    Delete {
+        #[arg(long)]
+        faces: String,
+    },
+}
+
+/// Where `merge` puts the merged vertex.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MergeAt {
+    #[value(alias = "center")]
+    Centre,
+    First,
+}
+
+/// Runs `knotwork cage`: exit code 0 with a summary, 1 with the error.
+pub fn cage(input: &std::path::Path, output: &std::path::Path, tool: &CageTool) -> ExitCode {
+    match cage_file(input, output, tool) {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("knotwork cage: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn indices(what: &str, text: &str) -> Result<Vec<u32>, String> {
+    let list: Vec<u32> = text
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<u32>()
+                .map_err(|_| format!("--{what}: {s:?} is not an index (0, 1, 2, …)"))
+        })
+        .collect::<Result<_, _>>()?;
+    if list.is_empty() {
+        return Err(format!("--{what} names nothing"));
+    }
+    Ok(list)
+}
+
+fn edge_pairs(text: &str) -> Result<Vec<(u32, u32)>, String> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|pair| {
+            let parsed = pair
+                .split_once('-')
+                .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)));
+            parsed.ok_or_else(|| format!("--edges: {pair:?} is not an edge A-B"))
+        })
+        .collect()
+}
+
+fn face_list(text: &str) -> Result<Vec<usize>, String> {
+    Ok(indices("faces", text)?
+        .into_iter()
+        .map(|f| f as usize)
+        .collect())
+}
+
+/// Applies `tool` to `cage`.
+pub fn apply_tool(cage: &Cage, tool: &CageTool) -> Result<Cage, String> {
+    let result = match tool {
+        CageTool::Extrude { faces, offset } => cage.extrude_faces(&face_list(faces)?, *offset),
+        CageTool::Inset {
+            faces,
+            thickness,
+            individual,
+        } => {
+            let faces = face_list(faces)?;
+            if *individual {
+                cage.inset_individual(&faces, *thickness)
+            } else {
+                cage.inset_region(&faces, *thickness)
+            }
+        }
+        CageTool::Loopcut { edge, cuts } => match indices("edge", edge)?[..] {
+            [a, b] => cage.loop_cut(a, b, *cuts),
+            _ => return Err("--edge names one edge by its two vertices, A,B".into()),
+        },
+        CageTool::Bevel {
+            edges,
+            width,
+            segments,
+        } => cage.bevel_edges(&edge_pairs(edges)?, *width, *segments),
+        CageTool::Bridge { loop1, loop2 } => {
+            cage.bridge_loops(&indices("loop1", loop1)?, &indices("loop2", loop2)?)
+        }
+        CageTool::Merge { vertices, at } => {
+            cage.merge_vertices(&indices("vertices", vertices)?, *at == MergeAt::First)
+        }
+        CageTool::Dissolve { edges } => cage.dissolve_edges(&edge_pairs(edges)?),
+        CageTool::Delete { faces } => cage.delete_faces(&face_list(faces)?),
+    };
+    result.map_err(|e| e.to_string())
+}
+
+fn cage_file(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    tool: &CageTool,
+) -> Result<String, String> {
+    let text = std::fs::read_to_string(input).map_err(|e| format!("{}: {e}", input.display()))?;
+    let parsed = knotwork::io::obj::parse(&text).map_err(|e| e.to_string())?;
+    let cage = Cage {
+        faces: parsed.all_faces(),
+        points: parsed.vertices,
+        creases: parsed.creases,
+        corners: parsed.corners,
+    };
+    let edited = apply_tool(&cage, tool)?;
+    let obj = knotwork::io::obj::write_cage(&edited);
+    std::fs::write(output, obj).map_err(|e| format!("{}: {e}", output.display()))?;
+    Ok(format!(
+        "wrote {} ({} vertices, {} faces)",
+        output.display(),
+        edited.points.len(),
+        edited.faces.len()
+    ))
+}

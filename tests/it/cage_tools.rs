@@ -1,0 +1,149 @@
+//! `knotwork cage` against Blender's bmesh: every case in `tests/reference/cage/cases.tsv` (a
+//! cage under a seeded random motion, a tool and its arguments; `blender_cage.py` beside it made
+//! them) is run through the command line, and the result must have Blender's topology (counts
+//! of vertices, edges and faces, open edges, and the histograms of valences and face sizes) and
+//! Blender's points, each matched to one of the other's within 1e-6 of the coordinates' size
+//! (Blender keeps points in f32).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+struct Obj {
+    points: Vec<[f64; 3]>,
+    faces: Vec<Vec<usize>>,
+}
+
+fn read_obj(path: &Path) -> Obj {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut obj = Obj {
+        points: Vec::new(),
+        faces: Vec::new(),
+    };
+    for line in text.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        match fields.first() {
+            Some(&"v") => obj
+                .points
+                .push([1, 2, 3].map(|k| fields[k].parse().unwrap())),
+            Some(&"f") => obj.faces.push(
+                fields[1..]
+                    .iter()
+                    .map(|c| c.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
+                    .collect(),
+            ),
+            _ => {}
+        }
+    }
+    obj
+}
+
+/// Counts, open edges and histograms: what Blender's topology and ours must share.
+fn topology(obj: &Obj) -> String {
+    let mut edges: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    for f in &obj.faces {
+        for c in 0..f.len() {
+            let (a, b) = (f[c], f[(c + 1) % f.len()]);
+            *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut valence = vec![0usize; obj.points.len()];
+    for &(a, b) in edges.keys() {
+        valence[a] += 1;
+        valence[b] += 1;
+    }
+    let histogram = |values: &mut dyn Iterator<Item = usize>| {
+        let mut h = BTreeMap::new();
+        for v in values {
+            *h.entry(v).or_insert(0usize) += 1;
+        }
+        h
+    };
+    format!(
+        "V {} E {} F {} open {} valences {:?} sizes {:?}",
+        obj.points.len(),
+        edges.len(),
+        obj.faces.len(),
+        edges.values().filter(|&&n| n == 1).count(),
+        histogram(&mut valence.into_iter()),
+        histogram(&mut obj.faces.iter().map(Vec::len)),
+    )
+}
+
+/// The largest distance from a point of `a` to its nearest point of `b`.
+fn farthest_unmatched(a: &Obj, b: &Obj) -> f64 {
+    a.points
+        .iter()
+        .map(|p| {
+            b.points
+                .iter()
+                .map(|q| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Every face's corners consecutive along edges no other face of the same direction uses: the
+/// faces agree in winding.
+fn consistently_wound(obj: &Obj) -> bool {
+    let mut seen = std::collections::HashSet::new();
+    obj.faces
+        .iter()
+        .all(|f| (0..f.len()).all(|c| seen.insert((f[c], f[(c + 1) % f.len()]))))
+}
+
+#[test]
+fn every_tool_matches_blender_bmesh_on_cages_in_general_position() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/cage");
+    let cases = std::fs::read_to_string(dir.join("cases.tsv")).unwrap();
+    let out_dir = std::env::temp_dir().join(format!("knotwork-cage-{}", std::process::id()));
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let mut failures = Vec::new();
+    let mut count = 0;
+    for line in cases.lines().filter(|l| !l.trim().is_empty()) {
+        let (stem, args) = line.split_once('\t').unwrap();
+        let input = dir.join(format!("{stem}.in.obj"));
+        let output = out_dir.join(format!("{stem}.obj"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("cage")
+            .arg(&input)
+            .arg("-o")
+            .arg(&output)
+            .args(args.split_whitespace())
+            .output()
+            .unwrap();
+        if !run.status.success() {
+            failures.push(format!(
+                "{stem}: {}",
+                String::from_utf8_lossy(&run.stderr).trim()
+            ));
+            continue;
+        }
+        let ours = read_obj(&output);
+        let blender = read_obj(&dir.join(format!("{stem}.blender.obj")));
+        let input_points = read_obj(&input).points;
+        // The tolerance follows the coordinates' size: Blender rounds each to f32.
+        let size = input_points
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        let tolerance = 1e-6 * size.max(1.0);
+        let (a, b) = (topology(&ours), topology(&blender));
+        let distance = farthest_unmatched(&ours, &blender).max(farthest_unmatched(&blender, &ours));
+        println!("{stem} ({args}): {a}; points within {distance:.1e}");
+        if a != b {
+            failures.push(format!("{stem}: topology {a}, Blender {b}"));
+        }
+        if distance > tolerance {
+            failures.push(format!(
+                "{stem}: a point is {distance:.2e} from the other's nearest (tolerance {tolerance:.1e})"
+            ));
+        }
+        if !consistently_wound(&ours) {
+            failures.push(format!("{stem}: faces disagree in winding"));
+        }
+        count += 1;
+    }
+    let _ = std::fs::remove_dir_all(&out_dir);
+    assert!(count >= 30, "only {count} cases ran");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -1,0 +1,282 @@
+"""Blender's bmesh as the reference for `knotwork cage`.
+
+    python blender_cage.py IN.obj OUT.obj OP [args]     (the CLI's arguments)
+    python blender_cage.py --fixtures DIR               (the committed fixtures)
+
+Needs the `bpy` package from PyPI (Python 3.11). Each operation is the bmesh operator with the
+defaults of Blender's own edit-mode tool (even offset for inset, the boundary kept, dissolve
+taking the vertices left with two edges), so the figures are what a Blender user gets.
+"""
+import math
+import os
+import random
+import sys
+
+import bpy  # noqa: F401  (bmesh is importable only after bpy)
+import bmesh
+from mathutils import Quaternion, Vector
+
+
+def read_obj(path):
+    verts, faces, creases = [], [], []
+    for line in open(path):
+        f = line.split("#")[0].split()
+        if not f:
+            continue
+        if f[0] == "v":
+            verts.append(tuple(float(x) for x in f[1:4]))
+        elif f[0] == "f":
+            faces.append([int(c.split("/")[0]) - 1 for c in f[1:]])
+    return verts, faces
+
+
+def write_obj(path, bm):
+    bm.verts.index_update()
+    with open(path, "w") as out:
+        for v in bm.verts:
+            out.write("v %.17g %.17g %.17g\n" % tuple(v.co))
+        for f in bm.faces:
+            out.write("f " + " ".join(str(v.index + 1) for v in f.verts) + "\n")
+
+
+def build(verts, faces):
+    bm = bmesh.new()
+    for p in verts:
+        bm.verts.new(p)
+    bm.verts.ensure_lookup_table()
+    for face in faces:
+        bm.faces.new([bm.verts[i] for i in face])
+    bm.verts.ensure_lookup_table()
+    bm.faces.ensure_lookup_table()
+    bm.edges.ensure_lookup_table()
+    bm.normal_update()
+    return bm
+
+
+def ints(text):
+    return [int(x) for x in text.split(",") if x != ""]
+
+
+def pairs(text):
+    return [tuple(int(x) for x in p.split("-")) for p in text.split(",")]
+
+
+def edge(bm, a, b):
+    e = bm.edges.get((bm.verts[a], bm.verts[b]))
+    if e is None:
+        raise SystemExit(f"no edge {a}-{b}")
+    return e
+
+
+def ring(bm, start):
+    """The edge ring through `start`: across quads to the opposite edge, both ways."""
+    found = [start]
+    seen = {start}
+    for loop in list(start.link_loops)[:2]:
+        e, l = start, loop
+        while True:
+            f = l.face
+            if len(f.verts) != 4:
+                break
+            opp = l.link_loop_next.link_loop_next
+            e = opp.edge
+            if e in seen:
+                break
+            seen.add(e)
+            found.append(e)
+            nxt = [x for x in e.link_loops if x.face is not f]
+            if not nxt:
+                break
+            l = nxt[0]
+    return found
+
+
+def apply(bm, op, args):
+    opt = {}
+    k = 0
+    while k < len(args):
+        if args[k].startswith("--"):
+            key = args[k][2:]
+            if k + 1 < len(args) and not args[k + 1].startswith("--"):
+                opt[key] = args[k + 1]
+                k += 2
+            else:
+                opt[key] = True
+                k += 1
+        else:
+            k += 1
+    if op == "extrude":
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        normal = Vector()
+        for f in faces:
+            normal += f.normal
+        normal.normalize()
+        region = set(faces)
+        for f in faces:
+            region.update(f.edges)
+            region.update(f.verts)
+        geom = bmesh.ops.extrude_face_region(bm, geom=list(region))["geom"]
+        moved = [g for g in geom if isinstance(g, bmesh.types.BMVert)]
+        bmesh.ops.translate(bm, vec=normal * float(opt["offset"]), verts=moved)
+    elif op == "inset":
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        t = float(opt["thickness"])
+        if opt.get("individual"):
+            bmesh.ops.inset_individual(bm, faces=faces, thickness=t, use_even_offset=True)
+        else:
+            bmesh.ops.inset_region(bm, faces=faces, thickness=t, use_even_offset=True,
+                                   use_boundary=True)
+    elif op == "loopcut":
+        a, b = ints(opt["edge"])
+        edges = ring(bm, edge(bm, a, b))
+        bmesh.ops.subdivide_edgering(bm, edges=edges, cuts=int(opt["cuts"]),
+                                     interp_mode="LINEAR", profile_shape="LINEAR")
+    elif op == "bevel":
+        edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
+        bmesh.ops.bevel(bm, geom=edges, offset=float(opt["width"]), offset_type="OFFSET",
+                        segments=int(opt["segments"]), profile=0.5, affect="EDGES")
+    elif op == "bridge":
+        edges = []
+        for key in ("loop1", "loop2"):
+            loop = ints(opt[key])
+            edges += [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
+        bmesh.ops.bridge_loops(bm, edges=edges)
+    elif op == "merge":
+        verts = [bm.verts[i] for i in ints(opt["vertices"])]
+        if opt.get("at", "centre") == "first":
+            co = verts[0].co.copy()
+        else:
+            co = sum((v.co for v in verts), Vector()) / len(verts)
+        bmesh.ops.pointmerge(bm, verts=verts, merge_co=co)
+    elif op == "dissolve":
+        edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
+        bmesh.ops.dissolve_edges(bm, edges=edges, use_verts=True)
+    elif op == "delete":
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        bmesh.ops.delete(bm, geom=faces, context="FACES")
+    else:
+        raise SystemExit(f"unknown operation {op}")
+
+
+def cage(name):
+    """The test cages, as (points, faces)."""
+    if name == "box":
+        v = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+        f = [[0, 1, 3, 2], [2, 3, 7, 6], [6, 7, 5, 4], [4, 5, 1, 0], [2, 6, 4, 0], [7, 3, 1, 5]]
+        return v, f
+    if name == "prism":
+        v = [(0, 0, 0), (2, 0, 0), (0.7, 1.6, 0), (0, 0, 1.5), (2, 0, 1.5), (0.7, 1.6, 1.5)]
+        return v, [[0, 2, 1], [3, 4, 5], [0, 1, 4, 3], [1, 2, 5, 4], [2, 0, 3, 5]]
+    if name == "grid":
+        n, m = 4, 3
+        v = [(i * 0.9, j * 1.1, 0.1 * ((i * j) % 3)) for j in range(m + 1) for i in range(n + 1)]
+        f = [[j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1,
+              (j + 1) * (n + 1) + i] for j in range(m) for i in range(n)]
+        return v, f
+    if name == "torus":
+        n, m, big, small = 8, 6, 2.0, 0.7
+        v = []
+        for i in range(n):
+            for j in range(m):
+                a, b = 2 * math.pi * i / n, 2 * math.pi * j / m
+                r = big + small * math.cos(b)
+                v.append((r * math.cos(a), r * math.sin(a), small * math.sin(b)))
+        f = [[i * m + j, ((i + 1) % n) * m + j, ((i + 1) % n) * m + (j + 1) % m,
+              i * m + (j + 1) % m] for i in range(n) for j in range(m)]
+        return v, f
+    if name == "tube":
+        n, h = 8, 3
+        v = [(math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n), 0.7 * k)
+             for k in range(h + 1) for i in range(n)]
+        f = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
+             for k in range(h) for i in range(n)]
+        return v, f
+    raise SystemExit(f"no cage {name}")
+
+
+def placed(points, seed):
+    """The points under a random rotation, scale (0.3 to 4) and translation (±50)."""
+    rnd = random.Random(seed)
+    q = [rnd.gauss(0, 1) for _ in range(4)]
+    rot = Quaternion([c / math.sqrt(sum(x * x for x in q)) for c in q]).to_matrix()
+    scale = rnd.uniform(0.3, 4.0)
+    shift = Vector([rnd.uniform(-50, 50) for _ in range(3)])
+    return [tuple(rot @ (Vector(p) * scale) + shift) for p in points], scale
+
+
+# (cage, tool, arguments with the length unit U scaled by the placement)
+CASES = [
+    ("box", "extrude --faces 0 --offset 0.5U"),
+    ("box", "extrude --faces 0,1 --offset 0.4U"),
+    ("grid", "extrude --faces 5,6,9,10 --offset 0.4U"),
+    ("torus", "extrude --faces 0,1,2,6,7,8 --offset -0.2U"),
+    ("box", "inset --faces 0 --thickness 0.3U"),
+    ("box", "inset --faces 0,1 --thickness 0.25U"),
+    ("grid", "inset --faces 5,6,9,10 --thickness 0.2U"),
+    ("grid", "inset --faces 0,1,2 --thickness 0.1U"),
+    ("torus", "inset --faces 0,1,2 --thickness 0.1U"),
+    ("prism", "inset --faces 0 --thickness 0.1U"),
+    ("prism", "inset --faces 2,3 --thickness 0.1U"),
+    ("box", "inset --faces 0,1,4 --thickness 0.2U --individual"),
+    ("torus", "inset --faces 0,1,2,5 --thickness 0.1U --individual"),
+    ("box", "loopcut --edge 0,1 --cuts 3"),
+    ("grid", "loopcut --edge 0,5 --cuts 2"),
+    ("grid", "loopcut --edge 1,2 --cuts 1"),
+    ("torus", "loopcut --edge 0,6 --cuts 2"),
+    ("torus", "loopcut --edge 1,2 --cuts 4"),
+    ("tube", "loopcut --edge 0,8 --cuts 2"),
+    ("box", "bevel --edges 0-1 --width 0.3U --segments 1"),
+    ("box", "bevel --edges 0-1 --width 0.3U --segments 3"),
+    ("box", "bevel --edges 0-1,6-7 --width 0.2U --segments 2"),
+    ("prism", "bevel --edges 0-3 --width 0.2U --segments 3"),
+    ("prism", "bevel --edges 1-4 --width 0.1U --segments 4"),
+    ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 24,25,26,27,28,29,30,31"),
+    ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 27,26,25,24,31,30,29,28"),
+    ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 26,27,28,29,30,31,24,25"),
+    ("box", "merge --vertices 3,1"),
+    ("box", "merge --vertices 3,1,7 --at first"),
+    ("grid", "merge --vertices 6,7,12"),
+    ("torus", "merge --vertices 6,7 --at first"),
+    ("box", "dissolve --edges 2-3"),
+    ("grid", "dissolve --edges 6-7,7-12"),
+    ("grid", "dissolve --edges 6-7,7-8"),
+    ("torus", "dissolve --edges 0-1,1-2,2-3"),
+    ("box", "delete --faces 0,2"),
+    ("grid", "delete --faces 5,6"),
+    ("torus", "delete --faces 5,6,7"),
+]
+
+
+def fixtures(directory):
+    """Writes each case's input (placed by a seeded random motion), Blender's result, and
+    `cases.tsv`: name, tool and arguments."""
+    os.makedirs(directory, exist_ok=True)
+    lines = []
+    for k, (name, args) in enumerate(CASES):
+        points, faces = cage(name)
+        points, scale = placed(points, 1000 + k)
+        args = " ".join(
+            ("%.17g" % (float(a[:-1]) * scale)) if a.endswith("U") else a for a in args.split()
+        )
+        stem = "%02d-%s-%s" % (k, name, args.split()[0])
+        bm = build(points, faces)
+        write_obj(os.path.join(directory, stem + ".in.obj"), bm)
+        apply(bm, args.split()[0], args.split()[1:])
+        write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
+        lines.append(stem + "\t" + args + "\n")
+    with open(os.path.join(directory, "cases.tsv"), "w") as out:
+        out.write("".join(lines))
+
+
+def main():
+    if sys.argv[1] == "--fixtures":
+        return fixtures(sys.argv[2])
+    src, dst, op = sys.argv[1:4]
+    verts, faces = read_obj(src)
+    bm = build(verts, faces)
+    apply(bm, op, sys.argv[4:])
+    write_obj(dst, bm)
+
+
+if __name__ == "__main__":
+    main()
