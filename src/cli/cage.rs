@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use knotwork::kernel::subdiv::cage_edit::Cage;
+use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
 
 /// The tools of `knotwork cage`, with faces and vertices named by their 0-based index in the
 /// file.
@@ -112,14 +112,14 @@ fn indices(what: &str, text: &str) -> Result<Vec<u32>, String> {
     Ok(list)
 }
 
-fn edge_pairs(text: &str) -> Result<Vec<(u32, u32)>, String> {
+fn edge_pairs(text: &str) -> Result<Vec<[u32; 2]>, String> {
     text.split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .map(|pair| {
             let parsed = pair
                 .split_once('-')
-                .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)));
+                .and_then(|(a, b)| Some([a.trim().parse().ok()?, b.trim().parse().ok()?]));
             parsed.ok_or_else(|| format!("--edges: {pair:?} is not an edge A-B"))
         })
         .collect()
@@ -132,41 +132,53 @@ fn face_list(text: &str) -> Result<Vec<usize>, String> {
         .collect())
 }
 
-/// Applies `tool` to `cage`.
-pub fn apply_tool(cage: &Cage, tool: &CageTool) -> Result<Cage, String> {
-    let result = match tool {
-        CageTool::Extrude { faces, offset } => cage.extrude_faces(&face_list(faces)?, *offset),
+/// The kernel's tool for the command line's.
+pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
+    Ok(match tool {
+        CageTool::Extrude { faces, offset } => Tool::Extrude {
+            faces: face_list(faces)?,
+            offset: *offset,
+        },
         CageTool::Inset {
             faces,
             thickness,
             individual,
-        } => {
-            let faces = face_list(faces)?;
-            if *individual {
-                cage.inset_individual(&faces, *thickness)
-            } else {
-                cage.inset_region(&faces, *thickness)
-            }
-        }
+        } => Tool::Inset {
+            faces: face_list(faces)?,
+            thickness: *thickness,
+            individual: *individual,
+        },
         CageTool::Loopcut { edge, cuts } => match indices("edge", edge)?[..] {
-            [a, b] => cage.loop_cut(a, b, *cuts),
+            [a, b] => Tool::LoopCut {
+                edge: [a, b],
+                cuts: *cuts,
+            },
             _ => return Err("--edge names one edge by its two vertices, A,B".into()),
         },
         CageTool::Bevel {
             edges,
             width,
             segments,
-        } => cage.bevel_edges(&edge_pairs(edges)?, *width, *segments),
-        CageTool::Bridge { loop1, loop2 } => {
-            cage.bridge_loops(&indices("loop1", loop1)?, &indices("loop2", loop2)?)
-        }
-        CageTool::Merge { vertices, at } => {
-            cage.merge_vertices(&indices("vertices", vertices)?, *at == MergeAt::First)
-        }
-        CageTool::Dissolve { edges } => cage.dissolve_edges(&edge_pairs(edges)?),
-        CageTool::Delete { faces } => cage.delete_faces(&face_list(faces)?),
-    };
-    result.map_err(|e| e.to_string())
+        } => Tool::Bevel {
+            edges: edge_pairs(edges)?,
+            width: *width,
+            segments: *segments,
+        },
+        CageTool::Bridge { loop1, loop2 } => Tool::Bridge {
+            loop1: indices("loop1", loop1)?,
+            loop2: indices("loop2", loop2)?,
+        },
+        CageTool::Merge { vertices, at } => Tool::Merge {
+            vertices: indices("vertices", vertices)?,
+            at_first: *at == MergeAt::First,
+        },
+        CageTool::Dissolve { edges } => Tool::Dissolve {
+            edges: edge_pairs(edges)?,
+        },
+        CageTool::Delete { faces } => Tool::Delete {
+            faces: face_list(faces)?,
+        },
+    })
 }
 
 fn cage_file(
@@ -182,7 +194,7 @@ fn cage_file(
         creases: parsed.creases,
         corners: parsed.corners,
     };
-    let edited = apply_tool(&cage, tool)?;
+    let edited = cage.apply(&tool_of(tool)?).map_err(|e| e.to_string())?;
     let obj = knotwork::io::obj::write_cage(&edited);
     std::fs::write(output, obj).map_err(|e| format!("{}: {e}", output.display()))?;
     Ok(format!(

@@ -10,6 +10,7 @@
 
 pub mod blend;
 pub mod boolean;
+pub mod cage;
 pub mod construct;
 pub mod contour;
 pub mod explode;
@@ -28,7 +29,7 @@ use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
 /// The built-in operations.
-pub const BUILT_IN: [OperationEntry; 19] = [
+pub const BUILT_IN: [OperationEntry; 20] = [
     construct::ENTRY,
     transform::ENTRY,
     offset::ENTRY,
@@ -48,6 +49,7 @@ pub const BUILT_IN: [OperationEntry; 19] = [
     features::SHELL_ENTRY,
     features::OFFSET_FACE_ENTRY,
     features::DRAFT_ENTRY,
+    cage::ENTRY,
 ];
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.

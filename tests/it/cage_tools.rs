@@ -147,3 +147,79 @@ fn every_tool_matches_blender_bmesh_on_cages_in_general_position() {
     assert!(count >= 30, "only {count} cases ran");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The page's road: the tool as the JSON an `apply` call sends, on a subdivision cube in the
+/// editor's document: one undo step that keeps the cage's level and creases, and a refusal that
+/// names the problem and changes nothing.
+#[test]
+fn a_cage_tool_is_one_undo_step_in_the_editor_and_a_bad_one_changes_nothing() {
+    use glam::DVec3;
+    use knotwork::doc::{Command, Document};
+    use knotwork::kernel::subdiv::{Crease, SubdivisionSurface, cages};
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+
+    let cube = cages::cube(DVec3::ZERO, 2.0).unwrap();
+    let (a, b) = (cube.face(0)[0], cube.face(0)[1]);
+    let surface = SubdivisionSurface::from_mesh(cube, 2)
+        .unwrap()
+        .with(
+            Default::default(),
+            2,
+            vec![Crease {
+                a,
+                b,
+                sharpness: 3.0,
+            }],
+            Vec::new(),
+        )
+        .unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![SceneObject::new(
+            "cage",
+            ObjectGeometry::new(SubdivObject::from(surface)),
+        )],
+        unit: None,
+    });
+    let before = doc.scene.clone();
+    let operation = knotwork::ops::parse(&format!(
+        r#"{{"op": "cage", "object": 0, "tool": {{"loop-cut": {{"edge": [{a}, {b}], "cuts": 2}}}}}}"#
+    ))
+    .unwrap();
+    doc.execute(&Command::Apply {
+        operation,
+        keep_history: false,
+    })
+    .unwrap();
+    let edited = doc.scene.objects[0].geometry.as_subdivision().unwrap();
+    assert_eq!(edited.surface.mesh().face_count(), 6 + 4 * 2);
+    assert_eq!(edited.surface.level(), 2);
+    assert_eq!(edited.surface.creases().len(), 3);
+    let after = doc.scene.clone();
+    assert_eq!(doc.history.undo_label(), Some("Loop cut"));
+    // A merge naming a vertex the cage lacks is refused by name, the cage and history unchanged.
+    let c = doc.scene.objects[0]
+        .geometry
+        .as_subdivision()
+        .unwrap()
+        .surface
+        .mesh()
+        .face(1)[0];
+    let refused = knotwork::ops::parse(&format!(
+        r#"{{"op": "cage", "object": 0, "tool": {{"merge": {{"vertices": [{c}, 9999]}}}}}}"#
+    ))
+    .unwrap();
+    let error = doc
+        .execute(&Command::Apply {
+            operation: refused,
+            keep_history: false,
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("9999"), "{error}");
+    assert_eq!(doc.scene, after);
+    assert_eq!(doc.history.undo_label(), Some("Loop cut"));
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, before);
+    doc.redo().unwrap();
+    assert_eq!(doc.scene, after);
+}

@@ -401,8 +401,9 @@ fn drag_frames(
 }
 
 /// The groups of figures [`run`] can be limited to.
-pub const GROUPS: [&str; 20] = [
+pub const GROUPS: [&str; 21] = [
     "edit",
+    "cage",
     "webgl2",
     "frame",
     "scale",
@@ -444,6 +445,9 @@ pub fn run(
     }
     if wants("subdivision") {
         bench_subdivision(context, iterations, out)?;
+    }
+    if wants("cage") {
+        bench_cage_tools(iterations, out)?;
     }
     let scene = Scene::demo()?;
     if wants("frame") {
@@ -2760,5 +2764,75 @@ fn bench_features(
         out,
         "fillet radius drag step, 20-face prism (live)  | {drag_ms:8.2} ms"
     )?;
+    Ok(())
+}
+
+/// Cage tools on a 10,000-face torus cage (100 × 100 quads), one core: the topology edit alone
+/// (the kernel's tool), and the editor's whole step (the tool, the new cage checked as a
+/// subdivision surface, the undo step).
+fn bench_cage_tools(
+    iterations: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use knotwork::doc::{Command, Document};
+    use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
+    use knotwork::kernel::subdiv::{SubdivisionSurface, cages};
+    use knotwork::scene::operation::Operation;
+    let mesh = cages::torus(glam::DVec3::ZERO, 4.0, 1.0, 100, 100)?;
+    let cage = Cage {
+        points: mesh.points().to_vec(),
+        faces: mesh.faces().map(<[u32]>::to_vec).collect(),
+        creases: Vec::new(),
+        corners: Vec::new(),
+    };
+    let f = mesh.face(5050).to_vec();
+    let tools = [
+        Tool::Extrude {
+            faces: vec![5050, 5051, 5150, 5151],
+            offset: 0.05,
+        },
+        Tool::Inset {
+            faces: vec![5050, 5051, 5150, 5151],
+            thickness: 0.01,
+            individual: false,
+        },
+        Tool::LoopCut {
+            edge: [f[0], f[1]],
+            cuts: 2,
+        },
+        Tool::Dissolve {
+            edges: vec![[f[1], f[2]]],
+        },
+    ];
+    let runs = iterations.clamp(3, 20);
+    let surface = SubdivisionSurface::from_mesh(mesh.clone(), 2)?;
+    let scene = knotwork::scene::Scene {
+        objects: vec![knotwork::scene::SceneObject::new(
+            "torus",
+            knotwork::scene::ObjectGeometry::new(knotwork::scene::SubdivObject::from(surface)),
+        )],
+        unit: None,
+    };
+    for tool in tools {
+        let (tool_ms, edited) = median_ms(runs, || cage.apply(&tool))?;
+        let (step_ms, _) = median_ms(runs, || {
+            let mut doc = Document::new(scene.clone());
+            doc.execute(&Command::Apply {
+                operation: Operation::new(knotwork::ops::cage::CageEdit {
+                    object: 0.into(),
+                    tool: tool.clone(),
+                }),
+                keep_history: false,
+            })
+            .map(|_| ())
+        })?;
+        writeln!(
+            out,
+            "cage tool {:<8} on 10,000 faces: {tool_ms:.2} ms topology, {step_ms:.2} ms editor step \
+             ({} faces after)",
+            tool.label(),
+            edited.faces.len()
+        )?;
+    }
     Ok(())
 }

@@ -48,7 +48,7 @@ pub struct Cage {
     pub corners: Vec<Corner>,
 }
 
-/// Where a tool's region average normal or an inset's offset direction cannot be formed.
+/// Below this squared length the line between two loops' centres has no direction.
 const DEGENERATE: f64 = 1e-300;
 
 fn key(a: u32, b: u32) -> (u32, u32) {
@@ -221,8 +221,10 @@ impl Cage {
         for &f in &region {
             normal += polygon_normal(&self.points, &self.faces[f]);
         }
+        // Unit normals summing to (almost) nothing leave no direction.
+        let cancelled = normal.length() < 1e-9 * region.len() as f64;
         let normal = normal.normalize_or_zero();
-        if normal.length_squared() < 0.5 {
+        if cancelled || normal.length_squared() < 0.5 {
             return Err(invalid(
                 "the faces' normals cancel out: the region has no direction to extrude along",
             ));
@@ -943,10 +945,314 @@ impl Cage {
     }
 }
 
+/// One cage tool and its arguments, as the editor's operation and the command line name it
+/// (`{"extrude": {"faces": [0, 1], "offset": 0.5}}` in JSON).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Tool {
+    /// [`Cage::extrude_faces`].
+    Extrude { faces: Vec<usize>, offset: f64 },
+    /// [`Cage::inset_region`], or [`Cage::inset_individual`] with `individual`.
+    Inset {
+        faces: Vec<usize>,
+        thickness: f64,
+        #[serde(default)]
+        individual: bool,
+    },
+    /// [`Cage::loop_cut`] through the edge between the two vertices.
+    LoopCut { edge: [u32; 2], cuts: u32 },
+    /// [`Cage::bevel_edges`].
+    Bevel {
+        edges: Vec<[u32; 2]>,
+        width: f64,
+        segments: u32,
+    },
+    /// [`Cage::bridge_loops`].
+    Bridge { loop1: Vec<u32>, loop2: Vec<u32> },
+    /// [`Cage::merge_vertices`], at the first vertex's place with `at_first`.
+    Merge {
+        vertices: Vec<u32>,
+        #[serde(default)]
+        at_first: bool,
+    },
+    /// [`Cage::dissolve_edges`].
+    Dissolve { edges: Vec<[u32; 2]> },
+    /// [`Cage::delete_faces`].
+    Delete { faces: Vec<usize> },
+}
+
+impl Tool {
+    /// Its name, for an undo step ("Extrude", "Loop cut", …).
+    pub fn label(&self) -> &'static str {
+        match self {
+            Self::Extrude { .. } => "Extrude",
+            Self::Inset { .. } => "Inset",
+            Self::LoopCut { .. } => "Loop cut",
+            Self::Bevel { .. } => "Bevel",
+            Self::Bridge { .. } => "Bridge",
+            Self::Merge { .. } => "Merge",
+            Self::Dissolve { .. } => "Dissolve",
+            Self::Delete { .. } => "Delete",
+        }
+    }
+}
+
+impl Cage {
+    /// The cage after `tool`.
+    pub fn apply(&self, tool: &Tool) -> Result<Self, CageEditError> {
+        let pairs = |edges: &[[u32; 2]]| -> Vec<(u32, u32)> {
+            edges.iter().map(|&[a, b]| (a, b)).collect()
+        };
+        match tool {
+            Tool::Extrude { faces, offset } => self.extrude_faces(faces, *offset),
+            Tool::Inset {
+                faces,
+                thickness,
+                individual: true,
+            } => self.inset_individual(faces, *thickness),
+            Tool::Inset {
+                faces, thickness, ..
+            } => self.inset_region(faces, *thickness),
+            Tool::LoopCut { edge: [a, b], cuts } => self.loop_cut(*a, *b, *cuts),
+            Tool::Bevel {
+                edges,
+                width,
+                segments,
+            } => self.bevel_edges(&pairs(edges), *width, *segments),
+            Tool::Bridge { loop1, loop2 } => self.bridge_loops(loop1, loop2),
+            Tool::Merge { vertices, at_first } => self.merge_vertices(vertices, *at_first),
+            Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
+            Tool::Delete { faces } => self.delete_faces(faces),
+        }
+    }
+}
+
 fn check_thickness(thickness: f64) -> Result<(), CageEditError> {
     if thickness.is_finite() && thickness >= 0.0 {
         Ok(())
     } else {
         Err(invalid("the thickness must be a finite number ≥ 0"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::cages;
+    use crate::subdiv::{Options, SubdivisionSurface};
+    use crate::test_support::{Xorshift, placement};
+
+    fn cage_of(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
+        let (motion, scale) = placement(seed);
+        let points = mesh
+            .points()
+            .iter()
+            .map(|&p| motion.transform_point3(p))
+            .collect();
+        let faces = mesh.faces().map(<[u32]>::to_vec).collect();
+        (
+            Cage {
+                points,
+                faces,
+                creases: Vec::new(),
+                corners: Vec::new(),
+            },
+            scale,
+        )
+    }
+
+    /// The cage as a subdivision surface: manifold, every edge between faces of agreeing
+    /// winding.
+    fn check_cage(cage: &Cage) {
+        let mesh = crate::PolygonMesh::new(cage.points.clone(), &cage.faces).unwrap();
+        SubdivisionSurface::new(
+            mesh,
+            cage.creases.clone(),
+            cage.corners.clone(),
+            Options::default(),
+            0,
+        )
+        .unwrap();
+    }
+
+    /// V − E + F.
+    fn euler(cage: &Cage) -> i64 {
+        let edges: HashSet<(u32, u32)> = cage
+            .faces
+            .iter()
+            .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
+            .collect();
+        cage.points.len() as i64 - edges.len() as i64 + cage.faces.len() as i64
+    }
+
+    /// The enclosed volume (divergence theorem over the faces' fans).
+    fn volume(cage: &Cage) -> f64 {
+        let p = |v: u32| cage.points[v as usize];
+        cage.faces
+            .iter()
+            .map(|f| {
+                (1..f.len() - 1)
+                    .map(|k| p(f[0]).dot(p(f[k]).cross(p(f[k + 1]))) / 6.0)
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
+    fn area(cage: &Cage, face: &[u32]) -> f64 {
+        let p = |v: u32| cage.points[v as usize];
+        (1..face.len() - 1)
+            .map(|k| (p(face[k]) - p(face[0])).cross(p(face[k + 1]) - p(face[0])))
+            .sum::<DVec3>()
+            .length()
+            / 2.0
+    }
+
+    #[test]
+    fn extruding_a_flat_face_adds_its_area_times_the_offset_to_the_volume() {
+        for seed in 1..6 {
+            let (cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let d = 0.37 * scale * seed as f64;
+            let out = cage.extrude_faces(&[2], d).unwrap();
+            check_cage(&out);
+            let expected = volume(&cage) + area(&cage, &cage.faces[2]) * d;
+            assert!(
+                (volume(&out) - expected).abs() < 1e-10 * expected.abs(),
+                "{} against {expected}",
+                volume(&out)
+            );
+            // The eight corners keep their indices and places.
+            assert_eq!(&out.points[..8], &cage.points[..8]);
+        }
+    }
+
+    #[test]
+    fn an_inset_strip_has_the_width_asked_for_along_every_edge() {
+        for seed in 1..4 {
+            let (cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let t = 0.13 * scale * seed as f64;
+            for individual in [false, true] {
+                let out = if individual {
+                    cage.inset_individual(&[0], t)
+                } else {
+                    cage.inset_region(&[0], t)
+                }
+                .unwrap();
+                check_cage(&out);
+                // The inner face is face 0; each of its edges lies t from the outer edge's
+                // line, in the face's plane.
+                let inner = &out.faces[0];
+                let outer = &cage.faces[0];
+                for c in 0..4 {
+                    let (a, b) = (
+                        cage.points[outer[c] as usize],
+                        cage.points[outer[(c + 1) % 4] as usize],
+                    );
+                    let dir = (b - a).normalize();
+                    for k in [c, (c + 1) % 4] {
+                        let q = out.points[inner[k] as usize];
+                        let off = (q - a) - dir * (q - a).dot(dir);
+                        assert!((off.length() - t).abs() < 1e-12 * scale, "{}", off.length());
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn creases_follow_their_edges_through_the_tools() {
+        let (mut cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), 9);
+        let (a, b) = (cage.faces[0][0], cage.faces[0][1]);
+        cage.creases.push(Crease {
+            a,
+            b,
+            sharpness: 2.5,
+        });
+        cage.corners.push(Corner {
+            vertex: a,
+            sharpness: 1.0,
+        });
+        // A loop cut splits the creased edge into three creased pieces.
+        let cut = cage.loop_cut(a, b, 2).unwrap();
+        check_cage(&cut);
+        assert_eq!(cut.creases.len(), 3);
+        assert!(cut.creases.iter().all(|c| c.sharpness == 2.5));
+        let chain: f64 = cut
+            .creases
+            .iter()
+            .map(|c| cut.points[c.a as usize].distance(cut.points[c.b as usize]))
+            .sum();
+        let length = cage.points[a as usize].distance(cage.points[b as usize]);
+        assert!((chain - length).abs() < 1e-12 * scale);
+        // An extrusion of the face copies the crease to the lifted edge.
+        let lifted = cage.extrude_faces(&[0], 0.5 * scale).unwrap();
+        assert_eq!(lifted.creases.len(), 2);
+        assert_eq!(lifted.corners.len(), 2);
+        // Deleting the faces on both sides drops it.
+        let faces: Vec<usize> = (0..cage.faces.len())
+            .filter(|&f| {
+                let face = &cage.faces[f];
+                (0..face.len()).any(|c| key(face[c], face[(c + 1) % face.len()]) == key(a, b))
+            })
+            .collect();
+        assert!(cage.delete_faces(&faces).unwrap().creases.is_empty());
+    }
+
+    #[test]
+    fn random_tool_sequences_keep_a_torus_a_closed_oriented_torus() {
+        let mut random = Xorshift::new(61);
+        let (mut cage, scale) = cage_of(&cages::torus(DVec3::ZERO, 2.0, 0.7, 8, 6).unwrap(), 61);
+        for step in 0..40 {
+            let faces = cage.faces.len() as u64;
+            let face = random.below(faces) as usize;
+            let f = cage.faces[face].clone();
+            let result = match step % 5 {
+                0 => cage.extrude_faces(&[face], (random.unit() - 0.3) * 0.2 * scale),
+                1 => cage.inset_region(&[face], 0.05 * scale),
+                2 => cage.inset_individual(&[face], 0.05 * scale),
+                3 => cage.loop_cut(f[0], f[1], 1 + random.below(3) as u32),
+                _ => cage.bevel_edges(&[(f[0], f[1])], 0.02 * scale, 2),
+            };
+            // A bevel may meet a corner it does not build: it says so and changes nothing.
+            let Ok(next) = result else {
+                assert!(step % 5 == 4, "step {step}: {result:?}");
+                continue;
+            };
+            check_cage(&next);
+            assert_eq!(euler(&next), 0, "step {step}");
+            cage = next;
+        }
+        assert!(cage.faces.len() > 48);
+    }
+
+    #[test]
+    fn bad_requests_are_refused_with_a_reason() {
+        let (cage, _) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), 3);
+        let normal = |f: usize| polygon_normal(&cage.points, &cage.faces[f]);
+        let opposite = (1..6).find(|&f| normal(f).dot(normal(0)) < -0.99).unwrap();
+        let refusals = [
+            cage.extrude_faces(&[6], 1.0).err(),
+            cage.extrude_faces(&[0], f64::NAN).err(),
+            cage.extrude_faces(&[0, opposite], 1.0).err(), // the normals cancel
+            cage.inset_region(&[0], -1.0).err(),
+            cage.inset_individual(&[], 0.1).err(),
+            cage.loop_cut(0, 7, 1).err(),
+            cage.loop_cut(0, 1, 0).err(),
+            cage.loop_cut(0, 99, 1).err(),
+            cage.bevel_edges(&[(0, 1)], 0.0, 1).err(),
+            cage.bevel_edges(&[(0, 1), (0, 2)], 0.1, 1).err(),
+            cage.bridge_loops(&[0, 1, 3], &[4, 5]).err(),
+            cage.bridge_loops(&[0, 1, 3, 2], &[4, 5, 7, 6]).err(),
+            cage.merge_vertices(&[], false).err(),
+            cage.merge_vertices(&[8], false).err(),
+            cage.dissolve_edges(&[(0, 7)]).err(),
+            cage.delete_faces(&[0, 1, 2, 3, 4, 5]).err(),
+        ];
+        for (k, refusal) in refusals.iter().enumerate() {
+            let message = refusal.as_ref().map(ToString::to_string);
+            assert!(
+                message.is_some_and(|m| !m.is_empty()),
+                "request {k} was taken"
+            );
+        }
     }
 }
