@@ -167,6 +167,12 @@ def cage(name):
     if name == "prism":
         v = [(0, 0, 0), (2, 0, 0), (0.7, 1.6, 0), (0, 0, 1.5), (2, 0, 1.5), (0.7, 1.6, 1.5)]
         return v, [[0, 2, 1], [3, 4, 5], [0, 1, 4, 3], [1, 2, 5, 4], [2, 0, 3, 5]]
+    if name == "frustum":
+        # A box narrowing and leaning as it rises: flat faces, no two corners alike.
+        v = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0),
+             (-0.4, -0.7, 1.3), (0.5, -0.7, 1.3), (0.5, 0.2, 1.3), (-0.4, 0.2, 1.3)]
+        f = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+        return v, f
     if name == "grid":
         n, m = 4, 3
         v = [(i * 0.9, j * 1.1, 0.1 * ((i * j) % 3)) for j in range(m + 1) for i in range(n + 1)]
@@ -230,6 +236,23 @@ CASES = [
     ("box", "bevel --edges 0-1,6-7 --width 0.2U --segments 2"),
     ("prism", "bevel --edges 0-3 --width 0.2U --segments 3"),
     ("prism", "bevel --edges 1-4 --width 0.1U --segments 4"),
+    ("prism", "bevel --edges 3-4,4-5,5-3 --width 0.15U --segments 2"),
+    ("prism", "bevel --edges 0-1,1-4 --width 0.1U --segments 3"),
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0 --width 0.2U --segments 3"),
+    ("box", "bevel --edges 0-1,0-2,0-4 --width 0.2U --segments 1"),
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0,4-5,5-7,7-6,6-4,0-4,1-5,2-6,3-7 --width 0.2U --segments 1"),
+    ("frustum", "bevel --edges 0-1 --width 0.2U --segments 3"),
+    ("frustum", "bevel --edges 1-5 --width 0.2U --segments 3"),
+    ("frustum", "bevel --edges 0-1,1-2 --width 0.1U --segments 4"),
+    ("frustum", "bevel --edges 4-5,5-6,5-1 --width 0.1U --segments 1"),
+    ("torus", "bevel --edges 0-6,6-12,12-18,18-24,24-30,30-36,36-42,42-0 --width 0.1U --segments 2"),
+    ("frustum", "bevel --edges 4-5,5-6,6-7,7-4 --width 0.15U --segments 3"),
+    ("frustum", "bevel --edges 0-1,1-5 --width 0.15U --segments 2"),
+    ("torus", "bevel --edges 0-1,1-2,2-3,3-4,4-5,5-0 --width 0.1U --segments 3"),
+    ("frustum", "extrude --faces 1,3 --offset 0.3U"),
+    ("frustum", "inset --faces 1,2 --thickness 0.1U"),
+    ("frustum", "inset --faces 1,2,3 --thickness 0.1U --individual"),
+    ("frustum", "loopcut --edge 0,1 --cuts 3"),
     ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 24,25,26,27,28,29,30,31"),
     ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 27,26,25,24,31,30,29,28"),
     ("tube", "bridge --loop1 0,1,2,3,4,5,6,7 --loop2 26,27,28,29,30,31,24,25"),

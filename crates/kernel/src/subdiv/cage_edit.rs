@@ -797,17 +797,166 @@ impl Cage {
     }
 }
 
+/// The faces around a cage vertex in order: each face, the vertex's corner in it, and its
+/// neighbours before and after it there; `None` where the vertex is on the border or its faces
+/// do not close into one fan.
+fn fan(
+    faces: &[Vec<u32>],
+    half: &HashMap<(u32, u32), (usize, usize)>,
+    v: u32,
+    start: (usize, usize),
+) -> Option<Vec<(usize, u32, u32)>> {
+    let mut out = Vec::new();
+    let (mut f, mut c) = start;
+    loop {
+        let face = &faces[f];
+        let k = face.len();
+        let (prev, next) = (face[(c + k - 1) % k], face[(c + 1) % k]);
+        out.push((f, prev, next));
+        // The next face round holds next→v.
+        let &(g, d) = half.get(&(next, v))?;
+        let (g, d) = (g, (d + 1) % faces[g].len());
+        if g == start.0 {
+            return Some(out);
+        }
+        if out.len() > faces.len() {
+            return None;
+        }
+        (f, c) = (g, d);
+    }
+}
+
+/// A bevel band's end: the arc from side point `a` to side point `b` around the beveled edge.
+/// Its middle m is the point of the edge's line nearest the line a–b (the vertex itself where
+/// they are parallel), and the arc is the affine image of a quarter circle in the
+/// parallelogram a, m, b: c + (a − c)·cos φ + (b − c)·sin φ with c = a + b − m. At an edge's
+/// end where no other beveled edge meets it, the arc is then carried along the edge onto the
+/// plane through a, b and the vertex (Blender's profile, superellipse exponent 2).
+struct Profile {
+    a: DVec3,
+    b: DVec3,
+    centre: DVec3,
+    /// The edge's direction and the plane's normal, where the arc is carried onto it.
+    carry: Option<(DVec3, DVec3)>,
+}
+
+impl Profile {
+    fn new(a: DVec3, b: DVec3, vertex: DVec3, along: DVec3, terminal: bool) -> Self {
+        // The nearest points of the lines vertex + s·along and a + t·(b − a).
+        let u = b - a;
+        let w = vertex - a;
+        let (dd, du, uu) = (along.dot(along), along.dot(u), u.dot(u));
+        let denominator = dd * uu - du * du;
+        let middle = if denominator > 1e-12 * dd * uu {
+            vertex + along * ((du * u.dot(w) - uu * along.dot(w)) / denominator)
+        } else {
+            vertex
+        };
+        let carry = terminal
+            .then(|| {
+                let normal = (vertex - a).cross(vertex - b).normalize_or_zero();
+                let square = |d: DVec3| d.cross(along).length() > 1e-6;
+                (normal != DVec3::ZERO
+                    && square(vertex - a)
+                    && square(vertex - b)
+                    && along.dot(normal).abs() > 1e-6)
+                    .then_some((along, normal))
+            })
+            .flatten();
+        Self {
+            a,
+            b,
+            centre: a + b - middle,
+            carry,
+        }
+    }
+
+    /// The arc's point at `t` in [0, 1] (φ = π/2 · t).
+    fn at(&self, t: f64) -> DVec3 {
+        let phi = std::f64::consts::FRAC_PI_2 * t;
+        let q =
+            self.centre + (self.a - self.centre) * phi.cos() + (self.b - self.centre) * phi.sin();
+        match self.carry {
+            Some((along, normal)) => q + along * ((self.a - q).dot(normal) / along.dot(normal)),
+            None => q,
+        }
+    }
+}
+
+/// Where the offset lines of two beveled edges meet across an unbeveled edge v–y between them:
+/// each line lies `width` from its edge in the plane of that edge and v–y, on y's side; the
+/// point is the middle of their nearest points, dropped onto the plane of the first face in
+/// `faces` (its normal, and its beveled edge's far end) whose corner at v it then lies in.
+fn offset_meet_between(
+    v: DVec3,
+    y: DVec3,
+    faces: &[(DVec3, u32)],
+    point: impl Fn(u32) -> DVec3,
+    width: f64,
+) -> DVec3 {
+    let dm = (y - v).normalize_or_zero();
+    let lines: Vec<(DVec3, DVec3)> = faces
+        .iter()
+        .map(|&(_, x)| {
+            let d = (point(x) - v).normalize_or_zero();
+            let inward = (dm - d * dm.dot(d)).normalize_or_zero();
+            (v + inward * width, d)
+        })
+        .collect();
+    let [(p1, d1), (p2, d2)] = [lines[0], lines[lines.len() - 1]];
+    // The nearest points of p1 + s·d1 and p2 + t·d2.
+    let w = p1 - p2;
+    let (a, b, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
+    let (d, e) = (d1.dot(w), d2.dot(w));
+    let denominator = a * c - b * b;
+    let meet = if denominator > 1e-12 {
+        let s = (b * e - c * d) / denominator;
+        let t = (a * e - b * d) / denominator;
+        ((p1 + d1 * s) + (p2 + d2 * t)) / 2.0
+    } else {
+        (p1 + p2) / 2.0
+    };
+    let angle = |p: DVec3, q: DVec3| {
+        p.normalize_or_zero()
+            .dot(q.normalize_or_zero())
+            .clamp(-1.0, 1.0)
+            .acos()
+    };
+    // Blender's test of a point between two edges of a face, sweeping from the first to the
+    // second: not behind the first, and at most 2° past the second.
+    let slack = 2f64.to_radians();
+    for (k, &(normal, x)) in faces.iter().enumerate() {
+        let dropped = meet - normal * normal.dot(meet - v);
+        let (u, dx) = (dropped - v, point(x) - v);
+        let (from, to) = if k == 0 { (dx, y - v) } else { (y - v, dx) };
+        let side = from.cross(to).dot(normal).signum();
+        let swept = if from.cross(u).dot(normal) * side < 0.0 {
+            std::f64::consts::TAU - angle(from, u)
+        } else {
+            angle(from, u)
+        };
+        if swept <= angle(from, to) + slack {
+            return dropped;
+        }
+    }
+    meet
+}
+
 impl Cage {
     /// Bevel edges (Blender's Bevel of edges: offset width, profile 0.5, that is a circular arc
     /// where the faces meet square). Each beveled edge becomes a band of `segments` quads
     /// whose sides lie `width` from the edge in its two faces (measured square to the edge, in
-    /// each face's plane), and the band's ends are arcs in the faces at the edge's ends: the
-    /// arc from one side point a to the other b is the affine image of a quarter circle,
-    /// c + (a − c)·cos φ + (b − c)·sin φ with c = a + b − v, at φ = π/2 · k / segments, so it
-    /// leaves a and b along the faces beside it.
+    /// each face's plane). At each end, every face takes a new corner: where two beveled edges
+    /// of the face meet, the point `width` from both; where a beveled edge meets one that is
+    /// not, the point on that edge `width` from the beveled one; where an unbeveled edge lies
+    /// between two beveled ones, where their offset lines meet ([`offset_meet_between`]).
+    /// The band's end is the arc between its two side points ([`Profile`]); two bands ending
+    /// on the same two points share the mean of their arcs, and three or more at one corner
+    /// close it with a polygon.
     ///
-    /// Each end of a beveled edge must be a vertex of three edges with no other beveled edge
-    /// (a box's edge, a ring of edges across a cage); other corners are refused by name.
+    /// The corners built: a vertex of three edges with one, two or three beveled (three with
+    /// one segment), and a vertex of four edges with two opposite beveled (an edge loop run
+    /// through). Other corners are refused by name.
     pub fn bevel_edges(
         &self,
         edges: &[(u32, u32)],
@@ -826,120 +975,229 @@ impl Cage {
             )));
         }
         let half = self.half_edges();
-        let mut ends: HashMap<u32, usize> = HashMap::new();
+        let mut beveled: HashSet<(u32, u32)> = HashSet::new();
         for &(a, b) in edges {
             self.check_edge(a, b)?;
-            for v in [a, b] {
-                *ends.entry(v).or_default() += 1;
-            }
-        }
-        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
-        for face in &self.faces {
-            for c in 0..face.len() {
-                let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                neighbours.entry(a).or_default().insert(b);
-                neighbours.entry(b).or_default().insert(a);
-            }
-        }
-        for (&v, &count) in &ends {
-            let valence = neighbours.get(&v).map_or(0, HashSet::len);
-            if count > 1 {
-                return Err(invalid(format!(
-                    "vertex {v} ends {count} of the beveled edges: a bevel corner where \
-                     beveled edges meet is not built yet"
-                )));
-            }
-            if valence != 3 {
-                return Err(invalid(format!(
-                    "vertex {v} has {valence} edges: a beveled edge must end at a vertex of \
-                     three edges"
-                )));
-            }
-        }
-        let mut out = self.clone();
-        let p = |v: u32| self.points[v as usize];
-        // The point on edge v–x where the line `width` from edge v–u in their face meets it.
-        let side_point = |v: u32, u: u32, x: u32| -> DVec3 {
-            let along = (p(x) - p(v)).normalize_or_zero();
-            let edge = (p(u) - p(v)).normalize_or_zero();
-            let sin = along.cross(edge).length();
-            p(v) + along * (width / sin.max(1e-12))
-        };
-        // Per beveled edge end v (with the other end u): the arc's new vertices from the side
-        // in the face holding v→u to the side in the face holding u→v, and the faces.
-        struct End {
-            arc: Vec<u32>,
-        }
-        let mut arcs: HashMap<(u32, u32), End> = HashMap::new();
-        let mut replace: HashMap<(usize, u32), Vec<u32>> = HashMap::new();
-        for &(a, b) in edges {
-            let (Some(&(fx, cx)), Some(&(fy, cy))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+            if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
                 return Err(invalid(format!(
                     "edge {a}-{b} is on the cage's border: a bevel needs a face on each side"
                 )));
-            };
-            let (face_x, face_y) = (&self.faces[fx], &self.faces[fy]);
-            let (kx, ky) = (face_x.len(), face_y.len());
-            for (v, u) in [(a, b), (b, a)] {
-                // In face X (holding a→b) and face Y (holding b→a), v's other neighbour.
-                let (x, y) = if v == a {
-                    (face_x[(cx + kx - 1) % kx], face_y[(cy + 2) % ky])
-                } else {
-                    (face_x[(cx + 2) % kx], face_y[(cy + ky - 1) % ky])
-                };
-                let (pa, pb) = (side_point(v, u, x), side_point(v, u, y));
-                let centre = pa + pb - p(v);
-                let first = out.points.len() as u32;
-                for k in 0..=segments {
-                    let phi = std::f64::consts::FRAC_PI_2 * f64::from(k) / f64::from(segments);
-                    out.points
-                        .push(centre + (pa - centre) * phi.cos() + (pb - centre) * phi.sin());
-                }
-                let arc: Vec<u32> = (first..=first + segments).collect();
-                replace.insert((fx, v), vec![arc[0]]);
-                replace.insert((fy, v), vec![arc[segments as usize]]);
-                // The third face at v holds y→a→x at a = v, and x→b→y at b = v: the arc
-                // enters it from the Y side at a, from the X side at b.
-                let (into, arc_in): (u32, Vec<u32>) = if v == a {
-                    (y, arc.iter().rev().copied().collect())
-                } else {
-                    (x, arc.clone())
-                };
-                let third = half
-                    .get(&(into, v))
-                    .map(|&(f, _)| f)
-                    .filter(|&f| f != fx && f != fy);
-                let Some(third) = third else {
-                    return Err(invalid(format!(
-                        "the faces around vertex {v} do not close: it cannot be beveled"
-                    )));
-                };
-                replace.insert((third, v), arc_in);
-                arcs.insert((v, u), End { arc });
             }
+            beveled.insert(key(a, b));
         }
-        for (f, face) in out.faces.iter_mut().enumerate() {
-            if face.iter().any(|&v| ends.contains_key(&v)) {
-                let mut grown = Vec::with_capacity(face.len() + segments as usize);
-                for &v in face.iter() {
-                    match replace.get(&(f, v)) {
-                        Some(list) => grown.extend_from_slice(list),
-                        None => grown.push(v),
-                    }
-                }
-                *face = grown;
-            }
-        }
-        for &(a, b) in edges {
-            let (Some(pa), Some(pb)) = (arcs.get(&(a, b)), arcs.get(&(b, a))) else {
+        let mut ends: Vec<u32> = beveled.iter().flat_map(|&(a, b)| [a, b]).collect();
+        ends.sort_unstable();
+        ends.dedup();
+        let p = |v: u32| self.points[v as usize];
+        let dir = |v: u32, x: u32| (p(x) - p(v)).normalize_or_zero();
+        let is_beveled = |v: u32, x: u32| beveled.contains(&key(v, x));
+        let mut out = self.clone();
+        // Each end's new corner points: per face (a meet point) or per edge (a point on it).
+        let mut face_point: HashMap<(u32, usize), u32> = HashMap::new();
+        let mut edge_point: HashMap<(u32, u32), u32> = HashMap::new();
+        // Each face corner's replacement.
+        let mut replace: HashMap<(usize, u32), Vec<u32>> = HashMap::new();
+        // The arcs: between two corner points (lower id first), ends included.
+        let mut arcs: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        let mut corner_faces = Vec::new();
+        for &v in &ends {
+            let Some(&start) = self
+                .faces
+                .iter()
+                .enumerate()
+                .find_map(|(f, face)| face.iter().position(|&x| x == v).map(|c| (f, c)))
+                .as_ref()
+            else {
                 continue;
             };
-            // Face X holds a→b, now arc_a[0]→arc_b[0], and face Y arc_b[S]→arc_a[S]; the
-            // band's quads hold the reverse of both.
+            let Some(around) = fan(&self.faces, &half, v, start) else {
+                return Err(invalid(format!(
+                    "vertex {v} is on the cage's border or its faces do not close round it: \
+                     it cannot be beveled"
+                )));
+            };
+            let valence = around.len();
+            let count = around.iter().filter(|&&(_, _, b)| is_beveled(v, b)).count();
+            let opposite_pair = valence == 4
+                && count == 2
+                && is_beveled(v, around[0].2) == is_beveled(v, around[2].2);
+            let supported = (valence == 3 && (count < 3 || segments == 1)) || opposite_pair;
+            if !supported {
+                return Err(invalid(format!(
+                    "vertex {v} has {valence} edges, {count} of them beveled: the bevel builds \
+                     corners of three edges (one to three beveled, three with one segment) and \
+                     edge loops through vertices of four edges"
+                )));
+            }
+            // Points for unbeveled edges. Beside one beveled edge: the point on the edge where
+            // the beveled edge's offset line in their face meets it. Between two beveled edges
+            // (one in each face beside it): where their offset lines, each in its face's
+            // corner plane, come nearest, dropped onto the first of the two faces it lies in
+            // the corner of (Blender's offset meet with edges between).
+            let mut on_edge: BTreeMap<u32, Vec<(usize, u32)>> = BTreeMap::new();
+            for &(f, a, b) in &around {
+                for (beveled_side, other) in [(a, b), (b, a)] {
+                    if is_beveled(v, beveled_side) && !is_beveled(v, other) {
+                        on_edge.entry(other).or_default().push((f, beveled_side));
+                    }
+                }
+            }
+            for (y, sides) in on_edge {
+                let point = match sides[..] {
+                    [(_, x)] => {
+                        let (d, e) = (dir(v, y), dir(v, x));
+                        p(v) + d * (width / d.cross(e).length().max(1e-12))
+                    }
+                    _ => {
+                        // The face whose corner runs from its beveled edge to y first (y is
+                        // its edge before v), then the other.
+                        let mut faces: Vec<(usize, u32)> = sides.clone();
+                        faces.sort_by_key(|&(f, _)| {
+                            around
+                                .iter()
+                                .find(|&&(g, _, _)| g == f)
+                                .map(|&(_, a, _)| a != y)
+                        });
+                        let corners: Vec<(DVec3, u32)> = faces
+                            .iter()
+                            .map(|&(f, x)| (polygon_normal(&self.points, &self.faces[f]), x))
+                            .collect();
+                        offset_meet_between(p(v), p(y), &corners, p, width)
+                    }
+                };
+                edge_point.insert((v, y), out.points.len() as u32);
+                out.points.push(point);
+            }
+            for &(f, a, b) in &around {
+                if is_beveled(v, a) && is_beveled(v, b) {
+                    let (da, db) = (dir(v, a), dir(v, b));
+                    let half_angle = (da + db).normalize_or_zero();
+                    let sin = half_angle.cross(da).length().max(1e-12);
+                    face_point.insert((v, f), out.points.len() as u32);
+                    out.points.push(p(v) + half_angle * (width / sin));
+                }
+            }
+            // The point a face at v shows: its meet point, or the point on its unbeveled edge.
+            let point_of = |f: usize, a: u32, b: u32| -> Option<u32> {
+                match (is_beveled(v, a), is_beveled(v, b)) {
+                    (true, true) => face_point.get(&(v, f)).copied(),
+                    (true, false) => edge_point.get(&(v, b)).copied(),
+                    (false, true) => edge_point.get(&(v, a)).copied(),
+                    (false, false) => None,
+                }
+            };
+            let mut corner_edges: Vec<(u32, u32)> = Vec::new();
+            for (i, &(f, a, b)) in around.iter().enumerate() {
+                match point_of(f, a, b) {
+                    Some(q) => {
+                        replace.insert((f, v), vec![q]);
+                    }
+                    None => {
+                        // A face with no beveled edge at v (one beveled edge at a vertex of
+                        // three): the arc from the point on its incoming edge to the one on
+                        // its outgoing edge.
+                        let (Some(&qa), Some(&qb)) =
+                            (edge_point.get(&(v, a)), edge_point.get(&(v, b)))
+                        else {
+                            return Err(invalid(format!("vertex {v} cannot be beveled")));
+                        };
+                        replace.insert((f, v), vec![qa, qb]);
+                    }
+                }
+                // The band of the beveled edge v–b leaving this face: its arc runs from this
+                // face's point to the next face's.
+                if is_beveled(v, b) {
+                    let (g, ga, gb) = around[(i + 1) % valence];
+                    let (Some(from), Some(to)) = (point_of(f, a, b), point_of(g, ga, gb)) else {
+                        return Err(invalid(format!("vertex {v} cannot be beveled")));
+                    };
+                    corner_edges.push((to, from));
+                    let k = key(from, to);
+                    if let std::collections::hash_map::Entry::Vacant(slot) = arcs.entry(k) {
+                        let (pa, pb) = (out.points[k.0 as usize], out.points[k.1 as usize]);
+                        // Two beveled edges through v share the arc: the mean of both
+                        // edges' profiles, each carried onto the plane through its ends and v.
+                        let others: Vec<DVec3> = around
+                            .iter()
+                            .filter(|&&(_, _, x)| x != b && is_beveled(v, x))
+                            .map(|&(_, _, x)| dir(v, x))
+                            .collect();
+                        let mut shapes = vec![Profile::new(pa, pb, p(v), dir(v, b), count <= 2)];
+                        if count == 2 {
+                            shapes.extend(
+                                others.iter().map(|&d| Profile::new(pa, pb, p(v), d, true)),
+                            );
+                        }
+                        let mut arc = vec![k.0];
+                        for s in 1..segments {
+                            let t = f64::from(s) / f64::from(segments);
+                            let sum: DVec3 = shapes.iter().map(|shape| shape.at(t)).sum();
+                            arc.push(out.points.len() as u32);
+                            out.points.push(sum / shapes.len() as f64);
+                        }
+                        arc.push(k.1);
+                        slot.insert(arc);
+                    }
+                }
+            }
+            if count >= 3 {
+                corner_faces.push(corner_edges);
+            }
+        }
+        let arc = |from: u32, to: u32| -> Vec<u32> {
+            match arcs.get(&key(from, to)) {
+                Some(list) if from < to => list.clone(),
+                Some(list) => list.iter().rev().copied().collect(),
+                None => vec![from, to],
+            }
+        };
+        for (f, face) in out.faces.iter_mut().enumerate() {
+            if !face.iter().any(|v| ends.binary_search(v).is_ok()) {
+                continue;
+            }
+            let mut grown = Vec::with_capacity(face.len() + segments as usize);
+            for &v in face.iter() {
+                match replace.get(&(f, v)).map(Vec::as_slice) {
+                    Some(&[q]) => grown.push(q),
+                    Some(&[qa, qb]) => grown.extend(arc(qa, qb)),
+                    _ => grown.push(v),
+                }
+            }
+            *face = grown;
+        }
+        // The bands: along each beveled edge a→b, between the arcs at its ends. Face X holds
+        // a→b and face Y b→a; at each end the arc runs from X's point to Y's.
+        for &(a, b) in edges {
+            let (Some(&(fx, _)), Some(&(fy, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+                continue;
+            };
+            let ends_of = |v: u32| -> Option<Vec<u32>> {
+                let x = replace.get(&(fx, v))?.first().copied()?;
+                let y = replace.get(&(fy, v))?.last().copied()?;
+                Some(arc(x, y))
+            };
+            let (Some(at_a), Some(at_b)) = (ends_of(a), ends_of(b)) else {
+                continue;
+            };
             for k in 0..segments as usize {
                 out.faces
-                    .push(vec![pb.arc[k], pa.arc[k], pa.arc[k + 1], pb.arc[k + 1]]);
+                    .push(vec![at_b[k], at_a[k], at_a[k + 1], at_b[k + 1]]);
             }
+        }
+        // Corners of three or more beveled edges: the polygon their arcs leave.
+        for corner in corner_faces {
+            let next: HashMap<u32, u32> = corner.iter().copied().collect();
+            let Some(&(first, _)) = corner.first() else {
+                continue;
+            };
+            let mut polygon = vec![first];
+            while let Some(&n) = next.get(polygon.last().unwrap_or(&first)) {
+                if n == first || polygon.len() > corner.len() {
+                    break;
+                }
+                polygon.push(n);
+            }
+            out.faces.push(polygon);
         }
         Ok(out.compacted(self))
     }
