@@ -1487,6 +1487,14 @@ mod tests {
         let (cage, _) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), 3);
         let normal = |f: usize| polygon_normal(&cage.points, &cage.faces[f]);
         let opposite = (1..6).find(|&f| normal(f).dot(normal(0)) < -0.99).unwrap();
+        let mut around: Vec<u32> = cage
+            .faces
+            .iter()
+            .filter_map(|f| f.iter().position(|&v| v == 0).map(|c| f[(c + 1) % f.len()]))
+            .collect();
+        around.sort_unstable();
+        let corner: Vec<(u32, u32)> = around.iter().map(|&n| (0, n)).collect();
+        assert_eq!(corner.len(), 3);
         let refusals = [
             cage.extrude_faces(&[6], 1.0).err(),
             cage.extrude_faces(&[0], f64::NAN).err(),
@@ -1497,7 +1505,8 @@ mod tests {
             cage.loop_cut(0, 1, 0).err(),
             cage.loop_cut(0, 99, 1).err(),
             cage.bevel_edges(&[(0, 1)], 0.0, 1).err(),
-            cage.bevel_edges(&[(0, 1), (0, 2)], 0.1, 1).err(),
+            // Three beveled edges at a corner take one segment only.
+            cage.bevel_edges(&corner, 0.1, 2).err(),
             cage.bridge_loops(&[0, 1, 3], &[4, 5]).err(),
             cage.bridge_loops(&[0, 1, 3, 2], &[4, 5, 7, 6]).err(),
             cage.merge_vertices(&[], false).err(),
