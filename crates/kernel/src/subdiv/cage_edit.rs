@@ -323,10 +323,8 @@ impl Cage {
         check_thickness(thickness)?;
         let in_region: HashSet<usize> = region.iter().copied().collect();
         let half = self.half_edges();
-        // Border half-edges of region faces: (from, to, inward direction of that edge).
-        let mut outgoing: BTreeMap<u32, Vec<(u32, DVec3)>> = BTreeMap::new();
-        let mut incoming: HashMap<u32, Vec<(u32, DVec3)>> = HashMap::new();
-        let mut border = Vec::new();
+        // Border half-edges of region faces: (from, to) ↦ (face, inward direction).
+        let mut border: BTreeMap<(u32, u32), (usize, DVec3)> = BTreeMap::new();
         for &f in &region {
             let face = &self.faces[f];
             let inward = self.inward_directions(face);
@@ -336,9 +334,7 @@ impl Cage {
                     .get(&(b, a))
                     .is_none_or(|&(g, _)| !in_region.contains(&g));
                 if on_border {
-                    outgoing.entry(a).or_default().push((b, inward[c]));
-                    incoming.entry(b).or_default().push((a, inward[c]));
-                    border.push((a, b));
+                    border.insert((a, b), (f, inward[c]));
                 }
             }
         }
@@ -347,33 +343,73 @@ impl Cage {
                 "the faces enclose the whole cage: the region has no border to inset",
             ));
         }
+        // Each border vertex's sectors: the runs of region faces round it from a border edge
+        // arriving to the border edge leaving, with the vertex moved along their bisector.
+        let mut sectors: BTreeMap<u32, Vec<(Vec<usize>, DVec3)>> = BTreeMap::new();
+        for (&(u, v), &(f, arriving)) in &border {
+            let _ = u;
+            let mut faces = vec![f];
+            let mut at = f;
+            let leaving = loop {
+                let face = &self.faces[at];
+                let Some(c) = face.iter().position(|&x| x == v) else {
+                    return Err(invalid(format!("vertex {v} cannot be inset")));
+                };
+                let w = face[(c + 1) % face.len()];
+                if let Some(&(_, d)) = border.get(&(v, w)) {
+                    break d;
+                }
+                match half.get(&(w, v)) {
+                    Some(&(g, _)) if in_region.contains(&g) && faces.len() <= region.len() => {
+                        faces.push(g);
+                        at = g;
+                    }
+                    _ => return Err(invalid(format!("vertex {v} cannot be inset"))),
+                }
+            };
+            let step = (arriving + leaving).normalize_or_zero()
+                * even_offset_factor(arriving, leaving)
+                * thickness;
+            sectors.entry(v).or_default().push((faces, step));
+        }
         let mut out = self.clone();
         let mut copy: HashMap<u32, u32> = HashMap::new();
-        for (&v, leaving) in &outgoing {
-            let arriving = incoming.get(&v).map(Vec::as_slice).unwrap_or(&[]);
-            if leaving.len() != 1 || arriving.len() != 1 {
-                return Err(invalid(format!(
-                    "the region touches itself at vertex {v}: inset it as separate regions"
-                )));
-            }
-            let (a, b) = (arriving[0].1, leaving[0].1);
-            let step = (a + b).normalize_or_zero() * even_offset_factor(a, b) * thickness;
+        let mut inner: HashMap<(u32, usize), u32> = HashMap::new();
+        for (&v, list) in &mut sectors {
+            // The original vertex goes with the sector of the last face; the others are new.
+            list.sort_by_key(|(faces, _)| std::cmp::Reverse(faces.iter().max().copied()));
             copy.insert(v, out.points.len() as u32);
             out.points.push(self.points[v as usize]);
-            out.points[v as usize] = self.points[v as usize] + step;
+            for (k, (faces, step)) in list.iter().enumerate() {
+                let moved = self.points[v as usize] + *step;
+                let id = if k == 0 {
+                    out.points[v as usize] = moved;
+                    v
+                } else {
+                    out.points.push(moved);
+                    (out.points.len() - 1) as u32
+                };
+                for &f in faces {
+                    inner.insert((v, f), id);
+                }
+            }
         }
         for (f, face) in out.faces.iter_mut().enumerate() {
-            if !in_region.contains(&f) {
-                for v in face.iter_mut() {
-                    if let Some(&c) = copy.get(v) {
-                        *v = c;
-                    }
+            for v in face.iter_mut() {
+                let to = if in_region.contains(&f) {
+                    inner.get(&(*v, f))
+                } else {
+                    copy.get(v)
+                };
+                if let Some(&c) = to {
+                    *v = c;
                 }
             }
         }
         let sharp = self.sharpness_of_edges();
-        for &(a, b) in &border {
-            out.faces.push(vec![copy[&a], copy[&b], b, a]);
+        for (&(a, b), &(f, _)) in &border {
+            let (ia, ib) = (inner[&(a, f)], inner[&(b, f)]);
+            out.faces.push(vec![copy[&a], copy[&b], ib, ia]);
             // The outer edge keeps the crease the border had.
             if let Some(&s) = sharp.get(&key(a, b)) {
                 out.add_crease(copy[&a], copy[&b], s);
@@ -561,9 +597,9 @@ impl Cage {
             while merged.len() > 1 && merged.first() == merged.last() {
                 merged.pop();
             }
-            if merged.len() >= 3 {
-                faces.push(merged);
-            }
+            // A face that now passes a corner twice splits there into loops; those of fewer
+            // than three corners go.
+            split_at_repeats(merged, &mut faces);
         }
         // Two faces over the same corners after the merge are one face twice: keep the first.
         let mut seen = HashSet::new();
@@ -929,13 +965,16 @@ fn offset_meet_between(
         let dropped = meet - normal * normal.dot(meet - v);
         let (u, dx) = (dropped - v, point(x) - v);
         let (from, to) = if k == 0 { (dx, y - v) } else { (y - v, dx) };
-        let side = from.cross(to).dot(normal).signum();
-        let swept = if from.cross(u).dot(normal) * side < 0.0 {
-            std::f64::consts::TAU - angle(from, u)
-        } else {
-            angle(from, u)
+        // Angles swept about the face's normal from `from` (a point on `from` itself, where
+        // Blender's f32 rounding decides, is taken as not swept at all).
+        let swept = |q: DVec3| {
+            if angle(from, q) > 1e-7 && from.cross(q).dot(normal) < 0.0 {
+                std::f64::consts::TAU - angle(from, q)
+            } else {
+                angle(from, q)
+            }
         };
-        if swept <= angle(from, to) + slack {
+        if swept(to) - swept(u) > -slack {
             return dropped;
         }
     }
@@ -1282,6 +1321,26 @@ impl Cage {
             Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
             Tool::Delete { faces } => self.delete_faces(faces),
         }
+    }
+}
+
+/// Splits a loop of corners that passes a corner twice into the loops between the repeats,
+/// pushing those of three corners or more.
+fn split_at_repeats(face: Vec<u32>, out: &mut Vec<Vec<u32>>) {
+    let repeat = (0..face.len()).find_map(|i| {
+        (i + 1..face.len())
+            .find(|&j| face[j] == face[i])
+            .map(|j| (i, j))
+    });
+    match repeat {
+        Some((i, j)) => {
+            let inner = face[i..j].to_vec();
+            let outer: Vec<u32> = face[j..].iter().chain(&face[..i]).copied().collect();
+            split_at_repeats(inner, out);
+            split_at_repeats(outer, out);
+        }
+        None if face.len() >= 3 => out.push(face),
+        None => {}
     }
 }
 
