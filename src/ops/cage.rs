@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::doc::{Change, EditError, geometry_error};
+use crate::doc::{EditError, geometry_error};
 use crate::kernel::PolygonMesh;
 use crate::kernel::subdiv::cage_edit::{Cage, Tool};
 use crate::scene::SubdivObject;
@@ -68,12 +68,10 @@ impl OperationParams for CageEdit {
             geometry: ObjectGeometry::new(geometry),
             ..object.clone()
         };
-        Ok((
-            vec![Change::Replace {
-                index: k,
-                before: object.clone(),
-                after,
-            }],
+        Ok(super::replace_object(
+            k,
+            object,
+            after,
             OperationParams::label(self),
         ))
     }

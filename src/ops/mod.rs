@@ -25,6 +25,8 @@ pub mod split;
 pub mod transform;
 pub mod trim;
 
+use crate::doc::Change;
+use crate::scene::SceneObject;
 use crate::scene::json::FormatError;
 use crate::scene::operation::{self, Operation, OperationEntry, OperationTaken};
 
@@ -51,6 +53,24 @@ pub const BUILT_IN: [OperationEntry; 20] = [
     features::DRAFT_ENTRY,
     cage::ENTRY,
 ];
+
+/// The plan that puts `after` in place of object `index` (now `before`), as one undo step named
+/// `label`.
+pub(crate) fn replace_object(
+    index: usize,
+    before: &SceneObject,
+    after: SceneObject,
+    label: String,
+) -> operation::Planned {
+    (
+        vec![Change::Replace {
+            index,
+            before: before.clone(),
+            after,
+        }],
+        label,
+    )
+}
 
 /// Adds an operation defined outside this module; refused when one of the same name exists.
 pub fn register(entry: OperationEntry) -> Result<(), OperationTaken> {

@@ -4,7 +4,7 @@
 use glam::{DAffine3, DMat3, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::doc::{Change, EditError, geometry_error};
+use crate::doc::{EditError, geometry_error};
 use crate::scene::operation::{ObjectRef, OperationEntry, OperationParams, Planned, entry};
 use crate::scene::{Scene, SceneObject};
 
@@ -81,12 +81,10 @@ impl OperationParams for Transform {
             lattice,
             ..object.clone()
         };
-        Ok((
-            vec![Change::Replace {
-                index: k,
-                before: object.clone(),
-                after,
-            }],
+        Ok(super::replace_object(
+            k,
+            object,
+            after,
             OperationParams::label(self),
         ))
     }

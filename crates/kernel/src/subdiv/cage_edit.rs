@@ -143,6 +143,19 @@ impl Cage {
         }
     }
 
+    /// Gives each copied vertex (`copy`: original ↦ copy) the sharpness its original has among
+    /// `corners`.
+    fn copy_corners(&mut self, corners: &[Corner], copy: &HashMap<u32, u32>) {
+        for corner in corners {
+            if let Some(&c) = copy.get(&corner.vertex) {
+                self.corners.push(Corner {
+                    vertex: c,
+                    ..*corner
+                });
+            }
+        }
+    }
+
     /// Drops the vertices the tool left unused that a face of `before` used (the survivors keep
     /// their order; a vertex no face used before stays), faces of fewer than 3 corners, and the
     /// creases and corners whose edges or vertices are gone.
@@ -260,14 +273,7 @@ impl Cage {
             }
             out.faces[f] = face.iter().map(|v| copy[v]).collect();
         }
-        for corner in &self.corners {
-            if let Some(&c) = copy.get(&corner.vertex) {
-                out.corners.push(Corner {
-                    vertex: c,
-                    ..*corner
-                });
-            }
-        }
+        out.copy_corners(&self.corners, &copy);
         Ok(out.compacted(self))
     }
 
@@ -415,14 +421,7 @@ impl Cage {
                 out.add_crease(copy[&a], copy[&b], s);
             }
         }
-        for corner in &self.corners {
-            if let Some(&c) = copy.get(&corner.vertex) {
-                out.corners.push(Corner {
-                    vertex: c,
-                    ..*corner
-                });
-            }
-        }
+        out.copy_corners(&self.corners, &copy);
         Ok(out.compacted(self))
     }
 
