@@ -197,6 +197,21 @@ def cage(name):
         f = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
              for k in range(h) for i in range(n)]
         return v, f
+    if name in ("cap5", "cap6"):
+        # An n-sided prism, its ends fans of triangles round a centre: vertices of n edges
+        # (the centres) and of four (the rims), slightly uneven.
+        n = int(name[3:])
+        rnd = random.Random(5)
+        v = []
+        for z, rx, ry in ((0.0, 1.3, 1.0), (1.0, 1.2, 1.1)):
+            for k in range(n):
+                a = 2 * math.pi * k / n + rnd.uniform(-0.2, 0.2)
+                v.append((rx * math.cos(a), ry * math.sin(a), z + rnd.uniform(-0.1, 0.1)))
+        v += [(0.05, 0.02, -0.3), (-0.03, 0.04, 1.4)]
+        f = [[k, (k + 1) % n, n + (k + 1) % n, n + k] for k in range(n)]
+        f += [[(k + 1) % n, k, 2 * n] for k in range(n)]
+        f += [[n + k, n + (k + 1) % n, 2 * n + 1] for k in range(n)]
+        return v, f
     raise SystemExit(f"no cage {name}")
 
 
@@ -272,6 +287,23 @@ CASES = [
     ("box", "delete --faces 0,2"),
     ("grid", "delete --faces 5,6"),
     ("torus", "delete --faces 5,6,7"),
+    # Bevel ends of one beveled edge at vertices of four to six edges, and on the border.
+    ("grid", "bevel --edges 6-7 --width 0.2U --segments 3"),
+    ("torus", "bevel --edges 0-1 --width 0.15U --segments 2"),
+    ("cap5", "bevel --edges 10-0 --width 0.2U --segments 3"),
+    ("cap6", "bevel --edges 12-3 --width 0.1U --segments 2"),
+    ("cap6", "bevel --edges 13-8 --width 0.15U --segments 1"),
+    ("grid", "bevel --edges 1-6 --width 0.2U --segments 2"),
+    # Two beveled edges with two or more unbeveled ones between them, at vertices of four
+    # to six edges (the torus's top: an edge between lying flat with its faces).
+    ("grid", "bevel --edges 1-6,6-7 --width 0.2U --segments 2"),
+    ("torus", "bevel --edges 0-1,1-7 --width 0.15U --segments 1"),
+    ("tube", "bevel --edges 9-10,9-17,4-12 --width 0.1U --segments 3"),
+    ("cap5", "bevel --edges 10-0,10-2 --width 0.1U --segments 3"),
+    ("cap6", "bevel --edges 12-0,12-3 --width 0.1U --segments 2"),
+    # Three and four beveled edges at vertices of four to six edges, one segment.
+    ("torus", "bevel --edges 0-1,0-6,0-5 --width 0.1U --segments 1"),
+    ("cap6", "bevel --edges 12-0,12-1,12-3,12-4 --width 0.1U --segments 1"),
 ]
 
 

@@ -429,7 +429,7 @@ impl Cage {
     /// until an open edge, a face that is not a quad, or the ring closes. Each entry is an edge
     /// (as the directed pair of the first quad that reached it) and the quads it was crossed
     /// through are returned beside.
-    fn edge_ring(&self, a: u32, b: u32) -> (Vec<(u32, u32)>, Vec<usize>) {
+    pub(super) fn edge_ring(&self, a: u32, b: u32) -> (Vec<(u32, u32)>, Vec<usize>) {
         let half = self.half_edges();
         let mut edges = vec![(a, b)];
         let mut quads = Vec::new();
@@ -873,6 +873,8 @@ struct Profile {
     centre: DVec3,
     /// The edge's direction and the plane's normal, where the arc is carried onto it.
     carry: Option<(DVec3, DVec3)>,
+    /// A straight profile: points evenly spaced from a to b.
+    straight: bool,
 }
 
 impl Profile {
@@ -882,11 +884,16 @@ impl Profile {
         let w = vertex - a;
         let (dd, du, uu) = (along.dot(along), along.dot(u), u.dot(u));
         let denominator = dd * uu - du * du;
-        let middle = if denominator > 1e-12 * dd * uu {
+        let mut middle = if denominator > 1e-12 * dd * uu {
             vertex + along * ((du * u.dot(w) - uu * along.dot(w)) / denominator)
         } else {
             vertex
         };
+        // Where that point lies on the line a–b (within 2°), Blender takes the vertex.
+        let nearly_straight = std::f64::consts::PI - 2f64.to_radians();
+        if (a - middle).angle_between(b - middle) > nearly_straight {
+            middle = vertex;
+        }
         let carry = terminal
             .then(|| {
                 let normal = (vertex - a).cross(vertex - b).normalize_or_zero();
@@ -898,16 +905,23 @@ impl Profile {
                     .then_some((along, normal))
             })
             .flatten();
+        // Blender draws a straight profile where a and b lie within 2° of a line through the
+        // middle (its unit-square map is then degenerate): evenly spaced points.
+        let straight = !((a - middle).angle_between(b - middle) < nearly_straight);
         Self {
             a,
             b,
             centre: a + b - middle,
-            carry,
+            carry: if straight { None } else { carry },
+            straight,
         }
     }
 
     /// The arc's point at `t` in [0, 1] (φ = π/2 · t).
     fn at(&self, t: f64) -> DVec3 {
+        if self.straight {
+            return self.a.lerp(self.b, t);
+        }
         let phi = std::f64::consts::FRAC_PI_2 * t;
         let q =
             self.centre + (self.a - self.centre) * phi.cos() + (self.b - self.centre) * phi.sin();
@@ -918,27 +932,29 @@ impl Profile {
     }
 }
 
-/// Where the offset lines of two beveled edges meet across an unbeveled edge v–y between them:
-/// each line lies `width` from its edge in the plane of that edge and v–y, on y's side; the
-/// point is the middle of their nearest points, dropped onto the plane of the first face in
-/// `faces` (its normal, and its beveled edge's far end) whose corner at v it then lies in.
+/// Where the offset lines of two beveled edges meet across the unbeveled edges between them
+/// round vertex v. `corners` are the faces from the first beveled edge to the second, each
+/// with its normal and the far ends of its two edges at v in that order. Each line lies
+/// `width` from its edge in the plane of that edge and the next edge towards the other, on
+/// that edge's side; the point is the middle of their nearest points, dropped onto the plane
+/// of the first face whose corner at v it then lies in, passing over faces within 10° of
+/// parallel to `in_plane`.
 fn offset_meet_between(
     v: DVec3,
-    y: DVec3,
-    faces: &[(DVec3, u32)],
-    point: impl Fn(u32) -> DVec3,
+    corners: &[(DVec3, DVec3, DVec3)],
+    in_plane: Option<DVec3>,
     width: f64,
 ) -> DVec3 {
-    let dm = (y - v).normalize_or_zero();
-    let lines: Vec<(DVec3, DVec3)> = faces
-        .iter()
-        .map(|&(_, x)| {
-            let d = (point(x) - v).normalize_or_zero();
-            let inward = (dm - d * dm.dot(d)).normalize_or_zero();
-            (v + inward * width, d)
-        })
-        .collect();
-    let [(p1, d1), (p2, d2)] = [lines[0], lines[lines.len() - 1]];
+    let line = |x: DVec3, y: DVec3| {
+        let d = (x - v).normalize_or_zero();
+        let dm = (y - v).normalize_or_zero();
+        let inward = (dm - d * dm.dot(d)).normalize_or_zero();
+        (v + inward * width, d)
+    };
+    let (Some(&(_, x1, y1)), Some(&(_, y2, x2))) = (corners.first(), corners.last()) else {
+        return v;
+    };
+    let [(p1, d1), (p2, d2)] = [line(x1, y1), line(x2, y2)];
     // The nearest points of p1 + s·d1 and p2 + t·d2.
     let w = p1 - p2;
     let (a, b, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
@@ -960,10 +976,16 @@ fn offset_meet_between(
     // Blender's test of a point between two edges of a face, sweeping from the first to the
     // second: not behind the first, and at most 2° past the second.
     let slack = 2f64.to_radians();
-    for (k, &(normal, x)) in faces.iter().enumerate() {
+    let small = 10f64.to_radians();
+    for &(normal, from, to) in corners {
+        if let Some(plane) = in_plane {
+            let turn = angle(normal, plane);
+            if turn < small || turn > std::f64::consts::PI - small {
+                continue;
+            }
+        }
         let dropped = meet - normal * normal.dot(meet - v);
-        let (u, dx) = (dropped - v, point(x) - v);
-        let (from, to) = if k == 0 { (dx, y - v) } else { (y - v, dx) };
+        let (u, from, to) = (dropped - v, from - v, to - v);
         // Angles swept about the face's normal from `from` (a point on `from` itself, where
         // Blender's f32 rounding decides, is taken as not swept at all).
         let swept = |q: DVec3| {
@@ -992,9 +1014,15 @@ impl Cage {
     /// on the same two points share the mean of their arcs, and three or more at one corner
     /// close it with a polygon.
     ///
-    /// The corners built: a vertex of three edges with one, two or three beveled (three with
-    /// one segment), and a vertex of four edges with two opposite beveled (an edge loop run
-    /// through). Other corners are refused by name.
+    /// Where one beveled edge ends at a vertex of four or more edges, the other edges take
+    /// the point `width` along them and the vertex opens into a polygon of its edges' points
+    /// and the band's arc (a fan of triangles from the point across where that is a
+    /// triangle), as Blender's terminal edge does; where it ends on the border between two
+    /// border edges, its arc takes the vertex's place on the border.
+    ///
+    /// Corners of three or more beveled edges are built with one segment only (Blender builds
+    /// a curved corner mesh there); a vertex on the border ends only one beveled edge. Other
+    /// requests are refused by name.
     pub fn bevel_edges(
         &self,
         edges: &[(u32, u32)],
@@ -1038,6 +1066,7 @@ impl Cage {
         // The arcs: between two corner points (lower id first), ends included.
         let mut arcs: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
         let mut corner_faces = Vec::new();
+        let mut terminals = Vec::new();
         for &v in &ends {
             let Some(&start) = self
                 .faces
@@ -1048,63 +1077,129 @@ impl Cage {
             else {
                 continue;
             };
-            let Some(around) = fan(&self.faces, &half, v, start) else {
-                return Err(invalid(format!(
-                    "vertex {v} is on the cage's border or its faces do not close round it: \
-                     it cannot be beveled"
-                )));
+            // A vertex on the border: its faces from the border edge before them round to
+            // the one after (the first face's incoming edge has no face before it).
+            let open = |start: (usize, usize)| {
+                let mut first = start;
+                for _ in 0..self.faces.len() {
+                    let (f, c) = first;
+                    let k = self.faces[f].len();
+                    let prev = self.faces[f][(c + k - 1) % k];
+                    match half.get(&(v, prev)) {
+                        Some(&(g, d)) if g != start.0 => first = (g, d),
+                        _ => break,
+                    }
+                }
+                let mut out = Vec::new();
+                let (mut f, mut c) = first;
+                loop {
+                    let face = &self.faces[f];
+                    let k = face.len();
+                    let (prev, next) = (face[(c + k - 1) % k], face[(c + 1) % k]);
+                    out.push((f, prev, next));
+                    match half.get(&(next, v)) {
+                        Some(&(g, d)) if out.len() <= self.faces.len() => {
+                            (f, c) = (g, (d + 1) % self.faces[g].len());
+                        }
+                        _ => return out,
+                    }
+                }
+            };
+            let (around, closed) = match fan(&self.faces, &half, v, start) {
+                Some(around) => (around, true),
+                None => (open(start), false),
             };
             let valence = around.len();
             let count = around.iter().filter(|&&(_, _, b)| is_beveled(v, b)).count();
-            let opposite_pair = valence == 4
-                && count == 2
-                && is_beveled(v, around[0].2) == is_beveled(v, around[2].2);
-            let supported = (valence == 3 && (count < 3 || segments == 1)) || opposite_pair;
-            if !supported {
+            // One beveled edge ending on the border between two border edges: their points
+            // and the arc between them take the vertex's place on the border.
+            let border_end = !closed && valence == 2 && count == 1 && is_beveled(v, around[0].2);
+            if !closed && !border_end {
                 return Err(invalid(format!(
-                    "vertex {v} has {valence} edges, {count} of them beveled: the bevel builds \
-                     corners of three edges (one to three beveled, three with one segment) and \
-                     edge loops through vertices of four edges"
+                    "vertex {v} is on the cage's border: a bevel ends there only where one \
+                     beveled edge runs between two border edges"
                 )));
             }
-            // Points for unbeveled edges. Beside one beveled edge: the point on the edge where
-            // the beveled edge's offset line in their face meets it. Between two beveled edges
-            // (one in each face beside it): where their offset lines, each in its face's
-            // corner plane, come nearest, dropped onto the first of the two faces it lies in
-            // the corner of (Blender's offset meet with edges between).
-            let mut on_edge: BTreeMap<u32, Vec<(usize, u32)>> = BTreeMap::new();
-            for &(f, a, b) in &around {
-                for (beveled_side, other) in [(a, b), (b, a)] {
-                    if is_beveled(v, beveled_side) && !is_beveled(v, other) {
-                        on_edge.entry(other).or_default().push((f, beveled_side));
+            // One beveled edge ending at a vertex of four or more edges: the vertex opens into
+            // a polygon (Blender's terminal edge).
+            let terminal = closed && count == 1 && valence >= 4;
+            // Three or more beveled edges at a corner with more than one segment would need
+            // Blender's corner mesh (its "adj" vertex mesh), which is not built.
+            let supported = (closed && (count <= 2 || segments == 1)) || border_end;
+            if !supported {
+                return Err(invalid(format!(
+                    "vertex {v} has {count} beveled edges and the bevel has {segments} \
+                     segments: corners of three or more beveled edges are built with one \
+                     segment"
+                )));
+            }
+            // Points for unbeveled edges. With one beveled edge: on each edge beside it, where
+            // its offset line in their face meets that edge. Between two beveled edges round
+            // the vertex: one point for all the unbeveled edges between them, where the two
+            // offset lines, each in the plane of its edge and the next edge towards the other,
+            // come nearest, dropped onto the first face between them whose corner holds it
+            // (Blender's offset meet with edges between).
+            let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
+            if count == 1 {
+                let mut beside: Vec<(u32, u32)> = Vec::new();
+                for &(_, a, b) in &around {
+                    if is_beveled(v, a) && !is_beveled(v, b) {
+                        beside.push((b, a));
+                    }
+                    if is_beveled(v, b) && !is_beveled(v, a) {
+                        beside.push((a, b));
+                    }
+                }
+                for (y, x) in beside {
+                    let (d, e) = (dir(v, y), dir(v, x));
+                    edge_point.insert((v, y), out.points.len() as u32);
+                    out.points
+                        .push(p(v) + d * (width / d.cross(e).length().max(1e-12)));
+                }
+            } else {
+                let n = valence;
+                for i in (0..n).filter(|&i| is_beveled(v, around[i].2)) {
+                    let run: Vec<u32> = (1..n)
+                        .map(|m| around[(i + m) % n].2)
+                        .take_while(|&y| !is_beveled(v, y))
+                        .collect();
+                    if run.is_empty() {
+                        continue;
+                    }
+                    // The faces from the later beveled edge back to this one, each with its
+                    // edges in that order.
+                    let corners: Vec<(DVec3, DVec3, DVec3)> = (0..=run.len())
+                        .rev()
+                        .map(|m| {
+                            let (f, a, b) = around[(i + 1 + m) % n];
+                            (normal_of(f), p(b), p(a))
+                        })
+                        .collect();
+                    // The last edge between that lies in one plane with its two faces
+                    // (Blender's in-plane edge): the meet point is not dropped onto faces
+                    // parallel to the face after it.
+                    let in_plane = (1..=run.len()).map(|m| (i + m) % n).find_map(|m| {
+                        let (after, before) =
+                            (normal_of(around[m].0), normal_of(around[(m + 1) % n].0));
+                        let dot = after.dot(before);
+                        (dot.abs() <= 1e-4 || (dot - 1.0).abs() <= 1e-4).then_some(after)
+                    });
+                    let id = out.points.len() as u32;
+                    out.points
+                        .push(offset_meet_between(p(v), &corners, in_plane, width));
+                    for y in run {
+                        edge_point.insert((v, y), id);
                     }
                 }
             }
-            for (y, sides) in on_edge {
-                let point = match sides[..] {
-                    [(_, x)] => {
-                        let (d, e) = (dir(v, y), dir(v, x));
-                        p(v) + d * (width / d.cross(e).length().max(1e-12))
+            if terminal {
+                // The edges not beside the beveled one: the point `width` along each.
+                for &(_, _, y) in &around {
+                    if !is_beveled(v, y) && !edge_point.contains_key(&(v, y)) {
+                        edge_point.insert((v, y), out.points.len() as u32);
+                        out.points.push(p(v) + dir(v, y) * width);
                     }
-                    _ => {
-                        // The face whose corner runs from its beveled edge to y first (y is
-                        // its edge before v), then the other.
-                        let mut faces: Vec<(usize, u32)> = sides.clone();
-                        faces.sort_by_key(|&(f, _)| {
-                            around
-                                .iter()
-                                .find(|&&(g, _, _)| g == f)
-                                .map(|&(_, a, _)| a != y)
-                        });
-                        let corners: Vec<(DVec3, u32)> = faces
-                            .iter()
-                            .map(|&(f, x)| (polygon_normal(&self.points, &self.faces[f]), x))
-                            .collect();
-                        offset_meet_between(p(v), p(y), &corners, p, width)
-                    }
-                };
-                edge_point.insert((v, y), out.points.len() as u32);
-                out.points.push(point);
+                }
             }
             for &(f, a, b) in &around {
                 if is_beveled(v, a) && is_beveled(v, b) {
@@ -1139,7 +1234,8 @@ impl Cage {
                         else {
                             return Err(invalid(format!("vertex {v} cannot be beveled")));
                         };
-                        replace.insert((f, v), vec![qa, qb]);
+                        // (The same point where both edges are between two beveled ones.)
+                        replace.insert((f, v), if qa == qb { vec![qa] } else { vec![qa, qb] });
                     }
                 }
                 // The band of the beveled edge v–b leaving this face: its arc runs from this
@@ -1181,6 +1277,9 @@ impl Cage {
             if count >= 3 {
                 corner_faces.push(corner_edges);
             }
+            if terminal {
+                terminals.push((v, around));
+            }
         }
         let arc = |from: u32, to: u32| -> Vec<u32> {
             match arcs.get(&key(from, to)) {
@@ -1189,6 +1288,41 @@ impl Cage {
                 None => vec![from, to],
             }
         };
+        // The polygon a terminal end opens into: its edges' points against the fan's order,
+        // the band's arc in place of the beveled edge. Where that is a triangle with an arc of
+        // more than one segment it is a fan of triangles from the point across from the arc.
+        for (v, around) in terminals {
+            let mut polygon = Vec::new();
+            let mut apex = None;
+            for (i, &(_, _, b)) in around.iter().enumerate().rev() {
+                if is_beveled(v, b) {
+                    let n = around.len();
+                    let before = edge_point.get(&(v, around[(i + n - 1) % n].2));
+                    let after = edge_point.get(&(v, around[(i + 1) % n].2));
+                    if let (Some(&from), Some(&to)) = (before, after) {
+                        let arc = arc(to, from);
+                        polygon.extend_from_slice(&arc[1..arc.len() - 1]);
+                    }
+                    if n == 4 {
+                        apex = edge_point.get(&(v, around[(i + 2) % n].2)).copied();
+                    }
+                } else if let Some(&q) = edge_point.get(&(v, b)) {
+                    polygon.push(q);
+                }
+            }
+            match apex {
+                Some(apex) if segments > 1 => {
+                    // The polygon starts after the apex (it is the last edge round before the
+                    // beveled one, or the first after it).
+                    let at = polygon.iter().position(|&q| q == apex).unwrap_or(0);
+                    polygon.rotate_left(at);
+                    for k in 1..polygon.len() - 1 {
+                        out.faces.push(vec![polygon[k], polygon[k + 1], apex]);
+                    }
+                }
+                _ => out.faces.push(polygon),
+            }
+        }
         for (f, face) in out.faces.iter_mut().enumerate() {
             if !face.iter().any(|v| ends.binary_search(v).is_ok()) {
                 continue;
