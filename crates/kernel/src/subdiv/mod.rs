@@ -10,6 +10,7 @@
 
 pub mod adaptive;
 pub mod cage_edit;
+pub mod cage_select;
 pub mod cages;
 pub mod display;
 pub mod exchange;
