@@ -315,6 +315,8 @@ pub struct KnotworkApp {
     surface_tools: surface_tools::SurfaceToolState,
     /// Whether the Operations panel's operations keep their history.
     operations_keep_history: bool,
+    /// The Cage tools' settings.
+    cage_tools: panels::cage::CageToolSettings,
     /// The Features row's size, the edges picked for it and its value being edited.
     features: features::FeatureState,
     /// The trim control point being dragged in the (u, v) panel.
@@ -433,6 +435,7 @@ impl KnotworkApp {
             curves: curves::CurveState::default(),
             surface_tools: surface_tools::SurfaceToolState::default(),
             operations_keep_history: true,
+            cage_tools: panels::cage::CageToolSettings::default(),
             features: features::FeatureState::default(),
             trim_handle: None,
             snap: false,

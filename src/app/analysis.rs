@@ -17,6 +17,8 @@ use crate::view::{AnalysisSettings, CombCurves, ContinuityTarget};
 
 /// The colour of a polysurface's naked edges (magenta, as CAD tools draw them).
 const NAKED_EDGE_COLOR: [f32; 4] = [0.95, 0.2, 0.85, 1.0];
+/// A selected cage edge (Blender's selection orange).
+const SELECTED_EDGE_COLOR: [f32; 4] = [1.0, 0.55, 0.1, 1.0];
 
 /// What the overlays were last built from, and the lines.
 #[derive(Default)]
@@ -120,6 +122,27 @@ impl KnotworkApp {
                 for edge in p.naked_edges().iter() {
                     for w in edge.windows(2) {
                         lines.depth_tested(w[0], w[1], NAKED_EDGE_COLOR);
+                    }
+                }
+            }
+        }
+        // The selected cage's selected edges (both ends selected), over the surface.
+        if !self.selection.points.is_empty()
+            && let Some(subdiv) = self
+                .selection
+                .object
+                .and_then(|s| self.scene().objects.get(s))
+                .filter(|o| o.visible && self.view.overlays.points)
+                .and_then(|o| o.geometry.as_subdivision())
+        {
+            let mesh = subdiv.surface.mesh();
+            let points = mesh.points();
+            let selected = |v: u32| self.selection.points.contains(&(v as usize));
+            for face in mesh.faces() {
+                for c in 0..face.len() {
+                    let (p, q) = (face[c], face[(c + 1) % face.len()]);
+                    if selected(p) && selected(q) {
+                        lines.on_top(points[p as usize], points[q as usize], SELECTED_EDGE_COLOR);
                     }
                 }
             }

@@ -46,9 +46,13 @@ impl KnotworkApp {
     }
 
     /// A click in the viewport at `pos`.
-    fn click(&mut self, pos: egui::Pos2, shift: bool, alt: bool) {
+    fn click(&mut self, pos: egui::Pos2, modifiers: egui::Modifiers) {
+        let (shift, alt) = (modifiers.shift, modifiers.alt);
         let cursor = self.local(pos);
         if self.curve_click(cursor) {
+            return;
+        }
+        if alt && self.cage_edge_click(cursor, modifiers.command, shift) {
             return;
         }
         if let Some(index) = self.handle_at(cursor) {
@@ -118,6 +122,30 @@ impl KnotworkApp {
             None => {}
         }
         self.redraw = true;
+    }
+
+    /// Alt + click on an edge of the selected cage: its edge loop (`ring`: its ring; `add`:
+    /// added to the selection). False where no cage edge is under the cursor.
+    fn cage_edge_click(&mut self, cursor: DVec2, ring: bool, add: bool) -> bool {
+        if !self.view.overlays.points {
+            return false;
+        }
+        let Some(cage) = self
+            .selection
+            .object
+            .and_then(|s| self.scene().objects.get(s))
+            .and_then(super::panels::cage::cage_of)
+        else {
+            return false;
+        };
+        let edges = cage.edges();
+        let handles = self.projected_handles();
+        let Some(k) = pick::pick_segment(&handles, &edges, cursor, PICK_RADIUS) else {
+            return false;
+        };
+        let (a, b) = edges[k];
+        self.select_edge_loop(&cage, a, b, ring, add);
+        true
     }
 
     /// Selects the row (fixed i, along v) through point `index` of a NURBS net, or with
@@ -335,7 +363,7 @@ impl KnotworkApp {
     }
 
     pub(super) fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
-        let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
+        let shift = ui.input(|i| i.modifiers.shift);
         if self.curves.drawing.is_some() {
             let hover = response.hover_pos().map(|p| self.local(p));
             self.curve_hover(hover);
@@ -387,7 +415,7 @@ impl KnotworkApp {
         if response.clicked()
             && let Some(pos) = response.interact_pointer_pos()
         {
-            self.click(pos, shift, alt);
+            self.click(pos, ui.input(|i| i.modifiers));
         }
         let hover = response.hover_pos().map(|p| self.local(p));
         self.feature_hover(hover);

@@ -83,6 +83,33 @@ pub fn pick_point(points: &[Option<Projected>], cursor: DVec2, radius: f64) -> O
         .map(|(k, ..)| k)
 }
 
+/// The segment (a pair of indices into `points`) nearest `cursor` on the screen, within
+/// `radius`; of segments equally near, the one nearer the eye at its nearest point.
+pub fn pick_segment(
+    points: &[Option<Projected>],
+    segments: &[(u32, u32)],
+    cursor: DVec2,
+    radius: f64,
+) -> Option<usize> {
+    segments
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &(a, b))| {
+            let (p, q) = ((*points.get(a as usize)?)?, (*points.get(b as usize)?)?);
+            let d = q.screen - p.screen;
+            let t = if d.length_squared() > 0.0 {
+                ((cursor - p.screen).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let distance = (p.screen + d * t).distance(cursor);
+            let depth = p.depth + (q.depth - p.depth) * t;
+            (distance <= radius).then_some((k, distance, depth))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)))
+        .map(|(k, ..)| k)
+}
+
 /// The indices of the points inside the screen rectangle spanned by corners `a` and `b`.
 pub fn points_in_box(points: &[Option<Projected>], a: DVec2, b: DVec2) -> Vec<usize> {
     let (lo, hi) = (a.min(b), a.max(b));
@@ -340,6 +367,47 @@ fn refine(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_segment_nearest_the_cursor_is_picked_within_the_radius() {
+        use super::*;
+        let at = |x: f64, y: f64, depth: f64| {
+            Some(Projected {
+                screen: DVec2::new(x, y),
+                depth,
+            })
+        };
+        let points = [
+            at(0.0, 0.0, 1.0),
+            at(10.0, 0.0, 1.0),
+            at(10.0, 10.0, 2.0),
+            None,
+        ];
+        let segments = [(0, 1), (1, 2), (2, 3)];
+        // 3 px below the middle of 0–1, 7 px left of 1–2.
+        assert_eq!(
+            pick_segment(&points, &segments, DVec2::new(5.0, 3.0), 5.0),
+            Some(0)
+        );
+        // Past the end of 0–1 the distance is to its end point.
+        assert_eq!(
+            pick_segment(&points, &segments, DVec2::new(-4.0, 0.0), 5.0),
+            Some(0)
+        );
+        assert_eq!(
+            pick_segment(&points, &segments, DVec2::new(-6.0, 0.0), 5.0),
+            None
+        );
+        assert_eq!(
+            pick_segment(&points, &segments, DVec2::new(12.0, 6.0), 5.0),
+            Some(1)
+        );
+        // A segment with an end off the screen is never picked.
+        assert_eq!(
+            pick_segment(&points, &[(2, 3)], DVec2::new(10.0, 10.0), 5.0),
+            None
+        );
+    }
+
     use super::*;
     use crate::scene::{ObjectGeometry, SceneObject};
 

@@ -599,6 +599,148 @@ fn an_obj_cage_is_subdivided_dragged_and_undone_in_the_editor() {
     assert_eq!(status::current().patches, 6);
 }
 
+/// The cage of object `k` as (points, faces).
+fn cage_counts(harness: &Harness<'_, KnotworkApp>, k: usize) -> (usize, usize) {
+    let object = &harness.state().document().scene.objects[k];
+    let subdiv = object
+        .geometry
+        .downcast_ref::<knotwork::scene::SubdivObject>()
+        .expect("a subdivision surface");
+    let mesh = subdiv.surface.mesh();
+    (mesh.points().len(), mesh.faces().count())
+}
+
+fn click_button(harness: &mut Harness<'_, KnotworkApp>, label: &str) {
+    harness.get_by_label(label).scroll_to_me();
+    harness.run_steps(2);
+    harness.get_by_label(label).click_accesskit();
+    harness.run_steps(3);
+}
+
+#[test]
+fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    harness.run_steps(3);
+    select_with_free_handle(&mut harness, 0);
+    click_button(&mut harness, "Subdivide");
+    let subdivided = harness.state().document().scene.objects[0].clone();
+    let steps = status::current().undo_steps;
+
+    // The top face's points: Extrude lifts it by half the mean edge (0.5), with four sides;
+    // the lifted face stays selected, and Inset puts a strip inside it.
+    let page = harness.state().command_sender();
+    page.send(AppCommand::SelectPoints(vec![4, 5, 6, 7]));
+    harness.run_steps(2);
+    click_button(&mut harness, "Extrude faces");
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (12, 10));
+    // (The file's y is up: the editor turns it to z, so positions are compared by distance.)
+    let centre = |points: &[glam::DVec3], of: &[u32]| {
+        of.iter().map(|&k| points[k as usize]).sum::<glam::DVec3>() / of.len() as f64
+    };
+    let lifted = harness.state().document().scene.objects[0].control_points();
+    assert_eq!(s.selected_points, [8, 9, 10, 11]);
+    let rise = centre(&lifted, &s.selected_points)
+        .distance(centre(&subdivided.control_points(), &[4, 5, 6, 7]));
+    assert!((rise - 0.5).abs() < 1e-12, "{rise}");
+    click_button(&mut harness, "Inset faces");
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 2),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (16, 14));
+    assert_eq!(s.selected_points.len(), 4);
+
+    // Two points of a vertical side edge: Loop selects the loop round the cube's side (the
+    // corners there have three edges, so it stops), Ring the four vertical edges round it.
+    page.send(AppCommand::SelectPoints(vec![0, 4]));
+    harness.run_steps(2);
+    click_button(&mut harness, "Ring");
+    let ring = status::current().selected_points;
+    assert_eq!(ring.len(), 8, "{ring:?}");
+
+    // Alt + click on an edge of the cage on screen selects its loop.
+    page.send(AppCommand::SelectPoints(vec![]));
+    harness.run_steps(2);
+    let handles = status::handles();
+    let on_screen = |k: usize| {
+        handles
+            .get(k)
+            .copied()
+            .flatten()
+            .map(|p| Pos2::new(p[0], p[1]))
+    };
+    let object = &harness.state().document().scene.objects[0];
+    let subdiv = object
+        .geometry
+        .downcast_ref::<knotwork::scene::SubdivObject>()
+        .expect("a subdivision surface");
+    let mesh = subdiv.surface.mesh();
+    // An edge whose middle is clear of every point and every other edge's middle.
+    let edges: Vec<(u32, u32)> = mesh
+        .faces()
+        .flat_map(|f| {
+            (0..f.len()).map(move |c| {
+                (
+                    f[c].min(f[(c + 1) % f.len()]),
+                    f[c].max(f[(c + 1) % f.len()]),
+                )
+            })
+        })
+        .collect();
+    let middles: Vec<Option<Pos2>> = edges
+        .iter()
+        .map(|&(a, b)| Some(on_screen(a as usize)?.lerp(on_screen(b as usize)?, 0.5)))
+        .collect();
+    let (k, at) = middles
+        .iter()
+        .enumerate()
+        .filter_map(|(k, m)| m.map(|m| (k, m)))
+        .filter(|(_, m)| m.x > 450.0 && m.x < 1200.0 && m.y > 100.0 && m.y < 700.0)
+        .find(|(k, m)| {
+            let (a, b) = edges[*k];
+            handles
+                .iter()
+                .flatten()
+                .all(|p| Pos2::new(p[0], p[1]).distance(*m) > 12.0)
+                && middles
+                    .iter()
+                    .enumerate()
+                    .all(|(j, n)| edges[j] == (a, b) || n.is_none_or(|n| n.distance(*m) > 12.0))
+        })
+        .unwrap_or_else(|| panic!("a clear edge on screen: {middles:?}"));
+    harness.event(Event::ModifiersChanged(Modifiers::ALT));
+    click_at(&mut harness, at);
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
+    harness.run_steps(1);
+    let selected = status::current().selected_points;
+    let (a, b) = edges[k];
+    assert!(
+        selected.contains(&a) && selected.contains(&b) && selected.len() >= 2,
+        "edge {a}-{b}: {selected:?}"
+    );
+
+    // Undo twice: the subdivided cube.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(harness.state().document().scene.objects[0], subdivided);
+}
+
 fn click_at(harness: &mut Harness<'_, KnotworkApp>, pos: Pos2) {
     harness.hover_at(pos);
     harness.run_steps(1);

@@ -2,6 +2,7 @@
 //! (points, weights, knots, degree, split, reverse, transform), the Create dialog, shading,
 //! display and timing.
 
+pub mod cage;
 mod create;
 mod deform;
 pub mod kinds;

@@ -72,6 +72,7 @@ impl KnotworkApp {
                 settings,
             }));
         }
+        self.cage_tools_panel(ui, s);
     }
 
     /// Turns polygon mesh `s` into a Catmull-Clark surface of level 2.

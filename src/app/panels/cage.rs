@@ -1,0 +1,406 @@
+//! The Cage tools section of a subdivision surface: what the selected points cover (faces,
+//! edges), Blender's selection helpers (edge loop and ring, more, less, linked) and its
+//! topology tools (extrude, inset, loop cut, bevel, bridge, merge, dissolve, delete), each one
+//! undo step through the `cage` operation ([`crate::ops::cage`]).
+//!
+//! As in Blender's vertex mode, the selection is the cage's points: an edge is selected when
+//! both its ends are, a face when all its corners are. Box selection, Shift + click and
+//! Ctrl + A select points; Alt + click on a cage edge selects its loop, Ctrl + Alt + click its
+//! ring.
+
+use std::collections::BTreeSet;
+
+use eframe::egui;
+
+use crate::app::{AppCommand, KnotworkApp};
+use crate::doc::Command;
+use crate::kernel::subdiv::cage_edit::{Cage, Tool};
+use crate::ops::cage::CageEdit;
+use crate::scene::operation::{ObjectRef, Operation};
+
+/// The tools' settings between frames; lengths are in the model's units, set from the cage's
+/// size when another cage is selected.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CageToolSettings {
+    /// The object the lengths were sized for.
+    pub sized_for: Option<usize>,
+    pub offset: f64,
+    pub thickness: f64,
+    pub individual: bool,
+    pub cuts: u32,
+    pub width: f64,
+    pub segments: u32,
+    /// Merge at the point clicked last (else at the centre).
+    pub merge_at_last: bool,
+}
+
+impl Default for CageToolSettings {
+    fn default() -> Self {
+        Self {
+            sized_for: None,
+            offset: 0.5,
+            thickness: 0.1,
+            individual: false,
+            cuts: 1,
+            width: 0.1,
+            segments: 1,
+            merge_at_last: false,
+        }
+    }
+}
+
+/// The cage of a subdivision surface, as the tools take it.
+pub fn cage_of(object: &crate::scene::SceneObject) -> Option<Cage> {
+    let subdiv = object.geometry.as_subdivision()?;
+    let mesh = subdiv.surface.mesh();
+    Some(Cage {
+        points: mesh.points().to_vec(),
+        faces: mesh.faces().map(<[u32]>::to_vec).collect(),
+        creases: subdiv.surface.creases().to_vec(),
+        corners: subdiv.surface.corners().to_vec(),
+    })
+}
+
+/// Why a tool of one edge is greyed out.
+const NEED_EDGE: &str = "select one edge (its two points)";
+
+/// What a tool selects when it is done.
+enum After {
+    /// The points of these faces (an extrusion's or inset's region, which keeps its indices).
+    Faces(Vec<usize>),
+    Nothing,
+}
+
+impl KnotworkApp {
+    /// The selected points as cage vertices.
+    fn cage_selection(&self) -> BTreeSet<u32> {
+        self.selection.points.iter().map(|&k| k as u32).collect()
+    }
+
+    /// Replaces the point selection (one undo-free change, as a click is).
+    pub(in crate::app) fn select_cage_points(&mut self, points: impl IntoIterator<Item = u32>) {
+        self.selection.points = points.into_iter().map(|v| v as usize).collect();
+        self.update_net();
+    }
+
+    /// The Cage tools section for subdivision surface `s`.
+    pub(in crate::app) fn cage_tools_panel(&mut self, ui: &mut egui::Ui, s: usize) {
+        let Some(cage) = self.scene().objects.get(s).and_then(cage_of) else {
+            return;
+        };
+        if self.cage_tools.sized_for != Some(s) {
+            // Lengths from the cage's mean edge.
+            let edges = cage.edges();
+            let mean = edges
+                .iter()
+                .map(|&(a, b)| cage.points[a as usize].distance(cage.points[b as usize]))
+                .sum::<f64>()
+                / edges.len().max(1) as f64;
+            let unit = if mean.is_finite() && mean > 0.0 {
+                mean
+            } else {
+                1.0
+            };
+            self.cage_tools = CageToolSettings {
+                sized_for: Some(s),
+                offset: 0.5 * unit,
+                thickness: 0.15 * unit,
+                width: 0.1 * unit,
+                ..self.cage_tools.clone()
+            };
+        }
+        ui.separator();
+        ui.label(egui::RichText::new("Cage tools").strong());
+        let selected = self.cage_selection();
+        let faces = cage.faces_within(&selected);
+        let edges = cage.edges_within(&selected);
+        ui.label(format!(
+            "{} points, {} edges, {} faces selected",
+            selected.len(),
+            edges.len(),
+            faces.len()
+        ))
+        .on_hover_text(
+            "an edge is selected with both its points, a face with all its corners: select \
+             points with a click, Shift + click, a box or Ctrl + A; Alt + click on an edge \
+             selects its loop, Ctrl + Alt + click its ring",
+        );
+        let one_edge = match edges[..] {
+            [edge] => Some(edge),
+            _ => None,
+        };
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Select:");
+            let enabled = one_edge.is_some();
+            if ui
+                .add_enabled(enabled, egui::Button::new("Loop"))
+                .on_hover_text("the edge loop through the selected edge")
+                .on_disabled_hover_text(NEED_EDGE)
+                .clicked()
+                && let Some((a, b)) = one_edge
+            {
+                self.select_edge_loop(&cage, a, b, false, false);
+            }
+            if ui
+                .add_enabled(enabled, egui::Button::new("Ring"))
+                .on_hover_text("the edge ring through the selected edge")
+                .on_disabled_hover_text(NEED_EDGE)
+                .clicked()
+                && let Some((a, b)) = one_edge
+            {
+                self.select_edge_loop(&cage, a, b, true, false);
+            }
+            let any = !selected.is_empty();
+            if ui
+                .add_enabled(any, egui::Button::new("More"))
+                .on_hover_text("every point of a face that holds a selected point")
+                .clicked()
+            {
+                self.select_cage_points(cage.grown(&selected));
+            }
+            if ui
+                .add_enabled(any, egui::Button::new("Less"))
+                .on_hover_text("the selected points whose faces are all selected")
+                .clicked()
+            {
+                self.select_cage_points(cage.shrunk(&selected));
+            }
+            if ui
+                .add_enabled(any, egui::Button::new("Linked"))
+                .on_hover_text("every point joined to a selected one")
+                .clicked()
+            {
+                self.select_cage_points(cage.linked(&selected));
+            }
+        });
+        let mut chosen: Option<(Tool, After)> = None;
+        let t = &mut self.cage_tools;
+        let need_faces = "select faces (all their points)";
+        let need_edges = "select edges (both their points)";
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(!faces.is_empty(), egui::Button::new("Extrude faces"))
+                .on_hover_text("the selected faces lifted along their average normal, with sides")
+                .on_disabled_hover_text(need_faces)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Extrude {
+                        faces: faces.clone(),
+                        offset: t.offset,
+                    },
+                    After::Faces(faces.clone()),
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.offset)
+                    .speed(0.01)
+                    .prefix("by "),
+            );
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(!faces.is_empty(), egui::Button::new("Inset faces"))
+                .on_hover_text("a strip of new faces inside the selected faces' border")
+                .on_disabled_hover_text(need_faces)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Inset {
+                        faces: faces.clone(),
+                        thickness: t.thickness,
+                        individual: t.individual,
+                    },
+                    After::Faces(faces.clone()),
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.thickness)
+                    .speed(0.005)
+                    .range(0.0..=f64::MAX)
+                    .prefix("width "),
+            );
+            ui.checkbox(&mut t.individual, "each face");
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(one_edge.is_some(), egui::Button::new("Loop cut"))
+                .on_hover_text("cuts across the edge ring through the selected edge")
+                .on_disabled_hover_text(NEED_EDGE)
+                .clicked()
+                && let Some((a, b)) = one_edge
+            {
+                chosen = Some((
+                    Tool::LoopCut {
+                        edge: [a, b],
+                        cuts: t.cuts,
+                    },
+                    After::Nothing,
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.cuts)
+                    .range(1..=64)
+                    .suffix(" cuts"),
+            );
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(!edges.is_empty(), egui::Button::new("Bevel edges"))
+                .on_hover_text("the selected edges rounded into bands of faces")
+                .on_disabled_hover_text(need_edges)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Bevel {
+                        edges: edges.iter().map(|&(a, b)| [a, b]).collect(),
+                        width: t.width,
+                        segments: t.segments,
+                    },
+                    After::Nothing,
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.width)
+                    .speed(0.005)
+                    .range(0.0..=f64::MAX)
+                    .prefix("width "),
+            );
+            ui.add(
+                egui::DragValue::new(&mut t.segments)
+                    .range(1..=32)
+                    .suffix(" segments"),
+            );
+        });
+        ui.horizontal_wrapped(|ui| {
+            let loops = cage.closed_loops(&edges).ok().filter(|l| l.len() == 2);
+            if ui
+                .add_enabled(loops.is_some(), egui::Button::new("Bridge loops"))
+                .on_hover_text("faces between the two selected edge loops")
+                .on_disabled_hover_text("select two closed edge loops (border loops)")
+                .clicked()
+                && let Some(loops) = loops
+            {
+                chosen = Some((
+                    Tool::Bridge {
+                        loop1: loops[0].clone(),
+                        loop2: loops[1].clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if ui
+                .add_enabled(selected.len() >= 2, egui::Button::new("Merge points"))
+                .on_hover_text("the selected points made one")
+                .on_disabled_hover_text("select two or more points")
+                .clicked()
+            {
+                let mut vertices: Vec<u32> = selected.iter().copied().collect();
+                let last = self.selection.edit_point as u32;
+                if let Some(k) = vertices.iter().position(|&v| v == last) {
+                    vertices.swap(0, k);
+                }
+                chosen = Some((
+                    Tool::Merge {
+                        vertices,
+                        at_first: t.merge_at_last,
+                    },
+                    After::Nothing,
+                ));
+            }
+            ui.checkbox(&mut t.merge_at_last, "at the last clicked");
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(!edges.is_empty(), egui::Button::new("Dissolve edges"))
+                .on_hover_text("the faces each side of the selected edges made one")
+                .on_disabled_hover_text(need_edges)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Dissolve {
+                        edges: edges.iter().map(|&(a, b)| [a, b]).collect(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if ui
+                .add_enabled(!faces.is_empty(), egui::Button::new("Delete faces"))
+                .on_hover_text("the selected faces removed (points no face uses go too)")
+                .on_disabled_hover_text(need_faces)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Delete {
+                        faces: faces.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+        });
+        if let Some((tool, after)) = chosen {
+            self.apply_cage_tool(s, tool, after);
+        }
+    }
+
+    /// Applies `tool` to the cage of object `s` as one undo step; then selects what `after`
+    /// says (the selection is cleared where the tool renumbered the points).
+    fn apply_cage_tool(&mut self, s: usize, tool: Tool, after: After) {
+        let operation = Operation::new(CageEdit {
+            object: ObjectRef::Index(s),
+            tool,
+        });
+        self.apply(AppCommand::Edit(Command::Apply {
+            operation,
+            keep_history: false,
+        }));
+        if self.status.error.is_some() {
+            return;
+        }
+        // The points are renumbered: no "point k is now point j" notice, the tool's own
+        // selection instead.
+        self.status.notice = None;
+        let Some(cage) = self.scene().objects.get(s).and_then(cage_of) else {
+            return;
+        };
+        let points: Vec<u32> = match after {
+            After::Faces(faces) => faces
+                .iter()
+                .filter_map(|&f| cage.faces.get(f))
+                .flatten()
+                .copied()
+                .collect(),
+            After::Nothing => Vec::new(),
+        };
+        self.select_cage_points(points);
+    }
+
+    /// Selects the edge loop (or with `ring` the edge ring) through edge a–b of `cage`; `add`
+    /// keeps the selection there is.
+    pub(in crate::app) fn select_edge_loop(
+        &mut self,
+        cage: &Cage,
+        a: u32,
+        b: u32,
+        ring: bool,
+        add: bool,
+    ) {
+        let edges = if ring {
+            cage.edge_ring_through(a, b)
+        } else {
+            cage.edge_loop(a, b)
+        };
+        match edges {
+            Ok(edges) => {
+                let mut points = if add {
+                    self.cage_selection()
+                } else {
+                    BTreeSet::new()
+                };
+                points.extend(edges.iter().flat_map(|&(p, q)| [p, q]));
+                self.select_cage_points(points);
+            }
+            Err(e) => self.status.error = Some(e.to_string()),
+        }
+    }
+}
