@@ -74,7 +74,7 @@ impl KnotworkApp {
     }
 
     /// Every line overlay for this frame: grid, combs, directions, polysurfaces' naked edges,
-    /// continuity hair.
+    /// the selected cage's creases and selected edges, continuity hair.
     pub(super) fn guide_lines(&mut self) -> GuideLines {
         let mut lines = GuideLines::default();
         if self.view.overlays.grid {
@@ -126,18 +126,27 @@ impl KnotworkApp {
                 }
             }
         }
-        // The selected cage's selected edges (both ends selected), over the surface.
-        if !self.selection.points.is_empty()
-            && let Some(subdiv) = self
-                .selection
-                .object
-                .and_then(|s| self.scene().objects.get(s))
-                .filter(|o| o.visible && self.view.overlays.points)
-                .and_then(|o| o.geometry.as_subdivision())
+        // The selected cage's creases and selected edges (both ends selected), over the
+        // surface.
+        if let Some(subdiv) = self
+            .selection
+            .object
+            .and_then(|s| self.scene().objects.get(s))
+            .filter(|o| o.visible && self.view.overlays.points)
+            .and_then(|o| o.geometry.as_subdivision())
         {
             let mesh = subdiv.surface.mesh();
             let points = mesh.points();
             let selected = |v: u32| self.selection.points.contains(&(v as usize));
+            // Creased edges (colour by sharpness, white to magenta at 10 and beyond),
+            // then the selection over them.
+            for c in subdiv.surface.creases() {
+                let t = (c.sharpness / 10.0).clamp(0.0, 1.0) as f32;
+                let color = [1.0, 1.0 - 0.85 * t, 1.0 - 0.2 * t, 1.0];
+                if let (Some(&p), Some(&q)) = (points.get(c.a as usize), points.get(c.b as usize)) {
+                    lines.on_top(p, q, color);
+                }
+            }
             for face in mesh.faces() {
                 for c in 0..face.len() {
                     let (p, q) = (face[c], face[(c + 1) % face.len()]);

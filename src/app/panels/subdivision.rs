@@ -170,25 +170,38 @@ impl KnotworkApp {
         }
     }
 
-    /// The sharpness of the selected edge (two points) or point (one).
+    /// The sharpness of the selected edges (both points of each selected) or point (one).
     pub(in crate::app) fn sharpness_editor(
         &self,
         ui: &mut egui::Ui,
         settings: &mut SubdivSettings,
     ) {
         let points: Vec<u32> = self.selection.points.iter().map(|&p| p as u32).collect();
-        match points[..] {
-            [a, b] => {
-                let mut sharpness = settings.crease(a, b);
-                ui.add(
-                    egui::Slider::new(&mut sharpness, 0.0..=10.0)
-                        .text(format!("edge {a}-{b} sharpness")),
-                );
-                if sharpness != settings.crease(a, b) {
-                    settings.set_crease(a, b, sharpness);
+        // The cage edges both of whose points are selected.
+        let edges = self
+            .selection
+            .object
+            .and_then(|s| self.scene().objects.get(s))
+            .and_then(super::cage::cage_of)
+            .map(|cage| cage.edges_within(&points.iter().copied().collect()))
+            .unwrap_or_default();
+        match (&edges[..], &points[..]) {
+            ([(a, b), ..], _) => {
+                let before = settings.crease(*a, *b);
+                let mut sharpness = before;
+                let text = match edges[..] {
+                    [_] => format!("edge {a}-{b} sharpness"),
+                    _ => format!("sharpness of {} edges", edges.len()),
+                };
+                ui.add(egui::Slider::new(&mut sharpness, 0.0..=10.0).text(text));
+                if sharpness != before {
+                    for &(a, b) in &edges {
+                        settings.set_crease(a, b, sharpness);
+                    }
                 }
             }
-            [vertex] => {
+            ([], [vertex]) => {
+                let vertex = *vertex;
                 let mut sharpness = settings.corner(vertex);
                 ui.add(
                     egui::Slider::new(&mut sharpness, 0.0..=10.0)
@@ -201,7 +214,7 @@ impl KnotworkApp {
             _ => {
                 ui.label(
                     egui::RichText::new(
-                        "select an edge's two points (or one point) to set its sharpness; \
+                        "select edges (both their points) or one point to set sharpness; \
                          0 removes it, 10 is infinitely sharp",
                     )
                     .weak(),
