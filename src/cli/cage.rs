@@ -72,6 +72,22 @@ pub enum CageTool {
         #[arg(long)]
         faces: String,
     },
+    /// Mirror the cage across the plane through the origin square to an axis, welding the
+    /// points within the merge distance of the plane to their images.
+    Mirror {
+        #[arg(long, value_enum)]
+        axis: MirrorAxis,
+        #[arg(long, default_value_t = knotwork::kernel::subdiv::cage_edit::DEFAULT_MERGE_DISTANCE)]
+        merge_distance: f64,
+    },
+}
+
+/// The axis square to `mirror`'s plane.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MirrorAxis {
+    X,
+    Y,
+    Z,
 }
 
 /// Where `merge` puts the merged vertex.
@@ -177,6 +193,13 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         },
         CageTool::Delete { faces } => Tool::Delete {
             faces: face_list(faces)?,
+        },
+        CageTool::Mirror {
+            axis,
+            merge_distance,
+        } => Tool::Mirror {
+            axis: *axis as u8,
+            merge_distance: *merge_distance,
         },
     })
 }

@@ -14,7 +14,7 @@ import sys
 
 import bpy  # noqa: F401  (bmesh is importable only after bpy)
 import bmesh
-from mathutils import Quaternion, Vector
+from mathutils import Matrix, Quaternion, Vector
 
 
 def read_obj(path):
@@ -154,6 +154,14 @@ def apply(bm, op, args):
     elif op == "delete":
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         bmesh.ops.delete(bm, geom=faces, context="FACES")
+    elif op == "mirror":
+        # The Mirror modifier applied: bmesh's mirror welds the points within the distance
+        # of the plane; the copies' faces are turned to agree with the originals.
+        before = set(bm.faces)
+        bmesh.ops.mirror(bm, geom=list(bm.verts) + list(bm.edges) + list(bm.faces),
+                         matrix=Matrix(), merge_dist=float(opt.get("merge-distance", 0.001)),
+                         axis=opt["axis"].upper())
+        bmesh.ops.reverse_faces(bm, faces=[f for f in bm.faces if f not in before])
     else:
         raise SystemExit(f"unknown operation {op}")
 
@@ -304,6 +312,11 @@ CASES = [
     # Three and four beveled edges at vertices of four to six edges, one segment.
     ("torus", "bevel --edges 0-1,0-6,0-5 --width 0.1U --segments 1"),
     ("cap6", "bevel --edges 12-0,12-1,12-3,12-4 --width 0.1U --segments 1"),
+    # Mirror: a cage name ending in "!" is not moved, so that points lie on the plane and weld.
+    ("grid!", "mirror --axis x"),
+    ("grid!", "mirror --axis y --merge-distance 0.01"),
+    ("tube!", "mirror --axis z --merge-distance 0.01"),
+    ("box", "mirror --axis z"),
 ]
 
 
@@ -313,8 +326,11 @@ def fixtures(directory, seed=1000):
     os.makedirs(directory, exist_ok=True)
     lines = []
     for k, (name, args) in enumerate(CASES):
-        points, faces = cage(name)
-        points, scale = placed(points, seed + k)
+        points, faces = cage(name.rstrip("!"))
+        if name.endswith("!"):
+            name, scale = name[:-1], 1.0
+        else:
+            points, scale = placed(points, seed + k)
         args = " ".join(
             ("%.17g" % (float(a[:-1]) * scale)) if a.endswith("U") else a for a in args.split()
         )

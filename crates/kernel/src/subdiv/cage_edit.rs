@@ -352,8 +352,7 @@ impl Cage {
         // Each border vertex's sectors: the runs of region faces round it from a border edge
         // arriving to the border edge leaving, with the vertex moved along their bisector.
         let mut sectors: BTreeMap<u32, Vec<(Vec<usize>, DVec3)>> = BTreeMap::new();
-        for (&(u, v), &(f, arriving)) in &border {
-            let _ = u;
+        for (&(_, v), &(f, arriving)) in &border {
             let mut faces = vec![f];
             let mut at = f;
             let leaving = loop {
@@ -1409,6 +1408,20 @@ pub enum Tool {
     Dissolve { edges: Vec<[u32; 2]> },
     /// [`Cage::delete_faces`].
     Delete { faces: Vec<usize> },
+    /// [`Cage::mirror`] across the plane through the origin square to axis 0, 1 or 2 (x, y,
+    /// z).
+    Mirror {
+        axis: u8,
+        #[serde(default = "default_merge_distance")]
+        merge_distance: f64,
+    },
+}
+
+/// Blender's Mirror default: points within 0.001 of the plane are welded to their image.
+pub const DEFAULT_MERGE_DISTANCE: f64 = 0.001;
+
+fn default_merge_distance() -> f64 {
+    DEFAULT_MERGE_DISTANCE
 }
 
 impl Tool {
@@ -1423,6 +1436,7 @@ impl Tool {
             Self::Merge { .. } => "Merge",
             Self::Dissolve { .. } => "Dissolve",
             Self::Delete { .. } => "Delete",
+            Self::Mirror { .. } => "Mirror",
         }
     }
 }
@@ -1453,7 +1467,64 @@ impl Cage {
             Tool::Merge { vertices, at_first } => self.merge_vertices(vertices, *at_first),
             Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
             Tool::Delete { faces } => self.delete_faces(faces),
+            Tool::Mirror {
+                axis,
+                merge_distance,
+            } => self.mirror(usize::from(*axis), *merge_distance),
         }
+    }
+}
+
+impl Cage {
+    /// Mirror (Blender's Mirror modifier applied, with Merge): the whole cage is copied
+    /// across the plane through the origin square to `axis` (0, 1, 2: x, y, z), the copies'
+    /// faces turned so that the two halves agree, and each point within `merge_distance` of
+    /// the plane is welded to its image (it stays where it is, and serves both halves). The
+    /// copies follow the original points and faces in their order; creases and sharp points
+    /// are copied with their edges and points.
+    pub fn mirror(&self, axis: usize, merge_distance: f64) -> Result<Self, CageEditError> {
+        if axis > 2 {
+            return Err(invalid(format!(
+                "the axis must be 0, 1 or 2 (x, y, z), not {axis}"
+            )));
+        }
+        if !(merge_distance.is_finite() && merge_distance >= 0.0) {
+            return Err(invalid("the merge distance must be a finite number ≥ 0"));
+        }
+        let mut out = self.clone();
+        let mut image: HashMap<u32, u32> = HashMap::new();
+        let mut copy: HashMap<u32, u32> = HashMap::new();
+        for (v, &p) in self.points.iter().enumerate() {
+            let v = v as u32;
+            if p[axis].abs() <= merge_distance {
+                image.insert(v, v);
+            } else {
+                let mut q = p;
+                q[axis] = -q[axis];
+                let id = out.points.len() as u32;
+                out.points.push(q);
+                image.insert(v, id);
+                copy.insert(v, id);
+            }
+        }
+        // (A face lying in the plane would come back onto itself: it has no image.)
+        for face in self
+            .faces
+            .iter()
+            .filter(|f| f.iter().any(|v| copy.contains_key(v)))
+        {
+            out.faces
+                .push(face.iter().rev().map(|v| image[v]).collect());
+        }
+        for c in &self.creases {
+            if let (Some(&a), Some(&b)) = (image.get(&c.a), image.get(&c.b))
+                && key(a, b) != key(c.a, c.b)
+            {
+                out.add_crease(a, b, c.sharpness);
+            }
+        }
+        out.copy_corners(&self.corners, &copy);
+        Ok(out.compacted(self))
     }
 }
 
@@ -1672,6 +1743,54 @@ mod tests {
             cage = next;
         }
         assert!(cage.faces.len() > 48);
+    }
+
+    #[test]
+    fn a_mirrored_box_has_twice_the_volume_and_one_touching_the_plane_welds_into_one_box() {
+        // A box from x = 1 to 3: its mirror is a second box, closed and as large.
+        let points: Vec<DVec3> = (0..8)
+            .map(|k| {
+                DVec3::new(
+                    1.0 + 2.0 * f64::from(k & 1),
+                    f64::from(k >> 1 & 1),
+                    f64::from(k >> 2),
+                )
+            })
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        let boxed = Cage {
+            points,
+            faces,
+            ..Cage::default()
+        };
+        let v = volume(&boxed);
+        assert!((v - 2.0).abs() < 1e-12, "{v}");
+        let twice = boxed.mirror(0, 1e-3).unwrap();
+        check_cage(&twice);
+        assert_eq!((twice.points.len(), twice.faces.len()), (16, 12));
+        assert!((volume(&twice) - 2.0 * v).abs() < 1e-12);
+        // Open the box at x = 1 and move that side onto the plane: the mirror closes it into
+        // one box from x = -3 to 3 (its seam points welded, its χ = 2).
+        let mut open = boxed.clone();
+        open.faces.remove(4);
+        for p in &mut open.points {
+            if p.x == 1.0 {
+                p.x = 0.0;
+            }
+        }
+        let closed = open.mirror(0, 1e-3).unwrap();
+        check_cage(&closed);
+        assert_eq!((closed.points.len(), closed.faces.len()), (12, 10));
+        assert_eq!(euler(&closed), 2);
+        assert!((volume(&closed) - 6.0).abs() < 1e-12, "{}", volume(&closed));
+        assert!(boxed.mirror(3, 0.0).is_err() && boxed.mirror(0, f64::NAN).is_err());
     }
 
     #[test]
