@@ -233,6 +233,10 @@ fn default_scene(status: &mut AppStatus) -> Scene {
 struct DragHandle {
     /// The grabbed point's start; the cursor's ray moves it under the constraint.
     anchor: DVec3,
+    /// Mirror editing: the points that follow the dragged ones across the planes, and the
+    /// distance within which a point counts as on a plane (or at an image).
+    partners: Vec<crate::view::symmetry::Partner>,
+    tolerance: f64,
 }
 
 /// What is selected: an object, its control points, the point the panel edits, a box
@@ -317,6 +321,8 @@ pub struct KnotworkApp {
     operations_keep_history: bool,
     /// The Cage tools' settings.
     cage_tools: panels::cage::CageToolSettings,
+    /// Mirror editing across x = 0, y = 0, z = 0 while points are dragged.
+    symmetry: [bool; 3],
     /// The Features row's size, the edges picked for it and its value being edited.
     features: features::FeatureState,
     /// The trim control point being dragged in the (u, v) panel.
@@ -436,6 +442,7 @@ impl KnotworkApp {
             surface_tools: surface_tools::SurfaceToolState::default(),
             operations_keep_history: true,
             cage_tools: panels::cage::CageToolSettings::default(),
+            symmetry: [false; 3],
             features: features::FeatureState::default(),
             trim_handle: None,
             snap: false,

@@ -302,7 +302,11 @@ impl KnotworkApp {
             starts,
         });
         // The handle drag's bookkeeping (end, cancel) is shared.
-        self.drag = Some(DragHandle { anchor: pivot });
+        self.drag = Some(DragHandle {
+            anchor: pivot,
+            partners: Vec::new(),
+            tolerance: 0.0,
+        });
         true
     }
 

@@ -12,6 +12,7 @@ use glam::{DVec2, DVec3};
 
 use super::{AppCommand, DragHandle, DragStep, KnotworkApp, PICK_RADIUS};
 use crate::view::pick::{self, Constraint, Projected};
+use crate::view::symmetry;
 
 impl KnotworkApp {
     /// The selected object's control points on the screen (logical pixels from the viewport's
@@ -187,13 +188,27 @@ impl KnotworkApp {
             }
             self.selection.points.insert(index);
         }
-        let points: Vec<usize> = self.selection.points.iter().copied().collect();
+        let mut points: Vec<usize> = self.selection.points.iter().copied().collect();
+        // Mirror editing: the selected points' images move with them.
+        let net = self.doc.scene.objects[object].control_points();
+        let size = net.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+        let tolerance = 1e-6 * size.max(1e-300);
+        let partners = if self.symmetry.contains(&true) {
+            crate::view::symmetry::partners(&net, &points, self.symmetry, tolerance)
+        } else {
+            Vec::new()
+        };
+        points.extend(partners.iter().map(|p| p.point));
         self.apply(AppCommand::Drag(DragStep::Begin { object, points }));
         if self.doc.drag().is_none() {
             return;
         }
-        let anchor = self.doc.scene.objects[object].control_points()[index];
-        self.drag = Some(DragHandle { anchor });
+        let anchor = net[index];
+        self.drag = Some(DragHandle {
+            anchor,
+            partners,
+            tolerance,
+        });
         self.constraint = Constraint::Free;
         self.selection.edit_point = index;
         self.update_net();
@@ -236,7 +251,41 @@ impl KnotworkApp {
         } else {
             self.status.snapped = None;
         }
-        self.apply(AppCommand::Drag(DragStep::By(target - anchor)));
+        let delta = target - anchor;
+        if !self.symmetry.contains(&true) {
+            self.apply(AppCommand::Drag(DragStep::By(delta)));
+            return;
+        }
+        // Mirror editing: each dragged point keeps to the planes it lies on, and its images
+        // move by its offset mirrored.
+        let (Some(drag), Some(state)) = (&self.drag, self.doc.drag()) else {
+            return;
+        };
+        let starts = state.starts();
+        let start_of = |k: usize| {
+            starts
+                .binary_search_by_key(&k, |&(d, _)| d)
+                .ok()
+                .map(|i| starts[i].1)
+        };
+        let axes = self.symmetry;
+        let offset_of = |k: usize| {
+            start_of(k).map_or(delta, |p| {
+                symmetry::kept_on_planes(p, delta, axes, drag.tolerance)
+            })
+        };
+        let mut moves: Vec<(usize, DVec3)> = starts
+            .iter()
+            .filter(|(k, _)| !drag.partners.iter().any(|p| p.point == *k))
+            .map(|&(k, p)| (k, p + offset_of(k)))
+            .collect();
+        for partner in &drag.partners {
+            if let Some(p) = start_of(partner.point) {
+                let offset = symmetry::flipped(offset_of(partner.source), partner.flip);
+                moves.push((partner.point, p + offset));
+            }
+        }
+        self.apply(AppCommand::Drag(DragStep::To(moves)));
     }
 
     /// Where a dragged point snaps to under `cursor` (viewport pixels) and what it snapped to:

@@ -4,6 +4,7 @@ pub mod camera;
 pub mod osnap;
 pub mod pick;
 pub mod settings;
+pub mod symmetry;
 
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};

@@ -741,6 +741,51 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     assert_eq!(harness.state().document().scene.objects[0], subdivided);
 }
 
+#[test]
+fn with_x_mirror_editing_a_dragged_cage_point_moves_its_image_across_the_plane() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    // A box symmetric across x = 0 (the file's y-up becomes z-up; x stays).
+    let cube = "o cube\nv -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\n\
+        v 1 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    harness.run_steps(3);
+    let (index, at) = select_with_free_handle(&mut harness, 0);
+    click_button(&mut harness, "Subdivide");
+    let before = harness.state().document().scene.objects[0].control_points();
+    let image = glam::DVec3::new(-before[index].x, before[index].y, before[index].z);
+    let partner = (0..before.len())
+        .find(|&j| before[j].distance(image) < 1e-9)
+        .expect("the point's image across x = 0");
+    click_button(&mut harness, "X mirror");
+    let steps = status::current().undo_steps;
+    harness.hover_at(at);
+    harness.run_steps(1);
+    let end = drag_from(&mut harness, at, egui::vec2(14.0, -9.0), 4);
+    press(&harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    let after = harness.state().document().scene.objects[0].control_points();
+    let moved = after[index] - before[index];
+    assert!(moved.length() > 1e-3, "{moved}");
+    let mirrored = after[partner] - before[partner];
+    assert!(
+        (mirrored - glam::DVec3::new(-moved.x, moved.y, moved.z)).length() < 1e-9,
+        "{moved} {mirrored}"
+    );
+    // Every other point stays.
+    for k in (0..after.len()).filter(|&k| k != index && k != partner) {
+        assert_eq!(after[k], before[k], "point {k}");
+    }
+}
+
 fn click_at(harness: &mut Harness<'_, KnotworkApp>, pos: Pos2) {
     harness.hover_at(pos);
     harness.run_steps(1);

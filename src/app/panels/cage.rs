@@ -1,6 +1,7 @@
 //! The Cage tools section of a subdivision surface: what the selected points cover (faces,
 //! edges), Blender's selection helpers (edge loop and ring, more, less, linked) and its
-//! topology tools (extrude, inset, loop cut, bevel, bridge, merge, dissolve, delete), each one
+//! topology tools (extrude, inset, loop cut, bevel, bridge, merge, dissolve, delete, mirror),
+//! each one
 //! undo step through the `cage` operation ([`crate::ops::cage`]).
 //!
 //! As in Blender's vertex mode, the selection is the cage's points: an edge is selected when
@@ -177,7 +178,7 @@ impl KnotworkApp {
         let t = &mut self.cage_tools;
         let need_faces = "select faces (all their points)";
         let need_edges = "select edges (both their points)";
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!faces.is_empty(), egui::Button::new("Extrude faces"))
                 .on_hover_text("the selected faces lifted along their average normal, with sides")
@@ -198,7 +199,7 @@ impl KnotworkApp {
                     .prefix("by "),
             );
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!faces.is_empty(), egui::Button::new("Inset faces"))
                 .on_hover_text("a strip of new faces inside the selected faces' border")
@@ -222,7 +223,7 @@ impl KnotworkApp {
             );
             ui.checkbox(&mut t.individual, "each face");
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(one_edge.is_some(), egui::Button::new("Loop cut"))
                 .on_hover_text("cuts across the edge ring through the selected edge")
@@ -244,7 +245,7 @@ impl KnotworkApp {
                     .suffix(" cuts"),
             );
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!edges.is_empty(), egui::Button::new("Bevel edges"))
                 .on_hover_text("the selected edges rounded into bands of faces")
@@ -310,7 +311,7 @@ impl KnotworkApp {
             }
             ui.checkbox(&mut t.merge_at_last, "at the last clicked");
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!edges.is_empty(), egui::Button::new("Dissolve edges"))
                 .on_hover_text("the faces each side of the selected edges made one")
@@ -336,6 +337,35 @@ impl KnotworkApp {
                     },
                     After::Nothing,
                 ));
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Mirror editing:")
+                .on_hover_text("a dragged point's images across x = 0, y = 0, z = 0 move with it");
+            for (axis, name) in ["X mirror", "Y mirror", "Z mirror"].iter().enumerate() {
+                ui.checkbox(&mut self.symmetry[axis], *name);
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+                if ui
+                    .button(format!("Mirror {name}"))
+                    .on_hover_text(format!(
+                        "the whole cage copied across the plane {name} = 0, points within {} \
+                         of it welded to their images",
+                        crate::kernel::subdiv::cage_edit::DEFAULT_MERGE_DISTANCE
+                    ))
+                    .clicked()
+                {
+                    chosen = Some((
+                        Tool::Mirror {
+                            axis: axis as u8,
+                            merge_distance:
+                                crate::kernel::subdiv::cage_edit::DEFAULT_MERGE_DISTANCE,
+                        },
+                        After::Nothing,
+                    ));
+                }
             }
         });
         if let Some((tool, after)) = chosen {
