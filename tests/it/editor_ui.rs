@@ -610,13 +610,6 @@ fn cage_counts(harness: &Harness<'_, KnotworkApp>, k: usize) -> (usize, usize) {
     (mesh.points().len(), mesh.faces().count())
 }
 
-fn click_button(harness: &mut Harness<'_, KnotworkApp>, label: &str) {
-    harness.get_by_label(label).scroll_to_me();
-    harness.run_steps(2);
-    harness.get_by_label(label).click_accesskit();
-    harness.run_steps(3);
-}
-
 #[test]
 fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let _turn = ONE_EDITOR_AT_A_TIME
@@ -628,7 +621,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     harness.state_mut().open_file("cube.obj", cube.as_bytes());
     harness.run_steps(3);
     select_with_free_handle(&mut harness, 0);
-    click_button(&mut harness, "Subdivide");
+    click_label(&mut harness, "Subdivide");
     let subdivided = harness.state().document().scene.objects[0].clone();
     let steps = status::current().undo_steps;
 
@@ -637,7 +630,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let page = harness.state().command_sender();
     page.send(AppCommand::SelectPoints(vec![4, 5, 6, 7]));
     harness.run_steps(2);
-    click_button(&mut harness, "Extrude faces");
+    click_label(&mut harness, "Extrude faces");
     let s = status::current();
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
@@ -654,7 +647,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let rise = centre(&lifted, &s.selected_points)
         .distance(centre(&subdivided.control_points(), &[4, 5, 6, 7]));
     assert!((rise - 0.5).abs() < 1e-12, "{rise}");
-    click_button(&mut harness, "Inset faces");
+    click_label(&mut harness, "Inset faces");
     let s = status::current();
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
@@ -668,7 +661,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     // corners there have three edges, so it stops), Ring the four vertical edges round it.
     page.send(AppCommand::SelectPoints(vec![0, 4]));
     harness.run_steps(2);
-    click_button(&mut harness, "Ring");
+    click_label(&mut harness, "Ring");
     let ring = status::current().selected_points;
     assert_eq!(ring.len(), 8, "{ring:?}");
 
@@ -753,13 +746,13 @@ fn with_x_mirror_editing_a_dragged_cage_point_moves_its_image_across_the_plane()
     harness.state_mut().open_file("cube.obj", cube.as_bytes());
     harness.run_steps(3);
     let (index, at) = select_with_free_handle(&mut harness, 0);
-    click_button(&mut harness, "Subdivide");
+    click_label(&mut harness, "Subdivide");
     let before = harness.state().document().scene.objects[0].control_points();
     let image = glam::DVec3::new(-before[index].x, before[index].y, before[index].z);
     let partner = (0..before.len())
         .find(|&j| before[j].distance(image) < 1e-9)
         .expect("the point's image across x = 0");
-    click_button(&mut harness, "X mirror");
+    click_label(&mut harness, "X mirror");
     let steps = status::current().undo_steps;
     harness.hover_at(at);
     harness.run_steps(1);

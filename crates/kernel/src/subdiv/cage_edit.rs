@@ -1748,38 +1748,23 @@ mod tests {
     #[test]
     fn a_mirrored_box_has_twice_the_volume_and_one_touching_the_plane_welds_into_one_box() {
         // A box from x = 1 to 3: its mirror is a second box, closed and as large.
-        let points: Vec<DVec3> = (0..8)
-            .map(|k| {
-                DVec3::new(
-                    1.0 + 2.0 * f64::from(k & 1),
-                    f64::from(k >> 1 & 1),
-                    f64::from(k >> 2),
-                )
-            })
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
+        let cube = super::super::cages::cube(DVec3::new(2.0, 0.0, 0.0), 2.0).unwrap();
         let boxed = Cage {
-            points,
-            faces,
+            points: cube.points().to_vec(),
+            faces: cube.faces().map(<[u32]>::to_vec).collect(),
             ..Cage::default()
         };
         let v = volume(&boxed);
-        assert!((v - 2.0).abs() < 1e-12, "{v}");
+        assert!((v - 8.0).abs() < 1e-12, "{v}");
         let twice = boxed.mirror(0, 1e-3).unwrap();
         check_cage(&twice);
         assert_eq!((twice.points.len(), twice.faces.len()), (16, 12));
         assert!((volume(&twice) - 2.0 * v).abs() < 1e-12);
-        // Open the box at x = 1 and move that side onto the plane: the mirror closes it into
-        // one box from x = -3 to 3 (its seam points welded, its χ = 2).
+        // Open the box at x = 1 (the face of its points 0, 2, 4, 6) and move that side onto
+        // the plane: the mirror closes it into one box from x = -3 to 3 (its seam points
+        // welded, its χ = 2).
         let mut open = boxed.clone();
-        open.faces.remove(4);
+        open.faces.retain(|f| !f.iter().all(|v| v % 2 == 0));
         for p in &mut open.points {
             if p.x == 1.0 {
                 p.x = 0.0;
@@ -1789,7 +1774,11 @@ mod tests {
         check_cage(&closed);
         assert_eq!((closed.points.len(), closed.faces.len()), (12, 10));
         assert_eq!(euler(&closed), 2);
-        assert!((volume(&closed) - 6.0).abs() < 1e-12, "{}", volume(&closed));
+        assert!(
+            (volume(&closed) - 24.0).abs() < 1e-12,
+            "{}",
+            volume(&closed)
+        );
         assert!(boxed.mirror(3, 0.0).is_err() && boxed.mirror(0, f64::NAN).is_err());
     }
 
