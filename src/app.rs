@@ -235,8 +235,14 @@ struct DragHandle {
     anchor: DVec3,
     /// Mirror editing: the points that follow the dragged ones across the planes, and the
     /// distance within which a point counts as on a plane (or at an image).
-    partners: Vec<crate::view::symmetry::Partner>,
+    partners: Vec<crate::view::follow::Partner>,
     tolerance: f64,
+    /// Proportional editing: the points that follow by a share of a dragged point's offset.
+    falloff: Vec<crate::view::follow::Falloff>,
+    /// The grabbed point and the cursor's last place (a drag is begun again there when the
+    /// wheel changes the radius).
+    index: usize,
+    cursor: Option<egui::Pos2>,
 }
 
 /// What is selected: an object, its control points, the point the panel edits, a box
@@ -323,6 +329,9 @@ pub struct KnotworkApp {
     cage_tools: panels::cage::CageToolSettings,
     /// Mirror editing across x = 0, y = 0, z = 0 while points are dragged.
     symmetry: [bool; 3],
+    /// Proportional editing (O) and its radius (the wheel during a drag).
+    proportional: bool,
+    proportional_radius: f64,
     /// The Features row's size, the edges picked for it and its value being edited.
     features: features::FeatureState,
     /// The trim control point being dragged in the (u, v) panel.
@@ -443,6 +452,8 @@ impl KnotworkApp {
             operations_keep_history: true,
             cage_tools: panels::cage::CageToolSettings::default(),
             symmetry: [false; 3],
+            proportional: false,
+            proportional_radius: 1.0,
             features: features::FeatureState::default(),
             trim_handle: None,
             snap: false,

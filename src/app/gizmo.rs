@@ -306,6 +306,9 @@ impl KnotworkApp {
             anchor: pivot,
             partners: Vec::new(),
             tolerance: 0.0,
+            falloff: Vec::new(),
+            index: 0,
+            cursor: None,
         });
         true
     }

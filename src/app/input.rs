@@ -11,8 +11,8 @@ use eframe::egui;
 use glam::{DVec2, DVec3};
 
 use super::{AppCommand, DragHandle, DragStep, KnotworkApp, PICK_RADIUS};
+use crate::view::follow;
 use crate::view::pick::{self, Constraint, Projected};
-use crate::view::symmetry;
 
 impl KnotworkApp {
     /// The selected object's control points on the screen (logical pixels from the viewport's
@@ -194,11 +194,17 @@ impl KnotworkApp {
         let size = net.iter().fold(0.0f64, |m, p| m.max(p.abs().max_element()));
         let tolerance = 1e-6 * size.max(1e-300);
         let partners = if self.symmetry.contains(&true) {
-            crate::view::symmetry::partners(&net, &points, self.symmetry, tolerance)
+            follow::partners(&net, &points, self.symmetry, tolerance)
         } else {
             Vec::new()
         };
         points.extend(partners.iter().map(|p| p.point));
+        let falloff = if self.proportional {
+            follow::falloff(&net, &points, self.proportional_radius)
+        } else {
+            Vec::new()
+        };
+        points.extend(falloff.iter().map(|f| f.point));
         self.apply(AppCommand::Drag(DragStep::Begin { object, points }));
         if self.doc.drag().is_none() {
             return;
@@ -208,10 +214,40 @@ impl KnotworkApp {
             anchor,
             partners,
             tolerance,
+            falloff,
+            index,
+            cursor: None,
         });
         self.constraint = Constraint::Free;
         self.selection.edit_point = index;
         self.update_net();
+    }
+
+    /// The wheel during a proportional drag: the radius grows (or shrinks) by 15 % a notch, and
+    /// the drag is begun again with the points the new radius takes, at the cursor.
+    fn resize_falloff(&mut self, steps: f32) {
+        let Some(drag) = &self.drag else {
+            return;
+        };
+        let (index, cursor, constraint) = (drag.index, drag.cursor, self.constraint);
+        self.proportional_radius =
+            (self.proportional_radius * 1.15f64.powf(f64::from(steps))).clamp(1e-6, 1e9);
+        // The points go back, and the drag starts over from the same point.
+        if let Some(object) = self.doc.cancel_drag()
+            && let Err(e) = self.after_edit(crate::doc::Touched::Points(object))
+        {
+            self.status.error = Some(e);
+        }
+        self.drag = None;
+        self.begin_drag(index, true);
+        self.constraint = constraint;
+        if let Some(pos) = cursor {
+            self.continue_drag(pos);
+        }
+        self.status.notice = Some(format!(
+            "proportional radius {:.4}",
+            self.proportional_radius
+        ));
     }
 
     /// Moves the dragged points so that the grabbed one follows the cursor's ray under the
@@ -252,12 +288,16 @@ impl KnotworkApp {
             self.status.snapped = None;
         }
         let delta = target - anchor;
-        if !self.symmetry.contains(&true) {
+        if let Some(drag) = &mut self.drag {
+            drag.cursor = Some(pos);
+        }
+        if !self.symmetry.contains(&true) && !self.proportional {
             self.apply(AppCommand::Drag(DragStep::By(delta)));
             return;
         }
         // Mirror editing: each dragged point keeps to the planes it lies on, and its images
-        // move by its offset mirrored.
+        // move by its offset mirrored. Proportional editing: the points near them follow by
+        // a share of their nearest's offset.
         let (Some(drag), Some(state)) = (&self.drag, self.doc.drag()) else {
             return;
         };
@@ -271,18 +311,31 @@ impl KnotworkApp {
         let axes = self.symmetry;
         let offset_of = |k: usize| {
             start_of(k).map_or(delta, |p| {
-                symmetry::kept_on_planes(p, delta, axes, drag.tolerance)
+                follow::kept_on_planes(p, delta, axes, drag.tolerance)
             })
         };
-        let mut moves: Vec<(usize, DVec3)> = starts
+        let follows = |k: usize| {
+            drag.partners.iter().any(|p| p.point == k) || drag.falloff.iter().any(|f| f.point == k)
+        };
+        let mut offsets: Vec<(usize, DVec3)> = starts
             .iter()
-            .filter(|(k, _)| !drag.partners.iter().any(|p| p.point == *k))
-            .map(|&(k, p)| (k, p + offset_of(k)))
+            .filter(|(k, _)| !follows(*k))
+            .map(|&(k, _)| (k, offset_of(k)))
             .collect();
         for partner in &drag.partners {
-            if let Some(p) = start_of(partner.point) {
-                let offset = symmetry::flipped(offset_of(partner.source), partner.flip);
-                moves.push((partner.point, p + offset));
+            offsets.push((
+                partner.point,
+                follow::flipped(offset_of(partner.source), partner.flip),
+            ));
+        }
+        let offset_by = |k: usize| offsets.iter().find(|(j, _)| *j == k).map(|&(_, o)| o);
+        let mut moves: Vec<(usize, DVec3)> = offsets
+            .iter()
+            .filter_map(|&(k, o)| Some((k, start_of(k)? + o)))
+            .collect();
+        for f in &drag.falloff {
+            if let (Some(p), Some(o)) = (start_of(f.point), offset_by(f.source)) {
+                moves.push((f.point, p + o * f.weight));
             }
         }
         self.apply(AppCommand::Drag(DragStep::To(moves)));
@@ -488,7 +541,9 @@ impl KnotworkApp {
             let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
             // One wheel notch is about 50 points of scroll.
             let steps = scroll / 50.0 + zoom.ln() / 0.15;
-            if steps != 0.0 {
+            if steps != 0.0 && self.proportional && self.drag.is_some() {
+                self.resize_falloff(steps);
+            } else if steps != 0.0 {
                 self.view.camera.zoom(steps);
                 self.redraw = true;
             }
@@ -542,6 +597,14 @@ impl KnotworkApp {
             }
             if pressed(shortcut(Modifiers::NONE, Key::F)) {
                 self.frame_pending = true;
+            }
+            if pressed(shortcut(Modifiers::NONE, Key::O)) {
+                self.proportional = !self.proportional;
+                self.status.notice = Some(format!(
+                    "proportional editing {} (radius {:.4}; the wheel changes it while dragging)",
+                    if self.proportional { "on" } else { "off" },
+                    self.proportional_radius
+                ));
             }
         }
     }

@@ -1,10 +1,10 @@
 //! Camera, screen-space picking, drag constraints and the view settings.
 
 pub mod camera;
+pub mod follow;
 pub mod osnap;
 pub mod pick;
 pub mod settings;
-pub mod symmetry;
 
 pub use camera::OrbitCamera;
 pub use pick::{Constraint, PickView, Projected, SurfaceHit};

@@ -779,6 +779,65 @@ fn with_x_mirror_editing_a_dragged_cage_point_moves_its_image_across_the_plane()
     }
 }
 
+#[test]
+fn with_proportional_editing_points_near_a_dragged_one_follow_by_the_smooth_falloff() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    // A flat 5 × 5 grid of points 0.5 apart: the default radius 1 takes the neighbours.
+    let mut grid = String::from("o grid\n");
+    for j in 0..5 {
+        for i in 0..5 {
+            grid += &format!("v {} 0 {}\n", 0.5 * f64::from(i), 0.5 * f64::from(j));
+        }
+    }
+    for j in 0..4 {
+        for i in 0..4 {
+            let k = j * 5 + i + 1;
+            grid += &format!("f {} {} {} {}\n", k, k + 5, k + 6, k + 1);
+        }
+    }
+    harness.state_mut().open_file("grid.obj", grid.as_bytes());
+    harness.run_steps(3);
+    let (index, at) = select_with_free_handle(&mut harness, 0);
+    click_label(&mut harness, "Subdivide");
+    let before = harness.state().document().scene.objects[0].control_points();
+    key(&mut harness, Key::O, Modifiers::NONE);
+    let steps = status::current().undo_steps;
+    harness.hover_at(at);
+    harness.run_steps(1);
+    let end = drag_from(&mut harness, at, egui::vec2(10.0, -12.0), 4);
+    press(&harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    let after = harness.state().document().scene.objects[0].control_points();
+    let moved = after[index] - before[index];
+    assert!(moved.length() > 1e-3, "{moved}");
+    let mut followed = 0;
+    for k in 0..after.len() {
+        let d = before[k].distance(before[index]) / 1.0;
+        let share = if d < 1.0 {
+            let s = 1.0 - d;
+            s * s * (3.0 - 2.0 * s)
+        } else {
+            0.0
+        };
+        let offset = after[k] - before[k];
+        assert!(
+            (offset - moved * share).length() < 1e-9,
+            "point {k} at {d}: {offset} vs {moved}"
+        );
+        followed += usize::from(share > 0.0 && k != index);
+    }
+    assert!(followed >= 3, "{followed}");
+}
+
 fn click_at(harness: &mut Harness<'_, KnotworkApp>, pos: Pos2) {
     harness.hover_at(pos);
     harness.run_steps(1);

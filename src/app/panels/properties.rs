@@ -139,6 +139,19 @@ impl KnotworkApp {
             ui.checkbox(&mut self.snap_points, "points");
             ui.checkbox(&mut self.snap_surface, "surfaces");
         });
+        ui.horizontal_wrapped(|ui| {
+            ui.checkbox(&mut self.proportional, "Proportional editing")
+                .on_hover_text(
+                    "points within the radius of a dragged point follow it, by the smooth \
+                     falloff of their distance (O; the wheel changes the radius while dragging)",
+                );
+            ui.add(
+                egui::DragValue::new(&mut self.proportional_radius)
+                    .speed(0.01)
+                    .range(1e-6..=1e9)
+                    .prefix("radius "),
+            );
+        });
     }
 
     /// The weight of the selected points (a rational surface results).

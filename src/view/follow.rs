@@ -1,6 +1,10 @@
-//! Mirror editing (Blender's X / Y / Z mirror in edit mode): while points are dragged, the
-//! points at their mirror images across the planes x = 0, y = 0, z = 0 of the enabled axes
-//! move by the mirrored offset, and a point on such a plane stays on it.
+//! The points that follow a drag besides the dragged ones, as in Blender's edit mode.
+//!
+//! - Mirror editing (X / Y / Z mirror): the points at the dragged points' mirror images across
+//!   the planes x = 0, y = 0, z = 0 of the enabled axes move by the mirrored offset, and a
+//!   point on such a plane stays on it.
+//! - Proportional editing: every point within the radius of a dragged point moves by that
+//!   point's offset times the smooth falloff of its distance.
 
 use glam::DVec3;
 
@@ -77,8 +81,78 @@ pub fn kept_on_planes(start: DVec3, delta: DVec3, axes: [bool; 3], tolerance: f6
     out
 }
 
+/// Blender's Smooth falloff at `distance` of a radius `radius`: 3s² − 2s³ with
+/// s = 1 − distance / radius, 1 at the dragged point and 0 from the radius out.
+pub fn smooth_falloff(distance: f64, radius: f64) -> f64 {
+    if !(radius > 0.0) || distance >= radius {
+        return 0.0;
+    }
+    let s = 1.0 - distance / radius;
+    s * s * (3.0 - 2.0 * s)
+}
+
+/// A point that proportional editing moves with a dragged one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Falloff {
+    pub point: usize,
+    /// The nearest dragged point, whose offset it takes a share of.
+    pub source: usize,
+    pub weight: f64,
+}
+
+/// The points within `radius` of a `dragged` point (not dragged themselves), each with its
+/// nearest dragged point and the smooth falloff of the distance to it.
+pub fn falloff(points: &[DVec3], dragged: &[usize], radius: f64) -> Vec<Falloff> {
+    let sources: Vec<(usize, DVec3)> = dragged
+        .iter()
+        .filter_map(|&k| Some((k, *points.get(k)?)))
+        .collect();
+    (0..points.len())
+        .filter(|j| !dragged.contains(j))
+        .filter_map(|point| {
+            let (source, distance) = sources
+                .iter()
+                .map(|&(k, p)| (k, p.distance(points[point])))
+                .min_by(|a, b| a.1.total_cmp(&b.1))?;
+            let weight = smooth_falloff(distance, radius);
+            (weight > 0.0).then_some(Falloff {
+                point,
+                source,
+                weight,
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn the_falloff_is_smooth_from_one_to_zero_at_the_radius() {
+        use super::*;
+        assert_eq!(smooth_falloff(0.0, 2.0), 1.0);
+        assert_eq!(smooth_falloff(1.0, 2.0), 0.5);
+        assert_eq!(smooth_falloff(2.0, 2.0), 0.0);
+        assert_eq!(smooth_falloff(0.5, 0.0), 0.0);
+        let points: Vec<DVec3> = (0..5).map(|k| DVec3::new(f64::from(k), 0.0, 0.0)).collect();
+        // Dragging 0 and 4 with radius 2: 1 and 3 follow by half, 2 by nothing.
+        let found = falloff(&points, &[0, 4], 2.0);
+        assert_eq!(
+            found,
+            [
+                Falloff {
+                    point: 1,
+                    source: 0,
+                    weight: 0.5
+                },
+                Falloff {
+                    point: 3,
+                    source: 4,
+                    weight: 0.5
+                }
+            ]
+        );
+    }
+
     use super::*;
 
     #[test]
