@@ -173,6 +173,16 @@ impl KnotworkApp {
             {
                 self.select_cage_points(cage.linked(&selected));
             }
+            let creased = !cage.creases.is_empty() || !cage.corners.is_empty();
+            if ui
+                .add_enabled(creased, egui::Button::new("Creased"))
+                .on_hover_text("the points of every creased edge and every sharp point")
+                .on_disabled_hover_text("the cage has no creases or sharp points")
+                .clicked()
+            {
+                let points = cage.creases.iter().flat_map(|c| [c.a, c.b]);
+                self.select_cage_points(points.chain(cage.corners.iter().map(|c| c.vertex)));
+            }
         });
         let mut chosen: Option<(Tool, After)> = None;
         let t = &mut self.cage_tools;

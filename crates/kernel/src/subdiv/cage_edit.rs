@@ -114,13 +114,17 @@ impl Cage {
         }
     }
 
-    fn check_edge(&self, a: u32, b: u32) -> Result<(), CageEditError> {
+    /// Refuses a vertex outside the cage, or a pair of vertices no face joins (`half`: the
+    /// cage's [`Self::half_edges`]).
+    fn check_edge(
+        &self,
+        half: &HashMap<(u32, u32), (usize, usize)>,
+        a: u32,
+        b: u32,
+    ) -> Result<(), CageEditError> {
         self.check_vertex(a)?;
         self.check_vertex(b)?;
-        let found = self.faces.iter().any(|face| {
-            (0..face.len()).any(|c| key(face[c], face[(c + 1) % face.len()]) == key(a, b))
-        });
-        if found {
+        if half.contains_key(&(a, b)) || half.contains_key(&(b, a)) {
             Ok(())
         } else {
             Err(CageEditError::NoEdge(a, b))
@@ -467,7 +471,7 @@ impl Cage {
     /// an end of an open ring that is not a quad takes the new points into its edge. A crease
     /// on a ring edge goes to each of its pieces.
     pub fn loop_cut(&self, a: u32, b: u32, cuts: u32) -> Result<Self, CageEditError> {
-        self.check_edge(a, b)?;
+        self.check_edge(&self.half_edges(), a, b)?;
         if cuts == 0 || cuts > 1000 {
             return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
         }
@@ -640,7 +644,7 @@ impl Cage {
             f
         }
         for &(a, b) in edges {
-            self.check_edge(a, b)?;
+            self.check_edge(&half, a, b)?;
             let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
                 return Err(invalid(format!(
                     "edge {a}-{b} is on the cage's border: there is no second face to join"
@@ -775,7 +779,7 @@ impl Cage {
         for loop_ in [first, second] {
             for i in 0..loop_.len() {
                 let (a, b) = (loop_[i], loop_[(i + 1) % loop_.len()]);
-                self.check_edge(a, b)?;
+                self.check_edge(&half, a, b)?;
                 if !seen.insert(a) {
                     return Err(invalid(format!("vertex {a} is named twice in the loops")));
                 }
@@ -1042,7 +1046,7 @@ impl Cage {
         let half = self.half_edges();
         let mut beveled: HashSet<(u32, u32)> = HashSet::new();
         for &(a, b) in edges {
-            self.check_edge(a, b)?;
+            self.check_edge(&half, a, b)?;
             if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
                 return Err(invalid(format!(
                     "edge {a}-{b} is on the cage's border: a bevel needs a face on each side"
