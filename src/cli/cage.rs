@@ -72,6 +72,11 @@ pub enum CageTool {
         #[arg(long)]
         faces: String,
     },
+    /// Poke faces: each a fan of triangles round its weighted centre.
+    Poke {
+        #[arg(long)]
+        faces: String,
+    },
     /// Mirror the cage across the plane through the origin square to an axis, welding the
     /// points within the merge distance of the plane to their images.
     Mirror {
@@ -192,6 +197,9 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             edges: edge_pairs(edges)?,
         },
         CageTool::Delete { faces } => Tool::Delete {
+            faces: face_list(faces)?,
+        },
+        CageTool::Poke { faces } => Tool::Poke {
             faces: face_list(faces)?,
         },
         CageTool::Mirror {

@@ -13,7 +13,7 @@ use crate::scene::{ObjectGeometry, Scene, SceneObject};
 /// `{"op": "cage", "object": k, "tool": {"extrude": {"faces": [0, 1], "offset": 0.5}}}`; the
 /// tools are `extrude`, `inset` (`individual`), `loop-cut` (`edge`: [a, b], `cuts`), `bevel`
 /// (`edges`: [[a, b], …], `width`, `segments`), `bridge` (`loop1`, `loop2`), `merge`
-/// (`vertices`, `at_first`), `dissolve` (`edges`), `delete` (`faces`) and `mirror` (`axis`
+/// (`vertices`, `at_first`), `dissolve` (`edges`), `delete` and `poke` (`faces`), and `mirror` (`axis`
 /// 0 to 2, `merge_distance`), with faces and vertices by their index in the cage.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -80,7 +80,7 @@ impl OperationParams for CageEdit {
 pub const ENTRY: OperationEntry = OperationEntry {
     own_panel: true,
     ..entry::<CageEdit>(
-        "a subdivision cage edited: extrude, inset, loop cut, bevel, bridge, merge, dissolve, delete or mirror",
+        "a subdivision cage edited: extrude, inset, loop cut, bevel, bridge, merge, dissolve, delete, poke or mirror",
         |_, _| None,
     )
 };

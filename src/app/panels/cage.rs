@@ -336,6 +336,19 @@ impl KnotworkApp {
                 ));
             }
             if ui
+                .add_enabled(!faces.is_empty(), egui::Button::new("Poke faces"))
+                .on_hover_text("each selected face a fan of triangles round its centre")
+                .on_disabled_hover_text(need_faces)
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::Poke {
+                        faces: faces.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if ui
                 .add_enabled(!faces.is_empty(), egui::Button::new("Delete faces"))
                 .on_hover_text("the selected faces removed (points no face uses go too)")
                 .on_disabled_hover_text(need_faces)

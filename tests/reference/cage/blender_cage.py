@@ -154,6 +154,8 @@ def apply(bm, op, args):
     elif op == "delete":
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         bmesh.ops.delete(bm, geom=faces, context="FACES")
+    elif op == "poke":
+        bmesh.ops.poke(bm, faces=[bm.faces[i] for i in ints(opt["faces"])])
     elif op == "mirror":
         # The Mirror modifier applied: bmesh's mirror welds the points within the distance
         # of the plane; the copies' faces are turned to agree with the originals.
@@ -317,6 +319,9 @@ CASES = [
     ("grid!", "mirror --axis y --merge-distance 0.01"),
     ("tube!", "mirror --axis z --merge-distance 0.01"),
     ("box", "mirror --axis z"),
+    ("frustum", "poke --faces 0,2"),
+    ("cap6", "poke --faces 0,6,12"),
+    ("torus", "poke --faces 3,4,10"),
 ]
 
 

@@ -1412,6 +1412,8 @@ pub enum Tool {
     Dissolve { edges: Vec<[u32; 2]> },
     /// [`Cage::delete_faces`].
     Delete { faces: Vec<usize> },
+    /// [`Cage::poke_faces`].
+    Poke { faces: Vec<usize> },
     /// [`Cage::mirror`] across the plane through the origin square to axis 0, 1 or 2 (x, y,
     /// z).
     Mirror {
@@ -1441,6 +1443,7 @@ impl Tool {
             Self::Dissolve { .. } => "Dissolve",
             Self::Delete { .. } => "Delete",
             Self::Mirror { .. } => "Mirror",
+            Self::Poke { .. } => "Poke",
         }
     }
 }
@@ -1475,11 +1478,40 @@ impl Cage {
                 axis,
                 merge_distance,
             } => self.mirror(usize::from(*axis), *merge_distance),
+            Tool::Poke { faces } => self.poke_faces(faces),
         }
     }
 }
 
 impl Cage {
+    /// Poke faces (Blender's Poke Faces, weighted mean centre): each face becomes a fan of
+    /// triangles round a new point at its corners' mean weighted by the lengths of each
+    /// corner's two edges. Triangle k runs from corner k to corner k + 1 and the centre; the
+    /// first takes the face's index, the others and the centres follow in face order.
+    pub fn poke_faces(&self, faces: &[usize]) -> Result<Self, CageEditError> {
+        let faces = self.check_faces(faces)?;
+        let mut out = self.clone();
+        for &f in &faces {
+            let face = &self.faces[f];
+            let n = face.len();
+            let p = |k: usize| self.points[face[k % n] as usize];
+            let (mut sum, mut total) = (DVec3::ZERO, 0.0);
+            for k in 0..n {
+                let weight = p(k).distance(p(k + n - 1)) + p(k).distance(p(k + 1));
+                sum += p(k) * weight;
+                total += weight;
+            }
+            let centre = if total > 0.0 { sum / total } else { p(0) };
+            let c = out.points.len() as u32;
+            out.points.push(centre);
+            out.faces[f] = vec![face[0], face[1 % n], c];
+            for k in 1..n {
+                out.faces.push(vec![face[k], face[(k + 1) % n], c]);
+            }
+        }
+        Ok(out)
+    }
+
     /// Mirror (Blender's Mirror modifier applied, with Merge): the whole cage is copied
     /// across the plane through the origin square to `axis` (0, 1, 2: x, y, z), the copies'
     /// faces turned so that the two halves agree, and each point within `merge_distance` of
@@ -1784,6 +1816,25 @@ mod tests {
             volume(&closed)
         );
         assert!(boxed.mirror(3, 0.0).is_err() && boxed.mirror(0, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn poking_every_face_of_a_box_keeps_its_volume_and_makes_four_triangles_a_face() {
+        let cube = super::super::cages::cube(DVec3::new(0.3, -2.0, 5.0), 1.7).unwrap();
+        let boxed = Cage {
+            points: cube.points().to_vec(),
+            faces: cube.faces().map(<[u32]>::to_vec).collect(),
+            ..Cage::default()
+        };
+        let poked = boxed.poke_faces(&[0, 1, 2, 3, 4, 5]).unwrap();
+        check_cage(&poked);
+        assert_eq!((poked.points.len(), poked.faces.len()), (14, 24));
+        assert!(poked.faces.iter().all(|f| f.len() == 3));
+        assert_eq!(euler(&poked), 2);
+        assert!((volume(&poked) - 1.7f64.powi(3)).abs() < 1e-12);
+        // Each centre is its square face's middle (equal weights).
+        let middle = (0..4).map(|k| cube.points()[cube.faces().next().unwrap()[k] as usize]);
+        assert!((poked.points[8] - middle.sum::<DVec3>() / 4.0).length() < 1e-12);
     }
 
     #[test]
