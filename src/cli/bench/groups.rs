@@ -2803,8 +2803,39 @@ fn bench_cage_tools(
         Tool::Dissolve {
             edges: vec![[f[1], f[2]]],
         },
+        // A whole edge loop round the tube (100 edges through vertices of four edges).
+        Tool::Bevel {
+            edges: cage
+                .edge_loop(f[0], f[3])?
+                .into_iter()
+                .map(|(a, b)| [a, b])
+                .collect(),
+            width: 0.01,
+            segments: 2,
+        },
+        Tool::Poke {
+            faces: vec![5050, 5051, 5150, 5151],
+        },
+        Tool::Mirror {
+            axis: 0,
+            merge_distance: 0.0,
+        },
     ];
     let runs = iterations.clamp(3, 20);
+    // Selection on the same cage: the loop through an edge, and Select More of it.
+    let (loop_ms, edges) = median_ms(runs, || cage.edge_loop(f[0], f[1]))?;
+    let selected: std::collections::BTreeSet<u32> =
+        edges.iter().flat_map(|&(a, b)| [a, b]).collect();
+    let (grow_ms, grown) = median_ms(runs, || {
+        Ok::<_, std::convert::Infallible>(cage.grown(&selected))
+    })?;
+    writeln!(
+        out,
+        "cage select on 10,000 faces: edge loop {loop_ms:.2} ms ({} edges), more {grow_ms:.2} ms \
+         ({} points)",
+        edges.len(),
+        grown.len()
+    )?;
     let surface = SubdivisionSurface::from_mesh(mesh.clone(), 2)?;
     let scene = knotwork::scene::Scene {
         objects: vec![knotwork::scene::SceneObject::new(
