@@ -734,6 +734,28 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     assert_eq!(harness.state().document().scene.objects[0], subdivided);
 }
 
+/// Drags the handle at `at` by `by` with the mouse and checks that it made one undo step;
+/// returns object 0's control points after it.
+fn drag_as_one_step(
+    harness: &mut Harness<'_, KnotworkApp>,
+    at: Pos2,
+    by: egui::Vec2,
+) -> Vec<glam::DVec3> {
+    let steps = status::current().undo_steps;
+    harness.hover_at(at);
+    harness.run_steps(1);
+    let end = drag_from(harness, at, by, 4);
+    press(harness, end, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    harness.state().document().scene.objects[0].control_points()
+}
+
 #[test]
 fn with_x_mirror_editing_a_dragged_cage_point_moves_its_image_across_the_plane() {
     let _turn = ONE_EDITOR_AT_A_TIME
@@ -753,19 +775,7 @@ fn with_x_mirror_editing_a_dragged_cage_point_moves_its_image_across_the_plane()
         .find(|&j| before[j].distance(image) < 1e-9)
         .expect("the point's image across x = 0");
     click_label(&mut harness, "X mirror");
-    let steps = status::current().undo_steps;
-    harness.hover_at(at);
-    harness.run_steps(1);
-    let end = drag_from(&mut harness, at, egui::vec2(14.0, -9.0), 4);
-    press(&harness, end, false);
-    harness.run_steps(2);
-    let s = status::current();
-    assert_eq!(
-        (s.error.as_deref(), s.undo_steps),
-        (None, steps + 1),
-        "{s:?}"
-    );
-    let after = harness.state().document().scene.objects[0].control_points();
+    let after = drag_as_one_step(&mut harness, at, egui::vec2(14.0, -9.0));
     let moved = after[index] - before[index];
     assert!(moved.length() > 1e-3, "{moved}");
     let mirrored = after[partner] - before[partner];
@@ -804,19 +814,7 @@ fn with_proportional_editing_points_near_a_dragged_one_follow_by_the_smooth_fall
     click_label(&mut harness, "Subdivide");
     let before = harness.state().document().scene.objects[0].control_points();
     key(&mut harness, Key::O, Modifiers::NONE);
-    let steps = status::current().undo_steps;
-    harness.hover_at(at);
-    harness.run_steps(1);
-    let end = drag_from(&mut harness, at, egui::vec2(10.0, -12.0), 4);
-    press(&harness, end, false);
-    harness.run_steps(2);
-    let s = status::current();
-    assert_eq!(
-        (s.error.as_deref(), s.undo_steps),
-        (None, steps + 1),
-        "{s:?}"
-    );
-    let after = harness.state().document().scene.objects[0].control_points();
+    let after = drag_as_one_step(&mut harness, at, egui::vec2(10.0, -12.0));
     let moved = after[index] - before[index];
     assert!(moved.length() > 1e-3, "{moved}");
     let mut followed = 0;

@@ -62,6 +62,14 @@ pub fn cage_of(object: &crate::scene::SceneObject) -> Option<Cage> {
     })
 }
 
+/// A tool's button: clicked, and enabled or greyed out with what to select.
+fn tool_button(ui: &mut egui::Ui, enabled: bool, label: &str, hover: &str, disabled: &str) -> bool {
+    ui.add_enabled(enabled, egui::Button::new(label))
+        .on_hover_text(hover)
+        .on_disabled_hover_text(disabled)
+        .clicked()
+}
+
 /// Why a tool of one edge is greyed out.
 const NEED_EDGE: &str = "select one edge (its two points)";
 
@@ -133,21 +141,23 @@ impl KnotworkApp {
         ui.horizontal_wrapped(|ui| {
             ui.label("Select:");
             let enabled = one_edge.is_some();
-            if ui
-                .add_enabled(enabled, egui::Button::new("Loop"))
-                .on_hover_text("the edge loop through the selected edge")
-                .on_disabled_hover_text(NEED_EDGE)
-                .clicked()
-                && let Some((a, b)) = one_edge
+            if tool_button(
+                ui,
+                enabled,
+                "Loop",
+                "the edge loop through the selected edge",
+                NEED_EDGE,
+            ) && let Some((a, b)) = one_edge
             {
                 self.select_edge_loop(&cage, a, b, false, false);
             }
-            if ui
-                .add_enabled(enabled, egui::Button::new("Ring"))
-                .on_hover_text("the edge ring through the selected edge")
-                .on_disabled_hover_text(NEED_EDGE)
-                .clicked()
-                && let Some((a, b)) = one_edge
+            if tool_button(
+                ui,
+                enabled,
+                "Ring",
+                "the edge ring through the selected edge",
+                NEED_EDGE,
+            ) && let Some((a, b)) = one_edge
             {
                 self.select_edge_loop(&cage, a, b, true, false);
             }
@@ -174,12 +184,13 @@ impl KnotworkApp {
                 self.select_cage_points(cage.linked(&selected));
             }
             let creased = !cage.creases.is_empty() || !cage.corners.is_empty();
-            if ui
-                .add_enabled(creased, egui::Button::new("Creased"))
-                .on_hover_text("the points of every creased edge and every sharp point")
-                .on_disabled_hover_text("the cage has no creases or sharp points")
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                creased,
+                "Creased",
+                "the points of every creased edge and every sharp point",
+                "the cage has no creases or sharp points",
+            ) {
                 let points = cage.creases.iter().flat_map(|c| [c.a, c.b]);
                 self.select_cage_points(points.chain(cage.corners.iter().map(|c| c.vertex)));
             }
@@ -189,12 +200,13 @@ impl KnotworkApp {
         let need_faces = "select faces (all their points)";
         let need_edges = "select edges (both their points)";
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(!faces.is_empty(), egui::Button::new("Extrude faces"))
-                .on_hover_text("the selected faces lifted along their average normal, with sides")
-                .on_disabled_hover_text(need_faces)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !faces.is_empty(),
+                "Extrude faces",
+                "the selected faces lifted along their average normal, with sides",
+                need_faces,
+            ) {
                 chosen = Some((
                     Tool::Extrude {
                         faces: faces.clone(),
@@ -210,12 +222,13 @@ impl KnotworkApp {
             );
         });
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(!faces.is_empty(), egui::Button::new("Inset faces"))
-                .on_hover_text("a strip of new faces inside the selected faces' border")
-                .on_disabled_hover_text(need_faces)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !faces.is_empty(),
+                "Inset faces",
+                "a strip of new faces inside the selected faces' border",
+                need_faces,
+            ) {
                 chosen = Some((
                     Tool::Inset {
                         faces: faces.clone(),
@@ -234,12 +247,13 @@ impl KnotworkApp {
             ui.checkbox(&mut t.individual, "each face");
         });
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(one_edge.is_some(), egui::Button::new("Loop cut"))
-                .on_hover_text("cuts across the edge ring through the selected edge")
-                .on_disabled_hover_text(NEED_EDGE)
-                .clicked()
-                && let Some((a, b)) = one_edge
+            if tool_button(
+                ui,
+                one_edge.is_some(),
+                "Loop cut",
+                "cuts across the edge ring through the selected edge",
+                NEED_EDGE,
+            ) && let Some((a, b)) = one_edge
             {
                 chosen = Some((
                     Tool::LoopCut {
@@ -256,12 +270,13 @@ impl KnotworkApp {
             );
         });
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(!edges.is_empty(), egui::Button::new("Bevel edges"))
-                .on_hover_text("the selected edges rounded into bands of faces")
-                .on_disabled_hover_text(need_edges)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !edges.is_empty(),
+                "Bevel edges",
+                "the selected edges rounded into bands of faces",
+                need_edges,
+            ) {
                 chosen = Some((
                     Tool::Bevel {
                         edges: edges.iter().map(|&(a, b)| [a, b]).collect(),
@@ -285,12 +300,13 @@ impl KnotworkApp {
         });
         ui.horizontal_wrapped(|ui| {
             let loops = cage.closed_loops(&edges).ok().filter(|l| l.len() == 2);
-            if ui
-                .add_enabled(loops.is_some(), egui::Button::new("Bridge loops"))
-                .on_hover_text("faces between the two selected edge loops")
-                .on_disabled_hover_text("select two closed edge loops (border loops)")
-                .clicked()
-                && let Some(loops) = loops
+            if tool_button(
+                ui,
+                loops.is_some(),
+                "Bridge loops",
+                "faces between the two selected edge loops",
+                "select two closed edge loops (border loops)",
+            ) && let Some(loops) = loops
             {
                 chosen = Some((
                     Tool::Bridge {
@@ -300,12 +316,13 @@ impl KnotworkApp {
                     After::Nothing,
                 ));
             }
-            if ui
-                .add_enabled(selected.len() >= 2, egui::Button::new("Merge points"))
-                .on_hover_text("the selected points made one")
-                .on_disabled_hover_text("select two or more points")
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                selected.len() >= 2,
+                "Merge points",
+                "the selected points made one",
+                "select two or more points",
+            ) {
                 let mut vertices: Vec<u32> = selected.iter().copied().collect();
                 let last = self.selection.edit_point as u32;
                 if let Some(k) = vertices.iter().position(|&v| v == last) {
@@ -322,12 +339,13 @@ impl KnotworkApp {
             ui.checkbox(&mut t.merge_at_last, "at the last clicked");
         });
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .add_enabled(!edges.is_empty(), egui::Button::new("Dissolve edges"))
-                .on_hover_text("the faces each side of the selected edges made one")
-                .on_disabled_hover_text(need_edges)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !edges.is_empty(),
+                "Dissolve edges",
+                "the faces each side of the selected edges made one",
+                need_edges,
+            ) {
                 chosen = Some((
                     Tool::Dissolve {
                         edges: edges.iter().map(|&(a, b)| [a, b]).collect(),
@@ -335,12 +353,13 @@ impl KnotworkApp {
                     After::Nothing,
                 ));
             }
-            if ui
-                .add_enabled(!faces.is_empty(), egui::Button::new("Poke faces"))
-                .on_hover_text("each selected face a fan of triangles round its centre")
-                .on_disabled_hover_text(need_faces)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !faces.is_empty(),
+                "Poke faces",
+                "each selected face a fan of triangles round its centre",
+                need_faces,
+            ) {
                 chosen = Some((
                     Tool::Poke {
                         faces: faces.clone(),
@@ -348,12 +367,13 @@ impl KnotworkApp {
                     After::Nothing,
                 ));
             }
-            if ui
-                .add_enabled(!faces.is_empty(), egui::Button::new("Delete faces"))
-                .on_hover_text("the selected faces removed (points no face uses go too)")
-                .on_disabled_hover_text(need_faces)
-                .clicked()
-            {
+            if tool_button(
+                ui,
+                !faces.is_empty(),
+                "Delete faces",
+                "the selected faces removed (points no face uses go too)",
+                need_faces,
+            ) {
                 chosen = Some((
                     Tool::Delete {
                         faces: faces.clone(),
