@@ -314,27 +314,29 @@ impl KnotworkApp {
                 follow::kept_on_planes(p, delta, axes, drag.tolerance)
             })
         };
-        let follows = |k: usize| {
-            drag.partners.iter().any(|p| p.point == k) || drag.falloff.iter().any(|f| f.point == k)
-        };
-        let mut offsets: Vec<(usize, DVec3)> = starts
+        let follows: std::collections::HashSet<usize> = drag
+            .partners
             .iter()
-            .filter(|(k, _)| !follows(*k))
+            .map(|p| p.point)
+            .chain(drag.falloff.iter().map(|f| f.point))
+            .collect();
+        let mut offsets: std::collections::HashMap<usize, DVec3> = starts
+            .iter()
+            .filter(|(k, _)| !follows.contains(k))
             .map(|&(k, _)| (k, offset_of(k)))
             .collect();
         for partner in &drag.partners {
-            offsets.push((
+            offsets.insert(
                 partner.point,
                 follow::flipped(offset_of(partner.source), partner.flip),
-            ));
+            );
         }
-        let offset_by = |k: usize| offsets.iter().find(|(j, _)| *j == k).map(|&(_, o)| o);
         let mut moves: Vec<(usize, DVec3)> = offsets
             .iter()
-            .filter_map(|&(k, o)| Some((k, start_of(k)? + o)))
+            .filter_map(|(&k, &o)| Some((k, start_of(k)? + o)))
             .collect();
         for f in &drag.falloff {
-            if let (Some(p), Some(o)) = (start_of(f.point), offset_by(f.source)) {
+            if let (Some(p), Some(&o)) = (start_of(f.point), offsets.get(&f.source)) {
                 moves.push((f.point, p + o * f.weight));
             }
         }

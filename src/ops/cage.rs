@@ -43,14 +43,7 @@ impl OperationParams for CageEdit {
                 message: format!("{:?} is not a subdivision surface", object.name),
             });
         };
-        let mesh = subdiv.surface.mesh();
-        let cage = Cage {
-            points: mesh.points().to_vec(),
-            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
-            creases: subdiv.surface.creases().to_vec(),
-            corners: subdiv.surface.corners().to_vec(),
-        };
-        let edited = cage
+        let edited = Cage::of_surface(&subdiv.surface)
             .apply(&self.tool)
             .map_err(|e| EditError::BadParameter {
                 operation: Self::NAME,

@@ -52,14 +52,7 @@ impl Default for CageToolSettings {
 
 /// The cage of a subdivision surface, as the tools take it.
 pub fn cage_of(object: &crate::scene::SceneObject) -> Option<Cage> {
-    let subdiv = object.geometry.as_subdivision()?;
-    let mesh = subdiv.surface.mesh();
-    Some(Cage {
-        points: mesh.points().to_vec(),
-        faces: mesh.faces().map(<[u32]>::to_vec).collect(),
-        creases: subdiv.surface.creases().to_vec(),
-        corners: subdiv.surface.corners().to_vec(),
-    })
+    Some(Cage::of_surface(&object.geometry.as_subdivision()?.surface))
 }
 
 /// A tool's button: clicked, and enabled or greyed out with what to select.

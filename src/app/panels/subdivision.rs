@@ -181,6 +181,7 @@ impl KnotworkApp {
         let edges = self
             .selection
             .object
+            .filter(|_| points.len() >= 2)
             .and_then(|s| self.scene().objects.get(s))
             .and_then(super::cage::cage_of)
             .map(|cage| cage.edges_within(&points.iter().copied().collect()))

@@ -79,6 +79,17 @@ fn even_offset_factor(a: DVec3, b: DVec3) -> f64 {
 }
 
 impl Cage {
+    /// The cage of subdivision surface `surface`: its points, faces, creases and corners.
+    pub fn of_surface(surface: &super::SubdivisionSurface) -> Self {
+        let mesh = surface.mesh();
+        Self {
+            points: mesh.points().to_vec(),
+            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
+            creases: surface.creases().to_vec(),
+            corners: surface.corners().to_vec(),
+        }
+    }
+
     /// The half-edges: (from, to) ↦ (face, corner of `from`).
     fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
         let mut map = HashMap::with_capacity(self.faces.iter().map(Vec::len).sum());
