@@ -322,6 +322,23 @@ CASES = [
     ("frustum", "poke --faces 0,2"),
     ("cap6", "poke --faces 0,6,12"),
     ("torus", "poke --faces 3,4,10"),
+    # Corners of three or more beveled edges with several segments: Blender's corner mesh
+    # (a sphere octant where three faces meet nearly square, the general mesh refined by
+    # Catmull-Clark steps, the pipe where two beveled edges run on in line).
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0,4-5,5-7,7-6,6-4,0-4,1-5,2-6,3-7 --width 0.2U --segments 2"),
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0,4-5,5-7,7-6,6-4,0-4,1-5,2-6,3-7 --width 0.15U --segments 3"),
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0,4-5,5-7,7-6,6-4,0-4,1-5,2-6,3-7 --width 0.25U --segments 5"),
+    ("box", "bevel --edges 0-1,0-2,0-4 --width 0.3U --segments 4"),
+    ("prism", "bevel --edges 0-1,1-2,2-0,3-4,4-5,5-3,0-3,1-4,2-5 --width 0.1U --segments 3"),
+    ("frustum", "bevel --edges 4-5,5-6,5-1 --width 0.1U --segments 5"),
+    ("torus", "bevel --edges 0-1,0-6,0-5 --width 0.1U --segments 3"),
+    ("torus", "bevel --edges 0-1,0-6,0-5,0-42 --width 0.1U --segments 2"),
+    ("cap5", "bevel --edges 4-9,0-4,3-4 --width 0.05U --segments 4"),
+    ("cap5", "bevel --edges 0-1,0-10,0-5 --width 0.05U --segments 3"),
+    ("cap6", "bevel --edges 12-0,12-1,12-3,12-4 --width 0.1U --segments 3"),
+    ("cap6", "bevel --edges 12-0,12-1,12-2,12-3,12-4,12-5 --width 0.1U --segments 4"),
+    ("cap6", "bevel --edges 2-3,1-2,8-9,2-12,9-13,3-9,2-8 --width 0.15U --segments 3"),
+    ("grid", "bevel --edges 1-6,6-7,5-6,6-11 --width 0.05U --segments 5"),
 ]
 
 

@@ -19,7 +19,7 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use glam::DVec3;
 use thiserror::Error;
 
-use super::{Corner, Crease};
+use super::{Corner, Crease, bevel_corner};
 
 /// Why a cage tool refused.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -931,6 +931,67 @@ impl Profile {
         }
     }
 
+    /// The profile of a side of a corner of three or more beveled edges, from `a` to `b`
+    /// across the edge along `along` from the vertex. Its middle is the edge line's point
+    /// nearest the line a–b; where that lies within 2° of the line a–b, it is where the lines
+    /// through a and b along the edges before and after round the vertex meet where both are
+    /// beveled (`sides`), else the vertex, and the profile is straight where those lines are
+    /// parallel or the middle still lies on the line (Blender's profile for a corner's side).
+    fn corner_side(
+        a: DVec3,
+        b: DVec3,
+        vertex: DVec3,
+        along: DVec3,
+        sides: Option<(DVec3, DVec3)>,
+    ) -> Self {
+        let nearly_straight = std::f64::consts::PI - 2f64.to_radians();
+        let flat = |m: DVec3| {
+            let angle = (a - m).angle_between(b - m);
+            !(angle < nearly_straight && angle > 2f64.to_radians())
+        };
+        let straight = Self {
+            a,
+            b,
+            centre: a,
+            carry: None,
+            straight: true,
+        };
+        let mut middle = nearest_on_line(vertex, along, a, b - a).unwrap_or(vertex);
+        if flat(middle) {
+            middle = vertex;
+            if let Some((before, after)) = sides {
+                let parallel = before.angle_between(after);
+                if parallel < 2f64.to_radians() || parallel > nearly_straight {
+                    return straight;
+                }
+                match nearest_on_line(a, before, b, after) {
+                    Some(meet) => middle = meet,
+                    None => return straight,
+                }
+            }
+            if flat(middle) {
+                return straight;
+            }
+        }
+        Self {
+            a,
+            b,
+            centre: a + b - middle,
+            carry: None,
+            straight: false,
+        }
+    }
+
+    /// The corner of the parallelogram the arc is drawn in (its middle's control point), or
+    /// the midpoint of a straight profile.
+    fn middle(&self) -> DVec3 {
+        if self.straight {
+            self.a.midpoint(self.b)
+        } else {
+            self.a + self.b - self.centre
+        }
+    }
+
     /// The arc's point at `t` in [0, 1] (φ = π/2 · t).
     fn at(&self, t: f64) -> DVec3 {
         if self.straight {
@@ -944,6 +1005,14 @@ impl Profile {
             None => q,
         }
     }
+}
+
+/// The point of the line p + s·d nearest the line q + t·e, or `None` where they are parallel.
+fn nearest_on_line(p: DVec3, d: DVec3, q: DVec3, e: DVec3) -> Option<DVec3> {
+    let w = p - q;
+    let (dd, de, ee) = (d.dot(d), d.dot(e), e.dot(e));
+    let denominator = dd * ee - de * de;
+    (denominator > 1e-12 * dd * ee).then(|| p + d * ((de * e.dot(w) - ee * d.dot(w)) / denominator))
 }
 
 /// Where the offset lines of two beveled edges meet across the unbeveled edges between them
@@ -1071,6 +1140,39 @@ impl Cage {
         let p = |v: u32| self.points[v as usize];
         let dir = |v: u32, x: u32| (p(x) - p(v)).normalize_or_zero();
         let is_beveled = |v: u32, x: u32| beveled.contains(&key(v, x));
+        // Blender's order of the edges round a vertex starts at the beveled edge created
+        // first (edges are created face by face, each face's from its closing edge on) and
+        // runs counter-clockwise when the edge after it was created before the edge before
+        // it; otherwise it runs the other way and is turned round, starting at the edge after
+        // it. Its corner mesh takes the cube corner only where that first edge is beveled (it
+        // compares every beveled edge's offset with that edge's), and its first side is the
+        // one across the first beveled edge after the first beveled edge of that order.
+        let created: std::cell::OnceCell<HashMap<(u32, u32), usize>> = std::cell::OnceCell::new();
+        let blender_first_edge = |v: u32, around: &[(usize, u32, u32)]| -> Option<u32> {
+            let created = created.get_or_init(|| {
+                let mut order = HashMap::new();
+                for face in &self.faces {
+                    for c in 0..face.len() {
+                        let next = order.len();
+                        order
+                            .entry(key(face[(c + face.len() - 1) % face.len()], face[c]))
+                            .or_insert(next);
+                    }
+                }
+                order
+            });
+            let rank = |x: u32| created.get(&key(v, x)).copied().unwrap_or(usize::MAX);
+            let n = around.len();
+            let m = (0..n)
+                .filter(|&m| is_beveled(v, around[m].2))
+                .min_by_key(|&m| rank(around[m].2))?;
+            let (after, before) = (around[m].1, around[(m + 1) % n].2);
+            Some(if rank(after) < rank(before) {
+                around[m].2
+            } else {
+                after
+            })
+        };
         let mut out = self.clone();
         // Each end's new corner points: per face (a meet point) or per edge (a point on it).
         let mut face_point: HashMap<(u32, usize), u32> = HashMap::new();
@@ -1080,6 +1182,8 @@ impl Cage {
         // The arcs: between two corner points (lower id first), ends included.
         let mut arcs: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
         let mut corner_faces = Vec::new();
+        // The faces of corner meshes.
+        let mut mesh_faces: Vec<Vec<u32>> = Vec::new();
         let mut terminals = Vec::new();
         for &v in &ends {
             let Some(&start) = self
@@ -1139,14 +1243,6 @@ impl Cage {
             let terminal = closed && count == 1 && valence >= 4;
             // Three or more beveled edges at a corner with more than one segment would need
             // Blender's corner mesh (its "adj" vertex mesh), which is not built.
-            let supported = (closed && (count <= 2 || segments == 1)) || border_end;
-            if !supported {
-                return Err(invalid(format!(
-                    "vertex {v} has {count} beveled edges and the bevel has {segments} \
-                     segments: corners of three or more beveled edges are built with one \
-                     segment"
-                )));
-            }
             // Points for unbeveled edges. With one beveled edge: on each edge beside it, where
             // its offset line in their face meets that edge. Between two beveled edges round
             // the vertex: one point for all the unbeveled edges between them, where the two
@@ -1233,6 +1329,171 @@ impl Cage {
                     (false, false) => None,
                 }
             };
+            // Three or more beveled edges with more than one segment: Blender's corner mesh,
+            // whose border gives the bands' arcs at this end.
+            let mut corner_mesh = false;
+            if closed && count >= 3 && segments > 1 {
+                let n = valence;
+                // The crossings of the beveled edges, against the fan's order (Blender's
+                // counter-clockwise order): from the point of the face after the edge to the
+                // point of the face before it, with the edge's far end and the fan index.
+                let mut crossings: Vec<(u32, u32, u32, usize)> = Vec::new();
+                for m in (0..n).rev() {
+                    let (f, a, b) = around[m];
+                    if !is_beveled(v, b) {
+                        continue;
+                    }
+                    let (g, ga, gb) = around[(m + 1) % n];
+                    let (Some(from), Some(to)) = (point_of(g, ga, gb), point_of(f, a, b)) else {
+                        return Err(invalid(format!("vertex {v} cannot be beveled")));
+                    };
+                    crossings.push((from, to, b, m));
+                }
+                let sides = crossings.len();
+                if (0..sides).any(|i| crossings[i].1 != crossings[(i + 1) % sides].0) {
+                    return Err(invalid(format!(
+                        "vertex {v}: its beveled edges do not close a corner"
+                    )));
+                }
+                let boundary: Vec<DVec3> =
+                    crossings.iter().map(|c| out.points[c.0 as usize]).collect();
+                // Each side's profile; its neighbouring edges round the vertex are the beveled
+                // edges before and after it there.
+                let profiles: Vec<Profile> = crossings
+                    .iter()
+                    .map(|&(from, to, b, m)| {
+                        let before = around[(m + 1) % n].2;
+                        let after = around[m].1;
+                        let sides = (is_beveled(v, before) && is_beveled(v, after))
+                            .then(|| (p(before) - p(v), p(after) - p(v)));
+                        Profile::corner_side(
+                            out.points[from as usize],
+                            out.points[to as usize],
+                            p(v),
+                            p(b) - p(v),
+                            sides,
+                        )
+                    })
+                    .collect();
+                let side = |i: usize, t: f64| profiles[i].at(t);
+                let ns = segments as usize;
+                // Each edge's signed dihedral angle (positive where convex): between the
+                // normals of the face before it and the face after it in the fan.
+                let dihedral = |m: usize| {
+                    let (f, _, b) = around[m];
+                    let (n1, n2) = (normal_of(f), normal_of(around[(m + 1) % n].0));
+                    let angle = n1.angle_between(n2);
+                    if n1.cross(n2).dot(p(b) - p(v)) >= 0.0 {
+                        angle
+                    } else {
+                        -angle
+                    }
+                };
+                // Blender's first side: across the beveled edge after the first beveled one
+                // of its order (the crossings run counter-clockwise).
+                let first = blender_first_edge(v, &around);
+                let ccw: Vec<u32> = (0..n).rev().map(|m| around[m].2).collect();
+                let start = first
+                    .and_then(|x| ccw.iter().position(|&y| y == x))
+                    .and_then(|at| {
+                        let beveled = (0..n)
+                            .map(|k| ccw[(at + k) % n])
+                            .filter(|&y| is_beveled(v, y))
+                            .nth(1)?;
+                        crossings.iter().position(|c| c.2 == beveled)
+                    })
+                    .unwrap_or(0);
+                // Blender's pipe: two beveled edges in line with one between, every face
+                // parallel to them; the first such side from the first side.
+                let pipe = (sides == 3 || sides == 4)
+                    .then(|| {
+                        (0..sides).map(|k| (start + k) % sides).find(|&i| {
+                            let d1 = p(v) - p(crossings[i].2);
+                            let d3 = p(crossings[(i + 2) % sides].2) - p(v);
+                            d1.angle_between(d3) < 2f64.to_radians()
+                        })
+                    })
+                    .flatten()
+                    .filter(|&i| {
+                        let d = (p(v) - p(crossings[i].2)).normalize_or_zero();
+                        around
+                            .iter()
+                            .all(|&(f, _, _)| normal_of(f).dot(d).abs() <= 1e-4)
+                    });
+                let grid = if let Some(i) = pipe {
+                    let profile = &profiles[i];
+                    let along = p(crossings[i].2) - p(v);
+                    let section = (profile.a, profile.middle(), profile.b, along);
+                    bevel_corner::pipe_corner(p(v), &boundary, &side, ns, section)
+                } else {
+                    // Blender's cube corner: three sides whose faces meet nearly square, every
+                    // other edge nearly flat.
+                    let angles: Vec<f64> = (0..n).map(dihedral).collect();
+                    let square = sides == 3
+                        && (sides == n || first.is_some_and(|x| is_beveled(v, x)))
+                        && angles.iter().all(|a| a.abs() < 0.75 * std::f64::consts::PI)
+                        && angles
+                            .iter()
+                            .filter(|a| a.abs() <= std::f64::consts::FRAC_PI_4)
+                            .count()
+                            == n - 3
+                        && (angles.iter().sum::<f64>().abs() - 1.5 * std::f64::consts::PI).abs()
+                            <= std::f64::consts::FRAC_PI_4;
+                    if square {
+                        bevel_corner::cube_corner(p(v), [boundary[0], boundary[1], boundary[2]], ns)
+                    } else {
+                        bevel_corner::general_corner(p(v), &boundary, &side, ns)
+                    }
+                };
+                // Point ids for the mesh's names: the border's corners are the boundary
+                // points, every other canonical name a new point.
+                let half = ns / 2;
+                let slot = |i: usize, j: usize, k: usize| (i * (half + 1) + j) * (ns + 1) + k;
+                let mut ids = vec![u32::MAX; sides * (half + 1) * (ns + 1)];
+                for i in 0..sides {
+                    for j in 0..=half {
+                        for k in 0..=ns {
+                            if !grid.is_canonical(i, j, k) {
+                                continue;
+                            }
+                            ids[slot(i, j, k)] = if j == 0 && k == 0 {
+                                crossings[i].0
+                            } else {
+                                out.points.push(grid.at(i, j, k));
+                                (out.points.len() - 1) as u32
+                            };
+                        }
+                    }
+                }
+                let id = |i: usize, j: usize, k: usize| {
+                    let (a, b, c) = grid.canonical(i, j, k);
+                    ids[slot(a, b, c)]
+                };
+                for (i, crossing) in crossings.iter().enumerate() {
+                    let mut border: Vec<u32> = (0..=ns).map(|k| id(i, 0, k)).collect();
+                    if crossing.0 > crossing.1 {
+                        border.reverse();
+                    }
+                    arcs.insert(key(crossing.0, crossing.1), border);
+                }
+                let odd = ns % 2;
+                for i in 0..sides {
+                    for j in 0..half {
+                        for k in 0..half + odd {
+                            mesh_faces.push(vec![
+                                id(i, j, k),
+                                id(i, j, k + 1),
+                                id(i, j + 1, k + 1),
+                                id(i, j + 1, k),
+                            ]);
+                        }
+                    }
+                }
+                if odd == 1 {
+                    mesh_faces.push((0..sides).map(|i| id(i, half, half)).collect());
+                }
+                corner_mesh = true;
+            }
             let mut corner_edges: Vec<(u32, u32)> = Vec::new();
             for (i, &(f, a, b)) in around.iter().enumerate() {
                 match point_of(f, a, b) {
@@ -1288,7 +1549,7 @@ impl Cage {
                     }
                 }
             }
-            if count >= 3 {
+            if count >= 3 && !corner_mesh {
                 corner_faces.push(corner_edges);
             }
             if terminal {
@@ -1385,6 +1646,7 @@ impl Cage {
             }
             out.faces.push(polygon);
         }
+        out.faces.extend(mesh_faces);
         Ok(out.compacted(self))
     }
 }
@@ -1792,6 +2054,69 @@ mod tests {
         assert!(cage.faces.len() > 48);
     }
 
+    /// A box with every edge beveled by w into s segments is the box rounded by w: every
+    /// point lies w from the box shrunk by w (arcs about its edges, sphere octants about its
+    /// corners), and the cage stays a closed sphere.
+    #[test]
+    fn a_box_beveled_at_every_edge_lies_on_the_rounded_box() {
+        for seed in 1..5 {
+            let (cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let (motion, _) = placement(seed);
+            let back = motion.inverse();
+            let edges: Vec<(u32, u32)> = cage
+                .faces
+                .iter()
+                .flat_map(|f| (0..4).map(move |c| key(f[c], f[(c + 1) % 4])))
+                .collect::<HashSet<_>>()
+                .into_iter()
+                .collect();
+            let w = 0.1 + 0.05 * seed as f64;
+            for segments in 2..7 {
+                let beveled = cage.bevel_edges(&edges, w * scale, segments).unwrap();
+                check_cage(&beveled);
+                assert_eq!(euler(&beveled), 2);
+                // Every point is a corner's: three sides of (⌊s/2⌋ + 1) × (⌊s/2⌋ + 1) points
+                // for odd s; for even s three of ⌊s/2⌋ × (⌊s/2⌋ + 1) and the centre.
+                let h = segments as usize / 2;
+                let corner_points = if segments % 2 == 1 {
+                    3 * (h + 1) * (h + 1)
+                } else {
+                    3 * h * (h + 1) + 1
+                };
+                assert_eq!(
+                    beveled.points.len(),
+                    8 * corner_points,
+                    "{segments} segments"
+                );
+                for &p in &beveled.points {
+                    let local = back.transform_point3(p);
+                    let inner = local.clamp(DVec3::splat(w - 1.0), DVec3::splat(1.0 - w));
+                    let distance = local.distance(inner);
+                    assert!((distance - w).abs() < 1e-9, "{segments}: {distance} vs {w}");
+                }
+            }
+        }
+    }
+
+    /// Corners of three and four beveled edges on a torus, where no face meets another
+    /// square: the general corner mesh and the pipe keep the torus closed and oriented.
+    #[test]
+    fn corners_of_several_beveled_edges_keep_a_torus_closed_and_oriented() {
+        let mut random = Xorshift::new(7);
+        let (cage, scale) = cage_of(&cages::torus(DVec3::ZERO, 2.0, 0.7, 8, 6).unwrap(), 7);
+        let half = cage.half_edges();
+        for _ in 0..12 {
+            let v = random.below(cage.points.len() as u64) as u32;
+            let around: Vec<u32> = half.keys().filter(|e| e.0 == v).map(|e| e.1).collect();
+            let take = 3 + random.below(2) as usize;
+            let edges: Vec<(u32, u32)> = around.iter().take(take).map(|&x| (v, x)).collect();
+            let segments = 2 + random.below(4) as u32;
+            let beveled = cage.bevel_edges(&edges, 0.05 * scale, segments).unwrap();
+            check_cage(&beveled);
+            assert_eq!(euler(&beveled), 0);
+        }
+    }
+
     #[test]
     fn a_mirrored_box_has_twice_the_volume_and_one_touching_the_plane_welds_into_one_box() {
         // A box from x = 1 to 3: its mirror is a second box, closed and as large.
@@ -1871,8 +2196,8 @@ mod tests {
             cage.loop_cut(0, 1, 0).err(),
             cage.loop_cut(0, 99, 1).err(),
             cage.bevel_edges(&[(0, 1)], 0.0, 1).err(),
-            // Three beveled edges at a corner take one segment only.
-            cage.bevel_edges(&corner, 0.1, 2).err(),
+            // A bevel wider than the box.
+            cage.bevel_edges(&corner, 0.1, 1001).err(),
             cage.bridge_loops(&[0, 1, 3], &[4, 5]).err(),
             cage.bridge_loops(&[0, 1, 3, 2], &[4, 5, 7, 6]).err(),
             cage.merge_vertices(&[], false).err(),

@@ -9,6 +9,7 @@
 //! oracle and the export path.
 
 pub mod adaptive;
+mod bevel_corner;
 pub mod cage_edit;
 pub mod cage_select;
 pub mod cages;
