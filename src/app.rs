@@ -256,6 +256,8 @@ struct Selection {
     edit_point: usize,
     /// Where a box selection started (logical pixels).
     box_start: Option<egui::Pos2>,
+    /// The lasso being drawn (Ctrl + right drag), in logical pixels.
+    lasso: Option<Vec<egui::Pos2>>,
     /// The last surface point clicked.
     hit: Option<SurfaceHit>,
     /// Curve objects picked for a construction, in the order they were picked.

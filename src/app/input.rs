@@ -3,9 +3,11 @@
 //!
 //! Left click: pick a control point of the selected object (Shift toggles it, Alt takes its
 //! row, Alt + Shift its column) or, off the handles, the surface under the cursor (which
-//! selects that object and reports (u, v)). Left drag on a handle: move the selection in the
-//! view plane (X / Y / Z: along an axis; Shift + X / Y / Z: in a plane; Esc cancels). Left drag
-//! elsewhere: box select (Shift adds). Right drag: orbit; middle drag or Shift + right drag: pan.
+//! selects that object and reports (u, v)); on a cage in edge or face mode, the edge or face
+//! under the cursor. Left drag on a handle: move the selection in the view plane (X / Y / Z:
+//! along an axis; Shift + X / Y / Z: in a plane; Esc cancels). Left drag elsewhere: box select
+//! (Shift adds). Ctrl + right drag: lasso select (Shift adds). Right drag: orbit; middle drag
+//! or Shift + right drag: pan.
 
 use eframe::egui;
 use glam::{DVec2, DVec3};
@@ -54,6 +56,9 @@ impl KnotworkApp {
             return;
         }
         if alt && self.cage_edge_click(cursor, modifiers.command, shift) {
+            return;
+        }
+        if !alt && self.cage_pick_click(cursor, shift) {
             return;
         }
         if let Some(index) = self.handle_at(cursor) {
@@ -146,6 +151,56 @@ impl KnotworkApp {
         };
         let (a, b) = edges[k];
         self.select_edge_loop(&cage, a, b, ring, add);
+        true
+    }
+
+    /// A click on the selected cage in edge or face mode: the points of the edge or face
+    /// under the cursor become the selection (`toggle`: they are added, or taken away where
+    /// all of them were selected). False in vertex mode or where nothing is under the cursor.
+    fn cage_pick_click(&mut self, cursor: DVec2, toggle: bool) -> bool {
+        use super::panels::cage::SelectMode;
+        let mode = self.cage_tools.select_mode;
+        if mode == SelectMode::Vertex || !self.view.overlays.points {
+            return false;
+        }
+        let Some(cage) = self
+            .selection
+            .object
+            .and_then(|s| self.scene().objects.get(s))
+            .and_then(super::panels::cage::cage_of)
+        else {
+            return false;
+        };
+        let handles = self.projected_handles();
+        let picked: Vec<usize> = match mode {
+            SelectMode::Edge => {
+                let edges = cage.edges();
+                let Some(k) = pick::pick_segment(&handles, &edges, cursor, PICK_RADIUS) else {
+                    return false;
+                };
+                vec![edges[k].0 as usize, edges[k].1 as usize]
+            }
+            _ => {
+                let Some(f) = pick::pick_face(&handles, &cage.faces, cursor) else {
+                    return false;
+                };
+                cage.faces[f].iter().map(|&v| v as usize).collect()
+            }
+        };
+        if !toggle {
+            self.selection.points.clear();
+        }
+        if toggle && picked.iter().all(|p| self.selection.points.contains(p)) {
+            for p in &picked {
+                self.selection.points.remove(p);
+            }
+        } else {
+            self.selection.points.extend(picked.iter().copied());
+        }
+        if let Some(&last) = picked.last() {
+            self.selection.edit_point = last;
+        }
+        self.update_net();
         true
     }
 
@@ -498,6 +553,30 @@ impl KnotworkApp {
                 }
             }
         }
+        // Ctrl + right drag: a lasso.
+        if response.drag_started_by(egui::PointerButton::Secondary)
+            && ui.input(|i| i.modifiers.command)
+            && let Some(origin) = press
+        {
+            self.selection.lasso = Some(vec![origin]);
+        }
+        if let (Some(lasso), Some(pos)) =
+            (&mut self.selection.lasso, response.interact_pointer_pos())
+            && lasso.last().is_none_or(|last| last.distance(pos) >= 2.0)
+        {
+            lasso.push(pos);
+        }
+        if response.drag_stopped()
+            && let Some(lasso) = self.selection.lasso.take()
+        {
+            let outline: Vec<DVec2> = lasso.iter().map(|&p| self.local(p)).collect();
+            let inside = pick::points_in_lasso(&self.projected_handles(), &outline);
+            if !shift {
+                self.selection.points.clear();
+            }
+            self.selection.points.extend(inside);
+            self.update_net();
+        }
         if response.drag_stopped() {
             self.apply(AppCommand::Drag(DragStep::End));
             if let (Some(start), Some(end)) = (
@@ -524,7 +603,7 @@ impl KnotworkApp {
         let hover = response.hover_pos().map(|p| self.local(p));
         self.feature_hover(hover);
         let delta = response.drag_delta();
-        if delta != egui::Vec2::ZERO {
+        if delta != egui::Vec2::ZERO && self.selection.lasso.is_none() {
             let height = self.viewport_rect.height();
             if response.dragged_by(egui::PointerButton::Middle)
                 || (shift && response.dragged_by(egui::PointerButton::Secondary))
@@ -536,7 +615,10 @@ impl KnotworkApp {
                 self.redraw = true;
             }
         }
-        if self.selection.box_start.is_some() || self.drag.is_some() {
+        if self.selection.box_start.is_some()
+            || self.selection.lasso.is_some()
+            || self.drag.is_some()
+        {
             self.redraw = true;
         }
         if response.hovered() {
@@ -600,6 +682,26 @@ impl KnotworkApp {
             if pressed(shortcut(Modifiers::NONE, Key::F)) {
                 self.frame_pending = true;
             }
+            // On a cage, 1 / 2 / 3 pick the select mode as in Blender's edit mode (the views
+            // keep Ctrl + 1 / 3 and the View menu).
+            let on_cage = self
+                .selection
+                .object
+                .and_then(|s| self.scene().objects.get(s))
+                .is_some_and(|o| o.geometry.as_subdivision().is_some());
+            if on_cage {
+                use super::panels::cage::SelectMode;
+                for (key, mode, name) in [
+                    (Key::Num1, SelectMode::Vertex, "vertex"),
+                    (Key::Num2, SelectMode::Edge, "edge"),
+                    (Key::Num3, SelectMode::Face, "face"),
+                ] {
+                    if pressed(shortcut(Modifiers::NONE, key)) {
+                        self.cage_tools.select_mode = mode;
+                        self.status.notice = Some(format!("{name} select mode"));
+                    }
+                }
+            }
             if pressed(shortcut(Modifiers::NONE, Key::O)) {
                 self.proportional = !self.proportional;
                 self.status.notice = Some(format!(
@@ -618,8 +720,19 @@ impl KnotworkApp {
         }
     }
 
-    /// The box being dragged, drawn over the viewport.
+    /// The box or lasso being dragged, drawn over the viewport.
     pub(super) fn paint_box(&self, ui: &egui::Ui) {
+        let color = egui::Color32::from_rgb(255, 140, 30);
+        if let Some(lasso) = &self.selection.lasso {
+            let mut closed = lasso.clone();
+            closed.extend(lasso.first().copied());
+            ui.painter().add(egui::Shape::dashed_line(
+                &closed,
+                egui::Stroke::new(1.0, color),
+                6.0,
+                4.0,
+            ));
+        }
         let (Some(start), Some(now)) = (
             self.selection.box_start,
             ui.input(|i| i.pointer.hover_pos()),
@@ -627,7 +740,6 @@ impl KnotworkApp {
             return;
         };
         let rect = egui::Rect::from_two_pos(start, now);
-        let color = egui::Color32::from_rgb(255, 140, 30);
         ui.painter()
             .rect_filled(rect, 0.0, color.gamma_multiply(0.12));
         ui.painter().rect_stroke(

@@ -123,6 +123,53 @@ pub fn points_in_box(points: &[Option<Projected>], a: DVec2, b: DVec2) -> Vec<us
         .collect()
 }
 
+/// Whether `p` lies inside the closed polygon `outline` (even–odd rule: a ray to +x crosses its
+/// edges an odd number of times).
+pub fn inside_polygon(outline: &[DVec2], p: DVec2) -> bool {
+    let mut inside = false;
+    for k in 0..outline.len() {
+        let (a, b) = (outline[k], outline[(k + 1) % outline.len()]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// The indices of the points inside the lasso `outline` (screen pixels, closed).
+pub fn points_in_lasso(points: &[Option<Projected>], outline: &[DVec2]) -> Vec<usize> {
+    if outline.len() < 3 {
+        return Vec::new();
+    }
+    points
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| inside_polygon(outline, (*p)?.screen).then_some(k))
+        .collect()
+}
+
+/// The face (a loop of indices into `points`) under `cursor` nearest the eye: of the faces
+/// whose projected outline holds the cursor, the one whose corners' mean depth is least. A
+/// face with a corner off the screen is not picked.
+pub fn pick_face(points: &[Option<Projected>], faces: &[Vec<u32>], cursor: DVec2) -> Option<usize> {
+    faces
+        .iter()
+        .enumerate()
+        .filter_map(|(k, face)| {
+            let corners: Option<Vec<Projected>> =
+                face.iter().map(|&v| *points.get(v as usize)?).collect();
+            let corners = corners?;
+            let outline: Vec<DVec2> = corners.iter().map(|c| c.screen).collect();
+            let depth = corners.iter().map(|c| c.depth).sum::<f64>() / corners.len() as f64;
+            inside_polygon(&outline, cursor).then_some((k, depth))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
+}
+
 /// How a drag may move points, as in Blender: freely in the view plane, along one world axis
 /// (X / Y / Z while dragging) or in the plane normal to one axis (Shift + X / Y / Z).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -367,6 +414,43 @@ fn refine(
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn lassos_and_faces_pick_what_lies_inside_them() {
+        use super::*;
+        let at = |x: f64, y: f64, depth: f64| {
+            Some(Projected {
+                screen: DVec2::new(x, y),
+                depth,
+            })
+        };
+        let points = [
+            at(0.0, 0.0, 0.5),
+            at(10.0, 0.0, 0.5),
+            at(10.0, 10.0, 0.5),
+            at(0.0, 10.0, 0.5),
+            at(5.0, 5.0, 0.2),
+            None,
+        ];
+        // An L-shaped lasso holds (5, 5) and (10, 10)'s neighbourhood but not the origin.
+        let lasso = [
+            DVec2::new(3.0, 3.0),
+            DVec2::new(12.0, 3.0),
+            DVec2::new(12.0, 12.0),
+            DVec2::new(8.0, 12.0),
+            DVec2::new(8.0, 6.0),
+            DVec2::new(3.0, 6.0),
+        ];
+        assert_eq!(points_in_lasso(&points, &lasso), vec![2, 4]);
+        assert!(points_in_lasso(&points, &lasso[..2]).is_empty());
+        // Two faces over the cursor: the nearer wins; a face with a corner off screen is not
+        // picked; outside every face nothing is.
+        let faces = vec![vec![0, 1, 2, 3], vec![0, 1, 4], vec![1, 2, 5]];
+        assert_eq!(pick_face(&points, &faces, DVec2::new(5.0, 2.0)), Some(1));
+        assert_eq!(pick_face(&points, &faces, DVec2::new(5.0, 8.0)), Some(0));
+        assert_eq!(pick_face(&points, &faces, DVec2::new(9.5, 5.0)), Some(0));
+        assert_eq!(pick_face(&points, &faces, DVec2::new(20.0, 5.0)), None);
+    }
+
     #[test]
     fn the_segment_nearest_the_cursor_is_picked_within_the_radius() {
         use super::*;

@@ -676,7 +676,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
             .flatten()
             .map(|p| Pos2::new(p[0], p[1]))
     };
-    let object = &harness.state().document().scene.objects[0];
+    let object = harness.state().document().scene.objects[0].clone();
     let subdiv = object
         .geometry
         .downcast_ref::<knotwork::scene::SubdivObject>()
@@ -725,6 +725,98 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
         selected.contains(&a) && selected.contains(&b) && selected.len() >= 2,
         "edge {a}-{b}: {selected:?}"
     );
+
+    // Edge mode (2): a click on the same edge selects just its two points.
+    harness.key_press(Key::Num2);
+    harness.run_steps(1);
+    click_at(&mut harness, at);
+    let mut selected = status::current().selected_points;
+    selected.sort_unstable();
+    assert_eq!(selected, [a.min(b), a.max(b)]);
+
+    // Face mode (3): a click inside a face on screen selects the corners of the nearest face
+    // there, which holds the cursor.
+    harness.key_press(Key::Num3);
+    harness.run_steps(1);
+    let faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
+    let outline =
+        |f: &[u32]| -> Option<Vec<Pos2>> { f.iter().map(|&v| on_screen(v as usize)).collect() };
+    let (face, at) = faces
+        .iter()
+        .filter_map(|f| {
+            let corners = outline(f)?;
+            let centre =
+                corners.iter().fold(Pos2::ZERO, |c, p| c + p.to_vec2()) / corners.len() as f32;
+            (centre.x > 450.0 && centre.x < 1200.0 && centre.y > 100.0 && centre.y < 700.0)
+                .then_some((f.clone(), centre))
+        })
+        .next()
+        .expect("a face on screen");
+    click_at(&mut harness, at);
+    let picked = status::current().selected_points;
+    let holder = faces
+        .iter()
+        .find(|f| {
+            let mut f: Vec<u32> = f.to_vec();
+            f.sort_unstable();
+            let mut p = picked.clone();
+            p.sort_unstable();
+            f == p
+        })
+        .unwrap_or_else(|| panic!("{picked:?} is not a face's corners ({face:?} under {at:?})"));
+    let corners = outline(holder).expect("on screen");
+    let inside = (0..corners.len()).fold(false, |inside, k| {
+        let (p, q) = (corners[k], corners[(k + 1) % corners.len()]);
+        if (p.y > at.y) != (q.y > at.y) && at.x < p.x + (at.y - p.y) / (q.y - p.y) * (q.x - p.x) {
+            !inside
+        } else {
+            inside
+        }
+    });
+    assert!(inside, "{holder:?} does not hold {at:?}");
+
+    // A lasso (Ctrl + right drag) round one point selects it alone.
+    harness.key_press(Key::Num1);
+    let (k, centre) = handles
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| p.map(|p| (k, Pos2::new(p[0], p[1]))))
+        .find(|(_, p)| {
+            p.x > 450.0
+                && p.y > 100.0
+                && handles
+                    .iter()
+                    .flatten()
+                    .filter(|q| Pos2::new(q[0], q[1]).distance(*p) < 30.0)
+                    .count()
+                    == 1
+        })
+        .expect("a point clear of the others");
+    harness.event(Event::ModifiersChanged(Modifiers::COMMAND));
+    let round: Vec<Pos2> = (0..=12)
+        .map(|j| {
+            let t = std::f32::consts::TAU * j as f32 / 12.0;
+            centre + egui::vec2(t.cos(), t.sin()) * 15.0
+        })
+        .collect();
+    harness.hover_at(round[0]);
+    harness.run_steps(1);
+    let button = |pos: Pos2, pressed: bool| Event::PointerButton {
+        pos,
+        button: PointerButton::Secondary,
+        pressed,
+        modifiers: Modifiers::COMMAND,
+    };
+    harness.event(button(round[0], true));
+    harness.run_steps(1);
+    for &p in &round[1..] {
+        harness.hover_at(p);
+        harness.run_steps(1);
+    }
+    harness.event(button(round[12], false));
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
+    harness.run_steps(2);
+    assert_eq!(status::current().selected_points, [k as u32]);
 
     // Undo twice: the subdivided cube.
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);

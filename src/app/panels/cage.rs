@@ -5,9 +5,10 @@
 //! undo step through the `cage` operation ([`crate::ops::cage`]).
 //!
 //! As in Blender's vertex mode, the selection is the cage's points: an edge is selected when
-//! both its ends are, a face when all its corners are. Box selection, Shift + click and
-//! Ctrl + A select points; Alt + click on a cage edge selects its loop, Ctrl + Alt + click its
-//! ring.
+//! both its ends are, a face when all its corners are. Box selection, a lasso (Ctrl + right
+//! drag), Shift + click and Ctrl + A select points; Alt + click on a cage edge selects its
+//! loop, Ctrl + Alt + click its ring. In edge and face mode (2 and 3, as in Blender; 1 is
+//! vertex mode) a click picks the edge or face under the cursor and selects its points.
 
 use std::collections::BTreeSet;
 
@@ -33,6 +34,18 @@ pub struct CageToolSettings {
     pub segments: u32,
     /// Merge at the point clicked last (else at the centre).
     pub merge_at_last: bool,
+    /// What a click on the cage picks.
+    pub select_mode: SelectMode,
+}
+
+/// What a click on a cage picks, as Blender's edit-mode select modes (keys 1, 2, 3): a point,
+/// an edge (both its points) or a face (all its corners).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SelectMode {
+    #[default]
+    Vertex,
+    Edge,
+    Face,
 }
 
 impl Default for CageToolSettings {
@@ -46,6 +59,7 @@ impl Default for CageToolSettings {
             width: 0.1,
             segments: 1,
             merge_at_last: false,
+            select_mode: SelectMode::Vertex,
         }
     }
 }
@@ -127,6 +141,16 @@ impl KnotworkApp {
              points with a click, Shift + click, a box or Ctrl + A; Alt + click on an edge \
              selects its loop, Ctrl + Alt + click its ring",
         );
+        ui.horizontal(|ui| {
+            ui.label("Pick:");
+            let mode = &mut self.cage_tools.select_mode;
+            ui.selectable_value(mode, SelectMode::Vertex, "Vertex")
+                .on_hover_text("a click picks a point (1)");
+            ui.selectable_value(mode, SelectMode::Edge, "Edge")
+                .on_hover_text("a click picks an edge, both its points (2)");
+            ui.selectable_value(mode, SelectMode::Face, "Face")
+                .on_hover_text("a click picks a face, all its corners (3)");
+        });
         let one_edge = match edges[..] {
             [edge] => Some(edge),
             _ => None,
