@@ -77,6 +77,13 @@ pub enum CageTool {
         #[arg(long)]
         faces: String,
     },
+    /// Subdivide faces: their edges cut N times, each triangle and quad so closed a grid.
+    Subdivide {
+        #[arg(long)]
+        faces: String,
+        #[arg(long, default_value_t = 1)]
+        cuts: u32,
+    },
     /// Mirror the cage across the plane through the origin square to an axis, welding the
     /// points within the merge distance of the plane to their images.
     Mirror {
@@ -201,6 +208,10 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         },
         CageTool::Poke { faces } => Tool::Poke {
             faces: face_list(faces)?,
+        },
+        CageTool::Subdivide { faces, cuts } => Tool::Subdivide {
+            faces: face_list(faces)?,
+            cuts: *cuts,
         },
         CageTool::Mirror {
             axis,

@@ -387,6 +387,22 @@ impl KnotworkApp {
             if tool_button(
                 ui,
                 !faces.is_empty(),
+                "Subdivide faces",
+                "the selected faces' edges cut by the loop cut's number of cuts, each quad and \
+                 triangle they close a grid",
+                need_faces,
+            ) {
+                chosen = Some((
+                    Tool::Subdivide {
+                        faces: faces.clone(),
+                        cuts: t.cuts,
+                    },
+                    After::Nothing,
+                ));
+            }
+            if tool_button(
+                ui,
+                !faces.is_empty(),
                 "Delete faces",
                 "the selected faces removed (points no face uses go too)",
                 need_faces,

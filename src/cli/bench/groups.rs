@@ -2816,6 +2816,22 @@ fn bench_cage_tools(
         Tool::Poke {
             faces: vec![5050, 5051, 5150, 5151],
         },
+        Tool::Subdivide {
+            faces: vec![5050, 5051, 5150, 5151],
+            cuts: 2,
+        },
+        // Two edge loops round the torus, crossing at a point: its corner mesh of four beveled
+        // edges (a pipe), three segments.
+        Tool::Bevel {
+            edges: cage
+                .edge_loop(f[0], f[1])?
+                .into_iter()
+                .chain(cage.edge_loop(f[1], f[2])?)
+                .map(|(a, b)| [a, b])
+                .collect(),
+            width: 0.01,
+            segments: 3,
+        },
         Tool::Mirror {
             axis: 0,
             merge_distance: 0.0,
@@ -2859,7 +2875,7 @@ fn bench_cage_tools(
         })?;
         writeln!(
             out,
-            "cage tool {:<8} on 10,000 faces: {tool_ms:.2} ms topology, {step_ms:.2} ms editor step \
+            "cage tool {:<9} on 10,000 faces: {tool_ms:.2} ms topology, {step_ms:.2} ms editor step \
              ({} faces after)",
             tool.label(),
             edited.faces.len()

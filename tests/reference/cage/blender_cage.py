@@ -154,6 +154,13 @@ def apply(bm, op, args):
     elif op == "delete":
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         bmesh.ops.delete(bm, geom=faces, context="FACES")
+    elif op == "subdivide":
+        # Blender's Subdivide: the faces' edges cut, every quad and triangle they close filled
+        # with a grid (no single-edge or corner patterns: other faces take the points).
+        edges = {e for i in ints(opt["faces"]) for e in bm.faces[i].edges}
+        bmesh.ops.subdivide_edges(bm, edges=list(edges), cuts=int(opt.get("cuts", 1)),
+                                  use_grid_fill=True, use_single_edge=False,
+                                  quad_corner_type="STRAIGHT_CUT")
     elif op == "poke":
         bmesh.ops.poke(bm, faces=[bm.faces[i] for i in ints(opt["faces"])])
     elif op == "mirror":
@@ -339,6 +346,16 @@ CASES = [
     ("cap6", "bevel --edges 12-0,12-1,12-2,12-3,12-4,12-5 --width 0.1U --segments 4"),
     ("cap6", "bevel --edges 2-3,1-2,8-9,2-12,9-13,3-9,2-8 --width 0.15U --segments 3"),
     ("grid", "bevel --edges 1-6,6-7,5-6,6-11 --width 0.05U --segments 5"),
+    # Subdivide: grids in the faces whose edges are all cut, straight cuts across faces with
+    # two cut edges, Blender's pattern in quads with three.
+    ("box", "subdivide --faces 0 --cuts 1"),
+    ("box", "subdivide --faces 0,1 --cuts 2"),
+    ("prism", "subdivide --faces 0,1 --cuts 3"),
+    ("frustum", "subdivide --faces 0,1,2,3 --cuts 2"),
+    ("torus", "subdivide --faces 0,6 --cuts 2"),
+    ("cap6", "subdivide --faces 6,7 --cuts 2"),
+    ("grid", "subdivide --faces 5,6,9 --cuts 2"),
+    ("cap5", "subdivide --faces 2,11,0 --cuts 2"),
 ]
 
 

@@ -488,42 +488,8 @@ impl Cage {
         }
         let (ring, quads) = self.edge_ring(a, b);
         let mut out = self.clone();
-        let sharp = self.sharpness_of_edges();
-        // Each ring edge's new points, listed from its lower-numbered end.
-        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-        for &(p, q) in &ring {
-            let (lo, hi) = key(p, q);
-            let (pl, ph) = (self.points[lo as usize], self.points[hi as usize]);
-            let first = out.points.len() as u32;
-            for i in 1..=cuts {
-                let t = f64::from(i) / f64::from(cuts + 1);
-                out.points.push(pl + (ph - pl) * t);
-            }
-            let list: Vec<u32> = (first..first + cuts).collect();
-            if let Some(&s) = sharp.get(&(lo, hi)) {
-                let chain: Vec<u32> = std::iter::once(lo)
-                    .chain(list.iter().copied())
-                    .chain(std::iter::once(hi))
-                    .collect();
-                for w in chain.windows(2) {
-                    out.add_crease(w[0], w[1], s);
-                }
-            }
-            inner.insert((lo, hi), list);
-        }
-        // The points of edge p→q in that direction, ends included.
-        let along = |p: u32, q: u32| -> Option<Vec<u32>> {
-            let list = inner.get(&key(p, q))?;
-            let mut chain = Vec::with_capacity(list.len() + 2);
-            chain.push(p);
-            if p < q {
-                chain.extend(list.iter().copied());
-            } else {
-                chain.extend(list.iter().rev().copied());
-            }
-            chain.push(q);
-            Some(chain)
-        };
+        let inner = self.cut_edges(&mut out, &ring, cuts);
+        let along = |p: u32, q: u32| chain_along(&inner, p, q);
         let quad_set: HashSet<usize> = quads.iter().copied().collect();
         let mut added = Vec::new();
         for (f, face) in self.faces.iter().enumerate() {
@@ -549,16 +515,159 @@ impl Cage {
                 added.extend(pieces);
             } else {
                 // A face beside the ring's end takes the new points into its edge.
-                let mut grown = Vec::with_capacity(face.len());
-                for c in 0..face.len() {
-                    let (p, q) = (face[c], face[(c + 1) % face.len()]);
-                    grown.push(p);
-                    if let Some(chain) = along(p, q) {
-                        grown.extend_from_slice(&chain[1..chain.len() - 1]);
+                out.faces[f] = grown_by_cuts(face, &inner);
+            }
+        }
+        out.faces.extend(added);
+        Ok(out.compacted(self))
+    }
+
+    /// Cuts each edge into `cuts + 1` equal pieces: the new points, listed from the edge's
+    /// lower-numbered end, are added to `out`, and each piece keeps the edge's sharpness.
+    fn cut_edges(
+        &self,
+        out: &mut Cage,
+        edges: &[(u32, u32)],
+        cuts: u32,
+    ) -> HashMap<(u32, u32), Vec<u32>> {
+        let sharp = self.sharpness_of_edges();
+        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        for &(p, q) in edges {
+            let (lo, hi) = key(p, q);
+            if inner.contains_key(&(lo, hi)) {
+                continue;
+            }
+            let (pl, ph) = (self.points[lo as usize], self.points[hi as usize]);
+            let first = out.points.len() as u32;
+            for i in 1..=cuts {
+                let t = f64::from(i) / f64::from(cuts + 1);
+                out.points.push(pl + (ph - pl) * t);
+            }
+            let list: Vec<u32> = (first..first + cuts).collect();
+            if let Some(&s) = sharp.get(&(lo, hi)) {
+                let chain: Vec<u32> = std::iter::once(lo)
+                    .chain(list.iter().copied())
+                    .chain(std::iter::once(hi))
+                    .collect();
+                for w in chain.windows(2) {
+                    out.add_crease(w[0], w[1], s);
+                }
+            }
+            inner.insert((lo, hi), list);
+        }
+        inner
+    }
+
+    /// Subdivide faces (Blender's Subdivide with grid fill, smoothness 0): every edge of the
+    /// named faces is cut into `cuts + 1` equal pieces, and every triangle and quad all of
+    /// whose edges are cut (the named ones, and any other the cut edges close round) is
+    /// filled with the grid of (cuts + 1)² quads or triangles whose inner points lie evenly
+    /// on the lines between its sides' points (bilinear on a quad, barycentric on a
+    /// triangle). Any other face with two or more cut edges is split by straight lines
+    /// between the points of its first two cut edges ([`straight_cuts`]: strips across a quad
+    /// cut on opposite sides, the corner cut off where they meet); faces with one cut edge
+    /// take the new points into it; a quad with three cut sides is split by Blender's pattern
+    /// for it ([`quad_three_cut_sides`]). The first piece takes the face's index; the rest
+    /// follow.
+    pub fn subdivide_faces(&self, faces: &[usize], cuts: u32) -> Result<Self, CageEditError> {
+        let faces = self.check_faces(faces)?;
+        if cuts == 0 || cuts > 100 {
+            return Err(invalid(format!("cuts must be 1 to 100 (got {cuts})")));
+        }
+        let mut edges = Vec::new();
+        for &f in &faces {
+            let face = &self.faces[f];
+            edges.extend((0..face.len()).map(|c| (face[c], face[(c + 1) % face.len()])));
+        }
+        let mut out = self.clone();
+        let inner = self.cut_edges(&mut out, &edges, cuts);
+        let along = |p: u32, q: u32| chain_along(&inner, p, q);
+        let n = cuts as usize + 1;
+        let mut added = Vec::new();
+        for (f, face) in self.faces.iter().enumerate() {
+            let all_cut = (0..face.len())
+                .all(|c| inner.contains_key(&key(face[c], face[(c + 1) % face.len()])));
+            let mut pieces: Vec<Vec<u32>> = Vec::new();
+            match (all_cut, face.as_slice()) {
+                (true, &[c0, c1, c2, c3]) => {
+                    let (Some(top), Some(bottom), Some(left), Some(right)) =
+                        (along(c0, c1), along(c3, c2), along(c0, c3), along(c1, c2))
+                    else {
+                        continue;
+                    };
+                    // grid[i][j]: i from side c0–c1 towards c3–c2, j from c0–c3 towards c1–c2.
+                    let mut grid = vec![vec![0u32; n + 1]; n + 1];
+                    for i in 0..=n {
+                        for j in 0..=n {
+                            grid[i][j] = match (i, j) {
+                                (0, _) => top[j],
+                                (_, 0) => left[i],
+                                _ if i == n => bottom[j],
+                                _ if j == n => right[i],
+                                _ => {
+                                    let (a, b) = (
+                                        out.points[left[i] as usize],
+                                        out.points[right[i] as usize],
+                                    );
+                                    out.points.push(a.lerp(b, j as f64 / n as f64));
+                                    (out.points.len() - 1) as u32
+                                }
+                            };
+                        }
+                    }
+                    for i in 0..n {
+                        for j in 0..n {
+                            pieces.push(vec![
+                                grid[i][j],
+                                grid[i][j + 1],
+                                grid[i + 1][j + 1],
+                                grid[i + 1][j],
+                            ]);
+                        }
                     }
                 }
-                out.faces[f] = grown;
+                (true, &[a, b, c]) => {
+                    let (Some(ab), Some(ac), Some(bc)) = (along(a, b), along(a, c), along(b, c))
+                    else {
+                        continue;
+                    };
+                    // rows[r][s]: r steps from a towards b–c, s from side a–b towards a–c.
+                    let mut rows: Vec<Vec<u32>> = Vec::with_capacity(n + 1);
+                    for r in 0..=n {
+                        let row: Vec<u32> = (0..=r)
+                            .map(|s| match s {
+                                0 => ab[r],
+                                _ if s == r => ac[r],
+                                _ if r == n => bc[s],
+                                _ => {
+                                    let (p, q) =
+                                        (out.points[ab[r] as usize], out.points[ac[r] as usize]);
+                                    out.points.push(p.lerp(q, s as f64 / r as f64));
+                                    (out.points.len() - 1) as u32
+                                }
+                            })
+                            .collect();
+                        rows.push(row);
+                    }
+                    for r in 0..n {
+                        for s in 0..=r {
+                            pieces.push(vec![rows[r][s], rows[r + 1][s], rows[r + 1][s + 1]]);
+                            if s < r {
+                                pieces.push(vec![rows[r][s], rows[r + 1][s + 1], rows[r][s + 1]]);
+                            }
+                        }
+                    }
+                }
+                _ => pieces = straight_cuts(face, &inner, n - 1),
             }
+            if pieces.is_empty() {
+                pieces.push(grown_by_cuts(face, &inner));
+            }
+            let mut pieces = pieces.into_iter();
+            if let Some(first) = pieces.next() {
+                out.faces[f] = first;
+            }
+            added.extend(pieces);
         }
         out.faces.extend(added);
         Ok(out.compacted(self))
@@ -1005,6 +1114,168 @@ impl Profile {
             None => q,
         }
     }
+}
+
+/// The points of edge p→q in that direction, its ends included, where it was cut (`inner`:
+/// each cut edge's new points from its lower-numbered end).
+fn chain_along(inner: &HashMap<(u32, u32), Vec<u32>>, p: u32, q: u32) -> Option<Vec<u32>> {
+    let list = inner.get(&key(p, q))?;
+    let mut chain = Vec::with_capacity(list.len() + 2);
+    chain.push(p);
+    if p < q {
+        chain.extend(list.iter().copied());
+    } else {
+        chain.extend(list.iter().rev().copied());
+    }
+    chain.push(q);
+    Some(chain)
+}
+
+/// The pieces of a face two or more of whose edges are cut and no grid fills (Blender's
+/// Subdivide with straight-cut corners): the face, its cut points taken in, is split by
+/// straight lines from the points of its first cut edge (in its order) to those of the next,
+/// the first point to the last, the second to the one before, and so on. Empty where fewer
+/// than two edges are cut.
+fn straight_cuts(
+    face: &[u32],
+    inner: &HashMap<(u32, u32), Vec<u32>>,
+    cuts: usize,
+) -> Vec<Vec<u32>> {
+    let is_cut =
+        |c: usize| inner.contains_key(&key(face[c % face.len()], face[(c + 1) % face.len()]));
+    let cut_edges = (0..face.len()).filter(|&c| is_cut(c)).count();
+    if cut_edges < 2 {
+        return Vec::new();
+    }
+    if face.len() == 4 && cut_edges == 3 {
+        return quad_three_cut_sides(face, inner, cuts);
+    }
+    let ring = grown_by_cuts(face, inner);
+    let original: HashSet<u32> = face.iter().copied().collect();
+    let len = ring.len();
+    let is_new = |k: usize| !original.contains(&ring[k % len]);
+    let starts = |k: usize| !is_new(k + len - 1) && is_new(k);
+    let Some(mut a) = (1..len).find(|&k| starts(k)) else {
+        return Vec::new();
+    };
+    let mut b = if is_new(a + cuts + 1) {
+        (a + cuts + 1) % len
+    } else {
+        match (0..len)
+            .map(|j| (j + a + cuts + 1) % len)
+            .find(|&k| starts(k))
+        {
+            Some(k) => k,
+            None => return Vec::new(),
+        }
+    };
+    b = (b + cuts - 1) % len;
+    let mut chords = Vec::with_capacity(cuts);
+    for _ in 0..cuts {
+        chords.push((a, b));
+        a = (a + 1) % len;
+        b = (b + len - 1) % len;
+    }
+    let walk = |from: usize, to: usize| -> Vec<u32> {
+        let mut out = vec![ring[from]];
+        let mut k = from;
+        while k != to {
+            k = (k + 1) % len;
+            out.push(ring[k]);
+        }
+        out
+    };
+    let (first, last) = (chords[0], chords[cuts - 1]);
+    let mut pieces = vec![walk(first.1, first.0)];
+    for w in chords.windows(2) {
+        pieces.push(vec![ring[w[0].0], ring[w[1].0], ring[w[1].1], ring[w[0].1]]);
+    }
+    pieces.push(walk(last.0, last.1));
+    pieces
+}
+
+/// The pieces of a quad three of whose sides are cut (Blender's Subdivide pattern for it):
+/// with the sides taken from the one after the uncut side, points v listed as side 0's cuts,
+/// its end corner, side 1's cuts, its end corner, side 2's cuts and the two corners left,
+/// straight lines join side 1's points to side 0's and side 2's (the middle one, for an odd
+/// number of cuts, to both) and side 0's to side 2's, each splitting the smallest piece that
+/// holds both ends.
+fn quad_three_cut_sides(
+    face: &[u32],
+    inner: &HashMap<(u32, u32), Vec<u32>>,
+    n: usize,
+) -> Vec<Vec<u32>> {
+    let Some(uncut) = (0..4).find(|&c| !inner.contains_key(&key(face[c], face[(c + 1) % 4])))
+    else {
+        return Vec::new();
+    };
+    let corner = |k: usize| face[(uncut + 1 + k) % 4];
+    let mut v: Vec<u32> = Vec::with_capacity(3 * n + 4);
+    for side in 0..3 {
+        let Some(chain) = chain_along(inner, corner(side), corner(side + 1)) else {
+            return Vec::new();
+        };
+        v.extend_from_slice(&chain[1..]);
+    }
+    v.push(corner(0));
+    let mut lines = Vec::new();
+    let mut add = 0;
+    for i in 0..n {
+        if i == n / 2 {
+            if n % 2 == 1 {
+                lines.push((v[n - i - 1 + add], v[i + n + 1]));
+            }
+            add = 2 * n + 2;
+        }
+        lines.push((v[n - i - 1 + add], v[i + n + 1]));
+    }
+    for i in 0..n / 2 + 1 {
+        lines.push((v[i], v[(n - i) + 2 * n + 1]));
+    }
+    let mut pieces = vec![grown_by_cuts(face, inner)];
+    for (a, b) in lines {
+        // The smallest piece holding both ends, where they are not already neighbours.
+        let found = pieces
+            .iter()
+            .enumerate()
+            .filter_map(|(k, piece)| {
+                let i = piece.iter().position(|&x| x == a)?;
+                let j = piece.iter().position(|&x| x == b)?;
+                let len = piece.len();
+                let neighbours = (i + 1) % len == j || (j + 1) % len == i;
+                (!neighbours).then_some((k, i, j, len))
+            })
+            .min_by_key(|&(.., len)| len);
+        let Some((k, i, j, len)) = found else {
+            continue;
+        };
+        let piece = pieces[k].clone();
+        let walk = |from: usize, to: usize| {
+            let mut out = vec![piece[from]];
+            let mut at = from;
+            while at != to {
+                at = (at + 1) % len;
+                out.push(piece[at]);
+            }
+            out
+        };
+        pieces[k] = walk(i, j);
+        pieces.push(walk(j, i));
+    }
+    pieces
+}
+
+/// A face with the new points of its cut edges taken into its loop.
+fn grown_by_cuts(face: &[u32], inner: &HashMap<(u32, u32), Vec<u32>>) -> Vec<u32> {
+    let mut grown = Vec::with_capacity(face.len());
+    for c in 0..face.len() {
+        let (p, q) = (face[c], face[(c + 1) % face.len()]);
+        grown.push(p);
+        if let Some(chain) = chain_along(inner, p, q) {
+            grown.extend_from_slice(&chain[1..chain.len() - 1]);
+        }
+    }
+    grown
 }
 
 /// The point of the line p + s·d nearest the line q + t·e, or `None` where they are parallel.
@@ -1687,6 +1958,8 @@ pub enum Tool {
     Delete { faces: Vec<usize> },
     /// [`Cage::poke_faces`].
     Poke { faces: Vec<usize> },
+    /// [`Cage::subdivide_faces`].
+    Subdivide { faces: Vec<usize>, cuts: u32 },
     /// [`Cage::mirror`] across the plane through the origin square to axis 0, 1 or 2 (x, y,
     /// z).
     Mirror {
@@ -1717,6 +1990,7 @@ impl Tool {
             Self::Delete { .. } => "Delete",
             Self::Mirror { .. } => "Mirror",
             Self::Poke { .. } => "Poke",
+            Self::Subdivide { .. } => "Subdivide",
         }
     }
 }
@@ -1752,6 +2026,7 @@ impl Cage {
                 merge_distance,
             } => self.mirror(usize::from(*axis), *merge_distance),
             Tool::Poke { faces } => self.poke_faces(faces),
+            Tool::Subdivide { faces, cuts } => self.subdivide_faces(faces, *cuts),
         }
     }
 }
@@ -2117,6 +2392,50 @@ mod tests {
         }
     }
 
+    /// Subdividing every face of a box with n cuts makes each face (n + 1)² quads of equal
+    /// area, keeps its volume and χ = 2, and gives a creased edge's pieces its sharpness;
+    /// subdividing random faces of a torus (straight cuts and three-sided patterns beside
+    /// them) keeps it a closed oriented torus.
+    #[test]
+    fn subdivided_faces_keep_the_shape_and_split_evenly() {
+        for seed in 1..4 {
+            let (mut cage, _) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let (a, b) = (cage.faces[0][0], cage.faces[0][1]);
+            cage.creases.push(Crease {
+                a,
+                b,
+                sharpness: 2.5,
+            });
+            let all: Vec<usize> = (0..6).collect();
+            for cuts in 1..5u32 {
+                let out = cage.subdivide_faces(&all, cuts).unwrap();
+                let n = cuts as usize + 1;
+                assert_eq!(out.faces.len(), 6 * n * n);
+                assert_eq!(euler(&out), 2);
+                check_cage(&out);
+                assert!((volume(&out) - volume(&cage)).abs() < 1e-9 * volume(&cage).abs());
+                let piece = area(&cage, &cage.faces[0]) / (n * n) as f64;
+                for face in &out.faces {
+                    assert!((area(&out, face) - piece).abs() < 1e-9 * piece);
+                }
+                assert_eq!(out.creases.len(), n);
+                assert!(out.creases.iter().all(|c| c.sharpness == 2.5));
+            }
+        }
+        let mut random = Xorshift::new(5);
+        let (mut torus, _) = cage_of(&cages::torus(DVec3::ZERO, 2.0, 0.7, 8, 6).unwrap(), 5);
+        for _ in 0..6 {
+            let faces: Vec<usize> = (0..3)
+                .map(|_| random.below(torus.faces.len() as u64) as usize)
+                .collect();
+            torus = torus
+                .subdivide_faces(&faces, 1 + random.below(3) as u32)
+                .unwrap();
+            check_cage(&torus);
+            assert_eq!(euler(&torus), 0);
+        }
+    }
+
     #[test]
     fn a_mirrored_box_has_twice_the_volume_and_one_touching_the_plane_welds_into_one_box() {
         // A box from x = 1 to 3: its mirror is a second box, closed and as large.
@@ -2196,8 +2515,10 @@ mod tests {
             cage.loop_cut(0, 1, 0).err(),
             cage.loop_cut(0, 99, 1).err(),
             cage.bevel_edges(&[(0, 1)], 0.0, 1).err(),
-            // A bevel wider than the box.
+            // Too many segments; no cuts; a face that is not there.
             cage.bevel_edges(&corner, 0.1, 1001).err(),
+            cage.subdivide_faces(&[0], 0).err(),
+            cage.subdivide_faces(&[6], 1).err(),
             cage.bridge_loops(&[0, 1, 3], &[4, 5]).err(),
             cage.bridge_loops(&[0, 1, 3, 2], &[4, 5, 7, 6]).err(),
             cage.merge_vertices(&[], false).err(),
