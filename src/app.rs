@@ -331,6 +331,8 @@ pub struct KnotworkApp {
     cage_tools: panels::cage::CageToolSettings,
     /// Mirror editing across x = 0, y = 0, z = 0 while points are dragged.
     symmetry: [bool; 3],
+    /// Shift + E on a cage: the sharpness of the selected edges set by the pointer's distance.
+    crease_drag: Option<input::CreaseDrag>,
     /// Proportional editing (O) and its radius (the wheel during a drag).
     proportional: bool,
     proportional_radius: f64,
@@ -454,6 +456,7 @@ impl KnotworkApp {
             operations_keep_history: true,
             cage_tools: panels::cage::CageToolSettings::default(),
             symmetry: [false; 3],
+            crease_drag: None,
             proportional: false,
             proportional_radius: 1.0,
             features: features::FeatureState::default(),

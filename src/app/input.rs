@@ -13,6 +13,20 @@ use eframe::egui;
 use glam::{DVec2, DVec3};
 
 use super::{AppCommand, DragHandle, DragStep, KnotworkApp, PICK_RADIUS};
+
+/// Shift + E on a cage, as in Blender: the pointer's distance from the selection's centre on
+/// the screen sets the selected edges' sharpness (nearer: sharper), a click or Enter sets it
+/// as one undo step, Esc or a right click leaves it as it was.
+pub(super) struct CreaseDrag {
+    object: usize,
+    edges: Vec<(u32, u32)>,
+    /// The selected points' centre on the screen and the pointer's first distance from it.
+    centre: egui::Pos2,
+    start: f32,
+    /// The first edge's sharpness when it began, and the value now.
+    initial: f64,
+    value: f64,
+}
 use crate::view::follow;
 use crate::view::pick::{self, Constraint, Projected};
 
@@ -225,6 +239,116 @@ impl KnotworkApp {
             (0..nv).map(|j| i * nv + j).collect()
         };
         self.update_net();
+    }
+
+    /// Shift + E: begins setting the selected cage edges' sharpness by the pointer.
+    fn begin_crease_drag(&mut self, pointer: Option<egui::Pos2>) {
+        let Some(object) = self.selection.object else {
+            return;
+        };
+        let Some(cage) = self
+            .scene()
+            .objects
+            .get(object)
+            .and_then(super::panels::cage::cage_of)
+        else {
+            return;
+        };
+        let points: std::collections::BTreeSet<u32> =
+            self.selection.points.iter().map(|&p| p as u32).collect();
+        let edges = cage.edges_within(&points);
+        if edges.is_empty() {
+            self.status.error = Some("select edges (both their points) to crease them".into());
+            return;
+        }
+        let handles = self.projected_handles();
+        let on_screen: Vec<DVec2> = points
+            .iter()
+            .filter_map(|&p| handles.get(p as usize).copied().flatten())
+            .map(|p| p.screen)
+            .collect();
+        if on_screen.is_empty() {
+            return;
+        }
+        let mean = on_screen.iter().sum::<DVec2>() / on_screen.len() as f64;
+        let centre = self.viewport_rect.left_top() + egui::vec2(mean.x as f32, mean.y as f32);
+        let start = pointer.map_or(100.0, |p| p.distance(centre)).max(20.0);
+        let initial = self.scene().objects[object]
+            .geometry
+            .as_subdivision()
+            .map_or(0.0, |s| s.settings().crease(edges[0].0, edges[0].1));
+        self.crease_drag = Some(CreaseDrag {
+            object,
+            edges,
+            centre,
+            start,
+            initial,
+            value: initial,
+        });
+        self.crease_notice();
+    }
+
+    fn crease_notice(&mut self) {
+        if let Some(drag) = &self.crease_drag {
+            self.status.notice = Some(format!(
+                "crease {:.2} on {} edges: move towards the centre for sharper; click or Enter \
+                 sets it, Esc cancels",
+                drag.value,
+                drag.edges.len()
+            ));
+        }
+    }
+
+    /// The pointer during a crease drag: the value follows it; a click or Enter sets it.
+    fn crease_drag_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
+        let (pointer, enter, escape, primary, secondary) = ui.input(|i| {
+            (
+                i.pointer.hover_pos(),
+                i.key_pressed(egui::Key::Enter),
+                i.key_pressed(egui::Key::Escape),
+                i.pointer.button_clicked(egui::PointerButton::Primary),
+                i.pointer.button_clicked(egui::PointerButton::Secondary),
+            )
+        });
+        let Some(drag) = &mut self.crease_drag else {
+            return;
+        };
+        if let Some(p) = pointer {
+            let nearer = 1.0 - f64::from(p.distance(drag.centre) / drag.start);
+            drag.value = (drag.initial + 10.0 * nearer).clamp(0.0, 10.0);
+        }
+        self.redraw = true;
+        if escape || secondary {
+            self.crease_drag = None;
+            self.status.notice = Some("crease left as it was".into());
+            return;
+        }
+        if enter || primary || response.clicked() {
+            let Some(drag) = self.crease_drag.take() else {
+                return;
+            };
+            let Some(mut settings) = self.scene().objects[drag.object]
+                .geometry
+                .as_subdivision()
+                .map(|s| s.settings())
+            else {
+                return;
+            };
+            for &(a, b) in &drag.edges {
+                settings.set_crease(a, b, drag.value);
+            }
+            self.apply(AppCommand::Edit(crate::doc::Command::SetSubdivision {
+                object: drag.object,
+                settings,
+            }));
+            self.status.notice = Some(format!(
+                "crease {:.2} set on {} edges",
+                drag.value,
+                drag.edges.len()
+            ));
+            return;
+        }
+        self.crease_notice();
     }
 
     /// Starts dragging the selection from handle `index`: a transient edit of the document.
@@ -522,6 +646,10 @@ impl KnotworkApp {
     }
 
     pub(super) fn handle_input(&mut self, ui: &egui::Ui, response: &egui::Response) {
+        if self.crease_drag.is_some() {
+            self.crease_drag_input(ui, response);
+            return;
+        }
         let shift = ui.input(|i| i.modifiers.shift);
         if self.curves.drawing.is_some() {
             let hover = response.hover_pos().map(|p| self.local(p));
@@ -667,7 +795,7 @@ impl KnotworkApp {
         {
             self.apply(AppCommand::Edit(crate::doc::Command::Duplicate { object }));
         }
-        if self.drag.is_none() {
+        if self.drag.is_none() && self.crease_drag.is_none() {
             if pressed(shortcut(Modifiers::ALT, Key::A))
                 || pressed(shortcut(Modifiers::NONE, Key::Escape))
             {
@@ -689,6 +817,10 @@ impl KnotworkApp {
                 .object
                 .and_then(|s| self.scene().objects.get(s))
                 .is_some_and(|o| o.geometry.as_subdivision().is_some());
+            if on_cage && pressed(shortcut(Modifiers::SHIFT, Key::E)) {
+                let pointer = ctx.input(|i| i.pointer.hover_pos());
+                self.begin_crease_drag(pointer);
+            }
             if on_cage {
                 use super::panels::cage::SelectMode;
                 for (key, mode, name) in [
@@ -723,6 +855,21 @@ impl KnotworkApp {
     /// The box or lasso being dragged, drawn over the viewport.
     pub(super) fn paint_box(&self, ui: &egui::Ui) {
         let color = egui::Color32::from_rgb(255, 140, 30);
+        if let (Some(drag), Some(now)) = (&self.crease_drag, ui.input(|i| i.pointer.hover_pos())) {
+            ui.painter().add(egui::Shape::dashed_line(
+                &[drag.centre, now],
+                egui::Stroke::new(1.0, color),
+                6.0,
+                4.0,
+            ));
+            ui.painter().text(
+                now + egui::vec2(12.0, -12.0),
+                egui::Align2::LEFT_BOTTOM,
+                format!("crease {:.2}", drag.value),
+                egui::FontId::proportional(14.0),
+                color,
+            );
+        }
         if let Some(lasso) = &self.selection.lasso {
             let mut closed = lasso.clone();
             closed.extend(lasso.first().copied());

@@ -610,6 +610,73 @@ fn cage_counts(harness: &Harness<'_, KnotworkApp>, k: usize) -> (usize, usize) {
     (mesh.points().len(), mesh.faces().count())
 }
 
+/// Shift + E on a cage edge, as in Blender: the pointer moved towards the selection's centre
+/// sharpens it and a click sets it as one undo step; Esc leaves it as it was.
+#[test]
+fn shift_e_creases_the_selected_edges_by_the_pointer() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = editor();
+    let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    harness.state_mut().open_file("cube.obj", cube.as_bytes());
+    harness.run_steps(3);
+    select_with_free_handle(&mut harness, 0);
+    click_label(&mut harness, "Subdivide");
+    let crease = |harness: &Harness<'_, KnotworkApp>| {
+        harness.state().document().scene.objects[0]
+            .geometry
+            .downcast_ref::<knotwork::scene::SubdivObject>()
+            .expect("a subdivision surface")
+            .settings()
+            .crease(0, 1)
+    };
+    assert_eq!(crease(&harness), 0.0);
+    let page = harness.state().command_sender();
+    page.send(AppCommand::SelectPoints(vec![0, 1]));
+    harness.run_steps(2);
+    let handles = status::handles();
+    let at = |k: usize| {
+        let p = handles[k].expect("on screen");
+        Pos2::new(p[0], p[1])
+    };
+    let centre = at(0).lerp(at(1), 0.5);
+    let steps = status::current().undo_steps;
+    // Esc: nothing changes.
+    harness.hover_at(centre + egui::vec2(200.0, 0.0));
+    harness.run_steps(1);
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::E);
+    harness.run_steps(1);
+    harness.hover_at(centre + egui::vec2(20.0, 0.0));
+    harness.run_steps(1);
+    harness.key_press(Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(crease(&harness), 0.0);
+    assert_eq!(status::current().undo_steps, steps);
+    // Begun 200 px out and moved to 20 px (a tenth of the way left): sharpness 9; a click
+    // sets it.
+    harness.hover_at(centre + egui::vec2(200.0, 0.0));
+    harness.run_steps(1);
+    harness.key_press_modifiers(Modifiers::SHIFT, Key::E);
+    harness.run_steps(1);
+    let near = centre + egui::vec2(20.0, 0.0);
+    harness.hover_at(near);
+    harness.run_steps(1);
+    press(&harness, near, true);
+    harness.run_steps(1);
+    press(&harness, near, false);
+    harness.run_steps(2);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    let sharp = crease(&harness);
+    assert!((sharp - 9.0).abs() < 0.2, "{sharp}");
+}
+
 #[test]
 fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let _turn = ONE_EDITOR_AT_A_TIME
