@@ -337,8 +337,8 @@ fn resample(input: &CornerGrid, ns: usize, boundary: &[DVec3], profile: SideProf
         let current = mesh_fractions(i);
         let current_new = profile_fractions(i);
         for j in 0..(half + odd) {
-            for k in 0..=half {
-                let (k_in, rest_k) = locate(&current, current_new[k]);
+            for (k, &fraction) in current_new.iter().enumerate().take(half + 1) {
+                let (k_in, rest_k) = locate(&current, fraction);
                 let (k_prev, rest_prev) = locate(&previous, previous_new[ns - j]);
                 let mut j_in = ns_in - k_prev;
                 let mut rest_j = -rest_prev;
