@@ -144,18 +144,21 @@ impl KnotworkApp {
         self.redraw = true;
     }
 
+    /// The selected object's cage, where it is a subdivision surface.
+    fn selected_cage(&self) -> Option<crate::kernel::subdiv::cage_edit::Cage> {
+        self.selection
+            .object
+            .and_then(|s| self.scene().objects.get(s))
+            .and_then(super::panels::cage::cage_of)
+    }
+
     /// Alt + click on an edge of the selected cage: its edge loop (`ring`: its ring; `add`:
     /// added to the selection). False where no cage edge is under the cursor.
     fn cage_edge_click(&mut self, cursor: DVec2, ring: bool, add: bool) -> bool {
         if !self.view.overlays.points {
             return false;
         }
-        let Some(cage) = self
-            .selection
-            .object
-            .and_then(|s| self.scene().objects.get(s))
-            .and_then(super::panels::cage::cage_of)
-        else {
+        let Some(cage) = self.selected_cage() else {
             return false;
         };
         let edges = cage.edges();
@@ -177,12 +180,7 @@ impl KnotworkApp {
         if mode == SelectMode::Vertex || !self.view.overlays.points {
             return false;
         }
-        let Some(cage) = self
-            .selection
-            .object
-            .and_then(|s| self.scene().objects.get(s))
-            .and_then(super::panels::cage::cage_of)
-        else {
+        let Some(cage) = self.selected_cage() else {
             return false;
         };
         let handles = self.projected_handles();
@@ -246,12 +244,7 @@ impl KnotworkApp {
         let Some(object) = self.selection.object else {
             return;
         };
-        let Some(cage) = self
-            .scene()
-            .objects
-            .get(object)
-            .and_then(super::panels::cage::cage_of)
-        else {
+        let Some(cage) = self.selected_cage() else {
             return;
         };
         let points: std::collections::BTreeSet<u32> =

@@ -610,13 +610,8 @@ fn cage_counts(harness: &Harness<'_, KnotworkApp>, k: usize) -> (usize, usize) {
     (mesh.points().len(), mesh.faces().count())
 }
 
-/// Shift + E on a cage edge, as in Blender: the pointer moved towards the selection's centre
-/// sharpens it and a click sets it as one undo step; Esc leaves it as it was.
-#[test]
-fn shift_e_creases_the_selected_edges_by_the_pointer() {
-    let _turn = ONE_EDITOR_AT_A_TIME
-        .lock()
-        .unwrap_or_else(|p| p.into_inner());
+/// An editor with a unit cube cage opened and subdivided, selected.
+fn subdivided_cube() -> Harness<'static, KnotworkApp> {
     let mut harness = editor();
     let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
@@ -624,6 +619,17 @@ fn shift_e_creases_the_selected_edges_by_the_pointer() {
     harness.run_steps(3);
     select_with_free_handle(&mut harness, 0);
     click_label(&mut harness, "Subdivide");
+    harness
+}
+
+/// Shift + E on a cage edge, as in Blender: the pointer moved towards the selection's centre
+/// sharpens it and a click sets it as one undo step; Esc leaves it as it was.
+#[test]
+fn shift_e_creases_the_selected_edges_by_the_pointer() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = subdivided_cube();
     let crease = |harness: &Harness<'_, KnotworkApp>| {
         harness.state().document().scene.objects[0]
             .geometry
@@ -682,13 +688,7 @@ fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let _turn = ONE_EDITOR_AT_A_TIME
         .lock()
         .unwrap_or_else(|p| p.into_inner());
-    let mut harness = editor();
-    let cube = "o cube\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
-        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
-    harness.state_mut().open_file("cube.obj", cube.as_bytes());
-    harness.run_steps(3);
-    select_with_free_handle(&mut harness, 0);
-    click_label(&mut harness, "Subdivide");
+    let mut harness = subdivided_cube();
     let subdivided = harness.state().document().scene.objects[0].clone();
     let steps = status::current().undo_steps;
 

@@ -1176,15 +1176,7 @@ fn straight_cuts(
         a = (a + 1) % len;
         b = (b + len - 1) % len;
     }
-    let walk = |from: usize, to: usize| -> Vec<u32> {
-        let mut out = vec![ring[from]];
-        let mut k = from;
-        while k != to {
-            k = (k + 1) % len;
-            out.push(ring[k]);
-        }
-        out
-    };
+    let walk = |from: usize, to: usize| loop_between(&ring, from, to);
     let (first, last) = (chords[0], chords[cuts - 1]);
     let mut pieces = vec![walk(first.1, first.0)];
     for w in chords.windows(2) {
@@ -1246,23 +1238,25 @@ fn quad_three_cut_sides(
                 (!neighbours).then_some((k, i, j, len))
             })
             .min_by_key(|&(.., len)| len);
-        let Some((k, i, j, len)) = found else {
+        let Some((k, i, j, _)) = found else {
             continue;
         };
         let piece = pieces[k].clone();
-        let walk = |from: usize, to: usize| {
-            let mut out = vec![piece[from]];
-            let mut at = from;
-            while at != to {
-                at = (at + 1) % len;
-                out.push(piece[at]);
-            }
-            out
-        };
-        pieces[k] = walk(i, j);
-        pieces.push(walk(j, i));
+        pieces[k] = loop_between(&piece, i, j);
+        pieces.push(loop_between(&piece, j, i));
     }
     pieces
+}
+
+/// The part of a closed loop from position `from` forward to position `to`, both included.
+fn loop_between(ring: &[u32], from: usize, to: usize) -> Vec<u32> {
+    let mut out = vec![ring[from]];
+    let mut at = from;
+    while at != to {
+        at = (at + 1) % ring.len();
+        out.push(ring[at]);
+    }
+    out
 }
 
 /// A face with the new points of its cut edges taken into its loop.
