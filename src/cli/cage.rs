@@ -61,11 +61,15 @@ pub enum CageTool {
         #[arg(long, value_enum, default_value_t = MergeAt::Centre)]
         at: MergeAt,
     },
-    /// Dissolve edges: the faces on both sides become one.
+    /// Dissolve edges (the faces on both sides become one), or faces (each joined region
+    /// becomes one face).
     Dissolve {
         /// Edges, as A-B,C-D.
+        #[arg(long, conflicts_with = "faces", required_unless_present = "faces")]
+        edges: Option<String>,
+        /// Faces, as I,J.
         #[arg(long)]
-        edges: String,
+        faces: Option<String>,
     },
     /// Delete faces, and the vertices only they used.
     Delete {
@@ -200,8 +204,13 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             vertices: indices("vertices", vertices)?,
             at_first: *at == MergeAt::First,
         },
-        CageTool::Dissolve { edges } => Tool::Dissolve {
+        CageTool::Dissolve {
+            edges: Some(edges), ..
+        } => Tool::Dissolve {
             edges: edge_pairs(edges)?,
+        },
+        CageTool::Dissolve { faces, .. } => Tool::DissolveFaces {
+            faces: face_list(faces.as_deref().unwrap_or_default())?,
         },
         CageTool::Delete { faces } => Tool::Delete {
             faces: face_list(faces)?,

@@ -372,6 +372,20 @@ impl KnotworkApp {
             }
             if tool_button(
                 ui,
+                faces.len() >= 2,
+                "Dissolve faces",
+                "each joined region of selected faces made one face",
+                "select two or more faces that share edges",
+            ) {
+                chosen = Some((
+                    Tool::DissolveFaces {
+                        faces: faces.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if tool_button(
+                ui,
                 !faces.is_empty(),
                 "Poke faces",
                 "each selected face a fan of triangles round its centre",

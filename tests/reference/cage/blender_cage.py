@@ -148,6 +148,9 @@ def apply(bm, op, args):
         else:
             co = sum((v.co for v in verts), Vector()) / len(verts)
         bmesh.ops.pointmerge(bm, verts=verts, merge_co=co)
+    elif op == "dissolve" and "faces" in opt:
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        bmesh.ops.dissolve_faces(bm, faces=faces, use_verts=True)
     elif op == "dissolve":
         edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
         bmesh.ops.dissolve_edges(bm, edges=edges, use_verts=True)
@@ -356,6 +359,11 @@ CASES = [
     ("cap6", "subdivide --faces 6,7 --cuts 2"),
     ("grid", "subdivide --faces 5,6,9 --cuts 2"),
     ("cap5", "subdivide --faces 2,11,0 --cuts 2"),
+    # Dissolve faces: each joined region one face.
+    ("box", "dissolve --faces 0,1"),
+    ("grid", "dissolve --faces 5,6,9,10"),
+    ("torus", "dissolve --faces 0,1,20,21"),
+    ("cap6", "dissolve --faces 6,7,8"),
 ]
 
 

@@ -744,6 +744,31 @@ impl Cage {
         Ok(out.compacted(self))
     }
 
+    /// Dissolve faces (Blender's Dissolve Faces, dissolving vertices too): each region of
+    /// named faces joined by edges becomes one face, by dissolving the edges between two named
+    /// faces ([`Self::dissolve_edges`]). Named faces that share no edge are refused.
+    pub fn dissolve_faces(&self, faces: &[usize]) -> Result<Self, CageEditError> {
+        let faces = self.check_faces(faces)?;
+        let named: HashSet<usize> = faces.iter().copied().collect();
+        let half = self.half_edges();
+        let mut inner = Vec::new();
+        for &f in &faces {
+            let face = &self.faces[f];
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                if a < b && half.get(&(b, a)).is_some_and(|&(g, _)| named.contains(&g)) {
+                    inner.push((a, b));
+                }
+            }
+        }
+        if inner.is_empty() {
+            return Err(invalid(
+                "the named faces share no edge: there is nothing to dissolve",
+            ));
+        }
+        self.dissolve_edges(&inner)
+    }
+
     /// Dissolve edges (Blender's Dissolve Edges, dissolving vertices too): the faces on both
     /// sides of each edge become one face (the lowest-numbered of them keeps its index and its
     /// winding), and each end of a dissolved edge that is left between only two edges is
@@ -1948,6 +1973,8 @@ pub enum Tool {
     },
     /// [`Cage::dissolve_edges`].
     Dissolve { edges: Vec<[u32; 2]> },
+    /// [`Cage::dissolve_faces`].
+    DissolveFaces { faces: Vec<usize> },
     /// [`Cage::delete_faces`].
     Delete { faces: Vec<usize> },
     /// [`Cage::poke_faces`].
@@ -1981,6 +2008,7 @@ impl Tool {
             Self::Bridge { .. } => "Bridge",
             Self::Merge { .. } => "Merge",
             Self::Dissolve { .. } => "Dissolve",
+            Self::DissolveFaces { .. } => "Dissolve faces",
             Self::Delete { .. } => "Delete",
             Self::Mirror { .. } => "Mirror",
             Self::Poke { .. } => "Poke",
@@ -2014,6 +2042,7 @@ impl Cage {
             Tool::Bridge { loop1, loop2 } => self.bridge_loops(loop1, loop2),
             Tool::Merge { vertices, at_first } => self.merge_vertices(vertices, *at_first),
             Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
+            Tool::DissolveFaces { faces } => self.dissolve_faces(faces),
             Tool::Delete { faces } => self.delete_faces(faces),
             Tool::Mirror {
                 axis,
@@ -2513,6 +2542,7 @@ mod tests {
             cage.bevel_edges(&corner, 0.1, 1001).err(),
             cage.subdivide_faces(&[0], 0).err(),
             cage.subdivide_faces(&[6], 1).err(),
+            cage.dissolve_faces(&[0, opposite]).err(), // they share no edge
             cage.bridge_loops(&[0, 1, 3], &[4, 5]).err(),
             cage.bridge_loops(&[0, 1, 3, 2], &[4, 5, 7, 6]).err(),
             cage.merge_vertices(&[], false).err(),
