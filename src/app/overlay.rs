@@ -37,7 +37,7 @@ pub const CONTROLS: [(&str, &str); 16] = [
     ("F; .", "frame the scene; frame the selection"),
     (
         "7 / 1 / 3; 5",
-        "top / front / right view; orthographic or perspective",
+        "top / front / right view (on a cage, 1 / 2 / 3 pick the select mode); orthographic or perspective",
     ),
     (
         "Ctrl + S; Ctrl + O; Ctrl + E",
