@@ -54,25 +54,45 @@ pub enum CageTool {
         #[arg(long)]
         loop2: String,
     },
-    /// Merge vertices into the first named, at their centre or where the first is.
+    /// Merge vertices into the first named, at their centre or where the first is; or, with
+    /// --distance, merge the points within that distance of each other (among --vertices, or
+    /// all).
     Merge {
-        #[arg(long)]
-        vertices: String,
-        #[arg(long, value_enum, default_value_t = MergeAt::Centre)]
+        #[arg(long, required_unless_present = "distance")]
+        vertices: Option<String>,
+        #[arg(long, value_enum, default_value_t = MergeAt::Centre, conflicts_with = "distance")]
         at: MergeAt,
+        #[arg(long)]
+        distance: Option<f64>,
     },
-    /// Dissolve edges (the faces on both sides become one), or faces (each joined region
-    /// becomes one face).
+    /// Dissolve edges (the faces on both sides become one), faces (each joined region
+    /// becomes one face), or vertices (the faces round each become one).
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Dissolve {
         /// Edges, as A-B,C-D.
-        #[arg(long, conflicts_with = "faces", required_unless_present = "faces")]
+        #[arg(long, group = "what")]
         edges: Option<String>,
         /// Faces, as I,J.
-        #[arg(long)]
+        #[arg(long, group = "what")]
         faces: Option<String>,
+        /// Vertices, as I,J.
+        #[arg(long, group = "what")]
+        vertices: Option<String>,
     },
-    /// Delete faces, and the vertices only they used.
+    /// Delete faces, vertices (with their faces) or edges (with their faces), and the
+    /// vertices only those faces used.
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Delete {
+        #[arg(long, group = "what")]
+        faces: Option<String>,
+        #[arg(long, group = "what")]
+        vertices: Option<String>,
+        /// Edges, as A-B,C-D.
+        #[arg(long, group = "what")]
+        edges: Option<String>,
+    },
+    /// Triangulate faces (Beauty: the split with the roundest triangles).
+    Triangulate {
         #[arg(long)]
         faces: String,
     },
@@ -200,8 +220,19 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             loop1: indices("loop1", loop1)?,
             loop2: indices("loop2", loop2)?,
         },
-        CageTool::Merge { vertices, at } => Tool::Merge {
-            vertices: indices("vertices", vertices)?,
+        CageTool::Merge {
+            vertices,
+            distance: Some(distance),
+            ..
+        } => Tool::MergeByDistance {
+            vertices: match vertices {
+                Some(list) => indices("vertices", list)?,
+                None => Vec::new(),
+            },
+            distance: *distance,
+        },
+        CageTool::Merge { vertices, at, .. } => Tool::Merge {
+            vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
             at_first: *at == MergeAt::First,
         },
         CageTool::Dissolve {
@@ -209,10 +240,28 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         } => Tool::Dissolve {
             edges: edge_pairs(edges)?,
         },
-        CageTool::Dissolve { faces, .. } => Tool::DissolveFaces {
-            faces: face_list(faces.as_deref().unwrap_or_default())?,
+        CageTool::Dissolve {
+            faces: Some(faces), ..
+        } => Tool::DissolveFaces {
+            faces: face_list(faces)?,
         },
-        CageTool::Delete { faces } => Tool::Delete {
+        CageTool::Dissolve { vertices, .. } => Tool::DissolveVertices {
+            vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
+        },
+        CageTool::Delete {
+            faces: Some(faces), ..
+        } => Tool::Delete {
+            faces: face_list(faces)?,
+        },
+        CageTool::Delete {
+            edges: Some(edges), ..
+        } => Tool::DeleteEdges {
+            edges: edge_pairs(edges)?,
+        },
+        CageTool::Delete { vertices, .. } => Tool::DeleteVertices {
+            vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
+        },
+        CageTool::Triangulate { faces } => Tool::Triangulate {
             faces: face_list(faces)?,
         },
         CageTool::Poke { faces } => Tool::Poke {

@@ -1,9 +1,9 @@
 //! `knotwork cage` against Blender's bmesh: every case in `tests/reference/cage/cases.tsv` (a
 //! cage under a seeded random motion, a tool and its arguments; `blender_cage.py` beside it made
 //! them) is run through the command line, and the result must have Blender's topology (counts
-//! of vertices, edges and faces, open edges, and the histograms of valences and face sizes) and
+//! of vertices, edges and faces, open edges, and the histograms of valences and face sizes),
 //! Blender's points, each matched to one of the other's within 1e-6 of the coordinates' size
-//! (Blender keeps points in f32).
+//! (Blender keeps points in f32), and Blender's edges between the points so matched.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -82,6 +82,40 @@ fn farthest_unmatched(a: &Obj, b: &Obj) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// An edge of `a` whose ends, each matched to the nearest point of `b`, are no edge of `b`
+/// (with the topology and points alike, this tells apart which diagonals or corners faces
+/// join). Points of `a` with two points of `b` within `tolerance` (copies left unmerged) are
+/// not matched, and their edges not checked.
+fn edge_not_in(a: &Obj, b: &Obj, tolerance: f64) -> Option<(usize, usize)> {
+    let distance =
+        |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
+    let nearest = |p: &[f64; 3]| {
+        let mut order: Vec<usize> = (0..b.points.len()).collect();
+        order.sort_by(|&i, &j| distance(p, &b.points[i]).total_cmp(&distance(p, &b.points[j])));
+        match order[..] {
+            [_, second, ..] if distance(p, &b.points[second]) <= tolerance => None,
+            [first, ..] => Some(first),
+            [] => None,
+        }
+    };
+    let map: Vec<Option<usize>> = a.points.iter().map(nearest).collect();
+    let edges_of = |obj: &Obj, map: &dyn Fn(usize) -> Option<usize>| {
+        let mut set = std::collections::BTreeSet::new();
+        for f in &obj.faces {
+            for c in 0..f.len() {
+                if let (Some(x), Some(y)) = (map(f[c]), map(f[(c + 1) % f.len()])) {
+                    set.insert((x.min(y), x.max(y)));
+                }
+            }
+        }
+        set
+    };
+    let theirs = edges_of(b, &|v| Some(v));
+    edges_of(a, &|v| map[v])
+        .into_iter()
+        .find(|e| !theirs.contains(e))
+}
+
 /// Every face's corners consecutive along edges no other face of the same direction uses: the
 /// faces agree in winding.
 fn consistently_wound(obj: &Obj) -> bool {
@@ -140,6 +174,9 @@ fn every_tool_matches_blender_bmesh_on_cages_in_general_position() {
         }
         if !consistently_wound(&ours) {
             failures.push(format!("{stem}: faces disagree in winding"));
+        }
+        if let Some(edge) = edge_not_in(&ours, &blender, tolerance) {
+            failures.push(format!("{stem}: our edge {edge:?} is not one of Blender's"));
         }
         count += 1;
     }

@@ -683,6 +683,82 @@ fn shift_e_creases_the_selected_edges_by_the_pointer() {
     assert!((sharp - 9.0).abs() < 0.2, "{sharp}");
 }
 
+/// The clean-up tools from the panel on the cube's cage (8 points, 6 quads): each one undo
+/// step with the counts its closed form gives, and a merge with nothing near refused with the
+/// reason, the cage and the history as they were.
+#[test]
+fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = subdivided_cube();
+    let steps = status::current().undo_steps;
+    let page = harness.state().command_sender();
+    let step = |harness: &mut Harness<'_, KnotworkApp>, label: &str, points: Vec<usize>| {
+        page.send(AppCommand::SelectPoints(points));
+        harness.run_steps(2);
+        click_label(harness, label);
+        status::current()
+    };
+    // The top quad becomes two triangles: 8 points, 7 faces; its points stay selected.
+    let s = step(&mut harness, "Triangulate faces", vec![4, 5, 6, 7]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (8, 7));
+    assert_eq!(s.selected_points.len(), 4);
+    // A bottom corner: its three quads become one hexagon through its three neighbours.
+    let s = step(&mut harness, "Dissolve points", vec![0]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 2),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (7, 5));
+    // Nothing lies within the merge distance of anything: refused, nothing changes.
+    let before = harness.state().document().scene.objects[0].clone();
+    let s = step(&mut harness, "Merge by distance", vec![]);
+    let error = s.error.clone().unwrap_or_default();
+    assert!(error.contains("nothing to merge"), "{s:?}");
+    assert_eq!(s.undo_steps, steps + 2);
+    assert_eq!(
+        harness.state().document().scene.objects[0].control_points(),
+        before.control_points()
+    );
+    // Point 6 (the file's 7: a top corner) goes with every face on it.
+    let faces_on_it = cage_faces_on(&harness, 6);
+    let s = step(&mut harness, "Delete points", vec![6]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 3),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0).1, 5 - faces_on_it);
+    // Undo walks back through every step to the cube.
+    for _ in 0..3 {
+        harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        harness.run_steps(2);
+    }
+    assert_eq!(cage_counts(&harness, 0), (8, 6));
+}
+
+/// How many faces of object 0's cage use point `v`.
+fn cage_faces_on(harness: &Harness<'_, KnotworkApp>, v: u32) -> usize {
+    let object = &harness.state().document().scene.objects[0];
+    let subdiv = object
+        .geometry
+        .downcast_ref::<knotwork::scene::SubdivObject>()
+        .expect("a subdivision surface");
+    subdiv
+        .surface
+        .mesh()
+        .faces()
+        .filter(|f| f.contains(&v))
+        .count()
+}
+
 #[test]
 fn cage_tools_extrude_inset_and_select_loops_from_the_panel_and_the_mouse() {
     let _turn = ONE_EDITOR_AT_A_TIME

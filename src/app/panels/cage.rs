@@ -34,6 +34,8 @@ pub struct CageToolSettings {
     pub segments: u32,
     /// Merge at the point clicked last (else at the centre).
     pub merge_at_last: bool,
+    /// Merge by distance: points this near are welded.
+    pub merge_distance: f64,
     /// What a click on the cage picks.
     pub select_mode: SelectMode,
 }
@@ -59,6 +61,7 @@ impl Default for CageToolSettings {
             width: 0.1,
             segments: 1,
             merge_at_last: false,
+            merge_distance: 1e-4,
             select_mode: SelectMode::Vertex,
         }
     }
@@ -84,6 +87,8 @@ const NEED_EDGE: &str = "select one edge (its two points)";
 enum After {
     /// The points of these faces (an extrusion's or inset's region, which keeps its indices).
     Faces(Vec<usize>),
+    /// These points (a tool that keeps every point's index).
+    Points(Vec<u32>),
     Nothing,
 }
 
@@ -122,6 +127,7 @@ impl KnotworkApp {
                 offset: 0.5 * unit,
                 thickness: 0.15 * unit,
                 width: 0.1 * unit,
+                merge_distance: 1e-3 * unit,
                 ..self.cage_tools.clone()
             };
         }
@@ -429,6 +435,91 @@ impl KnotworkApp {
                 ));
             }
         });
+        let points: Vec<u32> = selected.iter().copied().collect();
+        let need_points = "select one or more points";
+        ui.horizontal_wrapped(|ui| {
+            if tool_button(
+                ui,
+                !faces.is_empty(),
+                "Triangulate faces",
+                "each selected face split into triangles, the roundest split (Beauty)",
+                need_faces,
+            ) {
+                chosen = Some((
+                    Tool::Triangulate {
+                        faces: faces.clone(),
+                    },
+                    After::Points(points.clone()),
+                ));
+            }
+            if tool_button(
+                ui,
+                !points.is_empty(),
+                "Dissolve points",
+                "the faces round each selected point made one, the point gone",
+                need_points,
+            ) {
+                chosen = Some((
+                    Tool::DissolveVertices {
+                        vertices: points.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if tool_button(
+                ui,
+                !points.is_empty(),
+                "Delete points",
+                "the selected points removed with every face on them",
+                need_points,
+            ) {
+                chosen = Some((
+                    Tool::DeleteVertices {
+                        vertices: points.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            if tool_button(
+                ui,
+                !edges.is_empty(),
+                "Delete edges",
+                "the selected edges removed with the faces on them",
+                need_edges,
+            ) {
+                chosen = Some((
+                    Tool::DeleteEdges {
+                        edges: edges.iter().map(|&(a, b)| [a, b]).collect(),
+                    },
+                    After::Nothing,
+                ));
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("Merge by distance")
+                .on_hover_text(
+                    "points nearer each other than the distance welded into one (among the \
+                     selected points, or all when none is selected)",
+                )
+                .clicked()
+            {
+                chosen = Some((
+                    Tool::MergeByDistance {
+                        vertices: points.clone(),
+                        distance: t.merge_distance,
+                    },
+                    After::Nothing,
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.merge_distance)
+                    .speed(1e-4)
+                    .range(0.0..=f64::MAX)
+                    .max_decimals(6)
+                    .prefix("within "),
+            );
+        });
         ui.horizontal_wrapped(|ui| {
             ui.label("Mirror editing:")
                 .on_hover_text("a dragged point's images across x = 0, y = 0, z = 0 move with it");
@@ -490,6 +581,7 @@ impl KnotworkApp {
                 .flatten()
                 .copied()
                 .collect(),
+            After::Points(points) => points,
             After::Nothing => Vec::new(),
         };
         self.select_cage_points(points);

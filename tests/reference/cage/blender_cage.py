@@ -141,6 +141,10 @@ def apply(bm, op, args):
             loop = ints(opt[key])
             edges += [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
         bmesh.ops.bridge_loops(bm, edges=edges)
+    elif op == "merge" and "distance" in opt:
+        # Blender's edit mode hands the selected points over in index order.
+        verts = [bm.verts[i] for i in sorted(set(ints(opt["vertices"])))] if "vertices" in opt else list(bm.verts)
+        bmesh.ops.remove_doubles(bm, verts=verts, dist=float(opt["distance"]))
     elif op == "merge":
         verts = [bm.verts[i] for i in ints(opt["vertices"])]
         if opt.get("at", "centre") == "first":
@@ -148,15 +152,29 @@ def apply(bm, op, args):
         else:
             co = sum((v.co for v in verts), Vector()) / len(verts)
         bmesh.ops.pointmerge(bm, verts=verts, merge_co=co)
+    elif op == "dissolve" and "vertices" in opt:
+        verts = [bm.verts[i] for i in ints(opt["vertices"])]
+        bmesh.ops.dissolve_verts(bm, verts=verts, use_face_split=False, use_boundary_tear=False)
+        drop_loose(bm)
     elif op == "dissolve" and "faces" in opt:
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         bmesh.ops.dissolve_faces(bm, faces=faces, use_verts=True)
     elif op == "dissolve":
         edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
         bmesh.ops.dissolve_edges(bm, edges=edges, use_verts=True)
+    elif op == "delete" and "vertices" in opt:
+        bmesh.ops.delete(bm, geom=[bm.verts[i] for i in ints(opt["vertices"])], context="VERTS")
+        drop_loose(bm)
+    elif op == "delete" and "edges" in opt:
+        edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
+        bmesh.ops.delete(bm, geom=edges, context="EDGES")
+        drop_loose(bm)
     elif op == "delete":
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         bmesh.ops.delete(bm, geom=faces, context="FACES")
+    elif op == "triangulate":
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        bmesh.ops.triangulate(bm, faces=faces, quad_method="BEAUTY", ngon_method="BEAUTY")
     elif op == "subdivide":
         # Blender's Subdivide: the faces' edges cut, every quad and triangle they close filled
         # with a grid (no single-edge or corner patterns: other faces take the points).
@@ -176,6 +194,12 @@ def apply(bm, op, args):
         bmesh.ops.reverse_faces(bm, faces=[f for f in bm.faces if f not in before])
     else:
         raise SystemExit(f"unknown operation {op}")
+
+
+def drop_loose(bm):
+    """Removes the edges and vertices no face uses: a cage is its faces."""
+    bmesh.ops.delete(bm, geom=[e for e in bm.edges if not e.link_faces], context="EDGES")
+    bmesh.ops.delete(bm, geom=[v for v in bm.verts if not v.link_faces], context="VERTS")
 
 
 def cage(name):
@@ -231,6 +255,44 @@ def cage(name):
         f = [[k, (k + 1) % n, n + (k + 1) % n, n + k] for k in range(n)]
         f += [[(k + 1) % n, k, 2 * n] for k in range(n)]
         f += [[n + k, n + (k + 1) % n, 2 * n + 1] for k in range(n)]
+        return v, f
+    if name == "ngons":
+        # A prism on an uneven heptagon (one corner pushed in: not convex), its ends 7-gons.
+        radii = (1.2, 0.9, 1.1, 0.5, 1.0, 1.3, 0.8)
+        v = []
+        for z in (0.0, 1.1):
+            for k, r in enumerate(radii):
+                a = 2 * math.pi * k / 7 + 0.1 * math.sin(3 * k)
+                v.append((r * math.cos(a), 0.8 * r * math.sin(a), z + 0.05 * math.cos(5 * k)))
+        f = [list(range(6, -1, -1)), list(range(7, 14))]
+        f += [[k, (k + 1) % 7, 7 + (k + 1) % 7, 7 + k] for k in range(7)]
+        return v, f
+    if name == "seam":
+        # Two 3 × 2 grids side by side, the points of the seam doubled, each copy moved by up
+        # to 1e-7 (float noise, as from a mirror: merged by distance at 1e-5).
+        rnd = random.Random(7)
+        v, f = [], []
+        for side in (0, 1):
+            base = len(v)
+            for j in range(3):
+                for i in range(4):
+                    x = 3 * side + i
+                    jitter = [rnd.uniform(-1e-7, 1e-7) for _ in range(3)] if i in (0, 3) else [0] * 3
+                    v.append((x + jitter[0], j * 1.2 + jitter[1], 0.2 * ((x + j) % 2) + jitter[2]))
+            f += [[base + j * 4 + i, base + j * 4 + i + 1, base + (j + 1) * 4 + i + 1,
+                   base + (j + 1) * 4 + i] for j in range(2) for i in range(3)]
+        return v, f
+    if name == "split5":
+        # cap5 with each bottom triangle's centre its own point, the five within 3.5e-4 of
+        # each other: a cluster of five for merge by distance.
+        v, f = cage("cap5")
+        rnd = random.Random(9)
+        n = 5
+        centre = v[2 * n]
+        for k in range(1, n):
+            face = f[n + k]
+            v.append(tuple(c + rnd.uniform(-1e-4, 1e-4) for c in centre))
+            f[n + k] = [face[0], face[1], len(v) - 1]
         return v, f
     raise SystemExit(f"no cage {name}")
 
@@ -364,6 +426,29 @@ CASES = [
     ("grid", "dissolve --faces 5,6,9,10"),
     ("torus", "dissolve --faces 0,1,20,21"),
     ("cap6", "dissolve --faces 6,7,8"),
+    # Delete vertices and edges (their faces go; the loose edges Blender keeps are dropped).
+    ("grid", "delete --vertices 6,0"),
+    ("torus", "delete --vertices 3,10,30"),
+    ("box", "delete --edges 0-1"),
+    ("cap5", "delete --edges 0-1,1-10"),
+    # Dissolve vertices: the faces round each joined, the vertex gone.
+    ("grid", "dissolve --vertices 6,0,1"),
+    ("grid", "dissolve --vertices 6,7"),
+    ("box", "dissolve --vertices 0"),
+    ("torus", "dissolve --vertices 0,14"),
+    ("cap6", "dissolve --vertices 12"),
+    ("ngons", "dissolve --vertices 3,10"),
+    # Merge by distance: float noise on a seam, a cluster of five.
+    ("seam", "merge --distance 1e-5U"),
+    ("seam", "merge --distance 1e-5U --vertices 3,7,11,12,16"),
+    ("split5", "merge --distance 1e-3U"),
+    ("split5", "merge --distance 1e-4U"),
+    # Triangulate (Beauty): quads by the better diagonal, polygons by ears and flips. (Not the
+    # grid's face 5: a symmetric saddle whose diagonals tie exactly, where Blender's float
+    # rounding picks one.)
+    ("grid", "triangulate --faces 0,1,2,3,4,6,7,8,9,10,11"),
+    ("cap6", "triangulate --faces 0,1,2"),
+    ("ngons", "triangulate --faces 0,1,2,5"),
 ]
 
 

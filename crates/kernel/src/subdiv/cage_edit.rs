@@ -34,7 +34,7 @@ pub enum CageEditError {
     Invalid(String),
 }
 
-fn invalid(message: impl Into<String>) -> CageEditError {
+pub(super) fn invalid(message: impl Into<String>) -> CageEditError {
     CageEditError::Invalid(message.into())
 }
 
@@ -51,7 +51,7 @@ pub struct Cage {
 /// Below this squared length the line between two loops' centres has no direction.
 const DEGENERATE: f64 = 1e-300;
 
-fn key(a: u32, b: u32) -> (u32, u32) {
+pub(super) fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
@@ -91,7 +91,7 @@ impl Cage {
     }
 
     /// The half-edges: (from, to) ↦ (face, corner of `from`).
-    fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
+    pub(super) fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
         let mut map = HashMap::with_capacity(self.faces.iter().map(Vec::len).sum());
         for (f, face) in self.faces.iter().enumerate() {
             for c in 0..face.len() {
@@ -101,7 +101,7 @@ impl Cage {
         map
     }
 
-    fn check_faces(&self, faces: &[usize]) -> Result<Vec<usize>, CageEditError> {
+    pub(super) fn check_faces(&self, faces: &[usize]) -> Result<Vec<usize>, CageEditError> {
         let mut out: Vec<usize> = Vec::with_capacity(faces.len());
         for &f in faces {
             if f >= self.faces.len() {
@@ -117,7 +117,7 @@ impl Cage {
         Ok(out)
     }
 
-    fn check_vertex(&self, v: u32) -> Result<(), CageEditError> {
+    pub(super) fn check_vertex(&self, v: u32) -> Result<(), CageEditError> {
         if (v as usize) < self.points.len() {
             Ok(())
         } else {
@@ -127,7 +127,7 @@ impl Cage {
 
     /// Refuses a vertex outside the cage, or a pair of vertices no face joins (`half`: the
     /// cage's [`Self::half_edges`]).
-    fn check_edge(
+    pub(super) fn check_edge(
         &self,
         half: &HashMap<(u32, u32), (usize, usize)>,
         a: u32,
@@ -174,7 +174,7 @@ impl Cage {
     /// Drops the vertices the tool left unused that a face of `before` used (the survivors keep
     /// their order; a vertex no face used before stays), faces of fewer than 3 corners, and the
     /// creases and corners whose edges or vertices are gone.
-    fn compacted(mut self, before: &Self) -> Self {
+    pub(super) fn compacted(mut self, before: &Self) -> Self {
         self.faces.retain(|f| f.len() >= 3);
         let mut used = vec![true; self.points.len()];
         for face in &before.faces {
@@ -711,7 +711,18 @@ impl Cage {
             out.points[keep as usize] = sum / named.len() as f64;
         }
         let gone: HashSet<u32> = named[1..].iter().copied().collect();
-        let to = |v: u32| if gone.contains(&v) { keep } else { v };
+        out.welded(self, |v| if gone.contains(&v) { keep } else { v })
+    }
+
+    /// The cage (`self`, its points already moved) with every vertex `v` replaced by `to(v)`
+    /// (Blender's Weld): faces lose the corners that fall together, a face that then passes a
+    /// corner twice splits there, pieces of fewer than three corners go, and of two faces
+    /// over the same corners the first stays. `before` is the cage the tool started from.
+    pub(super) fn welded(
+        mut self,
+        before: &Self,
+        to: impl Fn(u32) -> u32,
+    ) -> Result<Self, CageEditError> {
         let mut faces = Vec::with_capacity(self.faces.len());
         for face in &self.faces {
             let mut merged: Vec<u32> = face.iter().map(|&v| to(v)).collect();
@@ -730,18 +741,18 @@ impl Cage {
             sorted.sort_unstable();
             seen.insert(sorted)
         });
-        out.faces = faces;
-        for c in &mut out.creases {
+        self.faces = faces;
+        for c in &mut self.creases {
             (c.a, c.b) = (to(c.a), to(c.b));
         }
-        out.creases.retain(|c| c.a != c.b);
-        for c in &mut out.corners {
+        self.creases.retain(|c| c.a != c.b);
+        for c in &mut self.corners {
             c.vertex = to(c.vertex);
         }
-        if out.faces.is_empty() {
+        if self.faces.is_empty() {
             return Err(invalid("merging these vertices would leave no face"));
         }
-        Ok(out.compacted(self))
+        Ok(self.compacted(before))
     }
 
     /// Dissolve faces (Blender's Dissolve Faces, dissolving vertices too): each region of
@@ -779,78 +790,16 @@ impl Cage {
         }
         let half = self.half_edges();
         let mut gone: HashSet<(u32, u32)> = HashSet::new();
-        // Union-find over faces.
-        let mut parent: Vec<usize> = (0..self.faces.len()).collect();
-        fn root(parent: &mut [usize], mut f: usize) -> usize {
-            while parent[f] != f {
-                parent[f] = parent[parent[f]];
-                f = parent[f];
-            }
-            f
-        }
         for &(a, b) in edges {
             self.check_edge(&half, a, b)?;
-            let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
+            if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
                 return Err(invalid(format!(
                     "edge {a}-{b} is on the cage's border: there is no second face to join"
                 )));
-            };
+            }
             gone.insert(key(a, b));
-            let (rf, rg) = (root(&mut parent, f), root(&mut parent, g));
-            parent[rf.max(rg)] = rf.min(rg);
         }
-        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-        for f in 0..self.faces.len() {
-            let r = root(&mut parent, f);
-            groups.entry(r).or_default().push(f);
-        }
-        let mut new_faces: Vec<Option<Vec<u32>>> = self.faces.iter().cloned().map(Some).collect();
-        for (_, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
-            // The group's border: its half-edges that are not dissolved.
-            let mut next: HashMap<u32, u32> = HashMap::new();
-            let mut start = None;
-            for &f in &members {
-                let face = &self.faces[f];
-                for c in 0..face.len() {
-                    let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                    if gone.contains(&key(a, b)) {
-                        continue;
-                    }
-                    if next.insert(a, b).is_some() {
-                        return Err(invalid(format!(
-                            "dissolving these edges would join faces that touch at vertex {a}"
-                        )));
-                    }
-                    if start.is_none() && f == members[0] {
-                        start = Some(a);
-                    }
-                }
-            }
-            let Some(start) = start.or_else(|| next.keys().next().copied()) else {
-                return Err(invalid("dissolving these edges would leave no face"));
-            };
-            let mut merged = vec![start];
-            let mut at = start;
-            while let Some(&b) = next.get(&at) {
-                if b == start {
-                    break;
-                }
-                merged.push(b);
-                at = b;
-                if merged.len() > next.len() {
-                    break;
-                }
-            }
-            if merged.len() != next.len() {
-                return Err(invalid(
-                    "dissolving these edges would leave a face with a hole in it",
-                ));
-            }
-            new_faces[members[0]] = Some(merged);
-            for &f in &members[1..] {
-                new_faces[f] = None;
-            }
-        }
+        let new_faces = self.joined_across(&half, &gone)?;
         // Which ends of the dissolved edges go too, decided on the cage before the dissolve
         // (Blender's rules): not a corner between two triangles being joined into a quad, and
         // not a vertex where several dissolved edges meet beside a face that keeps both its
@@ -904,6 +853,86 @@ impl Cage {
         let mut out = self.clone();
         out.faces = faces;
         Ok(out.compacted(self))
+    }
+
+    /// The faces after joining the faces on both sides of every edge in `gone` (each an
+    /// interior edge, as `(low, high)`; `half`: the cage's [`Self::half_edges`]): each group
+    /// of faces so joined becomes one face, its border walked from the lowest-numbered face's
+    /// first kept corner, in that face's place; the others of the group become `None`. A group
+    /// whose border touches itself at a vertex or has a hole is refused.
+    pub(super) fn joined_across(
+        &self,
+        half: &HashMap<(u32, u32), (usize, usize)>,
+        gone: &HashSet<(u32, u32)>,
+    ) -> Result<Vec<Option<Vec<u32>>>, CageEditError> {
+        // Union-find over faces.
+        let mut parent: Vec<usize> = (0..self.faces.len()).collect();
+        fn root(parent: &mut [usize], mut f: usize) -> usize {
+            while parent[f] != f {
+                parent[f] = parent[parent[f]];
+                f = parent[f];
+            }
+            f
+        }
+        for &(a, b) in gone {
+            if let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) {
+                let (rf, rg) = (root(&mut parent, f), root(&mut parent, g));
+                parent[rf.max(rg)] = rf.min(rg);
+            }
+        }
+        let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+        for f in 0..self.faces.len() {
+            let r = root(&mut parent, f);
+            groups.entry(r).or_default().push(f);
+        }
+        let mut new_faces: Vec<Option<Vec<u32>>> = self.faces.iter().cloned().map(Some).collect();
+        for (_, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
+            // The group's border: its half-edges that are not dissolved.
+            let mut next: HashMap<u32, u32> = HashMap::new();
+            let mut start = None;
+            for &f in &members {
+                let face = &self.faces[f];
+                for c in 0..face.len() {
+                    let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                    if gone.contains(&key(a, b)) {
+                        continue;
+                    }
+                    if next.insert(a, b).is_some() {
+                        return Err(invalid(format!(
+                            "the faces joined would make one face that touches itself at vertex {a}"
+                        )));
+                    }
+                    if start.is_none() && f == members[0] {
+                        start = Some(a);
+                    }
+                }
+            }
+            let Some(start) = start.or_else(|| next.keys().next().copied()) else {
+                return Err(invalid("the faces joined would leave no face"));
+            };
+            let mut merged = vec![start];
+            let mut at = start;
+            while let Some(&b) = next.get(&at) {
+                if b == start {
+                    break;
+                }
+                merged.push(b);
+                at = b;
+                if merged.len() > next.len() {
+                    break;
+                }
+            }
+            if merged.len() != next.len() {
+                return Err(invalid(
+                    "the faces joined would make one face with a hole in it",
+                ));
+            }
+            new_faces[members[0]] = Some(merged);
+            for &f in &members[1..] {
+                new_faces[f] = None;
+            }
+        }
+        Ok(new_faces)
     }
 
     /// Bridge two edge loops (Blender's Bridge Edge Loops): each loop is a closed chain of open
@@ -1977,6 +2006,20 @@ pub enum Tool {
     DissolveFaces { faces: Vec<usize> },
     /// [`Cage::delete_faces`].
     Delete { faces: Vec<usize> },
+    /// [`Cage::delete_vertices`].
+    DeleteVertices { vertices: Vec<u32> },
+    /// [`Cage::delete_edges`].
+    DeleteEdges { edges: Vec<[u32; 2]> },
+    /// [`Cage::dissolve_vertices`].
+    DissolveVertices { vertices: Vec<u32> },
+    /// [`Cage::merge_by_distance`] (all vertices when `vertices` is empty).
+    MergeByDistance {
+        #[serde(default)]
+        vertices: Vec<u32>,
+        distance: f64,
+    },
+    /// [`Cage::triangulate_faces`].
+    Triangulate { faces: Vec<usize> },
     /// [`Cage::poke_faces`].
     Poke { faces: Vec<usize> },
     /// [`Cage::subdivide_faces`].
@@ -2010,6 +2053,11 @@ impl Tool {
             Self::Dissolve { .. } => "Dissolve",
             Self::DissolveFaces { .. } => "Dissolve faces",
             Self::Delete { .. } => "Delete",
+            Self::DeleteVertices { .. } => "Delete vertices",
+            Self::DeleteEdges { .. } => "Delete edges",
+            Self::DissolveVertices { .. } => "Dissolve vertices",
+            Self::MergeByDistance { .. } => "Merge by distance",
+            Self::Triangulate { .. } => "Triangulate",
             Self::Mirror { .. } => "Mirror",
             Self::Poke { .. } => "Poke",
             Self::Subdivide { .. } => "Subdivide",
@@ -2044,6 +2092,13 @@ impl Cage {
             Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
             Tool::DissolveFaces { faces } => self.dissolve_faces(faces),
             Tool::Delete { faces } => self.delete_faces(faces),
+            Tool::DeleteVertices { vertices } => self.delete_vertices(vertices),
+            Tool::DeleteEdges { edges } => self.delete_edges(&pairs(edges)),
+            Tool::DissolveVertices { vertices } => self.dissolve_vertices(vertices),
+            Tool::MergeByDistance { vertices, distance } => {
+                self.merge_by_distance(vertices, *distance)
+            }
+            Tool::Triangulate { faces } => self.triangulate_faces(faces),
             Tool::Mirror {
                 axis,
                 merge_distance,
@@ -2137,7 +2192,7 @@ impl Cage {
 
 /// Splits a loop of corners that passes a corner twice into the loops between the repeats,
 /// pushing those of three corners or more.
-fn split_at_repeats(face: Vec<u32>, out: &mut Vec<Vec<u32>>) {
+pub(super) fn split_at_repeats(face: Vec<u32>, out: &mut Vec<Vec<u32>>) {
     let repeat = (0..face.len()).find_map(|i| {
         (i + 1..face.len())
             .find(|&j| face[j] == face[i])

@@ -11,6 +11,7 @@
 pub mod adaptive;
 mod bevel_corner;
 pub mod cage_edit;
+pub mod cage_faces;
 pub mod cage_select;
 pub mod cages;
 pub mod display;
