@@ -9,14 +9,45 @@ use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
 /// file.
 #[derive(Subcommand, Clone, Debug)]
 pub enum CageTool {
-    /// Extrude faces as one region along the region's average normal.
+    /// Extrude faces as one region along the region's average normal (--faces, --offset), or
+    /// open edges into a strip of quads (--edges, --by).
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Extrude {
         /// Faces, e.g. 0,4,5.
-        #[arg(long)]
-        faces: String,
+        #[arg(long, group = "what", requires = "offset")]
+        faces: Option<String>,
         /// How far the region moves (negative: into the cage).
         #[arg(long, allow_negative_numbers = true)]
-        offset: f64,
+        offset: Option<f64>,
+        /// Open edges, as A-B,C-D.
+        #[arg(long, group = "what", requires = "by")]
+        edges: Option<String>,
+        /// The edges' move, as X,Y,Z.
+        #[arg(long, allow_hyphen_values = true)]
+        by: Option<String>,
+    },
+    /// Spin faces (as a region) or open edges round an axis in steps (Screw with --advance).
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
+    Spin {
+        #[arg(long, group = "what")]
+        faces: Option<String>,
+        /// Open edges, as A-B,C-D.
+        #[arg(long, group = "what")]
+        edges: Option<String>,
+        /// The angle in degrees (right-handed about the axis; 360: a full turn, closed).
+        #[arg(long, allow_negative_numbers = true)]
+        angle: f64,
+        #[arg(long, default_value_t = 12)]
+        steps: u32,
+        /// A point of the axis, as X,Y,Z.
+        #[arg(long, allow_hyphen_values = true)]
+        centre: String,
+        /// The axis's direction, as X,Y,Z.
+        #[arg(long, allow_hyphen_values = true)]
+        axis: String,
+        /// How far the spin moves along the axis over its whole angle.
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+        advance: f64,
     },
     /// Inset faces as one region (or each on its own with --individual), the strip even.
     Inset {
@@ -177,6 +208,19 @@ fn edge_pairs(text: &str) -> Result<Vec<[u32; 2]>, String> {
         .collect()
 }
 
+/// Three numbers X,Y,Z.
+fn vector(what: &str, text: &str) -> Result<[f64; 3], String> {
+    let numbers: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{what}: {text:?} is not three numbers X,Y,Z"))?;
+    match numbers[..] {
+        [x, y, z] => Ok([x, y, z]),
+        _ => Err(format!("--{what}: {text:?} is not three numbers X,Y,Z")),
+    }
+}
+
 fn face_list(text: &str) -> Result<Vec<usize>, String> {
     Ok(indices("faces", text)?
         .into_iter()
@@ -187,9 +231,40 @@ fn face_list(text: &str) -> Result<Vec<usize>, String> {
 /// The kernel's tool for the command line's.
 pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
     Ok(match tool {
-        CageTool::Extrude { faces, offset } => Tool::Extrude {
+        CageTool::Extrude {
+            faces: Some(faces),
+            offset,
+            ..
+        } => Tool::Extrude {
             faces: face_list(faces)?,
-            offset: *offset,
+            offset: offset.unwrap_or_default(),
+        },
+        CageTool::Extrude { edges, by, .. } => Tool::ExtrudeEdges {
+            edges: edge_pairs(edges.as_deref().unwrap_or_default())?,
+            by: vector("by", by.as_deref().unwrap_or_default())?,
+        },
+        CageTool::Spin {
+            faces,
+            edges,
+            angle,
+            steps,
+            centre,
+            axis,
+            advance,
+        } => Tool::Spin {
+            faces: match faces {
+                Some(list) => face_list(list)?,
+                None => Vec::new(),
+            },
+            edges: match edges {
+                Some(list) => edge_pairs(list)?,
+                None => Vec::new(),
+            },
+            centre: vector("centre", centre)?,
+            axis: vector("axis", axis)?,
+            degrees: *angle,
+            steps: *steps,
+            advance: *advance,
         },
         CageTool::Inset {
             faces,

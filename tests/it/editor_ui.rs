@@ -744,6 +744,60 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     assert_eq!(cage_counts(&harness, 0), (8, 6));
 }
 
+/// Extrude edges and Spin from the panel: the open top of the cube (its lid deleted) pulled up
+/// by the extrusion's distance, and its bottom face spun a quarter turn in 12 steps.
+#[test]
+fn cage_extrude_edges_and_spin_from_the_panel() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = subdivided_cube();
+    let steps = status::current().undo_steps;
+    let page = harness.state().command_sender();
+    let step = |harness: &mut Harness<'_, KnotworkApp>, label: &str, points: Vec<usize>| {
+        page.send(AppCommand::SelectPoints(points));
+        harness.run_steps(2);
+        click_label(harness, label);
+        status::current()
+    };
+    step(&mut harness, "Delete faces", vec![4, 5, 6, 7]);
+    assert_eq!(cage_counts(&harness, 0), (8, 5));
+    let open = harness.state().document().scene.objects[0].control_points();
+    let s = step(&mut harness, "Extrude edges", vec![4, 5, 6, 7]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 2),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (12, 9));
+    // The rim's copies lie the extrusion's distance (half the mean edge: 0.5) straight out
+    // of the side faces' planes: each is its rim point moved along the box's up axis.
+    let pulled = harness.state().document().scene.objects[0].control_points();
+    let up = (open[4] - open[0]).normalize();
+    for k in 0..4 {
+        let moved = pulled[8 + k] - open[4 + k];
+        assert!((moved - up * 0.5).length() < 1e-9, "{k}: {moved}");
+    }
+    // The bottom face (points 0-3) spun 90° round z in 12 steps: 4 side quads a step, the
+    // face moved to the end; the border's copies at every step.
+    let s = step(&mut harness, "Spin", vec![0, 1, 2, 3]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 3),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (12 + 48, 9 + 48));
+    // Every new point is an old one turned round z: its distance from the z axis and its
+    // height are a bottom corner's.
+    let spun = harness.state().document().scene.objects[0].control_points();
+    for p in &spun[12..] {
+        let matched = open[..4].iter().any(|q| {
+            (p.truncate().length() - q.truncate().length()).abs() < 1e-9 && (p.z - q.z).abs() < 1e-9
+        });
+        assert!(matched, "{p} is no bottom corner turned round z");
+    }
+}
+
 /// How many faces of object 0's cage use point `v`.
 fn cage_faces_on(harness: &Harness<'_, KnotworkApp>, v: u32) -> usize {
     let object = &harness.state().document().scene.objects[0];

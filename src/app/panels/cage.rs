@@ -36,6 +36,11 @@ pub struct CageToolSettings {
     pub merge_at_last: bool,
     /// Merge by distance: points this near are welded.
     pub merge_distance: f64,
+    /// Spin: the angle in degrees, the steps, and the axis (0, 1, 2: x, y, z) through the
+    /// origin.
+    pub spin_degrees: f64,
+    pub spin_steps: u32,
+    pub spin_axis: usize,
     /// What a click on the cage picks.
     pub select_mode: SelectMode,
 }
@@ -62,6 +67,9 @@ impl Default for CageToolSettings {
             segments: 1,
             merge_at_last: false,
             merge_distance: 1e-4,
+            spin_degrees: 90.0,
+            spin_steps: 12,
+            spin_axis: 2,
             select_mode: SelectMode::Vertex,
         }
     }
@@ -493,6 +501,71 @@ impl KnotworkApp {
                     },
                     After::Nothing,
                 ));
+            }
+        });
+        let open_edges = cage.open_among(&edges);
+        let need_open = "select open edges (on one face), both their points";
+        ui.horizontal_wrapped(|ui| {
+            let outward = cage.outward_of(&open_edges);
+            if tool_button(
+                ui,
+                outward.is_some(),
+                "Extrude edges",
+                "the selected open edges pulled out by the extrusion's distance, away from \
+                 their faces, into a strip of quads",
+                need_open,
+            ) && let Some(outward) = outward
+            {
+                chosen = Some((
+                    Tool::ExtrudeEdges {
+                        edges: open_edges.iter().map(|&(a, b)| [a, b]).collect(),
+                        by: (outward * t.offset).to_array(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            let spun = !faces.is_empty() || !open_edges.is_empty();
+            let mut axis = [0.0; 3];
+            axis[t.spin_axis.min(2)] = 1.0;
+            if tool_button(
+                ui,
+                spun,
+                "Spin",
+                "the selected faces (or else open edges) turned round the axis through the \
+                 origin in steps, a ring of quads each step (a full turn of a separate piece \
+                 closes it)",
+                "select faces, or open edges",
+            ) {
+                chosen = Some((
+                    Tool::Spin {
+                        faces: faces.clone(),
+                        edges: if faces.is_empty() {
+                            open_edges.iter().map(|&(a, b)| [a, b]).collect()
+                        } else {
+                            Vec::new()
+                        },
+                        centre: [0.0; 3],
+                        axis,
+                        degrees: t.spin_degrees,
+                        steps: t.spin_steps,
+                        advance: 0.0,
+                    },
+                    After::Nothing,
+                ));
+            }
+            ui.add(
+                egui::DragValue::new(&mut t.spin_degrees)
+                    .range(-3600.0..=3600.0)
+                    .suffix("°"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut t.spin_steps)
+                    .range(1..=256)
+                    .suffix(" steps"),
+            );
+            for (k, name) in ["X", "Y", "Z"].iter().enumerate() {
+                ui.selectable_value(&mut t.spin_axis, k, *name)
+                    .on_hover_text(format!("spin round the {name} axis"));
             }
         });
         ui.horizontal_wrapped(|ui| {

@@ -57,6 +57,10 @@ def ints(text):
     return [int(x) for x in text.split(",") if x != ""]
 
 
+def floats(text):
+    return [float(x) for x in text.split(",")]
+
+
 def pairs(text):
     return [tuple(int(x) for x in p.split("-")) for p in text.split(",")]
 
@@ -105,7 +109,7 @@ def apply(bm, op, args):
                 k += 1
         else:
             k += 1
-    if op == "extrude":
+    if op == "extrude" and "faces" in opt:
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         normal = Vector()
         for f in faces:
@@ -141,6 +145,30 @@ def apply(bm, op, args):
             loop = ints(opt[key])
             edges += [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
         bmesh.ops.bridge_loops(bm, edges=edges)
+    elif op == "extrude" and "edges" in opt:
+        edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
+        geom = bmesh.ops.extrude_edge_only(bm, edges=edges)["geom"]
+        moved = [g for g in geom if isinstance(g, bmesh.types.BMVert)]
+        bmesh.ops.translate(bm, vec=Vector(floats(opt["by"])), verts=moved)
+    elif op == "spin":
+        if "faces" in opt:
+            faces = [bm.faces[i] for i in ints(opt["faces"])]
+            geom = set(faces)
+            for f in faces:
+                geom.update(f.edges)
+                geom.update(f.verts)
+        else:
+            geom = set()
+            for a, b in pairs(opt["edges"]):
+                e = edge(bm, a, b)
+                geom.update([e, e.verts[0], e.verts[1]])
+        axis = Vector(floats(opt["axis"])).normalized()
+        steps = int(opt.get("steps", 12))
+        advance = float(opt.get("advance", 0))
+        bmesh.ops.spin(bm, geom=list(geom), cent=Vector(floats(opt["centre"])), axis=axis,
+                       dvec=axis * (advance / steps), angle=math.radians(float(opt["angle"])),
+                       steps=steps, use_merge=False, use_normal_flip=False,
+                       use_duplicate=False)
     elif op == "merge" and "distance" in opt:
         # Blender's edit mode hands the selected points over in index order.
         verts = [bm.verts[i] for i in sorted(set(ints(opt["vertices"])))] if "vertices" in opt else list(bm.verts)
@@ -297,14 +325,34 @@ def cage(name):
     raise SystemExit(f"no cage {name}")
 
 
-def placed(points, seed):
-    """The points under a random rotation, scale (0.3 to 4) and translation (±50)."""
+def motion(seed):
+    """A random rotation, scale (0.3 to 4) and translation (±50)."""
     rnd = random.Random(seed)
     q = [rnd.gauss(0, 1) for _ in range(4)]
     rot = Quaternion([c / math.sqrt(sum(x * x for x in q)) for c in q]).to_matrix()
     scale = rnd.uniform(0.3, 4.0)
     shift = Vector([rnd.uniform(-50, 50) for _ in range(3)])
+    return rot, scale, shift
+
+
+def placed(points, seed):
+    """The points under the random motion of `seed`, and its scale."""
+    rot, scale, shift = motion(seed)
     return [tuple(rot @ (Vector(p) * scale) + shift) for p in points], scale
+
+
+def moved_argument(arg, seed, scale):
+    """An argument under the case's motion: a length "xU" scaled, a point "x,y,zP" moved, a
+    vector "x,y,zV" turned and scaled."""
+    if arg.endswith("U"):
+        return "%.17g" % (float(arg[:-1]) * scale)
+    if arg[-1:] in ("P", "V") and arg.count(",") == 2:
+        rot, _, shift = motion(seed)
+        v = rot @ (Vector([float(c) for c in arg[:-1].split(",")]) * scale)
+        if arg.endswith("P"):
+            v += shift
+        return ",".join("%.17g" % c for c in v)
+    return arg
 
 
 # (cage, tool, arguments with the length unit U scaled by the placement)
@@ -449,6 +497,14 @@ CASES = [
     ("grid", "triangulate --faces 0,1,2,3,4,6,7,8,9,10,11"),
     ("cap6", "triangulate --faces 0,1,2"),
     ("ngons", "triangulate --faces 0,1,2,5"),
+    # Extrude edges: open edges pulled out into quads (points and vectors under the motion).
+    ("grid", "extrude --edges 0-1,1-2,2-3 --by 0,0.3,0.5V"),
+    ("tube", "extrude --edges 0-1,1-2,2-3,3-4,4-5,5-6,6-7,7-0 --by 0,0,-0.8V"),
+    # Spin and screw of faces and of open edges.
+    ("grid", "spin --faces 0,1 --angle 90 --steps 3 --centre 0,-1,0P --axis 1,0,0V"),
+    ("grid", "spin --faces 5 --angle -120 --steps 4 --centre 0,0,-2P --axis 0.2,1,0V --advance 1.5U"),
+    ("grid", "spin --edges 0-1,1-2 --angle 300 --steps 5 --centre 0,-1,0P --axis 1,0,0.1V --advance 0.7U"),
+    ("tube", "spin --edges 0-1,1-2,2-3 --angle 75 --steps 3 --centre 3,0,0P --axis 0,0,1V"),
 ]
 
 
@@ -461,11 +517,11 @@ def fixtures(directory, seed=1000):
         points, faces = cage(name.rstrip("!"))
         if name.endswith("!"):
             name, scale = name[:-1], 1.0
+            args = " ".join(moved_argument(a, None, 1.0) if a.endswith("U") else a
+                            for a in args.split())
         else:
             points, scale = placed(points, seed + k)
-        args = " ".join(
-            ("%.17g" % (float(a[:-1]) * scale)) if a.endswith("U") else a for a in args.split()
-        )
+            args = " ".join(moved_argument(a, seed + k, scale) for a in args.split())
         stem = "%02d-%s-%s" % (k, name, args.split()[0])
         bm = build(points, faces)
         write_obj(os.path.join(directory, stem + ".in.obj"), bm)

@@ -142,7 +142,7 @@ impl Cage {
         }
     }
 
-    fn sharpness_of_edges(&self) -> HashMap<(u32, u32), f64> {
+    pub(super) fn sharpness_of_edges(&self) -> HashMap<(u32, u32), f64> {
         self.creases
             .iter()
             .map(|c| (key(c.a, c.b), c.sharpness))
@@ -150,7 +150,7 @@ impl Cage {
     }
 
     /// Adds a crease on edge a–b (the larger sharpness where one is there already).
-    fn add_crease(&mut self, a: u32, b: u32, sharpness: f64) {
+    pub(super) fn add_crease(&mut self, a: u32, b: u32, sharpness: f64) {
         if let Some(c) = self.creases.iter_mut().find(|c| key(c.a, c.b) == key(a, b)) {
             c.sharpness = c.sharpness.max(sharpness);
         } else {
@@ -160,7 +160,7 @@ impl Cage {
 
     /// Gives each copied vertex (`copy`: original ↦ copy) the sharpness its original has among
     /// `corners`.
-    fn copy_corners(&mut self, corners: &[Corner], copy: &HashMap<u32, u32>) {
+    pub(super) fn copy_corners(&mut self, corners: &[Corner], copy: &HashMap<u32, u32>) {
         for corner in corners {
             if let Some(&c) = copy.get(&corner.vertex) {
                 self.corners.push(Corner {
@@ -257,39 +257,7 @@ impl Cage {
                 "the faces' normals cancel out: the region has no direction to extrude along",
             ));
         }
-        let in_region: HashSet<usize> = region.iter().copied().collect();
-        let mut verts: Vec<u32> = region
-            .iter()
-            .flat_map(|&f| self.faces[f].iter().copied())
-            .collect();
-        verts.sort_unstable();
-        verts.dedup();
-        let mut out = self.clone();
-        let mut copy = HashMap::with_capacity(verts.len());
-        for &v in &verts {
-            copy.insert(v, out.points.len() as u32);
-            out.points.push(self.points[v as usize] + normal * offset);
-        }
-        let half = self.half_edges();
-        let sharp = self.sharpness_of_edges();
-        for &f in &region {
-            let face = &self.faces[f];
-            for c in 0..face.len() {
-                let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                let border = half
-                    .get(&(b, a))
-                    .is_none_or(|&(g, _)| !in_region.contains(&g));
-                if border {
-                    out.faces.push(vec![a, b, copy[&b], copy[&a]]);
-                }
-                if let Some(&s) = sharp.get(&key(a, b)) {
-                    out.add_crease(copy[&a], copy[&b], s);
-                }
-            }
-            out.faces[f] = face.iter().map(|v| copy[v]).collect();
-        }
-        out.copy_corners(&self.corners, &copy);
-        Ok(out.compacted(self))
+        self.extrude_region(&region, normal * offset)
     }
 
     /// The inward directions of a face's edges in its plane: for corner c, the unit vector
@@ -2020,6 +1988,21 @@ pub enum Tool {
     },
     /// [`Cage::triangulate_faces`].
     Triangulate { faces: Vec<usize> },
+    /// [`Cage::extrude_edges`].
+    ExtrudeEdges { edges: Vec<[u32; 2]>, by: [f64; 3] },
+    /// [`Cage::spin`] of faces or edges (one list empty).
+    Spin {
+        #[serde(default)]
+        faces: Vec<usize>,
+        #[serde(default)]
+        edges: Vec<[u32; 2]>,
+        centre: [f64; 3],
+        axis: [f64; 3],
+        degrees: f64,
+        steps: u32,
+        #[serde(default)]
+        advance: f64,
+    },
     /// [`Cage::poke_faces`].
     Poke { faces: Vec<usize> },
     /// [`Cage::subdivide_faces`].
@@ -2058,6 +2041,9 @@ impl Tool {
             Self::DissolveVertices { .. } => "Dissolve vertices",
             Self::MergeByDistance { .. } => "Merge by distance",
             Self::Triangulate { .. } => "Triangulate",
+            Self::ExtrudeEdges { .. } => "Extrude edges",
+            Self::Spin { advance, .. } if *advance != 0.0 => "Screw",
+            Self::Spin { .. } => "Spin",
             Self::Mirror { .. } => "Mirror",
             Self::Poke { .. } => "Poke",
             Self::Subdivide { .. } => "Subdivide",
@@ -2099,6 +2085,28 @@ impl Cage {
                 self.merge_by_distance(vertices, *distance)
             }
             Tool::Triangulate { faces } => self.triangulate_faces(faces),
+            Tool::ExtrudeEdges { edges, by } => {
+                self.extrude_edges(&pairs(edges), DVec3::from_array(*by))
+            }
+            Tool::Spin {
+                faces,
+                edges,
+                centre,
+                axis,
+                degrees,
+                steps,
+                advance,
+            } => self.spin(
+                faces,
+                &pairs(edges),
+                &super::cage_sweep::SpinMotion {
+                    centre: DVec3::from_array(*centre),
+                    axis: DVec3::from_array(*axis),
+                    degrees: *degrees,
+                    steps: *steps,
+                    advance: *advance,
+                },
+            ),
             Tool::Mirror {
                 axis,
                 merge_distance,

@@ -13,6 +13,7 @@ mod bevel_corner;
 pub mod cage_edit;
 pub mod cage_faces;
 pub mod cage_select;
+pub mod cage_sweep;
 pub mod cages;
 pub mod display;
 pub mod exchange;
