@@ -122,6 +122,17 @@ pub enum CageTool {
         #[arg(long, group = "what")]
         edges: Option<String>,
     },
+    /// Fill a closed loop of open edges with a face.
+    Fill {
+        /// The loop's vertices in order, e.g. 0,1,2,3.
+        #[arg(long = "loop")]
+        vertices: String,
+    },
+    /// Connect vertices: each face holding two or more of them split between them.
+    Connect {
+        #[arg(long)]
+        vertices: String,
+    },
     /// Triangulate faces (Beauty: the split with the roundest triangles).
     Triangulate {
         #[arg(long)]
@@ -335,6 +346,12 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         },
         CageTool::Delete { vertices, .. } => Tool::DeleteVertices {
             vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
+        },
+        CageTool::Fill { vertices } => Tool::Fill {
+            r#loop: indices("loop", vertices)?,
+        },
+        CageTool::Connect { vertices } => Tool::Connect {
+            vertices: indices("vertices", vertices)?,
         },
         CageTool::Triangulate { faces } => Tool::Triangulate {
             faces: face_list(faces)?,

@@ -744,10 +744,11 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     assert_eq!(cage_counts(&harness, 0), (8, 6));
 }
 
-/// Extrude edges and Spin from the panel: the open top of the cube (its lid deleted) pulled up
-/// by the extrusion's distance, and its bottom face spun a quarter turn in 12 steps.
+/// Fill, Connect, Extrude edges and Spin from the panel: the open top of the cube (its lid
+/// deleted) filled again, its bottom split along a diagonal, the rim pulled up by the
+/// extrusion's distance, and the bottom face spun a quarter turn in 12 steps.
 #[test]
-fn cage_extrude_edges_and_spin_from_the_panel() {
+fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
     let _turn = ONE_EDITOR_AT_A_TIME
         .lock()
         .unwrap_or_else(|p| p.into_inner());
@@ -761,6 +762,25 @@ fn cage_extrude_edges_and_spin_from_the_panel() {
         status::current()
     };
     step(&mut harness, "Delete faces", vec![4, 5, 6, 7]);
+    assert_eq!(cage_counts(&harness, 0), (8, 5));
+    // Fill puts a face back over the rim, and Connect splits the bottom face along its
+    // diagonal; each is undone.
+    let undo = |harness: &mut Harness<'_, KnotworkApp>| {
+        harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        harness.run_steps(2);
+    };
+    let s = step(&mut harness, "Fill", vec![4, 5, 6, 7]);
+    assert_eq!(
+        (s.error.as_deref(), cage_counts(&harness, 0)),
+        (None, (8, 6))
+    );
+    undo(&mut harness);
+    let s = step(&mut harness, "Connect", vec![0, 2]);
+    assert_eq!(
+        (s.error.as_deref(), cage_counts(&harness, 0)),
+        (None, (8, 6))
+    );
+    undo(&mut harness);
     assert_eq!(cage_counts(&harness, 0), (8, 5));
     let open = harness.state().document().scene.objects[0].control_points();
     let s = step(&mut harness, "Extrude edges", vec![4, 5, 6, 7]);

@@ -524,6 +524,35 @@ impl KnotworkApp {
                     After::Nothing,
                 ));
             }
+            let rim = cage
+                .closed_loops(&open_edges)
+                .ok()
+                .filter(|l| l.len() == 1)
+                .and_then(|mut l| l.pop());
+            if tool_button(
+                ui,
+                rim.is_some(),
+                "Fill",
+                "a face over the selected closed loop of open edges",
+                "select one closed loop of open edges (a hole's rim)",
+            ) && let Some(rim) = rim
+            {
+                chosen = Some((Tool::Fill { r#loop: rim }, After::Nothing));
+            }
+            if tool_button(
+                ui,
+                points.len() >= 2,
+                "Connect",
+                "each face holding two or more selected points split between them (J)",
+                "select two or more points of a face",
+            ) {
+                chosen = Some((
+                    Tool::Connect {
+                        vertices: points.clone(),
+                    },
+                    After::Points(points.clone()),
+                ));
+            }
             let spun = !faces.is_empty() || !open_edges.is_empty();
             let mut axis = [0.0; 3];
             axis[t.spin_axis.min(2)] = 1.0;

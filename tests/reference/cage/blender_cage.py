@@ -169,6 +169,12 @@ def apply(bm, op, args):
                        dvec=axis * (advance / steps), angle=math.radians(float(opt["angle"])),
                        steps=steps, use_merge=False, use_normal_flip=False,
                        use_duplicate=False)
+    elif op == "fill":
+        loop = ints(opt["loop"])
+        edges = [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
+        bmesh.ops.contextual_create(bm, geom=edges)
+    elif op == "connect":
+        bmesh.ops.connect_verts(bm, verts=[bm.verts[i] for i in ints(opt["vertices"])])
     elif op == "merge" and "distance" in opt:
         # Blender's edit mode hands the selected points over in index order.
         verts = [bm.verts[i] for i in sorted(set(ints(opt["vertices"])))] if "vertices" in opt else list(bm.verts)
@@ -295,6 +301,10 @@ def cage(name):
         f = [list(range(6, -1, -1)), list(range(7, 14))]
         f += [[k, (k + 1) % 7, 7 + (k + 1) % 7, 7 + k] for k in range(7)]
         return v, f
+    if name == "openbox":
+        # The box without its first face: an open rim of four edges.
+        v, f = cage("box")
+        return v, f[1:]
     if name == "seam":
         # Two 3 × 2 grids side by side, the points of the seam doubled, each copy moved by up
         # to 1e-7 (float noise, as from a mirror: merged by distance at 1e-5).
@@ -505,6 +515,14 @@ CASES = [
     ("grid", "spin --faces 5 --angle -120 --steps 4 --centre 0,0,-2P --axis 0.2,1,0V --advance 1.5U"),
     ("grid", "spin --edges 0-1,1-2 --angle 300 --steps 5 --centre 0,-1,0P --axis 1,0,0.1V --advance 0.7U"),
     ("tube", "spin --edges 0-1,1-2,2-3 --angle 75 --steps 3 --centre 3,0,0P --axis 0,0,1V"),
+    # Fill a loop of open edges (named either way round), and connect vertices across faces.
+    ("openbox", "fill --loop 0,2,3,1"),
+    ("tube", "fill --loop 0,1,2,3,4,5,6,7"),
+    ("grid", "fill --loop 0,1,2,3,4,9,14,19,18,17,16,15,10,5"),
+    ("ngons", "connect --vertices 0,2,4"),
+    ("ngons", "connect --vertices 0,1,3"),
+    ("grid", "connect --vertices 0,6,12,18"),
+    ("torus", "connect --vertices 0,7,14"),
 ]
 
 

@@ -1988,6 +1988,10 @@ pub enum Tool {
     },
     /// [`Cage::triangulate_faces`].
     Triangulate { faces: Vec<usize> },
+    /// [`Cage::fill_loop`].
+    Fill { r#loop: Vec<u32> },
+    /// [`Cage::connect_vertices`].
+    Connect { vertices: Vec<u32> },
     /// [`Cage::extrude_edges`].
     ExtrudeEdges { edges: Vec<[u32; 2]>, by: [f64; 3] },
     /// [`Cage::spin`] of faces or edges (one list empty).
@@ -2042,6 +2046,8 @@ impl Tool {
             Self::MergeByDistance { .. } => "Merge by distance",
             Self::Triangulate { .. } => "Triangulate",
             Self::ExtrudeEdges { .. } => "Extrude edges",
+            Self::Fill { .. } => "Fill",
+            Self::Connect { .. } => "Connect",
             Self::Spin { advance, .. } if *advance != 0.0 => "Screw",
             Self::Spin { .. } => "Spin",
             Self::Mirror { .. } => "Mirror",
@@ -2085,6 +2091,8 @@ impl Cage {
                 self.merge_by_distance(vertices, *distance)
             }
             Tool::Triangulate { faces } => self.triangulate_faces(faces),
+            Tool::Fill { r#loop } => self.fill_loop(r#loop),
+            Tool::Connect { vertices } => self.connect_vertices(vertices),
             Tool::ExtrudeEdges { edges, by } => {
                 self.extrude_edges(&pairs(edges), DVec3::from_array(*by))
             }

@@ -193,6 +193,96 @@ impl Cage {
             .welded(self, |v| target.get(&v).copied().unwrap_or(v))
     }
 
+    /// Fill (Blender's Fill, F, on a closed loop of open edges): a new face over the loop
+    /// named by its vertices in order, wound to agree with the faces already on its edges,
+    /// appended after the others.
+    pub fn fill_loop(&self, lp: &[u32]) -> Result<Self, CageEditError> {
+        if lp.len() < 3 {
+            return Err(invalid("a loop to fill needs three or more vertices"));
+        }
+        let half = self.half_edges();
+        let mut seen = HashSet::new();
+        // +1 where the face on an edge runs along the loop (the new face must run against
+        // it), −1 where against.
+        let mut along = 0i64;
+        for k in 0..lp.len() {
+            let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+            if !seen.insert(a) {
+                return Err(invalid(format!("vertex {a} is named twice in the loop")));
+            }
+            self.check_edge(&half, a, b)?;
+            along += match (half.contains_key(&(a, b)), half.contains_key(&(b, a))) {
+                (true, false) => 1,
+                (false, true) => -1,
+                _ => {
+                    return Err(invalid(format!(
+                        "edge {a}-{b} has faces on both sides: the loop must be of open edges"
+                    )));
+                }
+            };
+        }
+        if along.unsigned_abs() != lp.len() as u64 {
+            return Err(invalid(
+                "the faces round the loop disagree in winding: no face over it can agree \
+                 with all of them",
+            ));
+        }
+        let mut face = lp.to_vec();
+        if along > 0 {
+            face.reverse();
+        }
+        let mut out = self.clone();
+        out.faces.push(face);
+        Ok(out)
+    }
+
+    /// Connect vertices (Blender's Connect Vertex Pairs, J): every face holding two or more
+    /// of the vertices is split by straight edges between those of them that follow each
+    /// other round it (corners next to each other already share an edge): the pieces are
+    /// each cut-off run of corners and, with three or more vertices in the face, the polygon
+    /// of the vertices. The first piece keeps the face's index; the others follow.
+    pub fn connect_vertices(&self, vertices: &[u32]) -> Result<Self, CageEditError> {
+        let named = self.check_vertices(vertices)?;
+        let mut out = self.clone();
+        let mut split = false;
+        for (f, face) in self.faces.iter().enumerate() {
+            let n = face.len();
+            let corners: Vec<usize> = (0..n).filter(|&c| named.contains(&face[c])).collect();
+            let k = corners.len();
+            if k < 2 {
+                continue;
+            }
+            // Each run of corners from one vertex to the next round the face is cut off by a
+            // new edge where the two are not neighbours either way round.
+            let mut pieces: Vec<Vec<u32>> = Vec::new();
+            for i in 0..k {
+                let (from, to) = (corners[i], corners[(i + 1) % k]);
+                let run = (to + n - from) % n;
+                if run >= 2 && n - run >= 2 {
+                    pieces.push((0..=run).map(|j| face[(from + j) % n]).collect());
+                }
+            }
+            if pieces.is_empty() {
+                continue;
+            }
+            if k >= 3 {
+                pieces.push(corners.iter().map(|&c| face[c]).collect());
+            }
+            split = true;
+            let mut pieces = pieces.into_iter();
+            if let Some(first) = pieces.next() {
+                out.faces[f] = first;
+            }
+            out.faces.extend(pieces);
+        }
+        if !split {
+            return Err(invalid(
+                "no face holds two of these vertices apart from each other: nothing to connect",
+            ));
+        }
+        Ok(out)
+    }
+
     /// Triangulate faces (Blender's Triangulate Faces, Beauty for quads and polygons): a quad
     /// is split along the diagonal whose two triangles have the larger sum of area over
     /// perimeter in the face's plane (Blender's `polyfill_beautify` measure; a diagonal that
@@ -665,6 +755,67 @@ mod tests {
     }
 
     #[test]
+    fn filling_the_hole_a_deleted_face_left_restores_the_closed_cage() {
+        for seed in 0..6 {
+            let cage = placed_torus(seed);
+            let f = Xorshift::new(seed).below(48) as usize;
+            let holed = cage.delete_faces(&[f]).unwrap();
+            // No vertex went (each has three other faces): the loop is the face's corners,
+            // named in either turning.
+            let mut lp = cage.faces[f].clone();
+            if seed % 2 == 1 {
+                lp.reverse();
+            }
+            let filled = holed.fill_loop(&lp).unwrap();
+            assert_eq!(filled.points, cage.points);
+            // The new face is the old one, wound as it was (its corners from some start).
+            let new = filled.faces.last().unwrap();
+            let at = new.iter().position(|&v| v == cage.faces[f][0]).unwrap();
+            let turned: Vec<u32> = (0..4).map(|k| new[(at + k) % 4]).collect();
+            assert_eq!(turned, cage.faces[f]);
+            assert_eq!(edge_count(&filled), edge_count(&cage));
+        }
+    }
+
+    #[test]
+    fn connecting_opposite_corners_splits_each_quad_into_two_triangles() {
+        for seed in 0..6 {
+            let cage = placed_torus(seed);
+            // A diagonal chain 0, 7, 14 … crosses one quad per step.
+            let chain: Vec<u32> = (0..4).map(|k| k * 7).collect();
+            let out = cage.connect_vertices(&chain).unwrap();
+            assert_eq!(out.faces.len(), cage.faces.len() + 3);
+            assert_eq!(out.faces.iter().filter(|f| f.len() == 3).count(), 6);
+            assert_eq!(edge_count(&out), edge_count(&cage) + 3);
+            // The area is kept: each quad's two triangles (its corners in the quad's plane up
+            // to the torus's slight twist) cover it.
+            let area = |c: &Cage| -> f64 {
+                c.faces
+                    .iter()
+                    .map(|f| {
+                        let p = |k: usize| c.points[f[k] as usize];
+                        (1..f.len() - 1)
+                            .map(|k| (p(k) - p(0)).cross(p(k + 1) - p(0)).length() / 2.0)
+                            .sum::<f64>()
+                    })
+                    .sum()
+            };
+            assert!((area(&out) - area(&cage)).abs() < 0.05 * area(&cage));
+        }
+        // A heptagon's corners 0, 2 and 4: two triangles cut off, the triangle 0 2 4, and the
+        // rest, 4 5 6 0.
+        let mut heptagon = Cage::default();
+        heptagon.points = (0..7)
+            .map(|k| DVec3::new((k as f64).cos(), (k as f64).sin(), 0.0))
+            .collect();
+        heptagon.faces = vec![(0..7).collect()];
+        let out = heptagon.connect_vertices(&[4, 0, 2]).unwrap();
+        let mut sizes: Vec<usize> = out.faces.iter().map(Vec::len).collect();
+        sizes.sort_unstable();
+        assert_eq!(sizes, [3, 3, 3, 4]);
+    }
+
+    #[test]
     fn bad_requests_are_refused_with_the_reason() {
         let cage = placed_torus(3);
         let refusals = [
@@ -682,6 +833,12 @@ mod tests {
             cage.merge_by_distance(&[], 1e-9),
             cage.triangulate_faces(&[]),
             cage.triangulate_faces(&[48]),
+            cage.fill_loop(&[0, 1]),
+            cage.fill_loop(&cage.faces[0].clone()),
+            cage.delete_faces(&[0]).unwrap().fill_loop(&[0, 6, 6, 1]),
+            cage.connect_vertices(&[]),
+            cage.connect_vertices(&[0, 1]),
+            cage.connect_vertices(&[0, 100]),
         ];
         for (k, r) in refusals.into_iter().enumerate() {
             let e = r.expect_err(&format!("refusal {k} was accepted"));
