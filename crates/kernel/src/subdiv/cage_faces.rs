@@ -804,11 +804,13 @@ mod tests {
         }
         // A heptagon's corners 0, 2 and 4: two triangles cut off, the triangle 0 2 4, and the
         // rest, 4 5 6 0.
-        let mut heptagon = Cage::default();
-        heptagon.points = (0..7)
-            .map(|k| DVec3::new((k as f64).cos(), (k as f64).sin(), 0.0))
-            .collect();
-        heptagon.faces = vec![(0..7).collect()];
+        let heptagon = Cage {
+            points: (0..7)
+                .map(|k| DVec3::new((k as f64).cos(), (k as f64).sin(), 0.0))
+                .collect(),
+            faces: vec![(0..7).collect()],
+            ..Cage::default()
+        };
         let out = heptagon.connect_vertices(&[4, 0, 2]).unwrap();
         let mut sizes: Vec<usize> = out.faces.iter().map(Vec::len).collect();
         sizes.sort_unstable();
