@@ -122,6 +122,17 @@ pub enum CageTool {
         #[arg(long, group = "what")]
         edges: Option<String>,
     },
+    /// Tris to quads: pairs of the triangles joined into quads, the squarest first.
+    TrisToQuads {
+        #[arg(long)]
+        faces: String,
+        /// Triangles whose normals differ by more (degrees) are not joined.
+        #[arg(long, default_value_t = 40.0)]
+        face_angle: f64,
+        /// Quads with a corner further off square (degrees) are not made.
+        #[arg(long, default_value_t = 40.0)]
+        shape_angle: f64,
+    },
     /// Fill a closed loop of open edges with a face.
     Fill {
         /// The loop's vertices in order, e.g. 0,1,2,3.
@@ -346,6 +357,15 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         },
         CageTool::Delete { vertices, .. } => Tool::DeleteVertices {
             vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
+        },
+        CageTool::TrisToQuads {
+            faces,
+            face_angle,
+            shape_angle,
+        } => Tool::TrisToQuads {
+            faces: face_list(faces)?,
+            face_degrees: *face_angle,
+            shape_degrees: *shape_angle,
         },
         CageTool::Fill { vertices } => Tool::Fill {
             r#loop: indices("loop", vertices)?,

@@ -709,6 +709,15 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     );
     assert_eq!(cage_counts(&harness, 0), (8, 7));
     assert_eq!(s.selected_points.len(), 4);
+    // Tris to quads joins them back (and is undone, to go on from the triangles).
+    let s = step(&mut harness, "Tris to quads", vec![4, 5, 6, 7]);
+    assert_eq!(
+        (s.error.as_deref(), cage_counts(&harness, 0)),
+        (None, (8, 6))
+    );
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(cage_counts(&harness, 0), (8, 7));
     // A bottom corner: its three quads become one hexagon through its three neighbours.
     let s = step(&mut harness, "Dissolve points", vec![0]);
     assert_eq!(

@@ -462,6 +462,23 @@ impl KnotworkApp {
             }
             if tool_button(
                 ui,
+                faces.len() >= 2,
+                "Tris to quads",
+                "pairs of the selected triangles joined into quads, the squarest first (normals \
+                 within 40°, corners within 40° of square)",
+                "select two or more triangles that share an edge",
+            ) {
+                chosen = Some((
+                    Tool::TrisToQuads {
+                        faces: faces.clone(),
+                        face_degrees: 40.0,
+                        shape_degrees: 40.0,
+                    },
+                    After::Points(points.clone()),
+                ));
+            }
+            if tool_button(
+                ui,
                 !points.is_empty(),
                 "Dissolve points",
                 "the faces round each selected point made one, the point gone",

@@ -169,6 +169,12 @@ def apply(bm, op, args):
                        dvec=axis * (advance / steps), angle=math.radians(float(opt["angle"])),
                        steps=steps, use_merge=False, use_normal_flip=False,
                        use_duplicate=False)
+    elif op == "tris-to-quads":
+        bmesh.ops.join_triangles(
+            bm, faces=[bm.faces[i] for i in ints(opt["faces"])],
+            angle_face_threshold=math.radians(float(opt.get("face-angle", 40))),
+            angle_shape_threshold=math.radians(float(opt.get("shape-angle", 40))),
+            topology_influence=0.0)
     elif op == "fill":
         loop = ints(opt["loop"])
         edges = [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
@@ -300,6 +306,13 @@ def cage(name):
                 v.append((r * math.cos(a), 0.8 * r * math.sin(a), z + 0.05 * math.cos(5 * k)))
         f = [list(range(6, -1, -1)), list(range(7, 14))]
         f += [[k, (k + 1) % 7, 7 + (k + 1) % 7, 7 + k] for k in range(7)]
+        return v, f
+    if name == "trigrid":
+        # The grid's quads split into triangles, the diagonals alternating as a checkerboard.
+        v, quads = cage("grid")
+        f = []
+        for k, (a, b, c, d) in enumerate(quads):
+            f += [[a, b, c], [a, c, d]] if k % 2 == 0 else [[a, b, d], [b, c, d]]
         return v, f
     if name == "openbox":
         # The box without its first face: an open rim of four edges.
@@ -523,6 +536,10 @@ CASES = [
     ("ngons", "connect --vertices 0,1,3"),
     ("grid", "connect --vertices 0,6,12,18"),
     ("torus", "connect --vertices 0,7,14"),
+    # Tris to quads: the squarest pairs first, within the angle limits.
+    ("trigrid", "tris-to-quads --faces " + ",".join(str(k) for k in range(24))),
+    ("trigrid", "tris-to-quads --faces 0,1,2,3,4,5,6,7,8,9,10,11,12,13 --face-angle 12"),
+    ("trigrid", "tris-to-quads --faces " + ",".join(str(k) for k in range(24)) + " --shape-angle 15"),
 ]
 
 

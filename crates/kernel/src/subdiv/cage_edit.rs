@@ -1988,6 +1988,14 @@ pub enum Tool {
     },
     /// [`Cage::triangulate_faces`].
     Triangulate { faces: Vec<usize> },
+    /// [`Cage::tris_to_quads`], with Blender's limits of 40° by default.
+    TrisToQuads {
+        faces: Vec<usize>,
+        #[serde(default = "forty_degrees")]
+        face_degrees: f64,
+        #[serde(default = "forty_degrees")]
+        shape_degrees: f64,
+    },
     /// [`Cage::fill_loop`].
     Fill { r#loop: Vec<u32> },
     /// [`Cage::connect_vertices`].
@@ -2023,6 +2031,10 @@ pub enum Tool {
 /// Blender's Mirror default: points within 0.001 of the plane are welded to their image.
 pub const DEFAULT_MERGE_DISTANCE: f64 = 0.001;
 
+fn forty_degrees() -> f64 {
+    40.0
+}
+
 fn default_merge_distance() -> f64 {
     DEFAULT_MERGE_DISTANCE
 }
@@ -2047,6 +2059,7 @@ impl Tool {
             Self::Triangulate { .. } => "Triangulate",
             Self::ExtrudeEdges { .. } => "Extrude edges",
             Self::Fill { .. } => "Fill",
+            Self::TrisToQuads { .. } => "Tris to quads",
             Self::Connect { .. } => "Connect",
             Self::Spin { advance, .. } if *advance != 0.0 => "Screw",
             Self::Spin { .. } => "Spin",
@@ -2092,6 +2105,11 @@ impl Cage {
             }
             Tool::Triangulate { faces } => self.triangulate_faces(faces),
             Tool::Fill { r#loop } => self.fill_loop(r#loop),
+            Tool::TrisToQuads {
+                faces,
+                face_degrees,
+                shape_degrees,
+            } => self.tris_to_quads(faces, *face_degrees, *shape_degrees),
             Tool::Connect { vertices } => self.connect_vertices(vertices),
             Tool::ExtrudeEdges { edges, by } => {
                 self.extrude_edges(&pairs(edges), DVec3::from_array(*by))

@@ -8,6 +8,8 @@
 
 use std::collections::{HashMap, HashSet};
 
+use std::f64::consts::FRAC_PI_2;
+
 use glam::{DVec2, DVec3};
 
 use super::cage_edit::{Cage, CageEditError, invalid, key, polygon_normal};
@@ -283,6 +285,102 @@ impl Cage {
         Ok(out)
     }
 
+    /// Tris to quads (Blender's Tris to Quads, with no topology influence): every edge
+    /// between two of the named triangles is a candidate, unless the triangles' normals
+    /// differ by more than `face_degrees` or the quad they would make folds over or has a
+    /// corner more than `shape_degrees` off square; the candidates are joined best first by
+    /// [`quad_error`], each while both its triangles are still triangles (and no face over
+    /// the same four corners is there). The quad takes the lower index of its two triangles.
+    pub fn tris_to_quads(
+        &self,
+        faces: &[usize],
+        face_degrees: f64,
+        shape_degrees: f64,
+    ) -> Result<Self, CageEditError> {
+        let faces = self.check_faces(faces)?;
+        for angle in [face_degrees, shape_degrees] {
+            if !(0.0..=180.0).contains(&angle) {
+                return Err(invalid("the angle limits must be 0° to 180°"));
+            }
+        }
+        let triangles: HashSet<usize> = faces
+            .iter()
+            .copied()
+            .filter(|&f| self.faces[f].len() == 3)
+            .collect();
+        let half = self.half_edges();
+        let point = |v: u32| self.points[v as usize];
+        let normal = |a: u32, b: u32, c: u32| (point(b) - point(a)).cross(point(c) - point(a));
+        // (error, quad corners, the two triangles), the quad wound as the first triangle.
+        let mut candidates: Vec<(f64, [u32; 4], usize, usize)> = Vec::new();
+        for (&(a, b), &(f, c)) in &half {
+            let Some(&(g, d)) = half.get(&(b, a)) else {
+                continue;
+            };
+            if f > g || !triangles.contains(&f) || !triangles.contains(&g) {
+                continue;
+            }
+            let across_f = self.faces[f][(c + 2) % 3];
+            let across_g = self.faces[g][(d + 2) % 3];
+            let (nf, ng) = (normal(a, b, across_f), normal(b, a, across_g));
+            if face_degrees < 180.0
+                && nf.normalize_or_zero().dot(ng.normalize_or_zero())
+                    < face_degrees.to_radians().cos()
+            {
+                continue;
+            }
+            let quad = [a, across_g, b, across_f];
+            let corners = quad.map(point);
+            if shape_degrees < 180.0
+                && (quad_folds(corners)
+                    || corner_angles_off_square(corners)
+                        .iter()
+                        .any(|&off| off > shape_degrees.to_radians()))
+            {
+                continue;
+            }
+            candidates.push((quad_error(corners), quad, f, g));
+        }
+        candidates.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.2.cmp(&y.2)).then(x.3.cmp(&y.3)));
+        let mut out = self.clone();
+        let mut joined: HashSet<usize> = HashSet::new();
+        let mut gone: HashSet<usize> = HashSet::new();
+        let mut existing: HashSet<Vec<u32>> = self
+            .faces
+            .iter()
+            .map(|f| {
+                let mut sorted = f.clone();
+                sorted.sort_unstable();
+                sorted
+            })
+            .collect();
+        for (_, quad, f, g) in candidates {
+            if joined.contains(&f) || joined.contains(&g) {
+                continue;
+            }
+            let mut sorted = quad.to_vec();
+            sorted.sort_unstable();
+            if !existing.insert(sorted) {
+                continue;
+            }
+            joined.extend([f, g]);
+            out.faces[f] = quad.to_vec();
+            gone.insert(g);
+        }
+        if joined.is_empty() {
+            return Err(invalid(
+                "no two of these triangles share an edge within the angle limits: nothing to \
+                 join",
+            ));
+        }
+        let mut k = 0;
+        out.faces.retain(|_| {
+            k += 1;
+            !gone.contains(&(k - 1))
+        });
+        Ok(out.compacted(self))
+    }
+
     /// Triangulate faces (Blender's Triangulate Faces, Beauty for quads and polygons): a quad
     /// is split along the diagonal whose two triangles have the larger sum of area over
     /// perimeter in the face's plane (Blender's `polyfill_beautify` measure; a diagonal that
@@ -373,6 +471,52 @@ fn kd_tree_order(points: &[[f32; 3]]) -> Vec<usize> {
     let mut nodes: Vec<usize> = (0..points.len()).collect();
     balance(points, &mut nodes, 0);
     nodes
+}
+
+/// How far a quad is from a flat rectangle, as Blender's Tris to Quads weighs it (each term
+/// 0 at best): the angles between the normals of the two triangles either diagonal makes,
+/// over 2π; each corner's angle off 90°, summed over 2π; and 1 − the ratio of the smaller to
+/// the larger of the two diagonals' triangle areas (a concave quad's differ).
+pub fn quad_error([v1, v2, v3, v4]: [DVec3; 4]) -> f64 {
+    let unit_normal = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a).normalize_or_zero();
+    let angle = |a: DVec3, b: DVec3| {
+        if (a - b).abs().max_element() <= f64::from(f32::EPSILON) {
+            0.0
+        } else {
+            a.angle_between(b)
+        }
+    };
+    let bend = angle(unit_normal(v1, v2, v3), unit_normal(v1, v3, v4))
+        + angle(unit_normal(v2, v3, v4), unit_normal(v4, v1, v2));
+    let square: f64 = corner_angles_off_square([v1, v2, v3, v4]).iter().sum();
+    let area = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a).length() / 2.0;
+    let (across_13, across_24) = (
+        area(v1, v2, v3) + area(v1, v3, v4),
+        area(v2, v3, v4) + area(v4, v1, v2),
+    );
+    let larger = across_13.max(across_24);
+    let concave = if larger > 0.0 {
+        1.0 - across_13.min(across_24) / larger
+    } else {
+        1.0
+    };
+    (bend + square) / std::f64::consts::TAU + concave
+}
+
+/// Each corner's angle's distance from 90° (radians), from the angles between consecutive
+/// sides.
+fn corner_angles_off_square(corners: [DVec3; 4]) -> [f64; 4] {
+    let sides: [DVec3; 4] =
+        std::array::from_fn(|k| (corners[k] - corners[(k + 1) % 4]).normalize_or_zero());
+    std::array::from_fn(|k| (sides[k].angle_between(sides[(k + 1) % 4]) - FRAC_PI_2).abs())
+}
+
+/// Whether either diagonal splits the quad into triangles facing away from each other (a
+/// bow tie or a fold).
+fn quad_folds([v1, v2, v3, v4]: [DVec3; 4]) -> bool {
+    let normal = |a: DVec3, b: DVec3, c: DVec3| (b - a).cross(c - a);
+    normal(v1, v2, v3).dot(normal(v1, v3, v4)) < 0.0
+        || normal(v2, v3, v4).dot(normal(v2, v4, v1)) < 0.0
 }
 
 /// Twice the signed area of triangle a, b, c.
@@ -818,6 +962,72 @@ mod tests {
     }
 
     #[test]
+    fn the_quad_error_is_zero_for_rectangles_and_counts_a_parallelogram_s_corners() {
+        let (motion, _) = placement(11);
+        let place = |p: [f64; 2]| motion.transform_point3(DVec3::new(p[0], p[1], 0.0));
+        let rectangle = [[0.0, 0.0], [2.0, 0.0], [2.0, 0.5], [0.0, 0.5]].map(place);
+        assert!(quad_error(rectangle) < 1e-7, "{}", quad_error(rectangle));
+        // 60° and 120° corners: each 30° off square, 4 × (π/6) / 2π = 1/3; flat and convex.
+        let (c, s60) = (0.5, 3f64.sqrt() / 2.0);
+        let rhombus = [[0.0, 0.0], [1.0, 0.0], [1.0 + c, s60], [c, s60]].map(place);
+        assert!((quad_error(rhombus) - 1.0 / 3.0).abs() < 1e-7);
+        // A dart (one corner pushed past the diagonal): the two diagonals' areas differ.
+        let dart = [[0.0, 0.0], [2.0, 0.0], [0.7, 0.7], [0.0, 2.0]].map(place);
+        assert!(quad_error(dart) > 0.5);
+        assert!(quad_folds([
+            rectangle[0],
+            rectangle[2],
+            rectangle[1],
+            rectangle[3]
+        ]));
+        assert!(!quad_folds(rectangle));
+    }
+
+    #[test]
+    fn triangulated_quads_join_back_into_the_same_quads() {
+        for seed in 0..6 {
+            let cage = placed_torus(seed);
+            let all: Vec<usize> = (0..cage.faces.len()).collect();
+            let triangles = cage.triangulate_faces(&all).unwrap();
+            let every: Vec<usize> = (0..triangles.faces.len()).collect();
+            // Neighbouring cells of the 8 × 6 torus meet at 45° or 60°, past the 40° limit:
+            // only each cell's own two triangles may join.
+            let out = triangles.tris_to_quads(&every, 40.0, 40.0).unwrap();
+            assert_eq!(out.points, cage.points);
+            let as_sets = |c: &Cage| {
+                let mut faces: Vec<Vec<u32>> = c
+                    .faces
+                    .iter()
+                    .map(|f| {
+                        let mut f = f.clone();
+                        f.sort_unstable();
+                        f
+                    })
+                    .collect();
+                faces.sort();
+                faces
+            };
+            assert_eq!(as_sets(&out), as_sets(&cage));
+            // Each quad is wound as the cell was (same turning on the same corners).
+            for f in &out.faces {
+                let cell = cage
+                    .faces
+                    .iter()
+                    .find(|g| {
+                        let mut a = g.to_vec();
+                        let mut b = f.clone();
+                        a.sort_unstable();
+                        b.sort_unstable();
+                        a == b
+                    })
+                    .unwrap();
+                let at = cell.iter().position(|&v| v == f[0]).unwrap();
+                assert_eq!(cell[(at + 1) % 4], f[1]);
+            }
+        }
+    }
+
+    #[test]
     fn bad_requests_are_refused_with_the_reason() {
         let cage = placed_torus(3);
         let refusals = [
@@ -841,6 +1051,9 @@ mod tests {
             cage.connect_vertices(&[]),
             cage.connect_vertices(&[0, 1]),
             cage.connect_vertices(&[0, 100]),
+            cage.tris_to_quads(&[0, 1], 40.0, 40.0),
+            cage.tris_to_quads(&[0], -1.0, 40.0),
+            cage.tris_to_quads(&[0], 40.0, f64::NAN),
         ];
         for (k, r) in refusals.into_iter().enumerate() {
             let e = r.expect_err(&format!("refusal {k} was accepted"));
