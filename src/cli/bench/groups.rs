@@ -2836,8 +2836,36 @@ fn bench_cage_tools(
             axis: 0,
             merge_distance: 0.0,
         },
+        Tool::Triangulate {
+            faces: vec![5050, 5051, 5150, 5151],
+        },
+        Tool::DissolveVertices {
+            vertices: vec![f[2]],
+        },
+        Tool::Connect {
+            vertices: vec![f[0], f[2]],
+        },
+        // Four faces turned a quarter turn round the torus's axis in 12 steps.
+        Tool::Spin {
+            faces: vec![5050, 5051, 5150, 5151],
+            edges: Vec::new(),
+            centre: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            degrees: 90.0,
+            steps: 12,
+            advance: 0.0,
+        },
     ];
     let runs = iterations.clamp(3, 20);
+    // Merge by distance over 20,000 points: the torus and its mirror image (the same torus,
+    // every point doubled), welded back into the 10,000-face torus.
+    let doubled = cage.mirror(0, 0.0)?;
+    let (weld_ms, welded) = median_ms(runs, || doubled.merge_by_distance(&[], 1e-9))?;
+    writeln!(
+        out,
+        "cage merge by distance, 20,000 points in pairs: {weld_ms:.2} ms ({} points after)",
+        welded.points.len()
+    )?;
     // Selection on the same cage: the loop through an edge, and Select More of it.
     let (loop_ms, edges) = median_ms(runs, || cage.edge_loop(f[0], f[1]))?;
     let selected: std::collections::BTreeSet<u32> =
