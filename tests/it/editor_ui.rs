@@ -693,15 +693,8 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = subdivided_cube();
     let steps = status::current().undo_steps;
-    let page = harness.state().command_sender();
-    let step = |harness: &mut Harness<'_, KnotworkApp>, label: &str, points: Vec<usize>| {
-        page.send(AppCommand::SelectPoints(points));
-        harness.run_steps(2);
-        click_label(harness, label);
-        status::current()
-    };
     // The top quad becomes two triangles: 8 points, 7 faces; its points stay selected.
-    let s = step(&mut harness, "Triangulate faces", vec![4, 5, 6, 7]);
+    let s = panel_step(&mut harness, "Triangulate faces", vec![4, 5, 6, 7]);
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
         (None, steps + 1),
@@ -710,7 +703,7 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     assert_eq!(cage_counts(&harness, 0), (8, 7));
     assert_eq!(s.selected_points.len(), 4);
     // Tris to quads joins them back (and is undone, to go on from the triangles).
-    let s = step(&mut harness, "Tris to quads", vec![4, 5, 6, 7]);
+    let s = panel_step(&mut harness, "Tris to quads", vec![4, 5, 6, 7]);
     assert_eq!(
         (s.error.as_deref(), cage_counts(&harness, 0)),
         (None, (8, 6))
@@ -719,7 +712,7 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     harness.run_steps(2);
     assert_eq!(cage_counts(&harness, 0), (8, 7));
     // A bottom corner: its three quads become one hexagon through its three neighbours.
-    let s = step(&mut harness, "Dissolve points", vec![0]);
+    let s = panel_step(&mut harness, "Dissolve points", vec![0]);
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
         (None, steps + 2),
@@ -728,7 +721,7 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     assert_eq!(cage_counts(&harness, 0), (7, 5));
     // Nothing lies within the merge distance of anything: refused, nothing changes.
     let before = harness.state().document().scene.objects[0].clone();
-    let s = step(&mut harness, "Merge by distance", vec![]);
+    let s = panel_step(&mut harness, "Merge by distance", vec![]);
     let error = s.error.clone().unwrap_or_default();
     assert!(error.contains("nothing to merge"), "{s:?}");
     assert_eq!(s.undo_steps, steps + 2);
@@ -738,7 +731,7 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     );
     // Point 6 (the file's 7: a top corner) goes with every face on it.
     let faces_on_it = cage_faces_on(&harness, 6);
-    let s = step(&mut harness, "Delete points", vec![6]);
+    let s = panel_step(&mut harness, "Delete points", vec![6]);
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
         (None, steps + 3),
@@ -763,14 +756,7 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
         .unwrap_or_else(|p| p.into_inner());
     let mut harness = subdivided_cube();
     let steps = status::current().undo_steps;
-    let page = harness.state().command_sender();
-    let step = |harness: &mut Harness<'_, KnotworkApp>, label: &str, points: Vec<usize>| {
-        page.send(AppCommand::SelectPoints(points));
-        harness.run_steps(2);
-        click_label(harness, label);
-        status::current()
-    };
-    step(&mut harness, "Delete faces", vec![4, 5, 6, 7]);
+    panel_step(&mut harness, "Delete faces", vec![4, 5, 6, 7]);
     assert_eq!(cage_counts(&harness, 0), (8, 5));
     // Fill puts a face back over the rim, and Connect splits the bottom face along its
     // diagonal; each is undone.
@@ -778,13 +764,13 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
         harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
         harness.run_steps(2);
     };
-    let s = step(&mut harness, "Fill", vec![4, 5, 6, 7]);
+    let s = panel_step(&mut harness, "Fill", vec![4, 5, 6, 7]);
     assert_eq!(
         (s.error.as_deref(), cage_counts(&harness, 0)),
         (None, (8, 6))
     );
     undo(&mut harness);
-    let s = step(&mut harness, "Connect", vec![0, 2]);
+    let s = panel_step(&mut harness, "Connect", vec![0, 2]);
     assert_eq!(
         (s.error.as_deref(), cage_counts(&harness, 0)),
         (None, (8, 6))
@@ -792,7 +778,7 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
     undo(&mut harness);
     assert_eq!(cage_counts(&harness, 0), (8, 5));
     let open = harness.state().document().scene.objects[0].control_points();
-    let s = step(&mut harness, "Extrude edges", vec![4, 5, 6, 7]);
+    let s = panel_step(&mut harness, "Extrude edges", vec![4, 5, 6, 7]);
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
         (None, steps + 2),
@@ -809,7 +795,7 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
     }
     // The bottom face (points 0-3) spun 90° round z in 12 steps: 4 side quads a step, the
     // face moved to the end; the border's copies at every step.
-    let s = step(&mut harness, "Spin", vec![0, 1, 2, 3]);
+    let s = panel_step(&mut harness, "Spin", vec![0, 1, 2, 3]);
     assert_eq!(
         (s.error.as_deref(), s.undo_steps),
         (None, steps + 3),
@@ -825,6 +811,21 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
         });
         assert!(matched, "{p} is no bottom corner turned round z");
     }
+}
+
+/// Selects `points` of the cage and clicks the panel's `label`: the status after.
+fn panel_step(
+    harness: &mut Harness<'_, KnotworkApp>,
+    label: &str,
+    points: Vec<usize>,
+) -> status::AppStatus {
+    harness
+        .state()
+        .command_sender()
+        .send(AppCommand::SelectPoints(points));
+    harness.run_steps(2);
+    click_label(harness, label);
+    status::current()
 }
 
 /// How many faces of object 0's cage use point `v`.

@@ -797,7 +797,18 @@ impl Cage {
                 marked.insert(v);
             }
         }
-        let mut faces: Vec<Vec<u32>> = new_faces.into_iter().flatten().collect();
+        let faces: Vec<Vec<u32>> = new_faces.into_iter().flatten().collect();
+        self.with_faces_lone_removed(faces, marked)
+    }
+
+    /// The cage with `faces` (a dissolve's joined faces), each of the `candidates` left
+    /// between only two edges taken out of its faces (Blender's dissolve of the vertices
+    /// between two edges); a face left with fewer than three corners is refused.
+    pub(super) fn with_faces_lone_removed(
+        &self,
+        mut faces: Vec<Vec<u32>>,
+        candidates: HashSet<u32>,
+    ) -> Result<Self, CageEditError> {
         let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
         for face in &faces {
             for c in 0..face.len() {
@@ -806,7 +817,7 @@ impl Cage {
                 neighbours.entry(b).or_default().insert(a);
             }
         }
-        let lone: HashSet<u32> = marked
+        let lone: HashSet<u32> = candidates
             .into_iter()
             .filter(|v| neighbours.get(v).is_some_and(|n| n.len() == 2))
             .collect();
@@ -814,7 +825,7 @@ impl Cage {
             face.retain(|v| !lone.contains(v));
             if face.len() < 3 {
                 return Err(invalid(
-                    "dissolving these edges would leave a face of fewer than three corners",
+                    "the dissolve would leave a face of fewer than three corners",
                 ));
             }
         }

@@ -70,34 +70,12 @@ impl Cage {
             })
             .map(|&(a, b)| key(a, b))
             .collect();
-        let mut faces: Vec<Vec<u32>> = self
+        let faces: Vec<Vec<u32>> = self
             .joined_across(&half, &gone)?
             .into_iter()
             .flatten()
             .collect();
-        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
-        for face in &faces {
-            for c in 0..face.len() {
-                let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                neighbours.entry(a).or_default().insert(b);
-                neighbours.entry(b).or_default().insert(a);
-            }
-        }
-        let lone: HashSet<u32> = named
-            .into_iter()
-            .filter(|v| neighbours.get(v).is_some_and(|n| n.len() == 2))
-            .collect();
-        for face in &mut faces {
-            face.retain(|v| !lone.contains(v));
-            if face.len() < 3 {
-                return Err(invalid(
-                    "dissolving these vertices would leave a face of fewer than three corners",
-                ));
-            }
-        }
-        let mut out = self.clone();
-        out.faces = faces;
-        Ok(out.compacted(self))
+        self.with_faces_lone_removed(faces, named)
     }
 
     /// Merge by distance (Blender's Merge by Distance): among `vertices` (all of the cage's
