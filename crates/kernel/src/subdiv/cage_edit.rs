@@ -2039,6 +2039,17 @@ pub enum Tool {
     },
 }
 
+/// A spin's motion: `degrees` round the axis through `centre` along `axis` (the right-hand
+/// rule) in `steps` equal steps, moving `advance` along the axis over the whole of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpinMotion {
+    pub centre: DVec3,
+    pub axis: DVec3,
+    pub degrees: f64,
+    pub steps: u32,
+    pub advance: f64,
+}
+
 /// Blender's Mirror default: points within 0.001 of the plane are welded to their image.
 pub const DEFAULT_MERGE_DISTANCE: f64 = 0.001;
 
@@ -2136,7 +2147,7 @@ impl Cage {
             } => self.spin(
                 faces,
                 &pairs(edges),
-                &super::cage_sweep::SpinMotion {
+                &SpinMotion {
                     centre: DVec3::from_array(*centre),
                     axis: DVec3::from_array(*axis),
                     degrees: *degrees,

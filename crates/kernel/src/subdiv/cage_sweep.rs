@@ -11,24 +11,13 @@ use std::collections::{HashMap, HashSet};
 
 use glam::{DAffine3, DQuat, DVec3};
 
-use super::cage_edit::{Cage, CageEditError, invalid, key, polygon_normal};
+use super::cage_edit::{Cage, CageEditError, SpinMotion, invalid, key, polygon_normal};
 
 /// What a sweep moves: a region of faces (which leaves its place: Blender's Extrude Region)
 /// or open edges (which stay, a strip growing from them).
 enum Swept {
     Faces(Vec<usize>),
     Edges(Vec<(u32, u32)>),
-}
-
-/// A spin's motion: `degrees` round the axis through `centre` along `axis` (the right-hand
-/// rule) in `steps` equal steps, moving `advance` along the axis over the whole of it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SpinMotion {
-    pub centre: DVec3,
-    pub axis: DVec3,
-    pub degrees: f64,
-    pub steps: u32,
-    pub advance: f64,
 }
 
 impl Cage {
