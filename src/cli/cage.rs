@@ -67,11 +67,16 @@ pub enum CageTool {
         #[arg(long, default_value_t = 1)]
         cuts: u32,
     },
-    /// Bevel edges: each becomes a band of S segments, its sides W from the edge.
+    /// Bevel edges (each becomes a band of S segments, its sides W from the edge) or vertices
+    /// (each cut off W along its edges, a face where it was).
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Bevel {
         /// Edges, as A-B,C-D.
-        #[arg(long)]
-        edges: String,
+        #[arg(long, group = "what")]
+        edges: Option<String>,
+        /// Vertices, as I,J.
+        #[arg(long, group = "what")]
+        vertices: Option<String>,
         #[arg(long)]
         width: f64,
         #[arg(long, default_value_t = 1)]
@@ -160,6 +165,22 @@ pub enum CageTool {
         faces: String,
         #[arg(long, default_value_t = 1)]
         cuts: u32,
+    },
+    /// Knife (Bisect): cut the faces (all, or --faces) along the plane through --point square
+    /// to --normal; each crossed edge takes a point on the plane and each crossed face splits.
+    Knife {
+        /// A point of the plane, as X,Y,Z.
+        #[arg(long, allow_hyphen_values = true)]
+        point: String,
+        /// The plane's normal, as X,Y,Z.
+        #[arg(long, allow_hyphen_values = true)]
+        normal: String,
+        /// Faces, e.g. 0,4,5 (default: every face).
+        #[arg(long)]
+        faces: Option<String>,
+        /// Points nearer the plane than this lie on it (default: 1e-6 of the cage's size).
+        #[arg(long)]
+        threshold: Option<f64>,
     },
     /// Mirror the cage across the plane through the origin square to an axis, welding the
     /// points within the merge distance of the plane to their images.
@@ -305,11 +326,22 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             _ => return Err("--edge names one edge by its two vertices, A,B".into()),
         },
         CageTool::Bevel {
+            vertices: Some(vertices),
+            width,
+            segments,
+            ..
+        } => Tool::BevelVertices {
+            vertices: indices("vertices", vertices)?,
+            width: *width,
+            segments: *segments,
+        },
+        CageTool::Bevel {
             edges,
             width,
             segments,
+            ..
         } => Tool::Bevel {
-            edges: edge_pairs(edges)?,
+            edges: edge_pairs(edges.as_deref().unwrap_or_default())?,
             width: *width,
             segments: *segments,
         },
@@ -382,6 +414,20 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         CageTool::Subdivide { faces, cuts } => Tool::Subdivide {
             faces: face_list(faces)?,
             cuts: *cuts,
+        },
+        CageTool::Knife {
+            point,
+            normal,
+            faces,
+            threshold,
+        } => Tool::Knife {
+            faces: match faces {
+                Some(list) => face_list(list)?,
+                None => Vec::new(),
+            },
+            point: vector("point", point)?,
+            normal: vector("normal", normal)?,
+            threshold: *threshold,
         },
         CageTool::Mirror {
             axis,

@@ -135,6 +135,10 @@ def apply(bm, op, args):
         edges = ring(bm, edge(bm, a, b))
         bmesh.ops.subdivide_edgering(bm, edges=edges, cuts=int(opt["cuts"]),
                                      interp_mode="LINEAR", profile_shape="LINEAR")
+    elif op == "bevel" and "vertices" in opt:
+        verts = [bm.verts[i] for i in ints(opt["vertices"])]
+        bmesh.ops.bevel(bm, geom=verts, offset=float(opt["width"]), offset_type="OFFSET",
+                        segments=int(opt.get("segments", 1)), profile=0.5, affect="VERTICES")
     elif op == "bevel":
         edges = [edge(bm, a, b) for a, b in pairs(opt["edges"])]
         bmesh.ops.bevel(bm, geom=edges, offset=float(opt["width"]), offset_type="OFFSET",
@@ -224,6 +228,24 @@ def apply(bm, op, args):
                                   quad_corner_type="STRAIGHT_CUT")
     elif op == "poke":
         bmesh.ops.poke(bm, faces=[bm.faces[i] for i in ints(opt["faces"])])
+    elif op == "knife":
+        # Bisect: the plane cuts the faces' edges and splits the faces; points within the
+        # threshold (by default 1e-6 of the cage's bounding diagonal) lie on the plane.
+        if "faces" in opt:
+            faces = [bm.faces[i] for i in ints(opt["faces"])]
+            geom = set(faces)
+            for f in faces:
+                geom.update(f.edges)
+                geom.update(f.verts)
+            geom = list(geom)
+        else:
+            geom = list(bm.verts) + list(bm.edges) + list(bm.faces)
+        lo = Vector([min(v.co[k] for v in bm.verts) for k in range(3)])
+        hi = Vector([max(v.co[k] for v in bm.verts) for k in range(3)])
+        dist = float(opt["threshold"]) if "threshold" in opt else 1e-6 * (hi - lo).length
+        bmesh.ops.bisect_plane(bm, geom=geom, dist=dist, plane_co=Vector(floats(opt["point"])),
+                               plane_no=Vector(floats(opt["normal"])).normalized(),
+                               use_snap_center=False, clear_outer=False, clear_inner=False)
     elif op == "mirror":
         # The Mirror modifier applied: bmesh's mirror welds the points within the distance
         # of the plane; the copies' faces are turned to agree with the originals.
@@ -306,6 +328,14 @@ def cage(name):
                 v.append((r * math.cos(a), 0.8 * r * math.sin(a), z + 0.05 * math.cos(5 * k)))
         f = [list(range(6, -1, -1)), list(range(7, 14))]
         f += [[k, (k + 1) % 7, 7 + (k + 1) % 7, 7 + k] for k in range(7)]
+        return v, f
+    if name == "uprism":
+        # A U-shaped prism: its ends concave octagons that a plane across the U's arms
+        # crosses four times.
+        u = [(0, 0), (3, 0), (3, 2), (2, 2), (2, 0.8), (1, 0.8), (1, 2), (0, 2)]
+        v = [(x, y, z) for z in (0.0, 0.9) for x, y in u]
+        f = [list(range(7, -1, -1)), list(range(8, 16))]
+        f += [[k, (k + 1) % 8, 8 + (k + 1) % 8, 8 + k] for k in range(8)]
         return v, f
     if name == "trigrid":
         # The grid's quads split into triangles, the diagonals alternating as a checkerboard.
@@ -540,6 +570,29 @@ CASES = [
     ("trigrid", "tris-to-quads --faces " + ",".join(str(k) for k in range(24))),
     ("trigrid", "tris-to-quads --faces 0,1,2,3,4,5,6,7,8,9,10,11,12,13 --face-angle 12"),
     ("trigrid", "tris-to-quads --faces " + ",".join(str(k) for k in range(24)) + " --shape-angle 15"),
+    # Knife (Bisect): planes across every face or some, concave faces crossed four times,
+    # and a plane through four corners of the box.
+    ("box", "knife --point 0.1,0.2,-0.1P --normal 0.3,1,0.2V"),
+    ("torus", "knife --point 0.3,0,0.1P --normal 0.2,0.1,1V"),
+    ("torus", "knife --point 0.5,0.5,0P --normal 1,0.3,0.05V"),
+    ("grid", "knife --faces 5,6,9,10,11 --point 1.6,1.5,0P --normal 1,0.4,0.1V"),
+    ("ngons", "knife --point 0,0,0.5P --normal 0.1,0.05,1V"),
+    ("ngons", "knife --point -0.1,0.1,0P --normal 1,0.2,0.3V"),
+    ("uprism", "knife --point 0,1.5,0.4P --normal 0.05,1,0.1V"),
+    ("uprism", "knife --faces 0,2,3 --point 0,1.2,0P --normal 0.1,1,-0.2V"),
+    ("box", "knife --point 0,0,0P --normal 1,-1,0V --threshold 1e-5U"),
+    # The corner at vertex 4 cut off through two named faces: the third face at the corner
+    # takes the two new points and stays whole.
+    ("frustum", "knife --faces 1,5 --point -0.25,-0.55,1.15P --normal -1,-1,1V"),
+    # Vertex bevel: corners of three edges, a torus's points of four, a heptagon prism's,
+    # the grid's border points of three and two edges (the corner only cut), neighbours.
+    ("box", "bevel --vertices 7 --width 0.3U"),
+    ("box", "bevel --vertices 0,3,5,6 --width 0.4U"),
+    ("box", "bevel --vertices 0,1 --width 0.3U"),
+    ("torus", "bevel --vertices 0,7,20 --width 0.2U"),
+    ("ngons", "bevel --vertices 3,10 --width 0.15U"),
+    ("grid", "bevel --vertices 1,0,6,19 --width 0.2U"),
+    ("cap5", "bevel --vertices 10,11,0 --width 0.2U"),
 ]
 
 

@@ -1282,7 +1282,7 @@ fn quad_three_cut_sides(
 }
 
 /// The part of a closed loop from position `from` forward to position `to`, both included.
-fn loop_between(ring: &[u32], from: usize, to: usize) -> Vec<u32> {
+pub(super) fn loop_between(ring: &[u32], from: usize, to: usize) -> Vec<u32> {
     let mut out = vec![ring[from]];
     let mut at = from;
     while at != to {
@@ -1293,7 +1293,7 @@ fn loop_between(ring: &[u32], from: usize, to: usize) -> Vec<u32> {
 }
 
 /// A face with the new points of its cut edges taken into its loop.
-fn grown_by_cuts(face: &[u32], inner: &HashMap<(u32, u32), Vec<u32>>) -> Vec<u32> {
+pub(super) fn grown_by_cuts(face: &[u32], inner: &HashMap<(u32, u32), Vec<u32>>) -> Vec<u32> {
     let mut grown = Vec::with_capacity(face.len());
     for c in 0..face.len() {
         let (p, q) = (face[c], face[(c + 1) % face.len()]);
@@ -1971,6 +1971,13 @@ pub enum Tool {
         width: f64,
         segments: u32,
     },
+    /// [`Cage::bevel_vertices`].
+    BevelVertices {
+        vertices: Vec<u32>,
+        width: f64,
+        #[serde(default = "one_segment")]
+        segments: u32,
+    },
     /// [`Cage::bridge_loops`].
     Bridge { loop1: Vec<u32>, loop2: Vec<u32> },
     /// [`Cage::merge_vertices`], at the first vertex's place with `at_first`.
@@ -2030,6 +2037,16 @@ pub enum Tool {
     Poke { faces: Vec<usize> },
     /// [`Cage::subdivide_faces`].
     Subdivide { faces: Vec<usize>, cuts: u32 },
+    /// [`Cage::knife`] along the plane through `point` square to `normal` (every face when
+    /// `faces` is empty).
+    Knife {
+        #[serde(default)]
+        faces: Vec<usize>,
+        point: [f64; 3],
+        normal: [f64; 3],
+        #[serde(default)]
+        threshold: Option<f64>,
+    },
     /// [`Cage::mirror`] across the plane through the origin square to axis 0, 1 or 2 (x, y,
     /// z).
     Mirror {
@@ -2053,6 +2070,10 @@ pub struct SpinMotion {
 /// Blender's Mirror default: points within 0.001 of the plane are welded to their image.
 pub const DEFAULT_MERGE_DISTANCE: f64 = 0.001;
 
+fn one_segment() -> u32 {
+    1
+}
+
 fn forty_degrees() -> f64 {
     40.0
 }
@@ -2069,6 +2090,7 @@ impl Tool {
             Self::Inset { .. } => "Inset",
             Self::LoopCut { .. } => "Loop cut",
             Self::Bevel { .. } => "Bevel",
+            Self::BevelVertices { .. } => "Bevel vertices",
             Self::Bridge { .. } => "Bridge",
             Self::Merge { .. } => "Merge",
             Self::Dissolve { .. } => "Dissolve",
@@ -2088,6 +2110,7 @@ impl Tool {
             Self::Mirror { .. } => "Mirror",
             Self::Poke { .. } => "Poke",
             Self::Subdivide { .. } => "Subdivide",
+            Self::Knife { .. } => "Knife",
         }
     }
 }
@@ -2114,6 +2137,11 @@ impl Cage {
                 width,
                 segments,
             } => self.bevel_edges(&pairs(edges), *width, *segments),
+            Tool::BevelVertices {
+                vertices,
+                width,
+                segments,
+            } => self.bevel_vertices(vertices, *width, *segments),
             Tool::Bridge { loop1, loop2 } => self.bridge_loops(loop1, loop2),
             Tool::Merge { vertices, at_first } => self.merge_vertices(vertices, *at_first),
             Tool::Dissolve { edges } => self.dissolve_edges(&pairs(edges)),
@@ -2161,6 +2189,17 @@ impl Cage {
             } => self.mirror(usize::from(*axis), *merge_distance),
             Tool::Poke { faces } => self.poke_faces(faces),
             Tool::Subdivide { faces, cuts } => self.subdivide_faces(faces, *cuts),
+            Tool::Knife {
+                faces,
+                point,
+                normal,
+                threshold,
+            } => self.knife(
+                faces,
+                DVec3::from_array(*point),
+                DVec3::from_array(*normal),
+                *threshold,
+            ),
         }
     }
 }

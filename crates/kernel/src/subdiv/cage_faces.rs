@@ -15,7 +15,7 @@ use glam::{DVec2, DVec3};
 use super::cage_edit::{Cage, CageEditError, invalid, key, polygon_normal};
 
 impl Cage {
-    fn check_vertices(&self, vertices: &[u32]) -> Result<HashSet<u32>, CageEditError> {
+    pub(super) fn check_vertices(&self, vertices: &[u32]) -> Result<HashSet<u32>, CageEditError> {
         for &v in vertices {
             self.check_vertex(v)?;
         }

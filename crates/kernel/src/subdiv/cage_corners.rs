@@ -1,0 +1,261 @@
+//! Vertex bevel, as Blender's Bevel with Affect: Vertices has it: each named vertex cut off,
+//! a face where it was.
+//!
+//! It follows the conventions of [`super::cage_edit`]: surviving vertices keep their indices,
+//! the new points follow (each named vertex's, in the order its edges go round it), faces keep
+//! their indices and windings, the new faces follow; an edge shortened at an end keeps its
+//! crease.
+
+use std::collections::{HashMap, HashSet};
+
+use super::cage_edit::{Cage, CageEditError, invalid, key};
+
+impl Cage {
+    /// Vertex bevel (Blender's Bevel of vertices, one segment, offset along the edges): every
+    /// named vertex v gets a point on each of its edges v–w at `width` from v along it, and
+    /// each face round v takes the two points of its edges at v in v's place. Where v has
+    /// three or more edges, a new face joins its points round it, wound against the faces
+    /// round it (on the border its open side becomes an edge between the first and the last);
+    /// the vertex goes, with its sharpness. Widths past an edge's other end are not clamped,
+    /// as in Blender.
+    pub fn bevel_vertices(
+        &self,
+        vertices: &[u32],
+        width: f64,
+        segments: u32,
+    ) -> Result<Self, CageEditError> {
+        let named = self.check_vertices(vertices)?;
+        if !(width.is_finite() && width > 0.0) {
+            return Err(invalid("the bevel's width must be a finite number > 0"));
+        }
+        if segments != 1 {
+            return Err(invalid(
+                "a vertex bevel of more than one segment is not built yet: use one segment",
+            ));
+        }
+        let mut out = self.clone();
+        // The point on edge v–w near v, for each named v, made in the order of v's name and
+        // of the faces round it.
+        let mut point: HashMap<(u32, u32), u32> = HashMap::new();
+        // Round v: the new face's edges, from the point on the edge a face leaves v along to
+        // the point on the edge it came in on.
+        let mut next: HashMap<u32, HashMap<u32, u32>> = HashMap::new();
+        let mut order: Vec<u32> = Vec::new();
+        for &v in vertices {
+            if order.contains(&v) {
+                continue;
+            }
+            order.push(v);
+        }
+        let corners_of: HashMap<u32, Vec<(usize, usize)>> = {
+            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::new();
+            for (f, face) in self.faces.iter().enumerate() {
+                for (c, &v) in face.iter().enumerate() {
+                    if named.contains(&v) {
+                        map.entry(v).or_default().push((f, c));
+                    }
+                }
+            }
+            map
+        };
+        for &v in &order {
+            let Some(corners) = corners_of.get(&v) else {
+                return Err(invalid(format!("vertex {v} is on no face")));
+            };
+            let pv = self.points[v as usize];
+            for &(f, c) in corners {
+                let face = &self.faces[f];
+                let n = face.len();
+                let (u, w) = (face[(c + n - 1) % n], face[(c + 1) % n]);
+                for x in [u, w] {
+                    point.entry((v, x)).or_insert_with(|| {
+                        let towards = self.points[x as usize] - pv;
+                        out.points.push(pv + towards.normalize_or_zero() * width);
+                        (out.points.len() - 1) as u32
+                    });
+                }
+                next.entry(v)
+                    .or_default()
+                    .insert(point[&(v, w)], point[&(v, u)]);
+            }
+        }
+        for (f, face) in self.faces.iter().enumerate() {
+            let n = face.len();
+            if !face.iter().any(|v| named.contains(v)) {
+                continue;
+            }
+            let mut grown = Vec::with_capacity(n + 4);
+            for c in 0..n {
+                let v = face[c];
+                if named.contains(&v) {
+                    let (u, w) = (face[(c + n - 1) % n], face[(c + 1) % n]);
+                    grown.push(point[&(v, u)]);
+                    grown.push(point[&(v, w)]);
+                } else {
+                    grown.push(v);
+                }
+            }
+            out.faces[f] = grown;
+        }
+        for &v in &order {
+            let Some(links) = next.get(&v) else {
+                continue;
+            };
+            // One chain round v: closed, or open from the point no link comes to.
+            let not_one_fan = || {
+                invalid(format!(
+                    "vertex {v}'s faces do not make one fan round it: it cannot be beveled"
+                ))
+            };
+            let targets: HashSet<u32> = links.values().copied().collect();
+            let mut starts: Vec<u32> = links
+                .keys()
+                .filter(|k| !targets.contains(k))
+                .copied()
+                .collect();
+            starts.sort_unstable();
+            let open = !starts.is_empty();
+            let start = match starts[..] {
+                [] => links.keys().copied().min().ok_or_else(not_one_fan)?,
+                [s] => s,
+                _ => return Err(not_one_fan()),
+            };
+            let mut ring = vec![start];
+            let mut at = start;
+            while let Some(&to) = links.get(&at) {
+                if to == start || ring.len() > links.len() {
+                    break;
+                }
+                ring.push(to);
+                at = to;
+            }
+            if ring.len() != links.len() + usize::from(open) {
+                return Err(not_one_fan());
+            }
+            if ring.len() >= 3 {
+                out.faces.push(ring);
+            }
+        }
+        // Creases on the edges' remaining parts.
+        let sharp = self.sharpness_of_edges();
+        let mut cut: Vec<((u32, u32), u32)> = point.iter().map(|(&e, &p)| (e, p)).collect();
+        cut.sort_unstable();
+        for ((v, w), p) in cut {
+            if let Some(&s) = sharp.get(&key(v, w)) {
+                let other = point.get(&(w, v)).copied().unwrap_or(w);
+                out.add_crease(p, other, s);
+            }
+        }
+        out.corners.retain(|c| !named.contains(&c.vertex));
+        Ok(out.compacted(self))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::cages;
+    use crate::test_support::placement;
+    use glam::DVec3;
+
+    fn placed(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
+        let (motion, scale) = placement(seed);
+        let cage = Cage {
+            points: mesh
+                .points()
+                .iter()
+                .map(|&p| motion.transform_point3(p))
+                .collect(),
+            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
+            creases: Vec::new(),
+            corners: Vec::new(),
+        };
+        (cage, scale)
+    }
+
+    fn volume(cage: &Cage) -> f64 {
+        let p = |v: u32| cage.points[v as usize];
+        cage.faces
+            .iter()
+            .flat_map(|f| (1..f.len() - 1).map(move |k| (f[0], f[k], f[k + 1])))
+            .map(|(a, b, c)| p(a).dot(p(b).cross(p(c))) / 6.0)
+            .sum()
+    }
+
+    fn euler(cage: &Cage) -> i64 {
+        let edges: HashSet<(u32, u32)> = cage
+            .faces
+            .iter()
+            .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
+            .collect();
+        cage.points.len() as i64 - edges.len() as i64 + cage.faces.len() as i64
+    }
+
+    #[test]
+    fn beveled_box_corners_each_lose_a_right_tetrahedron() {
+        let cube = cages::cube(DVec3::ZERO, 2.0).unwrap();
+        for seed in 0..12u64 {
+            let (cage, scale) = placed(&cube, seed);
+            let count = 1 + (seed % 8) as usize;
+            let corners: Vec<u32> = (0..count as u32).collect();
+            let w = 0.3 * scale;
+            let cut = cage.bevel_vertices(&corners, w, 1).unwrap();
+            // Each corner: three points for one, a triangle more, three edges more.
+            assert_eq!(cut.points.len(), 8 + 2 * count, "seed {seed}");
+            assert_eq!(cut.faces.len(), 6 + count);
+            assert_eq!(euler(&cut), 2);
+            // The cut-off corner is the right tetrahedron of legs w: w³/6.
+            let expected = 8.0 * scale.powi(3) - count as f64 * w.powi(3) / 6.0;
+            assert!(
+                (volume(&cut) - expected).abs() < 1e-9 * expected,
+                "seed {seed}"
+            );
+            // The new triangles are equilateral of side w√2, wound outward.
+            for face in &cut.faces[6..] {
+                assert_eq!(face.len(), 3);
+                for c in 0..3 {
+                    let d = cut.points[face[c] as usize]
+                        .distance(cut.points[face[(c + 1) % 3] as usize]);
+                    assert!((d - w * 2f64.sqrt()).abs() < 1e-9 * scale);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn on_the_border_a_vertex_of_three_edges_becomes_a_triangle_and_a_corner_a_cut() {
+        let grid = cages::grid(DVec3::ZERO, 4.0, 4).unwrap();
+        let (cage, scale) = placed(&grid, 5);
+        let edges_of = |v: u32| {
+            cage.faces
+                .iter()
+                .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
+                .filter(|&(a, b)| a == v || b == v)
+                .collect::<HashSet<_>>()
+                .len()
+        };
+        let corner = (0..cage.points.len() as u32)
+            .find(|&v| edges_of(v) == 2)
+            .unwrap();
+        let side = (0..cage.points.len() as u32)
+            .find(|&v| edges_of(v) == 3)
+            .unwrap();
+        let cut = cage.bevel_vertices(&[corner], 0.2 * scale, 1).unwrap();
+        assert_eq!((cut.points.len(), cut.faces.len()), (26, 16));
+        assert_eq!(cut.faces.iter().filter(|f| f.len() == 5).count(), 1);
+        let cut = cage.bevel_vertices(&[side], 0.2 * scale, 1).unwrap();
+        assert_eq!((cut.points.len(), cut.faces.len()), (27, 17));
+        assert_eq!(euler(&cut), 1);
+    }
+
+    #[test]
+    fn bad_vertex_bevels_are_refused_with_the_reason() {
+        let cage = placed(&cages::cube(DVec3::ZERO, 2.0).unwrap(), 1).0;
+        let refusal = |r: Result<Cage, CageEditError>| r.unwrap_err().to_string();
+        assert!(refusal(cage.bevel_vertices(&[0], 0.0, 1)).contains("width"));
+        assert!(refusal(cage.bevel_vertices(&[0], f64::NAN, 1)).contains("width"));
+        assert!(refusal(cage.bevel_vertices(&[0], 0.1, 2)).contains("one segment"));
+        assert!(refusal(cage.bevel_vertices(&[99], 0.1, 1)).contains("vertex 99"));
+        assert!(refusal(cage.bevel_vertices(&[], 0.1, 1)).contains("no vertices"));
+    }
+}
