@@ -10,6 +10,7 @@ mod features;
 mod files;
 mod gizmo;
 mod input;
+pub mod knife;
 mod operations;
 mod overlay;
 pub mod panels;
@@ -333,6 +334,8 @@ pub struct KnotworkApp {
     symmetry: [bool; 3],
     /// Shift + E on a cage: the sharpness of the selected edges set by the pointer's distance.
     crease_drag: Option<input::CreaseDrag>,
+    /// K on a cage: the knife's line being drawn.
+    knife: Option<knife::KnifeLine>,
     /// Proportional editing (O) and its radius (the wheel during a drag).
     proportional: bool,
     proportional_radius: f64,
@@ -457,6 +460,7 @@ impl KnotworkApp {
             cage_tools: panels::cage::CageToolSettings::default(),
             symmetry: [false; 3],
             crease_drag: None,
+            knife: None,
             proportional: false,
             proportional_radius: 1.0,
             features: features::FeatureState::default(),
@@ -1273,6 +1277,7 @@ impl KnotworkApp {
             ui.painter().image(texture, rect, uv, egui::Color32::WHITE);
         }
         self.paint_box(ui);
+        self.paint_knife(ui);
         self.paint_trims(ui);
         self.paint_drawing(ui);
         self.paint_feature_edges(ui);

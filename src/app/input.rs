@@ -55,7 +55,7 @@ impl KnotworkApp {
         pick::pick_point(&self.projected_handles(), cursor, PICK_RADIUS)
     }
 
-    fn local(&self, pos: egui::Pos2) -> DVec2 {
+    pub(super) fn local(&self, pos: egui::Pos2) -> DVec2 {
         DVec2::new(
             f64::from(pos.x - self.viewport_rect.left()),
             f64::from(pos.y - self.viewport_rect.top()),
@@ -643,6 +643,10 @@ impl KnotworkApp {
             self.crease_drag_input(ui, response);
             return;
         }
+        if self.knife.is_some() {
+            self.knife_input(ui, response);
+            return;
+        }
         let shift = ui.input(|i| i.modifiers.shift);
         if self.curves.drawing.is_some() {
             let hover = response.hover_pos().map(|p| self.local(p));
@@ -788,7 +792,7 @@ impl KnotworkApp {
         {
             self.apply(AppCommand::Edit(crate::doc::Command::Duplicate { object }));
         }
-        if self.drag.is_none() && self.crease_drag.is_none() {
+        if self.drag.is_none() && self.crease_drag.is_none() && self.knife.is_none() {
             if pressed(shortcut(Modifiers::ALT, Key::A))
                 || pressed(shortcut(Modifiers::NONE, Key::Escape))
             {
@@ -813,6 +817,9 @@ impl KnotworkApp {
             if on_cage && pressed(shortcut(Modifiers::SHIFT, Key::E)) {
                 let pointer = ctx.input(|i| i.pointer.hover_pos());
                 self.begin_crease_drag(pointer);
+            }
+            if on_cage && pressed(shortcut(Modifiers::NONE, Key::K)) {
+                self.begin_knife();
             }
             if on_cage {
                 use super::panels::cage::SelectMode;

@@ -813,6 +813,69 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
     }
 }
 
+/// K on a cage, as Blender's Knife with Cut Through: a line dragged across the cube on the
+/// screen cuts every face under it, front and back, as one undo step; Esc puts the knife away
+/// with nothing cut. Then *Bevel vertices* cuts a corner off.
+#[test]
+fn the_knife_cuts_the_cage_along_a_line_dragged_across_it_and_a_corner_bevels() {
+    let _turn = ONE_EDITOR_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|p| p.into_inner());
+    let mut harness = subdivided_cube();
+    let steps = status::current().undo_steps;
+    let handles = status::handles();
+    let corners: Vec<Pos2> = (0..8)
+        .map(|k| {
+            let p = handles[k].expect("on screen");
+            Pos2::new(p[0], p[1])
+        })
+        .collect();
+    let left = corners.iter().map(|p| p.x).fold(f32::INFINITY, f32::min);
+    let right = corners
+        .iter()
+        .map(|p| p.x)
+        .fold(f32::NEG_INFINITY, f32::max);
+    let middle = corners.iter().map(|p| p.y).sum::<f32>() / 8.0;
+    // Esc: nothing cut, no step.
+    harness.key_press(Key::K);
+    harness.run_steps(1);
+    harness.key_press(Key::Escape);
+    harness.run_steps(2);
+    assert_eq!(cage_counts(&harness, 0), (8, 6));
+    assert_eq!(status::current().undo_steps, steps);
+    // A level line through the cube's middle, from left of it to right of it.
+    harness.key_press(Key::K);
+    harness.run_steps(1);
+    let start = Pos2::new(left - 15.0, middle);
+    let step = egui::vec2((right - left + 30.0) / 8.0, 0.0);
+    let end = drag_from(&mut harness, start, step, 8);
+    press(&harness, end, false);
+    harness.run_steps(3);
+    let s = status::current();
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    // The plane through the line and the eye crosses the cube's inside: k of its 12 edges
+    // (3 to 6, as any plane through a box's inside and no corner), each taking a point, and
+    // k faces split in two.
+    let (points, faces) = cage_counts(&harness, 0);
+    assert!((11..=14).contains(&points), "{points} points");
+    assert_eq!(faces, 6 + points - 8);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_steps(2);
+    assert_eq!(cage_counts(&harness, 0), (8, 6));
+    // Bevel vertices on a corner: three points for one, a triangle where it was.
+    let s = panel_step(&mut harness, "Bevel vertices", vec![0]);
+    assert_eq!(
+        (s.error.as_deref(), s.undo_steps),
+        (None, steps + 1),
+        "{s:?}"
+    );
+    assert_eq!(cage_counts(&harness, 0), (10, 7));
+}
+
 /// Selects `points` of the cage and clicks the panel's `label`: the status after.
 fn panel_step(
     harness: &mut Harness<'_, KnotworkApp>,

@@ -92,7 +92,7 @@ fn tool_button(ui: &mut egui::Ui, enabled: bool, label: &str, hover: &str, disab
 const NEED_EDGE: &str = "select one edge (its two points)";
 
 /// What a tool selects when it is done.
-enum After {
+pub(in crate::app) enum After {
     /// The points of these faces (an extrusion's or inset's region, which keeps its indices).
     Faces(Vec<usize>),
     /// These points (a tool that keeps every point's index).
@@ -328,6 +328,23 @@ impl KnotworkApp {
                     .range(1..=32)
                     .suffix(" segments"),
             );
+            if tool_button(
+                ui,
+                !selected.is_empty(),
+                "Bevel vertices",
+                "each selected point cut off the width along its edges, a face where it was \
+                 (one segment)",
+                "select one or more points",
+            ) {
+                chosen = Some((
+                    Tool::BevelVertices {
+                        vertices: selected.iter().copied().collect(),
+                        width: t.width,
+                        segments: 1,
+                    },
+                    After::Nothing,
+                ));
+            }
         });
         ui.horizontal_wrapped(|ui| {
             let loops = cage.closed_loops(&edges).ok().filter(|l| l.len() == 2);
@@ -443,6 +460,17 @@ impl KnotworkApp {
                 ));
             }
         });
+        let mut knife = false;
+        if ui
+            .button("Knife (K)")
+            .on_hover_text(
+                "drag a line across the viewport: every face under it, front and back, is cut \
+                 along the plane through the line and the eye (Esc cancels)",
+            )
+            .clicked()
+        {
+            knife = true;
+        }
         let points: Vec<u32> = selected.iter().copied().collect();
         let need_points = "select one or more points";
         ui.horizontal_wrapped(|ui| {
@@ -671,11 +699,14 @@ impl KnotworkApp {
         if let Some((tool, after)) = chosen {
             self.apply_cage_tool(s, tool, after);
         }
+        if knife {
+            self.begin_knife();
+        }
     }
 
     /// Applies `tool` to the cage of object `s` as one undo step; then selects what `after`
     /// says (the selection is cleared where the tool renumbered the points).
-    fn apply_cage_tool(&mut self, s: usize, tool: Tool, after: After) {
+    pub(in crate::app) fn apply_cage_tool(&mut self, s: usize, tool: Tool, after: After) {
         let operation = Operation::new(CageEdit {
             object: ObjectRef::Index(s),
             tool,
