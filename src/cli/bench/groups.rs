@@ -2855,6 +2855,19 @@ fn bench_cage_tools(
             steps: 12,
             advance: 0.0,
         },
+        // The knife through the torus's axis: the plane y = 0.01 across the tube on both
+        // sides of the hole (a ring of 100 faces each), every face tried.
+        Tool::Knife {
+            faces: Vec::new(),
+            point: [0.0, 0.01, 0.0],
+            normal: [0.0, 1.0, 0.0],
+            threshold: None,
+        },
+        Tool::BevelVertices {
+            vertices: vec![f[0], f[2]],
+            width: 0.01,
+            segments: 1,
+        },
     ];
     let runs = iterations.clamp(3, 20);
     // Merge by distance over 20,000 points: the torus and its mirror image (the same torus,
