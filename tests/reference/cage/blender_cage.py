@@ -95,6 +95,16 @@ def ring(bm, start):
     return found
 
 
+def region_of(bm, faces):
+    """The named faces with their edges and vertices, as a set."""
+    faces = [bm.faces[i] for i in ints(faces)]
+    geom = set(faces)
+    for f in faces:
+        geom.update(f.edges)
+        geom.update(f.verts)
+    return geom
+
+
 def apply(bm, op, args):
     opt = {}
     k = 0
@@ -156,11 +166,7 @@ def apply(bm, op, args):
         bmesh.ops.translate(bm, vec=Vector(floats(opt["by"])), verts=moved)
     elif op == "spin":
         if "faces" in opt:
-            faces = [bm.faces[i] for i in ints(opt["faces"])]
-            geom = set(faces)
-            for f in faces:
-                geom.update(f.edges)
-                geom.update(f.verts)
+            geom = region_of(bm, opt["faces"])
         else:
             geom = set()
             for a, b in pairs(opt["edges"]):
@@ -232,12 +238,7 @@ def apply(bm, op, args):
         # Bisect: the plane cuts the faces' edges and splits the faces; points within the
         # threshold (by default 1e-6 of the cage's bounding diagonal) lie on the plane.
         if "faces" in opt:
-            faces = [bm.faces[i] for i in ints(opt["faces"])]
-            geom = set(faces)
-            for f in faces:
-                geom.update(f.edges)
-                geom.update(f.verts)
-            geom = list(geom)
+            geom = list(region_of(bm, opt["faces"]))
         else:
             geom = list(bm.verts) + list(bm.edges) + list(bm.faces)
         lo = Vector([min(v.co[k] for v in bm.verts) for k in range(3)])

@@ -154,42 +154,9 @@ impl Cage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::subdiv::cage_edit::tests::{cage_of as placed, euler, volume};
     use crate::subdiv::cages;
-    use crate::test_support::placement;
     use glam::DVec3;
-
-    fn placed(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
-        let (motion, scale) = placement(seed);
-        let cage = Cage {
-            points: mesh
-                .points()
-                .iter()
-                .map(|&p| motion.transform_point3(p))
-                .collect(),
-            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
-            creases: Vec::new(),
-            corners: Vec::new(),
-        };
-        (cage, scale)
-    }
-
-    fn volume(cage: &Cage) -> f64 {
-        let p = |v: u32| cage.points[v as usize];
-        cage.faces
-            .iter()
-            .flat_map(|f| (1..f.len() - 1).map(move |k| (f[0], f[k], f[k + 1])))
-            .map(|(a, b, c)| p(a).dot(p(b).cross(p(c))) / 6.0)
-            .sum()
-    }
-
-    fn euler(cage: &Cage) -> i64 {
-        let edges: HashSet<(u32, u32)> = cage
-            .faces
-            .iter()
-            .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
-            .collect();
-        cage.points.len() as i64 - edges.len() as i64 + cage.faces.len() as i64
-    }
 
     #[test]
     fn beveled_box_corners_each_lose_a_right_tetrahedron() {

@@ -2314,13 +2314,13 @@ fn check_thickness(thickness: f64) -> Result<(), CageEditError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::subdiv::cages;
     use crate::subdiv::{Options, SubdivisionSurface};
     use crate::test_support::{Xorshift, placement};
 
-    fn cage_of(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
+    pub(in crate::subdiv) fn cage_of(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
         let (motion, scale) = placement(seed);
         let points = mesh
             .points()
@@ -2354,7 +2354,7 @@ mod tests {
     }
 
     /// V − E + F.
-    fn euler(cage: &Cage) -> i64 {
+    pub(in crate::subdiv) fn euler(cage: &Cage) -> i64 {
         let edges: HashSet<(u32, u32)> = cage
             .faces
             .iter()
@@ -2364,7 +2364,7 @@ mod tests {
     }
 
     /// The enclosed volume (divergence theorem over the faces' fans).
-    fn volume(cage: &Cage) -> f64 {
+    pub(in crate::subdiv) fn volume(cage: &Cage) -> f64 {
         let p = |v: u32| cage.points[v as usize];
         cage.faces
             .iter()

@@ -217,40 +217,16 @@ fn split_piece(pieces: &mut Vec<Vec<u32>>, a: u32, b: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::subdiv::cage_edit::tests::{cage_of as placed, euler, volume};
     use crate::subdiv::cages;
     use crate::test_support::{Xorshift, placement};
     use std::collections::HashSet;
-
-    fn placed(mesh: &crate::PolygonMesh, seed: u64) -> (Cage, f64) {
-        let (motion, scale) = placement(seed);
-        let cage = Cage {
-            points: mesh
-                .points()
-                .iter()
-                .map(|&p| motion.transform_point3(p))
-                .collect(),
-            faces: mesh.faces().map(<[u32]>::to_vec).collect(),
-            creases: Vec::new(),
-            corners: Vec::new(),
-        };
-        (cage, scale)
-    }
 
     fn edges(cage: &Cage) -> HashSet<(u32, u32)> {
         cage.faces
             .iter()
             .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
             .collect()
-    }
-
-    /// The enclosed volume (divergence theorem over the faces' fans).
-    fn volume(cage: &Cage) -> f64 {
-        let p = |v: u32| cage.points[v as usize];
-        cage.faces
-            .iter()
-            .flat_map(|f| (1..f.len() - 1).map(move |k| (f[0], f[k], f[k + 1])))
-            .map(|(a, b, c)| p(a).dot(p(b).cross(p(c))) / 6.0)
-            .sum()
     }
 
     /// The faces' areas (the Newell vectors' lengths, halved).
@@ -311,8 +287,7 @@ mod tests {
             }
             assert_eq!(cut.faces.len(), 6 + crossed, "seed {seed}");
             // Closed, one piece of surface as before: V − E + F = 2; the same solid.
-            let e = edges(&cut).len() as i64;
-            assert_eq!(cut.points.len() as i64 - e + cut.faces.len() as i64, 2);
+            assert_eq!(euler(&cut), 2);
             let v = 8.0 * scale.powi(3);
             assert!((volume(&cut) - v).abs() < 1e-9 * v, "seed {seed}");
             assert!((area(&cut) - area(&cage)).abs() < 1e-9 * v / scale);
