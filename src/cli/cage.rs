@@ -9,8 +9,8 @@ use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
 /// file.
 #[derive(Subcommand, Clone, Debug)]
 pub enum CageTool {
-    /// Extrude faces as one region along the region's average normal (--faces, --offset), or
-    /// open edges into a strip of quads (--edges, --by).
+    /// Extrude faces as one region along the region's average normal (--faces, --offset; each
+    /// along its own with --individual), or open edges into a strip of quads (--edges, --by).
     #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Extrude {
         /// Faces, e.g. 0,4,5.
@@ -19,6 +19,9 @@ pub enum CageTool {
         /// How far the region moves (negative: into the cage).
         #[arg(long, allow_negative_numbers = true)]
         offset: Option<f64>,
+        /// Each face on its own, along its own normal.
+        #[arg(long, requires = "faces")]
+        individual: bool,
         /// Open edges, as A-B,C-D.
         #[arg(long, group = "what", requires = "by")]
         edges: Option<String>,
@@ -56,6 +59,9 @@ pub enum CageTool {
         /// The strip's width, ≥ 0.
         #[arg(long)]
         thickness: f64,
+        /// How far the inner faces then move out of the surface (negative: in).
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+        depth: f64,
         #[arg(long)]
         individual: bool,
     },
@@ -143,6 +149,27 @@ pub enum CageTool {
         /// The loop's vertices in order, e.g. 0,1,2,3.
         #[arg(long = "loop")]
         vertices: String,
+    },
+    /// Grid fill: a grid of quads over a hole, between two chains of open edges (--loop1,
+    /// --loop2, the rails found along the rim) or over a whole rim (--loop, cut into sides at
+    /// --offset with --span edges along each rail).
+    #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
+    GridFill {
+        /// The first chain's vertices in order, e.g. 0,1,2.
+        #[arg(long, group = "what", requires = "loop2")]
+        loop1: Option<String>,
+        /// The second chain's vertices in order.
+        #[arg(long)]
+        loop2: Option<String>,
+        /// The whole rim's vertices in order (an even number of edges).
+        #[arg(long = "loop", group = "what")]
+        rim: Option<String>,
+        /// Edges along each rail (default: to the rim's next sharp corner).
+        #[arg(long, requires = "rim")]
+        span: Option<u32>,
+        /// The position in --loop of the grid's first corner (default: the sharpest corner).
+        #[arg(long, requires = "rim")]
+        offset: Option<usize>,
     },
     /// Connect vertices: each face holding two or more of them split between them.
     Connect {
@@ -277,10 +304,12 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         CageTool::Extrude {
             faces: Some(faces),
             offset,
+            individual,
             ..
         } => Tool::Extrude {
             faces: face_list(faces)?,
             offset: offset.unwrap_or_default(),
+            individual: *individual,
         },
         CageTool::Extrude { edges, by, .. } => Tool::ExtrudeEdges {
             edges: edge_pairs(edges.as_deref().unwrap_or_default())?,
@@ -312,10 +341,12 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         CageTool::Inset {
             faces,
             thickness,
+            depth,
             individual,
         } => Tool::Inset {
             faces: face_list(faces)?,
             thickness: *thickness,
+            depth: *depth,
             individual: *individual,
         },
         CageTool::Loopcut { edge, cuts } => match indices("edge", edge)?[..] {
@@ -402,6 +433,25 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
         CageTool::Fill { vertices } => Tool::Fill {
             r#loop: indices("loop", vertices)?,
         },
+        CageTool::GridFill {
+            loop1,
+            loop2,
+            rim,
+            span,
+            offset,
+        } => {
+            let list = |name: &str, list: &Option<String>| match list {
+                Some(list) => indices(name, list),
+                None => Ok(Vec::new()),
+            };
+            Tool::GridFill {
+                loop1: list("loop1", loop1)?,
+                loop2: list("loop2", loop2)?,
+                rim: list("loop", rim)?,
+                span: *span,
+                offset: *offset,
+            }
+        }
         CageTool::Connect { vertices } => Tool::Connect {
             vertices: indices("vertices", vertices)?,
         },

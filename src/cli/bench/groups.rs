@@ -2790,10 +2790,12 @@ fn bench_cage_tools(
         Tool::Extrude {
             faces: vec![5050, 5051, 5150, 5151],
             offset: 0.05,
+            individual: false,
         },
         Tool::Inset {
             faces: vec![5050, 5051, 5150, 5151],
             thickness: 0.01,
+            depth: 0.0,
             individual: false,
         },
         Tool::LoopCut {

@@ -119,7 +119,16 @@ def apply(bm, op, args):
                 k += 1
         else:
             k += 1
-    if op == "extrude" and "faces" in opt:
+    if op == "extrude" and opt.get("individual"):
+        # Extrude Individual Faces: each face moved along its own normal.
+        faces = [bm.faces[i] for i in ints(opt["faces"])]
+        new = bmesh.ops.extrude_discrete_faces(bm, faces=faces)["faces"]
+        for f in new:
+            f.normal_update()
+            step = f.normal * float(opt["offset"])
+            for v in f.verts:
+                v.co += step
+    elif op == "extrude" and "faces" in opt:
         faces = [bm.faces[i] for i in ints(opt["faces"])]
         normal = Vector()
         for f in faces:
@@ -134,11 +143,12 @@ def apply(bm, op, args):
         bmesh.ops.translate(bm, vec=normal * float(opt["offset"]), verts=moved)
     elif op == "inset":
         faces = [bm.faces[i] for i in ints(opt["faces"])]
-        t = float(opt["thickness"])
+        t, d = float(opt["thickness"]), float(opt.get("depth", 0.0))
         if opt.get("individual"):
-            bmesh.ops.inset_individual(bm, faces=faces, thickness=t, use_even_offset=True)
+            bmesh.ops.inset_individual(bm, faces=faces, thickness=t, depth=d,
+                                       use_even_offset=True)
         else:
-            bmesh.ops.inset_region(bm, faces=faces, thickness=t, use_even_offset=True,
+            bmesh.ops.inset_region(bm, faces=faces, thickness=t, depth=d, use_even_offset=True,
                                    use_boundary=True)
     elif op == "loopcut":
         a, b = ints(opt["edge"])
@@ -189,6 +199,25 @@ def apply(bm, op, args):
         loop = ints(opt["loop"])
         edges = [edge(bm, loop[i], loop[(i + 1) % len(loop)]) for i in range(len(loop))]
         bmesh.ops.contextual_create(bm, geom=edges)
+    elif op == "grid-fill" and "loop1" in opt:
+        edges = [edge(bm, c[i], c[i + 1]) for c in (ints(opt["loop1"]), ints(opt["loop2"]))
+                 for i in range(len(c) - 1)]
+        bmesh.ops.grid_fill(bm, edges=edges, use_interp_simple=False)
+    elif op == "grid-fill":
+        rim = ints(opt["loop"])
+        n = len(rim)
+        edges = [edge(bm, rim[i], rim[(i + 1) % n]) for i in range(n)]
+        if "span" not in opt and "offset" not in opt:
+            # Blender's own Grid Fill on the selected rim: corner and span its choice.
+            run_operator(bm, edges, lambda: bpy.ops.mesh.fill_grid())
+        else:
+            # The rim cut as the operator cuts it, from the vertex at --offset: the first
+            # --span edges and as many from the middle on are the rails, the rest the chains.
+            k, span = int(opt["offset"]), min(int(opt["span"]), n // 2 - 1)
+            rim = rim[k:] + rim[:k] + [rim[k]]
+            chains = (rim[span:n // 2 + 1], rim[n // 2 + span:])
+            edges = [edge(bm, c[i], c[i + 1]) for c in chains for i in range(len(c) - 1)]
+            bmesh.ops.grid_fill(bm, edges=edges, use_interp_simple=False)
     elif op == "connect":
         bmesh.ops.connect_verts(bm, verts=[bm.verts[i] for i in ints(opt["vertices"])])
     elif op == "merge" and "distance" in opt:
@@ -257,6 +286,31 @@ def apply(bm, op, args):
         bmesh.ops.reverse_faces(bm, faces=[f for f in bm.faces if f not in before])
     else:
         raise SystemExit(f"unknown operation {op}")
+
+
+def run_operator(bm, edges, call):
+    """Runs edit-mode operator `call` on `bm` with `edges` selected (no active element);
+    `bm` takes the result."""
+    for seq in (bm.verts, bm.edges, bm.faces):
+        for e in seq:
+            e.select = False
+    for e in edges:
+        e.select = True
+        for v in e.verts:
+            v.select = True
+    bm.select_history.clear()
+    mesh = bpy.data.meshes.new("cage")
+    bm.to_mesh(mesh)
+    obj = bpy.data.objects.new("cage", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.context.tool_settings.mesh_select_mode = (False, True, False)
+    call()
+    bpy.ops.object.mode_set(mode="OBJECT")
+    bm.clear()
+    bm.from_mesh(mesh)
+    bpy.data.objects.remove(obj)
 
 
 def drop_loose(bm):
@@ -375,6 +429,24 @@ def cage(name):
             face = f[n + k]
             v.append(tuple(c + rnd.uniform(-1e-4, 1e-4) for c in centre))
             f[n + k] = [face[0], face[1], len(v) - 1]
+        return v, f
+    if name == "holed":
+        # A 6 × 5 grid of uneven height without its inner 3 × 2 quads: a rim of 10 edges.
+        n, m = 6, 5
+        v = [(i * 0.8 + 0.05 * j, j * 1.0, 0.3 * math.sin(1.3 * i) * math.cos(0.9 * j))
+             for j in range(m + 1) for i in range(n + 1)]
+        f = [[j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1,
+              (j + 1) * (n + 1) + i] for j in range(m) for i in range(n)
+             if not (1 <= i <= 3 and 1 <= j <= 2)]
+        return v, f
+    if name == "tube12":
+        # An open tube of 12 sides, uneven: rims of 12 edges to fill across.
+        n, h = 12, 2
+        v = [((1 + 0.15 * math.cos(3 * i)) * math.cos(2 * math.pi * i / n),
+              (0.8 + 0.1 * math.sin(2 * i)) * math.sin(2 * math.pi * i / n),
+              0.9 * k + 0.1 * math.sin(i)) for k in range(h + 1) for i in range(n)]
+        f = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
+             for k in range(h) for i in range(n)]
         return v, f
     raise SystemExit(f"no cage {name}")
 
@@ -594,6 +666,36 @@ CASES = [
     ("ngons", "bevel --vertices 3,10 --width 0.15U"),
     ("grid", "bevel --vertices 1,0,6,19 --width 0.2U"),
     ("cap5", "bevel --vertices 10,11,0 --width 0.2U"),
+    # Grid fill: between two chains (named either way, the long or the short sides), over a
+    # whole rim as Blender's operator cuts it (its corner and span) or at a given offset and
+    # span (the rim named the way Blender walks it: the span runs along it), and a single quad.
+    ("holed", "grid-fill --loop1 8,9,10,11 --loop2 22,23,24,25"),
+    ("holed", "grid-fill --loop1 25,24,23,22 --loop2 8,9,10,11"),
+    ("holed", "grid-fill --loop1 8,15,22 --loop2 11,18,25"),
+    ("holed", "grid-fill --loop 8,15,22,23,24,25,18,11,10,9"),
+    ("tube12", "grid-fill --loop 0,1,2,3,4,5,6,7,8,9,10,11"),
+    ("tube12", "grid-fill --loop 24,25,26,27,28,29,30,31,32,33,34,35 --span 2 --offset 1"),
+    ("tube12", "grid-fill --loop 0,1,2,3,4,5,6,7,8,9,10,11 --span 3 --offset 5"),
+    ("tube12", "grid-fill --loop1 0,1,2,3 --loop2 9,8,7,6"),
+    ("tube", "grid-fill --loop 0,1,2,3,4,5,6,7 --span 1 --offset 2"),
+    ("openbox", "grid-fill --loop1 0,2 --loop2 1,3"),
+    # Inset with depth: a flat face, two faces round an edge, curved regions with inner
+    # points (a torus's, a fan's centre), a region on the border, and faces each on its own.
+    ("box", "inset --faces 0 --thickness 0.3U --depth 0.2U"),
+    ("box", "inset --faces 0,1 --thickness 0.25U --depth -0.15U"),
+    ("torus", "inset --faces 0,1,2,6,7,8 --thickness 0.1U --depth 0.1U"),
+    ("grid", "inset --faces 5,6,9,10 --thickness 0.2U --depth 0.3U"),
+    ("cap5", "inset --faces 5,6,7,8,9 --thickness 0.15U --depth 0.2U"),
+    ("grid", "inset --faces 0,1,4,5 --thickness 0.1U --depth -0.2U"),
+    ("torus", "inset --faces 0,7,14 --thickness 0.1U --depth 0.15U --individual"),
+    ("ngons", "inset --faces 0,3 --thickness 0.1U --depth 0.2U --individual"),
+    # Extrude individual faces: neighbours (each its own sides where they met), a torus's
+    # faces, a fan's triangles, heptagons, and inward.
+    ("box", "extrude --faces 0,1 --offset 0.4U --individual"),
+    ("torus", "extrude --faces 0,1,2,7 --offset 0.3U --individual"),
+    ("cap5", "extrude --faces 5,6,7 --offset 0.2U --individual"),
+    ("ngons", "extrude --faces 0,1 --offset -0.3U --individual"),
+    ("grid", "extrude --faces 0,5,6 --offset 0.25U --individual"),
 ]
 
 

@@ -302,6 +302,131 @@ impl Cage {
         Ok(out.compacted(self))
     }
 
+    /// Inset with depth (Blender's Inset Faces, Depth): [`Self::inset_region`] (or
+    /// [`Self::inset_individual`] with `individual`), then the inner faces moved `depth` out
+    /// of the surface. Each inset face on its own moves along its normal. A region's points
+    /// move along their normals, scaled by Blender's shell factor (the mean over the faces
+    /// round the point, weighted by their angles there, of 1 / cos of the angle between the
+    /// point's normal and the face's) so that flat parts move `depth` square to themselves: a
+    /// point on the region's border takes the normalized sum of the normals of the region's
+    /// faces on its border edges, one inside the region its angle-weighted normal; the faces
+    /// keep the normals they had before the inset (a strip quad the normal of the region face
+    /// beside it).
+    pub fn inset(
+        &self,
+        faces: &[usize],
+        thickness: f64,
+        depth: f64,
+        individual: bool,
+    ) -> Result<Self, CageEditError> {
+        if !depth.is_finite() {
+            return Err(invalid("the depth must be a finite number"));
+        }
+        let mut out = if individual {
+            self.inset_individual(faces, thickness)?
+        } else {
+            self.inset_region(faces, thickness)?
+        };
+        if depth == 0.0 {
+            return Ok(out);
+        }
+        let region = self.check_faces(faces)?;
+        let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
+        if individual {
+            for &f in &region {
+                let step = normal_of(f) * depth;
+                for k in 0..out.faces[f].len() {
+                    let v = out.faces[f][k] as usize;
+                    out.points[v] += step;
+                }
+            }
+            return Ok(out);
+        }
+        // The region's half-edges (after the inset) and the faces they belong to.
+        let mut region_half: HashMap<(u32, u32), usize> = HashMap::new();
+        for &f in &region {
+            let face = &out.faces[f];
+            for c in 0..face.len() {
+                region_half.insert((face[c], face[(c + 1) % face.len()]), f);
+            }
+        }
+        // Border points: the sum of the normals of the region's faces on their border edges.
+        let mut border: BTreeMap<u32, DVec3> = BTreeMap::new();
+        let mut points: Vec<u32> = Vec::new();
+        for &f in &region {
+            let face = &out.faces[f];
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                points.push(a);
+                if !region_half.contains_key(&(b, a)) {
+                    *border.entry(a).or_default() += normal_of(f);
+                    *border.entry(b).or_default() += normal_of(f);
+                }
+            }
+        }
+        points.sort_unstable();
+        points.dedup();
+        let angle_at = |cage: &Cage, face: &[u32], c: usize| {
+            let n = face.len();
+            let p = |k: usize| cage.points[face[k % n] as usize];
+            (p(c + n - 1) - p(c)).angle_between(p(c + 1) - p(c))
+        };
+        // Each point's faces (index, corner) after the inset and before it.
+        let corners_of = |cage: &Cage| {
+            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::new();
+            for (f, face) in cage.faces.iter().enumerate() {
+                for (c, v) in face.iter().enumerate() {
+                    map.entry(*v).or_default().push((f, c));
+                }
+            }
+            map
+        };
+        let (after, before) = (corners_of(&out), corners_of(self));
+        // The normal Blender keeps for a face round a region point: a region face's own, a
+        // strip quad's the region face's across one of its edges at the point.
+        let face_normal = |g: usize, c: usize| -> DVec3 {
+            if region.contains(&g) {
+                return normal_of(g);
+            }
+            let face = &out.faces[g];
+            let n = face.len();
+            let (v, next, prev) = (face[c], face[(c + 1) % n], face[(c + n - 1) % n]);
+            match region_half
+                .get(&(next, v))
+                .or_else(|| region_half.get(&(v, prev)))
+            {
+                Some(&f) => normal_of(f),
+                None => polygon_normal(&out.points, face),
+            }
+        };
+        let mut moved = Vec::with_capacity(points.len());
+        for &v in &points {
+            let normal = match border.get(&v) {
+                Some(sum) => sum.normalize_or_zero(),
+                None => before
+                    .get(&v)
+                    .into_iter()
+                    .flatten()
+                    .map(|&(f, c)| normal_of(f) * angle_at(self, &self.faces[f], c))
+                    .sum::<DVec3>()
+                    .normalize_or_zero(),
+            };
+            let (mut shell, mut angles) = (0.0, 0.0);
+            for &(g, c) in after.get(&v).into_iter().flatten() {
+                let angle = angle_at(&out, &out.faces[g], c);
+                let cos = normal.dot(face_normal(g, c)).abs();
+                shell += angle * if cos < 1e-8 { 1.0 } else { 1.0 / cos };
+                angles += angle;
+            }
+            let factor = if angles > 0.0 { shell / angles } else { 1.0 };
+            moved.push(out.points[v as usize] + normal * (depth * factor));
+        }
+        for (&v, p) in points.iter().zip(moved) {
+            out.points[v as usize] = p;
+        }
+        Ok(out)
+    }
+
     /// Inset of a region (Blender's Inset Faces, even offset, boundary on): the region's border
     /// moves into the region by `thickness` (each border edge square to itself in its face's
     /// plane, the corners where two border edges meet moved along their bisector by the even
@@ -1954,12 +2079,20 @@ impl Cage {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Tool {
-    /// [`Cage::extrude_faces`].
-    Extrude { faces: Vec<usize>, offset: f64 },
-    /// [`Cage::inset_region`], or [`Cage::inset_individual`] with `individual`.
+    /// [`Cage::extrude_faces`], or [`Cage::extrude_individual`] with `individual`.
+    Extrude {
+        faces: Vec<usize>,
+        offset: f64,
+        #[serde(default)]
+        individual: bool,
+    },
+    /// [`Cage::inset`].
     Inset {
         faces: Vec<usize>,
         thickness: f64,
+        /// How far the inner faces then move out of the surface (negative: in).
+        #[serde(default)]
+        depth: f64,
         #[serde(default)]
         individual: bool,
     },
@@ -2016,6 +2149,20 @@ pub enum Tool {
     },
     /// [`Cage::fill_loop`].
     Fill { r#loop: Vec<u32> },
+    /// [`Cage::grid_fill`] between two chains, or [`Cage::grid_fill_rim`] over a whole rim
+    /// (when `rim` is not empty).
+    GridFill {
+        #[serde(default)]
+        loop1: Vec<u32>,
+        #[serde(default)]
+        loop2: Vec<u32>,
+        #[serde(default)]
+        rim: Vec<u32>,
+        #[serde(default)]
+        span: Option<u32>,
+        #[serde(default)]
+        offset: Option<usize>,
+    },
     /// [`Cage::connect_vertices`].
     Connect { vertices: Vec<u32> },
     /// [`Cage::extrude_edges`].
@@ -2103,6 +2250,7 @@ impl Tool {
             Self::Triangulate { .. } => "Triangulate",
             Self::ExtrudeEdges { .. } => "Extrude edges",
             Self::Fill { .. } => "Fill",
+            Self::GridFill { .. } => "Grid fill",
             Self::TrisToQuads { .. } => "Tris to quads",
             Self::Connect { .. } => "Connect",
             Self::Spin { advance, .. } if *advance != 0.0 => "Screw",
@@ -2122,15 +2270,18 @@ impl Cage {
             edges.iter().map(|&[a, b]| (a, b)).collect()
         };
         match tool {
-            Tool::Extrude { faces, offset } => self.extrude_faces(faces, *offset),
+            Tool::Extrude {
+                faces,
+                offset,
+                individual: true,
+            } => self.extrude_individual(faces, *offset),
+            Tool::Extrude { faces, offset, .. } => self.extrude_faces(faces, *offset),
             Tool::Inset {
                 faces,
                 thickness,
-                individual: true,
-            } => self.inset_individual(faces, *thickness),
-            Tool::Inset {
-                faces, thickness, ..
-            } => self.inset_region(faces, *thickness),
+                depth,
+                individual,
+            } => self.inset(faces, *thickness, *depth, *individual),
             Tool::LoopCut { edge: [a, b], cuts } => self.loop_cut(*a, *b, *cuts),
             Tool::Bevel {
                 edges,
@@ -2155,6 +2306,19 @@ impl Cage {
             }
             Tool::Triangulate { faces } => self.triangulate_faces(faces),
             Tool::Fill { r#loop } => self.fill_loop(r#loop),
+            Tool::GridFill {
+                loop1,
+                loop2,
+                rim,
+                span,
+                offset,
+            } => {
+                if rim.is_empty() {
+                    self.grid_fill(loop1, loop2)
+                } else {
+                    self.grid_fill_rim(rim, *span, *offset)
+                }
+            }
             Tool::TrisToQuads {
                 faces,
                 face_degrees,
@@ -2363,6 +2527,14 @@ pub(super) mod tests {
         cage.points.len() as i64 - edges.len() as i64 + cage.faces.len() as i64
     }
 
+    /// Every half-edge once: the faces agree in winding (and no edge has three faces).
+    pub(in crate::subdiv) fn consistently_wound(cage: &Cage) -> bool {
+        let mut seen = HashSet::new();
+        cage.faces
+            .iter()
+            .all(|f| (0..f.len()).all(|c| seen.insert((f[c], f[(c + 1) % f.len()]))))
+    }
+
     /// The enclosed volume (divergence theorem over the faces' fans).
     pub(in crate::subdiv) fn volume(cage: &Cage) -> f64 {
         let p = |v: u32| cage.points[v as usize];
@@ -2401,6 +2573,53 @@ pub(super) mod tests {
             // The eight corners keep their indices and places.
             assert_eq!(&out.points[..8], &cage.points[..8]);
         }
+    }
+
+    /// A square face of a randomly placed cube inset by t with depth d (as a region, or each
+    /// of two opposite faces on its own) adds a frustum of height d on each, between the face
+    /// (side s) and the inner square (side s − 2t): d/3 (A₁ + A₂ + √(A₁A₂)) each; a negative
+    /// depth takes it away. The inner face lies d from the face's plane, and a depth of 0 is
+    /// the plain inset.
+    #[test]
+    fn an_inset_with_depth_raises_a_frustum_on_each_face() {
+        for seed in 1..9u64 {
+            let (cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let side = 2.0 * scale;
+            let t = side * (0.05 + 0.04 * seed as f64);
+            let d = side * 0.3 * if seed % 2 == 0 { 1.0 } else { -0.7 };
+            let (a1, a2) = (side * side, (side - 2.0 * t).powi(2));
+            let frustum = d / 3.0 * (a1 + a2 + (a1 * a2).sqrt());
+            for (faces, individual) in [(vec![2], false), (vec![0, 2], true)] {
+                let out = cage.inset(&faces, t, d, individual).unwrap();
+                check_cage(&out);
+                let expected = volume(&cage) + frustum * faces.len() as f64;
+                assert!(
+                    (volume(&out) - expected).abs() < 1e-9 * expected.abs(),
+                    "seed {seed}: {} against {expected}",
+                    volume(&out)
+                );
+                for &f in &faces {
+                    let normal = polygon_normal(&cage.points, &cage.faces[f]);
+                    let on_face = cage.points[cage.faces[f][0] as usize];
+                    for &v in &out.faces[f] {
+                        let height = (out.points[v as usize] - on_face).dot(normal);
+                        assert!((height - d).abs() < 1e-9 * side, "{height} against {d}");
+                    }
+                }
+                assert_eq!(
+                    cage.inset(&faces, t, 0.0, individual).unwrap(),
+                    cage.apply(&Tool::Inset {
+                        faces: faces.clone(),
+                        thickness: t,
+                        depth: 0.0,
+                        individual
+                    })
+                    .unwrap()
+                );
+            }
+        }
+        let (cage, _) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), 3);
+        assert!(cage.inset(&[0], 0.1, f64::NAN, false).is_err());
     }
 
     #[test]

@@ -80,6 +80,28 @@ impl Cage {
         )
     }
 
+    /// Extrude individual faces (Blender's Extrude Individual Faces): each face lifted on its
+    /// own by `offset` along its own normal, with side quads on all its edges (two faces that
+    /// shared an edge each get a side there). Faces keep their indices; each face's new
+    /// vertices and sides follow, face by face.
+    pub fn extrude_individual(&self, faces: &[usize], offset: f64) -> Result<Self, CageEditError> {
+        let region = self.check_faces(faces)?;
+        if !offset.is_finite() {
+            return Err(invalid("the offset must be a finite number"));
+        }
+        let mut out = self.clone();
+        for &f in &region {
+            let normal = polygon_normal(&self.points, &self.faces[f]);
+            if normal == DVec3::ZERO {
+                return Err(invalid(format!(
+                    "face {f} has no area: it has no normal to extrude along"
+                )));
+            }
+            out = out.extrude_region(&[f], normal * offset)?;
+        }
+        Ok(out)
+    }
+
     /// Spin (Blender's Spin, and with an advance its Screw): the faces (as a region) or the
     /// open edges are turned through the [`SpinMotion`]'s steps, each step a ring of quads. A separate piece of faces (whose border edges are
     /// all open) spun a full turn without advance closes on itself, a lathe: the last ring
@@ -274,6 +296,8 @@ impl Cage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::subdiv::cage_edit::tests::{cage_of, consistently_wound, euler, volume};
+    use crate::subdiv::cages;
     use crate::test_support::{Xorshift, placement};
 
     fn sm(centre: DVec3, axis: DVec3, degrees: f64, steps: u32, advance: f64) -> SpinMotion {
@@ -294,19 +318,6 @@ mod tests {
             }
         }
         uses
-    }
-
-    /// V − E + F.
-    fn euler(cage: &Cage) -> i64 {
-        cage.points.len() as i64 - edge_uses(cage).len() as i64 + cage.faces.len() as i64
-    }
-
-    /// Every half-edge once: the faces agree in winding.
-    fn consistently_wound(cage: &Cage) -> bool {
-        let mut seen = HashSet::new();
-        cage.faces
-            .iter()
-            .all(|f| (0..f.len()).all(|c| seen.insert((f[c], f[(c + 1) % f.len()]))))
     }
 
     /// One square of side `size` in general position: a separate piece, its four edges open.
@@ -478,5 +489,50 @@ mod tests {
             let e = r.expect_err(&format!("refusal {k} was accepted"));
             assert!(!e.to_string().is_empty());
         }
+    }
+
+    /// Two neighbouring faces of a randomly placed cube extruded each on its own by d: each
+    /// adds its prism (area × d) to the volume, the cube stays closed (χ = 2, windings
+    /// agreeing), the edge they shared takes a side of each, and every lifted corner is d
+    /// from its face's plane; a face with no area is refused.
+    #[test]
+    fn individually_extruded_faces_each_raise_their_own_prism() {
+        for seed in 1..7u64 {
+            let (cage, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            let d = scale * 0.4 * if seed % 3 == 0 { -1.0 } else { 1.0 };
+            // Face 0 and a neighbour, and the edge they share.
+            let ring: Vec<(u32, u32)> = (0..4)
+                .map(|c| key(cage.faces[0][c], cage.faces[0][(c + 1) % 4]))
+                .collect();
+            let (other, shared) = (1..6)
+                .find_map(|g| {
+                    ring.iter()
+                        .find(|&&(a, b)| cage.faces[g].contains(&a) && cage.faces[g].contains(&b))
+                        .map(|&e| (g, e))
+                })
+                .unwrap();
+            let faces = [0, other];
+            let out = cage.extrude_individual(&faces, d).unwrap();
+            let area = (2.0 * scale).powi(2);
+            let expected = volume(&cage) + 2.0 * area * d;
+            assert!((volume(&out) - expected).abs() < 1e-9 * expected.abs());
+            assert_eq!((euler(&out), out.faces.len()), (2, 6 + 8));
+            assert!(consistently_wound(&out));
+            assert_eq!(edge_uses(&out)[&shared], 2);
+            for f in faces {
+                let normal = polygon_normal(&cage.points, &cage.faces[f]);
+                let on = cage.points[cage.faces[f][0] as usize];
+                for &v in &out.faces[f] {
+                    let height = (out.points[v as usize] - on).dot(normal);
+                    assert!((height - d).abs() < 1e-9 * scale, "{height} against {d}");
+                }
+            }
+        }
+        let flat = Cage {
+            points: vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0],
+            faces: vec![vec![0, 1, 2]],
+            ..Cage::default()
+        };
+        assert!(flat.extrude_individual(&[0], 1.0).is_err());
     }
 }

@@ -13,6 +13,7 @@ mod bevel_corner;
 pub mod cage_corners;
 pub mod cage_edit;
 pub mod cage_faces;
+pub mod cage_grid;
 pub mod cage_knife;
 pub mod cage_select;
 pub mod cage_sweep;
