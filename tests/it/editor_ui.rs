@@ -746,9 +746,10 @@ fn cage_clean_up_tools_triangulate_dissolve_delete_and_merge_from_the_panel() {
     assert_eq!(cage_counts(&harness, 0), (8, 6));
 }
 
-/// Fill, Connect, Extrude edges and Spin from the panel: the open top of the cube (its lid
-/// deleted) filled again, its bottom split along a diagonal, the rim pulled up by the
-/// extrusion's distance, and the bottom face spun a quarter turn in 12 steps.
+/// Fill, Grid fill, Connect, Extrude edges and Spin from the panel: the open top of the cube
+/// (its lid deleted) filled again (by a face, then by a grid), its bottom split along a
+/// diagonal, the rim pulled up by the extrusion's distance, and the bottom face spun a quarter
+/// turn in 12 steps.
 #[test]
 fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
     let _turn = ONE_EDITOR_AT_A_TIME
@@ -765,6 +766,13 @@ fn cage_fill_connect_extrude_edges_and_spin_from_the_panel() {
         harness.run_steps(2);
     };
     let s = panel_step(&mut harness, "Fill", vec![4, 5, 6, 7]);
+    assert_eq!(
+        (s.error.as_deref(), cage_counts(&harness, 0)),
+        (None, (8, 6))
+    );
+    undo(&mut harness);
+    // Grid fill over the same rim of four edges: one quad.
+    let s = panel_step(&mut harness, "Grid fill", vec![4, 5, 6, 7]);
     assert_eq!(
         (s.error.as_deref(), cage_counts(&harness, 0)),
         (None, (8, 6))

@@ -27,7 +27,11 @@ pub struct CageToolSettings {
     /// The object the lengths were sized for.
     pub sized_for: Option<usize>,
     pub offset: f64,
+    /// Extrude each face on its own, along its own normal.
+    pub extrude_individual: bool,
     pub thickness: f64,
+    /// Inset: how far the inner faces then move out of the surface.
+    pub depth: f64,
     pub individual: bool,
     pub cuts: u32,
     pub width: f64,
@@ -60,7 +64,9 @@ impl Default for CageToolSettings {
         Self {
             sized_for: None,
             offset: 0.5,
+            extrude_individual: false,
             thickness: 0.1,
+            depth: 0.0,
             individual: false,
             cuts: 1,
             width: 0.1,
@@ -242,6 +248,7 @@ impl KnotworkApp {
                     Tool::Extrude {
                         faces: faces.clone(),
                         offset: t.offset,
+                        individual: t.extrude_individual,
                     },
                     After::Faces(faces.clone()),
                 ));
@@ -251,6 +258,8 @@ impl KnotworkApp {
                     .speed(0.01)
                     .prefix("by "),
             );
+            ui.checkbox(&mut t.extrude_individual, "each face")
+                .on_hover_text("each face lifted on its own along its own normal");
         });
         ui.horizontal_wrapped(|ui| {
             if tool_button(
@@ -264,6 +273,7 @@ impl KnotworkApp {
                     Tool::Inset {
                         faces: faces.clone(),
                         thickness: t.thickness,
+                        depth: t.depth,
                         individual: t.individual,
                     },
                     After::Faces(faces.clone()),
@@ -275,6 +285,12 @@ impl KnotworkApp {
                     .range(0.0..=f64::MAX)
                     .prefix("width "),
             );
+            ui.add(
+                egui::DragValue::new(&mut t.depth)
+                    .speed(0.005)
+                    .prefix("depth "),
+            )
+            .on_hover_text("how far the inset faces then move out of the surface (negative: in)");
             ui.checkbox(&mut t.individual, "each face");
         });
         ui.horizontal_wrapped(|ui| {
@@ -580,9 +596,35 @@ impl KnotworkApp {
                 "Fill",
                 "a face over the selected closed loop of open edges",
                 "select one closed loop of open edges (a hole's rim)",
-            ) && let Some(rim) = rim
+            ) && let Some(rim) = &rim
             {
-                chosen = Some((Tool::Fill { r#loop: rim }, After::Nothing));
+                chosen = Some((
+                    Tool::Fill {
+                        r#loop: rim.clone(),
+                    },
+                    After::Nothing,
+                ));
+            }
+            let even_rim = rim.as_ref().filter(|r| r.len() >= 4 && r.len() % 2 == 0);
+            if tool_button(
+                ui,
+                even_rim.is_some(),
+                "Grid fill",
+                "a grid of quads over the selected hole, its sides cut at the rim's sharpest \
+                 corners (as Blender's Grid Fill)",
+                "select one closed loop of an even number of open edges (a hole's rim)",
+            ) && let Some(rim) = even_rim
+            {
+                chosen = Some((
+                    Tool::GridFill {
+                        loop1: Vec::new(),
+                        loop2: Vec::new(),
+                        rim: rim.clone(),
+                        span: None,
+                        offset: None,
+                    },
+                    After::Nothing,
+                ));
             }
             if tool_button(
                 ui,
