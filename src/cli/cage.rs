@@ -96,7 +96,8 @@ pub enum CageTool {
         #[arg(long)]
         loop2: String,
     },
-    /// Merge vertices into the first named, at their centre or where the first is; or, with
+    /// Merge vertices into the first named, at their centre or where the first is (or into the
+    /// last named, where it is, with --at last); or, with
     /// --distance, merge the points within that distance of each other (among --vertices, or
     /// all).
     Merge {
@@ -233,6 +234,7 @@ pub enum MergeAt {
     #[value(alias = "center")]
     Centre,
     First,
+    Last,
 }
 
 /// Runs `knotwork cage`: exit code 0 with a summary, 1 with the error.
@@ -391,10 +393,17 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             },
             distance: *distance,
         },
-        CageTool::Merge { vertices, at, .. } => Tool::Merge {
-            vertices: indices("vertices", vertices.as_deref().unwrap_or_default())?,
-            at_first: *at == MergeAt::First,
-        },
+        CageTool::Merge { vertices, at, .. } => {
+            let mut vertices = indices("vertices", vertices.as_deref().unwrap_or_default())?;
+            // At last: the last named vertex is kept, where it is.
+            if *at == MergeAt::Last {
+                vertices.reverse();
+            }
+            Tool::Merge {
+                vertices,
+                at_first: *at != MergeAt::Centre,
+            }
+        }
         CageTool::Dissolve {
             edges: Some(edges), ..
         } => Tool::Dissolve {

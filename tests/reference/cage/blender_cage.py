@@ -228,6 +228,8 @@ def apply(bm, op, args):
         verts = [bm.verts[i] for i in ints(opt["vertices"])]
         if opt.get("at", "centre") == "first":
             co = verts[0].co.copy()
+        elif opt.get("at") == "last":
+            co = verts[-1].co.copy()
         else:
             co = sum((v.co for v in verts), Vector()) / len(verts)
         bmesh.ops.pointmerge(bm, verts=verts, merge_co=co)
@@ -696,6 +698,9 @@ CASES = [
     ("cap5", "extrude --faces 5,6,7 --offset 0.2U --individual"),
     ("ngons", "extrude --faces 0,1 --offset -0.3U --individual"),
     ("grid", "extrude --faces 0,5,6 --offset 0.25U --individual"),
+    # Merge at last: the last named point stays where it is.
+    ("torus", "merge --vertices 0,1,7 --at last"),
+    ("grid", "merge --vertices 6,7,12 --at last"),
 ]
 
 

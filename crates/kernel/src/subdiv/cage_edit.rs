@@ -2927,4 +2927,184 @@ pub(super) mod tests {
             );
         }
     }
+
+    /// Every tool with random arguments (indices past the cage, NaN, infinite, negative and
+    /// huge numbers, absurd counts) on cages grown by earlier tools: each either refuses or
+    /// gives a cage whose faces name its points, with three or more corners each and finite
+    /// points. Nothing panics.
+    #[test]
+    fn no_tool_panics_on_random_arguments() {
+        let mut draw = Xorshift::new(2026);
+        let starts = [
+            cages::cube(DVec3::ZERO, 2.0).unwrap(),
+            cages::torus(DVec3::ZERO, 2.0, 0.6, 6, 4).unwrap(),
+            cages::grid(DVec3::ZERO, 2.0, 3).unwrap(),
+            cages::cylinder(DVec3::ZERO, 1.0, 2.0, 6, 2).unwrap(),
+            cages::icosahedron(DVec3::ZERO, 1.0).unwrap(),
+        ];
+        let numbers = [
+            0.0,
+            0.1,
+            -0.3,
+            0.45,
+            1.0,
+            3.0,
+            1e-12,
+            1e9,
+            -1e9,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let counts = [0u32, 1, 2, 3, 7, 65, 100_000, u32::MAX];
+        let mut applied = 0;
+        for round in 0..600 {
+            let (mut cage, _) = cage_of(&starts[round % starts.len()], round as u64);
+            for _ in 0..6 {
+                let n = cage.points.len() as u64 + 2;
+                let m = cage.faces.len() as u64 + 2;
+                let mut vertex = || draw.below(n) as u32;
+                let vertices: Vec<u32> = (0..1 + round % 4).map(|_| vertex()).collect();
+                let edges: Vec<[u32; 2]> = (0..1 + round % 3)
+                    .map(|_| {
+                        // An edge of a face where there is one, else any pair.
+                        let f = draw.below(m) as usize;
+                        match cage.faces.get(f) {
+                            Some(face) if draw.below(4) > 0 => {
+                                let c = draw.below(face.len() as u64) as usize;
+                                [face[c], face[(c + 1) % face.len()]]
+                            }
+                            _ => [draw.below(n) as u32, draw.below(n) as u32],
+                        }
+                    })
+                    .collect();
+                let faces: Vec<usize> =
+                    (0..1 + round % 5).map(|_| draw.below(m) as usize).collect();
+                let number =
+                    |draw: &mut Xorshift| numbers[draw.below(numbers.len() as u64) as usize];
+                let (x, y, z) = (number(&mut draw), number(&mut draw), number(&mut draw));
+                let (spin_degrees, spin_advance) = (number(&mut draw) * 100.0, number(&mut draw));
+                let count = counts[draw.below(counts.len() as u64) as usize];
+                let flag = draw.below(2) == 1;
+                let tool = match draw.below(27) {
+                    0 => Tool::Extrude {
+                        faces,
+                        offset: x,
+                        individual: flag,
+                    },
+                    1 => Tool::Inset {
+                        faces,
+                        thickness: x,
+                        depth: y,
+                        individual: flag,
+                    },
+                    2 => Tool::LoopCut {
+                        edge: edges[0],
+                        cuts: count,
+                    },
+                    3 => Tool::Bevel {
+                        edges,
+                        width: x,
+                        segments: count,
+                    },
+                    4 => Tool::BevelVertices {
+                        vertices,
+                        width: x,
+                        segments: count,
+                    },
+                    5 => Tool::Bridge {
+                        loop1: vertices.clone(),
+                        loop2: vertices.iter().rev().copied().collect(),
+                    },
+                    6 => Tool::Merge {
+                        vertices,
+                        at_first: flag,
+                    },
+                    7 => Tool::Dissolve { edges },
+                    8 => Tool::DissolveFaces { faces },
+                    9 => Tool::Delete { faces },
+                    10 => Tool::DeleteVertices { vertices },
+                    11 => Tool::DeleteEdges { edges },
+                    12 => Tool::DissolveVertices { vertices },
+                    13 => Tool::MergeByDistance {
+                        vertices: if flag { vertices } else { Vec::new() },
+                        distance: x,
+                    },
+                    14 => Tool::Triangulate { faces },
+                    15 => Tool::TrisToQuads {
+                        faces,
+                        face_degrees: x,
+                        shape_degrees: y,
+                    },
+                    16 => Tool::Fill { r#loop: vertices },
+                    17 => Tool::GridFill {
+                        loop1: vertices.clone(),
+                        loop2: vertices.iter().map(|v| v + 1).collect(),
+                        rim: if flag { vertices } else { Vec::new() },
+                        span: Some(count),
+                        offset: Some(count as usize),
+                    },
+                    18 => Tool::Connect { vertices },
+                    19 => Tool::ExtrudeEdges {
+                        edges,
+                        by: [x, y, z],
+                    },
+                    20 => Tool::Spin {
+                        faces: if flag { faces } else { Vec::new() },
+                        edges: if flag { Vec::new() } else { edges },
+                        centre: [x, 0.0, y],
+                        axis: [z, 1.0, 0.0],
+                        degrees: spin_degrees,
+                        steps: count,
+                        advance: spin_advance,
+                    },
+                    21 => Tool::Poke { faces },
+                    22 => Tool::Subdivide { faces, cuts: count },
+                    23 => Tool::Knife {
+                        faces: if flag { faces } else { Vec::new() },
+                        point: [x, y, 0.0],
+                        normal: [z, 1.0, x],
+                        threshold: flag.then_some(y),
+                    },
+                    24 => Tool::Mirror {
+                        axis: (count % 4) as u8,
+                        merge_distance: x,
+                    },
+                    25 => Tool::GridFill {
+                        loop1: Vec::new(),
+                        loop2: Vec::new(),
+                        rim: vertices,
+                        span: None,
+                        offset: None,
+                    },
+                    _ => Tool::LoopCut {
+                        edge: edges[0],
+                        cuts: count.min(3),
+                    },
+                };
+                if let Ok(out) = cage.apply(&tool) {
+                    applied += 1;
+                    for face in &out.faces {
+                        assert!(
+                            face.len() >= 3,
+                            "{tool:?}: a face of {} corners",
+                            face.len()
+                        );
+                        assert!(
+                            face.iter().all(|&v| (v as usize) < out.points.len()),
+                            "{tool:?}: a face names a point past the cage"
+                        );
+                    }
+                    assert!(
+                        out.points.iter().all(|p| p.is_finite()),
+                        "{tool:?}: a point is not finite"
+                    );
+                    if out.points.len() < 4000 {
+                        cage = out;
+                    }
+                }
+            }
+        }
+        assert!(applied > 600, "only {applied} tools applied");
+    }
 }
