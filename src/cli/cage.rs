@@ -74,7 +74,7 @@ pub enum CageTool {
         cuts: u32,
     },
     /// Bevel edges (each becomes a band of S segments, its sides W from the edge) or vertices
-    /// (each cut off W along its edges, a face where it was).
+    /// (each cut off W along its edges, a face where it was; with S > 1 a rounded corner).
     #[command(group(clap::ArgGroup::new("what").required(true).multiple(false)))]
     Bevel {
         /// Edges, as A-B,C-D.

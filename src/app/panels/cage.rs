@@ -349,14 +349,14 @@ impl KnotworkApp {
                 !selected.is_empty(),
                 "Bevel vertices",
                 "each selected point cut off the width along its edges, a face where it was \
-                 (one segment)",
+                 (with more segments a rounded corner, inside the cage)",
                 "select one or more points",
             ) {
                 chosen = Some((
                     Tool::BevelVertices {
                         vertices: selected.iter().copied().collect(),
                         width: t.width,
-                        segments: 1,
+                        segments: t.segments,
                     },
                     After::Nothing,
                 ));

@@ -701,6 +701,13 @@ CASES = [
     # Merge at last: the last named point stays where it is.
     ("torus", "merge --vertices 0,1,7 --at last"),
     ("grid", "merge --vertices 6,7,12 --at last"),
+    # Vertex bevel of several segments: Blender's corner mesh over arcs in the faces.
+    ("box", "bevel --vertices 7 --width 0.3U --segments 2"),
+    ("box", "bevel --vertices 0,5 --width 0.4U --segments 3"),
+    ("torus", "bevel --vertices 0,20 --width 0.2U --segments 4"),
+    ("ngons", "bevel --vertices 10 --width 0.15U --segments 3"),
+    ("cap5", "bevel --vertices 10 --width 0.2U --segments 5"),
+    ("grid", "bevel --vertices 6,12 --width 0.2U --segments 2"),
 ]
 
 

@@ -392,6 +392,61 @@ fn refine(mut grid: CornerGrid, ns: usize, boundary: &[DVec3], profile: SideProf
     grid
 }
 
+/// The corner mesh `grid` as faces over point ids: side i's first point is `corners[i]`, every
+/// other point (by its canonical name) is appended to `points`. Returns the quads (ring by
+/// ring, side by side; for odd segments the centre polygon last) and each side's border, the
+/// ids of (i, 0, 0 ..= ns).
+pub(super) fn corner_faces(
+    grid: &CornerGrid,
+    corners: &[u32],
+    points: &mut Vec<DVec3>,
+) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
+    let (sides, ns) = (grid.n, grid.ns);
+    let half = ns / 2;
+    let slot = |i: usize, j: usize, k: usize| (i * (half + 1) + j) * (ns + 1) + k;
+    let mut ids = vec![u32::MAX; sides * (half + 1) * (ns + 1)];
+    for i in 0..sides {
+        for j in 0..=half {
+            for k in 0..=ns {
+                if !grid.is_canonical(i, j, k) {
+                    continue;
+                }
+                ids[slot(i, j, k)] = if j == 0 && k == 0 {
+                    corners[i]
+                } else {
+                    points.push(grid.at(i, j, k));
+                    (points.len() - 1) as u32
+                };
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| {
+        let (a, b, c) = grid.canonical(i, j, k);
+        ids[slot(a, b, c)]
+    };
+    let borders = (0..sides)
+        .map(|i| (0..=ns).map(|k| id(i, 0, k)).collect())
+        .collect();
+    let mut faces = Vec::new();
+    let odd = ns % 2;
+    for i in 0..sides {
+        for j in 0..half {
+            for k in 0..half + odd {
+                faces.push(vec![
+                    id(i, j, k),
+                    id(i, j, k + 1),
+                    id(i, j + 1, k + 1),
+                    id(i, j + 1, k),
+                ]);
+            }
+        }
+    }
+    if odd == 1 {
+        faces.push((0..sides).map(|i| id(i, half, half)).collect());
+    }
+    (faces, borders)
+}
+
 /// The general corner: the net of the border points, the profiles' middles and a centre
 /// placed from the boundary centroid towards the vertex by the profile's fullness, refined.
 pub(super) fn general_corner(

@@ -1148,7 +1148,7 @@ fn fan(
 /// parallelogram a, m, b: c + (a − c)·cos φ + (b − c)·sin φ with c = a + b − m. At an edge's
 /// end where no other beveled edge meets it, the arc is then carried along the edge onto the
 /// plane through a, b and the vertex (Blender's profile, superellipse exponent 2).
-struct Profile {
+pub(super) struct Profile {
     a: DVec3,
     b: DVec3,
     centre: DVec3,
@@ -1249,6 +1249,21 @@ impl Profile {
         }
     }
 
+    /// A vertex bevel's side: the arc from `a` to `b` in the parallelogram a, `vertex`, b (its
+    /// middle the vertex), straight where a and b lie within 2° of a line through the vertex.
+    pub(super) fn round_corner(a: DVec3, b: DVec3, vertex: DVec3) -> Self {
+        let angle = (a - vertex).angle_between(b - vertex);
+        let straight =
+            !(angle < std::f64::consts::PI - 2f64.to_radians() && angle > 2f64.to_radians());
+        Self {
+            a,
+            b,
+            centre: if straight { a } else { a + b - vertex },
+            carry: None,
+            straight,
+        }
+    }
+
     /// The corner of the parallelogram the arc is drawn in (its middle's control point), or
     /// the midpoint of a straight profile.
     fn middle(&self) -> DVec3 {
@@ -1260,7 +1275,7 @@ impl Profile {
     }
 
     /// The arc's point at `t` in [0, 1] (φ = π/2 · t).
-    fn at(&self, t: f64) -> DVec3 {
+    pub(super) fn at(&self, t: f64) -> DVec3 {
         if self.straight {
             return self.a.lerp(self.b, t);
         }
@@ -1868,53 +1883,15 @@ impl Cage {
                         bevel_corner::general_corner(p(v), &boundary, &side, ns)
                     }
                 };
-                // Point ids for the mesh's names: the border's corners are the boundary
-                // points, every other canonical name a new point.
-                let half = ns / 2;
-                let slot = |i: usize, j: usize, k: usize| (i * (half + 1) + j) * (ns + 1) + k;
-                let mut ids = vec![u32::MAX; sides * (half + 1) * (ns + 1)];
-                for i in 0..sides {
-                    for j in 0..=half {
-                        for k in 0..=ns {
-                            if !grid.is_canonical(i, j, k) {
-                                continue;
-                            }
-                            ids[slot(i, j, k)] = if j == 0 && k == 0 {
-                                crossings[i].0
-                            } else {
-                                out.points.push(grid.at(i, j, k));
-                                (out.points.len() - 1) as u32
-                            };
-                        }
-                    }
-                }
-                let id = |i: usize, j: usize, k: usize| {
-                    let (a, b, c) = grid.canonical(i, j, k);
-                    ids[slot(a, b, c)]
-                };
-                for (i, crossing) in crossings.iter().enumerate() {
-                    let mut border: Vec<u32> = (0..=ns).map(|k| id(i, 0, k)).collect();
+                let corners: Vec<u32> = crossings.iter().map(|c| c.0).collect();
+                let (faces, borders) = bevel_corner::corner_faces(&grid, &corners, &mut out.points);
+                for (crossing, mut border) in crossings.iter().zip(borders) {
                     if crossing.0 > crossing.1 {
                         border.reverse();
                     }
                     arcs.insert(key(crossing.0, crossing.1), border);
                 }
-                let odd = ns % 2;
-                for i in 0..sides {
-                    for j in 0..half {
-                        for k in 0..half + odd {
-                            mesh_faces.push(vec![
-                                id(i, j, k),
-                                id(i, j, k + 1),
-                                id(i, j + 1, k + 1),
-                                id(i, j + 1, k),
-                            ]);
-                        }
-                    }
-                }
-                if odd == 1 {
-                    mesh_faces.push((0..sides).map(|i| id(i, half, half)).collect());
-                }
+                mesh_faces.extend(faces);
                 corner_mesh = true;
             }
             let mut corner_edges: Vec<(u32, u32)> = Vec::new();
