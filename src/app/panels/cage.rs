@@ -349,7 +349,7 @@ impl KnotworkApp {
                 !selected.is_empty(),
                 "Bevel vertices",
                 "each selected point cut off the width along its edges, a face where it was \
-                 (with more segments a rounded corner, inside the cage)",
+                 (with more segments a rounded corner)",
                 "select one or more points",
             ) {
                 chosen = Some((

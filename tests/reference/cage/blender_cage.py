@@ -708,6 +708,10 @@ CASES = [
     ("ngons", "bevel --vertices 10 --width 0.15U --segments 3"),
     ("cap5", "bevel --vertices 10 --width 0.2U --segments 5"),
     ("grid", "bevel --vertices 6,12 --width 0.2U --segments 2"),
+    # On the border: a point of three edges (the corner mesh's third side across the open
+    # side, straight on the grid, an arc on the tube's round rim) and a corner of two.
+    ("grid", "bevel --vertices 2,0 --width 0.2U --segments 3"),
+    ("tube12", "bevel --vertices 0,14 --width 0.15U --segments 2"),
 ]
 
 

@@ -21,8 +21,9 @@ impl Cage {
     /// round it (on the border its open side becomes an edge between the first and the last).
     /// With more, each face takes instead the arc between its two points (a quarter ellipse in
     /// the parallelogram of the points and v, in the face's plane), and the hole they leave is
-    /// filled by Blender's corner mesh over those arcs ([`bevel_corner::general_corner`]; only
-    /// inside the cage: a border vertex is refused). The vertex goes, with its sharpness.
+    /// filled by Blender's corner mesh over those arcs ([`bevel_corner::general_corner`]; on
+    /// the border its last side runs across the open side and becomes border, and a corner of
+    /// two edges only takes the arc). The vertex goes, with its sharpness.
     /// Widths past an edge's other end are not clamped, as in Blender.
     pub fn bevel_vertices(
         &self,
@@ -131,14 +132,29 @@ impl Cage {
                 }
                 continue;
             }
-            if open || ring.len() < 3 {
-                return Err(invalid(format!(
-                    "vertex {v} is on the border: a vertex bevel of more than one segment is \
-                     built only inside the cage (use one segment there)"
-                )));
+            if ring.len() == 2 && open {
+                // A border corner of two edges: its face takes the arc, nothing else.
+                let (from, to) = (ring[0], ring[1]);
+                let profile = Profile::round_corner(
+                    out.points[from as usize],
+                    out.points[to as usize],
+                    pv_of(v),
+                );
+                let mut side = vec![from];
+                for k in 1..ns {
+                    out.points.push(profile.at(k as f64 / ns as f64));
+                    side.push((out.points.len() - 1) as u32);
+                }
+                side.push(to);
+                arc.insert((from, to), side);
+                continue;
+            }
+            if ring.len() < 3 {
+                return Err(not_one_fan());
             }
             // The corner mesh over the ring, its sides arcs in the faces' planes bulging
-            // towards v (Blender's vertex mesh).
+            // towards v (Blender's vertex mesh); on the border its last side runs across the
+            // open side, from the last point to the first, and becomes border.
             let boundary: Vec<DVec3> = ring.iter().map(|&q| out.points[q as usize]).collect();
             let k = ring.len();
             let profiles: Vec<Profile> = (0..k)
@@ -269,7 +285,7 @@ mod tests {
     /// (three sides of s − 2j points on ring j, and the centre point for even s; 3 ⌊s/2⌋⌈s/2⌉
     /// quads and the centre triangle for odd s), the box stays closed and consistently wound, every face of the box stays flat (the arcs
     /// lie in its plane), and each corner loses less than the flat cut's w³/6 but something:
-    /// the rounded corner bulges towards the vertex. A border vertex is refused.
+    /// the rounded corner bulges towards the vertex. Border points are rounded too.
     #[test]
     fn rounded_box_corners_keep_the_faces_flat_and_lose_less_than_the_flat_cut() {
         use crate::subdiv::cage_edit::polygon_normal;
@@ -313,11 +329,18 @@ mod tests {
                 "seed {seed}: lost {lost}, flat cut {flat}"
             );
         }
+        // On a grid's border: a point of three edges takes the corner mesh of three sides,
+        // its third across the open side (12 points for the one it loses, 7 faces more), and
+        // a corner of two edges only the arc in its face (two edge points and two on the arc).
         let grid = cages::grid(DVec3::ZERO, 2.0, 3).unwrap();
-        let (cage, _) = placed(&grid, 1);
-        match cage.bevel_vertices(&[1], 0.1, 3) {
-            Err(CageEditError::Invalid(m)) => assert!(m.contains("border"), "{m}"),
-            other => panic!("expected a refusal, got {other:?}"),
+        let (cage, scale) = placed(&grid, 1);
+        let side = cage.bevel_vertices(&[1], 0.1 * scale, 3).unwrap();
+        assert_eq!((side.points.len(), side.faces.len()), (16 + 11, 9 + 7));
+        let corner = cage.bevel_vertices(&[0], 0.1 * scale, 3).unwrap();
+        assert_eq!((corner.points.len(), corner.faces.len()), (16 + 3, 9));
+        for out in [side, corner] {
+            assert_eq!(euler(&out), 1);
+            assert!(consistently_wound(&out));
         }
         assert!(cage.bevel_vertices(&[5], 0.1, 65).is_err());
     }
