@@ -1021,7 +1021,7 @@ async function main() {
       await page.close();
     });
 
-    await check('a subdivision cage in the page: limit stencils on the GPU, a mouse drag, a crease, undo', async () => {
+    await check('a subdivision cage in the page: limit stencils on the GPU, a mouse drag, a crease, a cage tool, undo', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
       const points = [];
@@ -1067,7 +1067,29 @@ async function main() {
       const undone = await page.evaluate(() => window.knotwork.project());
       assert(undone.objects[0].points.every((p, k) => p.every((x, c) => x === points[k][c])), 'undo brings the cage back');
       assert(undone.objects[0].creases.length === 0, 'undo removes the crease');
-      console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px`);
+
+      // A cage tool through the page's operation road: corner 7 rounded in two segments. Its
+      // three faces become hexagons and three quads fill the corner, so the level-3 limit has
+      // 3 x 4 (the other faces) + 3 x 6 + 3 x 4 = 42 level-1 quads of 5 x 5 stencils; undo
+      // gives the cube back.
+      await nextFrames(page);
+      const cube = await page.locator('#knotwork-canvas').screenshot();
+      await page.evaluate(() => window.knotwork.apply({
+        op: 'cage', object: 0, tool: { 'bevel-vertices': { vertices: [7], width: 0.6, segments: 2 } },
+      }));
+      await page.waitForFunction(() => window.knotwork.status().patches === 42, null, { timeout: 60_000 });
+      s = await status(page);
+      assert(s.error === null && s.vertices === 42 * 25, `beveled: ${JSON.stringify(s)}`);
+      const rounded = (await page.evaluate(() => window.knotwork.project())).objects[0];
+      assert(rounded.points.length === 8 - 1 + 7 && rounded.faces.length === 9, `the rounded corner: ${rounded.points.length} points, ${rounded.faces.length} faces`);
+      await nextFrames(page);
+      const beveled = await page.locator('#knotwork-canvas').screenshot();
+      await writeFile(`${resultsDir}/cage-corner-rounded.png`, beveled);
+      const bevelChange = await screenshotDifference(page, cube, beveled, viewport, 24);
+      assert(bevelChange.differing > 50, `the canvas changed with the bevel (${bevelChange.differing} px)`);
+      await page.evaluate(() => window.knotwork.undo());
+      await page.waitForFunction(() => window.knotwork.status().patches === 24, null, { timeout: 60_000 });
+      console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px, the corner bevel ${bevelChange.differing} px`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
     });

@@ -2870,6 +2870,23 @@ fn bench_cage_tools(
             width: 0.01,
             segments: 1,
         },
+        // Two points rounded in three segments (a corner mesh of four sides each).
+        Tool::BevelVertices {
+            vertices: vec![f[0], f[2]],
+            width: 0.01,
+            segments: 3,
+        },
+        Tool::Extrude {
+            faces: vec![5050, 5051, 5150, 5151],
+            offset: 0.05,
+            individual: true,
+        },
+        Tool::Inset {
+            faces: vec![5050, 5051, 5150, 5151],
+            thickness: 0.01,
+            depth: 0.02,
+            individual: false,
+        },
     ];
     let runs = iterations.clamp(3, 20);
     // Merge by distance over 20,000 points: the torus and its mirror image (the same torus,
@@ -2880,6 +2897,29 @@ fn bench_cage_tools(
         out,
         "cage merge by distance, 20,000 points in pairs: {weld_ms:.2} ms ({} points after)",
         welded.points.len()
+    )?;
+    // Grid fill of a hole of 4 × 4 faces cut in the torus: its rim of 16 edges.
+    let hole: Vec<usize> = (0..4)
+        .flat_map(|i| (0..4).map(move |j| 5050 + 100 * i + j))
+        .collect();
+    let holed = cage.delete_faces(&hole)?;
+    let mut directed = std::collections::HashSet::new();
+    for face in &holed.faces {
+        for c in 0..face.len() {
+            directed.insert((face[c], face[(c + 1) % face.len()]));
+        }
+    }
+    let open: Vec<(u32, u32)> = directed
+        .iter()
+        .filter(|&&(a, b)| !directed.contains(&(b, a)))
+        .copied()
+        .collect();
+    let rim = holed.closed_loops(&open)?.pop().unwrap_or_default();
+    let (fill_ms, filled) = median_ms(runs, || holed.grid_fill_rim(&rim, None, None))?;
+    writeln!(
+        out,
+        "cage grid fill of a 16-edge hole in 10,000 faces: {fill_ms:.2} ms ({} faces after)",
+        filled.faces.len()
     )?;
     // Selection on the same cage: the loop through an edge, and Select More of it.
     let (loop_ms, edges) = median_ms(runs, || cage.edge_loop(f[0], f[1]))?;
