@@ -89,17 +89,36 @@ impl Cage {
         if !offset.is_finite() {
             return Err(invalid("the offset must be a finite number"));
         }
+        let sharp = self.sharpness_of_edges();
         let mut out = self.clone();
         for &f in &region {
-            let normal = polygon_normal(&self.points, &self.faces[f]);
+            let face = &self.faces[f];
+            let normal = polygon_normal(&self.points, face);
             if normal == DVec3::ZERO {
                 return Err(invalid(format!(
                     "face {f} has no area: it has no normal to extrude along"
                 )));
             }
-            out = out.extrude_region(&[f], normal * offset)?;
+            // The face's corners lifted, in corner order; a side quad on every edge, its top
+            // edge taking the edge's crease, and the copies the corners' sharpness.
+            let first = out.points.len() as u32;
+            for &v in face {
+                out.points.push(self.points[v as usize] + normal * offset);
+            }
+            let k = face.len();
+            let top: Vec<u32> = (0..k as u32).map(|c| first + c).collect();
+            for c in 0..k {
+                let d = (c + 1) % k;
+                out.faces.push(vec![face[c], face[d], top[d], top[c]]);
+                if let Some(&s) = sharp.get(&key(face[c], face[d])) {
+                    out.add_crease(top[c], top[d], s);
+                }
+            }
+            let copy: HashMap<u32, u32> = face.iter().copied().zip(top.iter().copied()).collect();
+            out.copy_corners(&self.corners, &copy);
+            out.faces[f] = top;
         }
-        Ok(out)
+        Ok(out.compacted(self))
     }
 
     /// Spin (Blender's Spin, and with an advance its Screw): the faces (as a region) or the
@@ -512,6 +531,10 @@ mod tests {
                 })
                 .unwrap();
             let faces = [0, other];
+            // A crease on face 0's first edge goes to the lifted copy of that edge too.
+            let mut cage = cage;
+            let (c0, c1) = (cage.faces[0][0], cage.faces[0][1]);
+            cage.add_crease(c0, c1, 2.5);
             let out = cage.extrude_individual(&faces, d).unwrap();
             let area = (2.0 * scale).powi(2);
             let expected = volume(&cage) + 2.0 * area * d;
@@ -519,6 +542,9 @@ mod tests {
             assert_eq!((euler(&out), out.faces.len()), (2, 6 + 8));
             assert!(consistently_wound(&out));
             assert_eq!(edge_uses(&out)[&shared], 2);
+            let (t0, t1) = (out.faces[0][0], out.faces[0][1]);
+            let creased: Vec<(u32, u32)> = out.creases.iter().map(|c| key(c.a, c.b)).collect();
+            assert!(creased.contains(&key(c0, c1)) && creased.contains(&key(t0, t1)));
             for f in faces {
                 let normal = polygon_normal(&cage.points, &cage.faces[f]);
                 let on = cage.points[cage.faces[f][0] as usize];
