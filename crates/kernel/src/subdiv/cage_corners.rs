@@ -6,7 +6,7 @@
 //! their indices and windings, the new faces follow; an edge shortened at an end keeps its
 //! crease.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::DVec3;
 
@@ -43,10 +43,10 @@ impl Cage {
         let mut out = self.clone();
         // The point on edge v–w near v, for each named v, made in the order of v's name and
         // of the faces round it.
-        let mut point: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut point: HashMap<(u32, u32), u32> = HashMap::default();
         // Round v: the new face's edges, from the point on the edge a face leaves v along to
         // the point on the edge it came in on.
-        let mut next: HashMap<u32, HashMap<u32, u32>> = HashMap::new();
+        let mut next: HashMap<u32, HashMap<u32, u32>> = HashMap::default();
         let mut order: Vec<u32> = Vec::new();
         for &v in vertices {
             if order.contains(&v) {
@@ -55,7 +55,7 @@ impl Cage {
             order.push(v);
         }
         let corners_of: HashMap<u32, Vec<(usize, usize)>> = {
-            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::new();
+            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::default();
             for (f, face) in self.faces.iter().enumerate() {
                 for (c, &v) in face.iter().enumerate() {
                     if named.contains(&v) {
@@ -89,7 +89,7 @@ impl Cage {
         let ns = segments as usize;
         let pv_of = |v: u32| self.points[v as usize];
         // Each corner mesh's sides, from one ring point to the next, and the new faces.
-        let mut arc: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        let mut arc: HashMap<(u32, u32), Vec<u32>> = HashMap::default();
         let mut new_faces: Vec<Vec<u32>> = Vec::new();
         for &v in &order {
             let Some(links) = next.get(&v) else {

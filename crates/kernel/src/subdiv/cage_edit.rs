@@ -14,7 +14,9 @@
 //! even (its strip has the width asked for along every edge), dissolving edges also dissolves
 //! the vertices left between only two edges, and a merge keeps the first vertex named.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
+
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::DVec3;
 use thiserror::Error;
@@ -92,7 +94,10 @@ impl Cage {
 
     /// The half-edges: (from, to) ↦ (face, corner of `from`).
     pub(super) fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
-        let mut map = HashMap::with_capacity(self.faces.iter().map(Vec::len).sum());
+        let mut map = HashMap::with_capacity_and_hasher(
+            self.faces.iter().map(Vec::len).sum(),
+            Default::default(),
+        );
         for (f, face) in self.faces.iter().enumerate() {
             for c in 0..face.len() {
                 map.insert((face[c], face[(c + 1) % face.len()]), (f, c));
@@ -205,7 +210,7 @@ impl Cage {
             .iter()
             .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
             .collect();
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let creases =
             self.creases
                 .iter()
@@ -216,7 +221,7 @@ impl Cage {
                 })
                 .filter(|c| seen.insert(key(c.a, c.b)))
                 .collect();
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let corners = self
             .corners
             .iter()
@@ -343,7 +348,7 @@ impl Cage {
             return Ok(out);
         }
         // The region's half-edges (after the inset) and the faces they belong to.
-        let mut region_half: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut region_half: HashMap<(u32, u32), usize> = HashMap::default();
         for &f in &region {
             let face = &out.faces[f];
             for c in 0..face.len() {
@@ -373,7 +378,7 @@ impl Cage {
         };
         // Each point's faces (index, corner) after the inset and before it.
         let corners_of = |cage: &Cage| {
-            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::new();
+            let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::default();
             for (f, face) in cage.faces.iter().enumerate() {
                 for (c, v) in face.iter().enumerate() {
                     map.entry(*v).or_default().push((f, c));
@@ -486,8 +491,8 @@ impl Cage {
             sectors.entry(v).or_default().push((faces, step));
         }
         let mut out = self.clone();
-        let mut copy: HashMap<u32, u32> = HashMap::new();
-        let mut inner: HashMap<(u32, usize), u32> = HashMap::new();
+        let mut copy: HashMap<u32, u32> = HashMap::default();
+        let mut inner: HashMap<(u32, usize), u32> = HashMap::default();
         for (&v, list) in &mut sectors {
             // The original vertex goes with the sector of the last face; the others are new.
             list.sort_by_key(|(faces, _)| std::cmp::Reverse(faces.iter().max().copied()));
@@ -540,8 +545,8 @@ impl Cage {
         let half = self.half_edges();
         let mut edges = vec![(a, b)];
         let mut quads = Vec::new();
-        let mut seen_edges: HashSet<(u32, u32)> = HashSet::from([key(a, b)]);
-        let mut seen_faces = HashSet::new();
+        let mut seen_edges: HashSet<(u32, u32)> = HashSet::from_iter([key(a, b)]);
+        let mut seen_faces = HashSet::default();
         // Walk each way: first through the face holding a→b, then through the one holding b→a.
         let mut backward = Vec::new();
         for (start, list) in [((a, b), 0), ((b, a), 1)] {
@@ -624,7 +629,7 @@ impl Cage {
         cuts: u32,
     ) -> HashMap<(u32, u32), Vec<u32>> {
         let sharp = self.sharpness_of_edges();
-        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::default();
         for &(p, q) in edges {
             let (lo, hi) = key(p, q);
             if inner.contains_key(&(lo, hi)) {
@@ -828,7 +833,7 @@ impl Cage {
             split_at_repeats(merged, &mut faces);
         }
         // Two faces over the same corners after the merge are one face twice: keep the first.
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         faces.retain(|f: &Vec<u32>| {
             let mut sorted = f.clone();
             sorted.sort_unstable();
@@ -882,7 +887,7 @@ impl Cage {
             return Err(invalid("no edges were named"));
         }
         let half = self.half_edges();
-        let mut gone: HashSet<(u32, u32)> = HashSet::new();
+        let mut gone: HashSet<(u32, u32)> = HashSet::default();
         for &(a, b) in edges {
             self.check_edge(&half, a, b)?;
             if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
@@ -908,7 +913,7 @@ impl Cage {
                 })
             })
         };
-        let mut marked = HashSet::new();
+        let mut marked = HashSet::default();
         for &(a, b) in edges {
             let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
                 continue;
@@ -934,7 +939,7 @@ impl Cage {
         mut faces: Vec<Vec<u32>>,
         candidates: HashSet<u32>,
     ) -> Result<Self, CageEditError> {
-        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::new();
+        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::default();
         for face in &faces {
             for c in 0..face.len() {
                 let (a, b) = (face[c], face[(c + 1) % face.len()]);
@@ -992,7 +997,7 @@ impl Cage {
         let mut new_faces: Vec<Option<Vec<u32>>> = self.faces.iter().cloned().map(Some).collect();
         for (_, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
             // The group's border: its half-edges that are not dissolved.
-            let mut next: HashMap<u32, u32> = HashMap::new();
+            let mut next: HashMap<u32, u32> = HashMap::default();
             let mut start = None;
             for &f in &members {
                 let face = &self.faces[f];
@@ -1053,7 +1058,7 @@ impl Cage {
             )));
         }
         let half = self.half_edges();
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         for loop_ in [first, second] {
             for i in 0..loop_.len() {
                 let (a, b) = (loop_[i], loop_[(i + 1) % loop_.len()]);
@@ -1562,7 +1567,7 @@ impl Cage {
             )));
         }
         let half = self.half_edges();
-        let mut beveled: HashSet<(u32, u32)> = HashSet::new();
+        let mut beveled: HashSet<(u32, u32)> = HashSet::default();
         for &(a, b) in edges {
             self.check_edge(&half, a, b)?;
             if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
@@ -1588,7 +1593,7 @@ impl Cage {
         let created: std::cell::OnceCell<HashMap<(u32, u32), usize>> = std::cell::OnceCell::new();
         let blender_first_edge = |v: u32, around: &[(usize, u32, u32)]| -> Option<u32> {
             let created = created.get_or_init(|| {
-                let mut order = HashMap::new();
+                let mut order = HashMap::default();
                 for face in &self.faces {
                     for c in 0..face.len() {
                         let next = order.len();
@@ -1613,12 +1618,12 @@ impl Cage {
         };
         let mut out = self.clone();
         // Each end's new corner points: per face (a meet point) or per edge (a point on it).
-        let mut face_point: HashMap<(u32, usize), u32> = HashMap::new();
-        let mut edge_point: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut face_point: HashMap<(u32, usize), u32> = HashMap::default();
+        let mut edge_point: HashMap<(u32, u32), u32> = HashMap::default();
         // Each face corner's replacement.
-        let mut replace: HashMap<(usize, u32), Vec<u32>> = HashMap::new();
+        let mut replace: HashMap<(usize, u32), Vec<u32>> = HashMap::default();
         // The arcs: between two corner points (lower id first), ends included.
-        let mut arcs: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        let mut arcs: HashMap<(u32, u32), Vec<u32>> = HashMap::default();
         let mut corner_faces = Vec::new();
         // The faces of corner meshes.
         let mut mesh_faces: Vec<Vec<u32>> = Vec::new();
@@ -2390,8 +2395,8 @@ impl Cage {
             return Err(invalid("the merge distance must be a finite number ≥ 0"));
         }
         let mut out = self.clone();
-        let mut image: HashMap<u32, u32> = HashMap::new();
-        let mut copy: HashMap<u32, u32> = HashMap::new();
+        let mut image: HashMap<u32, u32> = HashMap::default();
+        let mut copy: HashMap<u32, u32> = HashMap::default();
         for (v, &p) in self.points.iter().enumerate() {
             let v = v as u32;
             if p[axis].abs() <= merge_distance {
@@ -2506,7 +2511,7 @@ pub(super) mod tests {
 
     /// Every half-edge once: the faces agree in winding (and no edge has three faces).
     pub(in crate::subdiv) fn consistently_wound(cage: &Cage) -> bool {
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         cage.faces
             .iter()
             .all(|f| (0..f.len()).all(|c| seen.insert((f[c], f[(c + 1) % f.len()]))))

@@ -6,7 +6,7 @@
 //! edges and vertices. A cage is its faces, so an edge or vertex no face uses any more goes
 //! (Blender would leave it loose).
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -106,7 +106,7 @@ impl Cage {
             let scaled = p / distance.max(f64::MIN_POSITIVE);
             [scaled.x, scaled.y, scaled.z].map(|c| c.floor().clamp(-1e15, 1e15) as i64)
         };
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::default();
         for &v in &chosen {
             grid.entry(cell(self.points[v as usize]))
                 .or_default()
@@ -116,7 +116,7 @@ impl Cage {
             .iter()
             .map(|&v| self.points[v as usize].as_vec3().to_array())
             .collect();
-        let mut target: HashMap<u32, u32> = HashMap::new();
+        let mut target: HashMap<u32, u32> = HashMap::default();
         let mut cluster = Vec::new();
         for k in kd_tree_order(&single) {
             let v = chosen[k];
@@ -181,7 +181,7 @@ impl Cage {
             return Err(invalid("a loop to fill needs three or more vertices"));
         }
         let half = self.half_edges();
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         // +1 where the face on an edge runs along the loop (the new face must run against
         // it), −1 where against.
         let mut along = 0i64;
@@ -321,8 +321,8 @@ impl Cage {
         }
         candidates.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.2.cmp(&y.2)).then(x.3.cmp(&y.3)));
         let mut out = self.clone();
-        let mut joined: HashSet<usize> = HashSet::new();
-        let mut gone: HashSet<usize> = HashSet::new();
+        let mut joined: HashSet<usize> = HashSet::default();
+        let mut gone: HashSet<usize> = HashSet::default();
         let mut existing: HashSet<Vec<u32>> = self
             .faces
             .iter()
@@ -594,7 +594,7 @@ fn beautify(points: &[DVec2], triangles: &mut [[usize; 3]]) {
     let border = |a: usize, b: usize| (a + 1) % n == b || (b + 1) % n == a;
     // Each inner edge's two triangles, found afresh after every flip (polygons are small).
     let shared = |triangles: &[[usize; 3]]| -> HashMap<(usize, usize), Vec<(usize, usize)>> {
-        let mut map: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::new();
+        let mut map: HashMap<(usize, usize), Vec<(usize, usize)>> = HashMap::default();
         for (t, tri) in triangles.iter().enumerate() {
             for c in 0..3 {
                 let (a, b) = (tri[c], tri[(c + 1) % 3]);
@@ -776,7 +776,7 @@ mod tests {
             );
             // Every inner edge is used twice, in opposite directions; no flip of one would
             // raise the area-over-perimeter sum (a quad is split by the better diagonal).
-            let mut half: HashMap<(usize, usize), (usize, usize)> = HashMap::new();
+            let mut half: HashMap<(usize, usize), (usize, usize)> = HashMap::default();
             for (t, tri) in triangles.iter().enumerate() {
                 for c in 0..3 {
                     assert!(half.insert((tri[c], tri[(c + 1) % 3]), (t, c)).is_none());

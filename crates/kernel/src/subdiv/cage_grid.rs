@@ -6,7 +6,9 @@
 //! inner points follow row by row, and the new quads follow the faces, column by column, wound
 //! to agree with the faces already on the rim.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::VecDeque;
+
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::DVec3;
 
@@ -191,7 +193,7 @@ impl Cage {
         chain: &[u32],
         closed: bool,
     ) -> Result<(), CageEditError> {
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let steps = if closed { chain.len() } else { chain.len() - 1 };
         for (k, &a) in chain.iter().enumerate() {
             self.check_vertex(a)?;
@@ -332,7 +334,7 @@ impl Cage {
 /// Each vertex's neighbours along open edges (edges with a face on one side only), in
 /// ascending order.
 fn open_neighbours(half: &HashMap<(u32, u32), (usize, usize)>) -> HashMap<u32, Vec<u32>> {
-    let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut out: HashMap<u32, Vec<u32>> = HashMap::default();
     for &(a, b) in half.keys() {
         if !half.contains_key(&(b, a)) {
             out.entry(a).or_default().push(b);
@@ -348,7 +350,7 @@ fn open_neighbours(half: &HashMap<(u32, u32), (usize, usize)>) -> HashMap<u32, V
 /// A path of fewest edges from `from` to `to` over `neighbours` (breadth first), both ends
 /// included.
 fn shortest_path(neighbours: &HashMap<u32, Vec<u32>>, from: u32, to: u32) -> Option<Vec<u32>> {
-    let mut came_from: HashMap<u32, u32> = HashMap::from([(from, from)]);
+    let mut came_from: HashMap<u32, u32> = HashMap::from_iter([(from, from)]);
     let mut queue = VecDeque::from([from]);
     while let Some(v) = queue.pop_front() {
         if v == to {

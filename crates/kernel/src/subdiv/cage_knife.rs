@@ -7,7 +7,7 @@
 //! for the piece holding its first corner and the other pieces follow, all wound as the face
 //! was; an edge split in two gives each half its crease.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::DVec3;
 
@@ -84,7 +84,7 @@ impl Cage {
         // The crossed edges, split where the plane meets them.
         let mut out = self.clone();
         let sharp = self.sharpness_of_edges();
-        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+        let mut inner: HashMap<(u32, u32), Vec<u32>> = HashMap::default();
         for &f in &faces {
             let face = &self.faces[f];
             for c in 0..face.len() {

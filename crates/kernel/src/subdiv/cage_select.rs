@@ -5,7 +5,9 @@
 //! A selection is a set of vertices, as in Blender's vertex mode: an edge is selected when both
 //! its ends are, a face when all its corners are.
 
-use std::collections::{BTreeSet, HashMap, HashSet};
+use std::collections::BTreeSet;
+
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use super::cage_edit::{Cage, CageEditError};
 
@@ -16,7 +18,7 @@ fn key(a: u32, b: u32) -> (u32, u32) {
 impl Cage {
     /// Every edge once, as (lower, higher) vertex, in the order the faces first name them.
     pub fn edges(&self) -> Vec<(u32, u32)> {
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let mut out = Vec::new();
         for face in &self.faces {
             for c in 0..face.len() {
@@ -46,7 +48,7 @@ impl Cage {
 
     /// Each vertex's neighbours along edges.
     fn neighbours(&self) -> HashMap<u32, Vec<u32>> {
-        let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
+        let mut out: HashMap<u32, Vec<u32>> = HashMap::default();
         for (a, b) in self.edges() {
             out.entry(a).or_default().push(b);
             out.entry(b).or_default().push(a);
@@ -56,7 +58,7 @@ impl Cage {
 
     /// The faces that hold each edge.
     fn edge_faces(&self) -> HashMap<(u32, u32), Vec<usize>> {
-        let mut out: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        let mut out: HashMap<(u32, u32), Vec<usize>> = HashMap::default();
         for (f, face) in self.faces.iter().enumerate() {
             for c in 0..face.len() {
                 out.entry(key(face[c], face[(c + 1) % face.len()]))
@@ -105,7 +107,7 @@ impl Cage {
                 .find(|&x| x != p && faces_of_edge(v, x).iter().all(|f| !came.contains(f)))
         };
         let mut edges = vec![key(a, b)];
-        let mut seen: HashSet<(u32, u32)> = HashSet::from([key(a, b)]);
+        let mut seen: HashSet<(u32, u32)> = HashSet::from_iter([key(a, b)]);
         for (mut p, mut v) in [(a, b), (b, a)] {
             while let Some(x) = next(p, v) {
                 if !seen.insert(key(v, x)) {
@@ -176,7 +178,7 @@ impl Cage {
     /// The closed loops the edges make, each as its vertices in order (every vertex must have
     /// exactly two of the edges).
     pub fn closed_loops(&self, edges: &[(u32, u32)]) -> Result<Vec<Vec<u32>>, CageEditError> {
-        let mut links: HashMap<u32, Vec<u32>> = HashMap::new();
+        let mut links: HashMap<u32, Vec<u32>> = HashMap::default();
         for &(a, b) in edges {
             links.entry(a).or_default().push(b);
             links.entry(b).or_default().push(a);
@@ -189,7 +191,7 @@ impl Cage {
         }
         let mut starts: Vec<u32> = links.keys().copied().collect();
         starts.sort_unstable();
-        let mut done = HashSet::new();
+        let mut done = HashSet::default();
         let mut loops = Vec::new();
         for start in starts {
             if done.contains(&start) {

@@ -7,7 +7,7 @@
 //! ones follow step by step (each step's copies in index order), a swept face keeps its index
 //! and winding, and the new quads are wound to agree with their neighbours.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use glam::{DAffine3, DQuat, DVec3};
 
@@ -216,7 +216,7 @@ impl Cage {
                 if edges.is_empty() {
                     return Err(invalid("no edges were named"));
                 }
-                let mut seen = HashSet::new();
+                let mut seen = HashSet::default();
                 for &(a, b) in edges {
                     self.check_edge(&half, a, b)?;
                     if !seen.insert(key(a, b)) {
@@ -330,7 +330,7 @@ mod tests {
     }
 
     fn edge_uses(cage: &Cage) -> HashMap<(u32, u32), usize> {
-        let mut uses = HashMap::new();
+        let mut uses = HashMap::default();
         for f in &cage.faces {
             for c in 0..f.len() {
                 *uses.entry(key(f[c], f[(c + 1) % f.len()])).or_default() += 1;
