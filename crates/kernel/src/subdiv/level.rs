@@ -195,7 +195,7 @@ impl Level {
                 2 => edges == faces + 1,
                 _ => false,
             };
-            shaped && self.ring(v).faces.len() == faces
+            shaped && self.ring_face_count(v) == faces
         };
         match (0..self.vertex_count as u32)
             .into_par_iter()
@@ -254,73 +254,112 @@ impl Level {
         self.edge_faces[e as usize][1] == NONE
     }
 
+    /// The edge between points `a` and `b`, if there is one (a scan of `a`'s edges).
+    pub fn edge_between(&self, a: u32, b: u32) -> Option<usize> {
+        if a as usize >= self.vertex_count {
+            return None;
+        }
+        self.vertex_edges(a)
+            .iter()
+            .find(|&&e| self.other_end(e, a) == b)
+            .map(|&e| e as usize)
+    }
+
     /// The end of edge `e` that is not `v`.
     pub fn other_end(&self, e: u32, v: u32) -> u32 {
         let [a, b] = self.edges[e as usize];
         if a == v { b } else { a }
     }
 
-    /// The index of the edge between `a` and `b` in face `f`, if `f` has that edge.
-    fn edge_in_face(&self, f: u32, a: u32, b: u32) -> Option<u32> {
-        let face = self.face(f);
-        let n = face.len();
-        (0..n)
-            .find(|&j| {
-                let (x, y) = (face[j], face[(j + 1) % n]);
-                (x == a && y == b) || (x == b && y == a)
-            })
-            .map(|j| self.face_edges(f)[j])
-    }
-
     /// The faces and neighbours of `v` in counter-clockwise order ([`Ring`]); a boundary
     /// vertex's ring starts at the boundary edge its first face leaves by.
     pub fn ring(&self, v: u32) -> Ring {
+        let count = self.vertex_faces(v).len();
+        let mut ring = Ring {
+            neighbours: Vec::with_capacity(count + 1),
+            faces: Vec::with_capacity(count),
+            boundary: false,
+        };
+        ring.boundary = self.walk_ring(v, |f| ring.faces.push(f), |n| ring.neighbours.push(n));
+        ring
+    }
+
+    /// The ring of an interior point with four faces ([`Self::ring`]'s neighbours and faces),
+    /// without allocating; `None` for any other point.
+    pub fn four_ring(&self, v: u32) -> Option<([u32; 4], [u32; 4])> {
+        if self.vertex_faces(v).len() != 4 {
+            return None;
+        }
+        let (mut neighbours, mut faces) = ([NONE; 4], [NONE; 4]);
+        let (mut n, mut f) = (0usize, 0usize);
+        let boundary = self.walk_ring(
+            v,
+            |x| {
+                if let Some(slot) = faces.get_mut(f) {
+                    *slot = x;
+                }
+                f += 1;
+            },
+            |x| {
+                if let Some(slot) = neighbours.get_mut(n) {
+                    *slot = x;
+                }
+                n += 1;
+            },
+        );
+        (!boundary && n == 4 && f == 4).then_some((neighbours, faces))
+    }
+
+    /// How many faces the walk round `v` reaches ([`Self::ring`]'s faces, counted).
+    fn ring_face_count(&self, v: u32) -> usize {
+        let mut count = 0;
+        self.walk_ring(v, |_| count += 1, |_| {});
+        count
+    }
+
+    /// Walks the faces round `v` counter-clockwise as [`Self::ring`] orders them, handing each
+    /// face to `face` and each neighbour to `neighbour` in ring order; returns whether the
+    /// walk ended on a boundary. Each step reads the face's corner at `v` and the edge into
+    /// it, with no search along the face.
+    fn walk_ring(&self, v: u32, mut face: impl FnMut(u32), mut neighbour: impl FnMut(u32)) -> bool {
         let faces = self.vertex_faces(v);
-        let corner = |f: u32| -> (u32, u32) {
-            let face = self.face(f);
-            let n = face.len();
-            let j = face.iter().position(|&x| x == v).unwrap_or(0);
-            (face[(j + 1) % n], face[(j + n - 1) % n])
+        // Face f's corner at v and its corner count: edge j leaves v, edge j - 1 enters it.
+        let corner = |f: u32| -> (usize, usize) {
+            let corners = self.face(f);
+            (
+                corners.iter().position(|&x| x == v).unwrap_or(0),
+                corners.len(),
+            )
         };
         // The first face: one whose outgoing edge is a boundary edge, else any.
         let start = faces
             .iter()
             .copied()
-            .find(|&f| {
-                let (out, _) = corner(f);
-                self.edge_in_face(f, v, out)
-                    .is_some_and(|e| self.is_boundary_edge(e))
-            })
+            .find(|&f| self.is_boundary_edge(self.face_edges(f)[corner(f).0]))
             .or_else(|| faces.first().copied());
-        let mut ring = Ring {
-            neighbours: Vec::with_capacity(faces.len() + 1),
-            faces: Vec::with_capacity(faces.len()),
-            boundary: false,
+        let Some(first) = start else {
+            return false;
         };
-        let Some(mut f) = start else {
-            return ring;
-        };
-        ring.neighbours.push(corner(f).0);
+        let mut f = first;
+        let (j, n) = corner(f);
+        neighbour(self.face(f)[(j + 1) % n]);
         for _ in 0..faces.len() {
-            ring.faces.push(f);
-            let (_, incoming) = corner(f);
-            let Some(e) = self.edge_in_face(f, incoming, v) else {
-                break;
-            };
-            let [x, y] = self.edge_faces[e as usize];
+            face(f);
+            let (j, n) = corner(f);
+            let incoming = self.face(f)[(j + n - 1) % n];
+            let [x, y] = self.edge_faces[self.face_edges(f)[(j + n - 1) % n] as usize];
             let next = if x == f { y } else { x };
             if next == NONE {
-                ring.neighbours.push(incoming);
-                ring.boundary = true;
+                neighbour(incoming);
+                return true;
+            }
+            if next == first {
                 break;
             }
-            if next == ring.faces[0] {
-                break;
-            }
-            ring.neighbours.push(incoming);
+            neighbour(incoming);
             f = next;
         }
-        ring
+        false
     }
 }
 

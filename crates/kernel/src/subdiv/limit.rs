@@ -227,11 +227,11 @@ pub fn is_regular(level: &Level, scheme: Scheme, v: u32) -> bool {
 /// neighbour `plus_u` (or away from it when `reversed`): entry 3a + b is the point a − 1 steps
 /// along u and b − 1 along v from `v`.
 pub fn regular_grid(level: &Level, v: u32, plus_u: u32, reversed: bool) -> Option<[u32; 9]> {
-    let ring = level.ring(v);
-    let start = ring.neighbours.iter().position(|&x| x == plus_u)?;
+    let (neighbours, faces) = level.four_ring(v)?;
+    let start = neighbours.iter().position(|&x| x == plus_u)?;
     let start = if reversed { (start + 2) % 4 } else { start };
-    let e = |k: usize| ring.neighbours[(start + k) % 4];
-    let d = |k: usize| level.diagonal(ring.faces[(start + k) % 4], v);
+    let e = |k: usize| neighbours[(start + k) % 4];
+    let d = |k: usize| level.diagonal(faces[(start + k) % 4], v);
     Some([d(2), e(2), d(1), e(3), v, e(1), d(3), e(0), d(0)])
 }
 

@@ -286,21 +286,18 @@ impl SubdivisionSurface {
             });
         }
         let mut level = Level::new(self.mesh.points().len(), &faces, Vec::new())?;
-        let mut lookup = std::collections::HashMap::new();
-        for (e, &[a, b]) in level.edges.iter().enumerate() {
-            lookup.insert((a.min(b), a.max(b)), e);
-        }
         for (k, crease) in self.creases.iter().enumerate() {
             let at = Location::field("creases").index(k);
             check_sharpness(at.clone(), crease.sharpness)?;
-            let key = (crease.a.min(crease.b), crease.a.max(crease.b));
-            let e = *lookup.get(&key).ok_or(GeometryError::Cage {
-                at,
-                problem: CageProblem::NoSuchEdge {
-                    a: crease.a,
-                    b: crease.b,
-                },
-            })?;
+            let e = level
+                .edge_between(crease.a, crease.b)
+                .ok_or(GeometryError::Cage {
+                    at,
+                    problem: CageProblem::NoSuchEdge {
+                        a: crease.a,
+                        b: crease.b,
+                    },
+                })?;
             level.edge_sharpness[e] = crease.sharpness;
         }
         for (k, corner) in self.corners.iter().enumerate() {

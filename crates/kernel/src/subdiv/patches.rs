@@ -17,13 +17,10 @@ use rayon::prelude::*;
 
 /// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
 fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
-    let ring = level.ring(v);
-    if ring.neighbours.len() != 4 || ring.faces.len() != 4 {
-        return None;
-    }
-    let s = ring.neighbours.iter().position(|&x| x == start)?;
-    let e = std::array::from_fn(|k| ring.neighbours[(s + k) % 4]);
-    let d = std::array::from_fn(|k| level.diagonal(ring.faces[(s + k) % 4], v));
+    let (neighbours, faces) = level.four_ring(v)?;
+    let s = neighbours.iter().position(|&x| x == start)?;
+    let e = std::array::from_fn(|k| neighbours[(s + k) % 4]);
+    let d = std::array::from_fn(|k| level.diagonal(faces[(s + k) % 4], v));
     Some((e, d))
 }
 
