@@ -4,7 +4,7 @@
 //! ([`LimitFeed`]), whose tables depend only on the topology and are built once per topology
 //! change. Level 0 shows the cage itself, as a polygon mesh.
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 use glam::{DAffine3, DVec3};
 
@@ -16,7 +16,6 @@ use super::record::{self, KindEntry};
 use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
-use crate::kernel::subdiv::display::DisplayMesh;
 use crate::kernel::subdiv::patches::{Display, LimitFeed, boundary_bspline_grid};
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{
@@ -90,9 +89,6 @@ impl SubdivSettings {
     }
 }
 
-/// A level's display mesh and the cage points it was computed from.
-type ShownMesh = (Vec<DVec3>, Arc<DisplayMesh>);
-
 /// A subdivision surface in the scene.
 #[derive(Debug, Clone)]
 pub struct SubdivObject {
@@ -102,9 +98,6 @@ pub struct SubdivObject {
     /// diagonal ([`crate::kernel::subdiv::adaptive`]).
     pub tolerance: f64,
     prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
-    /// The level's display mesh for the cage points it was computed from, for
-    /// [`ObjectKind::surface_point`] (asked many times between edits).
-    shown: Arc<Mutex<Option<ShownMesh>>>,
 }
 
 impl PartialEq for SubdivObject {
@@ -222,7 +215,6 @@ impl SubdivObject {
         Ok(Self {
             tolerance,
             prepared: Arc::new(OnceLock::new()),
-            shown: Default::default(),
             ..self
         })
     }
@@ -233,7 +225,6 @@ impl SubdivObject {
             display,
             tolerance: DEFAULT_TOLERANCE,
             prepared: Arc::new(OnceLock::new()),
-            shown: Default::default(),
         }
     }
 
@@ -349,30 +340,8 @@ impl SubdivObject {
         patches
     }
 
-    /// The display mesh of the object's level over the level's vertices (the adaptive display
-    /// shows vertices of the limit), computed once for the current cage points.
-    fn level_mesh(&self) -> Result<Arc<DisplayMesh>, GeometryError> {
-        let points = self.surface.points();
-        let mut cache = self.shown.lock().map_err(|_| GeometryError::Construction {
-            what: "subdivision surface",
-            message: "the display cache was poisoned".into(),
-        })?;
-        if let Some((cached, mesh)) = cache.as_ref()
-            && cached.as_slice() == points
-        {
-            return Ok(mesh.clone());
-        }
-        let display = match self.display {
-            Display::Adaptive => Display::Limit,
-            other => other,
-        };
-        let mesh = Arc::new(self.surface.display_mesh(self.surface.level(), display)?);
-        *cache = Some((points.to_vec(), mesh.clone()));
-        Ok(mesh)
-    }
-
-    /// The limit (or refined) point of stencil patch `patch`'s grid vertex nearest (s, t), from
-    /// the kernel's level-by-level refinement and limit masks (not from the feed's stencils).
+    /// The limit (or refined) point of stencil patch `patch`'s grid vertex nearest (s, t): its
+    /// slot's position weights over the cage points (unused triangle slots alias the first).
     fn stencil_point(
         &self,
         feed: &LimitFeed,
@@ -384,16 +353,23 @@ impl SubdivObject {
         let n = p.segments as f64;
         let nearest = |x: f64| ((x * n).round().max(0.0) as usize).min(p.segments as usize);
         let (i, j) = (nearest(s), nearest(t));
-        let mut slot = p.first_slot as usize + i * (p.segments as usize + 1) + j;
-        if feed.vertex[slot] == u32::MAX {
-            slot = p.first_slot as usize;
-        }
-        let vertex = feed.vertex[slot] as usize;
-        let position = self.level_mesh()?.positions.get(vertex).copied();
-        position.ok_or(GeometryError::NoSuchPatch {
+        let slot = p.first_slot as usize + i * (p.segments as usize + 1) + j;
+        let missing = || GeometryError::NoSuchPatch {
             patch,
             count: feed.patches.len(),
-        })
+        };
+        let [first, count] = *feed.slots.get(slot).ok_or_else(missing)?;
+        let entries = feed
+            .entries
+            .get(first as usize..(first + count) as usize)
+            .ok_or_else(missing)?;
+        let cage = self.surface.points();
+        entries
+            .iter()
+            .try_fold(DVec3::ZERO, |sum, &(point, weights)| {
+                let q = cage.get(point as usize).ok_or_else(missing)?;
+                Ok(sum + *q * weights[0])
+            })
     }
 }
 

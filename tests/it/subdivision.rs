@@ -904,3 +904,111 @@ fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
         );
     }
 }
+
+/// A tool on a 1,536-face cage leaves a few extraordinary points (a poked face, an extruded
+/// pair, a crease): the editor's GPU feed takes those faces' stencils from a refinement of
+/// their neighbourhood only, and the rest as B-spline patches. Every vertex the GPU evaluates,
+/// on the compute path and on the CPU (WebGL2) path, is the whole cage's f64 limit at a vertex
+/// of the level: position and normal. The cage is in general position.
+#[test]
+fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
+    use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let torus = cages::torus(DVec3::ZERO, 3.0, 1.0, 48, 32).unwrap();
+    let cage = Cage {
+        points: torus.points().to_vec(),
+        faces: torus.faces().map(<[u32]>::to_vec).collect(),
+        creases: Vec::new(),
+        corners: Vec::new(),
+    };
+    let cage = cage.apply(&Tool::Poke { faces: vec![100] }).unwrap();
+    let mut cage = cage
+        .apply(&Tool::Extrude {
+            faces: vec![700, 701],
+            offset: 0.3,
+            individual: false,
+        })
+        .unwrap();
+    let edge = (cage.faces[1200][0], cage.faces[1200][1]);
+    cage.creases.push(Crease {
+        a: edge.0,
+        b: edge.1,
+        sharpness: 1.7,
+    });
+    let motion = DAffine3::from_scale_rotation_translation(
+        DVec3::splat(2.3),
+        glam::DQuat::from_axis_angle(DVec3::new(0.3, -0.8, 0.5).normalize(), 2.1),
+        DVec3::new(41.0, -17.0, 63.0),
+    );
+    let points: Vec<DVec3> = cage
+        .points
+        .iter()
+        .map(|&p| motion.transform_point3(p))
+        .collect();
+    let mesh = PolygonMesh::new(points, &cage.faces).unwrap();
+    let surface =
+        SubdivisionSurface::new(mesh, cage.creases, Vec::new(), Options::default(), 2).unwrap();
+    let object = SceneObject::new(
+        "cage",
+        ObjectGeometry::new(SubdivObject::from(surface.clone())),
+    );
+    let feed = object.decompose().unwrap();
+    let stencils = feed.stencils.as_deref().unwrap();
+    assert!(
+        !stencils.patches.is_empty() && stencils.vertex.iter().all(|&v| v == u32::MAX),
+        "the stencils come from the region's refinement"
+    );
+    assert!(stencils.regular.len() > 1200);
+    // The level's limit points, bucketed in cells of a fifth of the tube's level-2 spacing.
+    let limit = surface.limit(2).unwrap();
+    let (lo, hi) = surface.mesh().bounds().unwrap();
+    let size = (hi - lo).length();
+    let cell = size / 400.0;
+    let key = |p: DVec3| ((p - lo) / cell).floor().as_ivec3().to_array();
+    let mut buckets: std::collections::HashMap<[i32; 3], Vec<usize>> = Default::default();
+    for (v, &p) in limit.positions.iter().enumerate() {
+        buckets.entry(key(p)).or_default().push(v);
+    }
+    let nearest = |p: DVec3| -> Option<(f64, usize)> {
+        let [x, y, z] = key(p);
+        let mut best: Option<(f64, usize)> = None;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    for &v in buckets.get(&[x + dx, y + dy, z + dz]).into_iter().flatten() {
+                        let d = (limit.positions[v] - p).length();
+                        if best.is_none_or(|(b, _)| d < b) {
+                            best = Some((d, v));
+                        }
+                    }
+                }
+            }
+        }
+        best
+    };
+    let scene = Scene {
+        objects: vec![object],
+        unit: None,
+    };
+    for cpu in [false, true] {
+        let (_, vertices) = common::evaluate_scene(&scene, cpu);
+        assert!(vertices.len() >= limit.positions.len());
+        let mut worst = (0.0f64, 0.0f64);
+        for vertex in &vertices {
+            let p = DVec3::from(vertex.position.map(f64::from));
+            let n = DVec3::from(vertex.normal.map(f64::from));
+            let Some((d, v)) = nearest(p) else {
+                panic!("no limit point near {p} (cpu: {cpu})");
+            };
+            worst.0 = worst.0.max(d / size);
+            worst.1 = worst.1.max(n.angle_between(limit.normals[v]));
+        }
+        eprintln!(
+            "cpu {cpu}: {} vertices, position {:.1e}, normal {:.1e} rad",
+            vertices.len(),
+            worst.0,
+            worst.1
+        );
+        assert!(worst.0 < 1e-5 && worst.1 < 1e-3, "cpu {cpu}: {worst:?}");
+    }
+}

@@ -25,6 +25,7 @@ pub mod limit;
 pub mod patches;
 pub mod pieces;
 pub mod refine;
+pub mod region;
 pub mod schemes;
 pub mod stencil;
 pub mod substitutes;

@@ -483,6 +483,23 @@ impl SubdivisionSurface {
         if irregular.is_empty() || levels == 0 {
             return Ok(feed);
         }
+        // Beside regular B-spline quads, the few faces left take their stencils from a
+        // refinement of their neighbourhood only.
+        if regular_as_bspline
+            && scheme == Scheme::CatmullClark
+            && super::region::push_region_stencil_patches(
+                &mut feed,
+                &base,
+                self.options,
+                &irregular,
+                levels,
+                display,
+                super::region::REGION_RINGS,
+                super::region::MOST_OF_THE_CAGE,
+            )?
+        {
+            return Ok(feed);
+        }
         let hierarchy = Hierarchy::new(base, self.options, levels)?;
         let k = levels as usize;
         if matches!(scheme, Scheme::DooSabin | Scheme::Sqrt3) {

@@ -99,7 +99,8 @@ pub struct LimitFeed {
     pub slots: Vec<[u32; 2]>,
     /// Per slot: the curvature is not defined by the stencils (irregular or sharp vertices).
     pub no_curvature: Vec<bool>,
-    /// Per slot: the vertex of the level it shows (`u32::MAX` for unused triangle slots).
+    /// Per slot: the vertex of the level it shows (`u32::MAX` for unused triangle slots, and
+    /// for slots of patches refined over a region of the cage only: [`super::region`]).
     pub vertex: Vec<u32>,
     pub entries: Vec<Entry>,
     /// Substitute patches, after the stencil patches.
