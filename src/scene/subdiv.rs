@@ -28,7 +28,8 @@ use crate::kernel::{BezierPatch, BezierPatchSet, GeometryError, PolygonMesh};
 /// topology, sharpness, rules, level or display change.
 #[derive(Debug)]
 struct Prepared {
-    feed: LimitFeed,
+    /// Shared with every decomposition made from it (the GPU's stencil tables).
+    feed: Arc<LimitFeed>,
     /// How the substitute's control points follow the cage (substitute displays).
     plan: Option<SubstitutePlan>,
     /// The depth each piece shows (the adaptive display), chosen for the points the object had
@@ -140,20 +141,24 @@ fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
 }
 
 /// The Bézier points of the uniform bicubic B-spline patch with points `control` (row-major,
-/// first index along u): each direction converted by [`BSPLINE_TO_BEZIER`].
+/// first index along u): each direction converted by [`BSPLINE_TO_BEZIER`], the rows first
+/// and then the columns (the tensor product's two passes of four-point sums).
 fn bezier_from_bspline(control: &[DVec3; 16]) -> [DVec3; 16] {
+    let span = |p: [DVec3; 4]| -> [DVec3; 4] {
+        BSPLINE_TO_BEZIER.map(|w| p[0] * w[0] + p[1] * w[1] + p[2] * w[2] + p[3] * w[3])
+    };
+    // Along v within each row a (index a * 4 + b), then along u within each column.
+    let mut rows = [DVec3::ZERO; 16];
+    for a in 0..4 {
+        let converted = span(std::array::from_fn(|b| control[a * 4 + b]));
+        rows[a * 4..a * 4 + 4].copy_from_slice(&converted);
+    }
     let mut out = [DVec3::ZERO; 16];
-    for i in 0..4 {
-        for j in 0..4 {
-            let mut p = DVec3::ZERO;
-            for a in 0..4 {
-                for b in 0..4 {
-                    let w = BSPLINE_TO_BEZIER[i][a] * BSPLINE_TO_BEZIER[j][b];
-                    if w != 0.0 {
-                        p += control[a * 4 + b] * w;
-                    }
-                }
-            }
+    for j in 0..4 {
+        for (i, p) in span(std::array::from_fn(|a| rows[a * 4 + j]))
+            .into_iter()
+            .enumerate()
+        {
             out[i * 4 + j] = p;
         }
     }
@@ -282,7 +287,7 @@ impl SubdivObject {
                     }
                 }
                 Ok(Arc::new(Prepared {
-                    feed,
+                    feed: Arc::new(feed),
                     plan,
                     adaptive,
                     face_patches,
@@ -523,7 +528,7 @@ impl ObjectKind for SubdivObject {
         Ok(Decomposition {
             set: BezierPatchSet::new(points, None, patches)?,
             domains,
-            stencils: Some(Arc::new(prepared.feed.clone())),
+            stencils: Some(Arc::clone(&prepared.feed)),
             cage_points: stencil_points,
             fixed_segments: Some(1 << self.surface.level()),
             trims: None,
