@@ -2948,7 +2948,8 @@ fn bench_cage_tools(
     };
     for tool in tools {
         let (tool_ms, edited) = median_ms(runs, || cage.apply(&tool))?;
-        let (step_ms, _) = median_ms(runs, || {
+        // The editor's step: a document of the torus, the tool applied as one undo step.
+        let step = || -> Result<Document, Box<dyn std::error::Error>> {
             let mut doc = Document::new(scene.clone());
             doc.execute(&Command::Apply {
                 operation: Operation::new(knotwork::ops::cage::CageEdit {
@@ -2957,19 +2958,13 @@ fn bench_cage_tools(
                 }),
                 keep_history: false,
             })
-            .map(|_| ())
-        })?;
+            .map_err(|e| e.to_string())?;
+            Ok(doc)
+        };
+        let (step_ms, _) = median_ms(runs, step)?;
         let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
         let (gpu_ms, _) = median_ms(runs, || {
-            let mut doc = Document::new(scene.clone());
-            doc.execute(&Command::Apply {
-                operation: Operation::new(knotwork::ops::cage::CageEdit {
-                    object: 0.into(),
-                    tool: tool.clone(),
-                }),
-                keep_history: false,
-            })
-            .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))?;
+            let doc = step()?;
             sync.rebuild(&doc.scene, 1.0)
                 .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))
         })?;

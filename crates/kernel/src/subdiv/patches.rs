@@ -814,7 +814,7 @@ fn push_stencil_patches_with(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
     use crate::subdiv::{Crease, Options, cages};
@@ -886,7 +886,11 @@ mod tests {
     }
 
     /// Position, Su, Sv, Suu, Suv, Svv of `slot`.
-    fn slot_values(feed: &LimitFeed, points: &[DVec3], slot: usize) -> [DVec3; 6] {
+    pub(in crate::subdiv) fn slot_values(
+        feed: &LimitFeed,
+        points: &[DVec3],
+        slot: usize,
+    ) -> [DVec3; 6] {
         let [start, count] = feed.slots[slot];
         let mut out = [DVec3::ZERO; 6];
         for (i, w) in &feed.entries[start as usize..(start + count) as usize] {

@@ -243,6 +243,7 @@ mod tests {
     use crate::mesh::PolygonMesh;
     use crate::subdiv::cage_edit::{Cage, Tool};
     use crate::subdiv::patches::is_regular_face;
+    use crate::subdiv::patches::tests::slot_values;
     use crate::subdiv::{Corner, Crease, Creasing, Scheme, SubdivisionSurface, cages};
     use crate::test_support::{Xorshift, placement};
     use glam::DVec3;
@@ -358,16 +359,7 @@ mod tests {
         let points = surface.points();
         let (lo, hi) = surface.mesh().bounds().unwrap();
         let size = (hi - lo).length();
-        let values = |feed: &LimitFeed, slot: usize| {
-            let [start, count] = feed.slots[slot];
-            let mut out = [DVec3::ZERO; 6];
-            for (i, w) in &feed.entries[start as usize..(start + count) as usize] {
-                for c in 0..6 {
-                    out[c] += points[*i as usize] * w[c];
-                }
-            }
-            out
-        };
+        let values = |feed: &LimitFeed, slot: usize| slot_values(feed, points, slot);
         let mut worst = 0.0f64;
         for slot in 0..whole.slots.len() {
             let (a, b) = (values(&region, slot), values(&whole, slot));
