@@ -10,6 +10,7 @@ use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
 };
 pub use super::pieces::{Display, Entry, LimitFeed, StencilPatch, SubstitutePatch};
+use super::region::{MOST_OF_THE_CAGE, REGION_RINGS, RegionCage, face_region};
 use super::stencil::{Accumulator, Row, WideRows, build_rows};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
@@ -487,15 +488,15 @@ impl SubdivisionSurface {
         // refinement of their neighbourhood only.
         if regular_as_bspline
             && scheme == Scheme::CatmullClark
-            && super::region::push_region_stencil_patches(
+            && push_region_stencil_patches(
                 &mut feed,
                 &base,
                 self.options,
                 &irregular,
                 levels,
                 display,
-                super::region::REGION_RINGS,
-                super::region::MOST_OF_THE_CAGE,
+                REGION_RINGS,
+                MOST_OF_THE_CAGE,
             )?
         {
             return Ok(feed);
@@ -560,6 +561,38 @@ impl SubdivisionSurface {
         }
         Ok((feed, plan))
     }
+}
+
+/// Appends to `feed` the stencil patches showing cage faces `faces` (increasing) of `base` at
+/// level `levels` as `display`, refining only the faces within `rings` rings of them
+/// ([`super::region`]; [`REGION_RINGS`] gives the same stencils as refining the whole cage,
+/// up to the order of the sums). Their slots name no level vertex (`u32::MAX`): the region's
+/// levels are not the cage's. Returns false, appending nothing, where the region is more than
+/// `most` of the cage's faces ([`MOST_OF_THE_CAGE`]).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn push_region_stencil_patches(
+    feed: &mut LimitFeed,
+    base: &Level,
+    options: super::Options,
+    faces: &[u32],
+    levels: u32,
+    display: Display,
+    rings: u32,
+    most: f64,
+) -> Result<bool, GeometryError> {
+    let region = face_region(base, faces, rings);
+    if region.len() as f64 > most * base.face_count() as f64 {
+        return Ok(false);
+    }
+    let (cut, topology) = RegionCage::new(base, region, options)?;
+    let asked = cut.region_faces(faces);
+    let hierarchy = Hierarchy::new(topology, options, levels)?;
+    let pieces = exact_pieces(&hierarchy, &asked, levels);
+    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
+    let mut local = LimitFeed::default();
+    push_stencil_patches(&mut local, &hierarchy, levels, &shown, display);
+    cut.append(feed, &local, (base, &hierarchy.levels[0]), options);
+    Ok(true)
 }
 
 /// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i and

@@ -16,9 +16,8 @@
 //! rim reaches, [`REGION_RINGS`] rings away from the faces asked for, never theirs.
 
 use super::level::{INFINITE_SHARPNESS, Level, NONE};
-use super::patches::push_stencil_patches;
-use super::pieces::{Display, LimitFeed, ShownPiece, first_children};
-use super::{Boundary, Hierarchy, Options, patches::exact_pieces};
+use super::pieces::{LimitFeed, first_children};
+use super::{Boundary, Options};
 use crate::GeometryError;
 
 /// How many vertex-rings of faces around the faces asked for are refined with them. The limit
@@ -103,18 +102,23 @@ fn fan_count(level: &Level, inside: &[bool], v: u32) -> usize {
         .count()
 }
 
-/// A region of a level cut out as a cage of its own ([`face_region`]).
-struct RegionCage {
+/// A region of a level cut out as a cage of its own ([`face_region`]): which of the level's
+/// faces and points it holds.
+pub(super) struct RegionCage {
     /// The region's faces, as indices of the level's faces (increasing).
-    faces: Vec<u32>,
+    pub faces: Vec<u32>,
     /// The region's points, as indices of the level's points (increasing).
-    points: Vec<u32>,
-    /// The region's topology over its own point numbers, with the level's sharpness.
-    level: Level,
+    pub points: Vec<u32>,
 }
 
 impl RegionCage {
-    fn new(level: &Level, faces: Vec<u32>, options: Options) -> Result<Self, GeometryError> {
+    /// The region of `level` made of `faces` (increasing), and its topology over its own point
+    /// numbers with the level's sharpness (its rim a boundary).
+    pub fn new(
+        level: &Level,
+        faces: Vec<u32>,
+        options: Options,
+    ) -> Result<(Self, Level), GeometryError> {
         let mut local = vec![NONE; level.vertex_count];
         for &f in &faces {
             for &v in level.face(f) {
@@ -154,96 +158,80 @@ impl RegionCage {
                 region.vertex_sharpness[v] = INFINITE_SHARPNESS;
             }
         }
-        Ok(Self {
-            faces,
-            points,
-            level: region,
-        })
+        Ok((Self { faces, points }, region))
     }
-}
 
-/// Appends to `feed` the stencil patches showing cage faces `faces` (increasing) of `base` at
-/// level `levels` as `display`, refining only the faces within `rings` rings of them
-/// ([`REGION_RINGS`] gives the same stencils as refining the whole cage, up to the order of
-/// the sums). Their slots name no level vertex (`u32::MAX`): the region's levels are not the
-/// cage's. Returns false, appending nothing, where the region is more than `most` of the
-/// cage's faces ([`MOST_OF_THE_CAGE`]).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn push_region_stencil_patches(
-    feed: &mut LimitFeed,
-    base: &Level,
-    options: Options,
-    faces: &[u32],
-    levels: u32,
-    display: Display,
-    rings: u32,
-    most: f64,
-) -> Result<bool, GeometryError> {
-    let region = face_region(base, faces, rings);
-    if region.len() as f64 > most * base.face_count() as f64 {
-        return Ok(false);
-    }
-    let cut = RegionCage::new(base, region, options)?;
-    // The faces asked for, by their region numbers (both lists increase).
-    let mut asked = Vec::with_capacity(faces.len());
-    let mut k = 0;
-    for &f in faces {
-        while cut.faces[k] != f {
-            k += 1;
-        }
-        asked.push(k as u32);
-    }
-    let hierarchy = Hierarchy::new(cut.level, options, levels)?;
-    let pieces = exact_pieces(&hierarchy, &asked, levels);
-    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
-    let mut local = LimitFeed::default();
-    push_stencil_patches(&mut local, &hierarchy, levels, &shown, display);
-    // Level-1 faces (Catmull-Clark's pieces) by the whole cage's numbers: a face's children
-    // are numbered face by face in both.
-    let (whole_children, region_children) = (
-        first_children(base, options.scheme),
-        first_children(&hierarchy.levels[0], options.scheme),
-    );
-    let (slot_offset, entry_offset) = (feed.slots.len() as u32, feed.entries.len() as u32);
-    for patch in &local.patches {
-        let mut patch = *patch;
-        let region_face = patch.cage_face as usize;
-        patch.cage_face = cut.faces[region_face];
-        patch.first_slot += slot_offset;
-        patch.piece[1] = match patch.piece[0] {
-            0 => cut.faces[patch.piece[1] as usize],
-            1 => {
-                whole_children[patch.cage_face as usize]
-                    + (patch.piece[1] - region_children[region_face])
+    /// The region's numbers of the level's faces `faces` (increasing, all in the region).
+    pub fn region_faces(&self, faces: &[u32]) -> Vec<u32> {
+        let mut out = Vec::with_capacity(faces.len());
+        let mut k = 0;
+        for &f in faces {
+            while self.faces[k] != f {
+                k += 1;
             }
-            _ => NONE,
-        };
-        feed.patches.push(patch);
+            out.push(k as u32);
+        }
+        out
     }
-    feed.slots.extend(
-        local
-            .slots
-            .iter()
-            .map(|&[first, count]| [first + entry_offset, count]),
-    );
-    feed.no_curvature.extend_from_slice(&local.no_curvature);
-    feed.vertex.extend(local.vertex.iter().map(|_| u32::MAX));
-    feed.entries.extend(
-        local
-            .entries
-            .iter()
-            .map(|&(p, weights)| (cut.points[p as usize], weights)),
-    );
-    Ok(true)
+
+    /// Appends `local`, stencil patches over the refinement of the region's topology
+    /// `region`, to `feed` by the level `whole`'s numbers: cage points, cage faces, and level-1
+    /// pieces (a face's children are numbered face by face in both). Slots name no level
+    /// vertex (`u32::MAX`).
+    pub fn append(
+        &self,
+        feed: &mut LimitFeed,
+        local: &LimitFeed,
+        (whole, region): (&Level, &Level),
+        options: Options,
+    ) {
+        let (whole_children, region_children) = (
+            first_children(whole, options.scheme),
+            first_children(region, options.scheme),
+        );
+        let (slot_offset, entry_offset) = (feed.slots.len() as u32, feed.entries.len() as u32);
+        for patch in &local.patches {
+            let mut patch = *patch;
+            let region_face = patch.cage_face as usize;
+            patch.cage_face = self.faces[region_face];
+            patch.first_slot += slot_offset;
+            patch.piece[1] = match patch.piece[0] {
+                0 => self.faces[patch.piece[1] as usize],
+                1 => {
+                    whole_children[patch.cage_face as usize]
+                        + (patch.piece[1] - region_children[region_face])
+                }
+                _ => NONE,
+            };
+            feed.patches.push(patch);
+        }
+        feed.slots.extend(
+            local
+                .slots
+                .iter()
+                .map(|&[first, count]| [first + entry_offset, count]),
+        );
+        feed.no_curvature.extend_from_slice(&local.no_curvature);
+        feed.vertex.extend(local.vertex.iter().map(|_| u32::MAX));
+        feed.entries.extend(
+            local
+                .entries
+                .iter()
+                .map(|&(p, weights)| (self.points[p as usize], weights)),
+        );
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
+    use crate::subdiv::Hierarchy;
     use crate::subdiv::cage_edit::{Cage, Tool};
     use crate::subdiv::patches::is_regular_face;
     use crate::subdiv::patches::tests::slot_values;
+    use crate::subdiv::patches::{exact_pieces, push_region_stencil_patches, push_stencil_patches};
+    use crate::subdiv::pieces::{Display, ShownPiece};
     use crate::subdiv::{Corner, Crease, Creasing, Scheme, SubdivisionSurface, cages};
     use crate::test_support::{Xorshift, placement};
     use glam::DVec3;
