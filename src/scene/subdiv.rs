@@ -126,39 +126,37 @@ fn cubic_bspline_basis(t: f64) -> [f64; 4] {
     ]
 }
 
-/// The Bézier points of one uniform cubic B-spline span: b0 = (P0 + 4P1 + P2)/6,
-/// b1 = (4P1 + 2P2)/6, b2 = (2P1 + 4P2)/6, b3 = (P1 + 4P2 + P3)/6 (Farin, knot insertion).
-const BSPLINE_TO_BEZIER: [[f64; 4]; 4] = [
-    [1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0, 0.0],
-    [0.0, 4.0 / 6.0, 2.0 / 6.0, 0.0],
-    [0.0, 2.0 / 6.0, 4.0 / 6.0, 0.0],
-    [0.0, 1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0],
-];
-
 /// The 16 Bézier points (row-major, first index along u) of the B-spline patch `grid`.
 fn bezier_points(points: &[DVec3], grid: &[u32; 16]) -> [DVec3; 16] {
     bezier_from_bspline(&grid.map(|k| points[k as usize]))
 }
 
+/// The Bézier points of one uniform cubic B-spline span by knot insertion (Farin):
+/// b0 = (P0 + 4P1 + P2)/6, b1 = (2P1 + P2)/3, b2 = (P1 + 2P2)/3, b3 = (P1 + 4P2 + P3)/6.
+fn bspline_span_to_bezier([p0, p1, p2, p3]: [DVec3; 4]) -> [DVec3; 4] {
+    let (third, sixth) = (1.0 / 3.0, 1.0 / 6.0);
+    [
+        (p0 + p1 * 4.0 + p2) * sixth,
+        (p1 * 2.0 + p2) * third,
+        (p1 + p2 * 2.0) * third,
+        (p1 + p2 * 4.0 + p3) * sixth,
+    ]
+}
+
 /// The Bézier points of the uniform bicubic B-spline patch with points `control` (row-major,
-/// first index along u): each direction converted by [`BSPLINE_TO_BEZIER`], the rows first
-/// and then the columns (the tensor product's two passes of four-point sums).
+/// first index along u): each direction converted by [`bspline_span_to_bezier`], the rows
+/// first and then the columns (the tensor product's two passes of four-point sums).
 fn bezier_from_bspline(control: &[DVec3; 16]) -> [DVec3; 16] {
-    let span = |p: [DVec3; 4]| -> [DVec3; 4] {
-        BSPLINE_TO_BEZIER.map(|w| p[0] * w[0] + p[1] * w[1] + p[2] * w[2] + p[3] * w[3])
-    };
     // Along v within each row a (index a * 4 + b), then along u within each column.
     let mut rows = [DVec3::ZERO; 16];
     for a in 0..4 {
-        let converted = span(std::array::from_fn(|b| control[a * 4 + b]));
+        let converted = bspline_span_to_bezier(std::array::from_fn(|b| control[a * 4 + b]));
         rows[a * 4..a * 4 + 4].copy_from_slice(&converted);
     }
     let mut out = [DVec3::ZERO; 16];
     for j in 0..4 {
-        for (i, p) in span(std::array::from_fn(|a| rows[a * 4 + j]))
-            .into_iter()
-            .enumerate()
-        {
+        let converted = bspline_span_to_bezier(std::array::from_fn(|a| rows[a * 4 + j]));
+        for (i, p) in converted.into_iter().enumerate() {
             out[i * 4 + j] = p;
         }
     }
@@ -509,21 +507,22 @@ impl ObjectKind for SubdivObject {
             points.extend(plan.control_points(cage));
         }
         let stencil_points = points.len();
-        // Each regular face's Bézier points on every core, appended in face order.
+        // Each regular face's 16 Bézier points on every core, written in face order after
+        // the cage's (and a substitute's) points, and its patch naming them.
         use rayon::prelude::*;
-        let converted: Vec<[DVec3; 16]> = prepared
-            .feed
-            .regular
-            .par_iter()
-            .map(|(_, grid)| bezier_points(cage, grid))
+        let regular = &prepared.feed.regular;
+        points.resize(stencil_points + 16 * regular.len(), DVec3::ZERO);
+        points[stencil_points..]
+            .par_chunks_mut(16)
+            .zip(regular.par_iter())
+            .for_each(|(out, (_, grid))| out.copy_from_slice(&bezier_points(cage, grid)));
+        let patches: Vec<BezierPatch> = (0..regular.len())
+            .into_par_iter()
+            .map(|k| {
+                let first = (stencil_points + 16 * k) as u32;
+                BezierPatch::new(3, 3, (first..first + 16).collect())
+            })
             .collect();
-        let mut patches = Vec::with_capacity(converted.len());
-        points.reserve(16 * converted.len());
-        for bezier in converted {
-            let first = points.len() as u32;
-            points.extend(bezier);
-            patches.push(BezierPatch::new(3, 3, (first..first + 16).collect()));
-        }
         let domains = vec![[0.0, 1.0, 0.0, 1.0]; patches.len()];
         Ok(Decomposition {
             set: BezierPatchSet::new(points, None, patches)?,

@@ -31,6 +31,7 @@ pub mod stencil;
 pub mod substitutes;
 
 use glam::{DAffine3, DVec3};
+use std::sync::Arc;
 
 use self::level::{INFINITE_SHARPNESS, Level};
 use self::stencil::Stencils;
@@ -142,6 +143,25 @@ pub struct SubdivisionSurface {
     corners: Vec<Corner>,
     pub options: Options,
     level: u32,
+    base: BaseLevelCache,
+}
+
+/// The base level [`SubdivisionSurface::new`] built while checking the cage, with the options
+/// it was built under: a later feed reuses it while `options` (a public field) still match.
+/// Equal and shown as nothing, being derived from the surface's other fields.
+#[derive(Clone, Default)]
+struct BaseLevelCache(Option<(Options, Arc<Level>)>);
+
+impl PartialEq for BaseLevelCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for BaseLevelCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("BaseLevelCache")
+    }
 }
 
 /// The levels of a refinement and the stencils between them: `stencils[k]` gives level k + 1
@@ -174,14 +194,16 @@ impl SubdivisionSurface {
         options: Options,
         level: u32,
     ) -> Result<Self, GeometryError> {
-        let surface = Self {
+        let mut surface = Self {
             mesh,
             creases,
             corners,
             options,
             level,
+            base: BaseLevelCache::default(),
         };
-        let base = surface.base_level()?;
+        let base = Arc::new(surface.base_level()?);
+        surface.base = BaseLevelCache(Some((options, Arc::clone(&base))));
         let corners: u64 = surface.mesh.faces().map(|f| f.len() as u64).sum();
         let face_count = surface.mesh.face_count() as u64;
         let power = |base: u64| base.checked_pow(level.min(31)).unwrap_or(u64::MAX);
@@ -269,6 +291,15 @@ impl SubdivisionSurface {
             mesh: self.mesh.transformed(transform)?,
             ..self.clone()
         })
+    }
+
+    /// [`Self::base_level`], shared: the level built when the surface was made while its
+    /// options are still those it was made with, else built anew.
+    pub fn shared_base_level(&self) -> Result<Arc<Level>, GeometryError> {
+        match &self.base.0 {
+            Some((options, level)) if *options == self.options => Ok(Arc::clone(level)),
+            _ => self.base_level().map(Arc::new),
+        }
     }
 
     /// The cage's topology with its sharpness: user creases and corners, boundary edges
@@ -477,5 +508,28 @@ impl Hierarchy {
             points = stencils.apply(&points);
         }
         points
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The base level kept from `new` is the one `base_level` builds, and options changed
+    /// after `new` (a public field) are not answered from it.
+    #[test]
+    fn the_kept_base_level_follows_the_options() {
+        let sheet = cages::grid(DVec3::new(0.3, -1.0, 2.0), 2.0, 3).unwrap();
+        let mut surface = SubdivisionSurface::from_mesh(sheet, 2).unwrap();
+        let kept = surface.shared_base_level().unwrap();
+        assert_eq!(*kept, surface.base_level().unwrap());
+        assert!(kept.vertex_sharpness.iter().all(|&s| s == 0.0));
+        surface.options.boundary = Boundary::EdgeAndCorner;
+        let cornered = surface.shared_base_level().unwrap();
+        assert_eq!(*cornered, surface.base_level().unwrap());
+        let corners = cornered.vertex_sharpness.iter();
+        assert_eq!(corners.filter(|&&s| s == INFINITE_SHARPNESS).count(), 4);
+        surface.options.scheme = Scheme::Loop;
+        assert!(surface.shared_base_level().is_err());
     }
 }

@@ -15,10 +15,15 @@ use super::stencil::{Accumulator, Row, WideRows, build_rows};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
 use rayon::prelude::*;
+use std::sync::Arc;
 
-/// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from `start`.
-fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> {
-    let (neighbours, faces) = level.four_ring(v)?;
+/// A valence-4 point's neighbours and faces ([`Level::four_ring`]).
+type FourRing = ([u32; 4], [u32; 4]);
+
+/// The four neighbours and four diagonals of valence-4 vertex `v` counter-clockwise from
+/// `start`, from its ring `ring` ([`Level::four_ring`]).
+fn quad_ring(level: &Level, v: u32, ring: Option<FourRing>, start: u32) -> Option<FourRing> {
+    let (neighbours, faces) = ring?;
     let s = neighbours.iter().position(|&x| x == start)?;
     let e = std::array::from_fn(|k| neighbours[(s + k) % 4]);
     let d = std::array::from_fn(|k| level.diagonal(faces[(s + k) % 4], v));
@@ -29,13 +34,24 @@ fn quad_ring(level: &Level, v: u32, start: u32) -> Option<([u32; 4], [u32; 4])> 
 /// q0 to q3), index `a * 4 + b` for the point a steps along u and b along v from the corner
 /// before q0.
 pub fn bspline_grid(level: &Level, f: u32) -> Option<[u32; 16]> {
+    bspline_grid_from_rings(level, f, |v| level.four_ring(v))
+}
+
+/// [`bspline_grid`] with each corner's ring from `ring_of` ([`Level::four_ring`], or a table
+/// of it).
+fn bspline_grid_from_rings(
+    level: &Level,
+    f: u32,
+    ring_of: impl Fn(u32) -> Option<FourRing>,
+) -> Option<[u32; 16]> {
+    let ring_from = |v: u32, start: u32| quad_ring(level, v, ring_of(v), start);
     let q = level.face(f);
     if q.len() != 4 {
         return None;
     }
     let mut g = [u32::MAX; 16];
     let mut set = |a: usize, b: usize, v: u32| g[a * 4 + b] = v;
-    let (e, d) = quad_ring(level, q[0], q[1])?;
+    let (e, d) = ring_from(q[0], q[1])?;
     set(1, 1, q[0]);
     set(2, 1, q[1]);
     set(2, 2, q[2]);
@@ -45,15 +61,15 @@ pub fn bspline_grid(level: &Level, f: u32) -> Option<[u32; 16]> {
     set(0, 2, d[1]);
     set(0, 0, d[2]);
     set(2, 0, d[3]);
-    let (e, d) = quad_ring(level, q[2], q[3])?;
+    let (e, d) = ring_from(q[2], q[3])?;
     set(3, 2, e[2]);
     set(2, 3, e[3]);
     set(3, 1, d[1]);
     set(3, 3, d[2]);
     set(1, 3, d[3]);
-    let (_, d) = quad_ring(level, q[1], q[0])?;
+    let (_, d) = ring_from(q[1], q[0])?;
     set(3, 0, d[1]);
-    let (_, d) = quad_ring(level, q[3], q[0])?;
+    let (_, d) = ring_from(q[3], q[0])?;
     set(0, 3, d[2]);
     g.iter().all(|&x| x != u32::MAX).then_some(g)
 }
@@ -172,12 +188,28 @@ pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
     face.len() == 4 && face.iter().all(|&v| is_regular(level, scheme, v))
 }
 
-/// The B-spline points of cage quad `f` ([`bspline_grid`]) where its limit is that bicubic
-/// ([`is_regular_face`]).
-fn regular_bspline_grid(level: &Level, scheme: Scheme, f: u32) -> Option<[u32; 16]> {
-    is_regular_face(level, scheme, f)
-        .then(|| bspline_grid(level, f))
-        .flatten()
+/// Every face's B-spline points ([`bspline_grid`]) where its limit is that bicubic
+/// ([`is_regular_face`]), on every core: each point's regularity and ring found once, not
+/// once for each face at it.
+pub(super) fn regular_bspline_grids(level: &Level, scheme: Scheme) -> Vec<Option<[u32; 16]>> {
+    let rings: Vec<Option<FourRing>> = (0..level.vertex_count as u32)
+        .into_par_iter()
+        .map(|v| {
+            is_regular(level, scheme, v)
+                .then(|| level.four_ring(v))
+                .flatten()
+        })
+        .collect();
+    (0..level.face_count() as u32)
+        .into_par_iter()
+        .map(|f| {
+            let face = level.face(f);
+            let regular = face.len() == 4 && face.iter().all(|&v| rings[v as usize].is_some());
+            regular
+                .then(|| bspline_grid_from_rings(level, f, |v| rings[v as usize]))
+                .flatten()
+        })
+        .collect()
 }
 
 /// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
@@ -462,19 +494,16 @@ impl SubdivisionSurface {
         if display == Display::Adaptive {
             return Ok(self.adaptive_feed(levels, DEFAULT_TOLERANCE)?.0);
         }
-        let base = self.base_level()?;
+        let base = self.shared_base_level()?;
         let scheme = self.options.scheme;
         let mut feed = LimitFeed::default();
         let mut irregular = Vec::new();
         // Each face's B-spline points where it is regular, on every core, in face order.
-        let grids: Vec<Option<[u32; 16]>> = (0..base.face_count() as u32)
-            .into_par_iter()
-            .map(|f| {
-                (regular_as_bspline && display == Display::Limit)
-                    .then(|| regular_bspline_grid(&base, scheme, f))
-                    .flatten()
-            })
-            .collect();
+        let grids = if regular_as_bspline && display == Display::Limit {
+            regular_bspline_grids(&base, scheme)
+        } else {
+            vec![None; base.face_count()]
+        };
         for (f, grid) in grids.into_iter().enumerate() {
             match grid {
                 Some(g) => feed.regular.push((f as u32, g)),
@@ -501,7 +530,7 @@ impl SubdivisionSurface {
         {
             return Ok(feed);
         }
-        let hierarchy = Hierarchy::new(base, self.options, levels)?;
+        let hierarchy = Hierarchy::new(Arc::unwrap_or_clone(base), self.options, levels)?;
         let k = levels as usize;
         if matches!(scheme, Scheme::DooSabin | Scheme::Sqrt3) {
             let rows = display_rows(&hierarchy.levels[k], scheme, display);
@@ -725,10 +754,7 @@ fn push_stencil_patches_with(
     let (starts, bspline_faces): (Vec<u32>, Vec<Option<[u32; 16]>>) = if closed_form {
         (
             first_children(base, scheme),
-            (0..base.face_count() as u32)
-                .into_par_iter()
-                .map(|f| regular_bspline_grid(base, scheme, f))
-                .collect(),
+            regular_bspline_grids(base, scheme),
         )
     } else {
         Default::default()
