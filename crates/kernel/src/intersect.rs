@@ -214,6 +214,15 @@ impl<'a> Side<'a> {
     pub(crate) fn at(&self, u: f64, v: f64) -> Option<SurfaceDerivatives> {
         self.surface.derivatives(u, v)
     }
+
+    /// The derivatives at the nearest point of the domain and the point there moved to first
+    /// order to (u, v): the surface itself inside the domain, its tangent plane beyond.
+    fn extrapolated(&self, u: f64, v: f64) -> Option<(SurfaceDerivatives, DVec3)> {
+        let (cu, cv) = self.clamp(u, v);
+        let d = self.at(cu, cv)?;
+        let p = d.point + d.su * (u - cu) + d.sv * (v - cv);
+        Some((d, p))
+    }
 }
 
 /// The sine of the angle between the two surfaces' tangent planes and the unit tangent of
@@ -645,13 +654,24 @@ fn converge_holding(
     x[held] = value;
     let free: Vec<usize> = (0..4).filter(|&i| i != held).collect();
     for _ in 0..30 {
-        let da = a.at(x[0], x[1])?;
-        let db = b.at(x[2], x[3])?;
-        let f = da.point - db.point;
+        let (da, pa) = a.extrapolated(x[0], x[1])?;
+        let (db, pb) = b.extrapolated(x[2], x[3])?;
+        let f = pa - pb;
         if f.length() <= tolerance * 1e-3 {
+            // A parameter a hair past its bound is on it (a boundary shared by both surfaces
+            // is met on both at once).
+            let bounds = parameter_bounds(a, b);
+            for (i, c) in x.iter_mut().enumerate() {
+                let (lo, hi) = bounds[i];
+                if *c < lo && *c >= lo - hair(&bounds, i) {
+                    *c = lo;
+                } else if *c > hi && *c <= hi + hair(&bounds, i) {
+                    *c = hi;
+                }
+            }
             return (a.inside(x[0], x[1]) && b.inside(x[2], x[3])).then(|| Common {
                 x,
-                point: 0.5 * (da.point + db.point),
+                point: 0.5 * (pa + pb),
             });
         }
         let cols = [da.su, da.sv, -db.su, -db.sv];
@@ -708,12 +728,8 @@ fn newton_step(
         if !(a.near(x[0], x[1]) && b.near(x[2], x[3])) {
             return None;
         }
-        let (cu, cv) = a.clamp(x[0], x[1]);
-        let (cs, ct) = b.clamp(x[2], x[3]);
-        let da = a.at(cu, cv)?;
-        let db = b.at(cs, ct)?;
-        let pa = da.point + da.su * (x[0] - cu) + da.sv * (x[1] - cv);
-        let pb = db.point + db.su * (x[2] - cs) + db.sv * (x[3] - ct);
+        let (da, pa) = a.extrapolated(x[0], x[1])?;
+        let (db, pb) = b.extrapolated(x[2], x[3])?;
         let f = pa - pb;
         let g = (pa - from.point).dot(direction) - h;
         if f.length() <= tolerance * 1e-2 && g.abs() <= tolerance * 1e-2 {
@@ -1145,7 +1161,10 @@ fn intersect_trees(
         }
         let (u, v) = ca.centre();
         let (s, t) = cb.centre();
-        let Some(seed) = converge(&a, &b, [u, v, s, t], options.tolerance) else {
+        let start = [u, v, s, t];
+        let Some(seed) = converge(&a, &b, start, options.tolerance)
+            .or_else(|| boundary_seed((&a, &ca), (&b, &cb), start, options.tolerance))
+        else {
             continue;
         };
         if stop_kind(&a, &b, &seed.x) == Some(BranchEnd::Trim) {
@@ -1208,6 +1227,25 @@ fn intersect_trees(
     }
     continue_across_seams(&a, &b, &mut result, options);
     result
+}
+
+/// A seed on a domain boundary that cell `ca` or `cb` lies on, where [`converge`] from the
+/// cells' centres `start` found none: a short branch that cuts a domain's corner or edge has
+/// its nearest points on the surfaces' extensions past the boundary, where the clamped
+/// least-norm steps stall; the boundary isocurve meeting the other surface
+/// ([`converge_holding`]) finds where the branch enters the domain.
+fn boundary_seed(
+    (a, ca): (&Side<'_>, &Cell),
+    (b, cb): (&Side<'_>, &Cell),
+    start: [f64; 4],
+    tolerance: f64,
+) -> Option<Common> {
+    let bounds = parameter_bounds(a, b);
+    let ranges = [ca.u, ca.v, cb.u, cb.v];
+    (0..4)
+        .flat_map(|i| [(i, bounds[i].0, ranges[i].0), (i, bounds[i].1, ranges[i].1)])
+        .filter(|&(_, bound, end)| bound == end)
+        .find_map(|(i, bound, _)| converge_holding(a, b, start, i, bound, tolerance))
 }
 
 /// How near a branch already traced a seed (or a seam's continuation) belongs to it.
