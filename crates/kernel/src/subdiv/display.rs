@@ -8,7 +8,7 @@ use std::f64::consts::TAU;
 use glam::DVec3;
 
 use super::level::{Level, NONE};
-use super::limit::{limit_position, limit_tangents};
+use super::limit::{limit_position, limit_tangents, sharp_corner_tangents};
 use super::pieces::{DEFAULT_TOLERANCE, Display};
 use super::schemes::{directed_ends, ring_boundary_edges};
 use super::stencil::Row;
@@ -88,6 +88,20 @@ impl<'a> VertexRows<'a> {
         };
         let [t1, t2] = limit_tangents(self.level, self.scheme, v, &|u| self.limit(u));
         [position, t1, t2]
+    }
+
+    /// [`Self::rows`] for the corner `v` of `face`: where `v` is sharp (a crease, a corner,
+    /// the boundary) on the limit of Catmull-Clark, the tangents are that face's own
+    /// ([`sharp_corner_tangents`]), so each side of a crease shows its own normal.
+    pub fn rows_in_face(&self, v: u32, face: Option<u32>) -> [Row; 3] {
+        let sharp = match (self.display, face) {
+            (Display::Refined, _) | (_, None) => None,
+            (_, Some(f)) => sharp_corner_tangents(self.level, self.scheme, v, f),
+        };
+        match sharp {
+            Some([t1, t2]) => [self.limit(v), t1, t2],
+            None => self.rows(v),
+        }
     }
 }
 

@@ -626,7 +626,16 @@ pub(super) fn push_region_stencil_patches(
 
 /// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i and
 /// whether that neighbour lies backwards (the grid's last row).
-type ShownSlot = (u32, Option<u32>, bool);
+/// A shown slot's vertex of the level, its neighbour along the full grid's i (`towards`, or
+/// away from it where `reversed`), and the corner diagonally opposite it in the piece's quad
+/// at the slot (Catmull-Clark), which names the quad whose side of a crease the slot shows.
+#[derive(Debug, Clone, Copy)]
+struct ShownSlot {
+    vertex: u32,
+    towards: Option<u32>,
+    reversed: bool,
+    opposite: Option<u32>,
+}
 
 /// The pieces that show cage faces `faces` exactly at level `levels` (≥ 1): Catmull-Clark's
 /// faces split into their level-1 quads (every face of a level ≥ 1 is a quad), the other
@@ -723,7 +732,20 @@ fn push_stencil_patches_with(
                         } else {
                             (at(i - 1, j), true)
                         };
-                        at(i, j).map(|v| (v, towards, reversed))
+                        // The piece's quad at this slot: the grid cell beside it, found by
+                        // its corner opposite the slot's.
+                        let (ci, cj) = (i.min(big - 1), j.min(big - 1));
+                        let opposite = if triangle {
+                            None
+                        } else {
+                            at(2 * ci + 1 - i, 2 * cj + 1 - j)
+                        };
+                        at(i, j).map(|v| ShownSlot {
+                            vertex: v,
+                            towards,
+                            reversed,
+                            opposite,
+                        })
                     }));
                 }
             }
@@ -793,7 +815,12 @@ fn push_stencil_patches_with(
             let scale = f64::from(1u32 << shown.piece.depth);
             grid.iter()
                 .map(|slot| {
-                    let (v, towards, reversed) = (*slot)?;
+                    let ShownSlot {
+                        vertex: v,
+                        towards,
+                        reversed,
+                        opposite,
+                    } = (*slot)?;
                     let regular = display != Display::Refined && is_regular(level, scheme, v);
                     let neighbourhood = if regular {
                         towards.and_then(|n| regular_grid(level, v, n, reversed))
@@ -802,7 +829,14 @@ fn push_stencil_patches_with(
                     };
                     Some(match neighbourhood {
                         Some(points) => SlotRows::Regular(points, scale),
-                        None => SlotRows::Rows(vertex_rows.rows(v)),
+                        None => {
+                            let face = opposite.and_then(|o| {
+                                level.vertex_faces(v).iter().copied().find(|&f| {
+                                    level.face(f).len() == 4 && level.diagonal(f, v) == o
+                                })
+                            });
+                            SlotRows::Rows(vertex_rows.rows_in_face(v, face))
+                        }
                     })
                 })
                 .collect()
@@ -861,7 +895,7 @@ fn push_stencil_patches_with(
             feed.slots.push([base + start, end - start]);
             feed.no_curvature.push(matches!(rows, SlotRows::Rows(_)));
             feed.vertex
-                .push(grid[slot - first].map_or(u32::MAX, |(v, _, _)| v));
+                .push(grid[slot - first].map_or(u32::MAX, |slot| slot.vertex));
         }
     }
     // The slots' entries follow the feed's, in slot order.
@@ -876,6 +910,8 @@ fn push_stencil_patches_with(
 pub(super) mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
+    use crate::subdiv::limit::limit_rule;
+    use crate::subdiv::refine::Rule;
     use crate::subdiv::{Crease, Options, cages};
     use crate::test_support::{Xorshift, placement};
     use glam::DVec3;
@@ -984,6 +1020,8 @@ pub(super) mod tests {
                     assert_eq!(closed.vertex, composed.vertex);
                     assert_eq!(closed.no_curvature, composed.no_curvature);
                     let limit = surface.limit(levels).unwrap();
+                    let hierarchy = surface.hierarchy(levels).unwrap();
+                    let level = &hierarchy.levels[levels as usize];
                     let mut worst = [0.0f64; 3];
                     for slot in 0..closed.slots.len() {
                         let vertex = closed.vertex[slot];
@@ -997,7 +1035,12 @@ pub(super) mod tests {
                         }
                         let v = vertex as usize;
                         worst[1] = worst[1].max((a[0] - limit.positions[v]).length() / size);
-                        worst[2] = worst[2].max(a[1].cross(a[2]).angle_between(limit.normals[v]));
+                        // A sharp point's slot shows its own quad's normal (the limit mesh
+                        // has one per point).
+                        if matches!(limit_rule(level, vertex), Rule::Smooth | Rule::Dart) {
+                            let normal = a[1].cross(a[2]);
+                            worst[2] = worst[2].max(normal.angle_between(limit.normals[v]));
+                        }
                     }
                     assert!(
                         worst[0] < 1e-12 && worst[1] < 1e-12 && worst[2] < 1e-7,
