@@ -308,7 +308,7 @@ fn sector_matrix(k: usize, corner: bool) -> Vec<f64> {
 /// points whose cross product, applied to them, is the limit of quad i's normal at its corner
 /// v (the normal the limit surface tends to inside that quad as it nears v). Quad i's corner
 /// at level m spans (d_i − v) and (e_{i+1} − e_i), the rows r S^m of those differences over
-/// the sector's points; the plane of the two rows converges to the span of the two fastest
+/// the sector's points; the plane of the two rows converges to the span of the two slowest
 /// decaying modes of S present in them (block power iteration, the rows re-orthonormalised at
 /// each step, which keeps their plane and its orientation). This is Stam's eigenanalysis
 /// ("Exact evaluation of Catmull-Clark subdivision surfaces at arbitrary parameter values",
@@ -362,10 +362,10 @@ fn sector_corner_masks(k: usize, corner: bool) -> Vec<[Vec<f64>; 2]> {
             // about 1/iterations: inverse iteration with (S − λI) settles it on the
             // eigenvector, and leaves a semisimple mode's direction as it is.
             let lambda = dot(&times(&b), &b);
+            let shifted: Vec<f64> = (0..n * n)
+                .map(|x| s[x] - if x / n == x % n { lambda } else { 0.0 })
+                .collect();
             for _ in 0..3 {
-                let shifted: Vec<f64> = (0..n * n)
-                    .map(|x| s[x] - if x / n == x % n { lambda } else { 0.0 })
-                    .collect();
                 match solve_left(&shifted, &b, n) {
                     Some(x) if x.iter().all(|v| v.is_finite()) => {
                         // 1/(λ − μ) may be negative: keep the plane's orientation.

@@ -624,11 +624,10 @@ pub(super) fn push_region_stencil_patches(
     Ok(true)
 }
 
-/// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i and
-/// whether that neighbour lies backwards (the grid's last row).
-/// A shown slot's vertex of the level, its neighbour along the full grid's i (`towards`, or
-/// away from it where `reversed`), and the corner diagonally opposite it in the piece's quad
-/// at the slot (Catmull-Clark), which names the quad whose side of a crease the slot shows.
+/// A slot of a shown grid: the level's vertex there, its neighbour along the full grid's i
+/// (`towards`) and whether that neighbour lies backwards (`reversed`, the grid's last row),
+/// and the corner diagonally opposite it in the piece's quad at the slot (Catmull-Clark),
+/// which names the quad whose side of a crease the slot shows.
 #[derive(Debug, Clone, Copy)]
 struct ShownSlot {
     vertex: u32,
