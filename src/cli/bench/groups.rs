@@ -1934,7 +1934,46 @@ fn bench_subdivision(
         bench_object(context, object, 200, iterations, out)?;
     }
 
+    // The 1,536-face cages with extraordinary points, through the editor's feed at level 4
+    // (B-spline patches for the regular quads, stencils for the rest): the cube's cage refined
+    // four times (eight points of three quads) and the 24 × 32 torus split into triangles
+    // (every face irregular under Catmull-Clark).
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let (points, level) =
+        knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(cages::cube(DVec3::ZERO, 2.0)?, 4)?
+            .refined(4)?;
+    let faces: Vec<Vec<u32>> = level.faces().map(<[u32]>::to_vec).collect();
+    let refined_cube = knotwork::kernel::PolygonMesh::new(points, &faces)?;
+    let torus_triangles = triangulated(&cages::torus(DVec3::ZERO, 2.0, 0.6, 24, 32)?)?;
+    for (name, mesh) in [
+        ("cube refined to 1,536 quads", refined_cube),
+        ("24x32 torus in 1,536 triangles", torus_triangles),
+    ] {
+        let surface = knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(mesh, 4)?;
+        let mut builds = Vec::new();
+        let mut ones = Vec::new();
+        let mut feed = None;
+        for _ in 0..iterations.clamp(1, 5) {
+            let start = Instant::now();
+            feed = Some(surface.limit_feed(4, Display::Limit)?);
+            builds.push(start.elapsed().as_secs_f64() * 1e3);
+            let start = Instant::now();
+            one_thread.install(|| surface.limit_feed(4, Display::Limit))?;
+            ones.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        let Some(feed) = feed else { continue };
+        writeln!(
+            out,
+            "{name} L4, editor's feed | built {:8.1} ms on {} threads, {:8.1} ms on one | {} B-spline patches, {} stencil slots, {} entries",
+            median(builds),
+            rayon::current_num_threads(),
+            median(ones),
+            feed.regular.len(),
+            feed.slots.len(),
+            feed.entries.len(),
+        )?;
+    }
+
     let binding = context.device.limits().max_storage_buffer_binding_size;
     for level in [3, 4, 5] {
         let surface =

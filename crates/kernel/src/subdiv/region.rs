@@ -20,12 +20,15 @@ use super::pieces::{LimitFeed, first_children};
 use super::{Boundary, Options};
 use crate::GeometryError;
 
-/// How many vertex-rings of faces around the faces asked for are refined with them. The limit
-/// at a face's level vertex reads its one-ring at that level, and where its tangents come from
-/// neighbouring limit points (creases, boundaries) the ring beyond: refined back to the cage,
-/// that is the faces within two rings. One ring more keeps the region's rim, whose points
-/// follow boundary rules, away from every point they read.
-pub const REGION_RINGS: u32 = 3;
+/// How many vertex-rings of faces around the faces asked for are refined with them. A slot's
+/// rows read its level vertex's one-ring at that level (the limit masks, a regular vertex's
+/// 3 × 3 neighbourhood, a sharp point's sector masks); refined back to the cage, those reach
+/// the faces sharing a point with the face, and every refined point they read is computed from
+/// faces of the region only, never from its rim, whose points follow boundary rules. Where a
+/// sharp point's tangents have no sector masks (a semi-sharp corner with no sharp edge, a
+/// crease sector of one quad), they come from the neighbours' limit points, the ring beyond:
+/// one ring more.
+pub const REGION_RINGS: u32 = 2;
 
 /// Above this share of the cage's faces, the region is refined as the whole cage is (the cut
 /// would cost more than it saves).
