@@ -665,13 +665,16 @@ mod tests {
                 .map(|&(i, w)| w * points[i as usize])
                 .sum::<DVec3>()
         };
+        let mut sum = Some(DVec3::ZERO);
         for (face, deep) in deep_corner_normals(level, &points, 0, 160) {
             // Corners of two or four quads keep the one-sided estimate.
             let Some([a, b]) = sharp_corner_tangents(level, Scheme::CatmullClark, 0, face) else {
+                sum = None;
                 continue;
             };
             *checked += 1;
             let normal = apply(&a).cross(apply(&b)).normalize();
+            sum = sum.map(|s| s + normal);
             let distance: Vec<f64> = deep.iter().map(|n| normal.angle_between(*n)).collect();
             let closest = distance.iter().copied().fold(f64::INFINITY, f64::min);
             let (d60, d120) = (distance[59], distance[119]);
@@ -679,6 +682,15 @@ mod tests {
                 closest < 1e-6 || (d120 < 0.7 * d60 && d60 < 0.2),
                 "{what}, quad {face}: the deep normals come within {closest} rad of the \
                  masks' normal ({d60} at depth 60, {d120} at 120)"
+            );
+        }
+        // The limit mesh's one normal there: the mean of its quads' own.
+        if let Some(sum) = sum {
+            let one = surface.limit(levels).unwrap().normals[0];
+            let angle = one.angle_between(sum.normalize());
+            assert!(
+                angle < 1e-9,
+                "{what}: the limit mesh's normal is {angle} rad off"
             );
         }
     }

@@ -396,13 +396,27 @@ impl SubdivisionSurface {
             .map(|v| limit::limit_position(level, scheme, v))
             .collect();
         let positions: Vec<DVec3> = position_rows.iter().map(|r| r.apply(&points)).collect();
+        let normal = |[t1, t2]: [stencil::Row; 2]| {
+            t1.apply(&points)
+                .cross(t2.apply(&points))
+                .normalize_or_zero()
+        };
         let normals = (0..count as u32)
             .map(|v| {
-                let [t1, t2] =
-                    limit::limit_tangents(level, scheme, v, &|u| position_rows[u as usize].clone());
-                t1.apply(&points)
-                    .cross(t2.apply(&points))
-                    .normalize_or_zero()
+                // At a sharp point each quad has its own limit normal: one normal per point is
+                // their mean, exact where they agree (a sector of up to four quads: the
+                // boundary, a crease's one side).
+                let sharp: Option<DVec3> = level
+                    .vertex_faces(v)
+                    .iter()
+                    .map(|&f| limit::sharp_corner_tangents(level, scheme, v, f).map(normal))
+                    .sum();
+                match sharp {
+                    Some(sum) if sum != DVec3::ZERO => sum.normalize_or_zero(),
+                    _ => normal(limit::limit_tangents(level, scheme, v, &|u| {
+                        position_rows[u as usize].clone()
+                    })),
+                }
             })
             .collect();
         Ok(LimitMesh {
