@@ -3,7 +3,8 @@
 //! them) is run through the command line, and the result must have Blender's topology (counts
 //! of vertices, edges and faces, open edges, and the histograms of valences and face sizes),
 //! Blender's points, each matched to one of the other's within 1e-6 of the coordinates' size
-//! (Blender keeps points in f32), and Blender's edges between the points so matched.
+//! (Blender keeps points in f32), Blender's edges between the points so matched, and Blender's
+//! creases on them (its crease, a tenth of the sharpness, is written back as sharpness).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -11,6 +12,8 @@ use std::path::Path;
 struct Obj {
     points: Vec<[f64; 3]>,
     faces: Vec<Vec<usize>>,
+    /// OpenSubdiv's crease tags: the edge's two points (0-based) and its sharpness.
+    creases: Vec<(usize, usize, f64)>,
 }
 
 fn read_obj(path: &Path) -> Obj {
@@ -18,6 +21,7 @@ fn read_obj(path: &Path) -> Obj {
     let mut obj = Obj {
         points: Vec::new(),
         faces: Vec::new(),
+        creases: Vec::new(),
     };
     for line in text.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -31,10 +35,52 @@ fn read_obj(path: &Path) -> Obj {
                     .map(|c| c.split('/').next().unwrap().parse::<usize>().unwrap() - 1)
                     .collect(),
             ),
+            Some(&"t") if fields.get(1) == Some(&"crease") => obj.creases.push((
+                fields[3].parse().unwrap(),
+                fields[4].parse().unwrap(),
+                fields[5].parse().unwrap(),
+            )),
             _ => {}
         }
     }
     obj
+}
+
+/// Each point of `a` matched to the nearest point of `b`, where no second point of `b` lies
+/// within `tolerance` (copies left unmerged are not matched).
+fn nearest_points(a: &Obj, b: &Obj, tolerance: f64) -> Vec<Option<usize>> {
+    let distance =
+        |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
+    let nearest = |p: &[f64; 3]| {
+        let mut order: Vec<usize> = (0..b.points.len()).collect();
+        order.sort_by(|&i, &j| distance(p, &b.points[i]).total_cmp(&distance(p, &b.points[j])));
+        match order[..] {
+            [_, second, ..] if distance(p, &b.points[second]) <= tolerance => None,
+            [first, ..] => Some(first),
+            [] => None,
+        }
+    };
+    a.points.iter().map(nearest).collect()
+}
+
+/// A crease of `a` (its ends matched to `b`'s points) that `b` lacks or holds with another
+/// sharpness (beyond 1e-6 of it: Blender keeps creases in f32), as text.
+fn crease_not_in(a: &Obj, b: &Obj, tolerance: f64) -> Option<String> {
+    let map = nearest_points(a, b, tolerance);
+    let theirs: BTreeMap<(usize, usize), f64> = b
+        .creases
+        .iter()
+        .map(|&(x, y, s)| ((x.min(y), x.max(y)), s))
+        .collect();
+    a.creases.iter().find_map(|&(x, y, s)| {
+        let (Some(p), Some(q)) = (map[x], map[y]) else {
+            return None;
+        };
+        match theirs.get(&(p.min(q), p.max(q))) {
+            Some(&t) if (t - s).abs() <= 1e-6 * s.max(1.0) => None,
+            found => Some(format!("{x}-{y} sharpness {s}, the other's {found:?}")),
+        }
+    })
 }
 
 /// Counts, open edges and histograms: what Blender's topology and ours must share.
@@ -87,18 +133,7 @@ fn farthest_unmatched(a: &Obj, b: &Obj) -> f64 {
 /// join). Points of `a` with two points of `b` within `tolerance` (copies left unmerged) are
 /// not matched, and their edges not checked.
 fn edge_not_in(a: &Obj, b: &Obj, tolerance: f64) -> Option<(usize, usize)> {
-    let distance =
-        |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
-    let nearest = |p: &[f64; 3]| {
-        let mut order: Vec<usize> = (0..b.points.len()).collect();
-        order.sort_by(|&i, &j| distance(p, &b.points[i]).total_cmp(&distance(p, &b.points[j])));
-        match order[..] {
-            [_, second, ..] if distance(p, &b.points[second]) <= tolerance => None,
-            [first, ..] => Some(first),
-            [] => None,
-        }
-    };
-    let map: Vec<Option<usize>> = a.points.iter().map(nearest).collect();
+    let map = nearest_points(a, b, tolerance);
     let edges_of = |obj: &Obj, map: &dyn Fn(usize) -> Option<usize>| {
         let mut set = std::collections::BTreeSet::new();
         for f in &obj.faces {
@@ -177,6 +212,14 @@ fn every_tool_matches_blender_bmesh_on_cages_in_general_position() {
         }
         if let Some(edge) = edge_not_in(&ours, &blender, tolerance) {
             failures.push(format!("{stem}: our edge {edge:?} is not one of Blender's"));
+        }
+        if let Some(crease) = crease_not_in(&ours, &blender, tolerance) {
+            failures.push(format!(
+                "{stem}: our crease {crease} (Blender's creases differ)"
+            ));
+        }
+        if let Some(crease) = crease_not_in(&blender, &ours, tolerance) {
+            failures.push(format!("{stem}: Blender's crease {crease} (ours differ)"));
         }
         count += 1;
     }

@@ -18,6 +18,7 @@ from mathutils import Matrix, Quaternion, Vector
 
 
 def read_obj(path):
+    """Points, faces and OpenSubdiv's crease tags (`t crease 2/1/0 A B S`, 0-based)."""
     verts, faces, creases = [], [], []
     for line in open(path):
         f = line.split("#")[0].split()
@@ -27,19 +28,33 @@ def read_obj(path):
             verts.append(tuple(float(x) for x in f[1:4]))
         elif f[0] == "f":
             faces.append([int(c.split("/")[0]) - 1 for c in f[1:]])
-    return verts, faces
+        elif f[:2] == ["t", "crease"]:
+            creases.append((int(f[3]), int(f[4]), float(f[5])))
+    return verts, faces, creases
+
+
+def crease_layer(bm):
+    return bm.edges.layers.float.get("crease_edge") or bm.edges.layers.float.new("crease_edge")
 
 
 def write_obj(path, bm):
+    """The points and faces, and each creased edge as a crease tag: Blender's crease (0-1)
+    is a tenth of the sharpness (0-10), as its Subdivision modifier hands it to OpenSubdiv."""
     bm.verts.index_update()
+    layer = bm.edges.layers.float.get("crease_edge")
     with open(path, "w") as out:
         for v in bm.verts:
             out.write("v %.17g %.17g %.17g\n" % tuple(v.co))
         for f in bm.faces:
             out.write("f " + " ".join(str(v.index + 1) for v in f.verts) + "\n")
+        if layer is not None:
+            for e in bm.edges:
+                if e[layer] > 0:
+                    a, b = (v.index for v in e.verts)
+                    out.write("t crease 2/1/0 %d %d %.9g\n" % (a, b, 10 * e[layer]))
 
 
-def build(verts, faces):
+def build(verts, faces, creases=()):
     bm = bmesh.new()
     for p in verts:
         bm.verts.new(p)
@@ -49,6 +64,10 @@ def build(verts, faces):
     bm.verts.ensure_lookup_table()
     bm.faces.ensure_lookup_table()
     bm.edges.ensure_lookup_table()
+    if creases:
+        layer = crease_layer(bm)
+        for a, b, sharpness in creases:
+            edge(bm, a, b)[layer] = min(sharpness / 10, 1.0)
     bm.normal_update()
     return bm
 
@@ -712,6 +731,18 @@ CASES = [
     # side, straight on the grid, an arc on the tube's round rim) and a corner of two.
     ("grid", "bevel --vertices 2,0 --width 0.2U --segments 3"),
     ("tube12", "bevel --vertices 0,14 --width 0.15U --segments 2"),
+    # Creases through a bevel (the third item: edges and sharpness): a beveled edge's on its
+    # band's two outer rails, an unbeveled edge's on what is left of it, an arc in a face
+    # with no beveled edge at the end taking that of the face's edge leaving the end.
+    ("box", "bevel --edges 0-1 --width 0.3U --segments 2", [(0, 1, 3), (0, 2, 1.5), (1, 5, 2.5)]),
+    ("box", "bevel --edges 0-1 --width 0.2U --segments 1", [(0, 1, 4), (0, 4, 2), (1, 3, 6)]),
+    ("box", "bevel --edges 0-1,0-2,0-4 --width 0.2U --segments 1", [(0, 1, 2), (0, 2, 4), (1, 3, 1)]),
+    ("box", "bevel --edges 0-1,1-3,3-2,2-0 --width 0.2U --segments 3", [(0, 1, 2), (3, 2, 5), (2, 6, 3)]),
+    ("frustum", "bevel --edges 0-1,1-2 --width 0.1U --segments 3", [(0, 1, 5), (1, 5, 2), (2, 6, 3)]),
+    ("torus", "bevel --edges 0-1 --width 0.15U --segments 2", [(0, 1, 2), (0, 6, 1), (1, 7, 3), (0, 5, 2)]),
+    ("grid", "bevel --edges 6-7 --width 0.2U --segments 3", [(6, 7, 2), (1, 6, 1.5), (7, 12, 2.5), (6, 5, 1)]),
+    ("box", "bevel --vertices 7 --width 0.3U --segments 2", [(7, 3, 2), (7, 6, 4), (1, 5, 1)]),
+    ("torus", "bevel --vertices 0 --width 0.2U", [(0, 1, 2), (0, 6, 3)]),
 ]
 
 
@@ -720,7 +751,7 @@ def fixtures(directory, seed=1000):
     `cases.tsv`: name, tool and arguments."""
     os.makedirs(directory, exist_ok=True)
     lines = []
-    for k, (name, args) in enumerate(CASES):
+    for k, (name, args, *creased) in enumerate(CASES):
         points, faces = cage(name.rstrip("!"))
         if name.endswith("!"):
             name, scale = name[:-1], 1.0
@@ -730,7 +761,7 @@ def fixtures(directory, seed=1000):
             points, scale = placed(points, seed + k)
             args = " ".join(moved_argument(a, seed + k, scale) for a in args.split())
         stem = "%02d-%s-%s" % (k, name, args.split()[0])
-        bm = build(points, faces)
+        bm = build(points, faces, *creased)
         write_obj(os.path.join(directory, stem + ".in.obj"), bm)
         apply(bm, args.split()[0], args.split()[1:])
         write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
@@ -743,8 +774,8 @@ def main():
     if sys.argv[1] == "--fixtures":
         return fixtures(sys.argv[2], *[int(a) for a in sys.argv[3:4]])
     src, dst, op = sys.argv[1:4]
-    verts, faces = read_obj(src)
-    bm = build(verts, faces)
+    verts, faces, creases = read_obj(src)
+    bm = build(verts, faces, creases)
     apply(bm, op, sys.argv[4:])
     write_obj(dst, bm)
 

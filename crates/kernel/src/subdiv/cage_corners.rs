@@ -168,6 +168,10 @@ impl Cage {
             }
             new_faces.extend(faces);
         }
+        let sharp = self.sharpness_of_edges();
+        // The sides that take a corner's place in a face, and the crease each takes: that of
+        // the face's edge leaving the corner (as Blender's bevel carries it).
+        let mut creased_sides: Vec<(Vec<u32>, f64)> = Vec::new();
         for (f, face) in self.faces.iter().enumerate() {
             let n = face.len();
             if !face.iter().any(|v| named.contains(v)) {
@@ -179,10 +183,14 @@ impl Cage {
                 if named.contains(&v) {
                     let (u, w) = (face[(c + n - 1) % n], face[(c + 1) % n]);
                     let (a, b) = (point[&(v, u)], point[&(v, w)]);
+                    let start = grown.len();
                     // The corner mesh's side runs from b to a: its points in reverse.
                     match arc.get(&(b, a)) {
                         Some(side) => grown.extend(side.iter().rev()),
                         None => grown.extend([a, b]),
+                    }
+                    if let Some(&s) = sharp.get(&key(v, w)) {
+                        creased_sides.push((grown[start..].to_vec(), s));
                     }
                 } else {
                     grown.push(v);
@@ -191,8 +199,12 @@ impl Cage {
             out.faces[f] = grown;
         }
         out.faces.extend(new_faces);
+        for (side, s) in creased_sides {
+            for pair in side.windows(2) {
+                out.add_crease(pair[0], pair[1], s);
+            }
+        }
         // Creases on the edges' remaining parts.
-        let sharp = self.sharpness_of_edges();
         let mut cut: Vec<((u32, u32), u32)> = point.iter().map(|(&e, &p)| (e, p)).collect();
         cut.sort_unstable();
         for ((v, w), p) in cut {

@@ -1617,6 +1617,10 @@ impl Cage {
             })
         };
         let mut out = self.clone();
+        let sharpness = self.sharpness_of_edges();
+        // The arcs that take an end's place in a face with no beveled edge there, and the
+        // sharpness they take.
+        let mut arc_creases: Vec<(u32, u32, f64)> = Vec::new();
         // Each end's new corner points: per face (a meet point) or per edge (a point on it).
         let mut face_point: HashMap<(u32, usize), u32> = HashMap::default();
         let mut edge_point: HashMap<(u32, u32), u32> = HashMap::default();
@@ -1916,6 +1920,10 @@ impl Cage {
                         };
                         // (The same point where both edges are between two beveled ones.)
                         replace.insert((f, v), if qa == qb { vec![qa] } else { vec![qa, qb] });
+                        // Blender's arc there takes the crease of the face's edge leaving v.
+                        if let (true, Some(&s)) = (qa != qb, sharpness.get(&key(v, b))) {
+                            arc_creases.push((qa, qb, s));
+                        }
                     }
                 }
                 // The band of the beveled edge v–b leaving this face: its arc runs from this
@@ -2034,6 +2042,32 @@ impl Cage {
             for k in 0..segments as usize {
                 out.faces
                     .push(vec![at_b[k], at_a[k], at_a[k + 1], at_b[k + 1]]);
+            }
+            // A creased edge's sharpness goes to the band's two rails along the faces beside
+            // it; the rails between stay smooth (as Blender's bevel carries edge creases).
+            if let Some(&s) = sharpness.get(&key(a, b)) {
+                let last = segments as usize;
+                out.add_crease(at_a[0], at_b[0], s);
+                out.add_crease(at_a[last], at_b[last], s);
+            }
+        }
+        // An unbeveled creased edge keeps its sharpness on what is left of it (from the point
+        // that took a beveled end's place on it), and an arc in a face with no beveled edge
+        // at the end it replaces takes that of the face's edge leaving the end (Blender's
+        // choice). `compacted` drops the creases of edges that are gone.
+        for c in &self.creases {
+            if beveled.contains(&key(c.a, c.b)) {
+                continue;
+            }
+            let a = edge_point.get(&(c.a, c.b)).copied().unwrap_or(c.a);
+            let b = edge_point.get(&(c.b, c.a)).copied().unwrap_or(c.b);
+            if (a, b) != (c.a, c.b) {
+                out.add_crease(a, b, c.sharpness);
+            }
+        }
+        for (qa, qb, s) in arc_creases {
+            for pair in arc(qa, qb).windows(2) {
+                out.add_crease(pair[0], pair[1], s);
             }
         }
         // Corners of three or more beveled edges: the polygon their arcs leave.
@@ -2634,6 +2668,60 @@ pub(super) mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A beveled creased edge of a cube in general position leaves its sharpness on two
+    /// edges of the same length parallel to it (the band's outer rails), whatever the
+    /// segments, and an unbeveled creased edge at its end keeps its sharpness on what is left
+    /// of it: the edge shortened by the width, its far end where it was.
+    #[test]
+    fn a_bevel_carries_the_creases_to_the_rails_and_the_pieces_left() {
+        let cube = cages::cube(DVec3::ZERO, 2.0).unwrap();
+        for seed in 0..9u64 {
+            let (mut cage, scale) = cage_of(&cube, seed);
+            let (a, b, c) = (cage.faces[0][0], cage.faces[0][1], cage.faces[0][2]);
+            cage.creases = vec![
+                Crease {
+                    a,
+                    b,
+                    sharpness: 3.5,
+                },
+                Crease {
+                    a: b,
+                    b: c,
+                    sharpness: 1.25,
+                },
+            ];
+            let p = |cage: &Cage, v: u32| cage.points[v as usize];
+            let (along, side) = (p(&cage, b) - p(&cage, a), p(&cage, c) - p(&cage, b));
+            let width = 0.2 * scale;
+            let segments = 1 + (seed % 3) as u32;
+            let out = cage.bevel_edges(&[(a, b)], width, segments).unwrap();
+            check_cage(&out);
+            let edge = |c: &Crease| p(&out, c.b) - p(&out, c.a);
+            let rails: Vec<&Crease> = out.creases.iter().filter(|c| c.sharpness == 3.5).collect();
+            assert_eq!(rails.len(), 2, "seed {seed}");
+            for rail in rails {
+                let e = edge(rail);
+                assert!(e.cross(along).length() <= 1e-9 * along.length_squared());
+                assert!((e.length() - along.length()).abs() <= 1e-9 * scale);
+            }
+            let far = p(&cage, c);
+            let piece = out
+                .creases
+                .iter()
+                .find(|k| {
+                    k.sharpness == 1.25
+                        && (p(&out, k.a) - far)
+                            .length()
+                            .min((p(&out, k.b) - far).length())
+                            <= 1e-12 * scale
+                })
+                .unwrap_or_else(|| panic!("seed {seed}: the piece lost its crease"));
+            let e = edge(piece);
+            assert!(e.cross(side).length() <= 1e-9 * side.length_squared());
+            assert!((e.length() - (side.length() - width)).abs() <= 1e-9 * scale);
         }
     }
 
