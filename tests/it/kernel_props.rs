@@ -511,41 +511,75 @@ proptest! {
     /// curve within 1e-5 of the network's size.
     #[test]
     fn networks_contain_their_curves(nu in 2usize..5, nv in 2usize..5, seed in any::<u64>()) {
-        use knotwork::kernel::network::network_surface;
-        let mut rng = Rng(seed);
-        let surface = smooth_surface(&mut rng);
-        let values = |n: usize, rng: &mut Rng| -> Vec<f64> {
-            let mut v: Vec<f64> = (0..n).map(|k| k as f64 / (n - 1) as f64).collect();
-            for x in v.iter_mut().take(n - 1).skip(1) {
-                *x += rng.range(-0.1, 0.1) / (n - 1) as f64;
-            }
-            v
-        };
-        let disguise = |c: SpaceCurve, rng: &mut Rng| -> SpaceCurve {
-            let c = if rng.below(2) == 0 { c.reverse() } else { c };
-            let c = c.reparametrized(rng.range(-3.0, 0.0), rng.range(1.0, 4.0)).unwrap();
-            if rng.below(2) == 0 { c.elevate_degree(1).unwrap() } else { c }
-        };
-        let mut us: Vec<SpaceCurve> = values(nu, &mut rng)
-            .into_iter()
-            .map(|v| surface.isocurve(Direction::V, v, 0).unwrap())
-            .collect();
-        let mut vs: Vec<SpaceCurve> = values(nv, &mut rng)
-            .into_iter()
-            .map(|u| surface.isocurve(Direction::U, u, 0).unwrap())
-            .collect();
-        us = us.into_iter().map(|c| disguise(c, &mut rng)).collect();
-        vs = vs.into_iter().map(|c| disguise(c, &mut rng)).collect();
-        us.rotate_left(rng.below(nu));
-        vs.rotate_left(rng.below(nv));
-        let network = network_surface(&us, &vs, 3).unwrap();
-        let size = surface.size().max(1.0);
-        for c in us.iter().chain(&vs) {
-            let d = curve_to_surface(c, &network.surface);
-            prop_assert!(d < 1e-5 * size, "a curve is {d:e} from the network ({})", network.deviation);
-        }
-        prop_assert!(network.deviation.distance < 1e-5 * size, "{}", network.deviation);
+        network_contains_its_curves(nu, nv, seed)?;
     }
+}
+
+/// The networks that failed [`networks_contain_their_curves`] before.
+#[test]
+fn network_seeds_that_failed_before_contain_their_curves() {
+    for (nu, nv, seed) in [(2, 4, 756506286786482874), (4, 2, 14759106695524801563)] {
+        if let Err(e) = network_contains_its_curves(nu, nv, seed) {
+            panic!("nu = {nu}, nv = {nv}, seed = {seed}: {e}");
+        }
+    }
+}
+
+/// [`networks_contain_their_curves`] for one draw.
+fn network_contains_its_curves(
+    nu: usize,
+    nv: usize,
+    seed: u64,
+) -> Result<(), proptest::test_runner::TestCaseError> {
+    use knotwork::kernel::network::network_surface;
+    let mut rng = Rng(seed);
+    let surface = smooth_surface(&mut rng);
+    let values = |n: usize, rng: &mut Rng| -> Vec<f64> {
+        let mut v: Vec<f64> = (0..n).map(|k| k as f64 / (n - 1) as f64).collect();
+        for x in v.iter_mut().take(n - 1).skip(1) {
+            *x += rng.range(-0.1, 0.1) / (n - 1) as f64;
+        }
+        v
+    };
+    let disguise = |c: SpaceCurve, rng: &mut Rng| -> SpaceCurve {
+        let c = if rng.below(2) == 0 { c.reverse() } else { c };
+        let c = c
+            .reparametrized(rng.range(-3.0, 0.0), rng.range(1.0, 4.0))
+            .unwrap();
+        if rng.below(2) == 0 {
+            c.elevate_degree(1).unwrap()
+        } else {
+            c
+        }
+    };
+    let mut us: Vec<SpaceCurve> = values(nu, &mut rng)
+        .into_iter()
+        .map(|v| surface.isocurve(Direction::V, v, 0).unwrap())
+        .collect();
+    let mut vs: Vec<SpaceCurve> = values(nv, &mut rng)
+        .into_iter()
+        .map(|u| surface.isocurve(Direction::U, u, 0).unwrap())
+        .collect();
+    us = us.into_iter().map(|c| disguise(c, &mut rng)).collect();
+    vs = vs.into_iter().map(|c| disguise(c, &mut rng)).collect();
+    us.rotate_left(rng.below(nu));
+    vs.rotate_left(rng.below(nv));
+    let network = network_surface(&us, &vs, 3).unwrap();
+    let size = surface.size().max(1.0);
+    for c in us.iter().chain(&vs) {
+        let d = curve_to_surface(c, &network.surface);
+        prop_assert!(
+            d < 1e-5 * size,
+            "a curve is {d:e} from the network ({})",
+            network.deviation
+        );
+    }
+    prop_assert!(
+        network.deviation.distance < 1e-5 * size,
+        "{}",
+        network.deviation
+    );
+    Ok(())
 }
 
 /// A bicubic height field z = h(x, y) over [0, 4]², its heights drawn from `rng` (plus

@@ -1147,8 +1147,9 @@ impl NurbsSurface {
 
     /// The closest point of the surface to `target` (point inversion, The NURBS Book §6.1):
     /// the local minima of the distance over a grid of samples (8 per Bézier span and
-    /// direction, down to 1 where a direction has more than 8 spans; the four nearest) each
-    /// start Newton's iteration on f = Su·(S − P) = 0,
+    /// direction, down to 1 where a direction has more than 8 spans), and the samples lowest
+    /// along the domain's edges, the six nearest, each start Newton's iteration on
+    /// f = Su·(S − P) = 0,
     /// g = Sv·(S − P) = 0 (eq. 6.6). Steps leaving the domain are clamped to its boundary; a
     /// step that does not reduce the distance is halved, and where no Newton step does, a
     /// steepest-descent step is tried; the nearest point found is returned.
@@ -1171,22 +1172,30 @@ impl NurbsSurface {
         self.evaluate_grid(&us, &vs, false, |i, j, d| {
             grid[i * nv + j] = d.point.distance_squared(target);
         })?;
-        // Newton from the grid's local minima (up to four, nearest first): one start can
-        // land in a local minimum of the distance where the surface folds.
+        // Newton from the grid's local minima (up to six, nearest first): one start can
+        // land in a local minimum of the distance where the surface folds. A sample on the
+        // domain's edge that is lowest along that edge is a start too: the closest point can
+        // be on the edge (where the distance need not be stationary) with a lower sample
+        // beside it inside, whose Newton ends in an interior local minimum.
         let mut starts: Vec<(f64, usize, usize)> = Vec::new();
         for i in 0..nu {
             for j in 0..nv {
                 let here = grid[i * nv + j];
-                let lowest = (i.saturating_sub(1)..=(i + 1).min(nu - 1)).all(|a| {
-                    (j.saturating_sub(1)..=(j + 1).min(nv - 1)).all(|b| grid[a * nv + b] >= here)
-                });
-                if lowest {
+                let around = |a: usize, b: usize| grid[a * nv + b] >= here;
+                let (is, js) = (
+                    i.saturating_sub(1)..=(i + 1).min(nu - 1),
+                    j.saturating_sub(1)..=(j + 1).min(nv - 1),
+                );
+                let lowest = is.clone().all(|a| js.clone().all(|b| around(a, b)));
+                let lowest_on_edge = ((i == 0 || i == nu - 1) && js.clone().all(|b| around(i, b)))
+                    || ((j == 0 || j == nv - 1) && is.clone().all(|a| around(a, j)));
+                if lowest || lowest_on_edge {
                     starts.push((here, i, j));
                 }
             }
         }
         starts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        starts.truncate(4);
+        starts.truncate(6);
         let mut best: Option<ClosestPoint> = None;
         for &(_, i, j) in &starts {
             let found = self.newton_closest_point(target, us[i], vs[j]);
