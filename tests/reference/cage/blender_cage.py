@@ -469,6 +469,13 @@ def cage(name):
         f = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
              for k in range(h) for i in range(n)]
         return v, f
+    if name == "monkey":
+        # Blender's Suzanne (bmesh.ops.create_monkey): a modelled cage nobody here made, with
+        # triangles, poles of three to eight edges, open eyes and a mouth.
+        bm = bmesh.new()
+        bmesh.ops.create_monkey(bm)
+        bm.verts.index_update()
+        return [tuple(v.co) for v in bm.verts], [[v.index for v in f.verts] for f in bm.faces]
     raise SystemExit(f"no cage {name}")
 
 
@@ -743,6 +750,14 @@ CASES = [
     ("grid", "bevel --edges 6-7 --width 0.2U --segments 3", [(6, 7, 2), (1, 6, 1.5), (7, 12, 2.5), (6, 5, 1)]),
     ("box", "bevel --vertices 7 --width 0.3U --segments 2", [(7, 3, 2), (7, 6, 4), (1, 5, 1)]),
     ("torus", "bevel --vertices 0 --width 0.2U", [(0, 1, 2), (0, 6, 3)]),
+    ("monkey", "extrude --faces 20,22,24,26,28,36 --offset 0.0105U"),
+    ("monkey", "inset --faces 294,295,296,298,306,307 --thickness 0.0077U"),
+    ("monkey", "inset --faces 260,304,342,354 --thickness 0.0158U --individual"),
+    ("monkey", "bevel --edges 147-145,117-147 --width 0.008U --segments 2"),
+    ("monkey", "loopcut --edge 183,232 --cuts 1"),
+    ("monkey", "dissolve --edges 337-331"),
+    ("monkey", "delete --faces 269,271,279,281"),
+    ("monkey", "merge --vertices 77,350 --at centre"),
 ]
 
 
