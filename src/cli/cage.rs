@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
+use knotwork::kernel::subdiv::cage_edit::{Cage, CageEditError, Tool};
 
 /// The tools of `knotwork cage`, with faces and vertices named by their 0-based index in the
 /// file.
@@ -511,11 +511,17 @@ fn cage_file(
         creases: parsed.creases,
         corners: parsed.corners,
     };
-    let edited = cage.apply(&tool_of(tool)?).map_err(|e| e.to_string())?;
+    // A ring that comes back across itself is left uncut, as Blender's loop cut leaves it:
+    // the cage is written as it was, with the reason.
+    let (edited, note) = match cage.apply(&tool_of(tool)?) {
+        Ok(edited) => (edited, String::new()),
+        Err(e @ CageEditError::RingCrossesItself { .. }) => (cage, format!(", unchanged: {e}")),
+        Err(e) => return Err(e.to_string()),
+    };
     let obj = knotwork::io::obj::write_cage(&edited);
     std::fs::write(output, obj).map_err(|e| format!("{}: {e}", output.display()))?;
     Ok(format!(
-        "wrote {} ({} vertices, {} faces)",
+        "wrote {} ({} vertices, {} faces){note}",
         output.display(),
         edited.points.len(),
         edited.faces.len()

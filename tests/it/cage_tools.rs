@@ -307,3 +307,46 @@ fn a_cage_tool_is_one_undo_step_in_the_editor_and_a_bad_one_changes_nothing() {
     doc.redo().unwrap();
     assert_eq!(doc.scene, after);
 }
+
+/// A loop cut whose ring comes back across a quad it crossed (on Blender's Suzanne) is refused
+/// by the kernel, naming the face, and `knotwork cage` writes the cage unchanged with the
+/// reason, as Blender's `subdivide_edgering` leaves it (fixture 204).
+#[test]
+fn a_ring_coming_back_across_itself_is_left_uncut() {
+    use knotwork::kernel::subdiv::cage_edit::{Cage, CageEditError};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/cage");
+    let input = dir.join("204-monkey-loopcut.in.obj");
+    let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(&input).unwrap()).unwrap();
+    let cage = Cage {
+        faces: parsed.all_faces(),
+        points: parsed.vertices,
+        creases: parsed.creases,
+        corners: parsed.corners,
+    };
+    match cage.loop_cut(412, 418, 1) {
+        Err(e @ CageEditError::RingCrossesItself { face, .. }) => {
+            assert!(face < cage.faces.len());
+            assert!(e.to_string().contains("comes back across face"), "{e}");
+        }
+        other => panic!("expected the ring refused, got {other:?}"),
+    }
+    // A ring on the same cage that does not come back is cut (fixture 200).
+    assert!(cage.loop_cut(183, 232, 1).is_ok());
+    let output = std::env::temp_dir().join(format!("knotwork-ring-{}.obj", std::process::id()));
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+        .args(["cage"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&output)
+        .args(["loopcut", "--edge", "412,418", "--cuts", "1"])
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let said = String::from_utf8_lossy(&run.stdout);
+    assert!(said.contains("unchanged"), "{said}");
+    let written = read_obj(&output);
+    let given = read_obj(&input);
+    let _ = std::fs::remove_file(&output);
+    assert_eq!(written.faces, given.faces);
+    assert_eq!(written.points.len(), given.points.len());
+}

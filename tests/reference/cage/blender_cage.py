@@ -758,6 +758,8 @@ CASES = [
     ("monkey", "dissolve --edges 337-331"),
     ("monkey", "delete --faces 269,271,279,281"),
     ("monkey", "merge --vertices 77,350 --at centre"),
+    # A ring that comes back across a quad it crossed: Blender leaves it uncut.
+    ("monkey", "loopcut --edge 412,418 --cuts 1"),
 ]
 
 

@@ -32,6 +32,14 @@ pub enum CageEditError {
     NoVertex(u32, usize),
     #[error("the cage has no edge between vertices {0} and {1}")]
     NoEdge(u32, u32),
+    /// A loop cut's ring comes back through face `face` across other edges than the two it
+    /// first crossed (on a mesh like Blender's monkey, a ring may come back beside itself):
+    /// the cut lines would cross there and no quads would be left.
+    #[error(
+        "the edge ring through {a}-{b} comes back across face {face}: its cut lines would \
+         cross there"
+    )]
+    RingCrossesItself { a: u32, b: u32, face: usize },
     #[error("{0}")]
     Invalid(String),
 }
@@ -585,6 +593,20 @@ impl Cage {
             return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
         }
         let (ring, quads) = self.edge_ring(a, b);
+        // Each quad of the ring is crossed through one pair of opposite edges and no other
+        // edge of it is cut: else the ring came back across it.
+        let cut: HashSet<(u32, u32)> = ring.iter().map(|&(p, q)| key(p, q)).collect();
+        for &f in &quads {
+            let face = &self.faces[f];
+            let crossed: Vec<bool> = (0..4)
+                .map(|c| cut.contains(&key(face[c], face[(c + 1) % 4])))
+                .collect();
+            let opposite_pair =
+                crossed == [true, false, true, false] || crossed == [false, true, false, true];
+            if !opposite_pair {
+                return Err(CageEditError::RingCrossesItself { a, b, face: f });
+            }
+        }
         let mut out = self.clone();
         let inner = self.cut_edges(&mut out, &ring, cuts);
         let along = |p: u32, q: u32| chain_along(&inner, p, q);
