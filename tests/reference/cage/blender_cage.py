@@ -760,6 +760,9 @@ CASES = [
     ("monkey", "merge --vertices 77,350 --at centre"),
     # A ring that comes back across a quad it crossed: Blender leaves it uncut.
     ("monkey", "loopcut --edge 412,418 --cuts 1"),
+    # Widths beyond the edge the new point slides along: Blender stops it at the far end.
+    ("monkey", "bevel --edges 64-62 --width 0.0197507U --segments 2"),
+    ("monkey", "bevel --edges 221-219 --width 0.0183615U --segments 3"),
 ]
 
 

@@ -1556,7 +1556,8 @@ impl Cage {
     /// whose sides lie `width` from the edge in its two faces (measured square to the edge, in
     /// each face's plane). At each end, every face takes a new corner: where two beveled edges
     /// of the face meet, the point `width` from both; where a beveled edge meets one that is
-    /// not, the point on that edge `width` from the beveled one; where an unbeveled edge lies
+    /// not, the point on that edge `width` from the beveled one (or the edge's far end, where
+    /// the edge is shorter, as in Blender); where an unbeveled edge lies
     /// between two beveled ones, where their offset lines meet ([`offset_meet_between`]).
     /// The band's end is the arc between its two side points ([`Profile`]); two bands ending
     /// on the same two points share the mean of their arcs, and three or more at one corner
@@ -1732,8 +1733,15 @@ impl Cage {
                 for (y, x) in beside {
                     let (d, e) = (dir(v, y), dir(v, x));
                     edge_point.insert((v, y), out.points.len() as u32);
-                    out.points
-                        .push(p(v) + d * (width / d.cross(e).length().max(1e-12)));
+                    // No farther than the edge's far end, where Blender stops it too (a width
+                    // beyond a short edge leaves the new point on that end).
+                    let along = width / d.cross(e).length().max(1e-12);
+                    let slid = if along >= (p(y) - p(v)).length() {
+                        p(y)
+                    } else {
+                        p(v) + d * along
+                    };
+                    out.points.push(slid);
                 }
             } else {
                 let n = valence;
