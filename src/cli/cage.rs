@@ -511,11 +511,15 @@ fn cage_file(
         creases: parsed.creases,
         corners: parsed.corners,
     };
-    // A ring that comes back across itself is left uncut, as Blender's loop cut leaves it:
-    // the cage is written as it was, with the reason.
+    // A ring that comes back across or touches itself is left uncut, as Blender's loop cut
+    // leaves it: the cage is written as it was, with the reason.
     let (edited, note) = match cage.apply(&tool_of(tool)?) {
         Ok(edited) => (edited, String::new()),
-        Err(e @ CageEditError::RingCrossesItself { .. }) => (cage, format!(", unchanged: {e}")),
+        Err(
+            e @ (CageEditError::RingCrossesItself { .. }
+            | CageEditError::RingTouchesItself { .. }
+            | CageEditError::RingSidesJoin { .. }),
+        ) => (cage, format!(", unchanged: {e}")),
         Err(e) => return Err(e.to_string()),
     };
     let obj = knotwork::io::obj::write_cage(&edited);

@@ -310,7 +310,8 @@ fn a_cage_tool_is_one_undo_step_in_the_editor_and_a_bad_one_changes_nothing() {
 
 /// A loop cut whose ring comes back across a quad it crossed (on Blender's Suzanne) is refused
 /// by the kernel, naming the face, and `knotwork cage` writes the cage unchanged with the
-/// reason, as Blender's `subdivide_edgering` leaves it (fixture 204).
+/// reason, as Blender's `subdivide_edgering` leaves it (fixture 204); one touching itself at
+/// a point is refused naming the point.
 #[test]
 fn a_ring_coming_back_across_itself_is_left_uncut() {
     use knotwork::kernel::subdiv::cage_edit::{Cage, CageEditError};
@@ -332,6 +333,23 @@ fn a_ring_coming_back_across_itself_is_left_uncut() {
     }
     // A ring on the same cage that does not come back is cut (fixture 200).
     assert!(cage.loop_cut(183, 232, 1).is_ok());
+    // A ring touching itself at a point, no quad crossed twice, is refused naming the point
+    // (fixture 214, where Blender leaves the cage).
+    let touching = dir.join("214-r5-059-monkey-loopcut.in.obj");
+    let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(&touching).unwrap()).unwrap();
+    let other = Cage {
+        faces: parsed.all_faces(),
+        points: parsed.vertices,
+        creases: parsed.creases,
+        corners: parsed.corners,
+    };
+    match other.loop_cut(411, 389, 1) {
+        Err(e @ CageEditError::RingTouchesItself { vertex, .. }) => {
+            assert!((vertex as usize) < other.points.len());
+            assert!(e.to_string().contains("touches itself at vertex"), "{e}");
+        }
+        result => panic!("expected the ring refused, got {result:?}"),
+    }
     let output = std::env::temp_dir().join(format!("knotwork-ring-{}.obj", std::process::id()));
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
         .args(["cage"])

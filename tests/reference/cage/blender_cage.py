@@ -469,6 +469,19 @@ def cage(name):
         f = [[k * n + i, k * n + (i + 1) % n, (k + 1) * n + (i + 1) % n, (k + 1) * n + i]
              for k in range(h) for i in range(n)]
         return v, f
+    if name in ("disc6", "cone3", "cone6", "grid3"):
+        # Blender's own primitives: a disc of six triangles round a centre, cones of three
+        # and six sides (a closed tetrahedron; a hexagon base), a flat 2 × 2 grid.
+        bm = bmesh.new()
+        if name == "disc6":
+            bmesh.ops.create_circle(bm, cap_ends=True, cap_tris=True, segments=6, radius=1.0)
+        elif name == "grid3":
+            bmesh.ops.create_grid(bm, x_segments=2, y_segments=2, size=1.0)
+        else:
+            bmesh.ops.create_cone(bm, cap_ends=True, cap_tris=False, segments=int(name[4:]),
+                                  radius1=1.0, radius2=0.0, depth=1.5)
+        bm.verts.index_update()
+        return [tuple(v.co) for v in bm.verts], [[v.index for v in f.verts] for f in bm.faces]
     if name == "monkey":
         # Blender's Suzanne (bmesh.ops.create_monkey): a modelled cage nobody here made, with
         # triangles, poles of three to eight edges, open eyes and a mouth.
@@ -763,6 +776,30 @@ CASES = [
     # Widths beyond the edge the new point slides along: Blender stops it at the far end.
     ("monkey", "bevel --edges 64-62 --width 0.0197507U --segments 2"),
     ("monkey", "bevel --edges 221-219 --width 0.0183615U --segments 3"),
+    # Blender's primitives. A whole piece extruded keeps its faces, turned over: an open disc
+    # becomes a closed slab, a closed tetrahedron two of them.
+    ("disc6", "extrude --faces 0,1,2,3,4,5 --offset 0.4U"),
+    ("cone3", "extrude --faces 0,1,2,3 --offset -0.5U"),
+    # A cone's base edge dissolved: the side triangle beside it folds into an edge.
+    ("cone6", "dissolve --edges 4-3"),
+    # Two beveled edges running on in one line through a point of four edges.
+    ("grid3", "bevel --edges 4-7,1-4 --width 0.19U --segments 1"),
+]
+
+# Cases of random_blender.py (batch seed, case number, the batch's KIND and SHAPE) that
+# showed a difference once.
+RANDOM_CASES = [
+    (4, 69, None, None),  # offset lines Blender's intersection calls coplanar (within 1e-6)
+    (5, 30, "loopcut", None),  # a loop cut's sides joined by edges beside the ring, cut too
+    (5, 95, "loopcut", None),
+    (5, 59, "loopcut", None),  # a ring touching itself at a point: Blender leaves it uncut
+    (5, 100, "loopcut", None),
+    # Faces turning back on themselves at a beveled point (reflex corners on Suzanne): the
+    # offsets go to the faces' inner sides.
+    (6, 11, "bevel", "monkey"),
+    (7, 35, "bevel2", "monkey"),
+    (7, 16, "bevel2", "monkey"),
+    (6, 41, "bevel", "monkey"),  # a slide past a short edge's end stops 5e-5 short of it
 ]
 
 
@@ -785,6 +822,16 @@ def fixtures(directory, seed=1000):
         write_obj(os.path.join(directory, stem + ".in.obj"), bm)
         apply(bm, args.split()[0], args.split()[1:])
         write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
+        lines.append(stem + "\t" + args + "\n")
+    import random_blender  # it imports this module
+    for k, (batch, number, kind, shape) in enumerate(RANDOM_CASES, start=len(CASES)):
+        made = random_blender.case(batch, number, kind, shape)
+        if made is None:
+            raise SystemExit(f"random case {batch}/{number} has no tool")
+        stem, points, faces, args = made
+        stem = "%02d-%s" % (k, stem)
+        if not random_blender.write_case(directory, stem, points, faces, args):
+            raise SystemExit(f"Blender refused random case {batch}/{number}")
         lines.append(stem + "\t" + args + "\n")
     with open(os.path.join(directory, "cases.tsv"), "w") as out:
         out.write("".join(lines))

@@ -40,6 +40,22 @@ pub enum CageEditError {
          cross there"
     )]
     RingCrossesItself { a: u32, b: u32, face: usize },
+    /// A loop cut's ring touches itself at vertex `vertex`: the sides of its quads meet there
+    /// from more than two directions (as Blender's loop cut finds no pair of edge loops to
+    /// cut between and leaves the mesh).
+    #[error(
+        "the edge ring through {a}-{b} touches itself at vertex {vertex}: its sides meet there \
+         from more than two directions"
+    )]
+    RingTouchesItself { a: u32, b: u32, vertex: u32 },
+    /// A loop cut's ring whose two sides join into one (a ring ending at both sides of one
+    /// triangle, or going round a Möbius strip): Blender's loop cut finds no pair of edge
+    /// loops to cut between and leaves the mesh.
+    #[error(
+        "the two sides of the edge ring through {a}-{b} join into one: there are no two edge \
+         loops to cut between"
+    )]
+    RingSidesJoin { a: u32, b: u32 },
     #[error("{0}")]
     Invalid(String),
 }
@@ -270,7 +286,67 @@ impl Cage {
                 "the faces' normals cancel out: the region has no direction to extrude along",
             ));
         }
-        self.extrude_region(&region, normal * offset)
+        // A region bordering no other face (a whole piece of the cage, closed or open) is
+        // copied, as Blender's extrude keeps such faces: the originals stay, turned over.
+        let half = self.half_edges();
+        let in_region: HashSet<usize> = region.iter().copied().collect();
+        let bordered = region.iter().any(|&f| {
+            let face = &self.faces[f];
+            (0..face.len()).any(|c| {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                half.get(&(b, a))
+                    .is_some_and(|&(g, _)| !in_region.contains(&g))
+            })
+        });
+        if bordered {
+            self.extrude_region(&region, normal * offset)
+        } else {
+            Ok(self.extrude_copy(&region, &half, normal * offset))
+        }
+    }
+
+    /// A region bordering no other face extruded by `by` (Blender's extrude with the
+    /// originals kept): the region's faces stay, turned over, and a copy of them moved by
+    /// `by` (its vertices appended in index order, its faces after the cage's) is joined to
+    /// them by a side quad on every open edge. The copies keep the edges' and points'
+    /// sharpness.
+    fn extrude_copy(
+        &self,
+        region: &[usize],
+        half: &HashMap<(u32, u32), (usize, usize)>,
+        by: DVec3,
+    ) -> Self {
+        let mut out = self.clone();
+        let mut used: Vec<u32> = region
+            .iter()
+            .flat_map(|&f| self.faces[f].iter().copied())
+            .collect();
+        used.sort_unstable();
+        used.dedup();
+        let mut copy: HashMap<u32, u32> = HashMap::default();
+        for &v in &used {
+            copy.insert(v, out.points.len() as u32);
+            out.points.push(self.points[v as usize] + by);
+        }
+        let sharp = self.sharpness_of_edges();
+        let mut sides = Vec::new();
+        for &f in region {
+            let face = &self.faces[f];
+            out.faces.push(face.iter().map(|v| copy[v]).collect());
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                if let Some(&s) = sharp.get(&key(a, b)) {
+                    out.add_crease(copy[&a], copy[&b], s);
+                }
+                if !half.contains_key(&(b, a)) {
+                    sides.push(vec![a, b, copy[&b], copy[&a]]);
+                }
+            }
+            out.faces[f].reverse();
+        }
+        out.faces.extend(sides);
+        out.copy_corners(&self.corners, &copy);
+        out
     }
 
     /// The inward directions of a face's edges in its plane: for corner c, the unit vector
@@ -607,8 +683,84 @@ impl Cage {
                 return Err(CageEditError::RingCrossesItself { a, b, face: f });
             }
         }
+        // Blender's rim: the edges other than ring edges of every face of at most four sides
+        // holding two ring edges. Its loop cut pairs the rim's edge loops, and a rim vertex
+        // of more than two rim edges breaks them.
+        let half = self.half_edges();
+        let mut sides: HashSet<usize> = HashSet::default();
+        let mut rim: HashSet<(u32, u32)> = HashSet::default();
+        for &(p, q) in &ring {
+            for f in [half.get(&(p, q)), half.get(&(q, p))].into_iter().flatten() {
+                let face = &self.faces[f.0];
+                let edges: Vec<(u32, u32)> = (0..face.len())
+                    .map(|c| key(face[c], face[(c + 1) % face.len()]))
+                    .collect();
+                let ring_edges = edges.iter().filter(|e| cut.contains(e)).count();
+                if face.len() <= 4 && ring_edges >= 2 && sides.insert(f.0) {
+                    rim.extend(edges.into_iter().filter(|e| !cut.contains(e)));
+                }
+            }
+        }
+        let mut rim_edges_at: HashMap<u32, usize> = HashMap::default();
+        for &(p, q) in &rim {
+            *rim_edges_at.entry(p).or_default() += 1;
+            *rim_edges_at.entry(q).or_default() += 1;
+        }
+        if let Some(vertex) = rim_edges_at
+            .iter()
+            .filter(|&(_, &n)| n > 2)
+            .map(|(&v, _)| v)
+            .min()
+        {
+            return Err(CageEditError::RingTouchesItself { a, b, vertex });
+        }
+        // The rim's two sides; where they join into one, Blender finds no pair to cut between.
+        let mut side_of: HashMap<u32, u32> = HashMap::default();
+        fn root(side_of: &mut HashMap<u32, u32>, v: u32) -> u32 {
+            let up = *side_of.entry(v).or_insert(v);
+            if up == v {
+                return v;
+            }
+            let top = root(side_of, up);
+            side_of.insert(v, top);
+            top
+        }
+        for &(p, q) in &rim {
+            let (rp, rq) = (root(&mut side_of, p), root(&mut side_of, q));
+            side_of.insert(rp, rq);
+        }
+        let rim_vertices: Vec<u32> = side_of.keys().copied().collect();
+        let mut sides_found: Vec<u32> = rim_vertices
+            .iter()
+            .map(|&v| root(&mut side_of, v))
+            .collect();
+        sides_found.sort_unstable();
+        sides_found.dedup();
+        if sides_found.len() == 1 {
+            return Err(CageEditError::RingSidesJoin { a, b });
+        }
+        // Blender cuts every edge from one side to the other, not only the ring's: an edge
+        // across that is no ring edge gives its faces the new points.
+        let mut cut_list = ring.clone();
+        if sides_found.len() == 2 {
+            let side = |v: u32, side_of: &mut HashMap<u32, u32>| {
+                side_of.contains_key(&v).then(|| root(side_of, v))
+            };
+            let mut across: Vec<(u32, u32)> = half
+                .keys()
+                .map(|&(p, q)| key(p, q))
+                .filter(|e| !cut.contains(e))
+                .filter(|&(p, q)| {
+                    matches!((side(p, &mut side_of), side(q, &mut side_of)),
+                        (Some(x), Some(y)) if x != y)
+                })
+                .collect();
+            across.sort_unstable();
+            across.dedup();
+            cut_list.extend(across);
+        }
         let mut out = self.clone();
-        let inner = self.cut_edges(&mut out, &ring, cuts);
+        let inner = self.cut_edges(&mut out, &cut_list, cuts);
         let along = |p: u32, q: u32| chain_along(&inner, p, q);
         let quad_set: HashSet<usize> = quads.iter().copied().collect();
         let mut added = Vec::new();
@@ -955,7 +1107,9 @@ impl Cage {
 
     /// The cage with `faces` (a dissolve's joined faces), each of the `candidates` left
     /// between only two edges taken out of its faces (Blender's dissolve of the vertices
-    /// between two edges); a face left with fewer than three corners is refused.
+    /// between two edges). A face left with fewer than three corners goes, as Blender's
+    /// vertex collapse folds its two sides into one edge (a cone's side triangle when the
+    /// base edge beside it is dissolved); a dissolve leaving no face is refused.
     pub(super) fn with_faces_lone_removed(
         &self,
         mut faces: Vec<Vec<u32>>,
@@ -975,11 +1129,10 @@ impl Cage {
             .collect();
         for face in &mut faces {
             face.retain(|v| !lone.contains(v));
-            if face.len() < 3 {
-                return Err(invalid(
-                    "the dissolve would leave a face of fewer than three corners",
-                ));
-            }
+        }
+        faces.retain(|face| face.len() >= 3);
+        if faces.is_empty() {
+            return Err(invalid("the dissolve would leave no face"));
         }
         let mut out = self.clone();
         out.faces = faces;
@@ -1202,15 +1355,23 @@ impl Profile {
         if (a - middle).angle_between(b - middle) > nearly_straight {
             middle = vertex;
         }
+        // Blender moves the profile's plane only where the plane through a, b and the vertex
+        // is well defined and not (within 1e-4 in the cosine) the plane of the edge and
+        // either a or b: else the arc stays where it is, in its own plane.
         let carry = terminal
             .then(|| {
-                let normal = (vertex - a).cross(vertex - b).normalize_or_zero();
-                let square = |d: DVec3| d.cross(along).length() > 1e-6;
-                (normal != DVec3::ZERO
-                    && square(vertex - a)
-                    && square(vertex - b)
-                    && along.dot(normal).abs() > 1e-6)
-                    .then_some((along, normal))
+                let (da, db) = (
+                    (vertex - a).normalize_or_zero(),
+                    (vertex - b).normalize_or_zero(),
+                );
+                let normal = da.cross(db);
+                let (with_a, with_b) = (da.cross(along), db.cross(along));
+                let defined = [normal, with_a, with_b].iter().all(|n| n.length() > 1e-4);
+                let apart = |n: DVec3| {
+                    normal.normalize_or_zero().dot(n.normalize_or_zero()).abs() < 1.0 - 1e-4
+                };
+                (defined && apart(with_a) && apart(with_b))
+                    .then(|| (along, normal.normalize_or_zero()))
             })
             .flatten();
         // Blender draws a straight profile where a and b lie within 2° of a line through the
@@ -1486,32 +1647,62 @@ fn nearest_on_line(p: DVec3, d: DVec3, q: DVec3, e: DVec3) -> Option<DVec3> {
 /// `width` from its edge in the plane of that edge and the next edge towards the other, on
 /// that edge's side; the point is the middle of their nearest points, dropped onto the plane
 /// of the first face whose corner at v it then lies in, passing over faces within 10° of
-/// parallel to `in_plane`.
+/// parallel to `in_plane`. Where the two beveled edges run on in one line (within 2°, as
+/// Blender's bevel tests), their offset lines do not meet: the point lies `width / cos(θ/2)`
+/// from v (θ the turn between the edges) square to both edges and to the mean normal of the
+/// faces between, on their side, as Blender's offset meet puts it.
 fn offset_meet_between(
     v: DVec3,
     corners: &[(DVec3, DVec3, DVec3)],
     in_plane: Option<DVec3>,
     width: f64,
 ) -> DVec3 {
-    let line = |x: DVec3, y: DVec3| {
+    // The offset line of the edge to x, towards the edge to y; where the face between them
+    // turns back on itself at v (reflex about its normal), Blender's offset, taken on the
+    // face's inner side, goes the other way.
+    let line = |x: DVec3, y: DVec3, reflex: bool| {
         let d = (x - v).normalize_or_zero();
         let dm = (y - v).normalize_or_zero();
         let inward = (dm - d * dm.dot(d)).normalize_or_zero();
+        let inward = if reflex { -inward } else { inward };
         (v + inward * width, d)
     };
-    let (Some(&(_, x1, y1)), Some(&(_, y2, x2))) = (corners.first(), corners.last()) else {
+    let (Some(&(n1, x1, y1)), Some(&(n2, y2, x2))) = (corners.first(), corners.last()) else {
         return v;
     };
-    let [(p1, d1), (p2, d2)] = [line(x1, y1), line(x2, y2)];
+    // Each corner is (normal, next corner, previous corner) of its face.
+    let reflex =
+        |normal: DVec3, next: DVec3, prev: DVec3| (next - v).cross(prev - v).dot(normal) < 0.0;
+    let [(p1, d1), (p2, d2)] = [
+        line(x1, y1, reflex(n1, x1, y1)),
+        line(x2, y2, reflex(n2, y2, x2)),
+    ];
+    let turn = (v - x1).angle_between(x2 - v);
+    if turn < 2f64.to_radians() {
+        let normal = corners.iter().map(|c| c.0).sum::<DVec3>() / corners.len() as f64;
+        let mut across = ((v - x1) + (x2 - v)).cross(normal).normalize_or_zero();
+        if across.dot(p1 - v) < 0.0 {
+            across = -across;
+        }
+        return v + across * (width / (turn / 2.0).cos());
+    }
     // The nearest points of p1 + s·d1 and p2 + t·d2.
     let w = p1 - p2;
     let (a, b, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
     let (d, e) = (d1.dot(w), d2.dot(w));
     let denominator = a * c - b * b;
+    // Blender's line intersection calls the lines coplanar where (p2 − p1)·(e1 × e2), with
+    // the edges' own vectors, is within 1e-6 (an absolute test), and then takes the first
+    // line's point, not the middle.
+    let coplanar = (p2 - p1).dot((v - x1).cross(x2 - v)).abs() <= 1e-6;
     let meet = if denominator > 1e-12 {
         let s = (b * e - c * d) / denominator;
         let t = (a * e - b * d) / denominator;
-        ((p1 + d1 * s) + (p2 + d2 * t)) / 2.0
+        if coplanar {
+            p1 + d1 * s
+        } else {
+            ((p1 + d1 * s) + (p2 + d2 * t)) / 2.0
+        }
     } else {
         (p1 + p2) / 2.0
     };
@@ -1708,6 +1899,13 @@ impl Cage {
                      beveled edge runs between two border edges"
                 )));
             }
+            // A vertex of two edges (both faces there share both): Blender ends the band
+            // with a made-up point on the other edge, which is not built.
+            if closed && valence == 2 {
+                return Err(invalid(format!(
+                    "vertex {v} has only two edges: a bevel cannot end there"
+                )));
+            }
             // One beveled edge ending at a vertex of four or more edges: the vertex opens into
             // a polygon (Blender's terminal edge).
             let terminal = closed && count == 1 && valence >= 4;
@@ -1721,22 +1919,29 @@ impl Cage {
             // (Blender's offset meet with edges between).
             let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
             if count == 1 {
-                let mut beside: Vec<(u32, u32)> = Vec::new();
-                for &(_, a, b) in &around {
+                // Each edge beside the beveled one, with whether the face between them turns
+                // back on itself at v (its corner there reflex about its normal).
+                let mut beside: Vec<(u32, u32, bool)> = Vec::new();
+                for &(f, a, b) in &around {
+                    let reflex = (p(b) - p(v)).cross(p(a) - p(v)).dot(normal_of(f)) < 0.0;
                     if is_beveled(v, a) && !is_beveled(v, b) {
-                        beside.push((b, a));
+                        beside.push((b, a, reflex));
                     }
                     if is_beveled(v, b) && !is_beveled(v, a) {
-                        beside.push((a, b));
+                        beside.push((a, b, reflex));
                     }
                 }
-                for (y, x) in beside {
+                for (y, x, reflex) in beside {
                     let (d, e) = (dir(v, y), dir(v, x));
                     edge_point.insert((v, y), out.points.len() as u32);
                     // No farther than the edge's far end, where Blender stops it too (a width
-                    // beyond a short edge leaves the new point on that end).
+                    // beyond a short edge leaves the new point on that end). At a reflex
+                    // corner the beveled edge's offset line, on the face's inner side, meets
+                    // the edge's line behind v, and Blender stops the point at v.
                     let along = width / d.cross(e).length().max(1e-12);
-                    let slid = if along >= (p(y) - p(v)).length() {
+                    let slid = if reflex {
+                        p(v)
+                    } else if along >= (p(y) - p(v)).length() {
                         p(y)
                     } else {
                         p(v) + d * along
@@ -1780,11 +1985,14 @@ impl Cage {
                 }
             }
             if terminal {
-                // The edges not beside the beveled one: the point `width` along each.
+                // The edges not beside the beveled one: the point `width` along each, or on
+                // an edge shorter than that 5e-5 short of its far end (Blender's slide).
                 for &(_, _, y) in &around {
                     if !is_beveled(v, y) && !edge_point.contains_key(&(v, y)) {
+                        let length = (p(y) - p(v)).length();
+                        let along = if width > length { length - 5e-5 } else { width };
                         edge_point.insert((v, y), out.points.len() as u32);
-                        out.points.push(p(v) + dir(v, y) * width);
+                        out.points.push(p(v) + dir(v, y) * along);
                     }
                 }
             }
@@ -1793,8 +2001,12 @@ impl Cage {
                     let (da, db) = (dir(v, a), dir(v, b));
                     let half_angle = (da + db).normalize_or_zero();
                     let sin = half_angle.cross(da).length().max(1e-12);
+                    // A face turning back on itself at v (its corner reflex about its normal)
+                    // has its inside across the vertex: the offset lines meet there.
+                    let reflex = (p(b) - p(v)).cross(p(a) - p(v)).dot(normal_of(f)) < 0.0;
+                    let inward = if reflex { -half_angle } else { half_angle };
                     face_point.insert((v, f), out.points.len() as u32);
-                    out.points.push(p(v) + half_angle * (width / sin));
+                    out.points.push(p(v) + inward * (width / sin));
                 }
             }
             // The point a face at v shows: its meet point, or the point on its unbeveled edge.
@@ -2619,6 +2831,99 @@ pub(super) mod tests {
             // The eight corners keep their indices and places.
             assert_eq!(&out.points[..8], &cage.points[..8]);
         }
+    }
+
+    /// A whole closed cage extruded as a region is copied (Blender keeps faces that border no
+    /// other): the originals stay turned over and the copy is the cage moved by d along the
+    /// faces' mean normal, enclosing the same volume; a whole open grid extruded closes into
+    /// a slab of volume area × d.
+    #[test]
+    fn extruding_a_whole_piece_keeps_its_faces_turned_over() {
+        for seed in 1..6u64 {
+            let (mut cube, scale) = cage_of(&cages::cube(DVec3::ZERO, 2.0).unwrap(), seed);
+            // One corner pulled out, so that the faces' unit normals do not cancel.
+            let centre = cube.points.iter().sum::<DVec3>() / 8.0;
+            let corner = cube.points[0];
+            cube.points[0] = corner + (corner - centre) * 0.4;
+            let all: Vec<usize> = (0..cube.faces.len()).collect();
+            let d = 0.3 * scale;
+            let out = cube.extrude_faces(&all, d).unwrap();
+            assert_eq!((out.points.len(), out.faces.len()), (16, 12));
+            assert!(consistently_wound(&out));
+            assert_eq!(euler(&out), 4, "two closed shells");
+            // The copy encloses the cube's volume wherever it is moved.
+            let copy = Cage {
+                faces: out.faces[6..].to_vec(),
+                ..out.clone()
+            };
+            assert!((volume(&copy) - volume(&cube)).abs() < 1e-9 * volume(&cube).abs());
+            let step = out.points[8] - cube.points[0];
+            for k in 0..8 {
+                assert!((out.points[8 + k] - cube.points[k] - step).length() < 1e-12 * scale);
+            }
+            assert!((step.length() - d).abs() < 1e-12 * scale);
+            for f in 0..6 {
+                let mut turned = cube.faces[f].clone();
+                turned.reverse();
+                assert_eq!(out.faces[f], turned);
+            }
+
+            let (grid, scale) = cage_of(&cages::grid(DVec3::ZERO, 2.0, 3).unwrap(), seed);
+            let all: Vec<usize> = (0..grid.faces.len()).collect();
+            let d = -0.4 * scale;
+            let slab = grid.extrude_faces(&all, d).unwrap();
+            check_cage(&slab);
+            assert_eq!(euler(&slab), 2, "a closed slab");
+            let open = slab
+                .faces
+                .iter()
+                .flat_map(|f| (0..f.len()).map(move |c| (f[(c + 1) % f.len()], f[c])));
+            let half: HashSet<(u32, u32)> = slab
+                .faces
+                .iter()
+                .flat_map(|f| (0..f.len()).map(move |c| (f[c], f[(c + 1) % f.len()])))
+                .collect();
+            assert!(open.into_iter().all(|e| half.contains(&e)), "no open edge");
+            let flat: f64 = grid.faces.iter().map(|f| area(&grid, f)).sum();
+            assert!(
+                (volume(&slab).abs() - flat * d.abs()).abs() < 1e-9 * flat * d.abs(),
+                "{} against {}",
+                volume(&slab),
+                flat * d
+            );
+        }
+    }
+
+    /// A cone's base edge dissolved: its side triangle joins the base, the two base points
+    /// left between two edges go, and the side triangle beside the dissolved edge's other
+    /// neighbour, left with two corners, folds into the edge it shares (as Blender's
+    /// dissolve): a closed cage of one point fewer per side gone.
+    #[test]
+    fn a_dissolve_folds_a_triangle_left_with_two_corners_into_an_edge() {
+        let n = 6u32;
+        let mut points: Vec<DVec3> = (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k) / f64::from(n);
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        points.push(DVec3::new(0.1, -0.05, 1.5));
+        let mut faces: Vec<Vec<u32>> = (0..n).map(|k| vec![k, (k + 1) % n, n]).collect();
+        faces.push((0..n).rev().collect());
+        let cone = Cage {
+            points,
+            faces,
+            creases: Vec::new(),
+            corners: Vec::new(),
+        };
+        check_cage(&cone);
+        let out = cone.dissolve_edges(&[(3, 4)]).unwrap();
+        check_cage(&out);
+        assert_eq!((out.points.len(), out.faces.len()), (5, 4));
+        assert_eq!(euler(&out), 2);
+        let sizes: Vec<usize> = out.faces.iter().map(Vec::len).collect();
+        assert_eq!(sizes.iter().filter(|&&k| k == 3).count(), 3, "{sizes:?}");
+        assert!(sizes.contains(&5), "{sizes:?}");
     }
 
     /// A square face of a randomly placed cube inset by t with depth d (as a region, or each

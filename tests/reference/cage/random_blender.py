@@ -1,0 +1,191 @@
+"""Random tools on Blender's own meshes, in general position, with Blender's results: cases
+beside the committed ones.
+
+    python random_blender.py DIR COUNT SEED     (KIND=loopcut etc. for one tool only,
+                                                 SHAPE=monkey etc. for one mesh only)
+    KNOTWORK_CAGE_CASES=DIR cargo test --test it -- every_tool_matches_blender
+
+Needs `bpy` (Python 3.11), as blender_cage.py. The meshes are made by bmesh's primitive
+operators with random sizes: Suzanne, a UV sphere (triangle fans at the poles), an ico sphere
+(all triangles), a cylinder (n-gon ends) and a cone (a triangle fan at its tip), a grid, a cube
+cut by subdivide_edges, and a circle filled with triangles. Each is put in general position by
+a random rotation, scale and shift. Each case is a random region extruded or inset (as one or
+each on its own), a loop cut through a random quad edge, a bevel of one edge or of two edges at
+a point, a dissolve of an edge, a delete of a region, or a merge of an edge's ends; lengths are
+fractions of the mesh's mean edge length.
+"""
+import os
+import random
+import sys
+from collections import defaultdict
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_cage as bc  # noqa: E402
+import bmesh  # noqa: E402
+
+SHAPES = ["monkey", "uvsphere", "icosphere", "cylinder", "cone", "grid", "cube", "disc"]
+KINDS = ["extrude", "inset", "insetI", "loopcut", "bevel", "bevel2", "dissolve", "delete",
+         "merge", "mergef"]
+
+
+def primitive(shape, rnd):
+    """A Blender primitive of random proportions, as (points, faces, description)."""
+    bm = bmesh.new()
+    if shape == "monkey":
+        bmesh.ops.create_monkey(bm)
+        what = "monkey"
+    elif shape == "uvsphere":
+        u, v = rnd.randint(5, 12), rnd.randint(3, 8)
+        bmesh.ops.create_uvsphere(bm, u_segments=u, v_segments=v, radius=1.0)
+        what = "uvsphere %d×%d" % (u, v)
+    elif shape == "icosphere":
+        n = rnd.randint(1, 2)
+        bmesh.ops.create_icosphere(bm, subdivisions=n, radius=1.0)
+        what = "icosphere %d" % n
+    elif shape in ("cylinder", "cone"):
+        n = rnd.randint(3, 10)
+        r2 = rnd.uniform(0.3, 1.5) if shape == "cylinder" else 0.0
+        bmesh.ops.create_cone(bm, cap_ends=True, cap_tris=False, segments=n, radius1=1.0,
+                              radius2=r2, depth=rnd.uniform(0.5, 3.0))
+        if shape == "cylinder" and rnd.random() < 0.5:
+            # Rings across the side: one or two horizontal cuts.
+            side = [e for e in bm.edges if all(len(f.verts) == 4 for f in e.link_faces)
+                    and len(e.link_faces) == 2 and abs(e.verts[0].co.z - e.verts[1].co.z) > 1e-6]
+            bmesh.ops.subdivide_edges(bm, edges=side, cuts=rnd.randint(1, 2), use_grid_fill=True)
+        what = "%s %d" % (shape, n)
+    elif shape == "grid":
+        x, y = rnd.randint(2, 7), rnd.randint(2, 7)
+        bmesh.ops.create_grid(bm, x_segments=x, y_segments=y, size=1.0)
+        for v in bm.verts:
+            v.co.z = 0.2 * rnd.uniform(-1, 1)
+        what = "grid %d×%d" % (x, y)
+    elif shape == "cube":
+        bmesh.ops.create_cube(bm, size=1.0)
+        cuts = rnd.randint(1, 2)
+        bmesh.ops.subdivide_edges(bm, edges=list(bm.edges), cuts=cuts, use_grid_fill=True)
+        what = "cube cut %d" % cuts
+    else:
+        n = rnd.randint(5, 12)
+        bmesh.ops.create_circle(bm, cap_ends=True, cap_tris=True, segments=n, radius=1.0)
+        what = "disc %d" % n
+    # Uneven: every point moved a little, so no two faces are alike.
+    for v in bm.verts:
+        v.co.x *= 1.0 + 0.05 * rnd.uniform(-1, 1)
+        v.co.y *= 1.0 + 0.05 * rnd.uniform(-1, 1)
+        v.co.z += 0.03 * rnd.uniform(-1, 1)
+    bm.verts.index_update()
+    points = [tuple(v.co) for v in bm.verts]
+    faces = [[v.index for v in f.verts] for f in bm.faces]
+    return points, faces, what
+
+
+def random_tool(kind, bm0, rnd, unit):
+    """The command line of a random tool of `kind` on the bmesh `bm0`, or None."""
+    edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges]
+    quad_edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges
+                  if len(e.link_faces) == 2 and all(len(x.verts) == 4 for x in e.link_faces)]
+    manifold_edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges
+                      if len(e.link_faces) == 2]
+
+    def region(n):
+        got = {rnd.randrange(len(bm0.faces))}
+        for _ in range(100):
+            if len(got) >= n:
+                break
+            face = bm0.faces[rnd.choice(sorted(got))]
+            got.add(rnd.choice([l.face.index for e in face.edges for l in e.link_loops]))
+        return ",".join(map(str, sorted(got)))
+
+    if kind == "extrude":
+        offset = rnd.uniform(-0.4, 0.6) * unit
+        return "extrude --faces %s --offset %.9g" % (region(rnd.randint(1, 6)), offset)
+    if kind == "inset":
+        thickness = rnd.uniform(0.05, 0.25) * unit
+        return "inset --faces %s --thickness %.9g" % (region(rnd.randint(1, 6)), thickness)
+    if kind == "insetI":
+        thickness = rnd.uniform(0.05, 0.2) * unit
+        return "inset --faces %s --thickness %.9g --individual" % (
+            region(rnd.randint(1, 4)), thickness)
+    if kind == "loopcut":
+        if not quad_edges:
+            return None
+        a, b = rnd.choice(quad_edges)
+        return "loopcut --edge %d,%d --cuts %d" % (a, b, rnd.randint(1, 3))
+    if kind == "bevel":
+        if not manifold_edges:
+            return None
+        a, b = rnd.choice(manifold_edges)
+        return "bevel --edges %d-%d --width %.9g --segments %d" % (
+            a, b, rnd.uniform(0.05, 0.2) * unit, rnd.randint(1, 3))
+    if kind == "bevel2":
+        at = defaultdict(list)
+        for e in manifold_edges:
+            at[e[0]].append(e)
+            at[e[1]].append(e)
+        vs = sorted(x for x in at if len(at[x]) >= 2)
+        if not vs:
+            return None
+        (a, b), (c, d) = rnd.sample(at[rnd.choice(vs)], 2)
+        return "bevel --edges %d-%d,%d-%d --width %.9g --segments %d" % (
+            a, b, c, d, rnd.uniform(0.05, 0.15) * unit, rnd.randint(1, 2))
+    if kind == "dissolve":
+        if not manifold_edges:
+            return None
+        a, b = rnd.choice(manifold_edges)
+        return "dissolve --edges %d-%d" % (a, b)
+    if kind == "delete":
+        return "delete --faces %s" % region(rnd.randint(1, 5))
+    a, b = rnd.choice(edges)
+    return "merge --vertices %d,%d --at %s" % (a, b, "centre" if kind == "merge" else "first")
+
+
+def case(seed, k, kind=None, shape=None):
+    """Case k of batch `seed` (each case draws from its own generator, so one can be made
+    again on its own; `kind` and `shape`, or KIND and SHAPE, fix the tool and the mesh as for
+    the batch): (stem, points, faces, arguments), or None where the mesh has no edge the
+    tool needs."""
+    rnd = random.Random(seed * 100003 + k)
+    shape = shape or os.environ.get("SHAPE") or rnd.choice(SHAPES)
+    kind = kind or os.environ.get("KIND") or rnd.choice(KINDS)
+    points, faces, what = primitive(shape, rnd)
+    points, _ = bc.placed(points, seed * 1000 + k)
+    bm0 = bc.build(points, faces)
+    bm0.verts.index_update()
+    bm0.faces.index_update()
+    unit = sum(e.calc_length() for e in bm0.edges) / len(bm0.edges)
+    args = random_tool(kind, bm0, rnd, unit)
+    if args is None:
+        return None
+    return "r%d-%03d-%s-%s" % (seed, k, shape, args.split()[0]), points, faces, args
+
+
+def write_case(directory, stem, points, faces, args):
+    """Writes the case's input and Blender's result; False where Blender refused."""
+    bm = bc.build(points, faces)
+    bc.write_obj(os.path.join(directory, stem + ".in.obj"), bm)
+    try:
+        bc.apply(bm, args.split()[0], args.split()[1:])
+    except BaseException as e:  # Blender refused: no case
+        print("blender refused", stem, args, e)
+        os.remove(os.path.join(directory, stem + ".in.obj"))
+        return False
+    bc.write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
+    return True
+
+
+def main(directory, count, seed):
+    os.makedirs(directory, exist_ok=True)
+    lines = []
+    for k in range(count):
+        made = case(seed, k)
+        if made is None:
+            continue
+        stem, points, faces, args = made
+        if write_case(directory, stem, points, faces, args):
+            lines.append(stem + "\t" + args + "\n")
+            print(stem, args)
+    open(os.path.join(directory, "cases.tsv"), "w").write("".join(lines))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], int(sys.argv[2]), int(sys.argv[3]))
