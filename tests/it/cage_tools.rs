@@ -334,8 +334,8 @@ fn a_ring_coming_back_across_itself_is_left_uncut() {
     // A ring on the same cage that does not come back is cut (fixture 200).
     assert!(cage.loop_cut(183, 232, 1).is_ok());
     // A ring touching itself at a point, no quad crossed twice, is refused naming the point
-    // (fixture 214, where Blender leaves the cage).
-    let touching = dir.join("214-r5-059-monkey-loopcut.in.obj");
+    // (fixture 215, where Blender leaves the cage).
+    let touching = dir.join("215-r5-059-monkey-loopcut.in.obj");
     let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(&touching).unwrap()).unwrap();
     let other = Cage {
         faces: parsed.all_faces(),

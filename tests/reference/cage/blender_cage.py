@@ -784,6 +784,8 @@ CASES = [
     ("cone6", "dissolve --edges 4-3"),
     # Two beveled edges running on in one line through a point of four edges.
     ("grid3", "bevel --edges 4-7,1-4 --width 0.19U --segments 1"),
+    # A tetrahedron's edge dissolved: the two triangles left over the same corners are one.
+    ("cone3", "dissolve --edges 2-1"),
 ]
 
 # Cases of random_blender.py (batch seed, case number, the batch's KIND and SHAPE) that
@@ -800,6 +802,7 @@ RANDOM_CASES = [
     (7, 35, "bevel2", "monkey"),
     (7, 16, "bevel2", "monkey"),
     (6, 41, "bevel", "monkey"),  # a slide past a short edge's end stops 5e-5 short of it
+    (8, 64, None, None),  # an open tube's rims bridged through it
 ]
 
 

@@ -23,9 +23,15 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import blender_cage as bc  # noqa: E402
 import bmesh  # noqa: E402
 
-SHAPES = ["monkey", "uvsphere", "icosphere", "cylinder", "cone", "grid", "cube", "disc"]
-KINDS = ["extrude", "inset", "insetI", "loopcut", "bevel", "bevel2", "dissolve", "delete",
-         "merge", "mergef"]
+SHAPES = ["monkey", "uvsphere", "icosphere", "cylinder", "cone", "grid", "cube", "disc",
+          "tube", "holes"]
+KINDS = ["extrude", "extrudeI", "inset", "insetI", "insetD", "loopcut", "bevel", "bevel2",
+         "dissolve", "delete", "merge", "mergef", "bridge"]
+# Batches before seed 8 drew from the first eight meshes and these ten tools; they keep them,
+# so that a case once found is made again the same.
+SHAPES_BEFORE_8 = SHAPES[:8]
+KINDS_BEFORE_8 = ["extrude", "inset", "insetI", "loopcut", "bevel", "bevel2", "dissolve",
+                  "delete", "merge", "mergef"]
 
 
 def primitive(shape, rnd):
@@ -53,6 +59,25 @@ def primitive(shape, rnd):
                     and len(e.link_faces) == 2 and abs(e.verts[0].co.z - e.verts[1].co.z) > 1e-6]
             bmesh.ops.subdivide_edges(bm, edges=side, cuts=rnd.randint(1, 2), use_grid_fill=True)
         what = "%s %d" % (shape, n)
+    elif shape == "tube":
+        # An open tube: two rims to bridge, cut across once or twice.
+        n = rnd.randint(4, 10)
+        bmesh.ops.create_cone(bm, cap_ends=False, cap_tris=False, segments=n, radius1=1.0,
+                              radius2=rnd.uniform(0.5, 1.5), depth=rnd.uniform(1.0, 3.0))
+        side = [e for e in bm.edges if len(e.link_faces) == 2]
+        bmesh.ops.subdivide_edges(bm, edges=side, cuts=rnd.randint(1, 2), use_grid_fill=True)
+        what = "tube %d" % n
+    elif shape == "holes":
+        # A grid with two faces two or more apart taken out: two square holes.
+        x, y = rnd.randint(6, 9), rnd.randint(3, 5)
+        bmesh.ops.create_grid(bm, x_segments=x, y_segments=y, size=1.0)
+        bm.faces.ensure_lookup_table()
+        row = rnd.randrange(1, y - 1)
+        gone = [bm.faces[row * x + 1], bm.faces[row * x + x - 2]]
+        bmesh.ops.delete(bm, geom=gone, context="FACES_ONLY")
+        for v in bm.verts:
+            v.co.z = 0.2 * rnd.uniform(-1, 1)
+        what = "holes %d×%d" % (x, y)
     elif shape == "grid":
         x, y = rnd.randint(2, 7), rnd.randint(2, 7)
         bmesh.ops.create_grid(bm, x_segments=x, y_segments=y, size=1.0)
@@ -79,6 +104,29 @@ def primitive(shape, rnd):
     return points, faces, what
 
 
+def open_loops(bm):
+    """The closed loops of open edges, each as its vertices in order."""
+    bm.edges.index_update()
+    bm.verts.index_update()
+    left = {e for e in bm.edges if len(e.link_faces) == 1}
+    loops = []
+    while left:
+        e = min(left, key=lambda x: x.index)
+        start, at = e.verts[0], e.verts[1]
+        chain = [start.index]
+        left.discard(e)
+        while at is not start:
+            chain.append(at.index)
+            nxt = [x for x in at.link_edges if x in left]
+            if not nxt:
+                break
+            left.discard(nxt[0])
+            at = nxt[0].other_vert(at)
+        if at is start:
+            loops.append(chain)
+    return loops
+
+
 def random_tool(kind, bm0, rnd, unit):
     """The command line of a random tool of `kind` on the bmesh `bm0`, or None."""
     edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges]
@@ -99,6 +147,24 @@ def random_tool(kind, bm0, rnd, unit):
     if kind == "extrude":
         offset = rnd.uniform(-0.4, 0.6) * unit
         return "extrude --faces %s --offset %.9g" % (region(rnd.randint(1, 6)), offset)
+    if kind == "extrudeI":
+        offset = rnd.uniform(-0.4, 0.6) * unit
+        return "extrude --faces %s --offset %.9g --individual" % (
+            region(rnd.randint(1, 4)), offset)
+    if kind == "insetD":
+        thickness = rnd.uniform(0.05, 0.2) * unit
+        depth = rnd.uniform(-0.3, 0.3) * unit
+        return "inset --faces %s --thickness %.9g --depth %.9g%s" % (
+            region(rnd.randint(1, 5)), thickness, depth,
+            " --individual" if rnd.random() < 0.5 else "")
+    if kind == "bridge":
+        # Two open loops: the rims of the mesh's holes, or of two faces taken out.
+        loops = open_loops(bm0)
+        if len(loops) < 2:
+            return None
+        first, second = rnd.sample(loops, 2)
+        return "bridge --loop1 %s --loop2 %s" % (
+            ",".join(map(str, first)), ",".join(map(str, second)))
     if kind == "inset":
         thickness = rnd.uniform(0.05, 0.25) * unit
         return "inset --faces %s --thickness %.9g" % (region(rnd.randint(1, 6)), thickness)
@@ -145,8 +211,10 @@ def case(seed, k, kind=None, shape=None):
     the batch): (stem, points, faces, arguments), or None where the mesh has no edge the
     tool needs."""
     rnd = random.Random(seed * 100003 + k)
-    shape = shape or os.environ.get("SHAPE") or rnd.choice(SHAPES)
-    kind = kind or os.environ.get("KIND") or rnd.choice(KINDS)
+    shape = shape or os.environ.get("SHAPE") or rnd.choice(
+        SHAPES if seed >= 8 else SHAPES_BEFORE_8)
+    kind = kind or os.environ.get("KIND") or rnd.choice(
+        KINDS if seed >= 8 else KINDS_BEFORE_8)
     points, faces, what = primitive(shape, rnd)
     points, _ = bc.placed(points, seed * 1000 + k)
     bm0 = bc.build(points, faces)

@@ -1109,7 +1109,8 @@ impl Cage {
     /// between only two edges taken out of its faces (Blender's dissolve of the vertices
     /// between two edges). A face left with fewer than three corners goes, as Blender's
     /// vertex collapse folds its two sides into one edge (a cone's side triangle when the
-    /// base edge beside it is dissolved); a dissolve leaving no face is refused.
+    /// base edge beside it is dissolved), and of two faces left over the same corners the
+    /// first stays; a dissolve leaving no face is refused.
     pub(super) fn with_faces_lone_removed(
         &self,
         mut faces: Vec<Vec<u32>>,
@@ -1131,6 +1132,14 @@ impl Cage {
             face.retain(|v| !lone.contains(v));
         }
         faces.retain(|face| face.len() >= 3);
+        // Two faces left over the same corners (a tetrahedron's edge dissolved) are one
+        // face, as Blender's collapse leaves one: the first stays.
+        let mut seen: HashSet<Vec<u32>> = HashSet::default();
+        faces.retain(|face| {
+            let mut corners = face.clone();
+            corners.sort_unstable();
+            seen.insert(corners)
+        });
         if faces.is_empty() {
             return Err(invalid("the dissolve would leave no face"));
         }
@@ -1256,7 +1265,16 @@ impl Cage {
         let n1 = polygon_normal(&self.points, first);
         let n2 = polygon_normal(&self.points, second);
         let mut second: Vec<u32> = second.to_vec();
-        let same_way = if axis.length_squared() > DEGENERATE {
+        // The second loop runs so that the bridge's quads agree in winding with the faces on
+        // both loops: its faces must use its edges the other way round from the first's.
+        // Only where that does not decide (it always does for open edges) do the loops'
+        // normals along the line between their centres.
+        let along = |l: &[u32]| half.contains_key(&(l[0], l[1]));
+        let same_way = if along(first) != along(&second) {
+            true
+        } else if half.contains_key(&(second[1], second[0])) {
+            false
+        } else if axis.length_squared() > DEGENERATE {
             (n1.dot(axis) >= 0.0) == (n2.dot(axis) >= 0.0)
         } else {
             n1.dot(n2) >= 0.0
