@@ -316,14 +316,18 @@ fn a_cage_tool_is_one_undo_step_in_the_editor_and_a_bad_one_changes_nothing() {
 fn a_ring_coming_back_across_itself_is_left_uncut() {
     use knotwork::kernel::subdiv::cage_edit::{Cage, CageEditError};
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/cage");
-    let input = dir.join("204-monkey-loopcut.in.obj");
-    let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(&input).unwrap()).unwrap();
-    let cage = Cage {
-        faces: parsed.all_faces(),
-        points: parsed.vertices,
-        creases: parsed.creases,
-        corners: parsed.corners,
+    // The cage of an OBJ file, with its crease and corner tags.
+    let cage_of = |path: &Path| {
+        let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+        Cage {
+            faces: parsed.all_faces(),
+            points: parsed.vertices,
+            creases: parsed.creases,
+            corners: parsed.corners,
+        }
     };
+    let input = dir.join("204-monkey-loopcut.in.obj");
+    let cage = cage_of(&input);
     match cage.loop_cut(412, 418, 1) {
         Err(e @ CageEditError::RingCrossesItself { face, .. }) => {
             assert!(face < cage.faces.len());
@@ -335,14 +339,7 @@ fn a_ring_coming_back_across_itself_is_left_uncut() {
     assert!(cage.loop_cut(183, 232, 1).is_ok());
     // A ring touching itself at a point, no quad crossed twice, is refused naming the point
     // (fixture 215, where Blender leaves the cage).
-    let touching = dir.join("215-r5-059-monkey-loopcut.in.obj");
-    let parsed = knotwork::io::obj::parse(&std::fs::read_to_string(&touching).unwrap()).unwrap();
-    let other = Cage {
-        faces: parsed.all_faces(),
-        points: parsed.vertices,
-        creases: parsed.creases,
-        corners: parsed.corners,
-    };
+    let other = cage_of(&dir.join("215-r5-059-monkey-loopcut.in.obj"));
     match other.loop_cut(411, 389, 1) {
         Err(e @ CageEditError::RingTouchesItself { vertex, .. }) => {
             assert!((vertex as usize) < other.points.len());
