@@ -74,9 +74,6 @@ pub struct Cage {
     pub corners: Vec<Corner>,
 }
 
-/// Below this squared length the line between two loops' centres has no direction.
-const DEGENERATE: f64 = 1e-300;
-
 pub(super) fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
@@ -1230,9 +1227,12 @@ impl Cage {
 
     /// Bridge two edge loops (Blender's Bridge Edge Loops): each loop is a closed chain of open
     /// edges named by its vertices in order, both of the same length. The second loop is
-    /// turned to run the same way round as the first (their normals along the line between
-    /// their centres), and rotated to the pairing with the least total length of the bridging
-    /// edges; quads then join the loops, wound to agree with the faces already on the loops.
+    /// turned so that the faces already on the two loops use their edges in opposite senses
+    /// (so the bridge agrees in winding with both, which Blender's normals along the line
+    /// between the loops' centres decide too, and which they leave open for two holes side by
+    /// side in a plane), and rotated to the pairing with the least total length of the
+    /// bridging edges; quads then join the loops, wound to agree with the faces already on
+    /// the loops.
     pub fn bridge_loops(&self, first: &[u32], second: &[u32]) -> Result<Self, CageEditError> {
         if first.len() < 3 || first.len() != second.len() {
             return Err(invalid(format!(
@@ -1257,28 +1257,12 @@ impl Cage {
                 }
             }
         }
-        let centre = |l: &[u32]| -> DVec3 {
-            l.iter().map(|&v| self.points[v as usize]).sum::<DVec3>() / l.len() as f64
-        };
-        let (c1, c2) = (centre(first), centre(second));
-        let axis = c2 - c1;
-        let n1 = polygon_normal(&self.points, first);
-        let n2 = polygon_normal(&self.points, second);
         let mut second: Vec<u32> = second.to_vec();
         // The second loop runs so that the bridge's quads agree in winding with the faces on
-        // both loops: its faces must use its edges the other way round from the first's.
-        // Only where that does not decide (it always does for open edges) do the loops'
-        // normals along the line between their centres.
+        // both loops: their faces must use the two loops' edges in opposite senses (each
+        // loop edge is open, so its one face decides).
         let along = |l: &[u32]| half.contains_key(&(l[0], l[1]));
-        let same_way = if along(first) != along(&second) {
-            true
-        } else if half.contains_key(&(second[1], second[0])) {
-            false
-        } else if axis.length_squared() > DEGENERATE {
-            (n1.dot(axis) >= 0.0) == (n2.dot(axis) >= 0.0)
-        } else {
-            n1.dot(n2) >= 0.0
-        };
+        let same_way = along(first) != along(&second);
         if !same_way {
             second.reverse();
         }
@@ -2909,6 +2893,43 @@ pub(super) mod tests {
                 volume(&slab),
                 flat * d
             );
+        }
+    }
+
+    /// Two square holes side by side in a grid (in general position, so their loops' normals
+    /// lie square to the line between them) bridged: a handle, every quad wound with its
+    /// neighbours, the grid's rim the only open edges, χ = −1 (one handle, one rim), each
+    /// loop named either way round.
+    #[test]
+    fn a_bridge_between_two_holes_in_a_plane_agrees_in_winding() {
+        for seed in 1..9u64 {
+            let (mut grid, _) = cage_of(&cages::grid(DVec3::ZERO, 6.0, 6).unwrap(), seed);
+            // Faces (1, 2) and (4, 2) of the 6 × 6 grid; points i · 7 + j.
+            grid.faces.remove(26);
+            grid.faces.remove(8);
+            let mut first = vec![9, 16, 17, 10];
+            let mut second = vec![30, 37, 38, 31];
+            if seed % 2 == 0 {
+                first.reverse();
+            }
+            if seed % 3 == 0 {
+                second.reverse();
+            }
+            // (The bridge's quads lie in the grid's plane, some with their corners in one
+            // line: a valid topology of degenerate faces, so only the topology is checked.)
+            let out = grid.bridge_loops(&first, &second).unwrap();
+            assert!(consistently_wound(&out), "seed {seed}");
+            assert_eq!(euler(&out), -1);
+            let half: HashSet<(u32, u32)> = out
+                .faces
+                .iter()
+                .flat_map(|f| (0..f.len()).map(move |c| (f[c], f[(c + 1) % f.len()])))
+                .collect();
+            let open = half
+                .iter()
+                .filter(|&&(a, b)| !half.contains(&(b, a)))
+                .count();
+            assert_eq!(open, 24, "only the grid's rim is open");
         }
     }
 
