@@ -93,6 +93,22 @@ pub fn polygon_normal(points: &[DVec3], face: &[u32]) -> DVec3 {
     n.normalize_or_zero()
 }
 
+/// The root of `x` in a union-find forest (`parent[r] == r` at a root), halving the path.
+fn root(parent: &mut [usize], mut x: usize) -> usize {
+    while parent[x] != x {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    x
+}
+
+/// Whether a face's corner at `v`, between its next corner `next` and its previous corner
+/// `prev`, is reflex about the face's `normal` (the face turns back on itself there), as
+/// Blender's bevel tells which side of an edge is inside the face.
+fn reflex_corner(v: DVec3, next: DVec3, prev: DVec3, normal: DVec3) -> bool {
+    (next - v).cross(prev - v).dot(normal) < 0.0
+}
+
 /// The factor by which a step along the bisector of two unit directions must grow to be `1`
 /// along each of them: 1 / cos(θ/2) for the angle θ between them.
 fn even_offset_factor(a: DVec3, b: DVec3) -> f64 {
@@ -623,7 +639,16 @@ impl Cage {
     /// (as the directed pair of the first quad that reached it) and the quads it was crossed
     /// through are returned beside.
     pub(super) fn edge_ring(&self, a: u32, b: u32) -> (Vec<(u32, u32)>, Vec<usize>) {
-        let half = self.half_edges();
+        self.edge_ring_in(&self.half_edges(), a, b)
+    }
+
+    /// [`Self::edge_ring`] with the cage's [`Self::half_edges`] already at hand.
+    fn edge_ring_in(
+        &self,
+        half: &HashMap<(u32, u32), (usize, usize)>,
+        a: u32,
+        b: u32,
+    ) -> (Vec<(u32, u32)>, Vec<usize>) {
         let mut edges = vec![(a, b)];
         let mut quads = Vec::new();
         let mut seen_edges: HashSet<(u32, u32)> = HashSet::from_iter([key(a, b)]);
@@ -661,11 +686,12 @@ impl Cage {
     /// an end of an open ring that is not a quad takes the new points into its edge. A crease
     /// on a ring edge goes to each of its pieces.
     pub fn loop_cut(&self, a: u32, b: u32, cuts: u32) -> Result<Self, CageEditError> {
-        self.check_edge(&self.half_edges(), a, b)?;
+        let half = self.half_edges();
+        self.check_edge(&half, a, b)?;
         if cuts == 0 || cuts > 1000 {
             return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
         }
-        let (ring, quads) = self.edge_ring(a, b);
+        let (ring, quads) = self.edge_ring_in(&half, a, b);
         // Each quad of the ring is crossed through one pair of opposite edges and no other
         // edge of it is cut: else the ring came back across it.
         let cut: HashSet<(u32, u32)> = ring.iter().map(|&(p, q)| key(p, q)).collect();
@@ -683,7 +709,6 @@ impl Cage {
         // Blender's rim: the edges other than ring edges of every face of at most four sides
         // holding two ring edges. Its loop cut pairs the rim's edge loops, and a rim vertex
         // of more than two rim edges breaks them.
-        let half = self.half_edges();
         let mut sides: HashSet<usize> = HashSet::default();
         let mut rim: HashSet<(u32, u32)> = HashSet::default();
         for &(p, q) in &ring {
@@ -712,27 +737,18 @@ impl Cage {
             return Err(CageEditError::RingTouchesItself { a, b, vertex });
         }
         // The rim's two sides; where they join into one, Blender finds no pair to cut between.
-        let mut side_of: HashMap<u32, u32> = HashMap::default();
-        fn root(side_of: &mut HashMap<u32, u32>, v: u32) -> u32 {
-            let up = *side_of.entry(v).or_insert(v);
-            if up == v {
-                return v;
-            }
-            let top = root(side_of, up);
-            side_of.insert(v, top);
-            top
-        }
+        let mut side_of: Vec<usize> = (0..self.points.len()).collect();
         for &(p, q) in &rim {
-            let (rp, rq) = (root(&mut side_of, p), root(&mut side_of, q));
-            side_of.insert(rp, rq);
+            let (rp, rq) = (
+                root(&mut side_of, p as usize),
+                root(&mut side_of, q as usize),
+            );
+            side_of[rp.max(rq)] = rp.min(rq);
         }
-        let rim_vertices: Vec<u32> = side_of.keys().copied().collect();
-        let mut sides_found: Vec<u32> = rim_vertices
-            .iter()
-            .map(|&v| root(&mut side_of, v))
+        let sides_found: HashSet<usize> = rim_edges_at
+            .keys()
+            .map(|&v| root(&mut side_of, v as usize))
             .collect();
-        sides_found.sort_unstable();
-        sides_found.dedup();
         if sides_found.len() == 1 {
             return Err(CageEditError::RingSidesJoin { a, b });
         }
@@ -740,16 +756,14 @@ impl Cage {
         // across that is no ring edge gives its faces the new points.
         let mut cut_list = ring.clone();
         if sides_found.len() == 2 {
-            let side = |v: u32, side_of: &mut HashMap<u32, u32>| {
-                side_of.contains_key(&v).then(|| root(side_of, v))
-            };
             let mut across: Vec<(u32, u32)> = half
                 .keys()
                 .map(|&(p, q)| key(p, q))
-                .filter(|e| !cut.contains(e))
                 .filter(|&(p, q)| {
-                    matches!((side(p, &mut side_of), side(q, &mut side_of)),
-                        (Some(x), Some(y)) if x != y)
+                    !cut.contains(&(p, q))
+                        && rim_edges_at.contains_key(&p)
+                        && rim_edges_at.contains_key(&q)
+                        && root(&mut side_of, p as usize) != root(&mut side_of, q as usize)
                 })
                 .collect();
             across.sort_unstable();
@@ -1157,13 +1171,6 @@ impl Cage {
     ) -> Result<Vec<Option<Vec<u32>>>, CageEditError> {
         // Union-find over faces.
         let mut parent: Vec<usize> = (0..self.faces.len()).collect();
-        fn root(parent: &mut [usize], mut f: usize) -> usize {
-            while parent[f] != f {
-                parent[f] = parent[parent[f]];
-                f = parent[f];
-            }
-            f
-        }
         for &(a, b) in gone {
             if let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) {
                 let (rf, rg) = (root(&mut parent, f), root(&mut parent, g));
@@ -1673,11 +1680,9 @@ fn offset_meet_between(
         return v;
     };
     // Each corner is (normal, next corner, previous corner) of its face.
-    let reflex =
-        |normal: DVec3, next: DVec3, prev: DVec3| (next - v).cross(prev - v).dot(normal) < 0.0;
     let [(p1, d1), (p2, d2)] = [
-        line(x1, y1, reflex(n1, x1, y1)),
-        line(x2, y2, reflex(n2, y2, x2)),
+        line(x1, y1, reflex_corner(v, x1, y1, n1)),
+        line(x2, y2, reflex_corner(v, y2, x2, n2)),
     ];
     let turn = (v - x1).angle_between(x2 - v);
     if turn < 2f64.to_radians() {
@@ -1925,7 +1930,7 @@ impl Cage {
                 // back on itself at v (its corner there reflex about its normal).
                 let mut beside: Vec<(u32, u32, bool)> = Vec::new();
                 for &(f, a, b) in &around {
-                    let reflex = (p(b) - p(v)).cross(p(a) - p(v)).dot(normal_of(f)) < 0.0;
+                    let reflex = reflex_corner(p(v), p(b), p(a), normal_of(f));
                     if is_beveled(v, a) && !is_beveled(v, b) {
                         beside.push((b, a, reflex));
                     }
@@ -2005,7 +2010,7 @@ impl Cage {
                     let sin = half_angle.cross(da).length().max(1e-12);
                     // A face turning back on itself at v (its corner reflex about its normal)
                     // has its inside across the vertex: the offset lines meet there.
-                    let reflex = (p(b) - p(v)).cross(p(a) - p(v)).dot(normal_of(f)) < 0.0;
+                    let reflex = reflex_corner(p(v), p(b), p(a), normal_of(f));
                     let inward = if reflex { -half_angle } else { half_angle };
                     face_point.insert((v, f), out.points.len() as u32);
                     out.points.push(p(v) + inward * (width / sin));
