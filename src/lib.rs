@@ -31,3 +31,5 @@ pub mod view;
 
 #[cfg(target_arch = "wasm32")]
 mod web;
+#[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
+mod web_threads;

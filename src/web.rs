@@ -88,6 +88,13 @@ pub fn status_json() -> String {
     current.to_json()
 }
 
+/// `window.knotwork.threads()`: the threads the kernel's parallel work runs on (1 in the
+/// single-threaded bundle).
+#[wasm_bindgen]
+pub fn thread_count() -> usize {
+    knotwork_kernel::par::threads()
+}
+
 /// Re-tessellates every object at `segments` per Bézier span edge (errors show in the status).
 #[wasm_bindgen]
 pub fn set_segments(segments: u32) {
@@ -761,6 +768,25 @@ pub fn bench_step_mesh(bytes: Vec<u8>) -> Result<String, String> {
     let timing = crate::io::step::timed_read_and_mesh(&bytes, &crate::app::platform::now_ms)
         .map_err(|e| e.to_string())?;
     serde_json::to_string(&timing).map_err(|e| e.to_string())
+}
+
+/// `benchThreads(indices)`: a loop of pure arithmetic (no memory shared but the results) over
+/// `indices` indices on the kernel's threads, timed; returns `{threads, ms, checksum}` as
+/// JSON. The checksum is the same on any number of threads.
+#[wasm_bindgen]
+pub fn bench_threads(indices: u32) -> String {
+    let started = crate::app::platform::now_ms();
+    let values = knotwork_kernel::par::map(indices as usize, |i| {
+        (0..20_000).fold(i as f64, |x, k| (x * 1.000_001 + k as f64).sin() + x * 0.5)
+    });
+    let ms = crate::app::platform::now_ms() - started;
+    let checksum = values
+        .iter()
+        .fold(0u64, |h, v| h.rotate_left(5) ^ v.to_bits());
+    format!(
+        "{{\"threads\":{},\"ms\":{ms},\"checksum\":\"{checksum:016x}\"}}",
+        knotwork_kernel::par::threads()
+    )
 }
 
 /// Runs a boolean as the editor's Union, Difference and Intersection buttons do: a step at a

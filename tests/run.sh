@@ -76,6 +76,19 @@ step "cargo clippy (desktop)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 step "cargo clippy (wasm32)"
 cargo clippy --workspace --lib --bins --locked --target wasm32-unknown-unknown -- -D warnings
+# The threaded web bundle's code (src/web_threads.rs) exists only with WebAssembly atomics: the
+# same flags and target directory as web/build.sh's threaded build (std rebuilt; rust-src).
+# With atomics wgpu's handles are neither Send nor Sync, so the Arcs that share them natively
+# are allowed there.
+if command -v rustup >/dev/null && ! rustup component list --installed | grep -q '^rust-src'; then
+  step "adding the rust-src component"
+  rustup component add rust-src
+fi
+step "cargo clippy (wasm32 with atomics: the threaded bundle)"
+CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}/wasm-threads" RUSTC_BOOTSTRAP=1 \
+  RUSTFLAGS="-C target-feature=+atomics,+bulk-memory,+mutable-globals" \
+  cargo clippy --lib --locked --target wasm32-unknown-unknown -Z build-std=panic_abort,std -- \
+  -D warnings -A clippy::arc_with_non_send_sync
 # The kernel is a layer of its own: no GPU, UI, file format or browser crate in its graph, and
 # it builds for wasm32 by itself; STEP is a crate on the kernel alone in the same way.
 layer() {

@@ -1,5 +1,7 @@
-// The editor in headless Chromium with WebGPU (SwiftShader): builds nothing, expects web/pkg/ to
-// exist (web/build.sh), serves the repository on 127.0.0.1, and checks what a user would see.
+// The editor in headless Chromium with WebGPU (SwiftShader): builds nothing, expects web/pkg/ and
+// web/pkg-threads/ to exist (web/build.sh), serves the repository on 127.0.0.1 (cross-origin
+// isolated, so the page runs the threaded bundle; a second server without the isolation headers
+// for the single-threaded one), and checks what a user would see.
 //
 //   node web/browser-test.mjs            (CHROMIUM=/path/to/chromium to use another binary)
 //
@@ -15,6 +17,7 @@ import { summary, validate } from './validate-gltf.mjs';
 const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const resultsDir = fileURLToPath(new URL('./test-results/', import.meta.url));
 const pkg = fileURLToPath(new URL('./pkg/knotwork_bg.wasm', import.meta.url));
+const pkgThreads = fileURLToPath(new URL('./pkg-threads/knotwork_bg.wasm', import.meta.url));
 
 // Flags that give headless Chromium a WebGPU adapter and a rendered canvas on SwiftShader
 // (../shared/notes/toolchain.md): with fewer, compute works but the canvas stays black.
@@ -300,14 +303,16 @@ async function main() {
     console.log('browser: 0 passed, 1 failed');
     process.exit(1);
   }
-  if (!existsSync(pkg)) {
-    console.log(`FAIL  ${pkg} is missing: build the bundle first with web/build.sh`);
+  if (!existsSync(pkg) || !existsSync(pkgThreads)) {
+    console.log(`FAIL  ${existsSync(pkg) ? pkgThreads : pkg} is missing: build the bundles first with web/build.sh`);
     console.log('browser: 0 passed, 1 failed');
     process.exit(1);
   }
   await mkdir(resultsDir, { recursive: true });
   const server = await startServer(0);
   const url = `http://127.0.0.1:${server.address().port}/index.html`;
+  // The same page served without the cross-origin isolation headers: single-threaded.
+  const plainServer = await startServer(0, { isolated: false });
   const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: webgpuFlags });
   console.log(`Chromium ${browser.version()}, serving ${url}`);
 
@@ -868,6 +873,67 @@ async function main() {
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       console.log(`      plate-20 (806 faces, ${plate.length} bytes) opened in the editor in ${opened.open.ms.toFixed(0)} ms over ${opened.open.frames} frames, drawn after ${opened.drawnMs.toFixed(0)} ms (SwiftShader draws each frame); the same open timed in the page: first step ${t.first_step_ms.toFixed(0)} ms, then ${t.steps} steps ${t.steps_ms.toFixed(0)} ms (longest ${t.longest_step_ms.toFixed(1)} ms); cancelled at ${(100 * opened.shown.progress.slice(-1)[0]).toFixed(0)} % with the document unchanged; read ${m.read_ms.toFixed(0)} ms and meshed ${m.mesh_ms.toFixed(0)} ms at ${m.tolerance.toExponential(3)} (${m.triangles} triangles) in the page`);
       await page.close();
+    });
+
+    await check('every core in the page: Web Workers on shared memory where the page is isolated, the same bytes as one thread, one thread where it is not', async () => {
+      // The same work in the threaded page, in the page asked for one thread, and in a page
+      // served without the isolation headers: the plate opened and exported, a Catmull-Clark
+      // cage at level 4 (stencil tables) exported, and the plate read and meshed as the
+      // bench does.
+      const plate = await readFile(new URL('../tests/reference/occ/step/plate-20.step', import.meta.url));
+      const run = async (pageUrl) => {
+        const { page, errors } = await openEditor(browser, pageUrl);
+        await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+        await installPageHelpers(page);
+        // SwiftShader rasterizes the first frames on the same cores for a few seconds: the
+        // timings start after it is done.
+        await page.waitForTimeout(5000);
+        const outcome = await page.evaluate(async (b) => {
+          const digest = async (bytes) => Array.from(new Uint8Array(await crypto.subtle.digest('SHA-256', bytes)))
+            .map((x) => x.toString(16).padStart(2, '0')).join('');
+          const bytes = Uint8Array.from(atob(b), (c) => c.charCodeAt(0));
+          const threads = window.knotwork.threads();
+          // Pure arithmetic on the threads: the best of three.
+          const arithmetic = [0, 1, 2].map(() => window.knotwork.benchThreads(400));
+          const arithmeticMs = Math.min(...arithmetic.map((a) => a.ms));
+          window.knotwork.openFile('plate-20.step', bytes);
+          await window.__waitFor(() => window.knotwork.status().open_progress === null && window.knotwork.status().objects === 1, 120_000, 'open_progress');
+          let started = performance.now();
+          const plateGlb = await window.knotwork.exportGlb({ tolerance: 2e-3 });
+          const plateMs = performance.now() - started;
+          const points = [];
+          for (let k = 0; k < 8; k += 1) points.push([k & 1 ? 1 : -1.3, k & 2 ? 0.9 : -1, k & 4 ? 1.2 : -1]);
+          const faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+          window.knotwork.openProject('cage.json', JSON.stringify({ format: 'knotwork', version: 2, objects: [{ type: 'subdivision_surface', name: 'cage', points, faces, level: 4 }] }));
+          started = performance.now();
+          const cageGlb = await window.knotwork.exportGlb({ curvature: true });
+          const cageMs = performance.now() - started;
+          const meshes = [0, 1, 2].map(() => window.knotwork.benchStepMesh(bytes));
+          const mesh = meshes.reduce((best, m) => (m.mesh_ms < best.mesh_ms ? m : best));
+          return {
+            threads, isolated: self.crossOriginIsolated, arithmeticMs, checksum: arithmetic[0].checksum, plate: await digest(plateGlb), plateBytes: plateGlb.length,
+            plateMs, cage: await digest(cageGlb), cageMs, mesh, error: window.knotwork.status().error,
+          };
+        }, plate.toString('base64'));
+        assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+        await page.close();
+        return outcome;
+      };
+      const many = await run(url);
+      const one = await run(`${url}?threads=1`);
+      const plain = await run(`http://127.0.0.1:${plainServer.address().port}/index.html`);
+      const cores = await (await browser.newPage()).evaluate(() => navigator.hardwareConcurrency);
+      assert(many.isolated && many.threads === cores && cores >= 2, `threaded page: ${JSON.stringify(many)}, ${cores} cores`);
+      assert(one.isolated && one.threads === 1, `?threads=1: ${JSON.stringify(one)}`);
+      assert(!plain.isolated && plain.threads === 1, `not isolated: ${JSON.stringify(plain)}`);
+      for (const [name, other] of [['one thread', one], ['not isolated', plain]]) {
+        assert(other.plate === many.plate && other.cage === many.cage && other.mesh.triangles === many.mesh.triangles
+          && other.checksum === many.checksum,
+          `${name}: the exports differ from the threaded page's (${JSON.stringify(other)} against ${JSON.stringify(many)})`);
+      }
+      assert(many.error === null && one.error === null && plain.error === null, `errors: ${many.error} ${one.error} ${plain.error}`);
+      const figures = (o) => `arithmetic ${o.arithmeticMs.toFixed(0)} ms, plate export ${o.plateMs.toFixed(0)} ms, cage export ${o.cageMs.toFixed(0)} ms, read ${o.mesh.read_ms.toFixed(0)} + mesh ${o.mesh.mesh_ms.toFixed(0)} ms (best of 3)`;
+      console.log(`      ${many.threads} threads (${cores} cores): ${figures(many)}; one thread: ${figures(one)}; not isolated: ${figures(plain)}; exports the same bytes (plate ${many.plateBytes} bytes, sha-256 ${many.plate.slice(0, 12)}…)`);
     });
 
     await check('an export reads the document just opened, carries curvature for subdivision surfaces, and a tiny tolerance neither freezes nor runs away', async () => {
@@ -2067,6 +2133,7 @@ async function main() {
   } finally {
     await bare.close();
     server.close();
+    plainServer.close();
   }
 
   const failed = results.filter((r) => !r.ok).length;

@@ -1,7 +1,10 @@
-// A small static file server for the editor: serves the repository root (index.html, web/pkg/)
-// on 127.0.0.1 with the right MIME types (application/wasm for the bundle). No dependencies.
+// A small static file server for the editor: serves the repository root (index.html, web/pkg/,
+// web/pkg-threads/) on 127.0.0.1 with the right MIME types (application/wasm for the bundle) and
+// the headers that make the page cross-origin isolated (Cross-Origin-Opener-Policy: same-origin,
+// Cross-Origin-Embedder-Policy: require-corp), which shared memory, and so the threaded bundle,
+// needs. No dependencies.
 //
-//   node web/server.mjs [--port 8080]
+//   node web/server.mjs [--port 8080] [--not-isolated]
 //
 // The browser test imports startServer() from here.
 import { createServer } from 'node:http';
@@ -22,8 +25,12 @@ const types = {
   '.svg': 'image/svg+xml',
 };
 
-/** Starts serving on 127.0.0.1:port (0 picks a free port); resolves to the http.Server. */
-export function startServer(port = 8080) {
+/** Starts serving on 127.0.0.1:port (0 picks a free port); resolves to the http.Server. With
+ * `isolated` false the isolation headers are left out (the page then runs single-threaded). */
+export function startServer(port = 8080, { isolated = true } = {}) {
+  const isolation = isolated
+    ? { 'Cross-Origin-Opener-Policy': 'same-origin', 'Cross-Origin-Embedder-Policy': 'require-corp' }
+    : {};
   const server = createServer(async (request, response) => {
     try {
       const path = decodeURIComponent(new URL(request.url, 'http://localhost').pathname);
@@ -39,6 +46,7 @@ export function startServer(port = 8080) {
       response.writeHead(200, {
         'Content-Type': types[extname(file)] ?? 'application/octet-stream',
         'Cache-Control': 'no-store',
+        ...isolation,
       });
       response.end(request.method === 'HEAD' ? undefined : body);
     } catch {
@@ -54,6 +62,6 @@ export function startServer(port = 8080) {
 if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
   const index = process.argv.indexOf('--port');
   const port = index > 0 ? Number(process.argv[index + 1]) : 8080;
-  const server = await startServer(port);
+  const server = await startServer(port, { isolated: !process.argv.includes('--not-isolated') });
   console.log(`knotwork: serving ${root} on http://127.0.0.1:${server.address().port}/ (Ctrl+C stops)`);
 }

@@ -48,12 +48,10 @@ pub fn printable_bodies<'a>(
     tessellation: Tessellation,
     sampler: &dyn GridSampler,
 ) -> Result<Vec<PrintBody<'a>>, PrintError> {
-    use rayon::prelude::*;
     let visible: Vec<&SceneObject> = scene.objects.iter().filter(|o| o.visible).collect();
-    let tessellated: Vec<_> = visible
-        .par_iter()
-        .map(|object| object.tessellate_with(tessellation, false, sampler))
-        .collect();
+    let tessellated: Vec<_> = knotwork_kernel::par::map(visible.len(), |k| {
+        visible[k].tessellate_with(tessellation, false, sampler)
+    });
     let mut bodies = Vec::new();
     for (object, parts) in visible.into_iter().zip(tessellated) {
         let mut parts = parts.map_err(|source| PrintError::Object {

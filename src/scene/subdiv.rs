@@ -509,20 +509,17 @@ impl ObjectKind for SubdivObject {
         let stencil_points = points.len();
         // Each regular face's 16 Bézier points on every core, written in face order after
         // the cage's (and a substitute's) points, and its patch naming them.
-        use rayon::prelude::*;
         let regular = &prepared.feed.regular;
-        points.resize(stencil_points + 16 * regular.len(), DVec3::ZERO);
-        points[stencil_points..]
-            .par_chunks_mut(16)
-            .zip(regular.par_iter())
-            .for_each(|(out, (_, grid))| out.copy_from_slice(&bezier_points(cage, grid)));
-        let patches: Vec<BezierPatch> = (0..regular.len())
-            .into_par_iter()
-            .map(|k| {
-                let first = (stencil_points + 16 * k) as u32;
-                BezierPatch::new(3, 3, (first..first + 16).collect())
-            })
-            .collect();
+        let grids =
+            knotwork_kernel::par::map(regular.len(), |k| bezier_points(cage, &regular[k].1));
+        points.reserve(16 * regular.len());
+        for grid in &grids {
+            points.extend_from_slice(grid);
+        }
+        let patches: Vec<BezierPatch> = knotwork_kernel::par::map(regular.len(), |k| {
+            let first = (stencil_points + 16 * k) as u32;
+            BezierPatch::new(3, 3, (first..first + 16).collect())
+        });
         let domains = vec![[0.0, 1.0, 0.0, 1.0]; patches.len()];
         Ok(Decomposition {
             set: BezierPatchSet::new(points, None, patches)?,

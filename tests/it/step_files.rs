@@ -9,6 +9,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 use knotwork::io::step::{self, read::StepModel};
 use knotwork::kernel::join::tessellate_joined;
+use knotwork::kernel::par;
 use knotwork::kernel::tess::TriangleMesh;
 use serde_json::Value;
 
@@ -1256,7 +1257,8 @@ mod against_occ {
 }
 
 /// Reading's meshing runs on every core (the edges sampled, the shared edges matched and the
-/// faces triangulated in parallel): a pool of one thread and one of four mesh real files from
+/// faces triangulated in parallel): a pool of one thread, one of four, and the threaded web
+/// page's scheme (the calling thread and three helpers claiming chunks) mesh real files from
 /// other CAD systems (a CAx-IF round-robin part and OpenCASCADE's plate with filleted holes)
 /// into the same mesh, bit for bit.
 #[test]
@@ -1276,14 +1278,17 @@ fn the_joined_mesh_is_the_same_bit_for_bit_on_one_thread_and_on_four() {
             let mesh = || tessellate_joined(&body.faces, &body.topology, 1e-2, true).unwrap();
             let one = pool(1).install(mesh);
             let four = pool(4).install(mesh);
+            let helped = par::with_helpers(par::SCOPED_HELPERS, mesh);
             assert!(!one.triangles.is_empty(), "{}: no triangles", body.name);
             // Compared as printed (shortest round-trip digits), so that a NaN curvature
             // compares equal to itself.
-            assert!(
-                format!("{one:?}") == format!("{four:?}"),
-                "{}: the meshes differ",
-                body.name
-            );
+            for (other, how) in [(four, "four threads"), (helped, "helpers")] {
+                assert!(
+                    format!("{one:?}") == format!("{other:?}"),
+                    "{}: the mesh on {how} differs",
+                    body.name
+                );
+            }
         }
     }
 }

@@ -8,6 +8,7 @@ use crate::common;
 
 use common::{grid_mesh, height, open_mixed_grid, triangle_lattice};
 use glam::{DAffine3, DMat3, DVec3};
+use knotwork::kernel::par;
 use knotwork::kernel::subdiv::level::Level;
 use knotwork::kernel::subdiv::limit;
 use knotwork::kernel::subdiv::refine::loop_beta;
@@ -828,7 +829,8 @@ fn a_boundary_is_the_b_spline_with_mirrored_phantom_points() {
 }
 
 /// The stencil tables (the refinement's, their composition over the cage and every limit
-/// slot's) are built on every core: a pool of one thread and one of four give the same feed
+/// slot's) are built on every core: a pool of one thread, one of four and the threaded web
+/// page's scheme (the calling thread and three helpers claiming chunks) give the same feed
 /// bit for bit, on cages in general position (jittered points) with extraordinary vertices,
 /// semi-sharp creases and a sharp corner, under Catmull-Clark, Loop and Doo-Sabin.
 #[test]
@@ -911,9 +913,10 @@ fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
         };
         let one = pool(1).install(build);
         let four = pool(4).install(build);
+        let helped = par::with_helpers(par::SCOPED_HELPERS, build);
         assert!(!one.slots.is_empty() && !one.entries.is_empty());
         assert!(
-            one == four,
+            one == four && one == helped,
             "{:?} level {level}: the feeds differ",
             surface.options.scheme
         );

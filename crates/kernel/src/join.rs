@@ -19,7 +19,6 @@
 //!   turned to agree in orientation across their shared edges where they can be.
 
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use crate::error::GeometryError;
@@ -432,25 +431,21 @@ fn edges_of<'a>(
     tolerance: f64,
 ) -> Vec<Edge<'a>> {
     // Face by face on every core, in face order.
-    let per_face: Vec<Vec<Edge<'a>>> = faces
-        .par_iter()
-        .zip(loops)
-        .enumerate()
-        .map(|(f, (face, face_loops))| {
-            let mut out = Vec::new();
-            for (l, lp) in face_loops.iter().enumerate() {
-                for (c, curve) in lp.iter().enumerate() {
-                    let id = EdgeId {
-                        face: f,
-                        loop_index: l,
-                        curve: c,
-                    };
-                    out.push(make_edge(id, face, curve, tolerance));
-                }
+    let per_face: Vec<Vec<Edge<'a>>> = crate::par::map(faces.len().min(loops.len()), |f| {
+        let (face, face_loops) = (&faces[f], &loops[f]);
+        let mut out = Vec::new();
+        for (l, lp) in face_loops.iter().enumerate() {
+            for (c, curve) in lp.iter().enumerate() {
+                let id = EdgeId {
+                    face: f,
+                    loop_index: l,
+                    curve: c,
+                };
+                out.push(make_edge(id, face, curve, tolerance));
             }
-            out
-        })
-        .collect();
+        }
+        out
+    });
     per_face.into_iter().flatten().collect()
 }
 
@@ -714,16 +709,13 @@ pub fn tessellate_joined(
         }
     }
     // The owners' samples along their edges, on every core; their vertices numbered in order.
-    let owner_samples: Vec<Vec<(f64, DVec3)>> = owners
-        .par_iter()
-        .map(|&(k, _)| {
-            let e = &edges[k];
-            sample_edge(e, 0.25 * tolerance)
-                .into_iter()
-                .map(|t| (t, e.point(t)))
-                .collect()
-        })
-        .collect();
+    let owner_samples: Vec<Vec<(f64, DVec3)>> = crate::par::map(owners.len(), |i| {
+        let e = &edges[owners[i].0];
+        sample_edge(e, 0.25 * tolerance)
+            .into_iter()
+            .map(|t| (t, e.point(t)))
+            .collect()
+    });
     for (&(k, _), samples) in owners.iter().zip(owner_samples) {
         let (start, end) = corners_done[k];
         let mut seq = Vec::with_capacity(samples.len());
@@ -769,10 +761,8 @@ pub fn tessellate_joined(
             }
         }
     } else {
-        let found: Vec<Option<Vec<(usize, f64)>>> = followers
-            .par_iter()
-            .map(|pair| follow(pair, &sequences))
-            .collect();
+        let found: Vec<Option<Vec<(usize, f64)>>> =
+            crate::par::map(followers.len(), |i| follow(&followers[i], &sequences));
         for (pair, seq) in followers.iter().zip(found) {
             if let Some(seq) = seq {
                 sequences[pair.0] = Some(seq);
@@ -800,10 +790,9 @@ pub fn tessellate_joined(
     let polygons: Vec<Vec<Vec<(usize, DVec2)>>> = (0..faces.len())
         .map(|f| face_polygons(f, &loops[f], &edges, &sequences, &index_of))
         .collect();
-    let triangulated: Vec<Result<(FaceTriangulation, Vec<DVec3>), GeometryError>> = faces
-        .par_iter()
-        .zip(&polygons)
-        .map(|(face, polygons)| {
+    let triangulated: Vec<Result<(FaceTriangulation, Vec<DVec3>), GeometryError>> =
+        crate::par::map(faces.len().min(polygons.len()), |f| {
+            let (face, polygons) = (&faces[f], &polygons[f]);
             let local = triangulate_face(face, polygons, tolerance)?;
             let points = local
                 .interior
@@ -811,8 +800,7 @@ pub fn tessellate_joined(
                 .map(|(uv, _)| face.surface().point_at_clamped(*uv))
                 .collect::<Result<Vec<_>, _>>()?;
             Ok((local, points))
-        })
-        .collect();
+        });
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut triangle_face: Vec<usize> = Vec::new();
     for (f, (result, polygons)) in triangulated.into_iter().zip(&polygons).enumerate() {
@@ -1488,49 +1476,46 @@ fn build_mesh(
     };
     // Each vertex's normal, (u, v) and curvature on every core, pushed in order.
     type VertexData = (DVec3, [f64; 2], Option<CurvatureValues>);
-    let data: Vec<Result<VertexData, GeometryError>> = order
-        .par_iter()
-        .map(|&k| {
-            let v = &vertices[k];
-            let mut normal = DVec3::ZERO;
-            for &(f, uv) in &v.uses {
-                // A boundary vertex may lie a rounding step outside its face's domain (the
-                // loop computed from the file's edges): its normal is the one at the nearest
-                // point.
-                let surface = faces[f].surface();
-                let [(u0, u1), (v0, v1)] = surface.domain();
-                let n = surface.normal(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))?;
-                normal += if flip[f] { -n } else { n };
-            }
-            let (f, uv) = v.uses.first().copied().unwrap_or((0, DVec2::ZERO));
-            let [u0, u1, v0, v1] = faces
+    let data: Vec<Result<VertexData, GeometryError>> = crate::par::map(order.len(), |i| {
+        let v = &vertices[order[i]];
+        let mut normal = DVec3::ZERO;
+        for &(f, uv) in &v.uses {
+            // A boundary vertex may lie a rounding step outside its face's domain (the
+            // loop computed from the file's edges): its normal is the one at the nearest
+            // point.
+            let surface = faces[f].surface();
+            let [(u0, u1), (v0, v1)] = surface.domain();
+            let n = surface.normal(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))?;
+            normal += if flip[f] { -n } else { n };
+        }
+        let (f, uv) = v.uses.first().copied().unwrap_or((0, DVec2::ZERO));
+        let [u0, u1, v0, v1] = faces
+            .get(f)
+            .map_or([0.0, 1.0, 0.0, 1.0], |face| domain_rect(face.surface()));
+        let unit_uv = [
+            (uv.x - u0) / (u1 - u0).max(f64::MIN_POSITIVE),
+            (uv.y - v0) / (v1 - v0).max(f64::MIN_POSITIVE),
+        ];
+        let curvature = curvature.then(|| {
+            let values = faces
                 .get(f)
-                .map_or([0.0, 1.0, 0.0, 1.0], |face| domain_rect(face.surface()));
-            let unit_uv = [
-                (uv.x - u0) / (u1 - u0).max(f64::MIN_POSITIVE),
-                (uv.y - v0) / (v1 - v0).max(f64::MIN_POSITIVE),
-            ];
-            let curvature = curvature.then(|| {
-                let values = faces
-                    .get(f)
-                    .and_then(|face| face.surface().local_geometry(uv.x, uv.y).ok())
-                    .map(|g| g.curvature.values())
-                    .unwrap_or(CurvatureValues::default());
-                let sign = if flip.get(f).copied().unwrap_or(false) {
-                    -1.0
-                } else {
-                    1.0
-                };
-                CurvatureValues {
-                    gaussian: values.gaussian,
-                    mean: sign * values.mean,
-                    k1: if sign > 0.0 { values.k1 } else { -values.k2 },
-                    k2: if sign > 0.0 { values.k2 } else { -values.k1 },
-                }
-            });
-            Ok((normal.normalize_or(DVec3::Z), unit_uv, curvature))
-        })
-        .collect();
+                .and_then(|face| face.surface().local_geometry(uv.x, uv.y).ok())
+                .map(|g| g.curvature.values())
+                .unwrap_or(CurvatureValues::default());
+            let sign = if flip.get(f).copied().unwrap_or(false) {
+                -1.0
+            } else {
+                1.0
+            };
+            CurvatureValues {
+                gaussian: values.gaussian,
+                mean: sign * values.mean,
+                k1: if sign > 0.0 { values.k1 } else { -values.k2 },
+                k2: if sign > 0.0 { values.k2 } else { -values.k1 },
+            }
+        });
+        Ok((normal.normalize_or(DVec3::Z), unit_uv, curvature))
+    });
     for (&k, result) in order.iter().zip(data) {
         let (normal, uv, curvature) = result?;
         mesh.positions.push(vertices[k].position);

@@ -53,6 +53,7 @@ pub mod mesh_curvature;
 pub mod network;
 pub mod offset;
 pub mod ops;
+pub mod par;
 pub mod parametric;
 pub mod planar;
 pub mod samples;

@@ -514,26 +514,26 @@ impl GridSampler for KernelGrids {
         jobs: &[(&NurbsSurface, &ParameterGrid)],
         curvature: bool,
     ) -> Result<Vec<GridValues>, GeometryError> {
-        use rayon::prelude::*;
-        jobs.par_iter()
-            .map(|(surface, grid)| {
-                if curvature {
-                    let (samples, curvatures) = surface
-                        .curvature_grid(&grid.us, &grid.vs)?
-                        .into_iter()
-                        .unzip();
-                    Ok(GridValues {
-                        samples,
-                        curvatures,
-                    })
-                } else {
-                    Ok(GridValues {
-                        samples: surface.tessellate_grid(&grid.us, &grid.vs)?,
-                        curvatures: Vec::new(),
-                    })
-                }
-            })
-            .collect()
+        crate::par::map(jobs.len(), |j| {
+            let (surface, grid) = jobs[j];
+            if curvature {
+                let (samples, curvatures) = surface
+                    .curvature_grid(&grid.us, &grid.vs)?
+                    .into_iter()
+                    .unzip();
+                Ok(GridValues {
+                    samples,
+                    curvatures,
+                })
+            } else {
+                Ok(GridValues {
+                    samples: surface.tessellate_grid(&grid.us, &grid.vs)?,
+                    curvatures: Vec::new(),
+                })
+            }
+        })
+        .into_iter()
+        .collect()
     }
 }
 

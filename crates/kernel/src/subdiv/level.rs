@@ -1,7 +1,6 @@
 //! The topology of one subdivision level: faces, edges (numbered as OpenSubdiv's Vtr numbers
 //! them), their adjacency and sharpness, with the manifold checks a cage must pass.
 
-use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::{CageProblem, GeometryError, Location};
@@ -197,12 +196,12 @@ impl Level {
             };
             shaped && self.ring_face_count(v) == faces
         };
-        match (0..self.vertex_count as u32)
-            .into_par_iter()
-            .find_first(|&v| !fanned(v))
+        match crate::par::map(self.vertex_count, |v| fanned(v as u32))
+            .into_iter()
+            .position(|fanned| !fanned)
         {
             Some(v) => Err(cage_error(
-                Location::point(v as usize),
+                Location::point(v),
                 CageProblem::NonManifoldVertex,
             )),
             None => Ok(()),

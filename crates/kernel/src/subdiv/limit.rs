@@ -413,21 +413,25 @@ fn solve_left(m: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
     Some(x)
 }
 
-/// [`sector_corner_masks`] of a sector of `k` quads, found once per (k, corner) and kept.
-fn cached_sector_masks(k: usize, corner: bool) -> std::sync::Arc<Vec<[Vec<f64>; 2]>> {
+/// [`sector_corner_masks`] of a sector of `k` quads, found once per (k, corner) and thread and
+/// kept. Each thread keeps its own: no lock, which the web page's main thread could not wait
+/// for (the masks are the same on every thread).
+fn cached_sector_masks(k: usize, corner: bool) -> std::rc::Rc<Vec<[Vec<f64>; 2]>> {
+    use std::cell::RefCell;
     use std::collections::HashMap;
-    use std::sync::{Arc, Mutex, OnceLock};
-    type Cache = Mutex<HashMap<(usize, bool), Arc<Vec<[Vec<f64>; 2]>>>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    let cache = CACHE.get_or_init(Default::default);
-    if let Some(masks) = cache.lock().ok().and_then(|c| c.get(&(k, corner)).cloned()) {
-        return masks;
+    use std::rc::Rc;
+    type Masks = Rc<Vec<[Vec<f64>; 2]>>;
+    thread_local! {
+        static CACHE: RefCell<HashMap<(usize, bool), Masks>> = RefCell::new(HashMap::new());
     }
-    let masks = Arc::new(sector_corner_masks(k, corner));
-    if let Ok(mut c) = cache.lock() {
-        c.insert((k, corner), masks.clone());
-    }
-    masks
+    CACHE.with(|cache| {
+        Rc::clone(
+            cache
+                .borrow_mut()
+                .entry((k, corner))
+                .or_insert_with(|| Rc::new(sector_corner_masks(k, corner))),
+        )
+    })
 }
 
 /// Catmull-Clark's limit tangents at the corner `v` of quad `face` where `v` is a crease or a

@@ -14,7 +14,6 @@ use super::region::{MOST_OF_THE_CAGE, REGION_RINGS, RegionCage, face_region};
 use super::stencil::{Accumulator, Row, WideRows, build_rows};
 use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
-use rayon::prelude::*;
 use std::sync::Arc;
 
 /// A valence-4 point's neighbours and faces ([`Level::four_ring`]).
@@ -192,24 +191,20 @@ pub fn is_regular_face(level: &Level, scheme: Scheme, f: u32) -> bool {
 /// ([`is_regular_face`]), on every core: each point's regularity and ring found once, not
 /// once for each face at it.
 pub(super) fn regular_bspline_grids(level: &Level, scheme: Scheme) -> Vec<Option<[u32; 16]>> {
-    let rings: Vec<Option<FourRing>> = (0..level.vertex_count as u32)
-        .into_par_iter()
-        .map(|v| {
-            is_regular(level, scheme, v)
-                .then(|| level.four_ring(v))
-                .flatten()
-        })
-        .collect();
-    (0..level.face_count() as u32)
-        .into_par_iter()
-        .map(|f| {
-            let face = level.face(f);
-            let regular = face.len() == 4 && face.iter().all(|&v| rings[v as usize].is_some());
-            regular
-                .then(|| bspline_grid_from_rings(level, f, |v| rings[v as usize]))
-                .flatten()
-        })
-        .collect()
+    let rings: Vec<Option<FourRing>> = crate::par::map(level.vertex_count, |v| {
+        let v = v as u32;
+        is_regular(level, scheme, v)
+            .then(|| level.four_ring(v))
+            .flatten()
+    });
+    crate::par::map(level.face_count(), |f| {
+        let f = f as u32;
+        let face = level.face(f);
+        let regular = face.len() == 4 && face.iter().all(|&v| rings[v as usize].is_some());
+        regular
+            .then(|| bspline_grid_from_rings(level, f, |v| rings[v as usize]))
+            .flatten()
+    })
 }
 
 /// The level-`depth` vertices over face `face` of level `k` of `hierarchy` as a grid of
@@ -780,10 +775,9 @@ fn push_stencil_patches_with(
     } else {
         Default::default()
     };
-    let per_piece: Vec<Vec<Option<SlotRows>>> = grids
-        .par_iter()
-        .zip(pieces)
-        .map(|((_, grid), shown)| {
+    let per_piece: Vec<Vec<Option<SlotRows>>> =
+        crate::par::map(grids.len().min(pieces.len()), |k| {
+            let (grid, shown) = (&grids[k].1, &pieces[k]);
             let piece = shown.piece;
             if piece.level == 1
                 && bspline_faces
@@ -839,8 +833,7 @@ fn push_stencil_patches_with(
                     })
                 })
                 .collect()
-        })
-        .collect();
+        });
     let mut slot_rows: Vec<Option<SlotRows>> = Vec::new();
     for ((patch, _), rows) in grids.iter_mut().zip(per_piece) {
         patch.first_slot = (before + slot_rows.len()) as u32;

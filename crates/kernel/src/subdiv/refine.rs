@@ -8,7 +8,6 @@ use super::schemes::{self, butterfly_edge_row};
 use super::stencil::{Row, Stencils};
 use super::{Creasing, Options, Scheme};
 use crate::GeometryError;
-use rayon::prelude::*;
 
 /// The vertex rules of OpenSubdiv's `Sdc::Crease::Rule`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -268,30 +267,28 @@ fn split(level: &Level, options: &Options) -> Result<(Level, Stencils), Geometry
     // Rows of the children of vertices, then of faces (Catmull-Clark), then of edges, each
     // built on its own (in parallel) and merged.
     let face_rows = if catmull { f_count } else { 0 };
-    let rows: Vec<Row> = (0..v_count + face_rows + e_count)
-        .into_par_iter()
-        .map(|r| {
-            let row = if r < v_count {
-                if butterfly {
-                    Row(vec![(r, 1.0)])
-                } else {
-                    vertex_row(level, options, r)
-                }
-            } else if r < v_count + face_rows {
-                let mut row = Row::default();
-                row.add_centroid(level.face(r - v_count), 1.0);
-                row
+    let rows: Vec<Row> = crate::par::map((v_count + face_rows + e_count) as usize, |r| {
+        let r = r as u32;
+        let row = if r < v_count {
+            if butterfly {
+                Row(vec![(r, 1.0)])
             } else {
-                let e = r - v_count - face_rows;
-                if butterfly {
-                    butterfly_edge_row(level, e)
-                } else {
-                    edge_row(level, options, e)
-                }
-            };
-            row.merged()
-        })
-        .collect();
+                vertex_row(level, options, r)
+            }
+        } else if r < v_count + face_rows {
+            let mut row = Row::default();
+            row.add_centroid(level.face(r - v_count), 1.0);
+            row
+        } else {
+            let e = r - v_count - face_rows;
+            if butterfly {
+                butterfly_edge_row(level, e)
+            } else {
+                edge_row(level, options, e)
+            }
+        };
+        row.merged()
+    });
     let mut stencils = Stencils::new();
     for row in rows {
         stencils.push_merged(row);

@@ -3,7 +3,6 @@
 //! blocks on every core).
 
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Rows of weights over input points: row i is `indices[offsets[i]..offsets[i + 1]]` with the
 /// matching `weights`. Applying it is a gather, so it runs the same on the CPU and the GPU.
@@ -181,31 +180,29 @@ const ROW_BLOCK: usize = 512;
 pub fn build_rows<const N: usize>(
     count: usize,
     size: usize,
-    row: impl Fn(usize, &mut Accumulator<N>) + Sync,
+    row: impl Fn(usize, &mut Accumulator<N>) + Sync + Send,
 ) -> WideRows<N> {
     // Per block: each row's length and the entries.
     type Block<const N: usize> = (Vec<u32>, Vec<(u32, [f64; N])>);
-    let blocks: Vec<Block<N>> = (0..count.div_ceil(ROW_BLOCK))
-        .into_par_iter()
-        .map_init(
-            // The worker's accumulator, and its last block's entry count: the next block's
-            // room, so that its entries are not copied as they grow.
-            || (Accumulator::new(size), 0),
-            |(accumulator, last), b| {
-                let rows = b * ROW_BLOCK..((b + 1) * ROW_BLOCK).min(count);
-                let mut lengths = Vec::with_capacity(rows.len());
-                let mut entries = Vec::with_capacity(*last + *last / 8);
-                for r in rows {
-                    let before = entries.len();
-                    row(r, accumulator);
-                    accumulator.drain_into(&mut entries);
-                    lengths.push((entries.len() - before) as u32);
-                }
-                *last = entries.len();
-                (lengths, entries)
-            },
-        )
-        .collect();
+    let blocks: Vec<Block<N>> = crate::par::map_init(
+        count.div_ceil(ROW_BLOCK),
+        // The worker's accumulator, and its last block's entry count: the next block's
+        // room, so that its entries are not copied as they grow.
+        || (Accumulator::new(size), 0),
+        |(accumulator, last), b| {
+            let rows = b * ROW_BLOCK..((b + 1) * ROW_BLOCK).min(count);
+            let mut lengths = Vec::with_capacity(rows.len());
+            let mut entries = Vec::with_capacity(*last + *last / 8);
+            for r in rows {
+                let before = entries.len();
+                row(r, accumulator);
+                accumulator.drain_into(&mut entries);
+                lengths.push((entries.len() - before) as u32);
+            }
+            *last = entries.len();
+            (lengths, entries)
+        },
+    );
     let mut offsets = Vec::with_capacity(count + 1);
     offsets.push(0u32);
     for (lengths, _) in &blocks {
@@ -225,9 +222,6 @@ pub fn build_rows<const N: usize>(
         parts.push(part);
         rest = tail;
     }
-    parts
-        .into_par_iter()
-        .zip(&blocks)
-        .for_each(|(part, (_, block))| part.copy_from_slice(block));
+    crate::par::for_each_owned(parts, |b, part| part.copy_from_slice(&blocks[b].1));
     WideRows { offsets, entries }
 }
