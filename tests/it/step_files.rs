@@ -495,19 +495,34 @@ fn a_step_model_is_in_millimetres_with_its_colours_and_exports_to_gltf_in_metres
 fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_steps() {
     let bytes = fixture("plate-3.step");
     let whole = step::read_project(&bytes, &mut |_, _| true).unwrap();
-    let mut job = step::OpenJob::new(&bytes).unwrap();
-    let mut seen = vec![job.progress()];
-    let mut steps = 0;
-    while !job.step().unwrap() {
-        steps += 1;
-        seen.push(job.progress());
-    }
+    // A face per thread a step: on one thread, a face.
+    let (seen, steps) = crate::common::thread_pool(1).install(|| {
+        let mut job = step::OpenJob::new(&bytes).unwrap();
+        let mut seen = vec![job.progress()];
+        let mut steps = 0;
+        while !job.step().unwrap() {
+            steps += 1;
+            seen.push(job.progress());
+        }
+        assert_eq!(job.finish().unwrap(), whole);
+        (seen, steps)
+    });
     assert!(steps >= 24, "a face a step: {steps} steps");
+    // On four threads, four faces a step.
+    let four = crate::common::thread_pool(4).install(|| {
+        let mut job = step::OpenJob::new(&bytes).unwrap();
+        let mut steps = 0;
+        while !job.step().unwrap() {
+            steps += 1;
+        }
+        assert_eq!(job.finish().unwrap(), whole);
+        steps
+    });
+    assert!(four < steps, "four threads: {four} steps, one: {steps}");
     assert!(
         seen.windows(2).all(|w| w[0] <= w[1]) && seen[0] <= 0.2 && *seen.last().unwrap() <= 1.0,
         "{seen:?}"
     );
-    assert_eq!(job.finish().unwrap(), whole);
     // Stopped half way, nothing comes out.
     let mut job = step::OpenJob::new(&bytes).unwrap();
     for _ in 0..steps / 2 {
@@ -1253,6 +1268,59 @@ mod against_occ {
             failures.extend(check_all(&dir, "cases.jsonl"));
         }
         assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+}
+
+/// Reading builds a body's faces several at a time on every core: a face a step on one thread
+/// and the batched read on four threads (and on the threaded web page's helpers) give the same
+/// model, on real files from other CAD systems: the same bodies, warnings and topology, and
+/// the faces mesh the same bit for bit.
+#[test]
+fn faces_built_in_batches_on_every_core_are_those_built_one_at_a_time() {
+    let public = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/step-public");
+    let occ = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/occ/step");
+    let pool = crate::common::thread_pool;
+    for path in [
+        format!("{public}/cax-if__as1-tu-203.stp"),
+        format!("{public}/cax-if__dm1-oc-214.stp"),
+        format!("{public}/cax-if__io1-cm-214.stp"),
+        format!("{occ}/plate-3.step"),
+    ] {
+        let bytes = std::fs::read(&path).unwrap();
+        let one_by_one = pool(1).install(|| {
+            let mut job = step::read::ReadJob::new(&bytes, &mut |_| true).unwrap();
+            while !job.step().unwrap() {}
+            job.finish()
+        });
+        let batched = pool(4).install(|| step::read::read(&bytes, &mut |_, _| true).unwrap());
+        let helped = par::with_helpers(par::SCOPED_HELPERS, || {
+            let mut job = step::read::ReadJob::new(&bytes, &mut |_| true).unwrap();
+            while !job.step_faces(5).unwrap() {}
+            job.finish()
+        });
+        for (other, how) in [
+            (&batched, "batched on four threads"),
+            (&helped, "on helpers"),
+        ] {
+            assert_eq!(one_by_one.warnings, other.warnings, "{path} {how}");
+            assert_eq!(one_by_one.bodies.len(), other.bodies.len(), "{path} {how}");
+            for (a, b) in one_by_one.bodies.iter().zip(&other.bodies) {
+                assert!(
+                    a.name == b.name && a.faces.len() == b.faces.len() && a.topology == b.topology,
+                    "{path} {how}: body {} differs",
+                    a.name
+                );
+                let mesh = |body: &step::read::StepBody| {
+                    tessellate_joined(&body.faces, &body.topology, 1e-2, false)
+                };
+                assert!(
+                    format!("{:?}", mesh(a)) == format!("{:?}", mesh(b)),
+                    "{path} {how}: body {}'s faces mesh differently",
+                    a.name
+                );
+            }
+        }
+        assert!(!one_by_one.bodies.is_empty(), "{path}: no bodies");
     }
 }
 

@@ -144,7 +144,7 @@ pub enum CurveOrigin {
 pub struct LoopEdge {
     pub id: u64,
     pub forward: bool,
-    pub geometry: std::rc::Rc<EdgeGeometry>,
+    pub geometry: std::sync::Arc<EdgeGeometry>,
 }
 
 /// A face's bound: its edges in order, and whether the bound is used as written.

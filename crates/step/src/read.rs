@@ -4,6 +4,9 @@
 
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
+use std::sync::Arc;
+
+use crate::entities::Surface3;
 
 use glam::{DAffine3, DVec3};
 
@@ -650,7 +653,7 @@ pub struct ReadJob {
     building: Option<BodyBuild>,
     warnings: Vec<String>,
     bodies: Vec<StepBody>,
-    edges: HashMap<u64, Rc<EdgeGeometry>>,
+    edges: HashMap<u64, Arc<EdgeGeometry>>,
     built: HashMap<u64, Rc<BuiltBody>>,
     name_count: HashMap<String, usize>,
 }
@@ -741,6 +744,12 @@ impl ReadJob {
     /// Builds one face of the next placed body, or places the body once its faces are built
     /// (once per item however often it is placed); true when every body is done.
     pub fn step(&mut self) -> Result<bool, FormatError> {
+        self.step_faces(1)
+    }
+
+    /// [`Self::step`] with up to `faces` faces of the body built at once, on every core (the
+    /// model is the same whatever `faces` is).
+    pub fn step_faces(&mut self, faces: usize) -> Result<bool, FormatError> {
         let Some(place) = self.places.get(self.done) else {
             return Ok(true);
         };
@@ -763,6 +772,7 @@ impl ReadJob {
                         self.tolerance,
                         &mut self.warnings,
                         &self.colour_of,
+                        faces,
                     )?;
                     return Ok(false);
                 }
@@ -845,7 +855,8 @@ pub fn read(
         if !progress(Stage::BuildingFaces, job.progress()) {
             return Err(FormatError::new("", "cancelled"));
         }
-        if job.step()? {
+        // A few faces per thread at a time: the faces are built on every core.
+        if job.step_faces(4 * crate::kernel::par::threads())? {
             break;
         }
     }
@@ -979,6 +990,18 @@ fn start_body(e: &Entities, item: u64) -> Result<BodyBuild, FormatError> {
 }
 
 /// A body being built a face at a time ([`start_body`], [`BodyBuild::build_next`]).
+/// A face whose edges and surface are read: ready to build, or the warning that skipped it.
+enum Prepared {
+    Skipped(String),
+    Ready {
+        face_id: u64,
+        surface: Surface3,
+        surface_id: u64,
+        bounds: Vec<Bound>,
+        same_sense: bool,
+    },
+}
+
 struct BodyBuild {
     item: u64,
     name: Option<String>,
@@ -998,18 +1021,83 @@ impl BodyBuild {
         self.next >= self.to_build.len()
     }
 
-    /// Builds the next face (a face that cannot be built is a warning, not an error).
+    /// Builds the next `count` faces (or those left), on every core: their edges and surfaces
+    /// read here in order (the edges shared through `edges`), the faces built in parallel, and
+    /// each kept or warned about in order, so the body is the same for any `count` and any
+    /// number of threads. A face that cannot be built is a warning, not an error.
     fn build_next(
         &mut self,
         e: &Entities,
-        edges: &mut HashMap<u64, Rc<EdgeGeometry>>,
+        edges: &mut HashMap<u64, Arc<EdgeGeometry>>,
         tolerance: f64,
         warnings: &mut Vec<String>,
         colour_of: &HashMap<u64, [f32; 3]>,
+        count: usize,
     ) -> Result<(), FormatError> {
+        let mut prepared = Vec::with_capacity(count);
+        while prepared.len() < count.max(1) {
+            match self.prepare_next(e, edges, tolerance)? {
+                Some(face) => prepared.push(face),
+                None => break,
+            }
+        }
+        let built = crate::kernel::par::map(prepared.len(), |k| match &prepared[k] {
+            Prepared::Ready {
+                surface,
+                surface_id,
+                bounds,
+                same_sense,
+                ..
+            } => Some(build_face(
+                surface,
+                *surface_id,
+                bounds,
+                *same_sense,
+                tolerance,
+            )),
+            Prepared::Skipped(_) => None,
+        });
+        for (face, built) in prepared.into_iter().zip(built) {
+            let (face_id, surface) = match face {
+                Prepared::Skipped(warning) => {
+                    warnings.push(warning);
+                    continue;
+                }
+                Prepared::Ready {
+                    face_id, surface, ..
+                } => (face_id, surface),
+            };
+            match built {
+                Some(Ok(b)) => {
+                    self.faces.push(b.face);
+                    self.surface_types.push(surface.type_name());
+                    self.origins.push(b.origins);
+                    if let Some(c) = colour_of.get(&face_id) {
+                        *self.face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
+                    }
+                }
+                Some(Err(why)) => warnings.push(skipped_face(
+                    face_id,
+                    Some(surface.type_name()),
+                    &why.to_string(),
+                )),
+                None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the next face's bounds (its edges through `edges`) and surface; `None` when no
+    /// face is left.
+    fn prepare_next(
+        &mut self,
+        e: &Entities,
+        edges: &mut HashMap<u64, Arc<EdgeGeometry>>,
+        tolerance: f64,
+    ) -> Result<Option<Prepared>, FormatError> {
         let x = e.x;
         let Some(&(face_id, flip)) = self.to_build.get(self.next) else {
-            return Ok(());
+            return Ok(None);
         };
         self.next += 1;
         let fi = e.instance(face_id)?;
@@ -1057,15 +1145,18 @@ impl BodyBuild {
                         let curve = match e.curve(curve_id) {
                             Ok(c) => c,
                             Err(EntityError::Unbuildable(err)) => {
-                                warnings.push(skipped_face(face_id, None, &err.message));
-                                return Ok(());
+                                return Ok(Some(Prepared::Skipped(skipped_face(
+                                    face_id,
+                                    None,
+                                    &err.message,
+                                ))));
                             }
                             Err(EntityError::Malformed(err)) => return Err(err),
                         };
                         let same = e.boolean(edge_id, er, 4)?;
                         let mut g = EdgeGeometry::new(curve, start, end, same, tolerance);
                         g.pcurves = e.pcurves(curve_id);
-                        let g = Rc::new(g);
+                        let g = Arc::new(g);
                         edges.insert(edge_id, g.clone());
                         g
                     }
@@ -1086,27 +1177,21 @@ impl BodyBuild {
         let surface = match e.surface(surface_id) {
             Ok(s) => s,
             Err(EntityError::Unbuildable(err)) => {
-                warnings.push(skipped_face(face_id, None, &err.message));
-                return Ok(());
+                return Ok(Some(Prepared::Skipped(skipped_face(
+                    face_id,
+                    None,
+                    &err.message,
+                ))));
             }
             Err(EntityError::Malformed(err)) => return Err(err),
         };
-        match build_face(&surface, surface_id, &bounds, same_sense, tolerance) {
-            Ok(b) => {
-                self.faces.push(b.face);
-                self.surface_types.push(surface.type_name());
-                self.origins.push(b.origins);
-                if let Some(c) = colour_of.get(&face_id) {
-                    *self.face_colours.entry(c.map(f32::to_bits)).or_insert(0) += 1;
-                }
-            }
-            Err(why) => warnings.push(skipped_face(
-                face_id,
-                Some(surface.type_name()),
-                &why.to_string(),
-            )),
-        }
-        Ok(())
+        Ok(Some(Prepared::Ready {
+            face_id,
+            surface,
+            surface_id,
+            bounds,
+            same_sense,
+        }))
     }
 
     /// The body: its faces, its colour (the item's, else its faces' most common) and the

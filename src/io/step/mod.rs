@@ -211,7 +211,8 @@ impl OpenJob {
                 Ok(false)
             }
             Phase::Reading(job) => {
-                if !job.step()? {
+                // A face per thread a step: on every core, each step about one face's time.
+                if !job.step_faces(knotwork_kernel::par::threads())? {
                     return Ok(false);
                 }
                 let Phase::Reading(job) = std::mem::replace(&mut self.phase, Phase::Empty) else {
