@@ -9,8 +9,10 @@
 //!
 //! The browser's main thread may not wait (`Atomics.wait` is refused there), so it never takes
 //! a lock a helper could hold: it publishes the loop's work through atomics, wakes the helpers
-//! (`unpark` does not wait), works itself, and spins only while the last helpers finish their
-//! chunks. Helpers wait for work parked, which a worker may.
+//! (`unpark` does not wait), works itself, then closes the loop and spins only while helpers
+//! that joined it finish their chunks. A helper that wakes after the loop is closed does not
+//! join it, so the main thread never waits for a helper to wake. Helpers wait for work parked,
+//! which a worker may.
 //!
 //! The page uses this bundle only where it is cross-origin isolated (shared memory needs the
 //! COOP/COEP headers `web/server.mjs` sends); elsewhere it loads the single-threaded bundle,
@@ -47,10 +49,15 @@ struct Job {
 
 /// The current job (null between loops).
 static JOB: AtomicPtr<Job> = AtomicPtr::new(std::ptr::null_mut());
-/// Bumped for every job: a helper runs each generation once.
+/// Bumped for every job: a helper looks at each generation once.
 static GENERATION: AtomicUsize = AtomicUsize::new(0);
-/// Helpers that have not yet finished the current job.
-static PENDING: AtomicUsize = AtomicUsize::new(0);
+/// Whether the current job may still be joined.
+static OPEN: AtomicBool = AtomicBool::new(false);
+/// Helpers inside a job (or about to see that it is closed). A helper counts itself in before
+/// it reads `OPEN`, and the main thread closes the job before it waits for this to reach zero
+/// (both sequentially consistent): either the main thread waits for the helper, or the helper
+/// sees the job closed.
+static ACTIVE: AtomicUsize = AtomicUsize::new(0);
 /// Set by the panic hook when any thread panics: a helper's panic aborts that worker, and the
 /// main thread, spinning for its loop, would otherwise wait for ever.
 static PANICKED: AtomicBool = AtomicBool::new(false);
@@ -81,26 +88,29 @@ pub fn thread_entry(entry: usize) {
 fn helper() {
     INSIDE.with(|inside| inside.set(true));
     // Read before registering: no job starts before every helper has registered.
-    let mut done = GENERATION.load(Ordering::Acquire);
+    let mut seen = GENERATION.load(Ordering::SeqCst);
     STARTING
         .lock()
         .unwrap_or_else(PoisonError::into_inner)
         .push(std::thread::current());
     STARTED.fetch_add(1, Ordering::Release);
     loop {
-        let generation = GENERATION.load(Ordering::Acquire);
-        if generation == done {
+        let generation = GENERATION.load(Ordering::SeqCst);
+        if generation == seen {
             std::thread::park();
             continue;
         }
-        done = generation;
-        let job = JOB.load(Ordering::Acquire);
-        // SAFETY: the main thread keeps the job and its work alive until every helper has
-        // counted itself out of this generation below.
-        if let Some(job) = unsafe { job.as_ref() } {
-            unsafe { (*job.work)() };
+        seen = generation;
+        ACTIVE.fetch_add(1, Ordering::SeqCst);
+        if OPEN.load(Ordering::SeqCst) {
+            let job = JOB.load(Ordering::SeqCst);
+            // SAFETY: the job is open and this helper is counted in ACTIVE: the main thread
+            // keeps the job and its work alive until ACTIVE is back at zero.
+            if let Some(job) = unsafe { job.as_ref() } {
+                unsafe { (*job.work)() };
+            }
         }
-        PENDING.fetch_sub(1, Ordering::AcqRel);
+        ACTIVE.fetch_sub(1, Ordering::SeqCst);
     }
 }
 
@@ -112,12 +122,12 @@ fn run_everywhere(work: &(dyn Fn() + Sync)) {
     };
     let work: *const (dyn Fn() + Sync + '_) = work;
     // SAFETY: only the lifetime is erased; this function does not return before every helper
-    // has finished with the job (PENDING back at zero).
+    // inside the job has left it (ACTIVE back at zero, the job closed).
     let work: *const (dyn Fn() + Sync + 'static) = unsafe { std::mem::transmute(work) };
     let job = Job { work };
-    JOB.store(&job as *const Job as *mut Job, Ordering::Release);
-    PENDING.store(helpers.len(), Ordering::Release);
-    GENERATION.fetch_add(1, Ordering::AcqRel);
+    JOB.store(&job as *const Job as *mut Job, Ordering::SeqCst);
+    OPEN.store(true, Ordering::SeqCst);
+    GENERATION.fetch_add(1, Ordering::SeqCst);
     for helper in helpers {
         helper.unpark();
     }
@@ -125,13 +135,15 @@ fn run_everywhere(work: &(dyn Fn() + Sync)) {
     // SAFETY: `job.work` is `work`, alive for this call.
     unsafe { (*job.work)() };
     INSIDE.with(|inside| inside.set(false));
-    while PENDING.load(Ordering::Acquire) != 0 {
+    // Every index is claimed: helpers still asleep need not join. Wait for those inside.
+    OPEN.store(false, Ordering::SeqCst);
+    while ACTIVE.load(Ordering::SeqCst) != 0 {
         if PANICKED.load(Ordering::Relaxed) {
             panic!("a worker thread of the page panicked (see the console)");
         }
         std::hint::spin_loop();
     }
-    JOB.store(std::ptr::null_mut(), Ordering::Release);
+    JOB.store(std::ptr::null_mut(), Ordering::SeqCst);
 }
 
 /// `startThreads(count)`: makes the kernel's loops run on `count` threads, the page's main
