@@ -431,8 +431,21 @@ impl NurbsCurve<DVec3> {
     /// The parameter of the curve's point nearest `target`: the nearest of 200 samples at
     /// evenly spaced parameters, refined by Newton's iteration on C′·(C − P) = 0 (The NURBS Book
     /// §6.1), clamped to the domain.
+    ///
+    /// A target within 1e-10 of the chord's length of one end of an open curve (a STEP
+    /// vertex at its edge's end, most often) is that end's: the samples would pick it, so
+    /// Newton starts there without them.
     pub fn closest_parameter(&self, target: DVec3) -> Result<f64, GeometryError> {
         const SAMPLES: usize = 200;
+        let (a, b) = self.domain();
+        let (first, last) = (self.point_at(a)?, self.point_at(b)?);
+        let near = 1e-20 * first.distance_squared(last);
+        if first.distance_squared(target) <= near {
+            return self.closest_parameter_from(target, a);
+        }
+        if last.distance_squared(target) <= near {
+            return self.closest_parameter_from(target, b);
+        }
         let mut nearest = (f64::INFINITY, 0.0);
         for i in 0..=SAMPLES {
             let t = self.parameter_at(i as f64 / SAMPLES as f64);
@@ -626,5 +639,66 @@ mod tests {
         assert_eq!(weighted.control_point(2), curve.control_point(2));
         assert_eq!(weighted.weight(2), 3.0);
         assert!(curve.with_weight(2, 0.0).is_err());
+    }
+
+    /// The global search without its shortcut at the ends: the nearest of 201 samples,
+    /// refined by Newton.
+    fn closest_by_samples(c: &SpaceCurve, target: DVec3) -> f64 {
+        let mut nearest = (f64::INFINITY, 0.0);
+        for i in 0..=200 {
+            let t = c.parameter_at(i as f64 / 200.0);
+            let d = c.point_at(t).unwrap().distance_squared(target);
+            if d < nearest.0 {
+                nearest = (d, t);
+            }
+        }
+        c.closest_parameter_from(target, nearest.1).unwrap()
+    }
+
+    #[test]
+    fn a_point_at_an_end_is_found_there_as_the_samples_find_it() {
+        let mut state = 11u64;
+        let mut unit = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..300 {
+            let degree = 1 + (unit() * 4.0) as usize;
+            let count = degree + 1 + (unit() * 6.0) as usize;
+            let scale = 10f64.powf(4.0 * unit() - 2.0);
+            let points: Vec<DVec3> = (0..count)
+                .map(|_| DVec3::new(unit(), unit(), unit()) * scale)
+                .collect();
+            let weights = (0..count).map(|_| 0.2 + 5.0 * unit()).collect();
+            let mut knots = vec![0.0; degree + 1];
+            let mut t = 0.0;
+            for _ in 0..count - degree - 1 {
+                t += 0.1 + unit();
+                knots.push(t);
+            }
+            knots.extend(vec![t + 0.1 + unit(); degree + 1]);
+            let (shift, stretch) = (100.0 * unit() - 50.0, 0.5 + unit());
+            let knots = knots.iter().map(|k| k * stretch + shift).collect();
+            let c = SpaceCurve::new(degree, knots, points, Some(weights)).unwrap();
+            let (a, b) = c.domain();
+            let chord = c.point_at(a).unwrap().distance(c.point_at(b).unwrap());
+            for (end, t) in [(a, a), (b, b)] {
+                let noise = DVec3::new(unit(), unit(), unit()) - 0.5;
+                for off in [0.0, 1e-13, 5e-11] {
+                    let target = c.point_at(end).unwrap() + noise * off * chord;
+                    let found = c.closest_parameter(target).unwrap();
+                    assert_eq!(found, closest_by_samples(&c, target), "{off} from {t}");
+                    assert!((found - t).abs() <= 1e-6 * (b - a), "{found} against {t}");
+                }
+            }
+            // Elsewhere the samples alone.
+            let target = c.point_at(c.parameter_at(unit())).unwrap();
+            assert_eq!(
+                c.closest_parameter(target).unwrap(),
+                closest_by_samples(&c, target)
+            );
+        }
     }
 }

@@ -116,6 +116,16 @@ impl Curve3 {
         }
     }
 
+    /// The parameter of a point of the curve near `p`: [`Self::parameter_of`] for the
+    /// analytic curves; for a spline Newton's iteration from `start` alone (The NURBS Book
+    /// §6.1), a local minimum of the distance, without the global search's samples.
+    pub fn parameter_near(&self, p: DVec3, start: f64) -> f64 {
+        match self {
+            Curve3::Spline(c) => c.closest_parameter_from(p, start).unwrap_or(start),
+            _ => self.parameter_of(p),
+        }
+    }
+
     /// The piece from parameter `t0` to `t1` (t1 < t0: run backward) as an exact NURBS curve.
     pub fn piece(&self, t0: f64, t1: f64) -> Result<SpaceCurve, crate::kernel::GeometryError> {
         let (lo, hi) = (t0.min(t1), t0.max(t1));

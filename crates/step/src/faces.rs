@@ -1211,8 +1211,10 @@ fn pcurve_piece(
         }
         // Its middle on the surface lies on the edge's 3D curve.
         let m = on(flat(pc.point(0.5 * (a + b))))?;
-        let t = g.curve.parameter_of(m);
-        if g.curve.point(t).distance(m) > tolerance {
+        let off = |t: f64| g.curve.point(t).distance(m) > tolerance;
+        // Newton from the edge's middle finds it first nearly always; the global search only
+        // where it does not.
+        if off(g.curve.parameter_near(m, 0.5 * (g.t0 + g.t1))) && off(g.curve.parameter_of(m)) {
             continue;
         }
         return pc.piece(a, b).ok()?.map_into(flat).ok();
