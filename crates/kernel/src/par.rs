@@ -80,6 +80,17 @@ fn run_on_scoped_threads(work: &(dyn Fn() + Sync)) {
     });
 }
 
+/// No helpers: every loop on the calling thread alone, with [`threads`] 1 (the
+/// single-threaded page), for tests that compare one thread with many ([`with_helpers`]).
+pub const ONE_THREAD: Helpers = Helpers {
+    run: run_here,
+    threads: 1,
+};
+
+fn run_here(work: &(dyn Fn() + Sync)) {
+    work();
+}
+
 /// Installs the helpers every later loop runs on (instead of rayon's pool). The first
 /// installation stays; returns whether this one was it.
 pub fn set_helpers(helpers: Helpers) -> bool {

@@ -17,6 +17,9 @@ pub const MAX_DEPTH: usize = 32;
 /// The most entity instances in one file.
 pub const MAX_ENTITIES: usize = 4_000_000;
 
+/// The smallest file [`Parsing::step_in_parallel`] shares out.
+const PARALLEL_PARSE_BYTES: usize = 1 << 16;
+
 /// One parameter of an entity instance.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Value {
@@ -125,12 +128,15 @@ pub struct Exchange {
     pub header: Vec<Record>,
     /// Instances by their number, in the order written.
     pub instances: Vec<(u64, Instance)>,
-    index: HashMap<u64, usize>,
+    index: InstanceIndex,
 }
 
 impl Exchange {
     pub fn get(&self, id: u64) -> Option<&Instance> {
-        self.index.get(&id).map(|&k| &self.instances[k].1)
+        self.index
+            .get(id)
+            .and_then(|k| self.instances.get(k))
+            .map(|(_, instance)| instance)
     }
 
     /// The schema names of `FILE_SCHEMA`, upper case.
@@ -146,6 +152,65 @@ impl Exchange {
             }
         }
         out
+    }
+}
+
+/// Where each instance number's instance is in [`Exchange::instances`]: a table by number for
+/// the numbers files use (below twice the instances read, and 65,536 more: a look-up is one
+/// read, where hashing a number cost a tenth of a read's time), and a hash map for the others.
+#[derive(Debug, Default)]
+struct InstanceIndex {
+    /// The place plus one of instance `k` at `dense[k]`; 0 where it has none.
+    dense: Vec<u32>,
+    sparse: HashMap<u64, usize>,
+}
+
+impl InstanceIndex {
+    /// The smallest number beyond the table's reach when `count` instances are read.
+    fn reach(count: usize) -> usize {
+        2 * count + (1 << 16)
+    }
+
+    fn get(&self, id: u64) -> Option<usize> {
+        let dense = usize::try_from(id)
+            .ok()
+            .and_then(|k| self.dense.get(k))
+            .filter(|&&at| at != 0)
+            .map(|&at| at as usize - 1);
+        if dense.is_some() || self.sparse.is_empty() {
+            return dense;
+        }
+        self.sparse.get(&id).copied()
+    }
+
+    /// Records that instance `id` is at `at`, the `at`-th read; false (nothing recorded) where
+    /// `id` has a place already.
+    fn insert(&mut self, id: u64, at: usize) -> bool {
+        if self.get(id).is_some() {
+            return false;
+        }
+        let k = usize::try_from(id).unwrap_or(usize::MAX);
+        let reach = Self::reach(at + 1);
+        if k >= self.dense.len() && k < reach {
+            let grown = (2 * self.dense.len()).clamp(k + 1, reach);
+            self.dense.resize(grown, 0);
+        }
+        match (self.dense.get_mut(k), u32::try_from(at + 1)) {
+            (Some(slot), Ok(place)) => *slot = place,
+            _ => {
+                self.sparse.insert(id, at);
+            }
+        }
+        true
+    }
+
+    fn remove(&mut self, id: u64) {
+        match usize::try_from(id).ok().and_then(|k| self.dense.get_mut(k)) {
+            Some(slot) if *slot != 0 => *slot = 0,
+            _ => {
+                self.sparse.remove(&id);
+            }
+        }
     }
 }
 
@@ -482,9 +547,21 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// The '(' after `name` ([`Self::expect`] without formatting the message unless needed:
+    /// that showed in profiles).
+    fn open_after(&mut self, name: &str) -> Result<(), SyntaxError> {
+        match self.next()? {
+            Token::Open => Ok(()),
+            got => Err(self.lexer.error(format!(
+                "expected '(' after {name}, found {}",
+                describe(&got)
+            ))),
+        }
+    }
+
     /// `NAME(args)`: the name has been read.
     fn record(&mut self, name: String, depth: usize) -> Result<Record, SyntaxError> {
-        self.expect(Token::Open, &format!("'(' after {name}"))?;
+        self.open_after(&name)?;
         let args = self.list_items(depth + 1)?;
         Ok(Record { name, args })
     }
@@ -528,7 +605,7 @@ impl<'a> Parser<'a> {
             Token::Star => Value::Derived,
             Token::Open => Value::List(self.list_items(depth + 1)?),
             Token::Keyword(name) => {
-                self.expect(Token::Open, &format!("'(' after {name}"))?;
+                self.open_after(&name)?;
                 let mut inner = self.list_items(depth + 1)?;
                 let value = if inner.len() == 1 {
                     inner.pop().unwrap_or(Value::Null)
@@ -609,6 +686,71 @@ impl<'a> Parser<'a> {
         self.lexer.entity = None;
         Ok(instance)
     }
+}
+
+/// The parse of a piece of the DATA section ([`Parsing::step_in_parallel`]).
+struct Piece {
+    instances: Vec<(u64, Instance)>,
+    /// Where the last instance's `;` ended (the piece's start where it has none).
+    end: usize,
+    /// The lines up to `end`.
+    lines: usize,
+    /// Whether something other than an instance came next (ENDSEC).
+    stopped: bool,
+}
+
+/// Parses the instances from `start` on, until one ends at or past `limit` or something other
+/// than an instance comes.
+fn parse_piece(bytes: &[u8], start: usize, limit: usize) -> Result<Piece, SyntaxError> {
+    let mut p = Parser {
+        lexer: Lexer {
+            bytes,
+            at: start,
+            line: 0,
+            entity: None,
+        },
+        peeked: None,
+    };
+    let mut piece = Piece {
+        instances: Vec::new(),
+        end: start,
+        lines: 0,
+        stopped: false,
+    };
+    while piece.end < limit {
+        p.lexer.skip_space()?;
+        if bytes.get(p.lexer.at) != Some(&b'#') {
+            piece.stopped = true;
+            break;
+        }
+        let Token::Ref(id) = p.next()? else {
+            return Err(p.lexer.error("expected an instance"));
+        };
+        piece.instances.push((id, p.instance(id)?));
+        piece.end = p.lexer.at;
+        piece.lines = p.lexer.line;
+    }
+    Ok(piece)
+}
+
+/// The first place after `from` (and before `end`) just past a `;` that white space and a `#`
+/// follow: where an instance likely starts.
+fn instance_start_after(bytes: &[u8], from: usize, end: usize) -> Option<usize> {
+    let mut at = from;
+    while at < end {
+        let semicolon = at + bytes.get(at..end)?.iter().position(|&b| b == b';')?;
+        let after = semicolon + 1;
+        let next = bytes
+            .get(after..)?
+            .iter()
+            .position(|b| !b.is_ascii_whitespace())
+            .map(|k| after + k);
+        if next.is_some_and(|k| bytes[k] == b'#') {
+            return Some(after);
+        }
+        at = after;
+    }
+    None
 }
 
 fn describe(t: &Token) -> String {
@@ -696,10 +838,13 @@ impl Parsing {
     }
 
     /// Parses on through at most `instances` more instances of `bytes` (the same bytes every
-    /// time); true once the file has ended.
+    /// time) on each core ([`Self::step_in_parallel`]); true once the file has ended.
     pub fn step(&mut self, bytes: &[u8], instances: usize) -> Result<bool, SyntaxError> {
         if self.done {
             return Ok(true);
+        }
+        if self.step_in_parallel(bytes, instances) {
+            return Ok(false);
         }
         let mut p = Parser {
             lexer: Lexer {
@@ -714,6 +859,80 @@ impl Parsing {
         self.at = p.lexer.at;
         self.line = p.lexer.line;
         result
+    }
+
+    /// Inside the DATA section, with more than one thread and a large enough file: parses
+    /// the next `instances` instances for each thread, the text cut into pieces that each
+    /// thread parses on its own, and keeps what is sure to be the parse from the start.
+    ///
+    /// A piece starts after a `;` that is followed by `#`, which is where an instance most
+    /// likely begins but need not be (inside a string). The first piece starts where the
+    /// parse stands, between instances. A piece's instances are kept when its start is
+    /// between instances; the next piece's start is then too if this piece's last instance
+    /// ends exactly there. The parse is thus the one-thread parse, bit for bit: the pieces
+    /// kept are in order, and the first piece not kept (one that ran past the next piece's
+    /// start, met an error, a number used twice or ENDSEC) is parsed again by the one-thread
+    /// parse, which reports any error with its line. False where nothing was kept.
+    fn step_in_parallel(&mut self, bytes: &[u8], instances: usize) -> bool {
+        let threads = crate::kernel::par::threads();
+        let parsed = self.exchange.instances.len();
+        if !self.in_data || threads < 2 || parsed == 0 || bytes.len() < PARALLEL_PARSE_BYTES {
+            return false;
+        }
+        // The bytes an instance has taken so far (the header's too: a slight overestimate).
+        let per_instance = (self.at / parsed).clamp(16, 1 << 16);
+        let end = bytes
+            .len()
+            .min(self.at + per_instance * instances.max(1) * threads);
+        let pieces = 2 * threads;
+        let mut starts = vec![self.at];
+        for k in 1..pieces {
+            let from = self.at + (end - self.at) * k / pieces;
+            let last = starts.last().copied().unwrap_or(self.at);
+            if let Some(b) = instance_start_after(bytes, from.max(last + 1), end)
+                && b > last
+            {
+                starts.push(b);
+            }
+        }
+        let limit = |k: usize| starts.get(k + 1).copied().unwrap_or(end);
+        let parsed_pieces =
+            crate::kernel::par::map(starts.len(), |k| parse_piece(bytes, starts[k], limit(k)));
+        let mut kept = false;
+        for (k, piece) in parsed_pieces.into_iter().enumerate() {
+            let Ok(piece) = piece else { break };
+            if piece.instances.is_empty() || !self.keep(piece.instances) {
+                break;
+            }
+            kept = true;
+            self.at = piece.end;
+            self.line += piece.lines;
+            if piece.stopped || piece.end != limit(k) {
+                break;
+            }
+        }
+        kept
+    }
+
+    /// Appends a piece's instances to the exchange; false (and the exchange unchanged) where
+    /// one of their numbers is taken or the file would have too many instances.
+    fn keep(&mut self, instances: Vec<(u64, Instance)>) -> bool {
+        let x = &mut self.exchange;
+        if x.instances.len() + instances.len() > MAX_ENTITIES {
+            return false;
+        }
+        let first = x.instances.len();
+        for (k, (id, _)) in instances.iter().enumerate() {
+            if !x.index.insert(*id, first + k) {
+                // Undone: the one-thread parse reports the number used twice, with its line.
+                for (id, _) in &instances[..k] {
+                    x.index.remove(*id);
+                }
+                return false;
+            }
+        }
+        x.instances.extend(instances);
+        true
     }
 
     /// The exchange parsed (complete once [`Self::step`] returned true).
@@ -744,11 +963,7 @@ impl Parsing {
                 match p.next()? {
                     Token::Ref(id) => {
                         let instance = p.instance(id)?;
-                        if exchange
-                            .index
-                            .insert(id, exchange.instances.len())
-                            .is_some()
-                        {
+                        if !exchange.index.insert(id, exchange.instances.len()) {
                             return Err(SyntaxError {
                                 line: p.lexer.line,
                                 entity: Some(id),
@@ -937,5 +1152,162 @@ mod tests {
         assert!(parse_text(&deep).unwrap_err().message.contains("nested"));
         let twice = SMALL.replace("#4 =", "#1 =");
         assert!(parse_text(&twice).unwrap_err().message.contains("twice"));
+    }
+
+    use crate::kernel::par;
+    use std::fmt::Write as _;
+
+    /// A file of `count` instances in general position for the parser: numbers out of order
+    /// and with gaps, strings holding `;`, `#`, quotes and line breaks (instance starts, to a
+    /// quick look, inside strings and comments), comments between instances, complex
+    /// instances, instances over several lines, CR LF line ends and a second DATA section.
+    fn tricky_file(count: usize, seed: u64, tricky: bool) -> String {
+        let mut state = seed;
+        let mut next = move |n: usize| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as usize % n
+        };
+        let mut ids: Vec<usize> = (0..count).map(|k| 3 * k + 1 + next(3)).collect();
+        for _ in 0..count / 4 {
+            let (a, b) = (next(count), next(count));
+            ids.swap(a, b);
+        }
+        let mut text = String::from(
+            "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('tricky;\n#1=A();'),'2;1');\n\
+             FILE_NAME('t.step','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\n\
+             ENDSEC;\nDATA;\n",
+        );
+        for (k, id) in ids.iter().enumerate() {
+            if k == count / 2 {
+                text.push_str("ENDSEC;\nDATA;\n");
+            }
+            let r = ids[next(count)];
+            let _ = match if tricky { next(6) } else { 0 } {
+                0 => writeln!(
+                    text,
+                    "#{id}=CARTESIAN_POINT('',({}.5,-{}.25E-1,{}.));",
+                    next(1000),
+                    next(99),
+                    next(7)
+                ),
+                1 => writeln!(text, "#{id}=NAME('a;\n#{r}=B(1);', 'it''s; #{r}=', $);"),
+                2 => writeln!(text, "#{id}=(A(1) B('x;\n #{r}') C());"),
+                3 => writeln!(
+                    text,
+                    "/* ;\n#{r}=X(); */ #{id} =\n  EDGE(#{r},\n (1,2,(3)),.T.)\n;"
+                ),
+                4 => writeln!(
+                    text,
+                    "#{id}=S('{}');",
+                    format!(";\n#{r}=Q('')").repeat(1 + next(400))
+                ),
+                _ => write!(text, "#{id}=REF(#{r},*,$,.UNSPECIFIED.);\r\n"),
+            };
+        }
+        text.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+        text
+    }
+
+    fn parse_on(helpers: par::Helpers, bytes: &[u8]) -> Result<Exchange, SyntaxError> {
+        par::with_helpers(helpers, || parse(bytes, &mut |_| true))
+    }
+
+    fn assert_same(one: &Exchange, many: &Exchange) {
+        assert_eq!(one.header, many.header);
+        assert_eq!(one.instances.len(), many.instances.len());
+        assert!(one.instances == many.instances);
+        for (id, instance) in &one.instances {
+            assert_eq!(many.get(*id), Some(instance));
+        }
+    }
+
+    #[test]
+    fn a_parse_on_four_threads_is_the_parse_on_one() {
+        for (seed, tricky) in [(1, true), (2, true), (3, true), (4, false)] {
+            let text = tricky_file(12_000, seed, tricky);
+            assert!(text.len() > 2 * PARALLEL_PARSE_BYTES);
+            let one = parse_on(par::ONE_THREAD, text.as_bytes()).unwrap();
+            let many = parse_on(par::SCOPED_HELPERS, text.as_bytes()).unwrap();
+            assert_eq!(one.instances.len(), 12_000);
+            assert_same(&one, &many);
+            // The editor's steps, a few hundred instances a thread each.
+            let (stepped, steps) = par::with_helpers(par::SCOPED_HELPERS, || {
+                let mut parsing = Parsing::default();
+                let mut steps = 0;
+                while !parsing.step(text.as_bytes(), 300).unwrap() {
+                    steps += 1;
+                }
+                (parsing.finish(), steps)
+            });
+            assert_same(&one, &stepped);
+            // Without strings that look like instance starts, every piece is kept.
+            if !tricky {
+                assert!(
+                    steps < 12_000 / 600,
+                    "{steps} steps: too few kept in parallel"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_error_on_four_threads_is_the_error_on_one() {
+        let text = tricky_file(12_000, 7, true);
+        // Before an instance (no string holds a point).
+        let at = |share: f64| {
+            let k = (text.len() as f64 * share) as usize;
+            let point = k + text[k..].find("=CARTESIAN_POINT").unwrap();
+            text[..point].rfind('\n').unwrap() + 1
+        };
+        let mut broken = Vec::new();
+        // A parameter list with a hole, a number used twice, a string never closed, an
+        // unknown character: each late in the file, where a thread other than the first
+        // meets it.
+        for (share, insert) in [
+            (0.7, "#1=FOO(1,,2);\n"),
+            (0.8, "#5=FOO(1);\n#5=FOO(2);\n"),
+            (0.9, "#3=FOO((1,2);\n"),
+            (0.95, "#4=FOO(@);\n"),
+        ] {
+            let k = at(share);
+            broken.push(format!("{}{insert}{}", &text[..k], &text[k..]));
+        }
+        for text in broken {
+            let (Err(one), Err(many)) = (
+                parse_on(par::ONE_THREAD, text.as_bytes()),
+                parse_on(par::SCOPED_HELPERS, text.as_bytes()),
+            ) else {
+                panic!("a broken file parsed");
+            };
+            assert_eq!(one, many);
+            assert!(one.line > 1000, "{one}");
+        }
+    }
+
+    #[test]
+    fn the_index_finds_numbers_near_and_far() {
+        let mut index = InstanceIndex::default();
+        let ids = [1u64, 0, 70_000, 5, 1 << 40, u64::MAX, 200_000, 3];
+        for (at, id) in ids.iter().enumerate() {
+            assert!(index.insert(*id, at), "#{id}");
+        }
+        for (at, id) in ids.iter().enumerate() {
+            assert_eq!(index.get(*id), Some(at), "#{id}");
+            assert!(!index.insert(*id, 99), "#{id} taken twice");
+        }
+        assert_eq!(index.get(2), None);
+        assert_eq!(index.get(u64::MAX - 1), None);
+        // A number too far for the table when read stays found once the table reaches it.
+        for at in ids.len()..200_000 {
+            assert!(index.insert(1_000_000 + at as u64, at));
+        }
+        assert_eq!(index.get(200_000), Some(6));
+        index.remove(200_000);
+        index.remove(5);
+        assert_eq!((index.get(200_000), index.get(5)), (None, None));
+        assert!(index.insert(5, 42));
+        assert_eq!(index.get(5), Some(42));
     }
 }
