@@ -136,9 +136,66 @@ fn length_unit(x: &Exchange, id: u64, depth: usize) -> Option<(f64, String)> {
     None
 }
 
+/// The partial entities the reader finds by looking through the whole file (units,
+/// uncertainty, documents, styles, shape representations and their relationships, bodies);
+/// the rest it reaches by reference. Representations ([`is_representation`]) too.
+const SCANNED: [&str; 14] = [
+    "GLOBAL_UNIT_ASSIGNED_CONTEXT",
+    "DOCUMENT_FILE",
+    "UNCERTAINTY_MEASURE_WITH_UNIT",
+    "STYLED_ITEM",
+    "OVER_RIDING_STYLED_ITEM",
+    "SHAPE_DEFINITION_REPRESENTATION",
+    "CONTEXT_DEPENDENT_SHAPE_REPRESENTATION",
+    "REPRESENTATION_RELATIONSHIP",
+    "MANIFOLD_SOLID_BREP",
+    "BREP_WITH_VOIDS",
+    "SHELL_BASED_SURFACE_MODEL",
+    "ORIENTED_CLOSED_SHELL",
+    "CLOSED_SHELL",
+    "OPEN_SHELL",
+];
+
+/// The places in `x.instances`, in the file's order, of the instances with a partial entity
+/// that [`SCANNED`] names or that is a representation: found on every core in one pass, so
+/// that the reader's eleven looks through the file (a tenth of a second each for a million
+/// instances) go through these few alone.
+fn scanned(x: &Exchange) -> Vec<usize> {
+    const SHARE: usize = 1 << 14;
+    let wanted = |instance: &Instance| {
+        let parts = match instance {
+            Instance::Simple(r) => std::slice::from_ref(r),
+            Instance::Complex(p) => p.as_slice(),
+        };
+        parts
+            .iter()
+            .any(|r| is_representation(&r.name) || SCANNED.contains(&r.name.as_str()))
+    };
+    crate::kernel::par::map(x.instances.len().div_ceil(SHARE), |k| {
+        let first = k * SHARE;
+        x.instances
+            .iter()
+            .enumerate()
+            .skip(first)
+            .take(SHARE)
+            .filter(|(_, (_, instance))| wanted(instance))
+            .map(|(place, _)| place)
+            .collect::<Vec<usize>>()
+    })
+    .concat()
+}
+
+/// The instances at `places` ([`scanned`]), in order.
+fn scanned_instances<'a>(
+    x: &'a Exchange,
+    places: &'a [usize],
+) -> impl Iterator<Item = &'a (u64, Instance)> + 'a {
+    places.iter().filter_map(|&k| x.instances.get(k))
+}
+
 /// The file's length unit: the first representation context's, else millimetres.
-fn file_unit(x: &Exchange) -> (f64, String) {
-    for (_, instance) in &x.instances {
+fn file_unit(x: &Exchange, scan: &[usize]) -> (f64, String) {
+    for (_, instance) in scanned_instances(x, scan) {
         let Some(ctx) = instance.part("GLOBAL_UNIT_ASSIGNED_CONTEXT") else {
             continue;
         };
@@ -158,9 +215,9 @@ fn file_unit(x: &Exchange) -> (f64, String) {
 }
 
 /// The names of the files the model refers to (`DOCUMENT_FILE`), in the order written.
-fn external_files(x: &Exchange) -> Vec<String> {
+fn external_files(x: &Exchange, scan: &[usize]) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         if let Some(d) = instance.part("DOCUMENT_FILE")
             && let Some(Value::Str(name)) = d.args.first()
             && !name.is_empty()
@@ -174,9 +231,9 @@ fn external_files(x: &Exchange) -> Vec<String> {
 
 /// The largest length uncertainty the file declares (`UNCERTAINTY_MEASURE_WITH_UNIT` with a
 /// `LENGTH_MEASURE`), in millimetres; `None` when it declares none.
-fn file_uncertainty(x: &Exchange, millimetres_per_unit: f64) -> Option<f64> {
+fn file_uncertainty(x: &Exchange, scan: &[usize], millimetres_per_unit: f64) -> Option<f64> {
     let mut largest: Option<f64> = None;
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         let Some(u) = instance.part("UNCERTAINTY_MEASURE_WITH_UNIT") else {
             continue;
         };
@@ -243,9 +300,9 @@ fn colour_in(x: &Exchange, value: &Value, depth: usize, seen: &mut usize) -> Opt
 }
 
 /// Colours by the item they style.
-fn colours(x: &Exchange) -> HashMap<u64, [f32; 3]> {
+fn colours(x: &Exchange, scan: &[usize]) -> HashMap<u64, [f32; 3]> {
     let mut out = HashMap::new();
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         let Some(r) = instance
             .part("STYLED_ITEM")
             .or_else(|| instance.part("OVER_RIDING_STYLED_ITEM"))
@@ -295,13 +352,13 @@ fn is_representation(name: &str) -> bool {
         && !name.starts_with("CONTEXT_DEPENDENT")
 }
 
-fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
+fn assembly(e: &Entities, scan: &[usize]) -> Result<Assembly, FormatError> {
     let x = e.x;
     let mut items: HashMap<u64, Vec<u64>> = HashMap::new();
-    for (id, instance) in &x.instances {
-        let parts: Vec<&super::part21::Record> = match instance {
-            Instance::Simple(r) => vec![r],
-            Instance::Complex(p) => p.iter().collect(),
+    for (id, instance) in scanned_instances(x, scan) {
+        let parts = match instance {
+            Instance::Simple(r) => std::slice::from_ref(r),
+            Instance::Complex(p) => p.as_slice(),
         };
         for r in parts {
             if is_representation(&r.name)
@@ -344,7 +401,7 @@ fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
             _ => None,
         }
     };
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         let Some(sdr) = instance.part("SHAPE_DEFINITION_REPRESENTATION") else {
             continue;
         };
@@ -367,7 +424,7 @@ fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
     let mut parent: HashMap<u64, u64> = items.keys().map(|&k| (k, k)).collect();
     let mut placed: Vec<(u64, u64, DAffine3)> = Vec::new(); // (parent rep, child rep, child→parent)
     let mut child_of_nauo: HashMap<u64, u64> = HashMap::new(); // relation → child rep
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         let Some(cdsr) = instance.part("CONTEXT_DEPENDENT_SHAPE_REPRESENTATION") else {
             continue;
         };
@@ -409,7 +466,7 @@ fn assembly(e: &Entities) -> Result<Assembly, FormatError> {
             }
         }
     }
-    for (id, instance) in &x.instances {
+    for (id, instance) in scanned_instances(x, scan) {
         let Some(rr) = instance.part("REPRESENTATION_RELATIONSHIP") else {
             continue;
         };
@@ -518,7 +575,7 @@ fn place_key(t: &DAffine3) -> [i64; 12] {
     key
 }
 
-fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
+fn placements(x: &Exchange, scan: &[usize], a: &Assembly) -> Vec<Placement> {
     let mut group_items: HashMap<u64, Vec<u64>> = HashMap::new();
     let mut group_names: HashMap<u64, String> = HashMap::new();
     for (rep, list) in &a.items {
@@ -594,7 +651,7 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
     // Bodies no representation holds (or a file without representations): as they are.
     let held: HashSet<u64> = a.items.values().flatten().copied().collect();
     let mut inner_shells: HashSet<u64> = HashSet::new();
-    for (_, instance) in &x.instances {
+    for (_, instance) in scanned_instances(x, scan) {
         for name in [
             "MANIFOLD_SOLID_BREP",
             "BREP_WITH_VOIDS",
@@ -620,7 +677,7 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
             }
         }
     }
-    for (id, instance) in &x.instances {
+    for (id, instance) in scanned_instances(x, scan) {
         if is_body(instance)
             && !placed_items.contains(id)
             && !held.contains(id)
@@ -641,6 +698,8 @@ fn placements(x: &Exchange, a: &Assembly) -> Vec<Placement> {
 /// the progress, stay responsive between steps and cancel.
 pub struct ReadJob {
     x: Exchange,
+    /// The instances the reader looks through ([`scanned`]).
+    scan: Vec<usize>,
     schema: String,
     millimetres_per_unit: f64,
     unit_name: String,
@@ -678,28 +737,39 @@ impl ReadJob {
     /// The job for a parsed file: its units, assembly and colours read.
     pub fn from_exchange(x: Exchange) -> Result<Self, FormatError> {
         let schema = x.schemas().join(", ");
-        let (millimetres_per_unit, unit_name) = file_unit(&x);
+        let scan = scanned(&x);
+        let (millimetres_per_unit, unit_name) = file_unit(&x, &scan);
         let e = Entities {
             x: &x,
             scale: millimetres_per_unit,
         };
         // The model's size, from its 3D points (not the 2D points of p-curves, which are
         // surface parameters), sets the trim tolerance.
-        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-        for (_, instance) in &x.instances {
-            if let Instance::Simple(r) = instance
-                && r.name == "CARTESIAN_POINT"
-                && let Some(Value::List(c)) = r.args.get(1)
-                && let [a, b, c] = c.as_slice()
-                && let (Some(a), Some(b), Some(c)) = (real_of(a), real_of(b), real_of(c))
-            {
-                let p = DVec3::new(a, b, c) * millimetres_per_unit;
-                if p.is_finite() {
-                    lo = lo.min(p);
-                    hi = hi.max(p);
+        // On every core, a share of the instances each (the least and greatest are the same
+        // in any order).
+        const SHARE: usize = 1 << 14;
+        let boxes = crate::kernel::par::map(x.instances.len().div_ceil(SHARE), |k| {
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for (_, instance) in x.instances.iter().skip(k * SHARE).take(SHARE) {
+                if let Instance::Simple(r) = instance
+                    && r.name == "CARTESIAN_POINT"
+                    && let Some(Value::List(c)) = r.args.get(1)
+                    && let [a, b, c] = c.as_slice()
+                    && let (Some(a), Some(b), Some(c)) = (real_of(a), real_of(b), real_of(c))
+                {
+                    let p = DVec3::new(a, b, c) * millimetres_per_unit;
+                    if p.is_finite() {
+                        lo = lo.min(p);
+                        hi = hi.max(p);
+                    }
                 }
             }
-        }
+            (lo, hi)
+        });
+        let (lo, hi) = boxes.into_iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
         let diagonal = if lo.x.is_finite() {
             lo.distance(hi)
         } else {
@@ -707,15 +777,16 @@ impl ReadJob {
         };
         // The trim tolerance: a millionth of the model, or the file's own uncertainty where
         // that is larger (edges written within it), up to a thousandth of the model.
-        let declared = file_uncertainty(&x, millimetres_per_unit).unwrap_or(0.0);
+        let declared = file_uncertainty(&x, &scan, millimetres_per_unit).unwrap_or(0.0);
         let tolerance = (diagonal * 1e-6)
             .max(declared.min(diagonal * 1e-3))
             .max(1e-9);
-        let a = assembly(&e)?;
-        let colour_of = colours(&x);
-        let places = placements(&x, &a);
+        let a = assembly(&e, &scan)?;
+        let colour_of = colours(&x, &scan);
+        let places = placements(&x, &scan, &a);
         Ok(Self {
             x,
+            scan,
             schema,
             millimetres_per_unit,
             unit_name,
@@ -827,7 +898,7 @@ impl ReadJob {
     /// a large file's millions of instances takes long enough to hold up a frame, so the
     /// caller can free them a share at a time.
     pub fn finish_keeping_instances(mut self) -> (StepModel, Vec<(u64, Instance)>) {
-        let external_files = external_files(&self.x);
+        let external_files = external_files(&self.x, &self.scan);
         let instances = std::mem::take(&mut self.x.instances);
         let summary = skipped_summary(&self.warnings);
         self.warnings.splice(0..0, summary);
@@ -902,6 +973,91 @@ fn skipped_summary(warnings: &[String]) -> Vec<String> {
             format!("{n} {faces} skipped on {entity}: {message}")
         })
         .collect()
+}
+
+/// A face's records read in order, before any geometry ([`face_plan`]).
+struct FacePlan {
+    face_id: u64,
+    surface_id: u64,
+    same_sense: bool,
+    /// Each bound's orientation and its edges in order: (edge, used forward).
+    bounds: Vec<(bool, Vec<(u64, bool)>)>,
+    /// The error met reading the face's records after `bounds` (the read ends there, once
+    /// the geometry before it is read).
+    error: Option<FormatError>,
+}
+
+/// Face `face_id`'s surface, sense and bounds as its records give them (turned over where
+/// `flip`); the first malformed record ends the plan with its error.
+fn face_plan(e: &Entities, face_id: u64, flip: bool) -> FacePlan {
+    let mut plan = FacePlan {
+        face_id,
+        surface_id: 0,
+        same_sense: true,
+        bounds: Vec::new(),
+        error: None,
+    };
+    if let Err(err) = read_face_plan(e, &mut plan, flip) {
+        plan.error = Some(err);
+    }
+    plan
+}
+
+fn read_face_plan(e: &Entities, plan: &mut FacePlan, flip: bool) -> Result<(), FormatError> {
+    let (x, face_id) = (e.x, plan.face_id);
+    let fi = e.instance(face_id)?;
+    let fr = fi
+        .part("ADVANCED_FACE")
+        .or_else(|| fi.part("FACE_SURFACE"))
+        .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
+    let fr = e.record(face_id, &fr.name, 4)?;
+    let bound_ids = e.references(face_id, fr, 1)?;
+    plan.surface_id = e.reference(face_id, fr, 2)?;
+    plan.same_sense = e.boolean(face_id, fr, 3)? != flip;
+    for b in bound_ids {
+        let bi = e.instance(b)?;
+        let br = bi
+            .part("FACE_OUTER_BOUND")
+            .or_else(|| bi.part("FACE_BOUND"))
+            .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
+        let br = e.record(b, &br.name, 3)?;
+        let loop_id = e.reference(b, br, 1)?;
+        let orientation = e.boolean(b, br, 2)?;
+        let li = e.instance(loop_id)?;
+        // A vertex loop bounds a face that is a whole closed surface (a sphere, its poles
+        // the vertex): it adds no edge.
+        if li.is("VERTEX_LOOP") {
+            continue;
+        }
+        let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
+        plan.bounds.push((orientation, Vec::new()));
+        for oe in e.references(loop_id, lr, 1)? {
+            let or = e.record(oe, "ORIENTED_EDGE", 5)?;
+            let edge_id = e.reference(oe, or, 3)?;
+            let forward = e.boolean(oe, or, 4)?;
+            if let Some((_, uses)) = plan.bounds.last_mut() {
+                uses.push((edge_id, forward));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Edge `edge_id` (an `EDGE_CURVE`): its vertices, its curve and the curve's p-curves.
+fn edge_geometry(e: &Entities, edge_id: u64, tolerance: f64) -> Result<EdgeGeometry, EntityError> {
+    let er = e.record(edge_id, "EDGE_CURVE", 5)?;
+    let vertex = |k: usize| -> Result<DVec3, FormatError> {
+        let v = e.reference(edge_id, er, k)?;
+        let vr = e.record(v, "VERTEX_POINT", 2)?;
+        e.point(e.reference(v, vr, 1)?)
+    };
+    let (start, end) = (vertex(1)?, vertex(2)?);
+    let curve_id = e.reference(edge_id, er, 3)?;
+    let curve = e.curve(curve_id)?;
+    let same = e.boolean(edge_id, er, 4)?;
+    let mut g = EdgeGeometry::new(curve, start, end, same, tolerance);
+    g.pcurves = e.pcurves(curve_id);
+    Ok(g)
 }
 
 struct BuiltBody {
@@ -989,7 +1145,6 @@ fn start_body(e: &Entities, item: u64) -> Result<BodyBuild, FormatError> {
     })
 }
 
-/// A body being built a face at a time ([`start_body`], [`BodyBuild::build_next`]).
 /// A face whose edges and surface are read: ready to build, or the warning that skipped it.
 enum Prepared {
     Skipped(String),
@@ -1002,6 +1157,7 @@ enum Prepared {
     },
 }
 
+/// A body being built a few faces at a time ([`start_body`], [`BodyBuild::build_next`]).
 struct BodyBuild {
     item: u64,
     name: Option<String>,
@@ -1034,13 +1190,7 @@ impl BodyBuild {
         colour_of: &HashMap<u64, [f32; 3]>,
         count: usize,
     ) -> Result<(), FormatError> {
-        let mut prepared = Vec::with_capacity(count);
-        while prepared.len() < count.max(1) {
-            match self.prepare_next(e, edges, tolerance)? {
-                Some(face) => prepared.push(face),
-                None => break,
-            }
-        }
+        let prepared = self.prepare(e, edges, tolerance, count)?;
         let built = crate::kernel::par::map(prepared.len(), |k| match &prepared[k] {
             Prepared::Ready {
                 surface,
@@ -1087,111 +1237,118 @@ impl BodyBuild {
         Ok(())
     }
 
-    /// Reads the next face's bounds (its edges through `edges`) and surface; `None` when no
-    /// face is left.
-    fn prepare_next(
+    /// The next `count` faces' records read in order ([`face_plan`]), the geometry of their
+    /// edges not in `edges` and their surfaces read on every core, and each face then
+    /// made ready, or skipped, in order as one face at a time would be: the first edge that
+    /// cannot be built skips its face, and the first error in the file's order (a record or
+    /// an edge's geometry) ends the read.
+    fn prepare(
         &mut self,
         e: &Entities,
         edges: &mut HashMap<u64, Arc<EdgeGeometry>>,
         tolerance: f64,
-    ) -> Result<Option<Prepared>, FormatError> {
-        let x = e.x;
-        let Some(&(face_id, flip)) = self.to_build.get(self.next) else {
-            return Ok(None);
-        };
-        self.next += 1;
-        let fi = e.instance(face_id)?;
-        let fr = fi
-            .part("ADVANCED_FACE")
-            .or_else(|| fi.part("FACE_SURFACE"))
-            .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
-        let fr = e.record(face_id, &fr.name, 4)?;
-        let bound_ids = e.references(face_id, fr, 1)?;
-        let surface_id = e.reference(face_id, fr, 2)?;
-        let same_sense = e.boolean(face_id, fr, 3)? != flip;
-        let mut bounds = Vec::new();
-        for b in bound_ids {
-            let bi = e.instance(b)?;
-            let br = bi
-                .part("FACE_OUTER_BOUND")
-                .or_else(|| bi.part("FACE_BOUND"))
-                .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
-            let br = e.record(b, &br.name, 3)?;
-            let loop_id = e.reference(b, br, 1)?;
-            let orientation = e.boolean(b, br, 2)?;
-            let li = e.instance(loop_id)?;
-            // A vertex loop bounds a face that is a whole closed surface (a sphere, its
-            // poles the vertex): it adds no edge.
-            if li.is("VERTEX_LOOP") {
-                continue;
-            }
-            let lr = e.record(loop_id, "EDGE_LOOP", 2)?;
-            let mut loop_edges = Vec::new();
-            for oe in e.references(loop_id, lr, 1)? {
-                let or = e.record(oe, "ORIENTED_EDGE", 5)?;
-                let edge_id = e.reference(oe, or, 3)?;
-                let forward = e.boolean(oe, or, 4)?;
-                let geometry = match edges.get(&edge_id) {
-                    Some(g) => g.clone(),
-                    None => {
-                        let er = e.record(edge_id, "EDGE_CURVE", 5)?;
-                        let vertex = |k: usize| -> Result<DVec3, FormatError> {
-                            let v = e.reference(edge_id, er, k)?;
-                            let vr = e.record(v, "VERTEX_POINT", 2)?;
-                            e.point(e.reference(v, vr, 1)?)
-                        };
-                        let (start, end) = (vertex(1)?, vertex(2)?);
-                        let curve_id = e.reference(edge_id, er, 3)?;
-                        let curve = match e.curve(curve_id) {
-                            Ok(c) => c,
-                            Err(EntityError::Unbuildable(err)) => {
-                                return Ok(Some(Prepared::Skipped(skipped_face(
-                                    face_id,
-                                    None,
-                                    &err.message,
-                                ))));
-                            }
-                            Err(EntityError::Malformed(err)) => return Err(err),
-                        };
-                        let same = e.boolean(edge_id, er, 4)?;
-                        let mut g = EdgeGeometry::new(curve, start, end, same, tolerance);
-                        g.pcurves = e.pcurves(curve_id);
-                        let g = Arc::new(g);
-                        edges.insert(edge_id, g.clone());
-                        g
-                    }
-                };
-                loop_edges.push(LoopEdge {
-                    id: edge_id,
-                    forward,
-                    geometry,
-                });
-            }
-            if !loop_edges.is_empty() {
-                bounds.push(Bound {
-                    edges: loop_edges,
-                    orientation,
-                });
+        count: usize,
+    ) -> Result<Vec<Prepared>, FormatError> {
+        let mut plans = Vec::with_capacity(count);
+        while plans.len() < count.max(1) {
+            let Some(&(face_id, flip)) = self.to_build.get(self.next) else {
+                break;
+            };
+            self.next += 1;
+            let plan = face_plan(e, face_id, flip);
+            let stop = plan.error.is_some();
+            plans.push(plan);
+            if stop {
+                break;
             }
         }
-        let surface = match e.surface(surface_id) {
-            Ok(s) => s,
-            Err(EntityError::Unbuildable(err)) => {
-                return Ok(Some(Prepared::Skipped(skipped_face(
-                    face_id,
-                    None,
-                    &err.message,
-                ))));
+        // The edges first met in these faces, each once.
+        let mut new_edges = Vec::new();
+        let mut seen = HashSet::new();
+        for plan in &plans {
+            for (_, uses) in &plan.bounds {
+                for &(id, _) in uses {
+                    if !edges.contains_key(&id) && seen.insert(id) {
+                        new_edges.push(id);
+                    }
+                }
             }
-            Err(EntityError::Malformed(err)) => return Err(err),
-        };
-        Ok(Some(Prepared::Ready {
-            face_id,
-            surface,
-            surface_id,
-            bounds,
-            same_sense,
-        }))
+        }
+        let built = crate::kernel::par::map(new_edges.len(), |k| {
+            edge_geometry(e, new_edges[k], tolerance).map(Arc::new)
+        });
+        let surfaces = crate::kernel::par::map(plans.len(), |k| {
+            let plan = &plans[k];
+            plan.error.is_none().then(|| e.surface(plan.surface_id))
+        });
+        let mut failed = HashMap::new();
+        for (id, g) in new_edges.into_iter().zip(built) {
+            match g {
+                Ok(g) => {
+                    edges.insert(id, g);
+                }
+                Err(why) => {
+                    failed.insert(id, why);
+                }
+            }
+        }
+        let mut prepared = Vec::with_capacity(plans.len());
+        'faces: for (plan, surface) in plans.into_iter().zip(surfaces) {
+            let mut bounds = Vec::with_capacity(plan.bounds.len());
+            for (orientation, uses) in plan.bounds {
+                let mut loop_edges = Vec::with_capacity(uses.len());
+                for (id, forward) in uses {
+                    let geometry = match (edges.get(&id), failed.get(&id)) {
+                        (Some(g), _) => g.clone(),
+                        (None, Some(EntityError::Unbuildable(err))) => {
+                            prepared.push(Prepared::Skipped(skipped_face(
+                                plan.face_id,
+                                None,
+                                &err.message,
+                            )));
+                            continue 'faces;
+                        }
+                        (None, Some(EntityError::Malformed(err))) => return Err(err.clone()),
+                        (None, None) => {
+                            return Err(bad(e.x, id, "an edge that was not read"));
+                        }
+                    };
+                    loop_edges.push(LoopEdge {
+                        id,
+                        forward,
+                        geometry,
+                    });
+                }
+                if !loop_edges.is_empty() {
+                    bounds.push(Bound {
+                        edges: loop_edges,
+                        orientation,
+                    });
+                }
+            }
+            let surface = match (plan.error, surface) {
+                (Some(err), _) => return Err(err),
+                (None, Some(Ok(s))) => s,
+                (None, Some(Err(EntityError::Unbuildable(err)))) => {
+                    prepared.push(Prepared::Skipped(skipped_face(
+                        plan.face_id,
+                        None,
+                        &err.message,
+                    )));
+                    continue;
+                }
+                (None, Some(Err(EntityError::Malformed(err)))) => return Err(err),
+                (None, None) => return Err(bad(e.x, plan.face_id, "a surface that was not read")),
+            };
+            prepared.push(Prepared::Ready {
+                face_id: plan.face_id,
+                surface,
+                surface_id: plan.surface_id,
+                bounds,
+                same_sense: plan.same_sense,
+            });
+        }
+        Ok(prepared)
     }
 
     /// The body: its faces, its colour (the item's, else its faces' most common) and the

@@ -129,16 +129,19 @@ enum Phase {
     Empty,
 }
 
-/// Instances parsed per step of an [`OpenJob`] (about 10 ms of a native build's time).
+/// Instances parsed per step of an [`OpenJob`] (about 10 ms of a native build's time), on
+/// each thread ([`part21::Parsing::step`]).
 pub const PARSE_STEP_INSTANCES: usize = 8192;
+/// Faces built per step of an [`OpenJob`], on each thread ([`read::ReadJob::step_faces`]).
+const FACES_A_STEP: usize = 4;
 /// Instances freed per joining step of an [`OpenJob`].
 const FREE_STEP_INSTANCES: usize = 65536;
 
 /// A STEP file opened a step at a time, so that the editor can show a progress bar, stay
-/// responsive and cancel: the text parsed [`PARSE_STEP_INSTANCES`] instances at a time (the
-/// first of them in [`Self::new`], so that a file that is not STEP at all is refused at
-/// once), the units, assembly and colours read, then one face built and one body joined into
-/// a polysurface per [`Self::step`].
+/// responsive and cancel: the text parsed [`PARSE_STEP_INSTANCES`] instances a thread at a
+/// time (the first of them in [`Self::new`], so that a file that is not STEP at all is refused
+/// at once), the units, assembly and colours read, then [`FACES_A_STEP`] faces a thread built
+/// and one body joined into a polysurface per [`Self::step`].
 pub struct OpenJob {
     phase: Phase,
 }
@@ -184,7 +187,7 @@ impl OpenJob {
         }
     }
 
-    /// Some instances parsed, or one face built, or one body joined; true when every one is
+    /// Some instances parsed, or some faces built, or one body joined; true when every one is
     /// done.
     pub fn step(&mut self) -> Result<bool, FormatError> {
         match &mut self.phase {
@@ -211,10 +214,7 @@ impl OpenJob {
                 Ok(false)
             }
             Phase::Reading(job) => {
-                // A face a step: building a few at once on every core made no open faster
-                // (the plate's took 140 ms on two threads against 124 ms on one natively, and
-                // longer in the page), its time being the parse's and the join's.
-                if !job.step()? {
+                if !job.step_faces(FACES_A_STEP * crate::kernel::par::threads())? {
                     return Ok(false);
                 }
                 let Phase::Reading(job) = std::mem::replace(&mut self.phase, Phase::Empty) else {
