@@ -31,5 +31,12 @@ pub mod view;
 
 #[cfg(target_arch = "wasm32")]
 mod web;
+#[cfg(any(test, all(target_arch = "wasm32", target_feature = "atomics")))]
+mod web_alloc;
 #[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
 mod web_threads;
+
+/// The threaded page's allocator: small blocks cached per thread ([`web_alloc`]).
+#[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
+#[global_allocator]
+static ALLOCATOR: web_alloc::ThreadCaching = web_alloc::ThreadCaching;
