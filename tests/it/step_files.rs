@@ -502,8 +502,8 @@ fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_
         steps += 1;
         seen.push(job.progress());
     }
-    // 24 faces, four a thread a step.
-    let faces_a_step = 4 * par::threads();
+    // 24 faces, sixteen a thread a step.
+    let faces_a_step = 16 * par::threads();
     assert!(
         steps > 24usize.div_ceil(faces_a_step),
         "{faces_a_step} faces a step: {steps} steps"

@@ -12,7 +12,7 @@ use glam::{DAffine3, DVec3};
 
 use super::entities::{Entities, EntityError, bad, real_of};
 use super::faces::{Bound, CurveOrigin, EdgeGeometry, LoopEdge, build_face};
-use super::part21::{Exchange, Instance, Value};
+use super::part21::{Exchange, Instance, Record, Value};
 use crate::FormatError;
 use crate::kernel::TrimmedSurface;
 use crate::kernel::join::{EdgeId, SharedEdge, Topology};
@@ -927,7 +927,7 @@ pub fn read(
             return Err(FormatError::new("", "cancelled"));
         }
         // A few faces per thread at a time: the faces are built on every core.
-        if job.step_faces(4 * crate::kernel::par::threads())? {
+        if job.step_faces(16 * crate::kernel::par::threads())? {
             break;
         }
     }
@@ -1003,24 +1003,29 @@ fn face_plan(e: &Entities, face_id: u64, flip: bool) -> FacePlan {
     plan
 }
 
+/// The first partial entity of instance `id` among `names` (its types, in the order to try),
+/// with at least `count` arguments.
+fn record_of<'a>(
+    e: &Entities<'a>,
+    id: u64,
+    names: &[&str],
+    count: usize,
+) -> Result<&'a Record, FormatError> {
+    let instance = e.instance(id)?;
+    let Some(name) = names.iter().find(|name| instance.is(name)) else {
+        return Err(bad(e.x, id, format!("expected {}", names.join(" or "))));
+    };
+    e.record(id, name, count)
+}
+
 fn read_face_plan(e: &Entities, plan: &mut FacePlan, flip: bool) -> Result<(), FormatError> {
-    let (x, face_id) = (e.x, plan.face_id);
-    let fi = e.instance(face_id)?;
-    let fr = fi
-        .part("ADVANCED_FACE")
-        .or_else(|| fi.part("FACE_SURFACE"))
-        .ok_or_else(|| bad(x, face_id, "expected ADVANCED_FACE"))?;
-    let fr = e.record(face_id, &fr.name, 4)?;
+    let face_id = plan.face_id;
+    let fr = record_of(e, face_id, &["ADVANCED_FACE", "FACE_SURFACE"], 4)?;
     let bound_ids = e.references(face_id, fr, 1)?;
     plan.surface_id = e.reference(face_id, fr, 2)?;
     plan.same_sense = e.boolean(face_id, fr, 3)? != flip;
     for b in bound_ids {
-        let bi = e.instance(b)?;
-        let br = bi
-            .part("FACE_OUTER_BOUND")
-            .or_else(|| bi.part("FACE_BOUND"))
-            .ok_or_else(|| bad(x, b, "expected FACE_BOUND or FACE_OUTER_BOUND"))?;
-        let br = e.record(b, &br.name, 3)?;
+        let br = record_of(e, b, &["FACE_OUTER_BOUND", "FACE_BOUND"], 3)?;
         let loop_id = e.reference(b, br, 1)?;
         let orientation = e.boolean(b, br, 2)?;
         let li = e.instance(loop_id)?;

@@ -507,7 +507,7 @@ pub fn run(
 
 /// A STEP model of over 10,000 faces: OpenCASCADE's plate of 806 faces placed 13 times side by
 /// side and written by knotwork's writer, then opened as the editor opens it (the file parsed
-/// in one step, then a face at a time between frames: the longest step is the longest the
+/// a share a step, then a few faces a step between frames: the longest step is the longest the
 /// editor's frame waits), evaluated on the GPU as the editor does when the model arrives, and
 /// drawn at 1280 × 800 as the viewport draws it at rest and on a software adapter.
 fn bench_step_large(

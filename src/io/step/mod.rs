@@ -133,7 +133,7 @@ enum Phase {
 /// each thread ([`part21::Parsing::step`]).
 pub const PARSE_STEP_INSTANCES: usize = 8192;
 /// Faces built per step of an [`OpenJob`], on each thread ([`read::ReadJob::step_faces`]).
-const FACES_A_STEP: usize = 4;
+const FACES_A_STEP: usize = 16;
 /// Instances freed per joining step of an [`OpenJob`].
 const FREE_STEP_INSTANCES: usize = 65536;
 
