@@ -190,12 +190,12 @@ fn map_on_helpers<S, T: Send>(
             let state = state.get_or_insert_with(init);
             let end = (start + chunk).min(count);
             for (i, slot) in results[start..end].iter().enumerate() {
-                // A panic leaves the slot unwritten: counted, so nothing reads it.
+                // A panic leaves the chunk uncounted, so nothing reads its slots.
                 let value = f(state, start + i);
                 // SAFETY: the slot belongs to this chunk, claimed by this thread alone.
                 unsafe { (*slot.0.get()).write(value) };
-                written.fetch_add(1, Ordering::Release);
             }
+            written.fetch_add(end - start, Ordering::Release);
         }
     };
     (helpers.run)(&|| {
@@ -209,7 +209,7 @@ fn map_on_helpers<S, T: Send>(
     }
     results
         .into_iter()
-        // SAFETY: every index was written (`written` counted each once).
+        // SAFETY: every index was written (`written` counted each chunk once, whole).
         .map(|slot| unsafe { slot.0.into_inner().assume_init() })
         .collect()
 }
