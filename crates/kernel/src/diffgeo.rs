@@ -41,6 +41,20 @@ pub struct SurfaceDerivatives {
     pub svv: DVec3,
 }
 
+/// Su × Sv normalized, or `None` where the tangent plane is degenerate (the tests of
+/// [`SurfaceDerivatives::regular_normal`]).
+pub fn regular_normal_of(su: DVec3, sv: DVec3) -> Option<DVec3> {
+    let n = su.cross(sv);
+    let n2 = n.length_squared();
+    let (a, b) = (su.length_squared(), sv.length_squared());
+    let scale = a * b;
+    if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 && a.min(b) > DEGENERATE_SIN2 * a.max(b) {
+        Some(n / n2.sqrt())
+    } else {
+        None
+    }
+}
+
 impl SurfaceDerivatives {
     /// The unit normal's derivatives (N_u, N_v) by the Weingarten equations (do Carmo 3.3):
     /// with D = EG − F², N_u = ((MF − LG) S_u + (LF − ME) S_v) / D and N_v = ((NF − MG) S_u +
@@ -64,15 +78,7 @@ impl SurfaceDerivatives {
     /// poles of rational surfaces, where the derivative along the collapsed edge is rounding
     /// noise whose direction (and so the sin² test) means nothing.
     pub fn regular_normal(&self) -> Option<DVec3> {
-        let n = self.su.cross(self.sv);
-        let n2 = n.length_squared();
-        let (a, b) = (self.su.length_squared(), self.sv.length_squared());
-        let scale = a * b;
-        if n2 > DEGENERATE_SIN2 * scale && n2 > 0.0 && a.min(b) > DEGENERATE_SIN2 * a.max(b) {
-            Some(n / n2.sqrt())
-        } else {
-            None
-        }
+        regular_normal_of(self.su, self.sv)
     }
 
     /// The normal at a point where one partial derivative vanishes (a collapsed edge or a pole),

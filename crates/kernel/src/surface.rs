@@ -23,6 +23,8 @@ use super::error::{GeometryError, Location};
 use super::ops::{self, Polygon};
 
 mod grid;
+mod patches;
+pub use patches::ScatteredEvaluator;
 
 /// A parameter direction of a surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]

@@ -28,6 +28,21 @@ pub struct MonotonePiece {
 /// The point of the rational Bézier curve `points` at t (de Casteljau, The NURBS Book A1.5, on
 /// homogeneous points), projected.
 pub fn bezier_point(points: &[DVec3], t: f64) -> DVec2 {
+    let s = 1.0 - t;
+    // Degrees up to 3 (nearly every trim curve) by their Bernstein polynomials (eq. 1.8),
+    // written out.
+    let h = match *points {
+        [a, b] => a * s + b * t,
+        [a, b, c] => a * (s * s) + b * (2.0 * s * t) + c * (t * t),
+        [a, b, c, d] => {
+            let (s2, t2) = (s * s, t * t);
+            a * (s2 * s) + b * (3.0 * s2 * t) + c * (3.0 * s * t2) + d * (t2 * t)
+        }
+        _ => DVec3::NAN,
+    };
+    if points.len() >= 2 && points.len() <= 4 {
+        return h.truncate() / h.z;
+    }
     with_copy(points, |work| {
         let n = work.len();
         for r in 1..n {

@@ -1,0 +1,438 @@
+//! A surface held as its Bézier patches, for evaluating many scattered points: a point is a
+//! look-up of its span in each direction and a tensor product of Bernstein values, with none
+//! of the knot arithmetic (and divisions) of the basis functions (A2.2) at every point. The
+//! trimmed export evaluates some 70,000 scattered points a surface (the boundary's flattening,
+//! the tolerance check, the boundary's vertices) this way.
+
+use glam::{DVec2, DVec3, DVec4};
+
+use super::NurbsSurface;
+use crate::GeometryError;
+use crate::diffgeo::regular_normal_of;
+
+/// Degrees from this one up are evaluated by the surface itself.
+const ORDER_CAP: usize = 8;
+/// The most homogeneous points held (32 MB); a surface with more Bézier points is evaluated by
+/// itself.
+const POINTS_CAP: usize = 1 << 20;
+
+/// A surface's Bézier patches ([`NurbsSurface::bezier_patches`]'s, held flat) for scattered
+/// evaluation; degrees of 8 and more, and very large nets, are evaluated by the surface.
+#[derive(Debug, Clone)]
+pub struct ScatteredEvaluator<'a> {
+    surface: &'a NurbsSurface,
+    /// Empty where the surface evaluates itself.
+    patches: Vec<DVec4>,
+    breaks: [Vec<f64>; 2],
+    /// 1 / (breaks[k + 1] − breaks[k]).
+    inverse_widths: [Vec<f64>; 2],
+    /// Spans over the domain's width, in each direction.
+    spans_per_unit: [f64; 2],
+}
+
+/// B_{i,n}(t) for i = 0..=n (The NURBS Book, A1.3 "AllBernstein") in `out[..=n]`, and where
+/// `lower` is given the degree n − 1 values in it (for derivatives).
+fn all_bernstein(
+    n: usize,
+    t: f64,
+    out: &mut [f64; ORDER_CAP],
+    lower: Option<&mut [f64; ORDER_CAP]>,
+) {
+    let s = 1.0 - t;
+    if n == 3 {
+        // The cubic's, written out: most surfaces are bicubic.
+        let (s2, t2) = (s * s, t * t);
+        out[..4].copy_from_slice(&[s2 * s, 3.0 * t * s2, 3.0 * t2 * s, t2 * t]);
+        if let Some(l) = lower {
+            l[..3].copy_from_slice(&[s2, 2.0 * t * s, t2]);
+        }
+        return;
+    }
+    out[0] = 1.0;
+    let mut lower = lower;
+    for j in 1..=n {
+        if j == n
+            && let Some(l) = lower.take()
+        {
+            l[..n].copy_from_slice(&out[..n]);
+        }
+        let mut saved = 0.0;
+        for slot in &mut out[..j] {
+            let temp = *slot;
+            *slot = saved + s * temp;
+            saved = t * temp;
+        }
+        out[j] = saved;
+    }
+    if let Some(l) = lower {
+        // n = 0: the derivative's basis is empty.
+        l[0] = 0.0;
+    }
+}
+
+/// dB_{i,n}/dt = n (B_{i−1,n−1} − B_{i,n−1}) (The NURBS Book, eq. 1.9) from the degree n − 1
+/// values.
+fn bernstein_derivatives(n: usize, lower: &[f64; ORDER_CAP]) -> [f64; ORDER_CAP] {
+    let mut out = [0.0; ORDER_CAP];
+    let scale = n as f64;
+    for (i, slot) in out.iter_mut().enumerate().take(n + 1) {
+        let before = if i > 0 { lower[i - 1] } else { 0.0 };
+        let here = if i < n { lower[i] } else { 0.0 };
+        *slot = scale * (before - here);
+    }
+    out
+}
+
+/// Σ_i Σ_j bu_i bv_j net_ij for a patch of p × q points (each row blended in v, then the rows
+/// in u). Runs the AVX2 build where the CPU has it: the four coordinates of a homogeneous point
+/// in one 256-bit register, a multiply and an add for each control point (no fused
+/// multiply-add, so both builds give the same bits).
+fn tensor(
+    net: &[DVec4],
+    p: usize,
+    q: usize,
+    bu: &[f64; ORDER_CAP],
+    bv: &[f64; ORDER_CAP],
+) -> DVec4 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the function only enables AVX2, which the CPU was just found to have.
+        return unsafe { tensor_avx2(net, p, q, bu, bv) };
+    }
+    tensor_body(net, p, q, bu, bv)
+}
+
+/// [`tensor_body`] compiled with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn tensor_avx2(
+    net: &[DVec4],
+    p: usize,
+    q: usize,
+    bu: &[f64; ORDER_CAP],
+    bv: &[f64; ORDER_CAP],
+) -> DVec4 {
+    tensor_body(net, p, q, bu, bv)
+}
+
+#[inline(always)]
+fn tensor_body(
+    net: &[DVec4],
+    p: usize,
+    q: usize,
+    bu: &[f64; ORDER_CAP],
+    bv: &[f64; ORDER_CAP],
+) -> DVec4 {
+    let mut sum = [0.0f64; 4];
+    for (i, &weight) in bu.iter().enumerate().take(p) {
+        let mut row = [0.0f64; 4];
+        for (h, &w) in net[i * q..][..q].iter().zip(bv) {
+            let h = h.to_array();
+            for l in 0..4 {
+                row[l] += h[l] * w;
+            }
+        }
+        for l in 0..4 {
+            sum[l] += row[l] * weight;
+        }
+    }
+    DVec4::from_array(sum)
+}
+
+/// The Bernstein values and their derivatives in one direction.
+type Basis<'a> = [&'a [f64; ORDER_CAP]; 2];
+
+/// The tensor products of the values and derivatives `bu`, `bv` with a p × q patch: (A, A_s,
+/// A_t), rows blended in v first. In AVX2 where the CPU has it, as [`tensor`].
+fn tensor_derivatives(net: &[DVec4], p: usize, q: usize, bu: Basis, bv: Basis) -> [DVec4; 3] {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the function only enables AVX2, which the CPU was just found to have.
+        return unsafe { tensor_derivatives_avx2(net, p, q, bu, bv) };
+    }
+    tensor_derivatives_body(net, p, q, bu, bv)
+}
+
+/// [`tensor_derivatives_body`] compiled with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn tensor_derivatives_avx2(net: &[DVec4], p: usize, q: usize, bu: Basis, bv: Basis) -> [DVec4; 3] {
+    tensor_derivatives_body(net, p, q, bu, bv)
+}
+
+#[inline(always)]
+fn tensor_derivatives_body(
+    net: &[DVec4],
+    p: usize,
+    q: usize,
+    [bu, eu]: Basis,
+    [bv, ev]: Basis,
+) -> [DVec4; 3] {
+    let (mut sum, mut sum_s, mut sum_t) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
+    for i in 0..p {
+        let (mut row, mut row_t) = ([0.0f64; 4], [0.0f64; 4]);
+        for (j, h) in net[i * q..][..q].iter().enumerate() {
+            let h = h.to_array();
+            for l in 0..4 {
+                row[l] += h[l] * bv[j];
+                row_t[l] += h[l] * ev[j];
+            }
+        }
+        for l in 0..4 {
+            sum[l] += row[l] * bu[i];
+            sum_s[l] += row[l] * eu[i];
+            sum_t[l] += row_t[l] * bu[i];
+        }
+    }
+    [sum, sum_s, sum_t].map(DVec4::from_array)
+}
+
+impl NurbsSurface {
+    /// This surface prepared for many scattered evaluations ([`ScatteredEvaluator`]).
+    pub fn scattered_evaluator(&self) -> ScatteredEvaluator<'_> {
+        let [p, q] = self.degree;
+        let breaks = [
+            self.span_breaks(crate::Direction::U),
+            self.span_breaks(crate::Direction::V),
+        ];
+        let spans = (breaks[0].len() - 1) * (breaks[1].len() - 1);
+        let inverse_widths = breaks
+            .clone()
+            .map(|b| b.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect());
+        let mut patches = Vec::new();
+        if p.max(q) < ORDER_CAP && spans * (p + 1) * (q + 1) <= POINTS_CAP {
+            let refined = self.bezier_refined();
+            let cv = refined.count[1];
+            patches.reserve(spans * (p + 1) * (q + 1));
+            for a in 0..breaks[0].len() - 1 {
+                for b in 0..breaks[1].len() - 1 {
+                    for i in 0..=p {
+                        for j in 0..=q {
+                            patches.push(refined.points[(a * p + i) * cv + b * q + j]);
+                        }
+                    }
+                }
+            }
+        }
+        let spans_per_unit = [0, 1].map(|d| {
+            let b = &breaks[d];
+            (b.len() - 1) as f64 / (b[b.len() - 1] - b[0])
+        });
+        ScatteredEvaluator {
+            surface: self,
+            patches,
+            breaks,
+            inverse_widths,
+            spans_per_unit,
+        }
+    }
+}
+
+impl<'a> ScatteredEvaluator<'a> {
+    /// The surface evaluated.
+    pub fn surface(&self) -> &'a NurbsSurface {
+        self.surface
+    }
+
+    /// The span holding `x` (moved into the domain) in direction `d` and the local parameter in
+    /// it, in [0, 1]; a value on a break belongs to the span after it, the domain's end to the
+    /// last span (as [`crate::basis::find_span`] places it).
+    fn locate(&self, d: usize, x: f64) -> (usize, f64) {
+        let b = &self.breaks[d];
+        let last = b.len() - 2;
+        let x = x.clamp(b[0], b[last + 1]);
+        // The span of evenly spaced breaks first (most surfaces' knots are), then a search.
+        let guess = ((x - b[0]) * self.spans_per_unit[d]) as usize;
+        let k = if guess <= last && b[guess] <= x && (x < b[guess + 1] || guess == last) {
+            guess
+        } else {
+            b.partition_point(|&t| t <= x).saturating_sub(1).min(last)
+        };
+        (k, ((x - b[k]) * self.inverse_widths[d][k]).clamp(0.0, 1.0))
+    }
+
+    /// The Bézier patch holding p (moved into the domain) and the local parameters in it.
+    fn patch_at(&self, p: DVec2) -> (&[DVec4], [usize; 2], f64, f64) {
+        let [du, dv] = self.surface.degree;
+        let (a, s) = self.locate(0, p.x);
+        let (b, t) = self.locate(1, p.y);
+        let spans_v = self.breaks[1].len() - 1;
+        let size = (du + 1) * (dv + 1);
+        (
+            &self.patches[(a * spans_v + b) * size..][..size],
+            [a, b],
+            s,
+            t,
+        )
+    }
+
+    /// The homogeneous point A(u, v) at p.
+    fn homogeneous(&self, p: DVec2) -> DVec4 {
+        let [du, dv] = self.surface.degree;
+        let (net, _, s, t) = self.patch_at(p);
+        let (mut bu, mut bv) = ([0.0; ORDER_CAP], [0.0; ORDER_CAP]);
+        all_bernstein(du, s, &mut bu, None);
+        all_bernstein(dv, t, &mut bv, None);
+        tensor(net, du + 1, dv + 1, &bu, &bv)
+    }
+
+    /// A, A_u and A_v at p: the derivatives from the Bernstein polynomials' (eq. 1.9), times
+    /// the span's 1 / width for the chain rule.
+    fn homogeneous_derivatives(&self, p: DVec2) -> [DVec4; 3] {
+        let [du, dv] = self.surface.degree;
+        let (net, [a, b], s, t) = self.patch_at(p);
+        let (mut bu, mut bv) = ([0.0; ORDER_CAP], [0.0; ORDER_CAP]);
+        let (mut lu, mut lv) = ([0.0; ORDER_CAP], [0.0; ORDER_CAP]);
+        all_bernstein(du, s, &mut bu, Some(&mut lu));
+        all_bernstein(dv, t, &mut bv, Some(&mut lv));
+        let (eu, ev) = (
+            bernstein_derivatives(du, &lu),
+            bernstein_derivatives(dv, &lv),
+        );
+        let [sum, sum_s, sum_t] = tensor_derivatives(net, du + 1, dv + 1, [&bu, &eu], [&bv, &ev]);
+        [
+            sum,
+            sum_s * self.inverse_widths[0][a],
+            sum_t * self.inverse_widths[1][b],
+        ]
+    }
+
+    /// S(u, v) at (u, v) = p moved into the domain first (as
+    /// [`NurbsSurface::point_at_clamped`], equal to it up to rounding).
+    pub fn point(&self, p: DVec2) -> Result<DVec3, GeometryError> {
+        if self.patches.is_empty() || !p.is_finite() {
+            return self.surface.point_at_clamped(p);
+        }
+        let a = self.homogeneous(p);
+        Ok(a.truncate() / a.w)
+    }
+
+    /// The point and unit normal at (u, v) = p moved into the domain first; where the tangent
+    /// plane is degenerate (a pole, a collapsed edge) the normal is
+    /// [`NurbsSurface::normal_from`]'s limit.
+    pub fn point_and_normal(&self, p: DVec2) -> Result<(DVec3, DVec3), GeometryError> {
+        let [(u0, u1), (v0, v1)] = self.surface.domain();
+        let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
+        if !self.patches.is_empty() && p.is_finite() {
+            // S = A/w, S_u = (A_u − w_u S)/w (eq. 4.20 with first derivatives alone).
+            let [a, a_u, a_v] = self.homogeneous_derivatives(DVec2::new(u, v));
+            let point = a.truncate() / a.w;
+            let su = (a_u.truncate() - point * a_u.w) / a.w;
+            let sv = (a_v.truncate() - point * a_v.w) / a.w;
+            if let Some(normal) = regular_normal_of(su, sv) {
+                return Ok((point, normal));
+            }
+        }
+        let d = self.surface.evaluate(u, v)?;
+        Ok((d.point, self.surface.normal_from(&d, u, v)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::construct;
+
+    /// A small deterministic generator (SplitMix64), uniform in [0, 1).
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn scattered_points_and_normals_are_the_surfaces() {
+        let mut state = 7;
+        let sphere = construct::sphere(DVec3::new(1.0, -2.0, 0.5), 3.0).unwrap();
+        let torus = construct::torus(DVec3::ZERO, DVec3::new(0.3, 0.2, 1.0), 4.0, 1.5).unwrap();
+        let n = 9;
+        let points = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                DVec3::new(i as f64, j as f64 * 1.3, uniform(&mut state) * 2.0)
+            })
+            .collect();
+        let spline = construct::bspline_surface([3, 2], [n, n], points).unwrap();
+        for surface in [&sphere, &torus, &spline] {
+            let eval = surface.scattered_evaluator();
+            assert!(!eval.patches.is_empty());
+            let [(u0, u1), (v0, v1)] = surface.domain();
+            let scale = surface.size();
+            for k in 0..2000 {
+                // Random points, the domain's corners and edges, and points beyond it.
+                let (s, t) = (uniform(&mut state), uniform(&mut state));
+                let (s, t) = match k % 10 {
+                    0 => (s.round(), t),
+                    1 => (s, t.round() * 1.2 - 0.1),
+                    _ => (s, t),
+                };
+                let p = DVec2::new(u0 + s * (u1 - u0), v0 + t * (v1 - v0));
+                let expected = surface.point_at_clamped(p).unwrap();
+                let got = eval.point(p).unwrap();
+                assert!(
+                    (got - expected).length() <= 1e-13 * scale,
+                    "{p}: {got} vs {expected}"
+                );
+                let (point, normal) = eval.point_and_normal(p).unwrap();
+                let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
+                let reference = surface.normal(u, v).unwrap();
+                assert!((point - expected).length() <= 1e-13 * scale);
+                assert!(
+                    (normal - reference).length() <= 1e-9,
+                    "{p}: {normal} vs {reference}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_avx2_and_baseline_builds_agree_to_the_bit() {
+        let mut state = 11;
+        for (p, q) in [(4, 4), (3, 2), (2, 2), (6, 3), (1, 5)] {
+            let net: Vec<DVec4> = (0..p * q)
+                .map(|_| {
+                    DVec4::new(
+                        uniform(&mut state) * 10.0 - 5.0,
+                        uniform(&mut state) * 1e3,
+                        uniform(&mut state) - 0.5,
+                        0.5 + uniform(&mut state),
+                    )
+                })
+                .collect();
+            let mut basis = || {
+                let mut b = [0.0; ORDER_CAP];
+                b.iter_mut()
+                    .for_each(|x| *x = uniform(&mut state) * 3.0 - 1.0);
+                b
+            };
+            let [bu, bv, eu, ev] = [basis(), basis(), basis(), basis()];
+            assert_eq!(
+                tensor(&net, p, q, &bu, &bv),
+                tensor_body(&net, p, q, &bu, &bv)
+            );
+            assert_eq!(
+                tensor_derivatives(&net, p, q, [&bu, &eu], [&bv, &ev]),
+                tensor_derivatives_body(&net, p, q, [&bu, &eu], [&bv, &ev])
+            );
+            // And the point is the derivatives' first value, to the bit.
+            assert_eq!(
+                tensor(&net, p, q, &bu, &bv),
+                tensor_derivatives(&net, p, q, [&bu, &eu], [&bv, &ev])[0]
+            );
+        }
+    }
+
+    #[test]
+    fn a_bad_parameter_is_the_surfaces_error() {
+        let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
+        let eval = sphere.scattered_evaluator();
+        let p = DVec2::new(f64::NAN, 0.5);
+        assert_eq!(
+            eval.point(p).unwrap_err().to_string(),
+            sphere.point_at_clamped(p).unwrap_err().to_string()
+        );
+        assert!(eval.point_and_normal(p).is_err());
+    }
+}
