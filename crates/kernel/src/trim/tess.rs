@@ -252,6 +252,8 @@ struct PointPool<'g> {
     grid: &'g ParameterGrid,
     points: Vec<DVec2>,
     index: HashMap<[u64; 2], u32>,
+    /// Where the last point's look-ups ended among the grid's lines ([`below`]).
+    near: [usize; 2],
 }
 
 impl<'g> PointPool<'g> {
@@ -265,6 +267,7 @@ impl<'g> PointPool<'g> {
             grid,
             points,
             index: HashMap::default(),
+            near: [0, 0],
         }
     }
 
@@ -274,11 +277,13 @@ impl<'g> PointPool<'g> {
     }
 
     fn id(&mut self, p: DVec2) -> u32 {
-        let line = |lines: &[f64], x: f64| {
-            let k = lines.partition_point(|&l| l < x);
+        let line = |lines: &[f64], x: f64, hint: &mut usize| {
+            let k = below(lines, x, hint);
             (lines.get(k) == Some(&x)).then_some(k)
         };
-        if let (Some(i), Some(j)) = (line(&self.grid.us, p.x), line(&self.grid.vs, p.y)) {
+        if let Some(i) = line(&self.grid.us, p.x, &mut self.near[0])
+            && let Some(j) = line(&self.grid.vs, p.y, &mut self.near[1])
+        {
             return self.crossing(i, j);
         }
         let key = [p.x.to_bits(), p.y.to_bits()];
@@ -316,8 +321,8 @@ fn group_by_cell<T: Copy + Default>(entries: &[(u32, T)], cells: usize) -> (Vec<
 }
 
 /// `x` moved onto the nearest of the sorted `lines` when it lies within `snap` of it.
-fn snap_to(lines: &[f64], x: f64, snap: f64) -> f64 {
-    let k = lines.partition_point(|&l| l < x);
+fn snap_to(lines: &[f64], x: f64, snap: f64, hint: &mut usize) -> f64 {
+    let k = below(lines, x, hint);
     [k.checked_sub(1), Some(k)]
         .into_iter()
         .flatten()
@@ -327,13 +332,11 @@ fn snap_to(lines: &[f64], x: f64, snap: f64) -> f64 {
         .unwrap_or(x)
 }
 
-/// The cells (spans of the sorted `lines`) whose closed interval holds x: two where x lies on
-/// an inner line, one elsewhere. The search starts at the line the last one found (`hint`,
-/// updated): a polygon's consecutive points lie in the same cell or the next, so one or two
-/// comparisons usually find it.
-fn spans_holding_near(lines: &[f64], x: f64, hint: &mut usize) -> std::ops::RangeInclusive<usize> {
+/// partition_point(l < x) of the sorted `lines` (how many lie below x), the search started at
+/// the last answer (`hint`, updated): consecutive points of a polygon lie in the same cell or
+/// the next, so one or two comparisons usually find it.
+fn below(lines: &[f64], x: f64, hint: &mut usize) -> usize {
     let n = lines.len();
-    // k is partition_point(l < x): the lines before it lie below x, the rest not.
     let fits = |k: usize| (k == 0 || lines[k - 1] < x) && (k == n || !(lines[k] < x));
     let h = (*hint).min(n);
     let k = if fits(h) {
@@ -346,7 +349,13 @@ fn spans_holding_near(lines: &[f64], x: f64, hint: &mut usize) -> std::ops::Rang
         lines.partition_point(|&l| l < x)
     };
     *hint = k;
-    spans_at(lines, x, k)
+    k
+}
+
+/// The cells (spans of the sorted `lines`) whose closed interval holds x: two where x lies on
+/// an inner line, one elsewhere (the search from `hint`, as [`below`]).
+fn spans_holding_near(lines: &[f64], x: f64, hint: &mut usize) -> std::ops::RangeInclusive<usize> {
+    spans_at(lines, x, below(lines, x, hint))
 }
 
 /// [`spans_holding_near`] given k, the first line not below x.
@@ -363,12 +372,16 @@ fn spans_at(lines: &[f64], x: f64, k: usize) -> std::ops::RangeInclusive<usize> 
 /// The polygons with every point within `snap` of a grid line moved onto it, repeated points
 /// dropped.
 fn snapped(grid: &ParameterGrid, polygons: &[Vec<DVec2>], snap: f64) -> Vec<Vec<DVec2>> {
+    let mut near = [0, 0];
     polygons
         .iter()
         .map(|poly| {
             let mut out: Vec<DVec2> = Vec::with_capacity(poly.len());
             for p in poly {
-                let q = DVec2::new(snap_to(&grid.us, p.x, snap), snap_to(&grid.vs, p.y, snap));
+                let q = DVec2::new(
+                    snap_to(&grid.us, p.x, snap, &mut near[0]),
+                    snap_to(&grid.vs, p.y, snap, &mut near[1]),
+                );
                 if out.last() != Some(&q) {
                     out.push(q);
                 }
@@ -384,32 +397,36 @@ fn snapped(grid: &ParameterGrid, polygons: &[Vec<DVec2>], snap: f64) -> Vec<Vec<
 
 /// The chord from a to b split where it crosses the grid's lines, from a to b (points on a
 /// line lie exactly on it), into `out` (cleared first; `work` is scratch).
+#[allow(clippy::too_many_arguments)]
 fn chord_points(
     grid: &ParameterGrid,
     a: DVec2,
     b: DVec2,
     snap: f64,
+    near: &mut [usize; 2],
     work: &mut Vec<(f64, DVec2)>,
     out: &mut Vec<DVec2>,
 ) {
     work.clear();
     work.extend([(0.0, a), (1.0, b)]);
-    let crossings = |lines: &[f64], from: f64, to: f64| {
+    // The lines strictly between from and to.
+    let crossings = |lines: &[f64], from: f64, to: f64, hint: &mut usize| {
         let (lo, hi) = (from.min(to), from.max(to));
-        let start = lines.partition_point(|&l| l <= lo);
-        let end = lines.partition_point(|&l| l < hi);
+        let k = below(lines, lo, hint);
+        let start = k + usize::from(lines.get(k) == Some(&lo));
+        let end = below(lines, hi, hint);
         start..end.max(start)
     };
-    for k in crossings(&grid.us, a.x, b.x) {
+    for k in crossings(&grid.us, a.x, b.x, &mut near[0]) {
         let u = grid.us[k];
         let t = (u - a.x) / (b.x - a.x);
-        let v = snap_to(&grid.vs, a.y + t * (b.y - a.y), snap);
+        let v = snap_to(&grid.vs, a.y + t * (b.y - a.y), snap, &mut near[1]);
         work.push((t, DVec2::new(u, v)));
     }
-    for k in crossings(&grid.vs, a.y, b.y) {
+    for k in crossings(&grid.vs, a.y, b.y, &mut near[1]) {
         let v = grid.vs[k];
         let t = (v - a.y) / (b.y - a.y);
-        let u = snap_to(&grid.us, a.x + t * (b.x - a.x), snap);
+        let u = snap_to(&grid.us, a.x + t * (b.x - a.x), snap, &mut near[0]);
         work.push((t, DVec2::new(u, v)));
     }
     work.sort_by(|p, q| p.0.total_cmp(&q.0));
@@ -492,14 +509,14 @@ fn clip_grid_with(
     let mut cell_points: Vec<(u32, u32)> = Vec::new();
     let mut cell_pieces: Vec<(u32, [u32; 2])> = Vec::new();
     let (mut work, mut points, mut ids) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut near_u, mut near_v) = (0, 0);
+    let (mut near_u, mut near_v, mut near_chord) = (0, 0, [0, 0]);
     for poly in &polygons {
         // A chord starts where the one before it ended, and the last ends where the first
         // started: those ids are carried rather than looked up again.
         let (mut first, mut carried) = (None, None);
         for k in 0..poly.len() {
             let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            chord_points(grid, a, b, snap, &mut work, &mut points);
+            chord_points(grid, a, b, snap, &mut near_chord, &mut work, &mut points);
             ids.clear();
             let closing = k + 1 == poly.len();
             for (n, &p) in points.iter().enumerate() {
@@ -947,8 +964,12 @@ fn ear_clipped_cell(
             .map(|k| points[ring[k]].perp_dot(points[ring[(k + 1) % ring.len()]]))
             .sum::<f64>()
     };
-    let largest_face = (0..faces.len())
-        .max_by(|&a, &b| twice_area(&faces[a]).total_cmp(&twice_area(&faces[b])))?;
+    let largest_face = faces
+        .iter()
+        .map(twice_area)
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))?
+        .0;
     let start = out.len();
     clip_ears(
         points,
@@ -1451,6 +1472,27 @@ mod tests {
         // chains touching a side) the constrained triangulation.
         assert!(clipped > cut_cells / 2, "{clipped} of {cut_cells}");
         assert!(clipped < cut_cells, "{clipped} of {cut_cells}");
+    }
+
+    #[test]
+    fn the_search_from_a_hint_is_the_binary_search() {
+        let mut state = 3;
+        for _ in 0..200 {
+            let grid = random_grid(&mut state);
+            let lines = &grid.us;
+            let mut hint = (uniform(&mut state) * 20.0) as usize;
+            for _ in 0..50 {
+                // Near the last, far from it, on a line, beyond the ends.
+                let x = match (uniform(&mut state) * 4.0) as usize {
+                    0 => lines[(uniform(&mut state) * lines.len() as f64) as usize],
+                    1 => uniform(&mut state) * 1.4 - 0.2,
+                    _ => uniform(&mut state),
+                };
+                let expected = lines.partition_point(|&l| l < x);
+                assert_eq!(below(lines, x, &mut hint), expected, "{x} in {lines:?}");
+                assert_eq!(hint, expected);
+            }
+        }
     }
 
     #[test]
