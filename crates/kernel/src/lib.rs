@@ -86,6 +86,16 @@ pub const MAX_BEZIER_DEGREE: usize = 15;
 pub(crate) mod test_support {
     use super::{NurbsSurface, SpaceCurve};
 
+    /// A deterministic generator for tests (SplitMix64: Steele, Lea & Flood, "Fast splittable
+    /// pseudorandom number generators", 2014), uniform in [0, 1).
+    pub(crate) fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
     /// The largest distance from `samples` + 1 evenly spaced points of the curve to the surface
     /// (point inversion).
     pub(crate) fn curve_to_surface(

@@ -83,85 +83,45 @@ fn bernstein_derivatives(n: usize, lower: &[f64; ORDER_CAP]) -> [f64; ORDER_CAP]
     out
 }
 
-/// Σ_i Σ_j bu_i bv_j net_ij for a patch of p × q points (each row blended in v, then the rows
-/// in u). Runs the AVX2 build where the CPU has it: the four coordinates of a homogeneous point
-/// in one 256-bit register, a multiply and an add for each control point (no fused
-/// multiply-add, so both builds give the same bits).
-fn tensor(
+/// The Bernstein values and their derivatives in one direction.
+type Basis<'a> = [&'a [f64; ORDER_CAP]; 2];
+
+/// The tensor products of a p × q patch with the values and derivatives `bu`, `bv`: A =
+/// Σ_i Σ_j bu_i bv_j net_ij, and where `DERIVATIVES` also A_s (eu for bu) and A_t (ev for bv),
+/// each row blended in v first. Runs the AVX2 build where the CPU has it: the four coordinates
+/// of a homogeneous point in one 256-bit register, a multiply and an add for each control
+/// point (no fused multiply-add, so both builds give the same bits, and A is the same with or
+/// without the derivatives).
+fn tensor<const DERIVATIVES: bool>(
     net: &[DVec4],
     p: usize,
     q: usize,
-    bu: &[f64; ORDER_CAP],
-    bv: &[f64; ORDER_CAP],
-) -> DVec4 {
+    bu: Basis,
+    bv: Basis,
+) -> [DVec4; 3] {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the function only enables AVX2, which the CPU was just found to have.
-        return unsafe { tensor_avx2(net, p, q, bu, bv) };
+        return unsafe { tensor_avx2::<DERIVATIVES>(net, p, q, bu, bv) };
     }
-    tensor_body(net, p, q, bu, bv)
+    tensor_body::<DERIVATIVES>(net, p, q, bu, bv)
 }
 
 /// [`tensor_body`] compiled with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn tensor_avx2(
+fn tensor_avx2<const DERIVATIVES: bool>(
     net: &[DVec4],
     p: usize,
     q: usize,
-    bu: &[f64; ORDER_CAP],
-    bv: &[f64; ORDER_CAP],
-) -> DVec4 {
-    tensor_body(net, p, q, bu, bv)
+    bu: Basis,
+    bv: Basis,
+) -> [DVec4; 3] {
+    tensor_body::<DERIVATIVES>(net, p, q, bu, bv)
 }
 
 #[inline(always)]
-fn tensor_body(
-    net: &[DVec4],
-    p: usize,
-    q: usize,
-    bu: &[f64; ORDER_CAP],
-    bv: &[f64; ORDER_CAP],
-) -> DVec4 {
-    let mut sum = [0.0f64; 4];
-    for (i, &weight) in bu.iter().enumerate().take(p) {
-        let mut row = [0.0f64; 4];
-        for (h, &w) in net[i * q..][..q].iter().zip(bv) {
-            let h = h.to_array();
-            for l in 0..4 {
-                row[l] += h[l] * w;
-            }
-        }
-        for l in 0..4 {
-            sum[l] += row[l] * weight;
-        }
-    }
-    DVec4::from_array(sum)
-}
-
-/// The Bernstein values and their derivatives in one direction.
-type Basis<'a> = [&'a [f64; ORDER_CAP]; 2];
-
-/// The tensor products of the values and derivatives `bu`, `bv` with a p × q patch: (A, A_s,
-/// A_t), rows blended in v first. In AVX2 where the CPU has it, as [`tensor`].
-fn tensor_derivatives(net: &[DVec4], p: usize, q: usize, bu: Basis, bv: Basis) -> [DVec4; 3] {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the function only enables AVX2, which the CPU was just found to have.
-        return unsafe { tensor_derivatives_avx2(net, p, q, bu, bv) };
-    }
-    tensor_derivatives_body(net, p, q, bu, bv)
-}
-
-/// [`tensor_derivatives_body`] compiled with AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn tensor_derivatives_avx2(net: &[DVec4], p: usize, q: usize, bu: Basis, bv: Basis) -> [DVec4; 3] {
-    tensor_derivatives_body(net, p, q, bu, bv)
-}
-
-#[inline(always)]
-fn tensor_derivatives_body(
+fn tensor_body<const DERIVATIVES: bool>(
     net: &[DVec4],
     p: usize,
     q: usize,
@@ -175,13 +135,17 @@ fn tensor_derivatives_body(
             let h = h.to_array();
             for l in 0..4 {
                 row[l] += h[l] * bv[j];
-                row_t[l] += h[l] * ev[j];
+                if DERIVATIVES {
+                    row_t[l] += h[l] * ev[j];
+                }
             }
         }
         for l in 0..4 {
             sum[l] += row[l] * bu[i];
-            sum_s[l] += row[l] * eu[i];
-            sum_t[l] += row_t[l] * bu[i];
+            if DERIVATIVES {
+                sum_s[l] += row[l] * eu[i];
+                sum_t[l] += row_t[l] * bu[i];
+            }
         }
     }
     [sum, sum_s, sum_t].map(DVec4::from_array)
@@ -273,7 +237,8 @@ impl<'a> ScatteredEvaluator<'a> {
         let (mut bu, mut bv) = ([0.0; ORDER_CAP], [0.0; ORDER_CAP]);
         all_bernstein(du, s, &mut bu, None);
         all_bernstein(dv, t, &mut bv, None);
-        tensor(net, du + 1, dv + 1, &bu, &bv)
+        let none = [0.0; ORDER_CAP];
+        tensor::<false>(net, du + 1, dv + 1, [&bu, &none], [&bv, &none])[0]
     }
 
     /// A, A_u and A_v at p: the derivatives from the Bernstein polynomials' (eq. 1.9), times
@@ -289,7 +254,7 @@ impl<'a> ScatteredEvaluator<'a> {
             bernstein_derivatives(du, &lu),
             bernstein_derivatives(dv, &lv),
         );
-        let [sum, sum_s, sum_t] = tensor_derivatives(net, du + 1, dv + 1, [&bu, &eu], [&bv, &ev]);
+        let [sum, sum_s, sum_t] = tensor::<true>(net, du + 1, dv + 1, [&bu, &eu], [&bv, &ev]);
         [
             sum,
             sum_s * self.inverse_widths[0][a],
@@ -332,15 +297,7 @@ impl<'a> ScatteredEvaluator<'a> {
 mod tests {
     use super::*;
     use crate::construct;
-
-    /// A small deterministic generator (SplitMix64), uniform in [0, 1).
-    fn uniform(state: &mut u64) -> f64 {
-        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
+    use crate::test_support::uniform;
 
     #[test]
     fn scattered_points_and_normals_are_the_surfaces() {
@@ -408,18 +365,19 @@ mod tests {
                 b
             };
             let [bu, bv, eu, ev] = [basis(), basis(), basis(), basis()];
+            let (u, v) = ([&bu, &eu], [&bv, &ev]);
             assert_eq!(
-                tensor(&net, p, q, &bu, &bv),
-                tensor_body(&net, p, q, &bu, &bv)
+                tensor::<true>(&net, p, q, u, v),
+                tensor_body::<true>(&net, p, q, u, v)
             );
             assert_eq!(
-                tensor_derivatives(&net, p, q, [&bu, &eu], [&bv, &ev]),
-                tensor_derivatives_body(&net, p, q, [&bu, &eu], [&bv, &ev])
+                tensor::<false>(&net, p, q, u, v),
+                tensor_body::<false>(&net, p, q, u, v)
             );
-            // And the point is the derivatives' first value, to the bit.
+            // The point is the same with or without the derivatives, to the bit.
             assert_eq!(
-                tensor(&net, p, q, &bu, &bv),
-                tensor_derivatives(&net, p, q, [&bu, &eu], [&bv, &ev])[0]
+                tensor::<false>(&net, p, q, u, v)[0],
+                tensor::<true>(&net, p, q, u, v)[0]
             );
         }
     }

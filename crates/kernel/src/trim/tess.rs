@@ -1309,15 +1309,7 @@ fn mesh_from(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// SplitMix64, uniform in [0, 1).
-    fn uniform(state: &mut u64) -> f64 {
-        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
+    use crate::test_support::uniform;
 
     /// A random grid over [0, 1]²: 2 to 12 lines each way between the ends, unevenly spaced.
     fn random_grid(state: &mut u64) -> ParameterGrid {
