@@ -1068,6 +1068,8 @@ fn triangulate_face(
     tolerance: f64,
 ) -> Result<FaceTriangulation, GeometryError> {
     let surface = face.surface();
+    // The refinement's check evaluates points scattered over the face: from its Bézier patches.
+    let scattered = surface.scattered_evaluator();
     let mut grid = tess::grid_for(surface, Tessellation::Tolerance(tolerance))?;
     // The metric: mean |S_u| and |S_v| at the grid's points. The triangulation is Delaunay in
     // (u |S_u|, v |S_v|), close to the surface's own lengths, and the grid's cells are split
@@ -1218,14 +1220,14 @@ fn triangulate_face(
                 corners[k] = match corner_points[ids[k]] {
                     Some(p) => p,
                     None => {
-                        let p = surface.point_at_clamped(uv[k])?;
+                        let p = scattered.point(uv[k])?;
                         corner_points[ids[k]] = Some(p);
                         p
                     }
                 };
             }
             let flat = (corners[0] + corners[1] + corners[2]) / 3.0;
-            let mut fails = surface.point_at_clamped(centroid)?.distance(flat) > tolerance;
+            let mut fails = scattered.point(centroid)?.distance(flat) > tolerance;
             for (a, b) in [(0, 1), (1, 2), (2, 0)] {
                 if fails {
                     break;
@@ -1238,7 +1240,7 @@ fn triangulate_face(
                     None => {
                         let at = 0.5 * (uv[a] + uv[b]);
                         let flat = 0.5 * (corners[a] + corners[b]);
-                        let known = surface.point_at_clamped(at)?.distance(flat) > tolerance;
+                        let known = scattered.point(at)?.distance(flat) > tolerance;
                         edge_fails.insert(edge, known);
                         known
                     }
