@@ -147,6 +147,49 @@ pub(crate) mod test_support {
         }
     }
 
+    /// A random B-spline surface over [0, 1]² in general position: degrees 1 to 5 each way,
+    /// up to four spans of random widths (a knot sometimes repeated up to the degree, leaving
+    /// a kink), a net of random heights, placed by [`placement`]; sometimes degree-elevated
+    /// once along u. Where `weighted`, with weights in [0.2, 5), else polynomial.
+    pub(crate) fn random_bspline_surface(state: &mut u64, weighted: bool) -> NurbsSurface {
+        let degree = [0, 1].map(|_| 1 + (uniform(state) * 5.0) as usize);
+        let knots = degree.map(|p| {
+            let mut inner: Vec<f64> = (0..(uniform(state) * 4.0) as usize)
+                .map(|_| 0.05 + 0.9 * uniform(state))
+                .collect();
+            if !inner.is_empty() && uniform(state) < 0.3 {
+                let times = 1 + (uniform(state) * p as f64) as usize;
+                inner.extend(std::iter::repeat_n(inner[0], times.min(p) - 1));
+            }
+            inner.sort_by(f64::total_cmp);
+            let mut knots = vec![0.0; p + 1];
+            knots.extend(inner);
+            knots.extend(vec![1.0; p + 1]);
+            knots
+        });
+        let count = [0, 1].map(|d| knots[d].len() - degree[d] - 1);
+        let points = (0..count[0] * count[1])
+            .map(|k| {
+                let (i, j) = (k / count[1], k % count[1]);
+                DVec3::new(i as f64, j as f64, 2.0 * uniform(state) - 1.0)
+            })
+            .collect();
+        let weights = weighted.then(|| {
+            (0..count[0] * count[1])
+                .map(|_| 0.2 * 25f64.powf(uniform(state)))
+                .collect()
+        });
+        let (motion, _) = placement((uniform(state) * 1e9) as u64);
+        let surface = NurbsSurface::new(degree, knots, count, points, weights)
+            .and_then(|s| s.transformed(&motion))
+            .unwrap();
+        if uniform(state) < 0.3 {
+            surface.elevate_degree(crate::Direction::U, 1).unwrap()
+        } else {
+            surface
+        }
+    }
+
     /// A rotation about a random axis, a uniform scale in [0.5, 3.5) and a shift in
     /// [-100, 100)³, from `seed`: the motion and its scale.
     pub(crate) fn placement(seed: u64) -> (DAffine3, f64) {

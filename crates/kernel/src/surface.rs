@@ -24,7 +24,7 @@ use super::ops::{self, Polygon};
 
 mod grid;
 mod patches;
-pub use patches::ScatteredEvaluator;
+pub use patches::{DerivativeBounds, ScatteredEvaluator, interpolation_error};
 
 /// A parameter direction of a surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]

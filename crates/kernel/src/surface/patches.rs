@@ -4,6 +4,8 @@
 //! trimmed export evaluates some 70,000 scattered points a surface (the boundary's flattening,
 //! the tolerance check, the boundary's vertices) this way.
 
+use std::sync::OnceLock;
+
 use glam::{DVec2, DVec3, DVec4};
 
 use super::NurbsSurface;
@@ -28,6 +30,8 @@ pub struct ScatteredEvaluator<'a> {
     inverse_widths: [Vec<f64>; 2],
     /// Spans over the domain's width, in each direction.
     spans_per_unit: [f64; 2],
+    /// Each patch's [`DerivativeBounds`], computed when first asked for.
+    bounds: Vec<OnceLock<Option<DerivativeBounds>>>,
 }
 
 /// B_{i,n}(t) for i = 0..=n (The NURBS Book, A1.3 "AllBernstein") in `out[..=n]`, and where
@@ -151,6 +155,143 @@ fn tensor_body<const DERIVATIVES: bool>(
     [sum, sum_s, sum_t].map(DVec4::from_array)
 }
 
+/// Upper bounds of a surface's derivatives over a region of (u, v): |S_u| ≤ `first[0]`,
+/// |S_v| ≤ `first[1]`, |S_uu| ≤ `second[0]`, |S_uv| ≤ `second[1]`, |S_vv| ≤ `second[2]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DerivativeBounds {
+    pub first: [f64; 2],
+    pub second: [f64; 3],
+}
+
+impl DerivativeBounds {
+    /// (√(A + B), √(B + C)) for the second-derivative bounds A, B, C: since 2 |d_u d_v| is at
+    /// most d_u² + d_v², |D²S(d, d)| ≤ A d_u² + 2B |d_u d_v| + C d_v² ≤ |d'|² for d scaled by
+    /// it ([`interpolation_error`]).
+    pub fn metric(&self) -> DVec2 {
+        let [a, b, c] = self.second;
+        DVec2::new((a + b).sqrt(), (b + c).sqrt())
+    }
+
+    /// The bounds over a Bézier patch with positive weights (`net`, homogeneous, row-major in
+    /// u, of `degree`, its span's 1 / width in `inverse_widths`), or None where a weight is
+    /// not positive. A patch's derivatives are Bézier patches of its control points'
+    /// differences, times p, p(p − 1), pq, … (The NURBS Book, eq. 3.17 and its second
+    /// derivatives); the Bernstein values are non-negative and sum to 1, so each derivative is
+    /// at most its largest difference. Here that bounds the homogeneous patch A = (S − c) w,
+    /// moved by the first control point c so that |S − c| ≤ R, the net's radius about c (S is a
+    /// convex combination of the net), and w ≥ its least weight. The quotient rule (eq. 4.8,
+    /// 4.20) then gives S_u = (A_u − (S − c) w_u) / w, S_uu = (A_uu − 2 S_u w_u − (S − c) w_uu)
+    /// / w and S_uv = (A_uv − S_u w_v − S_v w_u − (S − c) w_uv) / w. For equal weights w's
+    /// differences vanish and these are the polynomial patch's own bounds. The chain rule
+    /// through the span's widths gives the (u, v) derivatives.
+    fn of_patch(net: &[DVec4], [du, dv]: [usize; 2], [iu, iv]: [f64; 2]) -> Option<Self> {
+        let least = net.iter().map(|h| h.w).fold(f64::INFINITY, f64::min);
+        if !(least > 0.0) {
+            return None;
+        }
+        let centre = net[0].truncate() / net[0].w;
+        let radius = net
+            .iter()
+            .map(|h| (h.truncate() / h.w).distance_squared(centre))
+            .fold(0.0f64, f64::max)
+            .sqrt();
+        let q = dv + 1;
+        // (S − c) w with its weight.
+        let at = |i: usize, j: usize| {
+            let h = net[i * q + j];
+            (h.truncate() - centre * h.w).extend(h.w)
+        };
+        // The largest squared differences of A (most) and absolute differences of w (weight):
+        // along u, along v, twice along u, along both, twice along v.
+        let (mut most, mut weight) = ([0.0f64; 5], [0.0f64; 5]);
+        let mut keep = |k: usize, d: DVec4| {
+            most[k] = most[k].max(d.truncate().length_squared());
+            weight[k] = weight[k].max(d.w.abs());
+        };
+        for i in 0..=du {
+            for j in 0..=dv {
+                let here = at(i, j);
+                if i < du {
+                    keep(0, at(i + 1, j) - here);
+                }
+                if j < dv {
+                    keep(1, at(i, j + 1) - here);
+                }
+                if i + 2 <= du {
+                    keep(2, at(i + 2, j) - 2.0 * at(i + 1, j) + here);
+                }
+                if i < du && j < dv {
+                    keep(3, at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + here);
+                }
+                if j + 2 <= dv {
+                    keep(4, at(i, j + 2) - 2.0 * at(i, j + 1) + here);
+                }
+            }
+        }
+        let (p, q) = (du as f64, dv as f64);
+        let factors = [
+            p * iu,
+            q * iv,
+            p * (p - 1.0) * iu * iu,
+            p * q * iu * iv,
+            q * (q - 1.0) * iv * iv,
+        ];
+        let mut a = [0.0; 5];
+        let mut w = [0.0; 5];
+        for k in 0..5 {
+            a[k] = factors[k] * most[k].sqrt();
+            w[k] = factors[k] * weight[k];
+        }
+        let su = (a[0] + radius * w[0]) / least;
+        let sv = (a[1] + radius * w[1]) / least;
+        let bounds = Self {
+            first: [su, sv],
+            second: [
+                (a[2] + 2.0 * su * w[0] + radius * w[2]) / least,
+                (a[3] + su * w[1] + sv * w[0] + radius * w[3]) / least,
+                (a[4] + 2.0 * sv * w[1] + radius * w[4]) / least,
+            ],
+        };
+        bounds
+            .first
+            .iter()
+            .chain(&bounds.second)
+            .all(|m| m.is_finite())
+            .then_some(bounds)
+    }
+}
+
+/// An upper bound of |S(x) − L(x)| over the segment or triangle with corners `scaled`, where L
+/// interpolates S linearly at the corners, and the corners are (u, v) points scaled by
+/// [`DerivativeBounds::metric`] of bounds that hold on the segment or triangle. Taylor's
+/// remainder at each corner x_i (weighted by x's barycentric λ_i, whose first-order terms
+/// cancel) gives |S − L| ≤ ½ Σ λ_i |D²S(x − x_i, x − x_i)| ≤ ½ Σ λ_i |x' − x_i'|². On a
+/// segment that sum is t(1 − t) |d'|² ≤ |d'|² / 4; on a triangle it is at most R² for R the
+/// radius of the smallest circle about the corners (it equals Σ λ_i |x_i − c|² − |x − c|² for
+/// that circle's centre c): half the longest side on a triangle that is not acute, else the
+/// circumradius abc / 4K. Other counts of corners give infinity.
+pub fn interpolation_error(scaled: &[DVec2]) -> f64 {
+    match *scaled {
+        [a, b] => 0.125 * a.distance_squared(b),
+        [a, b, c] => {
+            let mut sides = [
+                b.distance_squared(c),
+                c.distance_squared(a),
+                a.distance_squared(b),
+            ];
+            sides.sort_by(f64::total_cmp);
+            let radius_squared = if sides[2] >= sides[0] + sides[1] {
+                0.25 * sides[2]
+            } else {
+                let twice_area = (b - a).perp_dot(c - a);
+                sides[0] * sides[1] * sides[2] / (4.0 * twice_area * twice_area)
+            };
+            0.5 * radius_squared
+        }
+        _ => f64::INFINITY,
+    }
+}
+
 impl NurbsSurface {
     /// This surface prepared for many scattered evaluations ([`ScatteredEvaluator`]).
     pub fn scattered_evaluator(&self) -> ScatteredEvaluator<'_> {
@@ -182,8 +323,14 @@ impl NurbsSurface {
             let b = &breaks[d];
             (b.len() - 1) as f64 / (b[b.len() - 1] - b[0])
         });
+        let bounds = if patches.is_empty() {
+            Vec::new()
+        } else {
+            (0..spans).map(|_| OnceLock::new()).collect()
+        };
         ScatteredEvaluator {
             surface: self,
+            bounds,
             patches,
             breaks,
             inverse_widths,
@@ -262,6 +409,49 @@ impl<'a> ScatteredEvaluator<'a> {
         ]
     }
 
+    /// Bounds on the surface's derivatives over the box of (u, v) from `lo` to `hi`, where the
+    /// box lies in one Bézier patch inside the domain; else None. Each patch's bounds are computed once
+    /// ([`DerivativeBounds::of_patch`]).
+    pub fn derivative_bounds(&self, lo: DVec2, hi: DVec2) -> Option<DerivativeBounds> {
+        if self.patches.is_empty() || !(lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        let mut span = [0; 2];
+        for (d, slot) in span.iter_mut().enumerate() {
+            let (from, to) = (lo[d], hi[d]);
+            let b = &self.breaks[d];
+            if !(b[0] <= from && from <= to && to <= b[b.len() - 1]) {
+                return None;
+            }
+            let (k, _) = self.locate(d, from);
+            // A box starting on a break belongs to the span after it; one ending on a break
+            // also lies in the span before it.
+            let k = if from == b[k] && k > 0 && to <= b[k] {
+                k - 1
+            } else {
+                k
+            };
+            if to > b[k + 1] {
+                return None;
+            }
+            *slot = k;
+        }
+        let spans_v = self.breaks[1].len() - 1;
+        let index = span[0] * spans_v + span[1];
+        *self.bounds[index].get_or_init(|| {
+            let [du, dv] = self.surface.degree;
+            let size = (du + 1) * (dv + 1);
+            DerivativeBounds::of_patch(
+                &self.patches[index * size..][..size],
+                [du, dv],
+                [
+                    self.inverse_widths[0][span[0]],
+                    self.inverse_widths[1][span[1]],
+                ],
+            )
+        })
+    }
+
     /// S(u, v) at (u, v) = p moved into the domain first (as
     /// [`NurbsSurface::point_at_clamped`], equal to it up to rounding).
     pub fn point(&self, p: DVec2) -> Result<DVec3, GeometryError> {
@@ -297,7 +487,7 @@ impl<'a> ScatteredEvaluator<'a> {
 mod tests {
     use super::*;
     use crate::construct;
-    use crate::test_support::uniform;
+    use crate::test_support::{random_bspline_surface, uniform};
 
     #[test]
     fn scattered_points_and_normals_are_the_surfaces() {
@@ -380,6 +570,70 @@ mod tests {
                 tensor::<true>(&net, p, q, u, v)[0]
             );
         }
+    }
+
+    #[test]
+    fn derivative_bounds_hold_over_each_patch_and_only_there() {
+        let mut state = 5;
+        for seed in 0..90 {
+            let surface = match seed % 3 {
+                0 => random_bspline_surface(&mut state, true),
+                1 => construct::torus(
+                    DVec3::new(uniform(&mut state), 0.0, -3.0),
+                    DVec3::new(0.3, uniform(&mut state), 1.0),
+                    4.0,
+                    0.5 + uniform(&mut state),
+                )
+                .unwrap(),
+                _ => random_bspline_surface(&mut state, false),
+            };
+            let [(du0, du1), (dv0, dv1)] = surface.domain();
+            let eval = surface.scattered_evaluator();
+            for _ in 0..20 {
+                // A random box inside the span of a random point.
+                let p = DVec2::new(
+                    du0 + (du1 - du0) * uniform(&mut state),
+                    dv0 + (dv1 - dv0) * uniform(&mut state),
+                );
+                let spans = [0, 1].map(|d| eval.locate(d, p[d]).0);
+                let side = |d: usize, state: &mut u64| {
+                    let b = &eval.breaks[d];
+                    let (a, c) = (b[spans[d]], b[spans[d] + 1]);
+                    let (x, y) = (uniform(state), uniform(state));
+                    (a + (c - a) * x.min(y), a + (c - a) * x.max(y))
+                };
+                let ((u0, u1), (v0, v1)) = (side(0, &mut state), side(1, &mut state));
+                let (lo, hi) = (DVec2::new(u0, v0), DVec2::new(u1, v1));
+                let bounds = eval.derivative_bounds(lo, hi).unwrap();
+                let limits = bounds.first.iter().chain(&bounds.second);
+                let slack = 1e-9 * limits.fold(0.0f64, |a, &b| a.max(b));
+                for _ in 0..40 {
+                    let (s, t) = (uniform(&mut state), uniform(&mut state));
+                    let d = surface
+                        .evaluate(u0 + s * (u1 - u0), v0 + t * (v1 - v0))
+                        .unwrap();
+                    let values = [d.su, d.sv, d.suu, d.suv, d.svv].map(|x| x.length());
+                    let limits = bounds.first.iter().chain(&bounds.second);
+                    for (value, &limit) in values.iter().zip(limits) {
+                        assert!(
+                            value <= &(limit + slack),
+                            "seed {seed}: {values:?} vs {bounds:?}"
+                        );
+                    }
+                }
+                // A box across a break has none.
+                let b = &eval.breaks[0];
+                if b.len() > 2 {
+                    let across = DVec2::new(0.5 * (b[1] + b[2]), v1);
+                    assert_eq!(eval.derivative_bounds(DVec2::new(b[0], v0), across), None);
+                }
+            }
+        }
+        // A box outside the domain has none.
+        let plane = construct::bspline_surface([1, 1], [2, 2], vec![DVec3::ZERO; 4]).unwrap();
+        let eval = plane.scattered_evaluator();
+        assert!(eval.derivative_bounds(DVec2::ZERO, DVec2::ONE).is_some());
+        assert_eq!(eval.derivative_bounds(DVec2::splat(-0.1), DVec2::ONE), None);
     }
 
     #[test]

@@ -26,6 +26,7 @@ use self::index::TrimIndex;
 use self::piece::{MonotonePiece, distance_to_segment, monotone_pieces};
 use super::error::{GeometryError, Location};
 pub use super::error::{TrimProblem, Uv};
+use super::surface::DerivativeBounds;
 use super::vector::Vector;
 use super::{Direction, NurbsSurface, TrimCurve};
 
@@ -424,23 +425,32 @@ pub fn flatten_loop_mapped<V: Vector, E>(
         .enumerate()
         .map(|(c, curve)| monotone_pieces(curve, (0, c)))
         .collect();
-    flatten_pieces_mapped(pieces.iter().map(Vec::as_slice), tolerance, depths, map)
+    flatten_pieces_mapped(
+        pieces.iter().map(Vec::as_slice),
+        tolerance,
+        depths,
+        map,
+        |_, _| None,
+    )
 }
 
 /// [`flatten_loop_mapped`] of a loop already cut into monotone pieces, one slice per curve
-/// in the loop's order (as [`TrimmedSurface::monotone_pieces`] holds them).
+/// in the loop's order (as [`TrimmedSurface::monotone_pieces`] holds them), with the map's
+/// derivative bounds over a box of (u, v) from `bounds` where it has them
+/// ([`piece::MonotonePiece::flatten_mapped`]).
 pub fn flatten_pieces_mapped<'a, V: Vector, E>(
     curves: impl IntoIterator<Item = &'a [MonotonePiece]>,
     tolerance: f64,
     depths: (usize, usize),
     map: impl Fn(DVec2) -> Result<V, E> + Copy,
+    bounds: impl Fn(DVec2, DVec2) -> Option<DerivativeBounds> + Copy,
 ) -> Result<(Vec<DVec2>, Vec<usize>), E> {
     let mut out = Vec::new();
     let mut owners = Vec::new();
     for (c, pieces) in curves.into_iter().enumerate() {
         let start = out.len();
         for piece in pieces {
-            piece.flatten_mapped(tolerance, depths, map, &mut out)?;
+            piece.flatten_mapped(tolerance, depths, map, bounds, &mut out)?;
         }
         if out.len() > start {
             out.pop();

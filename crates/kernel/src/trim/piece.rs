@@ -7,6 +7,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::TrimCurve;
+use crate::surface::DerivativeBounds;
 use crate::vector::Vector;
 
 /// Sign samples per Bézier segment when looking for the extrema of u(t) and v(t).
@@ -245,7 +246,7 @@ impl MonotonePiece {
     /// (the first only where `out` does not end with it already).
     pub fn flatten(&self, tolerance: f64, out: &mut Vec<DVec2>) {
         let identity = |p: DVec2| Ok::<DVec2, std::convert::Infallible>(p);
-        let Ok(()) = self.flatten_mapped(tolerance, UV_DEPTHS, identity, out);
+        let Ok(()) = self.flatten_mapped(tolerance, UV_DEPTHS, identity, |_, _| None, out);
     }
 
     /// Points along the piece such that, mapped by `map` (into (u, v) itself, or onto a
@@ -253,11 +254,17 @@ impl MonotonePiece {
     /// and 3/4 of each chord's parameter interval; each interval is halved at least
     /// `depths.0` and at most `depths.1` times. Depth first, left half first, so the points come
     /// out in order; the first only where `out` does not end with it already.
+    ///
+    /// Where `bounds` gives the map's derivative bounds over an interval's box of (u, v) (the
+    /// piece is monotone, so it stays in the box its ends span) and the piece is polynomial, an
+    /// interval that [`chord_deviation_bound`] keeps within `tolerance` is kept without
+    /// sampling: its samples could not fail, so the points are the same.
     pub fn flatten_mapped<V: Vector, E>(
         &self,
         tolerance: f64,
         (min_depth, max_depth): (usize, usize),
         map: impl Fn(DVec2) -> Result<V, E>,
+        bounds: impl Fn(DVec2, DVec2) -> Option<DerivativeBounds>,
         out: &mut Vec<DVec2>,
     ) -> Result<(), E> {
         let at = |t: f64| bezier_point(&self.points, t);
@@ -265,6 +272,9 @@ impl MonotonePiece {
         if out.last() != Some(&start) {
             out.push(start);
         }
+        let speeds = self.derivative_bounds();
+        // Rounding in the samples stays far below this margin.
+        let limit = tolerance * (1.0 - 1e-9);
         // Each interval's midpoint is its parent's quarter point, carried down rather than
         // evaluated again (the parameters are dyadic, so they are the same numbers exactly).
         let (end, middle) = (at(1.0), at(0.5));
@@ -273,6 +283,7 @@ impl MonotonePiece {
             t1: 1.0,
             s0: map(start)?,
             s1: map(end)?,
+            start,
             end,
             middle: (middle, map(middle)?),
             depth: 0,
@@ -283,10 +294,19 @@ impl MonotonePiece {
                 t1,
                 s0,
                 s1,
+                start,
                 end,
                 middle,
                 depth,
             } = span;
+            if depth >= min_depth
+                && let Some(speeds) = speeds
+                && let Some(map_bounds) = bounds(start.min(end), start.max(end))
+                && chord_deviation_bound(t1 - t0, speeds, map_bounds) <= limit
+            {
+                out.push(end);
+                continue;
+            }
             let tm = 0.5 * (t0 + t1);
             let (first, third) = (at(t0 + 0.25 * (t1 - t0)), at(t0 + 0.75 * (t1 - t0)));
             let (q1, q3) = (map(first)?, map(third)?);
@@ -300,6 +320,7 @@ impl MonotonePiece {
                     t1,
                     s0: sm,
                     s1,
+                    start: middle.0,
                     end,
                     middle: (third, q3),
                     depth: depth + 1,
@@ -309,6 +330,7 @@ impl MonotonePiece {
                     t1: tm,
                     s0,
                     s1: sm,
+                    start,
                     end: middle.0,
                     middle: (first, q1),
                     depth: depth + 1,
@@ -319,15 +341,70 @@ impl MonotonePiece {
         }
         Ok(())
     }
+
+    /// Bounds on the piece's first and second derivatives in t over the whole piece:
+    /// [max |u'|, max |v'|, max |u''|, max |v''|], or None where a weight is not positive. The
+    /// derivatives of a Bézier curve are Bézier curves of its points' differences, times n and
+    /// n(n − 1) (The NURBS Book, eq. 1.10), so each is at most its largest difference. That
+    /// bounds a = (c − c₀) w, moved by the first point c₀ so that each coordinate of c − c₀ is
+    /// at most the points' spread from it, and with w at least the least weight the quotient
+    /// rule (eq. 4.8) gives c' = (a' − (c − c₀) w') / w and c'' = (a'' − 2 c' w' − (c − c₀) w'')
+    /// / w; for equal weights these are the polynomial's own bounds.
+    pub(crate) fn derivative_bounds(&self) -> Option<[f64; 4]> {
+        let least = self
+            .points
+            .iter()
+            .map(|h| h.z)
+            .fold(f64::INFINITY, f64::min);
+        let first = self.points.first()?;
+        if !(least > 0.0) || self.points.len() < 2 {
+            return None;
+        }
+        let origin = first.truncate() / first.z;
+        let moved = |h: DVec3| (h.truncate() - origin * h.z).extend(h.z);
+        let spread = self.points.iter().fold(DVec2::ZERO, |m, h| {
+            m.max((h.truncate() / h.z - origin).abs())
+        });
+        let n = (self.points.len() - 1) as f64;
+        // Largest |Δ| and |Δ²| of (a_u, a_v, w).
+        let (mut d1, mut d2) = (DVec3::ZERO, DVec3::ZERO);
+        for (k, pair) in self.points.windows(2).enumerate() {
+            let (a, b) = (moved(pair[0]), moved(pair[1]));
+            d1 = d1.max((b - a).abs());
+            if let Some(&next) = self.points.get(k + 2) {
+                d2 = d2.max((moved(next) - 2.0 * b + a).abs());
+            }
+        }
+        let (d1, d2) = (d1 * n, d2 * (n * (n - 1.0)));
+        let speed = (d1.truncate() + spread * d1.z) / least;
+        let bend = (d2.truncate() + 2.0 * speed * d1.z + spread * d2.z) / least;
+        let bounds = [speed.x, speed.y, bend.x, bend.y];
+        bounds.iter().all(|b| b.is_finite()).then_some(bounds)
+    }
+}
+
+/// An upper bound of the distance from S(c(t)) to the chord between S(c(t0)) and S(c(t1)),
+/// for t in an interval of `length` of a curve c whose derivative bounds are `speeds`
+/// ([max |u'|, max |v'|, max |u''|, max |v''|]) on a surface with `bounds` over the curve's
+/// box. With g(τ) = S(c(t0 + τ·length)), g'' = length² (D²S(c', c') + DS c''), bounded by
+/// length² (A u'² + 2B u' v' + C v'² + |S_u| u'' + |S_v| v''); the distance from g(τ) to the
+/// chord is at most |g(τ) − the chord's point at τ| ≤ τ(1 − τ) max |g''| / 2 ≤ max |g''| / 8.
+pub fn chord_deviation_bound(length: f64, speeds: [f64; 4], bounds: DerivativeBounds) -> f64 {
+    let [u1, v1, u2, v2] = speeds;
+    let [a, b, c] = bounds.second;
+    let [su, sv] = bounds.first;
+    let curvature = a * u1 * u1 + 2.0 * b * u1 * v1 + c * v1 * v1 + su * u2 + sv * v2;
+    0.125 * length * length * curvature
 }
 
 /// One parameter interval of [`MonotonePiece::flatten_mapped`]: its ends, their mapped
-/// points, the (u, v) point at its end and its midpoint with its mapped point.
+/// points, the (u, v) points at its ends and its midpoint with its mapped point.
 struct Interval<V> {
     t0: f64,
     t1: f64,
     s0: V,
     s1: V,
+    start: DVec2,
     end: DVec2,
     middle: (DVec2, V),
     depth: usize,

@@ -34,7 +34,7 @@ use super::{TrimmedSurface, flatten_pieces_mapped};
 use crate::GeometryError;
 use crate::diffgeo::CurvatureValues;
 use crate::surface::GridSample;
-use crate::surface::ScatteredEvaluator;
+use crate::surface::{DerivativeBounds, ScatteredEvaluator, interpolation_error};
 use crate::tess::{self, GridSampler, MAX_TRIANGLES, ParameterGrid, Tessellation, TriangleMesh};
 
 /// The share of the tolerance the boundary chords keep to.
@@ -76,7 +76,9 @@ fn flatten_with(
     let mut out = Vec::new();
     for lp in pieces.chunk_by(|a, b| a.source.0 == b.source.0) {
         let curves = lp.chunk_by(|a, b| a.source.1 == b.source.1);
-        let (polygon, _) = flatten_pieces_mapped(curves, tolerance, SURFACE_DEPTHS, on_surface)?;
+        let bounds = |lo, hi| surface.derivative_bounds(lo, hi);
+        let (polygon, _) =
+            flatten_pieces_mapped(curves, tolerance, SURFACE_DEPTHS, on_surface, bounds)?;
         if polygon.len() > MAX_TRIANGLES {
             return Err(failed(
                 "the trim loops need too many points at this tolerance".into(),
@@ -132,7 +134,8 @@ pub fn tessellate_trimmed_with(
         let clipped = clip_grid(&grid, &polygons)?;
         round += 1;
         let (failing, known) = if checked && round <= REFINE_ROUNDS {
-            clipped.failing_cells(&scattered, tolerance, !curvature)?
+            let bounds = |lo, hi| scattered.derivative_bounds(lo, hi);
+            clipped.failing_cells(&grid, &scattered, bounds, tolerance, !curvature)?
         } else {
             (Vec::new(), Vec::new())
         };
@@ -185,11 +188,16 @@ impl ClippedGrid {
     /// The cut cells where a triangle's centroid or an edge midpoint lies farther than
     /// `tolerance` from the surface at the same (u, v) (an upper bound of its distance). Each
     /// vertex is evaluated once, and each edge's midpoint once in a cell (an edge on a cell's
-    /// side, once in each cell beside it). With the failing cells come the points (and where
-    /// `normals`, the unit normals) of the vertices it evaluated, for the mesh to keep.
+    /// side, once in each cell beside it). A triangle or an edge that the surface's
+    /// second-derivative bounds over its cell (from `bounds`, where it has them) already keep
+    /// within `tolerance` ([`interpolation_error`]) is not sampled: its samples could not fail.
+    /// With the failing cells come the points (and where `normals`, the unit normals) of the
+    /// vertices it evaluated, for the mesh to keep.
     fn failing_cells(
         &self,
+        grid: &ParameterGrid,
         surface: &ScatteredEvaluator<'_>,
+        bounds: impl Fn(DVec2, DVec2) -> Option<DerivativeBounds>,
         tolerance: f64,
         normals: bool,
     ) -> Result<(Vec<[usize; 2]>, Vec<Known>), GeometryError> {
@@ -213,25 +221,47 @@ impl ClippedGrid {
                     }
                 })
             };
+            let [i, j] = cell;
+            let scale = bounds(
+                DVec2::new(grid.us[i], grid.vs[j]),
+                DVec2::new(grid.us[i + 1], grid.vs[j + 1]),
+            )
+            .map(|b| b.metric());
+            // Rounding in the samples stays far below this margin.
+            let limit = tolerance * (1.0 - 1e-9);
+            let bounded = |corners: &[u32]| {
+                scale.is_some_and(|scale| {
+                    let mut scaled = [DVec2::ZERO; 3];
+                    for (slot, &k) in scaled.iter_mut().zip(corners) {
+                        *slot = self.points[k as usize] * scale;
+                    }
+                    interpolation_error(&scaled[..corners.len()]) <= limit
+                })
+            };
             let mut worst: f64 = 0.0;
+            edges.clear();
             for t in triangles {
+                // A bounded triangle's sides are bounded too (half a side is at most the
+                // radius of the triangle's smallest circle).
+                if bounded(t) {
+                    continue;
+                }
                 let flat = (position(t[0])? + position(t[1])? + position(t[2])?) / 3.0;
                 let centroid = t.map(|k| self.points[k as usize]).iter().sum::<DVec2>() / 3.0;
                 worst = worst.max((surface.point(centroid)? - flat).length());
+                edges.extend(
+                    [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].map(|(a, b)| [a.min(b), a.max(b)]),
+                );
             }
             // Each edge of the cell once (the two triangles on an inner edge share it).
-            edges.clear();
-            edges.extend(
-                triangles
-                    .iter()
-                    .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-                    .map(|(a, b)| [a.min(b), a.max(b)]),
-            );
             edges.sort_unstable();
             edges.dedup();
             for &[a, b] in &edges {
                 if worst > tolerance {
                     break;
+                }
+                if bounded(&[a, b]) {
+                    continue;
                 }
                 let (pa, pb) = (position(a)?, position(b)?);
                 let middle = 0.5 * (self.points[a as usize] + self.points[b as usize]);
@@ -257,16 +287,18 @@ struct PointPool<'g> {
 }
 
 impl<'g> PointPool<'g> {
-    fn new(grid: &'g ParameterGrid) -> Self {
-        let points = grid
-            .us
-            .iter()
-            .flat_map(|&u| grid.vs.iter().map(move |&v| DVec2::new(u, v)))
-            .collect();
+    /// The grid's crossings, with room for about `expected` points off them.
+    fn new(grid: &'g ParameterGrid, expected: usize) -> Self {
+        let mut points = Vec::with_capacity(grid.us.len() * grid.vs.len() + expected);
+        points.extend(
+            grid.us
+                .iter()
+                .flat_map(|&u| grid.vs.iter().map(move |&v| DVec2::new(u, v))),
+        );
         Self {
             grid,
             points,
-            index: HashMap::default(),
+            index: HashMap::with_capacity_and_hasher(expected, Default::default()),
             near: [0, 0],
         }
     }
@@ -446,23 +478,33 @@ struct RowChords {
 
 /// The chords of the polygons by row of cells.
 fn chords_by_row(grid: &ParameterGrid, polygons: &[Vec<DVec2>]) -> Vec<RowChords> {
-    let mut rows = vec![Vec::new(); grid.vs.len() - 1];
+    // Each chord with the rows it overlaps, then each row sized before it is filled.
+    let mut spans = Vec::with_capacity(polygons.iter().map(Vec::len).sum());
+    let mut sizes = vec![0usize; grid.vs.len() - 1];
     let mut near = 0;
     for poly in polygons {
         for k in 0..poly.len() {
             let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
             let first = *spans_holding_near(&grid.vs, a.y.min(b.y), &mut near).start();
             let last = *spans_holding_near(&grid.vs, a.y.max(b.y), &mut near).end();
-            for row in &mut rows[first..=last] {
-                row.push([a, b]);
-            }
+            sizes[first..=last].iter_mut().for_each(|n| *n += 1);
+            spans.push(([a, b], first..=last));
         }
     }
+    let mut rows: Vec<Vec<[DVec2; 2]>> = sizes.iter().map(|&n| Vec::with_capacity(n)).collect();
+    for (chord, range) in spans {
+        for row in &mut rows[range] {
+            row.push(chord);
+        }
+    }
+    let right = |c: &[DVec2; 2]| c[0].x.max(c[1].x);
     rows.into_iter()
-        .map(|mut chords: Vec<[DVec2; 2]>| {
-            chords.sort_by(|p, q| p[0].x.max(p[1].x).total_cmp(&q[0].x.max(q[1].x)));
+        .map(|mut chords| {
+            // The parity counts every chord from the first reaching past p, so chords ending
+            // at the same u may come in any order.
+            chords.sort_unstable_by(|p, q| right(p).total_cmp(&right(q)));
             RowChords {
-                right: chords.iter().map(|c| c[0].x.max(c[1].x)).collect(),
+                right: chords.iter().map(right).collect(),
                 chords,
             }
         })
@@ -502,7 +544,8 @@ fn clip_grid_with(
     // Points within SNAP of the domain's size from a grid line are moved onto it.
     let snap = SNAP * (us[us.len() - 1] - us[0]).max(vs[vs.len() - 1] - vs[0]);
     let polygons = snapped(grid, polygons, snap);
-    let mut pool = PointPool::new(grid);
+    // The loops' points, and about as many again where their chords cross the grid's lines.
+    let mut pool = PointPool::new(grid, 2 * polygons.iter().map(Vec::len).sum::<usize>());
     // The cut of cell (i, j) at i * rows + j: its points and pieces, gathered flat.
     let rows_count = vs.len() - 1;
     let cells = (us.len() - 1) * rows_count;
@@ -1266,7 +1309,13 @@ fn mesh_from(
             None
         };
     let [(u0, u1), (v0, v1)] = surface.domain();
-    let mut mesh = TriangleMesh::default();
+    let mut mesh = TriangleMesh {
+        positions: Vec::with_capacity(order.len()),
+        normals: Vec::with_capacity(order.len()),
+        uvs: Vec::with_capacity(order.len()),
+        triangles: Vec::with_capacity(triangles.len()),
+        ..TriangleMesh::default()
+    };
     for &k in &order {
         let p = vertices[k];
         let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
@@ -1309,7 +1358,10 @@ fn mesh_from(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_support::uniform;
+    use crate::test_support::{random_bspline_surface, uniform};
+    use crate::trim::piece::{
+        MonotonePiece, bezier_point, chord_deviation_bound, distance_to_segment, monotone_pieces,
+    };
 
     /// A random grid over [0, 1]²: 2 to 12 lines each way between the ends, unevenly spaced.
     fn random_grid(state: &mut u64) -> ParameterGrid {
@@ -1514,5 +1566,163 @@ mod tests {
         assert!(!pieces_cross(&run, &[[0, 1], [1, 2]]));
         assert!(pieces_cross(&run, &[[0, 2], [1, 2]]));
         assert!(pieces_cross(&run, &[[0, 2], [0, 1]]));
+    }
+
+    /// The box of the Bézier patch holding a random point of the surface's domain.
+    fn random_patch_box(state: &mut u64, surface: &crate::NurbsSurface) -> (DVec2, DVec2) {
+        let [bu, bv] = [crate::Direction::U, crate::Direction::V].map(|d| surface.span_breaks(d));
+        let pick = |b: &[f64], x: f64| {
+            let k = ((x * (b.len() - 1) as f64) as usize).min(b.len() - 2);
+            (b[k], b[k + 1])
+        };
+        let ((u0, u1), (v0, v1)) = (pick(&bu, uniform(state)), pick(&bv, uniform(state)));
+        (DVec2::new(u0, v0), DVec2::new(u1, v1))
+    }
+
+    #[test]
+    fn the_interpolation_bound_holds_on_triangles_and_segments() {
+        let mut state = 3;
+        for seed in 0..80 {
+            let surface = random_bspline_surface(&mut state, seed % 2 == 0);
+            let eval = surface.scattered_evaluator();
+            let (lo, hi) = random_patch_box(&mut state, &surface);
+            let mut random_point =
+                || lo + (hi - lo) * DVec2::new(uniform(&mut state), uniform(&mut state));
+            let mut corners = [random_point(), random_point(), random_point()];
+            if seed % 5 == 0 {
+                // Nearly flat.
+                corners[2] = corners[0].lerp(corners[1], 0.3) + (corners[2] - corners[0]) * 1e-3;
+            }
+            let box_lo = corners[0].min(corners[1]).min(corners[2]);
+            let box_hi = corners[0].max(corners[1]).max(corners[2]);
+            let bounds = eval.derivative_bounds(box_lo, box_hi).unwrap();
+            let scale = bounds.metric();
+            let at = |p: DVec2| surface.point_at_clamped(p).unwrap();
+            let images = corners.map(at);
+            let slack = 1e-12 * surface.size();
+            // The triangle, on a barycentric lattice.
+            let bound = interpolation_error(&corners.map(|p| p * scale));
+            let n = 12;
+            for i in 0..=n {
+                for j in 0..=n - i {
+                    let l = [i as f64, j as f64, (n - i - j) as f64].map(|x| x / n as f64);
+                    let x = corners[0] * l[0] + corners[1] * l[1] + corners[2] * l[2];
+                    let flat = images[0] * l[0] + images[1] * l[1] + images[2] * l[2];
+                    let off = at(x).distance(flat);
+                    assert!(off <= bound + slack, "seed {seed}: {off} > {bound}");
+                }
+            }
+            // Each side.
+            for k in 0..3 {
+                let (p, q) = (corners[k], corners[(k + 1) % 3]);
+                let bound = interpolation_error(&[p * scale, q * scale]);
+                for i in 0..=16 {
+                    let t = i as f64 / 16.0;
+                    let off = at(p.lerp(q, t)).distance(images[k].lerp(images[(k + 1) % 3], t));
+                    assert!(off <= bound + slack, "seed {seed}: side {off} > {bound}");
+                }
+            }
+        }
+    }
+
+    /// A random cubic trim curve (weighted where `weighted`) inside the box from `lo` to `hi`.
+    fn random_cubic(state: &mut u64, lo: DVec2, hi: DVec2, weighted: bool) -> crate::TrimCurve {
+        let points = (0..4)
+            .map(|_| lo + (hi - lo) * DVec2::new(uniform(state), uniform(state)))
+            .collect();
+        let weights = weighted.then(|| (0..4).map(|_| 0.3 + 3.0 * uniform(state)).collect());
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        crate::TrimCurve::new(3, knots, points, weights).unwrap()
+    }
+
+    #[test]
+    fn the_chord_bound_holds_on_monotone_pieces() {
+        let mut state = 17;
+        for seed in 0..80 {
+            let surface = random_bspline_surface(&mut state, seed % 2 == 0);
+            let eval = surface.scattered_evaluator();
+            let (lo, hi) = random_patch_box(&mut state, &surface);
+            let curve = random_cubic(&mut state, lo, hi, seed % 3 == 0);
+            let at = |p: DVec2| surface.point_at_clamped(p).unwrap();
+            for piece in monotone_pieces(&curve, (0, 0)) {
+                let speeds = piece.derivative_bounds().unwrap();
+                for _ in 0..4 {
+                    let (x, y) = (uniform(&mut state), uniform(&mut state));
+                    let (t0, t1) = (x.min(y), x.max(y));
+                    let (a, b) = (
+                        bezier_point(&piece.points, t0),
+                        bezier_point(&piece.points, t1),
+                    );
+                    let bounds = eval.derivative_bounds(a.min(b), a.max(b)).unwrap();
+                    let bound = chord_deviation_bound(t1 - t0, speeds, bounds);
+                    let (sa, sb) = (at(a), at(b));
+                    for i in 0..=16 {
+                        let t = t0 + (t1 - t0) * i as f64 / 16.0;
+                        let off = distance_to_segment(at(bezier_point(&piece.points, t)), sa, sb);
+                        assert!(
+                            off <= bound + 1e-12 * surface.size(),
+                            "seed {seed}: {off} > {bound}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_bounds_leave_the_flattening_and_the_check_unchanged() {
+        let mut state = 29;
+        let (mut skipped, mut flattened) = (0, [0usize; 2]);
+        for seed in 0..40 {
+            let surface = random_bspline_surface(&mut state, seed % 2 == 0);
+            let tolerance = surface.size() * 10f64.powf(-2.0 - 1.5 * uniform(&mut state));
+            let eval = surface.scattered_evaluator();
+            let bounds = |lo, hi| eval.derivative_bounds(lo, hi);
+            let none = |_, _| None;
+            // The flattening of random curves across the domain.
+            let count = std::cell::Cell::new(0);
+            let map = |p: DVec2| {
+                count.set(count.get() + 1);
+                eval.point(p)
+            };
+            let curves: Vec<Vec<MonotonePiece>> = (0..6)
+                .map(|k| {
+                    let curve = random_cubic(&mut state, DVec2::ZERO, DVec2::ONE, k % 2 == 0);
+                    monotone_pieces(&curve, (0, k))
+                })
+                .collect();
+            let mut flatten = |bounds: &dyn Fn(DVec2, DVec2) -> Option<DerivativeBounds>,
+                               k: usize| {
+                count.set(0);
+                let slices = curves.iter().map(Vec::as_slice);
+                let out = flatten_pieces_mapped(slices, tolerance, SURFACE_DEPTHS, map, bounds);
+                flattened[k] += count.get();
+                out.unwrap()
+            };
+            assert_eq!(flatten(&bounds, 0), flatten(&none, 1), "seed {seed}");
+            // The check of a clipped tolerance grid.
+            let grid = tess::grid_for(&surface, Tessellation::Tolerance(tolerance)).unwrap();
+            let loops = random_loops(&mut state, &grid);
+            let clipped = clip_grid(&grid, &loops).unwrap();
+            let normals = seed % 3 != 0;
+            let (failing, known) = clipped
+                .failing_cells(&grid, &eval, bounds, tolerance, normals)
+                .unwrap();
+            let (all_failing, all_known) = clipped
+                .failing_cells(&grid, &eval, none, tolerance, normals)
+                .unwrap();
+            assert_eq!(failing, all_failing, "seed {seed}");
+            for (ours, theirs) in known.iter().zip(&all_known) {
+                match ours {
+                    Some(k) => assert_eq!(Some(*k), *theirs, "seed {seed}"),
+                    None => skipped += usize::from(theirs.is_some()),
+                }
+            }
+        }
+        // The bounds did spare samples.
+        assert!(
+            skipped > 0 && flattened[0] < flattened[1],
+            "{skipped} {flattened:?}"
+        );
     }
 }
