@@ -410,18 +410,24 @@ impl NurbsSurface {
 
     /// A_kl = ∂^{k+l} A / ∂u^k ∂v^l for k + l ≤ 2 of the homogeneous surface (A3.6).
     fn homogeneous_derivatives(&self, u: f64, v: f64) -> [[DVec4; 3]; 3] {
+        self.homogeneous_derivatives_to::<2>(u, v)
+    }
+
+    /// A_kl for k + l ≤ `ORDER` (1 or 2; the others zero), the same numbers to the bit
+    /// whatever the order (A2.3's first derivatives do not depend on how many it computes).
+    fn homogeneous_derivatives_to<const ORDER: usize>(&self, u: f64, v: f64) -> [[DVec4; 3]; 3] {
         const LARGE: usize = MAX_DEGREE + 1;
         if self.degree[0].max(self.degree[1]) < SMALL_ORDER {
-            self.homogeneous_derivatives_in::<SMALL_ORDER, { 3 * SMALL_ORDER }>(u, v)
+            self.homogeneous_derivatives_in::<ORDER, SMALL_ORDER, { 3 * SMALL_ORDER }>(u, v)
         } else {
-            self.homogeneous_derivatives_in::<LARGE, { 3 * LARGE }>(u, v)
+            self.homogeneous_derivatives_in::<ORDER, LARGE, { 3 * LARGE }>(u, v)
         }
     }
 
-    /// [`Self::homogeneous_derivatives`] with scratch space for degrees below `CAP`
+    /// [`Self::homogeneous_derivatives_to`] with scratch space for degrees below `CAP`
     /// (`CAP3` = 3 `CAP`): zeroing scratch sized for the largest degree took longer than the
     /// sums themselves.
-    fn homogeneous_derivatives_in<const CAP: usize, const CAP3: usize>(
+    fn homogeneous_derivatives_in<const ORDER: usize, const CAP: usize, const CAP3: usize>(
         &self,
         u: f64,
         v: f64,
@@ -431,18 +437,19 @@ impl NurbsSurface {
         let sv = find_span(&self.knots[1], q, self.count[1], v);
         let mut nu = [0.0; CAP3];
         let mut nv = [0.0; CAP3];
-        basis_derivatives_into(&self.knots[0], p, su, u, 2, &mut nu[..3 * (p + 1)]);
-        basis_derivatives_into(&self.knots[1], q, sv, v, 2, &mut nv[..3 * (q + 1)]);
+        let (rows_u, rows_v) = ((ORDER + 1) * (p + 1), (ORDER + 1) * (q + 1));
+        basis_derivatives_into(&self.knots[0], p, su, u, ORDER, &mut nu[..rows_u]);
+        basis_derivatives_into(&self.knots[1], q, sv, v, ORDER, &mut nv[..rows_v]);
         let mut skl = [[DVec4::ZERO; 3]; 3];
         let mut temp = [DVec4::ZERO; CAP];
-        for k in 0..=2 {
+        for k in 0..=ORDER {
             let bu = &nu[k * (p + 1)..(k + 1) * (p + 1)];
             for (s, t) in temp.iter_mut().enumerate().take(q + 1) {
                 *t = bu.iter().enumerate().fold(DVec4::ZERO, |acc, (r, &b)| {
                     acc + self.points[(su - p + r) * self.count[1] + sv - q + s] * b
                 });
             }
-            for l in 0..=2 - k {
+            for l in 0..=ORDER - k {
                 let bv = &nv[l * (q + 1)..(l + 1) * (q + 1)];
                 skl[k][l] = bv
                     .iter()
@@ -486,8 +493,15 @@ impl NurbsSurface {
             .unwrap_or(DVec3::Z)
     }
 
-    /// The unit normal at (u, v) (see [`Self::normal_from`]).
+    /// The unit normal at (u, v) (see [`Self::normal_from`]). Where the tangent plane is
+    /// regular the first derivatives suffice (the same S_u and S_v to the bit as
+    /// [`Self::evaluate`]'s); elsewhere the limit rules take the second ones too.
     pub fn normal(&self, u: f64, v: f64) -> Result<DVec3, GeometryError> {
+        self.check_parameters(u, v)?;
+        let first = rational_derivatives(&self.homogeneous_derivatives_to::<1>(u, v));
+        if let Some(n) = first.regular_normal() {
+            return Ok(n);
+        }
         let d = self.evaluate(u, v)?;
         Ok(self.normal_from(&d, u, v))
     }

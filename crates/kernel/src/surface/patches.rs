@@ -637,6 +637,34 @@ mod tests {
     }
 
     #[test]
+    fn the_normal_from_first_derivatives_is_the_full_evaluations_to_the_bit() {
+        let mut state = 41;
+        let sphere = construct::sphere(DVec3::new(0.5, 1.0, -2.0), 2.5).unwrap();
+        for seed in 0..60 {
+            let random = random_bspline_surface(&mut state, seed % 2 == 0);
+            let surface = if seed % 5 == 0 { &sphere } else { &random };
+            let [(u0, u1), (v0, v1)] = surface.domain();
+            for k in 0..50 {
+                let (s, t) = (uniform(&mut state), uniform(&mut state));
+                // Corners, edges (the sphere's poles) and breaks too.
+                let (s, t) = match k % 5 {
+                    0 => (s.round(), t.round()),
+                    1 => (s, t.round()),
+                    _ => (s, t),
+                };
+                let (u, v) = (u0 + s * (u1 - u0), v0 + t * (v1 - v0));
+                let full = surface.normal_from(&surface.evaluate(u, v).unwrap(), u, v);
+                assert_eq!(
+                    surface.normal(u, v).unwrap(),
+                    full,
+                    "seed {seed} at ({u}, {v})"
+                );
+            }
+        }
+        assert!(sphere.normal(f64::NAN, 0.0).is_err());
+    }
+
+    #[test]
     fn a_bad_parameter_is_the_surfaces_error() {
         let sphere = construct::sphere(DVec3::ZERO, 1.0).unwrap();
         let eval = sphere.scattered_evaluator();
