@@ -275,6 +275,29 @@ impl MonotonePiece {
         let speeds = self.derivative_bounds();
         // Rounding in the samples stays far below this margin.
         let limit = tolerance * (1.0 - 1e-9);
+        let bounded = |t0: f64, t1: f64, from: DVec2, to: DVec2| {
+            speeds.is_some_and(|speeds| {
+                bounds(from.min(to), from.max(to))
+                    .is_some_and(|b| chord_deviation_bound(t1 - t0, speeds, b) <= limit)
+            })
+        };
+        // Where the bounds settle every interval of the least depth, those are the points (the
+        // halvings below give the same dyadic parameters), and nothing is sampled.
+        if min_depth <= max_depth.min(MAX_SETTLED_DEPTH) {
+            let n = 1usize << min_depth;
+            let mut points = [DVec2::ZERO; (1 << MAX_SETTLED_DEPTH) + 1];
+            for (k, slot) in points.iter_mut().enumerate().take(n + 1) {
+                *slot = at(k as f64 / n as f64);
+            }
+            let settled = (0..n).all(|k| {
+                let (t0, t1) = (k as f64 / n as f64, (k + 1) as f64 / n as f64);
+                bounded(t0, t1, points[k], points[k + 1])
+            });
+            if settled {
+                out.extend_from_slice(&points[1..=n]);
+                return Ok(());
+            }
+        }
         // Each interval's midpoint is its parent's quarter point, carried down rather than
         // evaluated again (the parameters are dyadic, so they are the same numbers exactly).
         let (end, middle) = (at(1.0), at(0.5));
@@ -299,11 +322,7 @@ impl MonotonePiece {
                 middle,
                 depth,
             } = span;
-            if depth >= min_depth
-                && let Some(speeds) = speeds
-                && let Some(map_bounds) = bounds(start.min(end), start.max(end))
-                && chord_deviation_bound(t1 - t0, speeds, map_bounds) <= limit
-            {
+            if depth >= min_depth && bounded(t0, t1, start, end) {
                 out.push(end);
                 continue;
             }
@@ -409,6 +428,10 @@ struct Interval<V> {
     middle: (DVec2, V),
     depth: usize,
 }
+
+/// The deepest least depth for which [`MonotonePiece::flatten_mapped`] tries to settle every
+/// interval by its bounds before sampling any.
+const MAX_SETTLED_DEPTH: usize = 4;
 
 /// The least and most halvings of a piece flattened in (u, v).
 pub const UV_DEPTHS: (usize, usize) = (1, 24);
