@@ -256,9 +256,9 @@ impl MonotonePiece {
     /// out in order; the first only where `out` does not end with it already.
     ///
     /// Where `bounds` gives the map's derivative bounds over an interval's box of (u, v) (the
-    /// piece is monotone, so it stays in the box its ends span) and the piece is polynomial, an
-    /// interval that [`chord_deviation_bound`] keeps within `tolerance` is kept without
-    /// sampling: its samples could not fail, so the points are the same.
+    /// piece is monotone, so it stays in the box its ends span) and the piece's weights are
+    /// positive, an interval that [`chord_deviation_bound`] keeps within `tolerance` is kept
+    /// without sampling: its samples could not fail, so the points are the same.
     pub fn flatten_mapped<V: Vector, E>(
         &self,
         tolerance: f64,
