@@ -1032,12 +1032,10 @@ impl NurbsSurface {
         let mut patches = Vec::new();
         for (a, wu) in bu.windows(2).enumerate() {
             for (b, wv) in bv.windows(2).enumerate() {
-                let mut points = Vec::with_capacity((p + 1) * (q + 1));
-                for i in 0..=p {
-                    for j in 0..=q {
-                        points.push(refined.points[(a * p + i) * refined.count[1] + b * q + j]);
-                    }
-                }
+                let points = refined
+                    .patch_indices(a, b)
+                    .map(|k| refined.points[k])
+                    .collect();
                 let knots = [(p, wu), (q, wv)].map(|(deg, w)| {
                     let mut k = vec![w[0]; deg + 1];
                     k.extend(std::iter::repeat_n(w[1], deg + 1));
@@ -1055,6 +1053,14 @@ impl NurbsSurface {
             }
         }
         patches
+    }
+
+    /// On a net refined by [`Self::bezier_refined`]: the indices of the control points of the
+    /// Bézier patch of span (a, b), row-major with u outermost.
+    fn patch_indices(&self, a: usize, b: usize) -> impl Iterator<Item = usize> {
+        let [p, q] = self.degree;
+        let cv = self.count[1];
+        (0..=p).flat_map(move |i| (0..=q).map(move |j| (a * p + i) * cv + b * q + j))
     }
 
     /// Clamped, with every interior knot at full multiplicity: the control net is the union of
@@ -1149,12 +1155,7 @@ impl NurbsSurface {
         let mut patches = Vec::new();
         for a in 0..(cu - 1) / p {
             for b in 0..(cv - 1) / q {
-                let mut indices = Vec::with_capacity((p + 1) * (q + 1));
-                for i in 0..=p {
-                    for j in 0..=q {
-                        indices.push(((a * p + i) * cv + b * q + j) as u32);
-                    }
-                }
+                let indices = refined.patch_indices(a, b).map(|k| k as u32).collect();
                 patches.push(BezierPatch::new(p, q, indices));
             }
         }

@@ -307,15 +307,10 @@ impl NurbsSurface {
         let mut patches = Vec::new();
         if p.max(q) < ORDER_CAP && spans * (p + 1) * (q + 1) <= POINTS_CAP {
             let refined = self.bezier_refined();
-            let cv = refined.count[1];
             patches.reserve(spans * (p + 1) * (q + 1));
             for a in 0..breaks[0].len() - 1 {
                 for b in 0..breaks[1].len() - 1 {
-                    for i in 0..=p {
-                        for j in 0..=q {
-                            patches.push(refined.points[(a * p + i) * cv + b * q + j]);
-                        }
-                    }
+                    patches.extend(refined.patch_indices(a, b).map(|k| refined.points[k]));
                 }
             }
         }
@@ -364,17 +359,21 @@ impl<'a> ScatteredEvaluator<'a> {
 
     /// The Bézier patch holding p (moved into the domain) and the local parameters in it.
     fn patch_at(&self, p: DVec2) -> (&[DVec4], [usize; 2], f64, f64) {
-        let [du, dv] = self.surface.degree;
         let (a, s) = self.locate(0, p.x);
         let (b, t) = self.locate(1, p.y);
-        let spans_v = self.breaks[1].len() - 1;
+        (self.net(self.patch_index(a, b)), [a, b], s, t)
+    }
+
+    /// The patch of span (a, b), in `patches` and `bounds`.
+    fn patch_index(&self, a: usize, b: usize) -> usize {
+        a * (self.breaks[1].len() - 1) + b
+    }
+
+    /// Patch `index`'s homogeneous control points.
+    fn net(&self, index: usize) -> &[DVec4] {
+        let [du, dv] = self.surface.degree;
         let size = (du + 1) * (dv + 1);
-        (
-            &self.patches[(a * spans_v + b) * size..][..size],
-            [a, b],
-            s,
-            t,
-        )
+        &self.patches[index * size..][..size]
     }
 
     /// The homogeneous point A(u, v) at p.
@@ -436,14 +435,11 @@ impl<'a> ScatteredEvaluator<'a> {
             }
             *slot = k;
         }
-        let spans_v = self.breaks[1].len() - 1;
-        let index = span[0] * spans_v + span[1];
+        let index = self.patch_index(span[0], span[1]);
         *self.bounds[index].get_or_init(|| {
-            let [du, dv] = self.surface.degree;
-            let size = (du + 1) * (dv + 1);
             DerivativeBounds::of_patch(
-                &self.patches[index * size..][..size],
-                [du, dv],
+                self.net(index),
+                self.surface.degree,
                 [
                     self.inverse_widths[0][span[0]],
                     self.inverse_widths[1][span[1]],

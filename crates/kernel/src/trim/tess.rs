@@ -204,6 +204,8 @@ impl ClippedGrid {
         let mut positions: Vec<Known> = vec![None; self.points.len()];
         let mut edges: Vec<[u32; 2]> = Vec::new();
         let mut failing = Vec::new();
+        // Rounding in the samples stays far below this margin.
+        let limit = tolerance * (1.0 - 1e-9);
         for &(start, end, cell) in &self.cut {
             let triangles = &self.triangles[start..end];
             let mut position = |k: u32| -> Result<DVec3, GeometryError> {
@@ -227,8 +229,6 @@ impl ClippedGrid {
                 DVec2::new(grid.us[i + 1], grid.vs[j + 1]),
             )
             .map(|b| b.metric());
-            // Rounding in the samples stays far below this margin.
-            let limit = tolerance * (1.0 - 1e-9);
             let bounded = |corners: &[u32]| {
                 scale.is_some_and(|scale| {
                     let mut scaled = [DVec2::ZERO; 3];
