@@ -80,8 +80,14 @@ impl BezierPatchSet {
         patches: Vec<BezierPatch>,
     ) -> Result<Self, GeometryError> {
         let weights = super::curve::weights_or_ones(points.len(), weights)?;
-        for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
-            super::curve::check_point(|| Location::point(index), &p.to_array(), w)?;
+        // One pass that only says whether all is well (large sets are mostly fine); the point
+        // at fault is named by the second.
+        let sound = points.iter().all(|p| p.is_finite())
+            && weights.iter().all(|&w| w.is_finite() && w > 0.0);
+        if !sound {
+            for (index, (p, &w)) in points.iter().zip(&weights).enumerate() {
+                super::curve::check_point(|| Location::point(index), &p.to_array(), w)?;
+            }
         }
         for (patch_index, patch) in patches.iter().enumerate() {
             let (du, dv) = (patch.degree_u, patch.degree_v);

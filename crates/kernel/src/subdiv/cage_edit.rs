@@ -117,6 +117,90 @@ fn even_offset_factor(a: DVec3, b: DVec3) -> f64 {
     if cos > 1e-4 { 1.0 / cos } else { 1.0 }
 }
 
+/// A cage's half-edges, (from, to) ↦ (face, corner of `from`), grouped by their first point:
+/// built with two counting passes over the faces and looked up by a scan of one point's
+/// outgoing half-edges (four on a regular quad cage), with no hashing. Where a half-edge
+/// appears twice (a cage with a flipped face), the later face's wins.
+pub(super) struct HalfEdges {
+    /// Where each point's half-edges start in `ends` and `corners` (one more entry than points).
+    starts: Vec<u32>,
+    /// The second point of each half-edge, grouped by the first, in face order.
+    ends: Vec<u32>,
+    /// The (face, corner) of each half-edge.
+    corners: Vec<(usize, usize)>,
+}
+
+impl HalfEdges {
+    fn new(faces: &[Vec<u32>]) -> Self {
+        let points = faces
+            .iter()
+            .flatten()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut starts = vec![0u32; points + 1];
+        for &v in faces.iter().flatten() {
+            starts[v as usize + 1] += 1;
+        }
+        for k in 1..starts.len() {
+            starts[k] += starts[k - 1];
+        }
+        let count = starts[points] as usize;
+        let mut next = starts.clone();
+        let (mut ends, mut corners) = (vec![0u32; count], vec![(0usize, 0usize); count]);
+        for (f, face) in faces.iter().enumerate() {
+            for (c, &from) in face.iter().enumerate() {
+                let slot = &mut next[from as usize];
+                ends[*slot as usize] = face[(c + 1) % face.len()];
+                corners[*slot as usize] = (f, c);
+                *slot += 1;
+            }
+        }
+        Self {
+            starts,
+            ends,
+            corners,
+        }
+    }
+
+    /// The (face, corner) of half-edge `from` → `to`.
+    pub(super) fn get(&self, &(from, to): &(u32, u32)) -> Option<&(usize, usize)> {
+        let from = from as usize;
+        if from + 1 >= self.starts.len() {
+            return None;
+        }
+        let range = self.starts[from] as usize..self.starts[from + 1] as usize;
+        self.ends[range.clone()]
+            .iter()
+            .rposition(|&end| end == to)
+            .map(|k| &self.corners[range.start + k])
+    }
+
+    pub(super) fn contains_key(&self, edge: &(u32, u32)) -> bool {
+        self.get(edge).is_some()
+    }
+
+    /// Every half-edge (from, to), grouped by `from`.
+    pub(super) fn keys(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.iter().map(|(edge, _)| edge)
+    }
+
+    /// Every half-edge (from, to) with its (face, corner), grouped by `from`; once each, as
+    /// [`Self::get`] answers for it.
+    pub(super) fn iter(&self) -> impl Iterator<Item = ((u32, u32), (usize, usize))> + '_ {
+        self.starts
+            .windows(2)
+            .enumerate()
+            .flat_map(move |(from, range)| {
+                let ends = &self.ends[range[0] as usize..range[1] as usize];
+                let corners = &self.corners[range[0] as usize..range[1] as usize];
+                (0..ends.len())
+                    .filter(move |&k| !ends[k + 1..].contains(&ends[k]))
+                    .map(move |k| ((from as u32, ends[k]), corners[k]))
+            })
+    }
+}
+
 impl Cage {
     /// The cage of subdivision surface `surface`: its points, faces, creases and corners.
     pub fn of_surface(surface: &super::SubdivisionSurface) -> Self {
@@ -130,17 +214,8 @@ impl Cage {
     }
 
     /// The half-edges: (from, to) ↦ (face, corner of `from`).
-    pub(super) fn half_edges(&self) -> HashMap<(u32, u32), (usize, usize)> {
-        let mut map = HashMap::with_capacity_and_hasher(
-            self.faces.iter().map(Vec::len).sum(),
-            Default::default(),
-        );
-        for (f, face) in self.faces.iter().enumerate() {
-            for c in 0..face.len() {
-                map.insert((face[c], face[(c + 1) % face.len()]), (f, c));
-            }
-        }
-        map
+    pub(super) fn half_edges(&self) -> HalfEdges {
+        HalfEdges::new(&self.faces)
     }
 
     pub(super) fn check_faces(&self, faces: &[usize]) -> Result<Vec<usize>, CageEditError> {
@@ -169,12 +244,7 @@ impl Cage {
 
     /// Refuses a vertex outside the cage, or a pair of vertices no face joins (`half`: the
     /// cage's [`Self::half_edges`]).
-    pub(super) fn check_edge(
-        &self,
-        half: &HashMap<(u32, u32), (usize, usize)>,
-        a: u32,
-        b: u32,
-    ) -> Result<(), CageEditError> {
+    pub(super) fn check_edge(&self, half: &HalfEdges, a: u32, b: u32) -> Result<(), CageEditError> {
         self.check_vertex(a)?;
         self.check_vertex(b)?;
         if half.contains_key(&(a, b)) || half.contains_key(&(b, a)) {
@@ -323,12 +393,7 @@ impl Cage {
     /// `by` (its vertices appended in index order, its faces after the cage's) is joined to
     /// them by a side quad on every open edge. The copies keep the edges' and points'
     /// sharpness.
-    fn extrude_copy(
-        &self,
-        region: &[usize],
-        half: &HashMap<(u32, u32), (usize, usize)>,
-        by: DVec3,
-    ) -> Self {
+    fn extrude_copy(&self, region: &[usize], half: &HalfEdges, by: DVec3) -> Self {
         let mut out = self.clone();
         let mut used: Vec<u32> = region
             .iter()
@@ -643,12 +708,7 @@ impl Cage {
     }
 
     /// [`Self::edge_ring`] with the cage's [`Self::half_edges`] already at hand.
-    fn edge_ring_in(
-        &self,
-        half: &HashMap<(u32, u32), (usize, usize)>,
-        a: u32,
-        b: u32,
-    ) -> (Vec<(u32, u32)>, Vec<usize>) {
+    fn edge_ring_in(&self, half: &HalfEdges, a: u32, b: u32) -> (Vec<(u32, u32)>, Vec<usize>) {
         let mut edges = vec![(a, b)];
         let mut quads = Vec::new();
         let mut seen_edges: HashSet<(u32, u32)> = HashSet::from_iter([key(a, b)]);
@@ -758,7 +818,7 @@ impl Cage {
         if sides_found.len() == 2 {
             let mut across: Vec<(u32, u32)> = half
                 .keys()
-                .map(|&(p, q)| key(p, q))
+                .map(|(p, q)| key(p, q))
                 .filter(|&(p, q)| {
                     !cut.contains(&(p, q))
                         && rim_edges_at.contains_key(&p)
@@ -1166,7 +1226,7 @@ impl Cage {
     /// whose border touches itself at a vertex or has a hole is refused.
     pub(super) fn joined_across(
         &self,
-        half: &HashMap<(u32, u32), (usize, usize)>,
+        half: &HalfEdges,
         gone: &HashSet<(u32, u32)>,
     ) -> Result<Vec<Option<Vec<u32>>>, CageEditError> {
         // Union-find over faces.
@@ -1307,7 +1367,7 @@ impl Cage {
 /// do not close into one fan.
 fn fan(
     faces: &[Vec<u32>],
-    half: &HashMap<(u32, u32), (usize, usize)>,
+    half: &HalfEdges,
     v: u32,
     start: (usize, usize),
 ) -> Option<Vec<(usize, u32, u32)>> {
@@ -2766,6 +2826,47 @@ pub(super) mod tests {
             },
             scale,
         )
+    }
+
+    /// The half-edges answer as a map filled with every face's corners in face order would:
+    /// on random tools' cages, and with faces flipped (their half-edges then appear twice,
+    /// and the later face's win).
+    #[test]
+    fn half_edges_answer_as_a_map_of_every_corner() {
+        let mesh = cages::torus(DVec3::ZERO, 3.0, 1.0, 8, 6).unwrap();
+        let (torus, _) = cage_of(&mesh, 11);
+        let mut random = Xorshift::new(23);
+        let mut cages = vec![torus.clone()];
+        for _ in 0..6 {
+            let faces: Vec<usize> = (0..3)
+                .map(|_| random.below(torus.faces.len() as u64) as usize)
+                .collect();
+            let extruded = torus.extrude_faces(&faces, 0.1).unwrap();
+            let mut flipped = extruded.clone();
+            let f = random.below(flipped.faces.len() as u64) as usize;
+            flipped.faces[f].reverse();
+            cages.extend([extruded, flipped]);
+        }
+        for cage in &cages {
+            let mut map = std::collections::HashMap::new();
+            for (f, face) in cage.faces.iter().enumerate() {
+                for c in 0..face.len() {
+                    map.insert((face[c], face[(c + 1) % face.len()]), (f, c));
+                }
+            }
+            let half = cage.half_edges();
+            for (edge, corner) in &map {
+                assert_eq!(half.get(edge), Some(corner));
+                let (a, b) = *edge;
+                assert_eq!(half.contains_key(&(b, a)), map.contains_key(&(b, a)));
+            }
+            let listed: std::collections::HashMap<_, _> = half.iter().collect();
+            assert_eq!(listed, map);
+            assert_eq!(half.iter().count(), map.len(), "an edge listed twice");
+            let n = cage.points.len() as u32;
+            assert_eq!(half.get(&(n, 0)), None);
+            assert_eq!(half.get(&(0, n + 5)), None);
+        }
     }
 
     /// The cage as a subdivision surface: manifold, every edge between faces of agreeing

@@ -65,10 +65,10 @@ impl Cage {
         let half = self.half_edges();
         let gone: HashSet<(u32, u32)> = half
             .keys()
-            .filter(|&&(a, b)| {
+            .filter(|&(a, b)| {
                 (named.contains(&a) || named.contains(&b)) && half.contains_key(&(b, a))
             })
-            .map(|&(a, b)| key(a, b))
+            .map(|(a, b)| key(a, b))
             .collect();
         let faces: Vec<Vec<u32>> = self
             .joined_across(&half, &gone)?
@@ -291,7 +291,7 @@ impl Cage {
         let normal = |a: u32, b: u32, c: u32| (point(b) - point(a)).cross(point(c) - point(a));
         // (error, quad corners, the two triangles), the quad wound as the first triangle.
         let mut candidates: Vec<(f64, [u32; 4], usize, usize)> = Vec::new();
-        for (&(a, b), &(f, c)) in &half {
+        for ((a, b), (f, c)) in half.iter() {
             let Some(&(g, d)) = half.get(&(b, a)) else {
                 continue;
             };

@@ -189,7 +189,7 @@ impl Cage {
     /// edges of the cage.
     fn check_open_chain(
         &self,
-        half: &HashMap<(u32, u32), (usize, usize)>,
+        half: &super::cage_edit::HalfEdges,
         chain: &[u32],
         closed: bool,
     ) -> Result<(), CageEditError> {
@@ -217,7 +217,7 @@ impl Cage {
     /// column wound against the faces on the rim (by a vote of its edges).
     fn fill_grid_sides(
         &self,
-        half: &HashMap<(u32, u32), (usize, usize)>,
+        half: &super::cage_edit::HalfEdges,
         sides: Sides,
     ) -> Result<Self, CageEditError> {
         let Sides {
@@ -333,9 +333,9 @@ impl Cage {
 
 /// Each vertex's neighbours along open edges (edges with a face on one side only), in
 /// ascending order.
-fn open_neighbours(half: &HashMap<(u32, u32), (usize, usize)>) -> HashMap<u32, Vec<u32>> {
+fn open_neighbours(half: &super::cage_edit::HalfEdges) -> HashMap<u32, Vec<u32>> {
     let mut out: HashMap<u32, Vec<u32>> = HashMap::default();
-    for &(a, b) in half.keys() {
+    for (a, b) in half.keys() {
         if !half.contains_key(&(b, a)) {
             out.entry(a).or_default().push(b);
             out.entry(b).or_default().push(a);

@@ -1,8 +1,6 @@
 //! The topology of one subdivision level: faces, edges (numbered as OpenSubdiv's Vtr numbers
 //! them), their adjacency and sharpness, with the manifold checks a cage must pass.
 
-use rustc_hash::FxHashMap;
-
 use crate::{CageProblem, GeometryError, Location};
 
 /// No face on this side of an edge.
@@ -76,7 +74,12 @@ impl Level {
                 .enumerate()
                 .map(|(e, &[a, b])| (a.min(b), e as u32)),
         );
-        let mut index: FxHashMap<(u32, u32), u32> = FxHashMap::default();
+        // A new edge is found by its smaller end too: the newest new edge from each point
+        // (made at the first new edge) and, per new edge, the one before it from the same point:
+        // a list per point, no hashing.
+        let given = edges.len();
+        let mut newest_from: Vec<u32> = Vec::new();
+        let mut older_from: Vec<u32> = Vec::new();
         let mut face_starts = Vec::with_capacity(faces.len() + 1);
         let corner_count: usize = faces.iter().map(|f| f.len()).sum();
         let mut face_vertices = Vec::with_capacity(corner_count);
@@ -118,11 +121,23 @@ impl Level {
                     });
                 let e = match found {
                     Some(e) => e,
-                    None => *index.entry(key).or_insert_with(|| {
-                        edges.push([a, b]);
-                        uses.push([NONE; 2]);
-                        (edges.len() - 1) as u32
-                    }),
+                    None => {
+                        if newest_from.is_empty() {
+                            newest_from = vec![NONE; vertex_count];
+                        }
+                        let mut e = newest_from[low];
+                        while e != NONE && edges[e as usize][0].max(edges[e as usize][1]) != key.1 {
+                            e = older_from[e as usize - given];
+                        }
+                        if e == NONE {
+                            e = edges.len() as u32;
+                            edges.push([a, b]);
+                            uses.push([NONE; 2]);
+                            older_from.push(newest_from[low]);
+                            newest_from[low] = e;
+                        }
+                        e
+                    }
                 };
                 let side = usize::from(a > b);
                 let slot = &mut uses[e as usize];

@@ -16,16 +16,23 @@ use super::{Hierarchy, Scheme, SubdivisionSurface};
 use crate::GeometryError;
 use std::sync::Arc;
 
-/// A valence-4 point's neighbours and faces ([`Level::four_ring`]).
+/// A valence-4 point's four neighbours and its four faces ([`Level::four_ring`]) or diagonals.
 type FourRing = ([u32; 4], [u32; 4]);
 
-/// The four neighbours and four diagonals of valence-4 vertex `v` counter-clockwise from
-/// `start`, from its ring `ring` ([`Level::four_ring`]).
-fn quad_ring(level: &Level, v: u32, ring: Option<FourRing>, start: u32) -> Option<FourRing> {
-    let (neighbours, faces) = ring?;
+/// The four neighbours and the four diagonals (the far corners of its four quads) of valence-4
+/// vertex `v` in ring order ([`Level::four_ring`]), if it has such a ring.
+fn neighbours_and_diagonals(level: &Level, v: u32) -> Option<FourRing> {
+    let (neighbours, faces) = level.four_ring(v)?;
+    Some((neighbours, faces.map(|f| level.diagonal(f, v))))
+}
+
+/// The four neighbours and four diagonals of a valence-4 vertex counter-clockwise from its
+/// neighbour `start`, from its ring `ring` ([`neighbours_and_diagonals`]).
+fn quad_ring(ring: Option<FourRing>, start: u32) -> Option<FourRing> {
+    let (neighbours, diagonals) = ring?;
     let s = neighbours.iter().position(|&x| x == start)?;
     let e = std::array::from_fn(|k| neighbours[(s + k) % 4]);
-    let d = std::array::from_fn(|k| level.diagonal(faces[(s + k) % 4], v));
+    let d = std::array::from_fn(|k| diagonals[(s + k) % 4]);
     Some((e, d))
 }
 
@@ -33,17 +40,17 @@ fn quad_ring(level: &Level, v: u32, ring: Option<FourRing>, start: u32) -> Optio
 /// q0 to q3), index `a * 4 + b` for the point a steps along u and b along v from the corner
 /// before q0.
 pub fn bspline_grid(level: &Level, f: u32) -> Option<[u32; 16]> {
-    bspline_grid_from_rings(level, f, |v| level.four_ring(v))
+    bspline_grid_from_rings(level, f, |v| neighbours_and_diagonals(level, v))
 }
 
-/// [`bspline_grid`] with each corner's ring from `ring_of` ([`Level::four_ring`], or a table
-/// of it).
+/// [`bspline_grid`] with each corner's neighbours and diagonals from `ring_of`
+/// ([`neighbours_and_diagonals`], or a table of it).
 fn bspline_grid_from_rings(
     level: &Level,
     f: u32,
     ring_of: impl Fn(u32) -> Option<FourRing>,
 ) -> Option<[u32; 16]> {
-    let ring_from = |v: u32, start: u32| quad_ring(level, v, ring_of(v), start);
+    let ring_from = |v: u32, start: u32| quad_ring(ring_of(v), start);
     let q = level.face(f);
     if q.len() != 4 {
         return None;
@@ -194,7 +201,7 @@ pub(super) fn regular_bspline_grids(level: &Level, scheme: Scheme) -> Vec<Option
     let rings: Vec<Option<FourRing>> = crate::par::map(level.vertex_count, |v| {
         let v = v as u32;
         is_regular(level, scheme, v)
-            .then(|| level.four_ring(v))
+            .then(|| neighbours_and_diagonals(level, v))
             .flatten()
     });
     crate::par::map(level.face_count(), |f| {
