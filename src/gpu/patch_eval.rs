@@ -233,11 +233,19 @@ impl PatchLayout {
                 max: max_objects,
             });
         }
+        // Sized ahead: on a large subdivision surface they hold millions of words, and each
+        // doubling would copy them again.
+        let bezier_indices: usize = objects
+            .iter()
+            .flat_map(|o| o.set.patches())
+            .map(|p| p.indices().len())
+            .sum();
+        let total_points = objects.iter().map(|o| o.set.points().len()).sum();
         let mut layout = Self {
             records: Vec::with_capacity(total_patches),
             objects: Vec::with_capacity(objects.len()),
-            control_indices: Vec::new(),
-            points: Vec::new(),
+            control_indices: Vec::with_capacity(bezier_indices),
+            points: Vec::with_capacity(total_points),
             entry_data: Vec::new(),
             stencil_start: 0,
             lattices: Vec::with_capacity(objects.len()),
@@ -249,7 +257,7 @@ impl PatchLayout {
         let context = LayoutContext {
             // Stencil entries and the displacement and lattice blocks follow the points in the
             // control point buffer.
-            total_points: objects.iter().map(|o| o.set.points().len()).sum(),
+            total_points,
             adaptive,
             max_groups,
         };
@@ -669,15 +677,11 @@ pub(crate) fn substitute_record_kind(kind: SubstituteKind) -> u32 {
 }
 
 /// Homogeneous control points (wx, wy, wz, w) in f32, as the shaders read them.
-fn homogeneous_points(set: &BezierPatchSet) -> Vec<[f32; 4]> {
-    set.points()
-        .iter()
-        .zip(set.weights())
-        .map(|(p, &w)| {
-            let h = *p * w;
-            [h.x as f32, h.y as f32, h.z as f32, w as f32]
-        })
-        .collect()
+fn homogeneous_points(set: &BezierPatchSet) -> impl ExactSizeIterator<Item = [f32; 4]> + '_ {
+    set.points().iter().zip(set.weights()).map(|(p, &w)| {
+        let h = *p * w;
+        [h.x as f32, h.y as f32, h.z as f32, w as f32]
+    })
 }
 
 /// Workgroups of [`EVAL_WORKGROUP_SIZE`] covering `items`.
@@ -739,24 +743,27 @@ impl PatchGeometry {
         // Stencil entries beyond one binding go into pages, each behind its own copy of the
         // points and blocks.
         let capacity = (binding_limit(&limits) / 16) as usize;
-        let mut pool = points.clone();
+        // The head of every page's buffer: the points, then the blocks (and, unpaged, the
+        // entries), written straight into each mapped buffer rather than joined first.
         let pages = if points.len() + entry_data.len() > capacity {
-            let pages = super::stencil_pages::paginate(
+            Some(super::stencil_pages::paginate(
                 &records,
                 &mut control_indices,
                 (&entry_data, points.len()),
                 points.len() + stencil_start,
                 capacity,
-            )?;
-            pool.extend_from_slice(&entry_data[..stencil_start]);
-            Some(pages)
+            )?)
         } else {
-            pool.extend_from_slice(&entry_data);
             None
         };
-        drop(entry_data);
+        let head_entries = match pages {
+            Some(_) => &entry_data[..stencil_start],
+            None => &entry_data[..],
+        };
+        let head = [&points[..], head_entries];
+        let head_len = points.len() + head_entries.len();
         let first_page = pages.as_ref().map_or(0, |p| p.entries[0].len());
-        let point_bytes = (pool.len() + first_page) as u64 * 16;
+        let point_bytes = (head_len + first_page) as u64 * 16;
 
         let (fixed_vertices, fixed_indices) = (vertex_offset, index_offset);
         if let Some(room) = adaptive_room {
@@ -796,7 +803,7 @@ impl PatchGeometry {
         };
         // The points and blocks, then (paged) the page's entries.
         let points_then = |label: &str, entries: &[[f32; 4]]| {
-            let bytes = ((pool.len() + entries.len()) * 16).max(one_element);
+            let bytes = ((head_len + entries.len()) * 16).max(one_element);
             let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: bytes as u64,
@@ -807,11 +814,13 @@ impl PatchGeometry {
                 let mut view = buffer
                     .get_mapped_range_mut(..)
                     .map_err(|e| GpuError::Geometry(format!("a new buffer did not map: {e}")))?;
-                let (head, all) = (pool.len() * 16, (pool.len() + entries.len()) * 16);
-                view.slice(..head)
-                    .copy_from_slice(bytemuck::cast_slice(&pool));
-                view.slice(head..all)
-                    .copy_from_slice(bytemuck::cast_slice(entries));
+                let mut at = 0;
+                for part in head.iter().chain([&entries]) {
+                    let end = at + part.len() * 16;
+                    view.slice(at..end)
+                        .copy_from_slice(bytemuck::cast_slice(part));
+                    at = end;
+                }
             }
             buffer.unmap();
             Ok::<_, GpuError>(buffer)
@@ -980,7 +989,7 @@ impl PatchGeometry {
                 count: range.patch_count,
             });
         }
-        let fresh = homogeneous_points(set);
+        let fresh: Vec<[f32; 4]> = homogeneous_points(set).collect();
         let mut changed = BTreeSet::new();
         // The cage points the stencil patches read.
         let mut cage_changed = false;
