@@ -118,12 +118,15 @@ pub fn map_init<S, T: Send>(
     init: impl Fn() -> S + Sync + Send,
     f: impl Fn(&mut S, usize) -> T + Sync + Send,
 ) -> Vec<T> {
-    match current_helpers() {
-        // One index: here (rayon is never touched where there are helpers).
-        Some(_) if count <= 1 => {
-            let mut state = init();
-            (0..count).map(|i| f(&mut state, i)).collect()
-        }
+    let helpers = current_helpers();
+    // One index (rayon is never touched where there are helpers), or a pool of one thread:
+    // here, without handing the loop to the pool's thread and waiting for it (a wake-up and a
+    // sleep per loop, which many small loops felt).
+    if count <= 1 || (helpers.is_none() && rayon::current_num_threads() == 1) {
+        let mut state = init();
+        return (0..count).map(|i| f(&mut state, i)).collect();
+    }
+    match helpers {
         Some(helpers) => map_on_helpers(&helpers, count, &init, &f),
         None => (0..count).into_par_iter().map_init(init, f).collect(),
     }
