@@ -102,6 +102,53 @@ fn root(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
+/// `faces` with each face over the same corners as an earlier one left out (the first
+/// stays). Such faces share their least corner, so each face is compared only with the
+/// faces kept before it that share it: a list per corner, no hashing of every face.
+fn without_repeated_faces(faces: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
+    let same_corners = |a: &[u32], b: &[u32]| {
+        if a.len() != b.len() || !a.iter().all(|v| b.contains(v)) {
+            return false;
+        }
+        let (mut a, mut b) = (a.to_vec(), b.to_vec());
+        a.sort_unstable();
+        b.sort_unstable();
+        a == b
+    };
+    let size = faces
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    // The newest kept face by least corner, and per kept face the one before it.
+    let mut newest = vec![usize::MAX; size];
+    let mut older = vec![usize::MAX; faces.len()];
+    let mut keep = vec![false; faces.len()];
+    let mut empty_kept = false;
+    for (f, face) in faces.iter().enumerate() {
+        let Some(&least) = face.iter().min() else {
+            keep[f] = !std::mem::replace(&mut empty_kept, true);
+            continue;
+        };
+        let least = least as usize;
+        let mut g = newest[least];
+        while g != usize::MAX && !same_corners(&faces[g], face) {
+            g = older[g];
+        }
+        if g == usize::MAX {
+            keep[f] = true;
+            older[f] = newest[least];
+            newest[least] = f;
+        }
+    }
+    faces
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(face, kept)| kept.then_some(face))
+        .collect()
+}
+
 /// Whether a face's corner at `v`, between its next corner `next` and its previous corner
 /// `prev`, is reflex about the face's `normal` (the face turns back on itself there), as
 /// Blender's bevel tells which side of an edge is inside the face.
@@ -312,11 +359,15 @@ impl Cage {
                 *v = map[*v as usize];
             }
         }
-        let edges: HashSet<(u32, u32)> = self
-            .faces
-            .iter()
-            .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
-            .collect();
+        // The edges, for the creases to keep (none to find without creases).
+        let edges: HashSet<(u32, u32)> = match self.creases.is_empty() {
+            true => HashSet::default(),
+            false => self
+                .faces
+                .iter()
+                .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
+                .collect(),
+        };
         let mut seen = HashSet::default();
         let creases =
             self.creases
@@ -1187,35 +1238,40 @@ impl Cage {
         mut faces: Vec<Vec<u32>>,
         candidates: HashSet<u32>,
     ) -> Result<Self, CageEditError> {
+        // The candidates' neighbours only (the rest of the cage is not asked about).
         let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::default();
         for face in &faces {
             for c in 0..face.len() {
                 let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                neighbours.entry(a).or_default().insert(b);
-                neighbours.entry(b).or_default().insert(a);
+                for (v, other) in [(a, b), (b, a)] {
+                    if candidates.contains(&v) {
+                        neighbours.entry(v).or_default().insert(other);
+                    }
+                }
             }
         }
         let lone: HashSet<u32> = candidates
             .into_iter()
             .filter(|v| neighbours.get(v).is_some_and(|n| n.len() == 2))
             .collect();
-        for face in &mut faces {
-            face.retain(|v| !lone.contains(v));
+        if !lone.is_empty() {
+            for face in &mut faces {
+                face.retain(|v| !lone.contains(v));
+            }
         }
         faces.retain(|face| face.len() >= 3);
         // Two faces left over the same corners (a tetrahedron's edge dissolved) are one
         // face, as Blender's collapse leaves one: the first stays.
-        let mut seen: HashSet<Vec<u32>> = HashSet::default();
-        faces.retain(|face| {
-            let mut corners = face.clone();
-            corners.sort_unstable();
-            seen.insert(corners)
-        });
+        let faces = without_repeated_faces(faces);
         if faces.is_empty() {
             return Err(invalid("the dissolve would leave no face"));
         }
-        let mut out = self.clone();
-        out.faces = faces;
+        let out = Self {
+            points: self.points.clone(),
+            faces,
+            creases: self.creases.clone(),
+            corners: self.corners.clone(),
+        };
         Ok(out.compacted(self))
     }
 
@@ -1237,8 +1293,17 @@ impl Cage {
                 parent[rf.max(rg)] = rf.min(rg);
             }
         }
+        // Only faces on a dissolved edge can join others.
+        let mut touched: Vec<usize> = gone
+            .iter()
+            .flat_map(|&(a, b)| [half.get(&(a, b)), half.get(&(b, a))])
+            .flatten()
+            .map(|&(f, _)| f)
+            .collect();
+        touched.sort_unstable();
+        touched.dedup();
         let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-        for f in 0..self.faces.len() {
+        for f in touched {
             let r = root(&mut parent, f);
             groups.entry(r).or_default().push(f);
         }
@@ -2826,6 +2891,43 @@ pub(super) mod tests {
             },
             scale,
         )
+    }
+
+    /// Repeated faces are left out as a set of sorted corners would tell them (the first
+    /// stays), on random faces over few points, so that many repeat in some order.
+    #[test]
+    fn repeated_faces_are_left_out_as_a_set_of_sorted_corners_would() {
+        let mut random = Xorshift::new(5);
+        for round in 0..200 {
+            let points = 4 + round % 5;
+            let faces: Vec<Vec<u32>> = (0..1 + random.below(30))
+                .map(|_| {
+                    let mut corners: Vec<u32> = (0..points as u32).collect();
+                    // A random arrangement's first 3 or 4 corners (2 at times: a bad face).
+                    for k in (1..corners.len()).rev() {
+                        corners.swap(k, random.below(k as u64 + 1) as usize);
+                    }
+                    corners.truncate(2 + random.below(3) as usize);
+                    corners
+                })
+                .collect();
+            let mut seen = std::collections::HashSet::new();
+            let expected: Vec<Vec<u32>> = faces
+                .iter()
+                .filter(|face| {
+                    let mut corners = face.to_vec();
+                    corners.sort_unstable();
+                    seen.insert(corners)
+                })
+                .cloned()
+                .collect();
+            assert_eq!(without_repeated_faces(faces), expected, "round {round}");
+        }
+        assert!(without_repeated_faces(Vec::new()).is_empty());
+        assert_eq!(
+            without_repeated_faces(vec![vec![], vec![]]),
+            vec![Vec::<u32>::new()]
+        );
     }
 
     /// The half-edges answer as a map filled with every face's corners in face order would:
