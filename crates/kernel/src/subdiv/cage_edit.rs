@@ -589,12 +589,15 @@ impl Cage {
             let p = |k: usize| cage.points[face[k % n] as usize];
             (p(c + n - 1) - p(c)).angle_between(p(c + 1) - p(c))
         };
-        // Each point's faces (index, corner) after the inset and before it.
+        // Each moved point's faces (index, corner) after the inset and before it.
+        let moving: HashSet<u32> = points.iter().copied().collect();
         let corners_of = |cage: &Cage| {
             let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::default();
             for (f, face) in cage.faces.iter().enumerate() {
                 for (c, v) in face.iter().enumerate() {
-                    map.entry(*v).or_default().push((f, c));
+                    if moving.contains(v) {
+                        map.entry(*v).or_default().push((f, c));
+                    }
                 }
             }
             map
