@@ -102,6 +102,12 @@ fn root(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
+/// One more than the largest point index `faces` name (0 for none): the length of a table
+/// indexed by their points.
+fn points_named<'a>(faces: impl Iterator<Item = &'a Vec<u32>>) -> usize {
+    faces.flatten().map(|&v| v as usize + 1).max().unwrap_or(0)
+}
+
 /// `faces` with each face over the same corners as an earlier one left out (the first
 /// stays). Such faces share their least corner, so each face is compared only with the
 /// faces kept before it that share it: a list per corner, no hashing of every face.
@@ -115,12 +121,7 @@ fn without_repeated_faces(faces: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
         b.sort_unstable();
         a == b
     };
-    let size = faces
-        .iter()
-        .flatten()
-        .map(|&v| v as usize + 1)
-        .max()
-        .unwrap_or(0);
+    let size = points_named(faces.iter());
     // The newest kept face by least corner, and per kept face the one before it.
     let mut newest = vec![usize::MAX; size];
     let mut older = vec![usize::MAX; faces.len()];
@@ -179,12 +180,7 @@ pub(super) struct HalfEdges {
 
 impl HalfEdges {
     fn new(faces: &[Vec<u32>]) -> Self {
-        let points = faces
-            .iter()
-            .flatten()
-            .map(|&v| v as usize + 1)
-            .max()
-            .unwrap_or(0);
+        let points = points_named(faces.iter());
         let mut starts = vec![0u32; points + 1];
         for &v in faces.iter().flatten() {
             starts[v as usize + 1] += 1;
@@ -360,13 +356,13 @@ impl Cage {
             }
         }
         // The edges, for the creases to keep (none to find without creases).
-        let edges: HashSet<(u32, u32)> = match self.creases.is_empty() {
-            true => HashSet::default(),
-            false => self
-                .faces
+        let edges: HashSet<(u32, u32)> = if self.creases.is_empty() {
+            HashSet::default()
+        } else {
+            self.faces
                 .iter()
                 .flat_map(|f| (0..f.len()).map(move |c| key(f[c], f[(c + 1) % f.len()])))
-                .collect(),
+                .collect()
         };
         let mut seen = HashSet::default();
         let creases =
@@ -1288,21 +1284,16 @@ impl Cage {
         half: &HalfEdges,
         gone: &HashSet<(u32, u32)>,
     ) -> Result<Vec<Option<Vec<u32>>>, CageEditError> {
-        // Union-find over faces.
+        // Union-find over faces; only the faces on a dissolved edge can join others.
         let mut parent: Vec<usize> = (0..self.faces.len()).collect();
+        let mut touched: Vec<usize> = Vec::new();
         for &(a, b) in gone {
             if let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) {
                 let (rf, rg) = (root(&mut parent, f), root(&mut parent, g));
                 parent[rf.max(rg)] = rf.min(rg);
+                touched.extend([f, g]);
             }
         }
-        // Only faces on a dissolved edge can join others.
-        let mut touched: Vec<usize> = gone
-            .iter()
-            .flat_map(|&(a, b)| [half.get(&(a, b)), half.get(&(b, a))])
-            .flatten()
-            .map(|&(f, _)| f)
-            .collect();
         touched.sort_unstable();
         touched.dedup();
         let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
