@@ -803,6 +803,16 @@ RANDOM_CASES = [
     (7, 16, "bevel2", "monkey"),
     (6, 41, "bevel", "monkey"),  # a slide past a short edge's end stops 5e-5 short of it
     (8, 64, None, None),  # an open tube's rims bridged through it
+    # Loops of different lengths bridged: two tubes' facing rims, and two holes in a grid.
+    (12, 0, "bridge", "tubes"),
+    (12, 4, "bridge", "tubes"),
+    (12, 8, "bridge", "tubes"),
+    (12, 13, "bridge", "tubes"),
+    (12, 23, "bridge", "tubes"),
+    (12, 1, "bridge", "holes2"),
+    (12, 10, "bridge", "holes2"),
+    (12, 12, "bridge", "holes2"),
+    (12, 15, "bridge", "holes2"),
 ]
 
 

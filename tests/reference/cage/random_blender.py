@@ -14,6 +14,7 @@ each on its own), a loop cut through a random quad edge, a bevel of one edge or 
 a point, a dissolve of an edge, a delete of a region, or a merge of an edge's ends; lengths are
 fractions of the mesh's mean edge length.
 """
+import math
 import os
 import random
 import sys
@@ -24,12 +25,14 @@ import blender_cage as bc  # noqa: E402
 import bmesh  # noqa: E402
 
 SHAPES = ["monkey", "uvsphere", "icosphere", "cylinder", "cone", "grid", "cube", "disc",
-          "tube", "holes"]
+          "tube", "holes", "holes2", "tubes"]
 KINDS = ["extrude", "extrudeI", "inset", "insetI", "insetD", "loopcut", "bevel", "bevel2",
          "dissolve", "delete", "merge", "mergef", "bridge"]
-# Batches before seed 8 drew from the first eight meshes and these ten tools; they keep them,
-# so that a case once found is made again the same.
+# Batches before seed 8 drew from the first eight meshes and these ten tools, and those before
+# seed 12 from the first ten meshes; they keep them, so that a case once found is made again
+# the same.
 SHAPES_BEFORE_8 = SHAPES[:8]
+SHAPES_BEFORE_12 = SHAPES[:10]
 KINDS_BEFORE_8 = ["extrude", "inset", "insetI", "loopcut", "bevel", "bevel2", "dissolve",
                   "delete", "merge", "mergef"]
 
@@ -78,6 +81,35 @@ def primitive(shape, rnd):
         for v in bm.verts:
             v.co.z = 0.2 * rnd.uniform(-1, 1)
         what = "holes %d×%d" % (x, y)
+    elif shape == "holes2":
+        # A grid with holes of different sizes: one face, and a block of 1×2 to 2×3 faces
+        # two or more faces away (rims of 4 and of 6 to 10 points, to bridge).
+        x, y = rnd.randint(7, 10), rnd.randint(5, 7)
+        bmesh.ops.create_grid(bm, x_segments=x, y_segments=y, size=1.0)
+        bm.faces.ensure_lookup_table()
+        row = rnd.randrange(1, y - 2)
+        w, h = rnd.choice([(2, 1), (1, 2), (2, 2), (3, 1), (3, 2)])
+        gone = [bm.faces[row * x + 1]]
+        gone += [bm.faces[(row + r) * x + x - 1 - w + c] for r in range(h) for c in range(w)]
+        bmesh.ops.delete(bm, geom=gone, context="FACES_ONLY")
+        for v in bm.verts:
+            v.co.z = 0.2 * rnd.uniform(-1, 1)
+        what = "holes2 %d×%d, %d×%d" % (x, y, w, h)
+    elif shape == "tubes":
+        # Two open tubes of different segment counts one above the other, their facing
+        # rims (or any two rims) to bridge.
+        n1, n2 = rnd.sample(range(4, 13), 2)
+        for n, z in ((n1, 0.0), (n2, rnd.uniform(2.5, 4.0))):
+            made = bmesh.ops.create_cone(bm, cap_ends=False, cap_tris=False, segments=n,
+                                         radius1=rnd.uniform(0.7, 1.3),
+                                         radius2=rnd.uniform(0.7, 1.3), depth=1.0)
+            turn = rnd.uniform(0, 6.3)
+            for v in made["verts"]:
+                x, y = v.co.x, v.co.y
+                v.co.x = x * math.cos(turn) - y * math.sin(turn)
+                v.co.y = x * math.sin(turn) + y * math.cos(turn)
+                v.co.z += z
+        what = "tubes %d, %d" % (n1, n2)
     elif shape == "grid":
         x, y = rnd.randint(2, 7), rnd.randint(2, 7)
         bmesh.ops.create_grid(bm, x_segments=x, y_segments=y, size=1.0)
@@ -127,7 +159,7 @@ def open_loops(bm):
     return loops
 
 
-def random_tool(kind, bm0, rnd, unit):
+def random_tool(kind, bm0, rnd, unit, facing=False):
     """The command line of a random tool of `kind` on the bmesh `bm0`, or None."""
     edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges]
     quad_edges = [(e.verts[0].index, e.verts[1].index) for e in bm0.edges
@@ -162,7 +194,18 @@ def random_tool(kind, bm0, rnd, unit):
         loops = open_loops(bm0)
         if len(loops) < 2:
             return None
-        first, second = rnd.sample(loops, 2)
+        if facing:
+            # The two loops of different lengths that face each other: the nearest centres,
+            # a holed grid's rim (the longest of its three loops) left out.
+            if len(loops) == 3:
+                loops.remove(max(loops, key=len))
+            centre = lambda l: sum((bm0.verts[v].co for v in l), bm0.verts[l[0]].co * 0) / len(l)
+            first, second = min(((a, b) for a in loops for b in loops if len(a) != len(b)),
+                                key=lambda p: (centre(p[0]) - centre(p[1])).length)
+            if rnd.random() < 0.5:
+                first, second = second, first
+        else:
+            first, second = rnd.sample(loops, 2)
         return "bridge --loop1 %s --loop2 %s" % (
             ",".join(map(str, first)), ",".join(map(str, second)))
     if kind == "inset":
@@ -212,7 +255,7 @@ def case(seed, k, kind=None, shape=None):
     tool needs."""
     rnd = random.Random(seed * 100003 + k)
     shape = shape or os.environ.get("SHAPE") or rnd.choice(
-        SHAPES if seed >= 8 else SHAPES_BEFORE_8)
+        SHAPES if seed >= 12 else SHAPES_BEFORE_12 if seed >= 8 else SHAPES_BEFORE_8)
     kind = kind or os.environ.get("KIND") or rnd.choice(
         KINDS if seed >= 8 else KINDS_BEFORE_8)
     points, faces, what = primitive(shape, rnd)
@@ -221,7 +264,7 @@ def case(seed, k, kind=None, shape=None):
     bm0.verts.index_update()
     bm0.faces.index_update()
     unit = sum(e.calc_length() for e in bm0.edges) / len(bm0.edges)
-    args = random_tool(kind, bm0, rnd, unit)
+    args = random_tool(kind, bm0, rnd, unit, facing=shape in ("holes2", "tubes"))
     if args is None:
         return None
     return "r%d-%03d-%s-%s" % (seed, k, shape, args.split()[0]), points, faces, args

@@ -1350,75 +1350,6 @@ impl Cage {
         }
         Ok(new_faces)
     }
-
-    /// Bridge two edge loops (Blender's Bridge Edge Loops): each loop is a closed chain of open
-    /// edges named by its vertices in order, both of the same length. The second loop is
-    /// turned so that the faces already on the two loops use their edges in opposite senses
-    /// (so the bridge agrees in winding with both, which Blender's normals along the line
-    /// between the loops' centres decide too, and which they leave open for two holes side by
-    /// side in a plane), and rotated to the pairing with the least total length of the
-    /// bridging edges; quads then join the loops, wound to agree with the faces already on
-    /// the loops.
-    pub fn bridge_loops(&self, first: &[u32], second: &[u32]) -> Result<Self, CageEditError> {
-        if first.len() < 3 || first.len() != second.len() {
-            return Err(invalid(format!(
-                "the loops need the same number of vertices, at least 3 (got {} and {})",
-                first.len(),
-                second.len()
-            )));
-        }
-        let half = self.half_edges();
-        let mut seen = HashSet::default();
-        for loop_ in [first, second] {
-            for i in 0..loop_.len() {
-                let (a, b) = (loop_[i], loop_[(i + 1) % loop_.len()]);
-                self.check_edge(&half, a, b)?;
-                if !seen.insert(a) {
-                    return Err(invalid(format!("vertex {a} is named twice in the loops")));
-                }
-                if half.contains_key(&(a, b)) && half.contains_key(&(b, a)) {
-                    return Err(invalid(format!(
-                        "edge {a}-{b} already has a face on each side: bridge open edges"
-                    )));
-                }
-            }
-        }
-        let mut second: Vec<u32> = second.to_vec();
-        // The second loop runs so that the bridge's quads agree in winding with the faces on
-        // both loops: their faces must use the two loops' edges in opposite senses (each
-        // loop edge is open, so its one face decides).
-        let along = |l: &[u32]| half.contains_key(&(l[0], l[1]));
-        let same_way = along(first) != along(&second);
-        if !same_way {
-            second.reverse();
-        }
-        let k = first.len();
-        let cost = |shift: usize| -> f64 {
-            (0..k)
-                .map(|i| {
-                    self.points[first[i] as usize]
-                        .distance(self.points[second[(i + shift) % k] as usize])
-                })
-                .sum()
-        };
-        let best = (0..k)
-            .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
-            .unwrap_or(0);
-        second.rotate_left(best);
-        // Wind the quads against the face already on the first loop's edges.
-        let forward = half.contains_key(&(first[0], first[1 % k]));
-        let mut out = self.clone();
-        for i in 0..k {
-            let j = (i + 1) % k;
-            let quad = if forward {
-                vec![first[j], first[i], second[i], second[j]]
-            } else {
-                vec![first[i], first[j], second[j], second[i]]
-            };
-            out.faces.push(quad);
-        }
-        Ok(out.compacted(self))
-    }
 }
 
 /// The faces around a cage vertex in order: each face, the vertex's corner in it, and its
@@ -2967,7 +2898,7 @@ pub(super) mod tests {
 
     /// The cage as a subdivision surface: manifold, every edge between faces of agreeing
     /// winding.
-    fn check_cage(cage: &Cage) {
+    pub(in crate::subdiv) fn check_cage(cage: &Cage) {
         let mesh = crate::PolygonMesh::new(cage.points.clone(), &cage.faces).unwrap();
         SubdivisionSurface::new(
             mesh,

@@ -379,15 +379,7 @@ impl Cage {
                     "face {f} has no area: it has no plane to split in"
                 )));
             }
-            let (u, v) = normal.any_orthonormal_pair();
-            let flat: Vec<DVec2> = face
-                .iter()
-                .map(|&i| {
-                    let p = self.points[i as usize];
-                    DVec2::new(p.dot(u), p.dot(v))
-                })
-                .collect();
-            let triangles = beauty_triangles(&flat);
+            let triangles = beauty_triangles(&flattened(&self.points, face, normal));
             let mut pieces = triangles
                 .into_iter()
                 .map(|[a, b, c]| vec![face[a], face[b], face[c]]);
@@ -487,6 +479,29 @@ fn corner_angles_off_square(corners: [DVec3; 4]) -> [f64; 4] {
     let sides: [DVec3; 4] =
         std::array::from_fn(|k| (corners[k] - corners[(k + 1) % 4]).normalize_or_zero());
     std::array::from_fn(|k| (sides[k].angle_between(sides[(k + 1) % 4]) - FRAC_PI_2).abs())
+}
+
+/// The points of `face` in a plane square to `normal` (any orthonormal pair of axes in it).
+fn flattened(points: &[DVec3], face: &[u32], normal: DVec3) -> Vec<DVec2> {
+    let (u, v) = normal.any_orthonormal_pair();
+    face.iter()
+        .map(|&i| {
+            let p = points[i as usize];
+            DVec2::new(p.dot(u), p.dot(v))
+        })
+        .collect()
+}
+
+/// Whether Blender's Beauty splits quad `quad` along its corners 1–3 rather than 0–2, as
+/// [`Cage::triangulate_faces`] splits it: by [`rotate_gain`] in the quad's plane (1–3 where
+/// the quad has no plane).
+pub(super) fn beauty_splits_1_3(points: &[DVec3], quad: [u32; 4]) -> bool {
+    let normal = polygon_normal(points, &quad);
+    if normal == DVec3::ZERO {
+        return true;
+    }
+    let flat = flattened(points, &quad, normal);
+    rotate_gain(flat[1], flat[2], flat[3], flat[0]) <= 0.0
 }
 
 /// Whether either diagonal splits the quad into triangles facing away from each other (a

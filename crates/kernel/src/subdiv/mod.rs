@@ -10,6 +10,7 @@
 
 pub mod adaptive;
 mod bevel_corner;
+pub mod cage_bridge;
 pub mod cage_corners;
 pub mod cage_edit;
 pub mod cage_faces;
