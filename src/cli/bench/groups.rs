@@ -2945,24 +2945,43 @@ fn bench_cage_tools(
         .flat_map(|i| (0..4).map(move |j| 5050 + 100 * i + j))
         .collect();
     let holed = cage.delete_faces(&hole)?;
-    let mut directed = std::collections::HashSet::new();
-    for face in &holed.faces {
-        for c in 0..face.len() {
-            directed.insert((face[c], face[(c + 1) % face.len()]));
+    // The rims of a cage's holes: its closed loops of open edges.
+    let rims_of = |cage: &Cage| {
+        let mut directed = std::collections::HashSet::new();
+        for face in &cage.faces {
+            for c in 0..face.len() {
+                directed.insert((face[c], face[(c + 1) % face.len()]));
+            }
         }
-    }
-    let open: Vec<(u32, u32)> = directed
-        .iter()
-        .filter(|&&(a, b)| !directed.contains(&(b, a)))
-        .copied()
-        .collect();
-    let rim = holed.closed_loops(&open)?.pop().unwrap_or_default();
+        let open: Vec<(u32, u32)> = directed
+            .iter()
+            .filter(|&&(a, b)| !directed.contains(&(b, a)))
+            .copied()
+            .collect();
+        cage.closed_loops(&open)
+    };
+    let rim = rims_of(&holed)?.pop().unwrap_or_default();
     let (fill_ms, filled) = median_ms(runs, || holed.grid_fill_rim(&rim, None, None))?;
     writeln!(
         out,
         "cage grid fill of a 16-edge hole in 10,000 faces: {fill_ms:.2} ms ({} faces after)",
         filled.faces.len()
     )?;
+    // Bridge of that hole's rim (16 points) to a hole of one face (4 points) ten faces
+    // along: a strip of 20 triangles, turned as Blender's bridge turns them.
+    let two_holes = holed.delete_faces(&[5060])?;
+    let rims = rims_of(&two_holes)?;
+    if let [first, second] = &rims[..] {
+        let (bridge_ms, bridged) = median_ms(runs, || two_holes.bridge_loops(first, second))?;
+        writeln!(
+            out,
+            "cage bridge of a {}-point rim to a {}-point rim in 10,000 faces: {bridge_ms:.2} ms \
+             ({} faces after)",
+            first.len(),
+            second.len(),
+            bridged.faces.len()
+        )?;
+    }
     // Selection on the same cage: the loop through an edge, and Select More of it.
     let (loop_ms, edges) = median_ms(runs, || cage.edge_loop(f[0], f[1]))?;
     let selected: std::collections::BTreeSet<u32> =
