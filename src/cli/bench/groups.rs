@@ -1937,7 +1937,7 @@ fn bench_subdivision(
     // The 1,536-face cages with extraordinary points, through the editor's feed at level 4
     // (B-spline patches for the regular quads, stencils for the rest): the cube's cage refined
     // four times (eight points of three quads) and the 24 × 32 torus split into triangles
-    // (every face irregular under Catmull-Clark).
+    // (every face irregular under Catmull-Clark), also under Loop.
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let (points, level) =
         knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(cages::cube(DVec3::ZERO, 2.0)?, 4)?
@@ -1945,11 +1945,34 @@ fn bench_subdivision(
     let faces: Vec<Vec<u32>> = level.faces().map(<[u32]>::to_vec).collect();
     let refined_cube = knotwork::kernel::PolygonMesh::new(points, &faces)?;
     let torus_triangles = triangulated(&cages::torus(DVec3::ZERO, 2.0, 0.6, 24, 32)?)?;
-    for (name, mesh) in [
-        ("cube refined to 1,536 quads", refined_cube),
-        ("24x32 torus in 1,536 triangles", torus_triangles),
+    for (name, mesh, scheme) in [
+        (
+            "cube refined to 1,536 quads",
+            refined_cube,
+            Scheme::CatmullClark,
+        ),
+        (
+            "24x32 torus in 1,536 triangles",
+            torus_triangles.clone(),
+            Scheme::CatmullClark,
+        ),
+        (
+            "24x32 torus in 1,536 triangles, Loop",
+            torus_triangles,
+            Scheme::Loop,
+        ),
     ] {
-        let surface = knotwork::kernel::subdiv::SubdivisionSurface::from_mesh(mesh, 4)?;
+        let options = knotwork::kernel::subdiv::Options {
+            scheme,
+            ..Default::default()
+        };
+        let surface = knotwork::kernel::subdiv::SubdivisionSurface::new(
+            mesh,
+            Vec::new(),
+            Vec::new(),
+            options,
+            4,
+        )?;
         let mut builds = Vec::new();
         let mut ones = Vec::new();
         let mut feed = None;

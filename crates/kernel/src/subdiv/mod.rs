@@ -30,6 +30,7 @@ pub mod region;
 pub mod schemes;
 pub mod stencil;
 pub mod substitutes;
+pub mod templates;
 
 use glam::{DAffine3, DVec3};
 use std::sync::Arc;

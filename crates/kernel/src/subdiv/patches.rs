@@ -12,7 +12,7 @@ use super::pieces::{
 pub use super::pieces::{Display, Entry, LimitFeed, StencilPatch, SubstitutePatch};
 use super::region::{MOST_OF_THE_CAGE, REGION_RINGS, RegionCage, face_region};
 use super::stencil::{Accumulator, Row, WideRows, build_rows};
-use super::{Hierarchy, Scheme, SubdivisionSurface};
+use super::{Hierarchy, Scheme, SubdivisionSurface, templates};
 use crate::GeometryError;
 use std::sync::Arc;
 
@@ -513,6 +513,18 @@ impl SubdivisionSurface {
             }
         }
         if irregular.is_empty() || levels == 0 {
+            return Ok(feed);
+        }
+        // Faces whose neighbourhoods are alike share one refinement of one of them, where
+        // that refines fewer faces than the next way (Catmull-Clark's and Loop's stencils
+        // reach two rings; the butterfly's reach further).
+        if regular_as_bspline
+            && matches!(scheme, Scheme::CatmullClark | Scheme::Loop)
+            && irregular.len() >= templates::FEWEST_FACES
+            && let Some(shared) = templates::Templates::new(&base, &irregular, REGION_RINGS)
+            && 2 * shared.refined_faces() <= face_region(&base, &irregular, REGION_RINGS).len()
+        {
+            shared.push(&mut feed, &base, self.options, levels, display)?;
             return Ok(feed);
         }
         // Beside regular B-spline quads, the few faces left take their stencils from a

@@ -15,8 +15,10 @@
 //! (infinitely sharp) and its points follow the boundary rules; that changes the points the
 //! rim reaches, [`REGION_RINGS`] rings away from the faces asked for, never theirs.
 
+use rustc_hash::FxHashSet;
+
 use super::level::{INFINITE_SHARPNESS, Level, NONE};
-use super::pieces::{LimitFeed, first_children};
+use super::pieces::{Entry, LimitFeed, first_children};
 use super::{Boundary, Options};
 use crate::GeometryError;
 
@@ -39,23 +41,29 @@ pub const MOST_OF_THE_CAGE: f64 = 0.5;
 /// its points would form two fans or more (regions touching at a point), every face round
 /// that point joins, so that the region is a manifold cage.
 pub fn face_region(level: &Level, faces: &[u32], rings: u32) -> Vec<u32> {
-    let mut inside = vec![false; level.face_count()];
+    // A few faces' region is marked in a set: a flag per face of a large cage would cost
+    // more than the region.
+    let mut inside = if faces.len() * 64 < level.face_count() {
+        Marks::Few(FxHashSet::with_capacity_and_hasher(
+            64 * faces.len(),
+            Default::default(),
+        ))
+    } else {
+        Marks::All(vec![false; level.face_count()])
+    };
     let mut frontier: Vec<u32> = Vec::with_capacity(faces.len());
     for &f in faces {
-        if !std::mem::replace(&mut inside[f as usize], true) {
+        if inside.mark(f) {
             frontier.push(f);
         }
     }
     let mut region = frontier.clone();
-    let grow = |from: &[u32], inside: &mut Vec<bool>, keep: &dyn Fn(u32) -> bool| {
+    let grow = |from: &[u32], inside: &mut Marks| {
         let mut next = Vec::new();
         for &f in from {
             for &v in level.face(f) {
-                if !keep(v) {
-                    continue;
-                }
                 for &g in level.vertex_faces(v) {
-                    if !std::mem::replace(&mut inside[g as usize], true) {
+                    if inside.mark(g) {
                         next.push(g);
                     }
                 }
@@ -64,7 +72,7 @@ pub fn face_region(level: &Level, faces: &[u32], rings: u32) -> Vec<u32> {
         next
     };
     for _ in 0..rings {
-        let next = grow(&frontier, &mut inside, &|_| true);
+        let next = grow(&frontier, &mut inside);
         region.extend_from_slice(&next);
         frontier = next;
     }
@@ -72,9 +80,17 @@ pub fn face_region(level: &Level, faces: &[u32], rings: u32) -> Vec<u32> {
     // left (each pass only adds faces).
     let mut check = region.clone();
     while !check.is_empty() {
+        // Each point of the faces to check once.
+        let mut points: Vec<u32> = check.iter().flat_map(|&f| level.face(f)).copied().collect();
+        points.sort_unstable();
+        points.dedup();
         let snapshot = inside.clone();
-        let several_fans = |v: u32| fan_count(level, &snapshot, v) > 1;
-        let next = grow(&check, &mut inside, &several_fans);
+        let mut next = Vec::new();
+        for v in points {
+            if fan_count(level, &snapshot, v) > 1 {
+                next.extend(level.vertex_faces(v).iter().filter(|&&g| inside.mark(g)));
+            }
+        }
         region.extend_from_slice(&next);
         check = next;
     }
@@ -82,35 +98,57 @@ pub fn face_region(level: &Level, faces: &[u32], rings: u32) -> Vec<u32> {
     region
 }
 
-/// How many separate fans the faces marked `inside` form round point `v` (0 where none).
-fn fan_count(level: &Level, inside: &[bool], v: u32) -> usize {
+/// The faces marked as in a region: a set of a few, or a flag per face.
+#[derive(Clone)]
+enum Marks {
+    Few(FxHashSet<u32>),
+    All(Vec<bool>),
+}
+
+impl Marks {
+    /// Marks face `f`; true where it was not marked before.
+    fn mark(&mut self, f: u32) -> bool {
+        match self {
+            Self::Few(set) => set.insert(f),
+            Self::All(flags) => !std::mem::replace(&mut flags[f as usize], true),
+        }
+    }
+
+    fn has(&self, f: u32) -> bool {
+        match self {
+            Self::Few(set) => set.contains(&f),
+            Self::All(flags) => flags[f as usize],
+        }
+    }
+}
+
+/// How many separate fans the faces marked `inside` form round point `v` (0 where none): round
+/// a manifold point each edge between two faces inside joins two of them into one fan.
+fn fan_count(level: &Level, inside: &Marks, v: u32) -> usize {
     let faces = level.vertex_faces(v);
-    let count = faces.iter().filter(|&&f| inside[f as usize]).count();
+    let count = faces.iter().filter(|&&f| inside.has(f)).count();
     if count <= 1 || count == faces.len() {
         return count.min(1);
     }
-    let ring = level.ring(v);
-    let marks: Vec<bool> = ring.faces.iter().map(|&f| inside[f as usize]).collect();
-    let n = marks.len();
-    // Each fan starts where a face inside follows one outside (or opens a boundary ring).
-    (0..n)
-        .filter(|&k| {
-            marks[k]
-                && if k == 0 {
-                    ring.boundary || !marks[n - 1]
-                } else {
-                    !marks[k - 1]
-                }
+    let joined = level
+        .vertex_edges(v)
+        .iter()
+        .filter(|&&e| {
+            let [a, b] = level.edge_faces[e as usize];
+            a != NONE && b != NONE && inside.has(a) && inside.has(b)
         })
-        .count()
+        .count();
+    count - joined
 }
 
 /// A region of a level cut out as a cage of its own ([`face_region`]): which of the level's
 /// faces and points it holds.
 pub(super) struct RegionCage {
-    /// The region's faces, as indices of the level's faces (increasing).
+    /// The region's faces, as indices of the level's faces (increasing, but for a face's
+    /// neighbourhood in [`super::templates`]: that face first, the rest as met from it).
     pub faces: Vec<u32>,
-    /// The region's points, as indices of the level's points (increasing).
+    /// The region's points, as indices of the level's points (increasing, but in a face's
+    /// neighbourhood: as its faces first use them).
     pub points: Vec<u32>,
 }
 
@@ -139,6 +177,21 @@ impl RegionCage {
             .iter()
             .map(|&f| level.face(f).iter().map(|&v| local[v as usize]).collect())
             .collect();
+        let region = Self { faces, points };
+        let topology = region.topology(level, &cut, options)?;
+        Ok((region, topology))
+    }
+
+    /// The topology of the region's faces `cut` (each of [`Self::faces`] over the region's
+    /// point numbers) with the level's sharpness: the rim's edges boundaries, and under
+    /// [`Boundary::EdgeAndCorner`] its points of one face corners.
+    pub fn topology(
+        &self,
+        level: &Level,
+        cut: &[Vec<u32>],
+        options: Options,
+    ) -> Result<Level, GeometryError> {
+        let points = &self.points;
         let slices: Vec<&[u32]> = cut.iter().map(Vec::as_slice).collect();
         let mut region = Level::new(points.len(), &slices, Vec::new())?;
         for (e, &[a, b]) in region.edges.iter().enumerate() {
@@ -161,7 +214,7 @@ impl RegionCage {
                 region.vertex_sharpness[v] = INFINITE_SHARPNESS;
             }
         }
-        Ok((Self { faces, points }, region))
+        Ok(region)
     }
 
     /// The region's numbers of the level's faces `faces` (increasing, all in the region).
@@ -188,11 +241,36 @@ impl RegionCage {
         (whole, region): (&Level, &Level),
         options: Options,
     ) {
-        let (whole_children, region_children) = (
+        let children = (
             first_children(whole, options.scheme),
             first_children(region, options.scheme),
         );
-        let (slot_offset, entry_offset) = (feed.slots.len() as u32, feed.entries.len() as u32);
+        self.append_with_children(feed, local, (&children.0, &children.1));
+    }
+
+    /// [`Self::append`] with each face's first child one level down already found, in the
+    /// whole level and in the region ([`first_children`]).
+    pub fn append_with_children(
+        &self,
+        feed: &mut LimitFeed,
+        local: &LimitFeed,
+        children: (&[u32], &[u32]),
+    ) {
+        self.append_patches(feed, local, children, feed.entries.len() as u32);
+        feed.entries
+            .extend(local.entries.iter().map(|&(p, w)| self.entry(p, w)));
+    }
+
+    /// [`Self::append_with_children`] but for the entries: the slots read theirs from
+    /// `first_entry` on, where the caller puts them ([`Self::entry`]).
+    pub fn append_patches(
+        &self,
+        feed: &mut LimitFeed,
+        local: &LimitFeed,
+        (whole_children, region_children): (&[u32], &[u32]),
+        first_entry: u32,
+    ) {
+        let slot_offset = feed.slots.len() as u32;
         for patch in &local.patches {
             let mut patch = *patch;
             let region_face = patch.cage_face as usize;
@@ -212,21 +290,20 @@ impl RegionCage {
             local
                 .slots
                 .iter()
-                .map(|&[first, count]| [first + entry_offset, count]),
+                .map(|&[first, count]| [first + first_entry, count]),
         );
         feed.no_curvature.extend_from_slice(&local.no_curvature);
         feed.vertex.extend(local.vertex.iter().map(|_| u32::MAX));
-        feed.entries.extend(
-            local
-                .entries
-                .iter()
-                .map(|&(p, weights)| (self.points[p as usize], weights)),
-        );
+    }
+
+    /// A local entry (region point `point`, `weights`) over the level's points.
+    pub fn entry(&self, point: u32, weights: [f64; 6]) -> Entry {
+        (self.points[point as usize], weights)
     }
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::PolygonMesh;
     use crate::subdiv::Hierarchy;
@@ -243,7 +320,7 @@ mod tests {
     /// extraordinary points, n-gons), with a random semi-sharp crease along an edge loop and a
     /// random corner, its points jittered, under a random rotation, scale and shift, with
     /// random boundary and crease rules.
-    fn random_cage(draw: &mut Xorshift) -> SubdivisionSurface {
+    pub(in crate::subdiv) fn random_cage(draw: &mut Xorshift) -> SubdivisionSurface {
         let mesh = if draw.below(2) == 0 {
             cages::torus(DVec3::ZERO, 3.0, 1.0, 16, 12).unwrap()
         } else {
@@ -315,7 +392,7 @@ mod tests {
     }
 
     /// The faces that are not regular B-spline quads: the ones the feed shows as stencils.
-    fn irregular_faces(base: &Level) -> Vec<u32> {
+    pub(in crate::subdiv) fn irregular_faces(base: &Level) -> Vec<u32> {
         (0..base.face_count() as u32)
             .filter(|&f| !is_regular_face(base, Scheme::CatmullClark, f))
             .collect()
@@ -339,6 +416,23 @@ mod tests {
         )
         .unwrap();
         assert!(cut, "{} of {} faces", faces.len(), base.face_count());
+        error_against_whole(surface, faces, levels, &region, false)
+    }
+
+    /// The largest difference, over the cage's size, between any slot's position, first or
+    /// second derivative in `feed` (stencil patches of cage faces `faces` at `levels`) and
+    /// from the whole cage's refinement; infinite where the patches or the slots' kinds differ.
+    /// With `plane_at_irregular`, a slot whose curvature is undefined (an extraordinary or
+    /// sharp point, whose two tangents are any two spanning its tangent plane, found from
+    /// where its ring starts) compares its position and unit normal only.
+    pub(in crate::subdiv) fn error_against_whole(
+        surface: &SubdivisionSurface,
+        faces: &[u32],
+        levels: u32,
+        region: &LimitFeed,
+        plane_at_irregular: bool,
+    ) -> f64 {
+        let base = surface.base_level().unwrap();
         let hierarchy = Hierarchy::new(base, surface.options, levels).unwrap();
         let pieces = exact_pieces(&hierarchy, faces, levels);
         let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
@@ -353,7 +447,13 @@ mod tests {
         let values = |feed: &LimitFeed, slot: usize| slot_values(feed, points, slot);
         let mut worst = 0.0f64;
         for slot in 0..whole.slots.len() {
-            let (a, b) = (values(&region, slot), values(&whole, slot));
+            let (a, b) = (values(region, slot), values(&whole, slot));
+            if plane_at_irregular && whole.no_curvature[slot] {
+                let normal = |v: [DVec3; 6]| v[1].cross(v[2]).normalize_or_zero();
+                worst = worst.max((a[0] - b[0]).length() / size);
+                worst = worst.max((normal(a) - normal(b)).length());
+                continue;
+            }
             for c in 0..6 {
                 // Second derivatives grow by 4 per level: compare at the level's scale.
                 let scale = if c < 3 {
