@@ -77,7 +77,7 @@ impl Cage {
             // Wind the new faces against the face already on the leading loop's edges.
             let forward = along(lead);
             let k = lead.len();
-            let shift = self.least_pairing(lead, &other);
+            let shift = least_rotation(&self.points, lead, &other);
             other.rotate_left(shift);
             for i in 0..k {
                 let j = (i + 1) % k;
@@ -150,23 +150,22 @@ impl Cage {
             })
             .collect()
     }
+}
 
-    /// The rotation s of `other` (as long as `lead`) that pairs `lead[i]` with
-    /// `other[(i + s) % k]` at the least total distance; the first such where several tie.
-    fn least_pairing(&self, lead: &[u32], other: &[u32]) -> usize {
-        let k = lead.len();
-        let cost = |shift: usize| -> f64 {
-            (0..k)
-                .map(|i| {
-                    self.points[lead[i] as usize]
-                        .distance(self.points[other[(i + shift) % k] as usize])
-                })
-                .sum()
-        };
+/// The rotation s of `paired` (as long as `lead`) that pairs `lead[i]` with
+/// `paired[(i + s) % k]` at the least total distance; the first such where several tie
+/// (Blender's best rotation of a bridge's second loop).
+fn least_rotation(points: &[DVec3], lead: &[u32], paired: &[u32]) -> usize {
+    let k = lead.len();
+    let at = |v: u32| points[v as usize];
+    let cost = |shift: usize| -> f64 {
         (0..k)
-            .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
-            .unwrap_or(0)
-    }
+            .map(|i| at(lead[i]).distance(at(paired[(i + shift) % k])))
+            .sum()
+    };
+    (0..k)
+        .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
+        .unwrap_or(0)
 }
 
 /// The positions at which Blender's edge-loop expansion repeats a point of a loop of `len`
@@ -266,17 +265,11 @@ pub(super) fn bridge_strip(
     let (n, m) = (lead.len(), other.len());
     let at = |v: u32| points[v as usize];
     let expanded = expanded_loop(m, n);
-    let cost = |shift: usize| -> f64 {
-        (0..n)
-            .map(|i| at(lead[i]).distance(at(other[expanded[(i + shift) % n]])))
-            .sum()
-    };
-    let shift = (0..n)
-        .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
-        .unwrap_or(0);
+    let expanded_points: Vec<u32> = expanded.iter().map(|&e| other[e]).collect();
+    let shift = least_rotation(points, lead, &expanded_points);
     // The path: edge k joins lead[i_k] and other[j_k] (indices counted on, not wrapped), and
     // triangle k lies between edges k and k + 1, stepping along steps[k].
-    let start = expanded[shift % n];
+    let start = expanded[shift];
     let mut ends: Vec<(usize, usize)> = Vec::with_capacity(n + m);
     let mut steps: Vec<Step> = Vec::with_capacity(n + m);
     // Where the other loop's expanded points wrap past its end, count on past m.

@@ -500,7 +500,12 @@ pub(super) fn beauty_splits_1_3(points: &[DVec3], quad: [u32; 4]) -> bool {
     if normal == DVec3::ZERO {
         return true;
     }
-    let flat = flattened(points, &quad, normal);
+    splits_1_3(&flattened(points, &quad, normal))
+}
+
+/// Whether Blender's Beauty splits the flat quad `flat` along its corners 1–3 rather than
+/// 0–2 ([`rotate_gain`]; a tie, as a square, goes to 1–3 as in Blender).
+fn splits_1_3(flat: &[DVec2]) -> bool {
     rotate_gain(flat[1], flat[2], flat[3], flat[0]) <= 0.0
 }
 
@@ -549,10 +554,7 @@ fn rotate_gain(v1: DVec2, v2: DVec2, v3: DVec2, v4: DVec2) -> f64 {
 fn beauty_triangles(points: &[DVec2]) -> Vec<[usize; 3]> {
     let n = points.len();
     if n == 4 {
-        let gain = rotate_gain(points[1], points[2], points[3], points[0]);
-        // Split along 1–3 (corners 1 and 3) unless 0–2 is better (a tie, as a square, goes
-        // to 1–3 as in Blender).
-        return if gain <= 0.0 {
+        return if splits_1_3(points) {
             vec![[1, 2, 3], [1, 3, 0]]
         } else {
             vec![[0, 1, 2], [0, 2, 3]]
