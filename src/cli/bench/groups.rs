@@ -1817,6 +1817,19 @@ fn cage_object(
     )
 }
 
+/// A cage with no creases under `scheme`, shown at `level`.
+fn cage_surface(
+    mesh: knotwork::kernel::PolygonMesh,
+    level: u32,
+    scheme: knotwork::kernel::subdiv::Scheme,
+) -> Result<knotwork::kernel::subdiv::SubdivisionSurface, knotwork::kernel::GeometryError> {
+    let options = knotwork::kernel::subdiv::Options {
+        scheme,
+        ..Default::default()
+    };
+    knotwork::kernel::subdiv::SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, level)
+}
+
 /// A cage under `scheme` as a scene object at `level`.
 fn cage_object_with(
     name: &str,
@@ -1824,17 +1837,7 @@ fn cage_object_with(
     level: u32,
     scheme: knotwork::kernel::subdiv::Scheme,
 ) -> Result<SceneObject, knotwork::kernel::GeometryError> {
-    let options = knotwork::kernel::subdiv::Options {
-        scheme,
-        ..Default::default()
-    };
-    let surface = knotwork::kernel::subdiv::SubdivisionSurface::new(
-        mesh,
-        Vec::new(),
-        Vec::new(),
-        options,
-        level,
-    )?;
+    let surface = cage_surface(mesh, level, scheme)?;
     Ok(SceneObject::new(
         format!("{name} L{level}"),
         knotwork::scene::ObjectGeometry::new(knotwork::scene::SubdivObject::from(surface)),
@@ -1962,17 +1965,7 @@ fn bench_subdivision(
             Scheme::Loop,
         ),
     ] {
-        let options = knotwork::kernel::subdiv::Options {
-            scheme,
-            ..Default::default()
-        };
-        let surface = knotwork::kernel::subdiv::SubdivisionSurface::new(
-            mesh,
-            Vec::new(),
-            Vec::new(),
-            options,
-            4,
-        )?;
+        let surface = cage_surface(mesh, 4, scheme)?;
         let mut builds = Vec::new();
         let mut ones = Vec::new();
         let mut feed = None;
