@@ -524,7 +524,9 @@ impl SubdivisionSurface {
             && let Some(shared) = templates::Templates::new(&base, &irregular, REGION_RINGS)
             && 2 * shared.refined_faces() <= face_region(&base, &irregular, REGION_RINGS).len()
         {
-            shared.push(&mut feed, &base, self.options, levels, display)?;
+            let options = self.options;
+            let refine = |cage| first_face_patches(cage, options, levels, display);
+            shared.push(&mut feed, &base, options, refine)?;
             return Ok(feed);
         }
         // Beside regular B-spline quads, the few faces left take their stencils from a
@@ -604,6 +606,22 @@ impl SubdivisionSurface {
         }
         Ok((feed, plan))
     }
+}
+
+/// The stencil patches showing face 0 of `cage` (a face's neighbourhood cut out as a cage of
+/// its own, [`templates`]) at level `levels` as `display`, over `cage`'s points.
+pub(super) fn first_face_patches(
+    cage: Level,
+    options: super::Options,
+    levels: u32,
+    display: Display,
+) -> Result<LimitFeed, GeometryError> {
+    let hierarchy = Hierarchy::new(cage, options, levels)?;
+    let pieces = exact_pieces(&hierarchy, &[0], levels);
+    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
+    let mut feed = LimitFeed::default();
+    push_stencil_patches(&mut feed, &hierarchy, levels, &shown, display);
+    Ok(feed)
 }
 
 /// Appends to `feed` the stencil patches showing cage faces `faces` (increasing) of `base` at

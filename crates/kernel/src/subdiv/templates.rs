@@ -15,11 +15,10 @@
 
 use rustc_hash::FxHashMap;
 
+use super::Options;
 use super::level::{Level, NONE};
-use super::patches::{exact_pieces, push_stencil_patches};
-use super::pieces::{Display, LimitFeed, ShownPiece, first_children};
+use super::pieces::{LimitFeed, first_children};
 use super::region::{RegionCage, face_region};
-use super::{Hierarchy, Options};
 use crate::GeometryError;
 
 /// Fewer faces than this are not worth naming their neighbourhoods for.
@@ -167,28 +166,23 @@ impl Templates {
             .sum()
     }
 
-    /// Appends the faces' stencil patches at level `levels` as `display` to `feed` (`whole`'s
-    /// numbers, in the faces' order): each group's first face's neighbourhood refined alone,
-    /// its patches given to every face of the group over that face's points. Their slots name
-    /// no level vertex, as [`RegionCage::append`]'s.
+    /// Appends the faces' stencil patches to `feed` (`whole`'s numbers, in the faces'
+    /// order): each group's first face's neighbourhood, cut out as a cage of its own whose
+    /// face 0 is that face, refined alone by `refine` (its stencil patches over the cut's
+    /// points), its patches given to every face of the group over that face's points. Their
+    /// slots name no level vertex, as [`RegionCage::append`]'s.
     pub fn push(
         &self,
         feed: &mut LimitFeed,
         whole: &Level,
         options: Options,
-        levels: u32,
-        display: Display,
+        refine: impl Fn(Level) -> Result<LimitFeed, GeometryError> + Sync + Send,
     ) -> Result<(), GeometryError> {
         let refined = crate::par::map(self.first.len(), |g| {
             let face = &self.faces[self.first[g]];
             let topology = face.cut.topology(whole, &face.local_faces(), options)?;
             let children = first_children(&topology, options.scheme);
-            let hierarchy = Hierarchy::new(topology, options, levels)?;
-            let pieces = exact_pieces(&hierarchy, &[0], levels);
-            let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
-            let mut local = LimitFeed::default();
-            push_stencil_patches(&mut local, &hierarchy, levels, &shown, display);
-            Ok((children, local))
+            Ok((children, refine(topology)?))
         });
         let refined: Vec<(Vec<u32>, LimitFeed)> = refined.into_iter().collect::<Result<_, _>>()?;
         let whole_children = first_children(whole, options.scheme);
@@ -240,6 +234,8 @@ mod tests {
     use super::*;
     use crate::subdiv::SubdivisionSurface;
     use crate::subdiv::cages;
+    use crate::subdiv::patches::first_face_patches;
+    use crate::subdiv::pieces::Display;
     use crate::subdiv::region::REGION_RINGS;
     use crate::subdiv::region::tests::{error_against_whole, irregular_faces, random_cage};
     use crate::test_support::Xorshift;
@@ -296,9 +292,9 @@ mod tests {
                 }
                 for levels in 1..=3 {
                     let mut feed = LimitFeed::default();
-                    templates
-                        .push(&mut feed, &base, surface.options, levels, Display::Limit)
-                        .unwrap();
+                    let options = surface.options;
+                    let refine = |cage| first_face_patches(cage, options, levels, Display::Limit);
+                    templates.push(&mut feed, &base, options, refine).unwrap();
                     let error = error_against_whole(&surface, &faces, levels, &feed, true);
                     let scheme = surface.options.scheme;
                     assert!(
