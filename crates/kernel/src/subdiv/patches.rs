@@ -515,36 +515,36 @@ impl SubdivisionSurface {
         if irregular.is_empty() || levels == 0 {
             return Ok(feed);
         }
-        // Faces whose neighbourhoods are alike share one refinement of one of them, where
-        // that refines fewer faces than the next way (Catmull-Clark's and Loop's stencils
-        // reach two rings; the butterfly's reach further).
-        if regular_as_bspline
-            && matches!(scheme, Scheme::CatmullClark | Scheme::Loop)
-            && irregular.len() >= templates::FEWEST_FACES
-            && let Some(shared) = templates::Templates::new(&base, &irregular, REGION_RINGS)
-            && 2 * shared.refined_faces() <= face_region(&base, &irregular, REGION_RINGS).len()
-        {
-            let options = self.options;
-            let refine = |cage| first_face_patches(cage, options, levels, display);
-            shared.push(&mut feed, &base, options, refine)?;
-            return Ok(feed);
-        }
-        // Beside regular B-spline quads, the few faces left take their stencils from a
-        // refinement of their neighbourhood only.
-        if regular_as_bspline
-            && scheme == Scheme::CatmullClark
-            && push_region_stencil_patches(
-                &mut feed,
-                &base,
-                self.options,
-                &irregular,
-                levels,
-                display,
-                REGION_RINGS,
-                MOST_OF_THE_CAGE,
-            )?
-        {
-            return Ok(feed);
+        if regular_as_bspline && matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
+            let region = face_region(&base, &irregular, REGION_RINGS);
+            // Faces whose neighbourhoods are alike share one refinement of one of them, where
+            // that refines at most half the region round them all (Catmull-Clark's and
+            // Loop's stencils reach two rings; the butterfly's reach further).
+            if irregular.len() >= templates::FEWEST_FACES
+                && let Some(shared) = templates::Templates::new(&base, &irregular, REGION_RINGS)
+                && 2 * shared.refined_faces() <= region.len()
+            {
+                let options = self.options;
+                let refine = |cage| first_face_patches(cage, options, levels, display);
+                shared.push(&mut feed, &base, options, refine)?;
+                return Ok(feed);
+            }
+            // Beside regular B-spline quads, the few faces left take their stencils from a
+            // refinement of their neighbourhood only.
+            if scheme == Scheme::CatmullClark
+                && push_region_stencil_patches(
+                    &mut feed,
+                    &base,
+                    self.options,
+                    &irregular,
+                    region,
+                    levels,
+                    display,
+                    MOST_OF_THE_CAGE,
+                )?
+            {
+                return Ok(feed);
+            }
         }
         let hierarchy = Hierarchy::new(Arc::unwrap_or_clone(base), self.options, levels)?;
         let k = levels as usize;
@@ -552,9 +552,7 @@ impl SubdivisionSurface {
             let rows = display_rows(&hierarchy.levels[k], scheme, display);
             return Ok(polygon_feed(&hierarchy, k, &rows));
         }
-        let pieces = exact_pieces(&hierarchy, &irregular, levels);
-        let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
-        push_stencil_patches(&mut feed, &hierarchy, levels, &shown, display);
+        push_face_patches(&mut feed, &hierarchy, &irregular, levels, display);
         Ok(feed)
     }
 
@@ -617,41 +615,50 @@ pub(super) fn first_face_patches(
     display: Display,
 ) -> Result<LimitFeed, GeometryError> {
     let hierarchy = Hierarchy::new(cage, options, levels)?;
-    let pieces = exact_pieces(&hierarchy, &[0], levels);
-    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
     let mut feed = LimitFeed::default();
-    push_stencil_patches(&mut feed, &hierarchy, levels, &shown, display);
+    push_face_patches(&mut feed, &hierarchy, &[0], levels, display);
     Ok(feed)
 }
 
+/// Appends to `feed` the stencil patches showing faces `faces` of `hierarchy`'s cage, each at
+/// level `levels` as `display` ([`exact_pieces`], [`push_stencil_patches`]).
+fn push_face_patches(
+    feed: &mut LimitFeed,
+    hierarchy: &Hierarchy,
+    faces: &[u32],
+    levels: u32,
+    display: Display,
+) {
+    let pieces = exact_pieces(hierarchy, faces, levels);
+    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
+    push_stencil_patches(feed, hierarchy, levels, &shown, display);
+}
+
 /// Appends to `feed` the stencil patches showing cage faces `faces` (increasing) of `base` at
-/// level `levels` as `display`, refining only the faces within `rings` rings of them
-/// ([`super::region`]; [`REGION_RINGS`] gives the same stencils as refining the whole cage,
-/// up to the order of the sums). Their slots name no level vertex (`u32::MAX`): the region's
-/// levels are not the cage's. Returns false, appending nothing, where the region is more than
-/// `most` of the cage's faces ([`MOST_OF_THE_CAGE`]).
+/// level `levels` as `display`, refining only the faces of `region`, the faces within some
+/// rings of them ([`face_region`]; [`REGION_RINGS`] give the same stencils as refining the
+/// whole cage, up to the order of the sums). Their slots name no level vertex (`u32::MAX`):
+/// the region's levels are not the cage's. Returns false, appending nothing, where the region
+/// is more than `most` of the cage's faces ([`MOST_OF_THE_CAGE`]).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn push_region_stencil_patches(
     feed: &mut LimitFeed,
     base: &Level,
     options: super::Options,
     faces: &[u32],
+    region: Vec<u32>,
     levels: u32,
     display: Display,
-    rings: u32,
     most: f64,
 ) -> Result<bool, GeometryError> {
-    let region = face_region(base, faces, rings);
     if region.len() as f64 > most * base.face_count() as f64 {
         return Ok(false);
     }
     let (cut, topology) = RegionCage::new(base, region, options)?;
     let asked = cut.region_faces(faces);
     let hierarchy = Hierarchy::new(topology, options, levels)?;
-    let pieces = exact_pieces(&hierarchy, &asked, levels);
-    let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
     let mut local = LimitFeed::default();
-    push_stencil_patches(&mut local, &hierarchy, levels, &shown, display);
+    push_face_patches(&mut local, &hierarchy, &asked, levels, display);
     cut.append(feed, &local, (base, &hierarchy.levels[0]), options);
     Ok(true)
 }

@@ -245,24 +245,20 @@ impl RegionCage {
             first_children(whole, options.scheme),
             first_children(region, options.scheme),
         );
-        self.append_with_children(feed, local, (&children.0, &children.1));
-    }
-
-    /// [`Self::append`] with each face's first child one level down already found, in the
-    /// whole level and in the region ([`first_children`]).
-    pub fn append_with_children(
-        &self,
-        feed: &mut LimitFeed,
-        local: &LimitFeed,
-        children: (&[u32], &[u32]),
-    ) {
-        self.append_patches(feed, local, children, feed.entries.len() as u32);
+        self.append_patches(
+            feed,
+            local,
+            (&children.0, &children.1),
+            feed.entries.len() as u32,
+        );
         feed.entries
             .extend(local.entries.iter().map(|&(p, w)| self.entry(p, w)));
     }
 
-    /// [`Self::append_with_children`] but for the entries: the slots read theirs from
-    /// `first_entry` on, where the caller puts them ([`Self::entry`]).
+    /// [`Self::append`] but for the entries, with each face's first child one level down
+    /// already found in the whole level and in the region ([`first_children`]): the slots
+    /// read their entries from `first_entry` on, where the caller puts them
+    /// ([`Self::entry`]).
     pub fn append_patches(
         &self,
         feed: &mut LimitFeed,
@@ -409,9 +405,9 @@ pub(super) mod tests {
             &base,
             surface.options,
             faces,
+            face_region(&base, faces, rings),
             levels,
             Display::Limit,
-            rings,
             1.0,
         )
         .unwrap();
