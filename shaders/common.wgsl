@@ -33,7 +33,12 @@ struct PatchRecord {
     // Where the object's free-form deformation lattice block lies in the control point buffer
     // (see LATTICE_HEADER), or LATTICE_NONE.
     lattice: u32,
-    reserved: array<u32, 2>,
+    // A stencil patch whose entries number points of its own: the first of its list of point
+    // numbers in control_indices (entry point k is point control_indices[point_list + k]), or
+    // POINT_LIST_NONE where the entries number the object's points.
+    point_list: u32,
+    // A stencil patch's point k is control_points[first_point + k] (its object's first point).
+    first_point: u32,
 }
 
 // PatchRecord.lattice of a patch whose object has no lattice (Rust: LATTICE_NONE).
@@ -55,7 +60,8 @@ const IMAGE_HEADER: u32 = 1u;
 const PATCH_KIND_BEZIER: u32 = 0u;
 // PatchRecord.kind of a grid of subdivision limit stencils (Rust: PATCH_KIND_STENCIL_QUAD): slot
 // k's (first entry, count) at control_indices[control_offset + 2k], the entries in the control
-// point buffer as two vec4 each: (bitcast index, w_p, w_su, w_sv), (w_suu, w_suv, w_svv, 0).
+// point buffer as two vec4 each: (bitcast point, w_p, w_su, w_sv), (w_suu, w_suv, w_svv, 0), the
+// point numbered in the object (first_point) or, with a point_list, in the patch's list.
 const PATCH_KIND_STENCIL_QUAD: u32 = 1u;
 // The same on a triangle: slots (i, j) with i + j <= segments (Rust: PATCH_KIND_STENCIL_TRIANGLE).
 const PATCH_KIND_STENCIL_TRIANGLE: u32 = 2u;
@@ -77,6 +83,9 @@ const TRIM_CELL_WORDS: u32 = 4u;
 const TRIM_PIECE_HEADER_WORDS: u32 = 5u;
 // Bit of a stencil slot's count: the curvature is not defined there (Rust: STENCIL_NO_CURVATURE).
 const STENCIL_NO_CURVATURE: u32 = 0x80000000u;
+// PatchRecord.point_list of a patch whose stencil entries name control points (Rust:
+// POINT_LIST_NONE).
+const POINT_LIST_NONE: u32 = 0xFFFFFFFFu;
 
 // One tessellation vertex (Rust: gpu::records::SurfaceVertex). 48 bytes: position at 0, u at 12,
 // normal at 16, v at 28, (K, H) at 32, record at 40, tag at 44.

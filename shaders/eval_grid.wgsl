@@ -145,7 +145,11 @@ fn evaluate_stencil_vertices(
     for (var k = 0u; k < count; k++) {
         let a = control_points[start + 2u * k];
         let b = control_points[start + 2u * k + 1u];
-        let p = control_points[bitcast<u32>(a.x)].xyz;
+        var point = bitcast<u32>(a.x);
+        if (rec.point_list != POINT_LIST_NONE) {
+            point = control_indices[rec.point_list + point];
+        }
+        let p = control_points[rec.first_point + point].xyz;
         d.point += a.y * p;
         d.su += a.z * p;
         d.sv += a.w * p;

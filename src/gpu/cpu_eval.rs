@@ -190,17 +190,14 @@ fn stencil_vertices(
 ) -> Result<(), GpuError> {
     let record = target.record;
     let missing = || GpuError::Geometry(format!("stencil patch {patch} refers past its tables"));
-    let first = feed.patches.get(patch).ok_or_else(missing)?.first_slot as usize;
+    let stencil = feed.patches.get(patch).ok_or_else(missing)?;
+    let first = stencil.first_slot as usize;
     let count = ((record.segments_u + 1) * (record.segments_v + 1)) as usize;
     for k in 0..count {
         let slot = first + k;
-        let &[start, n] = feed.slots.get(slot).ok_or_else(missing)?;
-        let entries = feed
-            .entries
-            .get(start as usize..(start + n) as usize)
-            .ok_or_else(missing)?;
+        let entries = feed.slot_entries(stencil, slot).ok_or_else(missing)?;
         let mut d = SurfaceDerivatives::default();
-        for &(point, w) in entries {
+        for (point, w) in entries {
             let p = *points.get(point as usize).ok_or_else(missing)?;
             d.point += w[0] * p;
             d.su += w[1] * p;

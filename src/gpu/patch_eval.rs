@@ -46,8 +46,8 @@ use super::pipelines::{PatchEvaluator, PipelineKey};
 use super::records::{
     DISPLACEMENT_NONE, EVAL_GRID_ROWS, EVAL_WORKGROUP_SIZE, GPU_MAX_DEGREE, LATTICE_NONE,
     PATCH_KIND_ACC, PATCH_KIND_BEZIER, PATCH_KIND_GREGORY, PATCH_KIND_PN_TRIANGLE,
-    PATCH_KIND_STENCIL_QUAD, PATCH_KIND_STENCIL_TRIANGLE, PatchRecord, STENCIL_NO_CURVATURE,
-    SurfaceVertex,
+    PATCH_KIND_STENCIL_QUAD, PATCH_KIND_STENCIL_TRIANGLE, POINT_LIST_NONE, PatchRecord,
+    STENCIL_NO_CURVATURE, SurfaceVertex,
 };
 use super::trim_buffer::{TRIM_CULLED, TRIM_PARTIAL, pack_index};
 use crate::kernel::BezierPatchSet;
@@ -424,7 +424,9 @@ impl PatchLayout {
     }
 
     /// A subdivision surface's exact limit patches: their stencil entries (after the points),
-    /// and per patch a record and its slots' (first entry, count) pairs.
+    /// the point lists of patches whose entries number points of their own (in the control
+    /// indices), and per patch a record (reading the object's points from `first_point` on)
+    /// and its slots' (first entry, count) pairs.
     fn push_stencil_patches(
         &mut self,
         object: usize,
@@ -434,17 +436,15 @@ impl PatchLayout {
         context: &LayoutContext,
     ) -> Result<(), GpuError> {
         let entry_base = context.total_points + self.entry_data.len();
-        for &(index, w) in &feed.entries {
-            let global = (index as usize + first_point) as u32;
-            self.entry_data.push([
-                f32::from_bits(global),
-                w[0] as f32,
-                w[1] as f32,
-                w[2] as f32,
-            ]);
+        self.entry_data.reserve(2 * feed.entries.len());
+        for &(point, w) in &feed.entries {
+            self.entry_data
+                .push([f32::from_bits(point), w[0] as f32, w[1] as f32, w[2] as f32]);
             self.entry_data
                 .push([w[3] as f32, w[4] as f32, w[5] as f32, 0.0]);
         }
+        let lists = self.control_indices.len();
+        self.control_indices.extend_from_slice(&feed.point_lists);
         for patch in &feed.patches {
             let s = patch.segments;
             let slots = grid_slots(s, context.max_groups)?;
@@ -459,6 +459,12 @@ impl PatchLayout {
                 patch.level + 1
             };
             self.push_grid_record(kind, s, level, blocks, object, slots);
+            if let Some(record) = self.records.last_mut() {
+                record.first_point = first_point as u32;
+                if patch.points != u32::MAX {
+                    record.point_list = (lists + patch.points as usize) as u32;
+                }
+            }
             let first = patch.first_slot as usize;
             for k in first..first + slots as usize {
                 let [start, count] = feed.slots[k];
@@ -551,7 +557,8 @@ impl PatchLayout {
             level,
             displacement: blocks.displacement,
             lattice: blocks.lattice,
-            reserved: [0; 2],
+            point_list: POINT_LIST_NONE,
+            first_point: 0,
         }
     }
 }

@@ -49,6 +49,10 @@ pub fn is_triangle_lattice(kind: u32) -> bool {
 /// Bit of a stencil slot's entry count: no curvature there. WGSL: `STENCIL_NO_CURVATURE`.
 pub const STENCIL_NO_CURVATURE: u32 = 0x8000_0000;
 
+/// [`PatchRecord::point_list`] of a patch whose stencil entries name control points. WGSL:
+/// `POINT_LIST_NONE`.
+pub const POINT_LIST_NONE: u32 = u32::MAX;
+
 /// One patch to evaluate. WGSL: `struct PatchRecord` in `shaders/common.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -85,7 +89,12 @@ pub struct PatchRecord {
     /// Where the object's free-form deformation lattice block lies in the control point
     /// buffer ([`super::packing::lattice_block`]), or [`LATTICE_NONE`].
     pub lattice: u32,
-    pub reserved: [u32; 2],
+    /// A stencil patch whose entries number points of its own: the first of its list of point
+    /// numbers in the control-index buffer (entry point k is point `control_indices[point_list
+    /// + k]`), or [`POINT_LIST_NONE`] where the entries number the object's points.
+    pub point_list: u32,
+    /// A stencil patch's point k is control point `first_point + k` (its object's first).
+    pub first_point: u32,
 }
 
 /// [`PatchRecord::lattice`] of a patch whose object has no lattice. WGSL: `LATTICE_NONE`.

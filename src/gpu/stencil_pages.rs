@@ -118,7 +118,7 @@ pub(crate) fn paginate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::records::PATCH_KIND_BEZIER;
+    use crate::gpu::records::{PATCH_KIND_BEZIER, POINT_LIST_NONE};
 
     fn record(kind: u32, segments: u32, control_offset: u32) -> PatchRecord {
         PatchRecord {
@@ -137,7 +137,8 @@ mod tests {
             level: 0,
             displacement: 0,
             lattice: 0,
-            reserved: [0; 2],
+            point_list: POINT_LIST_NONE,
+            first_point: 0,
         }
     }
 

@@ -361,15 +361,11 @@ impl SubdivObject {
             patch,
             count: feed.patches.len(),
         };
-        let [first, count] = *feed.slots.get(slot).ok_or_else(missing)?;
-        let entries = feed
-            .entries
-            .get(first as usize..(first + count) as usize)
-            .ok_or_else(missing)?;
+        let entries = feed.slot_entries(&p, slot).ok_or_else(missing)?;
         let cage = self.surface.points();
         entries
-            .iter()
-            .try_fold(DVec3::ZERO, |sum, &(point, weights)| {
+            .into_iter()
+            .try_fold(DVec3::ZERO, |sum, (point, weights)| {
                 let q = cage.get(point as usize).ok_or_else(missing)?;
                 Ok(sum + *q * weights[0])
             })

@@ -40,6 +40,7 @@ fn bernstein_feed(degree: usize, segments: u32) -> LimitFeed {
         first_slot: 0,
         level: u32::MAX,
         piece: [u32::MAX; 2],
+        points: u32::MAX,
     });
     let s = f64::from(segments);
     for i in 0..=segments {

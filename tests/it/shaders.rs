@@ -135,7 +135,8 @@ fn shared_records_have_the_same_layout_on_both_sides() {
             level,
             displacement,
             lattice,
-            reserved
+            point_list,
+            first_point
         })
     );
     assert_eq!(
@@ -360,6 +361,7 @@ fn evaluator_constants_match_their_rust_counterparts() {
             "STENCIL_NO_CURVATURE",
             knotwork::gpu::records::STENCIL_NO_CURVATURE,
         ),
+        ("POINT_LIST_NONE", knotwork::gpu::records::POINT_LIST_NONE),
         (
             "VERTEX_OBJECT_MASK",
             knotwork::gpu::records::VERTEX_OBJECT_MASK,

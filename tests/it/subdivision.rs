@@ -945,7 +945,7 @@ fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
 #[test]
 fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
     use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
-    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
     let torus = cages::torus(DVec3::ZERO, 3.0, 1.0, 48, 32).unwrap();
     let cage = Cage {
         points: torus.points().to_vec(),
@@ -991,8 +991,86 @@ fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
         "the stencils come from the region's refinement"
     );
     assert!(stencils.regular.len() > 1200);
-    // The level's limit points, bucketed in cells of a fifth of the tube's level-2 spacing.
-    let limit = surface.limit(2).unwrap();
+    the_scene_shows_the_limit(&surface, 2, object);
+}
+
+/// A torus split into triangles, every second ring of quads along the other diagonal, in
+/// general position: no face is a regular quad, so under Catmull-Clark and under Loop the
+/// editor's feed refines one neighbourhood per kind of face and every face reads those
+/// stencils through its own list of points (on the GPU, through its record's point list).
+/// Every vertex the GPU evaluates, on the compute and the CPU path, is the whole cage's f64
+/// limit.
+#[test]
+fn faces_alike_share_their_stencils_on_the_gpu_and_show_the_whole_cages_limit() {
+    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
+    let (columns, rows) = (24, 16);
+    let torus = cages::torus(DVec3::ZERO, 3.0, 1.0, columns, rows).unwrap();
+    let mut faces = Vec::new();
+    for (k, face) in torus.faces().enumerate() {
+        let [a, b, c, d] = [face[0], face[1], face[2], face[3]];
+        if (k / rows) % 2 == 0 {
+            faces.extend([vec![a, b, c], vec![a, c, d]]);
+        } else {
+            faces.extend([vec![b, c, d], vec![b, d, a]]);
+        }
+    }
+    let mut rng = common::Rng(0x7e3b_9a11);
+    let motion = DAffine3::from_scale_rotation_translation(
+        DVec3::splat(rng.range(0.3, 3.0)),
+        glam::DQuat::from_axis_angle(
+            DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0).normalize(),
+            rng.range(0.0, 6.0),
+        ),
+        DVec3::new(rng.range(-50.0, 50.0), rng.range(-50.0, 50.0), 7.0),
+    );
+    let points: Vec<DVec3> = torus
+        .points()
+        .iter()
+        .map(|&p| motion.transform_point3(p))
+        .collect();
+    for scheme in [Scheme::CatmullClark, Scheme::Loop] {
+        let mesh = PolygonMesh::new(points.clone(), &faces).unwrap();
+        let options = Options {
+            scheme,
+            ..Options::default()
+        };
+        let surface = SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, 2).unwrap();
+        let object = SceneObject::new(
+            "split torus",
+            ObjectGeometry::new(SubdivObject::from(surface.clone())),
+        );
+        let feed = object.decompose().unwrap();
+        let stencils = feed.stencils.as_deref().unwrap();
+        assert!(
+            stencils.regular.is_empty()
+                && stencils.patches.len() >= faces.len()
+                && stencils.patches.iter().all(|p| p.points != u32::MAX),
+            "{scheme:?}: every face reads shared stencils through its point list"
+        );
+        let whole = surface
+            .limit_feed_with(2, knotwork::kernel::subdiv::patches::Display::Limit, false)
+            .unwrap();
+        eprintln!(
+            "{scheme:?}: {} entries shared, {} in the whole cage's table",
+            stencils.entries.len(),
+            whole.entries.len()
+        );
+        assert!(10 * stencils.entries.len() < whole.entries.len());
+        the_scene_shows_the_limit(&surface, 2, object);
+    }
+}
+
+/// Every vertex of `object` (showing `surface` at `levels`) that the GPU evaluates, on the
+/// compute path and on the CPU (WebGL2) path, is the whole cage's f64 limit at a vertex of the
+/// level: position within 1e-5 and normal within 1e-3 rad.
+fn the_scene_shows_the_limit(
+    surface: &SubdivisionSurface,
+    levels: u32,
+    object: knotwork::scene::SceneObject,
+) {
+    use knotwork::scene::Scene;
+    // The level's limit points, bucketed in cells of a 400th of the cage's size.
+    let limit = surface.limit(levels).unwrap();
     let (lo, hi) = surface.mesh().bounds().unwrap();
     let size = (hi - lo).length();
     let cell = size / 400.0;

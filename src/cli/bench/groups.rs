@@ -1978,12 +1978,34 @@ fn bench_subdivision(
             ones.push(start.elapsed().as_secs_f64() * 1e3);
         }
         let Some(feed) = feed else { continue };
+        // As the editor shows a new cage: the object's feed, the GPU layout and its upload
+        // (a new object each time, so nothing is cached; the compute pass not waited for).
+        let scene_of = |surface: &knotwork::kernel::subdiv::SubdivisionSurface| Scene {
+            objects: vec![SceneObject::new(
+                name,
+                knotwork::scene::ObjectGeometry::new(knotwork::scene::SubdivObject::from(
+                    surface.clone(),
+                )),
+            )],
+            unit: None,
+        };
+        let mut sync =
+            SceneSync::with_scene(&context.device, &context.queue, &scene_of(&surface), 1.0)?;
+        let mut to_gpu = Vec::new();
+        for _ in 0..iterations.clamp(1, 5) {
+            wait(context)?;
+            let scene = scene_of(&surface);
+            let start = Instant::now();
+            sync.rebuild(&scene, 1.0)?;
+            to_gpu.push(start.elapsed().as_secs_f64() * 1e3);
+        }
         writeln!(
             out,
-            "{name} L4, editor's feed | built {:8.1} ms on {} threads, {:8.1} ms on one | {} B-spline patches, {} stencil slots, {} entries",
+            "{name} L4, editor's feed | built {:8.1} ms on {} threads, {:8.1} ms on one, {:8.1} ms to the GPU | {} B-spline patches, {} stencil slots, {} entries",
             median(builds),
             rayon::current_num_threads(),
             median(ones),
+            median(to_gpu),
             feed.regular.len(),
             feed.slots.len(),
             feed.entries.len(),

@@ -440,6 +440,7 @@ fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> Limit
                 first_slot,
                 level: k as u32,
                 piece: [NONE; 2],
+                points: NONE,
             });
             // Slot (i, j) at i · 2 + j, i along the first edge: corners 0, 3 (2), 1, 2 (-).
             let order: [Option<u32>; 4] = if triangle {
@@ -795,6 +796,7 @@ fn push_stencil_patches_with(
                     first_slot: 0,
                     level: piece.level as u32 + shown.depth,
                     piece: [piece.level as u32, piece.face],
+                    points: NONE,
                 },
                 slots,
             )
@@ -1016,17 +1018,21 @@ pub(super) mod tests {
         feed
     }
 
-    /// Position, Su, Sv, Suu, Suv, Svv of `slot`.
+    /// Position, Su, Sv, Suu, Suv, Svv of `slot` (of the last patch starting at or before it;
+    /// the patches' slots follow each other).
     pub(in crate::subdiv) fn slot_values(
         feed: &LimitFeed,
         points: &[DVec3],
         slot: usize,
     ) -> [DVec3; 6] {
-        let [start, count] = feed.slots[slot];
+        let after = feed
+            .patches
+            .partition_point(|p| p.first_slot as usize <= slot);
+        let patch = &feed.patches[after - 1];
         let mut out = [DVec3::ZERO; 6];
-        for (i, w) in &feed.entries[start as usize..(start + count) as usize] {
+        for (i, w) in feed.slot_entries(patch, slot).unwrap() {
             for c in 0..6 {
-                out[c] += points[*i as usize] * w[c];
+                out[c] += points[i as usize] * w[c];
             }
         }
         out

@@ -83,6 +83,11 @@ pub struct StencilPatch {
     /// [`NONE`](super::level::NONE)s for a patch of no single face. Slot (0, 0) is that face's first corner and
     /// the first index runs to its second.
     pub piece: [u32; 2],
+    /// Where its entries' points are: [`NONE`](super::level::NONE) where they are cage
+    /// points, else the first of its list in [`LimitFeed::point_lists`], entry point `k`
+    /// being cage point `point_lists[points + k]`. Patches of faces with the same
+    /// neighbourhood share their entries this way ([`super::templates`]).
+    pub points: u32,
 }
 
 /// One stencil entry: a cage point and its weights for position, Su, Sv, Suu, Suv, Svv.
@@ -103,8 +108,38 @@ pub struct LimitFeed {
     /// for slots of patches refined over a region of the cage only: [`super::region`]).
     pub vertex: Vec<u32>,
     pub entries: Vec<Entry>,
+    /// Cage points of the patches whose entries number points of their own
+    /// ([`StencilPatch::points`]).
+    pub point_lists: Vec<u32>,
     /// Substitute patches, after the stencil patches.
     pub substitutes: Vec<SubstitutePatch>,
+}
+
+impl LimitFeed {
+    /// The entries of slot `slot` of `patch` with their cage points (through the patch's
+    /// point list where it has one; `u32::MAX` for a point past the list, which no feed the
+    /// kernel builds has). `None` where the slot or its entries lie past the tables.
+    pub fn slot_entries<'a>(
+        &'a self,
+        patch: &StencilPatch,
+        slot: usize,
+    ) -> Option<impl Iterator<Item = (u32, [f64; 6])> + 'a> {
+        let [first, count] = *self.slots.get(slot)?;
+        let entries = self
+            .entries
+            .get(first as usize..first as usize + count as usize)?;
+        let list = match patch.points {
+            super::level::NONE => None,
+            at => Some(self.point_lists.get(at as usize..).unwrap_or_default()),
+        };
+        Some(entries.iter().map(move |&(point, weights)| {
+            let point = match list {
+                None => point,
+                Some(list) => list.get(point as usize).copied().unwrap_or(u32::MAX),
+            };
+            (point, weights)
+        }))
+    }
 }
 
 /// Each face's first child one level down: Catmull-Clark splits a face into as many quads as

@@ -18,7 +18,7 @@
 use rustc_hash::FxHashSet;
 
 use super::level::{INFINITE_SHARPNESS, Level, NONE};
-use super::pieces::{Entry, LimitFeed, first_children};
+use super::pieces::{LimitFeed, first_children};
 use super::{Boundary, Options};
 use crate::GeometryError;
 
@@ -245,26 +245,27 @@ impl RegionCage {
             first_children(whole, options.scheme),
             first_children(region, options.scheme),
         );
-        self.append_patches(
-            feed,
-            local,
-            (&children.0, &children.1),
-            feed.entries.len() as u32,
+        let first_entry = feed.entries.len() as u32;
+        self.append_patches(feed, local, (&children.0, &children.1), (first_entry, NONE));
+        feed.entries.extend(
+            local
+                .entries
+                .iter()
+                .map(|&(p, w)| (self.points[p as usize], w)),
         );
-        feed.entries
-            .extend(local.entries.iter().map(|&(p, w)| self.entry(p, w)));
     }
 
     /// [`Self::append`] but for the entries, with each face's first child one level down
     /// already found in the whole level and in the region ([`first_children`]): the slots
-    /// read their entries from `first_entry` on, where the caller puts them
-    /// ([`Self::entry`]).
+    /// read their entries from `first_entry` on, where the caller puts them, and their
+    /// points through `points` ([`StencilPatch::points`](super::pieces::StencilPatch::points):
+    /// [`NONE`] where the caller writes the entries over the level's points).
     pub fn append_patches(
         &self,
         feed: &mut LimitFeed,
         local: &LimitFeed,
         (whole_children, region_children): (&[u32], &[u32]),
-        first_entry: u32,
+        (first_entry, points): (u32, u32),
     ) {
         let slot_offset = feed.slots.len() as u32;
         for patch in &local.patches {
@@ -272,6 +273,7 @@ impl RegionCage {
             let region_face = patch.cage_face as usize;
             patch.cage_face = self.faces[region_face];
             patch.first_slot += slot_offset;
+            patch.points = points;
             patch.piece[1] = match patch.piece[0] {
                 0 => self.faces[patch.piece[1] as usize],
                 1 => {
@@ -291,11 +293,6 @@ impl RegionCage {
         feed.no_curvature.extend_from_slice(&local.no_curvature);
         feed.vertex.extend(local.vertex.iter().map(|_| u32::MAX));
     }
-
-    /// A local entry (region point `point`, `weights`) over the level's points.
-    pub fn entry(&self, point: u32, weights: [f64; 6]) -> Entry {
-        (self.points[point as usize], weights)
-    }
 }
 
 #[cfg(test)]
@@ -307,7 +304,7 @@ pub(super) mod tests {
     use crate::subdiv::patches::is_regular_face;
     use crate::subdiv::patches::tests::slot_values;
     use crate::subdiv::patches::{exact_pieces, push_region_stencil_patches, push_stencil_patches};
-    use crate::subdiv::pieces::{Display, ShownPiece};
+    use crate::subdiv::pieces::{Display, ShownPiece, StencilPatch};
     use crate::subdiv::{Corner, Crease, Creasing, Scheme, SubdivisionSurface, cages};
     use crate::test_support::{Xorshift, placement};
     use glam::DVec3;
@@ -434,7 +431,13 @@ pub(super) mod tests {
         let shown: Vec<ShownPiece> = pieces.into_iter().map(ShownPiece::uniform).collect();
         let mut whole = LimitFeed::default();
         push_stencil_patches(&mut whole, &hierarchy, levels, &shown, Display::Limit);
-        if region.patches != whole.patches || region.no_curvature != whole.no_curvature {
+        let over_cage = |feed: &LimitFeed| -> Vec<StencilPatch> {
+            let patches = feed.patches.iter();
+            patches
+                .map(|&p| StencilPatch { points: NONE, ..p })
+                .collect()
+        };
+        if over_cage(region) != whole.patches || region.no_curvature != whole.no_curvature {
             return f64::INFINITY;
         }
         let points = surface.points();

@@ -169,8 +169,13 @@ impl Templates {
     /// Appends the faces' stencil patches to `feed` (`whole`'s numbers, in the faces'
     /// order): each group's first face's neighbourhood, cut out as a cage of its own whose
     /// face 0 is that face, refined alone by `refine` (its stencil patches over the cut's
-    /// points), its patches given to every face of the group over that face's points. Their
-    /// slots name no level vertex, as [`RegionCage::append`]'s.
+    /// points). The group's entries go into the table once, over the neighbourhood's own
+    /// point numbers; every face of the group gets the patches and slots, reading those
+    /// entries through its own point list ([`StencilPatch::points`]: its neighbourhood's
+    /// points in the order the key numbers them). Their slots name no level vertex, as
+    /// [`RegionCage::append`]'s.
+    ///
+    /// [`StencilPatch::points`]: super::pieces::StencilPatch::points
     pub fn push(
         &self,
         feed: &mut LimitFeed,
@@ -186,6 +191,14 @@ impl Templates {
         });
         let refined: Vec<(Vec<u32>, LimitFeed)> = refined.into_iter().collect::<Result<_, _>>()?;
         let whole_children = first_children(whole, options.scheme);
+        let first_entries: Vec<u32> = refined
+            .iter()
+            .map(|(_, local)| {
+                let first = feed.entries.len() as u32;
+                feed.entries.extend_from_slice(&local.entries);
+                first
+            })
+            .collect();
         let slots: usize = self
             .group
             .iter()
@@ -194,37 +207,17 @@ impl Templates {
         feed.slots.reserve(slots);
         feed.no_curvature.reserve(slots);
         feed.vertex.reserve(slots);
-        // The patches and slots face by face, then the entries (most of the bytes) on
-        // every core, each face's into its own part of the table.
-        let begin = feed.entries.len();
-        let mut lengths = Vec::with_capacity(self.faces.len());
-        let mut next = begin;
         for (face, &g) in self.faces.iter().zip(&self.group) {
             let (children, local) = &refined[g as usize];
-            face.cut
-                .append_patches(feed, local, (&whole_children, children), next as u32);
-            next += local.entries.len();
-            lengths.push(local.entries.len());
+            let points = feed.point_lists.len() as u32;
+            feed.point_lists.extend_from_slice(&face.cut.points);
+            face.cut.append_patches(
+                feed,
+                local,
+                (&whole_children, children),
+                (first_entries[g as usize], points),
+            );
         }
-        let total = next - begin;
-        feed.entries.reserve(total);
-        let mut rest = &mut feed.entries.spare_capacity_mut()[..total];
-        let mut parts = Vec::with_capacity(self.faces.len());
-        for &length in &lengths {
-            let (part, tail) = rest.split_at_mut(length);
-            parts.push(part);
-            rest = tail;
-        }
-        crate::par::for_each_owned(parts, |k, part| {
-            let face = &self.faces[k];
-            let local = &refined[self.group[k] as usize].1.entries;
-            for (out, &(p, weights)) in part.iter_mut().zip(local) {
-                out.write(face.cut.entry(p, weights));
-            }
-        });
-        // SAFETY: the parts cover the `total` places after `begin`, each part is as long as
-        // its face's local entries and every one of its places was written above.
-        unsafe { feed.entries.set_len(begin + total) };
         Ok(())
     }
 }
@@ -295,6 +288,7 @@ mod tests {
                     let options = surface.options;
                     let refine = |cage| first_face_patches(cage, options, levels, Display::Limit);
                     templates.push(&mut feed, &base, options, refine).unwrap();
+                    assert!(feed.patches.iter().all(|p| p.points != NONE));
                     let error = error_against_whole(&surface, &faces, levels, &feed, true);
                     let scheme = surface.options.scheme;
                     assert!(
