@@ -522,7 +522,12 @@ impl SubdivisionSurface {
             // that refines at most half the region round them all (Catmull-Clark's and
             // Loop's stencils reach two rings; the butterfly's reach further).
             if irregular.len() >= templates::FEWEST_FACES
-                && let Some(shared) = templates::Templates::new(&base, &irregular, REGION_RINGS)
+                && let Some(shared) = templates::Templates::new(
+                    &base,
+                    &irregular,
+                    REGION_RINGS,
+                    scheme == Scheme::CatmullClark && display == Display::Limit,
+                )
                 && 2 * shared.refined_faces() <= region.len()
             {
                 let options = self.options;

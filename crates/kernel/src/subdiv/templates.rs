@@ -6,8 +6,9 @@
 //! same extraordinary point many times over) has many faces whose neighbourhoods are the same
 //! up to the numbering of their points. Each face's neighbourhood is written out in an order
 //! that depends only on its topology seen from the face: its faces in the order a walk across
-//! edges from the face meets them, its points numbered as those faces first meet them, with
-//! every edge's and point's sharpness. Faces whose neighbourhoods read the same are refined
+//! edges from the face meets them (each read from the edge the walk entered it by, the face
+//! itself from its least corner under Catmull-Clark's limit, [`turned_feed`]), its points
+//! numbered as those faces first meet them, with every edge's and point's sharpness. Faces whose neighbourhoods read the same are refined
 //! once, through one of them, and the others take its stencils over their own points. At an
 //! extraordinary or sharp point the two tangents are any pair spanning the tangent plane,
 //! chosen by where the point's ring starts, so they may differ from the whole cage's there;
@@ -17,7 +18,7 @@ use rustc_hash::FxHashMap;
 
 use super::Options;
 use super::level::{Level, NONE};
-use super::pieces::{LimitFeed, first_children};
+use super::pieces::{LimitFeed, StencilPatch, first_children};
 use super::region::{RegionCage, face_region};
 use crate::GeometryError;
 
@@ -28,6 +29,9 @@ pub const FEWEST_FACES: usize = 16;
 struct Neighbourhood {
     /// Its faces (the face first) and points in that order.
     cut: RegionCage,
+    /// The face's corner the walk starts from: the face reads as its corners from this one
+    /// on (the face's own first corner where [`Templates::new`] is not asked to turn faces).
+    turn: u32,
     /// The faces' corner counts and points, then every face edge's sharpness and every
     /// point's: equal keys give equal refinements.
     key: Vec<u64>,
@@ -52,31 +56,68 @@ impl Neighbourhood {
     }
 }
 
+/// The corner of `face` of `level` from which its corners' (valence, point sharpness, next
+/// edge's sharpness) read least, the first such corner where several do: faces that differ
+/// only by where their corner numbering starts then read alike.
+fn least_corner(level: &Level, face: u32) -> u32 {
+    let corners = level.face(face);
+    let edges = level.face_edges(face);
+    let mark = |c: usize| {
+        let v = corners[c];
+        (
+            level.vertex_edges(v).len(),
+            level.vertex_sharpness[v as usize].to_bits(),
+            level.edge_sharpness[edges[c] as usize].to_bits(),
+        )
+    };
+    let n = corners.len();
+    let reading = |r: usize| (0..n).map(move |k| mark((r + k) % n));
+    (1..n).fold(0, |best, r| {
+        if reading(r).lt(reading(best)) {
+            r
+        } else {
+            best
+        }
+    }) as u32
+}
+
+/// `items` (a face's corners or edges) from place `start` on, round to the start.
+fn from(items: &[u32], start: usize) -> impl Iterator<Item = u32> + '_ {
+    let (head, tail) = items.split_at(start.min(items.len()));
+    tail.iter().chain(head).copied()
+}
+
 /// The faces within `rings` rings of `face` of `level` ([`face_region`]): `face`, then the
-/// others as a breadth-first walk across edges meets them (each face's edges in its own
-/// order), their points numbered as the faces in that order first use them. `None` where the
-/// walk does not reach every face of the region.
-fn neighbourhood(level: &Level, face: u32, rings: u32) -> Option<Neighbourhood> {
+/// others as a breadth-first walk across edges meets them, their points numbered as the faces
+/// in that order first use them. Each face is read from a corner its place in the walk gives,
+/// not from its own first corner: `face` from corner `turn`, every other face from the edge
+/// the walk entered it by (its corners from that edge's first, its edges from that edge on).
+/// `None` where the walk does not reach every face of the region.
+fn neighbourhood(level: &Level, face: u32, rings: u32, turn: u32) -> Option<Neighbourhood> {
     let region = face_region(level, &[face], rings);
     let place = |g: u32| region.binary_search(&g).ok();
     let mut met = vec![false; region.len()];
     met[place(face)?] = true;
-    let mut order = Vec::with_capacity(region.len());
-    order.push(face);
+    // The faces in walk order, each with the corner it is read from.
+    let mut order: Vec<(u32, usize)> = Vec::with_capacity(region.len());
+    order.push((face, turn as usize));
     let mut next = 0;
     while next < order.len() {
-        let g = order[next];
+        let (g, start) = order[next];
         next += 1;
-        for &e in level.face_edges(g) {
+        let edges = level.face_edges(g);
+        for k in 0..edges.len() {
+            let e = edges[(start + k) % edges.len()];
             let [a, b] = level.edge_faces[e as usize];
             let h = if a == g { b } else { a };
             if h == NONE {
                 continue;
             }
-            if let Some(k) = place(h)
-                && !std::mem::replace(&mut met[k], true)
+            if let Some(p) = place(h)
+                && !std::mem::replace(&mut met[p], true)
             {
-                order.push(h);
+                let entered = level.face_edges(h).iter().position(|&x| x == e)?;
+                order.push((h, entered));
             }
         }
     }
@@ -87,10 +128,10 @@ fn neighbourhood(level: &Level, face: u32, rings: u32) -> Option<Neighbourhood> 
     numbers.reserve(2 * region.len());
     let mut points = Vec::new();
     let mut key = vec![order.len() as u64];
-    for &g in &order {
+    for &(g, start) in &order {
         let corners = level.face(g);
         key.push(corners.len() as u64);
-        for &v in corners {
+        for v in from(corners, start) {
             let local = *numbers.entry(v).or_insert_with(|| {
                 points.push(v);
                 points.len() as u32 - 1
@@ -98,12 +139,9 @@ fn neighbourhood(level: &Level, face: u32, rings: u32) -> Option<Neighbourhood> 
             key.push(u64::from(local));
         }
     }
-    for &g in &order {
-        let edges = level.face_edges(g);
+    for &(g, start) in &order {
         key.extend(
-            edges
-                .iter()
-                .map(|&e| level.edge_sharpness[e as usize].to_bits()),
+            from(level.face_edges(g), start).map(|e| level.edge_sharpness[e as usize].to_bits()),
         );
     }
     key.extend(
@@ -113,9 +151,10 @@ fn neighbourhood(level: &Level, face: u32, rings: u32) -> Option<Neighbourhood> 
     );
     Some(Neighbourhood {
         cut: RegionCage {
-            faces: order,
+            faces: order.into_iter().map(|(g, _)| g).collect(),
             points,
         },
+        turn,
         key,
     })
 }
@@ -131,9 +170,15 @@ pub(super) struct Templates {
 
 impl Templates {
     /// `faces` of `level` grouped by their neighbourhoods within `rings` rings; `None` where
-    /// one's cannot be walked across its edges.
-    pub fn new(level: &Level, faces: &[u32], rings: u32) -> Option<Self> {
-        let found = crate::par::map(faces.len(), |k| neighbourhood(level, faces[k], rings));
+    /// one's cannot be walked across its edges. With `turn`, each face is read from its
+    /// [`least_corner`], so that faces alike but for where their numbering starts share
+    /// (Catmull-Clark's limit patches only: [`turned_feed`] turns the refinement back).
+    pub fn new(level: &Level, faces: &[u32], rings: u32, turn: bool) -> Option<Self> {
+        let found = crate::par::map(faces.len(), |k| {
+            let f = faces[k];
+            let corner = if turn { least_corner(level, f) } else { 0 };
+            neighbourhood(level, f, rings, corner)
+        });
         let faces: Vec<Neighbourhood> = found.into_iter().collect::<Option<_>>()?;
         let mut groups: FxHashMap<&[u64], u32> = FxHashMap::default();
         let mut first = Vec::new();
@@ -150,6 +195,13 @@ impl Templates {
             group,
             first,
         })
+    }
+
+    /// How many quads are read from another corner than their first.
+    #[cfg(test)]
+    pub fn turned_quads(&self) -> usize {
+        let quads = self.faces.iter().filter(|f| f.local_faces()[0].len() == 4);
+        quads.filter(|f| f.turn != 0).count()
     }
 
     /// How many groups the faces form.
@@ -190,36 +242,93 @@ impl Templates {
             Ok((children, refine(topology)?))
         });
         let refined: Vec<(Vec<u32>, LimitFeed)> = refined.into_iter().collect::<Result<_, _>>()?;
-        let whole_children = first_children(whole, options.scheme);
-        let first_entries: Vec<u32> = refined
-            .iter()
-            .map(|(_, local)| {
+        // Each group's refinement as each of its faces' turns sees it, with its entries.
+        let mut turns: FxHashMap<(u32, u32), (LimitFeed, u32)> = FxHashMap::default();
+        for (face, &g) in self.faces.iter().zip(&self.group) {
+            if let std::collections::hash_map::Entry::Vacant(place) = turns.entry((g, face.turn)) {
+                let (children, local) = &refined[g as usize];
+                let corners = face.local_faces()[0].len() as u32;
+                let local = turned_feed(local, children[0], corners, face.turn);
                 let first = feed.entries.len() as u32;
                 feed.entries.extend_from_slice(&local.entries);
-                first
-            })
-            .collect();
+                place.insert((local, first));
+            }
+        }
+        let whole_children = first_children(whole, options.scheme);
         let slots: usize = self
-            .group
+            .faces
             .iter()
-            .map(|&g| refined[g as usize].1.slots.len())
+            .zip(&self.group)
+            .map(|(face, &g)| turns[&(g, face.turn)].0.slots.len())
             .sum();
         feed.slots.reserve(slots);
         feed.no_curvature.reserve(slots);
         feed.vertex.reserve(slots);
         for (face, &g) in self.faces.iter().zip(&self.group) {
-            let (children, local) = &refined[g as usize];
+            let children = &refined[g as usize].0;
+            let (local, first_entry) = &turns[&(g, face.turn)];
             let points = feed.point_lists.len() as u32;
             feed.point_lists.extend_from_slice(&face.cut.points);
             face.cut.append_patches(
                 feed,
                 local,
                 (&whole_children, children),
-                (first_entries[g as usize], points),
+                (*first_entry, points),
             );
         }
         Ok(())
     }
+}
+
+/// A face's Catmull-Clark limit patches, refined with the face read from corner `turn` of its
+/// `corners` (`local`: a patch per child, the children of local face 0 numbered from
+/// `first_child`), as the face read from its own first corner shows them: child k of the
+/// turned face is the face's child k + turn, and of a quad the child itself is turned as its
+/// parent (OpenSubdiv keeps a quad's children oriented as the quad, [`super::refine`]). A
+/// patch turned by one corner has its slot (i, j) at the turned slot (j, s − i), and
+/// S_u = −S'_v, S_v = S'_u, S_uu = S'_vv, S_uv = −S'_uv, S_vv = S'_uu. The patches come in
+/// the order of the face's children, each slot with entries of its own.
+fn turned_feed(local: &LimitFeed, first_child: u32, corners: u32, turn: u32) -> LimitFeed {
+    if turn == 0 {
+        return local.clone();
+    }
+    let quarter_turns = if corners == 4 { turn } else { 0 };
+    let child_of = |p: &StencilPatch| (p.piece[1] - first_child + turn) % corners;
+    let mut patches: Vec<&StencilPatch> = local.patches.iter().collect();
+    patches.sort_by_key(|p| child_of(p));
+    let mut feed = LimitFeed::default();
+    for patch in patches {
+        let s = patch.segments as usize;
+        let first = feed.slots.len() as u32;
+        for i in 0..=s {
+            for j in 0..=s {
+                // The slot this one reads, and the derivatives' signs and order there.
+                let (mut a, mut b) = (i, j);
+                for _ in 0..quarter_turns {
+                    (a, b) = (b, s - a);
+                }
+                let slot = patch.first_slot as usize + a * (s + 1) + b;
+                let [start, count] = local.slots[slot];
+                let begin = feed.entries.len() as u32;
+                let run = &local.entries[start as usize..(start + count) as usize];
+                feed.entries.extend(run.iter().map(|&(point, mut w)| {
+                    for _ in 0..quarter_turns {
+                        w = [w[0], -w[2], w[1], w[5], -w[4], w[3]];
+                    }
+                    (point, w)
+                }));
+                feed.slots.push([begin, count]);
+                feed.no_curvature.push(local.no_curvature[slot]);
+                feed.vertex.push(local.vertex[slot]);
+            }
+        }
+        feed.patches.push(StencilPatch {
+            first_slot: first,
+            piece: [patch.piece[0], first_child + child_of(patch)],
+            ..*patch
+        });
+    }
+    feed
 }
 
 #[cfg(test)]
@@ -266,6 +375,7 @@ mod tests {
     #[test]
     fn faces_sharing_a_refinement_get_the_whole_cages_stencils() {
         let mut draw = Xorshift::new(0x7e3b_1a7e_5eed);
+        let mut turned = 0;
         for round in 0..8 {
             let cage = random_cage(&mut draw);
             let split = split_quads(&cage, round % 2 == 1);
@@ -274,7 +384,9 @@ mod tests {
             for (split, surface) in [(false, cage.clone()), (true, split), (true, looped)] {
                 let base = surface.base_level().unwrap();
                 let faces = irregular_faces(&base);
-                let templates = Templates::new(&base, &faces, REGION_RINGS).unwrap();
+                let turn = surface.options.scheme == crate::subdiv::Scheme::CatmullClark;
+                let templates = Templates::new(&base, &faces, REGION_RINGS, turn).unwrap();
+                turned += templates.turned_quads();
                 if split {
                     assert!(
                         templates.group_count() < faces.len(),
@@ -298,6 +410,7 @@ mod tests {
                 }
             }
         }
+        assert!(turned > 0, "no quad was read from another corner");
     }
 
     /// A face's neighbourhood lists the region's faces once each, the face first, over points
@@ -327,8 +440,8 @@ mod tests {
             .unwrap();
         let count = level.face_count() as u32;
         for f in 0..count {
-            let a = neighbourhood(&level, f, REGION_RINGS).unwrap();
-            let b = neighbourhood(&other, count - 1 - f, REGION_RINGS).unwrap();
+            let a = neighbourhood(&level, f, REGION_RINGS, 0).unwrap();
+            let b = neighbourhood(&other, count - 1 - f, REGION_RINGS, 0).unwrap();
             assert_eq!(a.key, b.key, "face {f}");
             assert_eq!(a.cut.faces[0], f);
             let mut sorted = a.cut.faces.clone();
@@ -350,14 +463,60 @@ mod tests {
             assert_eq!(used.len(), a.cut.points.len());
         }
         // Every face of a torus of quads looks alike; split into triangles along one diagonal
-        // each, two kinds of face.
+        // each, it is a lattice of triangles, six at every point, where a sixth of a turn about
+        // a quad's first point takes one of its triangles to the other from the same first
+        // corner: alike too, once the other faces are read from where the walk enters them.
         let all: Vec<u32> = (0..count).collect();
-        let templates = Templates::new(&level, &all, REGION_RINGS).unwrap();
+        let templates = Templates::new(&level, &all, REGION_RINGS, false).unwrap();
         assert_eq!(templates.group_count(), 1);
         let split = split_quads(&surface, false);
         let level = split.base_level().unwrap();
         let all: Vec<u32> = (0..level.face_count() as u32).collect();
-        let templates = Templates::new(&level, &all, REGION_RINGS).unwrap();
-        assert_eq!(templates.group_count(), 2);
+        let templates = Templates::new(&level, &all, REGION_RINGS, false).unwrap();
+        assert_eq!(templates.group_count(), 1);
+    }
+
+    /// Read from its least corner, a face's key does not depend on where its corner list
+    /// starts: the cube's cage refined twice, with every face's corners renumbered from a
+    /// different corner, gives each face next to a point of three quads the same key as
+    /// before; and the 24 such faces form one group read so (several read from their own
+    /// first corners).
+    #[test]
+    fn a_face_read_from_its_least_corner_reads_the_same_from_any_start() {
+        let cube = cages::cube(DVec3::ZERO, 2.0).unwrap();
+        let (points, refined) = SubdivisionSurface::from_mesh(cube, 2)
+            .unwrap()
+            .refined(2)
+            .unwrap();
+        let faces: Vec<Vec<u32>> = refined.faces().map(<[u32]>::to_vec).collect();
+        let shifted: Vec<Vec<u32>> = faces
+            .iter()
+            .enumerate()
+            .map(|(f, face)| {
+                let mut face = face.clone();
+                let shift = (f * 7 + f / 3) % face.len();
+                face.rotate_left(shift);
+                face
+            })
+            .collect();
+        let level_of = |faces: &[Vec<u32>]| {
+            let mesh = crate::mesh::PolygonMesh::new(points.clone(), faces).unwrap();
+            SubdivisionSurface::from_mesh(mesh, 2)
+                .unwrap()
+                .base_level()
+                .unwrap()
+        };
+        let (level, other) = (level_of(&faces), level_of(&shifted));
+        let irregular = irregular_faces(&level);
+        assert_eq!(irregular.len(), 24);
+        for &f in &irregular {
+            let a = neighbourhood(&level, f, REGION_RINGS, least_corner(&level, f)).unwrap();
+            let b = neighbourhood(&other, f, REGION_RINGS, least_corner(&other, f)).unwrap();
+            assert_eq!(a.key, b.key, "face {f}");
+        }
+        let turned = Templates::new(&other, &irregular, REGION_RINGS, true).unwrap();
+        assert_eq!(turned.group_count(), 1);
+        let unturned = Templates::new(&other, &irregular, REGION_RINGS, false).unwrap();
+        assert!(unturned.group_count() > 1);
     }
 }
