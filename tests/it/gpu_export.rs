@@ -3,36 +3,12 @@
 //! rational surfaces in general position, on the demo scene's objects, and through
 //! `knotwork export --backend gpu` into a file the Khronos validator accepts.
 
-use crate::common::{self, Rng};
+use crate::common::{self, Rng, random_motion};
 
-use glam::{DAffine3, DQuat, DVec3};
+use glam::{DAffine3, DVec3};
 use knotwork::gpu::export_grids::GpuGrids;
 use knotwork::kernel::NurbsSurface;
 use knotwork::kernel::tess::{self, KernelGrids, ParameterGrid, Tessellation, TriangleMesh};
-
-/// A random rotation (a uniformly drawn unit quaternion), scale 0.1–10 and translation
-/// ±100 per axis.
-fn random_motion(rng: &mut Rng) -> DAffine3 {
-    let q = loop {
-        let q = DQuat::from_xyzw(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        );
-        let n = q.length();
-        if n > 0.1 && n <= 1.0 {
-            break q / n;
-        }
-    };
-    let scale = 10f64.powf(rng.range(-1.0, 1.0));
-    let offset = DVec3::new(
-        rng.range(-100.0, 100.0),
-        rng.range(-100.0, 100.0),
-        rng.range(-100.0, 100.0),
-    );
-    DAffine3::from_scale_rotation_translation(DVec3::splat(scale), q, offset)
-}
 
 /// Sin² of the angle between Su and Sv at normalized (u, v) of `surface`: where f32 normals
 /// and curvatures are meaningful to compare (as in `gpu_eval`).

@@ -945,7 +945,6 @@ fn stencil_tables_are_the_same_bit_for_bit_on_one_thread_and_on_four() {
 #[test]
 fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
     use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
-    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
     let torus = cages::torus(DVec3::ZERO, 3.0, 1.0, 48, 32).unwrap();
     let cage = Cage {
         points: torus.points().to_vec(),
@@ -980,12 +979,7 @@ fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
     let mesh = PolygonMesh::new(points, &cage.faces).unwrap();
     let surface =
         SubdivisionSurface::new(mesh, cage.creases, Vec::new(), Options::default(), 2).unwrap();
-    let object = SceneObject::new(
-        "cage",
-        ObjectGeometry::new(SubdivObject::from(surface.clone())),
-    );
-    let feed = object.decompose().unwrap();
-    let stencils = feed.stencils.as_deref().unwrap();
+    let (object, stencils) = as_scene_object(&surface);
     assert!(
         !stencils.patches.is_empty() && stencils.vertex.iter().all(|&v| v == u32::MAX),
         "the stencils come from the region's refinement"
@@ -1002,7 +996,6 @@ fn after_a_tool_the_gpu_shows_the_whole_cages_limit_from_the_region_refined() {
 /// limit.
 #[test]
 fn faces_alike_share_their_stencils_on_the_gpu_and_show_the_whole_cages_limit() {
-    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
     let (columns, rows) = (24, 16);
     let torus = cages::torus(DVec3::ZERO, 3.0, 1.0, columns, rows).unwrap();
     let mut faces = Vec::new();
@@ -1014,15 +1007,7 @@ fn faces_alike_share_their_stencils_on_the_gpu_and_show_the_whole_cages_limit() 
             faces.extend([vec![b, c, d], vec![b, d, a]]);
         }
     }
-    let mut rng = common::Rng(0x7e3b_9a11);
-    let motion = DAffine3::from_scale_rotation_translation(
-        DVec3::splat(rng.range(0.3, 3.0)),
-        glam::DQuat::from_axis_angle(
-            DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0).normalize(),
-            rng.range(0.0, 6.0),
-        ),
-        DVec3::new(rng.range(-50.0, 50.0), rng.range(-50.0, 50.0), 7.0),
-    );
+    let motion = common::random_motion(&mut common::Rng(0x7e3b_9a11));
     let points: Vec<DVec3> = torus
         .points()
         .iter()
@@ -1035,12 +1020,7 @@ fn faces_alike_share_their_stencils_on_the_gpu_and_show_the_whole_cages_limit() 
             ..Options::default()
         };
         let surface = SubdivisionSurface::new(mesh, Vec::new(), Vec::new(), options, 2).unwrap();
-        let object = SceneObject::new(
-            "split torus",
-            ObjectGeometry::new(SubdivObject::from(surface.clone())),
-        );
-        let feed = object.decompose().unwrap();
-        let stencils = feed.stencils.as_deref().unwrap();
+        let (object, stencils) = as_scene_object(&surface);
         assert!(
             stencils.regular.is_empty()
                 && stencils.patches.len() >= faces.len()
@@ -1058,6 +1038,23 @@ fn faces_alike_share_their_stencils_on_the_gpu_and_show_the_whole_cages_limit() 
         assert!(10 * stencils.entries.len() < whole.entries.len());
         the_scene_shows_the_limit(&surface, 2, object);
     }
+}
+
+/// `surface` as the editor's scene object, and the stencils its GPU feed carries.
+fn as_scene_object(
+    surface: &SubdivisionSurface,
+) -> (
+    knotwork::scene::SceneObject,
+    knotwork::kernel::subdiv::patches::LimitFeed,
+) {
+    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
+    let object = SceneObject::new(
+        "cage",
+        ObjectGeometry::new(SubdivObject::from(surface.clone())),
+    );
+    let feed = object.decompose().unwrap();
+    let stencils = feed.stencils.as_deref().unwrap().clone();
+    (object, stencils)
 }
 
 /// Every vertex of `object` (showing `surface` at `levels`) that the GPU evaluates, on the

@@ -453,3 +453,27 @@ pub fn thread_pool(threads: usize) -> rayon::ThreadPool {
         .build()
         .unwrap()
 }
+
+/// A random rotation (a uniformly drawn unit quaternion), scale 0.1–10 and translation
+/// ±100 per axis.
+pub fn random_motion(rng: &mut Rng) -> glam::DAffine3 {
+    let q = loop {
+        let q = glam::DQuat::from_xyzw(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        let n = q.length();
+        if n > 0.1 && n <= 1.0 {
+            break q / n;
+        }
+    };
+    let scale = 10f64.powf(rng.range(-1.0, 1.0));
+    let offset = glam::DVec3::new(
+        rng.range(-100.0, 100.0),
+        rng.range(-100.0, 100.0),
+        rng.range(-100.0, 100.0),
+    );
+    glam::DAffine3::from_scale_rotation_translation(glam::DVec3::splat(scale), q, offset)
+}
