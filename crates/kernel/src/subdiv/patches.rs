@@ -526,7 +526,7 @@ impl SubdivisionSurface {
                     &base,
                     &irregular,
                     REGION_RINGS,
-                    scheme == Scheme::CatmullClark && display == Display::Limit,
+                    display == Display::Limit,
                 )
                 && 2 * shared.refined_faces() <= region.len()
             {

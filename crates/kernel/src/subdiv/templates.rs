@@ -7,7 +7,7 @@
 //! up to the numbering of their points. Each face's neighbourhood is written out in an order
 //! that depends only on its topology seen from the face: its faces in the order a walk across
 //! edges from the face meets them (each read from the edge the walk entered it by, the face
-//! itself from its least corner under Catmull-Clark's limit, [`turned_feed`]), its points
+//! itself from its least corner where the limit is shown, [`turned_feed`]), its points
 //! numbered as those faces first meet them, with every edge's and point's sharpness. Faces whose neighbourhoods read the same are refined
 //! once, through one of them, and the others take its stencils over their own points. At an
 //! extraordinary or sharp point the two tangents are any pair spanning the tangent plane,
@@ -172,7 +172,8 @@ impl Templates {
     /// `faces` of `level` grouped by their neighbourhoods within `rings` rings; `None` where
     /// one's cannot be walked across its edges. With `turn`, each face is read from its
     /// [`least_corner`], so that faces alike but for where their numbering starts share
-    /// (Catmull-Clark's limit patches only: [`turned_feed`] turns the refinement back).
+    /// (the limit patches of Catmull-Clark and Loop only: [`turned_feed`] turns the
+    /// refinement back).
     pub fn new(level: &Level, faces: &[u32], rings: u32, turn: bool) -> Option<Self> {
         let found = crate::par::map(faces.len(), |k| {
             let f = faces[k];
@@ -197,11 +198,14 @@ impl Templates {
         })
     }
 
-    /// How many quads are read from another corner than their first.
+    /// How many faces of `corners` corners are read from another corner than their first.
     #[cfg(test)]
-    pub fn turned_quads(&self) -> usize {
-        let quads = self.faces.iter().filter(|f| f.local_faces()[0].len() == 4);
-        quads.filter(|f| f.turn != 0).count()
+    pub fn turned_faces(&self, corners: usize) -> usize {
+        let faces = self
+            .faces
+            .iter()
+            .filter(|f| f.local_faces()[0].len() == corners);
+        faces.filter(|f| f.turn != 0).count()
     }
 
     /// How many groups the faces form.
@@ -280,40 +284,67 @@ impl Templates {
     }
 }
 
-/// A face's Catmull-Clark limit patches, refined with the face read from corner `turn` of its
-/// `corners` (`local`: a patch per child, the children of local face 0 numbered from
-/// `first_child`), as the face read from its own first corner shows them: child k of the
-/// turned face is the face's child k + turn, and of a quad the child itself is turned as its
-/// parent (OpenSubdiv keeps a quad's children oriented as the quad, [`super::refine`]). A
+/// A face's limit patches, refined with the face read from corner `turn` of its `corners`
+/// (`local`), as the face read from its own first corner shows them. Catmull-Clark: a patch
+/// per child, the children of local face 0 numbered from `first_child`; child k of the turned
+/// face is the face's child k + turn, and of a quad the child itself is turned as its parent
+/// (OpenSubdiv keeps a quad's children oriented as the quad, [`super::refine`]). A quad
 /// patch turned by one corner has its slot (i, j) at the turned slot (j, s − i), and
-/// S_u = −S'_v, S_v = S'_u, S_uu = S'_vv, S_uv = −S'_uv, S_vv = S'_uu. The patches come in
-/// the order of the face's children, each slot with entries of its own.
+/// S_u = −S'_v, S_v = S'_u, S_uu = S'_vv, S_uv = −S'_uv, S_vv = S'_uu. Loop: one triangle
+/// patch, (u, v) = (1 − u' − v', u') a turn, so slot (i, j) at (j, s − i − j), and
+/// S_u = −S'_v, S_v = S'_u − S'_v, S_uu = S'_vv, S_uv = S'_vv − S'_uv,
+/// S_vv = S'_uu − 2 S'_uv + S'_vv; its slots past the diagonal alias its first, as
+/// [`super::patches`] writes them. The patches come in the order of the face's children,
+/// each slot with entries of its own.
 fn turned_feed(local: &LimitFeed, first_child: u32, corners: u32, turn: u32) -> LimitFeed {
     if turn == 0 {
         return local.clone();
     }
-    let quarter_turns = if corners == 4 { turn } else { 0 };
-    let child_of = |p: &StencilPatch| (p.piece[1] - first_child + turn) % corners;
+    let child_of = |p: &StencilPatch| match p.piece[0] {
+        1 => (p.piece[1] - first_child + turn) % corners,
+        _ => 0,
+    };
     let mut patches: Vec<&StencilPatch> = local.patches.iter().collect();
     patches.sort_by_key(|p| child_of(p));
     let mut feed = LimitFeed::default();
     for patch in patches {
         let s = patch.segments as usize;
-        let first = feed.slots.len() as u32;
+        let turns = if patch.triangle || corners == 4 {
+            turn
+        } else {
+            0
+        };
+        let first = feed.slots.len();
         for i in 0..=s {
             for j in 0..=s {
+                if patch.triangle && i + j > s {
+                    let alias = feed.slots[first];
+                    feed.slots.push(alias);
+                    feed.no_curvature.push(true);
+                    feed.vertex.push(u32::MAX);
+                    continue;
+                }
                 // The slot this one reads, and the derivatives' signs and order there.
                 let (mut a, mut b) = (i, j);
-                for _ in 0..quarter_turns {
-                    (a, b) = (b, s - a);
+                for _ in 0..turns {
+                    (a, b) = if patch.triangle {
+                        (b, s - a - b)
+                    } else {
+                        (b, s - a)
+                    };
                 }
                 let slot = patch.first_slot as usize + a * (s + 1) + b;
                 let [start, count] = local.slots[slot];
                 let begin = feed.entries.len() as u32;
                 let run = &local.entries[start as usize..(start + count) as usize];
                 feed.entries.extend(run.iter().map(|&(point, mut w)| {
-                    for _ in 0..quarter_turns {
-                        w = [w[0], -w[2], w[1], w[5], -w[4], w[3]];
+                    for _ in 0..turns {
+                        let [p, su, sv, suu, suv, svv] = w;
+                        w = if patch.triangle {
+                            [p, -sv, su - sv, svv, svv - suv, suu - 2.0 * suv + svv]
+                        } else {
+                            [p, -sv, su, svv, -suv, suu]
+                        };
                     }
                     (point, w)
                 }));
@@ -322,9 +353,13 @@ fn turned_feed(local: &LimitFeed, first_child: u32, corners: u32, turn: u32) -> 
                 feed.vertex.push(local.vertex[slot]);
             }
         }
+        let piece = match patch.piece[0] {
+            1 => [1, first_child + child_of(patch)],
+            _ => patch.piece,
+        };
         feed.patches.push(StencilPatch {
-            first_slot: first,
-            piece: [patch.piece[0], first_child + child_of(patch)],
+            first_slot: first as u32,
+            piece,
             ..*patch
         });
     }
@@ -375,7 +410,8 @@ mod tests {
     #[test]
     fn faces_sharing_a_refinement_get_the_whole_cages_stencils() {
         let mut draw = Xorshift::new(0x7e3b_1a7e_5eed);
-        let mut turned = 0;
+        // Quads under Catmull-Clark, triangles under Loop, read from another corner.
+        let mut turned = [0, 0];
         for round in 0..8 {
             let cage = random_cage(&mut draw);
             let split = split_quads(&cage, round % 2 == 1);
@@ -384,9 +420,12 @@ mod tests {
             for (split, surface) in [(false, cage.clone()), (true, split), (true, looped)] {
                 let base = surface.base_level().unwrap();
                 let faces = irregular_faces(&base);
-                let turn = surface.options.scheme == crate::subdiv::Scheme::CatmullClark;
-                let templates = Templates::new(&base, &faces, REGION_RINGS, turn).unwrap();
-                turned += templates.turned_quads();
+                let templates = Templates::new(&base, &faces, REGION_RINGS, true).unwrap();
+                if surface.options.scheme == crate::subdiv::Scheme::Loop {
+                    turned[1] += templates.turned_faces(3);
+                } else {
+                    turned[0] += templates.turned_faces(4);
+                }
                 if split {
                     assert!(
                         templates.group_count() < faces.len(),
@@ -410,7 +449,7 @@ mod tests {
                 }
             }
         }
-        assert!(turned > 0, "no quad was read from another corner");
+        assert!(turned[0] > 0 && turned[1] > 0, "turned faces: {turned:?}");
     }
 
     /// A face's neighbourhood lists the region's faces once each, the face first, over points
