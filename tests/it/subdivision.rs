@@ -701,6 +701,94 @@ fn the_gpu_curvature_of_a_regular_grid_is_the_b_spline_s() {
     assert!(checked > 300, "{checked}");
 }
 
+/// The sheets whose limit is known in closed form, shared with the kernel's tests.
+#[path = "../../crates/kernel/tests/it/sheets.rs"]
+#[allow(dead_code)]
+mod sheets;
+
+/// Along the boundary, at sharp corners and on both sides of an infinitely sharp crease, the
+/// editor's limit display (the compute pass and the CPU path) has curvature at every vertex,
+/// and it is the closed form's: random sheets, one creased across, at levels 2 and 3; each
+/// vertex's position, normal and (K, H, k1, k2) against the side's extended B-spline
+/// ([`sheets::extended_bspline`]) at its nearest grid point, within f32's reach.
+#[test]
+fn the_gpu_shows_curvature_along_boundaries_and_creases() {
+    use knotwork::gpu::records::VERTEX_NO_CURVATURE;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let mut draw = sheets::Draw(0x0DDB_A11C_AFE5_EED5);
+    for (m, n, crease_row, level) in [(4, 5, Some(2), 3), (5, 3, None, 2)] {
+        let sheet = sheets::Sheet::random(&mut draw, m, n, crease_row);
+        let size = sheet.size;
+        let steps = 1usize << level;
+        // Every side's grid of closed-form values at the level's parameters.
+        let references: Vec<_> = sheet
+            .halves
+            .iter()
+            .flat_map(|(_, closed)| {
+                let [(_, u_end), (_, v_end)] = closed.domain();
+                (0..=u_end as usize * steps).flat_map(move |a| {
+                    (0..=v_end as usize * steps).map(move |b| {
+                        closed
+                            .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
+                            .unwrap()
+                    })
+                })
+            })
+            .collect();
+        let scene = Scene {
+            objects: vec![SceneObject::new(
+                "sheet",
+                ObjectGeometry::new(SubdivObject::from(sheet.surface(level))),
+            )],
+            unit: None,
+        };
+        for cpu in [false, true] {
+            let (_, vertices) = common::evaluate_scene(&scene, cpu);
+            let mut worst = [0.0f64; 3];
+            for vertex in &vertices {
+                assert_eq!(
+                    vertex.flags() & VERTEX_NO_CURVATURE,
+                    0,
+                    "cpu {cpu}: {vertex:?}"
+                );
+                let p = DVec3::from(vertex.position.map(f64::from));
+                let normal = DVec3::from(vertex.normal.map(f64::from)).normalize();
+                // On the crease both sides share the point: the side whose normal it has.
+                let exact = references
+                    .iter()
+                    .filter(|g| g.derivatives.point.distance(p) < 1e-5 * size)
+                    .max_by(|a, b| normal.dot(a.normal).total_cmp(&normal.dot(b.normal)))
+                    .unwrap_or_else(|| panic!("cpu {cpu}: no closed-form point near {p}"));
+                worst[0] = worst[0].max(exact.derivatives.point.distance(p) / size);
+                worst[1] = worst[1].max(normal.angle_between(exact.normal));
+                let c = exact.curvature;
+                let scale = (c.k1.abs().max(c.k2.abs()) * size).max(1.0);
+                let [k, h, k1, k2] = vertex.curvature().map(f64::from);
+                for (got, want) in [
+                    (k * size * size / scale, c.gaussian * size * size / scale),
+                    (h * size, c.mean * size),
+                    (k1 * size, c.k1 * size),
+                    (k2 * size, c.k2 * size),
+                ] {
+                    worst[2] = worst[2].max((got - want).abs() / scale);
+                }
+            }
+            eprintln!(
+                "{m} x {n}, crease {crease_row:?}, level {level}, cpu {cpu}: {} vertices, \
+                 position {:.1e}, normal {:.1e} rad, curvature {:.1e}",
+                vertices.len(),
+                worst[0],
+                worst[1],
+                worst[2]
+            );
+            assert!(
+                worst[0] < 1e-5 && worst[1] < 1e-4 && worst[2] < 1e-3,
+                "cpu {cpu}: {worst:?}"
+            );
+        }
+    }
+}
+
 const TAGGED_CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
     f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
     t crease 2/1/0 4 5 10\nt corner 1/1/0 2 3.5\n";

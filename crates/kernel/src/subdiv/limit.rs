@@ -259,6 +259,158 @@ pub fn regular_weights(scale: f64) -> [[f64; 6]; 9] {
     weights
 }
 
+/// The weights of position, Su, Sv, Suu, Suv, Svv (as [`regular_weights`], per `1/scale` of
+/// knot spacing) at a Catmull-Clark vertex `v` on an infinitely sharp crease or the boundary,
+/// on the side of quad `face`, where the limit there is the bicubic B-spline of that side's
+/// 3 × 3 neighbourhood with the missing row (and, at a corner, column) extrapolated linearly,
+/// P₋₁ = 2 P₀ − P₁: the boundary and corner patches of OpenSubdiv's regular patches.
+///
+/// The infinitely sharp edges at `v` (boundary edges among them) cut its ring into sectors.
+/// Two cases are exact: a sector of two quads with a smooth edge between them at a point of
+/// the crease rule (two sharp edges, the point not sharp), and a sector of one quad at a point
+/// of the corner rule (a sharp point, or three or more sharp edges). The crease rules
+/// (vertex (1, 6, 1) / 8, edge midpoint, a corner fixed) are the B-spline's rules on the net
+/// so extended, and the sector's ring refines into its own ring, so the values are exact
+/// whatever lies beyond the sector (Biermann, Levin & Zorin 2000 use the same boundary and
+/// corner masks). A semi-sharp edge or point at `v` makes it `None`, as does any other sector.
+///
+/// u points to `towards` (a neighbour along one of `face`'s edges at `v`), or away from it
+/// when `reversed`; v a quarter turn counter-clockwise from u, as [`regular_grid`].
+pub fn sided_weights(
+    level: &Level,
+    v: u32,
+    towards: u32,
+    reversed: bool,
+    face: u32,
+    scale: f64,
+) -> Option<Vec<(u32, [f64; 6])>> {
+    use super::level::INFINITE_SHARPNESS;
+    let ring = level.ring(v);
+    let (neighbours, faces) = (&ring.neighbours, &ring.faces);
+    // Per neighbour: whether the edge to it is infinitely sharp; a semi-sharp one refuses.
+    let mut sharp = Vec::with_capacity(neighbours.len());
+    for &n in neighbours {
+        let e = level.edge_between(v, n)?;
+        let s = level.edge_sharpness[e];
+        if level.is_boundary_edge(e as u32) || s >= INFINITE_SHARPNESS {
+            sharp.push(true);
+        } else if s <= 0.0 {
+            sharp.push(false);
+        } else {
+            return None;
+        }
+    }
+    let point_sharpness = level.vertex_sharpness[v as usize];
+    if point_sharpness > 0.0 && point_sharpness < INFINITE_SHARPNESS {
+        return None;
+    }
+    // Distinct edges (an interior ring repeats none; a boundary ring neither).
+    let sharp_edges = sharp.iter().filter(|&&s| s).count();
+    let corner = point_sharpness >= INFINITE_SHARPNESS || sharp_edges >= 3;
+    let crease = !corner && sharp_edges == 2;
+    // Face q lies between neighbours q and q + 1 (wrapping round an interior point).
+    let count = neighbours.len();
+    let next = |i: usize| {
+        if ring.boundary {
+            i + 1
+        } else {
+            (i + 1) % count
+        }
+    };
+    let q = faces.iter().position(|&f| f == face)?;
+    // The sector's first neighbour: back from face q to a sharp edge.
+    let mut start = q;
+    for _ in 0..count {
+        if sharp[start] {
+            break;
+        }
+        start = if start == 0 { count - 1 } else { start - 1 };
+    }
+    let sector = |k: usize| (0..k).fold(start, |i, _| next(i));
+    let quad = |f: u32| level.face(f).len() == 4;
+    let mut cells: Vec<((i32, i32), u32)> = vec![((0, 0), v)];
+    let (h0, f0) = (neighbours[start], faces[start]);
+    if crease && sharp[start] && !sharp[sector(1)] && sharp.get(sector(2)) == Some(&true) {
+        let f1 = faces[sector(1)];
+        if !(quad(f0) && quad(f1)) {
+            return None;
+        }
+        cells.extend([
+            ((1, 0), h0),
+            ((0, 1), neighbours[sector(1)]),
+            ((-1, 0), neighbours[sector(2)]),
+            ((1, 1), level.diagonal(f0, v)),
+            ((-1, 1), level.diagonal(f1, v)),
+        ]);
+    } else if corner && sharp[start] && sharp.get(sector(1)) == Some(&true) && quad(f0) {
+        cells.extend([
+            ((1, 0), h0),
+            ((0, 1), neighbours[sector(1)]),
+            ((1, 1), level.diagonal(f0, v)),
+        ]);
+    } else {
+        return None;
+    }
+    let &(du, _) = cells
+        .iter()
+        .find(|&&(d, p)| p == towards && (d.0 == 0) != (d.1 == 0))?;
+    let du = if reversed { (-du.0, -du.1) } else { du };
+    let dv = (-du.1, du.0);
+    let weights = regular_weights(scale);
+    let mut out: Vec<(u32, [f64; 6])> = Vec::with_capacity(6);
+    let mut parts = Vec::with_capacity(4);
+    for a in 0..3 {
+        for b in 0..3 {
+            let (i, j) = (a as i32 - 1, b as i32 - 1);
+            parts.clear();
+            extended_cell(
+                &cells,
+                (i * du.0 + j * dv.0, i * du.1 + j * dv.1),
+                1.0,
+                &mut parts,
+            )?;
+            for &(p, w) in &parts {
+                let k = match out.iter().position(|&(x, _)| x == p) {
+                    Some(k) => k,
+                    None => {
+                        out.push((p, [0.0; 6]));
+                        out.len() - 1
+                    }
+                };
+                for (sum, &c) in out[k].1.iter_mut().zip(&weights[3 * a + b]) {
+                    *sum += w * c;
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+/// Lattice point `at` of a sector's [`sided_weights`] net as `weight` times points, pushed to
+/// `out`: a point of `cells`, or one missing below y = 0 (then left of x = 0) extrapolated from
+/// the two inward of it, P₋₁ = 2 P₀ − P₁.
+fn extended_cell(
+    cells: &[((i32, i32), u32)],
+    at: (i32, i32),
+    weight: f64,
+    out: &mut Vec<(u32, f64)>,
+) -> Option<()> {
+    if let Some(&(_, p)) = cells.iter().find(|&&(d, _)| d == at) {
+        out.push((p, weight));
+        return Some(());
+    }
+    let (x, y) = at;
+    let (inner, next) = if y < 0 {
+        ((x, 0), (x, 1))
+    } else if x < 0 {
+        ((0, y), (1, y))
+    } else {
+        return None;
+    };
+    extended_cell(cells, inner, 2.0 * weight, out)?;
+    extended_cell(cells, next, -weight, out)
+}
+
 /// Most faces in one sector whose corner tangents are found by [`sector_corner_masks`]; a
 /// wider fan keeps [`limit_tangents`]' one-sided estimate.
 const MOST_SECTOR_FACES: usize = 32;

@@ -5,7 +5,7 @@
 
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
-use super::limit::{is_regular, regular_grid, regular_weights};
+use super::limit::{is_regular, regular_grid, regular_weights, sided_weights};
 use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
 };
@@ -716,6 +716,9 @@ pub(super) fn exact_pieces(hierarchy: &Hierarchy, faces: &[u32], levels: u32) ->
 /// vertex's limit position and two tangents (the curvature undefined).
 enum SlotRows {
     Regular([u32; 9], f64),
+    /// A regular vertex on a crease or the boundary: the weights of its side's extended 3 × 3
+    /// neighbourhood ([`sided_weights`]), every derivative exact.
+    Sided(Vec<(u32, [f64; 6])>),
     Rows([Row; 3]),
     /// On a regular cage quad: that quad and (u, v) on it, the bicubic's values in closed form.
     BSpline {
@@ -826,6 +829,8 @@ fn push_stencil_patches_with(
     } else {
         Default::default()
     };
+    // Catmull-Clark's limit beside a regular crease or boundary point is one side's bicubic.
+    let sided_display = scheme == Scheme::CatmullClark && display != Display::Refined;
     let per_piece: Vec<Vec<Option<SlotRows>>> =
         crate::par::map(grids.len().min(pieces.len()), |k| {
             let (grid, shown) = (&grids[k].1, &pieces[k]);
@@ -879,7 +884,13 @@ fn push_stencil_patches_with(
                                     level.face(f).len() == 4 && level.diagonal(f, v) == o
                                 })
                             });
-                            SlotRows::Rows(vertex_rows.rows_in_face(v, face))
+                            let sided = (sided_display && !regular)
+                                .then(|| sided_weights(level, v, towards?, reversed, face?, scale))
+                                .flatten();
+                            match sided {
+                                Some(weights) => SlotRows::Sided(weights),
+                                None => SlotRows::Rows(vertex_rows.rows_in_face(v, face)),
+                            }
                         }
                     })
                 })
@@ -899,6 +910,11 @@ fn push_stencil_patches_with(
                     needed[p as usize] = true;
                 }
             }
+            SlotRows::Sided(weights) => {
+                for &(p, _) in weights {
+                    needed[p as usize] = true;
+                }
+            }
             SlotRows::Rows(rows) => mark_reached(&mut needed, rows.iter()),
             SlotRows::BSpline { .. } => {}
         }
@@ -909,6 +925,13 @@ fn push_stencil_patches_with(
         Some(SlotRows::Regular(points, scale)) => {
             for (&p, weights) in points.iter().zip(regular_weights(*scale).iter()) {
                 for &(j, [x]) in composed.row(p as usize) {
+                    sum.add_scaled(j, x, weights);
+                }
+            }
+        }
+        Some(SlotRows::Sided(weights)) => {
+            for (p, weights) in weights {
+                for &(j, [x]) in composed.row(*p as usize) {
                     sum.add_scaled(j, x, weights);
                 }
             }

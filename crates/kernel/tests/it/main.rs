@@ -4,5 +4,6 @@
 mod bezier;
 mod nurbs;
 mod parametric;
+mod sheets;
 mod subdivision_boundary;
 mod trimmed_export;

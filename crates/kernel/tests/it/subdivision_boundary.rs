@@ -7,6 +7,8 @@ use knotwork_kernel::PolygonMesh;
 use knotwork_kernel::subdiv::patches::boundary_bspline_grid;
 use knotwork_kernel::subdiv::{Options, SubdivisionSurface};
 
+use crate::sheets::{Draw, Sheet};
+
 /// A (n + 1) × (n + 1) grid of points over a bumpy, unevenly spaced sheet, as quads.
 fn sheet(n: u32) -> SubdivisionSurface {
     let mut points = Vec::new();
@@ -80,4 +82,108 @@ fn boundary_patches_pass_through_the_exact_limit_points() {
     }
     // Every side of the 5 × 5 sheet has three faces away from the corners.
     assert_eq!(boundary_faces, 4 * (n as usize - 2));
+}
+
+/// Catmull-Clark's limit beside the boundary, at the sheet's corners and on both sides of an
+/// infinitely sharp crease is the bicubic B-spline of the net extended across them
+/// ([`sheets::extended_bspline`], each side of the crease a sheet of its own). Every slot of
+/// the limit display on random sheets (uneven, in general position, with and without a crease
+/// across, levels 1 to 3) has defined curvature, and its position, normal, Gaussian and mean
+/// curvature and principal curvatures are the closed form's at the same point.
+#[test]
+fn curvature_along_boundaries_and_creases_is_the_extended_bspline() {
+    use knotwork_kernel::diffgeo::{CurvatureValues, FundamentalForms, SurfaceDerivatives};
+    use knotwork_kernel::subdiv::patches::Display;
+    let mut draw = Draw(0x5DEE_CE66_D1CE_B00C);
+    let mut checked = [0usize; 2];
+    for case in 0..8 {
+        let (m, n) = (3 + case % 3, 3 + (case / 2) % 3);
+        // Half the cases creased along a row of points, boundary to boundary.
+        let crease_row = (case % 2 == 1).then_some(1 + case % (m - 1));
+        let sheet = Sheet::random(&mut draw, m, n, crease_row);
+        let size = sheet.size;
+        for level in 1..=3u32 {
+            let surface = sheet.surface(level);
+            let feed = surface
+                .limit_feed_with(level, Display::Limit, false)
+                .unwrap();
+            let points = surface.points();
+            let steps = 1usize << level;
+            for (p, patch) in feed.patches.iter().enumerate() {
+                let first = patch.first_slot as usize;
+                let end = feed
+                    .patches
+                    .get(p + 1)
+                    .map_or(feed.slots.len(), |next| next.first_slot as usize);
+                let closed = sheet.half_of_face(patch.cage_face as usize);
+                for slot in first..end {
+                    assert!(
+                        !feed.no_curvature[slot],
+                        "case {case} level {level}: slot {slot} of face {} has no curvature",
+                        patch.cage_face
+                    );
+                    let mut d = [DVec3::ZERO; 6];
+                    for (i, w) in feed.slot_entries(patch, slot).unwrap() {
+                        for c in 0..6 {
+                            d[c] += points[i as usize] * w[c];
+                        }
+                    }
+                    let found = SurfaceDerivatives {
+                        point: d[0],
+                        su: d[1],
+                        sv: d[2],
+                        suu: d[3],
+                        suv: d[4],
+                        svv: d[5],
+                    };
+                    // The closed form's grid point nearest the slot's limit point.
+                    let [(_, u_end), (_, v_end)] = closed.domain();
+                    let (mut best, mut reference) = (f64::INFINITY, None);
+                    for a in 0..=u_end as usize * steps {
+                        for b in 0..=v_end as usize * steps {
+                            let (u, v) = (a as f64 / steps as f64, b as f64 / steps as f64);
+                            let e = closed.evaluate(u, v).unwrap();
+                            let distance = e.point.distance(found.point);
+                            if distance < best {
+                                best = distance;
+                                reference = Some(e);
+                            }
+                        }
+                    }
+                    let reference = reference.unwrap();
+                    assert!(
+                        best < 1e-9 * size,
+                        "case {case} level {level}: slot {slot} is {best:.3e} from the closed form's grid"
+                    );
+                    let normal = found.regular_normal().unwrap();
+                    let normal_ref = reference.regular_normal().unwrap();
+                    assert!(
+                        normal.dot(normal_ref) > 1.0 - 1e-9,
+                        "case {case} level {level}: slot {slot} normal {normal} against {normal_ref}"
+                    );
+                    let curvature = |d: &SurfaceDerivatives, normal| {
+                        CurvatureValues::from_forms(&FundamentalForms::new(d, normal)).unwrap()
+                    };
+                    let (k, k_ref) = (curvature(&found, normal), curvature(&reference, normal_ref));
+                    let scale = 1.0 + k_ref.k1.abs().max(k_ref.k2.abs()) * size;
+                    for (name, x, y) in [
+                        ("K", k.gaussian * size * size, k_ref.gaussian * size * size),
+                        ("H", k.mean * size, k_ref.mean * size),
+                        ("k1", k.k1 * size, k_ref.k1 * size),
+                        ("k2", k.k2 * size, k_ref.k2 * size),
+                    ] {
+                        assert!(
+                            (x - y).abs() < 1e-7 * scale * scale,
+                            "case {case} level {level}: slot {slot} {name} {x} against {y} (relative to the size)"
+                        );
+                    }
+                    checked[usize::from(crease_row.is_some())] += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        checked[0] > 1000 && checked[1] > 1000,
+        "{checked:?} slots checked"
+    );
 }

@@ -1,0 +1,156 @@
+//! Random Catmull-Clark sheets whose limit is known in closed form: a grid of quads with sharp
+//! corners, optionally creased (infinitely sharp) along one row of edges, and the bicubic
+//! B-spline that each side of the crease is. Shared by the kernel's tests and the app's
+//! (which include this file by path).
+
+use glam::DVec3;
+use knotwork_kernel::subdiv::{Boundary, Crease, Options, SubdivisionSurface};
+use knotwork_kernel::{NurbsSurface, PolygonMesh};
+
+/// A small xorshift generator: uniform numbers in [0, 1).
+pub struct Draw(pub u64);
+
+impl Draw {
+    pub fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A rotation about a random axis, a scale and a translation, all drawn.
+pub fn random_motion(draw: &mut Draw) -> glam::DAffine3 {
+    let axis = DVec3::new(draw.unit() - 0.5, draw.unit() - 0.5, draw.unit() - 0.5)
+        .try_normalize()
+        .unwrap_or(DVec3::Z);
+    let rotation = glam::DQuat::from_axis_angle(axis, 6.0 * draw.unit());
+    let scale = 10f64.powf(4.0 * draw.unit() - 2.0);
+    let shift = DVec3::new(draw.unit(), draw.unit(), draw.unit()) * 200.0 - 100.0;
+    glam::DAffine3::from_scale_rotation_translation(DVec3::splat(scale), rotation, shift)
+}
+
+/// The uniform bicubic B-spline over `rows` (a grid of points, `rows[i][j]`) with one row and
+/// one column extrapolated linearly on every side (P₋₁ = 2 P₀ − P₁, the corners from the
+/// extrapolated rows), over [0, rows − 1] × [0, columns − 1]: the closed form of a sheet's
+/// Catmull-Clark limit with sharp corners (boundary rule "edge and corner").
+fn extended_bspline(rows: &[Vec<DVec3>]) -> NurbsSurface {
+    let extend = |line: &[DVec3]| -> Vec<DVec3> {
+        let n = line.len();
+        let mut out = vec![2.0 * line[0] - line[1]];
+        out.extend_from_slice(line);
+        out.push(2.0 * line[n - 1] - line[n - 2]);
+        out
+    };
+    let wide: Vec<Vec<DVec3>> = rows.iter().map(|r| extend(r)).collect();
+    let columns = wide[0].len();
+    let mut net: Vec<Vec<DVec3>> = vec![Vec::new(); wide.len() + 2];
+    for j in 0..columns {
+        let column: Vec<DVec3> = wide.iter().map(|r| r[j]).collect();
+        for (i, p) in extend(&column).into_iter().enumerate() {
+            net[i].push(p);
+        }
+    }
+    let knots = |count: usize| (0..count + 4).map(|k| k as f64 - 3.0).collect::<Vec<f64>>();
+    let count = [net.len(), columns];
+    NurbsSurface::new(
+        [3, 3],
+        [knots(count[0]), knots(count[1])],
+        count,
+        net.concat(),
+        None,
+    )
+    .unwrap()
+}
+
+/// A sheet of m × n quads, uneven, in general position, with sharp corners (boundary rule
+/// "edge and corner"), creased along row `crease_row` of its points when there is one, and
+/// its closed form: per side of the crease, the first row of cage faces it holds and its
+/// [`extended_bspline`].
+pub struct Sheet {
+    pub mesh: PolygonMesh,
+    pub creases: Vec<Crease>,
+    pub options: Options,
+    /// Quads per row of faces (the cage face f lies in row f / n).
+    pub n: usize,
+    pub halves: Vec<(usize, NurbsSurface)>,
+    /// The cage's bounding-box diagonal.
+    pub size: f64,
+}
+
+impl Sheet {
+    pub fn random(draw: &mut Draw, m: usize, n: usize, crease_row: Option<usize>) -> Self {
+        let motion = random_motion(draw);
+        let mut rows: Vec<Vec<DVec3>> = Vec::new();
+        for i in 0..=m {
+            let row = (0..=n)
+                .map(|j| {
+                    let (x, y) = (i as f64 + 0.3 * draw.unit(), j as f64 + 0.3 * draw.unit());
+                    motion.transform_point3(DVec3::new(x, y, 1.2 * draw.unit() - 0.6))
+                })
+                .collect();
+            rows.push(row);
+        }
+        let at = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+        let faces: Vec<Vec<u32>> = (0..m)
+            .flat_map(|i| {
+                (0..n).map(move |j| vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)])
+            })
+            .collect();
+        let creases: Vec<Crease> = crease_row
+            .map(|r| {
+                (0..n)
+                    .map(|j| Crease {
+                        a: at(r, j),
+                        b: at(r, j + 1),
+                        sharpness: 10.0,
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let halves = match crease_row {
+            Some(r) => vec![
+                (0, extended_bspline(&rows[..=r])),
+                (r, extended_bspline(&rows[r..])),
+            ],
+            None => vec![(0, extended_bspline(&rows))],
+        };
+        let mesh = PolygonMesh::new(rows.concat(), &faces).unwrap();
+        let (lo, hi) = mesh.bounds().unwrap();
+        Self {
+            mesh,
+            creases,
+            options: Options {
+                boundary: Boundary::EdgeAndCorner,
+                ..Options::default()
+            },
+            n,
+            halves,
+            size: (hi - lo).length(),
+        }
+    }
+
+    /// The sheet as a subdivision surface shown at `level`.
+    pub fn surface(&self, level: u32) -> SubdivisionSurface {
+        SubdivisionSurface::new(
+            self.mesh.clone(),
+            self.creases.clone(),
+            Vec::new(),
+            self.options,
+            level,
+        )
+        .unwrap()
+    }
+
+    /// The closed form of the side that holds cage face `face`.
+    pub fn half_of_face(&self, face: usize) -> &NurbsSurface {
+        let row = face / self.n;
+        let (_, closed) = self
+            .halves
+            .iter()
+            .rev()
+            .find(|(start, _)| row >= *start)
+            .unwrap();
+        closed
+    }
+}
