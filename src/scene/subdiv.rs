@@ -610,8 +610,12 @@ impl ObjectKind for SubdivObject {
 
     /// The surface as displayed at its level (level 0: the cage): the limit mesh or the
     /// refined one ([`SubdivisionSurface::display_mesh`]), polygons split into fans of
-    /// triangles, with the limit normals. No curvatures: the stencils do not define them at
-    /// every vertex, and [`crate::scene::SceneObject::tessellate`] estimates them on the mesh.
+    /// triangles, with the limit normals. With `curvature`, Catmull-Clark's limit display
+    /// takes the exact curvature wherever the limit at a vertex is one bicubic
+    /// ([`crate::kernel::subdiv::LimitMesh::curvatures`]: regular points, the boundary, sharp
+    /// corners) and the estimate on the mesh at the rest (extraordinary points, creases);
+    /// every other display leaves them to [`crate::scene::SceneObject::tessellate`]'s
+    /// estimate.
     fn tessellate(
         &self,
         tessellation: Tessellation,
@@ -622,11 +626,18 @@ impl ObjectKind for SubdivObject {
             return self.surface.mesh().tessellate(tessellation, curvature);
         }
         let prepared = self.prepared()?;
+        let scheme = self.surface.options.scheme;
+        let mut exact = None;
         let shown = match (&prepared.plan, &prepared.adaptive) {
             (Some(plan), _) => self
                 .surface
                 .substitute_mesh_from(level, &prepared.feed, plan)?,
             (None, Some(layout)) => self.surface.adaptive_mesh_from(level, layout)?,
+            (None, None) if curvature && self.display == Display::Limit => {
+                let limit = self.surface.limit(level)?;
+                exact = Some(limit.curvatures(scheme));
+                limit.into_display(Display::Limit)
+            }
             (None, None) => self.surface.display_mesh(level, self.display)?,
         };
         let mut triangles = Vec::new();
@@ -635,11 +646,27 @@ impl ObjectKind for SubdivObject {
                 triangles.push([face[0], face[k], face[k + 1]]);
             }
         }
+        let curvatures = match exact {
+            Some(exact) => {
+                let mut values = crate::kernel::mesh_curvature::estimate_vertex_curvatures(
+                    &shown.positions,
+                    &shown.normals,
+                    &triangles,
+                );
+                for (value, exact) in values.iter_mut().zip(exact) {
+                    if let Some(exact) = exact {
+                        *value = exact;
+                    }
+                }
+                values
+            }
+            None => Vec::new(),
+        };
         Ok(vec![TriangleMesh {
             positions: shown.positions,
             normals: shown.normals,
             uvs: Vec::new(),
-            curvatures: Vec::new(),
+            curvatures,
             triangles,
         }])
     }

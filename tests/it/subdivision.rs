@@ -789,6 +789,71 @@ fn the_gpu_shows_curvature_along_boundaries_and_creases() {
     }
 }
 
+/// Export's curvature of a Catmull-Clark surface (the `_CURVATURE` glTF writes): exact at
+/// every vertex off the crease, interior, boundary and sharp corners alike (the closed form's
+/// to 1e-7 of the size), and the mesh's estimate, finite, on the crease.
+#[test]
+fn export_takes_the_exact_curvature_wherever_the_limit_has_one() {
+    use knotwork::scene::{ObjectGeometry, SceneObject, SubdivObject};
+    let mut draw = sheets::Draw(0x9E37_79B9_7F4A_7C15);
+    let sheet = sheets::Sheet::random(&mut draw, 4, 5, Some(2));
+    let (size, level) = (sheet.size, 3u32);
+    let steps = 1usize << level;
+    let object = SceneObject::new(
+        "sheet",
+        ObjectGeometry::new(SubdivObject::from(sheet.surface(level))),
+    );
+    let meshes = object
+        .tessellate(
+            knotwork::kernel::tess::Tessellation::Tolerance(1e-3 * size),
+            true,
+        )
+        .unwrap();
+    let [mesh] = &meshes[..] else {
+        panic!("one mesh: {}", meshes.len());
+    };
+    assert_eq!(mesh.curvatures.len(), mesh.positions.len());
+    let (mut exact, mut on_crease) = (0, 0);
+    for (v, c) in mesh.curvatures.iter().enumerate() {
+        let p = mesh.positions[v];
+        let near: Vec<_> = sheet
+            .halves
+            .iter()
+            .filter_map(|(_, closed)| {
+                let [(_, u_end), (_, v_end)] = closed.domain();
+                (0..=u_end as usize * steps)
+                    .flat_map(|a| (0..=v_end as usize * steps).map(move |b| (a, b)))
+                    .map(|(a, b)| {
+                        closed
+                            .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
+                            .unwrap()
+                    })
+                    .find(|g| g.derivatives.point.distance(p) < 1e-9 * size)
+            })
+            .collect();
+        assert!(
+            c.gaussian.is_finite() && c.mean.is_finite(),
+            "vertex {v}: {c:?}"
+        );
+        match &near[..] {
+            [one] => {
+                let e = one.curvature;
+                let scale = 1.0 + e.k1.abs().max(e.k2.abs()) * size;
+                assert!(
+                    (c.mean - e.mean).abs() * size < 1e-7 * scale
+                        && (c.gaussian - e.gaussian).abs() * size * size < 1e-7 * scale * scale,
+                    "vertex {v}: {c:?} against {e:?}"
+                );
+                exact += 1;
+            }
+            [_, _] => on_crease += 1,
+            _ => panic!("vertex {v} at {p} is on no side of the sheet"),
+        }
+    }
+    assert_eq!(on_crease, 5 * steps + 1);
+    assert_eq!(exact + on_crease, mesh.positions.len());
+}
+
 const TAGGED_CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
     f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
     t crease 2/1/0 4 5 10\nt corner 1/1/0 2 3.5\n";

@@ -217,6 +217,23 @@ impl DisplayRows {
     }
 }
 
+impl super::LimitMesh {
+    /// The level's faces over the limit points (the refined points for
+    /// [`Display::Refined`]), with the limit normals: Catmull-Clark's and Loop's display.
+    pub fn into_display(self, display: Display) -> DisplayMesh {
+        let polygons = self.level.faces().map(<[u32]>::to_vec).collect();
+        let positions = match display {
+            Display::Refined => self.refined,
+            _ => self.positions,
+        };
+        DisplayMesh {
+            positions,
+            normals: self.normals,
+            polygons,
+        }
+    }
+}
+
 impl SubdivisionSurface {
     /// The surface at level `levels` as `display` shows it, in f64: Catmull-Clark and Loop
     /// from [`Self::limit`] (its limit or refined points, with the limit normals); the
@@ -232,17 +249,7 @@ impl SubdivisionSurface {
         }
         let scheme = self.options.scheme;
         if matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
-            let limit = self.limit(levels)?;
-            let polygons = limit.level.faces().map(<[u32]>::to_vec).collect();
-            let positions = match display {
-                Display::Refined => limit.refined,
-                _ => limit.positions,
-            };
-            return Ok(DisplayMesh {
-                positions,
-                normals: limit.normals,
-                polygons,
-            });
+            return Ok(self.limit(levels)?.into_display(display));
         }
         let hierarchy = self.hierarchy(levels)?;
         let points = hierarchy.refine_points(self.points());

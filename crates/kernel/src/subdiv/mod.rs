@@ -37,7 +37,7 @@ use std::sync::Arc;
 
 use self::level::{INFINITE_SHARPNESS, Level};
 use self::stencil::Stencils;
-use super::{CageProblem, GeometryError, Location, PolygonMesh};
+use super::{CageProblem, GeometryError, Location, PolygonMesh, diffgeo};
 
 /// The highest subdivision level a cage may ask for.
 pub const MAX_LEVEL: u32 = 6;
@@ -438,6 +438,73 @@ pub struct LimitMesh {
     /// The level's points where refinement put them.
     pub refined: Vec<DVec3>,
     pub level: Level,
+}
+
+impl LimitMesh {
+    /// Catmull-Clark's exact curvature of the limit at each vertex of the level where the limit
+    /// there is one bicubic: a regular point ([`limit::regular_weights`] on its 3 × 3
+    /// neighbourhood), and a point on the boundary or at a sharp corner whose faces all lie in
+    /// one sector between infinitely sharp edges ([`limit::sided_weights`]). `None` elsewhere:
+    /// extraordinary points, either side of a crease (a point shared by two sides has two
+    /// curvatures), semi-sharp features, and every point under another scheme. K and H are
+    /// taken about the normal Su × Sv of the counter-clockwise faces, as [`Self::normals`].
+    pub fn curvatures(&self, scheme: Scheme) -> Vec<Option<diffgeo::CurvatureValues>> {
+        let level = &self.level;
+        let points = &self.refined;
+        let values = |weights: &mut dyn Iterator<Item = (u32, [f64; 6])>| {
+            let mut d = [DVec3::ZERO; 6];
+            for (p, w) in weights {
+                for (sum, c) in d.iter_mut().zip(w) {
+                    *sum += points[p as usize] * c;
+                }
+            }
+            let derivatives = diffgeo::SurfaceDerivatives {
+                point: d[0],
+                su: d[1],
+                sv: d[2],
+                suu: d[3],
+                suv: d[4],
+                svv: d[5],
+            };
+            let normal = derivatives.regular_normal()?;
+            diffgeo::CurvatureValues::from_forms(&diffgeo::FundamentalForms::new(
+                &derivatives,
+                normal,
+            ))
+        };
+        let same = |a: &diffgeo::CurvatureValues, b: &diffgeo::CurvatureValues| {
+            let scale = a.k1.abs().max(a.k2.abs()).max(f64::MIN_POSITIVE);
+            (a.mean - b.mean).abs() <= 1e-9 * scale
+                && (a.gaussian - b.gaussian).abs() <= 1e-9 * scale * scale
+        };
+        crate::par::map(self.positions.len(), |v| {
+            let v = v as u32;
+            if scheme != Scheme::CatmullClark {
+                return None;
+            }
+            if limit::is_regular(level, scheme, v) {
+                let (neighbours, _) = level.four_ring(v)?;
+                let grid = limit::regular_grid(level, v, neighbours[0], false)?;
+                let weights = limit::regular_weights(1.0);
+                return values(&mut grid.iter().zip(weights).map(|(&p, w)| (p, w)));
+            }
+            // One value from every face's side, or none where the sides differ.
+            let mut found: Option<diffgeo::CurvatureValues> = None;
+            for &f in level.vertex_faces(v) {
+                let face = level.face(f);
+                let at = face.iter().position(|&x| x == v)?;
+                let towards = face[(at + 1) % face.len()];
+                let weights = limit::sided_weights(level, v, towards, false, f, 1.0)?;
+                let c = values(&mut weights.into_iter())?;
+                match &found {
+                    Some(first) if !same(first, &c) => return None,
+                    Some(_) => {}
+                    None => found = Some(c),
+                }
+            }
+            found
+        })
+    }
 }
 
 impl Hierarchy {

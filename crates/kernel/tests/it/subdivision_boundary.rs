@@ -187,3 +187,60 @@ fn curvature_along_boundaries_and_creases_is_the_extended_bspline() {
         "{checked:?} slots checked"
     );
 }
+
+/// The limit mesh's exact curvatures (what export writes for a Catmull-Clark surface) on the
+/// same random sheets: every vertex has one except those on the crease, whose two sides
+/// differ, and each is the closed form's at its point.
+#[test]
+fn the_limit_mesh_has_the_closed_forms_curvature_off_the_crease() {
+    let mut draw = Draw(0x2545_F491_4F6C_DD1D);
+    for case in 0..6 {
+        let (m, n) = (3 + case % 2, 3 + case % 3);
+        let crease_row = (case % 2 == 0).then_some(1 + case % (m - 1));
+        let sheet = Sheet::random(&mut draw, m, n, crease_row);
+        let size = sheet.size;
+        for level in 1..=3u32 {
+            let steps = 1usize << level;
+            let limit = sheet.surface(level).limit(level).unwrap();
+            let curvatures = limit.curvatures(Options::default().scheme);
+            let references: Vec<_> = sheet
+                .halves
+                .iter()
+                .flat_map(|(_, closed)| {
+                    let [(_, u_end), (_, v_end)] = closed.domain();
+                    (0..=u_end as usize * steps).flat_map(move |a| {
+                        (0..=v_end as usize * steps).map(move |b| {
+                            closed
+                                .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
+                                .unwrap()
+                        })
+                    })
+                })
+                .collect();
+            let mut missing = 0;
+            for (v, c) in curvatures.iter().enumerate() {
+                let Some(c) = c else {
+                    missing += 1;
+                    continue;
+                };
+                let (p, normal) = (limit.positions[v], limit.normals[v]);
+                let exact = references
+                    .iter()
+                    .filter(|g| g.derivatives.point.distance(p) < 1e-9 * size)
+                    .max_by(|a, b| normal.dot(a.normal).total_cmp(&normal.dot(b.normal)))
+                    .unwrap();
+                assert!(normal.dot(exact.normal) > 1.0 - 1e-9);
+                let e = exact.curvature;
+                let scale = 1.0 + e.k1.abs().max(e.k2.abs()) * size;
+                assert!(
+                    (c.mean - e.mean).abs() * size < 1e-7 * scale
+                        && (c.gaussian - e.gaussian).abs() * size * size < 1e-7 * scale * scale,
+                    "case {case} level {level} vertex {v}: {c:?} against {e:?}"
+                );
+            }
+            // The crease's points at this level, ends included.
+            let on_crease = crease_row.map_or(0, |_| n * steps + 1);
+            assert_eq!(missing, on_crease, "case {case} level {level}");
+        }
+    }
+}
