@@ -789,6 +789,62 @@ fn the_gpu_shows_curvature_along_boundaries_and_creases() {
     }
 }
 
+/// Loop's limit display on the compute pass and the CPU path has curvature at every regular
+/// point, and away from the boundary it is the quadric's that the lattice samples
+/// ([`sheets::QuadricLattice`]) within f32's reach.
+#[test]
+fn the_gpu_shows_loops_curvature_at_regular_points() {
+    use knotwork::gpu::records::VERTEX_NO_CURVATURE;
+    use knotwork::kernel::subdiv::Scheme;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let mut draw = sheets::Draw(0x3C6E_F372_FE94_F82B);
+    let quadric = sheets::QuadricLattice::random(&mut draw, 9, 8);
+    let size = quadric.size();
+    let options = Options {
+        scheme: Scheme::Loop,
+        ..Options::default()
+    };
+    let surface =
+        SubdivisionSurface::new(quadric.mesh.clone(), Vec::new(), Vec::new(), options, 3).unwrap();
+    let scene = Scene {
+        objects: vec![SceneObject::new(
+            "lattice",
+            ObjectGeometry::new(SubdivObject::from(surface)),
+        )],
+        unit: None,
+    };
+    for cpu in [false, true] {
+        let (_, vertices) = common::evaluate_scene(&scene, cpu);
+        let (mut checked, mut worst) = (0, 0.0f64);
+        for vertex in &vertices {
+            // Slots past a triangle's diagonal (u + v > 1) repeat its first and are not drawn.
+            if vertex.u + vertex.v > 1.0 + 1e-6 {
+                continue;
+            }
+            let p = DVec3::from(vertex.position.map(f64::from));
+            let Some((gaussian, mean)) = quadric.curvature_at(p) else {
+                continue;
+            };
+            assert_eq!(
+                vertex.flags() & VERTEX_NO_CURVATURE,
+                0,
+                "cpu {cpu}: {vertex:?}"
+            );
+            let [k, h] = vertex.gaussian_mean.map(f64::from);
+            let scale = (gaussian.abs().sqrt().max(mean.abs()) * size).max(1.0);
+            worst = worst
+                .max((k - gaussian).abs() * size * size / (scale * scale))
+                .max((h - mean).abs() * size / scale);
+            checked += 1;
+        }
+        eprintln!("Loop, cpu {cpu}: {checked} vertices checked, curvature {worst:.1e}");
+        assert!(
+            checked > 500 && worst < 1e-3,
+            "cpu {cpu}: {checked}, {worst}"
+        );
+    }
+}
+
 /// Export's curvature of a Catmull-Clark surface (the `_CURVATURE` glTF writes): exact at
 /// every vertex off the crease, interior, boundary and sharp corners alike (the closed form's
 /// to 1e-7 of the size), and the mesh's estimate, finite, on the crease.

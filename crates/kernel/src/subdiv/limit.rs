@@ -386,6 +386,61 @@ pub fn sided_weights(
     Some(out)
 }
 
+/// The weights of position, Su, Sv, Suu, Suv, Svv (per `1/scale` of the lattice step, as
+/// [`regular_weights`]) of Loop's limit at a regular point `v` (six triangles, nothing sharp:
+/// the quartic box spline), over `v` and its ring e₀ … e₅ counter-clockwise from e₀ along u.
+/// In the triangle lattice's coordinates, with
+/// e₀ = (1, 0), e₁ = (0, 1), e₂ = (−1, 1), …: the position v/2 + Σ e_j/12 (the smooth limit
+/// mask at valence six); the derivatives are the left eigenvectors of the ring's subdivision
+/// matrix for 1/2 (Σ cos(2πj/6) e_j, Σ sin(2πj/6) e_j) and 1/4 (the Laplacian −6v + Σ e_j,
+/// Σ cos(4πj/6) e_j, Σ sin(4πj/6) e_j), combined to be exact on linear and quadratic
+/// functions of the lattice: S_u = (e₀ − e₃)/3 + (e₁ − e₂ − e₄ + e₅)/6,
+/// S_v = (e₁ − e₄)/3 + (e₀ + e₂ − e₃ − e₅)/6, S_uu = e₀ + e₃ − 2v, S_vv = e₁ + e₄ − 2v and
+/// S_uv = (e₀ + e₁ + e₃ + e₄ − e₂ − e₅)/2 − v. An eigenvector mask scales by its eigenvalue
+/// under refinement, so each is the limit's derivative exactly. `neighbour` lies `turns`
+/// sixths of a turn counter-clockwise from u. `None` unless `v` is such a point and
+/// `neighbour` one of its neighbours.
+pub fn loop_regular_weights(
+    level: &Level,
+    v: u32,
+    neighbour: u32,
+    turns: usize,
+    scale: f64,
+) -> Option<Vec<(u32, [f64; 6])>> {
+    let faces = level.vertex_faces(v);
+    let edges = level.vertex_edges(v);
+    if faces.len() != 6
+        || edges.len() != 6
+        || level.vertex_sharpness[v as usize] > 0.0
+        || faces.iter().any(|&f| level.face(f).len() != 3)
+        || edges
+            .iter()
+            .any(|&e| level.is_boundary_edge(e) || level.edge_sharpness[e as usize] > 0.0)
+    {
+        return None;
+    }
+    let ring = level.ring(v);
+    if ring.boundary || ring.neighbours.len() != 6 {
+        return None;
+    }
+    let start = (ring.neighbours.iter().position(|&n| n == neighbour)? + 6 - turns % 6) % 6;
+    let e = |j: usize| ring.neighbours[(start + j) % 6];
+    let (s, t) = (scale, scale * scale);
+    // Per ring point j: [position, S_u, S_v, S_uu, S_uv, S_vv] (before the scale).
+    const RING: [[f64; 6]; 6] = [
+        [1.0 / 12.0, 1.0 / 3.0, 1.0 / 6.0, 1.0, 0.5, 0.0],
+        [1.0 / 12.0, 1.0 / 6.0, 1.0 / 3.0, 0.0, 0.5, 1.0],
+        [1.0 / 12.0, -1.0 / 6.0, 1.0 / 6.0, 0.0, -0.5, 0.0],
+        [1.0 / 12.0, -1.0 / 3.0, -1.0 / 6.0, 1.0, 0.5, 0.0],
+        [1.0 / 12.0, -1.0 / 6.0, -1.0 / 3.0, 0.0, 0.5, 1.0],
+        [1.0 / 12.0, 1.0 / 6.0, -1.0 / 6.0, 0.0, -0.5, 0.0],
+    ];
+    let scaled = |w: [f64; 6]| [w[0], w[1] * s, w[2] * s, w[3] * t, w[4] * t, w[5] * t];
+    let mut out = vec![(v, scaled([0.5, 0.0, 0.0, -2.0, -1.0, -2.0]))];
+    out.extend((0..6).map(|j| (e(j), scaled(RING[j]))));
+    Some(out)
+}
+
 /// Lattice point `at` of a sector's [`sided_weights`] net as `weight` times points, pushed to
 /// `out`: a point of `cells`, or one missing below y = 0 (then left of x = 0) extrapolated from
 /// the two inward of it, P₋₁ = 2 P₀ − P₁.

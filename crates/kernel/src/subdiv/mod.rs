@@ -441,13 +441,15 @@ pub struct LimitMesh {
 }
 
 impl LimitMesh {
-    /// Catmull-Clark's exact curvature of the limit at each vertex of the level where the limit
-    /// there is one bicubic: a regular point ([`limit::regular_weights`] on its 3 × 3
-    /// neighbourhood), and a point on the boundary or at a sharp corner whose faces all lie in
-    /// one sector between infinitely sharp edges ([`limit::sided_weights`]). `None` elsewhere:
-    /// extraordinary points, either side of a crease (a point shared by two sides has two
-    /// curvatures), semi-sharp features, and every point under another scheme. K and H are
-    /// taken about the normal Su × Sv of the counter-clockwise faces, as [`Self::normals`].
+    /// The exact curvature of the limit at each vertex of the level where the limit there is
+    /// one polynomial piece: under Catmull-Clark a regular point ([`limit::regular_weights`] on
+    /// its 3 × 3 neighbourhood) and a point on the boundary or at a sharp corner whose faces
+    /// all lie in one sector between infinitely sharp edges ([`limit::sided_weights`]); under
+    /// Loop a regular point (the box spline, [`limit::loop_regular_weights`]). `None`
+    /// elsewhere: extraordinary points, either side of a crease (a point shared by two sides
+    /// has two curvatures), semi-sharp features, Loop's boundaries and the other schemes. K
+    /// and H are taken about the normal Su × Sv of the counter-clockwise faces, as
+    /// [`Self::normals`].
     pub fn curvatures(&self, scheme: Scheme) -> Vec<Option<diffgeo::CurvatureValues>> {
         let level = &self.level;
         let points = &self.refined;
@@ -479,6 +481,11 @@ impl LimitMesh {
         };
         crate::par::map(self.positions.len(), |v| {
             let v = v as u32;
+            if scheme == Scheme::Loop {
+                let towards = *level.ring(v).neighbours.first()?;
+                let weights = limit::loop_regular_weights(level, v, towards, 0, 1.0)?;
+                return values(&mut weights.into_iter());
+            }
             if scheme != Scheme::CatmullClark {
                 return None;
             }

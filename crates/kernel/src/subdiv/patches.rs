@@ -5,7 +5,9 @@
 
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
-use super::limit::{is_regular, regular_grid, regular_weights, sided_weights};
+use super::limit::{
+    is_regular, loop_regular_weights, regular_grid, regular_weights, sided_weights,
+};
 use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
 };
@@ -679,6 +681,10 @@ struct ShownSlot {
     towards: Option<u32>,
     reversed: bool,
     opposite: Option<u32>,
+    /// On a triangle: a neighbour in the face and how many sixths of a turn counter-clockwise
+    /// from the slot's u it lies (the lattice directions (1, 0), (0, 1), (−1, 0), (0, −1) are
+    /// 0, 1, 3 and 4), found wherever `towards` lies past the face's diagonal.
+    lattice: Option<(u32, usize)>,
 }
 
 /// The pieces that show cage faces `faces` exactly at level `levels` (≥ 1): Catmull-Clark's
@@ -787,11 +793,26 @@ fn push_stencil_patches_with(
                         } else {
                             at(2 * ci + 1 - i, 2 * cj + 1 - j)
                         };
+                        let lattice = if triangle {
+                            let step = |di: isize, dj: isize| {
+                                let (a, b) = (i.checked_add_signed(di)?, j.checked_add_signed(dj)?);
+                                if a > big || b > big {
+                                    return None;
+                                }
+                                at(a, b)
+                            };
+                            [((1, 0), 0), ((0, 1), 1), ((-1, 0), 3), ((0, -1), 4)]
+                                .into_iter()
+                                .find_map(|((di, dj), turns)| Some((step(di, dj)?, turns)))
+                        } else {
+                            None
+                        };
                         at(i, j).map(|v| ShownSlot {
                             vertex: v,
                             towards,
                             reversed,
                             opposite,
+                            lattice,
                         })
                     }));
                 }
@@ -829,8 +850,10 @@ fn push_stencil_patches_with(
     } else {
         Default::default()
     };
-    // Catmull-Clark's limit beside a regular crease or boundary point is one side's bicubic.
-    let sided_display = scheme == Scheme::CatmullClark && display != Display::Refined;
+    // Catmull-Clark's limit beside a regular crease or boundary point is one side's bicubic;
+    // Loop's at a regular point is the box spline.
+    let sided_display =
+        matches!(scheme, Scheme::CatmullClark | Scheme::Loop) && display != Display::Refined;
     let per_piece: Vec<Vec<Option<SlotRows>>> =
         crate::par::map(grids.len().min(pieces.len()), |k| {
             let (grid, shown) = (&grids[k].1, &pieces[k]);
@@ -869,6 +892,7 @@ fn push_stencil_patches_with(
                         towards,
                         reversed,
                         opposite,
+                        lattice,
                     } = (*slot)?;
                     let regular = display != Display::Refined && is_regular(level, scheme, v);
                     let neighbourhood = if regular {
@@ -885,7 +909,13 @@ fn push_stencil_patches_with(
                                 })
                             });
                             let sided = (sided_display && !regular)
-                                .then(|| sided_weights(level, v, towards?, reversed, face?, scale))
+                                .then(|| match scheme {
+                                    Scheme::Loop => {
+                                        let (n, turns) = lattice?;
+                                        loop_regular_weights(level, v, n, turns, scale)
+                                    }
+                                    _ => sided_weights(level, v, towards?, reversed, face?, scale),
+                                })
                                 .flatten();
                             match sided {
                                 Some(weights) => SlotRows::Sided(weights),

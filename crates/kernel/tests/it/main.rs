@@ -6,4 +6,5 @@ mod nurbs;
 mod parametric;
 mod sheets;
 mod subdivision_boundary;
+mod subdivision_curvature;
 mod trimmed_export;

@@ -154,3 +154,89 @@ impl Sheet {
         closed
     }
 }
+
+/// A triangle lattice (six triangles at every inner point) over an affine image of the
+/// integer lattice, its points sampling a quadratic height z = q(x, y), then moved: Loop's
+/// limit away from the boundary is that quadric moved up by a constant (the box spline
+/// reproduces quadratics up to a constant; linear data exactly, so the limit point's x and y
+/// are the lattice's).
+pub struct QuadricLattice {
+    pub mesh: PolygonMesh,
+    lattice: glam::DMat2,
+    /// q = c₀x² + c₁xy + c₂y² + c₃x + c₄y.
+    c: [f64; 5],
+    motion: glam::DAffine3,
+    rows: usize,
+    columns: usize,
+}
+
+impl QuadricLattice {
+    pub fn random(draw: &mut Draw, rows: usize, columns: usize) -> Self {
+        use glam::{DMat2, DVec2};
+        let lattice = DMat2::from_cols(
+            DVec2::new(1.0 + 0.4 * draw.unit(), 0.3 * draw.unit() - 0.15),
+            DVec2::new(0.5 * draw.unit() - 0.25, 1.0 + 0.4 * draw.unit()),
+        );
+        let c: [f64; 5] = std::array::from_fn(|_| 0.6 * draw.unit() - 0.3);
+        let motion = random_motion(draw);
+        let q = |p: DVec2| {
+            c[0] * p.x * p.x + c[1] * p.x * p.y + c[2] * p.y * p.y + c[3] * p.x + c[4] * p.y
+        };
+        let mut points = Vec::new();
+        for a in 0..=rows {
+            for b in 0..=columns {
+                let p = lattice * DVec2::new(a as f64, b as f64);
+                points.push(motion.transform_point3(p.extend(q(p))));
+            }
+        }
+        let at = |a: usize, b: usize| (a * (columns + 1) + b) as u32;
+        let mut faces = Vec::new();
+        for a in 0..rows {
+            for b in 0..columns {
+                faces.push(vec![at(a, b), at(a + 1, b), at(a, b + 1)]);
+                faces.push(vec![at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)]);
+            }
+        }
+        Self {
+            mesh: PolygonMesh::new(points, &faces).unwrap(),
+            lattice,
+            c,
+            motion,
+            rows,
+            columns,
+        }
+    }
+
+    /// The size the tolerances are relative to: the lattice's longer side, moved.
+    pub fn size(&self) -> f64 {
+        self.motion.matrix3.x_axis.length() * self.rows.max(self.columns) as f64
+    }
+
+    /// The quadric's (K, H) at the limit point `point`, positive toward the normal of the
+    /// counter-clockwise faces; `None` within three lattice steps of the boundary, whose
+    /// rules change the limit up to two rings in (the box spline's support).
+    pub fn curvature_at(&self, point: DVec3) -> Option<(f64, f64)> {
+        let xy = self.motion.inverse().transform_point3(point).truncate();
+        let ab = self.lattice.inverse() * xy;
+        let margin = 3.0 - 1e-9;
+        if ab.min_element() < margin
+            || ab.x > self.rows as f64 - margin
+            || ab.y > self.columns as f64 - margin
+        {
+            return None;
+        }
+        let c = &self.c;
+        let (qx, qy) = (
+            2.0 * c[0] * xy.x + c[1] * xy.y + c[3],
+            c[1] * xy.x + 2.0 * c[2] * xy.y + c[4],
+        );
+        let (qxx, qxy, qyy) = (2.0 * c[0], c[1], 2.0 * c[2]);
+        let w = 1.0 + qx * qx + qy * qy;
+        let scale = self.motion.matrix3.x_axis.length();
+        let gaussian = (qxx * qyy - qxy * qxy) / (w * w) / (scale * scale);
+        let mean = ((1.0 + qy * qy) * qxx - 2.0 * qx * qy * qxy + (1.0 + qx * qx) * qyy)
+            / (2.0 * w.powf(1.5))
+            / scale;
+        Some((gaussian, mean))
+    }
+}
