@@ -719,22 +719,8 @@ fn the_gpu_shows_curvature_along_boundaries_and_creases() {
     for (m, n, crease_row, level) in [(4, 5, Some(2), 3), (5, 3, None, 2)] {
         let sheet = sheets::Sheet::random(&mut draw, m, n, crease_row);
         let size = sheet.size;
-        let steps = 1usize << level;
         // Every side's grid of closed-form values at the level's parameters.
-        let references: Vec<_> = sheet
-            .halves
-            .iter()
-            .flat_map(|(_, closed)| {
-                let [(_, u_end), (_, v_end)] = closed.domain();
-                (0..=u_end as usize * steps).flat_map(move |a| {
-                    (0..=v_end as usize * steps).map(move |b| {
-                        closed
-                            .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
-                            .unwrap()
-                    })
-                })
-            })
-            .collect();
+        let references = sheet.references(level);
         let scene = Scene {
             objects: vec![SceneObject::new(
                 "sheet",

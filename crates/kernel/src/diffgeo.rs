@@ -56,6 +56,36 @@ pub fn regular_normal_of(su: DVec3, sv: DVec3) -> Option<DVec3> {
 }
 
 impl SurfaceDerivatives {
+    /// Σ w_k P_k over weighted points (a stencil's entries: point index, weights of position,
+    /// Su, Sv, Suu, Suv, Svv); `None` where an index is past `points`.
+    pub fn from_weights(
+        points: &[DVec3],
+        weights: impl IntoIterator<Item = (u32, [f64; 6])>,
+    ) -> Option<Self> {
+        let mut d = [DVec3::ZERO; 6];
+        for (p, w) in weights {
+            let point = *points.get(p as usize)?;
+            for (sum, c) in d.iter_mut().zip(w) {
+                *sum += point * c;
+            }
+        }
+        let [point, su, sv, suu, suv, svv] = d;
+        Some(Self {
+            point,
+            su,
+            sv,
+            suu,
+            suv,
+            svv,
+        })
+    }
+
+    /// K, H, k1, k2 about the normal Su × Sv; `None` where the tangent plane is degenerate.
+    pub fn curvature_values(&self) -> Option<CurvatureValues> {
+        let normal = self.regular_normal()?;
+        CurvatureValues::from_forms(&FundamentalForms::new(self, normal))
+    }
+
     /// The unit normal's derivatives (N_u, N_v) by the Weingarten equations (do Carmo 3.3):
     /// with D = EG − F², N_u = ((MF − LG) S_u + (LF − ME) S_v) / D and N_v = ((NF − MG) S_u +
     /// (MF − NE) S_v) / D; zero where D ≤ 0. `normal` is the unit normal. WGSL:

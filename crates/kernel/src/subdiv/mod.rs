@@ -454,25 +454,7 @@ impl LimitMesh {
         let level = &self.level;
         let points = &self.refined;
         let values = |weights: &mut dyn Iterator<Item = (u32, [f64; 6])>| {
-            let mut d = [DVec3::ZERO; 6];
-            for (p, w) in weights {
-                for (sum, c) in d.iter_mut().zip(w) {
-                    *sum += points[p as usize] * c;
-                }
-            }
-            let derivatives = diffgeo::SurfaceDerivatives {
-                point: d[0],
-                su: d[1],
-                sv: d[2],
-                suu: d[3],
-                suv: d[4],
-                svv: d[5],
-            };
-            let normal = derivatives.regular_normal()?;
-            diffgeo::CurvatureValues::from_forms(&diffgeo::FundamentalForms::new(
-                &derivatives,
-                normal,
-            ))
+            diffgeo::SurfaceDerivatives::from_weights(points, weights)?.curvature_values()
         };
         let same = |a: &diffgeo::CurvatureValues, b: &diffgeo::CurvatureValues| {
             let scale = a.k1.abs().max(a.k2.abs()).max(f64::MIN_POSITIVE);

@@ -142,6 +142,25 @@ impl Sheet {
         .unwrap()
     }
 
+    /// Every side's closed-form geometry at the parameters of the points of level `level`
+    /// (the cage's points at the integers, `2^level` steps between).
+    pub fn references(&self, level: u32) -> Vec<knotwork_kernel::surface::LocalGeometry> {
+        let steps = 1usize << level;
+        self.halves
+            .iter()
+            .flat_map(|(_, closed)| {
+                let [(_, u_end), (_, v_end)] = closed.domain();
+                (0..=u_end as usize * steps).flat_map(move |a| {
+                    (0..=v_end as usize * steps).map(move |b| {
+                        closed
+                            .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
+                            .unwrap()
+                    })
+                })
+            })
+            .collect()
+    }
+
     /// The closed form of the side that holds cage face `face`.
     pub fn half_of_face(&self, face: usize) -> &NurbsSurface {
         let row = face / self.n;

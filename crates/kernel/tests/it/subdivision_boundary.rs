@@ -122,20 +122,11 @@ fn curvature_along_boundaries_and_creases_is_the_extended_bspline() {
                         "case {case} level {level}: slot {slot} of face {} has no curvature",
                         patch.cage_face
                     );
-                    let mut d = [DVec3::ZERO; 6];
-                    for (i, w) in feed.slot_entries(patch, slot).unwrap() {
-                        for c in 0..6 {
-                            d[c] += points[i as usize] * w[c];
-                        }
-                    }
-                    let found = SurfaceDerivatives {
-                        point: d[0],
-                        su: d[1],
-                        sv: d[2],
-                        suu: d[3],
-                        suv: d[4],
-                        svv: d[5],
-                    };
+                    let found = SurfaceDerivatives::from_weights(
+                        points,
+                        feed.slot_entries(patch, slot).unwrap(),
+                    )
+                    .unwrap();
                     // The closed form's grid point nearest the slot's limit point.
                     let [(_, u_end), (_, v_end)] = closed.domain();
                     let (mut best, mut reference) = (f64::INFINITY, None);
@@ -203,20 +194,7 @@ fn the_limit_mesh_has_the_closed_forms_curvature_off_the_crease() {
             let steps = 1usize << level;
             let limit = sheet.surface(level).limit(level).unwrap();
             let curvatures = limit.curvatures(Options::default().scheme);
-            let references: Vec<_> = sheet
-                .halves
-                .iter()
-                .flat_map(|(_, closed)| {
-                    let [(_, u_end), (_, v_end)] = closed.domain();
-                    (0..=u_end as usize * steps).flat_map(move |a| {
-                        (0..=v_end as usize * steps).map(move |b| {
-                            closed
-                                .local_geometry(a as f64 / steps as f64, b as f64 / steps as f64)
-                                .unwrap()
-                        })
-                    })
-                })
-                .collect();
+            let references = sheet.references(level);
             let mut missing = 0;
             for (v, c) in curvatures.iter().enumerate() {
                 let Some(c) = c else {

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use knotwork_kernel::PolygonMesh;
-use knotwork_kernel::diffgeo::{CurvatureValues, FundamentalForms, SurfaceDerivatives};
+use knotwork_kernel::diffgeo::SurfaceDerivatives;
 use knotwork_kernel::subdiv::patches::Display;
 use knotwork_kernel::subdiv::{Crease, Options, Scheme, SubdivisionSurface, cages};
 
@@ -51,27 +51,15 @@ fn loops_regular_points_have_the_quadrics_curvature() {
                     if feed.no_curvature[slot] || vertex == u32::MAX {
                         continue;
                     }
-                    let mut d = [DVec3::ZERO; 6];
-                    for (i, w) in feed.slot_entries(patch, slot).unwrap() {
-                        for k in 0..6 {
-                            d[k] += cage[i as usize] * w[k];
-                        }
-                    }
-                    let derivatives = SurfaceDerivatives {
-                        point: d[0],
-                        su: d[1],
-                        sv: d[2],
-                        suu: d[3],
-                        suv: d[4],
-                        svv: d[5],
-                    };
+                    let derivatives = SurfaceDerivatives::from_weights(
+                        cage,
+                        feed.slot_entries(patch, slot).unwrap(),
+                    )
+                    .unwrap();
                     let Some((gaussian, mean)) = quadric.curvature_at(derivatives.point) else {
                         continue;
                     };
-                    let normal = derivatives.regular_normal().unwrap();
-                    let found =
-                        CurvatureValues::from_forms(&FundamentalForms::new(&derivatives, normal))
-                            .unwrap();
+                    let found = derivatives.curvature_values().unwrap();
                     let e = exact[vertex as usize].unwrap();
                     for (k, h) in [(found.gaussian, found.mean), (e.gaussian, e.mean)] {
                         assert!(
