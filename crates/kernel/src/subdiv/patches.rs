@@ -683,7 +683,8 @@ struct ShownSlot {
     opposite: Option<u32>,
     /// On a triangle: a neighbour in the face and how many sixths of a turn counter-clockwise
     /// from the slot's u it lies (the lattice directions (1, 0), (0, 1), (−1, 0), (0, −1) are
-    /// 0, 1, 3 and 4), found wherever `towards` lies past the face's diagonal.
+    /// 0, 1, 3 and 4, tried in that order), so that a slot on the face's diagonal, whose
+    /// neighbour along u lies outside the face, still has one.
     lattice: Option<(u32, usize)>,
 }
 
