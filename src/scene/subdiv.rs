@@ -498,7 +498,12 @@ impl ObjectKind for SubdivObject {
         }
         let prepared = self.prepared()?;
         let cage = self.surface.points();
-        let mut points = cage.to_vec();
+        let extra = prepared
+            .plan
+            .as_ref()
+            .map_or(0, |p| p.patches.len() * p.kind.point_count());
+        let mut points = Vec::with_capacity(cage.len() + extra + 16 * prepared.feed.regular.len());
+        points.extend_from_slice(cage);
         if let Some(plan) = &prepared.plan {
             points.extend(plan.control_points(cage));
         }
@@ -506,12 +511,10 @@ impl ObjectKind for SubdivObject {
         // Each regular face's 16 Bézier points on every core, written in face order after
         // the cage's (and a substitute's) points, and its patch naming them.
         let regular = &prepared.feed.regular;
-        let grids =
-            knotwork_kernel::par::map(regular.len(), |k| bezier_points(cage, &regular[k].1));
-        points.reserve(16 * regular.len());
-        for grid in &grids {
-            points.extend_from_slice(grid);
-        }
+        points.resize(stencil_points + 16 * regular.len(), DVec3::ZERO);
+        knotwork_kernel::par::fill_chunks(&mut points[stencil_points..], 16, |k, grid| {
+            grid.copy_from_slice(&bezier_points(cage, &regular[k].1));
+        });
         let patches: Vec<BezierPatch> = knotwork_kernel::par::map(regular.len(), |k| {
             let first = (stencil_points + 16 * k) as u32;
             BezierPatch::new(3, 3, (first..first + 16).collect())

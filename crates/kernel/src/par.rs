@@ -132,6 +132,47 @@ pub fn map_init<S, T: Send>(
     }
 }
 
+/// `f(k, chunk)` for every chunk `out[k * width..(k + 1) * width]` of `out` (the last may be
+/// shorter), on every core: a loop that writes its results in place, where [`map`] would
+/// gather them into a new vector first (for large outputs the copy and the fresh pages of
+/// that vector cost as much as the work).
+pub fn fill_chunks<T: Send>(
+    out: &mut [T],
+    width: usize,
+    f: impl Fn(usize, &mut [T]) + Sync + Send,
+) {
+    let width = width.max(1);
+    let count = out.len().div_ceil(width);
+    if count <= 1 || (current_helpers().is_none() && rayon::current_num_threads() == 1) {
+        out.chunks_mut(width).enumerate().for_each(|(k, c)| f(k, c));
+        return;
+    }
+    let len = out.len();
+    let base = SharedSlice(out.as_mut_ptr());
+    map(count, |k| {
+        let start = k * width;
+        let end = (start + width).min(len);
+        // SAFETY: chunk k is `out[start..end]`, inside `out` and touched by this call alone
+        // (each index is taken once); `out` is borrowed mutably for the whole loop.
+        let chunk = unsafe { std::slice::from_raw_parts_mut(base.at(start), end - start) };
+        f(k, chunk);
+    });
+}
+
+/// The start of a slice whose disjoint chunks several threads write ([`fill_chunks`]).
+struct SharedSlice<T>(*mut T);
+
+// SAFETY: the threads write disjoint chunks only, and `T: Send`.
+unsafe impl<T: Send> Sync for SharedSlice<T> {}
+unsafe impl<T: Send> Send for SharedSlice<T> {}
+
+impl<T> SharedSlice<T> {
+    /// The element `offset` places on. SAFETY: `offset` lies within the slice.
+    unsafe fn at(&self, offset: usize) -> *mut T {
+        unsafe { self.0.add(offset) }
+    }
+}
+
 /// `f(i, item)` for every item, on every core, each item moved into its call.
 pub fn for_each_owned<T: Send>(items: Vec<T>, f: impl Fn(usize, T) + Sync + Send) {
     let slots: Vec<Slot<Option<T>>> = items.into_iter().map(|t| Slot::new(Some(t))).collect();
@@ -241,6 +282,14 @@ mod tests {
         );
         assert_eq!(out.len(), 500);
         assert_eq!(taken.load(Ordering::Relaxed), 500);
+        // Chunks written in place: every element once, by its own chunk's call.
+        let mut filled = vec![0usize; 1003];
+        fill_chunks(&mut filled, 10, |k, chunk| {
+            for (j, x) in chunk.iter_mut().enumerate() {
+                *x = 10 * k + j;
+            }
+        });
+        assert!(filled.iter().enumerate().all(|(i, &x)| x == i));
         let mut moved = (0..300).map(|i| vec![i; 3]).collect::<Vec<_>>();
         let sums: Vec<AtomicUsize> = (0..300).map(|_| AtomicUsize::new(0)).collect();
         for_each_owned(std::mem::take(&mut moved), |i, v| {
@@ -284,6 +333,16 @@ mod tests {
                 .enumerate()
                 .all(|(i, &s)| s == (i * i.saturating_sub(1) / 2) as u64)
         );
+        // Chunks written in place by the helpers, the last one short.
+        let mut filled = vec![0u64; 10_007];
+        with_helpers(SCOPED_HELPERS, || {
+            fill_chunks(&mut filled, 16, |k, chunk| {
+                for (j, x) in chunk.iter_mut().enumerate() {
+                    *x = f(16 * k + j).to_bits();
+                }
+            })
+        });
+        assert_eq!(&filled[..], &map(10_007, |i| f(i).to_bits())[..]);
         // A panic in one index is reported on the calling thread.
         let caught = std::panic::catch_unwind(|| {
             map_on_helpers(&helpers, 100, &|| (), &|_, i| {
