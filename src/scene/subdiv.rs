@@ -613,12 +613,12 @@ impl ObjectKind for SubdivObject {
 
     /// The surface as displayed at its level (level 0: the cage): the limit mesh or the
     /// refined one ([`SubdivisionSurface::display_mesh`]), polygons split into fans of
-    /// triangles, with the limit normals. With `curvature`, Catmull-Clark's limit display
-    /// takes the exact curvature wherever the limit at a vertex is one bicubic
-    /// ([`crate::kernel::subdiv::LimitMesh::curvatures`]: regular points, the boundary, sharp
-    /// corners) and the estimate on the mesh at the rest (extraordinary points, creases);
-    /// every other display leaves them to [`crate::scene::SceneObject::tessellate`]'s
-    /// estimate.
+    /// triangles, with the limit normals. With `curvature`, the limit display takes the exact
+    /// curvature wherever the limit at a vertex is one polynomial piece
+    /// ([`crate::kernel::subdiv::LimitMesh::curvatures`]: Catmull-Clark's regular points,
+    /// boundary and sharp corners; Loop's regular points and boundary) and the estimate on the
+    /// mesh at the rest (extraordinary points, creases); every other display leaves them to
+    /// [`crate::scene::SceneObject::tessellate`]'s estimate.
     fn tessellate(
         &self,
         tessellation: Tessellation,

@@ -831,6 +831,123 @@ fn the_gpu_shows_loops_curvature_at_regular_points() {
     }
 }
 
+/// Loop's limit display on the compute pass and the CPU path has curvature along the boundary
+/// and on both sides of an infinitely sharp crease, and it is the kernel's exact value there
+/// ([`limit::loop_sided_weights`], checked against the finer limit in the kernel's tests)
+/// within f32's reach: each drawn vertex at such a point takes the value of the side its patch
+/// lies on (the side of the level's face nearest the patch's centre). Only the corners and the
+/// crease's ends, where the limit has no one quartic, stay grey.
+#[test]
+fn the_gpu_shows_loops_curvature_along_boundaries_and_creases() {
+    use knotwork::gpu::records::VERTEX_NO_CURVATURE;
+    use knotwork::kernel::diffgeo::SurfaceDerivatives;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let mut draw = sheets::Draw(0x2545_F491_4F6C_DD1D);
+    let sheet = sheets::Sheet::random(&mut draw, 4, 5, Some(2));
+    let (size, level) = (sheet.size, 3u32);
+    let surface = sheet.loop_surface(level);
+    // Per point of the level on the boundary or the crease: per face at it, the face's side's
+    // exact (K, H) and the face's centre.
+    let limit_mesh = surface.limit(level).unwrap();
+    let lattice = &limit_mesh.level;
+    let centre = |f: u32| {
+        lattice
+            .face(f)
+            .iter()
+            .map(|&c| limit_mesh.positions[c as usize])
+            .sum::<DVec3>()
+            / 3.0
+    };
+    let sides: Vec<Vec<(f64, f64, DVec3)>> = (0..limit_mesh.positions.len() as u32)
+        .map(|v| {
+            lattice
+                .vertex_faces(v)
+                .iter()
+                .filter_map(|&f| {
+                    let face = lattice.face(f);
+                    let at = face.iter().position(|&x| x == v)?;
+                    let weights =
+                        limit::loop_sided_weights(lattice, v, face[(at + 1) % 3], 0, f, 1.0)?;
+                    let c = SurfaceDerivatives::from_weights(&limit_mesh.refined, weights)?
+                        .curvature_values()?;
+                    Some((c.gaussian, c.mean, centre(f)))
+                })
+                .collect()
+        })
+        .collect();
+    let scene = Scene {
+        objects: vec![SceneObject::new(
+            "sheet",
+            ObjectGeometry::new(SubdivObject::from(surface)),
+        )],
+        unit: None,
+    };
+    for cpu in [false, true] {
+        let (_, vertices) = common::evaluate_scene(&scene, cpu);
+        // Each patch's centre: the mean of its drawn vertices.
+        let mut sums: std::collections::HashMap<u32, (DVec3, f64)> = Default::default();
+        for vertex in vertices.iter().filter(|x| x.u + x.v <= 1.0 + 1e-6) {
+            let sum = sums.entry(vertex.record).or_default();
+            sum.0 += DVec3::from(vertex.position.map(f64::from));
+            sum.1 += 1.0;
+        }
+        let (mut checked, mut grey, mut worst) = (0, 0, 0.0f64);
+        for vertex in &vertices {
+            // Slots past a triangle's diagonal (u + v > 1) repeat its first and are not drawn.
+            if vertex.u + vertex.v > 1.0 + 1e-6 {
+                continue;
+            }
+            let p = DVec3::from(vertex.position.map(f64::from));
+            let Some(v) = limit_mesh
+                .positions
+                .iter()
+                .position(|q| q.distance(p) < 1e-5 * size)
+            else {
+                continue;
+            };
+            let sharp = lattice
+                .vertex_edges(v as u32)
+                .iter()
+                .any(|&e| lattice.is_boundary_edge(e) || lattice.edge_sharpness[e as usize] > 0.0);
+            if !sharp {
+                continue;
+            }
+            if sides[v].is_empty() {
+                grey += 1;
+                continue;
+            }
+            assert_eq!(
+                vertex.flags() & VERTEX_NO_CURVATURE,
+                0,
+                "cpu {cpu}: point {v} {vertex:?}"
+            );
+            let (sum, count) = sums[&vertex.record];
+            let patch_centre = sum / count;
+            let &(gaussian, mean, _) = sides[v]
+                .iter()
+                .min_by(|a, b| {
+                    a.2.distance(patch_centre)
+                        .total_cmp(&b.2.distance(patch_centre))
+                })
+                .unwrap();
+            let [k, h] = vertex.gaussian_mean.map(f64::from);
+            let scale = (gaussian.abs().sqrt().max(mean.abs()) * size).max(1.0);
+            worst = worst
+                .max((k - gaussian).abs() * size * size / (scale * scale))
+                .max((h - mean).abs() * size / scale);
+            checked += 1;
+        }
+        eprintln!(
+            "Loop boundary and crease, cpu {cpu}: {checked} vertices checked, curvature {worst:.1e}; \
+             {grey} at corners and crease ends"
+        );
+        assert!(
+            checked > 150 && worst < 1e-3 && grey < checked / 10,
+            "cpu {cpu}: {checked}, {worst}, {grey}"
+        );
+    }
+}
+
 /// Export's curvature of a Catmull-Clark surface (the `_CURVATURE` glTF writes): exact at
 /// every vertex off the crease, interior, boundary and sharp corners alike (the closed form's
 /// to 1e-7 of the size), and the mesh's estimate, finite, on the crease.

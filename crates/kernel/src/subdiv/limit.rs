@@ -370,16 +370,7 @@ pub fn sided_weights(
                 &mut parts,
             )?;
             for &(p, w) in &parts {
-                let k = match out.iter().position(|&(x, _)| x == p) {
-                    Some(k) => k,
-                    None => {
-                        out.push((p, [0.0; 6]));
-                        out.len() - 1
-                    }
-                };
-                for (sum, &c) in out[k].1.iter_mut().zip(&weights[3 * a + b]) {
-                    *sum += w * c;
-                }
+                add_weights(&mut out, p, w, &weights[3 * a + b]);
             }
         }
     }
@@ -424,7 +415,102 @@ pub fn loop_regular_weights(
         return None;
     }
     let start = (ring.neighbours.iter().position(|&n| n == neighbour)? + 6 - turns % 6) % 6;
-    let e = |j: usize| ring.neighbours[(start + j) % 6];
+    let entries: [[(u32, f64); 3]; 6] =
+        std::array::from_fn(|j| [(ring.neighbours[(start + j) % 6], 1.0), (v, 0.0), (v, 0.0)]);
+    Some(box_spline_weights(v, &entries, scale))
+}
+
+/// The weights of position, Su, Sv, Suu, Suv, Svv (per `1/scale` of the lattice step) of
+/// Loop's limit at a point `v` of an infinitely sharp crease or the boundary, on the side of
+/// triangle `face`, where that side is a regular half: three triangles between the two sharp
+/// edges, the point following the crease rule (exactly two sharp edges at it, the others
+/// smooth, the point itself not sharp).
+///
+/// There the limit is the quartic box spline of the side's net extended across the sharp edge
+/// by phantom points, each the reflection of a side triangle's far corner through the midpoint
+/// of its sharp edge: with the side's ring e₀ … e₃ counter-clockwise from one sharp edge to
+/// the other, e₄ = v + e₃ − e₂ and e₅ = v + e₀ − e₁. On the net so extended the box spline's
+/// rules give the crease rules (the vertex (1, 6, 1)/8 along the crease, the sharp edge's
+/// midpoint) and a new phantom row that is again the reflection of the new points, so the
+/// side refines into its own extended ring at every level and the masks of
+/// [`loop_regular_weights`] over it are the limit's derivatives exactly, whatever lies on the
+/// other side. Along the crease they reduce to the cubic B-spline of the crease polygon
+/// (S_u = (e₀ − e₃)/2, S_uu = e₀ + e₃ − 2v), which is Loop's limit curve there.
+///
+/// `neighbour` (a point of the side's ring) lies `turns` sixths of a turn counter-clockwise
+/// from u. `None` for any other case: a smooth or semi-sharp point, a corner, a side of other
+/// than three triangles.
+pub fn loop_sided_weights(
+    level: &Level,
+    v: u32,
+    neighbour: u32,
+    turns: usize,
+    face: u32,
+    scale: f64,
+) -> Option<Vec<(u32, [f64; 6])>> {
+    use super::level::INFINITE_SHARPNESS;
+    if level.vertex_sharpness[v as usize] > 0.0 {
+        return None;
+    }
+    let ring = level.ring(v);
+    let (neighbours, faces) = (&ring.neighbours, &ring.faces);
+    let mut sharp = Vec::with_capacity(neighbours.len());
+    for &n in neighbours {
+        let e = level.edge_between(v, n)?;
+        let s = level.edge_sharpness[e];
+        if level.is_boundary_edge(e as u32) || s >= INFINITE_SHARPNESS {
+            sharp.push(true);
+        } else if s <= 0.0 {
+            sharp.push(false);
+        } else {
+            return None;
+        }
+    }
+    if sharp.iter().filter(|&&s| s).count() != 2 {
+        return None;
+    }
+    // Face q lies between neighbours q and q + 1 (wrapping round an interior point); the
+    // side's first neighbour is the sharp one back from `face`.
+    let count = neighbours.len();
+    let step = |i: usize, k: usize| {
+        if ring.boundary {
+            Some(i + k).filter(|&j| j < count)
+        } else {
+            Some((i + k) % count)
+        }
+    };
+    let q = faces.iter().position(|&f| f == face)?;
+    let mut start = q;
+    while !sharp[start] {
+        start = if start == 0 { count - 1 } else { start - 1 };
+    }
+    let side: Vec<usize> = (0..4).map(|k| step(start, k)).collect::<Option<_>>()?;
+    if !(sharp[side[3]] && !sharp[side[1]] && !sharp[side[2]])
+        || side[..3]
+            .iter()
+            .any(|&i| faces.get(i).is_none_or(|&f| level.face(f).len() != 3))
+    {
+        return None;
+    }
+    let e = |k: usize| neighbours[side[k]];
+    let c = (0..4).find(|&k| e(k) == neighbour)?;
+    let cycle: [[(u32, f64); 3]; 6] = [
+        [(e(0), 1.0), (v, 0.0), (v, 0.0)],
+        [(e(1), 1.0), (v, 0.0), (v, 0.0)],
+        [(e(2), 1.0), (v, 0.0), (v, 0.0)],
+        [(e(3), 1.0), (v, 0.0), (v, 0.0)],
+        [(v, 1.0), (e(3), 1.0), (e(2), -1.0)],
+        [(v, 1.0), (e(0), 1.0), (e(1), -1.0)],
+    ];
+    let u = (c + 6 - turns % 6) % 6;
+    let entries: [[(u32, f64); 3]; 6] = std::array::from_fn(|j| cycle[(u + j) % 6]);
+    Some(box_spline_weights(v, &entries, scale))
+}
+
+/// The masks of [`loop_regular_weights`] at `v` over its lattice ring e₀ … e₅ (counter-
+/// clockwise from u), each entry a combination of points (a phantom point of
+/// [`loop_sided_weights`], or one point with weight 1), summed per point.
+fn box_spline_weights(v: u32, ring: &[[(u32, f64); 3]; 6], scale: f64) -> Vec<(u32, [f64; 6])> {
     let (s, t) = (scale, scale * scale);
     // Per ring point j: [position, S_u, S_v, S_uu, S_uv, S_vv] (before the scale).
     const RING: [[f64; 6]; 6] = [
@@ -436,9 +522,28 @@ pub fn loop_regular_weights(
         [1.0 / 12.0, 1.0 / 6.0, -1.0 / 6.0, 0.0, -0.5, 0.0],
     ];
     let scaled = |w: [f64; 6]| [w[0], w[1] * s, w[2] * s, w[3] * t, w[4] * t, w[5] * t];
-    let mut out = vec![(v, scaled([0.5, 0.0, 0.0, -2.0, -1.0, -2.0]))];
-    out.extend((0..6).map(|j| (e(j), scaled(RING[j]))));
-    Some(out)
+    let mut out = Vec::with_capacity(7);
+    add_weights(&mut out, v, 1.0, &scaled([0.5, 0.0, 0.0, -2.0, -1.0, -2.0]));
+    for (entry, mask) in ring.iter().zip(RING) {
+        for &(p, w) in entry.iter().filter(|&&(_, w)| w != 0.0) {
+            add_weights(&mut out, p, w, &scaled(mask));
+        }
+    }
+    out
+}
+
+/// Adds `weight` times `mask` to point `p`'s weights in `out` (a new entry where it has none).
+fn add_weights(out: &mut Vec<(u32, [f64; 6])>, p: u32, weight: f64, mask: &[f64; 6]) {
+    let k = match out.iter().position(|&(x, _)| x == p) {
+        Some(k) => k,
+        None => {
+            out.push((p, [0.0; 6]));
+            out.len() - 1
+        }
+    };
+    for (sum, &c) in out[k].1.iter_mut().zip(mask) {
+        *sum += weight * c;
+    }
 }
 
 /// Lattice point `at` of a sector's [`sided_weights`] net as `weight` times points, pushed to

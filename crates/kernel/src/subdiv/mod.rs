@@ -445,9 +445,11 @@ impl LimitMesh {
     /// one polynomial piece: under Catmull-Clark a regular point ([`limit::regular_weights`] on
     /// its 3 × 3 neighbourhood) and a point on the boundary or at a sharp corner whose faces
     /// all lie in one sector between infinitely sharp edges ([`limit::sided_weights`]); under
-    /// Loop a regular point (the box spline, [`limit::loop_regular_weights`]). `None`
-    /// elsewhere: extraordinary points, either side of a crease (a point shared by two sides
-    /// has two curvatures), semi-sharp features, Loop's boundaries and the other schemes. K
+    /// Loop a regular point (the box spline, [`limit::loop_regular_weights`]) and a point on
+    /// the boundary whose three triangles follow the crease rule
+    /// ([`limit::loop_sided_weights`]). `None` elsewhere: extraordinary points, either side
+    /// of a crease (a point shared by two sides has two curvatures), semi-sharp features,
+    /// corners and the other schemes. K
     /// and H are taken about the normal Su × Sv of the counter-clockwise faces, as
     /// [`Self::normals`].
     pub fn curvatures(&self, scheme: Scheme) -> Vec<Option<diffgeo::CurvatureValues>> {
@@ -465,13 +467,12 @@ impl LimitMesh {
             let v = v as u32;
             if scheme == Scheme::Loop {
                 let towards = *level.ring(v).neighbours.first()?;
-                let weights = limit::loop_regular_weights(level, v, towards, 0, 1.0)?;
-                return values(&mut weights.into_iter());
-            }
-            if scheme != Scheme::CatmullClark {
+                if let Some(weights) = limit::loop_regular_weights(level, v, towards, 0, 1.0) {
+                    return values(&mut weights.into_iter());
+                }
+            } else if scheme != Scheme::CatmullClark {
                 return None;
-            }
-            if limit::is_regular(level, scheme, v) {
+            } else if limit::is_regular(level, scheme, v) {
                 let (neighbours, _) = level.four_ring(v)?;
                 let grid = limit::regular_grid(level, v, neighbours[0], false)?;
                 let weights = limit::regular_weights(1.0);
@@ -483,7 +484,10 @@ impl LimitMesh {
                 let face = level.face(f);
                 let at = face.iter().position(|&x| x == v)?;
                 let towards = face[(at + 1) % face.len()];
-                let weights = limit::sided_weights(level, v, towards, false, f, 1.0)?;
+                let weights = match scheme {
+                    Scheme::Loop => limit::loop_sided_weights(level, v, towards, 0, f, 1.0),
+                    _ => limit::sided_weights(level, v, towards, false, f, 1.0),
+                }?;
                 let c = values(&mut weights.into_iter())?;
                 match &found {
                     Some(first) if !same(first, &c) => return None,

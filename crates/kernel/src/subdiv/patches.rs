@@ -6,7 +6,8 @@
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
 use super::limit::{
-    is_regular, loop_regular_weights, regular_grid, regular_weights, sided_weights,
+    is_regular, loop_regular_weights, loop_sided_weights, regular_grid, regular_weights,
+    sided_weights,
 };
 use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
@@ -686,6 +687,9 @@ struct ShownSlot {
     /// 0, 1, 3 and 4, tried in that order), so that a slot on the face's diagonal, whose
     /// neighbour along u lies outside the face, still has one.
     lattice: Option<(u32, usize)>,
+    /// On a triangle: a triangle of the level inside the piece at the slot, which names the
+    /// side of a crease the slot shows.
+    lattice_face: Option<u32>,
 }
 
 /// The pieces that show cage faces `faces` exactly at level `levels` (≥ 1): Catmull-Clark's
@@ -808,12 +812,36 @@ fn push_stencil_patches_with(
                         } else {
                             None
                         };
+                        // The first lattice triangle round the slot (between two directions
+                        // a sixth of a turn apart) whose corners all lie in the piece.
+                        let lattice_face = if triangle {
+                            const AROUND: [(isize, isize); 6] =
+                                [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)];
+                            let step = |(di, dj): (isize, isize)| {
+                                let (a, b) = (i.checked_add_signed(di)?, j.checked_add_signed(dj)?);
+                                if a + b > big {
+                                    return None;
+                                }
+                                at(a, b)
+                            };
+                            (0..6).find_map(|k| {
+                                let (p, q) = (step(AROUND[k])?, step(AROUND[(k + 1) % 6])?);
+                                let v = at(i, j)?;
+                                level.vertex_faces(v).iter().copied().find(|&f| {
+                                    let corners = level.face(f);
+                                    corners.contains(&p) && corners.contains(&q)
+                                })
+                            })
+                        } else {
+                            None
+                        };
                         at(i, j).map(|v| ShownSlot {
                             vertex: v,
                             towards,
                             reversed,
                             opposite,
                             lattice,
+                            lattice_face,
                         })
                     }));
                 }
@@ -894,6 +922,7 @@ fn push_stencil_patches_with(
                         reversed,
                         opposite,
                         lattice,
+                        lattice_face,
                     } = (*slot)?;
                     let regular = display != Display::Refined && is_regular(level, scheme, v);
                     let neighbourhood = if regular {
@@ -913,7 +942,18 @@ fn push_stencil_patches_with(
                                 .then(|| match scheme {
                                     Scheme::Loop => {
                                         let (n, turns) = lattice?;
-                                        loop_regular_weights(level, v, n, turns, scale)
+                                        loop_regular_weights(level, v, n, turns, scale).or_else(
+                                            || {
+                                                loop_sided_weights(
+                                                    level,
+                                                    v,
+                                                    n,
+                                                    turns,
+                                                    lattice_face?,
+                                                    scale,
+                                                )
+                                            },
+                                        )
                                     }
                                     _ => sided_weights(level, v, towards?, reversed, face?, scale),
                                 })

@@ -142,6 +142,28 @@ impl Sheet {
         .unwrap()
     }
 
+    /// The same sheet under Loop, each quad split along one diagonal, its creases and boundary
+    /// rule kept: six triangles at every inner point, three at every boundary point but the
+    /// corners and on each side of the crease.
+    pub fn loop_surface(&self, level: u32) -> SubdivisionSurface {
+        let faces: Vec<Vec<u32>> = self
+            .mesh
+            .faces()
+            .flat_map(|f| [vec![f[0], f[1], f[2]], vec![f[0], f[2], f[3]]])
+            .collect();
+        SubdivisionSurface::new(
+            PolygonMesh::new(self.mesh.points().to_vec(), &faces).unwrap(),
+            self.creases.clone(),
+            Vec::new(),
+            Options {
+                scheme: knotwork_kernel::subdiv::Scheme::Loop,
+                ..self.options
+            },
+            level,
+        )
+        .unwrap()
+    }
+
     /// Every side's closed-form geometry at the parameters of the points of level `level`
     /// (the cage's points at the integers, `2^level` steps between).
     pub fn references(&self, level: u32) -> Vec<knotwork_kernel::surface::LocalGeometry> {
