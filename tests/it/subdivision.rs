@@ -714,20 +714,13 @@ mod sheets;
 #[test]
 fn the_gpu_shows_curvature_along_boundaries_and_creases() {
     use knotwork::gpu::records::VERTEX_NO_CURVATURE;
-    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
     let mut draw = sheets::Draw(0x0DDB_A11C_AFE5_EED5);
     for (m, n, crease_row, level) in [(4, 5, Some(2), 3), (5, 3, None, 2)] {
         let sheet = sheets::Sheet::random(&mut draw, m, n, crease_row);
         let size = sheet.size;
         // Every side's grid of closed-form values at the level's parameters.
         let references = sheet.references(level);
-        let scene = Scene {
-            objects: vec![SceneObject::new(
-                "sheet",
-                ObjectGeometry::new(SubdivObject::from(sheet.surface(level))),
-            )],
-            unit: None,
-        };
+        let scene = one_surface_scene("sheet", sheet.surface(level));
         for cpu in [false, true] {
             let (_, vertices) = common::evaluate_scene(&scene, cpu);
             let mut worst = [0.0f64; 3];
@@ -775,6 +768,31 @@ fn the_gpu_shows_curvature_along_boundaries_and_creases() {
     }
 }
 
+/// How far a drawn vertex's (K, H) is from (`gaussian`, `mean`), relative to the larger of
+/// the curvature and 1 / `size`.
+fn curvature_error(
+    vertex: &knotwork::gpu::SurfaceVertex,
+    gaussian: f64,
+    mean: f64,
+    size: f64,
+) -> f64 {
+    let [k, h] = vertex.gaussian_mean.map(f64::from);
+    let scale = (gaussian.abs().sqrt().max(mean.abs()) * size).max(1.0);
+    ((k - gaussian).abs() * size * size / (scale * scale)).max((h - mean).abs() * size / scale)
+}
+
+/// A scene of one subdivision surface, as the editor holds it.
+fn one_surface_scene(name: &str, surface: SubdivisionSurface) -> knotwork::scene::Scene {
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    Scene {
+        objects: vec![SceneObject::new(
+            name,
+            ObjectGeometry::new(SubdivObject::from(surface)),
+        )],
+        unit: None,
+    }
+}
+
 /// Loop's limit display on the compute pass and the CPU path has curvature at every regular
 /// point, and away from the boundary it is the quadric's that the lattice samples
 /// ([`sheets::QuadricLattice`]) within f32's reach.
@@ -782,7 +800,6 @@ fn the_gpu_shows_curvature_along_boundaries_and_creases() {
 fn the_gpu_shows_loops_curvature_at_regular_points() {
     use knotwork::gpu::records::VERTEX_NO_CURVATURE;
     use knotwork::kernel::subdiv::Scheme;
-    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
     let mut draw = sheets::Draw(0x3C6E_F372_FE94_F82B);
     let quadric = sheets::QuadricLattice::random(&mut draw, 9, 8);
     let size = quadric.size();
@@ -792,13 +809,7 @@ fn the_gpu_shows_loops_curvature_at_regular_points() {
     };
     let surface =
         SubdivisionSurface::new(quadric.mesh.clone(), Vec::new(), Vec::new(), options, 3).unwrap();
-    let scene = Scene {
-        objects: vec![SceneObject::new(
-            "lattice",
-            ObjectGeometry::new(SubdivObject::from(surface)),
-        )],
-        unit: None,
-    };
+    let scene = one_surface_scene("lattice", surface);
     for cpu in [false, true] {
         let (_, vertices) = common::evaluate_scene(&scene, cpu);
         let (mut checked, mut worst) = (0, 0.0f64);
@@ -816,11 +827,7 @@ fn the_gpu_shows_loops_curvature_at_regular_points() {
                 0,
                 "cpu {cpu}: {vertex:?}"
             );
-            let [k, h] = vertex.gaussian_mean.map(f64::from);
-            let scale = (gaussian.abs().sqrt().max(mean.abs()) * size).max(1.0);
-            worst = worst
-                .max((k - gaussian).abs() * size * size / (scale * scale))
-                .max((h - mean).abs() * size / scale);
+            worst = worst.max(curvature_error(vertex, gaussian, mean, size));
             checked += 1;
         }
         eprintln!("Loop, cpu {cpu}: {checked} vertices checked, curvature {worst:.1e}");
@@ -841,7 +848,6 @@ fn the_gpu_shows_loops_curvature_at_regular_points() {
 fn the_gpu_shows_loops_curvature_along_boundaries_and_creases() {
     use knotwork::gpu::records::VERTEX_NO_CURVATURE;
     use knotwork::kernel::diffgeo::SurfaceDerivatives;
-    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
     let mut draw = sheets::Draw(0x2545_F491_4F6C_DD1D);
     let sheet = sheets::Sheet::random(&mut draw, 4, 5, Some(2));
     let (size, level) = (sheet.size, 3u32);
@@ -875,13 +881,7 @@ fn the_gpu_shows_loops_curvature_along_boundaries_and_creases() {
                 .collect()
         })
         .collect();
-    let scene = Scene {
-        objects: vec![SceneObject::new(
-            "sheet",
-            ObjectGeometry::new(SubdivObject::from(surface)),
-        )],
-        unit: None,
-    };
+    let scene = one_surface_scene("sheet", surface);
     for cpu in [false, true] {
         let (_, vertices) = common::evaluate_scene(&scene, cpu);
         // Each patch's centre: the mean of its drawn vertices.
@@ -930,11 +930,7 @@ fn the_gpu_shows_loops_curvature_along_boundaries_and_creases() {
                         .total_cmp(&b.2.distance(patch_centre))
                 })
                 .unwrap();
-            let [k, h] = vertex.gaussian_mean.map(f64::from);
-            let scale = (gaussian.abs().sqrt().max(mean.abs()) * size).max(1.0);
-            worst = worst
-                .max((k - gaussian).abs() * size * size / (scale * scale))
-                .max((h - mean).abs() * size / scale);
+            worst = worst.max(curvature_error(vertex, gaussian, mean, size));
             checked += 1;
         }
         eprintln!(

@@ -287,19 +287,7 @@ pub fn sided_weights(
     use super::level::INFINITE_SHARPNESS;
     let ring = level.ring(v);
     let (neighbours, faces) = (&ring.neighbours, &ring.faces);
-    // Per neighbour: whether the edge to it is infinitely sharp; a semi-sharp one refuses.
-    let mut sharp = Vec::with_capacity(neighbours.len());
-    for &n in neighbours {
-        let e = level.edge_between(v, n)?;
-        let s = level.edge_sharpness[e];
-        if level.is_boundary_edge(e as u32) || s >= INFINITE_SHARPNESS {
-            sharp.push(true);
-        } else if s <= 0.0 {
-            sharp.push(false);
-        } else {
-            return None;
-        }
-    }
+    let sharp = sharp_edges_to(level, v, neighbours)?;
     let point_sharpness = level.vertex_sharpness[v as usize];
     if point_sharpness > 0.0 && point_sharpness < INFINITE_SHARPNESS {
         return None;
@@ -448,24 +436,12 @@ pub fn loop_sided_weights(
     face: u32,
     scale: f64,
 ) -> Option<Vec<(u32, [f64; 6])>> {
-    use super::level::INFINITE_SHARPNESS;
     if level.vertex_sharpness[v as usize] > 0.0 {
         return None;
     }
     let ring = level.ring(v);
     let (neighbours, faces) = (&ring.neighbours, &ring.faces);
-    let mut sharp = Vec::with_capacity(neighbours.len());
-    for &n in neighbours {
-        let e = level.edge_between(v, n)?;
-        let s = level.edge_sharpness[e];
-        if level.is_boundary_edge(e as u32) || s >= INFINITE_SHARPNESS {
-            sharp.push(true);
-        } else if s <= 0.0 {
-            sharp.push(false);
-        } else {
-            return None;
-        }
-    }
+    let sharp = sharp_edges_to(level, v, neighbours)?;
     if sharp.iter().filter(|&&s| s).count() != 2 {
         return None;
     }
@@ -544,6 +520,26 @@ fn add_weights(out: &mut Vec<(u32, [f64; 6])>, p: u32, weight: f64, mask: &[f64;
     for (sum, &c) in out[k].1.iter_mut().zip(mask) {
         *sum += weight * c;
     }
+}
+
+/// Per neighbour of `v`: whether the edge to it is infinitely sharp (a boundary edge counts as
+/// one); `None` where one is semi-sharp.
+fn sharp_edges_to(level: &Level, v: u32, neighbours: &[u32]) -> Option<Vec<bool>> {
+    use super::level::INFINITE_SHARPNESS;
+    neighbours
+        .iter()
+        .map(|&n| {
+            let e = level.edge_between(v, n)?;
+            let s = level.edge_sharpness[e];
+            if level.is_boundary_edge(e as u32) || s >= INFINITE_SHARPNESS {
+                Some(true)
+            } else if s <= 0.0 {
+                Some(false)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// Lattice point `at` of a sector's [`sided_weights`] net as `weight` times points, pushed to
