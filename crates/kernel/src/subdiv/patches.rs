@@ -687,8 +687,8 @@ struct ShownSlot {
     /// 0, 1, 3 and 4, tried in that order), so that a slot on the face's diagonal, whose
     /// neighbour along u lies outside the face, still has one.
     lattice: Option<(u32, usize)>,
-    /// On a triangle: a triangle of the level inside the piece at the slot, which names the
-    /// side of a crease the slot shows.
+    /// On a Loop slot at a sharp or boundary edge: a triangle of the level inside the piece at
+    /// the slot, which names the side of a crease the slot shows.
     lattice_face: Option<u32>,
 }
 
@@ -812,29 +812,35 @@ fn push_stencil_patches_with(
                         } else {
                             None
                         };
-                        // The first lattice triangle round the slot (between two directions
-                        // a sixth of a turn apart) whose corners all lie in the piece.
-                        let lattice_face = if triangle {
-                            const AROUND: [(isize, isize); 6] =
-                                [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)];
-                            let step = |(di, dj): (isize, isize)| {
-                                let (a, b) = (i.checked_add_signed(di)?, j.checked_add_signed(dj)?);
-                                if a + b > big {
-                                    return None;
-                                }
-                                at(a, b)
-                            };
-                            (0..6).find_map(|k| {
-                                let (p, q) = (step(AROUND[k])?, step(AROUND[(k + 1) % 6])?);
-                                let v = at(i, j)?;
-                                level.vertex_faces(v).iter().copied().find(|&f| {
-                                    let corners = level.face(f);
-                                    corners.contains(&p) && corners.contains(&q)
-                                })
+                        // On a Loop slot at a sharp edge (the only ones with a side): the
+                        // first lattice triangle round the slot (between two directions a
+                        // sixth of a turn apart) whose corners all lie in the piece.
+                        let on_sharp_edge = |v: u32| {
+                            level.vertex_edges(v).iter().any(|&e| {
+                                level.is_boundary_edge(e) || level.edge_sharpness[e as usize] > 0.0
                             })
-                        } else {
-                            None
                         };
+                        let lattice_face = at(i, j)
+                            .filter(|&v| scheme == Scheme::Loop && on_sharp_edge(v))
+                            .and_then(|v| {
+                                const AROUND: [(isize, isize); 6] =
+                                    [(1, 0), (0, 1), (-1, 1), (-1, 0), (0, -1), (1, -1)];
+                                let step = |(di, dj): (isize, isize)| {
+                                    let a = i.checked_add_signed(di)?;
+                                    let b = j.checked_add_signed(dj)?;
+                                    if a + b > big {
+                                        return None;
+                                    }
+                                    at(a, b)
+                                };
+                                (0..6).find_map(|k| {
+                                    let (p, q) = (step(AROUND[k])?, step(AROUND[(k + 1) % 6])?);
+                                    level.vertex_faces(v).iter().copied().find(|&f| {
+                                        let corners = level.face(f);
+                                        corners.contains(&p) && corners.contains(&q)
+                                    })
+                                })
+                            });
                         at(i, j).map(|v| ShownSlot {
                             vertex: v,
                             towards,
