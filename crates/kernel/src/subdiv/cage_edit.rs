@@ -2728,37 +2728,39 @@ impl Cage {
             return Err(invalid("the merge distance must be a finite number ≥ 0"));
         }
         let mut out = self.clone();
-        let mut image: HashMap<u32, u32> = HashMap::default();
-        let mut copy: HashMap<u32, u32> = HashMap::default();
+        out.points.reserve(self.points.len());
+        out.faces.reserve(self.faces.len());
+        // Each point's image by index: itself within the merge distance of the plane, else its
+        // new copy (a table, not a map: every point has one).
+        let mut image: Vec<u32> = Vec::with_capacity(self.points.len());
         for (v, &p) in self.points.iter().enumerate() {
-            let v = v as u32;
             if p[axis].abs() <= merge_distance {
-                image.insert(v, v);
+                image.push(v as u32);
             } else {
                 let mut q = p;
                 q[axis] = -q[axis];
-                let id = out.points.len() as u32;
+                image.push(out.points.len() as u32);
                 out.points.push(q);
-                image.insert(v, id);
-                copy.insert(v, id);
             }
         }
+        let copied = |v: u32| image[v as usize] != v;
         // (A face lying in the plane would come back onto itself: it has no image.)
-        for face in self
-            .faces
-            .iter()
-            .filter(|f| f.iter().any(|v| copy.contains_key(v)))
-        {
+        for face in self.faces.iter().filter(|f| f.iter().any(|&v| copied(v))) {
             out.faces
-                .push(face.iter().rev().map(|v| image[v]).collect());
+                .push(face.iter().rev().map(|&v| image[v as usize]).collect());
         }
         for c in &self.creases {
-            if let (Some(&a), Some(&b)) = (image.get(&c.a), image.get(&c.b))
-                && key(a, b) != key(c.a, c.b)
-            {
+            let (a, b) = (image[c.a as usize], image[c.b as usize]);
+            if key(a, b) != key(c.a, c.b) {
                 out.add_crease(a, b, c.sharpness);
             }
         }
+        let copy: HashMap<u32, u32> = self
+            .corners
+            .iter()
+            .filter(|c| copied(c.vertex))
+            .map(|c| (c.vertex, image[c.vertex as usize]))
+            .collect();
         out.copy_corners(&self.corners, &copy);
         Ok(out.compacted(self))
     }

@@ -84,8 +84,18 @@ impl Level {
         let corner_count: usize = faces.iter().map(|f| f.len()).sum();
         let mut face_vertices = Vec::with_capacity(corner_count);
         let mut face_edges = Vec::with_capacity(corner_count);
-        // Which face uses each edge in the direction a -> b with a < b, and the other way.
+        // The corner (an index into `face_vertices`) whose face uses each edge in the
+        // direction a -> b with a < b, and the other way: each half-edge's twin.
         let mut uses: Vec<[u32; 2]> = vec![[NONE; 2]; edges.len()];
+        let mut corner_face = Vec::with_capacity(corner_count);
+        if given == 0 {
+            // A closed cage has half as many edges as corners, an open one a few more: room
+            // made once rather than grown by doubling (and copying) as the edges come.
+            let room = corner_count / 2 + corner_count / 8;
+            edges.reserve(room);
+            uses.reserve(room);
+            older_from.reserve(room);
+        }
         face_starts.push(0);
         for (f, face) in faces.iter().enumerate() {
             if face.len() < 3 {
@@ -150,15 +160,23 @@ impl Level {
                     };
                     return Err(cage_error(Location::edge(a, b), problem));
                 }
-                slot[side] = f as u32;
+                slot[side] = face_vertices.len() as u32;
                 face_vertices.push(a);
                 face_edges.push(e);
+                corner_face.push(f as u32);
             }
             face_starts.push(face_vertices.len() as u32);
         }
+        let face_of = |c: u32| corner_face.get(c as usize).copied().unwrap_or(NONE);
         let edge_faces: Vec<[u32; 2]> = uses
             .iter()
-            .map(|&[x, y]| if x == NONE { [y, NONE] } else { [x, y] })
+            .map(|&[x, y]| {
+                if x == NONE {
+                    [face_of(y), NONE]
+                } else {
+                    [face_of(x), face_of(y)]
+                }
+            })
             .collect();
         let (vertex_edge_starts, vertex_edges) = group(
             vertex_count,
@@ -167,10 +185,15 @@ impl Level {
                 .enumerate()
                 .flat_map(|(e, &[a, b])| [(a, e as u32), (b, e as u32)]),
         );
-        let (vertex_face_starts, vertex_faces) = group(
+        // Each vertex's corners in face order, and so its faces.
+        let (vertex_face_starts, vertex_corners) = group(
             vertex_count,
-            (0..faces.len()).flat_map(|f| faces[f].iter().map(move |&v| (v, f as u32))),
+            face_vertices
+                .iter()
+                .enumerate()
+                .map(|(c, &v)| (v, c as u32)),
         );
+        let vertex_faces = vertex_corners.iter().map(|&c| face_of(c)).collect();
         let level = Self {
             vertex_count,
             face_starts,
@@ -185,14 +208,18 @@ impl Level {
             vertex_face_starts,
             vertex_faces,
         };
-        level.check_fans()?;
+        level.check_fans(&HalfEdges {
+            vertex_corners: &vertex_corners,
+            corner_face: &corner_face,
+            uses: &uses,
+        })?;
         Ok(level)
     }
 
     /// Every vertex with faces must have them in one fan: as many edges as faces (interior)
     /// or one more with exactly two boundary edges, and the ring walk must reach them all.
     /// The first such vertex by index is named, however many threads look (in parallel).
-    fn check_fans(&self) -> Result<(), GeometryError> {
+    fn check_fans(&self, half_edges: &HalfEdges<'_>) -> Result<(), GeometryError> {
         let fanned = |v: u32| {
             let faces = self.vertex_faces(v).len();
             if faces == 0 {
@@ -209,7 +236,7 @@ impl Level {
                 2 => edges == faces + 1,
                 _ => false,
             };
-            shaped && self.ring_face_count(v) == faces
+            shaped && self.ring_face_count(v, half_edges) == faces
         };
         match crate::par::map(self.vertex_count, |v| fanned(v as u32))
             .into_iter()
@@ -324,10 +351,41 @@ impl Level {
         (!boundary && n == 4 && f == 4).then_some((neighbours, faces))
     }
 
-    /// How many faces the walk round `v` reaches ([`Self::ring`]'s faces, counted).
-    fn ring_face_count(&self, v: u32) -> usize {
+    /// How many faces the walk round `v` reaches ([`Self::ring`]'s faces, counted): the walk
+    /// of [`Self::walk_ring`], from corner to corner at `v` by the twin of the half-edge
+    /// entering it, with no search along a face.
+    fn ring_face_count(&self, v: u32, half_edges: &HalfEdges<'_>) -> usize {
+        let corners = span(&self.vertex_face_starts, half_edges.vertex_corners, v);
+        // The corner before corner `c` along its face, and the other use of the edge that
+        // leaves corner `c`.
+        let previous = |c: u32| {
+            let f = half_edges.corner_face[c as usize] as usize;
+            let (start, end) = (self.face_starts[f], self.face_starts[f + 1]);
+            if c == start { end - 1 } else { c - 1 }
+        };
+        let twin = |c: u32| {
+            let [x, y] = half_edges.uses[self.face_edges[c as usize] as usize];
+            if x == c { y } else { x }
+        };
+        // The first corner: one whose outgoing edge is a boundary edge, else any.
+        let Some(first) = corners
+            .iter()
+            .copied()
+            .find(|&c| twin(c) == NONE)
+            .or_else(|| corners.first().copied())
+        else {
+            return 0;
+        };
         let mut count = 0;
-        self.walk_ring(v, |_| count += 1, |_| {});
+        let mut c = first;
+        for _ in 0..corners.len() {
+            count += 1;
+            let next = twin(previous(c));
+            if next == NONE || next == first {
+                break;
+            }
+            c = next;
+        }
         count
     }
 
@@ -377,6 +435,15 @@ impl Level {
     }
 }
 
+/// What [`Level::new`] knows of its half-edges while it checks the fans: each vertex's
+/// corners (indices into the face corners, rows as the vertex's faces), each corner's face,
+/// and each edge's two uses by the corner each starts at.
+struct HalfEdges<'a> {
+    vertex_corners: &'a [u32],
+    corner_face: &'a [u32],
+    uses: &'a [[u32; 2]],
+}
+
 /// Item `k` of compressed rows: `values[starts[k]..starts[k + 1]]`.
 fn span<'a>(starts: &[u32], values: &'a [u32], k: u32) -> &'a [u32] {
     let k = k as usize;
@@ -399,4 +466,94 @@ fn group(count: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> (Vec<
         fill[k as usize] += 1;
     }
     (starts, values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::{Options, Scheme, cages, refine};
+    use glam::DVec3;
+
+    fn level_of(faces: &[Vec<u32>]) -> Result<Level, GeometryError> {
+        let count = faces.iter().flatten().map(|&v| v as usize + 1).max();
+        let slices: Vec<&[u32]> = faces.iter().map(Vec::as_slice).collect();
+        Level::new(count.unwrap_or(0), &slices, Vec::new())
+    }
+
+    /// The fan check's walk by half-edge twins reaches as many faces as the ring walk the
+    /// level's users take, at every point of closed, open and mixed cages and of a refined
+    /// level (whose edges come given).
+    #[test]
+    fn the_twin_walk_counts_the_ring_walks_faces() {
+        let meshes = [
+            cages::torus(DVec3::ZERO, 3.0, 1.0, 7, 5).unwrap(),
+            cages::grid(DVec3::ZERO, 2.0, 4).unwrap(),
+            cages::cube(DVec3::ZERO, 1.0).unwrap(),
+            cages::icosahedron(DVec3::ZERO, 1.0).unwrap(),
+            cages::cylinder(DVec3::ZERO, 1.0, 2.0, 6, 3).unwrap(),
+        ];
+        let mut levels = Vec::new();
+        for mesh in meshes {
+            let faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
+            let level = level_of(&faces).unwrap();
+            let scheme = if faces.iter().all(|f| f.len() == 3) {
+                Scheme::Loop
+            } else {
+                Scheme::CatmullClark
+            };
+            let options = Options {
+                scheme,
+                ..Options::default()
+            };
+            levels.push(refine::refine(&level, &options, 0).unwrap().0);
+            levels.push(level);
+        }
+        for level in levels {
+            let corners: Vec<(u32, u32)> = (0..level.face_count() as u32)
+                .flat_map(|f| level.face(f).iter().map(move |&v| (v, f)))
+                .collect();
+            let (starts, vertex_corners) = group(
+                level.vertex_count,
+                corners.iter().enumerate().map(|(c, &(v, _))| (v, c as u32)),
+            );
+            assert_eq!(starts, level.vertex_face_starts);
+            let corner_face: Vec<u32> = corners.iter().map(|&(_, f)| f).collect();
+            let mut uses = vec![[NONE; 2]; level.edges.len()];
+            for (c, &(v, _)) in corners.iter().enumerate() {
+                let e = level.face_edges[c] as usize;
+                uses[e][usize::from(level.edges[e][0] != v)] = c as u32;
+            }
+            let half_edges = HalfEdges {
+                vertex_corners: &vertex_corners,
+                corner_face: &corner_face,
+                uses: &uses,
+            };
+            for v in 0..level.vertex_count as u32 {
+                let mut walked = 0;
+                level.walk_ring(v, |_| walked += 1, |_| {});
+                assert_eq!(level.ring_face_count(v, &half_edges), walked, "point {v}");
+                assert_eq!(walked, level.vertex_faces(v).len(), "point {v}");
+            }
+        }
+    }
+
+    /// Two fans at one point pass the counts of edges and faces but not the walk: two closed
+    /// tetrahedra sharing a corner, and an open fan beside a closed one.
+    #[test]
+    fn two_fans_at_a_point_are_refused_naming_it() {
+        let tetrahedron = |a: u32, b: u32, c: u32, d: u32| {
+            vec![vec![a, c, b], vec![a, b, d], vec![b, c, d], vec![a, d, c]]
+        };
+        let mut faces = tetrahedron(0, 1, 2, 3);
+        assert!(level_of(&faces).is_ok());
+        faces.extend(tetrahedron(0, 4, 5, 6));
+        let error = level_of(&faces).unwrap_err();
+        assert!(error.to_string().starts_with("points[0]"), "{error}");
+        // An open fan of two triangles at point 0 beside the closed tetrahedron: two boundary
+        // edges and one edge more than faces, as one open fan has.
+        let mut mixed = tetrahedron(0, 1, 2, 3);
+        mixed.extend([vec![0, 4, 5], vec![0, 5, 6]]);
+        let error = level_of(&mixed).unwrap_err();
+        assert!(error.to_string().starts_with("points[0]"), "{error}");
+    }
 }
