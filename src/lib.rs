@@ -36,6 +36,13 @@ mod web_alloc;
 #[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
 mod web_threads;
 
+/// The desktop's allocator: mimalloc, which keeps freed pages for reuse, where the system
+/// allocator hands the large buffers of every cage-tool rebuild back to the kernel and faults
+/// them in again on the next step.
+#[cfg(not(target_arch = "wasm32"))]
+#[global_allocator]
+static NATIVE_ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// The threaded page's allocator: small blocks cached per thread ([`web_alloc`]).
 #[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
 #[global_allocator]
