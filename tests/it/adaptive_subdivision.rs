@@ -336,8 +336,7 @@ fn the_compute_shaders_match_the_f64_adaptive_limit() {
 
 #[test]
 fn the_subdivide_command_writes_the_adaptive_limit_on_both_backends() {
-    let dir = std::env::temp_dir().join(format!("knotwork-adaptive-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("adaptive-subdivide");
     let s = spiked_torus(Scheme::CatmullClark, 0);
     let faces: Vec<&[u32]> = s.mesh().faces().collect();
     let input = dir.join("torus.obj");

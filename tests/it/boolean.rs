@@ -14,10 +14,7 @@ fn fixtures() -> PathBuf {
 
 /// An empty directory of its own for one test's files.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("knotwork-boolean-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("a scratch directory");
-    dir
+    crate::common::scratch_dir(&format!("boolean-{name}"))
 }
 
 fn relative(a: f64, b: f64) -> f64 {

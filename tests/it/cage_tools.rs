@@ -168,8 +168,7 @@ fn every_tool_matches_blender_bmesh_on_cages_in_general_position() {
         std::path::PathBuf::from,
     );
     let cases = std::fs::read_to_string(dir.join("cases.tsv")).unwrap();
-    let out_dir = std::env::temp_dir().join(format!("knotwork-cage-{}", std::process::id()));
-    std::fs::create_dir_all(&out_dir).unwrap();
+    let out_dir = crate::common::scratch_dir("cage-cases");
     let mut failures = Vec::new();
     let mut count = 0;
     for line in cases.lines().filter(|l| !l.trim().is_empty()) {
@@ -347,7 +346,7 @@ fn a_ring_coming_back_across_itself_is_left_uncut() {
         }
         result => panic!("expected the ring refused, got {result:?}"),
     }
-    let output = std::env::temp_dir().join(format!("knotwork-ring-{}.obj", std::process::id()));
+    let output = crate::common::scratch_dir("cage-ring").join("out.obj");
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
         .args(["cage"])
         .arg(&input)

@@ -234,8 +234,7 @@ fn continuity_cli(
 ) -> (std::path::PathBuf, serde_json::Value) {
     let mut doc = knotwork::doc::Document::default();
     doc.scene = scene;
-    let dir = std::env::temp_dir().join(format!("knotwork-continuity-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("continuity");
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, doc.save(None)).unwrap();
     let mut all = vec![std::ffi::OsString::from("continuity"), path.clone().into()];

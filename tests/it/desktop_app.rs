@@ -60,10 +60,7 @@ fn run_editor_with_env(
 
 /// A fresh data directory for one test.
 fn data_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("knotwork-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch_dir(&format!("desktop-{name}"))
 }
 
 #[test]

@@ -198,8 +198,7 @@ fn compare_with_opencascade(
 /// the reason where the feature cannot be built.
 #[test]
 fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
-    let dir = std::env::temp_dir().join(format!("knotwork-features-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let dir = crate::common::scratch_dir("features-cli");
     // A 4 × 3 × 2 box written as STEP.
     let box_faces =
         knotwork::kernel::solids::block(DVec3::new(1.0, -2.0, 0.5), DVec3::new(4.0, 3.0, 2.0))
@@ -431,8 +430,7 @@ fn the_command_line_writes_the_feature_or_exits_1_with_the_reason() {
 fn the_command_line_rounds_a_holes_rim_on_the_body_nearest_the_point() {
     use knotwork::kernel::boolean::{BooleanOp, boolean};
     use knotwork::kernel::solids::{block, capped_cylinder};
-    let dir = std::env::temp_dir().join(format!("knotwork-rims-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let dir = crate::common::scratch_dir("features-rims");
     let (hole, r) = (0.5_f64, 0.2_f64);
     let box_faces = block(DVec3::ZERO, DVec3::new(2.0, 2.0, 2.0)).expect("a block");
     let plate = boolean(

@@ -141,8 +141,7 @@ fn vec3(v: &Value) -> DVec3 {
 
 #[test]
 fn eval_cli_reports_analytic_sphere_values() {
-    let dir = std::env::temp_dir().join(format!("knotwork-eval-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("eval-cli");
     let path = dir.join("request.json");
     std::fs::write(
         &path,

@@ -203,8 +203,7 @@ fn every_demo_object_exports_the_same_triangles_from_gpu_grids() {
 /// `--backend cpu` file's counts, and says which evaluated the grids.
 #[test]
 fn the_command_line_exports_through_gpu_grids() {
-    let dir = std::env::temp_dir().join(format!("knotwork-gpu-export-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("gpu-export-cli");
     let project = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/reference/projects/history-2026-11-28.json");
     let mut summaries = Vec::new();

@@ -10,8 +10,7 @@ use knotwork::kernel::{NurbsSurface, construct};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 
 fn write_project(name: &str, objects: Vec<SceneObject>) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("knotwork-intersect-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("intersect");
     let path = dir.join(name);
     let text = project::write(&Project {
         scene: Scene {

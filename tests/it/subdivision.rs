@@ -1025,8 +1025,7 @@ fn obj_crease_tags_open_as_a_cage_and_knotwork_subdivide_writes_the_level() {
     assert_eq!(cage.surface.creases().len(), 1);
     assert_eq!(cage.surface.corners().len(), 1);
 
-    let dir = std::env::temp_dir().join(format!("knotwork-subdivide-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("subdivide-tagged");
     let input = dir.join("cube.obj");
     std::fs::write(&input, TAGGED_CUBE).unwrap();
     let parsed = knotwork::io::obj::parse(TAGGED_CUBE).unwrap();

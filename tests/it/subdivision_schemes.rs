@@ -398,8 +398,7 @@ fn counts(text: &str) -> [usize; 3] {
 
 #[test]
 fn knotwork_subdivide_takes_the_new_schemes_on_both_backends() {
-    let dir = std::env::temp_dir().join(format!("knotwork-schemes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("schemes-subdivide");
     let octahedron = dir.join("octahedron.obj");
     std::fs::write(&octahedron, OCTAHEDRON).unwrap();
     let cube = dir.join("cube.obj");

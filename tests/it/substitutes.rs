@@ -245,8 +245,7 @@ fn obj_vertices(text: &str) -> Vec<DVec3> {
 
 #[test]
 fn the_subdivide_command_writes_substitutes_on_both_backends() {
-    let dir = std::env::temp_dir().join(format!("knotwork-substitutes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("substitutes-subdivide");
     let cube = skewed_cube();
     let faces: Vec<&[u32]> = cube.mesh().faces().collect();
     let input = dir.join("cube.obj");

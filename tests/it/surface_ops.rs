@@ -21,10 +21,9 @@ use knotwork::kernel::{NurbsSurface, TrimmedSurface, construct, trim};
 use knotwork::scene::{ObjectGeometry, Scene, SceneObject};
 use serde_json::Value;
 
+/// One folder for every file this file's tests write (their names differ).
 fn temp_dir() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("knotwork-surface-ops-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch_dir("surface-ops")
 }
 
 fn write_project(name: &str, objects: Vec<SceneObject>) -> std::path::PathBuf {

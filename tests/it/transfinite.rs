@@ -512,9 +512,7 @@ fn run_construct(request: &serde_json::Value) -> std::process::Output {
     // One file per call: the tests run in parallel threads of one process.
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("knotwork-construct-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("request-{call}.json"));
+    let path = crate::common::scratch_dir(&format!("construct-{call}")).join("request.json");
     std::fs::write(&path, request.to_string()).unwrap();
     std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
         .arg("construct")
@@ -704,7 +702,7 @@ fn knotwork_construct_builds_curves_through_points() {
         }
     }
     // A curve written as a file the editor would refuse: refused here, with what to do.
-    let request = std::env::temp_dir().join(format!("knotwork-curve-{}.json", std::process::id()));
+    let request = crate::common::scratch_dir("curve-refused").join("request.json");
     std::fs::write(
         &request,
         serde_json::json!({"construct": "interpolate", "points": points}).to_string(),

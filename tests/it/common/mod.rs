@@ -25,6 +25,37 @@ pub fn artifact_path(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// The directory `name` for test files, made where missing, under this run's scratch folder in
+/// the target directory (`CARGO_TARGET_TMPDIR/scratch-<process id>`), never in the system's
+/// temporary folder: empty when a run first asks for it, shared by the calls that give the same
+/// name. The first call of a run removes the scratch folders of earlier runs that have ended
+/// (where `/proc` says which processes live), so a run leaves at most its own files behind,
+/// and a failing test's files stay there to be looked at until the next run.
+pub fn scratch_dir(name: &str) -> PathBuf {
+    static ROOT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    let root = ROOT.get_or_init(|| {
+        let parent = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+        let own = format!("scratch-{}", std::process::id());
+        if std::path::Path::new("/proc/self").exists()
+            && let Ok(entries) = std::fs::read_dir(&parent)
+        {
+            for entry in entries.flatten() {
+                let name = entry.file_name().to_string_lossy().into_owned();
+                let ended = name.strip_prefix("scratch-").is_some_and(|pid| {
+                    name != own && !std::path::Path::new("/proc").join(pid).exists()
+                });
+                if ended {
+                    let _ = std::fs::remove_dir_all(entry.path());
+                }
+            }
+        }
+        parent.join(own)
+    });
+    let dir = root.join(name);
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    dir
+}
+
 /// Writes tightly packed RGBA8 pixels as a PNG.
 pub fn write_png(path: &PathBuf, width: u32, height: u32, rgba: &[u8]) {
     let file = std::fs::File::create(path).expect("create png");
