@@ -734,7 +734,7 @@ impl KnotworkApp {
         self.saved.revision += 1;
         self.auto_range = None;
         self.redraw = true;
-        if touched == Touched::Structure
+        if touched.is_structure()
             && self
                 .selection
                 .object
@@ -748,11 +748,11 @@ impl KnotworkApp {
                 .apply(&self.doc.scene, touched, self.view.quality)
                 .map_err(|e| e.to_string())?;
             self.status.points_uploaded = gpu.sync.points_uploaded() as u32;
-            if touched == Touched::Structure {
+            if touched.is_structure() {
                 self.status.notice = notice;
             }
         }
-        if touched == Touched::Structure {
+        if touched.is_structure() {
             let objects = &self.doc.scene.objects;
             self.selection.curves.retain(|&k| {
                 objects
@@ -761,7 +761,9 @@ impl KnotworkApp {
             });
         }
         match touched {
-            Touched::Structure => self.select_keep_points(self.selection.object),
+            Touched::Structure | Touched::Object(_) => {
+                self.select_keep_points(self.selection.object)
+            }
             Touched::Points(_) => self.update_net(),
             Touched::Nothing => {}
         }

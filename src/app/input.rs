@@ -608,7 +608,7 @@ impl KnotworkApp {
             if let Some(ended) = ended {
                 self.status.notice = Some(ended);
             }
-            if touched == crate::doc::Touched::Structure {
+            if touched.is_structure() {
                 // The object chose another layout for its new shape (adaptive refinement).
                 if let Err(e) = self.after_edit(touched) {
                     self.status.error = Some(e);

@@ -223,7 +223,7 @@ impl Document {
             Ok(mut moved) => {
                 moved.relaid = self
                     .commit_drag()
-                    .is_some_and(|edit| edit.touched() == super::Touched::Structure);
+                    .is_some_and(|edit| edit.touched().is_structure());
                 Ok(moved)
             }
             Err(e) => {

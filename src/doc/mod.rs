@@ -450,7 +450,8 @@ impl Edit {
         Ok(())
     }
 
-    /// What the editor must re-upload after this edit (either way).
+    /// What the editor must re-upload after this edit (either way): one object replaced in
+    /// structure is [`Touched::Object`], so the others keep their GPU patches.
     pub fn touched(&self) -> Touched {
         match self.changes.as_slice() {
             [
@@ -464,7 +465,7 @@ impl Edit {
                     || before.lattice.as_ref().map(|l| l.degrees())
                         != after.lattice.as_ref().map(|l| l.degrees())
                 {
-                    Touched::Structure
+                    Touched::Object(*index)
                 } else if before.lattice != after.lattice && before.geometry == after.geometry {
                     // Only the lattice's points moved: the GPU uploads the lattice again.
                     Touched::Points(*index)
@@ -472,7 +473,7 @@ impl Edit {
                     if before.visible == after.visible {
                         Touched::Nothing
                     } else {
-                        Touched::Structure
+                        Touched::Object(*index)
                     }
                 } else if before.segments == after.segments
                     && before.visible == after.visible
@@ -480,7 +481,7 @@ impl Edit {
                 {
                     Touched::Points(*index)
                 } else {
-                    Touched::Structure
+                    Touched::Object(*index)
                 }
             }
             _ => Touched::Structure,

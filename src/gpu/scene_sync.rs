@@ -357,11 +357,52 @@ impl SceneSync {
     /// so. On failure the previous GPU copy stays as it was.
     pub fn rebuild(&mut self, scene: &Scene, quality: f32) -> Result<Option<String>, GpuError> {
         let feeds: Vec<Decomposition> = scene.objects.iter().map(feed).collect::<Result<_, _>>()?;
+        let before = std::mem::replace(&mut self.feeds, feeds);
+        let built = self.build_from_feeds(scene, quality);
+        if built.is_err() {
+            self.feeds = before;
+        }
+        built
+    }
+
+    /// [`Self::rebuild`] after object `object` alone changed in structure
+    /// ([`Touched::Object`]): only its patches are derived again, every other object's are the
+    /// ones already held. Where the scene holds another number of objects than were built,
+    /// everything is derived again. On failure the previous GPU copy stays as it was.
+    pub fn rebuild_object(
+        &mut self,
+        scene: &Scene,
+        object: usize,
+        quality: f32,
+    ) -> Result<Option<String>, GpuError> {
+        let Some(target) = scene.objects.get(object) else {
+            return self.rebuild(scene, quality);
+        };
+        if self.feeds.len() != scene.objects.len() || self.geometry.is_none() {
+            return self.rebuild(scene, quality);
+        }
+        let before = std::mem::replace(&mut self.feeds[object], feed(target)?);
+        let built = self.build_from_feeds(scene, quality);
+        if built.is_err() {
+            self.feeds[object] = before;
+        }
+        built
+    }
+
+    /// The GPU copy of `scene` at `quality` from the patches held for its objects
+    /// ([`Self::feeds`], one per object, in order), as [`Self::rebuild`] says; on failure the
+    /// previous buffers stay.
+    fn build_from_feeds(
+        &mut self,
+        scene: &Scene,
+        quality: f32,
+    ) -> Result<Option<String>, GpuError> {
+        let feeds = &self.feeds;
         let (geometry, used, refusal) = fit_to_device(quality, |q| {
             let inputs: Vec<ObjectPatches<'_>> = scene
                 .objects
                 .iter()
-                .zip(&feeds)
+                .zip(feeds)
                 .map(|(object, d)| ObjectPatches {
                     set: &d.set,
                     domains: &d.domains,
@@ -397,7 +438,7 @@ impl SceneSync {
         let curve_inputs: Vec<ObjectCurve<'_>> = scene
             .objects
             .iter()
-            .zip(&feeds)
+            .zip(feeds)
             .map(|(object, d)| ObjectCurve {
                 feed: d.curve.as_ref(),
                 segments: effective_segments(object.segments, used).min(MAX_CURVE_SEGMENTS),
@@ -409,7 +450,6 @@ impl SceneSync {
         geometry
             .evaluator_mut()
             .set_vertex_curvature(self.vertex_curvature);
-        self.feeds = feeds;
         self.geometry = Some(geometry);
         self.curves = Some(curves);
         self.quality_used = used;
@@ -512,6 +552,7 @@ impl SceneSync {
             Touched::Nothing => Ok(None),
             Touched::Points(object) => self.refresh_object(scene, object, None).map(|_| None),
             Touched::Structure => self.rebuild(scene, quality),
+            Touched::Object(object) => self.rebuild_object(scene, object, quality),
         }
     }
 

@@ -16,8 +16,20 @@ pub enum Touched {
     Points(usize),
     /// Objects were added, removed or changed in structure: rebuild the GPU geometry.
     Structure,
+    /// Object `index` alone changed in structure (another patch layout, shown or hidden, its
+    /// displacement or lattice reshaped); every other object is as it was, at the same index.
+    /// The GPU geometry is rebuilt with the other objects' patches kept, not derived again.
+    Object(usize),
     /// Only names or similar: nothing to re-upload.
     Nothing,
+}
+
+impl Touched {
+    /// Whether the GPU geometry is rebuilt ([`Self::Structure`] or [`Self::Object`]): the
+    /// layout of patches, vertices and selections may have changed.
+    pub fn is_structure(self) -> bool {
+        matches!(self, Self::Structure | Self::Object(_))
+    }
 }
 
 /// What a drag step or a move changed: the object and the Bézier patches of its decomposition

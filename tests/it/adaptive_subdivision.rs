@@ -275,7 +275,11 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
         assert_eq!(layout(&doc), before, "the depths hold while dragging");
     }
     let touched = doc.commit_drag().unwrap().touched();
-    assert_eq!(touched, Touched::Structure, "other depths: a rebuild");
+    assert_eq!(
+        touched,
+        Touched::Object(0),
+        "other depths: a rebuild of the object"
+    );
     let after = layout(&doc);
     assert_ne!(after, before);
     // The depths the shape now has, chosen afresh.
@@ -286,7 +290,7 @@ fn a_drag_that_ends_works_the_depths_out_again_and_undo_brings_them_back() {
         panic!("not a subdivision surface");
     };
     assert_eq!(*after, moved.surface.adaptive_layout(3, 0.003).unwrap());
-    assert_eq!(doc.undo().unwrap().touched(), Touched::Structure);
+    assert_eq!(doc.undo().unwrap().touched(), Touched::Object(0));
     assert_eq!(layout(&doc), before);
     doc.redo().unwrap();
     assert_eq!(layout(&doc), after);

@@ -364,3 +364,106 @@ fn a_ring_coming_back_across_itself_is_left_uncut() {
     assert_eq!(written.faces, given.faces);
     assert_eq!(written.points.len(), given.points.len());
 }
+
+/// The GPU copy of `scene` evaluated: its patch records and surface vertices, as bytes.
+fn evaluated_copy(sync: &mut knotwork::gpu::SceneSync) -> (Vec<u8>, Vec<u8>) {
+    sync.invalidate();
+    sync.evaluate_blocking().unwrap();
+    let records = bytemuck::cast_slice(sync.records().unwrap()).to_vec();
+    let vertices = bytemuck::cast_slice(&sync.read_vertices().unwrap()).to_vec();
+    (records, vertices)
+}
+
+/// A cage tool in a scene of several kinds (a NURBS sheet, a trimmed surface, two cages, in
+/// general position): the edit says that only its cage changed (`Touched::Object`), and the
+/// GPU copy brought up to date from that, with the other objects' patches kept, is the copy a
+/// whole rebuild of the new scene makes, records and evaluated vertices bit for bit; the same
+/// after the undo. The other objects' patches are the ones held before, not derived again.
+#[test]
+fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
+    use glam::DVec3;
+    use knotwork::doc::{Command, Document, Touched};
+    use knotwork::gpu::SceneSync;
+    use knotwork::kernel::PolygonMesh;
+    use knotwork::kernel::subdiv::cage_edit::Tool;
+    use knotwork::kernel::subdiv::{SubdivisionSurface, cages};
+    use knotwork::scene::operation::Operation;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    let context = crate::common::gpu();
+    let mut rng = crate::common::Rng(61);
+    let mut cage_object = |name: &str, mesh: PolygonMesh, level: u32| {
+        let motion = crate::common::random_motion(&mut rng);
+        let points = mesh
+            .points()
+            .iter()
+            .map(|&p| motion.transform_point3(p))
+            .collect();
+        let faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
+        let mesh = PolygonMesh::new(points, &faces).unwrap();
+        let surface = SubdivisionSurface::from_mesh(mesh, level).unwrap();
+        SceneObject::new(name, ObjectGeometry::new(SubdivObject::from(surface)))
+    };
+    let torus = cage_object(
+        "torus",
+        cages::torus(DVec3::ZERO, 3.0, 1.0, 12, 8).unwrap(),
+        2,
+    );
+    let cube = cage_object("cube", cages::cube(DVec3::ZERO, 1.5).unwrap(), 3);
+    let scene = Scene {
+        objects: vec![
+            SceneObject::new(
+                "sheet",
+                ObjectGeometry::new(crate::common::random_surface(3, 2, 8)),
+            ),
+            crate::common::trimmed_ellipse_object("trimmed"),
+            torus,
+            cube,
+        ],
+        unit: None,
+    };
+    let mut doc = Document::new(scene.clone());
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+    let held = |sync: &SceneSync| -> Vec<*const DVec3> {
+        sync.feeds()
+            .iter()
+            .map(|d| d.set.points().as_ptr())
+            .collect()
+    };
+    let touched = doc
+        .execute(&Command::Apply {
+            operation: Operation::new(knotwork::ops::cage::CageEdit {
+                object: 2.into(),
+                tool: Tool::Inset {
+                    faces: vec![3, 4, 15],
+                    thickness: 0.1,
+                    depth: 0.05,
+                    individual: false,
+                },
+            }),
+            keep_history: false,
+        })
+        .unwrap()
+        .touched();
+    assert_eq!(touched, Touched::Object(2));
+    for step in ["the tool", "its undo"] {
+        let before = held(&sync);
+        sync.apply(&doc.scene, touched, 1.0).unwrap();
+        let after = held(&sync);
+        for k in [0, 1, 3] {
+            assert_eq!(
+                after[k], before[k],
+                "{step}: object {k}'s patches derived again"
+            );
+        }
+        assert_ne!(after[2], before[2], "{step}: the cage's patches kept");
+        let mut whole =
+            SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0).unwrap();
+        let (records, vertices) = evaluated_copy(&mut sync);
+        let (want_records, want_vertices) = evaluated_copy(&mut whole);
+        assert_eq!(records, want_records, "{step}: records");
+        assert!(vertices == want_vertices, "{step}: vertices differ");
+        if step == "the tool" {
+            assert_eq!(doc.undo().unwrap().touched(), Touched::Object(2));
+        }
+    }
+}

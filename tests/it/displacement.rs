@@ -184,7 +184,7 @@ fn the_document_refuses_cages_and_undoes_a_displacement() {
         })
         .unwrap()
         .touched();
-    assert_eq!(touched, Touched::Structure);
+    assert_eq!(touched, Touched::Object(1));
     assert_eq!(doc.scene.objects[1].displacement, Some(map));
     doc.undo().unwrap();
     assert_eq!(doc.scene, original);

@@ -469,7 +469,7 @@ fn the_document_undoes_lattices_and_the_project_keeps_them() {
             lattice: Some(lattice.clone()),
         })
         .unwrap();
-    assert_eq!(edit.touched(), Touched::Structure);
+    assert_eq!(edit.touched(), Touched::Object(0));
     // Its handles are the lattice's points now.
     assert_eq!(doc.scene.objects[0].control_point_count(), 12);
     assert!(doc.scene.objects[0].set_weight(0, 2.0).is_err());

@@ -3085,5 +3085,66 @@ fn bench_cage_tools(
             edited.faces.len()
         )?;
     }
+    bench_cage_tool_beside_a_plate(context, &scene, runs, out)
+}
+
+/// The cage tool Inset on the 10,000-face torus of [`bench_cage_tools`] (`torus`, one object)
+/// in a scene that also holds OpenCASCADE's 806-face STEP plate (tests/reference/occ/step/
+/// plate-20.step): the GPU copy brought up to date with every object's patches derived again
+/// (a whole rebuild), and with the plate's kept (only the torus changed:
+/// [`knotwork::doc::Touched::Object`], what the editor does). Median wall time of the update
+/// alone, after the tool's editor step.
+fn bench_cage_tool_beside_a_plate(
+    context: &GpuContext,
+    torus: &Scene,
+    runs: usize,
+    out: &mut impl Write,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use knotwork::doc::{Command, Touched};
+    use knotwork::kernel::subdiv::cage_edit::Tool;
+    use knotwork::scene::operation::Operation;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference/occ/step/plate-20.step");
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let model = knotwork::io::step::read::read(&bytes, &mut |_, _| true)?;
+    let mut scene = knotwork::io::step::to_scene(&model)?;
+    let object = scene.objects.len();
+    scene.objects.extend(torus.objects.iter().cloned());
+    let command = Command::Apply {
+        operation: Operation::new(knotwork::ops::cage::CageEdit {
+            object: object.into(),
+            tool: Tool::Inset {
+                faces: vec![5050, 5051, 5150, 5151],
+                thickness: 0.01,
+                depth: 0.0,
+                individual: false,
+            },
+        }),
+        keep_history: false,
+    };
+    let mut figures = Vec::new();
+    for touched in [Touched::Structure, Touched::Object(object)] {
+        let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
+        let mut times = Vec::with_capacity(runs);
+        for _ in 0..runs {
+            let mut doc = Document::new(scene.clone());
+            doc.execute(&command).map_err(|e| e.to_string())?;
+            wait(context)?;
+            let started = Instant::now();
+            sync.apply(&doc.scene, touched, 1.0)
+                .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))?;
+            context.queue.submit([]);
+            times.push(started.elapsed().as_secs_f64() * 1e3);
+        }
+        figures.push(median(times));
+    }
+    writeln!(
+        out,
+        "cage tool Inset beside an 806-face STEP plate ({} objects): GPU copy updated in \
+         {:.2} ms with every object derived again, {:.2} ms with the plate's patches kept",
+        scene.objects.len(),
+        figures[0],
+        figures[1]
+    )?;
     Ok(())
 }
