@@ -761,7 +761,7 @@ impl KnotworkApp {
             });
         }
         match touched {
-            Touched::Structure | Touched::Object(_) => {
+            Touched::Structure | Touched::Object(_) | Touched::InsertedOrRemoved(_) => {
                 self.select_keep_points(self.selection.object)
             }
             Touched::Points(_) => self.update_net(),

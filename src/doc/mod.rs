@@ -451,7 +451,8 @@ impl Edit {
     }
 
     /// What the editor must re-upload after this edit (either way): one object replaced in
-    /// structure is [`Touched::Object`], so the others keep their GPU patches.
+    /// structure is [`Touched::Object`], one inserted or removed
+    /// [`Touched::InsertedOrRemoved`], so that the others keep their GPU patches.
     pub fn touched(&self) -> Touched {
         match self.changes.as_slice() {
             [
@@ -483,6 +484,9 @@ impl Edit {
                 } else {
                     Touched::Object(*index)
                 }
+            }
+            [Change::Insert { index, .. } | Change::Remove { index, .. }] => {
+                Touched::InsertedOrRemoved(*index)
             }
             _ => Touched::Structure,
         }

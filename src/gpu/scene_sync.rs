@@ -389,6 +389,42 @@ impl SceneSync {
         built
     }
 
+    /// [`Self::rebuild`] after one object was inserted at `index` or removed from there
+    /// ([`Touched::InsertedOrRemoved`]); the scene's number of objects against the patches held
+    /// says which (one more: inserted, and only its patches are derived; one fewer: removed).
+    /// Every other object's patches are the ones already held; any other count rebuilds
+    /// everything. On failure the previous GPU copy stays as it was.
+    pub fn rebuild_inserted_or_removed(
+        &mut self,
+        scene: &Scene,
+        index: usize,
+        quality: f32,
+    ) -> Result<Option<String>, GpuError> {
+        let (held, count) = (self.feeds.len(), scene.objects.len());
+        if self.geometry.is_none() {
+            return self.rebuild(scene, quality);
+        }
+        if count == held + 1
+            && let Some(inserted) = scene.objects.get(index)
+        {
+            self.feeds.insert(index, feed(inserted)?);
+            let built = self.build_from_feeds(scene, quality);
+            if built.is_err() {
+                self.feeds.remove(index);
+            }
+            built
+        } else if count + 1 == held && index < held {
+            let removed = self.feeds.remove(index);
+            let built = self.build_from_feeds(scene, quality);
+            if built.is_err() {
+                self.feeds.insert(index, removed);
+            }
+            built
+        } else {
+            self.rebuild(scene, quality)
+        }
+    }
+
     /// The GPU copy of `scene` at `quality` from the patches held for its objects
     /// ([`Self::feeds`], one per object, in order), as [`Self::rebuild`] says; on failure the
     /// previous buffers stay.
@@ -553,6 +589,9 @@ impl SceneSync {
             Touched::Points(object) => self.refresh_object(scene, object, None).map(|_| None),
             Touched::Structure => self.rebuild(scene, quality),
             Touched::Object(object) => self.rebuild_object(scene, object, quality),
+            Touched::InsertedOrRemoved(index) => {
+                self.rebuild_inserted_or_removed(scene, index, quality)
+            }
         }
     }
 

@@ -20,15 +20,23 @@ pub enum Touched {
     /// displacement or lattice reshaped); every other object is as it was, at the same index.
     /// The GPU geometry is rebuilt with the other objects' patches kept, not derived again.
     Object(usize),
+    /// One object was inserted at `index`, or the object at `index` was removed (an edit and
+    /// its undo name the same index); every other object is as it was, in the same order. The
+    /// GPU geometry is rebuilt with the other objects' patches kept.
+    InsertedOrRemoved(usize),
     /// Only names or similar: nothing to re-upload.
     Nothing,
 }
 
 impl Touched {
-    /// Whether the GPU geometry is rebuilt ([`Self::Structure`] or [`Self::Object`]): the
-    /// layout of patches, vertices and selections may have changed.
+    /// Whether the GPU geometry is rebuilt ([`Self::Structure`], [`Self::Object`] or
+    /// [`Self::InsertedOrRemoved`]): the layout of patches, vertices and selections may have
+    /// changed.
     pub fn is_structure(self) -> bool {
-        matches!(self, Self::Structure | Self::Object(_))
+        matches!(
+            self,
+            Self::Structure | Self::Object(_) | Self::InsertedOrRemoved(_)
+        )
     }
 }
 

@@ -374,22 +374,14 @@ fn evaluated_copy(sync: &mut knotwork::gpu::SceneSync) -> (Vec<u8>, Vec<u8>) {
     (records, vertices)
 }
 
-/// A cage tool in a scene of several kinds (a NURBS sheet, a trimmed surface, two cages, in
-/// general position): the edit says that only its cage changed (`Touched::Object`), and the
-/// GPU copy brought up to date from that, with the other objects' patches kept, is the copy a
-/// whole rebuild of the new scene makes, records and evaluated vertices bit for bit; the same
-/// after the undo. The other objects' patches are the ones held before, not derived again.
-#[test]
-fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
+/// A scene of several kinds in general position: a NURBS sheet, a trimmed surface, a
+/// Catmull-Clark torus cage at level 2 and a cube cage at level 3, each cage under a random
+/// motion.
+fn mixed_scene() -> knotwork::scene::Scene {
     use glam::DVec3;
-    use knotwork::doc::{Command, Document, Touched};
-    use knotwork::gpu::SceneSync;
     use knotwork::kernel::PolygonMesh;
-    use knotwork::kernel::subdiv::cage_edit::Tool;
     use knotwork::kernel::subdiv::{SubdivisionSurface, cages};
-    use knotwork::scene::operation::Operation;
     use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
-    let context = crate::common::gpu();
     let mut rng = crate::common::Rng(61);
     let mut cage_object = |name: &str, mesh: PolygonMesh, level: u32| {
         let motion = crate::common::random_motion(&mut rng);
@@ -409,7 +401,7 @@ fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
         2,
     );
     let cube = cage_object("cube", cages::cube(DVec3::ZERO, 1.5).unwrap(), 3);
-    let scene = Scene {
+    Scene {
         objects: vec![
             SceneObject::new(
                 "sheet",
@@ -420,15 +412,50 @@ fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
             cube,
         ],
         unit: None,
-    };
+    }
+}
+
+/// Where the GPU copy holds each object's patches (their points' memory): the same address
+/// after an update means the object's patches were kept, not derived again.
+fn held_patches(sync: &knotwork::gpu::SceneSync) -> Vec<*const glam::DVec3> {
+    sync.feeds()
+        .iter()
+        .map(|d| d.set.points().as_ptr())
+        .collect()
+}
+
+/// The GPU copy updated by what `doc`'s latest step touched is the copy a whole rebuild of
+/// the document's scene makes: records and evaluated vertices, bit for bit.
+fn assert_same_as_whole_rebuild(
+    context: &knotwork::gpu::GpuContext,
+    sync: &mut knotwork::gpu::SceneSync,
+    doc: &knotwork::doc::Document,
+    step: &str,
+) {
+    let mut whole =
+        knotwork::gpu::SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0)
+            .unwrap();
+    let (records, vertices) = evaluated_copy(sync);
+    let (want_records, want_vertices) = evaluated_copy(&mut whole);
+    assert_eq!(records, want_records, "{step}: records");
+    assert!(vertices == want_vertices, "{step}: vertices differ");
+}
+
+/// A cage tool in a scene of several kinds ([`mixed_scene`]): the edit says that only its cage
+/// changed (`Touched::Object`), and the GPU copy brought up to date from that, with the other
+/// objects' patches kept, is the copy a whole rebuild of the new scene makes, records and
+/// evaluated vertices bit for bit; the same after the undo. The other objects' patches are the
+/// ones held before, not derived again.
+#[test]
+fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
+    use knotwork::doc::{Command, Document, Touched};
+    use knotwork::gpu::SceneSync;
+    use knotwork::kernel::subdiv::cage_edit::Tool;
+    use knotwork::scene::operation::Operation;
+    let context = crate::common::gpu();
+    let scene = mixed_scene();
     let mut doc = Document::new(scene.clone());
     let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
-    let held = |sync: &SceneSync| -> Vec<*const DVec3> {
-        sync.feeds()
-            .iter()
-            .map(|d| d.set.points().as_ptr())
-            .collect()
-    };
     let touched = doc
         .execute(&Command::Apply {
             operation: Operation::new(knotwork::ops::cage::CageEdit {
@@ -446,9 +473,9 @@ fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
         .touched();
     assert_eq!(touched, Touched::Object(2));
     for step in ["the tool", "its undo"] {
-        let before = held(&sync);
+        let before = held_patches(&sync);
         sync.apply(&doc.scene, touched, 1.0).unwrap();
-        let after = held(&sync);
+        let after = held_patches(&sync);
         for k in [0, 1, 3] {
             assert_eq!(
                 after[k], before[k],
@@ -456,14 +483,63 @@ fn a_cage_tool_derives_the_gpu_patches_of_its_object_only() {
             );
         }
         assert_ne!(after[2], before[2], "{step}: the cage's patches kept");
-        let mut whole =
-            SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0).unwrap();
-        let (records, vertices) = evaluated_copy(&mut sync);
-        let (want_records, want_vertices) = evaluated_copy(&mut whole);
-        assert_eq!(records, want_records, "{step}: records");
-        assert!(vertices == want_vertices, "{step}: vertices differ");
+        assert_same_as_whole_rebuild(&context, &mut sync, &doc, step);
         if step == "the tool" {
             assert_eq!(doc.undo().unwrap().touched(), Touched::Object(2));
         }
     }
+}
+
+/// An object deleted from a scene of several kinds, and the delete undone: the edit names
+/// the object's place (`Touched::InsertedOrRemoved`), the GPU copy keeps the other objects'
+/// patches (the removed one's are dropped, the restored one's derived again), and each time
+/// it is the copy a whole rebuild makes, bit for bit. A duplicate (a copy inserted after its
+/// original) and its undo likewise.
+#[test]
+fn deleting_or_adding_an_object_keeps_the_others_gpu_patches() {
+    use knotwork::doc::{Command, Document, Touched};
+    use knotwork::gpu::SceneSync;
+    let context = crate::common::gpu();
+    let scene = mixed_scene();
+    let mut doc = Document::new(scene.clone());
+    let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0).unwrap();
+    let before = held_patches(&sync);
+    let touched = doc
+        .execute(&Command::Delete { object: 1 })
+        .unwrap()
+        .touched();
+    assert_eq!(touched, Touched::InsertedOrRemoved(1));
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    assert_eq!(
+        held_patches(&sync),
+        [before[0], before[2], before[3]],
+        "the others' patches kept, in order"
+    );
+    assert_same_as_whole_rebuild(&context, &mut sync, &doc, "the delete");
+    let touched = doc.undo().unwrap().touched();
+    assert_eq!(touched, Touched::InsertedOrRemoved(1));
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    let restored = held_patches(&sync);
+    assert_eq!(
+        [restored[0], restored[2], restored[3]],
+        [before[0], before[2], before[3]]
+    );
+    assert_same_as_whole_rebuild(&context, &mut sync, &doc, "its undo");
+    let touched = doc
+        .execute(&Command::Duplicate { object: 2 })
+        .unwrap()
+        .touched();
+    assert_eq!(touched, Touched::InsertedOrRemoved(3));
+    let before = held_patches(&sync);
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    let after = held_patches(&sync);
+    assert_eq!(
+        [after[0], after[1], after[2], after[4]],
+        [before[0], before[1], before[2], before[3]]
+    );
+    assert_same_as_whole_rebuild(&context, &mut sync, &doc, "the duplicate");
+    let touched = doc.undo().unwrap().touched();
+    sync.apply(&doc.scene, touched, 1.0).unwrap();
+    assert_eq!(held_patches(&sync), before);
+    assert_same_as_whole_rebuild(&context, &mut sync, &doc, "its undo");
 }
