@@ -543,3 +543,144 @@ fn deleting_or_adding_an_object_keeps_the_others_gpu_patches() {
     assert_eq!(held_patches(&sync), before);
     assert_same_as_whole_rebuild(&context, &mut sync, &doc, "its undo");
 }
+
+/// Bevels ending on the border, in the editor's document and on the GPU: a bumpy grid of
+/// 6 × 5 quads with a hole of one quad, under a random motion, at level 2. One beveled edge
+/// from the border to a hole's corner (a point of three faces), then two beveled edges at
+/// another border point (its border edges sharing one point between them), each one undo
+/// step. Each cage keeps the border a closed loop per hole (each border point on two border
+/// edges), and the GPU's limit surface is finite and inside the cage's bounding box (a
+/// subdivision surface lies in its control points' convex hull). A bevel of an edge on the
+/// border is refused by name, the cage and history unchanged.
+#[test]
+fn bevels_ending_on_the_border_reach_the_gpu() {
+    use knotwork::doc::{Command, Document};
+    use knotwork::gpu::SceneSync;
+    use knotwork::kernel::PolygonMesh;
+    use knotwork::kernel::subdiv::SubdivisionSurface;
+    use knotwork::kernel::subdiv::cage_edit::Tool;
+    use knotwork::scene::operation::Operation;
+    use knotwork::scene::{ObjectGeometry, Scene, SceneObject, SubdivObject};
+    use std::collections::HashMap;
+
+    let (n, m) = (6u32, 5u32);
+    let mut rng = crate::common::Rng(40);
+    let motion = crate::common::random_motion(&mut rng);
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let points: Vec<glam::DVec3> = (0..=m)
+        .flat_map(|j| (0..=n).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let (x, y) = (f64::from(i), f64::from(j));
+            motion.transform_point3(glam::DVec3::new(
+                x,
+                y,
+                0.3 * (1.3 * x).sin() * (0.9 * y).cos(),
+            ))
+        })
+        .collect();
+    // The hole: the quad with corners (2, 2) and (3, 3).
+    let faces: Vec<Vec<u32>> = (0..m)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .filter(|&(i, j)| (i, j) != (2, 2))
+        .map(|(i, j)| vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)])
+        .collect();
+    let surface =
+        SubdivisionSurface::from_mesh(PolygonMesh::new(points, &faces).unwrap(), 2).unwrap();
+    let mut doc = Document::new(Scene {
+        objects: vec![SceneObject::new(
+            "holed",
+            ObjectGeometry::new(SubdivObject::from(surface)),
+        )],
+        unit: None,
+    });
+    let context = crate::common::gpu();
+    let bevel = |edges: Vec<[u32; 2]>, segments: u32| {
+        Operation::new(knotwork::ops::cage::CageEdit {
+            object: 0.into(),
+            tool: Tool::Bevel {
+                edges,
+                width: 0.15,
+                segments,
+            },
+        })
+    };
+    let check = |doc: &Document, step: &str| {
+        let surface = &doc.scene.objects[0]
+            .geometry
+            .as_subdivision()
+            .unwrap()
+            .surface;
+        let mesh = surface.mesh();
+        // Every border point on exactly two border edges.
+        let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+        for f in 0..mesh.face_count() {
+            let face = mesh.face(f);
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        assert!(
+            uses.values().all(|&u| u <= 2),
+            "{step}: an edge of three faces"
+        );
+        let mut border: HashMap<u32, u32> = HashMap::new();
+        for (&(a, b), _) in uses.iter().filter(|(_, u)| **u == 1) {
+            *border.entry(a).or_default() += 1;
+            *border.entry(b).or_default() += 1;
+        }
+        assert!(
+            border.values().all(|&k| k == 2),
+            "{step}: the border is not loops"
+        );
+        let (lo, hi) = mesh.points().iter().fold(
+            (glam::DVec3::splat(f64::MAX), glam::DVec3::splat(f64::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let slack = 1e-4 * (hi - lo).length();
+        let mut sync =
+            SceneSync::with_scene(&context.device, &context.queue, &doc.scene, 1.0).unwrap();
+        sync.evaluate_blocking().unwrap();
+        let vertices = sync.read_vertices().unwrap();
+        assert!(vertices.len() > 1000, "{step}: {} vertices", vertices.len());
+        for v in &vertices {
+            let p = glam::DVec3::from(v.position.map(f64::from));
+            assert!(p.is_finite(), "{step}: a vertex at {p}");
+            assert!(
+                p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                "{step}: {p} outside the cage's box {lo} – {hi}"
+            );
+        }
+    };
+    check(&doc, "the grid");
+    // From the border point (3, 0) up to the hole's corner (3, 2), a point of three faces.
+    let one = bevel(vec![[at(3, 0), at(3, 1)], [at(3, 1), at(3, 2)]], 3);
+    doc.execute(&Command::Apply {
+        operation: one,
+        keep_history: false,
+    })
+    .unwrap();
+    check(&doc, "one beveled edge");
+    let after_one = doc.scene.clone();
+    // Two beveled edges at the hole's corner (2, 3), a point of three faces.
+    let two = bevel(vec![[at(2, 3), at(1, 3)], [at(2, 3), at(2, 4)]], 2);
+    doc.execute(&Command::Apply {
+        operation: two,
+        keep_history: false,
+    })
+    .unwrap();
+    check(&doc, "two beveled edges");
+    doc.undo().unwrap();
+    assert_eq!(doc.scene, after_one);
+    // An edge on the border has one face: it is refused by name.
+    let after = doc.scene.clone();
+    let error = doc
+        .execute(&Command::Apply {
+            operation: bevel(vec![[at(0, 0), at(1, 0)]], 2),
+            keep_history: false,
+        })
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("border"), "{error}");
+    assert_eq!(doc.scene, after);
+}

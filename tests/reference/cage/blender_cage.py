@@ -482,6 +482,24 @@ def cage(name):
                                   radius1=1.0, radius2=0.0, depth=1.5)
         bm.verts.index_update()
         return [tuple(v.co) for v in bm.verts], [[v.index for v in f.verts] for f in bm.faces]
+    if name in ("fan3", "fan4", "fan5"):
+        # Quads round a point on the border: n of them over an angle (108°, 180°, 270°), of
+        # uneven heights, so that the point has n faces and n + 1 edges, two on the border.
+        n = int(name[3:])
+        span = {3: 0.6, 4: 1.0, 5: 1.5}[n] * math.pi
+        v = [(0.0, 0.0, 0.1)]
+        for k in range(n + 1):
+            a = span * k / n
+            v.append((math.cos(a), math.sin(a), 0.6 * math.sin(2.1 * k + 0.4)))
+        for k in range(n):
+            a = span * (k + 0.5) / n
+            v.append((1.4 * math.cos(a), 1.4 * math.sin(a), 0.3 * math.cos(1.7 * k)))
+        return v, [[0, 1 + k, n + 2 + k, 2 + k] for k in range(n)]
+    if name == "tee":
+        # A pentagon with a straight corner at point 1 (points 0, 1, 2 in line) over two
+        # triangles: point 1 has three edges, two of them in line in the pentagon.
+        v = [(0, 0, 0), (1, 0, 0), (2, 0, 0), (2, 1, 0.3), (0, 1, -0.2), (1, -1, 0.25)]
+        return v, [[0, 1, 2, 3, 4], [2, 1, 5], [1, 0, 5]]
     if name == "monkey":
         # Blender's Suzanne (bmesh.ops.create_monkey): a modelled cage nobody here made, with
         # triangles, poles of three to eight edges, open eyes and a mouth.
@@ -813,29 +831,70 @@ RANDOM_CASES = [
     (12, 10, "bridge", "holes2"),
     (12, 12, "bridge", "holes2"),
     (12, 15, "bridge", "holes2"),
+    # Bevels ending on the border at points of three or more faces: one beveled edge (the
+    # point opens into a polygon closed by the border), two (the border edges share one
+    # point between them).
+    (40, 14, "bevel", "holes"),
+    (40, 20, "bevel", "holes"),
+    (41, 6, "bevel2", "holes"),
+    (41, 10, "bevel2", "holes"),
+    (41, 11, "bevel2", "holes2"),
+    # A beveled edge and the edge beside it within 2° of one direction: the point lies on
+    # the beveled edge.
+    (40, 2, "bevel", "monkey"),
+    # Every edge between two beveled ones flat with its faces: their offset lines meet as
+    # if there were none.
+    (41, 17, "bevel2", "disc"),
 ]
+
+# Bevels at a point on the border with more beveled edges (on fans of quads round it), and
+# by a straight corner of a face.
+BORDER_CASES = [
+    ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
+    ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
+    ("fan4", "bevel --edges 0-3 --width 0.2U --segments 3"),
+    ("fan4", "bevel --edges 0-2,0-3 --width 0.1U --segments 2"),
+    ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.1U --segments 2"),
+    ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.08U --segments 5"),
+    ("fan5", "bevel --edges 0-2,0-3,0-4,0-5 --width 0.1U --segments 1"),
+    ("fan5", "bevel --edges 0-2,0-3,0-4,0-5 --width 0.1U --segments 4"),
+    ("fan5", "bevel --edges 0-2,0-4,0-5 --width 0.1U --segments 3"),
+    ("fan5", "bevel --edges 0-3,0-5 --width 0.1U --segments 3"),
+    ("fan3", "bevel --edges 0-2,0-3 --width 0.1U --segments 3"),
+    ("fan3", "bevel --edges 0-3 --width 0.1U --segments 1"),
+    # A beveled edge running on in line with the unbeveled edge beside it (a straight corner
+    # of a face): the new point lies square to both, in the face.
+    ("tee", "bevel --edges 1-2 --width 0.2U --segments 2"),
+    ("tee", "bevel --edges 1-0 --width 0.15U --segments 1"),
+]
+
+
+def fixture(directory, k, name, args, creased=(), seed=1000):
+    """Writes fixed case k (a cage by name, placed by a seeded random motion unless the name
+    ends in "!") and Blender's result; its line of `cases.tsv`."""
+    points, faces = cage(name.rstrip("!"))
+    if name.endswith("!"):
+        name, scale = name[:-1], 1.0
+        args = " ".join(moved_argument(a, None, 1.0) if a.endswith("U") else a
+                        for a in args.split())
+    else:
+        points, scale = placed(points, seed + k)
+        args = " ".join(moved_argument(a, seed + k, scale) for a in args.split())
+    stem = "%02d-%s-%s" % (k, name, args.split()[0])
+    bm = build(points, faces, creased)
+    write_obj(os.path.join(directory, stem + ".in.obj"), bm)
+    apply(bm, args.split()[0], args.split()[1:])
+    write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
+    return stem + "\t" + args + "\n"
 
 
 def fixtures(directory, seed=1000):
     """Writes each case's input (placed by a seeded random motion), Blender's result, and
-    `cases.tsv`: name, tool and arguments."""
+    `cases.tsv`: name, tool and arguments. The random cases follow the fixed ones and the
+    border cases follow them, so that earlier cases keep their numbers."""
     os.makedirs(directory, exist_ok=True)
-    lines = []
-    for k, (name, args, *creased) in enumerate(CASES):
-        points, faces = cage(name.rstrip("!"))
-        if name.endswith("!"):
-            name, scale = name[:-1], 1.0
-            args = " ".join(moved_argument(a, None, 1.0) if a.endswith("U") else a
-                            for a in args.split())
-        else:
-            points, scale = placed(points, seed + k)
-            args = " ".join(moved_argument(a, seed + k, scale) for a in args.split())
-        stem = "%02d-%s-%s" % (k, name, args.split()[0])
-        bm = build(points, faces, *creased)
-        write_obj(os.path.join(directory, stem + ".in.obj"), bm)
-        apply(bm, args.split()[0], args.split()[1:])
-        write_obj(os.path.join(directory, stem + ".blender.obj"), bm)
-        lines.append(stem + "\t" + args + "\n")
+    lines = [fixture(directory, k, name, args, *creased, seed=seed)
+             for k, (name, args, *creased) in enumerate(CASES)]
     import random_blender  # it imports this module
     for k, (batch, number, kind, shape) in enumerate(RANDOM_CASES, start=len(CASES)):
         made = random_blender.case(batch, number, kind, shape)
@@ -846,6 +905,9 @@ def fixtures(directory, seed=1000):
         if not random_blender.write_case(directory, stem, points, faces, args):
             raise SystemExit(f"Blender refused random case {batch}/{number}")
         lines.append(stem + "\t" + args + "\n")
+    first = len(CASES) + len(RANDOM_CASES)
+    lines += [fixture(directory, k, name, args, seed=seed)
+              for k, (name, args) in enumerate(BORDER_CASES, start=first)]
     with open(os.path.join(directory, "cases.tsv"), "w") as out:
         out.write("".join(lines))
 

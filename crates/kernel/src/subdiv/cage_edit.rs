@@ -1700,6 +1700,37 @@ fn nearest_on_line(p: DVec3, d: DVec3, q: DVec3, e: DVec3) -> Option<DVec3> {
     (denominator > 1e-12 * dd * ee).then(|| p + d * ((de * e.dot(w) - ee * d.dot(w)) / denominator))
 }
 
+/// Where the offset lines of two beveled edges meet at vertex v when every edge between them
+/// lies flat with its faces (Blender's offset meet with no edges between): `first` and
+/// `second` are the far ends of the edges in Blender's order round v (the first runs into v,
+/// the second out of it) and `normal` is the normal of the face after the first. Each line
+/// lies `width` from its edge, square to it in the plane of the two edges (the face's plane
+/// where they turn by less than 10°); the point is the first line's point nearest the
+/// second. Edges in one line (within 2°) put it `width / cos(θ/2)` from v square to both in
+/// the face; edges turning straight back put it `width` along the second.
+fn offset_meet_flat(v: DVec3, first: DVec3, second: DVec3, normal: DVec3, width: f64) -> DVec3 {
+    let (d1, d2) = (v - first, second - v);
+    let turn = d1.angle_between(d2);
+    let (nearly, small) = (2f64.to_radians(), 10f64.to_radians());
+    if turn < nearly {
+        let across = (d1 + d2).cross(normal).normalize_or_zero();
+        return v + across * (width / (turn / 2.0).cos());
+    }
+    if std::f64::consts::PI - turn < nearly {
+        let length = d2.length();
+        return v + d2.normalize_or_zero() * if width > length { length - 5e-5 } else { width };
+    }
+    let plane = if turn < small {
+        normal
+    } else {
+        let n = d2.cross(d1).normalize_or_zero();
+        if n.dot(normal) < 0.0 { -n } else { n }
+    };
+    let p1 = v + d1.cross(plane).normalize_or_zero() * width;
+    let p2 = v + d2.cross(plane).normalize_or_zero() * width;
+    nearest_on_line(p1, d1, p2, d2).unwrap_or(p1)
+}
+
 /// Where the offset lines of two beveled edges meet across the unbeveled edges between them
 /// round vertex v. `corners` are the faces from the first beveled edge to the second, each
 /// with its normal and the far ends of its two edges at v in that order. Each line lies
@@ -1806,10 +1837,11 @@ impl Cage {
     /// of the face meet, the point `width` from both; where a beveled edge meets one that is
     /// not, the point on that edge `width` from the beveled one (or the edge's far end, where
     /// the edge is shorter, as in Blender); where an unbeveled edge lies
-    /// between two beveled ones, where their offset lines meet ([`offset_meet_between`]).
-    /// The band's end is the arc between its two side points ([`Profile`]); two bands ending
-    /// on the same two points share the mean of their arcs, and three or more at one corner
-    /// close it with a polygon.
+    /// between two beveled ones, where their offset lines meet ([`offset_meet_between`], or
+    /// [`offset_meet_flat`] where every edge between lies flat with its faces). The band's
+    /// end is the arc between its two side points ([`Profile`]); two bands ending on the same
+    /// two points share the mean of their arcs, and three or more at one corner close it
+    /// with a polygon (one segment) or Blender's corner mesh ([`bevel_corner`]).
     ///
     /// Where one beveled edge ends at a vertex of four or more edges, the other edges take
     /// the point `width` along them and the vertex opens into a polygon of its edges' points
@@ -1817,9 +1849,10 @@ impl Cage {
     /// triangle), as Blender's terminal edge does; where it ends on the border between two
     /// border edges, its arc takes the vertex's place on the border.
     ///
-    /// Corners of three or more beveled edges are built with one segment only (Blender builds
-    /// a curved corner mesh there); a vertex on the border ends only one beveled edge. Other
-    /// requests are refused by name.
+    /// On the border every case is built as inside, the two border edges at a vertex and
+    /// the unbeveled edges next to them taking one point between the beveled edges on either
+    /// side (so the border runs through it), as Blender does. A vertex of two edges, or one
+    /// on the border twice, is refused by name.
     pub fn bevel_edges(
         &self,
         edges: &[(u32, u32)],
@@ -1946,16 +1979,24 @@ impl Cage {
                 None => (open(start), false),
             };
             let valence = around.len();
-            let count = around.iter().filter(|&&(_, _, b)| is_beveled(v, b)).count();
-            // One beveled edge ending on the border between two border edges: their points
-            // and the arc between them take the vertex's place on the border.
-            let border_end = !closed && valence == 2 && count == 1 && is_beveled(v, around[0].2);
-            if !closed && !border_end {
+            // The vertex's edges in the fan's order; on the border, from the first face's
+            // incoming edge to the last face's outgoing one (both border edges).
+            let round: Vec<u32> = (!closed)
+                .then_some(around[0].1)
+                .into_iter()
+                .chain(around.iter().map(|&(_, _, b)| b))
+                .collect();
+            let count = round.iter().filter(|&&b| is_beveled(v, b)).count();
+            if !closed && self.faces.iter().filter(|face| face.contains(&v)).count() != valence {
                 return Err(invalid(format!(
-                    "vertex {v} is on the cage's border: a bevel ends there only where one \
-                     beveled edge runs between two border edges"
+                    "vertex {v} is on the cage's border twice (its faces meet only there): \
+                     a bevel cannot end there"
                 )));
             }
+            // One beveled edge ending at a vertex of four or more edges, on the border or
+            // not: the vertex opens into a polygon (Blender's terminal edge). On the border
+            // between two border edges its arc takes the vertex's place there.
+            let terminal = count == 1 && round.len() >= 4;
             // A vertex of two edges (both faces there share both): Blender ends the band
             // with a made-up point on the other edge, which is not built.
             if closed && valence == 2 {
@@ -1963,9 +2004,6 @@ impl Cage {
                     "vertex {v} has only two edges: a bevel cannot end there"
                 )));
             }
-            // One beveled edge ending at a vertex of four or more edges: the vertex opens into
-            // a polygon (Blender's terminal edge).
-            let terminal = closed && count == 1 && valence >= 4;
             // Three or more beveled edges at a corner with more than one segment would need
             // Blender's corner mesh (its "adj" vertex mesh), which is not built.
             // Points for unbeveled edges. With one beveled edge: on each edge beside it, where
@@ -1976,66 +2014,110 @@ impl Cage {
             // (Blender's offset meet with edges between).
             let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
             if count == 1 {
-                // Each edge beside the beveled one, with whether the face between them turns
-                // back on itself at v (its corner there reflex about its normal).
-                let mut beside: Vec<(u32, u32, bool)> = Vec::new();
+                // Each edge beside the beveled one, the face between them, whether that face
+                // turns back on itself at v (its corner there reflex about its normal), and
+                // whether the edge comes first of the two in Blender's order round v (against
+                // the fan's).
+                let mut beside: Vec<(u32, u32, usize, bool, bool)> = Vec::new();
                 for &(f, a, b) in &around {
                     let reflex = reflex_corner(p(v), p(b), p(a), normal_of(f));
                     if is_beveled(v, a) && !is_beveled(v, b) {
-                        beside.push((b, a, reflex));
+                        beside.push((b, a, f, reflex, true));
                     }
                     if is_beveled(v, b) && !is_beveled(v, a) {
-                        beside.push((a, b, reflex));
+                        beside.push((a, b, f, reflex, false));
                     }
                 }
-                for (y, x, reflex) in beside {
+                let nearly = 2f64.to_radians();
+                for (y, x, f, reflex, y_first) in beside {
                     let (d, e) = (dir(v, y), dir(v, x));
                     edge_point.insert((v, y), out.points.len() as u32);
-                    // No farther than the edge's far end, where Blender stops it too (a width
-                    // beyond a short edge leaves the new point on that end). At a reflex
-                    // corner the beveled edge's offset line, on the face's inner side, meets
-                    // the edge's line behind v, and Blender stops the point at v.
-                    let along = width / d.cross(e).length().max(1e-12);
-                    let slid = if reflex {
-                        p(v)
-                    } else if along >= (p(y) - p(v)).length() {
-                        p(y)
+                    // Blender meets the edges' offset lines taking the first edge into v and
+                    // the second out of it; where those run on in line (within 2°), the
+                    // point lies square to both, in the face; where they turn straight back
+                    // (the two edges within 2° of one direction), it lies `width` along the
+                    // second edge (5e-5 short of its end where that is nearer).
+                    let (first, second) = if y_first { (d, e) } else { (e, d) };
+                    let turn = (-first).angle_between(second);
+                    let slid = if turn < nearly {
+                        let across = (second - first).cross(normal_of(f)).normalize_or_zero();
+                        p(v) + across * (width / (turn / 2.0).cos())
+                    } else if std::f64::consts::PI - turn < nearly {
+                        let far = if y_first { x } else { y };
+                        let length = (p(far) - p(v)).length();
+                        p(v) + second * if width > length { length - 5e-5 } else { width }
                     } else {
-                        p(v) + d * along
+                        // No farther than the edge's far end, where Blender stops it too (a
+                        // width beyond a short edge leaves the new point on that end). At a
+                        // reflex corner the beveled edge's offset line, on the face's inner
+                        // side, meets the edge's line behind v, and Blender stops the point
+                        // at v.
+                        let along = width / d.cross(e).length().max(1e-12);
+                        if reflex {
+                            p(v)
+                        } else if along >= (p(y) - p(v)).length() {
+                            p(y)
+                        } else {
+                            p(v) + d * along
+                        }
                     };
                     out.points.push(slid);
                 }
             } else {
-                let n = valence;
-                for i in (0..n).filter(|&i| is_beveled(v, around[i].2)) {
+                let n = round.len();
+                // The face between edge j and the next one round (none across the border).
+                let face_after = |j: usize| -> Option<usize> {
+                    if closed {
+                        Some((j + 1) % n)
+                    } else {
+                        (j < valence).then_some(j)
+                    }
+                };
+                for i in (0..n).filter(|&i| is_beveled(v, round[i])) {
                     let run: Vec<u32> = (1..n)
-                        .map(|m| around[(i + m) % n].2)
+                        .map(|m| round[(i + m) % n])
                         .take_while(|&y| !is_beveled(v, y))
                         .collect();
                     if run.is_empty() {
                         continue;
                     }
                     // The faces from the later beveled edge back to this one, each with its
-                    // edges in that order.
+                    // edges in that order (on the border, the faces there are).
                     let corners: Vec<(DVec3, DVec3, DVec3)> = (0..=run.len())
                         .rev()
-                        .map(|m| {
-                            let (f, a, b) = around[(i + 1 + m) % n];
+                        .filter_map(|m| face_after((i + m) % n))
+                        .map(|k| {
+                            let (f, a, b) = around[k];
                             (normal_of(f), p(b), p(a))
                         })
                         .collect();
-                    // The last edge between that lies in one plane with its two faces
-                    // (Blender's in-plane edge): the meet point is not dropped onto faces
-                    // parallel to the face after it.
-                    let in_plane = (1..=run.len()).map(|m| (i + m) % n).find_map(|m| {
-                        let (after, before) =
-                            (normal_of(around[m].0), normal_of(around[(m + 1) % n].0));
-                        let dot = after.dot(before);
-                        (dot.abs() <= 1e-4 || (dot - 1.0).abs() <= 1e-4).then_some(after)
-                    });
+                    // Each edge between that lies in one plane with its two faces (Blender's
+                    // in-plane edges; never a border edge), with the normal of the face after
+                    // it in Blender's order.
+                    let flat: Vec<Option<DVec3>> = (1..=run.len())
+                        .map(|m| (i + m) % n)
+                        .map(|m| {
+                            let after = normal_of(around[face_after((m + n - 1) % n)?].0);
+                            let before = normal_of(around[face_after(m)?].0);
+                            let dot = after.dot(before);
+                            ((dot + 1.0).abs() <= 1e-4 || (dot - 1.0).abs() <= 1e-4)
+                                .then_some(after)
+                        })
+                        .collect();
                     let id = out.points.len() as u32;
-                    out.points
-                        .push(offset_meet_between(p(v), &corners, in_plane, width));
+                    let meet = if flat.iter().all(Option::is_some) {
+                        // Every edge between lies flat: the offset lines meet as if there
+                        // were none, in the face after the later beveled edge.
+                        let later = round[(i + run.len() + 1) % n];
+                        let (normal, _, _) = corners[0];
+                        offset_meet_flat(p(v), p(later), p(round[i]), normal, width)
+                    } else {
+                        // Else the meet point is not dropped onto faces parallel to the face
+                        // after the last in-plane edge.
+                        let in_plane = flat.iter().flatten().next().copied();
+                        offset_meet_between(p(v), &corners, in_plane, width)
+                    };
+                    out.points.push(meet);
                     for y in run {
                         edge_point.insert((v, y), id);
                     }
@@ -2044,7 +2126,7 @@ impl Cage {
             if terminal {
                 // The edges not beside the beveled one: the point `width` along each, or on
                 // an edge shorter than that 5e-5 short of its far end (Blender's slide).
-                for &(_, _, y) in &around {
+                for &y in &round {
                     if !is_beveled(v, y) && !edge_point.contains_key(&(v, y)) {
                         let length = (p(y) - p(v)).length();
                         let along = if width > length { length - 5e-5 } else { width };
@@ -2076,9 +2158,10 @@ impl Cage {
                 }
             };
             // Three or more beveled edges with more than one segment: Blender's corner mesh,
-            // whose border gives the bands' arcs at this end.
+            // whose border gives the bands' arcs at this end. On the border one of its corners
+            // is the point the border edges share.
             let mut corner_mesh = false;
-            if closed && count >= 3 && segments > 1 {
+            if count >= 3 && segments > 1 {
                 let n = valence;
                 // The crossings of the beveled edges, against the fan's order (Blender's
                 // counter-clockwise order): from the point of the face after the edge to the
@@ -2173,9 +2256,11 @@ impl Cage {
                     bevel_corner::pipe_corner(p(v), &boundary, &side, ns, section)
                 } else {
                     // Blender's cube corner: three sides whose faces meet nearly square, every
-                    // other edge nearly flat.
+                    // other edge nearly flat (not on the border, where Blender's test counts
+                    // more edges than three).
                     let angles: Vec<f64> = (0..n).map(dihedral).collect();
-                    let square = sides == 3
+                    let square = closed
+                        && sides == 3
                         && (sides == n || first.is_some_and(|x| is_beveled(v, x)))
                         && angles.iter().all(|a| a.abs() < 0.75 * std::f64::consts::PI)
                         && angles
@@ -2265,7 +2350,7 @@ impl Cage {
                 corner_faces.push(corner_edges);
             }
             if terminal {
-                terminals.push((v, around));
+                terminals.push((v, round));
             }
         }
         let arc = |from: u32, to: u32| -> Vec<u32> {
@@ -2278,20 +2363,22 @@ impl Cage {
         // The polygon a terminal end opens into: its edges' points against the fan's order,
         // the band's arc in place of the beveled edge. Where that is a triangle with an arc of
         // more than one segment it is a fan of triangles from the point across from the arc.
-        for (v, around) in terminals {
+        // On the border the polygon's side from the last edge's point to the first's is
+        // border too (the beveled edge is never first or last there).
+        for (v, round) in terminals {
             let mut polygon = Vec::new();
             let mut apex = None;
-            for (i, &(_, _, b)) in around.iter().enumerate().rev() {
+            let n = round.len();
+            for (i, &b) in round.iter().enumerate().rev() {
                 if is_beveled(v, b) {
-                    let n = around.len();
-                    let before = edge_point.get(&(v, around[(i + n - 1) % n].2));
-                    let after = edge_point.get(&(v, around[(i + 1) % n].2));
+                    let before = edge_point.get(&(v, round[(i + n - 1) % n]));
+                    let after = edge_point.get(&(v, round[(i + 1) % n]));
                     if let (Some(&from), Some(&to)) = (before, after) {
                         let arc = arc(to, from);
                         polygon.extend_from_slice(&arc[1..arc.len() - 1]);
                     }
                     if n == 4 {
-                        apex = edge_point.get(&(v, around[(i + 2) % n].2)).copied();
+                        apex = edge_point.get(&(v, round[(i + 2) % n])).copied();
                     }
                 } else if let Some(&q) = edge_point.get(&(v, b)) {
                     polygon.push(q);
