@@ -495,6 +495,22 @@ def cage(name):
             a = span * (k + 0.5) / n
             v.append((1.4 * math.cos(a), 1.4 * math.sin(a), 0.3 * math.cos(1.7 * k)))
         return v, [[0, 1 + k, n + 2 + k, 2 + k] for k in range(n)]
+    if name in ("splitbox", "bentbox"):
+        # The box with a point 8 on its edge 0-1, held by both faces there (a point of two
+        # edges): in line with the edge, or moved out of it (the two faces bent there).
+        v, f = cage("box")
+        bend = 0.2 if name == "bentbox" else 0.0
+        mid = [(v[0][k] + v[1][k]) / 2 for k in range(3)]
+        v = v + [(mid[0] - bend, mid[1], mid[2] - bend)]
+        split = []
+        for face in f:
+            g = []
+            for k, x in enumerate(face):
+                g.append(x)
+                if {x, face[(k + 1) % len(face)]} == {0, 1}:
+                    g.append(8)
+            split.append(g)
+        return v, split
     if name == "tee":
         # A pentagon with a straight corner at point 1 (points 0, 1, 2 in line) over two
         # triangles: point 1 has three edges, two of them in line in the pentagon.
@@ -847,9 +863,9 @@ RANDOM_CASES = [
     (41, 17, "bevel2", "disc"),
 ]
 
-# Bevels at a point on the border with more beveled edges (on fans of quads round it), and
-# by a straight corner of a face.
-BORDER_CASES = [
+# Cases added after the random ones: bevels at a point on the border with more beveled edges
+# (on fans of quads round it), by a straight corner of a face, and at points of two edges.
+LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
     ("fan4", "bevel --edges 0-3 --width 0.2U --segments 3"),
@@ -866,6 +882,15 @@ BORDER_CASES = [
     # of a face): the new point lies square to both, in the face.
     ("tee", "bevel --edges 1-2 --width 0.2U --segments 2"),
     ("tee", "bevel --edges 1-0 --width 0.15U --segments 1"),
+    # Bevels ending at a point of two edges: each face takes a point square to the beveled
+    # edge and a made-up point on the other edge closes a fan; both edges beveled.
+    ("splitbox", "bevel --edges 8-1 --width 0.3U --segments 1"),
+    ("splitbox", "bevel --edges 8-1 --width 0.3U --segments 3"),
+    ("bentbox", "bevel --edges 8-1 --width 0.3U --segments 2"),
+    ("bentbox", "bevel --edges 8-0 --width 0.25U --segments 1"),
+    ("splitbox", "bevel --edges 8-1,8-0 --width 0.3U --segments 2"),
+    ("bentbox", "bevel --edges 8-1,8-0 --width 0.2U --segments 1"),
+    ("bentbox", "bevel --edges 8-1,8-0 --width 0.2U --segments 3"),
 ]
 
 
@@ -891,7 +916,7 @@ def fixture(directory, k, name, args, creased=(), seed=1000):
 def fixtures(directory, seed=1000):
     """Writes each case's input (placed by a seeded random motion), Blender's result, and
     `cases.tsv`: name, tool and arguments. The random cases follow the fixed ones and the
-    border cases follow them, so that earlier cases keep their numbers."""
+    later cases follow them, so that earlier cases keep their numbers."""
     os.makedirs(directory, exist_ok=True)
     lines = [fixture(directory, k, name, args, *creased, seed=seed)
              for k, (name, args, *creased) in enumerate(CASES)]
@@ -907,7 +932,7 @@ def fixtures(directory, seed=1000):
         lines.append(stem + "\t" + args + "\n")
     first = len(CASES) + len(RANDOM_CASES)
     lines += [fixture(directory, k, name, args, seed=seed)
-              for k, (name, args) in enumerate(BORDER_CASES, start=first)]
+              for k, (name, args) in enumerate(LATER_CASES, start=first)]
     with open(os.path.join(directory, "cases.tsv"), "w") as out:
         out.write("".join(lines))
 

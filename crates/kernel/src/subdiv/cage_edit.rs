@@ -1409,9 +1409,14 @@ impl Profile {
         } else {
             vertex
         };
-        // Where that point lies on the line a–b (within 2°), Blender takes the vertex.
+        // Where a and b lie within 2° of one line through that point (either side of it, or
+        // the same side, as where a and b coincide), Blender takes the vertex.
         let nearly_straight = std::f64::consts::PI - 2f64.to_radians();
-        if (a - middle).angle_between(b - middle) > nearly_straight {
+        let in_line = |m: DVec3| {
+            let angle = (a - m).angle_between(b - m);
+            !(angle >= 2f64.to_radians() && angle <= nearly_straight)
+        };
+        if in_line(middle) {
             middle = vertex;
         }
         // Blender moves the profile's plane only where the plane through a, b and the vertex
@@ -1435,7 +1440,7 @@ impl Profile {
             .flatten();
         // Blender draws a straight profile where a and b lie within 2° of a line through the
         // middle (its unit-square map is then degenerate): evenly spaced points.
-        let straight = !((a - middle).angle_between(b - middle) < nearly_straight);
+        let straight = in_line(middle);
         Self {
             a,
             b,
@@ -1849,10 +1854,14 @@ impl Cage {
     /// triangle), as Blender's terminal edge does; where it ends on the border between two
     /// border edges, its arc takes the vertex's place on the border.
     ///
+    /// Where it ends at a vertex of two edges, each face takes the point `width` from it
+    /// square to it and a made-up point on the other edge closes a fan (Blender's terminal
+    /// edge of two edges).
+    ///
     /// On the border every case is built as inside, the two border edges at a vertex and
     /// the unbeveled edges next to them taking one point between the beveled edges on either
-    /// side (so the border runs through it), as Blender does. A vertex of two edges, or one
-    /// on the border twice, is refused by name.
+    /// side (so the border runs through it), as Blender does. A vertex on the border twice
+    /// (its faces meeting only there) is refused by name.
     pub fn bevel_edges(
         &self,
         edges: &[(u32, u32)],
@@ -1936,6 +1945,8 @@ impl Cage {
         // The faces of corner meshes.
         let mut mesh_faces: Vec<Vec<u32>> = Vec::new();
         let mut terminals = Vec::new();
+        // A face's point at a band's end where the face holds more than that point there.
+        let mut band_end: HashMap<(usize, u32), u32> = HashMap::default();
         for &v in &ends {
             let Some(&start) = self
                 .faces
@@ -1997,15 +2008,80 @@ impl Cage {
             // not: the vertex opens into a polygon (Blender's terminal edge). On the border
             // between two border edges its arc takes the vertex's place there.
             let terminal = count == 1 && round.len() >= 4;
-            // A vertex of two edges (both faces there share both): Blender ends the band
-            // with a made-up point on the other edge, which is not built.
-            if closed && valence == 2 {
-                return Err(invalid(format!(
-                    "vertex {v} has only two edges: a bevel cannot end there"
-                )));
+            // One beveled edge ending at a vertex of two edges (both faces there hold both):
+            // as Blender's terminal edge of two edges, each face takes the point `width`
+            // from the beveled edge in its plane, square to the edge, and a made-up point
+            // `width` along the other edge; the vertex opens into a fan of triangles from
+            // that point to the band's arc between the faces' points (no carried profile).
+            if closed && valence == 2 && count == 1 {
+                let (e, y) = if is_beveled(v, round[0]) {
+                    (round[0], round[1])
+                } else {
+                    (round[1], round[0])
+                };
+                let length = (p(y) - p(v)).length();
+                let along = if width > length { length - 5e-5 } else { width };
+                let made_up = out.points.len() as u32;
+                out.points.push(p(v) + dir(v, y) * along);
+                edge_point.insert((v, y), made_up);
+                // Each face's point, in the fan's order; where the beveled edge leaves v in
+                // the face, the face runs from the made-up point to its own.
+                let mut own = Vec::new();
+                for &(f, _, b) in &around {
+                    let normal = polygon_normal(&self.points, &self.faces[f]);
+                    let leaving = b == e;
+                    let inward = if leaving {
+                        normal.cross(dir(v, e))
+                    } else {
+                        dir(v, e).cross(normal)
+                    };
+                    let q = out.points.len() as u32;
+                    out.points.push(p(v) + inward.normalize_or_zero() * width);
+                    replace.insert(
+                        (f, v),
+                        if leaving {
+                            vec![made_up, q]
+                        } else {
+                            vec![q, made_up]
+                        },
+                    );
+                    band_end.insert((f, v), q);
+                    own.push((q, leaving));
+                }
+                let [(first, first_leaving), (second, _)] = own[..] else {
+                    continue;
+                };
+                // The arc from the point of the face the beveled edge leaves v in to the
+                // other's, the fan running made-up point, other's point, arc, back.
+                let (from, to) = if first_leaving {
+                    (first, second)
+                } else {
+                    (second, first)
+                };
+                let profile = Profile::new(
+                    out.points[from as usize],
+                    out.points[to as usize],
+                    p(v),
+                    dir(v, e),
+                    false,
+                );
+                let mut chain = vec![to];
+                for s in (1..segments).rev() {
+                    chain.push(out.points.len() as u32);
+                    out.points
+                        .push(profile.at(f64::from(s) / f64::from(segments)));
+                }
+                chain.push(from);
+                let mut stored = chain.clone();
+                if from < to {
+                    stored.reverse();
+                }
+                arcs.insert(key(from, to), stored);
+                for pair in chain.windows(2) {
+                    mesh_faces.push(vec![made_up, pair[0], pair[1]]);
+                }
+                continue;
             }
-            // Three or more beveled edges at a corner with more than one segment would need
-            // Blender's corner mesh (its "adj" vertex mesh), which is not built.
             // Points for unbeveled edges. With one beveled edge: on each edge beside it, where
             // its offset line in their face meets that edge. Between two beveled edges round
             // the vertex: one point for all the unbeveled edges between them, where the two
@@ -2135,17 +2211,13 @@ impl Cage {
                     }
                 }
             }
+            // Two beveled edges of one face at v: where their offset lines meet in it (the
+            // edge after v in the face comes first in Blender's order).
             for &(f, a, b) in &around {
                 if is_beveled(v, a) && is_beveled(v, b) {
-                    let (da, db) = (dir(v, a), dir(v, b));
-                    let half_angle = (da + db).normalize_or_zero();
-                    let sin = half_angle.cross(da).length().max(1e-12);
-                    // A face turning back on itself at v (its corner reflex about its normal)
-                    // has its inside across the vertex: the offset lines meet there.
-                    let reflex = reflex_corner(p(v), p(b), p(a), normal_of(f));
-                    let inward = if reflex { -half_angle } else { half_angle };
                     face_point.insert((v, f), out.points.len() as u32);
-                    out.points.push(p(v) + inward * (width / sin));
+                    out.points
+                        .push(offset_meet_flat(p(v), p(b), p(a), normal_of(f), width));
                 }
             }
             // The point a face at v shows: its meet point, or the point on its unbeveled edge.
@@ -2418,8 +2490,14 @@ impl Cage {
                 continue;
             };
             let ends_of = |v: u32| -> Option<Vec<u32>> {
-                let x = replace.get(&(fx, v))?.first().copied()?;
-                let y = replace.get(&(fy, v))?.last().copied()?;
+                let x = match band_end.get(&(fx, v)) {
+                    Some(&x) => x,
+                    None => replace.get(&(fx, v))?.first().copied()?,
+                };
+                let y = match band_end.get(&(fy, v)) {
+                    Some(&y) => y,
+                    None => replace.get(&(fy, v))?.last().copied()?,
+                };
                 Some(arc(x, y))
             };
             let (Some(at_a), Some(at_b)) = (ends_of(a), ends_of(b)) else {
