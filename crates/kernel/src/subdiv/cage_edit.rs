@@ -1705,10 +1705,11 @@ fn nearest_on_line(p: DVec3, d: DVec3, q: DVec3, e: DVec3) -> Option<DVec3> {
     (denominator > 1e-12 * dd * ee).then(|| p + d * ((de * e.dot(w) - ee * d.dot(w)) / denominator))
 }
 
-/// Where the offset lines of two beveled edges meet at vertex v when every edge between them
-/// lies flat with its faces (Blender's offset meet with no edges between): `first` and
-/// `second` are the far ends of the edges in Blender's order round v (the first runs into v,
-/// the second out of it) and `normal` is the normal of the face after the first. Each line
+/// Where the offset lines of two beveled edges meet at vertex v when no edge lies between
+/// them, or only edges that lie flat with their faces (Blender's offset meet with no edges
+/// between): `first` and `second` are the far ends of the edges in Blender's order round v
+/// (the first runs into v, the second out of it) and `normal` is the normal of the face
+/// after the first. Each line
 /// lies `width` from its edge, square to it in the plane of the two edges (the face's plane
 /// where they turn by less than 10°); the point is the first line's point nearest the
 /// second. Edges in one line (within 2°) put it `width / cos(θ/2)` from v square to both in
@@ -2013,6 +2014,7 @@ impl Cage {
             // from the beveled edge in its plane, square to the edge, and a made-up point
             // `width` along the other edge; the vertex opens into a fan of triangles from
             // that point to the band's arc between the faces' points (no carried profile).
+            let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
             if closed && valence == 2 && count == 1 {
                 let (e, y) = if is_beveled(v, round[0]) {
                     (round[0], round[1])
@@ -2028,7 +2030,7 @@ impl Cage {
                 // the face, the face runs from the made-up point to its own.
                 let mut own = Vec::new();
                 for &(f, _, b) in &around {
-                    let normal = polygon_normal(&self.points, &self.faces[f]);
+                    let normal = normal_of(f);
                     let leaving = b == e;
                     let inward = if leaving {
                         normal.cross(dir(v, e))
@@ -2088,7 +2090,6 @@ impl Cage {
             // offset lines, each in the plane of its edge and the next edge towards the other,
             // come nearest, dropped onto the first face between them whose corner holds it
             // (Blender's offset meet with edges between).
-            let normal_of = |f: usize| polygon_normal(&self.points, &self.faces[f]);
             if count == 1 {
                 // Each edge beside the beveled one, the face between them, whether that face
                 // turns back on itself at v (its corner there reflex about its normal), and
