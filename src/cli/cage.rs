@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Subcommand;
-use knotwork::kernel::subdiv::cage_edit::{Cage, CageEditError, Tool};
+use knotwork::kernel::subdiv::cage_edit::{Cage, Tool};
 
 /// The tools of `knotwork cage`, with faces and vertices named by their 0-based index in the
 /// file.
@@ -511,15 +511,12 @@ fn cage_file(
         creases: parsed.creases,
         corners: parsed.corners,
     };
-    // A ring that comes back across or touches itself is left uncut, as Blender's loop cut
-    // leaves it: the cage is written as it was, with the reason.
+    // Where Blender's tool leaves the mesh as it is (a ring that comes back across or
+    // touches itself, border edges alone to bevel, a region with no border to inset), the
+    // cage is written as it was, with the reason.
     let (edited, note) = match cage.apply(&tool_of(tool)?) {
         Ok(edited) => (edited, String::new()),
-        Err(
-            e @ (CageEditError::RingCrossesItself { .. }
-            | CageEditError::RingTouchesItself { .. }
-            | CageEditError::RingSidesJoin { .. }),
-        ) => (cage, format!(", unchanged: {e}")),
+        Err(e) if e.leaves_cage_unchanged() => (cage, format!(", unchanged: {e}")),
         Err(e) => return Err(e.to_string()),
     };
     let obj = knotwork::io::obj::write_cage(&edited);

@@ -864,7 +864,8 @@ RANDOM_CASES = [
 ]
 
 # Cases added after the random ones: bevels at a point on the border with more beveled edges
-# (on fans of quads round it), by a straight corner of a face, and at points of two edges.
+# (on fans of quads round it), by a straight corner of a face, and at points of two edges;
+# border edges named to a bevel or a dissolve; insets of regions with no border.
 LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
@@ -891,6 +892,20 @@ LATER_CASES = [
     ("splitbox", "bevel --edges 8-1,8-0 --width 0.3U --segments 2"),
     ("bentbox", "bevel --edges 8-1,8-0 --width 0.2U --segments 1"),
     ("bentbox", "bevel --edges 8-1,8-0 --width 0.2U --segments 3"),
+    # Border edges (one face) named to a bevel or a dissolve: passed over beside inner edges,
+    # and the cage left as it is where every named edge is on the border.
+    ("grid", "bevel --edges 0-1,1-6 --width 0.2U --segments 2"),
+    ("fan4", "bevel --edges 0-1,0-3 --width 0.15U --segments 3"),
+    ("fan5", "bevel --edges 0-6,0-2,0-4 --width 0.1U --segments 2"),
+    ("grid", "bevel --edges 0-1,1-2 --width 0.2U --segments 1"),
+    ("grid", "dissolve --edges 0-1,1-6"),
+    ("fan4", "dissolve --edges 0-1,0-2,0-3"),
+    ("disc6", "dissolve --edges 1-2,0-2"),
+    ("disc6", "dissolve --edges 0-1,3-4"),
+    ("grid", "dissolve --edges 5-10"),
+    # A region inset whose faces enclose the whole cage: no border, left as it is.
+    ("box", "inset --faces 0,1,2,3,4,5 --thickness 0.2U"),
+    ("prism", "inset --faces 0,1,2,3,4 --thickness 0.1U"),
 ]
 
 

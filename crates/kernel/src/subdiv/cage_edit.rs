@@ -56,8 +56,36 @@ pub enum CageEditError {
          loops to cut between"
     )]
     RingSidesJoin { a: u32, b: u32 },
+    /// Every edge named to a bevel or a dissolve is on the cage's border (one face), which
+    /// Blender's bevel and dissolve pass over: they leave the cage as it is.
+    #[error(
+        "every named edge is on the cage's border (edge {a}-{b} has one face), and a {tool} \
+         leaves border edges as they are"
+    )]
+    EveryEdgeOnBorder { tool: &'static str, a: u32, b: u32 },
+    /// A region inset whose faces enclose a closed piece of the cage: it has no border to
+    /// inset, and Blender's inset leaves the cage as it is.
+    #[error("the faces enclose a closed piece of the cage: the region has no border to inset")]
+    RegionWithoutBorder,
     #[error("{0}")]
     Invalid(String),
+}
+
+impl CageEditError {
+    /// Whether Blender's tool, asked the same, leaves the mesh as it is rather than failing:
+    /// a loop cut whose ring crosses, touches or joins itself, a bevel or dissolve of border
+    /// edges alone, an inset of a region with no border. The command line then writes the
+    /// cage unchanged with the reason; the editor refuses, so that no step changes nothing.
+    pub fn leaves_cage_unchanged(&self) -> bool {
+        matches!(
+            self,
+            Self::RingCrossesItself { .. }
+                | Self::RingTouchesItself { .. }
+                | Self::RingSidesJoin { .. }
+                | Self::EveryEdgeOnBorder { .. }
+                | Self::RegionWithoutBorder
+        )
+    }
 }
 
 pub(super) fn invalid(message: impl Into<String>) -> CageEditError {
@@ -670,9 +698,7 @@ impl Cage {
             }
         }
         if border.is_empty() {
-            return Err(invalid(
-                "the faces enclose the whole cage: the region has no border to inset",
-            ));
+            return Err(CageEditError::RegionWithoutBorder);
         }
         // Each border vertex's sectors: the runs of region faces round it from a border edge
         // arriving to the border edge leaving, with the vertex moved along their bisector.
@@ -1173,43 +1199,61 @@ impl Cage {
         self.dissolve_edges(&inner)
     }
 
+    /// The named edges that have a face on each side, in the order named: border edges
+    /// (one face) are passed over, as Blender's bevel and dissolve pass over them. Every
+    /// edge must be in the cage; where every one is on the border, the `tool` would leave
+    /// the cage as it is ([`CageEditError::EveryEdgeOnBorder`]).
+    fn inner_edges(
+        &self,
+        half: &HalfEdges,
+        edges: &[(u32, u32)],
+        tool: &'static str,
+    ) -> Result<Vec<(u32, u32)>, CageEditError> {
+        let mut inner = Vec::with_capacity(edges.len());
+        for &(a, b) in edges {
+            self.check_edge(half, a, b)?;
+            if half.contains_key(&(a, b)) && half.contains_key(&(b, a)) {
+                inner.push((a, b));
+            }
+        }
+        match (inner.is_empty(), edges.first()) {
+            (true, Some(&(a, b))) => Err(CageEditError::EveryEdgeOnBorder { tool, a, b }),
+            _ => Ok(inner),
+        }
+    }
+
     /// Dissolve edges (Blender's Dissolve Edges, dissolving vertices too): the faces on both
     /// sides of each edge become one face (the lowest-numbered of them keeps its index and its
     /// winding), and each end of a dissolved edge that is left between only two edges is
-    /// dissolved as well. A dissolve that would leave a face with a hole is refused.
+    /// dissolved as well. A dissolve that would leave a face with a hole is refused. Named
+    /// border edges (one face) are passed over, as Blender's dissolve passes over them.
     pub fn dissolve_edges(&self, edges: &[(u32, u32)]) -> Result<Self, CageEditError> {
         if edges.is_empty() {
             return Err(invalid("no edges were named"));
         }
         let half = self.half_edges();
-        let mut gone: HashSet<(u32, u32)> = HashSet::default();
-        for &(a, b) in edges {
-            self.check_edge(&half, a, b)?;
-            if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
-                return Err(invalid(format!(
-                    "edge {a}-{b} is on the cage's border: there is no second face to join"
-                )));
-            }
-            gone.insert(key(a, b));
-        }
+        let inner = self.inner_edges(&half, edges, "dissolve")?;
+        let gone: HashSet<(u32, u32)> = inner.iter().map(|&(a, b)| key(a, b)).collect();
         let new_faces = self.joined_across(&half, &gone)?;
         // Which ends of the dissolved edges go too, decided on the cage before the dissolve
         // (Blender's rules): not a corner between two triangles being joined into a quad, and
-        // not a vertex where several dissolved edges meet beside a face that keeps both its
-        // edges there; of those, the ones left between only two edges.
-        let dissolved_at = |v: u32| gone.iter().filter(|&&(a, b)| a == v || b == v).count();
+        // not a vertex where several named edges meet beside a face that keeps both its
+        // edges there; of those, the ones left between only two edges. Named border edges
+        // count here as Blender counts them, though no faces join across them.
+        let named: HashSet<(u32, u32)> = edges.iter().map(|&(a, b)| key(a, b)).collect();
+        let dissolved_at = |v: u32| named.iter().filter(|&&(a, b)| a == v || b == v).count();
         let keeps_a_face = |v: u32| {
             self.faces.iter().any(|face| {
                 let k = face.len();
                 (0..k).any(|c| {
                     face[c] == v
-                        && !gone.contains(&key(face[(c + k - 1) % k], v))
-                        && !gone.contains(&key(v, face[(c + 1) % k]))
+                        && !named.contains(&key(face[(c + k - 1) % k], v))
+                        && !named.contains(&key(v, face[(c + 1) % k]))
                 })
             })
         };
         let mut marked = HashSet::default();
-        for &(a, b) in edges {
+        for &(a, b) in &inner {
             let (Some(&(f, _)), Some(&(g, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
                 continue;
             };
@@ -1862,7 +1906,8 @@ impl Cage {
     /// On the border every case is built as inside, the two border edges at a vertex and
     /// the unbeveled edges next to them taking one point between the beveled edges on either
     /// side (so the border runs through it), as Blender does. A vertex on the border twice
-    /// (its faces meeting only there) is refused by name.
+    /// (its faces meeting only there) is refused by name. Named border edges (one face) are
+    /// passed over, as Blender's bevel passes over them.
     pub fn bevel_edges(
         &self,
         edges: &[(u32, u32)],
@@ -1881,16 +1926,11 @@ impl Cage {
             )));
         }
         let half = self.half_edges();
-        let mut beveled: HashSet<(u32, u32)> = HashSet::default();
-        for &(a, b) in edges {
-            self.check_edge(&half, a, b)?;
-            if !(half.contains_key(&(a, b)) && half.contains_key(&(b, a))) {
-                return Err(invalid(format!(
-                    "edge {a}-{b} is on the cage's border: a bevel needs a face on each side"
-                )));
-            }
-            beveled.insert(key(a, b));
-        }
+        let beveled: HashSet<(u32, u32)> = self
+            .inner_edges(&half, edges, "bevel")?
+            .into_iter()
+            .map(|(a, b)| key(a, b))
+            .collect();
         let mut ends: Vec<u32> = beveled.iter().flat_map(|&(a, b)| [a, b]).collect();
         ends.sort_unstable();
         ends.dedup();
@@ -3670,6 +3710,66 @@ pub(super) mod tests {
                 message.is_some_and(|m| !m.is_empty()),
                 "request {k} was taken"
             );
+        }
+    }
+
+    /// Border edges named to a bevel or a dissolve are passed over, as Blender's bevel and
+    /// dissolve pass over them: beside inner edges the result is the inner edges' alone, and
+    /// border edges alone are refused by a typed error naming one (the CLI then writes the
+    /// cage unchanged, as Blender leaves it). A grid in general position.
+    #[test]
+    fn border_edges_named_to_a_bevel_or_dissolve_are_passed_over() {
+        for seed in 0..4 {
+            let (grid, _) = cage_of(&cages::grid(DVec3::ZERO, 2.0, 3).unwrap(), 40 + seed);
+            let half = grid.half_edges();
+            let mut border = Vec::new();
+            let mut inner = Vec::new();
+            for face in &grid.faces {
+                for c in 0..face.len() {
+                    let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                    match half.get(&(b, a)) {
+                        None => border.push((a, b)),
+                        Some(_) if a < b => inner.push((a, b)),
+                        Some(_) => {}
+                    }
+                }
+            }
+            // An inner edge with a border edge at one of its ends.
+            let &(a, b) = inner
+                .iter()
+                .find(|&&(a, b)| {
+                    border
+                        .iter()
+                        .any(|&(c, d)| [c, d].contains(&a) || [c, d].contains(&b))
+                })
+                .unwrap();
+            let &side = border
+                .iter()
+                .find(|&&(c, d)| [c, d].contains(&a) || [c, d].contains(&b))
+                .unwrap();
+            assert_eq!(
+                grid.bevel_edges(&[side, (a, b)], 0.1, 2).unwrap(),
+                grid.bevel_edges(&[(a, b)], 0.1, 2).unwrap()
+            );
+            let far = *border
+                .iter()
+                .find(|&&(c, d)| ![c, d].contains(&a) && ![c, d].contains(&b))
+                .unwrap();
+            assert_eq!(
+                grid.dissolve_edges(&[(a, b), far]).unwrap(),
+                grid.dissolve_edges(&[(a, b)]).unwrap()
+            );
+            for refusal in [
+                grid.bevel_edges(&[side, far], 0.1, 1),
+                grid.dissolve_edges(&[far]),
+            ] {
+                match refusal {
+                    Err(CageEditError::EveryEdgeOnBorder { a, b, .. }) => {
+                        assert!(border.contains(&(a, b)) || border.contains(&(b, a)));
+                    }
+                    other => panic!("border edges alone: {other:?}"),
+                }
+            }
         }
     }
 
