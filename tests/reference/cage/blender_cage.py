@@ -865,7 +865,8 @@ RANDOM_CASES = [
 
 # Cases added after the random ones: bevels at a point on the border with more beveled edges
 # (on fans of quads round it), by a straight corner of a face, and at points of two edges;
-# border edges named to a bevel or a dissolve; insets of regions with no border.
+# border edges named to a bevel or a dissolve; insets of regions with no border and loop
+# cuts of edges with no quad.
 LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
@@ -906,6 +907,10 @@ LATER_CASES = [
     # A region inset whose faces enclose the whole cage: no border, left as it is.
     ("box", "inset --faces 0,1,2,3,4,5 --thickness 0.2U"),
     ("prism", "inset --faces 0,1,2,3,4 --thickness 0.1U"),
+    # Loop cuts through an edge with no quad on either side (a disc's spoke, a cone's base
+    # edge between a triangle and the base): no ring, left as it is.
+    ("disc6", "loopcut --edge 0,1 --cuts 2"),
+    ("cone6", "loopcut --edge 1,2 --cuts 1"),
 ]
 
 

@@ -56,6 +56,13 @@ pub enum CageEditError {
          loops to cut between"
     )]
     RingSidesJoin { a: u32, b: u32 },
+    /// A loop cut through an edge with no quad on either side: its ring is the edge alone,
+    /// and Blender's loop cut finds no two edge loops to cut between and leaves the mesh.
+    #[error(
+        "edge {a}-{b} has no quad on either side: its edge ring is the edge alone, with no two \
+         edge loops to cut between"
+    )]
+    RingWithoutQuads { a: u32, b: u32 },
     /// Every edge named to a bevel or a dissolve is on the cage's border (one face), which
     /// Blender's bevel and dissolve pass over: they leave the cage as it is.
     #[error(
@@ -73,14 +80,16 @@ pub enum CageEditError {
 
 impl CageEditError {
     /// Whether Blender's tool, asked the same, leaves the mesh as it is rather than failing:
-    /// a loop cut whose ring crosses, touches or joins itself, a bevel or dissolve of border
-    /// edges alone, an inset of a region with no border. The command line then writes the
-    /// cage unchanged with the reason; the editor refuses, so that no step changes nothing.
+    /// a loop cut whose ring crosses, touches or joins itself or has no quad, a bevel or
+    /// dissolve of border edges alone, an inset of a region with no border. The command line
+    /// then writes the cage unchanged with the reason; the editor refuses, so that no step
+    /// changes nothing.
     pub fn leaves_cage_unchanged(&self) -> bool {
         matches!(
             self,
             Self::RingCrossesItself { .. }
                 | Self::RingTouchesItself { .. }
+                | Self::RingWithoutQuads { .. }
                 | Self::RingSidesJoin { .. }
                 | Self::EveryEdgeOnBorder { .. }
                 | Self::RegionWithoutBorder
@@ -820,7 +829,8 @@ impl Cage {
     /// Loop cut (Blender's Loop Cut, even): the edge ring through edge a–b is cut `cuts` times at
     /// equal fractions, and every quad of the ring becomes `cuts + 1` quads across it. A face at
     /// an end of an open ring that is not a quad takes the new points into its edge. A crease
-    /// on a ring edge goes to each of its pieces.
+    /// on a ring edge goes to each of its pieces. An edge with no quad on either side has no
+    /// ring to cut ([`CageEditError::RingWithoutQuads`]).
     pub fn loop_cut(&self, a: u32, b: u32, cuts: u32) -> Result<Self, CageEditError> {
         let half = self.half_edges();
         self.check_edge(&half, a, b)?;
@@ -828,6 +838,9 @@ impl Cage {
             return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
         }
         let (ring, quads) = self.edge_ring_in(&half, a, b);
+        if quads.is_empty() {
+            return Err(CageEditError::RingWithoutQuads { a, b });
+        }
         // Each quad of the ring is crossed through one pair of opposite edges and no other
         // edge of it is cut: else the ring came back across it.
         let cut: HashSet<(u32, u32)> = ring.iter().map(|&(p, q)| key(p, q)).collect();
@@ -3494,9 +3507,15 @@ pub(super) mod tests {
                 3 => cage.loop_cut(f[0], f[1], 1 + random.below(3) as u32),
                 _ => cage.bevel_edges(&[(f[0], f[1])], 0.02 * scale, 2),
             };
-            // A bevel may meet a corner it does not build: it says so and changes nothing.
+            // A bevel may meet a corner it does not build, and a loop cut an edge with no quad
+            // beside it (a bevel's end): each says so and changes nothing.
             let Ok(next) = result else {
-                assert!(step % 5 == 4, "step {step}: {result:?}");
+                assert!(
+                    step % 5 == 4
+                        || (step % 5 == 3
+                            && matches!(result, Err(CageEditError::RingWithoutQuads { .. }))),
+                    "step {step}: {result:?}"
+                );
                 continue;
             };
             check_cage(&next);
