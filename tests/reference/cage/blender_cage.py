@@ -866,7 +866,7 @@ RANDOM_CASES = [
 # Cases added after the random ones: bevels at a point on the border with more beveled edges
 # (on fans of quads round it), by a straight corner of a face, and at points of two edges;
 # border edges named to a bevel or a dissolve; insets of regions with no border and loop
-# cuts of edges with no quad.
+# cuts of edges with no quad; merges of points that share a face.
 LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
@@ -911,6 +911,12 @@ LATER_CASES = [
     # edge between a triangle and the base): no ring, left as it is.
     ("disc6", "loopcut --edge 0,1 --cuts 2"),
     ("cone6", "loopcut --edge 1,2 --cuts 1"),
+    # Merges where a face holds a merged point and the point it merges into, not side by
+    # side (Blender's weld splits the face between them), or two merged points without
+    # that point (the face goes).
+    ("ngons", "merge --vertices 9,12 --at centre"),
+    ("ngons", "merge --vertices 0,9,12 --at first"),
+    ("ngons", "merge --vertices 2,5,9 --at centre"),
 ]
 
 

@@ -1124,8 +1124,10 @@ impl Cage {
     }
 
     /// Merge vertices (Blender's Merge, at centre or at first): every named vertex becomes the
-    /// first one named, placed at their centroid or where the first is. Faces lose the corners
-    /// that fall together; a face left with fewer than three goes.
+    /// first one named, placed at their centroid or where the first is, by Blender's weld
+    /// ([`Self::welded`]): a face holding the first and another named vertex apart splits
+    /// between them, faces lose the corners that fall together, and a face left with fewer
+    /// than three, or passing a vertex twice, goes.
     pub fn merge_vertices(&self, vertices: &[u32], at_first: bool) -> Result<Self, CageEditError> {
         let mut named: Vec<u32> = Vec::with_capacity(vertices.len());
         for &v in vertices {
@@ -1147,9 +1149,12 @@ impl Cage {
     }
 
     /// The cage (`self`, its points already moved) with every vertex `v` replaced by `to(v)`
-    /// (Blender's Weld): faces lose the corners that fall together, a face that then passes a
-    /// corner twice splits there, pieces of fewer than three corners go, and of two faces
-    /// over the same corners the first stays. `before` is the cage the tool started from.
+    /// (Blender's Weld Verts): a face holding a merged vertex and, not beside it, the vertex
+    /// it merges into is first split between the two ([`split_at_targets`]); then each face
+    /// loses the corners that fall together, and goes where it would pass a corner twice or
+    /// keep fewer than three ([`welded_face`]); of two faces over the same corners the first
+    /// stays. `to` maps a vertex that stays to itself. `before` is the cage the tool started
+    /// from.
     pub(super) fn welded(
         mut self,
         before: &Self,
@@ -1157,14 +1162,13 @@ impl Cage {
     ) -> Result<Self, CageEditError> {
         let mut faces = Vec::with_capacity(self.faces.len());
         for face in &self.faces {
-            let mut merged: Vec<u32> = face.iter().map(|&v| to(v)).collect();
-            merged.dedup();
-            while merged.len() > 1 && merged.first() == merged.last() {
-                merged.pop();
-            }
-            // A face that now passes a corner twice splits there into loops; those of fewer
-            // than three corners go.
-            split_at_repeats(merged, &mut faces);
+            let mut pieces = Vec::new();
+            split_at_targets(face.clone(), &to, &mut pieces);
+            faces.extend(
+                pieces
+                    .into_iter()
+                    .filter_map(|piece| welded_face(&piece, &to)),
+            );
         }
         // Two faces over the same corners after the merge are one face twice: keep the first.
         let mut seen = HashSet::default();
@@ -2985,24 +2989,44 @@ impl Cage {
     }
 }
 
-/// Splits a loop of corners that passes a corner twice into the loops between the repeats,
-/// pushing those of three corners or more.
-pub(super) fn split_at_repeats(face: Vec<u32>, out: &mut Vec<Vec<u32>>) {
-    let repeat = (0..face.len()).find_map(|i| {
-        (i + 1..face.len())
-            .find(|&j| face[j] == face[i])
-            .map(|j| (i, j))
-    });
-    match repeat {
-        Some((i, j)) => {
-            let inner = face[i..j].to_vec();
-            let outer: Vec<u32> = face[j..].iter().chain(&face[..i]).copied().collect();
-            split_at_repeats(inner, out);
-            split_at_repeats(outer, out);
+/// Blender's split of a face before a weld: the first corner (in the face's order) whose
+/// vertex merges into another that is also a corner of the face, not beside it, splits the
+/// face along the chord between the two, and each piece is split again the same way.
+fn split_at_targets(face: Vec<u32>, to: &impl Fn(u32) -> u32, out: &mut Vec<Vec<u32>>) {
+    let n = face.len();
+    let chord = (0..n).find_map(|i| {
+        let target = to(face[i]);
+        if target == face[i] {
+            return None;
         }
-        None if face.len() >= 3 => out.push(face),
-        None => {}
+        let j = face.iter().position(|&v| v == target)?;
+        let beside = (i + 1) % n == j || (j + 1) % n == i;
+        (!beside).then_some((i.min(j), i.max(j)))
+    });
+    match chord {
+        Some((i, j)) => {
+            let inner = face[i..=j].to_vec();
+            let outer: Vec<u32> = face[j..].iter().chain(&face[..=i]).copied().collect();
+            split_at_targets(inner, to, out);
+            split_at_targets(outer, to, out);
+        }
+        None => out.push(face),
     }
+}
+
+/// A face after a weld, as Blender's weld makes it again: its corners mapped by `to`, those
+/// that fall on the corner before them dropped (round the loop); none where a vertex is
+/// then passed twice or fewer than three corners are left.
+fn welded_face(face: &[u32], to: &impl Fn(u32) -> u32) -> Option<Vec<u32>> {
+    let mut merged: Vec<u32> = face.iter().map(|&v| to(v)).collect();
+    merged.dedup();
+    while merged.len() > 1 && merged.first() == merged.last() {
+        merged.pop();
+    }
+    let mut sorted = merged.clone();
+    sorted.sort_unstable();
+    let repeats = sorted.windows(2).any(|w| w[0] == w[1]);
+    (merged.len() >= 3 && !repeats).then_some(merged)
 }
 
 fn check_thickness(thickness: f64) -> Result<(), CageEditError> {
