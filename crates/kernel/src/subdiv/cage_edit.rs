@@ -74,6 +74,10 @@ pub enum CageEditError {
     /// inset, and Blender's inset leaves the cage as it is.
     #[error("the faces enclose a closed piece of the cage: the region has no border to inset")]
     RegionWithoutBorder,
+    /// A merge by distance where no two of the points are within it: Blender's merge by
+    /// distance leaves the mesh as it is.
+    #[error("no two points are within {distance} of each other: nothing to merge")]
+    NothingWithinDistance { distance: f64 },
     #[error("{0}")]
     Invalid(String),
 }
@@ -81,9 +85,9 @@ pub enum CageEditError {
 impl CageEditError {
     /// Whether Blender's tool, asked the same, leaves the mesh as it is rather than failing:
     /// a loop cut whose ring crosses, touches or joins itself or has no quad, a bevel or
-    /// dissolve of border edges alone, an inset of a region with no border. The command line
-    /// then writes the cage unchanged with the reason; the editor refuses, so that no step
-    /// changes nothing.
+    /// dissolve of border edges alone, an inset of a region with no border, a merge by
+    /// distance with no two points within it. The command line then writes the cage
+    /// unchanged with the reason; the editor refuses, so that no step changes nothing.
     pub fn leaves_cage_unchanged(&self) -> bool {
         matches!(
             self,
@@ -93,6 +97,7 @@ impl CageEditError {
                 | Self::RingSidesJoin { .. }
                 | Self::EveryEdgeOnBorder { .. }
                 | Self::RegionWithoutBorder
+                | Self::NothingWithinDistance { .. }
         )
     }
 }

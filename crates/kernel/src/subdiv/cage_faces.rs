@@ -165,9 +165,7 @@ impl Cage {
             }
         }
         if target.iter().all(|(a, b)| a == b) {
-            return Err(invalid(format!(
-                "no two points are within {distance} of each other: nothing to merge"
-            )));
+            return Err(CageEditError::NothingWithinDistance { distance });
         }
         self.clone()
             .welded(self, |v| target.get(&v).copied().unwrap_or(v))
