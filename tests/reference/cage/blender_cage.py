@@ -866,7 +866,7 @@ RANDOM_CASES = [
 # Cases added after the random ones: bevels at a point on the border with more beveled edges
 # (on fans of quads round it), by a straight corner of a face, and at points of two edges;
 # border edges named to a bevel or a dissolve; insets of regions with no border and loop
-# cuts of edges with no quad; merges of points that share a face.
+# cuts of edges with no quad; merges of points that share a face; dissolves of faces.
 LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
@@ -919,6 +919,10 @@ LATER_CASES = [
     ("ngons", "merge --vertices 2,5,9 --at centre"),
     # A merge by distance with no two points that near: left as it is.
     ("grid", "merge --distance 0.05U"),
+    # Faces dissolved: every end of a dissolved edge left between two edges goes, beside a
+    # face that keeps both its edges there too (Blender's dissolve of edges keeps that one).
+    ("grid", "dissolve --faces 2,6,7"),
+    ("box", "dissolve --faces 0,1"),
 ]
 
 

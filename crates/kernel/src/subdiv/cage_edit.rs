@@ -1197,8 +1197,9 @@ impl Cage {
     }
 
     /// Dissolve faces (Blender's Dissolve Faces, dissolving vertices too): each region of
-    /// named faces joined by edges becomes one face, by dissolving the edges between two named
-    /// faces ([`Self::dissolve_edges`]). Named faces that share no edge are refused.
+    /// named faces joined by edges becomes one face, the edges between two named faces
+    /// dissolved, and every end of those edges then left between two edges (and not so
+    /// before) is dissolved too. Named faces that share no edge are refused.
     pub fn dissolve_faces(&self, faces: &[usize]) -> Result<Self, CageEditError> {
         let faces = self.check_faces(faces)?;
         let named: HashSet<usize> = faces.iter().copied().collect();
@@ -1218,7 +1219,32 @@ impl Cage {
                 "the named faces share no edge: there is nothing to dissolve",
             ));
         }
-        self.dissolve_edges(&inner)
+        let gone: HashSet<(u32, u32)> = inner.iter().copied().collect();
+        let new_faces = self.joined_across(&half, &gone)?;
+        // Blender's dissolve of faces (unlike its dissolve of edges) takes out every end of
+        // a dissolved edge that is left between two edges, unless it was already.
+        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::default();
+        for &(a, b) in &inner {
+            neighbours.entry(a).or_default();
+            neighbours.entry(b).or_default();
+        }
+        for face in &self.faces {
+            for c in 0..face.len() {
+                let (a, b) = (face[c], face[(c + 1) % face.len()]);
+                for (v, other) in [(a, b), (b, a)] {
+                    if let Some(n) = neighbours.get_mut(&v) {
+                        n.insert(other);
+                    }
+                }
+            }
+        }
+        let marked = neighbours
+            .into_iter()
+            .filter(|(_, n)| n.len() != 2)
+            .map(|(v, _)| v)
+            .collect();
+        let faces: Vec<Vec<u32>> = new_faces.into_iter().flatten().collect();
+        self.with_faces_lone_removed(faces, marked)
     }
 
     /// The named edges that have a face on each side, in the order named: border edges
