@@ -866,7 +866,8 @@ RANDOM_CASES = [
 # Cases added after the random ones: bevels at a point on the border with more beveled edges
 # (on fans of quads round it), by a straight corner of a face, and at points of two edges;
 # border edges named to a bevel or a dissolve; insets of regions with no border and loop
-# cuts of edges with no quad; merges of points that share a face; dissolves of faces.
+# cuts of edges with no quad; merges of points that share a face; dissolves of faces;
+# subdivisions of polygons.
 LATER_CASES = [
     ("fan4", "bevel --edges 0-2,0-3,0-4 --width 0.15U --segments 1"),
     ("fan4", "bevel --edges 0-2,0-4 --width 0.15U --segments 2"),
@@ -923,6 +924,10 @@ LATER_CASES = [
     # face that keeps both its edges there too (Blender's dissolve of edges keeps that one).
     ("grid", "dissolve --faces 2,6,7"),
     ("box", "dissolve --faces 0,1"),
+    # A polygon of seven sides subdivided: with three or more cut edges it only takes the
+    # points into them (Blender splits a polygon of five or more sides only across two).
+    ("ngons", "subdivide --faces 0 --cuts 2"),
+    ("ngons", "subdivide --faces 2,3 --cuts 1"),
 ]
 
 

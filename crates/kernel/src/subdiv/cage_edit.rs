@@ -1000,11 +1000,12 @@ impl Cage {
     /// whose edges are cut (the named ones, and any other the cut edges close round) is
     /// filled with the grid of (cuts + 1)² quads or triangles whose inner points lie evenly
     /// on the lines between its sides' points (bilinear on a quad, barycentric on a
-    /// triangle). Any other face with two or more cut edges is split by straight lines
-    /// between the points of its first two cut edges ([`straight_cuts`]: strips across a quad
-    /// cut on opposite sides, the corner cut off where they meet); faces with one cut edge
-    /// take the new points into it; a quad with three cut sides is split by Blender's pattern
-    /// for it ([`quad_three_cut_sides`]). The first piece takes the face's index; the rest
+    /// triangle). Any other face with two cut edges is split by straight lines between their
+    /// points ([`straight_cuts`]: strips across a quad cut on opposite sides, the corner cut
+    /// off where they meet), as is a triangle or quad with more; faces with one cut edge, and
+    /// polygons of five or more sides with three or more, take the new points into them; a
+    /// quad with three cut sides is split by Blender's pattern for it
+    /// ([`quad_three_cut_sides`]). The first piece takes the face's index; the rest
     /// follow.
     pub fn subdivide_faces(&self, faces: &[usize], cuts: u32) -> Result<Self, CageEditError> {
         let faces = self.check_faces(faces)?;
@@ -1652,7 +1653,7 @@ fn chain_along(inner: &HashMap<(u32, u32), Vec<u32>>, p: u32, q: u32) -> Option<
 /// Subdivide with straight-cut corners): the face, its cut points taken in, is split by
 /// straight lines from the points of its first cut edge (in its order) to those of the next,
 /// the first point to the last, the second to the one before, and so on. Empty where fewer
-/// than two edges are cut.
+/// than two edges are cut, or more than two of a polygon of five or more sides.
 fn straight_cuts(
     face: &[u32],
     inner: &HashMap<(u32, u32), Vec<u32>>,
@@ -1666,6 +1667,11 @@ fn straight_cuts(
     }
     if face.len() == 4 && cut_edges == 3 {
         return quad_three_cut_sides(face, inner, cuts);
+    }
+    // Blender splits a polygon of five or more sides only where exactly two of its edges
+    // are cut; with more it takes the points into its edges.
+    if face.len() > 4 && cut_edges > 2 {
+        return Vec::new();
     }
     let ring = grown_by_cuts(face, inner);
     let original: HashSet<u32> = face.iter().copied().collect();
