@@ -144,6 +144,27 @@ fn root(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
+/// The points joined to each of `vertices` by an edge of `faces` (empty for one on none);
+/// the rest of the cage is not asked about.
+fn neighbours_in(
+    faces: &[Vec<u32>],
+    vertices: impl Iterator<Item = u32>,
+) -> HashMap<u32, HashSet<u32>> {
+    let mut neighbours: HashMap<u32, HashSet<u32>> =
+        vertices.map(|v| (v, HashSet::default())).collect();
+    for face in faces {
+        for c in 0..face.len() {
+            let (a, b) = (face[c], face[(c + 1) % face.len()]);
+            for (v, other) in [(a, b), (b, a)] {
+                if let Some(n) = neighbours.get_mut(&v) {
+                    n.insert(other);
+                }
+            }
+        }
+    }
+    neighbours
+}
+
 /// One more than the largest point index `faces` name (0 for none): the length of a table
 /// indexed by their points.
 fn points_named<'a>(faces: impl Iterator<Item = &'a Vec<u32>>) -> usize {
@@ -1224,22 +1245,8 @@ impl Cage {
         let new_faces = self.joined_across(&half, &gone)?;
         // Blender's dissolve of faces (unlike its dissolve of edges) takes out every end of
         // a dissolved edge that is left between two edges, unless it was already.
-        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::default();
-        for &(a, b) in &inner {
-            neighbours.entry(a).or_default();
-            neighbours.entry(b).or_default();
-        }
-        for face in &self.faces {
-            for c in 0..face.len() {
-                let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                for (v, other) in [(a, b), (b, a)] {
-                    if let Some(n) = neighbours.get_mut(&v) {
-                        n.insert(other);
-                    }
-                }
-            }
-        }
-        let marked = neighbours
+        let ends = inner.iter().flat_map(|&(a, b)| [a, b]);
+        let marked = neighbours_in(&self.faces, ends)
             .into_iter()
             .filter(|(_, n)| n.len() != 2)
             .map(|(v, _)| v)
@@ -1330,21 +1337,10 @@ impl Cage {
         mut faces: Vec<Vec<u32>>,
         candidates: HashSet<u32>,
     ) -> Result<Self, CageEditError> {
-        // The candidates' neighbours only (the rest of the cage is not asked about).
-        let mut neighbours: HashMap<u32, HashSet<u32>> = HashMap::default();
-        for face in &faces {
-            for c in 0..face.len() {
-                let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                for (v, other) in [(a, b), (b, a)] {
-                    if candidates.contains(&v) {
-                        neighbours.entry(v).or_default().insert(other);
-                    }
-                }
-            }
-        }
-        let lone: HashSet<u32> = candidates
+        let lone: HashSet<u32> = neighbours_in(&faces, candidates.into_iter())
             .into_iter()
-            .filter(|v| neighbours.get(v).is_some_and(|n| n.len() == 2))
+            .filter(|(_, n)| n.len() == 2)
+            .map(|(v, _)| v)
             .collect();
         if !lone.is_empty() {
             for face in &mut faces {
@@ -1370,8 +1366,10 @@ impl Cage {
     /// The faces after joining the faces on both sides of every edge in `gone` (each an
     /// interior edge, as `(low, high)`; `half`: the cage's [`Self::half_edges`]): each group
     /// of faces so joined becomes one face, its border walked from the lowest-numbered face's
-    /// first kept corner, in that face's place; the others of the group become `None`. A group
-    /// whose border touches itself at a vertex or has a hole is refused.
+    /// first kept corner, in that face's place; the others of the group become `None`. Every
+    /// edge between two faces of a group goes, named or not, as Blender's face join takes it
+    /// out (a cone's side triangles joined through the base lose the spoke between them). A
+    /// group whose border still touches itself at a vertex or has a hole is refused.
     pub(super) fn joined_across(
         &self,
         half: &HalfEdges,
@@ -1395,15 +1393,20 @@ impl Cage {
             groups.entry(r).or_default().push(f);
         }
         let mut new_faces: Vec<Option<Vec<u32>>> = self.faces.iter().cloned().map(Some).collect();
-        for (_, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
-            // The group's border: its half-edges that are not dissolved.
+        for (group, members) in groups.into_iter().filter(|(_, m)| m.len() > 1) {
+            // The group's border: its half-edges that are not dissolved and whose other side
+            // is not in the group (Blender's join takes out every edge between two of the
+            // faces it joins, named or not, and the points left on no edge with them).
             let mut next: HashMap<u32, u32> = HashMap::default();
             let mut start = None;
             for &f in &members {
                 let face = &self.faces[f];
                 for c in 0..face.len() {
                     let (a, b) = (face[c], face[(c + 1) % face.len()]);
-                    if gone.contains(&key(a, b)) {
+                    let inside = half
+                        .get(&(b, a))
+                        .is_some_and(|&(g, _)| root(&mut parent, g) == group);
+                    if inside || gone.contains(&key(a, b)) {
                         continue;
                     }
                     if next.insert(a, b).is_some() {
