@@ -47,12 +47,12 @@ impl Cage {
         // Round v: the new face's edges, from the point on the edge a face leaves v along to
         // the point on the edge it came in on.
         let mut next: HashMap<u32, HashMap<u32, u32>> = HashMap::default();
-        let mut order: Vec<u32> = Vec::new();
+        let mut order: Vec<u32> = Vec::with_capacity(named.len());
+        let mut seen = HashSet::default();
         for &v in vertices {
-            if order.contains(&v) {
-                continue;
+            if seen.insert(v) {
+                order.push(v);
             }
-            order.push(v);
         }
         let corners_of: HashMap<u32, Vec<(usize, usize)>> = {
             let mut map: HashMap<u32, Vec<(usize, usize)>> = HashMap::default();

@@ -326,11 +326,12 @@ impl Cage {
 
     pub(super) fn check_faces(&self, faces: &[usize]) -> Result<Vec<usize>, CageEditError> {
         let mut out: Vec<usize> = Vec::with_capacity(faces.len());
+        let mut seen = vec![false; self.faces.len()];
         for &f in faces {
             if f >= self.faces.len() {
                 return Err(CageEditError::NoFace(f, self.faces.len()));
             }
-            if !out.contains(&f) {
+            if !std::mem::replace(&mut seen[f], true) {
                 out.push(f);
             }
         }
@@ -1157,9 +1158,10 @@ impl Cage {
     /// than three, or passing a vertex twice, goes.
     pub fn merge_vertices(&self, vertices: &[u32], at_first: bool) -> Result<Self, CageEditError> {
         let mut named: Vec<u32> = Vec::with_capacity(vertices.len());
+        let mut seen = HashSet::default();
         for &v in vertices {
             self.check_vertex(v)?;
-            if !named.contains(&v) {
+            if seen.insert(v) {
                 named.push(v);
             }
         }
@@ -1255,10 +1257,11 @@ impl Cage {
         self.with_faces_lone_removed(faces, marked)
     }
 
-    /// The named edges that have a face on each side, in the order named: border edges
-    /// (one face) are passed over, as Blender's bevel and dissolve pass over them. Every
-    /// edge must be in the cage; where every one is on the border, the `tool` would leave
-    /// the cage as it is ([`CageEditError::EveryEdgeOnBorder`]).
+    /// The named edges that have a face on each side, in the order named, each once (an
+    /// edge named again, either way round, is the same edge): border edges (one face) are
+    /// passed over, as Blender's bevel and dissolve pass over them. Every edge must be in the
+    /// cage; where every one is on the border, the `tool` would leave the cage as it is
+    /// ([`CageEditError::EveryEdgeOnBorder`]).
     fn inner_edges(
         &self,
         half: &HalfEdges,
@@ -1266,9 +1269,10 @@ impl Cage {
         tool: &'static str,
     ) -> Result<Vec<(u32, u32)>, CageEditError> {
         let mut inner = Vec::with_capacity(edges.len());
+        let mut seen = HashSet::default();
         for &(a, b) in edges {
             self.check_edge(half, a, b)?;
-            if half.contains_key(&(a, b)) && half.contains_key(&(b, a)) {
+            if half.contains_key(&(a, b)) && half.contains_key(&(b, a)) && seen.insert(key(a, b)) {
                 inner.push((a, b));
             }
         }
@@ -1983,11 +1987,9 @@ impl Cage {
             )));
         }
         let half = self.half_edges();
-        let beveled: HashSet<(u32, u32)> = self
-            .inner_edges(&half, edges, "bevel")?
-            .into_iter()
-            .map(|(a, b)| key(a, b))
-            .collect();
+        // Each beveled edge once, in the order named.
+        let inner = self.inner_edges(&half, edges, "bevel")?;
+        let beveled: HashSet<(u32, u32)> = inner.iter().map(|&(a, b)| key(a, b)).collect();
         let mut ends: Vec<u32> = beveled.iter().flat_map(|&(a, b)| [a, b]).collect();
         ends.sort_unstable();
         ends.dedup();
@@ -2583,7 +2585,7 @@ impl Cage {
         }
         // The bands: along each beveled edge a→b, between the arcs at its ends. Face X holds
         // a→b and face Y b→a; at each end the arc runs from X's point to Y's.
-        for &(a, b) in edges {
+        for &(a, b) in &inner {
             let (Some(&(fx, _)), Some(&(fy, _))) = (half.get(&(a, b)), half.get(&(b, a))) else {
                 continue;
             };
@@ -3793,6 +3795,56 @@ pub(super) mod tests {
                 message.is_some_and(|m| !m.is_empty()),
                 "request {k} was taken"
             );
+        }
+    }
+
+    /// An edge, face or point named twice (an edge either way round) is the same as named
+    /// once, for every tool that takes a list: before, a bevel built the band of an edge
+    /// named twice twice over. Cubes, tori and icosahedra in general position, each edge's
+    /// neighbour round a point named again reversed.
+    #[test]
+    fn an_element_named_twice_is_taken_once() {
+        let meshes = [
+            cages::cube(DVec3::ZERO, 2.0).unwrap(),
+            cages::torus(DVec3::ZERO, 2.0, 0.7, 8, 6).unwrap(),
+            cages::icosahedron(DVec3::ZERO, 1.5).unwrap(),
+        ];
+        for (m, mesh) in meshes.iter().enumerate() {
+            for seed in 0..3u64 {
+                let (cage, scale) = cage_of(mesh, 90 + 7 * m as u64 + seed);
+                let face = &cage.faces[(seed as usize * 5) % cage.faces.len()];
+                let (a, b, c) = (face[0], face[1], face[2]);
+                let once = [(a, b), (b, c)];
+                let twice = [(a, b), (b, c), (b, a), (a, b)];
+                let w = 0.05 * scale;
+                assert_eq!(
+                    cage.bevel_edges(&twice, w, 2).unwrap(),
+                    cage.bevel_edges(&once, w, 2).unwrap(),
+                    "bevel, mesh {m} seed {seed}"
+                );
+                assert_eq!(
+                    cage.dissolve_edges(&twice[..3]).ok(),
+                    cage.dissolve_edges(&once).ok(),
+                    "dissolve, mesh {m} seed {seed}"
+                );
+                assert_eq!(
+                    cage.bevel_vertices(&[b, a, b], w, 2).unwrap(),
+                    cage.bevel_vertices(&[b, a], w, 2).unwrap()
+                );
+                assert_eq!(
+                    cage.merge_vertices(&[a, c, a, c], false).ok(),
+                    cage.merge_vertices(&[a, c], false).ok()
+                );
+                let faces = [0, 1, 0, 1];
+                assert_eq!(
+                    cage.extrude_faces(&faces, w).ok(),
+                    cage.extrude_faces(&faces[..2], w).ok()
+                );
+                assert_eq!(
+                    cage.inset(&faces, w, 0.0, false).ok(),
+                    cage.inset(&faces[..2], w, 0.0, false).ok()
+                );
+            }
         }
     }
 
