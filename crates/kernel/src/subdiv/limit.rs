@@ -483,6 +483,64 @@ pub fn loop_sided_weights(
     Some(box_spline_weights(v, &entries, scale))
 }
 
+/// The weights of position, Su, Sv, Suu, Suv, Svv (per `1/scale` of the lattice step) of
+/// Loop's limit at a corner of one triangle that follows the corner rule (a boundary point of
+/// one face under the boundary rule "edge and corner", or one tagged infinitely sharp): the
+/// point itself, the steps to its two neighbours along the sharp edges, and no second
+/// derivative.
+///
+/// Near such a corner the refined nets are the regular 60° wedge of the triangle lattice, the
+/// corner fixed and each sharp edge refined by the crease rule (a cubic B-spline whose end
+/// point stays, i.e. whose phantom point is 2 v − e, so its second derivative there is zero).
+/// The wedge's subdivision matrix has the eigenvalues 1, 1/2, 1/2, 1/8, 1/8, 1/8 and 0 for the
+/// rest, with the linear functions of the lattice as the eigenvectors for 1/2 and cubics for
+/// 1/8: there is no eigenvalue 1/4, so the limit there is the point, a linear map of the
+/// wedge and terms of third degree. Its masks are [`loop_regular_weights`]'s over the ring
+/// extended linearly (e₂ = v + e₁ − e₀, e₃ = 2 v − e₀, e₄ = 2 v − e₁, e₅ = v + e₀ − e₁),
+/// which give exactly that: the point, S along e₀ = e₀ − v and along e₁ = e₁ − v, and zero
+/// for every second derivative. The curvature there is zero (a flat point).
+///
+/// A corner of one triangle under the crease rule (boundary rule "edge only") has a single
+/// eigenvalue 1/2 and one of 1/4 (the limit's tangent plane degenerates there), and a corner
+/// of two triangles an eigenvalue 3/8 above 1/4 (its curvature is unbounded): both are
+/// `None`, as is any other point. `neighbour` (one of the two) lies `turns` sixths of a turn
+/// counter-clockwise from u.
+pub fn loop_corner_weights(
+    level: &Level,
+    v: u32,
+    neighbour: u32,
+    turns: usize,
+    scale: f64,
+) -> Option<Vec<(u32, [f64; 6])>> {
+    use super::level::INFINITE_SHARPNESS;
+    if level.vertex_sharpness[v as usize] < INFINITE_SHARPNESS {
+        return None;
+    }
+    let ring = level.ring(v);
+    let (neighbours, faces) = (&ring.neighbours, &ring.faces);
+    if !ring.boundary
+        || neighbours.len() != 2
+        || faces.len() != 1
+        || level.face(faces[0]).len() != 3
+        || sharp_edges_to(level, v, neighbours)? != [true, true]
+    {
+        return None;
+    }
+    let (e0, e1) = (neighbours[0], neighbours[1]);
+    let c = neighbours.iter().position(|&n| n == neighbour)?;
+    let cycle: [[(u32, f64); 3]; 6] = [
+        [(e0, 1.0), (v, 0.0), (v, 0.0)],
+        [(e1, 1.0), (v, 0.0), (v, 0.0)],
+        [(v, 1.0), (e1, 1.0), (e0, -1.0)],
+        [(v, 2.0), (e0, -1.0), (v, 0.0)],
+        [(v, 2.0), (e1, -1.0), (v, 0.0)],
+        [(v, 1.0), (e0, 1.0), (e1, -1.0)],
+    ];
+    let u = (c + 6 - turns % 6) % 6;
+    let entries: [[(u32, f64); 3]; 6] = std::array::from_fn(|j| cycle[(u + j) % 6]);
+    Some(box_spline_weights(v, &entries, scale))
+}
+
 /// The masks of [`loop_regular_weights`] at `v` over its lattice ring e₀ … e₅ (counter-
 /// clockwise from u), each entry a combination of points (a phantom point of
 /// [`loop_sided_weights`], or one point with weight 1), summed per point.

@@ -447,9 +447,10 @@ impl LimitMesh {
     /// all lie in one sector between infinitely sharp edges ([`limit::sided_weights`]); under
     /// Loop a regular point (the box spline, [`limit::loop_regular_weights`]) and a point on
     /// the boundary whose three triangles follow the crease rule
-    /// ([`limit::loop_sided_weights`]). `None` elsewhere: extraordinary points, either side
-    /// of a crease (a point shared by two sides has two curvatures), semi-sharp features,
-    /// corners and the other schemes. K
+    /// ([`limit::loop_sided_weights`]) or a corner of one triangle that follows the corner
+    /// rule ([`limit::loop_corner_weights`], a flat point). `None` elsewhere: extraordinary
+    /// points, either side of a crease (a point shared by two sides has two curvatures),
+    /// semi-sharp features, other corners and the other schemes. K
     /// and H are taken about the normal Su × Sv of the counter-clockwise faces, as
     /// [`Self::normals`].
     pub fn curvatures(&self, scheme: Scheme) -> Vec<Option<diffgeo::CurvatureValues>> {
@@ -485,7 +486,8 @@ impl LimitMesh {
                 let at = face.iter().position(|&x| x == v)?;
                 let towards = face[(at + 1) % face.len()];
                 let weights = match scheme {
-                    Scheme::Loop => limit::loop_sided_weights(level, v, towards, 0, f, 1.0),
+                    Scheme::Loop => limit::loop_sided_weights(level, v, towards, 0, f, 1.0)
+                        .or_else(|| limit::loop_corner_weights(level, v, towards, 0, 1.0)),
                     _ => limit::sided_weights(level, v, towards, false, f, 1.0),
                 }?;
                 let c = values(&mut weights.into_iter())?;

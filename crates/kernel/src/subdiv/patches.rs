@@ -6,8 +6,8 @@
 use super::display::{DisplayRows, VertexRows, display_rows};
 use super::level::{Level, NONE};
 use super::limit::{
-    is_regular, loop_regular_weights, loop_sided_weights, regular_grid, regular_weights,
-    sided_weights,
+    is_regular, loop_corner_weights, loop_regular_weights, loop_sided_weights, regular_grid,
+    regular_weights, sided_weights,
 };
 use super::pieces::{
     DEFAULT_TOLERANCE, ExactPiece, ShownPiece, SubstituteKind, SubstitutePlan, first_children,
@@ -948,18 +948,14 @@ fn push_stencil_patches_with(
                                 .then(|| match scheme {
                                     Scheme::Loop => {
                                         let (n, turns) = lattice?;
-                                        loop_regular_weights(level, v, n, turns, scale).or_else(
-                                            || {
-                                                loop_sided_weights(
-                                                    level,
-                                                    v,
-                                                    n,
-                                                    turns,
-                                                    lattice_face?,
-                                                    scale,
-                                                )
-                                            },
-                                        )
+                                        loop_regular_weights(level, v, n, turns, scale)
+                                            .or_else(|| {
+                                                let face = lattice_face?;
+                                                loop_sided_weights(level, v, n, turns, face, scale)
+                                            })
+                                            .or_else(|| {
+                                                loop_corner_weights(level, v, n, turns, scale)
+                                            })
                                     }
                                     _ => sided_weights(level, v, towards?, reversed, face?, scale),
                                 })
