@@ -460,16 +460,6 @@ def cage(name):
               (j + 1) * (n + 1) + i] for j in range(m) for i in range(n)
              if not (1 <= i <= 3 and 1 <= j <= 2)]
         return v, f
-    if name == "holes2":
-        # An 8 × 4 grid of uneven height with two holes side by side: a rim of 8 edges (its
-        # quads 1-2 × 1-2 taken out) and one of 4 (quad 5 × 1).
-        n, m = 8, 4
-        v = [(i * 0.7 + 0.04 * j, j * 0.9, 0.3 * math.sin(1.1 * i) * math.cos(0.7 * j) + 0.1 * j)
-             for j in range(m + 1) for i in range(n + 1)]
-        f = [[j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1,
-              (j + 1) * (n + 1) + i] for j in range(m) for i in range(n)
-             if not (1 <= i <= 2 and 1 <= j <= 2) and not (i == 5 and j == 1)]
-        return v, f
     if name == "tube12":
         # An open tube of 12 sides, uneven: rims of 12 edges to fill across.
         n, h = 12, 2
@@ -943,9 +933,6 @@ LATER_CASES = [
     # point with it.
     ("cone6", "dissolve --edges 1-0,5-0"),
     ("box", "dissolve --edges 3-7,6-7"),
-    # Two holes of different lengths side by side bridged, where Blender's strip is wound
-    # with the faces on both holes (elsewhere it may twist the strip: see tests.md).
-    ("holes2", "bridge --loop1 10,11,12,21,30,29,28,19 --loop2 14,15,24,23"),
 ]
 
 
