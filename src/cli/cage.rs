@@ -88,7 +88,8 @@ pub enum CageTool {
         #[arg(long, default_value_t = 1)]
         segments: u32,
     },
-    /// Join two closed loops of open edges with a band of quads.
+    /// Join two closed loops of open edges with a band of quads (of triangles where the loops'
+    /// lengths differ), paired at the least length that lays no face over the cage's.
     Bridge {
         /// The first loop's vertices in order, e.g. 0,1,2,3.
         #[arg(long)]

@@ -34,6 +34,11 @@ impl Cage {
     /// the least total length; the pairs are joined by quads and triangles, the quads split
     /// along their better diagonal, and the edges between the loops are then turned where
     /// that makes the two triangles on them bend less (Blender's Beautify Fill by angle).
+    ///
+    /// Where faces join the loops already (two holes one face apart, a hole one face from
+    /// the border), the pairing of least length lays the bridge's faces over them; the next
+    /// pairing by length that uses no half-edge twice is taken instead (Blender lays them
+    /// over), and where every pairing would, the bridge is refused.
     pub fn bridge_loops(&self, first: &[u32], second: &[u32]) -> Result<Self, CageEditError> {
         if first.len() < 3 || second.len() < 3 {
             return Err(invalid(format!(
@@ -77,28 +82,35 @@ impl Cage {
             // Wind the new faces against the face already on the leading loop's edges.
             let forward = along(lead);
             let k = lead.len();
-            let shift = least_rotation(&self.points, lead, &other);
-            other.rotate_left(shift);
-            for i in 0..k {
-                let j = (i + 1) % k;
-                let quad = if forward {
-                    vec![lead[j], lead[i], other[i], other[j]]
-                } else {
-                    vec![lead[i], lead[j], other[j], other[i]]
-                };
-                // A quad the cage has already (the face on this loop edge, as where a tube's
-                // own rims are bridged) is not made again, as Blender does not.
-                let on_edge = half
-                    .get(&(lead[i], lead[j]))
-                    .or_else(|| half.get(&(lead[j], lead[i])));
-                let exists = on_edge.is_some_and(|&(f, _)| {
-                    let face = &self.faces[f];
-                    face.len() == 4 && quad.iter().all(|v| face.contains(v))
-                });
-                if !exists {
-                    out.faces.push(quad);
-                }
-            }
+            let quads_at = |shift: usize| -> Vec<Vec<u32>> {
+                let paired = |i: usize| other[(i + shift) % k];
+                (0..k)
+                    .filter_map(|i| {
+                        let j = (i + 1) % k;
+                        let quad = if forward {
+                            vec![lead[j], lead[i], paired(i), paired(j)]
+                        } else {
+                            vec![lead[i], lead[j], paired(j), paired(i)]
+                        };
+                        // A quad the cage has already (the face on this loop edge, as where a
+                        // tube's own rims are bridged) is not made again, as Blender does not.
+                        let on_edge = half
+                            .get(&(lead[i], lead[j]))
+                            .or_else(|| half.get(&(lead[j], lead[i])));
+                        let exists = on_edge.is_some_and(|&(f, _)| {
+                            let face = &self.faces[f];
+                            face.len() == 4 && quad.iter().all(|v| face.contains(v))
+                        });
+                        (!exists).then_some(quad)
+                    })
+                    .collect()
+            };
+            let quads = rotations_by_length(&self.points, lead, &other)
+                .into_iter()
+                .map(quads_at)
+                .find(|quads| !lays_over(&half, quads.iter().map(Vec::as_slice)))
+                .ok_or_else(joined_already)?;
+            out.faces.extend(quads);
         } else {
             // Each loop starts where Blender's would and runs as Blender turns it (the
             // repeated points of the shorter one depend on where it starts): the leading
@@ -111,9 +123,9 @@ impl Cage {
             if along(&other) {
                 other.reverse();
             }
-            for [a, b, c] in bridge_strip(&self.points, &half, &lead, &other) {
-                out.faces.push(vec![a, b, c]);
-            }
+            let strip =
+                bridge_strip(&self.points, &half, &lead, &other).ok_or_else(joined_already)?;
+            out.faces.extend(strip.iter().map(|t| t.to_vec()));
         }
         Ok(out.compacted(self))
     }
@@ -152,20 +164,42 @@ impl Cage {
     }
 }
 
-/// The rotation s of `paired` (as long as `lead`) that pairs `lead[i]` with
-/// `paired[(i + s) % k]` at the least total distance; the first such where several tie
-/// (Blender's best rotation of a bridge's second loop).
-fn least_rotation(points: &[DVec3], lead: &[u32], paired: &[u32]) -> usize {
+/// The rotations s of `paired` (as long as `lead`) that pair `lead[i]` with
+/// `paired[(i + s) % k]`, by the total distance of the pairs, least first; where several tie,
+/// the first (Blender's best rotation of a bridge's second loop leads).
+fn rotations_by_length(points: &[DVec3], lead: &[u32], paired: &[u32]) -> Vec<usize> {
     let k = lead.len();
     let at = |v: u32| points[v as usize];
-    let cost = |shift: usize| -> f64 {
-        (0..k)
-            .map(|i| at(lead[i]).distance(at(paired[(i + shift) % k])))
-            .sum()
-    };
-    (0..k)
-        .min_by(|&s, &t| cost(s).total_cmp(&cost(t)))
-        .unwrap_or(0)
+    let cost: Vec<f64> = (0..k)
+        .map(|shift| {
+            (0..k)
+                .map(|i| at(lead[i]).distance(at(paired[(i + shift) % k])))
+                .sum()
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..k).collect();
+    order.sort_by(|&s, &t| cost[s].total_cmp(&cost[t]));
+    order
+}
+
+/// Whether new faces `faces` would use a half-edge twice, among themselves or with the cage
+/// (`half`): a bridge between loops that faces join already (two holes one face apart, a hole
+/// one face from the border), paired straight across, lays its faces over those faces, and
+/// every edge between the loops would then have three or four faces.
+fn lays_over<'a>(half: &HalfEdges, faces: impl Iterator<Item = &'a [u32]>) -> bool {
+    let mut made = HashSet::default();
+    faces
+        .flat_map(|face| (0..face.len()).map(move |c| (face[c], face[(c + 1) % face.len()])))
+        .any(|edge| half.contains_key(&edge) || !made.insert(edge))
+}
+
+/// The refusal where every pairing of a bridge's loops lays faces over the cage's.
+fn joined_already() -> CageEditError {
+    invalid(
+        "every pairing of the two loops lays a face over the faces between them: \
+         the loops are joined already"
+            .to_string(),
+    )
 }
 
 /// The positions at which Blender's edge-loop expansion repeats a point of a loop of `len`
@@ -256,17 +290,34 @@ fn turn_gain(p1: DVec3, p2: DVec3, p3: DVec3, p4: DVec3) -> Option<f64> {
 /// best first, never back into a state it was in, until none gains (Blender's Beautify Fill,
 /// restricted to edges between the loops). `half`: the cage's half-edges, so that no turn
 /// makes an edge the cage has already.
+///
+/// Where the strip at the least length would lay faces over the cage's ([`lays_over`]), the
+/// next rotation by length is taken; `None` where every rotation does.
 pub(super) fn bridge_strip(
     points: &[DVec3],
     half: &HalfEdges,
     lead: &[u32],
     other: &[u32],
+) -> Option<Vec<[u32; 3]>> {
+    let expanded = expanded_loop(other.len(), lead.len());
+    let expanded_points: Vec<u32> = expanded.iter().map(|&e| other[e]).collect();
+    rotations_by_length(points, lead, &expanded_points)
+        .into_iter()
+        .map(|shift| strip_at(points, half, lead, other, &expanded, shift))
+        .find(|strip| !lays_over(half, strip.iter().map(|t| t.as_slice())))
+}
+
+/// [`bridge_strip`] with the shorter loop's expanded points `expanded` rotated by `shift`.
+fn strip_at(
+    points: &[DVec3],
+    half: &HalfEdges,
+    lead: &[u32],
+    other: &[u32],
+    expanded: &[usize],
+    shift: usize,
 ) -> Vec<[u32; 3]> {
     let (n, m) = (lead.len(), other.len());
     let at = |v: u32| points[v as usize];
-    let expanded = expanded_loop(m, n);
-    let expanded_points: Vec<u32> = expanded.iter().map(|&e| other[e]).collect();
-    let shift = least_rotation(points, lead, &expanded_points);
     // The path: edge k joins lead[i_k] and other[j_k] (indices counted on, not wrapped), and
     // triangle k lies between edges k and k + 1, stepping along steps[k].
     let start = expanded[shift];
@@ -418,7 +469,8 @@ pub(super) fn bridge_strip(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::subdiv::cage_edit::tests::{check_cage, euler};
+    use crate::subdiv::cage_edit::tests::{cage_of, check_cage, consistently_wound, euler};
+    use crate::subdiv::cages;
     use crate::test_support::{Xorshift, placement};
 
     /// Two open tubes of quads one above the other, `n` and `m` points round, radii and
@@ -518,6 +570,70 @@ mod tests {
             let bottom: Vec<u32> = (0..n).collect();
             let out = cage.bridge_loops(&bottom, &top).unwrap();
             assert_eq!(out.faces, cage.faces, "{n} points round");
+        }
+    }
+
+    /// Loops that faces join already, in a 6 × 6 grid jittered and placed at random (points
+    /// i · 7 + j, face (i, j) = i · 6 + j): two holes with one face between them, of the same
+    /// length and of different lengths, and a hole one face from the grid's rim bridged to the
+    /// rim. Paired straight across, each bridge would lay its faces over the faces between the
+    /// loops (every edge there with three or four faces); the next pairing by length is taken
+    /// instead: every half-edge once, one handle (χ = −1, the rim open) or a closed torus.
+    #[test]
+    fn loops_joined_by_faces_are_bridged_without_laying_faces_over_them() {
+        let rim: Vec<u32> = (0..6)
+            .chain((0..6).map(|i| i * 7 + 6))
+            .chain((0..6).map(|j| 48 - j))
+            .chain((0..6).map(|i| 42 - i * 7))
+            .collect();
+        // (faces taken out, first loop, second loop, new faces, χ, open half-edges)
+        type Case = (&'static [usize], Vec<u32>, Vec<u32>, usize, i64, usize);
+        let cases: [Case; 3] = [
+            (&[7, 9], vec![8, 15, 16, 9], vec![10, 17, 18, 11], 4, -1, 24),
+            (
+                &[7, 9, 10],
+                vec![8, 15, 16, 9],
+                vec![10, 17, 18, 19, 12, 11],
+                10,
+                -1,
+                24,
+            ),
+            (&[7], vec![8, 15, 16, 9], rim, 28, 0, 0),
+        ];
+        let mut draw = Xorshift::new(62);
+        for seed in 1..13u64 {
+            for (holes, first, second, made, chi, open) in &cases {
+                let (mut grid, scale) = cage_of(&cages::grid(DVec3::ZERO, 6.0, 6).unwrap(), seed);
+                for p in &mut grid.points {
+                    *p += 0.1 * scale * DVec3::new(draw.unit(), draw.unit(), draw.unit());
+                }
+                for &f in holes.iter().rev() {
+                    grid.faces.remove(f);
+                }
+                let (mut first, mut second) = (first.clone(), second.clone());
+                if draw.below(2) == 0 {
+                    first.reverse();
+                }
+                let start = draw.below(second.len() as u64) as usize;
+                second.rotate_left(start);
+                let (a, b) = if draw.below(2) == 0 {
+                    (&first, &second)
+                } else {
+                    (&second, &first)
+                };
+                let out = grid.bridge_loops(a, b).unwrap();
+                let what = format!("seed {seed}, {a:?} to {b:?}");
+                assert_eq!(out.faces.len() - grid.faces.len(), *made, "{what}");
+                assert!(consistently_wound(&out), "{what}");
+                assert_eq!(euler(&out), *chi, "{what}");
+                let half: HashSet<(u32, u32)> = out
+                    .faces
+                    .iter()
+                    .flat_map(|f| (0..f.len()).map(move |c| (f[c], f[(c + 1) % f.len()])))
+                    .collect();
+                let unpaired = half.iter().filter(|&&(p, q)| !half.contains(&(q, p)));
+                assert_eq!(unpaired.count(), *open, "{what}");
+            }
         }
     }
 
