@@ -185,6 +185,27 @@ async function installPageHelpers(page) {
   });
 }
 
+/**
+ * Waits for `test(status)` (a function of the page's status, given as source text) to hold.
+ * Past `timeout` ms it fails with what tells a lost frame from a wrong result: the frames
+ * drawn while waiting, the page's visibility and focus, what one mouse move over the canvas
+ * then brings (frames, patches, undo steps), and the status as it stood.
+ */
+async function waitForStatus(page, test, what, timeout = 60_000) {
+  const framesBefore = (await status(page)).frames;
+  try {
+    await page.waitForFunction((t) => new Function('s', `return (${t})(s);`)(window.knotwork.status()), test, { timeout });
+  } catch (error) {
+    const s = await status(page);
+    const pageState = await page.evaluate(() => ({ visibility: document.visibilityState, focus: document.hasFocus() }));
+    await page.mouse.move(700, 400);
+    await page.waitForTimeout(2000);
+    const after = await status(page);
+    const moved = { frames: after.frames - s.frames, patches: after.patches, undo_steps: after.undo_steps };
+    throw new Error(`${what}: not reached in ${timeout / 1000} s; ${s.frames - framesBefore} frames drawn while waiting; page ${JSON.stringify(pageState)}; after a mouse move ${JSON.stringify(moved)}; status ${JSON.stringify(s)}`);
+  }
+}
+
 async function nextFrames(page, count = 2) {
   const frames = (await status(page)).frames;
   await page.evaluate(() => window.knotwork.setContinuous(true));
@@ -1147,7 +1168,7 @@ async function main() {
       await page.evaluate(() => window.knotwork.apply({
         op: 'cage', object: 0, tool: { 'bevel-vertices': { vertices: [7], width: 0.6, segments: 2 } },
       }));
-      await page.waitForFunction(() => window.knotwork.status().patches === 42, null, { timeout: 60_000 });
+      await waitForStatus(page, '(s) => s.patches === 42', 'the beveled corner\'s 42 patches');
       s = await status(page);
       assert(s.error === null && s.vertices === 42 * 25, `beveled: ${JSON.stringify(s)}`);
       const rounded = (await page.evaluate(() => window.knotwork.project())).objects[0];
@@ -1158,7 +1179,7 @@ async function main() {
       const bevelChange = await screenshotDifference(page, cube, beveled, viewport, 24);
       assert(bevelChange.differing > 50, `the canvas changed with the bevel (${bevelChange.differing} px)`);
       await page.evaluate(() => window.knotwork.undo());
-      await page.waitForFunction(() => window.knotwork.status().patches === 24, null, { timeout: 60_000 });
+      await waitForStatus(page, '(s) => s.patches === 24', 'the cube\'s 24 patches after undo');
       console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px, the corner bevel ${bevelChange.differing} px`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
