@@ -188,21 +188,29 @@ async function installPageHelpers(page) {
 /**
  * Waits for `test(status)` (a function of the page's status, given as source text) to hold.
  * Past `timeout` ms it fails with what tells a lost frame from a wrong result: the frames
- * drawn while waiting, the page's visibility and focus, what one mouse move over the canvas
- * then brings (frames, patches, undo steps), and the status as it stood.
+ * drawn while waiting, the page's visibility and focus, whether it still gets animation
+ * frames, what one mouse move over the canvas then brings (frames, patches, undo steps), the
+ * console's errors so far and the status as it stood.
  */
-async function waitForStatus(page, test, what, timeout = 60_000) {
+async function waitForStatus(page, test, what, timeout = 60_000, errors = []) {
   const framesBefore = (await status(page)).frames;
   try {
     await page.waitForFunction((t) => new Function('s', `return (${t})(s);`)(window.knotwork.status()), test, { timeout });
   } catch (error) {
     const s = await status(page);
-    const pageState = await page.evaluate(() => ({ visibility: document.visibilityState, focus: document.hasFocus() }));
+    const pageState = await page.evaluate(async () => ({
+      visibility: document.visibilityState,
+      focus: document.hasFocus(),
+      animation_frame: await Promise.race([
+        new Promise((r) => requestAnimationFrame(() => r('fires'))),
+        new Promise((r) => setTimeout(() => r('none in 2 s'), 2000)),
+      ]),
+    }));
     await page.mouse.move(700, 400);
     await page.waitForTimeout(2000);
     const after = await status(page);
     const moved = { frames: after.frames - s.frames, patches: after.patches, undo_steps: after.undo_steps };
-    throw new Error(`${what}: not reached in ${timeout / 1000} s; ${s.frames - framesBefore} frames drawn while waiting; page ${JSON.stringify(pageState)}; after a mouse move ${JSON.stringify(moved)}; status ${JSON.stringify(s)}`);
+    throw new Error(`${what}: not reached in ${timeout / 1000} s; ${s.frames - framesBefore} frames drawn while waiting; page ${JSON.stringify(pageState)}; after a mouse move ${JSON.stringify(moved)}; console errors ${JSON.stringify(errors)}; status ${JSON.stringify(s)}`);
   }
 }
 
@@ -1168,7 +1176,7 @@ async function main() {
       await page.evaluate(() => window.knotwork.apply({
         op: 'cage', object: 0, tool: { 'bevel-vertices': { vertices: [7], width: 0.6, segments: 2 } },
       }));
-      await waitForStatus(page, '(s) => s.patches === 42', 'the beveled corner\'s 42 patches');
+      await waitForStatus(page, '(s) => s.patches === 42', 'the beveled corner\'s 42 patches', 60_000, errors);
       s = await status(page);
       assert(s.error === null && s.vertices === 42 * 25, `beveled: ${JSON.stringify(s)}`);
       const rounded = (await page.evaluate(() => window.knotwork.project())).objects[0];
@@ -1179,7 +1187,7 @@ async function main() {
       const bevelChange = await screenshotDifference(page, cube, beveled, viewport, 24);
       assert(bevelChange.differing > 50, `the canvas changed with the bevel (${bevelChange.differing} px)`);
       await page.evaluate(() => window.knotwork.undo());
-      await waitForStatus(page, '(s) => s.patches === 24', 'the cube\'s 24 patches after undo');
+      await waitForStatus(page, '(s) => s.patches === 24', 'the cube\'s 24 patches after undo', 60_000, errors);
       console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px, the corner bevel ${bevelChange.differing} px`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
       await page.close();
