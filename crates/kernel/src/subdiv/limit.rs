@@ -402,10 +402,10 @@ pub fn loop_regular_weights(
     if ring.boundary || ring.neighbours.len() != 6 {
         return None;
     }
-    let start = (ring.neighbours.iter().position(|&n| n == neighbour)? + 6 - turns % 6) % 6;
-    let entries: [[(u32, f64); 3]; 6] =
-        std::array::from_fn(|j| [(ring.neighbours[(start + j) % 6], 1.0), (v, 0.0), (v, 0.0)]);
-    Some(box_spline_weights(v, &entries, scale))
+    let c = ring.neighbours.iter().position(|&n| n == neighbour)?;
+    let cycle: [[(u32, f64); 3]; 6] =
+        std::array::from_fn(|j| [(ring.neighbours[j], 1.0), (v, 0.0), (v, 0.0)]);
+    Some(turned_box_spline_weights(v, &cycle, c, turns, scale))
 }
 
 /// The weights of position, Su, Sv, Suu, Suv, Svv (per `1/scale` of the lattice step) of
@@ -478,9 +478,7 @@ pub fn loop_sided_weights(
         [(v, 1.0), (e(3), 1.0), (e(2), -1.0)],
         [(v, 1.0), (e(0), 1.0), (e(1), -1.0)],
     ];
-    let u = (c + 6 - turns % 6) % 6;
-    let entries: [[(u32, f64); 3]; 6] = std::array::from_fn(|j| cycle[(u + j) % 6]);
-    Some(box_spline_weights(v, &entries, scale))
+    Some(turned_box_spline_weights(v, &cycle, c, turns, scale))
 }
 
 /// The weights of position, Su, Sv, Suu, Suv, Svv (per `1/scale` of the lattice step) of
@@ -536,9 +534,21 @@ pub fn loop_corner_weights(
         [(v, 2.0), (e1, -1.0), (v, 0.0)],
         [(v, 1.0), (e0, 1.0), (e1, -1.0)],
     ];
-    let u = (c + 6 - turns % 6) % 6;
+    Some(turned_box_spline_weights(v, &cycle, c, turns, scale))
+}
+
+/// [`box_spline_weights`] over the lattice ring `cycle` turned so that its entry `neighbour`
+/// lies `turns` sixths of a turn counter-clockwise from u.
+fn turned_box_spline_weights(
+    v: u32,
+    cycle: &[[(u32, f64); 3]; 6],
+    neighbour: usize,
+    turns: usize,
+    scale: f64,
+) -> Vec<(u32, [f64; 6])> {
+    let u = (neighbour + 6 - turns % 6) % 6;
     let entries: [[(u32, f64); 3]; 6] = std::array::from_fn(|j| cycle[(u + j) % 6]);
-    Some(box_spline_weights(v, &entries, scale))
+    box_spline_weights(v, &entries, scale)
 }
 
 /// The masks of [`loop_regular_weights`] at `v` over its lattice ring e₀ … e₅ (counter-
