@@ -3215,6 +3215,18 @@ pub(super) mod tests {
             .all(|f| (0..f.len()).all(|c| seen.insert((f[c], f[(c + 1) % f.len()]))))
     }
 
+    /// The half-edges whose twin no face has: the cage's open rim, each rim edge once.
+    pub(in crate::subdiv) fn open_half_edges(cage: &Cage) -> usize {
+        let half: HashSet<(u32, u32)> = cage
+            .faces
+            .iter()
+            .flat_map(|f| (0..f.len()).map(move |c| (f[c], f[(c + 1) % f.len()])))
+            .collect();
+        half.iter()
+            .filter(|&&(a, b)| !half.contains(&(b, a)))
+            .count()
+    }
+
     /// The enclosed volume (divergence theorem over the faces' fans).
     pub(in crate::subdiv) fn volume(cage: &Cage) -> f64 {
         let p = |v: u32| cage.points[v as usize];
@@ -3340,16 +3352,7 @@ pub(super) mod tests {
             let out = grid.bridge_loops(&first, &second).unwrap();
             assert!(consistently_wound(&out), "seed {seed}");
             assert_eq!(euler(&out), -1);
-            let half: HashSet<(u32, u32)> = out
-                .faces
-                .iter()
-                .flat_map(|f| (0..f.len()).map(move |c| (f[c], f[(c + 1) % f.len()])))
-                .collect();
-            let open = half
-                .iter()
-                .filter(|&&(a, b)| !half.contains(&(b, a)))
-                .count();
-            assert_eq!(open, 24, "only the grid's rim is open");
+            assert_eq!(open_half_edges(&out), 24, "only the grid's rim is open");
         }
     }
 
