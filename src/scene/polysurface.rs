@@ -4,7 +4,9 @@
 //! The shared and naked edges are worked out from the faces when asked (so an edit that opens
 //! a shared edge shows it as naked), at the tolerance the faces were joined with.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
+
+use crate::kernel::par::RaceCell;
 
 use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
@@ -28,9 +30,9 @@ pub struct Polysurface {
     faces: Vec<TrimmedSurface>,
     /// The join tolerance (model units).
     tolerance: f64,
-    topology: Arc<OnceLock<Result<Topology, GeometryError>>>,
+    topology: Arc<RaceCell<Result<Topology, GeometryError>>>,
     /// The naked edges drawn (at 1/500 of the size), worked out once per shape.
-    naked: Arc<OnceLock<Arc<Vec<Vec<DVec3>>>>>,
+    naked: Arc<RaceCell<Arc<Vec<Vec<DVec3>>>>>,
 }
 
 impl PartialEq for Polysurface {

@@ -4,7 +4,9 @@
 //! ([`LimitFeed`]), whose tables depend only on the topology and are built once per topology
 //! change. Level 0 shows the cage itself, as a polygon mesh.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
+
+use crate::kernel::par::RaceCell;
 
 use glam::{DAffine3, DVec3};
 
@@ -98,7 +100,7 @@ pub struct SubdivObject {
     /// The adaptive display's flatness tolerance, a fraction of the cage's bounding-box
     /// diagonal ([`crate::kernel::subdiv::adaptive`]).
     pub tolerance: f64,
-    prepared: Arc<OnceLock<Result<Arc<Prepared>, GeometryError>>>,
+    prepared: Arc<RaceCell<Result<Arc<Prepared>, GeometryError>>>,
 }
 
 impl PartialEq for SubdivObject {
@@ -217,7 +219,7 @@ impl SubdivObject {
         }
         Ok(Self {
             tolerance,
-            prepared: Arc::new(OnceLock::new()),
+            prepared: Arc::new(RaceCell::new()),
             ..self
         })
     }
@@ -227,7 +229,7 @@ impl SubdivObject {
             surface,
             display,
             tolerance: DEFAULT_TOLERANCE,
-            prepared: Arc::new(OnceLock::new()),
+            prepared: Arc::new(RaceCell::new()),
         }
     }
 

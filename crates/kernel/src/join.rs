@@ -196,7 +196,7 @@ struct Edge<'a> {
     precision: f64,
     /// How far the edge bows away from the chords between its samples, worked out when
     /// first needed ([`Edge::bow`]).
-    bow: std::sync::OnceLock<f64>,
+    bow: crate::par::RaceCell<f64>,
 }
 
 impl Edge<'_> {
@@ -481,7 +481,7 @@ fn make_edge<'a>(
         degenerate: length <= tolerance,
         samples,
         precision: SEARCH_PRECISION * tolerance,
-        bow: std::sync::OnceLock::new(),
+        bow: crate::par::RaceCell::new(),
     }
 }
 

@@ -105,6 +105,57 @@ pub fn threads() -> usize {
     }
 }
 
+/// A value computed on first use and shared by every thread after, that never makes a thread
+/// wait. Where threads ask for it at once, each computes it and the first to finish stores it;
+/// the others drop their copies and take the stored one (the value is the same whoever
+/// computes it, so a loop's results stay the same on any number of threads).
+///
+/// The threaded page's main thread may not wait: `Atomics.wait` traps there, and the trap
+/// leaves the editor's runner borrowed, so the page stops drawing. A `std::sync::OnceLock`
+/// waits while another thread runs its initializer, so a lazily computed value that a loop's
+/// threads share is one of these instead (`once_cell`'s race cell, a pointer set by one
+/// compare-and-swap).
+pub struct RaceCell<T>(once_cell::race::OnceBox<T>);
+
+impl<T> RaceCell<T> {
+    pub const fn new() -> Self {
+        Self(once_cell::race::OnceBox::new())
+    }
+
+    /// The value, if it has been computed.
+    pub fn get(&self) -> Option<&T> {
+        self.0.get()
+    }
+
+    /// Stores `value` where none is stored yet; else gives it back.
+    pub fn set(&self, value: T) -> Result<(), T> {
+        self.0.set(Box::new(value)).map_err(|value| *value)
+    }
+
+    /// The value, computed by `f` where no thread has stored it yet.
+    pub fn get_or_init(&self, f: impl FnOnce() -> T) -> &T {
+        self.0.get_or_init(|| Box::new(f()))
+    }
+}
+
+impl<T> Default for RaceCell<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Clone> Clone for RaceCell<T> {
+    fn clone(&self) -> Self {
+        Self(self.0.clone())
+    }
+}
+
+impl<T: std::fmt::Debug> std::fmt::Debug for RaceCell<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("RaceCell").field(&self.get()).finish()
+    }
+}
+
 /// `f(0), f(1), …, f(count - 1)` on every core, in index order.
 pub fn map<T: Send>(count: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
     map_init(count, || (), |_, i| f(i))
@@ -261,6 +312,72 @@ fn map_on_helpers<S, T: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// No kernel code shares a cell or lock that makes a thread wait (the threaded page's main
+    /// thread runs every loop's work too, and a wait traps there): lazily computed values are
+    /// [`RaceCell`]s. This file's own `HELPERS` is set once, before any loop.
+    #[test]
+    fn the_kernel_has_no_waiting_cells_or_locks() {
+        fn files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+            for entry in std::fs::read_dir(dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    files(&path, out);
+                } else if path.extension().is_some_and(|e| e == "rs") {
+                    out.push(path);
+                }
+            }
+        }
+        let mut paths = Vec::new();
+        files(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+            &mut paths,
+        );
+        assert!(paths.len() > 50, "the kernel's sources: {}", paths.len());
+        let waiting = [
+            "OnceLock", "LazyLock", "Mutex", "RwLock", "Condvar", "Barrier",
+        ];
+        let mut found = Vec::new();
+        for path in paths.iter().filter(|p| !p.ends_with("par.rs")) {
+            let text = std::fs::read_to_string(path).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or("");
+                if let Some(name) = waiting.iter().find(|w| code.contains(*w)) {
+                    found.push(format!("{}:{}: {name}", path.display(), n + 1));
+                }
+            }
+        }
+        assert!(found.is_empty(), "cells or locks that wait: {found:#?}");
+    }
+
+    /// A thread that asks for a `RaceCell`'s value while another is computing it does not
+    /// wait for it (a `OnceLock` would, and this test would time out): it computes its own,
+    /// which is stored first, and the slow thread gets that one too.
+    #[test]
+    fn a_race_cell_never_waits_for_the_thread_computing_it() {
+        let cell = &RaceCell::new();
+        let (started, computing) = std::sync::mpsc::channel();
+        let (finished, done) = std::sync::mpsc::channel::<()>();
+        std::thread::scope(|scope| {
+            let slow = scope.spawn(move || {
+                *cell.get_or_init(|| {
+                    started.send(()).unwrap();
+                    // Computing until the other thread has its value.
+                    done.recv_timeout(std::time::Duration::from_secs(20))
+                        .expect("the other thread waited for this one");
+                    1
+                })
+            });
+            computing.recv().unwrap();
+            let fast = *cell.get_or_init(|| 2);
+            finished.send(()).unwrap();
+            assert_eq!(fast, 2);
+            assert_eq!(slow.join().unwrap(), 2);
+        });
+        assert_eq!(cell.get(), Some(&2));
+        let copy = cell.clone();
+        assert_eq!(copy.get(), Some(&2));
+    }
 
     #[test]
     fn a_map_returns_its_results_in_index_order() {

@@ -58,7 +58,7 @@ pub struct VertexRows<'a> {
     level: &'a Level,
     scheme: Scheme,
     display: Display,
-    limit: Vec<std::sync::OnceLock<Row>>,
+    limit: Vec<crate::par::RaceCell<Row>>,
 }
 
 impl<'a> VertexRows<'a> {

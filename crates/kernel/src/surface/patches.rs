@@ -4,7 +4,7 @@
 //! trimmed export evaluates some 70,000 scattered points a surface (the boundary's flattening,
 //! the tolerance check, the boundary's vertices) this way.
 
-use std::sync::OnceLock;
+use crate::par::RaceCell;
 
 use glam::{DVec2, DVec3, DVec4};
 
@@ -31,7 +31,7 @@ pub struct ScatteredEvaluator<'a> {
     /// Spans over the domain's width, in each direction.
     spans_per_unit: [f64; 2],
     /// Each patch's [`DerivativeBounds`], computed when first asked for.
-    bounds: Vec<OnceLock<Option<DerivativeBounds>>>,
+    bounds: Vec<RaceCell<Option<DerivativeBounds>>>,
 }
 
 /// B_{i,n}(t) for i = 0..=n (The NURBS Book, A1.3 "AllBernstein") in `out[..=n]`, and where
@@ -321,7 +321,7 @@ impl NurbsSurface {
         let bounds = if patches.is_empty() {
             Vec::new()
         } else {
-            (0..spans).map(|_| OnceLock::new()).collect()
+            (0..spans).map(|_| RaceCell::new()).collect()
         };
         ScatteredEvaluator {
             surface: self,

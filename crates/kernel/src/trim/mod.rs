@@ -18,7 +18,9 @@ pub mod split;
 pub mod tess;
 
 use std::fmt;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
+
+use crate::par::RaceCell;
 
 use glam::DVec2;
 
@@ -63,12 +65,12 @@ pub struct TrimmedSurface {
     loops: Vec<TrimLoop>,
     /// The classification grid, built on first use and shared by clones (loops never change
     /// after construction).
-    index: Arc<OnceLock<Arc<TrimIndex>>>,
+    index: Arc<RaceCell<Arc<TrimIndex>>>,
     /// Every loop's monotone pieces ([`Self::monotone_pieces`]), cut on first use and shared
     /// by the index and the export tessellation.
-    pieces: Arc<OnceLock<Arc<[MonotonePiece]>>>,
+    pieces: Arc<RaceCell<Arc<[MonotonePiece]>>>,
     /// The loops flattened for drawing ([`Self::outline`]), built on first use and shared.
-    outline: Arc<OnceLock<Arc<Vec<Vec<DVec2>>>>>,
+    outline: Arc<RaceCell<Arc<Vec<Vec<DVec2>>>>>,
 }
 
 impl PartialEq for TrimmedSurface {
