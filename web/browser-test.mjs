@@ -194,37 +194,25 @@ async function animationFrameComes(page) {
 }
 
 /**
- * Waits up to 60 s for the status to report `n` patches. Where they have not come in 20 s, it
- * asks the page for an animation frame: headless Chromium's compositor can stop sending them
- * (then nothing a page does draws, whatever it asks), a condition of the harness and not of the
- * editor, so such a stall is woken once with a screencast frame and reported in the log. Where
- * frames come and the editor still does not draw, the check fails with what the page reports:
- * frames drawn, visibility and focus, what a mouse move brings, console errors, the status.
+ * Waits up to 60 s for the status to report `n` patches; else fails with what tells a lost
+ * frame from a wrong result: the frames drawn while waiting, whether the page still gets
+ * animation frames, its visibility and focus, what one mouse move over the canvas then brings
+ * (frames, patches, undo steps), the console's errors and the status.
  */
 async function waitForPatches(page, n, what, errors) {
   const framesBefore = (await status(page)).frames;
-  const reached = (timeout) => page
-    .waitForFunction((k) => window.knotwork.status().patches === k, n, { timeout })
-    .then(() => true, () => false);
-  if (await reached(20_000)) return;
-  let frames = await animationFrameComes(page);
-  if (!frames) {
-    const cdp = await page.context().newCDPSession(page);
-    await cdp.send('Page.startScreencast', { format: 'jpeg', quality: 10 });
-    await page.waitForTimeout(250);
-    await cdp.send('Page.stopScreencast');
-    await cdp.detach();
-    frames = await animationFrameComes(page);
-    console.log(`      (waiting for ${what}, headless Chromium sent the page no animation frame; after a screencast frame ${frames ? 'it does again' : 'still none'})`);
+  try {
+    await page.waitForFunction((k) => window.knotwork.status().patches === k, n, { timeout: 60_000 });
+  } catch {
+    const s = await status(page);
+    const frames = await animationFrameComes(page);
+    const pageState = await page.evaluate(() => ({ visibility: document.visibilityState, focus: document.hasFocus() }));
+    await page.mouse.move(700, 400);
+    await page.waitForTimeout(2000);
+    const after = await status(page);
+    const moved = { frames: after.frames - s.frames, patches: after.patches, undo_steps: after.undo_steps };
+    throw new Error(`${what}: not reached in 60 s; ${s.frames - framesBefore} frames drawn while waiting; animation frames ${frames ? 'come' : 'do not come'}; page ${JSON.stringify(pageState)}; after a mouse move ${JSON.stringify(moved)}; console errors ${JSON.stringify(errors)}; status ${JSON.stringify(s)}`);
   }
-  if (await reached(40_000)) return;
-  const s = await status(page);
-  const pageState = await page.evaluate(() => ({ visibility: document.visibilityState, focus: document.hasFocus() }));
-  await page.mouse.move(700, 400);
-  await page.waitForTimeout(2000);
-  const after = await status(page);
-  const moved = { frames: after.frames - s.frames, patches: after.patches, undo_steps: after.undo_steps };
-  throw new Error(`${what}: not reached in 60 s; ${s.frames - framesBefore} frames drawn while waiting; animation frames ${frames ? 'come' : 'do not come'}; page ${JSON.stringify(pageState)}; after a mouse move ${JSON.stringify(moved)}; console errors ${JSON.stringify(errors)}; status ${JSON.stringify(s)}`);
 }
 
 async function nextFrames(page, count = 2) {
@@ -1203,6 +1191,28 @@ async function main() {
       await waitForPatches(page, 24, 'the cube\'s 24 patches after undo', errors);
       console.log(`      cage drag changed ${change.differing} px, the crease ${creaseChange.differing} px, the corner bevel ${bevelChange.differing} px`);
       assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      await page.close();
+    });
+
+    await check('an exception thrown inside the editor\'s WebAssembly says that the editor stopped', async () => {
+      const { page } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // A script's own error is not the editor's.
+      await page.evaluate(() => { setTimeout(() => { throw new Error('a script error'); }); });
+      await page.waitForTimeout(300);
+      let s = await status(page);
+      assert(s.error === null, `a script error is not taken for the editor stopping: ${s.error}`);
+      // What a trap in a frame throws (here a wait on the page's thread): an error whose stack
+      // runs through the module.
+      await page.evaluate(() => {
+        const error = new TypeError('Atomics.wait cannot be called in this context');
+        error.stack = `TypeError: ${error.message}\n    at knotwork_bg.wasm.f (wasm://wasm/knotwork-1a2b:wasm-function[42]:0x1f)`;
+        window.dispatchEvent(new ErrorEvent('error', { error, message: `Uncaught ${error}` }));
+      });
+      s = await status(page);
+      assert(/^the editor stopped: .*Atomics\.wait/.test(s.error), `status error: ${s.error}`);
+      const shown = await page.locator('#message').textContent();
+      assert(await page.locator('#message').isVisible() && /The editor stopped.*reload/s.test(shown), `the page says so: ${shown}`);
       await page.close();
     });
 
