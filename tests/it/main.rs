@@ -43,6 +43,7 @@ mod subdivision;
 mod subdivision_schemes;
 mod substitutes;
 mod surface_ops;
+mod threads;
 mod transfinite;
 mod triangle_bezier;
 mod trim;

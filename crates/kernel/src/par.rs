@@ -313,43 +313,6 @@ fn map_on_helpers<S, T: Send>(
 mod tests {
     use super::*;
 
-    /// No kernel code shares a cell or lock that makes a thread wait (the threaded page's main
-    /// thread runs every loop's work too, and a wait traps there): lazily computed values are
-    /// [`RaceCell`]s. This file's own `HELPERS` is set once, before any loop.
-    #[test]
-    fn the_kernel_has_no_waiting_cells_or_locks() {
-        fn files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-            for entry in std::fs::read_dir(dir).unwrap() {
-                let path = entry.unwrap().path();
-                if path.is_dir() {
-                    files(&path, out);
-                } else if path.extension().is_some_and(|e| e == "rs") {
-                    out.push(path);
-                }
-            }
-        }
-        let mut paths = Vec::new();
-        files(
-            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
-            &mut paths,
-        );
-        assert!(paths.len() > 50, "the kernel's sources: {}", paths.len());
-        let waiting = [
-            "OnceLock", "LazyLock", "Mutex", "RwLock", "Condvar", "Barrier",
-        ];
-        let mut found = Vec::new();
-        for path in paths.iter().filter(|p| !p.ends_with("par.rs")) {
-            let text = std::fs::read_to_string(path).unwrap();
-            for (n, line) in text.lines().enumerate() {
-                let code = line.split("//").next().unwrap_or("");
-                if let Some(name) = waiting.iter().find(|w| code.contains(*w)) {
-                    found.push(format!("{}:{}: {name}", path.display(), n + 1));
-                }
-            }
-        }
-        assert!(found.is_empty(), "cells or locks that wait: {found:#?}");
-    }
-
     /// A thread that asks for a `RaceCell`'s value while another is computing it does not
     /// wait for it (a `OnceLock` would, and this test would time out): it computes its own,
     /// which is stored first, and the slow thread gets that one too.
