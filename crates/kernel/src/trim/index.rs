@@ -27,6 +27,34 @@ const CANDIDATES: [(f64, f64); 6] = [
     (0.17, 0.19),
 ];
 
+/// Chord tolerance of the polygons [`TrimIndex::build`] lists and places by, as a fraction of
+/// a cell's smaller side.
+const CELL_FLATTEN: f64 = 5e-3;
+
+/// Of `candidates`, the one farthest from every segment of `chords` (the last of equals), or
+/// `None` where there are no candidates. A candidate stops being measured once it comes
+/// closer to a chord than the best before it: it cannot be chosen then.
+fn clearest<'a>(
+    candidates: impl Iterator<Item = DVec2>,
+    chords: impl Iterator<Item = &'a [DVec2]> + Clone,
+) -> Option<DVec2> {
+    let mut best: Option<(DVec2, f64)> = None;
+    for p in candidates {
+        let floor = best.map_or(f64::NEG_INFINITY, |(_, c)| c);
+        let mut clearance = f64::INFINITY;
+        for w in chords.clone() {
+            clearance = clearance.min(distance_to_segment(p, w[0], w[1]));
+            if clearance < floor {
+                break;
+            }
+        }
+        if clearance >= floor {
+            best = Some((p, clearance));
+        }
+    }
+    best.map(|(p, _)| p)
+}
+
 /// One grid cell.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cell {
@@ -67,9 +95,15 @@ pub struct TrimIndex {
 }
 
 impl TrimIndex {
-    /// The grid over `domain` for `pieces`; `flat[k]` is piece k flattened (for choosing
-    /// reference points and for listing a piece only in the cells it passes through).
-    pub fn build(domain: [f64; 4], pieces: Arc<[MonotonePiece]>, flat: &[Vec<DVec2>]) -> Self {
+    /// The grid over `domain` for `pieces`. Each piece is flattened to chords within
+    /// [`CELL_FLATTEN`] of a cell's smaller side and listed in every cell its chords' boxes
+    /// touch. The arc between two points of a monotone piece lies in the box they span, so
+    /// those cells hold every cell the piece passes through at any tolerance (a superset is
+    /// all the parity test asks); the boxes are widened by twice the tolerance against
+    /// rounding, the shader's f32 look-up of a point's cell included. The tolerance only
+    /// decides how few cells beyond those are listed, and how well the reference points are
+    /// placed (by their distance from the chords): no finer polygon is needed.
+    pub fn build(domain: [f64; 4], pieces: Arc<[MonotonePiece]>) -> Self {
         let per_side =
             ((pieces.len() as f64 * CELLS_PER_PIECE).sqrt().ceil() as usize).clamp(1, MAX_CELLS);
         let (cells_u, cells_v) = (per_side, per_side);
@@ -80,9 +114,16 @@ impl TrimIndex {
             let j = ((p.y - v0) / dv).floor().clamp(0.0, (cells_v - 1) as f64) as usize;
             (i, j)
         };
-        // Each piece goes into the cells its chords' boxes touch, widened by a margin that
-        // covers the chords' distance from the curve.
-        let margin = 1e-6 * (du.max(dv));
+        let tolerance = CELL_FLATTEN * du.abs().min(dv.abs());
+        let flat: Vec<Vec<DVec2>> = pieces
+            .iter()
+            .map(|p| {
+                let mut out = Vec::new();
+                p.flatten(tolerance, &mut out);
+                out
+            })
+            .collect();
+        let margin = 2.0 * tolerance;
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); cells_u * cells_v];
         for (k, points) in flat.iter().enumerate() {
             for w in points.windows(2) {
@@ -107,19 +148,13 @@ impl TrimIndex {
             for i in 0..cells_u {
                 let m = &members[j * cells_u + i];
                 let origin = DVec2::new(u0 + i as f64 * du, v0 + j as f64 * dv);
-                let reference = CANDIDATES
-                    .iter()
-                    .map(|&(a, b)| origin + DVec2::new(a * du, b * dv))
-                    .map(|p| {
-                        let clearance = m
-                            .iter()
-                            .flat_map(|&k| flat[k as usize].windows(2))
-                            .map(|w| distance_to_segment(p, w[0], w[1]))
-                            .fold(f64::INFINITY, f64::min);
-                        (p, clearance)
-                    })
-                    .max_by(|a, b| a.1.total_cmp(&b.1))
-                    .map_or(origin, |(p, _)| p);
+                let reference = clearest(
+                    CANDIDATES
+                        .iter()
+                        .map(|&(a, b)| origin + DVec2::new(a * du, b * dv)),
+                    m.iter().flat_map(|&k| flat[k as usize].windows(2)),
+                )
+                .unwrap_or(origin);
                 cells.push(Cell {
                     reference,
                     inside: false,

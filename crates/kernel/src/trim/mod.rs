@@ -39,8 +39,8 @@ pub type TrimLoop = Vec<TrimCurve>;
 pub const CLOSURE_TOLERANCE: f64 = 1e-9;
 /// Chord tolerance of the loops as the editor draws them, as a fraction of the domain's size.
 pub const OUTLINE_TOLERANCE: f64 = 2e-3;
-/// Chord tolerance of the flattened loops used for validation and for choosing reference
-/// points, as a fraction of the domain's size.
+/// Chord tolerance of the flattened loops used for validation, as a fraction of the domain's
+/// size.
 pub const FLATTEN_TOLERANCE: f64 = 1e-6;
 /// Loops are first checked on polygons this close to them (a fraction of the domain's size),
 /// and on [`FLATTEN_TOLERANCE`]'s only where parts of them come within a few times this.
@@ -200,7 +200,7 @@ impl TrimmedSurface {
         Some(
             self.index
                 .get_or_init(|| {
-                    Arc::new(build_index(
+                    Arc::new(TrimIndex::build(
                         domain_rect(&self.surface),
                         self.monotone_pieces(),
                     ))
@@ -485,19 +485,6 @@ pub fn polygon_contains(polygon: &[DVec2], p: DVec2) -> bool {
         }
     }
     inside
-}
-
-fn build_index(rect: [f64; 4], pieces: Arc<[MonotonePiece]>) -> TrimIndex {
-    let tolerance = FLATTEN_TOLERANCE * domain_size(rect);
-    let flat: Vec<Vec<DVec2>> = pieces
-        .iter()
-        .map(|p| {
-            let mut out = Vec::new();
-            p.flatten(tolerance, &mut out);
-            out
-        })
-        .collect();
-    TrimIndex::build(rect, pieces, &flat)
 }
 
 /// One chord of a flattened loop, for the crossing checks.
@@ -945,5 +932,132 @@ mod tests {
             accepted > 50 && refused > 50,
             "{accepted} accepted, {refused} refused"
         );
+    }
+
+    /// A plate's face in general position: a random domain (offset up to 500, size 1e-2 to
+    /// 1e4, aspect 0.2 to 4) holding up to 400 circular and elliptical holes of random sizes,
+    /// well apart. The grid lists every piece in every cell it passes through (checked at 65
+    /// points along each piece), and classifies random points as the holes' closed forms do.
+    #[test]
+    fn the_grid_lists_each_piece_where_it_passes_and_classifies_holes_exactly() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut random = move || {
+            // SplitMix64, as above.
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..12 {
+            let scale = 10f64.powf(-2.0 + 6.0 * random());
+            let (u0, v0) = ((random() - 0.5) * 1e3, (random() - 0.5) * 1e3);
+            let aspect = 0.2 + 3.8 * random();
+            let (width, height) = (scale, scale * aspect);
+            let rect = [u0, u0 + width, v0, v0 + height];
+            let surface = NurbsSurface::new(
+                [1, 1],
+                [
+                    vec![u0, u0, u0 + width, u0 + width],
+                    vec![v0, v0, v0 + height, v0 + height],
+                ],
+                [2, 2],
+                vec![
+                    glam::DVec3::new(0.0, 0.0, 0.0),
+                    glam::DVec3::new(0.0, 1.0, 0.0),
+                    glam::DVec3::new(1.0, 0.0, 0.0),
+                    glam::DVec3::new(1.0, 1.0, 0.0),
+                ],
+                None,
+            );
+            let Ok(surface) = surface else {
+                panic!("case {case}: no plane over {rect:?}");
+            };
+            // Holes on a jittered n × n lattice, each inside its own lattice cell.
+            let n = 1 + (case * 2).min(19);
+            let mut holes: Vec<(DVec2, DVec2)> = Vec::new();
+            for i in 0..n {
+                for j in 0..n {
+                    let cell = DVec2::new(width, height) / n as f64;
+                    let radii = cell * DVec2::new(0.1 + 0.25 * random(), 0.1 + 0.25 * random());
+                    let radii = if random() < 0.5 {
+                        DVec2::splat(radii.min_element())
+                    } else {
+                        radii
+                    };
+                    let room = cell * 0.5 - radii;
+                    let centre = DVec2::new(u0, v0)
+                        + cell * DVec2::new(i as f64 + 0.5, j as f64 + 0.5)
+                        + room * 0.8 * DVec2::new(2.0 * random() - 1.0, 2.0 * random() - 1.0);
+                    holes.push((centre, radii));
+                }
+            }
+            let mut loops = vec![
+                shapes::rectangle(DVec2::new(u0, v0), DVec2::new(u0 + width, v0 + height))
+                    .unwrap_or_default(),
+            ];
+            loops.extend(
+                holes
+                    .iter()
+                    .map(|&(c, r)| shapes::ellipse(c, r).unwrap_or_default()),
+            );
+            let face = TrimmedSurface::new(surface, loops);
+            let Ok(face) = face else {
+                panic!("case {case}: {:?}", face.err());
+            };
+            let Some(index) = face.index() else {
+                panic!("case {case}: no index");
+            };
+            for (k, piece) in index.pieces.iter().enumerate() {
+                for s in 0..=64 {
+                    let p = piece::bezier_point(&piece.points, s as f64 / 64.0);
+                    let c = index.cell_at(p);
+                    let first = index.cells[c].first as usize;
+                    let listed = &index.lists[first..first + index.cells[c].count as usize];
+                    assert!(
+                        listed.contains(&(k as u32)),
+                        "case {case}: piece {k} passes through cell {c} at {p} unlisted"
+                    );
+                }
+            }
+            let mut tested = 0;
+            for _ in 0..4000 {
+                let p = DVec2::new(u0 + width * random(), v0 + height * random());
+                // Where a hole's implicit form is within 1e-9 of its level, the side is left
+                // to rounding.
+                let levels = holes
+                    .iter()
+                    .map(|&(c, r)| ((p - c) / r).length_squared() - 1.0);
+                if levels.clone().any(|f| f.abs() < 1e-9) {
+                    continue;
+                }
+                let kept = levels.clone().all(|f| f > 0.0);
+                assert_eq!(face.contains(p.x, p.y), kept, "case {case}: {p}");
+                tested += 1;
+            }
+            assert!(tested > 3900, "case {case}: {tested} points tested");
+        }
+    }
+
+    /// Seed case 2 of the test above, before the fix: a circle of radius 0.013 at
+    /// (−345.09, 207.56). Its quarter arcs end with one coordinate's derivative at zero, where
+    /// rounding gave it the wrong sign (−2.8e-14 against 0.018), so a "turn" 1.1e-12 from the
+    /// segment's end cut a piece too short to flatten, and the loop was refused as crossing
+    /// itself.
+    #[test]
+    fn a_small_circle_far_from_the_origin_is_a_valid_hole() {
+        let (u0, v0) = (-345.4599397910163, 207.47837119356538);
+        let rect = [u0, -345.0438682516671, v0, 208.36221957514377];
+        let outer = shapes::rectangle(DVec2::new(u0, v0), DVec2::new(rect[1], rect[3]));
+        let hole = shapes::ellipse(
+            DVec2::new(-345.0858555340312, 207.55815681651166),
+            DVec2::splat(0.013027902389499458),
+        );
+        let (Ok(outer), Ok(hole)) = (outer, hole) else {
+            panic!("the loops");
+        };
+        assert_eq!(validate(rect, &[outer, hole.clone()]).err(), None);
+        let pieces = monotone_pieces(&hole[0], (1, 0));
+        assert_eq!(pieces.len(), 4, "one piece per quarter arc");
     }
 }
