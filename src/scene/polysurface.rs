@@ -335,8 +335,12 @@ impl ObjectKind for Polysurface {
         Ok(())
     }
 
-    /// Every face's Bézier patches over one pool, each trimmed patch with its face's grid.
+    /// Every face's Bézier patches over one pool, each trimmed patch with its face's grid. The
+    /// faces' feeds (their trims' grids the most of it, on a model's first upload) are built on
+    /// every core, then laid end to end in face order: the same pool on any number of threads.
     fn gpu_feed(&self) -> Result<Decomposition, GeometryError> {
+        let feeds =
+            crate::kernel::par::map(self.faces.len(), |f| ObjectKind::gpu_feed(&self.faces[f]));
         let mut points = Vec::new();
         let mut weights = Vec::new();
         let mut patches = Vec::new();
@@ -344,8 +348,8 @@ impl ObjectKind for Polysurface {
         let mut indices = Vec::new();
         let mut coverage = Vec::new();
         let mut patch_index = Vec::new();
-        for face in &self.faces {
-            let feed = ObjectKind::gpu_feed(face)?;
+        for feed in feeds {
+            let feed = feed?;
             let base = points.len() as u32;
             points.extend_from_slice(feed.set.points());
             weights.extend_from_slice(feed.set.weights());
