@@ -1388,3 +1388,39 @@ fn the_joined_mesh_is_the_same_bit_for_bit_on_one_thread_and_on_four() {
         }
     }
 }
+
+/// The GPU feed of a model's polysurfaces (each face's Bézier patches and trim grid, built on
+/// every core the first time the model is drawn) is the same, value for value, on one thread,
+/// on four and on the threaded web page's helpers: OpenCASCADE's plate with filleted holes and
+/// a CAx-IF round-robin part, each read afresh so that no face's grid is already cached.
+#[test]
+fn a_models_gpu_feed_is_the_same_on_one_thread_and_on_four() {
+    let public = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/step-public");
+    let occ = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/occ/step");
+    let pool = crate::common::thread_pool;
+    for path in [
+        format!("{occ}/plate-3.step"),
+        format!("{public}/cax-if__dm1-oc-214.stp"),
+    ] {
+        let bytes = std::fs::read(&path).unwrap();
+        let feeds = || {
+            let project = step::read_project(&bytes, &mut |_, _| true).unwrap();
+            project
+                .scene
+                .objects
+                .iter()
+                .map(|object| object.decompose().unwrap())
+                .collect::<Vec<_>>()
+        };
+        let one = pool(1).install(feeds);
+        assert!(
+            one.iter().any(|feed| feed.trims.is_some()),
+            "{path}: no trimmed face"
+        );
+        let four = pool(4).install(feeds);
+        let helped = par::with_helpers(par::SCOPED_HELPERS, feeds);
+        for (other, how) in [(four, "four threads"), (helped, "helpers")] {
+            assert!(one == other, "{path}: the feed on {how} differs");
+        }
+    }
+}
