@@ -861,15 +861,7 @@ mod tests {
     #[test]
     fn screened_loop_checks_agree_with_fine_ones_on_near_misses() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut random = move || {
-            // SplitMix64 (Steele, Lea & Flood, "Fast splittable pseudorandom number
-            // generators", OOPSLA 2014).
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = move || crate::test_support::uniform(&mut state);
         let (mut accepted, mut refused) = (0, 0);
         for case in 0..400 {
             let scale = 10f64.powf(-2.0 + 6.0 * random());
@@ -941,14 +933,7 @@ mod tests {
     #[test]
     fn the_grid_lists_each_piece_where_it_passes_and_classifies_holes_exactly() {
         let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut random = move || {
-            // SplitMix64, as above.
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = move || crate::test_support::uniform(&mut state);
         for case in 0..12 {
             let scale = 10f64.powf(-2.0 + 6.0 * random());
             let (u0, v0) = ((random() - 0.5) * 1e3, (random() - 0.5) * 1e3);

@@ -480,16 +480,10 @@ pub fn path_parity<'a>(
 mod tests {
     use super::*;
 
-    /// SplitMix64 (Steele, Lea & Flood, OOPSLA 2014) as uniform numbers in [0, 1).
+    /// Uniform numbers in [0, 1) from `seed` ([`crate::test_support::uniform`]).
     fn uniform(seed: u64) -> impl FnMut() -> f64 {
         let mut state = seed;
-        move || {
-            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
+        move || crate::test_support::uniform(&mut state)
     }
 
     /// Random rational Bézier curves of degrees 2 to 6 (weights 0.2 to 5, points anywhere in
