@@ -28,7 +28,7 @@ const CANDIDATES: [(f64, f64); 6] = [
 ];
 
 /// Chord tolerance of the polygons [`TrimIndex::build`] lists and places by, as a fraction of
-/// a cell's smaller side.
+/// a cell's smaller side (at least 1e-6 of the domain's longer side).
 const CELL_FLATTEN: f64 = 5e-3;
 
 /// Of `candidates`, the one farthest from every segment of `chords` (the last of equals), or
@@ -114,7 +114,10 @@ impl TrimIndex {
             let j = ((p.y - v0) / dv).floor().clamp(0.0, (cells_v - 1) as f64) as usize;
             (i, j)
         };
-        let tolerance = CELL_FLATTEN * du.abs().min(dv.abs());
+        // Never finer than 1e-6 of the domain's longer side: a long thin domain's short cells
+        // would otherwise ask for millions of chords.
+        let tolerance = (CELL_FLATTEN * du.abs().min(dv.abs()))
+            .max(1e-6 * (u1 - u0).abs().max((v1 - v0).abs()));
         let flat: Vec<Vec<DVec2>> = pieces
             .iter()
             .map(|p| {
