@@ -561,6 +561,7 @@ fn bench_step_large(
         object.decompose()?;
     }
     let feed_ms = start.elapsed().as_secs_f64() * 1e3;
+    let threads = rayon::current_num_threads();
     let start = Instant::now();
     let sync = evaluated(context, &opened)?;
     let evaluate_ms = feed_ms + start.elapsed().as_secs_f64() * 1e3;
@@ -588,13 +589,8 @@ fn bench_step_large(
     }
     writeln!(
         out,
-        "STEP {COPIES} plates on the GPU            | evaluated {evaluate_ms:8.1} ms ({feed_ms:.1} ms of it the faces' feeds and trim grids, on {} thread{}), {} patches, {} vertices (quality {quality} to fit the device); frame {}",
-        rayon::current_num_threads(),
-        if rayon::current_num_threads() == 1 {
-            ""
-        } else {
-            "s"
-        },
+        "STEP {COPIES} plates on the GPU            | evaluated {evaluate_ms:8.1} ms ({feed_ms:.1} ms of it the faces' feeds and trim grids, on {threads} thread{}), {} patches, {} vertices (quality {quality} to fit the device); frame {}",
+        if threads == 1 { "" } else { "s" },
         geometry.patch_count(),
         geometry.vertex_count(),
         frames.join(", ")

@@ -112,10 +112,11 @@ fn derivative_numerator_in(work: &mut [DVec3], axis: usize, t: f64) -> f64 {
 /// [0, 1], so that the coordinate does not turn: where all its Bernstein coefficients do (the
 /// basis is non-negative). With X' = p Σ ΔXᵢ Bᵢᵖ⁻¹ and the product rule
 /// Bᵢᵖ⁻¹ Bⱼᵖ = C(p − 1, i) C(p, j) / C(2p − 1, i + j) Bᵢ₊ⱼ²ᵖ⁻¹ (Farouki and Rajan, Algorithms
-/// for polynomials in Bernstein form, 1988), the coefficient of B_k²ᵖ⁻¹ is, up to the positive factor p / C(2p − 1, k),
-/// Σ over i + j = k of C(p − 1, i) C(p, j) (ΔXᵢ wⱼ − Xⱼ Δwᵢ). For a polynomial curve this holds
-/// where the control points never step back along the axis (The NURBS Book eq. 1.9); for a
-/// rational one it also settles a circle's quarter arcs without sampling.
+/// for polynomials in Bernstein form, 1988), the coefficient of B_k²ᵖ⁻¹ is, up to the positive
+/// factor p / C(2p − 1, k), Σ over i + j = k of C(p − 1, i) C(p, j) (ΔXᵢ wⱼ − Xⱼ Δwᵢ). For a
+/// polynomial curve this holds where the control points never step back along the axis (The
+/// NURBS Book eq. 1.9); for a rational one it also settles a circle's quarter arcs without
+/// sampling.
 fn derivative_keeps_sign(points: &[DVec3], axis: usize) -> bool {
     let p = points.len() - 1;
     let (mut rising, mut falling) = (false, false);
