@@ -755,7 +755,7 @@ fn next_export_request() -> u32 {
 /// comparing the page with `knotwork bench --only step`.
 #[wasm_bindgen]
 pub fn bench_step_open(bytes: Vec<u8>) -> Result<String, String> {
-    let timing = crate::io::step::timed_open(&bytes, &crate::app::platform::now_ms)
+    let timing = crate::io::step::timed_open(bytes, &crate::app::platform::now_ms)
         .map_err(|e| e.to_string())?;
     serde_json::to_string(&timing).map_err(|e| e.to_string())
 }

@@ -242,7 +242,7 @@ impl KnotworkApp {
             AppCommand::Drag(step) => self.drag_step(step),
             AppCommand::Undo => self.step_history(false),
             AppCommand::Redo => self.step_history(true),
-            AppCommand::Open { name, bytes } => self.open_file(&name, &bytes),
+            AppCommand::Open { name, bytes } => self.open_file(&name, bytes),
             AppCommand::OpenFailed { name, reason } => self.open_failed(&name, &reason),
             AppCommand::NewDocument { empty } => self.new_document(empty),
             AppCommand::OpenRecent(index) => self.open_recent(index),

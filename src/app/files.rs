@@ -70,25 +70,26 @@ impl KnotworkApp {
     /// Opens a file's bytes in any format [`crate::io::open`] reads (a `.gltf` must have its
     /// buffers embedded here; the desktop's [`open_path`] also reads them from beside it).
     /// A PNG is used as the selected surface's height map instead ([`Self::use_height_image`]).
-    pub fn open_file(&mut self, name: &str, bytes: &[u8]) {
-        if !crate::io::formats::format_of(name, bytes)
+    pub fn open_file(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
+        let bytes: Vec<u8> = bytes.into();
+        if !crate::io::formats::format_of(name, &bytes)
             .reader
             .opens_document()
         {
-            self.use_height_image(name, bytes);
+            self.use_height_image(name, &bytes);
             return;
         }
-        if crate::io::formats::format_of(name, bytes).reader == crate::io::formats::Reader::Step {
+        if crate::io::formats::format_of(name, &bytes).reader == crate::io::formats::Reader::Step {
             self.start_open(name, bytes);
             return;
         }
-        let project = crate::io::open(name, bytes, &no_companions).map_err(|e| e.to_string());
+        let project = crate::io::open(name, &bytes, &no_companions).map_err(|e| e.to_string());
         self.open_result(name, project);
     }
 
     /// Starts opening a STEP file a body at a time ([`RunningOpen`]); refused at once when
     /// it is not valid STEP. A file being opened already is cancelled first.
-    fn start_open(&mut self, name: &str, bytes: &[u8]) {
+    fn start_open(&mut self, name: &str, bytes: Vec<u8>) {
         self.cancel_open();
         match crate::io::step::OpenJob::new(bytes) {
             Ok(job) => {
@@ -398,7 +399,7 @@ impl KnotworkApp {
                     continue;
                 }
                 match file.bytes() {
-                    Ok(bytes) => self.open_file(&name, &bytes),
+                    Ok(bytes) => self.open_file(&name, bytes),
                     Err(e) => self.open_failed(&name, &e),
                 }
             }
@@ -507,7 +508,7 @@ impl KnotworkApp {
             == crate::io::formats::Reader::Step
         {
             match read_limited(path) {
-                Ok(bytes) => self.open_file(&name, &bytes),
+                Ok(bytes) => self.open_file(&name, bytes),
                 Err(e) => self.open_failed(&name, &e),
             }
         } else {

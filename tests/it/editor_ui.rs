@@ -297,7 +297,7 @@ fn obj_and_gltf_files_open_in_the_editor_and_the_export_window_counts_triangles(
         colors: None,
     };
     let glb = knotwork::io::gltf::to_glb(&knotwork::io::gltf::export(&project, &options).unwrap());
-    harness.state_mut().open_file("scene.glb", &glb);
+    harness.state_mut().open_file("scene.glb", glb.as_slice());
     harness.run_steps(3);
     assert_eq!(harness.state().document().scene, original);
     assert_eq!(status::current().error, None);

@@ -495,15 +495,15 @@ fn a_step_model_is_in_millimetres_with_its_colours_and_exports_to_gltf_in_metres
 fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_steps() {
     let bytes = fixture("plate-3.step");
     let whole = step::read_project(&bytes, &mut |_, _| true).unwrap();
-    let mut job = step::OpenJob::new(&bytes).unwrap();
+    let mut job = step::OpenJob::new(bytes.clone()).unwrap();
     let mut seen = vec![job.progress()];
     let mut steps = 0;
     while !job.step().unwrap() {
         steps += 1;
         seen.push(job.progress());
     }
-    // 24 faces, sixteen a thread a step.
-    let faces_a_step = 16 * par::threads();
+    // 24 faces, four a thread a step.
+    let faces_a_step = 4 * par::threads();
     assert!(
         steps > 24usize.div_ceil(faces_a_step),
         "{faces_a_step} faces a step: {steps} steps"
@@ -514,7 +514,7 @@ fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_
         "{seen:?}"
     );
     // Stopped half way, nothing comes out.
-    let mut job = step::OpenJob::new(&bytes).unwrap();
+    let mut job = step::OpenJob::new(bytes.clone()).unwrap();
     for _ in 0..steps / 2 {
         job.step().unwrap();
     }
@@ -522,7 +522,7 @@ fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_
     // A larger file is parsed over several steps (the first in `new`), its progress rising
     // through the first fifth.
     let plate = fixture("plate-20.step");
-    let mut job = step::OpenJob::new(&plate).unwrap();
+    let mut job = step::OpenJob::new(plate).unwrap();
     let mut parsing = vec![job.progress()];
     while job.stage() == "reading the file" {
         job.step().unwrap();
@@ -534,7 +534,9 @@ fn a_file_opened_a_step_at_a_time_is_the_file_read_at_once_and_can_stop_between_
         "{parsing:?}"
     );
     // Not STEP at all: refused at once.
-    let e = step::OpenJob::new(b"solid cube\nendsolid").err().unwrap();
+    let e = step::OpenJob::new(b"solid cube\nendsolid".to_vec())
+        .err()
+        .unwrap();
     assert!(e.to_string().contains("not an ISO-10303-21 file"), "{e}");
 }
 
@@ -1326,9 +1328,30 @@ fn faces_built_in_batches_on_every_core_are_those_built_one_at_a_time() {
             while !job.step_faces(5).unwrap() {}
             job.finish()
         });
+        // The first pass over the instances taken a few at a time on helpers, as the editor
+        // takes it between frames.
+        let surveyed = par::with_helpers(par::SCOPED_HELPERS, || {
+            let x = step::part21::parse(&bytes, &mut |_| true).unwrap();
+            let mut survey = step::read::Survey::new(x);
+            let mut steps = 0;
+            while !survey.step(37) {
+                steps += 1;
+            }
+            assert!(steps > 2, "{path}: surveyed in {steps} steps");
+            let mut job = survey.finish().unwrap();
+            while !job.step_faces(3).unwrap() {}
+            job.finish()
+        });
+        assert_eq!(
+            one_by_one.tolerance.to_bits(),
+            surveyed.tolerance.to_bits(),
+            "{path}"
+        );
+        assert_eq!(one_by_one.external_files, surveyed.external_files, "{path}");
         for (other, how) in [
             (&batched, "batched on four threads"),
             (&helped, "on helpers"),
+            (&surveyed, "surveyed 37 instances at a time"),
         ] {
             assert_eq!(one_by_one.warnings, other.warnings, "{path} {how}");
             assert_eq!(one_by_one.bodies.len(), other.bodies.len(), "{path} {how}");
@@ -1350,6 +1373,79 @@ fn faces_built_in_batches_on_every_core_are_those_built_one_at_a_time() {
         }
         assert!(!one_by_one.bodies.is_empty(), "{path}: no bodies");
     }
+}
+
+/// The trim tolerance is a millionth of the diagonal of the box round the file's 3D points
+/// (the second argument of every simple `CARTESIAN_POINT` with three coordinates), or the
+/// largest `UNCERTAINTY_MEASURE_WITH_UNIT` length where that is larger, up to a thousandth of
+/// the diagonal, in millimetres: found here from the files' text alone, on every CAx-IF and
+/// OpenCASCADE file in the tests.
+#[test]
+fn the_trim_tolerance_comes_from_the_box_of_the_files_points() {
+    let mut checked = 0;
+    for dir in [
+        concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/step-public"),
+        concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/occ/step"),
+    ] {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let bytes = std::fs::read(&path).unwrap();
+            if !step::part21::looks_like_part21(&bytes) {
+                continue;
+            }
+            let Ok(model) = step::read::read(&bytes, &mut |_, _| true) else {
+                continue;
+            };
+            let text = String::from_utf8_lossy(&bytes);
+            let data = text.split_once("DATA;").map_or("", |(_, d)| d);
+            let number = |s: &str| s.trim().parse::<f64>().ok();
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let mut declared: Option<f64> = None;
+            for record in data.split(';') {
+                let compact: String = record.chars().filter(|c| !c.is_whitespace()).collect();
+                let Some((_, body)) = compact.split_once('=') else {
+                    continue;
+                };
+                if let Some(rest) = body.strip_prefix("CARTESIAN_POINT(") {
+                    let list = rest.rsplit_once('(').map_or("", |(_, l)| l);
+                    let list = list.split(')').next().unwrap_or("");
+                    let c: Vec<f64> = list.split(',').filter_map(number).collect();
+                    if let [x, y, z] = c[..] {
+                        let p = DVec3::new(x, y, z);
+                        lo = lo.min(p);
+                        hi = hi.max(p);
+                    }
+                }
+                if body.contains("UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(") {
+                    let value = body
+                        .split_once("LENGTH_MEASURE(")
+                        .and_then(|(_, v)| v.split(')').next())
+                        .and_then(number);
+                    if let Some(v) = value {
+                        declared = Some(declared.map_or(v, |d| d.max(v)));
+                    }
+                }
+            }
+            let mm = model.millimetres_per_unit;
+            let diagonal = if lo.x.is_finite() {
+                (hi - lo).length() * mm
+            } else {
+                1.0
+            };
+            let expected = (diagonal * 1e-6)
+                .max(declared.map_or(0.0, |d| d * mm).min(diagonal * 1e-3))
+                .max(1e-9);
+            assert!(
+                (model.tolerance - expected).abs() <= 1e-12 * expected,
+                "{}: tolerance {} where the text gives {expected} (diagonal {diagonal} mm, \
+                 uncertainty {declared:?} × {mm})",
+                path.display(),
+                model.tolerance
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 40, "{checked} files");
 }
 
 /// Reading's meshing runs on every core (the edges sampled, the shared edges matched and the

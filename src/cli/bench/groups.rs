@@ -541,8 +541,9 @@ fn bench_step_large(
     let tolerance = knotwork::io::step::default_tolerance(&scene);
     let text = knotwork::io::step::export_scene(&scene, "plates.step", tolerance)?.text;
     let clock = Instant::now();
-    let open =
-        knotwork::io::step::timed_open(text.as_bytes(), &|| clock.elapsed().as_secs_f64() * 1e3)?;
+    let open = knotwork::io::step::timed_open(text.as_bytes().to_vec(), &|| {
+        clock.elapsed().as_secs_f64() * 1e3
+    })?;
     writeln!(
         out,
         "STEP {COPIES} plates ({} faces, {:.1} MB) | first step {:6.1} ms, then parsed, built and joined in {:8.1} ms over {} steps (longest {:.1} ms)",
@@ -651,7 +652,7 @@ fn bench_step_plate(
     let total = read_ms + mesh_ms;
     let (_, open) = median_ms(runs, || {
         let clock = std::time::Instant::now();
-        knotwork::io::step::timed_open(&bytes, &|| clock.elapsed().as_secs_f64() * 1e3)
+        knotwork::io::step::timed_open(bytes.clone(), &|| clock.elapsed().as_secs_f64() * 1e3)
     })?;
     writeln!(
         out,

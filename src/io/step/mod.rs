@@ -113,8 +113,9 @@ enum Phase {
         bytes: Vec<u8>,
         parsing: Box<part21::Parsing>,
     },
-    /// Parsed; the units, assembly and colours are read next.
-    Parsed(Box<part21::Exchange>),
+    /// Parsed: the instances surveyed, [`SURVEY_STEP_INSTANCES`] a step, then the units,
+    /// assembly and colours read.
+    Surveying(Box<read::Survey>),
     /// Building the placed bodies' faces.
     Reading(Box<read::ReadJob>),
     /// Joining each body's faces into a polysurface.
@@ -131,9 +132,11 @@ enum Phase {
 
 /// Instances parsed per step of an [`OpenJob`] (about 10 ms of a native build's time), on
 /// each thread ([`part21::Parsing::step`]).
-pub const PARSE_STEP_INSTANCES: usize = 8192;
+pub const PARSE_STEP_INSTANCES: usize = 2048;
+/// Instances surveyed per step of an [`OpenJob`], on each thread ([`read::Survey::step`]).
+const SURVEY_STEP_INSTANCES: usize = 1 << 17;
 /// Faces built per step of an [`OpenJob`], on each thread ([`read::ReadJob::step_faces`]).
-const FACES_A_STEP: usize = 16;
+const FACES_A_STEP: usize = 4;
 /// Instances freed per joining step of an [`OpenJob`].
 const FREE_STEP_INSTANCES: usize = 65536;
 
@@ -147,19 +150,17 @@ pub struct OpenJob {
 }
 
 impl OpenJob {
-    /// Starts on a copy of `bytes`: the first instances parsed.
-    pub fn new(bytes: &[u8]) -> Result<Self, FormatError> {
+    /// Starts on `bytes` (kept, not copied: a large model's text is tens of megabytes): the
+    /// first instances parsed.
+    pub fn new(bytes: Vec<u8>) -> Result<Self, FormatError> {
         let mut parsing = Box::new(part21::Parsing::default());
         let done = parsing
-            .step(bytes, PARSE_STEP_INSTANCES)
+            .step(&bytes, PARSE_STEP_INSTANCES)
             .map_err(read::syntax_error)?;
         let phase = if done {
             Phase::Reading(Box::new(read::ReadJob::from_exchange(parsing.finish())?))
         } else {
-            Phase::Parsing {
-                bytes: bytes.to_vec(),
-                parsing,
-            }
+            Phase::Parsing { bytes, parsing }
         };
         Ok(Self { phase })
     }
@@ -167,18 +168,18 @@ impl OpenJob {
     /// What is under way, for the progress bar.
     pub fn stage(&self) -> &'static str {
         match self.phase {
-            Phase::Parsing { .. } | Phase::Parsed(_) => "reading the file",
+            Phase::Parsing { .. } | Phase::Surveying(_) => "reading the file",
             Phase::Reading(_) => "building faces",
             Phase::Joining { .. } | Phase::Empty => "joining faces along shared edges",
         }
     }
 
-    /// The share done, 0 to 1: parsing counts for a fifth, building for three fifths, joining
-    /// for the rest.
+    /// The share done, 0 to 1: parsing and the survey of the instances count for a fifth,
+    /// building for three fifths, joining for the rest.
     pub fn progress(&self) -> f64 {
         match &self.phase {
-            Phase::Parsing { bytes, parsing } => 0.2 * parsing.fraction(bytes),
-            Phase::Parsed(_) => 0.2,
+            Phase::Parsing { bytes, parsing } => 0.19 * parsing.fraction(bytes),
+            Phase::Surveying(survey) => 0.19 + 0.01 * survey.progress(),
             Phase::Reading(job) => 0.2 + 0.6 * job.progress(),
             Phase::Joining { model, next, .. } => {
                 0.8 + 0.2 * *next as f64 / model.bodies.len().max(1) as f64
@@ -203,14 +204,18 @@ impl OpenJob {
                 else {
                     return Ok(false);
                 };
-                self.phase = Phase::Parsed(Box::new(parsing.finish()));
+                self.phase = Phase::Surveying(Box::new(read::Survey::new(parsing.finish())));
                 Ok(false)
             }
-            Phase::Parsed(_) => {
-                let Phase::Parsed(x) = std::mem::replace(&mut self.phase, Phase::Empty) else {
+            Phase::Surveying(survey) => {
+                if !survey.step(SURVEY_STEP_INSTANCES * crate::kernel::par::threads()) {
+                    return Ok(false);
+                }
+                let Phase::Surveying(survey) = std::mem::replace(&mut self.phase, Phase::Empty)
+                else {
                     return Ok(false);
                 };
-                self.phase = Phase::Reading(Box::new(read::ReadJob::from_exchange(*x)?));
+                self.phase = Phase::Reading(Box::new(survey.finish()?));
                 Ok(false)
             }
             Phase::Reading(job) => {
@@ -342,7 +347,7 @@ pub struct OpenTiming {
 /// Opens `bytes` through an [`OpenJob`] to the end, timed by `now_ms` (the benchmark's and
 /// the page's clock), for the figures of `knotwork bench --only step` and the page's
 /// `benchStep`.
-pub fn timed_open(bytes: &[u8], now_ms: &dyn Fn() -> f64) -> Result<OpenTiming, FormatError> {
+pub fn timed_open(bytes: Vec<u8>, now_ms: &dyn Fn() -> f64) -> Result<OpenTiming, FormatError> {
     let started = now_ms();
     let mut job = OpenJob::new(bytes)?;
     let parsed = now_ms();
