@@ -938,7 +938,7 @@ async function main() {
           started = performance.now();
           const cageGlb = await window.knotwork.exportGlb({ curvature: true });
           const cageMs = performance.now() - started;
-          // Opened as the editor opens it (sixteen faces a thread a step), all at once.
+          // Opened as the editor opens it (four faces a thread a step), all at once.
           const opens = [0, 1, 2].map(() => window.knotwork.benchStepOpen(bytes));
           const openMs = Math.min(...opens.map((t) => t.first_step_ms + t.steps_ms));
           const meshes = [0, 1, 2].map(() => window.knotwork.benchStepMesh(bytes));
