@@ -23,6 +23,7 @@
 //! edge (checked at the middle of every chord).
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::{DMat3, DVec2, DVec3};
 
@@ -252,9 +253,13 @@ struct Natural<'a> {
     /// the side; it takes its neighbours' ([`fill_poles`]).
     collapsed: Vec<(usize, f64, DVec3)>,
     /// Global point inversions left for this face (each is a grid search; an edge that is not
-    /// on its surface would otherwise ask for one per sample).
-    searches: std::cell::Cell<usize>,
+    /// on its surface would otherwise ask for one per sample). Only a B-spline's or an
+    /// extrusion's points spend them.
+    searches: AtomicUsize,
 }
+
+/// The fewest loops a face on an analytic surface has sampled on every core.
+const PARALLEL_SAMPLED_LOOPS: usize = 8;
 
 impl Natural<'_> {
     fn of(&self, p: DVec3, hint: Option<[f64; 2]>) -> [f64; 2] {
@@ -320,11 +325,11 @@ impl Natural<'_> {
                     // local minimum (far off: the edge lies within its tolerance).
                     Some(c) if c.distance <= self.small * 1e4 => c,
                     _ => {
-                        let left = self.searches.get();
+                        let left = self.searches.load(Ordering::Relaxed);
                         if left == 0 {
                             return [f64::NAN; 2];
                         }
-                        self.searches.set(left - 1);
+                        self.searches.store(left - 1, Ordering::Relaxed);
                         match s.closest_point(p) {
                             Ok(c) => c,
                             Err(_) => return [f64::NAN; 2],
@@ -629,13 +634,10 @@ pub fn build_face(
         closed,
         small: tolerance * 1e-3,
         collapsed: nurbs.map_or_else(Vec::new, |s| collapsed_sides(s, tolerance)),
-        searches: std::cell::Cell::new(
-            64 + 4 * bounds.iter().map(|b| b.edges.len()).sum::<usize>(),
-        ),
+        searches: AtomicUsize::new(64 + 4 * bounds.iter().map(|b| b.edges.len()).sum::<usize>()),
     };
     // Samples of every loop, per edge use.
-    let mut loops: Vec<Vec<Vec<Sample>>> = Vec::new();
-    for bound in bounds {
+    let sample_loop = |bound: &Bound| {
         let mut edges = Vec::new();
         let mut hint = None;
         for e in &bound.edges {
@@ -644,8 +646,18 @@ pub fn build_face(
             edges.push(samples);
         }
         fill_poles(&mut edges);
-        loops.push(edges);
-    }
+        edges
+    };
+    // On an analytic surface a point's parameters are in closed form, so a face with many
+    // loops (a plate with hundreds of holes, otherwise the longest piece of its reading
+    // step) has them sampled on every core, with the same samples. On a B-spline the global
+    // searches share one budget, spent in the loops' order, so the loops are sampled in turn.
+    let mut loops: Vec<Vec<Vec<Sample>>> =
+        if nurbs.is_none() && bounds.len() >= PARALLEL_SAMPLED_LOOPS {
+            crate::kernel::par::map(bounds.len(), |k| sample_loop(&bounds[k]))
+        } else {
+            bounds.iter().map(sample_loop).collect()
+        };
     if nurbs.is_some()
         && loops
             .iter()
