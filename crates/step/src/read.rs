@@ -690,6 +690,8 @@ pub struct ReadJob {
     tolerance: f64,
     colour_of: HashMap<u64, [f32; 3]>,
     places: Vec<Placement>,
+    /// Whether each of `places` is its item's last.
+    last_place: Vec<bool>,
     /// How many of `places` are done.
     done: usize,
     /// The body of the next place, while its faces are built.
@@ -702,8 +704,8 @@ pub struct ReadJob {
 }
 
 /// The first pass over a parsed file's instances, a share at a time: the places of the
-/// instances the reader looks through ([`scanned_kind`]) and the box of the 3D points (not the 2D
-/// points of p-curves, which are surface parameters), which sets the trim tolerance. Taken in
+/// instances the reader looks through ([`scanned_kind`]) and the box of the 3D points (not the
+/// 2D points of p-curves, which are surface parameters), which sets the trim tolerance. Taken in
 /// one go, a 1,000,000-instance file's pass held up one frame for 18–33 ms on the 2-core
 /// machine; [`Self::step`] takes as many instances as it is given.
 pub struct Survey {
@@ -808,9 +810,7 @@ impl ReadJob {
     /// The job for a parsed file: its units, assembly and colours read ([`Survey`] run to
     /// its end at once).
     pub fn from_exchange(x: Exchange) -> Result<Self, FormatError> {
-        let mut survey = Survey::new(x);
-        while !survey.step(usize::MAX) {}
-        survey.finish()
+        Survey::new(x).finish()
     }
 
     /// The job for a surveyed file.
@@ -842,6 +842,9 @@ impl ReadJob {
         let a = assembly(&e, &scan)?;
         let colour_of = colours(&x, &scan);
         let places = placements(&x, &scan, &a);
+        let mut seen = HashSet::new();
+        let mut last_place: Vec<bool> = places.iter().rev().map(|p| seen.insert(p.item)).collect();
+        last_place.reverse();
         Ok(Self {
             x,
             scan,
@@ -851,6 +854,7 @@ impl ReadJob {
             tolerance,
             colour_of,
             places,
+            last_place,
             done: 0,
             building: None,
             warnings: Vec::new(),
@@ -916,18 +920,15 @@ impl ReadJob {
                 b
             }
         };
-        self.done += 1;
         // An item placed for the last time leaves the built bodies here, so that its faces
         // are moved into the model rather than copied, and what is left is freed now.
-        let last_use = !self.places[self.done..]
-            .iter()
-            .any(|p| p.item == place.item);
-        let body = if last_use {
+        let body = if self.last_place.get(self.done).copied().unwrap_or(true) {
             self.built.remove(&place.item);
             Rc::try_unwrap(body).unwrap_or_else(|shared| (*shared).clone())
         } else {
             (*body).clone()
         };
+        self.done += 1;
         if !body.faces.is_empty() {
             let mut faces = Vec::with_capacity(body.faces.len());
             for f in body.faces {
