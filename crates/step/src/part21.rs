@@ -885,7 +885,9 @@ impl Parsing {
             return;
         }
         self.reserved = true;
-        let per_instance = (self.at / parsed).max(16);
+        // At least 32 bytes an instance (`#12=A(#10,#11);` and its line end are 16), so that a
+        // file of tiny first instances does not set aside room for millions.
+        let per_instance = (self.at / parsed).max(32);
         let rest = bytes.len().saturating_sub(self.at) / per_instance;
         let total = (parsed + rest + rest / 10).min(MAX_ENTITIES);
         let x = &mut self.exchange;

@@ -130,8 +130,8 @@ enum Phase {
     Empty,
 }
 
-/// Instances parsed per step of an [`OpenJob`] (about 10 ms of a native build's time), on
-/// each thread ([`part21::Parsing::step`]).
+/// Instances parsed per step of an [`OpenJob`] (a few milliseconds of a native build's time),
+/// on each thread ([`part21::Parsing::step`]).
 pub const PARSE_STEP_INSTANCES: usize = 2048;
 /// Instances surveyed per step of an [`OpenJob`], on each thread ([`read::Survey::step`]).
 const SURVEY_STEP_INSTANCES: usize = 1 << 17;
@@ -143,8 +143,9 @@ const FREE_STEP_INSTANCES: usize = 65536;
 /// A STEP file opened a step at a time, so that the editor can show a progress bar, stay
 /// responsive and cancel: the text parsed [`PARSE_STEP_INSTANCES`] instances a thread at a
 /// time (the first of them in [`Self::new`], so that a file that is not STEP at all is refused
-/// at once), the units, assembly and colours read, then [`FACES_A_STEP`] faces a thread built
-/// and one body joined into a polysurface per [`Self::step`].
+/// at once), the instances surveyed [`SURVEY_STEP_INSTANCES`] a thread at a time and the
+/// units, assembly and colours read, then [`FACES_A_STEP`] faces a thread built and one body
+/// joined into a polysurface per [`Self::step`].
 pub struct OpenJob {
     phase: Phase,
 }
