@@ -72,14 +72,12 @@ impl KnotworkApp {
     /// A PNG is used as the selected surface's height map instead ([`Self::use_height_image`]).
     pub fn open_file(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
         let bytes: Vec<u8> = bytes.into();
-        if !crate::io::formats::format_of(name, &bytes)
-            .reader
-            .opens_document()
-        {
+        let reader = crate::io::formats::format_of(name, &bytes).reader;
+        if !reader.opens_document() {
             self.use_height_image(name, &bytes);
             return;
         }
-        if crate::io::formats::format_of(name, &bytes).reader == crate::io::formats::Reader::Step {
+        if reader == crate::io::formats::Reader::Step {
             self.start_open(name, bytes);
             return;
         }
