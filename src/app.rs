@@ -433,6 +433,12 @@ impl KnotworkApp {
                     info.name.clone()
                 };
                 status.software_adapter = crate::render::is_software(&info);
+                let limits = state.device.limits();
+                status.buffer_limit_mib = (limits
+                    .max_storage_buffer_binding_size
+                    .min(limits.max_buffer_size)
+                    >> 20)
+                    .min(u64::from(u32::MAX)) as u32;
                 // An adapter without compute shaders (WebGL2) gets the CPU evaluator and the
                 // renderer that shades from the vertices alone.
                 let gpu = ViewportGpu::new(state);

@@ -86,6 +86,9 @@ pub struct AppStatus {
     pub frame_size: Option<[u32; 2]>,
     /// Whether the adapter is a software rasterizer, which draws at a lower quality in motion.
     pub software_adapter: bool,
+    /// The largest storage buffer the device binds, in MiB: WebGPU's default 128 on a software
+    /// adapter, what a hardware GPU offers up to 1024 ([`crate::gpu::context::limits_for`]).
+    pub buffer_limit_mib: u32,
     /// Time between the last two frames, measured on the CPU.
     pub frame_interval_ms: Option<f64>,
     /// Selected control points of the selected object.

@@ -18,13 +18,57 @@ pub const ADAPTER_HINT: &str = "a browser with WebGPU runs the compute shaders (
 113 and later, Safari 26, Firefox 141 on Windows; on Linux start Chrome with \
 --enable-unsafe-webgpu)";
 
-/// The limits knotwork asks of a device: WebGPU's defaults (so what runs natively also runs in
-/// the browser) with 8192² textures.
+/// The limits knotwork needs of a device: WebGPU's defaults (so what runs natively also runs
+/// in the browser) with 8192² textures. A hardware GPU is asked for larger buffers where it
+/// has them ([`limits_for`]).
 pub fn required_limits() -> wgpu::Limits {
     wgpu::Limits {
         max_texture_dimension_2d: 8192,
         ..wgpu::Limits::default()
     }
+}
+
+/// The most one storage binding, and one buffer, may hold on a hardware adapter (1 GiB): eight
+/// times WebGPU's default binding, room for 16 Mi vertices of 64 bytes, well inside the video
+/// memory of any GPU that offers it.
+pub const HARDWARE_BINDING_CAP: u64 = 1 << 30;
+
+/// Whether `info` describes a software rasterizer (lavapipe, SwiftShader, WARP, a browser's
+/// fallback adapter): by device type, or by name where a driver reports another type.
+pub fn is_software_adapter(info: &wgpu::AdapterInfo) -> bool {
+    let name = info.name.to_ascii_lowercase();
+    info.device_type == wgpu::DeviceType::Cpu
+        || [
+            "llvmpipe",
+            "lavapipe",
+            "swiftshader",
+            "softpipe",
+            "warp",
+            "microsoft basic render",
+        ]
+        .iter()
+        .any(|s| name.contains(s))
+}
+
+/// The limits knotwork asks of an adapter described by `info` with limits `adapter`, which
+/// meets [`required_limits`]: those, with the storage binding and buffer sizes raised to the
+/// adapter's own (at most [`HARDWARE_BINDING_CAP`]) where the adapter is a hardware GPU, so
+/// that a large model is evaluated at full quality where its buffers fit the GPU rather than
+/// WebGPU's 128 MiB default. A software adapter keeps the defaults: its buffers are the
+/// machine's memory, and its speed, not its limits, is what bounds a model there. Asking for
+/// no more than the adapter reports is what WebGPU and wgpu promise to grant.
+pub fn limits_for(info: &wgpu::AdapterInfo, adapter: &wgpu::Limits) -> wgpu::Limits {
+    let mut limits = required_limits();
+    if !is_software_adapter(info) {
+        let raised = |asked: u64, offered: u64| asked.max(offered.min(HARDWARE_BINDING_CAP));
+        limits.max_buffer_size = raised(limits.max_buffer_size, adapter.max_buffer_size);
+        limits.max_storage_buffer_binding_size = raised(
+            limits.max_storage_buffer_binding_size,
+            adapter.max_storage_buffer_binding_size,
+        )
+        .min(limits.max_buffer_size);
+    }
+    limits
 }
 
 /// Limits below [`required_limits`] named in a refusal; the rest are counted.
@@ -133,13 +177,14 @@ pub fn choose_adapter(adapters: &[wgpu::Adapter]) -> Result<&wgpu::Adapter, GpuE
     }
 }
 
-/// The device the editor, tests and benchmarks ask for: [`required_limits`], plus
-/// `TIMESTAMP_QUERY` where the adapter has it (GPU timings in the status panel and the
-/// benchmarks). An adapter that cannot meet them (the editor then shows why, and draws nothing)
-/// gets a device at its own limits so that the window can still open.
+/// The device the editor, tests and benchmarks ask for: [`limits_for`] the adapter (WebGPU's
+/// defaults, larger buffers on a hardware GPU), plus `TIMESTAMP_QUERY` where the adapter has
+/// it (GPU timings in the status panel and the benchmarks). An adapter that cannot meet
+/// [`required_limits`] (the editor then shows why, and draws nothing) gets a device at its own
+/// limits so that the window can still open.
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     let required_limits = if check(adapter).is_ok() {
-        required_limits()
+        limits_for(&adapter.get_info(), &adapter.limits())
     } else {
         wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits())
     };
@@ -276,5 +321,104 @@ mod tests {
                 && !message.contains("no compute shaders"),
             "{message}"
         );
+    }
+
+    /// An adapter's description of `device_type` named `name` (WebGPU's backend).
+    fn typed(device_type: wgpu::DeviceType, name: &str) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            device_type,
+            ..info(wgpu::Backend::BrowserWebGpu, name)
+        }
+    }
+
+    #[test]
+    fn a_hardware_gpu_gets_its_own_buffer_limits_up_to_the_cap_and_software_the_defaults() {
+        let defaults = required_limits();
+        let mut big = required_limits();
+        big.max_storage_buffer_binding_size = u64::from(u32::MAX);
+        big.max_buffer_size = u64::MAX;
+        // A software rasterizer keeps WebGPU's defaults whatever it offers, by type or by name.
+        for software in [
+            typed(wgpu::DeviceType::Cpu, ""),
+            typed(wgpu::DeviceType::Other, "SwiftShader Device (Subzero)"),
+            typed(
+                wgpu::DeviceType::DiscreteGpu,
+                "llvmpipe (LLVM 15.0.6, 256 bits)",
+            ),
+        ] {
+            assert!(is_software_adapter(&software));
+            assert_eq!(limits_for(&software, &big), defaults, "{}", software.name);
+        }
+        // A GPU offering more than the cap (NVIDIA's Vulkan driver offers 4 GiB − 1 a binding)
+        // gets the cap; one offering WebGPU's defaults gets them; a browser's GPU adapter
+        // (type Other) is a hardware one.
+        for gpu in [
+            typed(wgpu::DeviceType::DiscreteGpu, "NVIDIA H200"),
+            typed(wgpu::DeviceType::Other, ""),
+        ] {
+            assert!(!is_software_adapter(&gpu));
+            let raised = limits_for(&gpu, &big);
+            assert_eq!(raised.max_storage_buffer_binding_size, HARDWARE_BINDING_CAP);
+            assert_eq!(raised.max_buffer_size, HARDWARE_BINDING_CAP);
+            assert_eq!(
+                wgpu::Limits {
+                    max_storage_buffer_binding_size: defaults.max_storage_buffer_binding_size,
+                    max_buffer_size: defaults.max_buffer_size,
+                    ..raised
+                },
+                defaults,
+                "only the two buffer limits change"
+            );
+            assert_eq!(limits_for(&gpu, &defaults), defaults);
+        }
+        // A binding larger than the adapter's largest buffer is cut to the buffer.
+        let mut lopsided = required_limits();
+        lopsided.max_storage_buffer_binding_size = 512 << 20;
+        lopsided.max_buffer_size = 384 << 20;
+        let gpu = typed(
+            wgpu::DeviceType::IntegratedGpu,
+            "Intel(R) Iris(R) Xe Graphics",
+        );
+        let raised = limits_for(&gpu, &lopsided);
+        assert_eq!(raised.max_storage_buffer_binding_size, 384 << 20);
+        assert_eq!(raised.max_buffer_size, 384 << 20);
+    }
+
+    #[test]
+    fn the_limits_asked_lie_between_the_defaults_and_what_the_adapter_offers() {
+        // Adapters that meet the defaults, with buffer limits drawn from 128 MiB to 16 GiB:
+        // the request must be one the adapter grants (no limit above its own) and one the
+        // evaluator can work with (no limit below the defaults).
+        let defaults = required_limits();
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut draw = |lo: u64, hi: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            lo + state % (hi - lo + 1)
+        };
+        for _ in 0..2000 {
+            let mut adapter = required_limits();
+            adapter.max_buffer_size = draw(defaults.max_buffer_size, 16 << 30);
+            adapter.max_storage_buffer_binding_size =
+                draw(defaults.max_storage_buffer_binding_size, 16 << 30);
+            let kind = [
+                wgpu::DeviceType::DiscreteGpu,
+                wgpu::DeviceType::IntegratedGpu,
+                wgpu::DeviceType::VirtualGpu,
+                wgpu::DeviceType::Other,
+                wgpu::DeviceType::Cpu,
+            ][draw(0, 4) as usize];
+            let asked = limits_for(&typed(kind, ""), &adapter);
+            assert!(asked.check_limits(&adapter), "{kind:?} {adapter:?}");
+            assert!(defaults.check_limits(&asked), "{kind:?} {asked:?}");
+            assert!(
+                asked.max_storage_buffer_binding_size
+                    <= asked
+                        .max_buffer_size
+                        .max(defaults.max_storage_buffer_binding_size)
+            );
+            assert!(asked.max_buffer_size <= HARDWARE_BINDING_CAP.max(defaults.max_buffer_size));
+        }
     }
 }

@@ -18,21 +18,9 @@ pub struct Quality {
     pub drag_scale: f32,
 }
 
-/// Whether [`Quality::for_adapter`] treats the adapter as a software rasterizer.
-pub fn is_software(info: &wgpu::AdapterInfo) -> bool {
-    let name = info.name.to_ascii_lowercase();
-    info.device_type == wgpu::DeviceType::Cpu
-        || [
-            "llvmpipe",
-            "lavapipe",
-            "swiftshader",
-            "softpipe",
-            "warp",
-            "microsoft basic render",
-        ]
-        .iter()
-        .any(|s| name.contains(s))
-}
+/// Whether [`Quality::for_adapter`] treats the adapter as a software rasterizer
+/// ([`crate::gpu::context::is_software_adapter`]).
+pub use crate::gpu::context::is_software_adapter as is_software;
 
 impl Quality {
     /// Full quality in every frame.

@@ -109,6 +109,10 @@ fn click_drag_with_axis_constraint_and_undo() {
     // At rest the viewport has 4× multisampling at full resolution.
     let rest = status::current();
     assert!(rest.software_adapter, "these tests run on lavapipe");
+    assert_eq!(
+        rest.buffer_limit_mib, 128,
+        "a software adapter keeps WebGPU's defaults"
+    );
     assert_eq!(rest.frame_samples, 4);
     let full = rest.frame_size.expect("a frame was drawn");
 

@@ -138,6 +138,10 @@ impl KnotworkApp {
                             "4× MSAA".to_owned()
                         },
                     ),
+                    (
+                        "GPU buffers",
+                        format!("up to {} MiB", self.status.buffer_limit_mib),
+                    ),
                     ("Objects", self.status.objects.to_string()),
                     ("Bézier patches", self.status.patches.to_string()),
                     (

@@ -433,7 +433,16 @@ pub fn run(
     group: &str,
     out: &mut impl Write,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    writeln!(out, "adapter: {}", context.describe())?;
+    let limits = context.device.limits();
+    writeln!(
+        out,
+        "adapter: {} (storage buffers up to {} MiB)",
+        context.describe(),
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+            >> 20
+    )?;
     writeln!(
         out,
         "threads: {} (RAYON_NUM_THREADS sets them)",
