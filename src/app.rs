@@ -113,8 +113,7 @@ struct ViewportGpu {
     quality: Quality,
     timer: Option<GpuTimer>,
     /// The export grids' evaluator on this device, made at the first export that uses it.
-    #[cfg(not(target_arch = "wasm32"))]
-    export_grids: Option<Arc<crate::gpu::export_grids::GpuGrids>>,
+    export_grids: Option<export::ExportGrids>,
 }
 
 impl ViewportGpu {
@@ -131,7 +130,6 @@ impl ViewportGpu {
             egui_renderer: Arc::clone(&state.renderer),
             device,
             net: None,
-            #[cfg(not(target_arch = "wasm32"))]
             export_grids: None,
         }
     }

@@ -140,6 +140,28 @@ function glbJson(bytes) {
   return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
 }
 
+/** The bytes of accessor `index` of a .glb (its elements, tightly packed in its view). */
+function glbAccessorBytes(bytes, index) {
+  const json = glbJson(bytes);
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const bin = 20 + view.getUint32(12, true) + 8;
+  const accessor = json.accessors[index];
+  const bufferView = json.bufferViews[accessor.bufferView];
+  const width = { SCALAR: 1, VEC2: 2, VEC3: 3, VEC4: 4 }[accessor.type];
+  const component = { 5121: 1, 5123: 2, 5125: 4, 5126: 4 }[accessor.componentType];
+  const start = bin + (bufferView.byteOffset ?? 0) + (accessor.byteOffset ?? 0);
+  return bytes.subarray(start, start + accessor.count * width * component);
+}
+
+/** The floats of float accessor `index` of a .glb. */
+function glbFloats(bytes, index) {
+  const raw = glbAccessorBytes(bytes, index);
+  const view = new DataView(raw.buffer, raw.byteOffset, raw.byteLength);
+  const out = new Float32Array(raw.byteLength / 4);
+  for (let k = 0; k < out.length; k += 1) out[k] = view.getFloat32(4 * k, true);
+  return out;
+}
+
 /** The message `call` (run in the page) throws, or null if it does not throw. */
 async function thrownBy(page, call) {
   return page.evaluate((source) => {
@@ -357,6 +379,10 @@ async function main() {
       assert(s.error === null, `error: ${s.error}`);
       assert(s.backend === 'webgpu', `backend ${s.backend}`);
       assert(typeof s.adapter === 'string' && s.adapter.length > 0, `adapter ${s.adapter}`);
+      // SwiftShader is a software adapter: its device keeps WebGPU's default 128 MiB buffers
+      // (a hardware GPU's would ask for what the GPU offers, up to 1 GiB).
+      assert(s.software_adapter === true && s.buffer_limit_mib === 128,
+        `software ${s.software_adapter}, buffers up to ${s.buffer_limit_mib} MiB`);
       // Teapot, torus, sphere, (2, 5) B-spline, loft, revolution: 32 + 16 + 8 + 16 + 4 + 8 patches.
       assert(s.objects === 6, `objects ${s.objects}`);
       assert(s.patches === 84, `patches ${s.patches}`);
@@ -725,6 +751,50 @@ async function main() {
       await page.close();
     });
 
+    await check('glTF export in the page with its grids from the GPU: the CPU\'s triangles, positions within f32 precision, valid', async () => {
+      const { page, errors } = await openEditor(browser, url);
+      await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
+      // SwiftShader is a software adapter, where the export's default is the kernel;
+      // `backend: 'gpu'` asks for the compute shaders' grids, read back between frames.
+      const timed = async (backend) => {
+        const started = Date.now();
+        const glb = await exportGlbBytes(page, { tolerance: 0.002, curvature: true, backend });
+        return { glb, ms: Date.now() - started };
+      };
+      const gpu = await timed('gpu');
+      const cpu = await timed('cpu');
+      const auto = await timed(undefined);
+      const report = summary('page-gpu.glb', await validate(gpu.glb, 'page-gpu.glb'));
+      assert(report.errors === 0 && report.warnings === 0, `validator: ${JSON.stringify(report)}`);
+      assert(Buffer.compare(Buffer.from(auto.glb), Buffer.from(cpu.glb)) === 0, 'on a software adapter the default is the kernel');
+      assert(Buffer.compare(Buffer.from(gpu.glb), Buffer.from(cpu.glb)) !== 0, 'the GPU\'s grids are not the kernel\'s');
+      const [a, b] = [glbJson(gpu.glb), glbJson(cpu.glb)];
+      assert(a.meshes.length === 6 && b.meshes.length === 6, `meshes ${a.meshes.length}, ${b.meshes.length}`);
+      let worst = 0;
+      let vertices = 0;
+      for (let m = 0; m < a.meshes.length; m += 1) {
+        for (let p = 0; p < a.meshes[m].primitives.length; p += 1) {
+          const [pa, pb] = [a.meshes[m].primitives[p], b.meshes[m].primitives[p]];
+          const [ia, ib] = [glbAccessorBytes(gpu.glb, pa.indices), glbAccessorBytes(cpu.glb, pb.indices)];
+          assert(a.accessors[pa.indices].count === b.accessors[pb.indices].count, `mesh ${m}: the same triangles`);
+          assert(Buffer.compare(Buffer.from(ia), Buffer.from(ib)) === 0, `mesh ${m}: the same indices`);
+          const [xa, xb] = [glbFloats(gpu.glb, pa.attributes.POSITION), glbFloats(cpu.glb, pb.attributes.POSITION)];
+          const lo = b.accessors[pb.attributes.POSITION].min;
+          const hi = b.accessors[pb.attributes.POSITION].max;
+          const size = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+          for (let k = 0; k < xb.length; k += 3) {
+            const d = Math.hypot(xa[k] - xb[k], xa[k + 1] - xb[k + 1], xa[k + 2] - xb[k + 2]);
+            worst = Math.max(worst, d / size);
+          }
+          vertices += xb.length / 3;
+        }
+      }
+      assert(worst > 0 && worst < 1e-5, `positions within f32 precision of each object's size: ${worst}`);
+      assert(errors.length === 0, `console errors:\n${errors.join('\n')}`);
+      console.log(`      ${vertices} vertices: the GPU's grids ${gpu.ms} ms, the kernel's ${cpu.ms} ms; largest position difference ${worst.toExponential(2)} of the size`);
+      await page.close();
+    });
+
     await check('a STEP file opens in the page as a watertight polysurface drawn by the GPU, exports a valid glTF; a broken one is refused', async () => {
       const { page, errors } = await openEditor(browser, url);
       await page.waitForFunction(() => window.knotwork.status().frames >= 1, null, { timeout: 120_000 });
@@ -1020,7 +1090,7 @@ async function main() {
       assert(/about \d+ triangles/.test(refused.message) && /tolerance of [0-9.e-]+ or more/.test(refused.message), `refused: ${JSON.stringify(refused)}`);
       assert(refused.ms < 5000, `refused in ${refused.ms} ms`);
       // Bad options are refused with the value.
-      for (const [options, pattern] of [[{ segments: 0 }, /segments must be a whole number from 1 to \d+, got 0/], [{ tolerance: -1 }, /tolerance must be a number > 0, got -1/], [{ colors: 'red' }, /colors must be/]]) {
+      for (const [options, pattern] of [[{ segments: 0 }, /segments must be a whole number from 1 to \d+, got 0/], [{ tolerance: -1 }, /tolerance must be a number > 0, got -1/], [{ colors: 'red' }, /colors must be/], [{ backend: 'tpu' }, /backend must be auto, gpu or cpu, got "tpu"/]]) {
         const message = await page.evaluate(async (o) => window.knotwork.exportGlb(o).then(() => null, (e) => e.message), options);
         assert(pattern.test(message), `${JSON.stringify(options)}: ${message}`);
       }

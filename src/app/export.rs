@@ -155,6 +155,46 @@ pub(super) fn steps_within<E>(
     result
 }
 
+/// Who evaluates an export's tessellation grids: `backend` in the page's export options
+/// (`"auto"`, `"gpu"` or `"cpu"`), as `--backend` is on the command line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum GridBackend {
+    /// The GPU on a hardware adapter that runs the compute shaders, else the kernel.
+    #[default]
+    Auto,
+    /// The GPU wherever the compute shaders run (a software adapter too), else the kernel.
+    Gpu,
+    /// The f64 kernel.
+    Cpu,
+}
+
+impl GridBackend {
+    /// The `backend` of the page's export options (JSON), [`Self::Auto`] where it is absent.
+    pub fn from_json(options: &str) -> Result<Self, String> {
+        let value: serde_json::Value =
+            serde_json::from_str(options).map_err(|e| format!("export options: {e}"))?;
+        match value.get("backend") {
+            None | Some(serde_json::Value::Null) => Ok(Self::Auto),
+            Some(name) => match name.as_str() {
+                Some("auto") => Ok(Self::Auto),
+                Some("gpu") => Ok(Self::Gpu),
+                Some("cpu") => Ok(Self::Cpu),
+                _ => Err(format!(
+                    "export options: backend must be auto, gpu or cpu, got {name}"
+                )),
+            },
+        }
+    }
+}
+
+/// The export grids' evaluator as the viewport keeps it: shared with the export job that
+/// waits for it on any thread natively, and with the one that asks without waiting in the
+/// page (where the device's handles are not shared between threads).
+#[cfg(not(target_arch = "wasm32"))]
+pub(super) type ExportGrids = std::sync::Arc<crate::gpu::export_grids::GpuGrids>;
+#[cfg(target_arch = "wasm32")]
+pub(super) type ExportGrids = std::rc::Rc<crate::gpu::export_grids::GpuGrids>;
+
 /// Where a finished export goes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExportTarget {
@@ -400,7 +440,7 @@ impl KnotworkApp {
         #[cfg(target_arch = "wasm32")]
         let path = "knotwork.glb".to_owned();
         let options = self.export_options();
-        self.start_export(options, ExportTarget::File(path));
+        self.start_export(options, GridBackend::Auto, ExportTarget::File(path));
     }
 
     /// Writes the visible objects as `format` to a file: the path chosen in a save dialog
@@ -440,7 +480,7 @@ impl KnotworkApp {
                 .unwrap_or_default(),
             ExportTarget::Page(_) => format!("knotwork.{}", format.extensions()[0]),
         };
-        let sampler = self.export_sampler();
+        let sampler = self.export_sampler(GridBackend::Auto);
         let scene = &self.doc.scene;
         let (bytes, notes) = match format.write(scene, &file_name, sampler.as_ref()) {
             Ok(written) => written,
@@ -479,39 +519,84 @@ impl KnotworkApp {
     /// Starts the page's export request `request` with `options` (JSON, read against the
     /// document as it is now).
     pub(super) fn export_for_page(&mut self, request: u32, options: &str) {
-        match gltf::options_from_json(options, &self.doc.scene, curvature_ramp_rgb()) {
-            Ok(options) => self.start_export(options, ExportTarget::Page(request)),
+        let parsed = gltf::options_from_json(options, &self.doc.scene, curvature_ramp_rgb())
+            .and_then(|o| Ok((o, GridBackend::from_json(options)?)));
+        match parsed {
+            Ok((options, backend)) => {
+                self.start_export(options, backend, ExportTarget::Page(request))
+            }
             Err(e) => crate::status::finish_export(request, Err(e)),
         }
     }
 
-    /// Who evaluates an export's tessellation grids: on the desktop, the GPU's compute
-    /// shaders where the adapter is a hardware one that has them (made once, on the viewport's
-    /// device); else the f64 kernel: in the page, whose GPU cannot be read back within a
-    /// frame, and on a software adapter, where the kernel's SIMD grids are faster than the
-    /// emulated GPU. The triangles are the kernel's either way.
-    fn export_sampler(&mut self) -> std::sync::Arc<dyn GridSampler + Send> {
-        #[cfg(not(target_arch = "wasm32"))]
-        if let Some(gpu) = &mut self.gpu
-            && gpu.sync.evaluates_on_gpu()
-            && !self.status.software_adapter
-        {
-            return gpu
-                .export_grids
+    /// Whether `backend` has an export's grids evaluated on the GPU here: where the viewport's
+    /// device runs the compute shaders, asked for, or by default on a hardware adapter (on a
+    /// software one the kernel's SIMD grids are faster than the emulated GPU).
+    fn exports_on_gpu(&self, backend: GridBackend) -> bool {
+        let wanted = match backend {
+            GridBackend::Auto => !self.status.software_adapter,
+            GridBackend::Gpu => true,
+            GridBackend::Cpu => false,
+        };
+        wanted
+            && self
+                .gpu
+                .as_ref()
+                .is_some_and(|gpu| gpu.sync.evaluates_on_gpu())
+    }
+
+    /// The GPU's export grids on the viewport's device, made at the first export that uses
+    /// them.
+    fn gpu_export_grids(&mut self) -> Option<ExportGrids> {
+        let gpu = self.gpu.as_mut()?;
+        Some(
+            gpu.export_grids
                 .get_or_insert_with(|| {
-                    std::sync::Arc::new(crate::gpu::export_grids::GpuGrids::new(
+                    ExportGrids::new(crate::gpu::export_grids::GpuGrids::new(
                         &gpu.device,
                         &gpu.queue,
                     ))
                 })
-                .clone();
+                .clone(),
+        )
+    }
+
+    /// Who evaluates an export's tessellation grids while the caller waits: on the desktop,
+    /// the GPU's compute shaders where [`Self::exports_on_gpu`]; else the f64 kernel (always in
+    /// the page, whose GPU cannot be read back within a frame: there the glTF export asks for
+    /// its grids without waiting, [`Self::deferred_export_grids`]). The triangles are the
+    /// kernel's either way.
+    fn export_sampler(&mut self, backend: GridBackend) -> std::sync::Arc<dyn GridSampler + Send> {
+        #[cfg(not(target_arch = "wasm32"))]
+        if self.exports_on_gpu(backend)
+            && let Some(grids) = self.gpu_export_grids()
+        {
+            return grids;
         }
+        let _ = backend;
         std::sync::Arc::new(crate::kernel::tess::KernelGrids)
+    }
+
+    /// In the page, the GPU's grids for a glTF export that does not wait for them, where
+    /// [`Self::exports_on_gpu`]: the export asks for an object's grids in one frame and writes
+    /// the object when they are back, a frame or more later.
+    fn deferred_export_grids(
+        &mut self,
+        backend: GridBackend,
+    ) -> Option<std::rc::Rc<dyn crate::kernel::tess::DeferredGridSampler>> {
+        #[cfg(target_arch = "wasm32")]
+        if self.exports_on_gpu(backend) {
+            return self
+                .gpu_export_grids()
+                .map(|grids| grids as std::rc::Rc<dyn crate::kernel::tess::DeferredGridSampler>);
+        }
+        let _ = backend;
+        None
     }
 
     /// Starts an export of the document as it is now; refused (to its target) when one is
     /// running, when nothing is visible or when the estimate is over the limit.
-    fn start_export(&mut self, options: ExportOptions, target: ExportTarget) {
+    fn start_export(&mut self, options: ExportOptions, backend: GridBackend, target: ExportTarget) {
         if self.running_export.is_some() {
             self.deliver_export(target, Err(gltf::ExportError::Busy));
             return;
@@ -520,10 +605,14 @@ impl KnotworkApp {
             scene: self.doc.scene.clone(),
             view: Some(self.view),
         };
-        let sampler = self.export_sampler();
+        let sampler = self.export_sampler(backend);
+        let deferred = self.deferred_export_grids(backend);
         match gltf::ExportJob::new(project, options, crate::kernel::tess::MAX_TRIANGLES) {
             Ok(mut job) => {
                 job.sample_grids_with(sampler);
+                if let Some(deferred) = deferred {
+                    job.sample_grids_deferred(deferred);
+                }
                 self.running_export = Some(RunningExport {
                     job,
                     target,
@@ -562,9 +651,14 @@ impl KnotworkApp {
             return;
         }
         // Objects until a frame's budget is spent (at least one), so that small exports end
-        // in a frame or two and large ones leave the page responsive between steps.
+        // in a frame or two and large ones leave the page responsive between steps; an object
+        // waiting for its grids from the GPU ends the turn (they come back between frames).
         let job = &mut running.job;
-        match running.budget.run(|| job.step()) {
+        match running
+            .budget
+            .run(|| job.step().map(|done| done || job.is_waiting()))
+        {
+            Ok(true) if running.job.is_waiting() => ctx.request_repaint(),
             Ok(false) => ctx.request_repaint(),
             Ok(true) => {
                 if let Some(running) = self.running_export.take() {

@@ -8,7 +8,6 @@ pub mod context;
 pub mod cpu_eval;
 pub mod curve_eval;
 pub mod error;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod export_grids;
 pub mod packing;
 pub mod patch_eval;

@@ -1299,6 +1299,24 @@ impl PatchGeometry {
         if samples.is_empty() {
             return Ok(Vec::new());
         }
+        let (results, size) = self.dispatch_points(device, queue, evaluator, samples)?;
+        let bytes = super::readback::read_buffer(device, queue, &results, size)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Submits the evaluation of `samples` ([`Self::evaluate_points`]) without waiting for it:
+    /// the buffer its [`super::records::PointResult`]s are written to (`COPY_SRC`, one per
+    /// sample, in order) and its size in bytes. Refuses an empty list.
+    pub fn dispatch_points(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        evaluator: &PatchEvaluator,
+        samples: &[super::records::PointSample],
+    ) -> Result<(wgpu::Buffer, u64), GpuError> {
+        if samples.is_empty() {
+            return Err(GpuError::Readback("no points to evaluate".to_owned()));
+        }
         if let Some(bad) = samples
             .iter()
             .find(|s| s.patch_index as usize >= self.records.len())
@@ -1344,8 +1362,7 @@ impl PatchGeometry {
             pass.dispatch_workgroups(groups as u32, 1, 1);
         }
         queue.submit([encoder.finish()]);
-        let bytes = super::readback::read_buffer(device, queue, &results, size)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        Ok((results, size))
     }
 
     /// Reads the evaluated vertices back (blocking; tests, benchmarks, CLI).

@@ -15,20 +15,7 @@ use crate::kernel::diffgeo::{Curvature, FundamentalForms, SurfaceDerivatives};
 use crate::kernel::surface::LocalGeometry;
 use crate::kernel::{Direction, GeometryError, NurbsSurface};
 
-/// The Bézier span of `breaks` containing `x` (the last span at the domain's end) and the local
-/// parameter in it; `None` outside [breaks[0], breaks[last]].
-pub(super) fn locate(breaks: &[f64], x: f64) -> Option<(usize, f64)> {
-    let (first, last) = (*breaks.first()?, *breaks.last()?);
-    if !(x >= first && x <= last) || breaks.len() < 2 {
-        return None;
-    }
-    let span = breaks[1..breaks.len() - 1]
-        .iter()
-        .take_while(|&&b| b <= x)
-        .count();
-    let (a, b) = (breaks[span], breaks[span + 1]);
-    Some((span, ((x - a) / (b - a)).clamp(0.0, 1.0)))
-}
+use super::export_grids::locate;
 
 fn vector(v: [f32; 4]) -> DVec3 {
     Vec3::new(v[0], v[1], v[2]).as_dvec3()

@@ -40,7 +40,10 @@ use thiserror::Error;
 
 use super::project::{self, Project};
 use crate::kernel::GeometryError;
-use crate::kernel::tess::{Estimate, GridSampler, KernelGrids, Tessellation, TriangleMesh};
+use crate::kernel::tess::{
+    DeferredGridSampler, Estimate, GridPlan, GridSampler, KernelGrids, PendingGridValues,
+    Tessellation, TriangleMesh,
+};
 
 /// What went wrong in an export.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -511,6 +514,11 @@ pub struct ExportJob {
     lines: usize,
     /// Who evaluates the objects' parameter grids: the f64 kernel unless told otherwise.
     sampler: std::sync::Arc<dyn GridSampler + Send>,
+    /// Who evaluates them without the job waiting (the GPU in the web page), if anyone: it
+    /// takes precedence over `sampler`.
+    deferred: Option<std::rc::Rc<dyn DeferredGridSampler>>,
+    /// The next object's tessellation, waiting for its grids from `deferred`.
+    waiting: Option<(GridPlan, Box<dyn PendingGridValues>)>,
 }
 
 impl ExportJob {
@@ -552,6 +560,8 @@ impl ExportJob {
             lines: 0,
             vertices: 0,
             sampler: std::sync::Arc::new(KernelGrids),
+            deferred: None,
+            waiting: None,
         })
     }
 
@@ -560,6 +570,23 @@ impl ExportJob {
     /// kernel's either way.
     pub fn sample_grids_with(&mut self, sampler: std::sync::Arc<dyn GridSampler + Send>) {
         self.sampler = sampler;
+    }
+
+    /// Has `sampler` evaluate the parameter grids of the objects still to come without the job
+    /// waiting for them (the GPU's compute shaders in the page, which cannot wait for a
+    /// readback inside a frame): [`Self::step`] asks for an object's grids and returns; a
+    /// later step, a frame or more on, finds them there and writes the object. Where the
+    /// sampler refuses or fails, the kernel evaluates those grids. The triangles are the
+    /// kernel's either way.
+    pub fn sample_grids_deferred(&mut self, sampler: std::rc::Rc<dyn DeferredGridSampler>) {
+        self.deferred = Some(sampler);
+    }
+
+    /// Whether the next object waits for its grids ([`Self::sample_grids_deferred`]): until
+    /// they arrive, [`Self::step`] does nothing, so the caller should come back in a later
+    /// frame rather than call it again at once.
+    pub fn is_waiting(&self) -> bool {
+        self.waiting.is_some()
     }
 
     /// The share of the estimated triangles written so far, 0 to 1.
@@ -579,21 +606,64 @@ impl ExportJob {
     }
 
     /// Tessellates the next visible object into the document; true when every one is done.
+    /// With a deferred sampler, a step may instead ask for the object's grids, or find them
+    /// still on their way ([`Self::is_waiting`]), and return false having written nothing.
     pub fn step(&mut self) -> Result<bool, ExportError> {
         let Some(&(k, _)) = self.visible.get(self.done) else {
             return Ok(true);
         };
-        self.done += 1;
         let object = &self.project.scene.objects[k];
         let options = &self.options;
-        let builder = &mut self.builder;
         let curvature = options.curvature || options.colors.is_some();
-        let pieces = object
-            .tessellate_with(options.tessellation, curvature, self.sampler.as_ref())
-            .map_err(|source| ExportError::Geometry {
-                name: object.name.clone(),
-                source,
-            })?;
+        let tessellated = match &self.deferred {
+            None => object.tessellate_with(options.tessellation, curvature, self.sampler.as_ref()),
+            Some(deferred) => {
+                let (plan, pending) = match self.waiting.take() {
+                    Some((plan, pending)) => (plan, Some(pending)),
+                    None => {
+                        let plan = object
+                            .plan_tessellation(options.tessellation, curvature)
+                            .map_err(|source| ExportError::Geometry {
+                                name: object.name.clone(),
+                                source,
+                            })?;
+                        let pending = if plan.jobs().is_empty() {
+                            None
+                        } else {
+                            deferred
+                                .request(&plan.jobs(), plan.curvature())
+                                .inspect_err(|e| {
+                                    log::warn!("{e}; the CPU evaluates {}", object.name);
+                                })
+                                .ok()
+                        };
+                        (plan, pending)
+                    }
+                };
+                match pending {
+                    None => plan.run(&KernelGrids),
+                    Some(mut pending) => match pending.poll() {
+                        None => {
+                            self.waiting = Some((plan, pending));
+                            return Ok(false);
+                        }
+                        Some(Ok(values)) => {
+                            plan.finish(Ok(values), &|surface| deferred.position_slack(surface))
+                        }
+                        Some(Err(e)) => {
+                            log::warn!("{e}; the CPU evaluates {}", object.name);
+                            plan.run(&KernelGrids)
+                        }
+                    },
+                }
+            }
+        };
+        self.done += 1;
+        let builder = &mut self.builder;
+        let pieces = tessellated.map_err(|source| ExportError::Geometry {
+            name: object.name.clone(),
+            source,
+        })?;
         // A curve is a line strip.
         let strip = match object.kind().space_curve() {
             Some(curve) => crate::kernel::tess::curve_polyline(curve, options.tessellation)

@@ -13,7 +13,7 @@ use std::fmt::Debug;
 use glam::{DAffine3, DVec3};
 
 use super::{Decomposition, ObjectGeometry};
-use crate::kernel::tess::{GridSampler, Tessellation, TriangleMesh};
+use crate::kernel::tess::{GridPlan, GridSampler, Tessellation, TriangleMesh};
 use crate::kernel::{GeometryError, NurbsSurface, ParametricSurface, PolygonMesh, TrimmedSurface};
 
 /// A kind's faces for exchange ([`ObjectKind::exchange_faces`]).
@@ -170,8 +170,20 @@ pub trait ObjectKind: KindValue {
         curvature: bool,
         sampler: &dyn GridSampler,
     ) -> Result<Vec<TriangleMesh>, GeometryError> {
-        let _ = sampler;
-        self.tessellate(tessellation, curvature)
+        self.plan_tessellation(tessellation, curvature)?
+            .run(sampler)
+    }
+
+    /// [`Self::tessellate`] up to the evaluation of its parameter grids ([`GridPlan`]), so
+    /// that they can be evaluated where the caller cannot wait for them (the GPU in the web
+    /// page). Kinds that tessellate on tensor grids of NURBS surfaces plan them; the rest are
+    /// tessellated at once, into a plan with nothing left to evaluate.
+    fn plan_tessellation(
+        &self,
+        tessellation: Tessellation,
+        curvature: bool,
+    ) -> Result<GridPlan, GeometryError> {
+        Ok(GridPlan::done(self.tessellate(tessellation, curvature)?))
     }
 
     /// About how many triangles [`Self::tessellate`] makes at `tessellation`, in time that

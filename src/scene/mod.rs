@@ -493,55 +493,65 @@ impl SceneObject {
         curvature: bool,
         sampler: &dyn tess::GridSampler,
     ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
-        let mut meshes = match &self.lattice {
-            None => self.tessellate_undeformed(tessellation, curvature, sampler)?,
-            Some(lattice) => {
-                let mut meshes = self.tessellate_undeformed(
-                    tess::Tessellation::Segments(self.segments),
-                    false,
-                    sampler,
-                )?;
+        self.plan_tessellation(tessellation, curvature)?
+            .run(sampler)
+    }
+
+    /// [`Self::tessellate`] up to the evaluation of the kind's parameter grids
+    /// ([`ObjectKind::plan_tessellation`]); displacement, lattices and estimated curvatures
+    /// are applied when the plan is finished.
+    pub fn plan_tessellation(
+        &self,
+        tessellation: tess::Tessellation,
+        curvature: bool,
+    ) -> Result<tess::GridPlan, GeometryError> {
+        let lattice = self.lattice.clone();
+        let plan = match &lattice {
+            None => self.plan_undeformed(tessellation, curvature)?,
+            Some(_) => self.plan_undeformed(tess::Tessellation::Segments(self.segments), false)?,
+        };
+        Ok(plan.then(move |mut meshes| {
+            if let Some(lattice) = &lattice {
                 for mesh in &mut meshes {
                     for (p, n) in mesh.positions.iter_mut().zip(&mut mesh.normals) {
                         (*p, *n) = lattice.deform_vertex(*p, *n);
                     }
                 }
-                meshes
             }
-        };
-        if curvature {
-            for mesh in &mut meshes {
-                if mesh.curvatures.len() != mesh.positions.len() {
-                    mesh.curvatures = crate::kernel::mesh_curvature::estimate_vertex_curvatures(
-                        &mesh.positions,
-                        &mesh.normals,
-                        &mesh.triangles,
-                    );
+            if curvature {
+                for mesh in &mut meshes {
+                    if mesh.curvatures.len() != mesh.positions.len() {
+                        mesh.curvatures = crate::kernel::mesh_curvature::estimate_vertex_curvatures(
+                            &mesh.positions,
+                            &mesh.normals,
+                            &mesh.triangles,
+                        );
+                    }
                 }
             }
-        }
-        Ok(meshes)
+            Ok(meshes)
+        }))
     }
 
-    /// [`Self::tessellate`] without the lattice.
-    fn tessellate_undeformed(
+    /// [`Self::plan_tessellation`] without the lattice.
+    fn plan_undeformed(
         &self,
         tessellation: tess::Tessellation,
         curvature: bool,
-        sampler: &dyn tess::GridSampler,
-    ) -> Result<Vec<tess::TriangleMesh>, GeometryError> {
+    ) -> Result<tess::GridPlan, GeometryError> {
         let Some(map) = &self.displacement else {
-            return self
-                .kind()
-                .tessellate_with(tessellation, curvature, sampler);
+            return self.kind().plan_tessellation(tessellation, curvature);
         };
-        let mut meshes =
-            self.kind()
-                .tessellate_with(self.displacement_tessellation(map), false, sampler)?;
-        for mesh in &mut meshes {
-            crate::kernel::displace::displace_mesh(mesh, map);
-        }
-        Ok(meshes)
+        let plan = self
+            .kind()
+            .plan_tessellation(self.displacement_tessellation(map), false)?;
+        let map = map.clone();
+        Ok(plan.then(move |mut meshes| {
+            for mesh in &mut meshes {
+                crate::kernel::displace::displace_mesh(mesh, &map);
+            }
+            Ok(meshes)
+        }))
     }
 
     /// A displaced object's tessellation: enough vertices for the pattern (8 per cycle across

@@ -154,16 +154,16 @@ impl ObjectKind for NurbsSurface {
         self.tessellate_with(tessellation, curvature, &tess::KernelGrids)
     }
 
-    fn tessellate_with(
+    fn plan_tessellation(
         &self,
         tessellation: Tessellation,
         curvature: bool,
-        sampler: &dyn tess::GridSampler,
-    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+    ) -> Result<tess::GridPlan, GeometryError> {
         let grid = tess::grid_for(self, tessellation)?;
-        Ok(vec![tess::triangulate_with(
-            self, &grid, curvature, sampler,
-        )?])
+        Ok(tess::GridPlan::triangulate(
+            vec![(self.clone(), grid)],
+            curvature,
+        ))
     }
 
     fn estimated_triangles(

@@ -95,13 +95,12 @@ impl ObjectKind for BezierPatchSet {
         tess::tessellate_patches(self, tessellation, curvature)
     }
 
-    fn tessellate_with(
+    fn plan_tessellation(
         &self,
         tessellation: Tessellation,
         curvature: bool,
-        sampler: &dyn tess::GridSampler,
-    ) -> Result<Vec<TriangleMesh>, GeometryError> {
-        tess::tessellate_patches_with(self, tessellation, curvature, sampler)
+    ) -> Result<tess::GridPlan, GeometryError> {
+        tess::plan_patches(self, tessellation, curvature)
     }
 
     fn estimated_triangles(

@@ -11,7 +11,7 @@ use super::kind::KindFace;
 use super::{Decomposition, ObjectGeometry, ObjectKind};
 use crate::kernel::tess::{Tessellation, TriangleMesh};
 use crate::kernel::trim::index::{Coverage, TrimIndex};
-use crate::kernel::trim::tess::{tessellate_trimmed, tessellate_trimmed_with};
+use crate::kernel::trim::tess::tessellate_trimmed;
 use crate::kernel::{GeometryError, NurbsSurface, TrimmedSurface};
 
 /// What a trimmed object (or an object of several trimmed faces) adds to its GPU feed.
@@ -133,18 +133,12 @@ impl ObjectKind for TrimmedSurface {
         Ok(vec![tessellate_trimmed(self, tessellation, curvature)?])
     }
 
-    fn tessellate_with(
+    fn plan_tessellation(
         &self,
         tessellation: Tessellation,
         curvature: bool,
-        sampler: &dyn crate::kernel::tess::GridSampler,
-    ) -> Result<Vec<TriangleMesh>, GeometryError> {
-        Ok(vec![tessellate_trimmed_with(
-            self,
-            tessellation,
-            curvature,
-            sampler,
-        )?])
+    ) -> Result<crate::kernel::tess::GridPlan, GeometryError> {
+        crate::kernel::trim::tess::plan_trimmed(self, tessellation, curvature)
     }
 
     /// The whole surface's estimate: the trims only take triangles away.

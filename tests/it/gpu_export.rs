@@ -7,8 +7,11 @@ use crate::common::{self, Rng, random_motion};
 
 use glam::{DAffine3, DVec3};
 use knotwork::gpu::export_grids::GpuGrids;
-use knotwork::kernel::NurbsSurface;
-use knotwork::kernel::tess::{self, KernelGrids, ParameterGrid, Tessellation, TriangleMesh};
+use knotwork::kernel::tess::{
+    self, DeferredGridSampler, GridValues, KernelGrids, ParameterGrid, PendingGridValues,
+    Tessellation, TriangleMesh,
+};
+use knotwork::kernel::{GeometryError, NurbsSurface};
 
 /// Sin² of the angle between Su and Sv at normalized (u, v) of `surface`: where f32 normals
 /// and curvatures are meaningful to compare (as in `gpu_eval`).
@@ -240,4 +243,175 @@ fn the_command_line_exports_through_gpu_grids() {
     assert_eq!(counts(&summaries[0]), counts(&summaries[1]));
     common::validate_gltf(&[dir.join("gpu.glb")]);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A deferred sampler that holds each request's values back for `hold` polls (frames in the
+/// page) and, when `fail`, fails every request or every poll in turn.
+struct Held {
+    grids: GpuGrids,
+    hold: usize,
+    fail: bool,
+    requests: std::cell::Cell<usize>,
+}
+
+struct HeldGrids {
+    pending: Box<dyn PendingGridValues>,
+    hold: usize,
+    fail: bool,
+}
+
+impl PendingGridValues for HeldGrids {
+    fn poll(&mut self) -> Option<Result<Vec<GridValues>, GeometryError>> {
+        if self.hold > 0 {
+            self.hold -= 1;
+            return None;
+        }
+        if self.fail {
+            return Some(Err(GeometryError::Construction {
+                what: "grid evaluation on the GPU",
+                message: "the device was lost (a test's)".into(),
+            }));
+        }
+        self.pending.poll()
+    }
+}
+
+impl DeferredGridSampler for Held {
+    fn request(
+        &self,
+        jobs: &[(&NurbsSurface, &ParameterGrid)],
+        curvature: bool,
+    ) -> Result<Box<dyn PendingGridValues>, GeometryError> {
+        let k = self.requests.get();
+        self.requests.set(k + 1);
+        if self.fail && k.is_multiple_of(2) {
+            return Err(GeometryError::Construction {
+                what: "grid evaluation on the GPU",
+                message: "a buffer over the device's limits (a test's)".into(),
+            });
+        }
+        Ok(Box::new(HeldGrids {
+            pending: DeferredGridSampler::request(&self.grids, jobs, curvature)?,
+            hold: self.hold,
+            fail: self.fail,
+        }))
+    }
+
+    fn position_slack(&self, surface: &NurbsSurface) -> f64 {
+        DeferredGridSampler::position_slack(&self.grids, surface)
+    }
+}
+
+/// The glTF export as the page runs it, asking for each object's grids and coming back for
+/// them frames later, writes the same file, byte for byte, as the export that waits for the
+/// same GPU, and one whose GPU refuses or fails writes the kernel's file. The scene: the demo
+/// objects, a trimmed surface, a displaced surface and one in a bent lattice, moved to a
+/// random place, exported at a tolerance with curvature.
+#[test]
+fn an_export_that_does_not_wait_for_the_gpu_writes_the_file_of_one_that_does() {
+    use knotwork::io::gltf::{self, ExportJob, ExportOptions};
+    use knotwork::io::project::Project;
+    use std::rc::Rc;
+    use std::sync::Arc;
+
+    let context = common::gpu();
+    let mut rng = Rng(0x0e59_0a77);
+    let mut scene = knotwork::scene::Scene::demo().unwrap();
+    scene.objects.push(surface_with_a_hole());
+    let mut displaced = scene.objects[3].clone();
+    displaced.name = "displaced".into();
+    displaced.displacement = Some(
+        knotwork::kernel::displace::Displacement::new(
+            knotwork::kernel::displace::Pattern::ALL[0],
+            0.05,
+            3.0,
+        )
+        .unwrap(),
+    );
+    scene.objects.push(displaced);
+    let mut bent = scene.objects[4].clone();
+    bent.name = "in a lattice".into();
+    let box_ = bent.tessellate(Tessellation::Segments(2), false).unwrap()[0]
+        .positions
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let mut lattice = knotwork::kernel::ffd::Lattice::around(box_.0, box_.1, [2, 2, 2]).unwrap();
+    let corner = lattice.points()[0];
+    lattice
+        .set_point(0, corner + DVec3::new(0.1, 0.2, -0.15))
+        .unwrap();
+    bent.lattice = Some(lattice);
+    scene.objects.push(bent);
+    let motion = random_motion(&mut rng);
+    for object in &mut scene.objects {
+        if let Ok(moved) = object.geometry.kind().transformed(&motion) {
+            object.geometry = moved;
+        }
+    }
+    let project = Project { scene, view: None };
+    let options = ExportOptions {
+        tessellation: Tessellation::Tolerance(gltf::default_tolerance(&project.scene)),
+        curvature: true,
+        colors: None,
+    };
+    // Steps as the page takes them: while an object waits for its grids, the next step comes
+    // a frame later (a millisecond here).
+    let export = |mut job: ExportJob| -> (Vec<u8>, usize) {
+        let started = std::time::Instant::now();
+        let mut waits = 0;
+        while !job.step().unwrap() {
+            if job.is_waiting() {
+                waits += 1;
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            assert!(
+                started.elapsed().as_secs() < 300,
+                "an export that never ends"
+            );
+        }
+        (gltf::to_glb(&job.finish().unwrap()), waits)
+    };
+    let objects = project.scene.objects.len();
+
+    let mut waiting =
+        ExportJob::new(project.clone(), options.clone(), tess::MAX_TRIANGLES).unwrap();
+    let grids = Arc::new(GpuGrids::new(&context.device, &context.queue));
+    waiting.sample_grids_with(grids.clone());
+    let (waited, _) = export(waiting);
+    assert_eq!(grids.fallbacks(), 0);
+
+    let kernel = ExportJob::new(project.clone(), options.clone(), tess::MAX_TRIANGLES).unwrap();
+    let (on_the_cpu, _) = export(kernel);
+    assert_ne!(waited, on_the_cpu, "the GPU's grids are not the kernel's");
+
+    for (hold, fail) in [(0, false), (3, false), (2, true)] {
+        let held = Rc::new(Held {
+            grids: GpuGrids::new(&context.device, &context.queue),
+            hold,
+            fail,
+            requests: Default::default(),
+        });
+        let mut job =
+            ExportJob::new(project.clone(), options.clone(), tess::MAX_TRIANGLES).unwrap();
+        job.sample_grids_deferred(held.clone());
+        let (file, waits) = export(job);
+        // Every object but the polygon meshes and curves plans grids: the demo's six, the
+        // trimmed, displaced and deformed surfaces.
+        assert_eq!(held.requests.get(), objects, "hold {hold}");
+        eprintln!("held {hold} polls, failing {fail}: {waits} steps waited");
+        if fail {
+            assert_eq!(
+                file, on_the_cpu,
+                "a GPU that fails leaves the kernel's file"
+            );
+        } else {
+            assert!(waits >= hold * objects, "{waits} waits");
+            assert_eq!(
+                file, waited,
+                "held {hold}: the same file as the export that waits"
+            );
+        }
+    }
 }

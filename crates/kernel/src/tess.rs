@@ -572,13 +572,177 @@ pub fn triangulate_all(
     if values.len() != jobs.len() {
         return Err(sampler_error(jobs.len(), values.len()));
     }
-    jobs.iter()
-        .zip(values)
-        .map(|(&(surface, grid), values)| {
-            let slack = sampler.position_slack(surface);
-            mesh_on_grid(surface, grid, values, curvature, slack)
+    meshes_on_grids(jobs.iter().copied(), values, curvature, &|surface| {
+        sampler.position_slack(surface)
+    })
+}
+
+/// How far the rounding of whoever evaluated a grid may move the positions on a surface
+/// ([`GridSampler::position_slack`]).
+pub type PositionSlack<'a> = &'a dyn Fn(&NurbsSurface) -> f64;
+
+/// The triangle mesh of each `(surface, grid)` of `jobs` from its grid's `values`, with
+/// triangles of no area within `slack` left out.
+fn meshes_on_grids<'a>(
+    jobs: impl Iterator<Item = (&'a NurbsSurface, &'a ParameterGrid)>,
+    values: Vec<GridValues>,
+    curvature: bool,
+    slack: PositionSlack<'_>,
+) -> Result<Vec<TriangleMesh>, GeometryError> {
+    jobs.zip(values)
+        .map(|((surface, grid), values)| {
+            mesh_on_grid(surface, grid, values, curvature, slack(surface))
         })
         .collect()
+}
+
+/// The rest of a [`GridPlan`]: its meshes from its jobs, their values (or why there are
+/// none) and the rounding of whoever evaluated them.
+type FinishPlan = Box<
+    dyn FnOnce(
+            &[(NurbsSurface, ParameterGrid)],
+            Result<Vec<GridValues>, GeometryError>,
+            PositionSlack<'_>,
+        ) -> Result<Vec<TriangleMesh>, GeometryError>
+        + Send,
+>;
+
+/// A tessellation worked out up to its grid evaluation: the surfaces and parameter grids whose
+/// points it needs, and the rest of the work, run once their values are known
+/// ([`Self::finish`]). Everything but the evaluation is chosen on the CPU, so a plan finished
+/// with any sampler's values has the same topology as [`Self::run`]'s. It lets the grids be
+/// evaluated where the caller cannot wait for them: by the GPU in the web page, whose values
+/// are read back a frame or more later.
+pub struct GridPlan {
+    jobs: Vec<(NurbsSurface, ParameterGrid)>,
+    curvature: bool,
+    finish: FinishPlan,
+}
+
+impl GridPlan {
+    /// A plan with nothing to evaluate: `meshes` are its result.
+    pub fn done(meshes: Vec<TriangleMesh>) -> Self {
+        Self {
+            jobs: Vec::new(),
+            curvature: false,
+            finish: Box::new(move |_, _, _| Ok(meshes)),
+        }
+    }
+
+    /// A plan that evaluates `jobs` (curvatures too when `curvature`) and then calls `finish`
+    /// with them, their values and the rounding of whoever evaluated them. A sampler that
+    /// answers with a different number of grids than `jobs` reaches `finish` as an error.
+    pub fn new(
+        jobs: Vec<(NurbsSurface, ParameterGrid)>,
+        curvature: bool,
+        finish: impl FnOnce(
+            &[(NurbsSurface, ParameterGrid)],
+            Result<Vec<GridValues>, GeometryError>,
+            PositionSlack<'_>,
+        ) -> Result<Vec<TriangleMesh>, GeometryError>
+        + Send
+        + 'static,
+    ) -> Self {
+        Self {
+            jobs,
+            curvature,
+            finish: Box::new(finish),
+        }
+    }
+
+    /// The plan of [`triangulate_all`]: each surface's mesh on its grid.
+    pub fn triangulate(jobs: Vec<(NurbsSurface, ParameterGrid)>, curvature: bool) -> Self {
+        Self::new(jobs, curvature, move |jobs, values, slack| {
+            meshes_on_grids(
+                jobs.iter().map(|(surface, grid)| (surface, grid)),
+                values?,
+                curvature,
+                slack,
+            )
+        })
+    }
+
+    /// This plan with `then` applied to its meshes once they are made.
+    pub fn then(
+        self,
+        then: impl FnOnce(Vec<TriangleMesh>) -> Result<Vec<TriangleMesh>, GeometryError>
+        + Send
+        + 'static,
+    ) -> Self {
+        let Self {
+            jobs,
+            curvature,
+            finish,
+        } = self;
+        Self {
+            jobs,
+            curvature,
+            finish: Box::new(move |jobs, values, slack| then(finish(jobs, values, slack)?)),
+        }
+    }
+
+    /// The surfaces and grids to evaluate (none when the plan is [`Self::done`]).
+    pub fn jobs(&self) -> Vec<(&NurbsSurface, &ParameterGrid)> {
+        self.jobs
+            .iter()
+            .map(|(surface, grid)| (surface, grid))
+            .collect()
+    }
+
+    /// Whether the grids' curvatures are asked for too.
+    pub fn curvature(&self) -> bool {
+        self.curvature
+    }
+
+    /// The meshes, from the values of [`Self::jobs`] (or why there are none) and the rounding
+    /// of whoever evaluated them (`slack`, [`GridSampler::position_slack`]).
+    pub fn finish(
+        self,
+        values: Result<Vec<GridValues>, GeometryError>,
+        slack: PositionSlack<'_>,
+    ) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let values = values.and_then(|values| {
+            if values.len() == self.jobs.len() {
+                Ok(values)
+            } else {
+                Err(sampler_error(self.jobs.len(), values.len()))
+            }
+        });
+        (self.finish)(&self.jobs, values, slack)
+    }
+
+    /// The meshes, with the grids evaluated by `sampler` now.
+    pub fn run(self, sampler: &dyn GridSampler) -> Result<Vec<TriangleMesh>, GeometryError> {
+        let values = if self.jobs.is_empty() {
+            Ok(Vec::new())
+        } else {
+            sampler.sample_grids(&self.jobs(), self.curvature)
+        };
+        self.finish(values, &|surface| sampler.position_slack(surface))
+    }
+}
+
+/// Grids evaluated without the caller waiting for them: asked for in one frame, collected in a
+/// later one. The GPU's compute shaders in the web page, which cannot wait for a readback
+/// inside a frame.
+pub trait DeferredGridSampler {
+    /// Starts evaluating every `(surface, grid)` of `jobs` (curvatures too when `curvature`).
+    fn request(
+        &self,
+        jobs: &[(&NurbsSurface, &ParameterGrid)],
+        curvature: bool,
+    ) -> Result<Box<dyn PendingGridValues>, GeometryError>;
+
+    /// How far rounding may move the positions it returns for `surface`
+    /// ([`GridSampler::position_slack`]).
+    fn position_slack(&self, surface: &NurbsSurface) -> f64;
+}
+
+/// Grids on their way ([`DeferredGridSampler::request`]).
+pub trait PendingGridValues {
+    /// Every grid's values, in the order asked, once all have arrived; `None` while some are
+    /// still on their way, an error where the evaluation failed.
+    fn poll(&mut self) -> Option<Result<Vec<GridValues>, GeometryError>>;
 }
 
 /// The error for a sampler that answered `got` of `asked` grids or samples.
@@ -694,6 +858,15 @@ pub fn tessellate_patches_with(
     curvature: bool,
     sampler: &dyn GridSampler,
 ) -> Result<Vec<TriangleMesh>, GeometryError> {
+    plan_patches(set, tessellation, curvature)?.run(sampler)
+}
+
+/// [`tessellate_patches`] up to the evaluation of its grids ([`GridPlan`]).
+pub fn plan_patches(
+    set: &BezierPatchSet,
+    tessellation: Tessellation,
+    curvature: bool,
+) -> Result<GridPlan, GeometryError> {
     let surfaces = (0..set.patches().len())
         .map(|k| patch_surface(set, k))
         .collect::<Result<Vec<_>, _>>()?;
@@ -749,8 +922,10 @@ pub fn tessellate_patches_with(
             }
         }
     };
-    let jobs: Vec<(&NurbsSurface, &ParameterGrid)> = surfaces.iter().zip(&grids).collect();
-    triangulate_all(&jobs, curvature, sampler)
+    Ok(GridPlan::triangulate(
+        surfaces.into_iter().zip(grids).collect(),
+        curvature,
+    ))
 }
 
 /// About how many triangles [`tessellate_patches`] gives `set` at `tessellation`: each patch's

@@ -4,6 +4,8 @@
 //! trimmed export evaluates some 70,000 scattered points a surface (the boundary's flattening,
 //! the tolerance check, the boundary's vertices) this way.
 
+use std::borrow::Cow;
+
 use crate::par::RaceCell;
 
 use glam::{DVec2, DVec3, DVec4};
@@ -22,7 +24,8 @@ const POINTS_CAP: usize = 1 << 20;
 /// evaluation; degrees of 8 and more, and very large nets, are evaluated by the surface.
 #[derive(Debug, Clone)]
 pub struct ScatteredEvaluator<'a> {
-    surface: &'a NurbsSurface,
+    /// Borrowed, or owned once [`ScatteredEvaluator::into_owned`] made it outlive the surface.
+    surface: Cow<'a, NurbsSurface>,
     /// Empty where the surface evaluates itself.
     patches: Vec<DVec4>,
     breaks: [Vec<f64>; 2],
@@ -324,7 +327,7 @@ impl NurbsSurface {
             (0..spans).map(|_| RaceCell::new()).collect()
         };
         ScatteredEvaluator {
-            surface: self,
+            surface: Cow::Borrowed(self),
             bounds,
             patches,
             breaks,
@@ -334,10 +337,23 @@ impl NurbsSurface {
     }
 }
 
-impl<'a> ScatteredEvaluator<'a> {
+impl ScatteredEvaluator<'_> {
     /// The surface evaluated.
-    pub fn surface(&self) -> &'a NurbsSurface {
-        self.surface
+    pub fn surface(&self) -> &NurbsSurface {
+        &self.surface
+    }
+
+    /// This evaluator with its own copy of the surface, so that it can outlive the surface
+    /// it was made from (the patches and the bounds found so far are kept).
+    pub fn into_owned(self) -> ScatteredEvaluator<'static> {
+        ScatteredEvaluator {
+            surface: Cow::Owned(self.surface.into_owned()),
+            patches: self.patches,
+            breaks: self.breaks,
+            inverse_widths: self.inverse_widths,
+            spans_per_unit: self.spans_per_unit,
+            bounds: self.bounds,
+        }
     }
 
     /// The span holding `x` (moved into the domain) in direction `d` and the local parameter in

@@ -107,6 +107,22 @@ pub fn tessellate_trimmed_with(
     curvature: bool,
     sampler: &dyn GridSampler,
 ) -> Result<TriangleMesh, GeometryError> {
+    plan_trimmed(trimmed, tessellation, curvature)?
+        .run(sampler)?
+        .pop()
+        .ok_or_else(|| failed("the tessellation made no mesh".to_owned()))
+}
+
+/// [`tessellate_trimmed`] up to the evaluation of its grid's crossings ([`tess::GridPlan`]):
+/// the boundary flattened, the grid refined and clipped, the cut cells triangulated. Its one
+/// job is the whole grid where at least half of the crossings are used, and none otherwise
+/// (then every vertex is evaluated on its own); finished without the grid's values (the
+/// sampler failed), it evaluates the vertices on its own too.
+pub fn plan_trimmed(
+    trimmed: &TrimmedSurface,
+    tessellation: Tessellation,
+    curvature: bool,
+) -> Result<tess::GridPlan, GeometryError> {
     let surface = trimmed.surface();
     let tolerance = match tessellation {
         Tessellation::Tolerance(t) => t,
@@ -140,18 +156,14 @@ pub fn tessellate_trimmed_with(
             (Vec::new(), Vec::new())
         };
         if failing.is_empty() {
-            let vertices = Vertices {
-                uvs: &clipped.points,
-                known: if curvature { &[] } else { &known },
-            };
-            return mesh_from(
-                &scattered,
-                &grid,
-                vertices,
+            let known = if curvature { Vec::new() } else { known };
+            return Ok(planned_mesh(
+                scattered.into_owned(),
+                grid,
+                (clipped.points, known),
                 clipped.triangles,
                 curvature,
-                sampler,
-            );
+            ));
         }
         grid = split_cells(&grid, &failing);
     }
@@ -1255,25 +1267,17 @@ struct Vertices<'a> {
 /// A vertex's point and unit normal, where the tolerance check evaluated it.
 type Known = Option<(DVec3, DVec3)>;
 
-/// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped.
-/// Vertices on the crossings of `grid` (most of them, where the holes are small against the
-/// surface) come from one evaluation of the whole grid by `sampler` (the kernel's SIMD lanes,
-/// [`crate::NurbsSurface::tessellate_grid`], or the GPU's); the chord points, and every point
-/// where less than half the grid is used, from the tolerance check where it evaluated them, else
-/// one at a time from the surface's Bézier patches ([`ScatteredEvaluator`]).
-fn mesh_from(
-    scattered: &ScatteredEvaluator<'_>,
-    grid: &ParameterGrid,
-    Vertices {
-        uvs: vertices,
-        known,
-    }: Vertices<'_>,
+/// The plan of the mesh on `triangles` of the vertices `uvs` (of which the first are `grid`'s
+/// crossings, and `known` holds those the tolerance check evaluated): the grid is evaluated
+/// where at least half of its crossings are used, and the rest of the work is [`mesh_from`].
+fn planned_mesh(
+    scattered: ScatteredEvaluator<'static>,
+    grid: ParameterGrid,
+    (uvs, known): (Vec<DVec2>, Vec<Known>),
     triangles: Vec<[u32; 3]>,
     curvature: bool,
-    sampler: &dyn GridSampler,
-) -> Result<TriangleMesh, GeometryError> {
-    let surface = scattered.surface();
-    let mut used = vec![u32::MAX; vertices.len()];
+) -> tess::GridPlan {
+    let mut used = vec![u32::MAX; uvs.len()];
     let mut order = Vec::new();
     for t in &triangles {
         for &k in t {
@@ -1285,29 +1289,67 @@ fn mesh_from(
     }
     // The grid's crossings are the pool's first points, in the grid's order.
     let crossings = grid.us.len() * grid.vs.len();
-    let crossing = |k: usize| (k < crossings).then_some(k);
     let on_grid = order.iter().filter(|&&k| k < crossings).count();
-    let evaluated: Option<Vec<(GridSample, CurvatureValues)>> =
-        if 2 * on_grid >= grid.us.len() * grid.vs.len() {
-            sampler
-                .sample_grids(&[(surface, grid)], curvature)
-                .ok()
-                .and_then(|mut values| values.pop())
-                .filter(|values| {
-                    values.samples.len() == grid.us.len() * grid.vs.len()
-                        && (!curvature || values.curvatures.len() == values.samples.len())
-                })
-                .map(|values| {
-                    let mut curvatures = values.curvatures.into_iter();
-                    values
-                        .samples
-                        .into_iter()
-                        .map(|s| (s, curvatures.next().unwrap_or_default()))
-                        .collect()
-                })
-        } else {
-            None
+    let jobs = if 2 * on_grid >= crossings {
+        vec![(scattered.surface().clone(), grid.clone())]
+    } else {
+        Vec::new()
+    };
+    tess::GridPlan::new(jobs, curvature, move |_, values, _| {
+        let evaluated = values
+            .ok()
+            .and_then(|mut values| values.pop())
+            .filter(|values| {
+                values.samples.len() == crossings
+                    && (!curvature || values.curvatures.len() == values.samples.len())
+            })
+            .map(|values| {
+                let mut curvatures = values.curvatures.into_iter();
+                values
+                    .samples
+                    .into_iter()
+                    .map(|s| (s, curvatures.next().unwrap_or_default()))
+                    .collect()
+            });
+        let vertices = Vertices {
+            uvs: &uvs,
+            known: &known,
         };
+        let mesh = mesh_from(
+            &scattered,
+            crossings,
+            vertices,
+            (&used, &order),
+            triangles,
+            curvature,
+            evaluated,
+        )?;
+        Ok(vec![mesh])
+    })
+}
+
+/// Positions, normals, normalised (u, v) and curvatures at `vertices`; unused vertices dropped
+/// (`used`: each vertex's place in the mesh, `order`: the vertices in that order). Vertices on
+/// the grid's `crossings` (most of them, where the holes are small against the surface) come
+/// from `evaluated`, the whole grid's values from one call of a sampler (the kernel's SIMD
+/// lanes, [`crate::NurbsSurface::tessellate_grid`], or the GPU's) where it has them; the chord
+/// points, and every point where the grid was not evaluated, from the tolerance check where it
+/// evaluated them, else one at a time from the surface's Bézier patches
+/// ([`ScatteredEvaluator`]).
+fn mesh_from(
+    scattered: &ScatteredEvaluator<'_>,
+    crossings: usize,
+    Vertices {
+        uvs: vertices,
+        known,
+    }: Vertices<'_>,
+    (used, order): (&[u32], &[usize]),
+    triangles: Vec<[u32; 3]>,
+    curvature: bool,
+    evaluated: Option<Vec<(GridSample, CurvatureValues)>>,
+) -> Result<TriangleMesh, GeometryError> {
+    let surface = scattered.surface();
+    let crossing = |k: usize| (k < crossings).then_some(k);
     let [(u0, u1), (v0, v1)] = surface.domain();
     let mut mesh = TriangleMesh {
         positions: Vec::with_capacity(order.len()),
@@ -1316,7 +1358,7 @@ fn mesh_from(
         triangles: Vec::with_capacity(triangles.len()),
         ..TriangleMesh::default()
     };
-    for &k in &order {
+    for &k in order {
         let p = vertices[k];
         let (u, v) = (p.x.clamp(u0, u1), p.y.clamp(v0, v1));
         if let Some((sample, values)) = crossing(k)
