@@ -726,6 +726,33 @@ impl KnotworkApp {
 mod tests {
     use super::*;
 
+    #[test]
+    fn the_page_names_who_evaluates_the_grids_or_leaves_it_to_the_adapter() {
+        for (options, backend) in [
+            ("{}", GridBackend::Auto),
+            (r#"{"backend": null, "tolerance": 0.1}"#, GridBackend::Auto),
+            (r#"{"backend": "auto"}"#, GridBackend::Auto),
+            (r#"{"backend": "gpu"}"#, GridBackend::Gpu),
+            (r#"{"backend": "cpu", "curvature": true}"#, GridBackend::Cpu),
+        ] {
+            assert_eq!(GridBackend::from_json(options), Ok(backend), "{options}");
+        }
+        for (options, says) in [
+            (
+                r#"{"backend": "GPU"}"#,
+                r#"backend must be auto, gpu or cpu, got "GPU""#,
+            ),
+            (
+                r#"{"backend": 1}"#,
+                "backend must be auto, gpu or cpu, got 1",
+            ),
+            ("{", "export options:"),
+        ] {
+            let e = GridBackend::from_json(options).expect_err(options);
+            assert!(e.contains(says), "{options}: {e}");
+        }
+    }
+
     /// The turn is four times the rest of the frame, within 30 ms and 1 s, and at most twice
     /// the last: a first turn (nothing measured yet) and a fast frame get the least, a frame
     /// that drew for 20 ms 80 ms, and a software adapter's 4 s frames 30, 60, 120, … ms up to

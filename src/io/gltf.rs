@@ -517,9 +517,16 @@ pub struct ExportJob {
     /// Who evaluates them without the job waiting (the GPU in the web page), if anyone: it
     /// takes precedence over `sampler`.
     deferred: Option<std::rc::Rc<dyn DeferredGridSampler>>,
-    /// The next object's tessellation, waiting for its grids from `deferred`.
-    waiting: Option<(GridPlan, Box<dyn PendingGridValues>)>,
+    /// The tessellations of the next objects, in order, planned and with their grids asked
+    /// of `deferred` (`None`: nothing to ask, or refused: the kernel evaluates them).
+    in_flight: std::collections::VecDeque<(GridPlan, Option<Box<dyn PendingGridValues>>)>,
+    /// Whether the last step found the next object's grids on their way and nothing else to
+    /// do.
+    waiting: bool,
 }
+
+/// How many objects' grids an export asks for ahead of the one it writes next.
+const OBJECTS_IN_FLIGHT: usize = 8;
 
 impl ExportJob {
     /// A job for the visible objects of `project`; refused at once when none is visible or
@@ -561,7 +568,8 @@ impl ExportJob {
             vertices: 0,
             sampler: std::sync::Arc::new(KernelGrids),
             deferred: None,
-            waiting: None,
+            in_flight: Default::default(),
+            waiting: false,
         })
     }
 
@@ -574,10 +582,10 @@ impl ExportJob {
 
     /// Has `sampler` evaluate the parameter grids of the objects still to come without the job
     /// waiting for them (the GPU's compute shaders in the page, which cannot wait for a
-    /// readback inside a frame): [`Self::step`] asks for an object's grids and returns; a
-    /// later step, a frame or more on, finds them there and writes the object. Where the
-    /// sampler refuses or fails, the kernel evaluates those grids. The triangles are the
-    /// kernel's either way.
+    /// readback inside a frame): [`Self::step`] asks for the grids of up to
+    /// [`OBJECTS_IN_FLIGHT`] objects ahead, and writes the next object once its grids are
+    /// back, a frame or more later. Where the sampler refuses or fails, the kernel evaluates
+    /// those grids. The triangles are the kernel's either way.
     pub fn sample_grids_deferred(&mut self, sampler: std::rc::Rc<dyn DeferredGridSampler>) {
         self.deferred = Some(sampler);
     }
@@ -586,7 +594,7 @@ impl ExportJob {
     /// they arrive, [`Self::step`] does nothing, so the caller should come back in a later
     /// frame rather than call it again at once.
     pub fn is_waiting(&self) -> bool {
-        self.waiting.is_some()
+        self.waiting
     }
 
     /// The share of the estimated triangles written so far, 0 to 1.
@@ -606,9 +614,11 @@ impl ExportJob {
     }
 
     /// Tessellates the next visible object into the document; true when every one is done.
-    /// With a deferred sampler, a step may instead ask for the object's grids, or find them
-    /// still on their way ([`Self::is_waiting`]), and return false having written nothing.
+    /// With a deferred sampler, a step may instead plan a later object and ask for its grids,
+    /// or find the next object's grids still on their way with nothing else to do
+    /// ([`Self::is_waiting`]), and return false having written nothing.
     pub fn step(&mut self) -> Result<bool, ExportError> {
+        self.waiting = false;
         let Some(&(k, _)) = self.visible.get(self.done) else {
             return Ok(true);
         };
@@ -618,43 +628,55 @@ impl ExportJob {
         let tessellated = match &self.deferred {
             None => object.tessellate_with(options.tessellation, curvature, self.sampler.as_ref()),
             Some(deferred) => {
-                let (plan, pending) = match self.waiting.take() {
-                    Some((plan, pending)) => (plan, Some(pending)),
-                    None => {
-                        let plan = object
-                            .plan_tessellation(options.tessellation, curvature)
-                            .map_err(|source| ExportError::Geometry {
-                                name: object.name.clone(),
-                                source,
-                            })?;
-                        let pending = if plan.jobs().is_empty() {
-                            None
-                        } else {
-                            deferred
-                                .request(&plan.jobs(), plan.curvature())
-                                .inspect_err(|e| {
-                                    log::warn!("{e}; the CPU evaluates {}", object.name);
-                                })
-                                .ok()
-                        };
-                        (plan, pending)
-                    }
-                };
-                match pending {
-                    None => plan.run(&KernelGrids),
-                    Some(mut pending) => match pending.poll() {
-                        None => {
-                            self.waiting = Some((plan, pending));
-                            return Ok(false);
-                        }
-                        Some(Ok(values)) => {
-                            plan.finish(Ok(values), &|surface| deferred.position_slack(surface))
-                        }
+                // The next object's grids, once back (`Some(None)`: the kernel evaluates them).
+                let values = match self.in_flight.front_mut() {
+                    None => None,
+                    Some((_, None)) => Some(None),
+                    Some((_, Some(pending))) => match pending.poll() {
+                        None => None,
+                        Some(Ok(values)) => Some(Some(values)),
                         Some(Err(e)) => {
                             log::warn!("{e}; the CPU evaluates {}", object.name);
-                            plan.run(&KernelGrids)
+                            Some(None)
                         }
                     },
+                };
+                match (values, self.in_flight.len()) {
+                    (Some(values), _) => match (self.in_flight.pop_front(), values) {
+                        (Some((plan, _)), Some(values)) => {
+                            plan.finish(Ok(values), &|surface| deferred.position_slack(surface))
+                        }
+                        (Some((plan, _)), None) => plan.run(&KernelGrids),
+                        (None, _) => return Ok(false),
+                    },
+                    // Meanwhile the next object not yet in flight is planned and its grids
+                    // asked for.
+                    (None, flying) => {
+                        match self.visible.get(self.done + flying) {
+                            Some(&(later, _)) if flying < OBJECTS_IN_FLIGHT => {
+                                let later = &self.project.scene.objects[later];
+                                let plan = later
+                                    .plan_tessellation(options.tessellation, curvature)
+                                    .map_err(|source| ExportError::Geometry {
+                                        name: later.name.clone(),
+                                        source,
+                                    })?;
+                                let pending = if plan.jobs().is_empty() {
+                                    None
+                                } else {
+                                    deferred
+                                        .request(&plan.jobs(), plan.curvature())
+                                        .inspect_err(|e| {
+                                            log::warn!("{e}; the CPU evaluates {}", later.name);
+                                        })
+                                        .ok()
+                                };
+                                self.in_flight.push_back((plan, pending));
+                            }
+                            _ => self.waiting = true,
+                        }
+                        return Ok(false);
+                    }
                 }
             }
         };

@@ -1269,7 +1269,8 @@ type Known = Option<(DVec3, DVec3)>;
 
 /// The plan of the mesh on `triangles` of the vertices `uvs` (of which the first are `grid`'s
 /// crossings, and `known` holds those the tolerance check evaluated): the grid is evaluated
-/// where at least half of its crossings are used, and the rest of the work is [`mesh_from`].
+/// where at least half of its crossings are used, and the rest of the work is [`mesh_from`]
+/// (the plan owns the evaluator, so it outlives the trimmed surface it was made from).
 fn planned_mesh(
     scattered: ScatteredEvaluator<'static>,
     grid: ParameterGrid,
@@ -1291,7 +1292,7 @@ fn planned_mesh(
     let crossings = grid.us.len() * grid.vs.len();
     let on_grid = order.iter().filter(|&&k| k < crossings).count();
     let jobs = if 2 * on_grid >= crossings {
-        vec![(scattered.surface().clone(), grid.clone())]
+        vec![(scattered.surface().clone(), grid)]
     } else {
         Vec::new()
     };
