@@ -33,7 +33,11 @@ fn export_area(t: &TrimmedSurface, tolerance: f64) -> (f64, TriangleMesh) {
 }
 
 /// Every vertex of the export is on the surface at its stored (u, v) and in the kept region,
-/// and every triangle's centroid (in (u, v)) is kept.
+/// and every triangle's centroid (in (u, v)) is kept, or lies within 1e-4 of the domain's
+/// diagonal of the exact boundary: a sliver between the chords of the boundary, flattened
+/// within the export's tolerance, whose centroid can fall just across the exact curve (seed
+/// 14168533344558269467 of the random loops below: 1.8e-10 across). A triangle the clipping
+/// missed lies a cell deep in a hole.
 fn check_mesh(t: &TrimmedSurface, mesh: &TriangleMesh) {
     let [(u0, u1), (v0, v1)] = t.surface().domain();
     let polys = t.flattened_loops(1e-9);
@@ -48,9 +52,24 @@ fn check_mesh(t: &TrimmedSurface, mesh: &TriangleMesh) {
         let on = t.surface().point_at(p.x, p.y).unwrap();
         assert!(on.distance(*q) <= 1e-12 * scale);
     }
+    let slack = 1e-4 * DVec2::new(u1 - u0, v1 - v0).length();
+    let near_boundary = |c: DVec2| {
+        polys.iter().any(|q| {
+            (0..q.len()).any(|k| {
+                let (a, b) = (q[k], q[(k + 1) % q.len()]);
+                let d = b - a;
+                let s =
+                    ((c - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                (a + s * d - c).length() <= slack
+            })
+        })
+    };
     for tri in &mesh.triangles {
         let c = tri.iter().map(|&k| uv[k as usize]).sum::<DVec2>() / 3.0;
-        assert!(kept(c), "a triangle at {c} lies outside the kept region");
+        assert!(
+            kept(c) || near_boundary(c),
+            "a triangle at {c} lies outside the kept region"
+        );
     }
 }
 
@@ -469,30 +488,48 @@ fn a_rational_torus_trimmed_by_a_parameter_rectangle_has_the_closed_form_area() 
     check_mesh(&t, &mesh);
 }
 
+/// The random loops' seed whose export had a boundary sliver with its centroid 1.8e-10
+/// across the exact hole (the area within 1e-6; [`check_mesh`] allows such slivers).
+#[test]
+fn exported_areas_of_random_loops_on_a_plane_seeds_that_failed_before() {
+    random_loops_on_a_plane(14168533344558269467);
+}
+
+/// On an affine plane the surface area is the (u, v) area times the Jacobian, so the
+/// constrained Delaunay export of random loops (a star polygon with an interpolated cubic
+/// hole, drawn from `seed`) must give the area of the exactly flattened loops.
+fn random_loops_on_a_plane(seed: u64) {
+    let mut rng = common::Rng(seed);
+    let (ua, vb) = (DVec3::new(2.0, 0.3, 0.0), DVec3::new(-0.4, 1.5, 0.2));
+    let plane = construct::plane(DVec3::ZERO, ua, vb).unwrap();
+    let jacobian = ua.cross(vb).length();
+    let n = 5 + rng.below(10);
+    let outer = star(&mut rng, DVec2::splat(0.5), 0.45, n);
+    let m = 3 + rng.below(6);
+    let inner = star(&mut rng, DVec2::splat(0.5), 0.12, m);
+    let t = TrimmedSurface::new(
+        plane,
+        vec![
+            polygon(&outer).unwrap(),
+            interpolating_loop(&inner).unwrap(),
+        ],
+    )
+    .unwrap();
+    let exact = t.parameter_area(1e-9) * jacobian;
+    let (area, mesh) = export_area(&t, 1e-4 * t.surface().size());
+    assert!(
+        (area - exact).abs() <= 1e-3 * exact,
+        "seed {seed}: {area} vs {exact}"
+    );
+    check_mesh(&t, &mesh);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(6))]
 
-    /// On an affine plane the surface area is the (u, v) area times the Jacobian, so the
-    /// constrained Delaunay export of random loops (a star polygon with an interpolated cubic
-    /// hole) must give the area of the exactly flattened loops.
+    /// [`random_loops_on_a_plane`] on random seeds.
     #[test]
     fn exported_areas_of_random_loops_on_a_plane_match_the_loops(seed in any::<u64>()) {
-        let mut rng = common::Rng(seed);
-        let (ua, vb) = (DVec3::new(2.0, 0.3, 0.0), DVec3::new(-0.4, 1.5, 0.2));
-        let plane = construct::plane(DVec3::ZERO, ua, vb).unwrap();
-        let jacobian = ua.cross(vb).length();
-        let n = 5 + rng.below(10);
-        let outer = star(&mut rng, DVec2::splat(0.5), 0.45, n);
-        let m = 3 + rng.below(6);
-        let inner = star(&mut rng, DVec2::splat(0.5), 0.12, m);
-        let t = TrimmedSurface::new(
-            plane,
-            vec![polygon(&outer).unwrap(), interpolating_loop(&inner).unwrap()],
-        )
-        .unwrap();
-        let exact = t.parameter_area(1e-9) * jacobian;
-        let (area, mesh) = export_area(&t, 1e-4 * t.surface().size());
-        prop_assert!((area - exact).abs() <= 1e-3 * exact, "{} vs {}", area, exact);
-        check_mesh(&t, &mesh);
+        random_loops_on_a_plane(seed);
     }
 }
