@@ -508,8 +508,12 @@ fn set_subdivision(
             message: "only a polygon mesh or a subdivision surface has a cage".into(),
         }));
     };
-    let surface = crate::scene::SubdivObject::with_settings(mesh, settings)
+    let mut surface = crate::scene::SubdivObject::with_settings(mesh, settings)
         .map_err(geometry_error(object))?;
+    // A new crease or corner leaves most faces' neighbourhoods as they were.
+    if let Some(earlier) = object.geometry.as_subdivision() {
+        surface = surface.reusing_stencils_of(earlier);
+    }
     map_object(scene, k, |o| {
         o.geometry = ObjectGeometry::boxed(Box::new(surface));
     })

@@ -55,8 +55,10 @@ impl OperationParams for CageEdit {
         let mut settings = subdiv.settings();
         settings.creases = edited.creases;
         settings.corners = edited.corners;
-        let geometry =
-            SubdivObject::with_settings(&mesh, &settings).map_err(geometry_error(object))?;
+        // The faces the tool left alone keep their limit stencils.
+        let geometry = SubdivObject::with_settings(&mesh, &settings)
+            .map_err(geometry_error(object))?
+            .reusing_stencils_of(subdiv);
         let after = SceneObject {
             geometry: ObjectGeometry::new(geometry),
             ..object.clone()

@@ -19,6 +19,7 @@ use super::{Decomposition, ObjectGeometry, ObjectKind, SceneObject};
 use crate::kernel::parametric::PatchFace;
 use crate::kernel::subdiv::adaptive::{AdaptiveLayout, DEFAULT_TOLERANCE};
 use crate::kernel::subdiv::patches::{Display, LimitFeed, boundary_bspline_grid};
+use crate::kernel::subdiv::stencil_cache::StencilCache;
 use crate::kernel::subdiv::substitutes::{self, SubstitutePlan};
 use crate::kernel::subdiv::{
     Boundary, Corner, Crease, Creasing, Options, Scheme, SubdivisionSurface,
@@ -41,6 +42,9 @@ struct Prepared {
     face_patches: Vec<Vec<u32>>,
     /// The cage faces of each cage point.
     point_faces: Vec<Vec<u32>>,
+    /// The irregular faces' limit stencils for the object a topology edit makes of this one
+    /// ([`SubdivObject::reusing_stencils_of`]).
+    stencils: Option<Arc<StencilCache>>,
 }
 
 /// What the subdivision properties set: rules, level, display, creases and corners.
@@ -101,6 +105,9 @@ pub struct SubdivObject {
     /// diagonal ([`crate::kernel::subdiv::adaptive`]).
     pub tolerance: f64,
     prepared: Arc<RaceCell<Result<Arc<Prepared>, GeometryError>>>,
+    /// The stencils of the object this one was edited from, for its feed to take those of
+    /// the faces whose neighbourhoods the edit left alone.
+    earlier_stencils: Option<Arc<StencilCache>>,
 }
 
 impl PartialEq for SubdivObject {
@@ -230,7 +237,34 @@ impl SubdivObject {
             display,
             tolerance: DEFAULT_TOLERANCE,
             prepared: Arc::new(RaceCell::new()),
+            earlier_stencils: None,
         }
+    }
+
+    /// The same object, its GPU feed taking the limit stencils of `earlier` (the object an
+    /// edit of topology or sharpness made it from; [`crate::kernel::subdiv::stencil_cache`])
+    /// for the faces whose neighbourhoods read as they did there, so that only the faces the
+    /// edit changed are refined. Where `earlier` was never shown, nothing is taken.
+    pub fn reusing_stencils_of(self, earlier: &SubdivObject) -> Self {
+        let stencils = earlier.prepared.get().and_then(|prepared| {
+            let prepared = prepared.as_ref().ok()?;
+            prepared.stencils.clone()
+        });
+        Self {
+            earlier_stencils: stencils,
+            ..self
+        }
+    }
+
+    /// Of the irregular faces shown as limit stencils, how many its feed refined and how many
+    /// took their stencils from the object it was edited from
+    /// ([`Self::reusing_stencils_of`]); `None` for displays that keep no stencils.
+    pub fn stencil_faces(&self) -> Result<Option<(usize, usize)>, GeometryError> {
+        let prepared = self.prepared()?;
+        Ok(prepared
+            .stencils
+            .as_ref()
+            .map(|s| s.faces_refined_and_taken()))
     }
 
     /// What the adaptive display chose for each piece when the object was prepared (`None`
@@ -243,7 +277,7 @@ impl SubdivObject {
         self.prepared
             .get_or_init(|| {
                 let level = self.surface.level();
-                let (mut plan, mut adaptive) = (None, None);
+                let (mut plan, mut adaptive, mut stencils) = (None, None, None);
                 let feed = match self.display.substitute() {
                     Some(kind) if level > 0 => {
                         let (feed, made) = self.surface.substitute_feed(level, kind, true)?;
@@ -255,7 +289,14 @@ impl SubdivObject {
                         adaptive = Some(Arc::new(layout));
                         feed
                     }
-                    _ => self.surface.limit_feed(level, self.display)?,
+                    _ => {
+                        let earlier = self.earlier_stencils.as_deref();
+                        let (feed, kept) =
+                            self.surface
+                                .limit_feed_reusing(level, self.display, earlier)?;
+                        stencils = kept.map(Arc::new);
+                        feed
+                    }
                 };
                 let mesh = self.surface.mesh();
                 let mut face_patches = vec![Vec::new(); mesh.face_count()];
@@ -292,6 +333,7 @@ impl SubdivObject {
                     adaptive,
                     face_patches,
                     point_faces,
+                    stencils,
                 }))
             })
             .clone()

@@ -29,6 +29,7 @@ pub mod refine;
 pub mod region;
 pub mod schemes;
 pub mod stencil;
+pub mod stencil_cache;
 pub mod substitutes;
 pub mod templates;
 

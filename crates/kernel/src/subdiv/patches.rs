@@ -15,6 +15,7 @@ use super::pieces::{
 pub use super::pieces::{Display, Entry, LimitFeed, StencilPatch, SubstitutePatch};
 use super::region::{MOST_OF_THE_CAGE, REGION_RINGS, RegionCage, face_region};
 use super::stencil::{Accumulator, Row, WideRows, build_rows};
+use super::stencil_cache::{ReadFace, StencilCache};
 use super::{Hierarchy, Scheme, SubdivisionSurface, templates};
 use crate::GeometryError;
 use std::sync::Arc;
@@ -500,60 +501,28 @@ impl SubdivisionSurface {
         if display == Display::Adaptive {
             return Ok(self.adaptive_feed(levels, DEFAULT_TOLERANCE)?.0);
         }
-        let base = self.shared_base_level()?;
-        let scheme = self.options.scheme;
-        let mut feed = LimitFeed::default();
-        let mut irregular = Vec::new();
-        // Each face's B-spline points where it is regular, on every core, in face order.
-        let grids = if regular_as_bspline && display == Display::Limit {
-            regular_bspline_grids(&base, scheme)
-        } else {
-            vec![None; base.face_count()]
-        };
-        for (f, grid) in grids.into_iter().enumerate() {
-            match grid {
-                Some(g) => feed.regular.push((f as u32, g)),
-                None => irregular.push(f as u32),
-            }
-        }
+        let (mut feed, irregular) = self.regular_feed(display, regular_as_bspline)?;
         if irregular.is_empty() || levels == 0 {
             return Ok(feed);
         }
+        let base = self.shared_base_level()?;
+        let scheme = self.options.scheme;
         if regular_as_bspline && matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
-            let region = face_region(&base, &irregular, REGION_RINGS);
             // Faces whose neighbourhoods are alike share one refinement of one of them, where
             // that refines at most half the region round them all (Catmull-Clark's and
             // Loop's stencils reach two rings; the butterfly's reach further).
-            if irregular.len() >= templates::FEWEST_FACES
-                && let Some(shared) = templates::Templates::new(
-                    &base,
-                    &irregular,
-                    REGION_RINGS,
-                    display == Display::Limit,
-                )
-                && 2 * shared.refined_faces() <= region.len()
-            {
-                let options = self.options;
-                let refine = |cage| first_face_patches(cage, options, levels, display);
-                shared.push(&mut feed, &base, options, refine)?;
-                return Ok(feed);
-            }
-            // Beside regular B-spline quads, the few faces left take their stencils from a
-            // refinement of their neighbourhood only.
-            if scheme == Scheme::CatmullClark
-                && push_region_stencil_patches(
-                    &mut feed,
-                    &base,
-                    self.options,
-                    &irregular,
-                    region,
-                    levels,
-                    display,
-                    MOST_OF_THE_CAGE,
-                )?
-            {
-                return Ok(feed);
-            }
+            let templates = (irregular.len() >= templates::FEWEST_FACES)
+                .then(|| {
+                    templates::Templates::new(
+                        &base,
+                        &irregular,
+                        REGION_RINGS,
+                        display == Display::Limit,
+                    )
+                })
+                .flatten();
+            self.push_nested_stencils(&mut feed, &base, &irregular, templates, levels, display)?;
+            return Ok(feed);
         }
         let hierarchy = Hierarchy::new(Arc::unwrap_or_clone(base), self.options, levels)?;
         let k = levels as usize;
@@ -563,6 +532,154 @@ impl SubdivisionSurface {
         }
         push_face_patches(&mut feed, &hierarchy, &irregular, levels, display);
         Ok(feed)
+    }
+
+    /// [`Self::limit_feed`] (B-spline patches for the regular faces), taking the stencils of
+    /// the faces whose neighbourhoods read as in `previous` (the cache an earlier feed of this
+    /// object kept, [`super::stencil_cache`]) from there and refining only the others; with the
+    /// cache of this feed for the next. Catmull-Clark and Loop showing the limit or the
+    /// refined mesh keep a cache; other schemes and displays are built as
+    /// [`Self::limit_feed`] builds them, with none.
+    pub fn limit_feed_reusing(
+        &self,
+        levels: u32,
+        display: Display,
+        previous: Option<&StencilCache>,
+    ) -> Result<(LimitFeed, Option<StencilCache>), GeometryError> {
+        let scheme = self.options.scheme;
+        let keeps = matches!(scheme, Scheme::CatmullClark | Scheme::Loop)
+            && matches!(display, Display::Limit | Display::Refined);
+        if !keeps {
+            return Ok((self.limit_feed(levels, display)?, None));
+        }
+        let (mut feed, irregular) = self.regular_feed(display, true)?;
+        let cache = StencilCache::new(self.options, levels, display);
+        if irregular.is_empty() || levels == 0 {
+            return Ok((feed, Some(cache)));
+        }
+        let base = self.shared_base_level()?;
+        let read = crate::par::map(irregular.len(), |k| {
+            templates::Neighbourhood::read(
+                &base,
+                irregular[k],
+                REGION_RINGS,
+                display == Display::Limit,
+            )
+        });
+        // Faces whose neighbourhoods cannot be walked are refined every time.
+        let mut unread = Vec::new();
+        let mut faces = Vec::with_capacity(irregular.len());
+        for (&face, neighbourhood) in irregular.iter().zip(read) {
+            match neighbourhood {
+                Some(neighbourhood) => faces.push(ReadFace {
+                    face,
+                    neighbourhood,
+                }),
+                None => unread.push(face),
+            }
+        }
+        let (kept, made) = match previous.filter(|c| c.serves(self.options, levels, display)) {
+            Some(previous) => previous.split(faces),
+            None => (Vec::new(), faces),
+        };
+        let mut asked: Vec<u32> = made.iter().map(|f| f.face).chain(unread).collect();
+        asked.sort_unstable();
+        let mut made = made;
+        if !asked.is_empty() {
+            // The templates need every asked face's neighbourhood, in the faces' order (then
+            // `asked` and `made` name the same faces).
+            made.sort_unstable_by_key(|f| f.face);
+            let templates = (asked.len() == made.len() && asked.len() >= templates::FEWEST_FACES)
+                .then(|| {
+                    let neighbourhoods = std::mem::take(&mut made)
+                        .into_iter()
+                        .map(|f| f.neighbourhood)
+                        .collect();
+                    templates::Templates::of(neighbourhoods)
+                });
+            let templates =
+                self.push_nested_stencils(&mut feed, &base, &asked, templates, levels, display)?;
+            if let Some(templates) = templates {
+                made = asked
+                    .iter()
+                    .zip(templates.into_neighbourhoods())
+                    .map(|(&face, neighbourhood)| ReadFace {
+                        face,
+                        neighbourhood,
+                    })
+                    .collect();
+            }
+        }
+        let cache = cache.after(&mut feed, &base, &made, kept);
+        Ok((feed, Some(cache)))
+    }
+
+    /// The feed's B-spline patches of the regular faces (with `regular_as_bspline`, showing
+    /// the limit) and the other faces, in order.
+    fn regular_feed(
+        &self,
+        display: Display,
+        regular_as_bspline: bool,
+    ) -> Result<(LimitFeed, Vec<u32>), GeometryError> {
+        let base = self.shared_base_level()?;
+        let mut feed = LimitFeed::default();
+        let mut irregular = Vec::new();
+        // Each face's B-spline points where it is regular, on every core, in face order.
+        let grids = if regular_as_bspline && display == Display::Limit {
+            regular_bspline_grids(&base, self.options.scheme)
+        } else {
+            vec![None; base.face_count()]
+        };
+        for (f, grid) in grids.into_iter().enumerate() {
+            match grid {
+                Some(g) => feed.regular.push((f as u32, g)),
+                None => irregular.push(f as u32),
+            }
+        }
+        Ok((feed, irregular))
+    }
+
+    /// Appends the stencil patches of faces `faces` (increasing) of `base` under Catmull-Clark
+    /// or Loop: through `templates` (the faces' neighbourhoods grouped) where they refine at
+    /// most half the region round the faces, else from a refinement of that region
+    /// (Catmull-Clark), else of the whole cage. Gives `templates` back.
+    fn push_nested_stencils(
+        &self,
+        feed: &mut LimitFeed,
+        base: &Arc<Level>,
+        faces: &[u32],
+        templates: Option<templates::Templates>,
+        levels: u32,
+        display: Display,
+    ) -> Result<Option<templates::Templates>, GeometryError> {
+        let region = face_region(base, faces, REGION_RINGS);
+        if let Some(shared) = &templates
+            && 2 * shared.refined_faces() <= region.len()
+        {
+            let options = self.options;
+            let refine = |cage| first_face_patches(cage, options, levels, display);
+            shared.push(feed, base, options, refine)?;
+            return Ok(templates);
+        }
+        // Beside regular B-spline quads, the few faces left take their stencils from a
+        // refinement of their neighbourhood only.
+        if self.options.scheme == Scheme::CatmullClark
+            && push_region_stencil_patches(
+                feed,
+                base,
+                self.options,
+                faces,
+                region,
+                levels,
+                display,
+                MOST_OF_THE_CAGE,
+            )?
+        {
+            return Ok(templates);
+        }
+        let hierarchy = Hierarchy::new((**base).clone(), self.options, levels)?;
+        push_face_patches(feed, &hierarchy, faces, levels, display);
+        Ok(templates)
     }
 
     /// The GPU feed of substitute `kind` at level `levels` (≥ 1) and the plan that computes its

@@ -116,6 +116,23 @@ pub struct LimitFeed {
 }
 
 impl LimitFeed {
+    /// Appends slots `slots` (their entries counted from `first_entry` on) with their curvature
+    /// flags; they name no vertex of a level.
+    pub(super) fn push_slots(
+        &mut self,
+        slots: &[[u32; 2]],
+        no_curvature: &[bool],
+        first_entry: u32,
+    ) {
+        self.slots.extend(
+            slots
+                .iter()
+                .map(|&[first, count]| [first + first_entry, count]),
+        );
+        self.no_curvature.extend_from_slice(no_curvature);
+        self.vertex.extend(slots.iter().map(|_| u32::MAX));
+    }
+
     /// The entries of slot `slot` of `patch` with their cage points (through the patch's
     /// point list where it has one; `u32::MAX` for a point past the list, which no feed the
     /// kernel builds has). `None` where the slot or its entries lie past the tables.

@@ -284,14 +284,7 @@ impl RegionCage {
             };
             feed.patches.push(patch);
         }
-        feed.slots.extend(
-            local
-                .slots
-                .iter()
-                .map(|&[first, count]| [first + first_entry, count]),
-        );
-        feed.no_curvature.extend_from_slice(&local.no_curvature);
-        feed.vertex.extend(local.vertex.iter().map(|_| u32::MAX));
+        feed.push_slots(&local.slots, &local.no_curvature, first_entry);
     }
 }
 
@@ -308,6 +301,24 @@ pub(super) mod tests {
     use crate::subdiv::{Corner, Crease, Creasing, Scheme, SubdivisionSurface, cages};
     use crate::test_support::{Xorshift, placement};
     use glam::DVec3;
+
+    /// A tool that grows a cage at `face`: a poke (`which` 0), an inset (1) or an extrusion.
+    pub(in crate::subdiv) fn growing_tool(face: usize, which: u64) -> Tool {
+        match which {
+            0 => Tool::Poke { faces: vec![face] },
+            1 => Tool::Inset {
+                faces: vec![face],
+                thickness: 0.05,
+                depth: 0.0,
+                individual: false,
+            },
+            _ => Tool::Extrude {
+                faces: vec![face],
+                offset: 0.2,
+                individual: false,
+            },
+        }
+    }
 
     /// A torus or an open grid grown by random tools (pokes, insets, extrusions: triangles,
     /// extraordinary points, n-gons), with a random semi-sharp crease along an edge loop and a
@@ -327,21 +338,7 @@ pub(super) mod tests {
         };
         for _ in 0..1 + draw.below(3) {
             let face = draw.below(cage.faces.len() as u64) as usize;
-            let tool = match draw.below(3) {
-                0 => Tool::Poke { faces: vec![face] },
-                1 => Tool::Inset {
-                    faces: vec![face],
-                    thickness: 0.05,
-                    depth: 0.0,
-                    individual: false,
-                },
-                _ => Tool::Extrude {
-                    faces: vec![face],
-                    offset: 0.2,
-                    individual: false,
-                },
-            };
-            cage = cage.apply(&tool).unwrap();
+            cage = cage.apply(&growing_tool(face, draw.below(3))).unwrap();
         }
         // A crease along (part of) a loop of edges, and a corner.
         let a = cage.faces[draw.below(cage.faces.len() as u64) as usize].clone();

@@ -26,7 +26,7 @@ use crate::GeometryError;
 pub const FEWEST_FACES: usize = 16;
 
 /// One face's neighbourhood in the order its topology gives ([`neighbourhood`]).
-struct Neighbourhood {
+pub(super) struct Neighbourhood {
     /// Its faces (the face first) and points in that order.
     cut: RegionCage,
     /// The face's corner the walk starts from: the face reads as its corners from this one
@@ -38,6 +38,31 @@ struct Neighbourhood {
 }
 
 impl Neighbourhood {
+    /// The neighbourhood of `face` of `level` within `rings` rings, read from its
+    /// [`least_corner`] with `turn`, else from its first corner; `None` where it cannot be
+    /// walked across its edges.
+    pub fn read(level: &Level, face: u32, rings: u32, turn: bool) -> Option<Self> {
+        let corner = if turn { least_corner(level, face) } else { 0 };
+        neighbourhood(level, face, rings, corner)
+    }
+
+    /// Its faces' corner counts and points and its sharpness, in the order its topology
+    /// gives: faces with equal keys and equal [`Self::turn`]s have the same stencils over
+    /// their [`Self::points`].
+    pub fn key(&self) -> &[u64] {
+        &self.key
+    }
+
+    /// The face's corner the reading starts from.
+    pub fn turn(&self) -> u32 {
+        self.turn
+    }
+
+    /// Its cage points, numbered as the key numbers them.
+    pub fn points(&self) -> &[u32] {
+        &self.cut.points
+    }
+
     /// Its faces over its own point numbers, as its key lists them.
     fn local_faces(&self) -> Vec<Vec<u32>> {
         let mut faces = Vec::with_capacity(self.cut.faces.len());
@@ -176,11 +201,13 @@ impl Templates {
     /// refinement back).
     pub fn new(level: &Level, faces: &[u32], rings: u32, turn: bool) -> Option<Self> {
         let found = crate::par::map(faces.len(), |k| {
-            let f = faces[k];
-            let corner = if turn { least_corner(level, f) } else { 0 };
-            neighbourhood(level, f, rings, corner)
+            Neighbourhood::read(level, faces[k], rings, turn)
         });
-        let faces: Vec<Neighbourhood> = found.into_iter().collect::<Option<_>>()?;
+        Some(Self::of(found.into_iter().collect::<Option<_>>()?))
+    }
+
+    /// Faces grouped by their neighbourhoods `faces` (read by [`Neighbourhood::read`]).
+    pub fn of(faces: Vec<Neighbourhood>) -> Self {
         let mut groups: FxHashMap<&[u64], u32> = FxHashMap::default();
         let mut first = Vec::new();
         let mut group = Vec::with_capacity(faces.len());
@@ -191,11 +218,16 @@ impl Templates {
             });
             group.push(g);
         }
-        Some(Self {
+        Self {
             faces,
             group,
             first,
-        })
+        }
+    }
+
+    /// The faces' neighbourhoods, in the faces' order.
+    pub fn into_neighbourhoods(self) -> Vec<Neighbourhood> {
+        self.faces
     }
 
     /// How many faces of `corners` corners are read from another corner than their first.
