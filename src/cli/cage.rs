@@ -72,6 +72,10 @@ pub enum CageTool {
         edge: String,
         #[arg(long, default_value_t = 1)]
         cuts: u32,
+        /// Slide the cuts together along the ring, towards B's side (-1 < F < 1; 0: evenly
+        /// spaced), as Blender's Loop Cut and Slide.
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        slide: f64,
     },
     /// Bevel edges (each becomes a band of S segments, its sides W from the edge) or vertices
     /// (each cut off W along its edges, a face where it was; with S > 1 a rounded corner).
@@ -352,10 +356,11 @@ pub fn tool_of(tool: &CageTool) -> Result<Tool, String> {
             depth: *depth,
             individual: *individual,
         },
-        CageTool::Loopcut { edge, cuts } => match indices("edge", edge)?[..] {
+        CageTool::Loopcut { edge, cuts, slide } => match indices("edge", edge)?[..] {
             [a, b] => Tool::LoopCut {
                 edge: [a, b],
                 cuts: *cuts,
+                slide: *slide,
             },
             _ => return Err("--edge names one edge by its two vertices, A,B".into()),
         },

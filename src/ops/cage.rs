@@ -11,8 +11,8 @@ use crate::scene::operation::{ObjectRef, OperationEntry, OperationParams, Planne
 use crate::scene::{ObjectGeometry, Scene, SceneObject};
 
 /// `{"op": "cage", "object": k, "tool": {"extrude": {"faces": [0, 1], "offset": 0.5}}}`; the
-/// tools are `extrude`, `inset` (`individual`), `loop-cut` (`edge`: [a, b], `cuts`), `bevel`
-/// (`edges`: [[a, b], …], `width`, `segments`), `bridge` (`loop1`, `loop2`), `merge`
+/// tools are `extrude`, `inset` (`individual`), `loop-cut` (`edge`: [a, b], `cuts`, `slide`
+/// −1 to 1), `bevel` (`edges`: [[a, b], …], `width`, `segments`), `bridge` (`loop1`, `loop2`), `merge`
 /// (`vertices`, `at_first`), `dissolve` (`edges`), `delete` and `poke` (`faces`), and `mirror` (`axis`
 /// 0 to 2, `merge_distance`), with faces and vertices by their index in the cage.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

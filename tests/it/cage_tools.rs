@@ -793,3 +793,52 @@ fn a_cage_tool_refines_only_the_faces_whose_neighbourhoods_it_changed() {
     let (refined, taken) = restored.stencil_faces().unwrap().unwrap();
     assert!(refined > 0 && taken > 0, "{before:?}: {refined}, {taken}");
 }
+
+/// `knotwork cage … loopcut --slide F` on Blender's Suzanne (fixture 200's ring, two cuts):
+/// the faces of the even cut, the old points where they were, every new point moved (by at
+/// most a third of its edge), a negative slide read as a number; a slide of 1.5 is refused
+/// with the reason and writes nothing.
+#[test]
+fn knotwork_cage_slides_a_loop_cut() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/reference/cage/204-monkey-loopcut.in.obj");
+    let dir = crate::common::scratch_dir("cage-slide");
+    let run = |slide: &str, name: &str| {
+        let output = dir.join(name);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_knotwork"))
+            .arg("cage")
+            .arg(&input)
+            .arg("-o")
+            .arg(&output)
+            .args([
+                "loopcut", "--edge", "183,232", "--cuts", "2", "--slide", slide,
+            ])
+            .output()
+            .unwrap();
+        (run, output)
+    };
+    let (even, even_path) = run("0", "even.obj");
+    let (slid, slid_path) = run("-0.4", "slid.obj");
+    assert!(even.status.success() && slid.status.success());
+    let (even, slid) = (read_obj(&even_path), read_obj(&slid_path));
+    let before = read_obj(&input);
+    assert_eq!(even.faces, slid.faces);
+    let apart = |a: &[f64; 3], b: &[f64; 3]| glam::DVec3::from(*a).distance(glam::DVec3::from(*b));
+    let size = before
+        .points
+        .iter()
+        .flat_map(|p| before.points.iter().map(move |q| apart(p, q)))
+        .fold(0.0, f64::max);
+    let old = before.points.len();
+    for (k, p) in before.points.iter().enumerate() {
+        assert!(apart(p, &slid.points[k]) < 1e-12 * size, "point {k} moved");
+    }
+    for (p, q) in even.points[old..].iter().zip(&slid.points[old..]) {
+        let moved = apart(p, q);
+        assert!(moved > 1e-9 * size && moved < size / 3.0, "{moved}");
+    }
+    let (refused, path) = run("1.5", "refused.obj");
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("slide"));
+    assert!(!path.exists());
+}

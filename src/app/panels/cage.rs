@@ -34,6 +34,8 @@ pub struct CageToolSettings {
     pub depth: f64,
     pub individual: bool,
     pub cuts: u32,
+    /// Loop cut: the cuts slid together along the ring (−1 to 1, 0 evenly spaced).
+    pub slide: f64,
     pub width: f64,
     pub segments: u32,
     /// Merge at the point clicked last (else at the centre).
@@ -69,6 +71,7 @@ impl Default for CageToolSettings {
             depth: 0.0,
             individual: false,
             cuts: 1,
+            slide: 0.0,
             width: 0.1,
             segments: 1,
             merge_at_last: false,
@@ -306,6 +309,7 @@ impl KnotworkApp {
                     Tool::LoopCut {
                         edge: [a, b],
                         cuts: t.cuts,
+                        slide: t.slide,
                     },
                     After::Nothing,
                 ));
@@ -314,6 +318,16 @@ impl KnotworkApp {
                 egui::DragValue::new(&mut t.cuts)
                     .range(1..=64)
                     .suffix(" cuts"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut t.slide)
+                    .range(-0.99..=0.99)
+                    .speed(0.01)
+                    .prefix("slide "),
+            )
+            .on_hover_text(
+                "the cuts slid together along the ring, towards one side (0: evenly spaced), \
+                 as Blender's Loop Cut and Slide",
             );
         });
         ui.horizontal_wrapped(|ui| {

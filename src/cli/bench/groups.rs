@@ -2907,6 +2907,7 @@ fn bench_cage_tools(
         Tool::LoopCut {
             edge: [f[0], f[1]],
             cuts: 2,
+            slide: 0.0,
         },
         Tool::Dissolve {
             edges: vec![[f[1], f[2]]],

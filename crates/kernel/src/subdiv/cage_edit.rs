@@ -102,6 +102,11 @@ impl CageEditError {
     }
 }
 
+/// Whether a tool's optional amount is left at 0 (and so not written).
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
+}
+
 pub(super) fn invalid(message: impl Into<String>) -> CageEditError {
     CageEditError::Invalid(message.into())
 }
@@ -859,10 +864,32 @@ impl Cage {
     /// on a ring edge goes to each of its pieces. An edge with no quad on either side has no
     /// ring to cut ([`CageEditError::RingWithoutQuads`]).
     pub fn loop_cut(&self, a: u32, b: u32, cuts: u32) -> Result<Self, CageEditError> {
+        self.loop_cut_slid(a, b, cuts, 0.0)
+    }
+
+    /// [`Self::loop_cut`], its new loops slid together along the ring (Blender's Loop Cut and
+    /// Slide with its edge slide factor `slide`, −1 < slide < 1): each cut edge's new points
+    /// lie at the fractions (i + slide) / (cuts + 1), i = 1 … cuts, of the way from its end on
+    /// a's side of the ring to its end on b's side, so that one cut moves from the middle
+    /// towards b's side by `slide` of the half edge, and several move by `slide` of their
+    /// spacing. Slid, the ring's two sides must part (as they do for every ring a loop cut
+    /// accepts but ones whose rim breaks into more than two pieces, which are refused).
+    pub fn loop_cut_slid(
+        &self,
+        a: u32,
+        b: u32,
+        cuts: u32,
+        slide: f64,
+    ) -> Result<Self, CageEditError> {
         let half = self.half_edges();
         self.check_edge(&half, a, b)?;
         if cuts == 0 || cuts > 1000 {
             return Err(invalid(format!("cuts must be 1 to 1000 (got {cuts})")));
+        }
+        if !(slide > -1.0 && slide < 1.0) {
+            return Err(invalid(format!(
+                "the slide must lie between -1 and 1, not {slide}"
+            )));
         }
         let (ring, quads) = self.edge_ring_in(&half, a, b);
         if quads.is_empty() {
@@ -948,6 +975,37 @@ impl Cage {
         }
         let mut out = self.clone();
         let inner = self.cut_edges(&mut out, &cut_list, cuts);
+        if slide != 0.0 {
+            // Each cut edge's end on a's side, found by the rim's side it lies on.
+            let (side_a, side_b) = (
+                root(&mut side_of, a as usize),
+                root(&mut side_of, b as usize),
+            );
+            if sides_found.len() != 2 || side_a == side_b {
+                return Err(invalid(format!(
+                    "the ring through {a}-{b} does not part into two sides to slide along"
+                )));
+            }
+            let step = 1.0 / f64::from(cuts + 1);
+            for (&(lo, hi), list) in &inner {
+                let (from, to) = if root(&mut side_of, lo as usize) == side_a {
+                    (lo, hi)
+                } else if root(&mut side_of, hi as usize) == side_a {
+                    (hi, lo)
+                } else {
+                    return Err(invalid(format!(
+                        "edge {lo}-{hi} of the ring through {a}-{b} has no end on {a}'s side"
+                    )));
+                };
+                let (p, q) = (self.points[from as usize], self.points[to as usize]);
+                // The list runs from the lower-numbered end.
+                for (k, &v) in list.iter().enumerate() {
+                    let i = if from == lo { k + 1 } else { list.len() - k };
+                    let t = (i as f64 + slide) * step;
+                    out.points[v as usize] = p + (q - p) * t;
+                }
+            }
+        }
         let along = |p: u32, q: u32| chain_along(&inner, p, q);
         let quad_set: HashSet<usize> = quads.iter().copied().collect();
         let mut added = Vec::new();
@@ -2676,8 +2734,14 @@ pub enum Tool {
         #[serde(default)]
         individual: bool,
     },
-    /// [`Cage::loop_cut`] through the edge between the two vertices.
-    LoopCut { edge: [u32; 2], cuts: u32 },
+    /// [`Cage::loop_cut_slid`] through the edge between the two vertices (`slide` 0: the
+    /// cuts evenly spaced, [`Cage::loop_cut`]).
+    LoopCut {
+        edge: [u32; 2],
+        cuts: u32,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        slide: f64,
+    },
     /// [`Cage::bevel_edges`].
     Bevel {
         edges: Vec<[u32; 2]>,
@@ -2862,7 +2926,11 @@ impl Cage {
                 depth,
                 individual,
             } => self.inset(faces, *thickness, *depth, *individual),
-            Tool::LoopCut { edge: [a, b], cuts } => self.loop_cut(*a, *b, *cuts),
+            Tool::LoopCut {
+                edge: [a, b],
+                cuts,
+                slide,
+            } => self.loop_cut_slid(*a, *b, *cuts, *slide),
             Tool::Bevel {
                 edges,
                 width,
@@ -3103,6 +3171,88 @@ pub(super) mod tests {
             },
             scale,
         )
+    }
+
+    /// A slid loop cut: on a 4 × 3 grid of quads (point (i, j) numbered 5j + i) in random
+    /// position, the ring through the edge from (1, 0) to (2, 0) crosses every quad between
+    /// columns 1 and 2; its new points lie, back in the grid's frame, at x = 1 + (k + slide) /
+    /// (cuts + 1) on each row, with the faces of the evenly spaced cut, for cuts 1 to 3 and
+    /// slides of either sign; a slide from b to a is the opposite slide. 0 is the even cut,
+    /// and a slide of ±1 or beyond, or not a number, is refused.
+    #[test]
+    fn a_slid_loop_cut_moves_its_loops_together_towards_one_side() {
+        let points: Vec<DVec3> = (0..4)
+            .flat_map(|j| (0..5).map(move |i| DVec3::new(f64::from(i), f64::from(j), 0.0)))
+            .collect();
+        let faces: Vec<Vec<u32>> = (0..3u32)
+            .flat_map(|j| {
+                (0..4u32).map(move |i| vec![5 * j + i, 5 * j + i + 1, 5 * j + i + 6, 5 * j + i + 5])
+            })
+            .collect();
+        let mut draw = Xorshift::new(0x511d);
+        for round in 0..12 {
+            let (motion, _) = placement(draw.bits());
+            let cage = Cage {
+                points: points.iter().map(|&p| motion.transform_point3(p)).collect(),
+                faces: faces.clone(),
+                creases: Vec::new(),
+                corners: Vec::new(),
+            };
+            let cuts = 1 + round % 3;
+            let slide = 1.8 * draw.unit() - 0.9;
+            let even = cage.loop_cut(1, 2, cuts).unwrap();
+            let slid = cage.loop_cut_slid(1, 2, cuts, slide).unwrap();
+            assert_eq!(slid.faces, even.faces);
+            assert_eq!(slid.points.len(), 20 + 4 * cuts as usize);
+            assert_eq!(cage.loop_cut_slid(1, 2, cuts, 0.0).unwrap(), even);
+            let back = motion.inverse();
+            for row in 0..4 {
+                let mut xs: Vec<f64> = slid.points[20..]
+                    .iter()
+                    .map(|&p| back.transform_point3(p))
+                    .filter(|p| (p.y - f64::from(row)).abs() < 1e-9)
+                    .map(|p| p.x)
+                    .collect();
+                xs.sort_by(f64::total_cmp);
+                assert_eq!(xs.len(), cuts as usize, "round {round} row {row}");
+                for (k, x) in xs.iter().enumerate() {
+                    let want = 1.0 + (k as f64 + 1.0 + slide) / f64::from(cuts + 1);
+                    assert!((x - want).abs() < 1e-9, "round {round}: {x} against {want}");
+                }
+            }
+            // The same ring named from b to a slides the other way.
+            let reversed = cage.loop_cut_slid(2, 1, cuts, -slide).unwrap();
+            assert_eq!(reversed.points.len(), slid.points.len());
+            for p in &reversed.points[20..] {
+                let nearest = slid.points[20..].iter().map(|q| p.distance(*q));
+                assert!(
+                    nearest.fold(f64::INFINITY, f64::min) < 1e-9,
+                    "round {round}"
+                );
+            }
+        }
+        let cage = Cage {
+            points: points.clone(),
+            faces: faces.clone(),
+            creases: Vec::new(),
+            corners: Vec::new(),
+        };
+        for bad in [1.0, -1.0, 2.5, f64::NAN, f64::INFINITY] {
+            let refused = cage.loop_cut_slid(1, 2, 1, bad).unwrap_err().to_string();
+            assert!(refused.contains("slide"), "{refused}");
+        }
+        // A tool without a slide reads and writes as it did before slides.
+        let tool: Tool =
+            serde_json::from_str(r#"{"loop-cut": {"edge": [1, 2], "cuts": 2}}"#).unwrap();
+        assert_eq!(
+            tool,
+            Tool::LoopCut {
+                edge: [1, 2],
+                cuts: 2,
+                slide: 0.0
+            }
+        );
+        assert!(!serde_json::to_string(&tool).unwrap().contains("slide"));
     }
 
     /// Repeated faces are left out as a set of sorted corners would tell them (the first
@@ -3984,6 +4134,7 @@ pub(super) mod tests {
                     2 => Tool::LoopCut {
                         edge: edges[0],
                         cuts: count,
+                        slide: y,
                     },
                     3 => Tool::Bevel {
                         edges,
@@ -4063,6 +4214,7 @@ pub(super) mod tests {
                     _ => Tool::LoopCut {
                         edge: edges[0],
                         cuts: count.min(3),
+                        slide: 0.0,
                     },
                 };
                 if let Ok(out) = cage.apply(&tool) {
