@@ -114,6 +114,30 @@ fn evaluate_once(
     Ok((gpu, wall, patches))
 }
 
+/// The median wall time over `runs` runs of `timed` (an update of the GPU copy), each run
+/// set up by `before` (not timed) and started with the device idle (lavapipe runs the last
+/// run's compute pass on these same cores, the work a GPU does beside the CPU). Each run's
+/// uploads go out with a submission, as the editor's next frame sends them: without one they
+/// pile up (a rebuild's buffers are held until then), and later runs slowed down up to five
+/// times on a process of a gigabyte.
+fn median_update_ms<T, R>(
+    context: &GpuContext,
+    runs: usize,
+    mut before: impl FnMut() -> Result<T, Box<dyn std::error::Error>>,
+    mut timed: impl FnMut(T) -> Result<R, Box<dyn std::error::Error>>,
+) -> Result<f64, Box<dyn std::error::Error>> {
+    let mut times = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        let state = before()?;
+        wait(context)?;
+        let started = Instant::now();
+        timed(state)?;
+        context.queue.submit([]);
+        times.push(started.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(median(times))
+}
+
 fn wait(context: &GpuContext) -> Result<(), GpuError> {
     context
         .device
@@ -3086,22 +3110,16 @@ fn bench_cage_tools(
         };
         let (step_ms, _) = median_ms(runs, step)?;
         let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
-        // Each run starts with the device idle: lavapipe runs the last run's compute pass on
-        // these same cores, the work a GPU does beside the CPU.
-        let mut gpu_times = Vec::with_capacity(runs);
-        for _ in 0..runs {
-            wait(context)?;
-            let started = Instant::now();
-            let doc = step()?;
-            sync.rebuild(&doc.scene, 1.0)
-                .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))?;
-            // The uploads go out with the next submission, as the editor's next frame sends
-            // them. Without one they pile up (a rebuild's buffers are held until then), and
-            // later tools ran on a process of a gigabyte and up to five times as slow.
-            context.queue.submit([]);
-            gpu_times.push(started.elapsed().as_secs_f64() * 1e3);
-        }
-        let gpu_ms = median(gpu_times);
+        let gpu_ms = median_update_ms(
+            context,
+            runs,
+            || Ok(()),
+            |()| {
+                let doc = step()?;
+                sync.rebuild(&doc.scene, 1.0)
+                    .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))
+            },
+        )?;
         writeln!(
             out,
             "cage tool {:<9} on 10,000 faces: {tool_ms:.2} ms topology, {step_ms:.2} ms editor step, \
@@ -3173,10 +3191,7 @@ fn bench_cage_tools_on_a_modelled_cage(
         let mut figures = Vec::new();
         let mut faces = (0, 0);
         for fresh in [false, true] {
-            let mut times = Vec::with_capacity(runs);
-            for _ in 0..runs {
-                wait(context)?;
-                let started = Instant::now();
+            let update = |()| -> Result<_, Box<dyn std::error::Error>> {
                 let mut doc = Document::new(scene.clone());
                 doc.execute(&command).map_err(|e| e.to_string())?;
                 let object = &mut doc.scene.objects[0];
@@ -3190,11 +3205,9 @@ fn bench_cage_tools_on_a_modelled_cage(
                     }
                 }
                 sync.rebuild(&doc.scene, 1.0)
-                    .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))?;
-                context.queue.submit([]);
-                times.push(started.elapsed().as_secs_f64() * 1e3);
-            }
-            figures.push(median(times));
+                    .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))
+            };
+            figures.push(median_update_ms(context, runs, || Ok(()), update)?);
         }
         writeln!(
             out,
@@ -3241,18 +3254,16 @@ fn bench_cage_tool_beside_a_plate(
     let mut figures = Vec::new();
     for touched in [Touched::Structure, Touched::Object(object)] {
         let mut sync = SceneSync::with_scene(&context.device, &context.queue, &scene, 1.0)?;
-        let mut times = Vec::with_capacity(runs);
-        for _ in 0..runs {
+        let edited = || -> Result<Document, Box<dyn std::error::Error>> {
             let mut doc = Document::new(scene.clone());
             doc.execute(&command).map_err(|e| e.to_string())?;
-            wait(context)?;
-            let started = Instant::now();
+            Ok(doc)
+        };
+        let update = |doc: Document| {
             sync.apply(&doc.scene, touched, 1.0)
-                .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))?;
-            context.queue.submit([]);
-            times.push(started.elapsed().as_secs_f64() * 1e3);
-        }
-        figures.push(median(times));
+                .map_err(|e| Box::<dyn std::error::Error>::from(e.to_string()))
+        };
+        figures.push(median_update_ms(context, runs, edited, update)?);
     }
     writeln!(
         out,

@@ -477,6 +477,31 @@ fn polygon_feed(hierarchy: &Hierarchy, k: usize, display: &DisplayRows) -> Limit
     feed
 }
 
+/// The feed's B-spline patches of `base`'s regular faces under `scheme` (with
+/// `regular_as_bspline`, showing the limit) and its other faces, in order.
+fn regular_feed(
+    base: &Level,
+    scheme: Scheme,
+    display: Display,
+    regular_as_bspline: bool,
+) -> (LimitFeed, Vec<u32>) {
+    let mut feed = LimitFeed::default();
+    let mut irregular = Vec::new();
+    // Each face's B-spline points where it is regular, on every core, in face order.
+    let grids = if regular_as_bspline && display == Display::Limit {
+        regular_bspline_grids(base, scheme)
+    } else {
+        vec![None; base.face_count()]
+    };
+    for (f, grid) in grids.into_iter().enumerate() {
+        match grid {
+            Some(g) => feed.regular.push((f as u32, g)),
+            None => irregular.push(f as u32),
+        }
+    }
+    (feed, irregular)
+}
+
 impl SubdivisionSurface {
     /// The GPU feed at level `levels` (≥ 1) showing `display`, regular faces as B-spline
     /// patches.
@@ -501,11 +526,12 @@ impl SubdivisionSurface {
         if display == Display::Adaptive {
             return Ok(self.adaptive_feed(levels, DEFAULT_TOLERANCE)?.0);
         }
-        let (mut feed, irregular) = self.regular_feed(display, regular_as_bspline)?;
+        let base = self.shared_base_level()?;
+        let (mut feed, irregular) =
+            regular_feed(&base, self.options.scheme, display, regular_as_bspline);
         if irregular.is_empty() || levels == 0 {
             return Ok(feed);
         }
-        let base = self.shared_base_level()?;
         let scheme = self.options.scheme;
         if regular_as_bspline && matches!(scheme, Scheme::CatmullClark | Scheme::Loop) {
             // Faces whose neighbourhoods are alike share one refinement of one of them, where
@@ -552,12 +578,12 @@ impl SubdivisionSurface {
         if !keeps {
             return Ok((self.limit_feed(levels, display)?, None));
         }
-        let (mut feed, irregular) = self.regular_feed(display, true)?;
+        let base = self.shared_base_level()?;
+        let (mut feed, irregular) = regular_feed(&base, scheme, display, true);
         let cache = StencilCache::new(self.options, levels, display);
         if irregular.is_empty() || levels == 0 {
             return Ok((feed, Some(cache)));
         }
-        let base = self.shared_base_level()?;
         let read = crate::par::map(irregular.len(), |k| {
             templates::Neighbourhood::read(
                 &base,
@@ -578,13 +604,12 @@ impl SubdivisionSurface {
                 None => unread.push(face),
             }
         }
-        let (kept, made) = match previous.filter(|c| c.serves(self.options, levels, display)) {
+        let (kept, mut made) = match previous.filter(|c| c.serves(self.options, levels, display)) {
             Some(previous) => previous.split(faces),
             None => (Vec::new(), faces),
         };
         let mut asked: Vec<u32> = made.iter().map(|f| f.face).chain(unread).collect();
         asked.sort_unstable();
-        let mut made = made;
         if !asked.is_empty() {
             // The templates need every asked face's neighbourhood, in the faces' order (then
             // `asked` and `made` name the same faces).
@@ -612,31 +637,6 @@ impl SubdivisionSurface {
         }
         let cache = cache.after(&mut feed, &base, &made, kept);
         Ok((feed, Some(cache)))
-    }
-
-    /// The feed's B-spline patches of the regular faces (with `regular_as_bspline`, showing
-    /// the limit) and the other faces, in order.
-    fn regular_feed(
-        &self,
-        display: Display,
-        regular_as_bspline: bool,
-    ) -> Result<(LimitFeed, Vec<u32>), GeometryError> {
-        let base = self.shared_base_level()?;
-        let mut feed = LimitFeed::default();
-        let mut irregular = Vec::new();
-        // Each face's B-spline points where it is regular, on every core, in face order.
-        let grids = if regular_as_bspline && display == Display::Limit {
-            regular_bspline_grids(&base, self.options.scheme)
-        } else {
-            vec![None; base.face_count()]
-        };
-        for (f, grid) in grids.into_iter().enumerate() {
-            match grid {
-                Some(g) => feed.regular.push((f as u32, g)),
-                None => irregular.push(f as u32),
-            }
-        }
-        Ok((feed, irregular))
     }
 
     /// Appends the stencil patches of faces `faces` (increasing) of `base` under Catmull-Clark
